@@ -1,0 +1,226 @@
+"""Accuracy model of chapter 2 of the dissertation (METHOD.md section 1).
+
+All lengths are metres, angles degrees unless a name says otherwise
+(``_arcsec``, ``_mm``). Functions accept numpy arrays where they take a range
+or an angle, so coverage tests can call them on whole candidate x target blocks.
+
+References: equations (2.4), (2.5), (2.13)-(2.15), (3.1), (3.2), (3.28)-(3.32)
+and tables 1.1 and 2.3 of seed 000 (Shoker 2021).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from planner.errors import InfeasibleError, InputError
+
+#: arc-seconds per radian (the print rounds it to 206265).
+RHO_ARCSEC: float = 180.0 * 3600.0 / math.pi
+
+
+@dataclass(frozen=True)
+class RangeAngleSigma:
+    """A distance-and-angle instrument error model: sigma_S = X + Y ppm, sigma_beta."""
+
+    range_sigma_const_m: float
+    range_sigma_ppm: float
+    angle_sigma_arcsec: float
+
+
+@dataclass(frozen=True)
+class ErrorBudget:
+    """The non-instrument terms of (2.13): station position, centring, graphical."""
+
+    sigma_0_m: float = 0.0005
+    centring_m: float = 0.0005
+    graphical_m: float = 0.0005
+
+    def __post_init__(self) -> None:
+        for name in ("sigma_0_m", "centring_m", "graphical_m"):
+            v = getattr(self, name)
+            if not math.isfinite(v) or v < 0:
+                raise InputError("must be a finite number >= 0", field=name, value=v)
+
+    @property
+    def squared_m2(self) -> float:
+        """sigma_0^2 + sigma_c^2 + sigma_g^2 (m^2)."""
+        return self.sigma_0_m**2 + self.centring_m**2 + self.graphical_m**2
+
+
+def sigma_range_m(slant_m: ArrayLike, model: RangeAngleSigma) -> NDArray[np.float64]:
+    """Range error sigma_S = X + Y * S / 1e6 (2.4)."""
+    s = np.asarray(slant_m, dtype=float)
+    return model.range_sigma_const_m + model.range_sigma_ppm * s / 1e6
+
+
+def sigma_meas_m(slant_m: ArrayLike, model: RangeAngleSigma) -> NDArray[np.float64]:
+    """One measurement's error sqrt(sigma_S^2 + (sigma_beta/rho * S)^2) (2.5, 2.15)."""
+    s = np.asarray(slant_m, dtype=float)
+    angular = model.angle_sigma_arcsec / RHO_ARCSEC * s
+    return np.sqrt(sigma_range_m(s, model) ** 2 + angular**2)
+
+
+def sigma_instr_m(sigma_req_m: float, budget: ErrorBudget) -> float:
+    """Allowed instrument error sqrt(sigma_req^2 - (sigma_0^2 + sigma_c^2 + sigma_g^2)) (3.2).
+
+    Raises
+    ------
+    InfeasibleError
+        When the non-instrument errors alone already use the whole budget.
+    """
+    left = sigma_req_m**2 - budget.squared_m2
+    if left <= 0.0:
+        raise InfeasibleError(
+            "no instrument error budget left: required accuracy must exceed "
+            f"sqrt(sigma_0^2 + centring^2 + graphical^2) = {math.sqrt(budget.squared_m2) * 1000:.4g} mm",
+            field="sigma_req_mm",
+            value=sigma_req_m * 1000,
+        )
+    return math.sqrt(left)
+
+
+def max_slant_range_m(model: RangeAngleSigma, sigma_instr: float) -> float:
+    """Largest slant range whose sigma_meas <= sigma_instr: the positive root of (3.1).
+
+    S^2 (Y^2/1e12 + sigma_beta^2/rho^2) + S (2 X Y / 1e6) + X^2 - sigma_instr^2 = 0.
+    """
+    x, y = model.range_sigma_const_m, model.range_sigma_ppm
+    a = y**2 / 1e12 + (model.angle_sigma_arcsec / RHO_ARCSEC) ** 2
+    b = 2.0 * x * y / 1e6
+    c = x**2 - sigma_instr**2
+    if c >= 0.0:
+        raise InfeasibleError(
+            f"the instrument's constant range error {x * 1000:.4g} mm alone exceeds the allowed "
+            "instrument error: no range satisfies the required accuracy",
+            field="sigma_instr_mm",
+            value=sigma_instr * 1000,
+        )
+    if a == 0.0:  # error independent of range beyond X: unlimited by accuracy
+        return math.inf if b == 0.0 else -c / b
+    return (-b + math.sqrt(b * b - 4.0 * a * c)) / (2.0 * a)
+
+
+@dataclass(frozen=True)
+class PointError:
+    """Point error e and its components along (e_x) and across (e_y) the wall (2.13, 2.14)."""
+
+    e_m: NDArray[np.float64]
+    e_x_m: NDArray[np.float64]
+    e_y_m: NDArray[np.float64]
+
+
+def point_error(
+    slant_m: ArrayLike, theta_deg: ArrayLike, model: RangeAngleSigma, budget: ErrorBudget
+) -> PointError:
+    """e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 + sigma_meas^2), e_x = e sin(theta), e_y = e cos(theta)."""
+    e = np.sqrt(budget.squared_m2 + sigma_meas_m(slant_m, model) ** 2)
+    th = np.radians(np.asarray(theta_deg, dtype=float))
+    return PointError(e_m=e, e_x_m=e * np.sin(th), e_y_m=e * np.cos(th))
+
+
+def combined_sigma(*sigmas: float) -> float:
+    """Independent errors add in quadrature: m = sqrt(sum m_i^2) (seed 002, formula 2)."""
+    return math.sqrt(sum(s * s for s in sigmas))
+
+
+def instrument_height_tolerance_m(
+    wall_height_m: float, slant_m: float, ih_low_m: float, ih_high_m: float
+) -> float:
+    """Radius of a station's tolerance circle for tripod heights IH1..IH2 (3.32).
+
+    Delta_HD = SD/2 * [sqrt(1 - ((h - IH2)/SD)^2) - sqrt(1 - ((h - IH1)/SD)^2)].
+    """
+    if not 0 <= ih_low_m <= ih_high_m or slant_m <= 0:
+        raise InputError(
+            "need 0 <= IH1 <= IH2 and SD > 0", field="instrument_height_m", value=(ih_low_m, ih_high_m)
+        )
+
+    def root(ih: float) -> float:
+        r = (wall_height_m - ih) / slant_m
+        if abs(r) > 1.0:
+            raise InputError("wall taller than the slant range", field="wall_height_m", value=wall_height_m)
+        return math.sqrt(1.0 - r * r)
+
+    return slant_m / 2.0 * (root(ih_high_m) - root(ih_low_m))
+
+
+@dataclass(frozen=True)
+class IncidenceErrorTable:
+    """Measured point error against incidence angle at Baalbek (table 2.3; Leica P30, 14-50 m).
+
+    ``f_x`` is the error along the wall, ``f_y`` across it, both in mm. Within
+    0..68 deg the values are interpolated linearly; the dissertation finds the
+    error grows linearly from 68 to 79 deg, so that span extrapolates the last
+    segment; beyond 79 deg the table says nothing and the call is refused.
+    """
+
+    theta_deg: tuple[float, ...] = (0, 10, 20, 30, 40, 50, 60, 68)
+    f_x_mm: tuple[float, ...] = (0.00, 1.23, 3.20, 4.43, 5.6, 6.52, 7.17, 7.60)
+    f_y_mm: tuple[float, ...] = (8.22, 8.14, 7.55, 6.90, 6.33, 5.12, 3.95, 3.04)
+    e_x_mm: tuple[float, ...] = (0.7, 1.64, 2.53, 4.02, 6.00, 6.40, 6.80, 7.14)
+    e_y_mm: tuple[float, ...] = (8.02, 8.00, 7.80, 7.10, 6.40, 5.39, 4.15, 3.24)
+    linear_until_deg: float = 79.0
+
+    def measured_mm(self, theta_deg: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(f_x, f_y) in mm at the given incidence angles."""
+        th = np.asarray(theta_deg, dtype=float)
+        if np.any(th < 0) or np.any(th > self.linear_until_deg) or not np.all(np.isfinite(th)):
+            raise InputError(
+                f"incidence angle outside the measured model 0..{self.linear_until_deg:g} deg",
+                field="theta_deg",
+                value=float(np.max(np.abs(th))),
+            )
+        return self._interp(th, self.f_x_mm), self._interp(th, self.f_y_mm)
+
+    def _interp(self, th: NDArray[np.float64], values: tuple[float, ...]) -> NDArray[np.float64]:
+        xs, ys = np.asarray(self.theta_deg, float), np.asarray(values, float)
+        out = np.interp(th, xs, ys)
+        slope = (ys[-1] - ys[-2]) / (xs[-1] - xs[-2])
+        beyond = th > xs[-1]
+        return np.where(beyond, ys[-1] + slope * (th - xs[-1]), out)
+
+
+#: Table 1.1 (GOST R 56905-2016): largest scale denominator of a row -> (min, max) error in mm.
+DRAWING_SCALE_TOLERANCES_MM: tuple[tuple[int, float, float], ...] = (
+    (20, 1.0, 2.0),
+    (50, 2.0, 5.0),
+    (100, 10.0, 20.0),
+    (200, 30.0, 50.0),
+    (500, 200.0, 300.0),
+)
+
+
+def parse_scale(text: str | int | float) -> int:
+    """Read a drawing scale written ``"1:50"``, ``"50"`` or ``50`` into its denominator."""
+    raw = str(text).strip().replace(" ", "")
+    if raw.startswith("1:"):
+        raw = raw[2:]
+    try:
+        denominator = float(raw)
+    except ValueError:
+        raise InputError("not a drawing scale like 1:50", field="drawing_scale", value=str(text)) from None
+    if not math.isfinite(denominator) or denominator < 1 or denominator != int(denominator):
+        raise InputError("scale denominator must be a whole number >= 1", field="drawing_scale", value=str(text))
+    return int(denominator)
+
+
+def tolerance_for_scale_m(scale: str | int | float) -> float:
+    """Largest allowed error for a drawing scale (table 1.1, the row's upper value).
+
+    A scale between two rows takes the stricter row (1:75 -> 5 mm, as 1:50);
+    1:50 -> 5 mm, 1:100 -> 20 mm, 1:200 -> 50 mm, 1:500 -> 300 mm. Scales
+    smaller than 1:500 are outside the table and refused.
+    """
+    n = parse_scale(scale)
+    previous_max = None
+    for largest, _low, high in DRAWING_SCALE_TOLERANCES_MM:
+        if n == largest or (n < largest and previous_max is None):
+            return high / 1000.0
+        if n < largest:
+            return previous_max / 1000.0  # between rows: the stricter (finer) row
+        previous_max = high
+    raise InputError("scale outside table 1.1 (1:1 .. 1:500)", field="drawing_scale", value=f"1:{n}")

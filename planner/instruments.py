@@ -1,0 +1,165 @@
+"""Instrument models (scanners, total stations) read from the TOML files in ``models/``.
+
+A model file names its ``kind`` (``scanner`` or ``total_station``) and gives
+lengths with their unit in the key: ``range_sigma_const_mm = 1.2`` and
+``range_sigma_const_m = 0.0012`` are the same model. Unknown keys are refused,
+so a typo never silently drops a value.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Any
+
+from planner.accuracy import RangeAngleSigma
+from planner.errors import InputError
+
+
+@dataclass(frozen=True)
+class Scanner(RangeAngleSigma):
+    """A terrestrial laser scanner: sigma_S = X + Y ppm and angle sigma_beta.
+
+    ``max_slant_range_m`` fixes S_max outright (the ``dissertation-tables``
+    preset); otherwise S_max is derived from (3.1) for the required accuracy
+    and capped by the datasheet ``max_range_m``.
+    """
+
+    name: str = ""
+    description: str = ""
+    source: str = ""
+    max_range_m: float | None = None
+    max_slant_range_m: float | None = None
+    modelling_sigma_m: float = 0.0
+
+    def __post_init__(self) -> None:
+        _check_positive(self, ("range_sigma_const_m", "range_sigma_ppm", "angle_sigma_arcsec", "modelling_sigma_m"), True)
+        _check_positive(self, ("max_range_m", "max_slant_range_m"), False)
+
+
+@dataclass(frozen=True)
+class TotalStation:
+    """A total station: directions sigma_beta, distances a + b ppm to prisms and reflectorless."""
+
+    name: str
+    angle_sigma_arcsec: float
+    prism_sigma_const_m: float
+    prism_sigma_ppm: float
+    reflectorless_sigma_const_m: float
+    reflectorless_sigma_ppm: float
+    max_range_prism_m: float | None = None
+    max_range_reflectorless_m: float | None = None
+    description: str = ""
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        _check_positive(
+            self,
+            ("angle_sigma_arcsec", "prism_sigma_const_m", "prism_sigma_ppm",
+             "reflectorless_sigma_const_m", "reflectorless_sigma_ppm"),
+            True,
+        )
+        _check_positive(self, ("max_range_prism_m", "max_range_reflectorless_m"), False)
+
+    def distance_model(self, reflectorless: bool = False) -> RangeAngleSigma:
+        """The distance/angle error model for prism or reflectorless measurement."""
+        if reflectorless:
+            return RangeAngleSigma(self.reflectorless_sigma_const_m, self.reflectorless_sigma_ppm, self.angle_sigma_arcsec)
+        return RangeAngleSigma(self.prism_sigma_const_m, self.prism_sigma_ppm, self.angle_sigma_arcsec)
+
+
+Instrument = Scanner | TotalStation
+
+
+def _check_positive(obj: object, names: tuple[str, ...], zero_ok: bool) -> None:
+    for name in names:
+        v = getattr(obj, name)
+        if v is None:
+            continue
+        bad = not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0 or (v == 0 and not zero_ok)
+        if bad:
+            need = ">= 0" if zero_ok else "> 0"
+            raise InputError(f"must be a finite number {need}", zone=None, field=name, value=v)
+
+
+def default_models_dir() -> Path:
+    """Where instrument files are looked up: $PLANNER_MODELS_DIR, else the repository's ``models/``."""
+    env = os.environ.get("PLANNER_MODELS_DIR")
+    if env:
+        return Path(env)
+    return Path(__file__).resolve().parent.parent / "models"
+
+
+def list_instruments(models_dir: Path | None = None) -> list[str]:
+    """Names of the instrument files available (file stem = instrument name)."""
+    folder = models_dir or default_models_dir()
+    return sorted(p.stem for p in folder.glob("*.toml"))
+
+
+def load_instrument(name_or_path: str, models_dir: Path | None = None) -> Instrument:
+    """Load an instrument by name (``leica-p30``) or by the path of a TOML file.
+
+    Raises
+    ------
+    InputError
+        Unknown name (the message lists the known ones), unreadable file,
+        unknown key, or a value out of range.
+    """
+    path = Path(name_or_path)
+    if path.suffix != ".toml":
+        folder = models_dir or default_models_dir()
+        path = folder / f"{name_or_path}.toml"
+        if not path.is_file():
+            known = ", ".join(list_instruments(folder)) or "none"
+            raise InputError(f"unknown instrument (known: {known})", field="instrument", value=name_or_path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"cannot read instrument file: {exc}", file=str(path)) from None
+    try:
+        return instrument_from_mapping(data, default_name=path.stem)
+    except InputError as exc:
+        raise exc.located(str(path)) from None
+
+
+def instrument_from_mapping(data: dict[str, Any], default_name: str = "") -> Instrument:
+    """Build a Scanner or TotalStation from a mapping with unit-suffixed keys."""
+    kind = data.get("kind")
+    cls: type[Scanner] | type[TotalStation]
+    if kind == "scanner":
+        cls = Scanner
+    elif kind == "total_station":
+        cls = TotalStation
+    else:
+        raise InputError("must be 'scanner' or 'total_station'", field="kind", value=kind)
+    wanted = {f.name for f in fields(cls)}
+    values: dict[str, Any] = {"name": data.get("name", default_name)}
+    for key, raw in data.items():
+        if key in ("kind", "name"):
+            continue
+        target, scale = _unit_key(key)
+        if target not in wanted:
+            raise InputError(f"unknown key for a {kind}", field=key, value=raw)
+        if target in values:
+            raise InputError("given twice (in two units)", field=key, value=raw)
+        if scale != 1.0:
+            if not isinstance(raw, (int, float)) or isinstance(raw, bool):
+                raise InputError("must be a number", field=key, value=raw)
+            raw = float(raw) * scale
+        elif isinstance(raw, int) and not isinstance(raw, bool):
+            raw = float(raw)
+        values[target] = raw
+    try:
+        return cls(**values)
+    except TypeError as exc:
+        raise InputError(f"incomplete instrument model: {exc}", field="kind", value=kind) from None
+
+
+def _unit_key(key: str) -> tuple[str, float]:
+    """Map ``foo_mm`` to (``foo_m``, 0.001); other keys map to themselves."""
+    if key.endswith("_mm"):
+        return key[:-3] + "_m", 1e-3
+    return key, 1.0

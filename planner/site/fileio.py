@@ -1,0 +1,55 @@
+"""Reading input files safely: size limit, encoding, numbers that must be finite."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from planner.errors import InputError
+
+#: Instance files larger than this are refused before they are read (64 MiB).
+MAX_INPUT_BYTES = 64 * 1024 * 1024
+
+
+def read_text(path: Path) -> str:
+    """The file's text (UTF-8, BOM allowed); refuses missing, huge, binary or empty files."""
+    name = str(path)
+    try:
+        size = path.stat().st_size
+    except OSError as exc:
+        raise InputError(f"cannot read file: {exc.strerror}", file=name) from None
+    if not path.is_file():
+        raise InputError("not a file", file=name)
+    if size > MAX_INPUT_BYTES:
+        raise InputError(f"file too large ({size:,} bytes; limit {MAX_INPUT_BYTES:,})", file=name, value=size)
+    try:
+        text = path.read_bytes().decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not UTF-8 text (byte {exc.start})", file=name) from None
+    if not text.strip():
+        raise InputError("empty file", file=name)
+    return text
+
+
+def to_float(raw: Any, *, field: str, file: str | None = None, zone: str | None = None,
+             row: int | str | None = None) -> float:
+    """A finite float from a CSV cell or JSON value; NaN, inf, text and booleans are refused."""
+    if isinstance(raw, bool):
+        raise InputError("must be a number", file=file, zone=zone, row=row, field=field, value=raw)
+    if isinstance(raw, str):
+        text = raw.strip()
+        if not text:
+            raise InputError("missing value", file=file, zone=zone, row=row, field=field)
+        try:
+            value = float(text)
+        except ValueError:
+            raise InputError("not a number", file=file, zone=zone, row=row, field=field, value=raw) from None
+    elif isinstance(raw, (int, float)):
+        value = float(raw)
+    else:
+        raise InputError("must be a number", file=file, zone=zone, row=row, field=field,
+                         value=type(raw).__name__ if raw is not None else "null")
+    if not math.isfinite(value):
+        raise InputError("must be finite", file=file, zone=zone, row=row, field=field, value=raw)
+    return value

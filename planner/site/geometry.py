@@ -1,0 +1,90 @@
+"""Checks and measures of plane polygons given as (n, 2) vertex arrays (no closing repeat)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from planner.errors import InputError
+
+#: Two vertices closer than this (m) make a zero-length side.
+ZERO_LENGTH_M = 1e-9
+
+
+def as_vertices(points: object, *, what: str, zone: str | None = None) -> NDArray[np.float64]:
+    """Read a list of [x, y] pairs into an (n, 2) float array, refusing anything non-finite.
+
+    A closing vertex equal to the first is dropped (GeoJSON/DXF write rings closed).
+    """
+    if not isinstance(points, Sequence) or isinstance(points, (str, bytes)):
+        raise InputError("must be a list of [x, y] pairs", zone=zone, field=what, value=type(points).__name__)
+    rows = []
+    for k, p in enumerate(points, start=1):
+        if not isinstance(p, Sequence) or isinstance(p, (str, bytes)) or len(p) != 2:
+            raise InputError("must be an [x, y] pair", zone=zone, row=f"vertex {k}", field=what, value=p)
+        for v in p:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise InputError("coordinate must be a finite number", zone=zone, row=f"vertex {k}", field=what, value=v)
+        rows.append((float(p[0]), float(p[1])))
+    xy = np.array(rows, dtype=float).reshape(-1, 2)
+    if len(xy) > 3 and np.array_equal(xy[0], xy[-1]):
+        xy = xy[:-1]
+    return xy
+
+
+def signed_area(xy: NDArray[np.float64]) -> float:
+    """Shoelace area, positive for counter-clockwise vertex order.
+
+    Coordinates are taken relative to the first vertex so that projected
+    coordinates around 10^6 m lose no precision.
+    """
+    d = xy - xy[0]
+    x, y = d[:, 0], d[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def side_lengths(xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Length of side i, from vertex i to vertex i+1 (cyclic)."""
+    return np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+
+
+def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None = None) -> None:
+    """Refuse fewer than 3 vertices, zero-length sides, zero area and self-intersection.
+
+    Self-intersection is found with a spatial index over the sides (shapely
+    STRtree), so a 5,000-vertex outline is checked without n^2 pair tests.
+    The message names the two sides (1-based) and where they meet.
+    """
+    n = len(xy)
+    if n < 3:
+        raise InputError("a polygon needs at least 3 vertices", zone=zone, field=what, value=n)
+    lengths = side_lengths(xy)
+    short = np.flatnonzero(lengths <= ZERO_LENGTH_M)
+    if short.size:
+        k = int(short[0]) + 1
+        raise InputError("zero-length side (duplicate vertex)", zone=zone, row=f"side {k}", field="side_length_m", value=float(lengths[k - 1]))
+    origin = xy[0]
+    local = xy - origin
+    segs = shapely.linestrings(np.stack([local, np.roll(local, -1, axis=0)], axis=1))
+    tree = shapely.STRtree(segs)
+    i, j = tree.query(segs, predicate="intersects")
+    keep = i < j
+    i, j = i[keep], j[keep]
+    adjacent = (j == i + 1) | ((i == 0) & (j == n - 1))
+    inter = shapely.intersection(segs[i], segs[j])
+    # adjacent sides share their common vertex; anything more (a fold back) is a crossing
+    bad = ~adjacent | (shapely.length(inter) > 0)
+    if np.any(bad):
+        k = int(np.flatnonzero(bad)[0])
+        p = shapely.get_coordinates(inter[k])[0] + origin
+        raise InputError(
+            f"self-intersecting polygon: sides {i[k] + 1} and {j[k] + 1} meet at ({p[0]:.3f}, {p[1]:.3f})",
+            zone=zone, field=what,
+        )
+    area = signed_area(xy)
+    if abs(area) <= ZERO_LENGTH_M:
+        raise InputError("polygon has zero area", zone=zone, field=what, value=area)

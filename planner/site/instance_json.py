@@ -1,0 +1,288 @@
+"""Reader of the JSON instance format (documented in docs/instance-format.md).
+
+Lengths carry their unit in the key (``sigma_req_mm`` or ``sigma_req_m``);
+unknown keys are refused so that a typo never silently drops a setting.
+Only ``json`` is used to parse: nothing in a file is ever evaluated.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from planner.accuracy import ErrorBudget
+from planner.errors import InputError
+from planner.params import ClosureTolerance, DEFAULT_INSTRUMENT, Parameters
+from planner.site.fileio import read_text, to_float
+from planner.site.geometry import as_vertices, signed_area
+from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, ScanSide, Site, Zone
+from planner.site.table_csv import NUMBER_COLUMNS, read_table_csv
+from planner.site.tables import SIDE_FIELDS, VERTEX_FIELDS, zone_from_table
+from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable
+
+TOP_KEYS = {"format", "name", "description", "source", "instrument", "parameters", "closure_tolerance",
+            "zones", "obstacles", "no_go", "boundary", "control_points", "corrections", "accepted_misclosures"}
+FORMAT = "tls-planner/1"
+
+
+class _Reader:
+    """Holds the file name so every error can name it."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.file = str(path)
+
+    def fail(self, message: str, **where: Any) -> InputError:
+        return InputError(message, file=self.file, **where)
+
+    def obj(self, value: Any, what: str, allowed: set[str], **where: Any) -> dict[str, Any]:
+        if not isinstance(value, dict):
+            raise self.fail("must be an object", field=what, value=type(value).__name__, **where)
+        unknown = sorted(set(value) - allowed)
+        if unknown:
+            raise self.fail(f"unknown key in {what} (allowed: {', '.join(sorted(allowed))})", field=unknown[0], **where)
+        return value
+
+    def items(self, data: dict[str, Any], key: str) -> list[Any]:
+        value = data.get(key, [])
+        if not isinstance(value, list):
+            raise self.fail("must be a list", field=key, value=type(value).__name__)
+        return value
+
+    def num(self, data: dict[str, Any], key: str, **where: Any) -> float:
+        if key not in data:
+            raise self.fail("missing", field=key, **where)
+        return to_float(data[key], field=key, file=self.file, **where)
+
+    def length(self, data: dict[str, Any], base: str, default: float | None = None, **where: Any) -> float | None:
+        """A length given as ``base_m`` or ``base_mm`` (in metres), or the default."""
+        keys = [k for k in (f"{base}_m", f"{base}_mm") if k in data]
+        if len(keys) == 2:
+            raise self.fail("given twice (in m and mm)", field=base, **where)
+        if not keys:
+            return default
+        if data[keys[0]] is None:
+            return default
+        value = to_float(data[keys[0]], field=keys[0], file=self.file, **where)
+        return value / 1000.0 if keys[0].endswith("_mm") else value
+
+    def text(self, data: dict[str, Any], key: str, default: str | None = None, **where: Any) -> str:
+        value = data.get(key, default)
+        if not isinstance(value, str) or not value.strip():
+            raise self.fail("must be a non-empty text", field=key, value=value, **where)
+        return value
+
+    def polygon(self, value: Any, what: str, name: str) -> tuple[tuple[float, float], ...]:
+        try:
+            xy = as_vertices(value, what=what, zone=name)
+        except InputError as exc:
+            raise exc.located(self.file) from None
+        if len(xy) >= 3 and signed_area(xy) < 0:
+            xy = xy[::-1]
+        return tuple((float(x), float(y)) for x, y in xy)
+
+
+def load_instance_json(path: Path | str) -> Site:
+    """Read a JSON instance into a :class:`Site` (zones closed and adjusted)."""
+    r = _Reader(Path(path))
+    try:
+        data = json.loads(read_text(r.path))
+    except json.JSONDecodeError as exc:
+        raise r.fail(f"invalid JSON: {exc.msg}", row=f"line {exc.lineno} column {exc.colno}") from None
+    data = r.obj(data, "instance", TOP_KEYS)
+    if "format" in data and data["format"] != FORMAT:
+        raise r.fail(f"unsupported format (this reader knows {FORMAT})", field="format", value=data["format"])
+    try:
+        params = _parameters(r, data.get("parameters", {}))
+        tol_data = r.obj(data.get("closure_tolerance", {}), "closure_tolerance", {"angular_deg", "min_relative_precision"})
+        tolerance = ClosureTolerance(**{k: to_float(v, field=k, file=r.file) for k, v in tol_data.items()})
+        corrections = tuple(_correction(r, c, k) for k, c in enumerate(r.items(data, "corrections"), 1))
+        accepted = tuple(_accepted(r, a, k) for k, a in enumerate(r.items(data, "accepted_misclosures"), 1))
+        zones = _zones(r, r.items(data, "zones"), tolerance, corrections, accepted)
+        _check_references(r, zones, corrections, accepted)
+        return Site(
+            name=data.get("name", r.path.stem),
+            zones=zones,
+            parameters=params,
+            instrument=r.text(data, "instrument", DEFAULT_INSTRUMENT),
+            obstacles=tuple(_obstacle(r, o, k) for k, o in enumerate(r.items(data, "obstacles"), 1)),
+            no_go_areas=tuple(_no_go(r, o, k) for k, o in enumerate(r.items(data, "no_go"), 1)),
+            boundary=r.polygon(data["boundary"], "boundary", "boundary") if data.get("boundary") is not None else None,
+            control_points=tuple(_control(r, c, k) for k, c in enumerate(r.items(data, "control_points"), 1)),
+            corrections=corrections,
+            accepted_misclosures=accepted,
+            source=r.file,
+        )
+    except InputError as exc:
+        raise exc.located(r.file) from None
+
+
+PARAM_KEYS = {"theta_max_deg", "overlap", "sigma_req_m", "sigma_req_mm", "drawing_scale", "sigma_0_m", "sigma_0_mm",
+              "centring_m", "centring_mm", "graphical_m", "graphical_mm", "instrument_height_m",
+              "max_slant_range_m"}
+
+
+def _parameters(r: _Reader, raw: Any) -> Parameters:
+    d = r.obj(raw, "parameters", PARAM_KEYS)
+    base = Parameters()
+    budget = ErrorBudget(
+        sigma_0_m=r.length(d, "sigma_0", base.budget.sigma_0_m),
+        centring_m=r.length(d, "centring", base.budget.centring_m),
+        graphical_m=r.length(d, "graphical", base.budget.graphical_m),
+    )
+    sigma_req = r.length(d, "sigma_req", None)
+    if sigma_req is not None and d.get("drawing_scale") is not None:
+        raise r.fail("give sigma_req or drawing_scale, not both", field="drawing_scale", value=d["drawing_scale"])
+    params = Parameters(
+        theta_max_deg=r.num(d, "theta_max_deg") if "theta_max_deg" in d else base.theta_max_deg,
+        overlap=r.num(d, "overlap") if "overlap" in d else base.overlap,
+        sigma_req_m=sigma_req if sigma_req is not None else base.sigma_req_m,
+        budget=budget,
+        instrument_height_m=r.length(d, "instrument_height", base.instrument_height_m),
+        max_slant_range_m=r.length(d, "max_slant_range", None),
+    )
+    if d.get("drawing_scale") is not None:
+        params = params.with_scale(d["drawing_scale"])
+    return params
+
+
+def _zones(r: _Reader, entries: list[Any], tolerance: ClosureTolerance,
+           corrections: tuple[Correction, ...], accepted: tuple[AcceptedMisclosure, ...]) -> tuple[Zone, ...]:
+    if not entries:
+        raise r.fail("an instance needs at least one zone", field="zones", value=0)
+    tables: list[ZoneTable] = []
+    zones: list[Zone | None] = []
+    for k, entry in enumerate(entries, 1):
+        if isinstance(entry, dict) and "table_csv" in entry:
+            e = r.obj(entry, "zones entry", {"table_csv", "zones"}, row=f"zones[{k}]")
+            found = read_table_csv(r.path.parent / r.text(e, "table_csv"))
+            wanted = e.get("zones")
+            if wanted is not None:
+                missing = sorted(set(wanted) - {t.zone for t in found})
+                if missing:
+                    raise r.fail("zone not in the CSV", zone=missing[0], field="zones")
+                found = [t for t in found if t.zone in wanted]
+            tables += found
+            zones += [None] * len(found)
+        elif isinstance(entry, dict) and "table" in entry:
+            tables.append(_inline_table(r, entry, k))
+            zones.append(None)
+        else:
+            zones.append(_coordinate_zone(r, entry, k))
+    table_iter = iter(tables)
+    result = []
+    for z in zones:
+        if z is None:
+            t = next(table_iter)
+            acc = next((a for a in accepted if a.zone == t.zone), None)
+            z = zone_from_table(t, tolerance, [c for c in corrections if c.zone == t.zone], acc)
+        result.append(z)
+    return tuple(result)
+
+
+def _inline_table(r: _Reader, entry: dict[str, Any], k: int) -> ZoneTable:
+    e = r.obj(entry, "zones entry", {"id", "scan_side", "table"}, row=f"zones[{k}]")
+    zone = r.text(e, "id")
+    side = _scan_side(r, e, zone)
+    rows = []
+    for i, raw in enumerate(e["table"] if isinstance(e["table"], list) else [], 1):
+        d = r.obj(raw, "table row", set(NUMBER_COLUMNS) | {"index"}, zone=zone, row=i)
+        index = int(r.num(d, "index", zone=zone, row=i)) if "index" in d else i
+        rows.append(TableRow(index=index, **{c: r.num(d, c, zone=zone, row=i) for c in NUMBER_COLUMNS}))
+    rows.sort(key=lambda t: t.index)
+    if [t.index for t in rows] != list(range(1, len(rows) + 1)):
+        raise r.fail(f"indices must run 1..{len(rows)}", zone=zone, field="index")
+    return ZoneTable(zone=zone, scan_side=side.value, rows=tuple(rows), file=r.file)
+
+
+def _scan_side(r: _Reader, e: dict[str, Any], zone: str) -> ScanSide:
+    try:
+        return ScanSide(e.get("scan_side"))
+    except ValueError:
+        raise r.fail("must be inside, outside or both", zone=zone, field="scan_side", value=e.get("scan_side")) from None
+
+
+def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
+    keys = {"id", "scan_side", "coordinates", "vertex_heights_m", "height_m", "wall_heights_m"}
+    e = r.obj(entry, "zones entry", keys, row=f"zones[{k}]")
+    zone = r.text(e, "id")
+    side = _scan_side(r, e, zone)
+    xy = as_vertices(e.get("coordinates"), what="coordinates", zone=zone)
+    n = len(xy)
+    if "vertex_heights_m" in e:
+        raw = e["vertex_heights_m"]
+        if not isinstance(raw, list) or len(raw) != n:
+            raise r.fail(f"needs a list of {n} heights", zone=zone, field="vertex_heights_m")
+        heights = [to_float(h, field="vertex_heights_m", file=r.file, zone=zone, row=i) for i, h in enumerate(raw, 1)]
+    else:
+        heights = [r.num(e, "height_m", zone=zone)] * n
+    printed: list[float | None] = [None] * n
+    if "wall_heights_m" in e:
+        raw = e["wall_heights_m"]
+        if not isinstance(raw, list) or len(raw) != n:
+            raise r.fail(f"needs a list of {n} heights", zone=zone, field="wall_heights_m")
+        printed = [to_float(h, field="wall_heights_m", file=r.file, zone=zone, row=i) for i, h in enumerate(raw, 1)]
+    notes: tuple[str, ...] = ()
+    if n >= 3 and signed_area(xy) < 0:
+        # keep vertex 1; reversed walk: new wall j joins given vertices -j and -j-1, i.e. given wall -j-1
+        order = [(-j) % n for j in range(n)]
+        xy, heights = xy[order], [heights[i] for i in order]
+        printed = [printed[(-j - 1) % n] for j in range(n)]
+        notes = ("given clockwise; stored counter-clockwise from the same first vertex",)
+    return Zone(id=zone, scan_side=side, vertices=tuple(map(tuple, xy.tolist())), vertex_heights_m=tuple(heights),
+                printed_wall_heights_m=tuple(printed) if any(p is not None for p in printed) else (), notes=notes)
+
+
+def _correction(r: _Reader, raw: Any, k: int) -> Correction:
+    d = r.obj(raw, "correction", {"zone", "vertex", "side", "field", "printed", "corrected", "reason"}, row=f"corrections[{k}]")
+    where = dict(row=f"corrections[{k}]")
+    zone, fld = r.text(d, "zone", **where), r.text(d, "field", **where)
+    kind = "vertex" if "vertex" in d else "side"
+    if ("vertex" in d) == ("side" in d):
+        raise r.fail("give exactly one of vertex or side", zone=zone, **where)
+    allowed = VERTEX_FIELDS if kind == "vertex" else SIDE_FIELDS
+    if fld not in allowed:
+        raise r.fail(f"a {kind} correction changes one of {', '.join(allowed)}", zone=zone, field="field", value=fld, **where)
+    return Correction(zone=zone, row=int(r.num(d, kind, **where)), field=fld, printed=r.num(d, "printed", **where),
+                      corrected=r.num(d, "corrected", **where), reason=r.text(d, "reason", **where))
+
+
+def _accepted(r: _Reader, raw: Any, k: int) -> AcceptedMisclosure:
+    keys = {"zone", "angular_misclosure_deg", "linear_misclosure_m", "reason"}
+    d = r.obj(raw, "accepted misclosure", keys, row=f"accepted_misclosures[{k}]")
+    where = dict(row=f"accepted_misclosures[{k}]")
+    return AcceptedMisclosure(zone=r.text(d, "zone", **where), angular_misclosure_deg=r.num(d, "angular_misclosure_deg", **where),
+                              linear_misclosure_m=r.num(d, "linear_misclosure_m", **where), reason=r.text(d, "reason", **where))
+
+
+def _check_references(r: _Reader, zones: tuple[Zone, ...], corrections: tuple[Correction, ...],
+                      accepted: tuple[AcceptedMisclosure, ...]) -> None:
+    table_zones = {z.id for z in zones if z.closure is not None}
+    for c in corrections:
+        if c.zone not in table_zones:
+            raise r.fail("correction names no table zone of this instance", zone=c.zone, field="corrections")
+    for a in accepted:
+        if a.zone not in table_zones:
+            raise r.fail("accepted misclosure names no table zone of this instance", zone=a.zone, field="accepted_misclosures")
+
+
+def _obstacle(r: _Reader, raw: Any, k: int) -> Obstacle:
+    d = r.obj(raw, "obstacle", {"name", "polygon", "height_m"}, row=f"obstacles[{k}]")
+    name = str(d.get("name", f"obstacle {k}"))
+    return Obstacle(name=name, vertices=r.polygon(d.get("polygon"), "polygon", name), height_m=r.num(d, "height_m", zone=name))
+
+
+def _no_go(r: _Reader, raw: Any, k: int) -> NoGoArea:
+    d = r.obj(raw, "no-go area", {"name", "polygon"}, row=f"no_go[{k}]")
+    name = str(d.get("name", f"no-go {k}"))
+    return NoGoArea(name=name, vertices=r.polygon(d.get("polygon"), "polygon", name))
+
+
+def _control(r: _Reader, raw: Any, k: int) -> ControlPoint:
+    keys = {"name", "x", "y", "z", "sigma_x_m", "sigma_x_mm", "sigma_y_m", "sigma_y_mm"}
+    d = r.obj(raw, "control point", keys, row=f"control_points[{k}]")
+    name = str(d.get("name", f"CP{k}"))
+    return ControlPoint(name=name, x=r.num(d, "x", row=name), y=r.num(d, "y", row=name),
+                        z=r.num(d, "z", row=name) if d.get("z") is not None else None,
+                        sigma_x_m=r.length(d, "sigma_x", 0.0, row=name), sigma_y_m=r.length(d, "sigma_y", 0.0, row=name))

@@ -1,0 +1,238 @@
+"""The site: zones with walls and height profiles, obstacles, no-go areas, boundary, control.
+
+All value objects are frozen and validated on construction. Coordinates are
+metres in the zone's ``frame``: a table zone lives in its own frame (named
+after the zone), zones given by coordinates share the frame ``"site"`` with
+the obstacles, no-go areas, boundary and control points.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import Enum
+from functools import cached_property
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from planner.errors import InputError
+from planner.params import Parameters
+from planner.site.geometry import check_simple_polygon, side_lengths, signed_area
+from planner.site.traverse import AcceptedMisclosure, ClosureReport
+
+SITE_FRAME = "site"
+#: printed wall heights are given to 0.001 m
+HEIGHT_CHECK_TOL_M = 0.0005
+
+
+class ScanSide(str, Enum):
+    """Where the stations of a zone stand."""
+
+    INSIDE = "inside"    # rooms, courts
+    OUTSIDE = "outside"  # the outer outline
+    BOTH = "both"        # the theoretical polygons A, B, C
+
+    @property
+    def sides(self) -> tuple["ScanSide", ...]:
+        """The single sides this stands for (BOTH -> INSIDE, OUTSIDE)."""
+        return (ScanSide.INSIDE, ScanSide.OUTSIDE) if self is ScanSide.BOTH else (self,)
+
+
+@dataclass(frozen=True)
+class Wall:
+    """Wall ``index`` (1-based) of a zone: from vertex ``index`` to the next, counter-clockwise.
+
+    The top edge runs linearly from ``h_start_m`` to ``h_end_m``; the interior
+    of the zone is to the left of the direction start -> end.
+    """
+
+    zone: str
+    index: int
+    start: tuple[float, float]
+    end: tuple[float, float]
+    h_start_m: float
+    h_end_m: float
+    printed_height_m: float | None = None
+
+    @property
+    def length_m(self) -> float:
+        return math.hypot(self.end[0] - self.start[0], self.end[1] - self.start[1])
+
+    @property
+    def height_m(self) -> float:
+        """The highest point of the top edge."""
+        return max(self.h_start_m, self.h_end_m)
+
+    def height_at(self, t: NDArray[np.float64] | float) -> NDArray[np.float64]:
+        """Top height at fraction ``t`` (0 at start, 1 at end) along the wall."""
+        return self.h_start_m + (self.h_end_m - self.h_start_m) * np.asarray(t, dtype=float)
+
+    @property
+    def height_check_ok(self) -> bool:
+        """True when the printed wall height is the max of its vertex heights (or none printed)."""
+        return self.printed_height_m is None or abs(self.printed_height_m - self.height_m) <= HEIGHT_CHECK_TOL_M
+
+
+@dataclass(frozen=True)
+class Zone:
+    """A simple polygon, stored counter-clockwise, scanned from ``scan_side``."""
+
+    id: str
+    scan_side: ScanSide
+    vertices: tuple[tuple[float, float], ...]
+    vertex_heights_m: tuple[float, ...]
+    printed_wall_heights_m: tuple[float | None, ...] = ()
+    frame: str = SITE_FRAME
+    closure: ClosureReport | None = None
+    notes: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        xy = np.asarray(self.vertices, dtype=float).reshape(-1, 2)
+        check_simple_polygon(xy, what="polygon", zone=self.id)
+        if signed_area(xy) <= 0:
+            raise InputError("vertices must be counter-clockwise", zone=self.id, field="polygon")
+        n = len(xy)
+        if len(self.vertex_heights_m) != n:
+            raise InputError(f"needs {n} vertex heights", zone=self.id, field="vertex_heights_m", value=len(self.vertex_heights_m))
+        for k, h in enumerate(self.vertex_heights_m, start=1):
+            if not math.isfinite(h) or h <= 0:
+                raise InputError("must be a finite height > 0", zone=self.id, row=k, field="vertex_height_m", value=h)
+        if self.printed_wall_heights_m and len(self.printed_wall_heights_m) != n:
+            raise InputError(f"needs {n} wall heights", zone=self.id, field="wall_heights_m", value=len(self.printed_wall_heights_m))
+
+    @cached_property
+    def xy(self) -> NDArray[np.float64]:
+        """Vertices as a read-only (n, 2) array."""
+        a = np.asarray(self.vertices, dtype=float)
+        a.flags.writeable = False
+        return a
+
+    @cached_property
+    def walls(self) -> tuple[Wall, ...]:
+        n = len(self.vertices)
+        printed = self.printed_wall_heights_m or (None,) * n
+        return tuple(
+            Wall(self.id, i + 1, self.vertices[i], self.vertices[(i + 1) % n],
+                 self.vertex_heights_m[i], self.vertex_heights_m[(i + 1) % n], printed[i])
+            for i in range(n)
+        )
+
+    @property
+    def perimeter_m(self) -> float:
+        return float(side_lengths(self.xy).sum())
+
+    @property
+    def area_m2(self) -> float:
+        return signed_area(self.xy)
+
+    @cached_property
+    def polygon(self) -> shapely.Polygon:
+        return shapely.Polygon(self.xy)
+
+    def height_check_failures(self) -> tuple[Wall, ...]:
+        """Walls whose printed height is not the max of their two vertex heights."""
+        return tuple(w for w in self.walls if not w.height_check_ok)
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """Something that blocks sight and where no station can stand (a column, a crane)."""
+
+    name: str
+    vertices: tuple[tuple[float, float], ...]
+    height_m: float
+
+    def __post_init__(self) -> None:
+        check_simple_polygon(np.asarray(self.vertices, float), what="obstacle", zone=self.name)
+        if not math.isfinite(self.height_m) or self.height_m <= 0:
+            raise InputError("must be a finite height > 0", zone=self.name, field="height_m", value=self.height_m)
+
+
+@dataclass(frozen=True)
+class NoGoArea:
+    """Where no station may stand; sight passes over it (a lawn, a road, a grave)."""
+
+    name: str
+    vertices: tuple[tuple[float, float], ...]
+
+    def __post_init__(self) -> None:
+        check_simple_polygon(np.asarray(self.vertices, float), what="no_go", zone=self.name)
+
+
+@dataclass(frozen=True)
+class ControlPoint:
+    """A coordinated point of the control network; sigmas 0 mean fixed (error-free)."""
+
+    name: str
+    x: float
+    y: float
+    z: float | None = None
+    sigma_x_m: float = 0.0
+    sigma_y_m: float = 0.0
+    proposed: bool = False
+
+    def __post_init__(self) -> None:
+        for f in ("x", "y", "z", "sigma_x_m", "sigma_y_m"):
+            v = getattr(self, f)
+            if v is None:
+                continue
+            if not math.isfinite(v) or (f.startswith("sigma") and v < 0):
+                raise InputError("must be a finite number" + (" >= 0" if f.startswith("sigma") else ""),
+                                 zone=None, row=self.name, field=f, value=v)
+
+
+@dataclass(frozen=True)
+class Correction:
+    """A correction of printed data, kept beside the printed value and the reason."""
+
+    zone: str
+    row: int  # the side / vertex index of the table
+    field: str
+    printed: float
+    corrected: float
+    reason: str
+
+    @property
+    def target(self) -> str:
+        kind = "vertex" if self.field in ("interior_angle_deg", "vertex_height_m") else "side"
+        return f"{kind} {self.row}"
+
+
+@dataclass(frozen=True)
+class Site:
+    """Everything the planner knows about the object and the survey asked for."""
+
+    name: str
+    zones: tuple[Zone, ...]
+    parameters: Parameters = field(default_factory=Parameters)
+    instrument: str = "leica-p30"
+    obstacles: tuple[Obstacle, ...] = ()
+    no_go_areas: tuple[NoGoArea, ...] = ()
+    boundary: tuple[tuple[float, float], ...] | None = None
+    control_points: tuple[ControlPoint, ...] = ()
+    corrections: tuple[Correction, ...] = ()
+    accepted_misclosures: tuple[AcceptedMisclosure, ...] = ()
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.zones:
+            raise InputError("a site needs at least one zone", file=self.source or None, field="zones", value=0)
+        seen: set[str] = set()
+        for z in self.zones:
+            if z.id in seen:
+                raise InputError("duplicate zone id", file=self.source or None, zone=z.id, field="id", value=z.id)
+            seen.add(z.id)
+        if self.boundary is not None:
+            check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
+
+    def zone(self, zone_id: str) -> Zone:
+        for z in self.zones:
+            if z.id == zone_id:
+                return z
+        raise KeyError(zone_id)
+
+    @property
+    def walls(self) -> tuple[Wall, ...]:
+        return tuple(w for z in self.zones for w in z.walls)

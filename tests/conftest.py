@@ -1,0 +1,28 @@
+"""Shared fixtures: paths to the bundled instances and a CSV writer for small test sites."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+INSTANCES = ROOT / "instances"
+HEADER = "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m\n"
+
+
+@pytest.fixture
+def write_csv(tmp_path: Path):
+    """Write table rows ``(zone, side, index, L, wall h, angle, vertex h)`` to a CSV and return its path."""
+
+    def _write(rows: list[tuple], name: str = "site.csv", header: str = HEADER) -> Path:
+        path = tmp_path / name
+        path.write_text(header + "".join(",".join(str(c) for c in r) + "\n" for r in rows))
+        return path
+
+    return _write
+
+
+def square_rows(zone: str = "S", side: str = "inside", length: float = 10.0, height: float = 5.0) -> list[tuple]:
+    """A length x length square zone, every angle 90 deg."""
+    return [(zone, side, i, length, height, 90, height) for i in range(1, 5)]

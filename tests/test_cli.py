@@ -1,0 +1,177 @@
+"""The command line: exit codes and one-line errors naming file, zone/row and value."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from planner.cli import main
+from tests.conftest import INSTANCES, ROOT, square_rows
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def assert_one_line_error(err: str, *fragments: str) -> None:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    for f in fragments:
+        assert f in lines[0], (f, lines[0])
+
+
+def test_validate_baalbek_lists_corrections_and_closures(capsys):
+    code, out, _ = run(capsys, "validate", str(INSTANCES / "baalbek.json"))
+    assert code == 0
+    for zone in ["Z1", "Z6", "Z11", "outline"]:
+        assert f"\n{zone} " in out
+    assert "corrections applied: 3" in out and "misclosures accepted: 1" in out
+    assert "outline vertex 18 interior_angle_deg: printed 0 -> 90.676" in out
+    assert "Z3 vertex 6 interior_angle_deg: printed 128.929 -> 252.366" in out
+    assert "S_max 95.913 m" in out and "1:50,247" in out  # outline closes to 16 mm
+
+
+def test_validate_json_output(capsys):
+    code, out, _ = run(capsys, "validate", str(INSTANCES / "polygon_b.json"), "--json")
+    data = json.loads(out)
+    assert code == 0 and data["zones"][0]["id"] == "B" and len(data["zones"][0]["polygon"]) == 5
+    assert data["parameters"]["max_slant_range_m"] == 95.913
+
+
+def test_non_closing_csv_exits_3_naming_zone_and_misclosure(capsys, write_csv):
+    rows = square_rows("R")
+    rows[2] = ("R", "inside", 3, 10.0, 5.0, 95.0, 5.0)  # angles sum to 365
+    code, _, err = run(capsys, "validate", str(write_csv(rows)))
+    assert code == 3
+    assert_one_line_error(err, "site.csv", "zone R", "angular misclosure +5.000 deg")
+
+
+def test_linear_misclosure_exits_3(capsys, write_csv):
+    rows = square_rows("R")
+    rows[0] = ("R", "inside", 1, 10.5, 5.0, 90, 5.0)
+    code, _, err = run(capsys, "validate", str(write_csv(rows)))
+    assert code == 3
+    assert_one_line_error(err, "zone R", "linear misclosure 0.500 m", "1:81")
+
+
+@pytest.mark.parametrize("row, fragment", [
+    (("R", "inside", 2, 0, 5, 90, 5), "zone R row 2: side_length_m = 0"),
+    (("R", "inside", 2, -10, 5, 90, 5), "side_length_m = -10"),
+    (("R", "inside", 2, 10, -5, 90, 5), "wall_height_m = -5"),
+    (("R", "inside", 2, 10, 5, 90, 0), "vertex_height_m = 0"),
+    (("R", "inside", 2, 10, 5, 360, 5), "interior_angle_deg = 360: outside (0, 360)"),
+    (("R", "inside", 2, 10, 5, 0, 5), "interior_angle_deg = 0"),
+    (("R", "inside", 2, "nan", 5, 90, 5), "line 3: side_length_m = 'nan': must be finite"),
+    (("R", "inside", 2, 10, "inf", 90, 5), "wall_height_m = 'inf': must be finite"),
+    (("R", "inside", 2, 10, 5, "ninety", 5), "interior_angle_deg = 'ninety': not a number"),
+    (("R", "sideways", 2, 10, 5, 90, 5), "scan_side = 'sideways'"),
+])
+def test_bad_values_exit_3(capsys, write_csv, row, fragment):
+    rows = square_rows("R")
+    rows[1] = row
+    code, _, err = run(capsys, "validate", str(write_csv(rows)))
+    assert code == 3
+    assert_one_line_error(err, "site.csv", fragment)
+
+
+def test_missing_and_unknown_columns(capsys, write_csv):
+    header = "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg\n"
+    code, _, err = run(capsys, "validate", str(write_csv([r[:6] for r in square_rows()], header=header)))
+    assert code == 3
+    assert_one_line_error(err, "line 1: vertex_height_m: missing column")
+    header = "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m,colour\n"
+    code, _, err = run(capsys, "validate", str(write_csv([r + ("red",) for r in square_rows()], header=header)))
+    assert code == 3
+    assert_one_line_error(err, "colour: unknown column")
+
+
+def test_empty_file(capsys, tmp_path):
+    for name in ("empty.csv", "empty.json"):
+        (tmp_path / name).write_text("  \n")
+        code, _, err = run(capsys, "validate", str(tmp_path / name))
+        assert code == 3
+        assert_one_line_error(err, name, "empty file")
+
+
+def test_self_intersecting_zone_says_where(capsys, tmp_path):
+    inst = {"zones": [{"id": "bow", "scan_side": "inside", "coordinates": [[0, 0], [10, 10], [10, 0], [0, 10]], "height_m": 5}]}
+    (tmp_path / "bow.json").write_text(json.dumps(inst))
+    code, _, err = run(capsys, "validate", str(tmp_path / "bow.json"))
+    assert code == 3
+    assert_one_line_error(err, "bow.json", "zone bow", "sides 1 and 3 meet at (5.000, 5.000)")
+
+
+def test_accuracy_below_non_instrument_errors_exits_4(capsys):
+    # sqrt(3 * 0.5^2) = 0.866 mm > 0.8 mm
+    code, _, err = run(capsys, "validate", str(INSTANCES / "polygon_a.json"), "--sigma-req", "0.0008")
+    assert code == 4
+    assert_one_line_error(err, "polygon_a.json", "sigma_req_mm = 0.8", "no instrument error budget left")
+
+
+def test_unknown_instrument_exits_3(capsys):
+    code, _, err = run(capsys, "validate", str(INSTANCES / "polygon_a.json"), "--instrument", "riegl-x")
+    assert code == 3
+    assert_one_line_error(err, "polygon_a.json", "instrument = 'riegl-x'", "known: dissertation-tables")
+
+
+@pytest.mark.parametrize("value", ["90", "0", "-5", "120"])
+def test_theta_max_outside_0_90_exits_3(capsys, value):
+    code, _, err = run(capsys, "validate", str(INSTANCES / "polygon_a.json"), "--theta-max", value)
+    assert code == 3
+    assert_one_line_error(err, f"theta_max_deg = {float(value):g}", "(0, 90)")
+
+
+def test_theta_max_in_instance_file_names_the_file(capsys, tmp_path):
+    inst = json.loads((INSTANCES / "polygon_a.json").read_text())
+    inst["parameters"]["theta_max_deg"] = 95
+    (tmp_path / "polygon_a.csv").write_text((INSTANCES / "polygon_a.csv").read_text())
+    (tmp_path / "a.json").write_text(json.dumps(inst))
+    code, _, err = run(capsys, "validate", str(tmp_path / "a.json"))
+    assert code == 3
+    assert_one_line_error(err, "a.json", "theta_max_deg = 95")
+
+
+def test_usage_errors_exit_2(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["validate"])
+    assert exc.value.code == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["frobnicate"])
+    assert exc.value.code == 2
+
+
+def test_missing_file_and_unknown_format(capsys, tmp_path):
+    code, _, err = run(capsys, "validate", str(tmp_path / "nope.json"))
+    assert code == 3 and "nope.json" in err
+    (tmp_path / "site.dxf").write_text("0\nEOF\n")
+    code, _, err = run(capsys, "validate", str(tmp_path / "site.dxf"))
+    assert code == 3
+    assert_one_line_error(err, "site.dxf", "unknown input format")
+
+
+def test_scale_option_sets_accuracy(capsys):
+    code, out, _ = run(capsys, "validate", str(INSTANCES / "polygon_a.csv"), "--scale", "1:100")
+    # 1:100 -> 20 mm (table 1.1); the CSV's default leica-p30 then reaches 490.5 m by (3.1)
+    # (sigma_instr = sqrt(400 - 0.75) = 19.98 mm), more than its 270 m datasheet range, which caps it
+    assert code == 0 and "sigma_req 20 mm (drawing scale 1:100)" in out
+    assert "S_max 270.000 m [datasheet range of leica-p30 ((3.1) gives 490.5" in out
+
+
+def test_console_script_and_module_agree():
+    args = ["validate", str(INSTANCES / "polygon_c.json")]
+    exe = Path(sys.executable).parent / "planner"
+    as_module = subprocess.run([sys.executable, "-m", "planner", *args], capture_output=True, text=True, cwd=ROOT)
+    assert as_module.returncode == 0, as_module.stderr
+    assert "C        both" in as_module.stdout
+    if exe.exists():
+        as_script = subprocess.run([str(exe), *args], capture_output=True, text=True, cwd=ROOT)
+        assert (as_script.returncode, as_script.stdout) == (as_module.returncode, as_module.stdout)
+    bad = subprocess.run([sys.executable, "-m", "planner", "validate", "missing.csv"], capture_output=True, text=True)
+    assert bad.returncode == 3 and len(bad.stderr.strip().splitlines()) == 1
