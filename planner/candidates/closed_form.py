@@ -1,0 +1,127 @@
+"""Placing the closed-form candidates of chapter 3 on a zone (vertex, wall and circle candidates)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.ops import polylabel
+
+from planner.candidates.formulas import VertexGeometry, WallPlan, horizontal_reach_m, vertex_geometry, wall_plan
+from planner.candidates.model import Candidate, CandidateKind
+from planner.site.model import ScanSide, Zone
+from planner.site.traverse import table_from_polygon
+
+SIDE_TAG = {ScanSide.INSIDE: "in", ScanSide.OUTSIDE: "out"}
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The limits the closed form needs: slant range, incidence, overlap, instrument height."""
+
+    max_slant_range_m: float
+    theta_max_deg: float
+    overlap: float
+    instrument_height_m: float = 0.0
+
+
+@dataclass(frozen=True)
+class ZoneSidePlan:
+    """The closed-form result for one zone seen from one side."""
+
+    zone: str
+    side: ScanSide
+    vertices: tuple[VertexGeometry | None, ...]  # per vertex (table index - 1); None = cancelled
+    walls: tuple[WallPlan, ...]
+    candidates: tuple[Candidate, ...]
+    circle_replaced_vertices: bool = False
+
+
+def _rotate(v: np.ndarray, deg: float) -> np.ndarray:
+    a = math.radians(deg)
+    return np.array([v[0] * math.cos(a) - v[1] * math.sin(a), v[0] * math.sin(a) + v[1] * math.cos(a)])
+
+
+def scan_side_angles(zone: Zone, side: ScanSide) -> np.ndarray:
+    """Polygon angle at each vertex measured on the scanning side (deg)."""
+    _, interior = table_from_polygon(np.asarray(zone.xy))
+    return interior if side is ScanSide.INSIDE else 360.0 - interior
+
+
+def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
+    """Vertex candidates, wall candidates and (inside, when no wall needs one) the circle candidate."""
+    xy = np.asarray(zone.xy, dtype=float)
+    n = len(xy)
+    angles = scan_side_angles(zone, side)
+    sign = 1.0 if side is ScanSide.INSIDE else -1.0  # inside is to the left of each CCW wall
+    tag = SIDE_TAG[side]
+    reach = [horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m]
+    vgeo = tuple(vertex_geometry(float(angles[i]), reach[i], limits.theta_max_deg) for i in range(n))
+    vertex_cands = []
+    for i, g in enumerate(vgeo):
+        if g is None:
+            continue
+        out = xy[(i + 1) % n] - xy[i]
+        direction = _rotate(out / np.linalg.norm(out), sign * g.angle_deg / 2.0)
+        p = xy[i] + g.hd_m * direction
+        vertex_cands.append(Candidate(
+            id=f"{zone.id}-{tag}-V{i + 1}", zone=zone.id, side=side, frame=zone.frame, x=float(p[0]), y=float(p[1]),
+            kind=CandidateKind.VERTEX, vertex=i + 1, alpha_deg=g.alpha_deg, hd_m=g.hd_m, gamma_deg=g.gamma_deg,
+            covered_m=g.covered_m))
+    wplans, wall_cands = [], []
+    for i, wall in enumerate(zone.walls):
+        l1 = vgeo[i].covered_m if vgeo[i] else 0.0
+        l2 = vgeo[(i + 1) % n].covered_m if vgeo[(i + 1) % n] else 0.0
+        reach_c = horizontal_reach_m(limits.max_slant_range_m, wall.height_m, limits.instrument_height_m)
+        wp = wall_plan(wall.length_m, reach_c, l1, l2, limits.theta_max_deg, limits.overlap)
+        wplans.append(wp)
+        start = xy[i]
+        t = (xy[(i + 1) % n] - start) / wall.length_m
+        nrm = sign * np.array([-t[1], t[0]])
+        for k, st in enumerate(wp.stations, 1):
+            def at(x: float, y: float) -> tuple[float, float]:
+                q = start + x * t + y * nrm
+                return (float(q[0]), float(q[1]))
+
+            field = (at(st.x_m - st.half_base_m, st.y_m), at(st.x_m + st.half_base_m, st.y_m),
+                     at(st.x_m, st.y_m - st.height_m))
+            px, py = at(st.x_m, st.y_m)
+            wall_cands.append(Candidate(
+                id=f"{zone.id}-{tag}-W{i + 1}.{k}", zone=zone.id, side=side, frame=zone.frame, x=px, y=py,
+                kind=CandidateKind.WALL, wall=i + 1, local_x_m=st.x_m, local_y_m=st.y_m,
+                field_half_base_m=st.half_base_m, field_height_m=st.height_m, field=field))
+    candidates = tuple(vertex_cands + wall_cands)
+    replaced = False
+    if side is ScanSide.INSIDE and not wall_cands:
+        circle = circle_candidate(zone, vgeo, reach)
+        if circle is not None:
+            candidates, replaced = (circle,), True
+    return ZoneSidePlan(zone.id, side, vgeo, tuple(wplans), candidates, replaced)
+
+
+def circle_radii(vgeo: tuple[VertexGeometry | None, ...], reach: list[float]) -> list[float]:
+    """Radius of each vertex circle: sqrt(S_max^2 - h_V^2), or the K^B HD at a reflex vertex (table 4.5)."""
+    return [g.hd_m if (g is not None and g.reflex) else r for g, r in zip(vgeo, reach)]
+
+
+def circle_candidate(zone: Zone, vgeo: tuple[VertexGeometry | None, ...], reach: list[float]) -> Candidate | None:
+    """One station inside the zone and inside every vertex circle (fig. 3.13), or None if they do not meet.
+
+    The station is put at the pole of inaccessibility of that region (the centre
+    of its largest inscribed circle), the point with the most room to move.
+    """
+    region = zone.polygon
+    for (x, y), r in zip(zone.xy, circle_radii(vgeo, reach)):
+        region = region.intersection(shapely.Point(x, y).buffer(r, quad_segs=64))
+        if region.is_empty:
+            return None
+    if not isinstance(region, shapely.Polygon):
+        region = max(getattr(region, "geoms", []), key=lambda g: g.area, default=None)
+        if region is None or region.area <= 0:
+            return None
+    p = polylabel(region, tolerance=0.01)
+    return Candidate(
+        id=f"{zone.id}-in-C", zone=zone.id, side=ScanSide.INSIDE, frame=zone.frame, x=float(p.x), y=float(p.y),
+        kind=CandidateKind.CIRCLE, field=tuple((float(a), float(b)) for a, b in region.exterior.coords[:-1]))

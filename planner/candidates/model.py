@@ -1,0 +1,57 @@
+"""Candidate stations: where a scanner could stand, and why it was proposed."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+from planner.site.model import ScanSide
+
+
+class CandidateKind(str, Enum):
+    """Where a candidate comes from (the ``kind`` of a station in plan.json)."""
+
+    VERTEX = "vertex"  # K^B, on the bisector of a corner
+    WALL = "wall"      # K^C, in front of a wall
+    CIRCLE = "circle"  # one station in the intersection of the vertex circles
+    FIELD = "field"    # sampled inside a closed-form candidate's movement field
+    GRID = "grid"      # on a grid over the accessible area
+
+
+#: Order of preference among duplicates and for tie-breaking: closed form first.
+KIND_ORDER = {k: i for i, k in enumerate(CandidateKind)}
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One candidate station in the frame of its zone.
+
+    ``zone``/``side`` say which zone face the candidate was proposed for; it
+    may see other faces of the same frame too (the coverage matrix says).
+    The closed-form figures (``alpha_deg`` ... ``field_height_m``) are set
+    for vertex and wall candidates and kept for the reproduction tables;
+    ``field`` is the movement field polygon in frame coordinates, if any.
+    """
+
+    id: str
+    zone: str
+    side: ScanSide
+    frame: str
+    x: float
+    y: float
+    kind: CandidateKind
+    vertex: int | None = None
+    wall: int | None = None
+    alpha_deg: float | None = None
+    hd_m: float | None = None
+    gamma_deg: float | None = None
+    covered_m: float | None = None
+    local_x_m: float | None = None
+    local_y_m: float | None = None
+    field_half_base_m: float | None = None
+    field_height_m: float | None = None
+    field: tuple[tuple[float, float], ...] | None = None
+
+    @property
+    def xy(self) -> tuple[float, float]:
+        return (self.x, self.y)

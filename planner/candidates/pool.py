@@ -1,0 +1,146 @@
+"""The candidate pool: closed-form candidates, samples in their movement fields, corner rays and a grid."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, scan_side_angles
+from planner.candidates.formulas import horizontal_reach_m
+from planner.candidates.model import Candidate, CandidateKind
+from planner.site.model import ScanSide, Site, Zone
+
+
+@dataclass(frozen=True)
+class PoolOptions:
+    """How dense the pool is.
+
+    ``grid_spacing_m``: grid over the accessible area (a zone-side region too
+    small for ``min_grid_points`` at that spacing gets a finer grid);
+    ``field_samples``: random points (seeded) per movement field;
+    ``min_standoff_m``: grid and field points closer to a wall are dropped.
+    """
+
+    grid_spacing_m: float = 10.0
+    field_samples: int = 6
+    min_grid_points: int = 12
+    min_standoff_m: float = 0.5
+    seed: int = 0
+
+
+def closed_form_candidates(site: Site, limits: Limits) -> list[Candidate]:
+    """Every zone-side's vertex, wall and circle candidates, in zone order."""
+    return [c for z in site.zones for side in z.scan_side.sides for c in plan_zone_side(z, side, limits).candidates]
+
+
+def _region(zone: Zone, side: ScanSide, reach_m: float) -> shapely.Geometry:
+    """Where a station for this zone-side can usefully stand (before obstacles and boundary)."""
+    if side is ScanSide.INSIDE:
+        return zone.polygon
+    return zone.polygon.buffer(reach_m, quad_segs=16).difference(zone.polygon)
+
+
+def _frame_axes(site: Site, frame: str) -> tuple[np.ndarray, np.ndarray]:
+    """Origin and unit x-axis of the grid of a frame: first vertex and first wall of its first zone,
+    so that rotating or translating a site moves the grid with it."""
+    zone = next(z for z in site.zones if z.frame == frame)
+    xy = np.asarray(zone.xy)
+    d = xy[1] - xy[0]
+    return xy[0], d / np.hypot(*d)
+
+
+def _grid_points(region: shapely.Geometry, origin: np.ndarray, ux: np.ndarray, spacing: float) -> np.ndarray:
+    uy = np.array([-ux[1], ux[0]])
+    corners = np.asarray(shapely.get_coordinates(shapely.envelope(region))) - origin
+    u, v = corners @ ux, corners @ uy
+    iu = np.arange(math.floor(u.min() / spacing), math.ceil(u.max() / spacing) + 1)
+    iv = np.arange(math.floor(v.min() / spacing), math.ceil(v.max() / spacing) + 1)
+    gu, gv = np.meshgrid(iu * spacing, iv * spacing, indexing="xy")
+    pts = origin + np.outer(gu.ravel(), ux) + np.outer(gv.ravel(), uy)
+    return pts[shapely.contains_xy(region, pts[:, 0], pts[:, 1])]
+
+
+def _sample_polygon(poly: shapely.Geometry, k: int, rng: np.random.Generator) -> np.ndarray:
+    if k <= 0 or poly.is_empty or poly.area <= 0:
+        return np.zeros((0, 2))
+    x0, y0, x1, y1 = poly.bounds
+    out = np.zeros((0, 2))
+    for _ in range(20):
+        pts = rng.uniform([x0, y0], [x1, y1], size=(4 * k, 2))
+        out = np.vstack([out, pts[shapely.contains_xy(poly, pts[:, 0], pts[:, 1])]])
+        if len(out) >= k:
+            break
+    return out[:k]
+
+
+def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[str, np.ndarray]]:
+    """Points near each wall of a corner from which the corner point itself is seen within theta_max.
+
+    From a corner, the corner point is seen at incidence <= theta_max only from
+    bearings >= 90 - theta_max off the wall; in a sharp corner (e.g. the 23 deg
+    corner of polygon C) that is a thin sliver along the other wall, which no
+    grid hits. Rays at the middle of each sliver, at 1/5 .. 4/5 of the reach.
+    """
+    xy = np.asarray(zone.xy)
+    n = len(xy)
+    angles = scan_side_angles(zone, side)
+    lo = 90.0 - limits.theta_max_deg
+    sign = 1.0 if side is ScanSide.INSIDE else -1.0
+    for i in range(n):
+        a = float(angles[i])
+        if a <= lo or a >= 180.0:
+            continue
+        reach = horizontal_reach_m(limits.max_slant_range_m, zone.vertex_heights_m[i], limits.instrument_height_m)
+        out = (xy[(i + 1) % n] - xy[i]) / np.hypot(*(xy[(i + 1) % n] - xy[i]))
+        for tag, bearing in (("a", (lo + min(a, 90.0)) / 2.0), ("b", a - (lo + min(a, 90.0)) / 2.0)):
+            t = math.radians(sign * bearing)
+            d = np.array([out[0] * math.cos(t) - out[1] * math.sin(t), out[0] * math.sin(t) + out[1] * math.cos(t)])
+            for k, f in enumerate((0.2, 0.4, 0.6, 0.8), 1):
+                yield f"V{i + 1}{tag}{k}", xy[i] + f * reach * d
+
+
+def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Candidate]:
+    """Closed-form candidates, then field samples and corner rays, then the grid; duplicates removed.
+
+    Order matters: it is the tie-breaking order of the greedy, closed form first.
+    """
+    rng = np.random.default_rng(options.seed)
+    closed = closed_form_candidates(site, limits)
+    pool: list[Candidate] = list(closed)
+    for c in closed:
+        if c.field:
+            for k, (x, y) in enumerate(_sample_polygon(shapely.Polygon(c.field), options.field_samples, rng), 1):
+                pool.append(Candidate(f"{c.id}.f{k}", c.zone, c.side, c.frame, float(x), float(y), CandidateKind.FIELD))
+    walls = {f: shapely.MultiLineString([z.polygon.exterior for z in site.zones if z.frame == f])
+             for f in dict.fromkeys(z.frame for z in site.zones)}
+    for zone in site.zones:
+        for side in zone.scan_side.sides:
+            tag = SIDE_TAG[side]
+            for name, p in _corner_rays(zone, side, limits):
+                pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))
+            region = _region(zone, side, max(horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m))
+            spacing = options.grid_spacing_m
+            if region.area / spacing**2 < options.min_grid_points:
+                spacing = max(math.sqrt(region.area / options.min_grid_points), 0.25)
+            origin, ux = _frame_axes(site, zone.frame)
+            pts = _grid_points(region, origin, ux, spacing)
+            far = shapely.distance(walls[zone.frame], shapely.points(pts)) >= options.min_standoff_m if len(pts) else []
+            for k, (x, y) in enumerate(pts[np.asarray(far, dtype=bool)] if len(pts) else [], 1):
+                pool.append(Candidate(f"{zone.id}-{tag}-G{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.GRID))
+    return dedupe(pool)
+
+
+def dedupe(cands: Sequence[Candidate], tol_m: float = 1e-6) -> list[Candidate]:
+    """Drop candidates standing where an earlier one of the same frame stands (within tol_m)."""
+    seen: set[tuple[str, int, int]] = set()
+    out = []
+    for c in cands:
+        key = (c.frame, round(c.x / tol_m), round(c.y / tol_m))
+        if key not in seen:
+            seen.add(key)
+            out.append(c)
+    return out

@@ -1,0 +1,160 @@
+"""The coverage problem: which candidate sees which target, kept in both sparse views."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import shapely
+from numpy.typing import NDArray
+
+from planner.candidates.model import Candidate
+from planner.coverage.targets import Targets
+from planner.coverage.visibility import Blockers, SightLimits, geometric_pairs, sight_clear, wall_key
+from planner.site.model import SITE_FRAME, Site
+
+#: A station closer than this to a wall line is "on the wall" and stands nowhere.
+ON_WALL_M = 1e-6
+
+
+def blockers_for(site: Site, frame: str) -> Blockers:
+    """Walls of every zone in ``frame`` and, in the site frame, the obstacle edges."""
+    a, b, key, verts = [], [], [], []
+    for zi, zone in enumerate(site.zones):
+        if zone.frame != frame:
+            continue
+        xy = np.asarray(zone.xy)
+        a.append(xy)
+        b.append(np.roll(xy, -1, axis=0))
+        key.append(wall_key(zi, np.arange(1, len(xy) + 1)))
+        verts.append(xy)
+    if frame == SITE_FRAME:
+        for ob in site.obstacles:
+            xy = np.asarray(ob.vertices, dtype=float)
+            a.append(xy)
+            b.append(np.roll(xy, -1, axis=0))
+            key.append(np.full(len(xy), -1, dtype=np.int64))
+            verts.append(xy)
+    if not a:
+        z = np.zeros((0, 2))
+        return Blockers(z, z, np.zeros(0, np.int64), z)
+    return Blockers(np.concatenate(a), np.concatenate(b), np.concatenate(key), np.concatenate(verts))
+
+
+@dataclass(frozen=True, eq=False)
+class Places:
+    """Where stations stand: ``inside[c, z]`` (inside zone z), ``reason[c]`` why c stands nowhere ('' if fine)."""
+
+    inside: NDArray[np.bool_]
+    reason: tuple[str, ...]
+
+
+def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -> Places:
+    """Classify station positions: inside which zones, and forbidden ones with the reason.
+
+    Forbidden: on a wall line, inside an obstacle or a no-go area, or outside
+    the site boundary (the last three apply in the site frame).
+    """
+    n = len(xy)
+    frames_arr = np.asarray(frames, dtype=object)
+    inside = np.zeros((n, len(site.zones)), dtype=bool)
+    reason = [""] * n
+    x, y = (xy[:, 0], xy[:, 1]) if n else (np.zeros(0), np.zeros(0))
+    for zi, zone in enumerate(site.zones):
+        same = frames_arr == zone.frame
+        if not np.any(same):
+            continue
+        inside[:, zi] = same & shapely.contains_xy(zone.polygon, x, y)
+        dist = shapely.distance(zone.polygon.exterior, shapely.points(xy[same]))
+        for k in np.flatnonzero(same)[dist <= ON_WALL_M]:
+            reason[k] = reason[k] or f"on a wall of zone {zone.id}"
+    in_site = frames_arr == SITE_FRAME
+    checks = [(ob.name, "inside obstacle", shapely.Polygon(ob.vertices)) for ob in site.obstacles]
+    checks += [(ng.name, "in no-go area", shapely.Polygon(ng.vertices)) for ng in site.no_go_areas]
+    for name, what, poly in checks:
+        for k in np.flatnonzero(in_site & shapely.intersects_xy(poly, x, y)):
+            reason[k] = reason[k] or f"{what} {name}"
+    if site.boundary is not None:
+        bnd = shapely.Polygon(site.boundary)
+        for k in np.flatnonzero(in_site & ~shapely.intersects_xy(bnd, x, y)):
+            reason[k] = reason[k] or "outside the site boundary"
+    return Places(inside=inside, reason=tuple(reason))
+
+
+@dataclass(frozen=True, eq=False)
+class CoverageProblem:
+    """Candidates, targets and the boolean coverage matrix in both views.
+
+    ``by_candidate`` is C x T (CSR: row c lists the targets c sees);
+    ``by_target`` is T x C (CSR: row t lists the candidates that see t).
+    ``slant_m`` and ``incidence_deg`` hold, on the same pattern as
+    ``by_candidate``, the worst slant range and incidence over each piece.
+    """
+
+    candidates: tuple[Candidate, ...]
+    targets: Targets
+    by_candidate: sp.csr_matrix
+    by_target: sp.csr_matrix
+    slant_m: sp.csr_matrix
+    incidence_deg: sp.csr_matrix
+    excluded: dict[int, str]
+    limits: SightLimits
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.by_candidate.shape
+
+    def uncoverable(self) -> NDArray[np.int64]:
+        """Targets no candidate sees (an infeasible cover)."""
+        return np.flatnonzero(np.diff(self.by_target.indptr) == 0)
+
+    def covered_by(self, selection: Sequence[int]) -> NDArray[np.int64]:
+        """How many of the selected candidates see each target."""
+        if len(selection) == 0:
+            return np.zeros(self.shape[1], dtype=np.int64)
+        return np.asarray(self.by_candidate[list(selection)].sum(axis=0)).ravel().astype(np.int64)
+
+
+def build_coverage(
+    site: Site, candidates: Sequence[Candidate], targets: Targets, limits: SightLimits
+) -> CoverageProblem:
+    """Compute which candidate sees which target (see :mod:`planner.coverage.visibility`)."""
+    cands = tuple(candidates)
+    xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)
+    places = station_places(site, xy, [c.frame for c in cands])
+    rows, cols, slant, inc = [], [], [], []
+    cand_frame = np.array([c.frame for c in cands], dtype=object)
+    usable = np.array([r == "" for r in places.reason], dtype=bool)
+    for fi, frame in enumerate(targets.frames):
+        ci = np.flatnonzero((cand_frame == frame) & usable)
+        ti = np.flatnonzero(targets.frame == fi)
+        if ci.size == 0 or ti.size == 0:
+            continue
+        pairs = geometric_pairs(
+            xy[ci], places.inside[ci], targets.zone[ti], targets.side[ti] == 0, targets.a[ti], targets.b[ti],
+            targets.ha_m[ti], targets.hb_m[ti], targets.normal[ti], limits)
+        pc, pt = ci[pairs.cand], ti[pairs.target]
+        clear = sight_clear(xy[pc], targets.a[pt], targets.b[pt], wall_key(targets.zone[pt], targets.wall[pt]),
+                            blockers_for(site, frame))
+        rows.append(pc[clear])
+        cols.append(pt[clear])
+        slant.append(pairs.slant_m[clear])
+        inc.append(pairs.incidence_deg[clear])
+    shape = (len(cands), len(targets))
+    r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
+    c = np.concatenate(cols) if cols else np.zeros(0, np.int64)
+
+    def mat(data: NDArray) -> sp.csr_matrix:
+        m = sp.csr_matrix((data, (r, c)), shape=shape)
+        m.sort_indices()
+        return m
+
+    by_candidate = mat(np.ones(len(r), dtype=bool))
+    return CoverageProblem(
+        candidates=cands, targets=targets, by_candidate=by_candidate, by_target=by_candidate.T.tocsr(),
+        slant_m=mat(np.concatenate(slant) if slant else np.zeros(0)),
+        incidence_deg=mat(np.concatenate(inc) if inc else np.zeros(0)),
+        excluded={k: why for k, why in enumerate(places.reason) if why}, limits=limits,
+    )

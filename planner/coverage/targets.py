@@ -1,0 +1,100 @@
+"""Targets: every wall face on a zone's scan side, cut into pieces of at most ``spacing_m``."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from planner.site.model import ScanSide, Site
+
+SIDE_CODE = {ScanSide.INSIDE: 0, ScanSide.OUTSIDE: 1}
+SIDE_NAME = {0: "inside", 1: "outside"}
+
+
+def _ro(a: NDArray) -> NDArray:
+    a = np.ascontiguousarray(a)
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Targets:
+    """Wall-face pieces as parallel read-only arrays (one entry per piece).
+
+    ``zone`` indexes ``site.zones``; ``side`` is 0 inside / 1 outside; ``wall``
+    is the 1-based wall index; ``s0_m``/``s1_m`` the piece's offsets along the
+    wall; ``a``/``b`` its end points; ``ha_m``/``hb_m`` the top heights there
+    (linear profile); ``normal`` the unit normal pointing to the scanning side;
+    ``frame`` indexes ``frames``. A piece with ``a == b`` is a point (verify).
+    """
+
+    zone: NDArray[np.int32]
+    side: NDArray[np.int8]
+    wall: NDArray[np.int32]
+    s0_m: NDArray[np.float64]
+    s1_m: NDArray[np.float64]
+    a: NDArray[np.float64]
+    b: NDArray[np.float64]
+    ha_m: NDArray[np.float64]
+    hb_m: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    frame: NDArray[np.int32]
+    frames: tuple[str, ...]
+    zone_ids: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return len(self.zone)
+
+    def label(self, t: int) -> str:
+        """A readable id: zone/side/wall and the piece's offsets."""
+        return (f"{self.zone_ids[self.zone[t]]}/{SIDE_NAME[int(self.side[t])]}/wall {self.wall[t]}"
+                f" {self.s0_m[t]:.2f}-{self.s1_m[t]:.2f} m")
+
+    def midpoint(self, t: int) -> tuple[float, float]:
+        m = (self.a[t] + self.b[t]) / 2.0
+        return float(m[0]), float(m[1])
+
+
+def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
+    """Cut every scanned wall face into equal pieces no longer than ``spacing_m``.
+
+    With ``points=True`` the result holds the pieces' end points instead (each
+    a zero-length piece), the fine sampling used by verification.
+    """
+    if not math.isfinite(spacing_m) or spacing_m <= 0:
+        raise ValueError(f"target spacing must be > 0, got {spacing_m}")
+    frames = tuple(dict.fromkeys(z.frame for z in site.zones))
+    cols: dict[str, list] = {k: [] for k in ("zone", "side", "wall", "s0", "s1", "a", "b", "ha", "hb", "normal", "frame")}
+    for zi, zone in enumerate(site.zones):
+        for wall in zone.walls:
+            length = wall.length_m
+            m = max(1, math.ceil(length / spacing_m - 1e-9))
+            cuts = np.linspace(0.0, 1.0, m + 1)
+            t0, t1 = (cuts, cuts) if points else (cuts[:-1], cuts[1:])
+            start, end = np.asarray(wall.start), np.asarray(wall.end)
+            tangent = (end - start) / length
+            left = np.array([-tangent[1], tangent[0]])
+            for side in zone.scan_side.sides:
+                k = len(t0)
+                cols["zone"].append(np.full(k, zi))
+                cols["side"].append(np.full(k, SIDE_CODE[side]))
+                cols["wall"].append(np.full(k, wall.index))
+                cols["s0"].append(t0 * length)
+                cols["s1"].append(t1 * length)
+                cols["a"].append(start + np.outer(t0, end - start))
+                cols["b"].append(start + np.outer(t1, end - start))
+                cols["ha"].append(wall.height_at(t0))
+                cols["hb"].append(wall.height_at(t1))
+                cols["normal"].append(np.tile(left if side is ScanSide.INSIDE else -left, (k, 1)))
+                cols["frame"].append(np.full(k, frames.index(zone.frame)))
+    cat = {k: np.concatenate(v) for k, v in cols.items()}
+    return Targets(
+        zone=_ro(cat["zone"].astype(np.int32)), side=_ro(cat["side"].astype(np.int8)),
+        wall=_ro(cat["wall"].astype(np.int32)), s0_m=_ro(cat["s0"]), s1_m=_ro(cat["s1"]),
+        a=_ro(cat["a"]), b=_ro(cat["b"]), ha_m=_ro(cat["ha"]), hb_m=_ro(cat["hb"]),
+        normal=_ro(cat["normal"]), frame=_ro(cat["frame"].astype(np.int32)), frames=frames,
+        zone_ids=tuple(z.id for z in site.zones),
+    )

@@ -1,0 +1,199 @@
+"""Which candidate sees which wall piece: range, incidence, precision and sight, vectorised.
+
+A piece a-b is seen from station c when, for the WHOLE piece:
+- c stands in front of the face (perpendicular distance > ``EPS_FRONT_M``);
+- the slant range from the instrument (height IH) to the top and the foot of
+  the wall at both ends is <= S_max (distance to a segment is convex, so the
+  ends bound the whole piece);
+- the incidence angle (horizontal, or 3-D to the top) at both ends is <= theta_max
+  (it grows with the distance from the foot of the perpendicular, so again the
+  ends bound it);
+- the sight lines c->a and c->b cross no wall or obstacle edge (touching counts
+  as crossing, within ``EPS_SIGHT_M``; the piece's own wall is skipped, and each
+  line stops ``EPS_SHORTEN_M`` before the wall), and no wall or obstacle vertex
+  lies strictly inside the triangle c-a-b (a thin column between the two lines).
+
+Candidate pairs come from a bounding-box query on a shapely STRtree, so the
+sight test grows with the pairs near a blocker, not with pairs x blockers.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+EPS_FRONT_M = 1e-6
+EPS_RANGE_M = 1e-6
+EPS_ANGLE_DEG = 1e-7
+EPS_SIGHT_M = 1e-7
+EPS_SHORTEN_M = 1e-5
+
+
+@dataclass(frozen=True)
+class SightLimits:
+    """The limits a pair must meet; ``precision_range_m`` is the range at which the
+    predicted point error reaches the required accuracy (None: no precision model)."""
+
+    max_slant_range_m: float
+    theta_max_deg: float
+    instrument_height_m: float = 0.0
+    incidence_3d: bool = False
+    precision_range_m: float | None = None
+
+    @property
+    def range_limit_m(self) -> float:
+        p = self.precision_range_m
+        return self.max_slant_range_m if p is None else min(self.max_slant_range_m, p)
+
+
+@dataclass(frozen=True, eq=False)
+class Blockers:
+    """Segments that block sight (walls, obstacle edges) and their vertices, in one frame."""
+
+    a: NDArray[np.float64]
+    b: NDArray[np.float64]
+    key: NDArray[np.int64]  # wall key (zone * 1e6 + wall) or -1 for obstacles
+    vertices: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_seg_tree", shapely.STRtree(shapely.linestrings(np.stack([self.a, self.b], axis=1))) if len(self.a) else None)
+        object.__setattr__(self, "_vtx_tree", shapely.STRtree(shapely.points(self.vertices)) if len(self.vertices) else None)
+
+
+def wall_key(zone_index: NDArray | int, wall: NDArray | int) -> NDArray[np.int64]:
+    return np.asarray(zone_index, dtype=np.int64) * 1_000_000 + np.asarray(wall, dtype=np.int64)
+
+
+@dataclass(frozen=True, eq=False)
+class PairGeometry:
+    """Candidate-piece pairs that pass range, incidence and side tests, with their figures."""
+
+    cand: NDArray[np.int64]
+    target: NDArray[np.int64]
+    slant_m: NDArray[np.float64]       # largest slant range over the piece
+    incidence_deg: NDArray[np.float64]  # largest incidence over the piece
+
+
+def geometric_pairs(
+    cand_xy: NDArray[np.float64], cand_inside: NDArray[np.bool_], t_zone: NDArray[np.int32], t_inside: NDArray[np.bool_],
+    a: NDArray[np.float64], b: NDArray[np.float64], ha: NDArray[np.float64], hb: NDArray[np.float64],
+    normal: NDArray[np.float64], limits: SightLimits, chunk: int = 64,
+) -> PairGeometry:
+    """All (candidate, piece) pairs meeting the range and incidence limits.
+
+    A candidate may see a piece only from the piece's side of its zone:
+    ``cand_inside[c, z]`` (is candidate c inside zone z) must equal
+    ``t_inside[t]`` (is piece t an inside face) for the piece's zone ``t_zone[t]``.
+    Each chunk of candidates is matched only with pieces within S_max of its
+    bounding box, so the work grows with the pairs in range, not with C x T.
+    """
+    ih = limits.instrument_height_m
+    reach = limits.range_limit_m
+    mid = (a + b) / 2.0
+    half = np.hypot(*(b - a).T) / 2.0
+    cos_max = math.cos(math.radians(limits.theta_max_deg + EPS_ANGLE_DEG))
+    s_lim = limits.range_limit_m + EPS_RANGE_M
+    dz_a = np.maximum(np.abs(ha - ih), ih)  # the farther of top and foot, vertically
+    dz_b = np.maximum(np.abs(hb - ih), ih)
+    out_c, out_t, out_s, out_i = [], [], [], []
+    for c0 in range(0, len(cand_xy), chunk):
+        cx = cand_xy[c0:c0 + chunk]
+        lo, hi = cx.min(axis=0) - reach, cx.max(axis=0) + reach
+        near = np.flatnonzero(np.all((mid + half[:, None] >= lo) & (mid - half[:, None] <= hi), axis=1))
+        if near.size == 0:
+            continue
+        c = cx[:, None, :]
+        va, vb = a[near][None] - c, b[near][None] - c
+        d = -np.einsum("ktj,tj->kt", va, normal[near])
+        hd_a, hd_b = np.hypot(va[..., 0], va[..., 1]), np.hypot(vb[..., 0], vb[..., 1])
+        sa, sb = np.hypot(hd_a, dz_a[near]), np.hypot(hd_b, dz_b[near])
+        slant = np.maximum(sa, sb)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if limits.incidence_3d:
+                cos_i = np.minimum(d / sa, d / sb)
+            else:
+                cos_i = np.minimum(d / np.maximum(hd_a, 1e-300), d / np.maximum(hd_b, 1e-300))
+        side_ok = cand_inside[c0:c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
+        ok = side_ok & (d > EPS_FRONT_M) & (slant <= s_lim) & (cos_i >= cos_max)
+        k, t = np.nonzero(ok)
+        out_c.append(k + c0)
+        out_t.append(near[t])
+        out_s.append(slant[k, t])
+        out_i.append(np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0))))
+    cat = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
+    return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
+
+
+def _signed(p: NDArray, q: NDArray, r: NDArray) -> NDArray:
+    """Signed distance of r from the line p->q (positive to the left)."""
+    d = q - p
+    n = np.hypot(d[:, 0], d[:, 1])
+    cross = d[:, 0] * (r[:, 1] - p[:, 1]) - d[:, 1] * (r[:, 0] - p[:, 0])
+    return cross / np.where(n > 0, n, 1.0)
+
+
+def _side(x: NDArray, eps: float) -> NDArray:
+    """-1, 0 or +1: which side of a line, with |distance| <= eps counted as on it."""
+    return np.where(np.abs(x) <= eps, 0.0, np.sign(x))
+
+
+def segments_touch(p: NDArray, q: NDArray, r: NDArray, s: NDArray, eps: float = EPS_SIGHT_M) -> NDArray[np.bool_]:
+    """Closed segments p-q and r-s (row-wise) meet, counting touching and collinear overlap within eps."""
+    o1, o2 = _side(_signed(r, s, p), eps), _side(_signed(r, s, q), eps)
+    o3, o4 = _side(_signed(p, q, r), eps), _side(_signed(p, q, s), eps)
+    cross = (o1 * o2 <= 0) & (o3 * o4 <= 0)
+    collinear = (o1 == 0) & (o2 == 0)
+    if np.any(collinear):
+        d = s - r
+        n2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+        tp = np.einsum("ij,ij->i", p - r, d) / n2
+        tq = np.einsum("ij,ij->i", q - r, d) / n2
+        lo, hi = np.minimum(tp, tq), np.maximum(tp, tq)
+        tol = eps / np.sqrt(n2)
+        overlap = (lo <= 1 + tol) & (hi >= -tol)
+        cross &= ~collinear | overlap
+    return cross
+
+
+def sight_clear(
+    c: NDArray[np.float64], a: NDArray[np.float64], b: NDArray[np.float64], key: NDArray[np.int64], blockers: Blockers,
+) -> NDArray[np.bool_]:
+    """For each pair (row), True when nothing blocks the view from c to the whole piece a-b."""
+    n = len(c)
+    clear = np.ones(n, dtype=bool)
+    if n == 0:
+        return clear
+
+    def shorten(e: NDArray) -> NDArray:
+        v = c - e
+        length = np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)
+        return e + v * (np.minimum(EPS_SHORTEN_M, length / 2) / length)[:, None]
+
+    a2, b2 = shorten(a), shorten(b)
+    lo = np.minimum(np.minimum(c, a), b) - EPS_SIGHT_M
+    hi = np.maximum(np.maximum(c, a), b) + EPS_SIGHT_M
+    boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+    tree = blockers._seg_tree  # type: ignore[attr-defined]
+    if tree is not None:
+        pi, bi = tree.query(boxes)
+        keep = key[pi] != blockers.key[bi]
+        pi, bi = pi[keep], bi[keep]
+        ra, rb = blockers.a[bi], blockers.b[bi]
+        hit = segments_touch(c[pi], a2[pi], ra, rb) | segments_touch(c[pi], b2[pi], ra, rb)
+        clear[pi[hit]] = False
+    vtree = blockers._vtx_tree  # type: ignore[attr-defined]
+    wide = np.hypot(*(b - a).T) > EPS_SIGHT_M
+    if vtree is not None and np.any(wide & clear):
+        idx = np.flatnonzero(wide & clear)
+        pi, vi = vtree.query(boxes[idx])
+        pi = idx[pi]
+        v = blockers.vertices[vi]
+        ca, ab, bc = _signed(c[pi], a[pi], v), _signed(a[pi], b[pi], v), _signed(b[pi], c[pi], v)
+        inside = ((ca > EPS_SIGHT_M) & (ab > EPS_SIGHT_M) & (bc > EPS_SIGHT_M)) | (
+            (ca < -EPS_SIGHT_M) & (ab < -EPS_SIGHT_M) & (bc < -EPS_SIGHT_M))
+        clear[pi[inside]] = False
+    return clear

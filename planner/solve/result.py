@@ -1,0 +1,45 @@
+"""The outcome of a solve: a status, the chosen stations, objective, bound and time."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Any
+
+
+class Status(str, Enum):
+    """How a method ended (an outcome, never an exception)."""
+
+    OPTIMAL = "optimal"          # proven optimal
+    FEASIBLE = "feasible"        # a full cover, optimality not proven
+    INCOMPLETE = "incomplete"    # a plan that leaves targets uncovered (e.g. the closed form on a sharp corner)
+    INFEASIBLE = "infeasible"    # proven: no cover exists (some target seen by no candidate)
+    NO_SOLUTION = "no_solution"  # the method stopped without a cover (time limit)
+
+
+@dataclass(frozen=True)
+class SolveResult:
+    """Indices of the chosen candidates and what the method can say about them."""
+
+    method: str
+    status: Status
+    selected: tuple[int, ...]
+    objective: float | None
+    bound: float | None = None
+    time_s: float = 0.0
+    backend: str | None = None
+    info: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def gap(self) -> float | None:
+        """(objective - bound) / objective, or None without both."""
+        if self.objective is None or self.bound is None or self.objective == 0:
+            return None
+        return max(0.0, (self.objective - self.bound) / self.objective)
+
+    def summary(self) -> str:
+        gap = "" if self.gap is None else f", gap {self.gap:.1%}"
+        bound = "" if self.bound is None or math.isnan(self.bound) else f", bound {self.bound:g}"
+        obj = "-" if self.objective is None else f"{self.objective:g}"
+        return f"{self.method}: {self.status.value}, {obj} stations{bound}{gap}, {self.time_s:.2f} s"
