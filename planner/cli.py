@@ -19,7 +19,11 @@ from planner.errors import ExitCode, PlannerError
 from planner.instruments import list_instruments, load_instrument
 from planner.params import ClosureTolerance
 from planner.site import Site, load_site
+from planner.candidates.pool import PoolOptions
+from planner.plan import METHODS, PlanOptions, plan_site, sight_limits
+from planner.plan_io import read_plan_stations, write_plan
 from planner.validate import validate_site
+from planner.verify import verify_stations
 
 
 class _Parser(argparse.ArgumentParser):
@@ -43,6 +47,12 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--instrument-height", type=float, metavar="M", help="instrument height IH in m")
     p.add_argument("--angular-tolerance", type=float, metavar="DEG", help="closure tolerance of table CSV zones")
     p.add_argument("--min-relative-precision", type=float, metavar="N", help="closure 1:N of table CSV zones")
+
+
+def _add_limit_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--incidence", choices=("horizontal", "3d"), default="horizontal",
+                   help="incidence angle in plan (as the dissertation) or 3-D to the top of the wall")
+    p.add_argument("--no-precision", action="store_true", help="do not require the predicted point error <= sigma_req")
 
 
 def load_with_overrides(args: argparse.Namespace) -> Site:
@@ -72,6 +82,32 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
+def _plan_options(args: argparse.Namespace) -> PlanOptions:
+    pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
+    return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
+                       incidence_3d=args.incidence == "3d", precision=not args.no_precision,
+                       verify_spacing_m=args.verify_spacing)
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    plan = plan_site(load_with_overrides(args), _plan_options(args))
+    print(plan.summary())
+    if args.out:
+        print(f"wrote {write_plan(plan, args.out)}")
+    return ExitCode.OK
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    site = load_with_overrides(args)
+    validation = validate_site(site)
+    stations = read_plan_stations(args.plan, site)
+    report = verify_stations(site, stations, sight_limits(validation, args.incidence == "3d", not args.no_precision),
+                             args.spacing)
+    print(f"plan {args.plan}: {len(stations)} stations")
+    print(report.summary())
+    return ExitCode.OK if report.complete else ExitCode.INFEASIBLE
+
+
 def cmd_instruments(args: argparse.Namespace) -> int:
     for name in list_instruments():
         inst = load_instrument(name)
@@ -86,6 +122,22 @@ def build_parser() -> argparse.ArgumentParser:
     _add_site_options(v)
     v.add_argument("--json", action="store_true", help="print the report as JSON")
     v.set_defaults(func=cmd_validate)
+    pl = sub.add_parser("plan", help="plan the stations of a site and verify the plan")
+    _add_site_options(pl)
+    pl.add_argument("--method", choices=METHODS, default="greedy", help="closed-form (the dissertation) or greedy")
+    pl.add_argument("--out", metavar="DIR", help="write DIR/plan.json")
+    pl.add_argument("--seed", type=int, default=0, help="seed of the movement-field sampling (default 0)")
+    pl.add_argument("--target-spacing", type=float, default=1.0, metavar="M", help="wall piece length (default 1 m)")
+    pl.add_argument("--grid-spacing", type=float, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
+    pl.add_argument("--verify-spacing", type=float, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
+    _add_limit_options(pl)
+    pl.set_defaults(func=cmd_plan)
+    ve = sub.add_parser("verify", help="re-verify any plan's coverage on a fine sampling of every wall")
+    _add_site_options(ve)
+    ve.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}] in the zones' frames")
+    ve.add_argument("--spacing", type=float, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)")
+    _add_limit_options(ve)
+    ve.set_defaults(func=cmd_verify)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=cmd_instruments)
     return parser

@@ -107,8 +107,7 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray) -> InfeasibleErro
     t = problem.targets
     shown = "; ".join(f"{t.label(i)} at ({t.midpoint(i)[0]:.2f}, {t.midpoint(i)[1]:.2f})" for i in unseen[:5])
     more = f" and {len(unseen) - 5} more" if len(unseen) > 5 else ""
-    return InfeasibleError(f"{len(unseen)} target(s) seen by no candidate: {shown}{more}",
-                           file=problem and None)
+    return InfeasibleError(f"{len(unseen)} target(s) seen by no candidate: {shown}{more}")
 
 
 def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
@@ -158,6 +157,6 @@ def _closed_form(site: Site, cf_limits: Limits, targets: Any, limits: SightLimit
     stations = [cands[i] for i in keep]
     covered = problem.covered_by(keep) > 0
     status = Status.FEASIBLE if covered.all() else Status.INCOMPLETE
-    info = {"uncovered_targets": int((~covered).sum()), "generated": len(cands) + 0}
+    info = {"uncovered_targets": int((~covered).sum()), "generated": len(cands)}
     return SolveResult("closed-form", status, tuple(keep), float(len(keep)), time_s=time.perf_counter() - start,
                        info=info), stations, log

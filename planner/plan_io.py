@@ -1,0 +1,92 @@
+"""plan.json: writing a plan, and reading the stations of any plan (also one made elsewhere) for verify."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from planner.candidates.model import Candidate, CandidateKind
+from planner.errors import InputError
+from planner.plan import Plan
+from planner.site.fileio import read_text, to_float
+from planner.site.model import ScanSide, Site
+
+
+def plan_to_dict(plan: Plan) -> dict[str, Any]:
+    """The plan as plain JSON-ready data (coordinates in each zone's frame)."""
+    site, o, r = plan.site, plan.options, plan.result
+    p = site.parameters
+    sides = plan.count_by_side()
+    return {
+        "instance": site.name,
+        "source": site.source,
+        "method": r.method,
+        "status": r.status.value,
+        "objective": r.objective,
+        "bound": r.bound,
+        "gap": r.gap,
+        "time_s": r.time_s,
+        "backend": r.backend,
+        "counts": {"inside": sides.get("inside", 0), "outside": sides.get("outside", 0), "total": len(plan.stations)},
+        "parameters": {
+            "instrument": plan.validation.scanner.name,
+            "max_slant_range_m": plan.validation.range_limit.max_slant_range_m,
+            "max_slant_range_source": plan.validation.range_limit.source,
+            "theta_max_deg": p.theta_max_deg, "overlap": p.overlap, "sigma_req_m": p.sigma_req_m,
+            "instrument_height_m": p.instrument_height_m, "target_spacing_m": o.target_spacing_m,
+            "grid_spacing_m": o.pool.grid_spacing_m, "field_samples": o.pool.field_samples, "seed": o.pool.seed,
+            "incidence": "3d" if o.incidence_3d else "horizontal", "precision": o.precision,
+            "verify_spacing_m": o.verify_spacing_m,
+        },
+        "problem": plan.problem_size,
+        "zones": [{"id": z.id, "side": z.scan_side.value, "frame": z.frame, "polygon": [list(v) for v in z.vertices]}
+                  for z in site.zones],
+        "stations": [{"id": s.id, "zone": s.zone, "side": s.side.value, "x": s.x, "y": s.y, "kind": s.kind.value}
+                     for s in plan.stations],
+        "verification": plan.verification.to_dict(),
+        "log": list(plan.log),
+    }
+
+
+def write_plan(plan: Plan, out_dir: Path | str) -> Path:
+    """Write ``out_dir/plan.json`` (the folder is created) and return its path."""
+    folder = Path(out_dir)
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "plan.json"
+    path.write_text(json.dumps(plan_to_dict(plan), indent=2) + "\n")
+    return path
+
+
+def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
+    """The stations of a plan file: a JSON object with ``stations`` [{id, zone, side, x, y, kind?}]."""
+    name = str(path)
+    try:
+        data = json.loads(read_text(Path(path)))
+    except json.JSONDecodeError as exc:
+        raise InputError(f"invalid JSON: {exc.msg}", file=name, row=f"line {exc.lineno} column {exc.colno}") from None
+    rows = data.get("stations") if isinstance(data, dict) else None
+    if not isinstance(rows, list):
+        raise InputError("a plan needs a list 'stations'", file=name, field="stations")
+    zones = {z.id: z for z in site.zones}
+    out = []
+    for k, row in enumerate(rows, 1):
+        where = dict(file=name, row=f"stations[{k}]")
+        if not isinstance(row, dict):
+            raise InputError("must be an object", **where)
+        zone = row.get("zone")
+        if zone not in zones:
+            raise InputError("names no zone of the site", **where, field="zone", value=zone)
+        try:
+            side = ScanSide(row.get("side"))
+        except ValueError:
+            side = None
+        if side not in zones[zone].scan_side.sides:
+            raise InputError(f"zone {zone} is scanned {zones[zone].scan_side.value}", **where, field="side", value=row.get("side"))
+        try:
+            kind = CandidateKind(row.get("kind", "grid"))
+        except ValueError:
+            raise InputError("unknown station kind", **where, field="kind", value=row.get("kind")) from None
+        x, y = (to_float(row.get(c), field=c, **where) for c in ("x", "y"))
+        out.append(Candidate(str(row.get("id", f"S{k}")), zone, side, zones[zone].frame, x, y, kind))
+    return out

@@ -1,0 +1,147 @@
+"""Planning end to end: closed form and greedy on the bundled instances, verification, invariants."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from planner.candidates.pool import PoolOptions
+from planner.cli import main
+from planner.errors import InfeasibleError
+from planner.plan import PlanOptions, plan_site
+from planner.plan_io import plan_to_dict, read_plan_stations
+from planner.site import ScanSide, Site, Zone, load_site
+from tests.conftest import INSTANCES
+
+
+@pytest.fixture(scope="module")
+def plans():
+    out = {}
+    for name in ("polygon_a", "polygon_b", "polygon_c"):
+        site = load_site(INSTANCES / f"{name}.json")
+        out[name] = {m: plan_site(site, PlanOptions(method=m)) for m in ("closed-form", "greedy")}
+    return out
+
+
+def test_closed_form_polygon_a_is_28_and_verifies(plans):
+    p = plans["polygon_a"]["closed-form"]
+    assert p.count_by_side() == {"inside": 12, "outside": 16}  # published 12 + 16
+    assert p.verification.complete and p.verification.percent == 100.0
+
+
+def test_closed_form_polygon_b_is_7_and_verifies(plans):
+    p = plans["polygon_b"]["closed-form"]
+    assert p.count_by_side() == {"inside": 1, "outside": 6} and p.verification.complete
+
+
+def test_closed_form_polygon_c_leaves_the_sharp_corner(plans):
+    # docs/reproduction.md: the 23.179 deg corner cannot be reached by the closed form
+    p = plans["polygon_c"]["closed-form"]
+    assert p.result.status.value == "incomplete"
+    assert all(g.zone == "C" and g.side == "inside" and g.wall in (1, 8) for g in p.verification.gaps)
+
+
+@pytest.mark.parametrize("name", ["polygon_a", "polygon_b", "polygon_c"])
+def test_greedy_verifies_at_100_percent(plans, name):
+    p = plans[name]["greedy"]
+    assert p.result.status.value == "feasible"
+    assert p.verification.complete and not p.verification.misplaced
+    # and every target of the planning problem is covered by the chosen candidates
+    assert len(p.stations) == p.result.objective
+
+
+@pytest.mark.parametrize("name", ["polygon_a", "polygon_c"])
+def test_greedy_needs_fewer_stations_than_the_closed_form(plans, name):
+    assert len(plans[name]["greedy"].stations) < len(plans[name]["closed-form"].stations)
+
+
+def test_baalbek_greedy_verifies():
+    p = plan_site(load_site(INSTANCES / "baalbek.json"), PlanOptions(method="greedy"))
+    assert p.verification.complete and len(p.stations) < 32  # published closed form: 32
+
+
+def test_corridor_needs_at_least_five_stations():
+    # a 40 x 4 m corridor: a station d1 and 4 - d1 from the long walls sees at most
+    # 2 d1 tan 68 + 2 (4 - d1) tan 68 = 8 tan 68 = 19.8 m of the 80 m of long wall: >= 5 stations
+    z = Zone("K", ScanSide.INSIDE, ((0, 0), (40, 0), (40, 4), (0, 4)), (3.0,) * 4)
+    p = plan_site(Site("corridor", (z,), instrument="dissertation-tables"), PlanOptions(pool=PoolOptions(grid_spacing_m=1.0)))
+    assert len(p.stations) >= math.ceil(80 / (8 * math.tan(math.radians(68))))
+    assert p.verification.complete
+
+
+def test_same_seed_same_plan_and_json_roundtrip(tmp_path):
+    site = load_site(INSTANCES / "polygon_b.json")
+    a = plan_site(site, PlanOptions(pool=PoolOptions(seed=7)))
+    b = plan_site(site, PlanOptions(pool=PoolOptions(seed=7)))
+    assert [s.id for s in a.stations] == [s.id for s in b.stations]
+    data = plan_to_dict(a)
+    assert data["objective"] == len(data["stations"]) and data["parameters"]["max_slant_range_m"] == 95.913
+    (tmp_path / "plan.json").write_text(json.dumps(data))
+    back = read_plan_stations(tmp_path / "plan.json", site)
+    assert [(s.x, s.y) for s in back] == [(s.x, s.y) for s in a.stations]
+
+
+def _moved_site(site: Site, angle_deg: float, dx: float, dy: float) -> Site:
+    a = math.radians(angle_deg)
+    rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+    zones = tuple(Zone(z.id, z.scan_side, tuple(map(tuple, (np.asarray(z.xy) @ rot.T + [dx, dy]).tolist())),
+                       z.vertex_heights_m, z.printed_wall_heights_m) for z in site.zones)
+    return Site(site.name, zones, site.parameters, site.instrument)
+
+
+def test_rotating_and_translating_a_site_changes_no_count():
+    base = load_site(INSTANCES / "polygon_b.json")
+    here = _moved_site(base, 0.0, 0.0, 0.0)
+    there = _moved_site(base, 33.0, 512_345.0, 6_123_456.0)  # projected coordinates
+    for method in ("closed-form", "greedy"):
+        p, q = plan_site(here, PlanOptions(method=method)), plan_site(there, PlanOptions(method=method))
+        assert p.count_by_side() == q.count_by_side(), method
+        assert q.verification.complete
+
+
+def test_unseen_target_exits_4_listing_it(tmp_path, capsys):
+    # a 20 deg corner: from inside, its tip is seen at <= 68 deg only from bearings >= 22 deg off
+    # one wall, outside the 20 deg wedge: no candidate can ever see the first piece
+    L = 60.0
+    tip = (L * math.cos(math.radians(20)), L * math.sin(math.radians(20)))
+    inst = {"instrument": "dissertation-tables",
+            "zones": [{"id": "W", "scan_side": "inside", "coordinates": [[0, 0], [L, 0], list(tip)], "height_m": 5}]}
+    (tmp_path / "wedge.json").write_text(json.dumps(inst))
+    with pytest.raises(InfeasibleError, match=r"seen by no candidate: W/inside/wall 1 0.00-1.00 m at"):
+        plan_site(load_site(tmp_path / "wedge.json"))
+    code = main(["plan", str(tmp_path / "wedge.json")])
+    err = capsys.readouterr().err
+    assert code == 4 and "wedge.json" in err and "W/inside/wall" in err and len(err.strip().splitlines()) == 1
+
+
+def test_cli_plan_writes_plan_json_and_verify_reads_it(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["plan", str(INSTANCES / "polygon_a.json"), "--method", "closed-form", "--out", str(out)]) == 0
+    data = json.loads((out / "plan.json").read_text())
+    assert data["objective"] == 28 and data["method"] == "closed-form" and data["bound"] is None
+    assert {s["kind"] for s in data["stations"]} == {"vertex", "wall"}
+    assert data["zones"][0]["polygon"][1] == pytest.approx([500.0, 0.0], abs=1e-9)
+    capsys.readouterr()
+    assert main(["verify", str(INSTANCES / "polygon_a.json"), str(out / "plan.json")]) == 0
+    assert "100.000 % covered" in capsys.readouterr().out
+    # drop two stations: verify reports the gaps and exits 4
+    data["stations"] = data["stations"][2:]
+    (out / "partial.json").write_text(json.dumps(data))
+    assert main(["verify", str(INSTANCES / "polygon_a.json"), str(out / "partial.json")]) == 4
+    assert "uncovered stretches" in capsys.readouterr().out
+
+
+def test_verify_flags_misplaced_stations(tmp_path, capsys):
+    plan = {"stations": [{"id": "S1", "zone": "A", "side": "inside", "x": -10.0, "y": 5.0}]}
+    (tmp_path / "p.json").write_text(json.dumps(plan))
+    assert main(["verify", str(INSTANCES / "polygon_a.json"), str(tmp_path / "p.json")]) == 4
+    assert "misplaced station S1: not inside zone A" in capsys.readouterr().out
+
+
+def test_bad_plan_file_is_invalid_input(tmp_path, capsys):
+    (tmp_path / "p.json").write_text(json.dumps({"stations": [{"zone": "Q", "side": "inside", "x": 1, "y": 2}]}))
+    assert main(["verify", str(INSTANCES / "polygon_a.json"), str(tmp_path / "p.json")]) == 3
+    assert "stations[1]: zone = 'Q': names no zone" in capsys.readouterr().err
