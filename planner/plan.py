@@ -20,11 +20,13 @@ from planner.coverage.visibility import SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
 from planner.solve.greedy import greedy_cover
+from planner.solve.instance import cover_instance
+from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import SolveResult, Status
 from planner.validate import ValidationReport, validate_site
 from planner.verify import VerifyReport, verify_stations
 
-METHODS = ("closed-form", "greedy")
+METHODS = ("closed-form", "greedy", "milp")
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,7 @@ class PlanOptions:
     incidence_3d: bool = False
     precision: bool = True
     verify_spacing_m: float = 0.1
+    milp: MilpOptions = field(default_factory=MilpOptions)
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -120,7 +123,8 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     """
     options = options or PlanOptions()
     validation = validate_site(site)
-    limits = sight_limits(validation, options.incidence_3d, options.precision)
+    combined = options.method == "milp" and options.milp.precision == "combined"
+    limits = sight_limits(validation, options.incidence_3d, options.precision and not combined)
     cf_limits = closed_form_limits(validation)
     targets = make_targets(site, options.target_spacing_m)
     start = time.perf_counter()
@@ -135,6 +139,12 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     if options.method == "closed-form":
         result, stations, extra = _closed_form(site, cf_limits, targets, limits)
         log += extra
+    elif options.method == "milp":
+        p = site.parameters
+        inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
+                              name=site.name)
+        result = solve(inst, options.milp)
+        stations = [problem.candidates[i] for i in result.selected]
     else:
         result = greedy_cover(problem.by_candidate)
         stations = [problem.candidates[i] for i in result.selected]

@@ -4,11 +4,12 @@ Two stations can be registered to each other when the wall length both of them
 cover is at least ``overlap`` of the smaller of their two covered lengths,
 optionally also at least ``min_shared_m`` metres and at most ``max_link_m``
 apart (cloud-to-cloud registration degrades beyond 30-70 m, seed 003).
+Stations are related only within one group (zone and side).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Hashable, Sequence
 from dataclasses import dataclass
 
 import networkx as nx
@@ -23,9 +24,39 @@ class OverlapRule:
     min_shared_m: float = 0.0
     max_link_m: float | None = None
 
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.overlap < 1.0:
+            raise ValueError(f"overlap must be in [0, 1), got {self.overlap}")
+
 
 def piece_lengths(s0_m: NDArray[np.float64], s1_m: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.asarray(s1_m) - np.asarray(s0_m)
+
+
+def overlap_adjacency(
+    by_candidate: sp.csr_matrix, lengths: NDArray[np.float64], rule: OverlapRule,
+    groups: Sequence[Hashable] | None = None, xy: NDArray[np.float64] | None = None,
+) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Symmetric C x C adjacency of the overlap relation, and the shared length (m) on the same pattern.
+
+    One sparse product gives every pair's shared wall length; the rule is then
+    applied to all pairs at once.
+    """
+    a = by_candidate.astype(np.float64).tocsr()
+    covered = np.asarray(a @ lengths).ravel()
+    shared = (a @ sp.diags(lengths) @ a.T).tocoo()
+    r, c, s = shared.row, shared.col, shared.data
+    keep = (r != c) & (s > 0) & (s + 1e-9 >= rule.overlap * np.minimum(covered[r], covered[c])) & (s >= rule.min_shared_m)
+    if groups is not None:
+        index: dict[Hashable, int] = {}
+        gid = np.array([index.setdefault(g, len(index)) for g in groups])
+        keep &= gid[r] == gid[c]
+    if rule.max_link_m is not None and xy is not None:
+        keep &= np.hypot(*(xy[r] - xy[c]).T) <= rule.max_link_m
+    n = a.shape[0]
+    adj = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), (r[keep], c[keep])), shape=(n, n))
+    share = sp.csr_matrix((s[keep], (r[keep], c[keep])), shape=(n, n))
+    return adj, share
 
 
 def overlap_graph(
@@ -34,27 +65,20 @@ def overlap_graph(
 ) -> nx.Graph:
     """Graph on ``nodes`` (candidate indices) with an edge wherever two can be registered.
 
-    Edge attributes: ``shared_m`` (common covered wall length) and ``length_m``
-    (distance between the stations, when ``xy`` is given).
+    Edge attributes: ``shared_m`` (common covered wall length) and, with
+    ``xy``, ``length_m`` (distance between the stations).
     """
     nodes = list(nodes)
     g = nx.Graph()
     g.add_nodes_from(nodes)
     if len(nodes) < 2:
         return g
-    sub = by_candidate[nodes].astype(np.float64)
-    covered = np.asarray(sub @ lengths).ravel()
-    shared = (sub @ sp.diags(lengths) @ sub.T).tocoo()
-    for i, j, s in zip(shared.row, shared.col, shared.data):
-        if i >= j:
-            continue
-        if s + 1e-9 < rule.overlap * min(covered[i], covered[j]) or s < rule.min_shared_m or s <= 0:
-            continue
+    sub_xy = None if xy is None else xy[nodes]
+    adj, share = overlap_adjacency(by_candidate[nodes], lengths, rule, xy=sub_xy)
+    coo = sp.triu(share, k=1).tocoo()
+    for i, j, s in zip(coo.row, coo.col, coo.data):
         attrs = {"shared_m": float(s)}
-        if xy is not None:
-            d = float(np.hypot(*(xy[nodes[i]] - xy[nodes[j]])))
-            if rule.max_link_m is not None and d > rule.max_link_m:
-                continue
-            attrs["length_m"] = d
+        if sub_xy is not None:
+            attrs["length_m"] = float(np.hypot(*(sub_xy[i] - sub_xy[j])))
         g.add_edge(nodes[i], nodes[j], **attrs)
     return g

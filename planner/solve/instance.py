@@ -1,0 +1,92 @@
+"""A set-cover instance as the solvers see it: a coverage matrix, costs, and the registration data.
+
+The same type carries a site's coverage problem (with groups, wall lengths and
+positions for the registration-overlap constraint, and information weights
+for the combined precision mode) and a plain OR-Library instance (costs only).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Hashable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from planner.accuracy import ErrorBudget, point_error
+from planner.coverage.matrix import CoverageProblem
+from planner.instruments import Scanner
+
+
+@dataclass(frozen=True, eq=False)
+class CoverInstance:
+    """Candidates (rows of ``by_candidate``) covering targets (columns).
+
+    ``groups[c]``: the registration group of candidate c (zone, side); the
+    chosen candidates of one group must form a connected overlap graph.
+    ``target_length_m``: wall length of each target (overlap is measured in
+    metres of wall). ``xy``: candidate positions (for ``max_link_m``).
+    ``info``: C x T weights (sigma_req / sigma_tj)^2 of the combined precision mode.
+    """
+
+    by_candidate: sp.csr_matrix
+    cost: NDArray[np.float64]
+    name: str = ""
+    groups: tuple[Hashable, ...] | None = None
+    target_length_m: NDArray[np.float64] | None = None
+    xy: NDArray[np.float64] | None = None
+    info: sp.csr_matrix | None = None
+    candidate_ids: tuple[str, ...] | None = None
+
+    def __post_init__(self) -> None:
+        c, t = self.by_candidate.shape
+        if len(self.cost) != c:
+            raise ValueError(f"{len(self.cost)} costs for {c} candidates")
+        if self.groups is not None and len(self.groups) != c:
+            raise ValueError(f"{len(self.groups)} groups for {c} candidates")
+        if self.target_length_m is not None and len(self.target_length_m) != t:
+            raise ValueError(f"{len(self.target_length_m)} target lengths for {t} targets")
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.by_candidate.shape
+
+    @cached_property
+    def by_target(self) -> sp.csr_matrix:
+        return self.by_candidate.T.tocsr()
+
+    def coverage_count(self, selected: Sequence[int]) -> NDArray[np.int64]:
+        if len(selected) == 0:
+            return np.zeros(self.shape[1], dtype=np.int64)
+        return np.asarray(self.by_candidate[list(selected)].astype(np.int64).sum(axis=0)).ravel()
+
+
+def cover_instance(
+    problem: CoverageProblem, *, scanner: Scanner | None = None, budget: ErrorBudget | None = None,
+    sigma_req_m: float | None = None, cost: Sequence[float] | None = None, name: str = "",
+) -> CoverInstance:
+    """The solver's view of a site's coverage problem.
+
+    With ``scanner``, ``budget`` and ``sigma_req_m`` the combined-precision
+    weights are filled in: sigma_tj is the point error e of (2.13) at the
+    largest slant range over piece t from candidate j.
+    """
+    info = None
+    if scanner is not None and budget is not None and sigma_req_m is not None:
+        slant = problem.slant_m.tocsr()
+        e = point_error(slant.data, np.zeros_like(slant.data), scanner, budget).e_m
+        info = sp.csr_matrix(((sigma_req_m / e) ** 2, slant.indices, slant.indptr), shape=slant.shape)
+    cands = problem.candidates
+    t = problem.targets
+    return CoverInstance(
+        by_candidate=problem.by_candidate.astype(bool).tocsr(),
+        cost=np.ones(len(cands)) if cost is None else np.asarray(cost, dtype=float),
+        name=name,
+        groups=tuple((c.zone, c.side.value) for c in cands),
+        target_length_m=np.asarray(t.s1_m - t.s0_m, dtype=float),
+        xy=np.array([c.xy for c in cands], dtype=float).reshape(-1, 2),
+        info=info,
+        candidate_ids=tuple(c.id for c in cands),
+    )

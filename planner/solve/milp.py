@@ -1,0 +1,195 @@
+"""The set-cover MILP with registration-overlap connectivity and precision, on any backend.
+
+    minimise   sum_j c_j x_j
+    subject to sum_{j sees t} x_j >= k                         every target t
+               sum_j (sigma_req / sigma_tj)^2 x_j >= 1          every t (precision "combined")
+               chosen stations of each group connected          (overlap relation, lazy cuts)
+
+The problem is split into independent blocks (no shared target, no common
+group), each presolved, warm-started from a connected greedy plan and solved;
+connectivity cuts are added and the block re-solved until its choice is
+connected. Objectives and bounds of the blocks add up.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from planner.coverage.overlap import OverlapRule, overlap_adjacency
+from planner.errors import UsageError
+from planner.solve.backends import BACKENDS, Outcome, Row, make_backend
+from planner.solve.connectivity import (
+    connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
+)
+from planner.solve.instance import CoverInstance
+from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced
+from planner.solve.result import SolveResult, Status
+
+PRECISION_MODES = ("single", "combined")
+
+
+@dataclass(frozen=True)
+class MilpOptions:
+    backend: str = "cpsat"
+    time_limit_s: float = 60.0
+    seed: int = 0
+    threads: int = 1
+    k: int = 1
+    overlap: OverlapRule | None = OverlapRule()
+    precision: str = "single"
+    greedy_starts: int = 50
+    max_rounds: int = 500
+
+    def __post_init__(self) -> None:
+        if self.backend not in BACKENDS:
+            raise UsageError(f"unknown backend (known: {', '.join(BACKENDS)})", field="backend", value=self.backend)
+        if self.precision not in PRECISION_MODES:
+            raise UsageError("must be single or combined", field="precision", value=self.precision)
+        if self.k < 1 or self.threads < 1 or not self.time_limit_s > 0:
+            raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
+
+
+def solve(instance: CoverInstance, options: MilpOptions | None = None) -> SolveResult:
+    """Solve the cover; the result's status is OPTIMAL only when every block was proven optimal and connected."""
+    o = options or MilpOptions()
+    start = time.perf_counter()
+    deadline = start + o.time_limit_s
+    a = instance.by_candidate.astype(bool).tocsr()
+    n_cand, n_targ = a.shape
+    counts = np.diff(instance.by_target.indptr)
+    if np.any(counts < o.k):
+        bad = np.flatnonzero(counts < o.k)
+        return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start, backend=o.backend,
+                           info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)})
+    connect = o.overlap is not None and instance.groups is not None
+    adj = None
+    if connect:
+        lengths = instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
+        adj, _ = overlap_adjacency(a, lengths, o.overlap, instance.groups, instance.xy)
+    report = _presolve(instance, a, adj, o)
+    keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
+    keep_t = np.asarray(report.kept_targets, dtype=np.int64)
+    selected: list[int] = []
+    objective, bound, all_optimal, rounds, cuts = 0.0, 0.0, True, 0, 0
+    blocks = _blocks(a, keep_c, keep_t, instance.groups)
+    for b, (block_c, block_t) in enumerate(blocks):
+        # each block gets an equal share of the time left; a block that finishes early leaves its rest
+        share = (deadline - time.perf_counter()) / (len(blocks) - b)
+        res = _solve_block(instance, a, adj, block_c, block_t, report.forced_candidates, o,
+                           time.perf_counter() + share)
+        if res is None:
+            return SolveResult("milp", Status.NO_SOLUTION, (), None, time_s=time.perf_counter() - start,
+                               backend=o.backend, info={"presolve": report.to_dict()})
+        sel, obj, bnd, opt, r, c = res
+        if sel is None:
+            return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
+                               backend=o.backend, info={"presolve": report.to_dict()})
+        selected += sel
+        objective += obj
+        bound += bnd
+        all_optimal &= opt
+        rounds += r
+        cuts += c
+    status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
+    info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect}
+    return SolveResult("milp", status, tuple(sorted(selected)), objective, bound=objective if all_optimal else bound,
+                       time_s=time.perf_counter() - start, backend=o.backend, info=info)
+
+
+def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, o: MilpOptions) -> PresolveReport:
+    n_cand, n_targ = a.shape
+    drop = np.zeros(n_cand, dtype=bool)
+    if o.k == 1 and o.precision == "single":
+        drop = dominated(a, instance.cost, adj, instance.groups if adj is not None else None)
+    dup = duplicate_targets(instance.by_target) if o.precision == "single" else np.zeros(n_targ, dtype=bool)
+    kept_c = np.flatnonzero(~drop)
+    bt = a[kept_c].T.tocsr()
+    must = forced(bt, o.k)
+    return PresolveReport(n_cand, n_targ, int(drop.sum()), int(dup.sum()), int(must.sum()),
+                          tuple(kept_c.tolist()), tuple(np.flatnonzero(~dup).tolist()), tuple(kept_c[must].tolist()))
+
+
+def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Independent parts: candidates linked through shared targets or a common group."""
+    sub = a[keep_c][:, keep_t]
+    nc, nt = sub.shape
+    links = [sp.bmat([[None, sub], [sub.T, None]]).tocsr()]
+    if groups is not None:
+        index: dict = {}
+        gid = np.array([index.setdefault(groups[i], len(index)) for i in keep_c])
+        g = sp.csr_matrix((np.ones(nc), (np.arange(nc), gid)), shape=(nc, len(index)))
+        same = (g @ g.T).astype(bool)
+        links.append(sp.block_diag([same, sp.csr_matrix((nt, nt))]).tocsr())
+    n, label = connected_components(sum(links), directed=False)
+    out = []
+    for b in range(n):
+        members = np.flatnonzero(label == b)
+        bc, bt = keep_c[members[members < nc]], keep_t[members[members >= nc] - nc]
+        if bt.size:
+            out.append((bc, bt))
+    return out
+
+
+def _solve_block(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, cands: np.ndarray,
+                 targets: np.ndarray, forced_all: tuple[int, ...], o: MilpOptions, deadline: float):
+    """Solve one block; returns (selected, objective, bound, proven optimal, rounds, cuts), or None on timeout
+    without any plan, or (None, ...) when infeasible."""
+    sub = a[cands][:, targets].tocsr()
+    cost = instance.cost[cands]
+    local_adj = adj[cands][:, cands].tocsr() if adj is not None else None
+    groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
+    backend = make_backend(o.backend, len(cands), cost)
+    bt = sub.T.tocsr()
+    rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
+                       for t in range(bt.shape[0])]
+    if o.precision == "combined" and instance.info is not None:
+        info = instance.info[cands][:, targets].T.tocsr()
+        rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
+                 for t in range(info.shape[0])]
+    backend.add_rows(rows)
+    pos = {int(c): k for k, c in enumerate(cands)}
+    backend.fix([pos[c] for c in forced_all if c in pos])
+    incumbent = None
+    if groups is not None and o.k == 1 and o.precision == "single":
+        incumbent = connected_greedy(sub, local_adj, groups, cost, np.ones(sub.shape[1], dtype=bool), o.greedy_starts)
+    essential = essential_targets(sub, groups) if groups is not None else {}
+    if groups is not None:
+        backend.add_rows(neighbour_cuts(local_adj, sub, groups, essential))
+    best_bound, rounds, n_cuts = 0.0, 0, 0
+    while True:
+        left = deadline - time.perf_counter()
+        if left <= 0 or rounds >= o.max_rounds:
+            break
+        res = backend.solve(left, o.threads, o.seed, incumbent)
+        rounds += 1
+        if res.bound is not None:
+            best_bound = max(best_bound, res.bound)
+        if res.outcome is Outcome.INFEASIBLE:
+            return (None, 0.0, 0.0, False, rounds, n_cuts) if incumbent is None else _finish(incumbent, cands, cost, best_bound, False, rounds, n_cuts)
+        if res.outcome is Outcome.UNKNOWN:
+            break
+        chosen = list(res.selected)
+        broken = disconnected_groups(local_adj, groups, chosen) if groups is not None else {}
+        if not broken:
+            if incumbent is None or cost[chosen].sum() <= cost[incumbent].sum() + 1e-9:
+                incumbent = chosen
+            return _finish(incumbent, cands, cost, best_bound, res.outcome is Outcome.OPTIMAL, rounds, n_cuts)
+        new = [cut for g, comps in broken.items() for cut in connectivity_cuts(local_adj, comps, sub, essential.get(g))]
+        backend.add_rows(new)
+        n_cuts += len(new)
+        fixed = repair(local_adj, cost, groups, chosen)
+        if fixed is not None and (incumbent is None or cost[fixed].sum() < cost[incumbent].sum()):
+            incumbent = fixed
+    if incumbent is None:
+        return None
+    return _finish(incumbent, cands, cost, best_bound, False, rounds, n_cuts)
+
+
+def _finish(chosen: list[int], cands: np.ndarray, cost: np.ndarray, bound: float, optimal: bool, rounds: int, cuts: int):
+    obj = float(cost[chosen].sum())
+    return [int(cands[i]) for i in chosen], obj, (obj if optimal else min(bound, obj)), optimal, rounds, cuts
