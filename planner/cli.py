@@ -14,13 +14,18 @@ import sys
 import traceback
 from collections.abc import Sequence
 from dataclasses import replace
+from pathlib import Path
 
 from planner.errors import ExitCode, PlannerError
 from planner.instruments import list_instruments, load_instrument
 from planner.params import ClosureTolerance
 from planner.site import Site, load_site
 from planner.candidates.pool import PoolOptions
-from planner.plan import METHODS, PlanOptions, plan_site, sight_limits
+from planner.coverage.overlap import OverlapRule
+from planner.export import FORMATS, export_problem
+from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
+from planner.solve.backends import BACKENDS
+from planner.solve.milp import PRECISION_MODES, MilpOptions
 from planner.plan_io import read_plan_stations, write_plan
 from planner.validate import validate_site
 from planner.verify import verify_stations
@@ -82,15 +87,20 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
-def _plan_options(args: argparse.Namespace) -> PlanOptions:
+def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
+    rule = None if args.no_overlap else OverlapRule(overlap, args.min_shared, args.max_link)
+    milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
+                       k=args.k, overlap=rule, precision=args.precision)
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
-                       verify_spacing_m=args.verify_spacing)
+                       verify_spacing_m=args.verify_spacing, milp=milp,
+                       tripod=args.method == "milp" or args.tripod, recentre=args.recentre)
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
-    plan = plan_site(load_with_overrides(args), _plan_options(args))
+    site = load_with_overrides(args)
+    plan = plan_site(site, _plan_options(args, site.parameters.overlap))
     print(plan.summary())
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
@@ -106,6 +116,21 @@ def cmd_verify(args: argparse.Namespace) -> int:
     print(f"plan {args.plan}: {len(stations)} stations")
     print(report.summary())
     return ExitCode.OK if report.complete else ExitCode.INFEASIBLE
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    site = load_with_overrides(args)
+    options = PlanOptions(
+        target_spacing_m=args.target_spacing, pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
+        incidence_3d=args.incidence == "3d", precision=not args.no_precision)
+    problem = build_problem(site, options)
+    text = export_problem(problem, args.format, OverlapRule(site.parameters.overlap))
+    if args.out:
+        Path(args.out).write_text(text)
+        print(f"wrote {args.out}: {problem.shape[0]} candidates, {problem.shape[1]} targets, {problem.by_candidate.nnz:,} pairs")
+    else:
+        sys.stdout.write(text)
+    return ExitCode.OK
 
 
 def cmd_instruments(args: argparse.Namespace) -> int:
@@ -124,7 +149,19 @@ def build_parser() -> argparse.ArgumentParser:
     v.set_defaults(func=cmd_validate)
     pl = sub.add_parser("plan", help="plan the stations of a site and verify the plan")
     _add_site_options(pl)
-    pl.add_argument("--method", choices=METHODS, default="greedy", help="closed-form (the dissertation) or greedy")
+    pl.add_argument("--method", choices=METHODS, default="milp",
+                    help="closed-form (the dissertation), greedy (Chvatal) or milp (optimal; default)")
+    pl.add_argument("--backend", choices=BACKENDS, default="cpsat", help="MILP backend (default cpsat)")
+    pl.add_argument("--time-limit", type=float, default=60.0, metavar="S", help="MILP time limit in s (default 60)")
+    pl.add_argument("--threads", type=int, default=1, help="solver threads (default 1: deterministic)")
+    pl.add_argument("--k", type=int, default=1, help="each wall piece seen by at least k stations (default 1)")
+    pl.add_argument("--precision", choices=PRECISION_MODES, default="single",
+                    help="single: each view must meet sigma_req; combined: views add information")
+    pl.add_argument("--no-overlap", action="store_true", help="MILP without the registration-overlap constraint")
+    pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
+    pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
+    pl.add_argument("--tripod", action="store_true", help="compute tripod discs (always on for milp)")
+    pl.add_argument("--recentre", action="store_true", help="move each station to the centre of its tripod disc")
     pl.add_argument("--out", metavar="DIR", help="write DIR/plan.json")
     pl.add_argument("--seed", type=int, default=0, help="seed of the movement-field sampling (default 0)")
     pl.add_argument("--target-spacing", type=float, default=1.0, metavar="M", help="wall piece length (default 1 m)")
@@ -138,6 +175,15 @@ def build_parser() -> argparse.ArgumentParser:
     ve.add_argument("--spacing", type=float, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)")
     _add_limit_options(ve)
     ve.set_defaults(func=cmd_verify)
+    ex = sub.add_parser("export", help="write the coverage problem for third-party solvers")
+    _add_site_options(ex)
+    ex.add_argument("--format", choices=FORMATS, default="json")
+    ex.add_argument("--out", metavar="FILE", help="write to FILE (default: standard output)")
+    ex.add_argument("--seed", type=int, default=0)
+    ex.add_argument("--target-spacing", type=float, default=1.0, metavar="M")
+    ex.add_argument("--grid-spacing", type=float, default=10.0, metavar="M")
+    _add_limit_options(ex)
+    ex.set_defaults(func=cmd_export)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=cmd_instruments)
     return parser

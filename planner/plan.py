@@ -3,18 +3,17 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass, field, replace
 
+import networkx as nx
 import numpy as np
 
 from planner.accuracy import max_slant_range_m
 from planner.candidates.closed_form import Limits
-from planner.candidates.final_step import drop_redundant, relocate
 from planner.candidates.model import Candidate
-from planner.candidates.pool import PoolOptions, candidate_pool, closed_form_candidates
+from planner.candidates.pool import PoolOptions, candidate_pool
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.overlap import OverlapRule, piece_lengths
+from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import SightLimits
 from planner.errors import InfeasibleError, UsageError
@@ -22,7 +21,9 @@ from planner.site.model import Site
 from planner.solve.greedy import greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
-from planner.solve.result import SolveResult, Status
+from planner.solve.closed_form import closed_form_plan
+from planner.solve.result import SolveResult
+from planner.solve.tripod import TripodDisc, tripod_discs
 from planner.validate import ValidationReport, validate_site
 from planner.verify import VerifyReport, verify_stations
 
@@ -47,6 +48,8 @@ class PlanOptions:
     precision: bool = True
     verify_spacing_m: float = 0.1
     milp: MilpOptions = field(default_factory=MilpOptions)
+    tripod: bool = False
+    recentre: bool = False
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -69,6 +72,13 @@ class Plan:
     verification: VerifyReport
     problem_size: dict[str, int]
     log: tuple[str, ...] = ()
+    registration: dict[str, int] = field(default_factory=dict)
+    tripods: tuple[TripodDisc, ...] = ()
+
+    @property
+    def connected(self) -> bool:
+        """Every zone-side's stations form one registration bundle."""
+        return all(n <= 1 for n in self.registration.values())
 
     def count_by_side(self) -> dict[str, int]:
         out: dict[str, int] = {}
@@ -83,14 +93,22 @@ class Plan:
         sides = self.count_by_side()
         lines = [
             f"instance {self.site.name}, method {self.result.method}: {self.result.summary()}",
+            f"presolve: {self.result.info['presolve']}" if "presolve" in self.result.info else "",
             f"stations: {len(self.stations)} (inside {sides.get('inside', 0)}, outside {sides.get('outside', 0)}); "
             f"candidates {self.problem_size['candidates']}, targets {self.problem_size['targets']}",
             f"{'zone':<10}{'side':<9}{'stations':>9}",
         ]
         lines += [f"{z:<10}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
+        broken = {g: n for g, n in self.registration.items() if n > 1}
+        lines.append("registration: every zone-side connected under the overlap relation" if not broken else
+                     "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items()))
+        if self.tripods:
+            radii = [d.radius_m for d in self.tripods]
+            lines.append(f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
+                         + (" (stations recentred)" if self.options.recentre else ""))
         lines.append(self.verification.summary())
-        return "\n".join(lines)
+        return "\n".join(line for line in lines if line)
 
 
 def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool) -> SightLimits:
@@ -113,8 +131,31 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray) -> InfeasibleErro
     return InfeasibleError(f"{len(unseen)} target(s) seen by no candidate: {shown}{more}")
 
 
+def _limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
+    combined = options.method == "milp" and options.milp.precision == "combined"
+    return sight_limits(validation, options.incidence_3d, options.precision and not combined)
+
+
+def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None) -> CoverageProblem:
+    """Candidates, targets and coverage of a site; refuses a problem with a target no candidate sees.
+
+    Raises
+    ------
+    InfeasibleError
+        Listing (up to five) targets by id and position, before any solver runs.
+    """
+    validation = validation or validate_site(site)
+    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
+    problem = build_coverage(site, pool, make_targets(site, options.target_spacing_m), _limits(validation, options))
+    unseen = problem.uncoverable()
+    if unseen.size:
+        err = unseen_error(problem, unseen)
+        raise err.located(site.source) if site.source else err
+    return problem
+
+
 def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
-    """Plan the stations of a site with the chosen method and verify the plan.
+    """Plan the stations of a site with the chosen method, check registration, and verify the plan.
 
     Raises
     ------
@@ -123,50 +164,50 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     """
     options = options or PlanOptions()
     validation = validate_site(site)
-    combined = options.method == "milp" and options.milp.precision == "combined"
-    limits = sight_limits(validation, options.incidence_3d, options.precision and not combined)
+    limits = _limits(validation, options)
     cf_limits = closed_form_limits(validation)
-    targets = make_targets(site, options.target_spacing_m)
     start = time.perf_counter()
-    pool = candidate_pool(site, cf_limits, options.pool)
-    problem = build_coverage(site, pool, targets, limits)
-    build_s = time.perf_counter() - start
-    unseen = problem.uncoverable()
-    if unseen.size:
-        err = unseen_error(problem, unseen)
-        raise err.located(site.source) if site.source else err
-    log: list[str] = [f"coverage built in {build_s:.2f} s ({problem.by_candidate.nnz:,} candidate-target pairs)"]
+    problem = build_problem(site, options, validation)
+    targets, pool = problem.targets, problem.candidates
+    log: list[str] = [f"coverage built in {time.perf_counter() - start:.2f} s "
+                      f"({problem.by_candidate.nnz:,} candidate-target pairs)"]
     if options.method == "closed-form":
-        result, stations, extra = _closed_form(site, cf_limits, targets, limits)
+        result, problem, extra = closed_form_plan(site, cf_limits, targets, limits)
         log += extra
     elif options.method == "milp":
         p = site.parameters
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
                               name=site.name)
         result = solve(inst, options.milp)
-        stations = [problem.candidates[i] for i in result.selected]
     else:
         result = greedy_cover(problem.by_candidate)
-        stations = [problem.candidates[i] for i in result.selected]
+    rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)
+    registration, partners = registration_check(problem, result.selected, rule)
+    stations = [problem.candidates[i] for i in result.selected]
+    tripods: tuple[TripodDisc, ...] = ()
+    if options.tripod or options.recentre:
+        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners))
+        if options.recentre:
+            stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
     verification = verify_stations(site, stations, limits, options.verify_spacing_m)
-    size = {"candidates": len(problem.candidates), "targets": len(targets), "pairs": int(problem.by_candidate.nnz)}
-    return Plan(site, options, validation, result, tuple(stations), verification, size, tuple(log))
+    size = {"candidates": len(pool), "targets": len(targets), "pairs": int(problem.by_candidate.nnz)}
+    return Plan(site, options, validation, result, tuple(stations), verification, size, tuple(log),
+                registration, tripods)
 
 
-def _closed_form(site: Site, cf_limits: Limits, targets: Any, limits: SightLimits) -> tuple[SolveResult, list[Candidate], list[str]]:
-    """The dissertation's plan: closed-form candidates, moved where misplaced, redundant ones dropped."""
-    start = time.perf_counter()
-    cands, log = relocate(site, closed_form_candidates(site, cf_limits))
-    problem = build_coverage(site, cands, targets, limits)
-    lengths = piece_lengths(targets.s0_m, targets.s1_m)
-    rule = OverlapRule(site.parameters.overlap)
-    keep = drop_redundant(problem.by_candidate, [(c.zone, c.side) for c in cands], lengths, rule)
-    dropped = [cands[i].id for i in range(len(cands)) if i not in set(keep)]
-    if dropped:
-        log.append(f"redundant closed-form candidates removed: {', '.join(dropped)}")
-    stations = [cands[i] for i in keep]
-    covered = problem.covered_by(keep) > 0
-    status = Status.FEASIBLE if covered.all() else Status.INCOMPLETE
-    info = {"uncovered_targets": int((~covered).sum()), "generated": len(cands)}
-    return SolveResult("closed-form", status, tuple(keep), float(len(keep)), time_s=time.perf_counter() - start,
-                       info=info), stations, log
+def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule
+                       ) -> tuple[dict[str, int], dict[int, list[int]]]:
+    """Components of each zone-side's chosen stations under the overlap relation, computed afresh with
+    networkx (independent of any solver), and each station's registration partners."""
+    lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
+    xy = np.array([c.xy for c in problem.candidates], dtype=float).reshape(-1, 2)
+    groups: dict[tuple[str, str], list[int]] = {}
+    for i in selected:
+        c = problem.candidates[i]
+        groups.setdefault((c.zone, c.side.value), []).append(i)
+    out, partners = {}, {}
+    for (zone, side), nodes in groups.items():
+        g = overlap_graph(problem.by_candidate, lengths, nodes, rule, xy)
+        out[f"{zone}/{side}"] = nx.number_connected_components(g)
+        partners.update({n: sorted(g.neighbors(n)) for n in nodes})
+    return out, partners

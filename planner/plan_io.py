@@ -11,6 +11,7 @@ from planner.errors import InputError
 from planner.plan import Plan
 from planner.site.fileio import read_text, to_float
 from planner.site.model import ScanSide, Site
+from planner.solve.tripod import TripodDisc
 
 
 def plan_to_dict(plan: Plan) -> dict[str, Any]:
@@ -38,15 +39,32 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "grid_spacing_m": o.pool.grid_spacing_m, "field_samples": o.pool.field_samples, "seed": o.pool.seed,
             "incidence": "3d" if o.incidence_3d else "horizontal", "precision": o.precision,
             "verify_spacing_m": o.verify_spacing_m,
+            "milp": None if r.method != "milp" else {
+                "backend": o.milp.backend, "time_limit_s": o.milp.time_limit_s, "seed": o.milp.seed,
+                "threads": o.milp.threads, "k": o.milp.k, "precision": o.milp.precision,
+                "min_shared_m": o.milp.overlap.min_shared_m if o.milp.overlap else None,
+                "max_link_m": o.milp.overlap.max_link_m if o.milp.overlap else None},
         },
+        "presolve": r.info.get("presolve"),
+        "solver": {k: v for k, v in r.info.items() if k != "presolve"},
+        "registration": {"connected": plan.connected, "components": plan.registration,
+                         "overlap": (o.milp.overlap.overlap if r.method == "milp" and o.milp.overlap else p.overlap)
+                         if not (r.method == "milp" and o.milp.overlap is None) else None},
         "problem": plan.problem_size,
         "zones": [{"id": z.id, "side": z.scan_side.value, "frame": z.frame, "polygon": [list(v) for v in z.vertices]}
                   for z in site.zones],
-        "stations": [{"id": s.id, "zone": s.zone, "side": s.side.value, "x": s.x, "y": s.y, "kind": s.kind.value}
-                     for s in plan.stations],
+        "stations": [_station(s, plan.tripods[k] if plan.tripods else None) for k, s in enumerate(plan.stations)],
         "verification": plan.verification.to_dict(),
         "log": list(plan.log),
     }
+
+
+def _station(s: Candidate, disc: TripodDisc | None) -> dict[str, Any]:
+    out: dict[str, Any] = {"id": s.id, "zone": s.zone, "side": s.side.value, "x": s.x, "y": s.y, "kind": s.kind.value}
+    if disc is not None:
+        out["tripod_radius_m"] = disc.radius_m
+        out["tripod_centre"] = list(disc.centre)
+    return out
 
 
 def write_plan(plan: Plan, out_dir: Path | str) -> Path:

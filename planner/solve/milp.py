@@ -26,6 +26,7 @@ from planner.solve.backends import BACKENDS, Outcome, Row, make_backend
 from planner.solve.connectivity import (
     connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
 )
+from planner.solve.greedy import greedy_cover
 from planner.solve.instance import CoverInstance
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced
 from planner.solve.result import SolveResult, Status
@@ -74,27 +75,27 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None) -> SolveR
     report = _presolve(instance, a, adj, o)
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)
-    selected: list[int] = []
-    objective, bound, all_optimal, rounds, cuts = 0.0, 0.0, True, 0, 0
-    blocks = _blocks(a, keep_c, keep_t, instance.groups)
-    for b, (block_c, block_t) in enumerate(blocks):
-        # each block gets an equal share of the time left; a block that finishes early leaves its rest
-        share = (deadline - time.perf_counter()) / (len(blocks) - b)
-        res = _solve_block(instance, a, adj, block_c, block_t, report.forced_candidates, o,
-                           time.perf_counter() + share)
-        if res is None:
-            return SolveResult("milp", Status.NO_SOLUTION, (), None, time_s=time.perf_counter() - start,
-                               backend=o.backend, info={"presolve": report.to_dict()})
-        sel, obj, bnd, opt, r, c = res
-        if sel is None:
-            return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
-                               backend=o.backend, info={"presolve": report.to_dict()})
-        selected += sel
-        objective += obj
-        bound += bnd
-        all_optimal &= opt
-        rounds += r
-        cuts += c
+    solvers = [_BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
+               for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
+    # pass 1: each block an equal share of the time left (a block that finishes early leaves its rest);
+    # pass 2: the blocks not yet proven share whatever is left
+    for pass_blocks in (solvers, None):
+        todo = solvers if pass_blocks is not None else [b for b in solvers if not b.done]
+        for k, block in enumerate(todo):
+            share = (deadline - time.perf_counter()) / (len(todo) - k)
+            if share > 0:
+                block.run(time.perf_counter() + share)
+    if any(b.infeasible for b in solvers):
+        return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
+                           backend=o.backend, info={"presolve": report.to_dict()})
+    if any(b.incumbent is None for b in solvers):
+        return SolveResult("milp", Status.NO_SOLUTION, (), None, time_s=time.perf_counter() - start,
+                           backend=o.backend, info={"presolve": report.to_dict()})
+    selected: list[int] = [int(b.cands[i]) for b in solvers for i in b.incumbent]
+    objective = float(sum(b.cost[b.incumbent].sum() for b in solvers))
+    bound = float(sum(b.cost[b.incumbent].sum() if b.done else min(b.bound, b.cost[b.incumbent].sum()) for b in solvers))
+    all_optimal = all(b.done for b in solvers)
+    rounds, cuts = sum(b.rounds for b in solvers), sum(b.cuts for b in solvers)
     status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
     info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect}
     return SolveResult("milp", status, tuple(sorted(selected)), objective, bound=objective if all_optimal else bound,
@@ -135,61 +136,73 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
     return out
 
 
-def _solve_block(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, cands: np.ndarray,
-                 targets: np.ndarray, forced_all: tuple[int, ...], o: MilpOptions, deadline: float):
-    """Solve one block; returns (selected, objective, bound, proven optimal, rounds, cuts), or None on timeout
-    without any plan, or (None, ...) when infeasible."""
-    sub = a[cands][:, targets].tocsr()
-    cost = instance.cost[cands]
-    local_adj = adj[cands][:, cands].tocsr() if adj is not None else None
-    groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
-    backend = make_backend(o.backend, len(cands), cost)
-    bt = sub.T.tocsr()
-    rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
-                       for t in range(bt.shape[0])]
-    if o.precision == "combined" and instance.info is not None:
-        info = instance.info[cands][:, targets].T.tocsr()
-        rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
-                 for t in range(info.shape[0])]
-    backend.add_rows(rows)
-    pos = {int(c): k for k, c in enumerate(cands)}
-    backend.fix([pos[c] for c in forced_all if c in pos])
-    incumbent = None
-    if groups is not None and o.k == 1 and o.precision == "single":
-        incumbent = connected_greedy(sub, local_adj, groups, cost, np.ones(sub.shape[1], dtype=bool), o.greedy_starts)
-    essential = essential_targets(sub, groups) if groups is not None else {}
-    if groups is not None:
-        backend.add_rows(neighbour_cuts(local_adj, sub, groups, essential))
-    best_bound, rounds, n_cuts = 0.0, 0, 0
-    while True:
-        left = deadline - time.perf_counter()
-        if left <= 0 or rounds >= o.max_rounds:
-            break
-        res = backend.solve(left, o.threads, o.seed, incumbent)
-        rounds += 1
-        if res.bound is not None:
-            best_bound = max(best_bound, res.bound)
-        if res.outcome is Outcome.INFEASIBLE:
-            return (None, 0.0, 0.0, False, rounds, n_cuts) if incumbent is None else _finish(incumbent, cands, cost, best_bound, False, rounds, n_cuts)
-        if res.outcome is Outcome.UNKNOWN:
-            break
-        chosen = list(res.selected)
-        broken = disconnected_groups(local_adj, groups, chosen) if groups is not None else {}
-        if not broken:
-            if incumbent is None or cost[chosen].sum() <= cost[incumbent].sum() + 1e-9:
-                incumbent = chosen
-            return _finish(incumbent, cands, cost, best_bound, res.outcome is Outcome.OPTIMAL, rounds, n_cuts)
-        new = [cut for g, comps in broken.items() for cut in connectivity_cuts(local_adj, comps, sub, essential.get(g))]
-        backend.add_rows(new)
-        n_cuts += len(new)
-        fixed = repair(local_adj, cost, groups, chosen)
-        if fixed is not None and (incumbent is None or cost[fixed].sum() < cost[incumbent].sum()):
-            incumbent = fixed
-    if incumbent is None:
-        return None
-    return _finish(incumbent, cands, cost, best_bound, False, rounds, n_cuts)
+class _BlockSolver:
+    """One independent block: its backend model (with the cuts found so far) and its best connected plan."""
 
+    def __init__(self, instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, cands: np.ndarray,
+                 targets: np.ndarray, forced_all: tuple[int, ...], o: MilpOptions) -> None:
+        self.o, self.cands = o, cands
+        self.sub = a[cands][:, targets].tocsr()
+        self.cost = instance.cost[cands]
+        self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
+        self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
+        self.backend = make_backend(o.backend, len(cands), self.cost)
+        bt = self.sub.T.tocsr()
+        rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
+                           for t in range(bt.shape[0])]
+        if o.precision == "combined" and instance.info is not None:
+            info = instance.info[cands][:, targets].T.tocsr()
+            rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
+                     for t in range(info.shape[0])]
+        self.backend.add_rows(rows)
+        pos = {int(c): k for k, c in enumerate(cands)}
+        self.backend.fix([pos[c] for c in forced_all if c in pos])
+        self.essential = essential_targets(self.sub, self.groups) if self.groups is not None else {}
+        self.incumbent: list[int] | None = None
+        if self.groups is not None:
+            self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
+            if o.k == 1 and o.precision == "single":
+                self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
+                                                  np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
+        elif o.k == 1 and o.precision == "single":
+            g = greedy_cover(self.sub, weights=self.cost)
+            self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
+        self.bound, self.rounds, self.cuts = 0.0, 0, 0
+        self.done = self.infeasible = False
 
-def _finish(chosen: list[int], cands: np.ndarray, cost: np.ndarray, bound: float, optimal: bool, rounds: int, cuts: int):
-    obj = float(cost[chosen].sum())
-    return [int(cands[i]) for i in chosen], obj, (obj if optimal else min(bound, obj)), optimal, rounds, cuts
+    def _better(self, chosen: list[int]) -> None:
+        if self.incumbent is None or self.cost[chosen].sum() < self.cost[self.incumbent].sum() - 1e-9:
+            self.incumbent = chosen
+
+    def run(self, deadline: float) -> None:
+        """Solve, cut and re-solve until the choice is connected and proven optimal, or the deadline."""
+        while not self.done and self.rounds < self.o.max_rounds:
+            left = deadline - time.perf_counter()
+            if left <= 0:
+                return
+            res = self.backend.solve(left, self.o.threads, self.o.seed, self.incumbent)
+            self.rounds += 1
+            if res.bound is not None:
+                self.bound = max(self.bound, res.bound)
+            if res.outcome is Outcome.INFEASIBLE:
+                self.infeasible = self.incumbent is None
+                self.done = not self.infeasible
+                return
+            if res.outcome is Outcome.UNKNOWN:
+                return
+            chosen = list(res.selected)
+            broken = disconnected_groups(self.adj, self.groups, chosen) if self.groups is not None else {}
+            if not broken:
+                self._better(chosen)
+                self.done = res.outcome is Outcome.OPTIMAL
+                if not self.done:
+                    continue
+                self.incumbent = chosen
+                return
+            new = [cut for g, comps in broken.items()
+                   for cut in connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))]
+            self.backend.add_rows(new)
+            self.cuts += len(new)
+            fixed = repair(self.adj, self.cost, self.groups, chosen)
+            if fixed is not None:
+                self._better(fixed)
