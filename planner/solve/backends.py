@@ -14,6 +14,7 @@ import math
 import os
 import sys
 import tempfile
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 from enum import Enum
@@ -194,6 +195,13 @@ class PulpBackend:
         self.fixed += idx
 
     def solve(self, time_limit_s: float, threads: int, seed: int, hint: list[int] | None) -> BackendResult:
+        # PuLP 3.3 announces its 4.0 API (prob.add_variable, COIN_CMD) with a DeprecationWarning per
+        # variable; the project pins pulp < 4, where this API works, so the notices are silenced here
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
+            return self._solve(time_limit_s, threads, seed, hint)
+
+    def _solve(self, time_limit_s: float, threads: int, seed: int, hint: list[int] | None) -> BackendResult:
         pulp = self._pulp
         prob = pulp.LpProblem("cover", pulp.LpMinimize)
         x = [pulp.LpVariable(f"x{i}", cat="Binary") for i in range(len(self.cost))]

@@ -45,6 +45,7 @@ class MilpOptions:
     precision: str = "single"
     greedy_starts: int = 50
     max_rounds: int = 500
+    presolve: bool = True
 
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
@@ -105,6 +106,8 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None) -> SolveR
 def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, o: MilpOptions) -> PresolveReport:
     n_cand, n_targ = a.shape
     drop = np.zeros(n_cand, dtype=bool)
+    if not o.presolve:
+        return PresolveReport(n_cand, n_targ, kept_candidates=tuple(range(n_cand)), kept_targets=tuple(range(n_targ)))
     if o.k == 1 and o.precision == "single":
         drop = dominated(a, instance.cost, adj, instance.groups if adj is not None else None)
     dup = duplicate_targets(instance.by_target) if o.precision == "single" else np.zeros(n_targ, dtype=bool)

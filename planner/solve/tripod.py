@@ -1,8 +1,9 @@
 """How far each chosen station may move: the largest tripod disc that keeps what the plan relies on it for.
 
-For station j the plan relies on j for the targets no other chosen station
-covers and for the targets it shares with its registration partners (the
-overlap links). For every end point e of such a piece (top heights h_e) and
+For station j the plan relies on j for the targets it answers for (each
+covered target answers to its nearest chosen station) and for the targets it
+shares with its registration partners (the overlap links), so that every
+station may move within its disc at the same time. For every end point e of such a piece (top heights h_e) and
 every point q of the disc {p + u : |u| <= r}:
 
 - range:     |q - e| <= R_e = sqrt(S_max^2 - (h_e - IH)^2)          (and to the foot)
@@ -43,18 +44,29 @@ class TripodDisc:
 
 
 def relied_targets(problem: CoverageProblem, selected: Sequence[int], partners: dict[int, list[int]] | None = None) -> dict[int, np.ndarray]:
-    """Per chosen candidate: targets only it covers, plus those it shares with its registration partners."""
-    a = problem.by_candidate[list(selected)].astype(np.int64).tocsr()
-    count = np.asarray(a.sum(axis=0)).ravel()
-    out = {}
-    for k, j in enumerate(selected):
-        own = a.indices[a.indptr[k]:a.indptr[k + 1]]
-        keep = set(own[count[own] == 1].tolist())
+    """Per chosen candidate: the targets it answers for, plus those it shares with its registration partners.
+
+    Every covered target answers to one chosen station, the nearest (smallest
+    slant range) of those that see it, so that all stations may move at once:
+    each keeps its own targets, and the shared ones keep the overlap links.
+    """
+    sel = list(selected)
+    slant = problem.slant_m[sel].tocsc()
+    owner: dict[int, np.ndarray] = {j: np.zeros(0, dtype=np.int64) for j in sel}
+    best_row = np.full(slant.shape[1], -1)
+    best_val = np.full(slant.shape[1], np.inf)
+    coo = slant.tocoo()
+    for r, t, v in sorted(zip(coo.row, coo.col, coo.data), key=lambda x: (x[1], x[2], x[0])):
+        if best_row[t] < 0:
+            best_row[t], best_val[t] = r, v
+    for k, j in enumerate(sel):
+        own = np.flatnonzero(best_row == k)
+        keep = set(own.tolist())
+        mine = problem.by_candidate[j].indices
         for p in (partners or {}).get(j, []):
-            other = problem.by_candidate[p].indices
-            keep |= set(np.intersect1d(own, other).tolist())
-        out[j] = np.array(sorted(keep), dtype=np.int64)
-    return out
+            keep |= set(np.intersect1d(mine, problem.by_candidate[p].indices).tolist())
+        owner[j] = np.array(sorted(keep), dtype=np.int64)
+    return owner
 
 
 def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray, theta_max_deg: float) -> tuple[np.ndarray, float]:

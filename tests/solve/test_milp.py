@@ -1,0 +1,80 @@
+"""The MILP: hand-checkable covers, connectivity, k, combined precision, presolve, agreement of backends."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from planner.coverage.overlap import OverlapRule
+from planner.solve.backends import BACKENDS
+from planner.solve.instance import CoverInstance
+from planner.solve.milp import MilpOptions, solve
+
+
+def instance(cover: list[set[int]], n_targets: int, cost=None, groups=True, info=None) -> CoverInstance:
+    rows = [i for i, c in enumerate(cover) for _ in c]
+    cols = [t for c in cover for t in sorted(c)]
+    a = sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(len(cover), n_targets))
+    return CoverInstance(a, np.ones(len(cover)) if cost is None else np.asarray(cost, float),
+                         groups=tuple("g" for _ in cover) if groups else None,
+                         target_length_m=np.ones(n_targets), info=info)
+
+
+# targets 0..5 of unit length; c0 and c1 cover the halves and share nothing, so they cannot be
+# registered; c2 = {2, 3} shares 1 m with each (>= 0.3 * min(3, 2) = 0.6 m): the bridge;
+# c3 = {2} is dominated by c0 for the plain cover and is no bridge
+BRIDGE = [{0, 1, 2}, {3, 4, 5}, {2, 3}, {2}]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_plain_cover_takes_two_connected_cover_needs_the_bridge(backend):
+    plain = solve(instance(BRIDGE, 6), MilpOptions(backend=backend, overlap=None, time_limit_s=20))
+    assert plain.status.value == "optimal" and plain.selected == (0, 1)
+    conn = solve(instance(BRIDGE, 6), MilpOptions(backend=backend, overlap=OverlapRule(0.3), time_limit_s=20))
+    assert conn.status.value == "optimal" and conn.selected == (0, 1, 2) and conn.bound == 3
+
+
+def test_overlap_threshold_decides_the_link():
+    # with 60 % required overlap, c2 shares 1 m of min(3, 2) = 2 m: 50 % < 60 %, no link at all:
+    # no connected cover exists, and the solver must not claim one
+    r = solve(instance(BRIDGE, 6), MilpOptions(overlap=OverlapRule(0.6), time_limit_s=10))
+    assert r.status.value in ("infeasible", "no_solution")
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_k_equals_two(backend):
+    # four candidates each seeing the three targets: k = 2 takes exactly two
+    cover = [{0, 1, 2}] * 4
+    r = solve(instance(cover, 3, groups=False), MilpOptions(backend=backend, overlap=None, k=2, time_limit_s=20))
+    assert r.status.value == "optimal" and len(r.selected) == 2
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_combined_precision_adds_information(backend):
+    # one target: c0, c1 each give (sigma_req/sigma)^2 = 0.5, c2 gives 1.0 but costs 3:
+    # combined precision needs 0.5 + 0.5 >= 1 (cost 2); plain k = 1 would take c0 alone (cost 1)
+    cover = [{0}, {0}, {0}]
+    info = sp.csr_matrix(np.array([[0.5], [0.5], [1.0]]))
+    inst = instance(cover, 1, cost=[1, 1, 3], groups=False, info=info)
+    single = solve(inst, MilpOptions(backend=backend, overlap=None, time_limit_s=20))
+    combined = solve(inst, MilpOptions(backend=backend, overlap=None, precision="combined", time_limit_s=20))
+    assert single.objective == 1 and combined.objective == 2 and combined.selected == (0, 1)
+
+
+def test_too_few_views_for_k_is_infeasible():
+    r = solve(instance([{0}, {0, 1}], 2, groups=False), MilpOptions(overlap=None, k=2))
+    assert r.status.value == "infeasible" and r.info["targets_seen_by_fewer_than_k"] == [1]
+
+
+def test_presolve_keeps_the_connected_optimum():
+    # a ring of 12 targets; candidates cover arcs of 3 (step 1) and singletons (dominated for the
+    # plain cover); with and without presolve the connected optimum is the same
+    arcs = [{(i + j) % 12 for j in range(3)} for i in range(12)]
+    singles = [{i} for i in range(12)]
+    inst = instance(arcs + singles, 12)
+    with_p = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20))
+    without = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20, presolve=False))
+    assert with_p.status.value == without.status.value == "optimal"
+    assert with_p.objective == without.objective
+    assert with_p.info["presolve"]["dominated_removed"] >= 12

@@ -1,0 +1,104 @@
+"""Optimal plans on the bundled instances: backends agree, plans verify and are connected."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from planner.cli import main
+from planner.coverage.overlap import OverlapRule
+from planner.plan import PlanOptions, build_problem, plan_site, registration_check
+from planner.site import ScanSide, Site, Zone, load_site
+from planner.solve.backends import BACKENDS
+from planner.solve.greedy import greedy_cover
+from planner.solve.instance import cover_instance
+from planner.solve.milp import MilpOptions, solve
+from planner.solve.tripod import tripod_discs
+from planner.verify import verify_stations
+from tests.conftest import INSTANCES
+
+NAMES = ("polygon_a", "polygon_b", "polygon_c", "baalbek")
+
+
+@pytest.fixture(scope="module")
+def problems():
+    return {n: (load_site(INSTANCES / f"{n}.json"), build_problem(load_site(INSTANCES / f"{n}.json"), PlanOptions()))
+            for n in NAMES}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_plain_cover_backends_agree_and_beat_greedy(problems, name):
+    site, problem = problems[name]
+    inst = cover_instance(problem)
+    results = {b: solve(inst, MilpOptions(backend=b, overlap=None, time_limit_s=60)) for b in BACKENDS}
+    assert {r.status.value for r in results.values()} == {"optimal"}
+    assert len({r.objective for r in results.values()}) == 1
+    best = results["cpsat"]
+    assert greedy_cover(problem.by_candidate).objective >= best.objective
+    assert (inst.coverage_count(best.selected) >= 1).all()
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_connected_plan_of_polygon_b_on_every_backend(problems, backend):
+    site, problem = problems["polygon_b"]
+    r = solve(cover_instance(problem), MilpOptions(backend=backend, time_limit_s=60))
+    assert r.status.value == "optimal"
+    comps, _ = registration_check(problem, r.selected, OverlapRule(0.3))
+    assert set(comps.values()) == {1}  # each zone-side one registration bundle, checked with networkx
+    stations = [problem.candidates[i] for i in r.selected]
+    assert verify_stations(site, stations, problem.limits).complete
+    assert r.objective == 7  # all five backends agree (the greedy of the connected warm start is not optimal)
+
+
+@pytest.mark.parametrize("backend", ["cpsat", "scip"])
+def test_connected_plan_of_baalbek(problems, backend):
+    site, problem = problems["baalbek"]
+    r = solve(cover_instance(problem), MilpOptions(backend=backend, time_limit_s=60))
+    plain = solve(cover_instance(problem), MilpOptions(backend=backend, overlap=None, time_limit_s=60))
+    assert r.status.value == "optimal" and r.objective >= plain.objective
+    comps, _ = registration_check(problem, r.selected, OverlapRule(0.3))
+    assert set(comps.values()) == {1} and len(comps) == 12
+
+
+def test_same_seed_same_milp_plan():
+    site = load_site(INSTANCES / "polygon_b.json")
+    opts = PlanOptions(method="milp", milp=MilpOptions(seed=3))
+    a, b = plan_site(site, opts), plan_site(site, opts)
+    assert [s.id for s in a.stations] == [s.id for s in b.stations] and a.connected and a.verification.complete
+
+
+def test_tripod_disc_in_a_square_room():
+    # one station at the centre of a 20 x 20 room relies on it for every wall. Wall y = 0, end (0, 0):
+    # (|p - e| + r) cos 68 + r <= p_y  ->  r <= (10 - 14.142 cos 68) / (1 + cos 68) = 3.421 m
+    z = Zone("R", ScanSide.INSIDE, ((0, 0), (20, 0), (20, 20), (0, 20)), (3.0,) * 4)
+    site = Site("room", (z,), instrument="dissertation-tables")
+    problem = build_problem(site, PlanOptions())
+    centre = next(i for i, c in enumerate(problem.candidates) if abs(c.x - 10) < 1e-6 and abs(c.y - 10) < 1e-6)
+    (disc,) = tripod_discs(site, problem, [centre], problem.limits)
+    c68 = math.cos(math.radians(68))
+    assert disc.radius_m == pytest.approx((10 - math.hypot(10, 10) * c68) / (1 + c68), abs=2e-3)
+    assert disc.centre == pytest.approx((10.0, 10.0), abs=1e-3)
+
+
+def test_cli_milp_plan_json(tmp_path, capsys):
+    out = tmp_path / "b"
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "milp", "--out", str(out), "--recentre"]) == 0
+    data = json.loads((out / "plan.json").read_text())
+    assert data["status"] == "optimal" and data["objective"] == data["bound"] == 7 and data["gap"] == 0
+    assert data["backend"] == "cpsat" and data["presolve"]["candidates_in"] > data["presolve"]["candidates_out"]
+    assert data["registration"]["connected"] and all("tripod_radius_m" in s for s in data["stations"])
+    # recentred stations stand at their disc centres and still verify
+    assert all(s["x"] == s["tripod_centre"][0] for s in data["stations"])
+    assert data["verification"]["complete"]
+
+
+def test_export_orlib_roundtrip(tmp_path, capsys):
+    from planner.solve.orlib import read_orlib
+
+    assert main(["export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(tmp_path / "b.txt")]) == 0
+    inst = read_orlib(tmp_path / "b.txt")
+    site = load_site(INSTANCES / "polygon_b.json")
+    direct = solve(cover_instance(build_problem(site, PlanOptions())), MilpOptions(overlap=None))
+    assert solve(inst, MilpOptions(overlap=None)).objective == direct.objective
