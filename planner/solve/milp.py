@@ -28,7 +28,7 @@ from planner.solve.connectivity import (
 )
 from planner.solve.greedy import greedy_cover
 from planner.solve.instance import CoverInstance
-from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced
+from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
 from planner.solve.result import SolveResult, Status
 
 PRECISION_MODES = ("single", "combined")
@@ -110,7 +110,12 @@ def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | No
         return PresolveReport(n_cand, n_targ, kept_candidates=tuple(range(n_cand)), kept_targets=tuple(range(n_targ)))
     if o.k == 1 and o.precision == "single":
         drop = dominated(a, instance.cost, adj, instance.groups if adj is not None else None)
-    dup = duplicate_targets(instance.by_target) if o.precision == "single" else np.zeros(n_targ, dtype=bool)
+    if o.precision == "single" and o.k == 1:
+        dup = implied_targets(instance.by_target)
+    elif o.precision == "single":
+        dup = duplicate_targets(instance.by_target)
+    else:
+        dup = np.zeros(n_targ, dtype=bool)
     kept_c = np.flatnonzero(~drop)
     bt = a[kept_c].T.tocsr()
     must = forced(bt, o.k)
@@ -198,10 +203,7 @@ class _BlockSolver:
             if not broken:
                 self._better(chosen)
                 self.done = res.outcome is Outcome.OPTIMAL
-                if not self.done:
-                    continue
-                self.incumbent = chosen
-                return
+                continue
             new = [cut for g, comps in broken.items()
                    for cut in connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))]
             self.backend.add_rows(new)

@@ -87,6 +87,24 @@ def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:
     return dup
 
 
+def implied_targets(by_target: sp.csr_matrix) -> np.ndarray:
+    """Mask of targets whose cover follows from another's: if every candidate that sees t' also sees t,
+    covering t' covers t (valid for k = 1 in the single-precision mode). Duplicates keep the lowest index."""
+    b = by_target.astype(np.int64).tocsr()
+    size = np.diff(b.indptr)
+    inter = (b @ b.T).tocsr()
+    out = np.zeros(b.shape[0], dtype=bool)
+    for t in range(b.shape[0]):
+        row = inter.indices[inter.indptr[t]:inter.indptr[t + 1]]
+        vals = inter.data[inter.indptr[t]:inter.indptr[t + 1]]
+        sub = (vals == size[row]) & (row != t) & ((size[row] < size[t]) | (row < t))
+        # a smaller-or-equal candidate set inside t's; equal sets: only the earlier one implies
+        sub &= ~out[row] | (size[row] < size[t])
+        if np.any(sub & (size[row] > 0)):
+            out[t] = True
+    return out
+
+
 def forced(by_target: sp.csr_matrix, k: int) -> np.ndarray:
     """Candidates that must be chosen: the only k that see some target."""
     counts = np.diff(by_target.indptr)
