@@ -16,6 +16,8 @@ from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from planner.errors import ExitCode, PlannerError
 from planner.instruments import list_instruments, load_instrument
 from planner.params import ClosureTolerance
@@ -23,6 +25,8 @@ from planner.site import Site, load_site
 from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
 from planner.export import FORMATS, export_problem
+from planner.network.check import run_network
+from planner.network.io import adjust_observations, read_control
 from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import PRECISION_MODES, MilpOptions
@@ -52,6 +56,11 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--instrument-height", type=float, metavar="M", help="instrument height IH in m")
     p.add_argument("--angular-tolerance", type=float, metavar="DEG", help="closure tolerance of table CSV zones")
     p.add_argument("--min-relative-precision", type=float, metavar="N", help="closure 1:N of table CSV zones")
+
+
+def _add_network_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--control", metavar="FILE", help="control points (JSON list: name, x, y, sigma_x_mm, sigma_y_mm)")
+    p.add_argument("--monte-carlo", type=int, default=0, metavar="N", help="also simulate N adjustments (seeded)")
 
 
 def _add_limit_options(p: argparse.ArgumentParser) -> None:
@@ -104,6 +113,36 @@ def cmd_plan(args: argparse.Namespace) -> int:
     print(plan.summary())
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
+    if args.network:
+        _network(site, list(plan.stations), args)
+    return ExitCode.OK
+
+
+def _network(site: Site, stations: list, args: argparse.Namespace) -> None:
+    control = read_control(args.control) if getattr(args, "control", None) else None
+    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed)
+    print(report.summary())
+    if getattr(args, "observations", None):
+        print(adjust_observations(report, args.observations))
+    if args.out:
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+        path = Path(args.out) / "network.json"
+        path.write_text(json.dumps(report.to_dict(), indent=2, default=_jsonable) + "\n")
+        print(f"wrote {path}")
+
+
+def _jsonable(o: object) -> object:
+    if isinstance(o, (set, frozenset)):
+        return sorted(o)
+    if isinstance(o, (np.integer, np.floating)):
+        return o.item()
+    raise TypeError(type(o).__name__)
+
+
+def cmd_network(args: argparse.Namespace) -> int:
+    site = load_with_overrides(args)
+    stations = read_plan_stations(args.plan, site)
+    _network(site, stations, args)
     return ExitCode.OK
 
 
@@ -162,6 +201,8 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
     pl.add_argument("--tripod", action="store_true", help="compute tripod discs (always on for milp)")
     pl.add_argument("--recentre", action="store_true", help="move each station to the centre of its tripod disc")
+    pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
+    _add_network_options(pl)
     pl.add_argument("--out", metavar="DIR", help="write DIR/plan.json")
     pl.add_argument("--seed", type=int, default=0, help="seed of the movement-field sampling (default 0)")
     pl.add_argument("--target-spacing", type=float, default=1.0, metavar="M", help="wall piece length (default 1 m)")
@@ -184,6 +225,14 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--grid-spacing", type=float, default=10.0, metavar="M")
     _add_limit_options(ex)
     ex.set_defaults(func=cmd_export)
+    nw = sub.add_parser("network", help="station network, least-squares accuracy and the accuracy check of a plan")
+    _add_site_options(nw)
+    nw.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
+    nw.add_argument("--out", metavar="DIR", help="write DIR/network.json")
+    nw.add_argument("--seed", type=int, default=0)
+    _add_network_options(nw)
+    nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
+    nw.set_defaults(func=cmd_network)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=cmd_instruments)
     return parser

@@ -172,6 +172,7 @@ class ControlPoint:
     sigma_x_m: float = 0.0
     sigma_y_m: float = 0.0
     proposed: bool = False
+    frame: str = SITE_FRAME  # a proposed point belongs to the frame of the stations it serves
 
     def __post_init__(self) -> None:
         for f in ("x", "y", "z", "sigma_x_m", "sigma_y_m"):

@@ -1,0 +1,220 @@
+"""The accuracy check of a plan: station network, a priori adjustment, point errors of every wall piece.
+
+For every target the plan covers, e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 +
+sigma_meas^2) (2.13) with sigma_0 now the station's adjusted position error,
+from the best station seeing it; it must stay within sigma_req (or the
+drawing scale's tolerance, table 1.1).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import networkx as nx
+import numpy as np
+
+from planner.accuracy import sigma_meas_m
+from planner.candidates.model import Candidate
+from planner.coverage.matrix import build_coverage
+from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+from planner.coverage.targets import make_targets
+from planner.errors import InputError
+from planner.instruments import TotalStation, load_instrument
+from planner.network.adjustment import Adjustment, Obs, adjust
+from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
+from planner.network.montecarlo import MonteCarlo, monte_carlo
+from planner.site.model import ControlPoint, Site
+from planner.validate import validate_site
+
+#: seed 003: cloud-to-cloud registration error of two stations R metres apart
+REG_A, REG_B = 6.8e-5, 0.0081
+
+
+def registration_sigma_m(length_m: float) -> float:
+    return REG_A * length_m + REG_B
+
+
+@dataclass(frozen=True)
+class NetworkReport:
+    graph: nx.Graph
+    control: tuple[ControlPoint, ...]
+    diagnostics: Diagnostics
+    adjustments: tuple[Adjustment, ...]
+    failures: tuple[str, ...]          # parts that could not be adjusted, with the reason
+    station_sigma: dict[str, float]    # adjusted position error per station (m)
+    check: dict[str, Any]
+    monte_carlo: tuple[MonteCarlo, ...] = field(default=())
+    notes: tuple[str, ...] = ()
+
+    @property
+    def network_rms_m(self) -> float:
+        vals = list(self.station_sigma.values())
+        return math.sqrt(float(np.mean(np.square(vals)))) if vals else float("nan")
+
+    def to_dict(self) -> dict[str, Any]:
+        g = self.graph
+        ellipses = {p.name: {"x": p.x, "y": p.y, "sigma_x_m": p.sigma_x, "sigma_y_m": p.sigma_y,
+                             "position_error_m": p.position_error, "ellipse_a_m": p.ellipse_a, "ellipse_b_m": p.ellipse_b,
+                             "ellipse_azimuth_deg": p.ellipse_azimuth_deg, "ellipse95_a_m": p.ellipse_a * 2.4477,
+                             "ellipse95_b_m": p.ellipse_b * 2.4477}
+                    for adj in self.adjustments for p in adj.points}
+        return {
+            "nodes": [{"id": n, **{k: v for k, v in d.items()}} for n, d in g.nodes(data=True)],
+            "edges": [{"from": u, "to": v, "kinds": sorted(d["kinds"]), "length_m": d["length_m"]} for u, v, d in g.edges(data=True)],
+            "control": [{"name": c.name, "x": c.x, "y": c.y, "proposed": c.proposed} for c in self.control],
+            "diagnostics": {"components": self.diagnostics.components, "untied_stations": self.diagnostics.untied_stations,
+                            "articulation_points": self.diagnostics.articulation_points,
+                            "paths_to_control": self.diagnostics.paths_to_control},
+            "stations": ellipses,
+            "network_rms_m": self.network_rms_m,
+            "adjustments": [{"dof": a.dof, "m0": a.m0, "chi2_p": a.chi2_p, "chi2_pass": a.chi2_pass,
+                             "unchecked_observations": len(a.unchecked())} for a in self.adjustments],
+            "failures": list(self.failures),
+            "notes": list(self.notes),
+            "monte_carlo": [{"runs": m.runs, "rms_m": m.rms, "spread_m": m.spread} for m in self.monte_carlo],
+            "accuracy_check": self.check,
+        }
+
+    def summary(self) -> str:
+        worst = max(self.station_sigma.items(), key=lambda kv: kv[1], default=("-", float("nan")))
+        c = self.check
+        lines = [f"network: {self.graph.number_of_nodes()} nodes, {self.graph.number_of_edges()} edges, "
+                 f"{len(self.diagnostics.components)} part(s), control points {len(self.control)} "
+                 f"({sum(cp.proposed for cp in self.control)} proposed)",
+                 f"stations untied to control: {', '.join(self.diagnostics.untied_stations) or 'none'}; "
+                 f"articulation points: {len(self.diagnostics.articulation_points)}",
+                 f"a priori station error: worst {worst[0]} {worst[1] * 1000:.2f} mm, network RMS {self.network_rms_m * 1000:.2f} mm"]
+        lines += [f"  not adjusted: {f}" for f in self.failures]
+        lines += [f"  note: {n}" for n in self.notes]
+        for m in self.monte_carlo:
+            lines.append(f"Monte Carlo ({m.runs} runs): mean station RMS {m.mean_rms * 1000:.2f} mm")
+        lines.append(f"accuracy check at {c['sigma_req_m'] * 1000:g} mm: {'PASS' if c['pass'] else 'FAIL'} "
+                     f"({c['failing_targets']} of {c['targets']} pieces fail; worst e {c['worst_e_m'] * 1000:.2f} mm)")
+        for z in c["zones"]:
+            worst = "untied station" if not math.isfinite(z["worst_e_m"]) else f"{z['worst_e_m'] * 1000:.2f} mm"
+            lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst}")
+        lines += [f"  fix: {s}" for s in c["suggestions"]]
+        return "\n".join(lines)
+
+
+def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint]
+                         ) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
+    coords = {n: (d["x"], d["y"]) for n, d in g.nodes(data=True)}
+    fixed = [c.name for c in control if c.sigma_x_m == 0 and c.sigma_y_m == 0]
+    obs: list[Obs] = []
+    sb = ts.angle_sigma_arcsec / 3600.0
+    for u, v, d in g.edges(data=True):
+        if d["kinds"] & {"sight", "delaunay"}:
+            for a, b in ((u, v), (v, u)):
+                if g.nodes[a]["kind"] != "station":
+                    continue  # the total station stands on the scanner stations
+                az = math.degrees(math.atan2(coords[b][1] - coords[a][1], coords[b][0] - coords[a][0]))
+                obs.append(Obs("direction", a, b, az, sb))
+                obs.append(Obs("distance", a, b, d["length_m"], ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6))
+        if "registration" in d["kinds"]:
+            s = registration_sigma_m(d["length_m"])
+            obs.append(Obs("dx", u, v, coords[v][0] - coords[u][0], s))
+            obs.append(Obs("dy", u, v, coords[v][1] - coords[u][1], s))
+    for c in control:
+        if c.name in coords and c.name not in fixed:
+            obs.append(Obs("x", c.name, None, c.x, c.sigma_x_m))
+            obs.append(Obs("y", c.name, None, c.y, c.sigma_y_m))
+    return coords, fixed, obs
+
+
+def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str = "topcon-os-105",
+                control: Sequence[ControlPoint] | None = None, monte_carlo_runs: int = 0, seed: int = 0,
+                target_spacing_m: float = 1.0) -> NetworkReport:
+    """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece."""
+    ts = load_instrument(total_station)
+    if not isinstance(ts, TotalStation):
+        raise InputError("is not a total station", field="total_station", value=total_station)
+    validation = validate_site(site)
+    from planner.plan import sight_limits
+
+    limits = sight_limits(validation, False, True)
+    targets = make_targets(site, target_spacing_m)
+    problem = build_coverage(site, stations, targets, limits)
+    rule = OverlapRule(site.parameters.overlap)
+    lengths = piece_lengths(targets.s0_m, targets.s1_m)
+    links = []
+    groups: dict[tuple[str, str], list[int]] = {}
+    for i, s in enumerate(stations):
+        groups.setdefault((s.zone, s.side.value), []).append(i)
+    for nodes in groups.values():
+        og = overlap_graph(problem.by_candidate, lengths, nodes, rule)
+        links += [(stations[u].id, stations[v].id) for u, v in og.edges()]
+    ts_range = ts.max_range_prism_m or 1000.0
+    g = station_network(site, stations, list(control or site.control_points), links, ts_range)
+    ctrl = list(control or site.control_points)
+    notes: list[str] = []
+    if not ctrl:
+        ctrl = propose_control(site, stations, g, notes)
+        g = station_network(site, stations, ctrl, links, ts_range)
+    diag = diagnostics(g)
+    coords, fixed, obs = _design_observations(g, ts, ctrl)
+    adjustments, failures, sigma = [], [], {}
+    mcs = []
+    for comp in nx.connected_components(g):
+        comp_obs = [o for o in obs if o.at in comp]
+        comp_fixed = [f for f in fixed if f in comp]
+        names = {n: coords[n] for n in comp}
+        if not any(g.nodes[n]["kind"] == "station" for n in comp):
+            continue
+        try:
+            adj = adjust(names, comp_fixed, comp_obs, angle_unit="deg")
+        except InputError as exc:
+            failures.append(f"{', '.join(sorted(comp))}: {exc.message}")
+            continue
+        adjustments.append(adj)
+        sigma.update({p.name: p.position_error for p in adj.points if g.nodes[p.name]["kind"] == "station"})
+        if monte_carlo_runs:
+            mcs.append(monte_carlo(names, comp_fixed, comp_obs, runs=monte_carlo_runs, seed=seed, angle_unit="deg"))
+    check = accuracy_check(site, stations, problem, sigma, validation.scanner)
+    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes))
+
+
+def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any) -> dict[str, Any]:
+    """Point error of every covered piece from its best station, against sigma_req (see module docstring)."""
+    p = site.parameters
+    b = p.budget
+    bt = problem.slant_m.T.tocsr()
+    t = problem.targets
+    e_best = np.full(len(t), np.inf)
+    who = np.full(len(t), -1)
+    for k in range(len(t)):
+        cols = bt.indices[bt.indptr[k]:bt.indptr[k + 1]]
+        if cols.size == 0:
+            continue
+        s0 = np.array([sigma.get(stations[c].id, np.inf) for c in cols])
+        e = np.sqrt(s0**2 + b.centring_m**2 + b.graphical_m**2 + sigma_meas_m(bt.data[bt.indptr[k]:bt.indptr[k + 1]], scanner) ** 2)
+        j = int(np.argmin(e))
+        e_best[k], who[k] = e[j], cols[j]
+    covered = who >= 0
+    fail = covered & (e_best > p.sigma_req_m)
+    zones = []
+    for zi, zid in enumerate(t.zone_ids):
+        for side in (0, 1):
+            m = covered & (t.zone == zi) & (t.side == side)
+            if m.any():
+                zones.append({"zone": zid, "side": ["inside", "outside"][side], "pass": not bool((fail & m).any()),
+                              "worst_e_m": float(e_best[m].max())})
+    bad_st = sorted({stations[w].id for w in who[fail]})
+    suggestions = []
+    for sid in bad_st[:10]:
+        s0 = sigma.get(sid, float("inf"))
+        if not math.isfinite(s0):
+            suggestions.append(f"station {sid} is not tied to control: add a control point it sees, or a registration link")
+        elif s0 > p.sigma_req_m / 2:
+            suggestions.append(f"station {sid} position error {s0 * 1000:.1f} mm: add a control point near it or shorten its chain")
+        else:
+            suggestions.append(f"targets of station {sid} are measured too far: add a station closer to them")
+    finite = e_best[covered & np.isfinite(e_best)]
+    return {"sigma_req_m": p.sigma_req_m, "drawing_scale": p.drawing_scale, "targets": int(covered.sum()),
+            "failing_targets": int(fail.sum()), "pass": not bool(fail.any()),
+            "worst_e_m": float(finite.max()) if finite.size else float("inf"), "zones": zones,
+            "failing_stations": bad_st, "failing_target_ids": [t.label(i) for i in np.flatnonzero(fail)[:50]],
+            "suggestions": suggestions}

@@ -1,0 +1,98 @@
+"""The station network of a plan: graph, diagnostics, proposed control, accuracy check, CLI."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from planner.candidates.model import Candidate, CandidateKind
+from planner.cli import main
+from planner.instruments import load_instrument
+from planner.network.check import accuracy_check, registration_sigma_m, run_network
+from planner.network.graph import diagnostics, station_network
+from planner.site import ScanSide, Site, Zone
+from planner.site.model import ControlPoint, Obstacle
+from tests.conftest import INSTANCES
+
+
+def room_site(obstacles=()) -> Site:
+    z = Zone("R", ScanSide.INSIDE, ((0, 0), (40, 0), (40, 20), (0, 20)), (3.0,) * 4)
+    return Site("room", (z,), obstacles=tuple(obstacles), instrument="dissertation-tables")
+
+
+def st(name: str, x: float, y: float) -> Candidate:
+    return Candidate(name, "R", ScanSide.INSIDE, "site", x, y, CandidateKind.GRID)
+
+
+def test_registration_sigma_of_seed_003():
+    # 6.8e-5 * R + 0.0081 m: 8.1 mm at 0 m, 10.14 mm at 30 m
+    assert registration_sigma_m(30.0) == pytest.approx(0.01014)
+
+
+def test_wall_of_obstacle_cuts_sight_and_articulation_point():
+    # a column between S1 and S3 hides them from each other; S2 sees both: the chain S1 - S2 - S3
+    col = Obstacle("col", ((18, 8), (22, 8), (22, 12), (18, 12)), 3.0)
+    site = room_site([col])
+    stations = [st("S1", 5, 10), st("S2", 20, 3), st("S3", 35, 10)]
+    g = station_network(site, stations, [ControlPoint("C", 2, 10)], [], 1000.0)
+    assert not g.has_edge("S1", "S3") and g.has_edge("S1", "S2") and g.has_edge("S2", "S3")
+    d = diagnostics(g)
+    assert "S2" in d.articulation_points and d.untied_stations == []
+    # C (2, 10) sees S1 and S2 but the column hides S3: its shortest way to control runs through S2
+    assert d.paths_to_control["S3"][:2] == ["S3", "S2"] and d.paths_to_control["S3"][-1] == "C"
+
+
+def test_proposed_control_and_check_on_a_room():
+    site = room_site()
+    stations = [st("S1", 10, 10), st("S2", 30, 10)]
+    rep = run_network(site, stations)
+    assert len(rep.control) == 3 and all(c.proposed for c in rep.control)
+    xy = [(c.x, c.y) for c in rep.control]
+    assert min(math.dist(p, q) for i, p in enumerate(xy) for q in xy[i + 1:]) > 5.0
+    assert rep.diagnostics.untied_stations == [] and set(rep.station_sigma) == {"S1", "S2"}
+    # Topcon OS-105: 2 mm + 2 ppm to prisms, 5"; stations 6-25 m from fixed control: a few mm at most
+    assert 0 < max(rep.station_sigma.values()) < 0.005
+    assert rep.check["pass"] and rep.check["targets"] > 0
+
+
+def test_accuracy_check_uses_the_adjusted_station_error():
+    # e = sqrt(sigma_station^2 + 0.5^2 + 0.5^2 + sigma_meas^2), sigma_meas = 1.2 mm + 10 ppm with 8" over
+    # 10-35 m, i.e. 1.3-1.9 mm. With S1 at 9.5 mm the worst piece stays below
+    # sqrt(9.5^2 + 0.5 + 1.9^2) = 9.71 mm; S1 alone at 9.9 mm exceeds 10 mm already at 1.3 mm
+    # (sqrt(9.9^2 + 0.5 + 1.3^2) = 10.01 mm)
+    site = room_site()
+    stations = [st("S1", 10, 10), st("S2", 30, 10)]
+    rep = run_network(site, stations)
+    check = accuracy_check(site, stations, rep_problem(site, stations), {"S1": 0.0095, "S2": 0.0005},
+                           load_instrument("dissertation-tables"))
+    assert check["pass"]
+    alone = accuracy_check(site, stations[:1], rep_problem(site, stations[:1]), {"S1": 0.0099},
+                           load_instrument("dissertation-tables"))
+    assert not alone["pass"] and alone["failing_stations"] == ["S1"]
+    assert "add a control point near it" in alone["suggestions"][0]
+
+
+def rep_problem(site, stations):
+    from planner.coverage.matrix import build_coverage
+    from planner.coverage.targets import make_targets
+    from planner.plan import sight_limits
+    from planner.validate import validate_site
+
+    return build_coverage(site, stations, make_targets(site, 1.0), sight_limits(validate_site(site), False, True))
+
+
+def test_network_cli_writes_ellipses(tmp_path, capsys):
+    out = tmp_path / "b"
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out)]) == 0
+    assert main(["network", str(INSTANCES / "polygon_b.json"), str(out / "plan.json"), "--out", str(out),
+                 "--monte-carlo", "50"]) == 0
+    text = capsys.readouterr().out
+    assert "accuracy check at 10 mm" in text and "Monte Carlo (50 runs)" in text
+    data = json.loads((out / "network.json").read_text())
+    plan = json.loads((out / "plan.json").read_text())
+    for s in plan["stations"]:
+        e = data["stations"][s["id"]]
+        assert e["ellipse_a_m"] >= e["ellipse_b_m"] > 0 and e["ellipse95_a_m"] == pytest.approx(2.4477 * e["ellipse_a_m"])
+    assert {k for edge in data["edges"] for k in edge["kinds"]} >= {"sight"}
