@@ -70,9 +70,15 @@ def relied_targets(problem: CoverageProblem, selected: Sequence[int], partners: 
 
 
 def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray, theta_max_deg: float) -> tuple[np.ndarray, float]:
-    # cvxpy 1.8 logs that it does not know ortools 9.15 (for its GLOP/PDLP interfaces, unused here)
-    logging.getLogger("__cvxpy__").setLevel(logging.ERROR)
-    import cvxpy as cp
+    # on import, cvxpy 1.8 logs that it does not know ortools 9.15 (for its GLOP/PDLP interfaces,
+    # unused here); its logger is quiet while it loads
+    logger = logging.getLogger("__cvxpy__")
+    was = logger.disabled
+    logger.disabled = True
+    try:
+        import cvxpy as cp
+    finally:
+        logger.disabled = was
 
     if len(ends) == 0:
         return p0, MAX_RADIUS_M

@@ -96,3 +96,22 @@ def test_network_cli_writes_ellipses(tmp_path, capsys):
         e = data["stations"][s["id"]]
         assert e["ellipse_a_m"] >= e["ellipse_b_m"] > 0 and e["ellipse95_a_m"] == pytest.approx(2.4477 * e["ellipse_a_m"])
     assert {k for edge in data["edges"] for k in edge["kinds"]} >= {"sight"}
+
+
+def test_field_observations_are_adjusted(tmp_path):
+    # observations generated from the design itself (distances + 1 mm, directions exact): m0 small,
+    # the adjusted stations stay within millimetres of the design
+    from planner.network.io import adjust_observations
+
+    site = room_site()
+    rep = run_network(site, [st("S1", 10, 10), st("S2", 30, 10)])
+    g = rep.graph
+    obs = []
+    for u, v, d in g.edges(data=True):
+        if g.nodes[u]["kind"] == "station":
+            az = math.degrees(math.atan2(g.nodes[v]["y"] - g.nodes[u]["y"], g.nodes[v]["x"] - g.nodes[u]["x"]))
+            obs += [{"kind": "direction", "at": u, "to": v, "value": az, "sigma": 5 / 3600},
+                    {"kind": "distance", "at": u, "to": v, "value": d["length_m"] + 0.001, "sigma": 0.002}]
+    (tmp_path / "obs.json").write_text(json.dumps({"angle_unit": "deg", "length_unit": "m", "observations": obs}))
+    text = adjust_observations(rep, str(tmp_path / "obs.json"))
+    assert "m0" in text and "S1: x" in text and "chi-square" in text
