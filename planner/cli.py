@@ -26,6 +26,9 @@ from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
 from planner.export import FORMATS, export_problem
 from planner.network.check import run_network
+from planner.errors import UsageError
+
+MIN_MONTE_CARLO = 100
 from planner.network.io import adjust_observations, read_control
 from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
 from planner.solve.backends import BACKENDS
@@ -119,6 +122,9 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 
 def _network(site: Site, stations: list, args: argparse.Namespace) -> None:
+    if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
+        raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
+                         value=args.monte_carlo)
     control = read_control(args.control) if getattr(args, "control", None) else None
     report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed)
     print(report.summary())

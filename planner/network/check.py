@@ -25,6 +25,7 @@ from planner.errors import InputError
 from planner.instruments import TotalStation, load_instrument
 from planner.network.adjustment import Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
+from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
 from planner.site.model import ControlPoint, Site
 from planner.validate import validate_site
@@ -48,6 +49,7 @@ class NetworkReport:
     check: dict[str, Any]
     monte_carlo: tuple[MonteCarlo, ...] = field(default=())
     notes: tuple[str, ...] = ()
+    sigma_h: dict[str, float] = field(default_factory=dict)  # height error per station, where heights are given
 
     @property
     def network_rms_m(self) -> float:
@@ -61,6 +63,11 @@ class NetworkReport:
                              "ellipse_azimuth_deg": p.ellipse_azimuth_deg, "ellipse95_a_m": p.ellipse_a * 2.4477,
                              "ellipse95_b_m": p.ellipse_b * 2.4477}
                     for adj in self.adjustments for p in adj.points}
+        for name, sh in self.sigma_h.items():
+            if name in ellipses:
+                e = ellipses[name]
+                e["sigma_h_m"] = sh
+                e["point_error_3d_m"] = math.sqrt(e["position_error_m"] ** 2 + sh**2)  # m_P of seed 003
         return {
             "nodes": [{"id": n, **{k: v for k, v in d.items()}} for n, d in g.nodes(data=True)],
             "edges": [{"from": u, "to": v, "kinds": sorted(d["kinds"]), "length_m": d["length_m"]} for u, v, d in g.edges(data=True)],
@@ -98,6 +105,34 @@ class NetworkReport:
             lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst}")
         lines += [f"  fix: {s}" for s in c["suggestions"]]
         return "\n".join(lines)
+
+
+def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], notes: list[str]) -> dict[str, float]:
+    """Station height errors by trigonometric levelling along the sight lines, in every part that
+    holds a control point with a height (the 1-D part of the adjustment)."""
+    known = {c.name: c.z for c in control if c.z is not None and c.name in g}
+    out: dict[str, float] = {}
+    if not known:
+        notes.append("no control point has a height: plan (2-D) adjustment only")
+        return out
+    for comp in nx.connected_components(g):
+        fixed = {n: known[n] for n in comp if n in known}
+        if not fixed:
+            continue
+        base = float(np.mean(list(fixed.values())))
+        obs = []
+        for u, v, d in g.subgraph(comp).edges(data=True):
+            if d["kinds"] & {"sight", "delaunay"}:
+                sd = ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6
+                obs.append(HeightObs(u, v, 0.0, dh_sigma_m(d["length_m"], 90.0, sd, ts.angle_sigma_arcsec)))
+        approx = {n: base for n in comp if n not in fixed}
+        try:
+            res = adjust_heights(approx, fixed, obs)
+        except InputError as exc:
+            notes.append(f"heights of {', '.join(sorted(approx))}: {exc.message}")
+            continue
+        out.update({n: s for n, s in res.sigma_m.items() if g.nodes[n]["kind"] == "station"})
+    return out
 
 
 def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint]
@@ -173,8 +208,9 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
         sigma.update({p.name: p.position_error for p in adj.points if g.nodes[p.name]["kind"] == "station"})
         if monte_carlo_runs:
             mcs.append(monte_carlo(names, comp_fixed, comp_obs, runs=monte_carlo_runs, seed=seed, angle_unit="deg"))
+    sigma_h = _heights(g, ts, ctrl, notes)
     check = accuracy_check(site, stations, problem, sigma, validation.scanner)
-    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes))
+    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes), sigma_h)
 
 
 def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any) -> dict[str, Any]:
@@ -182,9 +218,11 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
     p = site.parameters
     b = p.budget
     bt = problem.slant_m.T.tocsr()
+    inc = problem.incidence_deg.T.tocsr()
     t = problem.targets
     e_best = np.full(len(t), np.inf)
     who = np.full(len(t), -1)
+    theta = np.full(len(t), np.nan)
     for k in range(len(t)):
         cols = bt.indices[bt.indptr[k]:bt.indptr[k + 1]]
         if cols.size == 0:
@@ -193,6 +231,7 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
         e = np.sqrt(s0**2 + b.centring_m**2 + b.graphical_m**2 + sigma_meas_m(bt.data[bt.indptr[k]:bt.indptr[k + 1]], scanner) ** 2)
         j = int(np.argmin(e))
         e_best[k], who[k] = e[j], cols[j]
+        theta[k] = inc.data[inc.indptr[k] + j]
     covered = who >= 0
     fail = covered & (e_best > p.sigma_req_m)
     zones = []
@@ -217,4 +256,7 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
             "failing_targets": int(fail.sum()), "pass": not bool(fail.any()),
             "worst_e_m": float(finite.max()) if finite.size else float("inf"), "zones": zones,
             "failing_stations": bad_st, "failing_target_ids": [t.label(i) for i in np.flatnonzero(fail)[:50]],
+            "worst_targets": [{"target": t.label(i), "station": stations[who[i]].id, "e_m": float(e_best[i]),
+                               "incidence_deg": float(theta[i])}
+                              for i in np.argsort(-np.where(covered, e_best, -1.0))[:20] if covered[i]],
             "suggestions": suggestions}

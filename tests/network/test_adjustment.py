@@ -126,3 +126,17 @@ def test_monte_carlo_agrees_with_the_covariance():
         ratio = mc.rms[n] / design.point(n).position_error
         assert 0.86 < ratio < 1.10, (n, ratio)
     assert mc.runs == 300
+
+
+def test_levelling_line_between_two_benchmarks():
+    # heights along a line B0 - P1 - P2 - B3 with equal sigma s per height difference: as for the
+    # chain, P_k has variance s^2 k (3 - k) / 3, so sigma(P1) = sigma(P2) = s sqrt(2/3)
+    from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
+
+    s = 0.002
+    obs = [HeightObs(a, b, 0.0, s) for a, b in (("B0", "P1"), ("P1", "P2"), ("P2", "B3"))]
+    res = adjust_heights({"P1": 10.0, "P2": 10.0}, {"B0": 10.0, "B3": 10.0}, obs)
+    assert res.sigma_m["P1"] == pytest.approx(s * math.sqrt(2 / 3))
+    assert res.sigma_m["P2"] == pytest.approx(s * math.sqrt(2 / 3))
+    # a level sight of 100 m with 5": sigma_dh = 100 * 5 / 206265 = 2.42 mm
+    assert dh_sigma_m(100.0, 90.0, 0.002, 5.0) == pytest.approx(100 * 5 / 206264.806, rel=1e-6)

@@ -87,9 +87,9 @@ def test_network_cli_writes_ellipses(tmp_path, capsys):
     out = tmp_path / "b"
     assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out)]) == 0
     assert main(["network", str(INSTANCES / "polygon_b.json"), str(out / "plan.json"), "--out", str(out),
-                 "--monte-carlo", "50"]) == 0
+                 "--monte-carlo", "100"]) == 0
     text = capsys.readouterr().out
-    assert "accuracy check at 10 mm" in text and "Monte Carlo (50 runs)" in text
+    assert "accuracy check at 10 mm" in text and "Monte Carlo (100 runs)" in text
     data = json.loads((out / "network.json").read_text())
     plan = json.loads((out / "plan.json").read_text())
     for s in plan["stations"]:
@@ -115,3 +115,18 @@ def test_field_observations_are_adjusted(tmp_path):
     (tmp_path / "obs.json").write_text(json.dumps({"angle_unit": "deg", "length_unit": "m", "observations": obs}))
     text = adjust_observations(rep, str(tmp_path / "obs.json"))
     assert "m0" in text and "S1: x" in text and "chi-square" in text
+
+
+def test_monte_carlo_below_100_runs_is_a_usage_error(tmp_path, capsys):
+    (tmp_path / "p.json").write_text(json.dumps({"stations": [{"id": "S", "zone": "B", "side": "inside", "x": 50, "y": 40}]}))
+    assert main(["network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "p.json"), "--monte-carlo", "20"]) == 2
+
+
+def test_station_heights_from_a_control_height():
+    # one control point with a height: the stations get height errors from levelling along the sight lines
+    site = room_site()
+    ctrl = [ControlPoint("C1", 5, 5, z=100.0), ControlPoint("C2", 35, 5), ControlPoint("C3", 20, 18)]
+    rep = run_network(site, [st("S1", 10, 10), st("S2", 30, 10)], control=ctrl)
+    data = rep.to_dict()["stations"]
+    assert set(rep.sigma_h) == {"S1", "S2"} and all(0 < v < 0.005 for v in rep.sigma_h.values())
+    assert data["S1"]["point_error_3d_m"] > data["S1"]["position_error_m"]
