@@ -14,7 +14,7 @@ connected. Objectives and bounds of the blocks add up.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -56,9 +56,13 @@ class MilpOptions:
             raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
 
 
-def solve(instance: CoverInstance, options: MilpOptions | None = None) -> SolveResult:
-    """Solve the cover; the result's status is OPTIMAL only when every block was proven optimal and connected."""
-    o = options or MilpOptions()
+def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrides: object) -> SolveResult:
+    """Solve the cover; the result's status is OPTIMAL only when every block was proven optimal and connected.
+
+    Options come as a :class:`MilpOptions` or as keywords of it, e.g.
+    ``solve(problem, backend="scip", time_limit_s=30, seed=1, threads=1)``.
+    """
+    o = replace(options or MilpOptions(), **overrides) if overrides else (options or MilpOptions())
     start = time.perf_counter()
     deadline = start + o.time_limit_s
     a = instance.by_candidate.astype(bool).tocsr()

@@ -78,3 +78,8 @@ def test_presolve_keeps_the_connected_optimum():
     assert with_p.status.value == without.status.value == "optimal"
     assert with_p.objective == without.objective
     assert with_p.info["presolve"]["dominated_removed"] >= 12
+
+
+def test_solve_takes_keywords():
+    r = solve(instance(BRIDGE, 6), backend="scip", time_limit_s=10, seed=1, threads=1)
+    assert r.backend == "scip" and r.selected == (0, 1, 2)
