@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 from pathlib import Path
 
 from planner.candidates.closed_form import Limits, circle_radii, plan_zone_side

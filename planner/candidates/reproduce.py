@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from planner.candidates.closed_form import Limits, ZoneSidePlan, plan_zone_side
-from planner.site.model import ScanSide, Zone
+from planner.site.model import Zone
 
 #: The print rounds to 3 decimals, but its intermediate values were rounded too:
 #: differences up to 0.003 are rounding; anything larger is listed as not reproduced.
@@ -67,7 +67,3 @@ def compare_table(table: str, printed: dict[str, Any], zone: Zone, limits: Limit
 def generated_counts(zone: Zone, limits: Limits) -> dict[str, int]:
     """Closed-form candidates per side, before the final step."""
     return {side: len(p.candidates) for side, p in _plans(zone, limits).items()}
-
-
-def scan_sides(zone: Zone) -> tuple[ScanSide, ...]:
-    return zone.scan_side.sides

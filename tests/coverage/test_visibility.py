@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 
 from planner.candidates.model import Candidate, CandidateKind
 from planner.coverage.matrix import build_coverage

@@ -64,7 +64,6 @@ def test_accuracy_check_uses_the_adjusted_station_error():
     # (sqrt(9.9^2 + 0.5 + 1.3^2) = 10.01 mm)
     site = room_site()
     stations = [st("S1", 10, 10), st("S2", 30, 10)]
-    rep = run_network(site, stations)
     check = accuracy_check(site, stations, rep_problem(site, stations), {"S1": 0.0095, "S2": 0.0005},
                            load_instrument("dissertation-tables"))
     assert check["pass"]
