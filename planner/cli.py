@@ -18,25 +18,24 @@ from pathlib import Path
 
 import numpy as np
 
-from planner.errors import ExitCode, PlannerError
-from planner.instruments import list_instruments, load_instrument
-from planner.params import ClosureTolerance
-from planner.site import Site, load_site
 from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
+from planner.errors import ExitCode, PlannerError, UsageError
 from planner.export import FORMATS, export_problem
+from planner.instruments import list_instruments, load_instrument
 from planner.network.check import run_network
-from planner.errors import UsageError
-
-MIN_MONTE_CARLO = 100
 from planner.network.io import adjust_observations, read_control
+from planner.params import ClosureTolerance
 from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
+from planner.plan_io import read_plan_stations, write_plan
+from planner.site import Site, load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import PRECISION_MODES, MilpOptions
-from planner.plan_io import read_plan_stations, write_plan
 from planner.validate import validate_site
 from planner.verify import verify_stations
 
+#: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
+MIN_MONTE_CARLO = 100
 
 class _Parser(argparse.ArgumentParser):
     """argparse that exits with our usage code and a one-line message."""

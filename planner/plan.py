@@ -20,8 +20,8 @@ from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
 from planner.solve.greedy import greedy_cover
 from planner.solve.instance import cover_instance
-from planner.solve.milp import MilpOptions, solve
 from planner.solve.closed_form import closed_form_plan
+from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import SolveResult
 from planner.solve.tripod import TripodDisc, tripod_discs
 from planner.validate import ValidationReport, validate_site
