@@ -18,9 +18,6 @@ class CandidateKind(str, Enum):
     GRID = "grid"      # on a grid over the accessible area
 
 
-#: Order of preference among duplicates and for tie-breaking: closed form first.
-KIND_ORDER = {k: i for i, k in enumerate(CandidateKind)}
-
 
 @dataclass(frozen=True)
 class Candidate:

@@ -23,7 +23,7 @@ from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.errors import InputError
 from planner.instruments import TotalStation, load_instrument
-from planner.network.adjustment import Adjustment, Obs, adjust
+from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
@@ -60,8 +60,8 @@ class NetworkReport:
         g = self.graph
         ellipses = {p.name: {"x": p.x, "y": p.y, "sigma_x_m": p.sigma_x, "sigma_y_m": p.sigma_y,
                              "position_error_m": p.position_error, "ellipse_a_m": p.ellipse_a, "ellipse_b_m": p.ellipse_b,
-                             "ellipse_azimuth_deg": p.ellipse_azimuth_deg, "ellipse95_a_m": p.ellipse_a * 2.4477,
-                             "ellipse95_b_m": p.ellipse_b * 2.4477}
+                             "ellipse_azimuth_deg": p.ellipse_azimuth_deg, "ellipse95_a_m": p.ellipse_a * ELLIPSE_95,
+                             "ellipse95_b_m": p.ellipse_b * ELLIPSE_95}
                     for adj in self.adjustments for p in adj.points}
         for name, sh in self.sigma_h.items():
             if name in ellipses:

@@ -93,7 +93,9 @@ def test_network_cli_writes_ellipses(tmp_path, capsys):
     plan = json.loads((out / "plan.json").read_text())
     for s in plan["stations"]:
         e = data["stations"][s["id"]]
-        assert e["ellipse_a_m"] >= e["ellipse_b_m"] > 0 and e["ellipse95_a_m"] == pytest.approx(2.4477 * e["ellipse_a_m"])
+        # 95 % of a 2-D normal: chi2_2(0.95) = -2 ln 0.05, scale sqrt(5.9915) = 2.4477
+        assert e["ellipse_a_m"] >= e["ellipse_b_m"] > 0
+        assert e["ellipse95_a_m"] == pytest.approx(math.sqrt(-2 * math.log(0.05)) * e["ellipse_a_m"])
     assert {k for edge in data["edges"] for k in edge["kinds"]} >= {"sight"}
 
 
