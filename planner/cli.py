@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 import traceback
@@ -18,17 +19,22 @@ from pathlib import Path
 
 import numpy as np
 
+from planner import progress
 from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
 from planner.errors import ExitCode, PlannerError, UsageError
+from planner.cli_report import parse_exports, write_exports, add_report_parser
+from planner.exchange import DxfOptions
 from planner.export import FORMATS, export_problem
 from planner.instruments import list_instruments, load_instrument
-from planner.network.check import run_network
+from planner.network.check import NetworkReport, run_network
+from planner.outcome import outcome_from_plan
 from planner.network.io import adjust_observations, read_control
 from planner.params import ClosureTolerance
 from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
 from planner.plan_io import read_plan_stations, write_plan
-from planner.site import Site, load_site
+from planner.report import compare_methods, write_report
+from planner.site import ScanSide, Site, load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import PRECISION_MODES, MilpOptions
 from planner.validate import validate_site
@@ -58,6 +64,12 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--instrument-height", type=float, metavar="M", help="instrument height IH in m")
     p.add_argument("--angular-tolerance", type=float, metavar="DEG", help="closure tolerance of table CSV zones")
     p.add_argument("--min-relative-precision", type=float, metavar="N", help="closure 1:N of table CSV zones")
+    p.add_argument("--crs", metavar="CRS", help="metric CRS (e.g. EPSG:32636) of a lon/lat GeoJSON site; exports go back to lon/lat")
+    p.add_argument("--layer-height", action="append", default=[], metavar="LAYER=M",
+                   help="DXF: wall height of polylines on LAYER that carry none (repeatable)")
+    p.add_argument("--dxf-side", choices=[s.value for s in ScanSide], default="inside",
+                   help="DXF: scan side of zones whose layer and XDATA do not say (default inside)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
 def _add_network_options(p: argparse.ArgumentParser) -> None:
@@ -78,7 +90,7 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
         tol_kw["angular_deg"] = args.angular_tolerance
     if args.min_relative_precision is not None:
         tol_kw["min_relative_precision"] = args.min_relative_precision
-    site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None)
+    site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, dxf=_dxf_options(args), crs=args.crs)
     p = site.parameters
     changes = {k: v for k, v in {
         "max_slant_range_m": args.max_range, "theta_max_deg": args.theta_max, "overlap": args.overlap,
@@ -90,6 +102,23 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
     if args.scale is not None:
         p = p.with_scale(args.scale)
     return replace(site, parameters=p, instrument=args.instrument or site.instrument)
+
+
+def _dxf_options(args: argparse.Namespace) -> DxfOptions:
+    heights = {}
+    for item in args.layer_height:
+        layer, _, value = item.partition("=")
+        try:
+            heights[layer] = float(value)
+        except ValueError:
+            raise UsageError("expected LAYER=HEIGHT_M", field="--layer-height", value=item) from None
+        if not (math.isfinite(heights[layer]) and heights[layer] > 0):
+            raise UsageError("height must be a finite number > 0", field="--layer-height", value=item)
+    return DxfOptions(layer_heights_m=heights, default_side=ScanSide(args.dxf_side))
+
+
+
+
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
@@ -110,22 +139,38 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
+    formats = parse_exports(args.export)
+    if formats and not args.out:
+        raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
     site = load_with_overrides(args)
-    plan = plan_site(site, _plan_options(args, site.parameters.overlap))
+    options = _plan_options(args, site.parameters.overlap)
+    plan = plan_site(site, options)
     print(plan.summary())
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
-    if args.network:
-        _network(site, list(plan.stations), args)
+    network = None
+    if args.network or args.report:
+        network = _network(site, list(plan.stations), args, show=args.network)
+    if formats or args.report:
+        outcome = outcome_from_plan(plan, network, compare_methods(site, options, plan) if args.report else ())
+        write_exports(outcome, formats, args.out, args.crs)
+        if args.report:
+            print(f"wrote {write_report(outcome, args.report)}")
     return ExitCode.OK
 
 
-def _network(site: Site, stations: list, args: argparse.Namespace) -> None:
+
+
+
+
+def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = True) -> NetworkReport:
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
     control = read_control(args.control) if getattr(args, "control", None) else None
     report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed)
+    if not show:
+        return report
     print(report.summary())
     if getattr(args, "observations", None):
         print(adjust_observations(report, args.observations))
@@ -134,6 +179,7 @@ def _network(site: Site, stations: list, args: argparse.Namespace) -> None:
         path = Path(args.out) / "network.json"
         path.write_text(json.dumps(report.to_dict(), indent=2, default=_jsonable) + "\n")
         print(f"wrote {path}")
+    return report
 
 
 def _jsonable(o: object) -> object:
@@ -209,6 +255,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
     _add_network_options(pl)
     pl.add_argument("--out", metavar="DIR", help="write DIR/plan.json")
+    pl.add_argument("--export", metavar="LIST", help="also write into --out: dxf (plan.dxf), geojson (plan.geojson), "
+                    "csv (stations.csv), comma-separated")
+    pl.add_argument("--report", metavar="DIR", help="write DIR/report.html (figures embedded; runs the network check)")
     pl.add_argument("--seed", type=int, default=0, help="seed of the movement-field sampling (default 0)")
     pl.add_argument("--target-spacing", type=float, default=1.0, metavar="M", help="wall piece length (default 1 m)")
     pl.add_argument("--grid-spacing", type=float, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
@@ -238,6 +287,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_network_options(nw)
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
     nw.set_defaults(func=cmd_network)
+    add_report_parser(sub)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=cmd_instruments)
     return parser
@@ -246,6 +296,8 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     args = build_parser().parse_args(argv)
+    show = not getattr(args, "quiet", True) and sys.stderr.isatty()
+    previous = progress.set_sink(progress.Bar(sys.stderr) if show else None)
     try:
         return int(args.func(args))
     except PlannerError as exc:
@@ -260,3 +312,5 @@ def main(argv: Sequence[str] | None = None) -> int:
         first = str(exc).splitlines()[0] if str(exc) else ""
         print(f"planner: internal error: {type(exc).__name__}: {first} (set PLANNER_DEBUG=1 for the traceback)", file=sys.stderr)
         return int(ExitCode.INTERNAL)
+    finally:
+        progress.set_sink(previous)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field, replace
 import networkx as nx
 import numpy as np
 
+from planner import progress
 from planner.accuracy import max_slant_range_m
 from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
@@ -86,6 +87,11 @@ class Plan:
             out[s.side.value] = out.get(s.side.value, 0) + 1
         return out
 
+    def _repr_html_(self) -> str:
+        from planner.notebook import summary_html
+
+        return summary_html(self, f"Plan: {len(self.stations)} stations")
+
     def summary(self) -> str:
         by_zone: dict[tuple[str, str], int] = {}
         for s in self.stations:
@@ -146,7 +152,8 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     """
     validation = validation or validate_site(site)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
-    problem = build_coverage(site, pool, make_targets(site, options.target_spacing_m), _limits(validation, options))
+    problem = build_coverage(site, pool, make_targets(site, options.target_spacing_m), _limits(validation, options),
+                             step="coverage build")
     unseen = problem.uncoverable()
     if unseen.size:
         err = unseen_error(problem, unseen)
@@ -178,7 +185,8 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         p = site.parameters
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
                               name=site.name)
-        result = solve(inst, options.milp)
+        with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
+            result = solve(inst, options.milp)
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)

@@ -62,6 +62,11 @@ class ValidationReport:
             ],
         }
 
+    def _repr_html_(self) -> str:
+        from planner.notebook import summary_html
+
+        return summary_html(self, "Validation")
+
     def summary(self) -> str:
         """A plain-text report for the terminal."""
         s, p, lim = self.site, self.site.parameters, self.range_limit

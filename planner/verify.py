@@ -70,6 +70,11 @@ class VerifyReport:
             "misplaced": [{"station": s, "reason": r} for s, r in self.misplaced],
         }
 
+    def _repr_html_(self) -> str:
+        from planner.notebook import summary_html
+
+        return summary_html(self, "Verification")
+
     def summary(self) -> str:
         lines = [f"verification at {self.spacing_m:g} m: {self.percent:.3f} % covered"]
         lines += [f"  {z.zone:<9}{z.side:<9}{z.covered:>8}/{z.points:<8}{z.percent:8.3f} %" for z in self.zones]
@@ -88,7 +93,7 @@ def verify_stations(site: Site, stations: Sequence[Candidate], limits: SightLimi
     bad = {m for m, _ in misplaced}
     usable = [s for s in stations if s.id not in bad]
     pts = make_targets(site, spacing_m, points=True)
-    cov = build_coverage(site, usable, pts, limits)
+    cov = build_coverage(site, usable, pts, limits, step="verification")
     seen = np.diff(cov.by_target.indptr) > 0
     zones, gaps = [], []
     for zi, zid in enumerate(pts.zone_ids):

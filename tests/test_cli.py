@@ -150,10 +150,14 @@ def test_usage_errors_exit_2(capsys):
 def test_missing_file_and_unknown_format(capsys, tmp_path):
     code, _, err = run(capsys, "validate", str(tmp_path / "nope.json"))
     assert code == 3 and "nope.json" in err
-    (tmp_path / "site.dxf").write_text("0\nEOF\n")
+    (tmp_path / "site.dwg").write_text("0\nEOF\n")
+    code, _, err = run(capsys, "validate", str(tmp_path / "site.dwg"))
+    assert code == 3
+    assert_one_line_error(err, "site.dwg", "unknown input format")
+    (tmp_path / "site.dxf").write_text("0\nEOF\n")  # a DXF with no sections at all
     code, _, err = run(capsys, "validate", str(tmp_path / "site.dxf"))
     assert code == 3
-    assert_one_line_error(err, "site.dxf", "unknown input format")
+    assert_one_line_error(err, "site.dxf", "not a readable DXF file")
 
 
 def test_scale_option_sets_accuracy(capsys):

@@ -71,7 +71,7 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
             kind=CandidateKind.VERTEX, vertex=i + 1, alpha_deg=g.alpha_deg, hd_m=g.hd_m, gamma_deg=g.gamma_deg,
             covered_m=g.covered_m))
     wplans, wall_cands = [], []
-    for i, wall in enumerate(zone.walls):
+    for i, wall in enumerate(zone.outer_walls):
         l1 = vgeo[i].covered_m if vgeo[i] else 0.0
         l2 = vgeo[(i + 1) % n].covered_m if vgeo[(i + 1) % n] else 0.0
         reach_c = horizontal_reach_m(limits.max_slant_range_m, wall.height_m, limits.instrument_height_m)

@@ -115,7 +115,7 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
         if c.field:
             for k, (x, y) in enumerate(_sample_polygon(shapely.Polygon(c.field), options.field_samples, rng), 1):
                 pool.append(Candidate(f"{c.id}.f{k}", c.zone, c.side, c.frame, float(x), float(y), CandidateKind.FIELD))
-    walls = {f: shapely.MultiLineString([z.polygon.exterior for z in site.zones if z.frame == f])
+    walls = {f: shapely.MultiLineString([r for z in site.zones if z.frame == f for r in (z.polygon.exterior, *z.polygon.interiors)])
              for f in dict.fromkeys(z.frame for z in site.zones)}
     for zone in site.zones:
         for side in zone.scan_side.sides:

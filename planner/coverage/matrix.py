@@ -10,6 +10,7 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
+from planner import progress
 from planner.candidates.model import Candidate
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import Blockers, SightLimits, geometric_pairs, sight_clear, wall_key
@@ -25,11 +26,13 @@ def blockers_for(site: Site, frame: str) -> Blockers:
     for zi, zone in enumerate(site.zones):
         if zone.frame != frame:
             continue
-        xy = np.asarray(zone.xy)
-        a.append(xy)
-        b.append(np.roll(xy, -1, axis=0))
-        key.append(wall_key(zi, np.arange(1, len(xy) + 1)))
-        verts.append(xy)
+        first = 1
+        for xy in zone.rings:
+            a.append(xy)
+            b.append(np.roll(xy, -1, axis=0))
+            key.append(wall_key(zi, np.arange(first, first + len(xy))))
+            verts.append(xy)
+            first += len(xy)
     if frame == SITE_FRAME:
         for ob in site.obstacles:
             xy = np.asarray(ob.vertices, dtype=float)
@@ -67,7 +70,7 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
         if not np.any(same):
             continue
         inside[:, zi] = same & shapely.contains_xy(zone.polygon, x, y)
-        dist = shapely.distance(zone.polygon.exterior, shapely.points(xy[same]))
+        dist = shapely.distance(zone.polygon.boundary, shapely.points(xy[same]))
         for k in np.flatnonzero(same)[dist <= ON_WALL_M]:
             reason[k] = reason[k] or f"on a wall of zone {zone.id}"
     in_site = frames_arr == SITE_FRAME
@@ -118,9 +121,12 @@ class CoverageProblem:
 
 
 def build_coverage(
-    site: Site, candidates: Sequence[Candidate], targets: Targets, limits: SightLimits
+    site: Site, candidates: Sequence[Candidate], targets: Targets, limits: SightLimits, step: str = ""
 ) -> CoverageProblem:
-    """Compute which candidate sees which target (see :mod:`planner.coverage.visibility`)."""
+    """Compute which candidate sees which target (see :mod:`planner.coverage.visibility`).
+
+    With ``step`` set, progress is reported frame by frame under that name (:mod:`planner.progress`).
+    """
     cands = tuple(candidates)
     xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)
     places = station_places(site, xy, [c.frame for c in cands])
@@ -142,6 +148,10 @@ def build_coverage(
         cols.append(pt[clear])
         slant.append(pairs.slant_m[clear])
         inc.append(pairs.incidence_deg[clear])
+        if step:
+            progress.report(step, fi + 1, len(targets.frames))
+    if step:
+        progress.report(step, len(targets.frames), len(targets.frames))
     shape = (len(cands), len(targets))
     r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
     c = np.concatenate(cols) if cols else np.zeros(0, np.int64)

@@ -85,6 +85,11 @@ class NetworkReport:
             "accuracy_check": self.check,
         }
 
+    def _repr_html_(self) -> str:
+        from planner.notebook import summary_html
+
+        return summary_html(self, "Network and accuracy check")
+
     def summary(self) -> str:
         worst = max(self.station_sigma.items(), key=lambda kv: kv[1], default=("-", float("nan")))
         c = self.check

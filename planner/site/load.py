@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from planner.errors import InputError
 from planner.params import ClosureTolerance, Parameters
@@ -11,11 +12,16 @@ from planner.site.model import Site
 from planner.site.table_csv import read_table_csv
 from planner.site.tables import zone_from_table
 
-READERS = {".json": "JSON instance", ".csv": "table CSV"}
+READERS = {".json": "JSON instance", ".csv": "table CSV", ".dxf": "DXF drawing", ".geojson": "GeoJSON",
+           ".pol": "AGPLIB polygon"}
 
 
-def load_site(path: Path | str, tolerance: ClosureTolerance | None = None) -> Site:
-    """Read a site from a JSON instance or a table CSV (chosen by the file's extension).
+def load_site(path: Path | str, tolerance: ClosureTolerance | None = None, *, dxf: Any = None,
+              crs: str | None = None) -> Site:
+    """Read a site from a JSON instance, a table CSV, a DXF drawing or GeoJSON (by the file's extension).
+
+    ``dxf`` (a :class:`~planner.exchange.dxf_in.DxfOptions`) says which DXF layers hold what;
+    ``crs`` names the metric CRS a lon/lat GeoJSON is projected to.
 
     A table CSV carries no parameters: the dissertation's defaults apply
     (:class:`~planner.params.Parameters`), with S_max derived from the
@@ -26,6 +32,18 @@ def load_site(path: Path | str, tolerance: ClosureTolerance | None = None) -> Si
     suffix = path.suffix.lower()
     if suffix == ".json":
         return load_instance_json(path)
+    if suffix == ".dxf":
+        from planner.exchange.dxf_in import read_dxf_site
+
+        return read_dxf_site(path, dxf)
+    if suffix == ".geojson":
+        from planner.exchange.geojson_in import read_geojson_site
+
+        return read_geojson_site(path, crs=crs)
+    if suffix == ".pol":
+        from planner.site.pol import read_pol
+
+        return read_pol(path)
     if suffix == ".csv":
         tol = tolerance or ClosureTolerance()
         zones = tuple(zone_from_table(t, tol) for t in read_table_csv(path))

@@ -77,7 +77,12 @@ class Wall:
 
 @dataclass(frozen=True)
 class Zone:
-    """A simple polygon, stored counter-clockwise, scanned from ``scan_side``."""
+    """A simple polygon, stored counter-clockwise, scanned from ``scan_side``.
+
+    ``holes``: free-standing blocks inside an inside-scanned zone (piers, a cella inside a court),
+    each a ring stored clockwise so that the zone is to the left of its walls too; their walls
+    are scanned from the zone and numbered after the outline's (n+1, n+2, ...).
+    """
 
     id: str
     scan_side: ScanSide
@@ -87,6 +92,8 @@ class Zone:
     frame: str = SITE_FRAME
     closure: ClosureReport | None = None
     notes: tuple[str, ...] = ()
+    holes: tuple[tuple[tuple[float, float], ...], ...] = ()
+    hole_heights_m: tuple[tuple[float, ...], ...] = ()
 
     def __post_init__(self) -> None:
         xy = np.asarray(self.vertices, dtype=float).reshape(-1, 2)
@@ -101,6 +108,25 @@ class Zone:
                 raise InputError("must be a finite height > 0", zone=self.id, row=k, field="vertex_height_m", value=h)
         if self.printed_wall_heights_m and len(self.printed_wall_heights_m) != n:
             raise InputError(f"needs {n} wall heights", zone=self.id, field="wall_heights_m", value=len(self.printed_wall_heights_m))
+        if self.holes:
+            self._check_holes()
+
+    def _check_holes(self) -> None:
+        if self.scan_side is not ScanSide.INSIDE:
+            raise InputError("only a zone scanned inside can hold holes", zone=self.id, field="scan_side", value=self.scan_side.value)
+        if len(self.hole_heights_m) != len(self.holes):
+            raise InputError(f"needs heights for {len(self.holes)} holes", zone=self.id, field="hole_heights_m")
+        for k, (ring, hs) in enumerate(zip(self.holes, self.hole_heights_m), 1):
+            xy = np.asarray(ring, dtype=float).reshape(-1, 2)
+            check_simple_polygon(xy, what=f"hole {k}", zone=self.id)
+            if signed_area(xy) >= 0:
+                raise InputError("hole vertices must be clockwise", zone=self.id, field=f"hole {k}")
+            if len(hs) != len(xy) or not all(math.isfinite(h) and h > 0 for h in hs):
+                raise InputError(f"needs {len(xy)} finite heights > 0", zone=self.id, field=f"hole {k} heights")
+        poly = self.polygon
+        if not poly.is_valid:
+            raise InputError(f"holes and outline do not form a valid polygon ({shapely.is_valid_reason(poly)})",
+                             zone=self.id, field="holes")
 
     @cached_property
     def xy(self) -> NDArray[np.float64]:
@@ -110,7 +136,8 @@ class Zone:
         return a
 
     @cached_property
-    def walls(self) -> tuple[Wall, ...]:
+    def outer_walls(self) -> tuple[Wall, ...]:
+        """The walls of the outline, wall i from vertex i (what the closed-form geometry plans)."""
         n = len(self.vertices)
         printed = self.printed_wall_heights_m or (None,) * n
         return tuple(
@@ -119,17 +146,31 @@ class Zone:
             for i in range(n)
         )
 
+    @cached_property
+    def walls(self) -> tuple[Wall, ...]:
+        """Every scanned wall: the outline's, then each hole's."""
+        out = list(self.outer_walls)
+        for ring, hs in zip(self.holes, self.hole_heights_m):
+            m = len(ring)
+            out += [Wall(self.id, len(out) + 1, ring[i], ring[(i + 1) % m], hs[i], hs[(i + 1) % m]) for i in range(m)]
+        return tuple(out)
+
+    @property
+    def rings(self) -> tuple[NDArray[np.float64], ...]:
+        """Outline and hole rings as (n, 2) arrays."""
+        return (self.xy,) + tuple(np.asarray(r, dtype=float) for r in self.holes)
+
     @property
     def perimeter_m(self) -> float:
-        return float(side_lengths(self.xy).sum())
+        return float(sum(side_lengths(r).sum() for r in self.rings))
 
     @property
     def area_m2(self) -> float:
-        return signed_area(self.xy)
+        return signed_area(self.xy) + sum(signed_area(np.asarray(r, float)) for r in self.holes)
 
     @cached_property
     def polygon(self) -> shapely.Polygon:
-        return shapely.Polygon(self.xy)
+        return shapely.Polygon(self.xy, [np.asarray(r, float) for r in self.holes])
 
     def height_check_failures(self) -> tuple[Wall, ...]:
         """Walls whose printed height is not the max of their two vertex heights."""

@@ -38,6 +38,11 @@ class SolveResult:
             return None
         return max(0.0, (self.objective - self.bound) / self.objective)
 
+    def _repr_html_(self) -> str:
+        from planner.notebook import summary_html
+
+        return summary_html(self, f"{self.method} result")
+
     def summary(self) -> str:
         gap = "" if self.gap is None else f", gap {self.gap:.1%}"
         bound = "" if self.bound is None or math.isnan(self.bound) else f", bound {self.bound:g}"

@@ -1,0 +1,75 @@
+"""The ``planner report`` command and the exports shared with ``planner plan`` (DXF, GeoJSON, CSV)."""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from planner.candidates.pool import PoolOptions
+from planner.errors import ExitCode, UsageError
+from planner.exchange import EXPORTS, write_dxf, write_geojson, write_stations_csv
+from planner.network.check import run_network
+from planner.outcome import Outcome, outcome_from_file
+from planner.plan import PlanOptions
+from planner.report import compare_methods, write_report
+
+
+def parse_exports(text: str | None) -> list[str]:
+    if not text:
+        return []
+    items = [x.strip().lower() for x in text.split(",") if x.strip()]
+    bad = [x for x in items if x not in EXPORTS]
+    if bad:
+        raise UsageError(f"unknown export format (known: {', '.join(EXPORTS)})", field="--export", value=bad[0])
+    return items
+
+
+def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | None) -> None:
+    writers = {"dxf": lambda: write_dxf(outcome, Path(folder) / "plan.dxf"),
+               "geojson": lambda: write_geojson(outcome, Path(folder) / "plan.geojson", crs),
+               "csv": lambda: write_stations_csv(outcome, Path(folder) / "stations.csv")}
+    for f in formats:
+        print(f"wrote {writers[f]()}")
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    formats = parse_exports(args.export)
+    outcome = outcome_from_file(args.plan, args.site)
+    folder = args.out or str(Path(args.plan).parent)
+    network = None if args.no_network else run_network(outcome.site, list(outcome.stations), seed=0)
+    comparison = _file_comparison(outcome)
+    outcome = replace(outcome, network=network, comparison=tuple(comparison))
+    write_exports(outcome, formats, folder, args.crs)
+    print(outcome.summary())
+    print(f"wrote {write_report(outcome, folder)}")
+    return ExitCode.OK
+
+
+def _file_comparison(outcome: Outcome) -> list[dict]:
+    """Closed form and greedy recomputed with the plan's settings, beside the plan's own figures."""
+    m, p = outcome.meta, outcome.meta.get("parameters", {})
+    options = PlanOptions(target_spacing_m=float(p.get("target_spacing_m", 1.0)),
+                          pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
+                          incidence_3d=p.get("incidence") == "3d", precision=bool(p.get("precision", True)))
+    rows = [r for r in compare_methods(outcome.site, options) if r["method"] != m.get("method")]
+    counts = m.get("counts", {})
+    rows.append({"method": m.get("method", "?"), "backend": m.get("backend") or "", "stations": len(outcome.stations),
+                 "inside": counts.get("inside"), "outside": counts.get("outside"), "bound": m.get("bound"),
+                 "gap": m.get("gap"), "status": m.get("status", ""), "time_s": m.get("time_s"),
+                 "verified_percent": outcome.verification.percent,
+                 "connected": (m.get("registration") or {}).get("connected")})
+    return rows
+
+
+def add_report_parser(sub: Any) -> None:
+    rp = sub.add_parser("report", help="write the HTML report (and exports) of a plan.json")
+    rp.add_argument("plan", help="plan.json written by planner plan --out")
+    rp.add_argument("--site", help="the site file (default: the one recorded in the plan)")
+    rp.add_argument("--out", metavar="DIR", help="folder for report.html and exports (default: the plan's folder)")
+    rp.add_argument("--export", metavar="LIST", help="also write dxf, geojson, csv (comma-separated)")
+    rp.add_argument("--crs", metavar="CRS", help="write GeoJSON in lon/lat from this metric CRS")
+    rp.add_argument("--no-network", action="store_true", help="leave out the network and accuracy check")
+    rp.add_argument("--quiet", action="store_true", help="no progress bars")
+    rp.set_defaults(func=cmd_report)

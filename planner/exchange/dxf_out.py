@@ -1,0 +1,78 @@
+"""DXF export (ezdxf, metres): layers WALLS, OBSTACLES, NOGO, STATIONS, FIELDS, COVERAGE, NETWORK, CONTROL.
+
+Zones are closed LWPOLYLINEs on WALLS with their height as thickness and, in XDATA of the
+application ``TLS_PLANNER``, the zone id, scan side, frame and per-vertex heights, so that
+:func:`planner.exchange.dxf_in.read_dxf_site` reads the same site back (the round trip).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import ezdxf
+from ezdxf import units
+
+from planner.outcome import Outcome
+
+APPID = "TLS_PLANNER"
+LAYERS = {  # name: ACI colour
+    "WALLS": 7, "OBSTACLES": 8, "NOGO": 6, "STATIONS": 5, "FIELDS": 4, "COVERAGE": 3, "NETWORK": 2, "CONTROL": 1,
+}
+#: coverage colours (ACI): seen by no station, by one, by two or more
+COVERAGE_ACI = {0: 1, 1: 3, 2: 5}
+
+
+def zone_xdata(zone_id: str, side: str, frame: str, heights: tuple[float, ...]) -> list[tuple[int, object]]:
+    """XDATA tags of a zone polyline: 1000 strings key=value, then one 1040 real per vertex height."""
+    return [(1000, f"zone={zone_id}"), (1000, f"side={side}"), (1000, f"frame={frame}")] + [(1040, float(h)) for h in heights]
+
+
+def _label_height(o: Outcome) -> float:
+    """Text height: 1 % of the site's extent, at least 0.1 m."""
+    xs = [v[0] for z in o.site.zones for v in z.vertices]
+    ys = [v[1] for z in o.site.zones for v in z.vertices]
+    return max(0.1, 0.01 * max(max(xs) - min(xs), max(ys) - min(ys)))
+
+
+def write_dxf(o: Outcome, path: Path | str) -> Path:
+    """Write the outcome as a DXF R2010 drawing in metres; return the path."""
+    doc = ezdxf.new("R2010", setup=True)
+    doc.units = units.M
+    doc.header["$MEASUREMENT"] = 1  # metric
+    doc.appids.add(APPID)
+    for name, colour in LAYERS.items():
+        doc.layers.add(name, color=colour)
+    msp = doc.modelspace()
+    th = _label_height(o)
+    for z in o.site.zones:
+        e = msp.add_lwpolyline(z.vertices, close=True, dxfattribs={"layer": "WALLS", "thickness": max(z.vertex_heights_m)})
+        e.set_xdata(APPID, zone_xdata(z.id, z.scan_side.value, z.frame, z.vertex_heights_m))
+    for ob in o.site.obstacles:
+        e = msp.add_lwpolyline(ob.vertices, close=True, dxfattribs={"layer": "OBSTACLES", "thickness": ob.height_m})
+        e.set_xdata(APPID, [(1000, f"name={ob.name}")])
+    for a in o.site.no_go_areas:
+        e = msp.add_lwpolyline(a.vertices, close=True, dxfattribs={"layer": "NOGO"})
+        e.set_xdata(APPID, [(1000, f"name={a.name}")])
+    t = o.coverage.targets
+    for k in range(len(t)):
+        n = min(int(o.coverage.count[k]), 2)
+        msp.add_line(tuple(t.a[k]), tuple(t.b[k]), dxfattribs={"layer": "COVERAGE", "color": COVERAGE_ACI[n]})
+    for s in o.stations:
+        msp.add_point((s.x, s.y), dxfattribs={"layer": "STATIONS"})
+        msp.add_circle((s.x, s.y), th / 2, dxfattribs={"layer": "STATIONS"})
+        msp.add_text(s.id, height=th, dxfattribs={"layer": "STATIONS"}).set_placement((s.x + th, s.y + th))
+        r = o.tripod_radius_m.get(s.id)
+        if r is not None and math.isfinite(r) and r > 0:
+            msp.add_circle((s.x, s.y), r, dxfattribs={"layer": "FIELDS"})
+    if o.network is not None:
+        g = o.network.graph
+        for u, v in g.edges():
+            msp.add_line((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]), dxfattribs={"layer": "NETWORK"})
+        for c in o.network.control:
+            msp.add_point((c.x, c.y), dxfattribs={"layer": "CONTROL"})
+            msp.add_text(c.name, height=th, dxfattribs={"layer": "CONTROL"}).set_placement((c.x + th, c.y - 2 * th))
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    doc.saveas(out)
+    return out

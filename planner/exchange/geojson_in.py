@@ -1,0 +1,120 @@
+"""Read a floor plan from GeoJSON: Polygon features with a ``role`` (zone, obstacle, no_go) and heights.
+
+Properties read: ``role`` (default ``zone``), ``id`` or ``name``, ``scan_side`` (default inside),
+``vertex_heights_m`` (one per vertex of the outer ring) or ``height_m`` / ``height`` (one for all),
+``frame``. Interior rings of a zone are free-standing blocks inside it whose walls are scanned
+too (holes). Other features (stations, coverage of an exported plan) are skipped, so an exported
+plan.geojson reads back as its site. With ``crs`` the coordinates are lon/lat (RFC 7946) and are
+projected to that metric CRS (pyproj, x/y order).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from planner.errors import InputError, PlannerError
+from planner.exchange.crs import to_projected
+from planner.params import Parameters
+from planner.site.fileio import read_text, to_float
+from planner.site.geometry import signed_area
+from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
+
+ROLES = ("zone", "obstacle", "no_go")
+
+
+def _ring(raw: Any, where: dict[str, Any], fwd: Any) -> np.ndarray:
+    if not isinstance(raw, list) or len(raw) < 4:
+        raise InputError("a polygon ring needs at least 4 positions (closed)", **where, field="coordinates")
+    pts = np.array([[to_float(c, field="coordinates", **where) for c in p[:2]] if isinstance(p, list) and len(p) >= 2
+                    else [np.nan, np.nan] for p in raw], dtype=float)
+    if np.isnan(pts).any():
+        raise InputError("positions must be [x, y] numbers", **where, field="coordinates")
+    if not np.allclose(pts[0], pts[-1], rtol=0, atol=1e-12):
+        raise InputError("ring is not closed (first position != last)", **where, field="coordinates")
+    pts = pts[:-1]
+    return fwd(pts) if fwd else pts
+
+
+def _ccw(xy: np.ndarray, heights: list[float] | None, want_ccw: bool = True) -> tuple[np.ndarray, list[float] | None]:
+    if (signed_area(xy) > 0) != want_ccw:
+        return xy[::-1], heights[::-1] if heights else heights
+    return xy, heights
+
+
+def _heights(props: dict, n: int, where: dict[str, Any]) -> list[float]:
+    if "vertex_heights_m" in props:
+        raw = props["vertex_heights_m"]
+        if not isinstance(raw, list) or len(raw) != n:
+            raise InputError(f"needs a list of {n} heights", **where, field="vertex_heights_m")
+        return [to_float(h, field="vertex_heights_m", **where) for h in raw]
+    for key in ("height_m", "height"):
+        if key in props:
+            return [to_float(props[key], field=key, **where)] * n
+    raise InputError("no height: give height_m or vertex_heights_m", **where, field="properties")
+
+
+def _feature(f: Any, k: int, file: str, fwd: Any) -> tuple[str, Any] | None:
+    where: dict[str, Any] = dict(file=file, row=f"features[{k}]")
+    if not isinstance(f, dict) or f.get("type") != "Feature":
+        raise InputError("must be a GeoJSON Feature", **where)
+    props = f.get("properties") or {}
+    geom = f.get("geometry") or {}
+    role = props.get("role", "zone")
+    if role not in ROLES:
+        return None  # stations, coverage ... of an exported plan
+    if geom.get("type") != "Polygon":
+        raise InputError(f"a {role} must be a Polygon", **where, field="geometry.type", value=geom.get("type"))
+    rings = geom.get("coordinates")
+    if not isinstance(rings, list) or not rings:
+        raise InputError("needs coordinates", **where, field="geometry.coordinates")
+    name = str(props.get("id", props.get("name", f"{role}-{k}")))
+    where["zone"] = name
+    outer = _ring(rings[0], where, fwd)
+    holes = [_ring(r, where, fwd) for r in rings[1:]]
+    if role == "zone":
+        xy, h = _ccw(outer, _heights(props, len(outer), where))
+        hole_xy = [_ccw(r, None, want_ccw=False)[0] for r in holes]
+        side = props.get("scan_side", "inside")
+        if side not in {s.value for s in ScanSide}:
+            raise InputError("unknown scan side", **where, field="scan_side", value=side)
+        hh = float(props.get("hole_height_m", max(h)))
+        return role, Zone(id=name, scan_side=ScanSide(side), vertices=tuple(map(tuple, xy.tolist())),
+                          vertex_heights_m=tuple(h or ()), frame=str(props.get("frame", SITE_FRAME)),
+                          holes=tuple(tuple(map(tuple, r.tolist())) for r in hole_xy),
+                          hole_heights_m=tuple((hh,) * len(r) for r in hole_xy))
+    if holes:
+        raise InputError(f"a {role} cannot have holes", **where, field="geometry.coordinates")
+    verts = tuple(map(tuple, outer.tolist()))
+    if role == "obstacle":
+        return role, Obstacle(name, verts, _heights(props, len(outer), where)[0])
+    return role, NoGoArea(name, verts)
+
+
+def read_geojson_site(path: Path | str, parameters: Parameters | None = None, crs: str | None = None) -> Site:
+    """Read a site from a GeoJSON FeatureCollection (see the module docstring)."""
+    path = Path(path)
+    file = str(path)
+    try:
+        data = json.loads(read_text(path))
+    except json.JSONDecodeError as exc:
+        raise InputError(f"invalid JSON: {exc.msg}", file=file, row=f"line {exc.lineno} column {exc.colno}") from None
+    if not isinstance(data, dict) or data.get("type") != "FeatureCollection" or not isinstance(data.get("features"), list):
+        raise InputError("must be a GeoJSON FeatureCollection", file=file, field="type",
+                         value=data.get("type") if isinstance(data, dict) else type(data).__name__)
+    fwd = to_projected(crs) if crs else None
+    out: dict[str, list] = {r: [] for r in ROLES}
+    for k, f in enumerate(data["features"], 1):
+        try:
+            got = _feature(f, k, file, fwd)
+        except PlannerError as exc:
+            raise exc.located(file) from None
+        if got:
+            out[got[0]].append(got[1])
+    if not out["zone"]:
+        raise InputError("no zone polygon", file=file, field="features", value=0)
+    return Site(name=path.stem, zones=tuple(out["zone"]), parameters=parameters or Parameters(),
+                obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file)

@@ -1,0 +1,45 @@
+"""What every plan figure carries: equal axes in metres, a scale bar and a north (frame +y) arrow."""
+
+from __future__ import annotations
+
+import io
+import math
+
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+
+def nice_length(span_m: float) -> float:
+    """A round scale-bar length (1, 2 or 5 x 10^k m) close to a fifth of ``span_m``."""
+    target = max(span_m / 5.0, 1e-6)
+    k = math.floor(math.log10(target))
+    return min((m * 10**k for m in (1, 2, 5, 10)), key=lambda v: abs(v - target))
+
+
+def decorate_plan(ax: Axes, frame: str) -> None:
+    """Equal aspect, metre labels, a scale bar (lower left) and a north arrow (upper right).
+
+    In a zone's own frame "north" is the frame's +y axis; the arrow says so.
+    """
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.autoscale_view()
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    w, h = x1 - x0, y1 - y0
+    bar = nice_length(w)
+    bx, by = x0 + 0.05 * w, y0 + 0.05 * h
+    ax.plot([bx, bx + bar], [by, by], color="black", lw=3, solid_capstyle="butt")
+    ax.text(bx + bar / 2, by + 0.015 * h, f"{bar:g} m", ha="center", va="bottom", fontsize=8)
+    label = "N" if frame == "site" else "N\n(frame +y)"
+    ax.annotate(label, xy=(0.95, 0.95), xytext=(0.95, 0.83), xycoords="axes fraction", ha="center", va="top",
+                fontsize=8, arrowprops={"arrowstyle": "-|>", "color": "black"})
+    ax.grid(True, lw=0.3, alpha=0.5)
+
+
+def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
+    """The figure as PNG bytes."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+    return buf.getvalue()

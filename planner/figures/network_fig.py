@@ -1,0 +1,77 @@
+"""Registration and network figure: overlap (registration) links, total-station sight lines,
+Delaunay triangulation, control points and exaggerated error ellipses (scale stated)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import Ellipse, Polygon
+
+from planner.figures.base import decorate_plan
+from planner.network.adjustment import ELLIPSE_95
+from planner.outcome import Outcome
+
+STYLES = {"registration": ("tab:blue", "-", 1.6, "registration (overlap) link"),
+          "sight": ("0.55", ":", 0.8, "total-station sight line"),
+          "delaunay": ("tab:green", "--", 0.8, "triangulation (Delaunay, intervisible)")}
+
+
+def _exaggeration(extent_m: float, largest_m: float) -> float:
+    """A round factor that draws the largest 95 % ellipse about 4 % of the extent."""
+    if largest_m <= 0 or not math.isfinite(largest_m):
+        return 1.0
+    raw = 0.04 * extent_m / largest_m
+    k = math.floor(math.log10(raw))
+    return float(max(m * 10**k for m in (1, 2, 5) if m * 10**k <= raw) if raw >= 1 else 1.0)
+
+
+def network_figure(o: Outcome, frame: str | None = None) -> Figure:
+    """The network of one frame (default: the frame with most stations)."""
+    if o.network is None:
+        raise ValueError("the outcome has no network report")
+    g = o.network.graph
+    frames = [d["frame"] for _, d in g.nodes(data=True) if d["kind"] == "station"]
+    frame = frame or max(set(frames), key=frames.count)
+    nodes = [n for n, d in g.nodes(data=True) if d["frame"] == frame]
+    fig = Figure(figsize=(9, 8), layout="constrained")
+    ax = fig.subplots()
+    for z in o.site.zones:
+        if z.frame == frame:
+            for ring in z.rings:
+                ax.add_patch(Polygon(ring, closed=True, fill=False, ec="0.2", lw=1.0))
+    shown = set()
+    for u, v, d in g.subgraph(nodes).edges(data=True):
+        kind = next(k for k in ("registration", "sight", "delaunay") if k in d["kinds"])
+        colour, ls, lw, label = STYLES[kind]
+        ax.plot([g.nodes[u]["x"], g.nodes[v]["x"]], [g.nodes[u]["y"], g.nodes[v]["y"]], color=colour, ls=ls, lw=lw,
+                label=None if kind in shown else label)
+        shown.add(kind)
+    points = {p.name: p for a in o.network.adjustments for p in a.points if p.name in nodes}
+    xy = np.array([(g.nodes[n]["x"], g.nodes[n]["y"]) for n in nodes])
+    extent = float(np.ptp(xy, axis=0).max()) if len(xy) > 1 else 1.0
+    factor = _exaggeration(extent, max((p.ellipse_a * ELLIPSE_95 for p in points.values()), default=0.0))
+    for n in nodes:
+        d = g.nodes[n]
+        if d["kind"] == "control":
+            ax.plot(d["x"], d["y"], marker="^", ms=9, color="tab:red", ls="none",
+                    label=None if "control" in shown else "control point (proposed: open)",
+                    mfc="white" if d.get("proposed") else "tab:red")
+            shown.add("control")
+        else:
+            ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=None if "st" in shown else "station")
+            shown.add("st")
+        ax.annotate(n, (d["x"], d["y"]), xytext=(3, 3), textcoords="offset points", fontsize=6)
+        p = points.get(n)
+        if p is not None and p.ellipse_a > 0:
+            ax.add_patch(Ellipse((p.x, p.y), 2 * ELLIPSE_95 * p.ellipse_a * factor, 2 * ELLIPSE_95 * p.ellipse_b * factor,
+                                 angle=p.ellipse_azimuth_deg, fill=False, ec="tab:orange", lw=1.2,
+                                 label=None if "ell" in shown else f"95 % error ellipse x {factor:g}"))
+            shown.add("ell")
+    decorate_plan(ax, frame)
+    ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
+    worst = max((o.network.station_sigma.get(n, 0.0) for n in nodes), default=0.0)
+    ax.set_title(f"{o.site.name}: station network, frame {frame} - ellipses exaggerated x {factor:g} "
+                 f"(worst station {worst * 1000:.2f} mm)", fontsize=10)
+    return fig

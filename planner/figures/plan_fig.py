@@ -1,0 +1,109 @@
+"""Plan figure of one zone-side: walls coloured by coverage (count | best incidence), uncovered in red,
+line width by wall height, obstacles and no-go areas, numbered stations by kind, movement fields and
+tripod discs."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle, Polygon
+
+from planner.candidates.model import CandidateKind
+from planner.coverage.targets import SIDE_CODE
+from planner.figures.base import decorate_plan
+from planner.outcome import Outcome
+from planner.site.model import SITE_FRAME, ScanSide
+
+MARKERS = {CandidateKind.VERTEX: ("^", "vertex K^B"), CandidateKind.WALL: ("s", "wall K^C"),
+           CandidateKind.CIRCLE: ("o", "circle"), CandidateKind.FIELD: ("D", "field sample"),
+           CandidateKind.GRID: ("P", "grid")}
+UNCOVERED = "red"
+
+
+def _background(ax, o: Outcome, frame: str, zone_id: str) -> None:
+    for z in o.site.zones:
+        if z.frame == frame and z.id != zone_id:
+            for ring in z.rings:
+                ax.add_patch(Polygon(ring, closed=True, fill=False, ec="0.75", lw=0.6))
+    if frame == SITE_FRAME:
+        for ob in o.site.obstacles:
+            ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.6", ec="0.3", hatch="xx", alpha=0.6,
+                                 label=f"obstacle ({ob.height_m:g} m)"))
+        for a in o.site.no_go_areas:
+            ax.add_patch(Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, label="no-go area"))
+
+
+def _pieces(o: Outcome, zi: int, side: ScanSide):
+    t = o.coverage.targets
+    m = (t.zone == zi) & (t.side == SIDE_CODE[side])
+    segs = np.stack([t.a[m], t.b[m]], axis=1)
+    h = np.maximum(t.ha_m[m], t.hb_m[m])
+    width = 1.0 + 3.0 * h / max(float(h.max()), 1e-9)
+    return segs, o.coverage.count[m], o.coverage.best_incidence_deg[m], width
+
+
+def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> None:
+    numbers = {s.id: k for k, s in enumerate(o.stations, 1)}
+    shown = set()
+    for s in o.stations:
+        if s.zone != zone_id or s.side is not side:
+            continue
+        if s.field:
+            ax.add_patch(Polygon(s.field, closed=True, fc="gold", ec="darkgoldenrod", alpha=0.25, lw=0.5,
+                                 label=None if "field" in shown else "movement field"))
+            shown.add("field")
+        r = o.tripod_radius_m.get(s.id)
+        if r:
+            ax.add_patch(Circle((s.x, s.y), r, fill=False, ls="--", ec="tab:purple", lw=0.8,
+                                label=None if "disc" in shown else "tripod disc"))
+            shown.add("disc")
+        marker, name = MARKERS[s.kind]
+        ax.plot(s.x, s.y, marker=marker, ms=7, mfc="white", mec="black", ls="none",
+                label=None if s.kind in shown else f"station: {name}")
+        shown.add(s.kind)
+        ax.annotate(str(numbers[s.id]), (s.x, s.y), xytext=(4, 4), textcoords="offset points", fontsize=7)
+
+
+def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
+    """Two panels of one zone-side: coverage count and best incidence angle of every wall piece."""
+    side = ScanSide(side)
+    zi = next(i for i, z in enumerate(o.site.zones) if z.id == zone_id)
+    zone = o.site.zones[zi]
+    segs, count, inc, width = _pieces(o, zi, side)
+    theta = o.site.parameters.theta_max_deg
+    fig = Figure(figsize=(13, 6.2), layout="constrained")
+    axes = fig.subplots(1, 2)
+    top = max(int(count.max()) if count.size else 1, 1)
+    cmap_n = ListedColormap(["#74c476", "#31a354", "#238b45", "#006d2c", "#00441b"][:max(1, min(top, 5))])
+    norm_n = BoundaryNorm(np.arange(0.5, min(top, 5) + 1.5), cmap_n.N)
+    panels = ((axes[0], np.minimum(count, 5).astype(float), cmap_n, norm_n, "stations seeing the piece"),
+              (axes[1], inc, "viridis_r", Normalize(0.0, theta), "best incidence angle (deg)"))
+    for ax, values, cmap, norm, label in panels:
+        _background(ax, o, zone.frame, zone.id)
+        seen = count > 0
+        lc = LineCollection(segs[seen], array=values[seen], cmap=cmap, norm=norm, linewidths=width[seen])
+        ax.add_collection(lc)
+        if (~seen).any():
+            ax.add_collection(LineCollection(segs[~seen], colors=UNCOVERED, linewidths=width[~seen] + 1.5,
+                                             label=f"uncovered ({int((~seen).sum())} pieces)"))
+        cb = fig.colorbar(lc, ax=ax, shrink=0.8)
+        if cmap is cmap_n:
+            cb.set_ticks(range(1, min(top, 5) + 1))
+        cb.set_label(label + (" (5 = 5 or more)" if cmap is cmap_n and top > 5 else ""))
+        _stations(ax, o, zone.id, side)
+        decorate_plan(ax, zone.frame)
+        ax.legend(loc="upper left", fontsize=7, framealpha=0.8)
+    hmax = max(max(zone.vertex_heights_m), *(max(h) for h in zone.hole_heights_m)) if zone.hole_heights_m else max(zone.vertex_heights_m)
+    axes[0].set_title(f"coverage count (line width ~ wall height, max {hmax:g} m)")
+    axes[1].set_title(f"best incidence (limit {theta:g} deg)")
+    n = sum(1 for s in o.stations if s.zone == zone.id and s.side is side)
+    fig.suptitle(f"{o.site.name}: zone {zone.id}, {side.value} - {n} stations, "
+                 f"{100 * float((count > 0).mean()) if count.size else 100:.1f} % of pieces covered")
+    return fig
+
+
+def plan_figures(o: Outcome) -> list[tuple[str, Figure]]:
+    """One plan figure per zone-side, titled ``zone/side``."""
+    return [(f"{z.id}/{side.value}", plan_figure(o, z.id, side)) for z in o.site.zones for side in z.scan_side.sides]

@@ -1,0 +1,106 @@
+"""A plan's outcome as figures, the report and the exports need it: the site, the stations, what they
+cover, their tripod discs and (optionally) the network check.
+
+Built either from a :class:`~planner.plan.Plan` just computed or from a ``plan.json`` written
+earlier (``planner report PLAN.json``); both recompute the coverage of the chosen stations, so
+what is drawn and exported is checked afresh, not copied from the solver.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from planner.candidates.model import Candidate
+from planner.coverage.stations import StationCoverage, station_coverage
+from planner.coverage.visibility import SightLimits
+from planner.errors import InputError
+from planner.network.check import NetworkReport
+from planner.plan import Plan, sight_limits
+from planner.plan_io import plan_to_dict, read_plan_stations
+from planner.site.fileio import read_text
+from planner.site.load import load_site
+from planner.site.model import Site
+from planner.validate import ValidationReport, validate_site
+from planner.verify import VerifyReport, verify_stations
+
+
+@dataclass(frozen=True, eq=False)
+class Outcome:
+    """Everything shown about one plan. ``meta`` is the plan.json dictionary (method, status, bound ...)."""
+
+    site: Site
+    validation: ValidationReport
+    limits: SightLimits
+    stations: tuple[Candidate, ...]
+    coverage: StationCoverage
+    verification: VerifyReport
+    tripod_radius_m: dict[str, float]
+    meta: dict[str, Any]
+    network: NetworkReport | None = None
+    comparison: tuple[dict[str, Any], ...] = field(default=())
+
+    def _repr_html_(self) -> str:
+        from planner.notebook import summary_html
+
+        return summary_html(self, "Outcome")
+
+    def summary(self) -> str:
+        return (f"{self.site.name}: {len(self.stations)} stations ({self.meta.get('method', '?')}), "
+                f"{self.coverage.percent_length:.3f} % of wall length covered; "
+                + self.verification.summary().splitlines()[0])
+
+
+def outcome_from_plan(plan: Plan, network: NetworkReport | None = None,
+                      comparison: Sequence[dict[str, Any]] = ()) -> Outcome:
+    """The outcome of a plan computed in this process."""
+    o = plan.options
+    limits = sight_limits(plan.validation, o.incidence_3d, o.precision)
+    cov = station_coverage(plan.site, plan.stations, limits, plan.validation.scanner, plan.site.parameters.budget,
+                           o.target_spacing_m)
+    radii = {s.id: d.radius_m for s, d in zip(plan.stations, plan.tripods)}
+    return Outcome(plan.site, plan.validation, limits, plan.stations, cov, plan.verification, radii,
+                   plan_to_dict(plan), network, tuple(comparison))
+
+
+def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path: str) -> Site:
+    """The site a plan.json was made for, with the parameters recorded in it."""
+    src = site_path or meta.get("source")
+    if not src:
+        raise InputError("the plan names no site file; give one with --site", file=plan_path, field="source")
+    path = Path(src)
+    if not path.is_absolute() and not path.exists():
+        path = Path(plan_path).parent / src
+    site = load_site(path)
+    p = meta.get("parameters") or {}
+    changes = {k: p[k] for k in ("theta_max_deg", "overlap", "sigma_req_m", "instrument_height_m") if k in p}
+    if "given" in str(p.get("max_slant_range_source", "")):
+        changes["max_slant_range_m"] = p["max_slant_range_m"]
+    params = replace(site.parameters, **changes)
+    return replace(site, parameters=params, instrument=p.get("instrument", site.instrument))
+
+
+def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None,
+                      network: NetworkReport | None = None) -> Outcome:
+    """The outcome of a plan.json (stations re-read, coverage and verification recomputed)."""
+    name = str(plan_path)
+    try:
+        meta = json.loads(read_text(Path(plan_path)))
+    except json.JSONDecodeError as exc:
+        raise InputError(f"invalid JSON: {exc.msg}", file=name, row=f"line {exc.lineno} column {exc.colno}") from None
+    if not isinstance(meta, dict):
+        raise InputError("a plan must be a JSON object", file=name)
+    site = site_for_plan(meta, site_path, name)
+    validation = validate_site(site)
+    p = meta.get("parameters") or {}
+    limits = sight_limits(validation, p.get("incidence") == "3d", bool(p.get("precision", True)))
+    stations = tuple(read_plan_stations(plan_path, site))
+    spacing = float(p.get("target_spacing_m", 1.0))
+    cov = station_coverage(site, stations, limits, validation.scanner, site.parameters.budget, spacing)
+    verification = verify_stations(site, stations, limits, float(p.get("verify_spacing_m", 0.1)))
+    radii = {s["id"]: s["tripod_radius_m"] for s in meta.get("stations", []) if isinstance(s, dict)
+             and isinstance(s.get("tripod_radius_m"), (int, float))}
+    return Outcome(site, validation, limits, stations, cov, verification, radii, meta, network)

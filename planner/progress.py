@@ -1,0 +1,80 @@
+"""Progress of long steps (coverage build, solving with a time limit).
+
+Library code only calls :func:`report` / :func:`ticking`; those log at DEBUG level and pass the
+progress to a sink, which is None (nothing shown) unless a front end installs one. The command
+line installs a :class:`Bar` on standard error when it is a terminal and ``--quiet`` is not given.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import TextIO
+
+log = logging.getLogger(__name__)
+
+Sink = Callable[[str, float, float], None]  # (step, done, total); done == total closes the step
+_sink: Sink | None = None
+
+
+def set_sink(sink: Sink | None) -> Sink | None:
+    """Install ``sink`` (None: show nothing); return the previous one."""
+    global _sink
+    previous, _sink = _sink, sink
+    return previous
+
+
+def report(step: str, done: float, total: float) -> None:
+    """Say that ``done`` of ``total`` units of ``step`` are done."""
+    log.debug("%s: %.1f/%.1f", step, done, total)
+    if _sink is not None:
+        _sink(step, done, total)
+
+
+@contextmanager
+def ticking(step: str, limit_s: float | None, every_s: float = 0.25) -> Iterator[None]:
+    """Report elapsed time against ``limit_s`` from a background thread while the body runs
+    (a solver that gives no progress of its own); closes the step at the end."""
+    if _sink is None or not limit_s or limit_s <= 0:
+        yield
+        return
+    stop = threading.Event()
+    start = time.monotonic()
+
+    def tick() -> None:
+        while not stop.wait(every_s):
+            report(step, min(time.monotonic() - start, limit_s), limit_s)
+
+    thread = threading.Thread(target=tick, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        thread.join()
+        report(step, limit_s, limit_s)
+
+
+class Bar:
+    """A one-line text bar redrawn in place (``\\r``), e.g. ``coverage  [#######.....]  58 %``."""
+
+    def __init__(self, stream: TextIO, width: int = 30) -> None:
+        self.stream = stream
+        self.width = width
+        self._closed = ""
+
+    def __call__(self, step: str, done: float, total: float) -> None:
+        frac = 0.0 if total <= 0 else max(0.0, min(1.0, done / total))
+        if step == self._closed:
+            if frac >= 1.0:
+                return  # already drawn complete
+            self._closed = ""
+        fill = round(frac * self.width)
+        self.stream.write(f"\r{step[:28]:<28} [{'#' * fill}{'.' * (self.width - fill)}] {frac * 100:3.0f} %")
+        if frac >= 1.0:
+            self.stream.write("\n")
+            self._closed = step
+        self.stream.flush()

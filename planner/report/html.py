@@ -1,0 +1,149 @@
+"""Render an :class:`~planner.outcome.Outcome` as one HTML file: inputs and parameters, closure table,
+station table, comparison of methods, figures, network and accuracy check, verification.
+
+The file needs nothing else (no external CSS, fonts or images). A short script marks on
+``<body data-images-ok="k/n">`` how many embedded images decoded, which the render test reads
+back from headless Chromium.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from planner import __version__
+from planner.figures import network_figure, plan_figures
+from planner.figures.base import png_bytes
+from planner.outcome import Outcome
+
+CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
+table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
+th{background:#eee}td.l,th.l{text-align:left}img{max-width:100%;border:1px solid #ddd;margin:0.5em 0}
+.pass{color:#176317;font-weight:bold}.fail{color:#b00;font-weight:bold}figure{margin:0 0 2em}"""
+SCRIPT = ("window.addEventListener('load',function(){var im=document.images,ok=0;for(var i=0;i<im.length;i++)"
+          "{if(im[i].complete&&im[i].naturalWidth>0)ok++;}document.body.setAttribute('data-images-ok',ok+'/'+im.length);});")
+
+
+def _e(v: Any) -> str:
+    return html.escape(str(v))
+
+
+def _f(v: Any, fmt: str = ".3f") -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "-"
+    return format(v, fmt) if isinstance(v, (int, float)) and not isinstance(v, bool) else _e(v)
+
+
+def table(header: Sequence[str], rows: Iterable[Sequence[Any]], left: int = 1) -> str:
+    """An HTML table; the first ``left`` columns are left-aligned text."""
+    th = "".join(f'<th class="{"l" if k < left else ""}">{_e(h)}</th>' for k, h in enumerate(header))
+    body = "".join("<tr>" + "".join(f'<td class="{"l" if k < left else ""}">{c}</td>' for k, c in enumerate(r)) + "</tr>"
+                   for r in rows)
+    return f"<table><tr>{th}</tr>{body}</table>"
+
+
+def _img(png: bytes, alt: str) -> str:
+    return f'<figure><img alt="{_e(alt)}" src="data:image/png;base64,{base64.b64encode(png).decode()}"><figcaption>{_e(alt)}</figcaption></figure>'
+
+
+def _parameters(o: Outcome) -> str:
+    p, lim, m = o.site.parameters, o.validation.range_limit, o.meta.get("parameters", {})
+    rows = [("site file", _e(o.site.source or "-")), ("instrument", _e(f"{o.validation.scanner.name}: {o.validation.scanner.description}")),
+            ("S_max (slant range)", f"{lim.max_slant_range_m:.3f} m ({_e(lim.source)})"),
+            ("theta_max", f"{p.theta_max_deg:g} deg"), ("overlap", f"{p.overlap:.0%}"),
+            ("sigma_req", f"{p.sigma_req_m * 1000:g} mm" + (f" (scale 1:{p.drawing_scale})" if p.drawing_scale else "")),
+            ("sigma_instr", f"{lim.sigma_instr_m * 1000:.3f} mm"), ("instrument height", f"{p.instrument_height_m:g} m"),
+            ("wall pieces", f"{m.get('target_spacing_m', '-')} m"), ("incidence", _e(m.get("incidence", "horizontal"))),
+            ("method", _e(f"{o.meta.get('method')} {o.meta.get('backend') or ''}")),
+            ("solver", _e(", ".join(f"{k} {v}" for k, v in (m.get("milp") or {}).items() if v is not None) or "-"))]
+    return table(("parameter", "value"), rows, left=2)
+
+
+def _closure(o: Outcome) -> str:
+    rows = []
+    for z in o.site.zones:
+        c = z.closure
+        rows.append((_e(z.id), _e(z.scan_side.value), _e(z.frame), len(z.walls), _f(z.perimeter_m), _f(z.area_m2, ".1f"),
+                     _e(c.summary() if c else "given by coordinates")))
+    out = table(("zone", "side", "frame", "walls", "perimeter m", "area m2", "closure"), rows, left=3)
+    if o.site.corrections:
+        out += "<p>Corrections of printed data:</p>" + table(
+            ("zone", "where", "field", "printed", "corrected", "reason"),
+            ((_e(c.zone), _e(c.target), _e(c.field), f"{c.printed:g}", f"{c.corrected:g}", _e(c.reason)) for c in o.site.corrections), left=3)
+    return out
+
+
+def _stations(o: Outcome) -> str:
+    rows = []
+    for k, (s, st) in enumerate(zip(o.stations, o.coverage.per_station), 1):
+        rows.append((k, _e(s.id), _e(s.zone), _e(s.side.value), _e(s.kind.value), _f(s.x), _f(s.y), _f(st.covered_m, ".1f"),
+                     _f(st.worst_incidence_deg, ".1f"), _f(st.longest_range_m, ".1f"), _f(o.tripod_radius_m.get(s.id)),
+                     _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f")))
+    return table(("no.", "id", "zone", "side", "kind", "x m", "y m", "covered wall m", "worst incidence deg",
+                  "longest range m", "tripod radius m", "worst point error mm"), rows, left=5)
+
+
+def _comparison(o: Outcome) -> str:
+    if not o.comparison:
+        return "<p>No comparison was run.</p>"
+    rows = ((_e(r["method"]), _e(r.get("backend", "")), _f(r.get("stations"), "d"), _f(r.get("inside"), "d"),
+             _f(r.get("outside"), "d"), _f(r.get("bound"), "g"), _f(r.get("gap"), ".3f"), _e(r.get("status", "")),
+             _f(r.get("time_s"), ".2f"), _f(r.get("verified_percent"), ".3f"),
+             _e("" if "connected" not in r else ("yes" if r["connected"] else "no"))) for r in o.comparison)
+    return table(("method", "backend", "stations", "inside", "outside", "bound", "gap", "status", "time s", "verified %",
+                  "registration connected"), rows, left=2)
+
+
+def _network(o: Outcome) -> str:
+    if o.network is None:
+        return "<p>The network check was not run.</p>"
+    c = o.network.check
+    verdict = f'<span class="{"pass" if c["pass"] else "fail"}">{"PASS" if c["pass"] else "FAIL"}</span>'
+    rows = ((_e(z["zone"]), _e(z["side"]), "pass" if z["pass"] else '<span class="fail">FAIL</span>',
+             _f(z["worst_e_m"] * 1000 if math.isfinite(z["worst_e_m"]) else None, ".2f")) for z in c["zones"])
+    return (f"<p>Accuracy check at {c['sigma_req_m'] * 1000:g} mm: {verdict} ({c['failing_targets']} of {c['targets']} pieces "
+            f"fail; worst point error {c['worst_e_m'] * 1000:.2f} mm).</p>"
+            + table(("zone", "side", "check", "worst e mm"), rows, left=2)
+            + f"<pre>{_e(o.network.summary())}</pre>")
+
+
+def _verification(o: Outcome) -> str:
+    v = o.verification
+    head = f'<p>{"<span class=pass>complete</span>" if v.complete else "<span class=fail>incomplete</span>"}: ' \
+           f"{v.percent:.3f} % of points every {v.spacing_m:g} m covered.</p>"
+    rows = ((_e(z.zone), _e(z.side), z.covered, z.points, _f(z.percent, ".3f")) for z in v.zones)
+    gaps = "".join(f"<li>{_e(g.zone)} {_e(g.side)} wall {g.wall}: {g.from_m:.2f}-{g.to_m:.2f} m</li>" for g in v.gaps[:50])
+    mis = "".join(f"<li>station {_e(s)}: {_e(r)}</li>" for s, r in v.misplaced)
+    return head + table(("zone", "side", "covered", "points", "%"), rows, left=2) + (f"<ul>{gaps}{mis}</ul>" if gaps or mis else "")
+
+
+def render_report(o: Outcome) -> str:
+    """The report as one HTML string."""
+    figs = "".join(_img(png_bytes(f), f"plan {name}: coverage count and best incidence") for name, f in plan_figures(o))
+    if o.network is not None:
+        figs += _img(png_bytes(network_figure(o)), "registration links, sight lines, control points and error ellipses")
+    m = o.meta
+    title = f"Scanner stations for {o.site.name}"
+    body = [f"<h1>{_e(title)}</h1>",
+            f"<p>{len(o.stations)} stations by {_e(m.get('method'))} ({_e(m.get('status'))}"
+            + (f", bound {m['bound']:g}" if isinstance(m.get("bound"), (int, float)) else "")
+            + f"); {o.coverage.percent_length:.3f} % of wall length covered on 1 m pieces. tls-planner {__version__}.</p>",
+            "<h2>Inputs and parameters</h2>", _parameters(o), "<h2>Zones and closure</h2>", _closure(o),
+            "<h2>Stations</h2>", _stations(o), "<h2>Comparison of methods</h2>", _comparison(o),
+            "<h2>Plans</h2>", figs, "<h2>Network and accuracy check</h2>", _network(o),
+            "<h2>Verification</h2>", _verification(o)]
+    return (f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{_e(title)}</title>"
+            f"<style>{CSS}</style><script>{SCRIPT}</script></head><body>{''.join(body)}</body></html>\n")
+
+
+def write_report(o: Outcome, folder: Path | str) -> Path:
+    """Write ``folder/report.html`` and return its path."""
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "report.html"
+    path.write_text(render_report(o))
+    return path

@@ -1,0 +1,77 @@
+"""Art-gallery benchmark polygons (AGPLIB ``.pol``): one line, ``n x1 y1 ... xn yn [h n1 ... ]``.
+
+Coordinates are exact rationals ``p/q`` (or plain numbers) in no stated unit; the outline is
+counter-clockwise, optionally followed by h holes. The polygon is scaled so that its larger
+extent is ``extent_m`` (default 100 m; the zone's notes record the factor) and becomes one
+inside zone whose holes are free-standing blocks; every wall gets ``height_m``. Numbers are
+parsed with :class:`fractions.Fraction`; nothing is evaluated.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+from planner.errors import InputError
+from planner.params import Parameters
+from planner.site.fileio import read_text
+from planner.site.geometry import signed_area
+from planner.site.model import ScanSide, Site, Zone
+
+
+def _number(tok: str, file: str, k: int) -> float:
+    try:
+        return float(Fraction(tok))
+    except (ValueError, ZeroDivisionError):
+        raise InputError("not a number p/q", file=file, row=f"token {k}", value=tok) from None
+
+
+def _count(tok: str, file: str, k: int, what: str) -> int:
+    if not tok.isdigit():
+        raise InputError(f"expected the number of {what}", file=file, row=f"token {k}", value=tok)
+    return int(tok)
+
+
+def read_pol(path: Path | str, extent_m: float = 100.0, height_m: float = 3.0,
+             parameters: Parameters | None = None) -> Site:
+    """Read a ``.pol`` file as a one-zone site (see the module docstring)."""
+    file = str(path)
+    toks = read_text(Path(path)).split()
+    pos = 0
+
+    def ring(what: str) -> np.ndarray:
+        nonlocal pos
+        if pos >= len(toks):
+            raise InputError(f"file ends before the {what}", file=file, row=f"token {pos + 1}")
+        n = _count(toks[pos], file, pos + 1, f"vertices of the {what}")
+        if pos + 1 + 2 * n > len(toks):
+            raise InputError(f"{what} promises {n} vertices; the file ends first", file=file, row=f"token {pos + 1}", value=n)
+        vals = [_number(toks[pos + 1 + i], file, pos + 2 + i) for i in range(2 * n)]
+        pos += 1 + 2 * n
+        return np.array(vals, dtype=float).reshape(n, 2)
+
+    outer = ring("outline")
+    holes = []
+    if pos < len(toks):
+        h = _count(toks[pos], file, pos + 1, "holes")
+        pos += 1
+        holes = [ring(f"hole {k}") for k in range(1, h + 1)]
+    if pos != len(toks):
+        raise InputError("unexpected tokens after the last ring", file=file, row=f"token {pos + 1}", value=toks[pos])
+    lo = outer.min(axis=0)
+    scale = extent_m / float(np.ptp(outer, axis=0).max() or 1.0)
+    outer = (outer - lo) * scale
+    holes = [(r - lo) * scale for r in holes]
+    if signed_area(outer) < 0:
+        outer = outer[::-1]
+    holes = [r if signed_area(r) < 0 else r[::-1] for r in holes]
+    try:
+        zone = Zone(id="P", scan_side=ScanSide.INSIDE, vertices=tuple(map(tuple, outer.tolist())),
+                    vertex_heights_m=(height_m,) * len(outer), holes=tuple(tuple(map(tuple, r.tolist())) for r in holes),
+                    hole_heights_m=tuple((height_m,) * len(r) for r in holes),
+                    notes=(f"AGPLIB coordinates scaled by {scale:.6g} (larger extent {extent_m:g} m), origin moved to the bounding box",))
+    except InputError as exc:
+        raise exc.located(file) from None
+    return Site(name=Path(path).stem, zones=(zone,), parameters=parameters or Parameters(), source=file)
