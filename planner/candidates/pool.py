@@ -8,11 +8,16 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from shapely.ops import polylabel
 
 from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, scan_side_angles
 from planner.candidates.formulas import horizontal_reach_m
 from planner.candidates.model import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site, Zone
+
+
+#: vertices within this of 180 deg (a curve drawn finely) get no corner rays or bisector points
+NEARLY_STRAIGHT_DEG = 5.0
 
 
 @dataclass(frozen=True)
@@ -92,7 +97,7 @@ def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[s
     sign = 1.0 if side is ScanSide.INSIDE else -1.0
     for i in range(n):
         a = float(angles[i])
-        if a <= lo or a >= 180.0:
+        if a <= lo or a >= 180.0 - NEARLY_STRAIGHT_DEG:
             continue
         reach = horizontal_reach_m(limits.max_slant_range_m, zone.vertex_heights_m[i], limits.instrument_height_m)
         out = (xy[(i + 1) % n] - xy[i]) / np.hypot(*(xy[(i + 1) % n] - xy[i]))
@@ -101,6 +106,51 @@ def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[s
             d = np.array([out[0] * math.cos(t) - out[1] * math.sin(t), out[0] * math.sin(t) + out[1] * math.cos(t)])
             for k, f in enumerate((0.2, 0.4, 0.6, 0.8), 1):
                 yield f"V{i + 1}{tag}{k}", xy[i] + f * reach * d
+
+
+def _bisector_points(zone: Zone, region: shapely.Geometry, standoff_m: float) -> Iterable[tuple[str, np.ndarray]]:
+    """At every vertex of the outline and the holes, points on the bisector (scanning side): the one
+    ``standoff_m`` off both walls and one three times as far, where the bisector stays in ``region``
+    that long; in a sliver narrower than that, the middle of the bisector's first stretch in the
+    region (closer to the walls than the stand-off: the only place that sees the sliver's tip).
+    These are the corner stations an art-gallery vertex guard would take, moved off the walls."""
+    lo, hi = np.asarray(region.bounds[:2]), np.asarray(region.bounds[2:])
+    far = 2.0 * float(np.hypot(*(hi - lo))) + 1.0
+    for r, ring in enumerate(zone.rings):
+        prev, nxt = np.roll(ring, 1, axis=0), np.roll(ring, -1, axis=0)
+        for i, p in enumerate(ring):
+            u = (prev[i] - p) / np.hypot(*(prev[i] - p))
+            w = (nxt[i] - p) / np.hypot(*(nxt[i] - p))
+            if abs(math.degrees(math.acos(max(-1.0, min(1.0, float(u @ w))))) - 180.0) < NEARLY_STRAIGHT_DEG:
+                continue  # a nearly straight vertex (a finely drawn curve) is no corner
+            b = (u + w) / np.hypot(*(u + w))
+            for direction in (b, -b):
+                step = p + 1e-6 * direction
+                if not shapely.contains_xy(region, step[0], step[1]):
+                    continue
+                stretch = _first_stretch(region, p, p + far * direction)
+                half = math.acos(max(-1.0, min(1.0, float(direction @ w))))
+                d = standoff_m / max(math.sin(half), 1e-9)
+                if d < stretch:
+                    yield f"B{r}.{i + 1}", p + d * direction
+                    if 3 * d < stretch:
+                        yield f"B{r}.{i + 1}x3", p + 3 * d * direction
+                else:
+                    yield f"B{r}.{i + 1}m", p + 0.5 * stretch * direction
+                break
+
+
+def _first_stretch(region: shapely.Geometry, p: np.ndarray, q: np.ndarray) -> float:
+    """Length of the part of segment p-q inside ``region`` that starts at p."""
+    inter = shapely.intersection(region, shapely.LineString([p, q]))
+    parts = getattr(inter, "geoms", [inter])
+    best = 0.0
+    for g in parts:
+        if g.is_empty or g.length == 0:
+            continue
+        if shapely.distance(g, shapely.Point(p)) < 1e-6:
+            best = max(best, g.length)
+    return best
 
 
 def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Candidate]:
@@ -123,6 +173,11 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
             for name, p in _corner_rays(zone, side, limits):
                 pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))
             region = _region(zone, side, max(horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m))
+            if side is ScanSide.INSIDE:  # the point farthest from every wall: a room's natural centre station
+                centre = polylabel(region, tolerance=0.01)
+                pool.append(Candidate(f"{zone.id}-{tag}-P", zone.id, side, zone.frame, centre.x, centre.y, CandidateKind.GRID))
+            for name, p in _bisector_points(zone, region, options.min_standoff_m):
+                pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))
             spacing = options.grid_spacing_m
             if region.area / spacing**2 < options.min_grid_points:
                 spacing = max(math.sqrt(region.area / options.min_grid_points), 0.25)

@@ -77,17 +77,20 @@ class _Shape:
     xdata: list[tuple[int, Any]]
 
 
-def _expand(entities: Any, layer: str | None = None, depth: int = 0) -> Iterator[Any]:
-    """Entities with block references replaced by their (transformed) content."""
+def _expand(entities: Any, layer: str | None = None, where: str = "", depth: int = 0) -> Iterator[tuple[Any, str]]:
+    """Entities with block references replaced by their (transformed) content, each with its handle
+    (for block content: the block name and the handle of the INSERT)."""
     for e in entities:
         if depth and layer and e.dxf.get("layer", "0") == "0":
             e.dxf.layer = layer
+        handle = where or str(e.dxf.get("handle", "?"))
         if e.dxftype() == "INSERT":
             if depth > 32:
                 raise InputError("block references nested deeper than 32", field="INSERT", value=e.dxf.name)
-            yield from _expand(e.virtual_entities(), e.dxf.layer, depth + 1)
+            inner = f"{handle} (block {e.dxf.name})" if not where else where
+            yield from _expand(e.virtual_entities(), e.dxf.layer, inner, depth + 1)
         else:
-            yield e
+            yield e, handle
 
 
 def _xdata(e: Any) -> list[tuple[int, Any]]:
@@ -97,11 +100,11 @@ def _xdata(e: Any) -> list[tuple[int, Any]]:
         return []
 
 
-def _points(e: Any, flatten_m: float, file: str) -> np.ndarray:
+def _points(e: Any, handle: str, flatten_m: float, file: str) -> np.ndarray:
     from ezdxf import path as dxfpath
 
     kind = e.dxftype()
-    where = dict(file=file, row=f"layer {e.dxf.layer} handle {e.dxf.get('handle', '?')}")
+    where = dict(file=file, row=f"layer {e.dxf.layer} handle {handle}")
     if kind == "POLYLINE" and not e.is_2d_polyline:
         raise InputError("only 2-D polylines are read", **where, field="POLYLINE")
     closed = kind == "CIRCLE" or (e.closed if kind == "LWPOLYLINE" else e.is_closed if kind == "POLYLINE" else False)
@@ -115,7 +118,7 @@ def _points(e: Any, flatten_m: float, file: str) -> np.ndarray:
 
 def _shapes(msp: Any, options: DxfOptions, file: str, scale: float) -> tuple[list[_Shape], list[tuple[str, str, tuple]]]:
     shapes, texts = [], []
-    for e in _expand(msp):
+    for e, handle in _expand(msp):
         kind, layer = e.dxftype(), e.dxf.get("layer", "0")
         role = options.role(layer)
         if role is None:
@@ -125,11 +128,12 @@ def _shapes(msp: Any, options: DxfOptions, file: str, scale: float) -> tuple[lis
             texts.append((layer.upper(), e.plain_text().strip() if kind == "MTEXT" else e.dxf.text.strip(),
                           (p.x * scale, p.y * scale)))
         elif kind in ("LWPOLYLINE", "POLYLINE", "CIRCLE"):
-            xy = _points(e, options.flatten_m / scale, file) * scale
-            shapes.append(_Shape(layer, e.dxf.get("handle", "?"), xy, float(e.dxf.get("thickness", 0.0)) * scale, _xdata(e)))
+            xy = _points(e, handle, options.flatten_m / scale, file) * scale
+            # a mirrored block turns the extrusion over and with it the sign of the thickness
+            shapes.append(_Shape(layer, handle, xy, abs(float(e.dxf.get("thickness", 0.0))) * scale, _xdata(e)))
         elif kind in ("LINE", "ARC", "SPLINE", "ELLIPSE"):
             raise InputError(f"{kind} is open geometry: draw zones, obstacles and no-go areas as closed polylines",
-                             file=file, row=f"layer {layer} handle {e.dxf.get('handle', '?')}", field=kind)
+                             file=file, row=f"layer {layer} handle {handle}", field=kind)
     return shapes, texts
 
 

@@ -96,6 +96,7 @@ def outcome_geojson(o: Outcome, crs: str | None = None) -> dict[str, Any]:
 
 
 def write_geojson(o: Outcome, path: Path | str, crs: str | None = None) -> Path:
+    """Write :func:`outcome_geojson` to ``path`` (folders created) and return the path."""
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(outcome_geojson(o, crs)) + "\n")

@@ -69,6 +69,8 @@ def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None
         raise InputError("zero-length side (duplicate vertex)", zone=zone, row=f"side {k}", field="side_length_m", value=float(lengths[k - 1]))
     origin = xy[0]
     local = xy - origin
+    if np.linalg.matrix_rank(local, tol=ZERO_LENGTH_M) < 2:
+        raise InputError("polygon has zero area (all vertices on one line)", zone=zone, field=what, value=0.0)
     segs = shapely.linestrings(np.stack([local, np.roll(local, -1, axis=0)], axis=1))
     tree = shapely.STRtree(segs)
     i, j = tree.query(segs, predicate="intersects")

@@ -1,0 +1,136 @@
+"""DXF import: layers, heights (XDATA / thickness / layer default), units, arcs, blocks (mirrored too),
+and one-line errors for open, zero-area, self-intersecting polylines and files without closed ones."""
+
+from __future__ import annotations
+
+import math
+
+import ezdxf
+import numpy as np
+import pytest
+from ezdxf import units
+
+import planner
+from planner.cli import main
+from planner.exchange import DxfOptions, read_dxf_site
+from planner.site.model import ScanSide
+from tests.test_cli import assert_one_line_error
+
+SQUARE = [(0, 0), (10, 0), (10, 10), (0, 10)]
+
+
+def drawing(unit: int = units.M):
+    doc = ezdxf.new("R2010")
+    doc.units = unit
+    return doc, doc.modelspace()
+
+
+def save(doc, tmp_path, name="site.dxf"):
+    path = tmp_path / name
+    doc.saveas(path)
+    return path
+
+
+def test_square_with_thickness_and_label(tmp_path):
+    doc, msp = drawing()
+    msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "ZONES", "thickness": 6.5})
+    msp.add_text("Hall", dxfattribs={"layer": "ZONES"}).set_placement((4, 5))
+    site = read_dxf_site(save(doc, tmp_path))
+    z = site.zones[0]
+    assert z.id == "Hall" and z.scan_side is ScanSide.INSIDE
+    assert z.vertex_heights_m == (6.5,) * 4
+    assert z.area_m2 == pytest.approx(100.0)  # 10 m x 10 m
+
+
+def test_clockwise_polyline_in_millimetres_is_read_in_metres_counter_clockwise(tmp_path):
+    doc, msp = drawing(units.MM)
+    msp.add_lwpolyline([(x * 1000, y * 1000) for x, y in reversed(SQUARE)], close=True,
+                       dxfattribs={"layer": "ZONES-OUTSIDE", "thickness": 4000})
+    z = read_dxf_site(save(doc, tmp_path)).zones[0]
+    assert z.scan_side is ScanSide.OUTSIDE
+    assert z.area_m2 == pytest.approx(100.0)  # 10,000 mm = 10 m sides, CCW after reading
+    assert z.vertex_heights_m == (4.0,) * 4   # thickness 4,000 mm
+
+
+def test_layer_default_height_and_missing_height(tmp_path):
+    doc, msp = drawing()
+    msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "zones"})
+    path = save(doc, tmp_path)
+    assert read_dxf_site(path, DxfOptions(layer_heights_m={"ZONES": 3.0})).zones[0].vertex_heights_m == (3.0,) * 4
+    with pytest.raises(planner.InputError, match="no wall height"):
+        read_dxf_site(path)
+
+
+def test_bulge_arc_is_flattened(tmp_path):
+    # a 10 x 10 square whose top side bulges out into a half circle of radius 5:
+    # area = 100 + pi 5^2 / 2 = 139.27 m2
+    doc, msp = drawing()
+    msp.add_lwpolyline([(0, 0, 0), (10, 0, 0), (10, 10, 1.0), (0, 10, 0)], format="xyb", close=True,
+                       dxfattribs={"layer": "ZONES", "thickness": 5})
+    z = read_dxf_site(save(doc, tmp_path), DxfOptions(flatten_m=0.001)).zones[0]
+    assert len(z.vertices) > 20
+    assert z.area_m2 == pytest.approx(100 + math.pi * 25 / 2, rel=1e-3)
+
+
+def test_blocks_are_expanded_mirrored_ones_too(tmp_path):
+    # an L-shaped room as a block; one plain insert at (0, 0), one mirrored (x scale -1) at (100, 0)
+    doc, msp = drawing()
+    blk = doc.blocks.new("ROOM")
+    blk.add_lwpolyline([(0, 0), (20, 0), (20, 10), (10, 10), (10, 20), (0, 20)], close=True,
+                       dxfattribs={"layer": "0", "thickness": 7})
+    msp.add_blockref("ROOM", (0, 0), dxfattribs={"layer": "ZONES"})
+    msp.add_blockref("ROOM", (100, 0), dxfattribs={"layer": "ZONES", "xscale": -1})
+    site = read_dxf_site(save(doc, tmp_path))
+    a, b = site.zones
+    assert a.area_m2 == pytest.approx(300.0) and b.area_m2 == pytest.approx(300.0)  # 20x20 - 10x10
+    assert b.xy[:, 0].min() == pytest.approx(80.0) and b.xy[:, 0].max() == pytest.approx(100.0)  # mirrored to the left
+    # vertex for vertex the mirror image x -> 100 - x of the plain insert
+    assert sorted((round(100 - x, 9), round(y, 9)) for x, y in a.vertices) == sorted((round(x, 9), round(y, 9)) for x, y in b.vertices)
+    assert b.vertex_heights_m == (7.0,) * 6
+
+
+def test_obstacles_and_no_go_layers(tmp_path):
+    doc, msp = drawing()
+    msp.add_lwpolyline([(0, 0), (40, 0), (40, 30), (0, 30)], close=True, dxfattribs={"layer": "ZONES", "thickness": 8})
+    msp.add_circle((20, 15), 1.0, dxfattribs={"layer": "OBSTACLES", "thickness": 8})
+    msp.add_lwpolyline([(2, 2), (6, 2), (6, 6), (2, 6)], close=True, dxfattribs={"layer": "NOGO"})
+    site = read_dxf_site(save(doc, tmp_path))
+    assert len(site.obstacles) == 1 and len(site.no_go_areas) == 1
+    col = np.asarray(site.obstacles[0].vertices)
+    assert np.hypot(col[:, 0] - 20, col[:, 1] - 15) == pytest.approx(1.0, abs=0.011)  # flattened to 0.01 m
+
+
+@pytest.mark.parametrize("points, fragment", [
+    ([(0, 0), (10, 0), (10, 10), (0, 10)], "open polyline"),                   # not closed
+    ([(0, 0), (10, 0), (20, 0)], "polygon has zero area"),                       # closed but flat: side 3 folds back
+    ([(0, 0), (10, 10), (10, 0), (0, 10)], "self-intersecting"),                 # a bow tie
+])
+def test_bad_polylines_give_one_line_errors(tmp_path, capsys, points, fragment):
+    doc, msp = drawing()
+    msp.add_lwpolyline(points, close=fragment != "open polyline", dxfattribs={"layer": "ZONES", "thickness": 3})
+    path = save(doc, tmp_path)
+    code = main(["validate", str(path)])
+    _, err = capsys.readouterr()
+    assert code == 3
+    assert_one_line_error(err, "site.dxf", "layer ZONES handle", fragment.split(":")[0])
+
+
+def test_no_closed_polylines_and_malformed_dxf(tmp_path, capsys):
+    doc, msp = drawing()
+    msp.add_text("just a title", dxfattribs={"layer": "ZONES"})
+    msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "FURNITURE", "thickness": 1})
+    code = main(["validate", str(save(doc, tmp_path))])
+    assert code == 3
+    assert_one_line_error(capsys.readouterr()[1], "no closed polyline on a zone layer")
+    bad = tmp_path / "broken.dxf"
+    bad.write_text("  0\nSECTION\n  2\nENTITIES\n  0\nLWPOLYLINE\n 10\nnot-a-number\n")
+    assert main(["validate", str(bad)]) == 3
+    assert_one_line_error(capsys.readouterr()[1], "broken.dxf", "not a readable DXF file")
+
+
+def test_line_entities_on_a_zone_layer_are_refused(tmp_path):
+    doc, msp = drawing()
+    for a, b in zip(SQUARE, SQUARE[1:] + SQUARE[:1]):
+        msp.add_line(a, b, dxfattribs={"layer": "ZONES"})
+    with pytest.raises(planner.InputError, match="LINE is open geometry"):
+        read_dxf_site(save(doc, tmp_path))

@@ -1,0 +1,123 @@
+"""Exports: DXF opens with ezdxf (layers, labels), GeoJSON with shapely, the station CSV; the DXF and
+GeoJSON round trips keep the station count; a CRS round trip keeps coordinates."""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import replace
+
+import ezdxf
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import shape
+
+import planner
+from planner.exchange.dxf_out import LAYERS
+from tests.conftest import INSTANCES
+
+
+@pytest.fixture(scope="module")
+def polygon_b():
+    site = planner.load_site(INSTANCES / "polygon_b.json")
+    plan = planner.plan_site(site, planner.PlanOptions(method="milp", tripod=True))
+    network = planner.run_network(site, list(plan.stations))
+    return site, plan, planner.outcome_from_plan(plan, network)
+
+
+def same_parameters(site, like):
+    return replace(site, parameters=like.parameters, instrument=like.instrument)
+
+
+def test_dxf_has_every_layer_and_a_label_per_station(polygon_b, tmp_path):
+    site, plan, o = polygon_b
+    doc = ezdxf.readfile(planner.write_dxf(o, tmp_path / "plan.dxf"))
+    assert {name for name in LAYERS} <= {layer.dxf.name for layer in doc.layers}
+    msp = doc.modelspace()
+    labels = sorted(t.dxf.text for t in msp.query('TEXT[layer=="STATIONS"]'))
+    assert labels == sorted(s.id for s in plan.stations)
+    assert len(msp.query('LWPOLYLINE[layer=="WALLS"]')) == len(site.zones)
+    # one coverage line per 1 m piece: B has 382.737 m of wall on both sides -> ceil per wall, x2 sides
+    assert len(msp.query('LINE[layer=="COVERAGE"]')) == len(o.coverage.targets)
+    assert len(msp.query('LINE[layer=="NETWORK"]')) == o.network.graph.number_of_edges()
+    assert len(msp.query('POINT[layer=="CONTROL"]')) == len(o.network.control)
+    assert doc.units == 6  # metres
+
+
+def test_dxf_round_trip_keeps_station_count(polygon_b, tmp_path):
+    site, plan, o = polygon_b
+    back = same_parameters(planner.read_dxf_site(planner.write_dxf(o, tmp_path / "b.dxf")), site)
+    z0, z1 = site.zones[0], back.zones[0]
+    assert (z1.id, z1.scan_side, z1.frame) == (z0.id, z0.scan_side, z0.frame)
+    np.testing.assert_allclose(z1.xy, z0.xy, atol=1e-9)
+    again = planner.plan_site(back, planner.PlanOptions(method="milp"))
+    assert len(again.stations) == len(plan.stations)
+    assert again.verification.complete
+
+
+def test_dxf_round_trip_of_a_multi_frame_site_keeps_greedy_count(tmp_path):
+    site = planner.load_site(INSTANCES / "baalbek.json")
+    plan = planner.plan_site(site)  # greedy
+    back = same_parameters(planner.read_dxf_site(planner.write_dxf(planner.outcome_from_plan(plan), tmp_path / "b.dxf")), site)
+    assert [(z.id, z.frame) for z in back.zones] == [(z.id, z.frame) for z in site.zones]
+    assert len(planner.plan_site(back).stations) == len(plan.stations)
+
+
+def test_geojson_opens_with_shapely_and_round_trips(polygon_b, tmp_path):
+    site, plan, o = polygon_b
+    path = planner.write_geojson(o, tmp_path / "plan.geojson")
+    data = json.loads(path.read_text())
+    roles = [f["properties"]["role"] for f in data["features"]]
+    geoms = [shape(f["geometry"]) for f in data["features"]]
+    assert all(g.is_valid for g in geoms)
+    assert roles.count("station") == len(plan.stations)
+    assert roles.count("coverage") == len(o.coverage.targets)
+    assert roles.count("network") == o.network.graph.number_of_edges()
+    zone = next(g for g, r in zip(geoms, roles) if r == "zone")
+    assert zone.area == pytest.approx(site.zones[0].area_m2, rel=1e-12)
+    back = same_parameters(planner.read_geojson_site(path), site)
+    assert len(planner.plan_site(back, planner.PlanOptions(method="milp")).stations) == len(plan.stations)
+
+
+def test_station_csv_lists_every_station_after_comment_lines(polygon_b, tmp_path):
+    site, plan, o = polygon_b
+    text = planner.write_stations_csv(o, tmp_path / "stations.csv").read_text().splitlines()
+    comments = [line for line in text if line.startswith("#")]
+    assert len(comments) >= 2 and "metres" in comments[1]
+    rows = list(csv.DictReader(line for line in text if not line.startswith("#")))
+    assert [r["ID"] for r in rows] == [s.id for s in plan.stations]
+    for r, s in zip(rows, plan.stations):
+        assert (float(r["X"]), float(r["Y"])) == pytest.approx((s.x, s.y), abs=0.0005)  # 3 decimals
+        assert float(r["Z"]) == site.parameters.instrument_height_m
+
+
+def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
+    pytest.importorskip("pyproj")
+    from planner.exchange.crs import to_lonlat, to_projected
+
+    # a 40 x 30 m court in UTM zone 37N (EPSG:32637): east 277,000 m, north 3,770,000 m
+    utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
+    lonlat = to_lonlat("EPSG:32637")(utm)
+    assert 36.0 < lonlat[0, 0] < 37.0 and 34.0 < lonlat[0, 1] < 34.1  # x = longitude first (always_xy)
+    ring = [list(p) for p in lonlat] + [list(lonlat[0])]
+    fc = {"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring]},
+                                                     "properties": {"id": "court", "height_m": 8.0}}]}
+    path = tmp_path / "court.geojson"
+    path.write_text(json.dumps(fc))
+    site = planner.read_geojson_site(path, crs="EPSG:32637")
+    np.testing.assert_allclose(site.zones[0].xy, utm, atol=1e-6)
+    np.testing.assert_allclose(to_projected("EPSG:32637")(lonlat), utm, atol=1e-6)
+    plan = planner.plan_site(site)
+    out = planner.exchange.outcome_geojson(planner.outcome_from_plan(plan), crs="EPSG:32637")
+    pts = np.array([f["geometry"]["coordinates"] for f in out["features"] if f["properties"]["role"] == "station"])
+    back = to_projected("EPSG:32637")(pts)
+    np.testing.assert_allclose(back, [s.xy for s in plan.stations], atol=1e-6)
+
+
+def test_crs_must_be_projected():
+    pytest.importorskip("pyproj")
+    from planner.exchange.crs import to_projected
+
+    with pytest.raises(planner.UsageError, match="projected"):
+        to_projected("EPSG:4326")

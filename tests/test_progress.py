@@ -1,0 +1,61 @@
+"""Progress bars: drawn on a terminal, off with --quiet and when standard error is not a terminal;
+the library itself never prints."""
+
+from __future__ import annotations
+
+import io
+import time
+
+import planner
+from planner import progress
+from planner.cli import main
+from tests.conftest import INSTANCES
+
+
+class FakeTTY(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_bar_draws_in_place_and_closes_once():
+    out = io.StringIO()
+    bar = progress.Bar(out, width=10)
+    bar("coverage build", 1, 4)
+    bar("coverage build", 4, 4)
+    bar("coverage build", 4, 4)  # closing twice draws once
+    text = out.getvalue()
+    assert "[##........]  25 %" in text  # 1/4 of 10 cells = 2.5, rounded half to even: 2 cells
+    assert text.count("\n") == 1 and "[##########] 100 %" in text
+
+
+def test_ticking_reports_elapsed_time_against_the_limit():
+    seen: list[tuple[str, float, float]] = []
+    previous = progress.set_sink(lambda s, d, t: seen.append((s, d, t)))
+    try:
+        with progress.ticking("solving", 10.0, every_s=0.01):
+            time.sleep(0.1)
+    finally:
+        progress.set_sink(previous)
+    assert len(seen) >= 2 and all(t == 10.0 for _, _, t in seen)
+    assert seen[-1][1] == 10.0  # closed at the end
+
+
+def test_cli_shows_bars_only_on_a_terminal_without_quiet(monkeypatch, tmp_path):
+    args = ["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy"]
+    for quiet, expect in ((False, True), (True, False)):
+        err = FakeTTY()
+        monkeypatch.setattr("sys.stderr", err)
+        assert main(args + (["--quiet"] if quiet else [])) == 0
+        assert ("coverage build" in err.getvalue()) is expect
+    err = io.StringIO()  # not a terminal
+    monkeypatch.setattr("sys.stderr", err)
+    assert main(args) == 0
+    assert err.getvalue() == ""
+
+
+def test_library_prints_nothing(capsys):
+    site = planner.load_site(INSTANCES / "polygon_b.json")
+    plan = planner.plan_site(site, planner.PlanOptions(method="milp", tripod=True))
+    planner.run_network(site, list(plan.stations))
+    out, err = capsys.readouterr()
+    assert out == "" and err == ""

@@ -1,0 +1,87 @@
+"""The HTML report: written by ``plan --report`` and by ``report PLAN.json``, self-contained, with every
+figure decodable; rendered in headless Chromium where one is installed (.ci/run installs it)."""
+
+from __future__ import annotations
+
+import base64
+import io
+import re
+import shutil
+import subprocess
+from html.parser import HTMLParser
+
+import matplotlib.image
+import pytest
+
+from planner.cli import main
+from tests.conftest import INSTANCES
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+class Images(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__()
+        self.src: list[str] = []
+        self.links: list[str] = []
+        self.text: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "img":
+            self.src.append(a.get("src", ""))
+        if tag in ("link", "script") and (a.get("href") or a.get("src")):
+            self.links.append(a.get("href") or a.get("src"))
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("out")
+    code = main(["plan", str(INSTANCES / "polygon_b.json"), "--out", str(out), "--report", str(out), "--quiet"])
+    assert code == 0
+    return out / "report.html"
+
+
+def test_report_is_self_contained_and_every_image_decodes(report):
+    p = Images()
+    p.feed(report.read_text())
+    assert not p.links  # no external CSS, script or font
+    # polygon B is scanned on both sides: two plan figures, plus the network figure
+    assert len(p.src) == 3
+    for src in p.src:
+        assert src.startswith("data:image/png;base64,")
+        raw = base64.b64decode(src.split(",", 1)[1], validate=True)
+        assert raw.startswith(PNG)
+        img = matplotlib.image.imread(io.BytesIO(raw), format="png")
+        assert img.shape[0] > 200 and img.shape[1] > 200
+    text = " ".join(p.text)
+    for heading in ("Inputs and parameters", "Zones and closure", "Stations", "Comparison of methods",
+                    "Network and accuracy check", "Verification"):
+        assert heading in text
+    assert "closed-form" in text and "greedy" in text and "milp" in text
+
+
+def test_report_from_plan_json_lists_the_same_stations(report, tmp_path, capsys):
+    plan_json = report.parent / "plan.json"
+    capsys.readouterr()
+    assert main(["report", str(plan_json), "--out", str(tmp_path), "--no-network", "--quiet"]) == 0
+    ids_a = re.findall(r"<td class=\"l\">(B-[^<]+)</td>", report.read_text())
+    ids_b = re.findall(r"<td class=\"l\">(B-[^<]+)</td>", (tmp_path / "report.html").read_text())
+    assert ids_a and ids_a == ids_b
+    assert "The network check was not run." in (tmp_path / "report.html").read_text()
+
+
+def _chromium() -> str | None:
+    return shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
+
+
+@pytest.mark.skipif(_chromium() is None, reason="no Chromium here; the parse test above checks the images")
+def test_report_renders_in_headless_chromium(report):
+    cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=10000", "--dump-dom",
+           report.as_uri()]
+    dom = subprocess.run(cmd, capture_output=True, text=True, timeout=120).stdout
+    # the report's own script writes how many images decoded once the page has loaded
+    assert 'data-images-ok="3/3"' in dom
