@@ -51,7 +51,8 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
                          "overlap": (o.milp.overlap.overlap if r.method == "milp" and o.milp.overlap else p.overlap)
                          if not (r.method == "milp" and o.milp.overlap is None) else None},
         "problem": plan.problem_size,
-        "zones": [{"id": z.id, "side": z.scan_side.value, "frame": z.frame, "polygon": [list(v) for v in z.vertices]}
+        "zones": [{"id": z.id, "side": z.scan_side.value, "frame": z.frame, "polygon": [list(v) for v in z.vertices],
+                   **({"holes": [[list(v) for v in r] for r in z.holes]} if z.holes else {})}
                   for z in site.zones],
         "stations": [_station(s, plan.tripods[k] if plan.tripods else None) for k, s in enumerate(plan.stations)],
         "verification": plan.verification.to_dict(),

@@ -105,7 +105,11 @@ def main() -> None:
     lines += [f"| {r['class']} | {r['instance']} | {r['vertices']} | {r['holes']} | {r['opt_point_guards']} | {r['stations']} | "
               f"{r.get('versus_optimum', '-')} | {r.get('fine_stations', '')} | {r['status']} | {r['grid_m']:g} | "
               f"{r.get('verified_percent', '-')} | {r['total_s']} |" for r in rows]
-    (out / "agplib.md").write_text("\n".join(lines) + "\n")
+    head = ["# Art-gallery polygons (AGPLIB), limits off", "", "Written by `python scripts/bench_agplib.py`. " +
+            " ".join(__doc__.split("\n\n")[1].split()), "",
+            "`finer`: the station count when a plan above the optimum is rerun with a twice finer grid and four times",
+            "shorter wall pieces. `-1`: no plan, some wall piece seen by no candidate (status gives the first).", ""]
+    (out / "agplib.md").write_text("\n".join(head + lines) + "\n")
     print("\n".join(lines))
 
 

@@ -21,6 +21,7 @@ import csv
 import time
 from pathlib import Path
 
+import planner
 from planner.coverage.overlap import OverlapRule
 from planner.plan import PlanOptions, plan_site
 from planner.solve.backends import BACKENDS
@@ -75,6 +76,9 @@ def main() -> None:
               for r in rows]
     (out / "benchmark.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+    fig = planner.comparison_figure(rows, f"closed form vs greedy vs optimal (MILP limit {args.time_limit:g} s)")
+    fig.savefig(out / "benchmark.png", dpi=110, bbox_inches="tight")
+    print(f"wrote {out / 'benchmark.png'}")
 
 
 if __name__ == "__main__":

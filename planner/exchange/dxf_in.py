@@ -7,6 +7,8 @@
 - Heights, in this order: XDATA of application ``TLS_PLANNER`` (one 1040 real per vertex, as
   written by :mod:`planner.exchange.dxf_out`), the entity's thickness, the layer default of
   ``DxfOptions.layer_heights_m``; otherwise an error.
+- Holes: closed polylines on ``HOLES`` are free-standing blocks of the inside zone that contains
+  them (their walls are scanned from the zone); heights as for zones.
 - Zone id: XDATA ``zone=...``, else a TEXT/MTEXT of the same layer inside the polygon, else
   ``LAYER-n``. Scan side: the layer's own (``ZONES-OUTSIDE`` ...), else XDATA ``side=``, else
   ``DxfOptions.default_side``.
@@ -19,7 +21,7 @@ reverses it), so this changes no data. Nothing in the file is executed; ezdxf on
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -46,6 +48,7 @@ class DxfOptions:
 
     zone_layers: dict[str, ScanSide | None] = field(default_factory=lambda: dict(ZONE_LAYERS))
     obstacle_layers: tuple[str, ...] = ("OBSTACLES",)
+    hole_layers: tuple[str, ...] = ("HOLES",)
     nogo_layers: tuple[str, ...] = ("NOGO", "NO-GO")
     layer_heights_m: dict[str, float] = field(default_factory=dict)
     default_side: ScanSide = ScanSide.INSIDE
@@ -59,6 +62,8 @@ class DxfOptions:
             return "obstacle"
         if u in {k.upper() for k in self.nogo_layers}:
             return "no_go"
+        if u in {k.upper() for k in self.hole_layers}:
+            return "hole"
         return None
 
     def layer_side(self, layer: str) -> ScanSide | None:
@@ -179,6 +184,34 @@ def _zone(s: _Shape, k: int, options: DxfOptions, texts: list, scale: float, not
                 frame=kv.get("frame", SITE_FRAME), notes=(note,) if note else ())
 
 
+def _place_holes(zones: list[Zone], holes: list[_Shape], options: DxfOptions, scale: float, file: str) -> list[Zone]:
+    """Free-standing blocks (layer HOLES) go into the inside zone that contains them, clockwise."""
+    rings: dict[int, list[tuple[np.ndarray, list[float]]]] = {}
+    for s in holes:
+        where = dict(file=file, row=f"layer {s.layer} handle {s.handle}")
+        _, heights = _tags(s.xdata)
+        h = s.thickness if s.thickness > 0 else options.layer_height(s.layer)
+        heights = [v * scale for v in heights] if len(heights) == len(s.xy) else ([h] * len(s.xy) if h else [])
+        if not heights:
+            raise InputError("no wall height for a hole: set thickness or a layer default", **where, field="thickness")
+        inner = shapely.Polygon(s.xy)
+        k = next((i for i, z in enumerate(zones) if z.scan_side is ScanSide.INSIDE and shapely.Polygon(z.xy).contains(inner)), None)
+        if k is None:
+            raise InputError("a hole must lie inside a zone scanned inside", **where, field="HOLES")
+        xy = s.xy
+        if signed_area(xy) > 0:
+            xy, heights = xy[::-1], heights[::-1]
+        rings.setdefault(k, []).append((xy, heights))
+    out = list(zones)
+    for k, rs in rings.items():
+        try:
+            out[k] = replace(out[k], holes=out[k].holes + tuple(tuple(map(tuple, r.tolist())) for r, _ in rs),
+                             hole_heights_m=out[k].hole_heights_m + tuple(tuple(h) for _, h in rs))
+        except PlannerError as exc:
+            raise exc.located(file) from None
+    return out
+
+
 def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameters: Parameters | None = None) -> Site:
     """Read a site from a DXF drawing (see the module docstring for what is read and how).
 
@@ -214,6 +247,8 @@ def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameter
             if role == "zone":
                 zones.append(_zone(s, sum(1 for t in shapes[:k] if options.role(t.layer) == "zone"), options, texts,
                                    scale, note, file))
+            elif role == "hole":
+                continue  # placed into their zones below
             elif role == "obstacle":
                 kv, _ = _tags(s.xdata)
                 h = s.thickness if s.thickness > 0 else options.layer_height(s.layer)
@@ -231,5 +266,6 @@ def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameter
     if not zones:
         layers = ", ".join(options.zone_layers)
         raise InputError(f"no closed polyline on a zone layer ({layers})", file=file, field="zones", value=0)
+    zones = _place_holes(zones, [s for s in shapes if options.role(s.layer) == "hole"], options, scale, file)
     return Site(name=path.stem, zones=tuple(zones), parameters=parameters or Parameters(),
                 obstacles=tuple(obstacles), no_go_areas=tuple(nogo), source=file)

@@ -1,4 +1,4 @@
-"""DXF export (ezdxf, metres): layers WALLS, OBSTACLES, NOGO, STATIONS, FIELDS, COVERAGE, NETWORK, CONTROL.
+"""DXF export (ezdxf, metres): layers WALLS, HOLES, OBSTACLES, NOGO, STATIONS, FIELDS, COVERAGE, NETWORK, CONTROL.
 
 Zones are closed LWPOLYLINEs on WALLS with their height as thickness and, in XDATA of the
 application ``TLS_PLANNER``, the zone id, scan side, frame and per-vertex heights, so that
@@ -17,7 +17,7 @@ from planner.outcome import Outcome
 
 APPID = "TLS_PLANNER"
 LAYERS = {  # name: ACI colour
-    "WALLS": 7, "OBSTACLES": 8, "NOGO": 6, "STATIONS": 5, "FIELDS": 4, "COVERAGE": 3, "NETWORK": 2, "CONTROL": 1,
+    "WALLS": 7, "HOLES": 7, "OBSTACLES": 8, "NOGO": 6, "STATIONS": 5, "FIELDS": 4, "COVERAGE": 3, "NETWORK": 2, "CONTROL": 1,
 }
 #: coverage colours (ACI): seen by no station, by one, by two or more
 COVERAGE_ACI = {0: 1, 1: 3, 2: 5}
@@ -48,6 +48,9 @@ def write_dxf(o: Outcome, path: Path | str) -> Path:
     for z in o.site.zones:
         e = msp.add_lwpolyline(z.vertices, close=True, dxfattribs={"layer": "WALLS", "thickness": max(z.vertex_heights_m)})
         e.set_xdata(APPID, zone_xdata(z.id, z.scan_side.value, z.frame, z.vertex_heights_m))
+        for ring, hs in zip(z.holes, z.hole_heights_m):
+            e = msp.add_lwpolyline(ring, close=True, dxfattribs={"layer": "HOLES", "thickness": max(hs)})
+            e.set_xdata(APPID, [(1000, f"zone={z.id}")] + [(1040, float(h)) for h in hs])
     for ob in o.site.obstacles:
         e = msp.add_lwpolyline(ob.vertices, close=True, dxfattribs={"layer": "OBSTACLES", "thickness": ob.height_m})
         e.set_xdata(APPID, [(1000, f"name={ob.name}")])

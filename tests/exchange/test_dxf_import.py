@@ -134,3 +134,20 @@ def test_line_entities_on_a_zone_layer_are_refused(tmp_path):
         msp.add_line(a, b, dxfattribs={"layer": "ZONES"})
     with pytest.raises(planner.InputError, match="LINE is open geometry"):
         read_dxf_site(save(doc, tmp_path))
+
+
+def test_holes_layer_and_round_trip_of_a_court_with_a_block(tmp_path):
+    # a 40 x 30 court (walls 6 m) with a 10 x 10 block (8 m) drawn on HOLES: 4 + 4 walls, area 1200 - 100
+    doc, msp = drawing()
+    msp.add_lwpolyline([(0, 0), (40, 0), (40, 30), (0, 30)], close=True, dxfattribs={"layer": "ZONES", "thickness": 6})
+    msp.add_lwpolyline([(15, 10), (25, 10), (25, 20), (15, 20)], close=True, dxfattribs={"layer": "HOLES", "thickness": 8})
+    site = read_dxf_site(save(doc, tmp_path), parameters=planner.Parameters(max_slant_range_m=60.0))
+    z = site.zones[0]
+    assert len(z.walls) == 8 and z.area_m2 == pytest.approx(1100.0)
+    assert z.hole_heights_m == ((8.0,) * 4,)
+    plan = planner.plan_site(site, planner.PlanOptions(method="milp"))
+    assert plan.verification.complete
+    back = read_dxf_site(planner.write_dxf(planner.outcome_from_plan(plan), tmp_path / "out.dxf"),
+                         parameters=site.parameters)
+    assert back.zones[0].holes == z.holes and back.zones[0].hole_heights_m == z.hole_heights_m
+    assert len(planner.plan_site(back, planner.PlanOptions(method="milp")).stations) == len(plan.stations)

@@ -10,7 +10,6 @@ from dataclasses import replace
 import ezdxf
 import numpy as np
 import pytest
-import shapely
 from shapely.geometry import shape
 
 import planner
