@@ -29,7 +29,7 @@ def parse_exports(text: str | None) -> list[str]:
 def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | None) -> None:
     writers = {"dxf": lambda: write_dxf(outcome, Path(folder) / "plan.dxf"),
                "geojson": lambda: write_geojson(outcome, Path(folder) / "plan.geojson", crs),
-               "csv": lambda: write_stations_csv(outcome, Path(folder) / "stations.csv")}
+               "csv": lambda: write_stations_csv(outcome, Path(folder) / "stations.csv", crs)}
     for f in formats:
         print(f"wrote {writers[f]()}")
 

@@ -7,18 +7,19 @@ from pathlib import Path
 from planner.outcome import Outcome
 
 
-def write_stations_csv(outcome: Outcome, path: Path | str) -> Path:
+def write_stations_csv(outcome: Outcome, path: Path | str, crs: str | None = None) -> Path:
     """Write ``#`` comment lines, the header row ``ID,X,Y,Z`` and one row per station (metres, 3 decimals).
 
     X, Y are in the frame of each station's zone (the frame is named in the comments when a site
-    has more than one); Z is the height of the scanner's centre above the floor, the instrument
+    has more than one, or the projected CRS ``crs`` the site was read in); Z is the height of the scanner's centre above the floor, the instrument
     height IH, since a site carries no terrain model.
     """
     site, p = outcome.site, outcome.site.parameters
     frames = sorted({s.frame for s in outcome.stations})
     lines = [
         f"# tls-planner station list: {site.name} ({outcome.meta.get('method', '?')}, {len(outcome.stations)} stations)",
-        f"# instrument {outcome.validation.scanner.name}; units metres; X, Y in the zone frame; "
+        f"# instrument {outcome.validation.scanner.name}; units metres; X, Y in "
+        f"{'the projected CRS ' + crs if crs else 'the zone frame'}; "
         f"Z = instrument height above the floor ({p.instrument_height_m:.3f} m)",
         f"# frames: {', '.join(frames)}" + ("" if len(frames) == 1 else
                                            " (each table zone has its own frame: vertex 1 at 0,0, side 1 along +X)"),

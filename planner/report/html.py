@@ -84,7 +84,7 @@ def _stations(o: Outcome) -> str:
                      _f(st.worst_incidence_deg, ".1f"), _f(st.longest_range_m, ".1f"), _f(o.tripod_radius_m.get(s.id)),
                      _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f")))
     return table(("no.", "id", "zone", "side", "kind", "x m", "y m", "covered wall m", "worst incidence deg",
-                  "longest range m", "tripod radius m", "worst point error mm"), rows, left=5)
+                  "longest range m", "tripod radius m", "predicted worst point error (2.13) mm"), rows, left=5)
 
 
 def _comparison(o: Outcome) -> str:

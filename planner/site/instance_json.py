@@ -204,7 +204,7 @@ def _scan_side(r: _Reader, e: dict[str, Any], zone: str) -> ScanSide:
 
 
 def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
-    keys = {"id", "scan_side", "coordinates", "vertex_heights_m", "height_m", "wall_heights_m"}
+    keys = {"id", "scan_side", "coordinates", "vertex_heights_m", "height_m", "wall_heights_m", "holes"}
     e = r.obj(entry, "zones entry", keys, row=f"zones[{k}]")
     zone = r.text(e, "id")
     side = _scan_side(r, e, zone)
@@ -230,8 +230,20 @@ def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
         xy, heights = xy[order], [heights[i] for i in order]
         printed = [printed[(-j - 1) % n] for j in range(n)]
         notes = ("given clockwise; stored counter-clockwise from the same first vertex",)
+    holes = [_hole(r, h, zone, j) for j, h in enumerate(e.get("holes") or [], 1)]
     return Zone(id=zone, scan_side=side, vertices=tuple(map(tuple, xy.tolist())), vertex_heights_m=tuple(heights),
-                printed_wall_heights_m=tuple(printed) if any(p is not None for p in printed) else (), notes=notes)
+                printed_wall_heights_m=tuple(printed) if any(p is not None for p in printed) else (), notes=notes,
+                holes=tuple(ring for ring, _ in holes), hole_heights_m=tuple(hs for _, hs in holes))
+
+
+def _hole(r: _Reader, entry: Any, zone: str, j: int) -> tuple[tuple[tuple[float, float], ...], tuple[float, ...]]:
+    """A free-standing block inside the zone: {coordinates, height_m}; stored clockwise."""
+    e = r.obj(entry, "holes entry", {"coordinates", "height_m"}, row=f"hole {j}")
+    xy = as_vertices(e.get("coordinates"), what=f"hole {j}", zone=zone)
+    if signed_area(xy) > 0:
+        xy = xy[::-1]
+    h = r.num(e, "height_m", zone=zone)
+    return tuple(map(tuple, xy.tolist())), (h,) * len(xy)
 
 
 def _correction(r: _Reader, raw: Any, k: int) -> Correction:

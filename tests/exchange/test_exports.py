@@ -120,3 +120,26 @@ def test_crs_must_be_projected():
 
     with pytest.raises(planner.UsageError, match="projected"):
         to_projected("EPSG:4326")
+
+
+def test_cli_plans_a_lonlat_geojson_with_crs_and_exports_lonlat(tmp_path, capsys):
+    pytest.importorskip("pyproj")
+    from planner.cli import main
+    from planner.exchange.crs import to_lonlat
+
+    utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
+    ring = [list(p) for p in to_lonlat("EPSG:32637")(utm)]
+    fc = {"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring + ring[:1]]},
+                                                     "properties": {"id": "court", "height_m": 8.0}}]}
+    site = tmp_path / "court.geojson"
+    site.write_text(json.dumps(fc))
+    out = tmp_path / "out"
+    assert main(["plan", str(site), "--crs", "EPSG:32637", "--max-range", "60", "--method", "greedy",
+                 "--out", str(out), "--export", "geojson,csv", "--quiet"]) == 0
+    data = json.loads((out / "plan.geojson").read_text())
+    assert data["planner"]["crs"] == "EPSG:32637"
+    st = [f["geometry"]["coordinates"] for f in data["features"] if f["properties"]["role"] == "station"]
+    assert st and all(36.0 < lon < 37.0 and 34.0 < lat < 34.1 for lon, lat in st)  # back in lon/lat
+    rows = [r for r in (out / "stations.csv").read_text().splitlines() if r[:1].isalpha() and r != "ID,X,Y,Z"]
+    assert all(277000 <= float(r.split(",")[1]) <= 277040 for r in rows)  # the field list stays in UTM metres
+    assert "projected CRS EPSG:32637" in (out / "stations.csv").read_text()

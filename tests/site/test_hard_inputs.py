@@ -186,3 +186,14 @@ def test_loaders_never_evaluate_code(tmp_path, capsys):
     # and no reader in the package can: no eval/exec/pickle/yaml/compile anywhere in planner/
     source = "\n".join(p.read_text() for p in (ROOT / "planner").rglob("*.py"))
     assert not re.search(r"\b(eval|exec|compile)\(|\bpickle\b|\byaml\b|__import__", source)
+
+
+def test_json_zone_with_a_hole_matches_the_geojson_one(tmp_path):
+    # the same 40 x 30 court with a 10 x 10 block, once as a JSON instance (hole given counter-clockwise,
+    # stored clockwise) and once as GeoJSON: same walls, same area 1200 - 100 = 1100 m2
+    path = instance(tmp_path, [{"id": "court", "scan_side": "inside", "coordinates": [[0, 0], [40, 0], [40, 30], [0, 30]],
+                                "height_m": 6, "holes": [{"coordinates": [[15, 10], [25, 10], [25, 20], [15, 20]], "height_m": 6}]}])
+    a = planner.load_site(path).zones[0]
+    b = planner.load_site(court_with_block(tmp_path, [[15, 10], [15, 20], [25, 20], [25, 10]])).zones[0]
+    assert a.area_m2 == pytest.approx(1100.0) == b.area_m2
+    assert {(w.start, w.end) for w in a.walls} == {(w.start, w.end) for w in b.walls}  # same directed walls
