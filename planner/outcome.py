@@ -71,9 +71,8 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
     src = site_path or meta.get("source")
     if not src:
         raise InputError("the plan names no site file; give one with --site", file=plan_path, field="source")
-    path = Path(src)
-    if not path.is_absolute() and not path.exists():
-        path = Path(plan_path).parent / src
+    tried = [Path(src)] if site_path else [Path(src), Path(plan_path).parent / src, Path(meta.get("source_resolved") or src)]
+    path = next((p for p in tried if p.exists()), Path(src))
     site = load_site(path)
     p = meta.get("parameters") or {}
     changes = {k: p[k] for k in ("theta_max_deg", "overlap", "sigma_req_m", "instrument_height_m") if k in p}

@@ -22,6 +22,7 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
     return {
         "instance": site.name,
         "source": site.source,
+        "source_resolved": str(Path(site.source).resolve()) if site.source else None,
         "method": r.method,
         "status": r.status.value,
         "objective": r.objective,

@@ -92,7 +92,7 @@ def main() -> None:
         if isinstance(rows[-1].get("versus_optimum"), str) and rows[-1]["versus_optimum"] != "+0":
             # higher than the optimum: is it the discretisation? rerun with a twice finer grid, 4x shorter pieces
             fine = run(r, args.grid / 2, args.pieces / 4, args.time_limit)
-            rows[-1]["fine_stations"] = fine["stations"]
+            rows[-1]["fine_stations"] = fine["stations"] if fine["status"] == "optimal" else f"{fine['stations']} ({fine['status'][:40]})"
         print(rows[-1], flush=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

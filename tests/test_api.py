@@ -50,3 +50,10 @@ def test_sweep_script_uses_only_the_public_api():
     used = {n.attr for n in ast.walk(tree)
             if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id == "planner"}
     assert used and used <= set(planner.__all__), used - set(planner.__all__)
+
+
+def test_only_the_command_line_prints():
+    # library modules log; print() appears only in planner/cli*.py (docstring examples aside)
+    offenders = [p.name for p in (ROOT / "planner").rglob("*.py") if not p.name.startswith("cli")
+                 and any(line.lstrip().startswith("print(") for line in p.read_text().splitlines())]
+    assert offenders == []

@@ -82,6 +82,8 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
               (axes[1], inc, "viridis_r", Normalize(0.0, theta), "best incidence angle (deg)"))
     for ax, values, cmap, norm, label in panels:
         _background(ax, o, zone.frame, zone.id)
+        for k, ring in enumerate(zone.rings[1:]):
+            ax.add_patch(Polygon(ring, closed=True, fc="0.88", ec="none", label=None if k else "free-standing block"))
         seen = count > 0
         lc = LineCollection(segs[seen], array=values[seen], cmap=cmap, norm=norm, linewidths=width[seen])
         ax.add_collection(lc)

@@ -152,7 +152,8 @@ class Zone:
         out = list(self.outer_walls)
         for ring, hs in zip(self.holes, self.hole_heights_m):
             m = len(ring)
-            out += [Wall(self.id, len(out) + 1, ring[i], ring[(i + 1) % m], hs[i], hs[(i + 1) % m]) for i in range(m)]
+            first = len(out) + 1  # hole walls are numbered on after the outline's (and earlier holes')
+            out += [Wall(self.id, first + i, ring[i], ring[(i + 1) % m], hs[i], hs[(i + 1) % m]) for i in range(m)]
         return tuple(out)
 
     @property

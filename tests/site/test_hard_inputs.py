@@ -197,3 +197,12 @@ def test_json_zone_with_a_hole_matches_the_geojson_one(tmp_path):
     b = planner.load_site(court_with_block(tmp_path, [[15, 10], [15, 20], [25, 20], [25, 10]])).zones[0]
     assert a.area_m2 == pytest.approx(1100.0) == b.area_m2
     assert {(w.start, w.end) for w in a.walls} == {(w.start, w.end) for w in b.walls}  # same directed walls
+
+
+def test_hole_walls_are_numbered_after_the_outline():
+    # outline 4 walls (1-4), first hole 3 walls (5-7), second hole 4 walls (8-11)
+    z = planner.Zone("z", planner.ScanSide.INSIDE, ((0, 0), (30, 0), (30, 20), (0, 20)), (5.0,) * 4,
+                     holes=(((5, 5), (7, 9), (9, 5)), ((15, 5), (15, 9), (19, 9), (19, 5))),
+                     hole_heights_m=((4.0,) * 3, (4.0,) * 4))
+    assert [w.index for w in z.walls] == list(range(1, 12))
+    assert z.walls[4].start == (5, 5) and z.walls[7].start == (15, 5)
