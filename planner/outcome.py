@@ -8,7 +8,6 @@ what is drawn and exported is checked afresh, not copied from the solver.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -21,7 +20,7 @@ from planner.errors import InputError
 from planner.network.check import NetworkReport
 from planner.plan import Plan, sight_limits
 from planner.plan_io import plan_to_dict, read_plan_stations
-from planner.site.fileio import read_text
+from planner.site.fileio import read_json
 from planner.site.load import load_site
 from planner.site.model import Site
 from planner.validate import ValidationReport, validate_site
@@ -86,10 +85,7 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
                       network: NetworkReport | None = None) -> Outcome:
     """The outcome of a plan.json (stations re-read, coverage and verification recomputed)."""
     name = str(plan_path)
-    try:
-        meta = json.loads(read_text(Path(plan_path)))
-    except json.JSONDecodeError as exc:
-        raise InputError(f"invalid JSON: {exc.msg}", file=name, row=f"line {exc.lineno} column {exc.colno}") from None
+    meta = read_json(plan_path)
     if not isinstance(meta, dict):
         raise InputError("a plan must be a JSON object", file=name)
     site = site_for_plan(meta, site_path, name)

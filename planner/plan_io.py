@@ -9,7 +9,7 @@ from typing import Any
 from planner.candidates.model import Candidate, CandidateKind
 from planner.errors import InputError
 from planner.plan import Plan
-from planner.site.fileio import read_text, to_float
+from planner.site.fileio import read_json, to_float
 from planner.site.model import ScanSide, Site
 from planner.solve.tripod import TripodDisc
 
@@ -81,10 +81,7 @@ def write_plan(plan: Plan, out_dir: Path | str) -> Path:
 def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
     """The stations of a plan file: a JSON object with ``stations`` [{id, zone, side, x, y, kind?}]."""
     name = str(path)
-    try:
-        data = json.loads(read_text(Path(path)))
-    except json.JSONDecodeError as exc:
-        raise InputError(f"invalid JSON: {exc.msg}", file=name, row=f"line {exc.lineno} column {exc.colno}") from None
+    data = read_json(path)
     rows = data.get("stations") if isinstance(data, dict) else None
     if not isinstance(rows, list):
         raise InputError("a plan needs a list 'stations'", file=name, field="stations")

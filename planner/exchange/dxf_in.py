@@ -81,6 +81,10 @@ class _Shape:
     thickness: float
     xdata: list[tuple[int, Any]]
 
+    def height(self, options: DxfOptions) -> float | None:
+        """One height for every vertex: the thickness, else the layer default (None: neither)."""
+        return self.thickness if self.thickness > 0 else options.layer_height(self.layer)
+
 
 def _expand(entities: Any, layer: str | None = None, where: str = "", depth: int = 0) -> Iterator[tuple[Any, str]]:
     """Entities with block references replaced by their (transformed) content, each with its handle
@@ -171,7 +175,7 @@ def _zone(s: _Shape, k: int, options: DxfOptions, texts: list, scale: float, not
         if len(heights) != len(xy):
             raise InputError(f"XDATA has {len(heights)} heights for {len(xy)} vertices", zone=zid, **where, field="height")
     else:
-        h = s.thickness if s.thickness > 0 else options.layer_height(s.layer)
+        h = s.height(options)
         if h is None:
             raise InputError("no wall height: set the polyline's thickness or give a layer default height",
                              zone=zid, **where, field="thickness", value=s.thickness)
@@ -190,7 +194,7 @@ def _place_holes(zones: list[Zone], holes: list[_Shape], options: DxfOptions, sc
     for s in holes:
         where = dict(file=file, row=f"layer {s.layer} handle {s.handle}")
         _, heights = _tags(s.xdata)
-        h = s.thickness if s.thickness > 0 else options.layer_height(s.layer)
+        h = s.height(options)
         heights = [v * scale for v in heights] if len(heights) == len(s.xy) else ([h] * len(s.xy) if h else [])
         if not heights:
             raise InputError("no wall height for a hole: set thickness or a layer default", **where, field="thickness")
@@ -251,7 +255,7 @@ def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameter
                 continue  # placed into their zones below
             elif role == "obstacle":
                 kv, _ = _tags(s.xdata)
-                h = s.thickness if s.thickness > 0 else options.layer_height(s.layer)
+                h = s.height(options)
                 if h is None:
                     raise InputError("no obstacle height: set the polyline's thickness or a layer default",
                                      row=f"layer {s.layer} handle {s.handle}", field="thickness", value=s.thickness)

@@ -10,7 +10,6 @@ projected to that metric CRS (pyproj, x/y order).
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +18,7 @@ import numpy as np
 from planner.errors import InputError, PlannerError
 from planner.exchange.crs import to_projected
 from planner.params import Parameters
-from planner.site.fileio import read_text, to_float
+from planner.site.fileio import read_json, to_float
 from planner.site.geometry import signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
 
@@ -98,10 +97,7 @@ def read_geojson_site(path: Path | str, parameters: Parameters | None = None, cr
     """Read a site from a GeoJSON FeatureCollection (see the module docstring)."""
     path = Path(path)
     file = str(path)
-    try:
-        data = json.loads(read_text(path))
-    except json.JSONDecodeError as exc:
-        raise InputError(f"invalid JSON: {exc.msg}", file=file, row=f"line {exc.lineno} column {exc.colno}") from None
+    data = read_json(path)
     if not isinstance(data, dict) or data.get("type") != "FeatureCollection" or not isinstance(data.get("features"), list):
         raise InputError("must be a GeoJSON FeatureCollection", file=file, field="type",
                          value=data.get("type") if isinstance(data, dict) else type(data).__name__)

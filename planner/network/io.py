@@ -2,21 +2,16 @@
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
 
 from planner.errors import InputError
 from planner.network.adjustment import ANGLE_UNITS, KINDS, LENGTH_UNITS, Obs, adjust
 from planner.network.check import NetworkReport
-from planner.site.fileio import read_text, to_float
+from planner.site.fileio import read_json, to_float
 from planner.site.model import ControlPoint
 
 
 def _load(path: str) -> object:
-    try:
-        return json.loads(read_text(Path(path)))
-    except json.JSONDecodeError as exc:
-        raise InputError(f"invalid JSON: {exc.msg}", file=path, row=f"line {exc.lineno} column {exc.colno}") from None
+    return read_json(path)
 
 
 def read_control(path: str) -> list[ControlPoint]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 from typing import Any
@@ -30,6 +31,15 @@ def read_text(path: Path) -> str:
     if not text.strip():
         raise InputError("empty file", file=name)
     return text
+
+
+def read_json(path: Path | str) -> Any:
+    """The parsed JSON of a file read with :func:`read_text`; invalid JSON is an InputError naming
+    the line and column. ``json`` builds plain data only: nothing in the file is evaluated."""
+    try:
+        return json.loads(read_text(Path(path)))
+    except json.JSONDecodeError as exc:
+        raise InputError(f"invalid JSON: {exc.msg}", file=str(path), row=f"line {exc.lineno} column {exc.colno}") from None
 
 
 def to_float(raw: Any, *, field: str, file: str | None = None, zone: str | None = None,

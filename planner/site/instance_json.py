@@ -7,14 +7,13 @@ Only ``json`` is used to parse: nothing in a file is ever evaluated.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 from planner.accuracy import ErrorBudget
 from planner.errors import InputError
 from planner.params import ClosureTolerance, DEFAULT_INSTRUMENT, Parameters
-from planner.site.fileio import read_text, to_float
+from planner.site.fileio import read_json, to_float
 from planner.site.geometry import as_vertices, signed_area
 from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, ScanSide, Site, Zone
 from planner.site.table_csv import NUMBER_COLUMNS, read_table_csv
@@ -86,10 +85,7 @@ class _Reader:
 def load_instance_json(path: Path | str) -> Site:
     """Read a JSON instance into a :class:`Site` (zones closed and adjusted)."""
     r = _Reader(Path(path))
-    try:
-        data = json.loads(read_text(r.path))
-    except json.JSONDecodeError as exc:
-        raise r.fail(f"invalid JSON: {exc.msg}", row=f"line {exc.lineno} column {exc.colno}") from None
+    data = read_json(r.path)
     data = r.obj(data, "instance", TOP_KEYS)
     if "format" in data and data["format"] != FORMAT:
         raise r.fail(f"unsupported format (this reader knows {FORMAT})", field="format", value=data["format"])
