@@ -22,14 +22,14 @@ import numpy as np
 from planner import progress
 from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
+from planner.cli_report import add_report_parser, parse_exports, write_exports
 from planner.errors import ExitCode, PlannerError, UsageError
-from planner.cli_report import parse_exports, write_exports, add_report_parser
 from planner.exchange import DxfOptions
 from planner.export import FORMATS, export_problem
 from planner.instruments import list_instruments, load_instrument
 from planner.network.check import NetworkReport, run_network
-from planner.outcome import outcome_from_plan
 from planner.network.io import adjust_observations, read_control
+from planner.outcome import outcome_from_plan
 from planner.params import ClosureTolerance
 from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
 from planner.plan_io import read_plan_stations, write_plan
@@ -117,10 +117,6 @@ def _dxf_options(args: argparse.Namespace) -> DxfOptions:
     return DxfOptions(layer_heights_m=heights, default_side=ScanSide(args.dxf_side))
 
 
-
-
-
-
 def cmd_validate(args: argparse.Namespace) -> int:
     report = validate_site(load_with_overrides(args))
     print(json.dumps(report.to_dict(), indent=2) if args.json else report.summary())
@@ -157,10 +153,6 @@ def cmd_plan(args: argparse.Namespace) -> int:
         if args.report:
             print(f"wrote {write_report(outcome, args.report)}")
     return ExitCode.OK
-
-
-
-
 
 
 def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = True) -> NetworkReport:

@@ -154,7 +154,8 @@ def _first_stretch(region: shapely.Geometry, p: np.ndarray, q: np.ndarray) -> fl
 
 
 def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Candidate]:
-    """Closed-form candidates, then field samples and corner rays, then the grid; duplicates removed.
+    """Closed-form candidates, then field samples, and per zone-side the corner rays, the centre (inside),
+    the corner-bisector points and the grid; duplicates removed.
 
     Order matters: it is the tie-breaking order of the greedy, closed form first.
     """
