@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -16,6 +17,8 @@ from planner.coverage.targets import Targets
 from planner.coverage.visibility import Blockers, SightLimits, geometric_pairs, sight_clear, wall_key
 from planner.site.model import SITE_FRAME, Site
 
+#: Candidates per block of the coverage build (the unit of its progress reports)
+PROGRESS_BLOCK = 1024
 #: A station closer than this to a wall line is "on the wall" and stands nowhere.
 ON_WALL_M = 1e-6
 
@@ -139,7 +142,8 @@ def build_coverage(
 ) -> CoverageProblem:
     """Compute which candidate sees which target (see :mod:`planner.coverage.visibility`).
 
-    With ``step`` set, progress is reported frame by frame under that name (:mod:`planner.progress`).
+    With ``step`` set, progress is reported every ``PROGRESS_BLOCK`` candidates under that name
+    (:mod:`planner.progress`).
     """
     cands = tuple(candidates)
     xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)
@@ -147,28 +151,30 @@ def build_coverage(
     rows, cols, slant, inc = [], [], [], []
     cand_frame = np.array([c.frame for c in cands], dtype=object)
     usable = np.array([r == "" for r in places.reason], dtype=bool)
+    total, done = int(usable.sum()), 0
     for fi, frame in enumerate(targets.frames):
         ci = np.flatnonzero((cand_frame == frame) & usable)
         ti = np.flatnonzero(targets.frame == fi)
         if ci.size == 0 or ti.size == 0:
             continue
-        pairs = geometric_pairs(
-            xy[ci], places.inside[ci], targets.zone[ti], targets.side[ti] == 0, targets.a[ti], targets.b[ti],
-            targets.ha_m[ti], targets.hb_m[ti], targets.normal[ti], limits)
-        pc, pt = ci[pairs.cand], ti[pairs.target]
-        if convex_alone(site, frame):  # nothing can block a front-facing piece of a lone convex zone
-            clear = np.ones(len(pc), dtype=bool)
-        else:
-            clear = sight_clear(xy[pc], targets.a[pt], targets.b[pt], wall_key(targets.zone[pt], targets.wall[pt]),
-                                blockers_for(site, frame))
-        rows.append(pc[clear])
-        cols.append(pt[clear])
-        slant.append(pairs.slant_m[clear])
-        inc.append(pairs.incidence_deg[clear])
-        if step:
-            progress.report(step, fi + 1, len(targets.frames))
+        open_view = convex_alone(site, frame)  # nothing can block a front-facing piece of a lone convex zone
+        blockers = None if open_view else blockers_for(site, frame)
+        for block in np.array_split(ci, math.ceil(len(ci) / PROGRESS_BLOCK)):
+            pairs = geometric_pairs(
+                xy[block], places.inside[block], targets.zone[ti], targets.side[ti] == 0, targets.a[ti], targets.b[ti],
+                targets.ha_m[ti], targets.hb_m[ti], targets.normal[ti], limits)
+            pc, pt = block[pairs.cand], ti[pairs.target]
+            clear = np.ones(len(pc), dtype=bool) if blockers is None else sight_clear(
+                xy[pc], targets.a[pt], targets.b[pt], wall_key(targets.zone[pt], targets.wall[pt]), blockers)
+            rows.append(pc[clear])
+            cols.append(pt[clear])
+            slant.append(pairs.slant_m[clear])
+            inc.append(pairs.incidence_deg[clear])
+            done += len(block)
+            if step:
+                progress.report(step, done, total)
     if step:
-        progress.report(step, len(targets.frames), len(targets.frames))
+        progress.report(step, total, total)
     shape = (len(cands), len(targets))
     r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
     c = np.concatenate(cols) if cols else np.zeros(0, np.int64)
