@@ -10,7 +10,6 @@ MILP bound and status. Usage::
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import time
 from pathlib import Path
 
@@ -31,8 +30,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|---|")
     for theta in args.thetas:
         for overlap in args.overlaps:
-            params = dataclasses.replace(base.parameters, theta_max_deg=theta, overlap=overlap)
-            site = dataclasses.replace(base, parameters=params)
+            site = base.with_parameters(theta_max_deg=theta, overlap=overlap)
             counts = {}
             for method in ("closed-form", "greedy"):
                 counts[method] = len(planner.plan_site(site, planner.PlanOptions(method=method)).stations)

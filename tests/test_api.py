@@ -6,6 +6,8 @@ from __future__ import annotations
 import ast
 import inspect
 
+import pytest
+
 import planner
 from tests.conftest import INSTANCES, ROOT
 
@@ -57,3 +59,12 @@ def test_only_the_command_line_prints():
     offenders = [p.name for p in (ROOT / "planner").rglob("*.py") if not p.name.startswith("cli")
                  and any(line.lstrip().startswith("print(") for line in p.read_text().splitlines())]
     assert offenders == []
+
+
+def test_with_parameters_changes_only_what_is_named_and_validates():
+    site = planner.load_site(INSTANCES / "polygon_b.json")
+    s2 = site.with_parameters(theta_max_deg=60.0)
+    assert s2.parameters.theta_max_deg == 60.0 and s2.parameters.overlap == site.parameters.overlap
+    assert s2.zones == site.zones
+    with pytest.raises(planner.InputError, match="theta_max_deg = 95"):
+        site.with_parameters(theta_max_deg=95.0)

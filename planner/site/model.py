@@ -9,7 +9,7 @@ the obstacles, no-go areas, boundary and control points.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import Enum
 from functools import cached_property
 
@@ -269,6 +269,10 @@ class Site:
             seen.add(z.id)
         if self.boundary is not None:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
+
+    def with_parameters(self, **changes: object) -> "Site":
+        """The same site with some parameters changed (validated), e.g. ``site.with_parameters(theta_max_deg=60)``."""
+        return replace(self, parameters=replace(self.parameters, **changes))
 
     def zone(self, zone_id: str) -> Zone:
         for z in self.zones:
