@@ -6,7 +6,8 @@ Protocol: each .pol polygon is scaled to a 100 m extent, walls 3 m; S_max 10^5 m
 wall pieces ``--pieces`` m (default 1); MILP on CP-SAT, one thread, seed 0, ``--time-limit`` s. Every
 plan is re-verified at 0.1 m. Seeing the walls needs at most as many stations as guarding the
 interior (a guard set sees every boundary point), so a higher count comes from the discretisation
-(grid candidates, 0.5 m stand-off, whole-piece coverage) and is listed.
+(finite candidates, grid points at least 0.1 m off the walls, whole-piece coverage) or the stricter sight
+test, and is listed. Where some piece is seen by no candidate the grid is refined to 1 m, then 0.5 m.
 
     python scripts/bench_agplib.py [--per-class 5] [--sizes 20 40 60] [--out docs/benchmarks]
 """
