@@ -14,6 +14,7 @@ from planner.network.check import run_network
 from planner.outcome import Outcome, outcome_from_file
 from planner.plan import PlanOptions
 from planner.report import compare_methods, write_report
+from planner.report.compare import meta_row
 
 
 def parse_exports(text: str | None) -> list[str]:
@@ -54,13 +55,7 @@ def _file_comparison(outcome: Outcome) -> list[dict]:
                           pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
                           incidence_3d=p.get("incidence") == "3d", precision=bool(p.get("precision", True)))
     rows = [r for r in compare_methods(outcome.site, options) if r["method"] != m.get("method")]
-    counts = m.get("counts", {})
-    rows.append({"method": m.get("method", "?"), "backend": m.get("backend") or "", "stations": len(outcome.stations),
-                 "inside": counts.get("inside"), "outside": counts.get("outside"), "bound": m.get("bound"),
-                 "gap": m.get("gap"), "status": m.get("status", ""), "time_s": m.get("time_s"),
-                 "verified_percent": outcome.verification.percent,
-                 "connected": (m.get("registration") or {}).get("connected")})
-    return rows
+    return rows + [{**meta_row(m, outcome.verification.percent), "stations": len(outcome.stations)}]
 
 
 def add_report_parser(sub: Any) -> None:

@@ -8,18 +8,23 @@ from typing import Any
 
 from planner.errors import PlannerError
 from planner.plan import Plan, PlanOptions, plan_site
+from planner.plan_io import plan_to_dict
 from planner.site.model import Site
 
 log = logging.getLogger(__name__)
 
 
+def meta_row(meta: dict[str, Any], verified_percent: float) -> dict[str, Any]:
+    """A comparison row from a plan.json dictionary (:func:`planner.plan_io.plan_to_dict`)."""
+    counts = meta.get("counts") or {}
+    return {"method": meta.get("method", "?"), "backend": meta.get("backend") or "", "stations": counts.get("total"),
+            "inside": counts.get("inside"), "outside": counts.get("outside"), "bound": meta.get("bound"),
+            "gap": meta.get("gap"), "status": meta.get("status", ""), "time_s": meta.get("time_s"),
+            "verified_percent": verified_percent, "connected": (meta.get("registration") or {}).get("connected")}
+
+
 def method_row(plan: Plan) -> dict[str, Any]:
-    r = plan.result
-    sides = plan.count_by_side()
-    return {"method": r.method, "backend": r.backend or "", "stations": len(plan.stations),
-            "inside": sides.get("inside", 0), "outside": sides.get("outside", 0), "bound": r.bound, "gap": r.gap,
-            "status": r.status.value, "time_s": r.time_s, "verified_percent": plan.verification.percent,
-            "connected": plan.connected}
+    return meta_row(plan_to_dict(plan), plan.verification.percent)
 
 
 def compare_methods(site: Site, options: PlanOptions, done: Plan | None = None) -> list[dict[str, Any]]:
