@@ -94,6 +94,7 @@ class Zone:
     notes: tuple[str, ...] = ()
     holes: tuple[tuple[tuple[float, float], ...], ...] = ()
     hole_heights_m: tuple[tuple[float, ...], ...] = ()
+    openings: tuple["Opening", ...] = ()
 
     def __post_init__(self) -> None:
         xy = np.asarray(self.vertices, dtype=float).reshape(-1, 2)
@@ -110,6 +111,17 @@ class Zone:
             raise InputError(f"needs {n} wall heights", zone=self.id, field="wall_heights_m", value=len(self.printed_wall_heights_m))
         if self.holes:
             self._check_holes()
+        self._check_openings()
+
+    def _check_openings(self) -> None:
+        walls = self.walls
+        for op in self.openings:
+            if not 1 <= op.wall <= len(walls):
+                raise InputError(f"wall index out of 1..{len(walls)}", zone=self.id, field="opening wall", value=op.wall)
+            length = walls[op.wall - 1].length_m
+            if op.s1_m > length + 1e-9:
+                raise InputError(f"runs past the end of wall {op.wall} ({length:.3f} m)", zone=self.id,
+                                 field="opening s1_m", value=op.s1_m)
 
     def _check_holes(self) -> None:
         if self.scan_side is not ScanSide.INSIDE:
@@ -176,6 +188,30 @@ class Zone:
     def height_check_failures(self) -> tuple[Wall, ...]:
         """Walls whose printed height is not the max of their two vertex heights."""
         return tuple(w for w in self.walls if not w.height_check_ok)
+
+
+OPENING_KINDS = ("door", "gate", "window")
+
+
+@dataclass(frozen=True)
+class Opening:
+    """A gap in one wall of a zone (door, gate, window): ``s0_m``..``s1_m`` along wall ``wall``
+    (1-based, the zone's numbering: outline first, then holes). What it does for sight and
+    targets is decided downstream (coverage); this object only holds where it is."""
+
+    wall: int
+    s0_m: float
+    s1_m: float
+    kind: str = "door"
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in OPENING_KINDS:
+            raise InputError(f"must be one of {', '.join(OPENING_KINDS)}", zone=self.name or None,
+                             field="opening kind", value=self.kind)
+        if not (math.isfinite(self.s0_m) and math.isfinite(self.s1_m) and 0.0 <= self.s0_m < self.s1_m):
+            raise InputError("needs 0 <= s0_m < s1_m", zone=self.name or None, field="opening",
+                             value=f"{self.s0_m}..{self.s1_m}")
 
 
 @dataclass(frozen=True)
