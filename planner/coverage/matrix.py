@@ -19,6 +19,8 @@ from planner.site.model import SITE_FRAME, Site
 
 #: Candidates per block of the coverage build (the unit of its progress reports)
 PROGRESS_BLOCK = 1024
+#: Pairs per batch of the sight test: its hit arrays (pairs x blockers in their boxes) stay bounded.
+SIGHT_BATCH = 65_536
 #: A station closer than this to a wall line is "on the wall" and stands nowhere.
 ON_WALL_M = 1e-6
 
@@ -61,6 +63,57 @@ def convex_alone(site: Site, frame: str) -> bool:
         return False
     poly = zones[0].polygon
     return poly.convex_hull.area - poly.area <= 1e-9 * poly.area
+
+
+class ZoneSideBlockers:
+    """The blockers that can hide a piece of one zone-side from a station on that side, built once per
+    zone-side of a frame.
+
+    From inside zone z, a view that leaves z crosses one of z's walls, so only edges that meet z matter;
+    from outside, only edges not strictly inside z. A zone with openings sees through them, so it keeps
+    every blocker of the frame. This keeps the sight test of a building of many rooms from testing every
+    room's walls against every view.
+    """
+
+    def __init__(self, site: Site, frame: str) -> None:
+        self.site, self.all = site, blockers_for(site, frame)
+        self._lines = shapely.linestrings(np.stack([self.all.a, self.all.b], axis=1)) if len(self.all.a) else None
+        self._cache: dict[int, Blockers] = {}
+
+    def of(self, zone_index: int, inside: bool) -> Blockers:
+        key = 2 * zone_index + (0 if inside else 1)
+        if key not in self._cache:
+            zone = self.site.zones[zone_index]
+            if self._lines is None or getattr(zone, "openings", ()):
+                self._cache[key] = self.all
+            else:
+                poly = zone.polygon
+                keep = (shapely.intersects(poly, self._lines) if inside
+                        else ~shapely.contains_properly(poly, self._lines))
+                b = self.all
+                self._cache[key] = Blockers(b.a[keep], b.b[keep], b.key[keep], _vertices_of(b.a[keep], b.b[keep]))
+        return self._cache[key]
+
+    def clear(self, xy: NDArray[np.float64], targets: Targets, pc: NDArray[np.int64], pt: NDArray[np.int64]
+              ) -> NDArray[np.bool_]:
+        """Sight test of the pairs (pc[k], pt[k]), zone-side by zone-side, in batches of SIGHT_BATCH pairs."""
+        out = np.ones(len(pc), dtype=bool)
+        group = targets.zone[pt].astype(np.int64) * 2 + targets.side[pt]
+        for g in np.unique(group):
+            idx = np.flatnonzero(group == g)
+            blockers = self.of(int(g) // 2, int(g) % 2 == 0)
+            for lo in range(0, idx.size, SIGHT_BATCH):
+                k = idx[lo:lo + SIGHT_BATCH]
+                out[k] = sight_clear(xy[pc[k]], targets.a[pt[k]], targets.b[pt[k]],
+                                     wall_key(targets.zone[pt[k]], targets.wall[pt[k]]), blockers)
+        return out
+
+
+def _vertices_of(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The distinct end points of segments (the blocker vertices of the triangle test)."""
+    if len(a) == 0:
+        return np.zeros((0, 2))
+    return np.unique(np.vstack([a, b]), axis=0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,16 +211,15 @@ def build_coverage(
         if ci.size == 0 or ti.size == 0:
             continue
         open_view = convex_alone(site, frame)  # nothing can block a front-facing piece of a lone convex zone
-        blockers = None if open_view else blockers_for(site, frame)
+        views = None if open_view else ZoneSideBlockers(site, frame)
         for block in np.array_split(ci, math.ceil(len(ci) / PROGRESS_BLOCK)):
             pairs = geometric_pairs(
                 xy[block], places.inside[block], targets.zone[ti], targets.side[ti] == 0, targets.a[ti], targets.b[ti],
                 targets.ha_m[ti], targets.hb_m[ti], targets.normal[ti], limits)
             pc, pt = block[pairs.cand], ti[pairs.target]
-            clear = np.ones(len(pc), dtype=bool) if blockers is None else sight_clear(
-                xy[pc], targets.a[pt], targets.b[pt], wall_key(targets.zone[pt], targets.wall[pt]), blockers)
-            rows.append(pc[clear])
-            cols.append(pt[clear])
+            clear = np.ones(len(pc), dtype=bool) if views is None else views.clear(xy, targets, pc, pt)
+            rows.append(pc[clear].astype(np.int32))
+            cols.append(pt[clear].astype(np.int32))
             slant.append(pairs.slant_m[clear])
             inc.append(pairs.incidence_deg[clear])
             done += len(block)
