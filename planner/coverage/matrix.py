@@ -19,6 +19,10 @@ from planner.site.model import SITE_FRAME, Site
 
 #: Candidates per block of the coverage build (the unit of its progress reports)
 PROGRESS_BLOCK = 1024
+#: Memory a block of the coverage build may take for its pairs, and the worst case per pair (every
+#: candidate of the block paired with every piece of the frame: geometry, sight test, kept arrays).
+BLOCK_BUDGET_BYTES = 256 * 2**20
+PAIR_WORST_BYTES = 96
 #: Pairs per batch of the sight test: its hit arrays (pairs x blockers in their boxes) stay bounded.
 SIGHT_BATCH = 65_536
 #: A station closer than this to a wall line is "on the wall" and stands nowhere.
@@ -63,6 +67,18 @@ def convex_alone(site: Site, frame: str) -> bool:
         return False
     poly = zones[0].polygon
     return poly.convex_hull.area - poly.area <= 1e-9 * poly.area
+
+
+def _ordered(parts: list, order: NDArray[np.int64] | None, dtype: type) -> NDArray:
+    """Concatenate per-block arrays and put them in CSR order."""
+    a = np.concatenate(parts).astype(dtype, copy=False) if parts else np.zeros(0, dtype)
+    return a if order is None else a[order]
+
+
+def block_size(n_targets: int) -> int:
+    """Candidates per block: at most ``PROGRESS_BLOCK``, fewer when the frame has so many pieces that a
+    block's worst case (every pair kept) would pass ``BLOCK_BUDGET_BYTES``; at least 16."""
+    return int(max(16, min(PROGRESS_BLOCK, BLOCK_BUDGET_BYTES // max(1, n_targets * PAIR_WORST_BYTES))))
 
 
 class ZoneSideBlockers:
@@ -212,7 +228,7 @@ def build_coverage(
             continue
         open_view = convex_alone(site, frame)  # nothing can block a front-facing piece of a lone convex zone
         views = None if open_view else ZoneSideBlockers(site, frame)
-        for block in np.array_split(ci, math.ceil(len(ci) / PROGRESS_BLOCK)):
+        for block in np.array_split(ci, math.ceil(len(ci) / block_size(len(ti)))):
             pairs = geometric_pairs(
                 xy[block], places.inside[block], targets.zone[ti], targets.side[ti] == 0, targets.a[ti], targets.b[ti],
                 targets.ha_m[ti], targets.hb_m[ti], targets.normal[ti], limits)
@@ -228,18 +244,20 @@ def build_coverage(
     if step:
         progress.report(step, total, total)
     shape = (len(cands), len(targets))
-    r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
-    c = np.concatenate(cols) if cols else np.zeros(0, np.int64)
+    r = np.concatenate(rows) if rows else np.zeros(0, np.int32)
+    del rows
+    # each candidate's pairs come from one block, sorted by piece: a stable sort by candidate is CSR order
+    order = None if np.all(r[1:] >= r[:-1]) else np.argsort(r, kind="stable")
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=shape[0]))]).astype(np.int32 if r.size < 2**31 else np.int64)
+    del r
+    indices = _ordered(cols, order, np.int32)
 
-    def mat(data: NDArray) -> sp.csr_matrix:
-        m = sp.csr_matrix((data, (r, c)), shape=shape)
-        m.sort_indices()
-        return m
+    def mat(parts: list, dtype: type) -> sp.csr_matrix:  # the three matrices share one pattern (indices, indptr)
+        return sp.csr_matrix((_ordered(parts, order, dtype), indices, indptr), shape=shape, copy=False)
 
-    by_candidate = mat(np.ones(len(r), dtype=bool))
+    by_candidate = sp.csr_matrix((np.ones(len(indices), dtype=bool), indices, indptr), shape=shape, copy=False)
     return CoverageProblem(
         candidates=cands, targets=targets, by_candidate=by_candidate, by_target=by_candidate.T.tocsr(),
-        slant_m=mat(np.concatenate(slant) if slant else np.zeros(0)),
-        incidence_deg=mat(np.concatenate(inc) if inc else np.zeros(0)),
+        slant_m=mat(slant, np.float64), incidence_deg=mat(inc, np.float64),
         excluded={k: why for k, why in enumerate(places.reason) if why}, limits=limits,
     )
