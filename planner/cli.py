@@ -222,6 +222,35 @@ def cmd_instruments(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
+def cmd_assemble(args: argparse.Namespace) -> int:
+    """Place the table zones of an instance from their shared walls; print matches, residuals, unplaced zones."""
+    from planner.site.assemble import assemble, assembled_instance
+    from planner.site.fileio import read_json
+
+    path = Path(args.site)
+    site = load_site(path)
+    report = assemble(site, tolerance_m=args.tolerance, wall_thickness_m=args.wall_thickness, anchor=args.anchor)
+    print("\n".join(report.lines()))
+    if args.out:
+        out = Path(args.out)
+        source = read_json(path) if path.suffix.lower() == ".json" else {
+            "format": "tls-planner/1", "name": path.stem, "zones": [{"table_csv": path.name}]}
+        data = assembled_instance(source, str(path.parent), str(out.parent), report)
+        out.write_text(json.dumps(data, indent=2) + "\n")
+        print(f"wrote {out}: {len(report.placements)} zones placed, {len(report.unplaced)} left in their own frames")
+    return ExitCode.OK
+
+
+def _add_assemble_parser(sub: argparse._SubParsersAction) -> None:
+    a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
+    a.add_argument("site", help="JSON instance or table CSV")
+    a.add_argument("--tolerance", type=float, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)")
+    a.add_argument("--wall-thickness", type=float, default=0.0, metavar="M", help="offset between the two faces (default 0)")
+    a.add_argument("--anchor", metavar="ZONE", help="zone whose frame becomes the site frame (default: the outline)")
+    a.add_argument("--out", metavar="FILE", help="write the instance with its placements to FILE")
+    a.set_defaults(func=cmd_assemble)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="planner", description="Plan terrestrial laser scanner stations.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -280,6 +309,7 @@ def build_parser() -> argparse.ArgumentParser:
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
     nw.set_defaults(func=cmd_network)
     add_report_parser(sub)
+    _add_assemble_parser(sub)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=cmd_instruments)
     return parser
