@@ -125,13 +125,14 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
-    rule = None if args.no_overlap else OverlapRule(overlap, args.min_shared, args.max_link)
+    rule = None if args.no_overlap or overlap == 0 else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
                        k=args.k, overlap=rule, precision=args.precision)
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
-                       tripod=args.method == "milp" or args.tripod, recentre=args.recentre)
+                       tripod=args.method == "milp" or args.tripod, recentre=args.recentre,
+                       registration=args.registration)
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -271,6 +272,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--no-overlap", action="store_true", help="MILP without the registration-overlap constraint")
     pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
+    pl.add_argument("--registration", choices=("zone", "site"), default=None,
+                    help="one registration bundle per zone-side, or per accessible area of the site (default: site "
+                         "where zones are placed or openings given)")
     pl.add_argument("--tripod", action="store_true", help="compute tripod discs (always on for milp)")
     pl.add_argument("--recentre", action="store_true", help="move each station to the centre of its tripod disc")
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from planner import progress
 from planner.candidates.model import Candidate
+from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import Blockers, SightLimits, geometric_pairs, sight_clear, wall_key
 from planner.site.model import SITE_FRAME, Site
@@ -26,8 +27,16 @@ ON_WALL_M = 1e-6
 def blockers_for(site: Site, frame: str) -> Blockers:
     """Walls of every zone in ``frame`` and, in the site frame, the obstacle edges."""
     a, b, key, verts = [], [], [], []
+    segments = opening_segments(site, frame)
     for zi, zone in enumerate(site.zones):
         if zone.frame != frame:
+            continue
+        if segments:  # openings are gaps: a wall blocks with its solid parts only (their ends are vertices)
+            parts = _solid_parts(site, zi, segments)
+            a.append(parts[0])
+            b.append(parts[1])
+            key.append(parts[2])
+            verts.append(np.concatenate([parts[0], parts[1]]))
             continue
         first = 1
         for xy in zone.rings:
@@ -47,6 +56,21 @@ def blockers_for(site: Site, frame: str) -> Blockers:
         z = np.zeros((0, 2))
         return Blockers(z, z, np.zeros(0, np.int64), z)
     return Blockers(np.concatenate(a), np.concatenate(b), np.concatenate(key), np.concatenate(verts))
+
+
+def _solid_parts(site: Site, zi: int, segments: list) -> tuple[NDArray, NDArray, NDArray]:
+    """Start points, end points and wall keys of the solid parts of zone ``zi``'s walls."""
+    a, b, key = [], [], []
+    for w in site.zones[zi].walls:
+        start, end = np.asarray(w.start, float), np.asarray(w.end, float)
+        u = (end - start) / w.length_m
+        for lo, hi in solid_intervals(w.length_m, wall_gaps(site, zi, w, segments)):
+            a.append(start + lo * u)
+            b.append(start + hi * u)
+            key.append(int(wall_key(zi, w.index)))
+    if not a:
+        return np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0, np.int64)
+    return np.array(a), np.array(b), np.array(key, dtype=np.int64)
 
 
 def convex_alone(site: Site, frame: str) -> bool:
