@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from planner import progress
 from planner.candidates.model import Candidate
+from planner.coverage.faces import keyed_parts, partner_stretches, trim_at_junctions
 from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import Blockers, SightLimits, geometric_pairs, sight_clear, wall_key
@@ -28,15 +29,20 @@ def blockers_for(site: Site, frame: str) -> Blockers:
     """Walls of every zone in ``frame`` and, in the site frame, the obstacle edges."""
     a, b, key, verts = [], [], [], []
     segments = opening_segments(site, frame)
+    partners = partner_stretches(site, frame)
     for zi, zone in enumerate(site.zones):
         if zone.frame != frame:
             continue
-        if segments:  # openings are gaps: a wall blocks with its solid parts only (their ends are vertices)
-            parts = _solid_parts(site, zi, segments)
-            a.append(parts[0])
-            b.append(parts[1])
-            key.append(parts[2])
-            verts.append(np.concatenate([parts[0], parts[1]]))
+        if segments or partners:  # openings are gaps; shared faces swap keys (planner.coverage.faces)
+            pa, pb, pk = _solid_parts(site, zi, segments, partners)
+            if partners:
+                pa, pb, pk, pv = trim_at_junctions(site, zi, pa, pb, pk)
+            else:
+                pv = np.concatenate([pa, pb])
+            a.append(pa)
+            b.append(pb)
+            key.append(pk)
+            verts.append(pv)
             continue
         first = 1
         for xy in zone.rings:
@@ -58,16 +64,19 @@ def blockers_for(site: Site, frame: str) -> Blockers:
     return Blockers(np.concatenate(a), np.concatenate(b), np.concatenate(key), np.concatenate(verts))
 
 
-def _solid_parts(site: Site, zi: int, segments: list) -> tuple[NDArray, NDArray, NDArray]:
-    """Start points, end points and wall keys of the solid parts of zone ``zi``'s walls."""
+def _solid_parts(site: Site, zi: int, segments: list, partners: dict) -> tuple[NDArray, NDArray, NDArray]:
+    """Start points, end points and wall keys of the solid parts of zone ``zi``'s walls (a stretch shared
+    with another zone's face blocks under that face's key)."""
     a, b, key = [], [], []
     for w in site.zones[zi].walls:
         start, end = np.asarray(w.start, float), np.asarray(w.end, float)
         u = (end - start) / w.length_m
+        own = int(wall_key(zi, w.index))
         for lo, hi in solid_intervals(w.length_m, wall_gaps(site, zi, w, segments)):
-            a.append(start + lo * u)
-            b.append(start + hi * u)
-            key.append(int(wall_key(zi, w.index)))
+            for s0, s1, k in keyed_parts(lo, hi, own, partners.get((zi, w.index), [])):
+                a.append(start + s0 * u)
+                b.append(start + s1 * u)
+                key.append(k)
     if not a:
         return np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0, np.int64)
     return np.array(a), np.array(b), np.array(key, dtype=np.int64)

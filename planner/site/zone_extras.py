@@ -9,6 +9,7 @@ from typing import Any, Protocol
 from planner.errors import InputError
 from planner.site.assemble import Placement, place_zone
 from planner.site.model import OPENING_KINDS, SITE_FRAME, Opening, Zone
+from planner.site.snap import snap_zones
 
 
 class _Reads(Protocol):
@@ -22,8 +23,8 @@ class _Reads(Protocol):
 
 
 def place_and_open(r: _Reads, zones: tuple[Zone, ...], placements: Any, openings: list[Any]) -> tuple[Zone, ...]:
-    """Zones with their placements applied, then their openings attached (openings are in wall terms,
-    so they do not move with a placement)."""
+    """Zones with their placements applied and snapped together (:mod:`planner.site.snap`), then their
+    openings attached (openings are in wall terms, so they do not move with a placement)."""
     by_id = {z.id: z for z in zones}
     table = r.obj(placements, "placements", set(by_id))
     out = dict(by_id)
@@ -36,6 +37,8 @@ def place_and_open(r: _Reads, zones: tuple[Zone, ...], placements: Any, openings
             raise r.fail("origin must be [x, y] in metres", zone=zid, field="placements.origin", value=origin)
         xy = tuple(r.num({"origin": v}, "origin", zone=zid) for v in origin)
         out[zid] = place_zone(by_id[zid], Placement((xy[0], xy[1]), r.num(d, "rotation_deg", zone=zid)))
+    if table:
+        out = {z.id: z for z in snap_zones(tuple(out[z.id] for z in zones), set(table))}
     grouped: dict[str, list[Opening]] = {}
     for k, raw in enumerate(openings, 1):
         zid, op = _opening(r, raw, k)
