@@ -33,6 +33,11 @@ JUNCTION_M = 0.05
 PARALLEL_DEG = 2.0
 
 
+def _cross(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:
+    """z of the 2-D cross product u x v."""
+    return float(u[0] * v[1] - u[1] * v[0])
+
+
 def partner_stretches(site: Site, frame: str) -> dict[tuple[int, int], list[tuple[float, float, int]]]:
     """For each wall (zone index, wall index) of ``frame`` that shares a stretch with a face of another
     zone: the stretches (s0, s1) in metres along it and the partner's wall key."""
@@ -62,7 +67,7 @@ def _shared(a0, a1, b0, b1, cos_tol: float) -> tuple[float, float] | None:
     v = b1 - b0
     if abs(float(np.dot(u, v))) < cos_tol * float(np.hypot(*v)):
         return None
-    (t0, o0), (t1, o1) = sorted(((float(np.dot(p - a0, u)), float(np.cross(u, p - a0))) for p in (b0, b1)))
+    (t0, o0), (t1, o1) = sorted(((float(np.dot(p - a0, u)), float(_cross(u, p - a0))) for p in (b0, b1)))
     lo, hi = max(t0, 0.0), min(t1, la)
     if hi <= lo + JUNCTION_M:
         return None

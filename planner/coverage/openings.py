@@ -34,6 +34,11 @@ PARALLEL_DEG = 2.0
 PASSABLE = ("door", "gate")
 
 
+def _cross(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:
+    """z of the 2-D cross product u x v."""
+    return float(u[0] * v[1] - u[1] * v[0])
+
+
 def opening_segments(site: Site, frame: str) -> list[tuple[int, Wall, str, NDArray[np.float64]]]:
     """(zone index, wall, kind, 2x2 end points) of every opening of a zone in ``frame``."""
     out = []
@@ -67,7 +72,7 @@ def wall_gaps(site: Site, zone_index: int, wall: Wall,
             v = ends[1] - ends[0]
             if abs(float(np.dot(v, u))) < cos_tol * float(np.hypot(*v)):
                 continue
-            off = [abs(float(np.cross(u, e - a))) for e in ends]
+            off = [abs(float(_cross(u, e - a))) for e in ends]
             if max(off) > OPENING_DEPTH_M:
                 continue
             s = sorted(float(np.dot(e - a, u)) for e in ends)
