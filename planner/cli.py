@@ -242,7 +242,23 @@ def cmd_assemble(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
+def cmd_chain(args: argparse.Namespace) -> int:
+    """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
+    from planner.network.survey import survey_network
+
+    site = load_with_overrides(args)
+    stations = read_plan_stations(args.plan, site)
+    print("\n".join(survey_network(site, stations, args.registration).lines()))
+    return ExitCode.OK
+
+
 def _add_assemble_parser(sub: argparse._SubParsersAction) -> None:
+    c = sub.add_parser("chain", help="registration-chain accuracy of a plan (links, ties to control; seed 003)")
+    _add_site_options(c)
+    c.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
+    c.add_argument("--registration", choices=("zone", "site"), default=None,
+                   help="registration groups (default: site where zones are placed or openings given)")
+    c.set_defaults(func=cmd_chain)
     a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
     a.add_argument("site", help="JSON instance or table CSV")
     a.add_argument("--tolerance", type=float, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)")
