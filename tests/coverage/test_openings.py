@@ -121,3 +121,18 @@ def test_json_window_does_not_join_but_lets_sight_through(tmp_path):
     c, p = np.array([[25.5, 4.0]]), np.array([[25.5, 15.0]])
     assert sight_clear(c, p, p, np.full(1, -2), b).tolist() == [True]
     assert data["openings"][3]["kind"] == "window"
+
+
+@pytest.mark.parametrize("name", ["baalbek_site.json", "house_doors.json"])
+def test_zone_side_blockers_give_the_pairs_of_the_full_blocker_set(name, monkeypatch):
+    # the per-zone-side blocker subsets (issue 12) must keep the junction cuts of placed zones (no cut end
+    # comes back as a vertex) and every blocker for a zone with a gap, even one made by a neighbour's door
+    import planner.coverage.matrix as matrix
+    from planner.plan import build_problem
+
+    site = load_site(INSTANCES / name)
+    options = PlanOptions(method="milp", regions=False, pool=PoolOptions(grid_spacing_m=10.0))
+    fast = build_problem(site, options).by_candidate
+    monkeypatch.setattr(matrix.ZoneSideBlockers, "of", lambda self, zi, inside: self.all)
+    full = build_problem(site, options).by_candidate
+    assert fast.nnz == full.nnz and (fast != full).nnz == 0
