@@ -163,7 +163,8 @@ def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = 
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
     control = read_control(args.control) if getattr(args, "control", None) else None
-    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed)
+    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
+                         registration=getattr(args, "registration", None))
     if not show:
         return report
     print(report.summary())
@@ -335,6 +336,9 @@ def build_parser() -> argparse.ArgumentParser:
     nw.add_argument("--seed", type=int, default=0)
     _add_network_options(nw)
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
+    nw.add_argument("--registration", choices=("zone", "site"), default=None,
+                    help="registration links per zone-side or across the site (default: site where zones are placed "
+                         "or openings given)")
     nw.set_defaults(func=cmd_network)
     add_report_parser(sub)
     _add_assemble_parser(sub)

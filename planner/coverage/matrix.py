@@ -216,6 +216,20 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
     return Places(inside=inside, reason=tuple(reason))
 
 
+def _on_own_side(site: Site, cands: Sequence[Candidate], places: Places) -> Places:
+    """Also forbid a candidate that does not stand on its own zone-side (as verification does): with zones
+    placed in one frame, a point made for one room (a corner ray, say) may lie in another room, and would
+    otherwise cover that room's walls under the wrong zone's name."""
+    if not cands:
+        return places
+    index = {z.id: i for i, z in enumerate(site.zones)}
+    own = places.inside[np.arange(len(cands)), [index[c.zone] for c in cands]]
+    want = np.array([c.side.value == "inside" for c in cands])
+    reason = tuple(r or (f"not {c.side.value} zone {c.zone}" if o != w else "")
+                   for r, c, o, w in zip(places.reason, cands, own, want))
+    return Places(places.inside, reason)
+
+
 @dataclass(frozen=True, eq=False)
 class CoverageProblem:
     """Candidates, targets and the boolean coverage matrix in both views.
@@ -260,7 +274,7 @@ def build_coverage(
     """
     cands = tuple(candidates)
     xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)
-    places = station_places(site, xy, [c.frame for c in cands])
+    places = _on_own_side(site, cands, station_places(site, xy, [c.frame for c in cands]))
     rows, cols, slant, inc = [], [], [], []
     cand_frame = np.array([c.frame for c in cands], dtype=object)
     usable = np.array([r == "" for r in places.reason], dtype=bool)

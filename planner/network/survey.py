@@ -21,7 +21,7 @@ import numpy as np
 
 from planner.candidates.model import Candidate
 from planner.coverage.links import default_registration, registration_groups
-from planner.coverage.matrix import build_coverage
+from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.network.chain import (DEFAULT_CONTROL_SIGMA_M, TIE_RANGE_M, ChainReport, chain_accuracy, control_count,
@@ -49,6 +49,14 @@ class SurveyNetwork:
     chain: ChainReport
     frames: tuple[str, ...]
 
+    def to_dict(self) -> dict[str, object]:
+        c = self.chain
+        return {"parts": [list(p) for p in self.parts], "links": [list(k) for k in self.links],
+                "ties_sigma_m": dict(self.ties), "proposed_control": self.proposed, "frames": list(self.frames),
+                "station_sigma_m": dict(c.sigma_m), "links_from_control": dict(c.links_from_control),
+                "weakest_chain": list(c.weakest_chain), "best_extra_tie": c.best_tie,
+                "worst_after_extra_tie_m": c.worst_after_tie_m, "untied": list(c.untied)}
+
     def lines(self) -> list[str]:
         return [f"survey network: {len(self.parts)} registration part(s), {len(self.links)} registration links, "
                 f"{len(self.ties)} station(s) tied to {'proposed ' if self.proposed else ''}control; "
@@ -60,15 +68,17 @@ def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
     return tie_sigma_m(list(ranges), DEFAULT_RESOLUTION_DEG, float(np.sqrt(np.mean(np.square(centre)))))
 
 
-def registration_links(site: Site, stations: Sequence[Candidate], mode: str | None = None
-                       ) -> list[tuple[str, str]]:
-    """Pairs of the plan's stations that can be registered (see the module text)."""
+def registration_links(site: Site, stations: Sequence[Candidate], mode: str | None = None,
+                       problem: CoverageProblem | None = None) -> list[tuple[str, str]]:
+    """Pairs of the plan's stations that can be registered (see the module text); ``problem``: their
+    coverage, when already built (rows in the order of ``stations``)."""
     from planner.plan import sight_limits
     from planner.validate import validate_site
 
     limits = sight_limits(validate_site(site), False, True)
-    targets = make_targets(site, 1.0)
-    problem = build_coverage(site, stations, targets, limits)
+    if problem is None:
+        problem = build_coverage(site, stations, make_targets(site, 1.0), limits)
+    targets = problem.targets
     rule = OverlapRule(site.parameters.overlap)
     labels, links = registration_groups(site, stations, mode or default_registration(site), limits.range_limit_m)
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
@@ -82,10 +92,12 @@ def registration_links(site: Site, stations: Sequence[Candidate], mode: str | No
     return out
 
 
-def survey_network(site: Site, stations: Sequence[Candidate], mode: str | None = None) -> SurveyNetwork:
-    """Links, ties (given or proposed control) and the chain accuracy of a plan's stations."""
+def survey_network(site: Site, stations: Sequence[Candidate], mode: str | None = None,
+                   links: Sequence[tuple[str, str]] | None = None) -> SurveyNetwork:
+    """Links (``links``: already found by :func:`registration_links`), ties (given or proposed control)
+    and the chain accuracy of a plan's stations."""
     xy = {s.id: s.xy for s in stations}
-    links = registration_links(site, stations, mode)
+    links = list(links) if links is not None else registration_links(site, stations, mode)
     g = nx.Graph()
     g.add_nodes_from(xy)
     g.add_edges_from(links)
