@@ -219,15 +219,15 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
 def _on_own_side(site: Site, cands: Sequence[Candidate], places: Places) -> Places:
     """Also forbid a candidate that does not stand on its own zone-side (as verification does): with zones
     placed in one frame, a point made for one room (a corner ray, say) may lie in another room, and would
-    otherwise cover that room's walls under the wrong zone's name."""
-    if not cands:
-        return places
+    otherwise cover that room's walls under the wrong zone's name. A candidate of no zone (``zone ''``:
+    a position priced over the plane, whose owner its coverage decides) is left alone."""
     index = {z.id: i for i, z in enumerate(site.zones)}
-    own = places.inside[np.arange(len(cands)), [index[c.zone] for c in cands]]
-    want = np.array([c.side.value == "inside" for c in cands])
-    reason = tuple(r or (f"not {c.side.value} zone {c.zone}" if o != w else "")
-                   for r, c, o, w in zip(places.reason, cands, own, want))
-    return Places(places.inside, reason)
+    reason = list(places.reason)
+    for k, c in enumerate(cands):
+        zi = index.get(c.zone)
+        if zi is not None and not reason[k] and bool(places.inside[k, zi]) != (c.side.value == "inside"):
+            reason[k] = f"not {c.side.value} zone {c.zone}"
+    return Places(places.inside, tuple(reason))
 
 
 @dataclass(frozen=True, eq=False)
