@@ -125,13 +125,14 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
-    rule = None if args.no_overlap else OverlapRule(overlap, args.min_shared, args.max_link)
+    rule = None if args.no_overlap or overlap == 0 else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
                        k=args.k, overlap=rule, precision=args.precision)
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
                        tripod=args.method == "milp" or args.tripod, recentre=args.recentre,
+                       registration=args.registration,
                        regions=not args.no_regions, pricing=not args.no_pricing,
                        pricing_time_limit_s=args.pricing_time_limit)
 
@@ -162,7 +163,8 @@ def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = 
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
     control = read_control(args.control) if getattr(args, "control", None) else None
-    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed)
+    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
+                         registration=getattr(args, "registration", None))
     if not show:
         return report
     print(report.summary())
@@ -224,6 +226,51 @@ def cmd_instruments(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
+def cmd_assemble(args: argparse.Namespace) -> int:
+    """Place the table zones of an instance from their shared walls; print matches, residuals, unplaced zones."""
+    from planner.site.assemble import assemble, assembled_instance
+    from planner.site.fileio import read_json
+
+    path = Path(args.site)
+    site = load_site(path)
+    report = assemble(site, tolerance_m=args.tolerance, wall_thickness_m=args.wall_thickness, anchor=args.anchor)
+    print("\n".join(report.lines()))
+    if args.out:
+        out = Path(args.out)
+        source = read_json(path) if path.suffix.lower() == ".json" else {
+            "format": "tls-planner/1", "name": path.stem, "zones": [{"table_csv": path.name}]}
+        data = assembled_instance(source, str(path.parent), str(out.parent), report)
+        out.write_text(json.dumps(data, indent=2) + "\n")
+        print(f"wrote {out}: {len(report.placements)} zones placed, {len(report.unplaced)} left in their own frames")
+    return ExitCode.OK
+
+
+def cmd_chain(args: argparse.Namespace) -> int:
+    """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
+    from planner.network.survey import survey_network
+
+    site = load_with_overrides(args)
+    stations = read_plan_stations(args.plan, site)
+    print("\n".join(survey_network(site, stations, args.registration).lines()))
+    return ExitCode.OK
+
+
+def _add_assemble_parser(sub: argparse._SubParsersAction) -> None:
+    c = sub.add_parser("chain", help="registration-chain accuracy of a plan (links, ties to control; seed 003)")
+    _add_site_options(c)
+    c.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
+    c.add_argument("--registration", choices=("zone", "site"), default=None,
+                   help="registration groups (default: site where zones are placed or openings given)")
+    c.set_defaults(func=cmd_chain)
+    a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
+    a.add_argument("site", help="JSON instance or table CSV")
+    a.add_argument("--tolerance", type=float, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)")
+    a.add_argument("--wall-thickness", type=float, default=0.0, metavar="M", help="offset between the two faces (default 0)")
+    a.add_argument("--anchor", metavar="ZONE", help="zone whose frame becomes the site frame (default: the outline)")
+    a.add_argument("--out", metavar="FILE", help="write the instance with its placements to FILE")
+    a.set_defaults(func=cmd_assemble)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="planner", description="Plan terrestrial laser scanner stations.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -244,6 +291,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--no-overlap", action="store_true", help="MILP without the registration-overlap constraint")
     pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
+    pl.add_argument("--registration", choices=("zone", "site"), default=None,
+                    help="one registration bundle per zone-side, or per accessible area of the site (default: site "
+                         "where zones are placed or openings given)")
     pl.add_argument("--tripod", action="store_true", help="compute tripod discs (always on for milp)")
     pl.add_argument("--recentre", action="store_true", help="move each station to the centre of its tripod disc")
     pl.add_argument("--no-regions", action="store_true",
@@ -286,8 +336,12 @@ def build_parser() -> argparse.ArgumentParser:
     nw.add_argument("--seed", type=int, default=0)
     _add_network_options(nw)
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
+    nw.add_argument("--registration", choices=("zone", "site"), default=None,
+                    help="registration links per zone-side or across the site (default: site where zones are placed "
+                         "or openings given)")
     nw.set_defaults(func=cmd_network)
     add_report_parser(sub)
+    _add_assemble_parser(sub)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=cmd_instruments)
     return parser

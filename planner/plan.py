@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 import time
+from collections.abc import Hashable
 from dataclasses import dataclass, field, replace
 
 import networkx as nx
@@ -14,6 +16,7 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
+from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
@@ -53,6 +56,7 @@ class PlanOptions:
     milp: MilpOptions = field(default_factory=MilpOptions)
     tripod: bool = False
     recentre: bool = False
+    registration: str | None = None  # zone | site; None: site where zones are placed or openings given
     regions: bool = True
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
@@ -118,7 +122,7 @@ class Plan:
                          else f"bound scope: pool (the MILP bound holds over the candidate pool"
                               + (f"; over the plane at least {plane} stations)" if plane is not None else ")"))
         broken = {g: n for g, n in self.registration.items() if n > 1}
-        lines.append("registration: every zone-side connected under the overlap relation" if not broken else
+        lines.append("registration: every registration group connected under the overlap relation" if not broken else
                      "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items()))
         if self.tripods:
             radii = [d.radius_m for d in self.tripods]
@@ -202,8 +206,11 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                 problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s)
             log.append(pricing.summary())
             pool = problem.candidates
+        mode = options.registration or default_registration(site)
+        reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
+        groups, links = registration_groups(site, problem.candidates, mode, reach)
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
-                              name=site.name)
+                              name=site.name, groups=groups, links=links)
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
         if options.pricing:
@@ -211,7 +218,10 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)
-    registration, partners = registration_check(problem, result.selected, rule)
+    registration, partners = registration_check(problem, result.selected, rule, site, options.registration,
+                                                rule.max_link_m or limits.range_limit_m)
+    if rule.overlap == 0:
+        registration, log = {}, log + ["registration: not required (overlap 0)"]
     stations = [problem.candidates[i] for i in result.selected]
     tripods: tuple[TripodDisc, ...] = ()
     if options.tripod or options.recentre:
@@ -224,19 +234,29 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                 registration, tripods)
 
 
-def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule
+def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule,
+                       site: Site | None = None, mode: str | None = "zone", reach_m: float = math.inf,
                        ) -> tuple[dict[str, int], dict[int, list[int]]]:
-    """Components of each zone-side's chosen stations under the overlap relation, computed afresh with
-    networkx (independent of any solver), and each station's registration partners."""
+    """Components of each registration group's chosen stations under the overlap relation, computed afresh
+    with networkx (independent of any solver), and each station's registration partners.
+
+    Groups: each zone-side (``mode="zone"``), or each accessible area of ``site`` with links through
+    openings (``"site"``; ``None``: :func:`default_registration`)."""
     lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
-    xy = np.array([c.xy for c in problem.candidates], dtype=float).reshape(-1, 2)
-    groups: dict[tuple[str, str], list[int]] = {}
-    for i in selected:
-        c = problem.candidates[i]
-        groups.setdefault((c.zone, c.side.value), []).append(i)
+    chosen = [problem.candidates[i] for i in selected]
+    xy = np.array([c.xy for c in chosen], dtype=float).reshape(-1, 2)
+    mode = mode or (default_registration(site) if site is not None else "zone")
+    labels, links = registration_groups(site, chosen, mode, reach_m) if site is not None else (
+        tuple((c.zone, c.side.value) for c in chosen), None)
+    groups: dict[Hashable, list[int]] = {}
+    for k, label in enumerate(labels):
+        groups.setdefault(label, []).append(k)
     out, partners = {}, {}
-    for (zone, side), nodes in groups.items():
-        g = overlap_graph(problem.by_candidate, lengths, nodes, rule, xy)
-        out[f"{zone}/{side}"] = nx.number_connected_components(g)
-        partners.update({n: sorted(g.neighbors(n)) for n in nodes})
+    sub = problem.by_candidate[list(selected)] if selected else problem.by_candidate[:0]
+    for label, nodes in groups.items():
+        g = overlap_graph(sub, lengths, nodes, rule, xy, links)
+        names = sorted({f"{chosen[k].zone}/{chosen[k].side.value}" for k in nodes})
+        key = "/".join(label) if mode == "zone" else f"area {label[1]} ({', '.join(names[:4])}{', ...' if len(names) > 4 else ''})"
+        out[key] = nx.number_connected_components(g)
+        partners.update({selected[n]: sorted(selected[m] for m in g.neighbors(n)) for n in nodes})
     return out, partners

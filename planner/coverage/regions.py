@@ -41,6 +41,8 @@ HYPERBOLA_SAGITTA_M = 1e-3
 #: the sight test blocks a line whose end, moved EPS_SHORTEN_M toward the station, lies within
 #: EPS_SIGHT_M of a wall line through the piece's end: a sliver of this half-angle
 GRAZE_DEG = math.degrees(math.asin(EPS_SIGHT_M / EPS_SHORTEN_M))
+#: grid of the snap-rounded overlay used when GEOS's floating overlay of the shadows fails (1 um)
+SNAP_GRID_M = 1e-6
 #: a station closer than this to a wall line stands nowhere (as in the coverage build)
 ON_WALL_M = 1e-6
 
@@ -213,5 +215,8 @@ def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpac
             shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
     region = k.intersection(stand)
     if shadows and not region.is_empty:
-        region = region.difference(shapely.union_all(shadows))
+        try:
+            region = region.difference(shapely.union_all(shadows))
+        except shapely.errors.GEOSException:  # near-coincident sliver edges (doors, junction cuts): snap-round
+            region = shapely.difference(region, shapely.union_all(shadows, grid_size=SNAP_GRID_M), grid_size=SNAP_GRID_M)
     return region

@@ -19,7 +19,6 @@ import numpy as np
 from planner.accuracy import sigma_meas_m
 from planner.candidates.model import Candidate
 from planner.coverage.matrix import build_coverage
-from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.errors import InputError
 from planner.instruments import TotalStation, load_instrument
@@ -27,6 +26,7 @@ from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
+from planner.network.survey import SurveyNetwork, registration_links, survey_network
 from planner.site.model import ControlPoint, Site
 from planner.validate import validate_site
 
@@ -50,6 +50,7 @@ class NetworkReport:
     monte_carlo: tuple[MonteCarlo, ...] = field(default=())
     notes: tuple[str, ...] = ()
     sigma_h: dict[str, float] = field(default_factory=dict)  # height error per station, where heights are given
+    survey: SurveyNetwork | None = None  # the network as a scanner survey: registration links, ties, chain accuracy
 
     @property
     def network_rms_m(self) -> float:
@@ -83,6 +84,7 @@ class NetworkReport:
             "notes": list(self.notes),
             "monte_carlo": [{"runs": m.runs, "rms_m": m.rms, "spread_m": m.spread} for m in self.monte_carlo],
             "accuracy_check": self.check,
+            "survey": None if self.survey is None else self.survey.to_dict(),
         }
 
     def _repr_html_(self) -> str:
@@ -109,6 +111,8 @@ class NetworkReport:
             worst = "untied station" if not math.isfinite(z["worst_e_m"]) else f"{z['worst_e_m'] * 1000:.2f} mm"
             lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst}")
         lines += [f"  fix: {s}" for s in c["suggestions"]]
+        if self.survey is not None:
+            lines += self.survey.lines()
         return "\n".join(lines)
 
 
@@ -167,8 +171,12 @@ def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[Contro
 
 def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str = "topcon-os-105",
                 control: Sequence[ControlPoint] | None = None, monte_carlo_runs: int = 0, seed: int = 0,
-                target_spacing_m: float = 1.0) -> NetworkReport:
-    """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece."""
+                target_spacing_m: float = 1.0, registration: str | None = None) -> NetworkReport:
+    """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece.
+
+    ``registration``: ``zone`` or ``site`` (default :func:`planner.coverage.links.default_registration`);
+    the report also holds the network as a scanner survey (:mod:`planner.network.survey`).
+    """
     ts = load_instrument(total_station)
     if not isinstance(ts, TotalStation):
         raise InputError("is not a total station", field="total_station", value=total_station)
@@ -178,15 +186,8 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     limits = sight_limits(validation, False, True)
     targets = make_targets(site, target_spacing_m)
     problem = build_coverage(site, stations, targets, limits)
-    rule = OverlapRule(site.parameters.overlap)
-    lengths = piece_lengths(targets.s0_m, targets.s1_m)
-    links = []
-    groups: dict[tuple[str, str], list[int]] = {}
-    for i, s in enumerate(stations):
-        groups.setdefault((s.zone, s.side.value), []).append(i)
-    for nodes in groups.values():
-        og = overlap_graph(problem.by_candidate, lengths, nodes, rule)
-        links += [(stations[u].id, stations[v].id) for u, v in og.edges()]
+    # registration links within each zone-side, or across the site's accessible areas (through openings)
+    links = registration_links(site, stations, registration, problem)
     ts_range = ts.max_range_prism_m or 1000.0
     g = station_network(site, stations, list(control or site.control_points), links, ts_range)
     ctrl = list(control or site.control_points)
@@ -215,7 +216,9 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
             mcs.append(monte_carlo(names, comp_fixed, comp_obs, runs=monte_carlo_runs, seed=seed, angle_unit="deg"))
     sigma_h = _heights(g, ts, ctrl, notes)
     check = accuracy_check(site, stations, problem, sigma, validation.scanner)
-    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes), sigma_h)
+    survey = survey_network(site, stations, registration, links)
+    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes),
+                         sigma_h, survey)
 
 
 def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any) -> dict[str, Any]:

@@ -19,9 +19,11 @@ from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, Sca
 from planner.site.table_csv import NUMBER_COLUMNS, read_table_csv
 from planner.site.tables import SIDE_FIELDS, VERTEX_FIELDS, zone_from_table
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable
+from planner.site.zone_extras import place_and_open
 
 TOP_KEYS = {"format", "name", "description", "source", "instrument", "parameters", "closure_tolerance",
-            "zones", "obstacles", "no_go", "boundary", "control_points", "corrections", "accepted_misclosures"}
+            "zones", "obstacles", "no_go", "boundary", "control_points", "corrections", "accepted_misclosures",
+            "placements", "openings", "assembly"}
 FORMAT = "tls-planner/1"
 
 
@@ -97,6 +99,7 @@ def load_instance_json(path: Path | str) -> Site:
         accepted = tuple(_accepted(r, a, k) for k, a in enumerate(r.items(data, "accepted_misclosures"), 1))
         zones = _zones(r, r.items(data, "zones"), tolerance, corrections, accepted)
         _check_references(r, zones, corrections, accepted)
+        zones = place_and_open(r, zones, data.get("placements", {}), r.items(data, "openings"))
         return Site(
             name=data.get("name", r.path.stem),
             zones=zones,
