@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from planner import progress
+from planner.accuracy import INCIDENCE_MODELS
 from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
 from planner.cli_report import add_report_parser, parse_exports, write_exports
@@ -56,7 +57,11 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("site", help="site file: JSON instance or table CSV")
     p.add_argument("--instrument", help="instrument name from models/ (overrides the instance)")
     p.add_argument("--max-range", type=float, metavar="M", help="slant range S_max in m (overrides derivation)")
-    p.add_argument("--theta-max", type=float, metavar="DEG", help="largest incidence angle, degrees")
+    p.add_argument("--theta-max", type=_theta, metavar="DEG|derive",
+                   help="largest incidence angle in degrees, or 'derive' (from sigma_req and the incidence model)")
+    p.add_argument("--incidence-model", choices=INCIDENCE_MODELS,
+                   help="how a view's error grows with incidence: none (range only), table (2.3), soudarissanane")
+    p.add_argument("--standoff", type=float, metavar="M", help="no station or control point closer to a wall/obstacle")
     p.add_argument("--overlap", type=float, metavar="FRACTION", help="registration overlap, e.g. 0.3")
     acc = p.add_mutually_exclusive_group()
     acc.add_argument("--sigma-req", type=float, metavar="M", help="required accuracy in m")
@@ -92,9 +97,11 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
         tol_kw["min_relative_precision"] = args.min_relative_precision
     site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, dxf=_dxf_options(args), crs=args.crs)
     p = site.parameters
+    derive = args.theta_max == "derive"
     changes = {k: v for k, v in {
-        "max_slant_range_m": args.max_range, "theta_max_deg": args.theta_max, "overlap": args.overlap,
+        "max_slant_range_m": args.max_range, "theta_max_deg": None if derive else args.theta_max, "overlap": args.overlap,
         "sigma_req_m": args.sigma_req, "instrument_height_m": args.instrument_height,
+        "incidence_model": args.incidence_model, "min_standoff_m": args.standoff, "derive_theta_max": derive or None,
     }.items() if v is not None}
     if args.sigma_req is not None:
         changes["drawing_scale"] = None
@@ -102,6 +109,16 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
     if args.scale is not None:
         p = p.with_scale(args.scale)
     return replace(site, parameters=p, instrument=args.instrument or site.instrument)
+
+
+def _theta(text: str) -> float | str:
+    """--theta-max: degrees, or 'derive'."""
+    if text.strip().lower() == "derive":
+        return "derive"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected degrees or 'derive', got {text!r}") from None
 
 
 def _dxf_options(args: argparse.Namespace) -> DxfOptions:
@@ -160,7 +177,8 @@ def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = 
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
     control = read_control(args.control) if getattr(args, "control", None) else None
-    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed)
+    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
+                         precision=getattr(args, "precision", "single"))
     if not show:
         return report
     print(report.summary())
@@ -193,8 +211,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
     validation = validate_site(site)
     stations = read_plan_stations(args.plan, site)
-    report = verify_stations(site, stations, sight_limits(validation, args.incidence == "3d", not args.no_precision),
-                             args.spacing)
+    limits = sight_limits(validation, args.incidence == "3d", not args.no_precision, args.precision == "combined")
+    report = verify_stations(site, stations, limits, args.spacing)
     print(f"plan {args.plan}: {len(stations)} stations")
     print(report.summary())
     return ExitCode.OK if report.complete else ExitCode.INFEASIBLE
@@ -238,7 +256,7 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--threads", type=int, default=1, help="solver threads (default 1: deterministic)")
     pl.add_argument("--k", type=int, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument("--precision", choices=PRECISION_MODES, default="single",
-                    help="single: each view must meet sigma_req; combined: views add information")
+                    help="single: each view must meet sigma_req; combined: views add information (every method)")
     pl.add_argument("--no-overlap", action="store_true", help="MILP without the registration-overlap constraint")
     pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
@@ -260,6 +278,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_site_options(ve)
     ve.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}] in the zones' frames")
     ve.add_argument("--spacing", type=float, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)")
+    ve.add_argument("--precision", choices=PRECISION_MODES, default="single",
+                    help="single: each point needs one view within sigma_req; combined: its views add information")
     _add_limit_options(ve)
     ve.set_defaults(func=cmd_verify)
     ex = sub.add_parser("export", help="write the coverage problem for third-party solvers")
@@ -276,6 +296,8 @@ def build_parser() -> argparse.ArgumentParser:
     nw.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
     nw.add_argument("--out", metavar="DIR", help="write DIR/network.json")
     nw.add_argument("--seed", type=int, default=0)
+    nw.add_argument("--precision", choices=PRECISION_MODES, default="single",
+                    help="accuracy check by the best view (single) or all views combined")
     _add_network_options(nw)
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
     nw.set_defaults(func=cmd_network)

@@ -16,7 +16,7 @@ from planner.candidates.pool import PoolOptions, candidate_pool
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
-from planner.coverage.visibility import SightLimits
+from planner.coverage.visibility import PrecisionRule, SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
 from planner.solve.greedy import greedy_cover
@@ -51,6 +51,11 @@ class PlanOptions:
     milp: MilpOptions = field(default_factory=MilpOptions)
     tripod: bool = False
     recentre: bool = False
+
+    @property
+    def combined(self) -> bool:
+        """Views add information (``--precision combined``), for every method."""
+        return self.precision and self.milp.precision == "combined"
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -117,12 +122,19 @@ class Plan:
         return "\n".join(line for line in lines if line)
 
 
-def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool) -> SightLimits:
-    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req."""
+def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False) -> SightLimits:
+    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req.
+
+    ``combined``: no single view is refused for precision (no precision range, no per-pair
+    test); the rule travels with the limits so that verification and the network check
+    judge the information sum. With ``precision`` off there is no rule at all.
+    """
     p = validation.site.parameters
-    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if precision else None
-    return SightLimits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.instrument_height_m,
-                       incidence_3d, precision_range)
+    single = precision and not combined
+    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
+    rule = PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
+    return SightLimits(validation.range_limit.max_slant_range_m, validation.theta_max_deg, p.instrument_height_m,
+                       incidence_3d, precision_range, rule)
 
 
 def closed_form_limits(validation: ValidationReport) -> Limits:
@@ -138,8 +150,7 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray) -> InfeasibleErro
 
 
 def _limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
-    combined = options.method == "milp" and options.milp.precision == "combined"
-    return sight_limits(validation, options.incidence_3d, options.precision and not combined)
+    return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
 
 
 def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None) -> CoverageProblem:
@@ -184,9 +195,13 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     elif options.method == "milp":
         p = site.parameters
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
-                              name=site.name)
+                              name=site.name, incidence_model=p.incidence_model)
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
+    elif options.combined and limits.precision is not None:
+        from planner.solve.combined import combined_greedy
+
+        result = combined_greedy(problem, limits.precision)
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)

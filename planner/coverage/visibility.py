@@ -26,6 +26,8 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.accuracy import ErrorBudget, RangeAngleSigma, precision_ok
+
 EPS_FRONT_M = 1e-6
 EPS_RANGE_M = 1e-6
 EPS_ANGLE_DEG = 1e-7
@@ -33,16 +35,40 @@ EPS_SIGHT_M = 1e-7
 EPS_SHORTEN_M = 1e-5
 
 
+@dataclass(frozen=True, eq=False)
+class PrecisionRule:
+    """How a view's point error is judged: e(S, theta) of :func:`planner.accuracy.view_error_m`.
+
+    ``combined``: views add information (sum (sigma_req / e_j)^2 >= 1), so no single view is
+    refused for precision; verification and the network check judge the sum.
+    """
+
+    scanner: RangeAngleSigma
+    budget: ErrorBudget
+    sigma_req_m: float
+    incidence_model: str = "none"
+    combined: bool = False
+
+
 @dataclass(frozen=True)
 class SightLimits:
     """The limits a pair must meet; ``precision_range_m`` is the range at which the
-    predicted point error reaches the required accuracy (None: no precision model)."""
+    predicted point error reaches the required accuracy at normal incidence (None: no
+    precision model). ``precision``, when its incidence model is not ``none`` and the mode
+    is single, also refuses each pair whose e(slant, incidence) exceeds sigma_req."""
 
     max_slant_range_m: float
     theta_max_deg: float
     instrument_height_m: float = 0.0
     incidence_3d: bool = False
     precision_range_m: float | None = None
+    precision: PrecisionRule | None = None
+
+    @property
+    def per_pair_precision(self) -> bool:
+        """True when each pair is also tested with the incidence-dependent view error."""
+        p = self.precision
+        return p is not None and not p.combined and p.incidence_model != "none" and self.precision_range_m is not None
 
     @property
     def range_limit_m(self) -> float:
@@ -120,10 +146,15 @@ def geometric_pairs(
         side_ok = cand_inside[c0:c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
         ok = side_ok & (d > EPS_FRONT_M) & (slant <= s_lim) & (cos_i >= cos_max)
         k, t = np.nonzero(ok)
+        inc = np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0)))
+        if limits.per_pair_precision:
+            p = limits.precision
+            keep = precision_ok(slant[k, t], inc, p.scanner, p.budget, p.sigma_req_m, p.incidence_model)
+            k, t, inc = k[keep], t[keep], inc[keep]
         out_c.append(k + c0)
         out_t.append(near[t])
         out_s.append(slant[k, t])
-        out_i.append(np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0))))
+        out_i.append(inc)
     cat = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
 
