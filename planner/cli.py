@@ -24,7 +24,7 @@ from planner.accuracy import INCIDENCE_MODELS
 from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
 from planner.cli_report import add_report_parser, parse_exports, write_exports
-from planner.errors import ExitCode, PlannerError, UsageError
+from planner.errors import ExitCode, InfeasibleError, PlannerError, UsageError
 from planner.exchange import DxfOptions
 from planner.export import FORMATS, export_problem
 from planner.instruments import list_instruments, load_instrument
@@ -38,6 +38,7 @@ from planner.report import compare_methods, write_report
 from planner.site import ScanSide, Site, load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import PRECISION_MODES, MilpOptions
+from planner.solve.result import SolveResult
 from planner.validate import validate_site
 from planner.verify import verify_stations
 
@@ -158,6 +159,9 @@ def cmd_plan(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
     options = _plan_options(args, site.parameters.overlap)
     plan = plan_site(site, options)
+    if not plan.stations and plan.result.status.value in ("infeasible", "no_solution"):
+        print(plan.summary().splitlines()[0])
+        raise InfeasibleError(f"{plan.result.method} found no plan: {_no_plan_reason(plan.result, options)}")
     print(plan.summary())
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
@@ -170,6 +174,19 @@ def cmd_plan(args: argparse.Namespace) -> int:
         if args.report:
             print(f"wrote {write_report(outcome, args.report)}")
     return ExitCode.OK
+
+
+def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
+    """Why a solver stopped without stations, in words."""
+    info = result.info
+    if "targets_seen_by_fewer_than_k" in info:
+        return f"{info['count']} target(s) seen by fewer than k = {options.milp.k} candidates"
+    if result.status.value == "no_solution":
+        return f"no cover found within the time limit of {options.milp.time_limit_s:g} s (raise --time-limit)"
+    rules = ["every piece covered"] + (["k = %d" % options.milp.k] if options.milp.k > 1 else [])
+    rules += ["registration overlap connected"] if options.milp.overlap is not None else []
+    rules += ["combined precision"] if options.combined else []
+    return f"the solver proved that no set of candidates meets {', '.join(rules)}"
 
 
 def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = True) -> NetworkReport:

@@ -24,7 +24,7 @@ from planner.solve.instance import cover_instance
 from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import SolveResult
-from planner.solve.tripod import TripodDisc, tripod_discs
+from planner.solve.tripod import TripodDisc, tripod_discs, tripod_heights_line
 from planner.validate import ValidationReport, validate_site
 from planner.verify import VerifyReport, verify_stations
 
@@ -117,7 +117,8 @@ class Plan:
         if self.tripods:
             radii = [d.radius_m for d in self.tripods]
             lines.append(f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
-                         + (" (stations recentred)" if self.options.recentre else ""))
+                         + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)"))
+            lines.append(tripod_heights_line(self.tripods, self.site.parameters))
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
 
@@ -209,7 +210,7 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     stations = [problem.candidates[i] for i in result.selected]
     tripods: tuple[TripodDisc, ...] = ()
     if options.tripod or options.recentre:
-        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners))
+        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners, options.recentre))
         if options.recentre:
             stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
     verification = verify_stations(site, stations, limits, options.verify_spacing_m)

@@ -68,6 +68,7 @@ def _station(s: Candidate, disc: TripodDisc | None) -> dict[str, Any]:
     if disc is not None:
         out["tripod_radius_m"] = disc.radius_m
         out["tripod_centre"] = list(disc.centre)
+        out["height_tolerance_m"] = None if disc.height_tolerance_m != disc.height_tolerance_m else disc.height_tolerance_m
     return out
 
 
