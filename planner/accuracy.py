@@ -319,3 +319,22 @@ def derive_theta_max_deg(slant_m: float, scanner: RangeAngleSigma, budget: Error
         mid = (lo + hi) / 2.0
         lo, hi = (mid, hi) if ok(mid) else (lo, mid)
     return lo
+
+
+def max_slant_for_view_m(incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float,
+                         model: str = "none", iterations: int = 60) -> NDArray[np.float64]:
+    """Largest slant range S with e(S, theta) <= sigma_req, per incidence (vectorised bisection; 0 where none).
+
+    e grows with S at any incidence, so the views meeting sigma_req at incidence theta are those
+    with S <= this value: the boundary of the precision part of a coverage region.
+    """
+    th = np.atleast_1d(np.asarray(incidence_deg, dtype=float))
+    per_m = max(scanner.angle_sigma_arcsec / RHO_ARCSEC, scanner.range_sigma_ppm / 1e6)
+    hi = np.full(th.shape, sigma_req_m / per_m + 1.0 if per_m > 0 else 1e7)  # e >= per_m * S beyond that
+    lo = np.zeros(th.shape)
+    ok0 = precision_ok(lo, th, scanner, budget, sigma_req_m, model)
+    for _ in range(iterations):
+        mid = (lo + hi) / 2.0
+        ok = precision_ok(mid, th, scanner, budget, sigma_req_m, model)
+        lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
+    return np.where(ok0, lo, 0.0)

@@ -15,6 +15,7 @@ from planner.candidates.model import Candidate
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
 from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.regions import regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import PrecisionRule, SightLimits
@@ -177,7 +178,7 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     limits = _limits(validation, options)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
-    if options.regions:  # one station for a whole zone-side, found exactly where one exists
+    if options.regions and regions_apply(limits):  # one station for a whole zone-side, found exactly where one exists
         pool = dedupe(pool + whole_side_candidates(site, targets, limits))
     problem = build_coverage(site, pool, targets, limits, step="coverage build")
     unseen = problem.uncoverable()
@@ -209,7 +210,10 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         log += extra
     elif options.method == "milp":
         p = site.parameters
-        if options.pricing:
+        pricing_on = options.pricing and regions_apply(limits)
+        if options.pricing and not pricing_on:
+            log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
+        if pricing_on:
             with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
                 problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s)
             log.append(pricing.summary())
@@ -218,7 +222,7 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                               name=site.name, incidence_model=p.incidence_model)
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
-        if options.pricing:
+        if pricing_on:
             result = with_plane_bound(result, pricing)
     elif options.combined and limits.precision is not None:
         from planner.solve.combined import combined_greedy

@@ -92,3 +92,22 @@ def test_precision_ok_and_combined_error():
     # two equal views of 10 mm combine to 10 / sqrt(2) = 7.071 mm; none: infinite
     assert combined_error_m([0.010, 0.010]) == pytest.approx(0.010 / math.sqrt(2))
     assert combined_error_m([]) == math.inf
+
+
+def test_coverage_refuses_a_view_by_its_incidence_only_with_an_incidence_model():
+    from planner.coverage.visibility import PrecisionRule, SightLimits, geometric_pairs
+
+    # a 1 m piece on the x axis facing +y, one candidate 200 m away at about 45 deg incidence:
+    # (3.1) alone allows it (200 < 239.55 m), the table model does not (theta_max(200 m) = 37.1 deg)
+    a, b = np.array([[0.0, 0.0]]), np.array([[1.0, 0.0]])
+    cand = np.array([[142.0, 141.0]])
+    args = (cand, np.ones((1, 1), bool), np.zeros(1, np.int32), np.ones(1, bool), a, b,
+            np.zeros(1), np.zeros(1), np.array([[0.0, 1.0]]))
+    s_prec = max_slant_range_m(P30, sigma_instr_m(0.010, BUDGET))
+    for model, seen in (("none", 1), ("table", 0)):
+        rule = PrecisionRule(P30, BUDGET, 0.010, model)
+        pairs = geometric_pairs(*args, SightLimits(300.0, 79.0, precision_range_m=s_prec, precision=rule))
+        assert len(pairs.cand) == seen
+    # in combined mode no single view is refused for precision: verification sums them instead
+    rule = PrecisionRule(P30, BUDGET, 0.010, "table", combined=True)
+    assert len(geometric_pairs(*args, SightLimits(300.0, 79.0, precision=rule)).cand) == 1

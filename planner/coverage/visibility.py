@@ -55,7 +55,10 @@ class SightLimits:
     """The limits a pair must meet; ``precision_range_m`` is the range at which the
     predicted point error reaches the required accuracy at normal incidence (None: no
     precision model). ``precision``, when its incidence model is not ``none`` and the mode
-    is single, also refuses each pair whose e(slant, incidence) exceeds sigma_req."""
+    is single, also refuses each pair for which the view of either end of the piece, at that
+    end's slant range (to the farther of top and foot) and incidence, has e(S, theta) > sigma_req.
+    e grows with the distance along the wall from the foot of the perpendicular, so the worst
+    point of a piece is one of its ends and this is the piece's worst view."""
 
     max_slant_range_m: float
     theta_max_deg: float
@@ -147,9 +150,10 @@ def geometric_pairs(
         ok = side_ok & (d > EPS_FRONT_M) & (slant <= s_lim) & (cos_i >= cos_max)
         k, t = np.nonzero(ok)
         inc = np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0)))
-        if limits.per_pair_precision:
-            p = limits.precision
-            keep = precision_ok(slant[k, t], inc, p.scanner, p.budget, p.sigma_req_m, p.incidence_model)
+        if limits.per_pair_precision:  # e(S, theta) at each end: the piece's worst point is one of its ends
+            hd = (hd_a[k, t], hd_b[k, t]) if not limits.incidence_3d else (sa[k, t], sb[k, t])
+            keep = _end_precision(sa[k, t], d[k, t] / np.maximum(hd[0], 1e-300), limits.precision)
+            keep &= _end_precision(sb[k, t], d[k, t] / np.maximum(hd[1], 1e-300), limits.precision)
             k, t, inc = k[keep], t[keep], inc[keep]
         out_c.append(k + c0)
         out_t.append(near[t])
@@ -157,6 +161,12 @@ def geometric_pairs(
         out_i.append(inc)
     cat = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
+
+
+def _end_precision(slant: NDArray, cos_i: NDArray, rule: PrecisionRule) -> NDArray[np.bool_]:
+    """e(S, theta) <= sigma_req for the view of one end of each piece (slant range, cosine of its incidence)."""
+    inc = np.degrees(np.arccos(np.clip(cos_i, -1.0, 1.0)))
+    return precision_ok(slant, inc, rule.scanner, rule.budget, rule.sigma_req_m, rule.incidence_model)
 
 
 def _signed(p: NDArray, q: NDArray, r: NDArray) -> NDArray:
