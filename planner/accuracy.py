@@ -322,19 +322,21 @@ def derive_theta_max_deg(slant_m: float, scanner: RangeAngleSigma, budget: Error
 
 
 def max_slant_for_view_m(incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float,
-                         model: str = "none", iterations: int = 60) -> NDArray[np.float64]:
-    """Largest slant range S with e(S, theta) <= sigma_req, per incidence (vectorised bisection; 0 where none).
+                         model: str = "none") -> NDArray[np.float64]:
+    """Largest slant range S with e(S, theta) <= sigma_req, per incidence (0 where not even S = 0 does).
 
-    e grows with S at any incidence, so the views meeting sigma_req at incidence theta are those
-    with S <= this value: the boundary of the precision part of a coverage region.
+    e grows with S at any incidence, so the views meeting sigma_req at incidence theta are those with
+    S <= this value: the boundary of the precision part of a coverage region. With k = k(theta), the
+    range term k_r (X + Y S) and the angular term k_a (sigma_beta / rho) S (table: k_r = k_a = k;
+    Soudarissanane: k_r = k, k_a = 1; none: 1) give the positive root of (3.1) generalised:
+    S^2 (k_r^2 Y^2 + k_a^2 b^2) + 2 S k_r^2 X Y + k_r^2 X^2 - (sigma_req^2 - sigma_0^2 - sigma_c^2 - sigma_g^2) = 0.
     """
-    th = np.atleast_1d(np.asarray(incidence_deg, dtype=float))
-    per_m = max(scanner.angle_sigma_arcsec / RHO_ARCSEC, scanner.range_sigma_ppm / 1e6)
-    hi = np.full(th.shape, sigma_req_m / per_m + 1.0 if per_m > 0 else 1e7)  # e >= per_m * S beyond that
-    lo = np.zeros(th.shape)
-    ok0 = precision_ok(lo, th, scanner, budget, sigma_req_m, model)
-    for _ in range(iterations):
-        mid = (lo + hi) / 2.0
-        ok = precision_ok(mid, th, scanner, budget, sigma_req_m, model)
-        lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
-    return np.where(ok0, lo, 0.0)
+    k = incidence_factor(np.atleast_1d(np.asarray(incidence_deg, dtype=float)), model)
+    k_a = np.ones_like(k) if model == "soudarissanane" else k
+    x, y = scanner.range_sigma_const_m, scanner.range_sigma_ppm / 1e6
+    b = scanner.angle_sigma_arcsec / RHO_ARCSEC
+    m = sigma_req_m**2 - budget.squared_m2
+    qa, qb, qc = k**2 * y**2 + k_a**2 * b**2, 2.0 * k**2 * x * y, k**2 * x**2 - m
+    with np.errstate(invalid="ignore", divide="ignore"):
+        root = (-qb + np.sqrt(np.maximum(qb**2 - 4.0 * qa * qc, 0.0))) / (2.0 * qa)
+    return np.where(qc <= 0.0, np.maximum(root, 0.0), 0.0)

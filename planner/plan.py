@@ -117,6 +117,7 @@ class Plan:
         ]
         lines += [f"{z:<10}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
+        lines.append(self._accuracy_line())
         scope = self.result.info.get("bound_scope")
         if scope is not None:
             plane = self.result.info.get("plane_bound")
@@ -133,6 +134,15 @@ class Plan:
             lines.append(tripod_heights_line(self.tripods, self.site.parameters))
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
+
+
+    def _accuracy_line(self) -> str:
+        """How views were judged: incidence model, precision mode, stand-off, and theta_max (derived: per range)."""
+        p, o = self.site.parameters, self.options
+        mode = "off" if not o.precision else "combined" if o.combined else "single"
+        theta = self.validation.theta_limit
+        th = theta.summary() if theta is not None else f"theta_max {p.theta_max_deg:g} deg"
+        return f"accuracy: view error e(S, theta), incidence model {p.incidence_model}, precision {mode}, stand-off {p.min_standoff_m:g} m; {th}"
 
 
 def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False) -> SightLimits:

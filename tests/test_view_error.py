@@ -111,3 +111,21 @@ def test_coverage_refuses_a_view_by_its_incidence_only_with_an_incidence_model()
     # in combined mode no single view is refused for precision: verification sums them instead
     rule = PrecisionRule(P30, BUDGET, 0.010, "table", combined=True)
     assert len(geometric_pairs(*args, SightLimits(300.0, 79.0, precision=rule)).cand) == 1
+
+
+def test_max_slant_for_view_is_where_the_view_error_reaches_sigma_req():
+    from planner.accuracy import max_slant_for_view_m
+
+    # at normal incidence every model gives (3.1): 239.55 m for the P30 at 10 mm with 0.5 mm terms
+    s_max = max_slant_range_m(P30, sigma_instr_m(0.010, BUDGET))
+    for model in ("none", "table", "soudarissanane"):
+        assert max_slant_for_view_m(0.0, P30, BUDGET, 0.010, model)[0] == pytest.approx(s_max, rel=1e-12)
+    # table, 37.10 deg: the hand computation of the theta_max test read backwards gives 200 m
+    assert max_slant_for_view_m(37.10, P30, BUDGET, 0.010, "table")[0] == pytest.approx(200.0, abs=0.05)
+    # and at every angle e(S_lim, theta) = sigma_req
+    th = np.array([5.0, 30.0, 60.0, 75.0])
+    for model in ("table", "soudarissanane"):
+        s = max_slant_for_view_m(th, P30, BUDGET, 0.010, model)
+        assert view_error_m(s, th, P30, BUDGET, model) == pytest.approx(np.full(4, 0.010), rel=1e-9)
+    # Soudarissanane at 85 deg: the range term alone, 1.2 mm / cos 85 = 13.8 mm, exceeds 10 mm at S = 0
+    assert max_slant_for_view_m(85.0, P30, BUDGET, 0.010, "soudarissanane")[0] == 0.0
