@@ -79,7 +79,7 @@ class VerifyReport:
         return summary_html(self, "Verification")
 
     def summary(self) -> str:
-        mode = "" if self.precision == "single" else f" ({self.precision} precision)"
+        mode = " (combined precision)" if self.precision == "combined" else ""
         lines = [f"verification at {self.spacing_m:g} m{mode}: {self.percent:.3f} % covered"]
         lines += [f"  {z.zone:<9}{z.side:<9}{z.covered:>8}/{z.points:<8}{z.percent:8.3f} %" for z in self.zones]
         if self.gaps:

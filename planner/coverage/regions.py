@@ -166,15 +166,22 @@ def _incidence_region(end: NDArray, tangent: NDArray, normal: NDArray, theta_deg
     return shapely.Polygon(np.vstack([pts, cap]))
 
 
+def _away(q: NDArray, x: NDArray) -> NDArray[np.float64]:
+    """Unit directions from x to q, zero where q is x up to rounding (an edge ending at a piece's end, whose
+    coordinates may differ in the last bit: the direction of a 1e-16 m vector is noise; _grazing covers it)."""
+    v = q - x
+    return np.where((np.hypot(v[..., 0], v[..., 1]) < 1e-6)[..., None], 0.0, _unit(v))
+
+
 def _shadows(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
     """Positions p from which edge q1-q2 (row-wise) meets the triangle p-a-b: shadow from a, from b,
     and the wedges of rays from the piece through each end of the edge."""
     out = []
     for x in (a, b):
-        d1, d2 = _unit(q1 - x), _unit(q2 - x)
+        d1, d2 = _away(q1, x), _away(q2, x)
         out += list(shapely.polygons(np.stack([q1, q2, q2 + far * d2, q1 + far * d1], axis=1)))
     for q in (q1, q2):
-        da, db = _unit(q - a), _unit(q - b)
+        da, db = _away(q, a), _away(q, b)
         out += list(shapely.polygons(np.stack([q, q + far * da, q + far * db], axis=1)))
     return [g for g in out if g.is_valid and g.area > 0]
 
