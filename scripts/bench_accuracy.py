@@ -62,6 +62,9 @@ def run(name: str, config: str, method: str, limit_s: float, label: str) -> dict
     t0 = time.perf_counter()
     plan = plan_site(site, options)
     wall = time.perf_counter() - t0
+    if not plan.stations:  # a solver that found no plan (before issue 16: reported, exit 0)
+        return {"label": label, "instance": name, "config": config, "method": method,
+                "error": f"no plan: {plan.result.status.value}, verified {plan.verification.percent:.3f} %"}
     kw = {"precision": "combined"} if combined and "precision" in inspect.signature(run_network).parameters else {}
     net = run_network(site, list(plan.stations), **kw)
     check = net.check
@@ -73,7 +76,7 @@ def run(name: str, config: str, method: str, limit_s: float, label: str) -> dict
         "verify_mode": getattr(plan.verification, "precision", "single (combined dropped)" if combined else "single"),
         "network_mode": check.get("precision", "single"), "failing": check["failing_targets"], "targets": check["targets"],
         "worst_e_mm": round(check["worst_e_m"] * 1000, 2) if math.isfinite(check["worst_e_m"]) else None,
-        "station_clearance_m": round(min(clearance_m(site, s.xy, s.frame) for s in plan.stations), 3),
+        "station_clearance_m": round(min(clearance_m(site, s.xy, s.frame) for s in plan.stations), 3) if plan.stations else None,
         "control_clearance_m": round(min(clearance_m(site, (c.x, c.y), c.frame) for c in proposed), 3) if proposed else None,
         "discs_containing": sum(math.dist(s.xy, d.centre) <= d.radius_m + 1e-9 for s, d in zip(plan.stations, discs)),
         "discs_zero": sum(d.radius_m == 0.0 for d in discs),
@@ -93,7 +96,7 @@ def table(paths: list[str]) -> str:
             continue
         out.append(f"| {r['instance']} | {r['config']} | {r['method']} | {r['label']} | {r['stations']} | "
                    f"{r['verify_percent']:.3f} ({r['verify_mode']}) | {r['failing']} / {r['targets']} ({r['network_mode']}) | "
-                   f"{r['worst_e_mm'] if r['worst_e_mm'] is not None else '-'} | {r['station_clearance_m']} | "
+                   f"{r['worst_e_mm'] if r['worst_e_mm'] is not None else '-'} | {r['station_clearance_m'] if r['station_clearance_m'] is not None else '-'} | "
                    f"{r['control_clearance_m'] if r['control_clearance_m'] is not None else '-'} | "
                    f"{r['discs_containing']} of {r['stations']} ({r['discs_zero']}) | {r['time_s']} |")
     return "\n".join(out)
