@@ -18,9 +18,10 @@ from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.regions import regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
-from planner.coverage.visibility import SightLimits
+from planner.coverage.visibility import PrecisionRule, SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
 from planner.solve.greedy import greedy_cover
@@ -29,7 +30,7 @@ from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.plane import price_plane, with_plane_bound
 from planner.solve.result import SolveResult
-from planner.solve.tripod import TripodDisc, tripod_discs
+from planner.solve.tripod import TripodDisc, tripod_discs, tripod_heights_line
 from planner.validate import ValidationReport, validate_site
 from planner.verify import VerifyReport, verify_stations
 
@@ -60,6 +61,11 @@ class PlanOptions:
     regions: bool = True
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
+
+    @property
+    def combined(self) -> bool:
+        """Views add information (``--precision combined``), for every method."""
+        return self.precision and self.milp.precision == "combined"
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -115,6 +121,7 @@ class Plan:
         ]
         lines += [f"{z:<10}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
+        lines.append(self._accuracy_line())
         scope = self.result.info.get("bound_scope")
         if scope is not None:
             plane = self.result.info.get("plane_bound")
@@ -127,17 +134,34 @@ class Plan:
         if self.tripods:
             radii = [d.radius_m for d in self.tripods]
             lines.append(f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
-                         + (" (stations recentred)" if self.options.recentre else ""))
+                         + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)"))
+            lines.append(tripod_heights_line(self.tripods, self.site.parameters))
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
 
 
-def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool) -> SightLimits:
-    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req."""
+    def _accuracy_line(self) -> str:
+        """How views were judged: incidence model, precision mode, stand-off, and theta_max (derived: per range)."""
+        p, o = self.site.parameters, self.options
+        mode = "off" if not o.precision else "combined" if o.combined else "single"
+        theta = self.validation.theta_limit
+        th = theta.summary() if theta is not None else f"theta_max {p.theta_max_deg:g} deg"
+        return f"accuracy: view error e(S, theta), incidence model {p.incidence_model}, precision {mode}, stand-off {p.min_standoff_m:g} m; {th}"
+
+
+def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False) -> SightLimits:
+    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req.
+
+    ``combined``: no single view is refused for precision (no precision range, no per-pair
+    test); the rule travels with the limits so that verification and the network check
+    judge the information sum. With ``precision`` off there is no rule at all.
+    """
     p = validation.site.parameters
-    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if precision else None
-    return SightLimits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.instrument_height_m,
-                       incidence_3d, precision_range)
+    single = precision and not combined
+    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
+    rule = PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
+    return SightLimits(validation.range_limit.max_slant_range_m, validation.theta_max_deg, p.instrument_height_m,
+                       incidence_3d, precision_range, rule)
 
 
 def closed_form_limits(validation: ValidationReport) -> Limits:
@@ -153,8 +177,7 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray) -> InfeasibleErro
 
 
 def _limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
-    combined = options.method == "milp" and options.milp.precision == "combined"
-    return sight_limits(validation, options.incidence_3d, options.precision and not combined)
+    return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
 
 
 def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None) -> CoverageProblem:
@@ -169,7 +192,7 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     limits = _limits(validation, options)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
-    if options.regions:  # one station for a whole zone-side, found exactly where one exists
+    if options.regions and regions_apply(limits):  # one station for a whole zone-side, found exactly where one exists
         pool = dedupe(pool + whole_side_candidates(site, targets, limits))
     problem = build_coverage(site, pool, targets, limits, step="coverage build")
     unseen = problem.uncoverable()
@@ -201,7 +224,10 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         log += extra
     elif options.method == "milp":
         p = site.parameters
-        if options.pricing:
+        pricing_on = options.pricing and regions_apply(limits)
+        if options.pricing and not pricing_on:
+            log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
+        if pricing_on:
             with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
                 problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s)
             log.append(pricing.summary())
@@ -210,11 +236,15 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
         groups, links = registration_groups(site, problem.candidates, mode, reach)
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
-                              name=site.name, groups=groups, links=links)
+                              name=site.name, groups=groups, links=links, incidence_model=p.incidence_model)
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
-        if options.pricing:
+        if pricing_on:
             result = with_plane_bound(result, pricing)
+    elif options.combined and limits.precision is not None:
+        from planner.solve.combined import combined_greedy
+
+        result = combined_greedy(problem, limits.precision)
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)
@@ -225,7 +255,7 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     stations = [problem.candidates[i] for i in result.selected]
     tripods: tuple[TripodDisc, ...] = ()
     if options.tripod or options.recentre:
-        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners))
+        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners, options.recentre))
         if options.recentre:
             stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
     verification = verify_stations(site, stations, limits, options.verify_spacing_m)

@@ -187,10 +187,13 @@ class Places:
 def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -> Places:
     """Classify station positions: inside which zones, and forbidden ones with the reason.
 
-    Forbidden: on a wall line, inside an obstacle or a no-go area, or outside
-    the site boundary (the last three apply in the site frame).
+    Forbidden: on a wall line or closer to one than the site's stand-off
+    (``min_standoff_m``: a tripod needs room for its legs), inside an obstacle or
+    closer to its edge than the stand-off, inside a no-go area, or outside the site
+    boundary (obstacles, no-go areas and the boundary apply in the site frame).
     """
     n = len(xy)
+    standoff = site.parameters.min_standoff_m
     frames_arr = np.asarray(frames, dtype=object)
     inside = np.zeros((n, len(site.zones)), dtype=bool)
     reason = [""] * n
@@ -201,9 +204,18 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
             continue
         inside[:, zi] = same & shapely.contains_xy(zone.polygon, x, y)
         dist = shapely.distance(zone.polygon.boundary, shapely.points(xy[same]))
-        for k in np.flatnonzero(same)[dist <= ON_WALL_M]:
-            reason[k] = reason[k] or f"on a wall of zone {zone.id}"
+        for k, d in zip(np.flatnonzero(same), dist):
+            if d <= ON_WALL_M:
+                reason[k] = reason[k] or f"on a wall of zone {zone.id}"
+            elif d < standoff:
+                reason[k] = reason[k] or f"{d:.3f} m from a wall of zone {zone.id} (stand-off {standoff:g} m)"
     in_site = frames_arr == SITE_FRAME
+    if standoff > 0:
+        for ob in site.obstacles:
+            edge = shapely.Polygon(ob.vertices).boundary
+            dist = shapely.distance(edge, shapely.points(xy)) if n else np.zeros(0)
+            for k in np.flatnonzero(in_site & (dist < standoff)):
+                reason[k] = reason[k] or f"{dist[k]:.3f} m from obstacle {ob.name} (stand-off {standoff:g} m)"
     checks = [(ob.name, "inside obstacle", shapely.Polygon(ob.vertices)) for ob in site.obstacles]
     checks += [(ng.name, "in no-go area", shapely.Polygon(ng.vertices)) for ng in site.no_go_areas]
     for name, what, poly in checks:
