@@ -20,6 +20,8 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from planner.coverage.gram import filtered_gram
+
 
 @dataclass(frozen=True)
 class OverlapRule:
@@ -43,32 +45,40 @@ def overlap_adjacency(
 ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """Symmetric C x C adjacency of the overlap relation, and the shared length (m) on the same pattern.
 
-    One sparse product gives every pair's shared wall length; the rule is then
-    applied to all pairs at once. ``links`` (C x C, symmetric): further related
+    One sparse product (in row blocks, :func:`planner.coverage.gram.filtered_gram`) gives every
+    pair's shared wall length; the rule, groups and distance filter each block. ``links`` (C x C, symmetric): further related
     pairs (seen through an opening), kept under the same group and distance rules.
     """
     a = by_candidate.astype(np.float64).tocsr()
+    n = a.shape[0]
     covered = np.asarray(a @ lengths).ravel()
-    shared = (a @ sp.diags(lengths) @ a.T).tocoo()
-    r, c, s = shared.row, shared.col, shared.data
-    keep = (r != c) & (s > 0) & (s + 1e-9 >= rule.overlap * np.minimum(covered[r], covered[c])) & (s >= rule.min_shared_m)
-    if links is not None and links.nnz:
-        lk = sp.coo_matrix(links)
-        r, c = np.concatenate([r[keep], lk.row]), np.concatenate([c[keep], lk.col])
-        s = np.concatenate([s[keep], np.zeros(lk.nnz)])
-        keep = r != c
+    gid = None
     if groups is not None:
         index: dict[Hashable, int] = {}
         gid = np.array([index.setdefault(g, len(index)) for g in groups])
-        keep &= gid[r] == gid[c]
-    if rule.max_link_m is not None and xy is not None:
-        keep &= np.hypot(*(xy[r] - xy[c]).T) <= rule.max_link_m
-    n = a.shape[0]
-    adj = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), (r[keep], c[keep])), shape=(n, n))
-    share = sp.csr_matrix((s[keep], (r[keep], c[keep])), shape=(n, n))
-    adj.sum_duplicates()
-    adj.data[:] = True
+
+    def allowed(r: NDArray[np.int64], c: NDArray[np.int64]) -> NDArray[np.bool_]:
+        ok = r != c
+        if gid is not None:
+            ok &= gid[r] == gid[c]
+        if rule.max_link_m is not None and xy is not None:
+            ok &= np.hypot(*(xy[r] - xy[c]).T) <= rule.max_link_m
+        return ok
+
+    def keep(r: NDArray[np.int64], c: NDArray[np.int64], v: NDArray[np.float64]) -> NDArray[np.bool_]:
+        rule_ok = (v > 0) & (v + 1e-9 >= rule.overlap * np.minimum(covered[r], covered[c])) & (v >= rule.min_shared_m)
+        return rule_ok & allowed(r, c)
+
+    # the C x C product in row blocks, each filtered before the next: memory follows the pairs kept
+    share = filtered_gram(a, lengths, keep)
+    if links is not None and links.nnz:
+        # pairs related through an opening join with shared length 0 (explicit entries)
+        lk, sh = sp.coo_matrix(links), share.tocoo()
+        ok = allowed(lk.row.astype(np.int64), lk.col.astype(np.int64))
+        rows, cols = np.concatenate([sh.row, lk.row[ok]]), np.concatenate([sh.col, lk.col[ok]])
+        share = sp.csr_matrix((np.concatenate([sh.data, np.zeros(int(ok.sum()))]), (rows, cols)), shape=(n, n))
     share.sum_duplicates()
+    adj = sp.csr_matrix((np.ones(share.nnz, dtype=bool), share.indices.copy(), share.indptr.copy()), shape=(n, n))
     return adj, share
 
 
