@@ -33,6 +33,10 @@ from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 
 #: elements that stand in rooms and block sight
 BLOCKER_TYPES = ("IfcWall", "IfcColumn", "IfcStair", "IfcFurnishingElement", "IfcBuildingElementProxy")
+#: gaps narrower than this (m) between a blocker and a room's wall are filled (no station sees into them)
+SLOT_M = 0.3
+#: outline vertices closer than this (m) to the line of their neighbours are dropped
+OUTLINE_TOL_M = 0.02
 #: storey height used when neither the space nor the storeys give one (m)
 DEFAULT_STOREY_HEIGHT_M = 3.0
 
@@ -96,7 +100,8 @@ def _storeys(model: Any, path: Path) -> list[_Storey]:
     for k, st in enumerate(raw):
         elev = float(st.Elevation or 0.0) * scale
         nxt = float(raw[k + 1].Elevation or 0.0) * scale if k + 1 < len(raw) else None
-        spaces = tuple(e for e in ue.get_decomposition(st) if e.is_a("IfcSpace"))
+        spaces = tuple(sorted((e for e in ue.get_decomposition(st) if e.is_a("IfcSpace")),
+                              key=lambda e: (str(e.LongName or e.Name or ""), e.GlobalId)))
         height = nxt - elev if nxt is not None and nxt > elev else DEFAULT_STOREY_HEIGHT_M
         out.append(_Storey(st.Name or f"storey {k + 1}", st, elev, height, spaces))
     if not any(s.spaces for s in out):
@@ -128,7 +133,8 @@ def _storey_zones(model: Any, st: _Storey, frame: str, prefix: str, options: Ifc
     import ifcopenshell.util.element as ue
 
     contained = [e for e in ue.get_decomposition(st.entity) if not e.is_a("IfcSpace")]
-    blockers = [(e, s) for e in contained if any(e.is_a(t) for t in BLOCKER_TYPES)
+    blockers = [(e, s if e.is_a("IfcWall") else replace(s, footprint=s.footprint.convex_hull))
+                for e in contained if any(e.is_a(t) for t in BLOCKER_TYPES)
                 if (s := solid_of(e, settings)) is not None]
     kinds = {"IfcDoor": "door"} | ({"IfcWindow": "window"} if options.windows else {})
     openings = [(e, kinds[k], s) for e in contained for k in kinds if e.is_a(k)
@@ -143,8 +149,9 @@ def _storey_zones(model: Any, st: _Storey, frame: str, prefix: str, options: Ifc
                              zone=zid, field="Representation", value=space.GlobalId)
         height = solid.height_m if solid.height_m > 0 else st.height_m
         zone = _space_zone(zid, solid, height, blockers, frame, file)
-        ops = [op for e, kind, s in openings for w in zone.walls
-               if (op := opening_on_wall(w, s.footprint, kind, e.Name or e.GlobalId)) is not None]
+        ops = sorted((op for e, kind, s in openings for w in zone.walls
+               if (op := opening_on_wall(w, s.footprint, kind, e.Name or e.GlobalId)) is not None),
+                     key=lambda o: (o.wall, o.s0_m))
         zones.append(replace(zone, openings=tuple(ops)) if ops else zone)
     if options.exterior:
         zones.append(_exterior(st, prefix, blockers, zones, frame))
@@ -167,7 +174,9 @@ def _space_zone(zid: str, solid: Solid, height: float, blockers: list[tuple[Any,
               if s.footprint.intersection(room).area > 0.5 * s.footprint.area]
     if inside:
         cut = shapely.union_all([s.footprint for s, _ in inside])
-        room = largest_polygon(shapely.simplify(room.difference(cut), 1e-3))
+        half = SLOT_M / 2  # an opening (erode, dilate) fills the slots no scanner can see into
+        room = room.difference(cut).buffer(-half, join_style="mitre").buffer(half, join_style="mitre")
+        room = largest_polygon(shapely.simplify(room.intersection(largest_polygon(solid.footprint)), OUTLINE_TOL_M))
     if room.is_empty or room.area <= 0:
         raise InputError("the space's footprint is empty once walls and columns are cut out", file=file,
                          zone=zid, field="footprint")
@@ -182,7 +191,7 @@ def _space_zone(zid: str, solid: Solid, height: float, blockers: list[tuple[Any,
 def _height_at(p: tuple[float, ...], inside: list[tuple[Solid, float]], height: float) -> float:
     """The wall height at a vertex: a blocker's own height where the vertex lies on one, else the room's."""
     pt = shapely.Point(p)
-    hs = [h for s, h in inside if s.footprint.distance(pt) < 1e-3]
+    hs = [h for s, h in inside if s.footprint.distance(pt) < SLOT_M]
     return round(max(hs) if hs else height, 4)
 
 
