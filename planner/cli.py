@@ -16,29 +16,20 @@ import traceback
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from planner import progress
-from planner.candidates.pool import PoolOptions
-from planner.coverage.overlap import OverlapRule
+from planner import __version__, progress
+from planner.cli_choices import BACKENDS, FORMATS, METHODS, PRECISION_MODES, SIDES
 from planner.cli_report import add_report_parser, parse_exports, write_exports
 from planner.errors import ExitCode, PlannerError, UsageError
-from planner.exchange import DxfOptions
-from planner.export import FORMATS, export_problem
-from planner.instruments import list_instruments, load_instrument
-from planner.network.check import NetworkReport, run_network
-from planner.network.io import adjust_observations, read_control
-from planner.outcome import outcome_from_plan
-from planner.params import ClosureTolerance
-from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
-from planner.plan_io import read_plan_stations, write_plan
-from planner.report import compare_methods, write_report
-from planner.site import ScanSide, Site, load_site
-from planner.solve.backends import BACKENDS
-from planner.solve.milp import PRECISION_MODES, MilpOptions
-from planner.validate import validate_site
-from planner.verify import verify_stations
+
+# Everything else loads inside the command that needs it, so that --help, --version and validate
+# start without the solver, network, figure and report stacks (docs/startup.md).
+if TYPE_CHECKING:
+    from planner.exchange import DxfOptions
+    from planner.network.check import NetworkReport
+    from planner.plan import PlanOptions
+    from planner.site import Site
 
 #: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
 MIN_MONTE_CARLO = 100
@@ -67,8 +58,13 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--crs", metavar="CRS", help="metric CRS (e.g. EPSG:32636) of a lon/lat GeoJSON site; exports go back to lon/lat")
     p.add_argument("--layer-height", action="append", default=[], metavar="LAYER=M",
                    help="DXF: wall height of polylines on LAYER that carry none (repeatable)")
-    p.add_argument("--dxf-side", choices=[s.value for s in ScanSide], default="inside",
+    p.add_argument("--dxf-side", choices=SIDES, default="inside",
                    help="DXF: scan side of zones whose layer and XDATA do not say (default inside)")
+    p.add_argument("--storey", metavar="NAME|INDEX|all",
+                   help="IFC: the building storey to read (default: every storey that holds spaces)")
+    p.add_argument("--exterior", action="store_true", help="IFC: also scan the storey's outer outline from outside")
+    p.add_argument("--ifc-windows", action="store_true",
+                   help="IFC: record windows as openings too (default: a window is wall surface)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
@@ -85,12 +81,18 @@ def _add_limit_options(p: argparse.ArgumentParser) -> None:
 
 def load_with_overrides(args: argparse.Namespace) -> Site:
     """Load the site and apply the command-line parameter overrides."""
+    from planner.params import ClosureTolerance
+    from planner.site import load_site
+
     tol_kw = {}
     if args.angular_tolerance is not None:
         tol_kw["angular_deg"] = args.angular_tolerance
     if args.min_relative_precision is not None:
         tol_kw["min_relative_precision"] = args.min_relative_precision
-    site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, dxf=_dxf_options(args), crs=args.crs)
+    suffix = Path(args.site).suffix.lower()
+    site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, crs=args.crs,
+                     dxf=_dxf_options(args) if suffix == ".dxf" else None,
+                     ifc=_ifc_options(args) if suffix == ".ifc" else None)
     p = site.parameters
     changes = {k: v for k, v in {
         "max_slant_range_m": args.max_range, "theta_max_deg": args.theta_max, "overlap": args.overlap,
@@ -104,7 +106,16 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
     return replace(site, parameters=p, instrument=args.instrument or site.instrument)
 
 
+def _ifc_options(args: argparse.Namespace) -> Any:
+    from planner.exchange.ifc_in import IfcOptions
+
+    return IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
+
+
 def _dxf_options(args: argparse.Namespace) -> DxfOptions:
+    from planner.exchange.dxf_in import DxfOptions
+    from planner.site import ScanSide
+
     heights = {}
     for item in args.layer_height:
         layer, _, value = item.partition("=")
@@ -118,12 +129,19 @@ def _dxf_options(args: argparse.Namespace) -> DxfOptions:
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
+    from planner.validate import validate_site
+
     report = validate_site(load_with_overrides(args))
     print(json.dumps(report.to_dict(), indent=2) if args.json else report.summary())
     return ExitCode.OK
 
 
 def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
+    from planner.candidates.pool import PoolOptions
+    from planner.coverage.overlap import OverlapRule
+    from planner.plan import PlanOptions
+    from planner.solve.milp import MilpOptions
+
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
     rule = None if args.no_overlap else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
@@ -135,6 +153,11 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
+    from planner.outcome import outcome_from_plan
+    from planner.plan import plan_site
+    from planner.plan_io import write_plan
+    from planner.report import compare_methods, write_report
+
     formats = parse_exports(args.export)
     if formats and not args.out:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
@@ -155,7 +178,10 @@ def cmd_plan(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
-def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = True) -> NetworkReport:
+def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bool = True) -> NetworkReport:
+    from planner.network.check import run_network
+    from planner.network.io import adjust_observations, read_control
+
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
@@ -175,6 +201,8 @@ def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = 
 
 
 def _jsonable(o: object) -> object:
+    import numpy as np
+
     if isinstance(o, (set, frozenset)):
         return sorted(o)
     if isinstance(o, (np.integer, np.floating)):
@@ -183,6 +211,8 @@ def _jsonable(o: object) -> object:
 
 
 def cmd_network(args: argparse.Namespace) -> int:
+    from planner.plan_io import read_plan_stations
+
     site = load_with_overrides(args)
     stations = read_plan_stations(args.plan, site)
     _network(site, stations, args)
@@ -190,6 +220,11 @@ def cmd_network(args: argparse.Namespace) -> int:
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
+    from planner.plan import sight_limits
+    from planner.plan_io import read_plan_stations
+    from planner.validate import validate_site
+    from planner.verify import verify_stations
+
     site = load_with_overrides(args)
     validation = validate_site(site)
     stations = read_plan_stations(args.plan, site)
@@ -201,6 +236,11 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
+    from planner.candidates.pool import PoolOptions
+    from planner.coverage.overlap import OverlapRule
+    from planner.export import export_problem
+    from planner.plan import PlanOptions, build_problem
+
     site = load_with_overrides(args)
     options = PlanOptions(
         target_spacing_m=args.target_spacing, pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
@@ -216,6 +256,8 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 
 def cmd_instruments(args: argparse.Namespace) -> int:
+    from planner.instruments import list_instruments, load_instrument
+
     for name in list_instruments():
         inst = load_instrument(name)
         print(f"{name:<22}{type(inst).__name__:<14}{inst.description}")
@@ -224,6 +266,7 @@ def cmd_instruments(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="planner", description="Plan terrestrial laser scanner stations.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     v = sub.add_parser("validate", help="read a site and report zones, closures, corrections and limits")
     _add_site_options(v)

@@ -5,16 +5,13 @@ from __future__ import annotations
 import argparse
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from planner.candidates.pool import PoolOptions
+from planner.cli_choices import EXPORTS
 from planner.errors import ExitCode, UsageError
-from planner.exchange import EXPORTS, write_dxf, write_geojson, write_stations_csv
-from planner.network.check import run_network
-from planner.outcome import Outcome, outcome_from_file
-from planner.plan import PlanOptions
-from planner.report import compare_methods, write_report
-from planner.report.compare import meta_row
+
+if TYPE_CHECKING:  # the rest loads when a command runs (a fast --help: docs/startup.md)
+    from planner.outcome import Outcome
 
 
 def parse_exports(text: str | None) -> list[str]:
@@ -28,6 +25,8 @@ def parse_exports(text: str | None) -> list[str]:
 
 
 def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | None) -> None:
+    from planner.exchange import write_dxf, write_geojson, write_stations_csv
+
     writers = {"dxf": lambda: write_dxf(outcome, Path(folder) / "plan.dxf"),
                "geojson": lambda: write_geojson(outcome, Path(folder) / "plan.geojson", crs),
                "csv": lambda: write_stations_csv(outcome, Path(folder) / "stations.csv", crs)}
@@ -36,6 +35,10 @@ def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | 
 
 
 def cmd_report(args: argparse.Namespace) -> int:
+    from planner.network.check import run_network
+    from planner.outcome import outcome_from_file
+    from planner.report import write_report
+
     formats = parse_exports(args.export)
     outcome = outcome_from_file(args.plan, args.site)
     folder = args.out or str(Path(args.plan).parent)
@@ -48,8 +51,13 @@ def cmd_report(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
-def _file_comparison(outcome: Outcome) -> list[dict]:
+def _file_comparison(outcome: Outcome) -> list[dict[str, Any]]:
     """Closed form and greedy recomputed with the plan's settings, beside the plan's own figures."""
+    from planner.candidates.pool import PoolOptions
+    from planner.plan import PlanOptions
+    from planner.report import compare_methods
+    from planner.report.compare import meta_row
+
     m, p = outcome.meta, outcome.meta.get("parameters", {})
     options = PlanOptions(target_spacing_m=float(p.get("target_spacing_m", 1.0)),
                           pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
