@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -71,7 +72,7 @@ def convex_alone(site: Site, frame: str) -> bool:
 
 def _ordered(parts: list, order: NDArray[np.int64] | None, dtype: type) -> NDArray:
     """Concatenate per-block arrays and put them in CSR order."""
-    a = np.concatenate(parts).astype(dtype, copy=False) if parts else np.zeros(0, dtype)
+    a: NDArray[Any] = np.concatenate(parts).astype(dtype, copy=False) if parts else np.zeros(0, dtype)
     return a if order is None else a[order]
 
 
@@ -100,7 +101,7 @@ class ZoneSideBlockers:
         key = 2 * zone_index + (0 if inside else 1)
         if key not in self._cache:
             zone = self.site.zones[zone_index]
-            if self._lines is None or getattr(zone, "openings", ()):
+            if self._lines is None or zone.openings:
                 self._cache[key] = self.all
             else:
                 poly = zone.polygon

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import shapely
@@ -124,7 +125,7 @@ def geometric_pairs(
         out_t.append(near[t])
         out_s.append(slant[k, t])
         out_i.append(np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0))))
-    cat = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
+    cat: Any = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
 
 

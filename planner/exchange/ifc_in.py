@@ -139,7 +139,8 @@ def _storey_zones(model: Any, st: _Storey, frame: str, prefix: str, options: Ifc
     kinds = {"IfcDoor": "door"} | ({"IfcWindow": "window"} if options.windows else {})
     openings = [(e, kinds[k], s) for e in contained for k in kinds if e.is_a(k)
                 if (s := solid_of(e, settings)) is not None]
-    zones, used = [], set()
+    zones: list[Zone] = []
+    used: set[str] = set()
     for space in st.spaces:
         name = space.LongName or space.Name or space.GlobalId
         zid = _unique(prefix + str(name), used)
@@ -181,7 +182,7 @@ def _space_zone(zid: str, solid: Solid, height: float, blockers: list[tuple[Any,
         raise InputError("the space's footprint is empty once walls and columns are cut out", file=file,
                          zone=zid, field="footprint")
     outline = [tuple(map(float, p)) for p in room.exterior.coords[:-1]]
-    holes = tuple(tuple(tuple(map(float, p)) for p in r.coords[:-1]) for r in room.interiors)
+    holes = tuple(tuple((float(p[0]), float(p[1])) for p in r.coords[:-1]) for r in room.interiors)
     hole_h = tuple(tuple(_height_at(p, inside, height) for p in r) for r in holes)
     return Zone(id=zid, scan_side=ScanSide.INSIDE, vertices=tuple(outline),  # type: ignore[arg-type]
                 vertex_heights_m=tuple(_height_at(p, inside, height) for p in outline), frame=frame,
