@@ -79,6 +79,11 @@ def _add_limit_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-precision", action="store_true", help="do not require the predicted point error <= sigma_req")
 
 
+def _add_memory_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--memory-limit", metavar="SIZE",
+                   help="refuse a problem whose estimated memory passes SIZE, e.g. 4G (default: half the available memory)")
+
+
 def load_with_overrides(args: argparse.Namespace) -> Site:
     """Load the site and apply the command-line parameter overrides."""
     from planner.params import ClosureTolerance
@@ -151,19 +156,35 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
                        verify_spacing_m=args.verify_spacing, milp=milp,
                        tripod=args.method == "milp" or args.tripod, recentre=args.recentre,
                        regions=not args.no_regions, pricing=not args.no_pricing,
-                       pricing_time_limit_s=args.pricing_time_limit)
+                       pricing_time_limit_s=args.pricing_time_limit, memory_limit_bytes=_memory_limit(args))
+
+
+def _guard_memory(site: Site, args: argparse.Namespace) -> None:
+    """The memory check of build_problem, run before the solver stacks load so that a refusal is quick."""
+    from planner.memory_guard import check_memory
+    from planner.validate import validate_site
+
+    s_max = validate_site(site).range_limit.max_slant_range_m
+    check_memory(site, args.target_spacing, args.grid_spacing, s_max, _memory_limit(args))
+
+
+def _memory_limit(args: argparse.Namespace) -> int | None:
+    from planner.memory_guard import parse_memory
+
+    return parse_memory(args.memory_limit) if args.memory_limit else None
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
+    formats = parse_exports(args.export)
+    if formats and not args.out:
+        raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
+    site = load_with_overrides(args)
+    _guard_memory(site, args)
     from planner.outcome import outcome_from_plan
     from planner.plan import plan_site
     from planner.plan_io import write_plan
     from planner.report import compare_methods, write_report
 
-    formats = parse_exports(args.export)
-    if formats and not args.out:
-        raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
-    site = load_with_overrides(args)
     options = _plan_options(args, site.parameters.overlap)
     plan = plan_site(site, options)
     print(plan.summary())
@@ -238,15 +259,16 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
+    site = load_with_overrides(args)
+    _guard_memory(site, args)
     from planner.candidates.pool import PoolOptions
     from planner.coverage.overlap import OverlapRule
     from planner.export import export_problem
     from planner.plan import PlanOptions, build_problem
 
-    site = load_with_overrides(args)
     options = PlanOptions(
         target_spacing_m=args.target_spacing, pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
-        incidence_3d=args.incidence == "3d", precision=not args.no_precision)
+        incidence_3d=args.incidence == "3d", precision=not args.no_precision, memory_limit_bytes=_memory_limit(args))
     problem = build_problem(site, options)
     text = export_problem(problem, args.format, OverlapRule(site.parameters.overlap))
     if args.out:
@@ -295,6 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="milp: no geometric pricing, so the bound holds over the candidate pool only")
     pl.add_argument("--pricing-time-limit", type=float, default=120.0, metavar="S",
                     help="milp: time for geometric pricing (default 120 s); past it the bound scope stays 'pool'")
+    _add_memory_option(pl)
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
     _add_network_options(pl)
     pl.add_argument("--out", metavar="DIR", help="write DIR/plan.json")
@@ -320,6 +343,7 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--seed", type=int, default=0)
     ex.add_argument("--target-spacing", type=float, default=1.0, metavar="M")
     ex.add_argument("--grid-spacing", type=float, default=10.0, metavar="M")
+    _add_memory_option(ex)
     _add_limit_options(ex)
     ex.set_defaults(func=cmd_export)
     nw = sub.add_parser("network", help="station network, least-squares accuracy and the accuracy check of a plan")

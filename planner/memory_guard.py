@@ -29,8 +29,10 @@ if TYPE_CHECKING:
 TARGET_BYTES = 1_000
 #: bytes per candidate (a Candidate object, its id string, its rows in the pool arrays)
 CANDIDATE_BYTES = 600
-#: bytes per kept candidate-piece pair (both sparse views, the geometry of the block being tested)
-PAIR_BYTES = 100
+#: bytes per kept candidate-piece pair: both sparse views, the block under test, presolve and pricing.
+#: Calibrated on a 3 km square room (docs/startup.md): 7.98e6 pairs kept (1.13e7 estimated), peak RSS
+#: 2.48 GB for the whole ``planner plan``; 200 B x 1.13e7 = 2.3 GB
+PAIR_BYTES = 200
 #: bytes per meshgrid point of the pool's grid (two float64 grids, the point array, the inside test)
 GRID_POINT_BYTES = 56
 #: closed-form, field-sample, corner-ray and bisector candidates allowed per wall
@@ -130,10 +132,9 @@ def check_memory(site: Site, target_spacing_m: float, grid_spacing_m: float, rea
     limit = default_limit_bytes() if limit_bytes is None else limit_bytes
     est = estimate_work(site, target_spacing_m, grid_spacing_m, reach_m)
     if est.bytes > limit:
-        raise InputError(f"the coverage problem needs about {est.describe()}, over the memory limit "
-                         f"{_fmt_bytes(limit)}; coarsen --target-spacing / --grid-spacing, split the site, "
-                         f"or raise --memory-limit", file=site.source or None, field="memory estimate",
-                         value=_fmt_bytes(est.bytes))
+        raise InputError(f"the coverage problem needs about {est.describe()}, over this limit; coarsen "
+                         f"--target-spacing / --grid-spacing, split the site, or raise --memory-limit",
+                         file=site.source or None, field="--memory-limit", value=_fmt_bytes(limit))
     return est
 
 

@@ -56,6 +56,7 @@ class PlanOptions:
     regions: bool = True
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
+    memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.memory_guard)
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -160,9 +161,15 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     ------
     InfeasibleError
         Listing (up to five) targets by id and position, before any solver runs.
+    InputError
+        When the estimated memory of the work exceeds ``options.memory_limit_bytes`` (exit 3).
     """
     validation = validation or validate_site(site)
     limits = _limits(validation, options)
+    from planner.memory_guard import check_memory  # issue 17: refuse what will not fit, before building
+
+    check_memory(site, options.target_spacing_m, options.pool.grid_spacing_m,
+                 closed_form_limits(validation).max_slant_range_m, options.memory_limit_bytes)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
     if options.regions:  # one station for a whole zone-side, found exactly where one exists
