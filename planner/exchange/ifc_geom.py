@@ -50,6 +50,8 @@ def geometry_settings() -> Any:
 
     settings = ifcopenshell.geom.settings()
     settings.set("use-world-coords", True)
+    # openings cut in walls change no footprint that matters here and cost most of the time
+    settings.set("disable-opening-subtractions", True)
     return settings
 
 
