@@ -40,7 +40,12 @@ def cmd_report(args: argparse.Namespace) -> int:
     from planner.report import write_report
 
     formats = parse_exports(args.export)
-    outcome = outcome_from_file(args.plan, args.site)
+    ifc = None
+    if args.storey or args.exterior or args.ifc_windows:
+        from planner.exchange.ifc_in import IfcOptions
+
+        ifc = IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
+    outcome = outcome_from_file(args.plan, args.site, ifc=ifc)
     folder = args.out or str(Path(args.plan).parent)
     network = None if args.no_network else run_network(outcome.site, list(outcome.stations), seed=0)
     comparison = _file_comparison(outcome)
@@ -74,5 +79,8 @@ def add_report_parser(sub: Any) -> None:
     rp.add_argument("--export", metavar="LIST", help="also write dxf, geojson, csv (comma-separated)")
     rp.add_argument("--crs", metavar="CRS", help="write GeoJSON in lon/lat from this metric CRS")
     rp.add_argument("--no-network", action="store_true", help="leave out the network and accuracy check")
+    rp.add_argument("--storey", metavar="NAME|INDEX|all", help="IFC site: the storey the plan was made for")
+    rp.add_argument("--exterior", action="store_true", help="IFC site: planned with --exterior")
+    rp.add_argument("--ifc-windows", action="store_true", help="IFC site: planned with --ifc-windows")
     rp.add_argument("--quiet", action="store_true", help="no progress bars")
     rp.set_defaults(func=cmd_report)
