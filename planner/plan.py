@@ -103,14 +103,15 @@ class Plan:
         for s in self.stations:
             by_zone[(s.zone, s.side.value)] = by_zone.get((s.zone, s.side.value), 0) + 1
         sides = self.count_by_side()
+        w = max([10] + [len(z) + 1 for z, _ in by_zone])  # long room names (IFC) keep their column
         lines = [
             f"instance {self.site.name}, method {self.result.method}: {self.result.summary()}",
             f"presolve: {self.result.info['presolve']}" if "presolve" in self.result.info else "",
             f"stations: {len(self.stations)} (inside {sides.get('inside', 0)}, outside {sides.get('outside', 0)}); "
             f"candidates {self.problem_size['candidates']}, targets {self.problem_size['targets']}",
-            f"{'zone':<10}{'side':<9}{'stations':>9}",
+            f"{'zone':<{w}}{'side':<9}{'stations':>9}",
         ]
-        lines += [f"{z:<10}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
+        lines += [f"{z:<{w}}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
         scope = self.result.info.get("bound_scope")
         if scope is not None:
