@@ -20,7 +20,7 @@ import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from planner.errors import InputError
+from planner.errors import InputError, UsageError
 
 if TYPE_CHECKING:
     from planner.site.model import Site, Zone
@@ -81,7 +81,8 @@ def default_limit_bytes() -> int:
 
 
 def parse_memory(text: str) -> int:
-    """``"2G"``, ``"512M"``, ``"800k"`` or a number of bytes -> bytes (binary multiples)."""
+    """``"2G"``, ``"512M"``, ``"800k"`` or a number of bytes -> bytes (binary multiples); UsageError (exit 2)
+    for anything else."""
     units = {"k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
     t = text.strip().lower().removesuffix("b").removesuffix("i")
     mult = units.get(t[-1:], 1)
@@ -89,10 +90,10 @@ def parse_memory(text: str) -> int:
     try:
         value = float(num) * mult
     except ValueError:
-        raise InputError("expected a size such as 4G, 512M or a number of bytes", field="--memory-limit",
+        raise UsageError("expected a size such as 4G, 512M or a number of bytes", field="--memory-limit",
                          value=text) from None
     if not (math.isfinite(value) and value > 0):
-        raise InputError("must be a size > 0", field="--memory-limit", value=text)
+        raise UsageError("must be a size > 0", field="--memory-limit", value=text)
     return int(value)
 
 

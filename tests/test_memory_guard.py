@@ -9,7 +9,7 @@ import sys
 import pytest
 
 import planner
-from planner.errors import InputError
+from planner.errors import InputError, UsageError
 from planner.memory_guard import check_memory, estimate_work, parse_memory
 from planner.plan import PlanOptions, build_problem, closed_form_limits
 from tests.conftest import INSTANCES, ROOT
@@ -61,5 +61,5 @@ def test_parse_memory():
     assert parse_memory("4G") == 4 * 2**30 and parse_memory("512M") == 512 * 2**20
     assert parse_memory("800k") == 800 * 1024 and parse_memory("1000") == 1000 and parse_memory("2GiB") == 2 * 2**30
     for bad in ("lots", "-1G", "0", "nanG"):
-        with pytest.raises(InputError, match="--memory-limit"):
+        with pytest.raises(UsageError, match="--memory-limit"):
             parse_memory(bad)
