@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -23,13 +25,20 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _time(cmd: list[str], runs: int) -> tuple[list[float], int]:
-    times, code = [], 0
+def _cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def _time(cmd: list[str], runs: int) -> tuple[list[float], list[float], int]:
+    """Wall-clock and CPU (user + system, which a loaded machine inflates less) seconds per run."""
+    times, cpu, code = [], [], 0
     for _ in range(runs):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), _cpu()
         code = subprocess.run(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
         times.append(time.perf_counter() - t0)
-    return times, code
+        cpu.append(_cpu() - c0)
+    return times, cpu, code
 
 
 def main() -> None:
@@ -48,10 +57,13 @@ def main() -> None:
             {"id": "sq", "scan_side": "inside", "coordinates": [[0, 0], [side, 0], [side, side], [0, side]],
              "vertex_heights_m": [10, 10, 10, 10]}]}))
         cases["planner plan huge.json (10,000 km square)"] = py + ["plan", str(tmp / "huge.json")]
-    print(f"| command | runs | min s | median s | max s | exit |\n|---|---|---|---|---|---|")
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    print("| command | runs | wall min s | wall median s | wall max s | CPU median s | exit |")
+    print("|---|---|---|---|---|---|---|")
     for name, cmd in cases.items():
-        t, code = _time(cmd, args.runs)
-        print(f"| `{name}` | {len(t)} | {min(t):.3f} | {statistics.median(t):.3f} | {max(t):.3f} | {code} |")
+        t, c, code = _time(cmd, args.runs)
+        print(f"| `{name}` | {len(t)} | {min(t):.3f} | {statistics.median(t):.3f} | {max(t):.3f} | "
+              f"{statistics.median(c):.3f} | {code} |")
 
 
 if __name__ == "__main__":
