@@ -16,3 +16,5 @@ FORMATS = ("orlib", "mps", "json")
 EXPORTS = ("dxf", "geojson", "csv")
 #: the values of planner.site.model.ScanSide
 SIDES = ("inside", "outside", "both")
+#: planner.accuracy.INCIDENCE_MODELS
+INCIDENCE_MODELS = ("none", "table", "soudarissanane")

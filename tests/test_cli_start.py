@@ -51,6 +51,9 @@ def test_cli_choices_match_the_library():
     assert cli_choices.METHODS == METHODS and cli_choices.BACKENDS == BACKENDS
     assert cli_choices.PRECISION_MODES == PRECISION_MODES and cli_choices.FORMATS == FORMATS
     assert cli_choices.EXPORTS == EXPORTS and cli_choices.SIDES == tuple(s.value for s in ScanSide)
+    from planner.accuracy import INCIDENCE_MODELS
+
+    assert cli_choices.INCIDENCE_MODELS == INCIDENCE_MODELS
 
 
 def test_lazy_names_are_the_public_names():
