@@ -25,42 +25,99 @@ Examples
 >>> planner.write_report(planner.outcome_from_plan(plan), "out/")         # doctest: +SKIP
 """
 
+import importlib
 import logging
-
-from planner.accuracy import (
-    ErrorBudget, IncidenceErrorTable, instrument_height_tolerance_m, max_slant_range_m, point_error,
-    sigma_instr_m, sigma_meas_m, tolerance_for_scale_m,
-)
-from planner.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
-from planner.instruments import Scanner, TotalStation, list_instruments, load_instrument
-from planner.params import ClosureTolerance, Parameters, RangeLimit, resolve_range_limit
-from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone, load_site
-from planner.validate import ValidationReport, validate_site
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.2.0"
 
-from planner.candidates.model import Candidate, CandidateKind  # noqa: E402
-from planner.candidates.pool import PoolOptions, candidate_pool  # noqa: E402
-from planner.coverage.matrix import CoverageProblem, build_coverage  # noqa: E402
-from planner.coverage.overlap import OverlapRule  # noqa: E402
-from planner.coverage.stations import StationCoverage, station_coverage  # noqa: E402
-from planner.coverage.targets import make_targets  # noqa: E402
-from planner.exchange import (  # noqa: E402
-    DxfOptions, read_dxf_site, read_geojson_site, write_dxf, write_geojson, write_stations_csv,
-)
-from planner.figures import comparison_figure, network_figure, plan_figure, plan_figures  # noqa: E402
-from planner.network.check import NetworkReport, run_network  # noqa: E402
-from planner.outcome import Outcome, outcome_from_file, outcome_from_plan  # noqa: E402
-from planner.plan import Plan, PlanOptions, build_problem, plan_site  # noqa: E402
-from planner.plan_io import read_plan_stations, write_plan  # noqa: E402
-from planner.report import compare_methods, render_report, write_report  # noqa: E402
-from planner.solve.greedy import greedy_cover  # noqa: E402
-from planner.solve.instance import CoverInstance, cover_instance  # noqa: E402
-from planner.solve.milp import MilpOptions, solve  # noqa: E402
-from planner.solve.result import SolveResult, Status  # noqa: E402
-from planner.verify import VerifyReport, verify_stations  # noqa: E402
+#: public name -> the module that defines it; imported on first use (PEP 562), so that
+#: ``import planner`` (and the ``planner`` command's start) loads no numerical stack
+_LAZY = {
+    **dict.fromkeys(('ErrorBudget', 'IncidenceErrorTable', 'instrument_height_tolerance_m', 'max_slant_range_m', 'point_error', 'sigma_instr_m', 'sigma_meas_m', 'tolerance_for_scale_m'), 'planner.accuracy'),
+    **dict.fromkeys(('ClosureError', 'ExitCode', 'InfeasibleError', 'InputError', 'PlannerError', 'UsageError'), 'planner.errors'),
+    **dict.fromkeys(('Scanner', 'TotalStation', 'list_instruments', 'load_instrument'), 'planner.instruments'),
+    **dict.fromkeys(('ClosureTolerance', 'Parameters', 'RangeLimit', 'resolve_range_limit'), 'planner.params'),
+    **dict.fromkeys(('ControlPoint', 'NoGoArea', 'Obstacle', 'ScanSide', 'Site', 'Wall', 'Zone', 'load_site'), 'planner.site'),
+    **dict.fromkeys(('ValidationReport', 'validate_site'), 'planner.validate'),
+    **dict.fromkeys(('Candidate', 'CandidateKind'), 'planner.candidates.model'),
+    **dict.fromkeys(('PoolOptions', 'candidate_pool'), 'planner.candidates.pool'),
+    **dict.fromkeys(('CoverageProblem', 'build_coverage'), 'planner.coverage.matrix'),
+    **dict.fromkeys(('OverlapRule',), 'planner.coverage.overlap'),
+    **dict.fromkeys(('StationCoverage', 'station_coverage'), 'planner.coverage.stations'),
+    **dict.fromkeys(('make_targets',), 'planner.coverage.targets'),
+    **dict.fromkeys(('DxfOptions', 'read_dxf_site', 'read_geojson_site', 'write_dxf', 'write_geojson', 'write_stations_csv'), 'planner.exchange'),
+    **dict.fromkeys(('comparison_figure', 'network_figure', 'plan_figure', 'plan_figures'), 'planner.figures'),
+    **dict.fromkeys(('NetworkReport', 'run_network'), 'planner.network.check'),
+    **dict.fromkeys(('Outcome', 'outcome_from_file', 'outcome_from_plan'), 'planner.outcome'),
+    **dict.fromkeys(('Plan', 'PlanOptions', 'build_problem', 'plan_site'), 'planner.plan'),
+    **dict.fromkeys(('read_plan_stations', 'write_plan'), 'planner.plan_io'),
+    **dict.fromkeys(('compare_methods', 'render_report', 'write_report'), 'planner.report'),
+    **dict.fromkeys(('greedy_cover',), 'planner.solve.greedy'),
+    **dict.fromkeys(('CoverInstance', 'cover_instance'), 'planner.solve.instance'),
+    **dict.fromkeys(('MilpOptions',), 'planner.solve.milp'),
+    **dict.fromkeys(('SolveResult', 'Status'), 'planner.solve.result'),
+    **dict.fromkeys(('VerifyReport', 'verify_stations'), 'planner.verify'),
+}
 
 logging.getLogger("planner").addHandler(logging.NullHandler())
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'planner' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
+
+# ``planner.solve`` is both a subpackage and the MILP function. The (namespace) package is bound
+# first, cheaply, so that loading its modules later never rebinds the name; then the function.
+import planner.solve  # noqa: E402
+
+if not TYPE_CHECKING:
+    def solve(*args: Any, **kwargs: Any) -> "SolveResult":
+        """Solve a coverage problem as a set-cover MILP: :func:`planner.solve.milp.solve` (same arguments)."""
+        from planner.solve.milp import solve as _solve
+
+        return _solve(*args, **kwargs)
+
+
+if TYPE_CHECKING:  # the static view of the same names, for type checkers and IDEs
+    from planner.accuracy import (
+        ErrorBudget, IncidenceErrorTable, instrument_height_tolerance_m, max_slant_range_m, point_error,
+        sigma_instr_m, sigma_meas_m, tolerance_for_scale_m,
+    )
+    from planner.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
+    from planner.instruments import Scanner, TotalStation, list_instruments, load_instrument
+    from planner.params import ClosureTolerance, Parameters, RangeLimit, resolve_range_limit
+    from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone, load_site
+    from planner.validate import ValidationReport, validate_site
+    from planner.candidates.model import Candidate, CandidateKind
+    from planner.candidates.pool import PoolOptions, candidate_pool
+    from planner.coverage.matrix import CoverageProblem, build_coverage
+    from planner.coverage.overlap import OverlapRule
+    from planner.coverage.stations import StationCoverage, station_coverage
+    from planner.coverage.targets import make_targets
+    from planner.exchange import (
+        DxfOptions, read_dxf_site, read_geojson_site, write_dxf, write_geojson, write_stations_csv,
+    )
+    from planner.figures import comparison_figure, network_figure, plan_figure, plan_figures
+    from planner.network.check import NetworkReport, run_network
+    from planner.outcome import Outcome, outcome_from_file, outcome_from_plan
+    from planner.plan import Plan, PlanOptions, build_problem, plan_site
+    from planner.plan_io import read_plan_stations, write_plan
+    from planner.report import compare_methods, render_report, write_report
+    from planner.solve.greedy import greedy_cover
+    from planner.solve.instance import CoverInstance, cover_instance
+    from planner.solve.milp import MilpOptions, solve
+    from planner.solve.result import SolveResult, Status
+    from planner.verify import VerifyReport, verify_stations
 
 __all__ = [
     "Candidate", "CandidateKind", "ClosureError", "ClosureTolerance", "ControlPoint", "CoverInstance",

@@ -216,11 +216,11 @@ def tolerance_for_scale_m(scale: str | int | float) -> float:
     smaller than 1:500 are outside the table and refused.
     """
     n = parse_scale(scale)
-    previous_max = None
+    previous_max: float | None = None
     for largest, _low, high in DRAWING_SCALE_TOLERANCES_MM:
         if n == largest or (n < largest and previous_max is None):
             return high / 1000.0
-        if n < largest:
+        if n < largest and previous_max is not None:
             return previous_max / 1000.0  # between rows: the stricter (finer) row
         previous_max = high
     raise InputError("scale outside table 1.1 (1:1 .. 1:500)", field="drawing_scale", value=f"1:{n}")

@@ -16,31 +16,21 @@ import traceback
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from planner import progress
-from planner.accuracy import INCIDENCE_MODELS
-from planner.candidates.pool import PoolOptions
-from planner.coverage.overlap import OverlapRule
+from planner import __version__, progress
+from planner.cli_choices import BACKENDS, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
 from planner.cli_report import add_report_parser, parse_exports, write_exports
 from planner.errors import ExitCode, InfeasibleError, PlannerError, UsageError
-from planner.exchange import DxfOptions
-from planner.export import FORMATS, export_problem
-from planner.instruments import list_instruments, load_instrument
-from planner.network.check import NetworkReport, run_network
-from planner.network.io import adjust_observations, read_control
-from planner.outcome import outcome_from_plan
-from planner.params import ClosureTolerance
-from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
-from planner.plan_io import read_plan_stations, write_plan
-from planner.report import compare_methods, write_report
-from planner.site import ScanSide, Site, load_site
-from planner.solve.backends import BACKENDS
-from planner.solve.milp import PRECISION_MODES, MilpOptions
-from planner.solve.result import SolveResult
-from planner.validate import validate_site
-from planner.verify import verify_stations
+
+# Everything else loads inside the command that needs it, so that --help, --version and validate
+# start without the solver, network, figure and report stacks (docs/startup.md).
+if TYPE_CHECKING:
+    from planner.exchange import DxfOptions
+    from planner.network.check import NetworkReport
+    from planner.plan import PlanOptions
+    from planner.site import Site
+    from planner.solve.result import SolveResult
 
 #: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
 MIN_MONTE_CARLO = 100
@@ -73,8 +63,13 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--crs", metavar="CRS", help="metric CRS (e.g. EPSG:32636) of a lon/lat GeoJSON site; exports go back to lon/lat")
     p.add_argument("--layer-height", action="append", default=[], metavar="LAYER=M",
                    help="DXF: wall height of polylines on LAYER that carry none (repeatable)")
-    p.add_argument("--dxf-side", choices=[s.value for s in ScanSide], default="inside",
+    p.add_argument("--dxf-side", choices=SIDES, default="inside",
                    help="DXF: scan side of zones whose layer and XDATA do not say (default inside)")
+    p.add_argument("--storey", metavar="NAME|INDEX|all",
+                   help="IFC: the building storey to read (default: every storey that holds spaces)")
+    p.add_argument("--exterior", action="store_true", help="IFC: also scan the storey's outer outline from outside")
+    p.add_argument("--ifc-windows", action="store_true",
+                   help="IFC: record windows as openings too (default: a window is wall surface)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
@@ -89,14 +84,25 @@ def _add_limit_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-precision", action="store_true", help="do not require the predicted point error <= sigma_req")
 
 
+def _add_memory_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--memory-limit", metavar="SIZE",
+                   help="refuse a problem whose estimated memory passes SIZE, e.g. 4G (default: half the available memory)")
+
+
 def load_with_overrides(args: argparse.Namespace) -> Site:
     """Load the site and apply the command-line parameter overrides."""
+    from planner.params import ClosureTolerance
+    from planner.site import load_site
+
     tol_kw = {}
     if args.angular_tolerance is not None:
         tol_kw["angular_deg"] = args.angular_tolerance
     if args.min_relative_precision is not None:
         tol_kw["min_relative_precision"] = args.min_relative_precision
-    site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, dxf=_dxf_options(args), crs=args.crs)
+    suffix = Path(args.site).suffix.lower()
+    site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, crs=args.crs,
+                     dxf=_dxf_options(args) if suffix == ".dxf" else None,
+                     ifc=_ifc_options(args) if suffix == ".ifc" else None)
     p = site.parameters
     derive = args.theta_max == "derive"
     changes = {k: v for k, v in {
@@ -112,6 +118,12 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
     return replace(site, parameters=p, instrument=args.instrument or site.instrument)
 
 
+def _ifc_options(args: argparse.Namespace) -> Any:
+    from planner.exchange.ifc_in import IfcOptions
+
+    return IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
+
+
 def _theta(text: str) -> float | str:
     """--theta-max: degrees, or 'derive'."""
     if text.strip().lower() == "derive":
@@ -123,6 +135,9 @@ def _theta(text: str) -> float | str:
 
 
 def _dxf_options(args: argparse.Namespace) -> DxfOptions:
+    from planner.exchange.dxf_in import DxfOptions
+    from planner.site import ScanSide
+
     heights = {}
     for item in args.layer_height:
         layer, _, value = item.partition("=")
@@ -136,12 +151,19 @@ def _dxf_options(args: argparse.Namespace) -> DxfOptions:
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
+    from planner.validate import validate_site
+
     report = validate_site(load_with_overrides(args))
     print(json.dumps(report.to_dict(), indent=2) if args.json else report.summary())
     return ExitCode.OK
 
 
 def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
+    from planner.candidates.pool import PoolOptions
+    from planner.coverage.overlap import OverlapRule
+    from planner.plan import PlanOptions
+    from planner.solve.milp import MilpOptions
+
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
     rule = None if args.no_overlap or overlap == 0 else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
@@ -152,7 +174,22 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
                        tripod=args.method == "milp" or args.tripod, recentre=args.recentre,
                        registration=args.registration,
                        regions=not args.no_regions, pricing=not args.no_pricing,
-                       pricing_time_limit_s=args.pricing_time_limit)
+                       pricing_time_limit_s=args.pricing_time_limit, memory_limit_bytes=_memory_limit(args))
+
+
+def _guard_memory(site: Site, args: argparse.Namespace) -> None:
+    """The memory check of build_problem, run before the solver stacks load so that a refusal is quick."""
+    from planner.memory_guard import check_memory
+    from planner.validate import validate_site
+
+    s_max = validate_site(site).range_limit.max_slant_range_m
+    check_memory(site, args.target_spacing, args.grid_spacing, s_max, _memory_limit(args))
+
+
+def _memory_limit(args: argparse.Namespace) -> int | None:
+    from planner.memory_guard import parse_memory
+
+    return parse_memory(args.memory_limit) if args.memory_limit else None
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -160,6 +197,12 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if formats and not args.out:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
     site = load_with_overrides(args)
+    _guard_memory(site, args)
+    from planner.outcome import outcome_from_plan
+    from planner.plan import plan_site
+    from planner.plan_io import write_plan
+    from planner.report import compare_methods, write_report
+
     options = _plan_options(args, site.parameters.overlap)
     plan = plan_site(site, options)
     if not plan.stations and plan.result.status.value in ("infeasible", "no_solution"):
@@ -192,7 +235,10 @@ def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
     return f"the solver proved that no set of candidates meets {', '.join(rules)}"
 
 
-def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = True) -> NetworkReport:
+def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bool = True) -> NetworkReport:
+    from planner.network.check import run_network
+    from planner.network.io import adjust_observations, read_control
+
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
@@ -214,6 +260,8 @@ def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = 
 
 
 def _jsonable(o: object) -> object:
+    import numpy as np
+
     if isinstance(o, (set, frozenset)):
         return sorted(o)
     if isinstance(o, (np.integer, np.floating)):
@@ -222,6 +270,8 @@ def _jsonable(o: object) -> object:
 
 
 def cmd_network(args: argparse.Namespace) -> int:
+    from planner.plan_io import read_plan_stations
+
     site = load_with_overrides(args)
     stations = read_plan_stations(args.plan, site)
     _network(site, stations, args)
@@ -229,6 +279,11 @@ def cmd_network(args: argparse.Namespace) -> int:
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
+    from planner.plan import sight_limits
+    from planner.plan_io import read_plan_stations
+    from planner.validate import validate_site
+    from planner.verify import verify_stations
+
     site = load_with_overrides(args)
     validation = validate_site(site)
     stations = read_plan_stations(args.plan, site)
@@ -241,9 +296,15 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
 def cmd_export(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
+    _guard_memory(site, args)
+    from planner.candidates.pool import PoolOptions
+    from planner.coverage.overlap import OverlapRule
+    from planner.export import export_problem
+    from planner.plan import PlanOptions, build_problem
+
     options = PlanOptions(
         target_spacing_m=args.target_spacing, pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
-        incidence_3d=args.incidence == "3d", precision=not args.no_precision)
+        incidence_3d=args.incidence == "3d", precision=not args.no_precision, memory_limit_bytes=_memory_limit(args))
     problem = build_problem(site, options)
     text = export_problem(problem, args.format, OverlapRule(site.parameters.overlap))
     if args.out:
@@ -255,6 +316,8 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 
 def cmd_instruments(args: argparse.Namespace) -> int:
+    from planner.instruments import list_instruments, load_instrument
+
     for name in list_instruments():
         inst = load_instrument(name)
         print(f"{name:<22}{type(inst).__name__:<14}{inst.description}")
@@ -263,6 +326,7 @@ def cmd_instruments(args: argparse.Namespace) -> int:
 
 def cmd_assemble(args: argparse.Namespace) -> int:
     """Place the table zones of an instance from their shared walls; print matches, residuals, unplaced zones."""
+    from planner.site import load_site
     from planner.site.assemble import assemble, assembled_instance
     from planner.site.fileio import read_json
 
@@ -283,6 +347,7 @@ def cmd_assemble(args: argparse.Namespace) -> int:
 def cmd_chain(args: argparse.Namespace) -> int:
     """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
     from planner.network.survey import survey_network
+    from planner.plan_io import read_plan_stations
 
     site = load_with_overrides(args)
     stations = read_plan_stations(args.plan, site)
@@ -308,6 +373,7 @@ def _add_assemble_parser(sub: argparse._SubParsersAction) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="planner", description="Plan terrestrial laser scanner stations.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     v = sub.add_parser("validate", help="read a site and report zones, closures, corrections and limits")
     _add_site_options(v)
@@ -337,6 +403,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="milp: no geometric pricing, so the bound holds over the candidate pool only")
     pl.add_argument("--pricing-time-limit", type=float, default=120.0, metavar="S",
                     help="milp: time for geometric pricing (default 120 s); past it the bound scope stays 'pool'")
+    _add_memory_option(pl)
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
     _add_network_options(pl)
     pl.add_argument("--out", metavar="DIR", help="write DIR/plan.json")
@@ -364,6 +431,7 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--seed", type=int, default=0)
     ex.add_argument("--target-spacing", type=float, default=1.0, metavar="M")
     ex.add_argument("--grid-spacing", type=float, default=10.0, metavar="M")
+    _add_memory_option(ex)
     _add_limit_options(ex)
     ex.set_defaults(func=cmd_export)
     nw = sub.add_parser("network", help="station network, least-squares accuracy and the accuracy check of a plan")

@@ -5,17 +5,13 @@ from __future__ import annotations
 import argparse
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from planner.candidates.pool import PoolOptions
+from planner.cli_choices import EXPORTS
 from planner.errors import ExitCode, UsageError
-from planner.exchange import EXPORTS, write_dxf, write_geojson, write_stations_csv
-from planner.network.check import run_network
-from planner.outcome import Outcome, outcome_from_file
-from planner.plan import PlanOptions
-from planner.report import compare_methods, write_report
-from planner.report.compare import meta_row
-from planner.solve.milp import MilpOptions
+
+if TYPE_CHECKING:  # the rest loads when a command runs (a fast --help: docs/startup.md)
+    from planner.outcome import Outcome
 
 
 def parse_exports(text: str | None) -> list[str]:
@@ -29,6 +25,8 @@ def parse_exports(text: str | None) -> list[str]:
 
 
 def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | None) -> None:
+    from planner.exchange import write_dxf, write_geojson, write_stations_csv
+
     writers = {"dxf": lambda: write_dxf(outcome, Path(folder) / "plan.dxf"),
                "geojson": lambda: write_geojson(outcome, Path(folder) / "plan.geojson", crs),
                "csv": lambda: write_stations_csv(outcome, Path(folder) / "stations.csv", crs)}
@@ -37,8 +35,17 @@ def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | 
 
 
 def cmd_report(args: argparse.Namespace) -> int:
+    from planner.network.check import run_network
+    from planner.outcome import outcome_from_file
+    from planner.report import write_report
+
     formats = parse_exports(args.export)
-    outcome = outcome_from_file(args.plan, args.site)
+    ifc = None
+    if args.storey or args.exterior or args.ifc_windows:
+        from planner.exchange.ifc_in import IfcOptions
+
+        ifc = IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
+    outcome = outcome_from_file(args.plan, args.site, ifc=ifc)
     folder = args.out or str(Path(args.plan).parent)
     rule = outcome.limits.precision
     mode = "combined" if rule is not None and rule.combined else "single"  # judged as the plan was made
@@ -51,8 +58,14 @@ def cmd_report(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
-def _file_comparison(outcome: Outcome) -> list[dict]:
+def _file_comparison(outcome: Outcome) -> list[dict[str, Any]]:
     """Closed form and greedy recomputed with the plan's settings, beside the plan's own figures."""
+    from planner.candidates.pool import PoolOptions
+    from planner.plan import PlanOptions
+    from planner.report import compare_methods
+    from planner.report.compare import meta_row
+    from planner.solve.milp import MilpOptions
+
     m, p = outcome.meta, outcome.meta.get("parameters", {})
     options = PlanOptions(target_spacing_m=float(p.get("target_spacing_m", 1.0)),
                           pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
@@ -70,5 +83,8 @@ def add_report_parser(sub: Any) -> None:
     rp.add_argument("--export", metavar="LIST", help="also write dxf, geojson, csv (comma-separated)")
     rp.add_argument("--crs", metavar="CRS", help="write GeoJSON in lon/lat from this metric CRS")
     rp.add_argument("--no-network", action="store_true", help="leave out the network and accuracy check")
+    rp.add_argument("--storey", metavar="NAME|INDEX|all", help="IFC site: the storey the plan was made for")
+    rp.add_argument("--exterior", action="store_true", help="IFC site: planned with --exterior")
+    rp.add_argument("--ifc-windows", action="store_true", help="IFC site: planned with --ifc-windows")
     rp.add_argument("--quiet", action="store_true", help="no progress bars")
     rp.set_defaults(func=cmd_report)

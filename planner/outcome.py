@@ -65,14 +65,15 @@ def outcome_from_plan(plan: Plan, network: NetworkReport | None = None,
                    plan_to_dict(plan), network, tuple(comparison))
 
 
-def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path: str) -> Site:
-    """The site a plan.json was made for, with the parameters recorded in it."""
+def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path: str, ifc: Any = None) -> Site:
+    """The site a plan.json was made for, with the parameters recorded in it (``ifc``: the storeys of an IFC
+    model, :class:`~planner.exchange.ifc_in.IfcOptions`)."""
     src = site_path or meta.get("source")
     if not src:
         raise InputError("the plan names no site file; give one with --site", file=plan_path, field="source")
     tried = [Path(src)] if site_path else [Path(src), Path(plan_path).parent / src, Path(meta.get("source_resolved") or src)]
     path = next((p for p in tried if p.exists()), Path(src))
-    site = load_site(path)
+    site = load_site(path, ifc=ifc)
     p = meta.get("parameters") or {}
     changes = {k: p[k] for k in ("theta_max_deg", "overlap", "sigma_req_m", "instrument_height_m", "incidence_model",
                                   "min_standoff_m") if k in p}
@@ -83,13 +84,14 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
 
 
 def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None,
-                      network: NetworkReport | None = None) -> Outcome:
-    """The outcome of a plan.json (stations re-read, coverage and verification recomputed)."""
+                      network: NetworkReport | None = None, ifc: Any = None) -> Outcome:
+    """The outcome of a plan.json (stations re-read, coverage and verification recomputed); ``ifc`` selects
+    the storeys when the site is an IFC model."""
     name = str(plan_path)
     meta = read_json(plan_path)
     if not isinstance(meta, dict):
         raise InputError("a plan must be a JSON object", file=name)
-    site = site_for_plan(meta, site_path, name)
+    site = site_for_plan(meta, site_path, name, ifc)
     validation = validate_site(site)
     p = meta.get("parameters") or {}
     combined = (p.get("milp") or {}).get("precision") == "combined" or p.get("precision_mode") == "combined"

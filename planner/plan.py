@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Hashable
+from typing import Any
 from dataclasses import dataclass, field, replace
 
 import networkx as nx
@@ -61,6 +61,7 @@ class PlanOptions:
     regions: bool = True
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
+    memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.memory_guard)
 
     @property
     def combined(self) -> bool:
@@ -112,14 +113,15 @@ class Plan:
         for s in self.stations:
             by_zone[(s.zone, s.side.value)] = by_zone.get((s.zone, s.side.value), 0) + 1
         sides = self.count_by_side()
+        w = max([10] + [len(z) + 1 for z, _ in by_zone])  # long room names (IFC) keep their column
         lines = [
             f"instance {self.site.name}, method {self.result.method}: {self.result.summary()}",
             f"presolve: {self.result.info['presolve']}" if "presolve" in self.result.info else "",
             f"stations: {len(self.stations)} (inside {sides.get('inside', 0)}, outside {sides.get('outside', 0)}); "
             f"candidates {self.problem_size['candidates']}, targets {self.problem_size['targets']}",
-            f"{'zone':<10}{'side':<9}{'stations':>9}",
+            f"{'zone':<{w}}{'side':<9}{'stations':>9}",
         ]
-        lines += [f"{z:<10}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
+        lines += [f"{z:<{w}}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
         lines.append(self._accuracy_line())
         scope = self.result.info.get("bound_scope")
@@ -187,9 +189,15 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     ------
     InfeasibleError
         Listing (up to five) targets by id and position, before any solver runs.
+    InputError
+        When the estimated memory of the work exceeds ``options.memory_limit_bytes`` (exit 3).
     """
     validation = validation or validate_site(site)
     limits = _limits(validation, options)
+    from planner.memory_guard import check_memory  # issue 17: refuse what will not fit, before building
+
+    check_memory(site, options.target_spacing_m, options.pool.grid_spacing_m,
+                 closed_form_limits(validation).max_slant_range_m, options.memory_limit_bytes)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
     if options.regions and regions_apply(limits):  # one station for a whole zone-side, found exactly where one exists
@@ -278,7 +286,7 @@ def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule
     mode = mode or (default_registration(site) if site is not None else "zone")
     labels, links = registration_groups(site, chosen, mode, reach_m) if site is not None else (
         tuple((c.zone, c.side.value) for c in chosen), None)
-    groups: dict[Hashable, list[int]] = {}
+    groups: dict[Any, list[int]] = {}  # labels: (zone, side) pairs or ("area", k)
     for k, label in enumerate(labels):
         groups.setdefault(label, []).append(k)
     out, partners = {}, {}

@@ -81,7 +81,8 @@ class VerifyReport:
     def summary(self) -> str:
         mode = " (combined precision)" if self.precision == "combined" else ""
         lines = [f"verification at {self.spacing_m:g} m{mode}: {self.percent:.3f} % covered"]
-        lines += [f"  {z.zone:<9}{z.side:<9}{z.covered:>8}/{z.points:<8}{z.percent:8.3f} %" for z in self.zones]
+        w = max([9] + [len(z.zone) + 1 for z in self.zones])  # long room names (IFC) keep their column
+        lines += [f"  {z.zone:<{w}}{z.side:<9}{z.covered:>8}/{z.points:<8}{z.percent:8.3f} %" for z in self.zones]
         if self.gaps:
             lines.append(f"uncovered stretches ({len(self.gaps)}):")
             lines += [f"  {g.zone} {g.side} wall {g.wall}: {g.from_m:.2f}-{g.to_m:.2f} m" for g in self.gaps[:30]]

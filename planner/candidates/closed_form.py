@@ -72,8 +72,9 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
             covered_m=g.covered_m))
     wplans, wall_cands = [], []
     for i, wall in enumerate(zone.outer_walls):
-        l1 = vgeo[i].covered_m if vgeo[i] else 0.0
-        l2 = vgeo[(i + 1) % n].covered_m if vgeo[(i + 1) % n] else 0.0
+        g1, g2 = vgeo[i], vgeo[(i + 1) % n]
+        l1 = g1.covered_m if g1 else 0.0
+        l2 = g2.covered_m if g2 else 0.0
         reach_c = horizontal_reach_m(limits.max_slant_range_m, wall.height_m, limits.instrument_height_m)
         wp = wall_plan(wall.length_m, reach_c, l1, l2, limits.theta_max_deg, limits.overlap)
         wplans.append(wp)

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import shapely
+from numpy.typing import NDArray
 from shapely.ops import polylabel
 
 from planner.candidates.closed_form import SIDE_TAG
@@ -32,7 +33,7 @@ def spread_order(n: int) -> np.ndarray:
     return np.argsort((np.arange(n) * 0.6180339887498949) % 1.0, kind="stable")
 
 
-def common_region(site: Site, targets: Targets, pieces: Sequence[int], limits: SightLimits,
+def common_region(site: Site, targets: Targets, pieces: Sequence[int] | NDArray[np.integer], limits: SightLimits,
                   spaces: dict[str, FrameSpace], cache: dict[int, shapely.Geometry]) -> shapely.Geometry:
     """Intersection of the coverage regions of ``pieces`` (stops as soon as it is empty)."""
     common: shapely.Geometry | None = None

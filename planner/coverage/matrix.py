@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -104,7 +105,7 @@ def convex_alone(site: Site, frame: str) -> bool:
 
 def _ordered(parts: list, order: NDArray[np.int64] | None, dtype: type) -> NDArray:
     """Concatenate per-block arrays and put them in CSR order."""
-    a = np.concatenate(parts).astype(dtype, copy=False) if parts else np.zeros(0, dtype)
+    a: NDArray[Any] = np.concatenate(parts).astype(dtype, copy=False) if parts else np.zeros(0, dtype)
     return a if order is None else a[order]
 
 

@@ -254,7 +254,7 @@ def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpac
     bl = space.blockers
     tree = None if bl is None else bl._seg_tree  # type: ignore[attr-defined]
     shadows: list[shapely.Geometry] = []
-    if tree is not None:
+    if tree is not None and bl is not None:
         ends = shapely.box(*np.minimum(a, b) - 1e-6, *np.maximum(a, b) + 1e-6)
         hit = np.union1d(tree.query(k, predicate="intersects"), tree.query(ends, predicate="intersects"))
         hit = hit[bl.key[hit] != wall_key(zi, int(targets.wall[t]))]

@@ -80,7 +80,7 @@ def _feature(f: Any, k: int, file: str, fwd: Any) -> tuple[str, Any] | None:
         side = props.get("scan_side", "inside")
         if side not in {s.value for s in ScanSide}:
             raise InputError("unknown scan side", **where, field="scan_side", value=side)
-        hh = float(props.get("hole_height_m", max(h)))
+        hh = float(props.get("hole_height_m", max(h or [0.0])))
         return role, Zone(id=name, scan_side=ScanSide(side), vertices=tuple(map(tuple, xy.tolist())),
                           vertex_heights_m=tuple(h or ()), frame=str(props.get("frame", SITE_FRAME)),
                           holes=tuple(tuple(map(tuple, r.tolist())) for r in hole_xy),

@@ -106,6 +106,7 @@ def _design(coords: Mapping[str, tuple[float, float]], unknown: list[str], obs: 
             if o.at in col:
                 a[i, col[o.at] + (0 if o.kind == "x" else 1)] = 1.0
             continue
+        assert o.to is not None  # only x/y observations have no target, and they were handled above
         xj, yj = coords[o.to]
         dx, dy = xj - xi, yj - yi
         s2 = dx * dx + dy * dy

@@ -144,7 +144,7 @@ def chain_accuracy(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[
     # a tied station is one link (its tie) from control
     hops = {s: d for s, d in nx.single_source_shortest_path_length(g, "<control>").items() if s != "<control>"}
     untied = tuple(sorted(s for s in xy if s not in sigma))
-    worst = max(sigma, key=sigma.get, default=None)
+    worst = max(sigma, key=lambda s: sigma[s], default=None)
     chain = tuple(nx.shortest_path(g, "<control>", worst)[1:]) if worst is not None else ()
     best, after = None, None
     s_tie = extra_tie_sigma_m if extra_tie_sigma_m is not None else min(ties.values(), default=None)
@@ -173,5 +173,5 @@ def place_ties(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str,
     ties = {min(names, key=lambda s: math.dist(xy[s], (cx, cy))): tie_sigma}
     while len(ties) < min(count, len(names)):
         sigma = _sigmas(xy, links, ties)
-        ties[max((s for s in sigma if s not in ties), key=sigma.get)] = tie_sigma
+        ties[max((s for s in sigma if s not in ties), key=lambda s: sigma[s])] = tie_sigma
     return ties

@@ -110,8 +110,8 @@ class NetworkReport:
         lines.append(f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
                      f"({c['failing_targets']} of {c['targets']} pieces fail; worst e {c['worst_e_m'] * 1000:.2f} mm)")
         for z in c["zones"]:
-            worst = "untied station" if not math.isfinite(z["worst_e_m"]) else f"{z['worst_e_m'] * 1000:.2f} mm"
-            lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst}")
+            worst_e = "untied station" if not math.isfinite(z["worst_e_m"]) else f"{z['worst_e_m'] * 1000:.2f} mm"
+            lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst_e}")
         lines += [f"  fix: {s}" for s in c["suggestions"]]
         if self.survey is not None:
             lines += self.survey.lines()
@@ -264,11 +264,11 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
     bad_st = sorted({stations[w].id for w in who[fail]})
     suggestions = []
     for sid in bad_st[:10]:
-        s0 = sigma.get(sid, float("inf"))
-        if not math.isfinite(s0):
+        s0_m = float(sigma.get(sid, float("inf")))
+        if not math.isfinite(s0_m):
             suggestions.append(f"station {sid} is not tied to control: add a control point it sees, or a registration link")
-        elif s0 > p.sigma_req_m / 2:
-            suggestions.append(f"station {sid} position error {s0 * 1000:.1f} mm: add a control point near it or shorten its chain")
+        elif s0_m > p.sigma_req_m / 2:
+            suggestions.append(f"station {sid} position error {s0_m * 1000:.1f} mm: add a control point near it or shorten its chain")
         else:
             suggestions.append(f"targets of station {sid} are measured too far: add a station closer to them")
     finite = e_best[covered & np.isfinite(e_best)]

@@ -42,7 +42,7 @@ def monte_carlo(coords: Mapping[str, tuple[float, float]], fixed: Sequence[str],
     _, exact, _ = _design(xy, names, internal)
     scale = np.array([ka if o.kind == "direction" else kl for o in observations])
     sig = np.array([o.sigma for o in observations])
-    errors = {n: [] for n in names}
+    errors: dict[str, list[float]] = {n: [] for n in names}
     for _ in range(runs):
         e = rng.standard_normal(len(sig))
         while np.any(np.abs(e) > TRUNCATE):

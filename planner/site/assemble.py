@@ -51,9 +51,10 @@ class Placement:
         a = math.radians(self.rotation_deg)
         return np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
 
-    def apply(self, xy: NDArray[np.float64] | tuple) -> NDArray[np.float64]:
+    def apply(self, xy: NDArray[np.float64] | tuple | list[tuple[float, float]]) -> NDArray[np.float64]:
         """Local points (n, 2) in the site frame."""
-        return np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin)
+        return np.asarray(np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin),
+                          dtype=np.float64)
 
 
 IDENTITY = Placement((0.0, 0.0), 0.0)
@@ -160,9 +161,9 @@ def _interiors_clash(za: Zone, pa: Placement, zb: Zone, pb: Placement) -> bool:
     small = OVERLAP_SHARE * min(a.area, b.area)
     sa, sb = _normal_sign(za), _normal_sign(zb)
     if sa == sb:
-        return a.intersection(b).area > small
+        return bool(a.intersection(b).area > small)
     room, outline = (a, b) if sa > 0 else (b, a)
-    return room.difference(outline).area > small
+    return bool(room.difference(outline).area > small)
 
 
 def _misfit(p: Placement, q: Placement, zone: Zone) -> float:

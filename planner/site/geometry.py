@@ -49,7 +49,8 @@ def signed_area(xy: NDArray[np.float64]) -> float:
 
 def side_lengths(xy: NDArray[np.float64]) -> NDArray[np.float64]:
     """Length of side i, from vertex i to vertex i+1 (cyclic)."""
-    return np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    d = np.roll(xy, -1, axis=0) - xy
+    return np.asarray(np.hypot(d[:, 0], d[:, 1]), dtype=np.float64)
 
 
 def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None = None) -> None:

@@ -8,7 +8,7 @@ Only ``json`` is used to parse: nothing in a file is ever evaluated.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, overload
 
 from planner.accuracy import ErrorBudget
 from planner.errors import InputError
@@ -55,6 +55,12 @@ class _Reader:
         if key not in data:
             raise self.fail("missing", field=key, **where)
         return to_float(data[key], field=key, file=self.file, **where)
+
+    @overload
+    def length(self, data: dict[str, Any], base: str, default: float, **where: Any) -> float: ...
+
+    @overload
+    def length(self, data: dict[str, Any], base: str, default: None = None, **where: Any) -> float | None: ...
 
     def length(self, data: dict[str, Any], base: str, default: float | None = None, **where: Any) -> float | None:
         """A length given as ``base_m`` or ``base_mm`` (in metres), or the default."""
@@ -194,7 +200,7 @@ def _inline_table(r: _Reader, entry: dict[str, Any], k: int) -> ZoneTable:
     for i, raw in enumerate(e["table"] if isinstance(e["table"], list) else [], 1):
         d = r.obj(raw, "table row", set(NUMBER_COLUMNS) | {"index"}, zone=zone, row=i)
         index = int(r.num(d, "index", zone=zone, row=i)) if "index" in d else i
-        rows.append(TableRow(index=index, **{c: r.num(d, c, zone=zone, row=i) for c in NUMBER_COLUMNS}))
+        rows.append(TableRow(index=index, **{c: r.num(d, c, zone=zone, row=i) for c in NUMBER_COLUMNS}))  # type: ignore[arg-type]
     rows.sort(key=lambda t: t.index)
     if [t.index for t in rows] != list(range(1, len(rows) + 1)):
         raise r.fail(f"indices must run 1..{len(rows)}", zone=zone, field="index")

@@ -13,15 +13,16 @@ from planner.site.table_csv import read_table_csv
 from planner.site.tables import zone_from_table
 
 READERS = {".json": "JSON instance", ".csv": "table CSV", ".dxf": "DXF drawing", ".geojson": "GeoJSON",
-           ".pol": "AGPLIB polygon"}
+           ".pol": "AGPLIB polygon", ".ifc": "IFC building model"}
 
 
 def load_site(path: Path | str, tolerance: ClosureTolerance | None = None, *, dxf: Any = None,
-              crs: str | None = None) -> Site:
+              crs: str | None = None, ifc: Any = None) -> Site:
     """Read a site from a JSON instance, a table CSV, a DXF drawing or GeoJSON (by the file's extension).
 
     ``dxf`` (a :class:`~planner.exchange.dxf_in.DxfOptions`) says which DXF layers hold what;
-    ``crs`` names the metric CRS a lon/lat GeoJSON is projected to.
+    ``crs`` names the metric CRS a lon/lat GeoJSON is projected to; ``ifc`` (a
+    :class:`~planner.exchange.ifc_in.IfcOptions`) says which storeys of an IFC model to read.
 
     A table CSV carries no parameters: the dissertation's defaults apply
     (:class:`~planner.params.Parameters`), with S_max derived from the
@@ -40,6 +41,10 @@ def load_site(path: Path | str, tolerance: ClosureTolerance | None = None, *, dx
         from planner.exchange.geojson_in import read_geojson_site
 
         return read_geojson_site(path, crs=crs)
+    if suffix == ".ifc":
+        from planner.exchange.ifc_in import read_ifc_site
+
+        return read_ifc_site(path, ifc)
     if suffix == ".pol":
         from planner.site.pol import read_pol
 

@@ -308,7 +308,7 @@ class Site:
 
     def with_parameters(self, **changes: object) -> "Site":
         """The same site with some parameters changed (validated), e.g. ``site.with_parameters(theta_max_deg=60)``."""
-        return replace(self, parameters=replace(self.parameters, **changes))
+        return replace(self, parameters=replace(self.parameters, **changes))  # type: ignore[arg-type]
 
     def zone(self, zone_id: str) -> Zone:
         for z in self.zones:

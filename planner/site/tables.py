@@ -30,7 +30,7 @@ def apply_corrections(table: ZoneTable, corrections: Iterable[Correction], file:
         if abs(found - c.printed) > 1e-9 * max(1.0, abs(found)):
             raise InputError(f"correction says printed {c.printed:g} but the table holds {found:g}",
                              file=file, zone=c.zone, row=c.row, field=c.field, value=c.printed)
-        rows[c.row - 1] = replace(old, **{c.field: c.corrected})
+        rows[c.row - 1] = replace(old, **{c.field: c.corrected})  # type: ignore[arg-type]
     return replace(table, rows=tuple(rows))
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -56,7 +57,7 @@ class MilpOptions:
             raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
 
 
-def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrides: object) -> SolveResult:
+def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrides: Any) -> SolveResult:
     """Solve the cover; the result's status is OPTIMAL only when every block was proven optimal and connected.
 
     Options come as a :class:`MilpOptions` or as keywords of it, e.g.
@@ -74,7 +75,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
                            info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)})
     connect = o.overlap is not None and instance.groups is not None
     adj = None
-    if connect:
+    if connect and o.overlap is not None:
         lengths = instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
         adj, _ = overlap_adjacency(a, lengths, o.overlap, instance.groups, instance.xy, instance.links)
     report = _presolve(instance, a, adj, o)
@@ -96,7 +97,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     if any(b.incumbent is None for b in solvers):
         return SolveResult("milp", Status.NO_SOLUTION, (), None, time_s=time.perf_counter() - start,
                            backend=o.backend, info={"presolve": report.to_dict()})
-    selected: list[int] = [int(b.cands[i]) for b in solvers for i in b.incumbent]
+    selected: list[int] = [int(b.cands[i]) for b in solvers for i in (b.incumbent or ())]
     objective = float(sum(b.cost[b.incumbent].sum() for b in solvers))
     bound = float(sum(b.cost[b.incumbent].sum() if b.done else min(b.bound, b.cost[b.incumbent].sum()) for b in solvers))
     all_optimal = all(b.done for b in solvers)
@@ -212,6 +213,6 @@ class _BlockSolver:
                    for cut in connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))]
             self.backend.add_rows(new)
             self.cuts += len(new)
-            fixed = repair(self.adj, self.cost, self.groups, chosen)
+            fixed = repair(self.adj, self.cost, self.groups if self.groups is not None else [], chosen)
             if fixed is not None:
                 self._better(fixed)

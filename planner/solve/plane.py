@@ -168,5 +168,5 @@ def with_plane_bound(result: SolveResult, pricing: PricingReport) -> SolveResult
     proven = result.objective is not None and result.objective <= plane + 1e-9
     info["bound_scope"] = "plane" if proven else "pool"
     if proven:
-        return replace(result, status=Status.OPTIMAL, bound=float(plane), info=info)
+        return replace(result, status=Status.OPTIMAL, bound=float(plane or 0), info=info)
     return replace(result, info=info)

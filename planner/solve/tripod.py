@@ -123,7 +123,7 @@ def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.
         return p0, 0.0
     if prob.status not in ("optimal", "optimal_inaccurate") or r.value is None:
         return p0, 0.0
-    return np.asarray(p.value, dtype=float), float(max(r.value, 0.0))
+    return np.asarray(p.value, dtype=float), max(float(r.value), 0.0)
 
 
 def tripod_discs(site: Site, problem: CoverageProblem, selected: Sequence[int], limits: SightLimits,

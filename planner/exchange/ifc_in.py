@@ -1,0 +1,206 @@
+"""Read a building model (IFC2X3, IFC4) through IfcOpenShell: one inside zone per IfcSpace.
+
+Per building storey (``IfcOptions.storey``: a name, a 1-based index or ``all``; by default the
+storeys that hold spaces):
+
+- each IfcSpace becomes an inside zone named by its long name (else its name); its outline is the
+  plan footprint of the space's body geometry, its wall height the space's height (the z extent
+  of that geometry) or, without one, the storey height (to the next storey's elevation);
+- walls, columns, stairs and furniture that stand inside a space (more than half of their footprint)
+  are cut out of it: the zone's outline runs round them (a notch) or they become a free-standing
+  block (a hole) with their own height, so they block sight and no station stands on them;
+- doors (and windows with ``windows=True``) become openings on the zone walls they stand in;
+- with ``exterior=True`` the outer outline of the storey (spaces and walls together) is added as
+  an outside zone with the storey height.
+
+One storey reads into the site frame; several storeys each into a frame named after the storey (so
+the rooms of one floor never hide those of another). Coordinates and heights are metres from the
+file's own units and placements (IfcOpenShell's geometry kernel applies both).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import shapely
+
+from planner.errors import InputError
+from planner.exchange.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
+from planner.params import Parameters
+from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
+
+#: elements that stand in rooms and block sight
+BLOCKER_TYPES = ("IfcWall", "IfcColumn", "IfcStair", "IfcFurnishingElement", "IfcBuildingElementProxy")
+#: gaps narrower than this (m) between a blocker and a room's wall are filled (no station sees into them)
+SLOT_M = 0.3
+#: outline vertices closer than this (m) to the line of their neighbours are dropped
+OUTLINE_TOL_M = 0.02
+#: storey height used when neither the space nor the storeys give one (m)
+DEFAULT_STOREY_HEIGHT_M = 3.0
+
+
+@dataclass(frozen=True)
+class IfcOptions:
+    """What to read from an IFC file: which storey(s), windows as openings, the exterior outline."""
+
+    storey: str | None = None
+    windows: bool = False
+    exterior: bool = False
+
+
+@dataclass(frozen=True)
+class _Storey:
+    name: str
+    entity: Any
+    elevation_m: float
+    height_m: float
+    spaces: tuple[Any, ...]
+
+
+def read_ifc_site(path: Path | str, options: IfcOptions | None = None) -> Site:
+    """Read the selected storeys of an IFC file as a site (see the module docstring)."""
+    options = options or IfcOptions()
+    path = Path(path)
+    model = _open(path)
+    storeys = _select(_storeys(model, path), options.storey, path)
+    settings = geometry_settings()
+    zones: list[Zone] = []
+    for st in storeys:
+        frame = SITE_FRAME if len(storeys) == 1 else st.name
+        prefix = "" if len(storeys) == 1 else f"{st.name}/"
+        zones += _storey_zones(model, st, frame, prefix, options, settings, str(path))
+    return Site(name=path.stem, zones=tuple(zones), parameters=Parameters(), source=str(path))
+
+
+def _open(path: Path) -> Any:
+    import ifcopenshell
+
+    if not path.is_file():
+        raise InputError("no such file", file=str(path))
+    with path.open("rb") as fh:
+        head = fh.read(64)
+    if not head.lstrip().startswith(b"ISO-10303-21"):
+        raise InputError("not an IFC file (an IFC-SPF file starts with ISO-10303-21)", file=str(path))
+    try:
+        return ifcopenshell.open(str(path))
+    except Exception as exc:  # IfcOpenShell raises plain errors for unreadable files
+        raise InputError(f"IfcOpenShell cannot read it: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
+                         file=str(path)) from None
+
+
+def _storeys(model: Any, path: Path) -> list[_Storey]:
+    import ifcopenshell.util.element as ue
+    import ifcopenshell.util.unit as uu
+
+    scale = uu.calculate_unit_scale(model)
+    raw = sorted(model.by_type("IfcBuildingStorey"), key=lambda s: float(s.Elevation or 0.0))
+    out = []
+    for k, st in enumerate(raw):
+        elev = float(st.Elevation or 0.0) * scale
+        nxt = float(raw[k + 1].Elevation or 0.0) * scale if k + 1 < len(raw) else None
+        spaces = tuple(sorted((e for e in ue.get_decomposition(st) if e.is_a("IfcSpace")),
+                              key=lambda e: (str(e.LongName or e.Name or ""), e.GlobalId)))
+        height = nxt - elev if nxt is not None and nxt > elev else DEFAULT_STOREY_HEIGHT_M
+        out.append(_Storey(st.Name or f"storey {k + 1}", st, elev, height, spaces))
+    if not any(s.spaces for s in out):
+        raise InputError("no IfcSpace in any storey: the planner scans rooms; define the rooms as spaces in the "
+                         "authoring tool (e.g. Revit Rooms, ArchiCAD Zones) and export them to IFC",
+                         file=str(path), field="IfcSpace", value=0)
+    return out
+
+
+def _select(storeys: list[_Storey], which: str | None, path: Path) -> list[_Storey]:
+    if which is None:
+        return [s for s in storeys if s.spaces]
+    if which == "all":
+        return [s for s in storeys if s.spaces]
+    if which.isdigit() and 1 <= int(which) <= len(storeys):
+        chosen = [storeys[int(which) - 1]]
+    else:
+        chosen = [s for s in storeys if s.name == which]
+    if not chosen:
+        names = ", ".join(f"{k} {s.name!r}" for k, s in enumerate(storeys, 1))
+        raise InputError(f"no such storey (the file has: {names})", file=str(path), field="--storey", value=which)
+    if not chosen[0].spaces:
+        raise InputError("the storey holds no IfcSpace", file=str(path), field="--storey", value=which)
+    return chosen
+
+
+def _storey_zones(model: Any, st: _Storey, frame: str, prefix: str, options: IfcOptions, settings: Any,
+                  file: str) -> list[Zone]:
+    import ifcopenshell.util.element as ue
+
+    contained = [e for e in ue.get_decomposition(st.entity) if not e.is_a("IfcSpace")]
+    blockers = [(e, s if e.is_a("IfcWall") else replace(s, footprint=s.footprint.convex_hull))
+                for e in contained if any(e.is_a(t) for t in BLOCKER_TYPES)
+                if (s := solid_of(e, settings)) is not None]
+    kinds = {"IfcDoor": "door"} | ({"IfcWindow": "window"} if options.windows else {})
+    openings = [(e, kinds[k], s) for e in contained for k in kinds if e.is_a(k)
+                if (s := solid_of(e, settings)) is not None]
+    zones: list[Zone] = []
+    used: set[str] = set()
+    for space in st.spaces:
+        name = space.LongName or space.Name or space.GlobalId
+        zid = _unique(prefix + str(name), used)
+        solid = solid_of(space, settings)
+        if solid is None:
+            raise InputError("the space has no body geometry (IfcOpenShell built no shape for it)", file=file,
+                             zone=zid, field="Representation", value=space.GlobalId)
+        height = solid.height_m if solid.height_m > 0 else st.height_m
+        zone = _space_zone(zid, solid, height, blockers, frame, file)
+        ops = sorted((op for e, kind, s in openings for w in zone.walls
+               if (op := opening_on_wall(w, s.footprint, kind, e.Name or e.GlobalId)) is not None),
+                     key=lambda o: (o.wall, o.s0_m))
+        zones.append(replace(zone, openings=tuple(ops)) if ops else zone)
+    if options.exterior:
+        zones.append(_exterior(st, prefix, blockers, zones, frame))
+    return zones
+
+
+def _unique(name: str, used: set[str]) -> str:
+    out, k = name, 2
+    while out in used:
+        out, k = f"{name} ({k})", k + 1
+    used.add(out)
+    return out
+
+
+def _space_zone(zid: str, solid: Solid, height: float, blockers: list[tuple[Any, Solid]], frame: str,
+                file: str) -> Zone:
+    """The zone of one space: its footprint less the blockers that stand in it."""
+    room = largest_polygon(solid.footprint)
+    inside = [(s, min(height, s.height_m)) for _, s in blockers
+              if s.footprint.intersection(room).area > 0.5 * s.footprint.area]
+    if inside:
+        cut = shapely.union_all([s.footprint for s, _ in inside])
+        half = SLOT_M / 2  # an opening (erode, dilate) fills the slots no scanner can see into
+        room = room.difference(cut).buffer(-half, join_style="mitre").buffer(half, join_style="mitre")
+        room = largest_polygon(shapely.simplify(room.intersection(largest_polygon(solid.footprint)), OUTLINE_TOL_M))
+    if room.is_empty or room.area <= 0:
+        raise InputError("the space's footprint is empty once walls and columns are cut out", file=file,
+                         zone=zid, field="footprint")
+    outline = [tuple(map(float, p)) for p in room.exterior.coords[:-1]]
+    holes = tuple(tuple((float(p[0]), float(p[1])) for p in r.coords[:-1]) for r in room.interiors)
+    hole_h = tuple(tuple(_height_at(p, inside, height) for p in r) for r in holes)
+    return Zone(id=zid, scan_side=ScanSide.INSIDE, vertices=tuple(outline),  # type: ignore[arg-type]
+                vertex_heights_m=tuple(_height_at(p, inside, height) for p in outline), frame=frame,
+                holes=holes, hole_heights_m=hole_h, notes=("from IFC space",))
+
+
+def _height_at(p: tuple[float, ...], inside: list[tuple[Solid, float]], height: float) -> float:
+    """The wall height at a vertex: a blocker's own height where the vertex lies on one, else the room's."""
+    pt = shapely.Point(p)
+    hs = [h for s, h in inside if s.footprint.distance(pt) < SLOT_M]
+    return round(max(hs) if hs else height, 4)
+
+
+def _exterior(st: _Storey, prefix: str, blockers: list[tuple[Any, Solid]], zones: list[Zone], frame: str) -> Zone:
+    """The storey's outer outline (spaces and walls together), scanned from outside."""
+    parts = [z.polygon for z in zones] + [s.footprint for e, s in blockers if e.is_a("IfcWall")]
+    merged = shapely.union_all(parts).buffer(0.01, join_style="mitre").buffer(-0.01, join_style="mitre")
+    outline = largest_polygon(shapely.simplify(merged, 1e-3))
+    xy = tuple(tuple(map(float, p)) for p in outline.exterior.coords[:-1])
+    return Zone(id=f"{prefix}exterior", scan_side=ScanSide.OUTSIDE, vertices=xy,  # type: ignore[arg-type]
+                vertex_heights_m=(round(st.height_m, 4),) * len(xy), frame=frame, notes=("from IFC outline",))

@@ -1,0 +1,59 @@
+"""A floor plan of one frame (a building storey): every room with its openings, and the stations.
+
+Rooms are drawn filled and labelled, blocks (columns, stairs) hatched, openings (doors, windows)
+as coloured gaps on their walls, each station as a triangle with its id and its zone's colour.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import Polygon as PolygonPatch
+
+from planner.figures.base import decorate_plan
+from planner.site.model import Site, Wall, Zone
+
+OPENING_COLOUR = {"door": "tab:orange", "gate": "tab:brown", "window": "tab:cyan"}
+
+
+def storey_figure(site: Site, stations: Sequence[Any], frame: str, title: str = "") -> Figure:
+    """Rooms of ``frame`` with their openings and the ``stations`` (objects with ``id``, ``zone``,
+    ``frame``, ``x``, ``y``) that stand in that frame."""
+    fig = Figure(figsize=(8, 6))
+    ax = fig.add_subplot()
+    zones = [z for z in site.zones if z.frame == frame]
+    colours = {z.id: f"C{k % 10}" for k, z in enumerate(zones)}
+    for z in zones:
+        _room(ax, z, colours[z.id])
+    mine = [s for s in stations if s.frame == frame]
+    for s in mine:
+        ax.plot([s.x], [s.y], marker="^", ms=9, color=colours.get(s.zone, "red"), mec="black", zorder=5)
+        ax.annotate(str(s.id), (s.x, s.y), xytext=(4, 4), textcoords="offset points", fontsize=6, zorder=6)
+    ax.set_title(title or f"{frame}: {len(zones)} rooms, {len(mine)} stations")
+    decorate_plan(ax, frame)
+    return fig
+
+
+def _room(ax: Any, zone: Zone, colour: str) -> None:
+    inside = zone.scan_side.value == "inside"
+    ax.add_patch(PolygonPatch(zone.xy, closed=True, fc=colour if inside else "none", alpha=0.15 if inside else 1,
+                              ec="none"))
+    for ring in zone.rings:
+        closed = np.vstack([ring, ring[:1]])
+        ax.plot(closed[:, 0], closed[:, 1], color="black", lw=1.2)
+    for hole in zone.holes:
+        ax.add_patch(PolygonPatch(np.asarray(hole), closed=True, fc="0.6", ec="black", hatch="//", lw=0.8))
+    for op in zone.openings:
+        _gap(ax, zone.walls[op.wall - 1], op.s0_m, op.s1_m, OPENING_COLOUR.get(op.kind, "tab:orange"))
+    cx, cy = zone.polygon.representative_point().coords[0]
+    ax.text(cx, cy, zone.id.rsplit("/", 1)[-1], ha="center", va="center", fontsize=8, color="0.2")
+
+
+def _gap(ax: Any, wall: Wall, s0: float, s1: float, colour: str) -> None:
+    a, b = np.asarray(wall.start, dtype=float), np.asarray(wall.end, dtype=float)
+    u = (b - a) / wall.length_m
+    p, q = a + s0 * u, a + s1 * u
+    ax.plot([p[0], q[0]], [p[1], q[1]], color=colour, lw=4, solid_capstyle="butt", zorder=4)

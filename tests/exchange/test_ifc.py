@@ -1,0 +1,135 @@
+"""IFC input: spaces -> inside zones per storey, blockers cut out, doors as openings, and the failures.
+
+The models are written here with IfcOpenShell's API (scripts/make_ifc_house.py, in millimetres):
+ground floor an L-shaped living room with a 0.3 m column, a kitchen and a hall (rooms 2.7 m high),
+upper floor a bedroom and a study (2.5 m high), walls 0.2 m thick, five doors.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("ifcopenshell")
+
+from planner.errors import InputError  # noqa: E402
+from planner.exchange.ifc_in import IfcOptions, read_ifc_site  # noqa: E402
+from planner.site.model import SITE_FRAME, ScanSide  # noqa: E402
+from tests.conftest import INSTANCES, ROOT  # noqa: E402
+
+FZK = ROOT / "instances" / "external" / "AC20-FZK-Haus.ifc"
+
+
+def _builder():
+    spec = importlib.util.spec_from_file_location("make_ifc_house", ROOT / "scripts" / "make_ifc_house.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod.build_house
+
+
+@pytest.fixture(scope="module")
+def house(tmp_path_factory) -> Path:
+    return _builder()(tmp_path_factory.mktemp("ifc") / "house.ifc")
+
+
+def _wall_with(zone, start, end):
+    return next(w for w in zone.walls if w.start == start and w.end == end)
+
+
+def test_ground_floor_rooms_heights_column_and_doors(house):
+    site = read_ifc_site(house, IfcOptions(storey="Ground floor"))
+    assert [z.id for z in site.zones] == ["Hall", "Kitchen", "Living"]  # sorted by long name
+    living = site.zone("Living")
+    assert living.frame == SITE_FRAME and living.scan_side is ScanSide.INSIDE
+    # L-shape 7.7 x 3.8 + 3.8 x 3.8 = 43.70 m^2, less the 0.3 x 0.3 column = 43.61 m^2 (mm file, read as m)
+    assert living.area_m2 == pytest.approx(43.61, abs=1e-6)
+    assert len(living.vertices) == 6 and set(living.vertex_heights_m) == {2.7}
+    assert len(living.holes) == 1 and living.hole_heights_m == ((2.7,) * 4,)  # the column, its own height
+    # the living-kitchen door stands in the wall x = 7.9..8.1 at y = 1.5..2.4; Living's wall on x = 7.9 runs
+    # from y = 0.2, so the opening is at s = 1.3..2.2 m along it
+    wall = _wall_with(living, (7.9, 0.2), (7.9, 4.0))
+    ops = [o for o in living.openings if o.wall == wall.index]
+    assert [(o.s0_m, o.s1_m, o.kind, o.name) for o in ops] == [(1.3, 2.2, "door", "D-living-kitchen")]
+    assert {o.name for o in site.zone("Hall").openings} == {"D-living-hall", "D-kitchen-hall", "D-front"}
+    assert site.zone("Kitchen").area_m2 == pytest.approx(3.7 * 3.8)
+
+
+def test_storeys_by_index_and_all(house):
+    upper = read_ifc_site(house, IfcOptions(storey="2"))
+    assert [z.id for z in upper.zones] == ["Bedroom", "Study"]
+    assert all(set(z.vertex_heights_m) == {2.5} for z in upper.zones)
+    both = read_ifc_site(house)  # default: every storey with spaces, each in its own frame
+    assert [(z.frame, z.id) for z in both.zones] == [
+        ("Ground floor", "Ground floor/Hall"), ("Ground floor", "Ground floor/Kitchen"),
+        ("Ground floor", "Ground floor/Living"), ("Upper floor", "Upper floor/Bedroom"),
+        ("Upper floor", "Upper floor/Study")]
+    with pytest.raises(InputError, match=r"no such storey \(the file has: 1 'Ground floor', 2 'Upper floor'\)"):
+        read_ifc_site(house, IfcOptions(storey="Roof"))
+
+
+def test_exterior_outline(house):
+    site = read_ifc_site(house, IfcOptions(storey="1", exterior=True))
+    ext = site.zone("exterior")
+    # the outer walls enclose 12 m x 8 m; storey height 3.0 m (elevations 0 and 3000 mm)
+    assert ext.scan_side is ScanSide.OUTSIDE and ext.area_m2 == pytest.approx(96.0)
+    assert set(ext.vertex_heights_m) == {3.0}
+
+
+def test_windows_flag_adds_no_door(house):
+    # the house has no windows: the flag changes nothing; doors are read either way
+    a = read_ifc_site(house, IfcOptions(storey="1"))
+    b = read_ifc_site(house, IfcOptions(storey="1", windows=True))
+    assert a.zones == b.zones
+
+
+def test_ifc2x3_reads_as_ifc4(tmp_path, house):
+    old = _builder()(tmp_path / "house23.ifc", schema="IFC2X3")
+    assert "IFC2X3" in old.read_text()[:2000]
+    for storey in ("1", "2"):
+        a, b = read_ifc_site(house, IfcOptions(storey=storey)), read_ifc_site(old, IfcOptions(storey=storey))
+        assert [(z.id, z.vertices, z.vertex_heights_m, z.holes, z.openings) for z in a.zones] == \
+               [(z.id, z.vertices, z.vertex_heights_m, z.holes, z.openings) for z in b.zones]
+
+
+def test_failures_are_one_line_errors(tmp_path):
+    build = _builder()
+    text = tmp_path / "plan.ifc"
+    text.write_text("this is not a building model\n")
+    with pytest.raises(InputError, match="not an IFC file"):
+        read_ifc_site(text)
+    with pytest.raises(InputError, match="no IfcSpace in any storey.*define the rooms as spaces"):
+        read_ifc_site(build(tmp_path / "empty.ifc", spaces=False))
+    with pytest.raises(InputError, match="zone Kitchen.*no body geometry"):
+        read_ifc_site(build(tmp_path / "faceless.ifc", faceless_space="Kitchen"), IfcOptions(storey="1"))
+    run = subprocess.run([sys.executable, "-m", "planner", "validate", str(text)], capture_output=True, text=True,
+                         cwd=ROOT)
+    assert run.returncode == 3 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+
+
+def test_committed_house_plans_per_storey_and_verifies(tmp_path):
+    """instances/house2.ifc (the script's output): each storey planned, verified 100 %."""
+    for storey in ("1", "2"):
+        out = tmp_path / storey
+        run = subprocess.run([sys.executable, "-m", "planner", "plan", str(INSTANCES / "house2.ifc"), "--storey",
+                              storey, "--out", str(out), "--quiet"], capture_output=True, text=True, cwd=ROOT)
+        assert run.returncode == 0, run.stderr
+        assert "verification at 0.1 m: 100.000 % covered" in run.stdout
+        ver = subprocess.run([sys.executable, "-m", "planner", "verify", str(INSTANCES / "house2.ifc"), "--storey",
+                              storey, str(out / "plan.json")], capture_output=True, text=True, cwd=ROOT)
+        assert ver.returncode == 0, ver.stderr
+        stations = json.loads((out / "plan.json").read_text())["stations"]
+        zones = {s["zone"] for s in stations}
+        assert zones == ({"Hall", "Kitchen", "Living"} if storey == "1" else {"Bedroom", "Study"})
+
+
+@pytest.mark.skipif(not FZK.is_file(), reason="AC20-FZK-Haus.ifc not present (not committed; docs/ifc.md)")
+def test_fzk_haus_ground_floor():
+    site = read_ifc_site(FZK, IfcOptions(storey="Erdgeschoss"))
+    assert sorted(z.id for z in site.zones) == ["Bad", "Buero", "Flur", "Küche", "Schlafzimmer", "Wohnen"]
+    assert all(set(z.vertex_heights_m) == {2.5} for z in site.zones)
+    assert {o.name for o in site.zone("Flur").openings} >= {"Haustuer", "Innentuer-1", "Innentuer-2", "Innentuer-3"}

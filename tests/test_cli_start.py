@@ -1,0 +1,64 @@
+"""The command starts without the numerical stacks: what ``import planner.cli`` loads, --version, choices.
+
+No timing here (timings are measured in scripts/bench_startup.py, docs/startup.md): the test checks
+*which* modules the start imports, read from ``python -X importtime``, which is what the time follows.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import planner
+from planner import cli_choices
+from tests.conftest import ROOT
+
+#: what --help, --version and argument parsing must not load
+HEAVY = ("numpy", "scipy", "shapely", "ortools", "networkx", "matplotlib", "ezdxf", "ifcopenshell", "cvxpy",
+         "pulp", "highspy", "pyproj")
+
+
+def _imported_by(code: str) -> set[str]:
+    run = subprocess.run([sys.executable, "-X", "importtime", "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    # lines "import time: self | cumulative | <indent>module"
+    return {line.rsplit("|", 1)[1].strip() for line in run.stderr.splitlines() if line.startswith("import time:")
+            and "|" in line and not line.rstrip().endswith("imported package")}
+
+
+def test_import_planner_cli_loads_no_numerical_stack():
+    mods = _imported_by("import planner.cli; planner.cli.build_parser()")
+    top = {m.split(".")[0] for m in mods}
+    assert "planner.cli" in mods
+    assert not top & set(HEAVY), sorted(top & set(HEAVY))
+
+
+def test_version_and_help_exit_0():
+    run = subprocess.run([sys.executable, "-m", "planner", "--version"], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0 and run.stdout.strip() == f"planner {planner.__version__}"
+    run = subprocess.run([sys.executable, "-m", "planner", "--help"], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0 and "validate" in run.stdout and "--version" in run.stdout
+
+
+def test_cli_choices_match_the_library():
+    from planner.exchange import EXPORTS
+    from planner.export import FORMATS
+    from planner.plan import METHODS
+    from planner.site import ScanSide
+    from planner.solve.backends import BACKENDS
+    from planner.solve.milp import PRECISION_MODES
+
+    assert cli_choices.METHODS == METHODS and cli_choices.BACKENDS == BACKENDS
+    assert cli_choices.PRECISION_MODES == PRECISION_MODES and cli_choices.FORMATS == FORMATS
+    assert cli_choices.EXPORTS == EXPORTS and cli_choices.SIDES == tuple(s.value for s in ScanSide)
+    from planner.accuracy import INCIDENCE_MODELS
+
+    assert cli_choices.INCIDENCE_MODELS == INCIDENCE_MODELS
+
+
+def test_lazy_names_are_the_public_names():
+    assert set(planner._LAZY) | {"solve"} == set(planner.__all__)
+    import importlib
+
+    importlib.import_module("planner.solve.milp")  # loading the subpackage does not rebind planner.solve
+    assert callable(planner.solve) and planner.solve.__doc__.startswith("Solve a coverage problem")
