@@ -31,7 +31,8 @@ from planner.network.check import NetworkReport, run_network
 from planner.network.io import adjust_observations, read_control
 from planner.outcome import outcome_from_plan
 from planner.params import ClosureTolerance
-from planner.plan import METHODS, PlanOptions, build_problem, plan_site, sight_limits
+from planner.cli_tiles import add_tile_options, plan_command
+from planner.plan import METHODS, PlanOptions, build_problem, sight_limits
 from planner.plan_io import read_plan_stations, write_plan
 from planner.report import compare_methods, write_report
 from planner.site import ScanSide, Site, load_site
@@ -142,7 +143,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
     site = load_with_overrides(args)
     options = _plan_options(args, site.parameters.overlap)
-    plan = plan_site(site, options)
+    plan = plan_command(site, options, args)
     print(plan.summary())
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
@@ -263,6 +264,7 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--grid-spacing", type=float, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
     pl.add_argument("--verify-spacing", type=float, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
     _add_limit_options(pl)
+    add_tile_options(pl)
     pl.set_defaults(func=cmd_plan)
     ve = sub.add_parser("verify", help="re-verify any plan's coverage on a fine sampling of every wall")
     _add_site_options(ve)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
 import networkx as nx
@@ -14,6 +15,7 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
+from planner.coverage.groups import registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
@@ -83,7 +85,7 @@ class Plan:
 
     @property
     def connected(self) -> bool:
-        """Every zone-side's stations form one registration bundle."""
+        """The stations of every registration group (accessible area) form one registration bundle."""
         return all(n <= 1 for n in self.registration.values())
 
     def count_by_side(self) -> dict[str, int]:
@@ -118,7 +120,7 @@ class Plan:
                          else f"bound scope: pool (the MILP bound holds over the candidate pool"
                               + (f"; over the plane at least {plane} stations)" if plane is not None else ")"))
         broken = {g: n for g, n in self.registration.items() if n > 1}
-        lines.append("registration: every zone-side connected under the overlap relation" if not broken else
+        lines.append("registration: every accessible area one bundle under the overlap relation" if not broken else
                      "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items()))
         if self.tripods:
             radii = [d.radius_m for d in self.tripods]
@@ -203,7 +205,7 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
             log.append(pricing.summary())
             pool = problem.candidates
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
-                              name=site.name)
+                              name=site.name, groups=registration_groups(site, problem.candidates))
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
         if options.pricing:
@@ -211,7 +213,8 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)
-    registration, partners = registration_check(problem, result.selected, rule)
+    registration, partners = registration_check(problem, result.selected, rule,
+                                                registration_groups(site, problem.candidates))
     stations = [problem.candidates[i] for i in result.selected]
     tripods: tuple[TripodDisc, ...] = ()
     if options.tripod or options.recentre:
@@ -224,19 +227,20 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                 registration, tripods)
 
 
-def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule
-                       ) -> tuple[dict[str, int], dict[int, list[int]]]:
-    """Components of each zone-side's chosen stations under the overlap relation, computed afresh with
-    networkx (independent of any solver), and each station's registration partners."""
+def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule,
+                       groups: Sequence[str] | None = None) -> tuple[dict[str, int], dict[int, list[int]]]:
+    """Components of each registration group's chosen stations under the overlap relation, computed afresh
+    with networkx (independent of any solver), and each station's registration partners. ``groups``: a label
+    per candidate (:func:`planner.coverage.groups.registration_groups`); default the proposing zone-side."""
     lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
     xy = np.array([c.xy for c in problem.candidates], dtype=float).reshape(-1, 2)
-    groups: dict[tuple[str, str], list[int]] = {}
+    members: dict[str, list[int]] = {}
     for i in selected:
         c = problem.candidates[i]
-        groups.setdefault((c.zone, c.side.value), []).append(i)
+        members.setdefault(groups[i] if groups is not None else f"{c.zone}/{c.side.value}", []).append(i)
     out, partners = {}, {}
-    for (zone, side), nodes in groups.items():
+    for label, nodes in members.items():
         g = overlap_graph(problem.by_candidate, lengths, nodes, rule, xy)
-        out[f"{zone}/{side}"] = nx.number_connected_components(g)
+        out[label] = nx.number_connected_components(g)
         partners.update({n: sorted(g.neighbors(n)) for n in nodes})
     return out, partners

@@ -66,12 +66,14 @@ class CoverInstance:
 def cover_instance(
     problem: CoverageProblem, *, scanner: Scanner | None = None, budget: ErrorBudget | None = None,
     sigma_req_m: float | None = None, cost: Sequence[float] | None = None, name: str = "",
+    groups: Sequence[Hashable] | None = None,
 ) -> CoverInstance:
     """The solver's view of a site's coverage problem.
 
     With ``scanner``, ``budget`` and ``sigma_req_m`` the combined-precision
     weights are filled in: sigma_tj is the point error e of (2.13) at the
-    largest slant range over piece t from candidate j.
+    largest slant range over piece t from candidate j. ``groups``: the registration group of each
+    candidate (default: the zone-side that proposed it; see :mod:`planner.coverage.groups`).
     """
     info = None
     if scanner is not None and budget is not None and sigma_req_m is not None:
@@ -84,7 +86,7 @@ def cover_instance(
         by_candidate=problem.by_candidate.astype(bool).tocsr(),
         cost=np.ones(len(cands)) if cost is None else np.asarray(cost, dtype=float),
         name=name,
-        groups=tuple((c.zone, c.side.value) for c in cands),
+        groups=tuple(groups) if groups is not None else tuple((c.zone, c.side.value) for c in cands),
         target_length_m=np.asarray(t.s1_m - t.s0_m, dtype=float),
         xy=np.array([c.xy for c in cands], dtype=float).reshape(-1, 2),
         info=info,
