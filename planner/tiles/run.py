@@ -33,6 +33,7 @@ from planner.site.model import Site
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
+from planner.solve.connectivity import connected_greedy
 from planner.tiles.stitch import Stitched, global_bound, stitch
 from planner.tiles.tasks import TileJob, TileResult, tile_task
 from planner.validate import ValidationReport, validate_site
@@ -128,17 +129,25 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
     bound = global_bound(by_cand, tiling.bound_time_limit_s, options.milp.seed)
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
-    from_cover = stitch(by_cand, adj, groups, [bound.cover]) if bound.cover else None
-    if from_cover is not None and _better(from_cover, joined):
-        joined = replace(from_cover, source="whole-site cover, joined")
+    joined = best_plan(by_cand, adj, groups, joined, bound.cover)
     return _finish(site, options, validation, problem, results, joined, bound, rule, groups,
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
                     "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m})
 
 
-def _better(a: Stitched, b: Stitched) -> bool:
-    """Fewer registration parts first, then fewer stations."""
-    return (sum(a.parts.values()), len(a.selected)) < (sum(b.parts.values()), len(b.selected))
+def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], tiled: Stitched,
+              cover: tuple[int, ...]) -> Stitched:
+    """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
+    earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
+    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned. ``tried`` records all three."""
+    plans = [tiled]
+    if cover:
+        plans.append(replace(stitch(a, adj, groups, [cover]), source="whole-site cover, joined"))
+    grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
+    if grown is not None:
+        plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
+    best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
+    return replace(best, tried={p.source: len(p.selected) for p in plans})
 
 
 def _tile_milp(options: PlanOptions, tiling: TileOptions):
@@ -151,12 +160,12 @@ def _finish(site, options, validation, problem, results, joined, bound, rule, gr
     n = len(joined.selected)
     value = bound.value
     status = Status.OPTIMAL if n == value and all(p <= 1 for p in joined.parts.values()) else Status.FEASIBLE
-    tiles_info = [{"tile": r.tile.name, "candidates": int(len(np.unique(r.rows))), "targets": r.n_targets,
+    tiles_info = [{"tile": r.tile.name, "core_m": [r.tile.x0_m, r.tile.y0_m, r.tile.size_m], "candidates": int(len(np.unique(r.rows))), "targets": r.n_targets,
                    "status": r.status.value, "stations": len(r.selected), "bound": r.bound,
                    "covers_core": r.covers_core, "coverage_s": round(r.coverage_s, 3), "solve_s": round(r.solve_s, 3)}
                   for r in results]
     info = {"tiles": tiles_info, "bound_scope": "pool", "lp_bound": bound.lp, "cover_milp_bound": bound.milp,
-            "stitch": {"source": joined.source, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
+            "stitch": {"source": joined.source, "tried": joined.tried, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
             "bound_how": "max(ceil(LP of the whole cover), cover-MILP bound), registration rule dropped",
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
@@ -170,7 +179,8 @@ def _finish(site, options, validation, problem, results, joined, bound, rule, gr
     log = (f"{len(results)} tiles of {times['tile_m']:g} m, margin {times['margin_m']:.1f} m: coverage and tile MILPs "
            f"in {times['tiles_s']:.1f} s" + (f"; tiles whose plan does not cover their core: {', '.join(bad)}" if bad else
                                             "; every tile's plan covers its core"),
-           f"stitched from the {joined.source}: union {joined.union}, pruned {joined.pruned}, joining chains added {joined.added} -> {n} stations",
+           "connected plans: " + ", ".join(f"{k} {v}" for k, v in joined.tried.items())
+           + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}" if bound.milp is not None else "")
            + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}")
     return Plan(site, options, validation, result, tuple(stations), verification, size, log, registration)

@@ -11,7 +11,8 @@ sees, not only a tile's), stations are then
 3. pruned again.
 
 The same is done from the best whole-site cover the bound's MILP found (a plan without the
-registration rule, joined the same way); the smaller of the two connected plans is kept.
+registration rule, joined the same way) and from the connected greedy on the whole site; the
+smallest connected plan is kept (:func:`planner.tiles.run.best_plan`).
 
 Bound: every connected plan is a cover, so any lower bound of the plain set cover over the whole
 pool bounds the connected problem. Two are computed on the whole matrix: the LP relaxation
@@ -67,6 +68,7 @@ class Stitched:
     added: int
     parts: dict[str, int]
     source: str = "tile plans"
+    tried: dict[str, int] | None = None
 
 
 def stitch(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], tile_plans: Sequence[Sequence[int]]
