@@ -30,11 +30,12 @@ from planner.coverage.targets import Targets, make_targets
 from planner.errors import InfeasibleError, UsageError
 from planner.plan import Plan, PlanOptions, _limits, closed_form_limits, unseen_error
 from planner.site.model import Site
+from planner.solve.milp import MilpOptions
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import connected_greedy
-from planner.tiles.stitch import Stitched, global_bound, stitch
+from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileJob, TileResult, tile_task
 from planner.validate import ValidationReport, validate_site
 from planner.verify import verify_stations
@@ -150,11 +151,14 @@ def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], til
     return replace(best, tried={p.source: len(p.selected) for p in plans})
 
 
-def _tile_milp(options: PlanOptions, tiling: TileOptions):
+def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
     return replace(options.milp, time_limit_s=tiling.tile_time_limit_s)
 
 
-def _finish(site, options, validation, problem, results, joined, bound, rule, groups, times) -> Plan:
+def _finish(site: Site, options: PlanOptions, validation: ValidationReport, problem: CoverageProblem,
+            results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, groups: tuple[str, ...],
+            times: dict[str, float]) -> Plan:
+    """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
     from planner.plan import registration_check
 
     n = len(joined.selected)
