@@ -6,7 +6,8 @@ What holds and why:
 - coverage: exact (see :mod:`planner.tiles.layout`): the tiles' columns are the site's matrix;
 - each tile's plan is re-checked to cover its core pieces, so their union covers the site;
 - registration: the stitched plan is checked on the site's overlap relation (shared wall over every
-  piece a station sees) with the groups of :mod:`planner.coverage.groups`, one per accessible area;
+  piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (``site`` mode by default: one
+  bundle per accessible area);
 - bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`), over the
   pool; the gap is (stations - bound) / stations.
 """
@@ -22,8 +23,9 @@ import scipy.sparse as sp
 
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import candidate_pool, dedupe
-from planner.coverage.groups import registration_groups
+from planner.coverage.links import registration_groups
 from planner.coverage.matrix import CoverageProblem, station_places
+from planner.coverage.regions import regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
 from planner.candidates.model import Candidate
 from planner.coverage.targets import Targets, make_targets
@@ -79,7 +81,7 @@ def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) ->
     limits = _limits(validation, options)
     targets = make_targets(site, options.target_spacing_m)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
-    if options.regions:
+    if options.regions and regions_apply(limits):
         pool = dedupe(pool + whole_side_candidates(site, targets, limits))
     return pool, targets
 
@@ -106,7 +108,10 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     pool, targets = site_pool(site, options, validation)
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
     usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason])
-    groups = registration_groups(site, pool)
+    mode = options.registration or "site"  # tiles: one registration bundle per accessible area by default
+    reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
+    labels, links = registration_groups(site, pool, mode, reach)
+    groups = tuple("/".join(map(str, g)) for g in labels)
     margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, tiling.tile_m, margin)
@@ -125,13 +130,13 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
         raise err.located(site.source) if site.source else err
     rule = options.milp.overlap or OverlapRule(site.parameters.overlap)
     lengths = piece_lengths(targets.s0_m, targets.s1_m)
-    adj, _ = overlap_adjacency(by_cand, lengths, rule, groups, xy)
+    adj, _ = overlap_adjacency(by_cand, lengths, rule, groups, xy, links)
     joined = stitch(by_cand, adj, groups, [r.selected for r in results])
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
     bound = global_bound(by_cand, tiling.bound_time_limit_s, options.milp.seed)
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
     joined = best_plan(by_cand, adj, groups, joined, bound.cover)
-    return _finish(site, options, validation, problem, results, joined, bound, rule, groups,
+    return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
                     "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m})
 
@@ -156,7 +161,7 @@ def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
 
 
 def _finish(site: Site, options: PlanOptions, validation: ValidationReport, problem: CoverageProblem,
-            results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, groups: tuple[str, ...],
+            results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, registration: tuple[str, float],
             times: dict[str, float]) -> Plan:
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
     from planner.plan import registration_check
@@ -174,7 +179,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
                          time_s=times["total_s"], backend=options.milp.backend, info=info)
-    registration, _ = registration_check(problem, joined.selected, rule, groups)
+    parts, _ = registration_check(problem, joined.selected, rule, site, *registration)
     stations = [problem.candidates[i] for i in joined.selected]
     verification = verify_stations(site, stations, problem.limits, options.verify_spacing_m)
     size = {"candidates": len(problem.candidates), "targets": len(problem.targets),
@@ -187,4 +192,4 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
            + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}" if bound.milp is not None else "")
            + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}")
-    return Plan(site, options, validation, result, tuple(stations), verification, size, log, registration)
+    return Plan(site, options, validation, result, tuple(stations), verification, size, log, parts)

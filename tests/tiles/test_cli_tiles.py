@@ -16,7 +16,7 @@ def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
     out = capsys.readouterr().out
     assert code == 0
     assert "4 tiles of 50 m, margin 60.0 m" in out  # plant_1ha: anchors span ~66 m -> 2 x 2 tiles; S_max 60 m
-    assert "registration: every accessible area one bundle" in out
+    assert "registration: every registration group connected" in out
     assert "verification at 0.1 m: 100.000 % covered" in out
     data = json.loads((tmp_path / "plan.json").read_text())
     assert len(data["stations"]) >= 9  # the bound of plant_1ha is 9 (cover MILP, proven optimal)

@@ -8,7 +8,7 @@ import math
 
 import pytest
 
-from planner.coverage.groups import open_ground, registration_groups
+from planner.coverage.links import registration_groups
 from planner.plan import PlanOptions, build_problem
 from planner.site.load import load_site
 from tests.conftest import INSTANCES, ROOT
@@ -43,11 +43,12 @@ def test_plant_loads_and_every_piece_is_seen() -> None:
     assert problem.uncoverable().size == 0
 
 
-def test_groups_follow_the_ground_a_station_stands_on_not_pool_order() -> None:
-    """On the plant the open ground (roads) is one piece, so every candidate is in one group, whichever
-    zone proposed it; before, the proposing zone decided (9 groups, most candidates in the first zone)."""
+def test_site_registration_puts_the_whole_plant_in_one_group() -> None:
+    """The plant's open ground is one accessible area: in ``site`` mode (what tiles use) every candidate is in
+    one group, whichever zone proposed it; in ``zone`` mode there is one group per object (9 on 1 ha)."""
     site = load_site(INSTANCES / "plant_1ha.json")
     problem = build_problem(site, PlanOptions(method="milp"))
-    assert len(open_ground(site, "site")) == 1
-    assert set(registration_groups(site, problem.candidates)) == {"site/area 1"}
-    assert len({c.zone for c in problem.candidates}) == 9
+    labels, _ = registration_groups(site, problem.candidates, "site", 60.0)
+    assert len(set(labels)) == 1
+    zone_labels, _ = registration_groups(site, problem.candidates, "zone", 60.0)
+    assert len(set(zone_labels)) == 9

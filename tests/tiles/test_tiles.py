@@ -60,7 +60,7 @@ def test_tiled_plan_verifies_is_one_bundle_and_bounded(site, serial) -> None:
     info = serial.result.info
     assert all(t["covers_core"] for t in info["tiles"])  # every tile's plan covers its own pieces
     assert serial.verification.percent == 100.0  # the stitched plan, re-verified at 0.1 m
-    assert serial.registration == {"site/area 1": 1}  # the roads are one accessible area: one bundle
+    assert list(serial.registration.values()) == [1]  # the roads are one accessible area: one bundle
     bound = serial.result.bound
     assert math.ceil(info["lp_bound"] - 1e-6) <= bound <= len(serial.stations)
     assert serial.result.gap == pytest.approx((len(serial.stations) - bound) / len(serial.stations))
