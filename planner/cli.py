@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 from planner import __version__, progress
 from planner.cli_choices import BACKENDS, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
 from planner.cli_report import add_report_parser, parse_exports, write_exports
+from planner.cli_tiles import add_tile_options, plan_command
 from planner.errors import ExitCode, InfeasibleError, PlannerError, UsageError
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
@@ -199,12 +200,11 @@ def cmd_plan(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
     _guard_memory(site, args)
     from planner.outcome import outcome_from_plan
-    from planner.plan import plan_site
     from planner.plan_io import write_plan
     from planner.report import compare_methods, write_report
 
     options = _plan_options(args, site.parameters.overlap)
-    plan = plan_site(site, options)
+    plan = plan_command(site, options, args)
     if not plan.stations and plan.result.status.value in ("infeasible", "no_solution"):
         print(plan.summary().splitlines()[0])
         raise InfeasibleError(f"{plan.result.method} found no plan: {_no_plan_reason(plan.result, options)}")
@@ -415,6 +415,7 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--grid-spacing", type=float, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
     pl.add_argument("--verify-spacing", type=float, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
     _add_limit_options(pl)
+    add_tile_options(pl)
     pl.set_defaults(func=cmd_plan)
     ve = sub.add_parser("verify", help="re-verify any plan's coverage on a fine sampling of every wall")
     _add_site_options(ve)

@@ -1,0 +1,49 @@
+"""The ``plan`` command's large-site options: ``--tiles M`` plans by tiles, on Dask with ``--workers N``
+(an embedded LocalCluster) or ``--scheduler tcp://HOST:PORT`` (an existing cluster)."""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
+from planner.errors import UsageError
+
+if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/startup.md)
+    from planner.plan import Plan, PlanOptions
+    from planner.site.model import Site
+
+
+def add_tile_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--tiles", type=float, default=None, metavar="M",
+                   help="milp: plan by square tiles of M m (margins of S_max), stitched into one registered plan")
+    p.add_argument("--tile-time-limit", type=float, default=30.0, metavar="S", help="--tiles: MILP time per tile (default 30)")
+    p.add_argument("--bound-time-limit", type=float, default=60.0, metavar="S",
+                   help="--tiles: time of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
+    p.add_argument("--workers", type=int, default=0, metavar="N",
+                   help="--tiles: run tiles on an embedded Dask LocalCluster of N processes (default 0: in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                   help="--tiles: run tiles on the Dask cluster at ADDRESS (tcp://HOST:PORT)")
+    p.add_argument("--worker-memory", default="1.5GiB", metavar="SIZE",
+                   help="--tiles --workers: memory limit of each worker (default 1.5GiB)")
+
+
+def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> Plan:
+    """``plan_site`` or, with ``--tiles``, ``plan_by_tiles`` (serially or on Dask)."""
+    from planner.plan import plan_site
+
+    if args.tiles is None:
+        if args.workers or args.scheduler:
+            raise UsageError("--workers and --scheduler run tiles; give --tiles M", field="--workers", value=args.workers)
+        return plan_site(site, options)
+    if options.method != "milp":
+        raise UsageError("--tiles plans with the MILP", field="--method", value=options.method)
+    if args.workers < 0:
+        raise UsageError("must be >= 0", field="--workers", value=args.workers)
+    from planner.tiles import TileOptions, dask_client, plan_by_tiles
+
+    tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
+                         bound_time_limit_s=args.bound_time_limit)
+    if not args.workers and not args.scheduler:
+        return plan_by_tiles(site, options, tiling)
+    with dask_client(args.workers, args.scheduler, args.worker_memory) as client:
+        return plan_by_tiles(site, options, tiling, client=client)

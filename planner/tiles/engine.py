@@ -1,0 +1,68 @@
+"""Running tile tasks: in this process, or as tasks on Dask (an embedded ``LocalCluster`` or a
+cluster the caller already has, passed as a ``dask.distributed.Client``).
+
+Each worker of the embedded cluster is one process with one thread and a memory limit
+(``memory_per_worker``, default 1.5 GiB): Dask pauses a worker at 80 % of it and restarts one that
+passes 95 %. The site, pool and targets are scattered to the workers once; a task returns its
+tile's coverage pairs and plan. Results are put back in tile order, so the stitched plan does not
+depend on which tile finished first.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from typing import Any
+
+from planner import progress
+from planner.errors import UsageError
+
+#: memory limit of each embedded worker
+MEMORY_PER_WORKER = "1.5GiB"
+
+
+@contextmanager
+def dask_client(workers: int = 0, scheduler: str | None = None,
+                memory_per_worker: str = MEMORY_PER_WORKER) -> Iterator[Any]:
+    """A Dask client: connected to ``scheduler`` (``tcp://HOST:PORT``) when given, else to an embedded
+    ``LocalCluster`` of ``workers`` processes (one thread each). Closed on exit."""
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        client = Client(scheduler)
+        try:
+            yield client
+        finally:
+            client.close()
+        return
+    if workers < 1:
+        raise UsageError("needs at least 1 worker", field="workers", value=workers)
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory_per_worker,
+                      dashboard_address=":0", silence_logs=40,
+                      scheduler_kwargs={"dashboard": False}) as cluster, Client(cluster) as client:
+        yield client
+
+
+def run_tasks(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any], client: Any = None,
+              step: str = "tiles") -> list[Any]:
+    """``fn(**shared, job=job)`` for every job, in job order; on ``client`` when one is given.
+
+    Progress (jobs done of all) is reported per finished job under ``step``.
+    """
+    total = len(jobs)
+    if client is None:
+        out = []
+        for k, job in enumerate(jobs):
+            out.append(fn(**shared, job=job))
+            progress.report(step, k + 1, total)
+        return out
+    from dask.distributed import as_completed
+
+    scattered = {k: client.scatter(v, broadcast=True, hash=False) for k, v in shared.items()}
+    futures = [client.submit(fn, **scattered, job=job, pure=False) for job in jobs]
+    index = {f.key: k for k, f in enumerate(futures)}
+    results: list[Any] = [None] * total
+    for done, fut in enumerate(as_completed(futures), 1):
+        results[index[fut.key]] = fut.result()
+        progress.report(step, done, total)
+    return results

@@ -1,0 +1,195 @@
+"""Planning a large site by tiles: pool, tiles with S_max margins, per-tile coverage and MILP
+(serially or on Dask), stitching on the whole matrix, a global lower bound, verification.
+
+What holds and why:
+
+- coverage: exact (see :mod:`planner.tiles.layout`): the tiles' columns are the site's matrix;
+- each tile's plan is re-checked to cover its core pieces, so their union covers the site;
+- registration: the stitched plan is checked on the site's overlap relation (shared wall over every
+  piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (``site`` mode by default: one
+  bundle per accessible area);
+- bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`), over the
+  pool; the gap is (stations - bound) / stations.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from planner.candidates.from_regions import whole_side_candidates
+from planner.candidates.pool import candidate_pool, dedupe
+from planner.coverage.links import registration_groups
+from planner.coverage.matrix import CoverageProblem, station_places
+from planner.coverage.regions import regions_apply
+from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
+from planner.candidates.model import Candidate
+from planner.coverage.targets import Targets, make_targets
+from planner.errors import InfeasibleError, UsageError
+from planner.plan import Plan, PlanOptions, _limits, closed_form_limits, unseen_error
+from planner.site.model import Site
+from planner.solve.milp import MilpOptions
+from planner.solve.result import SolveResult, Status
+from planner.tiles.engine import run_tasks
+from planner.tiles.layout import make_tiles, tile_job, zone_anchors
+from planner.solve.connectivity import connected_greedy
+from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
+from planner.tiles.tasks import TileJob, TileResult, tile_task
+from planner.validate import ValidationReport, validate_site
+from planner.verify import verify_stations
+
+
+@dataclass(frozen=True)
+class TileOptions:
+    """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
+    ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
+    MILP for the bound (0: LP bound only)."""
+
+    tile_m: float = 100.0
+    margin_m: float | None = None
+    tile_time_limit_s: float = 30.0
+    bound_time_limit_s: float = 60.0
+
+    def __post_init__(self) -> None:
+        if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
+            raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=self.tile_m)
+        if not self.tile_time_limit_s > 0 or self.bound_time_limit_s < 0:
+            raise UsageError("tile time limit must be > 0", field="tile_time_limit_s", value=self.tile_time_limit_s)
+
+
+def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
+    """The site's matrices (by candidate; slant and incidence on the same pattern) from the tiles' pairs."""
+    rows = np.concatenate([r.rows for r in results])
+    cols = np.concatenate([r.cols for r in results])
+    shape = (n_cand, n_targ)
+
+    def mat(data: np.ndarray) -> sp.csr_matrix:
+        m = sp.csr_matrix((data, (rows, cols)), shape=shape)
+        m.sort_indices()
+        return m
+
+    return (mat(np.ones(len(rows), dtype=bool)), mat(np.concatenate([r.slant_m for r in results])),
+            mat(np.concatenate([r.incidence_deg for r in results])))
+
+
+def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) -> tuple[list[Candidate], Targets]:
+    """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them."""
+    limits = _limits(validation, options)
+    targets = make_targets(site, options.target_spacing_m)
+    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
+    if options.regions and regions_apply(limits):
+        pool = dedupe(pool + whole_side_candidates(site, targets, limits))
+    return pool, targets
+
+
+def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOptions | None = None,
+                  client: Any = None) -> Plan:
+    """Plan ``site`` by tiles with the MILP options of ``options`` (module docstring); on ``client``
+    (a ``dask.distributed.Client``) when given, else in this process. Same seed, same plan either way.
+
+    Raises
+    ------
+    UsageError
+        When the zones are not all in one frame (tiles are squares of one coordinate frame).
+    InfeasibleError
+        When some piece is seen by no candidate.
+    """
+    options = options or PlanOptions(method="milp")
+    tiling = tiling or TileOptions()
+    if len({z.frame for z in site.zones}) != 1:
+        raise UsageError("tiles need every zone in one coordinate frame", field="tiles")
+    start = time.perf_counter()
+    validation = validate_site(site)
+    limits = _limits(validation, options)
+    pool, targets = site_pool(site, options, validation)
+    xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
+    usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason])
+    mode = options.registration or "site"  # tiles: one registration bundle per accessible area by default
+    reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
+    labels, links = registration_groups(site, pool, mode, reach)
+    groups = tuple("/".join(map(str, g)) for g in labels)
+    margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
+    anchor = zone_anchors(site, targets)
+    tiles = make_tiles(anchor, tiling.tile_m, margin)
+    jobs = [tile_job(t, anchor, targets, xy, usable) for t in tiles]
+    t_pool = time.perf_counter() - start
+    shared = {"site": site, "candidates": tuple(pool), "targets": targets, "limits": limits, "groups": groups,
+              "milp": _tile_milp(options, tiling)}
+    results = run_tasks(tile_task, jobs, shared, client)
+    t_tiles = time.perf_counter() - start - t_pool
+    by_cand, slant, inc = _assemble(len(pool), len(targets), results)
+    problem = CoverageProblem(tuple(pool), targets, by_cand, by_cand.T.tocsr(), slant, inc,
+                              {k: "stands nowhere" for k in np.flatnonzero(~usable)}, limits)
+    unseen = problem.uncoverable()
+    if unseen.size:
+        err = unseen_error(problem, unseen)
+        raise err.located(site.source) if site.source else err
+    rule = options.milp.overlap or OverlapRule(site.parameters.overlap)
+    lengths = piece_lengths(targets.s0_m, targets.s1_m)
+    adj, _ = overlap_adjacency(by_cand, lengths, rule, groups, xy, links)
+    joined = stitch(by_cand, adj, groups, [r.selected for r in results])
+    t_stitch = time.perf_counter() - start - t_pool - t_tiles
+    bound = global_bound(by_cand, tiling.bound_time_limit_s, options.milp.seed)
+    t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
+    joined = best_plan(by_cand, adj, groups, joined, bound.cover)
+    return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
+                   {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
+                    "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m})
+
+
+def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], tiled: Stitched,
+              cover: tuple[int, ...]) -> Stitched:
+    """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
+    earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
+    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned. ``tried`` records all three."""
+    plans = [tiled]
+    if cover:
+        plans.append(replace(stitch(a, adj, groups, [cover]), source="whole-site cover, joined"))
+    grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
+    if grown is not None:
+        plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
+    best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
+    return replace(best, tried={p.source: len(p.selected) for p in plans})
+
+
+def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
+    return replace(options.milp, time_limit_s=tiling.tile_time_limit_s)
+
+
+def _finish(site: Site, options: PlanOptions, validation: ValidationReport, problem: CoverageProblem,
+            results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, registration: tuple[str, float],
+            times: dict[str, float]) -> Plan:
+    """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
+    from planner.plan import registration_check
+
+    n = len(joined.selected)
+    value = bound.value
+    status = Status.OPTIMAL if n == value and all(p <= 1 for p in joined.parts.values()) else Status.FEASIBLE
+    tiles_info = [{"tile": r.tile.name, "core_m": [r.tile.x0_m, r.tile.y0_m, r.tile.size_m], "candidates": int(len(np.unique(r.rows))), "targets": r.n_targets,
+                   "status": r.status.value, "stations": len(r.selected), "bound": r.bound,
+                   "covers_core": r.covers_core, "coverage_s": round(r.coverage_s, 3), "solve_s": round(r.solve_s, 3)}
+                  for r in results]
+    info = {"tiles": tiles_info, "bound_scope": "pool", "lp_bound": bound.lp, "cover_milp_bound": bound.milp,
+            "stitch": {"source": joined.source, "tried": joined.tried, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
+            "bound_how": "max(ceil(LP of the whole cover), cover-MILP bound), registration rule dropped",
+            "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
+    result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
+                         time_s=times["total_s"], backend=options.milp.backend, info=info)
+    parts, _ = registration_check(problem, joined.selected, rule, site, *registration)
+    stations = [problem.candidates[i] for i in joined.selected]
+    verification = verify_stations(site, stations, problem.limits, options.verify_spacing_m)
+    size = {"candidates": len(problem.candidates), "targets": len(problem.targets),
+            "pairs": int(problem.by_candidate.nnz), "tiles": len(results)}
+    bad = [r.tile.name for r in results if not r.covers_core]
+    log = (f"{len(results)} tiles of {times['tile_m']:g} m, margin {times['margin_m']:.1f} m: coverage and tile MILPs "
+           f"in {times['tiles_s']:.1f} s" + (f"; tiles whose plan does not cover their core: {', '.join(bad)}" if bad else
+                                            "; every tile's plan covers its core"),
+           "connected plans: " + ", ".join(f"{k} {v}" for k, v in joined.tried.items())
+           + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
+           f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}" if bound.milp is not None else "")
+           + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}")
+    return Plan(site, options, validation, result, tuple(stations), verification, size, log, parts)

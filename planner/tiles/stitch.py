@@ -1,0 +1,124 @@
+"""Stitching tile plans into one site plan, and the global lower bound.
+
+Stitching: the union of the tiles' plans covers every piece (each tile's plan covers its core).
+On the site's whole coverage matrix and overlap relation (shared wall over every piece a station
+sees, not only a tile's), stations are then
+
+1. pruned: in order of fewest pieces seen (ties by index), a station is dropped when every piece
+   stays covered and its registration group does not fall into more parts;
+2. joined: :func:`planner.solve.connectivity.repair` adds the cheapest chains of stations between
+   the parts of each group (shortest paths in the overlap graph);
+3. pruned again.
+
+The same is done from the best whole-site cover the bound's MILP found (a plan without the
+registration rule, joined the same way) and from the connected greedy on the whole site; the
+smallest connected plan is kept (:func:`planner.tiles.run.best_plan`).
+
+Bound: every connected plan is a cover, so any lower bound of the plain set cover over the whole
+pool bounds the connected problem. Two are computed on the whole matrix: the LP relaxation
+(HiGHS interior point; rounded up, an integer count) and the best bound of the cover MILP without
+the registration rule (CP-SAT, time-limited); the larger is reported.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from planner.solve.connectivity import components, group_members, repair
+from planner.solve.instance import CoverInstance
+from planner.solve.milp import MilpOptions, solve
+from planner.solve.presolve import implied_targets
+from planner.solve.result import Status
+
+
+def _group_parts(adj: sp.csr_matrix, groups: Sequence[str], chosen: Sequence[int], g: str) -> int:
+    return len(components(adj, [i for i in chosen if groups[i] == g]))
+
+
+def prune(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], chosen: Sequence[int]) -> list[int]:
+    """Drop stations that no piece needs and whose removal splits no registration group further."""
+    keep = sorted(int(i) for i in chosen)
+    count = np.asarray(a[keep].astype(np.int64).sum(axis=0)).ravel()
+    seen = {i: a.indices[a.indptr[i]:a.indptr[i + 1]] for i in keep}
+    for i in sorted(keep, key=lambda i: (len(seen[i]), i)):
+        if np.any(count[seen[i]] <= 1):
+            continue
+        before = _group_parts(adj, groups, keep, groups[i])
+        rest = [j for j in keep if j != i]
+        if _group_parts(adj, groups, rest, groups[i]) > before:
+            continue
+        keep = rest
+        count[seen[i]] -= 1
+    return keep
+
+
+@dataclass(frozen=True)
+class Stitched:
+    """The site plan made from the tiles': ``selected`` (global indices), how many stations the
+    union, the pruning and the joining chains held, and the parts of each group at the end."""
+
+    selected: tuple[int, ...]
+    union: int
+    pruned: int
+    added: int
+    parts: dict[str, int]
+    source: str = "tile plans"
+    tried: dict[str, int] | None = None
+
+
+def stitch(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], tile_plans: Sequence[Sequence[int]]
+           ) -> Stitched:
+    """Union, prune, join, prune (module docstring)."""
+    union = sorted({int(i) for plan in tile_plans for i in plan})
+    first = prune(a, adj, groups, union)
+    joined = repair(adj, np.ones(a.shape[0]), groups, first)
+    joined = first if joined is None else joined
+    final = prune(a, adj, groups, joined)
+    parts = {g: len(components(adj, m)) for g, m in group_members(groups, final).items()}
+    return Stitched(tuple(final), len(union), len(union) - len(first), len(joined) - len(first), parts)
+
+
+@dataclass(frozen=True)
+class Bound:
+    """A lower bound on the stations of any cover from the pool: ``value`` = max of the two below;
+    ``cover``: the best cover the MILP found (registration not required), a second start for stitching."""
+
+    lp: float
+    milp: float | None
+    milp_status: Status | None
+    cover: tuple[int, ...] = ()
+
+    @property
+    def value(self) -> int:
+        lp = math.ceil(self.lp - 1e-6)
+        return max(lp, math.ceil(self.milp - 1e-6)) if self.milp is not None else lp
+
+
+def lp_bound(a: sp.csr_matrix) -> float:
+    """Optimum of min sum x, A^T x >= 1, 0 <= x <= 1 over the whole matrix (HiGHS interior point with
+    crossover). Rows implied by another row (a piece seen by every candidate that sees some other piece)
+    are dropped first: covering the other covers it, so the optimum is unchanged."""
+    used = np.flatnonzero(np.diff(a.indptr) > 0)
+    at = a[used].T.astype(np.float64).tocsr()
+    at = at[~implied_targets(at.astype(bool).tocsr())]
+    res = linprog(np.ones(len(used)), A_ub=-at, b_ub=-np.ones(at.shape[0]), bounds=(0, 1), method="highs-ipm")
+    if res.status != 0:
+        raise RuntimeError(f"LP bound failed: {res.message}")
+    return float(res.fun)
+
+
+def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0) -> Bound:
+    """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped)."""
+    lp = lp_bound(a)
+    if time_limit_s <= 0:
+        return Bound(lp, None, None)
+    inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
+    res = solve(inst, MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1))
+    best = res.objective if res.status is Status.OPTIMAL else res.bound
+    return Bound(lp, best, res.status, tuple(int(i) for i in res.selected))

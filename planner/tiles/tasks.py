@@ -1,0 +1,87 @@
+"""One tile's work, a pure function of picklable inputs: its coverage columns and its own plan.
+
+The same function runs in the serial loop and as a Dask task, so both give the same plan.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from planner.candidates.model import Candidate
+from planner.coverage.matrix import build_coverage
+from planner.coverage.targets import Targets
+from planner.coverage.visibility import SightLimits
+from planner.site.model import Site
+from planner.solve.instance import cover_instance
+from planner.solve.milp import MilpOptions, solve
+from planner.solve.result import Status
+from planner.tiles.layout import Tile, take_targets
+
+
+@dataclass(frozen=True)
+class TileJob:
+    """A tile with the global indices of its candidates (those within the margin) and of its core targets."""
+
+    tile: Tile
+    candidates: NDArray[np.int64]
+    targets: NDArray[np.int64]
+
+
+@dataclass(frozen=True, eq=False)
+class TileResult:
+    """A tile's coverage pairs (global indices, with worst slant range and incidence) and its plan.
+
+    ``selected``: global candidate indices of the tile's plan; ``covers_core``: that plan, re-checked
+    on the tile's coverage columns (not the solver's word), sees every core target.
+    """
+
+    tile: Tile
+    rows: NDArray[np.int64]
+    cols: NDArray[np.int64]
+    slant_m: NDArray[np.float64]
+    incidence_deg: NDArray[np.float64]
+    status: Status
+    selected: tuple[int, ...]
+    objective: float | None
+    bound: float | None
+    unseen: NDArray[np.int64]
+    covers_core: bool
+    coverage_s: float
+    solve_s: float
+
+    @property
+    def n_targets(self) -> int:
+        return int(len(np.unique(self.cols)))
+
+
+def tile_task(site: Site, candidates: Sequence[Candidate], targets: Targets, limits: SightLimits,
+              groups: Sequence[str], job: TileJob, milp: MilpOptions) -> TileResult:
+    """Coverage of the tile's core pieces by the candidates in its margin, then the tile's MILP (with the
+    registration rule inside the tile: overlap measured on the tile's pieces).
+
+    Returns the result also when some core piece is seen by no candidate (``unseen``, status INFEASIBLE).
+    """
+    t0 = time.perf_counter()
+    cands = [candidates[i] for i in job.candidates]
+    problem = build_coverage(site, cands, take_targets(targets, job.targets), limits)
+    coo = problem.by_candidate.tocoo()
+    rows, cols = job.candidates[coo.row], job.targets[coo.col]
+    slant = problem.slant_m.tocoo().data
+    inc = problem.incidence_deg.tocoo().data
+    t1 = time.perf_counter()
+    unseen = job.targets[problem.uncoverable()]
+    if unseen.size:
+        return TileResult(job.tile, rows, cols, slant, inc, Status.INFEASIBLE, (), None, None, unseen, False,
+                          t1 - t0, 0.0)
+    inst = cover_instance(problem, groups=[groups[i] for i in job.candidates], name=job.tile.name)
+    res = solve(inst, milp)
+    picked = list(res.selected)
+    covers = bool(picked) and bool(np.all(problem.covered_by(picked) >= 1))
+    selected = tuple(sorted(int(job.candidates[i]) for i in picked))
+    return TileResult(job.tile, rows, cols, slant, inc, res.status, selected, res.objective, res.bound,
+                      unseen, covers, t1 - t0, time.perf_counter() - t1)

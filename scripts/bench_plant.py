@@ -1,0 +1,221 @@
+"""Benchmark of the generated plants planned by tiles on Dask: 1, 4 and 16 ha, 1 vs 2 workers.
+
+Each run is a child process under ``/usr/bin/time -v`` (its "Maximum resident set size" is the
+largest single process: the client or one worker); the child also samples the summed RSS of its
+whole process tree (client + Dask workers) every 0.2 s. Per run: candidates, targets, pairs, the
+tile phase (coverage + tile MILPs), stitch and bound times, stations, bound, gap, registration
+parts, verified %, and the plain greedy (not connected) on the same matrix beside it.
+
+    python scripts/bench_plant.py [--areas 1 4 16] [--workers 1 2] [--tile 100] [--tile-time-limit 20]
+        [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
+    python scripts/bench_plant.py --from-csv a.csv b.csv     # the table and slopes of earlier runs
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import re
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",
+          "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb"]
+
+
+class TreeRss:
+    """Peak of the summed RSS of this process and all its descendants, sampled every ``every_s``."""
+
+    def __init__(self, every_s: float = 0.2) -> None:
+        import psutil
+
+        self.proc, self.peak, self.every = psutil.Process(), 0, every_s
+        self._stop = threading.Event()
+        self._t = threading.Thread(target=self._run, daemon=True)
+
+    def _run(self) -> None:
+        import psutil
+
+        while not self._stop.wait(self.every):
+            total = 0
+            for p in [self.proc, *self.proc.children(recursive=True)]:
+                try:
+                    total += p.memory_info().rss
+                except psutil.Error:
+                    pass
+            self.peak = max(self.peak, total)
+
+    def __enter__(self) -> "TreeRss":
+        self._t.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._t.join()
+
+
+def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit: float, out: Path,
+        figure: Path | None) -> None:
+    """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
+    from planner.plan import PlanOptions
+    from planner.site.load import load_site
+    from planner.solve.greedy import greedy_cover
+    from planner.tiles import TileOptions, dask_client, plan_by_tiles
+
+    site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
+    options = PlanOptions(method="milp", pricing=False)
+    tiling = TileOptions(tile_m=tile_m, tile_time_limit_s=tile_limit, bound_time_limit_s=bound_limit)
+    with TreeRss() as rss:
+        with dask_client(workers) as client:
+            plan = plan_by_tiles(site, options, tiling, client=client)
+    info = plan.result.info
+    row = {"area_ha": area, "workers": workers, "tiles": plan.problem_size["tiles"],
+           "candidates": plan.problem_size["candidates"], "targets": plan.problem_size["targets"],
+           "pairs": plan.problem_size["pairs"], **{k: info["times"][k] for k in ("tiles_s", "stitch_s", "bound_s", "total_s")},
+           "stations": len(plan.stations), "bound": plan.result.bound, "lp_bound": round(info["lp_bound"], 2),
+           "gap": round(plan.result.gap, 4), "parts": sum(plan.registration.values()),
+           "verified_percent": round(plan.verification.percent, 3), "tree_rss_mb": round(rss.peak / 2**20)}
+    row["greedy"] = _greedy(site, options, plan, greedy_cover)
+    out.write_text(json.dumps(row))
+    if figure is not None:
+        _figure(plan, tiling, figure)
+
+
+def _greedy(site, options, plan, greedy_cover) -> int:
+    """Chvatal's greedy on the whole pool (no registration rule), for comparison."""
+    from planner.plan import build_problem
+
+    return len(greedy_cover(build_problem(site, options).by_candidate).selected)
+
+
+def _figure(plan, tiling, path: Path) -> None:
+    """The plan: objects, obstacles, no-go areas, stations, registration links, tile cores."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import numpy as np
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Polygon
+
+    from planner.coverage.matrix import build_coverage
+    from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+    from planner.coverage.targets import make_targets
+
+    site = plan.site
+    targets = make_targets(site, plan.options.target_spacing_m)
+    cov = build_coverage(site, plan.stations, targets, _limits(plan))
+    g = overlap_graph(cov.by_candidate, piece_lengths(targets.s0_m, targets.s1_m), range(len(plan.stations)),
+                      OverlapRule(site.parameters.overlap))
+    fig = Figure(figsize=(9, 9))
+    ax = fig.add_subplot()
+    for z in site.zones:
+        ax.add_patch(Polygon(z.xy, closed=True, fc="0.85", ec="0.2", lw=0.6))
+    for ob in site.obstacles:
+        ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.5", ec="0.3", lw=0.4))
+    for n in site.no_go_areas:
+        ax.add_patch(Polygon(n.vertices, closed=True, fc="mistyrose", ec="red", lw=0.4))
+    ax.add_patch(Polygon(site.boundary, closed=True, fill=False, ec="k", lw=1.0))
+    xy = np.array([s.xy for s in plan.stations])
+    for u, v in g.edges:
+        ax.plot(*xy[[u, v]].T, color="tab:blue", lw=0.6, alpha=0.7)
+    ax.plot(*xy.T, "o", color="tab:red", ms=3.5, label=f"{len(xy)} stations")
+    for t in plan.result.info["tiles"]:  # tile cores (a zone's pieces go to the tile holding its centre)
+        x0, y0, size = t["core_m"]
+        ax.add_patch(Polygon([(x0, y0), (x0 + size, y0), (x0 + size, y0 + size), (x0, y0 + size)], closed=True,
+                             fill=False, ec="tab:green", ls=":", lw=0.8))
+    r = plan.result
+    ax.set_title(f"{site.name}: {len(xy)} stations, bound {r.bound:g} (gap {r.gap:.1%}), "
+                 f"{sum(plan.registration.values())} registration bundle(s); blue: overlap links, green: tiles", fontsize=9)
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.legend(loc="upper right", fontsize=8)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+
+
+def _limits(plan):
+    from planner.plan import _limits as limits
+
+    return limits(plan.validation, plan.options)
+
+
+def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None) -> dict:
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "row.json"
+        cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--one", f"{area:g}", "--workers", str(workers),
+               "--tile", str(args.tile), "--tile-time-limit", str(args.tile_time_limit),
+               "--bound-time-limit", str(args.bound_time_limit), "--json", str(out)]
+        if figure is not None:
+            cmd += ["--figure", str(figure)]
+        t0 = time.perf_counter()
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        if proc.returncode != 0 or not out.exists():
+            raise SystemExit(f"run {area} ha x {workers} failed:\n{proc.stderr[-3000:]}")
+        row = json.loads(out.read_text())
+    m = re.search(r"Maximum resident set size \(kbytes\): (\d+)", proc.stderr)
+    row["peak_rss_mb"] = round(int(m.group(1)) / 1024) if m else None
+    row["wall_s"] = round(time.perf_counter() - t0, 1)
+    return row
+
+
+def slopes(rows: list[dict], key: str) -> str:
+    """Log-log slope of ``key`` against area between consecutive areas (at the largest worker count)."""
+    w = max(r["workers"] for r in rows)
+    pts = sorted((r["area_ha"], r[key]) for r in rows if r["workers"] == w and r[key])
+    return ", ".join(f"{a0:g}->{a1:g} ha: {math.log(v1 / v0) / math.log(a1 / a0):.2f}"
+                     for (a0, v0), (a1, v1) in zip(pts, pts[1:]))
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--areas", type=float, nargs="+", default=[1, 4, 16])
+    ap.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--tile", type=float, default=100.0)
+    ap.add_argument("--tile-time-limit", type=float, default=20.0)
+    ap.add_argument("--bound-time-limit", type=float, default=60.0)
+    ap.add_argument("--csv", type=Path, default=None)
+    ap.add_argument("--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)")
+    ap.add_argument("--from-csv", type=Path, nargs="+", default=None,
+                    help="print the table and slopes of CSVs written earlier (runs nothing)")
+    ap.add_argument("--one", type=float, default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--json", type=Path, default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.one is not None:
+        one(args.one, args.workers[0], args.tile, args.tile_time_limit, args.bound_time_limit, args.json, args.figure)
+        return 0
+    rows = []
+    if args.from_csv:
+        for path in args.from_csv:
+            with path.open() as f:
+                rows += [{k: (float(v) if re.fullmatch(r"-?[0-9.]+", v or "") else v) for k, v in r.items()}
+                         for r in csv.DictReader(f)]
+    else:
+        for area in args.areas:
+            for w in args.workers:
+                fig = args.figure if (area == max(args.areas) and w == max(args.workers)) else None
+                rows.append(run(area, w, args, fig))
+                print(json.dumps(rows[-1]), flush=True)
+    print("| " + " | ".join(FIELDS + ["wall_s"]) + " |")
+    print("|" + "---|" * (len(FIELDS) + 1))
+    for r in rows:
+        print("| " + " | ".join(str(r.get(k, "")) for k in FIELDS + ["wall_s"]) + " |")
+    print(f"log-log slope of the tile phase time against area: {slopes(rows, 'tiles_s')}")
+    print(f"log-log slope of the summed peak RSS against area: {slopes(rows, 'tree_rss_mb')}")
+    if args.csv and not args.from_csv:
+        with args.csv.open("w", newline="") as f:
+            wr = csv.DictWriter(f, fieldnames=FIELDS + ["wall_s"])
+            wr.writeheader()
+            wr.writerows(rows)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,33 @@
+"""``planner plan --tiles``: the plan, its summary and plan.json; usage errors exit 2 in one line."""
+
+from __future__ import annotations
+
+import json
+
+from planner.cli import main
+from tests.conftest import INSTANCES
+
+PLANT = str(INSTANCES / "plant_1ha.json")
+
+
+def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
+    code = main(["plan", PLANT, "--tiles", "50", "--tile-time-limit", "10", "--bound-time-limit", "10",
+                 "--out", str(tmp_path), "--quiet"])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "4 tiles of 50 m, margin 60.0 m" in out  # plant_1ha: anchors span ~66 m -> 2 x 2 tiles; S_max 60 m
+    assert "registration: every registration group connected" in out
+    assert "verification at 0.1 m: 100.000 % covered" in out
+    data = json.loads((tmp_path / "plan.json").read_text())
+    assert len(data["stations"]) >= 9  # the bound of plant_1ha is 9 (cover MILP, proven optimal)
+
+
+def test_workers_without_tiles_is_a_usage_error(capsys) -> None:
+    assert main(["plan", PLANT, "--workers", "2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--tiles" in err
+
+
+def test_tiles_with_greedy_is_a_usage_error(capsys) -> None:
+    assert main(["plan", PLANT, "--tiles", "50", "--method", "greedy"]) == 2
+    assert "MILP" in capsys.readouterr().err
