@@ -4,7 +4,7 @@ Each backend holds one model (binary x, minimise cost . x, rows
 ``sum coef * x >= lb``), accepts more rows between solves (the lazy
 connectivity cuts) and solves with a time limit, thread count, seed and a
 warm-start hint. Backends: OR-Tools CP-SAT; OR-Tools' linear solver with SCIP,
-HiGHS or CBC; PuLP with CBC.
+HiGHS or CBC; PuLP with CBC; SCIP through PySCIPOpt (planner.solve.scip_bc).
 """
 
 from __future__ import annotations
@@ -18,13 +18,14 @@ import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 from enum import Enum
+from typing import Any
 
 import numpy as np
 
 from planner.errors import UsageError
 
 Row = tuple[np.ndarray, np.ndarray, float]
-BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc")
+BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 #: CP-SAT needs integer coefficients: fractional ones are scaled by this and rounded down
 #: (a row sum(floor(s*a) x) >= ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
@@ -231,11 +232,15 @@ class PulpBackend:
         return BackendResult(Outcome.UNKNOWN, (), None, None)
 
 
-def make_backend(name: str, n: int, cost: np.ndarray) -> CpSatBackend | MipBackend | PulpBackend:
+def make_backend(name: str, n: int, cost: np.ndarray) -> Any:
     if name == "cpsat":
         return CpSatBackend(n, cost)
     if name in MipBackend.SOLVERS:
         return MipBackend(name, n, cost)
     if name == "pulp-cbc":
         return PulpBackend(n, cost)
+    if name == "pyscipopt":
+        from planner.solve.scip_bc import PyScipBackend  # lazy: SCIP loads only when asked for
+
+        return PyScipBackend(n, cost)
     raise UsageError(f"unknown backend (known: {', '.join(BACKENDS)})", field="backend", value=name)
