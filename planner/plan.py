@@ -19,7 +19,7 @@ from planner.coverage.targets import make_targets
 from planner.coverage.visibility import SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
-from planner.solve.greedy import greedy_cover
+from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
@@ -187,9 +187,11 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                               name=site.name)
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
+    elif options.milp.overlap is not None:  # greedy under the registration rule (unless --no-overlap)
+        result = connected_greedy_plan(cover_instance(problem, name=site.name), options.milp.overlap)
     else:
         result = greedy_cover(problem.by_candidate)
-    rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)
+    rule = options.milp.overlap if options.method != "closed-form" and options.milp.overlap else OverlapRule(site.parameters.overlap)
     registration, partners = registration_check(problem, result.selected, rule)
     stations = [problem.candidates[i] for i in result.selected]
     tripods: tuple[TripodDisc, ...] = ()

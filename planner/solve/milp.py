@@ -26,6 +26,7 @@ from planner.solve.backends import BACKENDS, Outcome, Row, make_backend
 from planner.solve.connectivity import (
     connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
 )
+from planner.solve.flow import FlowModel, add_flow
 from planner.solve.greedy import greedy_cover
 from planner.solve.instance import CoverInstance
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
@@ -190,19 +191,18 @@ class _BlockSolver:
         self.backend.fix([pos[c] for c in forced_all if c in pos])
         self.essential = essential_targets(self.sub, self.groups) if self.groups is not None else {}
         self.incumbent: list[int] | None = None
+        self.flow: FlowModel | None = None
         if self.groups is not None:
             self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
             if o.layer_cuts:
                 self.backend.add_rows(self._layers())
-            if o.connectivity_method == "bc":
-                self.backend.connect(self.adj, self.groups, self.sub, self.essential)
-            elif o.connectivity_method == "flow":
-                from planner.solve.flow import add_flow
-
-                add_flow(self.backend, self.adj, self.groups, self.sub, self.essential)
             if o.k == 1 and o.precision == "single":
                 self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
                                                   np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
+            if o.connectivity_method == "bc":
+                self.backend.connect(self.adj, self.groups, self.sub, self.essential)
+            elif o.connectivity_method == "flow":
+                self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
         elif o.k == 1 and o.precision == "single":
             g = greedy_cover(self.sub, weights=self.cost)
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
@@ -226,7 +226,8 @@ class _BlockSolver:
             left = deadline - time.perf_counter()
             if left <= 0:
                 return
-            res = self.backend.solve(left, self.o.threads, self.o.seed, self.incumbent)
+            hint = self.flow.hint(self.incumbent) if self.flow is not None and self.incumbent is not None else self.incumbent
+            res = self.backend.solve(left, self.o.threads, self.o.seed, hint)
             self.rounds += 1
             self.cuts += getattr(self.backend, "cuts", 0) - self._backend_cuts
             self._backend_cuts = getattr(self.backend, "cuts", 0)

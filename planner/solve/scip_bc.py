@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
-from planner.solve.backends import BackendResult, Outcome, Row
+from planner.solve.backends import BackendResult, Hint, Outcome, Row, hint_values
 from planner.solve.connectivity import connectivity_cuts, disconnected_groups
 from planner.solve.separators import min_node_separator, split_graph
 
@@ -45,6 +45,7 @@ class PyScipBackend:
         self.model = pyscipopt.Model("cover")
         self.model.hideOutput()
         self.x = [self.model.addVar(f"x{i}", vtype="B", obj=float(c)) for i, c in enumerate(cost)]
+        self.n = n
         self.model.setMinimize()
         if np.all(np.abs(cost - np.round(cost)) < 1e-12):
             self.model.setObjIntegral()
@@ -61,6 +62,13 @@ class PyScipBackend:
         for i in idx:
             self.model.chgVarLb(self.x[i], 1.0)
 
+    def add_vars(self, count: int, upper: float, binary: bool) -> None:
+        """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
+        self.model.freeTransform()
+        k0 = len(self.x)
+        self.x += [self.model.addVar(f"y{k0 + k}", vtype="B") if binary else
+                   self.model.addVar(f"f{k0 + k}", vtype="C", lb=0.0, ub=float(upper)) for k in range(count)]
+
     def connect(self, adj: sp.csr_matrix, groups: Sequence[Hashable], a: sp.csr_matrix,
                 essential: dict[Hashable, np.ndarray], separate: bool = True) -> None:
         """Enforce connectivity of each group's chosen stations inside the search (branch-and-cut)."""
@@ -76,7 +84,7 @@ class PyScipBackend:
     def cuts(self) -> int:
         return 0 if self.handler is None else self.handler.n_int + self.handler.n_frac
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: list[int] | None) -> BackendResult:
+    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         m = self.model
         m.freeTransform()
         m.setParam("limits/time", max(time_limit_s, 0.01))
@@ -84,9 +92,8 @@ class PyScipBackend:
         m.setParam("lp/threads", 1)
         if hint is not None:
             sol = m.createSol()
-            on = set(hint)
-            for i, v in enumerate(self.x):
-                m.setSolVal(sol, v, 1.0 if i in on else 0.0)
+            for i, val in hint_values(hint, self.n).items():
+                m.setSolVal(sol, self.x[i], val)
             m.addSol(sol)
         m.optimize()
         status = m.getStatus()
@@ -94,7 +101,7 @@ class PyScipBackend:
         bound = float(bound) if np.isfinite(bound) and abs(bound) < 1e19 else None
         if m.getNSols() > 0:
             best = m.getBestSol()
-            sel = tuple(i for i, v in enumerate(self.x) if m.getSolVal(best, v) > 0.5)
+            sel = tuple(i for i, v in enumerate(self.x[:self.n]) if m.getSolVal(best, v) > 0.5)
             obj = float(m.getSolObjVal(best))
             return BackendResult(Outcome.OPTIMAL if status == "optimal" else Outcome.FEASIBLE, sel, obj, bound)
         if status == "infeasible":
