@@ -131,7 +131,9 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
-                       tripod=args.method == "milp" or args.tripod, recentre=args.recentre)
+                       tripod=args.method == "milp" or args.tripod, recentre=args.recentre,
+                       regions=not args.no_regions, pricing=not args.no_pricing,
+                       pricing_time_limit_s=args.pricing_time_limit)
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -244,6 +246,12 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
     pl.add_argument("--tripod", action="store_true", help="compute tripod discs (always on for milp)")
     pl.add_argument("--recentre", action="store_true", help="move each station to the centre of its tripod disc")
+    pl.add_argument("--no-regions", action="store_true",
+                    help="no whole-zone-side candidates from the coverage regions (the pool as before issue 12)")
+    pl.add_argument("--no-pricing", action="store_true",
+                    help="milp: no geometric pricing, so the bound holds over the candidate pool only")
+    pl.add_argument("--pricing-time-limit", type=float, default=120.0, metavar="S",
+                    help="milp: time for geometric pricing (default 120 s); past it the bound scope stays 'pool'")
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
     _add_network_options(pl)
     pl.add_argument("--out", metavar="DIR", help="write DIR/plan.json")

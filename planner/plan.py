@@ -12,7 +12,8 @@ from planner import progress
 from planner.accuracy import max_slant_range_m
 from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
-from planner.candidates.pool import PoolOptions, candidate_pool
+from planner.candidates.from_regions import whole_side_candidates
+from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
@@ -23,6 +24,7 @@ from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
+from planner.solve.plane import price_plane, with_plane_bound
 from planner.solve.result import SolveResult
 from planner.solve.tripod import TripodDisc, tripod_discs
 from planner.validate import ValidationReport, validate_site
@@ -51,6 +53,9 @@ class PlanOptions:
     milp: MilpOptions = field(default_factory=MilpOptions)
     tripod: bool = False
     recentre: bool = False
+    regions: bool = True
+    pricing: bool = True
+    pricing_time_limit_s: float = 120.0
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -106,6 +111,12 @@ class Plan:
         ]
         lines += [f"{z:<10}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
+        scope = self.result.info.get("bound_scope")
+        if scope is not None:
+            plane = self.result.info.get("plane_bound")
+            lines.append("bound scope: plane (no cover from any positions in the plane has fewer stations)" if scope == "plane"
+                         else f"bound scope: pool (the MILP bound holds over the candidate pool"
+                              + (f"; over the plane at least {plane} stations)" if plane is not None else ")"))
         broken = {g: n for g, n in self.registration.items() if n > 1}
         lines.append("registration: every zone-side connected under the overlap relation" if not broken else
                      "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items()))
@@ -151,9 +162,12 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
         Listing (up to five) targets by id and position, before any solver runs.
     """
     validation = validation or validate_site(site)
+    limits = _limits(validation, options)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
-    problem = build_coverage(site, pool, make_targets(site, options.target_spacing_m), _limits(validation, options),
-                             step="coverage build")
+    targets = make_targets(site, options.target_spacing_m)
+    if options.regions:  # one station for a whole zone-side, found exactly where one exists
+        pool = dedupe(pool + whole_side_candidates(site, targets, limits))
+    problem = build_coverage(site, pool, targets, limits, step="coverage build")
     unseen = problem.uncoverable()
     if unseen.size:
         err = unseen_error(problem, unseen)
@@ -183,10 +197,17 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         log += extra
     elif options.method == "milp":
         p = site.parameters
+        if options.pricing:
+            with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
+                problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s)
+            log.append(pricing.summary())
+            pool = problem.candidates
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
                               name=site.name)
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
+        if options.pricing:
+            result = with_plane_bound(result, pricing)
     elif options.milp.overlap is not None:  # greedy under the registration rule (unless --no-overlap)
         result = connected_greedy_plan(cover_instance(problem, name=site.name), options.milp.overlap)
     else:

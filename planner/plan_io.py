@@ -28,6 +28,8 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "objective": r.objective,
         "bound": r.bound,
         "gap": r.gap,
+        "bound_scope": r.info.get("bound_scope", "pool" if r.bound is not None else None),
+        "plane_bound": r.info.get("plane_bound"),
         "time_s": r.time_s,
         "backend": r.backend,
         "counts": {"inside": sides.get("inside", 0), "outside": sides.get("outside", 0), "total": len(plan.stations)},

@@ -1,6 +1,11 @@
 """Benchmark of the coverage build: candidate-target pairs per second, and growth with site size.
 
 Usage: python scripts/bench_coverage.py [--copies 1 2 5 10] [--out FILE.md]
+       python scripts/bench_coverage.py --grid 10 5 2 1 0.5 [--sites building27 polygon_c] [--out FILE.md]
+
+With ``--grid``, each (site, grid spacing) is built in a fresh process under ``/usr/bin/time -v``:
+candidates, targets, pairs kept, build time and the process's peak RSS; then the slope of peak RSS
+against pairs kept (bytes per pair, least squares over all rows of a site).
 
 Protocol: the pool (closed form + field samples + corner rays + 10 m grid) and
 1 m targets of each bundled instance are built once, then the coverage matrix
@@ -15,6 +20,10 @@ grows with site size while the pairs really tested grow about linearly.
 from __future__ import annotations
 
 import argparse
+import json
+import re
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -53,12 +62,72 @@ def measure(site: Site, repeat: int) -> dict:
             "pairs_per_s": len(cands) * len(targets) / best, "kept_per_s": cov.by_candidate.nnz / best}
 
 
+def one_grid(name: str, spacing_m: float) -> dict:
+    """Build the pool at ``spacing_m`` and its coverage; runs inside the child process."""
+    site = load_site(ROOT / f"instances/{name}.json")
+    v = validate_site(site)
+    cands = candidate_pool(site, closed_form_limits(v), PoolOptions(grid_spacing_m=spacing_m))
+    targets = make_targets(site, 1.0)
+    t0 = time.perf_counter()
+    cov = build_coverage(site, cands, targets, sight_limits(v, False, True))
+    return {"candidates": len(cands), "targets": len(targets), "pairs": int(cov.by_candidate.nnz),
+            "build_s": time.perf_counter() - t0}
+
+
+def grid_rows(names: list[str], spacings: list[float], limit_s: int) -> list[dict]:
+    """One child process per (site, spacing), timed by /usr/bin/time -v for its peak RSS."""
+    rows = []
+    for name in names:
+        for g in spacings:
+            cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--child", name, str(g)]
+            try:
+                res = subprocess.run(cmd, capture_output=True, text=True, timeout=limit_s)
+            except subprocess.TimeoutExpired:
+                rows.append({"site": name, "grid_m": g, "note": f"over {limit_s} s"})
+                continue
+            rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", res.stderr)
+            if res.returncode != 0 or rss is None:
+                rows.append({"site": name, "grid_m": g, "note": (res.stderr.strip().splitlines() or ["failed"])[-1]})
+                continue
+            rows.append({"site": name, "grid_m": g, **json.loads(res.stdout.strip().splitlines()[-1]),
+                         "peak_mb": int(rss.group(1)) / 1024})
+    return rows
+
+
+def grid_table(rows: list[dict]) -> str:
+    out = ["| site | grid m | candidates | targets | pairs kept | build s | peak RSS MB |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "note" in r:
+            out.append(f"| {r['site']} | {r['grid_m']:g} | - | - | - | - | {r['note']} |")
+        else:
+            out.append(f"| {r['site']} | {r['grid_m']:g} | {r['candidates']:,} | {r['targets']:,} | {r['pairs']:,} | "
+                       f"{r['build_s']:.1f} | {r['peak_mb']:,.0f} |")
+    for site in dict.fromkeys(r["site"] for r in rows):
+        ok = [r for r in rows if r["site"] == site and "note" not in r]
+        if len(ok) > 1:
+            slope, icpt = np.polyfit([r["pairs"] for r in ok], [r["peak_mb"] * 2**20 for r in ok], 1)
+            out.append(f"\n{site}: peak RSS = {icpt / 2**20:,.0f} MB + {slope:.0f} bytes x pairs kept (least squares, {len(ok)} rows)")
+    return "\n".join(out)
+
+
 def main() -> None:
+    if len(sys.argv) == 4 and sys.argv[1] == "--child":
+        print(json.dumps(one_grid(sys.argv[2], float(sys.argv[3]))))
+        return
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--grid", type=float, nargs="+", help="grid spacings (m): the memory benchmark")
+    ap.add_argument("--sites", nargs="+", default=["building27", "polygon_c"])
+    ap.add_argument("--limit-s", type=int, default=900)
     ap.add_argument("--copies", type=int, nargs="+", default=[1, 2, 5, 10])
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--out")
     args = ap.parse_args()
+    if args.grid:
+        text = grid_table(grid_rows(args.sites, args.grid, args.limit_s))
+        print(text)
+        if args.out:
+            Path(args.out).write_text(text + "\n")
+        return
     rows = [measure(load_site(ROOT / f"instances/{n}.json"), args.repeat) for n in ("polygon_a", "polygon_b", "polygon_c", "baalbek")]
     c = load_site(ROOT / "instances/polygon_c.json")
     scale = [measure(copies_of(c, n), args.repeat) for n in args.copies]

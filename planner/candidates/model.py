@@ -16,6 +16,8 @@ class CandidateKind(str, Enum):
     CIRCLE = "circle"  # one station in the intersection of the vertex circles
     FIELD = "field"    # sampled inside a closed-form candidate's movement field
     GRID = "grid"      # on a grid over the accessible area
+    REGION = "region"  # in the common part of a zone-side's coverage regions (one station sees it all)
+    PRICED = "priced"  # a face of the coverage-region arrangement found by geometric pricing
 
 
 

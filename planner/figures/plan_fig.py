@@ -18,7 +18,8 @@ from planner.site.model import SITE_FRAME, ScanSide
 
 MARKERS = {CandidateKind.VERTEX: ("^", "vertex K^B"), CandidateKind.WALL: ("s", "wall K^C"),
            CandidateKind.CIRCLE: ("o", "circle"), CandidateKind.FIELD: ("D", "field sample"),
-           CandidateKind.GRID: ("P", "grid")}
+           CandidateKind.GRID: ("P", "grid"), CandidateKind.REGION: ("*", "whole zone-side (regions)"),
+           CandidateKind.PRICED: ("X", "priced (regions)")}
 UNCOVERED = "red"
 
 

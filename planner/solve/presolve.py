@@ -16,6 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from planner.coverage.gram import filtered_gram
+
 
 @dataclass(frozen=True)
 class PresolveReport:
@@ -44,7 +46,8 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     """
     a = a.astype(np.int64).tocsr()
     size = np.diff(a.indptr)
-    inter = (a @ a.T).tocsr()
+    # only the pairs (i, j) where j sees everything i sees: |i & j| == |i|, built in row blocks
+    inter = filtered_gram(a, None, lambda i, j, v: np.abs(v - size[i]) < 0.5)
     order = sorted(range(a.shape[0]), key=lambda i: (-size[i], cost[i], i))
     removed = np.zeros(a.shape[0], dtype=bool)
     kept_rank = {}

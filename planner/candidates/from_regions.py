@@ -1,0 +1,70 @@
+"""Candidates from coverage regions: one station for a whole zone-side wherever one exists.
+
+For every zone-side, the intersection of the coverage regions of all its pieces is the set of
+positions from which one station covers the whole zone-side. It is computed exactly (up to the
+regions' inner approximation of range discs) and, when not empty, its pole of inaccessibility
+(the point farthest from its boundary, so that the coverage test is not decided by rounding) is
+a candidate. Found by geometry, never by sampling.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import shapely
+from shapely.ops import polylabel
+
+from planner.candidates.closed_form import SIDE_TAG
+from planner.candidates.model import Candidate, CandidateKind
+from planner.coverage.regions import FrameSpace, coverage_regions
+from planner.coverage.targets import SIDE_CODE, Targets
+from planner.coverage.visibility import SightLimits
+from planner.site.model import Site
+
+#: the polylabel tolerance, as a share of the common part's size
+POLE_TOLERANCE = 1e-3
+
+
+def spread_order(n: int) -> np.ndarray:
+    """0..n-1 in an order that jumps around the zone (golden-ratio stride), so that opposite walls
+    meet early and an empty intersection shows after a few pieces."""
+    return np.argsort((np.arange(n) * 0.6180339887498949) % 1.0, kind="stable")
+
+
+def common_region(site: Site, targets: Targets, pieces: Sequence[int], limits: SightLimits,
+                  spaces: dict[str, FrameSpace], cache: dict[int, shapely.Geometry]) -> shapely.Geometry:
+    """Intersection of the coverage regions of ``pieces`` (stops as soon as it is empty)."""
+    common: shapely.Geometry | None = None
+    for t in np.asarray(pieces)[spread_order(len(pieces))]:
+        t = int(t)
+        if t not in cache:
+            cache.update(coverage_regions(site, targets, limits, [t], spaces))
+        common = cache[t] if common is None else common.intersection(cache[t])
+        if common.is_empty:
+            break
+    return common if common is not None else shapely.Polygon()
+
+
+def whole_side_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: dict[str, FrameSpace] | None = None,
+                          cache: dict[int, shapely.Geometry] | None = None) -> list[Candidate]:
+    """One candidate per zone-side that a single station can cover, at the pole of the common region."""
+    spaces = {} if spaces is None else spaces
+    cache = {} if cache is None else cache
+    out = []
+    for zi, zone in enumerate(site.zones):
+        for side in zone.scan_side.sides:
+            pieces = np.flatnonzero((targets.zone == zi) & (targets.side == SIDE_CODE[side]))
+            if pieces.size == 0:
+                continue
+            common = common_region(site, targets, pieces, limits, spaces, cache)
+            if common.is_empty or common.area <= 0:
+                continue
+            part = max(shapely.get_parts(common), key=lambda g: g.area)
+            size = float(np.sqrt(part.area))
+            p = polylabel(part, tolerance=max(POLE_TOLERANCE * size, 1e-6))
+            out.append(Candidate(f"{zone.id}-{SIDE_TAG[side]}-R", zone.id, side, zone.frame, float(p.x), float(p.y),
+                                 CandidateKind.REGION))
+    return out
+
+

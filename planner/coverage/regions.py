@@ -1,0 +1,217 @@
+"""Coverage regions: for a wall piece t, the set R_t of positions from which a station covers it.
+
+R_t applies the rules of :mod:`planner.coverage.visibility` to a position instead of a candidate:
+
+- the scan side: inside the piece's zone for an inside face, outside it for an outside face, and
+  where a station may stand at all (:func:`accessible_area`);
+- the incidence limit at both ends of the piece: with horizontal incidence, the wedge with apex at
+  the end, axis along the face normal and half-angle theta_max; with 3-D incidence the convex region
+  d >= cot(theta_max) sqrt(u^2 + dz^2) (d off the face, u along it, dz the vertical reach to the
+  farther of top and foot), bounded by chords of its boundary;
+- the slant range to top and foot at both ends: discs of radius sqrt(S^2 - dz^2) about each end,
+  as inscribed polygons (``DISC_SEGMENTS`` vertices on the circle);
+- sight: minus the shadow of every wall and obstacle edge near the piece, the set of positions p
+  for which the edge meets the triangle p-a-b (the union, over points q of the edge, of the wedge of
+  rays from the piece through q).
+
+Every approximation is from the inside, so a point in R_t passes the coverage test (up to the test's
+own 1e-7 m sight tolerance); a position that passes the test but lies outside R_t is within
+``region_tolerance_m`` of R_t's boundary (the sagitta of the inscribed discs).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from planner.coverage.matrix import blockers_for, convex_alone
+from planner.coverage.targets import Targets
+from planner.coverage.visibility import EPS_FRONT_M, EPS_SHORTEN_M, EPS_SIGHT_M, Blockers, SightLimits, wall_key
+from planner.site.model import SITE_FRAME, Site
+
+#: vertices of the polygon inscribed in each range disc
+DISC_SEGMENTS = 512
+#: largest distance of a 3-D incidence boundary from its chords (m)
+HYPERBOLA_SAGITTA_M = 1e-3
+#: the sight test blocks a line whose end, moved EPS_SHORTEN_M toward the station, lies within
+#: EPS_SIGHT_M of a wall line through the piece's end: a sliver of this half-angle
+GRAZE_DEG = math.degrees(math.asin(EPS_SIGHT_M / EPS_SHORTEN_M))
+#: a station closer than this to a wall line stands nowhere (as in the coverage build)
+ON_WALL_M = 1e-6
+
+
+def region_tolerance_m(limits: SightLimits) -> float:
+    """How far outside R_t a covering position can lie: the sagitta of the largest inscribed disc
+    (r (1 - cos(pi / n))), plus the sight test's tolerances."""
+    r = limits.range_limit_m
+    sag = r * (1.0 - math.cos(math.pi / DISC_SEGMENTS)) if math.isfinite(r) else 0.0
+    return sag + (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0) + 1e-5
+
+
+@dataclass(frozen=True, eq=False)
+class FrameSpace:
+    """Where stations may stand in one frame, per zone and side, and the frame's blockers."""
+
+    frame: str
+    inside: dict[int, shapely.Geometry]   # zone index -> stand area inside the zone
+    outside: dict[int, shapely.Geometry]  # zone index -> stand area outside the zone (within ``box``)
+    box: shapely.Geometry
+    blockers: Blockers | None  # None: a lone convex zone, where nothing blocks a front-facing piece
+    far_m: float
+
+
+def _frame_bounds(site: Site, frame: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Lower-left and upper-right corners of a frame's zones (and, in the site frame, obstacles)."""
+    zones = [z for z in site.zones if z.frame == frame]
+    geoms = [z.polygon for z in zones]
+    if frame == SITE_FRAME:
+        geoms += [shapely.Polygon(ob.vertices) for ob in site.obstacles]
+    lo = np.min([g.bounds[:2] for g in geoms], axis=0)
+    hi = np.max([g.bounds[2:] for g in geoms], axis=0)
+    return lo, hi
+
+
+def frame_space(site: Site, frame: str, limits: SightLimits) -> FrameSpace:
+    """The accessible area of each zone-side of ``frame``: inside (the zone) or outside (a box around the
+    frame's zones grown by the horizontal reach), minus obstacles, no-go areas, what lies outside the
+    site boundary (site frame) and a hair's breadth around every wall."""
+    lo, hi = _frame_bounds(site, frame)
+    diag = float(np.hypot(*(hi - lo)))
+    reach = limits.range_limit_m if math.isfinite(limits.range_limit_m) else 2.0 * diag
+    reach = min(reach, 4.0 * diag + 100.0)  # a station farther off than this sees nothing better
+    box = shapely.box(lo[0] - reach, lo[1] - reach, hi[0] + reach, hi[1] + reach)
+    forbidden = []
+    if frame == SITE_FRAME:
+        forbidden += [shapely.Polygon(ob.vertices) for ob in site.obstacles]
+        forbidden += [shapely.Polygon(ng.vertices) for ng in site.no_go_areas]
+        if site.boundary is not None:
+            forbidden.append(box.difference(shapely.Polygon(site.boundary)))
+    walls = [z.polygon.boundary for z in site.zones if z.frame == frame]
+    forbidden.append(shapely.union_all(walls).buffer(ON_WALL_M, quad_segs=1))
+    bad = shapely.union_all(forbidden)
+    inside, outside = {}, {}
+    for zi, zone in enumerate(site.zones):
+        if zone.frame != frame:
+            continue
+        inside[zi] = zone.polygon.difference(bad)
+        outside[zi] = box.difference(zone.polygon).difference(bad)
+    blockers = None if convex_alone(site, frame) else blockers_for(site, frame)  # as the coverage build does
+    return FrameSpace(frame, inside, outside, box, blockers, float(np.hypot(*(np.asarray(box.bounds[2:]) - box.bounds[:2]))))
+
+
+def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    n = np.hypot(v[..., 0], v[..., 1])
+    return v / np.where(n > 0, n, 1.0)[..., None]
+
+
+def _incidence_region(end: NDArray, tangent: NDArray, normal: NDArray, theta_deg: float, dz: float,
+                      incidence_3d: bool, far: float) -> shapely.Geometry:
+    # ``far``: how far the region must reach (the range disc's radius when the range is limited)
+    """Where the incidence at ``end`` is <= theta: a wedge (horizontal) or the region above a hyperbola (3-D)."""
+    cot = 1.0 / math.tan(math.radians(theta_deg))
+    if not incidence_3d or dz <= 0:
+        tan = math.tan(math.radians(theta_deg))  # the wedge, cut off by a line ``far`` in front of its apex
+        return shapely.Polygon([end, end + far * (normal + tan * tangent), end + far * (normal - tan * tangent)])
+    u_max = far
+    # u = dz sinh(s): a chord of parameter length h lies within about u h^2 / (8 sin theta) of the curve
+    h = math.sqrt(8.0 * HYPERBOLA_SAGITTA_M * math.sin(math.radians(theta_deg)) / u_max)
+    chords = min(4000, math.ceil(2.0 * math.asinh(u_max / dz) / h))
+    u = np.sinh(np.linspace(-np.arcsinh(u_max / dz), np.arcsinh(u_max / dz), chords + 1)) * dz
+    d = cot * np.sqrt(u**2 + dz**2)
+    pts = end + np.outer(u, tangent) + np.outer(d, normal)
+    top = max(2.0 * far, cot * (u_max + dz) + far)
+    cap = end + np.outer([u_max, -u_max], tangent) + np.outer([top, top], normal)
+    return shapely.Polygon(np.vstack([pts, cap]))
+
+
+def _shadows(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
+    """Positions p from which edge q1-q2 (row-wise) meets the triangle p-a-b: shadow from a, from b,
+    and the wedges of rays from the piece through each end of the edge."""
+    out = []
+    for x in (a, b):
+        d1, d2 = _unit(q1 - x), _unit(q2 - x)
+        out += list(shapely.polygons(np.stack([q1, q2, q2 + far * d2, q1 + far * d1], axis=1)))
+    for q in (q1, q2):
+        da, db = _unit(q - a), _unit(q - b)
+        out += list(shapely.polygons(np.stack([q, q + far * da, q + far * db], axis=1)))
+    return [g for g in out if g.is_valid and g.area > 0]
+
+
+def _grazing(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
+    """Slivers along the lines of the edges that end at a piece's end: the sight test blocks those views
+    (a line through a corner within its tolerance), so R_t leaves them out too."""
+    out = []
+    half = math.radians(GRAZE_DEG)
+    for x in (a, b):
+        touch = (np.hypot(*(q1 - x).T) < 1e-6) | (np.hypot(*(q2 - x).T) < 1e-6)
+        for w in _unit(q2[touch] - q1[touch]):
+            for sgn in (1.0, -1.0):
+                d = sgn * w
+                rot = [np.array([d[0] * math.cos(e) - d[1] * math.sin(e), d[0] * math.sin(e) + d[1] * math.cos(e)])
+                       for e in (half, -half)]
+                out.append(shapely.Polygon([x, x + far * rot[0], x + far * rot[1]]))
+    return out
+
+
+def coverage_regions(site: Site, targets: Targets, limits: SightLimits, which: Sequence[int] | None = None,
+                     spaces: dict[str, FrameSpace] | None = None) -> dict[int, shapely.Geometry]:
+    """R_t for the pieces ``which`` (all by default), as shapely geometries (possibly empty).
+
+    ``spaces`` caches :func:`frame_space` per frame between calls.
+    """
+    spaces = spaces if spaces is not None else {}
+    idx = range(len(targets)) if which is None else which
+    out: dict[int, shapely.Geometry] = {}
+    for t in idx:
+        frame = targets.frames[int(targets.frame[t])]
+        if frame not in spaces:
+            spaces[frame] = frame_space(site, frame, limits)
+        out[int(t)] = piece_region(targets, int(t), limits, spaces[frame])
+    return out
+
+
+def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpace) -> shapely.Geometry:
+    """R_t of one piece (see the module docstring)."""
+    a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
+    n = np.asarray(targets.normal[t], float)
+    tangent = _unit(b - a)
+    ih = limits.instrument_height_m
+    far = space.far_m
+    parts = []
+    for end, h in ((a, float(targets.ha_m[t])), (b, float(targets.hb_m[t]))):
+        dz = max(abs(h - ih), ih)
+        s = limits.range_limit_m
+        reach = far
+        if math.isfinite(s) and s < far:
+            if s <= dz:
+                return shapely.Polygon()
+            reach = math.sqrt(s * s - dz * dz)
+            parts.append(shapely.Point(end).buffer(reach, quad_segs=DISC_SEGMENTS // 4))
+        parts.append(_incidence_region(end, tangent, n, limits.theta_max_deg, dz, limits.incidence_3d, 1.01 * reach))
+    front = shapely.Polygon([a + EPS_FRONT_M * n - far * tangent, b + EPS_FRONT_M * n + far * tangent,
+                             b + far * n + far * tangent, a + far * n - far * tangent])
+    zi, inside = int(targets.zone[t]), int(targets.side[t]) == 0
+    stand = (space.inside if inside else space.outside)[zi]
+    k = shapely.intersection_all([*parts, front])
+    if k.is_empty:
+        return k
+    bl = space.blockers
+    tree = None if bl is None else bl._seg_tree  # type: ignore[attr-defined]
+    shadows: list[shapely.Geometry] = []
+    if tree is not None:
+        ends = shapely.box(*np.minimum(a, b) - 1e-6, *np.maximum(a, b) + 1e-6)
+        hit = np.union1d(tree.query(k, predicate="intersects"), tree.query(ends, predicate="intersects"))
+        hit = hit[bl.key[hit] != wall_key(zi, int(targets.wall[t]))]
+        if hit.size:
+            m = hit.size
+            shadows = _shadows(np.tile(a, (m, 1)), np.tile(b, (m, 1)), bl.a[hit], bl.b[hit], 2.0 * far)
+            shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
+    region = k.intersection(stand)
+    if shadows and not region.is_empty:
+        region = region.difference(shapely.union_all(shadows))
+    return region

@@ -1,0 +1,84 @@
+"""The two halves of geometric pricing: the LP relaxation of the cover with its duals, and the
+heaviest face of an arrangement of coverage regions.
+
+LP (over the current pool, x >= 0; the upper bound x <= 1 is redundant at the optimum)::
+
+    minimise sum_j x_j   subject to   sum_{j sees t} x_j >= 1   for every piece t
+
+Its dual prices each piece, y_t >= 0, with sum_{t seen by j} y_t <= 1 for every pooled j. A
+position p whose regions carry sum_{t: p in R_t} y_t > 1 is a column of negative reduced cost;
+when no position has one, the LP value bounds every cover drawn from anywhere in the plane
+(Tozoni, de Rezende, de Souza, "Algorithm 966", ACM TOMS 2016, do the same for point guards).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import shapely
+from numpy.typing import NDArray
+from scipy.optimize import linprog
+
+from planner.errors import InternalError
+
+
+@dataclass(frozen=True, eq=False)
+class CoverLp:
+    """The optimum of the cover LP: its value, primal x (per candidate) and dual y (per piece)."""
+
+    value: float
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+
+
+def cover_lp(by_target: sp.csr_matrix, cost: NDArray[np.float64] | None = None) -> CoverLp:
+    """Solve the cover LP with HiGHS (scipy); every piece must be seen by some column."""
+    n_t, n_c = by_target.shape
+    c = np.ones(n_c) if cost is None else np.asarray(cost, float)
+    res = linprog(c, A_ub=-by_target.astype(np.float64).tocsr(), b_ub=-np.ones(n_t), bounds=(0, None), method="highs")
+    if res.status != 0:
+        raise InternalError(f"cover LP ended with status {res.status}: {res.message}")
+    y = np.maximum(-np.asarray(res.ineqlin.marginals, dtype=float), 0.0)
+    return CoverLp(float(res.fun), np.asarray(res.x, float), y)
+
+
+@dataclass(frozen=True)
+class Face:
+    """A face of the arrangement: an interior point and the dual weight of the regions holding it."""
+
+    x: float
+    y: float
+    weight: float
+
+
+def heaviest_faces(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float,
+                   limit: int) -> tuple[list[Face], float]:
+    """Faces of the arrangement of ``regions`` whose weight exceeds ``threshold`` (heaviest first, at
+    most ``limit``), and the largest face weight found.
+
+    The boundaries are noded (one union) and polygonised; every face of the arrangement is a polygon
+    of that linework, the weight is constant on it, and a point on its surface stands for it. Regions
+    are closed sets, so the heaviest position lies in (the closure of) some face: the maximum over faces
+    is the maximum over the plane.
+    """
+    keep = [k for k, g in enumerate(regions) if not g.is_empty and g.area > 0]
+    if not keep:
+        return [], 0.0
+    polys = [regions[k] for k in keep]
+    w = np.asarray(weights, float)[keep]
+    lines = shapely.union_all(shapely.boundary(np.asarray(polys, dtype=object)))
+    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(lines)))
+    if len(faces) == 0:
+        return [], 0.0
+    reps = shapely.point_on_surface(faces)
+    tree = shapely.STRtree(polys)
+    fi, ri = tree.query(reps, predicate="within")
+    face_w = np.bincount(fi, weights=w[ri], minlength=len(faces))
+    best = float(face_w.max())
+    order = np.argsort(-face_w, kind="stable")
+    order = order[face_w[order] > threshold][:limit]
+    xy = shapely.get_coordinates(reps[order])
+    return [Face(float(px), float(py), float(face_w[k])) for (px, py), k in zip(xy, order)], best
