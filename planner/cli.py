@@ -36,7 +36,7 @@ from planner.plan_io import read_plan_stations, write_plan
 from planner.report import compare_methods, write_report
 from planner.site import ScanSide, Site, load_site
 from planner.solve.backends import BACKENDS
-from planner.solve.milp import PRECISION_MODES, MilpOptions
+from planner.solve.milp import CONNECTIVITY, PRECISION_MODES, MilpOptions
 from planner.validate import validate_site
 from planner.verify import verify_stations
 
@@ -127,7 +127,8 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
     rule = None if args.no_overlap else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
-                       k=args.k, overlap=rule, precision=args.precision)
+                       k=args.k, overlap=rule, precision=args.precision, connectivity=args.connectivity,
+                       layer_cuts=args.layer_cuts, tree_bound=args.tree_bound)
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
@@ -241,7 +242,12 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--k", type=int, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument("--precision", choices=PRECISION_MODES, default="single",
                     help="single: each view must meet sigma_req; combined: views add information")
-    pl.add_argument("--no-overlap", action="store_true", help="MILP without the registration-overlap constraint")
+    pl.add_argument("--no-overlap", action="store_true", help="MILP and greedy without the registration-overlap constraint")
+    pl.add_argument("--connectivity", choices=CONNECTIVITY, default="auto",
+                    help="milp: registration connectivity by branch-and-cut (bc, pyscipopt backend), a flow model or "
+                         "the cut loop (auto: bc on pyscipopt, loop elsewhere)")
+    pl.add_argument("--layer-cuts", action="store_true", help="milp: add distance-layer cuts before the first solve")
+    pl.add_argument("--tree-bound", action="store_true", help="milp: add the tree (Hunter) covering bound rows")
     pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
     pl.add_argument("--tripod", action="store_true", help="compute tripod discs (always on for milp)")

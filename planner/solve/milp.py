@@ -28,6 +28,7 @@ from planner.solve.connectivity import (
 )
 from planner.solve.flow import FlowModel, add_flow
 from planner.solve.greedy import greedy_cover
+from planner.solve.treebound import add_tree_bound
 from planner.solve.instance import CoverInstance
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
 from planner.solve.result import SolveResult, Status
@@ -52,7 +53,8 @@ class MilpOptions:
     max_rounds: int = 500
     presolve: bool = True
     connectivity: str = "auto"
-    layer_cuts: bool = True
+    layer_cuts: bool = False
+    tree_bound: bool = False
 
     def __post_init__(self) -> None:
         if self.connectivity not in CONNECTIVITY:
@@ -127,6 +129,11 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
                        time_s=time.perf_counter() - start, backend=o.backend, info=info)
 
 
+def _lengths(instance: CoverInstance) -> np.ndarray:
+    n_targ = instance.by_candidate.shape[1]
+    return instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
+
+
 def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, o: MilpOptions) -> PresolveReport:
     n_cand, n_targ = a.shape
     drop = np.zeros(n_cand, dtype=bool)
@@ -199,6 +206,8 @@ class _BlockSolver:
             if o.k == 1 and o.precision == "single":
                 self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
                                                   np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
+            if o.tree_bound and o.k == 1:
+                add_tree_bound(self.backend, a[cands].tocsr(), _lengths(instance), self.adj, self.groups)
             if o.connectivity_method == "bc":
                 self.backend.connect(self.adj, self.groups, self.sub, self.essential)
             elif o.connectivity_method == "flow":

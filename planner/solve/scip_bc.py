@@ -72,7 +72,7 @@ class PyScipBackend:
     def connect(self, adj: sp.csr_matrix, groups: Sequence[Hashable], a: sp.csr_matrix,
                 essential: dict[Hashable, np.ndarray], separate: bool = True) -> None:
         """Enforce connectivity of each group's chosen stations inside the search (branch-and-cut)."""
-        self.handler = _handler(self._scip)(self.x, adj, groups, a, essential, separate)
+        self.handler = _handler(self._scip)(self.x[:self.n], adj, groups, a, essential, separate)
         self.model.includeConshdlr(self.handler, "registration", "chosen stations of a zone-side connected",
                                    sepapriority=10, enfopriority=-10, chckpriority=-10, sepafreq=1,
                                    needscons=False)
