@@ -210,6 +210,9 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
             result = with_plane_bound(result, pricing)
     elif options.milp.overlap is not None:  # greedy under the registration rule (unless --no-overlap)
         result = connected_greedy_plan(cover_instance(problem, name=site.name), options.milp.overlap)
+        if not result.selected:
+            log.append("greedy: no cover connected under the overlap rule found; plain greedy plan instead")
+            result = greedy_cover(problem.by_candidate)
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.milp.overlap if options.method != "closed-form" and options.milp.overlap else OverlapRule(site.parameters.overlap)

@@ -107,6 +107,9 @@ def main() -> None:
     ap.add_argument("--no-pricing", action="store_true", help="the pool without priced columns")
     ap.add_argument("--cache", type=Path, default=ROOT / "out/bench_connectivity")
     ap.add_argument("--out-dir", type=Path, default=ROOT / "docs/benchmarks")
+    ap.add_argument("--only", nargs="+", metavar="METHOD",
+                    help="run only these methods (greedy-connected, greedy-plain, milp) and replace their rows "
+                         "of the instances run in the existing CSV, keeping the others")
     ap.add_argument("--child", nargs=6, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
@@ -118,6 +121,7 @@ def main() -> None:
     for name in args.instances:
         path = build(name, args.cache, not args.no_pricing)
         runs = [("greedy-connected", "", "", 1), ("greedy-plain", "", "", 1)] + [("milp", *r) for r in MILP_RUNS]
+        runs = [r for r in runs if not args.only or r[0] in args.only]
         for method, backend, conn, threads in runs:
             row = {"instance": name, "pool": pool, "method": method, "backend": backend, "connectivity": conn,
                    "threads": threads, **measure(path, method, backend or "cpsat", conn or "auto", threads, args.time_limit)}
@@ -125,6 +129,12 @@ def main() -> None:
             print(" | ".join(str(row.get(f, "")) for f in FIELDS), flush=True)
     args.out_dir.mkdir(parents=True, exist_ok=True)
     stem = "connectivity" + ("-nopricing" if args.no_pricing else "")
+    if args.only and (args.out_dir / f"{stem}.csv").exists():
+        key = ("instance", "method", "backend", "connectivity", "threads")
+        fresh = {tuple(str(r[k]) for k in key): r for r in rows}
+        with open(args.out_dir / f"{stem}.csv", newline="") as f:
+            old = list(csv.DictReader(f))
+        rows = [fresh.pop(tuple(r[k] for k in key), r) for r in old] + list(fresh.values())
     with open(args.out_dir / f"{stem}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, FIELDS, extrasaction="ignore")
         w.writeheader()
