@@ -34,32 +34,48 @@ PRICE_EPS = 1e-7
 
 @dataclass(frozen=True)
 class PricingReport:
-    """What pricing established. ``scope`` is ``plane`` when no position in the plane prices out
-    against the final LP (then ``lp_bound`` bounds every cover, from any positions), else ``pool``."""
+    """What pricing established.
+
+    ``lp_bound`` is the cover LP over the final pool. ``plane_lp_bound`` holds over every position in the
+    plane: Farley's bound ``sum(y) / max(1, w*)``, where ``y`` are the LP duals and ``w*`` the heaviest
+    arrangement face (any position's dual weight), scales the duals to a feasible dual of the plane's LP;
+    the best over all rounds is kept. ``scope`` is ``plane`` when the pool's integer bound is proven over
+    the plane (no face prices out, or Farley's bound rounds up to the same integer), else ``pool``.
+    """
 
     scope: str
     lp_bound: float
+    plane_lp_bound: float
     rounds: int
     columns_added: int
     time_s: float
     tolerance_m: float
     note: str = ""
     history: tuple[float, ...] = field(default_factory=tuple)
+    plane_history: tuple[float, ...] = field(default_factory=tuple)
 
     @property
     def integer_bound(self) -> int:
-        """ceil of the LP bound: no cover has fewer stations (over ``scope``)."""
+        """ceil of the pool's LP bound: no cover from the pool has fewer stations."""
         return math.ceil(self.lp_bound - 1e-6)
+
+    @property
+    def plane_bound(self) -> int:
+        """ceil of the plane LP bound: no cover from any positions has fewer stations."""
+        return math.ceil(self.plane_lp_bound - 1e-6)
 
     def to_dict(self) -> dict[str, Any]:
         return {"scope": self.scope, "lp_bound": self.lp_bound, "integer_bound": self.integer_bound,
+                "plane_lp_bound": self.plane_lp_bound, "plane_bound": self.plane_bound,
                 "rounds": self.rounds, "columns_added": self.columns_added, "time_s": self.time_s,
-                "tolerance_m": self.tolerance_m, "note": self.note, "lp_history": list(self.history)}
+                "tolerance_m": self.tolerance_m, "note": self.note, "lp_history": list(self.history),
+                "plane_lp_history": list(self.plane_history)}
 
     def summary(self) -> str:
-        where = ("every position in the plane" if self.scope == "plane" else "the candidate pool only")
-        return (f"pricing: LP bound {self.lp_bound:.3f} (>= {self.integer_bound} stations) holds over {where}; "
-                f"{self.rounds} rounds, {self.columns_added} columns added, {self.time_s:.1f} s"
+        head = (f"pricing: LP bound {self.lp_bound:.3f} over the pool; over every position in the plane "
+                f"LP >= {self.plane_lp_bound:.3f} (>= {self.plane_bound} stations)")
+        state = "converged" if self.scope == "plane" else "not converged"
+        return (f"{head}; {state}, {self.rounds} rounds, {self.columns_added} columns added, {self.time_s:.1f} s"
                 + (f"; {self.note}" if self.note else ""))
 
 
@@ -82,8 +98,8 @@ def _owner(problem: CoverageProblem, row: int) -> tuple[str, ScanSide]:
     return t.zone_ids[k // 2], (ScanSide.INSIDE if k % 2 == 0 else ScanSide.OUTSIDE)
 
 
-def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, max_rounds: int = 40,
-                per_round: int = 30, time_limit_s: float = 120.0,
+def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, max_rounds: int = 400,
+                per_round: int = 100, time_limit_s: float = 120.0,
                 cache: dict[int, shapely.Geometry] | None = None,
                 spaces: dict[str, FrameSpace] | None = None) -> tuple[CoverageProblem, PricingReport]:
     """Add priced columns to ``problem`` until none prices out (scope ``plane``) or a limit stops it."""
@@ -91,7 +107,8 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
     cache = {} if cache is None else cache
     spaces = {} if spaces is None else spaces
     t = problem.targets
-    added, history, note, scope = 0, [], "", "pool"
+    added, history, plane_history, note, scope = 0, [], [], "", "pool"
+    farley = 0.0
     rounds = 0
     while True:
         lp = cover_lp(problem.by_target)
@@ -103,14 +120,19 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
         pos = np.flatnonzero(lp.y > 1e-9)
         missing = [int(k) for k in pos if int(k) not in cache]
         cache.update(coverage_regions(site, t, limits, missing, spaces))
-        faces = []
+        faces, heaviest = [], 0.0
         for fi in range(len(t.frames)):
             here = pos[t.frame[pos] == fi]
             if here.size:
-                found, _ = heaviest_faces([cache[int(k)] for k in here], lp.y[here], 1.0 + PRICE_EPS, per_round)
+                found, top = heaviest_faces([cache[int(k)] for k in here], lp.y[here], 1.0 + PRICE_EPS, per_round)
                 faces += [(fi, f) for f in found]
-        if not faces:
+                heaviest = max(heaviest, top)
+        # Farley's bound: y / max(1, heaviest) is dual feasible for every position, so it bounds the plane's LP
+        farley = max(farley, float(lp.y.sum()) / max(1.0, heaviest))
+        plane_history.append(farley)
+        if not faces or math.ceil(farley - 1e-6) >= math.ceil(lp.value - 1e-6):
             scope = "plane"
+            farley = max(farley, lp.value) if not faces else farley
             break
         new = [Candidate(f"PR{rounds}.{k}", "", ScanSide.INSIDE, t.frames[fi], f.x, f.y, CandidateKind.PRICED)
                for k, (fi, f) in enumerate(faces, 1)]
@@ -128,20 +150,21 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
         piece = CoverageProblem(cands, t, keep, keep.T.tocsr(), sub.slant_m[good], sub.incidence_deg[good], {}, sub.limits)
         problem = merge_problems(problem, piece)
         added += len(cands)
-    report = PricingReport(scope, history[-1], rounds, added, time.perf_counter() - start, region_tolerance_m(limits),
-                           note, tuple(history))
+    report = PricingReport(scope, history[-1], farley, rounds, added, time.perf_counter() - start, region_tolerance_m(limits),
+                           note, tuple(history), tuple(plane_history))
     return problem, report
 
 
 def with_plane_bound(result: SolveResult, pricing: PricingReport) -> SolveResult:
     """The MILP result with what pricing adds: ``info['bound_scope']`` is ``plane`` when the plan meets the
     LP bound that holds over the plane (optimal over every position), else ``pool`` (the MILP's bound holds
-    over the pool; ``info['plane_bound']`` still bounds every cover when pricing converged)."""
+    over the pool; ``info['plane_bound']``, the ceil of Farley's bound, bounds every cover from any positions
+    even when pricing stopped early)."""
     info = dict(result.info)
     info["pricing"] = pricing.to_dict()
-    plane = pricing.integer_bound if pricing.scope == "plane" else None
+    plane = pricing.plane_bound
     info["plane_bound"] = plane
-    proven = plane is not None and result.objective is not None and result.objective <= plane + 1e-9
+    proven = result.objective is not None and result.objective <= plane + 1e-9
     info["bound_scope"] = "plane" if proven else "pool"
     if proven:
         return replace(result, status=Status.OPTIMAL, bound=float(plane), info=info)

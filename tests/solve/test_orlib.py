@@ -22,7 +22,7 @@ pytestmark = pytest.mark.skipif(not OPTIMA, reason="shared/benchmarks not beside
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_backends_prove_the_published_optimum(name, backend):
     inst = read_orlib(ORLIB / f"{name}.txt")
-    r = solve(inst, MilpOptions(backend=backend, time_limit_s=60, overlap=None))
+    r = solve(inst, MilpOptions(backend=backend, time_limit_s=300, overlap=None))  # a cap, not a timing test
     assert r.status.value == "optimal" and r.objective == OPTIMA[name] and r.bound == OPTIMA[name]
     # the chosen columns really cover every row at that cost
     assert (inst.coverage_count(r.selected) >= 1).all() and inst.cost[list(r.selected)].sum() == OPTIMA[name]
