@@ -224,3 +224,119 @@ def tolerance_for_scale_m(scale: str | int | float) -> float:
             return previous_max / 1000.0  # between rows: the stricter (finer) row
         previous_max = high
     raise InputError("scale outside table 1.1 (1:1 .. 1:500)", field="drawing_scale", value=f"1:{n}")
+
+
+#: Incidence models of the view error: none (range only), the measured table 2.3, Soudarissanane et al. 2011.
+INCIDENCE_MODELS: tuple[str, ...] = ("none", "table", "soudarissanane")
+#: largest incidence the Soudarissanane model is evaluated at (1/cos grows without bound towards 90 deg)
+SOUDARISSANANE_MAX_DEG: float = 85.0
+
+
+def incidence_limit_deg(model: str) -> float:
+    """Largest incidence angle a model speaks for: 79 deg for the table (its linear stretch), 85 for 1/cos, 90 for none."""
+    if model == "table":
+        return IncidenceErrorTable().linear_until_deg
+    if model == "soudarissanane":
+        return SOUDARISSANANE_MAX_DEG
+    if model == "none":
+        return 90.0
+    raise InputError(f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})", field="incidence_model", value=model)
+
+
+def incidence_factor(incidence_deg: ArrayLike, model: str) -> NDArray[np.float64]:
+    """How much the instrument term of a view grows with incidence, relative to a perpendicular view.
+
+    ``table``: the ratio measured at Baalbek (table 2.3). At normal incidence the error is
+    f_y(0) = 8.22 mm across the wall; with incidence an along-wall error f_x(theta) appears,
+    so k = sqrt(f_y(0)^2 + f_x(theta)^2) / f_y(0) (60 deg: sqrt(8.22^2 + 7.17^2) / 8.22 = 1.327).
+    ``soudarissanane``: 1 / cos(theta) (the signal-to-noise ratio falls with cos theta,
+    Soudarissanane et al. 2011), applied to the range term only (see :func:`view_error_m`).
+    ``none``: 1. Angles beyond a model's limit are clipped to it (the limit itself is enforced by
+    the coverage test).
+    """
+    th = np.clip(np.asarray(incidence_deg, dtype=float), 0.0, incidence_limit_deg(model))
+    if model == "table":
+        table = IncidenceErrorTable()
+        fx, _ = table.measured_mm(th)
+        fy0 = table.f_y_mm[0]
+        return np.sqrt(fy0**2 + fx**2) / fy0
+    if model == "soudarissanane":
+        return 1.0 / np.cos(np.radians(th))
+    return np.ones_like(th)
+
+
+def view_error_m(slant_m: ArrayLike, incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget,
+                 model: str = "none") -> NDArray[np.float64]:
+    """Point error e(S, theta) of one view: (2.13) with the incidence effect on the instrument term.
+
+    e^2 = sigma_0^2 + sigma_c^2 + sigma_g^2 + sigma_meas(S, theta)^2, where for ``table``
+    sigma_meas(S, theta) = sigma_meas(S) * k(theta) and for ``soudarissanane`` the range term
+    sigma_S grows as 1/cos(theta) while the angular term stays. ``none`` is (2.13) as printed.
+    The one function coverage, verification, the report and the network check use.
+    """
+    s = np.asarray(slant_m, dtype=float)
+    if model == "soudarissanane":
+        angular = scanner.angle_sigma_arcsec / RHO_ARCSEC * s
+        rng = sigma_range_m(s, scanner) * incidence_factor(incidence_deg, model)
+        meas2 = rng**2 + angular**2
+    else:
+        meas2 = (sigma_meas_m(s, scanner) * incidence_factor(incidence_deg, model)) ** 2
+    return np.sqrt(budget.squared_m2 + meas2)
+
+
+def precision_ok(slant_m: ArrayLike, incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget,
+                 sigma_req_m: float, model: str = "none", eps_m: float = 1e-12) -> NDArray[np.bool_]:
+    """One view meets the required accuracy: e(S, theta) <= sigma_req (single-view precision)."""
+    return view_error_m(slant_m, incidence_deg, scanner, budget, model) <= sigma_req_m + eps_m
+
+
+def combined_error_m(errors_m: ArrayLike) -> float:
+    """Error of a point seen by several independent views: information adds, 1/e^2 = sum 1/e_j^2."""
+    e = np.asarray(errors_m, dtype=float)
+    if e.size == 0:
+        return math.inf
+    info = float(np.sum(1.0 / np.square(e)))
+    return math.inf if info == 0.0 else 1.0 / math.sqrt(info)
+
+
+def derive_theta_max_deg(slant_m: float, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float,
+                         model: str = "table", tol_deg: float = 1e-6) -> float:
+    """Largest incidence at which a view at slant range S still meets sigma_req (bisection on e(S, theta)).
+
+    Returns the model's limit when even that incidence meets the budget, and 0 when a
+    perpendicular view at S already fails (S beyond the precision range of (3.1)).
+    """
+    hi = incidence_limit_deg(model)
+    if model == "none":
+        return hi if bool(precision_ok(slant_m, 0.0, scanner, budget, sigma_req_m, model)) else 0.0
+    ok = lambda th: bool(precision_ok(slant_m, th, scanner, budget, sigma_req_m, model))  # noqa: E731
+    if ok(hi):
+        return hi
+    if not ok(0.0):
+        return 0.0
+    lo = 0.0
+    while hi - lo > tol_deg:
+        mid = (lo + hi) / 2.0
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+    return lo
+
+
+def max_slant_for_view_m(incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float,
+                         model: str = "none") -> NDArray[np.float64]:
+    """Largest slant range S with e(S, theta) <= sigma_req, per incidence (0 where not even S = 0 does).
+
+    e grows with S at any incidence, so the views meeting sigma_req at incidence theta are those with
+    S <= this value: the boundary of the precision part of a coverage region. With k = k(theta), the
+    range term k_r (X + Y S) and the angular term k_a (sigma_beta / rho) S (table: k_r = k_a = k;
+    Soudarissanane: k_r = k, k_a = 1; none: 1) give the positive root of (3.1) generalised:
+    S^2 (k_r^2 Y^2 + k_a^2 b^2) + 2 S k_r^2 X Y + k_r^2 X^2 - (sigma_req^2 - sigma_0^2 - sigma_c^2 - sigma_g^2) = 0.
+    """
+    k = incidence_factor(np.atleast_1d(np.asarray(incidence_deg, dtype=float)), model)
+    k_a = np.ones_like(k) if model == "soudarissanane" else k
+    x, y = scanner.range_sigma_const_m, scanner.range_sigma_ppm / 1e6
+    b = scanner.angle_sigma_arcsec / RHO_ARCSEC
+    m = sigma_req_m**2 - budget.squared_m2
+    qa, qb, qc = k**2 * y**2 + k_a**2 * b**2, 2.0 * k**2 * x * y, k**2 * x**2 - m
+    with np.errstate(invalid="ignore", divide="ignore"):
+        root = (-qb + np.sqrt(np.maximum(qb**2 - 4.0 * qa * qc, 0.0))) / (2.0 * qa)
+    return np.where(qc <= 0.0, np.maximum(root, 0.0), 0.0)

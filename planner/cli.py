@@ -20,10 +20,11 @@ from pathlib import Path
 import numpy as np
 
 from planner import progress
+from planner.accuracy import INCIDENCE_MODELS
 from planner.candidates.pool import PoolOptions
 from planner.coverage.overlap import OverlapRule
 from planner.cli_report import add_report_parser, parse_exports, write_exports
-from planner.errors import ExitCode, PlannerError, UsageError
+from planner.errors import ExitCode, InfeasibleError, PlannerError, UsageError
 from planner.exchange import DxfOptions
 from planner.export import FORMATS, export_problem
 from planner.instruments import list_instruments, load_instrument
@@ -37,6 +38,7 @@ from planner.report import compare_methods, write_report
 from planner.site import ScanSide, Site, load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import CONNECTIVITY, PRECISION_MODES, MilpOptions
+from planner.solve.result import SolveResult
 from planner.validate import validate_site
 from planner.verify import verify_stations
 
@@ -56,7 +58,11 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("site", help="site file: JSON instance or table CSV")
     p.add_argument("--instrument", help="instrument name from models/ (overrides the instance)")
     p.add_argument("--max-range", type=float, metavar="M", help="slant range S_max in m (overrides derivation)")
-    p.add_argument("--theta-max", type=float, metavar="DEG", help="largest incidence angle, degrees")
+    p.add_argument("--theta-max", type=_theta, metavar="DEG|derive",
+                   help="largest incidence angle in degrees, or 'derive' (from sigma_req and the incidence model)")
+    p.add_argument("--incidence-model", choices=INCIDENCE_MODELS,
+                   help="how a view's error grows with incidence: none (range only), table (2.3), soudarissanane")
+    p.add_argument("--standoff", type=float, metavar="M", help="no station or control point closer to a wall/obstacle")
     p.add_argument("--overlap", type=float, metavar="FRACTION", help="registration overlap, e.g. 0.3")
     acc = p.add_mutually_exclusive_group()
     acc.add_argument("--sigma-req", type=float, metavar="M", help="required accuracy in m")
@@ -92,9 +98,11 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
         tol_kw["min_relative_precision"] = args.min_relative_precision
     site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, dxf=_dxf_options(args), crs=args.crs)
     p = site.parameters
+    derive = args.theta_max == "derive"
     changes = {k: v for k, v in {
-        "max_slant_range_m": args.max_range, "theta_max_deg": args.theta_max, "overlap": args.overlap,
+        "max_slant_range_m": args.max_range, "theta_max_deg": None if derive else args.theta_max, "overlap": args.overlap,
         "sigma_req_m": args.sigma_req, "instrument_height_m": args.instrument_height,
+        "incidence_model": args.incidence_model, "min_standoff_m": args.standoff, "derive_theta_max": derive or None,
     }.items() if v is not None}
     if args.sigma_req is not None:
         changes["drawing_scale"] = None
@@ -102,6 +110,16 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
     if args.scale is not None:
         p = p.with_scale(args.scale)
     return replace(site, parameters=p, instrument=args.instrument or site.instrument)
+
+
+def _theta(text: str) -> float | str:
+    """--theta-max: degrees, or 'derive'."""
+    if text.strip().lower() == "derive":
+        return "derive"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected degrees or 'derive', got {text!r}") from None
 
 
 def _dxf_options(args: argparse.Namespace) -> DxfOptions:
@@ -125,7 +143,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
-    rule = None if args.no_overlap else OverlapRule(overlap, args.min_shared, args.max_link)
+    rule = None if args.no_overlap or overlap == 0 else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
                        k=args.k, overlap=rule, precision=args.precision, connectivity=args.connectivity,
                        layer_cuts=args.layer_cuts, tree_bound=args.tree_bound)
@@ -133,6 +151,7 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
                        tripod=args.method == "milp" or args.tripod, recentre=args.recentre,
+                       registration=args.registration,
                        regions=not args.no_regions, pricing=not args.no_pricing,
                        pricing_time_limit_s=args.pricing_time_limit)
 
@@ -144,6 +163,9 @@ def cmd_plan(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
     options = _plan_options(args, site.parameters.overlap)
     plan = plan_site(site, options)
+    if not plan.stations and plan.result.status.value in ("infeasible", "no_solution"):
+        print(plan.summary().splitlines()[0])
+        raise InfeasibleError(f"{plan.result.method} found no plan: {_no_plan_reason(plan.result, options)}")
     print(plan.summary())
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
@@ -158,12 +180,27 @@ def cmd_plan(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
+def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
+    """Why a solver stopped without stations, in words."""
+    info = result.info
+    if "targets_seen_by_fewer_than_k" in info:
+        return f"{info['count']} target(s) seen by fewer than k = {options.milp.k} candidates"
+    if result.status.value == "no_solution":
+        return f"no cover found within the time limit of {options.milp.time_limit_s:g} s (raise --time-limit)"
+    rules = ["every piece covered"] + (["k = %d" % options.milp.k] if options.milp.k > 1 else [])
+    rules += ["registration overlap connected"] if options.milp.overlap is not None else []
+    rules += ["combined precision"] if options.combined else []
+    return f"the solver proved that no set of candidates meets {', '.join(rules)}"
+
+
 def _network(site: Site, stations: list, args: argparse.Namespace, show: bool = True) -> NetworkReport:
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
     control = read_control(args.control) if getattr(args, "control", None) else None
-    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed)
+    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
+                         registration=getattr(args, "registration", None),
+                         precision=getattr(args, "precision", "single"))
     if not show:
         return report
     print(report.summary())
@@ -196,8 +233,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
     validation = validate_site(site)
     stations = read_plan_stations(args.plan, site)
-    report = verify_stations(site, stations, sight_limits(validation, args.incidence == "3d", not args.no_precision),
-                             args.spacing)
+    limits = sight_limits(validation, args.incidence == "3d", not args.no_precision, args.precision == "combined")
+    report = verify_stations(site, stations, limits, args.spacing)
     print(f"plan {args.plan}: {len(stations)} stations")
     print(report.summary())
     return ExitCode.OK if report.complete else ExitCode.INFEASIBLE
@@ -225,6 +262,51 @@ def cmd_instruments(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
+def cmd_assemble(args: argparse.Namespace) -> int:
+    """Place the table zones of an instance from their shared walls; print matches, residuals, unplaced zones."""
+    from planner.site.assemble import assemble, assembled_instance
+    from planner.site.fileio import read_json
+
+    path = Path(args.site)
+    site = load_site(path)
+    report = assemble(site, tolerance_m=args.tolerance, wall_thickness_m=args.wall_thickness, anchor=args.anchor)
+    print("\n".join(report.lines()))
+    if args.out:
+        out = Path(args.out)
+        source = read_json(path) if path.suffix.lower() == ".json" else {
+            "format": "tls-planner/1", "name": path.stem, "zones": [{"table_csv": path.name}]}
+        data = assembled_instance(source, str(path.parent), str(out.parent), report)
+        out.write_text(json.dumps(data, indent=2) + "\n")
+        print(f"wrote {out}: {len(report.placements)} zones placed, {len(report.unplaced)} left in their own frames")
+    return ExitCode.OK
+
+
+def cmd_chain(args: argparse.Namespace) -> int:
+    """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
+    from planner.network.survey import survey_network
+
+    site = load_with_overrides(args)
+    stations = read_plan_stations(args.plan, site)
+    print("\n".join(survey_network(site, stations, args.registration).lines()))
+    return ExitCode.OK
+
+
+def _add_assemble_parser(sub: argparse._SubParsersAction) -> None:
+    c = sub.add_parser("chain", help="registration-chain accuracy of a plan (links, ties to control; seed 003)")
+    _add_site_options(c)
+    c.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
+    c.add_argument("--registration", choices=("zone", "site"), default=None,
+                   help="registration groups (default: site where zones are placed or openings given)")
+    c.set_defaults(func=cmd_chain)
+    a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
+    a.add_argument("site", help="JSON instance or table CSV")
+    a.add_argument("--tolerance", type=float, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)")
+    a.add_argument("--wall-thickness", type=float, default=0.0, metavar="M", help="offset between the two faces (default 0)")
+    a.add_argument("--anchor", metavar="ZONE", help="zone whose frame becomes the site frame (default: the outline)")
+    a.add_argument("--out", metavar="FILE", help="write the instance with its placements to FILE")
+    a.set_defaults(func=cmd_assemble)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="planner", description="Plan terrestrial laser scanner stations.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -241,7 +323,7 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--threads", type=int, default=1, help="solver threads (default 1: deterministic)")
     pl.add_argument("--k", type=int, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument("--precision", choices=PRECISION_MODES, default="single",
-                    help="single: each view must meet sigma_req; combined: views add information")
+                    help="single: each view must meet sigma_req; combined: views add information (every method)")
     pl.add_argument("--no-overlap", action="store_true", help="MILP and greedy without the registration-overlap constraint")
     pl.add_argument("--connectivity", choices=CONNECTIVITY, default="auto",
                     help="milp: registration connectivity by branch-and-cut (bc, pyscipopt backend), a flow model or "
@@ -250,6 +332,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--tree-bound", action="store_true", help="milp: add the tree (Hunter) covering bound rows")
     pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
+    pl.add_argument("--registration", choices=("zone", "site"), default=None,
+                    help="one registration bundle per zone-side, or per accessible area of the site (default: site "
+                         "where zones are placed or openings given)")
     pl.add_argument("--tripod", action="store_true", help="compute tripod discs (always on for milp)")
     pl.add_argument("--recentre", action="store_true", help="move each station to the centre of its tripod disc")
     pl.add_argument("--no-regions", action="store_true",
@@ -274,6 +359,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_site_options(ve)
     ve.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}] in the zones' frames")
     ve.add_argument("--spacing", type=float, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)")
+    ve.add_argument("--precision", choices=PRECISION_MODES, default="single",
+                    help="single: each point needs one view within sigma_req; combined: its views add information")
     _add_limit_options(ve)
     ve.set_defaults(func=cmd_verify)
     ex = sub.add_parser("export", help="write the coverage problem for third-party solvers")
@@ -290,10 +377,16 @@ def build_parser() -> argparse.ArgumentParser:
     nw.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
     nw.add_argument("--out", metavar="DIR", help="write DIR/network.json")
     nw.add_argument("--seed", type=int, default=0)
+    nw.add_argument("--precision", choices=PRECISION_MODES, default="single",
+                    help="accuracy check by the best view (single) or all views combined")
     _add_network_options(nw)
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
+    nw.add_argument("--registration", choices=("zone", "site"), default=None,
+                    help="registration links per zone-side or across the site (default: site where zones are placed "
+                         "or openings given)")
     nw.set_defaults(func=cmd_network)
     add_report_parser(sub)
+    _add_assemble_parser(sub)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=cmd_instruments)
     return parser

@@ -15,6 +15,7 @@ from planner.outcome import Outcome, outcome_from_file
 from planner.plan import PlanOptions
 from planner.report import compare_methods, write_report
 from planner.report.compare import meta_row
+from planner.solve.milp import MilpOptions
 
 
 def parse_exports(text: str | None) -> list[str]:
@@ -39,7 +40,9 @@ def cmd_report(args: argparse.Namespace) -> int:
     formats = parse_exports(args.export)
     outcome = outcome_from_file(args.plan, args.site)
     folder = args.out or str(Path(args.plan).parent)
-    network = None if args.no_network else run_network(outcome.site, list(outcome.stations), seed=0)
+    rule = outcome.limits.precision
+    mode = "combined" if rule is not None and rule.combined else "single"  # judged as the plan was made
+    network = None if args.no_network else run_network(outcome.site, list(outcome.stations), seed=0, precision=mode)
     comparison = _file_comparison(outcome)
     outcome = replace(outcome, network=network, comparison=tuple(comparison))
     write_exports(outcome, formats, folder, args.crs)
@@ -53,7 +56,8 @@ def _file_comparison(outcome: Outcome) -> list[dict]:
     m, p = outcome.meta, outcome.meta.get("parameters", {})
     options = PlanOptions(target_spacing_m=float(p.get("target_spacing_m", 1.0)),
                           pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
-                          incidence_3d=p.get("incidence") == "3d", precision=bool(p.get("precision", True)))
+                          incidence_3d=p.get("incidence") == "3d", precision=bool(p.get("precision", True)),
+                          milp=MilpOptions(precision=p.get("precision_mode", "single")))
     rows = [r for r in compare_methods(outcome.site, options) if r["method"] != m.get("method")]
     return rows + [{**meta_row(m, outcome.verification.percent), "stations": len(outcome.stations)}]
 

@@ -57,7 +57,7 @@ def outcome_from_plan(plan: Plan, network: NetworkReport | None = None,
                       comparison: Sequence[dict[str, Any]] = ()) -> Outcome:
     """The outcome of a plan computed in this process."""
     o = plan.options
-    limits = sight_limits(plan.validation, o.incidence_3d, o.precision)
+    limits = sight_limits(plan.validation, o.incidence_3d, o.precision, o.combined)
     cov = station_coverage(plan.site, plan.stations, limits, plan.validation.scanner, plan.site.parameters.budget,
                            o.target_spacing_m)
     radii = {s.id: d.radius_m for s, d in zip(plan.stations, plan.tripods)}
@@ -74,7 +74,8 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
     path = next((p for p in tried if p.exists()), Path(src))
     site = load_site(path)
     p = meta.get("parameters") or {}
-    changes = {k: p[k] for k in ("theta_max_deg", "overlap", "sigma_req_m", "instrument_height_m") if k in p}
+    changes = {k: p[k] for k in ("theta_max_deg", "overlap", "sigma_req_m", "instrument_height_m", "incidence_model",
+                                  "min_standoff_m") if k in p}
     if "given" in str(p.get("max_slant_range_source", "")):
         changes["max_slant_range_m"] = p["max_slant_range_m"]
     params = replace(site.parameters, **changes)
@@ -91,7 +92,8 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
     site = site_for_plan(meta, site_path, name)
     validation = validate_site(site)
     p = meta.get("parameters") or {}
-    limits = sight_limits(validation, p.get("incidence") == "3d", bool(p.get("precision", True)))
+    combined = (p.get("milp") or {}).get("precision") == "combined" or p.get("precision_mode") == "combined"
+    limits = sight_limits(validation, p.get("incidence") == "3d", bool(p.get("precision", True)), combined)
     stations = tuple(read_plan_stations(plan_path, site))
     spacing = float(p.get("target_spacing_m", 1.0))
     cov = station_coverage(site, stations, limits, validation.scanner, site.parameters.budget, spacing)

@@ -10,7 +10,10 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from planner.accuracy import ErrorBudget, max_slant_range_m, sigma_instr_m, tolerance_for_scale_m
+from planner.accuracy import (
+    INCIDENCE_MODELS, ErrorBudget, derive_theta_max_deg, incidence_limit_deg, max_slant_range_m, sigma_instr_m,
+    tolerance_for_scale_m,
+)
 from planner.errors import InputError
 from planner.instruments import Scanner
 
@@ -46,6 +49,17 @@ class Parameters:
     ``sigma_req_m`` is the required model accuracy; ``drawing_scale`` (a
     denominator, e.g. 50 for 1:50) records where it came from when it was
     derived from table 1.1. ``max_slant_range_m`` overrides S_max.
+
+    ``incidence_model``: how the point error of a view grows with incidence (``none``: range
+    only, as (2.13) prints it; ``table``: the ratio measured in table 2.3; ``soudarissanane``:
+    1/cos on the range term). ``derive_theta_max``: theta_max is not given but follows from
+    sigma_req (the largest incidence whose view error stays within budget at the range in
+    question; ``theta_max_deg`` then only seeds the closed-form candidates); it switches the
+    ``table`` model on when none is chosen. ``min_standoff_m``: no station or control point
+    closer than this to a wall or obstacle edge (0.4 m: the radius of a tripod's leg spread).
+    ``instrument_height_span_m``: how much higher than IH the tripod may be set up; the
+    tolerance circle (3.32) of each station is reported for IH..IH + span (0.4 m as the
+    dissertation's check value).
     """
 
     theta_max_deg: float = 68.0
@@ -55,6 +69,10 @@ class Parameters:
     budget: ErrorBudget = field(default_factory=ErrorBudget)
     instrument_height_m: float = 0.0
     max_slant_range_m: float | None = None
+    incidence_model: str = "none"
+    derive_theta_max: bool = False
+    min_standoff_m: float = 0.4
+    instrument_height_span_m: float = 0.4
 
     def __post_init__(self) -> None:
         _finite(self.theta_max_deg, "theta_max_deg")
@@ -73,6 +91,15 @@ class Parameters:
             _finite(self.max_slant_range_m, "max_slant_range_m")
             if self.max_slant_range_m <= 0:
                 raise InputError("must be > 0", field="max_slant_range_m", value=self.max_slant_range_m)
+        if self.incidence_model not in INCIDENCE_MODELS:
+            raise InputError(f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})",
+                             field="incidence_model", value=self.incidence_model)
+        if self.derive_theta_max and self.incidence_model == "none":
+            object.__setattr__(self, "incidence_model", "table")
+        for name in ("min_standoff_m", "instrument_height_span_m"):
+            _finite(getattr(self, name), name)
+            if getattr(self, name) < 0:
+                raise InputError("must be >= 0", field=name, value=getattr(self, name))
 
     def with_scale(self, scale: str | int) -> "Parameters":
         """The same parameters with sigma_req taken from drawing-scale table 1.1."""
@@ -111,3 +138,36 @@ def resolve_range_limit(params: Parameters, scanner: Scanner) -> RangeLimit:
     if scanner.max_range_m is not None and scanner.max_range_m < derived:
         return RangeLimit(scanner.max_range_m, s_instr, f"datasheet range of {scanner.name} ((3.1) gives {derived:.2f} m)")
     return RangeLimit(derived, s_instr, f"derived by (3.1) for {scanner.name} at sigma_req {params.sigma_req_m * 1000:g} mm")
+
+
+#: ranges (m) at which a derived theta_max is printed, besides S_max
+THETA_REPORT_RANGES_M: tuple[float, ...] = (25.0, 50.0, 100.0, 150.0, 200.0)
+
+
+@dataclass(frozen=True)
+class ThetaLimit:
+    """The incidence limit in force: ``theta_max_deg`` for the coverage test, and where it came from.
+
+    When derived, coverage takes the model's limit and the per-view precision test decides, so
+    the limit falls with range; ``by_range`` lists (S, theta_max(S)) for the summary.
+    """
+
+    theta_max_deg: float
+    source: str
+    by_range: tuple[tuple[float, float], ...] = ()
+
+    def summary(self) -> str:
+        if not self.by_range:
+            return f"theta_max {self.theta_max_deg:g} deg [{self.source}]"
+        cells = ", ".join(f"{th:.1f} deg at {s:g} m" for s, th in self.by_range)
+        return f"theta_max derived [{self.source}]: {cells}"
+
+
+def resolve_theta_limit(params: Parameters, scanner: Scanner, s_max_m: float) -> ThetaLimit:
+    """theta_max as given, or derived from sigma_req at a few ranges up to S_max (see :class:`ThetaLimit`)."""
+    if not params.derive_theta_max:
+        return ThetaLimit(params.theta_max_deg, "given")
+    model = params.incidence_model
+    ranges = [s for s in THETA_REPORT_RANGES_M if s < s_max_m] + [s_max_m]
+    rows = tuple((round(s, 3), derive_theta_max_deg(s, scanner, params.budget, params.sigma_req_m, model)) for s in ranges)
+    return ThetaLimit(min(incidence_limit_deg(model), 89.99), f"{model} model, sigma_req {params.sigma_req_m * 1000:g} mm", rows)

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 import time
+from collections.abc import Hashable
 from dataclasses import dataclass, field, replace
 
 import networkx as nx
@@ -14,10 +16,12 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
+from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.regions import regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
-from planner.coverage.visibility import SightLimits
+from planner.coverage.visibility import PrecisionRule, SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
@@ -26,7 +30,7 @@ from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.plane import price_plane, with_plane_bound
 from planner.solve.result import SolveResult
-from planner.solve.tripod import TripodDisc, tripod_discs
+from planner.solve.tripod import TripodDisc, tripod_discs, tripod_heights_line
 from planner.validate import ValidationReport, validate_site
 from planner.verify import VerifyReport, verify_stations
 
@@ -53,9 +57,15 @@ class PlanOptions:
     milp: MilpOptions = field(default_factory=MilpOptions)
     tripod: bool = False
     recentre: bool = False
+    registration: str | None = None  # zone | site; None: site where zones are placed or openings given
     regions: bool = True
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
+
+    @property
+    def combined(self) -> bool:
+        """Views add information (``--precision combined``), for every method."""
+        return self.precision and self.milp.precision == "combined"
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -111,6 +121,7 @@ class Plan:
         ]
         lines += [f"{z:<10}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
+        lines.append(self._accuracy_line())
         scope = self.result.info.get("bound_scope")
         if scope is not None:
             plane = self.result.info.get("plane_bound")
@@ -118,22 +129,39 @@ class Plan:
                          else f"bound scope: pool (the MILP bound holds over the candidate pool"
                               + (f"; over the plane at least {plane} stations)" if plane is not None else ")"))
         broken = {g: n for g, n in self.registration.items() if n > 1}
-        lines.append("registration: every zone-side connected under the overlap relation" if not broken else
+        lines.append("registration: every registration group connected under the overlap relation" if not broken else
                      "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items()))
         if self.tripods:
             radii = [d.radius_m for d in self.tripods]
             lines.append(f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
-                         + (" (stations recentred)" if self.options.recentre else ""))
+                         + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)"))
+            lines.append(tripod_heights_line(self.tripods, self.site.parameters))
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
 
 
-def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool) -> SightLimits:
-    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req."""
+    def _accuracy_line(self) -> str:
+        """How views were judged: incidence model, precision mode, stand-off, and theta_max (derived: per range)."""
+        p, o = self.site.parameters, self.options
+        mode = "off" if not o.precision else "combined" if o.combined else "single"
+        theta = self.validation.theta_limit
+        th = theta.summary() if theta is not None else f"theta_max {p.theta_max_deg:g} deg"
+        return f"accuracy: view error e(S, theta), incidence model {p.incidence_model}, precision {mode}, stand-off {p.min_standoff_m:g} m; {th}"
+
+
+def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False) -> SightLimits:
+    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req.
+
+    ``combined``: no single view is refused for precision (no precision range, no per-pair
+    test); the rule travels with the limits so that verification and the network check
+    judge the information sum. With ``precision`` off there is no rule at all.
+    """
     p = validation.site.parameters
-    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if precision else None
-    return SightLimits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.instrument_height_m,
-                       incidence_3d, precision_range)
+    single = precision and not combined
+    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
+    rule = PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
+    return SightLimits(validation.range_limit.max_slant_range_m, validation.theta_max_deg, p.instrument_height_m,
+                       incidence_3d, precision_range, rule)
 
 
 def closed_form_limits(validation: ValidationReport) -> Limits:
@@ -149,8 +177,7 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray) -> InfeasibleErro
 
 
 def _limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
-    combined = options.method == "milp" and options.milp.precision == "combined"
-    return sight_limits(validation, options.incidence_3d, options.precision and not combined)
+    return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
 
 
 def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None) -> CoverageProblem:
@@ -165,7 +192,7 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     limits = _limits(validation, options)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
-    if options.regions:  # one station for a whole zone-side, found exactly where one exists
+    if options.regions and regions_apply(limits):  # one station for a whole zone-side, found exactly where one exists
         pool = dedupe(pool + whole_side_candidates(site, targets, limits))
     problem = build_coverage(site, pool, targets, limits, step="coverage build")
     unseen = problem.uncoverable()
@@ -197,30 +224,46 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         log += extra
     elif options.method == "milp":
         p = site.parameters
-        if options.pricing:
+        pricing_on = options.pricing and regions_apply(limits)
+        if options.pricing and not pricing_on:
+            log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
+        if pricing_on:
             with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
                 problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s)
             log.append(pricing.summary())
             pool = problem.candidates
+        mode = options.registration or default_registration(site)
+        reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
+        groups, links = registration_groups(site, problem.candidates, mode, reach)
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
-                              name=site.name)
+                              name=site.name, groups=groups, links=links, incidence_model=p.incidence_model)
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
-        if options.pricing:
+        if pricing_on:
             result = with_plane_bound(result, pricing)
-    elif options.milp.overlap is not None:  # greedy under the registration rule (unless --no-overlap)
-        result = connected_greedy_plan(cover_instance(problem, name=site.name), options.milp.overlap)
+    elif options.combined and limits.precision is not None:
+        from planner.solve.combined import combined_greedy
+
+        result = combined_greedy(problem, limits.precision)
+    elif options.milp.overlap is not None and options.milp.overlap.overlap > 0:  # greedy under the rule
+        groups, links = registration_groups(site, problem.candidates, options.registration or default_registration(site),
+                                            options.milp.overlap.max_link_m or limits.range_limit_m)
+        result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links),
+                                       options.milp.overlap)
         if not result.selected:
             log.append("greedy: no cover connected under the overlap rule found; plain greedy plan instead")
             result = greedy_cover(problem.by_candidate)
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.milp.overlap if options.method != "closed-form" and options.milp.overlap else OverlapRule(site.parameters.overlap)
-    registration, partners = registration_check(problem, result.selected, rule)
+    registration, partners = registration_check(problem, result.selected, rule, site, options.registration,
+                                                rule.max_link_m or limits.range_limit_m)
+    if rule.overlap == 0:
+        registration, log = {}, log + ["registration: not required (overlap 0)"]
     stations = [problem.candidates[i] for i in result.selected]
     tripods: tuple[TripodDisc, ...] = ()
     if options.tripod or options.recentre:
-        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners))
+        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners, options.recentre))
         if options.recentre:
             stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
     verification = verify_stations(site, stations, limits, options.verify_spacing_m)
@@ -229,19 +272,29 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                 registration, tripods)
 
 
-def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule
+def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule,
+                       site: Site | None = None, mode: str | None = "zone", reach_m: float = math.inf,
                        ) -> tuple[dict[str, int], dict[int, list[int]]]:
-    """Components of each zone-side's chosen stations under the overlap relation, computed afresh with
-    networkx (independent of any solver), and each station's registration partners."""
+    """Components of each registration group's chosen stations under the overlap relation, computed afresh
+    with networkx (independent of any solver), and each station's registration partners.
+
+    Groups: each zone-side (``mode="zone"``), or each accessible area of ``site`` with links through
+    openings (``"site"``; ``None``: :func:`default_registration`)."""
     lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
-    xy = np.array([c.xy for c in problem.candidates], dtype=float).reshape(-1, 2)
-    groups: dict[tuple[str, str], list[int]] = {}
-    for i in selected:
-        c = problem.candidates[i]
-        groups.setdefault((c.zone, c.side.value), []).append(i)
+    chosen = [problem.candidates[i] for i in selected]
+    xy = np.array([c.xy for c in chosen], dtype=float).reshape(-1, 2)
+    mode = mode or (default_registration(site) if site is not None else "zone")
+    labels, links = registration_groups(site, chosen, mode, reach_m) if site is not None else (
+        tuple((c.zone, c.side.value) for c in chosen), None)
+    groups: dict[Hashable, list[int]] = {}
+    for k, label in enumerate(labels):
+        groups.setdefault(label, []).append(k)
     out, partners = {}, {}
-    for (zone, side), nodes in groups.items():
-        g = overlap_graph(problem.by_candidate, lengths, nodes, rule, xy)
-        out[f"{zone}/{side}"] = nx.number_connected_components(g)
-        partners.update({n: sorted(g.neighbors(n)) for n in nodes})
+    sub = problem.by_candidate[list(selected)] if selected else problem.by_candidate[:0]
+    for label, nodes in groups.items():
+        g = overlap_graph(sub, lengths, nodes, rule, xy, links)
+        names = sorted({f"{chosen[k].zone}/{chosen[k].side.value}" for k in nodes})
+        key = "/".join(label) if mode == "zone" else f"area {label[1]} ({', '.join(names[:4])}{', ...' if len(names) > 4 else ''})"
+        out[key] = nx.number_connected_components(g)
+        partners.update({selected[n]: sorted(selected[m] for m in g.neighbors(n)) for n in nodes})
     return out, partners

@@ -41,6 +41,8 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "instrument_height_m": p.instrument_height_m, "target_spacing_m": o.target_spacing_m,
             "grid_spacing_m": o.pool.grid_spacing_m, "field_samples": o.pool.field_samples, "seed": o.pool.seed,
             "incidence": "3d" if o.incidence_3d else "horizontal", "precision": o.precision,
+            "precision_mode": "combined" if o.combined else "single", "incidence_model": p.incidence_model,
+            "min_standoff_m": p.min_standoff_m,
             "verify_spacing_m": o.verify_spacing_m,
             "milp": None if r.method != "milp" else {
                 "backend": o.milp.backend, "time_limit_s": o.milp.time_limit_s, "seed": o.milp.seed,
@@ -68,6 +70,7 @@ def _station(s: Candidate, disc: TripodDisc | None) -> dict[str, Any]:
     if disc is not None:
         out["tripod_radius_m"] = disc.radius_m
         out["tripod_centre"] = list(disc.centre)
+        out["height_tolerance_m"] = None if disc.height_tolerance_m != disc.height_tolerance_m else disc.height_tolerance_m
     return out
 
 

@@ -8,7 +8,7 @@ from typing import Any
 
 from planner.errors import InputError, PlannerError
 from planner.instruments import Scanner, load_instrument
-from planner.params import RangeLimit, resolve_range_limit
+from planner.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
 from planner.site.model import Site
 
 
@@ -28,6 +28,12 @@ class ValidationReport:
     site: Site
     scanner: Scanner
     range_limit: RangeLimit
+    theta_limit: ThetaLimit | None = None
+
+    @property
+    def theta_max_deg(self) -> float:
+        """The incidence limit of the coverage test (the model's limit when theta_max is derived)."""
+        return self.site.parameters.theta_max_deg if self.theta_limit is None else self.theta_limit.theta_max_deg
 
     def to_dict(self) -> dict[str, Any]:
         p = self.site.parameters
@@ -43,6 +49,9 @@ class ValidationReport:
                 "max_slant_range_m": self.range_limit.max_slant_range_m,
                 "max_slant_range_source": self.range_limit.source,
                 "sigma_instr_m": self.range_limit.sigma_instr_m,
+                "incidence_model": p.incidence_model, "min_standoff_m": p.min_standoff_m,
+                "theta_max_derived": None if self.theta_limit is None or not self.theta_limit.by_range else
+                [{"slant_m": s, "theta_max_deg": t} for s, t in self.theta_limit.by_range],
             },
             "zones": [_zone_dict(z) for z in self.site.zones],
             "obstacles": [{"name": o.name, "polygon": [list(v) for v in o.vertices], "height_m": o.height_m}
@@ -74,9 +83,11 @@ class ValidationReport:
         out = [
             f"instance   {s.name}  ({s.source})",
             f"instrument {self.scanner.name}: {self.scanner.description}",
-            f"limits     S_max {lim.max_slant_range_m:.3f} m [{lim.source}], theta_max {p.theta_max_deg:g} deg, "
+            f"limits     S_max {lim.max_slant_range_m:.3f} m [{lim.source}], theta_max {'derived' if p.derive_theta_max else f'{p.theta_max_deg:g} deg'}, "
             f"overlap {p.overlap:.0%}, sigma_req {p.sigma_req_m * 1000:g} mm{scale}, sigma_instr {lim.sigma_instr_m * 1000:.4f} mm, "
             f"IH {p.instrument_height_m:g} m",
+            f"accuracy   incidence model {p.incidence_model}, stand-off {p.min_standoff_m:g} m from walls and obstacles"
+            + ("" if self.theta_limit is None or not self.theta_limit.by_range else f"; {self.theta_limit.summary()}"),
             "",
             f"{'zone':<9}{'side':<9}{'walls':>6}{'perimeter m':>13}{'area m2':>12}  closure",
         ]
@@ -130,6 +141,7 @@ def validate_site(site: Site) -> ValidationReport:
     try:
         scanner = site_scanner(site)
         limit = resolve_range_limit(site.parameters, scanner)
+        theta = resolve_theta_limit(site.parameters, scanner, limit.max_slant_range_m)
     except PlannerError as exc:
         raise exc.located(site.source) if site.source else exc
-    return ValidationReport(site=site, scanner=scanner, range_limit=limit)
+    return ValidationReport(site=site, scanner=scanner, range_limit=limit, theta_limit=theta)

@@ -4,7 +4,9 @@ The planner covers wall *pieces* (``target_spacing_m``); verification instead
 samples *points* every ``spacing_m`` (0.1 m by default) along every scanned
 wall face and asks, point by point, whether some station sees it within the
 limits. It shares only the low-level sight test with planning, so a plan made
-elsewhere (or the published one) is checked the same way.
+elsewhere (or the published one) is checked the same way. In combined precision
+(``limits.precision.combined``) a point counts as covered only when the views that see
+it add up to sigma_req (:mod:`planner.solve.combined`).
 """
 
 from __future__ import annotations
@@ -51,6 +53,7 @@ class VerifyReport:
     zones: tuple[ZoneSideCoverage, ...]
     gaps: tuple[Gap, ...]
     misplaced: tuple[tuple[str, str], ...]  # (station id, reason)
+    precision: str = "single"  # how the point error was judged: single view, combined views, or off
 
     @property
     def percent(self) -> float:
@@ -63,7 +66,7 @@ class VerifyReport:
 
     def to_dict(self) -> dict:
         return {
-            "spacing_m": self.spacing_m, "percent": self.percent, "complete": self.complete,
+            "spacing_m": self.spacing_m, "percent": self.percent, "complete": self.complete, "precision": self.precision,
             "zones": [{"zone": z.zone, "side": z.side, "points": z.points, "covered": z.covered, "percent": z.percent}
                       for z in self.zones],
             "gaps": [{"zone": g.zone, "side": g.side, "wall": g.wall, "from_m": g.from_m, "to_m": g.to_m} for g in self.gaps],
@@ -76,7 +79,8 @@ class VerifyReport:
         return summary_html(self, "Verification")
 
     def summary(self) -> str:
-        lines = [f"verification at {self.spacing_m:g} m: {self.percent:.3f} % covered"]
+        mode = " (combined precision)" if self.precision == "combined" else ""
+        lines = [f"verification at {self.spacing_m:g} m{mode}: {self.percent:.3f} % covered"]
         lines += [f"  {z.zone:<9}{z.side:<9}{z.covered:>8}/{z.points:<8}{z.percent:8.3f} %" for z in self.zones]
         if self.gaps:
             lines.append(f"uncovered stretches ({len(self.gaps)}):")
@@ -95,6 +99,11 @@ def verify_stations(site: Site, stations: Sequence[Candidate], limits: SightLimi
     pts = make_targets(site, spacing_m, points=True)
     cov = build_coverage(site, usable, pts, limits, step="verification")
     seen = np.diff(cov.by_target.indptr) > 0
+    rule = limits.precision
+    if rule is not None and rule.combined:  # views add information: seen is not enough
+        from planner.solve.combined import information, information_met
+
+        seen &= information_met(information(cov, rule), list(range(len(usable))))
     zones, gaps = [], []
     for zi, zid in enumerate(pts.zone_ids):
         for side in (0, 1):
@@ -105,7 +114,8 @@ def verify_stations(site: Site, stations: Sequence[Candidate], limits: SightLimi
             for wall in np.unique(pts.wall[mask]):
                 idx = np.flatnonzero(mask & (pts.wall == wall))
                 gaps += _runs(zid, SIDE_NAME[side], int(wall), pts.s0_m[idx], ~seen[idx])
-    return VerifyReport(spacing_m, tuple(zones), tuple(gaps), misplaced)
+    mode = "off" if rule is None else "combined" if rule.combined else "single"
+    return VerifyReport(spacing_m, tuple(zones), tuple(gaps), misplaced, mode)
 
 
 def _runs(zone: str, side: str, wall: int, s: np.ndarray, miss: np.ndarray) -> list[Gap]:

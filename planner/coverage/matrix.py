@@ -13,6 +13,8 @@ from numpy.typing import NDArray
 
 from planner import progress
 from planner.candidates.model import Candidate
+from planner.coverage.faces import keyed_parts, partner_stretches, trim_at_junctions
+from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import Blockers, SightLimits, geometric_pairs, sight_clear, wall_key
 from planner.site.model import SITE_FRAME, Site
@@ -32,8 +34,21 @@ ON_WALL_M = 1e-6
 def blockers_for(site: Site, frame: str) -> Blockers:
     """Walls of every zone in ``frame`` and, in the site frame, the obstacle edges."""
     a, b, key, verts = [], [], [], []
+    segments = opening_segments(site, frame)
+    partners = partner_stretches(site, frame)
     for zi, zone in enumerate(site.zones):
         if zone.frame != frame:
+            continue
+        if segments or partners:  # openings are gaps; shared faces swap keys (planner.coverage.faces)
+            pa, pb, pk = _solid_parts(site, zi, segments, partners)
+            if partners:
+                pa, pb, pk, pv = trim_at_junctions(site, zi, pa, pb, pk)
+            else:
+                pv = np.concatenate([pa, pb])
+            a.append(pa)
+            b.append(pb)
+            key.append(pk)
+            verts.append(pv)
             continue
         first = 1
         for xy in zone.rings:
@@ -53,6 +68,24 @@ def blockers_for(site: Site, frame: str) -> Blockers:
         z = np.zeros((0, 2))
         return Blockers(z, z, np.zeros(0, np.int64), z)
     return Blockers(np.concatenate(a), np.concatenate(b), np.concatenate(key), np.concatenate(verts))
+
+
+def _solid_parts(site: Site, zi: int, segments: list, partners: dict) -> tuple[NDArray, NDArray, NDArray]:
+    """Start points, end points and wall keys of the solid parts of zone ``zi``'s walls (a stretch shared
+    with another zone's face blocks under that face's key)."""
+    a, b, key = [], [], []
+    for w in site.zones[zi].walls:
+        start, end = np.asarray(w.start, float), np.asarray(w.end, float)
+        u = (end - start) / w.length_m
+        own = int(wall_key(zi, w.index))
+        for lo, hi in solid_intervals(w.length_m, wall_gaps(site, zi, w, segments)):
+            for s0, s1, k in keyed_parts(lo, hi, own, partners.get((zi, w.index), [])):
+                a.append(start + s0 * u)
+                b.append(start + s1 * u)
+                key.append(k)
+    if not a:
+        return np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0, np.int64)
+    return np.array(a), np.array(b), np.array(key, dtype=np.int64)
 
 
 def convex_alone(site: Site, frame: str) -> bool:
@@ -95,19 +128,23 @@ class ZoneSideBlockers:
         self.site, self.all = site, blockers_for(site, frame)
         self._lines = shapely.linestrings(np.stack([self.all.a, self.all.b], axis=1)) if len(self.all.a) else None
         self._cache: dict[int, Blockers] = {}
+        # zones with a gap in a wall: their own openings, or a neighbour's door through their shared wall
+        segments = opening_segments(site, frame)
+        self._open = {zi for zi, z in enumerate(site.zones) if z.frame == frame and segments
+                      and any(wall_gaps(site, zi, w, segments) for w in z.walls)}
 
     def of(self, zone_index: int, inside: bool) -> Blockers:
         key = 2 * zone_index + (0 if inside else 1)
         if key not in self._cache:
             zone = self.site.zones[zone_index]
-            if self._lines is None or getattr(zone, "openings", ()):
+            if self._lines is None or zone_index in self._open:
                 self._cache[key] = self.all
             else:
                 poly = zone.polygon
                 keep = (shapely.intersects(poly, self._lines) if inside
                         else ~shapely.contains_properly(poly, self._lines))
                 b = self.all
-                self._cache[key] = Blockers(b.a[keep], b.b[keep], b.key[keep], _vertices_of(b.a[keep], b.b[keep]))
+                self._cache[key] = Blockers(b.a[keep], b.b[keep], b.key[keep], _kept_vertices(b, keep))
         return self._cache[key]
 
     def clear(self, xy: NDArray[np.float64], targets: Targets, pc: NDArray[np.int64], pt: NDArray[np.int64]
@@ -125,11 +162,18 @@ class ZoneSideBlockers:
         return out
 
 
-def _vertices_of(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The distinct end points of segments (the blocker vertices of the triangle test)."""
-    if len(a) == 0:
+def _kept_vertices(b: Blockers, keep: NDArray[np.bool_]) -> NDArray[np.float64]:
+    """The blocker vertices of the triangle test that are end points of the kept segments.
+
+    Only vertices ``blockers_for`` gave are kept: at the junctions of placed zones it cuts wall ends back
+    and drops their vertices (:func:`planner.coverage.faces.trim_at_junctions`), and those cut ends must
+    not come back as vertices here.
+    """
+    if not keep.any() or len(b.vertices) == 0:
         return np.zeros((0, 2))
-    return np.unique(np.vstack([a, b]), axis=0)
+    ends = {tuple(p) for p in np.vstack([b.a[keep], b.b[keep]]).tolist()}
+    mask = np.array([tuple(p) in ends for p in b.vertices.tolist()], dtype=bool)
+    return np.unique(b.vertices[mask], axis=0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -143,10 +187,13 @@ class Places:
 def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -> Places:
     """Classify station positions: inside which zones, and forbidden ones with the reason.
 
-    Forbidden: on a wall line, inside an obstacle or a no-go area, or outside
-    the site boundary (the last three apply in the site frame).
+    Forbidden: on a wall line or closer to one than the site's stand-off
+    (``min_standoff_m``: a tripod needs room for its legs), inside an obstacle or
+    closer to its edge than the stand-off, inside a no-go area, or outside the site
+    boundary (obstacles, no-go areas and the boundary apply in the site frame).
     """
     n = len(xy)
+    standoff = site.parameters.min_standoff_m
     frames_arr = np.asarray(frames, dtype=object)
     inside = np.zeros((n, len(site.zones)), dtype=bool)
     reason = [""] * n
@@ -157,9 +204,18 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
             continue
         inside[:, zi] = same & shapely.contains_xy(zone.polygon, x, y)
         dist = shapely.distance(zone.polygon.boundary, shapely.points(xy[same]))
-        for k in np.flatnonzero(same)[dist <= ON_WALL_M]:
-            reason[k] = reason[k] or f"on a wall of zone {zone.id}"
+        for k, d in zip(np.flatnonzero(same), dist):
+            if d <= ON_WALL_M:
+                reason[k] = reason[k] or f"on a wall of zone {zone.id}"
+            elif d < standoff:
+                reason[k] = reason[k] or f"{d:.3f} m from a wall of zone {zone.id} (stand-off {standoff:g} m)"
     in_site = frames_arr == SITE_FRAME
+    if standoff > 0:
+        for ob in site.obstacles:
+            edge = shapely.Polygon(ob.vertices).boundary
+            dist = shapely.distance(edge, shapely.points(xy)) if n else np.zeros(0)
+            for k in np.flatnonzero(in_site & (dist < standoff)):
+                reason[k] = reason[k] or f"{dist[k]:.3f} m from obstacle {ob.name} (stand-off {standoff:g} m)"
     checks = [(ob.name, "inside obstacle", shapely.Polygon(ob.vertices)) for ob in site.obstacles]
     checks += [(ng.name, "in no-go area", shapely.Polygon(ng.vertices)) for ng in site.no_go_areas]
     for name, what, poly in checks:
@@ -170,6 +226,20 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
         for k in np.flatnonzero(in_site & ~shapely.intersects_xy(bnd, x, y)):
             reason[k] = reason[k] or "outside the site boundary"
     return Places(inside=inside, reason=tuple(reason))
+
+
+def _on_own_side(site: Site, cands: Sequence[Candidate], places: Places) -> Places:
+    """Also forbid a candidate that does not stand on its own zone-side (as verification does): with zones
+    placed in one frame, a point made for one room (a corner ray, say) may lie in another room, and would
+    otherwise cover that room's walls under the wrong zone's name. A candidate of no zone (``zone ''``:
+    a position priced over the plane, whose owner its coverage decides) is left alone."""
+    index = {z.id: i for i, z in enumerate(site.zones)}
+    reason = list(places.reason)
+    for k, c in enumerate(cands):
+        zi = index.get(c.zone)
+        if zi is not None and not reason[k] and bool(places.inside[k, zi]) != (c.side.value == "inside"):
+            reason[k] = f"not {c.side.value} zone {c.zone}"
+    return Places(places.inside, tuple(reason))
 
 
 @dataclass(frozen=True, eq=False)
@@ -216,7 +286,7 @@ def build_coverage(
     """
     cands = tuple(candidates)
     xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)
-    places = station_places(site, xy, [c.frame for c in cands])
+    places = _on_own_side(site, cands, station_places(site, xy, [c.frame for c in cands]))
     rows, cols, slant, inc = [], [], [], []
     cand_frame = np.array([c.frame for c in cands], dtype=object)
     usable = np.array([r == "" for r in places.reason], dtype=bool)

@@ -4,7 +4,10 @@ Two stations can be registered to each other when the wall length both of them
 cover is at least ``overlap`` of the smaller of their two covered lengths,
 optionally also at least ``min_shared_m`` metres and at most ``max_link_m``
 apart (cloud-to-cloud registration degrades beyond 30-70 m, seed 003).
-Stations are related only within one group (zone and side).
+Stations are related only within one group: a zone-side (``--registration zone``) or an
+accessible area of the site (``--registration site``). Within a site's area, stations of different
+zones are also related by ``links``: they see each other through an opening (see
+:mod:`planner.coverage.links` for why that, and not shared wall, is the measure across zones).
 """
 
 from __future__ import annotations
@@ -36,17 +39,24 @@ def piece_lengths(s0_m: NDArray[np.float64], s1_m: NDArray[np.float64]) -> NDArr
 def overlap_adjacency(
     by_candidate: sp.csr_matrix, lengths: NDArray[np.float64], rule: OverlapRule,
     groups: Sequence[Hashable] | None = None, xy: NDArray[np.float64] | None = None,
+    links: sp.spmatrix | None = None,
 ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """Symmetric C x C adjacency of the overlap relation, and the shared length (m) on the same pattern.
 
     One sparse product gives every pair's shared wall length; the rule is then
-    applied to all pairs at once.
+    applied to all pairs at once. ``links`` (C x C, symmetric): further related
+    pairs (seen through an opening), kept under the same group and distance rules.
     """
     a = by_candidate.astype(np.float64).tocsr()
     covered = np.asarray(a @ lengths).ravel()
     shared = (a @ sp.diags(lengths) @ a.T).tocoo()
     r, c, s = shared.row, shared.col, shared.data
     keep = (r != c) & (s > 0) & (s + 1e-9 >= rule.overlap * np.minimum(covered[r], covered[c])) & (s >= rule.min_shared_m)
+    if links is not None and links.nnz:
+        lk = sp.coo_matrix(links)
+        r, c = np.concatenate([r[keep], lk.row]), np.concatenate([c[keep], lk.col])
+        s = np.concatenate([s[keep], np.zeros(lk.nnz)])
+        keep = r != c
     if groups is not None:
         index: dict[Hashable, int] = {}
         gid = np.array([index.setdefault(g, len(index)) for g in groups])
@@ -56,17 +66,20 @@ def overlap_adjacency(
     n = a.shape[0]
     adj = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), (r[keep], c[keep])), shape=(n, n))
     share = sp.csr_matrix((s[keep], (r[keep], c[keep])), shape=(n, n))
+    adj.sum_duplicates()
+    adj.data[:] = True
+    share.sum_duplicates()
     return adj, share
 
 
 def overlap_graph(
     by_candidate: sp.csr_matrix, lengths: NDArray[np.float64], nodes: Sequence[int], rule: OverlapRule,
-    xy: NDArray[np.float64] | None = None,
+    xy: NDArray[np.float64] | None = None, links: sp.spmatrix | None = None,
 ) -> nx.Graph:
     """Graph on ``nodes`` (candidate indices) with an edge wherever two can be registered.
 
-    Edge attributes: ``shared_m`` (common covered wall length) and, with
-    ``xy``, ``length_m`` (distance between the stations).
+    Edge attributes: ``shared_m`` (common covered wall length; 0 for a link through an
+    opening, ``links`` being C x C over all candidates) and, with ``xy``, ``length_m``.
     """
     nodes = list(nodes)
     g = nx.Graph()
@@ -74,10 +87,12 @@ def overlap_graph(
     if len(nodes) < 2:
         return g
     sub_xy = None if xy is None else xy[nodes]
-    adj, share = overlap_adjacency(by_candidate[nodes], lengths, rule, xy=sub_xy)
-    coo = sp.triu(share, k=1).tocoo()
-    for i, j, s in zip(coo.row, coo.col, coo.data):
-        attrs = {"shared_m": float(s)}
+    sub_links = None if links is None else sp.csr_matrix(links)[nodes][:, nodes]
+    adj, share = overlap_adjacency(by_candidate[nodes], lengths, rule, xy=sub_xy, links=sub_links)
+    coo = sp.triu(adj, k=1).tocoo()
+    share = share.tocsr()
+    for i, j in zip(coo.row, coo.col):
+        attrs = {"shared_m": float(share[i, j])}
         if sub_xy is not None:
             attrs["length_m"] = float(np.hypot(*(sub_xy[i] - sub_xy[j])))
         g.add_edge(nodes[i], nodes[j], **attrs)

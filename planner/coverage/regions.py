@@ -12,7 +12,15 @@ R_t applies the rules of :mod:`planner.coverage.visibility` to a position instea
   as inscribed polygons (``DISC_SEGMENTS`` vertices on the circle);
 - sight: minus the shadow of every wall and obstacle edge near the piece, the set of positions p
   for which the edge meets the triangle p-a-b (the union, over points q of the edge, of the wedge of
-  rays from the piece through q).
+  rays from the piece through q);
+- the stand-off (``min_standoff_m``): minus a buffer of that width around every wall and obstacle
+  edge (polygons circumscribing the true buffer, so that the region stays inside);
+- the view error (single precision with an incidence model): at each end, the positions whose view
+  of that end has e(S, theta) <= sigma_req, a region star-shaped about the end, bounded by
+  rho(theta) = sqrt(S_lim(theta)^2 - dz^2) (:func:`planner.accuracy.max_slant_for_view_m`), drawn as
+  a polygon through ``PRECISION_SAMPLES`` points of that curve shrunk by its largest chord error
+  (horizontal incidence only; with 3-D incidence plans skip regions and pricing, see
+  :func:`regions_apply`).
 
 Every approximation is from the inside, so a point in R_t passes the coverage test (up to the test's
 own 1e-7 m sight tolerance); a position that passes the test but lies outside R_t is within
@@ -22,6 +30,7 @@ own 1e-7 m sight tolerance); a position that passes the test but lies outside R_
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -31,7 +40,9 @@ from numpy.typing import NDArray
 
 from planner.coverage.matrix import blockers_for, convex_alone
 from planner.coverage.targets import Targets
-from planner.coverage.visibility import EPS_FRONT_M, EPS_SHORTEN_M, EPS_SIGHT_M, Blockers, SightLimits, wall_key
+from planner.coverage.visibility import (
+    EPS_FRONT_M, EPS_SHORTEN_M, EPS_SIGHT_M, Blockers, PrecisionRule, SightLimits, wall_key,
+)
 from planner.site.model import SITE_FRAME, Site
 
 #: vertices of the polygon inscribed in each range disc
@@ -41,16 +52,40 @@ HYPERBOLA_SAGITTA_M = 1e-3
 #: the sight test blocks a line whose end, moved EPS_SHORTEN_M toward the station, lies within
 #: EPS_SIGHT_M of a wall line through the piece's end: a sliver of this half-angle
 GRAZE_DEG = math.degrees(math.asin(EPS_SIGHT_M / EPS_SHORTEN_M))
+#: grid of the snap-rounded overlay used when GEOS's floating overlay of the shadows fails (1 um)
+SNAP_GRID_M = 1e-6
 #: a station closer than this to a wall line stands nowhere (as in the coverage build)
 ON_WALL_M = 1e-6
+#: segments per quarter circle of the stand-off buffers
+STANDOFF_QUAD_SEGS = 16
+#: points of the precision boundary rho(theta) per end of a piece
+PRECISION_SAMPLES = 257
+#: the precision boundary's chord error may be up to this before it is sampled more finely (m)
+PRECISION_CHORD_M = 1e-3
 
 
-def region_tolerance_m(limits: SightLimits) -> float:
+def regions_apply(limits: SightLimits) -> bool:
+    """Whether R_t models the coverage test for ``limits``: not for the incidence-dependent view error
+    with 3-D incidence (along a ray from a piece's end the 3-D incidence falls while the range grows,
+    so that region is not drawn)."""
+    return not (limits.incidence_3d and limits.per_pair_precision)
+
+
+def _standoff_buffer_m(standoff_m: float) -> float:
+    """Buffer distance whose polygon (``STANDOFF_QUAD_SEGS``) circumscribes the stand-off circle."""
+    return standoff_m / math.cos(math.pi / (4 * STANDOFF_QUAD_SEGS))
+
+
+def region_tolerance_m(limits: SightLimits, standoff_m: float = 0.0) -> float:
     """How far outside R_t a covering position can lie: the sagitta of the largest inscribed disc
-    (r (1 - cos(pi / n))), plus the sight test's tolerances."""
+    (r (1 - cos(pi / n))), plus the sight test's tolerances, plus (with ``standoff_m``) the excess of
+    the circumscribed stand-off buffers and (with a per-view precision test) twice the precision
+    boundary's chord error."""
     r = limits.range_limit_m
     sag = r * (1.0 - math.cos(math.pi / DISC_SEGMENTS)) if math.isfinite(r) else 0.0
-    return sag + (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0) + 1e-5
+    extra = _standoff_buffer_m(standoff_m) - standoff_m if standoff_m > 0 else 0.0
+    extra += 2.0 * PRECISION_CHORD_M if limits.per_pair_precision else 0.0
+    return sag + (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0) + 1e-5 + extra
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,6 +127,10 @@ def frame_space(site: Site, frame: str, limits: SightLimits) -> FrameSpace:
         if site.boundary is not None:
             forbidden.append(box.difference(shapely.Polygon(site.boundary)))
     walls = [z.polygon.boundary for z in site.zones if z.frame == frame]
+    standoff = site.parameters.min_standoff_m
+    if standoff > 0:  # as station_places: no station closer than the stand-off to a wall or obstacle edge
+        edges = walls + ([shapely.Polygon(ob.vertices).boundary for ob in site.obstacles] if frame == SITE_FRAME else [])
+        forbidden.append(shapely.union_all(edges).buffer(_standoff_buffer_m(standoff), quad_segs=STANDOFF_QUAD_SEGS))
     forbidden.append(shapely.union_all(walls).buffer(ON_WALL_M, quad_segs=1))
     bad = shapely.union_all(forbidden)
     inside, outside = {}, {}
@@ -129,15 +168,22 @@ def _incidence_region(end: NDArray, tangent: NDArray, normal: NDArray, theta_deg
     return shapely.Polygon(np.vstack([pts, cap]))
 
 
+def _away(q: NDArray, x: NDArray) -> NDArray[np.float64]:
+    """Unit directions from x to q, zero where q is x up to rounding (an edge ending at a piece's end, whose
+    coordinates may differ in the last bit: the direction of a 1e-16 m vector is noise; _grazing covers it)."""
+    v = q - x
+    return np.where((np.hypot(v[..., 0], v[..., 1]) < 1e-6)[..., None], 0.0, _unit(v))
+
+
 def _shadows(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
     """Positions p from which edge q1-q2 (row-wise) meets the triangle p-a-b: shadow from a, from b,
     and the wedges of rays from the piece through each end of the edge."""
     out = []
     for x in (a, b):
-        d1, d2 = _unit(q1 - x), _unit(q2 - x)
+        d1, d2 = _away(q1, x), _away(q2, x)
         out += list(shapely.polygons(np.stack([q1, q2, q2 + far * d2, q1 + far * d1], axis=1)))
     for q in (q1, q2):
-        da, db = _unit(q - a), _unit(q - b)
+        da, db = _away(q, a), _away(q, b)
         out += list(shapely.polygons(np.stack([q, q + far * da, q + far * db], axis=1)))
     return [g for g in out if g.is_valid and g.area > 0]
 
@@ -193,6 +239,11 @@ def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpac
             reach = math.sqrt(s * s - dz * dz)
             parts.append(shapely.Point(end).buffer(reach, quad_segs=DISC_SEGMENTS // 4))
         parts.append(_incidence_region(end, tangent, n, limits.theta_max_deg, dz, limits.incidence_3d, 1.01 * reach))
+        if limits.per_pair_precision:
+            fan = _precision_region(end, tangent, n, dz, limits)
+            if fan.is_empty:
+                return fan
+            parts.append(fan)
     front = shapely.Polygon([a + EPS_FRONT_M * n - far * tangent, b + EPS_FRONT_M * n + far * tangent,
                              b + far * n + far * tangent, a + far * n - far * tangent])
     zi, inside = int(targets.zone[t]), int(targets.side[t]) == 0
@@ -213,5 +264,66 @@ def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpac
             shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
     region = k.intersection(stand)
     if shadows and not region.is_empty:
-        region = region.difference(shapely.union_all(shadows))
+        try:
+            region = region.difference(shapely.union_all(shadows))
+        except shapely.errors.GEOSException:  # near-coincident sliver edges (doors, junction cuts): snap-round
+            region = shapely.difference(region, shapely.union_all(shadows, grid_size=SNAP_GRID_M), grid_size=SNAP_GRID_M)
     return region
+
+
+def _precision_region(end: NDArray, tangent: NDArray, normal: NDArray, dz: float, limits: SightLimits) -> shapely.Geometry:
+    """Positions whose (horizontal-incidence) view of ``end`` has e(S, theta) <= sigma_req (see
+    :func:`_precision_profile`), as a polygon with its apex at ``end``."""
+    rule = limits.precision
+    a, r = _precision_profile(rule, round(dz, 9), limits.theta_max_deg)
+    if a.size == 0:
+        return shapely.Polygon()
+    pts = end + np.outer(r * np.cos(a), normal) + np.outer(r * np.sin(a), tangent)
+    fan = shapely.Polygon(np.vstack([end, pts]))
+    return fan if fan.is_valid else shapely.make_valid(fan)
+
+
+@lru_cache(maxsize=256)
+def _precision_profile(rule: PrecisionRule, dz: float, theta_max_deg: float) -> tuple[NDArray, NDArray]:
+    """The boundary rho(theta) = sqrt(S_lim(theta)^2 - dz^2) of the precision part of a region, theta from
+    the normal (radians) and rho (m), drawn inside the true curve.
+
+    theta runs to ``top``, the smaller of theta_max and the incidence at which not even S = dz meets
+    sigma_req; there rho falls like sqrt(top - theta), so theta is sampled as top (1 - (1 - u)^2) with u
+    uniform, on which rho is smooth, plus the table's angles (where rho has kinks). Each vertex is pulled in by the larger chord error (chord against
+    the curve's mid-parameter point, in metres) of its two sectors; samples double until that error is at most
+    ``PRECISION_CHORD_M``. Cached per (rule, dz, theta_max): pieces of equal height share it.
+    """
+    from planner.accuracy import IncidenceErrorTable, derive_theta_max_deg, max_slant_for_view_m
+
+    args = (rule.scanner, rule.budget, rule.sigma_req_m, rule.incidence_model)
+    top = min(theta_max_deg, derive_theta_max_deg(dz, *args))
+    if top <= 0.0:
+        return np.zeros(0), np.zeros(0)
+
+    def rho(th: NDArray) -> NDArray:
+        return np.sqrt(np.maximum(max_slant_for_view_m(np.abs(th), *args) ** 2 - dz * dz, 0.0))
+
+    kinks = [k for k in (IncidenceErrorTable().theta_deg if rule.incidence_model == "table" else ()) if 0.0 < k < top]
+    n = PRECISION_SAMPLES
+    while True:
+        u = np.linspace(-1.0, 1.0, n)
+        th = np.unique(np.concatenate([np.sign(u) * top * (1.0 - (1.0 - np.abs(u)) ** 2), kinks, np.negative(kinks)]))
+        th_m = (th[:-1] + th[1:]) / 2.0  # the table's kinks are sample points: between samples the curve is smooth
+        r, r_m = rho(th), rho(th_m)
+        p0, p1, pm = (np.column_stack([rr * np.cos(np.radians(tt)), rr * np.sin(np.radians(tt))])
+                      for tt, rr in ((th[:-1], r[:-1]), (th[1:], r[1:]), (th_m, r_m)))
+        err = _point_segment_m(pm, p0, p1)  # how far the curve strays from each chord
+        if err.max() <= PRECISION_CHORD_M or n > 64 * PRECISION_SAMPLES:  # (a cap; never reached in the tests)
+            break
+        n = 2 * n - 1
+    pull = np.maximum(np.concatenate([[0.0], err]), np.concatenate([err, [0.0]]))
+    return np.radians(th), np.maximum(r - pull, 0.0)
+
+
+def _point_segment_m(p: NDArray, a: NDArray, b: NDArray) -> NDArray[np.float64]:
+    """Distance of each point p from the segment a-b (row-wise)."""
+    ab, ap = b - a, p - a
+    L2 = np.einsum("ij,ij->i", ab, ab)
+    s = np.clip(np.einsum("ij,ij->i", ap, ab) / np.where(L2 > 0, L2, 1.0), 0.0, 1.0)
+    return np.hypot(*(ap - s[:, None] * ab).T)

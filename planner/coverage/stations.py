@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.accuracy import ErrorBudget, RangeAngleSigma, point_error
+from planner.accuracy import ErrorBudget, RangeAngleSigma, view_error_m
 from planner.candidates.model import Candidate
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import piece_lengths
@@ -85,6 +85,6 @@ def station_coverage(site: Site, stations: Sequence[Candidate], limits: SightLim
             continue
         slant = problem.slant_m.data[lo:hi]
         inc = problem.incidence_deg.data[lo:hi]
-        e = point_error(slant, inc, scanner, budget).e_m
+        e = view_error_m(slant, inc, scanner, budget, limits.precision.incidence_model if limits.precision else "none")
         stats.append(StationStats(s.id, float(lengths[cols].sum()), float(inc.max()), float(slant.max()), float(e.max())))
     return StationCoverage(st, problem, count, best, tuple(stats))

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
 from planner.site.model import ScanSide, Site
 
 SIDE_CODE = {ScanSide.INSIDE: 0, ScanSide.OUTSIDE: 1}
@@ -58,8 +59,25 @@ class Targets:
         return float(m[0]), float(m[1])
 
 
+def _cuts(length_m: float, gaps: list[tuple[float, float]], spacing_m: float, points: bool
+          ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Piece ends (fractions of the wall) over the solid parts of a wall: each part cut into equal pieces."""
+    t0, t1 = [], []
+    for lo, hi in solid_intervals(length_m, gaps):
+        m = max(1, math.ceil((hi - lo) / spacing_m - 1e-9))
+        cuts = np.linspace(lo, hi, m + 1) / length_m
+        t0.append(cuts if points else cuts[:-1])
+        t1.append(cuts if points else cuts[1:])
+    if not t0:
+        return np.zeros(0), np.zeros(0)
+    return np.concatenate(t0), np.concatenate(t1)
+
+
 def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
     """Cut every scanned wall face into equal pieces no longer than ``spacing_m``.
+
+    Openings are gaps: each solid part of a wall between openings is cut on its own, and no piece
+    lies in an opening (see :mod:`planner.coverage.openings`).
 
     With ``points=True`` the result holds the pieces' end points instead (each
     a zero-length piece), the fine sampling used by verification.
@@ -68,12 +86,11 @@ def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
         raise ValueError(f"target spacing must be > 0, got {spacing_m}")
     frames = tuple(dict.fromkeys(z.frame for z in site.zones))
     cols: dict[str, list] = {k: [] for k in ("zone", "side", "wall", "s0", "s1", "a", "b", "ha", "hb", "normal", "frame")}
+    openings = {f: opening_segments(site, f) for f in frames}
     for zi, zone in enumerate(site.zones):
         for wall in zone.walls:
             length = wall.length_m
-            m = max(1, math.ceil(length / spacing_m - 1e-9))
-            cuts = np.linspace(0.0, 1.0, m + 1)
-            t0, t1 = (cuts, cuts) if points else (cuts[:-1], cuts[1:])
+            t0, t1 = _cuts(length, wall_gaps(site, zi, wall, openings[zone.frame]), spacing_m, points)
             start, end = np.asarray(wall.start), np.asarray(wall.end)
             tangent = (end - start) / length
             left = np.array([-tangent[1], tangent[0]])

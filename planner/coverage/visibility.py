@@ -26,6 +26,8 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.accuracy import ErrorBudget, RangeAngleSigma, precision_ok
+
 EPS_FRONT_M = 1e-6
 EPS_RANGE_M = 1e-6
 EPS_ANGLE_DEG = 1e-7
@@ -33,16 +35,43 @@ EPS_SIGHT_M = 1e-7
 EPS_SHORTEN_M = 1e-5
 
 
+@dataclass(frozen=True, eq=False)
+class PrecisionRule:
+    """How a view's point error is judged: e(S, theta) of :func:`planner.accuracy.view_error_m`.
+
+    ``combined``: views add information (sum (sigma_req / e_j)^2 >= 1), so no single view is
+    refused for precision; verification and the network check judge the sum.
+    """
+
+    scanner: RangeAngleSigma
+    budget: ErrorBudget
+    sigma_req_m: float
+    incidence_model: str = "none"
+    combined: bool = False
+
+
 @dataclass(frozen=True)
 class SightLimits:
     """The limits a pair must meet; ``precision_range_m`` is the range at which the
-    predicted point error reaches the required accuracy (None: no precision model)."""
+    predicted point error reaches the required accuracy at normal incidence (None: no
+    precision model). ``precision``, when its incidence model is not ``none`` and the mode
+    is single, also refuses each pair for which the view of either end of the piece, at that
+    end's slant range (to the farther of top and foot) and incidence, has e(S, theta) > sigma_req.
+    e grows with the distance along the wall from the foot of the perpendicular, so the worst
+    point of a piece is one of its ends and this is the piece's worst view."""
 
     max_slant_range_m: float
     theta_max_deg: float
     instrument_height_m: float = 0.0
     incidence_3d: bool = False
     precision_range_m: float | None = None
+    precision: PrecisionRule | None = None
+
+    @property
+    def per_pair_precision(self) -> bool:
+        """True when each pair is also tested with the incidence-dependent view error."""
+        p = self.precision
+        return p is not None and not p.combined and p.incidence_model != "none" and self.precision_range_m is not None
 
     @property
     def range_limit_m(self) -> float:
@@ -120,12 +149,24 @@ def geometric_pairs(
         side_ok = cand_inside[c0:c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
         ok = side_ok & (d > EPS_FRONT_M) & (slant <= s_lim) & (cos_i >= cos_max)
         k, t = np.nonzero(ok)
+        inc = np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0)))
+        if limits.per_pair_precision:  # e(S, theta) at each end: the piece's worst point is one of its ends
+            hd = (hd_a[k, t], hd_b[k, t]) if not limits.incidence_3d else (sa[k, t], sb[k, t])
+            keep = _end_precision(sa[k, t], d[k, t] / np.maximum(hd[0], 1e-300), limits.precision)
+            keep &= _end_precision(sb[k, t], d[k, t] / np.maximum(hd[1], 1e-300), limits.precision)
+            k, t, inc = k[keep], t[keep], inc[keep]
         out_c.append(k + c0)
         out_t.append(near[t])
         out_s.append(slant[k, t])
-        out_i.append(np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0))))
+        out_i.append(inc)
     cat = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
+
+
+def _end_precision(slant: NDArray, cos_i: NDArray, rule: PrecisionRule) -> NDArray[np.bool_]:
+    """e(S, theta) <= sigma_req for the view of one end of each piece (slant range, cosine of its incidence)."""
+    inc = np.degrees(np.arccos(np.clip(cos_i, -1.0, 1.0)))
+    return precision_ok(slant, inc, rule.scanner, rule.budget, rule.sigma_req_m, rule.incidence_model)
 
 
 def _signed(p: NDArray, q: NDArray, r: NDArray) -> NDArray:

@@ -1,8 +1,10 @@
 """The accuracy check of a plan: station network, a priori adjustment, point errors of every wall piece.
 
 For every target the plan covers, e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 +
-sigma_meas^2) (2.13) with sigma_0 now the station's adjusted position error,
-from the best station seeing it; it must stay within sigma_req (or the
+sigma_meas(S, theta)^2) (2.13, with the site's incidence model, see
+:func:`planner.accuracy.view_error_m`) with sigma_0 now the station's adjusted
+position error; in single precision the best station seeing it, in combined
+precision all of them (1/e^2 = sum 1/e_j^2), must stay within sigma_req (or the
 drawing scale's tolerance, table 1.1).
 """
 
@@ -16,10 +18,9 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
-from planner.accuracy import sigma_meas_m
+from planner.accuracy import ErrorBudget, combined_error_m, view_error_m
 from planner.candidates.model import Candidate
 from planner.coverage.matrix import build_coverage
-from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.errors import InputError
 from planner.instruments import TotalStation, load_instrument
@@ -27,6 +28,7 @@ from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
+from planner.network.survey import SurveyNetwork, registration_links, survey_network
 from planner.site.model import ControlPoint, Site
 from planner.validate import validate_site
 
@@ -50,6 +52,7 @@ class NetworkReport:
     monte_carlo: tuple[MonteCarlo, ...] = field(default=())
     notes: tuple[str, ...] = ()
     sigma_h: dict[str, float] = field(default_factory=dict)  # height error per station, where heights are given
+    survey: SurveyNetwork | None = None  # the network as a scanner survey: registration links, ties, chain accuracy
 
     @property
     def network_rms_m(self) -> float:
@@ -83,6 +86,7 @@ class NetworkReport:
             "notes": list(self.notes),
             "monte_carlo": [{"runs": m.runs, "rms_m": m.rms, "spread_m": m.spread} for m in self.monte_carlo],
             "accuracy_check": self.check,
+            "survey": None if self.survey is None else self.survey.to_dict(),
         }
 
     def _repr_html_(self) -> str:
@@ -103,12 +107,14 @@ class NetworkReport:
         lines += [f"  note: {n}" for n in self.notes]
         for m in self.monte_carlo:
             lines.append(f"Monte Carlo ({m.runs} runs): mean station RMS {m.mean_rms * 1000:.2f} mm")
-        lines.append(f"accuracy check at {c['sigma_req_m'] * 1000:g} mm: {'PASS' if c['pass'] else 'FAIL'} "
+        lines.append(f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
                      f"({c['failing_targets']} of {c['targets']} pieces fail; worst e {c['worst_e_m'] * 1000:.2f} mm)")
         for z in c["zones"]:
             worst = "untied station" if not math.isfinite(z["worst_e_m"]) else f"{z['worst_e_m'] * 1000:.2f} mm"
             lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst}")
         lines += [f"  fix: {s}" for s in c["suggestions"]]
+        if self.survey is not None:
+            lines += self.survey.lines()
         return "\n".join(lines)
 
 
@@ -167,26 +173,27 @@ def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[Contro
 
 def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str = "topcon-os-105",
                 control: Sequence[ControlPoint] | None = None, monte_carlo_runs: int = 0, seed: int = 0,
-                target_spacing_m: float = 1.0) -> NetworkReport:
-    """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece."""
+                target_spacing_m: float = 1.0, registration: str | None = None,
+                precision: str = "single") -> NetworkReport:
+    """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece.
+
+    ``registration``: ``zone`` or ``site`` (default :func:`planner.coverage.links.default_registration`);
+    the report also holds the network as a scanner survey (:mod:`planner.network.survey`).
+    ``precision``: ``single`` judges each piece by its best view, ``combined`` by all its views.
+    """
     ts = load_instrument(total_station)
     if not isinstance(ts, TotalStation):
         raise InputError("is not a total station", field="total_station", value=total_station)
     validation = validate_site(site)
     from planner.plan import sight_limits
 
-    limits = sight_limits(validation, False, True)
+    if precision not in ("single", "combined"):
+        raise InputError("must be single or combined", field="precision", value=precision)
+    limits = sight_limits(validation, False, True, precision == "combined")
     targets = make_targets(site, target_spacing_m)
     problem = build_coverage(site, stations, targets, limits)
-    rule = OverlapRule(site.parameters.overlap)
-    lengths = piece_lengths(targets.s0_m, targets.s1_m)
-    links = []
-    groups: dict[tuple[str, str], list[int]] = {}
-    for i, s in enumerate(stations):
-        groups.setdefault((s.zone, s.side.value), []).append(i)
-    for nodes in groups.values():
-        og = overlap_graph(problem.by_candidate, lengths, nodes, rule)
-        links += [(stations[u].id, stations[v].id) for u, v in og.edges()]
+    # registration links within each zone-side, or across the site's accessible areas (through openings)
+    links = registration_links(site, stations, registration, problem)
     ts_range = ts.max_range_prism_m or 1000.0
     g = station_network(site, stations, list(control or site.control_points), links, ts_range)
     ctrl = list(control or site.control_points)
@@ -214,29 +221,37 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
         if monte_carlo_runs:
             mcs.append(monte_carlo(names, comp_fixed, comp_obs, runs=monte_carlo_runs, seed=seed, angle_unit="deg"))
     sigma_h = _heights(g, ts, ctrl, notes)
-    check = accuracy_check(site, stations, problem, sigma, validation.scanner)
-    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes), sigma_h)
+    check = accuracy_check(site, stations, problem, sigma, validation.scanner, precision == "combined")
+    survey = survey_network(site, stations, registration, links)
+    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes),
+                         sigma_h, survey)
 
 
-def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any) -> dict[str, Any]:
-    """Point error of every covered piece from its best station, against sigma_req (see module docstring)."""
+def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any,
+                   combined: bool = False) -> dict[str, Any]:
+    """Point error of every covered piece from its best station (or all its stations combined), against
+    sigma_req (see module docstring)."""
     p = site.parameters
     b = p.budget
     bt = problem.slant_m.T.tocsr()
     inc = problem.incidence_deg.T.tocsr()
     t = problem.targets
+    # the view error without the station term, for every pair at once; the station's own sigma_0 is added below
+    rest = ErrorBudget(0.0, b.centring_m, b.graphical_m)
+    e_view = view_error_m(bt.data, inc.data, scanner, rest, p.incidence_model)
+    s0_all = np.array([sigma.get(s.id, np.inf) for s in stations] or [0.0])
     e_best = np.full(len(t), np.inf)
     who = np.full(len(t), -1)
     theta = np.full(len(t), np.nan)
     for k in range(len(t)):
-        cols = bt.indices[bt.indptr[k]:bt.indptr[k + 1]]
-        if cols.size == 0:
+        lo, hi = bt.indptr[k], bt.indptr[k + 1]
+        if hi == lo:
             continue
-        s0 = np.array([sigma.get(stations[c].id, np.inf) for c in cols])
-        e = np.sqrt(s0**2 + b.centring_m**2 + b.graphical_m**2 + sigma_meas_m(bt.data[bt.indptr[k]:bt.indptr[k + 1]], scanner) ** 2)
+        cols = bt.indices[lo:hi]
+        e = np.sqrt(s0_all[cols] ** 2 + e_view[lo:hi] ** 2)
         j = int(np.argmin(e))
-        e_best[k], who[k] = e[j], cols[j]
-        theta[k] = inc.data[inc.indptr[k] + j]
+        e_best[k], who[k] = (combined_error_m(e) if combined else e[j]), cols[j]
+        theta[k] = inc.data[lo + j]
     covered = who >= 0
     fail = covered & (e_best > p.sigma_req_m)
     zones = []
@@ -258,6 +273,7 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
             suggestions.append(f"targets of station {sid} are measured too far: add a station closer to them")
     finite = e_best[covered & np.isfinite(e_best)]
     return {"sigma_req_m": p.sigma_req_m, "drawing_scale": p.drawing_scale, "targets": int(covered.sum()),
+            "precision": "combined" if combined else "single", "incidence_model": p.incidence_model,
             "failing_targets": int(fail.sum()), "pass": not bool(fail.any()),
             "worst_e_m": float(finite.max()) if finite.size else float("inf"), "zones": zones,
             "failing_stations": bad_st, "failing_target_ids": [t.label(i) for i in np.flatnonzero(fail)[:50]],

@@ -55,7 +55,9 @@ def propose_control(site: Site, stations: Sequence[Candidate], graph: nx.Graph,
                     notes: list[str] | None = None) -> list[ControlPoint]:
     """Three control points per connected part of the station graph: spots 6, 4 or 3 m from its
     stations (8 directions) where a station of that zone could stand and which see that station; of these
-    the three spanning the largest triangle, each pair more than 5 m apart. Marked as proposed."""
+    the three spanning the largest triangle, each pair more than 5 m apart. Marked as proposed.
+    A spot closer than the site's stand-off (``min_standoff_m``) to a wall or obstacle is no spot:
+    :func:`misplacement` refuses it, as it refuses a station there."""
     out: list[ControlPoint] = []
     by_id = {s.id: s for s in stations}
     for k, comp in enumerate(nx.connected_components(graph.subgraph([s.id for s in stations]))):

@@ -19,9 +19,11 @@ from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, Sca
 from planner.site.table_csv import NUMBER_COLUMNS, read_table_csv
 from planner.site.tables import SIDE_FIELDS, VERTEX_FIELDS, zone_from_table
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable
+from planner.site.zone_extras import place_and_open
 
 TOP_KEYS = {"format", "name", "description", "source", "instrument", "parameters", "closure_tolerance",
-            "zones", "obstacles", "no_go", "boundary", "control_points", "corrections", "accepted_misclosures"}
+            "zones", "obstacles", "no_go", "boundary", "control_points", "corrections", "accepted_misclosures",
+            "placements", "openings", "assembly"}
 FORMAT = "tls-planner/1"
 
 
@@ -97,6 +99,7 @@ def load_instance_json(path: Path | str) -> Site:
         accepted = tuple(_accepted(r, a, k) for k, a in enumerate(r.items(data, "accepted_misclosures"), 1))
         zones = _zones(r, r.items(data, "zones"), tolerance, corrections, accepted)
         _check_references(r, zones, corrections, accepted)
+        zones = place_and_open(r, zones, data.get("placements", {}), r.items(data, "openings"))
         return Site(
             name=data.get("name", r.path.stem),
             zones=zones,
@@ -116,7 +119,7 @@ def load_instance_json(path: Path | str) -> Site:
 
 PARAM_KEYS = {"theta_max_deg", "overlap", "sigma_req_m", "sigma_req_mm", "drawing_scale", "sigma_0_m", "sigma_0_mm",
               "centring_m", "centring_mm", "graphical_m", "graphical_mm", "instrument_height_m",
-              "max_slant_range_m"}
+              "max_slant_range_m", "incidence_model", "min_standoff_m", "instrument_height_span_m"}
 
 
 def _parameters(r: _Reader, raw: Any) -> Parameters:
@@ -130,8 +133,14 @@ def _parameters(r: _Reader, raw: Any) -> Parameters:
     sigma_req = r.length(d, "sigma_req", None)
     if sigma_req is not None and d.get("drawing_scale") is not None:
         raise r.fail("give sigma_req or drawing_scale, not both", field="drawing_scale", value=d["drawing_scale"])
+    derive = d.get("theta_max_deg", 0) in (None, "derive")  # theta_max follows from sigma_req
     params = Parameters(
-        theta_max_deg=r.num(d, "theta_max_deg") if "theta_max_deg" in d else base.theta_max_deg,
+        theta_max_deg=r.num(d, "theta_max_deg") if "theta_max_deg" in d and not derive else base.theta_max_deg,
+        derive_theta_max=derive,
+        incidence_model=str(d.get("incidence_model", base.incidence_model)),
+        min_standoff_m=r.num(d, "min_standoff_m") if "min_standoff_m" in d else base.min_standoff_m,
+        instrument_height_span_m=(r.num(d, "instrument_height_span_m") if "instrument_height_span_m" in d
+                                  else base.instrument_height_span_m),
         overlap=r.num(d, "overlap") if "overlap" in d else base.overlap,
         sigma_req_m=sigma_req if sigma_req is not None else base.sigma_req_m,
         budget=budget,

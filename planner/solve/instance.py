@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.accuracy import ErrorBudget, point_error
+from planner.accuracy import ErrorBudget, view_error_m
 from planner.coverage.matrix import CoverageProblem
 from planner.instruments import Scanner
 
@@ -29,6 +29,8 @@ class CoverInstance:
     ``target_length_m``: wall length of each target (overlap is measured in
     metres of wall). ``xy``: candidate positions (for ``max_link_m``).
     ``info``: C x T weights (sigma_req / sigma_tj)^2 of the combined precision mode.
+    ``links``: C x C symmetric pairs related besides shared wall (seen through an opening);
+    ``groups`` are then accessible areas of the site (``--registration site``).
     """
 
     by_candidate: sp.csr_matrix
@@ -39,6 +41,7 @@ class CoverInstance:
     xy: NDArray[np.float64] | None = None
     info: sp.csr_matrix | None = None
     candidate_ids: tuple[str, ...] | None = None
+    links: sp.csr_matrix | None = None
 
     def __post_init__(self) -> None:
         c, t = self.by_candidate.shape
@@ -66,17 +69,22 @@ class CoverInstance:
 def cover_instance(
     problem: CoverageProblem, *, scanner: Scanner | None = None, budget: ErrorBudget | None = None,
     sigma_req_m: float | None = None, cost: Sequence[float] | None = None, name: str = "",
+    groups: Sequence[Hashable] | None = None, links: sp.csr_matrix | None = None,
+    incidence_model: str = "none",
 ) -> CoverInstance:
     """The solver's view of a site's coverage problem.
 
     With ``scanner``, ``budget`` and ``sigma_req_m`` the combined-precision
     weights are filled in: sigma_tj is the point error e of (2.13) at the
-    largest slant range over piece t from candidate j.
+    largest slant range and incidence over piece t from candidate j (e(S, theta) of
+    :func:`planner.accuracy.view_error_m` with ``incidence_model``). ``groups`` (default:
+    zone and side of each candidate) and ``links``: see
+    :func:`planner.coverage.links.registration_groups`.
     """
     info = None
     if scanner is not None and budget is not None and sigma_req_m is not None:
         slant = problem.slant_m.tocsr()
-        e = point_error(slant.data, np.zeros_like(slant.data), scanner, budget).e_m
+        e = view_error_m(slant.data, problem.incidence_deg.tocsr().data, scanner, budget, incidence_model)
         info = sp.csr_matrix(((sigma_req_m / e) ** 2, slant.indices, slant.indptr), shape=slant.shape)
     cands = problem.candidates
     t = problem.targets
@@ -84,9 +92,10 @@ def cover_instance(
         by_candidate=problem.by_candidate.astype(bool).tocsr(),
         cost=np.ones(len(cands)) if cost is None else np.asarray(cost, dtype=float),
         name=name,
-        groups=tuple((c.zone, c.side.value) for c in cands),
+        groups=tuple(groups) if groups is not None else tuple((c.zone, c.side.value) for c in cands),
         target_length_m=np.asarray(t.s1_m - t.s0_m, dtype=float),
         xy=np.array([c.xy for c in cands], dtype=float).reshape(-1, 2),
         info=info,
         candidate_ids=tuple(c.id for c in cands),
+        links=links,
     )

@@ -97,7 +97,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     adj = None
     if connect:
         lengths = instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
-        adj, _ = overlap_adjacency(a, lengths, o.overlap, instance.groups, instance.xy)
+        adj, _ = overlap_adjacency(a, lengths, o.overlap, instance.groups, instance.xy, instance.links)
     report = _presolve(instance, a, adj, o)
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)

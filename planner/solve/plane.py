@@ -104,6 +104,7 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
                 spaces: dict[str, FrameSpace] | None = None) -> tuple[CoverageProblem, PricingReport]:
     """Add priced columns to ``problem`` until none prices out (scope ``plane``) or a limit stops it."""
     start = time.perf_counter()
+    tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
     cache = {} if cache is None else cache
     spaces = {} if spaces is None else spaces
     t = problem.targets
@@ -141,7 +142,7 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
         good = np.flatnonzero(gain > 1.0 + PRICE_EPS)
         if good.size == 0:
             note = (f"{len(faces)} faces price out by their regions but none by the coverage test "
-                    f"(within the {region_tolerance_m(limits):.4f} m tolerance)")
+                    f"(within the {tol:.4f} m tolerance)")
             break
         keep = sub.by_candidate[good]
         owners = [_owner(sub, int(g)) for g in good]
@@ -150,7 +151,7 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
         piece = CoverageProblem(cands, t, keep, keep.T.tocsr(), sub.slant_m[good], sub.incidence_deg[good], {}, sub.limits)
         problem = merge_problems(problem, piece)
         added += len(cands)
-    report = PricingReport(scope, history[-1], farley, rounds, added, time.perf_counter() - start, region_tolerance_m(limits),
+    report = PricingReport(scope, history[-1], farley, rounds, added, time.perf_counter() - start, tol,
                            note, tuple(history), tuple(plane_history))
     return problem, report
 

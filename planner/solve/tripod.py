@@ -10,10 +10,19 @@ every point q of the disc {p + u : |u| <= r}:
 - incidence: |q - e| cos(theta_max) <= (q - e) . n                  (horizontal incidence)
 
 Their worst cases over the disc, |p - e| + r <= R_e and
-(|p - e| + r) cos(theta_max) + r <= (p - e) . n, are second-order cone
-constraints in (p, r); cvxpy (Clarabel) maximises r. Sight lines are not
-convex: the disc is then checked on its centre and 16 points of its rim with
-the full coverage test and halved until nothing is lost.
+(|p - e| + r) cos(theta_max) + r <= (p - e) . n. By default the disc is centred on
+the planned station p0, so every disc contains its station and r has a closed form:
+r = min_e min(R_e - |p0 - e|, ((p0 - e) . n - |p0 - e| cos theta_max) / (1 + cos theta_max)).
+With ``recentre`` the centre p is free (the station then moves to it): the constraints
+are second-order cone constraints in (p, r) and cvxpy (Clarabel) maximises r.
+Sight lines, the stand-off and the incidence-dependent view error are not in that
+model: the disc is then checked on its centre and 16 points of its rim with the full
+coverage test on the relied pieces only, and shrunk about the planned station (so it
+keeps containing it) until nothing is lost; below ``MIN_RADIUS_M`` the radius is 0.
+
+Each disc also carries the station's instrument-height tolerance (3.32): the radius of
+the tolerance circle when the tripod stands between IH and IH + span, for the tallest
+relied wall top h at the slant range limit SD.
 """
 
 from __future__ import annotations
@@ -29,18 +38,25 @@ from planner.candidates.model import Candidate
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
+from planner.params import Parameters
 from planner.site.model import Site
 
 RIM_POINTS = 16
 MAX_RADIUS_M = 25.0
+#: resolution of the disc radius: a smaller disc is reported as 0 (the station must stand where planned)
+MIN_RADIUS_M = 0.05
 
 
 @dataclass(frozen=True)
 class TripodDisc:
+    """Where station ``station`` may stand: a disc of ``radius_m`` around ``centre`` (which contains the
+    planned station), the number of pieces it was kept for, and its height tolerance (3.32)."""
+
     station: str
     radius_m: float
     centre: tuple[float, float]
     relied_targets: int
+    height_tolerance_m: float = float("nan")
 
 
 def relied_targets(problem: CoverageProblem, selected: Sequence[int], partners: dict[int, list[int]] | None = None) -> dict[int, np.ndarray]:
@@ -67,6 +83,19 @@ def relied_targets(problem: CoverageProblem, selected: Sequence[int], partners: 
             keep |= set(np.intersect1d(mine, problem.by_candidate[p].indices).tolist())
         owner[j] = np.array(sorted(keep), dtype=np.int64)
     return owner
+
+
+def _centred_radius(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray,
+                    theta_max_deg: float) -> float:
+    """Largest r of the disc centred on p0 (closed form of the module docstring's constraints)."""
+    if len(ends) == 0:
+        return MAX_RADIUS_M
+    c = math.cos(math.radians(theta_max_deg))
+    v = p0[None, :] - ends
+    dist = np.hypot(v[:, 0], v[:, 1])
+    r_range = reach - dist
+    r_inc = (np.einsum("ij,ij->i", v, normals) - dist * c) / (1.0 + c)
+    return float(min(MAX_RADIUS_M, max(0.0, min(r_range.min(), r_inc.min()))))
 
 
 def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray, theta_max_deg: float) -> tuple[np.ndarray, float]:
@@ -98,42 +127,66 @@ def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.
 
 
 def tripod_discs(site: Site, problem: CoverageProblem, selected: Sequence[int], limits: SightLimits,
-                 partners: dict[int, list[int]] | None = None) -> list[TripodDisc]:
-    """The largest safe disc of every chosen station (see the module docstring)."""
+                 partners: dict[int, list[int]] | None = None, recentre: bool = False) -> list[TripodDisc]:
+    """The largest safe disc of every chosen station (see the module docstring): centred on the station,
+    or anywhere containing it with ``recentre``."""
+    from planner.accuracy import instrument_height_tolerance_m
+
     t: Targets = problem.targets
     relied = relied_targets(problem, selected, partners)
+    ih = limits.instrument_height_m
+    span = site.parameters.instrument_height_span_m
     out = []
     for j in selected:
         cand = problem.candidates[j]
         ts = relied[j]
+        p0 = np.array(cand.xy, dtype=float)
         ends = np.vstack([t.a[ts], t.b[ts]]) if ts.size else np.zeros((0, 2))
         heights = np.concatenate([t.ha_m[ts], t.hb_m[ts]]) if ts.size else np.zeros(0)
         normals = np.vstack([t.normal[ts], t.normal[ts]]) if ts.size else np.zeros((0, 2))
-        dz = np.maximum(np.abs(heights - limits.instrument_height_m), limits.instrument_height_m)
+        dz = np.maximum(np.abs(heights - ih), ih)
         reach = np.sqrt(np.maximum(limits.range_limit_m**2 - dz**2, 0.0))
-        centre, radius = _socp_disc(np.array(cand.xy), ends, normals, reach, limits.theta_max_deg)
-        radius = _shrink_until_safe(site, cand, centre, radius, t, ts, limits)
-        if radius <= 0.0:
-            centre = np.array(cand.xy)
-        out.append(TripodDisc(cand.id, radius, (float(centre[0]), float(centre[1])), int(ts.size)))
+        if recentre:
+            centre, radius = _socp_disc(p0, ends, normals, reach, limits.theta_max_deg)
+        else:
+            centre, radius = p0, _centred_radius(p0, ends, normals, reach, limits.theta_max_deg)
+        centre, radius = _shrink_until_safe(site, cand, p0, centre, radius, _subset(t, ts), limits)
+        tol = float("nan")
+        if heights.size and limits.range_limit_m > abs(float(heights.max()) - ih) + span:
+            tol = abs(instrument_height_tolerance_m(float(heights.max()), limits.range_limit_m, ih, ih + span))
+        out.append(TripodDisc(cand.id, radius, (float(centre[0]), float(centre[1])), int(ts.size), tol))
     return out
 
 
-def _shrink_until_safe(site: Site, cand: Candidate, centre: np.ndarray, radius: float, t: Targets, ts: np.ndarray,
-                       limits: SightLimits) -> float:
+def _subset(t: Targets, ts: np.ndarray) -> Targets:
+    """The pieces ``ts`` of ``t`` as a Targets of their own (the rim test builds coverage on these only)."""
+    arrays = ("zone", "side", "wall", "s0_m", "s1_m", "a", "b", "ha_m", "hb_m", "normal", "frame")
+    return replace(t, **{name: getattr(t, name)[ts] for name in arrays})
+
+
+def _shrink_until_safe(site: Site, cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float, t: Targets,
+                       limits: SightLimits) -> tuple[np.ndarray, float]:
+    """Check the disc on its centre and rim; halve it about the planned station p0 until it is safe.
+    Returns (centre, radius), (p0, 0) when no disc of at least ``MIN_RADIUS_M`` is."""
     from planner.candidates.final_step import misplacement
 
     angles = np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False)
-    for _ in range(30):
-        if radius < 1e-3:
-            return 0.0
-        pts = np.vstack([centre, centre + radius * np.stack([np.cos(angles), np.sin(angles)], axis=1)])
+    rim = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    while radius >= MIN_RADIUS_M:
+        pts = np.vstack([centre, p0, centre + radius * rim])
         probes = [replace(cand, id=f"{cand.id}#{k}", x=float(x), y=float(y)) for k, (x, y) in enumerate(pts)]
         ok = all(not misplacement(site, p, p.x, p.y) for p in probes)
-        if ok and ts.size:
-            sub = build_coverage(site, probes, t, limits).by_candidate[:, ts]
-            ok = bool(np.all(np.diff(sub.tocsr().indptr) == ts.size))
+        if ok and len(t):
+            sub = build_coverage(site, probes, t, limits).by_candidate
+            ok = bool(np.all(np.diff(sub.tocsr().indptr) == len(t)))
         if ok:
-            return radius
-        radius /= 2.0
-    return 0.0
+            return centre, radius
+        centre, radius = p0 + (centre - p0) / 2.0, radius / 2.0
+    return p0, 0.0
+
+
+def tripod_heights_line(discs: Sequence[TripodDisc], params: "Parameters") -> str:
+    """One summary line: each station's instrument-height tolerance (3.32) in metres."""
+    ih, span = params.instrument_height_m, params.instrument_height_span_m
+    cells = ", ".join(f"{d.station} {d.height_tolerance_m:.3f}" for d in discs)
+    return f"instrument-height tolerance (3.32, IH {ih:g}..{ih + span:g} m), m per station: {cells}"

@@ -45,7 +45,7 @@ def test_region_agrees_with_the_coverage_test(name: str, incidence_3d: bool) -> 
     cands = [Candidate(f"p{i}", zone.id, zone.scan_side.sides[0], zone.frame, float(x), float(y), CandidateKind.GRID)
              for i, (x, y) in enumerate(pts)]
     covered = build_coverage(site, cands, targets, limits).by_target
-    tol = region_tolerance_m(limits)
+    tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
     points = shapely.points(pts)
     seen_inside = 0
     for t in range(len(targets)):

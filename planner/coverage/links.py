@@ -1,0 +1,103 @@
+"""Registration links through openings: two stations that see each other through a door, gate or window.
+
+Across two zones (a room and the next room, a room and the ground outside) scans share almost no
+surface: each station's targets are the faces of its own zone, and only the reveal of the opening
+is common. Cloud-to-cloud registration (ICP) needs a common surface (seed 003: at least 30 % of the
+smaller scan), which such a pair does not have; target-based registration needs common targets
+(at least 3, not in a line, seen from both stations). Through an opening both conditions of the
+latter are met when the two stations see each other through it: targets set up in the opening
+and on either side of it (spheres on the floor, the jambs, a checkerboard on the lintel) lie in
+both fields of view. So a cross-zone link is measured as: the segment between the two stations
+crosses an opening, nothing else blocks it, and it is no longer than the link limit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Hashable, Sequence
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from planner.candidates.model import Candidate
+from planner.coverage.matrix import blockers_for
+from planner.coverage.openings import accessible_areas, opening_segments, space_of
+from planner.coverage.visibility import segments_touch, sight_clear
+from planner.errors import UsageError
+from planner.site.model import SITE_FRAME, Site
+
+#: pair key of a station-to-station sight line (matches no wall key, and not the obstacles' -1)
+_NO_WALL = -2
+
+
+def opening_links(site: Site, xy: NDArray[np.float64], frames: Sequence[str], spaces: Sequence[object],
+                  reach_m: float) -> sp.csr_matrix:
+    """Symmetric C x C boolean matrix: stations of different spaces that see each other through an opening
+    (both within ``reach_m`` of it and of each other)."""
+    n = len(xy)
+    frames_arr = np.asarray(frames, dtype=object)
+    space_id = {s: k for k, s in enumerate(dict.fromkeys(spaces))}
+    sid = np.array([space_id[s] for s in spaces], dtype=np.int64)
+    rows: list[NDArray[np.int64]] = []
+    cols: list[NDArray[np.int64]] = []
+    for frame in dict.fromkeys(frames):
+        segs = opening_segments(site, frame)
+        if not segs:
+            continue
+        blockers = blockers_for(site, frame)
+        here = np.flatnonzero(frames_arr == frame)
+        for _zi, _w, _kind, ends in segs:
+            mid = ends.mean(axis=0)
+            near = here[np.hypot(*(xy[here] - mid).T) <= reach_m]
+            if near.size < 2:
+                continue
+            m = np.repeat(mid[None], len(near), axis=0)
+            near = near[sight_clear(xy[near], m, m, np.full(len(near), _NO_WALL), blockers)]
+            d = ends[1] - ends[0]
+            side = np.sign(d[0] * (xy[near, 1] - ends[0][1]) - d[1] * (xy[near, 0] - ends[0][0]))
+            left, right = near[side > 0], near[side < 0]
+            if not left.size or not right.size:
+                continue
+            i, j = (g.ravel() for g in np.meshgrid(left, right, indexing="ij"))
+            ok = (sid[i] != sid[j]) & (np.hypot(*(xy[i] - xy[j]).T) <= reach_m)
+            i, j = i[ok], j[ok]
+            e0, e1 = np.repeat(ends[:1], len(i), axis=0), np.repeat(ends[1:], len(i), axis=0)
+            ok = segments_touch(xy[i], xy[j], e0, e1)
+            i, j = i[ok], j[ok]
+            ok = sight_clear(xy[i], xy[j], xy[j], np.full(len(i), _NO_WALL), blockers)
+            rows += [i[ok], j[ok]]
+            cols += [j[ok], i[ok]]
+    r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
+    c = np.concatenate(cols) if cols else np.zeros(0, np.int64)
+    out = sp.csr_matrix((np.ones(len(r), dtype=bool), (r, c)), shape=(n, n))
+    out.sum_duplicates()
+    return out
+
+
+REGISTRATION_MODES = ("zone", "site")
+
+
+def default_registration(site: Site) -> str:
+    """``site`` where table zones were placed in the site frame or openings are given, else ``zone``."""
+    placed = any(z.frame == SITE_FRAME and z.closure is not None for z in site.zones)
+    return "site" if placed or any(z.openings for z in site.zones) else "zone"
+
+
+def registration_groups(site: Site, candidates: Sequence[Candidate], mode: str, reach_m: float
+                        ) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
+    """Group label of each candidate and the links through openings (None in ``zone`` mode).
+
+    ``zone``: one bundle per zone-side, as the dissertation plans; ``site``: one bundle per
+    accessible area (:func:`planner.coverage.openings.accessible_areas`).
+    """
+    if mode not in REGISTRATION_MODES:
+        raise UsageError(f"unknown registration mode (known: {', '.join(REGISTRATION_MODES)})", field="registration",
+                         value=mode)
+    if mode == "zone":
+        return tuple((c.zone, c.side.value) for c in candidates), None
+    by_id = {z.id: z for z in site.zones}
+    spaces = [space_of(by_id[c.zone], c.side) for c in candidates]
+    areas = accessible_areas(site)
+    xy = np.array([c.xy for c in candidates], dtype=float).reshape(-1, 2)
+    links = opening_links(site, xy, [c.frame for c in candidates], spaces, reach_m)
+    return tuple(("area", areas[s]) for s in spaces), links

@@ -1,0 +1,124 @@
+"""The network of a plan as a scanner survey: registration links, ties to control, chain accuracy.
+
+Links: the overlap relation of the plan's stations, within each registration group (zone-side,
+or accessible area of the site with links through openings; see :mod:`planner.coverage.links`).
+Ties: a station within ``TIE_RANGE_M`` of control points it sees scans targets on them. Without
+control points in the instance, each registration part gets control by the field's rules:
+at least 3, one per ``CHAIN_PER_CONTROL_M`` of chain (the part's minimum spanning tree of links),
+placed one at a time where the chain's error is worst; the station nearest each spot scans
+``DEFAULT_TARGETS`` targets there. A proposed point's own error (``DEFAULT_CONTROL_SIGMA_M``) is part
+of every tie to it (formula 3).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import networkx as nx
+import numpy as np
+
+from planner.candidates.model import Candidate
+from planner.coverage.links import default_registration, registration_groups
+from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+from planner.coverage.targets import make_targets
+from planner.network.chain import (DEFAULT_CONTROL_SIGMA_M, TIE_RANGE_M, ChainReport, chain_accuracy, control_count,
+                                   place_ties, target_centre_sigma_m, tie_sigma_m)
+from planner.network.graph import intervisible
+from planner.site.model import Site
+
+#: scan resolution 3 mm at 10 m (seed 003's example) as an angle in degrees
+DEFAULT_RESOLUTION_DEG = math.degrees(0.003 / 10.0)
+#: targets a tied station scans, and their range (seed 003: 5-7 targets within 10-20 m of a control point)
+DEFAULT_TARGETS = 4
+DEFAULT_TARGET_RANGE_M = 15.0
+#: the total station coordinating the targets: 5", 2 mm (seed 003's example)
+TS_ANGLE_ARCSEC, TS_DISTANCE_M = 5.0, 0.002
+
+
+@dataclass(frozen=True)
+class SurveyNetwork:
+    """Registration parts, the ties, and the chain accuracy of a plan."""
+
+    parts: tuple[tuple[str, ...], ...]
+    links: tuple[tuple[str, str], ...]
+    ties: dict[str, float]
+    proposed: bool
+    chain: ChainReport
+    frames: tuple[str, ...]
+
+    def to_dict(self) -> dict[str, object]:
+        c = self.chain
+        return {"parts": [list(p) for p in self.parts], "links": [list(k) for k in self.links],
+                "ties_sigma_m": dict(self.ties), "proposed_control": self.proposed, "frames": list(self.frames),
+                "station_sigma_m": dict(c.sigma_m), "links_from_control": dict(c.links_from_control),
+                "weakest_chain": list(c.weakest_chain), "best_extra_tie": c.best_tie,
+                "worst_after_extra_tie_m": c.worst_after_tie_m, "untied": list(c.untied)}
+
+    def lines(self) -> list[str]:
+        return [f"survey network: {len(self.parts)} registration part(s), {len(self.links)} registration links, "
+                f"{len(self.ties)} station(s) tied to {'proposed ' if self.proposed else ''}control; "
+                f"datum frame(s): {', '.join(self.frames)}"] + self.chain.lines()
+
+
+def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
+    centre = [target_centre_sigma_m(control_sigma_m, r, TS_DISTANCE_M, TS_ANGLE_ARCSEC) for r in ranges]
+    return tie_sigma_m(list(ranges), DEFAULT_RESOLUTION_DEG, float(np.sqrt(np.mean(np.square(centre)))))
+
+
+def registration_links(site: Site, stations: Sequence[Candidate], mode: str | None = None,
+                       problem: CoverageProblem | None = None) -> list[tuple[str, str]]:
+    """Pairs of the plan's stations that can be registered (see the module text); ``problem``: their
+    coverage, when already built (rows in the order of ``stations``)."""
+    from planner.plan import sight_limits
+    from planner.validate import validate_site
+
+    limits = sight_limits(validate_site(site), False, True)
+    if problem is None:
+        problem = build_coverage(site, stations, make_targets(site, 1.0), limits)
+    targets = problem.targets
+    rule = OverlapRule(site.parameters.overlap)
+    labels, links = registration_groups(site, stations, mode or default_registration(site), limits.range_limit_m)
+    xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
+    groups: dict[object, list[int]] = {}
+    for i, label in enumerate(labels):
+        groups.setdefault(label, []).append(i)
+    out = []
+    for nodes in groups.values():
+        g = overlap_graph(problem.by_candidate, piece_lengths(targets.s0_m, targets.s1_m), nodes, rule, xy, links)
+        out += [(stations[u].id, stations[v].id) for u, v in g.edges()]
+    return out
+
+
+def survey_network(site: Site, stations: Sequence[Candidate], mode: str | None = None,
+                   links: Sequence[tuple[str, str]] | None = None) -> SurveyNetwork:
+    """Links (``links``: already found by :func:`registration_links`), ties (given or proposed control)
+    and the chain accuracy of a plan's stations."""
+    xy = {s.id: s.xy for s in stations}
+    links = list(links) if links is not None else registration_links(site, stations, mode)
+    g = nx.Graph()
+    g.add_nodes_from(xy)
+    g.add_edges_from(links)
+    parts = tuple(tuple(sorted(c)) for c in nx.connected_components(g))
+    ties: dict[str, float] = {}
+    proposed = not site.control_points
+    if proposed:
+        tie = _tie(DEFAULT_CONTROL_SIGMA_M, [DEFAULT_TARGET_RANGE_M] * DEFAULT_TARGETS)
+        for part in parts:
+            sub = [(u, v) for u, v in links if u in part]
+            tree = nx.minimum_spanning_tree(nx.Graph([(u, v, {"w": math.dist(xy[u], xy[v])}) for u, v in sub]), weight="w")
+            length = sum(d["w"] for _, _, d in tree.edges(data=True))
+            ties.update(place_ties({s: xy[s] for s in part}, sub, tie, control_count(length)))
+    else:
+        by_id = {s.id: s for s in stations}
+        for sid, p in xy.items():
+            seen = [c for c in site.control_points if by_id[sid].frame == c.frame
+                    and math.dist(p, (c.x, c.y)) <= TIE_RANGE_M and intervisible(site, c.frame, p, (c.x, c.y))]
+            if seen:
+                ranges = [max(math.dist(p, (c.x, c.y)), 1.0) for c in seen]
+                ties[sid] = _tie(max(max(c.sigma_x_m, c.sigma_y_m) for c in seen), ranges)
+    chain = chain_accuracy(xy, links, ties)
+    frames = tuple(dict.fromkeys(s.frame for s in stations))
+    return SurveyNetwork(parts, tuple(links), ties, proposed, chain, frames)

@@ -1,0 +1,321 @@
+"""Zones placed together: shared walls found from equal side lengths, and one rigid fit over all of them.
+
+Every table zone lives in a frame of its own. Two faces of the same wall have equal length and
+opposite scanning normals: two rooms (both scanned inside, both stored counter-clockwise) run
+along a shared wall in opposite directions; a room and the outline that holds it (scanned inside
+and outside) run along it in the same direction. A match of two such sides gives one zone's
+placement relative to the other; all kept matches are then fitted together by least squares
+(four endpoint residuals per match), the anchor zone held fixed.
+
+Equal lengths also occur by coincidence, so a match is never taken on length alone:
+
+- it must place the two zones without their interiors overlapping (a room inside the outline);
+- every match that reaches a zone not yet placed must put it in the same place (within
+  ``consistency_m``); when two disagree the zone is reported ambiguous and left unplaced;
+- a wall face takes at most one partner.
+
+Nothing is guessed: zones no match reaches stay in their own frame and are listed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from scipy.optimize import least_squares
+
+from planner.errors import InputError
+from planner.site.model import SITE_FRAME, ScanSide, Site, Wall, Zone
+
+#: interiors may overlap by this share of the smaller area (slivers from printed angles) and still count as disjoint;
+#: a coincidental match throws a zone across others, far beyond it
+OVERLAP_SHARE = 0.05
+
+
+@dataclass(frozen=True)
+class Placement:
+    """The zone frame in the site frame: site = R(rotation) * local + origin."""
+
+    origin: tuple[float, float]
+    rotation_deg: float
+
+    def __post_init__(self) -> None:
+        if not all(math.isfinite(v) for v in (*self.origin, self.rotation_deg)):
+            raise InputError("placement must be finite numbers", field="placement", value=(*self.origin, self.rotation_deg))
+
+    @property
+    def matrix(self) -> NDArray[np.float64]:
+        a = math.radians(self.rotation_deg)
+        return np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+
+    def apply(self, xy: NDArray[np.float64] | tuple) -> NDArray[np.float64]:
+        """Local points (n, 2) in the site frame."""
+        return np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin)
+
+
+IDENTITY = Placement((0.0, 0.0), 0.0)
+
+
+def place_zone(zone: Zone, p: Placement) -> Zone:
+    """The zone moved into the site frame (its walls, openings and heights keep their numbering)."""
+    ring = lambda r: tuple((float(x), float(y)) for x, y in p.apply(r))  # noqa: E731
+    note = f"placed in the site frame: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
+    return replace(zone, vertices=ring(zone.vertices), holes=tuple(ring(h) for h in zone.holes),
+                   frame=SITE_FRAME, notes=zone.notes + (note,))
+
+
+@dataclass(frozen=True)
+class WallMatch:
+    """Side ``wall_a`` of zone ``zone_a`` and side ``wall_b`` of ``zone_b`` taken as the two faces of one wall."""
+
+    zone_a: str
+    wall_a: int
+    zone_b: str
+    wall_b: int
+    length_a_m: float
+    length_b_m: float
+    same_direction: bool
+    residual_m: float = math.nan  # largest endpoint misfit after the fit
+
+    @property
+    def label(self) -> str:
+        return f"{self.zone_a} side {self.wall_a} = {self.zone_b} side {self.wall_b}"
+
+
+@dataclass(frozen=True)
+class AssemblyReport:
+    """Placements found, the matches used (with residuals), those refused and why, and zones left unplaced."""
+
+    anchor: str
+    placements: dict[str, Placement]
+    used: tuple[WallMatch, ...]
+    refused: tuple[tuple[WallMatch, str], ...]
+    unplaced: tuple[tuple[str, str], ...]
+    tolerance_m: float
+    wall_thickness_m: float
+
+    def lines(self) -> list[str]:
+        out = [f"anchor {self.anchor} (its frame is the site frame); tolerance {self.tolerance_m * 1000:.1f} mm, "
+               f"wall thickness {self.wall_thickness_m:.3f} m"]
+        out += [f"match   {m.label}: lengths {m.length_a_m:.4f} / {m.length_b_m:.4f} m, "
+                f"{'same' if m.same_direction else 'opposite'} direction, residual {m.residual_m * 1000:.1f} mm" for m in self.used]
+        out += [f"refused {m.label} ({m.length_a_m:.4f} / {m.length_b_m:.4f} m): {why}" for m, why in self.refused]
+        out += [f"placed  {z}: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
+                for z, p in self.placements.items()]
+        out += [f"unplaced {z}: {why}" for z, why in self.unplaced]
+        return out
+
+
+def _normal_sign(zone: Zone) -> int:
+    """+1 when the scanned face looks to the left of the wall (inside), -1 (outside); 0 both sides."""
+    return {ScanSide.INSIDE: 1, ScanSide.OUTSIDE: -1}.get(zone.scan_side, 0)
+
+
+def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallMatch]:
+    """Every pair of outline sides of two zones with lengths equal within ``tolerance_m``, closest first."""
+    out = []
+    for i, za in enumerate(zones):
+        for zb in zones[i + 1:]:
+            sa, sb = _normal_sign(za), _normal_sign(zb)
+            if sa == 0 or sb == 0:
+                continue
+            for wa in za.outer_walls:
+                for wb in zb.outer_walls:
+                    if abs(wa.length_m - wb.length_m) <= tolerance_m:
+                        out.append(WallMatch(za.id, wa.index, zb.id, wb.index, wa.length_m, wb.length_m, sa != sb))
+    return sorted(out, key=lambda m: abs(m.length_a_m - m.length_b_m))
+
+
+def _ends(w: Wall, p: Placement) -> NDArray[np.float64]:
+    return p.apply([w.start, w.end])
+
+
+def _face_ends(zone: Zone, w: Wall, p: Placement, thickness_m: float) -> NDArray[np.float64]:
+    """Ends of the OTHER face of wall ``w`` (site frame): the scanned face moved back by the thickness."""
+    e = _ends(w, p)
+    t = (e[1] - e[0]) / np.hypot(*(e[1] - e[0]))
+    n = np.array([-t[1], t[0]]) * _normal_sign(zone)
+    return e - thickness_m * n
+
+
+def _relative(m: WallMatch, placed: Zone, pp: Placement, other: Zone, other_wall: int, placed_wall: int,
+              thickness_m: float) -> Placement:
+    """Placement of ``other`` that lays its side on the placed zone's side as the match says."""
+    a = _face_ends(placed, placed.outer_walls[placed_wall - 1], pp, thickness_m)
+    wb = other.outer_walls[other_wall - 1]
+    b = np.array([wb.start, wb.end])
+    target = a if m.same_direction else a[::-1]
+    ang = math.atan2(*(target[1] - target[0])[::-1]) - math.atan2(*(b[1] - b[0])[::-1])
+    rot = Placement((0.0, 0.0), math.degrees(ang))
+    origin = target.mean(axis=0) - rot.apply(b.mean(axis=0))[0]
+    return Placement((float(origin[0]), float(origin[1])), (math.degrees(ang) + 180.0) % 360.0 - 180.0)
+
+
+def _interiors_clash(za: Zone, pa: Placement, zb: Zone, pb: Placement) -> bool:
+    """True when two placed zones cannot both be real: rooms overlapping, or a room outside the outline."""
+    a, b = shapely.Polygon(pa.apply(za.xy)), shapely.Polygon(pb.apply(zb.xy))
+    small = OVERLAP_SHARE * min(a.area, b.area)
+    sa, sb = _normal_sign(za), _normal_sign(zb)
+    if sa == sb:
+        return a.intersection(b).area > small
+    room, outline = (a, b) if sa > 0 else (b, a)
+    return room.difference(outline).area > small
+
+
+def _misfit(p: Placement, q: Placement, zone: Zone) -> float:
+    return float(np.max(np.hypot(*(p.apply(zone.xy) - q.apply(zone.xy)).T)))
+
+
+def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0.0, anchor: str | None = None,
+             consistency_m: float = 0.10) -> AssemblyReport:
+    """Place the table zones of a site from their shared walls (see the module text)."""
+    if not tolerance_m > 0 or not wall_thickness_m >= 0:
+        raise InputError("tolerance must be > 0 and wall thickness >= 0", field="tolerance", value=tolerance_m)
+    zones = {z.id: z for z in site.zones}
+    fixed = {z.id: IDENTITY for z in site.zones if z.frame == SITE_FRAME}
+    anchor = anchor or (next(iter(fixed), None) or _default_anchor(site))
+    if anchor not in zones:
+        raise InputError("anchor names no zone of the site", file=site.source or None, field="anchor", value=anchor)
+    placed: dict[str, Placement] = dict(fixed) or {anchor: IDENTITY}
+    matches = candidate_matches(site.zones, tolerance_m)
+    used: list[WallMatch] = []
+    refused: list[tuple[WallMatch, str]] = []
+    ambiguous: dict[str, str] = {}
+    progress = True
+    while progress:
+        progress = False
+        reach: dict[str, list[tuple[WallMatch, Placement]]] = {}
+        for m in matches:
+            if m in used or any(m is r for r, _ in refused):
+                continue
+            if (m.zone_a in placed) == (m.zone_b in placed):
+                continue
+            (pz, pw), (oz, ow) = ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b)) if m.zone_a in placed else \
+                ((m.zone_b, m.wall_b), (m.zone_a, m.wall_a))
+            cand = _relative(m, zones[pz], placed[pz], zones[oz], ow, pw, wall_thickness_m)
+            clash = next((z for z, p in placed.items() if _interiors_clash(zones[oz], cand, zones[z], p)), None)
+            if clash is not None:
+                refused.append((m, f"coincidence: it would make {oz} overlap {clash}"))
+                continue
+            reach.setdefault(oz, []).append((m, cand))
+        for oz, options in reach.items():
+            if oz in ambiguous:
+                continue
+            spread = max(_misfit(options[0][1], c, zones[oz]) for _, c in options)
+            if spread > consistency_m:
+                ambiguous[oz] = (f"ambiguous: {', '.join(m.label for m, _ in options)} place it "
+                                 f"up to {spread:.3f} m apart")
+                refused += [(m, f"ambiguous placement of {oz}") for m, _ in options]
+                continue
+            placed[oz] = options[0][1]
+            used += [m for m, _ in options]
+            progress = True
+    used += _closing_matches(matches, used, refused, zones, placed, wall_thickness_m, consistency_m)
+    used, refused = _one_partner(used, refused)
+    fitted = _fit(zones, placed, set(fixed) or {anchor}, used, wall_thickness_m)
+    used = [replace(m, residual_m=_residual(m, zones, fitted, wall_thickness_m)) for m in used]
+    unplaced = [(z, ambiguous.get(z, "no wall of it matches a placed zone; left in its own frame"))
+                for z in zones if z not in fitted]
+    return AssemblyReport(anchor, {z: fitted[z] for z in zones if z in fitted and z not in fixed}, tuple(used),
+                          tuple(refused), tuple(unplaced), tolerance_m, wall_thickness_m)
+
+
+def _default_anchor(site: Site) -> str:
+    outside = [z.id for z in site.zones if z.scan_side is ScanSide.OUTSIDE]
+    return outside[0] if len(outside) == 1 else max(site.zones, key=lambda z: z.area_m2).id
+
+
+def _closing_matches(matches: list[WallMatch], used: list[WallMatch], refused: list[tuple[WallMatch, str]],
+                     zones: dict[str, Zone], placed: dict[str, Placement], thickness_m: float,
+                     consistency_m: float) -> list[WallMatch]:
+    """Matches between two zones placed by other matches: kept (they close loops) when they agree."""
+    out = []
+    for m in matches:
+        if m in used or any(m is r for r, _ in refused) or m.zone_a not in placed or m.zone_b not in placed:
+            continue
+        cand = _relative(m, zones[m.zone_a], placed[m.zone_a], zones[m.zone_b], m.wall_b, m.wall_a, thickness_m)
+        miss = _misfit(cand, placed[m.zone_b], zones[m.zone_b])
+        if miss <= consistency_m:
+            out.append(m)
+        else:
+            refused.append((m, f"coincidence: disagrees with the placement by {miss:.3f} m"))
+    return out
+
+
+def _one_partner(used: list[WallMatch], refused: list[tuple[WallMatch, str]]
+                 ) -> tuple[list[WallMatch], list[tuple[WallMatch, str]]]:
+    """A wall face takes one partner: faces claimed twice keep neither claim out of the fit."""
+    count: dict[tuple[str, int], int] = {}
+    for m in used:
+        for k in ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b)):
+            count[k] = count.get(k, 0) + 1
+    twice = {k for k, n in count.items() if n > 1}
+    keep = [m for m in used if (m.zone_a, m.wall_a) not in twice and (m.zone_b, m.wall_b) not in twice]
+    return keep, refused + [(m, "its wall face has two partners") for m in used if m not in keep]
+
+
+def _pairs(m: WallMatch, zones: dict[str, Zone]) -> tuple[Wall, Wall]:
+    return zones[m.zone_a].outer_walls[m.wall_a - 1], zones[m.zone_b].outer_walls[m.wall_b - 1]
+
+
+def _match_residuals(m: WallMatch, zones: dict[str, Zone], pl: dict[str, Placement], thickness_m: float
+                     ) -> NDArray[np.float64]:
+    wa, wb = _pairs(m, zones)
+    a = _face_ends(zones[m.zone_a], wa, pl[m.zone_a], thickness_m)
+    b = _ends(wb, pl[m.zone_b])
+    return (a - (b if m.same_direction else b[::-1])).ravel()
+
+
+def _residual(m: WallMatch, zones: dict[str, Zone], pl: dict[str, Placement], thickness_m: float) -> float:
+    r = _match_residuals(m, zones, pl, thickness_m).reshape(2, 2)
+    return float(np.max(np.hypot(r[:, 0], r[:, 1])))
+
+
+def _fit(zones: dict[str, Zone], start: dict[str, Placement], fixed: set[str], used: list[WallMatch],
+         thickness_m: float) -> dict[str, Placement]:
+    """Least squares over the placements of every zone reached (fixed ones held)."""
+    free = [z for z in start if z not in fixed]
+    if not free or not used:
+        return dict(start)
+
+    def unpack(v: NDArray[np.float64]) -> dict[str, Placement]:
+        pl = dict(start)
+        for k, z in enumerate(free):
+            pl[z] = Placement((float(v[3 * k]), float(v[3 * k + 1])), float(np.degrees(v[3 * k + 2])))
+        return pl
+
+    x0 = np.array([c for z in free for c in (*start[z].origin, math.radians(start[z].rotation_deg))])
+    res = least_squares(lambda v: np.concatenate([_match_residuals(m, zones, unpack(v), thickness_m) for m in used]),
+                        x0, method="lm" if 4 * len(used) >= len(x0) else "trf", xtol=1e-12, ftol=1e-12)
+    pl = unpack(res.x)
+    return {z: replace(p, rotation_deg=(p.rotation_deg + 180.0) % 360.0 - 180.0) for z, p in pl.items()}
+
+
+def placed_site(site: Site, placements: dict[str, Placement]) -> Site:
+    """The site with each placed zone moved into the site frame."""
+    return replace(site, zones=tuple(place_zone(z, placements[z.id]) if z.id in placements else z for z in site.zones))
+
+
+def assembled_instance(source: dict, source_dir: str, out_dir: str, report: AssemblyReport) -> dict:
+    """A JSON instance (as a dict) with the report's placements, table CSV paths made relative to ``out_dir``,
+    and an ``assembly`` record of the matches (kept for the reader, not read back)."""
+    import os
+
+    data = dict(source)
+    zones = []
+    for entry in data.get("zones", []):
+        if isinstance(entry, dict) and "table_csv" in entry:
+            entry = dict(entry, table_csv=os.path.relpath(os.path.join(source_dir, entry["table_csv"]), out_dir))
+        zones.append(entry)
+    data["zones"] = zones
+    data["placements"] = {z: {"origin": [round(p.origin[0], 6), round(p.origin[1], 6)],
+                              "rotation_deg": round(p.rotation_deg, 8)} for z, p in report.placements.items()}
+    data["assembly"] = {"anchor": report.anchor, "tolerance_m": report.tolerance_m,
+                        "wall_thickness_m": report.wall_thickness_m,
+                        "matches": [{"match": m.label, "residual_mm": round(m.residual_m * 1000, 2)} for m in report.used],
+                        "refused": [f"{m.label}: {why}" for m, why in report.refused],
+                        "unplaced": [f"{z}: {why}" for z, why in report.unplaced]}
+    return data

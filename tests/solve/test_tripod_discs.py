@@ -1,0 +1,49 @@
+"""Tripod discs contain their stations, stop at a stated resolution, carry the height tolerance (3.32);
+a solver that finds no plan exits 4 with the reason."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import pytest
+
+from planner.cli import main
+from planner.plan import PlanOptions, plan_site
+from planner.site import ScanSide, load_site
+from planner.site.model import Site, Zone
+from planner.solve.tripod import MIN_RADIUS_M
+from tests.conftest import INSTANCES
+
+
+@pytest.mark.parametrize("recentre", [False, True])
+def test_every_tripod_disc_contains_its_station(recentre):
+    site = load_site(INSTANCES / "polygon_b.json")
+    plan = plan_site(site, PlanOptions(method="greedy", tripod=True, recentre=recentre))
+    assert plan.verification.complete and len(plan.tripods) == len(plan.stations)
+    for s, d in zip(plan.stations, plan.tripods):
+        assert d.station == s.id
+        assert math.dist(s.xy, d.centre) <= d.radius_m + 1e-9
+        assert d.radius_m == 0.0 or d.radius_m >= MIN_RADIUS_M
+    if not recentre:  # by default the disc is centred on the planned station
+        assert all(s.xy == pytest.approx(d.centre) for s, d in zip(plan.stations, plan.tripods))
+    assert "centred on the planned stations" in plan.summary() or recentre
+
+
+def test_height_tolerance_is_the_dissertation_check_value():
+    # a 30 x 30 m room with 40 m walls, S_max = 96 m, tripod IH 0..0.4 m: (3.32) gives
+    # 96/2 * [sqrt(1 - (39.6/96)^2) - sqrt(1 - (40/96)^2)] = 48 * (0.910961 - 0.909059) = 0.091 m (METHOD.md)
+    z = Zone("T", ScanSide.INSIDE, ((0, 0), (30, 0), (30, 30), (0, 30)), (40.0,) * 4)
+    site = Site("temple", (z,), instrument="dissertation-tables")
+    site = replace(site, parameters=replace(site.parameters, max_slant_range_m=96.0))
+    plan = plan_site(site, PlanOptions(method="greedy", tripod=True))
+    assert plan.tripods and all(d.height_tolerance_m == pytest.approx(0.091, abs=5e-4) for d in plan.tripods)
+    assert "instrument-height tolerance (3.32, IH 0..0.4 m)" in plan.summary()
+
+
+def test_a_milp_with_no_plan_exits_4_with_the_reason(capsys):
+    # no piece of polygon B is seen by 400 candidates: the MILP stops before solving
+    code = main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "milp", "--k", "400", "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 4
+    assert "milp found no plan: 770 target(s) seen by fewer than k = 400 candidates" in err
