@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner import __version__, progress
-from planner.cli_choices import BACKENDS, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
+from planner.cli_choices import BACKENDS, CONNECTIVITY, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
 from planner.cli_report import add_report_parser, parse_exports, write_exports
 from planner.cli_tiles import add_tile_options, plan_command
 from planner.errors import ExitCode, InfeasibleError, PlannerError, UsageError
@@ -168,7 +168,8 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
     rule = None if args.no_overlap or overlap == 0 else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
-                       k=args.k, overlap=rule, precision=args.precision)
+                       k=args.k, overlap=rule, precision=args.precision, connectivity=args.connectivity,
+                       layer_cuts=args.layer_cuts, tree_bound=args.tree_bound)
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
@@ -389,7 +390,12 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--k", type=int, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument("--precision", choices=PRECISION_MODES, default="single",
                     help="single: each view must meet sigma_req; combined: views add information (every method)")
-    pl.add_argument("--no-overlap", action="store_true", help="MILP without the registration-overlap constraint")
+    pl.add_argument("--no-overlap", action="store_true", help="MILP and greedy without the registration-overlap constraint")
+    pl.add_argument("--connectivity", choices=CONNECTIVITY, default="auto",
+                    help="milp: registration connectivity by branch-and-cut (bc, pyscipopt backend), a flow model or "
+                         "the cut loop (auto: bc on pyscipopt, loop elsewhere)")
+    pl.add_argument("--layer-cuts", action="store_true", help="milp: add distance-layer cuts before the first solve")
+    pl.add_argument("--tree-bound", action="store_true", help="milp: add the tree (Hunter) covering bound rows")
     pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
     pl.add_argument("--registration", choices=("zone", "site"), default=None,

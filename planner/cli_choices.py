@@ -7,7 +7,9 @@ from __future__ import annotations
 #: planner.plan.METHODS
 METHODS = ("closed-form", "greedy", "milp")
 #: planner.solve.backends.BACKENDS
-BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc")
+BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
+#: planner.solve.milp.CONNECTIVITY
+CONNECTIVITY = ("auto", "bc", "flow", "loop")
 #: planner.solve.milp.PRECISION_MODES
 PRECISION_MODES = ("single", "combined")
 #: planner.export.FORMATS

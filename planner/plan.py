@@ -24,7 +24,7 @@ from planner.coverage.targets import make_targets
 from planner.coverage.visibility import PrecisionRule, SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
-from planner.solve.greedy import greedy_cover
+from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
@@ -253,9 +253,17 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         from planner.solve.combined import combined_greedy
 
         result = combined_greedy(problem, limits.precision)
+    elif options.milp.overlap is not None and options.milp.overlap.overlap > 0:  # greedy under the rule
+        groups, links = registration_groups(site, problem.candidates, options.registration or default_registration(site),
+                                            options.milp.overlap.max_link_m or limits.range_limit_m)
+        result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links),
+                                       options.milp.overlap)
+        if not result.selected:
+            log.append("greedy: no cover connected under the overlap rule found; plain greedy plan instead")
+            result = greedy_cover(problem.by_candidate)
     else:
         result = greedy_cover(problem.by_candidate)
-    rule = options.milp.overlap if options.method == "milp" and options.milp.overlap else OverlapRule(site.parameters.overlap)
+    rule = options.milp.overlap if options.method != "closed-form" and options.milp.overlap else OverlapRule(site.parameters.overlap)
     registration, partners = registration_check(problem, result.selected, rule, site, options.registration,
                                                 rule.max_link_m or limits.range_limit_m)
     if rule.overlap == 0:

@@ -3,7 +3,8 @@
 ortools 9.15 bundles HiGHS 1.12.0; cvxpy 1.9 needs highspy >= 1.14, and once both load in
 one process an import fails (undefined symbol). The project pins cvxpy 1.8 with
 highspy 1.12.0; this test guards that pin. Each order runs in a fresh interpreter, because
-the clash only shows when both libraries load into the same process.
+the clash only shows when both libraries load into the same process. PySCIPOpt (its own SCIP,
+beside the SCIP and HiGHS that ortools bundles) is loaded first in one order and last in the other.
 """
 
 from __future__ import annotations
@@ -60,8 +61,20 @@ p.solve(pulp.PULP_CBC_CMD(msg=False, threads=1))
 assert pulp.value(p.objective) == 2
 """
 
+PYSCIPOPT = """
+import pyscipopt
+m = pyscipopt.Model()
+m.hideOutput()
+x, y = m.addVar(vtype="B"), m.addVar(vtype="B")
+m.addCons(x + y >= 1)
+m.setObjective(2 * x + 3 * y)
+m.optimize()
+assert m.getStatus() == "optimal" and m.getObjVal() == 2
+"""
 
-@pytest.mark.parametrize("order", [(ORTOOLS, CVXPY, PULP), (CVXPY, ORTOOLS, PULP)], ids=["ortools-first", "cvxpy-first"])
+
+@pytest.mark.parametrize("order", [(ORTOOLS, CVXPY, PULP, PYSCIPOPT), (PYSCIPOPT, CVXPY, ORTOOLS, PULP)],
+                         ids=["ortools-first", "pyscipopt-first"])
 def test_solver_stacks_load_in_both_orders(order):
     code = "\n".join(textwrap.dedent(part) for part in order) + "\nprint('ok')\n"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)

@@ -4,7 +4,7 @@ Each backend holds one model (binary x, minimise cost . x, rows
 ``sum coef * x >= lb``), accepts more rows between solves (the lazy
 connectivity cuts) and solves with a time limit, thread count, seed and a
 warm-start hint. Backends: OR-Tools CP-SAT; OR-Tools' linear solver with SCIP,
-HiGHS or CBC; PuLP with CBC.
+HiGHS or CBC; PuLP with CBC; SCIP through PySCIPOpt (planner.solve.scip_bc).
 """
 
 from __future__ import annotations
@@ -18,13 +18,16 @@ import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 from enum import Enum
+from typing import Any
 
 import numpy as np
 
 from planner.errors import UsageError
 
 Row = tuple[np.ndarray, np.ndarray, float]
-BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc")
+#: a warm start: the chosen candidates, or a value for each variable (added variables included)
+Hint = list[int] | dict[int, float]
+BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 #: CP-SAT needs integer coefficients: fractional ones are scaled by this and rounded down
 #: (a row sum(floor(s*a) x) >= ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
@@ -64,6 +67,13 @@ def _quiet_stdout_fd() -> Iterator[None]:
         os.close(saved)
 
 
+def hint_values(hint: Hint, n: int) -> dict[int, float]:
+    """Every one of the first ``n`` (candidate) variables' value, 0 unless chosen, plus the hint's other values."""
+    values = dict.fromkeys(range(n), 0.0)
+    values.update({int(i): 1.0 for i in hint} if isinstance(hint, list) else hint)
+    return values
+
+
 def _is_int(a: np.ndarray) -> bool:
     return bool(np.all(np.abs(a - np.round(a)) < 1e-12))
 
@@ -77,6 +87,7 @@ class CpSatBackend:
         self._cp = cp_model
         self.model = cp_model.CpModel()
         self.x = [self.model.NewBoolVar(f"x{i}") for i in range(n)]
+        self.n = n
         self.scale = 1 if _is_int(cost) else CP_SCALE
         c = np.round(cost * self.scale).astype(np.int64)
         self.model.Minimize(sum(int(ci) * self.x[i] for i, ci in enumerate(c) if ci))
@@ -95,12 +106,18 @@ class CpSatBackend:
         for i in idx:
             self.model.Add(self.x[i] == 1)
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: list[int] | None) -> BackendResult:
+    def add_vars(self, count: int, upper: float, binary: bool) -> None:
+        """Append ``count`` variables in [0, upper] (integer here: CP-SAT has no continuous ones;
+        the flow models that use them have integral optima)."""
+        ub = int(math.floor(upper))
+        self.x += [self.model.NewBoolVar(f"y{len(self.x) + k}") if binary else
+                   self.model.NewIntVar(0, ub, f"f{len(self.x) + k}") for k in range(count)]
+
+    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         self.model.ClearHints()
         if hint is not None:
-            on = set(hint)
-            for i, v in enumerate(self.x):
-                self.model.AddHint(v, i in on)
+            for i, val in hint_values(hint, self.n).items():
+                self.model.AddHint(self.x[i], int(round(val)))
         solver = self._cp.CpSolver()
         solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
         # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly
@@ -112,7 +129,7 @@ class CpSatBackend:
         status = solver.Solve(self.model)
         cp = self._cp
         if status in (cp.OPTIMAL, cp.FEASIBLE):
-            sel = tuple(i for i, v in enumerate(self.x) if solver.BooleanValue(v))
+            sel = tuple(i for i, v in enumerate(self.x[:self.n]) if solver.BooleanValue(v))
             return BackendResult(Outcome.OPTIMAL if status == cp.OPTIMAL else Outcome.FEASIBLE, sel,
                                  solver.ObjectiveValue() / self.scale, solver.BestObjectiveBound() / self.scale)
         if status == cp.INFEASIBLE:
@@ -135,6 +152,7 @@ class MipBackend:
             raise UsageError("solver not available in this OR-Tools build", field="backend", value=name)
         self.solver.SuppressOutput()
         self.x = [self.solver.BoolVar(f"x{i}") for i in range(n)]
+        self.n = n
         obj = self.solver.Objective()
         for i, c in enumerate(cost):
             obj.SetCoefficient(self.x[i], float(c))
@@ -150,15 +168,21 @@ class MipBackend:
         for i in idx:
             self.x[i].SetLb(1.0)
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: list[int] | None) -> BackendResult:
+    def add_vars(self, count: int, upper: float, binary: bool) -> None:
+        """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
+        k0 = len(self.x)
+        self.x += [self.solver.BoolVar(f"y{k0 + k}") if binary else self.solver.NumVar(0.0, float(upper), f"f{k0 + k}")
+                   for k in range(count)]
+
+    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         s = self.solver
         s.SetTimeLimit(int(max(time_limit_s, 0.01) * 1000))
         s.SetNumThreads(threads)
         if self.name == "scip":
             s.SetSolverSpecificParametersAsString(f"randomization/randomseedshift = {seed}\n")
         if hint is not None and self.name != "highs":  # SetHint crashes HiGHS 1.12 in OR-Tools 9.15 (segfault)
-            on = set(hint)
-            s.SetHint(self.x, [1.0 if i in on else 0.0 for i in range(len(self.x))])
+            values = hint_values(hint, self.n)
+            s.SetHint([self.x[i] for i in values], list(values.values()))
         if self.name == "highs":
             with _quiet_stdout_fd():
                 status = s.Solve()
@@ -166,7 +190,7 @@ class MipBackend:
             status = s.Solve()
         lp = self._lp
         if status in (lp.Solver.OPTIMAL, lp.Solver.FEASIBLE):
-            sel = tuple(i for i, v in enumerate(self.x) if v.solution_value() > 0.5)
+            sel = tuple(i for i, v in enumerate(self.x[:self.n]) if v.solution_value() > 0.5)
             bound = s.Objective().BestBound()
             return BackendResult(Outcome.OPTIMAL if status == lp.Solver.OPTIMAL else Outcome.FEASIBLE, sel,
                                  s.Objective().Value(), bound if math.isfinite(bound) else None)
@@ -187,6 +211,12 @@ class PulpBackend:
         self.cost = np.asarray(cost, dtype=float)
         self.rows: list[Row] = []
         self.fixed: list[int] = []
+        self.n = len(self.cost)
+        self.extra: list[tuple[float, bool]] = []  # (upper, binary) of each added variable
+
+    def add_vars(self, count: int, upper: float, binary: bool) -> None:
+        """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
+        self.extra += [(float(upper), binary)] * count
 
     def add_rows(self, rows: list[Row]) -> None:
         self.rows += rows
@@ -194,26 +224,27 @@ class PulpBackend:
     def fix(self, idx: list[int]) -> None:
         self.fixed += idx
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: list[int] | None) -> BackendResult:
+    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         # PuLP 3.3 announces its 4.0 API (prob.add_variable, COIN_CMD) with a DeprecationWarning per
         # variable; the project pins pulp < 4, where this API works, so the notices are silenced here
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
             return self._solve(time_limit_s, threads, seed, hint)
 
-    def _solve(self, time_limit_s: float, threads: int, seed: int, hint: list[int] | None) -> BackendResult:
+    def _solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         pulp = self._pulp
         prob = pulp.LpProblem("cover", pulp.LpMinimize)
         x = [pulp.LpVariable(f"x{i}", cat="Binary") for i in range(len(self.cost))]
+        x += [pulp.LpVariable(f"y{k}", cat="Binary") if b else pulp.LpVariable(f"f{k}", 0, ub)
+              for k, (ub, b) in enumerate(self.extra)]
         prob += pulp.lpSum(float(c) * x[i] for i, c in enumerate(self.cost) if c)
         for k, (idx, coef, lb) in enumerate(self.rows):
             prob += pulp.lpSum(float(a) * x[int(i)] for i, a in zip(idx, coef)) >= float(lb), f"r{k}"
         for i in self.fixed:
             x[i].lowBound = 1
         if hint is not None:
-            on = set(hint)
-            for i, v in enumerate(x):
-                v.setInitialValue(1 if i in on else 0)
+            for i, val in hint_values(hint, self.n).items():
+                x[i].setInitialValue(val)
         with tempfile.TemporaryDirectory() as tmp:
             cmd = pulp.PULP_CBC_CMD(msg=False, timeLimit=max(time_limit_s, 0.01), threads=threads,
                                     warmStart=hint is not None, options=[f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"],
@@ -222,7 +253,7 @@ class PulpBackend:
             prob.solve(cmd)
         sol = prob.sol_status
         if sol in (pulp.LpSolutionOptimal, pulp.LpSolutionIntegerFeasible):
-            sel = tuple(i for i, v in enumerate(x) if (v.value() or 0) > 0.5)
+            sel = tuple(i for i, v in enumerate(x[:self.n]) if (v.value() or 0) > 0.5)
             obj = float(self.cost[list(sel)].sum())
             optimal = sol == pulp.LpSolutionOptimal
             return BackendResult(Outcome.OPTIMAL if optimal else Outcome.FEASIBLE, sel, obj, obj if optimal else None)
@@ -231,11 +262,15 @@ class PulpBackend:
         return BackendResult(Outcome.UNKNOWN, (), None, None)
 
 
-def make_backend(name: str, n: int, cost: np.ndarray) -> CpSatBackend | MipBackend | PulpBackend:
+def make_backend(name: str, n: int, cost: np.ndarray) -> Any:
     if name == "cpsat":
         return CpSatBackend(n, cost)
     if name in MipBackend.SOLVERS:
         return MipBackend(name, n, cost)
     if name == "pulp-cbc":
         return PulpBackend(n, cost)
+    if name == "pyscipopt":
+        from planner.solve.scip_bc import PyScipBackend  # lazy: SCIP loads only when asked for
+
+        return PyScipBackend(n, cost)
     raise UsageError(f"unknown backend (known: {', '.join(BACKENDS)})", field="backend", value=name)

@@ -170,9 +170,11 @@ def connected_greedy(
     """A connected cover: per group, greedy that only adds stations linked to those already chosen.
 
     For each group, up to ``starts`` start stations (those covering the most of
-    the group's still-needed targets) are tried and the cheapest result kept.
-    When no linked station adds coverage, the cheapest chain to one that does
-    is added. Returns None when some needed target cannot be covered this way.
+    the group's still-needed targets) are tried and the result that leaves the
+    fewest targets unreached, then the cheapest, kept. When no linked station
+    adds coverage, the cheapest chain to one that does is added; targets no
+    chain reaches are left to the other groups. Returns None when some needed
+    target is still uncovered at the end.
     """
     a = by_candidate.astype(np.int64).tocsr()
     need = need.astype(bool).copy()
@@ -189,20 +191,21 @@ def connected_greedy(
         in_group = np.zeros(a.shape[0], dtype=bool)
         in_group[members_arr] = True
         weights = _step_weights(adj.multiply(in_group[:, None]).multiply(in_group[None, :]).tocsr(), cost)
-        best = None
+        best, best_key = None, None
         for s in seeds:
-            got = _grow(a, adj, cost, need, int(s), members_arr, weights)
-            if got is not None and (best is None or cost[got].sum() < cost[best].sum()):
-                best = got
-        if best is None:
-            return None
+            got, missed = _grow(a, adj, cost, need, int(s), members_arr, weights)
+            key = (missed, float(cost[got].sum()))  # most coverage first, then cheapest
+            if best_key is None or key < best_key:
+                best, best_key = got, key
         chosen += best
         need[a[best].indices] = False
     return None if need.any() else sorted(chosen)
 
 
 def _grow(a: sp.csr_matrix, adj: sp.csr_matrix, cost: np.ndarray, need: np.ndarray, seed: int,
-          members: np.ndarray, weights: sp.csr_matrix) -> list[int] | None:
+          members: np.ndarray, weights: sp.csr_matrix) -> tuple[list[int], int]:
+    """Grow a connected set from ``seed``; returns it and how many needed targets it could not reach
+    (those stay needed: another zone-side may see them, else the caller finds no connected cover)."""
     left = need.copy()
     chosen = [seed]
     in_group = np.zeros(a.shape[0], dtype=bool)
@@ -223,8 +226,8 @@ def _grow(a: sp.csr_matrix, adj: sp.csr_matrix, cost: np.ndarray, need: np.ndarr
         useful = in_group & ~taken & (np.asarray(a @ left.astype(np.int64)).ravel() > 0)
         path = path_to_nearest(weights, chosen, useful)
         if not path:
-            return None
+            return chosen, int(left.sum())
         chosen += path
         for k in path:
             left[a.indices[a.indptr[k]:a.indptr[k + 1]]] = False
-    return chosen
+    return chosen, 0

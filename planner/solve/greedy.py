@@ -1,4 +1,4 @@
-"""Chvatal's greedy set cover on the coverage matrix."""
+"""Chvatal's greedy set cover on the coverage matrix, and the greedy under the registration rule."""
 
 from __future__ import annotations
 
@@ -8,6 +8,9 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.sparse as sp
 
+from planner.coverage.overlap import OverlapRule, overlap_adjacency
+from planner.solve.connectivity import connected_greedy
+from planner.solve.instance import CoverInstance
 from planner.solve.result import SolveResult, Status
 
 
@@ -61,3 +64,29 @@ def greedy_cover(
         uncovered[a.indices[a.indptr[best]:a.indptr[best + 1]]] = False
     return SolveResult("greedy", Status.FEASIBLE, tuple(chosen), float(w[chosen].sum()),
                        time_s=time.perf_counter() - start)
+
+
+def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: int = 50) -> SolveResult:
+    """Greedy under the registration rule: per zone-side, after the first station only stations linked
+    (overlap relation) to those already chosen are added; ``starts`` first stations are tried per group
+    and the cheapest plan kept (:func:`planner.solve.connectivity.connected_greedy`; deterministic).
+
+    Returns
+    -------
+    SolveResult
+        ``feasible`` with a plan whose every zone-side is connected under ``rule``, or ``infeasible``
+        when some target cannot be covered by a connected choice.
+    """
+    start = time.perf_counter()
+    a = instance.by_candidate.astype(bool).tocsr()
+    if instance.groups is None:
+        return greedy_cover(a, weights=instance.cost)
+    lengths = instance.target_length_m if instance.target_length_m is not None else np.ones(a.shape[1])
+    adj, _ = overlap_adjacency(a, lengths, rule, instance.groups, instance.xy, instance.links)
+    need = np.asarray(a.sum(axis=0)).ravel() > 0
+    chosen = connected_greedy(a, adj, instance.groups, instance.cost, need, starts)
+    info = {"connected": True, "starts": starts}
+    if chosen is None:
+        return SolveResult("greedy", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start, info=info)
+    return SolveResult("greedy", Status.FEASIBLE, tuple(chosen), float(instance.cost[chosen].sum()),
+                       time_s=time.perf_counter() - start, info=info)

@@ -27,12 +27,18 @@ from planner.solve.backends import BACKENDS, Outcome, Row, make_backend
 from planner.solve.connectivity import (
     connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
 )
+from planner.solve.flow import FlowModel, add_flow
 from planner.solve.greedy import greedy_cover
+from planner.solve.treebound import add_tree_bound
 from planner.solve.instance import CoverInstance
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
 from planner.solve.result import SolveResult, Status
+from planner.solve.separators import layer_cuts
 
 PRECISION_MODES = ("single", "combined")
+#: how registration connectivity is enforced: branch-and-cut in one SCIP tree (PySCIPOpt),
+#: a single-commodity flow model, or the cut loop that re-solves after each round of cuts
+CONNECTIVITY = ("auto", "bc", "flow", "loop")
 
 
 @dataclass(frozen=True)
@@ -47,14 +53,29 @@ class MilpOptions:
     greedy_starts: int = 50
     max_rounds: int = 500
     presolve: bool = True
+    connectivity: str = "auto"
+    layer_cuts: bool = False
+    tree_bound: bool = False
 
     def __post_init__(self) -> None:
+        if self.connectivity not in CONNECTIVITY:
+            raise UsageError(f"unknown connectivity method (known: {', '.join(CONNECTIVITY)})", field="connectivity",
+                             value=self.connectivity)
+        if self.connectivity == "bc" and self.backend != "pyscipopt":
+            raise UsageError("branch-and-cut needs the pyscipopt backend", field="backend", value=self.backend)
         if self.backend not in BACKENDS:
             raise UsageError(f"unknown backend (known: {', '.join(BACKENDS)})", field="backend", value=self.backend)
         if self.precision not in PRECISION_MODES:
             raise UsageError("must be single or combined", field="precision", value=self.precision)
         if self.k < 1 or self.threads < 1 or not self.time_limit_s > 0:
             raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
+
+    @property
+    def connectivity_method(self) -> str:
+        """The method ``auto`` stands for: branch-and-cut on pyscipopt, the cut loop elsewhere."""
+        if self.connectivity != "auto":
+            return self.connectivity
+        return "bc" if self.backend == "pyscipopt" else "loop"
 
 
 def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrides: Any) -> SolveResult:
@@ -103,9 +124,15 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     all_optimal = all(b.done for b in solvers)
     rounds, cuts = sum(b.rounds for b in solvers), sum(b.cuts for b in solvers)
     status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
-    info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect}
+    info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect,
+            "connectivity": o.connectivity_method if connect else "none"}
     return SolveResult("milp", status, tuple(sorted(selected)), objective, bound=objective if all_optimal else bound,
                        time_s=time.perf_counter() - start, backend=o.backend, info=info)
+
+
+def _lengths(instance: CoverInstance) -> np.ndarray:
+    n_targ = instance.by_candidate.shape[1]
+    return instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
 
 
 def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, o: MilpOptions) -> PresolveReport:
@@ -172,16 +199,32 @@ class _BlockSolver:
         self.backend.fix([pos[c] for c in forced_all if c in pos])
         self.essential = essential_targets(self.sub, self.groups) if self.groups is not None else {}
         self.incumbent: list[int] | None = None
+        self.flow: FlowModel | None = None
         if self.groups is not None:
             self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
+            if o.layer_cuts:
+                self.backend.add_rows(self._layers())
             if o.k == 1 and o.precision == "single":
                 self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
                                                   np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
+            if o.tree_bound and o.k == 1:
+                add_tree_bound(self.backend, a[cands].tocsr(), _lengths(instance), self.adj, self.groups)
+            if o.connectivity_method == "bc":
+                self.backend.connect(self.adj, self.groups, self.sub, self.essential)
+            elif o.connectivity_method == "flow":
+                self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
         elif o.k == 1 and o.precision == "single":
             g = greedy_cover(self.sub, weights=self.cost)
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
-        self.bound, self.rounds, self.cuts = 0.0, 0, 0
+        self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
         self.done = self.infeasible = False
+
+    def _layers(self) -> list[Row]:
+        members: dict = {}
+        for i, g in enumerate(self.groups or ()):
+            members.setdefault(g, []).append(i)
+        return [cut for g, m in members.items() if self.essential.get(g) is not None
+                for cut in layer_cuts(self.adj, self.sub, np.asarray(m), self.essential[g])]
 
     def _better(self, chosen: list[int]) -> None:
         if self.incumbent is None or self.cost[chosen].sum() < self.cost[self.incumbent].sum() - 1e-9:
@@ -193,8 +236,11 @@ class _BlockSolver:
             left = deadline - time.perf_counter()
             if left <= 0:
                 return
-            res = self.backend.solve(left, self.o.threads, self.o.seed, self.incumbent)
+            hint = self.flow.hint(self.incumbent) if self.flow is not None and self.incumbent is not None else self.incumbent
+            res = self.backend.solve(left, self.o.threads, self.o.seed, hint)
             self.rounds += 1
+            self.cuts += getattr(self.backend, "cuts", 0) - self._backend_cuts
+            self._backend_cuts = getattr(self.backend, "cuts", 0)
             if res.bound is not None:
                 self.bound = max(self.bound, res.bound)
             if res.outcome is Outcome.INFEASIBLE:
