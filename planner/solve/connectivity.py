@@ -197,6 +197,8 @@ def connected_greedy(
             key = (missed, float(cost[got].sum()))  # most coverage first, then cheapest
             if best_key is None or key < best_key:
                 best, best_key = got, key
+        if best is None:
+            return None
         chosen += best
         need[a[best].indices] = False
     return None if need.any() else sorted(chosen)

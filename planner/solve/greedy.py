@@ -15,7 +15,8 @@ from planner.solve.result import SolveResult, Status
 
 
 def greedy_cover(
-    by_candidate: sp.csr_matrix, must_cover: np.ndarray | None = None, weights: Sequence[float] | None = None,
+    by_candidate: sp.csr_matrix, must_cover: np.ndarray | None = None,
+    weights: Sequence[float] | np.ndarray | None = None,
 ) -> SolveResult:
     """Greedy set cover (Chvatal 1979): repeatedly take the candidate with the lowest cost per newly covered target.
 

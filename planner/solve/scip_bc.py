@@ -97,8 +97,8 @@ class PyScipBackend:
             m.addSol(sol)
         m.optimize()
         status = m.getStatus()
-        bound = m.getDualbound()
-        bound = float(bound) if np.isfinite(bound) and abs(bound) < 1e19 else None
+        dual = m.getDualbound()
+        bound = float(dual) if np.isfinite(dual) and abs(dual) < 1e19 else None
         if m.getNSols() > 0:
             best = m.getBestSol()
             sel = tuple(i for i, v in enumerate(self.x[:self.n]) if m.getSolVal(best, v) > 0.5)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -19,6 +20,9 @@ from numpy.typing import NDArray
 from planner.coverage.targets import Targets
 from planner.errors import UsageError
 from planner.site.model import Site
+
+if TYPE_CHECKING:
+    from planner.tiles.tasks import TileJob
 
 
 @dataclass(frozen=True)
@@ -61,7 +65,7 @@ def make_tiles(points: NDArray[np.float64], size_m: float, margin_m: float) -> l
     hi = points.max(axis=0)
     nx = max(1, math.floor((hi[0] - lo[0]) / size_m) + 1)
     ny = max(1, math.floor((hi[1] - lo[1]) / size_m) + 1)
-    tiles = []
+    tiles: list[Tile] = []
     for r in range(ny):
         for c in range(nx):
             t = Tile(len(tiles), r, c, float(lo[0] + c * size_m), float(lo[1] + r * size_m), size_m, margin_m)
@@ -77,7 +81,7 @@ def zone_anchors(site: Site, targets: Targets) -> NDArray[np.float64]:
 
 
 def tile_job(tile: Tile, anchor: NDArray[np.float64], targets: Targets, xy: NDArray[np.float64],
-             usable: NDArray[np.bool_]) -> "TileJob":
+             usable: NDArray[np.bool_]) -> TileJob:
     """The tile's pieces (anchor in its core) and the usable candidates within ``margin_m`` of their box."""
     from planner.tiles.tasks import TileJob
 
@@ -101,4 +105,5 @@ def take_targets(targets: Targets, idx: NDArray[np.int64]) -> Targets:
         return out
 
     names = ("zone", "side", "wall", "s0_m", "s1_m", "a", "b", "ha_m", "hb_m", "normal", "frame")
-    return replace(targets, **{n: ro(getattr(targets, n)) for n in names})
+    fields: dict[str, Any] = {n: ro(getattr(targets, n)) for n in names}
+    return replace(targets, **fields)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -111,7 +111,7 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     mode = options.registration or "site"  # tiles: one registration bundle per accessible area by default
     reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
     labels, links = registration_groups(site, pool, mode, reach)
-    groups = tuple("/".join(map(str, g)) for g in labels)
+    groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
     margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, tiling.tile_m, margin)
@@ -123,7 +123,7 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     t_tiles = time.perf_counter() - start - t_pool
     by_cand, slant, inc = _assemble(len(pool), len(targets), results)
     problem = CoverageProblem(tuple(pool), targets, by_cand, by_cand.T.tocsr(), slant, inc,
-                              {k: "stands nowhere" for k in np.flatnonzero(~usable)}, limits)
+                              {int(k): "stands nowhere" for k in np.flatnonzero(~usable)}, limits)
     unseen = problem.uncoverable()
     if unseen.size:
         err = unseen_error(problem, unseen)
@@ -188,8 +188,9 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
     log = (f"{len(results)} tiles of {times['tile_m']:g} m, margin {times['margin_m']:.1f} m: coverage and tile MILPs "
            f"in {times['tiles_s']:.1f} s" + (f"; tiles whose plan does not cover their core: {', '.join(bad)}" if bad else
                                             "; every tile's plan covers its core"),
-           "connected plans: " + ", ".join(f"{k} {v}" for k, v in joined.tried.items())
+           "connected plans: " + ", ".join(f"{k} {v}" for k, v in (joined.tried or {}).items())
            + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
-           f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}" if bound.milp is not None else "")
+           f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}"
+              if bound.milp is not None and bound.milp_status is not None else "")
            + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}")
     return Plan(site, options, validation, result, tuple(stations), verification, size, log, parts)

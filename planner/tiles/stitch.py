@@ -23,7 +23,7 @@ the registration rule (CP-SAT, time-limited); the larger is reported.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Hashable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,7 +67,7 @@ class Stitched:
     union: int
     pruned: int
     added: int
-    parts: dict[str, int]
+    parts: dict[Hashable, int]
     source: str = "tile plans"
     tried: dict[str, int] | None = None
 
