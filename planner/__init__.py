@@ -25,7 +25,7 @@ Examples
 >>> planner.write_report(planner.outcome_from_plan(plan), "out/")         # doctest: +SKIP
 """
 
-import importlib
+from planner._lazy import lazy_getattr
 import logging
 from typing import TYPE_CHECKING, Any
 
@@ -63,13 +63,7 @@ _LAZY = {
 logging.getLogger("planner").addHandler(logging.NullHandler())
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'planner' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_getattr("planner", _LAZY, globals())
 
 
 def __dir__() -> list[str]:

@@ -18,7 +18,7 @@ from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.regions import regions_apply
+from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import PrecisionRule, SightLimits
@@ -182,8 +182,13 @@ def _limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
     return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
 
 
-def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None) -> CoverageProblem:
+def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None, *,
+                  spaces: dict[str, FrameSpace] | None = None,
+                  region_cache: dict[int, Any] | None = None) -> CoverageProblem:
     """Candidates, targets and coverage of a site; refuses a problem with a target no candidate sees.
+
+    ``spaces`` and ``region_cache``, when given, keep the frame spaces and coverage regions drawn for the
+    whole-zone-side candidates (keyed by piece index of the problem's targets), for pricing to reuse.
 
     Raises
     ------
@@ -201,7 +206,7 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
     if options.regions and regions_apply(limits):  # one station for a whole zone-side, found exactly where one exists
-        pool = dedupe(pool + whole_side_candidates(site, targets, limits))
+        pool = dedupe(pool + whole_side_candidates(site, targets, limits, spaces, region_cache))
     problem = build_coverage(site, pool, targets, limits, step="coverage build")
     unseen = problem.uncoverable()
     if unseen.size:
@@ -223,7 +228,9 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     limits = _limits(validation, options)
     cf_limits = closed_form_limits(validation)
     start = time.perf_counter()
-    problem = build_problem(site, options, validation)
+    spaces: dict[str, FrameSpace] = {}
+    region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
+    problem = build_problem(site, options, validation, spaces=spaces, region_cache=region_cache)
     targets, pool = problem.targets, problem.candidates
     log: list[str] = [f"coverage built in {time.perf_counter() - start:.2f} s "
                       f"({problem.by_candidate.nnz:,} candidate-target pairs)"]
@@ -237,7 +244,8 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
             log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
         if pricing_on:
             with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
-                problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s)
+                problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s,
+                                               cache=region_cache, spaces=spaces)
             log.append(pricing.summary())
             pool = problem.candidates
         mode = options.registration or default_registration(site)

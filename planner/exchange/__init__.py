@@ -6,7 +6,7 @@ libraries (ezdxf, the report stack).
 
 from __future__ import annotations
 
-import importlib
+from planner._lazy import lazy_getattr
 from typing import TYPE_CHECKING, Any
 
 EXPORTS = ("dxf", "geojson", "csv")
@@ -19,13 +19,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'planner.exchange' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_getattr("planner.exchange", _LAZY, globals())
 
 
 if TYPE_CHECKING:

@@ -14,12 +14,12 @@ import pytest
 import shapely
 
 from planner.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, sigma_instr_m
-from planner.candidates.model import Candidate, CandidateKind
 from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions, region_tolerance_m, regions_apply
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import PrecisionRule, SightLimits
 from planner.site.model import Obstacle, ScanSide, Site, Zone
+from tests.coverage.region_property import assert_regions_match, probe_candidates
 
 P30 = RangeAngleSigma(range_sigma_const_m=0.0012, range_sigma_ppm=10.0, angle_sigma_arcsec=8.0)
 BUDGET = ErrorBudget(0.0005, 0.0005, 0.0005)
@@ -55,24 +55,9 @@ def test_region_with_view_error_and_standoff_agrees_with_the_coverage_test(name:
     # and points just off the walls, where the stand-off decides
     edge = rng.uniform(0.0, 1.0, size=400)
     pts = np.vstack([pts, np.column_stack([edge * 60.0, rng.uniform(-2 * standoff, 2 * standoff, 400)])])
-    zone = site.zones[0]
-    cands = [Candidate(f"p{i}", zone.id, zone.scan_side.sides[0], zone.frame, float(x), float(y), CandidateKind.GRID)
-             for i, (x, y) in enumerate(pts)]
-    covered = build_coverage(site, cands, targets, limits).by_target
-    tol = region_tolerance_m(limits, standoff)
-    points = shapely.points(pts)
-    seen_inside, refused_by_error = 0, 0
-    plain = build_coverage(site, cands, targets, replace(limits, precision=None)).by_target
-    for t in range(len(targets)):
-        r = regions[t]
-        inside = shapely.contains_xy(r, pts[:, 0], pts[:, 1]) if not r.is_empty else np.zeros(len(pts), bool)
-        cov = np.zeros(len(pts), bool)
-        cov[covered.indices[covered.indptr[t]:covered.indptr[t + 1]]] = True
-        assert not np.any(inside & ~cov), f"{targets.label(t)}: a point of R_t fails the coverage test"
-        far = shapely.distance(r.boundary, points) > tol if not r.is_empty else np.ones(len(pts), bool)
-        assert not np.any(cov & ~inside & far), f"{targets.label(t)}: a covering point lies outside R_t"
-        seen_inside += int(inside.sum())
-        refused_by_error += int(plain.indptr[t + 1] - plain.indptr[t]) - int(cov.sum())
+    seen_inside, covered = assert_regions_match(site, targets, limits, regions, pts, region_tolerance_m(limits, standoff))
+    plain = build_coverage(site, probe_candidates(site, pts), targets, replace(limits, precision=None)).by_target
+    refused_by_error = plain.nnz - covered.nnz  # pairs the range rule allowed and the view error refused
     assert seen_inside > 1000
     assert refused_by_error > 100  # the incidence-dependent error did refuse views (range (3.1) alone allowed them)
 
