@@ -34,6 +34,7 @@ from planner.plan import Plan, PlanOptions, _limits, closed_form_limits, unseen_
 from planner.site.model import Site
 from planner.solve.milp import MilpOptions
 from planner.solve.result import SolveResult, Status
+from planner.solve.tripod import TripodDisc, tripod_discs
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import connected_greedy
@@ -179,8 +180,13 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
                          time_s=times["total_s"], backend=options.milp.backend, info=info)
-    parts, _ = registration_check(problem, joined.selected, rule, site, *registration)
+    parts, partners = registration_check(problem, joined.selected, rule, site, *registration)
     stations = [problem.candidates[i] for i in joined.selected]
+    tripods: tuple[TripodDisc, ...] = ()
+    if options.tripod or options.recentre:  # as plan_site: relied pieces only, checked on centre and rim
+        tripods = tuple(tripod_discs(site, problem, joined.selected, problem.limits, partners, options.recentre))
+        if options.recentre:
+            stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
     verification = verify_stations(site, stations, problem.limits, options.verify_spacing_m)
     size = {"candidates": len(problem.candidates), "targets": len(problem.targets),
             "pairs": int(problem.by_candidate.nnz), "tiles": len(results)}
@@ -193,4 +199,4 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}"
               if bound.milp is not None and bound.milp_status is not None else "")
            + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}")
-    return Plan(site, options, validation, result, tuple(stations), verification, size, log, parts)
+    return Plan(site, options, validation, result, tuple(stations), verification, size, log, parts, tripods)

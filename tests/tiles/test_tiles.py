@@ -19,7 +19,7 @@ from planner.tiles.tasks import tile_task
 from planner.validate import validate_site
 from tests.conftest import INSTANCES
 
-OPTIONS = PlanOptions(method="milp", pricing=False, milp=MilpOptions(time_limit_s=20))
+OPTIONS = PlanOptions(method="milp", pricing=False, tripod=True, milp=MilpOptions(time_limit_s=20))
 TILING = TileOptions(tile_m=50.0, tile_time_limit_s=20.0, bound_time_limit_s=20.0)
 
 
@@ -64,6 +64,17 @@ def test_tiled_plan_verifies_is_one_bundle_and_bounded(site, serial) -> None:
     bound = serial.result.bound
     assert math.ceil(info["lp_bound"] - 1e-6) <= bound <= len(serial.stations)
     assert serial.result.gap == pytest.approx((len(serial.stations) - bound) / len(serial.stations))
+
+
+def test_tiled_plan_has_a_tripod_disc_per_station(serial) -> None:
+    # as plan_site: one disc per station, centred on it (no --recentre), radius >= 0, and a station
+    # whose relied pieces allow no disc of the stated resolution gets radius 0, never a negative one
+    discs = serial.tripods
+    assert [d.station for d in discs] == [s.id for s in serial.stations]
+    for d, s in zip(discs, serial.stations):
+        assert d.radius_m >= 0.0
+        assert math.dist(d.centre, s.xy) <= d.radius_m + 1e-9  # the disc holds its station
+    assert all(d.relied_targets > 0 for d in discs)  # every station is relied on for some piece
 
 
 def test_lp_bound_of_a_small_cover() -> None:
