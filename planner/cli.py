@@ -328,7 +328,8 @@ def cmd_instruments(args: argparse.Namespace) -> int:
 def cmd_assemble(args: argparse.Namespace) -> int:
     """Place the table zones of an instance from their shared walls; print matches, residuals, unplaced zones."""
     from planner.site import load_site
-    from planner.site.assemble import assemble, assembled_instance
+    from planner.site.assemble import assemble
+    from planner.site.assembly_io import assembled_instance
     from planner.site.fileio import read_json
 
     path = Path(args.site)
