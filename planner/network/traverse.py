@@ -1,0 +1,166 @@
+"""The control traverse of a site, and the network of a plan as surveyed: links, ties, traverse legs.
+
+A surveyor ties every scan to one control network (fig 4.10 of the dissertation draws one network
+over the temple; seed 003: the control network is measured by traditional methods, a linear-angular
+network between intervisible neighbouring control points, and the scans are tied to it). So the
+network of a plan holds three kinds of measurement, and total-station observations only on the
+traverse:
+
+- ``registration``: two stations related by the overlap relation, or seeing each other through an
+  opening (:mod:`planner.coverage.links`): a relative position, sigma 6.8e-5 R + 0.0081 m (seed 003);
+- ``tie``: a station within ``TIE_RANGE_M`` of a control point it sees scans targets set there
+  (4 targets, formula 6 with the targets coordinated from that point): a relative position station -
+  control point, sigma m_t;
+- ``traverse``: a leg of the control traverse, observed with the total station from both ends
+  (direction and distance).
+
+The traverse is the user's (``--traverse FILE``: points and legs), or PROPOSED: the control points of
+every accessible area, a traverse point in the middle of every door or gate, and a leg between every
+two of these points of one frame that see each other within the total station's range. A leg never
+passes through a wall: areas that no opening joins stay separate networks, and the report says which.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import networkx as nx
+
+from planner.candidates.model import Candidate
+from planner.coverage.openings import PASSABLE, opening_segments
+from planner.errors import InputError
+from planner.network.chain import TIE_RANGE_M
+from planner.network.graph import intervisible
+from planner.network.survey import DEFAULT_TARGETS, _tie
+from planner.site.model import SITE_FRAME, ControlPoint, Site
+
+
+@dataclass(frozen=True)
+class ControlTraverse:
+    """Traverse points (beside the control points) and the legs observed with the total station."""
+
+    points: tuple[ControlPoint, ...]
+    legs: tuple[tuple[str, str], ...]
+    proposed: bool
+    source: str
+
+    def lines(self) -> list[str]:
+        through = sum(any(p.name in leg for p in self.points) for leg in self.legs)
+        return [f"control traverse ({'PROPOSED' if self.proposed else 'given'}, {self.source}): {len(self.legs)} legs, "
+                f"{len(self.points)} traverse point(s), {through} leg(s) at a traverse point"]
+
+
+NO_TRAVERSE = ControlTraverse((), (), False, "none: no total-station observations")
+
+
+def read_traverse(path: str | Path) -> ControlTraverse:
+    """A planned traverse: JSON ``{"points": [{name, x, y}], "legs": [[from, to], ...]}`` in the site frame;
+    legs name these points or control points."""
+    if str(path) == "none":
+        return NO_TRAVERSE
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot read the traverse ({exc.__class__.__name__})", file=str(path)) from None
+    if not isinstance(data, dict) or not isinstance(data.get("legs"), list):
+        raise InputError("needs an object with a list of legs", file=str(path), field="legs")
+    points = []
+    for k, p in enumerate(data.get("points", [])):
+        try:
+            points.append(ControlPoint(str(p["name"]), float(p["x"]), float(p["y"]), frame=str(p.get("frame", SITE_FRAME))))
+        except (KeyError, TypeError, ValueError):
+            raise InputError("a point needs name, x, y", file=str(path), field=f"points[{k}]", value=p) from None
+    legs = []
+    for k, leg in enumerate(data["legs"]):
+        if not (isinstance(leg, list) and len(leg) == 2 and all(isinstance(n, str) for n in leg) and leg[0] != leg[1]):
+            raise InputError("a leg is [from, to], two different names", file=str(path), field=f"legs[{k}]", value=leg)
+        legs.append((leg[0], leg[1]))
+    return ControlTraverse(tuple(points), tuple(legs), False, f"from {path}")
+
+
+def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: float) -> ControlTraverse:
+    """Traverse points in the doors and gates, and legs between intervisible points (see the module text)."""
+    points = []
+    for frame in dict.fromkeys(z.frame for z in site.zones):
+        for k, (zi, w, kind, ends) in enumerate(opening_segments(site, frame)):
+            if kind in PASSABLE:
+                mid = ends.mean(axis=0)
+                points.append(ControlPoint(f"TP.{site.zones[zi].id}.{w.index}.{k + 1}", float(mid[0]), float(mid[1]),
+                                           proposed=True, frame=frame))
+    nodes = list(control) + points
+    legs = []
+    for a, b in itertools.combinations(nodes, 2):
+        if a.frame == b.frame and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m \
+                and intervisible(site, a.frame, (a.x, a.y), (b.x, b.y)):
+            legs.append((a.name, b.name))
+    return ControlTraverse(tuple(points), tuple(legs), True, "control points of each area, a point in every door "
+                           "or gate, legs between points that see each other")
+
+
+def tie_sigma_to(distance_m: float) -> float:
+    """m_t of a station scanning ``DEFAULT_TARGETS`` targets set on a control point ``distance_m`` away
+    (the targets coordinated from that point; its own error is in the adjustment)."""
+    return _tie(0.0, [max(distance_m, 1.0)] * DEFAULT_TARGETS)
+
+
+def survey_graph(site: Site, stations: Sequence[Candidate], control: Sequence[ControlPoint],
+                 traverse: ControlTraverse, links: Sequence[tuple[str, str]]) -> nx.Graph:
+    """Stations, control and traverse points; edges ``registration``, ``tie`` and ``traverse`` (``kinds``,
+    ``length_m``). Raises on a leg naming no point."""
+    g = nx.Graph()
+    for s in stations:
+        g.add_node(s.id, kind="station", x=s.x, y=s.y, frame=s.frame, zone=s.zone)
+    for c in (*control, *traverse.points):
+        g.add_node(c.name, kind="control", x=c.x, y=c.y, frame=c.frame, proposed=c.proposed)
+
+    def link(u: str, v: str, kind: str) -> None:
+        d = math.dist((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]))
+        if g.has_edge(u, v):
+            g.edges[u, v]["kinds"].add(kind)
+        else:
+            g.add_edge(u, v, kinds={kind}, length_m=d)
+
+    for u, v in links:
+        link(u, v, "registration")
+    for s in stations:
+        for c in control:
+            if c.frame == s.frame and math.dist(s.xy, (c.x, c.y)) <= TIE_RANGE_M \
+                    and intervisible(site, c.frame, s.xy, (c.x, c.y)):
+                link(s.id, c.name, "tie")
+    for u, v in traverse.legs:
+        for n in (u, v):
+            if n not in g or g.nodes[n]["kind"] != "control":
+                raise InputError("a traverse leg names no control or traverse point", field="traverse", value=n)
+        link(u, v, "traverse")
+    return g
+
+
+def datum(g: nx.Graph, control: Sequence[ControlPoint]) -> tuple[list[str], list[str]]:
+    """Points held fixed, and notes. Given control keeps its sigmas (0: fixed). Proposed control: in each
+    network part, the proposed control points of the area holding most stations are fixed (as the design
+    held them before); every other point of the part is found through the traverse, links and ties."""
+    given = [c.name for c in control if not c.proposed and c.sigma_x_m == 0 and c.sigma_y_m == 0]
+    if any(not c.proposed for c in control):
+        return given, []
+    fixed: list[str] = []
+    notes = []
+    names = {c.name for c in control}
+    for comp in nx.connected_components(g):
+        ctrl = sorted(n for n in comp if n in names)
+        if not ctrl:
+            continue
+        groups: dict[str, list[str]] = {}
+        for c in ctrl:
+            groups.setdefault(c.rsplit(".", 1)[0], []).append(c)
+        served = {k: sum(1 for c in v for n in g[c] if g.nodes[n]["kind"] == "station") for k, v in groups.items()}
+        best = max(sorted(groups), key=lambda k: served[k])
+        fixed += groups[best]
+        if len(groups) > 1:
+            notes.append(f"datum of the part holding {', '.join(sorted(groups))}: {', '.join(groups[best])} held fixed; "
+                         "the other control points are found through the traverse")
+    return fixed, notes
