@@ -29,7 +29,8 @@ from planner.network.graph import Diagnostics, diagnostics, propose_control, sta
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
 from planner.network.survey import SurveyNetwork, registration_links, survey_network
-from planner.network.traverse import ControlTraverse, datum, propose_traverse, survey_graph, tie_sigma_to
+from planner.network.traverse import (ControlTraverse, datum, propose_area_control, propose_traverse, survey_graph,
+                                      tie_sigma_to)
 from planner.site.model import ControlPoint, Site
 from planner.validate import validate_site
 
@@ -218,10 +219,8 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
             ctrl = propose_control(site, stations, g, notes)
             g = station_network(site, stations, ctrl, links, ts_range)
     else:
-        if not ctrl:  # per registration part: one accessible area in site mode
-            reg = nx.Graph(list(links))
-            reg.add_nodes_from(s.id for s in stations)
-            ctrl = propose_control(site, stations, reg, notes)
+        if not ctrl:  # per registration part (one accessible area in site mode), and next to untied stations
+            ctrl = propose_area_control(site, stations, links, notes)
         trav = traverse if traverse is not None else propose_traverse(site, ctrl, ts_range)
         g = survey_graph(site, stations, ctrl, trav, links)
         fixed_names, datum_notes = datum(g, ctrl)

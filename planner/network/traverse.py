@@ -35,7 +35,8 @@ from planner.candidates.model import Candidate
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.errors import InputError
 from planner.network.chain import TIE_RANGE_M
-from planner.network.graph import intervisible
+from planner.candidates.final_step import misplacement
+from planner.network.graph import CONTROL_OFFSETS_M, intervisible, propose_control
 from planner.network.survey import DEFAULT_TARGETS, _tie
 from planner.site.model import SITE_FRAME, ControlPoint, Site
 
@@ -102,6 +103,36 @@ def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: fl
                            "or gate, legs between points that see each other")
 
 
+def propose_area_control(site: Site, stations: Sequence[Candidate], links: Sequence[tuple[str, str]],
+                         notes: list[str]) -> list[ControlPoint]:
+    """Control for a scanner survey: three points per registration part (one accessible area in ``site``
+    mode; :func:`planner.network.graph.propose_control`), then one more next to every station that sees
+    none of them within ``TIE_RANGE_M`` (seed 003: targets 10-20 m from the station), so every station is
+    tied. A part's points are named ``CP<part>.<n>``."""
+    reg = nx.Graph(list(links))
+    reg.add_nodes_from(s.id for s in stations)
+    ctrl = propose_control(site, stations, reg, notes)
+    by_id = {s.id: s for s in stations}
+    for k, comp in enumerate(nx.connected_components(reg.subgraph([s.id for s in stations]))):
+        n = sum(c.name.startswith(f"CP{k + 1}.") for c in ctrl)
+        for sid in sorted(comp):
+            st = by_id[sid]
+            if any(c.frame == st.frame and math.dist(st.xy, (c.x, c.y)) <= TIE_RANGE_M
+                   and intervisible(site, c.frame, st.xy, (c.x, c.y)) for c in ctrl):
+                continue
+            spot = next(((st.x + r * math.cos(a * math.pi / 4), st.y + r * math.sin(a * math.pi / 4))
+                         for r in CONTROL_OFFSETS_M for a in range(8)
+                         if not misplacement(site, st, st.x + r * math.cos(a * math.pi / 4), st.y + r * math.sin(a * math.pi / 4))
+                         and intervisible(site, st.frame, st.xy, (st.x + r * math.cos(a * math.pi / 4),
+                                                                   st.y + r * math.sin(a * math.pi / 4)))), None)
+            if spot is None:
+                notes.append(f"no control spot fits next to {sid}: it is held by its registration links only")
+                continue
+            n += 1
+            ctrl.append(ControlPoint(f"CP{k + 1}.{n}", spot[0], spot[1], proposed=True, frame=st.frame))
+    return ctrl
+
+
 def tie_sigma_to(distance_m: float) -> float:
     """m_t of a station scanning ``DEFAULT_TARGETS`` targets set on a control point ``distance_m`` away
     (the targets coordinated from that point; its own error is in the adjustment)."""
@@ -142,8 +173,8 @@ def survey_graph(site: Site, stations: Sequence[Candidate], control: Sequence[Co
 
 def datum(g: nx.Graph, control: Sequence[ControlPoint]) -> tuple[list[str], list[str]]:
     """Points held fixed, and notes. Given control keeps its sigmas (0: fixed). Proposed control: in each
-    network part, the proposed control points of the area holding most stations are fixed (as the design
-    held them before); every other point of the part is found through the traverse, links and ties."""
+    network part, the first three proposed points of the registration part (accessible area) holding most
+    stations are fixed; every other point of the network part is found through the traverse, links and ties."""
     given = [c.name for c in control if not c.proposed and c.sigma_x_m == 0 and c.sigma_y_m == 0]
     if any(not c.proposed for c in control):
         return given, []
@@ -159,8 +190,8 @@ def datum(g: nx.Graph, control: Sequence[ControlPoint]) -> tuple[list[str], list
             groups.setdefault(c.rsplit(".", 1)[0], []).append(c)
         served = {k: sum(1 for c in v for n in g[c] if g.nodes[n]["kind"] == "station") for k, v in groups.items()}
         best = max(sorted(groups), key=lambda k: served[k])
-        fixed += groups[best]
-        if len(groups) > 1:
-            notes.append(f"datum of the part holding {', '.join(sorted(groups))}: {', '.join(groups[best])} held fixed; "
-                         "the other control points are found through the traverse")
+        held = sorted(groups[best], key=lambda c: int(c.rsplit(".", 1)[1]) if c.rsplit(".", 1)[1].isdigit() else 0)[:3]
+        fixed += held
+        notes.append(f"datum of the network part holding {', '.join(sorted(groups))}: {', '.join(held)} held fixed; "
+                     "its other control points are found through the traverse, links and ties")
     return fixed, notes

@@ -139,9 +139,12 @@ def test_bundled_site_instance_matches_a_fresh_assembly():
     for zid, p in report.placements.items():
         z = site.zone(zid)
         assert z.frame == SITE_FRAME
-        # placed rigidly, then snapped onto its neighbours by at most SNAP_M (the move is noted)
+        # placed rigidly, then snapped onto its neighbours by at most SNAP_M, plus the closure shift of a zone
+        # accepted with a misclosure (Z6: 0.67 m; the move is noted)
         move = np.max(np.hypot(*(z.xy - p.apply(raw.zone(zid).xy)).T))
-        assert move <= SNAP_M + 1e-6
+        c = raw.zone(zid).closure
+        loose = c.max_vertex_shift_m if c is not None and c.accepted_reason else 0.0
+        assert move <= SNAP_M + loose + 1e-6
         assert move == 0 or any(f"largest vertex move {move:.3f} m" in n for n in z.notes)
     assert all(z.frame == SITE_FRAME for z in site.zones)
 
