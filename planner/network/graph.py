@@ -17,6 +17,7 @@ import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import networkx as nx
 import numpy as np
@@ -33,9 +34,22 @@ MIN_CONTROL_SPACING_M = 5.0
 CONTROL_OFFSETS_M = (6.0, 4.0, 3.0, 2.0, 1.5)
 
 
+#: blockers of the last sites asked (a site is immutable: its blockers are built once per frame)
+_BLOCKERS: dict[tuple[int, str], tuple[Site, Any]] = {}
+
+
+def _blockers(site: Site, frame: str) -> Any:
+    hit = _BLOCKERS.get((id(site), frame))
+    if hit is None or hit[0] is not site:
+        if len(_BLOCKERS) > 32:
+            _BLOCKERS.clear()
+        hit = _BLOCKERS[(id(site), frame)] = (site, blockers_for(site, frame))
+    return hit[1]
+
+
 def intervisible(site: Site, frame: str, p: tuple[float, float], q: tuple[float, float]) -> bool:
     """No wall or obstacle edge of the frame touches the segment p-q."""
-    b = blockers_for(site, frame)
+    b = _blockers(site, frame)
     if len(b.a) == 0:
         return True
     n = len(b.a)

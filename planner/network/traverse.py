@@ -84,6 +84,15 @@ def read_traverse(path: str | Path) -> ControlTraverse:
     return ControlTraverse(tuple(points), tuple(legs), False, f"from {path}")
 
 
+def _same_area(a: ControlPoint, b: ControlPoint) -> bool:
+    """A leg between two proposed control points stays in their registration part (``CP<part>.<n>``): areas
+    are joined only at the traverse points in their doors (a sight line that slips through a junction gap
+    of a few cm between two zones' walls is no leg)."""
+    if not (a.proposed and b.proposed and a.name.startswith("CP") and b.name.startswith("CP")):
+        return True
+    return a.name.rsplit(".", 1)[0] == b.name.rsplit(".", 1)[0]
+
+
 def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: float) -> ControlTraverse:
     """Traverse points in the doors and gates, and legs between intervisible points (see the module text)."""
     points = []
@@ -96,7 +105,7 @@ def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: fl
     nodes = list(control) + points
     legs = []
     for a, b in itertools.combinations(nodes, 2):
-        if a.frame == b.frame and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m \
+        if a.frame == b.frame and _same_area(a, b) and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m \
                 and intervisible(site, a.frame, (a.x, a.y), (b.x, b.y)):
             legs.append((a.name, b.name))
     return ControlTraverse(tuple(points), tuple(legs), True, "control points of each area, a point in every door "
@@ -112,6 +121,9 @@ def propose_area_control(site: Site, stations: Sequence[Candidate], links: Seque
     reg = nx.Graph(list(links))
     reg.add_nodes_from(s.id for s in stations)
     ctrl = propose_control(site, stations, reg, notes)
+    doors = [ControlPoint("door", float(e.mean(axis=0)[0]), float(e.mean(axis=0)[1]), frame=f)
+             for f in dict.fromkeys(z.frame for z in site.zones) for _, _, kind, e in opening_segments(site, f)
+             if kind in PASSABLE]
     by_id = {s.id: s for s in stations}
     for k, comp in enumerate(nx.connected_components(reg.subgraph([s.id for s in stations]))):
         n = sum(c.name.startswith(f"CP{k + 1}.") for c in ctrl)
@@ -120,17 +132,28 @@ def propose_area_control(site: Site, stations: Sequence[Candidate], links: Seque
             if any(c.frame == st.frame and math.dist(st.xy, (c.x, c.y)) <= TIE_RANGE_M
                    and intervisible(site, c.frame, st.xy, (c.x, c.y)) for c in ctrl):
                 continue
-            spot = next(((st.x + r * math.cos(a * math.pi / 4), st.y + r * math.sin(a * math.pi / 4))
-                         for r in CONTROL_OFFSETS_M for a in range(8)
-                         if not misplacement(site, st, st.x + r * math.cos(a * math.pi / 4), st.y + r * math.sin(a * math.pi / 4))
-                         and intervisible(site, st.frame, st.xy, (st.x + r * math.cos(a * math.pi / 4),
-                                                                   st.y + r * math.sin(a * math.pi / 4)))), None)
+            spot = _best_spot(site, st, ctrl + doors)
             if spot is None:
                 notes.append(f"no control spot fits next to {sid}: it is held by its registration links only")
                 continue
             n += 1
             ctrl.append(ControlPoint(f"CP{k + 1}.{n}", spot[0], spot[1], proposed=True, frame=st.frame))
     return ctrl
+
+
+def _best_spot(site: Site, st: Candidate, points: Sequence[ControlPoint]) -> tuple[float, float] | None:
+    """A control spot 1.5-6 m from station ``st`` that it sees, seeing as many of ``points`` (control points,
+    doors) as it can, so that a traverse leg can reach it; None when no spot fits."""
+    best, score = None, -1
+    for r in CONTROL_OFFSETS_M:
+        for a in range(8):
+            x, y = st.x + r * math.cos(a * math.pi / 4), st.y + r * math.sin(a * math.pi / 4)
+            if misplacement(site, st, x, y) or not intervisible(site, st.frame, st.xy, (x, y)):
+                continue
+            k = sum(c.frame == st.frame and intervisible(site, c.frame, (x, y), (c.x, c.y)) for c in points)
+            if k > score:
+                best, score = (x, y), k
+    return best
 
 
 def tie_sigma_to(distance_m: float) -> float:
