@@ -1,5 +1,9 @@
 """The station network (networkx): stations and control points, sight lines, triangulation, registration.
 
+This is the earlier design, kept behind ``--ts-everywhere``: a total station on every scanner station.
+The default network of a plan (:mod:`planner.network.traverse`) observes with the total station only
+the legs of a control traverse; the control proposal and the sight test here serve both.
+
 One network per frame (table zones each have their own frame and are never
 linked to each other). Edges carry ``kinds`` (a set of ``sight``, ``delaunay``,
 ``registration``) and ``length_m``:
