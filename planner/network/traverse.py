@@ -16,8 +16,11 @@ traverse:
 
 The traverse is the user's (``--traverse FILE``: points and legs), or PROPOSED: the control points of
 every accessible area, a traverse point in the middle of every door or gate, and a leg between every
-two of these points of one frame that see each other within the total station's range. A leg never
-passes through a wall: areas that no opening joins stay separate networks, and the report says which.
+two of these points of one room (or of the ground outside) that see each other within the total station's range, and
+between each door's point and the points on either side that see it; outside, points 3 m out from the
+outline's corners (``RP.``) carry the traverse round the building where the shortest leg paths between
+the other points need them. A leg never passes through a
+wall: areas that no opening joins stay separate networks.
 """
 
 from __future__ import annotations
@@ -30,6 +33,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import networkx as nx
+import numpy as np
+import shapely
 
 from planner.candidates.model import Candidate
 from planner.coverage.openings import PASSABLE, opening_segments
@@ -38,7 +43,7 @@ from planner.network.chain import TIE_RANGE_M
 from planner.candidates.final_step import misplacement
 from planner.network.graph import CONTROL_OFFSETS_M, intervisible, propose_control
 from planner.network.survey import DEFAULT_TARGETS, _tie
-from planner.site.model import SITE_FRAME, ControlPoint, Site
+from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
 
 
 @dataclass(frozen=True)
@@ -84,13 +89,21 @@ def read_traverse(path: str | Path) -> ControlTraverse:
     return ControlTraverse(tuple(points), tuple(legs), False, f"from {path}")
 
 
-def _same_area(a: ControlPoint, b: ControlPoint) -> bool:
-    """A leg between two proposed control points stays in their registration part (``CP<part>.<n>``): areas
-    are joined only at the traverse points in their doors (a sight line that slips through a junction gap
-    of a few cm between two zones' walls is no leg)."""
-    if not (a.proposed and b.proposed and a.name.startswith("CP") and b.name.startswith("CP")):
+def _space(site: Site, c: ControlPoint) -> str:
+    """The room a point stands in (``in:<zone>``), or the ground outside the rooms of its frame."""
+    pt = shapely.Point(c.x, c.y)
+    room = next((z.id for z in site.zones if z.frame == c.frame and z.scan_side is not ScanSide.OUTSIDE
+                 and z.polygon.contains(pt)), None)
+    return f"in:{room}" if room is not None else f"out:{c.frame}"
+
+
+def _same_space(site: Site, a: ControlPoint, b: ControlPoint) -> bool:
+    """A proposed leg between two control points stays in one room (or outside): spaces are joined only at
+    the traverse points in their doors, so a sight line that slips through the few-cm junction gap where
+    two zones' walls meet (:mod:`planner.coverage.faces`) is no leg."""
+    if a.name.startswith("TP.") or b.name.startswith("TP."):
         return True
-    return a.name.rsplit(".", 1)[0] == b.name.rsplit(".", 1)[0]
+    return _space(site, a) == _space(site, b)
 
 
 def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: float) -> ControlTraverse:
@@ -102,14 +115,60 @@ def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: fl
                 mid = ends.mean(axis=0)
                 points.append(ControlPoint(f"TP.{site.zones[zi].id}.{w.index}.{k + 1}", float(mid[0]), float(mid[1]),
                                            proposed=True, frame=frame))
-    nodes = list(control) + points
+    ring = _ring_points(site)
+    nodes = list(control) + points + ring
     legs = []
     for a, b in itertools.combinations(nodes, 2):
-        if a.frame == b.frame and _same_area(a, b) and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m \
+        if a.frame == b.frame and _same_space(site, a, b) and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m \
                 and intervisible(site, a.frame, (a.x, a.y), (b.x, b.y)):
             legs.append((a.name, b.name))
-    return ControlTraverse(tuple(points), tuple(legs), True, "control points of each area, a point in every door "
-                           "or gate, legs between points that see each other")
+    kept = _needed(ring, nodes, legs)
+    legs = [(u, v) for u, v in legs if not {u, v} & ({r.name for r in ring} - kept)]
+    return ControlTraverse(tuple(points + [r for r in ring if r.name in kept]), tuple(legs), True,
+                           "control points of each area, a point in every door or gate and round the outline where "
+                           "needed, legs between points that see each other")
+
+
+#: traverse points round an outline stand this far out from its corners (on the bisector)
+RING_OFFSET_M = 3.0
+
+
+def _ring_points(site: Site) -> list[ControlPoint]:
+    """Candidate traverse points outside each outline (a zone scanned outside), ``RING_OFFSET_M`` out from
+    every corner on its bisector, where no zone is: a traverse round the building joins the ground outside."""
+    out = []
+    for z in site.zones:
+        if z.scan_side is not ScanSide.OUTSIDE:
+            continue
+        xy = z.xy
+        for k in range(len(xy)):
+            a, b = xy[k - 1] - xy[k], xy[(k + 1) % len(xy)] - xy[k]
+            bis = a / np.hypot(*a) + b / np.hypot(*b)
+            if np.hypot(*bis) < 1e-9:
+                continue
+            for sign in (1.0, -1.0):
+                p = xy[k] + sign * RING_OFFSET_M * bis / np.hypot(*bis)
+                pt = shapely.Point(*p)
+                if not any(o.frame == z.frame and o.polygon.buffer(1.0).contains(pt) for o in site.zones):
+                    out.append(ControlPoint(f"RP.{z.id}.{k + 1}", float(p[0]), float(p[1]), proposed=True, frame=z.frame))
+                    break
+    return out
+
+
+def _needed(ring: Sequence[ControlPoint], nodes: Sequence[ControlPoint], legs: Sequence[tuple[str, str]]) -> set[str]:
+    """The ring points on the shortest leg paths between the other points (the rest are dropped)."""
+    names = {r.name for r in ring}
+    pos = {n.name: (n.x, n.y) for n in nodes}
+    g = nx.Graph()
+    g.add_weighted_edges_from((u, v, math.dist(pos[u], pos[v])) for u, v in legs)
+    real = [n.name for n in nodes if n.name not in names and n.name in g]
+    kept: set[str] = set()
+    for src in real:
+        paths = nx.single_source_dijkstra_path(g, src)
+        for dst in real:
+            if dst != src and dst in paths:
+                kept.update(n for n in paths[dst] if n in names)
+    return kept
 
 
 def propose_area_control(site: Site, stations: Sequence[Candidate], links: Sequence[tuple[str, str]],

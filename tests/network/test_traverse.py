@@ -107,3 +107,22 @@ def test_traverse_file_and_its_errors(tmp_path, capsys):
 
     assert main(["network", str(INSTANCES / "polygon_b.json"), str(plan), "--traverse", str(path),
                  "--ts-everywhere"]) == 2
+
+
+def test_the_proposed_traverse_goes_round_a_building():
+    # a block 20 x 8 m scanned from outside by S1 in front (10, -6) and S2 behind (10, 14): the block hides
+    # them from each other, so each has control of its own; the traverse joins the two through points
+    # 3 m out from the block's corners
+    block = Zone("block", ScanSide.OUTSIDE, ((0, 0), (20, 0), (20, 8), (0, 8)), (3.0,) * 4)
+    site = Site("block", (block,), instrument="dissertation-tables")
+    stations = [Candidate("S1", "block", ScanSide.OUTSIDE, "site", 10, -6, CandidateKind.GRID),
+                Candidate("S2", "block", ScanSide.OUTSIDE, "site", 10, 14, CandidateKind.GRID)]
+    rep = run_network(site, stations)
+    ring = [n for n in rep.graph if n.startswith("RP.")]
+    assert len(rep.diagnostics.components) == 1 and ring
+    for n in ring:  # 3 m from a corner on its bisector: 3 / sqrt(2) = 2.121 m out in x and in y
+        x, y = rep.graph.nodes[n]["x"], rep.graph.nodes[n]["y"]
+        assert min(abs(x - cx) for cx in (0, 20)) == pytest.approx(3 / math.sqrt(2))
+        assert min(abs(y - cy) for cy in (0, 8)) == pytest.approx(3 / math.sqrt(2))
+    assert not _station_ts_edges(rep)
+    assert len(run_network(site, stations, traverse=NO_TRAVERSE).diagnostics.components) == 2
