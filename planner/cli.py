@@ -77,6 +77,10 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
 def _add_network_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--control", metavar="FILE", help="control points (JSON list: name, x, y, sigma_x_mm, sigma_y_mm)")
     p.add_argument("--monte-carlo", type=int, default=0, metavar="N", help="also simulate N adjustments (seeded)")
+    p.add_argument("--traverse", metavar="FILE", help="the planned control traverse (JSON: points, legs), the only "
+                   "total-station observations; 'none' for no traverse (default: a proposed one, labelled so)")
+    p.add_argument("--ts-everywhere", action="store_true",
+                   help="the earlier design: a total station on every station sight line (no traverse)")
 
 
 def _add_limit_options(p: argparse.ArgumentParser) -> None:
@@ -243,10 +247,16 @@ def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bo
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
+    from planner.network.traverse import read_traverse
+
     control = read_control(args.control) if getattr(args, "control", None) else None
+    if getattr(args, "traverse", None) and args.ts_everywhere:
+        raise UsageError("--traverse and --ts-everywhere exclude each other", field="--traverse", value=args.traverse)
+    traverse = read_traverse(args.traverse) if getattr(args, "traverse", None) else None
     report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
                          registration=getattr(args, "registration", None),
-                         precision=getattr(args, "precision", "single"))
+                         precision=getattr(args, "precision", "single"), traverse=traverse,
+                         ts_everywhere=getattr(args, "ts_everywhere", False))
     if not show:
         return report
     print(report.summary())
@@ -328,7 +338,8 @@ def cmd_instruments(args: argparse.Namespace) -> int:
 def cmd_assemble(args: argparse.Namespace) -> int:
     """Place the table zones of an instance from their shared walls; print matches, residuals, unplaced zones."""
     from planner.site import load_site
-    from planner.site.assemble import assemble, assembled_instance
+    from planner.site.assemble import assemble
+    from planner.site.assembly_io import assembled_instance
     from planner.site.fileio import read_json
 
     path = Path(args.site)

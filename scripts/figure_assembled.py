@@ -1,7 +1,8 @@
 """Draw an assembled site (zones placed by `planner assemble`): docs/baalbek_assembled.png.
 
 Usage: python scripts/figure_assembled.py [INSTANCE.json] [OUT.png]
-Zones left in their own frames are named in the title, not drawn; matched walls are drawn thick.
+Zones left in their own frames are named in the title, not drawn; matched walls are drawn thick (red),
+collinear contacts (a side along part of a placed wall) thick in blue.
 """
 
 from __future__ import annotations
@@ -40,13 +41,20 @@ def main(src: str = "instances/baalbek.json", out: str = "docs/baalbek_assembled
         ax.plot([w.start[0], w.end[0]], [w.start[1], w.end[1]], color="crimson", lw=3, solid_capstyle="butt")
     ax.plot([], [], color="crimson", lw=3, label=f"matched walls ({len(report.used)}), residual <= "
             f"{max(m.residual_m for m in report.used) * 1000:.1f} mm")
+    for c in report.contacts:
+        w = zones[c.zone].outer_walls[c.wall - 1]
+        ax.plot([w.start[0], w.end[0]], [w.start[1], w.end[1]], color="royalblue", lw=2.5, solid_capstyle="butt")
+    if report.contacts:
+        ax.plot([], [], color="royalblue", lw=2.5, label=f"collinear contacts ({len(report.contacts)}), residual <= "
+                f"{max(c.residual_m for c in report.contacts) * 1000:.1f} mm")
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.legend(loc="lower left", fontsize=8)
     ax.set_xlabel("x, m (outline frame)")
     ax.set_ylabel("y, m")
-    left = ", ".join(z for z, _ in report.unplaced)
-    ax.set_title(f"{site.name}: zones placed from shared walls (table 4.3); not placed: {left}", fontsize=9)
+    left = ", ".join(z for z, _ in report.unplaced) or "none"
+    ax.set_title(f"{site.name}: zones placed from shared walls and collinear contacts (table 4.3); not placed: {left}",
+                 fontsize=9)
     fig.tight_layout()
     fig.savefig(out)
     print(f"wrote {out}")

@@ -1,5 +1,6 @@
-"""Registration and network figure: overlap (registration) links, total-station sight lines,
-Delaunay triangulation, control points and exaggerated error ellipses (scale stated)."""
+"""Registration and network figure: overlap (registration) links, ties to control, control-traverse legs
+(or, in the earlier design, total-station sight lines and the Delaunay triangulation), control points
+and exaggerated error ellipses (scale stated)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,8 @@ from planner.network.adjustment import ELLIPSE_95
 from planner.outcome import Outcome
 
 STYLES = {"registration": ("tab:blue", "-", 1.6, "registration (overlap) link"),
+          "traverse": ("tab:red", "-", 1.0, "control traverse leg (total station)"),
+          "tie": ("tab:purple", ":", 0.8, "tie (station scans targets on a control point)"),
           "sight": ("0.55", ":", 0.8, "total-station sight line"),
           "delaunay": ("tab:green", "--", 0.8, "triangulation (Delaunay, intervisible)")}
 
@@ -43,7 +46,7 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
                 ax.add_patch(Polygon(ring, closed=True, fill=False, ec="0.2", lw=1.0))
     shown = set()
     for u, v, d in g.subgraph(nodes).edges(data=True):
-        kind = next(k for k in ("registration", "sight", "delaunay") if k in d["kinds"])
+        kind = next(k for k in STYLES if k in d["kinds"])
         colour, ls, lw, label = STYLES[kind]
         ax.plot([g.nodes[u]["x"], g.nodes[v]["x"]], [g.nodes[u]["y"], g.nodes[v]["y"]], color=colour, ls=ls, lw=lw,
                 label=None if kind in shown else label)

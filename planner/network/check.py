@@ -29,6 +29,8 @@ from planner.network.graph import Diagnostics, diagnostics, propose_control, sta
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
 from planner.network.survey import SurveyNetwork, registration_links, survey_network
+from planner.network.traverse import (ControlTraverse, datum, propose_area_control, propose_traverse, survey_graph,
+                                      tie_sigma_to)
 from planner.site.model import ControlPoint, Site
 from planner.validate import validate_site
 
@@ -119,8 +121,9 @@ class NetworkReport:
 
 
 def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], notes: list[str]) -> dict[str, float]:
-    """Station height errors by trigonometric levelling along the sight lines, in every part that
-    holds a control point with a height (the 1-D part of the adjustment)."""
+    """Station height errors by trigonometric levelling along the total-station lines, and through ties and
+    registration links (their sigmas in height too), in every part that holds a control point with a
+    height (the 1-D part of the adjustment)."""
     known = {c.name: c.z for c in control if c.z is not None and c.name in g}
     out: dict[str, float] = {}
     if not known:
@@ -133,9 +136,13 @@ def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], not
         base = float(np.mean(list(fixed.values())))
         obs = []
         for u, v, d in g.subgraph(comp).edges(data=True):
-            if d["kinds"] & {"sight", "delaunay"}:
+            if d["kinds"] & {"sight", "delaunay", "traverse"}:
                 sd = ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6
                 obs.append(HeightObs(u, v, 0.0, dh_sigma_m(d["length_m"], 90.0, sd, ts.angle_sigma_arcsec)))
+            elif "tie" in d["kinds"]:  # the station's targets on the control point give its height too
+                obs.append(HeightObs(u, v, 0.0, tie_sigma_to(d["length_m"])))
+            elif "registration" in d["kinds"]:
+                obs.append(HeightObs(u, v, 0.0, registration_sigma_m(d["length_m"])))
         approx = {n: base for n in comp if n not in fixed}
         try:
             res = adjust_heights(approx, fixed, obs)
@@ -146,17 +153,18 @@ def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], not
     return out
 
 
-def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint]
-                         ) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
+def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint],
+                         fixed: list[str] | None = None) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
     coords = {n: (d["x"], d["y"]) for n, d in g.nodes(data=True)}
-    fixed = [c.name for c in control if c.sigma_x_m == 0 and c.sigma_y_m == 0]
+    if fixed is None:
+        fixed = [c.name for c in control if c.sigma_x_m == 0 and c.sigma_y_m == 0]
     obs: list[Obs] = []
     sb = ts.angle_sigma_arcsec / 3600.0
     for u, v, d in g.edges(data=True):
-        if d["kinds"] & {"sight", "delaunay"}:
+        if d["kinds"] & {"sight", "delaunay", "traverse"}:
             for a, b in ((u, v), (v, u)):
-                if g.nodes[a]["kind"] != "station":
-                    continue  # the total station stands on the scanner stations
+                if g.nodes[a]["kind"] != "station" and "traverse" not in d["kinds"]:
+                    continue  # the total station stands on the scanner stations (on both ends of a traverse leg)
                 az = math.degrees(math.atan2(coords[b][1] - coords[a][1], coords[b][0] - coords[a][0]))
                 obs.append(Obs("direction", a, b, az, sb))
                 obs.append(Obs("distance", a, b, d["length_m"], ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6))
@@ -164,8 +172,11 @@ def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[Contro
             s = registration_sigma_m(d["length_m"])
             obs.append(Obs("dx", u, v, coords[v][0] - coords[u][0], s))
             obs.append(Obs("dy", u, v, coords[v][1] - coords[u][1], s))
+        if "tie" in d["kinds"]:
+            s = tie_sigma_to(d["length_m"])
+            obs += [Obs("dx", u, v, coords[v][0] - coords[u][0], s), Obs("dy", u, v, coords[v][1] - coords[u][1], s)]
     for c in control:
-        if c.name in coords and c.name not in fixed:
+        if c.name in coords and c.name not in fixed and c.sigma_x_m > 0 and c.sigma_y_m > 0:
             obs.append(Obs("x", c.name, None, c.x, c.sigma_x_m))
             obs.append(Obs("y", c.name, None, c.y, c.sigma_y_m))
     return coords, fixed, obs
@@ -174,12 +185,16 @@ def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[Contro
 def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str = "topcon-os-105",
                 control: Sequence[ControlPoint] | None = None, monte_carlo_runs: int = 0, seed: int = 0,
                 target_spacing_m: float = 1.0, registration: str | None = None,
-                precision: str = "single") -> NetworkReport:
+                precision: str = "single", traverse: ControlTraverse | None = None,
+                ts_everywhere: bool = False) -> NetworkReport:
     """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece.
 
     ``registration``: ``zone`` or ``site`` (default :func:`planner.coverage.links.default_registration`);
     the report also holds the network as a scanner survey (:mod:`planner.network.survey`).
     ``precision``: ``single`` judges each piece by its best view, ``combined`` by all its views.
+    ``traverse``: the planned control traverse (default: proposed, :mod:`planner.network.traverse`); the
+    total station observes its legs only, stations are held by registration links and ties.
+    ``ts_everywhere``: the earlier design instead, a total station on every station sight line.
     """
     ts = load_instrument(total_station)
     if not isinstance(ts, TotalStation):
@@ -195,14 +210,24 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     # registration links within each zone-side, or across the site's accessible areas (through openings)
     links = registration_links(site, stations, registration, problem)
     ts_range = ts.max_range_prism_m or 1000.0
-    g = station_network(site, stations, list(control or site.control_points), links, ts_range)
     ctrl = list(control or site.control_points)
     notes: list[str] = []
-    if not ctrl:
-        ctrl = propose_control(site, stations, g, notes)
+    fixed_names: list[str] | None = None
+    if ts_everywhere:
         g = station_network(site, stations, ctrl, links, ts_range)
+        if not ctrl:
+            ctrl = propose_control(site, stations, g, notes)
+            g = station_network(site, stations, ctrl, links, ts_range)
+    else:
+        if not ctrl:  # per registration part (one accessible area in site mode), and next to untied stations
+            ctrl = propose_area_control(site, stations, links, notes)
+        trav = traverse if traverse is not None else propose_traverse(site, ctrl, ts_range)
+        g = survey_graph(site, stations, ctrl, trav, links)
+        fixed_names, datum_notes = datum(g, ctrl)
+        notes += trav.lines() + datum_notes
+        ctrl += list(trav.points)
     diag = diagnostics(g)
-    coords, fixed, obs = _design_observations(g, ts, ctrl)
+    coords, fixed, obs = _design_observations(g, ts, ctrl, fixed_names)
     adjustments, failures, sigma = [], [], {}
     mcs = []
     for comp in nx.connected_components(g):

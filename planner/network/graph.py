@@ -1,5 +1,9 @@
 """The station network (networkx): stations and control points, sight lines, triangulation, registration.
 
+This is the earlier design, kept behind ``--ts-everywhere``: a total station on every scanner station.
+The default network of a plan (:mod:`planner.network.traverse`) observes with the total station only
+the legs of a control traverse; the control proposal and the sight test here serve both.
+
 One network per frame (table zones each have their own frame and are never
 linked to each other). Edges carry ``kinds`` (a set of ``sight``, ``delaunay``,
 ``registration``) and ``length_m``:
@@ -17,6 +21,7 @@ import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import networkx as nx
 import numpy as np
@@ -33,9 +38,22 @@ MIN_CONTROL_SPACING_M = 5.0
 CONTROL_OFFSETS_M = (6.0, 4.0, 3.0, 2.0, 1.5)
 
 
+#: blockers of the last sites asked (a site is immutable: its blockers are built once per frame)
+_BLOCKERS: dict[tuple[int, str], tuple[Site, Any]] = {}
+
+
+def _blockers(site: Site, frame: str) -> Any:
+    hit = _BLOCKERS.get((id(site), frame))
+    if hit is None or hit[0] is not site:
+        if len(_BLOCKERS) > 32:
+            _BLOCKERS.clear()
+        hit = _BLOCKERS[(id(site), frame)] = (site, blockers_for(site, frame))
+    return hit[1]
+
+
 def intervisible(site: Site, frame: str, p: tuple[float, float], q: tuple[float, float]) -> bool:
     """No wall or obstacle edge of the frame touches the segment p-q."""
-    b = blockers_for(site, frame)
+    b = _blockers(site, frame)
     if len(b.a) == 0:
         return True
     n = len(b.a)

@@ -20,7 +20,7 @@ Nothing is guessed: zones no match reaches stay in their own frame and are liste
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
@@ -29,43 +29,11 @@ from scipy.optimize import least_squares
 
 from planner.errors import InputError
 from planner.site.model import SITE_FRAME, ScanSide, Site, Wall, Zone
+from planner.site.placement import IDENTITY, Placement, place_zone, placed_site  # noqa: F401 (re-exported)
 
 #: interiors may overlap by this share of the smaller area (slivers from printed angles) and still count as disjoint;
 #: a coincidental match throws a zone across others, far beyond it
 OVERLAP_SHARE = 0.05
-
-
-@dataclass(frozen=True)
-class Placement:
-    """The zone frame in the site frame: site = R(rotation) * local + origin."""
-
-    origin: tuple[float, float]
-    rotation_deg: float
-
-    def __post_init__(self) -> None:
-        if not all(math.isfinite(v) for v in (*self.origin, self.rotation_deg)):
-            raise InputError("placement must be finite numbers", field="placement", value=(*self.origin, self.rotation_deg))
-
-    @property
-    def matrix(self) -> NDArray[np.float64]:
-        a = math.radians(self.rotation_deg)
-        return np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-
-    def apply(self, xy: NDArray[np.float64] | tuple | list[tuple[float, float]]) -> NDArray[np.float64]:
-        """Local points (n, 2) in the site frame."""
-        return np.asarray(np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin),
-                          dtype=np.float64)
-
-
-IDENTITY = Placement((0.0, 0.0), 0.0)
-
-
-def place_zone(zone: Zone, p: Placement) -> Zone:
-    """The zone moved into the site frame (its walls, openings and heights keep their numbering)."""
-    ring = lambda r: tuple((float(x), float(y)) for x, y in p.apply(r))  # noqa: E731
-    note = f"placed in the site frame: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
-    return replace(zone, vertices=ring(zone.vertices), holes=tuple(ring(h) for h in zone.holes),
-                   frame=SITE_FRAME, notes=zone.notes + (note,))
 
 
 @dataclass(frozen=True)
@@ -80,6 +48,7 @@ class WallMatch:
     length_b_m: float
     same_direction: bool
     residual_m: float = math.nan  # largest endpoint misfit after the fit
+    tolerance_m: float = math.nan  # the length tolerance this pair was matched within (see :func:`side_tolerance_m`)
 
     @property
     def label(self) -> str:
@@ -97,15 +66,19 @@ class AssemblyReport:
     unplaced: tuple[tuple[str, str], ...]
     tolerance_m: float
     wall_thickness_m: float
+    contacts: tuple = ()  # :class:`planner.site.contacts.Contact` of zones placed by collinear contacts
+    sources: dict[str, str] = field(default_factory=dict)  # how each placed zone was placed
 
     def lines(self) -> list[str]:
         out = [f"anchor {self.anchor} (its frame is the site frame); tolerance {self.tolerance_m * 1000:.1f} mm, "
                f"wall thickness {self.wall_thickness_m:.3f} m"]
-        out += [f"match   {m.label}: lengths {m.length_a_m:.4f} / {m.length_b_m:.4f} m, "
+        out += [f"match   {m.label}: lengths {m.length_a_m:.4f} / {m.length_b_m:.4f} m (within {m.tolerance_m * 1000:.0f} mm), "
                 f"{'same' if m.same_direction else 'opposite'} direction, residual {m.residual_m * 1000:.1f} mm" for m in self.used]
         out += [f"refused {m.label} ({m.length_a_m:.4f} / {m.length_b_m:.4f} m): {why}" for m, why in self.refused]
+        out += [f"contact {c.label}: overlap {c.overlap_m:.2f} m, residual {c.residual_m * 1000:.1f} mm"
+                for c in self.contacts]
         out += [f"placed  {z}: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
-                for z, p in self.placements.items()]
+                + (f" ({self.sources[z]})" if z in self.sources else "") for z, p in self.placements.items()]
         out += [f"unplaced {z}: {why}" for z, why in self.unplaced]
         return out
 
@@ -115,8 +88,29 @@ def _normal_sign(zone: Zone) -> int:
     return {ScanSide.INSIDE: 1, ScanSide.OUTSIDE: -1}.get(zone.scan_side, 0)
 
 
+def adjustment_change_m(zone: Zone, wall: Wall) -> float:
+    """How much the closure adjustment may have changed a side's length: the compass rule moves the
+    side's far end by (its length / the perimeter) x the linear misclosure (0 for a zone that closes
+    exactly or was not given as a traverse)."""
+    c = zone.closure
+    if c is None or not c.perimeter_m > 0:
+        return 0.0
+    return wall.length_m / c.perimeter_m * c.linear_misclosure_m
+
+
+def side_tolerance_m(za: Zone, wa: Wall, zb: Zone, wb: Wall, tolerance_m: float) -> float:
+    """Two sides' lengths are known to within the base tolerance plus what each closure adjustment changed."""
+    return tolerance_m + adjustment_change_m(za, wa) + adjustment_change_m(zb, wb)
+
+
+def misclosed(zone: Zone) -> bool:
+    """True for a zone whose traverse does not close and was accepted as printed (its sides are uncertain)."""
+    return zone.closure is not None and zone.closure.accepted_reason is not None
+
+
 def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallMatch]:
-    """Every pair of outline sides of two zones with lengths equal within ``tolerance_m``, closest first."""
+    """Every pair of outline sides of two zones with lengths equal within their tolerance
+    (:func:`side_tolerance_m`), closest first."""
     out = []
     for i, za in enumerate(zones):
         for zb in zones[i + 1:]:
@@ -125,9 +119,11 @@ def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallM
                 continue
             for wa in za.outer_walls:
                 for wb in zb.outer_walls:
-                    if abs(wa.length_m - wb.length_m) <= tolerance_m:
-                        out.append(WallMatch(za.id, wa.index, zb.id, wb.index, wa.length_m, wb.length_m, sa != sb))
-    return sorted(out, key=lambda m: abs(m.length_a_m - m.length_b_m))
+                    tol = side_tolerance_m(za, wa, zb, wb, tolerance_m)
+                    if abs(wa.length_m - wb.length_m) <= tol:
+                        out.append(WallMatch(za.id, wa.index, zb.id, wb.index, wa.length_m, wb.length_m, sa != sb,
+                                             tolerance_m=tol))
+    return sorted(out, key=lambda m: (abs(m.length_a_m - m.length_b_m) > tolerance_m, abs(m.length_a_m - m.length_b_m)))
 
 
 def _ends(w: Wall, p: Placement) -> NDArray[np.float64]:
@@ -216,12 +212,33 @@ def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0
             progress = True
     used += _closing_matches(matches, used, refused, zones, placed, wall_thickness_m, consistency_m)
     used, refused = _one_partner(used, refused)
-    fitted = _fit(zones, placed, set(fixed) or {anchor}, used, wall_thickness_m)
+    # zones with an accepted misclosure are fitted after the others, which they must not pull
+    held = set(fixed) or {anchor}
+    loose = {z for z in placed if misclosed(zones[z]) and z not in held}
+    first = [m for m in used if m.zone_a not in loose and m.zone_b not in loose]
+    fitted = _fit(zones, {z: p for z, p in placed.items() if z not in loose}, held, first, wall_thickness_m)
+    fitted = _fit(zones, {**fitted, **{z: placed[z] for z in loose}}, set(fitted), [m for m in used if m not in first],
+                  wall_thickness_m)
     used = [replace(m, residual_m=_residual(m, zones, fitted, wall_thickness_m)) for m in used]
-    unplaced = [(z, ambiguous.get(z, "no wall of it matches a placed zone; left in its own frame"))
+    sources = {z: _match_source(z, used, zones) for z in fitted if z not in fixed and z != anchor}
+    from planner.site.contacts import place_unmatched
+
+    more, contacts, why_not = place_unmatched(zones, fitted, [z for z in zones if z not in fitted and z not in ambiguous])
+    fitted.update({z: p for z, (p, _) in more.items()})
+    sources.update({z: why for z, (_, why) in more.items()})
+    unplaced = [(z, ambiguous.get(z) or f"no wall of it matches a placed zone; by contacts: {why_not[z]}")
                 for z in zones if z not in fitted]
     return AssemblyReport(anchor, {z: fitted[z] for z in zones if z in fitted and z not in fixed}, tuple(used),
-                          tuple(refused), tuple(unplaced), tolerance_m, wall_thickness_m)
+                          tuple(refused), tuple(unplaced), tolerance_m, wall_thickness_m, tuple(contacts), sources)
+
+
+def _match_source(z: str, used: list[WallMatch], zones: dict[str, Zone]) -> str:
+    mine = [m for m in used if z in (m.zone_a, m.zone_b)]
+    text = f"matched walls: {', '.join(m.label for m in mine)}"
+    if misclosed(zones[z]):
+        text += (f"; its table misses by {zones[z].closure.linear_misclosure_m:.2f} m (accepted), so its sides "  # type: ignore[union-attr]
+                 "match within their closure adjustment's change and it was fitted after the others (held fixed), so it pulls none of them")
+    return text
 
 
 def _default_anchor(site: Site) -> str:
@@ -293,30 +310,3 @@ def _fit(zones: dict[str, Zone], start: dict[str, Placement], fixed: set[str], u
                         x0, method="lm" if 4 * len(used) >= len(x0) else "trf", xtol=1e-12, ftol=1e-12)
     pl = unpack(res.x)
     return {z: replace(p, rotation_deg=(p.rotation_deg + 180.0) % 360.0 - 180.0) for z, p in pl.items()}
-
-
-def placed_site(site: Site, placements: dict[str, Placement]) -> Site:
-    """The site with each placed zone moved into the site frame."""
-    return replace(site, zones=tuple(place_zone(z, placements[z.id]) if z.id in placements else z for z in site.zones))
-
-
-def assembled_instance(source: dict, source_dir: str, out_dir: str, report: AssemblyReport) -> dict:
-    """A JSON instance (as a dict) with the report's placements, table CSV paths made relative to ``out_dir``,
-    and an ``assembly`` record of the matches (kept for the reader, not read back)."""
-    import os
-
-    data = dict(source)
-    zones = []
-    for entry in data.get("zones", []):
-        if isinstance(entry, dict) and "table_csv" in entry:
-            entry = dict(entry, table_csv=os.path.relpath(os.path.join(source_dir, entry["table_csv"]), out_dir))
-        zones.append(entry)
-    data["zones"] = zones
-    data["placements"] = {z: {"origin": [round(p.origin[0], 6), round(p.origin[1], 6)],
-                              "rotation_deg": round(p.rotation_deg, 8)} for z, p in report.placements.items()}
-    data["assembly"] = {"anchor": report.anchor, "tolerance_m": report.tolerance_m,
-                        "wall_thickness_m": report.wall_thickness_m,
-                        "matches": [{"match": m.label, "residual_mm": round(m.residual_m * 1000, 2)} for m in report.used],
-                        "refused": [f"{m.label}: {why}" for m, why in report.refused],
-                        "unplaced": [f"{z}: {why}" for z, why in report.unplaced]}
-    return data

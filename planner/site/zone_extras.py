@@ -31,7 +31,7 @@ def place_and_open(r: _Reads, zones: tuple[Zone, ...], placements: Any, openings
     for zid, raw in table.items():
         if by_id[zid].frame == SITE_FRAME:
             raise r.fail("only a table zone (own frame) takes a placement", zone=zid, field="placements")
-        d = r.obj(raw, "placement", {"origin", "rotation_deg"}, zone=zid)
+        d = r.obj(raw, "placement", {"origin", "rotation_deg", "source"}, zone=zid)  # source: for the reader
         origin = d.get("origin")
         if not isinstance(origin, list) or len(origin) != 2:
             raise r.fail("origin must be [x, y] in metres", zone=zid, field="placements.origin", value=origin)

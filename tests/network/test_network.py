@@ -96,7 +96,9 @@ def test_network_cli_writes_ellipses(tmp_path, capsys):
         # 95 % of a 2-D normal: chi2_2(0.95) = -2 ln 0.05, scale sqrt(5.9915) = 2.4477
         assert e["ellipse_a_m"] >= e["ellipse_b_m"] > 0
         assert e["ellipse95_a_m"] == pytest.approx(math.sqrt(-2 * math.log(0.05)) * e["ellipse_a_m"])
-    assert {k for edge in data["edges"] for k in edge["kinds"]} >= {"sight"}
+    # total-station observations only on the (proposed) control traverse: no sight lines between stations
+    kinds = {k for edge in data["edges"] for k in edge["kinds"]}
+    assert kinds >= {"tie", "traverse"} and not kinds & {"sight", "delaunay"}
 
 
 def test_field_observations_are_adjusted(tmp_path):
@@ -124,7 +126,8 @@ def test_monte_carlo_below_100_runs_is_a_usage_error(tmp_path, capsys):
 
 
 def test_station_heights_from_a_control_height():
-    # one control point with a height: the stations get height errors from levelling along the sight lines
+    # one control point with a height: the stations get height errors from levelling along the traverse
+    # legs and through their ties
     site = room_site()
     ctrl = [ControlPoint("C1", 5, 5, z=100.0), ControlPoint("C2", 35, 5), ControlPoint("C3", 20, 18)]
     rep = run_network(site, [st("S1", 10, 10), st("S2", 30, 10)], control=ctrl)

@@ -103,17 +103,22 @@ def test_cli_chain(tmp_path, capsys, argv):
 
 
 def test_assembled_temple_with_doors_is_one_network():
-    # baalbek_site_doors.json: the assembled temple with one ASSUMED 3 m door in each of the 12 matched walls
-    # (scripts/make_baalbek_doors.py); the 8 placed rooms and the ground outside are one accessible area,
-    # Z1, Z5, Z6 (no wall matched) stay in frames of their own: 4 registration bundles
+    # baalbek_site_doors.json: the assembled temple (all eleven rooms and the outline placed) with one ASSUMED
+    # 3 m door in each matched wall and each collinear contact (scripts/make_baalbek_doors.py): one accessible
+    # area, so one registration bundle
     site = load_site(INSTANCES / "baalbek_site_doors.json")
     plan = plan_site(site, PlanOptions(method="milp", registration="site", pricing=False))
-    assert len(plan.registration) == 4 and set(plan.registration.values()) == {1}
+    assert len(plan.registration) == 1 and set(plan.registration.values()) == {1}
     assert plan.verification.complete
     report = run_network(site, list(plan.stations))
-    frame = {s.id: s.frame for s in plan.stations}
-    placed = [c for c in report.diagnostics.components if any(frame.get(n) == "site" for n in c)]
-    assert len(placed) == 1  # one network over the whole assembled temple
-    assert report.survey is not None
-    assert sum(any(frame[n] == "site" for n in part) for part in report.survey.parts) == 1
+    assert len(report.diagnostics.components) == 1  # one network over the whole temple
+    g = report.graph
+    # total-station observations only on the proposed control traverse, through the doors
+    for u, v, d in g.edges(data=True):
+        if g.nodes[u]["kind"] == "station" and g.nodes[v]["kind"] == "station":
+            assert d["kinds"] == {"registration"}
+        if d["kinds"] & {"traverse"}:
+            assert g.nodes[u]["kind"] == g.nodes[v]["kind"] == "control"
+    assert sum(n.startswith("TP.") for n in g) == len([o for z in site.zones for o in z.openings])
+    assert report.survey is not None and len(report.survey.parts) == 1
     assert report.survey.chain.untied == ()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -85,17 +86,50 @@ def test_ambiguous_zone_is_left_unplaced_not_guessed():
     assert not report.used
 
 
-def test_baalbek_table_4_3_places_eight_rooms_and_the_outline():
+def test_baalbek_table_4_3_places_all_eleven_rooms_and_the_outline():
     report = assemble(load_site(INSTANCES / "baalbek.json"))
     labels = {m.label for m in report.used}
     # the matches the issue names (table 4.3: equal printed side lengths)
     assert {"Z3 side 2 = outline side 5", "Z2 side 3 = outline side 17", "Z4 side 1 = Z10 side 3",
-            "Z3 side 5 = Z8 side 4"} <= labels
-    assert len(report.used) == 12
-    assert set(report.placements) == {"outline", "Z2", "Z3", "Z4", "Z7", "Z8", "Z9", "Z10", "Z11"}
-    assert {z for z, _ in report.unplaced} == {"Z1", "Z5", "Z6"}
-    # residuals: the printed lengths agree to 1 mm and the angles to 0.001 deg, so a few mm at most
-    assert max(m.residual_m for m in report.used) < 0.005
+            "Z3 side 5 = Z8 side 4", "Z3 side 1 = Z6 side 3"} <= labels
+    assert len(report.used) == 13
+    assert set(report.placements) == {"outline", *(f"Z{k}" for k in range(1, 12))}
+    assert not report.unplaced
+    # residuals: the printed lengths agree to 1 mm and the angles to 0.001 deg, so a few mm at most ...
+    assert max(m.residual_m for m in report.used if "Z6" not in m.label) < 0.005
+    # ... and every placement says how it was made
+    assert set(report.sources) == set(report.placements) - {"outline"}
+    assert "collinear contacts" in report.sources["Z1"] and "collinear contacts" in report.sources["Z5"]
+
+
+def test_baalbek_z6_matches_within_its_closure_change_and_pulls_nothing():
+    raw = load_site(INSTANCES / "baalbek.json")
+    report = assemble(raw)
+    z6 = next(m for m in report.used if m.label == "Z3 side 1 = Z6 side 3")
+    # hand computation: Z6 misses by 1.0404 m over its printed perimeter 12.654 + 6.797 + 18.501 + 20.771 =
+    # 58.723 m; the compass rule changes its side 3 by 18.364 / 58.723 x 1.0404 = 0.3254 m, so it matches
+    # within 5 + 325.4 mm
+    c = raw.zone("Z6").closure
+    assert c.linear_misclosure_m == pytest.approx(1.0404, abs=5e-4) and c.perimeter_m == pytest.approx(58.723, abs=1e-3)
+    assert z6.tolerance_m == pytest.approx(0.005 + 18.3637 / 58.723 * 1.0404, abs=2e-4)
+    # the printed 18.501 m against the adjusted 18.3637 m: 137.3 mm, split over the two ends of the fit
+    assert z6.length_a_m - z6.length_b_m == pytest.approx(0.1373, abs=2e-4)
+    assert z6.residual_m == pytest.approx((z6.length_a_m - z6.length_b_m) / 2, abs=1e-3)
+    # fitted after the others: the other zones sit where they sit without Z6
+    assert "fitted after the others" in report.sources["Z6"]
+    alone = assemble(replace(raw, zones=tuple(z for z in raw.zones if z.id != "Z6")))
+    for zid in ("Z3", "Z7", "Z8", "Z9"):
+        assert report.placements[zid].origin == pytest.approx(alone.placements[zid].origin, abs=1e-6)
+
+
+def test_baalbek_z1_is_held_by_six_collinear_contacts():
+    report = assemble(load_site(INSTANCES / "baalbek.json"))
+    z1 = {c.label: c for c in report.contacts if c.zone == "Z1"}
+    assert {"Z1 side 1 along outline side 3", "Z1 side 3 along outline side 15", "Z1 side 2 along Z3 side 12",
+            "Z1 side 4 along Z2 side 2"} <= set(z1)
+    assert len(z1) == 6 and max(c.residual_m for c in z1.values()) < 0.06
+    # the same court turned by 180 deg fits its gap too, but more than twice as badly
+    assert "fit at RMS" in report.sources["Z1"]
 
 
 def test_bundled_site_instance_matches_a_fresh_assembly():
@@ -105,11 +139,14 @@ def test_bundled_site_instance_matches_a_fresh_assembly():
     for zid, p in report.placements.items():
         z = site.zone(zid)
         assert z.frame == SITE_FRAME
-        # placed rigidly, then snapped onto its neighbours by at most SNAP_M (the move is noted)
+        # placed rigidly, then snapped onto its neighbours by at most SNAP_M, plus the closure shift of a zone
+        # accepted with a misclosure (Z6: 0.67 m; the move is noted)
         move = np.max(np.hypot(*(z.xy - p.apply(raw.zone(zid).xy)).T))
-        assert move <= SNAP_M + 1e-6
+        c = raw.zone(zid).closure
+        loose = c.max_vertex_shift_m if c is not None and c.accepted_reason else 0.0
+        assert move <= SNAP_M + loose + 1e-6
         assert move == 0 or any(f"largest vertex move {move:.3f} m" in n for n in z.notes)
-    assert site.zone("Z1").frame == "Z1"
+    assert all(z.frame == SITE_FRAME for z in site.zones)
 
 
 def test_cli_assemble_writes_a_loadable_instance(tmp_path, capsys):
@@ -117,9 +154,11 @@ def test_cli_assemble_writes_a_loadable_instance(tmp_path, capsys):
     out.parent.mkdir()
     assert main(["assemble", str(INSTANCES / "baalbek.json"), "--out", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "residual" in text and "unplaced Z1" in text
+    assert "residual" in text and "contact Z1 side 1 along outline side 3" in text
     site = load_site(out)
-    assert sum(z.frame == SITE_FRAME for z in site.zones) == 9
+    assert sum(z.frame == SITE_FRAME for z in site.zones) == 12
+    data = json.loads(out.read_text())
+    assert "collinear contacts" in data["placements"]["Z1"]["source"] and data["assembly"]["contacts"]
 
 
 def _instance(tmp_path, **extra) -> str:

@@ -1,0 +1,279 @@
+"""The control traverse of a site, and the network of a plan as surveyed: links, ties, traverse legs.
+
+A surveyor ties every scan to one control network (fig 4.10 of the dissertation draws one network
+over the temple; seed 003: the control network is measured by traditional methods, a linear-angular
+network between intervisible neighbouring control points, and the scans are tied to it). So the
+network of a plan holds three kinds of measurement, and total-station observations only on the
+traverse:
+
+- ``registration``: two stations related by the overlap relation, or seeing each other through an
+  opening (:mod:`planner.coverage.links`): a relative position, sigma 6.8e-5 R + 0.0081 m (seed 003);
+- ``tie``: a station within ``TIE_RANGE_M`` of a control point it sees scans targets set there
+  (4 targets, formula 6 with the targets coordinated from that point): a relative position station -
+  control point, sigma m_t;
+- ``traverse``: a leg of the control traverse, observed with the total station from both ends
+  (direction and distance).
+
+The traverse is the user's (``--traverse FILE``: points and legs), or PROPOSED: the control points of
+every accessible area, a traverse point in the middle of every door or gate, and a leg between every
+two of these points of one room (or of the ground outside) that see each other within the total station's range, and
+between each door's point and the points on either side that see it; outside, points 3 m out from the
+outline's corners (``RP.``) carry the traverse round the building where the shortest leg paths between
+the other points need them. A leg never passes through a
+wall: areas that no opening joins stay separate networks.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import networkx as nx
+import numpy as np
+import shapely
+
+from planner.candidates.model import Candidate
+from planner.coverage.openings import PASSABLE, opening_segments
+from planner.errors import InputError
+from planner.network.chain import TIE_RANGE_M
+from planner.candidates.final_step import misplacement
+from planner.network.graph import CONTROL_OFFSETS_M, intervisible, propose_control
+from planner.network.survey import DEFAULT_TARGETS, _tie
+from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
+
+
+@dataclass(frozen=True)
+class ControlTraverse:
+    """Traverse points (beside the control points) and the legs observed with the total station."""
+
+    points: tuple[ControlPoint, ...]
+    legs: tuple[tuple[str, str], ...]
+    proposed: bool
+    source: str
+
+    def lines(self) -> list[str]:
+        through = sum(any(p.name in leg for p in self.points) for leg in self.legs)
+        return [f"control traverse ({'PROPOSED' if self.proposed else 'given'}, {self.source}): {len(self.legs)} legs, "
+                f"{len(self.points)} traverse point(s), {through} leg(s) at a traverse point"]
+
+
+NO_TRAVERSE = ControlTraverse((), (), False, "none: no total-station observations")
+
+
+def read_traverse(path: str | Path) -> ControlTraverse:
+    """A planned traverse: JSON ``{"points": [{name, x, y}], "legs": [[from, to], ...]}`` in the site frame;
+    legs name these points or control points."""
+    if str(path) == "none":
+        return NO_TRAVERSE
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot read the traverse ({exc.__class__.__name__})", file=str(path)) from None
+    if not isinstance(data, dict) or not isinstance(data.get("legs"), list):
+        raise InputError("needs an object with a list of legs", file=str(path), field="legs")
+    points = []
+    for k, p in enumerate(data.get("points", [])):
+        try:
+            points.append(ControlPoint(str(p["name"]), float(p["x"]), float(p["y"]), frame=str(p.get("frame", SITE_FRAME))))
+        except (KeyError, TypeError, ValueError):
+            raise InputError("a point needs name, x, y", file=str(path), field=f"points[{k}]", value=p) from None
+    legs = []
+    for k, leg in enumerate(data["legs"]):
+        if not (isinstance(leg, list) and len(leg) == 2 and all(isinstance(n, str) for n in leg) and leg[0] != leg[1]):
+            raise InputError("a leg is [from, to], two different names", file=str(path), field=f"legs[{k}]", value=leg)
+        legs.append((leg[0], leg[1]))
+    return ControlTraverse(tuple(points), tuple(legs), False, f"from {path}")
+
+
+def _space(site: Site, c: ControlPoint) -> str:
+    """The room a point stands in (``in:<zone>``), or the ground outside the rooms of its frame."""
+    pt = shapely.Point(c.x, c.y)
+    room = next((z.id for z in site.zones if z.frame == c.frame and z.scan_side is not ScanSide.OUTSIDE
+                 and z.polygon.contains(pt)), None)
+    return f"in:{room}" if room is not None else f"out:{c.frame}"
+
+
+def _same_space(site: Site, a: ControlPoint, b: ControlPoint) -> bool:
+    """A proposed leg between two control points stays in one room (or outside): spaces are joined only at
+    the traverse points in their doors, so a sight line that slips through the few-cm junction gap where
+    two zones' walls meet (:mod:`planner.coverage.faces`) is no leg."""
+    if a.name.startswith("TP.") or b.name.startswith("TP."):
+        return True
+    return _space(site, a) == _space(site, b)
+
+
+def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: float) -> ControlTraverse:
+    """Traverse points in the doors and gates, and legs between intervisible points (see the module text)."""
+    points = []
+    for frame in dict.fromkeys(z.frame for z in site.zones):
+        for k, (zi, w, kind, ends) in enumerate(opening_segments(site, frame)):
+            if kind in PASSABLE:
+                mid = ends.mean(axis=0)
+                points.append(ControlPoint(f"TP.{site.zones[zi].id}.{w.index}.{k + 1}", float(mid[0]), float(mid[1]),
+                                           proposed=True, frame=frame))
+    ring = _ring_points(site)
+    nodes = list(control) + points + ring
+    legs = []
+    for a, b in itertools.combinations(nodes, 2):
+        if a.frame == b.frame and _same_space(site, a, b) and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m \
+                and intervisible(site, a.frame, (a.x, a.y), (b.x, b.y)):
+            legs.append((a.name, b.name))
+    kept = _needed(ring, nodes, legs)
+    legs = [(u, v) for u, v in legs if not {u, v} & ({r.name for r in ring} - kept)]
+    return ControlTraverse(tuple(points + [r for r in ring if r.name in kept]), tuple(legs), True,
+                           "control points of each area, a point in every door or gate and round the outline where "
+                           "needed, legs between points that see each other")
+
+
+#: traverse points round an outline stand this far out from its corners (on the bisector)
+RING_OFFSET_M = 3.0
+
+
+def _ring_points(site: Site) -> list[ControlPoint]:
+    """Candidate traverse points outside each outline (a zone scanned outside), ``RING_OFFSET_M`` out from
+    every corner on its bisector, where no zone is: a traverse round the building joins the ground outside."""
+    out = []
+    for z in site.zones:
+        if z.scan_side is not ScanSide.OUTSIDE:
+            continue
+        xy = z.xy
+        for k in range(len(xy)):
+            a, b = xy[k - 1] - xy[k], xy[(k + 1) % len(xy)] - xy[k]
+            bis = a / np.hypot(*a) + b / np.hypot(*b)
+            if np.hypot(*bis) < 1e-9:
+                continue
+            for sign in (1.0, -1.0):
+                p = xy[k] + sign * RING_OFFSET_M * bis / np.hypot(*bis)
+                pt = shapely.Point(*p)
+                if not any(o.frame == z.frame and o.polygon.buffer(1.0).contains(pt) for o in site.zones):
+                    out.append(ControlPoint(f"RP.{z.id}.{k + 1}", float(p[0]), float(p[1]), proposed=True, frame=z.frame))
+                    break
+    return out
+
+
+def _needed(ring: Sequence[ControlPoint], nodes: Sequence[ControlPoint], legs: Sequence[tuple[str, str]]) -> set[str]:
+    """The ring points on the shortest leg paths between the other points (the rest are dropped)."""
+    names = {r.name for r in ring}
+    pos = {n.name: (n.x, n.y) for n in nodes}
+    g = nx.Graph()
+    g.add_weighted_edges_from((u, v, math.dist(pos[u], pos[v])) for u, v in legs)
+    real = [n.name for n in nodes if n.name not in names and n.name in g]
+    kept: set[str] = set()
+    for src in real:
+        paths = nx.single_source_dijkstra_path(g, src)
+        for dst in real:
+            if dst != src and dst in paths:
+                kept.update(n for n in paths[dst] if n in names)
+    return kept
+
+
+def propose_area_control(site: Site, stations: Sequence[Candidate], links: Sequence[tuple[str, str]],
+                         notes: list[str]) -> list[ControlPoint]:
+    """Control for a scanner survey: three points per registration part (one accessible area in ``site``
+    mode; :func:`planner.network.graph.propose_control`), then one more next to every station that sees
+    none of them within ``TIE_RANGE_M`` (seed 003: targets 10-20 m from the station), so every station is
+    tied. A part's points are named ``CP<part>.<n>``."""
+    reg = nx.Graph(list(links))
+    reg.add_nodes_from(s.id for s in stations)
+    ctrl = propose_control(site, stations, reg, notes)
+    doors = [ControlPoint("door", float(e.mean(axis=0)[0]), float(e.mean(axis=0)[1]), frame=f)
+             for f in dict.fromkeys(z.frame for z in site.zones) for _, _, kind, e in opening_segments(site, f)
+             if kind in PASSABLE]
+    by_id = {s.id: s for s in stations}
+    for k, comp in enumerate(nx.connected_components(reg.subgraph([s.id for s in stations]))):
+        n = sum(c.name.startswith(f"CP{k + 1}.") for c in ctrl)
+        for sid in sorted(comp):
+            st = by_id[sid]
+            if any(c.frame == st.frame and math.dist(st.xy, (c.x, c.y)) <= TIE_RANGE_M
+                   and intervisible(site, c.frame, st.xy, (c.x, c.y)) for c in ctrl):
+                continue
+            spot = _best_spot(site, st, ctrl + doors)
+            if spot is None:
+                notes.append(f"no control spot fits next to {sid}: it is held by its registration links only")
+                continue
+            n += 1
+            ctrl.append(ControlPoint(f"CP{k + 1}.{n}", spot[0], spot[1], proposed=True, frame=st.frame))
+    return ctrl
+
+
+def _best_spot(site: Site, st: Candidate, points: Sequence[ControlPoint]) -> tuple[float, float] | None:
+    """A control spot 1.5-6 m from station ``st`` that it sees, seeing as many of ``points`` (control points,
+    doors) as it can, so that a traverse leg can reach it; None when no spot fits."""
+    best, score = None, -1
+    for r in CONTROL_OFFSETS_M:
+        for a in range(8):
+            x, y = st.x + r * math.cos(a * math.pi / 4), st.y + r * math.sin(a * math.pi / 4)
+            if misplacement(site, st, x, y) or not intervisible(site, st.frame, st.xy, (x, y)):
+                continue
+            k = sum(c.frame == st.frame and intervisible(site, c.frame, (x, y), (c.x, c.y)) for c in points)
+            if k > score:
+                best, score = (x, y), k
+    return best
+
+
+def tie_sigma_to(distance_m: float) -> float:
+    """m_t of a station scanning ``DEFAULT_TARGETS`` targets set on a control point ``distance_m`` away
+    (the targets coordinated from that point; its own error is in the adjustment)."""
+    return _tie(0.0, [max(distance_m, 1.0)] * DEFAULT_TARGETS)
+
+
+def survey_graph(site: Site, stations: Sequence[Candidate], control: Sequence[ControlPoint],
+                 traverse: ControlTraverse, links: Sequence[tuple[str, str]]) -> nx.Graph:
+    """Stations, control and traverse points; edges ``registration``, ``tie`` and ``traverse`` (``kinds``,
+    ``length_m``). Raises on a leg naming no point."""
+    g = nx.Graph()
+    for s in stations:
+        g.add_node(s.id, kind="station", x=s.x, y=s.y, frame=s.frame, zone=s.zone)
+    for c in (*control, *traverse.points):
+        g.add_node(c.name, kind="control", x=c.x, y=c.y, frame=c.frame, proposed=c.proposed)
+
+    def link(u: str, v: str, kind: str) -> None:
+        d = math.dist((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]))
+        if g.has_edge(u, v):
+            g.edges[u, v]["kinds"].add(kind)
+        else:
+            g.add_edge(u, v, kinds={kind}, length_m=d)
+
+    for u, v in links:
+        link(u, v, "registration")
+    for s in stations:
+        for c in control:
+            if c.frame == s.frame and math.dist(s.xy, (c.x, c.y)) <= TIE_RANGE_M \
+                    and intervisible(site, c.frame, s.xy, (c.x, c.y)):
+                link(s.id, c.name, "tie")
+    for u, v in traverse.legs:
+        for n in (u, v):
+            if n not in g or g.nodes[n]["kind"] != "control":
+                raise InputError("a traverse leg names no control or traverse point", field="traverse", value=n)
+        link(u, v, "traverse")
+    return g
+
+
+def datum(g: nx.Graph, control: Sequence[ControlPoint]) -> tuple[list[str], list[str]]:
+    """Points held fixed, and notes. Given control keeps its sigmas (0: fixed). Proposed control: in each
+    network part, the first three proposed points of the registration part (accessible area) holding most
+    stations are fixed; every other point of the network part is found through the traverse, links and ties."""
+    given = [c.name for c in control if not c.proposed and c.sigma_x_m == 0 and c.sigma_y_m == 0]
+    if any(not c.proposed for c in control):
+        return given, []
+    fixed: list[str] = []
+    notes = []
+    names = {c.name for c in control}
+    for comp in nx.connected_components(g):
+        ctrl = sorted(n for n in comp if n in names)
+        if not ctrl:
+            continue
+        groups: dict[str, list[str]] = {}
+        for c in ctrl:
+            groups.setdefault(c.rsplit(".", 1)[0], []).append(c)
+        served = {k: sum(1 for c in v for n in g[c] if g.nodes[n]["kind"] == "station") for k, v in groups.items()}
+        best = max(sorted(groups), key=lambda k: served[k])
+        held = sorted(groups[best], key=lambda c: int(c.rsplit(".", 1)[1]) if c.rsplit(".", 1)[1].isdigit() else 0)[:3]
+        fixed += held
+        notes.append(f"datum of the network part holding {', '.join(sorted(groups))}: {', '.join(held)} held fixed; "
+                     "its other control points are found through the traverse, links and ties")
+    return fixed, notes

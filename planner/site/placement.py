@@ -1,0 +1,50 @@
+"""Where a table zone lies in the site frame: a rigid placement, and zones moved by it."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from planner.errors import InputError
+from planner.site.model import SITE_FRAME, Site, Zone
+
+
+@dataclass(frozen=True)
+class Placement:
+    """The zone frame in the site frame: site = R(rotation) * local + origin."""
+
+    origin: tuple[float, float]
+    rotation_deg: float
+
+    def __post_init__(self) -> None:
+        if not all(math.isfinite(v) for v in (*self.origin, self.rotation_deg)):
+            raise InputError("placement must be finite numbers", field="placement", value=(*self.origin, self.rotation_deg))
+
+    @property
+    def matrix(self) -> NDArray[np.float64]:
+        a = math.radians(self.rotation_deg)
+        return np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+
+    def apply(self, xy: NDArray[np.float64] | tuple | list[tuple[float, float]]) -> NDArray[np.float64]:
+        """Local points (n, 2) in the site frame."""
+        return np.asarray(np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin),
+                          dtype=np.float64)
+
+
+IDENTITY = Placement((0.0, 0.0), 0.0)
+
+
+def place_zone(zone: Zone, p: Placement) -> Zone:
+    """The zone moved into the site frame (its walls, openings and heights keep their numbering)."""
+    ring = lambda r: tuple((float(x), float(y)) for x, y in p.apply(r))  # noqa: E731
+    note = f"placed in the site frame: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
+    return replace(zone, vertices=ring(zone.vertices), holes=tuple(ring(h) for h in zone.holes),
+                   frame=SITE_FRAME, notes=zone.notes + (note,))
+
+
+def placed_site(site: Site, placements: dict[str, Placement]) -> Site:
+    """The site with each placed zone moved into the site frame."""
+    return replace(site, zones=tuple(place_zone(z, placements[z.id]) if z.id in placements else z for z in site.zones))
