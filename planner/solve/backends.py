@@ -15,7 +15,7 @@ import os
 import sys
 import tempfile
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from enum import Enum
 from typing import Any
@@ -27,10 +27,15 @@ from planner.errors import UsageError
 Row = tuple[np.ndarray, np.ndarray, float]
 #: a warm start: the chosen candidates, or a value for each variable (added variables included)
 Hint = list[int] | dict[int, float]
+#: called with each improving solution found during a solve (chosen candidates, objective); True stops the solve
+Watch = Callable[[tuple[int, ...], float], bool]
 BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 #: CP-SAT needs integer coefficients: fractional ones are scaled by this and rounded down
 #: (a row sum(floor(s*a) x) >= ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
+#: CP-SAT's workers, in order, for ``threads`` > 1: the full-LP worker first, then the core-based bound
+CP_PORTFOLIO = ("max_lp", "core", "quick_restart", "default_lp", "reduced_costs", "pseudo_costs", "no_lp",
+                "lb_tree_search", "probing", "fixed")
 
 
 class Outcome(str, Enum):
@@ -88,19 +93,36 @@ class CpSatBackend:
         self.model = cp_model.CpModel()
         self.x = [self.model.NewBoolVar(f"x{i}") for i in range(n)]
         self.n = n
+        self.watch: Watch | None = None
         self.scale = 1 if _is_int(cost) else CP_SCALE
         c = np.round(cost * self.scale).astype(np.int64)
         self.model.Minimize(sum(int(ci) * self.x[i] for i, ci in enumerate(c) if ci))
 
     def add_rows(self, rows: list[Row]) -> None:
+        """Add ``sum coef * x >= lb`` rows. Rows ``x_i <= sum_{v in N} x_v`` that share N (the region
+        cuts of one component) become one literal y_N with y_N => OR(N) and x_i => y_N: the same
+        linear relaxation, one long clause instead of |R| long rows."""
+        shared: dict[tuple[int, ...], list[int]] = {}
         for idx, coef, lb in rows:
-            if lb == 1.0 and np.all(coef == 1.0):
+            neg = np.flatnonzero(coef < 0)
+            if lb == 0.0 and neg.size == 1 and coef[neg[0]] == -1.0 and np.sum(coef == 1.0) == coef.size - 1:
+                shared.setdefault(tuple(sorted(int(v) for v in np.delete(idx, neg))), []).append(int(idx[neg[0]]))
+            elif lb == 1.0 and np.all(coef == 1.0):
                 self.model.AddBoolOr([self.x[i] for i in idx])
             elif _is_int(coef) and float(lb).is_integer():
                 self.model.Add(sum(int(a) * self.x[i] for i, a in zip(idx, coef)) >= int(lb))
             else:
                 a = np.floor(coef * CP_SCALE).astype(np.int64)
                 self.model.Add(sum(int(v) * self.x[i] for i, v in zip(idx, a)) >= math.ceil(lb * CP_SCALE))
+        for nb, heads in shared.items():
+            lits = [self.x[v] for v in nb]
+            if len(heads) == 1:
+                self.model.AddBoolOr(lits + [self.x[heads[0]].Not()])
+                continue
+            y = self.model.NewBoolVar(f"y{len(self.x)}_{len(heads)}")
+            self.model.AddBoolOr(lits + [y.Not()])
+            for i in heads:
+                self.model.AddImplication(self.x[i], y)
 
     def fix(self, idx: list[int]) -> None:
         for i in idx:
@@ -121,12 +143,14 @@ class CpSatBackend:
         solver = self._cp.CpSolver()
         solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
         # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly
-        # (scp41: 0.04 s, against no bound in 60 s without it); several workers only help as a
-        # portfolio of at least 8, which then includes LP-based workers
-        solver.parameters.num_workers = 1 if threads == 1 else max(threads, 8)
+        # (scp41: 0.04 s, against no bound in 60 s without it); workers = threads (8 workers on a
+        # 2-core machine only share the cores)
+        solver.parameters.num_workers = threads
+        if threads > 1:  # CP-SAT's own choice for 2 workers has no full-LP worker: no bound on polygon A
+            solver.parameters.subsolvers.extend(CP_PORTFOLIO[:threads])
         solver.parameters.linearization_level = 2
         solver.parameters.random_seed = seed
-        status = solver.Solve(self.model)
+        status = solver.Solve(self.model, self._callback() if self.watch is not None else None)
         cp = self._cp
         if status in (cp.OPTIMAL, cp.FEASIBLE):
             sel = tuple(i for i, v in enumerate(self.x[:self.n]) if solver.BooleanValue(v))
@@ -135,6 +159,19 @@ class CpSatBackend:
         if status == cp.INFEASIBLE:
             return BackendResult(Outcome.INFEASIBLE, (), None, None)
         return BackendResult(Outcome.UNKNOWN, (), None, solver.BestObjectiveBound() / self.scale)
+
+
+    def _callback(self) -> Any:
+        """A solution callback that hands each improving solution to :attr:`watch`."""
+        watch, n, scale, x = self.watch, self.n, self.scale, self.x
+
+        class _Seen(self._cp.CpSolverSolutionCallback):  # type: ignore[name-defined,misc]
+            def on_solution_callback(self) -> None:
+                sel = tuple(i for i in range(n) if self.BooleanValue(x[i]))
+                if watch is not None and watch(sel, self.ObjectiveValue() / scale):
+                    self.StopSearch()
+
+        return _Seen()
 
 
 class MipBackend:

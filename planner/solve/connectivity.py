@@ -61,7 +61,10 @@ def connectivity_cuts(adj: sp.csr_matrix, comps: list[list[int]], a: sp.csr_matr
     target of the group (a target only that group's candidates see), a
     connected plan that uses any station i of R(S) must leave R(S), so
     sum_{v in N(R)} x_v >= x_i for every i in R(S): one cut per candidate of
-    the region, which rules out every disconnected plan with a part inside it.
+    the region, which rules out every disconnected plan with a part inside it;
+    and, S being inside R, sum_{v in N(S)} x_v >= sum_{s in S} x_s - |S| + 1 (S
+    whole needs a chosen neighbour), which also cuts S off wherever the other
+    parts stand.
     Otherwise the pairwise cut (with a station j of another component) is used.
     """
     n = adj.shape[0]
@@ -80,6 +83,12 @@ def connectivity_cuts(adj: sp.csr_matrix, comps: list[list[int]], a: sp.csr_matr
             ones = np.ones(len(nb))
             for i in np.flatnonzero(region):
                 cuts.append((np.append(nb, i).astype(np.int64), np.append(ones, -1.0), 0.0))
+            if len(comp) > 1:  # S itself needs a chosen neighbour: sum_{N(S)} x >= sum_{s in S} x_s - |S| + 1
+                near = np.asarray(adj[comp].sum(axis=0)).ravel() > 0
+                near[comp] = False
+                ln = np.flatnonzero(near)
+                cuts.append((np.concatenate([ln, comp]).astype(np.int64),
+                             np.concatenate([np.ones(len(ln)), -np.ones(len(comp))]), 1.0 - len(comp)))
             continue
         near = np.asarray(adj[comp].sum(axis=0)).ravel() > 0
         near[comp] = False

@@ -218,6 +218,18 @@ class _BlockSolver:
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
         self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
         self.done = self.infeasible = False
+        self._seen: list[list[int]] = []  # disconnected solutions met during the current solve
+        if self.groups is not None and o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
+            self.backend.watch = self._watch
+
+    def _watch(self, selected: tuple[int, ...], objective: float) -> bool:
+        """During a solve: keep a connected solution as the incumbent, remember a disconnected one for cuts."""
+        chosen = list(selected)
+        if disconnected_groups(self.adj, self.groups or [], chosen):
+            self._seen.append(chosen)
+            return False
+        self._better(chosen)
+        return False
 
     def _layers(self) -> list[Row]:
         members: dict = {}
@@ -250,15 +262,19 @@ class _BlockSolver:
             if res.outcome is Outcome.UNKNOWN:
                 return
             chosen = list(res.selected)
+            seen, self._seen = self._seen, []
             broken = disconnected_groups(self.adj, self.groups, chosen) if self.groups is not None else {}
-            if not broken:
+            if not broken and res.outcome is not Outcome.UNKNOWN:
                 self._better(chosen)
                 self.done = res.outcome is Outcome.OPTIMAL
-                continue
-            new = [cut for g, comps in broken.items()
-                   for cut in connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))]
+                if self.done:
+                    continue
+            new = []
+            for sol in ([chosen] if broken else []) + [s for s in seen if s != chosen]:
+                for g, comps in disconnected_groups(self.adj, self.groups or [], sol).items():
+                    new += connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))
+                fixed = repair(self.adj, self.cost, self.groups if self.groups is not None else [], sol)
+                if fixed is not None:
+                    self._better(fixed)
             self.backend.add_rows(new)
             self.cuts += len(new)
-            fixed = repair(self.adj, self.cost, self.groups if self.groups is not None else [], chosen)
-            if fixed is not None:
-                self._better(fixed)
