@@ -16,9 +16,12 @@ if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/
 def add_tile_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tiles", type=float, default=None, metavar="M",
                    help="milp: plan by square tiles of M m (margins of S_max), stitched into one registered plan")
-    p.add_argument("--tile-time-limit", type=float, default=30.0, metavar="S", help="--tiles: MILP time per tile (default 30)")
+    p.add_argument("--tile-time-limit", type=float, default=30.0, metavar="S",
+                   help="--tiles: MILP work per tile, CP-SAT deterministic seconds, wall cap 4x (default 30)")
     p.add_argument("--bound-time-limit", type=float, default=60.0, metavar="S",
-                   help="--tiles: time of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
+                   help="--tiles: work of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
+    p.add_argument("--tile-wall-clock", action="store_true",
+                   help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=int, default=0, metavar="N",
                    help="--tiles: run tiles on an embedded Dask LocalCluster of N processes (default 0: in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
@@ -42,7 +45,7 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
     from planner.tiles import TileOptions, dask_client, plan_by_tiles
 
     tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
-                         bound_time_limit_s=args.bound_time_limit)
+                         bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock)
     if not args.workers and not args.scheduler:
         return plan_by_tiles(site, options, tiling)
     with dask_client(args.workers, args.scheduler, args.worker_memory) as client:

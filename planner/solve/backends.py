@@ -94,6 +94,9 @@ class CpSatBackend:
         self.x = [self.model.NewBoolVar(f"x{i}") for i in range(n)]
         self.n = n
         self.watch: Watch | None = None
+        #: CP-SAT deterministic time this model may still spend in all (None: wall clock only), and what it spent
+        self.work_limit: float | None = None
+        self.work_used = 0.0
         self.scale = 1 if _is_int(cost) else CP_SCALE
         c = np.round(cost * self.scale).astype(np.int64)
         self.model.Minimize(sum(int(ci) * self.x[i] for i, ci in enumerate(c) if ci))
@@ -142,6 +145,8 @@ class CpSatBackend:
                 self.model.AddHint(self.x[i], int(round(val)))
         solver = self._cp.CpSolver()
         solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
+        if self.work_limit is not None:  # a work budget makes one worker's answer independent of the load
+            solver.parameters.max_deterministic_time = max(self.work_limit - self.work_used, 1e-3)
         # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly
         # (scp41: 0.04 s, against no bound in 60 s without it); workers = threads (8 workers on a
         # 2-core machine only share the cores)
@@ -151,6 +156,7 @@ class CpSatBackend:
         solver.parameters.linearization_level = 2
         solver.parameters.random_seed = seed
         status = solver.Solve(self.model, self._callback() if self.watch is not None else None)
+        self.work_used += float(solver.deterministic_time)
         cp = self._cp
         if status in (cp.OPTIMAL, cp.FEASIBLE):
             sel = tuple(i for i, v in enumerate(self.x[:self.n]) if solver.BooleanValue(v))

@@ -56,6 +56,9 @@ class MilpOptions:
     connectivity: str = "auto"
     layer_cuts: bool = False
     tree_bound: bool = False
+    #: CP-SAT deterministic seconds for the whole solve (cpsat, 1 thread): the answer then does not depend
+    #: on the machine's load; ``time_limit_s`` stays a wall-clock cap (``info["work"]`` says which ended it)
+    work_limit: float | None = None
 
     def __post_init__(self) -> None:
         if self.connectivity not in CONNECTIVITY:
@@ -69,6 +72,9 @@ class MilpOptions:
             raise UsageError("must be single or combined", field="precision", value=self.precision)
         if self.k < 1 or self.threads < 1 or not self.time_limit_s > 0:
             raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
+        if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
+            raise UsageError("a work limit needs a value > 0, the cpsat backend and one thread", field="work_limit",
+                             value=self.work_limit)
 
     @property
     def connectivity_method(self) -> str:
@@ -104,14 +110,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)
     solvers = [_BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
                for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
-    # pass 1: each block an equal share of the time left (a block that finishes early leaves its rest);
-    # pass 2: the blocks not yet proven share whatever is left
-    for pass_blocks in (solvers, None):
-        todo = solvers if pass_blocks is not None else [b for b in solvers if not b.done]
-        for k, block in enumerate(todo):
-            share = (deadline - time.perf_counter()) / (len(todo) - k)
-            if share > 0:
-                block.run(time.perf_counter() + share)
+    _share_out(solvers, deadline, o.work_limit)
     if any(b.infeasible for b in solvers):
         return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
                            backend=o.backend, info={"presolve": report.to_dict()})
@@ -126,8 +125,29 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
     info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect,
             "connectivity": o.connectivity_method if connect else "none"}
+    if o.work_limit is not None:
+        used = sum(b.work_used for b in solvers)
+        info["work"] = {"limit": o.work_limit, "used": round(used, 3),
+                        "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline}
     return SolveResult("milp", status, tuple(sorted(selected)), objective, bound=objective if all_optimal else bound,
                        time_s=time.perf_counter() - start, backend=o.backend, info=info)
+
+
+def _share_out(solvers: list["_BlockSolver"], deadline: float, work_limit: float | None) -> None:
+    """Pass 1: each block an equal share of what is left (a block that finishes early leaves its rest);
+    pass 2: the blocks not yet proven share whatever is left. Shares are of wall-clock time, or of CP-SAT
+    work (deterministic seconds: every share, and so the plan, is the same under any load)."""
+    for first in (True, False):
+        todo = solvers if first else [b for b in solvers if not b.done]
+        for k, block in enumerate(todo):
+            if work_limit is not None:
+                left = work_limit - sum(b.work_used for b in solvers)
+                if left > 1e-6:
+                    block.run(deadline, block.work_used + left / (len(todo) - k))
+                continue
+            share = (deadline - time.perf_counter()) / (len(todo) - k)
+            if share > 0:
+                block.run(time.perf_counter() + share)
 
 
 def _lengths(instance: CoverInstance) -> np.ndarray:
@@ -242,11 +262,19 @@ class _BlockSolver:
         if self.incumbent is None or self.cost[chosen].sum() < self.cost[self.incumbent].sum() - 1e-9:
             self.incumbent = chosen
 
-    def run(self, deadline: float) -> None:
-        """Solve, cut and re-solve until the choice is connected and proven optimal, or the deadline."""
+    @property
+    def work_used(self) -> float:
+        """CP-SAT deterministic seconds this block has spent (0 on other backends)."""
+        return float(getattr(self.backend, "work_used", 0.0))
+
+    def run(self, deadline: float, work_until: float | None = None) -> None:
+        """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline, or (when
+        given) until the block's CP-SAT work reaches ``work_until``."""
+        if work_until is not None:
+            self.backend.work_limit = work_until
         while not self.done and self.rounds < self.o.max_rounds:
             left = deadline - time.perf_counter()
-            if left <= 0:
+            if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
                 return
             hint = self.flow.hint(self.incumbent) if self.flow is not None and self.incumbent is not None else self.incumbent
             res = self.backend.solve(left, self.o.threads, self.o.seed, hint)

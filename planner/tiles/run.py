@@ -48,12 +48,16 @@ from planner.verify import verify_stations
 class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
     ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
-    MILP for the bound (0: LP bound only)."""
+    MILP for the bound (0: LP bound only). ``deterministic`` (default; CP-SAT with one thread): both
+    limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
+    long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
+    wall-clock seconds and a time-limited tile may stop at another incumbent under another load."""
 
     tile_m: float = 100.0
     margin_m: float | None = None
     tile_time_limit_s: float = 30.0
     bound_time_limit_s: float = 60.0
+    deterministic: bool = True
 
     def __post_init__(self) -> None:
         if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
@@ -134,12 +138,14 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     adj, _ = overlap_adjacency(by_cand, lengths, rule, groups, xy, links)
     joined = stitch(by_cand, adj, groups, [r.selected for r in results])
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
-    bound = global_bound(by_cand, tiling.bound_time_limit_s, options.milp.seed)
+    bound = global_bound(by_cand, tiling.bound_time_limit_s, options.milp.seed,
+                         work_limited=deterministic_limits(options.milp, tiling), wall_cap=WALL_CAP)
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
     joined = best_plan(by_cand, adj, groups, joined, bound.cover)
     return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
-                    "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m})
+                    "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m},
+                   deterministic_limits(options.milp, tiling))
 
 
 def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], tiled: Stitched,
@@ -157,13 +163,32 @@ def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], til
     return replace(best, tried={p.source: len(p.selected) for p in plans})
 
 
+#: wall-clock cap of a work-limited MILP, as a multiple of its work limit
+WALL_CAP = 4.0
+
+
+def deterministic_limits(milp: MilpOptions, tiling: TileOptions) -> bool:
+    """Whether the tile and bound MILPs run on CP-SAT work limits (see :class:`TileOptions`)."""
+    return tiling.deterministic and milp.backend == "cpsat" and milp.threads == 1
+
+
+def _limits_line(capped: list[str], work_limited: bool) -> str:
+    if not work_limited:
+        return "MILP limits: wall clock (a time-limited tile may end at another plan under another load)"
+    return ("MILP limits: CP-SAT work in deterministic seconds (same plan under any load, serial or on Dask)"
+            + (f"; wall-clock cap reached in {', '.join(capped)}: those answers may depend on the load" if capped else ""))
+
+
 def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
-    return replace(options.milp, time_limit_s=tiling.tile_time_limit_s)
+    limit = tiling.tile_time_limit_s
+    if deterministic_limits(options.milp, tiling):
+        return replace(options.milp, time_limit_s=WALL_CAP * limit, work_limit=limit)
+    return replace(options.milp, time_limit_s=limit)
 
 
 def _finish(site: Site, options: PlanOptions, validation: ValidationReport, problem: CoverageProblem,
             results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, registration: tuple[str, float],
-            times: dict[str, float]) -> Plan:
+            times: dict[str, float], work_limited: bool = False) -> Plan:
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
     from planner.plan import registration_check
 
@@ -174,9 +199,12 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                    "status": r.status.value, "stations": len(r.selected), "bound": r.bound,
                    "covers_core": r.covers_core, "coverage_s": round(r.coverage_s, 3), "solve_s": round(r.solve_s, 3)}
                   for r in results]
+    capped = [r.tile.name for r in results if r.wall_cap_hit] + (["bound"] if bound.wall_cap_hit else [])
     info = {"tiles": tiles_info, "bound_scope": "pool", "lp_bound": bound.lp, "cover_milp_bound": bound.milp,
             "stitch": {"source": joined.source, "tried": joined.tried, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
             "bound_how": "max(ceil(LP of the whole cover), cover-MILP bound), registration rule dropped",
+            "limits": "CP-SAT work (deterministic s)" if work_limited else "wall clock (s)",
+            "wall_cap_hit": capped,
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
                          time_s=times["total_s"], backend=options.milp.backend, info=info)
@@ -194,6 +222,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
     log = (f"{len(results)} tiles of {times['tile_m']:g} m, margin {times['margin_m']:.1f} m: coverage and tile MILPs "
            f"in {times['tiles_s']:.1f} s" + (f"; tiles whose plan does not cover their core: {', '.join(bad)}" if bad else
                                             "; every tile's plan covers its core"),
+           _limits_line(capped, work_limited),
            "connected plans: " + ", ".join(f"{k} {v}" for k, v in (joined.tried or {}).items())
            + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}"

@@ -93,6 +93,7 @@ class Bound:
     milp: float | None
     milp_status: Status | None
     cover: tuple[int, ...] = ()
+    wall_cap_hit: bool = False
 
     @property
     def value(self) -> int:
@@ -113,12 +114,18 @@ def lp_bound(a: sp.csr_matrix) -> float:
     return float(res.fun)
 
 
-def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0) -> Bound:
-    """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped)."""
+def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limited: bool = False,
+                 wall_cap: float = 4.0) -> Bound:
+    """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped).
+    ``work_limited``: the limit is CP-SAT work (deterministic seconds) under a wall cap ``wall_cap`` times
+    as long, so the bound and the cover it returns do not depend on the load."""
     lp = lp_bound(a)
     if time_limit_s <= 0:
         return Bound(lp, None, None)
     inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
-    res = solve(inst, MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1))
+    opts = (MilpOptions(overlap=None, time_limit_s=wall_cap * time_limit_s, work_limit=time_limit_s, seed=seed, threads=1)
+            if work_limited else MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1))
+    res = solve(inst, opts)
     best = res.objective if res.status is Status.OPTIMAL else res.bound
-    return Bound(lp, best, res.status, tuple(int(i) for i in res.selected))
+    capped = bool(res.info.get("work", {}).get("wall_cap_hit", False))
+    return Bound(lp, best, res.status, tuple(int(i) for i in res.selected), capped)

@@ -53,6 +53,7 @@ class TileResult:
     covers_core: bool
     coverage_s: float
     solve_s: float
+    wall_cap_hit: bool = False
 
     @property
     def n_targets(self) -> int:
@@ -83,5 +84,6 @@ def tile_task(site: Site, candidates: Sequence[Candidate], targets: Targets, lim
     picked = list(res.selected)
     covers = bool(picked) and bool(np.all(problem.covered_by(picked) >= 1))
     selected = tuple(sorted(int(job.candidates[i]) for i in picked))
+    capped = bool(res.info.get("work", {}).get("wall_cap_hit", False))
     return TileResult(job.tile, rows, cols, slant, inc, res.status, selected, res.objective, res.bound,
-                      unseen, covers, t1 - t0, time.perf_counter() - t1)
+                      unseen, covers, t1 - t0, time.perf_counter() - t1, capped)

@@ -77,6 +77,15 @@ def test_tiled_plan_has_a_tripod_disc_per_station(serial) -> None:
     assert all(d.relied_targets > 0 for d in discs)  # every station is relied on for some piece
 
 
+def test_tile_milps_run_on_work_limits_by_default(serial) -> None:
+    # CP-SAT work (deterministic seconds) limits the tile and bound MILPs, so the plan does not depend on
+    # the load; the 4x wall-clock cap was not reached on the 1-ha plant, so that holds for this plan
+    info = serial.result.info
+    assert info["limits"] == "CP-SAT work (deterministic s)"
+    assert info["wall_cap_hit"] == []
+    assert any("deterministic seconds" in line for line in serial.log)
+
+
 def test_lp_bound_of_a_small_cover() -> None:
     """Three targets, candidates {0,1}, {1,2}, {0,2}: x = 1/2 each covers every target twice-halved, LP 1.5."""
     import scipy.sparse as sp
