@@ -14,6 +14,7 @@ parts, verified %, and the plain greedy (not connected) on the same matrix besid
 from __future__ import annotations
 
 import argparse
+import hashlib
 import csv
 import json
 import math
@@ -29,7 +30,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",
-          "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb"]
+          "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb",
+          "plan_sha1", "limits", "wall_cap_hit"]
 
 
 class TreeRss:
@@ -83,7 +85,10 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
            "pairs": plan.problem_size["pairs"], **{k: info["times"][k] for k in ("tiles_s", "stitch_s", "bound_s", "total_s")},
            "stations": len(plan.stations), "bound": plan.result.bound, "lp_bound": round(info["lp_bound"], 2),
            "gap": round(plan.result.gap, 4), "parts": sum(plan.registration.values()),
-           "verified_percent": round(plan.verification.percent, 3), "tree_rss_mb": round(rss.peak / 2**20)}
+           "verified_percent": round(plan.verification.percent, 3), "tree_rss_mb": round(rss.peak / 2**20),
+           # which plan: a short hash of the sorted station ids (equal hashes: the same plan), and the limits
+           "plan_sha1": hashlib.sha1(",".join(sorted(s.id for s in plan.stations)).encode()).hexdigest()[:10],
+           "limits": info.get("limits", ""), "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none"}
     row["greedy"] = _greedy(site, options, plan, greedy_cover)
     out.write_text(json.dumps(row))
     if figure is not None:
