@@ -14,6 +14,7 @@ connected. Objectives and bounds of the blocks add up.
 from __future__ import annotations
 
 import time
+from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -161,9 +162,7 @@ def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | No
     if not o.presolve:
         return PresolveReport(n_cand, n_targ, kept_candidates=tuple(range(n_cand)), kept_targets=tuple(range(n_targ)))
     if o.k == 1 and o.precision == "single":
-        drop = dominated(a, instance.cost, adj, instance.groups if adj is not None else None)
-    if o.precision == "single" and o.k == 1:
-        dup = implied_targets(instance.by_target)
+        drop, dup = _reduce(a, instance.cost, adj, instance.groups if adj is not None else None)
     elif o.precision == "single":
         dup = duplicate_targets(instance.by_target)
     else:
@@ -173,6 +172,33 @@ def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | No
     must = forced(bt, o.k)
     return PresolveReport(n_cand, n_targ, int(drop.sum()), int(dup.sum()), int(must.sum()),
                           tuple(kept_c.tolist()), tuple(np.flatnonzero(~dup).tolist()), tuple(kept_c[must].tolist()))
+
+
+#: at most this many alternations of dominance and implied targets (each pass is a valid reduction)
+_REDUCE_PASSES = 20
+
+
+def _reduce(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None,
+            groups: Sequence[Hashable] | None) -> tuple[np.ndarray, np.ndarray]:
+    """Dominated candidates and implied targets (k = 1, single precision), alternated until neither
+    removes anything: dropping candidates makes more targets implied (every *remaining* seer of t' sees
+    t) and dropping targets makes more candidates dominated. Each step keeps the connected optimum of
+    the problem it is applied to (see :func:`dominated` and :func:`implied_targets`), so the last
+    one's equals the first's. Polygon A (cached pool of scripts/bench_connectivity.py): 958 candidates x
+    1,618 targets after one pass, 574 x 361 after this (measured).
+    Returns the masks of dropped candidates and targets."""
+    kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
+    for _ in range(_REDUCE_PASSES):
+        d = dominated(a[kc][:, kt].tocsr(), cost[kc], adj[kc][:, kc].tocsr() if adj is not None else None,
+                      [groups[i] for i in kc] if groups is not None else None)
+        kc = kc[~d]
+        imp = implied_targets(a[kc][:, kt].T.tocsr())
+        kt = kt[~imp]
+        if not (d.any() or imp.any()):
+            break
+    drop, dup = np.ones(a.shape[0], dtype=bool), np.ones(a.shape[1], dtype=bool)
+    drop[kc], dup[kt] = False, False
+    return drop, dup
 
 
 def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) -> list[tuple[np.ndarray, np.ndarray]]:

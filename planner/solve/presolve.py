@@ -50,10 +50,10 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     inter = filtered_gram(a, None, lambda i, j, v: np.abs(v - size[i]) < 0.5)
     order = sorted(range(a.shape[0]), key=lambda i: (-size[i], cost[i], i))
     removed = np.zeros(a.shape[0], dtype=bool)
-    kept_rank = {}
+    kept_rank: dict[int, int] = {}
     for rank, i in enumerate(order):
-        if size[i] == 0:
-            removed[i] = True
+        if size[i] == 0 and (adj is None or _no_bridge(adj, i, removed, kept_rank, cost, groups)):
+            removed[i] = True  # covers nothing: dropped unless it may be the only link between others
             continue
         row = inter.indices[inter.indptr[i]:inter.indptr[i + 1]]
         vals = inter.data[inter.indptr[i]:inter.indptr[i + 1]]
@@ -69,6 +69,21 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
         if not removed[i]:
             kept_rank[i] = rank
     return removed
+
+
+def _no_bridge(adj: sp.csr_matrix, i: int, removed: np.ndarray, kept: dict[int, int], cost: np.ndarray,
+               groups: Sequence[Hashable] | None) -> bool:
+    """Whether a candidate covering nothing can go under the overlap rule: it has no neighbour, or a
+    kept j of its group, no dearer, is linked to every neighbour of i (j then stands in for it)."""
+    nb = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    if nb.size == 0:
+        return True
+    v = int(nb[0])
+    for j in [v, *adj.indices[adj.indptr[v]:adj.indptr[v + 1]].tolist()]:
+        if j != i and not removed[j] and j in kept and cost[j] <= cost[i] and \
+                (groups is None or groups[j] == groups[i]) and _links_cover(adj, i, j):
+            return True
+    return False
 
 
 def _links_cover(adj: sp.csr_matrix, i: int, j: int) -> bool:

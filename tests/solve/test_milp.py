@@ -83,3 +83,26 @@ def test_presolve_keeps_the_connected_optimum():
 def test_solve_takes_keywords():
     r = solve(instance(BRIDGE, 6), backend="scip", time_limit_s=10, seed=1, threads=1)
     assert r.backend == "scip" and r.selected == (0, 1, 2)
+
+
+def test_repeated_presolve_keeps_a_bridge_that_covers_only_implied_targets():
+    # c0, c1, c3 are the only seers of pieces 0, 8, 9; c2 = {3, 4, 5} links all three (1 m shared each,
+    # >= 0.3 * 2 m) and no two of them share wall. Once pieces 3, 4, 5 are implied by 0, 9, 8 (their
+    # other seers see nothing else there), c2 covers no kept target but is still the only bridge
+    cover = [{0, 1, 2, 3}, {5, 6, 7, 8}, {3, 4, 5}, {4, 9}]
+    inst = instance(cover, 10)
+    with_p = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20))
+    without = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20, presolve=False))
+    assert with_p.status.value == without.status.value == "optimal"
+    assert with_p.selected == without.selected == (0, 1, 2, 3)
+    assert with_p.info["presolve"]["targets_out"] <= 5  # 3, 4, 5 and more were implied away
+
+
+def test_repeated_presolve_drops_what_the_first_pass_cannot():
+    # the ring of test_presolve_keeps_the_connected_optimum: removing the singletons makes targets
+    # implied; the connected optimum stays
+    arcs = [{(i + j) % 12 for j in range(3)} for i in range(12)]
+    inst = instance(arcs + [{i} for i in range(12)], 12)
+    r = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20))
+    full = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20, presolve=False))
+    assert r.status.value == "optimal" and r.objective == full.objective
