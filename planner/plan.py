@@ -276,16 +276,24 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                                                 rule.max_link_m or limits.range_limit_m)
     if rule.overlap == 0:
         registration, log = {}, log + ["registration: not required (overlap 0)"]
-    stations = [problem.candidates[i] for i in result.selected]
-    tripods: tuple[TripodDisc, ...] = ()
-    if options.tripod or options.recentre:
-        tripods = tuple(tripod_discs(site, problem, result.selected, limits, partners, options.recentre))
-        if options.recentre:
-            stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
+    stations, tripods = placed_stations(site, problem, result.selected, options, partners)
     verification = verify_stations(site, stations, limits, options.verify_spacing_m)
     size = {"candidates": len(pool), "targets": len(targets), "pairs": int(problem.by_candidate.nnz)}
     return Plan(site, options, validation, result, tuple(stations), verification, size, tuple(log),
                 registration, tripods)
+
+
+def placed_stations(site: Site, problem: CoverageProblem, selected: tuple[int, ...], options: PlanOptions,
+                    partners: dict[int, list[int]]) -> tuple[list[Candidate], tuple[TripodDisc, ...]]:
+    """The chosen stations and, with ``options.tripod`` or ``options.recentre``, their tripod discs (relied
+    pieces only, checked on centre and rim); ``recentre`` moves each station to its disc's centre."""
+    stations = [problem.candidates[i] for i in selected]
+    if not (options.tripod or options.recentre):
+        return stations, ()
+    tripods = tuple(tripod_discs(site, problem, selected, problem.limits, partners, options.recentre))
+    if options.recentre:
+        stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
+    return stations, tripods
 
 
 def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule,

@@ -166,7 +166,6 @@ class CpSatBackend:
             return BackendResult(Outcome.INFEASIBLE, (), None, None)
         return BackendResult(Outcome.UNKNOWN, (), None, solver.BestObjectiveBound() / self.scale)
 
-
     def _callback(self) -> Any:
         """A solution callback that hands each improving solution to :attr:`watch`."""
         watch, n, scale, x = self.watch, self.n, self.scale, self.x

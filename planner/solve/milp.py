@@ -77,6 +77,11 @@ class MilpOptions:
             raise UsageError("a work limit needs a value > 0, the cpsat backend and one thread", field="work_limit",
                              value=self.work_limit)
 
+    def with_work_limit(self, work_s: float, wall_cap: float) -> "MilpOptions":
+        """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap
+        of ``wall_cap`` times as long."""
+        return replace(self, time_limit_s=wall_cap * work_s, work_limit=work_s)
+
     @property
     def connectivity_method(self) -> str:
         """The method ``auto`` stands for: branch-and-cut on pyscipopt, the cut loop elsewhere."""
@@ -318,7 +323,7 @@ class _BlockSolver:
             chosen = list(res.selected)
             seen, self._seen = self._seen, []
             broken = disconnected_groups(self.adj, self.groups, chosen) if self.groups is not None else {}
-            if not broken and res.outcome is not Outcome.UNKNOWN:
+            if not broken:
                 self._better(chosen)
                 self.done = res.outcome is Outcome.OPTIMAL
                 if self.done:

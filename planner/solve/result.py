@@ -38,6 +38,11 @@ class SolveResult:
             return None
         return max(0.0, (self.objective - self.bound) / self.objective)
 
+    @property
+    def wall_cap_hit(self) -> bool:
+        """A work-limited MILP (``info["work"]``) that its wall-clock cap ended: only then may it depend on the load."""
+        return bool(self.info.get("work", {}).get("wall_cap_hit", False))
+
     def _repr_html_(self) -> str:
         from planner.notebook import summary_html
 

@@ -34,7 +34,6 @@ from planner.plan import Plan, PlanOptions, _limits, closed_form_limits, unseen_
 from planner.site.model import Site
 from planner.solve.milp import MilpOptions
 from planner.solve.result import SolveResult, Status
-from planner.solve.tripod import TripodDisc, tripod_discs
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import connected_greedy
@@ -182,7 +181,7 @@ def _limits_line(capped: list[str], work_limited: bool) -> str:
 def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
     limit = tiling.tile_time_limit_s
     if deterministic_limits(options.milp, tiling):
-        return replace(options.milp, time_limit_s=WALL_CAP * limit, work_limit=limit)
+        return options.milp.with_work_limit(limit, WALL_CAP)
     return replace(options.milp, time_limit_s=limit)
 
 
@@ -190,7 +189,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
             results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, registration: tuple[str, float],
             times: dict[str, float], work_limited: bool = False) -> Plan:
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
-    from planner.plan import registration_check
+    from planner.plan import placed_stations, registration_check
 
     n = len(joined.selected)
     value = bound.value
@@ -209,12 +208,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
                          time_s=times["total_s"], backend=options.milp.backend, info=info)
     parts, partners = registration_check(problem, joined.selected, rule, site, *registration)
-    stations = [problem.candidates[i] for i in joined.selected]
-    tripods: tuple[TripodDisc, ...] = ()
-    if options.tripod or options.recentre:  # as plan_site: relied pieces only, checked on centre and rim
-        tripods = tuple(tripod_discs(site, problem, joined.selected, problem.limits, partners, options.recentre))
-        if options.recentre:
-            stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
+    stations, tripods = placed_stations(site, problem, joined.selected, options, partners)
     verification = verify_stations(site, stations, problem.limits, options.verify_spacing_m)
     size = {"candidates": len(problem.candidates), "targets": len(problem.targets),
             "pairs": int(problem.by_candidate.nnz), "tiles": len(results)}

@@ -123,9 +123,7 @@ def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limi
     if time_limit_s <= 0:
         return Bound(lp, None, None)
     inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
-    opts = (MilpOptions(overlap=None, time_limit_s=wall_cap * time_limit_s, work_limit=time_limit_s, seed=seed, threads=1)
-            if work_limited else MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1))
-    res = solve(inst, opts)
+    opts = MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1)
+    res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else opts)
     best = res.objective if res.status is Status.OPTIMAL else res.bound
-    capped = bool(res.info.get("work", {}).get("wall_cap_hit", False))
-    return Bound(lp, best, res.status, tuple(int(i) for i in res.selected), capped)
+    return Bound(lp, best, res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit)

@@ -84,6 +84,5 @@ def tile_task(site: Site, candidates: Sequence[Candidate], targets: Targets, lim
     picked = list(res.selected)
     covers = bool(picked) and bool(np.all(problem.covered_by(picked) >= 1))
     selected = tuple(sorted(int(job.candidates[i]) for i in picked))
-    capped = bool(res.info.get("work", {}).get("wall_cap_hit", False))
     return TileResult(job.tile, rows, cols, slant, inc, res.status, selected, res.objective, res.bound,
-                      unseen, covers, t1 - t0, time.perf_counter() - t1, capped)
+                      unseen, covers, t1 - t0, time.perf_counter() - t1, res.wall_cap_hit)
