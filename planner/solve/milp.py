@@ -32,6 +32,7 @@ from planner.solve.flow import FlowModel, add_flow
 from planner.solve.greedy import greedy_cover
 from planner.solve.treebound import add_tree_bound
 from planner.solve.instance import CoverInstance
+from planner.solve.local_search import shrink
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
 from planner.solve.result import SolveResult, Status
 from planner.solve.separators import layer_cuts
@@ -60,6 +61,9 @@ class MilpOptions:
     #: CP-SAT deterministic seconds for the whole solve (cpsat, 1 thread): the answer then does not depend
     #: on the machine's load; ``time_limit_s`` stays a wall-clock cap (``info["work"]`` says which ended it)
     work_limit: float | None = None
+    #: swaps of the local search (:mod:`planner.solve.local_search`) that tries, once per incumbent size, to
+    #: find a connected plan one station smaller, down to the block's bound (unit costs, k = 1; 0: off)
+    local_search_moves: int = 500
 
     def __post_init__(self) -> None:
         if self.connectivity not in CONNECTIVITY:
@@ -73,6 +77,8 @@ class MilpOptions:
             raise UsageError("must be single or combined", field="precision", value=self.precision)
         if self.k < 1 or self.threads < 1 or not self.time_limit_s > 0:
             raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
+        if self.local_search_moves < 0:
+            raise UsageError("must be >= 0", field="local_search_moves", value=self.local_search_moves)
         if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
             raise UsageError("a work limit needs a value > 0, the cpsat backend and one thread", field="work_limit",
                              value=self.work_limit)
@@ -130,6 +136,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     rounds, cuts = sum(b.rounds for b in solvers), sum(b.cuts for b in solvers)
     status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
     info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect,
+            "local_search_moves": sum(b.local_moves for b in solvers),
             "connectivity": o.connectivity_method if connect else "none"}
     if o.work_limit is not None:
         used = sum(b.work_used for b in solvers)
@@ -268,8 +275,10 @@ class _BlockSolver:
             g = greedy_cover(self.sub, weights=self.cost)
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
         self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
+        self.local_moves = 0
         self.done = self.infeasible = False
         self._seen: list[list[int]] = []  # disconnected solutions met during the current solve
+        self._shrunk: set[float] = set()  # incumbent costs the local search started from
         if self.groups is not None and o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
             self.backend.watch = self._watch
 
@@ -337,3 +346,26 @@ class _BlockSolver:
                     self._better(fixed)
             self.backend.add_rows(new)
             self.cuts += len(new)
+            self._shrink()
+            self.done = self._closed()
+
+    def _closed(self) -> bool:
+        """Whether the incumbent is connected and meets the bound (integral costs: its ceiling)."""
+        if self.incumbent is None or not self.rounds:
+            return False
+        bound = np.ceil(self.bound - 1e-6) if np.all(self.cost == np.round(self.cost)) else self.bound
+        return bool(self.cost[self.incumbent].sum() <= bound + 1e-9)
+
+    def _shrink(self) -> None:
+        """Local search for a connected plan one station smaller, once per incumbent size, down to the bound."""
+        o = self.o
+        if (self.groups is None or self.incumbent is None or o.local_search_moves == 0 or o.k != 1
+                or o.precision != "single" or np.ptp(self.cost) > 0):
+            return
+        size = float(self.cost[self.incumbent].sum())
+        floor = int(np.ceil(self.bound / self.cost[0] - 1e-6))
+        if size in self._shrunk or len(self.incumbent) <= floor:
+            return
+        self._shrunk.add(size)
+        self.local_moves += o.local_search_moves
+        self._better(shrink(self.sub, self.adj, self.groups, self.incumbent, o.local_search_moves, floor))
