@@ -173,7 +173,8 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     rule = None if args.no_overlap or overlap == 0 else OverlapRule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
                        k=args.k, overlap=rule, precision=args.precision, connectivity=args.connectivity,
-                       layer_cuts=args.layer_cuts, tree_bound=args.tree_bound, work_limit=args.work_limit)
+                       layer_cuts=args.layer_cuts, tree_bound=args.tree_bound, work_limit=args.work_limit,
+                       local_search_moves=args.local_search_moves)
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
@@ -400,6 +401,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--work-limit", type=float, default=None, metavar="S",
                     help="cpsat, 1 thread: stop on S deterministic seconds of CP-SAT work (same plan under any load); "
                          "--time-limit stays a wall-clock cap")
+    pl.add_argument("--local-search-moves", type=int, default=500, metavar="N",
+                    help="milp: swaps of the local search for a connected plan one station smaller, tried once per "
+                         "incumbent size down to the bound (default 500; 0: off)")
     pl.add_argument("--threads", type=int, default=1, help="solver threads (default 1: deterministic)")
     pl.add_argument("--k", type=int, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument("--precision", choices=PRECISION_MODES, default="single",

@@ -231,7 +231,10 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
         bc, bt = keep_c[members[members < nc]], keep_t[members[members >= nc] - nc]
         if bt.size:
             out.append((bc, bt))
-    return out
+    # smallest first: a small block is usually proven inside its share and leaves the rest, in one
+    # piece, to the larger ones (polygon C: the outside block proves in ~7 s, the inside one then
+    # runs on without the restart that a second pass costs); ties keep the component order
+    return sorted(out, key=lambda b: b[0].size * b[1].size)
 
 
 class _BlockSolver:
