@@ -110,6 +110,8 @@ def main() -> None:
     ap.add_argument("--only", nargs="+", metavar="METHOD",
                     help="run only these methods (greedy-connected, greedy-plain, milp) and replace their rows "
                          "of the instances run in the existing CSV, keeping the others")
+    ap.add_argument("--milp-runs", nargs="+", metavar="BACKEND:CONNECTIVITY:THREADS",
+                    help="only these MILP runs (default: every row of MILP_RUNS), e.g. cpsat:loop:1 cpsat:loop:2")
     ap.add_argument("--child", nargs=6, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
@@ -120,7 +122,8 @@ def main() -> None:
     rows = []
     for name in args.instances:
         path = build(name, args.cache, not args.no_pricing)
-        runs = [("greedy-connected", "", "", 1), ("greedy-plain", "", "", 1)] + [("milp", *r) for r in MILP_RUNS]
+        milp_runs = [(b, c, int(t)) for b, c, t in (r.split(":") for r in args.milp_runs)] if args.milp_runs else MILP_RUNS
+        runs = [("greedy-connected", "", "", 1), ("greedy-plain", "", "", 1)] + [("milp", *r) for r in milp_runs]
         runs = [r for r in runs if not args.only or r[0] in args.only]
         for method, backend, conn, threads in runs:
             row = {"instance": name, "pool": pool, "method": method, "backend": backend, "connectivity": conn,
