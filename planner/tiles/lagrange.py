@@ -65,17 +65,22 @@ class PartResult:
 class LagrangeBound:
     """The best bound found: ``value`` (rounded up when the costs are integers), ``raw`` (not rounded),
     ``lp`` (whole-cover LP), ``iterations`` run, ``per_tile`` (each part's bound at the best split,
-    original units), ``optimal`` (every part proven at the best split), ``upper`` (cheapest union of
-    the parts' covers, a cover of the whole), ``time_s``."""
+    original units), ``proven`` (which parts were solved to optimality there), ``upper`` (cheapest union
+    of the parts' covers, pruned: a cover of the whole), ``time_s``."""
 
     value: float
     raw: float
     lp: float
     iterations: int
     per_tile: tuple[float, ...]
-    optimal: bool
+    proven: tuple[bool, ...]
     upper: float
     time_s: float
+
+    @property
+    def optimal(self) -> bool:
+        """Every part proven optimal at the best split (else some part gave CP-SAT's bound only)."""
+        return all(self.proven)
 
 
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
@@ -219,7 +224,8 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
     for js, p in zip(cands, parts):
         sub = a[js][:, p].tocsc()
         subs.append(sub[:, ~implied_targets(sub.T.tocsr())].tocsr())
-    best, best_opt, upper = -math.inf, False, math.inf if upper is None else upper
+    best, upper = -math.inf, math.inf if upper is None else upper
+    best_opt: tuple[bool, ...] = ()
     best_parts: tuple[float, ...] = ()
     hints: list[NDArray[np.bool_] | None] = [None] * len(parts)
     done = 0
@@ -233,7 +239,7 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
             x[js[r.chosen]] = True
         upper = min(upper, float(c[_pruned(a, x)].sum()))
         if value > best + 1e-12:
-            best, best_parts, best_opt = value, tuple(r.lower / scale for r in res), all(r.optimal for r in res)
+            best, best_parts, best_opt = value, tuple(r.lower / scale for r in res), tuple(r.optimal for r in res)
         else:
             mu /= 2
         hints = [r.chosen for r in res]

@@ -8,8 +8,9 @@ What holds and why:
 - registration: the stitched plan is checked on the site's overlap relation (shared wall over every
   piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (``site`` mode by default: one
   bundle per accessible area);
-- bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`), over the
-  pool; the gap is (stations - bound) / stations.
+- bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`) and, with
+  ``TileOptions.lagrange``, the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), over
+  the pool; the gap is (stations - bound) / stations.
 """
 
 from __future__ import annotations
@@ -219,7 +220,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
             "lagrange": None if bound.lagrange is None else {
                 "value": bound.lagrange.value, "raw": bound.lagrange.raw, "lp": bound.lagrange.lp,
                 "iterations": bound.lagrange.iterations, "per_tile": list(bound.lagrange.per_tile),
-                "optimal": bound.lagrange.optimal, "upper": bound.lagrange.upper, "time_s": round(bound.lagrange.time_s, 3)},
+                "proven": list(bound.lagrange.proven), "upper": bound.lagrange.upper, "time_s": round(bound.lagrange.time_s, 3)},
             "limits": "CP-SAT work (deterministic s)" if work_limited else "wall clock (s)",
             "wall_cap_hit": capped,
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}

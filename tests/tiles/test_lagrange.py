@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -94,3 +95,25 @@ def test_parts_must_partition_the_pieces() -> None:
         lagrangian_bound(a, [np.array([0, 1]), np.array([1, 2])])
     with pytest.raises(UsageError):
         lagrangian_bound(a, [np.array([0, 1])])
+
+
+def test_tiled_plan_reports_the_lagrangian_bound() -> None:
+    from planner.plan import PlanOptions
+    from planner.site.load import load_site
+    from planner.solve.milp import MilpOptions
+    from planner.tiles import TileOptions, plan_by_tiles
+    from tests.conftest import INSTANCES
+
+    site = load_site(INSTANCES / "plant_1ha.json")
+    tiling = TileOptions(tile_m=50.0, tile_time_limit_s=5.0, bound_time_limit_s=5.0, lagrange=True, lagrange_work_s=5.0)
+    plan = plan_by_tiles(site, PlanOptions(method="milp", pricing=False, milp=MilpOptions(time_limit_s=5)), tiling)
+    info = plan.result.info
+    lag = info["lagrange"]
+    assert len(lag["per_tile"]) == len(info["tiles"]) == 4  # 2 x 2 tiles of 50 m, one part each
+    assert lag["raw"] == pytest.approx(sum(lag["per_tile"]))
+    assert "Lagrangian bound over 4 tile parts" in info["bound_how"]
+    # the reported bound is the largest of the three, and bounds the plan
+    milp = info["cover_milp_bound"]
+    expected = max(math.ceil(info["lp_bound"] - 1e-6), math.ceil(milp - 1e-6) if milp is not None else 0, lag["value"])
+    assert plan.result.bound == expected <= len(plan.stations)
+    assert lag["raw"] >= info["lp_bound"] - 0.01  # LP-dual split: at least the LP, less the flooring
