@@ -23,19 +23,19 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-FIELDS = ["area_ha", "group", "overlap_m", "parts", "iterations", "work_s", "candidates", "pieces", "lp", "old_bound", "old_bound_s",
+FIELDS = ["area_ha", "group", "parts", "iterations", "work_s", "candidates", "pieces", "lp", "old_bound", "old_bound_s",
           "lagrange_raw", "lagrange", "lagrange_s", "parts_proven", "upper", "peak_rss_mb"]
 
 
-def one(area: float, group: int, iterations: int, work: float, bound_work: float, overlap_m: float = 0.0) -> dict:
+def one(area: float, group: int, iterations: int, work: float, bound_work: float) -> dict:
     """Matrix as :func:`planner.tiles.run.plan_by_tiles` has it (the tiles' columns are the site's), then bounds."""
     import numpy as np
 
     from planner.coverage.matrix import build_coverage
     from planner.plan import PlanOptions, _limits
     from planner.site.load import load_site
-    from planner.tiles.lagrange import group_parts, tile_margins
-    from planner.tiles.layout import make_tiles, midpoints, zone_anchors
+    from planner.tiles.lagrange import group_parts
+    from planner.tiles.layout import make_tiles, zone_anchors
     from planner.tiles.run import site_pool
     from planner.tiles.stitch import global_bound
     from planner.validate import validate_site
@@ -49,16 +49,12 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, 100.0, limits.max_slant_range_m)
     parts = group_parts([(t.row, t.col) for t in tiles], [np.flatnonzero(t.in_core(anchor)) for t in tiles], group)
-    extra = None
-    if overlap_m > 0:
-        extra = tile_margins(tiles, parts, midpoints(targets), group, overlap_m)
     t0 = time.perf_counter()
     old = global_bound(a, bound_work, work_limited=True)
     t1 = time.perf_counter()
-    new = global_bound(a, 0, parts=parts, lagrange_iterations=iterations, lagrange_work_s=work,
-                       lagrange_margin=extra).lagrange
+    new = global_bound(a, 0, parts=parts, lagrange_iterations=iterations, lagrange_work_s=work).lagrange
     assert new is not None
-    return {"area_ha": area, "group": group, "overlap_m": overlap_m, "parts": len(parts), "iterations": new.iterations, "work_s": work,
+    return {"area_ha": area, "group": group, "parts": len(parts), "iterations": new.iterations, "work_s": work,
             "candidates": a.shape[0], "pieces": a.shape[1], "lp": round(old.lp, 3), "old_bound": old.value,
             "old_bound_s": round(t1 - t0, 1), "lagrange_raw": round(new.raw, 3), "lagrange": new.value,
             "lagrange_s": round(new.time_s, 1), "parts_proven": sum(new.proven), "upper": new.upper}
@@ -69,7 +65,7 @@ def run(args: argparse.Namespace) -> dict:
         out = Path(tmp) / "row.json"
         cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--one", "--area", f"{args.area:g}", "--group",
                str(args.group), "--iterations", str(args.iterations), "--work", str(args.work), "--bound-work",
-               str(args.bound_work), "--overlap-m", str(args.overlap_m), "--json", str(out)]
+               str(args.bound_work), "--json", str(out)]
         proc = subprocess.run(cmd, capture_output=True, text=True)
         if proc.returncode != 0 or not out.exists():
             raise SystemExit(f"run failed:\n{proc.stderr[-3000:]}")
@@ -86,13 +82,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--iterations", type=int, default=0)
     ap.add_argument("--work", type=float, default=10.0)
     ap.add_argument("--bound-work", type=float, default=15.0)
-    ap.add_argument("--overlap-m", type=float, default=0.0, help="parts also cover the pieces within this of their core")
     ap.add_argument("--csv", type=Path, default=None, help="append the row to this CSV")
     ap.add_argument("--one", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--json", type=Path, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one:
-        args.json.write_text(json.dumps(one(args.area, args.group, args.iterations, args.work, args.bound_work, args.overlap_m)))
+        args.json.write_text(json.dumps(one(args.area, args.group, args.iterations, args.work, args.bound_work)))
         return 0
     row = run(args)
     print(json.dumps(row), flush=True)

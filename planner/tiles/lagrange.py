@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -40,7 +40,6 @@ from scipy.optimize import linprog
 from planner.errors import InfeasibleError, InternalError, UsageError
 from planner.solve.presolve import dominated, implied_targets
 from planner.tiles.engine import run_tasks
-from planner.tiles.layout import Tile
 
 
 @dataclass(frozen=True)
@@ -159,24 +158,16 @@ def _check_parts(n_targets: int, parts: Sequence[NDArray[np.int64]]) -> NDArray[
     return part_of
 
 
-def _membership(n: int, parts: Sequence[NDArray[np.int64]]) -> sp.csr_matrix:
-    """Pieces x parts, 1 where the piece is in the part (parts may overlap)."""
-    rows = np.concatenate([np.asarray(p, dtype=np.int64) for p in parts])
-    cols = np.repeat(np.arange(len(parts)), [len(p) for p in parts])
-    return sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, len(parts)))
-
-
 def split_costs(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64],
-                y: NDArray[np.float64] | None, extra: Sequence[NDArray[np.int64]] | None = None
-                ) -> tuple[list[NDArray[np.int64]], list[NDArray[np.float64]]]:
-    """Per part, its candidates (those seeing one of its pieces, or of its ``extra`` pieces) and their
-    shares ``lam_i``: the duals ``y`` of its own pieces plus an equal share of the reduced cost (module
-    docstring); an equal split when ``y`` is None."""
-    _check_parts(a.shape[1], parts)
-    whole = parts if extra is None else [np.union1d(p, e) for p, e in zip(parts, extra)]
-    af = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape)
-    seen = (af @ _membership(a.shape[1], whole) > 0).tocsc()
-    dual = (af @ sp.diags(y if y is not None else np.zeros(a.shape[1])) @ _membership(a.shape[1], parts)).tocsc()
+                y: NDArray[np.float64] | None) -> tuple[list[NDArray[np.int64]], list[NDArray[np.float64]]]:
+    """Per part, its candidates (those seeing one of its pieces) and their shares ``lam_i``: from the duals
+    ``y`` plus an equal share of the reduced cost (module docstring); an equal split when ``y`` is None."""
+    part_of = _check_parts(a.shape[1], parts)
+    hits = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape) @ sp.csr_matrix(
+        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))
+    seen = (hits > 0).tocsc()
+    dual = (a.astype(np.float64) @ sp.diags(y if y is not None else np.zeros(a.shape[1])) @ sp.csr_matrix(
+        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))).tocsc()
     count = np.asarray(seen.sum(axis=1)).ravel()
     reduced = cost - np.asarray(dual.sum(axis=1)).ravel()
     share = np.divide(reduced, count, out=np.zeros_like(reduced), where=count > 0)
@@ -190,8 +181,7 @@ def split_costs(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDAr
 
 def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64] | None = None,
                      iterations: int = 5, work_s: float = 2.0, scale: int = 1000, start: str = "lp", seed: int = 0,
-                     upper: float | None = None, mu: float = 0.25, extra: Sequence[NDArray[np.int64]] | None = None,
-                     client: Any = None) -> LagrangeBound:
+                     upper: float | None = None, mu: float = 0.25, client: Any = None) -> LagrangeBound:
     """The Lagrangian bound of the cover ``a`` (candidates x pieces) over the target partition ``parts``.
 
     Parameters
@@ -214,9 +204,6 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
         The cost of a known cover (the step aims at it); else the best union of the parts' covers, pruned.
     mu
         First step factor (Polyak's); halved when a step does not raise the bound.
-    extra
-        Per part, pieces of other parts it must cover too (its margin): any cover covers them, so the bound
-        stays valid, and a part can no longer lean on stations whose cost its neighbours carry.
     client
         A ``dask.distributed.Client`` to run the parts on, or None (in this process).
 
@@ -232,9 +219,9 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
     a = a.astype(bool).tocsr()
     c = np.ones(a.shape[0]) if cost is None else np.asarray(cost, dtype=float)
     lp, y = lp_duals(a, c)
-    cands, lams = split_costs(a, parts, c, y if start == "lp" else None, extra)
+    cands, lams = split_costs(a, parts, c, y if start == "lp" else None)
     subs = []
-    for js, p in zip(cands, parts if extra is None else [np.union1d(p, e) for p, e in zip(parts, extra)]):
+    for js, p in zip(cands, parts):
         sub = a[js][:, p].tocsc()
         subs.append(sub[:, ~implied_targets(sub.T.tocsr())].tocsr())
     best, upper = -math.inf, math.inf if upper is None else upper
@@ -277,18 +264,6 @@ def group_parts(cells: Sequence[tuple[int, int]], parts: Sequence[NDArray[np.int
     for (r, c), p in zip(cells, parts):
         merged.setdefault((r // group, c // group), []).append(np.asarray(p, dtype=np.int64))
     return [np.sort(np.concatenate(ps)) for ps in merged.values()]
-
-
-def tile_margins(tiles: Sequence[Tile], parts: Sequence[NDArray[np.int64]], points: NDArray[np.float64],
-                 group: int, margin_m: float) -> list[NDArray[np.int64]]:
-    """Per part (``group`` x ``group`` tiles, as :func:`group_parts` joins them), the pieces of other parts
-    whose ``points`` lie within ``margin_m`` of one of its tiles' cores."""
-    near: dict[tuple[int, int], NDArray[np.bool_]] = {}
-    for t in tiles:
-        key = (t.row // group, t.col // group)
-        hit = replace(t, margin_m=margin_m).in_margin(points)
-        near[key] = near[key] | hit if key in near else hit
-    return [np.setdiff1d(np.flatnonzero(m), p) for m, p in zip(near.values(), parts)]
 
 
 def _subgradient(n: int, cands: list[NDArray[np.int64]], res: list[PartResult]) -> list[NDArray[np.float64]]:
