@@ -23,7 +23,7 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: work of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
     p.add_argument("--lagrange-work", type=float, default=None, metavar="S",
                    help="--tiles: also the Lagrangian bound over the tiles, S CP-SAT deterministic seconds per tile "
-                        "(0: off; default: TileOptions')")
+                        "(0: off; default 10)")
     p.add_argument("--lagrange-group", type=int, default=1, metavar="N",
                    help="--tiles: Lagrangian parts of N x N tiles (default 1)")
     p.add_argument("--tile-wall-clock", action="store_true",
