@@ -128,8 +128,8 @@ def lp_bound(a: sp.csr_matrix) -> float:
 
 
 def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limited: bool = False,
-                 wall_cap: float = 4.0, parts: Sequence[np.ndarray] | None = None, lagrange_iterations: int = 3,
-                 lagrange_work_s: float = 5.0, client: Any = None) -> Bound:
+                 wall_cap: float = 4.0, parts: Sequence[np.ndarray] | None = None, lagrange_iterations: int = 0,
+                 lagrange_work_s: float = 10.0, client: Any = None) -> Bound:
     """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped).
     ``work_limited``: the limit is CP-SAT work (deterministic seconds) under a wall cap ``wall_cap`` times
     as long, so the bound and the cover it returns do not depend on the load. With ``parts`` (a partition

@@ -117,3 +117,10 @@ def test_tiled_plan_reports_the_lagrangian_bound() -> None:
     expected = max(math.ceil(info["lp_bound"] - 1e-6), math.ceil(milp - 1e-6) if milp is not None else 0, lag["value"])
     assert plan.result.bound == expected <= len(plan.stations)
     assert lag["raw"] >= info["lp_bound"] - 0.01  # LP-dual split: at least the LP, less the flooring
+
+
+def test_tile_options_reject_a_group_below_one() -> None:
+    from planner.tiles import TileOptions
+
+    with pytest.raises(UsageError):
+        TileOptions(lagrange_group=0)
