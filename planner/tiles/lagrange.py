@@ -180,7 +180,7 @@ def split_costs(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDAr
 
 
 def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64] | None = None,
-                     iterations: int = 0, work_s: float = 10.0, scale: int = 1000, start: str = "lp", seed: int = 0,
+                     iterations: int = 0, work_s: float = 10.0, scale: int = 100_000, start: str = "lp", seed: int = 0,
                      upper: float | None = None, mu: float = 0.25, client: Any = None) -> LagrangeBound:
     """The Lagrangian bound of the cover ``a`` (candidates x pieces) over the target partition ``parts``.
 

@@ -56,7 +56,7 @@ class TileOptions:
     ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
     ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
     ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
-    LP-dual split only, 10 s: 75 s on the 16-ha plant, docs/benchmarks/plant.md)."""
+    LP-dual split only, 10 s: 75-116 s on the 16-ha plant, docs/benchmarks/plant.md)."""
 
     tile_m: float = 100.0
     margin_m: float | None = None
