@@ -59,6 +59,7 @@ class PartResult:
     objective: int
     chosen: NDArray[np.bool_]
     optimal: bool
+    capped: bool = False
 
 
 @dataclass(frozen=True)
@@ -66,7 +67,8 @@ class LagrangeBound:
     """The best bound found: ``value`` (rounded up when the costs are integers), ``raw`` (not rounded),
     ``lp`` (whole-cover LP), ``iterations`` run, ``per_tile`` (each part's bound at the best split,
     original units), ``proven`` (which parts were solved to optimality there), ``upper`` (cheapest union
-    of the parts' covers, pruned: a cover of the whole), ``time_s``."""
+    of the parts' covers, pruned: a cover of the whole), ``time_s``, ``capped`` (part solves stopped by
+    the wall-clock cap, not the work limit: then, and only then, the bound may depend on the load)."""
 
     value: float
     raw: float
@@ -76,6 +78,7 @@ class LagrangeBound:
     proven: tuple[bool, ...]
     upper: float
     time_s: float
+    capped: int = 0
 
     @property
     def optimal(self) -> bool:
@@ -123,7 +126,8 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     objective = int(job.w[chosen].sum())
     optimal = status == cp_model.OPTIMAL
     lower = objective if optimal else int(job.w[free].sum()) + math.ceil(solver.BestObjectiveBound() - 1e-9)
-    return PartResult(lower, objective, chosen, optimal)
+    capped = not optimal and solver.wall_time >= 0.99 * 4.0 * work_s
+    return PartResult(lower, objective, chosen, optimal, capped)
 
 
 def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64]]:
@@ -228,11 +232,11 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
     best_opt: tuple[bool, ...] = ()
     best_parts: tuple[float, ...] = ()
     hints: list[NDArray[np.bool_] | None] = [None] * len(parts)
-    done = 0
+    done = capped = 0
     for k in range(iterations + 1):
         jobs = [PartJob(s, np.floor(lam * scale).astype(np.int64), h) for s, lam, h in zip(subs, lams, hints)]
         res: list[PartResult] = run_tasks(solve_part, jobs, {"work_s": work_s, "seed": seed}, client, step="lagrange")
-        done = k
+        done, capped = k, capped + sum(r.capped for r in res)
         value = sum(r.lower for r in res) / scale
         x = np.zeros(a.shape[0], dtype=bool)
         for js, r in zip(cands, res):
@@ -251,7 +255,7 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
         lams = [lam + step * gi for lam, gi in zip(lams, g)]
     integral = bool(np.all(c == np.round(c)))
     return LagrangeBound(math.ceil(best - 1e-6) if integral else best, best, lp, done, best_parts, best_opt, upper,
-                         time.perf_counter() - t0)
+                         time.perf_counter() - t0, capped)
 
 
 def group_parts(cells: Sequence[tuple[int, int]], parts: Sequence[NDArray[np.int64]], group: int

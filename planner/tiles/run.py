@@ -214,7 +214,8 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                    "status": r.status.value, "stations": len(r.selected), "bound": r.bound,
                    "covers_core": r.covers_core, "coverage_s": round(r.coverage_s, 3), "solve_s": round(r.solve_s, 3)}
                   for r in results]
-    capped = [r.tile.name for r in results if r.wall_cap_hit] + (["bound"] if bound.wall_cap_hit else [])
+    capped = [r.tile.name for r in results if r.wall_cap_hit] + (["bound"] if bound.wall_cap_hit else []) + (
+        ["Lagrangian bound"] if bound.lagrange is not None and bound.lagrange.capped else [])
     info = {"tiles": tiles_info, "bound_scope": "pool", "lp_bound": bound.lp, "cover_milp_bound": bound.milp,
             "stitch": {"source": joined.source, "tried": joined.tried, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
             "bound_how": bound.how,
