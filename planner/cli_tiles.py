@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from planner.errors import UsageError
@@ -20,6 +21,11 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: MILP work per tile, CP-SAT deterministic seconds, wall cap 4x (default 30)")
     p.add_argument("--bound-time-limit", type=float, default=60.0, metavar="S",
                    help="--tiles: work of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
+    p.add_argument("--lagrange-work", type=float, default=None, metavar="S",
+                   help="--tiles: also the Lagrangian bound over the tiles, S CP-SAT deterministic seconds per tile "
+                        "(0: off; default 10)")
+    p.add_argument("--lagrange-group", type=int, default=1, metavar="N",
+                   help="--tiles: Lagrangian parts of N x N tiles (default 1)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=int, default=0, metavar="N",
@@ -45,7 +51,12 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
     from planner.tiles import TileOptions, dask_client, plan_by_tiles
 
     tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
-                         bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock)
+                         bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
+                         lagrange_group=args.lagrange_group)
+    if args.lagrange_work is not None:
+        if args.lagrange_work < 0:
+            raise UsageError("must be >= 0", field="--lagrange-work", value=args.lagrange_work)
+        tiling = replace(tiling, lagrange=args.lagrange_work > 0, lagrange_work_s=args.lagrange_work or 1.0)
     if not args.workers and not args.scheduler:
         return plan_by_tiles(site, options, tiling)
     with dask_client(args.workers, args.scheduler, args.worker_memory) as client:

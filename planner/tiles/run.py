@@ -8,8 +8,9 @@ What holds and why:
 - registration: the stitched plan is checked on the site's overlap relation (shared wall over every
   piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (``site`` mode by default: one
   bundle per accessible area);
-- bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`), over the
-  pool; the gap is (stations - bound) / stations.
+- bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`) and, with
+  ``TileOptions.lagrange``, the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), over
+  the pool; the gap is (stations - bound) / stations.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import connected_greedy
+from planner.tiles.lagrange import group_parts
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileJob, TileResult, tile_task
 from planner.validate import ValidationReport, validate_site
@@ -50,19 +52,30 @@ class TileOptions:
     MILP for the bound (0: LP bound only). ``deterministic`` (default; CP-SAT with one thread): both
     limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
     long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
-    wall-clock seconds and a time-limited tile may stop at another incumbent under another load."""
+    wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
+    ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
+    ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
+    ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
+    LP-dual split only, 10 s: 75-116 s on the 16-ha plant, docs/benchmarks/plant.md)."""
 
     tile_m: float = 100.0
     margin_m: float | None = None
     tile_time_limit_s: float = 30.0
     bound_time_limit_s: float = 60.0
     deterministic: bool = True
+    lagrange: bool = True
+    lagrange_group: int = 1
+    lagrange_iterations: int = 0
+    lagrange_work_s: float = 10.0
 
     def __post_init__(self) -> None:
         if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
             raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=self.tile_m)
         if not self.tile_time_limit_s > 0 or self.bound_time_limit_s < 0:
             raise UsageError("tile time limit must be > 0", field="tile_time_limit_s", value=self.tile_time_limit_s)
+        if self.lagrange_group < 1 or self.lagrange_iterations < 0 or not self.lagrange_work_s > 0:
+            raise UsageError("Lagrangian parts need a group >= 1, iterations >= 0 and work > 0", field="lagrange_group",
+                             value=self.lagrange_group)
 
 
 def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
@@ -137,8 +150,11 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     adj, _ = overlap_adjacency(by_cand, lengths, rule, groups, xy, links)
     joined = stitch(by_cand, adj, groups, [r.selected for r in results])
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
+    parts = group_parts([(j.tile.row, j.tile.col) for j in jobs], [j.targets for j in jobs], tiling.lagrange_group)
     bound = global_bound(by_cand, tiling.bound_time_limit_s, options.milp.seed,
-                         work_limited=deterministic_limits(options.milp, tiling), wall_cap=WALL_CAP)
+                         work_limited=deterministic_limits(options.milp, tiling), wall_cap=WALL_CAP,
+                         parts=parts if tiling.lagrange else None, lagrange_iterations=tiling.lagrange_iterations,
+                         lagrange_work_s=tiling.lagrange_work_s, client=client)
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
     joined = best_plan(by_cand, adj, groups, joined, bound.cover)
     return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
@@ -198,10 +214,15 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                    "status": r.status.value, "stations": len(r.selected), "bound": r.bound,
                    "covers_core": r.covers_core, "coverage_s": round(r.coverage_s, 3), "solve_s": round(r.solve_s, 3)}
                   for r in results]
-    capped = [r.tile.name for r in results if r.wall_cap_hit] + (["bound"] if bound.wall_cap_hit else [])
+    capped = [r.tile.name for r in results if r.wall_cap_hit] + (["bound"] if bound.wall_cap_hit else []) + (
+        ["Lagrangian bound"] if bound.lagrange is not None and bound.lagrange.capped else [])
     info = {"tiles": tiles_info, "bound_scope": "pool", "lp_bound": bound.lp, "cover_milp_bound": bound.milp,
             "stitch": {"source": joined.source, "tried": joined.tried, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
-            "bound_how": "max(ceil(LP of the whole cover), cover-MILP bound), registration rule dropped",
+            "bound_how": bound.how,
+            "lagrange": None if bound.lagrange is None else {
+                "value": bound.lagrange.value, "raw": bound.lagrange.raw, "lp": bound.lagrange.lp,
+                "iterations": bound.lagrange.iterations, "per_tile": list(bound.lagrange.per_tile),
+                "proven": list(bound.lagrange.proven), "upper": bound.lagrange.upper, "time_s": round(bound.lagrange.time_s, 3)},
             "limits": "CP-SAT work (deterministic s)" if work_limited else "wall clock (s)",
             "wall_cap_hit": capped,
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
@@ -221,5 +242,6 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
            + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}"
               if bound.milp is not None and bound.milp_status is not None else "")
+           + (f", Lagrangian over {len(bound.lagrange.per_tile)} parts {bound.lagrange.raw:.2f}" if bound.lagrange else "")
            + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}")
     return Plan(site, options, validation, result, tuple(stations), verification, size, log, parts, tripods)

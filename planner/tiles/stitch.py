@@ -17,14 +17,16 @@ smallest connected plan is kept (:func:`planner.tiles.run.best_plan`).
 Bound: every connected plan is a cover, so any lower bound of the plain set cover over the whole
 pool bounds the connected problem. Two are computed on the whole matrix: the LP relaxation
 (HiGHS interior point; rounded up, an integer count) and the best bound of the cover MILP without
-the registration rule (CP-SAT, time-limited); the larger is reported.
+the registration rule (CP-SAT, time-limited); optionally a third, the Lagrangian decomposition over
+the tiles (:mod:`planner.tiles.lagrange`); the largest is reported.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Hashable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -35,6 +37,7 @@ from planner.solve.instance import CoverInstance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.presolve import implied_targets
 from planner.solve.result import Status
+from planner.tiles.lagrange import LagrangeBound, lagrangian_bound
 
 
 def _group_parts(adj: sp.csr_matrix, groups: Sequence[str], chosen: Sequence[int], g: str) -> int:
@@ -94,11 +97,21 @@ class Bound:
     milp_status: Status | None
     cover: tuple[int, ...] = ()
     wall_cap_hit: bool = False
+    lagrange: LagrangeBound | None = None
 
     @property
     def value(self) -> int:
         lp = math.ceil(self.lp - 1e-6)
-        return max(lp, math.ceil(self.milp - 1e-6)) if self.milp is not None else lp
+        best = max(lp, math.ceil(self.milp - 1e-6)) if self.milp is not None else lp
+        return max(best, math.ceil(self.lagrange.value - 1e-6)) if self.lagrange is not None else best
+
+    @property
+    def how(self) -> str:
+        """How ``value`` was derived (plan.json ``bound_how``)."""
+        terms = ["ceil(LP of the whole cover)"] + (["cover-MILP bound"] if self.milp is not None else [])
+        if self.lagrange is not None:
+            terms.append(f"Lagrangian bound over {len(self.lagrange.per_tile)} tile parts")
+        return f"max({', '.join(terms)}), registration rule dropped"
 
 
 def lp_bound(a: sp.csr_matrix) -> float:
@@ -115,15 +128,24 @@ def lp_bound(a: sp.csr_matrix) -> float:
 
 
 def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limited: bool = False,
-                 wall_cap: float = 4.0) -> Bound:
+                 wall_cap: float = 4.0, parts: Sequence[np.ndarray] | None = None, lagrange_iterations: int = 0,
+                 lagrange_work_s: float = 10.0, client: Any = None) -> Bound:
     """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped).
     ``work_limited``: the limit is CP-SAT work (deterministic seconds) under a wall cap ``wall_cap`` times
-    as long, so the bound and the cover it returns do not depend on the load."""
+    as long, so the bound and the cover it returns do not depend on the load. With ``parts`` (a partition
+    of the pieces, e.g. the tiles' cores) also the Lagrangian bound over them
+    (:func:`planner.tiles.lagrange.lagrangian_bound`, always on CP-SAT work limits; on ``client`` if given)."""
     lp = lp_bound(a)
     if time_limit_s <= 0:
-        return Bound(lp, None, None)
-    inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
-    opts = MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1)
-    res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else opts)
-    best = res.objective if res.status is Status.OPTIMAL else res.bound
-    return Bound(lp, best, res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit)
+        bound = Bound(lp, None, None)
+    else:
+        inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
+        opts = MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1)
+        res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else opts)
+        best = res.objective if res.status is Status.OPTIMAL else res.bound
+        bound = Bound(lp, best, res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit)
+    if parts is None:
+        return bound
+    lag = lagrangian_bound(a, parts, iterations=lagrange_iterations, work_s=lagrange_work_s, seed=seed,
+                           upper=float(len(bound.cover)) if bound.cover else None, client=client)
+    return replace(bound, lagrange=lag)

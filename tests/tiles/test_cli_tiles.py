@@ -31,3 +31,9 @@ def test_workers_without_tiles_is_a_usage_error(capsys) -> None:
 def test_tiles_with_greedy_is_a_usage_error(capsys) -> None:
     assert main(["plan", PLANT, "--tiles", "50", "--method", "greedy"]) == 2
     assert "MILP" in capsys.readouterr().err
+
+
+def test_negative_lagrange_work_is_a_usage_error(capsys) -> None:
+    assert main(["plan", PLANT, "--tiles", "50", "--lagrange-work", "-1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--lagrange-work" in err

@@ -1,0 +1,293 @@
+"""A lower bound on the plain cover by Lagrangian decomposition over tiles.
+
+The targets are partitioned into parts ``T_1 .. T_m`` (the tiles' cores, or groups of them). A
+candidate ``j`` that sees pieces of several parts ``I(j)`` has its cost split, ``c_j = sum_{i in I(j)}
+lam_ij``. Any cover ``x`` then costs ``sum_i sum_j lam_ij x_j >= sum_i OPT_i(lam_i)``, where
+``OPT_i`` is the cheapest cover of ``T_i`` alone with the costs ``lam_i``: each part's share of ``x``
+covers that part. So ``L(lam) = sum_i OPT_i(lam_i)`` bounds every cover from below, for any split, and
+so every connected plan too; it stays valid with each ``OPT_i`` replaced by a proven lower bound of it.
+
+What is computed:
+
+- costs are scaled by ``scale`` and floored to integers ``w_ij <= scale * lam_ij`` for CP-SAT; then
+  ``sum_i w_ij <= scale * c_j``, so ``sum_i LB_i(w_i) / scale`` is still a bound (flooring never
+  overestimates);
+- the first split comes from the whole-cover LP's duals ``y``: ``lam_ij`` = the duals of ``T_i``'s pieces
+  that ``j`` sees, plus an equal share of ``j``'s reduced cost. ``y`` restricted to ``T_i`` is dual
+  feasible for part ``i``, so ``L`` of this split is at least the LP value (less the flooring);
+- then projected subgradient steps: ``g_ij = x_ij - mean_{i' in I(j)} x_i'j`` (``x_i`` the part's best
+  cover), which keeps ``sum_i lam_ij = c_j``; the step is Polyak's, towards the cheapest cover made so
+  far as the union of the parts' covers, halved whenever ``L`` does not improve. The best ``L`` is kept.
+
+Each part is one CP-SAT model (one worker) stopped on deterministic work, so the bound does not
+depend on the machine's load; the parts are independent and run as :func:`planner.tiles.engine.run_tasks`
+jobs (serially, or on a Dask client).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.optimize import linprog
+
+from planner.errors import InfeasibleError, InternalError, UsageError
+from planner.solve.presolve import dominated, implied_targets
+from planner.tiles.engine import run_tasks
+
+
+@dataclass(frozen=True)
+class PartJob:
+    """One part's cover: ``a`` (its candidates x its kept pieces, bool), integer costs ``w``, a start."""
+
+    a: sp.csr_matrix
+    w: NDArray[np.int64]
+    hint: NDArray[np.bool_] | None
+
+
+@dataclass(frozen=True)
+class PartResult:
+    """A part's answer in scaled units: ``lower`` (proven), ``objective`` of ``chosen`` (its best cover)."""
+
+    lower: int
+    objective: int
+    chosen: NDArray[np.bool_]
+    optimal: bool
+    capped: bool = False
+
+
+@dataclass(frozen=True)
+class LagrangeBound:
+    """The best bound found: ``value`` (rounded up when the costs are integers), ``raw`` (not rounded),
+    ``lp`` (whole-cover LP), ``iterations`` run, ``per_tile`` (each part's bound at the best split,
+    original units), ``proven`` (which parts were solved to optimality there), ``upper`` (cheapest union
+    of the parts' covers, pruned: a cover of the whole), ``time_s``, ``capped`` (part solves stopped by
+    the wall-clock cap, not the work limit: then, and only then, the bound may depend on the load)."""
+
+    value: float
+    raw: float
+    lp: float
+    iterations: int
+    per_tile: tuple[float, ...]
+    proven: tuple[bool, ...]
+    upper: float
+    time_s: float
+    capped: int = 0
+
+    @property
+    def optimal(self) -> bool:
+        """Every part proven optimal at the best split (else some part gave CP-SAT's bound only)."""
+        return all(self.proven)
+
+
+def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
+    """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, a wall
+    cap four times as long); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
+
+    Raises
+    ------
+    InfeasibleError
+        When some piece of the part is seen by none of its candidates.
+    InternalError
+        When CP-SAT rejects the model.
+    """
+    from ortools.sat.python import cp_model
+
+    free, keep, rows = _reduce(job.a, job.w)
+    cols = np.flatnonzero(keep)
+    model = cp_model.CpModel()
+    x = [model.NewBoolVar(f"x{j}") for j in cols]
+    at = job.a[cols][:, rows].T.tocsr()
+    for t in range(at.shape[0]):
+        model.AddBoolOr([x[j] for j in at.indices[at.indptr[t]:at.indptr[t + 1]]])
+    model.Minimize(sum(int(w) * v for w, v in zip(job.w[cols], x)))
+    if job.hint is not None:
+        for v, h in zip(x, job.hint[cols]):
+            model.AddHint(v, bool(h))
+    solver = cp_model.CpSolver()
+    solver.parameters.num_workers = 1
+    solver.parameters.random_seed = seed
+    solver.parameters.linearization_level = 2
+    solver.parameters.max_deterministic_time = work_s
+    solver.parameters.max_time_in_seconds = 4.0 * work_s
+    status = solver.Solve(model)
+    if status == cp_model.INFEASIBLE:
+        raise InfeasibleError("a piece of this part is seen by none of its candidates", field="lagrange part")
+    if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
+        raise InternalError(f"CP-SAT found no cover of a part: {solver.StatusName(status)}", field="lagrange part")
+    chosen = free.copy()
+    chosen[cols] = [bool(solver.Value(v)) for v in x]
+    objective = int(job.w[chosen].sum())
+    optimal = status == cp_model.OPTIMAL
+    lower = objective if optimal else int(job.w[free].sum()) + math.ceil(solver.BestObjectiveBound() - 1e-9)
+    capped = not optimal and solver.wall_time >= 0.99 * 4.0 * work_s
+    return PartResult(lower, objective, chosen, optimal, capped)
+
+
+def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64]]:
+    """Candidates of negative cost (in every optimal cover, so taken), the rest that no other of them can
+    replace at no more cost (:func:`planner.solve.presolve.dominated`, sound for costs >= 0), and the pieces
+    the taken ones leave uncovered. The part's optimum is unchanged."""
+    free = w < 0
+    rows = np.flatnonzero(np.asarray(a[free].sum(axis=0)).ravel() == 0)
+    rest = np.flatnonzero(~free)
+    keep = np.zeros(len(w), dtype=bool)
+    keep[rest[~dominated(a[rest][:, rows].tocsr(), w[rest].astype(float))]] = True
+    return free, keep, rows
+
+
+def lp_duals(a: sp.csr_matrix, cost: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
+    """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS dual simplex)."""
+    res = linprog(cost, A_ub=-a.T.astype(np.float64).tocsr(), b_ub=-np.ones(a.shape[1]), bounds=(0, None),
+                  method="highs-ds")
+    if res.status != 0:
+        raise InfeasibleError(f"cover LP failed: {res.message}", field="lagrange")
+    return float(res.fun), np.maximum(-np.asarray(res.ineqlin.marginals, dtype=float), 0.0)
+
+
+def _check_parts(n_targets: int, parts: Sequence[NDArray[np.int64]]) -> NDArray[np.int64]:
+    part_of = np.full(n_targets, -1, dtype=np.int64)
+    for i, p in enumerate(parts):
+        if np.any(part_of[p] >= 0):
+            raise UsageError("a piece is in two parts", field="parts", value=i)
+        part_of[p] = i
+    if np.any(part_of < 0):
+        raise UsageError("every piece must be in one part", field="parts", value=int(np.sum(part_of < 0)))
+    return part_of
+
+
+def split_costs(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64],
+                y: NDArray[np.float64] | None) -> tuple[list[NDArray[np.int64]], list[NDArray[np.float64]]]:
+    """Per part, its candidates (those seeing one of its pieces) and their shares ``lam_i``: from the duals
+    ``y`` plus an equal share of the reduced cost (module docstring); an equal split when ``y`` is None."""
+    part_of = _check_parts(a.shape[1], parts)
+    hits = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape) @ sp.csr_matrix(
+        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))
+    seen = (hits > 0).tocsc()
+    dual = (a.astype(np.float64) @ sp.diags(y if y is not None else np.zeros(a.shape[1])) @ sp.csr_matrix(
+        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))).tocsc()
+    count = np.asarray(seen.sum(axis=1)).ravel()
+    reduced = cost - np.asarray(dual.sum(axis=1)).ravel()
+    share = np.divide(reduced, count, out=np.zeros_like(reduced), where=count > 0)
+    cands, lams = [], []
+    for i in range(len(parts)):
+        js = seen.indices[seen.indptr[i]:seen.indptr[i + 1]].astype(np.int64)
+        cands.append(js)
+        lams.append(np.asarray(dual[js, i].todense()).ravel() + share[js])
+    return cands, lams
+
+
+def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64] | None = None,
+                     iterations: int = 0, work_s: float = 10.0, scale: int = 100_000, start: str = "lp", seed: int = 0,
+                     upper: float | None = None, mu: float = 0.25, client: Any = None) -> LagrangeBound:
+    """The Lagrangian bound of the cover ``a`` (candidates x pieces) over the target partition ``parts``.
+
+    Parameters
+    ----------
+    a
+        Coverage, candidates by pieces; every piece must be seen by some candidate.
+    parts
+        Piece indices of each part; every piece in exactly one.
+    cost
+        Candidate costs, >= 0 (default 1 each).
+    iterations
+        Subgradient steps after the first split (0: the first split only).
+    work_s
+        CP-SAT deterministic seconds per part and iteration.
+    scale
+        Costs are floored to multiples of ``1 / scale`` (module docstring).
+    start
+        ``"lp"``: the LP-dual split; ``"equal"``: ``c_j / |I(j)|``.
+    upper
+        The cost of a known cover (the step aims at it); else the best union of the parts' covers, pruned.
+    mu
+        First step factor (Polyak's); halved when a step does not raise the bound.
+    client
+        A ``dask.distributed.Client`` to run the parts on, or None (in this process).
+
+    Returns
+    -------
+    LagrangeBound
+        ``value`` never exceeds the cheapest cover of ``a``.
+    """
+    if start not in ("lp", "equal") or iterations < 0 or not work_s > 0 or scale < 1:
+        raise UsageError("start must be lp or equal, iterations >= 0, work_s > 0, scale >= 1", field="lagrange",
+                         value=start)
+    t0 = time.perf_counter()
+    a = a.astype(bool).tocsr()
+    c = np.ones(a.shape[0]) if cost is None else np.asarray(cost, dtype=float)
+    lp, y = lp_duals(a, c)
+    cands, lams = split_costs(a, parts, c, y if start == "lp" else None)
+    subs = []
+    for js, p in zip(cands, parts):
+        sub = a[js][:, p].tocsc()
+        subs.append(sub[:, ~implied_targets(sub.T.tocsr())].tocsr())
+    best, upper = -math.inf, math.inf if upper is None else upper
+    best_opt: tuple[bool, ...] = ()
+    best_parts: tuple[float, ...] = ()
+    hints: list[NDArray[np.bool_] | None] = [None] * len(parts)
+    done = capped = 0
+    for k in range(iterations + 1):
+        jobs = [PartJob(s, np.floor(lam * scale).astype(np.int64), h) for s, lam, h in zip(subs, lams, hints)]
+        res: list[PartResult] = run_tasks(solve_part, jobs, {"work_s": work_s, "seed": seed}, client, step="lagrange")
+        done, capped = k, capped + sum(r.capped for r in res)
+        value = sum(r.lower for r in res) / scale
+        x = np.zeros(a.shape[0], dtype=bool)
+        for js, r in zip(cands, res):
+            x[js[r.chosen]] = True
+        upper = min(upper, float(c[_pruned(a, x)].sum()))
+        if value > best + 1e-12:
+            best, best_parts, best_opt = value, tuple(r.lower / scale for r in res), tuple(r.optimal for r in res)
+        else:
+            mu /= 2
+        hints = [r.chosen for r in res]
+        g = _subgradient(a.shape[0], cands, res)
+        norm = sum(float(gi @ gi) for gi in g)
+        if k == iterations or norm == 0 or upper - value <= 1e-9:
+            break
+        step = mu * (upper - value) / norm
+        lams = [lam + step * gi for lam, gi in zip(lams, g)]
+    integral = bool(np.all(c == np.round(c)))
+    return LagrangeBound(math.ceil(best - 1e-6) if integral else best, best, lp, done, best_parts, best_opt, upper,
+                         time.perf_counter() - t0, capped)
+
+
+def group_parts(cells: Sequence[tuple[int, int]], parts: Sequence[NDArray[np.int64]], group: int
+                ) -> list[NDArray[np.int64]]:
+    """The tiles' pieces ``parts`` (tile ``k`` at row and column ``cells[k]``) joined ``group`` x ``group``
+    tiles at a time (fewer, larger parts: a stronger bound, harder parts), in order of the first tile."""
+    if group < 1:
+        raise UsageError("must be >= 1", field="lagrange_group", value=group)
+    merged: dict[tuple[int, int], list[NDArray[np.int64]]] = {}
+    for (r, c), p in zip(cells, parts):
+        merged.setdefault((r // group, c // group), []).append(np.asarray(p, dtype=np.int64))
+    return [np.sort(np.concatenate(ps)) for ps in merged.values()]
+
+
+def _subgradient(n: int, cands: list[NDArray[np.int64]], res: list[PartResult]) -> list[NDArray[np.float64]]:
+    """``x_ij - mean over I(j)`` per part: moves cost between parts and keeps every ``sum_i lam_ij``."""
+    total, count = np.zeros(n), np.zeros(n)
+    for js, r in zip(cands, res):
+        total[js] += r.chosen
+        count[js] += 1
+    mean = np.divide(total, count, out=np.zeros(n), where=count > 0)
+    return [r.chosen.astype(float) - mean[js] for js, r in zip(cands, res)]
+
+
+def _pruned(a: sp.csr_matrix, x: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """``x`` (a cover) less the stations no piece needs, dropped in order of fewest pieces seen."""
+    x = x.copy()
+    count = np.asarray(a[x].astype(np.int64).sum(axis=0)).ravel()
+    sizes = np.diff(a.indptr)
+    for j in sorted(np.flatnonzero(x), key=lambda j: (sizes[j], j)):
+        seen = a.indices[a.indptr[j]:a.indptr[j + 1]]
+        if np.all(count[seen] >= 2):
+            x[j] = False
+            count[seen] -= 1
+    return x
