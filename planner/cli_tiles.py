@@ -20,6 +20,8 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: MILP work per tile, CP-SAT deterministic seconds, wall cap 4x (default 30)")
     p.add_argument("--bound-time-limit", type=float, default=60.0, metavar="S",
                    help="--tiles: work of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
+    p.add_argument("--tile-search-moves", type=int, default=10_000, metavar="N",
+                   help="--tiles: move budget of the local search that shrinks the kept connected plan (default 10000; 0: none)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=int, default=0, metavar="N",
@@ -45,7 +47,8 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
     from planner.tiles import TileOptions, dask_client, plan_by_tiles
 
     tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
-                         bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock)
+                         bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
+                         local_search_moves=args.tile_search_moves)
     if not args.workers and not args.scheduler:
         return plan_by_tiles(site, options, tiling)
     with dask_client(args.workers, args.scheduler, args.worker_memory) as client:

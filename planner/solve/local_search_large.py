@@ -24,7 +24,7 @@ weighting-based local search heuristic algorithm for the set covering problem", 
 So a candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs
 O(targets and links of the few stations and candidates it touches) plus one connected-components and
 one articulation pass on the ~n chosen stations, never a dense candidate x target array. Ties go to the
-lowest index, draws to a generator of fixed seed: the result depends only on the input, ``moves`` and
+candidate unchanged longest, then the lowest index, draws to a generator of fixed seed: the result depends only on the input, ``moves`` and
 ``seed`` (no clock).
 """
 
@@ -43,12 +43,12 @@ from planner.solve.connectivity import path_to_nearest
 @dataclass(frozen=True)
 class Shrunk:
     """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``moves``:
-    moves made (at most the budget); ``last_gain_move``: the move that found ``selected`` (0: none)."""
+    moves made (at most the budget); ``history``: (move, stations) of each smaller connected cover found."""
 
     selected: tuple[int, ...]
     start: int
     moves: int
-    last_gain_move: int
+    history: tuple[tuple[int, int], ...] = ()
 
     @property
     def removed(self) -> int:
@@ -77,6 +77,7 @@ class _State:
         self.cnt = np.bincount(_gather(a, np.asarray(chosen, dtype=np.int64))[1], minlength=a.shape[1])
         self.conf = np.ones(a.shape[0], dtype=bool)
         self.w_link = 1.0
+        self.stamp = np.zeros(a.shape[0], dtype=np.int64)  # move of each candidate's last change
         self._graph: tuple[np.ndarray, sp.csr_matrix, np.ndarray, int] | None = None
 
     def _targets(self, c: int) -> np.ndarray:
@@ -85,8 +86,9 @@ class _State:
     def unseen(self) -> np.ndarray:
         return np.flatnonzero(self.need & (self.cnt == 0))
 
-    def flip(self, c: int) -> None:
-        """Add c to S or remove it; the candidates sharing a target with c may come back again."""
+    def flip(self, c: int, step: int) -> None:
+        """Add c to S or remove it at move ``step``; the candidates sharing a target with c may come back."""
+        self.stamp[c] = step
         t = self._targets(c)
         self.cnt[t] += -1 if self.in_s[c] else 1
         self.in_s[c] = not self.in_s[c]
@@ -106,8 +108,13 @@ class _State:
             sub = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), (row[keep], pos[col[keep]])),
                                 shape=(len(idx), len(idx)))
             n, label = connected_components(sub, directed=False)
-            touched = np.bincount(np.unique(col * n + label[row]) // n, minlength=self.a.shape[0])
-            self._graph = (idx, sub, label, int(n - np.unique(self.gid[idx]).size), touched)
+            parts = int(n - np.unique(self.gid[idx]).size)
+            touched = np.zeros(self.a.shape[0], dtype=np.int64)
+            if parts == 0:  # one component per group: linked or not
+                touched[col] = 1
+            else:
+                touched = np.bincount(np.unique(col * n + label[row]) // n, minlength=self.a.shape[0])
+            self._graph = (idx, sub, label, parts, touched)
         return self._graph
 
     def removal_cost(self) -> np.ndarray:
@@ -205,35 +212,43 @@ def shrink_large(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable
     adj = adj.astype(bool).tocsr()
     need = np.asarray(a[list(best)].sum(axis=0)).ravel() > 0
     if moves <= 0 or len(best) <= max(floor, 1):
-        return Shrunk(best, len(best), 0, 0)
+        return Shrunk(best, len(best), 0)
     st = _State(a, adj, _group_ids(groups), need, best)
     rng = np.random.default_rng(seed)
     until = np.zeros(a.shape[0], dtype=np.int64)  # move before which a station added may not leave
-    _drop(st)
-    found, step = 0, 0
+    _drop(st, 0)
+    history: list[tuple[int, int]] = []
+    step = 0
     for step in range(1, moves + 1):
         idx, parts = st.graph()[0], st.graph()[3]
         if parts == 0 and st.unseen().size == 0:
-            best, found = tuple(int(i) for i in idx), step
+            best = tuple(int(i) for i in idx)
+            history.append((step, len(best)))
             if len(best) <= max(floor, 1):
                 break
-            _drop(st)
+            _drop(st, step)
             continue
         cost = st.removal_cost()
         free = np.where(until[idx] > step, np.inf, cost)
-        st.flip(int(idx[int(np.argmin(free if np.isfinite(free).any() else cost))]))
+        st.flip(int(idx[_first(free if np.isfinite(free).any() else cost, st.stamp[idx])]), step)
         c, parts = _pick_add(st, rng)
-        st.flip(c)
+        st.flip(c, step)
         until[c] = step + tabu + 1
         st.weight[st.unseen()] += 1.0
         if parts > 0:
             st.w_link += 1.0
-    return Shrunk(best, len(plan), step, found)
+    return Shrunk(best, len(plan), step, tuple(history))
 
 
-def _drop(st: _State) -> None:
-    """Drop the station of least removal cost (ties: lowest index): S one smaller."""
-    st.flip(int(st.graph()[0][int(np.argmin(st.removal_cost()))]))
+def _first(key: np.ndarray, stamp: np.ndarray) -> int:
+    """Position of the least ``key``; ties to the least ``stamp`` (longest unchanged), then the lowest index."""
+    return int(np.lexsort((stamp, key))[0])
+
+
+def _drop(st: _State, step: int) -> None:
+    """Drop the station of least removal cost (ties: longest unchanged, then lowest index): S one smaller."""
+    idx = st.graph()[0]
+    st.flip(int(idx[_first(st.removal_cost(), st.stamp[idx])]), step)
 
 
 def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
@@ -257,5 +272,5 @@ def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
         path = path_to_nearest(st.adj.astype(np.float64), idx[label == label[0]], wanted)
         return (int(path[-1]) if path else int(np.flatnonzero(~st.in_s)[0])), parts
     score, change = st.add_score(cand)
-    k = int(np.argmax(score))
+    k = _first(-score, st.stamp[cand])
     return int(cand[k]), parts + int(change[k])

@@ -36,7 +36,8 @@ from planner.solve.milp import MilpOptions
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
-from planner.solve.connectivity import connected_greedy
+from planner.solve.connectivity import components, connected_greedy, group_members
+from planner.solve.local_search_large import shrink_large
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileJob, TileResult, tile_task
 from planner.validate import ValidationReport, validate_site
@@ -47,7 +48,9 @@ from planner.verify import verify_stations
 class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
     ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
-    MILP for the bound (0: LP bound only). ``deterministic`` (default; CP-SAT with one thread): both
+    MILP for the bound (0: LP bound only); ``local_search_moves``: move budget of the local search on the
+    kept plan (:func:`planner.solve.local_search_large.shrink_large`; 0: none; a count, not a time, so
+    the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
     limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
     long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
     wall-clock seconds and a time-limited tile may stop at another incumbent under another load."""
@@ -57,12 +60,15 @@ class TileOptions:
     tile_time_limit_s: float = 30.0
     bound_time_limit_s: float = 60.0
     deterministic: bool = True
+    local_search_moves: int = 10_000
 
     def __post_init__(self) -> None:
         if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
             raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=self.tile_m)
         if not self.tile_time_limit_s > 0 or self.bound_time_limit_s < 0:
             raise UsageError("tile time limit must be > 0", field="tile_time_limit_s", value=self.tile_time_limit_s)
+        if self.local_search_moves < 0:
+            raise UsageError("local search moves must be >= 0", field="local_search_moves", value=self.local_search_moves)
 
 
 def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
@@ -140,18 +146,23 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     bound = global_bound(by_cand, tiling.bound_time_limit_s, options.milp.seed,
                          work_limited=deterministic_limits(options.milp, tiling), wall_cap=WALL_CAP)
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
-    joined = best_plan(by_cand, adj, groups, joined, bound.cover)
+    t_search = time.perf_counter()
+    joined, search = best_plan(by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value)
     return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
+                    "best_plan_s": time.perf_counter() - t_search,
                     "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m},
-                   deterministic_limits(options.milp, tiling))
+                   deterministic_limits(options.milp, tiling), search)
 
 
 def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], tiled: Stitched,
-              cover: tuple[int, ...]) -> Stitched:
+              cover: tuple[int, ...], moves: int = 0, floor: int = 1) -> tuple[Stitched, dict[str, Any]]:
     """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
     earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
-    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned. ``tried`` records all three."""
+    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; ``tried`` records all
+    three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
+    (:func:`planner.solve.local_search_large.shrink_large`, down to ``floor`` stations, a proven bound)
+    then looks for a smaller connected cover; the second value says what it did."""
     plans = [tiled]
     if cover:
         plans.append(replace(stitch(a, adj, groups, [cover]), source="whole-site cover, joined"))
@@ -159,7 +170,27 @@ def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], til
     if grown is not None:
         plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
     best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
-    return replace(best, tried={p.source: len(p.selected) for p in plans})
+    best = replace(best, tried={p.source: len(p.selected) for p in plans})
+    return _search(a, adj, groups, best, moves, floor)
+
+
+def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, moves: int,
+            floor: int) -> tuple[Stitched, dict[str, Any]]:
+    """The local search on ``kept`` (see :func:`best_plan`) and its record for plan.json."""
+    record: dict[str, Any] = {"moves_budget": moves, "moves": 0, "before": len(kept.selected),
+                              "after": len(kept.selected), "removed": 0, "time_s": 0.0}
+    if moves <= 0 or any(p > 1 for p in kept.parts.values()):  # it starts from a connected cover only
+        return kept, record
+    t0 = time.perf_counter()
+    found = shrink_large(a, adj, groups, kept.selected, moves=moves, floor=floor)
+    record.update(moves=found.moves, after=len(found.selected), removed=found.removed,
+                  time_s=round(time.perf_counter() - t0, 3), history=[list(h) for h in found.history])
+    if not found.removed:
+        return kept, record
+    parts = {g: len(components(adj, m)) for g, m in group_members(groups, found.selected).items()}
+    tried = {**(kept.tried or {}), "local search": len(found.selected)}
+    return replace(kept, selected=found.selected, parts=parts, source=f"{kept.source} + local search",
+                   tried=tried), record
 
 
 #: wall-clock cap of a work-limited MILP, as a multiple of its work limit
@@ -187,7 +218,7 @@ def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
 
 def _finish(site: Site, options: PlanOptions, validation: ValidationReport, problem: CoverageProblem,
             results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, registration: tuple[str, float],
-            times: dict[str, float], work_limited: bool = False) -> Plan:
+            times: dict[str, float], work_limited: bool = False, search: dict[str, Any] | None = None) -> Plan:
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
     from planner.plan import placed_stations, registration_check
 
@@ -203,7 +234,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
             "stitch": {"source": joined.source, "tried": joined.tried, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
             "bound_how": "max(ceil(LP of the whole cover), cover-MILP bound), registration rule dropped",
             "limits": "CP-SAT work (deterministic s)" if work_limited else "wall clock (s)",
-            "wall_cap_hit": capped,
+            "wall_cap_hit": capped, "local_search": search or {},
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
                          time_s=times["total_s"], backend=options.milp.backend, info=info)
@@ -218,7 +249,8 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                                             "; every tile's plan covers its core"),
            _limits_line(capped, work_limited),
            "connected plans: " + ", ".join(f"{k} {v}" for k, v in (joined.tried or {}).items())
-           + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
+           + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations"
+           + (f"; local search: {search['before']} -> {search['after']} in {search['moves']} moves" if search and search["moves"] else ""),
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}"
               if bound.milp is not None and bound.milp_status is not None else "")
            + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}")
