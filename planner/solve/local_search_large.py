@@ -78,7 +78,7 @@ class _State:
         self.conf = np.ones(a.shape[0], dtype=bool)
         self.w_link = 1.0
         self.stamp = np.zeros(a.shape[0], dtype=np.int64)  # move of each candidate's last change
-        self._graph: tuple[np.ndarray, sp.csr_matrix, np.ndarray, int] | None = None
+        self._graph: tuple[np.ndarray, sp.csr_matrix, np.ndarray, int, np.ndarray] | None = None
 
     def _targets(self, c: int) -> np.ndarray:
         return self.a.indices[self.a.indptr[c]:self.a.indptr[c + 1]]

@@ -13,6 +13,10 @@ from tests.solve.test_connectivity_methods import FOUND, RULE, WINDOWS, instance
 from tests.solve.test_local_search import _adjacency, _is_connected_cover
 
 
+def _groups(inst) -> list[str]:
+    return [str(g) for g in inst.groups or ()]
+
+
 def _graph(n: int, edges: list[tuple[int, int]]) -> sp.csr_matrix:
     rows = [u for u, v in edges] + [v for u, v in edges]
     cols = [v for u, v in edges] + [u for u, v in edges]
@@ -39,7 +43,7 @@ def test_windows_chain_of_seven_shrinks_to_the_chain_of_five():
     inst = instance(WINDOWS, 12, ["g"] * 9)
     a, adj = _adjacency(inst)
     plan = [0, 1, 2, 4, 5, 6, 8]
-    found = shrink_large(a, adj, inst.groups, plan, moves=200)
+    found = shrink_large(a, adj, _groups(inst), plan, moves=200)
     assert list(found.selected) == [0, 2, 4, 6, 8]
     assert found.removed == 7 - 5 and found.start == 7
     assert [size for _, size in found.history] == [6, 5]  # one station fewer each time
@@ -52,7 +56,7 @@ def test_all_windows_on_a_longer_line_shrink_to_the_chain():
     cover = [set(range(j, j + 4)) for j in range(37)]
     inst = instance(cover, 40, ["g"] * 37)
     a, adj = _adjacency(inst)
-    found = shrink_large(a, adj, inst.groups, list(range(37)), moves=300)
+    found = shrink_large(a, adj, _groups(inst), list(range(37)), moves=300)
     assert _is_connected_cover(inst, adj, found.selected)
     assert len(found.selected) == 19 and found.removed == 37 - 19
 
@@ -64,10 +68,10 @@ def test_a_swap_is_needed_to_reach_two_stations():
     inst = instance(cover, 4, ["g"] * 5)
     a = inst.by_candidate.tocsr()
     adj = _graph(5, [(0, 1), (2, 3), (3, 4)])
-    assert shrink_large(a, adj, inst.groups, [2, 3, 4], moves=100).selected == (0, 1)
+    assert shrink_large(a, adj, _groups(inst), [2, 3, 4], moves=100).selected == (0, 1)
     # with the floor at 3 (a proven bound), or no moves, nothing is tried
     for kw in ({"floor": 3}, {"moves": 0}):
-        found = shrink_large(a, adj, inst.groups, [4, 2, 3], **kw)
+        found = shrink_large(a, adj, _groups(inst), [4, 2, 3], **kw)
         assert found.selected == (2, 3, 4) and found.moves == 0 and found.removed == 0
 
 
@@ -78,12 +82,12 @@ def test_from_the_connected_greedy_stays_a_connected_cover_not_below_the_optimum
     if FOUND[seed] is None:
         pytest.skip("no connected cover")
     greedy = connected_greedy_plan(inst, RULE, starts=1)
-    found = shrink_large(a, adj, inst.groups, list(greedy.selected), moves=300)
+    found = shrink_large(a, adj, _groups(inst), list(greedy.selected), moves=300)
     assert _is_connected_cover(inst, adj, found.selected)
     assert FOUND[seed] <= len(found.selected) <= len(greedy.selected)
     sizes = [size for _, size in found.history]
     assert sizes == sorted(sizes, reverse=True) and all(b == s - 1 for s, b in zip([len(greedy.selected)] + sizes, sizes))
-    again = shrink_large(a, adj, inst.groups, list(greedy.selected), moves=300)  # no clock; seeded draws
+    again = shrink_large(a, adj, _groups(inst), list(greedy.selected), moves=300)  # no clock; seeded draws
     assert again == found
 
 

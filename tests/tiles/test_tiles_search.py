@@ -59,7 +59,7 @@ def test_best_plan_searches_only_with_moves() -> None:
     windows = [set(range(j, j + 4)) for j in range(9)]
     inst = instance(windows, 12, ["g"] * 9)
     a, adj = _adjacency(inst)
-    groups = tuple(inst.groups)
+    groups = tuple(str(g) for g in inst.groups or ())
     tiled = stitch(a, adj, groups, [[0, 1, 2, 4, 5, 6, 8]])
     kept, none = best_plan(a, adj, groups, tiled, (), moves=0)
     searched, record = best_plan(a, adj, groups, tiled, (), moves=100)
