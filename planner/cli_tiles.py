@@ -20,8 +20,8 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: MILP work per tile, CP-SAT deterministic seconds, wall cap 4x (default 30)")
     p.add_argument("--bound-time-limit", type=float, default=60.0, metavar="S",
                    help="--tiles: work of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
-    p.add_argument("--tile-search-moves", type=int, default=10_000, metavar="N",
-                   help="--tiles: move budget of the local search that shrinks the kept connected plan (default 10000; 0: none)")
+    p.add_argument("--tile-search-moves", type=int, default=20_000, metavar="N",
+                   help="--tiles: move budget of the local search that shrinks the kept connected plan (default 20000; 0: none)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=int, default=0, metavar="N",

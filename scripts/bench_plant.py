@@ -66,7 +66,7 @@ class TreeRss:
 
 
 def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit: float, out: Path,
-        figure: Path | None, search_moves: int = 10_000) -> None:
+        figure: Path | None, search_moves: int = 20_000) -> None:
     """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
     from planner.plan import PlanOptions
     from planner.site.load import load_site
@@ -191,7 +191,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tile", type=float, default=100.0)
     ap.add_argument("--tile-time-limit", type=float, default=20.0)
     ap.add_argument("--bound-time-limit", type=float, default=60.0)
-    ap.add_argument("--search-moves", type=int, default=10_000, help="local search moves on the kept plan (0: none)")
+    ap.add_argument("--search-moves", type=int, default=20_000, help="local search moves on the kept plan (0: none)")
     ap.add_argument("--csv", type=Path, default=None)
     ap.add_argument("--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)")
     ap.add_argument("--from-csv", type=Path, nargs="+", default=None,

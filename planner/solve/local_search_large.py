@@ -24,8 +24,8 @@ weighting-based local search heuristic algorithm for the set covering problem", 
 So a candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs
 O(targets and links of the few stations and candidates it touches) plus one connected-components and
 one articulation pass on the ~n chosen stations, never a dense candidate x target array. Ties go to the
-candidate unchanged longest, then the lowest index, draws to a generator of fixed seed: the result depends only on the input, ``moves`` and
-``seed`` (no clock).
+candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the result
+depends only on the input, ``moves`` and ``seed`` (no clock).
 """
 
 from __future__ import annotations
@@ -104,8 +104,9 @@ class _State:
             pos = np.full(self.a.shape[0], -1, dtype=np.int64)
             pos[idx] = np.arange(len(idx))
             row, col = _gather(self.adj, idx)
-            keep = pos[col] >= 0
-            sub = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), (row[keep], pos[col[keep]])),
+            keep = pos[col] >= 0  # _gather lists the rows in order: the kept entries are already CSR
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(row[keep], minlength=len(idx)))])
+            sub = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), pos[col[keep]], indptr),
                                 shape=(len(idx), len(idx)))
             n, label = connected_components(sub, directed=False)
             parts = int(n - np.unique(self.gid[idx]).size)
@@ -138,12 +139,11 @@ class _State:
 
 def _split(sub: sp.csr_matrix) -> np.ndarray:
     """Components added to its own component by removing each node (-1 for an isolated node); one
-    iterative articulation-point pass (Hopcroft-Tarjan), O(nodes + links)."""
+    iterative articulation-point pass (Hopcroft-Tarjan), O(nodes + links), on Python lists (faster
+    than numpy scalars for the ~100 nodes of a plan)."""
     n = sub.shape[0]
-    ptr, ind = sub.indptr, sub.indices
-    disc = np.full(n, -1, dtype=np.int64)
-    low = np.zeros(n, dtype=np.int64)
-    out = np.zeros(n, dtype=np.int64)
+    ptr, ind = sub.indptr.tolist(), sub.indices.tolist()
+    disc, low, out = [-1] * n, [0] * n, [0] * n
     clock = 0
     for root in range(n):
         if disc[root] >= 0:
@@ -151,19 +151,19 @@ def _split(sub: sp.csr_matrix) -> np.ndarray:
         disc[root] = low[root] = clock
         clock += 1
         children = 0
-        stack = [(root, -1, int(ptr[root]))]
+        stack = [(root, -1, ptr[root])]
         while stack:
             v, parent, i = stack[-1]
             if i < ptr[v + 1]:
                 stack[-1] = (v, parent, i + 1)
-                w = int(ind[i])
+                w = ind[i]
                 if disc[w] < 0:
                     disc[w] = low[w] = clock
                     clock += 1
-                    stack.append((w, v, int(ptr[w])))
+                    stack.append((w, v, ptr[w]))
                     children += v == root
-                elif w != parent:
-                    low[v] = min(low[v], disc[w])
+                elif w != parent and disc[w] < low[v]:
+                    low[v] = disc[w]
                 continue
             stack.pop()
             if parent >= 0:
@@ -171,7 +171,7 @@ def _split(sub: sp.csr_matrix) -> np.ndarray:
                 if parent != root and low[v] >= disc[parent]:
                     out[parent] += 1
         out[root] = children - 1
-    return out
+    return np.array(out, dtype=np.int64)
 
 
 def _group_ids(groups: Sequence[Hashable]) -> np.ndarray:
@@ -253,7 +253,8 @@ def _drop(st: _State, step: int) -> None:
 
 def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
     """The candidate to add, and the parts S will be in: best score among the seers of one drawn unseen
-    target and the candidates linked to two parts of S, allowed by configuration checking (all of them when none is)."""
+    target and the candidates linked to two parts of S, allowed by configuration checking (all of them
+    when none is)."""
     idx, _, label, parts, touched = st.graph()
     unseen = st.unseen()
     pool: list[np.ndarray] = []

@@ -60,7 +60,7 @@ class TileOptions:
     tile_time_limit_s: float = 30.0
     bound_time_limit_s: float = 60.0
     deterministic: bool = True
-    local_search_moves: int = 10_000
+    local_search_moves: int = 20_000
 
     def __post_init__(self) -> None:
         if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
