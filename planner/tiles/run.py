@@ -9,7 +9,10 @@ What holds and why:
   piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (``site`` mode by default: one
   bundle per accessible area);
 - bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`), over the
-  pool; the gap is (stations - bound) / stations.
+  pool; the gap is (stations - bound) / stations;
+- local search: the kept plan is shrunk by :func:`planner.solve.local_search_large.shrink_large` within
+  ``TileOptions.local_search_moves`` moves (a count: the plan does not depend on the load); each plan it
+  returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it.
 """
 
 from __future__ import annotations
