@@ -268,9 +268,13 @@ def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
     allowed = cand[st.conf[cand]]
     cand = allowed if allowed.size else cand
     if cand.size == 0:  # a cover in parts no one candidate links: a step of the shortest chain between parts
+        gid = st.gid[idx]
+        pairs = np.unique(np.stack([gid, label]), axis=1)  # (group, component), sorted by group
+        g = pairs[0][np.flatnonzero(np.diff(pairs[0]) == 0)[0]]  # the first group in two or more parts
+        first = label[np.flatnonzero(gid == g)[0]]
         wanted = np.zeros(st.a.shape[0], dtype=bool)
-        wanted[idx[label != label[0]]] = True
-        path = path_to_nearest(st.adj.astype(np.float64), idx[label == label[0]], wanted)
+        wanted[idx[(gid == g) & (label != first)]] = True
+        path = path_to_nearest(st.adj.astype(np.float64), idx[label == first], wanted)
         return (int(path[-1]) if path else int(np.flatnonzero(~st.in_s)[0])), parts
     score, change = st.add_score(cand)
     k = _first(-score, st.stamp[cand])

@@ -8,7 +8,7 @@ import pytest
 import scipy.sparse as sp
 
 from planner.solve.greedy import connected_greedy_plan
-from planner.solve.local_search_large import _split, shrink_large
+from planner.solve.local_search_large import _pick_add, _split, _State, shrink_large
 from tests.solve.test_connectivity_methods import FOUND, RULE, WINDOWS, instance, random_instance
 from tests.solve.test_local_search import _adjacency, _is_connected_cover
 
@@ -121,3 +121,15 @@ def _connected(adj: sp.csr_matrix, chosen: list[int]) -> bool:
     from scipy.sparse.csgraph import connected_components
 
     return connected_components(adj[chosen][:, chosen], directed=False)[0] == 1
+
+
+def test_parts_no_single_candidate_links_get_the_first_step_of_the_shortest_chain():
+    # candidates 0-1-2-3 linked in a path; 0 sees piece 0 and 3 sees piece 1, 1 and 2 see nothing.
+    # S = {0, 3} covers both pieces in two parts; no free candidate touches both (1 touches {0}, 2 touches
+    # {3}), so the add is the first step from 0's part along the chain 0-1-2-3: candidate 1, S still in
+    # 2 - 1 = 1 extra part
+    a = sp.csr_matrix((np.ones(2), ([0, 3], [0, 1])), shape=(4, 2))
+    adj = _graph(4, [(0, 1), (1, 2), (2, 3)])
+    st = _State(a, adj, np.zeros(4, dtype=np.int64), np.ones(2, dtype=bool), [0, 3])
+    assert st.graph()[3] == 1 and st.unseen().size == 0
+    assert _pick_add(st, np.random.default_rng(0)) == (1, 1)
