@@ -26,6 +26,8 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                         "(0: off; default 10)")
     p.add_argument("--lagrange-group", type=int, default=1, metavar="N",
                    help="--tiles: Lagrangian parts of N x N tiles (default 1)")
+    p.add_argument("--tile-search-moves", type=int, default=20_000, metavar="N",
+                   help="--tiles: move budget of the local search that shrinks the kept connected plan (default 20000; 0: none)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=int, default=0, metavar="N",
@@ -52,7 +54,7 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
 
     tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
                          bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
-                         lagrange_group=args.lagrange_group)
+                         lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves)
     if args.lagrange_work is not None:
         if args.lagrange_work < 0:
             raise UsageError("must be >= 0", field="--lagrange-work", value=args.lagrange_work)

@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT))
 
 FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",
           "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb",
-          "plan_sha1", "limits", "wall_cap_hit"]
+          "plan_sha1", "limits", "wall_cap_hit", "search_before", "search_moves", "search_s"]
 
 
 class TreeRss:
@@ -66,7 +66,7 @@ class TreeRss:
 
 
 def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit: float, out: Path,
-        figure: Path | None) -> None:
+        figure: Path | None, search_moves: int = 20_000) -> None:
     """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
     from planner.plan import PlanOptions
     from planner.site.load import load_site
@@ -75,7 +75,8 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     options = PlanOptions(method="milp", pricing=False)
-    tiling = TileOptions(tile_m=tile_m, tile_time_limit_s=tile_limit, bound_time_limit_s=bound_limit)
+    tiling = TileOptions(tile_m=tile_m, tile_time_limit_s=tile_limit, bound_time_limit_s=bound_limit,
+                         local_search_moves=search_moves)
     with TreeRss() as rss:
         with dask_client(workers) as client:
             plan = plan_by_tiles(site, options, tiling, client=client)
@@ -88,7 +89,10 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
            "verified_percent": round(plan.verification.percent, 3), "tree_rss_mb": round(rss.peak / 2**20),
            # which plan: a short hash of the sorted station ids (equal hashes: the same plan), and the limits
            "plan_sha1": hashlib.sha1(",".join(sorted(s.id for s in plan.stations)).encode()).hexdigest()[:10],
-           "limits": info.get("limits", ""), "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none"}
+           "limits": info.get("limits", ""), "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none",
+           # the local search on the kept plan: stations before it, its moves and time
+           "search_before": info.get("local_search", {}).get("before"), "search_moves": info.get("local_search", {}).get("moves"),
+           "search_s": info.get("local_search", {}).get("time_s")}
     row["greedy"] = _greedy(site, options, plan, greedy_cover)
     out.write_text(json.dumps(row))
     if figure is not None:
@@ -157,7 +161,8 @@ def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None
         out = Path(tmp) / "row.json"
         cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--one", f"{area:g}", "--workers", str(workers),
                "--tile", str(args.tile), "--tile-time-limit", str(args.tile_time_limit),
-               "--bound-time-limit", str(args.bound_time_limit), "--json", str(out)]
+               "--bound-time-limit", str(args.bound_time_limit), "--search-moves", str(args.search_moves),
+               "--json", str(out)]
         if figure is not None:
             cmd += ["--figure", str(figure)]
         t0 = time.perf_counter()
@@ -186,6 +191,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tile", type=float, default=100.0)
     ap.add_argument("--tile-time-limit", type=float, default=20.0)
     ap.add_argument("--bound-time-limit", type=float, default=60.0)
+    ap.add_argument("--search-moves", type=int, default=20_000, help="local search moves on the kept plan (0: none)")
     ap.add_argument("--csv", type=Path, default=None)
     ap.add_argument("--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)")
     ap.add_argument("--from-csv", type=Path, nargs="+", default=None,
@@ -194,7 +200,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", type=Path, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one is not None:
-        one(args.one, args.workers[0], args.tile, args.tile_time_limit, args.bound_time_limit, args.json, args.figure)
+        one(args.one, args.workers[0], args.tile, args.tile_time_limit, args.bound_time_limit, args.json, args.figure,
+            args.search_moves)
         return 0
     rows = []
     if args.from_csv:

@@ -10,7 +10,10 @@ What holds and why:
   bundle per accessible area);
 - bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`) and, with
   ``TileOptions.lagrange``, the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), over
-  the pool; the gap is (stations - bound) / stations.
+  the pool; the gap is (stations - bound) / stations;
+- local search: the kept plan is shrunk by :func:`planner.solve.local_search_large.shrink_large` within
+  ``TileOptions.local_search_moves`` moves (a count: the plan does not depend on the load); each plan it
+  returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it.
 """
 
 from __future__ import annotations
@@ -37,7 +40,8 @@ from planner.solve.milp import MilpOptions
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
-from planner.solve.connectivity import connected_greedy
+from planner.solve.connectivity import components, connected_greedy, group_members
+from planner.solve.local_search_large import shrink_large
 from planner.tiles.lagrange import group_parts
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileJob, TileResult, tile_task
@@ -49,7 +53,9 @@ from planner.verify import verify_stations
 class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
     ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
-    MILP for the bound (0: LP bound only). ``deterministic`` (default; CP-SAT with one thread): both
+    MILP for the bound (0: LP bound only); ``local_search_moves``: move budget of the local search on the
+    kept plan (:func:`planner.solve.local_search_large.shrink_large`; 0: none; a count, not a time, so
+    the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
     limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
     long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
     wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
@@ -67,6 +73,7 @@ class TileOptions:
     lagrange_group: int = 1
     lagrange_iterations: int = 0
     lagrange_work_s: float = 10.0
+    local_search_moves: int = 20_000
 
     def __post_init__(self) -> None:
         if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
@@ -76,6 +83,8 @@ class TileOptions:
         if self.lagrange_group < 1 or self.lagrange_iterations < 0 or not self.lagrange_work_s > 0:
             raise UsageError("Lagrangian parts need a group >= 1, iterations >= 0 and work > 0", field="lagrange_group",
                              value=self.lagrange_group)
+        if self.local_search_moves < 0:
+            raise UsageError("local search moves must be >= 0", field="local_search_moves", value=self.local_search_moves)
 
 
 def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
@@ -156,18 +165,23 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
                          parts=parts if tiling.lagrange else None, lagrange_iterations=tiling.lagrange_iterations,
                          lagrange_work_s=tiling.lagrange_work_s, client=client)
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
-    joined = best_plan(by_cand, adj, groups, joined, bound.cover)
+    t_search = time.perf_counter()
+    joined, search = best_plan(by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value)
     return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
+                    "best_plan_s": time.perf_counter() - t_search,
                     "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m},
-                   deterministic_limits(options.milp, tiling))
+                   deterministic_limits(options.milp, tiling), search)
 
 
 def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], tiled: Stitched,
-              cover: tuple[int, ...]) -> Stitched:
+              cover: tuple[int, ...], moves: int = 0, floor: int = 1) -> tuple[Stitched, dict[str, Any]]:
     """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
     earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
-    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned. ``tried`` records all three."""
+    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; ``tried`` records all
+    three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
+    (:func:`planner.solve.local_search_large.shrink_large`, down to ``floor`` stations, a proven bound)
+    then looks for a smaller connected cover; the second value says what it did."""
     plans = [tiled]
     if cover:
         plans.append(replace(stitch(a, adj, groups, [cover]), source="whole-site cover, joined"))
@@ -175,7 +189,27 @@ def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], til
     if grown is not None:
         plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
     best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
-    return replace(best, tried={p.source: len(p.selected) for p in plans})
+    best = replace(best, tried={p.source: len(p.selected) for p in plans})
+    return _search(a, adj, groups, best, moves, floor)
+
+
+def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, moves: int,
+            floor: int) -> tuple[Stitched, dict[str, Any]]:
+    """The local search on ``kept`` (see :func:`best_plan`) and its record for plan.json."""
+    record: dict[str, Any] = {"moves_budget": moves, "moves": 0, "before": len(kept.selected),
+                              "after": len(kept.selected), "removed": 0, "time_s": 0.0}
+    if moves <= 0 or any(p > 1 for p in kept.parts.values()):  # it starts from a connected cover only
+        return kept, record
+    t0 = time.perf_counter()
+    found = shrink_large(a, adj, groups, kept.selected, moves=moves, floor=floor)
+    record.update(moves=found.moves, after=len(found.selected), removed=found.removed,
+                  time_s=round(time.perf_counter() - t0, 3), history=[list(h) for h in found.history])
+    if not found.removed:
+        return kept, record
+    parts = {g: len(components(adj, m)) for g, m in group_members(groups, found.selected).items()}
+    tried = {**(kept.tried or {}), "local search": len(found.selected)}
+    return replace(kept, selected=found.selected, parts=parts, source=f"{kept.source} + local search",
+                   tried=tried), record
 
 
 #: wall-clock cap of a work-limited MILP, as a multiple of its work limit
@@ -203,7 +237,7 @@ def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
 
 def _finish(site: Site, options: PlanOptions, validation: ValidationReport, problem: CoverageProblem,
             results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, registration: tuple[str, float],
-            times: dict[str, float], work_limited: bool = False) -> Plan:
+            times: dict[str, float], work_limited: bool = False, search: dict[str, Any] | None = None) -> Plan:
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
     from planner.plan import placed_stations, registration_check
 
@@ -224,7 +258,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                 "iterations": bound.lagrange.iterations, "per_tile": list(bound.lagrange.per_tile),
                 "proven": list(bound.lagrange.proven), "upper": bound.lagrange.upper, "time_s": round(bound.lagrange.time_s, 3)},
             "limits": "CP-SAT work (deterministic s)" if work_limited else "wall clock (s)",
-            "wall_cap_hit": capped,
+            "wall_cap_hit": capped, "local_search": search or {},
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
                          time_s=times["total_s"], backend=options.milp.backend, info=info)
@@ -239,7 +273,8 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                                             "; every tile's plan covers its core"),
            _limits_line(capped, work_limited),
            "connected plans: " + ", ".join(f"{k} {v}" for k, v in (joined.tried or {}).items())
-           + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations",
+           + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations"
+           + (f"; local search: {search['before']} -> {search['after']} in {search['moves']} moves" if search and search["moves"] else ""),
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}"
               if bound.milp is not None and bound.milp_status is not None else "")
            + (f", Lagrangian over {len(bound.lagrange.per_tile)} parts {bound.lagrange.raw:.2f}" if bound.lagrange else "")

@@ -12,7 +12,7 @@ PLANT = str(INSTANCES / "plant_1ha.json")
 
 def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
     code = main(["plan", PLANT, "--tiles", "50", "--tile-time-limit", "10", "--bound-time-limit", "10",
-                 "--out", str(tmp_path), "--quiet"])
+                 "--tile-search-moves", "50", "--out", str(tmp_path), "--quiet"])
     out = capsys.readouterr().out
     assert code == 0
     assert "4 tiles of 50 m, margin 60.0 m" in out  # plant_1ha: anchors span ~66 m -> 2 x 2 tiles; S_max 60 m
@@ -20,6 +20,9 @@ def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
     assert "verification at 0.1 m: 100.000 % covered" in out
     data = json.loads((tmp_path / "plan.json").read_text())
     assert len(data["stations"]) >= 9  # the bound of plant_1ha is 9 (cover MILP, proven optimal)
+    search = data["solver"]["local_search"]  # the local search on the kept plan, as asked
+    assert search["moves_budget"] == 50 and search["moves"] <= 50
+    assert search["after"] == len(data["stations"]) == search["before"] - search["removed"]
 
 
 def test_workers_without_tiles_is_a_usage_error(capsys) -> None:

@@ -1,0 +1,281 @@
+"""Fewer stations for a connected plan at plant scale: two-phase moves with row weighting.
+
+:func:`planner.solve.local_search.shrink` scores every (station, candidate) swap each move, which is
+O(nnz(A) * n) and a transitive closure per station: fine on a block of a few hundred candidates, not on
+a plant (5,728 candidates, ~120 stations). :func:`shrink_large` searches the same objective,
+
+    f(S) = sum of the weights of the targets S leaves unseen + w_link * sum_g (parts of g in S - 1),
+
+with the moves of RWLS (Gao et al., "An efficient local search heuristic with row weighting for the
+unicost set covering problem", EJOR 246(3), 2015) and configuration checking (Wang et al., "A
+weighting-based local search heuristic algorithm for the set covering problem", CEC 2014):
+
+1. when S is a connected cover it is kept and the station of least removal cost is dropped (S one
+   smaller); otherwise
+2. remove the non-tabu station of least removal cost ``loss(s) + w_link * split(s)`` (``loss``: the
+   weight of the targets only s sees; ``split``: the parts its removal adds, from one articulation-point
+   pass over the chosen subgraph); then
+3. add, among the seers of one unseen target (drawn by a seeded generator), and, while S is in pieces,
+   the candidates linked to two of its parts, the one of best ``gain(c) - w_link * (1 - parts c
+   touches)``, allowed by configuration checking (a removed candidate comes back only after a
+   candidate sharing a target with it changed state);
+4. the weights of the unseen targets, and w_link while S is in pieces, grow by one.
+
+So a candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs
+O(targets and links of the few stations and candidates it touches) plus one connected-components and
+one articulation pass on the ~n chosen stations, never a dense candidate x target array. Ties go to the
+candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the result
+depends only on the input, ``moves`` and ``seed`` (no clock).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Hashable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from planner.solve.connectivity import path_to_nearest
+
+
+@dataclass(frozen=True)
+class Shrunk:
+    """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``moves``:
+    moves made (at most the budget); ``history``: (move, stations) of each smaller connected cover found."""
+
+    selected: tuple[int, ...]
+    start: int
+    moves: int
+    history: tuple[tuple[int, int], ...] = ()
+
+    @property
+    def removed(self) -> int:
+        return self.start - len(self.selected)
+
+
+def _gather(m: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, without
+    building a sparse matrix (a move makes many small gathers)."""
+    start, stop = m.indptr[rows], m.indptr[np.asarray(rows) + 1]
+    size = stop - start
+    at = np.repeat(start - np.cumsum(size) + size, size) + np.arange(int(size.sum()))
+    return np.repeat(np.arange(len(size)), size), m.indices[at]
+
+
+class _State:
+    """The chosen set S with its target counts, weights, components and configuration flags."""
+
+    def __init__(self, a: sp.csr_matrix, adj: sp.csr_matrix, gid: np.ndarray, need: np.ndarray,
+                 chosen: Sequence[int]) -> None:
+        self.a, self.at, self.adj, self.gid = a, a.T.tocsr(), adj, gid
+        self.weight = need.astype(np.float64)
+        self.need = need
+        self.in_s = np.zeros(a.shape[0], dtype=bool)
+        self.in_s[list(chosen)] = True
+        self.cnt = np.bincount(_gather(a, np.asarray(chosen, dtype=np.int64))[1], minlength=a.shape[1])
+        self.conf = np.ones(a.shape[0], dtype=bool)
+        self.w_link = 1.0
+        self.stamp = np.zeros(a.shape[0], dtype=np.int64)  # move of each candidate's last change
+        self._graph: tuple[np.ndarray, sp.csr_matrix, np.ndarray, int, np.ndarray] | None = None
+
+    def _targets(self, c: int) -> np.ndarray:
+        return self.a.indices[self.a.indptr[c]:self.a.indptr[c + 1]]
+
+    def unseen(self) -> np.ndarray:
+        return np.flatnonzero(self.need & (self.cnt == 0))
+
+    def flip(self, c: int, step: int) -> None:
+        """Add c to S or remove it at move ``step``; the candidates sharing a target with c may come back."""
+        self.stamp[c] = step
+        t = self._targets(c)
+        self.cnt[t] += -1 if self.in_s[c] else 1
+        self.in_s[c] = not self.in_s[c]
+        self.conf[_gather(self.at, t)[1]] = True
+        self.conf[c] = bool(self.in_s[c])
+        self._graph = None
+
+    def graph(self) -> tuple[np.ndarray, sp.csr_matrix, np.ndarray, int, np.ndarray]:
+        """S (sorted), its overlap subgraph, each station's component label, the sum over groups of
+        (components - 1), and for every candidate the number of S's components it is linked to."""
+        if self._graph is None:
+            idx = np.flatnonzero(self.in_s)
+            pos = np.full(self.a.shape[0], -1, dtype=np.int64)
+            pos[idx] = np.arange(len(idx))
+            row, col = _gather(self.adj, idx)
+            keep = pos[col] >= 0  # _gather lists the rows in order: the kept entries are already CSR
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(row[keep], minlength=len(idx)))])
+            sub = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), pos[col[keep]], indptr),
+                                shape=(len(idx), len(idx)))
+            n, label = connected_components(sub, directed=False)
+            parts = int(n - np.unique(self.gid[idx]).size)
+            touched = np.zeros(self.a.shape[0], dtype=np.int64)
+            if parts == 0:  # one component per group: linked or not
+                touched[col] = 1
+            else:
+                touched = np.bincount(np.unique(col * n + label[row]) // n, minlength=self.a.shape[0])
+            self._graph = (idx, sub, label, parts, touched)
+        return self._graph
+
+    def removal_cost(self) -> np.ndarray:
+        """loss(s) + w_link * split(s) for each station of S (order of ``graph()[0]``)."""
+        idx, sub = self.graph()[:2]
+        row, col = _gather(self.a, idx)
+        loss = np.bincount(row, weights=(self.weight * (self.cnt == 1))[col], minlength=len(idx))
+        split = _split(sub)
+        _, g, size = np.unique(self.gid[idx], return_inverse=True, return_counts=True)
+        split[size[g] == 1] = 0  # the only station of its group: the group leaves S, its parts stay 0
+        return loss + self.w_link * split
+
+    def add_score(self, cand: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """gain(c) - w_link * (parts change), and the parts change, of candidates ``cand`` joining S."""
+        idx, touched = self.graph()[0], self.graph()[4]
+        row, col = _gather(self.a, cand)
+        gain = np.bincount(row, weights=(self.weight * (self.cnt == 0))[col], minlength=len(cand))
+        change = np.where(np.isin(self.gid[cand], self.gid[idx]), 1 - touched[cand], 0)
+        return gain - self.w_link * change, change
+
+
+def _split(sub: sp.csr_matrix) -> np.ndarray:
+    """Components added to its own component by removing each node (-1 for an isolated node); one
+    iterative articulation-point pass (Hopcroft-Tarjan), O(nodes + links), on Python lists (faster
+    than numpy scalars for the ~100 nodes of a plan)."""
+    n = sub.shape[0]
+    ptr, ind = sub.indptr.tolist(), sub.indices.tolist()
+    disc, low, out = [-1] * n, [0] * n, [0] * n
+    clock = 0
+    for root in range(n):
+        if disc[root] >= 0:
+            continue
+        disc[root] = low[root] = clock
+        clock += 1
+        children = 0
+        stack = [(root, -1, ptr[root])]
+        while stack:
+            v, parent, i = stack[-1]
+            if i < ptr[v + 1]:
+                stack[-1] = (v, parent, i + 1)
+                w = ind[i]
+                if disc[w] < 0:
+                    disc[w] = low[w] = clock
+                    clock += 1
+                    stack.append((w, v, ptr[w]))
+                    children += v == root
+                elif w != parent and disc[w] < low[v]:
+                    low[v] = disc[w]
+                continue
+            stack.pop()
+            if parent >= 0:
+                low[parent] = min(low[parent], low[v])
+                if parent != root and low[v] >= disc[parent]:
+                    out[parent] += 1
+        out[root] = children - 1
+    return np.array(out, dtype=np.int64)
+
+
+def _group_ids(groups: Sequence[Hashable]) -> np.ndarray:
+    index: dict[Hashable, int] = {}
+    return np.array([index.setdefault(g, len(index)) for g in groups], dtype=np.int64)
+
+
+def shrink_large(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
+                 moves: int = 5000, floor: int = 1, seed: int = 0, tabu: int = 2) -> Shrunk:
+    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring).
+
+    Parameters
+    ----------
+    a
+        C x T boolean CSR coverage matrix (the targets to cover are those ``plan`` covers).
+    adj
+        C x C symmetric overlap adjacency; links join candidates of one group only.
+    groups
+        Registration group of each candidate.
+    plan
+        A connected cover (returned unchanged when no smaller one is found).
+    moves
+        Move budget in all (0: ``plan`` is returned as it is).
+    floor
+        Stop at this many stations (a proven lower bound).
+    seed
+        Seed of the generator that draws the unseen target a move repairs.
+    tabu
+        Moves a station added may not be removed.
+
+    Returns
+    -------
+    Shrunk
+        A connected cover no larger than ``plan``, and the moves it took.
+    """
+    best = tuple(sorted(int(i) for i in plan))
+    a = a.astype(np.float64).tocsr()
+    adj = adj.astype(bool).tocsr()
+    need = np.asarray(a[list(best)].sum(axis=0)).ravel() > 0
+    if moves <= 0 or len(best) <= max(floor, 1):
+        return Shrunk(best, len(best), 0)
+    st = _State(a, adj, _group_ids(groups), need, best)
+    rng = np.random.default_rng(seed)
+    until = np.zeros(a.shape[0], dtype=np.int64)  # move before which a station added may not leave
+    _drop(st, 0)
+    history: list[tuple[int, int]] = []
+    step = 0
+    for step in range(1, moves + 1):
+        idx, parts = st.graph()[0], st.graph()[3]
+        if parts == 0 and st.unseen().size == 0:
+            best = tuple(int(i) for i in idx)
+            history.append((step, len(best)))
+            if len(best) <= max(floor, 1):
+                break
+            _drop(st, step)
+            continue
+        cost = st.removal_cost()
+        free = np.where(until[idx] > step, np.inf, cost)
+        st.flip(int(idx[_first(free if np.isfinite(free).any() else cost, st.stamp[idx])]), step)
+        c, parts = _pick_add(st, rng)
+        st.flip(c, step)
+        until[c] = step + tabu + 1
+        st.weight[st.unseen()] += 1.0
+        if parts > 0:
+            st.w_link += 1.0
+    return Shrunk(best, len(plan), step, tuple(history))
+
+
+def _first(key: np.ndarray, stamp: np.ndarray) -> int:
+    """Position of the least ``key``; ties to the least ``stamp`` (longest unchanged), then the lowest index."""
+    return int(np.lexsort((stamp, key))[0])
+
+
+def _drop(st: _State, step: int) -> None:
+    """Drop the station of least removal cost (ties: longest unchanged, then lowest index): S one smaller."""
+    idx = st.graph()[0]
+    st.flip(int(idx[_first(st.removal_cost(), st.stamp[idx])]), step)
+
+
+def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
+    """The candidate to add, and the parts S will be in: best score among the seers of one drawn unseen
+    target and the candidates linked to two parts of S, allowed by configuration checking (all of them
+    when none is)."""
+    idx, _, label, parts, touched = st.graph()
+    unseen = st.unseen()
+    pool: list[np.ndarray] = []
+    if unseen.size:
+        t = int(unseen[rng.integers(unseen.size)])
+        pool.append(st.at.indices[st.at.indptr[t]:st.at.indptr[t + 1]])
+    if parts > 0:
+        pool.append(np.flatnonzero(touched >= 2))
+    cand = np.unique(np.concatenate(pool)) if pool else np.zeros(0, dtype=np.int64)
+    cand = cand[~st.in_s[cand]]
+    allowed = cand[st.conf[cand]]
+    cand = allowed if allowed.size else cand
+    if cand.size == 0:  # a cover in parts no one candidate links: a step of the shortest chain between parts
+        gid = st.gid[idx]
+        pairs = np.unique(np.stack([gid, label]), axis=1)  # (group, component), sorted by group
+        g = pairs[0][np.flatnonzero(np.diff(pairs[0]) == 0)[0]]  # the first group in two or more parts
+        first = label[np.flatnonzero(gid == g)[0]]
+        wanted = np.zeros(st.a.shape[0], dtype=bool)
+        wanted[idx[(gid == g) & (label != first)]] = True
+        path = path_to_nearest(st.adj.astype(np.float64), idx[label == first], wanted)
+        return (int(path[-1]) if path else int(np.flatnonzero(~st.in_s)[0])), parts
+    score, change = st.add_score(cand)
+    k = _first(-score, st.stamp[cand])
+    return int(cand[k]), parts + int(change[k])

@@ -1,0 +1,74 @@
+"""The local search on the kept tiled plan: never a larger plan, a verified single bundle, recorded in
+``info``, and the same plan on a second run."""
+
+from __future__ import annotations
+
+import pytest
+
+from planner.errors import UsageError
+from planner.plan import PlanOptions
+from planner.site.load import load_site
+from planner.tiles import TileOptions, plan_by_tiles
+from planner.tiles.run import best_plan
+from planner.tiles.stitch import stitch
+from tests.conftest import INSTANCES
+from tests.solve.test_connectivity_methods import instance
+from tests.solve.test_local_search import _adjacency
+
+OPTIONS = PlanOptions(method="milp", pricing=False)
+
+
+def _tiling(moves: int) -> TileOptions:
+    # short tile MILPs and the LP bound only (ceil(7.73) = 8 on 1 ha), so the kept plan has room to shrink
+    return TileOptions(tile_m=50.0, tile_time_limit_s=0.5, bound_time_limit_s=0, local_search_moves=moves)
+
+
+@pytest.fixture(scope="module")
+def plans():
+    site = load_site(INSTANCES / "plant_1ha.json")
+    return plan_by_tiles(site, OPTIONS, _tiling(0)), plan_by_tiles(site, OPTIONS, _tiling(300)), site
+
+
+def test_search_never_grows_the_kept_plan_and_keeps_it_verified(plans) -> None:
+    without, searched, _ = plans
+    before = without.result.info["local_search"]
+    assert before["moves"] == 0 and before["removed"] == 0 and before["before"] == before["after"] == len(without.stations)
+    record = searched.result.info["local_search"]
+    # the search starts from the same kept plan (same tiles, bound and greedy; only the budget differs)
+    assert record["before"] == len(without.stations)
+    assert record["after"] == len(searched.stations) <= len(without.stations)
+    assert record["removed"] == record["before"] - record["after"]
+    assert 0 < record["moves"] <= 300
+    assert len(searched.stations) >= searched.result.bound  # never below the proven bound
+    assert searched.verification.percent == 100.0  # re-verified at 0.1 m by _finish
+    assert list(searched.registration.values()) == [1]  # one registration bundle
+    if record["removed"]:
+        assert searched.result.info["stitch"]["tried"]["local search"] == record["after"]
+
+
+def test_search_on_a_tiled_plan_is_deterministic(plans) -> None:
+    _, searched, site = plans
+    again = plan_by_tiles(site, OPTIONS, _tiling(300))
+    assert [s.xy for s in again.stations] == [s.xy for s in searched.stations]
+
+
+def test_best_plan_searches_only_with_moves() -> None:
+    # the 12-piece windows (see tests/solve/test_connectivity_methods): a 'tile plan' of 0,1,2,4,5,6,8 is
+    # pruned by stitching to a connected cover; with moves the search reaches the connected optimum,
+    # 0,2,4,6,8 (5), which the connected greedy may already hold; it never returns more than without
+    windows = [set(range(j, j + 4)) for j in range(9)]
+    inst = instance(windows, 12, ["g"] * 9)
+    a, adj = _adjacency(inst)
+    groups = tuple(str(g) for g in inst.groups or ())
+    tiled = stitch(a, adj, groups, [[0, 1, 2, 4, 5, 6, 8]])
+    kept, none = best_plan(a, adj, groups, tiled, (), moves=0)
+    searched, record = best_plan(a, adj, groups, tiled, (), moves=100)
+    assert none["moves"] == 0 and none["after"] == len(kept.selected)
+    assert list(searched.selected) == [0, 2, 4, 6, 8]
+    assert record["after"] == 5 <= len(kept.selected) == record["before"]
+    assert record["removed"] == len(kept.selected) - 5 and searched.parts == {"g": 1}
+
+
+def test_negative_move_budget_is_refused() -> None:
+    with pytest.raises(UsageError):
+        TileOptions(local_search_moves=-1)
