@@ -370,5 +370,6 @@ class _BlockSolver:
         if size in self._shrunk or len(self.incumbent) <= floor:
             return
         self._shrunk.add(size)
-        self.local_moves += o.local_search_moves
-        self._better(shrink(self.sub, self.adj, self.groups, self.incumbent, o.local_search_moves, floor))
+        found = shrink(self.sub, self.adj, self.groups, self.incumbent, o.local_search_moves, floor)
+        self.local_moves += found.moves
+        self._better(list(found.selected))

@@ -11,7 +11,7 @@ What holds and why:
 - bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`) and, with
   ``TileOptions.lagrange``, the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), over
   the pool; the gap is (stations - bound) / stations;
-- local search: the kept plan is shrunk by :func:`planner.solve.local_search_large.shrink_large` within
+- local search: the kept plan is shrunk by :func:`planner.solve.local_search.shrink` within
   ``TileOptions.local_search_moves`` moves (a count: the plan does not depend on the load); each plan it
   returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it.
 """
@@ -41,7 +41,7 @@ from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import components, connected_greedy, group_members
-from planner.solve.local_search_large import shrink_large
+from planner.solve.local_search import shrink
 from planner.tiles.lagrange import group_parts
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileJob, TileResult, tile_task
@@ -54,7 +54,7 @@ class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
     ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
     MILP for the bound (0: LP bound only); ``local_search_moves``: move budget of the local search on the
-    kept plan (:func:`planner.solve.local_search_large.shrink_large`; 0: none; a count, not a time, so
+    kept plan (:func:`planner.solve.local_search.shrink`; 0: none; a count, not a time, so
     the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
     limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
     long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
@@ -180,7 +180,7 @@ def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], til
     earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
     site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; ``tried`` records all
     three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
-    (:func:`planner.solve.local_search_large.shrink_large`, down to ``floor`` stations, a proven bound)
+    (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound)
     then looks for a smaller connected cover; the second value says what it did."""
     plans = [tiled]
     if cover:
@@ -201,7 +201,7 @@ def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept:
     if moves <= 0 or any(p > 1 for p in kept.parts.values()):  # it starts from a connected cover only
         return kept, record
     t0 = time.perf_counter()
-    found = shrink_large(a, adj, groups, kept.selected, moves=moves, floor=floor)
+    found = shrink(a, adj, groups, kept.selected, moves=moves, floor=floor)
     record.update(moves=found.moves, after=len(found.selected), removed=found.removed,
                   time_s=round(time.perf_counter() - t0, 3), history=[list(h) for h in found.history])
     if not found.removed:

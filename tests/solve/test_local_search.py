@@ -1,5 +1,5 @@
-"""The swap local search keeps plans connected covers, never grows them, is deterministic, and finds the
-smaller connected plans derived by hand or by enumeration."""
+"""The local search keeps plans connected covers, never grows them, is deterministic, finds
+the smaller connected plans derived by hand or by enumeration, and scores splits exactly."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import scipy.sparse as sp
 from planner.coverage.overlap import overlap_adjacency
 from planner.solve.connectivity import disconnected_groups
 from planner.solve.greedy import connected_greedy_plan
-from planner.solve.local_search import shrink
+from planner.solve.local_search import _pick_add, _split, _State, shrink
 from planner.solve.milp import MilpOptions, solve
 from tests.solve.test_connectivity_methods import FOUND, RULE, WINDOWS, instance, random_instance
 
@@ -23,51 +23,136 @@ def _adjacency(inst):
 
 def _is_connected_cover(inst, adj, plan) -> bool:
     seen = np.asarray(inst.by_candidate[list(plan)].sum(axis=0)).ravel() > 0
-    return bool(seen.all()) and not disconnected_groups(adj, inst.groups, plan)
+    return bool(seen.all()) and not disconnected_groups(adj, inst.groups, list(plan))
+
+
+def _groups(inst) -> list[str]:
+    return [str(g) for g in inst.groups or ()]
+
+
+def _graph(n: int, edges: list[tuple[int, int]]) -> sp.csr_matrix:
+    rows = [u for u, v in edges] + [v for u, v in edges]
+    cols = [v for u, v in edges] + [u for u, v in edges]
+    return sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(n, n))
+
+
+@pytest.mark.parametrize("n,edges,split", [
+    # path 0-1-2-3: the ends leave one piece (0 added), 1 and 2 cut it in two (1 added)
+    (4, [(0, 1), (1, 2), (2, 3)], [0, 1, 1, 0]),
+    # triangle 0-1-2 with a tail 2-3 and an isolated 4: only 2 cuts (1 added); removing 4 drops a part (-1)
+    (5, [(0, 1), (1, 2), (0, 2), (2, 3)], [0, 0, 1, 0, -1]),
+    # star with centre 0 and leaves 1..3: removing the centre leaves 3 parts of one (2 added)
+    (4, [(0, 1), (0, 2), (0, 3)], [2, 0, 0, 0]),
+    # two disjoint edges: every end removed leaves its partner, no part added
+    (4, [(0, 1), (2, 3)], [0, 0, 0, 0]),
+])
+def test_split_counts_the_parts_a_removal_adds(n, edges, split):
+    assert _split(_graph(n, edges)).tolist() == split
 
 
 def test_windows_chain_of_seven_shrinks_to_the_chain_of_five():
-    # windows j..j+3 on 12 pieces (see test_connectivity_methods): 0,1,2,4,5,6,8 is a connected cover of
-    # 7 (steps of at most 2); 1 and 5 are redundant, and the connected optimum is 0,2,4,6,8 (5 stations)
+    # windows j..j+3 on 12 pieces: 0,1,2,4,5,6,8 is a connected cover of 7; the connected optimum is
+    # 0,2,4,6,8 (5 stations: 0 and 8 are the only seers of pieces 0 and 11, steps of at most 2)
     inst = instance(WINDOWS, 12, ["g"] * 9)
     a, adj = _adjacency(inst)
     plan = [0, 1, 2, 4, 5, 6, 8]
-    assert _is_connected_cover(inst, adj, plan)
-    assert shrink(a, adj, inst.groups, plan) == [0, 2, 4, 6, 8]
+    found = shrink(a, adj, _groups(inst), plan, moves=200)
+    assert list(found.selected) == [0, 2, 4, 6, 8]
+    assert found.removed == 7 - 5 and found.start == 7
+    assert [size for _, size in found.history] == [6, 5]  # one station fewer each time
+
+
+def test_all_windows_on_a_longer_line_shrink_to_the_chain():
+    # 40 pieces, windows j..j+3 for j = 0..36 (37 candidates), all chosen: a connected cover. A connected
+    # plan holds windows 0 and 36 (the only seers of pieces 0 and 39) and steps of at most 2, so it needs
+    # 36 / 2 + 1 = 19 stations; 0, 2, ..., 36 has 19
+    cover = [set(range(j, j + 4)) for j in range(37)]
+    inst = instance(cover, 40, ["g"] * 37)
+    a, adj = _adjacency(inst)
+    found = shrink(a, adj, _groups(inst), list(range(37)), moves=300)
+    assert _is_connected_cover(inst, adj, found.selected)
+    assert len(found.selected) == 19 and found.removed == 37 - 19
 
 
 def test_a_swap_is_needed_to_reach_two_stations():
-    # pieces 0..3; c0 = {0, 1}, c1 = {2, 3} (linked), c2 = {0}, c3 = {1, 2}, c4 = {3}; links by hand:
-    # c0-c1, c2-c3, c3-c4. The chain c2, c3, c4 is a minimal connected cover of 3 (no station can go
-    # without losing a piece), so 2 is reached only by dropping one and swapping: c0, c1
+    # pieces 0..3; c0 = {0, 1}, c1 = {2, 3} (linked), c2 = {0}, c3 = {1, 2}, c4 = {3}; links c0-c1, c2-c3,
+    # c3-c4. The chain c2, c3, c4 is a minimal connected cover of 3, so 2 is reached only by a swap: c0, c1
     cover = [{0, 1}, {2, 3}, {0}, {1, 2}, {3}]
     inst = instance(cover, 4, ["g"] * 5)
     a = inst.by_candidate.tocsr()
-    adj = sp.csr_matrix(np.array([[0, 1, 0, 0, 0], [1, 0, 0, 0, 0], [0, 0, 0, 1, 0], [0, 0, 1, 0, 1],
-                                  [0, 0, 0, 1, 0]], dtype=bool))
-    assert shrink(a, adj, inst.groups, [2, 3, 4]) == [0, 1]
-    # with the floor at 3 (a proven bound) nothing is tried
-    assert shrink(a, adj, inst.groups, [2, 3, 4], floor=3) == [2, 3, 4]
+    adj = _graph(5, [(0, 1), (2, 3), (3, 4)])
+    assert shrink(a, adj, _groups(inst), [2, 3, 4], moves=100).selected == (0, 1)
+    # with the floor at 3 (a proven bound), or no moves, nothing is tried
+    for kw in ({"floor": 3}, {"moves": 0}):
+        found = shrink(a, adj, _groups(inst), [4, 2, 3], **kw)
+        assert found.selected == (2, 3, 4) and found.moves == 0 and found.removed == 0
 
 
 @pytest.mark.parametrize("seed", range(6))
 def test_from_the_connected_greedy_stays_a_connected_cover_not_below_the_optimum(seed):
     inst = random_instance(seed)
     a, adj = _adjacency(inst)
-    greedy = connected_greedy_plan(inst, RULE, starts=1)
     if FOUND[seed] is None:
         pytest.skip("no connected cover")
-    plan = shrink(a, adj, inst.groups, list(greedy.selected))
-    assert _is_connected_cover(inst, adj, plan)
-    assert FOUND[seed] <= len(plan) <= len(greedy.selected)
-    assert shrink(a, adj, inst.groups, list(greedy.selected)) == plan  # no clock, no random numbers
+    greedy = connected_greedy_plan(inst, RULE, starts=1)
+    found = shrink(a, adj, _groups(inst), list(greedy.selected), moves=300)
+    assert _is_connected_cover(inst, adj, found.selected)
+    assert FOUND[seed] <= len(found.selected) <= len(greedy.selected)
+    sizes = [size for _, size in found.history]
+    assert sizes == sorted(sizes, reverse=True) and all(b == s - 1 for s, b in zip([len(greedy.selected)] + sizes, sizes))
+    again = shrink(a, adj, _groups(inst), list(greedy.selected), moves=300)  # no clock; seeded draws
+    assert again == found
 
 
-def test_milp_closes_on_the_local_search_plan_and_reports_its_moves():
-    # the windows: the first round's bound is 5 (the chain is forced by the cuts up front); either the
-    # round's answer or the local search's plan meets it, and the result is optimal with 5 stations
+@pytest.mark.parametrize("seed", range(4))
+def test_a_random_large_cover_shrinks_and_stays_connected(seed):
+    # 400 candidates on a 20 x 20 grid, each seeing the targets within one cell of it on a 20 x 20 target
+    # grid (a 3 x 3 block); linked when 4-neighbours. Every candidate chosen is a connected cover of 400;
+    # a cover needs at least 400 / 9 -> 45 stations, so much can go; the seed is the search's
+    n = 20
+    rows, cols = [], []
+    for i in range(n):
+        for j in range(n):
+            for di in (-1, 0, 1):
+                for dj in (-1, 0, 1):
+                    if 0 <= i + di < n and 0 <= j + dj < n:
+                        rows.append(i * n + j)
+                        cols.append((i + di) * n + j + dj)
+    a = sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(n * n, n * n))
+    edges = [(i * n + j, i * n + j + 1) for i in range(n) for j in range(n - 1)]
+    edges += [(i * n + j, (i + 1) * n + j) for i in range(n - 1) for j in range(n)]
+    adj = _graph(n * n, edges)
+    groups = ["g"] * (n * n)
+    found = shrink(a, adj, groups, list(range(n * n)), moves=600, seed=seed)
+    chosen = list(found.selected)
+    assert (np.asarray(a[chosen].sum(axis=0)).ravel() > 0).all()
+    assert _connected(adj, chosen)
+    assert 45 <= len(chosen) < n * n
+
+
+def _connected(adj: sp.csr_matrix, chosen: list[int]) -> bool:
+    from scipy.sparse.csgraph import connected_components
+
+    return connected_components(adj[chosen][:, chosen], directed=False)[0] == 1
+
+
+def test_parts_no_single_candidate_links_get_the_first_step_of_the_shortest_chain():
+    # candidates 0-1-2-3 linked in a path; 0 sees piece 0 and 3 sees piece 1, 1 and 2 see nothing.
+    # S = {0, 3} covers both pieces in two parts; no free candidate touches both (1 touches {0}, 2 touches
+    # {3}), so the add is the first step from 0's part along the chain 0-1-2-3: candidate 1, S still in
+    # 2 - 1 = 1 extra part
+    a = sp.csr_matrix((np.ones(2), ([0, 3], [0, 1])), shape=(4, 2))
+    adj = _graph(4, [(0, 1), (1, 2), (2, 3)])
+    st = _State(a, adj, np.zeros(4, dtype=np.int64), np.ones(2, dtype=bool), [0, 3])
+    assert st.graph()[3] == 1 and st.unseen().size == 0
+    assert _pick_add(st, np.random.default_rng(0)) == (1, 1)
+
+
+def test_milp_block_closes_on_the_searched_plan_and_counts_its_moves():
+    # the windows of test_connectivity_methods: the connected optimum 5 (0, 2, 4, 6, 8) is found with and
+    # without the search and proven; the search's moves are reported (none when it is off)
     inst = instance(WINDOWS, 12, ["g"] * 9)
     r = solve(inst, MilpOptions(time_limit_s=20))
     off = solve(inst, MilpOptions(time_limit_s=20, local_search_moves=0))
     assert r.status.value == off.status.value == "optimal" and r.objective == off.objective == 5
-    assert "local_search_moves" in r.info and off.info["local_search_moves"] == 0
+    assert r.info["local_search_moves"] >= 0 and off.info["local_search_moves"] == 0
