@@ -19,11 +19,12 @@ import argparse
 import csv
 import json
 import pickle
-import re
 import subprocess
 import sys
 from dataclasses import replace
 from pathlib import Path
+
+from _timed import peak_rss_mb
 
 import numpy as np
 
@@ -88,12 +89,11 @@ def measure(path: Path, method: str, backend: str, connectivity: str, threads: i
     cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--child", str(path), method, backend, connectivity,
            str(threads), str(time_limit)]
     res = subprocess.run(cmd, capture_output=True, text=True, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
-    rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", res.stderr)
     lines = [ln for ln in res.stdout.splitlines() if ln.startswith("{")]
     if res.returncode != 0 or not lines:
         return {"status": f"error rc {res.returncode}: {res.stderr.strip().splitlines()[-1:]}"}
     row = json.loads(lines[-1])
-    row["peak_rss_mb"] = round(int(rss.group(1)) / 1024) if rss else None
+    row["peak_rss_mb"] = peak_rss_mb(res.stderr)
     b = row["bound"]
     row["gap"] = "" if b is None or not row["stations"] else f"{100 * (row['stations'] - b) / row['stations']:.1f}"
     row["bound"] = "" if b is None else round(b, 2)

@@ -21,11 +21,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import re
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+from _timed import peak_rss_mb
 
 import numpy as np
 
@@ -85,12 +86,12 @@ def grid_rows(names: list[str], spacings: list[float], limit_s: int) -> list[dic
             except subprocess.TimeoutExpired:
                 rows.append({"site": name, "grid_m": g, "note": f"over {limit_s} s"})
                 continue
-            rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", res.stderr)
+            rss = peak_rss_mb(res.stderr)
             if res.returncode != 0 or rss is None:
                 rows.append({"site": name, "grid_m": g, "note": (res.stderr.strip().splitlines() or ["failed"])[-1]})
                 continue
             rows.append({"site": name, "grid_m": g, **json.loads(res.stdout.strip().splitlines()[-1]),
-                         "peak_mb": int(rss.group(1)) / 1024})
+                         "peak_mb": rss})
     return rows
 
 

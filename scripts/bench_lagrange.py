@@ -13,12 +13,11 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import re
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
+
+from _timed import json_child, peak_rss_mb
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -61,18 +60,9 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
 
 
 def run(args: argparse.Namespace) -> dict:
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "row.json"
-        cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--one", "--area", f"{args.area:g}", "--group",
-               str(args.group), "--iterations", str(args.iterations), "--work", str(args.work), "--bound-work",
-               str(args.bound_work), "--json", str(out)]
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0 or not out.exists():
-            raise SystemExit(f"run failed:\n{proc.stderr[-3000:]}")
-        row = json.loads(out.read_text())
-    m = re.search(r"Maximum resident set size \(kbytes\): (\d+)", proc.stderr)
-    row["peak_rss_mb"] = round(int(m.group(1)) / 1024) if m else None
-    return row
+    return json_child(__file__, ["--one", "--area", f"{args.area:g}", "--group", str(args.group), "--iterations",
+                                 str(args.iterations), "--work", str(args.work), "--bound-work", str(args.bound_work)],
+                      "run")
 
 
 def main(argv: list[str] | None = None) -> int:

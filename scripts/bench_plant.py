@@ -19,12 +19,12 @@ import csv
 import json
 import math
 import re
-import subprocess
 import sys
-import tempfile
 import threading
 import time
 from pathlib import Path
+
+from _timed import json_child, peak_rss_mb
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -157,21 +157,11 @@ def _limits(plan):
 
 
 def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None) -> dict:
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "row.json"
-        cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--one", f"{area:g}", "--workers", str(workers),
-               "--tile", str(args.tile), "--tile-time-limit", str(args.tile_time_limit),
-               "--bound-time-limit", str(args.bound_time_limit), "--search-moves", str(args.search_moves),
-               "--json", str(out)]
-        if figure is not None:
-            cmd += ["--figure", str(figure)]
-        t0 = time.perf_counter()
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0 or not out.exists():
-            raise SystemExit(f"run {area} ha x {workers} failed:\n{proc.stderr[-3000:]}")
-        row = json.loads(out.read_text())
-    m = re.search(r"Maximum resident set size \(kbytes\): (\d+)", proc.stderr)
-    row["peak_rss_mb"] = round(int(m.group(1)) / 1024) if m else None
+    args_ = ["--one", f"{area:g}", "--workers", str(workers), "--tile", str(args.tile), "--tile-time-limit",
+             str(args.tile_time_limit), "--bound-time-limit", str(args.bound_time_limit), "--search-moves",
+             str(args.search_moves)] + (["--figure", str(figure)] if figure is not None else [])
+    t0 = time.perf_counter()
+    row = json_child(__file__, args_, f"run {area} ha x {workers}")
     row["wall_s"] = round(time.perf_counter() - t0, 1)
     return row
 
