@@ -34,6 +34,12 @@ class OverlapRule:
             raise ValueError(f"overlap must be in [0, 1), got {self.overlap}")
 
 
+def group_ids(groups: Sequence[Hashable]) -> NDArray[np.int64]:
+    """The index of each item's group, groups numbered in order of first appearance."""
+    index: dict[Hashable, int] = {}
+    return np.array([index.setdefault(g, len(index)) for g in groups], dtype=np.int64)
+
+
 def piece_lengths(s0_m: NDArray[np.float64], s1_m: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.asarray(s1_m) - np.asarray(s0_m)
 
@@ -52,10 +58,7 @@ def overlap_adjacency(
     a = by_candidate.astype(np.float64).tocsr()
     n = a.shape[0]
     covered = np.asarray(a @ lengths).ravel()
-    gid = None
-    if groups is not None:
-        index: dict[Hashable, int] = {}
-        gid = np.array([index.setdefault(g, len(index)) for g in groups])
+    gid = group_ids(groups) if groups is not None else None
 
     def allowed(r: NDArray[np.int64], c: NDArray[np.int64]) -> NDArray[np.bool_]:
         ok = r != c

@@ -20,6 +20,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, dijkstra
 
+from planner.coverage.overlap import group_ids
+
 Cut = tuple[np.ndarray, np.ndarray, float]  # (indices, coefficients, lower bound)
 
 
@@ -120,13 +122,12 @@ def neighbour_cuts(adj: sp.csr_matrix, a: sp.csr_matrix, groups: Sequence[Hashab
 
 def essential_targets(a: sp.csr_matrix, groups: Sequence[Hashable]) -> dict[Hashable, np.ndarray]:
     """Per group, the targets that only that group's candidates see."""
-    index: dict[Hashable, int] = {}
-    gid = np.array([index.setdefault(g, len(index)) for g in groups])
-    g = sp.csr_matrix((np.ones(len(gid)), (gid, np.arange(len(gid)))), shape=(len(index), len(gid)))
+    gid = group_ids(groups)
+    g = sp.csr_matrix((np.ones(len(gid)), (gid, np.arange(len(gid)))), shape=(int(gid.max(initial=-1)) + 1, len(gid)))
     per_group = (g @ a.astype(np.float64)).tocsc()  # groups x targets: how many candidates of each group see t
     seen_by = np.diff((per_group > 0).astype(np.int64).tocsc().indptr)
     out = {}
-    for grp, k in index.items():
+    for grp, k in dict(zip(groups, gid.tolist())).items():
         row = np.asarray(per_group[k].todense()).ravel() > 0
         out[grp] = row & (seen_by == 1)
     return out

@@ -39,6 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from planner.coverage.overlap import group_ids
 from planner.solve.connectivity import path_to_nearest
 
 
@@ -176,13 +177,8 @@ def _split(sub: sp.csr_matrix) -> np.ndarray:
     return np.array(out, dtype=np.int64)
 
 
-def _group_ids(groups: Sequence[Hashable]) -> np.ndarray:
-    index: dict[Hashable, int] = {}
-    return np.array([index.setdefault(g, len(index)) for g in groups], dtype=np.int64)
-
-
 def shrink(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
-                 moves: int = 5000, floor: int = 1, seed: int = 0, tabu: int = 2) -> Shrunk:
+           moves: int = 5000, floor: int = 1, seed: int = 0, tabu: int = 2) -> Shrunk:
     """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring).
 
     Parameters
@@ -215,7 +211,7 @@ def shrink(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], pla
     need = np.asarray(a[list(best)].sum(axis=0)).ravel() > 0
     if moves <= 0 or len(best) <= max(floor, 1):
         return Shrunk(best, len(best), 0)
-    st = _State(a, adj, _group_ids(groups), need, best)
+    st = _State(a, adj, group_ids(groups), need, best)
     rng = np.random.default_rng(seed)
     until = np.zeros(a.shape[0], dtype=np.int64)  # move before which a station added may not leave
     _drop(st, 0)

@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from planner.coverage.overlap import OverlapRule, overlap_adjacency
+from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
 from planner.errors import UsageError
 from planner.solve.backends import BACKENDS, Outcome, Row, make_backend
 from planner.solve.connectivity import (
@@ -219,9 +219,8 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
     nc, nt = sub.shape
     links = [sp.bmat([[None, sub], [sub.T, None]]).tocsr()]
     if groups is not None:
-        index: dict = {}
-        gid = np.array([index.setdefault(groups[i], len(index)) for i in keep_c])
-        g = sp.csr_matrix((np.ones(nc), (np.arange(nc), gid)), shape=(nc, len(index)))
+        gid = group_ids([groups[i] for i in keep_c])
+        g = sp.csr_matrix((np.ones(nc), (np.arange(nc), gid)), shape=(nc, int(gid.max(initial=-1)) + 1))
         same = (g @ g.T).astype(bool)
         links.append(sp.block_diag([same, sp.csr_matrix((nt, nt))]).tocsr())
     n, label = connected_components(sum(links), directed=False)
@@ -280,7 +279,7 @@ class _BlockSolver:
         self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
         self.local_moves = 0
         self.done = self.infeasible = False
-        self._seen: list[list[int]] = []  # disconnected solutions met during the current solve
+        self._seen: list[tuple[list[int], dict]] = []  # disconnected solutions met during the current solve, with their parts
         self._shrunk: set[float] = set()  # incumbent costs the local search started from
         if self.groups is not None and o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
             self.backend.watch = self._watch
@@ -288,8 +287,9 @@ class _BlockSolver:
     def _watch(self, selected: tuple[int, ...], objective: float) -> bool:
         """During a solve: keep a connected solution as the incumbent, remember a disconnected one for cuts."""
         chosen = list(selected)
-        if disconnected_groups(self.adj, self.groups or [], chosen):
-            self._seen.append(chosen)
+        broken = disconnected_groups(self.adj, self.groups or [], chosen)
+        if broken:
+            self._seen.append((chosen, broken))
             return False
         self._better(chosen)
         return False
@@ -341,8 +341,8 @@ class _BlockSolver:
                 if self.done:
                     continue
             new = []
-            for sol in ([chosen] if broken else []) + [s for s in seen if s != chosen]:
-                for g, comps in disconnected_groups(self.adj, self.groups or [], sol).items():
+            for sol, parts in ([(chosen, broken)] if broken else []) + [(s, p) for s, p in seen if s != chosen]:
+                for g, comps in parts.items():
                     new += connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))
                 fixed = repair(self.adj, self.cost, self.groups if self.groups is not None else [], sol)
                 if fixed is not None:

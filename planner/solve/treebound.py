@@ -21,6 +21,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from planner.coverage.overlap import group_ids
+
 Row = tuple[np.ndarray, np.ndarray, float]
 
 
@@ -31,11 +33,10 @@ def add_tree_bound(backend: Any, a: sp.csr_matrix, lengths: np.ndarray, adj: sp.
     Returns the number of rows added.
     """
     a = a.astype(np.float64).tocsr()
-    gid_of: dict[Hashable, int] = {}
-    gid = np.array([gid_of.setdefault(g, len(gid_of)) for g in groups])
+    gid = group_ids(groups)
     upper = sp.triu(adj, k=1).tocoo()
     rows: list[Row] = []
-    for k in range(len(gid_of)):
+    for k in range(int(gid.max(initial=-1)) + 1):
         mem = gid == k
         seen_in = np.asarray(a[mem].sum(axis=0)).ravel() > 0
         seen_out = np.asarray(a[~mem].sum(axis=0)).ravel() > 0 if (~mem).any() else np.zeros(a.shape[1], dtype=bool)

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Hashable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -135,17 +135,19 @@ def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limi
     as long, so the bound and the cover it returns do not depend on the load. With ``parts`` (a partition
     of the pieces, e.g. the tiles' cores) also the Lagrangian bound over them
     (:func:`planner.tiles.lagrange.lagrangian_bound`, always on CP-SAT work limits; on ``client`` if given)."""
-    lp = lp_bound(a)
-    if time_limit_s <= 0:
-        bound = Bound(lp, None, None)
-    else:
+    milp: float | None = None
+    status: Status | None = None
+    cover: tuple[int, ...] = ()
+    capped = False
+    if time_limit_s > 0:
         inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
         opts = MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1)
         res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else opts)
-        best = res.objective if res.status is Status.OPTIMAL else res.bound
-        bound = Bound(lp, best, res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit)
-    if parts is None:
-        return bound
-    lag = lagrangian_bound(a, parts, iterations=lagrange_iterations, work_s=lagrange_work_s, seed=seed,
-                           upper=float(len(bound.cover)) if bound.cover else None, client=client)
-    return replace(bound, lagrange=lag)
+        milp = res.objective if res.status is Status.OPTIMAL else res.bound
+        status, cover, capped = res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit
+    lag = None
+    if parts is not None:
+        lag = lagrangian_bound(a, parts, iterations=lagrange_iterations, work_s=lagrange_work_s, seed=seed,
+                               upper=float(len(cover)) if cover else None, client=client)
+    # the Lagrangian bound solves the same cover LP for its duals: its value is not solved for twice
+    return Bound(lag.lp if lag is not None else lp_bound(a), milp, status, cover, capped, lag)
