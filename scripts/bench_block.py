@@ -32,18 +32,10 @@ sys.path.insert(0, str(ROOT))
 
 def block_solver(path: Path, which: int) -> Any:
     """The ``which``-th block of the cached instance, as ``solve`` would run it."""
-    from planner.coverage.overlap import overlap_adjacency
-    from planner.solve.milp import MilpOptions, _BlockSolver, _blocks, _presolve
+    from planner.solve.milp import MilpOptions, block_solvers
 
-    inst = pickle.loads(path.read_bytes())
     o = MilpOptions(backend="cpsat", connectivity="loop", threads=1, seed=0)
-    a = inst.by_candidate.astype(bool).tocsr()
-    lengths = inst.target_length_m if inst.target_length_m is not None else np.ones(a.shape[1])
-    adj, _ = overlap_adjacency(a, lengths, o.overlap, inst.groups, inst.xy, inst.links)
-    report = _presolve(inst, a, adj, o)
-    blocks = _blocks(a, np.asarray(report.kept_candidates), np.asarray(report.kept_targets), inst.groups)
-    cands, targets = blocks[which]
-    return _BlockSolver(inst, a, adj, cands, targets, report.forced_candidates, o)
+    return block_solvers(pickle.loads(path.read_bytes()), o)[1][which]
 
 
 def main() -> None:

@@ -105,23 +105,13 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     o = replace(options or MilpOptions(), **overrides) if overrides else (options or MilpOptions())
     start = time.perf_counter()
     deadline = start + o.time_limit_s
-    a = instance.by_candidate.astype(bool).tocsr()
-    n_cand, n_targ = a.shape
     counts = np.diff(instance.by_target.indptr)
     if np.any(counts < o.k):
         bad = np.flatnonzero(counts < o.k)
         return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start, backend=o.backend,
                            info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)})
     connect = o.overlap is not None and instance.groups is not None
-    adj = None
-    if connect and o.overlap is not None:
-        lengths = instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
-        adj, _ = overlap_adjacency(a, lengths, o.overlap, instance.groups, instance.xy, instance.links)
-    report = _presolve(instance, a, adj, o)
-    keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
-    keep_t = np.asarray(report.kept_targets, dtype=np.int64)
-    solvers = [_BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
-               for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
+    report, solvers = block_solvers(instance, o)
     _share_out(solvers, deadline, o.work_limit)
     if any(b.infeasible for b in solvers):
         return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
@@ -144,6 +134,20 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
                         "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline}
     return SolveResult("milp", status, tuple(sorted(selected)), objective, bound=objective if all_optimal else bound,
                        time_s=time.perf_counter() - start, backend=o.backend, info=info)
+
+
+def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveReport, list["_BlockSolver"]]:
+    """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
+    the registration rule applies when ``o.overlap`` is set and the instance has groups."""
+    a = instance.by_candidate.astype(bool).tocsr()
+    adj = None
+    if o.overlap is not None and instance.groups is not None:
+        adj, _ = overlap_adjacency(a, _lengths(instance), o.overlap, instance.groups, instance.xy, instance.links)
+    report = _presolve(instance, a, adj, o)
+    keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
+    keep_t = np.asarray(report.kept_targets, dtype=np.int64)
+    return report, [_BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
+                    for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
 
 
 def _share_out(solvers: list["_BlockSolver"], deadline: float, work_limit: float | None) -> None:
