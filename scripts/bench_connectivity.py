@@ -8,7 +8,8 @@ options (pool with region-derived candidates, geometric pricing; ``--no-pricing`
 without priced columns) and cached as a pickle. Every run is then a fresh process under
 ``/usr/bin/time -v`` (peak RSS) that loads the cached problem and solves it: the connected greedy
 (overlap rule, 50 starts per zone-side), the plain greedy (Chvatal, rule ignored), and the MILP with
-the 30 % overlap rule per (backend, connectivity method) at 1 and 2 threads, seed 0. "time s" is the
+the 30 % overlap rule per (backend, connectivity method) at 1 and 2 threads, seed 0, with the ring bound
+(``planner.solve.ring``) on, and the default method once more with it off ("ring" column). "time s" is the
 solve alone (presolve included; the pool and pricing are not). Every plan is checked for coverage of
 every target and recomputed registration connectivity. Writes connectivity.csv and connectivity.md.
 """
@@ -29,14 +30,14 @@ from _timed import peak_rss_mb
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-FIELDS = ["instance", "pool", "method", "backend", "connectivity", "threads", "stations", "bound", "gap", "status",
+FIELDS = ["instance", "pool", "method", "backend", "connectivity", "ring", "threads", "stations", "bound", "gap", "status",
           "time_s", "connected", "covered", "peak_rss_mb"]
 PROTOCOL = ("bound: the MILP's lower bound over the pool; gap = (stations - bound) / stations; time s: the solve "
             "alone; connected: every zone-side one bundle under the 30 % rule, recomputed; covered: every target seen; "
             "peak RSS of the solving process (/usr/bin/time -v). greedy-plain ignores the rule; pyscipopt runs one thread.")
-#: (backend, connectivity, threads) of the MILP runs
-MILP_RUNS = [("cpsat", "loop", 1), ("cpsat", "loop", 2), ("cpsat", "flow", 1), ("cpsat", "flow", 2),
-             ("pyscipopt", "bc", 1), ("scip", "flow", 1)]
+#: (backend, connectivity, threads, ring bound) of the MILP runs
+MILP_RUNS = [("cpsat", "loop", 1, "on"), ("cpsat", "loop", 2, "on"), ("cpsat", "loop", 1, "off"), ("cpsat", "loop", 2, "off"),
+             ("cpsat", "flow", 1, "on"), ("cpsat", "flow", 2, "on"), ("pyscipopt", "bc", 1, "on"), ("scip", "flow", 1, "on")]
 
 
 def build(name: str, cache: Path, pricing: bool) -> Path:
@@ -63,7 +64,7 @@ def build(name: str, cache: Path, pricing: bool) -> Path:
     return path
 
 
-def child(path: str, method: str, backend: str, connectivity: str, threads: int, time_limit: float) -> None:
+def child(path: str, method: str, backend: str, connectivity: str, threads: int, time_limit: float, ring: str) -> None:
     """One solve in this process; prints one JSON line."""
     from planner.coverage.overlap import OverlapRule, overlap_adjacency
     from planner.solve.connectivity import disconnected_groups
@@ -77,7 +78,8 @@ def child(path: str, method: str, backend: str, connectivity: str, threads: int,
     elif method == "greedy-plain":
         r = greedy_cover(inst.by_candidate)
     else:
-        r = solve(inst, MilpOptions(backend=backend, connectivity=connectivity, threads=threads, time_limit_s=time_limit))
+        r = solve(inst, MilpOptions(backend=backend, connectivity=connectivity, threads=threads, time_limit_s=time_limit,
+                                    ring_bound=ring == "on"))
     a = inst.by_candidate.tocsr()
     adj, _ = overlap_adjacency(a, inst.target_length_m, rule, inst.groups, inst.xy)
     covered = bool(np.asarray(a[list(r.selected)].sum(axis=0)).ravel().all()) if r.selected else False
@@ -85,9 +87,10 @@ def child(path: str, method: str, backend: str, connectivity: str, threads: int,
                       "connected": not disconnected_groups(adj, inst.groups, r.selected), "covered": covered}))
 
 
-def measure(path: Path, method: str, backend: str, connectivity: str, threads: int, time_limit: float) -> dict:
+def measure(path: Path, method: str, backend: str, connectivity: str, threads: int, time_limit: float,
+            ring: str) -> dict:
     cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--child", str(path), method, backend, connectivity,
-           str(threads), str(time_limit)]
+           str(threads), str(time_limit), ring]
     res = subprocess.run(cmd, capture_output=True, text=True, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     lines = [ln for ln in res.stdout.splitlines() if ln.startswith("{")]
     if res.returncode != 0 or not lines:
@@ -110,34 +113,37 @@ def main() -> None:
     ap.add_argument("--only", nargs="+", metavar="METHOD",
                     help="run only these methods (greedy-connected, greedy-plain, milp) and replace their rows "
                          "of the instances run in the existing CSV, keeping the others")
-    ap.add_argument("--milp-runs", nargs="+", metavar="BACKEND:CONNECTIVITY:THREADS",
-                    help="only these MILP runs (default: every row of MILP_RUNS), e.g. cpsat:loop:1 cpsat:loop:2")
-    ap.add_argument("--child", nargs=6, help=argparse.SUPPRESS)
+    ap.add_argument("--milp-runs", nargs="+", metavar="BACKEND:CONNECTIVITY:THREADS[:off]",
+                    help="only these MILP runs (default: every row of MILP_RUNS), e.g. cpsat:loop:1 cpsat:loop:1:off "
+                         "(off: without the ring bound)")
+    ap.add_argument("--child", nargs=7, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
-        p, method, backend, conn, threads, limit = args.child
-        child(p, method, backend, conn, int(threads), float(limit))
+        p, method, backend, conn, threads, limit, ring = args.child
+        child(p, method, backend, conn, int(threads), float(limit), ring)
         return
     pool = "regions" if args.no_pricing else "regions+pricing"
     rows = []
     for name in args.instances:
         path = build(name, args.cache, not args.no_pricing)
-        milp_runs = [(b, c, int(t)) for b, c, t in (r.split(":") for r in args.milp_runs)] if args.milp_runs else MILP_RUNS
-        runs = [("greedy-connected", "", "", 1), ("greedy-plain", "", "", 1)] + [("milp", *r) for r in milp_runs]
+        milp_runs = ([(b, c, int(t), (rest or ["on"])[0]) for b, c, t, *rest in (r.split(":") for r in args.milp_runs)]
+                     if args.milp_runs else MILP_RUNS)
+        runs = [("greedy-connected", "", "", 1, ""), ("greedy-plain", "", "", 1, "")] + [("milp", *r) for r in milp_runs]
         runs = [r for r in runs if not args.only or r[0] in args.only]
-        for method, backend, conn, threads in runs:
+        for method, backend, conn, threads, ring in runs:
             row = {"instance": name, "pool": pool, "method": method, "backend": backend, "connectivity": conn,
-                   "threads": threads, **measure(path, method, backend or "cpsat", conn or "auto", threads, args.time_limit)}
+                   "ring": ring, "threads": threads,
+                   **measure(path, method, backend or "cpsat", conn or "auto", threads, args.time_limit, ring or "on")}
             rows.append(row)
             print(" | ".join(str(row.get(f, "")) for f in FIELDS), flush=True)
     args.out_dir.mkdir(parents=True, exist_ok=True)
     stem = "connectivity" + ("-nopricing" if args.no_pricing else "")
     if args.only and (args.out_dir / f"{stem}.csv").exists():
-        key = ("instance", "method", "backend", "connectivity", "threads")
+        key = ("instance", "method", "backend", "connectivity", "ring", "threads")
         fresh = {tuple(str(r[k]) for k in key): r for r in rows}
         with open(args.out_dir / f"{stem}.csv", newline="") as f:
             old = list(csv.DictReader(f))
-        rows = [fresh.pop(tuple(r[k] for k in key), r) for r in old] + list(fresh.values())
+        rows = [fresh.pop(tuple(r.get(k, "") for k in key), r) for r in old] + list(fresh.values())
     with open(args.out_dir / f"{stem}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, FIELDS, extrasaction="ignore")
         w.writeheader()

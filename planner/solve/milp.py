@@ -35,6 +35,7 @@ from planner.solve.instance import CoverInstance
 from planner.solve.local_search import shrink
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
 from planner.solve.result import SolveResult, Status
+from planner.solve.ring import RingBound, ring_bound
 from planner.solve.separators import layer_cuts
 
 PRECISION_MODES = ("single", "combined")
@@ -58,6 +59,9 @@ class MilpOptions:
     connectivity: str = "auto"
     layer_cuts: bool = False
     tree_bound: bool = False
+    #: the ring bound (:mod:`planner.solve.ring`): a block of one registration group whose stations see runs
+    #: of its wall gets the cheapest walk over its arcs as a lower bound (exact where every run is whole)
+    ring_bound: bool = True
     #: CP-SAT deterministic seconds for the whole solve (cpsat, 1 thread): the answer then does not depend
     #: on the machine's load; ``time_limit_s`` stays a wall-clock cap (``info["work"]`` says which ended it)
     work_limit: float | None = None
@@ -127,6 +131,8 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
     info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect,
             "local_search_moves": sum(b.local_moves for b in solvers),
+            "ring_bound": {"blocks": sum(b.ring is not None for b in solvers),
+                           "closed_before_search": sum(b.ring is not None and b.done and not b.rounds for b in solvers)},
             "connectivity": o.connectivity_method if connect else "none"}
     if o.work_limit is not None:
         used = sum(b.work_used for b in solvers)
@@ -283,10 +289,29 @@ class _BlockSolver:
         self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
         self.local_moves = 0
         self.done = self.infeasible = False
+        self.ring = self._ring(a, targets) if o.ring_bound else None
+        self.done = self._closed()
         self._seen: list[tuple[list[int], dict]] = []  # disconnected solutions met during the current solve, with their parts
         self._shrunk: set[float] = set()  # incumbent costs the local search started from
         if self.groups is not None and o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
             self.backend.watch = self._watch
+
+    def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> RingBound | None:
+        """The ring bound of a block of one registration group (k = 1, single precision), over every piece its
+        candidates see in the instance's order; its walk becomes the incumbent when it is a connected cover."""
+        o = self.o
+        if self.groups is None or self.adj is None or len(set(self.groups)) != 1 or o.k != 1 or o.precision != "single":
+            return None
+        seen = a[self.cands].tocsr()
+        pos = np.flatnonzero(seen.getnnz(axis=0))
+        ring = ring_bound(seen[:, pos].tocsr(), np.isin(pos, targets), self.adj, self.cost)
+        if ring is None:
+            return None
+        self.bound = max(self.bound, ring.bound)
+        walk = list(ring.walk)
+        if np.all(self.sub[walk].getnnz(axis=0) > 0) and not disconnected_groups(self.adj, self.groups, walk):
+            self._better(walk)
+        return ring
 
     def _watch(self, selected: tuple[int, ...], objective: float) -> bool:
         """During a solve: keep a connected solution as the incumbent, remember a disconnected one for cuts."""
@@ -358,7 +383,7 @@ class _BlockSolver:
 
     def _closed(self) -> bool:
         """Whether the incumbent is connected and meets the bound (integral costs: its ceiling)."""
-        if self.incumbent is None or not self.rounds:
+        if self.incumbent is None or not (self.rounds or self.ring is not None):
             return False
         bound = np.ceil(self.bound - 1e-6) if np.all(self.cost == np.round(self.cost)) else self.bound
         return bool(self.cost[self.incumbent].sum() <= bound + 1e-9)
