@@ -174,7 +174,8 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
                        k=args.k, overlap=rule, precision=args.precision, connectivity=args.connectivity,
                        layer_cuts=args.layer_cuts, tree_bound=args.tree_bound, work_limit=args.work_limit,
-                       local_search_moves=args.local_search_moves, ring_bound=not args.no_ring_bound)
+                       local_search_moves=args.local_search_moves, ring_bound=not args.no_ring_bound,
+                       ring_lagrange_steps=args.ring_lagrange_steps)
     return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
                        incidence_3d=args.incidence == "3d", precision=not args.no_precision,
                        verify_spacing_m=args.verify_spacing, milp=milp,
@@ -417,6 +418,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--no-ring-bound", action="store_true",
                     help="milp: no ring bound (the cheapest walk over the arcs a zone-side's stations see, exact when "
                          "each sees one run of its wall)")
+    pl.add_argument("--ring-lagrange-steps", type=int, default=500, metavar="N",
+                    help="milp: steps of the Lagrangian ascent that adds the cover rows to the ring bound (default 500; "
+                         "0: the ring bound alone)")
     pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
     pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
     pl.add_argument("--registration", choices=("zone", "site"), default=None,

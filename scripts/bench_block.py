@@ -6,7 +6,8 @@ Usage: python scripts/bench_block.py polygon_a --block 1 [--time-limit 60] [--fl
 Protocol: the instance's cover problem is the cached pickle of ``scripts/bench_connectivity.py``
 (build it there first); presolve and blocks as ``planner.solve.milp.solve`` makes them (blocks
 smallest first, ``--block`` counts from 0); CP-SAT, cut loop, one thread, seed 0, 30 % overlap rule,
-local search on. Each round prints its time, outcome, objective, CP-SAT's bound, the incumbent and
+local search on, the ring bound off unless ``--ring`` (it closes every block of A, B, C and Baalbek before
+the first round). Each round prints its time, outcome, objective, CP-SAT's bound, the incumbent and
 the sizes of the answer's registration parts. Experiments, off by default:
 
 * ``--floor``: once a round has proven a bound L, every later round gets ``sum x >= ceil(L)``
@@ -30,11 +31,11 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 
-def block_solver(path: Path, which: int) -> Any:
+def block_solver(path: Path, which: int, ring: bool = False) -> Any:
     """The ``which``-th block of the cached instance, as ``solve`` would run it."""
     from planner.solve.milp import MilpOptions, block_solvers
 
-    o = MilpOptions(backend="cpsat", connectivity="loop", threads=1, seed=0)
+    o = MilpOptions(backend="cpsat", connectivity="loop", threads=1, seed=0, ring_bound=ring)
     return block_solvers(pickle.loads(path.read_bytes()), o)[1][which]
 
 
@@ -45,11 +46,13 @@ def main() -> None:
     ap.add_argument("--time-limit", type=float, default=60.0)
     ap.add_argument("--floor", action="store_true")
     ap.add_argument("--core", action="store_true")
+    ap.add_argument("--ring", action="store_true", help="with the ring bound (off here: it closes A, B, C and Baalbek's "
+                                                         "blocks before any round)")
     ap.add_argument("--cache", type=Path, default=ROOT / "out/bench_connectivity")
     args = ap.parse_args()
     from planner.solve.connectivity import components
 
-    b = block_solver(args.cache / f"{args.instance}.pkl", args.block)
+    b = block_solver(args.cache / f"{args.instance}.pkl", args.block, args.ring)
     print(f"block {args.block}: {b.sub.shape[0]} candidates x {b.sub.shape[1]} targets, "
           f"connected greedy {len(b.incumbent or [])}", flush=True)
     backend, solve_round = b.backend, b.backend.solve

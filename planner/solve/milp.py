@@ -24,19 +24,11 @@ from scipy.sparse.csgraph import connected_components
 
 from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
 from planner.errors import UsageError
-from planner.solve.backends import BACKENDS, Outcome, Row, make_backend
-from planner.solve.connectivity import (
-    connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
-)
-from planner.solve.flow import FlowModel, add_flow
-from planner.solve.greedy import greedy_cover
-from planner.solve.treebound import add_tree_bound
+from planner.solve.backends import BACKENDS
+from planner.solve.block import BlockSolver, lengths
 from planner.solve.instance import CoverInstance
-from planner.solve.local_search import shrink
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
 from planner.solve.result import SolveResult, Status
-from planner.solve.ring import RingBound, ring_bound
-from planner.solve.separators import layer_cuts
 
 PRECISION_MODES = ("single", "combined")
 #: how registration connectivity is enforced: branch-and-cut in one SCIP tree (PySCIPOpt),
@@ -62,6 +54,9 @@ class MilpOptions:
     #: the ring bound (:mod:`planner.solve.ring`): a block of one registration group whose stations see runs
     #: of its wall gets the cheapest walk over its arcs as a lower bound (exact where every run is whole)
     ring_bound: bool = True
+    #: steps of the Lagrangian ascent that adds the cover rows to the ring bound (a count: the same bound
+    #: under any load; 0: the ring bound alone)
+    ring_lagrange_steps: int = 500
     #: CP-SAT deterministic seconds for the whole solve (cpsat, 1 thread): the answer then does not depend
     #: on the machine's load; ``time_limit_s`` stays a wall-clock cap (``info["work"]`` says which ended it)
     work_limit: float | None = None
@@ -81,8 +76,9 @@ class MilpOptions:
             raise UsageError("must be single or combined", field="precision", value=self.precision)
         if self.k < 1 or self.threads < 1 or not self.time_limit_s > 0:
             raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
-        if self.local_search_moves < 0:
-            raise UsageError("must be >= 0", field="local_search_moves", value=self.local_search_moves)
+        if self.local_search_moves < 0 or self.ring_lagrange_steps < 0:
+            raise UsageError("must be >= 0", field="local_search_moves" if self.local_search_moves < 0 else
+                             "ring_lagrange_steps", value=min(self.local_search_moves, self.ring_lagrange_steps))
         if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
             raise UsageError("a work limit needs a value > 0, the cpsat backend and one thread", field="work_limit",
                              value=self.work_limit)
@@ -132,7 +128,8 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect,
             "local_search_moves": sum(b.local_moves for b in solvers),
             "ring_bound": {"blocks": sum(b.ring is not None for b in solvers),
-                           "closed_before_search": sum(b.ring is not None and b.done and not b.rounds for b in solvers)},
+                           "closed_before_search": sum(b.ring is not None and b.done and not b.rounds for b in solvers),
+                           "lagrange_steps": sum(b.lagrange_steps for b in solvers)},
             "connectivity": o.connectivity_method if connect else "none"}
     if o.work_limit is not None:
         used = sum(b.work_used for b in solvers)
@@ -142,21 +139,21 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
                        time_s=time.perf_counter() - start, backend=o.backend, info=info)
 
 
-def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveReport, list["_BlockSolver"]]:
+def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveReport, list[BlockSolver]]:
     """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
     the registration rule applies when ``o.overlap`` is set and the instance has groups."""
     a = instance.by_candidate.astype(bool).tocsr()
     adj = None
     if o.overlap is not None and instance.groups is not None:
-        adj, _ = overlap_adjacency(a, _lengths(instance), o.overlap, instance.groups, instance.xy, instance.links)
+        adj, _ = overlap_adjacency(a, lengths(instance), o.overlap, instance.groups, instance.xy, instance.links)
     report = _presolve(instance, a, adj, o)
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)
-    return report, [_BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
+    return report, [BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
                     for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
 
 
-def _share_out(solvers: list["_BlockSolver"], deadline: float, work_limit: float | None) -> None:
+def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | None) -> None:
     """Pass 1: each block an equal share of what is left (a block that finishes early leaves its rest);
     pass 2: the blocks not yet proven share whatever is left. Shares are of wall-clock time, or of CP-SAT
     work (deterministic seconds: every share, and so the plan, is the same under any load)."""
@@ -171,11 +168,6 @@ def _share_out(solvers: list["_BlockSolver"], deadline: float, work_limit: float
             share = (deadline - time.perf_counter()) / (len(todo) - k)
             if share > 0:
                 block.run(time.perf_counter() + share)
-
-
-def _lengths(instance: CoverInstance) -> np.ndarray:
-    n_targ = instance.by_candidate.shape[1]
-    return instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
 
 
 def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, o: MilpOptions) -> PresolveReport:
@@ -244,161 +236,3 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
     # piece, to the larger ones (polygon C: the outside block proves in ~7 s, the inside one then
     # runs on without the restart that a second pass costs); ties keep the component order
     return sorted(out, key=lambda b: b[0].size * b[1].size)
-
-
-class _BlockSolver:
-    """One independent block: its backend model (with the cuts found so far) and its best connected plan."""
-
-    def __init__(self, instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, cands: np.ndarray,
-                 targets: np.ndarray, forced_all: tuple[int, ...], o: MilpOptions) -> None:
-        self.o, self.cands = o, cands
-        self.sub = a[cands][:, targets].tocsr()
-        self.cost = instance.cost[cands]
-        self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
-        self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
-        self.backend = make_backend(o.backend, len(cands), self.cost)
-        bt = self.sub.T.tocsr()
-        rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
-                           for t in range(bt.shape[0])]
-        if o.precision == "combined" and instance.info is not None:
-            info = instance.info[cands][:, targets].T.tocsr()
-            rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
-                     for t in range(info.shape[0])]
-        self.backend.add_rows(rows)
-        pos = {int(c): k for k, c in enumerate(cands)}
-        self.backend.fix([pos[c] for c in forced_all if c in pos])
-        self.essential = essential_targets(self.sub, self.groups) if self.groups is not None else {}
-        self.incumbent: list[int] | None = None
-        self.flow: FlowModel | None = None
-        if self.groups is not None:
-            self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
-            if o.layer_cuts:
-                self.backend.add_rows(self._layers())
-            if o.k == 1 and o.precision == "single":
-                self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
-                                                  np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
-            if o.tree_bound and o.k == 1:
-                add_tree_bound(self.backend, a[cands].tocsr(), _lengths(instance), self.adj, self.groups)
-            if o.connectivity_method == "bc":
-                self.backend.connect(self.adj, self.groups, self.sub, self.essential)
-            elif o.connectivity_method == "flow":
-                self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
-        elif o.k == 1 and o.precision == "single":
-            g = greedy_cover(self.sub, weights=self.cost)
-            self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
-        self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
-        self.local_moves = 0
-        self.done = self.infeasible = False
-        self.ring = self._ring(a, targets) if o.ring_bound else None
-        self.done = self._closed()
-        self._seen: list[tuple[list[int], dict]] = []  # disconnected solutions met during the current solve, with their parts
-        self._shrunk: set[float] = set()  # incumbent costs the local search started from
-        if self.groups is not None and o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
-            self.backend.watch = self._watch
-
-    def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> RingBound | None:
-        """The ring bound of a block of one registration group (k = 1, single precision), over every piece its
-        candidates see in the instance's order; its walk becomes the incumbent when it is a connected cover."""
-        o = self.o
-        if self.groups is None or self.adj is None or len(set(self.groups)) != 1 or o.k != 1 or o.precision != "single":
-            return None
-        seen = a[self.cands].tocsr()
-        pos = np.flatnonzero(seen.getnnz(axis=0))
-        ring = ring_bound(seen[:, pos].tocsr(), np.isin(pos, targets), self.adj, self.cost)
-        if ring is None:
-            return None
-        self.bound = max(self.bound, ring.bound)
-        walk = list(ring.walk)
-        if np.all(self.sub[walk].getnnz(axis=0) > 0) and not disconnected_groups(self.adj, self.groups, walk):
-            self._better(walk)
-        return ring
-
-    def _watch(self, selected: tuple[int, ...], objective: float) -> bool:
-        """During a solve: keep a connected solution as the incumbent, remember a disconnected one for cuts."""
-        chosen = list(selected)
-        broken = disconnected_groups(self.adj, self.groups or [], chosen)
-        if broken:
-            self._seen.append((chosen, broken))
-            return False
-        self._better(chosen)
-        return False
-
-    def _layers(self) -> list[Row]:
-        members: dict = {}
-        for i, g in enumerate(self.groups or ()):
-            members.setdefault(g, []).append(i)
-        return [cut for g, m in members.items() if self.essential.get(g) is not None
-                for cut in layer_cuts(self.adj, self.sub, np.asarray(m), self.essential[g])]
-
-    def _better(self, chosen: list[int]) -> None:
-        if self.incumbent is None or self.cost[chosen].sum() < self.cost[self.incumbent].sum() - 1e-9:
-            self.incumbent = chosen
-
-    @property
-    def work_used(self) -> float:
-        """CP-SAT deterministic seconds this block has spent (0 on other backends)."""
-        return float(getattr(self.backend, "work_used", 0.0))
-
-    def run(self, deadline: float, work_until: float | None = None) -> None:
-        """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline, or (when
-        given) until the block's CP-SAT work reaches ``work_until``."""
-        if work_until is not None:
-            self.backend.work_limit = work_until
-        while not self.done and self.rounds < self.o.max_rounds:
-            left = deadline - time.perf_counter()
-            if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
-                return
-            hint = self.flow.hint(self.incumbent) if self.flow is not None and self.incumbent is not None else self.incumbent
-            res = self.backend.solve(left, self.o.threads, self.o.seed, hint)
-            self.rounds += 1
-            self.cuts += getattr(self.backend, "cuts", 0) - self._backend_cuts
-            self._backend_cuts = getattr(self.backend, "cuts", 0)
-            if res.bound is not None:
-                self.bound = max(self.bound, res.bound)
-            if res.outcome is Outcome.INFEASIBLE:
-                self.infeasible = self.incumbent is None
-                self.done = not self.infeasible
-                return
-            if res.outcome is Outcome.UNKNOWN:
-                return
-            chosen = list(res.selected)
-            seen, self._seen = self._seen, []
-            broken = disconnected_groups(self.adj, self.groups, chosen) if self.groups is not None else {}
-            if not broken:
-                self._better(chosen)
-                self.done = res.outcome is Outcome.OPTIMAL
-                if self.done:
-                    continue
-            new = []
-            for sol, parts in ([(chosen, broken)] if broken else []) + [(s, p) for s, p in seen if s != chosen]:
-                for g, comps in parts.items():
-                    new += connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))
-                fixed = repair(self.adj, self.cost, self.groups if self.groups is not None else [], sol)
-                if fixed is not None:
-                    self._better(fixed)
-            self.backend.add_rows(new)
-            self.cuts += len(new)
-            self._shrink()
-            self.done = self._closed()
-
-    def _closed(self) -> bool:
-        """Whether the incumbent is connected and meets the bound (integral costs: its ceiling)."""
-        if self.incumbent is None or not (self.rounds or self.ring is not None):
-            return False
-        bound = np.ceil(self.bound - 1e-6) if np.all(self.cost == np.round(self.cost)) else self.bound
-        return bool(self.cost[self.incumbent].sum() <= bound + 1e-9)
-
-    def _shrink(self) -> None:
-        """Local search for a connected plan one station smaller, once per incumbent size, down to the bound."""
-        o = self.o
-        if (self.groups is None or self.incumbent is None or o.local_search_moves == 0 or o.k != 1
-                or o.precision != "single" or np.ptp(self.cost) > 0):
-            return
-        size = float(self.cost[self.incumbent].sum())
-        floor = int(np.ceil(self.bound / self.cost[0] - 1e-6))
-        if size in self._shrunk or len(self.incumbent) <= floor:
-            return
-        self._shrunk.add(size)
-        found = shrink(self.sub, self.adj, self.groups, self.incumbent, o.local_search_moves, floor)
-        self.local_moves += found.moves
-        self._better(list(found.selected))

@@ -15,17 +15,23 @@ touches its parent's: their union is one interval U, and U projects onto every r
 in the tree from the arc holding U's left end to the arc holding its right end has a union that
 contains U (consecutive arcs touch), and its cost is at most C's. (>=) A walk's distinct candidates are
 linked in a chain, and the union of its arcs covers every required piece: a feasible set no dearer than
-the walk. Hence the cheapest walk, found by Dijkstra from every start on the unrolled graph (copies of
-the ring at offsets -n, 0, n, 2n), is the optimum. Complexity: O(C (E + C) log C) for C candidates and E
-links, with the sources taken in chunks so memory stays O(chunk x C).
+the walk.
+
+**Search.** Fix the required piece q seen (by arc) by the fewest candidates. The optimal path holds an
+arc M over q; from M it runs left to its leftmost arc and right to its rightmost. So one Dijkstra per
+such M on the unrolled graph (copies of the ring at offsets -n, 0, n, 2n; entering a node costs its
+candidate's cost) gives every left end's and right end's cost, and the best pair whose stretch leaves
+out no required piece is found with suffix minima: O(|M| (E + C) log C) for C candidates and E links.
 
 **A bound in general.** With each candidate's coverage replaced by the smallest arc that holds it (a
 superset) and the links kept, every connected plan stays feasible, so the walk's cost is a lower bound
 for the block in any cyclic order of its pieces, valid whenever every linked pair's arcs overlap or
-touch (checked; otherwise :func:`ring_bound` answers ``None``). Where every candidate's coverage *is*
-its arc, the walk is an optimal plan. Polygon A (cached pool of ``scripts/bench_connectivity.py``,
-pieces in the outline's order): outside 15 and inside 10, its connected optima, in 0.1-0.5 s, where the
-cut loop left a bound of 13 and 9 after 60 s (docs/milp.md). A bound only over the candidate pool given.
+touch (checked; otherwise :func:`ring_graph` answers ``None``). Where every candidate's coverage *is*
+its arc, the walk is an optimal plan. Where arcs have holes (stations inside a concave outline see
+around a corner), :func:`lagrangian_bound` adds the cover rows back with multipliers. Polygon A (cached
+pool of ``scripts/bench_connectivity.py``, pieces in the outline's order): outside 15 and inside 10, its
+connected optima, where the cut loop left a bound of 13 and 9 after 60 s (docs/milp.md). Bounds are
+over the candidate pool given.
 """
 
 from __future__ import annotations
@@ -37,10 +43,10 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.csgraph import dijkstra
 
-#: copies of the ring on the line: a cheapest walk from a leftmost arc on copy 0 stays on copies 0 and 1
-_LIFTS = (-1, 0, 1, 2)
-#: Dijkstra sources per call (memory: this many rows of len(_LIFTS) x C distances)
-_CHUNK = 256
+#: copies of the ring on the line: a walk from an arc over q on copy 0 stays within one turn either side
+_LIFTS = np.array([-1, 0, 1, 2])
+#: added to every node cost so that zero costs stay edges for Dijkstra; taken off the bound again
+_EPS = 1e-9
 
 
 @dataclass(frozen=True)
@@ -77,33 +83,83 @@ def arcs(cover: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64], ND
     return start, end, exact
 
 
-def _gap_before(required: NDArray[np.bool_]) -> NDArray[np.int64]:
-    """For each column p, how many columns just before p (cyclically) are not required."""
-    n = required.size
-    idx = np.arange(n)
-    last = np.maximum.accumulate(np.where(required, idx, -1))  # last required column <= p
-    prev = np.concatenate([[-1], last[:-1]])  # last required column < p
-    wrap = np.flatnonzero(required)[-1] - n  # the last required column, one turn back
-    return idx - np.where(prev >= 0, prev, wrap) - 1
+class RingGraph:
+    """The unrolled link graph of a block's arcs, built once; :meth:`walk` prices it for any node costs."""
+
+    def __init__(self, start: NDArray[np.int64], end: NDArray[np.int64], exact: NDArray[np.bool_],
+                 required: NDArray[np.bool_], graph: sp.csr_matrix) -> None:
+        self.m, self.n = start.size, required.size
+        self.exact_arcs = int(exact.sum())
+        self.graph = graph  # pattern of the lifted link graph; its data are set per pricing
+        self._head = graph.indices % self.m
+        lift = np.repeat(_LIFTS, self.m)
+        self.lo = np.tile(start, _LIFTS.size) + lift * self.n  # lifted start and end of every node
+        self.hi = np.tile(end, _LIFTS.size) + lift * self.n
+        idx = np.arange(self.n)
+        last = np.maximum.accumulate(np.where(required, idx, -1))
+        prev = np.concatenate([[-1], last[:-1]])  # the last required piece before p, or -1
+        prev = np.where(prev >= 0, prev, np.flatnonzero(required)[-1] - self.n)
+        # a walk whose stretch starts at lifted s must reach the required piece just before s, one turn on
+        self.need = self.lo - np.mod(self.lo, self.n) + prev[np.mod(self.lo, self.n)] + self.n
+        alive = start >= 0
+        q = np.flatnonzero(required)
+        seers = [(np.flatnonzero(alive & (((start <= p) & (end >= p)) | ((start <= p + self.n) & (end >= p + self.n)))))
+                 for p in q]
+        self.anchors = min(seers, key=len)  # the arcs over the required piece fewest arcs hold
+        self.q = int(q[min(range(len(seers)), key=lambda k: len(seers[k]))])
+
+    def walk(self, cost: NDArray[np.float64]) -> RingBound | None:
+        """The cheapest walk for node costs ``cost`` (>= 0), or None when no walk covers the ring."""
+        self.graph.data = cost[self._head] + _EPS
+        zero = int(np.flatnonzero(_LIFTS == 0)[0])
+        src = zero * self.m + self.anchors
+        # an anchor's copy must hold q itself: the copy at offset 0 or the one a turn back
+        src = np.where((self.lo[src] <= self.q) & (self.hi[src] >= self.q), src, src - self.m)
+        dist, pred = dijkstra(self.graph, indices=src, return_predecessors=True)
+        best, pick = np.inf, None
+        size = _LIFTS.size * self.n + self.n  # lifted positions from -n to 3n + n
+        base = -self.n
+        for row, s in enumerate(src):
+            d = dist[row]
+            reach = np.isfinite(d)
+            right = np.full(size + 1, np.inf)  # right[e]: cheapest right end at lifted end >= e
+            np.minimum.at(right, np.clip(self.hi[reach] - base, 0, size), d[reach])
+            right = np.minimum.accumulate(right[::-1])[::-1]
+            need = np.clip(self.need[reach] - base, 0, size)
+            total = d[reach] + right[need]
+            if total.size and total.min() + cost[s % self.m] + _EPS < best:
+                k = int(np.argmin(total))
+                left = int(np.flatnonzero(reach)[k])
+                e = np.flatnonzero(reach & (self.hi - base >= need[k]))
+                r = int(e[np.argmin(d[e])])
+                best, pick = float(total[k] + cost[s % self.m] + _EPS), (pred[row], int(s), left, r)
+        if pick is None:
+            return None
+        pr, s, left, r = pick
+        lpath, rpath = _path(pr, s, left), _path(pr, s, r)
+        walk = tuple(sorted({v % self.m for v in lpath + rpath}))
+        # the walk's own cost (anchor once); Dijkstra chose it with _EPS per node, which can pass over a walk
+        # cheaper by at most _EPS per lifted node: exact for integral costs, otherwise that much is taken off
+        true = float(cost[np.asarray(lpath) % self.m].sum() + cost[np.asarray(rpath[1:], dtype=np.int64) % self.m].sum())
+        exact = bool(np.all(cost == np.round(cost)))
+        return RingBound(true if exact else true - _EPS * self.graph.shape[0], walk, self.exact_arcs)
 
 
-def ring_bound(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_matrix,
-               cost: NDArray[np.float64]) -> RingBound | None:
-    """The cheapest walk over ``cover``'s arcs (candidates x pieces in cyclic order) that covers every
-    ``required`` piece, linked by ``adj``; ``None`` when the theorem does not apply (a linked pair's arcs
-    neither overlap nor touch, a cost not > 0, nothing required)."""
+def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_matrix) -> RingGraph | None:
+    """The unrolled link graph of ``cover``'s arcs (candidates x pieces in cyclic order), ``required`` pieces to
+    cover, links ``adj``; ``None`` when the theorem does not apply (a linked pair's arcs neither overlap nor
+    touch, nothing required)."""
     m, n = cover.shape
-    if not required.any() or np.any(cost <= 0):
+    if not required.any():
         return None
     start, end, exact = arcs(cover)
-    lifts = np.asarray(_LIFTS)
     pairs = sp.triu(adj, k=1).tocoo()
     i, j = pairs.row.astype(np.int64), pairs.col.astype(np.int64)
     if np.any(start[i] < 0) or np.any(start[j] < 0):
         return None
     rows, cols, touch = [], [], np.zeros(i.size, dtype=bool)
-    for li, ki in enumerate(lifts):
-        for lj, kj in enumerate(lifts):
+    for li, ki in enumerate(_LIFTS):
+        for lj, kj in enumerate(_LIFTS):
             ok = (start[j] + kj * n <= end[i] + ki * n + 1) & (start[i] + ki * n <= end[j] + kj * n + 1)
             touch |= ok
             rows += [li * m + i[ok], lj * m + j[ok]]
@@ -111,31 +167,67 @@ def ring_bound(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
     if not touch.all():
         return None
     r, c = np.concatenate(rows), np.concatenate(cols)
-    # entering node v costs cost[v]: a walk's length plus its first node's cost is its cost
-    graph = sp.csr_matrix((cost[c % m], (r, c)), shape=(len(lifts) * m, len(lifts) * m))
-    ends = (end[None, :] + lifts[:, None] * n).ravel()
-    need = _gap_before(required)
-    best, walk = np.inf, ()
-    zero = int(np.flatnonzero(lifts == 0)[0])
-    sources = np.flatnonzero(start >= 0)
-    for lo in range(0, sources.size, _CHUNK):
-        src = sources[lo:lo + _CHUNK]
-        dist, pred = dijkstra(graph, indices=zero * m + src, return_predecessors=True)
-        for row, s in enumerate(src):
-            goal = ends >= start[s] + n - 1 - need[start[s]]
-            d = np.where(goal, dist[row], np.inf)
-            v = int(np.argmin(d))
-            if d[v] + cost[s] < best - 1e-9:
-                best, walk = float(d[v] + cost[s]), _path(pred[row], zero * m + int(s), v, m)
-    if not np.isfinite(best):
+    graph = sp.csr_matrix((np.ones(r.size), (r, c)), shape=(_LIFTS.size * m, _LIFTS.size * m))
+    graph.sort_indices()
+    return RingGraph(start, end, exact, required, graph)
+
+
+def ring_bound(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_matrix,
+               cost: NDArray[np.float64]) -> RingBound | None:
+    """The cheapest walk over ``cover``'s arcs that covers every ``required`` piece (see :func:`ring_graph`);
+    ``None`` when the theorem does not apply, a cost is not > 0, or no walk covers the ring."""
+    if np.any(cost <= 0):
         return None
-    return RingBound(best, walk, int(exact.sum()))
+    g = ring_graph(cover, required, adj)
+    return g.walk(cost) if g is not None else None
 
 
-def _path(pred: NDArray[np.int32], source: int, v: int, m: int) -> tuple[int, ...]:
-    """The distinct candidates on the predecessor path from ``source`` to ``v`` (nodes are lift * m + j)."""
-    out = {v % m}
+def lagrangian_bound(ring: RingGraph, sub: sp.csr_matrix, cost: NDArray[np.float64], lam: NDArray[np.float64],
+                     target: float, stop_above: float, iterations: int) -> tuple[float, int]:
+    """The ring bound with the cover rows added back by multipliers, raised by subgradient ascent.
+
+    For lambda >= 0 on the required targets (columns of ``sub``, candidates x targets) and reduced costs
+    rc = c - sub lambda, every connected cover C (it contains a path P over the ring, by the theorem above)
+    costs  c(C) = sum_C rc + sum_C sum_{t seen by j} lambda_t >= sum_C rc + sum_t lambda_t
+               >= walk(max(rc, 0)) + sum_j min(rc_j, 0) + sum_t lambda_t  =: L(lambda),
+    so every L(lambda) is a lower bound; at the cover LP's duals it is at least the LP's value. Ascent from
+    ``lam``: Polyak steps toward ``target`` (the incumbent's cost), the step factor 2 halved after 20 steps
+    without a better L. Stops after ``iterations`` steps or once L > ``stop_above`` (with integral costs,
+    the incumbent's cost - 1: the incumbent is then proven). Returns the best L and the steps taken.
+    Polygon C inside (375 candidates x 231 targets, arcs with holes; cached pool): ring 11, cover LP 10, L
+    past 12 after 23 steps (0.3 s), so its connected optimum 13 is proven (integral costs; docs/milp.md)."""
+    best, factor, stall = -np.inf, 2.0, 0
+    for step in range(iterations):
+        rc = cost - sub @ lam
+        w = ring.walk(np.maximum(rc, 0.0))
+        if w is None:
+            return np.inf, step + 1
+        value = float(lam.sum() + w.bound + np.minimum(rc, 0.0).sum())
+        if value > best + 1e-9:
+            best, stall = value, 0
+        else:
+            stall += 1
+            if stall >= 20:
+                factor, stall = factor / 2, 0
+        if best > stop_above:
+            return best, step + 1
+        use = np.zeros(cost.size)
+        walk = np.asarray(w.walk)
+        use[walk[rc[walk] > 0]] = 1.0
+        use[rc < 0] = 1.0
+        g = 1.0 - sub.T @ use
+        g[(lam <= 0) & (g < 0)] = 0.0
+        norm = float(g @ g)
+        if norm == 0.0:
+            return best, step + 1
+        lam = np.maximum(lam + factor * (target - value) / norm * g, 0.0)
+    return best, iterations
+
+
+def _path(pred: NDArray[np.int32], source: int, v: int) -> list[int]:
+    """The nodes on the predecessor path from ``source`` to ``v``, source first."""
+    out = [v]
     while v != source:
         v = int(pred[v])
-        out.add(v % m)
-    return tuple(sorted(out))
+        out.append(v)
+    return out[::-1]

@@ -13,7 +13,7 @@ from planner.coverage.overlap import OverlapRule, overlap_adjacency
 from planner.solve.connectivity import disconnected_groups
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import MilpOptions, solve
-from planner.solve.ring import arcs, ring_bound
+from planner.solve.ring import arcs, lagrangian_bound, ring_bound, ring_graph
 
 RULE = OverlapRule(0.3)
 
@@ -124,5 +124,27 @@ def test_solve_closes_a_ring_block_before_any_search():
     off = solve(inst, MilpOptions(time_limit_s=20, ring_bound=False))
     assert solve(inst, MilpOptions(overlap=None)).objective == 2
     assert r.status.value == "optimal" and r.objective == 3 and r.info["rounds"] == 0
-    assert r.info["ring_bound"] == {"blocks": 1, "closed_before_search": 1}
+    assert r.info["ring_bound"] == {"blocks": 1, "closed_before_search": 1, "lagrange_steps": 0}
     assert off.status.value == "optimal" and off.objective == 3 and off.info["ring_bound"]["blocks"] == 0
+
+
+def test_lagrangian_bound_stays_below_the_optimum_and_can_pass_the_ring():
+    # arcs with holes: L(lambda) = sum lambda + walk(max(rc, 0)) + sum min(rc, 0) is a lower bound for every
+    # lambda >= 0 (planner.solve.ring.lagrangian_bound), from zero multipliers (L = the ring bound) upward
+    passed = 0
+    for seed in range(8):
+        rng = np.random.default_rng(100 + seed)
+        a = matrix(ring_arcs(rng, 14, 10, holes=True), 14)
+        best = enumerate_optimum(a, np.ones(10))
+        graph = ring_graph(a, np.ones(14, dtype=bool), adjacency(a))
+        if graph is None or not np.isfinite(best):
+            continue
+        ring = graph.walk(np.ones(10)).bound
+        value, steps = lagrangian_bound(graph, a.astype(float).tocsr(), np.ones(10), np.zeros(14), best, np.inf, 100)
+        assert steps <= 100 and ring - 1e-6 <= value <= best + 1e-6
+        for lam in rng.uniform(0, 0.6, size=(5, 14)):  # any multipliers, even ones with negative reduced costs
+            rc = 1.0 - a.astype(float) @ lam
+            w = graph.walk(np.maximum(rc, 0))
+            assert lam.sum() + w.bound + np.minimum(rc, 0).sum() <= best + 1e-6
+        passed += value > ring + 1e-6
+    assert passed >= 1

@@ -1,0 +1,215 @@
+"""One independent block of the connected MILP: its backend model, the cuts found so far, its best plan.
+
+:func:`planner.solve.milp.solve` makes one :class:`BlockSolver` per block (no shared target, no common
+registration group). Before any search a block of one group gets the ring bound and its Lagrangian
+ascent (:mod:`planner.solve.ring`); then :meth:`BlockSolver.run` solves, cuts disconnected answers off and
+re-solves until its plan is connected and proven, or its time is up.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from planner.solve.backends import Outcome, Row, make_backend
+from planner.solve.connectivity import (
+    connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
+)
+from planner.solve.flow import FlowModel, add_flow
+from planner.solve.greedy import greedy_cover
+from planner.solve.instance import CoverInstance
+from planner.solve.local_search import shrink
+from planner.solve.result import Status
+from planner.solve.ring import RingBound, lagrangian_bound, ring_graph
+from planner.solve.separators import layer_cuts
+from planner.solve.treebound import add_tree_bound
+
+if TYPE_CHECKING:
+    from planner.solve.milp import MilpOptions
+
+
+def lengths(instance: CoverInstance) -> np.ndarray:
+    """Wall length of each target (1 each when the instance has none)."""
+    n_targ = instance.by_candidate.shape[1]
+    return instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
+
+
+class BlockSolver:
+    """One independent block: its backend model (with the cuts found so far) and its best connected plan."""
+
+    def __init__(self, instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, cands: np.ndarray,
+                 targets: np.ndarray, forced_all: tuple[int, ...], o: "MilpOptions") -> None:
+        self.o, self.cands = o, cands
+        self.sub = a[cands][:, targets].tocsr()
+        self.cost = instance.cost[cands]
+        self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
+        self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
+        self.backend = make_backend(o.backend, len(cands), self.cost)
+        bt = self.sub.T.tocsr()
+        rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
+                           for t in range(bt.shape[0])]
+        if o.precision == "combined" and instance.info is not None:
+            info = instance.info[cands][:, targets].T.tocsr()
+            rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
+                     for t in range(info.shape[0])]
+        self.backend.add_rows(rows)
+        pos = {int(c): k for k, c in enumerate(cands)}
+        self.backend.fix([pos[c] for c in forced_all if c in pos])
+        self.essential = essential_targets(self.sub, self.groups) if self.groups is not None else {}
+        self.incumbent: list[int] | None = None
+        self.flow: FlowModel | None = None
+        if self.groups is not None:
+            self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
+            if o.layer_cuts:
+                self.backend.add_rows(self._layers())
+            if o.k == 1 and o.precision == "single":
+                self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
+                                                  np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
+            if o.tree_bound and o.k == 1:
+                add_tree_bound(self.backend, a[cands].tocsr(), lengths(instance), self.adj, self.groups)
+            if o.connectivity_method == "bc":
+                self.backend.connect(self.adj, self.groups, self.sub, self.essential)
+            elif o.connectivity_method == "flow":
+                self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
+        elif o.k == 1 and o.precision == "single":
+            g = greedy_cover(self.sub, weights=self.cost)
+            self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
+        self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
+        self.local_moves = 0
+        self.done = self.infeasible = False
+        self._seen: list[tuple[list[int], dict]] = []  # disconnected solutions met during the current solve, with their parts
+        self._shrunk: set[float] = set()  # incumbent costs the local search started from
+        self.ring: RingBound | None = None
+        self.lagrange_steps = 0
+        if o.ring_bound:
+            self._ring(a, targets)
+        if self.groups is not None and o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
+            self.backend.watch = self._watch
+
+    def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> None:
+        """Before any search, for a block of one registration group (k = 1, single precision): the ring bound
+        over every piece its candidates see, in the instance's order (its walk becomes the incumbent when it is a
+        connected cover); the local search from the incumbent; then, while the incumbent is above the bound, the
+        Lagrangian ascent from the cover LP's duals (:mod:`planner.solve.ring`). Closes the block when the
+        incumbent meets the bound."""
+        o = self.o
+        if self.groups is None or self.adj is None or len(set(self.groups)) != 1 or o.k != 1 or o.precision != "single":
+            return
+        seen = a[self.cands].tocsr()
+        pos = np.flatnonzero(seen.getnnz(axis=0))
+        graph = ring_graph(seen[:, pos].tocsr(), np.isin(pos, targets), self.adj)
+        self.ring = graph.walk(self.cost) if graph is not None and np.all(self.cost > 0) else None
+        if graph is None or self.ring is None:
+            return
+        self.bound = max(self.bound, self.ring.bound)
+        walk = list(self.ring.walk)
+        if np.all(self.sub[walk].getnnz(axis=0) > 0) and not disconnected_groups(self.adj, self.groups, walk):
+            self._better(walk)
+        self._shrink()
+        self.done = self._closed()
+        if self.done or self.incumbent is None or o.ring_lagrange_steps == 0:
+            return
+        sub = self.sub.astype(np.float64).tocsr()
+        lp = linprog(self.cost, A_ub=-sub.T, b_ub=-np.ones(sub.shape[1]), bounds=(0, None), method="highs")
+        if lp.status != 0:
+            return
+        best = float(self.cost[self.incumbent].sum())
+        integral = bool(np.all(self.cost == np.round(self.cost)))
+        value, self.lagrange_steps = lagrangian_bound(graph, sub, self.cost, -lp.ineqlin.marginals, best,
+                                                      best - 1 + 1e-6 if integral else best - 1e-9, o.ring_lagrange_steps)
+        self.bound = max(self.bound, value)
+        self.done = self._closed()
+
+    def _watch(self, selected: tuple[int, ...], objective: float) -> bool:
+        """During a solve: keep a connected solution as the incumbent, remember a disconnected one for cuts."""
+        chosen = list(selected)
+        broken = disconnected_groups(self.adj, self.groups or [], chosen)
+        if broken:
+            self._seen.append((chosen, broken))
+            return False
+        self._better(chosen)
+        return False
+
+    def _layers(self) -> list[Row]:
+        members: dict = {}
+        for i, g in enumerate(self.groups or ()):
+            members.setdefault(g, []).append(i)
+        return [cut for g, m in members.items() if self.essential.get(g) is not None
+                for cut in layer_cuts(self.adj, self.sub, np.asarray(m), self.essential[g])]
+
+    def _better(self, chosen: list[int]) -> None:
+        if self.incumbent is None or self.cost[chosen].sum() < self.cost[self.incumbent].sum() - 1e-9:
+            self.incumbent = chosen
+
+    @property
+    def work_used(self) -> float:
+        """CP-SAT deterministic seconds this block has spent (0 on other backends)."""
+        return float(getattr(self.backend, "work_used", 0.0))
+
+    def run(self, deadline: float, work_until: float | None = None) -> None:
+        """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline, or (when
+        given) until the block's CP-SAT work reaches ``work_until``."""
+        if work_until is not None:
+            self.backend.work_limit = work_until
+        while not self.done and self.rounds < self.o.max_rounds:
+            left = deadline - time.perf_counter()
+            if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
+                return
+            hint = self.flow.hint(self.incumbent) if self.flow is not None and self.incumbent is not None else self.incumbent
+            res = self.backend.solve(left, self.o.threads, self.o.seed, hint)
+            self.rounds += 1
+            self.cuts += getattr(self.backend, "cuts", 0) - self._backend_cuts
+            self._backend_cuts = getattr(self.backend, "cuts", 0)
+            if res.bound is not None:
+                self.bound = max(self.bound, res.bound)
+            if res.outcome is Outcome.INFEASIBLE:
+                self.infeasible = self.incumbent is None
+                self.done = not self.infeasible
+                return
+            if res.outcome is Outcome.UNKNOWN:
+                return
+            chosen = list(res.selected)
+            seen, self._seen = self._seen, []
+            broken = disconnected_groups(self.adj, self.groups, chosen) if self.groups is not None else {}
+            if not broken:
+                self._better(chosen)
+                self.done = res.outcome is Outcome.OPTIMAL
+                if self.done:
+                    continue
+            new = []
+            for sol, parts in ([(chosen, broken)] if broken else []) + [(s, p) for s, p in seen if s != chosen]:
+                for g, comps in parts.items():
+                    new += connectivity_cuts(self.adj, comps, self.sub, self.essential.get(g))
+                fixed = repair(self.adj, self.cost, self.groups if self.groups is not None else [], sol)
+                if fixed is not None:
+                    self._better(fixed)
+            self.backend.add_rows(new)
+            self.cuts += len(new)
+            self._shrink()
+            self.done = self._closed()
+
+    def _closed(self) -> bool:
+        """Whether the incumbent is connected and meets the bound (integral costs: its ceiling)."""
+        if self.incumbent is None or not (self.rounds or self.ring is not None):
+            return False
+        bound = np.ceil(self.bound - 1e-6) if np.all(self.cost == np.round(self.cost)) else self.bound
+        return bool(self.cost[self.incumbent].sum() <= bound + 1e-9)
+
+    def _shrink(self) -> None:
+        """Local search for a connected plan one station smaller, once per incumbent size, down to the bound."""
+        o = self.o
+        if (self.groups is None or self.incumbent is None or o.local_search_moves == 0 or o.k != 1
+                or o.precision != "single" or np.ptp(self.cost) > 0):
+            return
+        size = float(self.cost[self.incumbent].sum())
+        floor = int(np.ceil(self.bound / self.cost[0] - 1e-6))
+        if size in self._shrunk or len(self.incumbent) <= floor:
+            return
+        self._shrunk.add(size)
+        found = shrink(self.sub, self.adj, self.groups, self.incumbent, o.local_search_moves, floor)
+        self.local_moves += found.moves
+        self._better(list(found.selected))
