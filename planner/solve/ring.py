@@ -135,8 +135,8 @@ class RingGraph:
                 best, pick = float(total[k] + cost[s % self.m] + _EPS), (pred[row], int(s), left, r)
         if pick is None:
             return None
-        pr, s, left, r = pick
-        lpath, rpath = _path(pr, s, left), _path(pr, s, r)
+        pr, source, left, r = pick
+        lpath, rpath = _path(pr, source, left), _path(pr, source, r)
         walk = tuple(sorted({v % self.m for v in lpath + rpath}))
         # the walk's own cost (anchor once); Dijkstra chose it with _EPS per node, which can pass over a walk
         # cheaper by at most _EPS per lifted node: exact for integral costs, otherwise that much is taken off
