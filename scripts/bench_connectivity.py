@@ -105,7 +105,7 @@ def measure(path: Path, method: str, backend: str, connectivity: str, threads: i
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--instances", nargs="+", default=["polygon_a", "polygon_b", "polygon_c", "baalbek"])
+    ap.add_argument("--instances", nargs="+", default=["polygon_a", "polygon_b", "polygon_c", "baalbek", "building27"])
     ap.add_argument("--time-limit", type=float, default=60.0)
     ap.add_argument("--no-pricing", action="store_true", help="the pool without priced columns")
     ap.add_argument("--cache", type=Path, default=ROOT / "out/bench_connectivity")

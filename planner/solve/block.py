@@ -49,33 +49,13 @@ class BlockSolver:
         self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
         self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
         self.backend = make_backend(o.backend, len(cands), self.cost)
-        bt = self.sub.T.tocsr()
-        rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
-                           for t in range(bt.shape[0])]
-        if o.precision == "combined" and instance.info is not None:
-            info = instance.info[cands][:, targets].T.tocsr()
-            rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
-                     for t in range(info.shape[0])]
-        self.backend.add_rows(rows)
-        pos = {int(c): k for k, c in enumerate(cands)}
-        self.backend.fix([pos[c] for c in forced_all if c in pos])
         self.essential = essential_targets(self.sub, self.groups) if self.groups is not None else {}
         self.incumbent: list[int] | None = None
         self.flow: FlowModel | None = None
-        if self.groups is not None:
-            self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
-            if o.layer_cuts:
-                self.backend.add_rows(self._layers())
-            if o.k == 1 and o.precision == "single":
-                self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
-                                                  np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
-            if o.tree_bound and o.k == 1:
-                add_tree_bound(self.backend, a[cands].tocsr(), lengths(instance), self.adj, self.groups)
-            if o.connectivity_method == "bc":
-                self.backend.connect(self.adj, self.groups, self.sub, self.essential)
-            elif o.connectivity_method == "flow":
-                self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
-        elif o.k == 1 and o.precision == "single":
+        if self.groups is not None and o.k == 1 and o.precision == "single":
+            self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
+                                              np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
+        elif self.groups is None and o.k == 1 and o.precision == "single":
             g = greedy_cover(self.sub, weights=self.cost)
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
         self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
@@ -87,7 +67,35 @@ class BlockSolver:
         self.lagrange_steps = 0
         if o.ring_bound:
             self._ring(a, targets)
-        if self.groups is not None and o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
+        if not self.done:  # a block the ring bound closed needs no model
+            self._model(instance, a, targets, forced_all)
+
+    def _model(self, instance: CoverInstance, a: sp.csr_matrix, targets: np.ndarray, forced_all: tuple[int, ...]) -> None:
+        """The block's rows on its backend: cover (and precision) rows, forced candidates, and with registration
+        groups the neighbour cuts and the rows of the connectivity method."""
+        o, cands = self.o, self.cands
+        bt = self.sub.T.tocsr()
+        rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
+                           for t in range(bt.shape[0])]
+        if o.precision == "combined" and instance.info is not None:
+            info = instance.info[cands][:, targets].T.tocsr()
+            rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
+                     for t in range(info.shape[0])]
+        self.backend.add_rows(rows)
+        pos = {int(c): k for k, c in enumerate(cands)}
+        self.backend.fix([pos[c] for c in forced_all if c in pos])
+        if self.groups is None:
+            return
+        self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
+        if o.layer_cuts:
+            self.backend.add_rows(self._layers())
+        if o.tree_bound and o.k == 1:
+            add_tree_bound(self.backend, a[cands].tocsr(), lengths(instance), self.adj, self.groups)
+        if o.connectivity_method == "bc":
+            self.backend.connect(self.adj, self.groups, self.sub, self.essential)
+        elif o.connectivity_method == "flow":
+            self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
+        if o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
             self.backend.watch = self._watch
 
     def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> None:

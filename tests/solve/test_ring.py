@@ -148,3 +148,19 @@ def test_lagrangian_bound_stays_below_the_optimum_and_can_pass_the_ring():
             assert lam.sum() + w.bound + np.minimum(rc, 0).sum() <= best + 1e-6
         passed += value > ring + 1e-6
     assert passed >= 1
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_solve_with_and_without_the_ring_bound_agree_with_enumeration(seed):
+    # one zone-side, arcs with holes: the ring stage (walk, local search, Lagrangian ascent) and the cut loop
+    # alone both end at the enumerated connected optimum
+    rng = np.random.default_rng(200 + seed)
+    a = matrix(ring_arcs(rng, 14, 10, holes=True), 14)
+    best = enumerate_optimum(a, np.ones(10))
+    inst = CoverInstance(a, np.ones(10), groups=("g",) * 10, target_length_m=np.ones(14))
+    for ring in (True, False):
+        r = solve(inst, MilpOptions(time_limit_s=20, ring_bound=ring))
+        if np.isfinite(best):
+            assert r.status.value == "optimal" and r.objective == best, ring
+        else:
+            assert r.status.value in ("infeasible", "no_solution"), ring
