@@ -6,9 +6,12 @@
                chosen stations of each group connected          (overlap relation, lazy cuts)
 
 The problem is split into independent blocks (no shared target, no common
-group), each presolved, warm-started from a connected greedy plan and solved;
-connectivity cuts are added and the block re-solved until its choice is
-connected. Objectives and bounds of the blocks add up.
+group), each presolved and warm-started from a connected greedy plan
+(:mod:`planner.solve.block`). A block of one group first gets the ring bound
+(:mod:`planner.solve.ring`), which closes A, B, C, Baalbek and building27
+before any search; the others are solved, connectivity cuts added and the
+block re-solved until its choice is connected. Objectives and bounds of the
+blocks add up.
 """
 
 from __future__ import annotations
