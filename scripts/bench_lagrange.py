@@ -17,7 +17,7 @@ import sys
 import time
 from pathlib import Path
 
-from _timed import json_child, peak_rss_mb
+from _timed import json_child
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))

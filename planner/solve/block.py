@@ -52,7 +52,9 @@ class BlockSolver:
         self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
         self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
         self.backend = make_backend(o.backend, len(cands), self.cost)
-        self.essential = essential_targets(self.sub, self.groups) if self.groups is not None else {}
+        self.essential: dict = {}  # set with the model: only the search uses it
+        self.integral = bool(np.all(self.cost == np.round(self.cost)))
+        self._duals: np.ndarray | None = None  # the cover LP's duals, solved once for the ascent
         self.incumbent: list[int] | None = None
         self.flow: FlowModel | None = None
         if self.groups is not None and o.k == 1 and o.precision == "single":
@@ -89,6 +91,7 @@ class BlockSolver:
         self.backend.fix([pos[c] for c in forced_all if c in pos])
         if self.groups is None:
             return
+        self.essential = essential_targets(self.sub, self.groups)
         self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
         if o.layer_cuts:
             self.backend.add_rows(self._layers())
@@ -136,13 +139,14 @@ class BlockSolver:
         if steps <= 0 or self.incumbent is None:
             return
         sub = self.sub.astype(np.float64).tocsr()
-        lp = linprog(self.cost, A_ub=-sub.T, b_ub=-np.ones(sub.shape[1]), bounds=(0, None), method="highs")
-        if lp.status != 0:
-            return
+        if self._duals is None:
+            lp = linprog(self.cost, A_ub=-sub.T, b_ub=-np.ones(sub.shape[1]), bounds=(0, None), method="highs")
+            if lp.status != 0:
+                return
+            self._duals = -lp.ineqlin.marginals
         best = float(self.cost[self.incumbent].sum())
-        integral = bool(np.all(self.cost == np.round(self.cost)))
-        value, taken = lagrangian_bound(graph, sub, self.cost, -lp.ineqlin.marginals, best,
-                                        best - 1 + 1e-6 if integral else best - 1e-9, steps)
+        value, taken = lagrangian_bound(graph, sub, self.cost, self._duals, best,
+                                        best - 1 + 1e-6 if self.integral else best - 1e-9, steps)
         self.lagrange_steps += taken
         self.bound = max(self.bound, value)
         self.done = self._closed()
@@ -219,7 +223,7 @@ class BlockSolver:
         """Whether the incumbent is connected and meets the bound (integral costs: its ceiling)."""
         if self.incumbent is None or not (self.rounds or self.ring is not None):
             return False
-        bound = np.ceil(self.bound - 1e-6) if np.all(self.cost == np.round(self.cost)) else self.bound
+        bound = np.ceil(self.bound - 1e-6) if self.integral else self.bound
         return bool(self.cost[self.incumbent].sum() <= bound + 1e-9)
 
     def _shrink(self) -> None:
