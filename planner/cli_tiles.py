@@ -28,6 +28,12 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: Lagrangian parts of N x N tiles (default 1)")
     p.add_argument("--tile-search-moves", type=int, default=20_000, metavar="N",
                    help="--tiles: move budget of the local search that shrinks the kept connected plan (default 20000; 0: none)")
+    p.add_argument("--tile-window-passes", type=int, default=1, metavar="N",
+                   help="--tiles: passes of the exact window re-solves after the local search (default 1; 0: none)")
+    p.add_argument("--tile-window-radius", type=float, default=60.0, metavar="M",
+                   help="--tiles: radius of a re-solve window around each station (default 60 m)")
+    p.add_argument("--tile-window-work", type=float, default=3.0, metavar="S",
+                   help="--tiles: CP-SAT deterministic seconds per window, wall cap 4x (default 3)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=int, default=0, metavar="N",
@@ -50,11 +56,20 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
         raise UsageError("--tiles plans with the MILP", field="--method", value=options.method)
     if args.workers < 0:
         raise UsageError("must be >= 0", field="--workers", value=args.workers)
+    from planner.solve.windows import WindowOptions
     from planner.tiles import TileOptions, dask_client, plan_by_tiles
 
+    for flag, value, least in (("--tile-window-passes", args.tile_window_passes, 0),
+                               ("--tile-window-radius", args.tile_window_radius, None),
+                               ("--tile-window-work", args.tile_window_work, None)):
+        if (value < least) if least is not None else not value > 0:
+            raise UsageError("must be >= 0" if least is not None else "must be > 0", field=flag, value=value)
+    windows = WindowOptions(radius_m=args.tile_window_radius, work_s=args.tile_window_work,
+                            passes=args.tile_window_passes, seed=options.milp.seed)
     tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
                          bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
-                         lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves)
+                         lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves,
+                         windows=windows)
     if args.lagrange_work is not None:
         if args.lagrange_work < 0:
             raise UsageError("must be >= 0", field="--lagrange-work", value=args.lagrange_work)

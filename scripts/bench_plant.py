@@ -7,7 +7,7 @@ tile phase (coverage + tile MILPs), stitch and bound times, stations, bound, gap
 parts, verified %, and the plain greedy (not connected) on the same matrix beside it.
 
     python scripts/bench_plant.py [--areas 1 4 16] [--workers 1 2] [--tile 100] [--tile-time-limit 20]
-        [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
+        [--search-moves 20000] [--window-passes 1] [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
     python scripts/bench_plant.py --from-csv a.csv b.csv     # the table and slopes of earlier runs
 """
 
@@ -31,7 +31,8 @@ sys.path.insert(0, str(ROOT))
 
 FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",
           "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb",
-          "plan_sha1", "limits", "wall_cap_hit", "search_before", "search_moves", "search_s"]
+          "plan_sha1", "limits", "wall_cap_hit", "search_before", "search_moves", "search_s", "windows_before", "windows",
+          "windows_proven", "windows_s"]
 
 
 class TreeRss:
@@ -66,17 +67,18 @@ class TreeRss:
 
 
 def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit: float, out: Path,
-        figure: Path | None, search_moves: int = 20_000) -> None:
+        figure: Path | None, search_moves: int = 20_000, window_passes: int = 1) -> None:
     """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
     from planner.plan import PlanOptions
     from planner.site.load import load_site
     from planner.solve.greedy import greedy_cover
+    from planner.solve.windows import WindowOptions
     from planner.tiles import TileOptions, dask_client, plan_by_tiles
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     options = PlanOptions(method="milp", pricing=False)
     tiling = TileOptions(tile_m=tile_m, tile_time_limit_s=tile_limit, bound_time_limit_s=bound_limit,
-                         local_search_moves=search_moves)
+                         local_search_moves=search_moves, windows=WindowOptions(passes=window_passes))
     with TreeRss() as rss:
         with dask_client(workers) as client:
             plan = plan_by_tiles(site, options, tiling, client=client)
@@ -92,7 +94,10 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
            "limits": info.get("limits", ""), "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none",
            # the local search on the kept plan: stations before it, its moves and time
            "search_before": info.get("local_search", {}).get("before"), "search_moves": info.get("local_search", {}).get("moves"),
-           "search_s": info.get("local_search", {}).get("time_s")}
+           "search_s": info.get("local_search", {}).get("time_s"),
+           # the window re-solves after it: stations before them, windows solved (proven) and their time
+           **{k: info.get("windows", {}).get(f) for k, f in (("windows_before", "before"), ("windows", "windows"),
+                                                              ("windows_proven", "proven"), ("windows_s", "time_s"))}}
     row["greedy"] = _greedy(site, options, plan, greedy_cover)
     out.write_text(json.dumps(row))
     if figure is not None:
@@ -159,7 +164,7 @@ def _limits(plan):
 def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None) -> dict:
     args_ = ["--one", f"{area:g}", "--workers", str(workers), "--tile", str(args.tile), "--tile-time-limit",
              str(args.tile_time_limit), "--bound-time-limit", str(args.bound_time_limit), "--search-moves",
-             str(args.search_moves)] + (["--figure", str(figure)] if figure is not None else [])
+             str(args.search_moves), "--window-passes", str(args.window_passes)] + (["--figure", str(figure)] if figure is not None else [])
     t0 = time.perf_counter()
     row = json_child(__file__, args_, f"run {area} ha x {workers}")
     row["wall_s"] = round(time.perf_counter() - t0, 1)
@@ -182,6 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tile-time-limit", type=float, default=20.0)
     ap.add_argument("--bound-time-limit", type=float, default=60.0)
     ap.add_argument("--search-moves", type=int, default=20_000, help="local search moves on the kept plan (0: none)")
+    ap.add_argument("--window-passes", type=int, default=1, help="passes of window re-solves after the search (0: none)")
     ap.add_argument("--csv", type=Path, default=None)
     ap.add_argument("--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)")
     ap.add_argument("--from-csv", type=Path, nargs="+", default=None,
@@ -191,7 +197,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.one is not None:
         one(args.one, args.workers[0], args.tile, args.tile_time_limit, args.bound_time_limit, args.json, args.figure,
-            args.search_moves)
+            args.search_moves, args.window_passes)
         return 0
     rows = []
     if args.from_csv:

@@ -13,7 +13,10 @@ What holds and why:
   the pool; the gap is (stations - bound) / stations;
 - local search: the kept plan is shrunk by :func:`planner.solve.local_search.shrink` within
   ``TileOptions.local_search_moves`` moves (a count: the plan does not depend on the load); each plan it
-  returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it.
+  returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it;
+- windows: then the plan is re-solved exactly window by window (:mod:`planner.solve.windows`,
+  ``TileOptions.windows``; CP-SAT work per window, so again the same plan under any load), checked the
+  same way and recorded in ``info["windows"]``.
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import components, connected_greedy, group_members
 from planner.solve.local_search import shrink
+from planner.solve.windows import WindowOptions, window_search
 from planner.tiles.lagrange import group_parts
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileJob, TileResult, tile_task
@@ -62,7 +66,8 @@ class TileOptions:
     ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
     ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
     ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
-    LP-dual split only, 10 s: 75-116 s on the 16-ha plant, docs/benchmarks/plant.md)."""
+    LP-dual split only, 10 s: 75-116 s on the 16-ha plant, docs/benchmarks/plant.md). ``windows``: the
+    window re-solves after the local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none)."""
 
     tile_m: float = 100.0
     margin_m: float | None = None
@@ -74,6 +79,7 @@ class TileOptions:
     lagrange_iterations: int = 0
     lagrange_work_s: float = 10.0
     local_search_moves: int = 20_000
+    windows: WindowOptions = WindowOptions()
 
     def __post_init__(self) -> None:
         if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
@@ -167,11 +173,13 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
     t_search = time.perf_counter()
     joined, search = best_plan(by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value)
+    t_windows = time.perf_counter()
+    joined, windows = _windows(by_cand, adj, groups, joined, xy, tiling.windows, bound.value)
     return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
-                    "best_plan_s": time.perf_counter() - t_search,
+                    "best_plan_s": t_windows - t_search, "windows_s": time.perf_counter() - t_windows,
                     "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m},
-                   deterministic_limits(options.milp, tiling), search)
+                   deterministic_limits(options.milp, tiling), search, windows)
 
 
 def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], tiled: Stitched,
@@ -212,6 +220,23 @@ def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept:
                    tried=tried), record
 
 
+def _windows(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, xy: np.ndarray,
+             options: WindowOptions, floor: int) -> tuple[Stitched, dict[str, Any]]:
+    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json."""
+    record: dict[str, Any] = {"passes": options.passes, "radius_m": options.radius_m, "work_s": options.work_s,
+                              "windows": 0, "before": len(kept.selected), "after": len(kept.selected), "time_s": 0.0}
+    if options.passes <= 0 or any(p > 1 for p in kept.parts.values()):
+        return kept, record
+    found = window_search(a, adj, groups, kept.selected, xy, options, floor)
+    record.update(windows=found.windows, proven=found.proven, wall_cap_hit=found.wall_cap_hit,
+                  after=len(found.selected), time_s=round(found.time_s, 3), history=[list(h) for h in found.history])
+    if not found.removed:
+        return kept, record
+    parts = {g: len(components(adj, m)) for g, m in group_members(groups, found.selected).items()}
+    tried = {**(kept.tried or {}), "windows": len(found.selected)}
+    return replace(kept, selected=found.selected, parts=parts, source=f"{kept.source} + windows", tried=tried), record
+
+
 #: wall-clock cap of a work-limited MILP, as a multiple of its work limit
 WALL_CAP = 4.0
 
@@ -237,7 +262,8 @@ def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
 
 def _finish(site: Site, options: PlanOptions, validation: ValidationReport, problem: CoverageProblem,
             results: list[TileResult], joined: Stitched, bound: Bound, rule: OverlapRule, registration: tuple[str, float],
-            times: dict[str, float], work_limited: bool = False, search: dict[str, Any] | None = None) -> Plan:
+            times: dict[str, float], work_limited: bool = False, search: dict[str, Any] | None = None,
+            windows: dict[str, Any] | None = None) -> Plan:
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
     from planner.plan import placed_stations, registration_check
 
@@ -249,7 +275,8 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                    "covers_core": r.covers_core, "coverage_s": round(r.coverage_s, 3), "solve_s": round(r.solve_s, 3)}
                   for r in results]
     capped = [r.tile.name for r in results if r.wall_cap_hit] + (["bound"] if bound.wall_cap_hit else []) + (
-        ["Lagrangian bound"] if bound.lagrange is not None and bound.lagrange.capped else [])
+        ["Lagrangian bound"] if bound.lagrange is not None and bound.lagrange.capped else []) + (
+        ["windows"] if windows and windows.get("wall_cap_hit") else [])
     info = {"tiles": tiles_info, "bound_scope": "pool", "lp_bound": bound.lp, "cover_milp_bound": bound.milp,
             "stitch": {"source": joined.source, "tried": joined.tried, "union": joined.union, "pruned": joined.pruned, "added": joined.added},
             "bound_how": bound.how,
@@ -258,7 +285,7 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
                 "iterations": bound.lagrange.iterations, "per_tile": list(bound.lagrange.per_tile),
                 "proven": list(bound.lagrange.proven), "upper": bound.lagrange.upper, "time_s": round(bound.lagrange.time_s, 3)},
             "limits": "CP-SAT work (deterministic s)" if work_limited else "wall clock (s)",
-            "wall_cap_hit": capped, "local_search": search or {},
+            "wall_cap_hit": capped, "local_search": search or {}, "windows": windows or {},
             "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()}}
     result = SolveResult("milp-tiles", status, joined.selected, float(n), bound=float(value),
                          time_s=times["total_s"], backend=options.milp.backend, info=info)
@@ -274,7 +301,9 @@ def _finish(site: Site, options: PlanOptions, validation: ValidationReport, prob
            _limits_line(capped, work_limited),
            "connected plans: " + ", ".join(f"{k} {v}" for k, v in (joined.tried or {}).items())
            + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations"
-           + (f"; local search: {search['before']} -> {search['after']} in {search['moves']} moves" if search and search["moves"] else ""),
+           + (f"; local search: {search['before']} -> {search['after']} in {search['moves']} moves" if search and search["moves"] else "")
+           + (f"; windows: {windows['before']} -> {windows['after']} in {windows['windows']} windows of {windows['radius_m']:g} m"
+              if windows and windows["windows"] else ""),
            f"bound {value} (LP {bound.lp:.2f}" + (f", cover MILP {bound.milp:g} {bound.milp_status.value}"
               if bound.milp is not None and bound.milp_status is not None else "")
            + (f", Lagrangian over {len(bound.lagrange.per_tile)} parts {bound.lagrange.raw:.2f}" if bound.lagrange else "")

@@ -40,3 +40,10 @@ def test_negative_lagrange_work_is_a_usage_error(capsys) -> None:
     assert main(["plan", PLANT, "--tiles", "50", "--lagrange-work", "-1"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--lagrange-work" in err
+
+
+def test_bad_window_options_are_usage_errors(capsys) -> None:
+    for flag, value in (("--tile-window-radius", "0"), ("--tile-window-work", "-1"), ("--tile-window-passes", "-1")):
+        assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and flag in err and value in err

@@ -8,6 +8,7 @@ import pytest
 from planner.errors import UsageError
 from planner.plan import PlanOptions
 from planner.site.load import load_site
+from planner.solve.windows import WindowOptions
 from planner.tiles import TileOptions, plan_by_tiles
 from planner.tiles.run import best_plan
 from planner.tiles.stitch import stitch
@@ -19,8 +20,10 @@ OPTIONS = PlanOptions(method="milp", pricing=False)
 
 
 def _tiling(moves: int) -> TileOptions:
-    # short tile MILPs and the LP bound only (ceil(7.73) = 8 on 1 ha), so the kept plan has room to shrink
-    return TileOptions(tile_m=50.0, tile_time_limit_s=0.5, bound_time_limit_s=0, local_search_moves=moves)
+    # short tile MILPs and the LP bound only (ceil(7.73) = 8 on 1 ha), so the kept plan has room to shrink;
+    # no window re-solves after the search (tests/tiles/test_tiles_windows.py)
+    return TileOptions(tile_m=50.0, tile_time_limit_s=0.5, bound_time_limit_s=0, local_search_moves=moves,
+                       windows=WindowOptions(passes=0))
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,180 @@
+"""Fewer stations for a large connected plan: re-solve it exactly inside windows of the site (LNS).
+
+The local search (:mod:`planner.solve.local_search`) changes one or two stations a move; a plant's plan
+can still hold a group of stations that a different group, one smaller, would replace. A *window* is a
+disc of radius ``radius_m`` around one chosen station c. With S the plan, D the chosen stations inside
+the window and F = S \\ D the ones kept,
+
+    minimise   |N|
+    subject to N covers every target that D sees and F does not          (the window's rows)
+               N together with F is connected in each registration group  (the overlap relation)
+
+over the candidates N that see one of those targets or stand inside the window. Each connected part of
+F (per group) enters the model as one forced node linked to every candidate linked to one of its
+stations, and the model is the planner's own connected MILP (:func:`planner.solve.milp.solve`, CP-SAT
+with one thread, stopped on deterministic work). D is itself a solution, so the MILP's answer is never
+larger; when it is smaller, F + N replaces S (re-checked: a cover, each group one part). This is the
+large-neighbourhood search of Shaw (1998), "Using constraint programming and local search methods to
+solve vehicle routing problems" (CP 1998), with an exact MILP as the repair step.
+
+One pass visits every station of the plan as a centre, in an order drawn by a generator of fixed seed
+(stations already removed are skipped). Work limits, not clocks, stop each window, so the result depends
+only on the input and the options (the wall-clock cap, four times the work, is counted when reached).
+Cost: a window on the 16-ha plant holds 3-10 stations and 100-400 candidates (measured, docs/benchmarks/plant.md).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Hashable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from planner.coverage.overlap import OverlapRule
+from planner.solve.connectivity import components, group_members
+from planner.solve.instance import CoverInstance
+from planner.solve.result import Status
+
+#: wall-clock cap of a window's MILP, as a multiple of its work limit
+WALL_CAP = 4.0
+
+
+@dataclass(frozen=True)
+class WindowOptions:
+    """``radius_m``: window radius around each centre station; ``work_s``: CP-SAT deterministic seconds per
+    window; ``passes``: visits of every station as a centre (0: off); ``seed``: order of the centres."""
+
+    radius_m: float = 60.0
+    work_s: float = 3.0
+    passes: int = 1
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not (self.radius_m > 0 and self.work_s > 0 and self.passes >= 0):
+            raise ValueError(f"windows need radius_m > 0, work_s > 0 and passes >= 0, got {self.radius_m}, "
+                             f"{self.work_s}, {self.passes}")
+
+
+@dataclass(frozen=True)
+class Windowed:
+    """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``windows``:
+    windows solved; ``proven``: windows whose MILP was proven optimal; ``wall_cap_hit``: windows stopped
+    by the wall-clock cap instead of their work (only those may depend on the load); ``history``:
+    (window, stations) after each window that removed stations."""
+
+    selected: tuple[int, ...]
+    start: int
+    windows: int = 0
+    proven: int = 0
+    wall_cap_hit: int = 0
+    history: tuple[tuple[int, int], ...] = ()
+    time_s: float = 0.0
+
+    @property
+    def removed(self) -> int:
+        return self.start - len(self.selected)
+
+
+def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
+                  xy: np.ndarray, options: WindowOptions | None = None, floor: int = 1) -> Windowed:
+    """The smallest connected cover found by re-solving ``plan`` window by window (module docstring).
+
+    Parameters
+    ----------
+    a
+        C x T boolean coverage matrix (the targets to cover are those ``plan`` covers).
+    adj
+        C x C symmetric overlap adjacency; links join candidates of one group only.
+    groups
+        Registration group of each candidate.
+    plan
+        A connected cover (each group one part).
+    xy
+        C x 2 candidate positions (m).
+    floor
+        Stop at this many stations (a proven lower bound).
+    """
+    o = options or WindowOptions()
+    start = time.perf_counter()
+    a, adj = a.astype(bool).tocsr(), adj.astype(bool).tocsr()
+    at = a.T.tocsr()
+    plan_s = np.array(sorted({int(i) for i in plan}), dtype=np.int64)
+    need = np.asarray(a[plan_s].sum(axis=0)).ravel() > 0
+    rng = np.random.default_rng(o.seed)
+    history: list[tuple[int, int]] = []
+    windows = proven = capped = 0
+    for _ in range(o.passes):
+        for centre in rng.permutation(plan_s):
+            if len(plan_s) <= max(floor, 1):
+                break
+            if centre not in plan_s:
+                continue
+            new, status, hit = _window(a, at, adj, groups, xy, plan_s, int(centre), need, o)
+            windows, proven, capped = windows + 1, proven + (status == Status.OPTIMAL), capped + hit
+            if new is not None and len(new) < len(plan_s) and _valid(a, adj, groups, new, need):
+                plan_s = new
+                history.append((windows, len(plan_s)))
+    return Windowed(tuple(int(i) for i in plan_s), len(set(plan)), windows, proven, capped, tuple(history),
+                    time.perf_counter() - start)
+
+
+def _window(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], xy: np.ndarray,
+            plan: np.ndarray, centre: int, need: np.ndarray, o: WindowOptions) -> tuple[np.ndarray | None, Status, bool]:
+    """One window's MILP: the new plan (None when it found none), the MILP's status, and whether the wall
+    clock stopped it."""
+    from planner.solve.milp import MilpOptions, solve  # the MILP imports this package's modules
+
+    inside = np.hypot(*(xy[plan] - xy[centre]).T) <= o.radius_m
+    kept = plan[~inside]
+    rows = np.flatnonzero(need & (np.asarray(a[plan[inside]].sum(axis=0)).ravel() > 0)
+                          & (np.asarray(a[kept].sum(axis=0)).ravel() == 0))
+    near = np.flatnonzero(np.hypot(*(xy - xy[centre]).T) <= o.radius_m)
+    free = np.setdiff1d(np.union1d(np.unique(at[rows].indices), near), kept)
+    parts = [(g, p) for g, members in group_members(groups, kept.tolist()).items() for p in components(adj, members)]
+    inst = _model(a, adj, groups, free, rows, parts)
+    milp = MilpOptions(overlap=_LINKS_ONLY, threads=1, time_limit_s=WALL_CAP * o.work_s, work_limit=o.work_s,
+                       seed=o.seed, greedy_starts=_GREEDY_STARTS, local_search_moves=_SEARCH_MOVES)
+    r = solve(inst, milp)
+    hit = bool(r.info.get("work", {}).get("wall_cap_hit", False))
+    if not r.selected:
+        return None, r.status, hit
+    chosen = [int(free[i]) for i in r.selected if i < free.size]
+    return np.union1d(kept, chosen).astype(np.int64), r.status, hit
+
+
+#: a window's MILP: starts of its connected greedy and moves of its block local search (the defaults, 50 and
+#: 500, spent 46 s and 22 s of 160 s in the 101 windows of one 16-ha pass; 5 and 100 give the same plan in
+#: 112 s, one run each, docs/benchmarks/plant.md)
+_GREEDY_STARTS, _SEARCH_MOVES = 5, 100
+
+#: the window's links are the site's, given explicitly: no overlap test on the window's partial rows
+_LINKS_ONLY = OverlapRule(0.0, min_shared_m=math.inf)
+
+
+def _model(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], free: np.ndarray, rows: np.ndarray,
+           parts: list[tuple[Hashable, list[int]]]) -> CoverInstance:
+    """The window's cover instance: the free candidates on the window's rows, then one forced node per
+    kept part (a private row only it sees), linked to the free candidates linked to one of its stations."""
+    nf, nk, nt = free.size, len(parts), rows.size
+    cover = sp.bmat([[a[free][:, rows], sp.csr_matrix((nf, nk), dtype=bool)],
+                     [sp.csr_matrix((nk, nt), dtype=bool), sp.identity(nk, dtype=bool, format="csr")]], format="csr")
+    member = sp.csr_matrix((np.ones(sum(len(p) for _, p in parts)),
+                            (np.concatenate([p for _, p in parts]).astype(np.int64) if parts else np.zeros(0, np.int64),
+                             np.repeat(np.arange(nk), [len(p) for _, p in parts]))), shape=(a.shape[0], nk))
+    to_parts = sp.csr_matrix((adj[free].astype(np.float64) @ member) > 0)
+    links = sp.bmat([[adj[free][:, free], to_parts], [to_parts.T, sp.csr_matrix((nk, nk), dtype=bool)]],
+                    format="csr").astype(bool)
+    labels = tuple([groups[int(i)] for i in free] + [g for g, _ in parts])
+    return CoverInstance(by_candidate=cover.astype(bool), cost=np.ones(nf + nk), name="window", groups=labels,
+                         target_length_m=np.ones(nt + nk), links=links)
+
+
+def _valid(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: np.ndarray,
+           need: np.ndarray) -> bool:
+    """``plan`` sees every needed target and each of its groups is one part."""
+    seen = np.asarray(a[plan].sum(axis=0)).ravel() > 0
+    return bool(seen[need].all()) and all(len(components(adj, m)) == 1
+                                          for m in group_members(groups, plan.tolist()).values())

@@ -1,0 +1,85 @@
+"""Window re-solves keep plans connected covers, never grow them, reach the connected optimum when one
+window holds the whole site, rejoin a plan the window cuts in two, and depend only on their input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from planner.solve.greedy import connected_greedy_plan
+from planner.solve.windows import WindowOptions, window_search
+from tests.solve.test_connectivity_methods import FOUND, RULE, instance, random_instance
+from tests.solve.test_local_search import _adjacency, _graph, _groups, _is_connected_cover
+
+
+def _line(n_cand: int = 37):
+    # 40 pieces on a line, windows j..j+3 for j = 0..36 standing at x = j: a connected plan holds windows
+    # 0 and 36 (the only seers of pieces 0 and 39) and steps of at most 2 (overlap 2 of 4 pieces >= 30 %;
+    # a step of 3 shares 1 of 4 = 25 %), so it needs 36 / 2 + 1 = 19 stations
+    inst = instance([set(range(j, j + 4)) for j in range(n_cand)], n_cand + 3, ["g"] * n_cand)
+    xy = np.column_stack([np.arange(n_cand, dtype=float), np.zeros(n_cand)])
+    return inst, xy
+
+
+def test_one_window_over_the_whole_line_finds_the_chain_of_19():
+    inst, xy = _line()
+    a, adj = _adjacency(inst)
+    found = window_search(a, adj, _groups(inst), list(range(37)), xy, WindowOptions(radius_m=100.0))
+    assert len(found.selected) == 19 and found.removed == 37 - 19
+    assert _is_connected_cover(inst, adj, found.selected)
+    # the first window proves 19; the others (centred on the 18 other stations left) find nothing smaller
+    assert found.history == ((1, 19),) and found.proven == found.windows
+
+
+def test_small_windows_rejoin_the_line_they_cut():
+    # a window of radius 4 around a station in the middle holds 9 stations; the kept ones fall into a left
+    # and a right part, which the window's stations must link again: every plan kept is a connected cover
+    inst, xy = _line(21)  # 24 pieces: the connected optimum is 20 / 2 + 1 = 11 stations
+    a, adj = _adjacency(inst)
+    found = window_search(a, adj, _groups(inst), list(range(21)), xy, WindowOptions(radius_m=4.0, passes=2))
+    assert _is_connected_cover(inst, adj, found.selected)
+    assert 11 <= len(found.selected) < 21 and found.windows > 0
+    sizes = [s for _, s in found.history]
+    assert sizes == sorted(sizes, reverse=True) and sizes[-1] == len(found.selected)
+
+
+def test_a_window_swaps_where_one_station_at_a_time_cannot():
+    # pieces 0..3; c0 = {0, 1}, c1 = {2, 3} (linked), c2 = {0}, c3 = {1, 2}, c4 = {3}; links c0-c1, c2-c3,
+    # c3-c4. The chain c2, c3, c4 is a minimal connected cover of 3; a window over all gives c0, c1
+    inst = instance([{0, 1}, {2, 3}, {0}, {1, 2}, {3}], 4, ["g"] * 5)
+    a = inst.by_candidate.tocsr()
+    adj = _graph(5, [(0, 1), (2, 3), (3, 4)])
+    xy = np.array([[0.0, 1.0], [3.0, 1.0], [0.0, 0.0], [1.5, 0.0], [3.0, 0.0]])
+    assert window_search(a, adj, _groups(inst), [2, 3, 4], xy, WindowOptions(radius_m=10.0)).selected == (0, 1)
+    # at the floor (a proven bound of 3) or with no passes nothing is tried
+    for kw in ({"floor": 3}, {"options": WindowOptions(passes=0)}):
+        found = window_search(a, adj, _groups(inst), [4, 2, 3], xy, **kw)
+        assert found.selected == (2, 3, 4) and found.windows == 0 and found.removed == 0
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_a_window_over_everything_meets_enumeration(seed):
+    inst = random_instance(seed)
+    if FOUND[seed] is None:
+        pytest.skip("no connected cover")
+    a, adj = _adjacency(inst)
+    xy = np.zeros((a.shape[0], 2))  # every candidate at one point: the first window holds the whole plan
+    greedy = connected_greedy_plan(inst, RULE, starts=1)
+    found = window_search(a, adj, _groups(inst), list(greedy.selected), xy, WindowOptions(radius_m=1.0))
+    assert _is_connected_cover(inst, adj, found.selected)
+    assert len(found.selected) == FOUND[seed] <= len(greedy.selected)
+
+
+def test_same_input_same_plan_and_a_moved_site_changes_nothing():
+    inst, xy = _line(17)
+    a, adj = _adjacency(inst)
+    o = WindowOptions(radius_m=5.0, seed=3)
+    first = window_search(a, adj, _groups(inst), list(range(17)), xy, o)
+    again = window_search(a, adj, _groups(inst), list(range(17)), xy, o)
+    moved = window_search(a, adj, _groups(inst), list(range(17)), xy + [1000.0, -250.0], o)
+    assert again.selected == first.selected == moved.selected and again.history == first.history
+
+
+def test_bad_options_are_refused():
+    with pytest.raises(ValueError, match="radius_m > 0"):
+        WindowOptions(radius_m=0.0)
