@@ -108,8 +108,9 @@ class BlockSolver:
         """Before any search, for a block of one registration group (k = 1, single precision): the ring bound
         over every piece its candidates see, in the instance's order (its walk becomes the incumbent when it is a
         connected cover), then the Lagrangian ascent from the cover LP's duals (:mod:`planner.solve.ring`) for
-        at most ``_FIRST_STEPS`` steps; if the block is still open, the local search from the incumbent and the
-        rest of the ascent's steps toward the new incumbent. Closes the block when the incumbent meets the bound
+        at most ``_FIRST_STEPS`` steps; if the block is still open, the local search from the incumbent and,
+        unless the first steps gave up (no step raised the bound, :func:`planner.solve.ring.lagrangian_bound`),
+        the rest of the ascent's steps toward the new incumbent. Closes the block when the incumbent meets the bound
         (the local search comes second: on building27 it cost 2.2 s in two rooms that one ascent step closes)."""
         o = self.o
         if self.groups is None or self.adj is None or len(set(self.groups)) != 1 or o.k != 1 or o.precision != "single":
@@ -131,8 +132,8 @@ class BlockSolver:
         if not self.done:
             self._shrink()
             self.done = self._closed()
-        if not self.done:
-            self._ascend(graph, o.ring_lagrange_steps - self.lagrange_steps)
+        if not self.done and self.lagrange_steps == min(_FIRST_STEPS, o.ring_lagrange_steps):
+            self._ascend(graph, o.ring_lagrange_steps - self.lagrange_steps)  # not when the first part gave up
 
     def _ascend(self, graph: RingGraph, steps: int) -> None:
         """The Lagrangian ascent from the cover LP's duals toward the incumbent, ``steps`` steps at most."""

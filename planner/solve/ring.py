@@ -183,7 +183,7 @@ def ring_bound(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
 
 
 def lagrangian_bound(ring: RingGraph, sub: sp.csr_matrix, cost: NDArray[np.float64], lam: NDArray[np.float64],
-                     target: float, stop_above: float, iterations: int) -> tuple[float, int]:
+                     target: float, stop_above: float, iterations: int, give_up: int = 20) -> tuple[float, int]:
     """The ring bound with the cover rows added back by multipliers, raised by subgradient ascent.
 
     For lambda >= 0 on the required targets (columns of ``sub``, candidates x targets) and reduced costs
@@ -192,24 +192,28 @@ def lagrangian_bound(ring: RingGraph, sub: sp.csr_matrix, cost: NDArray[np.float
                >= walk(max(rc, 0)) + sum_j min(rc_j, 0) + sum_t lambda_t  =: L(lambda),
     so every L(lambda) is a lower bound; at the cover LP's duals it is at least the LP's value. Ascent from
     ``lam``: Polyak steps toward ``target`` (the incumbent's cost), the step factor 2 halved after 20 steps
-    without a better L. Stops after ``iterations`` steps or once L > ``stop_above`` (with integral costs,
-    the incumbent's cost - 1: the incumbent is then proven). Returns the best L and the steps taken.
+    without a better L. Stops after ``iterations`` steps, once L > ``stop_above`` (with integral costs,
+    the incumbent's cost - 1: the incumbent is then proven), or after ``give_up`` steps none of which
+    raised L above its first value (the ring adds nothing near these multipliers: on a plant tile, where
+    the block is many objects' walls and not one ring, L stayed at the cover LP's 7.7255 for 500 steps,
+    28 s of walks; measured, docs/benchmarks/plant.md). Returns the best L and the steps taken.
     Polygon C inside (375 candidates x 231 targets, arcs with holes; cached pool): ring 11, cover LP 10, L
     past 12 after 23 steps (0.3 s), so its connected optimum 13 is proven (integral costs; docs/milp.md)."""
-    best, factor, stall = -np.inf, 2.0, 0
+    best, factor, stall, first = -np.inf, 2.0, 0, np.inf
     for step in range(iterations):
         rc = cost - sub @ lam
         w = ring.walk(np.maximum(rc, 0.0))
         if w is None:
             return np.inf, step + 1
         value = float(lam.sum() + w.bound + np.minimum(rc, 0.0).sum())
+        first = value if step == 0 else first
         if value > best + 1e-9:
             best, stall = value, 0
         else:
             stall += 1
             if stall >= 20:
                 factor, stall = factor / 2, 0
-        if best > stop_above:
+        if best > stop_above or (step + 1 >= give_up and best <= first + 1e-9):
             return best, step + 1
         use = np.zeros(cost.size)
         walk = np.asarray(w.walk)

@@ -150,6 +150,20 @@ def test_lagrangian_bound_stays_below_the_optimum_and_can_pass_the_ring():
     assert passed >= 1
 
 
+def test_lagrangian_ascent_gives_up_when_no_step_raises_the_bound():
+    # a ring of 5 pieces, arcs {0,1,2}, {2,3,4}, {4,0,1}: any two cover it and overlap in one of three pieces
+    # (>= 30 %), so the connected optimum is 2. lambda = (0, 1, 0, 1, 0) is dual feasible (each arc sums to 1)
+    # with sum 2, so L starts at 2 and, being a lower bound, never rises; toward the optimum itself, with no
+    # stop level, the ascent stops after give_up steps (20 by default, 7 when asked) instead of all 200
+    a = matrix([{0, 1, 2}, {2, 3, 4}, {4, 0, 1}], 5)
+    graph = ring_graph(a, np.ones(5, dtype=bool), adjacency(a))
+    assert graph is not None and enumerate_optimum(a, np.ones(3)) == 2
+    sub, lam = a.astype(float).tocsr(), np.array([0.0, 1.0, 0.0, 1.0, 0.0])
+    assert lagrangian_bound(graph, sub, np.ones(3), lam, 2.0, np.inf, 200) == (2.0, 20)
+    assert lagrangian_bound(graph, sub, np.ones(3), lam, 2.0, np.inf, 200, give_up=7) == (2.0, 7)
+    assert lagrangian_bound(graph, sub, np.ones(3), lam, 2.0, np.inf, 200, give_up=1000) == (2.0, 200)
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_solve_with_and_without_the_ring_bound_agree_with_enumeration(seed):
     # one zone-side, arcs with holes: the ring stage (walk, local search, Lagrangian ascent) and the cut loop
