@@ -1,5 +1,5 @@
-"""The local search on the kept tiled plan: never a larger plan, a verified single bundle, recorded in
-``info``, and the same plan on a second run."""
+"""The local search and the window re-solves on the kept tiled plan: never a larger plan, a verified single
+bundle, recorded in ``info``, and the same plan on a second run."""
 
 from __future__ import annotations
 
@@ -19,17 +19,22 @@ from tests.solve.test_local_search import _adjacency
 OPTIONS = PlanOptions(method="milp", pricing=False)
 
 
-def _tiling(moves: int) -> TileOptions:
-    # short tile MILPs and the LP bound only (ceil(7.73) = 8 on 1 ha), so the kept plan has room to shrink;
-    # no window re-solves after the search (tests/tiles/test_tiles_windows.py)
+def _tiling(moves: int, passes: int = 0) -> TileOptions:
+    # short tile MILPs and the LP bound only (ceil(7.73) = 8 on 1 ha), so the kept plan has room to shrink
+    # (11 stations here); window re-solves only with passes, of 60 m (most of the 1-ha site; one run: 11 -> 10)
     return TileOptions(tile_m=50.0, tile_time_limit_s=0.5, bound_time_limit_s=0, local_search_moves=moves,
-                       windows=WindowOptions(passes=0))
+                       windows=WindowOptions(radius_m=60.0, work_s=1.0, passes=passes))
 
 
 @pytest.fixture(scope="module")
 def plans():
     site = load_site(INSTANCES / "plant_1ha.json")
     return plan_by_tiles(site, OPTIONS, _tiling(0)), plan_by_tiles(site, OPTIONS, _tiling(300)), site
+
+
+@pytest.fixture(scope="module")
+def windowed(plans):
+    return plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1))
 
 
 def test_search_never_grows_the_kept_plan_and_keeps_it_verified(plans) -> None:
@@ -75,3 +80,25 @@ def test_best_plan_searches_only_with_moves() -> None:
 def test_negative_move_budget_is_refused() -> None:
     with pytest.raises(UsageError):
         TileOptions(local_search_moves=-1)
+
+
+def test_windows_never_grow_the_kept_plan_and_keep_it_verified(plans, windowed) -> None:
+    without = plans[0]
+    off = without.result.info["windows"]
+    assert off["windows"] == 0 and off["before"] == off["after"] == len(without.stations)
+    record = windowed.result.info["windows"]
+    # the windows start from the same kept plan (same tiles, bound and greedy; only the passes differ)
+    assert record["before"] == len(without.stations)
+    assert record["after"] == len(windowed.stations) <= len(without.stations)
+    assert 0 < record["windows"] <= len(without.stations) and record["radius_m"] == 60.0
+    assert len(windowed.stations) >= windowed.result.bound  # never below the bound
+    assert windowed.verification.percent == 100.0  # re-verified at 0.1 m by _finish
+    assert list(windowed.registration.values()) == [1]  # one registration bundle
+    if record["after"] < record["before"]:
+        assert windowed.result.info["stitch"]["tried"]["windows"] == record["after"]
+
+
+def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed) -> None:
+    again = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1))
+    assert [s.xy for s in again.stations] == [s.xy for s in windowed.stations]
+    assert again.result.info["windows"]["history"] == windowed.result.info["windows"]["history"]
