@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from planner.errors import UsageError
 from planner.solve.greedy import connected_greedy_plan
 from planner.solve.windows import WindowOptions, window_search
 from tests.solve.test_connectivity_methods import FOUND, RULE, instance, random_instance
@@ -80,6 +81,8 @@ def test_same_input_same_plan_and_a_moved_site_changes_nothing():
     assert again.selected == first.selected == moved.selected and again.history == first.history
 
 
-def test_bad_options_are_refused():
-    with pytest.raises(ValueError, match="radius_m > 0"):
-        WindowOptions(radius_m=0.0)
+@pytest.mark.parametrize("field,value", [("radius_m", 0.0), ("work_s", -1.0), ("passes", -1)])
+def test_bad_options_are_refused(field, value):
+    with pytest.raises(UsageError, match=field) as err:
+        WindowOptions(**{field: value})
+    assert isinstance(err.value, ValueError)
