@@ -34,6 +34,8 @@ from planner.solve.presolve import PresolveReport, dominated, duplicate_targets,
 from planner.solve.result import SolveResult, Status
 
 PRECISION_MODES = ("single", "combined")
+#: wall-clock cap of a work-limited MILP, as a multiple of its work limit (:meth:`MilpOptions.with_work_limit`)
+WALL_CAP = 4.0
 #: how registration connectivity is enforced: branch-and-cut in one SCIP tree (PySCIPOpt),
 #: a single-commodity flow model, or the cut loop that re-solves after each round of cuts
 CONNECTIVITY = ("auto", "bc", "flow", "loop")

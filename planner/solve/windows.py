@@ -19,7 +19,7 @@ solve vehicle routing problems" (CP 1998), with an exact MILP as the repair step
 
 One pass visits every station of the plan as a centre, in an order drawn by a generator of fixed seed
 (stations already removed are skipped). Work limits, not clocks, stop each window, so the result depends
-only on the input and the options (the wall-clock cap, four times the work, is counted when reached).
+only on the input and the options (the wall-clock cap, ``WALL_CAP`` times the work, is counted when reached).
 Cost: on the 16-ha plant (104 stations) windows of 60 m held 3 to 10 of the plan's stations, and one pass
 of 101 windows took 112-133 s (one run each, docs/benchmarks/plant.md).
 """
@@ -36,13 +36,10 @@ import scipy.sparse as sp
 
 from planner.coverage.overlap import OverlapRule
 from planner.errors import UsageError
-from planner.solve.connectivity import components, group_members
+from planner.solve.connectivity import components, disconnected_groups, group_members
 from planner.solve.instance import CoverInstance
+from planner.solve.milp import WALL_CAP, MilpOptions, solve
 from planner.solve.result import Status
-
-#: wall-clock cap of a window's MILP, as a multiple of its work limit
-WALL_CAP = 4.0
-
 
 @dataclass(frozen=True)
 class WindowOptions:
@@ -128,8 +125,6 @@ def _window(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Seq
             plan: np.ndarray, centre: int, need: np.ndarray, o: WindowOptions) -> tuple[np.ndarray | None, Status, bool]:
     """One window's MILP: the new plan (None when it found none), the MILP's status, and whether the wall
     clock stopped it."""
-    from planner.solve.milp import MilpOptions, solve  # the MILP imports this package's modules
-
     inside = np.hypot(*(xy[plan] - xy[centre]).T) <= o.radius_m
     kept = plan[~inside]
     rows = np.flatnonzero(need & (np.asarray(a[plan[inside]].sum(axis=0)).ravel() > 0)
@@ -138,8 +133,8 @@ def _window(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Seq
     free = np.setdiff1d(np.union1d(np.unique(at[rows].indices), near), kept)
     parts = [(g, p) for g, members in group_members(groups, kept.tolist()).items() for p in components(adj, members)]
     inst = _model(a, adj, groups, free, rows, parts)
-    milp = MilpOptions(overlap=_LINKS_ONLY, threads=1, time_limit_s=WALL_CAP * o.work_s, work_limit=o.work_s,
-                       seed=o.seed, greedy_starts=_GREEDY_STARTS, local_search_moves=_SEARCH_MOVES)
+    milp = MilpOptions(overlap=_LINKS_ONLY, threads=1, seed=o.seed, greedy_starts=_GREEDY_STARTS,
+                       local_search_moves=_SEARCH_MOVES).with_work_limit(o.work_s, WALL_CAP)
     r = solve(inst, milp)
     hit = bool(r.info.get("work", {}).get("wall_cap_hit", False))
     if not r.selected:
@@ -179,5 +174,4 @@ def _valid(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], pla
            need: np.ndarray) -> bool:
     """``plan`` sees every needed target and each of its groups is one part."""
     seen = np.asarray(a[plan].sum(axis=0)).ravel() > 0
-    return bool(seen[need].all()) and all(len(components(adj, m)) == 1
-                                          for m in group_members(groups, plan.tolist()).values())
+    return bool(seen[need].all()) and not disconnected_groups(adj, groups, plan.tolist())

@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 from scipy.optimize import linprog
 
 from planner.errors import InfeasibleError, InternalError, UsageError
+from planner.solve.milp import WALL_CAP
 from planner.solve.presolve import dominated, implied_targets
 from planner.tiles.engine import run_tasks
 
@@ -88,7 +89,7 @@ class LagrangeBound:
 
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, a wall
-    cap four times as long); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
+    cap ``WALL_CAP`` times as long); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
 
     Raises
     ------
@@ -115,7 +116,7 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     solver.parameters.random_seed = seed
     solver.parameters.linearization_level = 2
     solver.parameters.max_deterministic_time = work_s
-    solver.parameters.max_time_in_seconds = 4.0 * work_s
+    solver.parameters.max_time_in_seconds = WALL_CAP * work_s
     status = solver.Solve(model)
     if status == cp_model.INFEASIBLE:
         raise InfeasibleError("a piece of this part is seen by none of its candidates", field="lagrange part")
@@ -126,7 +127,7 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     objective = int(job.w[chosen].sum())
     optimal = status == cp_model.OPTIMAL
     lower = objective if optimal else int(job.w[free].sum()) + math.ceil(solver.BestObjectiveBound() - 1e-9)
-    capped = not optimal and solver.wall_time >= 0.99 * 4.0 * work_s
+    capped = not optimal and solver.wall_time >= 0.99 * WALL_CAP * work_s
     return PartResult(lower, objective, chosen, optimal, capped)
 
 

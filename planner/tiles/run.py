@@ -39,7 +39,7 @@ from planner.coverage.targets import Targets, make_targets
 from planner.errors import InfeasibleError, UsageError
 from planner.plan import Plan, PlanOptions, _limits, closed_form_limits, unseen_error
 from planner.site.model import Site
-from planner.solve.milp import MilpOptions
+from planner.solve.milp import WALL_CAP, MilpOptions
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
@@ -214,10 +214,7 @@ def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept:
                   time_s=round(time.perf_counter() - t0, 3), history=[list(h) for h in found.history])
     if not found.removed:
         return kept, record
-    parts = {g: len(components(adj, m)) for g, m in group_members(groups, found.selected).items()}
-    tried = {**(kept.tried or {}), "local search": len(found.selected)}
-    return replace(kept, selected=found.selected, parts=parts, source=f"{kept.source} + local search",
-                   tried=tried), record
+    return _improved(kept, adj, groups, found.selected, "local search"), record
 
 
 def _windows(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, xy: np.ndarray,
@@ -232,13 +229,18 @@ def _windows(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept
                   after=len(found.selected), time_s=round(found.time_s, 3), history=[list(h) for h in found.history])
     if not found.removed:
         return kept, record
-    parts = {g: len(components(adj, m)) for g, m in group_members(groups, found.selected).items()}
-    tried = {**(kept.tried or {}), "windows": len(found.selected)}
-    return replace(kept, selected=found.selected, parts=parts, source=f"{kept.source} + windows", tried=tried), record
+    return _improved(kept, adj, groups, found.selected, "windows"), record
 
 
-#: wall-clock cap of a work-limited MILP, as a multiple of its work limit
-WALL_CAP = 4.0
+def _improved(kept: Stitched, adj: sp.csr_matrix, groups: tuple[str, ...], selected: tuple[int, ...],
+              step: str) -> Stitched:
+    """``kept`` with the smaller plan ``selected`` that ``step`` found: its parts per group, its source and
+    ``tried`` entry."""
+    parts = {g: len(components(adj, m)) for g, m in group_members(groups, selected).items()}
+    return replace(kept, selected=selected, parts=parts, source=f"{kept.source} + {step}",
+                   tried={**(kept.tried or {}), step: len(selected)})
+
+
 
 
 def deterministic_limits(milp: MilpOptions, tiling: TileOptions) -> bool:

@@ -34,7 +34,7 @@ from scipy.optimize import linprog
 
 from planner.solve.connectivity import components, group_members, repair
 from planner.solve.instance import CoverInstance
-from planner.solve.milp import MilpOptions, solve
+from planner.solve.milp import WALL_CAP, MilpOptions, solve
 from planner.solve.presolve import implied_targets
 from planner.solve.result import Status
 from planner.tiles.lagrange import LagrangeBound, lagrangian_bound
@@ -128,7 +128,7 @@ def lp_bound(a: sp.csr_matrix) -> float:
 
 
 def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limited: bool = False,
-                 wall_cap: float = 4.0, parts: Sequence[np.ndarray] | None = None, lagrange_iterations: int = 0,
+                 wall_cap: float = WALL_CAP, parts: Sequence[np.ndarray] | None = None, lagrange_iterations: int = 0,
                  lagrange_work_s: float = 10.0, client: Any = None) -> Bound:
     """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped).
     ``work_limited``: the limit is CP-SAT work (deterministic seconds) under a wall cap ``wall_cap`` times
