@@ -72,6 +72,13 @@ def _add_limit_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-precision", action="store_true", help="do not require the predicted point error <= sigma_req")
 
 
+def _add_pool_options(p: argparse.ArgumentParser) -> None:
+    """The options that fix the coverage problem: pieces, candidate grid, sampling seed (plan and export)."""
+    p.add_argument("--seed", type=int, default=0, help="seed of the movement-field sampling (default 0)")
+    p.add_argument("--target-spacing", type=float, default=1.0, metavar="M", help="wall piece length (default 1 m)")
+    p.add_argument("--grid-spacing", type=float, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
+
+
 def _add_memory_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--memory-limit", metavar="SIZE",
                    help="refuse a problem whose estimated memory passes SIZE, e.g. 4G (default: half the available memory)")
@@ -160,9 +167,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     pl.add_argument("--export", metavar="LIST", help="also write into --out: dxf (plan.dxf), geojson (plan.geojson), "
                     "csv (stations.csv), comma-separated")
     pl.add_argument("--report", metavar="DIR", help="write DIR/report.html (figures embedded; runs the network check)")
-    pl.add_argument("--seed", type=int, default=0, help="seed of the movement-field sampling (default 0)")
-    pl.add_argument("--target-spacing", type=float, default=1.0, metavar="M", help="wall piece length (default 1 m)")
-    pl.add_argument("--grid-spacing", type=float, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
+    _add_pool_options(pl)
     pl.add_argument("--verify-spacing", type=float, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
     _add_limit_options(pl)
     add_tile_options(pl)
@@ -179,9 +184,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     _add_site_options(ex)
     ex.add_argument("--format", choices=FORMATS, default="json")
     ex.add_argument("--out", metavar="FILE", help="write to FILE (default: standard output)")
-    ex.add_argument("--seed", type=int, default=0)
-    ex.add_argument("--target-spacing", type=float, default=1.0, metavar="M")
-    ex.add_argument("--grid-spacing", type=float, default=10.0, metavar="M")
+    _add_pool_options(ex)
     _add_memory_option(ex)
     _add_limit_options(ex)
     ex.set_defaults(func=handlers["export"])
