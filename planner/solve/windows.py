@@ -20,6 +20,13 @@ solve vehicle routing problems" (CP 1998), with an exact MILP as the repair step
 One pass visits every station of the plan as a centre, in an order drawn by a generator of fixed seed
 (stations already removed are skipped). Work limits, not clocks, stop each window, so the result depends
 only on the input and the options (the wall-clock cap, ``WALL_CAP`` times the work, is counted when reached).
+
+Windows may run ``batch`` at a time through ``run`` (the tiles pass one that runs them as Dask tasks): the
+next ``batch`` centres are solved against the same plan, and their answers are taken in order. At the first
+answer that removes stations the plan changes, so the later answers of that batch, made for the old plan,
+are thrown away and their windows solved again in the next batch. Each answer taken was therefore made for
+the plan the one-at-a-time search would have given it: the result, and the counts, do not depend on
+``batch`` or on the number of workers (test ``test_batches_give_the_one_at_a_time_result``).
 Cost: on the 16-ha plant (104 stations) windows of 60 m held 3 to 10 of the plan's stations, and one pass
 of 101 windows took 112-133 s (one run each, docs/benchmarks/plant.md).
 """
@@ -28,8 +35,9 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Hashable, Sequence
+from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -78,8 +86,17 @@ class Windowed:
         return self.start - len(self.selected)
 
 
+#: ``run(fn, jobs, shared)``: ``[fn(**shared, job=job) for job in jobs]``, in job order (e.g. on Dask)
+Runner = Callable[[Callable[..., Any], Sequence[Any], dict[str, Any]], list[Any]]
+
+
+def _one_by_one(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any]) -> list[Any]:
+    return [fn(**shared, job=job) for job in jobs]
+
+
 def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
-                  xy: np.ndarray, options: WindowOptions | None = None, floor: int = 1) -> Windowed:
+                  xy: np.ndarray, options: WindowOptions | None = None, floor: int = 1,
+                  run: Runner | None = None, batch: int = 1) -> Windowed:
     """The smallest connected cover found by re-solving ``plan`` window by window (module docstring).
 
     Parameters
@@ -96,7 +113,12 @@ def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashabl
         C x 2 candidate positions (m).
     floor
         Stop at this many stations (a proven lower bound).
+    run, batch
+        Solve ``batch`` windows at a time with ``run`` (default: here, one after the other); the result is
+        the same for every ``batch`` (module docstring).
     """
+    if batch < 1:
+        raise UsageError("must be >= 1", field="batch", value=batch)
     o = options or WindowOptions()
     start = time.perf_counter()
     a, adj = a.astype(bool).tocsr(), adj.astype(bool).tocsr()
@@ -104,21 +126,37 @@ def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashabl
     plan_s = np.array(sorted({int(i) for i in plan}), dtype=np.int64)
     need = np.asarray(a[plan_s].sum(axis=0)).ravel() > 0
     rng = np.random.default_rng(o.seed)
+    shared = {"a": a, "at": at, "adj": adj, "groups": tuple(groups), "xy": xy, "need": need, "o": o}
     history: list[tuple[int, int]] = []
     windows = proven = capped = 0
     for _ in range(o.passes):
-        for centre in rng.permutation(plan_s):
-            if len(plan_s) <= max(floor, 1):
+        order = [int(c) for c in rng.permutation(plan_s)]
+        k = 0
+        while k < len(order) and len(plan_s) > max(floor, 1):
+            todo: list[tuple[int, int]] = []  # (place in the order, centre): the next centres still in the plan
+            while k < len(order) and len(todo) < batch:
+                if order[k] in plan_s:
+                    todo.append((k, order[k]))
+                k += 1
+            if not todo:
                 break
-            if centre not in plan_s:
-                continue
-            new, status, hit = _window(a, at, adj, groups, xy, plan_s, int(centre), need, o)
-            windows, proven, capped = windows + 1, proven + (status == Status.OPTIMAL), capped + hit
-            if new is not None and len(new) < len(plan_s) and _valid(a, adj, groups, new, need):
-                plan_s = new
-                history.append((windows, len(plan_s)))
+            answers = (run or _one_by_one)(_window_task, [(plan_s, c) for _, c in todo], shared)
+            for (place, _), (new, status, hit) in zip(todo, answers):
+                windows, proven, capped = windows + 1, proven + (status == Status.OPTIMAL), capped + hit
+                if new is not None and len(new) < len(plan_s) and _valid(a, adj, groups, new, need):
+                    plan_s = new
+                    history.append((windows, len(plan_s)))
+                    k = place + 1  # the batch's later answers were made for the old plan: solve them again
+                    break
     return Windowed(tuple(int(i) for i in plan_s), len(set(plan)), windows, proven, capped, tuple(history),
                     time.perf_counter() - start)
+
+
+def _window_task(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable],
+                 xy: np.ndarray, need: np.ndarray, o: WindowOptions,
+                 job: tuple[np.ndarray, int]) -> tuple[np.ndarray | None, Status, bool]:
+    """One window as a task: ``job`` is (the plan, the centre station)."""
+    return _window(a, at, adj, groups, xy, job[0], job[1], need, o)
 
 
 def _window(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], xy: np.ndarray,

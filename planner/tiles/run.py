@@ -22,6 +22,7 @@ What holds and why:
 from __future__ import annotations
 
 import time
+from functools import partial
 from dataclasses import dataclass, replace
 from typing import Any, cast
 
@@ -174,7 +175,7 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     t_search = time.perf_counter()
     joined, search = best_plan(by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value)
     t_windows = time.perf_counter()
-    joined, windows = _windows(by_cand, adj, groups, joined, xy, tiling.windows, bound.value)
+    joined, windows = _windows(by_cand, adj, groups, joined, xy, tiling.windows, bound.value, client)
     return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
                     "best_plan_s": t_windows - t_search, "windows_s": time.perf_counter() - t_windows,
@@ -218,13 +219,17 @@ def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept:
 
 
 def _windows(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, xy: np.ndarray,
-             options: WindowOptions, floor: int) -> tuple[Stitched, dict[str, Any]]:
-    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json."""
+             options: WindowOptions, floor: int, client: Any = None) -> tuple[Stitched, dict[str, Any]]:
+    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; on ``client``
+    as Dask tasks, two windows per worker thread at a time (the same result as one at a time)."""
+    batch = 2 * sum(client.nthreads().values()) if client is not None else 1
     record: dict[str, Any] = {"passes": options.passes, "radius_m": options.radius_m, "work_s": options.work_s,
-                              "windows": 0, "before": len(kept.selected), "after": len(kept.selected), "time_s": 0.0}
+                              "windows": 0, "batch": batch, "before": len(kept.selected),
+                              "after": len(kept.selected), "time_s": 0.0}
     if options.passes <= 0 or any(p > 1 for p in kept.parts.values()):
         return kept, record
-    found = window_search(a, adj, groups, kept.selected, xy, options, floor)
+    run = partial(run_tasks, client=client, step="windows") if client is not None else None
+    found = window_search(a, adj, groups, kept.selected, xy, options, floor, run, batch)
     record.update(windows=found.windows, proven=found.proven, wall_cap_hit=found.wall_cap_hit,
                   after=len(found.selected), time_s=round(found.time_s, 3), history=[list(h) for h in found.history])
     if not found.removed:

@@ -102,3 +102,16 @@ def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed) -> None:
     again = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1))
     assert [s.xy for s in again.stations] == [s.xy for s in windowed.stations]
     assert again.result.info["windows"]["history"] == windowed.result.info["windows"]["history"]
+
+
+def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed) -> None:
+    # the windows run 4 at a time (2 per worker thread) as Dask tasks; the answers are taken in the serial
+    # order, so the plan and the window history are those of the serial run
+    from planner.tiles import dask_client
+
+    with dask_client(workers=2) as client:
+        dist = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1), client=client)
+    record, serial = dist.result.info["windows"], windowed.result.info["windows"]
+    assert record["batch"] == 4 and serial["batch"] == 1
+    assert dist.result.selected == windowed.result.selected
+    assert (record["windows"], record["history"]) == (serial["windows"], serial["history"])
