@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",
           "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb",
           "plan_sha1", "limits", "wall_cap_hit", "search_before", "search_moves", "search_s", "windows_before", "windows",
-          "windows_proven", "windows_s"]
+          "windows_proven", "windows_s", "windows_batch"]
 
 
 class TreeRss:
@@ -95,9 +95,11 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
            # the local search on the kept plan: stations before it, its moves and time
            "search_before": info.get("local_search", {}).get("before"), "search_moves": info.get("local_search", {}).get("moves"),
            "search_s": info.get("local_search", {}).get("time_s"),
-           # the window re-solves after it: stations before them, windows solved (proven) and their time
+           # the window re-solves after it: stations before them, windows solved (proven), their time, and
+           # how many ran at a time (2 per worker thread on Dask)
            **{k: info.get("windows", {}).get(f) for k, f in (("windows_before", "before"), ("windows", "windows"),
-                                                              ("windows_proven", "proven"), ("windows_s", "time_s"))}}
+                                                              ("windows_proven", "proven"), ("windows_s", "time_s"),
+                                                              ("windows_batch", "batch"))}}
     row["greedy"] = _greedy(site, options, plan, greedy_cover)
     out.write_text(json.dumps(row))
     if figure is not None:
