@@ -34,6 +34,9 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: radius of a re-solve window around each station (default 60 m)")
     p.add_argument("--tile-window-work", type=float, default=3.0, metavar="S",
                    help="--tiles: CP-SAT deterministic seconds per window, wall cap 4x (default 3)")
+    p.add_argument("--tile-window-batch", type=int, default=1, metavar="N",
+                   help="--tiles on Dask: windows solved N at a time as tasks (default 1: one at a time in this "
+                        "process; same plan either way)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=int, default=0, metavar="N",
@@ -61,11 +64,12 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
 
     for flag, value, least in (("--tile-window-passes", args.tile_window_passes, 0),
                                ("--tile-window-radius", args.tile_window_radius, None),
-                               ("--tile-window-work", args.tile_window_work, None)):
+                               ("--tile-window-work", args.tile_window_work, None),
+                               ("--tile-window-batch", args.tile_window_batch, 1)):
         if (value < least) if least is not None else not value > 0:
-            raise UsageError("must be >= 0" if least is not None else "must be > 0", field=flag, value=value)
+            raise UsageError(f"must be >= {least}" if least is not None else "must be > 0", field=flag, value=value)
     windows = WindowOptions(radius_m=args.tile_window_radius, work_s=args.tile_window_work,
-                            passes=args.tile_window_passes, seed=options.milp.seed)
+                            passes=args.tile_window_passes, seed=options.milp.seed, batch=args.tile_window_batch)
     tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
                          bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
                          lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves,

@@ -21,7 +21,7 @@ One pass visits every station of the plan as a centre, in an order drawn by a ge
 (stations already removed are skipped). Work limits, not clocks, stop each window, so the result depends
 only on the input and the options (the wall-clock cap, ``WALL_CAP`` times the work, is counted when reached).
 
-Windows may run ``batch`` at a time through ``run`` (the tiles pass one that runs them as Dask tasks): the
+Windows may run ``batch`` at a time through ``run`` (tiled plans on Dask, with ``WindowOptions.batch`` > 1): the
 next ``batch`` centres are solved against the same plan, and their answers are taken in order. At the first
 answer that removes stations the plan changes, so the later answers of that batch, made for the old plan,
 are thrown away and their windows solved again in the next batch. Each answer taken was therefore made for
@@ -52,18 +52,21 @@ from planner.solve.result import Status
 @dataclass(frozen=True)
 class WindowOptions:
     """``radius_m``: window radius around each centre station; ``work_s``: CP-SAT deterministic seconds per
-    window; ``passes``: visits of every station as a centre (0: off); ``seed``: order of the centres."""
+    window; ``passes``: visits of every station as a centre (0: off); ``seed``: order of the centres;
+    ``batch``: windows solved at a time when a task runner is given (tiled plans on Dask; the result is
+    the same for every batch)."""
 
     radius_m: float = 60.0
     work_s: float = 3.0
     passes: int = 1
     seed: int = 0
+    batch: int = 1
 
     def __post_init__(self) -> None:
-        for name, ok in (("radius_m", self.radius_m > 0), ("work_s", self.work_s > 0), ("passes", self.passes >= 0)):
+        for name, ok, least in (("radius_m", self.radius_m > 0, "> 0"), ("work_s", self.work_s > 0, "> 0"),
+                                ("passes", self.passes >= 0, ">= 0"), ("batch", self.batch >= 1, ">= 1")):
             if not ok:
-                raise UsageError("must be >= 0" if name == "passes" else "must be > 0", field=name,
-                                 value=getattr(self, name))
+                raise UsageError(f"must be {least}", field=name, value=getattr(self, name))
 
 
 @dataclass(frozen=True)
@@ -96,7 +99,7 @@ def _one_by_one(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, A
 
 def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
                   xy: np.ndarray, options: WindowOptions | None = None, floor: int = 1,
-                  run: Runner | None = None, batch: int = 1) -> Windowed:
+                  run: Runner | None = None) -> Windowed:
     """The smallest connected cover found by re-solving ``plan`` window by window (module docstring).
 
     Parameters
@@ -113,13 +116,12 @@ def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashabl
         C x 2 candidate positions (m).
     floor
         Stop at this many stations (a proven lower bound).
-    run, batch
-        Solve ``batch`` windows at a time with ``run`` (default: here, one after the other); the result is
-        the same for every ``batch`` (module docstring).
+    run
+        Solve ``options.batch`` windows at a time with ``run`` (default: here, one after the other); the
+        result is the same for every batch (module docstring).
     """
-    if batch < 1:
-        raise UsageError("must be >= 1", field="batch", value=batch)
     o = options or WindowOptions()
+    batch = o.batch if run is not None else 1
     start = time.perf_counter()
     a, adj = a.astype(bool).tocsr(), adj.astype(bool).tocsr()
     at = a.T.tocsr()

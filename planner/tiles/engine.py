@@ -56,9 +56,34 @@ def run_tasks(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any
             out.append(fn(**shared, job=job))
             progress.report(step, k + 1, total)
         return out
+    return _on_client(fn, jobs, _scatter(client, shared), client, step)
+
+
+class TaskRunner:
+    """``run(fn, jobs, shared)``: :func:`run_tasks` on ``client`` for a caller that runs many small batches
+    with the same ``shared`` dict (the window re-solves): its values are sent to the workers once, when
+    a new dict (by identity) comes, not once per batch."""
+
+    def __init__(self, client: Any, step: str) -> None:
+        self.client, self.step = client, step
+        self._shared: dict[str, Any] | None = None
+        self._scattered: dict[str, Any] = {}
+
+    def __call__(self, fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any]) -> list[Any]:
+        if shared is not self._shared:
+            self._shared, self._scattered = shared, _scatter(self.client, shared)
+        return _on_client(fn, jobs, self._scattered, self.client, self.step)
+
+
+def _scatter(client: Any, shared: dict[str, Any]) -> dict[str, Any]:
+    return {k: client.scatter(v, broadcast=True, hash=False) for k, v in shared.items()}
+
+
+def _on_client(fn: Callable[..., Any], jobs: Sequence[Any], scattered: dict[str, Any], client: Any,
+               step: str) -> list[Any]:
     from dask.distributed import as_completed
 
-    scattered = {k: client.scatter(v, broadcast=True, hash=False) for k, v in shared.items()}
+    total = len(jobs)
     futures = [client.submit(fn, **scattered, job=job, pure=False) for job in jobs]
     index = {f.key: k for k, f in enumerate(futures)}
     results: list[Any] = [None] * total

@@ -22,7 +22,6 @@ What holds and why:
 from __future__ import annotations
 
 import time
-from functools import partial
 from dataclasses import dataclass, replace
 from typing import Any, cast
 
@@ -42,7 +41,7 @@ from planner.plan import Plan, PlanOptions, _limits, closed_form_limits, unseen_
 from planner.site.model import Site
 from planner.solve.milp import WALL_CAP, MilpOptions
 from planner.solve.result import SolveResult, Status
-from planner.tiles.engine import run_tasks
+from planner.tiles.engine import TaskRunner, run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import components, connected_greedy, group_members
 from planner.solve.local_search import shrink
@@ -220,16 +219,18 @@ def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept:
 
 def _windows(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, xy: np.ndarray,
              options: WindowOptions, floor: int, client: Any = None) -> tuple[Stitched, dict[str, Any]]:
-    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; on ``client``
-    as Dask tasks, two windows per worker thread at a time (the same result as one at a time)."""
-    batch = 2 * sum(client.nthreads().values()) if client is not None else 1
+    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; with a
+    ``client`` and ``options.batch`` > 1 as Dask tasks, that many at a time (the same result as one at a
+    time; on the 2-core machine slower, so not the default: docs/benchmarks/plant.md)."""
+    on_dask = client is not None and options.batch > 1
+    batch = options.batch if on_dask else 1
     record: dict[str, Any] = {"passes": options.passes, "radius_m": options.radius_m, "work_s": options.work_s,
                               "windows": 0, "batch": batch, "before": len(kept.selected),
                               "after": len(kept.selected), "time_s": 0.0}
     if options.passes <= 0 or any(p > 1 for p in kept.parts.values()):
         return kept, record
-    run = partial(run_tasks, client=client, step="windows") if client is not None else None
-    found = window_search(a, adj, groups, kept.selected, xy, options, floor, run, batch)
+    found = window_search(a, adj, groups, kept.selected, xy, options, floor,
+                          TaskRunner(client, "windows") if on_dask else None)
     record.update(windows=found.windows, proven=found.proven, wall_cap_hit=found.wall_cap_hit,
                   after=len(found.selected), time_s=round(found.time_s, 3), history=[list(h) for h in found.history])
     if not found.removed:

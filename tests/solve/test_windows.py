@@ -87,30 +87,23 @@ def test_batches_give_the_one_at_a_time_result():
     # plan, the history and the counts are the same, and only the answers made after a removal are solved twice
     inst, xy = _line(21)
     a, adj = _adjacency(inst)
-    o = WindowOptions(radius_m=4.0, passes=2)
-    one = window_search(a, adj, _groups(inst), list(range(21)), xy, o)
+    one = window_search(a, adj, _groups(inst), list(range(21)), xy, WindowOptions(radius_m=4.0, passes=2))
     assert len(one.history) >= 2
     for batch in (2, 3, 7):
+        o = WindowOptions(radius_m=4.0, passes=2, batch=batch)
         sizes: list[int] = []
 
         def run(fn, jobs, shared):
             sizes.append(len(jobs))
             return [fn(**shared, job=job) for job in jobs]
 
-        found = window_search(a, adj, _groups(inst), list(range(21)), xy, o, run=run, batch=batch)
+        found = window_search(a, adj, _groups(inst), list(range(21)), xy, o, run=run)
         assert (found.selected, found.history, found.windows, found.proven) == \
             (one.selected, one.history, one.windows, one.proven)
         assert max(sizes) == batch and one.windows <= sum(sizes) <= one.windows + len(one.history) * (batch - 1)
 
 
-def test_a_batch_below_one_is_refused():
-    inst, xy = _line(5)
-    a, adj = _adjacency(inst)
-    with pytest.raises(UsageError, match="batch"):
-        window_search(a, adj, _groups(inst), list(range(5)), xy, batch=0)
-
-
-@pytest.mark.parametrize("field,value", [("radius_m", 0.0), ("work_s", -1.0), ("passes", -1)])
+@pytest.mark.parametrize("field,value", [("radius_m", 0.0), ("work_s", -1.0), ("passes", -1), ("batch", 0)])
 def test_bad_options_are_refused(field, value):
     with pytest.raises(UsageError, match=field) as err:
         WindowOptions(**{field: value})

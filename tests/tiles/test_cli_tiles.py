@@ -43,7 +43,8 @@ def test_negative_lagrange_work_is_a_usage_error(capsys) -> None:
 
 
 def test_bad_window_options_are_usage_errors(capsys) -> None:
-    for flag, value in (("--tile-window-radius", "0"), ("--tile-window-work", "-1"), ("--tile-window-passes", "-1")):
+    for flag, value in (("--tile-window-radius", "0"), ("--tile-window-work", "-1"), ("--tile-window-passes", "-1"),
+                        ("--tile-window-batch", "0")):
         assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and flag in err and value in err

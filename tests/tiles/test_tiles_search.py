@@ -19,11 +19,11 @@ from tests.solve.test_local_search import _adjacency
 OPTIONS = PlanOptions(method="milp", pricing=False)
 
 
-def _tiling(moves: int, passes: int = 0) -> TileOptions:
+def _tiling(moves: int, passes: int = 0, batch: int = 1) -> TileOptions:
     # short tile MILPs and the LP bound only (ceil(7.73) = 8 on 1 ha), so the kept plan has room to shrink
     # (11 stations here); window re-solves only with passes, of 60 m (most of the 1-ha site; one run: 11 -> 10)
     return TileOptions(tile_m=50.0, tile_time_limit_s=0.5, bound_time_limit_s=0, local_search_moves=moves,
-                       windows=WindowOptions(radius_m=60.0, work_s=1.0, passes=passes))
+                       windows=WindowOptions(radius_m=60.0, work_s=1.0, passes=passes, batch=batch))
 
 
 @pytest.fixture(scope="module")
@@ -105,12 +105,12 @@ def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed) -> None:
 
 
 def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed) -> None:
-    # the windows run 4 at a time (2 per worker thread) as Dask tasks; the answers are taken in the serial
-    # order, so the plan and the window history are those of the serial run
+    # with batch 4 the windows run 4 at a time as Dask tasks; the answers are taken in the serial order, so
+    # the plan and the window history are those of the serial run (which ignores the batch: no client)
     from planner.tiles import dask_client
 
     with dask_client(workers=2) as client:
-        dist = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1), client=client)
+        dist = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1, batch=4), client=client)
     record, serial = dist.result.info["windows"], windowed.result.info["windows"]
     assert record["batch"] == 4 and serial["batch"] == 1
     assert dist.result.selected == windowed.result.selected
