@@ -27,8 +27,10 @@ answer that removes stations the plan changes, so the later answers of that batc
 are thrown away and their windows solved again in the next batch. Each answer taken was therefore made for
 the plan the one-at-a-time search would have given it: the result, and the counts, do not depend on
 ``batch`` or on the number of workers (test ``test_batches_give_the_one_at_a_time_result``).
+
 Cost: on the 16-ha plant (104 stations) windows of 60 m held 3 to 10 of the plan's stations, and one pass
-of 101 windows took 112-133 s (one run each, docs/benchmarks/plant.md).
+of 101 windows took 112-133 s one at a time, and 158 s 4 at a time on 2 Dask workers of the 2-core machine
+(one run each, docs/benchmarks/plant.md).
 """
 
 from __future__ import annotations
