@@ -7,7 +7,7 @@ tile phase (coverage + tile MILPs), stitch and bound times, stations, bound, gap
 parts, verified %, and the plain greedy (not connected) on the same matrix beside it.
 
     python scripts/bench_plant.py [--areas 1 4 16] [--workers 1 2] [--tile 100] [--tile-time-limit 20]
-        [--search-moves 20000] [--window-passes 1] [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
+        [--search-moves 20000] [--window-passes 1] [--window-batch 1] [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
     python scripts/bench_plant.py --from-csv a.csv b.csv     # the table and slopes of earlier runs
 """
 
@@ -67,7 +67,7 @@ class TreeRss:
 
 
 def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit: float, out: Path,
-        figure: Path | None, search_moves: int = 20_000, window_passes: int = 1) -> None:
+        figure: Path | None, search_moves: int = 20_000, window_passes: int = 1, window_batch: int = 1) -> None:
     """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
     from planner.plan import PlanOptions
     from planner.site.load import load_site
@@ -78,7 +78,7 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     options = PlanOptions(method="milp", pricing=False)
     tiling = TileOptions(tile_m=tile_m, tile_time_limit_s=tile_limit, bound_time_limit_s=bound_limit,
-                         local_search_moves=search_moves, windows=WindowOptions(passes=window_passes))
+                         local_search_moves=search_moves, windows=WindowOptions(passes=window_passes, batch=window_batch))
     with TreeRss() as rss:
         with dask_client(workers) as client:
             plan = plan_by_tiles(site, options, tiling, client=client)
@@ -166,7 +166,8 @@ def _limits(plan):
 def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None) -> dict:
     args_ = ["--one", f"{area:g}", "--workers", str(workers), "--tile", str(args.tile), "--tile-time-limit",
              str(args.tile_time_limit), "--bound-time-limit", str(args.bound_time_limit), "--search-moves",
-             str(args.search_moves), "--window-passes", str(args.window_passes)] + (["--figure", str(figure)] if figure is not None else [])
+             str(args.search_moves), "--window-passes", str(args.window_passes), "--window-batch", str(args.window_batch)]
+    args_ += ["--figure", str(figure)] if figure is not None else []
     t0 = time.perf_counter()
     row = json_child(__file__, args_, f"run {area} ha x {workers}")
     row["wall_s"] = round(time.perf_counter() - t0, 1)
@@ -190,6 +191,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--bound-time-limit", type=float, default=60.0)
     ap.add_argument("--search-moves", type=int, default=20_000, help="local search moves on the kept plan (0: none)")
     ap.add_argument("--window-passes", type=int, default=1, help="passes of window re-solves after the search (0: none)")
+    ap.add_argument("--window-batch", type=int, default=1, help="windows solved at a time as Dask tasks (1: one at a time in the client)")
     ap.add_argument("--csv", type=Path, default=None)
     ap.add_argument("--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)")
     ap.add_argument("--from-csv", type=Path, nargs="+", default=None,
@@ -199,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.one is not None:
         one(args.one, args.workers[0], args.tile, args.tile_time_limit, args.bound_time_limit, args.json, args.figure,
-            args.search_moves, args.window_passes)
+            args.search_moves, args.window_passes, args.window_batch)
         return 0
     rows = []
     if args.from_csv:
