@@ -175,9 +175,14 @@ def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None
 
 
 def slopes(rows: list[dict], key: str) -> str:
-    """Log-log slope of ``key`` against area between consecutive areas (at the largest worker count)."""
+    """Log-log slope of ``key`` against area between consecutive areas (at the largest worker count; of
+    several runs of one area, e.g. other window batches, the first)."""
     w = max(r["workers"] for r in rows)
-    pts = sorted((r["area_ha"], r[key]) for r in rows if r["workers"] == w and r[key])
+    first: dict[float, float] = {}
+    for r in rows:
+        if r["workers"] == w and r[key]:
+            first.setdefault(r["area_ha"], r[key])
+    pts = sorted(first.items())
     return ", ".join(f"{a0:g}->{a1:g} ha: {math.log(v1 / v0) / math.log(a1 / a0):.2f}"
                      for (a0, v0), (a1, v1) in zip(pts, pts[1:]))
 
