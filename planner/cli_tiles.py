@@ -47,6 +47,11 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles --workers: memory limit of each worker (default 1.5GiB)")
 
 
+#: the WindowOptions field each --tile-window-* flag sets
+_WINDOW_FLAGS = {"radius_m": "--tile-window-radius", "work_s": "--tile-window-work", "passes": "--tile-window-passes",
+                 "batch": "--tile-window-batch"}
+
+
 def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> Plan:
     """``plan_site`` or, with ``--tiles``, ``plan_by_tiles`` (serially or on Dask)."""
     from planner.plan import plan_site
@@ -62,14 +67,11 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
     from planner.solve.windows import WindowOptions
     from planner.tiles import TileOptions, dask_client, plan_by_tiles
 
-    for flag, value, least in (("--tile-window-passes", args.tile_window_passes, 0),
-                               ("--tile-window-radius", args.tile_window_radius, None),
-                               ("--tile-window-work", args.tile_window_work, None),
-                               ("--tile-window-batch", args.tile_window_batch, 1)):
-        if (value < least) if least is not None else not value > 0:
-            raise UsageError(f"must be >= {least}" if least is not None else "must be > 0", field=flag, value=value)
-    windows = WindowOptions(radius_m=args.tile_window_radius, work_s=args.tile_window_work,
-                            passes=args.tile_window_passes, seed=options.milp.seed, batch=args.tile_window_batch)
+    try:  # WindowOptions checks the values; the error names the flag that gave the bad one
+        windows = WindowOptions(radius_m=args.tile_window_radius, work_s=args.tile_window_work,
+                                passes=args.tile_window_passes, seed=options.milp.seed, batch=args.tile_window_batch)
+    except UsageError as err:
+        raise UsageError(err.message, field=_WINDOW_FLAGS.get(err.field or "", err.field), value=err.value) from None
     tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
                          bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
                          lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves,

@@ -247,8 +247,6 @@ def _improved(kept: Stitched, adj: sp.csr_matrix, groups: tuple[str, ...], selec
                    tried={**(kept.tried or {}), step: len(selected)})
 
 
-
-
 def deterministic_limits(milp: MilpOptions, tiling: TileOptions) -> bool:
     """Whether the tile and bound MILPs run on CP-SAT work limits (see :class:`TileOptions`)."""
     return tiling.deterministic and milp.backend == "cpsat" and milp.threads == 1
