@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import re
 import subprocess
@@ -28,3 +29,13 @@ def json_child(script: str, args: list[str], what: str) -> dict:
         row = json.loads(out.read_text())
     row["peak_rss_mb"] = peak_rss_mb(proc.stderr)
     return row
+
+
+def append_csv(path: Path, fields: list[str], rows: list[dict]) -> None:
+    """Append ``rows`` (only ``fields``, missing ones empty) to the CSV at ``path``, with a header when new."""
+    new = not path.exists()
+    with path.open("a", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        if new:
+            w.writeheader()
+        w.writerows({k: r.get(k, "") for k in fields} for r in rows)

@@ -11,13 +11,12 @@ seconds)) and its time, the Lagrangian bound (raw and rounded up), its time and 
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import sys
 import time
 from pathlib import Path
 
-from _timed import json_child
+from _timed import append_csv, json_child
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -82,12 +81,7 @@ def main(argv: list[str] | None = None) -> int:
     row = run(args)
     print(json.dumps(row), flush=True)
     if args.csv:
-        new = not args.csv.exists()
-        with args.csv.open("a", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=FIELDS)
-            if new:
-                w.writeheader()
-            w.writerow({k: row.get(k, "") for k in FIELDS})
+        append_csv(args.csv, FIELDS, [row])
     return 0
 
 

@@ -24,14 +24,13 @@ the whole run (``/usr/bin/time -v``) is added to every row of that run.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import sys
 import time
 from pathlib import Path
 from typing import Any
 
-from _timed import json_child
+from _timed import append_csv, json_child
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -223,12 +222,7 @@ def main(argv: list[str] | None = None) -> int:
     for r in rows:
         print(json.dumps(r), flush=True)
     if args.csv:
-        new = not args.csv.exists()
-        with args.csv.open("a", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=FIELDS)
-            if new:
-                w.writeheader()
-            w.writerows({k: r.get(k, "") for k in FIELDS} for r in rows)
+        append_csv(args.csv, FIELDS, rows)
     return 0
 
 
