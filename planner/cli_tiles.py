@@ -28,6 +28,9 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: Lagrangian parts of N x N tiles (default 1)")
     p.add_argument("--tile-search-moves", type=int, default=20_000, metavar="N",
                    help="--tiles: move budget of the local search that shrinks the kept connected plan (default 20000; 0: none)")
+    p.add_argument("--tile-search-seeds", type=int, default=1, metavar="N",
+                   help="--tiles: run the local search with seeds 0..N-1 (as Dask tasks with --workers) and keep the "
+                        "smallest plan (default 1)")
     p.add_argument("--tile-window-passes", type=int, default=1, metavar="N",
                    help="--tiles: passes of the exact window re-solves after the local search (default 1; 0: none)")
     p.add_argument("--tile-window-radius", type=float, default=60.0, metavar="M",
@@ -50,6 +53,8 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
 #: the WindowOptions field each --tile-window-* flag sets
 _WINDOW_FLAGS = {"radius_m": "--tile-window-radius", "work_s": "--tile-window-work", "passes": "--tile-window-passes",
                  "batch": "--tile-window-batch"}
+#: TileOptions fields checked there, and the flags that give them
+_TILE_FLAGS = {"local_search_moves": "--tile-search-moves", "search_seeds": "--tile-search-seeds"}
 
 
 def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> Plan:
@@ -72,10 +77,13 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
                                 passes=args.tile_window_passes, seed=options.milp.seed, batch=args.tile_window_batch)
     except UsageError as err:
         raise UsageError(err.message, field=_WINDOW_FLAGS.get(err.field or "", err.field), value=err.value) from None
-    tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
-                         bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
-                         lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves,
-                         windows=windows)
+    try:
+        tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
+                             bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
+                             lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves,
+                             search_seeds=args.tile_search_seeds, windows=windows)
+    except UsageError as err:
+        raise UsageError(err.message, field=_TILE_FLAGS.get(err.field or "", err.field), value=err.value) from None
     if args.lagrange_work is not None:
         if args.lagrange_work < 0:
             raise UsageError("must be >= 0", field="--lagrange-work", value=args.lagrange_work)

@@ -7,7 +7,7 @@ tile phase (coverage + tile MILPs), stitch and bound times, stations, bound, gap
 parts, verified %, and the plain greedy (not connected) on the same matrix beside it.
 
     python scripts/bench_plant.py [--areas 1 4 16] [--workers 1 2] [--tile 100] [--tile-time-limit 20]
-        [--search-moves 20000] [--window-passes 1] [--window-batch 1] [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
+        [--search-moves 20000] [--search-seeds 1] [--window-passes 1] [--window-batch 1] [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
     python scripts/bench_plant.py --from-csv a.csv b.csv     # the table and slopes of earlier runs
 """
 
@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",
           "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb",
           "plan_sha1", "limits", "wall_cap_hit", "search_before", "search_moves", "search_s", "windows_before", "windows",
-          "windows_proven", "windows_s", "windows_batch"]
+          "windows_proven", "windows_s", "windows_batch", "search_seeds", "search_per_seed"]
 
 
 class TreeRss:
@@ -67,7 +67,8 @@ class TreeRss:
 
 
 def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit: float, out: Path,
-        figure: Path | None, search_moves: int = 20_000, window_passes: int = 1, window_batch: int = 1) -> None:
+        figure: Path | None, search_moves: int = 20_000, window_passes: int = 1, window_batch: int = 1,
+        search_seeds: int = 1) -> None:
     """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
     from planner.plan import PlanOptions
     from planner.site.load import load_site
@@ -78,7 +79,7 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     options = PlanOptions(method="milp", pricing=False)
     tiling = TileOptions(tile_m=tile_m, tile_time_limit_s=tile_limit, bound_time_limit_s=bound_limit,
-                         local_search_moves=search_moves, windows=WindowOptions(passes=window_passes, batch=window_batch))
+                         local_search_moves=search_moves, search_seeds=search_seeds, windows=WindowOptions(passes=window_passes, batch=window_batch))
     with TreeRss() as rss:
         with dask_client(workers) as client:
             plan = plan_by_tiles(site, options, tiling, client=client)
@@ -94,7 +95,8 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
            "limits": info.get("limits", ""), "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none",
            # the local search on the kept plan: stations before it, its moves and time
            "search_before": info.get("local_search", {}).get("before"), "search_moves": info.get("local_search", {}).get("moves"),
-           "search_s": info.get("local_search", {}).get("time_s"),
+           "search_s": info.get("local_search", {}).get("time_s"), "search_seeds": info.get("local_search", {}).get("seeds"),
+           "search_per_seed": " ".join(str(n) for n in info.get("local_search", {}).get("per_seed", [])),
            # the window re-solves after it: stations before them, windows solved (proven), their time, and
            # how many ran at a time (2 per worker thread on Dask)
            **{k: info.get("windows", {}).get(f) for k, f in (("windows_before", "before"), ("windows", "windows"),
@@ -166,7 +168,8 @@ def _limits(plan):
 def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None) -> dict:
     args_ = ["--one", f"{area:g}", "--workers", str(workers), "--tile", str(args.tile), "--tile-time-limit",
              str(args.tile_time_limit), "--bound-time-limit", str(args.bound_time_limit), "--search-moves",
-             str(args.search_moves), "--window-passes", str(args.window_passes), "--window-batch", str(args.window_batch)]
+             str(args.search_moves), "--window-passes", str(args.window_passes), "--window-batch", str(args.window_batch),
+             "--search-seeds", str(args.search_seeds)]
     args_ += ["--figure", str(figure)] if figure is not None else []
     t0 = time.perf_counter()
     row = json_child(__file__, args_, f"run {area} ha x {workers}")
@@ -195,6 +198,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tile-time-limit", type=float, default=20.0)
     ap.add_argument("--bound-time-limit", type=float, default=60.0)
     ap.add_argument("--search-moves", type=int, default=20_000, help="local search moves on the kept plan (0: none)")
+    ap.add_argument("--search-seeds", type=int, default=1, help="local searches with seeds 0..N-1, the smallest kept")
     ap.add_argument("--window-passes", type=int, default=1, help="passes of window re-solves after the search (0: none)")
     ap.add_argument("--window-batch", type=int, default=1, help="windows solved at a time as Dask tasks (1: one at a time in the client)")
     ap.add_argument("--csv", type=Path, default=None)
@@ -206,7 +210,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.one is not None:
         one(args.one, args.workers[0], args.tile, args.tile_time_limit, args.bound_time_limit, args.json, args.figure,
-            args.search_moves, args.window_passes, args.window_batch)
+            args.search_moves, args.window_passes, args.window_batch, args.search_seeds)
         return 0
     rows = []
     if args.from_csv:

@@ -44,11 +44,11 @@ from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import TaskRunner, run_tasks
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.solve.connectivity import components, connected_greedy, group_members
-from planner.solve.local_search import shrink
+from planner.solve.local_search import Shrunk
 from planner.solve.windows import WindowOptions, window_search
 from planner.tiles.lagrange import group_parts
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
-from planner.tiles.tasks import TileJob, TileResult, tile_task
+from planner.tiles.tasks import TileJob, TileResult, shrink_task, tile_task
 from planner.validate import ValidationReport, validate_site
 from planner.verify import verify_stations
 
@@ -67,7 +67,10 @@ class TileOptions:
     ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
     ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
     LP-dual split only, 10 s: 75-116 s on the 16-ha plant, docs/benchmarks/plant.md). ``windows``: the
-    window re-solves after the local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none)."""
+    window re-solves after the local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none).
+    ``search_seeds``: the local search runs once per seed ``0 .. search_seeds - 1`` from the same kept plan
+    (as Dask tasks when there is a client) and the smallest result is kept, the lowest seed on ties; the
+    same plan on any number of workers."""
 
     tile_m: float = 100.0
     margin_m: float | None = None
@@ -79,6 +82,7 @@ class TileOptions:
     lagrange_iterations: int = 0
     lagrange_work_s: float = 10.0
     local_search_moves: int = 20_000
+    search_seeds: int = 1
     windows: WindowOptions = WindowOptions()
 
     def __post_init__(self) -> None:
@@ -91,6 +95,8 @@ class TileOptions:
                              value=self.lagrange_group)
         if self.local_search_moves < 0:
             raise UsageError("local search moves must be >= 0", field="local_search_moves", value=self.local_search_moves)
+        if self.search_seeds < 1:
+            raise UsageError("must be >= 1", field="search_seeds", value=self.search_seeds)
 
 
 def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
@@ -172,7 +178,8 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
                          lagrange_work_s=tiling.lagrange_work_s, client=client)
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
     t_search = time.perf_counter()
-    joined, search = best_plan(by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value)
+    joined, search = best_plan(by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value,
+                               tiling.search_seeds, client)
     t_windows = time.perf_counter()
     joined, windows = _windows(by_cand, adj, groups, joined, xy, tiling.windows, bound.value, client)
     return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
@@ -183,12 +190,14 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
 
 
 def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], tiled: Stitched,
-              cover: tuple[int, ...], moves: int = 0, floor: int = 1) -> tuple[Stitched, dict[str, Any]]:
+              cover: tuple[int, ...], moves: int = 0, floor: int = 1, seeds: int = 1,
+              client: Any = None) -> tuple[Stitched, dict[str, Any]]:
     """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
     earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
     site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; ``tried`` records all
     three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
-    (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound)
+    (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound; once per seed
+    ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on ties)
     then looks for a smaller connected cover; the second value says what it did."""
     plans = [tiled]
     if cover:
@@ -198,20 +207,24 @@ def best_plan(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], til
         plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
     best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
     best = replace(best, tried={p.source: len(p.selected) for p in plans})
-    return _search(a, adj, groups, best, moves, floor)
+    return _search(a, adj, groups, best, moves, floor, seeds, client)
 
 
 def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, moves: int,
-            floor: int) -> tuple[Stitched, dict[str, Any]]:
+            floor: int, seeds: int = 1, client: Any = None) -> tuple[Stitched, dict[str, Any]]:
     """The local search on ``kept`` (see :func:`best_plan`) and its record for plan.json."""
     record: dict[str, Any] = {"moves_budget": moves, "moves": 0, "before": len(kept.selected),
                               "after": len(kept.selected), "removed": 0, "time_s": 0.0}
     if moves <= 0 or any(p > 1 for p in kept.parts.values()):  # it starts from a connected cover only
         return kept, record
     t0 = time.perf_counter()
-    found = shrink(a, adj, groups, kept.selected, moves=moves, floor=floor)
+    shared = {"a": a, "adj": adj, "groups": groups, "plan": kept.selected, "moves": moves, "floor": floor}
+    runs: list[Shrunk] = run_tasks(shrink_task, list(range(seeds)), shared, client if seeds > 1 else None, step="search")
+    seed = min(range(seeds), key=lambda k: (len(runs[k].selected), k))
+    found = runs[seed]
     record.update(moves=found.moves, after=len(found.selected), removed=found.removed,
-                  time_s=round(time.perf_counter() - t0, 3), history=[list(h) for h in found.history])
+                  time_s=round(time.perf_counter() - t0, 3), history=[list(h) for h in found.history],
+                  seeds=seeds, seed=seed, per_seed=[len(r.selected) for r in runs])
     if not found.removed:
         return kept, record
     return _improved(kept, adj, groups, found.selected, "local search"), record

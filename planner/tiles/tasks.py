@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from planner.candidates.model import Candidate
@@ -18,6 +19,7 @@ from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
 from planner.solve.instance import cover_instance
+from planner.solve.local_search import Shrunk, shrink
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import Status
 from planner.tiles.layout import Tile, take_targets
@@ -86,3 +88,9 @@ def tile_task(site: Site, candidates: Sequence[Candidate], targets: Targets, lim
     selected = tuple(sorted(int(job.candidates[i]) for i in picked))
     return TileResult(job.tile, rows, cols, slant, inc, res.status, selected, res.objective, res.bound,
                       unseen, covers, t1 - t0, time.perf_counter() - t1, res.wall_cap_hit)
+
+
+def shrink_task(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], plan: Sequence[int], moves: int,
+                floor: int, job: int) -> Shrunk:
+    """The local search on the kept plan with seed ``job`` (one of the seeds of ``TileOptions.search_seeds``)."""
+    return shrink(a, adj, groups, plan, moves=moves, floor=floor, seed=job)

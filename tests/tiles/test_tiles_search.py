@@ -6,6 +6,7 @@ from __future__ import annotations
 import pytest
 
 from planner.errors import UsageError
+from planner.solve.local_search import shrink
 from planner.plan import PlanOptions
 from planner.site.load import load_site
 from planner.solve.windows import WindowOptions
@@ -13,7 +14,7 @@ from planner.tiles import TileOptions, plan_by_tiles
 from planner.tiles.run import best_plan
 from planner.tiles.stitch import stitch
 from tests.conftest import INSTANCES
-from tests.solve.test_connectivity_methods import instance
+from tests.solve.test_connectivity_methods import instance, random_instance
 from tests.solve.test_local_search import _adjacency
 
 OPTIONS = PlanOptions(method="milp", pricing=False)
@@ -30,6 +31,14 @@ def _tiling(moves: int, passes: int = 0, batch: int = 1) -> TileOptions:
 def plans():
     site = load_site(INSTANCES / "plant_1ha.json")
     return plan_by_tiles(site, OPTIONS, _tiling(0)), plan_by_tiles(site, OPTIONS, _tiling(300)), site
+
+
+@pytest.fixture(scope="module")
+def dask2():
+    from planner.tiles import dask_client
+
+    with dask_client(workers=2) as client:
+        yield client
 
 
 @pytest.fixture(scope="module")
@@ -77,9 +86,45 @@ def test_best_plan_searches_only_with_moves() -> None:
     assert record["removed"] == len(kept.selected) - 5 and searched.parts == {"g": 1}
 
 
+def _seeded():
+    # random_instance(5) (tests/solve/test_connectivity_methods); its kept plan is the best of the pruned
+    # 'tile plan' of all candidates and the connected greedy (best_plan with no moves)
+    inst = random_instance(5)
+    a, adj = _adjacency(inst)
+    groups = tuple(str(g) for g in inst.groups or ())
+    return a, adj, groups, stitch(a, adj, groups, [list(range(a.shape[0]))])
+
+
+def test_search_seeds_keep_the_smallest_run_and_the_lowest_seed_on_ties() -> None:
+    a, adj, groups, tiled = _seeded()
+    before, _ = best_plan(a, adj, groups, tiled, (), moves=0)
+    # shrink alone with seeds 0..3 and 5 moves each, from that kept plan (9 stations; runs of 9, 8, 8, 8 here,
+    # so seed 1 is kept);
+    # best_plan must report each run's size and keep the smallest, the lowest seed among equals
+    alone = [shrink(a, adj, groups, before.selected, moves=5, seed=k) for k in range(4)]
+    kept, record = best_plan(a, adj, groups, tiled, (), moves=5, seeds=4)
+    best = min(range(4), key=lambda k: (len(alone[k].selected), k))
+    assert record["per_seed"] == [len(r.selected) for r in alone] and record["seeds"] == 4
+    assert record["seed"] == best and set(kept.selected) == set(alone[best].selected)
+    assert record["after"] == len(kept.selected) == min(record["per_seed"]) <= len(before.selected)
+    # with one seed the search is the seed-0 run, as before seeds existed
+    one, rec1 = best_plan(a, adj, groups, tiled, (), moves=5)
+    assert set(one.selected) == set(alone[0].selected) and rec1["per_seed"] == [len(alone[0].selected)]
+
+
+def test_search_seeds_on_two_dask_workers_give_the_serial_result(dask2) -> None:
+    a, adj, groups, tiled = _seeded()
+    serial = best_plan(a, adj, groups, tiled, (), moves=5, seeds=4)
+    dist = best_plan(a, adj, groups, tiled, (), moves=5, seeds=4, client=dask2)
+    assert dist[0].selected == serial[0].selected
+    assert {k: v for k, v in dist[1].items() if k != "time_s"} == {k: v for k, v in serial[1].items() if k != "time_s"}
+
+
 def test_negative_move_budget_is_refused() -> None:
     with pytest.raises(UsageError):
         TileOptions(local_search_moves=-1)
+    with pytest.raises(UsageError, match="must be >= 1"):
+        TileOptions(search_seeds=0)
 
 
 def test_windows_never_grow_the_kept_plan_and_keep_it_verified(plans, windowed) -> None:
@@ -104,13 +149,10 @@ def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed) -> None:
     assert again.result.info["windows"]["history"] == windowed.result.info["windows"]["history"]
 
 
-def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed) -> None:
+def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed, dask2) -> None:
     # with batch 4 the windows run 4 at a time as Dask tasks; the answers are taken in the serial order, so
     # the plan and the window history are those of the serial run (which ignores the batch: no client)
-    from planner.tiles import dask_client
-
-    with dask_client(workers=2) as client:
-        dist = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1, batch=4), client=client)
+    dist = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1, batch=4), client=dask2)
     record, serial = dist.result.info["windows"], windowed.result.info["windows"]
     assert record["batch"] == 4 and serial["batch"] == 1
     assert dist.result.selected == windowed.result.selected
