@@ -48,3 +48,11 @@ def test_bad_window_options_are_usage_errors(capsys) -> None:
         assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and flag in err and value in err
+
+
+def test_bad_search_options_name_their_flag(capsys) -> None:
+    # TileOptions checks them; the one-line error names the flag, not the field
+    for flag, value in (("--tile-search-moves", "-1"), ("--tile-search-seeds", "0")):
+        assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and f"{flag} = {value}" in err

@@ -6,9 +6,9 @@ from __future__ import annotations
 import pytest
 
 from planner.errors import UsageError
-from planner.solve.local_search import shrink
 from planner.plan import PlanOptions
 from planner.site.load import load_site
+from planner.solve.local_search import shrink
 from planner.solve.windows import WindowOptions
 from planner.tiles import TileOptions, plan_by_tiles
 from planner.tiles.run import best_plan
@@ -98,9 +98,9 @@ def _seeded():
 def test_search_seeds_keep_the_smallest_run_and_the_lowest_seed_on_ties() -> None:
     a, adj, groups, tiled = _seeded()
     before, _ = best_plan(a, adj, groups, tiled, (), moves=0)
-    # shrink alone with seeds 0..3 and 5 moves each, from that kept plan (9 stations; runs of 9, 8, 8, 8 here,
-    # so seed 1 is kept);
-    # best_plan must report each run's size and keep the smallest, the lowest seed among equals
+    # shrink alone with seeds 0..3 and 5 moves each, from that kept plan of 9 stations (here the runs end at
+    # 9, 8, 8, 8, so seed 1 is kept): best_plan must report each run's size and keep the smallest, the lowest
+    # seed among equals
     alone = [shrink(a, adj, groups, before.selected, moves=5, seed=k) for k in range(4)]
     kept, record = best_plan(a, adj, groups, tiled, (), moves=5, seeds=4)
     best = min(range(4), key=lambda k: (len(alone[k].selected), k))
