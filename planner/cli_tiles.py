@@ -50,11 +50,10 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles --workers: memory limit of each worker (default 1.5GiB)")
 
 
-#: the WindowOptions field each --tile-window-* flag sets
-_WINDOW_FLAGS = {"radius_m": "--tile-window-radius", "work_s": "--tile-window-work", "passes": "--tile-window-passes",
-                 "batch": "--tile-window-batch"}
-#: TileOptions fields checked there, and the flags that give them
-_TILE_FLAGS = {"local_search_moves": "--tile-search-moves", "search_seeds": "--tile-search-seeds"}
+#: the WindowOptions and TileOptions fields checked there, and the flags that give them
+_FLAGS = {"radius_m": "--tile-window-radius", "work_s": "--tile-window-work", "passes": "--tile-window-passes",
+          "batch": "--tile-window-batch", "local_search_moves": "--tile-search-moves",
+          "search_seeds": "--tile-search-seeds"}
 
 
 def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> Plan:
@@ -72,18 +71,15 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
     from planner.solve.windows import WindowOptions
     from planner.tiles import TileOptions, dask_client, plan_by_tiles
 
-    try:  # WindowOptions checks the values; the error names the flag that gave the bad one
+    try:  # WindowOptions and TileOptions check the values; the error names the flag that gave the bad one
         windows = WindowOptions(radius_m=args.tile_window_radius, work_s=args.tile_window_work,
                                 passes=args.tile_window_passes, seed=options.milp.seed, batch=args.tile_window_batch)
-    except UsageError as err:
-        raise UsageError(err.message, field=_WINDOW_FLAGS.get(err.field or "", err.field), value=err.value) from None
-    try:
         tiling = TileOptions(tile_m=args.tiles, tile_time_limit_s=args.tile_time_limit,
                              bound_time_limit_s=args.bound_time_limit, deterministic=not args.tile_wall_clock,
                              lagrange_group=args.lagrange_group, local_search_moves=args.tile_search_moves,
                              search_seeds=args.tile_search_seeds, windows=windows)
     except UsageError as err:
-        raise UsageError(err.message, field=_TILE_FLAGS.get(err.field or "", err.field), value=err.value) from None
+        raise UsageError(err.message, field=_FLAGS.get(err.field or "", err.field), value=err.value) from None
     if args.lagrange_work is not None:
         if args.lagrange_work < 0:
             raise UsageError("must be >= 0", field="--lagrange-work", value=args.lagrange_work)
