@@ -29,21 +29,16 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     """Matrix as :func:`planner.tiles.run.plan_by_tiles` has it (the tiles' columns are the site's), then bounds."""
     import numpy as np
 
-    from planner.coverage.matrix import build_coverage
-    from planner.plan import PlanOptions, _limits
+    from planner.plan import PlanOptions
     from planner.site.load import load_site
     from planner.tiles.lagrange import group_parts
     from planner.tiles.layout import make_tiles, zone_anchors
-    from planner.tiles.run import site_pool
+    from planner.tiles.prepare import prepare
     from planner.tiles.stitch import global_bound
-    from planner.validate import validate_site
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
-    options = PlanOptions(method="milp", pricing=False)
-    validation = validate_site(site)
-    limits = _limits(validation, options)
-    pool, targets = site_pool(site, options, validation)
-    a = build_coverage(site, pool, targets, limits).by_candidate.astype(bool).tocsr()
+    prep = prepare(site, PlanOptions(method="milp", pricing=False))
+    a, targets, limits = prep.coverage(site), prep.targets, prep.limits
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, 100.0, limits.max_slant_range_m)
     parts = group_parts([(t.row, t.col) for t in tiles], [np.flatnonzero(t.in_core(anchor)) for t in tiles], group)

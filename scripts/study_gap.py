@@ -42,30 +42,15 @@ def site_matrices(area: float) -> tuple[Any, Any, tuple[str, ...], Any]:
     """Coverage (candidates x pieces, bool CSR), overlap adjacency, registration groups and piece midpoints,
     as :func:`planner.tiles.run.plan_by_tiles` has them (its tiles' columns are the site's)."""
     import numpy as np
-    import scipy.sparse as sp
 
-    from planner.coverage.links import registration_groups
-    from planner.coverage.matrix import build_coverage, station_places
-    from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
-    from planner.plan import PlanOptions, _limits
+    from planner.plan import PlanOptions
     from planner.site.load import load_site
-    from planner.tiles.run import site_pool
-    from planner.validate import validate_site
+    from planner.tiles.prepare import prepare
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
-    options = PlanOptions(method="milp", pricing=False)
-    validation = validate_site(site)
-    limits = _limits(validation, options)
-    pool, targets = site_pool(site, options, validation)
-    xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
-    usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason])
-    a = (sp.diags(usable.astype(float)) @ build_coverage(site, pool, targets, limits).by_candidate.astype(float))
-    a = a.astype(bool).tocsr()
-    a.eliminate_zeros()
-    labels, links = registration_groups(site, pool, "site", limits.range_limit_m)
-    groups = tuple("/".join(str(x) for x in g) for g in labels)
-    adj, _ = overlap_adjacency(a, piece_lengths(targets.s0_m, targets.s1_m), OverlapRule(site.parameters.overlap),
-                               groups, xy, links)
+    prep = prepare(site, PlanOptions(method="milp", pricing=False))
+    a = prep.coverage(site)
+    adj, groups, targets = prep.overlap(a), prep.groups, prep.targets
     mid = (np.asarray(targets.a) + np.asarray(targets.b)) / 2.0
     return a, adj, groups, mid
 

@@ -23,21 +23,15 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
-from planner.candidates.from_regions import whole_side_candidates
-from planner.candidates.pool import candidate_pool, dedupe
-from planner.coverage.links import registration_groups
-from planner.coverage.matrix import CoverageProblem, station_places
-from planner.coverage.regions import regions_apply
-from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
-from planner.candidates.model import Candidate
-from planner.coverage.targets import Targets, make_targets
-from planner.errors import InfeasibleError, UsageError
-from planner.plan import Plan, PlanOptions, _limits, closed_form_limits, unseen_error
+from planner.coverage.matrix import CoverageProblem
+from planner.coverage.overlap import OverlapRule
+from planner.errors import UsageError
+from planner.plan import Plan, PlanOptions, unseen_error
 from planner.site.model import Site
 from planner.solve.milp import WALL_CAP, MilpOptions
 from planner.solve.result import SolveResult, Status
@@ -47,9 +41,10 @@ from planner.solve.connectivity import components, connected_greedy, group_membe
 from planner.solve.local_search import Shrunk
 from planner.solve.windows import WindowOptions, window_search
 from planner.tiles.lagrange import group_parts
+from planner.tiles.prepare import prepare
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
-from planner.tiles.tasks import TileJob, TileResult, shrink_task, tile_task
-from planner.validate import ValidationReport, validate_site
+from planner.tiles.tasks import TileResult, shrink_task, tile_task
+from planner.validate import ValidationReport
 from planner.verify import verify_stations
 
 
@@ -114,16 +109,6 @@ def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.c
             mat(np.concatenate([r.incidence_deg for r in results])))
 
 
-def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) -> tuple[list[Candidate], Targets]:
-    """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them."""
-    limits = _limits(validation, options)
-    targets = make_targets(site, options.target_spacing_m)
-    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
-    if options.regions and regions_apply(limits):
-        pool = dedupe(pool + whole_side_candidates(site, targets, limits))
-    return pool, targets
-
-
 def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOptions | None = None,
                   client: Any = None) -> Plan:
     """Plan ``site`` by tiles with the MILP options of ``options`` (module docstring); on ``client``
@@ -141,15 +126,10 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     if len({z.frame for z in site.zones}) != 1:
         raise UsageError("tiles need every zone in one coordinate frame", field="tiles")
     start = time.perf_counter()
-    validation = validate_site(site)
-    limits = _limits(validation, options)
-    pool, targets = site_pool(site, options, validation)
-    xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
-    usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason])
-    mode = options.registration or "site"  # tiles: one registration bundle per accessible area by default
-    reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
-    labels, links = registration_groups(site, pool, mode, reach)
-    groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
+    prep = prepare(site, options)
+    validation, limits, pool, targets, xy, usable = (prep.validation, prep.limits, list(prep.pool), prep.targets,
+                                                     prep.xy, prep.usable)
+    groups = prep.groups
     margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, tiling.tile_m, margin)
@@ -166,9 +146,8 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     if unseen.size:
         err = unseen_error(problem, unseen)
         raise err.located(site.source) if site.source else err
-    rule = options.milp.overlap or OverlapRule(site.parameters.overlap)
-    lengths = piece_lengths(targets.s0_m, targets.s1_m)
-    adj, _ = overlap_adjacency(by_cand, lengths, rule, groups, xy, links)
+    rule = prep.rule
+    adj = prep.overlap(by_cand)
     joined = stitch(by_cand, adj, groups, [r.selected for r in results])
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
     parts = group_parts([(j.tile.row, j.tile.col) for j in jobs], [j.targets for j in jobs], tiling.lagrange_group)
@@ -182,7 +161,7 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
                                tiling.search_seeds, client)
     t_windows = time.perf_counter()
     joined, windows = _windows(by_cand, adj, groups, joined, xy, tiling.windows, bound.value, client)
-    return _finish(site, options, validation, problem, results, joined, bound, rule, (mode, reach),
+    return _finish(site, options, validation, problem, results, joined, bound, rule, (prep.mode, prep.reach_m),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
                     "best_plan_s": t_windows - t_search, "windows_s": time.perf_counter() - t_windows,
                     "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m},

@@ -8,15 +8,14 @@ import numpy as np
 import pytest
 
 from planner.coverage.matrix import build_coverage
-from planner.plan import PlanOptions, _limits
+from planner.plan import PlanOptions
 from planner.site.load import load_site
 from planner.solve.milp import MilpOptions
 from planner.tiles import TileOptions, dask_client, plan_by_tiles
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
-from planner.tiles.run import site_pool
+from planner.tiles.prepare import prepare
 from planner.tiles.stitch import lp_bound
 from planner.tiles.tasks import tile_task
-from planner.validate import validate_site
 from tests.conftest import INSTANCES
 
 OPTIONS = PlanOptions(method="milp", pricing=False, tripod=True, milp=MilpOptions(time_limit_s=20))
@@ -36,13 +35,10 @@ def serial(site):
 def test_tiles_columns_are_the_site_matrix(site) -> None:
     """Each piece is in one tile, and a tile's candidates (within S_max of its pieces) are all that can see
     them: the tiles' pairs, put together, are exactly the pairs of the whole-site build."""
-    validation = validate_site(site)
-    limits = _limits(validation, OPTIONS)
-    pool, targets = site_pool(site, OPTIONS, validation)
+    prep = prepare(site, OPTIONS)
+    pool, targets, limits, xy, usable = list(prep.pool), prep.targets, prep.limits, prep.xy, prep.usable
     whole = build_coverage(site, pool, targets, limits)
-    xy = np.array([c.xy for c in pool])
-    usable = np.ones(len(pool), dtype=bool)
-    usable[list(whole.excluded)] = False
+    assert set(np.flatnonzero(~usable).tolist()) <= set(whole.excluded)  # standing nowhere: excluded there too
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, 50.0, limits.max_slant_range_m)
     assert len(tiles) == 4  # anchors span about 66 m (cell centres 16.5..82.5 m): 2 x 2 tiles of 50 m
@@ -54,6 +50,9 @@ def test_tiles_columns_are_the_site_matrix(site) -> None:
         pairs |= set(zip(r.rows.tolist(), r.cols.tolist()))
     coo = whole.by_candidate.tocoo()
     assert pairs == set(zip(coo.row.tolist(), coo.col.tolist()))
+    # the matrix the gap studies use (Prepared.coverage, built in one piece) is the tiles' matrix
+    study = prep.coverage(site).tocoo()
+    assert pairs == set(zip(study.row.tolist(), study.col.tolist()))
 
 
 def test_tiled_plan_verifies_is_one_bundle_and_bounded(site, serial) -> None:

@@ -1,0 +1,89 @@
+"""What a tiled plan needs of the whole site before any tile runs: the pool, the pieces, where a station
+may stand, the registration groups and the overlap rule, made once here for
+:func:`planner.tiles.run.plan_by_tiles` and for the scripts that study its matrix (``scripts/study_gap.py``,
+``scripts/bench_lagrange.py``), so that they always study the planner's own problem.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, cast
+
+import numpy as np
+import scipy.sparse as sp
+
+from planner.candidates.from_regions import whole_side_candidates
+from planner.candidates.model import Candidate
+from planner.candidates.pool import candidate_pool, dedupe
+from planner.coverage.links import registration_groups
+from planner.coverage.matrix import build_coverage, station_places
+from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
+from planner.coverage.regions import regions_apply
+from planner.coverage.targets import Targets, make_targets
+from planner.coverage.visibility import SightLimits
+from planner.plan import PlanOptions, _limits, closed_form_limits
+from planner.site.model import Site
+from planner.validate import ValidationReport, validate_site
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """The whole site's problem before coverage: ``pool`` (candidates) and ``targets`` (pieces) as
+    :func:`planner.plan.build_problem` makes them, ``xy`` (candidates' positions), ``usable`` (where a
+    station may stand: ``station_places`` gives no reason against it), the registration ``mode`` and link
+    reach ``reach_m``, each candidate's group name in ``groups`` with the ``links`` between groups, and the
+    overlap ``rule`` (the plan's, else the site's overlap share)."""
+
+    validation: ValidationReport
+    limits: SightLimits
+    pool: tuple[Candidate, ...]
+    targets: Targets
+    xy: np.ndarray
+    usable: np.ndarray
+    mode: str
+    reach_m: float
+    groups: tuple[str, ...]
+    links: Any
+    rule: OverlapRule
+
+    def overlap(self, by_candidate: sp.csr_matrix) -> sp.csr_matrix:
+        """The overlap relation (candidate x candidate, symmetric) of a coverage matrix over this pool."""
+        lengths = piece_lengths(self.targets.s0_m, self.targets.s1_m)
+        adj, _ = overlap_adjacency(by_candidate, lengths, self.rule, self.groups, self.xy, self.links)
+        return cast(sp.csr_matrix, adj)
+
+    def coverage(self, site: Site) -> sp.csr_matrix:
+        """The whole site's coverage (candidates x pieces, bool CSR) built in one piece, with the rows of
+        candidates that stand nowhere emptied: the matrix the tiles assemble (their columns are the site's,
+        test ``test_tiles_columns_are_the_site_matrix``). For studies of it; the planner builds it by tiles."""
+        a = build_coverage(site, list(self.pool), self.targets, self.limits).by_candidate.astype(bool).tocsr()
+        a.data &= np.repeat(self.usable, np.diff(a.indptr))  # a row per candidate: empty where it stands nowhere
+        a.eliminate_zeros()
+        return a
+
+
+def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) -> tuple[list[Candidate], Targets]:
+    """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them."""
+    limits = _limits(validation, options)
+    targets = make_targets(site, options.target_spacing_m)
+    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
+    if options.regions and regions_apply(limits):
+        pool = dedupe(pool + whole_side_candidates(site, targets, limits))
+    return pool, targets
+
+
+def prepare(site: Site, options: PlanOptions, validation: ValidationReport | None = None) -> Prepared:
+    """The :class:`Prepared` problem of ``site`` under ``options``; registration ``options.registration``,
+    else ``site`` (tiles: one registration bundle per accessible area by default), links within the overlap
+    rule's ``max_link_m`` or else the sight range."""
+    validation = validation or validate_site(site)
+    limits = _limits(validation, options)
+    pool, targets = site_pool(site, options, validation)
+    xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
+    usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason], dtype=bool)
+    mode = options.registration or "site"
+    reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
+    labels, links = registration_groups(site, pool, mode, reach)
+    groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
+    rule = options.milp.overlap or OverlapRule(site.parameters.overlap)
+    return Prepared(validation, limits, tuple(pool), targets, xy, usable, mode, float(reach), groups, links, rule)
