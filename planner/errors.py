@@ -5,7 +5,8 @@ field) and the offending value, so a surveyor can find it in the input.
 
 Exit codes
 ----------
-0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible problem.
+0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible problem, 5 unreachable service
+(a Dask scheduler that does not answer).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ class ExitCode(IntEnum):
     USAGE = 2
     INVALID_INPUT = 3
     INFEASIBLE = 4
+    UNREACHABLE = 5
 
 
 def _fmt_value(value: Any) -> str:
@@ -115,6 +117,13 @@ class InfeasibleError(PlannerError, RuntimeError):
     budget is left, or some target is seen by no candidate."""
 
     exit_code = ExitCode.INFEASIBLE
+
+
+class UnreachableError(PlannerError, RuntimeError):
+    """A service the run needs does not answer, e.g. no Dask scheduler at the address given (exit 5):
+    nothing is wrong with the input, and the same command may work once the service is up."""
+
+    exit_code = ExitCode.UNREACHABLE
 
 
 class InternalError(PlannerError, RuntimeError):

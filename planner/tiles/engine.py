@@ -15,7 +15,10 @@ from contextlib import contextmanager
 from typing import Any
 
 from planner import progress
-from planner.errors import UsageError
+from planner.errors import UnreachableError, UsageError
+
+#: seconds to wait for an existing scheduler to answer
+CONNECT_TIMEOUT_S = 10.0
 
 #: memory limit of each embedded worker
 MEMORY_PER_WORKER = "1.5GiB"
@@ -29,7 +32,7 @@ def dask_client(workers: int = 0, scheduler: str | None = None,
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
-        client = Client(scheduler)
+        client = _connect(Client, scheduler)
         try:
             yield client
         finally:
@@ -37,10 +40,37 @@ def dask_client(workers: int = 0, scheduler: str | None = None,
         return
     if workers < 1:
         raise UsageError("needs at least 1 worker", field="workers", value=workers)
+    _memory_bytes(memory_per_worker)
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory_per_worker,
                       dashboard_address=":0", silence_logs=40,
                       scheduler_kwargs={"dashboard": False}) as cluster, Client(cluster) as client:
         yield client
+
+
+def _memory_bytes(size: str) -> int:
+    """``size`` (e.g. ``1.5GiB``) in bytes; a usage error naming it when Dask cannot read it or it is not > 0."""
+    from dask.utils import parse_bytes
+
+    try:
+        n = int(parse_bytes(size))
+    except (ValueError, TypeError) as exc:
+        raise UsageError(f"not a memory size such as 1.5GiB ({exc})", field="worker memory", value=size) from None
+    if n <= 0:
+        raise UsageError("must be > 0 (a memory limit per worker)", field="worker memory", value=size)
+    return n
+
+
+def _connect(client_type: Any, scheduler: str) -> Any:
+    """``Client(scheduler)``; a malformed address is a usage error, one where no scheduler answers within
+    ``CONNECT_TIMEOUT_S`` an :class:`UnreachableError`, each naming the address."""
+    try:
+        return client_type(scheduler, timeout=CONNECT_TIMEOUT_S)
+    except ValueError as exc:  # e.g. "missing port number in address 'host'"
+        raise UsageError(f"not a scheduler address of the form tcp://HOST:PORT ({exc})", field="scheduler",
+                         value=scheduler) from None
+    except (OSError, TimeoutError) as exc:
+        raise UnreachableError(f"no Dask scheduler answers there within {CONNECT_TIMEOUT_S:g} s ({exc})",
+                               field="scheduler", value=scheduler) from None
 
 
 def run_tasks(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any], client: Any = None,

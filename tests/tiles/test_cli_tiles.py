@@ -56,3 +56,29 @@ def test_bad_search_options_name_their_flag(capsys) -> None:
         assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and f"{flag} = {value}" in err
+
+
+def test_a_scheduler_address_that_is_malformed_or_silent_is_named(capsys, monkeypatch) -> None:
+    """A malformed --scheduler address is a usage error (2); one where nothing answers is 'unreachable' (5),
+    after CONNECT_TIMEOUT_S (shortened here); both one line quoting the address."""
+    import socket
+
+    from planner.tiles import engine
+
+    assert main(["plan", PLANT, "--tiles", "50", "--scheduler", "nonsense"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "'nonsense'" in err and "tcp://HOST:PORT" in err
+    with socket.socket() as s:  # a port that was free a moment ago: no scheduler listens there
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    monkeypatch.setattr(engine, "CONNECT_TIMEOUT_S", 1.0)
+    assert main(["plan", PLANT, "--tiles", "50", "--scheduler", f"tcp://127.0.0.1:{port}"]) == 5
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"'tcp://127.0.0.1:{port}'" in err and "within 1 s" in err
+
+
+def test_a_bad_worker_memory_is_a_usage_error(capsys) -> None:
+    for size, why in (("lots", "not a memory size"), ("0", "must be > 0")):
+        assert main(["plan", PLANT, "--tiles", "50", "--workers", "1", "--worker-memory", size]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and f"'{size}'" in err and why in err
