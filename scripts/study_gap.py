@@ -1,6 +1,6 @@
 """Where the gap of a tiled plant plan lies: the measurements of docs/benchmarks/plant.md, "Where the gap lies".
 
-On the whole-site matrix that ``planner plan --tiles`` assembles (the pool of :func:`planner.tiles.run.site_pool`,
+On the whole-site matrix that ``planner plan --tiles`` assembles (:func:`planner.tiles.prepare.prepare`: its pool,
 candidates that stand nowhere dropped, the overlap relation of the site's registration rule), one run each,
 one thread, every count re-checked here (a cover covers every piece; a connected plan is one part):
 
@@ -12,7 +12,10 @@ one thread, every count re-checked here (a cover covers every piece; a connected
   moves: a cover, registration dropped (an upper bound on the plain optimum);
 - ``plain scip``: the plain cover by SCIP (PySCIPOpt, 1 thread, ``--scip`` s): its best cover and its bound;
 - ``connected seed S``: the connected greedy (20 starts) pruned, then the connected local search for
-  ``--connected-moves`` moves with seed S.
+  ``--connected-moves`` moves with seed S;
+- ``--highs``, ``--linked-lp``, ``--rank-cuts``, ``--merge``: the probes of ``scripts/_gap_probes.py`` (HiGHS's MIP
+  on the plain cover; the LP with a linked station beside each; the LP with local rank cuts; the connected MILP
+  over the union of the seeds' plans).
 
     python scripts/study_gap.py --area 4 --discs 30 50 70 --plain-moves 30000 --scip 600 --seeds 0 1 2 \\
         --csv docs/benchmarks/plant_gap_study.csv
@@ -30,6 +33,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+import _gap_probes as probes
 from _timed import append_csv, json_child
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -131,7 +135,10 @@ def scip_row(a: Any, time_s: float) -> dict:
             "bound": round(m.getDualbound(), 3), "time_s": round(time.perf_counter() - t0, 1)}
 
 
-def connected_rows(a: Any, adj: Any, groups: tuple[str, ...], moves: int, seeds: list[int]) -> list[dict]:
+def connected_rows(a: Any, adj: Any, groups: tuple[str, ...], moves: int, seeds: list[int],
+                   plans: list | None = None) -> list[dict]:
+    """The connected greedy pruned, then the connected local search per seed; each seed's plan is appended to
+    ``plans`` when given."""
     import numpy as np
 
     from planner.solve.connectivity import components, connected_greedy, group_members
@@ -149,6 +156,8 @@ def connected_rows(a: Any, adj: Any, groups: tuple[str, ...], moves: int, seeds:
         found = shrink(a, adj, groups, start, moves=moves, seed=seed)
         parts = [len(components(adj, m)) for m in group_members(groups, found.selected).values()]
         assert all(p == 1 for p in parts), "connected search split a registration group"
+        if plans is not None:
+            plans.append(found.selected)
         rows.append({"what": "connected search", "setting": f"seed {seed}, {moves} moves", "value": len(found.selected),
                      "bound": "", "time_s": round(time.perf_counter() - t0, 1)})
     return rows
@@ -166,8 +175,17 @@ def one(args: argparse.Namespace) -> list[dict]:
         rows.append(plain_search_row(a, args.plain_moves))
     if args.scip:
         rows.append(scip_row(a, args.scip))
+    if args.highs:
+        rows.append(probes.highs_row(a, args.highs))
+    if args.linked_lp:
+        rows.append(probes.linked_lp_row(a, adj))
+    if args.rank_cuts:
+        rows.append(probes.rank_cut_row(a, mid, args.rank_cuts[0], args.rank_cuts[1], args.disc_time))
+    plans: list = []
     if args.seeds:
-        rows += connected_rows(a, adj, groups, args.connected_moves, args.seeds)
+        rows += connected_rows(a, adj, groups, args.connected_moves, args.seeds, plans)
+    if args.merge and plans:
+        rows.append(probes.merge_row(a, adj, groups, plans, args.merge))
     for r in rows:
         r.setdefault("pieces", a.shape[1])
         r.setdefault("candidates", int((a.getnnz(axis=1) > 0).sum()))
@@ -179,6 +197,9 @@ def _child_args(args: argparse.Namespace) -> list[str]:
     """The options of this run, for its child under ``/usr/bin/time -v``."""
     out = ["--area", f"{args.area:g}", "--disc-time", f"{args.disc_time:g}", "--plain-moves", str(args.plain_moves),
            "--scip", f"{args.scip:g}", "--connected-moves", str(args.connected_moves)]
+    out += ["--highs", f"{args.highs:g}", "--merge", f"{args.merge:g}"] + (["--linked-lp"] if args.linked_lp else [])
+    if args.rank_cuts:
+        out += ["--rank-cuts", *(f"{r:g}" for r in args.rank_cuts)]
     if args.discs:
         out += ["--discs", *(f"{r:g}" for r in args.discs)]
     if args.seeds:
@@ -195,6 +216,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--scip", type=float, default=0.0, metavar="S")
     ap.add_argument("--seeds", type=int, nargs="*", default=[])
     ap.add_argument("--connected-moves", type=int, default=20000)
+    ap.add_argument("--highs", type=float, default=0.0, metavar="S", help="plain cover by HiGHS's MIP for S s")
+    ap.add_argument("--linked-lp", action="store_true", help="cover LP with a linked station beside each")
+    ap.add_argument("--rank-cuts", type=float, nargs=2, default=None, metavar=("R", "STEP"),
+                    help="cover LP with a rank cut per disc of R m every STEP m (each disc's optimum: --disc-time s)")
+    ap.add_argument("--merge", type=float, default=0.0, metavar="W",
+                    help="connected MILP (W s of CP-SAT work) over the union of the --seeds plans")
     ap.add_argument("--csv", type=Path, default=None, help="append the rows to this CSV")
     ap.add_argument("--one", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--json", type=Path, default=None, help=argparse.SUPPRESS)

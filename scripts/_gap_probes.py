@@ -1,0 +1,105 @@
+"""Probes of ``study_gap.py`` that tried to lift the bound or the plan past the tiled planner's, and did not
+on the plant instances (docs/benchmarks/plant.md, "What else was tried"): each returns CSV rows of
+``study_gap.FIELDS`` (less area and memory), every count re-checked here.
+
+- ``highs_row``: the plain cover by HiGHS's MIP (``scipy.optimize.milp``), a time limit: its cover and bound;
+- ``linked_lp_row``: the cover LP with each station needing a linked station beside it
+  (``x_j <= sum_{i linked to j} x_i``, valid for every connected plan of two stations or more);
+- ``rank_cut_row``: the cover LP with a local rank cut per disc: the pieces within ``radius`` of a grid point
+  need at least ``k`` (their own integer optimum, or its proven bound) of the candidates that see one of them;
+- ``merge_row``: the planner's connected MILP (as a window's, :mod:`planner.solve.windows`) over the union of
+  some connected plans' stations: the best connected plan made of their stations.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import Bounds, LinearConstraint, linprog, milp
+
+
+def _rows_seen(a: sp.csr_matrix) -> sp.csr_matrix:
+    """Pieces x candidates (float), the pieces some candidate sees."""
+    at = a.T.tocsr().astype(np.float64)
+    return at[np.diff(at.indptr) > 0]
+
+
+def highs_row(a: sp.csr_matrix, time_s: float) -> dict:
+    at = _rows_seen(a)
+    t0 = time.perf_counter()
+    r = milp(np.ones(a.shape[0]), constraints=LinearConstraint(at, lb=1), integrality=np.ones(a.shape[0]),
+             bounds=Bounds(0, 1), options={"time_limit": time_s})
+    chosen = np.flatnonzero(np.round(r.x) > 0) if r.x is not None else np.array([], dtype=int)
+    assert chosen.size == 0 or np.all(at[:, chosen].sum(axis=1) >= 1), "HiGHS cover does not cover"
+    return {"what": "plain highs", "setting": f"{time_s:g} s, status {r.status}", "value": int(chosen.size) or "",
+            "bound": round(float(r.mip_dual_bound), 3), "time_s": round(time.perf_counter() - t0, 1)}
+
+
+def linked_lp_row(a: sp.csr_matrix, adj: sp.csr_matrix) -> dict:
+    at = _rows_seen(a)
+    n = a.shape[0]
+    links = adj.astype(bool).astype(np.float64).tocsr()
+    links.setdiag(0)
+    links.eliminate_zeros()
+    t0 = time.perf_counter()
+    lhs = sp.vstack([-at, sp.identity(n, format="csr") - links]).tocsr()
+    res = linprog(np.ones(n), A_ub=lhs, b_ub=np.concatenate([-np.ones(at.shape[0]), np.zeros(n)]), bounds=(0, 1),
+                  method="highs")
+    assert res.status == 0, res.message
+    return {"what": "linked lp", "setting": "cover LP + a linked station beside each", "value": round(res.fun, 3),
+            "bound": "", "time_s": round(time.perf_counter() - t0, 1)}
+
+
+def rank_cut_row(a: sp.csr_matrix, mid: np.ndarray, radius: float, step: float, time_s: float) -> dict:
+    at = _rows_seen(a)
+    seen = np.diff(a.T.tocsr().indptr) > 0
+    pts = mid[seen]
+    t0 = time.perf_counter()
+    cuts, rhs = [], []
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    for cx in np.arange(lo[0], hi[0] + step, step):
+        for cy in np.arange(lo[1], hi[1] + step, step):
+            sub = at[np.flatnonzero(np.hypot(pts[:, 0] - cx, pts[:, 1] - cy) <= radius)].tocsc()
+            cols = np.flatnonzero(np.diff(sub.indptr) > 0)
+            if cols.size == 0:
+                continue
+            s = sub[:, cols].tocsr()
+            ip = milp(np.ones(cols.size), constraints=LinearConstraint(s, lb=1), integrality=np.ones(cols.size),
+                      bounds=Bounds(0, 1), options={"time_limit": time_s})
+            k = round(ip.fun) if ip.status == 0 else math.ceil(ip.mip_dual_bound - 1e-6)
+            row = np.zeros(a.shape[0])
+            row[cols] = 1.0
+            cuts.append(row)
+            rhs.append(k)
+    lhs = sp.vstack([-at, -sp.csr_matrix(np.array(cuts))]).tocsr()
+    res = linprog(np.ones(a.shape[0]), A_ub=lhs, b_ub=-np.concatenate([np.ones(at.shape[0]), rhs]), bounds=(0, 1),
+                  method="highs")
+    assert res.status == 0, res.message
+    return {"what": "rank cuts", "setting": f"{len(cuts)} discs of {radius:g} m every {step:g} m",
+            "value": round(res.fun, 3), "bound": "", "time_s": round(time.perf_counter() - t0, 1)}
+
+
+def merge_row(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], plans: list[tuple[int, ...]],
+              work_s: float) -> dict:
+    import importlib
+
+    from planner.solve.connectivity import components, group_members
+    from planner.solve.milp import WALL_CAP, MilpOptions, solve
+
+    windows: Any = importlib.import_module("planner.solve.windows")
+    union = np.array(sorted(set().union(*map(set, plans))), dtype=np.int64)
+    rows = np.flatnonzero(np.asarray(a[union].sum(axis=0)).ravel() > 0)
+    inst = windows._model(a.astype(bool).tocsr(), adj.astype(bool).tocsr(), groups, union, rows, [])
+    opts = MilpOptions(overlap=windows._LINKS_ONLY, threads=1, seed=0, greedy_starts=5, local_search_moves=100)
+    t0 = time.perf_counter()
+    r = solve(inst, opts.with_work_limit(work_s, WALL_CAP))
+    chosen = [int(union[i]) for i in r.selected]
+    assert np.all(np.asarray(a[chosen].sum(axis=0)).ravel()[rows] >= 1), "merged plan does not cover"
+    assert all(len(components(adj, m)) == 1 for m in group_members(groups, chosen).values()), "merged plan split"
+    return {"what": "merge", "setting": f"union of {len(plans)} plans ({union.size} stations), {work_s:g} s work, "
+            f"{r.status.value} within the union", "value": len(chosen), "bound": "",
+            "time_s": round(time.perf_counter() - t0, 1)}
