@@ -22,6 +22,25 @@ import scipy.sparse as sp
 from scipy.optimize import Bounds, LinearConstraint, linprog, milp
 
 
+def disc(at: sp.csr_matrix, pts: np.ndarray, centre: np.ndarray, radius: float) -> tuple[np.ndarray, sp.csr_matrix]:
+    """The pieces (rows of ``at``, pieces x candidates, at ``pts``) within ``radius`` of ``centre``: the
+    candidates that see one of them, and those pieces x those candidates (float CSR)."""
+    sub = at[np.flatnonzero(np.hypot(*(pts - centre).T) <= radius)].tocsc()
+    cols = np.flatnonzero(np.diff(sub.indptr) > 0)
+    return cols, sub[:, cols].tocsr().astype(np.float64)
+
+
+def cover_ip(rows: sp.csr_matrix, time_s: float) -> tuple[Any, np.ndarray, int]:
+    """The cover of ``rows`` (pieces x candidates) by HiGHS's MIP within ``time_s``: its result, the chosen
+    columns (re-checked to cover every row), and the proven bound on the fewest columns (rounded up)."""
+    n = rows.shape[1]
+    r = milp(np.ones(n), constraints=LinearConstraint(rows, lb=1), integrality=np.ones(n), bounds=Bounds(0, 1),
+             options={"time_limit": time_s})
+    chosen = np.flatnonzero(np.round(r.x) > 0) if r.x is not None else np.array([], dtype=int)
+    assert chosen.size == 0 or np.all(rows[:, chosen].sum(axis=1) >= 1), "HiGHS cover does not cover"
+    return r, chosen, round(r.fun) if r.status == 0 else math.ceil(r.mip_dual_bound - 1e-6)
+
+
 def _rows_seen(a: sp.csr_matrix) -> sp.csr_matrix:
     """Pieces x candidates (float), the pieces some candidate sees."""
     at = a.T.tocsr().astype(np.float64)
@@ -31,10 +50,7 @@ def _rows_seen(a: sp.csr_matrix) -> sp.csr_matrix:
 def highs_row(a: sp.csr_matrix, time_s: float) -> dict:
     at = _rows_seen(a)
     t0 = time.perf_counter()
-    r = milp(np.ones(a.shape[0]), constraints=LinearConstraint(at, lb=1), integrality=np.ones(a.shape[0]),
-             bounds=Bounds(0, 1), options={"time_limit": time_s})
-    chosen = np.flatnonzero(np.round(r.x) > 0) if r.x is not None else np.array([], dtype=int)
-    assert chosen.size == 0 or np.all(at[:, chosen].sum(axis=1) >= 1), "HiGHS cover does not cover"
+    r, chosen, _ = cover_ip(at, time_s)
     return {"what": "plain highs", "setting": f"{time_s:g} s, status {r.status}", "value": int(chosen.size) or "",
             "bound": round(float(r.mip_dual_bound), 3), "time_s": round(time.perf_counter() - t0, 1)}
 
@@ -63,14 +79,10 @@ def rank_cut_row(a: sp.csr_matrix, mid: np.ndarray, radius: float, step: float, 
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     for cx in np.arange(lo[0], hi[0] + step, step):
         for cy in np.arange(lo[1], hi[1] + step, step):
-            sub = at[np.flatnonzero(np.hypot(pts[:, 0] - cx, pts[:, 1] - cy) <= radius)].tocsc()
-            cols = np.flatnonzero(np.diff(sub.indptr) > 0)
+            cols, s = disc(at, pts, np.array([cx, cy]), radius)
             if cols.size == 0:
                 continue
-            s = sub[:, cols].tocsr()
-            ip = milp(np.ones(cols.size), constraints=LinearConstraint(s, lb=1), integrality=np.ones(cols.size),
-                      bounds=Bounds(0, 1), options={"time_limit": time_s})
-            k = round(ip.fun) if ip.status == 0 else math.ceil(ip.mip_dual_bound - 1e-6)
+            k = cover_ip(s, time_s)[2]
             row = np.zeros(a.shape[0])
             row[cols] = 1.0
             cuts.append(row)

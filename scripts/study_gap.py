@@ -62,23 +62,18 @@ def site_matrices(area: float) -> tuple[Any, Any, tuple[str, ...], Any]:
 def disc_rows(a: Any, mid: Any, radii: list[float], time_s: float) -> list[dict]:
     """LP and integer optimum of the pieces within each radius of the centre of the pieces' box."""
     import numpy as np
-    from scipy.optimize import Bounds, LinearConstraint, linprog, milp
+    from scipy.optimize import linprog
 
     centre = (mid.min(axis=0) + mid.max(axis=0)) / 2.0
+    at_all = a.T.tocsr()
     rows = []
     for r in radii:
-        pieces = np.flatnonzero(np.hypot(*(mid - centre).T) <= r)
-        sub = a[:, pieces].tocsr()
-        cols = np.flatnonzero(np.diff(sub.indptr) > 0)
-        at = sub[cols].T.tocsr().astype(float)
+        cols, at = probes.disc(at_all, mid, centre, r)
         t0 = time.perf_counter()
         lp = linprog(np.ones(cols.size), A_ub=-at, b_ub=-np.ones(at.shape[0]), bounds=(0, 1), method="highs")
-        ip = milp(np.ones(cols.size), constraints=LinearConstraint(at, lb=1), integrality=np.ones(cols.size),
-                  bounds=Bounds(0, 1), options={"time_limit": time_s})
+        ip, chosen, _ = probes.cover_ip(at, time_s)
         proven = ip.status == 0
-        chosen = np.flatnonzero(np.round(ip.x) > 0) if ip.x is not None else np.array([], dtype=int)
-        assert chosen.size == 0 or np.all(at[:, chosen].sum(axis=1) >= 1), "disc cover does not cover"
-        rows.append({"what": "disc", "setting": f"r={r:g} m, LP {lp.fun:.3f}", "pieces": int(pieces.size),
+        rows.append({"what": "disc", "setting": f"r={r:g} m, LP {lp.fun:.3f}", "pieces": int(at.shape[0]),
                      "candidates": int(cols.size), "value": int(chosen.size) if chosen.size else "",
                      "bound": int(chosen.size) if proven else round(float(getattr(ip, "mip_dual_bound", np.nan)), 3),
                      "time_s": round(time.perf_counter() - t0, 1)})

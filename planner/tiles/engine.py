@@ -32,7 +32,7 @@ def dask_client(workers: int = 0, scheduler: str | None = None,
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
-        client = _connect(Client, scheduler)
+        client = _connect(scheduler)
         try:
             yield client
         finally:
@@ -60,11 +60,13 @@ def _memory_bytes(size: str) -> int:
     return n
 
 
-def _connect(client_type: Any, scheduler: str) -> Any:
+def _connect(scheduler: str) -> Any:
     """``Client(scheduler)``; a malformed address is a usage error, one where no scheduler answers within
     ``CONNECT_TIMEOUT_S`` an :class:`UnreachableError`, each naming the address."""
+    from dask.distributed import Client
+
     try:
-        return client_type(scheduler, timeout=CONNECT_TIMEOUT_S)
+        return Client(scheduler, timeout=CONNECT_TIMEOUT_S)
     except ValueError as exc:  # e.g. "missing port number in address 'host'"
         raise UsageError(f"not a scheduler address of the form tcp://HOST:PORT ({exc})", field="scheduler",
                          value=scheduler) from None

@@ -127,26 +127,23 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
         raise UsageError("tiles need every zone in one coordinate frame", field="tiles")
     start = time.perf_counter()
     prep = prepare(site, options)
-    validation, limits, pool, targets, xy, usable = (prep.validation, prep.limits, list(prep.pool), prep.targets,
-                                                     prep.xy, prep.usable)
-    groups = prep.groups
+    limits, pool, targets, groups = prep.limits, prep.pool, prep.targets, prep.groups
     margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, tiling.tile_m, margin)
-    jobs = [tile_job(t, anchor, targets, xy, usable) for t in tiles]
+    jobs = [tile_job(t, anchor, targets, prep.xy, prep.usable) for t in tiles]
     t_pool = time.perf_counter() - start
-    shared = {"site": site, "candidates": tuple(pool), "targets": targets, "limits": limits, "groups": groups,
+    shared = {"site": site, "candidates": pool, "targets": targets, "limits": limits, "groups": groups,
               "milp": _tile_milp(options, tiling)}
     results = run_tasks(tile_task, jobs, shared, client)
     t_tiles = time.perf_counter() - start - t_pool
     by_cand, slant, inc = _assemble(len(pool), len(targets), results)
-    problem = CoverageProblem(tuple(pool), targets, by_cand, by_cand.T.tocsr(), slant, inc,
-                              {int(k): "stands nowhere" for k in np.flatnonzero(~usable)}, limits)
+    problem = CoverageProblem(pool, targets, by_cand, by_cand.T.tocsr(), slant, inc,
+                              {int(k): "stands nowhere" for k in np.flatnonzero(~prep.usable)}, limits)
     unseen = problem.uncoverable()
     if unseen.size:
         err = unseen_error(problem, unseen)
         raise err.located(site.source) if site.source else err
-    rule = prep.rule
     adj = prep.overlap(by_cand)
     joined = stitch(by_cand, adj, groups, [r.selected for r in results])
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
@@ -160,8 +157,9 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     joined, search = best_plan(by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value,
                                tiling.search_seeds, client)
     t_windows = time.perf_counter()
-    joined, windows = _windows(by_cand, adj, groups, joined, xy, tiling.windows, bound.value, client)
-    return _finish(site, options, validation, problem, results, joined, bound, rule, (prep.mode, prep.reach_m),
+    joined, windows = _windows(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
+    return _finish(site, options, prep.validation, problem, results, joined, bound, prep.rule,
+                   (prep.mode, prep.reach_m),
                    {"pool_s": t_pool, "tiles_s": t_tiles, "stitch_s": t_stitch, "bound_s": t_bound,
                     "best_plan_s": t_windows - t_search, "windows_s": time.perf_counter() - t_windows,
                     "total_s": time.perf_counter() - start, "margin_m": margin, "tile_m": tiling.tile_m},
