@@ -94,8 +94,8 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
            "plan_sha1": hashlib.sha1(",".join(sorted(s.id for s in plan.stations)).encode()).hexdigest()[:10],
            "limits": info.get("limits", ""), "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none",
            # the local search on the kept plan: stations before it, its moves and time
-           "search_before": info.get("local_search", {}).get("before"), "search_moves": info.get("local_search", {}).get("moves"),
-           "search_s": info.get("local_search", {}).get("time_s"), "search_seeds": info.get("local_search", {}).get("seeds"),
+           **{k: info.get("local_search", {}).get(f) for k, f in (("search_before", "before"), ("search_moves", "moves"),
+                                                                   ("search_s", "time_s"), ("search_seeds", "seeds"))},
            "search_per_seed": " ".join(str(n) for n in info.get("local_search", {}).get("per_seed", [])),
            # the window re-solves after it: stations before them, windows solved (proven), their time, and
            # how many ran at a time (2 per worker thread on Dask)
