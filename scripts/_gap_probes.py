@@ -97,21 +97,18 @@ def rank_cut_row(a: sp.csr_matrix, mid: np.ndarray, radius: float, step: float, 
 
 def merge_row(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], plans: list[tuple[int, ...]],
               work_s: float) -> dict:
-    import importlib
-
     from planner.solve.connectivity import components, group_members
-    from planner.solve.milp import WALL_CAP, MilpOptions, solve
+    from planner.solve.windows import connected_cover_within
 
-    windows: Any = importlib.import_module("planner.solve.windows")
     union = np.array(sorted(set().union(*map(set, plans))), dtype=np.int64)
     rows = np.flatnonzero(np.asarray(a[union].sum(axis=0)).ravel() > 0)
-    inst = windows._model(a.astype(bool).tocsr(), adj.astype(bool).tocsr(), groups, union, rows, [])
-    opts = MilpOptions(overlap=windows._LINKS_ONLY, threads=1, seed=0, greedy_starts=5, local_search_moves=100)
     t0 = time.perf_counter()
-    r = solve(inst, opts.with_work_limit(work_s, WALL_CAP))
-    chosen = [int(union[i]) for i in r.selected]
+    got, status, _ = connected_cover_within(a.astype(bool).tocsr(), adj.astype(bool).tocsr(), groups, union, rows,
+                                            np.zeros(0, dtype=np.int64), work_s)
+    assert got is not None, "no connected plan within the union"
+    chosen = got.tolist()
     assert np.all(np.asarray(a[chosen].sum(axis=0)).ravel()[rows] >= 1), "merged plan does not cover"
     assert all(len(components(adj, m)) == 1 for m in group_members(groups, chosen).values()), "merged plan split"
     return {"what": "merge", "setting": f"union of {len(plans)} plans ({union.size} stations), {work_s:g} s work, "
-            f"{r.status.value} within the union", "value": len(chosen), "bound": "",
+            f"{status.value} within the union", "value": len(chosen), "bound": "",
             "time_s": round(time.perf_counter() - t0, 1)}

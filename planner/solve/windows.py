@@ -173,16 +173,30 @@ def _window(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Seq
                           & (np.asarray(a[kept].sum(axis=0)).ravel() == 0))
     near = np.flatnonzero(np.hypot(*(xy - xy[centre]).T) <= o.radius_m)
     free = np.setdiff1d(np.union1d(np.unique(at[rows].indices), near), kept)
+    chosen, status, hit = connected_cover_within(a, adj, groups, free, rows, kept, o.work_s, o.seed)
+    if chosen is None:
+        return None, status, hit
+    return np.union1d(kept, chosen).astype(np.int64), status, hit
+
+
+def connected_cover_within(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], free: np.ndarray,
+                           rows: np.ndarray, kept: np.ndarray, work_s: float,
+                           seed: int = 0) -> tuple[np.ndarray | None, Status, bool]:
+    """The fewest candidates of ``free`` that see every target of ``rows`` and, with the stations ``kept``,
+    leave each registration group one connected part (the window's MILP; ``kept`` may be empty).
+
+    Returns the chosen candidates (site indices; None when the MILP found no answer), the MILP's status
+    (``OPTIMAL``: no smaller choice within ``free``) and whether its wall-clock cap, not its ``work_s`` of
+    CP-SAT deterministic work, stopped it."""
     parts = [(g, p) for g, members in group_members(groups, kept.tolist()).items() for p in components(adj, members)]
     inst = _model(a, adj, groups, free, rows, parts)
-    milp = MilpOptions(overlap=_LINKS_ONLY, threads=1, seed=o.seed, greedy_starts=_GREEDY_STARTS,
-                       local_search_moves=_SEARCH_MOVES).with_work_limit(o.work_s, WALL_CAP)
+    milp = MilpOptions(overlap=_LINKS_ONLY, threads=1, seed=seed, greedy_starts=_GREEDY_STARTS,
+                       local_search_moves=_SEARCH_MOVES).with_work_limit(work_s, WALL_CAP)
     r = solve(inst, milp)
     hit = bool(r.info.get("work", {}).get("wall_cap_hit", False))
     if not r.selected:
         return None, r.status, hit
-    chosen = [int(free[i]) for i in r.selected if i < free.size]
-    return np.union1d(kept, chosen).astype(np.int64), r.status, hit
+    return np.array(sorted(int(free[i]) for i in r.selected if i < free.size), dtype=np.int64), r.status, hit
 
 
 #: a window's MILP: starts of its connected greedy and moves of its block local search (the defaults, 50 and

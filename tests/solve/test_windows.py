@@ -8,7 +8,8 @@ import pytest
 
 from planner.errors import UsageError
 from planner.solve.greedy import connected_greedy_plan
-from planner.solve.windows import WindowOptions, window_search
+from planner.solve.result import Status
+from planner.solve.windows import WindowOptions, connected_cover_within, window_search
 from tests.solve.test_connectivity_methods import FOUND, RULE, instance, random_instance
 from tests.solve.test_local_search import _adjacency, _graph, _groups, _is_connected_cover
 
@@ -79,6 +80,28 @@ def test_same_input_same_plan_and_a_moved_site_changes_nothing():
     again = window_search(a, adj, _groups(inst), list(range(17)), xy, o)
     moved = window_search(a, adj, _groups(inst), list(range(17)), xy + [1000.0, -250.0], o)
     assert again.selected == first.selected == moved.selected and again.history == first.history
+
+
+def test_connected_cover_within_a_subset_and_beside_kept_stations():
+    inst, _ = _line(21)  # 24 pieces; the connected optimum is 20 / 2 + 1 = 11 stations (see _line)
+    a, adj = _adjacency(inst)
+    g, no = _groups(inst), np.zeros(0, dtype=np.int64)
+    every = np.arange(24)
+    # all 21 candidates free, none kept: the chain 0, 2, ..., 20 of 11 is the optimum, proven
+    got, status, hit = connected_cover_within(a, adj, g, np.arange(21), every, no, work_s=5.0)
+    assert got is not None and len(got) == 11 and status is Status.OPTIMAL and not hit
+    assert _is_connected_cover(inst, adj, got.tolist())
+    # only the odd candidates free, pieces 1..22 to cover (piece 0 is seen by 0 alone, piece 23 by 20 alone):
+    # piece 1 needs 0 or 1, piece 22 needs 19 or 20, so 1 and 19 stand, and odd stations step by 2 at most:
+    # 1, 3, ..., 19 = 10 stations
+    rows = np.arange(1, 23)
+    got, status, _ = connected_cover_within(a, adj, g, np.arange(1, 21, 2), rows, no, work_s=5.0)
+    assert got is not None and got.tolist() == list(range(1, 21, 2)) and status is Status.OPTIMAL
+    # stations 0..10 kept (one part), the right half's pieces 14..23 to cover: 12, 14, ..., 20 = 5 stations
+    # join the kept part (10 and 12 share 2 of 4 pieces) and reach piece 23 (only candidate 20 sees it)
+    got, status, _ = connected_cover_within(a, adj, g, np.arange(11, 21), np.arange(14, 24), np.arange(11),
+                                            work_s=5.0)
+    assert got is not None and got.tolist() == [12, 14, 16, 18, 20] and status is Status.OPTIMAL
 
 
 def test_batches_give_the_one_at_a_time_result():
