@@ -30,6 +30,7 @@ GROUND: dict = {
     "doors": {"D-living-kitchen": (7.9, 1.5, 8.1, 2.4), "D-kitchen-hall": (9.5, 4.0, 10.4, 4.2),
               "D-living-hall": (4.0, 5.5, 4.2, 6.4), "D-front": (11.8, 5.5, 12.0, 6.5)},
     "columns": {"C1": (2.0, 2.0, 2.3, 2.3)},
+    "windows": {"W-kitchen": (9.5, 0.0, 10.7, 0.2)},  # written only with build_house(..., windows=True)
 }
 UPPER: dict = {
     "name": "Upper floor", "elevation": 3.0, "height": 2.5,
@@ -43,6 +44,7 @@ UPPER: dict = {
 }
 OUTER_WALLS = [(0.0, 0.0, 12.0, 0.2), (11.8, 0.0, 12.0, 8.0), (0.0, 7.8, 12.0, 8.0), (0.0, 0.0, 0.2, 8.0)]
 DOOR_HEIGHT_M = 2.1
+WINDOW_SILL_M, WINDOW_HEIGHT_M = 0.9, 1.2
 MM = 1000.0
 
 
@@ -50,12 +52,13 @@ def _box(x0: float, y0: float, x1: float, y1: float) -> Ring:
     return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
 
 
-def build_house(path: Path | str, schema: str = "IFC4", *, spaces: bool = True, faceless_space: str | None = None
-                ) -> Path:
+def build_house(path: Path | str, schema: str = "IFC4", *, spaces: bool = True, faceless_space: str | None = None,
+                windows: bool = False) -> Path:
     """Write the house to ``path`` and return it.
 
     ``spaces=False`` leaves the rooms out (a model the planner must refuse); ``faceless_space``
-    names a room written without geometry.
+    names a room written without geometry; ``windows=True`` adds the ground floor's ``WINDOWS`` (the
+    bundled house2.ifc has none).
     """
     import ifcopenshell
     import ifcopenshell.api
@@ -106,6 +109,10 @@ def build_house(path: Path | str, schema: str = "IFC4", *, spaces: bool = True, 
             door = run("root.create_entity", f, ifc_class="IfcDoor", name=name)
             solid(door, _box(*d), DOOR_HEIGHT_M, z)
             contained.append(door)
+        for name, wbox in (level.get("windows", {}) if windows else {}).items():
+            window = run("root.create_entity", f, ifc_class="IfcWindow", name=name)
+            solid(window, _box(*wbox), WINDOW_HEIGHT_M, z + WINDOW_SILL_M)
+            contained.append(window)
         for name, c in level["columns"].items():
             column = run("root.create_entity", f, ifc_class="IfcColumn", name=name)
             solid(column, _box(*c), h, z)

@@ -12,7 +12,7 @@ from planner.coverage.overlap import OverlapRule
 from planner.plan import PlanOptions, build_problem, plan_site, registration_check
 from planner.site import ScanSide, Site, Zone, load_site
 from planner.solve.backends import BACKENDS
-from planner.solve.greedy import greedy_cover
+from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.tripod import tripod_discs
@@ -40,16 +40,28 @@ def test_plain_cover_backends_agree_and_beat_greedy(problems, name):
     assert (inst.coverage_count(best.selected) >= 1).all()
 
 
+@pytest.fixture(scope="module")
+def polygon_b_connected(problems):
+    """Polygon B's connected optimum by CP-SAT, the reference every backend must meet."""
+    site, problem = problems["polygon_b"]
+    return solve(cover_instance(problem), MilpOptions(backend="cpsat", time_limit_s=60))
+
+
 @pytest.mark.parametrize("backend", BACKENDS)
-def test_connected_plan_of_polygon_b_on_every_backend(problems, backend):
+def test_connected_plan_of_polygon_b_on_every_backend(problems, polygon_b_connected, backend):
     site, problem = problems["polygon_b"]
     r = solve(cover_instance(problem), MilpOptions(backend=backend, time_limit_s=60))
-    assert r.status.value == "optimal"
+    assert r.status.value == polygon_b_connected.status.value == "optimal"
     comps, _ = registration_check(problem, r.selected, OverlapRule(0.3))
     assert set(comps.values()) == {1}  # each zone-side one registration bundle, checked with networkx
     stations = [problem.candidates[i] for i in r.selected]
     assert verify_stations(site, stations, problem.limits).complete
-    assert r.objective == 7  # all five backends agree (the greedy of the connected warm start is not optimal)
+    # every backend proves the same optimum, between the plain cover's optimum (a connected plan is a
+    # cover) and the connected greedy (a connected plan; the MILP's warm start)
+    plain = solve(cover_instance(problem), MilpOptions(backend="cpsat", overlap=None, time_limit_s=60))
+    greedy = connected_greedy_plan(cover_instance(problem), OverlapRule(0.3))
+    assert r.objective == polygon_b_connected.objective
+    assert plain.objective <= r.objective <= greedy.objective
 
 
 @pytest.fixture(scope="module")

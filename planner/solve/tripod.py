@@ -129,7 +129,8 @@ def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.
 def tripod_discs(site: Site, problem: CoverageProblem, selected: Sequence[int], limits: SightLimits,
                  partners: dict[int, list[int]] | None = None, recentre: bool = False) -> list[TripodDisc]:
     """The largest safe disc of every chosen station (see the module docstring): centred on the station,
-    or anywhere containing it with ``recentre``."""
+    or, with ``recentre``, anywhere (the station then moves to its centre; the disc need not hold the
+    planned position)."""
     from planner.accuracy import instrument_height_tolerance_m
 
     t: Targets = problem.targets

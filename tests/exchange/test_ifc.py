@@ -15,12 +15,10 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("ifcopenshell")
-
-from planner.errors import InputError  # noqa: E402
-from planner.exchange.ifc_in import IfcOptions, read_ifc_site  # noqa: E402
-from planner.site.model import SITE_FRAME, ScanSide  # noqa: E402
-from tests.conftest import INSTANCES, ROOT  # noqa: E402
+from planner.errors import InputError
+from planner.exchange.ifc_in import IfcOptions, read_ifc_site
+from planner.site.model import SITE_FRAME, ScanSide
+from tests.conftest import INSTANCES, ROOT
 
 FZK = ROOT / "instances" / "external" / "AC20-FZK-Haus.ifc"
 
@@ -80,11 +78,19 @@ def test_exterior_outline(house):
     assert set(ext.vertex_heights_m) == {3.0}
 
 
-def test_windows_flag_adds_no_door(house):
-    # the house has no windows: the flag changes nothing; doors are read either way
-    a = read_ifc_site(house, IfcOptions(storey="1"))
-    b = read_ifc_site(house, IfcOptions(storey="1", windows=True))
-    assert a.zones == b.zones
+def test_windows_are_openings_only_with_the_flag(tmp_path, house):
+    # the bundled house has no windows: the flag changes nothing there
+    assert read_ifc_site(house, IfcOptions(storey="1")).zones == read_ifc_site(house, IfcOptions(storey="1", windows=True)).zones
+    # a window in the kitchen's outer wall, x = 9.5..10.7 at y = 0..0.2: the kitchen's first wall runs from
+    # (8.1, 0.2) to (11.8, 0.2), so the opening is at s = 9.5 - 8.1 = 1.4 .. 10.7 - 8.1 = 2.6 m along it
+    glazed = _builder()(tmp_path / "glazed.ifc", windows=True)
+    plain, flagged = read_ifc_site(glazed, IfcOptions(storey="1")), read_ifc_site(glazed, IfcOptions(storey="1", windows=True))
+    assert plain.zones == read_ifc_site(house, IfcOptions(storey="1")).zones  # a window is no door
+    kitchen = flagged.zone("Kitchen")
+    wall = _wall_with(kitchen, (8.1, 0.2), (11.8, 0.2))
+    assert [(o.wall, o.s0_m, o.s1_m, o.kind, o.name) for o in kitchen.openings if o.kind == "window"] == \
+        [(wall.index, pytest.approx(1.4), pytest.approx(2.6), "window", "W-kitchen")]
+    assert [o.name for o in kitchen.openings if o.kind == "door"] == [o.name for o in plain.zone("Kitchen").openings]
 
 
 def test_ifc2x3_reads_as_ifc4(tmp_path, house):

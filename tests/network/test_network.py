@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import pytest
 
@@ -102,8 +103,10 @@ def test_network_cli_writes_ellipses(tmp_path, capsys):
 
 
 def test_field_observations_are_adjusted(tmp_path):
-    # observations generated from the design itself (distances + 1 mm, directions exact): m0 small,
-    # the adjusted stations stay within millimetres of the design
+    # observations generated from the design itself (distances + 1 mm, sigma 2 mm; directions exact, sigma
+    # 5"): the directions (5" at 10-20 m is 0.2-0.5 mm) hold the stations at the design, so each of the 4
+    # distances keeps its -1 mm residual: vPv = 4 (1/2)^2 = 1 on 8 - 6 = 2 degrees of freedom (two stations
+    # and two orientation unknowns), m0 = sqrt(1/2) = 0.707
     from planner.network.io import adjust_observations
 
     site = room_site()
@@ -117,7 +120,11 @@ def test_field_observations_are_adjusted(tmp_path):
                     {"kind": "distance", "at": u, "to": v, "value": d["length_m"] + 0.001, "sigma": 0.002}]
     (tmp_path / "obs.json").write_text(json.dumps({"angle_unit": "deg", "length_unit": "m", "observations": obs}))
     text = adjust_observations(rep, str(tmp_path / "obs.json"))
-    assert "m0" in text and "S1: x" in text and "chi-square" in text
+    assert "(pass)" in text and "dof 2" in text
+    assert float(re.search(r"m0 ([0-9.]+)", text).group(1)) == pytest.approx(math.sqrt(0.5), abs=0.01)
+    for name, x, y in (("S1", 10.0, 10.0), ("S2", 30.0, 10.0)):
+        got = re.search(rf"{name}: x ([-0-9.]+) y ([-0-9.]+)", text)
+        assert got and abs(float(got.group(1)) - x) < 5e-4 and abs(float(got.group(2)) - y) < 5e-4
 
 
 def test_monte_carlo_below_100_runs_is_a_usage_error(tmp_path, capsys):

@@ -16,18 +16,23 @@ from planner.solve.tripod import MIN_RADIUS_M
 from tests.conftest import INSTANCES
 
 
-@pytest.mark.parametrize("recentre", [False, True])
-def test_every_tripod_disc_contains_its_station(recentre):
+def test_every_tripod_disc_contains_its_station_and_recentring_moves_them():
     site = load_site(INSTANCES / "polygon_b.json")
-    plan = plan_site(site, PlanOptions(method="greedy", tripod=True, recentre=recentre))
-    assert plan.verification.complete and len(plan.tripods) == len(plan.stations)
-    for s, d in zip(plan.stations, plan.tripods):
-        assert d.station == s.id
-        assert math.dist(s.xy, d.centre) <= d.radius_m + 1e-9
-        assert d.radius_m == 0.0 or d.radius_m >= MIN_RADIUS_M
-    if not recentre:  # by default the disc is centred on the planned station
+    plain = plan_site(site, PlanOptions(method="greedy", tripod=True))
+    moved = plan_site(site, PlanOptions(method="greedy", tripod=True, recentre=True))
+    for plan in (plain, moved):
+        assert plan.verification.complete and len(plan.tripods) == len(plan.stations)
+        for s, d in zip(plan.stations, plan.tripods):
+            assert d.station == s.id and math.dist(s.xy, d.centre) <= d.radius_m + 1e-9
+            assert d.radius_m == 0.0 or d.radius_m >= MIN_RADIUS_M
+    # by default the disc is centred on the planned station; recentred (same plan: same stations, same
+    # order), each station stands at the centre of the largest disc found anywhere (the SOCP), and at least
+    # one of them moves, i.e. the two modes differ
+    assert [s.id for s in plain.stations] == [s.id for s in moved.stations]
+    for plan in (plain, moved):
         assert all(s.xy == pytest.approx(d.centre) for s, d in zip(plan.stations, plan.tripods))
-    assert "centred on the planned stations" in plan.summary() or recentre
+    assert max(math.dist(p0.xy, s.xy) for p0, s in zip(plain.stations, moved.stations)) > 0.1
+    assert "(centred on the planned stations)" in plain.summary() and "(stations recentred)" in moved.summary()
 
 
 def test_height_tolerance_is_the_dissertation_check_value():
