@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from planner.candidates.model import Candidate, CandidateKind
 from planner.coverage.matrix import build_coverage
@@ -104,4 +105,8 @@ def test_both_views_agree_and_excluded_stations_see_nothing():
     assert cov.excluded == {0: "inside obstacle column"}
     assert cov.by_candidate.getrow(0).nnz == 0
     assert (cov.by_target != cov.by_candidate.T.tocsr()).nnz == 0
-    assert math.isclose(cov.slant_m.max(), cov.slant_m.data.max())
+    # the slant ranges follow the pieces seen: from (5, 5) the column's corner (11, 9) shades the east wall
+    # x = 20 from y = 5 + 15 * 4 / 6 = 15 up (the piece 14..15 grazes that corner and counts as hidden), so the
+    # farthest point seen is the top of (20, 14), 3 m walls, instrument at 0 m: sqrt(15^2 + 9^2 + 3^2) = 17.748
+    assert cov.slant_m.getrow(1).max() == pytest.approx(math.sqrt(315.0))
+    assert cov.slant_m.getrow(0).nnz == 0

@@ -45,7 +45,8 @@ def test_work_limited_answer_is_the_same_on_a_busy_machine() -> None:
     # the work limit ended the search (no proof at 0.05 deterministic s), not the 120 s wall cap
     assert quiet.status is Status.FEASIBLE
     assert quiet.info["work"]["wall_cap_hit"] is False
-    assert quiet.info["work"]["used"] == pytest.approx(0.05, abs=0.05)
+    assert quiet.info["work"]["used"] == pytest.approx(0.05, rel=0.1)
+    assert quiet.bound < quiet.objective  # FEASIBLE: the gap is still open
     # same plan, objective and bound with three busy threads beside it
     assert busy.selected == quiet.selected
     assert (busy.objective, busy.bound) == (quiet.objective, quiet.bound)

@@ -59,8 +59,10 @@ def test_search_never_grows_the_kept_plan_and_keeps_it_verified(plans) -> None:
     assert len(searched.stations) >= searched.result.bound  # never below the proven bound
     assert searched.verification.percent == 100.0  # re-verified at 0.1 m by _finish
     assert list(searched.registration.values()) == [1]  # one registration bundle
-    if record["removed"]:
-        assert searched.result.info["stitch"]["tried"]["local search"] == record["after"]
+    # the kept plan (11) stands 3 above the bound (8), and 300 moves take stations off (11 -> 9 in one run):
+    # the search is recorded among the plans tried
+    assert record["removed"] >= 1
+    assert searched.result.info["stitch"]["tried"]["local search"] == record["after"]
 
 
 def test_search_on_a_tiled_plan_is_deterministic(plans) -> None:
@@ -139,8 +141,9 @@ def test_windows_never_grow_the_kept_plan_and_keep_it_verified(plans, windowed) 
     assert len(windowed.stations) >= windowed.result.bound  # never below the bound
     assert windowed.verification.percent == 100.0  # re-verified at 0.1 m by _finish
     assert list(windowed.registration.values()) == [1]  # one registration bundle
-    if record["after"] < record["before"]:
-        assert windowed.result.info["stitch"]["tried"]["windows"] == record["after"]
+    # one pass of 60-m windows (most of the 1-ha site) takes a station off the kept 11 (11 -> 10 in one run)
+    assert record["after"] < record["before"]
+    assert windowed.result.info["stitch"]["tried"]["windows"] == record["after"]
 
 
 def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed) -> None:
