@@ -36,8 +36,9 @@ def test_estimate_counts_of_the_huge_square(tmp_path):
     site = planner.load_site(_square(tmp_path / "huge.json", HUGE_M))
     est = estimate_work(site, 1.0, 10.0, 270.0)
     assert est.targets == 4 * 10_000_000  # four 10^7 m walls in 1 m pieces
-    # inside grid: (10^7 / 10)^2 = 10^12 points (the region's area over the cell), plus 40 per wall
-    assert est.candidates == 10**12 + 1 + 160
+    # inside grid: (10^7 / 10)^2 = 10^12 points (the region's area over the cell) + 1 (the grid's count of a
+    # region rounds up: memory_guard._grid_count), plus CANDIDATES_PER_WALL = 40 per wall, 4 walls
+    assert est.candidates == 10**12 + 1 + 40 * 4
     with pytest.raises(InputError, match="over this limit"):
         check_memory(site, 1.0, 10.0, 270.0, limit_bytes=10 * 2**40)
 

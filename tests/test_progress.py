@@ -4,7 +4,7 @@ the library itself never prints."""
 from __future__ import annotations
 
 import io
-import time
+import threading
 
 import planner
 from planner import progress
@@ -30,13 +30,20 @@ def test_bar_draws_in_place_and_closes_once():
 
 def test_ticking_reports_elapsed_time_against_the_limit():
     seen: list[tuple[str, float, float]] = []
-    previous = progress.set_sink(lambda s, d, t: seen.append((s, d, t)))
+    ticked = threading.Event()
+
+    def sink(s: str, d: float, t: float) -> None:
+        seen.append((s, d, t))
+        ticked.set()
+
+    previous = progress.set_sink(sink)
     try:
         with progress.ticking("solving", 10.0, every_s=0.01):
-            time.sleep(0.1)
+            assert ticked.wait(30)  # the background thread reports while the body runs (no sleep to race)
     finally:
         progress.set_sink(previous)
-    assert len(seen) >= 2 and all(t == 10.0 for _, _, t in seen)
+    assert len(seen) >= 2 and all(s == "solving" and t == 10.0 for s, _, t in seen)
+    assert all(0 <= d <= 10.0 for _, d, _ in seen[:-1])
     assert seen[-1][1] == 10.0  # closed at the end
 
 

@@ -88,12 +88,13 @@ def test_a_swap_is_needed_to_reach_two_stations():
         assert found.selected == (2, 3, 4) and found.moves == 0 and found.removed == 0
 
 
-@pytest.mark.parametrize("seed", range(6))
+#: the random instances with a connected cover (seeds 2 and 3 have none: every method reports so in
+#: tests/solve/test_connectivity_methods.py::test_methods_agree_with_enumeration)
+@pytest.mark.parametrize("seed", [0, 1, 4, 5])
 def test_from_the_connected_greedy_stays_a_connected_cover_not_below_the_optimum(seed):
     inst = random_instance(seed)
     a, adj = _adjacency(inst)
-    if FOUND[seed] is None:
-        pytest.skip("no connected cover")
+    assert FOUND[seed] is not None
     greedy = connected_greedy_plan(inst, RULE, starts=1)
     found = shrink(a, adj, _groups(inst), list(greedy.selected), moves=300)
     assert _is_connected_cover(inst, adj, found.selected)

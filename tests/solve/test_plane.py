@@ -91,7 +91,7 @@ def test_building_gets_one_station_per_room_that_allows_it() -> None:
     per_zone: dict[str, int] = {}
     for s in plan.stations:
         per_zone[s.zone] = per_zone.get(s.zone, 0) + 1
-    checked = 0
+    checked, twos = 0, 0
     for zone in site.zones:
         if zone.scan_side is not ScanSide.INSIDE:
             continue
@@ -102,7 +102,10 @@ def test_building_gets_one_station_per_room_that_allows_it() -> None:
             checked += 1
         elif aspect >= 2.6:
             assert per_zone.get(zone.id) == 2, zone.id
-    assert checked >= 15
+            twos += 1
+    # building27's inside rooms (scripts/make_building.py): 22 of aspect <= 2.4, 2 of >= 2.6, and 3 between
+    # 2.4 and 2.6, where 1 m pieces may or may not let one station do (not checked)
+    assert (checked, twos) == (22, 2)
     assert len(plan.stations) <= len(old.stations)
     assert plan.result.info["bound_scope"] == "plane"
     assert plan.verification.percent == pytest.approx(100.0)

@@ -9,6 +9,7 @@ from dataclasses import replace
 import pytest
 
 from planner.cli import main
+from planner.coverage.targets import make_targets
 from planner.plan import PlanOptions, plan_site
 from planner.site import ScanSide, load_site
 from planner.site.model import Site, Zone
@@ -47,7 +48,11 @@ def test_height_tolerance_is_the_dissertation_check_value():
 
 
 def test_a_milp_with_no_plan_exits_4_with_the_reason(capsys):
-    # no piece of polygon B is seen by 400 candidates: the MILP stops before solving
+    # no piece of polygon B is seen by 400 candidates: the MILP stops before solving and counts them all.
+    # B's closed walls are 98.99992, 60.00002, 72.00007, 101.73703 and 49.99996 m: equal pieces of at most
+    # 1 m, ceil(L / 1 m) per wall, are 99 + 61 + 73 + 102 + 50 = 385 per side, 770 on both sides
+    site = load_site(INSTANCES / "polygon_b.json")
+    assert len(make_targets(site, 1.0)) == 770
     code = main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "milp", "--k", "400", "--quiet"])
     err = capsys.readouterr().err
     assert code == 4

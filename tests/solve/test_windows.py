@@ -59,11 +59,12 @@ def test_a_window_swaps_where_one_station_at_a_time_cannot():
         assert found.selected == (2, 3, 4) and found.windows == 0 and found.removed == 0
 
 
-@pytest.mark.parametrize("seed", range(6))
+#: the random instances with a connected cover (seeds 2 and 3 have none: every method reports so in
+#: tests/solve/test_connectivity_methods.py::test_methods_agree_with_enumeration)
+@pytest.mark.parametrize("seed", [0, 1, 4, 5])
 def test_a_window_over_everything_meets_enumeration(seed):
     inst = random_instance(seed)
-    if FOUND[seed] is None:
-        pytest.skip("no connected cover")
+    assert FOUND[seed] is not None
     a, adj = _adjacency(inst)
     xy = np.zeros((a.shape[0], 2))  # every candidate at one point: the first window holds the whole plan
     greedy = connected_greedy_plan(inst, RULE, starts=1)

@@ -78,10 +78,11 @@ def test_tiled_plan_has_a_tripod_disc_per_station(serial) -> None:
 
 def test_tile_milps_run_on_work_limits_by_default(serial) -> None:
     # CP-SAT work (deterministic seconds) limits the tile and bound MILPs, so the plan does not depend on
-    # the load; the 4x wall-clock cap was not reached on the 1-ha plant, so that holds for this plan
+    # the load; plan.json names any part whose 4x wall-clock cap was reached instead (none on a quiet
+    # machine; not asserted, since that is a matter of speed)
     info = serial.result.info
     assert info["limits"] == "CP-SAT work (deterministic s)"
-    assert info["wall_cap_hit"] == []
+    assert isinstance(info["wall_cap_hit"], list) and all(isinstance(name, str) for name in info["wall_cap_hit"])
     assert any("deterministic seconds" in line for line in serial.log)
 
 
