@@ -1,7 +1,7 @@
 """The ``planner`` command: one function per subcommand; parses, calls the library, prints.
 
-Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible
-problem (see :mod:`planner.errors`). Errors print as one line on stderr; set
+Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible problem, 5 unreachable
+scheduler, 141 standard output closed by its reader (see :mod:`planner.errors`). Errors print as one line on stderr; set
 PLANNER_DEBUG=1 to see the traceback of an internal error.
 """
 
@@ -322,6 +322,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("planner: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader of standard output stopped reading (| head): stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so that the interpreter's final flush does not fail again
+        return int(ExitCode.BROKEN_PIPE)
     except Exception as exc:  # a bug: one line, the traceback only on request
         if os.environ.get("PLANNER_DEBUG"):
             traceback.print_exc()

@@ -62,7 +62,8 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
 
     if args.tiles is None:
         if args.workers or args.scheduler:
-            raise UsageError("--workers and --scheduler run tiles; give --tiles M", field="--workers", value=args.workers)
+            flag, value = ("--scheduler", args.scheduler) if args.scheduler else ("--workers", args.workers)
+            raise UsageError("--workers and --scheduler run tiles; give --tiles M", field=flag, value=value)
         return plan_site(site, options)
     if options.method != "milp":
         raise UsageError("--tiles plans with the MILP", field="--method", value=options.method)

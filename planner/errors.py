@@ -24,6 +24,8 @@ class ExitCode(IntEnum):
     INVALID_INPUT = 3
     INFEASIBLE = 4
     UNREACHABLE = 5
+    #: standard output closed by its reader (``planner ... | head``): 128 + SIGPIPE, as a shell reports it
+    BROKEN_PIPE = 141
 
 
 def _fmt_value(value: Any) -> str:

@@ -179,3 +179,15 @@ def test_console_script_and_module_agree():
         assert (as_script.returncode, as_script.stdout) == (as_module.returncode, as_module.stdout)
     bad = subprocess.run([sys.executable, "-m", "planner", "validate", "missing.csv"], capture_output=True, text=True)
     assert bad.returncode == 3 and len(bad.stderr.strip().splitlines()) == 1
+
+
+def test_a_closed_output_pipe_stops_quietly_with_141():
+    # `planner validate SITE --json | head -c 0`: the reader has closed the pipe (here before the interpreter
+    # has even started, so the first write fails); the command must not report an internal error (exit 1)
+    # but stop quietly, as a shell reports SIGPIPE (128 + 13)
+    proc = subprocess.Popen([sys.executable, "-m", "planner", "validate", str(INSTANCES / "baalbek.json"), "--json"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
+    assert proc.stdout is not None and proc.stderr is not None
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141 and "internal error" not in err

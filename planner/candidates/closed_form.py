@@ -107,14 +107,47 @@ def circle_radii(vgeo: tuple[VertexGeometry | None, ...], reach: list[float]) ->
     return [g.hd_m if (g is not None and g.reflex) else r for g, r in zip(vgeo, reach)]
 
 
+#: local coordinates are rounded to this (m) so that a turned or moved site gives bit-identical input
+FRAME_SNAP_DECIMALS = 6
+
+
+def _basis(axis: np.ndarray) -> np.ndarray:
+    ux = np.asarray(axis, dtype=float) / float(np.hypot(*axis))
+    return np.column_stack([ux, [-ux[1], ux[0]]])  # columns: the frame's x and y axes
+
+
+def to_frame(geom: shapely.Geometry, origin: np.ndarray, axis: np.ndarray) -> shapely.Geometry:
+    """``geom`` in the coordinates of a frame (``origin``, x along ``axis``), rounded to 1e-6 m."""
+    basis = _basis(axis)
+    return shapely.transform(geom, lambda xy: np.round((xy - origin) @ basis, FRAME_SNAP_DECIMALS))
+
+
+def from_frame(xy: np.ndarray, origin: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Frame coordinates (rows) back in the site's."""
+    return np.asarray(origin, dtype=float) + np.asarray(xy, dtype=float) @ _basis(axis).T
+
+
+def pole_in_frame(region: shapely.Polygon, origin: np.ndarray, axis: np.ndarray) -> shapely.Point:
+    """The pole of inaccessibility of ``region`` (shapely's ``polylabel``, 1 cm tolerance), searched in the
+    coordinates of a frame (``origin``, ``axis``: a zone's first vertex and wall). Where the pole is not unique
+    (a rectangle's centres form a segment) ``polylabel``'s axis-aligned cells and the last bits of the input
+    decide; in the frame's own (rounded) coordinates a turned or moved site gives the same point, moved."""
+    p = polylabel(to_frame(region, origin, axis), tolerance=0.01)
+    return shapely.Point(from_frame(np.array([[p.x, p.y]]), origin, axis)[0])
+
+
 def circle_candidate(zone: Zone, vgeo: tuple[VertexGeometry | None, ...], reach: list[float]) -> Candidate | None:
     """One station inside the zone and inside every vertex circle (fig. 3.13), or None if they do not meet.
 
     The station is put at the pole of inaccessibility of that region (the centre
     of its largest inscribed circle), the point with the most room to move.
     """
-    region = zone.polygon
-    for (x, y), r in zip(zone.xy, circle_radii(vgeo, reach)):
+    # in the zone's own coordinates (first vertex, first wall), so that the circles' polygons and the pole
+    # turn and move with the site
+    origin, axis = np.asarray(zone.xy[0], dtype=float), np.subtract(zone.xy[1], zone.xy[0])
+    region = to_frame(zone.polygon, origin, axis)
+    centres = np.asarray(shapely.get_coordinates(to_frame(shapely.MultiPoint(zone.xy), origin, axis)))
+    for (x, y), r in zip(centres, circle_radii(vgeo, reach)):
         region = region.intersection(shapely.Point(x, y).buffer(r, quad_segs=64))
         if region.is_empty:
             return None
@@ -122,7 +155,9 @@ def circle_candidate(zone: Zone, vgeo: tuple[VertexGeometry | None, ...], reach:
         region = max(getattr(region, "geoms", []), key=lambda g: g.area, default=None)
         if region is None or region.area <= 0:
             return None
-    p = polylabel(region, tolerance=0.01)
+    pole = polylabel(region, tolerance=0.01)
+    (x, y), *_ = from_frame(np.array([[pole.x, pole.y]]), origin, axis).tolist()
+    field = from_frame(np.asarray(region.exterior.coords[:-1]), origin, axis)
     return Candidate(
-        id=f"{zone.id}-in-C", zone=zone.id, side=ScanSide.INSIDE, frame=zone.frame, x=float(p.x), y=float(p.y),
-        kind=CandidateKind.CIRCLE, field=tuple((float(a), float(b)) for a, b in region.exterior.coords[:-1]))
+        id=f"{zone.id}-in-C", zone=zone.id, side=ScanSide.INSIDE, frame=zone.frame, x=float(x), y=float(y),
+        kind=CandidateKind.CIRCLE, field=tuple((float(a), float(b)) for a, b in field))

@@ -8,9 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from shapely.ops import polylabel
 
-from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, scan_side_angles
+from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, pole_in_frame, scan_side_angles
 from planner.candidates.formulas import horizontal_reach_m
 from planner.candidates.model import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site, Zone
@@ -69,13 +68,19 @@ def _grid_points(region: shapely.Geometry, origin: np.ndarray, ux: np.ndarray, s
     return pts[shapely.contains_xy(region, pts[:, 0], pts[:, 1])]
 
 
-def _sample_polygon(poly: shapely.Geometry, k: int, rng: np.random.Generator) -> np.ndarray:
+def _sample_polygon(poly: shapely.Geometry, k: int, rng: np.random.Generator, origin: np.ndarray,
+                    ux: np.ndarray) -> np.ndarray:
+    """Up to ``k`` uniform points of ``poly``, drawn in the box of its coordinates along the frame's axes
+    (origin, ux): the same draws land on the same points of a rotated or translated site."""
     if k <= 0 or poly.is_empty or poly.area <= 0:
         return np.zeros((0, 2))
-    x0, y0, x1, y1 = poly.bounds
+    uy = np.array([-ux[1], ux[0]])
+    local = (np.asarray(poly.exterior.coords) - origin) @ np.column_stack([ux, uy])
+    lo, hi = local.min(axis=0), local.max(axis=0)
     out = np.zeros((0, 2))
     for _ in range(20):
-        pts = rng.uniform([x0, y0], [x1, y1], size=(4 * k, 2))
+        uv = rng.uniform(lo, hi, size=(4 * k, 2))
+        pts = origin + np.outer(uv[:, 0], ux) + np.outer(uv[:, 1], uy)
         out = np.vstack([out, pts[shapely.contains_xy(poly, pts[:, 0], pts[:, 1])]])
         if len(out) >= k:
             break
@@ -164,7 +169,8 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
     pool: list[Candidate] = list(closed)
     for c in closed:
         if c.field:
-            for k, (x, y) in enumerate(_sample_polygon(shapely.Polygon(c.field), options.field_samples, rng), 1):
+            origin, ux = _frame_axes(site, c.frame)
+            for k, (x, y) in enumerate(_sample_polygon(shapely.Polygon(c.field), options.field_samples, rng, origin, ux), 1):
                 pool.append(Candidate(f"{c.id}.f{k}", c.zone, c.side, c.frame, float(x), float(y), CandidateKind.FIELD))
     walls = {f: shapely.MultiLineString([r for z in site.zones if z.frame == f for r in (z.polygon.exterior, *z.polygon.interiors)])
              for f in dict.fromkeys(z.frame for z in site.zones)}
@@ -175,7 +181,8 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
                 pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))
             region = _region(zone, side, max(horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m))
             if side is ScanSide.INSIDE:  # the point farthest from every wall: a room's natural centre station
-                centre = polylabel(region, tolerance=0.01)
+                origin, ux = _frame_axes(site, zone.frame)
+                centre = pole_in_frame(region, origin, ux)
                 pool.append(Candidate(f"{zone.id}-{tag}-P", zone.id, side, zone.frame, centre.x, centre.y, CandidateKind.GRID))
             for name, p in _bisector_points(zone, region, options.min_standoff_m):
                 pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))

@@ -28,7 +28,10 @@ def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
 def test_workers_without_tiles_is_a_usage_error(capsys) -> None:
     assert main(["plan", PLANT, "--workers", "2"]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "--tiles" in err
+    assert len(err.splitlines()) == 1 and "--tiles" in err and "--workers = 2" in err
+    # the flag given is the one named
+    assert main(["plan", PLANT, "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    assert "--scheduler = 'tcp://127.0.0.1:1'" in capsys.readouterr().err
 
 
 def test_tiles_with_greedy_is_a_usage_error(capsys) -> None:
