@@ -311,7 +311,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
-    args = build_parser().parse_args(argv)
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as done:  # --help, --version, or a usage error already printed in one line
+        return int(done.code or 0) if not isinstance(done.code, str) else int(ExitCode.USAGE)
     show = not getattr(args, "quiet", True) and sys.stderr.isatty()
     previous = progress.set_sink(progress.Bar(sys.stderr) if show else None)
     try:

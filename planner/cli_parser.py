@@ -14,6 +14,7 @@ from planner import __version__
 from planner.cli_choices import BACKENDS, CONNECTIVITY, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
 from planner.cli_report import add_report_parser
 from planner.cli_tiles import add_tile_options
+from planner.cli_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT, SAMPLING_M
 from planner.errors import ExitCode
 
 Handlers = Mapping[str, Callable[[argparse.Namespace], int]]
@@ -23,8 +24,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse that exits with our usage code and a one-line message."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        self.print_usage(sys.stderr)
-        print(f"{self.prog}: usage error: {message}", file=sys.stderr)
+        print(f"{self.prog}: usage error: {message} (see {self.prog} --help)", file=sys.stderr)
         raise SystemExit(ExitCode.USAGE)
 
 
@@ -59,7 +59,7 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
 
 def _add_network_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--control", metavar="FILE", help="control points (JSON list: name, x, y, sigma_x_mm, sigma_y_mm)")
-    p.add_argument("--monte-carlo", type=int, default=0, metavar="N", help="also simulate N adjustments (seeded)")
+    p.add_argument("--monte-carlo", type=NON_NEGATIVE_INT, default=0, metavar="N", help="also simulate N adjustments (seeded)")
     p.add_argument("--traverse", metavar="FILE", help="the planned control traverse (JSON: points, legs), the only "
                    "total-station observations; 'none' for no traverse (default: a proposed one, labelled so)")
     p.add_argument("--ts-everywhere", action="store_true",
@@ -74,9 +74,9 @@ def _add_limit_options(p: argparse.ArgumentParser) -> None:
 
 def _add_pool_options(p: argparse.ArgumentParser) -> None:
     """The options that fix the coverage problem: pieces, candidate grid, sampling seed (plan and export)."""
-    p.add_argument("--seed", type=int, default=0, help="seed of the movement-field sampling (default 0)")
-    p.add_argument("--target-spacing", type=float, default=1.0, metavar="M", help="wall piece length (default 1 m)")
-    p.add_argument("--grid-spacing", type=float, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
+    p.add_argument("--seed", type=NON_NEGATIVE_INT, default=0, help="seed of the movement-field sampling (default 0)")
+    p.add_argument("--target-spacing", type=POSITIVE, default=1.0, metavar="M", help="wall piece length (default 1 m)")
+    p.add_argument("--grid-spacing", type=POSITIVE, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)")
 
 
 def _add_memory_option(p: argparse.ArgumentParser) -> None:
@@ -103,8 +103,8 @@ def _add_assemble_parser(sub: argparse._SubParsersAction, handlers: Handlers) ->
     c.set_defaults(func=handlers["chain"])
     a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
     a.add_argument("site", help="JSON instance or table CSV")
-    a.add_argument("--tolerance", type=float, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)")
-    a.add_argument("--wall-thickness", type=float, default=0.0, metavar="M", help="offset between the two faces (default 0)")
+    a.add_argument("--tolerance", type=POSITIVE, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)")
+    a.add_argument("--wall-thickness", type=NON_NEGATIVE, default=0.0, metavar="M", help="offset between the two faces (default 0)")
     a.add_argument("--anchor", metavar="ZONE", help="zone whose frame becomes the site frame (default: the outline)")
     a.add_argument("--out", metavar="FILE", help="write the instance with its placements to FILE")
     a.set_defaults(func=handlers["assemble"])
@@ -124,15 +124,15 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     pl.add_argument("--method", choices=METHODS, default="milp",
                     help="closed-form (the dissertation), greedy (Chvatal) or milp (optimal; default)")
     pl.add_argument("--backend", choices=BACKENDS, default="cpsat", help="MILP backend (default cpsat)")
-    pl.add_argument("--time-limit", type=float, default=60.0, metavar="S", help="MILP time limit in s (default 60)")
-    pl.add_argument("--work-limit", type=float, default=None, metavar="S",
+    pl.add_argument("--time-limit", type=POSITIVE, default=60.0, metavar="S", help="MILP time limit in s (default 60)")
+    pl.add_argument("--work-limit", type=POSITIVE, default=None, metavar="S",
                     help="cpsat, 1 thread: stop on S deterministic seconds of CP-SAT work (same plan under any load); "
                          "--time-limit stays a wall-clock cap")
-    pl.add_argument("--local-search-moves", type=int, default=500, metavar="N",
+    pl.add_argument("--local-search-moves", type=NON_NEGATIVE_INT, default=500, metavar="N",
                     help="milp: swaps of the local search for a connected plan one station smaller, tried once per "
                          "incumbent size down to the bound (default 500; 0: off)")
-    pl.add_argument("--threads", type=int, default=1, help="solver threads (default 1: deterministic)")
-    pl.add_argument("--k", type=int, default=1, help="each wall piece seen by at least k stations (default 1)")
+    pl.add_argument("--threads", type=POSITIVE_INT, default=1, help="solver threads (default 1: deterministic)")
+    pl.add_argument("--k", type=POSITIVE_INT, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument("--precision", choices=PRECISION_MODES, default="single",
                     help="single: each view must meet sigma_req; combined: views add information (every method)")
     pl.add_argument("--no-overlap", action="store_true", help="MILP and greedy without the registration-overlap constraint")
@@ -144,11 +144,11 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     pl.add_argument("--no-ring-bound", action="store_true",
                     help="milp: no ring bound (the cheapest walk over the arcs a zone-side's stations see, exact when "
                          "each sees one run of its wall)")
-    pl.add_argument("--ring-lagrange-steps", type=int, default=500, metavar="N",
+    pl.add_argument("--ring-lagrange-steps", type=NON_NEGATIVE_INT, default=500, metavar="N",
                     help="milp: steps of the Lagrangian ascent that adds the cover rows to the ring bound (default 500; "
                          "0: the ring bound alone)")
-    pl.add_argument("--min-shared", type=float, default=0.0, metavar="M", help="registration: shared wall at least M m")
-    pl.add_argument("--max-link", type=float, default=None, metavar="M", help="registration: stations at most M m apart")
+    pl.add_argument("--min-shared", type=NON_NEGATIVE, default=0.0, metavar="M", help="registration: shared wall at least M m")
+    pl.add_argument("--max-link", type=POSITIVE, default=None, metavar="M", help="registration: stations at most M m apart")
     pl.add_argument("--registration", choices=("zone", "site"), default=None,
                     help="one registration bundle per zone-side, or per accessible area of the site (default: site "
                          "where zones are placed or openings given)")
@@ -158,7 +158,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
                     help="no whole-zone-side candidates from the coverage regions (the pool as before issue 12)")
     pl.add_argument("--no-pricing", action="store_true",
                     help="milp: no geometric pricing, so the bound holds over the candidate pool only")
-    pl.add_argument("--pricing-time-limit", type=float, default=120.0, metavar="S",
+    pl.add_argument("--pricing-time-limit", type=NON_NEGATIVE, default=120.0, metavar="S",
                     help="milp: time for geometric pricing (default 120 s); past it the bound scope stays 'pool'")
     _add_memory_option(pl)
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
@@ -168,14 +168,14 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
                     "csv (stations.csv), comma-separated")
     pl.add_argument("--report", metavar="DIR", help="write DIR/report.html (figures embedded; runs the network check)")
     _add_pool_options(pl)
-    pl.add_argument("--verify-spacing", type=float, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
+    pl.add_argument("--verify-spacing", type=SAMPLING_M, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
     _add_limit_options(pl)
     add_tile_options(pl)
     pl.set_defaults(func=handlers["plan"])
     ve = sub.add_parser("verify", help="re-verify any plan's coverage on a fine sampling of every wall")
     _add_site_options(ve)
     ve.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}] in the zones' frames")
-    ve.add_argument("--spacing", type=float, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)")
+    ve.add_argument("--spacing", type=SAMPLING_M, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)")
     ve.add_argument("--precision", choices=PRECISION_MODES, default="single",
                     help="single: each point needs one view within sigma_req; combined: its views add information")
     _add_limit_options(ve)
@@ -192,7 +192,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     _add_site_options(nw)
     nw.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
     nw.add_argument("--out", metavar="DIR", help="write DIR/network.json")
-    nw.add_argument("--seed", type=int, default=0)
+    nw.add_argument("--seed", type=NON_NEGATIVE_INT, default=0)
     nw.add_argument("--precision", choices=PRECISION_MODES, default="single",
                     help="accuracy check by the best view (single) or all views combined")
     _add_network_options(nw)

@@ -7,6 +7,7 @@ import argparse
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from planner.cli_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT
 from planner.errors import UsageError
 
 if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/startup.md)
@@ -15,34 +16,34 @@ if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/
 
 
 def add_tile_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--tiles", type=float, default=None, metavar="M",
+    p.add_argument("--tiles", type=POSITIVE, default=None, metavar="M",
                    help="milp: plan by square tiles of M m (margins of S_max), stitched into one registered plan")
-    p.add_argument("--tile-time-limit", type=float, default=30.0, metavar="S",
+    p.add_argument("--tile-time-limit", type=POSITIVE, default=30.0, metavar="S",
                    help="--tiles: MILP work per tile, CP-SAT deterministic seconds, wall cap 4x (default 30)")
-    p.add_argument("--bound-time-limit", type=float, default=60.0, metavar="S",
+    p.add_argument("--bound-time-limit", type=NON_NEGATIVE, default=60.0, metavar="S",
                    help="--tiles: work of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)")
-    p.add_argument("--lagrange-work", type=float, default=None, metavar="S",
+    p.add_argument("--lagrange-work", type=NON_NEGATIVE, default=None, metavar="S",
                    help="--tiles: also the Lagrangian bound over the tiles, S CP-SAT deterministic seconds per tile "
                         "(0: off; default 10)")
-    p.add_argument("--lagrange-group", type=int, default=1, metavar="N",
+    p.add_argument("--lagrange-group", type=POSITIVE_INT, default=1, metavar="N",
                    help="--tiles: Lagrangian parts of N x N tiles (default 1)")
-    p.add_argument("--tile-search-moves", type=int, default=20_000, metavar="N",
+    p.add_argument("--tile-search-moves", type=NON_NEGATIVE_INT, default=20_000, metavar="N",
                    help="--tiles: move budget of the local search that shrinks the kept connected plan (default 20000; 0: none)")
-    p.add_argument("--tile-search-seeds", type=int, default=1, metavar="N",
+    p.add_argument("--tile-search-seeds", type=POSITIVE_INT, default=1, metavar="N",
                    help="--tiles: run the local search with seeds 0..N-1 (as Dask tasks with --workers) and keep the "
                         "smallest plan (default 1)")
-    p.add_argument("--tile-window-passes", type=int, default=1, metavar="N",
+    p.add_argument("--tile-window-passes", type=NON_NEGATIVE_INT, default=1, metavar="N",
                    help="--tiles: passes of the exact window re-solves after the local search (default 1; 0: none)")
-    p.add_argument("--tile-window-radius", type=float, default=60.0, metavar="M",
+    p.add_argument("--tile-window-radius", type=POSITIVE, default=60.0, metavar="M",
                    help="--tiles: radius of a re-solve window around each station (default 60 m)")
-    p.add_argument("--tile-window-work", type=float, default=3.0, metavar="S",
+    p.add_argument("--tile-window-work", type=POSITIVE, default=3.0, metavar="S",
                    help="--tiles: CP-SAT deterministic seconds per window, wall cap 4x (default 3)")
-    p.add_argument("--tile-window-batch", type=int, default=1, metavar="N",
+    p.add_argument("--tile-window-batch", type=POSITIVE_INT, default=1, metavar="N",
                    help="--tiles on Dask: windows solved N at a time as tasks (default 1: one at a time in this "
                         "process; same plan either way)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
-    p.add_argument("--workers", type=int, default=0, metavar="N",
+    p.add_argument("--workers", type=NON_NEGATIVE_INT, default=0, metavar="N",
                    help="--tiles: run tiles on an embedded Dask LocalCluster of N processes (default 0: in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="--tiles: run tiles on the Dask cluster at ADDRESS (tcp://HOST:PORT)")

@@ -138,13 +138,23 @@ def test_theta_max_in_instance_file_names_the_file(capsys, tmp_path):
     assert_one_line_error(err, "a.json", "theta_max_deg = 95")
 
 
-def test_usage_errors_exit_2(capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(["validate"])
-    assert exc.value.code == 2
-    with pytest.raises(SystemExit) as exc:
-        main(["frobnicate"])
-    assert exc.value.code == 2
+def test_usage_errors_exit_2_in_one_line(capsys):
+    # argparse's errors too: no usage block before the message, the option and the value named
+    for argv, words in ((["validate"], "the following arguments are required: site"),
+                        (["frobnicate"], "invalid choice: 'frobnicate'"),
+                        (["plan", "x.json", "--incidence", "4d"], "argument --incidence: invalid choice: '4d'"),
+                        (["plan", "x.json", "--target-spacing", "0"], "argument --target-spacing: must be > 0, got '0'"),
+                        (["plan", "x.json", "--grid-spacing", "nan"], "argument --grid-spacing: must be > 0, got 'nan'"),
+                        (["plan", "x.json", "--threads", "0"], "argument --threads: must be >= 1, got '0'"),
+                        (["plan", "x.json", "--seed", "-1"], "argument --seed: must be >= 0, got '-1'"),
+                        (["plan", "x.json", "--time-limit", "-5"], "argument --time-limit: must be > 0, got '-5'"),
+                        (["plan", "x.json", "--max-link", "0"], "argument --max-link: must be > 0, got '0'"),
+                        (["verify", "x.json", "p.json", "--spacing", "1e-9"], "argument --spacing: must be >= 0.001 and <= 10"),
+                        (["assemble", "x.json", "--wall-thickness", "-1"], "argument --wall-thickness: must be >= 0")):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and words in err and "usage:" not in err, (argv, err)
+    assert main(["--version"]) == 0
 
 
 def test_missing_file_and_unknown_format(capsys, tmp_path):

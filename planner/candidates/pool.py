@@ -180,6 +180,8 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
             for name, p in _corner_rays(zone, side, limits):
                 pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))
             region = _region(zone, side, max(horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m))
+            if region.is_empty:  # no wall top within reach from outside: no point stands usefully (coverage says
+                continue         # which pieces nothing sees, exit 4)
             if side is ScanSide.INSIDE:  # the point farthest from every wall: a room's natural centre station
                 origin, ux = _frame_axes(site, zone.frame)
                 centre = pole_in_frame(region, origin, ux)

@@ -1,0 +1,40 @@
+"""Checked number types of the command line's options: a bad value is a one-line usage error (exit 2)
+that names the option and the value, before any work starts."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+
+
+def number(kind: type = float, *, above: float | None = None, at_least: float | None = None,
+           below: float | None = None, at_most: float | None = None) -> Callable[[str], float]:
+    """An argparse ``type``: ``kind`` (float or int) parsed from the text, finite, within the bounds given
+    (``above`` < x, ``at_least`` <= x, x < ``below``, x <= ``at_most``)."""
+    rules = [(above, lambda x, b: x > b, ">"), (at_least, lambda x, b: x >= b, ">="),
+             (below, lambda x, b: x < b, "<"), (at_most, lambda x, b: x <= b, "<=")]
+    wanted = " and ".join(f"{op} {b:g}" for b, _, op in rules if b is not None)
+
+    def parse(text: str) -> float:
+        try:
+            value = kind(text.strip())
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {'an integer' if kind is int else 'a number'}, "
+                                             f"got {text!r}") from None
+        if not math.isfinite(value) or not all(ok(value, b) for b, ok, _ in rules if b is not None):
+            raise argparse.ArgumentTypeError(f"must be {'finite' if not wanted else wanted}, got {text!r}")
+        return value
+
+    parse.__name__ = kind.__name__
+    return parse
+
+
+#: the option types used by the parser
+POSITIVE = number(float, above=0)
+NON_NEGATIVE = number(float, at_least=0)
+POSITIVE_INT = number(int, at_least=1)
+NON_NEGATIVE_INT = number(int, at_least=0)
+#: verification sampling: finer than 1 mm is no survey resolution (and 10^9 samples per km of wall), coarser
+#: than 10 m checks little more than the corners
+SAMPLING_M = number(float, at_least=0.001, at_most=10.0)
