@@ -132,10 +132,22 @@ def _memory_limit(args: argparse.Namespace) -> int | None:
     return parse_memory(args.memory_limit) if args.memory_limit else None
 
 
+def _usable_folder(flag: str, folder: str | None) -> None:
+    """An output folder given on the command line: it is (or can be made) a folder, else a usage error."""
+    if folder is None:
+        return
+    try:
+        Path(folder).mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UsageError(f"cannot be used as an output folder ({exc.strerror or exc})", field=flag, value=folder) from None
+
+
 def cmd_plan(args: argparse.Namespace) -> int:
     formats = parse_exports(args.export)
     if formats and not args.out:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
+    for flag, folder in (("--out", args.out), ("--report", args.report)):
+        _usable_folder(flag, folder)  # before the planning, not after it
     site = load_with_overrides(args)
     _guard_memory(site, args)
     from planner.outcome import outcome_from_plan
@@ -329,6 +341,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # so that the interpreter's final flush does not fail again
         return int(ExitCode.BROKEN_PIPE)
+    except OSError as exc:  # a path given on the command line that cannot be written (or read)
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"planner: error: {where}{exc.strerror or exc} (an output path given on the command line?)", file=sys.stderr)
+        return int(ExitCode.USAGE)
     except Exception as exc:  # a bug: one line, the traceback only on request
         if os.environ.get("PLANNER_DEBUG"):
             traceback.print_exc()

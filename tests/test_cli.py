@@ -201,3 +201,16 @@ def test_a_closed_output_pipe_stops_quietly_with_141():
     proc.stdout.close()
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 141 and "internal error" not in err
+
+
+def test_unusable_output_paths_are_one_line_usage_errors(capsys, tmp_path):
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    # a plan's --out or --report that is a file is refused before the planning starts
+    for flag in ("--out", "--report"):
+        code, out, err = run(capsys, "plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", flag, str(afile))
+        assert code == 2 and out == "" and err.count("\n") == 1 and f"{flag} = " in err
+    # an export into a folder, or into a folder that does not exist, names the path
+    for target in (tmp_path, tmp_path / "no" / "such" / "x.mps"):
+        code, _, err = run(capsys, "export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(target))
+        assert code == 2 and err.count("\n") == 1 and str(target) in err

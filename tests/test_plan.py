@@ -172,3 +172,15 @@ def test_bad_plan_file_is_invalid_input(tmp_path, capsys):
     (tmp_path / "p.json").write_text(json.dumps({"stations": [{"zone": "Q", "side": "inside", "x": 1, "y": 2}]}))
     assert main(["verify", str(INSTANCES / "polygon_a.json"), str(tmp_path / "p.json")]) == 3
     assert "stations[1]: zone = 'Q': names no zone" in capsys.readouterr().err
+
+
+def test_outside_walls_out_of_reach_exit_4_listing_them(tmp_path, capsys):
+    # a 20 x 10 m block scanned from outside, 5 m walls, S_max 3 m: from the ground no wall top is within
+    # reach (5 > 3), so no point around the block can stand (its region is empty) and every one of the
+    # 2 x (20 + 10) = 60 pieces is unseen: exit 4 listing them, not an internal error
+    path = tmp_path / "block.json"
+    path.write_text(json.dumps({"zones": [{"id": "r", "scan_side": "outside", "height_m": 5,
+                                           "coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}))
+    assert main(["plan", str(path), "--method", "greedy", "--max-range", "3", "--quiet"]) == 4
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "60 target(s) seen by no candidate" in err and "block.json" in err
