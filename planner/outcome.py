@@ -19,7 +19,7 @@ from planner.coverage.visibility import SightLimits
 from planner.errors import InputError
 from planner.network.check import NetworkReport
 from planner.plan import Plan, sight_limits
-from planner.plan_io import plan_to_dict, read_plan_stations
+from planner.plan_io import check_plan_meta, plan_to_dict, read_plan_stations
 from planner.site.fileio import read_json
 from planner.site.load import load_site
 from planner.site.model import Site
@@ -88,9 +88,7 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
     """The outcome of a plan.json (stations re-read, coverage and verification recomputed); ``ifc`` selects
     the storeys when the site is an IFC model."""
     name = str(plan_path)
-    meta = read_json(plan_path)
-    if not isinstance(meta, dict):
-        raise InputError("a plan must be a JSON object", file=name)
+    meta = check_plan_meta(read_json(plan_path), name)
     site = site_for_plan(meta, site_path, name, ifc)
     validation = validate_site(site)
     p = meta.get("parameters") or {}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -92,10 +93,15 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
         raise InputError("a plan needs a list 'stations'", file=name, field="stations")
     zones = {z.id: z for z in site.zones}
     out = []
+    seen: dict[str, int] = {}
     for k, row in enumerate(rows, 1):
         where = dict(file=name, row=f"stations[{k}]")
         if not isinstance(row, dict):
             raise InputError("must be an object", **where)
+        sid = str(row.get("id", f"S{k}"))
+        if sid in seen:  # the network and the report key stations by id: two would merge into one
+            raise InputError(f"station id used twice (also stations[{seen[sid]}])", **where, field="id", value=sid)
+        seen[sid] = k
         zone = row.get("zone")
         if zone not in zones:
             raise InputError("names no zone of the site", **where, field="zone", value=zone)
@@ -110,5 +116,37 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
         except ValueError:
             raise InputError("unknown station kind", **where, field="kind", value=row.get("kind")) from None
         x, y = (to_float(row.get(c), field=c, **where) for c in ("x", "y"))
-        out.append(Candidate(str(row.get("id", f"S{k}")), zone, side, zones[zone].frame, x, y, kind))
+        out.append(Candidate(sid, zone, side, zones[zone].frame, x, y, kind))
     return out
+
+
+#: plan.json fields ``planner report`` reads back: (key, check, what it must be)
+_POSITIVE = (lambda v: isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0, "a number > 0")
+_PARAMETER_CHECKS: dict[str, tuple[Any, str]] = {
+    "target_spacing_m": _POSITIVE, "verify_spacing_m": _POSITIVE, "grid_spacing_m": _POSITIVE,
+    "seed": (lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0, "an integer >= 0"),
+    "instrument": (lambda v: isinstance(v, str), "an instrument name"),
+    "incidence": (lambda v: v in ("horizontal", "3d"), "'horizontal' or '3d'"),
+    "precision": (lambda v: isinstance(v, bool), "true or false"),
+    "precision_mode": (lambda v: v in ("single", "combined"), "'single' or 'combined'"),
+    "milp": (lambda v: isinstance(v, dict), "an object"),
+}
+
+
+def check_plan_meta(meta: Any, name: str) -> dict[str, Any]:
+    """The plan.json object ``planner report`` reads, its fields checked: a clear one-line error naming the
+    file and the field, instead of a crash deep in the report (the plan may have been edited by hand)."""
+    if not isinstance(meta, dict):
+        raise InputError("a plan must be a JSON object", file=name)
+    for key in ("parameters", "counts", "registration"):
+        if meta.get(key) is not None and not isinstance(meta[key], dict):
+            raise InputError("must be an object", file=name, field=key, value=meta[key])
+    for key, value in (meta.get("parameters") or {}).items():
+        ok, what = _PARAMETER_CHECKS.get(key, (None, ""))
+        if ok is not None and value is not None and not ok(value):
+            raise InputError(f"must be {what}", file=name, field=f"parameters.{key}", value=value)
+    for key in ("bound", "gap", "time_s"):
+        value = meta.get(key)
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))):
+            raise InputError("must be a number or null", file=name, field=key, value=value)
+    return meta

@@ -214,3 +214,23 @@ def test_unusable_output_paths_are_one_line_usage_errors(capsys, tmp_path):
     for target in (tmp_path, tmp_path / "no" / "such" / "x.mps"):
         code, _, err = run(capsys, "export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(target))
         assert code == 2 and err.count("\n") == 1 and str(target) in err
+
+
+def test_a_hand_edited_plan_json_is_refused_in_one_line(capsys, tmp_path):
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(tmp_path), "--quiet"]) == 0
+    capsys.readouterr()
+    good = json.loads((tmp_path / "plan.json").read_text())
+    cases = [(lambda d: d.update(parameters="x"), "parameters = 'x': must be an object"),
+             (lambda d: d["parameters"].update(seed="abc"), "parameters.seed = 'abc': must be an integer >= 0"),
+             (lambda d: d["parameters"].update(target_spacing_m=0), "parameters.target_spacing_m = 0: must be a number > 0"),
+             (lambda d: d.update(counts="x"), "counts = 'x': must be an object"),
+             (lambda d: d["stations"][1].update(id=d["stations"][0]["id"]), "station id used twice (also stations[1])")]
+    for edit, words in cases:
+        data = json.loads(json.dumps(good))
+        edit(data)
+        (tmp_path / "bad.json").write_text(json.dumps(data))
+        code, _, err = run(capsys, "report", str(tmp_path / "bad.json"), "--no-network", "--out", str(tmp_path / "r"))
+        assert code == 3 and err.count("\n") == 1 and "bad.json" in err and words in err, err
+    # the network keys stations by id too: the duplicate is refused there as well, not merged
+    code, _, err = run(capsys, "network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "bad.json"))
+    assert code == 3 and "station id used twice" in err
