@@ -74,15 +74,21 @@ class TotalStation:
 Instrument = Scanner | TotalStation
 
 
+#: no instrument constant (ranges in m, sigmas in mm or arcsec, ppm, degrees) is anywhere near this; a
+#: larger one is a typo that would overflow the accuracy model (1e308 arcsec)
+MAX_MODEL_VALUE = 1e9
+
+
 def _check_positive(obj: object, names: tuple[str, ...], zero_ok: bool) -> None:
     for name in names:
         v = getattr(obj, name)
         if v is None:
             continue
-        bad = not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0 or (v == 0 and not zero_ok)
+        bad = (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0
+               or (v == 0 and not zero_ok) or v > MAX_MODEL_VALUE)
         if bad:
             need = ">= 0" if zero_ok else "> 0"
-            raise InputError(f"must be a finite number {need}", zone=None, field=name, value=v)
+            raise InputError(f"must be a finite number {need} and <= {MAX_MODEL_VALUE:g}", zone=None, field=name, value=v)
 
 
 def default_models_dir() -> Path:

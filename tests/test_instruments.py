@@ -82,3 +82,12 @@ def test_datasheet_range_caps_the_derived_one(tmp_path):
     f.write_text('kind = "scanner"\nrange_sigma_const_mm = 1.2\nrange_sigma_ppm = 10\nangle_sigma_arcsec = 8\nmax_range_m = 100\n')
     limit = resolve_range_limit(Parameters(), load_instrument(str(f)))
     assert limit.max_slant_range_m == 100.0 and "239.55" in limit.source
+
+
+@pytest.mark.parametrize("value, shown", [("true", "True"), ("1e308", "1e+308")])
+def test_a_boolean_or_absurd_constant_is_refused(tmp_path, value, shown):
+    # TOML booleans are no 1" of angle; 1e308" overflowed the accuracy model instead of being refused
+    f = tmp_path / "odd.toml"
+    f.write_text(f'kind = "scanner"\nrange_sigma_const_mm = 1\nrange_sigma_ppm = 1\nangle_sigma_arcsec = {value}\n')
+    with pytest.raises(InputError, match=rf"angle_sigma_arcsec = {shown}: must be a finite number >= 0 and <= 1e\+09"):
+        load_instrument(str(f))

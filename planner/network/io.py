@@ -27,6 +27,10 @@ def read_control(path: str) -> list[ControlPoint]:
         out.append(ControlPoint(str(d["name"]), to_float(d.get("x"), field="x", **where), to_float(d.get("y"), field="y", **where),
                                 sigma_x_m=to_float(d.get("sigma_x_mm", 0), field="sigma_x_mm", **where) / 1000,
                                 sigma_y_m=to_float(d.get("sigma_y_mm", 0), field="sigma_y_mm", **where) / 1000))
+    names = [c.name for c in out]
+    for k, n in enumerate(names, 1):
+        if n in names[:k - 1]:  # the network keys points by name: two would merge into one
+            raise InputError("control point name used twice", file=path, row=f"control[{k}]", field="name", value=n)
     return out
 
 

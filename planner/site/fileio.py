@@ -43,16 +43,21 @@ def read_json(path: Path | str) -> Any:
 
 
 def to_float(raw: Any, *, field: str, file: str | None = None, zone: str | None = None,
-             row: int | str | None = None) -> float:
-    """A finite float from a CSV cell or JSON value; NaN, inf, text and booleans are refused."""
+             row: int | str | None = None, text: bool = False) -> float:
+    """A finite float from a JSON number, or with ``text=True`` from a CSV cell (plain decimal text: no
+    Python digit grouping such as ``6_0``); NaN, inf, booleans, and text in JSON are refused."""
     if isinstance(raw, bool):
         raise InputError("must be a number", file=file, zone=zone, row=row, field=field, value=raw)
     if isinstance(raw, str):
-        text = raw.strip()
-        if not text:
+        if not text:  # JSON has numbers: "9" is a typo or a unit mix-up, not a number to guess at
+            raise InputError("must be a number, not text", file=file, zone=zone, row=row, field=field, value=raw)
+        cell = raw.strip()
+        if not cell:
             raise InputError("missing value", file=file, zone=zone, row=row, field=field)
         try:
-            value = float(text)
+            if "_" in cell:
+                raise ValueError(cell)
+            value = float(cell)
         except ValueError:
             raise InputError("not a number", file=file, zone=zone, row=row, field=field, value=raw) from None
     elif isinstance(raw, (int, float)):

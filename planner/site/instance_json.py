@@ -169,6 +169,8 @@ def _zones(r: _Reader, entries: list[Any], tolerance: ClosureTolerance,
             e = r.obj(entry, "zones entry", {"table_csv", "zones"}, row=f"zones[{k}]")
             found = read_table_csv(r.path.parent / r.text(e, "table_csv"))
             wanted = e.get("zones")
+            if wanted is not None and (not isinstance(wanted, list) or not all(isinstance(w, str) for w in wanted)):
+                raise r.fail("must be a list of the CSV's zone names", row=f"zones[{k}]", field="zones", value=wanted)
             if wanted is not None:
                 missing = sorted(set(wanted) - {t.zone for t in found})
                 if missing:

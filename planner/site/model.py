@@ -303,6 +303,12 @@ class Site:
             if z.id in seen:
                 raise InputError("duplicate zone id", file=self.source or None, zone=z.id, field="id", value=z.id)
             seen.add(z.id)
+        names: set[str] = set()
+        for k, c in enumerate(self.control_points, 1):
+            if c.name in names:  # the network keys points by name: two would merge into one
+                raise InputError("control point name used twice", file=self.source or None,
+                                 row=f"control_points[{k}]", field="name", value=c.name)
+            names.add(c.name)
         if self.boundary is not None:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
 

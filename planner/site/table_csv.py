@@ -55,7 +55,7 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
             index = int(rec["index"])
         except ValueError:
             raise InputError("must be a whole number", **where, field="index", value=rec["index"]) from None
-        nums = {c: to_float(rec[c], field=c, **where) for c in NUMBER_COLUMNS}
+        nums = {c: to_float(rec[c], field=c, text=True, **where) for c in NUMBER_COLUMNS}
         row = TableRow(index=index, line=line_no, **nums)
         if zone in zones and zones[zone][0] != side:
             raise InputError(f"scan side differs from the zone's first row ({zones[zone][0]})", **where, field="scan_side", value=side)

@@ -165,6 +165,14 @@ def test_a_100_mb_file_is_refused_without_reading_it(tmp_path, capsys, suffix):
                  "A,inside,1,ten,5,90,5\n", "side_length_m = 'ten'"),
     ("bad.pol", "4 0/1 0/1 1/1 0/1 1/1 1/0 0/1 1/1", "not a number p/q"),
     ("short.pol", "5 0 0 1 0 1 1", "promises 5 vertices"),
+    # Python's digit grouping is no number in a survey table (6_0 read as 60 before)
+    ("grouped.csv", "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m\n"
+                    "A,inside,1,6_0,5,90,5\n", "side_length_m = '6_0': not a number"),
+    # JSON has numbers: a number in quotes is refused, not converted ("9_0" became 90 m walls before)
+    ("quoted.json", '{"zones": [{"id": "hall", "scan_side": "inside", "height_m": "9_0", '
+                    '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "height_m = '9_0': must be a number, not text"),
+    ("overlap.json", '{"parameters": {"overlap": "0.3"}, "zones": [{"id": "hall", "scan_side": "inside", "height_m": 9, '
+                     '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "overlap = '0.3': must be a number, not text"),
 ])
 def test_malformed_files_give_one_line_errors(tmp_path, capsys, name, text, fragment):
     path = tmp_path / name
@@ -207,3 +215,23 @@ def test_hole_walls_are_numbered_after_the_outline():
                      hole_heights_m=((4.0,) * 3, (4.0,) * 4))
     assert [w.index for w in z.walls] == list(range(1, 12))
     assert z.walls[4].start == (5, 5) and z.walls[7].start == (15, 5)
+
+
+def test_a_control_point_name_used_twice_is_refused(tmp_path, capsys):
+    # the network keys points by name: a second RP1 would merge into the first (5 nodes for 6 points)
+    data = json.loads((INSTANCES / "courtyard.json").read_text())
+    data["control_points"].append(dict(data["control_points"][0]))
+    path = tmp_path / "cp.json"
+    path.write_text(json.dumps(data))
+    code, _, err = cli(capsys, "validate", str(path))
+    name = data["control_points"][0]["name"]
+    assert code == 3
+    assert_one_line_error(err, "cp.json", f"control_points[{len(data['control_points'])}]", f"name = '{name}'", "used twice")
+    # and in a --control file
+    control = tmp_path / "control.json"
+    control.write_text(json.dumps([{"name": "C1", "x": 0, "y": 0}, {"name": "C1", "x": 5, "y": 0}]))
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps({"stations": [{"id": "S", "zone": "B", "side": "inside", "x": 50, "y": 40}]}))
+    code, _, err = cli(capsys, "network", str(INSTANCES / "polygon_b.json"), str(plan), "--control", str(control))
+    assert code == 3
+    assert_one_line_error(err, "control.json", "control[2]", "name = 'C1'", "used twice")
