@@ -95,7 +95,7 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
     out = []
     seen: dict[str, int] = {}
     for k, row in enumerate(rows, 1):
-        where = dict(file=name, row=f"stations[{k}]")
+        where: dict[str, Any] = dict(file=name, row=f"stations[{k}]")
         if not isinstance(row, dict):
             raise InputError("must be an object", **where)
         sid = str(row.get("id", f"S{k}"))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from typing import Any
 
 from planner.errors import InputError
 from planner.network.adjustment import ANGLE_UNITS, KINDS, LENGTH_UNITS, Obs, adjust
@@ -21,7 +22,7 @@ def read_control(path: str) -> list[ControlPoint]:
         raise InputError("must be a non-empty list of control points", file=path)
     out = []
     for k, d in enumerate(data, 1):
-        where = dict(file=path, row=f"control[{k}]")
+        where: dict[str, Any] = dict(file=path, row=f"control[{k}]")
         if not isinstance(d, dict) or "name" not in d:
             raise InputError("needs a name, x and y", **where)
         out.append(ControlPoint(str(d["name"]), to_float(d.get("x"), field="x", **where), to_float(d.get("y"), field="y", **where),
@@ -48,7 +49,7 @@ def adjust_observations(report: NetworkReport, path: str) -> str:
     coords = {n: (d["x"], d["y"]) for n, d in g.nodes(data=True)}
     obs = []
     for k, o in enumerate(data["observations"], 1):
-        where = dict(file=path, row=f"observations[{k}]")
+        where: dict[str, Any] = dict(file=path, row=f"observations[{k}]")
         if not isinstance(o, dict) or o.get("kind") not in KINDS or o.get("at") not in coords:
             raise InputError("needs a kind and a known point 'at'", **where, value=o.get("kind") if isinstance(o, dict) else o)
         obs.append(Obs(o["kind"], o["at"], o.get("to"), to_float(o.get("value"), field="value", **where),
