@@ -17,6 +17,9 @@ from planner.accuracy import (
 from planner.errors import InputError
 from planner.instruments import Scanner
 
+#: no wall, obstacle or instrument stands higher (m); a larger value is a typo
+MAX_HEIGHT_M = 1e4
+
 DEFAULT_INSTRUMENT = "leica-p30"
 
 
@@ -85,8 +88,8 @@ class Parameters:
         if self.sigma_req_m <= 0:
             raise InputError("must be > 0", field="sigma_req_m", value=self.sigma_req_m)
         _finite(self.instrument_height_m, "instrument_height_m")
-        if self.instrument_height_m < 0:
-            raise InputError("must be >= 0", field="instrument_height_m", value=self.instrument_height_m)
+        if not 0 <= self.instrument_height_m <= MAX_HEIGHT_M:
+            raise InputError(f"must be >= 0 and <= {MAX_HEIGHT_M:g} m", field="instrument_height_m", value=self.instrument_height_m)
         if self.max_slant_range_m is not None:
             _finite(self.max_slant_range_m, "max_slant_range_m")
             if self.max_slant_range_m <= 0:

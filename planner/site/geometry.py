@@ -42,15 +42,22 @@ def signed_area(xy: NDArray[np.float64]) -> float:
     Coordinates are taken relative to the first vertex so that projected
     coordinates around 10^6 m lose no precision.
     """
-    d = xy - xy[0]
-    x, y = d[:, 0], d[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    if len(xy) < 3:  # no area (check_simple_polygon says why)
+        return 0.0
+    with np.errstate(over="ignore", invalid="ignore"):  # absurd coordinates: check_simple_polygon names them
+        d = xy - xy[0]
+        x, y = d[:, 0], d[:, 1]
+        return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
 def side_lengths(xy: NDArray[np.float64]) -> NDArray[np.float64]:
     """Length of side i, from vertex i to vertex i+1 (cyclic)."""
     d = np.roll(xy, -1, axis=0) - xy
     return np.asarray(np.hypot(d[:, 0], d[:, 1]), dtype=np.float64)
+
+
+#: no site coordinate is farther out (projected CRSs stay within +-2e7 m); beyond it sums overflow
+MAX_COORDINATE_M = 1e8
 
 
 def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None = None) -> None:
@@ -63,6 +70,11 @@ def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None
     n = len(xy)
     if n < 3:
         raise InputError("a polygon needs at least 3 vertices", zone=zone, field=what, value=n)
+    far = np.flatnonzero(~np.all(np.isfinite(xy) & (np.abs(xy) <= MAX_COORDINATE_M), axis=1))
+    if far.size:
+        k = int(far[0])
+        raise InputError(f"coordinates must be finite and within +-{MAX_COORDINATE_M:g} m", zone=zone,
+                         row=f"vertex {k + 1}", field=what, value=tuple(float(v) for v in xy[k]))
     lengths = side_lengths(xy)
     short = np.flatnonzero(lengths <= ZERO_LENGTH_M)
     if short.size:

@@ -18,7 +18,7 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.errors import InputError
-from planner.params import Parameters
+from planner.params import MAX_HEIGHT_M, Parameters
 from planner.site.geometry import check_simple_polygon, side_lengths, signed_area
 from planner.site.traverse import AcceptedMisclosure, ClosureReport
 
@@ -105,8 +105,9 @@ class Zone:
         if len(self.vertex_heights_m) != n:
             raise InputError(f"needs {n} vertex heights", zone=self.id, field="vertex_heights_m", value=len(self.vertex_heights_m))
         for k, h in enumerate(self.vertex_heights_m, start=1):
-            if not math.isfinite(h) or h <= 0:
-                raise InputError("must be a finite height > 0", zone=self.id, row=k, field="vertex_height_m", value=h)
+            if not math.isfinite(h) or h <= 0 or h > MAX_HEIGHT_M:
+                raise InputError(f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m", zone=self.id, row=k,
+                                 field="vertex_height_m", value=h)
         if self.printed_wall_heights_m and len(self.printed_wall_heights_m) != n:
             raise InputError(f"needs {n} wall heights", zone=self.id, field="wall_heights_m", value=len(self.printed_wall_heights_m))
         if self.holes:
@@ -133,8 +134,9 @@ class Zone:
             check_simple_polygon(xy, what=f"hole {k}", zone=self.id)
             if signed_area(xy) >= 0:
                 raise InputError("hole vertices must be clockwise", zone=self.id, field=f"hole {k}")
-            if len(hs) != len(xy) or not all(math.isfinite(h) and h > 0 for h in hs):
-                raise InputError(f"needs {len(xy)} finite heights > 0", zone=self.id, field=f"hole {k} heights")
+            if len(hs) != len(xy) or not all(math.isfinite(h) and 0 < h <= MAX_HEIGHT_M for h in hs):
+                raise InputError(f"needs {len(xy)} finite heights > 0 and <= {MAX_HEIGHT_M:g} m", zone=self.id,
+                                 field=f"hole {k} heights")
         poly = self.polygon
         if not poly.is_valid:
             raise InputError(f"holes and outline do not form a valid polygon ({shapely.is_valid_reason(poly)})",
@@ -224,8 +226,9 @@ class Obstacle:
 
     def __post_init__(self) -> None:
         check_simple_polygon(np.asarray(self.vertices, float), what="obstacle", zone=self.name)
-        if not math.isfinite(self.height_m) or self.height_m <= 0:
-            raise InputError("must be a finite height > 0", zone=self.name, field="height_m", value=self.height_m)
+        if not math.isfinite(self.height_m) or self.height_m <= 0 or self.height_m > MAX_HEIGHT_M:
+            raise InputError(f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m", zone=self.name, field="height_m",
+                             value=self.height_m)
 
 
 @dataclass(frozen=True)

@@ -46,6 +46,8 @@ def read_pol(path: Path | str, extent_m: float = 100.0, height_m: float = 3.0,
         if pos >= len(toks):
             raise InputError(f"file ends before the {what}", file=file, row=f"token {pos + 1}")
         n = _count(toks[pos], file, pos + 1, f"vertices of the {what}")
+        if n < 3:
+            raise InputError(f"the {what} needs at least 3 vertices", file=file, row=f"token {pos + 1}", value=n)
         if pos + 1 + 2 * n > len(toks):
             raise InputError(f"{what} promises {n} vertices; the file ends first", file=file, row=f"token {pos + 1}", value=n)
         vals = [_number(toks[pos + 1 + i], file, pos + 2 + i) for i in range(2 * n)]

@@ -165,6 +165,13 @@ def test_a_100_mb_file_is_refused_without_reading_it(tmp_path, capsys, suffix):
                  "A,inside,1,ten,5,90,5\n", "side_length_m = 'ten'"),
     ("bad.pol", "4 0/1 0/1 1/1 0/1 1/1 1/0 0/1 1/1", "not a number p/q"),
     ("short.pol", "5 0 0 1 0 1 1", "promises 5 vertices"),
+    ("empty.pol", "0", "the outline needs at least 3 vertices"),
+    ("hole0.pol", "4 0 0 10 0 10 10 0 10 1 0", "the hole 1 needs at least 3 vertices"),
+    # absurd numbers are refused, not carried into sums that overflow (1e308 gave an infinite perimeter)
+    ("far.json", '{"zones": [{"id": "hall", "scan_side": "inside", "height_m": 9, '
+                 '"coordinates": [[0, 0], [1e308, 0], [20, 10], [0, 10]]}]}', "coordinates must be finite and within +-1e+08 m"),
+    ("tall.json", '{"zones": [{"id": "hall", "scan_side": "inside", "height_m": 1e308, '
+                  '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "must be a finite height > 0 and <= 10000 m"),
     # Python's digit grouping is no number in a survey table (6_0 read as 60 before)
     ("grouped.csv", "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m\n"
                     "A,inside,1,6_0,5,90,5\n", "side_length_m = '6_0': not a number"),
