@@ -22,7 +22,7 @@ from planner import progress
 from planner.cli_parser import build_parser as _build_parser
 from planner.cli_report import parse_exports, write_exports
 from planner.cli_tiles import plan_command
-from planner.errors import ExitCode, InfeasibleError, PlannerError, UsageError
+from planner.errors import ExitCode, InfeasibleError, InputError, PlannerError, UsageError
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
@@ -230,9 +230,16 @@ def cmd_network(args: argparse.Namespace) -> int:
     from planner.plan_io import read_plan_stations
 
     site = load_with_overrides(args)
-    stations = read_plan_stations(args.plan, site)
+    stations = _some_stations(args.plan, read_plan_stations(args.plan, site))
     _network(site, stations, args)
     return ExitCode.OK
+
+
+def _some_stations(path: str, stations: list[Any]) -> list[Any]:
+    """A network needs a station (verify, by contrast, reports an empty plan as 0 % covered)."""
+    if not stations:
+        raise InputError("the plan has no stations: there is no network to check", file=path, field="stations", value=0)
+    return stations
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
@@ -308,7 +315,7 @@ def cmd_chain(args: argparse.Namespace) -> int:
     from planner.plan_io import read_plan_stations
 
     site = load_with_overrides(args)
-    stations = read_plan_stations(args.plan, site)
+    stations = _some_stations(args.plan, read_plan_stations(args.plan, site))
     print("\n".join(survey_network(site, stations, args.registration).lines()))
     return ExitCode.OK
 

@@ -234,3 +234,8 @@ def test_a_hand_edited_plan_json_is_refused_in_one_line(capsys, tmp_path):
     # the network keys stations by id too: the duplicate is refused there as well, not merged
     code, _, err = run(capsys, "network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "bad.json"))
     assert code == 3 and "station id used twice" in err
+    # a plan without stations has no network (verify reports it as 0 % covered instead)
+    (tmp_path / "empty.json").write_text(json.dumps({**good, "stations": []}))
+    for command in ("network", "chain"):
+        code, _, err = run(capsys, command, str(INSTANCES / "polygon_b.json"), str(tmp_path / "empty.json"))
+        assert code == 3 and err.count("\n") == 1 and "the plan has no stations" in err

@@ -23,6 +23,8 @@ from planner.site.geometry import signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
 
 ROLES = ("zone", "obstacle", "no_go")
+#: the roles of an exported plan's other features (planner/exchange/geojson_out.py), read past
+PLAN_ROLES = ("coverage", "station", "tripod_disc", "network", "control")
 
 
 def _ring(raw: Any, where: dict[str, Any], fwd: Any) -> np.ndarray:
@@ -50,9 +52,11 @@ def _heights(props: dict, n: int, where: dict[str, Any]) -> list[float]:
         if not isinstance(raw, list) or len(raw) != n:
             raise InputError(f"needs a list of {n} heights", **where, field="vertex_heights_m")
         return [to_float(h, field="vertex_heights_m", **where) for h in raw]
-    for key in ("height_m", "height"):
-        if key in props:
-            return [to_float(props[key], field=key, **where)] * n
+    given = [key for key in ("height_m", "height") if key in props]
+    if len(given) == 2:  # two values, one would be dropped silently
+        raise InputError("give height_m or height, not both", **where, field="height", value=props["height"])
+    for key in given:
+        return [to_float(props[key], field=key, **where)] * n
     raise InputError("no height: give height_m or vertex_heights_m", **where, field="properties")
 
 
@@ -63,8 +67,10 @@ def _feature(f: Any, k: int, file: str, fwd: Any) -> tuple[str, Any] | None:
     props = f.get("properties") or {}
     geom = f.get("geometry") or {}
     role = props.get("role", "zone")
-    if role not in ROLES:
+    if role in PLAN_ROLES:
         return None  # stations, coverage ... of an exported plan
+    if role not in ROLES:  # a typo ("obstacel") must not drop a feature silently
+        raise InputError(f"unknown role (known: {', '.join(ROLES + PLAN_ROLES)})", **where, field="role", value=role)
     if geom.get("type") != "Polygon":
         raise InputError(f"a {role} must be a Polygon", **where, field="geometry.type", value=geom.get("type"))
     rings = geom.get("coordinates")

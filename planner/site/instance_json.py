@@ -223,6 +223,8 @@ def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
     side = _scan_side(r, e, zone)
     xy = as_vertices(e.get("coordinates"), what="coordinates", zone=zone)
     n = len(xy)
+    if "vertex_heights_m" in e and "height_m" in e:  # two values, one would be dropped silently
+        raise r.fail("give vertex_heights_m or height_m, not both", zone=zone, field="height_m", value=e["height_m"])
     if "vertex_heights_m" in e:
         raw = e["vertex_heights_m"]
         if not isinstance(raw, list) or len(raw) != n:

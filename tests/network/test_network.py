@@ -6,6 +6,7 @@ import json
 import math
 import re
 
+import numpy as np
 import pytest
 
 from planner.candidates.model import Candidate, CandidateKind
@@ -72,6 +73,19 @@ def test_accuracy_check_uses_the_adjusted_station_error():
                            load_instrument("dissertation-tables"))
     assert not alone["pass"] and alone["failing_stations"] == ["S1"]
     assert "add a control point near it" in alone["suggestions"][0]
+
+
+def test_accuracy_check_fails_a_wall_left_unseen():
+    # one station in the corner (2, 2) of the 40 x 20 room: at theta_max 68 deg it sees a piece of a long wall
+    # only within 2 tan 68 = 4.95 m of its foot, so most of the 120 m of wall is seen by no station: every piece
+    # it sees passes, yet the check fails and counts the unseen pieces (it passed on the seen ones before)
+    site = room_site()
+    stations = [st("S1", 2, 2)]
+    problem = rep_problem(site, stations)
+    check = accuracy_check(site, stations, problem, {"S1": 0.0005}, load_instrument("dissertation-tables"))
+    seen = int((np.diff(problem.by_target.indptr) > 0).sum())
+    assert check["failing_targets"] == 0 and 0 < seen < len(problem.targets)
+    assert check["unseen_targets"] == len(problem.targets) - seen and not check["pass"]
 
 
 def rep_problem(site, stations):

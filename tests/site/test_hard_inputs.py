@@ -172,6 +172,16 @@ def test_a_100_mb_file_is_refused_without_reading_it(tmp_path, capsys, suffix):
                  '"coordinates": [[0, 0], [1e308, 0], [20, 10], [0, 10]]}]}', "coordinates must be finite and within +-1e+08 m"),
     ("tall.json", '{"zones": [{"id": "hall", "scan_side": "inside", "height_m": 1e308, '
                   '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "must be a finite height > 0 and <= 10000 m"),
+    ("both.geojson", '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", '
+                     '"coordinates": [[[0, 0], [20, 0], [20, 10], [0, 10], [0, 0]]]}, "properties": {"id": "A", '
+                     '"height_m": 5, "height": 7}}]}', "give height_m or height, not both"),
+    ("typo.geojson", '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", '
+                     '"coordinates": [[[0, 0], [20, 0], [20, 10], [0, 10], [0, 0]]]}, "properties": {"id": "A", '
+                     '"height_m": 5}}, {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[5, 5], '
+                     '[7, 5], [7, 7], [5, 7], [5, 5]]]}, "properties": {"name": "p", "height_m": 5, "role": "obstacel"}}]}',
+     "role = 'obstacel': unknown role"),
+    ("both.json", '{"zones": [{"id": "hall", "scan_side": "inside", "height_m": 5, "vertex_heights_m": [5, 5, 5, 5], '
+                  '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "give vertex_heights_m or height_m, not both"),
     # Python's digit grouping is no number in a survey table (6_0 read as 60 before)
     ("grouped.csv", "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m\n"
                     "A,inside,1,6_0,5,90,5\n", "side_length_m = '6_0': not a number"),
