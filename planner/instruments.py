@@ -102,6 +102,10 @@ def default_models_dir() -> Path:
 def list_instruments(models_dir: Path | None = None) -> list[str]:
     """Names of the instrument files available (file stem = instrument name)."""
     folder = models_dir or default_models_dir()
+    if not folder.is_dir():  # e.g. a mistyped $PLANNER_MODELS_DIR: say so instead of listing nothing
+        env = os.environ.get("PLANNER_MODELS_DIR")
+        source = " ($PLANNER_MODELS_DIR)" if env and Path(env) == folder else ""
+        raise InputError(f"the instrument models folder{source} is not a folder", field="models", value=str(folder))
     return sorted(p.stem for p in folder.glob("*.toml"))
 
 

@@ -92,3 +92,10 @@ def test_a_boolean_or_absurd_constant_is_refused(tmp_path, value, shown):
     f.write_text(f'kind = "scanner"\nrange_sigma_const_mm = 1\nrange_sigma_ppm = 1\nangle_sigma_arcsec = {value}\n')
     with pytest.raises(InputError, match=re.escape(f"angle_sigma_arcsec = {shown}: must be a finite number >= 0 and <= 1e+09")):
         load_instrument(str(f))
+
+
+def test_a_models_folder_that_is_not_there_is_named(monkeypatch, tmp_path):
+    # a mistyped $PLANNER_MODELS_DIR listed no instrument and then called every name unknown ("known: none")
+    monkeypatch.setenv("PLANNER_MODELS_DIR", str(tmp_path / "nowhere"))
+    with pytest.raises(InputError, match=r"models = '.*nowhere': the instrument models folder \(\$PLANNER_MODELS_DIR\)"):
+        load_instrument("leica-p30")
