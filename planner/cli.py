@@ -22,7 +22,7 @@ from planner import progress
 from planner.cli_parser import build_parser as _build_parser
 from planner.cli_report import parse_exports, write_exports
 from planner.cli_tiles import plan_command
-from planner.errors import ExitCode, InfeasibleError, InputError, PlannerError, UsageError
+from planner.errors import ExitCode, InfeasibleError, InputError, PlannerError, UsageError, located_in
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
@@ -195,19 +195,22 @@ def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bo
                          value=args.monte_carlo)
     from planner.network.traverse import read_traverse
 
-    control = read_control(args.control) if getattr(args, "control", None) else None
+    with located_in(getattr(args, "control", None)):
+        control = read_control(args.control) if getattr(args, "control", None) else None
     if getattr(args, "traverse", None) and args.ts_everywhere:
         raise UsageError("--traverse and --ts-everywhere exclude each other", field="--traverse", value=args.traverse)
     traverse = read_traverse(args.traverse) if getattr(args, "traverse", None) else None
-    report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
-                         registration=getattr(args, "registration", None),
-                         precision=getattr(args, "precision", "single"), traverse=traverse,
-                         ts_everywhere=getattr(args, "ts_everywhere", False))
+    with located_in(args.traverse if traverse is not None else None):  # a leg naming an unknown point
+        report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
+                             registration=getattr(args, "registration", None),
+                             precision=getattr(args, "precision", "single"), traverse=traverse,
+                             ts_everywhere=getattr(args, "ts_everywhere", False))
     if not show:
         return report
     print(report.summary())
     if getattr(args, "observations", None):
-        print(adjust_observations(report, args.observations))
+        with located_in(args.observations):
+            print(adjust_observations(report, args.observations))
     if args.out:
         Path(args.out).mkdir(parents=True, exist_ok=True)
         path = Path(args.out) / "network.json"

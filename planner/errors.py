@@ -6,11 +6,13 @@ field) and the offending value, so a surveyor can find it in the input.
 Exit codes
 ----------
 0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible problem, 5 unreachable service
-(a Dask scheduler that does not answer).
+(a Dask scheduler that does not answer), 141 standard output closed by its reader.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from enum import IntEnum
 from typing import Any
 
@@ -132,3 +134,12 @@ class InternalError(PlannerError, RuntimeError):
     """A bug or an unexpected state inside the planner (exit 1)."""
 
     exit_code = ExitCode.INTERNAL
+
+
+@contextmanager
+def located_in(file: str | None) -> Iterator[None]:
+    """Errors raised inside carry ``file`` where they name none (e.g. a value checked after reading)."""
+    try:
+        yield
+    except PlannerError as exc:
+        raise (exc.located(file) if file else exc) from None

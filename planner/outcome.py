@@ -16,7 +16,8 @@ from typing import Any
 from planner.candidates.model import Candidate
 from planner.coverage.stations import StationCoverage, station_coverage
 from planner.coverage.visibility import SightLimits
-from planner.errors import InputError
+from planner.errors import InputError, located_in
+from planner.instruments import load_instrument
 from planner.network.check import NetworkReport
 from planner.plan import Plan, sight_limits
 from planner.plan_io import check_plan_meta, plan_to_dict, read_plan_stations
@@ -79,7 +80,10 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
                                   "min_standoff_m") if k in p}
     if "given" in str(p.get("max_slant_range_source", "")):
         changes["max_slant_range_m"] = p["max_slant_range_m"]
-    params = replace(site.parameters, **changes)
+    with located_in(plan_path):  # the values come from the plan, not from the site file
+        params = replace(site.parameters, **changes)
+        if "instrument" in p:
+            load_instrument(p["instrument"])
     return replace(site, parameters=params, instrument=p.get("instrument", site.instrument))
 
 

@@ -234,6 +234,21 @@ def test_a_hand_edited_plan_json_is_refused_in_one_line(capsys, tmp_path):
     # the network keys stations by id too: the duplicate is refused there as well, not merged
     code, _, err = run(capsys, "network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "bad.json"))
     assert code == 3 and "station id used twice" in err
+    # values found wrong after reading name the file they came from
+    data = json.loads(json.dumps(good))
+    data["parameters"]["theta_max_deg"] = 95
+    (tmp_path / "theta.json").write_text(json.dumps(data))
+    code, _, err = run(capsys, "report", str(tmp_path / "theta.json"), "--no-network", "--out", str(tmp_path / "r"))
+    assert code == 3 and "theta.json: theta_max_deg = 95" in err
+    first = good["stations"][0]["id"]
+    for obs, words in (({"kind": "distance", "at": first, "to": "NOPE", "value": 5, "sigma": 0.002},
+                        "observations[1]: distance = '" + first + "->NOPE': names no point of the network: NOPE"),
+                       ({"kind": "distance", "at": first, "to": good["stations"][1]["id"], "value": 5, "sigma": 0},
+                        "sigma must be > 0, got 0")):
+        (tmp_path / "obs.json").write_text(json.dumps({"observations": [obs]}))
+        code, _, err = run(capsys, "network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "plan.json"),
+                           "--observations", str(tmp_path / "obs.json"))
+        assert code == 3 and "obs.json: " in err and words in err, err
     # a plan without stations has no network (verify reports it as 0 % covered instead)
     (tmp_path / "empty.json").write_text(json.dumps({**good, "stations": []}))
     for command in ("network", "chain"):

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from planner.errors import InputError, PlannerError
+from planner.errors import InputError, PlannerError, located_in
 from planner.params import Parameters
 from planner.site.fileio import MAX_INPUT_BYTES
 from planner.site.geometry import signed_area
@@ -243,7 +243,8 @@ def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameter
         first = (str(exc).splitlines() or [type(exc).__name__])[0]
         raise InputError(f"not a readable DXF file ({first})", file=file) from None
     scale, note = _scale(doc, file)
-    shapes, texts = _shapes(doc.modelspace(), options, file, scale)
+    with located_in(file):
+        shapes, texts = _shapes(doc.modelspace(), options, file, scale)
     zones, obstacles, nogo = [], [], []
     for k, s in enumerate(shapes, 1):
         role = options.role(s.layer)

@@ -157,8 +157,14 @@ def adjust(
     obs = [Obs(o.kind, o.at, o.to, o.value * (ka if o.kind == "direction" else kl),
                o.sigma * (ka if o.kind == "direction" else kl)) for o in observations]
     for k, o in enumerate(obs, 1):
-        if o.kind not in KINDS or o.at not in xy or (o.kind not in ("x", "y") and o.to not in xy) or not o.sigma > 0:
-            raise InputError("bad observation (kind, points or sigma)", row=k, field=o.kind, value=f"{o.at}->{o.to}")
+        where = dict(row=f"observations[{k}]", field=o.kind, value=f"{o.at}->{o.to}")
+        if o.kind not in KINDS:
+            raise InputError(f"unknown observation kind (known: {', '.join(KINDS)})", **where)
+        strangers = [n for n in ((o.at,) if o.kind in ("x", "y") else (o.at, o.to)) if n not in xy]
+        if strangers:
+            raise InputError(f"names no point of the network: {strangers[0]}", **where)
+        if not o.sigma > 0:
+            raise InputError(f"sigma must be > 0, got {o.sigma:g}", **where)
     unknown = [n for n in xy if n not in set(fixed)]
     w = np.array([1.0 / o.sigma**2 for o in obs])
     x_est = dict(xy)

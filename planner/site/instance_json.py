@@ -12,7 +12,7 @@ from typing import Any, overload
 
 from planner.accuracy import ErrorBudget
 from planner.errors import InputError
-from planner.params import ClosureTolerance, DEFAULT_INSTRUMENT, Parameters
+from planner.params import DEFAULT_INSTRUMENT, MAX_HEIGHT_M, ClosureTolerance, Parameters
 from planner.site.fileio import read_json, to_float
 from planner.site.geometry import as_vertices, signed_area
 from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, ScanSide, Site, Zone
@@ -167,7 +167,10 @@ def _zones(r: _Reader, entries: list[Any], tolerance: ClosureTolerance,
     for k, entry in enumerate(entries, 1):
         if isinstance(entry, dict) and "table_csv" in entry:
             e = r.obj(entry, "zones entry", {"table_csv", "zones"}, row=f"zones[{k}]")
-            found = read_table_csv(r.path.parent / r.text(e, "table_csv"))
+            name = r.text(e, "table_csv")
+            if not (r.path.parent / name).is_file():  # a folder, or nothing: name the instance's entry
+                raise r.fail("names no file beside the instance", row=f"zones[{k}]", field="table_csv", value=name)
+            found = read_table_csv(r.path.parent / name)
             wanted = e.get("zones")
             if wanted is not None and (not isinstance(wanted, list) or not all(isinstance(w, str) for w in wanted)):
                 raise r.fail("must be a list of the CSV's zone names", row=f"zones[{k}]", field="zones", value=wanted)
@@ -231,7 +234,10 @@ def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
             raise r.fail(f"needs a list of {n} heights", zone=zone, field="vertex_heights_m")
         heights = [to_float(h, field="vertex_heights_m", file=r.file, zone=zone, row=i) for i, h in enumerate(raw, 1)]
     else:
-        heights = [r.num(e, "height_m", zone=zone)] * n
+        h = r.num(e, "height_m", zone=zone)
+        if not 0 < h <= MAX_HEIGHT_M:  # named as written (the zone would call it its vertex heights)
+            raise r.fail(f"must be a height > 0 and <= {MAX_HEIGHT_M:g} m", zone=zone, field="height_m", value=h)
+        heights = [h] * n
     printed: list[float | None] = [None] * n
     if "wall_heights_m" in e:
         raw = e["wall_heights_m"]

@@ -62,5 +62,7 @@ def _opening(r: _Reads, raw: Any, k: int) -> tuple[str, Opening]:
     wall = r.num(d, "wall", zone=zid, **where)
     if wall != int(wall):
         raise r.fail("must be a whole wall number", zone=zid, field="wall", value=wall, **where)
-    return zid, Opening(int(wall), r.num(d, "s0_m", zone=zid, **where), r.num(d, "s1_m", zone=zid, **where),
-                        kind, str(d.get("name", f"{kind} {k}")))
+    s0, s1 = r.num(d, "s0_m", zone=zid, **where), r.num(d, "s1_m", zone=zid, **where)
+    if not 0.0 <= s0 < s1:  # checked here, where the zone is known (the Opening itself knows only its name)
+        raise r.fail("needs 0 <= s0_m < s1_m", zone=zid, field="s0_m..s1_m", value=f"{s0:g}..{s1:g}", **where)
+    return zid, Opening(int(wall), s0, s1, kind, str(d.get("name", f"{kind} {k}")))

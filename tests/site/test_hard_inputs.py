@@ -171,7 +171,7 @@ def test_a_100_mb_file_is_refused_without_reading_it(tmp_path, capsys, suffix):
     ("far.json", '{"zones": [{"id": "hall", "scan_side": "inside", "height_m": 9, '
                  '"coordinates": [[0, 0], [1e308, 0], [20, 10], [0, 10]]}]}', "coordinates must be finite and within +-1e+08 m"),
     ("tall.json", '{"zones": [{"id": "hall", "scan_side": "inside", "height_m": 1e308, '
-                  '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "must be a finite height > 0 and <= 10000 m"),
+                  '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "height_m = 1e+308: must be a height > 0 and <= 10000 m"),
     ("both.geojson", '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", '
                      '"coordinates": [[[0, 0], [20, 0], [20, 10], [0, 10], [0, 0]]]}, "properties": {"id": "A", '
                      '"height_m": 5, "height": 7}}]}', "give height_m or height, not both"),

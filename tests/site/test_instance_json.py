@@ -102,7 +102,12 @@ def test_stale_acceptance_is_refused(tmp_path):
     ({"zones": []}, "zones = 0: an instance needs at least one zone"),
     ({"zones": [square(), square()]}, "zone S: id = 'S': duplicate zone id"),
     ({"zones": [square(side="up")]}, "zone S: scan_side = 'up'"),
-    ({"zones": [square(height_m=-1)]}, "zone S row 1: vertex_height_m = -1"),
+    ({"zones": [square(height_m=-1)]}, "zone S: height_m = -1: must be a height > 0"),  # named as written
+    # an opening reversed names its zone (it named the opening's own name as the zone before)
+    ({"zones": [square()], "openings": [{"zone": "S", "wall": 1, "s0_m": 5, "s1_m": 2, "name": "d"}]},
+     "zone S openings[1]: s0_m..s1_m = '5..2': needs 0 <= s0_m < s1_m"),
+    # a table_csv that is a folder names the instance's entry (it named the folder as the file before)
+    ({"zones": [{"table_csv": "."}]}, "zones[1]: table_csv = '.': names no file beside the instance"),
     ({"zones": [square()], "parameters": {"overlap": 1.5}}, "overlap = 1.5"),
     ({"zones": [square()], "parameters": {"sigma_req_mm": 5, "drawing_scale": "1:50"}}, "not both"),
     ({"zones": [{**square(), "coordinates": [[0, 0], [1, 0], [1, 0], [0, 1]]}]}, "zone S side 2: side_length_m = 0: zero-length side"),
