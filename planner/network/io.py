@@ -15,6 +15,10 @@ def _load(path: str) -> object:
     return read_json(path)
 
 
+#: the keys of a control point entry
+CONTROL_KEYS = {"name", "x", "y", "z", "sigma_x_mm", "sigma_y_mm"}
+
+
 def read_control(path: str) -> list[ControlPoint]:
     """A JSON list of {name, x, y, z?, sigma_x_mm?, sigma_y_mm?} (sigmas 0: fixed)."""
     data = _load(path)
@@ -25,6 +29,10 @@ def read_control(path: str) -> list[ControlPoint]:
         where: dict[str, Any] = dict(file=path, row=f"control[{k}]")
         if not isinstance(d, dict) or "name" not in d:
             raise InputError("needs a name, x and y", **where)
+        unknown = sorted(set(d) - CONTROL_KEYS)
+        if unknown:  # a typo in a key must not drop a value silently
+            raise InputError(f"unknown key (known: {', '.join(sorted(CONTROL_KEYS))})", **where, field=unknown[0],
+                             value=d[unknown[0]])
         out.append(ControlPoint(str(d["name"]), to_float(d.get("x"), field="x", **where), to_float(d.get("y"), field="y", **where),
                                 sigma_x_m=to_float(d.get("sigma_x_mm", 0), field="sigma_x_mm", **where) / 1000,
                                 sigma_y_m=to_float(d.get("sigma_y_mm", 0), field="sigma_y_mm", **where) / 1000))

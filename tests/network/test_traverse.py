@@ -9,6 +9,7 @@ C0 (1, 4) and C1 (5, 4) in A are fixed; C2 (15, 4) in B has coordinates good to 
 from __future__ import annotations
 
 import json
+import re
 import math
 
 import pytest
@@ -101,6 +102,13 @@ def test_traverse_file_and_its_errors(tmp_path, capsys):
     path.write_text(json.dumps({"legs": [["C1", "X9"]]}))
     with pytest.raises(InputError, match="names no control or traverse point"):
         run_network(two_rooms(CONTROL), STATIONS, traverse=read_traverse(path))
+    # a typo in a key, or a coordinate in quotes, is refused (the value was dropped or converted before)
+    for data, words in (({"legs": [], "extra": 1}, "traverse: extra = 1: unknown key"),
+                        ({"points": [{"name": "T1", "x": 10, "y": 4, "colour": 1}], "legs": []}, "points[1]: colour = 1"),
+                        ({"points": [{"name": "T1", "x": "10", "y": 4}], "legs": []}, "x = '10': must be a number, not text")):
+        path.write_text(json.dumps(data))
+        with pytest.raises(InputError, match=re.escape(words)):
+            read_traverse(path)
     plan = tmp_path / "plan.json"
     plan.write_text(json.dumps({"stations": [{"id": "S", "zone": "B", "side": "inside", "x": 50, "y": 40}]}))
     from tests.conftest import INSTANCES

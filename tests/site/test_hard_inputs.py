@@ -252,3 +252,8 @@ def test_a_control_point_name_used_twice_is_refused(tmp_path, capsys):
     code, _, err = cli(capsys, "network", str(INSTANCES / "polygon_b.json"), str(plan), "--control", str(control))
     assert code == 3
     assert_one_line_error(err, "control.json", "control[2]", "name = 'C1'", "used twice")
+    # an unknown key in a --control entry is refused too (a typo such as sigma_x_m dropped the value)
+    control.write_text(json.dumps([{"name": "C1", "x": 0, "y": 0, "sigma_x_m": 2}]))
+    code, _, err = cli(capsys, "network", str(INSTANCES / "polygon_b.json"), str(plan), "--control", str(control))
+    assert code == 3
+    assert_one_line_error(err, "control.json", "control[1]", "sigma_x_m = 2", "unknown key")
