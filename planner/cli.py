@@ -1,8 +1,8 @@
 """The ``planner`` command: one function per subcommand; parses, calls the library, prints.
 
 Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible problem, 5 unreachable
-scheduler, 141 standard output closed by its reader (see :mod:`planner.errors`). Errors print as one line on stderr; set
-PLANNER_DEBUG=1 to see the traceback of an internal error.
+scheduler, 141 standard output closed by its reader (see :mod:`planner.errors`). Errors print as one
+line on stderr; set PLANNER_DEBUG=1 to see the traceback of an internal error.
 """
 
 from __future__ import annotations
