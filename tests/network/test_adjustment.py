@@ -139,3 +139,12 @@ def test_levelling_line_between_two_benchmarks():
     assert res.sigma_m["P2"] == pytest.approx(s * math.sqrt(2 / 3))
     # a level sight of 100 m with 5": sigma_dh = 100 * 5 / 206265 = 2.42 mm
     assert dh_sigma_m(100.0, 90.0, 0.002, 5.0) == pytest.approx(100 * 5 / 206264.806, rel=1e-6)
+
+
+def test_monte_carlo_same_seed_same_result():
+    # seeded draws: the same seed gives the same RMS per point, another seed other draws
+    coords, obs = traverse()
+    a = monte_carlo(coords, ["A", "B"], obs, runs=100, seed=5, angle_unit="deg")
+    b = monte_carlo(coords, ["A", "B"], obs, runs=100, seed=5, angle_unit="deg")
+    c = monte_carlo(coords, ["A", "B"], obs, runs=100, seed=6, angle_unit="deg")
+    assert a.rms == b.rms and a.rms != c.rms

@@ -9,7 +9,7 @@ import scipy.sparse as sp
 from planner.coverage.overlap import OverlapRule
 from planner.solve.backends import BACKENDS
 from planner.solve.instance import CoverInstance
-from planner.solve.milp import MilpOptions, solve
+from planner.solve.milp import MilpOptions, block_solvers, solve
 
 
 def instance(cover: list[set[int]], n_targets: int, cost=None, groups=True, info=None) -> CoverInstance:
@@ -106,3 +106,26 @@ def test_repeated_presolve_drops_what_the_first_pass_cannot():
     r = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20))
     full = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20, presolve=False))
     assert r.status.value == "optimal" and r.objective == full.objective
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_presolve_forces_every_view_k_2_needs(backend):
+    # k = 2: piece 0 is seen by c0 and c1 only, piece 1 by c0 and c2 only, so every candidate is needed
+    r = solve(instance([{0, 1}, {0}, {1}], 2, groups=False), MilpOptions(backend=backend, overlap=None, k=2, time_limit_s=20))
+    assert r.status.value == "optimal" and r.selected == (0, 1, 2) and r.objective == 3
+
+
+def test_independent_blocks_add_up():
+    # the windows j..j+3 of 12 pieces (connected optimum 5: 0, 2, 4, 6, 8) twice, on pieces 0..11 in group g
+    # and 12..23 in group h: two blocks that share no piece; objective and bound are 5 + 5, proven in both
+    windows = [set(range(j, j + 4)) for j in range(9)]
+    cover = windows + [{t + 12 for t in w} for w in windows]
+    rows = [i for i, c in enumerate(cover) for _ in c]
+    cols = [t for c in cover for t in sorted(c)]
+    a = sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(18, 24))
+    inst = CoverInstance(a, np.ones(18), groups=tuple("g" * 9 + "h" * 9), target_length_m=np.ones(24))
+    r = solve(inst, MilpOptions(overlap=OverlapRule(0.3), time_limit_s=20))
+    assert r.status.value == "optimal" and r.objective == r.bound == 10
+    assert r.selected == (0, 2, 4, 6, 8, 9, 11, 13, 15, 17)
+    _, blocks = block_solvers(inst, MilpOptions(overlap=OverlapRule(0.3)))
+    assert len(blocks) == 2
