@@ -16,6 +16,7 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
+from planner.checks import count, flag, real
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.regions import FrameSpace, regions_apply
@@ -71,10 +72,23 @@ class PlanOptions:
     def __post_init__(self) -> None:
         if self.method not in METHODS:
             raise UsageError(f"unknown method (known: {', '.join(METHODS)})", field="method", value=self.method)
-        for name, v in (("target_spacing_m", self.target_spacing_m), ("grid_spacing_m", self.pool.grid_spacing_m),
-                        ("verify_spacing_m", self.verify_spacing_m)):
-            if not v > 0:
-                raise UsageError("must be > 0", field=name, value=v)
+        if not isinstance(self.pool, PoolOptions) or not isinstance(self.milp, MilpOptions):
+            raise UsageError("must be a PoolOptions and a MilpOptions", field="pool/milp", value=(self.pool, self.milp))
+        real(self.target_spacing_m, "target_spacing_m", above=0)
+        real(self.verify_spacing_m, "verify_spacing_m", at_least=0.001)  # finer than 1 mm: no survey resolution
+        real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)
+        for name in ("incidence_3d", "precision", "tripod", "recentre", "regions", "pricing"):
+            flag(getattr(self, name), name)
+        if self.memory_limit_bytes is not None:
+            count(self.memory_limit_bytes, "memory_limit_bytes", 1)
+        if self.registration not in (None, "zone", "site"):
+            raise UsageError("must be 'zone', 'site' or None", field="registration", value=self.registration)
+        if self.milp.k != 1 and self.method != "milp":  # the greedy and the closed form cover each piece once
+            raise UsageError(f"k > 1 needs method='milp' (method {self.method!r} covers each piece once)", field="k",
+                             value=self.milp.k)
+        if self.milp.precision == "combined" and not self.precision:
+            raise UsageError("combined precision needs the precision check (precision=True)", field="precision",
+                             value=self.precision)
 
 
 @dataclass(frozen=True)

@@ -4,11 +4,13 @@ the example sweep script uses nothing but the public API."""
 from __future__ import annotations
 
 import ast
+import dataclasses
 import inspect
 
 import pytest
 
 import planner
+from planner.errors import InputError, UsageError
 from tests.conftest import INSTANCES, ROOT
 
 
@@ -68,3 +70,55 @@ def test_with_parameters_changes_only_what_is_named_and_validates():
     assert s2.zones == site.zones
     with pytest.raises(planner.InputError, match="theta_max_deg = 95"):
         site.with_parameters(theta_max_deg=95.0)
+
+
+@pytest.mark.parametrize("make, field", [
+    # options: the field at fault is named (a wrong type is refused, not coerced or crashed on later)
+    (lambda: planner.MilpOptions(time_limit_s=0), "time_limit_s"),
+    (lambda: planner.MilpOptions(threads=0), "threads"),
+    (lambda: planner.MilpOptions(k=1.5), "k"),
+    (lambda: planner.MilpOptions(k=True), "k"),
+    (lambda: planner.MilpOptions(ring_lagrange_steps=-5), "ring_lagrange_steps"),
+    (lambda: planner.MilpOptions(presolve="no"), "presolve"),
+    (lambda: planner.MilpOptions(overlap=0.3), "overlap"),
+    (lambda: planner.OverlapRule(overlap=1.0), "overlap"),
+    (lambda: planner.OverlapRule(max_link_m=0.0), "max_link_m"),
+    (lambda: planner.OverlapRule(min_shared_m=float("nan")), "min_shared_m"),
+    (lambda: planner.PoolOptions(grid_spacing_m=0), "grid_spacing_m"),
+    (lambda: planner.PoolOptions(seed=-1), "seed"),
+    (lambda: planner.PlanOptions(precision="no"), "precision"),
+    (lambda: planner.PlanOptions(verify_spacing_m=1e-6), "verify_spacing_m"),
+    (lambda: planner.PlanOptions(memory_limit_bytes=float("nan")), "memory_limit_bytes"),
+    # k > 1 is the MILP's: the greedy and the closed form would ignore it silently
+    (lambda: planner.PlanOptions(method="greedy", milp=planner.MilpOptions(k=2)), "k"),
+])
+def test_bad_options_name_their_field(make, field):
+    with pytest.raises(UsageError, match=rf"\b{field} = "):
+        make()
+
+
+def test_library_misuse_is_refused_not_answered():
+    site = planner.load_site(INSTANCES / "polygon_b.json")
+    problem = planner.build_problem(site, planner.PlanOptions())
+    n = problem.by_candidate.shape[0]
+    # costs of 0 or -1 made "0 stations" (or "-21 stations") optimal
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(InputError, match="cost"):
+            planner.cover_instance(problem, cost=[bad] * n)
+        with pytest.raises(InputError, match="weights"):
+            planner.greedy_cover(problem.by_candidate, weights=[bad] * n)
+    # solve takes the solver's view of a problem, and only MilpOptions' fields
+    with pytest.raises(UsageError, match="cover_instance"):
+        planner.solve(problem)
+    with pytest.raises(UsageError, match="bogus = 1"):
+        planner.solve(planner.cover_instance(problem), bogus=1)
+    # a scan side given as text is read as the enum
+    z = planner.Zone("A", "inside", ((0, 0), (10, 0), (10, 10), (0, 10)), (3.0,) * 4)
+    assert z.scan_side is planner.ScanSide.INSIDE
+    # two stations with one id would merge into one network node
+    plan = planner.plan_site(site, planner.PlanOptions(method="greedy"))
+    twins = [plan.stations[0], dataclasses.replace(plan.stations[1], id=plan.stations[0].id)]
+    with pytest.raises(InputError, match="station id used twice"):
+        planner.run_network(site, twins)
+    with pytest.raises(InputError, match="at least one station"):
+        planner.run_network(site, [])

@@ -85,3 +85,17 @@ def test_report_renders_in_headless_chromium(report):
     dom = subprocess.run(cmd, capture_output=True, text=True, timeout=120).stdout
     # the report's own script writes how many images decoded once the page has loaded
     assert 'data-images-ok="3/3"' in dom
+
+
+def test_report_says_what_its_numbers_mean(report):
+    import json
+
+    text = report.read_text()
+    meta = json.loads((report.parent / "plan.json").read_text())
+    # the bound with its scope (and the plane bound beside a pool bound), as plan.json has them
+    scope = meta["bound_scope"]
+    plane = f"; plane {meta['plane_bound']:g}" if scope == "pool" and meta.get("plane_bound") is not None else ""
+    assert f"bound {meta['bound']:g} ({scope}{plane})" in text
+    # the pieces' length from the plan (not a fixed "1 m"), the gap in per cent, and what the times measure
+    assert f"covered on {meta['parameters']['target_spacing_m']} m pieces" in text
+    assert f"{meta['gap']:.1%}" in text and "Solver s: the solver alone" in text and "bound (scope)" in text

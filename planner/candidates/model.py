@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
 
+from planner.errors import InputError
 from planner.site.model import ScanSide
 
 
@@ -54,3 +56,12 @@ class Candidate:
     @property
     def xy(self) -> tuple[float, float]:
         return (self.x, self.y)
+
+
+def check_unique_ids(stations: Sequence[Candidate]) -> None:
+    """Stations are keyed by id in the network, the report and the exports: two with one id would merge."""
+    seen: set[str] = set()
+    for k, st in enumerate(stations, 1):
+        if st.id in seen:
+            raise InputError("station id used twice", row=f"station {k}", field="id", value=st.id)
+        seen.add(st.id)

@@ -12,6 +12,7 @@ import shapely
 from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, pole_in_frame, scan_side_angles
 from planner.candidates.formulas import horizontal_reach_m
 from planner.candidates.model import Candidate, CandidateKind
+from planner.checks import count, real
 from planner.site.model import ScanSide, Site, Zone
 
 
@@ -34,6 +35,13 @@ class PoolOptions:
     min_grid_points: int = 12
     min_standoff_m: float = 0.5
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        real(self.grid_spacing_m, "grid_spacing_m", above=0.0)
+        real(self.min_standoff_m, "min_standoff_m", at_least=0.0)
+        count(self.field_samples, "field_samples", 0)
+        count(self.min_grid_points, "min_grid_points", 1)
+        count(self.seed, "seed", 0)
 
 
 def closed_form_candidates(site: Site, limits: Limits) -> list[Candidate]:

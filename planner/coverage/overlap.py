@@ -20,7 +20,9 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from planner.checks import real
 from planner.coverage.gram import filtered_gram
+from planner.errors import UsageError
 
 
 @dataclass(frozen=True)
@@ -30,8 +32,12 @@ class OverlapRule:
     max_link_m: float | None = None
 
     def __post_init__(self) -> None:
-        if not 0.0 <= self.overlap < 1.0:
-            raise ValueError(f"overlap must be in [0, 1), got {self.overlap}")
+        real(self.overlap, "overlap", at_least=0.0)
+        if not self.overlap < 1.0:
+            raise UsageError("must be in [0, 1)", field="overlap", value=self.overlap)
+        real(self.min_shared_m, "min_shared_m", at_least=0.0, infinite_ok=True)  # inf: links given explicitly only
+        if self.max_link_m is not None:
+            real(self.max_link_m, "max_link_m", above=0.0, infinite_ok=True)
 
 
 def group_ids(groups: Sequence[Hashable]) -> NDArray[np.int64]:

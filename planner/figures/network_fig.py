@@ -36,7 +36,7 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
         raise ValueError("the outcome has no network report")
     g = o.network.graph
     frames = [d["frame"] for _, d in g.nodes(data=True) if d["kind"] == "station"]
-    frame = frame or max(set(frames), key=frames.count)
+    frame = frame or max(sorted(set(frames)), key=frames.count)
     nodes = [n for n, d in g.nodes(data=True) if d["frame"] == frame]
     fig = Figure(figsize=(9, 8), layout="constrained")
     ax = fig.subplots()

@@ -122,7 +122,7 @@ def _sigmas(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, st
     g.add_nodes_from(xy)
     g.add_edges_from(links)
     out: dict[str, float] = {}
-    for comp in nx.connected_components(g):
+    for comp in (sorted(c) for c in nx.connected_components(g)):  # a fixed order of the unknowns (not set order)
         if not any(s in ties for s in comp):
             continue
         sub_links = [(u, v) for u, v in links if u in comp]

@@ -19,7 +19,7 @@ import networkx as nx
 import numpy as np
 
 from planner.accuracy import ErrorBudget, combined_error_m, view_error_m
-from planner.candidates.model import Candidate
+from planner.candidates.model import Candidate, check_unique_ids
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.errors import InputError
@@ -131,7 +131,7 @@ def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], not
     if not known:
         notes.append("no control point has a height: plan (2-D) adjustment only")
         return out
-    for comp in nx.connected_components(g):
+    for comp in (sorted(c) for c in nx.connected_components(g)):  # a fixed order: the same numbers every run
         fixed = {n: known[n] for n in comp if n in known}
         if not fixed:
             continue
@@ -198,6 +198,9 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     total station observes its legs only, stations are held by registration links and ties.
     ``ts_everywhere``: the earlier design instead, a total station on every station sight line.
     """
+    if not stations:
+        raise InputError("a network needs at least one station", field="stations", value=0)
+    check_unique_ids(stations)
     ts = load_instrument(total_station)
     if not isinstance(ts, TotalStation):
         raise InputError("is not a total station", field="total_station", value=total_station)
@@ -232,7 +235,7 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     coords, fixed, obs = _design_observations(g, ts, ctrl, fixed_names)
     adjustments, failures, sigma = [], [], {}
     mcs = []
-    for comp in nx.connected_components(g):
+    for comp in (sorted(c) for c in nx.connected_components(g)):  # a fixed order of the unknowns (not set order)
         comp_obs = [o for o in obs if o.at in comp]
         comp_fixed = [f for f in fixed if f in comp]
         names = {n: coords[n] for n in comp}

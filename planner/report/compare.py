@@ -20,6 +20,7 @@ def meta_row(meta: dict[str, Any], verified_percent: float) -> dict[str, Any]:
     return {"method": meta.get("method", "?"), "backend": meta.get("backend") or "", "stations": counts.get("total"),
             "inside": counts.get("inside"), "outside": counts.get("outside"), "bound": meta.get("bound"),
             "gap": meta.get("gap"), "status": meta.get("status", ""), "time_s": meta.get("time_s"),
+            "bound_scope": meta.get("bound_scope"), "plane_bound": meta.get("plane_bound"),
             "verified_percent": verified_percent, "connected": (meta.get("registration") or {}).get("connected")}
 
 

@@ -19,6 +19,7 @@ from planner import __version__
 from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
 from planner.outcome import Outcome
+from planner.solve.tripod import MIN_RADIUS_M
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
@@ -83,19 +84,36 @@ def _stations(o: Outcome) -> str:
         rows.append((k, _e(s.id), _e(s.zone), _e(s.side.value), _e(s.kind.value), _f(s.x), _f(s.y), _f(st.covered_m, ".1f"),
                      _f(st.worst_incidence_deg, ".1f"), _f(st.longest_range_m, ".1f"), _f(o.tripod_radius_m.get(s.id)),
                      _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f")))
+    zero = sum(1 for s in o.stations if o.tripod_radius_m.get(s.id) == 0)
+    note = (f"<p>Tripod radius 0 ({zero} station(s)): no disc of at least {MIN_RADIUS_M * 100:g} cm keeps everything the "
+            f"plan relies on that station for; set it up at the planned point (such discs are not drawn in the "
+            f"exports).</p>" if zero else "")
     return table(("no.", "id", "zone", "side", "kind", "x m", "y m", "covered wall m", "worst incidence deg",
-                  "longest range m", "tripod radius m", "predicted worst point error (2.13) mm"), rows, left=5)
+                  "longest range m", "tripod radius m", "predicted worst point error (2.13) mm"), rows, left=5) + note
 
 
 def _comparison(o: Outcome) -> str:
     if not o.comparison:
         return "<p>No comparison was run.</p>"
     rows = ((_e(r["method"]), _e(r.get("backend", "")), _f(r.get("stations"), "d"), _f(r.get("inside"), "d"),
-             _f(r.get("outside"), "d"), _f(r.get("bound"), "g"), _f(r.get("gap"), ".3f"), _e(r.get("status", "")),
+             _f(r.get("outside"), "d"), _bound_cell(r), _f(r.get("gap"), ".1%"), _e(r.get("status", "")),
              _f(r.get("time_s"), ".2f"), _f(r.get("verified_percent"), ".3f"),
              _e("" if "connected" not in r else ("yes" if r["connected"] else "no"))) for r in o.comparison)
-    return table(("method", "backend", "stations", "inside", "outside", "bound", "gap", "status", "time s", "verified %",
-                  "registration connected"), rows, left=2)
+    threads = (o.meta.get("parameters", {}).get("milp") or {}).get("threads", 1)
+    return (table(("method", "backend", "stations", "inside", "outside", "bound (scope)", "gap", "status", "solver s",
+                   "verified %", "registration connected"), rows, left=2)
+            + f"<p>Bound: no plan has fewer stations; its scope says over what (pool: the candidate pool, connected "
+              f"plans when registration is required; plane: any positions). Solver s: the solver alone, "
+              f"{threads} thread(s) for the MILP, 1 for the others; coverage build and pricing not included.</p>")
+
+
+def _bound_cell(r: dict[str, Any]) -> str:
+    """``22 (pool; plane 20)``: the bound, what it is over, and the plane bound beside a pool bound."""
+    if not isinstance(r.get("bound"), (int, float)):
+        return ""
+    scope = r.get("bound_scope") or "pool"
+    plane = f"; plane {r['plane_bound']:g}" if scope == "pool" and isinstance(r.get("plane_bound"), (int, float)) else ""
+    return f"{r['bound']:g} ({_e(scope)}{plane})"
 
 
 def _network(o: Outcome) -> str:
@@ -130,8 +148,9 @@ def render_report(o: Outcome) -> str:
     title = f"Scanner stations for {o.site.name}"
     body = [f"<h1>{_e(title)}</h1>",
             f"<p>{len(o.stations)} stations by {_e(m.get('method'))} ({_e(m.get('status'))}"
-            + (f", bound {m['bound']:g}" if isinstance(m.get("bound"), (int, float)) else "")
-            + f"); {o.coverage.percent_length:.3f} % of wall length covered on 1 m pieces. tls-planner {__version__}.</p>",
+            + (f", bound {_bound_cell(m)}" if isinstance(m.get("bound"), (int, float)) else "")
+            + f"); {o.coverage.percent_length:.3f} % of wall length covered on "
+            f"{_e(m.get('parameters', {}).get('target_spacing_m', 1.0))} m pieces. tls-planner {__version__}.</p>",
             "<h2>Inputs and parameters</h2>", _parameters(o), "<h2>Zones and closure</h2>", _closure(o),
             "<h2>Stations</h2>", _stations(o), "<h2>Comparison of methods</h2>", _comparison(o),
             "<h2>Plans</h2>", figs, "<h2>Network and accuracy check</h2>", _network(o),

@@ -97,6 +97,14 @@ class Zone:
     openings: tuple["Opening", ...] = ()
 
     def __post_init__(self) -> None:
+        if not isinstance(self.id, str) or not self.id:
+            raise InputError("a zone needs a non-empty text id", field="id", value=self.id)
+        if not isinstance(self.scan_side, ScanSide):  # "inside" from a script: read it as the enum, or refuse
+            try:
+                object.__setattr__(self, "scan_side", ScanSide(self.scan_side))
+            except ValueError:
+                raise InputError(f"must be one of {', '.join(s.value for s in ScanSide)}", zone=self.id,
+                                 field="scan_side", value=self.scan_side) from None
         xy = np.asarray(self.vertices, dtype=float).reshape(-1, 2)
         check_simple_polygon(xy, what="polygon", zone=self.id)
         if signed_area(xy) <= 0:

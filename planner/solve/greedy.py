@@ -9,6 +9,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.coverage.overlap import OverlapRule, overlap_adjacency
+from planner.errors import InputError, UsageError
 from planner.solve.connectivity import connected_greedy
 from planner.solve.instance import CoverInstance
 from planner.solve.result import SolveResult, Status
@@ -45,14 +46,22 @@ def greedy_cover(
     heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235).
     """
     start = time.perf_counter()
+    if not sp.issparse(by_candidate):
+        raise UsageError("must be a scipy.sparse matrix, candidates x targets (e.g. problem.by_candidate)",
+                         field="by_candidate", value=type(by_candidate).__name__)
     n_cand, n_targ = by_candidate.shape
     a = by_candidate.astype(np.int64)
     seen = np.asarray(a.sum(axis=0)).ravel() > 0
+    if must_cover is not None and np.shape(must_cover) != (n_targ,):
+        raise UsageError(f"needs one flag per target ({n_targ})", field="must_cover", value=np.shape(must_cover))
     uncovered = seen.copy() if must_cover is None else np.asarray(must_cover, dtype=bool).copy()
     if np.any(uncovered & ~seen):
         return SolveResult("greedy", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
                            info={"unseen_targets": np.flatnonzero(uncovered & ~seen).tolist()})
     w = np.ones(n_cand) if weights is None else np.asarray(weights, dtype=float)
+    if w.shape != (n_cand,) or not (np.all(np.isfinite(w)) and np.all(w > 0)):  # 0 or -1 gave "0 stations"
+        raise InputError(f"needs {n_cand} finite costs > 0", field="weights", value=w.shape if w.shape != (n_cand,)
+                         else float(w[~(np.isfinite(w) & (w > 0))][0]))
     chosen: list[int] = []
     taken = np.zeros(n_cand, dtype=bool)
     while uncovered.any():

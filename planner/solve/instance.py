@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from planner.accuracy import ErrorBudget, view_error_m
 from planner.coverage.matrix import CoverageProblem
+from planner.errors import InputError
 from planner.instruments import Scanner
 
 
@@ -46,11 +47,16 @@ class CoverInstance:
     def __post_init__(self) -> None:
         c, t = self.by_candidate.shape
         if len(self.cost) != c:
-            raise ValueError(f"{len(self.cost)} costs for {c} candidates")
+            raise InputError(f"{len(self.cost)} costs for {c} candidates", field="cost", value=len(self.cost))
+        cost = np.asarray(self.cost, dtype=float)
+        if cost.size and not (np.all(np.isfinite(cost)) and np.all(cost > 0)):  # 0 or -1 made "0 stations" optimal
+            bad = int(np.flatnonzero(~(np.isfinite(cost) & (cost > 0)))[0])
+            raise InputError("costs must be finite and > 0", row=f"candidate {bad}", field="cost", value=float(cost[bad]))
         if self.groups is not None and len(self.groups) != c:
-            raise ValueError(f"{len(self.groups)} groups for {c} candidates")
+            raise InputError(f"{len(self.groups)} groups for {c} candidates", field="groups", value=len(self.groups))
         if self.target_length_m is not None and len(self.target_length_m) != t:
-            raise ValueError(f"{len(self.target_length_m)} target lengths for {t} targets")
+            raise InputError(f"{len(self.target_length_m)} target lengths for {t} targets", field="target_length_m",
+                             value=len(self.target_length_m))
 
     @property
     def shape(self) -> tuple[int, int]:

@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from planner.checks import count, flag, real
 from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
 from planner.errors import UsageError
 from planner.solve.backends import BACKENDS
@@ -79,11 +80,16 @@ class MilpOptions:
             raise UsageError(f"unknown backend (known: {', '.join(BACKENDS)})", field="backend", value=self.backend)
         if self.precision not in PRECISION_MODES:
             raise UsageError("must be single or combined", field="precision", value=self.precision)
-        if self.k < 1 or self.threads < 1 or not self.time_limit_s > 0:
-            raise UsageError("k and threads must be >= 1 and the time limit > 0", field="k", value=self.k)
-        if self.local_search_moves < 0 or self.ring_lagrange_steps < 0:
-            raise UsageError("must be >= 0", field="local_search_moves" if self.local_search_moves < 0 else
-                             "ring_lagrange_steps", value=min(self.local_search_moves, self.ring_lagrange_steps))
+        for name, least in (("k", 1), ("threads", 1), ("seed", 0), ("greedy_starts", 1), ("max_rounds", 1),
+                            ("local_search_moves", 0), ("ring_lagrange_steps", 0)):
+            count(getattr(self, name), name, least)
+        real(self.time_limit_s, "time_limit_s", above=0)
+        for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound"):
+            flag(getattr(self, name), name)
+        if self.overlap is not None and not isinstance(self.overlap, OverlapRule):
+            raise UsageError("must be an OverlapRule (e.g. OverlapRule(0.3)) or None", field="overlap", value=self.overlap)
+        if self.work_limit is not None:
+            real(self.work_limit, "work_limit", above=0)
         if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
             raise UsageError("a work limit needs a value > 0, the cpsat backend and one thread", field="work_limit",
                              value=self.work_limit)
@@ -105,8 +111,14 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     """Solve the cover; the result's status is OPTIMAL only when every block was proven optimal and connected.
 
     Options come as a :class:`MilpOptions` or as keywords of it, e.g.
-    ``solve(problem, backend="scip", time_limit_s=30, seed=1, threads=1)``.
+    ``solve(cover_instance(problem), backend="scip", time_limit_s=30, seed=1, threads=1)``.
     """
+    if not isinstance(instance, CoverInstance):
+        raise UsageError("solve takes a CoverInstance: planner.cover_instance(problem)", field="instance",
+                         value=type(instance).__name__)
+    unknown = sorted(set(overrides) - set(MilpOptions.__dataclass_fields__))
+    if unknown:
+        raise UsageError("not a MilpOptions field", field=unknown[0], value=overrides[unknown[0]])
     o = replace(options or MilpOptions(), **overrides) if overrides else (options or MilpOptions())
     start = time.perf_counter()
     deadline = start + o.time_limit_s

@@ -155,3 +155,24 @@ def test_station_heights_from_a_control_height():
     data = rep.to_dict()["stations"]
     assert set(rep.sigma_h) == {"S1", "S2"} and all(0 < v < 0.005 for v in rep.sigma_h.values())
     assert data["S1"]["point_error_3d_m"] > data["S1"]["position_error_m"]
+
+
+def test_network_numbers_do_not_depend_on_the_hash_seed(tmp_path):
+    # the adjustment's unknowns were ordered by set iteration, so the last digits of the station errors (and
+    # the network figure) changed with PYTHONHASHSEED; two processes with different seeds must agree exactly
+    import os
+    import subprocess
+    import sys
+
+    from tests.conftest import INSTANCES, ROOT
+
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(tmp_path), "--quiet"]) == 0
+    outs = []
+    for seed in ("0", "1"):
+        out = tmp_path / f"n{seed}"
+        run = subprocess.run([sys.executable, "-m", "planner", "network", str(INSTANCES / "polygon_b.json"),
+                              str(tmp_path / "plan.json"), "--out", str(out), "--quiet"], capture_output=True, text=True,
+                             cwd=ROOT, env={**os.environ, "PYTHONHASHSEED": seed})
+        assert run.returncode == 0, run.stderr
+        outs.append((out / "network.json").read_text())
+    assert outs[0] == outs[1]
