@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from planner.errors import InputError
+
 
 def _cos(deg: float) -> float:
     return math.cos(math.radians(deg))
@@ -93,6 +95,10 @@ class WallPlan:
     stations: tuple[WallStation, ...]
 
 
+#: more closed-form stations than this on one wall means a degenerate theta_max, not a plan
+MAX_WALL_STATIONS = 10_000
+
+
 def wall_plan(
     wall_length_m: float, reach_m: float, l1_m: float, l2_m: float, theta_max_deg: float, overlap: float
 ) -> WallPlan:
@@ -109,6 +115,9 @@ def wall_plan(
     reduced = wall_length_m + l1_m * (o - 1.0) + l2_m * (o - 1.0)
     x_raw = (reduced - l_o) / (l_c - l_o) if l_c > l_o else math.inf
     count = math.ceil(x_raw) if math.isfinite(x_raw) else 0
+    if count > MAX_WALL_STATIONS:  # a tiny theta_max: each station covers almost nothing (1e-6 deg ran for minutes)
+        raise InputError(f"the closed form would put {count:,} stations on one {wall_length_m:g} m wall (each covers "
+                         f"{l_c:.3g} m); theta_max is too small for this site", field="theta_max_deg", value=theta_max_deg)
     shared = l1_m + l2_m - wall_length_m
     cot = _tan(90.0 - theta_max_deg)
     stations: tuple[WallStation, ...]

@@ -6,7 +6,8 @@ import math
 
 import pytest
 
-from planner.candidates.formulas import horizontal_reach_m, vertex_geometry, wall_plan
+from planner.candidates.formulas import MAX_WALL_STATIONS, horizontal_reach_m, vertex_geometry, wall_plan
+from planner.errors import InputError
 
 S, THETA, O = 95.913, 68.0, 0.30
 
@@ -62,3 +63,11 @@ def test_overlap_rule_of_polygon_b_outside():
     assert wall_plan(99.0, reach(19.0), 62.75, 61.62, THETA, O).stations == ()
     # side 4: 58.26 + 60.64 - 101.737 = 17.16 < 0.3 * 58.26 = 17.48: one K^C
     assert len(wall_plan(101.737, reach(18.0), 58.26, 60.64, THETA, O).stations) == 1
+
+
+def test_a_degenerate_theta_max_is_refused_not_planned_for_minutes():
+    # theta_max 1e-6 deg: a station covers L_C = 2 HD_0 tan(theta) = 2 x 96 m x 1.7e-8 = 3.3e-6 m of wall,
+    # so a 99 m wall would need some 3e7 stations; more than MAX_WALL_STATIONS is refused, naming theta_max
+    with pytest.raises(InputError, match=r"theta_max_deg = 1e-06: the closed form would put"):
+        wall_plan(99.0, 96.0, 0.0, 0.0, 1e-6, 0.3)
+    assert wall_plan(99.0, 96.0, 0.0, 0.0, 68.0, 0.3).count <= MAX_WALL_STATIONS
