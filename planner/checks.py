@@ -1,13 +1,31 @@
 """Checks of option values for the frozen option dataclasses (``__post_init__``): a wrong type or an out-of-range
-value is a :class:`~planner.errors.UsageError` naming the field and the value, before any work starts."""
+value is a :class:`~planner.errors.UsageError` naming the field and the value, before any work starts; and the
+one check of names that must be unique (station ids, control point names), an :class:`~planner.errors.InputError`."""
 
 from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Iterable
 from typing import Any
 
-from planner.errors import UsageError
+from planner.errors import InputError, UsageError
+
+
+#: verification sampling along the walls (m): finer than 1 mm is no survey resolution (and 10^9 samples per km
+#: of wall), coarser than 10 m checks little more than the corners
+SAMPLING_M = (0.001, 10.0)
+
+
+def no_repeats(names: Iterable[str], *, what: str, field: str, row: str, file: str | None = None) -> None:
+    """Refuse the first name given twice (the network, the report and the exports key points by name, so two
+    would merge into one); ``row`` formats a 1-based position, e.g. ``"control[{}]"``."""
+    first: dict[str, int] = {}
+    for k, name in enumerate(names, 1):
+        if name in first:
+            raise InputError(f"{what} used twice (also {row.format(first[name])})", file=file, row=row.format(k),
+                             field=field, value=name)
+        first[name] = k
 
 
 def count(value: Any, field: str, least: int = 0) -> None:

@@ -7,13 +7,15 @@ import argparse
 import math
 from collections.abc import Callable
 
+from planner.checks import SAMPLING_M as SAMPLING_RANGE_M
+
 
 def number(kind: type = float, *, above: float | None = None, at_least: float | None = None,
-           below: float | None = None, at_most: float | None = None) -> Callable[[str], float]:
+           at_most: float | None = None) -> Callable[[str], float]:
     """An argparse ``type``: ``kind`` (float or int) parsed from the text, finite, within the bounds given
-    (``above`` < x, ``at_least`` <= x, x < ``below``, x <= ``at_most``)."""
+    (``above`` < x, ``at_least`` <= x, x <= ``at_most``)."""
     rules = [(above, lambda x, b: x > b, ">"), (at_least, lambda x, b: x >= b, ">="),
-             (below, lambda x, b: x < b, "<"), (at_most, lambda x, b: x <= b, "<=")]
+             (at_most, lambda x, b: x <= b, "<=")]
     wanted = " and ".join(f"{op} {b:g}" for b, _, op in rules if b is not None)
 
     def parse(text: str) -> float:
@@ -35,6 +37,5 @@ POSITIVE = number(float, above=0)
 NON_NEGATIVE = number(float, at_least=0)
 POSITIVE_INT = number(int, at_least=1)
 NON_NEGATIVE_INT = number(int, at_least=0)
-#: verification sampling: finer than 1 mm is no survey resolution (and 10^9 samples per km of wall), coarser
-#: than 10 m checks little more than the corners
-SAMPLING_M = number(float, at_least=0.001, at_most=10.0)
+#: verification sampling (planner.checks.SAMPLING_M, as the library checks it)
+SAMPLING_M = number(float, at_least=SAMPLING_RANGE_M[0], at_most=SAMPLING_RANGE_M[1])

@@ -16,7 +16,7 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
-from planner.checks import count, flag, real
+from planner.checks import SAMPLING_M, count, flag, real
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.regions import FrameSpace, regions_apply
@@ -75,7 +75,7 @@ class PlanOptions:
         if not isinstance(self.pool, PoolOptions) or not isinstance(self.milp, MilpOptions):
             raise UsageError("must be a PoolOptions and a MilpOptions", field="pool/milp", value=(self.pool, self.milp))
         real(self.target_spacing_m, "target_spacing_m", above=0)
-        real(self.verify_spacing_m, "verify_spacing_m", at_least=0.001)  # finer than 1 mm: no survey resolution
+        real(self.verify_spacing_m, "verify_spacing_m", at_least=SAMPLING_M[0])  # finer than 1 mm: no survey resolution
         real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)
         for name in ("incidence_3d", "precision", "tripod", "recentre", "regions", "pricing"):
             flag(getattr(self, name), name)

@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from planner.candidates.model import Candidate, CandidateKind
+from planner.candidates.model import Candidate, CandidateKind, check_unique_ids
 from planner.errors import InputError
 from planner.plan import Plan
 from planner.site.fileio import read_json, to_float
@@ -93,15 +93,10 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
         raise InputError("a plan needs a list 'stations'", file=name, field="stations")
     zones = {z.id: z for z in site.zones}
     out = []
-    seen: dict[str, int] = {}
     for k, row in enumerate(rows, 1):
         where: dict[str, Any] = dict(file=name, row=f"stations[{k}]")
         if not isinstance(row, dict):
             raise InputError("must be an object", **where)
-        sid = str(row.get("id", f"S{k}"))
-        if sid in seen:  # the network and the report key stations by id: two would merge into one
-            raise InputError(f"station id used twice (also stations[{seen[sid]}])", **where, field="id", value=sid)
-        seen[sid] = k
         zone = row.get("zone")
         if zone not in zones:
             raise InputError("names no zone of the site", **where, field="zone", value=zone)
@@ -116,7 +111,8 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
         except ValueError:
             raise InputError("unknown station kind", **where, field="kind", value=row.get("kind")) from None
         x, y = (to_float(row.get(c), field=c, **where) for c in ("x", "y"))
-        out.append(Candidate(sid, zone, side, zones[zone].frame, x, y, kind))
+        out.append(Candidate(str(row.get("id", f"S{k}")), zone, side, zones[zone].frame, x, y, kind))
+    check_unique_ids(out, row="stations[{}]", file=name)
     return out
 
 

@@ -18,6 +18,7 @@ import numpy as np
 
 from planner.candidates.final_step import misplacement
 from planner.candidates.model import Candidate, check_unique_ids
+from planner.checks import SAMPLING_M
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import SIDE_NAME, make_targets
 from planner.coverage.visibility import SightLimits
@@ -96,7 +97,7 @@ class VerifyReport:
 def verify_stations(site: Site, stations: Sequence[Candidate], limits: SightLimits, spacing_m: float = 0.1) -> VerifyReport:
     """Coverage of every wall face by ``stations``, sampled every ``spacing_m``, with gaps and misplaced stations."""
     check_unique_ids(stations)
-    if not (isinstance(spacing_m, (int, float)) and 0.001 <= spacing_m <= 10.0):  # as the command's --spacing
+    if not (isinstance(spacing_m, (int, float)) and SAMPLING_M[0] <= spacing_m <= SAMPLING_M[1]):  # as --spacing
         raise InputError("sampling must be 0.001 .. 10 m (finer is no survey resolution, coarser checks little)",
                          field="spacing_m", value=spacing_m)
     misplaced = tuple((s.id, why) for s in stations if (why := misplacement(site, s, s.x, s.y)))

@@ -6,7 +6,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
 
-from planner.errors import InputError
+from planner.checks import no_repeats
 from planner.site.model import ScanSide
 
 
@@ -58,10 +58,6 @@ class Candidate:
         return (self.x, self.y)
 
 
-def check_unique_ids(stations: Sequence[Candidate]) -> None:
+def check_unique_ids(stations: Sequence[Candidate], row: str = "station {}", file: str | None = None) -> None:
     """Stations are keyed by id in the network, the report and the exports: two with one id would merge."""
-    seen: set[str] = set()
-    for k, st in enumerate(stations, 1):
-        if st.id in seen:
-            raise InputError("station id used twice", row=f"station {k}", field="id", value=st.id)
-        seen.add(st.id)
+    no_repeats((s.id for s in stations), what="station id", field="id", row=row, file=file)

@@ -55,8 +55,8 @@ def _heights(props: dict, n: int, where: dict[str, Any]) -> list[float]:
     given = [key for key in ("height_m", "height") if key in props]
     if len(given) == 2:  # two values, one would be dropped silently
         raise InputError("give height_m or height, not both", **where, field="height", value=props["height"])
-    for key in given:
-        return [to_float(props[key], field=key, **where)] * n
+    if given:
+        return [to_float(props[given[0]], field=given[0], **where)] * n
     raise InputError("no height: give height_m or vertex_heights_m", **where, field="properties")
 
 

@@ -122,11 +122,12 @@ def _sigmas(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, st
     g.add_nodes_from(xy)
     g.add_edges_from(links)
     out: dict[str, float] = {}
-    for comp in (sorted(c) for c in nx.connected_components(g)):  # a fixed order of the unknowns (not set order)
+    for comp in nx.connected_components(g):
         if not any(s in ties for s in comp):
             continue
         sub_links = [(u, v) for u, v in links if u in comp]
-        adj = adjust({s: xy[s] for s in comp}, [], _observations(xy, sub_links, {s: ties[s] for s in comp if s in ties}))
+        order = sorted(comp)  # a fixed order of the unknowns (not set order)
+        adj = adjust({s: xy[s] for s in order}, [], _observations(xy, sub_links, {s: ties[s] for s in order if s in ties}))
         out.update({p.name: p.position_error for p in adj.points})
     return out
 

@@ -235,10 +235,10 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     coords, fixed, obs = _design_observations(g, ts, ctrl, fixed_names)
     adjustments, failures, sigma = [], [], {}
     mcs = []
-    for comp in (sorted(c) for c in nx.connected_components(g)):  # a fixed order of the unknowns (not set order)
+    for comp in nx.connected_components(g):
         comp_obs = [o for o in obs if o.at in comp]
         comp_fixed = [f for f in fixed if f in comp]
-        names = {n: coords[n] for n in comp}
+        names = {n: coords[n] for n in sorted(comp)}  # a fixed order of the unknowns (not set order)
         if not any(g.nodes[n]["kind"] == "station" for n in comp):
             continue
         try:

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from planner.checks import no_repeats
 from planner.errors import InputError
 from planner.network.adjustment import ANGLE_UNITS, KINDS, LENGTH_UNITS, Obs, adjust
 from planner.network.check import NetworkReport
-from planner.site.fileio import read_json, to_float
+from planner.site.fileio import known_keys, read_json, to_float
 from planner.site.model import ControlPoint
 
 
@@ -29,17 +30,11 @@ def read_control(path: str) -> list[ControlPoint]:
         where: dict[str, Any] = dict(file=path, row=f"control[{k}]")
         if not isinstance(d, dict) or "name" not in d:
             raise InputError("needs a name, x and y", **where)
-        unknown = sorted(set(d) - CONTROL_KEYS)
-        if unknown:  # a typo in a key must not drop a value silently
-            raise InputError(f"unknown key (known: {', '.join(sorted(CONTROL_KEYS))})", **where, field=unknown[0],
-                             value=d[unknown[0]])
+        known_keys(d, CONTROL_KEYS, **where)
         out.append(ControlPoint(str(d["name"]), to_float(d.get("x"), field="x", **where), to_float(d.get("y"), field="y", **where),
                                 sigma_x_m=to_float(d.get("sigma_x_mm", 0), field="sigma_x_mm", **where) / 1000,
                                 sigma_y_m=to_float(d.get("sigma_y_mm", 0), field="sigma_y_mm", **where) / 1000))
-    names = [c.name for c in out]
-    for k, n in enumerate(names, 1):
-        if n in names[:k - 1]:  # the network keys points by name: two would merge into one
-            raise InputError("control point name used twice", file=path, row=f"control[{k}]", field="name", value=n)
+    no_repeats((c.name for c in out), what="control point name", field="name", row="control[{}]", file=path)
     return out
 
 

@@ -44,7 +44,7 @@ from planner.network.chain import TIE_RANGE_M
 from planner.candidates.final_step import misplacement
 from planner.network.graph import CONTROL_OFFSETS_M, intervisible, propose_control
 from planner.network.survey import DEFAULT_TARGETS, _tie
-from planner.site.fileio import to_float
+from planner.site.fileio import known_keys, to_float
 from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
 
 
@@ -77,13 +77,13 @@ def read_traverse(path: str | Path) -> ControlTraverse:
         raise InputError(f"cannot read the traverse ({exc.__class__.__name__})", file=str(path)) from None
     if not isinstance(data, dict) or not isinstance(data.get("legs"), list):
         raise InputError("needs an object with a list of legs", file=str(path), field="legs")
-    _known_keys(data, {"points", "legs"}, str(path), "traverse")
+    known_keys(data, {"points", "legs"}, file=str(path), row="traverse")
     points = []
     for k, p in enumerate(data.get("points", [])):
         where: dict[str, Any] = dict(file=str(path), row=f"points[{k + 1}]")
         if not isinstance(p, dict) or "name" not in p:
             raise InputError("a point needs name, x, y", **where, value=p)
-        _known_keys(p, {"name", "x", "y", "frame"}, str(path), f"points[{k + 1}]")
+        known_keys(p, {"name", "x", "y", "frame"}, **where)
         points.append(ControlPoint(str(p["name"]), to_float(p.get("x"), field="x", **where),
                                    to_float(p.get("y"), field="y", **where), frame=str(p.get("frame", SITE_FRAME))))
     legs = []
@@ -282,11 +282,3 @@ def datum(g: nx.Graph, control: Sequence[ControlPoint]) -> tuple[list[str], list
         notes.append(f"datum of the network part holding {', '.join(sorted(groups))}: {', '.join(held)} held fixed; "
                      "its other control points are found through the traverse, links and ties")
     return fixed, notes
-
-
-def _known_keys(data: dict[str, Any], known: set[str], file: str, where: str) -> None:
-    """A typo in a key must not drop a value silently."""
-    unknown = sorted(set(data) - known)
-    if unknown:
-        raise InputError(f"unknown key (known: {', '.join(sorted(known))})", file=file, row=where, field=unknown[0],
-                         value=data[unknown[0]])

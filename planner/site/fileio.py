@@ -68,3 +68,11 @@ def to_float(raw: Any, *, field: str, file: str | None = None, zone: str | None 
     if not math.isfinite(value):
         raise InputError("must be finite", file=file, zone=zone, row=row, field=field, value=raw)
     return value
+
+
+def known_keys(data: dict[str, Any], known: set[str], **where: Any) -> None:
+    """Refuse a key outside ``known`` (a typo must not drop a value silently), naming it and its value."""
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise InputError(f"unknown key (known: {', '.join(sorted(known))})", field=unknown[0], value=data[unknown[0]],
+                         **where)

@@ -17,6 +17,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.checks import no_repeats
 from planner.errors import InputError
 from planner.params import MAX_HEIGHT_M, Parameters
 from planner.site.geometry import check_simple_polygon, side_lengths, signed_area
@@ -314,12 +315,8 @@ class Site:
             if z.id in seen:
                 raise InputError("duplicate zone id", file=self.source or None, zone=z.id, field="id", value=z.id)
             seen.add(z.id)
-        names: set[str] = set()
-        for k, c in enumerate(self.control_points, 1):
-            if c.name in names:  # the network keys points by name: two would merge into one
-                raise InputError("control point name used twice", file=self.source or None,
-                                 row=f"control_points[{k}]", field="name", value=c.name)
-            names.add(c.name)
+        no_repeats((c.name for c in self.control_points), what="control point name", field="name",
+                   row="control_points[{}]", file=self.source or None)
         if self.boundary is not None:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
 
