@@ -8,6 +8,9 @@ application ``TLS_PLANNER``, the zone id, scan side, frame and per-vertex height
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import ezdxf
@@ -28,6 +31,18 @@ def zone_xdata(zone_id: str, side: str, frame: str, heights: tuple[float, ...]) 
     return [(1000, f"zone={zone_id}"), (1000, f"side={side}"), (1000, f"frame={frame}")] + [(1040, float(h)) for h in heights]
 
 
+@contextmanager
+def _fixed_metadata() -> Iterator[None]:
+    """ezdxf's fixed metadata while a drawing is made and saved (dates 2000-01-01, constant GUIDs, a marker
+    without time stamp), so that the same plan gives the same bytes; the option is restored afterwards."""
+    before = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        yield
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = before
+
+
 def _label_height(o: Outcome) -> float:
     """Text height: 1 % of the site's extent, at least 0.1 m."""
     xs = [v[0] for z in o.site.zones for v in z.vertices]
@@ -36,7 +51,21 @@ def _label_height(o: Outcome) -> float:
 
 
 def write_dxf(o: Outcome, path: Path | str) -> Path:
-    """Write the outcome as a DXF R2010 drawing in metres; return the path."""
+    """Write the outcome as a DXF R2010 drawing in metres; return the path. The same outcome gives the same
+    bytes (fixed metadata; the CLASSES section, which ezdxf fills in an order that changes with Python's string
+    hash seed, in name order)."""
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with _fixed_metadata():
+        doc = _drawing(o)
+        doc.classes.add_required_classes(doc.dxfversion)
+        doc.classes.classes = OrderedDict(sorted(doc.classes.classes.items()))
+        doc.saveas(out)
+    return out
+
+
+def _drawing(o: Outcome) -> "ezdxf.document.Drawing":
+    """The outcome's drawing: layers, zones with XDATA, obstacles, no-go areas, coverage, stations, network."""
     doc = ezdxf.new("R2010", setup=True)
     doc.units = units.M
     doc.header["$MEASUREMENT"] = 1  # metric
@@ -75,7 +104,4 @@ def write_dxf(o: Outcome, path: Path | str) -> Path:
         for c in o.network.control:
             msp.add_point((c.x, c.y), dxfattribs={"layer": "CONTROL"})
             msp.add_text(c.name, height=th, dxfattribs={"layer": "CONTROL"}).set_placement((c.x + th, c.y - 2 * th))
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    doc.saveas(out)
-    return out
+    return doc

@@ -56,6 +56,18 @@ def side_lengths(xy: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.asarray(np.hypot(d[:, 0], d[:, 1]), dtype=np.float64)
 
 
+def ring_key(xy: NDArray[np.float64], decimals: int = 6) -> tuple[tuple[float, float], ...]:
+    """The ring as a canonical tuple: counter-clockwise, starting at its lexicographically least vertex,
+    coordinates rounded to ``decimals`` (1e-6 m): two rings drawn alike, from any start and in either
+    direction, have the same key."""
+    pts = np.round(np.asarray(xy, dtype=float).reshape(-1, 2), decimals) + 0.0  # + 0.0: no -0.0
+    if signed_area(pts) < 0:
+        pts = pts[::-1]
+    rows = [(float(p[0]), float(p[1])) for p in pts]
+    k = rows.index(min(rows))
+    return tuple(rows[k:] + rows[:k])
+
+
 #: no site coordinate is farther out (projected CRSs stay within +-2e7 m); beyond it sums overflow
 MAX_COORDINATE_M = 1e8
 

@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from planner.checks import no_repeats
 from planner.errors import InputError
 from planner.params import MAX_HEIGHT_M, Parameters
-from planner.site.geometry import check_simple_polygon, side_lengths, signed_area
+from planner.site.geometry import check_simple_polygon, ring_key, side_lengths, signed_area
 from planner.site.traverse import AcceptedMisclosure, ClosureReport
 
 SITE_FRAME = "site"
@@ -317,8 +317,28 @@ class Site:
             seen.add(z.id)
         no_repeats((c.name for c in self.control_points), what="control point name", field="name",
                    row="control_points[{}]", file=self.source or None)
+        self._check_drawn_twice()
         if self.boundary is not None:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
+
+    def _check_drawn_twice(self) -> None:
+        """Refuse a zone, obstacle or no-go area drawn twice (the same outline, e.g. a CAD polyline copied onto
+        itself): its walls would be counted twice in every report. A zone scanned from inside and one from
+        outside on the same outline (a building's rooms and its facade) are two zones, not a repeat."""
+        first: dict[tuple[object, ...], str] = {}
+        items: list[tuple[str, str, tuple[object, ...]]] = [
+            ("zone", z.id, ("zone", z.scan_side.value, ring_key(np.asarray(z.vertices, float)),
+                            tuple(sorted(ring_key(np.asarray(h, float)) for h in z.holes))))
+            for z in self.zones]
+        items += [("obstacle", o.name, ("obstacle", ring_key(np.asarray(o.vertices, float)))) for o in self.obstacles]
+        items += [("no-go area", a.name, ("no_go", ring_key(np.asarray(a.vertices, float)))) for a in self.no_go_areas]
+        for what, name, key in items:
+            if key in first:
+                raise InputError(f"drawn twice: the same outline as {what} {first[key]!r}" +
+                                 (" with the same scan side" if what == "zone" else ""), file=self.source or None,
+                                 zone=name if what == "zone" else None,
+                                 row=None if what == "zone" else f"{what} {name}", field="outline")
+            first[key] = name
 
     def with_parameters(self, **changes: object) -> "Site":
         """The same site with some parameters changed (validated), e.g. ``site.with_parameters(theta_max_deg=60)``."""

@@ -151,3 +151,13 @@ def test_holes_layer_and_round_trip_of_a_court_with_a_block(tmp_path):
                          parameters=site.parameters)
     assert back.zones[0].holes == z.holes and back.zones[0].hole_heights_m == z.hole_heights_m
     assert len(planner.plan_site(back, planner.PlanOptions(method="milp")).stations) == len(plan.stations)
+
+
+def test_a_polyline_copied_onto_itself_is_refused(tmp_path, capsys):
+    # a CAD copy in place: two identical closed polylines would be two zones with the same 4 walls
+    doc, msp = drawing()
+    for _ in range(2):
+        msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "ZONES", "thickness": 5})
+    path = save(doc, tmp_path)
+    assert main(["validate", str(path)]) == 3
+    assert_one_line_error(capsys.readouterr().err, "site.dxf", "the same outline as zone")

@@ -143,3 +143,30 @@ def test_cli_plans_a_lonlat_geojson_with_crs_and_exports_lonlat(tmp_path, capsys
     rows = [r for r in (out / "stations.csv").read_text().splitlines() if r[:1].isalpha() and r != "ID,X,Y,Z"]
     assert all(277000 <= float(r.split(",")[1]) <= 277040 for r in rows)  # the field list stays in UTM metres
     assert "projected CRS EPSG:32637" in (out / "stations.csv").read_text()
+
+
+def test_dxf_is_the_same_bytes_in_two_processes_with_different_hash_seeds(tmp_path):
+    # ezdxf stamps creation and save times, random GUIDs and a written-at marker, and orders its CLASSES
+    # section by set iteration (PYTHONHASHSEED): the same plan gave a different file each run. Now two
+    # processes with hash seeds 0 and 1, a few seconds apart, write the same bytes, and the file still reads.
+    import os
+    import subprocess
+    import sys
+
+    from tests.conftest import ROOT
+
+    files = []
+    for seed in ("0", "1"):
+        out = tmp_path / f"d{seed}"
+        run = subprocess.run([sys.executable, "-m", "planner", "plan", str(INSTANCES / "polygon_b.json"), "--method",
+                              "greedy", "--out", str(out), "--export", "dxf", "--quiet"], capture_output=True, text=True,
+                             cwd=ROOT, env={**os.environ, "PYTHONHASHSEED": seed})
+        assert run.returncode == 0, run.stderr
+        files.append((out / "plan.dxf").read_bytes())
+    assert files[0] == files[1]
+    lines = files[0].decode().splitlines()
+    assert lines[lines.index("$TDCREATE") + 2] == "2451545.0"  # 2000-01-01 00:00 as a Julian date
+    doc = ezdxf.readfile(tmp_path / "d0" / "plan.dxf")
+    names = [c.dxf.name for c in doc.classes]
+    assert names == sorted(names) and len(names) >= 13
+    assert ezdxf.options.write_fixed_meta_data_for_testing is False  # the option is restored after a save

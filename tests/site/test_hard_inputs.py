@@ -257,3 +257,26 @@ def test_a_control_point_name_used_twice_is_refused(tmp_path, capsys):
     code, _, err = cli(capsys, "network", str(INSTANCES / "polygon_b.json"), str(plan), "--control", str(control))
     assert code == 3
     assert_one_line_error(err, "control.json", "control[1]", "sigma_x_m = 2", "unknown key")
+
+
+def test_a_zone_drawn_twice_is_refused_but_inside_and_outside_of_one_outline_are_two_zones(tmp_path, capsys):
+    # zone b is zone a's square from another start vertex, clockwise: the same outline, walls counted twice
+    square = [[0, 0], [10, 0], [10, 10], [0, 10]]
+    twice = [[10, 10], [10, 0], [0, 0], [0, 10]]
+    path = instance(tmp_path, [{"id": "a", "scan_side": "inside", "coordinates": square, "height_m": 4},
+                               {"id": "b", "scan_side": "inside", "coordinates": twice, "height_m": 4}])
+    code, _, err = cli(capsys, "validate", str(path))
+    assert code == 3
+    assert_one_line_error(err, "site.json", "zone b", "drawn twice: the same outline as zone 'a' with the same scan side")
+    # the room scanned from inside and its facade from outside: 4 + 4 walls, both kept
+    path = instance(tmp_path, [{"id": "a", "scan_side": "inside", "coordinates": square, "height_m": 4},
+                               {"id": "b", "scan_side": "outside", "coordinates": twice, "height_m": 4}], "two.json")
+    assert len(planner.load_site(path).walls) == 8
+    # an obstacle drawn twice, 1e-9 m apart (below the 1e-6 m rounding of the comparison)
+    post = [[4, 4], [5, 4], [5, 5], [4, 5]]
+    path = instance(tmp_path, [{"id": "a", "scan_side": "inside", "coordinates": square, "height_m": 4}], "ob.json",
+                    obstacles=[{"name": "p1", "polygon": post, "height_m": 3},
+                               {"name": "p2", "polygon": [[x + 1e-9, y] for x, y in post], "height_m": 3}])
+    code, _, err = cli(capsys, "validate", str(path))
+    assert code == 3
+    assert_one_line_error(err, "ob.json", "obstacle p2", "drawn twice: the same outline as obstacle 'p1'")
