@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import Any
 
-from planner.errors import InputError, UsageError
+from planner.errors import ArgumentTypeError, InputError, UsageError
 
 
 #: verification sampling along the walls (m): finer than 1 mm is no survey resolution (and 10^9 samples per km
@@ -26,6 +26,57 @@ def no_repeats(names: Iterable[str], *, what: str, field: str, row: str, file: s
             raise InputError(f"{what} used twice (also {row.format(first[name])})", file=file, row=row.format(k),
                              field=field, value=name)
         first[name] = k
+
+
+#: how to get an object of the kind a public function takes, for the message when it was given another
+MAKE = {
+    "Site": "planner.load_site(path) reads one",
+    "Plan": "planner.plan_site(site, options) makes one",
+    "Outcome": "planner.outcome_from_plan(plan) makes one",
+    "PlanOptions": "e.g. planner.PlanOptions(method='milp')",
+    "CoverageProblem": "planner.build_problem(site, options) makes one",
+    "NetworkReport": "planner.run_network(site, plan.stations) makes one",
+}
+
+
+def argument(value: Any, kind: type | tuple[type, ...], name: str) -> None:
+    """Refuse an argument that is not a ``kind`` (an :class:`ArgumentTypeError` naming the argument, what it
+    got and how to get the right one), before a deep AttributeError could name neither."""
+    if isinstance(value, kind):
+        return
+    kinds = kind if isinstance(kind, tuple) else (kind,)
+    want = " or ".join("None" if k is type(None) else _a(k.__name__) for k in kinds)
+    how = "; ".join(MAKE[k.__name__] for k in kinds if k.__name__ in MAKE)
+    raise ArgumentTypeError(f"must be {want}, not {_a(type(value).__name__)}" + (f" ({how})" if how else ""),
+                            field=name, value=_shown(value))
+
+
+def _a(noun: str) -> str:
+    return ("an " if noun[:1].lower() in "aeiou" else "a ") + noun
+
+
+def _shown(value: Any) -> Any:
+    """A short text or number as found; None (left out of the message) for other objects."""
+    if isinstance(value, str):
+        return value if len(value) <= 60 else value[:57] + "..."
+    return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def stations_argument(stations: Any) -> None:
+    """``stations``: a sequence of candidates (``plan.stations``), not a Plan, a path or one candidate."""
+    from planner.candidates.model import Candidate
+
+    got = type(stations).__name__
+    if not isinstance(stations, (str, bytes)) and isinstance(stations, Iterable):
+        if not isinstance(stations, Sequence):  # a generator is left unread
+            return
+        bad = next((k for k, s in enumerate(stations, 1) if not isinstance(s, Candidate)), None)
+        if bad is None:
+            return
+        got = f"{got} whose item {bad} is {_a(type(stations[bad - 1]).__name__)}"
+    raise ArgumentTypeError(f"must be a sequence of stations (Candidate objects, e.g. plan.stations), not {_a(got)}"
+                            + (" (use plan.stations)" if got == "Plan" else ""), field="stations",
+                            value=_shown(stations))
 
 
 def count(value: Any, field: str, least: int = 0) -> None:

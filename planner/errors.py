@@ -106,6 +106,11 @@ class UsageError(PlannerError, ValueError):
     exit_code = ExitCode.USAGE
 
 
+class ArgumentTypeError(UsageError, TypeError):
+    """A library function was given an object of another kind than it takes (a Plan where an Outcome is
+    expected, a path where a Site is): a usage error that is also a TypeError."""
+
+
 class InputError(PlannerError, ValueError):
     """An input file or value is invalid (exit 3)."""
 

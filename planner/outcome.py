@@ -13,6 +13,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from planner.checks import argument
 from planner.candidates.model import Candidate
 from planner.coverage.stations import StationCoverage, station_coverage
 from planner.coverage.visibility import SightLimits
@@ -57,6 +58,8 @@ class Outcome:
 def outcome_from_plan(plan: Plan, network: NetworkReport | None = None,
                       comparison: Sequence[dict[str, Any]] = ()) -> Outcome:
     """The outcome of a plan computed in this process."""
+    argument(plan, Plan, "plan")
+    argument(network, (NetworkReport, type(None)), "network")
     o = plan.options
     limits = sight_limits(plan.validation, o.incidence_3d, o.precision, o.combined)
     cov = station_coverage(plan.site, plan.stations, limits, plan.validation.scanner, plan.site.parameters.budget,

@@ -16,7 +16,7 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
-from planner.checks import SAMPLING_M, count, flag, real
+from planner.checks import SAMPLING_M, argument, count, flag, real
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.regions import FrameSpace, regions_apply
@@ -211,6 +211,8 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     InputError
         When the estimated memory of the work exceeds ``options.memory_limit_bytes`` (exit 3).
     """
+    argument(site, Site, "site")
+    argument(options, PlanOptions, "options")
     validation = validation or validate_site(site)
     limits = _limits(validation, options)
     from planner.memory_guard import check_memory  # issue 17: refuse what will not fit, before building
@@ -237,6 +239,8 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     InfeasibleError
         When some wall piece is seen by no candidate of the pool (listed by id and position).
     """
+    argument(site, Site, "site")
+    argument(options, (PlanOptions, type(None)), "options")
     options = options or PlanOptions()
     validation = validate_site(site)
     limits = _limits(validation, options)

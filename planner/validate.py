@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from planner.checks import argument
 from planner.errors import InputError, PlannerError
 from planner.instruments import Scanner, load_instrument
 from planner.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
@@ -138,6 +139,7 @@ def _zone_dict(z: Any) -> dict[str, Any]:
 
 def validate_site(site: Site) -> ValidationReport:
     """Check that a loaded site can be planned: its instrument exists and S_max is defined."""
+    argument(site, Site, "site")
     try:
         scanner = site_scanner(site)
         limit = resolve_range_limit(site.parameters, scanner)

@@ -18,7 +18,7 @@ import numpy as np
 
 from planner.candidates.final_step import misplacement
 from planner.candidates.model import Candidate, check_unique_ids
-from planner.checks import SAMPLING_M
+from planner.checks import SAMPLING_M, argument, stations_argument
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import SIDE_NAME, make_targets
 from planner.coverage.visibility import SightLimits
@@ -96,6 +96,8 @@ class VerifyReport:
 
 def verify_stations(site: Site, stations: Sequence[Candidate], limits: SightLimits, spacing_m: float = 0.1) -> VerifyReport:
     """Coverage of every wall face by ``stations``, sampled every ``spacing_m``, with gaps and misplaced stations."""
+    argument(site, Site, "site")
+    stations_argument(stations)
     check_unique_ids(stations)
     if not (isinstance(spacing_m, (int, float)) and SAMPLING_M[0] <= spacing_m <= SAMPLING_M[1]):  # as --spacing
         raise InputError("sampling must be 0.001 .. 10 m (finer is no survey resolution, coarser checks little)",

@@ -122,3 +122,39 @@ def test_library_misuse_is_refused_not_answered():
         planner.run_network(site, twins)
     with pytest.raises(InputError, match="at least one station"):
         planner.run_network(site, [])
+
+
+@pytest.fixture(scope="module")
+def greedy_b():
+    site = planner.load_site(INSTANCES / "polygon_b.json")
+    return site, planner.plan_site(site, planner.PlanOptions(method="greedy"))
+
+
+@pytest.mark.parametrize("call, field, words", [
+    # a path where a Site goes, a method name where options go, a Plan where an Outcome or stations go ...
+    (lambda site, plan: planner.plan_site(str(INSTANCES / "polygon_b.json")), "site", "load_site(path) reads one"),
+    (lambda site, plan: planner.plan_site(site, "milp"), "options", "PlanOptions(method='milp')"),
+    (lambda site, plan: planner.validate_site(plan), "site", "not a Plan"),
+    (lambda site, plan: planner.build_problem(site, planner.MilpOptions()), "options", "not a MilpOptions"),
+    (lambda site, plan: planner.outcome_from_plan(site), "plan", "plan_site(site, options) makes one"),
+    (lambda site, plan: planner.outcome_from_plan(plan, plan), "network", "run_network(site, plan.stations)"),
+    (lambda site, plan: planner.run_network(site, plan), "stations", "use plan.stations"),
+    (lambda site, plan: planner.run_network(plan, plan.stations), "site", "not a Plan"),
+    (lambda site, plan: planner.run_network(site, [1, 2]), "stations", "item 1 is an int"),
+    (lambda site, plan: planner.write_report(plan, "unused"), "outcome", "outcome_from_plan(plan) makes one"),
+    (lambda site, plan: planner.write_dxf(plan, "unused.dxf"), "outcome", "not a Plan"),
+    (lambda site, plan: planner.write_geojson(site, "unused.geojson"), "outcome", "not a Site"),
+    (lambda site, plan: planner.write_stations_csv(plan, "unused.csv"), "outcome", "not a Plan"),
+    (lambda site, plan: planner.plan_figures(plan), "outcome", "not a Plan"),
+    (lambda site, plan: planner.network_figure(plan), "outcome", "not a Plan"),
+])
+def test_an_object_of_the_wrong_kind_is_named_with_how_to_get_the_right_one(greedy_b, call, field, words, tmp_path,
+                                                                          monkeypatch):
+    # before: AttributeError deep inside ('Plan' object has no attribute 'coverage'); now one line naming the
+    # argument, what it got and how to make what it takes, a UsageError that is also a TypeError; no file written
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(planner.errors.ArgumentTypeError) as err:
+        call(*greedy_b)
+    assert isinstance(err.value, TypeError) and isinstance(err.value, UsageError)
+    assert str(err.value).startswith(field) and words in str(err.value)
+    assert not list(tmp_path.iterdir())

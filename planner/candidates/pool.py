@@ -12,7 +12,7 @@ import shapely
 from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, pole_in_frame, scan_side_angles
 from planner.candidates.formulas import horizontal_reach_m
 from planner.candidates.model import Candidate, CandidateKind
-from planner.checks import count, real
+from planner.checks import argument, count, real
 from planner.site.model import ScanSide, Site, Zone
 
 
@@ -172,6 +172,7 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
 
     Order matters: it is the tie-breaking order of the greedy, closed form first.
     """
+    argument(site, Site, "site")
     rng = np.random.default_rng(options.seed)
     closed = closed_form_candidates(site, limits)
     pool: list[Candidate] = list(closed)

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from planner.checks import argument, stations_argument
 from planner.accuracy import ErrorBudget, RangeAngleSigma, view_error_m
 from planner.candidates.model import Candidate
 from planner.coverage.matrix import CoverageProblem, build_coverage
@@ -67,6 +68,8 @@ def station_coverage(site: Site, stations: Sequence[Candidate], limits: SightLim
 
     Cost: one coverage build with len(stations) candidates, O(S x T) pair tests at most.
     """
+    argument(site, Site, "site")
+    stations_argument(stations)
     st = tuple(stations)
     problem = build_coverage(site, st, make_targets(site, spacing_m), limits)
     t = problem.targets

@@ -16,6 +16,7 @@ from pathlib import Path
 import ezdxf
 from ezdxf import units
 
+from planner.checks import argument
 from planner.outcome import Outcome
 
 APPID = "TLS_PLANNER"
@@ -54,6 +55,7 @@ def write_dxf(o: Outcome, path: Path | str) -> Path:
     """Write the outcome as a DXF R2010 drawing in metres; return the path. The same outcome gives the same
     bytes (fixed metadata; the CLASSES section, which ezdxf fills in an order that changes with Python's string
     hash seed, in name order)."""
+    argument(o, Outcome, "outcome")
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
     with _fixed_metadata():

@@ -12,6 +12,7 @@ import numpy as np
 import shapely
 from shapely.geometry import mapping
 
+from planner.checks import argument
 from planner.errors import UsageError
 from planner.exchange.crs import to_lonlat
 from planner.outcome import Outcome
@@ -97,6 +98,7 @@ def outcome_geojson(o: Outcome, crs: str | None = None) -> dict[str, Any]:
 
 def write_geojson(o: Outcome, path: Path | str, crs: str | None = None) -> Path:
     """Write :func:`outcome_geojson` to ``path`` (folders created) and return the path."""
+    argument(o, Outcome, "outcome")
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(outcome_geojson(o, crs)) + "\n")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from planner.checks import argument
 from planner.outcome import Outcome
 
 
@@ -14,6 +15,7 @@ def write_stations_csv(outcome: Outcome, path: Path | str, crs: str | None = Non
     has more than one, or the projected CRS ``crs`` the site was read in); Z is the height of the scanner's centre above the floor, the instrument
     height IH, since a site carries no terrain model.
     """
+    argument(outcome, Outcome, "outcome")
     site, p = outcome.site, outcome.site.parameters
     frames = sorted({s.frame for s in outcome.stations})
     lines = [

@@ -10,6 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Ellipse, Polygon
 
+from planner.checks import argument
 from planner.figures.base import decorate_plan
 from planner.network.adjustment import ELLIPSE_95
 from planner.outcome import Outcome
@@ -32,6 +33,7 @@ def _exaggeration(extent_m: float, largest_m: float) -> float:
 
 def network_figure(o: Outcome, frame: str | None = None) -> Figure:
     """The network of one frame (default: the frame with most stations)."""
+    argument(o, Outcome, "outcome")
     if o.network is None:
         raise ValueError("the outcome has no network report")
     g = o.network.graph

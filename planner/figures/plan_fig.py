@@ -10,6 +10,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 
+from planner.checks import argument
 from planner.candidates.model import CandidateKind
 from planner.coverage.targets import SIDE_CODE
 from planner.figures.base import decorate_plan
@@ -69,6 +70,7 @@ def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> None:
 
 def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
     """Two panels of one zone-side: coverage count and best incidence angle of every wall piece."""
+    argument(o, Outcome, "outcome")
     side = ScanSide(side)
     zi = next(i for i, z in enumerate(o.site.zones) if z.id == zone_id)
     zone = o.site.zones[zi]
@@ -109,4 +111,5 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
 
 def plan_figures(o: Outcome) -> list[tuple[str, Figure]]:
     """One plan figure per zone-side, titled ``zone/side``."""
+    argument(o, Outcome, "outcome")
     return [(f"{z.id}/{side.value}", plan_figure(o, z.id, side)) for z in o.site.zones for side in z.scan_side.sides]

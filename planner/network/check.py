@@ -18,6 +18,7 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
+from planner.checks import argument, stations_argument
 from planner.accuracy import ErrorBudget, combined_error_m, view_error_m
 from planner.candidates.model import Candidate, check_unique_ids
 from planner.coverage.matrix import build_coverage
@@ -198,6 +199,8 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     total station observes its legs only, stations are held by registration links and ties.
     ``ts_everywhere``: the earlier design instead, a total station on every station sight line.
     """
+    argument(site, Site, "site")
+    stations_argument(stations)
     if not stations:
         raise InputError("a network needs at least one station", field="stations", value=0)
     check_unique_ids(stations)

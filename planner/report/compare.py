@@ -6,6 +6,7 @@ import logging
 from dataclasses import replace
 from typing import Any
 
+from planner.checks import argument
 from planner.errors import PlannerError
 from planner.plan import Plan, PlanOptions, plan_site
 from planner.plan_io import plan_to_dict
@@ -30,6 +31,8 @@ def method_row(plan: Plan) -> dict[str, Any]:
 
 def compare_methods(site: Site, options: PlanOptions, done: Plan | None = None) -> list[dict[str, Any]]:
     """Closed form and greedy (cheap: one coverage build each) beside ``done``, the plan already made."""
+    argument(site, Site, "site")
+    argument(options, PlanOptions, "options")
     rows = []
     for method in ("closed-form", "greedy"):
         if done is not None and done.result.method == method:

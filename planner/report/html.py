@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from planner import __version__
+from planner.checks import argument
 from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
 from planner.outcome import Outcome
@@ -141,6 +142,7 @@ def _verification(o: Outcome) -> str:
 
 def render_report(o: Outcome) -> str:
     """The report as one HTML string."""
+    argument(o, Outcome, "outcome")
     figs = "".join(_img(png_bytes(f), f"plan {name}: coverage count and best incidence") for name, f in plan_figures(o))
     if o.network is not None:
         figs += _img(png_bytes(network_figure(o)), "registration links, sight lines, control points and error ellipses")
@@ -161,6 +163,7 @@ def render_report(o: Outcome) -> str:
 
 def write_report(o: Outcome, folder: Path | str) -> Path:
     """Write ``folder/report.html`` and return its path."""
+    argument(o, Outcome, "outcome")
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "report.html"
