@@ -324,10 +324,11 @@ class Site:
     def _check_drawn_twice(self) -> None:
         """Refuse a zone, obstacle or no-go area drawn twice (the same outline, e.g. a CAD polyline copied onto
         itself): its walls would be counted twice in every report. A zone scanned from inside and one from
-        outside on the same outline (a building's rooms and its facade) are two zones, not a repeat."""
+        outside on the same outline (a building's rooms and its facade) are two zones, not a repeat, and so are
+        two rooms alike in different frames (table zones each start at 0,0 in their own frame)."""
         first: dict[tuple[object, ...], str] = {}
         items: list[tuple[str, str, tuple[object, ...]]] = [
-            ("zone", z.id, ("zone", z.scan_side.value, ring_key(np.asarray(z.vertices, float)),
+            ("zone", z.id, ("zone", z.frame, z.scan_side.value, ring_key(np.asarray(z.vertices, float)),
                             tuple(sorted(ring_key(np.asarray(h, float)) for h in z.holes))))
             for z in self.zones]
         items += [("obstacle", o.name, ("obstacle", ring_key(np.asarray(o.vertices, float)))) for o in self.obstacles]

@@ -259,6 +259,14 @@ def test_a_control_point_name_used_twice_is_refused(tmp_path, capsys):
     assert_one_line_error(err, "control.json", "control[1]", "sigma_x_m = 2", "unknown key")
 
 
+def test_two_table_rooms_alike_in_their_own_frames_are_two_zones(write_csv):
+    # each table zone lives in its own frame with vertex 1 at 0,0: two 10 x 10 rooms have the same coordinates
+    # there but are different rooms, so they are not "drawn twice" (2 x 4 walls)
+    site = planner.load_site(write_csv(square_rows("T1") + square_rows("T2")))
+    assert [z.frame for z in site.zones] == ["T1", "T2"] and site.zones[0].vertices == site.zones[1].vertices
+    assert len(site.walls) == 8
+
+
 def test_a_zone_drawn_twice_is_refused_but_inside_and_outside_of_one_outline_are_two_zones(tmp_path, capsys):
     # zone b is zone a's square from another start vertex, clockwise: the same outline, walls counted twice
     square = [[0, 0], [10, 0], [10, 10], [0, 10]]
