@@ -39,8 +39,8 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tile-window-work", type=POSITIVE, default=3.0, metavar="S",
                    help="--tiles: CP-SAT deterministic seconds per window, wall cap 4x (default 3)")
     p.add_argument("--tile-window-batch", type=POSITIVE_INT, default=1, metavar="N",
-                   help="--tiles on Dask: windows solved N at a time as tasks (default 1: one at a time in this "
-                        "process; same plan either way)")
+                   help="--tiles on Dask: N windows in flight as tasks, their answers taken in order (default 1: one "
+                        "at a time in this process; same plan either way)")
     p.add_argument("--tile-wall-clock", action="store_true",
                    help="--tiles: the two limits above in wall-clock seconds (the plan may then depend on the load)")
     p.add_argument("--workers", type=NON_NEGATIVE_INT, default=0, metavar="N",

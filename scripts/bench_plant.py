@@ -200,7 +200,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--search-moves", type=int, default=20_000, help="local search moves on the kept plan (0: none)")
     ap.add_argument("--search-seeds", type=int, default=1, help="local searches with seeds 0..N-1, the smallest kept")
     ap.add_argument("--window-passes", type=int, default=1, help="passes of window re-solves after the search (0: none)")
-    ap.add_argument("--window-batch", type=int, default=1, help="windows solved at a time as Dask tasks (1: one at a time in the client)")
+    ap.add_argument("--window-batch", type=int, default=1, help="windows in flight as Dask tasks (1: one at a time in the client)")
     ap.add_argument("--csv", type=Path, default=None)
     ap.add_argument("--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)")
     ap.add_argument("--from-csv", type=Path, nargs="+", default=None,

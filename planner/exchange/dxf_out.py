@@ -8,6 +8,7 @@ application ``TLS_PLANNER``, the zone id, scan side, frame and per-vertex height
 from __future__ import annotations
 
 import math
+import threading
 from collections import OrderedDict
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -32,16 +33,22 @@ def zone_xdata(zone_id: str, side: str, frame: str, heights: tuple[float, ...]) 
     return [(1000, f"zone={zone_id}"), (1000, f"side={side}"), (1000, f"frame={frame}")] + [(1040, float(h)) for h in heights]
 
 
+#: ezdxf's metadata option is one flag for the whole process: one drawing at a time switches it
+_FIXED_METADATA = threading.Lock()
+
+
 @contextmanager
 def _fixed_metadata() -> Iterator[None]:
     """ezdxf's fixed metadata while a drawing is made and saved (dates 2000-01-01, constant GUIDs, a marker
-    without time stamp), so that the same plan gives the same bytes; the option is restored afterwards."""
-    before = ezdxf.options.write_fixed_meta_data_for_testing
-    ezdxf.options.write_fixed_meta_data_for_testing = True
-    try:
-        yield
-    finally:
-        ezdxf.options.write_fixed_meta_data_for_testing = before
+    without time stamp), so that the same plan gives the same bytes; the option is restored afterwards. Held
+    under a lock: two threads writing at once would otherwise restore each other's setting."""
+    with _FIXED_METADATA:
+        before = ezdxf.options.write_fixed_meta_data_for_testing
+        ezdxf.options.write_fixed_meta_data_for_testing = True
+        try:
+            yield
+        finally:
+            ezdxf.options.write_fixed_meta_data_for_testing = before
 
 
 def _label_height(o: Outcome) -> float:

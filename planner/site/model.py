@@ -322,24 +322,22 @@ class Site:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
 
     def _check_drawn_twice(self) -> None:
-        """Refuse a zone, obstacle or no-go area drawn twice (the same outline, e.g. a CAD polyline copied onto
-        itself): its walls would be counted twice in every report. A zone scanned from inside and one from
-        outside on the same outline (a building's rooms and its facade) are two zones, not a repeat, and so are
-        two rooms alike in different frames (table zones each start at 0,0 in their own frame)."""
+        """Refuse a zone drawn twice (the same outline, scanned from the same side in the same frame, e.g. a CAD
+        polyline copied onto itself): its walls would be counted twice in every report. A zone scanned from
+        inside and one from outside on the same outline (a building's rooms and its facade) are two zones, not a
+        repeat, and so are two rooms alike in different frames (table zones each start at 0,0 in their own
+        frame); a ``both`` zone repeats an ``inside`` or ``outside`` one on its outline. Obstacles and no-go
+        areas drawn twice are harmless (they block sight or standing once either way) and are accepted."""
         first: dict[tuple[object, ...], str] = {}
-        items: list[tuple[str, str, tuple[object, ...]]] = [
-            ("zone", z.id, ("zone", z.frame, z.scan_side.value, ring_key(np.asarray(z.vertices, float)),
-                            tuple(sorted(ring_key(np.asarray(h, float)) for h in z.holes))))
-            for z in self.zones]
-        items += [("obstacle", o.name, ("obstacle", ring_key(np.asarray(o.vertices, float)))) for o in self.obstacles]
-        items += [("no-go area", a.name, ("no_go", ring_key(np.asarray(a.vertices, float)))) for a in self.no_go_areas]
-        for what, name, key in items:
-            if key in first:
-                raise InputError(f"drawn twice: the same outline as {what} {first[key]!r}" +
-                                 (" with the same scan side" if what == "zone" else ""), file=self.source or None,
-                                 zone=name if what == "zone" else None,
-                                 row=None if what == "zone" else f"{what} {name}", field="outline")
-            first[key] = name
+        for z in self.zones:
+            shape = (z.frame, ring_key(np.asarray(z.vertices, float)),
+                     tuple(sorted(ring_key(np.asarray(h, float)) for h in z.holes)))
+            for side in z.scan_side.sides:
+                key = (side.value, *shape)
+                if key in first:
+                    raise InputError(f"drawn twice: the same outline as zone {first[key]!r}, both scanned from "
+                                     f"{side.value}", file=self.source or None, zone=z.id, field="outline")
+                first[key] = z.id
 
     def with_parameters(self, **changes: object) -> "Site":
         """The same site with some parameters changed (validated), e.g. ``site.with_parameters(theta_max_deg=60)``."""

@@ -21,12 +21,14 @@ One pass visits every station of the plan as a centre, in an order drawn by a ge
 (stations already removed are skipped). Work limits, not clocks, stop each window, so the result depends
 only on the input and the options (the wall-clock cap, ``WALL_CAP`` times the work, is counted when reached).
 
-Windows may run ``batch`` at a time through ``run`` (tiled plans on Dask, with ``WindowOptions.batch`` > 1): the
-next ``batch`` centres are solved against the same plan, and their answers are taken in order. At the first
-answer that removes stations the plan changes, so the later answers of that batch, made for the old plan,
-are thrown away and their windows solved again in the next batch. Each answer taken was therefore made for
-the plan the one-at-a-time search would have given it: the result, and the counts, do not depend on
-``batch`` or on the number of workers (test ``test_batches_give_the_one_at_a_time_result``).
+Windows may run ``batch`` at a time through ``run`` (tiled plans on Dask, with ``WindowOptions.batch`` > 1):
+``batch`` windows are kept in flight, each for the next centre still in the plan, all against the plan as it
+is, and their answers are taken in order as they come (a pipeline, not a barrier per batch: a slow window
+holds up the taking of later answers but not their solving). At the first answer that removes stations the
+plan changes, so the answers still in flight, made for the old plan, are dropped and their windows solved
+again. Each answer taken was therefore made for the plan the one-at-a-time search would have given it: the
+result, and the counts, do not depend on ``batch`` or on the number of workers (test
+``test_windows_in_flight_give_the_one_at_a_time_result``).
 
 Cost: on the 16-ha plant (104 stations) windows of 60 m held 3 to 10 of the plan's stations, and one pass
 of 101 windows took 112-133 s one at a time, and 158 s 4 at a time on 2 Dask workers of the 2-core machine
@@ -37,13 +39,15 @@ from __future__ import annotations
 
 import math
 import time
+from collections import deque
 from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 import scipy.sparse as sp
 
+from planner import progress
 from planner.coverage.overlap import OverlapRule
 from planner.errors import UsageError
 from planner.solve.connectivity import components, disconnected_groups, group_members
@@ -55,7 +59,7 @@ from planner.solve.result import Status
 class WindowOptions:
     """``radius_m``: window radius around each centre station; ``work_s``: CP-SAT deterministic seconds per
     window; ``passes``: visits of every station as a centre (0: off); ``seed``: order of the centres;
-    ``batch``: windows solved at a time when a task runner is given (tiled plans on Dask; the result is
+    ``batch``: windows in flight at a time when a task runner is given (tiled plans on Dask; the result is
     the same for every batch)."""
 
     radius_m: float = 60.0
@@ -91,12 +95,41 @@ class Windowed:
         return self.start - len(self.selected)
 
 
-#: ``run(fn, jobs, shared)``: ``[fn(**shared, job=job) for job in jobs]``, in job order (e.g. on Dask)
-Runner = Callable[[Callable[..., Any], Sequence[Any], dict[str, Any]], list[Any]]
+class Handle(Protocol):
+    """A window being solved: ``result()`` waits for its answer; ``cancel()`` drops it (a Dask future)."""
+
+    def result(self) -> Any: ...
+
+    def cancel(self) -> Any: ...
 
 
-def _one_by_one(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any]) -> list[Any]:
-    return [fn(**shared, job=job) for job in jobs]
+class Runner(Protocol):
+    """``submit(fn, job, shared)``: start ``fn(**shared, job=job)`` (e.g. as a Dask task) and return its handle."""
+
+    def submit(self, fn: Callable[..., Any], job: Any, shared: dict[str, Any]) -> Handle: ...
+
+
+class _Later:
+    """The answer of ``fn(**shared, job=job)``, computed here when asked for (never, when dropped first)."""
+
+    def __init__(self, fn: Callable[..., Any], job: Any, shared: dict[str, Any]) -> None:
+        self._call: Callable[[], Any] | None = lambda: fn(**shared, job=job)
+        self._answer: Any = None
+
+    def result(self) -> Any:
+        if self._call is not None:
+            self._answer, self._call = self._call(), None
+        return self._answer
+
+    def cancel(self) -> None:
+        self._call = None
+
+
+class _Here:
+    """Windows solved in this process, one at a time, as their answers are taken."""
+
+    def submit(self, fn: Callable[..., Any], job: Any, shared: dict[str, Any]) -> Handle:
+        return _Later(fn, job, shared)
 
 
 def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
@@ -119,11 +152,13 @@ def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashabl
     floor
         Stop at this many stations (a proven lower bound).
     run
-        Solve ``options.batch`` windows at a time with ``run`` (default: here, one after the other); the
-        result is the same for every batch (module docstring).
+        Keep ``options.batch`` windows in flight with ``run`` (a :class:`Runner`, e.g.
+        :class:`planner.tiles.engine.TaskRunner` on Dask; default: here, one after the other); the result is
+        the same for every batch (module docstring).
     """
     o = options or WindowOptions()
-    batch = o.batch if run is not None else 1
+    in_flight = o.batch if run is not None else 1
+    runner: Runner = run if run is not None else _Here()
     start = time.perf_counter()
     a, adj = a.astype(bool).tocsr(), adj.astype(bool).tocsr()
     at = a.T.tocsr()
@@ -136,22 +171,27 @@ def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashabl
     for _ in range(o.passes):
         order = [int(c) for c in rng.permutation(plan_s)]
         k = 0
-        while k < len(order) and len(plan_s) > max(floor, 1):
-            todo: list[tuple[int, int]] = []  # (place in the order, centre): the next centres still in the plan
-            while k < len(order) and len(todo) < batch:
+        flight: deque[tuple[int, Handle]] = deque()  # (place in the order, its window), all for plan_s as it is
+        while len(plan_s) > max(floor, 1):
+            while k < len(order) and len(flight) < in_flight:  # the next centres still in the plan
                 if order[k] in plan_s:
-                    todo.append((k, order[k]))
+                    flight.append((k, runner.submit(_window_task, (plan_s, order[k]), shared)))
                 k += 1
-            if not todo:
+            if not flight:
                 break
-            answers = (run or _one_by_one)(_window_task, [(plan_s, c) for _, c in todo], shared)
-            for (place, _), (new, status, hit) in zip(todo, answers):
-                windows, proven, capped = windows + 1, proven + (status == Status.OPTIMAL), capped + hit
-                if new is not None and len(new) < len(plan_s) and _valid(a, adj, groups, new, need):
-                    plan_s = new
-                    history.append((windows, len(plan_s)))
-                    k = place + 1  # the batch's later answers were made for the old plan: solve them again
-                    break
+            place, handle = flight.popleft()
+            new, status, hit = handle.result()
+            windows, proven, capped = windows + 1, proven + (status == Status.OPTIMAL), capped + hit
+            progress.report("windows", place + 1, len(order))
+            if new is not None and len(new) < len(plan_s) and _valid(a, adj, groups, new, need):
+                plan_s = new
+                history.append((windows, len(plan_s)))
+                for _, later in flight:  # made for the old plan: solve those windows again
+                    later.cancel()
+                flight.clear()
+                k = place + 1
+        for _, later in flight:  # the plan reached the floor
+            later.cancel()
     return Windowed(tuple(int(i) for i in plan_s), len(set(plan)), windows, proven, capped, tuple(history),
                     time.perf_counter() - start)
 

@@ -92,19 +92,19 @@ def run_tasks(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any
 
 
 class TaskRunner:
-    """``run(fn, jobs, shared)``: :func:`run_tasks` on ``client`` for a caller that runs many small batches
-    with the same ``shared`` dict (the window re-solves): its values are sent to the workers once, when
-    a new dict (by identity) comes, not once per batch."""
+    """``submit(fn, job, shared)``: ``fn(**shared, job=job)`` as a task on ``client``, its future returned, for
+    a caller that keeps many small tasks in flight with the same ``shared`` dict (the window re-solves): its
+    values are sent to the workers once, when a new dict (by identity) comes, not once per task."""
 
     def __init__(self, client: Any, step: str) -> None:
         self.client, self.step = client, step
         self._shared: dict[str, Any] | None = None
         self._scattered: dict[str, Any] = {}
 
-    def __call__(self, fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any]) -> list[Any]:
+    def submit(self, fn: Callable[..., Any], job: Any, shared: dict[str, Any]) -> Any:
         if shared is not self._shared:
             self._shared, self._scattered = shared, _scatter(self.client, shared)
-        return _on_client(fn, jobs, self._scattered, self.client, self.step)
+        return self.client.submit(fn, **self._scattered, job=job, pure=False)
 
 
 def _scatter(client: Any, shared: dict[str, Any]) -> dict[str, Any]:

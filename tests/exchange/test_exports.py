@@ -170,3 +170,17 @@ def test_dxf_is_the_same_bytes_in_two_processes_with_different_hash_seeds(tmp_pa
     names = [c.dxf.name for c in doc.classes]
     assert names == sorted(names) and len(names) >= 13
     assert ezdxf.options.write_fixed_meta_data_for_testing is False  # the option is restored after a save
+
+
+def test_dxf_written_from_threads_at_once_is_the_same_and_leaves_ezdxf_as_it_was(polygon_b, tmp_path):
+    # ezdxf's metadata option is process-wide: 16 writes on 4 threads must each give the one file, and the
+    # option must be off afterwards (without the lock one thread restored another's "on" in 2 of 3 runs)
+    from concurrent.futures import ThreadPoolExecutor
+
+    from planner.exchange.dxf_out import write_dxf
+
+    outcome = polygon_b[2]
+    with ThreadPoolExecutor(4) as ex:
+        paths = list(ex.map(lambda k: write_dxf(outcome, tmp_path / f"{k}.dxf"), range(16)))
+    assert len({p.read_bytes() for p in paths}) == 1
+    assert ezdxf.options.write_fixed_meta_data_for_testing is False

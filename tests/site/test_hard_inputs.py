@@ -275,16 +275,23 @@ def test_a_zone_drawn_twice_is_refused_but_inside_and_outside_of_one_outline_are
                                {"id": "b", "scan_side": "inside", "coordinates": twice, "height_m": 4}])
     code, _, err = cli(capsys, "validate", str(path))
     assert code == 3
-    assert_one_line_error(err, "site.json", "zone b", "drawn twice: the same outline as zone 'a' with the same scan side")
+    assert_one_line_error(err, "site.json", "zone b", "drawn twice: the same outline as zone 'a', both scanned from inside")
+    # a zone scanned from both sides repeats the inside one on its outline (its inside walls counted twice)
+    path = instance(tmp_path, [{"id": "a", "scan_side": "both", "coordinates": square, "height_m": 4},
+                               {"id": "b", "scan_side": "inside", "coordinates": twice, "height_m": 4}], "both.json")
+    code, _, err = cli(capsys, "validate", str(path))
+    assert code == 3
+    assert_one_line_error(err, "both.json", "zone b", "the same outline as zone 'a', both scanned from inside")
     # the room scanned from inside and its facade from outside: 4 + 4 walls, both kept
     path = instance(tmp_path, [{"id": "a", "scan_side": "inside", "coordinates": square, "height_m": 4},
                                {"id": "b", "scan_side": "outside", "coordinates": twice, "height_m": 4}], "two.json")
     assert len(planner.load_site(path).walls) == 8
-    # an obstacle drawn twice, 1e-9 m apart (below the 1e-6 m rounding of the comparison)
+    # an obstacle drawn twice (a column's lower and upper parts on one footprint) blocks sight once either way:
+    # accepted, and the plan is the one without the copy
     post = [[4, 4], [5, 4], [5, 5], [4, 5]]
-    path = instance(tmp_path, [{"id": "a", "scan_side": "inside", "coordinates": square, "height_m": 4}], "ob.json",
-                    obstacles=[{"name": "p1", "polygon": post, "height_m": 3},
-                               {"name": "p2", "polygon": [[x + 1e-9, y] for x, y in post], "height_m": 3}])
-    code, _, err = cli(capsys, "validate", str(path))
-    assert code == 3
-    assert_one_line_error(err, "ob.json", "obstacle p2", "drawn twice: the same outline as obstacle 'p1'")
+    one = instance(tmp_path, [{"id": "a", "scan_side": "inside", "coordinates": square, "height_m": 4}], "ob1.json",
+                   obstacles=[{"name": "p1", "polygon": post, "height_m": 3}])
+    two = instance(tmp_path, [{"id": "a", "scan_side": "inside", "coordinates": square, "height_m": 4}], "ob2.json",
+                   obstacles=[{"name": "p1", "polygon": post, "height_m": 3},
+                              {"name": "p2", "polygon": post, "height_m": 1}])
+    assert [(s.x, s.y) for s in plan_ok(two).stations] == [(s.x, s.y) for s in plan_ok(one).stations]

@@ -105,26 +105,46 @@ def test_connected_cover_within_a_subset_and_beside_kept_stations():
     assert got is not None and got.tolist() == [12, 14, 16, 18, 20] and status is Status.OPTIMAL
 
 
-def test_batches_give_the_one_at_a_time_result():
-    # windows of radius 4 on the line of 21 remove stations at several windows (history above); solved 2, 3
-    # or 7 at a time, each answer taken was made for the plan the one-at-a-time search had then, so the
-    # plan, the history and the counts are the same, and only the answers made after a removal are solved twice
+def test_windows_in_flight_give_the_one_at_a_time_result():
+    # windows of radius 4 on the line of 21 remove stations at several windows (history above); with 2, 3 or 7
+    # windows in flight (solved at once when submitted, as workers would), each answer taken was made for the
+    # plan the one-at-a-time search had then, so the plan, the history and the counts are the same; only the
+    # windows in flight when a window removed stations are solved again (at most batch - 1 per removal)
     inst, xy = _line(21)
     a, adj = _adjacency(inst)
     one = window_search(a, adj, _groups(inst), list(range(21)), xy, WindowOptions(radius_m=4.0, passes=2))
     assert len(one.history) >= 2
     for batch in (2, 3, 7):
         o = WindowOptions(radius_m=4.0, passes=2, batch=batch)
-        sizes: list[int] = []
 
-        def run(fn, jobs, shared):
-            sizes.append(len(jobs))
-            return [fn(**shared, job=job) for job in jobs]
+        class Eager:
+            def __init__(self) -> None:
+                self.submitted, self.cancelled, self.pending, self.most = 0, 0, 0, 0
 
+            def submit(self, fn, job, shared):
+                runner = self
+                runner.submitted += 1
+                runner.pending += 1
+                runner.most = max(runner.most, runner.pending)
+                answer = fn(**shared, job=job)
+
+                class Done:
+                    def result(self):
+                        runner.pending -= 1
+                        return answer
+
+                    def cancel(self):
+                        runner.pending -= 1
+                        runner.cancelled += 1
+                return Done()
+
+        run = Eager()
         found = window_search(a, adj, _groups(inst), list(range(21)), xy, o, run=run)
         assert (found.selected, found.history, found.windows, found.proven) == \
             (one.selected, one.history, one.windows, one.proven)
-        assert max(sizes) == batch and one.windows <= sum(sizes) <= one.windows + len(one.history) * (batch - 1)
+        assert run.most == batch and run.pending == 0
+        assert run.submitted == one.windows + run.cancelled
+        assert run.cancelled <= len(one.history) * (batch - 1) + o.passes * (batch - 1)
 
 
 @pytest.mark.parametrize("field,value", [("radius_m", 0.0), ("work_s", -1.0), ("passes", -1), ("batch", 0)])
