@@ -31,8 +31,10 @@ result, and the counts, do not depend on ``batch`` or on the number of workers (
 ``test_windows_in_flight_give_the_one_at_a_time_result``).
 
 Cost: on the 16-ha plant (104 stations) windows of 60 m held 3 to 10 of the plan's stations, and one pass
-of 101 windows took 112-133 s one at a time, and 158 s 4 at a time on 2 Dask workers of the 2-core machine
-(one run each, docs/benchmarks/plant.md).
+of 101 windows took 97-133 s one at a time; on 2 Dask workers of the 2-core machine 102 s with 4 in flight
+(128 s in batches of 4 with a barrier, as before); on 16 workers of a 16-core machine 73 s with 16 in flight
+(96 s in batches of 16) and 60 s with 64 (one run each, docs/benchmarks/plant.md). Keep several windows in
+flight per worker: a worker whose answer waits behind a slower one's is otherwise idle.
 """
 
 from __future__ import annotations
