@@ -147,6 +147,7 @@ def greedy_b():
     (lambda site, plan: planner.write_stations_csv(plan, "unused.csv"), "outcome", "not a Plan"),
     (lambda site, plan: planner.plan_figures(plan), "outcome", "not a Plan"),
     (lambda site, plan: planner.network_figure(plan), "outcome", "not a Plan"),
+    (lambda site, plan: planner.cover_instance(plan), "problem", "build_problem(site, options) makes one"),
 ])
 def test_an_object_of_the_wrong_kind_is_named_with_how_to_get_the_right_one(greedy_b, call, field, words, tmp_path,
                                                                           monkeypatch):

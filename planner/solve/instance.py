@@ -16,6 +16,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from planner.accuracy import ErrorBudget, view_error_m
+from planner.checks import argument
 from planner.coverage.matrix import CoverageProblem
 from planner.errors import InputError
 from planner.instruments import Scanner
@@ -87,6 +88,7 @@ def cover_instance(
     zone and side of each candidate) and ``links``: see
     :func:`planner.coverage.links.registration_groups`.
     """
+    argument(problem, CoverageProblem, "problem")
     info = None
     if scanner is not None and budget is not None and sigma_req_m is not None:
         slant = problem.slant_m.tocsr()
