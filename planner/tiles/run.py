@@ -210,8 +210,8 @@ def _search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept:
 def _windows(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept: Stitched, xy: np.ndarray,
              options: WindowOptions, floor: int, client: Any = None) -> tuple[Stitched, dict[str, Any]]:
     """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; with a
-    ``client`` and ``options.batch`` > 1 as Dask tasks, that many at a time (the same result as one at a
-    time; on the 2-core machine slower, so not the default: docs/benchmarks/plant.md)."""
+    ``client`` and ``options.batch`` > 1 as Dask tasks, that many in flight (the same result as one at a
+    time; on the 2-core machine no faster, so not the default: docs/benchmarks/plant.md)."""
     on_dask = client is not None and options.batch > 1
     batch = options.batch if on_dask else 1
     record: dict[str, Any] = {"passes": options.passes, "radius_m": options.radius_m, "work_s": options.work_s,
