@@ -96,8 +96,8 @@ class TaskRunner:
     a caller that keeps many small tasks in flight with the same ``shared`` dict (the window re-solves): its
     values are sent to the workers once, when a new dict (by identity) comes, not once per task."""
 
-    def __init__(self, client: Any, step: str) -> None:
-        self.client, self.step = client, step
+    def __init__(self, client: Any) -> None:
+        self.client = client
         self._shared: dict[str, Any] | None = None
         self._scattered: dict[str, Any] = {}
 

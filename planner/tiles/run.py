@@ -220,7 +220,7 @@ def _windows(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], kept
     if options.passes <= 0 or any(p > 1 for p in kept.parts.values()):
         return kept, record
     found = window_search(a, adj, groups, kept.selected, xy, options, floor,
-                          TaskRunner(client, "windows") if on_dask else None)
+                          TaskRunner(client) if on_dask else None)
     record.update(windows=found.windows, proven=found.proven, wall_cap_hit=found.wall_cap_hit,
                   after=len(found.selected), time_s=round(found.time_s, 3), history=[list(h) for h in found.history])
     if not found.removed:
