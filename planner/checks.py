@@ -36,6 +36,8 @@ MAKE = {
     "PlanOptions": "e.g. planner.PlanOptions(method='milp')",
     "CoverageProblem": "planner.build_problem(site, options) makes one",
     "NetworkReport": "planner.run_network(site, plan.stations) makes one",
+    "CoverInstance": "planner.cover_instance(problem) makes one",
+    "OverlapRule": "e.g. planner.OverlapRule(0.3)",
 }
 
 

@@ -72,8 +72,8 @@ class PlanOptions:
     def __post_init__(self) -> None:
         if self.method not in METHODS:
             raise UsageError(f"unknown method (known: {', '.join(METHODS)})", field="method", value=self.method)
-        if not isinstance(self.pool, PoolOptions) or not isinstance(self.milp, MilpOptions):
-            raise UsageError("must be a PoolOptions and a MilpOptions", field="pool/milp", value=(self.pool, self.milp))
+        argument(self.pool, PoolOptions, "pool")
+        argument(self.milp, MilpOptions, "milp")
         real(self.target_spacing_m, "target_spacing_m", above=0)
         real(self.verify_spacing_m, "verify_spacing_m", at_least=SAMPLING_M[0])  # finer than 1 mm: no survey resolution
         real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)

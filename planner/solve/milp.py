@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from planner.checks import count, flag, real
+from planner.checks import argument, count, flag, real
 from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
 from planner.errors import UsageError
 from planner.solve.backends import BACKENDS
@@ -86,8 +86,7 @@ class MilpOptions:
         real(self.time_limit_s, "time_limit_s", above=0)
         for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound"):
             flag(getattr(self, name), name)
-        if self.overlap is not None and not isinstance(self.overlap, OverlapRule):
-            raise UsageError("must be an OverlapRule (e.g. OverlapRule(0.3)) or None", field="overlap", value=self.overlap)
+        argument(self.overlap, (OverlapRule, type(None)), "overlap")
         if self.work_limit is not None:
             real(self.work_limit, "work_limit", above=0)
         if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
@@ -113,9 +112,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     Options come as a :class:`MilpOptions` or as keywords of it, e.g.
     ``solve(cover_instance(problem), backend="scip", time_limit_s=30, seed=1, threads=1)``.
     """
-    if not isinstance(instance, CoverInstance):
-        raise UsageError("solve takes a CoverInstance: planner.cover_instance(problem)", field="instance",
-                         value=type(instance).__name__)
+    argument(instance, CoverInstance, "instance")
     unknown = sorted(set(overrides) - set(MilpOptions.__dataclass_fields__))
     if unknown:
         raise UsageError("not a MilpOptions field", field=unknown[0], value=overrides[unknown[0]])
