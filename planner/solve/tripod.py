@@ -114,8 +114,10 @@ def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.
     p, r = cp.Variable(2), cp.Variable()
     c = math.cos(math.radians(theta_max_deg))
     dist = cp.norm(cp.reshape(p, (1, 2), order="C") - ends, axis=1)
-    cons = [r >= 0, r <= MAX_RADIUS_M, dist + r <= reach,
-            c * (dist + r) + r <= cp.sum(cp.multiply(cp.reshape(p, (1, 2), order="C") - ends, normals), axis=1)]
+    # (p - e) . n per end, as an affine map of p; not cp.sum(..., axis=1), whose shape check sums an
+    # uninitialised np.empty array (numpy then warns, now and then, of an invalid value in reduce)
+    along = normals @ p - np.einsum("ij,ij->i", ends, normals)
+    cons = [r >= 0, r <= MAX_RADIUS_M, dist + r <= reach, c * (dist + r) + r <= along]
     prob = cp.Problem(cp.Maximize(r), cons)
     try:
         prob.solve(solver=cp.CLARABEL)
