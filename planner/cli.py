@@ -8,7 +8,6 @@ line on stderr; set PLANNER_DEBUG=1 to see the traceback of an internal error.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import sys
@@ -19,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner import progress
+from planner.json_text import dumps
 from planner.cli_parser import build_parser as _build_parser
 from planner.cli_report import parse_exports, write_exports
 from planner.cli_tiles import plan_command
@@ -91,7 +91,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
     from planner.validate import validate_site
 
     report = validate_site(load_with_overrides(args))
-    print(json.dumps(report.to_dict(), indent=2) if args.json else report.summary())
+    print(dumps(report.to_dict()).rstrip("\n") if args.json else report.summary())
     return ExitCode.OK
 
 
@@ -181,7 +181,7 @@ def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
     if result.status.value == "no_solution":
         return f"no cover found within the time limit of {options.milp.time_limit_s:g} s (raise --time-limit)"
     rules = ["every piece covered"] + (["k = %d" % options.milp.k] if options.milp.k > 1 else [])
-    rules += ["registration overlap connected"] if options.milp.overlap is not None else []
+    rules += ["registration overlap connected"] if options.milp.rule is not None else []
     rules += ["combined precision"] if options.combined else []
     return f"the solver proved that no set of candidates meets {', '.join(rules)}"
 
@@ -214,19 +214,9 @@ def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bo
     if args.out:
         Path(args.out).mkdir(parents=True, exist_ok=True)
         path = Path(args.out) / "network.json"
-        path.write_text(json.dumps(report.to_dict(), indent=2, default=_jsonable) + "\n")
+        path.write_text(dumps(report.to_dict()))
         print(f"wrote {path}")
     return report
-
-
-def _jsonable(o: object) -> object:
-    import numpy as np
-
-    if isinstance(o, (set, frozenset)):
-        return sorted(o)
-    if isinstance(o, (np.integer, np.floating)):
-        return o.item()
-    raise TypeError(type(o).__name__)
 
 
 def cmd_network(args: argparse.Namespace) -> int:
@@ -234,8 +224,17 @@ def cmd_network(args: argparse.Namespace) -> int:
 
     site = load_with_overrides(args)
     stations = _some_stations(args.plan, read_plan_stations(args.plan, site))
+    _recorded_notes(args.plan, site)
     _network(site, stations, args)
     return ExitCode.OK
+
+
+def _recorded_notes(path: str, site: Any) -> None:
+    """Say which limits the plan was made under that differ from the site's (the check uses the site's)."""
+    from planner.plan_io import recorded_differences
+
+    for line in recorded_differences(path, site):
+        print(line)
 
 
 def _some_stations(path: str, stations: list[Any]) -> list[Any]:
@@ -257,6 +256,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     limits = sight_limits(validation, args.incidence == "3d", not args.no_precision, args.precision == "combined")
     report = verify_stations(site, stations, limits, args.spacing)
     print(f"plan {args.plan}: {len(stations)} stations")
+    _recorded_notes(args.plan, site)
     print(report.summary())
     return ExitCode.OK if report.complete else ExitCode.INFEASIBLE
 
@@ -307,7 +307,7 @@ def cmd_assemble(args: argparse.Namespace) -> int:
         source = read_json(path) if path.suffix.lower() == ".json" else {
             "format": "tls-planner/1", "name": path.stem, "zones": [{"table_csv": path.name}]}
         data = assembled_instance(source, str(path.parent), str(out.parent), report)
-        out.write_text(json.dumps(data, indent=2) + "\n")
+        out.write_text(dumps(data))
         print(f"wrote {out}: {len(report.placements)} zones placed, {len(report.unplaced)} left in their own frames")
     return ExitCode.OK
 
@@ -319,6 +319,7 @@ def cmd_chain(args: argparse.Namespace) -> int:
 
     site = load_with_overrides(args)
     stations = _some_stations(args.plan, read_plan_stations(args.plan, site))
+    _recorded_notes(args.plan, site)
     print("\n".join(survey_network(site, stations, args.registration).lines()))
     return ExitCode.OK
 

@@ -8,11 +8,11 @@ want to add it themselves.
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 
+from planner.json_text import dumps
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
 from planner.errors import UsageError
@@ -75,5 +75,5 @@ def export_problem(problem: CoverageProblem, fmt: str, rule: OverlapRule) -> str
     if fmt == "mps":
         return to_mps(problem)
     if fmt == "json":
-        return json.dumps(to_json(problem, rule)) + "\n"
+        return dumps(to_json(problem, rule), indent=None)
     raise UsageError(f"unknown format (known: {', '.join(FORMATS)})", field="format", value=fmt)

@@ -64,6 +64,17 @@ class PlanOptions:
     pricing_time_limit_s: float = 120.0
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.memory_guard)
 
+    def for_site(self, site: Site) -> "PlanOptions":
+        """These options with the MILP's ``overlap="site"`` resolved to ``site``'s overlap share."""
+        milp = self.milp.for_site(site.parameters.overlap)
+        return self if milp is self.milp else replace(self, milp=milp)
+
+    def checked_rule(self, site: Site) -> OverlapRule:
+        """The rule a plan's registration is checked on: the one it was planned under, else the site's
+        (the closed form, or planning with no rule, is checked at the site's share)."""
+        rule = self.milp.for_site(site.parameters.overlap).rule
+        return rule if self.method != "closed-form" and rule else OverlapRule(site.parameters.overlap)
+
     @property
     def combined(self) -> bool:
         """Views add information (``--precision combined``), for every method."""
@@ -129,7 +140,7 @@ class Plan:
         sides = self.count_by_side()
         w = max([10] + [len(z) + 1 for z, _ in by_zone])  # long room names (IFC) keep their column
         lines = [
-            f"instance {self.site.name}, method {self.result.method}: {self.result.summary()}",
+            f"instance {self.site.name}, method {self.result.method}: {self.result.summary(self.time_label)}",
             f"presolve: {self.result.info['presolve']}" if "presolve" in self.result.info else "",
             f"stations: {len(self.stations)} (inside {sides.get('inside', 0)}, outside {sides.get('outside', 0)}); "
             f"candidates {self.problem_size['candidates']}, targets {self.problem_size['targets']}",
@@ -138,7 +149,7 @@ class Plan:
         lines += [f"{z:<{w}}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
         lines.append(self._accuracy_line())
-        scope = self.result.info.get("bound_scope")
+        scope = self.result.info.get("bound_scope", "pool" if self.result.bound is not None else None)
         if scope is not None:
             plane = self.result.info.get("plane_bound")
             lines.append("bound scope: plane (no cover from any positions in the plane has fewer stations)" if scope == "plane"
@@ -155,6 +166,14 @@ class Plan:
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
 
+
+    @property
+    def time_label(self) -> str:
+        """What the result's time covers: the solver alone (on how many threads), or the whole tiled run."""
+        if self.result.method == "milp-tiles":
+            return "whole tiled run: pool, coverage, tiles, bound, stitch and search"
+        threads = self.options.milp.threads if self.result.method == "milp" else 1
+        return f"solver alone, {threads} thread{'s' if threads > 1 else ''}"
 
     def _accuracy_line(self) -> str:
         """How views were judged: incidence model, precision mode, stand-off, and theta_max (derived: per range)."""
@@ -241,7 +260,7 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     """
     argument(site, Site, "site")
     argument(options, (PlanOptions, type(None)), "options")
-    options = options or PlanOptions()
+    options = (options or PlanOptions()).for_site(site)
     validation = validate_site(site)
     limits = _limits(validation, options)
     cf_limits = closed_form_limits(validation)
@@ -251,7 +270,9 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     problem = build_problem(site, options, validation, spaces=spaces, region_cache=region_cache)
     targets, pool = problem.targets, problem.candidates
     log: list[str] = [f"coverage built in {time.perf_counter() - start:.2f} s "
-                      f"({problem.by_candidate.nnz:,} candidate-target pairs)"]
+                      f"({len(pool):,} candidates of the pool, {problem.by_candidate.nnz:,} candidate-target pairs"
+                      f"{', before pricing' if options.method == 'milp' and options.pricing else ''})"]
+    pool_pairs = int(problem.by_candidate.nnz)
     if options.method == "closed-form":
         result, problem, extra = closed_form_plan(site, cf_limits, targets, limits)
         log += extra
@@ -265,9 +286,9 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
                 problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s,
                                                cache=region_cache, spaces=spaces)
             log.append(pricing.summary())
-            pool = problem.candidates
+            pool, pool_pairs = problem.candidates, int(problem.by_candidate.nnz)
         mode = options.registration or default_registration(site)
-        reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
+        reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.range_limit_m
         groups, links = registration_groups(site, problem.candidates, mode, reach)
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
                               name=site.name, groups=groups, links=links, incidence_model=p.incidence_model)
@@ -279,24 +300,24 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
         from planner.solve.combined import combined_greedy
 
         result = combined_greedy(problem, limits.precision)
-    elif options.milp.overlap is not None and options.milp.overlap.overlap > 0:  # greedy under the rule
+    elif (rule := options.milp.rule) is not None and rule.overlap > 0:  # greedy under the rule
         groups, links = registration_groups(site, problem.candidates, options.registration or default_registration(site),
-                                            options.milp.overlap.max_link_m or limits.range_limit_m)
-        result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links),
-                                       options.milp.overlap)
+                                            rule.max_link_m or limits.range_limit_m)
+        result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links), rule)
         if not result.selected:
             log.append("greedy: no cover connected under the overlap rule found; plain greedy plan instead")
             result = greedy_cover(problem.by_candidate)
     else:
         result = greedy_cover(problem.by_candidate)
-    rule = options.milp.overlap if options.method != "closed-form" and options.milp.overlap else OverlapRule(site.parameters.overlap)
+    rule = options.checked_rule(site)
     registration, partners = registration_check(problem, result.selected, rule, site, options.registration,
                                                 rule.max_link_m or limits.range_limit_m)
     if rule.overlap == 0:
         registration, log = {}, log + ["registration: not required (overlap 0)"]
     stations, tripods = placed_stations(site, problem, result.selected, options, partners)
     verification = verify_stations(site, stations, limits, options.verify_spacing_m)
-    size = {"candidates": len(pool), "targets": len(targets), "pairs": int(problem.by_candidate.nnz)}
+    # the pool's size (after pricing for the MILP); the closed form solves over its own stations, not counted here
+    size = {"candidates": len(pool), "targets": len(targets), "pairs": pool_pairs}
     return Plan(site, options, validation, result, tuple(stations), verification, size, tuple(log),
                 registration, tripods)
 

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
 
+from planner.json_text import dumps
 from planner.candidates.model import Candidate, CandidateKind, check_unique_ids
 from planner.errors import InputError
 from planner.plan import Plan
@@ -32,6 +32,7 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "bound_scope": r.info.get("bound_scope", "pool" if r.bound is not None else None),
         "plane_bound": r.info.get("plane_bound"),
         "time_s": r.time_s,
+        "time_covers": plan.time_label,
         "backend": r.backend,
         "counts": {"inside": sides.get("inside", 0), "outside": sides.get("outside", 0), "total": len(plan.stations)},
         "parameters": {
@@ -48,14 +49,14 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "milp": None if r.method != "milp" else {
                 "backend": o.milp.backend, "time_limit_s": o.milp.time_limit_s, "seed": o.milp.seed,
                 "threads": o.milp.threads, "k": o.milp.k, "precision": o.milp.precision,
-                "min_shared_m": o.milp.overlap.min_shared_m if o.milp.overlap else None,
-                "max_link_m": o.milp.overlap.max_link_m if o.milp.overlap else None},
+                "min_shared_m": o.milp.rule.min_shared_m if o.milp.rule else None,
+                "max_link_m": o.milp.rule.max_link_m if o.milp.rule else None},
         },
         "presolve": r.info.get("presolve"),
         "solver": {k: v for k, v in r.info.items() if k != "presolve"},
         "registration": {"connected": plan.connected, "components": plan.registration,
-                         "overlap": (o.milp.overlap.overlap if r.method == "milp" and o.milp.overlap else p.overlap)
-                         if not (r.method == "milp" and o.milp.overlap is None) else None},
+                         # the share the registration was checked at (planned under, else the site's)
+                         "overlap": o.checked_rule(site).overlap},
         "problem": plan.problem_size,
         "zones": [{"id": z.id, "side": z.scan_side.value, "frame": z.frame, "polygon": [list(v) for v in z.vertices],
                    **({"holes": [[list(v) for v in r] for r in z.holes]} if z.holes else {})}
@@ -80,7 +81,7 @@ def write_plan(plan: Plan, out_dir: Path | str) -> Path:
     folder = Path(out_dir)
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / "plan.json"
-    path.write_text(json.dumps(plan_to_dict(plan), indent=2) + "\n")
+    path.write_text(dumps(plan_to_dict(plan)))
     return path
 
 
@@ -113,6 +114,33 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
         x, y = (to_float(row.get(c), field=c, **where) for c in ("x", "y"))
         out.append(Candidate(str(row.get("id", f"S{k}")), zone, side, zones[zone].frame, x, y, kind))
     check_unique_ids(out, row="stations[{}]", file=name)
+    return out
+
+
+#: site parameters a plan.json records, and the command-line option that sets each
+_RECORDED = {"theta_max_deg": "--theta-max", "overlap": "--overlap", "sigma_req_m": "--sigma-req",
+             "instrument_height_m": "--instrument-height", "incidence_model": "--incidence-model",
+             "min_standoff_m": "--standoff", "instrument": "--instrument"}
+
+
+def recorded_differences(path: Path | str, site: Site) -> list[str]:
+    """One line per site parameter that ``path`` (a plan.json) records with another value than ``site`` has:
+    the plan was made under other limits than it is now checked against (``verify``, ``network``, ``chain``
+    check it against the site as given, which is the point when the site is the stricter requirement)."""
+    data = read_json(path)
+    recorded = data.get("parameters") if isinstance(data, dict) else None
+    if not isinstance(recorded, dict):
+        return []
+    p = site.parameters
+    now = {"theta_max_deg": p.theta_max_deg, "overlap": p.overlap, "sigma_req_m": p.sigma_req_m,
+           "instrument_height_m": p.instrument_height_m, "incidence_model": p.incidence_model,
+           "min_standoff_m": p.min_standoff_m, "instrument": site.instrument}
+    out = []
+    for key, flag in _RECORDED.items():
+        was = recorded.get(key)
+        if key in recorded and was != now[key] and now[key] is not None:
+            out.append(f"note: {path} was made with {key} = {was} (checked here: {now[key]}); "
+                       f"give {flag} {was} to check it under its own limits")
     return out
 
 

@@ -75,7 +75,7 @@ def run(name: str, config: str, method: str, limit_s: float, label: str) -> dict
         "status": plan.result.status.value, "time_s": round(wall, 2), "verify_percent": plan.verification.percent,
         "verify_mode": getattr(plan.verification, "precision", "single (combined dropped)" if combined else "single"),
         "network_mode": check.get("precision", "single"), "failing": check["failing_targets"], "targets": check["targets"],
-        "worst_e_mm": round(check["worst_e_m"] * 1000, 2) if math.isfinite(check["worst_e_m"]) else None,
+        "worst_e_mm": round(check["worst_e_m"] * 1000, 2) if check["worst_e_m"] is not None else None,
         "station_clearance_m": round(min(clearance_m(site, s.xy, s.frame) for s in plan.stations), 3) if plan.stations else None,
         "control_clearance_m": round(min(clearance_m(site, (c.x, c.y), c.frame) for c in proposed), 3) if proposed else None,
         "discs_containing": sum(math.dist(s.xy, d.centre) <= d.radius_m + 1e-9 for s, d in zip(plan.stations, discs)),

@@ -184,3 +184,22 @@ def test_outside_walls_out_of_reach_exit_4_listing_them(tmp_path, capsys):
     assert main(["plan", str(path), "--method", "greedy", "--max-range", "3", "--quiet"]) == 4
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "60 target(s) seen by no candidate" in err and "block.json" in err
+
+
+def test_the_library_plans_under_the_sites_overlap_like_the_command(tmp_path):
+    # The MILP options' default rule is "the site's": a site asking 80 % overlap gets a plan connected at
+    # 80 % (checked afresh on the chosen stations), not one planned and checked at 30 % (the old default)
+    # and then recorded under the site's 80 %. The command line, which passes the site's share, agrees.
+    from planner.coverage.overlap import OverlapRule
+
+    site = load_site(INSTANCES / "polygon_b.json").with_parameters(overlap=0.8)
+    plan = plan_site(site, PlanOptions(method="greedy"))
+    data = plan_to_dict(plan)
+    assert data["registration"]["overlap"] == 0.8 and data["registration"]["connected"] and plan.connected
+    assert plan.options.milp.overlap == OverlapRule(0.8)
+    out = tmp_path / "o"
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--overlap", "0.8", "--out", str(out)]) == 0
+    assert json.loads((out / "plan.json").read_text())["counts"]["total"] == len(plan.stations)
+    # overlap 0: no rule, as on the command line ("registration: not required")
+    free = plan_site(site.with_parameters(overlap=0.0), PlanOptions(method="greedy"))
+    assert free.options.milp.overlap is None and "registration: not required (overlap 0)" in free.log

@@ -3,7 +3,6 @@ network links and control points, one FeatureCollection, each feature with a ``r
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
@@ -12,6 +11,7 @@ import numpy as np
 import shapely
 from shapely.geometry import mapping
 
+from planner.json_text import dumps
 from planner.checks import argument
 from planner.errors import UsageError
 from planner.exchange.crs import to_lonlat
@@ -101,5 +101,5 @@ def write_geojson(o: Outcome, path: Path | str, crs: str | None = None) -> Path:
     argument(o, Outcome, "outcome")
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(outcome_geojson(o, crs)) + "\n")
+    out.write_text(dumps(outcome_geojson(o, crs), indent=None))
     return out

@@ -24,6 +24,7 @@ from planner.candidates.model import Candidate, check_unique_ids
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.errors import InputError
+from planner.json_text import finite_or_none
 from planner.instruments import TotalStation, load_instrument
 from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
@@ -110,12 +111,14 @@ class NetworkReport:
         lines += [f"  note: {n}" for n in self.notes]
         for m in self.monte_carlo:
             lines.append(f"Monte Carlo ({m.runs} runs): mean station RMS {m.mean_rms * 1000:.2f} mm")
-        worst_e = f"worst e {c['worst_e_m'] * 1000:.2f} mm" if math.isfinite(c["worst_e_m"]) else "no piece with a finite error"
+        worst_e = f"worst e {c['worst_e_m'] * 1000:.2f} mm" if c["worst_e_m"] is not None else "no piece with a finite error"
+        if c.get("untied_targets"):
+            worst_e += f" where tied to control; {c['untied_targets']} pieces seen by untied stations only (no finite error)"
         unseen = f"; {c['unseen_targets']} pieces seen by no station" if c.get("unseen_targets") else ""
         lines.append(f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
-                     f"({c['failing_targets']} of {c['targets']} pieces fail; {worst_e}{unseen})")
+                     f"({c['failing_targets']} of {c['targets']} seen pieces fail; {worst_e}{unseen})")
         for z in c["zones"]:
-            worst_e = "untied station" if not math.isfinite(z["worst_e_m"]) else f"{z['worst_e_m'] * 1000:.2f} mm"
+            worst_e = "untied station" if z["untied"] else f"{z['worst_e_m'] * 1000:.2f} mm"
             lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst_e}")
         lines += [f"  fix: {s}" for s in c["suggestions"]]
         if self.survey is not None:
@@ -292,8 +295,9 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
         for side in (0, 1):
             m = covered & (t.zone == zi) & (t.side == side)
             if m.any():
+                worst = float(e_best[m].max())  # infinite: some piece is seen by untied stations only
                 zones.append({"zone": zid, "side": ["inside", "outside"][side], "pass": not bool((fail & m).any()),
-                              "worst_e_m": float(e_best[m].max())})
+                              "worst_e_m": finite_or_none(worst), "untied": not math.isfinite(worst)})
     bad_st = sorted({stations[w].id for w in who[fail]})
     suggestions = []
     for sid in bad_st[:10]:
@@ -310,9 +314,12 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
             "failing_targets": int(fail.sum()), "unseen_targets": int((~covered).sum()),
             # a piece no station sees is no pass: the check is of the wall, not of the pieces that happen to be seen
             "pass": not bool(fail.any()) and bool(covered.all()),
-            "worst_e_m": float(finite.max()) if finite.size else float("inf"), "zones": zones,
+            # the worst finite error; pieces seen by untied stations only have none and are counted apart
+            "worst_e_m": float(finite.max()) if finite.size else None,
+            "untied_targets": int((covered & ~np.isfinite(e_best)).sum()), "zones": zones,
             "failing_stations": bad_st, "failing_target_ids": [t.label(i) for i in np.flatnonzero(fail)[:50]],
-            "worst_targets": [{"target": t.label(i), "station": stations[who[i]].id, "e_m": float(e_best[i]),
+            "worst_targets": [{"target": t.label(i), "station": stations[who[i]].id, "e_m": finite_or_none(float(e_best[i])),
+                               "untied": not math.isfinite(e_best[i]),
                                "incidence_deg": float(theta[i])}
                               for i in np.argsort(-np.where(covered, e_best, -1.0))[:20] if covered[i]],
             "suggestions": suggestions}

@@ -105,7 +105,8 @@ def _comparison(o: Outcome) -> str:
                    "verified %", "registration connected"), rows, left=2)
             + f"<p>Bound: no plan has fewer stations; its scope says over what (pool: the candidate pool, connected "
               f"plans when registration is required; plane: any positions). Solver s: the solver alone, "
-              f"{threads} thread(s) for the MILP, 1 for the others; coverage build and pricing not included.</p>")
+              f"{threads} thread(s) for the MILP, 1 for the others; coverage build and pricing not included (milp-tiles: "
+              f"the whole tiled run, pool and coverage included).</p>")
 
 
 def _bound_cell(r: dict[str, Any]) -> str:
@@ -123,9 +124,11 @@ def _network(o: Outcome) -> str:
     c = o.network.check
     verdict = f'<span class="{"pass" if c["pass"] else "fail"}">{"PASS" if c["pass"] else "FAIL"}</span>'
     rows = ((_e(z["zone"]), _e(z["side"]), "pass" if z["pass"] else '<span class="fail">FAIL</span>',
-             _f(z["worst_e_m"] * 1000 if math.isfinite(z["worst_e_m"]) else None, ".2f")) for z in c["zones"])
-    return (f"<p>Accuracy check at {c['sigma_req_m'] * 1000:g} mm: {verdict} ({c['failing_targets']} of {c['targets']} pieces "
-            f"fail; worst point error {c['worst_e_m'] * 1000:.2f} mm).</p>"
+             "untied station" if z["untied"] else _f(z["worst_e_m"] * 1000, ".2f")) for z in c["zones"])
+    worst = "none finite" if c["worst_e_m"] is None else f"{c['worst_e_m'] * 1000:.2f} mm"
+    untied = f"; {c['untied_targets']} pieces seen by untied stations only" if c.get("untied_targets") else ""
+    return (f"<p>Accuracy check at {c['sigma_req_m'] * 1000:g} mm: {verdict} ({c['failing_targets']} of {c['targets']} seen pieces "
+            f"fail; worst point error {worst}{untied}).</p>"
             + table(("zone", "side", "check", "worst e mm"), rows, left=2)
             + f"<pre>{_e(o.network.summary())}</pre>")
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 import time
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -49,7 +49,9 @@ class MilpOptions:
     seed: int = 0
     threads: int = 1
     k: int = 1
-    overlap: OverlapRule | None = OverlapRule()
+    #: the registration rule: an :class:`OverlapRule`, ``None`` (none), or ``"site"`` (default): the site's own
+    #: overlap share (``plan_site`` and the tiles read it; 0 means none; a bare ``solve`` has no site: 0.30)
+    overlap: OverlapRule | None | Literal["site"] = "site"
     precision: str = "single"
     greedy_starts: int = 50
     max_rounds: int = 500
@@ -86,12 +88,24 @@ class MilpOptions:
         real(self.time_limit_s, "time_limit_s", above=0)
         for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound"):
             flag(getattr(self, name), name)
-        argument(self.overlap, (OverlapRule, type(None)), "overlap")
+        if self.overlap != "site":
+            argument(self.overlap, (OverlapRule, type(None)), "overlap")
         if self.work_limit is not None:
             real(self.work_limit, "work_limit", above=0)
         if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
             raise UsageError("a work limit needs a value > 0, the cpsat backend and one thread", field="work_limit",
                              value=self.work_limit)
+
+    @property
+    def rule(self) -> OverlapRule | None:
+        """The registration rule in force: ``"site"`` unresolved (no site at hand) is the default 30 %."""
+        return OverlapRule() if self.overlap == "site" else self.overlap
+
+    def for_site(self, overlap: float) -> "MilpOptions":
+        """These options with ``"site"`` resolved to a site's overlap share (0: no rule)."""
+        if self.overlap != "site":
+            return self
+        return replace(self, overlap=None if overlap == 0 else OverlapRule(overlap))
 
     def with_work_limit(self, work_s: float, wall_cap: float) -> "MilpOptions":
         """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap
@@ -124,7 +138,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         bad = np.flatnonzero(counts < o.k)
         return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start, backend=o.backend,
                            info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)})
-    connect = o.overlap is not None and instance.groups is not None
+    connect = o.rule is not None and instance.groups is not None
     report, solvers = block_solvers(instance, o)
     _share_out(solvers, deadline, o.work_limit)
     if any(b.infeasible for b in solvers):
@@ -155,11 +169,11 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
 
 def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveReport, list[BlockSolver]]:
     """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
-    the registration rule applies when ``o.overlap`` is set and the instance has groups."""
+    the registration rule applies when ``o.rule`` is set and the instance has groups."""
     a = instance.by_candidate.astype(bool).tocsr()
     adj = None
-    if o.overlap is not None and instance.groups is not None:
-        adj, _ = overlap_adjacency(a, lengths(instance), o.overlap, instance.groups, instance.xy, instance.links)
+    if o.rule is not None and instance.groups is not None:
+        adj, _ = overlap_adjacency(a, lengths(instance), o.rule, instance.groups, instance.xy, instance.links)
     report = _presolve(instance, a, adj, o)
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)

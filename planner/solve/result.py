@@ -48,8 +48,10 @@ class SolveResult:
 
         return summary_html(self, f"{self.method} result")
 
-    def summary(self) -> str:
+    def summary(self, time_label: str = "") -> str:
+        """One line: method, status, stations, bound, gap and time (``time_label`` says what the time covers)."""
         gap = "" if self.gap is None else f", gap {self.gap:.1%}"
         bound = "" if self.bound is None or math.isnan(self.bound) else f", bound {self.bound:g}"
         obj = "-" if self.objective is None else f"{self.objective:g}"
-        return f"{self.method}: {self.status.value}, {obj} stations{bound}{gap}, {self.time_s:.2f} s"
+        label = f" ({time_label})" if time_label else ""
+        return f"{self.method}: {self.status.value}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}"

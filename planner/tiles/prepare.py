@@ -82,8 +82,8 @@ def prepare(site: Site, options: PlanOptions, validation: ValidationReport | Non
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
     usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason], dtype=bool)
     mode = options.registration or "site"
-    reach = (options.milp.overlap.max_link_m if options.milp.overlap else None) or limits.range_limit_m
+    reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.range_limit_m
     labels, links = registration_groups(site, pool, mode, reach)
     groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
-    rule = options.milp.overlap or OverlapRule(site.parameters.overlap)
+    rule = options.milp.rule or OverlapRule(site.parameters.overlap)
     return Prepared(validation, limits, tuple(pool), targets, xy, usable, mode, float(reach), groups, links, rule)

@@ -121,7 +121,7 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     InfeasibleError
         When some piece is seen by no candidate.
     """
-    options = options or PlanOptions(method="milp")
+    options = (options or PlanOptions(method="milp")).for_site(site)
     tiling = tiling or TileOptions()
     if len({z.frame for z in site.zones}) != 1:
         raise UsageError("tiles need every zone in one coordinate frame", field="tiles")

@@ -176,3 +176,23 @@ def test_network_numbers_do_not_depend_on_the_hash_seed(tmp_path):
         assert run.returncode == 0, run.stderr
         outs.append((out / "network.json").read_text())
     assert outs[0] == outs[1]
+
+
+def test_network_json_is_strict_and_names_pieces_of_untied_stations(tmp_path, capsys):
+    # The courtyard's court and room stations are tied to no control point, so their pieces have no finite
+    # error. network.json must still be strict JSON (no Infinity/NaN tokens: JavaScript's JSON.parse refuses
+    # them): those errors are null with "untied": true, counted in "untied_targets", and the overall worst is
+    # the worst finite one, said to be so in the summary.
+    assert main(["plan", str(INSTANCES / "courtyard.json"), "--network", "--out", str(tmp_path)]) == 0
+    text = (tmp_path / "network.json").read_text()
+
+    def refuse(token):
+        raise ValueError(token)
+
+    check = json.loads(text, parse_constant=refuse)["accuracy_check"]
+    zones = {z["zone"]: z for z in check["zones"]}
+    assert zones["court"]["untied"] and zones["court"]["worst_e_m"] is None
+    assert not zones["hall"]["untied"] and zones["hall"]["worst_e_m"] == check["worst_e_m"]
+    assert check["untied_targets"] > 0 and not check["pass"]
+    assert all((t["e_m"] is None) == t["untied"] for t in check["worst_targets"])
+    assert f"{check['untied_targets']} pieces seen by untied stations only" in capsys.readouterr().out

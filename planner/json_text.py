@@ -1,0 +1,42 @@
+"""JSON text the planner writes: strict (RFC 8259) so that any parser reads it.
+
+Python's ``json`` writes ``NaN`` and ``Infinity`` for non-finite floats, which JavaScript's
+``JSON.parse`` and strict parsers refuse. Here a non-finite float becomes ``null``; where that hides a
+meaning (a piece whose stations are not tied to control has an infinite error), the writer of the
+data states it in a field of its own (``untied``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+
+def finite_or_none(value: float) -> float | None:
+    """``value``, or ``None`` when it is NaN or infinite."""
+    return value if math.isfinite(value) else None
+
+
+def _plain(o: Any) -> Any:
+    """``o`` as plain JSON data: numpy scalars and arrays to Python, sets sorted, non-finite floats to None."""
+    import numpy as np
+
+    if isinstance(o, dict):
+        return {k: _plain(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_plain(v) for v in o]
+    if isinstance(o, (set, frozenset)):
+        return [_plain(v) for v in sorted(o)]
+    if isinstance(o, np.ndarray):
+        return _plain(o.tolist())
+    if isinstance(o, (np.integer, np.floating, np.bool_)):
+        return _plain(o.item())
+    if isinstance(o, float):
+        return finite_or_none(o)
+    return o
+
+
+def dumps(data: Any, indent: int | None = 2) -> str:
+    """Strict JSON text of ``data`` (see the module docstring), with a final newline."""
+    return json.dumps(_plain(data), indent=indent, allow_nan=False) + "\n"
