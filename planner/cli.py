@@ -136,6 +136,8 @@ def _usable_folder(flag: str, folder: str | None) -> None:
     """An output folder given on the command line: it is (or can be made) a folder, else a usage error."""
     if folder is None:
         return
+    if not folder.strip():
+        raise UsageError("is empty: name a folder", field=flag, value=folder)
     try:
         Path(folder).mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -148,6 +150,11 @@ def cmd_plan(args: argparse.Namespace) -> int:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
     for flag, folder in (("--out", args.out), ("--report", args.report)):
         _usable_folder(flag, folder)  # before the planning, not after it
+    if args.monte_carlo and not args.network:
+        raise UsageError("Monte Carlo runs are part of the network check; give --network", field="--monte-carlo",
+                         value=args.monte_carlo)
+    if args.network:
+        _network_inputs(args)  # the network's option values and files, before the planning
     site = load_with_overrides(args)
     _guard_memory(site, args)
     from planner.outcome import outcome_from_plan
@@ -186,20 +193,29 @@ def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
     return f"the solver proved that no set of candidates meets {', '.join(rules)}"
 
 
-def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bool = True) -> NetworkReport:
-    from planner.network.check import run_network
-    from planner.network.io import adjust_observations, read_control
+def _network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
+    """The network options' values and files (control points, traverse), checked and read."""
+    from planner.network.io import read_control
+    from planner.network.traverse import read_traverse
 
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
                          value=args.monte_carlo)
-    from planner.network.traverse import read_traverse
-
-    with located_in(getattr(args, "control", None)):
-        control = read_control(args.control) if getattr(args, "control", None) else None
     if getattr(args, "traverse", None) and args.ts_everywhere:
         raise UsageError("--traverse and --ts-everywhere exclude each other", field="--traverse", value=args.traverse)
+    with located_in(getattr(args, "control", None)):
+        control = read_control(args.control) if getattr(args, "control", None) else None
     traverse = read_traverse(args.traverse) if getattr(args, "traverse", None) else None
+    if getattr(args, "observations", None) and not Path(args.observations).is_file():
+        raise InputError("cannot read the observations: no such file", file=args.observations)
+    return control, traverse
+
+
+def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bool = True) -> NetworkReport:
+    from planner.network.check import run_network
+    from planner.network.io import adjust_observations
+
+    control, traverse = _network_inputs(args)
     with located_in(args.traverse if traverse is not None else None):  # a leg naming an unknown point
         report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
                              registration=getattr(args, "registration", None),
@@ -222,6 +238,8 @@ def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bo
 def cmd_network(args: argparse.Namespace) -> int:
     from planner.plan_io import read_plan_stations
 
+    _usable_folder("--out", args.out)
+    _network_inputs(args)
     site = load_with_overrides(args)
     stations = _some_stations(args.plan, read_plan_stations(args.plan, site))
     _recorded_notes(args.plan, site)

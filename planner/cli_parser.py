@@ -59,7 +59,7 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
 
 def _add_network_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--control", metavar="FILE", help="control points (JSON list: name, x, y, sigma_x_mm, sigma_y_mm)")
-    p.add_argument("--monte-carlo", type=NON_NEGATIVE_INT, default=0, metavar="N", help="also simulate N adjustments (seeded)")
+    p.add_argument("--monte-carlo", type=NON_NEGATIVE_INT, default=0, metavar="N", help="also simulate N adjustments (seeded; N >= 100)")
     p.add_argument("--traverse", metavar="FILE", help="the planned control traverse (JSON: points, legs), the only "
                    "total-station observations; 'none' for no traverse (default: a proposed one, labelled so)")
     p.add_argument("--ts-everywhere", action="store_true",

@@ -15,6 +15,10 @@ if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/
     from planner.site.model import Site
 
 
+#: the memory limit of each Dask worker unless --worker-memory says otherwise
+WORKER_MEMORY = "1.5GiB"
+
+
 def add_tile_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tiles", type=POSITIVE, default=None, metavar="M",
                    help="milp: plan by square tiles of M m (margins of S_max), stitched into one registered plan")
@@ -47,8 +51,8 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help="--tiles: run tiles on an embedded Dask LocalCluster of N processes (default 0: in this process)")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="--tiles: run tiles on the Dask cluster at ADDRESS (tcp://HOST:PORT)")
-    p.add_argument("--worker-memory", default="1.5GiB", metavar="SIZE",
-                   help="--tiles --workers: memory limit of each worker (default 1.5GiB)")
+    p.add_argument("--worker-memory", default=WORKER_MEMORY, metavar="SIZE",
+                   help=f"--tiles --workers: memory limit of each worker (default {WORKER_MEMORY})")
 
 
 #: the WindowOptions and TileOptions fields checked there, and the flags that give them
@@ -62,9 +66,11 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
     from planner.plan import plan_site
 
     if args.tiles is None:
-        if args.workers or args.scheduler:
-            flag, value = ("--scheduler", args.scheduler) if args.scheduler else ("--workers", args.workers)
-            raise UsageError("--workers and --scheduler run tiles; give --tiles M", field=flag, value=value)
+        given = [(f, v) for f, v in (("--scheduler", args.scheduler), ("--workers", args.workers),
+                                     ("--worker-memory", args.worker_memory != WORKER_MEMORY and args.worker_memory)) if v]
+        if given:
+            raise UsageError("--workers, --worker-memory and --scheduler run tiles; give --tiles M", field=given[0][0],
+                             value=given[0][1])
         return plan_site(site, options)
     if options.method != "milp":
         raise UsageError("--tiles plans with the MILP", field="--method", value=options.method)

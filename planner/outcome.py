@@ -103,8 +103,22 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
     limits = sight_limits(validation, p.get("incidence") == "3d", bool(p.get("precision", True)), combined)
     stations = tuple(read_plan_stations(plan_path, site))
     spacing = float(p.get("target_spacing_m", 1.0))
+    _fits_in_memory(site, validation, spacing, float(p.get("grid_spacing_m", 1.0)), name)
     cov = station_coverage(site, stations, limits, validation.scanner, site.parameters.budget, spacing)
     verification = verify_stations(site, stations, limits, float(p.get("verify_spacing_m", 0.1)))
     radii = {s["id"]: s["tripod_radius_m"] for s in meta.get("stations", []) if isinstance(s, dict)
              and isinstance(s.get("tripod_radius_m"), (int, float))}
     return Outcome(site, validation, limits, stations, cov, verification, radii, meta, network)
+
+
+def _fits_in_memory(site: Site, validation: ValidationReport, spacing_m: float, grid_m: float, name: str) -> None:
+    """The memory guard of ``planner plan`` for the spacings a plan.json records (an edited file may ask
+    for pieces of a micrometre): refused naming the plan file and the field, before any coverage is built."""
+    from planner.memory_guard import check_memory
+
+    try:
+        check_memory(site, spacing_m, grid_m, validation.range_limit.max_slant_range_m)
+    except InputError as exc:
+        raise InputError(f"the report's coverage would not fit in memory ({exc.message.split(', over')[0]})",
+                         file=name, field="parameters.target_spacing_m", value=spacing_m) from None
+

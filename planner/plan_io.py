@@ -6,9 +6,10 @@ import math
 from pathlib import Path
 from typing import Any
 
-from planner.json_text import dumps
 from planner.candidates.model import Candidate, CandidateKind, check_unique_ids
+from planner.checks import SAMPLING_M
 from planner.errors import InputError
+from planner.json_text import dumps
 from planner.plan import Plan
 from planner.site.fileio import read_json, to_float
 from planner.site.model import ScanSide, Site
@@ -146,8 +147,10 @@ def recorded_differences(path: Path | str, site: Site) -> list[str]:
 
 #: plan.json fields ``planner report`` reads back: (key, check, what it must be)
 _POSITIVE = (lambda v: isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0, "a number > 0")
+_SAMPLING = (lambda v: _POSITIVE[0](v) and SAMPLING_M[0] <= v <= SAMPLING_M[1],
+             f"a number of metres in [{SAMPLING_M[0]:g}, {SAMPLING_M[1]:g}], as the command line takes")
 _PARAMETER_CHECKS: dict[str, tuple[Any, str]] = {
-    "target_spacing_m": _POSITIVE, "verify_spacing_m": _POSITIVE, "grid_spacing_m": _POSITIVE,
+    "target_spacing_m": _POSITIVE, "verify_spacing_m": _SAMPLING, "grid_spacing_m": _POSITIVE,
     "seed": (lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0, "an integer >= 0"),
     "instrument": (lambda v: isinstance(v, str), "an instrument name"),
     "incidence": (lambda v: v in ("horizontal", "3d"), "'horizontal' or '3d'"),
@@ -165,6 +168,9 @@ def check_plan_meta(meta: Any, name: str) -> dict[str, Any]:
     for key in ("parameters", "counts", "registration"):
         if meta.get(key) is not None and not isinstance(meta[key], dict):
             raise InputError("must be an object", file=name, field=key, value=meta[key])
+    for key in ("source", "source_resolved"):  # the site file's path
+        if meta.get(key) is not None and not isinstance(meta[key], str):
+            raise InputError("must be a file path (text) or null", file=name, field=key, value=meta[key])
     for key, value in (meta.get("parameters") or {}).items():
         ok, what = _PARAMETER_CHECKS.get(key, (None, ""))
         if ok is not None and value is not None and not ok(value):

@@ -267,3 +267,17 @@ def test_verify_says_when_the_plan_was_made_under_other_limits(tmp_path, capsys)
     assert "made with theta_max_deg = 78.0 (checked here: 68.0); give --theta-max 78.0" in text
     assert main(["verify", str(INSTANCES / "polygon_b.json"), str(out / "plan.json"), "--theta-max", "78"]) == 0
     assert "made with" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, code, words", [
+    # each refused before any planning (the plan of Baalbek takes ~9 s; these take none of it)
+    (["--worker-memory", "2GiB"], 2, "--worker-memory = '2GiB': --workers, --worker-memory and --scheduler run tiles"),
+    (["--monte-carlo", "100"], 2, "--monte-carlo = 100: Monte Carlo runs are part of the network check; give --network"),
+    (["--network", "--monte-carlo", "5"], 2, "Monte Carlo needs at least 100 runs"),
+    (["--network", "--control", "no-such-control.json"], 3, "no-such-control.json: cannot read file"),
+    (["--out", ""], 2, "--out = '': is empty"),
+])
+def test_plan_option_values_are_checked_before_the_planning(capsys, argv, code, words):
+    assert main(["plan", str(INSTANCES / "baalbek.json"), *argv]) == code
+    out, err = capsys.readouterr()
+    assert words in err and err.count("\n") == 1 and out == ""  # no plan summary: nothing was planned

@@ -99,3 +99,27 @@ def test_report_says_what_its_numbers_mean(report):
     # the pieces' length from the plan (not a fixed "1 m"), the gap in per cent, and what the times measure
     assert f"covered on {meta['parameters']['target_spacing_m']} m pieces" in text
     assert f"{meta['gap']:.1%}" in text and "Solver s: the solver alone" in text and "bound (scope)" in text
+
+
+@pytest.mark.parametrize("key, value, words", [
+    # 1e-7 m pieces: polygon B's 1,533 m of wall (both sides) is ~1.5e10 pieces, terabytes of coverage
+    ("parameters.target_spacing_m", 1e-7, "would not fit in memory"),
+    # the command line samples at 1 mm .. 10 m; an edited plan may not ask for 1 nm
+    ("parameters.verify_spacing_m", 1e-9, "must be a number of metres in [0.001, 10]"),
+    # the site file's path must be text (a TypeError deep in pathlib before)
+    ("source", 5, "must be a file path (text) or null"),
+])
+def test_report_refuses_an_edited_plans_spacing_naming_the_plan(tmp_path, capsys, key, value, words):
+    import json
+
+    out = tmp_path / "p"
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out)]) == 0
+    data = json.loads((out / "plan.json").read_text())
+    *outer, last = key.split(".")
+    (data[outer[0]] if outer else data)[last] = value
+    edited = tmp_path / "edited.json"
+    edited.write_text(json.dumps(data))
+    capsys.readouterr()
+    assert main(["report", str(edited), "--no-network", "--out", str(tmp_path / "r")]) == 3
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and str(edited) in err and f"{key} = " in err and words in err

@@ -26,6 +26,9 @@ from planner.errors import InputError
 KINDS = ("direction", "distance", "x", "y", "dx", "dy")
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0, "gon": math.pi / 200.0, "arcsec": math.pi / 648000.0}
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
+#: the smallest sigma an observation may have: 1 micrometre, 1e-8 rad (0.002 arcsec); finer is no survey
+#: measurement (a typo, or a unit mix-up), and 1/sigma^2 of 1e-300 is no number
+MIN_SIGMA_M, MIN_SIGMA_RAD = 1e-6, 1e-8
 #: 95 % scale of a 2-D error ellipse: sqrt(chi2_2(0.95)) = 2.4477
 ELLIPSE_95 = math.sqrt(stats.chi2.ppf(0.95, 2))
 
@@ -165,6 +168,11 @@ def adjust(
             raise InputError(f"names no point of the network: {strangers[0]}", **where)
         if not o.sigma > 0:
             raise InputError(f"sigma must be > 0, got {o.sigma:g}", **where)
+        k_unit, least_si = (ka, MIN_SIGMA_RAD) if o.kind == "direction" else (kl, MIN_SIGMA_M)
+        if o.sigma < least_si:
+            unit = angle_unit if o.kind == "direction" else length_unit
+            raise InputError(f"sigma must be at least {least_si / k_unit:g} {unit}, got {o.sigma / k_unit:g}: no survey "
+                             "observation is that precise, and its weight 1/sigma^2 would swamp the adjustment", **where)
     unknown = [n for n in xy if n not in set(fixed)]
     w = np.array([1.0 / o.sigma**2 for o in obs])
     x_est = dict(xy)

@@ -31,8 +31,8 @@ from planner.network.graph import Diagnostics, diagnostics, propose_control, sta
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
 from planner.network.survey import SurveyNetwork, registration_links, survey_network
-from planner.network.traverse import (ControlTraverse, datum, propose_area_control, propose_traverse, survey_graph,
-                                      tie_sigma_to)
+from planner.network.traverse import (ControlTraverse, check_traverse_names, datum, propose_area_control, propose_traverse,
+                                      survey_graph, tie_sigma_to)
 from planner.site.model import ControlPoint, Site
 from planner.validate import validate_site
 
@@ -232,6 +232,8 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     else:
         if not ctrl:  # per registration part (one accessible area in site mode), and next to untied stations
             ctrl = propose_area_control(site, stations, links, notes)
+        if traverse is not None:
+            check_traverse_names(traverse, ctrl)
         trav = traverse if traverse is not None else propose_traverse(site, ctrl, ts_range)
         g = survey_graph(site, stations, ctrl, trav, links)
         fixed_names, datum_notes = datum(g, ctrl)

@@ -26,7 +26,6 @@ wall: areas that no opening joins stay separate networks.
 from __future__ import annotations
 
 import itertools
-import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -44,7 +43,8 @@ from planner.network.chain import TIE_RANGE_M
 from planner.candidates.final_step import misplacement
 from planner.network.graph import CONTROL_OFFSETS_M, intervisible, propose_control
 from planner.network.survey import DEFAULT_TARGETS, _tie
-from planner.site.fileio import known_keys, to_float
+from planner.checks import no_repeats
+from planner.site.fileio import known_keys, read_json, to_float
 from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
 
 
@@ -71,13 +71,12 @@ def read_traverse(path: str | Path) -> ControlTraverse:
     legs name these points or control points."""
     if str(path) == "none":
         return NO_TRAVERSE
-    try:
-        data = json.loads(Path(path).read_text())
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read the traverse ({exc.__class__.__name__})", file=str(path)) from None
+    data = read_json(path)
     if not isinstance(data, dict) or not isinstance(data.get("legs"), list):
         raise InputError("needs an object with a list of legs", file=str(path), field="legs")
     known_keys(data, {"points", "legs"}, file=str(path), row="traverse")
+    if not isinstance(data.get("points", []), list):
+        raise InputError("must be a list of {name, x, y}", file=str(path), field="points", value=data["points"])
     points = []
     for k, p in enumerate(data.get("points", [])):
         where: dict[str, Any] = dict(file=str(path), row=f"points[{k + 1}]")
@@ -91,7 +90,18 @@ def read_traverse(path: str | Path) -> ControlTraverse:
         if not (isinstance(leg, list) and len(leg) == 2 and all(isinstance(n, str) for n in leg) and leg[0] != leg[1]):
             raise InputError("a leg is [from, to], two different names", file=str(path), field=f"legs[{k}]", value=leg)
         legs.append((leg[0], leg[1]))
+    no_repeats((p.name for p in points), what="traverse point name", field="name", row="points[{}]", file=str(path))
     return ControlTraverse(tuple(points), tuple(legs), False, f"from {path}")
+
+
+def check_traverse_names(traverse: ControlTraverse, control: Sequence[ControlPoint]) -> None:
+    """A traverse point named like a control point would merge into it (the network keys points by name)."""
+    known = {c.name for c in control}
+    for k, p in enumerate(traverse.points, 1):
+        if p.name in known:
+            raise InputError("names a control point of the site: the two would merge into one network node; rename "
+                             "the traverse point (legs may name the control point itself)",
+                             file=traverse.source.removeprefix("from "), row=f"points[{k}]", field="name", value=p.name)
 
 
 def _space(site: Site, c: ControlPoint) -> str:

@@ -134,3 +134,29 @@ def test_the_proposed_traverse_goes_round_a_building():
         assert min(abs(y - cy) for cy in (0, 8)) == pytest.approx(3 / math.sqrt(2))
     assert not _station_ts_edges(rep)
     assert len(run_network(site, stations, traverse=NO_TRAVERSE).diagnostics.components) == 2
+
+
+def test_traverse_names_that_would_merge_points_are_refused(tmp_path):
+    # A traverse point named like a control point (C1), or two traverse points of one name, would merge
+    # into one network node (4 nodes instead of 5 before): refused, naming the file, the point and the name.
+    # "points": null is no list of points.
+    path = tmp_path / "t.json"
+    cases = (({"points": [{"name": "C1", "x": 10, "y": 2}], "legs": [["C1", "C2"]]}, "points[1]: name = 'C1': names a control point"),
+             ({"points": [{"name": "T1", "x": 10, "y": 4}, {"name": "T1", "x": 15, "y": 4}], "legs": []},
+              "points[2]: name = 'T1': traverse point name used twice (also points[1])"),
+             ({"points": None, "legs": []}, "points: must be a list"))
+    for data, words in cases:
+        path.write_text(json.dumps(data))
+        with pytest.raises(InputError, match=re.escape(words)) as err:
+            run_network(two_rooms(CONTROL), STATIONS, traverse=read_traverse(path))
+        assert str(path) in str(err.value)
+
+
+def test_an_observation_sigma_below_a_micrometre_is_refused(tmp_path):
+    # sigma 1e-300 m: 1/sigma^2 is 1e600, no float (ZeroDivisionError before). The least sigma is 1 um
+    # (MIN_SIGMA_M); in mm that is 0.001 mm, and the message says it in the file's unit.
+    from planner.network.adjustment import Obs, adjust
+
+    coords = {"A": (0.0, 0.0), "B": (10.0, 0.0)}
+    with pytest.raises(InputError, match=re.escape("sigma must be at least 0.001 mm, got 1e-300")):
+        adjust(coords, ["A"], [Obs("distance", "A", "B", 10000.0, 1e-300)], observed=True, length_unit="mm")
