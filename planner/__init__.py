@@ -67,7 +67,8 @@ __getattr__ = lazy_getattr("planner", _LAZY, globals())
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    """The public names (``__all__``) and the version: what tab completion should offer, not the helpers."""
+    return sorted(set(__all__) | {"__version__"})
 
 
 # ``planner.solve`` is both a subpackage and the MILP function. The (namespace) package is bound

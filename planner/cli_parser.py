@@ -29,14 +29,15 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _add_site_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("site", help="site file: JSON instance or table CSV")
+    p.add_argument("site", help="site file: JSON instance (.json), table CSV (.csv), DXF (.dxf), GeoJSON (.geojson), "
+                   "AGPLIB polygon (.pol) or IFC model (.ifc)")
     p.add_argument("--instrument", help="instrument name from models/ (overrides the instance)")
     p.add_argument("--max-range", type=float, metavar="M", help="slant range S_max in m (overrides derivation)")
     p.add_argument("--theta-max", type=_theta, metavar="DEG|derive",
                    help="largest incidence angle in degrees, or 'derive' (from sigma_req and the incidence model)")
     p.add_argument("--incidence-model", choices=INCIDENCE_MODELS,
                    help="how a view's error grows with incidence: none (range only), table (2.3), soudarissanane")
-    p.add_argument("--standoff", type=float, metavar="M", help="no station or control point closer to a wall/obstacle")
+    p.add_argument("--standoff", type=float, metavar="M", help="no station or control point closer to a wall/obstacle (default: the site's, else 0.4 m)")
     p.add_argument("--overlap", type=float, metavar="FRACTION", help="registration overlap, e.g. 0.3")
     acc = p.add_mutually_exclusive_group()
     acc.add_argument("--sigma-req", type=float, metavar="M", help="required accuracy in m")
@@ -68,7 +69,7 @@ def _add_network_options(p: argparse.ArgumentParser) -> None:
 
 def _add_limit_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--incidence", choices=("horizontal", "3d"), default="horizontal",
-                   help="incidence angle in plan (as the dissertation) or 3-D to the top of the wall")
+                   help="incidence angle in plan (as the dissertation) or 3-D to the top of the wall (default horizontal)")
     p.add_argument("--no-precision", action="store_true", help="do not require the predicted point error <= sigma_req")
 
 
@@ -102,7 +103,7 @@ def _add_assemble_parser(sub: argparse._SubParsersAction, handlers: Handlers) ->
                    help="registration groups (default: site where zones are placed or openings given)")
     c.set_defaults(func=handlers["chain"])
     a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
-    a.add_argument("site", help="JSON instance or table CSV")
+    a.add_argument("site", help="JSON instance (.json) or table CSV (.csv)")
     a.add_argument("--tolerance", type=POSITIVE, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)")
     a.add_argument("--wall-thickness", type=NON_NEGATIVE, default=0.0, metavar="M", help="offset between the two faces (default 0)")
     a.add_argument("--anchor", metavar="ZONE", help="zone whose frame becomes the site frame (default: the outline)")
@@ -134,7 +135,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     pl.add_argument("--threads", type=POSITIVE_INT, default=1, help="solver threads (default 1: deterministic)")
     pl.add_argument("--k", type=POSITIVE_INT, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument("--precision", choices=PRECISION_MODES, default="single",
-                    help="single: each view must meet sigma_req; combined: views add information (every method)")
+                    help="single: each view must meet sigma_req; combined: views add information (every method; default single)")
     pl.add_argument("--no-overlap", action="store_true", help="MILP and greedy without the registration-overlap constraint")
     pl.add_argument("--connectivity", choices=CONNECTIVITY, default="auto",
                     help="milp: registration connectivity by branch-and-cut (bc, pyscipopt backend), a flow model or "
@@ -177,12 +178,13 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     ve.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}] in the zones' frames")
     ve.add_argument("--spacing", type=SAMPLING_M, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)")
     ve.add_argument("--precision", choices=PRECISION_MODES, default="single",
-                    help="single: each point needs one view within sigma_req; combined: its views add information")
+                    help="single: each point needs one view within sigma_req; combined: its views add information (default single)")
     _add_limit_options(ve)
     ve.set_defaults(func=handlers["verify"])
     ex = sub.add_parser("export", help="write the coverage problem for third-party solvers")
     _add_site_options(ex)
-    ex.add_argument("--format", choices=FORMATS, default="json")
+    ex.add_argument("--format", choices=FORMATS, default="json",
+                    help="json (both sparse views), orlib (OR-Library set cover) or mps (the MILP) (default json)")
     ex.add_argument("--out", metavar="FILE", help="write to FILE (default: standard output)")
     _add_pool_options(ex)
     _add_memory_option(ex)
@@ -192,9 +194,9 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     _add_site_options(nw)
     nw.add_argument("plan", help="plan.json with stations [{id, zone, side, x, y}]")
     nw.add_argument("--out", metavar="DIR", help="write DIR/network.json")
-    nw.add_argument("--seed", type=NON_NEGATIVE_INT, default=0)
+    nw.add_argument("--seed", type=NON_NEGATIVE_INT, default=0, help="seed of the Monte Carlo runs (default 0)")
     nw.add_argument("--precision", choices=PRECISION_MODES, default="single",
-                    help="accuracy check by the best view (single) or all views combined")
+                    help="accuracy check by the best view (single) or all views combined (default single)")
     _add_network_options(nw)
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
     nw.add_argument("--registration", choices=("zone", "site"), default=None,

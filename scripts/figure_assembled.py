@@ -7,7 +7,6 @@ collinear contacts (a side along part of a placed wall) thick in blue.
 
 from __future__ import annotations
 
-import sys
 
 import matplotlib
 
@@ -61,4 +60,10 @@ def main(src: str = "instances/baalbek.json", out: str = "docs/baalbek_assembled
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:])
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("instance", nargs="?", default="instances/baalbek.json", help="the site (default: Baalbek)")
+    ap.add_argument("out", nargs="?", default="docs/baalbek_assembled.png", help="the PNG to write")
+    args = ap.parse_args()
+    main(args.instance, args.out)

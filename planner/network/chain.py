@@ -89,7 +89,8 @@ class ChainReport:
     def lines(self) -> list[str]:
         name, worst = self.worst
         out = [f"registration chain: worst station {name} {worst * 1000:.2f} mm, "
-               f"{self.links_from_control.get(name, -1)} link(s) from control"]
+               f"{self.links_from_control.get(name, -1)} link(s) from control (chain model: each registration link "
+               f"adds its error to the stations beyond it; not the adjustment's a priori error)"]
         by_hops: dict[int, list[float]] = {}
         for s, h in self.links_from_control.items():
             by_hops.setdefault(h, []).append(self.sigma_m[s])

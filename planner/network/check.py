@@ -106,11 +106,17 @@ class NetworkReport:
                  f"({sum(cp.proposed for cp in self.control)} proposed)",
                  f"stations untied to control: {', '.join(self.diagnostics.untied_stations) or 'none'}; "
                  f"articulation points: {len(self.diagnostics.articulation_points)}",
-                 f"a priori station error: worst {worst[0]} {worst[1] * 1000:.2f} mm, network RMS {self.network_rms_m * 1000:.2f} mm"]
+                 f"a priori station error (least-squares adjustment of the design network): worst {worst[0]} "
+                 f"{worst[1] * 1000:.2f} mm, network RMS {self.network_rms_m * 1000:.2f} mm"]
         lines += [f"  not adjusted: {f}" for f in self.failures]
         lines += [f"  note: {n}" for n in self.notes]
-        for m in self.monte_carlo:
-            lines.append(f"Monte Carlo ({m.runs} runs): mean station RMS {m.mean_rms * 1000:.2f} mm")
+        for k, m in enumerate(self.monte_carlo, 1):
+            # stations alone, to compare with the a priori network RMS above; all adjusted points beside it
+            st = [v for name, v in m.rms.items() if name in self.station_sigma]
+            st_rms = math.sqrt(float(np.mean(np.square(st)))) if st else float("nan")
+            part = f", network part {k} of {len(self.monte_carlo)}" if len(self.monte_carlo) > 1 else ""
+            lines.append(f"Monte Carlo ({m.runs} runs{part}): station RMS {st_rms * 1000:.2f} mm over {len(st)} stations "
+                         f"(all {len(m.rms)} adjusted points, control and traverse points included: {m.mean_rms * 1000:.2f} mm)")
         worst_e = f"worst e {c['worst_e_m'] * 1000:.2f} mm" if c["worst_e_m"] is not None else "no piece with a finite error"
         if c.get("untied_targets"):
             worst_e += f" where tied to control; {c['untied_targets']} pieces seen by untied stations only (no finite error)"

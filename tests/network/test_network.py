@@ -103,7 +103,11 @@ def test_network_cli_writes_ellipses(tmp_path, capsys):
     assert main(["network", str(INSTANCES / "polygon_b.json"), str(out / "plan.json"), "--out", str(out),
                  "--monte-carlo", "100"]) == 0
     text = capsys.readouterr().out
-    assert "accuracy check at 10 mm" in text and "Monte Carlo (100 runs)" in text
+    assert "accuracy check at 10 mm" in text and "Monte Carlo (100 runs" in text
+    # one line per network part, each naming its part and giving the stations' RMS apart from the other points
+    mc = [line for line in text.splitlines() if line.startswith("Monte Carlo")]
+    assert len(mc) >= 1 and all("station RMS" in line and "adjusted points" in line for line in mc)
+    assert len(mc) == 1 or all(f"network part {k} of {len(mc)}" in line for k, line in enumerate(mc, 1))
     data = json.loads((out / "network.json").read_text())
     plan = json.loads((out / "plan.json").read_text())
     for s in plan["stations"]:
