@@ -2,6 +2,9 @@
 
 Every error renders as ONE line naming where the problem is (file, zone, row,
 field) and the offending value, so a surveyor can find it in the input.
+Positions count from 1, as a surveyor counts rows and entries: ``control_points[4]``
+is the fourth entry of that JSON list (index 3 to a programmer), ``row 2`` the
+second data row of a table.
 
 Exit codes
 ----------

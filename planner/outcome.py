@@ -17,7 +17,7 @@ from planner.checks import argument
 from planner.candidates.model import Candidate
 from planner.coverage.stations import StationCoverage, station_coverage
 from planner.coverage.visibility import SightLimits
-from planner.errors import InputError, located_in
+from planner.errors import ArgumentTypeError, InputError, located_in
 from planner.instruments import load_instrument
 from planner.network.check import NetworkReport
 from planner.plan import Plan, sight_limits
@@ -94,6 +94,9 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
                       network: NetworkReport | None = None, ifc: Any = None) -> Outcome:
     """The outcome of a plan.json (stations re-read, coverage and verification recomputed); ``ifc`` selects
     the storeys when the site is an IFC model."""
+    for value, label in ((plan_path, "plan_path"), (site_path, "site_path")):
+        if value is not None and not isinstance(value, (str, Path)):
+            raise ArgumentTypeError(f"must be a file path (str or pathlib.Path), not {type(value).__name__}", field=label)
     name = str(plan_path)
     meta = check_plan_meta(read_json(plan_path), name)
     site = site_for_plan(meta, site_path, name, ifc)

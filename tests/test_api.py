@@ -148,6 +148,11 @@ def greedy_b():
     (lambda site, plan: planner.plan_figures(plan), "outcome", "not a Plan"),
     (lambda site, plan: planner.network_figure(plan), "outcome", "not a Plan"),
     (lambda site, plan: planner.cover_instance(plan), "problem", "build_problem(site, options) makes one"),
+    # a Site, None or a number where a path goes (pathlib's TypeError before)
+    (lambda site, plan: planner.load_site(site), "path", "must be a file path (str or pathlib.Path), not Site"),
+    (lambda site, plan: planner.load_site(None), "path", "not NoneType"),
+    (lambda site, plan: planner.outcome_from_file(5), "plan_path", "not int"),
+    (lambda site, plan: planner.greedy_cover(None), "by_candidate", "must be a scipy.sparse matrix"),
 ])
 def test_an_object_of_the_wrong_kind_is_named_with_how_to_get_the_right_one(greedy_b, call, field, words, tmp_path,
                                                                           monkeypatch):

@@ -86,7 +86,7 @@ def read_traverse(path: str | Path) -> ControlTraverse:
         points.append(ControlPoint(str(p["name"]), to_float(p.get("x"), field="x", **where),
                                    to_float(p.get("y"), field="y", **where), frame=str(p.get("frame", SITE_FRAME))))
     legs = []
-    for k, leg in enumerate(data["legs"]):
+    for k, leg in enumerate(data["legs"], 1):
         if not (isinstance(leg, list) and len(leg) == 2 and all(isinstance(n, str) for n in leg) and leg[0] != leg[1]):
             raise InputError("a leg is [from, to], two different names", file=str(path), field=f"legs[{k}]", value=leg)
         legs.append((leg[0], leg[1]))

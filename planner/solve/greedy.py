@@ -9,7 +9,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.coverage.overlap import OverlapRule, overlap_adjacency
-from planner.errors import InputError, UsageError
+from planner.errors import ArgumentTypeError, InputError, UsageError
 from planner.solve.connectivity import connected_greedy
 from planner.solve.instance import CoverInstance
 from planner.solve.result import SolveResult, Status
@@ -47,8 +47,8 @@ def greedy_cover(
     """
     start = time.perf_counter()
     if not sp.issparse(by_candidate):
-        raise UsageError("must be a scipy.sparse matrix, candidates x targets (e.g. problem.by_candidate)",
-                         field="by_candidate", value=type(by_candidate).__name__)
+        raise ArgumentTypeError("must be a scipy.sparse matrix, candidates x targets (e.g. problem.by_candidate)",
+                                field="by_candidate", value=type(by_candidate).__name__)
     n_cand, n_targ = by_candidate.shape
     a = by_candidate.astype(np.int64)
     seen = np.asarray(a.sum(axis=0)).ravel() > 0
