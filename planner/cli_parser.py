@@ -14,7 +14,7 @@ from planner import __version__
 from planner.cli_choices import BACKENDS, CONNECTIVITY, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
 from planner.cli_report import add_report_parser
 from planner.cli_tiles import add_tile_options
-from planner.cli_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT, SAMPLING_M
+from planner.cli_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT, SAMPLING_M, OncePerKey
 from planner.errors import ExitCode
 
 Handlers = Mapping[str, Callable[[argparse.Namespace], int]]
@@ -46,8 +46,8 @@ def _add_site_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--angular-tolerance", type=float, metavar="DEG", help="closure tolerance of table CSV zones")
     p.add_argument("--min-relative-precision", type=float, metavar="N", help="closure 1:N of table CSV zones")
     p.add_argument("--crs", metavar="CRS", help="metric CRS (e.g. EPSG:32636) of a lon/lat GeoJSON site; exports go back to lon/lat")
-    p.add_argument("--layer-height", action="append", default=[], metavar="LAYER=M",
-                   help="DXF: wall height of polylines on LAYER that carry none (repeatable)")
+    p.add_argument("--layer-height", action=OncePerKey, default=[], metavar="LAYER=M",
+                   help="DXF: wall height of polylines on LAYER that carry none (repeatable, once per layer)")
     p.add_argument("--dxf-side", choices=SIDES, default="inside",
                    help="DXF: scan side of zones whose layer and XDATA do not say (default inside)")
     p.add_argument("--storey", metavar="NAME|INDEX|all",

@@ -39,3 +39,18 @@ POSITIVE_INT = number(int, at_least=1)
 NON_NEGATIVE_INT = number(int, at_least=0)
 #: verification sampling (planner.checks.SAMPLING_M, as the library checks it)
 SAMPLING_M = number(float, at_least=SAMPLING_RANGE_M[0], at_most=SAMPLING_RANGE_M[1])
+
+
+class OncePerKey(argparse.Action):
+    """A repeatable ``KEY=VALUE`` option (``--layer-height WALLS=3``) that refuses a key given twice (keys
+    compared case-insensitively, as DXF layer names are), since only one of the two values could be used."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:
+        items = list(getattr(namespace, self.dest, None) or [])  # a copy: the default list is shared
+        key = str(values).partition("=")[0].strip().upper()
+        twice = next((old for old in items if old.partition("=")[0].strip().upper() == key), None)
+        if twice is not None:
+            raise argparse.ArgumentError(self, f"layer {key!r} given twice ({twice!r} and {values!r}): give each "
+                                               "layer once")
+        setattr(namespace, self.dest, items + [str(values)])

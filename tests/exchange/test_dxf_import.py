@@ -1,9 +1,13 @@
 """DXF import: layers, heights (XDATA / thickness / layer default), units, arcs, blocks (mirrored too),
-and one-line errors for open, zero-area, self-intersecting polylines and files without closed ones."""
+and one-line errors for open, zero-area, self-intersecting polylines and files without closed ones,
+arcs too large to flatten, two-vertex outlines, entities not read, bad XDATA and bad options."""
 
 from __future__ import annotations
 
 import math
+import resource
+import subprocess
+import sys
 
 import ezdxf
 import numpy as np
@@ -13,7 +17,9 @@ from ezdxf import units
 import planner
 from planner.cli import main
 from planner.exchange import DxfOptions, read_dxf_site
+from planner.exchange.dxf_in import APPID
 from planner.site.model import ScanSide
+from tests.conftest import ROOT
 from tests.test_cli import assert_one_line_error
 
 SQUARE = [(0, 0), (10, 0), (10, 10), (0, 10)]
@@ -161,3 +167,120 @@ def test_a_polyline_copied_onto_itself_is_refused(tmp_path, capsys):
     path = save(doc, tmp_path)
     assert main(["validate", str(path)]) == 3
     assert_one_line_error(capsys.readouterr().err, "site.dxf", "the same outline as zone")
+
+
+def _validate_in_a_child(path, limit_s: float = 60.0) -> subprocess.CompletedProcess:
+    """``planner validate path`` in a child process with 2 GiB of address space and a time limit: the
+    old reader flattened a huge arc without end (and without bound on memory)."""
+    def cap() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+
+    return subprocess.run([sys.executable, "-m", "planner", "validate", str(path)], capture_output=True, text=True,
+                          cwd=ROOT, timeout=limit_s, preexec_fn=cap)
+
+
+@pytest.mark.parametrize("kind, fragments", [
+    ("bulge", ("layer WALLS handle", "vertex 1", "bulge = 1e+12", "radius 2.5e+12 m", "beyond +-1e+08 m")),
+    ("circle", ("layer WALLS handle", "radius = 1e+12", "beyond +-1e+08 m")),
+])
+def test_an_arc_too_large_to_flatten_is_refused_at_once(tmp_path, kind, fragments):
+    # a bulge of 1e12 on a 10 m chord is an arc of radius 2.5e12 m; flattened to 0.01 m before the
+    # 1e8 m coordinate check, it hung and filled the memory: now refused from its size, before flattening
+    doc, msp = drawing()
+    if kind == "bulge":
+        msp.add_lwpolyline([(0, 0, 0, 0, 1e12), (10, 0, 0, 0, 0), (10, 10, 0, 0, 0)], format="xyseb",
+                           dxfattribs={"layer": "WALLS", "thickness": 3}).closed = True
+    else:
+        msp.add_circle((0, 0), 1e12, dxfattribs={"layer": "WALLS", "thickness": 3})
+    run = _validate_in_a_child(save(doc, tmp_path))
+    assert run.returncode == 3, run.stderr
+    assert_one_line_error(run.stderr, "site.dxf", *fragments)
+
+
+def test_flattening_to_too_many_vertices_is_refused(tmp_path):
+    # a 10 km circle flattened to 1 um would give about 220,000 vertices (limit 100,000): refused,
+    # naming the radius; the same circle at the default 0.01 m reads
+    doc, msp = drawing()
+    msp.add_circle((0, 0), 1e4, dxfattribs={"layer": "WALLS", "thickness": 3})
+    path = save(doc, tmp_path)
+    with pytest.raises(planner.InputError, match=r"handle .*: radius = 10000: flattening its arcs to 1e-06 m would "
+                                                 r"give about 2\d\d,\d\d\d vertices \(limit 100,000"):
+        read_dxf_site(path, DxfOptions(flatten_m=1e-6))
+    assert read_dxf_site(path).zones[0].area_m2 == pytest.approx(math.pi * 1e8, rel=1e-3)
+
+
+@pytest.mark.parametrize("kwargs, fragment", [
+    (dict(flatten_m=-1), "flatten_m = -1: must be a finite number > 0"),      # hung (flattening never ended)
+    (dict(flatten_m=0), "flatten_m = 0: must be a finite number > 0"),        # a raw ValueError from ezdxf
+    (dict(flatten_m=math.nan), "flatten_m = nan: must be a finite number > 0"),
+    (dict(layer_heights_m={"WALLS": 3.0, "walls": 5.0}), "layer_heights_m = 'walls': layer given twice"),
+    (dict(layer_heights_m={"WALLS": -3.0}), "layer_heights_m['WALLS'] = -3: must be a finite number > 0"),
+    (dict(default_side="outsde"), "default_side = 'outsde': must be one of inside, outside, both"),
+])
+def test_dxf_options_are_checked_when_made(kwargs, fragment):
+    # a bad option is a usage error naming the field, before any file is read
+    with pytest.raises(planner.UsageError) as info:
+        DxfOptions(**kwargs)
+    assert fragment in str(info.value)
+    assert DxfOptions(default_side="outside").default_side is ScanSide.OUTSIDE  # text is read as the enum
+
+
+@pytest.mark.parametrize("layer, label", [("HOLES", False), ("WALLS", True)])
+def test_a_two_vertex_closed_polyline_is_a_one_line_error(tmp_path, capsys, layer, label):
+    # a closed polyline of two vertices on HOLES (beside a valid room), or on WALLS with a label TEXT,
+    # crashed in shapely ("A linearring requires at least 4 coordinates", exit 1): now the error the
+    # plain case gives, naming the layer and the handle
+    doc, msp = drawing()
+    if layer == "HOLES":
+        msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "WALLS", "thickness": 3})
+    msp.add_lwpolyline([(2, 2), (4, 2)], close=True, dxfattribs={"layer": layer, "thickness": 3})
+    if label:
+        msp.add_text("Z1", dxfattribs={"layer": "WALLS"}).set_placement((3, 2))
+    code = main(["validate", str(save(doc, tmp_path))])
+    assert code == 3
+    assert_one_line_error(capsys.readouterr().err, "site.dxf", f"layer {layer} handle", "polygon = 2",
+                          "a polygon needs at least 3 vertices")
+
+
+@pytest.mark.parametrize("kind", ["SOLID", "HATCH", "POINT", "3DFACE"])
+def test_filled_areas_and_points_on_a_zone_layer_are_refused(tmp_path, capsys, kind):
+    # these were dropped silently (the room read without them); refused like LINE, saying what to draw
+    doc, msp = drawing()
+    msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "WALLS", "thickness": 3})
+    attribs = {"layer": "WALLS"}
+    if kind == "SOLID":
+        msp.add_solid([(1, 1), (2, 1), (1, 2), (2, 2)], dxfattribs=attribs)
+    elif kind == "HATCH":
+        msp.add_hatch(dxfattribs=attribs).paths.add_polyline_path([(1, 1), (2, 1), (2, 2)], is_closed=True)
+    elif kind == "POINT":
+        msp.add_point((1, 1), dxfattribs=attribs)
+    else:
+        msp.add_3dface([(1, 1, 0), (2, 1, 0), (2, 2, 0)], dxfattribs=attribs)
+    code = main(["validate", str(save(doc, tmp_path))])
+    assert code == 3
+    assert_one_line_error(capsys.readouterr().err, "site.dxf", "layer WALLS handle", f"{kind} ",
+                          "draw zones, obstacles and no-go areas as closed polylines")
+
+
+def test_an_unknown_xdata_scan_side_is_refused(tmp_path, capsys):
+    # XDATA side=outsde fell back to inside silently: now refused, naming the value
+    doc, msp = drawing()
+    doc.appids.new(APPID)
+    msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "ZONES", "thickness": 3}).set_xdata(
+        APPID, [(1000, "side=outsde")])
+    code = main(["validate", str(save(doc, tmp_path))])
+    assert code == 3
+    assert_one_line_error(capsys.readouterr().err, "site.dxf", "layer ZONES handle", "side = 'outsde'",
+                          "unknown scan side")
+
+
+def test_a_layer_height_given_twice_is_a_usage_error(tmp_path, capsys):
+    # --layer-height WALLS=3 --layer-height WALLS=5: the last won silently; now exit 2 naming the layer
+    doc, msp = drawing()
+    msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "WALLS"})
+    path = str(save(doc, tmp_path))
+    for second in ("WALLS=5", "walls=3"):  # layer names are case-insensitive
+        assert main(["validate", path, "--layer-height", "WALLS=3", "--layer-height", second]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "--layer-height" in err and "'WALLS' given twice" in err, err
+    assert main(["validate", path, "--layer-height", "WALLS=3", "--layer-height", "HOLES=5"]) == 0
