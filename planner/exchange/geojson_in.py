@@ -47,32 +47,61 @@ def _ccw(xy: np.ndarray, heights: list[float] | None, want_ccw: bool = True) -> 
 
 
 def _heights(props: dict, n: int, where: dict[str, Any]) -> list[float]:
+    given = [key for key in ("height_m", "height") if key in props]
     if "vertex_heights_m" in props:
+        if given:  # two heights for one zone: one would be dropped silently
+            raise InputError(f"give vertex_heights_m or {given[0]}, not both", **where, field=given[0],
+                             value=_shown(props[given[0]]))
         raw = props["vertex_heights_m"]
         if not isinstance(raw, list) or len(raw) != n:
             raise InputError(f"needs a list of {n} heights", **where, field="vertex_heights_m")
         return [to_float(h, field="vertex_heights_m", **where) for h in raw]
-    given = [key for key in ("height_m", "height") if key in props]
     if len(given) == 2:  # two values, one would be dropped silently
-        raise InputError("give height_m or height, not both", **where, field="height", value=props["height"])
+        raise InputError("give height_m or height, not both", **where, field="height", value=_shown(props["height"]))
     if given:
         return [to_float(props[given[0]], field=given[0], **where)] * n
     raise InputError("no height: give height_m or vertex_heights_m", **where, field="properties")
+
+
+def _shown(value: Any) -> Any:
+    """A JSON value as a message shows it: text and numbers as found, a list or an object by its kind."""
+    return value if isinstance(value, (str, int, float)) or value is None else type(value).__name__
+
+
+def _member(f: dict, key: str, where: dict[str, Any]) -> dict:
+    """``f[key]`` as an object (missing or null: an empty one)."""
+    raw = f.get(key)
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict):
+        raise InputError("must be an object", **where, field=key, value=type(raw).__name__)
+    return raw
+
+
+def _scan_side(props: dict, where: dict[str, Any]) -> ScanSide:
+    side = props.get("scan_side", "inside")
+    if not isinstance(side, str) or side not in {s.value for s in ScanSide}:
+        raise InputError(f"unknown scan side (known: {', '.join(s.value for s in ScanSide)})", **where,
+                         field="scan_side", value=_shown(side))
+    return ScanSide(side)
 
 
 def _feature(f: Any, k: int, file: str, fwd: Any) -> tuple[str, Any] | None:
     where: dict[str, Any] = dict(file=file, row=f"features[{k}]")
     if not isinstance(f, dict) or f.get("type") != "Feature":
         raise InputError("must be a GeoJSON Feature", **where)
-    props = f.get("properties") or {}
-    geom = f.get("geometry") or {}
+    props = _member(f, "properties", where)
+    geom = _member(f, "geometry", where)
     role = props.get("role", "zone")
+    if not isinstance(role, str):
+        raise InputError(f"unknown role (known: {', '.join(ROLES + PLAN_ROLES)})", **where, field="role",
+                         value=_shown(role))
     if role in PLAN_ROLES:
         return None  # stations, coverage ... of an exported plan
     if role not in ROLES:  # a typo ("obstacel") must not drop a feature silently
         raise InputError(f"unknown role (known: {', '.join(ROLES + PLAN_ROLES)})", **where, field="role", value=role)
     if geom.get("type") != "Polygon":
-        raise InputError(f"a {role} must be a Polygon", **where, field="geometry.type", value=geom.get("type"))
+        raise InputError(f"a {role} must be a Polygon", **where, field="geometry.type", value=_shown(geom.get("type")))
     rings = geom.get("coordinates")
     if not isinstance(rings, list) or not rings:
         raise InputError("needs coordinates", **where, field="geometry.coordinates")
@@ -83,11 +112,10 @@ def _feature(f: Any, k: int, file: str, fwd: Any) -> tuple[str, Any] | None:
     if role == "zone":
         xy, h = _ccw(outer, _heights(props, len(outer), where))
         hole_xy = [_ccw(r, None, want_ccw=False)[0] for r in holes]
-        side = props.get("scan_side", "inside")
-        if side not in {s.value for s in ScanSide}:
-            raise InputError("unknown scan side", **where, field="scan_side", value=side)
-        hh = float(props.get("hole_height_m", max(h or [0.0])))
-        return role, Zone(id=name, scan_side=ScanSide(side), vertices=tuple(map(tuple, xy.tolist())),
+        side = _scan_side(props, where)
+        hh = (to_float(props["hole_height_m"], field="hole_height_m", **where) if "hole_height_m" in props
+              else max(h or [0.0]))
+        return role, Zone(id=name, scan_side=side, vertices=tuple(map(tuple, xy.tolist())),
                           vertex_heights_m=tuple(h or ()), frame=str(props.get("frame", SITE_FRAME)),
                           holes=tuple(tuple(map(tuple, r.tolist())) for r in hole_xy),
                           hole_heights_m=tuple((hh,) * len(r) for r in hole_xy))

@@ -15,7 +15,8 @@ storeys that hold spaces):
 
 One storey reads into the site frame; several storeys each into a frame named after the storey (so
 the rooms of one floor never hide those of another). Coordinates and heights are metres from the
-file's own units and placements (IfcOpenShell's geometry kernel applies both).
+file's own units and placements (IfcOpenShell's geometry kernel applies both); a model whose unit
+assignment gives no length unit is read as metres, and each zone's notes say so.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from typing import Any
 
 import shapely
 
-from planner.errors import InputError
+from planner.errors import InputError, located_in
 from planner.exchange.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
 from planner.params import Parameters
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
@@ -60,18 +61,38 @@ class _Storey:
 
 
 def read_ifc_site(path: Path | str, options: IfcOptions | None = None) -> Site:
-    """Read the selected storeys of an IFC file as a site (see the module docstring)."""
+    """Read the selected storeys of an IFC file as a site (see the module docstring).
+
+    Raises
+    ------
+    InputError
+        One line naming the file (and the zone): not an IFC file, no IfcSpace, a space without
+        geometry, an unknown storey, a zone the site model refuses (e.g. coordinates beyond 1e8 m).
+    """
     options = options or IfcOptions()
     path = Path(path)
     model = _open(path)
     storeys = _select(_storeys(model, path), options.storey, path)
     settings = geometry_settings()
     zones: list[Zone] = []
-    for st in storeys:
-        frame = SITE_FRAME if len(storeys) == 1 else st.name
-        prefix = "" if len(storeys) == 1 else f"{st.name}/"
-        zones += _storey_zones(model, st, frame, prefix, options, settings, str(path))
-    return Site(name=path.stem, zones=tuple(zones), parameters=Parameters(), source=str(path))
+    note = _unit_note(model)
+    with located_in(str(path)):  # the zones' own checks name no file
+        for st in storeys:
+            frame = SITE_FRAME if len(storeys) == 1 else st.name
+            prefix = "" if len(storeys) == 1 else f"{st.name}/"
+            zones += _storey_zones(model, st, frame, prefix, options, settings, str(path))
+        if note:
+            zones = [replace(z, notes=z.notes + (note,)) for z in zones]
+        return Site(name=path.stem, zones=tuple(zones), parameters=Parameters(), source=str(path))
+
+
+def _unit_note(model: Any) -> str | None:
+    """A zone note when the model gives no length unit (its coordinates are then read as metres)."""
+    import ifcopenshell.util.unit as uu
+
+    if uu.get_project_unit(model, "LENGTHUNIT") is None:
+        return "no length unit in the model's IfcUnitAssignment: read as metres"
+    return None
 
 
 def _open(path: Path) -> Any:

@@ -4,11 +4,15 @@ Coordinates are exact rationals ``p/q`` (or plain numbers) in no stated unit; th
 counter-clockwise, optionally followed by h holes. The polygon is scaled so that its larger
 extent is ``extent_m`` (default 100 m; the zone's notes record the factor) and becomes one
 inside zone whose holes are free-standing blocks; every wall gets ``height_m``. Numbers are
-parsed with :class:`fractions.Fraction`; nothing is evaluated.
+parsed with :class:`fractions.Fraction` after a check that they are ASCII rationals or decimals;
+nothing is evaluated, and a number beyond the range of a float is refused.
 """
 
 from __future__ import annotations
 
+import math
+import re
+import sys
 from fractions import Fraction
 from pathlib import Path
 
@@ -21,16 +25,43 @@ from planner.site.geometry import signed_area
 from planner.site.model import ScanSide, Site, Zone
 
 
+#: a coordinate: an ASCII rational p/q or a decimal number (no digit grouping, no inf/nan, no other digits)
+_RATIONAL = r"[+-]?[0-9]+/[0-9]+"
+_DECIMAL = r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?"
+#: a count has at most this many digits (the file size limit allows far fewer vertices)
+MAX_COUNT_DIGITS = 12
+
+
+def _shown(tok: str) -> str:
+    """The token as an error message quotes it (a 400-digit number cut short)."""
+    return tok if len(tok) <= 40 else f"{tok[:37]}..."
+
+
 def _number(tok: str, file: str, k: int) -> float:
+    where = dict(file=file, row=f"token {k}", field="number", value=_shown(tok))
     try:
-        return float(Fraction(tok))
-    except (ValueError, ZeroDivisionError):
-        raise InputError("not a number p/q", file=file, row=f"token {k}", value=tok) from None
+        if re.fullmatch(_RATIONAL, tok):
+            p, q = tok.split("/")
+            value = float(Fraction(int(p), int(q)))
+        elif re.fullmatch(_DECIMAL, tok):
+            value = float(tok)  # a decimal exponent (1e400) gives inf here, in no time
+        else:
+            raise ValueError(tok)
+    except (ValueError, ZeroDivisionError):  # int() refuses numbers of more than 4300 digits
+        raise InputError("not a number p/q", **where) from None
+    except OverflowError:
+        value = math.inf
+    if not math.isfinite(value):
+        raise InputError(f"number out of range (beyond +-{sys.float_info.max:.3g})", **where)
+    return value
 
 
 def _count(tok: str, file: str, k: int, what: str) -> int:
-    if not tok.isdigit():
-        raise InputError(f"expected the number of {what}", file=file, row=f"token {k}", value=tok)
+    where = dict(file=file, row=f"token {k}", field="count", value=_shown(tok))
+    if not (tok.isascii() and tok.isdigit()):  # str.isdigit() alone takes a superscript 2, which int() does not
+        raise InputError(f"expected the number of {what}", **where)
+    if len(tok) > MAX_COUNT_DIGITS:
+        raise InputError(f"more {what} than a file within the size limit can hold", **where)
     return int(tok)
 
 
@@ -61,7 +92,8 @@ def read_pol(path: Path | str, extent_m: float = 100.0, height_m: float = 3.0,
         pos += 1
         holes = [ring(f"hole {k}") for k in range(1, h + 1)]
     if pos != len(toks):
-        raise InputError("unexpected tokens after the last ring", file=file, row=f"token {pos + 1}", value=toks[pos])
+        raise InputError("unexpected tokens after the last ring", file=file, row=f"token {pos + 1}", field="token",
+                         value=_shown(toks[pos]))
     lo = outer.min(axis=0)
     scale = extent_m / float(np.ptp(outer, axis=0).max() or 1.0)
     outer = (outer - lo) * scale

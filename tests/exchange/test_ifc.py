@@ -139,3 +139,40 @@ def test_fzk_haus_ground_floor():
     assert sorted(z.id for z in site.zones) == ["Bad", "Buero", "Flur", "Küche", "Schlafzimmer", "Wohnen"]
     assert all(set(z.vertex_heights_m) == {2.5} for z in site.zones)
     assert {o.name for o in site.zone("Flur").openings} >= {"Haustuer", "Innentuer-1", "Innentuer-2", "Innentuer-3"}
+
+
+def _edited(house: Path, out: Path, edit) -> Path:
+    """A copy of the house with ``edit(model)`` applied."""
+    import ifcopenshell
+
+    model = ifcopenshell.open(str(house))
+    edit(model)
+    model.write(str(out))
+    return out
+
+
+def test_a_model_without_a_length_unit_is_read_as_metres_and_says_so(tmp_path, house):
+    # no LENGTHUNIT in the unit assignment: read as metres (as IfcOpenShell does) with no word of it
+    # before; now every zone's notes say so, as the DXF reader notes $INSUNITS = 0
+    def drop_length_unit(model) -> None:
+        units = model.by_type("IfcUnitAssignment")[0]
+        angle = model.create_entity("IfcSIUnit", UnitType="PLANEANGLEUNIT", Name="RADIAN")
+        units.Units = [u for u in units.Units if u.UnitType != "LENGTHUNIT"] + [angle]
+
+    site = read_ifc_site(_edited(house, tmp_path / "unitless.ifc", drop_length_unit), IfcOptions(storey="1"))
+    note = "no length unit in the model's IfcUnitAssignment: read as metres"
+    assert all(note in z.notes for z in site.zones)
+    assert not any(note in z.notes for z in read_ifc_site(house, IfcOptions(storey="1")).zones)
+
+
+def test_a_zone_refused_by_the_site_model_names_the_file(tmp_path, house):
+    # a space placed 7.9e15 m out: the zone's coordinate check named the zone and the vertex but not the file
+    def move_living_room(model) -> None:
+        space = next(s for s in model.by_type("IfcSpace") if "Living" in (s.LongName or s.Name))
+        far = model.create_entity("IfcCartesianPoint", Coordinates=(7.9e18, 0.0, 0.0))  # millimetres
+        space.ObjectPlacement.RelativePlacement.Location = far
+
+    path = _edited(house, tmp_path / "far.ifc", move_living_room)
+    with pytest.raises(InputError, match=r"far\.ifc: zone Living vertex 1: polygon = \(79\d{14}\.\d, .*"
+                                         r"within \+-1e\+08 m"):
+        read_ifc_site(path, IfcOptions(storey="1"))

@@ -190,10 +190,30 @@ def test_a_100_mb_file_is_refused_without_reading_it(tmp_path, capsys, suffix):
                     '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "height_m = '9_0': must be a number, not text"),
     ("overlap.json", '{"parameters": {"overlap": "0.3"}, "zones": [{"id": "hall", "scan_side": "inside", "height_m": 9, '
                      '"coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}', "overlap = '0.3': must be a number, not text"),
+    # GeoJSON members of the wrong JSON kind crashed (AttributeError, TypeError: unhashable; exit 1)
+    ("props.geojson", '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", '
+                      '"coordinates": [[[0, 0], [20, 0], [20, 10], [0, 10], [0, 0]]]}, "properties": ["zone"]}]}',
+     "features[1]: properties = 'list': must be an object"),
+    ("geom.geojson", '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": "Polygon", '
+                     '"properties": {"id": "A", "height_m": 5}}]}', "features[1]: geometry = 'str': must be an object"),
+    ("side.geojson", '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", '
+                     '"coordinates": [[[0, 0], [20, 0], [20, 10], [0, 10], [0, 0]]]}, "properties": {"id": "A", '
+                     '"height_m": 5, "scan_side": ["inside"]}}]}',
+     "zone A features[1]: scan_side = 'list': unknown scan side"),
+    # two heights for one GeoJSON zone: height_m was dropped silently (the JSON instance refuses it)
+    ("vboth.geojson", '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", '
+                      '"coordinates": [[[0, 0], [20, 0], [20, 10], [0, 10], [0, 0]]]}, "properties": {"id": "A", '
+                      '"height_m": 50, "vertex_heights_m": [5, 5, 5, 5]}}]}',
+     "zone A features[1]: height_m = 50: give vertex_heights_m or height_m, not both"),
+    # .pol numbers beyond a float (OverflowError) and a non-ASCII digit (int() ValueError): exit 3, token and value
+    ("huge.pol", "4 0 0 1e400 0 1e400 1e400 0 1e400", "token 4: number = '1e400': number out of range"),
+    ("digits.pol", "3 0 0 " + "9" * 400 + " 0 1 1", "token 4: number = '" + "9" * 37 + "...': number out of range"),
+    ("grouped.pol", "3 0 0 1_0 0 0 10", "token 4: number = '1_0': not a number p/q"),  # Fraction read it as 10
+    ("super.pol", "\u00b2 0 0 10 0 10 10", "token 1: count = '\u00b2': expected the number of vertices of the outline"),
 ])
 def test_malformed_files_give_one_line_errors(tmp_path, capsys, name, text, fragment):
     path = tmp_path / name
-    path.write_text(text)
+    path.write_text(text, encoding="utf-8")
     code, _, err = cli(capsys, "validate", str(path))
     assert code == 3
     assert_one_line_error(err, name, fragment)
