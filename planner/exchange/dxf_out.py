@@ -19,6 +19,7 @@ from ezdxf import units
 
 from planner.checks import argument
 from planner.outcome import Outcome
+from planner.site.params_io import dxf_properties, site_record
 
 APPID = "TLS_PLANNER"
 LAYERS = {  # name: ACI colour
@@ -78,6 +79,9 @@ def _drawing(o: Outcome) -> "ezdxf.document.Drawing":
     doc = ezdxf.new("R2010", setup=True)
     doc.units = units.M
     doc.header["$MEASUREMENT"] = 1  # metric
+    # the instrument and parameters, so that the drawing read back as a site plans the same
+    for tag, value in dxf_properties(site_record(o.site.name, o.site.instrument, o.site.parameters)):
+        doc.header.custom_vars.append(tag, value)
     doc.appids.add(APPID)
     for name, colour in LAYERS.items():
         doc.layers.add(name, color=colour)

@@ -21,6 +21,7 @@ from planner.params import Parameters
 from planner.site.fileio import read_json, to_float
 from planner.site.geometry import signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
+from planner.site.params_io import RECORD_KEY, read_site_record
 
 ROLES = ("zone", "obstacle", "no_go")
 #: the roles of an exported plan's other features (planner/exchange/geojson_out.py), read past
@@ -146,5 +147,9 @@ def read_geojson_site(path: Path | str, parameters: Parameters | None = None, cr
             out[got[0]].append(got[1])
     if not out["zone"]:
         raise InputError("no zone polygon", file=file, field="features", value=0)
-    return Site(name=path.stem, zones=tuple(out["zone"]), parameters=parameters or Parameters(),
-                obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file)
+    meta = data.get("planner")
+    record = read_site_record(meta[RECORD_KEY], file) if isinstance(meta, dict) and RECORD_KEY in meta else None
+    return Site(name=record.name if record else path.stem, zones=tuple(out["zone"]),
+                parameters=parameters or (record.parameters if record else Parameters()),
+                obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file,
+                **({"instrument": record.instrument} if record else {}))

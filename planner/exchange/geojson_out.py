@@ -11,12 +11,13 @@ import numpy as np
 import shapely
 from shapely.geometry import mapping
 
-from planner.json_text import dumps
 from planner.checks import argument
 from planner.errors import UsageError
 from planner.exchange.crs import to_lonlat
+from planner.json_text import dumps
 from planner.outcome import Outcome
 from planner.site.model import SITE_FRAME
+from planner.site.params_io import RECORD_KEY, site_record
 
 
 def _num(v: float) -> float | None:
@@ -92,7 +93,9 @@ def outcome_geojson(o: Outcome, crs: str | None = None) -> dict[str, Any]:
             f["geometry"] = mapping(shapely.transform(geom, lambda a: fwd(np.asarray(a))))
     return {"type": "FeatureCollection", "name": o.site.name,
             "planner": {"units": "degrees (WGS84 lon/lat)" if crs else "metres", "crs": crs,
-                        "method": o.meta.get("method"), "stations": len(o.stations)},
+                        "method": o.meta.get("method"), "stations": len(o.stations),
+                        # what the geometry does not say, so that the file read back as a site plans the same
+                        RECORD_KEY: site_record(o.site.name, o.site.instrument, o.site.parameters)},
             "features": feats}
 
 

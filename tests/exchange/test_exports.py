@@ -46,7 +46,11 @@ def test_dxf_has_every_layer_and_a_label_per_station(polygon_b, tmp_path):
 
 def test_dxf_round_trip_keeps_station_count(polygon_b, tmp_path):
     site, plan, o = polygon_b
-    back = same_parameters(planner.read_dxf_site(planner.write_dxf(o, tmp_path / "b.dxf")), site)
+    # the drawing carries the instrument and parameters (header properties): read back as they were, so the
+    # count holds without restoring them by hand (polygon B's instrument is the dissertation's tables; the
+    # default P30 would give 5 stations)
+    back = planner.read_dxf_site(planner.write_dxf(o, tmp_path / "b.dxf"))
+    assert (back.name, back.instrument, back.parameters) == (site.name, site.instrument, site.parameters)
     z0, z1 = site.zones[0], back.zones[0]
     assert (z1.id, z1.scan_side, z1.frame) == (z0.id, z0.scan_side, z0.frame)
     np.testing.assert_allclose(z1.xy, z0.xy, atol=1e-9)
@@ -58,7 +62,8 @@ def test_dxf_round_trip_keeps_station_count(polygon_b, tmp_path):
 def test_dxf_round_trip_of_a_multi_frame_site_keeps_greedy_count(tmp_path):
     site = planner.load_site(INSTANCES / "baalbek.json")
     plan = planner.plan_site(site)  # greedy
-    back = same_parameters(planner.read_dxf_site(planner.write_dxf(planner.outcome_from_plan(plan), tmp_path / "b.dxf")), site)
+    back = planner.read_dxf_site(planner.write_dxf(planner.outcome_from_plan(plan), tmp_path / "b.dxf"))
+    assert (back.instrument, back.parameters) == (site.instrument, site.parameters)
     assert [(z.id, z.frame) for z in back.zones] == [(z.id, z.frame) for z in site.zones]
     assert len(planner.plan_site(back).stations) == len(plan.stations)
 
@@ -75,8 +80,30 @@ def test_geojson_opens_with_shapely_and_round_trips(polygon_b, tmp_path):
     assert roles.count("network") == o.network.graph.number_of_edges()
     zone = next(g for g, r in zip(geoms, roles) if r == "zone")
     assert zone.area == pytest.approx(site.zones[0].area_m2, rel=1e-12)
-    back = same_parameters(planner.read_geojson_site(path), site)
+    back = planner.read_geojson_site(path)  # instrument and parameters from the file's "planner" member
+    assert (back.name, back.instrument, back.parameters) == (site.name, site.instrument, site.parameters)
     assert len(planner.plan_site(back, planner.PlanOptions(method="milp")).stations) == len(plan.stations)
+
+
+@pytest.mark.parametrize("edit, words", [
+    (lambda r: r["parameters"].update(theta_max=70), "tls_planner_site.parameters: theta_max = 70: unknown key"),
+    (lambda r: r["parameters"].update(overlap="0.3"), "parameters.overlap = '0.3': must be a number, not text"),
+    (lambda r: r.update(instrument="no-such-scanner"), "no-such-scanner"),
+])
+def test_an_edited_site_record_in_an_export_is_refused_naming_the_file(polygon_b, tmp_path, edit, words):
+    # the record is checked like an instance's parameters: an edit by hand that breaks it is one line naming
+    # the file, never a silently different plan
+    from planner.errors import InputError
+    from planner.site.params_io import RECORD_KEY
+
+    site, plan, o = polygon_b
+    path = planner.write_geojson(o, tmp_path / "plan.geojson")
+    data = json.loads(path.read_text())
+    edit(data["planner"][RECORD_KEY])
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError) as err:
+        planner.read_geojson_site(path)
+    assert str(path) in str(err.value) and words in str(err.value)
 
 
 def test_station_csv_lists_every_station_after_comment_lines(polygon_b, tmp_path):
