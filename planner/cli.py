@@ -18,11 +18,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner import progress
-from planner.json_text import dumps
 from planner.cli_parser import build_parser as _build_parser
 from planner.cli_report import parse_exports, write_exports
 from planner.cli_tiles import plan_command
 from planner.errors import ExitCode, InfeasibleError, InputError, PlannerError, UsageError, located_in
+from planner.json_text import dumps
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).

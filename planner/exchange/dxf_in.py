@@ -212,7 +212,7 @@ def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameter
         raise InputError(f"no closed polyline on a zone layer ({layers})", file=file, field="zones", value=0)
     zones = _place_holes(zones, [s for s in shapes if options.role(s.layer) == "hole"], options, scale, file)
     record = record_from_dxf(list(doc.header.custom_vars), file)  # written by planner's own export
-    return Site(name=record.name if record else path.stem, zones=tuple(zones),
+    site = Site(name=record.name if record else path.stem, zones=tuple(zones),
                 parameters=parameters or (record.parameters if record else Parameters()),
-                obstacles=tuple(others["obstacle"]), no_go_areas=tuple(others["no_go"]), source=file,
-                **({"instrument": record.instrument} if record else {}))
+                obstacles=tuple(others["obstacle"]), no_go_areas=tuple(others["no_go"]), source=file)
+    return replace(site, instrument=record.instrument) if record else site

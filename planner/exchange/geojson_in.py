@@ -10,6 +10,7 @@ projected to that metric CRS (pyproj, x/y order).
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -149,7 +150,7 @@ def read_geojson_site(path: Path | str, parameters: Parameters | None = None, cr
         raise InputError("no zone polygon", file=file, field="features", value=0)
     meta = data.get("planner")
     record = read_site_record(meta[RECORD_KEY], file) if isinstance(meta, dict) and RECORD_KEY in meta else None
-    return Site(name=record.name if record else path.stem, zones=tuple(out["zone"]),
+    site = Site(name=record.name if record else path.stem, zones=tuple(out["zone"]),
                 parameters=parameters or (record.parameters if record else Parameters()),
-                obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file,
-                **({"instrument": record.instrument} if record else {}))
+                obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file)
+    return replace(site, instrument=record.instrument) if record else site
