@@ -148,9 +148,27 @@ def read_geojson_site(path: Path | str, parameters: Parameters | None = None, cr
             out[got[0]].append(got[1])
     if not out["zone"]:
         raise InputError("no zone polygon", file=file, field="features", value=0)
+    if fwd is None:
+        _not_degrees(out["zone"], file)
     meta = data.get("planner")
     record = read_site_record(meta[RECORD_KEY], file) if isinstance(meta, dict) and RECORD_KEY in meta else None
     site = Site(name=record.name if record else path.stem, zones=tuple(out["zone"]),
                 parameters=parameters or (record.parameters if record else Parameters()),
                 obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file)
     return replace(site, instrument=record.instrument) if record else site
+
+
+#: zones all smaller than this (in the file's units) are no rooms in metres; with coordinates that are
+#: valid longitudes and latitudes they are degrees, RFC 7946's default, given without ``--crs``
+_TINY = 0.5
+
+
+def _not_degrees(zones: list[Zone], file: str) -> None:
+    """Refuse a plan in lon/lat degrees read as metres (a room 0.001 m across that plans nothing)."""
+    xy = np.vstack([z.xy for z in zones])
+    extent = float(max(np.ptp(xy[:, 0]), np.ptp(xy[:, 1])))
+    if extent < _TINY and np.all(np.abs(xy[:, 0]) <= 180) and np.all(np.abs(xy[:, 1]) <= 90):
+        raise InputError(f"the zones span {extent:.3g} units: these look like lon/lat degrees (GeoJSON's default), "
+                         "read as metres; give --crs EPSG:<metric CRS> to project them (docs/exchange.md)",
+                         file=file, field="coordinates", value=f"{xy[0, 0]:.6f}, {xy[0, 1]:.6f}")
+

@@ -141,6 +141,23 @@ def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
     np.testing.assert_allclose(back, [s.xy for s in plan.stations], atol=1e-6)
 
 
+def test_a_lonlat_geojson_without_crs_is_refused_not_read_as_a_millimetre_room(tmp_path):
+    # the 40 x 30 m court of the test above in lon/lat spans 0.0004 x 0.0003 degrees; read as metres it
+    # was a room 0.4 mm across that planned nothing (exit 4, no reason); now one line asking for --crs
+    pytest.importorskip("pyproj")
+    from planner.exchange.crs import to_lonlat
+
+    utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
+    ring = [list(p) for p in to_lonlat("EPSG:32637")(utm)]
+    fc = {"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring + ring[:1]]},
+                                                     "properties": {"id": "court", "height_m": 8.0}}]}
+    path = tmp_path / "court.geojson"
+    path.write_text(json.dumps(fc))
+    with pytest.raises(planner.InputError, match="look like lon/lat degrees .* give --crs") as err:
+        planner.read_geojson_site(path)
+    assert str(path) in str(err.value)
+
+
 def test_crs_must_be_projected():
     pytest.importorskip("pyproj")
     from planner.exchange.crs import to_projected
