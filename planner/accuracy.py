@@ -11,6 +11,7 @@ and tables 1.1 and 2.3 of seed 000 (Shoker 2021).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +32,10 @@ class RangeAngleSigma:
     angle_sigma_arcsec: float
 
 
+#: no accuracy term (sigma_req, station position, centring, graphical) is coarser (m): table 1.1 ends at 300 mm
+MAX_SIGMA_M = 1.0
+
+
 @dataclass(frozen=True)
 class ErrorBudget:
     """The non-instrument terms of (2.13): station position, centring, graphical."""
@@ -42,8 +47,8 @@ class ErrorBudget:
     def __post_init__(self) -> None:
         for name in ("sigma_0_m", "centring_m", "graphical_m"):
             v = getattr(self, name)
-            if not math.isfinite(v) or v < 0:
-                raise InputError("must be a finite number >= 0", field=name, value=v)
+            if not math.isfinite(v) or not 0 <= v <= MAX_SIGMA_M:  # 1e300 m overflowed its square
+                raise InputError(f"must be a finite number >= 0 and <= {MAX_SIGMA_M:g} m", field=name, value=v)
 
     @property
     def squared_m2(self) -> float:
@@ -194,15 +199,23 @@ DRAWING_SCALE_TOLERANCES_MM: tuple[tuple[int, float, float], ...] = (
 )
 
 
+#: a drawing scale as text: ``1:50`` (spaces around the colon allowed) or ``50``, in plain decimal digits
+_SCALE = r"(?:1\s*:\s*)?([0-9]+(?:\.[0-9]*)?)"
+
+
 def parse_scale(text: str | int | float) -> int:
-    """Read a drawing scale written ``"1:50"``, ``"50"`` or ``50`` into its denominator."""
-    raw = str(text).strip().replace(" ", "")
-    if raw.startswith("1:"):
-        raw = raw[2:]
-    try:
-        denominator = float(raw)
-    except ValueError:
-        raise InputError("not a drawing scale like 1:50", field="drawing_scale", value=str(text)) from None
+    """Read a drawing scale written ``"1:50"``, ``"50"`` or ``50`` into its denominator.
+
+    Text takes plain decimal digits only: ``1:2_0`` (Python's digit grouping), ``1:5 0`` and ``1:5e1`` are
+    refused, not read as 1:20 and 1:50, as the CSV and JSON readers refuse ``3_0``.
+    """
+    match = re.fullmatch(_SCALE, text.strip(), re.ASCII) if isinstance(text, str) else None
+    if match is not None:
+        denominator = float(match.group(1))
+    elif isinstance(text, (int, float)) and not isinstance(text, bool):
+        denominator = float(text)
+    else:
+        raise InputError("not a drawing scale like 1:50", field="drawing_scale", value=str(text))
     if not math.isfinite(denominator) or denominator < 1 or denominator != int(denominator):
         raise InputError("scale denominator must be a whole number >= 1", field="drawing_scale", value=str(text))
     return int(denominator)

@@ -38,6 +38,10 @@ class Scanner(RangeAngleSigma):
     def __post_init__(self) -> None:
         _check_positive(self, ("range_sigma_const_m", "range_sigma_ppm", "angle_sigma_arcsec", "modelling_sigma_m"), True)
         _check_positive(self, ("max_range_m", "max_slant_range_m"), False)
+        unlimited = self.max_range_m is None and self.max_slant_range_m is None
+        if unlimited and not (self.range_sigma_ppm or self.angle_sigma_arcsec):
+            # sigma_meas would not grow with range: (3.1) gives S_max = inf ("S_max inf m"), which no plan can use
+            raise InputError("no range limit: give max_range_m, or a non-zero ppm or angle error", field="max_range_m")
 
 
 @dataclass(frozen=True)

@@ -11,14 +11,17 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from planner.accuracy import (
-    INCIDENCE_MODELS, ErrorBudget, derive_theta_max_deg, incidence_limit_deg, max_slant_range_m, sigma_instr_m,
-    tolerance_for_scale_m,
+    INCIDENCE_MODELS, MAX_SIGMA_M, ErrorBudget, derive_theta_max_deg, incidence_limit_deg, max_slant_range_m,
+    sigma_instr_m, tolerance_for_scale_m,
 )
 from planner.errors import InputError
 from planner.instruments import Scanner
 
 #: no wall, obstacle or instrument stands higher (m); a larger value is a typo
 MAX_HEIGHT_M = 1e4
+#: no slant range (and no stand-off) is longer (m): the longest-ranging scanners reach about 6 km, the bundled
+#: models 300 m, a total station 4 km to a prism; a longer one is a typo (1e300 overflowed the planning)
+MAX_RANGE_M = 1e4
 
 DEFAULT_INSTRUMENT = "leica-p30"
 
@@ -84,25 +87,17 @@ class Parameters:
         _finite(self.overlap, "overlap")
         if not 0.0 <= self.overlap < 1.0:
             raise InputError("must be a fraction in [0, 1), e.g. 0.3 for 30 %", field="overlap", value=self.overlap)
-        _finite(self.sigma_req_m, "sigma_req_m")
-        if self.sigma_req_m <= 0:
-            raise InputError("must be > 0", field="sigma_req_m", value=self.sigma_req_m)
-        _finite(self.instrument_height_m, "instrument_height_m")
-        if not 0 <= self.instrument_height_m <= MAX_HEIGHT_M:
-            raise InputError(f"must be >= 0 and <= {MAX_HEIGHT_M:g} m", field="instrument_height_m", value=self.instrument_height_m)
+        _within(self.sigma_req_m, "sigma_req_m", MAX_SIGMA_M, zero_ok=False)
+        _within(self.instrument_height_m, "instrument_height_m", MAX_HEIGHT_M)
         if self.max_slant_range_m is not None:
-            _finite(self.max_slant_range_m, "max_slant_range_m")
-            if self.max_slant_range_m <= 0:
-                raise InputError("must be > 0", field="max_slant_range_m", value=self.max_slant_range_m)
+            _within(self.max_slant_range_m, "max_slant_range_m", MAX_RANGE_M, zero_ok=False)
         if self.incidence_model not in INCIDENCE_MODELS:
             raise InputError(f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})",
                              field="incidence_model", value=self.incidence_model)
         if self.derive_theta_max and self.incidence_model == "none":
             object.__setattr__(self, "incidence_model", "table")
-        for name in ("min_standoff_m", "instrument_height_span_m"):
-            _finite(getattr(self, name), name)
-            if getattr(self, name) < 0:
-                raise InputError("must be >= 0", field=name, value=getattr(self, name))
+        _within(self.min_standoff_m, "min_standoff_m", MAX_RANGE_M)
+        _within(self.instrument_height_span_m, "instrument_height_span_m", MAX_HEIGHT_M)
 
     def with_scale(self, scale: str | int) -> "Parameters":
         """The same parameters with sigma_req taken from drawing-scale table 1.1."""
@@ -114,6 +109,13 @@ class Parameters:
 def _finite(value: Any, name: str) -> None:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise InputError("must be a finite number", field=name, value=value)
+
+
+def _within(value: Any, name: str, highest: float, *, zero_ok: bool = True) -> None:
+    """A finite number >= 0 (> 0 unless ``zero_ok``) and <= ``highest`` metres."""
+    _finite(value, name)
+    if value < 0 or (value == 0 and not zero_ok) or value > highest:
+        raise InputError(f"must be {'>=' if zero_ok else '>'} 0 and <= {highest:g} m", field=name, value=value)
 
 
 @dataclass(frozen=True)
@@ -130,17 +132,28 @@ def resolve_range_limit(params: Parameters, scanner: Scanner) -> RangeLimit:
 
     Order: the parameter override; else the scanner preset's fixed value; else
     (3.1) for sigma_instr of (3.2), capped by the datasheet range. Raises
-    InfeasibleError when no instrument budget is left (3.2 has no real root).
+    InfeasibleError when no instrument budget is left (3.2 has no real root), and
+    InputError when the scanner's limit is beyond ``MAX_RANGE_M`` (a model whose
+    errors barely grow with range, without a datasheet range).
     """
     s_instr = sigma_instr_m(params.sigma_req_m, params.budget)
     if params.max_slant_range_m is not None:
         return RangeLimit(params.max_slant_range_m, s_instr, "given (max_slant_range_m)")
     if scanner.max_slant_range_m is not None:
-        return RangeLimit(scanner.max_slant_range_m, s_instr, f"fixed by instrument preset {scanner.name}")
-    derived = max_slant_range_m(scanner, s_instr)
-    if scanner.max_range_m is not None and scanner.max_range_m < derived:
-        return RangeLimit(scanner.max_range_m, s_instr, f"datasheet range of {scanner.name} ((3.1) gives {derived:.2f} m)")
-    return RangeLimit(derived, s_instr, f"derived by (3.1) for {scanner.name} at sigma_req {params.sigma_req_m * 1000:g} mm")
+        limit = RangeLimit(scanner.max_slant_range_m, s_instr, f"fixed by instrument preset {scanner.name}")
+    else:
+        derived = max_slant_range_m(scanner, s_instr)
+        if scanner.max_range_m is not None and scanner.max_range_m < derived:
+            limit = RangeLimit(scanner.max_range_m, s_instr,
+                               f"datasheet range of {scanner.name} ((3.1) gives {derived:.2f} m)")
+        else:
+            limit = RangeLimit(derived, s_instr,
+                               f"derived by (3.1) for {scanner.name} at sigma_req {params.sigma_req_m * 1000:g} mm")
+    if not limit.max_slant_range_m <= MAX_RANGE_M:
+        raise InputError(f"S_max {limit.max_slant_range_m:.4g} m ({limit.source}) is beyond {MAX_RANGE_M:g} m: give the "
+                         f"instrument a max_range_m <= {MAX_RANGE_M:g}, or the site max_slant_range_m", field="instrument",
+                         value=scanner.name)
+    return limit
 
 
 #: ranges (m) at which a derived theta_max is printed, besides S_max

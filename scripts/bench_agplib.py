@@ -52,7 +52,7 @@ def pick(per_class: int, sizes: list[int], table: dict[str, dict[str, str]]) -> 
 def run(row: dict[str, str], grid: float, pieces: float, time_limit: float, standoff: float = 0.1) -> dict[str, object]:
     path = AGP / "instances" / row["class"] / f"{row['instance']}.pol"
     site = planner.load_site(path)
-    params = dataclasses.replace(site.parameters, max_slant_range_m=1e5, theta_max_deg=89.99)
+    params = dataclasses.replace(site.parameters, max_slant_range_m=1e4, theta_max_deg=89.99)
     site = dataclasses.replace(site, parameters=params)
     options = planner.PlanOptions(method="milp", target_spacing_m=pieces, precision=False,
                                   pool=planner.PoolOptions(grid_spacing_m=grid, min_standoff_m=standoff),

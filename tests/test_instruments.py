@@ -99,3 +99,37 @@ def test_a_models_folder_that_is_not_there_is_named(monkeypatch, tmp_path):
     monkeypatch.setenv("PLANNER_MODELS_DIR", str(tmp_path / "nowhere"))
     with pytest.raises(InputError, match=r"models = '.*nowhere': the instrument models folder \(\$PLANNER_MODELS_DIR\)"):
         load_instrument("leica-p30")
+
+
+FLAT = 'kind = "scanner"\nrange_sigma_const_mm = 1.2\nrange_sigma_ppm = 0\nangle_sigma_arcsec = 0\n'
+
+
+def test_a_model_whose_error_does_not_grow_with_range_needs_a_range(tmp_path, capsys):
+    # a constant range error alone gave S_max = inf: validate printed "S_max inf m" (exit 0) and plan crashed
+    # ("buffer distance must be finite", exit 1); now the model is refused, naming its file
+    from planner.cli import main
+    from tests.test_cli import assert_one_line_error
+
+    flat = tmp_path / "flat.toml"
+    flat.write_text(FLAT)
+    with pytest.raises(InputError, match=r"flat.toml: max_range_m: no range limit: give max_range_m, or a non-zero"):
+        load_instrument(str(flat))
+    site = tmp_path / "sq.json"
+    site.write_text('{"zones": [{"id": "court", "scan_side": "inside", "coordinates": [[0, 0], [20, 0], [20, 10], '
+                    '[0, 10]], "height_m": 5}]}')
+    for argv in (["validate"], ["plan", "--method", "greedy", "--out", str(tmp_path)]):
+        assert main([argv[0], str(site), *argv[1:], "--instrument", str(flat)]) == 3
+        assert_one_line_error(capsys.readouterr().err, "flat.toml", "no range limit")
+    # with a datasheet range it is a model: S_max is that range
+    flat.write_text(FLAT + "max_range_m = 50\n")
+    assert resolve_range_limit(Parameters(), load_instrument(str(flat))).max_slant_range_m == 50.0
+
+
+def test_a_range_limit_beyond_10_km_is_refused(tmp_path):
+    # 1e-300 ppm leaves (3.1) a range of 4e304 m, a 1e9 m datasheet range 1e9 m: no plan can use either
+    for name, extra in (("tiny", "range_sigma_ppm = 1e-300\nangle_sigma_arcsec = 0\n"),
+                        ("far", "range_sigma_ppm = 0\nangle_sigma_arcsec = 0\nmax_range_m = 1e9\n")):
+        f = tmp_path / f"{name}.toml"
+        f.write_text(f'kind = "scanner"\nrange_sigma_const_mm = 1.2\n{extra}')
+        with pytest.raises(InputError, match=rf"instrument = '{name}': S_max .* is beyond 10000 m"):
+            resolve_range_limit(Parameters(), load_instrument(str(f)))

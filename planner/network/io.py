@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from planner.checks import no_repeats
-from planner.errors import InputError
+from planner.errors import InputError, located_in
 from planner.network.adjustment import ANGLE_UNITS, KINDS, LENGTH_UNITS, Obs, adjust
 from planner.network.check import NetworkReport
 from planner.site.fileio import known_keys, read_json, to_float
@@ -31,9 +31,11 @@ def read_control(path: str) -> list[ControlPoint]:
         if not isinstance(d, dict) or "name" not in d:
             raise InputError("needs a name, x and y", **where)
         known_keys(d, CONTROL_KEYS, **where)
-        out.append(ControlPoint(str(d["name"]), to_float(d.get("x"), field="x", **where), to_float(d.get("y"), field="y", **where),
-                                sigma_x_m=to_float(d.get("sigma_x_mm", 0), field="sigma_x_mm", **where) / 1000,
-                                sigma_y_m=to_float(d.get("sigma_y_mm", 0), field="sigma_y_mm", **where) / 1000))
+        with located_in(path):  # a point's own check (coordinates within +-1e8 m) names the file too
+            out.append(ControlPoint(str(d["name"]), to_float(d.get("x"), field="x", **where),
+                                    to_float(d.get("y"), field="y", **where),
+                                    sigma_x_m=to_float(d.get("sigma_x_mm", 0), field="sigma_x_mm", **where) / 1000,
+                                    sigma_y_m=to_float(d.get("sigma_y_mm", 0), field="sigma_y_mm", **where) / 1000))
     no_repeats((c.name for c in out), what="control point name", field="name", row="control[{}]", file=path)
     return out
 

@@ -8,13 +8,14 @@ Only ``json`` is used to parse: nothing in a file is ever evaluated.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, overload
+from typing import Any
 
 from planner.accuracy import ErrorBudget
 from planner.errors import InputError
 from planner.params import DEFAULT_INSTRUMENT, MAX_HEIGHT_M, ClosureTolerance, Parameters
 from planner.site.fileio import read_json, to_float
 from planner.site.geometry import as_vertices, signed_area
+from planner.site.json_reader import InstanceReader
 from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, ScanSide, Site, Zone
 from planner.site.table_csv import NUMBER_COLUMNS, read_table_csv
 from planner.site.tables import SIDE_FIELDS, VERTEX_FIELDS, zone_from_table
@@ -27,72 +28,9 @@ TOP_KEYS = {"format", "name", "description", "source", "instrument", "parameters
 FORMAT = "tls-planner/1"
 
 
-class _Reader:
-    """Holds the file name so every error can name it."""
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-        self.file = str(path)
-
-    def fail(self, message: str, **where: Any) -> InputError:
-        return InputError(message, file=self.file, **where)
-
-    def obj(self, value: Any, what: str, allowed: set[str], **where: Any) -> dict[str, Any]:
-        if not isinstance(value, dict):
-            raise self.fail("must be an object", field=what, value=type(value).__name__, **where)
-        unknown = sorted(set(value) - allowed)
-        if unknown:
-            raise self.fail(f"unknown key in {what} (allowed: {', '.join(sorted(allowed))})", field=unknown[0], **where)
-        return value
-
-    def items(self, data: dict[str, Any], key: str) -> list[Any]:
-        value = data.get(key, [])
-        if not isinstance(value, list):
-            raise self.fail("must be a list", field=key, value=type(value).__name__)
-        return value
-
-    def num(self, data: dict[str, Any], key: str, **where: Any) -> float:
-        if key not in data:
-            raise self.fail("missing", field=key, **where)
-        return to_float(data[key], field=key, file=self.file, **where)
-
-    @overload
-    def length(self, data: dict[str, Any], base: str, default: float, **where: Any) -> float: ...
-
-    @overload
-    def length(self, data: dict[str, Any], base: str, default: None = None, **where: Any) -> float | None: ...
-
-    def length(self, data: dict[str, Any], base: str, default: float | None = None, **where: Any) -> float | None:
-        """A length given as ``base_m`` or ``base_mm`` (in metres), or the default."""
-        keys = [k for k in (f"{base}_m", f"{base}_mm") if k in data]
-        if len(keys) == 2:
-            raise self.fail("given twice (in m and mm)", field=base, **where)
-        if not keys:
-            return default
-        if data[keys[0]] is None:
-            return default
-        value = to_float(data[keys[0]], field=keys[0], file=self.file, **where)
-        return value / 1000.0 if keys[0].endswith("_mm") else value
-
-    def text(self, data: dict[str, Any], key: str, default: str | None = None, **where: Any) -> str:
-        value = data.get(key, default)
-        if not isinstance(value, str) or not value.strip():
-            raise self.fail("must be a non-empty text", field=key, value=value, **where)
-        return value
-
-    def polygon(self, value: Any, what: str, name: str) -> tuple[tuple[float, float], ...]:
-        try:
-            xy = as_vertices(value, what=what, zone=name)
-        except InputError as exc:
-            raise exc.located(self.file) from None
-        if len(xy) >= 3 and signed_area(xy) < 0:
-            xy = xy[::-1]
-        return tuple((float(x), float(y)) for x, y in xy)
-
-
 def load_instance_json(path: Path | str) -> Site:
     """Read a JSON instance into a :class:`Site` (zones closed and adjusted)."""
-    r = _Reader(Path(path))
+    r = InstanceReader(Path(path))
     data = read_json(r.path)
     data = r.obj(data, "instance", TOP_KEYS)
     if "format" in data and data["format"] != FORMAT:
@@ -128,7 +66,7 @@ PARAM_KEYS = {"theta_max_deg", "overlap", "sigma_req_m", "sigma_req_mm", "drawin
               "max_slant_range_m", "incidence_model", "min_standoff_m", "instrument_height_span_m"}
 
 
-def _parameters(r: _Reader, raw: Any) -> Parameters:
+def _parameters(r: InstanceReader, raw: Any) -> Parameters:
     d = r.obj(raw, "parameters", PARAM_KEYS)
     base = Parameters()
     budget = ErrorBudget(
@@ -158,7 +96,7 @@ def _parameters(r: _Reader, raw: Any) -> Parameters:
     return params
 
 
-def _zones(r: _Reader, entries: list[Any], tolerance: ClosureTolerance,
+def _zones(r: InstanceReader, entries: list[Any], tolerance: ClosureTolerance,
            corrections: tuple[Correction, ...], accepted: tuple[AcceptedMisclosure, ...]) -> tuple[Zone, ...]:
     if not entries:
         raise r.fail("an instance needs at least one zone", field="zones", value=0)
@@ -197,14 +135,14 @@ def _zones(r: _Reader, entries: list[Any], tolerance: ClosureTolerance,
     return tuple(result)
 
 
-def _inline_table(r: _Reader, entry: dict[str, Any], k: int) -> ZoneTable:
+def _inline_table(r: InstanceReader, entry: dict[str, Any], k: int) -> ZoneTable:
     e = r.obj(entry, "zones entry", {"id", "scan_side", "table"}, row=f"zones[{k}]")
     zone = r.text(e, "id")
     side = _scan_side(r, e, zone)
     rows = []
     for i, raw in enumerate(e["table"] if isinstance(e["table"], list) else [], 1):
         d = r.obj(raw, "table row", set(NUMBER_COLUMNS) | {"index"}, zone=zone, row=i)
-        index = int(r.num(d, "index", zone=zone, row=i)) if "index" in d else i
+        index = r.whole(d, "index", zone=zone, row=i) if "index" in d else i
         rows.append(TableRow(index=index, **{c: r.num(d, c, zone=zone, row=i) for c in NUMBER_COLUMNS}))  # type: ignore[arg-type]
     rows.sort(key=lambda t: t.index)
     if [t.index for t in rows] != list(range(1, len(rows) + 1)):
@@ -212,14 +150,14 @@ def _inline_table(r: _Reader, entry: dict[str, Any], k: int) -> ZoneTable:
     return ZoneTable(zone=zone, scan_side=side.value, rows=tuple(rows), file=r.file)
 
 
-def _scan_side(r: _Reader, e: dict[str, Any], zone: str) -> ScanSide:
+def _scan_side(r: InstanceReader, e: dict[str, Any], zone: str) -> ScanSide:
     try:
         return ScanSide(e.get("scan_side"))
     except ValueError:
         raise r.fail("must be inside, outside or both", zone=zone, field="scan_side", value=e.get("scan_side")) from None
 
 
-def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
+def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
     keys = {"id", "scan_side", "coordinates", "vertex_heights_m", "height_m", "wall_heights_m", "holes"}
     e = r.obj(entry, "zones entry", keys, row=f"zones[{k}]")
     zone = r.text(e, "id")
@@ -243,7 +181,7 @@ def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
         raw = e["wall_heights_m"]
         if not isinstance(raw, list) or len(raw) != n:
             raise r.fail(f"needs a list of {n} heights", zone=zone, field="wall_heights_m")
-        printed = [to_float(h, field="wall_heights_m", file=r.file, zone=zone, row=i) for i, h in enumerate(raw, 1)]
+        printed = [_wall_height(r, h, zone, i) for i, h in enumerate(raw, 1)]
     notes: tuple[str, ...] = ()
     if n >= 3 and signed_area(xy) < 0:
         # keep vertex 1; reversed walk: new wall j joins given vertices -j and -j-1, i.e. given wall -j-1
@@ -257,7 +195,16 @@ def _coordinate_zone(r: _Reader, entry: Any, k: int) -> Zone:
                 holes=tuple(ring for ring, _ in holes), hole_heights_m=tuple(hs for _, hs in holes))
 
 
-def _hole(r: _Reader, entry: Any, zone: str, j: int) -> tuple[tuple[tuple[float, float], ...], tuple[float, ...]]:
+def _wall_height(r: InstanceReader, raw: Any, zone: str, wall: int) -> float:
+    """A printed wall height, > 0 and <= MAX_HEIGHT_M as a table's ``wall_height_m`` (-3 or 0 is no height)."""
+    h = to_float(raw, field="wall_heights_m", file=r.file, zone=zone, row=f"wall {wall}")
+    if not 0 < h <= MAX_HEIGHT_M:
+        raise r.fail(f"must be a height > 0 and <= {MAX_HEIGHT_M:g} m", zone=zone, row=f"wall {wall}",
+                     field="wall_heights_m", value=h)
+    return h
+
+
+def _hole(r: InstanceReader, entry: Any, zone: str, j: int) -> tuple[tuple[tuple[float, float], ...], tuple[float, ...]]:
     """A free-standing block inside the zone: {coordinates, height_m}; stored clockwise."""
     e = r.obj(entry, "holes entry", {"coordinates", "height_m"}, row=f"hole {j}")
     xy = as_vertices(e.get("coordinates"), what=f"hole {j}", zone=zone)
@@ -267,7 +214,7 @@ def _hole(r: _Reader, entry: Any, zone: str, j: int) -> tuple[tuple[tuple[float,
     return tuple(map(tuple, xy.tolist())), (h,) * len(xy)
 
 
-def _correction(r: _Reader, raw: Any, k: int) -> Correction:
+def _correction(r: InstanceReader, raw: Any, k: int) -> Correction:
     d = r.obj(raw, "correction", {"zone", "vertex", "side", "field", "printed", "corrected", "reason"}, row=f"corrections[{k}]")
     where = dict(row=f"corrections[{k}]")
     zone, fld = r.text(d, "zone", **where), r.text(d, "field", **where)
@@ -277,11 +224,11 @@ def _correction(r: _Reader, raw: Any, k: int) -> Correction:
     allowed = VERTEX_FIELDS if kind == "vertex" else SIDE_FIELDS
     if fld not in allowed:
         raise r.fail(f"a {kind} correction changes one of {', '.join(allowed)}", zone=zone, field="field", value=fld, **where)
-    return Correction(zone=zone, row=int(r.num(d, kind, **where)), field=fld, printed=r.num(d, "printed", **where),
+    return Correction(zone=zone, row=r.whole(d, kind, **where), field=fld, printed=r.num(d, "printed", **where),
                       corrected=r.num(d, "corrected", **where), reason=r.text(d, "reason", **where))
 
 
-def _accepted(r: _Reader, raw: Any, k: int) -> AcceptedMisclosure:
+def _accepted(r: InstanceReader, raw: Any, k: int) -> AcceptedMisclosure:
     keys = {"zone", "angular_misclosure_deg", "linear_misclosure_m", "reason"}
     d = r.obj(raw, "accepted misclosure", keys, row=f"accepted_misclosures[{k}]")
     where = dict(row=f"accepted_misclosures[{k}]")
@@ -289,7 +236,7 @@ def _accepted(r: _Reader, raw: Any, k: int) -> AcceptedMisclosure:
                               linear_misclosure_m=r.num(d, "linear_misclosure_m", **where), reason=r.text(d, "reason", **where))
 
 
-def _check_references(r: _Reader, zones: tuple[Zone, ...], corrections: tuple[Correction, ...],
+def _check_references(r: InstanceReader, zones: tuple[Zone, ...], corrections: tuple[Correction, ...],
                       accepted: tuple[AcceptedMisclosure, ...]) -> None:
     table_zones = {z.id for z in zones if z.closure is not None}
     for c in corrections:
@@ -300,19 +247,19 @@ def _check_references(r: _Reader, zones: tuple[Zone, ...], corrections: tuple[Co
             raise r.fail("accepted misclosure names no table zone of this instance", zone=a.zone, field="accepted_misclosures")
 
 
-def _obstacle(r: _Reader, raw: Any, k: int) -> Obstacle:
+def _obstacle(r: InstanceReader, raw: Any, k: int) -> Obstacle:
     d = r.obj(raw, "obstacle", {"name", "polygon", "height_m"}, row=f"obstacles[{k}]")
     name = str(d.get("name", f"obstacle {k}"))
     return Obstacle(name=name, vertices=r.polygon(d.get("polygon"), "polygon", name), height_m=r.num(d, "height_m", zone=name))
 
 
-def _no_go(r: _Reader, raw: Any, k: int) -> NoGoArea:
+def _no_go(r: InstanceReader, raw: Any, k: int) -> NoGoArea:
     d = r.obj(raw, "no-go area", {"name", "polygon"}, row=f"no_go[{k}]")
     name = str(d.get("name", f"no-go {k}"))
     return NoGoArea(name=name, vertices=r.polygon(d.get("polygon"), "polygon", name))
 
 
-def _control(r: _Reader, raw: Any, k: int) -> ControlPoint:
+def _control(r: InstanceReader, raw: Any, k: int) -> ControlPoint:
     keys = {"name", "x", "y", "z", "sigma_x_m", "sigma_x_mm", "sigma_y_m", "sigma_y_mm"}
     d = r.obj(raw, "control point", keys, row=f"control_points[{k}]")
     name = str(d.get("name", f"CP{k}"))

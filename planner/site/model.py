@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from planner.checks import no_repeats
 from planner.errors import InputError
 from planner.params import MAX_HEIGHT_M, Parameters
-from planner.site.geometry import check_simple_polygon, ring_key, side_lengths, signed_area
+from planner.site.geometry import MAX_COORDINATE_M, check_simple_polygon, ring_key, side_lengths, signed_area
 from planner.site.traverse import AcceptedMisclosure, ClosureReport
 
 SITE_FRAME = "site"
@@ -269,9 +269,10 @@ class ControlPoint:
             v = getattr(self, f)
             if v is None:
                 continue
-            if not math.isfinite(v) or (f.startswith("sigma") and v < 0):
-                raise InputError("must be a finite number" + (" >= 0" if f.startswith("sigma") else ""),
-                                 zone=None, row=self.name, field=f, value=v)
+            sigma = f.startswith("sigma")  # coordinates within the zones' +-1e8 m (1e12 was accepted)
+            if not math.isfinite(v) or (sigma and v < 0) or (not sigma and abs(v) > MAX_COORDINATE_M):
+                raise InputError("must be a finite number" + (" >= 0" if sigma else f" within +-{MAX_COORDINATE_M:g} m"),
+                                 zone=None, row=f"control point {self.name}", field=f, value=v)
 
 
 @dataclass(frozen=True)

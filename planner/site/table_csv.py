@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import csv
 import io
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 from planner.errors import InputError
 from planner.site.fileio import read_text, to_float
@@ -28,7 +30,7 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
     path = Path(path)
     name = str(path)
     text = read_text(path)
-    reader = csv.reader(io.StringIO(text))
+    reader = _rows(csv.reader(io.StringIO(text)), name)
     header = [h.strip() for h in next(reader)]
     missing = [c for c in COLUMNS if c not in header]
     if missing:
@@ -63,6 +65,19 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
     if not zones:
         raise InputError("no data rows", file=name)
     return [_zone_table(z, side, rows, name) for z, (side, rows) in zones.items()]
+
+
+def _rows(reader: Any, file: str) -> Iterator[list[str]]:
+    """The rows of a ``csv.reader`` (``Any``: its type is private to ``_csv``); a row it cannot read, e.g. a
+    cell over its 131072-character limit, is an InputError naming the line (it was an internal error)."""
+    while True:
+        try:
+            row = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as exc:
+            raise InputError(f"not a readable CSV row ({exc})", file=file, row=f"line {reader.line_num}") from None
+        yield row
 
 
 def _zone_table(zone: str, side: str, rows: list[TableRow], file: str) -> ZoneTable:
