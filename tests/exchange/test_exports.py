@@ -141,9 +141,8 @@ def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
     np.testing.assert_allclose(back, [s.xy for s in plan.stations], atol=1e-6)
 
 
-def test_a_lonlat_geojson_without_crs_is_refused_not_read_as_a_millimetre_room(tmp_path):
-    # the 40 x 30 m court of the test above in lon/lat spans 0.0004 x 0.0003 degrees; read as metres it
-    # was a room 0.4 mm across that planned nothing (exit 4, no reason); now one line asking for --crs
+def _lonlat_court(tmp_path):
+    """A 40 x 30 m court in UTM zone 37N written as a lon/lat GeoJSON (RFC 7946's coordinates)."""
     pytest.importorskip("pyproj")
     from planner.exchange.crs import to_lonlat
 
@@ -153,6 +152,13 @@ def test_a_lonlat_geojson_without_crs_is_refused_not_read_as_a_millimetre_room(t
                                                      "properties": {"id": "court", "height_m": 8.0}}]}
     path = tmp_path / "court.geojson"
     path.write_text(json.dumps(fc))
+    return path
+
+
+def test_a_lonlat_geojson_without_crs_is_refused_not_read_as_a_millimetre_room(tmp_path):
+    # the 40 x 30 m court of the test above in lon/lat spans 0.0004 x 0.0003 degrees; read as metres it
+    # was a room 0.4 mm across that planned nothing (exit 4, no reason); now one line asking for --crs
+    path = _lonlat_court(tmp_path)
     with pytest.raises(planner.InputError, match="look like lon/lat degrees .* give --crs") as err:
         planner.read_geojson_site(path)
     assert str(path) in str(err.value)
@@ -169,14 +175,8 @@ def test_crs_must_be_projected():
 def test_cli_plans_a_lonlat_geojson_with_crs_and_exports_lonlat(tmp_path, capsys):
     pytest.importorskip("pyproj")
     from planner.cli import main
-    from planner.exchange.crs import to_lonlat
 
-    utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
-    ring = [list(p) for p in to_lonlat("EPSG:32637")(utm)]
-    fc = {"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring + ring[:1]]},
-                                                     "properties": {"id": "court", "height_m": 8.0}}]}
-    site = tmp_path / "court.geojson"
-    site.write_text(json.dumps(fc))
+    site = _lonlat_court(tmp_path)
     out = tmp_path / "out"
     assert main(["plan", str(site), "--crs", "EPSG:32637", "--max-range", "60", "--method", "greedy",
                  "--out", str(out), "--export", "geojson,csv", "--quiet"]) == 0
