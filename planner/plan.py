@@ -166,7 +166,6 @@ class Plan:
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
 
-
     @property
     def time_label(self) -> str:
         """What the result's time covers: the solver alone (on how many threads), or the whole tiled run."""
