@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -51,6 +52,14 @@ def argument(value: Any, kind: type | tuple[type, ...], name: str) -> None:
     how = "; ".join(MAKE[k.__name__] for k in kinds if k.__name__ in MAKE)
     raise ArgumentTypeError(f"must be {want}, not {_a(type(value).__name__)}" + (f" ({how})" if how else ""),
                             field=name, value=_shown(value))
+
+
+def path_argument(value: Any, name: str) -> None:
+    """Refuse a file path that is no ``str`` or path-like (a Site, None, a number: pathlib's bare TypeError
+    before), naming the argument and, for a number, its value."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise ArgumentTypeError(f"must be a file path (str or pathlib.Path), not {type(value).__name__}", field=name,
+                                value=_shown(value))
 
 
 def _a(noun: str) -> str:

@@ -150,11 +150,11 @@ def cmd_plan(args: argparse.Namespace) -> int:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
     for flag, folder in (("--out", args.out), ("--report", args.report)):
         _usable_folder(flag, folder)  # before the planning, not after it
-    if args.monte_carlo and not args.network:
+    if args.monte_carlo and not (args.network or args.report):
         raise UsageError("Monte Carlo runs are part of the network check; give --network", field="--monte-carlo",
                          value=args.monte_carlo)
-    if args.network:
-        _network_inputs(args)  # the network's option values and files, before the planning
+    # the network's option values and files, read before the planning (the report runs the network too)
+    inputs = _network_inputs(args) if args.network or args.report else None
     site = load_with_overrides(args)
     _guard_memory(site, args)
     from planner.outcome import outcome_from_plan
@@ -170,8 +170,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
     network = None
-    if args.network or args.report:
-        network = _network(site, list(plan.stations), args, show=args.network)
+    if inputs is not None:
+        network = _network(site, list(plan.stations), args, inputs, show=args.network)
     if formats or args.report:
         outcome = outcome_from_plan(plan, network, compare_methods(site, options, plan) if args.report else ())
         write_exports(outcome, formats, args.out, args.crs)
@@ -211,11 +211,13 @@ def _network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
     return control, traverse
 
 
-def _network(site: Site, stations: list[Any], args: argparse.Namespace, show: bool = True) -> NetworkReport:
+def _network(site: Site, stations: list[Any], args: argparse.Namespace, inputs: tuple[Any, Any],
+             show: bool = True) -> NetworkReport:
+    """Run the network check with ``inputs`` = :func:`_network_inputs` (control points, traverse)."""
     from planner.network.check import run_network
     from planner.network.io import adjust_observations
 
-    control, traverse = _network_inputs(args)
+    control, traverse = inputs
     with located_in(args.traverse if traverse is not None else None):  # a leg naming an unknown point
         report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
                              registration=getattr(args, "registration", None),
@@ -239,11 +241,11 @@ def cmd_network(args: argparse.Namespace) -> int:
     from planner.plan_io import read_plan_stations
 
     _usable_folder("--out", args.out)
-    _network_inputs(args)
+    inputs = _network_inputs(args)  # before any work
     site = load_with_overrides(args)
     stations = _some_stations(args.plan, read_plan_stations(args.plan, site))
     _recorded_notes(args.plan, site)
-    _network(site, stations, args)
+    _network(site, stations, args, inputs)
     return ExitCode.OK
 
 

@@ -13,15 +13,15 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from planner.checks import argument
+from planner.checks import argument, path_argument
 from planner.candidates.model import Candidate
 from planner.coverage.stations import StationCoverage, station_coverage
 from planner.coverage.visibility import SightLimits
-from planner.errors import ArgumentTypeError, InputError, located_in
+from planner.errors import InputError, located_in
 from planner.instruments import load_instrument
 from planner.network.check import NetworkReport
 from planner.plan import Plan, sight_limits
-from planner.plan_io import check_plan_meta, plan_to_dict, read_plan_stations
+from planner.plan_io import RECORDED_PARAMETERS, check_plan_meta, plan_to_dict, read_plan_stations
 from planner.site.fileio import read_json
 from planner.site.load import load_site
 from planner.site.model import Site
@@ -79,8 +79,7 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
     path = next((p for p in tried if p.exists()), Path(src))
     site = load_site(path, ifc=ifc)
     p = meta.get("parameters") or {}
-    changes = {k: p[k] for k in ("theta_max_deg", "overlap", "sigma_req_m", "instrument_height_m", "incidence_model",
-                                  "min_standoff_m") if k in p}
+    changes = {k: p[k] for k in RECORDED_PARAMETERS if k in p}
     if "given" in str(p.get("max_slant_range_source", "")):
         changes["max_slant_range_m"] = p["max_slant_range_m"]
     with located_in(plan_path):  # the values come from the plan, not from the site file
@@ -94,9 +93,9 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
                       network: NetworkReport | None = None, ifc: Any = None) -> Outcome:
     """The outcome of a plan.json (stations re-read, coverage and verification recomputed); ``ifc`` selects
     the storeys when the site is an IFC model."""
-    for value, label in ((plan_path, "plan_path"), (site_path, "site_path")):
-        if value is not None and not isinstance(value, (str, Path)):
-            raise ArgumentTypeError(f"must be a file path (str or pathlib.Path), not {type(value).__name__}", field=label)
+    path_argument(plan_path, "plan_path")
+    if site_path is not None:
+        path_argument(site_path, "site_path")
     name = str(plan_path)
     meta = check_plan_meta(read_json(plan_path), name)
     site = site_for_plan(meta, site_path, name, ifc)
@@ -117,11 +116,9 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
 def _fits_in_memory(site: Site, validation: ValidationReport, spacing_m: float, grid_m: float, name: str) -> None:
     """The memory guard of ``planner plan`` for the spacings a plan.json records (an edited file may ask
     for pieces of a micrometre): refused naming the plan file and the field, before any coverage is built."""
-    from planner.memory_guard import check_memory
+    from planner.memory_guard import default_limit_bytes, estimate_work
 
-    try:
-        check_memory(site, spacing_m, grid_m, validation.range_limit.max_slant_range_m)
-    except InputError as exc:
-        raise InputError(f"the report's coverage would not fit in memory ({exc.message.split(', over')[0]})",
-                         file=name, field="parameters.target_spacing_m", value=spacing_m) from None
-
+    est = estimate_work(site, spacing_m, grid_m, validation.range_limit.max_slant_range_m)
+    if est.bytes > default_limit_bytes():
+        raise InputError(f"the report's coverage would not fit in memory (the coverage problem needs about "
+                         f"{est.describe()})", file=name, field="parameters.target_spacing_m", value=spacing_m)

@@ -118,10 +118,10 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
     return out
 
 
-#: site parameters a plan.json records, and the command-line option that sets each
-_RECORDED = {"theta_max_deg": "--theta-max", "overlap": "--overlap", "sigma_req_m": "--sigma-req",
-             "instrument_height_m": "--instrument-height", "incidence_model": "--incidence-model",
-             "min_standoff_m": "--standoff", "instrument": "--instrument"}
+#: the site parameters a plan.json records (``report`` plans under them again), and the option setting each
+RECORDED_PARAMETERS = {"theta_max_deg": "--theta-max", "overlap": "--overlap", "sigma_req_m": "--sigma-req",
+                       "instrument_height_m": "--instrument-height", "incidence_model": "--incidence-model",
+                       "min_standoff_m": "--standoff"}
 
 
 def recorded_differences(path: Path | str, site: Site) -> list[str]:
@@ -132,12 +132,9 @@ def recorded_differences(path: Path | str, site: Site) -> list[str]:
     recorded = data.get("parameters") if isinstance(data, dict) else None
     if not isinstance(recorded, dict):
         return []
-    p = site.parameters
-    now = {"theta_max_deg": p.theta_max_deg, "overlap": p.overlap, "sigma_req_m": p.sigma_req_m,
-           "instrument_height_m": p.instrument_height_m, "incidence_model": p.incidence_model,
-           "min_standoff_m": p.min_standoff_m, "instrument": site.instrument}
+    now = {key: getattr(site.parameters, key) for key in RECORDED_PARAMETERS} | {"instrument": site.instrument}
     out = []
-    for key, flag in _RECORDED.items():
+    for key, flag in (RECORDED_PARAMETERS | {"instrument": "--instrument"}).items():
         was = recorded.get(key)
         if key in recorded and was != now[key] and now[key] is not None:
             out.append(f"note: {path} was made with {key} = {was} (checked here: {now[key]}); "

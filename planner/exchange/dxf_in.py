@@ -38,7 +38,7 @@ from planner.params import Parameters
 from planner.site.fileio import MAX_INPUT_BYTES
 from planner.site.geometry import check_simple_polygon, signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
-from planner.site.params_io import record_from_dxf
+from planner.site.params_io import record_from_dxf, with_record
 
 __all__ = ["APPID", "ZONE_LAYERS", "DxfOptions", "read_dxf_site"]
 
@@ -211,8 +211,7 @@ def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameter
         layers = ", ".join(options.zone_layers)
         raise InputError(f"no closed polyline on a zone layer ({layers})", file=file, field="zones", value=0)
     zones = _place_holes(zones, [s for s in shapes if options.role(s.layer) == "hole"], options, scale, file)
-    record = record_from_dxf(list(doc.header.custom_vars), file)  # written by planner's own export
-    site = Site(name=record.name if record else path.stem, zones=tuple(zones),
-                parameters=parameters or (record.parameters if record else Parameters()),
+    site = Site(name=path.stem, zones=tuple(zones), parameters=parameters or Parameters(),
                 obstacles=tuple(others["obstacle"]), no_go_areas=tuple(others["no_go"]), source=file)
-    return replace(site, instrument=record.instrument) if record else site
+    # planner's own export carries the name, instrument and parameters in the header
+    return with_record(site, record_from_dxf(list(doc.header.custom_vars), file), parameters)

@@ -10,7 +10,6 @@ projected to that metric CRS (pyproj, x/y order).
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +21,7 @@ from planner.params import Parameters
 from planner.site.fileio import read_json, to_float
 from planner.site.geometry import signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
-from planner.site.params_io import RECORD_KEY, read_site_record
+from planner.site.params_io import RECORD_KEY, read_site_record, with_record
 
 ROLES = ("zone", "obstacle", "no_go")
 #: the roles of an exported plan's other features (planner/exchange/geojson_out.py), read past
@@ -152,10 +151,9 @@ def read_geojson_site(path: Path | str, parameters: Parameters | None = None, cr
         _not_degrees(out["zone"], file)
     meta = data.get("planner")
     record = read_site_record(meta[RECORD_KEY], file) if isinstance(meta, dict) and RECORD_KEY in meta else None
-    site = Site(name=record.name if record else path.stem, zones=tuple(out["zone"]),
-                parameters=parameters or (record.parameters if record else Parameters()),
+    site = Site(name=path.stem, zones=tuple(out["zone"]), parameters=parameters or Parameters(),
                 obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file)
-    return replace(site, instrument=record.instrument) if record else site
+    return with_record(site, record, parameters)
 
 
 #: zones all smaller than this (in the file's units) are no rooms in metres; with coordinates that are

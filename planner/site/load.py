@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import Any
 
-from planner.errors import ArgumentTypeError, InputError
+from planner.checks import path_argument
+from planner.errors import InputError
 from planner.params import ClosureTolerance, Parameters
 from planner.site.instance_json import load_instance_json
 from planner.site.model import Site
@@ -30,9 +30,7 @@ def load_site(path: Path | str, tolerance: ClosureTolerance | None = None, *, dx
     instrument. ``tolerance`` sets the closure tolerance of a CSV's zones (a
     JSON instance carries its own).
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise ArgumentTypeError(f"must be a file path (str or pathlib.Path), not {type(path).__name__}", field="path",
-                                value=path if isinstance(path, (int, float)) and not isinstance(path, bool) else None)
+    path_argument(path, "path")
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".json":

@@ -9,7 +9,7 @@ reading it back is exact; unknown keys or values of the wrong kind are refused, 
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 from planner.accuracy import ErrorBudget
@@ -17,6 +17,7 @@ from planner.errors import InputError, located_in
 from planner.instruments import load_instrument
 from planner.params import Parameters
 from planner.site.fileio import known_keys, to_float
+from planner.site.model import Site
 
 #: the record's key in GeoJSON's ``planner`` member and the DXF header's custom property
 RECORD_KEY = "tls_planner_site"
@@ -32,6 +33,14 @@ class SiteRecord:
     name: str
     instrument: str
     parameters: Parameters
+
+
+def with_record(site: Site, record: SiteRecord | None, parameters: Parameters | None = None) -> Site:
+    """``site`` (as its drawing gave it) with the record's name, instrument and parameters; ``parameters``, when
+    the caller gives them, win over the record's. No record: ``site`` unchanged."""
+    if record is None:
+        return site
+    return replace(site, name=record.name, instrument=record.instrument, parameters=parameters or record.parameters)
 
 
 def site_record(name: str, instrument: str, p: Parameters) -> dict[str, Any]:
