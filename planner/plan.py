@@ -149,12 +149,7 @@ class Plan:
         lines += [f"{z:<{w}}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
         lines += list(self.log)
         lines.append(self._accuracy_line())
-        scope = self.result.info.get("bound_scope", "pool" if self.result.bound is not None else None)
-        if scope is not None:
-            plane = self.result.info.get("plane_bound")
-            lines.append("bound scope: plane (no cover from any positions in the plane has fewer stations)" if scope == "plane"
-                         else f"bound scope: pool (the MILP bound holds over the candidate pool"
-                              + (f"; over the plane at least {plane} stations)" if plane is not None else ")"))
+        lines.append(self._bound_line())
         broken = {g: n for g, n in self.registration.items() if n > 1}
         lines.append("registration: every registration group connected under the overlap relation" if not broken else
                      "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items()))
@@ -165,6 +160,24 @@ class Plan:
             lines.append(tripod_heights_line(self.tripods, self.site.parameters))
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
+
+    def _bound_line(self) -> str:
+        """Both bounds, each with what it holds over: the pool's (the MILP's) and the plane's (pricing)."""
+        r = self.result
+        scope = r.scope
+        if scope is None:
+            return ""
+        info = r.info
+        pool = info.get("pool_bound", r.bound)
+        plane = info.get("plane_bound")
+        pool_s = f"{pool:g} over the candidate pool (MILP)" if pool is not None else "none over the pool"
+        plane_s = (f"{plane:g} over every position in the plane (cover LP priced over the coverage regions; "
+                   f"{info.get('certificate', {}).get('assumes', 'pieces of the target spacing')})"
+                   if plane is not None else "no plane bound (pricing off)")
+        head = ("bound scope: plane (no plan from any positions in the plane has fewer stations)" if scope == "plane"
+                else "bound scope: pool (the plan is proven only over the candidate pool)" if r.status.value == "optimal"
+                else "bound scope: pool")
+        return f"{head}; bounds: {pool_s}; {plane_s}"
 
     @property
     def time_label(self) -> str:

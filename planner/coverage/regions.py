@@ -111,10 +111,11 @@ def _frame_bounds(site: Site, frame: str) -> tuple[NDArray[np.float64], NDArray[
     return lo, hi
 
 
-def frame_space(site: Site, frame: str, limits: SightLimits) -> FrameSpace:
+def frame_space(site: Site, frame: str, limits: SightLimits, outer: bool = False) -> FrameSpace:
     """The accessible area of each zone-side of ``frame``: inside (the zone) or outside (a box around the
     frame's zones grown by the horizontal reach), minus obstacles, no-go areas, what lies outside the
-    site boundary (site frame) and a hair's breadth around every wall."""
+    site boundary (site frame) and a hair's breadth around every wall. ``outer``: the stand-off buffers
+    inscribed in the true ones (they take away less: an outer approximation of the area)."""
     lo, hi = _frame_bounds(site, frame)
     diag = float(np.hypot(*(hi - lo)))
     reach = limits.range_limit_m if math.isfinite(limits.range_limit_m) else 2.0 * diag
@@ -130,8 +131,10 @@ def frame_space(site: Site, frame: str, limits: SightLimits) -> FrameSpace:
     standoff = site.parameters.min_standoff_m
     if standoff > 0:  # as station_places: no station closer than the stand-off to a wall or obstacle edge
         edges = walls + ([shapely.Polygon(ob.vertices).boundary for ob in site.obstacles] if frame == SITE_FRAME else [])
-        forbidden.append(shapely.union_all(edges).buffer(_standoff_buffer_m(standoff), quad_segs=STANDOFF_QUAD_SEGS))
-    forbidden.append(shapely.union_all(walls).buffer(ON_WALL_M, quad_segs=1))
+        grow = standoff if outer else _standoff_buffer_m(standoff)
+        forbidden.append(shapely.union_all(edges).buffer(grow, quad_segs=STANDOFF_QUAD_SEGS))
+    if not outer:
+        forbidden.append(shapely.union_all(walls).buffer(ON_WALL_M, quad_segs=1))
     bad = shapely.union_all(forbidden)
     inside, outside = {}, {}
     for zi, zone in enumerate(site.zones):
@@ -205,10 +208,11 @@ def _grazing(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> li
 
 
 def coverage_regions(site: Site, targets: Targets, limits: SightLimits, which: Sequence[int] | None = None,
-                     spaces: dict[str, FrameSpace] | None = None) -> dict[int, shapely.Geometry]:
+                     spaces: dict[str, FrameSpace] | None = None, outer: bool = False) -> dict[int, shapely.Geometry]:
     """R_t for the pieces ``which`` (all by default), as shapely geometries (possibly empty).
 
-    ``spaces`` caches :func:`frame_space` per frame between calls.
+    ``spaces`` caches :func:`frame_space` per frame between calls (one cache per ``outer``). ``outer``: the
+    outer approximation O_t instead (:func:`piece_region`).
     """
     spaces = spaces if spaces is not None else {}
     idx = range(len(targets)) if which is None else which
@@ -216,13 +220,23 @@ def coverage_regions(site: Site, targets: Targets, limits: SightLimits, which: S
     for t in idx:
         frame = targets.frames[int(targets.frame[t])]
         if frame not in spaces:
-            spaces[frame] = frame_space(site, frame, limits)
-        out[int(t)] = piece_region(targets, int(t), limits, spaces[frame])
+            spaces[frame] = frame_space(site, frame, limits, outer)
+        out[int(t)] = piece_region(targets, int(t), limits, spaces[frame], outer)
     return out
 
 
-def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpace) -> shapely.Geometry:
-    """R_t of one piece (see the module docstring)."""
+def outer_tolerance_m(limits: SightLimits) -> float:
+    """How far a covering position can lie outside the outer region O_t (:func:`piece_region` with ``outer``):
+    the approximations left there are the 3-D incidence chords, the precision boundary's chord error and the
+    sight test's tolerances (range discs are circumscribed, stand-off buffers inscribed, no grazing slivers)."""
+    return (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0) + 1e-5 + (
+        2.0 * PRECISION_CHORD_M if limits.per_pair_precision else 0.0)
+
+
+def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpace, outer: bool = False) -> shapely.Geometry:
+    """R_t of one piece (see the module docstring). ``outer`` (with a ``space`` made with ``outer``): range
+    discs circumscribed instead of inscribed and no grazing slivers, so that every covering position lies in
+    the result or within :func:`outer_tolerance_m` of it (for bounds; ``R_t`` itself is for candidates)."""
     a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
     n = np.asarray(targets.normal[t], float)
     tangent = _unit(b - a)
@@ -237,7 +251,8 @@ def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpac
             if s <= dz:
                 return shapely.Polygon()
             reach = math.sqrt(s * s - dz * dz)
-            parts.append(shapely.Point(end).buffer(reach, quad_segs=DISC_SEGMENTS // 4))
+            disc = reach / math.cos(math.pi / DISC_SEGMENTS) if outer else reach
+            parts.append(shapely.Point(end).buffer(disc, quad_segs=DISC_SEGMENTS // 4))
         parts.append(_incidence_region(end, tangent, n, limits.theta_max_deg, dz, limits.incidence_3d, 1.01 * reach))
         if limits.per_pair_precision:
             fan = _precision_region(end, tangent, n, dz, limits)
@@ -261,7 +276,8 @@ def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpac
         if hit.size:
             m = hit.size
             shadows = _shadows(np.tile(a, (m, 1)), np.tile(b, (m, 1)), bl.a[hit], bl.b[hit], 2.0 * far)
-            shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
+            if not outer:
+                shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
     region = k.intersection(stand)
     if shadows and not region.is_empty:
         try:

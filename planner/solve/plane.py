@@ -22,14 +22,22 @@ import shapely
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.model import Candidate, CandidateKind
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.regions import FrameSpace, coverage_regions, region_tolerance_m
+from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.visibility import SightLimits
 from planner.site.model import ScanSide, Site
-from planner.solve.pricing import cover_lp, heaviest_faces
+from planner.coverage.arrangement import heaviest_points, outer_max_weight
+from planner.solve.pricing import WarmCoverLp
 from planner.solve.result import SolveResult, Status
 
 #: a face or column prices out when its dual weight exceeds the cost by more than this
 PRICE_EPS = 1e-7
+#: after convergence, points within this of the cost (reduced cost ~0) join the pool as alternatives
+TIE_EPS = 1e-6
+
+
+#: what a plane certificate assumes (plan.json ``certificate.assumes``, the summary)
+ASSUMES = ("walls cut into pieces of the target spacing, each covered only when one station sees all of it; "
+           "coverage regions exact to within the tolerance")
 
 
 @dataclass(frozen=True)
@@ -37,13 +45,14 @@ class PricingReport:
     """What pricing established.
 
     ``lp_bound`` is the cover LP over the final pool. ``plane_lp_bound`` holds over every position in the
-    plane: Farley's bound ``sum(y) / max(1, w*)``, where ``y`` are the LP duals and ``w*`` the heaviest
-    arrangement face (any position's dual weight), scales the duals to a feasible dual of the plane's LP;
-    the best over all rounds is kept. ``scope`` is ``plane`` when the pool's integer bound is proven over
-    the plane (no face prices out, or Farley's bound rounds up to the same integer), else ``pool``.
+    plane: Farley's bound ``sum(y) / max(1, w*)``, where ``y`` are the last LP's duals and ``w*``
+    (``heaviest_weight``) bounds any position's dual weight from above (the regions grown by the tolerance,
+    :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced
+    out. ``lp_holds_over_plane``: the pool's integer LP bound holds over the plane (Farley's bound rounds up
+    to it).
     """
 
-    scope: str
+    converged: bool
     lp_bound: float
     plane_lp_bound: float
     rounds: int
@@ -53,6 +62,7 @@ class PricingReport:
     note: str = ""
     history: tuple[float, ...] = field(default_factory=tuple)
     plane_history: tuple[float, ...] = field(default_factory=tuple)
+    heaviest_weight: float = 0.0
 
     @property
     def integer_bound(self) -> int:
@@ -64,17 +74,23 @@ class PricingReport:
         """ceil of the plane LP bound: no cover from any positions has fewer stations."""
         return math.ceil(self.plane_lp_bound - 1e-6)
 
+    @property
+    def lp_holds_over_plane(self) -> bool:
+        return self.plane_bound >= self.integer_bound
+
     def to_dict(self) -> dict[str, Any]:
-        return {"scope": self.scope, "lp_bound": self.lp_bound, "integer_bound": self.integer_bound,
+        return {"converged": self.converged, "pool_lp_bound": self.lp_bound, "pool_integer_bound": self.integer_bound,
                 "plane_lp_bound": self.plane_lp_bound, "plane_bound": self.plane_bound,
+                "heaviest_weight": self.heaviest_weight,
                 "rounds": self.rounds, "columns_added": self.columns_added, "time_s": self.time_s,
-                "tolerance_m": self.tolerance_m, "note": self.note, "lp_history": list(self.history),
+                "tolerance_m": self.tolerance_m, "note": self.note, "pool_lp_history": list(self.history),
                 "plane_lp_history": list(self.plane_history)}
 
     def summary(self) -> str:
-        head = (f"pricing: LP bound {self.lp_bound:.3f} over the pool; over every position in the plane "
-                f"LP >= {self.plane_lp_bound:.3f} (>= {self.plane_bound} stations)")
-        state = "converged" if self.scope == "plane" else "not converged"
+        head = (f"pricing: cover LP {self.lp_bound:.3f} over the pool; over every position in the plane "
+                f"LP >= {self.plane_lp_bound:.3f} (>= {self.plane_bound} stations; heaviest position weight "
+                f"{self.heaviest_weight:.4f} over outer regions grown by {self.tolerance_m * 1000:.3f} mm)")
+        state = "converged" if self.converged else "not converged"
         return (f"{head}; {state}, {self.rounds} rounds, {self.columns_added} columns added, {self.time_s:.1f} s"
                 + (f"; {self.note}" if self.note else ""))
 
@@ -98,73 +114,128 @@ def _owner(problem: CoverageProblem, row: int) -> tuple[str, ScanSide]:
     return t.zone_ids[k // 2], (ScanSide.INSIDE if k % 2 == 0 else ScanSide.OUTSIDE)
 
 
+def _heaviest(cache: dict[int, shapely.Geometry], t: Any, pos: np.ndarray, y: np.ndarray, per_round: int,
+              threshold: float = 1.0 + PRICE_EPS) -> tuple[list[tuple[int, Any]], float]:
+    """Points of the closed arrangements (one per frame) of the regions of the pieces ``pos`` weighing more than
+    ``threshold`` (by default: those that price out)."""
+    found_all: list[tuple[int, Any]] = []
+    heaviest = 0.0
+    for fi in range(len(t.frames)):
+        here = pos[t.frame[pos] == fi]
+        if here.size:
+            found, top = heaviest_points([cache[int(k)] for k in here], y[here], threshold, per_round)
+            found_all += [(fi, f) for f in found]
+            heaviest = max(heaviest, top)
+    return found_all, heaviest
+
+
+def _outer(site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarray,
+           spaces: dict[str, FrameSpace]) -> float:
+    """An upper bound on any position's dual weight: the arrangement of the outer regions O_t (range discs
+    circumscribed, stand-off buffers inscribed) grown by :func:`outer_tolerance_m`, per frame."""
+    outer = coverage_regions(site, t, limits, [int(k) for k in pos], spaces, outer=True)
+    grow = outer_tolerance_m(limits)
+    top = 0.0
+    for fi in range(len(t.frames)):
+        here = pos[t.frame[pos] == fi]
+        if here.size:
+            top = max(top, outer_max_weight([outer[int(k)] for k in here], y[here], grow))
+    return top
+
+
+def _add_points(site: Site, problem: CoverageProblem, model: WarmCoverLp, points: list[tuple[int, Any]],
+                y: np.ndarray, limits: SightLimits, tag: str, threshold: float) -> tuple[CoverageProblem, int]:
+    """``problem`` with those ``points`` (frame index, sample) whose coverage by the coverage test weighs more
+    than ``threshold``, as priced candidates owned by the zone-side they see most of; also added to ``model``."""
+    t = problem.targets
+    new = [Candidate(f"{tag}.{k}", "", ScanSide.INSIDE, t.frames[fi], f.x, f.y, CandidateKind.PRICED)
+           for k, (fi, f) in enumerate(points, 1)]
+    if not new:
+        return problem, 0
+    sub = build_coverage(site, new, t, limits)
+    gain = np.asarray(sub.by_candidate.astype(np.float64) @ y).ravel()
+    good = np.flatnonzero(gain > threshold)
+    if good.size == 0:
+        return problem, 0
+    keep = sub.by_candidate[good]
+    owners = [_owner(sub, int(g)) for g in good]
+    cands = tuple(Candidate(f"{z}-{SIDE_TAG[s]}-{new[g].id}", z, s, new[g].frame, new[g].x, new[g].y, CandidateKind.PRICED)
+                  for g, (z, s) in zip(good, owners))
+    piece = CoverageProblem(cands, t, keep, keep.T.tocsr(), sub.slant_m[good], sub.incidence_deg[good], {}, sub.limits)
+    model.add_columns(keep)
+    return merge_problems(problem, piece), len(cands)
+
+
 def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, max_rounds: int = 400,
-                per_round: int = 100, time_limit_s: float = 120.0,
+                per_round: int = 100, time_limit_s: float = 120.0, ties: int = 1000,
                 cache: dict[int, shapely.Geometry] | None = None,
                 spaces: dict[str, FrameSpace] | None = None) -> tuple[CoverageProblem, PricingReport]:
-    """Add priced columns to ``problem`` until none prices out (scope ``plane``) or a limit stops it."""
+    """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane.
+
+    Columns come from the closed arrangement of the regions as drawn (inner approximations: faces, edges
+    and vertices, :func:`planner.coverage.arrangement.heaviest_points`), each checked with the coverage test.
+    The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals ``y``, with ``w*``
+    the heaviest weight of the arrangement of the regions *grown* by the region tolerance
+    (:func:`planner.coverage.arrangement.outer_max_weight`): an upper bound on any position's weight, so the
+    bound holds for every cover from any positions (pieces of the chosen spacing, each seen whole by one
+    station). Scope ``plane`` when its ceiling reaches the pool LP's.
+    """
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
     cache = {} if cache is None else cache
     spaces = {} if spaces is None else spaces
     t = problem.targets
-    added, history, plane_history, note, scope = 0, [], [], "", "pool"
-    farley = 0.0
-    rounds = 0
+    added, history, plane_history, note = 0, [], [], ""
+    rounds, converged = 0, False
+    model = WarmCoverLp(problem.by_target)
     while True:
-        lp = cover_lp(problem.by_target)
+        lp = model.solve()
         history.append(lp.value)
+        pos = np.flatnonzero(lp.y > 1e-9)
+        missing = [int(k) for k in pos if int(k) not in cache]
+        cache.update(coverage_regions(site, t, limits, missing, spaces))
         if rounds >= max_rounds or time.perf_counter() - start > time_limit_s:
             note = f"stopped after {rounds} rounds / {time.perf_counter() - start:.0f} s before pricing converged"
             break
         rounds += 1
-        pos = np.flatnonzero(lp.y > 1e-9)
-        missing = [int(k) for k in pos if int(k) not in cache]
-        cache.update(coverage_regions(site, t, limits, missing, spaces))
-        faces, heaviest = [], 0.0
-        for fi in range(len(t.frames)):
-            here = pos[t.frame[pos] == fi]
-            if here.size:
-                found, top = heaviest_faces([cache[int(k)] for k in here], lp.y[here], 1.0 + PRICE_EPS, per_round)
-                faces += [(fi, f) for f in found]
-                heaviest = max(heaviest, top)
-        # Farley's bound: y / max(1, heaviest) is dual feasible for every position, so it bounds the plane's LP
-        farley = max(farley, float(lp.y.sum()) / max(1.0, heaviest))
-        plane_history.append(farley)
-        if not faces or math.ceil(farley - 1e-6) >= math.ceil(lp.value - 1e-6):
-            scope = "plane"
-            farley = max(farley, lp.value) if not faces else farley
+        faces, _ = _heaviest(cache, t, pos, lp.y, per_round)
+        if not faces:
+            converged = True
             break
-        new = [Candidate(f"PR{rounds}.{k}", "", ScanSide.INSIDE, t.frames[fi], f.x, f.y, CandidateKind.PRICED)
-               for k, (fi, f) in enumerate(faces, 1)]
-        sub = build_coverage(site, new, t, limits)
-        gain = np.asarray(sub.by_candidate.astype(np.float64) @ lp.y).ravel()
-        good = np.flatnonzero(gain > 1.0 + PRICE_EPS)
-        if good.size == 0:
-            note = (f"{len(faces)} faces price out by their regions but none by the coverage test "
+        problem, n = _add_points(site, problem, model, faces, lp.y, limits, f"PR{rounds}", 1.0 + PRICE_EPS)
+        if n == 0:
+            note = (f"{len(faces)} arrangement points price out by their regions but none by the coverage test "
                     f"(within the {tol:.4f} m tolerance)")
             break
-        keep = sub.by_candidate[good]
-        owners = [_owner(sub, int(g)) for g in good]
-        cands = tuple(Candidate(f"{z}-{SIDE_TAG[s]}-{new[g].id}", z, s, new[g].frame, new[g].x, new[g].y, CandidateKind.PRICED)
-                      for g, (z, s) in zip(good, owners))
-        piece = CoverageProblem(cands, t, keep, keep.T.tocsr(), sub.slant_m[good], sub.incidence_deg[good], {}, sub.limits)
-        problem = merge_problems(problem, piece)
-        added += len(cands)
-    report = PricingReport(scope, history[-1], farley, rounds, added, time.perf_counter() - start, tol,
-                           note, tuple(history), tuple(plane_history))
+        added += n
+    if converged and ties:  # the optimal LP's alternatives: positions as good as its columns (reduced cost 0)
+        points, _ = _heaviest(cache, t, pos, lp.y, ties, 1.0 - TIE_EPS)
+        problem, n = _add_points(site, problem, model, points, lp.y, limits, "PT", 1.0 - TIE_EPS)
+        added += n
+    # Farley's bound on the last duals: y / max(1, w*) is dual feasible for every position of the plane
+    w_star = _outer(site, t, limits, pos, lp.y, {})
+    farley = float(lp.y.sum()) / max(1.0, w_star)
+    plane_history.append(farley)
+    report = PricingReport(converged, history[-1], farley, rounds, added, time.perf_counter() - start,
+                           outer_tolerance_m(limits),
+                           note, tuple(history), tuple(plane_history), w_star)
     return problem, report
 
 
 def with_plane_bound(result: SolveResult, pricing: PricingReport) -> SolveResult:
-    """The MILP result with what pricing adds: ``info['bound_scope']`` is ``plane`` when the plan meets the
-    LP bound that holds over the plane (optimal over every position), else ``pool`` (the MILP's bound holds
-    over the pool; ``info['plane_bound']``, the ceil of Farley's bound, bounds every cover from any positions
-    even when pricing stopped early)."""
+    """The MILP result with what pricing adds: ``info['pool_bound']`` (the MILP's own bound, over the pool),
+    ``info['plane_bound']`` (ceil of Farley's bound: every cover from any positions has at least that many
+    stations) and ``info['bound_scope']``: ``plane`` when the plan meets the plane bound (optimal over every
+    position; ``bound`` becomes the plane bound), else ``pool`` (``bound`` stays the MILP's, over the pool)."""
     info = dict(result.info)
     info["pricing"] = pricing.to_dict()
     plane = pricing.plane_bound
+    info["pool_bound"] = result.bound
     info["plane_bound"] = plane
+    info["certificate"] = {"assumes": ASSUMES, "tolerance_m": pricing.tolerance_m,
+                           "plane_bound_from": "Farley's bound on the cover LP's duals over the closed arrangement of "
+                                               "the coverage regions grown by the tolerance (a plain cover; "
+                                               "registration not used)"}
     proven = result.objective is not None and result.objective <= plane + 1e-9
     info["bound_scope"] = "plane" if proven else "pool"
     if proven:

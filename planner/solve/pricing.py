@@ -45,6 +45,44 @@ def cover_lp(by_target: sp.csr_matrix, cost: NDArray[np.float64] | None = None) 
     return CoverLp(float(res.fun), np.asarray(res.x, float), y)
 
 
+class WarmCoverLp:
+    """The cover LP kept in one HiGHS model (``highspy``, 1 thread): columns are appended between solves and
+    each re-solve starts from the last optimal basis (the new columns enter at 0, so the basis stays primal
+    feasible), instead of a solve from scratch per pricing round (polygon A: 0.54 s per round from scratch)."""
+
+    def __init__(self, by_target: sp.csr_matrix) -> None:
+        import highspy
+
+        self._h = h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+        h.setOptionValue("threads", 1)
+        h.setOptionValue("random_seed", 0)
+        n_t, _ = by_target.shape
+        self.n_t = n_t
+        h.addRows(n_t, np.ones(n_t), np.full(n_t, highspy.kHighsInf), 0, np.zeros(0, np.int32), np.zeros(0, np.int32),
+                  np.zeros(0))
+        self.add_columns(by_target.T.tocsr())
+
+    def add_columns(self, by_candidate: sp.csr_matrix) -> None:
+        """Append candidates (rows of ``by_candidate``: the pieces each covers) as columns of cost 1."""
+        a = by_candidate.astype(np.float64).tocsr()
+        n = a.shape[0]
+        if n == 0:
+            return
+        self._h.addCols(n, np.ones(n), np.zeros(n), np.full(n, np.inf), a.nnz, a.indptr[:-1].astype(np.int32),
+                        a.indices.astype(np.int32), a.data)
+
+    def solve(self) -> CoverLp:
+        h = self._h
+        h.run()
+        status = h.getModelStatus()
+        if h.modelStatusToString(status) != "Optimal":
+            raise InternalError(f"cover LP ended with status {h.modelStatusToString(status)}")
+        sol = h.getSolution()
+        y = np.maximum(np.asarray(sol.row_dual, float), 0.0)
+        return CoverLp(float(h.getInfo().objective_function_value), np.asarray(sol.col_value, float), y)
+
+
 @dataclass(frozen=True)
 class Face:
     """A face of the arrangement: an interior point and the dual weight of the regions holding it."""

@@ -54,4 +54,18 @@ class SolveResult:
         bound = "" if self.bound is None or math.isnan(self.bound) else f", bound {self.bound:g}"
         obj = "-" if self.objective is None else f"{self.objective:g}"
         label = f" ({time_label})" if time_label else ""
-        return f"{self.method}: {self.status.value}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}"
+        return f"{self.method}: {self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}"
+
+    @property
+    def scope(self) -> str | None:
+        """Where the bound holds: ``plane`` (every position), ``pool`` (the candidate pool), None without one."""
+        if self.bound is None:
+            return None
+        return str(self.info.get("bound_scope", "pool"))
+
+    @property
+    def state(self) -> str:
+        """The status in words, an optimum with its scope: "optimal over the plane" / "optimal over the pool"."""
+        if self.status is Status.OPTIMAL and self.scope is not None:
+            return f"optimal over the {self.scope}"
+        return self.status.value

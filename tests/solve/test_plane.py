@@ -52,7 +52,7 @@ def test_rectangles_are_proven_over_the_plane(aspect: float, stations: int) -> N
     assert len(plan.stations) == stations
     assert plan.result.status.value == "optimal"
     assert info["bound_scope"] == "plane" and info["plane_bound"] == stations
-    assert info["pricing"]["scope"] == "plane"
+    assert info["pricing"]["converged"] and info["pricing"]["plane_bound"] == stations
     assert plan.verification.percent == pytest.approx(100.0)
 
 

@@ -1,0 +1,140 @@
+"""The arrangement of weighted coverage regions: where their weight is heaviest.
+
+Geometric pricing asks two different questions of the regions R_t (each with a dual weight y_t >= 0):
+
+1. **Where to put a new candidate** (:func:`heaviest_points`): points of the *closed* arrangement of
+   the regions as drawn (inner approximations: a point of R_t passes the coverage test), heaviest
+   first. Regions are closed sets; where two only touch (along an edge, or at a point, as the
+   45 deg diagonals of a rectangle at theta_max 45 deg do) the weight there is larger than on any open
+   face beside it. So the samples are: a point inside every face, the midpoint of every edge of the
+   noded boundaries and every node (vertex) of them, each weighed by the closed regions within
+   ``TOUCH_M`` of it. The coverage test then decides whether the point really covers those pieces.
+
+2. **The heaviest weight anywhere in the plane** (:func:`outer_max_weight`), for a bound. The true
+   coverage set C_t of a piece lies within ``grow_m`` (the region tolerance) of R_t, so each region is
+   grown by ``grow_m`` plus a margin, as a polygon that circumscribes the round buffer. Claim: the
+   heaviest open face of the arrangement of the grown regions weighs at least sum_{t: p in C_t} y_t
+   for every position p. Proof: p lies within ``grow_m`` of every R_t with p in C_t, so the open disc
+   of radius ``margin`` about p lies inside every grown region of those t; the disc meets some open
+   face F (faces are dense), F does not cross any grown region's boundary, so F lies inside all of
+   them, and its weight is at least p's. The weight of a face is read at a point on its surface with
+   closed containment (``intersects``), which can only add weight: the maximum stays an upper bound.
+   A check that the faces found fill the union of the grown regions (area within 1e-6 relative) guards
+   against a face lost by the polygoniser (faces inside some region, their areas summed); if it fails
+   the answer is the sum of all weights, a bound that is always true.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+#: a sample point weighs the closed regions within this distance of it (noding rounds node coordinates)
+TOUCH_M = 1e-9
+#: the grown regions reach this much beyond the tolerance: the radius of the disc in the proof above
+MARGIN_M = 1e-6
+#: segments per quarter circle of the grown regions (circumscribed: radius / cos(pi / (4 * QUAD_SEGS)))
+QUAD_SEGS = 4
+#: the faces must fill the union of the grown regions to this relative area
+AREA_CHECK = 1e-6
+
+
+@dataclass(frozen=True)
+class Sample:
+    """A point of the arrangement and the weight of the closed regions holding it; ``kind`` says where it
+    lies: ``face`` (inside a face), ``edge`` (on an edge between faces) or ``vertex``."""
+
+    x: float
+    y: float
+    weight: float
+    kind: str
+
+
+def _noded(polys: Sequence[shapely.Geometry]) -> shapely.Geometry:
+    """The boundaries of ``polys`` noded against each other (one union)."""
+    return shapely.union_all(shapely.boundary(np.asarray(polys, dtype=object)))
+
+
+def _weigh(points: NDArray, tree: shapely.STRtree, w: NDArray[np.float64], predicate: str) -> NDArray[np.float64]:
+    """Sum of the weights of the regions (the tree's) holding each point, closed containment."""
+    if len(points) == 0:
+        return np.zeros(0)
+    if predicate == "dwithin":
+        pi, ri = tree.query(points, predicate="dwithin", distance=TOUCH_M)
+    else:
+        pi, ri = tree.query(points, predicate=predicate)
+    return np.bincount(pi, weights=w[ri], minlength=len(points))
+
+
+def _edge_points(lines: shapely.Geometry) -> tuple[NDArray, NDArray]:
+    """Midpoints of the noded edges and their end nodes (unique)."""
+    parts = shapely.get_parts(lines)
+    parts = parts[shapely.get_type_id(parts) == 1]  # linestrings
+    if len(parts) == 0:
+        return np.zeros(0, dtype=object), np.zeros(0, dtype=object)
+    mids = shapely.line_interpolate_point(parts, 0.5, normalized=True)
+    ends = np.vstack([shapely.get_coordinates(shapely.get_point(parts, 0)),
+                      shapely.get_coordinates(shapely.get_point(parts, -1))])
+    ends = np.unique(np.round(ends, 12), axis=0)
+    return mids, shapely.points(ends)
+
+
+def heaviest_points(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float,
+                    limit: int) -> tuple[list[Sample], float]:
+    """Points of the closed arrangement of ``regions`` weighing more than ``threshold`` (heaviest first,
+    at most ``limit``; faces before edges before vertices at equal weight), and the largest weight seen."""
+    keep = [k for k, g in enumerate(regions) if not g.is_empty and g.area > 0]
+    if not keep:
+        return [], 0.0
+    polys = [regions[k] for k in keep]
+    w = np.asarray(weights, float)[keep]
+    lines = _noded(polys)
+    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(lines)))
+    tree = shapely.STRtree(polys)
+    reps = shapely.point_on_surface(faces) if len(faces) else np.zeros(0, dtype=object)
+    mids, nodes = _edge_points(lines)
+    groups = (("face", reps, _weigh(reps, tree, w, "within")), ("edge", mids, _weigh(mids, tree, w, "dwithin")),
+              ("vertex", nodes, _weigh(nodes, tree, w, "dwithin")))
+    pts = np.concatenate([g[1] for g in groups])
+    wts = np.concatenate([g[2] for g in groups])
+    kinds = np.concatenate([np.full(len(g[1]), k, dtype=object) for k, g in enumerate(groups)])
+    if len(pts) == 0:
+        return [], 0.0
+    best = float(wts.max())
+    order = np.lexsort((kinds, -wts))
+    order = order[wts[order] > threshold][:limit]
+    xy = shapely.get_coordinates(pts[order]) if order.size else np.zeros((0, 2))
+    return [Sample(float(px), float(py), float(wts[k]), groups[int(kinds[k])][0]) for (px, py), k in zip(xy, order)], best
+
+
+def grown(regions: Sequence[shapely.Geometry], grow_m: float) -> list[shapely.Geometry]:
+    """Each region grown by ``grow_m + MARGIN_M`` as a polygon circumscribing the round buffer."""
+    d = (grow_m + MARGIN_M) / math.cos(math.pi / (4 * QUAD_SEGS))
+    geoms = np.asarray([g for g in regions], dtype=object)
+    return list(shapely.buffer(geoms, d, quad_segs=QUAD_SEGS))
+
+
+def outer_max_weight(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], grow_m: float) -> float:
+    """An upper bound on the weight sum_{t: p in C_t} y_t at any position p, where every true coverage set
+    C_t lies within ``grow_m`` of ``regions[t]`` (see the module docstring for the proof)."""
+    w_all = np.asarray(weights, float)
+    keep = [k for k, g in enumerate(regions) if not g.is_empty and w_all[k] > 0]
+    if not keep:
+        return 0.0
+    polys = grown([regions[k] for k in keep], grow_m)
+    w = w_all[keep]
+    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(_noded(polys))))
+    if len(faces) == 0:
+        return float(w.sum())
+    tree = shapely.STRtree(polys)
+    reps = shapely.point_on_surface(faces)
+    held = _weigh(reps, tree, np.ones(len(polys)), "intersects") > 0  # faces inside some region (not holes)
+    union = shapely.union_all(np.asarray(polys, dtype=object))
+    if abs(float(shapely.area(faces[held]).sum()) - union.area) > AREA_CHECK * max(union.area, 1.0):
+        return float(w.sum())  # a face lost by the polygoniser: the trivial bound
+    return float(_weigh(reps, tree, w, "intersects").max())
