@@ -14,6 +14,8 @@ from planner import progress
 from planner.accuracy import max_slant_range_m
 from planner.candidates.closed_form import Limits
 from planner.candidates.model import Candidate
+from planner.candidates.axis import axis_candidates
+from planner.candidates.complete import complete_candidates
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
 from planner.checks import SAMPLING_M, argument, count, flag, real
@@ -216,10 +218,24 @@ def closed_form_limits(validation: ValidationReport) -> Limits:
     return Limits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.overlap, p.instrument_height_m)
 
 
-def unseen_error(problem: CoverageProblem, unseen: np.ndarray) -> InfeasibleError:
+def unseen_error(problem: CoverageProblem, unseen: np.ndarray, reasons: dict[int, str] | None = None) -> InfeasibleError:
+    """The refusal of pieces nothing sees: up to five by id and position, each with its reason when known
+    (``reasons``: why its coverage region is empty), and how many share each reason."""
     t = problem.targets
-    shown = "; ".join(f"{t.label(i)} at ({t.midpoint(i)[0]:.2f}, {t.midpoint(i)[1]:.2f})" for i in unseen[:5])
+    reasons = reasons or {}
+
+    def why(i: int) -> str:
+        return f" ({reasons[int(i)]})" if int(i) in reasons else ""
+
+    shown = "; ".join(f"{t.label(i)} at ({t.midpoint(i)[0]:.2f}, {t.midpoint(i)[1]:.2f}){why(i)}" for i in unseen[:5])
     more = f" and {len(unseen) - 5} more" if len(unseen) > 5 else ""
+    if reasons:
+        counts: dict[str, int] = {}
+        for i in unseen:
+            counts[reasons.get(int(i), "not checked")] = counts.get(reasons.get(int(i), "not checked"), 0) + 1
+        tally = "; ".join(f"{n} {r}" for r, n in counts.items())
+        return InfeasibleError(f"{len(unseen)} target(s) seen from no position (coverage region empty): {shown}{more}"
+                               f" [{tally}]")
     return InfeasibleError(f"{len(unseen)} target(s) seen by no candidate: {shown}{more}")
 
 
@@ -230,18 +246,31 @@ def _limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
 def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None, *,
                   spaces: dict[str, FrameSpace] | None = None,
                   region_cache: dict[int, Any] | None = None) -> CoverageProblem:
-    """Candidates, targets and coverage of a site; refuses a problem with a target no candidate sees.
+    """Candidates, targets and coverage of a site; refuses a problem with a target no position sees.
 
     ``spaces`` and ``region_cache``, when given, keep the frame spaces and coverage regions drawn for the
-    whole-zone-side candidates (keyed by piece index of the problem's targets), for pricing to reuse.
+    region candidates (keyed by piece index of the problem's targets), for pricing to reuse.
 
     Raises
     ------
     InfeasibleError
-        Listing (up to five) targets by id and position, before any solver runs.
+        Listing (up to five) targets by id and position, each with why no position sees it, before any
+        solver runs.
     InputError
         When the estimated memory of the work exceeds ``options.memory_limit_bytes`` (exit 3).
     """
+    problem, unseen, reasons = coverage_problem(site, options, validation, spaces=spaces, region_cache=region_cache)
+    if unseen.size:
+        err = unseen_error(problem, unseen, reasons)
+        raise err.located(site.source) if site.source else err
+    return problem
+
+
+def coverage_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None, *,
+                     spaces: dict[str, FrameSpace] | None = None, region_cache: dict[int, Any] | None = None,
+                     ) -> tuple[CoverageProblem, np.ndarray, dict[int, str]]:
+    """:func:`build_problem` without the refusal: the problem, the pieces no candidate sees (after every
+    unseen piece got a candidate from its own region) and, per such piece, why its region is empty."""
     argument(site, Site, "site")
     argument(options, PlanOptions, "options")
     validation = validation or validate_site(site)
@@ -252,14 +281,19 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
                  closed_form_limits(validation).max_slant_range_m, options.memory_limit_bytes)
     pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
-    if options.regions and regions_apply(limits):  # one station for a whole zone-side, found exactly where one exists
-        pool = dedupe(pool + whole_side_candidates(site, targets, limits, spaces, region_cache))
+    spaces = {} if spaces is None else spaces
+    region_cache = {} if region_cache is None else region_cache
+    exact = options.regions and regions_apply(limits)
+    if exact:  # one station for a whole zone-side, found exactly where one exists
+        pool = pool + whole_side_candidates(site, targets, limits, spaces, region_cache)
+    # every room's medial axis (and rings round outside zones): a candidate per maximal cell of the regions on it
+    pool = dedupe(pool + axis_candidates(site, targets, limits, spaces, region_cache, cells=exact,
+                                         step_m=options.target_spacing_m))
     problem = build_coverage(site, pool, targets, limits, step="coverage build")
-    unseen = problem.uncoverable()
-    if unseen.size:
-        err = unseen_error(problem, unseen)
-        raise err.located(site.source) if site.source else err
-    return problem
+    reasons: dict[int, str] = {}
+    if exact:  # a candidate from its own region for every piece still unseen; refused only when that is empty
+        problem, reasons = complete_candidates(site, problem, limits, spaces, region_cache)
+    return problem, problem.uncoverable(), reasons
 
 
 def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:

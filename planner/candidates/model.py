@@ -19,6 +19,7 @@ class CandidateKind(str, Enum):
     FIELD = "field"    # sampled inside a closed-form candidate's movement field
     GRID = "grid"      # on a grid over the accessible area
     REGION = "region"  # in the common part of a zone-side's coverage regions (one station sees it all)
+    AXIS = "axis"      # in a cell of the coverage arrangement along a room's medial axis
     PRICED = "priced"  # a face of the coverage-region arrangement found by geometric pricing
 
 

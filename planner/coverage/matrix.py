@@ -332,3 +332,13 @@ def build_coverage(
         slant_m=mat(slant, np.float64), incidence_deg=mat(inc, np.float64),
         excluded={k: why for k, why in enumerate(places.reason) if why}, limits=limits,
     )
+
+
+def merge_problems(p: CoverageProblem, q: CoverageProblem) -> CoverageProblem:
+    """``p`` with the candidates of ``q`` appended (same targets and limits)."""
+    by_c = sp.vstack([p.by_candidate, q.by_candidate]).tocsr()
+    off = len(p.candidates)
+    return CoverageProblem(
+        candidates=p.candidates + q.candidates, targets=p.targets, by_candidate=by_c, by_target=by_c.T.tocsr(),
+        slant_m=sp.vstack([p.slant_m, q.slant_m]).tocsr(), incidence_deg=sp.vstack([p.incidence_deg, q.incidence_deg]).tocsr(),
+        excluded={**p.excluded, **{k + off: v for k, v in q.excluded.items()}}, limits=p.limits)

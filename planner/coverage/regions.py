@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -237,54 +237,96 @@ def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpac
     """R_t of one piece (see the module docstring). ``outer`` (with a ``space`` made with ``outer``): range
     discs circumscribed instead of inscribed and no grazing slivers, so that every covering position lies in
     the result or within :func:`outer_tolerance_m` of it (for bounds; ``R_t`` itself is for candidates)."""
+    region = shapely.Polygon()
+    for _, region in region_stages(targets, t, limits, space, outer):
+        if region.is_empty:
+            break
+    return region
+
+
+#: what each stage of :func:`region_stages` takes away, in words (why a region is empty)
+STAGE_REASON = {
+    "range": "beyond range (no position within S_max of both ends, top and foot)",
+    "incidence": "beyond the incidence limit within range",
+    "precision": "beyond the precision range at every incidence",
+    "stand": "no place to stand in front of it (stand-off, obstacles, no-go areas, site boundary)",
+    "sight": "hidden behind walls or obstacles from every position that meets the range and incidence limits",
+}
+
+
+def region_stages(targets: Targets, t: int, limits: SightLimits, space: FrameSpace,
+                  outer: bool = False) -> Iterator[tuple[str, shapely.Geometry]]:
+    """The region of piece ``t`` as it is built, one rule at a time: (stage, region so far) for the stages
+    of :data:`STAGE_REASON` in order; the last is R_t. The first empty one says why R_t is empty."""
     a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
     n = np.asarray(targets.normal[t], float)
     tangent = _unit(b - a)
     ih = limits.instrument_height_m
     far = space.far_m
-    parts = []
+    front = shapely.Polygon([a + EPS_FRONT_M * n - far * tangent, b + EPS_FRONT_M * n + far * tangent,
+                             b + far * n + far * tangent, a + far * n - far * tangent])
+    discs, wedges, fans = [front], [], []
     for end, h in ((a, float(targets.ha_m[t])), (b, float(targets.hb_m[t]))):
         dz = max(abs(h - ih), ih)
         s = limits.range_limit_m
         reach = far
         if math.isfinite(s) and s < far:
             if s <= dz:
-                return shapely.Polygon()
+                yield "range", shapely.Polygon()
+                return
             reach = math.sqrt(s * s - dz * dz)
             disc = reach / math.cos(math.pi / DISC_SEGMENTS) if outer else reach
-            parts.append(shapely.Point(end).buffer(disc, quad_segs=DISC_SEGMENTS // 4))
-        parts.append(_incidence_region(end, tangent, n, limits.theta_max_deg, dz, limits.incidence_3d, 1.01 * reach))
+            discs.append(shapely.Point(end).buffer(disc, quad_segs=DISC_SEGMENTS // 4))
+        wedges.append(_incidence_region(end, tangent, n, limits.theta_max_deg, dz, limits.incidence_3d, 1.01 * reach))
         if limits.per_pair_precision:
-            fan = _precision_region(end, tangent, n, dz, limits)
-            if fan.is_empty:
-                return fan
-            parts.append(fan)
-    front = shapely.Polygon([a + EPS_FRONT_M * n - far * tangent, b + EPS_FRONT_M * n + far * tangent,
-                             b + far * n + far * tangent, a + far * n - far * tangent])
+            fans.append(_precision_region(end, tangent, n, dz, limits))
+    k = shapely.intersection_all(discs)
+    yield "range", k
+    k = shapely.intersection_all([k, *wedges]) if not k.is_empty else k
+    yield "incidence", k
+    if fans and not k.is_empty:
+        k = shapely.intersection_all([k, *fans])
+        yield "precision", k
     zi, inside = int(targets.zone[t]), int(targets.side[t]) == 0
-    stand = (space.inside if inside else space.outside)[zi]
-    k = shapely.intersection_all([*parts, front])
-    if k.is_empty:
-        return k
+    region = k.intersection((space.inside if inside else space.outside)[zi]) if not k.is_empty else k
+    yield "stand", region
+    if not region.is_empty:
+        shadows = _piece_shadows(targets, t, k, space, outer)
+        if shadows:
+            try:
+                region = region.difference(shapely.union_all(shadows))
+            except shapely.errors.GEOSException:  # near-coincident sliver edges (doors, junction cuts): snap-round
+                region = shapely.difference(region, shapely.union_all(shadows, grid_size=SNAP_GRID_M),
+                                            grid_size=SNAP_GRID_M)
+    yield "sight", region
+
+
+def _piece_shadows(targets: Targets, t: int, k: shapely.Geometry, space: FrameSpace, outer: bool) -> list[shapely.Geometry]:
+    """The shadows (and, unless ``outer``, the grazing slivers) of the blockers near piece ``t`` that meet ``k``."""
     bl = space.blockers
     tree = None if bl is None else bl._seg_tree  # type: ignore[attr-defined]
-    shadows: list[shapely.Geometry] = []
-    if tree is not None and bl is not None:
-        ends = shapely.box(*np.minimum(a, b) - 1e-6, *np.maximum(a, b) + 1e-6)
-        hit = np.union1d(tree.query(k, predicate="intersects"), tree.query(ends, predicate="intersects"))
-        hit = hit[bl.key[hit] != wall_key(zi, int(targets.wall[t]))]
-        if hit.size:
-            m = hit.size
-            shadows = _shadows(np.tile(a, (m, 1)), np.tile(b, (m, 1)), bl.a[hit], bl.b[hit], 2.0 * far)
-            if not outer:
-                shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
-    region = k.intersection(stand)
-    if shadows and not region.is_empty:
-        try:
-            region = region.difference(shapely.union_all(shadows))
-        except shapely.errors.GEOSException:  # near-coincident sliver edges (doors, junction cuts): snap-round
-            region = shapely.difference(region, shapely.union_all(shadows, grid_size=SNAP_GRID_M), grid_size=SNAP_GRID_M)
-    return region
+    if tree is None or bl is None:
+        return []
+    a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
+    far = space.far_m
+    ends = shapely.box(*np.minimum(a, b) - 1e-6, *np.maximum(a, b) + 1e-6)
+    hit = np.union1d(tree.query(k, predicate="intersects"), tree.query(ends, predicate="intersects"))
+    hit = hit[bl.key[hit] != wall_key(int(targets.zone[t]), int(targets.wall[t]))]
+    if not hit.size:
+        return []
+    m = hit.size
+    shadows = _shadows(np.tile(a, (m, 1)), np.tile(b, (m, 1)), bl.a[hit], bl.b[hit], 2.0 * far)
+    if not outer:
+        shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
+    return shadows
+
+
+def why_empty(targets: Targets, t: int, limits: SightLimits, space: FrameSpace) -> str | None:
+    """Why R_t is empty, in words (:data:`STAGE_REASON`), or None when it is not."""
+    for stage, region in region_stages(targets, t, limits, space):
+        if region.is_empty:
+            return STAGE_REASON[stage]
+    return None
 
 
 def _precision_region(end: NDArray, tangent: NDArray, normal: NDArray, dz: float, limits: SightLimits) -> shapely.Geometry:

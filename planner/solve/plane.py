@@ -16,12 +16,11 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 import shapely
 
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.model import Candidate, CandidateKind
-from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.visibility import SightLimits
 from planner.site.model import ScanSide, Site
@@ -63,6 +62,7 @@ class PricingReport:
     history: tuple[float, ...] = field(default_factory=tuple)
     plane_history: tuple[float, ...] = field(default_factory=tuple)
     heaviest_weight: float = 0.0
+    duals: tuple[float, ...] = field(default_factory=tuple, repr=False)  # the last LP's y, per piece
 
     @property
     def integer_bound(self) -> int:
@@ -93,16 +93,6 @@ class PricingReport:
         state = "converged" if self.converged else "not converged"
         return (f"{head}; {state}, {self.rounds} rounds, {self.columns_added} columns added, {self.time_s:.1f} s"
                 + (f"; {self.note}" if self.note else ""))
-
-
-def merge_problems(p: CoverageProblem, q: CoverageProblem) -> CoverageProblem:
-    """``p`` with the candidates of ``q`` appended (same targets and limits)."""
-    by_c = sp.vstack([p.by_candidate, q.by_candidate]).tocsr()
-    off = len(p.candidates)
-    return CoverageProblem(
-        candidates=p.candidates + q.candidates, targets=p.targets, by_candidate=by_c, by_target=by_c.T.tocsr(),
-        slant_m=sp.vstack([p.slant_m, q.slant_m]).tocsr(), incidence_deg=sp.vstack([p.incidence_deg, q.incidence_deg]).tocsr(),
-        excluded={**p.excluded, **{k + off: v for k, v in q.excluded.items()}}, limits=p.limits)
 
 
 def _owner(problem: CoverageProblem, row: int) -> tuple[str, ScanSide]:
@@ -218,7 +208,7 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
     plane_history.append(farley)
     report = PricingReport(converged, history[-1], farley, rounds, added, time.perf_counter() - start,
                            outer_tolerance_m(limits),
-                           note, tuple(history), tuple(plane_history), w_star)
+                           note, tuple(history), tuple(plane_history), w_star, tuple(map(float, lp.y)))
     return problem, report
 
 

@@ -1,0 +1,185 @@
+"""Candidates along each room's medial axis, one in every cell of the coverage arrangement on it.
+
+A grid anchored anywhere misses a room narrower than its step (a corridor 8 m wide between two rows of
+a 10-m grid gets no candidate at all). The medial axis of a room's stand area (the points with two or
+more nearest boundary points: a corridor's centre line, a room's skeleton) runs through every part of
+it, however narrow and however turned. It is approximated by the Voronoi edges of the boundary sampled
+finely (edges strictly inside the area).
+
+Along the axis the set of pieces a station covers changes only where the axis crosses the boundary of
+a coverage region R_t: each region holds closed stretches of the axis. A candidate is put in every
+maximal cell of those stretches (where a stretch ends right after the last one began: the classic
+maximal cliques of intervals), so the pool holds, for every position on the axis, a candidate that sees
+all it sees (up to the regions' tolerance). Any plan whose stations stand on the axis (a corridor's
+centre-line construction: stations ``w/2 tan(theta_max)`` either side of each other) is matched or
+beaten by the plain cover over the pool.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from planner.candidates.closed_form import SIDE_TAG
+from planner.candidates.model import Candidate, CandidateKind
+from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
+from planner.coverage.targets import SIDE_CODE, Targets
+from planner.coverage.visibility import SightLimits
+from planner.site.model import ScanSide, Site
+
+#: boundary points of the stand area per narrowest half-width (so the Voronoi edges follow the axis)
+SAMPLES_PER_WIDTH = 8
+#: boundary samples at most this far apart
+MAX_SAMPLE_STEP_M = 0.5
+#: no more boundary samples than this per zone (a huge zone keeps a coarser axis)
+MAX_BOUNDARY_SAMPLES = 20_000
+#: no more candidates than this per zone-side (the cells are thinned evenly beyond it)
+MAX_AXIS_CANDIDATES = 4_000
+#: distances of the rings around an outside zone along which its candidates are put, as shares of the
+#: horizontal reach (stations for an outside face stand far off: 30-56 m of 96 m on polygon C)
+OUTSIDE_RINGS = (0.3, 0.45)
+#: stretch ends closer than this along the axis are one
+CUT_TOL_M = 1e-6
+
+
+def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
+    """The medial axis of ``area`` (a polygon or multipolygon) as merged lines, approximated by the Voronoi
+    edges of its boundary sampled at an eighth of its narrowest half-width (at most 0.5 m, at least 1 mm)."""
+    out: list[shapely.LineString] = []
+    for part in shapely.get_parts(area):
+        if part.is_empty or part.area <= 0:
+            continue
+        half = float(shapely.distance(_pole(part), part.boundary))
+        seg = min(max(half / SAMPLES_PER_WIDTH, 1e-3), MAX_SAMPLE_STEP_M)
+        seg = max(seg, part.boundary.length / MAX_BOUNDARY_SAMPLES)
+        pts = shapely.get_coordinates(shapely.segmentize(part.boundary, seg))
+        if len(pts) < 3:
+            continue
+        edges = shapely.get_parts(shapely.voronoi_polygons(shapely.multipoints(pts), only_edges=True))
+        edges = edges[shapely.contains_properly(part, edges)]
+        if len(edges) == 0:
+            continue
+        merged = shapely.get_parts(shapely.line_merge(shapely.union_all(edges)))
+        out += [g for g in shapely.simplify(merged, 1e-9) if g.length > 0]  # collinear vertices dropped
+    return out
+
+
+def _pole(part: shapely.Geometry) -> shapely.Point:
+    from shapely.ops import polylabel
+
+    return polylabel(part, tolerance=max(1e-3 * math.sqrt(part.area), 1e-6))
+
+
+def intervals(line: shapely.LineString, regions: Sequence[shapely.Geometry]) -> tuple[NDArray, NDArray]:
+    """The stretches of ``line`` inside each of ``regions`` (closed sets), as distances along it: (lo, hi) per
+    stretch; a region that only touches the line gives a stretch of length 0."""
+    tree = shapely.STRtree(list(regions))
+    hit = tree.query(line, predicate="intersects")
+    if hit.size == 0:
+        return np.zeros(0), np.zeros(0)
+    parts = shapely.get_parts(shapely.intersection(line, np.asarray(regions, dtype=object)[hit]))
+    kind = shapely.get_type_id(parts)
+    dots = shapely.get_coordinates(parts[kind == 0])
+    runs = parts[kind == 1]
+    first = locate(line, shapely.get_coordinates(shapely.get_point(runs, 0))) if len(runs) else np.zeros(0)
+    last = locate(line, shapely.get_coordinates(shapely.get_point(runs, -1))) if len(runs) else np.zeros(0)
+    at = locate(line, dots) if len(dots) else np.zeros(0)
+    return np.concatenate([np.minimum(first, last), at]), np.concatenate([np.maximum(first, last), at])
+
+
+def maximal_cells(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A point of every maximal cell of closed intervals [lo, hi] on a line: where a stretch ends right after
+    the last one began, the middle of the two (the set of stretches holding it is then not contained in any
+    other point's). Every position on the line sees a subset of the pieces seen from one of these points."""
+    if lo.size == 0:
+        return np.zeros(0)
+    lo = np.round(lo / CUT_TOL_M) * CUT_TOL_M
+    hi = np.round(hi / CUT_TOL_M) * CUT_TOL_M
+    # events: starts before ends at one coordinate (closed intervals touching at a point share it)
+    pos = np.concatenate([lo, hi])
+    kind = np.concatenate([np.zeros(lo.size, int), np.ones(hi.size, int)])
+    order = np.lexsort((kind, pos))
+    pos, kind = pos[order], kind[order]
+    turn = np.flatnonzero((kind[:-1] == 0) & (kind[1:] == 1))  # a start followed by an end
+    return (pos[turn] + pos[turn + 1]) / 2.0
+
+
+def locate(line: shapely.LineString, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Distance along ``line`` of each point of ``xy`` (points on or next to it): its nearest segment found with
+    a tree, then the projection onto it (``line_locate_point`` walks every vertex for every point)."""
+    v = shapely.get_coordinates(line)
+    a, b = v[:-1], v[1:]
+    seg = np.hypot(*(b - a).T)
+    start = np.concatenate([[0.0], np.cumsum(seg)[:-1]])
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    _, k = tree.query_nearest(shapely.points(xy), all_matches=False)
+    u = (b[k] - a[k]) / np.where(seg[k] > 0, seg[k], 1.0)[:, None]
+    along = np.clip(np.einsum("ij,ij->i", xy - a[k], u), 0.0, seg[k])
+    return start[k] + along
+
+
+def offset_rings(zone_polygon: shapely.Geometry, area: shapely.Geometry, distances_m: Sequence[float]) -> list[shapely.LineString]:
+    """The rings at ``distances_m`` outside a zone's outline, clipped to the stand ``area``: where stations
+    for an outside face stand (the outside has no medial axis to follow)."""
+    out: list[shapely.LineString] = []
+    for d in distances_m:
+        ring = shapely.boundary(zone_polygon.buffer(d, quad_segs=8, join_style="mitre", mitre_limit=2.0))
+        part = shapely.intersection(ring, area)
+        out += [g for g in shapely.get_parts(shapely.line_merge(part)) if shapely.get_type_id(g) == 1 and g.length > 0]
+    return out
+
+
+def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: dict[str, FrameSpace] | None = None,
+                    cache: dict[int, shapely.Geometry] | None = None, cells: bool = True,
+                    step_m: float = 1.0) -> list[Candidate]:
+    """One candidate in every maximal cell of the coverage arrangement along the medial axis of each inside
+    zone's stand area, and along rings at :data:`OUTSIDE_RINGS` around each outside zone (the cells of the
+    zone-side's own pieces' regions); ``cache`` keeps the regions drawn. Without ``cells`` (where regions do
+    not model the coverage test), points every ``step_m`` along the lines."""
+    spaces = {} if spaces is None else spaces
+    cache = {} if cache is None else cache
+    out: list[Candidate] = []
+    reach = limits.range_limit_m if math.isfinite(limits.range_limit_m) else 100.0
+    for zi, zone in enumerate(site.zones):
+        if zone.frame not in spaces:
+            spaces[zone.frame] = frame_space(site, zone.frame, limits)
+        for side in zone.scan_side.sides:
+            inside = side is ScanSide.INSIDE
+            area = (spaces[zone.frame].inside if inside else spaces[zone.frame].outside)[zi]
+            pieces = np.flatnonzero((targets.zone == zi) & (targets.side == SIDE_CODE[side]))
+            if area.is_empty or pieces.size == 0:
+                continue
+            lines = medial_axis(area) if inside else offset_rings(zone.polygon, area, [f * reach for f in OUTSIDE_RINGS])
+            if cells:
+                missing = [int(t) for t in pieces if int(t) not in cache]
+                cache.update(coverage_regions(site, targets, limits, missing, spaces))
+                regions = [cache[int(t)] for t in pieces if not cache[int(t)].is_empty]
+                pts = _zone_points(lines, regions)
+            else:
+                pts = _zone_points(lines, [], step_m)
+            tag = SIDE_TAG[side]
+            out += [Candidate(f"{zone.id}-{tag}-A{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.AXIS)
+                    for k, (x, y) in enumerate(pts, 1)]
+    return out
+
+
+def _zone_points(lines: Sequence[shapely.LineString], regions: Sequence[shapely.Geometry],
+                 step_m: float = 1.0) -> NDArray[np.float64]:
+    """The maximal-cell points of ``lines`` under ``regions``; with no regions, points every ``step_m``."""
+    if not lines:
+        return np.zeros((0, 2))
+
+    def along(line: shapely.LineString) -> NDArray[np.float64]:
+        if regions:
+            return maximal_cells(*intervals(line, regions))
+        return np.linspace(0.0, line.length, max(1, math.ceil(line.length / step_m)) + 1)
+
+    pts = np.vstack([shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in lines])
+    pts = np.unique(np.round(pts, 9), axis=0)
+    if len(pts) > MAX_AXIS_CANDIDATES:  # evenly thinned: a huge room keeps a sample of its axis cells
+        pts = pts[np.linspace(0, len(pts) - 1, MAX_AXIS_CANDIDATES).round().astype(int)]
+    return pts
