@@ -131,13 +131,15 @@ def test_rotating_and_translating_a_site_changes_no_count():
 
 def test_unseen_target_exits_4_listing_it(tmp_path, capsys):
     # a 20 deg corner: from inside, its tip is seen at <= 68 deg only from bearings >= 22 deg off
-    # one wall, outside the 20 deg wedge: no candidate can ever see the first piece
+    # one wall, outside the 20 deg wedge: no candidate can ever see the first piece (the positions that see it
+    # within 68 deg lie within the 0.4-m stand-off of the walls, so the refusal says there is no place to stand)
     L = 60.0
     tip = (L * math.cos(math.radians(20)), L * math.sin(math.radians(20)))
     inst = {"instrument": "dissertation-tables",
             "zones": [{"id": "W", "scan_side": "inside", "coordinates": [[0, 0], [L, 0], list(tip)], "height_m": 5}]}
     (tmp_path / "wedge.json").write_text(json.dumps(inst))
-    with pytest.raises(InfeasibleError, match=r"seen by no candidate: W/inside/wall 1 0.00-1.00 m at"):
+    with pytest.raises(InfeasibleError, match=r"seen from no position \(coverage region empty\): W/inside/wall 1 "
+                                              r"0.00-1.00 m at \(.*\) \(no place to stand in front of it"):
         plan_site(load_site(tmp_path / "wedge.json"))
     code = main(["plan", str(tmp_path / "wedge.json")])
     err = capsys.readouterr().err
@@ -183,7 +185,8 @@ def test_outside_walls_out_of_reach_exit_4_listing_them(tmp_path, capsys):
                                            "coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}))
     assert main(["plan", str(path), "--method", "greedy", "--max-range", "3", "--quiet"]) == 4
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "60 target(s) seen by no candidate" in err and "block.json" in err
+    assert err.count("\n") == 1 and "60 target(s) seen from no position" in err and "block.json" in err
+    assert "[60 beyond range" in err
 
 
 def test_the_library_plans_under_the_sites_overlap_like_the_command(tmp_path):

@@ -42,6 +42,13 @@ MAX_AXIS_CANDIDATES = 4_000
 #: distances of the rings around an outside zone along which its candidates are put, as shares of the
 #: horizontal reach (stations for an outside face stand far off: 30-56 m of 96 m on polygon C)
 OUTSIDE_RINGS = (0.3, 0.45)
+#: pieces x vertices of the stand area above which the lines are sampled every ``step_m`` instead of cut by
+#: the regions (a 5,000-vertex apse: 25 million; polygon A's largest zone-side: under 1 million)
+MAX_CELL_WORK = 4_000_000
+#: axis lines shorter than this get one candidate at their middle instead of their cells (m)
+MIN_CELL_LINE_M = 0.5
+#: at most this many axis lines per zone-side are cut by the regions (the longest); the rest get their middle
+MAX_CELL_LINES = 200
 #: stretch ends closer than this along the axis are one
 CUT_TOL_M = 1e-6
 
@@ -139,7 +146,7 @@ def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: d
     """One candidate in every maximal cell of the coverage arrangement along the medial axis of each inside
     zone's stand area, and along rings at :data:`OUTSIDE_RINGS` around each outside zone (the cells of the
     zone-side's own pieces' regions); ``cache`` keeps the regions drawn. Without ``cells`` (where regions do
-    not model the coverage test), points every ``step_m`` along the lines."""
+    not model the coverage test), or past :data:`MAX_CELL_WORK`, points every ``step_m`` along the lines."""
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache
     out: list[Candidate] = []
@@ -154,7 +161,7 @@ def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: d
             if area.is_empty or pieces.size == 0:
                 continue
             lines = medial_axis(area) if inside else offset_rings(zone.polygon, area, [f * reach for f in OUTSIDE_RINGS])
-            if cells:
+            if cells and pieces.size * shapely.get_num_coordinates(area) <= MAX_CELL_WORK:
                 missing = [int(t) for t in pieces if int(t) not in cache]
                 cache.update(coverage_regions(site, targets, limits, missing, spaces))
                 regions = [cache[int(t)] for t in pieces if not cache[int(t)].is_empty]
@@ -173,12 +180,19 @@ def _zone_points(lines: Sequence[shapely.LineString], regions: Sequence[shapely.
     if not lines:
         return np.zeros((0, 2))
 
+    # the longest lines first; a stub (the spokes of a round room's axis) stands for itself by its middle
+    lines = sorted(lines, key=lambda g: -g.length)
+    cut = [g for g in lines if g.length >= MIN_CELL_LINE_M][:MAX_CELL_LINES] if regions else list(lines)
+
     def along(line: shapely.LineString) -> NDArray[np.float64]:
         if regions:
             return maximal_cells(*intervals(line, regions))
         return np.linspace(0.0, line.length, max(1, math.ceil(line.length / step_m)) + 1)
 
-    pts = np.vstack([shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in lines])
+    pts = [shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in cut]
+    pts += [shapely.get_coordinates(shapely.line_interpolate_point(line, 0.5, normalized=True))
+            for line in lines[len(cut):]]
+    pts = np.vstack(pts)
     pts = np.unique(np.round(pts, 9), axis=0)
     if len(pts) > MAX_AXIS_CANDIDATES:  # evenly thinned: a huge room keeps a sample of its axis cells
         pts = pts[np.linspace(0, len(pts) - 1, MAX_AXIS_CANDIDATES).round().astype(int)]

@@ -20,7 +20,12 @@ from shapely.ops import polylabel
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.model import Candidate, CandidateKind
 from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
-from planner.coverage.regions import FrameSpace, coverage_regions, frame_space, why_empty
+from planner.coverage.regions import (
+    FrameSpace,
+    coverage_regions,
+    frame_space,
+    why_empty,
+)
 from planner.coverage.visibility import SightLimits
 from planner.site.model import ScanSide, Site
 

@@ -139,7 +139,7 @@ def test_wall_piece_seen_by_no_candidate_exits_4(tmp_path, capsys):
                                                              "height_m": 5}])
     code, _, err = cli(capsys, "plan", str(path), "--method", "greedy")
     assert code == 4
-    assert_one_line_error(err, "site.json", "seen by no candidate", "r/inside/wall 1 5.00-6.00 m")
+    assert_one_line_error(err, "site.json", "seen from no position", "r/inside/wall 1 5.00-6.00 m", "hidden behind walls")
 
 
 @pytest.mark.parametrize("suffix", [".json", ".csv", ".geojson", ".dxf", ".pol"])

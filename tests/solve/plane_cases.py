@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import scipy.sparse as sp
 import shapely
 from hypothesis import strategies as st
 
@@ -82,7 +83,7 @@ def as_candidates(zone: Zone, pts: np.ndarray, tag: str = "Q") -> list[Candidate
             for k, (x, y) in enumerate(np.asarray(pts, float).reshape(-1, 2))]
 
 
-def min_cover(by_candidate) -> float:  # noqa: ANN001 (a scipy CSR matrix)
+def min_cover(by_candidate: sp.csr_matrix) -> float:
     """The exact minimum number of rows of ``by_candidate`` that cover every column (HiGHS MILP); inf if none."""
     from scipy.optimize import Bounds, LinearConstraint, milp
 

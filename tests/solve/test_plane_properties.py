@@ -22,12 +22,15 @@ import os
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 import shapely
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from planner.coverage.arrangement import heaviest_points
 from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions
+from planner.coverage.targets import Targets, make_targets
 from planner.errors import InfeasibleError
 from planner.params import Parameters
 from planner.plan import PlanOptions, _limits, coverage_problem, plan_site
@@ -89,9 +92,7 @@ def test_b_no_sampled_position_beats_the_plane_bound(site: Site, seed: int) -> N
         assert both.value >= report.plane_lp_bound - 1e-6  # the plane bound holds for the pool + the samples
 
 
-def _stack(a, b):  # noqa: ANN001, ANN202
-    import scipy.sparse as sp
-
+def _stack(a: sp.csr_matrix, b: sp.csr_matrix) -> sp.csr_matrix:
     return sp.vstack([a, b]).tocsr()
 
 
@@ -106,8 +107,6 @@ def test_c_plane_bound_at_most_brute_force_optimum(site: Site) -> None:
     limits = _limits(validate_site(site), options)
     t = plan.problem_size["targets"]
     zone = site.zones[0]
-    from planner.coverage.targets import make_targets
-
     targets = make_targets(site, options.target_spacing_m)
     assert len(targets) == t
     regions = coverage_regions(site, targets, limits)
@@ -160,9 +159,7 @@ def check_corridor(width: float, length: float, theta: float, angle: float, shif
     assert plan.result.status.value == "optimal"
 
 
-def plan_problem_targets(site: Site, options: PlanOptions):  # noqa: ANN201
-    from planner.coverage.targets import make_targets
-
+def plan_problem_targets(site: Site, options: PlanOptions) -> Targets:
     return make_targets(site, options.target_spacing_m)
 
 
