@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from planner.coverage.gram import filtered_gram
 
 
 @dataclass(frozen=True)
@@ -43,32 +42,60 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     Candidates are considered from the largest coverage down; among identical
     ones the lowest index stays. A candidate is only ever replaced by one that
     stays, so removing them all at once is sound.
+
+    No candidate x candidate product is formed: candidate i can only be replaced by a *kept* candidate that
+    sees every piece of i, and such a candidate sees i's piece with the fewest kept candidates. So each
+    piece keeps the list of kept candidates that see it, and i is checked against the shortest of its
+    pieces' lists only (a scratch mark of i's pieces, then |C(j) & C(i)| = |C(i)| for each j of that list).
+    Work is the sum of those checks, in proportion to the pairs of the coverage matrix when few candidates
+    stay (on a 1-m grid over a building of small rooms: 25 kept of 35,729).
     """
-    a = a.astype(np.int64).tocsr()
+    a = a.astype(bool).tocsr()
+    a.sort_indices()
+    n, n_t = a.shape
     size = np.diff(a.indptr)
-    # only the pairs (i, j) where j sees everything i sees: |i & j| == |i|, built in row blocks
-    inter = filtered_gram(a, None, lambda i, j, v: np.abs(v - size[i]) < 0.5)
-    order = sorted(range(a.shape[0]), key=lambda i: (-size[i], cost[i], i))
-    removed = np.zeros(a.shape[0], dtype=bool)
+    cost = np.asarray(cost, float)
+    order = np.lexsort((np.arange(n), cost, -size))
+    removed = np.zeros(n, dtype=bool)
     kept_rank: dict[int, int] = {}
-    for rank, i in enumerate(order):
-        if size[i] == 0 and (adj is None or _no_bridge(adj, i, removed, kept_rank, cost, groups)):
-            removed[i] = True  # covers nothing: dropped unless it may be the only link between others
-            continue
-        row = inter.indices[inter.indptr[i]:inter.indptr[i + 1]]
-        vals = inter.data[inter.indptr[i]:inter.indptr[i + 1]]
-        for j in row[(vals == size[i]) & (row != i)]:
-            if removed[j] or j not in kept_rank or cost[j] > cost[i]:
+    kept_by_piece: list[list[int]] = [[] for _ in range(n_t)]
+    mark = np.zeros(n_t, dtype=bool)
+    for rank, i in enumerate(order.tolist()):
+        cols = a.indices[a.indptr[i]:a.indptr[i + 1]]
+        if size[i] == 0:
+            if adj is None or _no_bridge(adj, i, removed, kept_rank, cost, groups):
+                removed[i] = True  # covers nothing: dropped unless it may be the only link between others
                 continue
-            if groups is not None and groups[j] != groups[i]:
+        elif _replaced(a, i, cols, kept_by_piece, mark, cost, adj, groups):
+            removed[i] = True
+            continue
+        kept_rank[i] = rank
+        for t in cols.tolist():
+            kept_by_piece[t].append(i)
+    return removed
+
+
+def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[list[int]], mark: np.ndarray,
+              cost: np.ndarray, adj: sp.csr_matrix | None, groups: Sequence[Hashable] | None) -> bool:
+    """Whether a kept candidate, no dearer and of i's group (linked to all of i's links under ``adj``), sees
+    every piece i sees."""
+    lists = [kept_by_piece[t] for t in cols.tolist()]
+    shortest = min(lists, key=len)
+    if not shortest:
+        return False
+    mark[cols] = True
+    try:
+        for j in sorted(shortest):
+            if cost[j] > cost[i] or (groups is not None and groups[j] != groups[i]):
+                continue
+            if int(mark[a.indices[a.indptr[j]:a.indptr[j + 1]]].sum()) != cols.size:
                 continue
             if adj is not None and not _links_cover(adj, i, j):
                 continue
-            removed[i] = True
-            break
-        if not removed[i]:
-            kept_rank[i] = rank
-    return removed
+            return True
+        return False
+    finally:
+        mark[cols] = False
 
 
 def _no_bridge(adj: sp.csr_matrix, i: int, removed: np.ndarray, kept: dict[int, int], cost: np.ndarray,
