@@ -37,8 +37,11 @@ SAMPLES_PER_WIDTH = 8
 MAX_SAMPLE_STEP_M = 0.5
 #: no more boundary samples than this per zone (a huge zone keeps a coarser axis)
 MAX_BOUNDARY_SAMPLES = 20_000
-#: no more candidates than this per zone-side (the cells are thinned evenly beyond it)
-MAX_AXIS_CANDIDATES = 4_000
+#: axis candidates per zone-side times its pieces at most (the cells are thinned evenly beyond it): a
+#: round room drawn with 5,000 walls has a spoke per vertex, and every candidate on them sees the room
+MAX_AXIS_PAIRS = 2_000_000
+#: ... but never fewer candidates than this
+MIN_AXIS_CANDIDATES = 100
 #: distances of the rings around an outside zone along which its candidates are put, as shares of the
 #: horizontal reach (stations for an outside face stand far off: 30-56 m of 96 m on polygon C)
 OUTSIDE_RINGS = (0.3, 0.45)
@@ -168,6 +171,9 @@ def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: d
                 pts = _zone_points(lines, regions)
             else:
                 pts = _zone_points(lines, [], step_m)
+            cap = max(MIN_AXIS_CANDIDATES, MAX_AXIS_PAIRS // max(int(pieces.size), 1))
+            if len(pts) > cap:  # evenly thinned: a huge or round room keeps a sample of its axis cells
+                pts = pts[np.linspace(0, len(pts) - 1, cap).round().astype(int)]
             tag = SIDE_TAG[side]
             out += [Candidate(f"{zone.id}-{tag}-A{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.AXIS)
                     for k, (x, y) in enumerate(pts, 1)]
@@ -193,7 +199,4 @@ def _zone_points(lines: Sequence[shapely.LineString], regions: Sequence[shapely.
     pts += [shapely.get_coordinates(shapely.line_interpolate_point(line, 0.5, normalized=True))
             for line in lines[len(cut):]]
     pts = np.vstack(pts)
-    pts = np.unique(np.round(pts, 9), axis=0)
-    if len(pts) > MAX_AXIS_CANDIDATES:  # evenly thinned: a huge room keeps a sample of its axis cells
-        pts = pts[np.linspace(0, len(pts) - 1, MAX_AXIS_CANDIDATES).round().astype(int)]
-    return pts
+    return np.unique(np.round(pts, 9), axis=0)

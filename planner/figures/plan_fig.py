@@ -19,8 +19,8 @@ from planner.site.model import SITE_FRAME, ScanSide
 
 MARKERS = {CandidateKind.VERTEX: ("^", "vertex K^B"), CandidateKind.WALL: ("s", "wall K^C"),
            CandidateKind.CIRCLE: ("o", "circle"), CandidateKind.FIELD: ("D", "field sample"),
-           CandidateKind.GRID: ("P", "grid"), CandidateKind.REGION: ("*", "whole zone-side (regions)"),
-           CandidateKind.PRICED: ("X", "priced (regions)")}
+           CandidateKind.GRID: ("P", "grid"), CandidateKind.REGION: ("*", "from regions (whole zone-side, unseen piece)"),
+           CandidateKind.AXIS: ("v", "axis cell (regions)"), CandidateKind.PRICED: ("X", "priced (regions)")}
 UNCOVERED = "red"
 
 

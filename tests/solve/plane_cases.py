@@ -20,7 +20,7 @@ from planner.site.model import ScanSide, Site, Zone
 
 def _place(xy: list[tuple[float, float]], angle_deg: float, shift: tuple[float, float]) -> tuple[tuple[float, float], ...]:
     c, s = math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))
-    pts = np.asarray(xy, float) @ np.array([[c, s], [-s, c]]) + np.asarray(shift)
+    pts = np.round(np.asarray(xy, float) @ np.array([[c, s], [-s, c]]) + np.asarray(shift), 9)  # to 1 nm, as drawn
     return tuple((float(x), float(y)) for x, y in pts)
 
 

@@ -121,7 +121,8 @@ def test_c_plane_bound_at_most_brute_force_optimum(site: Site) -> None:
 
 def corridor(width: float, length: float, theta: float, angle: float, shift: tuple[float, float]) -> Site:
     c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
-    xy = np.array([(0, 0), (length, 0), (length, width), (0, width)], float) @ np.array([[c, s], [-s, c]]) + shift
+    xy = np.round(np.array([(0, 0), (length, 0), (length, width), (0, width)], float) @ np.array([[c, s], [-s, c]])
+                  + shift, 9)
     zone = Zone("K", ScanSide.INSIDE, tuple(map(tuple, xy)), (3.0,) * 4)
     return Site("corridor", (zone,), parameters=Parameters(theta_max_deg=theta, max_slant_range_m=200.0, overlap=0.0))
 
