@@ -195,8 +195,7 @@ def _zone_points(lines: Sequence[shapely.LineString], regions: Sequence[shapely.
             return maximal_cells(*intervals(line, regions))
         return np.linspace(0.0, line.length, max(1, math.ceil(line.length / step_m)) + 1)
 
-    pts = [shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in cut]
-    pts += [shapely.get_coordinates(shapely.line_interpolate_point(line, 0.5, normalized=True))
-            for line in lines[len(cut):]]
-    pts = np.vstack(pts)
-    return np.unique(np.round(pts, 9), axis=0)
+    parts = [shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in cut]
+    parts += [shapely.get_coordinates(shapely.line_interpolate_point(line, 0.5, normalized=True))
+              for line in lines[len(cut):]]
+    return np.unique(np.round(np.vstack(parts), 9), axis=0)

@@ -43,7 +43,7 @@ def _pole(region: shapely.Geometry) -> tuple[float, float]:
     return float(p.x), float(p.y)
 
 
-def _stretch_poles(problem: CoverageProblem, unseen: Sequence[int], regions: dict[int, shapely.Geometry],
+def _stretch_poles(problem: CoverageProblem, unseen: Sequence[int] | np.ndarray, regions: dict[int, shapely.Geometry],
                    alone: bool) -> list[tuple[int, tuple[float, float]]]:
     """(owner piece, pole) for the unseen pieces with a region: each grouped with the nearest other unseen pieces
     of its zone-side whose regions still meet (``alone``: one pole per piece)."""

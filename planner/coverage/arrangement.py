@@ -68,7 +68,7 @@ def _weigh(points: NDArray, tree: shapely.STRtree, w: NDArray[np.float64], predi
         pi, ri = tree.query(points, predicate="dwithin", distance=TOUCH_M)
     else:
         pi, ri = tree.query(points, predicate=predicate)
-    return np.bincount(pi, weights=w[ri], minlength=len(points))
+    return np.asarray(np.bincount(pi, weights=w[ri], minlength=len(points)), dtype=np.float64)
 
 
 def _edge_points(lines: shapely.Geometry) -> tuple[NDArray, NDArray]:
