@@ -54,3 +54,35 @@ def test_a_subset_goes_and_equal_rows_keep_the_first() -> None:
     # row 3 is alone: kept
     a = sp.csr_matrix(np.array([[1, 1, 1, 0], [1, 1, 0, 0], [1, 1, 1, 0], [0, 0, 0, 1]], dtype=bool))
     assert dominated(a, np.ones(4)).tolist() == [False, True, True, False]
+
+
+@settings(max_examples=60, deadline=None, derandomize=True, database=None)
+@given(seed=st.integers(0, 2**31 - 1), copies=st.integers(1, 4))
+def test_overlap_links_among_distinct_rows_keep_the_connected_optimum(seed: int, copies: int) -> None:
+    # a ring of 10 pieces, arcs of 2-4 pieces at random starts, each drawn up to 4 times (identical rows, as a
+    # fine grid gives): the links are formed among one row per set of copies, and the connected optimum must
+    # equal the one with every link formed and no presolve
+    from planner.coverage.overlap import OverlapRule
+    from planner.solve.milp import MilpOptions, solve
+    from tests.solve.test_milp import instance
+
+    rng = np.random.default_rng(seed)
+    arcs = [{(s + j) % 10 for j in range(int(rng.integers(2, 5)))} for s in rng.integers(0, 10, 8)]
+    arcs += [{s, (s + 1) % 10} for s in range(10)]  # every piece coverable
+    cover = [c for c in arcs for _ in range(int(rng.integers(1, copies + 1)))]
+    inst = instance(cover, 10)
+    rule = OverlapRule(0.3)
+    fast = solve(inst, MilpOptions(overlap=rule, time_limit_s=20))
+    full = solve(inst, MilpOptions(overlap=rule, time_limit_s=20, presolve=False))
+    assert fast.status.value == full.status.value == "optimal"
+    assert fast.objective == full.objective
+
+
+def test_representatives_one_per_group_and_row() -> None:
+    from planner.solve.milp import representatives
+
+    # rows 0 and 2 equal (group 0): 0 stays; row 3 equals row 0 but in group 1: stays; row 1 alone
+    a = sp.csr_matrix(np.array([[1, 1, 0], [0, 1, 1], [1, 1, 0], [1, 1, 0]], dtype=bool))
+    assert representatives(a, np.ones(4), np.array([0, 0, 0, 1])).tolist() == [0, 1, 3]
+    # a cheaper copy is the representative
+    assert representatives(a, np.array([2.0, 1.0, 1.0, 1.0]), np.array([0, 0, 0, 1])).tolist() == [1, 2, 3]
