@@ -10,7 +10,8 @@ The estimate counts, from the site's geometry alone (no candidate, target or pai
   radius S_max (horizontal) in front of it, and never by more than the zone-side's candidates.
 
 Each count is priced at a per-item cost measured on the bundled instances (docs/startup.md); the
-largest single array (the meshgrid) is priced too, since it alone can exceed the memory.
+largest single array (the meshgrid) is priced too, since it alone can exceed the memory; and the process
+itself (``BASE_BYTES``). ``scripts/bench_memory.py`` sets the estimate beside the measured peak.
 """
 
 from __future__ import annotations
@@ -37,6 +38,10 @@ PAIR_BYTES = 200
 GRID_POINT_BYTES = 56
 #: closed-form, field-sample, corner-ray and bisector candidates allowed per wall
 CANDIDATES_PER_WALL = 40
+#: bytes of the process before any site is read: the interpreter with numpy, scipy, shapely, networkx and the
+#: solvers loaded (an 8 x 4 m room plans at 0.21 GiB peak, docs/benchmarks/certificates.md); without it the
+#: estimate of small runs was 3.6x under the peak (docs/benchmarks/memory.md)
+BASE_BYTES = 200 * 2**20
 #: share of the available memory a run may use when no limit is given
 DEFAULT_SHARE = 0.5
 
@@ -52,7 +57,7 @@ class WorkEstimate:
 
     @property
     def bytes(self) -> int:
-        return (self.targets * TARGET_BYTES + self.candidates * CANDIDATE_BYTES + self.pairs * PAIR_BYTES
+        return (BASE_BYTES + self.targets * TARGET_BYTES + self.candidates * CANDIDATE_BYTES + self.pairs * PAIR_BYTES
                 + self.grid_points * GRID_POINT_BYTES)
 
     def describe(self) -> str:
