@@ -60,13 +60,15 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     kept_rank: dict[int, int] = {}
     kept_by_piece: list[list[int]] = [[] for _ in range(n_t)]
     mark = np.zeros(n_t, dtype=bool)
+    near = np.zeros(n, dtype=np.int32)  # scratch: the overlap neighbours of the candidate under test
+    adj = None if adj is None else adj.astype(np.int32).tocsr()
     for rank, i in enumerate(order.tolist()):
         cols = a.indices[a.indptr[i]:a.indptr[i + 1]]
         if size[i] == 0:
             if adj is None or _no_bridge(adj, i, removed, kept_rank, cost, groups):
                 removed[i] = True  # covers nothing: dropped unless it may be the only link between others
                 continue
-        elif _replaced(a, i, cols, kept_by_piece, mark, cost, adj, groups):
+        elif _replaced(a, i, cols, kept_by_piece, mark, near, cost, adj, groups):
             removed[i] = True
             continue
         kept_rank[i] = rank
@@ -76,26 +78,33 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
 
 
 def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[list[int]], mark: np.ndarray,
-              cost: np.ndarray, adj: sp.csr_matrix | None, groups: Sequence[Hashable] | None) -> bool:
+              near: np.ndarray, cost: np.ndarray, adj: sp.csr_matrix | None, groups: Sequence[Hashable] | None) -> bool:
     """Whether a kept candidate, no dearer and of i's group (linked to all of i's links under ``adj``), sees
     every piece i sees."""
     lists = [kept_by_piece[t] for t in cols.tolist()]
-    shortest = min(lists, key=len)
-    if not shortest:
+    shortest = np.asarray(min(lists, key=len), dtype=np.int64)
+    if shortest.size == 0:
+        return False
+    shortest = shortest[cost[shortest] <= cost[i]]
+    if groups is not None:
+        shortest = shortest[[groups[j] == groups[i] for j in shortest.tolist()]]
+    if shortest.size == 0:
         return False
     mark[cols] = True
-    try:
-        for j in sorted(shortest):
-            if cost[j] > cost[i] or (groups is not None and groups[j] != groups[i]):
-                continue
-            if int(mark[a.indices[a.indptr[j]:a.indptr[j + 1]]].sum()) != cols.size:
-                continue
-            if adj is not None and not _links_cover(adj, i, j):
-                continue
-            return True
-        return False
+    try:  # how many of i's pieces each j sees, in one sparse product
+        seen = np.asarray(a[shortest].astype(np.int32) @ mark.astype(np.int32)).ravel()
     finally:
         mark[cols] = False
+    inside = shortest[seen == cols.size]
+    if adj is None or inside.size == 0:
+        return inside.size > 0
+    ni = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    near[ni] = 1  # j must be linked to every neighbour of i but itself: |N(j) & N(i)| = |N(i)| - [j in N(i)]
+    try:
+        shared = np.asarray(adj[inside] @ near).ravel()
+        return bool(np.any(shared == ni.size - near[inside]))
+    finally:
+        near[ni] = 0
 
 
 def _no_bridge(adj: sp.csr_matrix, i: int, removed: np.ndarray, kept: dict[int, int], cost: np.ndarray,
@@ -115,9 +124,10 @@ def _no_bridge(adj: sp.csr_matrix, i: int, removed: np.ndarray, kept: dict[int, 
 
 def _links_cover(adj: sp.csr_matrix, i: int, j: int) -> bool:
     """Every overlap neighbour of i (other than j) is a neighbour of j."""
-    ni = set(adj.indices[adj.indptr[i]:adj.indptr[i + 1]].tolist()) - {j}
-    nj = set(adj.indices[adj.indptr[j]:adj.indptr[j + 1]].tolist())
-    return ni <= nj
+    ni = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    ni = ni[ni != j]
+    nj = adj.indices[adj.indptr[j]:adj.indptr[j + 1]]
+    return ni.size <= nj.size and bool(np.isin(ni, nj).all())
 
 
 def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:
