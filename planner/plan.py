@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections import Counter
 from typing import Any
 from dataclasses import dataclass, field, replace
 
@@ -230,9 +231,7 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray, reasons: dict[int
     shown = "; ".join(f"{t.label(i)} at ({t.midpoint(i)[0]:.2f}, {t.midpoint(i)[1]:.2f}){why(i)}" for i in unseen[:5])
     more = f" and {len(unseen) - 5} more" if len(unseen) > 5 else ""
     if reasons:
-        counts: dict[str, int] = {}
-        for i in unseen:
-            counts[reasons.get(int(i), "not checked")] = counts.get(reasons.get(int(i), "not checked"), 0) + 1
+        counts = Counter(reasons.get(int(i), "not checked") for i in unseen)
         tally = "; ".join(f"{n} {r}" for r, n in counts.items())
         return InfeasibleError(f"{len(unseen)} target(s) seen from no position (coverage region empty): {shown}{more}"
                                f" [{tally}]")

@@ -25,6 +25,7 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.candidates.closed_form import SIDE_TAG
+from planner.candidates.from_regions import largest_part_pole
 from planner.candidates.model import Candidate, CandidateKind
 from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.targets import SIDE_CODE, Targets
@@ -63,7 +64,7 @@ def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
     for part in shapely.get_parts(area):
         if part.is_empty or part.area <= 0:
             continue
-        half = float(shapely.distance(_pole(part), part.boundary))
+        half = float(shapely.distance(largest_part_pole(part), part.boundary))
         seg = min(max(half / SAMPLES_PER_WIDTH, 1e-3), MAX_SAMPLE_STEP_M)
         seg = max(seg, part.boundary.length / MAX_BOUNDARY_SAMPLES)
         pts = shapely.get_coordinates(shapely.segmentize(part.boundary, seg))
@@ -76,12 +77,6 @@ def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
         merged = shapely.get_parts(shapely.line_merge(shapely.union_all(edges)))
         out += [g for g in shapely.simplify(merged, 1e-9) if g.length > 0]  # collinear vertices dropped
     return out
-
-
-def _pole(part: shapely.Geometry) -> shapely.Point:
-    from shapely.ops import polylabel
-
-    return polylabel(part, tolerance=max(1e-3 * math.sqrt(part.area), 1e-6))
 
 
 def intervals(line: shapely.LineString, regions: Sequence[shapely.Geometry]) -> tuple[NDArray, NDArray]:

@@ -15,9 +15,9 @@ from collections.abc import Sequence
 
 import numpy as np
 import shapely
-from shapely.ops import polylabel
 
 from planner.candidates.closed_form import SIDE_TAG
+from planner.candidates.from_regions import largest_part_pole
 from planner.candidates.model import Candidate, CandidateKind
 from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
 from planner.coverage.regions import (
@@ -38,8 +38,7 @@ TOO_THIN = "its coverage region is thinner than the coverage test's tolerance"
 
 
 def _pole(region: shapely.Geometry) -> tuple[float, float]:
-    part = max(shapely.get_parts(region), key=lambda g: g.area)
-    p = polylabel(part, tolerance=max(1e-3 * float(np.sqrt(part.area)), 1e-7))
+    p = largest_part_pole(region, min_tolerance_m=1e-7)
     return float(p.x), float(p.y)
 
 

@@ -47,6 +47,13 @@ def common_region(site: Site, targets: Targets, pieces: Sequence[int] | NDArray[
     return common if common is not None else shapely.Polygon()
 
 
+def largest_part_pole(region: shapely.Geometry, min_tolerance_m: float = 1e-6) -> shapely.Point:
+    """The pole of inaccessibility (the point farthest from the boundary) of the largest part of ``region``,
+    found to ``POLE_TOLERANCE`` of its size (at least ``min_tolerance_m``)."""
+    part = max(shapely.get_parts(region), key=lambda g: g.area)
+    return polylabel(part, tolerance=max(POLE_TOLERANCE * float(np.sqrt(part.area)), min_tolerance_m))
+
+
 def whole_side_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: dict[str, FrameSpace] | None = None,
                           cache: dict[int, shapely.Geometry] | None = None) -> list[Candidate]:
     """One candidate per zone-side that a single station can cover, at the pole of the common region."""
@@ -61,9 +68,7 @@ def whole_side_candidates(site: Site, targets: Targets, limits: SightLimits, spa
             common = common_region(site, targets, pieces, limits, spaces, cache)
             if common.is_empty or common.area <= 0:
                 continue
-            part = max(shapely.get_parts(common), key=lambda g: g.area)
-            size = float(np.sqrt(part.area))
-            p = polylabel(part, tolerance=max(POLE_TOLERANCE * size, 1e-6))
+            p = largest_part_pole(common)
             out.append(Candidate(f"{zone.id}-{SIDE_TAG[side]}-R", zone.id, side, zone.frame, float(p.x), float(p.y),
                                  CandidateKind.REGION))
     return out

@@ -59,7 +59,7 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     removed = np.zeros(n, dtype=bool)
     kept_rank: dict[int, int] = {}
     kept_by_piece: list[list[int]] = [[] for _ in range(n_t)]
-    mark = np.zeros(n_t, dtype=bool)
+    mark = np.zeros(n_t, dtype=np.int32)  # scratch: the pieces of the candidate under test
     near = np.zeros(n, dtype=np.int32)  # scratch: the overlap neighbours of the candidate under test
     adj = None if adj is None else adj.astype(np.int32).tocsr()
     for rank, i in enumerate(order.tolist()):
@@ -90,11 +90,11 @@ def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[li
         shortest = shortest[[groups[j] == groups[i] for j in shortest.tolist()]]
     if shortest.size == 0:
         return False
-    mark[cols] = True
+    mark[cols] = 1
     try:  # how many of i's pieces each j sees, in one sparse product
-        seen = np.asarray(a[shortest].astype(np.int32) @ mark.astype(np.int32)).ravel()
+        seen = np.asarray(a[shortest].astype(np.int32) @ mark).ravel()
     finally:
-        mark[cols] = False
+        mark[cols] = 0
     inside = shortest[seen == cols.size]
     if adj is None or inside.size == 0:
         return inside.size > 0
