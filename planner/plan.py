@@ -33,6 +33,7 @@ from planner.solve.instance import cover_instance
 from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.plane import price_plane, with_plane_bound
+from planner.solve.plane_ring import CONNECTED_TIME_S, connected_plane_bound, plan_counts, with_connected_plane_bound
 from planner.solve.result import SolveResult
 from planner.solve.tripod import TripodDisc, tripod_discs, tripod_heights_line
 from planner.validate import ValidationReport, validate_site
@@ -177,6 +178,9 @@ class Plan:
         plane_s = (f"{plane:g} over every position in the plane (cover LP priced over the coverage regions; "
                    f"{info.get('certificate', {}).get('assumes', 'pieces of the target spacing')})"
                    if plane is not None else "no plane bound (pricing off)")
+        conn = info.get("connected_plane_bound")
+        if conn is not None:
+            plane_s += f"; connected plans: {conn:g} over every position in the plane (ring walk over patches)"
         head = ("bound scope: plane (no plan from any positions in the plane has fewer stations)" if scope == "plane"
                 else "bound scope: pool (the plan is proven only over the candidate pool)" if r.status.value == "optimal"
                 else "bound scope: pool")
@@ -341,6 +345,13 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
             result = solve(inst, options.milp)
         if pricing_on:
             result = with_plane_bound(result, pricing)
+            if result.scope != "plane" and mode == "zone" and links is None and result.selected:
+                share = options.milp.rule.overlap if options.milp.rule else 0.0
+                cb = connected_plane_bound(site, problem, limits, share, np.asarray(pricing.duals),
+                                           plan_counts(problem, result.selected), cache=region_cache,
+                                           time_limit_s=min(CONNECTED_TIME_S, options.pricing_time_limit_s))
+                result = with_connected_plane_bound(result, cb)
+                log.append(cb.summary())
     elif options.combined and limits.precision is not None:
         from planner.solve.combined import combined_greedy
 

@@ -32,6 +32,9 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "gap": r.gap,
         "bound_scope": r.info.get("bound_scope", "pool" if r.bound is not None else None),
         "plane_bound": r.info.get("plane_bound"),
+        # every plan connected under the overlap rule, stations anywhere (zone registration; None: not formed)
+        "connected_plane_bound": r.info.get("connected_plane_bound"),
+        "connected_plane": r.info.get("connected_plane"),  # its parts per zone-side, patch side and time
         # the MILP's own bound, over the candidate pool; and what a plane bound assumes (None without pricing)
         "pool_bound": r.info.get("pool_bound", r.bound if r.method == "milp" else None),
         "certificate": r.info.get("certificate"),

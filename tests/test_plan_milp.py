@@ -112,9 +112,11 @@ def test_cli_milp_plan_json(tmp_path, capsys):
     assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "milp", "--out", str(out), "--recentre"]) == 0
     data = json.loads((out / "plan.json").read_text())
     # pricing only adds candidates to the pool of test_connected_plan_of_polygon_b (optimum 7 there), so the
-    # connected optimum over the priced pool is at most 7, and the plane bound (connectivity ignored) is below it
+    # connected optimum over the priced pool is at most 7, and the plane bound (connectivity ignored) is below it;
+    # the connected plane bound (1 inside + the outside ring walk over patches, 5) meets the plan: scope plane
     assert data["status"] == "optimal" and data["objective"] == data["bound"] <= 7 and data["gap"] == 0
-    assert data["bound_scope"] == "pool" and data["plane_bound"] <= data["objective"]
+    assert data["plane_bound"] == 5 < data["objective"] == data["connected_plane_bound"] == 6
+    assert data["bound_scope"] == "plane" and data["pool_bound"] == 6
     assert data["backend"] == "cpsat" and data["presolve"]["candidates_in"] > data["presolve"]["candidates_out"]
     assert data["registration"]["connected"] and all("tripod_radius_m" in s for s in data["stations"])
     # recentred stations stand at their disc centres and still verify

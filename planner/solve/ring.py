@@ -108,14 +108,15 @@ class RingGraph:
         self.anchors = min(seers, key=len)  # the arcs over the required piece fewest arcs hold
         self.q = int(q[min(range(len(seers)), key=lambda k: len(seers[k]))])
 
-    def walk(self, cost: NDArray[np.float64]) -> RingBound | None:
-        """The cheapest walk for node costs ``cost`` (>= 0), or None when no walk covers the ring."""
+    def walk(self, cost: NDArray[np.float64], limit: float = np.inf) -> RingBound | None:
+        """The cheapest walk for node costs ``cost`` (>= 0), or None when no walk covers the ring (with ``limit``:
+        none whose two branches from the anchor each cost at most ``limit``, the anchor not counted)."""
         self.graph.data = cost[self._head] + _EPS
         zero = int(np.flatnonzero(_LIFTS == 0)[0])
         src = zero * self.m + self.anchors
         # an anchor's copy must hold q itself: the copy at offset 0 or the one a turn back
         src = np.where((self.lo[src] <= self.q) & (self.hi[src] >= self.q), src, src - self.m)
-        dist, pred = dijkstra(self.graph, indices=src, return_predecessors=True)
+        dist, pred = dijkstra(self.graph, indices=src, return_predecessors=True, limit=limit)
         best, pick = np.inf, None
         size = _LIFTS.size * self.n + self.n  # lifted positions from -n to 3n + n
         base = -self.n

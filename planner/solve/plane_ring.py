@@ -1,0 +1,349 @@
+"""A bound for connected plans over every position in the plane: the ring walk over patches.
+
+The ring bound (:mod:`planner.solve.ring`) replaces each candidate's coverage by the smallest cyclic arc that
+holds it and finds the cheapest walk of linked arcs round a zone-side: a lower bound over the candidate pool.
+Here the candidates are replaced by *patches*, squares of side h that tile the plane, so that the bound
+holds for stations anywhere.
+
+**Relaxation.** For a patch P let U(P) be the pieces whose outer region O_t (grown by its tolerance) meets P,
+and l(P) the wall length of the pieces whose region R_t (shrunk by its tolerance) holds all of P. Every
+position p in P covers a set C(p) with C(p) within U(P), so within the smallest arc A(P) that holds U(P), and
+covers at least l(P) of wall. Two stations p, q may be registered when they share at least f min(L(p), L(q))
+of wall, f the overlap share (:class:`planner.coverage.overlap.OverlapRule`) and L their covered lengths;
+then |A(P) n A(Q)| >= |C(p) n C(q)| >= f min(l(P), l(Q)) and that shared length is > 0. So a relaxed link
+"arcs share more than 0 and at least f min(l(P), l(Q))" joins the patches of every registered pair, and a
+connected plan of k stations, each replaced by its patch, is a connected set of at most k patches whose arcs
+cover the zone-side. Its cheapest walk (the ring theorem) is therefore a lower bound on the number of
+stations of any connected plan, with stations anywhere. A patch m with A(m) holding A(p) and
+l(m) <= l(p) does everything p does (its links are a superset), so only such undominated patches are kept.
+
+**Sum over zone-sides.** In ``zone`` registration each zone-side is its own network. When no position can
+see pieces of two zone-sides (their grown outer regions do not meet, checked), the stations split by the
+zone-side they see, and the plan's count is at least the sum over zone-sides of the larger of the ring
+walk and the zone-side's share of Farley's bound (its duals over the heaviest weight of its own regions).
+
+The bound tightens as h shrinks (U(P) and l(P) tend to the coverage of a point): it is tried at three
+sides in turn (:func:`_patch_sides`) until it meets the plan or the time is up.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+import shapely
+from numpy.typing import NDArray
+
+from planner.coverage.arrangement import grown, outer_max_weight
+from planner.coverage.matrix import CoverageProblem
+from planner.coverage.regions import (
+    coverage_regions,
+    outer_tolerance_m,
+    region_tolerance_m,
+)
+from planner.coverage.visibility import SightLimits
+from planner.site.model import Site
+from planner.solve.result import SolveResult, Status
+from planner.solve.ring import ring_graph
+
+#: the first patch side gives about this many patches over the zone-side's box; then halved, twice
+FIRST_PATCHES = 20_000
+#: no patch side below this (m)
+MIN_PATCH_M = 0.02
+#: at most this many patch centres (the grid over a zone-side's grown regions) per zone-side and patch side; past it
+#: that side and the finer ones are skipped (Baalbek's outline at 0.5 m: 384,174 patches, 17,373 undominated, 110 s)
+MAX_PATCHES = 250_000
+#: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
+MAX_FAMILY = 6_000
+#: seconds the default plan gives the connected plane bound (checked before each zone-side and patch side)
+CONNECTED_TIME_S = 10.0
+#: segments per quarter circle of the shrunk regions; the shrink is divided by cos(pi / (4 * this))
+_ERODE_SEGS = 16
+
+
+@dataclass(frozen=True)
+class SideBound:
+    """One zone-side's share: Farley's part ``farley`` (real), the ring walk over patches ``ring`` (or None when
+    not formed), the patch side and the family size it was formed on."""
+
+    zone_side: str
+    farley: float
+    ring: int | None
+    patch_m: float | None
+    family: int
+
+    @property
+    def value(self) -> int:
+        return max(math.ceil(self.farley - 1e-6), self.ring or 0)
+
+
+@dataclass(frozen=True)
+class ConnectedPlaneBound:
+    """The connected plane bound: ``bound`` (None when not applicable, ``note`` says why), per zone-side parts."""
+
+    bound: int | None
+    sides: tuple[SideBound, ...] = field(default_factory=tuple)
+    time_s: float = 0.0
+    note: str = ""
+
+    def summary(self) -> str:
+        if self.bound is None:
+            return f"connected plane bound: {self.note}"
+        parts = ", ".join(f"{s.zone_side} {s.value}" + (f" (ring walk, {s.patch_m:g}-m patches)" if s.ring is not None
+                                                          and s.ring >= math.ceil(s.farley - 1e-6) else "")
+                          for s in self.sides)
+        return (f"connected plane bound: {self.bound} stations for any plan connected under the overlap rule, stations "
+                f"anywhere ({parts}; {self.time_s:.1f} s)")
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"bound": self.bound, "time_s": round(self.time_s, 3), "note": self.note,
+                "zone_sides": [{"zone_side": s.zone_side, "farley": round(s.farley, 6), "ring": s.ring,
+                                "patch_m": s.patch_m, "undominated_patches": s.family} for s in self.sides]}
+
+
+def cyclic_arcs(u: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Each non-empty row's smallest cyclic arc [start, end] over the n columns (end may pass n), leaving out
+    the row's widest gap (first widest on ties); rows must be non-empty. Vectorised :func:`ring.arcs`."""
+    u = u.tocsr()
+    u.sort_indices()
+    n = u.shape[1]
+    cols = u.indices.astype(np.int64)
+    first = u.indptr[:-1]
+    last = u.indptr[1:] - 1
+    nxt = np.empty_like(cols)
+    nxt[:-1] = cols[1:]
+    nxt[last] = cols[first] + n  # the wrap gap, from each row's last column to its first one turn on
+    gaps = nxt - cols
+    top = np.maximum.reduceat(gaps, first)
+    idx = np.arange(cols.size)
+    row = np.repeat(np.arange(u.shape[0]), np.diff(u.indptr))
+    k = np.minimum.reduceat(np.where(gaps == top[row], idx, cols.size), first)  # first widest gap per row
+    k_next = np.where(k == last, first, k + 1)
+    start = cols[k_next]
+    end = cols[k] + np.where(cols[k] < start, n, 0)
+    return start, end
+
+
+def _patch_sets(grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float
+                ) -> tuple[sp.csr_matrix, NDArray[np.float64]] | None:
+    """U (patches x pieces) and l (per patch) on the grid of side ``h`` over the grown regions' bounds; None past
+    ``MAX_PATCHES``. ``grow``/``shrink``: regions already grown / shrunk by the tolerance and half the diagonal."""
+    live = [k for k, g in enumerate(grow) if not g.is_empty]
+    if not live:
+        return None
+    box = np.array([shapely.bounds(grow[k]) for k in live])
+    x0, y0 = box[:, 0].min(), box[:, 1].min()
+    nx_, ny_ = math.ceil((box[:, 2].max() - x0) / h) + 1, math.ceil((box[:, 3].max() - y0) / h) + 1
+    if nx_ * ny_ > MAX_PATCHES:
+        return None
+    rows, cols = [], []
+    lsum = np.zeros(nx_ * ny_)
+    for k in live:
+        bx0, by0, bx1, by1 = shapely.bounds(grow[k])
+        i0, i1 = int((bx0 - x0) // h), math.ceil((bx1 - x0) / h)
+        j0, j1 = int((by0 - y0) // h), math.ceil((by1 - y0) / h)
+        gi, gj = np.meshgrid(np.arange(i0, min(i1, nx_ - 1) + 1), np.arange(j0, min(j1, ny_ - 1) + 1), indexing="ij")
+        ii, jj = gi.ravel(), gj.ravel()
+        cx, cy = x0 + (ii + 0.5) * h, y0 + (jj + 0.5) * h
+        inside = shapely.contains_xy(grow[k], cx, cy)
+        cell = ii[inside] * ny_ + jj[inside]
+        rows.append(cell)
+        cols.append(np.full(cell.size, k, dtype=np.int64))
+        if not shrink[k].is_empty:
+            whole = shapely.contains_xy(shrink[k], cx[inside], cy[inside])
+            lsum[cell[whole]] += lengths[k]
+    r, c = np.concatenate(rows), np.concatenate(cols)
+    u = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(nx_ * ny_, len(grow)))
+    keep = np.flatnonzero(u.getnnz(axis=1))
+    return u[keep].tocsr(), lsum[keep]
+
+
+def _undominated(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], n: int
+                 ) -> NDArray[np.int64]:
+    """Indices of (start, span, low) triples no other holds: m holds p when m's arc holds p's on the ring and
+    low[m] <= low[p] (of equal triples the first is kept). O(n^2) over a table of the arcs of the ring: the
+    least ``low`` of every arc, with each arc also one turn back, minimised over starts <= s and ends >= e."""
+    full = span >= n - 1
+    start, span = np.where(full, 0, start), np.minimum(span, n - 1)  # one name for the whole ring
+    table = np.full((2 * n + 1, 3 * n + 1), np.inf)  # [s + n, e + n]: arcs with start s in [-n, n), end e
+    end = start + span
+    np.minimum.at(table, (start + n, end + n), low)
+    np.minimum.at(table, (start, end), low)  # the copy one turn back
+    incl = np.minimum.accumulate(table[:, ::-1], axis=1)[:, ::-1]  # min over e' >= e
+    incl = np.minimum.accumulate(incl, axis=0)  # ... and s' <= s
+    s, e = start + n, end + n
+    strict = np.minimum(incl[s - 1, e], incl[s, e + 1])  # another arc holding this one
+    best = table[s, e]  # the least low of the same arc
+    full_low = low[full].min() if full.any() else np.inf
+    order = np.lexsort((np.arange(start.size), low, span, start))
+    first = np.ones(start.size, dtype=bool)  # the first of each (start, span) with that arc's least low
+    ss, sp_ = start[order], span[order]
+    first[order[1:]] = (ss[1:] != ss[:-1]) | (sp_[1:] != sp_[:-1])
+    keep = first & (low <= best) & (strict > low) & ((low < full_low) | full)
+    return np.flatnonzero(keep)
+
+
+def _arc_links(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], cum: NDArray[np.float64],
+               n: int, share: float) -> sp.csr_matrix:
+    """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring).
+    ``cum``: prefix sums of the piece lengths over three turns (cum[0] = 0)."""
+    end = start + span + 1  # exclusive
+    rows, cols = [], []
+    for lo in range(0, start.size, 512):
+        s, e = start[lo:lo + 512, None], end[lo:lo + 512, None]
+        shared = np.zeros((s.shape[0], start.size))
+        for shift in (-n, 0, n):
+            a = np.maximum(s, start[None, :] + shift)
+            b = np.minimum(e, end[None, :] + shift)
+            ok = b > a
+            a, b = np.clip(a, 0, 3 * n), np.clip(b, 0, 3 * n)
+            shared += np.where(ok, cum[np.maximum(b, a)] - cum[a], 0.0)
+        need = share * np.minimum(low[lo:lo + 512, None], low[None, :])
+        link = (shared > 1e-12) & (shared + 1e-9 >= need)
+        link[np.arange(s.shape[0]), np.arange(lo, lo + s.shape[0])] = False
+        r, c = np.nonzero(link)
+        rows.append(r + lo)
+        cols.append(c)
+    r, c = np.concatenate(rows), np.concatenate(cols)
+    return sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(start.size, start.size))
+
+
+def side_ring_bound(outer: list[Any], inner: list[Any], lengths: NDArray[np.float64], required: NDArray[np.bool_],
+                    share: float, h: float, grow_m: float, shrink_m: float, target: int) -> tuple[int | None, int]:
+    """The ring walk over the undominated patches of side ``h`` of one zone-side (pieces in their cyclic order),
+    searched only as far as it can stay under ``target``: (the walk's cost, or ``target`` when no walk is cheaper;
+    None when not formed; the family size). ``outer``/``inner``: the pieces' O_t and R_t as drawn;
+    ``grow_m``/``shrink_m``: their tolerances (half the patch diagonal is added to both)."""
+    half = h * math.sqrt(0.5)
+    grow = grown(outer, grow_m + half)
+    d = (shrink_m + half) / math.cos(math.pi / (4 * _ERODE_SEGS))
+    shrink = list(shapely.buffer(np.asarray(inner, dtype=object), -d, quad_segs=_ERODE_SEGS))
+    sets = _patch_sets(grow, shrink, lengths, h)
+    if sets is None:
+        return None, 0
+    u, low = sets
+    n = u.shape[1]
+    start, end = cyclic_arcs(u)
+    fam = _undominated(start, end - start, low, n)
+    if fam.size > MAX_FAMILY:
+        return None, int(fam.size)
+    s, sp_, lw = start[fam], (end - start)[fam], low[fam]
+    cum = np.concatenate([[0.0], np.cumsum(np.tile(lengths, 3))])
+    adj = _arc_links(s, sp_, lw, cum, n, share)
+    adj = (adj + adj.T).astype(bool).tocsr()
+    r = np.repeat(np.arange(fam.size), sp_ + 1)
+    c = (np.concatenate([np.arange(a, a + k + 1) for a, k in zip(s, sp_)]) % n) if fam.size else np.zeros(0, int)
+    cover = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(fam.size, n))
+    graph = ring_graph(cover, required, adj)
+    if graph is None:
+        return None, int(fam.size)
+    # a walk of fewer than target stations has both branches from its anchor at most target - 2 long
+    walk = graph.walk(np.ones(fam.size), limit=target - 1.5)
+    return (target if walk is None else min(target, round(walk.bound))), int(fam.size)
+
+
+def connected_plane_bound(site: Site, problem: CoverageProblem, limits: SightLimits, share: float,
+                          duals: NDArray[np.float64], counts: dict[int, int], *, time_limit_s: float = 30.0,
+                          cache: dict[int, Any] | None = None) -> ConnectedPlaneBound:
+    """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's
+    stations per zone-side (key ``2 zone + side``); each zone-side's ring walk is tried over the patch sides in
+    turn until it reaches that count or ``time_limit_s`` passes."""
+    t0 = time.perf_counter()
+    t = problem.targets
+    key = t.zone.astype(np.int64) * 2 + t.side
+    seen = problem.by_target.getnnz(axis=1) > 0
+    cache = {} if cache is None else cache
+    keys = [int(k) for k in np.unique(key[seen])]
+    pieces_all = [np.flatnonzero(key == k) for k in keys]
+    every = [int(p) for ps in pieces_all for p in ps]
+    cache.update(coverage_regions(site, t, limits, [p for p in every if p not in cache], {}))
+    outer = coverage_regions(site, t, limits, every, {}, outer=True)
+    grow_m = outer_tolerance_m(limits)
+    shrink_m = region_tolerance_m(limits, site.parameters.min_standoff_m)
+    clash = _sides_meet(t, pieces_all, outer, grow_m)
+    if clash:
+        return ConnectedPlaneBound(None, (), time.perf_counter() - t0, clash)
+    lengths_all = t.s1_m - t.s0_m
+    sides = []
+    for k, pieces in zip(keys, pieces_all):
+        o, r = [outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]
+        y = duals[pieces]
+        pos = np.flatnonzero(y > 1e-9)
+        w = outer_max_weight([o[j] for j in pos], y[pos], grow_m) if pos.size else 0.0
+        side = SideBound(_name(t, pieces[0]), float(y.sum()) / max(1.0, w), None, None, 0)
+        for h in _patch_sides(o) if share > 0 else ():
+            if side.value >= counts.get(k, 0) or time.perf_counter() - t0 > time_limit_s:
+                break
+            ring, fam = side_ring_bound(o, r, lengths_all[pieces], seen[pieces], share, h, grow_m, shrink_m,
+                                        counts.get(k, 0))
+            if ring is None:
+                break  # too many patches or undominated ones, or arcs that do not chain: finer sides only add
+            if ring > (side.ring or 0):
+                side = SideBound(side.zone_side, side.farley, ring, h, fam)
+        sides.append(side)
+    return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)
+
+
+def _patch_sides(outer: list[Any]) -> tuple[float, ...]:
+    """The patch sides to try on a zone-side: about ``FIRST_PATCHES`` over its regions' box, then halved twice
+    (polygon B's outside, 96-m reach: 2.1, 1.0, 0.5 m; a 5-m block at 12-m reach: 0.2, 0.1, 0.05 m)."""
+    live = [g for g in outer if not g.is_empty]
+    if not live:
+        return ()
+    b = np.array([shapely.bounds(g) for g in live])
+    area = (b[:, 2].max() - b[:, 0].min()) * (b[:, 3].max() - b[:, 1].min())
+    h0 = max(math.sqrt(area / FIRST_PATCHES), MIN_PATCH_M)
+    return (h0, h0 / 2, h0 / 4)
+
+
+def _name(t: Any, piece: int) -> str:
+    return f"{t.zone_ids[int(t.zone[piece])]}/{'inside' if t.side[piece] == 0 else 'outside'}"
+
+
+def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, Any], grow_m: float) -> str:
+    """Why the zone-sides cannot be summed ('' when they can): two of one frame whose grown outer regions meet
+    (a position there could serve both)."""
+    unions: dict[int, list[tuple[str, Any]]] = {}
+    for pieces in pieces_all:
+        geoms = [g for g in grown([outer[int(p)] for p in pieces], grow_m) if not g.is_empty]
+        name = _name(t, pieces[0])
+        unions.setdefault(int(t.frame[pieces[0]]), []).append((name, shapely.union_all(np.asarray(geoms, dtype=object))))
+    for items in unions.values():
+        for i in range(len(items)):
+            for j in range(i + 1, len(items)):
+                if items[i][1].intersects(items[j][1]):
+                    return (f"not formed: {items[i][0]} and {items[j][0]} can be seen from one position "
+                            "(their outer coverage regions meet)")
+    return ""
+
+
+def with_connected_plane_bound(result: SolveResult, cb: ConnectedPlaneBound) -> SolveResult:
+    """``result`` with ``info['connected_plane_bound']`` (None where not formed) and its parts; the scope becomes
+    ``plane`` (and the bound the plan's count) when the plan meets it."""
+    info = dict(result.info)
+    info["connected_plane_bound"] = cb.bound
+    info["connected_plane"] = cb.to_dict()
+    cert = dict(info.get("certificate") or {})
+    cert["connected_plane_bound_from"] = (
+        "per zone-side, the larger of its share of Farley's bound and the ring walk over undominated patches "
+        "(planner.solve.plane_ring): every connected plan under the overlap rule, stations anywhere")
+    info["certificate"] = cert
+    if cb.bound is not None and result.objective is not None and result.objective <= cb.bound + 1e-9:
+        info["bound_scope"] = "plane"
+        return replace(result, status=Status.OPTIMAL, bound=float(cb.bound), info=info)
+    return replace(result, info=info)
+
+
+def plan_counts(problem: CoverageProblem, selected: tuple[int, ...]) -> dict[int, int]:
+    """The plan's stations per zone-side, keyed ``2 zone + side`` as the targets are."""
+    t = problem.targets
+    out: dict[int, int] = {}
+    for i in selected:
+        c = problem.candidates[i]
+        k = 2 * t.zone_ids.index(c.zone) + (0 if c.side.value == "inside" else 1)
+        out[k] = out.get(k, 0) + 1
+    return out
