@@ -148,13 +148,18 @@ def cmd_plan(args: argparse.Namespace) -> int:
     formats = parse_exports(args.export)
     if formats and not args.out:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
-    for flag, folder in (("--out", args.out), ("--report", args.report)):
+    for flag, folder in (("--out", args.out), ("--report", args.report), ("--field", args.field)):
         _usable_folder(flag, folder)  # before the planning, not after it
     if args.monte_carlo and not (args.network or args.report):
         raise UsageError("Monte Carlo runs are part of the network check; give --network", field="--monte-carlo",
                          value=args.monte_carlo)
     # the network's option values and files, read before the planning (the report runs the network too)
     inputs = _network_inputs(args) if args.network or args.report else None
+    field_options = None
+    if args.field:  # the sheet's option values, checked before the planning too
+        from planner.cli_field import field_options as _field_options
+
+        field_options = _field_options(args, "field-")
     site = load_with_overrides(args)
     _guard_memory(site, args)
     from planner.outcome import outcome_from_plan
@@ -172,11 +177,15 @@ def cmd_plan(args: argparse.Namespace) -> int:
     network = None
     if inputs is not None:
         network = _network(site, list(plan.stations), args, inputs, show=args.network)
+    if field_options is not None:
+        from planner.cli_field import write_field
+
+        write_field(site, plan.stations, field_options, args.field)
     if formats or args.report:
         outcome = outcome_from_plan(plan, network, compare_methods(site, options, plan) if args.report else ())
         write_exports(outcome, formats, args.out, args.crs)
         if args.report:
-            print(f"wrote {write_report(outcome, args.report)}")
+            print(f"wrote {write_report(outcome, args.report, field=args.field)}")
     return ExitCode.OK
 
 

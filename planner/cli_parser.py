@@ -12,6 +12,7 @@ from collections.abc import Callable, Mapping
 
 from planner import __version__
 from planner.cli_choices import BACKENDS, CONNECTIVITY, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
+from planner.cli_field import add_field_options, add_field_parser
 from planner.cli_report import add_report_parser
 from planner.cli_tiles import add_tile_options
 from planner.cli_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT, SAMPLING_M, OncePerKey
@@ -168,6 +169,9 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     pl.add_argument("--export", metavar="LIST", help="also write into --out: dxf (plan.dxf), geojson (plan.geojson), "
                     "csv (stations.csv), comma-separated")
     pl.add_argument("--report", metavar="DIR", help="write DIR/report.html (figures embedded; runs the network check)")
+    pl.add_argument("--field", metavar="DIR", help="write the field sheet into DIR (field.html/.csv/.geojson/.json: "
+                    "visiting order, walking route, field time, targets; see planner field)")
+    add_field_options(pl, "field-")
     _add_pool_options(pl)
     pl.add_argument("--verify-spacing", type=SAMPLING_M, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
     _add_limit_options(pl)
@@ -204,6 +208,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
                          "or openings given)")
     nw.set_defaults(func=handlers["network"])
     add_report_parser(sub)
+    add_field_parser(sub)
     _add_assemble_parser(sub, handlers)
     i = sub.add_parser("instruments", help="list the instrument models in models/")
     i.set_defaults(func=handlers["instruments"])

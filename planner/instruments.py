@@ -17,6 +17,7 @@ from typing import Any
 
 from planner.accuracy import RangeAngleSigma
 from planner.errors import InputError
+from planner.field.properties import FieldProperties, field_from_mapping
 
 
 @dataclass(frozen=True)
@@ -34,6 +35,8 @@ class Scanner(RangeAngleSigma):
     max_range_m: float | None = None
     max_slant_range_m: float | None = None
     modelling_sigma_m: float = 0.0
+    #: setup and scan times, walking speed, target limits (the model's ``[field]`` table; None: the defaults)
+    field_properties: FieldProperties | None = None
 
     def __post_init__(self) -> None:
         _check_positive(self, ("range_sigma_const_m", "range_sigma_ppm", "angle_sigma_arcsec", "modelling_sigma_m"), True)
@@ -154,8 +157,11 @@ def instrument_from_mapping(data: dict[str, Any], default_name: str = "") -> Ins
     for key, raw in data.items():
         if key in ("kind", "name"):
             continue
+        if key == "field" and kind == "scanner":
+            values["field_properties"] = field_from_mapping(raw)
+            continue
         target, scale = _unit_key(key)
-        if target not in wanted:
+        if target not in wanted or target == "field_properties":
             raise InputError(f"unknown key for a {kind}", field=key, value=raw)
         if target in values:
             raise InputError("given twice (in two units)", field=key, value=raw)

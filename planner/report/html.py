@@ -11,6 +11,7 @@ from __future__ import annotations
 import base64
 import html
 import math
+import os
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
@@ -143,8 +144,8 @@ def _verification(o: Outcome) -> str:
     return head + table(("zone", "side", "covered", "points", "%"), rows, left=2) + (f"<ul>{gaps}{mis}</ul>" if gaps or mis else "")
 
 
-def render_report(o: Outcome) -> str:
-    """The report as one HTML string."""
+def render_report(o: Outcome, field: str | None = None) -> str:
+    """The report as one HTML string; ``field``: the address of the plan's field sheet (field.html) to link."""
     argument(o, Outcome, "outcome")
     figs = "".join(_img(png_bytes(f), f"plan {name}: coverage count and best incidence") for name, f in plan_figures(o))
     if o.network is not None:
@@ -156,6 +157,8 @@ def render_report(o: Outcome) -> str:
             + (f", bound {_bound_cell(m)}" if isinstance(m.get("bound"), (int, float)) else "")
             + f"); {o.coverage.percent_length:.3f} % of wall length covered on "
             f"{_e(m.get('parameters', {}).get('target_spacing_m', 1.0))} m pieces. tls-planner {__version__}.</p>",
+            *([(f'<p>Field sheet (visiting order, walking route, field time, targets): <a href="{_e(field)}">'
+                f"{_e(field)}</a>.</p>")] if field else []),
             "<h2>Inputs and parameters</h2>", _parameters(o), "<h2>Zones and closure</h2>", _closure(o),
             "<h2>Stations</h2>", _stations(o), "<h2>Comparison of methods</h2>", _comparison(o),
             "<h2>Plans</h2>", figs, "<h2>Network and accuracy check</h2>", _network(o),
@@ -164,11 +167,16 @@ def render_report(o: Outcome) -> str:
             f"<style>{CSS}</style><script>{SCRIPT}</script></head><body>{''.join(body)}</body></html>\n")
 
 
-def write_report(o: Outcome, folder: Path | str) -> Path:
-    """Write ``folder/report.html`` and return its path."""
+def write_report(o: Outcome, folder: Path | str, field: Path | str | None = None) -> Path:
+    """Write ``folder/report.html`` and return its path. It links the field sheet ``field`` (a folder holding
+    field.html), or ``folder/field.html`` where one was written before."""
     argument(o, Outcome, "outcome")
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "report.html"
-    path.write_text(render_report(o))
+    sheet = Path(field) / "field.html" if field else out / "field.html"
+    link = None
+    if sheet.is_file():
+        link = os.path.relpath(sheet.resolve(), out.resolve()).replace(os.sep, "/")
+    path.write_text(render_report(o, link))
     return path

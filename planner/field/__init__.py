@@ -1,0 +1,10 @@
+"""The field sheet of a plan (issue 35): walking distances inside the accessible area, the visiting order
+(shortest or registration order) with a lower bound, the field time, registration targets, and the sheet
+(field.html, field.csv, field.geojson, field.json).
+
+Modules: :mod:`~planner.field.properties` (an instrument's field properties), :mod:`~planner.field.walking`
+(walkable area, visibility graph, walking distances), :mod:`~planner.field.order` (OR-Tools routing),
+:mod:`~planner.field.bound` (Held-Karp 1-tree bound, exact DP), :mod:`~planner.field.timing` (field time,
+sessions), :mod:`~planner.field.targets` (registration targets), :mod:`~planner.field.sheet` (the files).
+This package file imports nothing, so :mod:`planner.instruments` can read field properties cheaply.
+"""

@@ -1,0 +1,106 @@
+"""An instrument's field properties: setup time, scan time per setting, walking speed, target limits.
+
+They are read from the ``[field]`` table of a model file in ``models/`` (:mod:`planner.instruments`);
+each model file names the source of every default in a comment. A model without the table gets
+:data:`DEFAULT_FIELD`, whose values are stated assumptions, not measurements (docs/field.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from planner.errors import InputError
+
+#: keys of a ``[field]`` table besides ``scan_time_s``
+_NUMBERS = ("setup_time_s", "walking_speed_m_s", "target_scan_time_s", "target_range_m", "target_incidence_deg")
+
+
+@dataclass(frozen=True)
+class FieldProperties:
+    """What a crew needs to time a plan with one instrument.
+
+    Parameters
+    ----------
+    setup_time_s
+        Setting up, levelling and taking down the scanner at one station (s).
+    walking_speed_m_s
+        Walking speed carrying the scanner on its tripod (m/s).
+    scan_times_s
+        ``(setting, seconds)`` pairs: the duration of one full scan at each quality/resolution setting.
+    default_setting
+        The setting used when none is asked for; one of ``scan_times_s``.
+    target_scan_time_s
+        Extra time per registration target a station scans (fine scan of the target, s).
+    target_range_m
+        Farthest a target (sphere or checkerboard) is measured reliably from (m).
+    target_incidence_deg
+        Largest incidence angle at which a flat (checkerboard) target is measured (deg).
+    """
+
+    setup_time_s: float = 180.0
+    walking_speed_m_s: float = 0.8
+    scan_times_s: tuple[tuple[str, float], ...] = (("default", 300.0),)
+    default_setting: str = "default"
+    target_scan_time_s: float = 30.0
+    target_range_m: float = 25.0
+    target_incidence_deg: float = 45.0
+    source: str = field(default="planner assumptions (docs/field.md)", compare=False)
+
+    def __post_init__(self) -> None:
+        for name in _NUMBERS:
+            value = getattr(self, name)
+            zero_ok = name in ("setup_time_s", "target_scan_time_s")
+            if (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)
+                    or value < 0 or (value == 0 and not zero_ok)):
+                raise InputError(f"must be a finite number {'>= 0' if zero_ok else '> 0'}", field=f"field.{name}",
+                                 value=value)
+        if not self.target_incidence_deg < 90:
+            raise InputError("must be below 90 deg", field="field.target_incidence_deg", value=self.target_incidence_deg)
+        if not self.scan_times_s:
+            raise InputError("needs at least one setting", field="field.scan_time_s")
+        for name, secs in self.scan_times_s:
+            if isinstance(secs, bool) or not isinstance(secs, (int, float)) or not math.isfinite(secs) or secs <= 0:
+                raise InputError("must be a finite number of seconds > 0", field=f"field.scan_time_s.{name}", value=secs)
+        if self.default_setting not in self.settings:
+            raise InputError(f"is not a setting of scan_time_s (known: {', '.join(self.settings)})",
+                             field="field.default_setting", value=self.default_setting)
+
+    @property
+    def settings(self) -> tuple[str, ...]:
+        """The names of the scan settings, in file order."""
+        return tuple(name for name, _ in self.scan_times_s)
+
+    def scan_time_s(self, setting: str | None = None) -> float:
+        """Seconds of one scan at ``setting`` (None: the default setting)."""
+        name = self.default_setting if setting is None else setting
+        for key, secs in self.scan_times_s:
+            if key == name:
+                return float(secs)
+        raise InputError(f"unknown scan setting (known: {', '.join(self.settings)})", field="--setting", value=name)
+
+
+DEFAULT_FIELD = FieldProperties()
+
+
+def field_from_mapping(data: Any) -> FieldProperties:
+    """A :class:`FieldProperties` from the ``[field]`` table of a model file (unknown keys refused)."""
+    if not isinstance(data, dict):
+        raise InputError("must be a table", field="field", value=data)
+    values: dict[str, Any] = {}
+    for key, raw in data.items():
+        if key == "scan_time_s":
+            if not isinstance(raw, dict):
+                raise InputError("must be a table of setting = seconds", field="field.scan_time_s", value=raw)
+            values["scan_times_s"] = tuple((str(k), float(v) if isinstance(v, int) and not isinstance(v, bool) else v)
+                                           for k, v in raw.items())
+        elif key in _NUMBERS:
+            values[key] = float(raw) if isinstance(raw, int) and not isinstance(raw, bool) else raw
+        elif key in ("default_setting", "source"):
+            values[key] = str(raw)
+        else:
+            raise InputError("unknown key of a [field] table", field=f"field.{key}", value=raw)
+    if "scan_times_s" in values and "default_setting" not in values:
+        values["default_setting"] = values["scan_times_s"][0][0] if values["scan_times_s"] else ""
+    return FieldProperties(**values)

@@ -1,0 +1,235 @@
+"""The field sheet's content for a plan: the start, the walking distances, the order with its lower bound,
+the registration targets and the field time (:func:`field_plan`); :mod:`planner.field.sheet` writes it.
+
+Errors (one line each): a station that does not stand where its zone and side say, or stands in no
+walkable place, is a plan that does not match the site (:class:`~planner.errors.InputError`, exit 3); a
+``--start`` that names no station and no point of the walkable area is a usage error (exit 2); a station
+that cannot be reached on foot from the start is an infeasible route (exit 4), named with its zone and
+accessible area.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import networkx as nx
+import numpy as np
+import shapely
+
+from planner.candidates.model import Candidate
+from planner.errors import InfeasibleError, InputError, UsageError
+from planner.field.bound import EXACT_MAX_NODES, exact_order, held_karp_bound
+from planner.field.order import (
+    MODES,
+    SOLUTION_LIMIT,
+    TIME_CAP_S,
+    registration_violations,
+    solve_order,
+)
+from planner.field.properties import DEFAULT_FIELD, FieldProperties
+from planner.field.targets import (
+    STRONG_OVERLAP,
+    Link,
+    Target,
+    coverage_of,
+    propose_targets,
+    relation,
+)
+from planner.field.timing import FieldTime, field_time
+from planner.field.walking import (
+    SNAP_M,
+    WalkGraph,
+    WalkSpace,
+    snap_distance,
+    walk_graph,
+    walk_space,
+)
+from planner.site.model import ScanSide, Site
+
+
+@dataclass(frozen=True)
+class FieldOptions:
+    """How the sheet is made: ``mode`` shortest|registration, ``start`` (a station id, ``x,y``, or None for
+    the station nearest the first door or control point), ``closed`` (back to the start), ``session_s``,
+    the scan ``setting`` (None: the instrument's default), ``strong_overlap`` and the routing limits."""
+
+    mode: str = "shortest"
+    start: str | None = None
+    closed: bool = False
+    session_s: float | None = None
+    setting: str | None = None
+    strong_overlap: float = STRONG_OVERLAP
+    solution_limit: int = SOLUTION_LIMIT
+    time_cap_s: float = TIME_CAP_S
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise UsageError(f"unknown order mode (known: {', '.join(MODES)})", field="--mode", value=self.mode)
+        if not (0.0 <= self.strong_overlap <= 1.0):
+            raise UsageError("must be a fraction in [0, 1]", field="--strong-overlap", value=self.strong_overlap)
+        if self.session_s is not None and not (math.isfinite(self.session_s) and self.session_s > 0):
+            raise UsageError("must be a duration > 0", field="--session", value=self.session_s)
+
+
+@dataclass(frozen=True, eq=False)
+class FieldPlan:
+    """Everything the sheet shows; ``order`` holds indices into ``stations`` in visiting order."""
+
+    site: Site
+    stations: tuple[Candidate, ...]
+    order: tuple[int, ...]
+    start_xy: tuple[float, float]
+    start_label: str
+    legs: tuple[tuple[tuple[float, float], ...], ...]  # leg k: the walk to the k-th station of the order
+    route_length_m: float
+    lower_bound_m: float
+    bound_method: str
+    nearest_neighbour_m: float
+    options: FieldOptions
+    time: FieldTime
+    links: tuple[Link, ...]
+    targets: tuple[Target, ...]
+    space: WalkSpace
+    instrument_height_m: float
+    capped: bool
+    registration_ok: bool
+    solve_s: float = field(default=0.0)
+
+    @property
+    def gap(self) -> float:
+        """(route - bound) / route, 0 for an empty route."""
+        r = self.route_length_m
+        return max(0.0, (r - self.lower_bound_m) / r) if r > 0 else 0.0
+
+    def targets_of(self, station_id: str) -> list[str]:
+        return [t.id for t in self.targets if station_id in t.seen_by]
+
+
+def _check_stands(site: Site, stations: Sequence[Candidate], space: WalkSpace, plan_file: str | None) -> None:
+    zones = {z.id: z for z in site.zones}
+    for k, s in enumerate(stations, 1):
+        where = {"file": plan_file, "row": f"stations[{k}]", "field": "station", "value": s.id}
+        zone = zones[s.zone]
+        inside = zone.polygon.buffer(1e-6).covers(shapely.Point(s.xy))
+        if s.side is ScanSide.INSIDE and not inside:
+            raise InputError(f"stands outside zone {s.zone}, which it scans from inside: the plan does not match the "
+                             f"site", **where)  # type: ignore[arg-type]
+        if s.side is ScanSide.OUTSIDE and zone.polygon.buffer(-1e-6).contains(shapely.Point(s.xy)):
+            raise InputError(f"stands inside zone {s.zone}, which it scans from outside: the plan does not match the "
+                             f"site", **where)  # type: ignore[arg-type]
+        off = snap_distance(space, s.xy)
+        if off > SNAP_M:
+            raise InputError(f"stands {off:.2f} m from any walkable place (in an obstacle, a no-go area, a wall or "
+                             f"outside the site boundary): the plan does not match the site", **where)  # type: ignore[arg-type]
+
+
+def _area_name(site: Site, s: Candidate) -> str:
+    from planner.coverage.openings import accessible_areas, space_of
+
+    area = accessible_areas(site).get(space_of(site.zone(s.zone), s.side))
+    return f"zone {s.zone} ({s.side.value}), accessible area {area}"
+
+
+def _start(site: Site, stations: Sequence[Candidate], space: WalkSpace, start: str | None
+           ) -> tuple[int | None, tuple[float, float], str]:
+    """(station index or None, start point, label)."""
+    ids = [s.id for s in stations]
+    if start is not None:
+        if start in ids:
+            k = ids.index(start)
+            return k, stations[k].xy, f"station {start}"
+        try:
+            x, y = (float(v) for v in start.split(","))
+        except ValueError:
+            raise UsageError("names no station of the plan and is no point x,y", field="--start", value=start) from None
+        if not (math.isfinite(x) and math.isfinite(y)) or snap_distance(space, (x, y)) > SNAP_M:
+            raise UsageError("lies outside the walkable area of the site (outside the boundary, in a wall, an obstacle "
+                             "or a no-go area)", field="--start", value=start)
+        return None, (x, y), f"point {x:g}, {y:g}"
+    from planner.coverage.openings import PASSABLE, opening_segments
+
+    doors = [(op, ends) for op, ends in ((z, e) for _zi, z, kind, e in opening_segments(site, space.frame)
+                                         if kind in PASSABLE)]
+    anchor: tuple[tuple[float, float], str] | None = None
+    if doors:
+        mid = doors[0][1].mean(axis=0)
+        anchor = ((float(mid[0]), float(mid[1])), "the first door")
+    elif any(c.frame == space.frame for c in site.control_points):
+        c = next(c for c in site.control_points if c.frame == space.frame)
+        anchor = ((c.x, c.y), f"control point {c.name}")
+    if anchor is None:
+        return 0, stations[0].xy, f"station {ids[0]} (the plan's first)"
+    g = walk_graph(space, [*(s.xy for s in stations), anchor[0]])
+    k = int(np.argmin(g.dist[-1, :-1]))
+    return k, stations[k].xy, f"station {ids[k]} (nearest {anchor[1]})"
+
+
+def field_plan(site: Site, stations: Sequence[Candidate], options: FieldOptions = FieldOptions(),
+               props: FieldProperties | None = None, plan_file: str | None = None) -> FieldPlan:
+    """Order, route, bound, targets and field time of a plan's ``stations`` on ``site`` (see the module text)."""
+    t0 = time.perf_counter()
+    st = tuple(stations)
+    if not st:
+        raise InputError("the plan has no stations: there is nothing to visit", file=plan_file, field="stations", value=0)
+    frame = st[0].frame
+    for s in st:
+        if s.frame != frame:
+            raise InfeasibleError(f"stands in frame {s.frame!r}, station {st[0].id} in {frame!r}: zones in separate "
+                                  f"frames cannot be walked between (place them with planner assemble)",
+                                  file=plan_file, field="station", value=s.id)
+    space = walk_space(site, frame, [s.xy for s in st])
+    _check_stands(site, st, space, plan_file)
+    first, start_xy, label = _start(site, st, space, options.start)
+    # nodes: the start first (a station or a point), then the other stations
+    rest = [k for k in range(len(st)) if k != first]
+    node_station = ([first] if first is not None else [-1]) + rest
+    g = walk_graph(space, [start_xy if k < 0 else st[k].xy for k in node_station])
+    _check_reach(site, st, g, node_station, label, plan_file)
+    problem = coverage_of(site, st)
+    rel = relation(site, st, problem)
+    nbrs = [set() if k < 0 else {node_station.index(u) for u in rel.neighbors(k)} for k in node_station]
+    comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
+    parts = [-1 if k < 0 else comp[k] for k in node_station]
+    d = g.dist
+    result = solve_order(d, options.mode, nbrs, parts, first is not None, options.closed, options.solution_limit,
+                         options.time_cap_s)
+    if len(d) <= EXACT_MAX_NODES:
+        bound, method = exact_order(d, options.closed)[0], "exact (Held-Karp dynamic programme)"
+    else:
+        bound, method = held_karp_bound(d, result.length_m, options.closed), "Held-Karp 1-tree, subgradient ascent"
+    bound = min(bound, result.length_m)
+    ok = not registration_violations(result.order, nbrs, parts, first is not None)
+    order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
+    path_nodes = list(result.order) + ([0] if options.closed else [])
+    legs = tuple(tuple(g.path(a, b)) for a, b in itertools.pairwise(path_nodes))
+    if first is not None:
+        legs = ((st[first].xy,),) + legs  # the first station: no walk to it
+    props = props or _properties(site)
+    links, targets = propose_targets(site, st, space, props, order if options.mode == "registration" else None,
+                                     options.strong_overlap, problem)
+    walks = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[:len(order)]]
+    counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
+    ft = field_time([st[k].id for k in order], walks, counts, props, options.setting, options.session_s)
+    return FieldPlan(site, st, order, start_xy, label, legs, result.length_m, bound, method, result.nearest_neighbour_m,
+                     options, ft, tuple(links), tuple(targets), space, site.parameters.instrument_height_m,
+                     result.capped, ok, time.perf_counter() - t0)
+
+
+def _check_reach(site: Site, st: Sequence[Candidate], g: WalkGraph, node_station: list[int], label: str,
+                 plan_file: str | None) -> None:
+    for n, k in enumerate(node_station):
+        if k >= 0 and not math.isfinite(g.dist[0, n]):
+            raise InfeasibleError(f"cannot be reached on foot from the start ({label}): it stands in "
+                                  f"{_area_name(site, st[k])}, which no door or gate joins to the start's",
+                                  file=plan_file, field="station", value=st[k].id)
+
+
+def _properties(site: Site) -> FieldProperties:
+    from planner.instruments import Scanner, load_instrument
+
+    inst = load_instrument(site.instrument)
+    return inst.field_properties if isinstance(inst, Scanner) and inst.field_properties else DEFAULT_FIELD

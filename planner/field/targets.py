@@ -1,0 +1,259 @@
+"""Registration targets: where two linked stations share little wall, targets both of them see.
+
+Links: the overlap relation of the plan's stations (:func:`planner.coverage.overlap.overlap_graph`, in
+the site's registration groups, with the links through openings, which share no wall). The crew
+registers along a chain: in registration order each station on the earlier station it shares most
+with, otherwise the maximum spanning forest of the relation by shared fraction (``shared / smaller
+covered length``). A chain link is weak when that fraction is below ``strong_overlap``; a weak link is
+made strong by :data:`TARGETS_PER_LINK` targets seen by both stations (target-based registration needs
+three common targets, seed 003).
+
+Target places: a checkerboard at the middle of a wall piece (1 m pieces) that both stations see within
+the instrument's target range and target incidence, or a sphere on a tripod in the walkable area (a
+grid of :data:`SPHERE_GRID_M` within target range of both, and the middle of every door and gate),
+at least :data:`MIN_TARGET_DISTANCE_M` from each and in sight of both. The fewest places that give every
+weak link its targets are chosen by CP-SAT (one worker, fixed seed); ties go to shorter ranges. Control
+points of the instance are targets too (ties to control), listed with the stations that see them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import networkx as nx
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from planner.candidates.model import Candidate
+from planner.coverage.links import default_registration, registration_groups
+from planner.coverage.matrix import CoverageProblem, blockers_for, build_coverage
+from planner.coverage.openings import PASSABLE, opening_segments
+from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+from planner.coverage.targets import make_targets
+from planner.coverage.visibility import sight_clear
+from planner.field.properties import FieldProperties
+from planner.field.walking import WalkSpace
+from planner.site.model import Site
+
+TARGETS_PER_LINK = 3
+SPHERE_GRID_M = 1.0
+MIN_TARGET_DISTANCE_M = 2.0
+#: a link sharing at least this fraction of the smaller scan's covered wall needs no targets
+STRONG_OVERLAP = 0.5
+_NO_WALL = -2
+
+
+@dataclass(frozen=True)
+class Link:
+    """A registration link of the chain: stations ``a`` and ``b`` (ids), their shared wall, and its targets."""
+
+    a: str
+    b: str
+    shared_m: float
+    fraction: float
+    weak: bool
+    targets: tuple[str, ...] = ()
+    places: int = 0  # target places both see (fewer than TARGETS_PER_LINK: the link stays weak)
+
+
+@dataclass(frozen=True)
+class Target:
+    """A proposed (or control) target: where it stands and which stations see it."""
+
+    id: str
+    kind: str  # checkerboard | sphere | control
+    x: float
+    y: float
+    where: str
+    seen_by: tuple[str, ...]
+    links: tuple[tuple[str, str], ...]
+
+
+def coverage_of(site: Site, stations: Sequence[Candidate]) -> CoverageProblem:
+    """The coverage of the plan's stations on 1 m pieces, under the site's limits (horizontal incidence)."""
+    from planner.plan import sight_limits
+    from planner.validate import validate_site
+
+    limits = sight_limits(validate_site(site), False, True)
+    return build_coverage(site, stations, make_targets(site, 1.0), limits)
+
+
+def relation(site: Site, stations: Sequence[Candidate], problem: CoverageProblem) -> nx.Graph:
+    """The overlap relation of the stations (node = index) with ``shared_m`` and ``fraction`` on each edge."""
+    lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
+    covered = np.asarray(problem.by_candidate.astype(np.float64) @ lengths).ravel()
+    labels, links = registration_groups(site, stations, default_registration(site), problem.limits.range_limit_m)
+    xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
+    g = nx.Graph()
+    g.add_nodes_from(range(len(stations)))
+    groups: dict[object, list[int]] = {}
+    for i, label in enumerate(labels):
+        groups.setdefault(label, []).append(i)
+    rule = OverlapRule(site.parameters.overlap)
+    for nodes in groups.values():
+        sub = overlap_graph(problem.by_candidate, lengths, nodes, rule, xy, links)
+        for u, v, data in sub.edges(data=True):
+            small = min(covered[u], covered[v])
+            g.add_edge(u, v, shared_m=data["shared_m"], fraction=data["shared_m"] / small if small > 0 else 0.0)
+    return g
+
+
+def chain_links(g: nx.Graph, order: Sequence[int] | None) -> list[tuple[int, int]]:
+    """The links the crew registers on: each station onto the earlier one it shares most with (``order``
+    given), else the maximum spanning forest by shared fraction."""
+    if order is None:
+        forest = nx.maximum_spanning_tree(g, weight="fraction", algorithm="kruskal")
+        return sorted((min(u, v), max(u, v)) for u, v in forest.edges())
+    seen: list[int] = []
+    out = []
+    for node in order:
+        earlier = [u for u in seen if g.has_edge(u, node)]
+        if earlier:
+            best = max(earlier, key=lambda u: (g[u][node]["fraction"], -u))
+            out.append((best, node))
+        seen.append(node)
+    return out
+
+
+def _sphere_places(space: WalkSpace, site: Site, xy: NDArray[np.float64], pairs: list[tuple[int, int]],
+                   reach: float) -> NDArray[np.float64]:
+    """Tripod places: a grid within ``reach`` of both stations of a pair, and the middle of every door."""
+    pts = [ends.mean(axis=0) for _zi, _w, kind, ends in opening_segments(site, space.frame) if kind in PASSABLE]
+    for i, j in pairs:
+        lens = shapely.Point(xy[i]).buffer(reach).intersection(shapely.Point(xy[j]).buffer(reach))
+        lens = lens.intersection(space.area)
+        if lens.is_empty:
+            continue
+        x0, y0, x1, y1 = lens.bounds
+        gx, gy = np.meshgrid(np.arange(math.floor(x0), x1 + 1e-9, SPHERE_GRID_M),
+                             np.arange(math.floor(y0), y1 + 1e-9, SPHERE_GRID_M))
+        grid = np.column_stack([gx.ravel(), gy.ravel()])
+        inside = shapely.contains_xy(lens, grid[:, 0], grid[:, 1]) if len(grid) else np.zeros(0, bool)
+        pts += list(grid[inside])
+    if not pts:
+        return np.zeros((0, 2))
+    return np.unique(np.round(np.asarray(pts, dtype=float), 6), axis=0)
+
+
+def _sphere_sight(site: Site, frame: str, xy: NDArray[np.float64], places: NDArray[np.float64],
+                  reach: float) -> NDArray[np.bool_]:
+    """S x P: station s sees sphere place p (in range, not too close, nothing in between)."""
+    seen = np.zeros((len(xy), len(places)), dtype=bool)
+    if not len(places):
+        return seen
+    blockers = blockers_for(site, frame)
+    for s, c in enumerate(xy):
+        r = np.hypot(*(places - c).T)
+        idx = np.flatnonzero((r <= reach) & (r >= MIN_TARGET_DISTANCE_M))
+        if idx.size:
+            cc = np.repeat(c[None], idx.size, axis=0)
+            seen[s, idx] = sight_clear(cc, places[idx], places[idx], np.full(idx.size, _NO_WALL), blockers)
+    return seen
+
+
+def _wall_sight(problem: CoverageProblem, props: FieldProperties) -> NDArray[np.bool_]:
+    """S x T: station s reads a checkerboard on piece t (seen, within target range and incidence)."""
+    by = problem.by_candidate.tocsr()
+    ok = (problem.slant_m.data <= props.target_range_m) & (problem.incidence_deg.data <= props.target_incidence_deg)
+    out = np.zeros(by.shape, dtype=bool)
+    rows = np.repeat(np.arange(by.shape[0]), np.diff(by.indptr))
+    out[rows[ok], by.indices[ok]] = True
+    return out
+
+
+def propose_targets(site: Site, stations: Sequence[Candidate], space: WalkSpace, props: FieldProperties,
+                    order: Sequence[int] | None = None, strong_overlap: float = STRONG_OVERLAP,
+                    problem: CoverageProblem | None = None) -> tuple[list[Link], list[Target]]:
+    """The chain links (weak ones with their targets) and the targets (see the module text).
+
+    ``order``: the visiting order as station indices (registration order); None: the spanning forest.
+    """
+    problem = problem if problem is not None else coverage_of(site, stations)
+    g = relation(site, stations, problem)
+    chain = chain_links(g, order)
+    weak = [(i, j) for i, j in chain if g[i][j]["fraction"] < strong_overlap]
+    xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
+    reach = props.target_range_m
+    wall = _wall_sight(problem, props)
+    places = _sphere_places(space, site, xy, weak, reach)
+    sphere = _sphere_sight(site, space.frame, xy, places, reach)
+    t = problem.targets
+    cand_xy = np.vstack([(t.a + t.b) / 2.0, places]) if len(places) else (t.a + t.b) / 2.0
+    seen = np.hstack([wall, sphere])  # S x (pieces + places)
+    chosen = _choose(seen, cand_xy, xy, weak)
+    targets: list[Target] = []
+    tid: dict[int, str] = {}
+    for c in chosen:
+        c = int(c)
+        tid[c] = f"T{len(targets) + 1}"
+        serves = tuple((stations[i].id, stations[j].id) for i, j in weak if seen[i, c] and seen[j, c])
+        if c < len(t):
+            kind, where = "checkerboard", f"wall {t.label(c).split(' ')[0]} at {(t.s0_m[c] + t.s1_m[c]) / 2:.1f} m"
+        else:
+            kind, where = "sphere", "tripod"
+        targets.append(Target(tid[c], kind, float(cand_xy[c, 0]), float(cand_xy[c, 1]), where,
+                              tuple(stations[int(s)].id for s in np.flatnonzero(seen[:, c])), serves))
+    targets += _control_targets(site, stations, xy, reach, len(targets))
+    links = []
+    for i, j in chain:
+        both = seen[i] & seen[j]
+        mine = tuple(tid[c] for c in chosen if both[c]) if (i, j) in weak else ()
+        links.append(Link(stations[i].id, stations[j].id, g[i][j]["shared_m"], g[i][j]["fraction"],
+                          (i, j) in weak and len(mine) < TARGETS_PER_LINK, mine, int(both.sum())))
+    return links, targets
+
+
+def _choose(seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], xy: NDArray[np.float64],
+            weak: list[tuple[int, int]]) -> list[int]:
+    """Fewest candidate places giving each weak link min(3, available) targets both see (CP-SAT)."""
+    if not weak:
+        return []
+    need = [np.flatnonzero(seen[i] & seen[j]) for i, j in weak]
+    # dominance: of places serving the same set of weak links keep the three with the shortest longest range
+    serve: dict[tuple[int, ...], list[int]] = {}
+    for c in sorted(set(np.concatenate(need).tolist())):
+        key = tuple(k for k, (i, j) in enumerate(weak) if seen[i, c] and seen[j, c])
+        serve.setdefault(key, []).append(c)
+    cost = {}  # the longest range from a station of a link the place serves
+    for key, group in serve.items():
+        ends = sorted({s for k in key for s in weak[k]})
+        for c in group:
+            cost[c] = float(np.hypot(*(xy[ends] - cand_xy[c]).T).max())
+    keep = sorted(c for group in serve.values() for c in sorted(group, key=lambda c: (cost[c], c))[:TARGETS_PER_LINK])
+    from ortools.sat.python import cp_model
+
+    model = cp_model.CpModel()
+    x = {c: model.NewBoolVar(f"x{c}") for c in keep}
+    kept = set(keep)
+    for cands in need:
+        here = [x[int(c)] for c in cands if int(c) in kept]
+        if here:
+            model.Add(sum(here) >= min(TARGETS_PER_LINK, len(here)))
+    model.Minimize(sum(1_000_000 * v + round(cost[c] * 100) for c, v in x.items()))
+    solver = cp_model.CpSolver()
+    solver.parameters.num_workers = 1
+    solver.parameters.random_seed = 0
+    solver.parameters.max_time_in_seconds = 20.0
+    status = solver.Solve(model)
+    if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
+        return []
+    return [c for c in keep if solver.Value(x[c])]
+
+
+def _control_targets(site: Site, stations: Sequence[Candidate], xy: NDArray[np.float64], reach: float,
+                     first: int) -> list[Target]:
+    """A target on every control point of the instance, with the stations that see it (ties to control)."""
+    out = []
+    for k, cp in enumerate(site.control_points, 1):
+        here = np.array([s.frame == cp.frame for s in stations], dtype=bool)
+        p = np.array([[cp.x, cp.y]])
+        seen = []
+        if here.any():
+            sight = _sphere_sight(site, cp.frame, xy[here], p, reach)[:, 0]
+            ids = [s.id for s, h in zip(stations, here) if h]
+            seen = [i for i, ok in zip(ids, sight) if ok]
+        out.append(Target(f"T{first + k}", "control", cp.x, cp.y, f"control point {cp.name}", tuple(seen), ()))
+    return out

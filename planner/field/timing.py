@@ -1,0 +1,124 @@
+"""Field time of an ordered plan: per setup (walk to it, set up and level, scan, scan its targets), in
+total, and split into sessions of a given length.
+
+A setup's time is ``walk_m / walking_speed + setup_time + scan_time(setting) + targets x target_scan_time``
+(:class:`~planner.field.properties.FieldProperties`). Sessions are filled in visiting order: a setup that
+would make the session longer than ``--session`` opens the next one (the walk to it included).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from planner.errors import UsageError
+from planner.field.properties import FieldProperties
+
+_UNITS = {"h": 3600.0, "min": 60.0, "s": 1.0}
+
+
+def parse_duration(text: str) -> float:
+    """Seconds of ``4h``, ``90min``, ``1h30min``, ``45s`` (a bare number is hours), e.g. ``--session 4h``."""
+    raw = str(text).strip().lower().replace(" ", "")
+    try:
+        hours = float(raw)
+    except ValueError:
+        parts = re.fullmatch(r"((\d+(\.\d+)?)(h|min|s))+", raw)
+        if not parts:
+            raise UsageError("expected a duration such as 4h, 90min, 1h30min or 45s", field="--session",
+                             value=text) from None
+        seconds = sum(float(v) * _UNITS[u] for v, _, u in re.findall(r"(\d+(\.\d+)?)(h|min|s)", raw))
+    else:
+        seconds = hours * 3600.0
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise UsageError("must be a duration > 0", field="--session", value=text)
+    return seconds
+
+
+@dataclass(frozen=True)
+class Setup:
+    """One row of the sheet's timing: station ``id`` as setup ``number`` (from 1)."""
+
+    number: int
+    id: str
+    walk_m: float
+    walk_s: float
+    setup_s: float
+    scan_s: float
+    targets_s: float
+    session: int
+
+    @property
+    def station_s(self) -> float:
+        """Time spent at the station (setup, scan, targets)."""
+        return self.setup_s + self.scan_s + self.targets_s
+
+    @property
+    def total_s(self) -> float:
+        return self.walk_s + self.station_s
+
+
+@dataclass(frozen=True)
+class Session:
+    number: int
+    setups: tuple[int, ...]  # setup numbers
+    duration_s: float
+
+
+@dataclass(frozen=True)
+class FieldTime:
+    """Times of every setup, the total and the sessions; ``setting`` is the scan setting timed."""
+
+    setups: tuple[Setup, ...]
+    sessions: tuple[Session, ...]
+    setting: str
+    session_s: float | None
+
+    @property
+    def total_s(self) -> float:
+        return sum(s.total_s for s in self.setups)
+
+    @property
+    def walking_s(self) -> float:
+        return sum(s.walk_s for s in self.setups)
+
+    @property
+    def station_s(self) -> float:
+        return sum(s.station_s for s in self.setups)
+
+    def to_dict(self) -> dict[str, object]:
+        return {"setting": self.setting, "total_s": self.total_s, "walking_s": self.walking_s,
+                "station_s": self.station_s, "session_limit_s": self.session_s,
+                "sessions": [{"number": s.number, "setups": list(s.setups), "duration_s": s.duration_s}
+                             for s in self.sessions]}
+
+
+def field_time(ids: Sequence[str], walks_m: Sequence[float], targets: Sequence[int], props: FieldProperties,
+               setting: str | None = None, session_s: float | None = None) -> FieldTime:
+    """The field time of stations ``ids`` in visiting order; ``walks_m[k]``: the walk to station k (from the
+    start for k = 0), ``targets[k]``: targets it scans."""
+    scan = props.scan_time_s(setting)
+    name = setting or props.default_setting
+    setups: list[Setup] = []
+    sessions: list[Session] = []
+    current: list[int] = []
+    used = 0.0
+    for k, (sid, walk, n_targets) in enumerate(zip(ids, walks_m, targets), 1):
+        row = Setup(k, sid, walk, walk / props.walking_speed_m_s, props.setup_time_s, scan,
+                    n_targets * props.target_scan_time_s, len(sessions) + 1)
+        if session_s is not None:
+            if row.total_s > session_s:
+                raise UsageError(f"is shorter than setup {k} (station {sid}: {row.total_s / 60:.1f} min with the walk "
+                                 f"to it)", field="--session", value=f"{session_s / 60:g}min")
+            if current and used + row.total_s > session_s:
+                sessions.append(Session(len(sessions) + 1, tuple(current), used))
+                current, used = [], 0.0
+                row = Setup(k, sid, walk, row.walk_s, row.setup_s, scan, row.targets_s, len(sessions) + 1)
+        setups.append(row)
+        current.append(k)
+        used += row.total_s
+    if current:
+        sessions.append(Session(len(sessions) + 1, tuple(current), used))
+    return FieldTime(tuple(setups), tuple(sessions), name, session_s)
