@@ -22,7 +22,8 @@ import shapely
 
 from planner.candidates.model import Candidate
 from planner.errors import InfeasibleError, InputError, UsageError
-from planner.field.bound import EXACT_MAX_NODES, exact_order, held_karp_bound
+from planner.field.certify import Certified, certify
+from planner.field.exact import WORK_LIMIT
 from planner.field.order import (
     MODES,
     SOLUTION_LIMIT,
@@ -55,7 +56,8 @@ from planner.site.model import ScanSide, Site
 class FieldOptions:
     """How the sheet is made: ``mode`` shortest|registration, ``start`` (a station id, ``x,y``, or None for
     the station nearest the first door or control point), ``closed`` (back to the start), ``session_s``,
-    the scan ``setting`` (None: the instrument's default), ``strong_overlap`` and the routing limits."""
+    the scan ``setting`` (None: the instrument's default), ``strong_overlap``, the routing limits and CP-SAT's
+    deterministic ``work_limit``."""
 
     mode: str = "shortest"
     start: str | None = None
@@ -65,6 +67,7 @@ class FieldOptions:
     strong_overlap: float = STRONG_OVERLAP
     solution_limit: int = SOLUTION_LIMIT
     time_cap_s: float = TIME_CAP_S
+    work_limit: float = WORK_LIMIT
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -98,6 +101,7 @@ class FieldPlan:
     capped: bool
     registration_ok: bool
     solve_s: float = field(default=0.0)
+    certified: Certified | None = field(default=None)
 
     @property
     def gap(self) -> float:
@@ -197,11 +201,9 @@ def field_plan(site: Site, stations: Sequence[Candidate], options: FieldOptions 
     d = g.dist
     result = solve_order(d, options.mode, nbrs, parts, first is not None, options.closed, options.solution_limit,
                          options.time_cap_s)
-    if len(d) <= EXACT_MAX_NODES:
-        bound, method = exact_order(d, options.closed)[0], "exact (Held-Karp dynamic programme)"
-    else:
-        bound, method = held_karp_bound(d, result.length_m, options.closed), "Held-Karp 1-tree, subgradient ascent"
-    bound = min(bound, result.length_m)
+    cert = certify(d, result, options.mode, nbrs, parts, first is not None, options.closed, options.work_limit,
+                   options.time_cap_s)
+    result, bound, method = cert.result, cert.bound_m, cert.method
     ok = not registration_violations(result.order, nbrs, parts, first is not None)
     order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
     path_nodes = list(result.order) + ([0] if options.closed else [])
@@ -216,7 +218,7 @@ def field_plan(site: Site, stations: Sequence[Candidate], options: FieldOptions 
     ft = field_time([st[k].id for k in order], walks, counts, props, options.setting, options.session_s)
     return FieldPlan(site, st, order, start_xy, label, legs, result.length_m, bound, method, result.nearest_neighbour_m,
                      options, ft, tuple(links), tuple(targets), space, site.parameters.instrument_height_m,
-                     result.capped, ok, time.perf_counter() - t0)
+                     result.capped, ok, time.perf_counter() - t0, cert)
 
 
 def _check_reach(site: Site, st: Sequence[Candidate], g: WalkGraph, node_station: list[int], label: str,

@@ -48,7 +48,8 @@ def to_dict(fp: FieldPlan) -> dict[str, Any]:
     return {"instance": fp.site.name, "mode": o.mode, "closed": o.closed, "start": fp.start_label,
             "start_xy": list(fp.start_xy), "order": [fp.stations[k].id for k in fp.order],
             "route_length_m": fp.route_length_m, "lower_bound_m": fp.lower_bound_m, "bound_method": fp.bound_method,
-            "bound_scope": "shortest route (a bound on the registration order too)", "gap": fp.gap,
+            "bound_scope": fp.certified.scope if fp.certified else "shortest route",
+            "bounds": {m: b for m, b in fp.certified.bounds} if fp.certified else {}, "gap": fp.gap,
             "nearest_neighbour_m": fp.nearest_neighbour_m, "registration_order_honoured": fp.registration_ok,
             "search_capped": fp.capped, "legs": [[list(p) for p in leg] for leg in fp.legs],
             "field_time_s": fp.time.total_s, "time": fp.time.to_dict(), "sessions": fp.time.to_dict()["sessions"],
@@ -56,7 +57,8 @@ def to_dict(fp: FieldPlan) -> dict[str, Any]:
             "targets": [{"id": t.id, "kind": t.kind, "x": t.x, "y": t.y, "where": t.where, "seen_by": list(t.seen_by),
                          "links": [list(p) for p in t.links]} for t in fp.targets],
             "links": [{"a": lk.a, "b": lk.b, "shared_m": lk.shared_m, "fraction": lk.fraction, "weak": lk.weak,
-                       "targets": list(lk.targets), "target_places": lk.places} for lk in fp.links],
+                       "targets": list(lk.targets), "target_places": lk.places, "apart_m": lk.apart_m,
+                       "weak_reason": lk.reason} for lk in fp.links],
             "instrument_height_m": fp.instrument_height_m, "solve_s": fp.solve_s, "version": __version__}
 
 
@@ -110,8 +112,8 @@ def render_html(fp: FieldPlan, png: bytes | None = None) -> str:
     targets = "".join(f"<tr><td class=l>{_e(x.id)}</td><td class=l>{_e(x.kind)}</td><td>{x.x:.2f}</td><td>{x.y:.2f}</td>"
                       f"<td class=l>{_e(x.where)}</td><td class=l>{_e(' '.join(x.seen_by))}</td></tr>" for x in fp.targets)
     weak = [lk for lk in fp.links if lk.weak]
-    note = (f"<p>{len(weak)} weak link(s) left without 3 common targets (no place both stations see within the "
-            f"target range): {_e(', '.join(f'{lk.a}-{lk.b}' for lk in weak))}.</p>" if weak else "")
+    note = (f"<p>{len(weak)} weak link(s) left without 3 common targets:</p><ul>"
+            + "".join(f"<li>{_e(lk.a)} - {_e(lk.b)}: {_e(lk.reason)}</li>" for lk in weak) + "</ul>" if weak else "")
     title = f"Field sheet: {fp.site.name}"
     parts = [f"<h1>{_e(title)}</h1>",
              (f"<p>{_e(fp.options.mode)} order from {_e(fp.start_label)}; route {fp.route_length_m:.1f} m, lower bound "

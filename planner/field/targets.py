@@ -10,7 +10,8 @@ three common targets, seed 003).
 
 Target places: a checkerboard at the middle of a wall piece (1 m pieces) that both stations see within
 the instrument's target range and target incidence, or a sphere on a tripod in the walkable area (a
-grid of :data:`SPHERE_GRID_M` within target range of both, and the middle of every door and gate),
+grid of :data:`SPHERE_GRID_M` within target range of both, the pair's midpoint (else a point of the
+lens both reach, which a thin lens may hold without a grid point), and the middle of every door and gate),
 at least :data:`MIN_TARGET_DISTANCE_M` from each and in sight of both. The fewest places that give every
 weak link its targets are chosen by CP-SAT (one worker, fixed seed); ties go to shorter ranges. Control
 points of the instance are targets too (ties to control), listed with the stations that see them.
@@ -57,6 +58,8 @@ class Link:
     weak: bool
     targets: tuple[str, ...] = ()
     places: int = 0  # target places both see (fewer than TARGETS_PER_LINK: the link stays weak)
+    apart_m: float = 0.0  # straight-line distance of the two stations
+    reason: str = ""  # why a weak link stays weak ("" when it is not)
 
 
 @dataclass(frozen=True)
@@ -127,6 +130,8 @@ def _sphere_places(space: WalkSpace, site: Site, xy: NDArray[np.float64], pairs:
         lens = lens.intersection(space.area)
         if lens.is_empty:
             continue
+        mid = shapely.Point((xy[i] + xy[j]) / 2.0)  # a tripod half-way, else some point both reach
+        pts.append(np.array((mid if lens.covers(mid) else lens.representative_point()).coords[0]))
         x0, y0, x1, y1 = lens.bounds
         gx, gy = np.meshgrid(np.arange(math.floor(x0), x1 + 1e-9, SPHERE_GRID_M),
                              np.arange(math.floor(y0), y1 + 1e-9, SPHERE_GRID_M))
@@ -201,9 +206,20 @@ def propose_targets(site: Site, stations: Sequence[Candidate], space: WalkSpace,
     for i, j in chain:
         both = seen[i] & seen[j]
         mine = tuple(tid[c] for c in chosen if both[c]) if (i, j) in weak else ()
-        links.append(Link(stations[i].id, stations[j].id, g[i][j]["shared_m"], g[i][j]["fraction"],
-                          (i, j) in weak and len(mine) < TARGETS_PER_LINK, mine, int(both.sum())))
+        still = (i, j) in weak and len(mine) < TARGETS_PER_LINK
+        apart = float(np.hypot(*(xy[i] - xy[j])))
+        links.append(Link(stations[i].id, stations[j].id, g[i][j]["shared_m"], g[i][j]["fraction"], still, mine,
+                          int(both.sum()), apart, _reason(apart, reach, int(both.sum())) if still else ""))
     return links, targets
+
+
+def _reason(apart: float, reach: float, places: int) -> str:
+    """Why a weak link keeps fewer than :data:`TARGETS_PER_LINK` targets."""
+    if apart > 2.0 * reach:
+        return (f"the stations stand {apart:.1f} m apart, more than twice the {reach:g} m target range: no target "
+                f"place is within range of both (register on the scans' overlap, or add a station between them)")
+    return (f"only {places} place(s) both stations see within the {reach:g} m target range and the target "
+            f"incidence (walls, obstacles or the walkable area leave no more)")
 
 
 def _choose(seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], xy: NDArray[np.float64],

@@ -196,3 +196,22 @@ def test_plan_with_field(tmp_path):
     data = json.loads((out / "field.json").read_text())
     assert data["mode"] == "registration" and data["registration_order_honoured"]
     assert all(s["duration_s"] <= 3600.0 for s in data["sessions"])
+
+
+def test_weak_link_reason():
+    from planner.field.targets import _reason
+
+    # 45 m apart with a 20 m target range: 45 > 2 x 20 = 40, so no place is within range of both
+    assert "more than twice the 20 m target range" in _reason(45.0, 20.0, 0)
+    # 30 m apart: 30 <= 40, a place half-way is 15 m from each; the link is short of places in sight, not range
+    assert _reason(30.0, 20.0, 2).startswith("only 2 place(s)")
+
+
+def test_sheet_lists_why_links_stay_weak(house, tmp_path):
+    fp = field_plan(house, _house_stations(), FieldOptions(mode="registration"))
+    write_sheet(fp, tmp_path)
+    data = json.loads((tmp_path / "field.json").read_text())
+    for lk in data["links"]:
+        assert lk["apart_m"] > 0
+        assert (lk["weak_reason"] != "") == lk["weak"]
+    assert data["bound_method"] in data["bounds"] and data["lower_bound_m"] <= data["route_length_m"]
