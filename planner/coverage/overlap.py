@@ -12,7 +12,7 @@ zones are also related by ``links``: they see each other through an opening (see
 
 from __future__ import annotations
 
-from collections.abc import Hashable, Sequence
+from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
 
 import networkx as nx
@@ -50,6 +50,31 @@ def piece_lengths(s0_m: NDArray[np.float64], s1_m: NDArray[np.float64]) -> NDArr
     return np.asarray(s1_m) - np.asarray(s0_m)
 
 
+Pairs = Callable[[NDArray[np.int64], NDArray[np.int64]], NDArray[np.bool_]]
+
+
+def link_filter(rule: OverlapRule, covered: NDArray[np.float64], gid: NDArray[np.int64] | None = None,
+                xy: NDArray[np.float64] | None = None
+                ) -> tuple[Pairs, Callable[[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], NDArray[np.bool_]]]:
+    """The rule as two tests on index pairs: ``allowed(r, c)`` (not the same, one group, within ``max_link_m``)
+    and ``keep(r, c, shared)`` (allowed, and sharing > 0, >= ``overlap`` of the smaller of the two ``covered``
+    lengths and >= ``min_shared_m``): the one home of "registered" for a coverage matrix."""
+
+    def allowed(r: NDArray[np.int64], c: NDArray[np.int64]) -> NDArray[np.bool_]:
+        ok = r != c
+        if gid is not None:
+            ok &= gid[r] == gid[c]
+        if rule.max_link_m is not None and xy is not None:
+            ok &= np.hypot(*(xy[r] - xy[c]).T) <= rule.max_link_m
+        return ok
+
+    def keep(r: NDArray[np.int64], c: NDArray[np.int64], v: NDArray[np.float64]) -> NDArray[np.bool_]:
+        rule_ok = (v > 0) & (v + 1e-9 >= rule.overlap * np.minimum(covered[r], covered[c])) & (v >= rule.min_shared_m)
+        return rule_ok & allowed(r, c)
+
+    return allowed, keep
+
+
 def overlap_adjacency(
     by_candidate: sp.csr_matrix, lengths: NDArray[np.float64], rule: OverlapRule,
     groups: Sequence[Hashable] | None = None, xy: NDArray[np.float64] | None = None,
@@ -63,20 +88,8 @@ def overlap_adjacency(
     """
     a = by_candidate.astype(np.float64).tocsr()
     n = a.shape[0]
-    covered = np.asarray(a @ lengths).ravel()
     gid = group_ids(groups) if groups is not None else None
-
-    def allowed(r: NDArray[np.int64], c: NDArray[np.int64]) -> NDArray[np.bool_]:
-        ok = r != c
-        if gid is not None:
-            ok &= gid[r] == gid[c]
-        if rule.max_link_m is not None and xy is not None:
-            ok &= np.hypot(*(xy[r] - xy[c]).T) <= rule.max_link_m
-        return ok
-
-    def keep(r: NDArray[np.int64], c: NDArray[np.int64], v: NDArray[np.float64]) -> NDArray[np.bool_]:
-        rule_ok = (v > 0) & (v + 1e-9 >= rule.overlap * np.minimum(covered[r], covered[c])) & (v >= rule.min_shared_m)
-        return rule_ok & allowed(r, c)
+    allowed, keep = link_filter(rule, np.asarray(a @ lengths).ravel(), gid, xy)
 
     # the C x C product in row blocks, each filtered before the next: memory follows the pairs kept
     share = filtered_gram(a, lengths, keep)

@@ -31,7 +31,15 @@ from planner.errors import UsageError
 from planner.solve.backends import BACKENDS
 from planner.solve.block import BlockSolver, lengths
 from planner.solve.instance import CoverInstance
-from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
+from planner.solve.lazy_links import LazyLinks
+from planner.solve.presolve import (
+    PresolveReport,
+    dominated,
+    duplicate_targets,
+    forced,
+    implied_targets,
+    presolve_order,
+)
 from planner.solve.result import SolveResult, Status
 
 PRECISION_MODES = ("single", "combined")
@@ -101,13 +109,13 @@ class MilpOptions:
         """The registration rule in force: ``"site"`` unresolved (no site at hand) is the default 30 %."""
         return OverlapRule() if self.overlap == "site" else self.overlap
 
-    def for_site(self, overlap: float) -> "MilpOptions":
+    def for_site(self, overlap: float) -> MilpOptions:
         """These options with ``"site"`` resolved to a site's overlap share (0: no rule)."""
         if self.overlap != "site":
             return self
         return replace(self, overlap=None if overlap == 0 else OverlapRule(overlap))
 
-    def with_work_limit(self, work_s: float, wall_cap: float) -> "MilpOptions":
+    def with_work_limit(self, work_s: float, wall_cap: float) -> MilpOptions:
         """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap
         of ``wall_cap`` times as long."""
         return replace(self, time_limit_s=wall_cap * work_s, work_limit=work_s)
@@ -171,32 +179,31 @@ def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveRepo
     """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
     the registration rule applies when ``o.rule`` is set and the instance has groups."""
     a = instance.by_candidate.astype(bool).tocsr()
-    adj = None
+    adj: sp.csr_matrix | LazyLinks | None = None
     if o.rule is not None and instance.groups is not None:
         adj = _adjacency(instance, a, o)
-    report = _presolve(instance, a, adj, o)
+    report, adj = _presolve(instance, a, adj, o)
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)
     return report, [BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
                     for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
 
 
-def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.csr_matrix:
+def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.csr_matrix | LazyLinks:
     """The overlap relation (C x C). Where the presolve will run dominance and the relation depends on the
     coverage alone (no ``max_link_m``, no links through openings), it is formed among one candidate per set of
     identical coverage rows of a group (the cheapest, then the first): the others see the same pieces and have
     the same links, so the presolve drops them (they are left without links, and the representative or a
-    candidate that replaces it stays). Building27 on a 1-m grid: 43,827 candidates, 4,864 distinct rows."""
+    candidate that replaces it stays). Building27 on a 1-m grid: 43,827 candidates, 4,864 distinct rows. There
+    it is not formed whole but row by row as the presolve asks (:class:`planner.solve.lazy_links.LazyLinks`)."""
     assert o.rule is not None and instance.groups is not None
     plain = o.presolve and o.k == 1 and o.precision == "single" and o.rule.max_link_m is None and (
         instance.links is None or instance.links.nnz == 0)
     if not plain:
         return overlap_adjacency(a, lengths(instance), o.rule, instance.groups, instance.xy, instance.links)[0]
-    rep = representatives(a, instance.cost, group_ids(instance.groups))
-    sub, _ = overlap_adjacency(a[rep], lengths(instance), o.rule, [instance.groups[i] for i in rep])
-    coo = sub.tocoo()
-    n = a.shape[0]
-    return sp.csr_matrix((coo.data, (rep[coo.row], rep[coo.col])), shape=(n, n))
+    gid = group_ids(instance.groups)
+    rep = representatives(a, instance.cost, gid)
+    return LazyLinks(a, lengths(instance), o.rule, gid, rep, presolve_order(a, instance.cost))
 
 
 def representatives(a: sp.csr_matrix, cost: np.ndarray, gid: np.ndarray) -> np.ndarray:
@@ -231,13 +238,17 @@ def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | 
                 block.run(time.perf_counter() + share)
 
 
-def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, o: MilpOptions) -> PresolveReport:
+def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | LazyLinks | None, o: MilpOptions
+              ) -> tuple[PresolveReport, sp.csr_matrix | None]:
+    """The presolve's report and the overlap relation as a matrix (among the kept candidates where it came lazy)."""
     n_cand, n_targ = a.shape
     drop = np.zeros(n_cand, dtype=bool)
     if not o.presolve:
-        return PresolveReport(n_cand, n_targ, kept_candidates=tuple(range(n_cand)), kept_targets=tuple(range(n_targ)))
+        assert not isinstance(adj, LazyLinks)
+        return PresolveReport(n_cand, n_targ, kept_candidates=tuple(range(n_cand)),
+                              kept_targets=tuple(range(n_targ))), adj
     if o.k == 1 and o.precision == "single":
-        drop, dup = _reduce(a, instance.cost, adj, instance.groups if adj is not None else None)
+        drop, dup, adj = _reduce(a, instance.cost, adj, instance.groups if adj is not None else None)
     elif o.precision == "single":
         dup = duplicate_targets(instance.by_target)
     else:
@@ -245,35 +256,40 @@ def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | No
     kept_c = np.flatnonzero(~drop)
     bt = a[kept_c].T.tocsr()
     must = forced(bt, o.k)
+    assert not isinstance(adj, LazyLinks)
     return PresolveReport(n_cand, n_targ, int(drop.sum()), int(dup.sum()), int(must.sum()),
-                          tuple(kept_c.tolist()), tuple(np.flatnonzero(~dup).tolist()), tuple(kept_c[must].tolist()))
+                          tuple(kept_c.tolist()), tuple(np.flatnonzero(~dup).tolist()),
+                          tuple(kept_c[must].tolist())), adj
 
 
 #: at most this many alternations of dominance and implied targets (each pass is a valid reduction)
 _REDUCE_PASSES = 20
 
 
-def _reduce(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None,
-            groups: Sequence[Hashable] | None) -> tuple[np.ndarray, np.ndarray]:
+def _reduce(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks | None,
+            groups: Sequence[Hashable] | None) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix | None]:
     """Dominated candidates and implied targets (k = 1, single precision), alternated until neither
     removes anything: dropping candidates makes more targets implied (every *remaining* seer of t' sees
     t) and dropping targets makes more candidates dominated. Each step keeps the connected optimum of
     the problem it is applied to (see :func:`dominated` and :func:`implied_targets`), so the last
     one's equals the first's. Polygon A (cached pool of scripts/bench_connectivity.py): 958 candidates x
     1,618 targets after one pass, 574 x 361 after this (measured).
-    Returns the masks of dropped candidates and targets."""
+    Returns the masks of dropped candidates and targets, and the relation (formed among the kept candidates
+    after the first pass where it came lazy)."""
     kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
     for _ in range(_REDUCE_PASSES):
-        d = dominated(a[kc][:, kt].tocsr(), cost[kc], adj[kc][:, kc].tocsr() if adj is not None else None,
-                      [groups[i] for i in kc] if groups is not None else None)
+        sub = adj if isinstance(adj, LazyLinks) else (adj[kc][:, kc].tocsr() if adj is not None else None)
+        d = dominated(a[kc][:, kt].tocsr(), cost[kc], sub, [groups[i] for i in kc] if groups is not None else None)
         kc = kc[~d]
+        if isinstance(adj, LazyLinks):  # the first pass ran on every candidate: indices are the instance's
+            adj = adj.among(kc)
         imp = implied_targets(a[kc][:, kt].T.tocsr())
         kt = kt[~imp]
         if not (d.any() or imp.any()):
             break
     drop, dup = np.ones(a.shape[0], dtype=bool), np.ones(a.shape[1], dtype=bool)
     drop[kc], dup[kt] = False, False
-    return drop, dup
+    return drop, dup, adj
 
 
 def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) -> list[tuple[np.ndarray, np.ndarray]]:

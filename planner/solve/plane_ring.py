@@ -59,6 +59,9 @@ MIN_PATCH_M = 0.02
 MAX_PATCHES = 250_000
 #: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
 MAX_FAMILY = 6_000
+#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies;
+#: Baalbek's outline at 1.3-m patches passed 1.9 GB before this cap)
+MAX_LINKS = 3_000_000
 #: seconds the default plan gives the connected plane bound (checked before each zone-side and patch side)
 CONNECTED_TIME_S = 10.0
 #: segments per quarter circle of the shrunk regions; the shrink is divided by cos(pi / (4 * this))
@@ -235,6 +238,8 @@ def side_ring_bound(outer: list[Any], inner: list[Any], lengths: NDArray[np.floa
     cum = np.concatenate([[0.0], np.cumsum(np.tile(lengths, 3))])
     adj = _arc_links(s, sp_, lw, cum, n, share)
     adj = (adj + adj.T).astype(bool).tocsr()
+    if adj.nnz > MAX_LINKS:
+        return None, int(fam.size)
     r = np.repeat(np.arange(fam.size), sp_ + 1)
     c = (np.concatenate([np.arange(a, a + k + 1) for a, k in zip(s, sp_)]) % n) if fam.size else np.zeros(0, int)
     cover = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(fam.size, n))

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from planner.solve.lazy_links import LazyLinks
 
 
 @dataclass(frozen=True)
@@ -35,7 +36,12 @@ class PresolveReport:
                 "candidates_out": len(self.kept_candidates), "targets_out": len(self.kept_targets)}
 
 
-def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = None,
+def presolve_order(a: sp.csr_matrix, cost: np.ndarray) -> np.ndarray:
+    """The order :func:`dominated` considers candidates in: largest coverage first, then cheapest, then lowest index."""
+    return np.lexsort((np.arange(a.shape[0]), np.asarray(cost, float), -np.diff(a.tocsr().indptr)))
+
+
+def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks | None = None,
               groups: Sequence[Hashable] | None = None) -> np.ndarray:
     """Mask of candidates that another candidate can always replace (see the module docstring).
 
@@ -48,28 +54,33 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     piece keeps the list of kept candidates that see it, and i is checked against the shortest of its
     pieces' lists only (a scratch mark of i's pieces, then |C(j) & C(i)| = |C(i)| for each j of that list).
     Work is the sum of those checks, in proportion to the pairs of the coverage matrix when few candidates
-    stay (on a 1-m grid over a building of small rooms: 25 kept of 35,729).
+    stay (on a 1-m grid over a building of small rooms: 25 kept of 35,729). ``adj`` may be a
+    :class:`planner.solve.lazy_links.LazyLinks` formed in :func:`presolve_order`: rows are then formed as asked
+    and those of dropped candidates let go.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()
     n, n_t = a.shape
     size = np.diff(a.indptr)
     cost = np.asarray(cost, float)
-    order = np.lexsort((np.arange(n), cost, -size))
+    order = presolve_order(a, cost)
     removed = np.zeros(n, dtype=bool)
     kept_rank: dict[int, int] = {}
     kept_by_piece: list[list[int]] = [[] for _ in range(n_t)]
     mark = np.zeros(n_t, dtype=np.int32)  # scratch: the pieces of the candidate under test
     near = np.zeros(n, dtype=np.int32)  # scratch: the overlap neighbours of the candidate under test
-    adj = None if adj is None else adj.astype(np.int32).tocsr()
+    if isinstance(adj, sp.spmatrix):
+        adj = adj.astype(np.int32).tocsr()
     for rank, i in enumerate(order.tolist()):
         cols = a.indices[a.indptr[i]:a.indptr[i + 1]]
         if size[i] == 0:
             if adj is None or _no_bridge(adj, i, removed, kept_rank, cost, groups):
                 removed[i] = True  # covers nothing: dropped unless it may be the only link between others
+                _let_go(adj, i)
                 continue
         elif _replaced(a, i, cols, kept_by_piece, mark, near, cost, adj, groups):
             removed[i] = True
+            _let_go(adj, i)
             continue
         kept_rank[i] = rank
         for t in cols.tolist():
@@ -77,8 +88,19 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     return removed
 
 
+def _let_go(adj: sp.csr_matrix | LazyLinks | None, i: int) -> None:
+    if isinstance(adj, LazyLinks):
+        adj.drop(i)
+
+
+def _nbrs(adj: sp.csr_matrix | LazyLinks, i: int) -> np.ndarray:
+    """The overlap neighbours of i."""
+    return adj.row(i) if isinstance(adj, LazyLinks) else adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+
+
 def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[list[int]], mark: np.ndarray,
-              near: np.ndarray, cost: np.ndarray, adj: sp.csr_matrix | None, groups: Sequence[Hashable] | None) -> bool:
+              near: np.ndarray, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks | None,
+              groups: Sequence[Hashable] | None) -> bool:
     """Whether a kept candidate, no dearer and of i's group (linked to all of i's links under ``adj``), sees
     every piece i sees."""
     lists = [kept_by_piece[t] for t in cols.tolist()]
@@ -98,35 +120,37 @@ def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[li
     inside = shortest[seen == cols.size]
     if adj is None or inside.size == 0:
         return inside.size > 0
-    ni = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    ni = _nbrs(adj, i)
     near[ni] = 1  # j must be linked to every neighbour of i but itself: |N(j) & N(i)| = |N(i)| - [j in N(i)]
     try:
+        if isinstance(adj, LazyLinks):  # kept rows are held: the first j that covers i's links will do
+            return any(int(near[adj.row(j)].sum()) == ni.size - near[j] for j in inside.tolist())
         shared = np.asarray(adj[inside] @ near).ravel()
         return bool(np.any(shared == ni.size - near[inside]))
     finally:
         near[ni] = 0
 
 
-def _no_bridge(adj: sp.csr_matrix, i: int, removed: np.ndarray, kept: dict[int, int], cost: np.ndarray,
+def _no_bridge(adj: sp.csr_matrix | LazyLinks, i: int, removed: np.ndarray, kept: dict[int, int], cost: np.ndarray,
                groups: Sequence[Hashable] | None) -> bool:
     """Whether a candidate covering nothing can go under the overlap rule: it has no neighbour, or a
     kept j of its group, no dearer, is linked to every neighbour of i (j then stands in for it)."""
-    nb = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    nb = _nbrs(adj, i)
     if nb.size == 0:
         return True
     v = int(nb[0])
-    for j in [v, *adj.indices[adj.indptr[v]:adj.indptr[v + 1]].tolist()]:
+    for j in [v, *_nbrs(adj, v).tolist()]:
         if j != i and not removed[j] and j in kept and cost[j] <= cost[i] and \
                 (groups is None or groups[j] == groups[i]) and _links_cover(adj, i, j):
             return True
     return False
 
 
-def _links_cover(adj: sp.csr_matrix, i: int, j: int) -> bool:
+def _links_cover(adj: sp.csr_matrix | LazyLinks, i: int, j: int) -> bool:
     """Every overlap neighbour of i (other than j) is a neighbour of j."""
-    ni = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    ni = _nbrs(adj, i)
     ni = ni[ni != j]
-    nj = adj.indices[adj.indptr[j]:adj.indptr[j + 1]]
+    nj = _nbrs(adj, j)
     return ni.size <= nj.size and bool(np.isin(ni, nj).all())
 
 

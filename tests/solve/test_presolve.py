@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from planner.solve.presolve import _no_bridge, dominated
 
@@ -86,3 +87,39 @@ def test_representatives_one_per_group_and_row() -> None:
     assert representatives(a, np.ones(4), np.array([0, 0, 0, 1])).tolist() == [0, 1, 3]
     # a cheaper copy is the representative
     assert representatives(a, np.array([2.0, 1.0, 1.0, 1.0]), np.array([0, 0, 0, 1])).tolist() == [1, 2, 3]
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None)
+@given(n=st.integers(1, 30), m=st.integers(1, 10), seed=st.integers(0, 2**31 - 1), share=st.floats(0.0, 0.9),
+       grouped=st.booleans(), reps_only=st.booleans())
+def test_lazy_rows_drop_what_the_whole_relation_drops(n: int, m: int, seed: int, share: float, grouped: bool,
+                                                        reps_only: bool) -> None:
+    # the relation formed row by row as the presolve asks (planner.solve.lazy_links) against the same relation
+    # formed whole (overlap_adjacency among the same candidates): the same candidates dropped, and the relation
+    # handed on among the kept is the whole one's restricted to them
+    from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
+    from planner.solve.lazy_links import LazyLinks
+    from planner.solve.milp import representatives
+    from planner.solve.presolve import presolve_order
+
+    rng = np.random.default_rng(seed)
+    a = sp.csr_matrix(rng.random((n, m)) < 0.4)
+    if n > 2:
+        a = sp.vstack([a, a[: n // 3]]).tocsr()  # copies, as a fine grid gives
+    cost = rng.integers(1, 3, a.shape[0]).astype(float)
+    lengths = rng.uniform(0.5, 2.0, m)
+    groups = rng.integers(0, 2, a.shape[0]).tolist() if grouped else [0] * a.shape[0]
+    gid = group_ids(groups)
+    rule = OverlapRule(share)
+    reps = representatives(a, cost, gid) if reps_only else np.arange(a.shape[0])
+    sub, _ = overlap_adjacency(a[reps], lengths, rule, [groups[i] for i in reps])
+    coo = sub.tocoo()
+    whole = sp.csr_matrix((coo.data, (reps[coo.row], reps[coo.col])), shape=(a.shape[0],) * 2)
+    lazy = LazyLinks(a, lengths, rule, gid, reps, presolve_order(a, cost))
+    d_lazy, d_whole = dominated(a, cost, lazy, groups), dominated(a, cost, whole, groups)
+    assert d_lazy.tolist() == d_whole.tolist()
+    kept = np.flatnonzero(~d_lazy)
+    among = lazy.among(kept)
+    part = whole[kept][:, kept].tocoo()  # the whole relation among the kept, in the instance's indices
+    expect = sp.csr_matrix((np.ones(part.nnz, dtype=bool), (kept[part.row], kept[part.col])), shape=whole.shape)
+    assert (among != expect).nnz == 0
