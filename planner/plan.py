@@ -24,7 +24,7 @@ from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
-from planner.coverage.targets import make_targets
+from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import PrecisionRule, SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
@@ -282,21 +282,31 @@ def coverage_problem(site: Site, options: PlanOptions, validation: ValidationRep
 
     check_memory(site, options.target_spacing_m, options.pool.grid_spacing_m,
                  closed_form_limits(validation).max_slant_range_m, options.memory_limit_bytes)
-    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     targets = make_targets(site, options.target_spacing_m)
     spaces = {} if spaces is None else spaces
     region_cache = {} if region_cache is None else region_cache
+    pool = site_candidates(site, options, validation, targets, limits, spaces, region_cache)
+    problem = build_coverage(site, pool, targets, limits, step="coverage build")
+    reasons: dict[int, str] = {}
+    if options.regions and regions_apply(limits):
+        # a candidate from its own region for every piece still unseen; refused only when that is empty
+        problem, reasons = complete_candidates(site, problem, limits, spaces, region_cache)
+    return problem, problem.uncoverable(), reasons
+
+
+def site_candidates(site: Site, options: PlanOptions, validation: ValidationReport, targets: Targets,
+                    limits: SightLimits, spaces: dict[str, FrameSpace] | None = None,
+                    region_cache: dict[int, Any] | None = None) -> list[Candidate]:
+    """The candidate pool of a site (the one home of it: the single model and the tiles both take it): the
+    closed form, field samples and grid of :func:`planner.candidates.pool.candidate_pool`; with regions, one
+    station per zone-side where one sees all of it; a candidate per maximal cell of the regions along every
+    room's medial axis and the rings round outside zones; duplicates removed."""
+    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
     exact = options.regions and regions_apply(limits)
     if exact:  # one station for a whole zone-side, found exactly where one exists
         pool = pool + whole_side_candidates(site, targets, limits, spaces, region_cache)
-    # every room's medial axis (and rings round outside zones): a candidate per maximal cell of the regions on it
-    pool = dedupe(pool + axis_candidates(site, targets, limits, spaces, region_cache, cells=exact,
+    return dedupe(pool + axis_candidates(site, targets, limits, spaces, region_cache, cells=exact,
                                          step_m=options.target_spacing_m))
-    problem = build_coverage(site, pool, targets, limits, step="coverage build")
-    reasons: dict[int, str] = {}
-    if exact:  # a candidate from its own region for every piece still unseen; refused only when that is empty
-        problem, reasons = complete_candidates(site, problem, limits, spaces, region_cache)
-    return problem, problem.uncoverable(), reasons
 
 
 def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:

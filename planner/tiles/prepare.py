@@ -6,22 +6,20 @@ may stand, the registration groups and the overlap rule, made once here for
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
 import scipy.sparse as sp
 
-from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.model import Candidate
-from planner.candidates.pool import candidate_pool, dedupe
 from planner.coverage.links import registration_groups
 from planner.coverage.matrix import build_coverage, station_places
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
-from planner.coverage.regions import regions_apply
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
-from planner.plan import PlanOptions, _limits, closed_form_limits
+from planner.plan import PlanOptions, _limits, site_candidates
 from planner.site.model import Site
 from planner.validate import ValidationReport, validate_site
 
@@ -63,22 +61,23 @@ class Prepared:
 
 
 def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) -> tuple[list[Candidate], Targets]:
-    """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them."""
+    """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them
+    (:func:`planner.plan.site_candidates`), before the completion of unseen pieces."""
     limits = _limits(validation, options)
     targets = make_targets(site, options.target_spacing_m)
-    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
-    if options.regions and regions_apply(limits):
-        pool = dedupe(pool + whole_side_candidates(site, targets, limits))
-    return pool, targets
+    return site_candidates(site, options, validation, targets, limits), targets
 
 
-def prepare(site: Site, options: PlanOptions, validation: ValidationReport | None = None) -> Prepared:
+def prepare(site: Site, options: PlanOptions, validation: ValidationReport | None = None,
+            extra: Sequence[Candidate] = ()) -> Prepared:
     """The :class:`Prepared` problem of ``site`` under ``options``; registration ``options.registration``,
     else ``site`` (tiles: one registration bundle per accessible area by default), links within the overlap
-    rule's ``max_link_m`` or else the sight range."""
+    rule's ``max_link_m`` or else the sight range. ``extra``: candidates added to the pool (those that the
+    completion of unseen pieces found, :func:`planner.tiles.run.plan_by_tiles`)."""
     validation = validation or validate_site(site)
     limits = _limits(validation, options)
     pool, targets = site_pool(site, options, validation)
+    pool = pool + list(extra)
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
     usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason], dtype=bool)
     mode = options.registration or "site"

@@ -28,7 +28,10 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from planner.candidates.complete import complete_candidates
+from planner.candidates.model import Candidate
 from planner.coverage.matrix import CoverageProblem
+from planner.coverage.regions import regions_apply
 from planner.coverage.overlap import OverlapRule
 from planner.errors import UsageError
 from planner.plan import Plan, PlanOptions, unseen_error
@@ -110,7 +113,7 @@ def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.c
 
 
 def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOptions | None = None,
-                  client: Any = None) -> Plan:
+                  client: Any = None, extra: tuple[Candidate, ...] = ()) -> Plan:
     """Plan ``site`` by tiles with the MILP options of ``options`` (module docstring); on ``client``
     (a ``dask.distributed.Client``) when given, else in this process. Same seed, same plan either way.
 
@@ -119,14 +122,16 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     UsageError
         When the zones are not all in one frame (tiles are squares of one coordinate frame).
     InfeasibleError
-        When some piece is seen by no candidate.
+        When some piece is seen from no position (its coverage region is empty). A piece that no candidate of
+        the pool sees gets one from its region (:func:`planner.candidates.complete.complete_candidates`), and
+        the tiles run once more with those candidates added (``extra``).
     """
     options = (options or PlanOptions(method="milp")).for_site(site)
     tiling = tiling or TileOptions()
     if len({z.frame for z in site.zones}) != 1:
         raise UsageError("tiles need every zone in one coordinate frame", field="tiles")
     start = time.perf_counter()
-    prep = prepare(site, options)
+    prep = prepare(site, options, extra=extra)
     limits, pool, targets, groups = prep.limits, prep.pool, prep.targets, prep.groups
     margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
     anchor = zone_anchors(site, targets)
@@ -142,7 +147,12 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
                               {int(k): "stands nowhere" for k in np.flatnonzero(~prep.usable)}, limits)
     unseen = problem.uncoverable()
     if unseen.size:
-        err = unseen_error(problem, unseen)
+        done, reasons = (complete_candidates(site, problem, limits) if options.regions and regions_apply(limits)
+                         else (problem, {}))
+        found = tuple(done.candidates[len(pool):])
+        if found and not extra:  # the tiles again, with a candidate from the region of every unseen piece
+            return plan_by_tiles(site, options, tiling, client, found)
+        err = unseen_error(done, done.uncoverable(), reasons)
         raise err.located(site.source) if site.source else err
     adj = prep.overlap(by_cand)
     joined = stitch(by_cand, adj, groups, [r.selected for r in results])

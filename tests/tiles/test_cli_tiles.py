@@ -22,7 +22,8 @@ def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
     assert len(data["stations"]) >= data["bound"] >= 1  # never below the proven bound (over the pool)
     search = data["solver"]["local_search"]  # the local search on the kept plan, as asked
     assert search["moves_budget"] == 50 and search["moves"] <= 50
-    assert search["after"] == len(data["stations"]) == search["before"] - search["removed"]
+    # the windows come after the search and may take more off (with the axis candidates in the pool: 10 -> 9)
+    assert len(data["stations"]) <= search["after"] == search["before"] - search["removed"]
 
 
 def test_workers_without_tiles_is_a_usage_error(capsys) -> None:

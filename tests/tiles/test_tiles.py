@@ -132,3 +132,35 @@ def test_prepare_groups_follow_the_registration_mode(site) -> None:
     assert zoned.mode == "zone" and len(set(zoned.groups)) == len(site.zones) == 9
     assert plain.reach_m == pytest.approx(60.0) and plain.rule.overlap == pytest.approx(0.3)
     assert len(plain.pool) == len(plain.groups) == plain.xy.shape[0] == plain.usable.size
+
+
+def _corridor():
+    from planner.params import Parameters
+    from planner.site.model import ScanSide, Site, Zone
+
+    zone = Zone("K", ScanSide.INSIDE, ((0.0, 0.0), (200.0, 0.0), (200.0, 8.0), (0.0, 8.0)), (3.0,) * 4)
+    return Site("corridor", (zone,), parameters=Parameters(theta_max_deg=68.0, overlap=0.0))
+
+
+def test_tiles_plan_a_corridor_from_the_single_models_pool() -> None:
+    # issue 31: a 200 x 8 m corridor was refused ("seen by no candidate": the 10-m grid's rows miss it); the
+    # tiles take the single model's pool (its medial axis), so they plan it: 11 stations there, within the
+    # centre-line construction (h tan 68 = 7.4 m of wall either side, 200 / 14.85 -> 14)
+    plan = plan_by_tiles(_corridor(), OPTIONS, TILING)
+    assert plan.verification.complete and len(plan.stations) <= 14
+
+
+def test_tiles_complete_a_pool_that_misses_pieces(monkeypatch) -> None:
+    # a pool that keeps only the candidates of the corridor's western half: the pieces of the east are seen by
+    # none, their regions are not empty, so each gets a candidate from its region and the tiles run again
+    import planner.tiles.prepare as prep_mod
+
+    whole = prep_mod.site_candidates
+
+    def west(*args, **kwargs):
+        return [c for c in whole(*args, **kwargs) if c.x < 100.0]
+
+    monkeypatch.setattr(prep_mod, "site_candidates", west)
+    plan = plan_by_tiles(_corridor(), OPTIONS, TILING)
+    assert plan.verification.complete
+    assert any(s.x > 100.0 for s in plan.stations)  # the east is planned, from the completed candidates
