@@ -23,7 +23,6 @@ import shapely
 from planner.candidates.model import Candidate
 from planner.errors import InfeasibleError, InputError, UsageError
 from planner.field.certify import Certified, certify
-from planner.field.exact import WORK_LIMIT
 from planner.field.order import (
     MODES,
     SOLUTION_LIMIT,
@@ -32,6 +31,7 @@ from planner.field.order import (
     solve_order,
 )
 from planner.field.properties import DEFAULT_FIELD, FieldProperties
+from planner.field.scip_order import NODE_LIMIT
 from planner.field.targets import (
     STRONG_OVERLAP,
     Link,
@@ -56,8 +56,8 @@ from planner.site.model import ScanSide, Site
 class FieldOptions:
     """How the sheet is made: ``mode`` shortest|registration, ``start`` (a station id, ``x,y``, or None for
     the station nearest the first door or control point), ``closed`` (back to the start), ``session_s``,
-    the scan ``setting`` (None: the instrument's default), ``strong_overlap``, the routing limits and CP-SAT's
-    deterministic ``work_limit``."""
+    the scan ``setting`` (None: the instrument's default), ``strong_overlap``, the routing limits and the
+    branch-and-cut's deterministic ``node_limit``."""
 
     mode: str = "shortest"
     start: str | None = None
@@ -67,7 +67,7 @@ class FieldOptions:
     strong_overlap: float = STRONG_OVERLAP
     solution_limit: int = SOLUTION_LIMIT
     time_cap_s: float = TIME_CAP_S
-    work_limit: float = WORK_LIMIT
+    node_limit: int = NODE_LIMIT
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -201,7 +201,7 @@ def field_plan(site: Site, stations: Sequence[Candidate], options: FieldOptions 
     d = g.dist
     result = solve_order(d, options.mode, nbrs, parts, first is not None, options.closed, options.solution_limit,
                          options.time_cap_s)
-    cert = certify(d, result, options.mode, nbrs, parts, first is not None, options.closed, options.work_limit,
+    cert = certify(d, result, options.mode, nbrs, parts, first is not None, options.closed, options.node_limit,
                    options.time_cap_s)
     result, bound, method = cert.result, cert.bound_m, cert.method
     ok = not registration_violations(result.order, nbrs, parts, first is not None)

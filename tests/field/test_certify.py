@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from planner.field.certify import CPSAT_OPT, HK_EXACT, certify
+from planner.field.certify import BC_OPT, HK_EXACT, certify
 from planner.field.exact import cpsat_order
 from planner.field.order import order_length, registration_violations, solve_order
 
@@ -45,9 +45,9 @@ def test_registration_forces_a_detour_and_the_bound_is_exact():
     r = solve_order(d, "registration", nbrs, parts, True, solution_limit=50)
     cert = certify(d, r, "registration", nbrs, parts, True, False)
     assert cert.result.order == (0, 2, 1, 3) and cert.result.length_m == pytest.approx(12.0)
-    # the shortest route's bound (exact DP) is only 10 m; the CP-SAT model proves 12 m (1200 cm, integer here)
+    # the shortest route's bound (exact DP) is only 10 m; the branch-and-cut proves 12 m (12000 mm, integer here)
     assert dict(cert.bounds)[HK_EXACT] == pytest.approx(10.0)
-    assert cert.method == CPSAT_OPT and cert.bound_m == pytest.approx(12.0)
+    assert cert.method == BC_OPT and cert.bound_m == pytest.approx(12.0)
     assert cert.scope == "registration-order route"
 
 
@@ -104,3 +104,29 @@ def test_bound_below_brute_force_optimum_below_route(inst, mode):
     # of each of the at most n arcs (n <= 7: 7 cm)
     tol = len(d) * 0.01
     assert cert.result.length_m <= opt + tol and cert.bound_m >= opt - tol
+
+
+def test_branch_and_cut_closes_the_gap_on_a_random_plan():
+    # 40 random points (the benchmark's kind: a square of side 10 sqrt(n) m, overlap within 16 m with
+    # probability 1/2 plus the minimum spanning tree): the registration order is proven optimal, below
+    # the routing answer, and the position model's bound (CP-SAT, a little work) stays below it
+    from scipy.sparse.csgraph import minimum_spanning_tree
+
+    from planner.field.scip_order import scip_order
+
+    n = 40
+    rng = np.random.default_rng(3)
+    p = rng.uniform(0.0, 10.0 * math.sqrt(n), (n, 2))
+    d = np.hypot(*(p[:, None] - p[None]).transpose(2, 0, 1))
+    near = np.triu((d <= 16.0) & (rng.uniform(size=d.shape) < 0.5), 1) | (minimum_spanning_tree(d).toarray() > 0)
+    nbrs = [set(np.flatnonzero(near[j] | near[:, j]).tolist()) - {j} for j in range(n)]
+    parts = [0] * n
+    r = solve_order(d, "registration", nbrs, parts, True, solution_limit=100)
+    cert = certify(d, r, "registration", nbrs, parts, True, False)
+    assert cert.method == BC_OPT and not registration_violations(cert.result.order, nbrs, parts, True)
+    assert cert.result.length_m <= r.length_m + 1e-9
+    assert cert.bound_m >= (1 - 1e-4) * cert.result.length_m  # mm rounding of 40 arcs at most
+    ex = scip_order(d, True, nbrs, parts, hint=cert.result.order)
+    assert ex.optimal and ex.length_m == pytest.approx(cert.result.length_m)
+    weak = cpsat_order(d, True, nbrs, parts, hint=cert.result.order, work_limit=1.0)
+    assert weak.bound_m <= cert.result.length_m + 1e-9

@@ -1,0 +1,278 @@
+"""The visiting order by branch-and-cut (SCIP through PySCIPOpt): an exact answer, or a certified lower bound,
+in both modes, with an LP relaxation far stronger than the position model of :mod:`planner.field.exact`.
+
+Nodes 0..n-1, node 0 the start; a Boolean ``x_ij`` per arc. A closed tour: every node has one arc out and
+one in. An open path: node 0 has one arc out and none in, every other node one in and one out, where "out"
+may be the arc to the dummy end node E. The rows the search adds (a constraint handler):
+
+* subtour cuts ``x(delta_in(S)) >= 1`` for a set S of stations without the start;
+* registration cuts ``x(arcs from outside S into R(S)) >= 1``, where R(S) holds the nodes b of S that have an
+  overlap neighbour outside S, or whose whole registration part lies in S (b may be that part's first).
+  Valid: the first node of S the order reaches is entered from outside S and must register on an earlier
+  node (outside S) or be the first of its part. Exact: an order that breaks the rule at b violates the cut
+  of S = {b and every node after it} (the only arc into S enters b, and b is not in R(S)).
+
+Integral points are checked exactly (follow the arcs from 0; the first subtour or rule break gives a cut);
+fractional LP points get the cuts of the suffixes of a greedy order read from the LP (from 0, next the node
+with the most LP flow in from the nodes taken) and of the components of the LP's support.
+
+Costs are the walking distances in mm rounded **down**, so SCIP's dual bound / 1000 is a lower bound in metres. Determinism: one thread, seed 0, a limit on branch-and-bound nodes;
+the wall-clock cap is only a safety net (:attr:`planner.field.exact.ExactResult.capped`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from planner.field.exact import ExactResult
+from planner.field.order import order_length
+
+#: distances go to SCIP in millimetres, rounded down
+SCALE = 1000.0
+#: branch-and-bound nodes SCIP may open (deterministic work limit)
+NODE_LIMIT = 2000
+WALL_CAP_S = 120.0
+#: a fractional cut is added when violated by more than this
+MIN_VIOLATION = 1e-3
+
+
+def _eligible(nbrs_mat: NDArray[np.bool_], part_mat: NDArray[np.bool_], inside: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """R(S) of the module text for the set ``inside`` (a mask over the n nodes)."""
+    out = ~inside
+    has_out_nbr = (nbrs_mat & out[None, :]).any(axis=1)
+    part_inside = ~(part_mat & out[None, :]).any(axis=1)
+    return inside & (has_out_nbr | part_inside)
+
+
+class _Cuts:
+    """The two cut families on an n x n matrix of arc values (arcs into the dummy end left out)."""
+
+    def __init__(self, n: int, nbrs: Sequence[set[int]], parts: Sequence[int], start_is_station: bool,
+                 registration: bool) -> None:
+        self.n, self.registration = n, registration
+        self.nbrs = np.zeros((n, n), dtype=bool)
+        for j in range(n):
+            self.nbrs[j, sorted(nbrs[j])] = True
+        p = np.asarray(parts)
+        self.part = p[:, None] == p[None, :]
+        np.fill_diagonal(self.part, False)
+        # a part holding the start (a station) has its first node already: nobody else of it is free
+        if start_is_station:
+            self.part[p == p[0], 0] = True
+
+    def rows(self, inside: NDArray[np.bool_]) -> list[tuple[NDArray[np.bool_], NDArray[np.bool_]]]:
+        """(source mask, target mask) of the cuts of set ``inside``: the arcs from sources to targets sum >= 1."""
+        out = [(~inside, inside)]
+        if self.registration:
+            elig = _eligible(self.nbrs, self.part, inside)
+            if elig.sum() < inside.sum():
+                out.append((~inside, elig))
+        return out
+
+    def violated(self, x: NDArray[np.float64], sets: list[NDArray[np.bool_]], tol: float) -> list:
+        found, seen = [], set()
+        for inside in sets:
+            if inside[0] or not inside.any() or inside.all():
+                continue
+            key = inside.tobytes()
+            if key in seen:
+                continue
+            seen.add(key)
+            for src, dst in self.rows(inside):
+                if float(x[np.ix_(src, dst)].sum()) < 1.0 - tol:
+                    found.append((src, dst))
+        return found
+
+
+def _suffixes(x: NDArray[np.float64]) -> list[NDArray[np.bool_]]:
+    """The suffix sets of a greedy order read from arc values ``x`` (from 0, the most inflow from the taken)."""
+    n = len(x)
+    taken = np.zeros(n, dtype=bool)
+    taken[0] = True
+    inflow = x[0].copy()
+    sets = []
+    for _ in range(n - 1):
+        k = int(np.argmax(np.where(taken, -np.inf, inflow)))
+        sets.append(~taken)
+        taken[k] = True
+        inflow += x[k]
+    return sets
+
+
+def _components(x: NDArray[np.float64]) -> list[NDArray[np.bool_]]:
+    """The components of the support graph of ``x`` (arcs above 1e-6) that do not hold the start."""
+    from scipy.sparse.csgraph import connected_components
+
+    _, lab = connected_components(x > 1e-6, directed=True, connection="weak")
+    return [lab == c for c in np.unique(lab) if c != lab[0]]
+
+
+def _walk(x: NDArray[np.float64]) -> list[int]:
+    """The nodes an integral point reaches from 0 (arcs above 0.5), in order, until it closes or ends."""
+    order, at, seen = [0], 0, {0}
+    while True:
+        nxt = np.flatnonzero(x[at] > 0.5)
+        if nxt.size == 0 or int(nxt[0]) in seen:
+            return order
+        at = int(nxt[0])
+        order.append(at)
+        seen.add(at)
+
+
+def scip_order(d: NDArray[np.float64], registration: bool, neighbours: Sequence[set[int]], parts: Sequence[int],
+               start_is_station: bool = True, closed: bool = False, hint: Sequence[int] | None = None,
+               node_limit: int = NODE_LIMIT, wall_cap_s: float = WALL_CAP_S) -> ExactResult:
+    """Solve the model of the module text on walking distances ``d`` (finite, m); ``hint``: an order from node 0
+    (honouring the rule in ``registration`` mode) given to SCIP as its first solution."""
+    import pyscipopt
+
+    t0 = time.perf_counter()
+    n = len(d)
+    if n <= 2:
+        order = tuple(range(n))
+        length = order_length(d, order, closed) if n else 0.0
+        return ExactResult(order, length, length, True, False, 0.0)
+    cost = np.floor(np.asarray(d, dtype=float) * SCALE)
+    cuts = _Cuts(n, neighbours, parts, start_is_station, registration)
+    m = pyscipopt.Model("order")
+    m.hideOutput()
+    x: dict[tuple[int, int], Any] = {}
+    for i in range(n):
+        for j in range(n):
+            if i != j and (j != 0 or closed):
+                x[i, j] = m.addVar(f"x{i}_{j}", vtype="B", obj=float(cost[i, j]))
+    ends = {i: m.addVar(f"e{i}", vtype="B", obj=0.0) for i in range(1, n)} if not closed else {}
+    q = pyscipopt.quicksum
+    for i in range(n):
+        m.addCons(q(x[i, j] for j in range(n) if (i, j) in x) + ends.get(i, 0.0) == 1)
+    for j in range(n):
+        if j or closed:
+            m.addCons(q(x[i, j] for i in range(n) if (i, j) in x) == 1)
+    if ends:
+        m.addCons(q(ends.values()) == 1)
+    for i in range(n):
+        for j in range(i + 1, n):
+            if (i, j) in x and (j, i) in x:
+                m.addCons(x[i, j] + x[j, i] <= 1)
+    m.setObjIntegral()
+    handler = _handler(pyscipopt)(x, cuts, n, registration, neighbours, parts, start_is_station)
+    m.includeConshdlr(handler, "route", "subtours and the registration rule", sepapriority=10, enfopriority=-10,
+                      chckpriority=-10, sepafreq=1, needscons=False)
+    m.setBoolParam("misc/allowstrongdualreds", False)
+    m.setBoolParam("misc/allowweakdualreds", False)
+    m.setParam("limits/nodes", node_limit)
+    m.setParam("limits/time", wall_cap_s)
+    m.setParam("randomization/randomseedshift", 0)
+    m.setParam("lp/threads", 1)
+    if hint is not None:
+        sol = m.createSol()
+        nxt = dict(zip(hint, [*hint[1:], 0 if closed else -1]))
+        for (i, j), v in x.items():
+            m.setSolVal(sol, v, float(nxt[i] == j))
+        for i, v in ends.items():
+            m.setSolVal(sol, v, float(nxt[i] == -1))
+        m.addSol(sol)
+    m.optimize()
+    wall = time.perf_counter() - t0
+    capped = m.getStatus() == "timelimit"
+    dual = m.getDualbound()
+    bound = max(0.0, float(dual) / SCALE) if math.isfinite(dual) and abs(dual) < 1e19 else 0.0
+    if m.getNSols() == 0:
+        return ExactResult(None, math.inf, bound, False, capped, wall)
+    best = m.getBestSol()
+    xv = np.zeros((n, n))
+    for (i, j), v in x.items():
+        xv[i, j] = m.getSolVal(best, v)
+    order = tuple(_walk(xv))
+    if len(order) != n:
+        return ExactResult(None, math.inf, bound, False, capped, wall)
+    return ExactResult(order, order_length(d, order, closed), bound, m.getStatus() == "optimal", capped, wall)
+
+
+def _handler(scip: Any) -> type:
+    """The constraint handler class (PySCIPOpt is imported lazily)."""
+    result = scip.SCIP_RESULT
+
+    class Route(scip.Conshdlr):  # type: ignore[misc, name-defined]
+        def __init__(self, x: dict, cuts: _Cuts, n: int, registration: bool, nbrs: Sequence[set[int]],
+                     parts: Sequence[int], start_is_station: bool) -> None:
+            self.x, self.cuts, self.n = x, cuts, n
+            self.rule = (registration, nbrs, parts, start_is_station)
+
+        def _values(self, sol: Any) -> NDArray[np.float64]:
+            v = np.zeros((self.n, self.n))
+            for (i, j), var in self.x.items():
+                v[i, j] = self.model.getSolVal(sol, var)
+            return v
+
+        def _broken(self, xv: NDArray[np.float64]) -> NDArray[np.bool_] | None:
+            """The set S of an integral point's first subtour or rule break (None: a valid order)."""
+            from planner.field.order import registration_violations
+
+            order = _walk(xv)
+            if len(order) < self.n:
+                inside = np.ones(self.n, dtype=bool)
+                inside[order] = False
+                return inside
+            registration, nbrs, parts, start_is_station = self.rule
+            if registration:
+                bad = registration_violations(order, nbrs, parts, start_is_station)
+                if bad:
+                    inside = np.zeros(self.n, dtype=bool)
+                    inside[order[order.index(bad[0]):]] = True
+                    return inside
+            return None
+
+        def _add(self, rows: list, cut: bool) -> int:
+            for src, dst in rows:
+                terms = [self.x[i, j] for i in np.flatnonzero(src) for j in np.flatnonzero(dst) if (i, j) in self.x]
+                if cut:
+                    row = self.model.createEmptyRowUnspec(name="c", lhs=1.0, rhs=None, local=False, removable=True)
+                    self.model.cacheRowExtensions(row)
+                    for v in terms:
+                        self.model.addVarToRow(row, v, 1.0)
+                    self.model.flushRowExtensions(row)
+                    self.model.addCut(row, forcecut=False)
+                    self.model.addPoolCut(row)
+                    self.model.releaseRow(row)
+                else:
+                    self.model.addCons(scip.quicksum(terms) >= 1, removable=False)
+            return len(rows)
+
+        def conscheck(self, constraints, solution, checkintegrality, checklprows, printreason, completely):
+            return {"result": result.INFEASIBLE if self._broken(self._values(solution)) is not None
+                    else result.FEASIBLE}
+
+        def _enforce(self) -> dict:
+            xv = self._values(None)
+            inside = self._broken(xv)
+            if inside is None:
+                return {"result": result.FEASIBLE}
+            rows = self.cuts.violated(xv, [inside], 0.5)
+            if not rows:  # cannot happen for an integral point; be safe
+                return {"result": result.INFEASIBLE}
+            self._add(rows, cut=False)
+            return {"result": result.CONSADDED}
+
+        def consenfolp(self, constraints, nusefulconss, solinfeasible):
+            return self._enforce()
+
+        def consenfops(self, constraints, nusefulconss, solinfeasible, objinfeasible):
+            return self._enforce()
+
+        def conslock(self, constraint, locktype, nlockspos, nlocksneg):
+            pass
+
+        def conssepalp(self, constraints, nusefulconss):
+            xv = self._values(None)
+            rows = self.cuts.violated(xv, _components(xv) + _suffixes(xv), MIN_VIOLATION)
+            found = self._add(rows, cut=True)
+            return {"result": result.SEPARATED if found else result.DIDNOTFIND}
+
+    return Route
