@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from planner.coverage.overlap import group_ids
 from planner.solve.lazy_links import LazyLinks
 
 
@@ -64,6 +65,7 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks
     size = np.diff(a.indptr)
     cost = np.asarray(cost, float)
     order = presolve_order(a, cost)
+    gid = np.zeros(n, dtype=np.int64) if groups is None else group_ids(groups)
     removed = np.zeros(n, dtype=bool)
     kept_rank: dict[int, int] = {}
     kept_by_piece: list[list[int]] = [[] for _ in range(n_t)]
@@ -78,7 +80,7 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks
                 removed[i] = True  # covers nothing: dropped unless it may be the only link between others
                 _let_go(adj, i)
                 continue
-        elif _replaced(a, i, cols, kept_by_piece, mark, near, cost, adj, groups):
+        elif _replaced(a, i, cols, kept_by_piece, mark, near, cost, adj, groups, gid):
             removed[i] = True
             _let_go(adj, i)
             continue
@@ -98,9 +100,23 @@ def _nbrs(adj: sp.csr_matrix | LazyLinks, i: int) -> np.ndarray:
     return adj.row(i) if isinstance(adj, LazyLinks) else adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
 
 
+def _row_sums(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray, mark: np.ndarray) -> np.ndarray:
+    """sum(mark[indices of row r]) for each r of ``rows`` of a CSR pattern, gathered in one pass."""
+    starts, ends = indptr[rows], indptr[rows + 1]
+    sizes = ends - starts
+    out = np.zeros(rows.size, dtype=np.int64)
+    full = sizes > 0
+    if not full.any():
+        return out
+    offset = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    pos = np.repeat(starts - offset, sizes) + np.arange(int(sizes.sum()))
+    out[full] = np.add.reduceat(mark[indices[pos]], offset[full])
+    return out
+
+
 def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[list[int]], mark: np.ndarray,
               near: np.ndarray, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks | None,
-              groups: Sequence[Hashable] | None) -> bool:
+              groups: Sequence[Hashable] | None, gid: np.ndarray) -> bool:
     """Whether a kept candidate, no dearer and of i's group (linked to all of i's links under ``adj``), sees
     every piece i sees."""
     lists = [kept_by_piece[t] for t in cols.tolist()]
@@ -109,12 +125,12 @@ def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[li
         return False
     shortest = shortest[cost[shortest] <= cost[i]]
     if groups is not None:
-        shortest = shortest[[groups[j] == groups[i] for j in shortest.tolist()]]
+        shortest = shortest[gid[shortest] == gid[i]]
     if shortest.size == 0:
         return False
     mark[cols] = 1
-    try:  # how many of i's pieces each j sees, in one sparse product
-        seen = np.asarray(a[shortest].astype(np.int32) @ mark).ravel()
+    try:  # how many of i's pieces each j sees: its row's marks summed, all rows at once
+        seen = _row_sums(a.indptr, a.indices, shortest, mark)
     finally:
         mark[cols] = 0
     inside = shortest[seen == cols.size]
@@ -123,9 +139,18 @@ def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[li
     ni = _nbrs(adj, i)
     near[ni] = 1  # j must be linked to every neighbour of i but itself: |N(j) & N(i)| = |N(i)| - [j in N(i)]
     try:
-        if isinstance(adj, LazyLinks):  # kept rows are held: the first j that covers i's links will do
-            return any(int(near[adj.row(j)].sum()) == ni.size - near[j] for j in inside.tolist())
-        shared = np.asarray(adj[inside] @ near).ravel()
+        if isinstance(adj, LazyLinks):  # kept rows are held: |N(j) & N(i)| for every j at once
+            rows = [adj.row(j) for j in inside.tolist()]
+            sizes = np.fromiter((r.size for r in rows), dtype=np.int64, count=len(rows))
+            if not sizes.any():
+                return bool(np.any(ni.size - near[inside] == 0))
+            hits = near[np.concatenate(rows)]
+            starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+            shared_l = np.zeros(sizes.size, dtype=np.int64)
+            full = sizes > 0  # reduceat over the non-empty rows only (an empty one would take its next's first)
+            shared_l[full] = np.add.reduceat(hits, starts[full])
+            return bool(np.any(shared_l == ni.size - near[inside]))
+        shared = _row_sums(adj.indptr, adj.indices, inside, near)
         return bool(np.any(shared == ni.size - near[inside]))
     finally:
         near[ni] = 0
