@@ -51,9 +51,13 @@ def estimate_bytes(site: Path, grid: float) -> int:
 
 def run(site: Path, grid: float, out: Path, limit_s: int) -> dict:
     t0 = time.perf_counter()
-    proc = subprocess.run(["/usr/bin/time", "-v", sys.executable, "-m", "planner", "plan", str(site), "--grid-spacing",
-                           str(grid), "--out", str(out), "--quiet"], capture_output=True, text=True, cwd=ROOT,
-                          timeout=limit_s, check=False)
+    try:
+        proc = subprocess.run(["/usr/bin/time", "-v", sys.executable, "-m", "planner", "plan", str(site),
+                               "--grid-spacing", str(grid), "--out", str(out), "--quiet"], capture_output=True,
+                              text=True, cwd=ROOT, timeout=limit_s, check=False)
+    except subprocess.TimeoutExpired:  # a row that says so, and the next grid goes on
+        return {"wall_s": time.perf_counter() - t0, "peak_gib": math.nan, "exit": "stopped",
+                "error": f"stopped at the {limit_s}-s limit"}
     wall = time.perf_counter() - t0
     rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", proc.stderr)
     row = {"wall_s": wall, "peak_gib": int(rss.group(1)) / 2**20 if rss else math.nan, "exit": proc.returncode}
@@ -104,8 +108,8 @@ def main() -> None:
     ap.add_argument("--limit", type=int, default=1800, help="seconds per run before it is stopped")
     ap.add_argument("--out", help="markdown table; the figure goes beside it as .png")
     a = ap.parse_args()
-    lines = ["| site | grid m | candidates | pairs | stations | status | scope | wall s | peak GiB | guard estimate GiB | "
-             "estimate / peak |", "|---" * 11 + "|"]
+    lines = [("| site | grid m | candidates | pairs | stations | status | scope | wall s | peak GiB | guard estimate GiB | "
+             "estimate / peak |"), "|---" * 11 + "|"]
     results: dict[str, list[dict]] = {}
     with tempfile.TemporaryDirectory() as d:
         tmp = Path(d)
