@@ -1,7 +1,7 @@
 """The connected plane bound (planner.solve.plane_ring): its parts against brute force, and the issue's case.
 
 - ``cyclic_arcs`` (vectorised) agrees with ``ring.arcs`` (a loop) on random rows.
-- ``_undominated`` (a table of the ring's arcs, O(n^2)) keeps exactly the triples no other holds (pairwise).
+- ``undominated`` (a table of the ring's arcs, O(n^2)) keeps exactly the triples no other holds (pairwise).
 - The bound never passes the connected optimum over a 0.5-m grid of positions (the brute-force oracle: the
   exact connected MILP on that pool), on random blocks scanned from outside and rooms from inside, any overlap
   share: the bound claims every connected plan, stations anywhere, so also those on the grid.
@@ -25,7 +25,8 @@ from planner.plan import PlanOptions, _limits, coverage_problem, plan_site
 from planner.site.model import ScanSide, Site, Zone
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
-from planner.solve.plane_ring import _undominated, connected_plane_bound, cyclic_arcs
+from planner.solve.plane_patches import cyclic_arcs, undominated
+from planner.solve.plane_ring import connected_plane_bound
 from planner.solve.ring import arcs
 from planner.validate import validate_site
 from tests.conftest import INSTANCES
@@ -60,7 +61,7 @@ def test_undominated_is_the_pairwise_definition(n: int, items: list[tuple[int, i
     start = np.array([s % n for s, _, _ in items])
     span = np.array([k % n for _, k, _ in items])
     low = np.array([float(w) for _, _, w in items])
-    kept = set(_undominated(start, span, low, n).tolist())
+    kept = set(undominated(start, span, low, n).tolist())
     for p in range(len(items)):
         held = [m for m in range(len(items)) if m != p and _holds(start[m], start[m] + span[m], start[p],
                                                                       start[p] + span[p], n) and low[m] <= low[p]]

@@ -1,0 +1,157 @@
+"""Patches of the plane and arcs of a ring, for the connected plane bound (:mod:`planner.solve.plane_ring`).
+
+A patch is a square of side h on a grid over a zone-side's grown regions. :func:`patch_sets` gives what each may
+see (U, the pieces whose grown outer region holds its centre) and what it surely sees (low, the wall length of the
+pieces whose shrunk region holds it); :func:`cyclic_arcs` the smallest arc of the ring that holds each U;
+:func:`undominated` keeps the patches no other holds; :func:`arc_links` joins the arcs the overlap rule may join.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+import shapely
+from numpy.typing import NDArray
+
+from planner.coverage.arrangement import grown
+
+#: the first patch side gives about this many patches over the zone-side's box; then halved, twice
+FIRST_PATCHES = 20_000
+#: no patch side below this (m)
+MIN_PATCH_M = 0.02
+#: at most this many patch centres (the grid over a zone-side's grown regions) per zone-side and patch side; past it
+#: that side and the finer ones are skipped (Baalbek's outline at 0.5 m: 384,174 patches, 17,373 undominated, 110 s)
+MAX_PATCHES = 250_000
+#: segments per quarter circle of the shrunk regions; the shrink is divided by cos(pi / (4 * this))
+_ERODE_SEGS = 16
+
+
+def patch_shapes(outer: list[Any], inner: list[Any], h: float, grow_m: float, shrink_m: float
+                 ) -> tuple[list[Any], list[Any]]:
+    """The outer regions grown (circumscribed) and the inner ones shrunk by their tolerance and half the diagonal of
+    a patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short)."""
+    half = h * math.sqrt(0.5)
+    d = (shrink_m + half) / math.cos(math.pi / (4 * _ERODE_SEGS))
+    return grown(outer, grow_m + half), list(shapely.buffer(np.asarray(inner, dtype=object), -d, quad_segs=_ERODE_SEGS))
+
+
+def cyclic_arcs(u: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Each non-empty row's smallest cyclic arc [start, end] over the n columns (end may pass n), leaving out
+    the row's widest gap (first widest on ties); rows must be non-empty. Vectorised :func:`ring.arcs`."""
+    u = u.tocsr()
+    u.sort_indices()
+    n = u.shape[1]
+    cols = u.indices.astype(np.int64)
+    first = u.indptr[:-1]
+    last = u.indptr[1:] - 1
+    nxt = np.empty_like(cols)
+    nxt[:-1] = cols[1:]
+    nxt[last] = cols[first] + n  # the wrap gap, from each row's last column to its first one turn on
+    gaps = nxt - cols
+    top = np.maximum.reduceat(gaps, first)
+    idx = np.arange(cols.size)
+    row = np.repeat(np.arange(u.shape[0]), np.diff(u.indptr))
+    k = np.minimum.reduceat(np.where(gaps == top[row], idx, cols.size), first)  # first widest gap per row
+    k_next = np.where(k == last, first, k + 1)
+    start = cols[k_next]
+    end = cols[k] + np.where(cols[k] < start, n, 0)
+    return start, end
+
+
+def patch_sets(grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float
+                ) -> tuple[sp.csr_matrix, NDArray[np.float64]] | None:
+    """U (patches x pieces) and l (per patch) on the grid of side ``h`` over the grown regions' bounds; None past
+    ``MAX_PATCHES``. ``grow``/``shrink``: regions already grown / shrunk by the tolerance and half the diagonal."""
+    live = [k for k, g in enumerate(grow) if not g.is_empty]
+    if not live:
+        return None
+    box = np.array([shapely.bounds(grow[k]) for k in live])
+    x0, y0 = box[:, 0].min(), box[:, 1].min()
+    nx_, ny_ = math.ceil((box[:, 2].max() - x0) / h) + 1, math.ceil((box[:, 3].max() - y0) / h) + 1
+    if nx_ * ny_ > MAX_PATCHES:
+        return None
+    rows, cols = [], []
+    lsum = np.zeros(nx_ * ny_)
+    for k in live:
+        bx0, by0, bx1, by1 = shapely.bounds(grow[k])
+        i0, i1 = int((bx0 - x0) // h), math.ceil((bx1 - x0) / h)
+        j0, j1 = int((by0 - y0) // h), math.ceil((by1 - y0) / h)
+        gi, gj = np.meshgrid(np.arange(i0, min(i1, nx_ - 1) + 1), np.arange(j0, min(j1, ny_ - 1) + 1), indexing="ij")
+        ii, jj = gi.ravel(), gj.ravel()
+        cx, cy = x0 + (ii + 0.5) * h, y0 + (jj + 0.5) * h
+        inside = shapely.contains_xy(grow[k], cx, cy)
+        cell = ii[inside] * ny_ + jj[inside]
+        rows.append(cell)
+        cols.append(np.full(cell.size, k, dtype=np.int64))
+        if not shrink[k].is_empty:
+            whole = shapely.contains_xy(shrink[k], cx[inside], cy[inside])
+            lsum[cell[whole]] += lengths[k]
+    r, c = np.concatenate(rows), np.concatenate(cols)
+    u = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(nx_ * ny_, len(grow)))
+    keep = np.flatnonzero(u.getnnz(axis=1))
+    return u[keep].tocsr(), lsum[keep]
+
+
+def undominated(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], n: int
+                 ) -> NDArray[np.int64]:
+    """Indices of (start, span, low) triples no other holds: m holds p when m's arc holds p's on the ring and
+    low[m] <= low[p] (of equal triples the first is kept). O(n^2) over a table of the arcs of the ring: the
+    least ``low`` of every arc, with each arc also one turn back, minimised over starts <= s and ends >= e."""
+    full = span >= n - 1
+    start, span = np.where(full, 0, start), np.minimum(span, n - 1)  # one name for the whole ring
+    table = np.full((2 * n + 1, 3 * n + 1), np.inf)  # [s + n, e + n]: arcs with start s in [-n, n), end e
+    end = start + span
+    np.minimum.at(table, (start + n, end + n), low)
+    np.minimum.at(table, (start, end), low)  # the copy one turn back
+    incl = np.minimum.accumulate(table[:, ::-1], axis=1)[:, ::-1]  # min over e' >= e
+    incl = np.minimum.accumulate(incl, axis=0)  # ... and s' <= s
+    s, e = start + n, end + n
+    strict = np.minimum(incl[s - 1, e], incl[s, e + 1])  # another arc holding this one
+    best = table[s, e]  # the least low of the same arc
+    full_low = low[full].min() if full.any() else np.inf
+    order = np.lexsort((np.arange(start.size), low, span, start))
+    first = np.ones(start.size, dtype=bool)  # the first of each (start, span) with that arc's least low
+    ss, sp_ = start[order], span[order]
+    first[order[1:]] = (ss[1:] != ss[:-1]) | (sp_[1:] != sp_[:-1])
+    keep = first & (low <= best) & (strict > low) & ((low < full_low) | full)
+    return np.flatnonzero(keep)
+
+
+def arc_links(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], cum: NDArray[np.float64],
+               n: int, share: float) -> sp.csr_matrix:
+    """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring).
+    ``cum``: prefix sums of the piece lengths over three turns (cum[0] = 0)."""
+    end = start + span + 1  # exclusive
+    rows, cols = [], []
+    for lo in range(0, start.size, 512):
+        s, e = start[lo:lo + 512, None], end[lo:lo + 512, None]
+        shared = np.zeros((s.shape[0], start.size))
+        for shift in (-n, 0, n):
+            a = np.maximum(s, start[None, :] + shift)
+            b = np.minimum(e, end[None, :] + shift)
+            ok = b > a
+            a, b = np.clip(a, 0, 3 * n), np.clip(b, 0, 3 * n)
+            shared += np.where(ok, cum[np.maximum(b, a)] - cum[a], 0.0)
+        need = share * np.minimum(low[lo:lo + 512, None], low[None, :])
+        link = (shared > 1e-12) & (shared + 1e-9 >= need)
+        link[np.arange(s.shape[0]), np.arange(lo, lo + s.shape[0])] = False
+        r, c = np.nonzero(link)
+        rows.append(r + lo)
+        cols.append(c)
+    r, c = np.concatenate(rows), np.concatenate(cols)
+    return sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(start.size, start.size))
+
+
+def patch_sides(outer: list[Any]) -> tuple[float, ...]:
+    """The patch sides to try on a zone-side: about ``FIRST_PATCHES`` over its regions' box, then halved twice
+    (polygon B's outside, 96-m reach: 2.1, 1.0, 0.5 m; a 5-m block at 12-m reach: 0.2, 0.1, 0.05 m)."""
+    live = [g for g in outer if not g.is_empty]
+    if not live:
+        return ()
+    b = np.array([shapely.bounds(g) for g in live])
+    area = (b[:, 2].max() - b[:, 0].min()) * (b[:, 3].max() - b[:, 1].min())
+    h0 = max(math.sqrt(area / FIRST_PATCHES), MIN_PATCH_M)
+    return (h0, h0 / 2, h0 / 4)
