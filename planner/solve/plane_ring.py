@@ -95,7 +95,7 @@ class ConnectedPlaneBound:
     def summary(self) -> str:
         if self.bound is None:
             return f"connected plane bound: {self.note}"
-        parts = ", ".join(f"{s.zone_side} {s.value}" + (f" (ring walk, {s.patch_m:g}-m patches)" if s.ring is not None
+        parts = ", ".join(f"{s.zone_side} {s.value}" + (f" (ring walk, {s.patch_m:.2f}-m patches)" if s.ring is not None
                                                           and s.ring >= math.ceil(s.farley - 1e-6) else "")
                           for s in self.sides)
         return (f"connected plane bound: {self.bound} stations for any plan connected under the overlap rule, stations "
