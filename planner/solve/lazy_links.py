@@ -46,8 +46,6 @@ class LazyLinks:
         self._pos[self._order] = np.arange(self._order.size)
         self._rows: dict[int, NDArray[np.int64]] = {}
         self._step = max(1, BLOCK_ENTRIES // max(self._reps.size, 1))
-        self.formed = 0  # rows formed (each once)
-        self.peak_links = 0  # most links held at once
 
     def row(self, i: int) -> NDArray[np.int64]:
         """The candidates linked to ``i`` (sorted); forms i's block when i's row is not held."""
@@ -76,8 +74,6 @@ class LazyLinks:
         ends = np.searchsorted(r, idx, side="right")
         for k, i in enumerate(block):
             self._rows[i] = c[cuts[k]:ends[k]]
-        self.formed += len(block)
-        self.peak_links = max(self.peak_links, sum(x.size for x in self._rows.values()))
 
     def among(self, kept: NDArray[np.int64]) -> sp.csr_matrix:
         """The relation among ``kept`` (n x n, entries only between kept candidates), from the rows held."""

@@ -2,7 +2,7 @@
 
 A patch is a square of side h on a grid over a zone-side's grown regions. :func:`patch_sets` gives what each may
 see (U, the pieces whose grown outer region holds its centre) and what it surely sees (low, the wall length of the
-pieces whose shrunk region holds it); :func:`cyclic_arcs` the smallest arc of the ring that holds each U;
+pieces whose shrunk region holds it); :func:`planner.solve.ring.cyclic_arcs` the smallest arc of the ring that holds each U;
 :func:`undominated` keeps the patches no other holds; :func:`arc_links` joins the arcs the overlap rule may join.
 """
 
@@ -36,29 +36,6 @@ def patch_shapes(outer: list[Any], inner: list[Any], h: float, grow_m: float, sh
     half = h * math.sqrt(0.5)
     d = (shrink_m + half) / math.cos(math.pi / (4 * _ERODE_SEGS))
     return grown(outer, grow_m + half), list(shapely.buffer(np.asarray(inner, dtype=object), -d, quad_segs=_ERODE_SEGS))
-
-
-def cyclic_arcs(u: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Each non-empty row's smallest cyclic arc [start, end] over the n columns (end may pass n), leaving out
-    the row's widest gap (first widest on ties); rows must be non-empty. Vectorised :func:`ring.arcs`."""
-    u = u.tocsr()
-    u.sort_indices()
-    n = u.shape[1]
-    cols = u.indices.astype(np.int64)
-    first = u.indptr[:-1]
-    last = u.indptr[1:] - 1
-    nxt = np.empty_like(cols)
-    nxt[:-1] = cols[1:]
-    nxt[last] = cols[first] + n  # the wrap gap, from each row's last column to its first one turn on
-    gaps = nxt - cols
-    top = np.maximum.reduceat(gaps, first)
-    idx = np.arange(cols.size)
-    row = np.repeat(np.arange(u.shape[0]), np.diff(u.indptr))
-    k = np.minimum.reduceat(np.where(gaps == top[row], idx, cols.size), first)  # first widest gap per row
-    k_next = np.where(k == last, first, k + 1)
-    start = cols[k_next]
-    end = cols[k] + np.where(cols[k] < start, n, 0)
-    return start, end
 
 
 def patch_sets(grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float

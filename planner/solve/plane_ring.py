@@ -49,14 +49,13 @@ from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
 from planner.solve.plane_patches import (
     arc_links,
-    cyclic_arcs,
     patch_sets,
     patch_shapes,
     patch_sides,
     undominated,
 )
 from planner.solve.result import SolveResult, Status
-from planner.solve.ring import ring_graph
+from planner.solve.ring import cyclic_arcs, ring_graph
 
 #: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
 MAX_FAMILY = 6_000

@@ -100,18 +100,21 @@ def _nbrs(adj: sp.csr_matrix | LazyLinks, i: int) -> np.ndarray:
     return adj.row(i) if isinstance(adj, LazyLinks) else adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
 
 
+def _segment_sums(values: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """The sums of consecutive runs of ``values`` of lengths ``sizes`` (0 for an empty run)."""
+    out = np.zeros(sizes.size, dtype=np.int64)
+    full = sizes > 0  # reduceat over the non-empty runs only (an empty one would take its next's first value)
+    if full.any():
+        out[full] = np.add.reduceat(values, (np.cumsum(sizes) - sizes)[full])
+    return out
+
+
 def _row_sums(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray, mark: np.ndarray) -> np.ndarray:
     """sum(mark[indices of row r]) for each r of ``rows`` of a CSR pattern, gathered in one pass."""
-    starts, ends = indptr[rows], indptr[rows + 1]
-    sizes = ends - starts
-    out = np.zeros(rows.size, dtype=np.int64)
-    full = sizes > 0
-    if not full.any():
-        return out
-    offset = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    pos = np.repeat(starts - offset, sizes) + np.arange(int(sizes.sum()))
-    out[full] = np.add.reduceat(mark[indices[pos]], offset[full])
-    return out
+    starts = indptr[rows]
+    sizes = indptr[rows + 1] - starts
+    pos = np.repeat(starts - (np.cumsum(sizes) - sizes), sizes) + np.arange(int(sizes.sum()))
+    return _segment_sums(mark[indices[pos]], sizes)
 
 
 def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[list[int]], mark: np.ndarray,
@@ -142,15 +145,9 @@ def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[li
         if isinstance(adj, LazyLinks):  # kept rows are held: |N(j) & N(i)| for every j at once
             rows = [adj.row(j) for j in inside.tolist()]
             sizes = np.fromiter((r.size for r in rows), dtype=np.int64, count=len(rows))
-            if not sizes.any():
-                return bool(np.any(ni.size - near[inside] == 0))
-            hits = near[np.concatenate(rows)]
-            starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-            shared_l = np.zeros(sizes.size, dtype=np.int64)
-            full = sizes > 0  # reduceat over the non-empty rows only (an empty one would take its next's first)
-            shared_l[full] = np.add.reduceat(hits, starts[full])
-            return bool(np.any(shared_l == ni.size - near[inside]))
-        shared = _row_sums(adj.indptr, adj.indices, inside, near)
+            shared = _segment_sums(near[np.concatenate(rows)], sizes)
+        else:
+            shared = _row_sums(adj.indptr, adj.indices, inside, near)
         return bool(np.any(shared == ni.size - near[inside]))
     finally:
         near[ni] = 0

@@ -64,23 +64,40 @@ class RingBound:
     exact_arcs: int
 
 
+def cyclic_arcs(u: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Each non-empty row's smallest cyclic arc [start, end] over the n columns (end may pass n), leaving out
+    the row's widest gap (first widest on ties); rows must be non-empty."""
+    u = u.tocsr()
+    u.sort_indices()
+    n = u.shape[1]
+    cols = u.indices.astype(np.int64)
+    first = u.indptr[:-1]
+    last = u.indptr[1:] - 1
+    nxt = np.empty_like(cols)
+    nxt[:-1] = cols[1:]
+    nxt[last] = cols[first] + n  # the wrap gap, from each row's last column to its first one turn on
+    gaps = nxt - cols
+    top = np.maximum.reduceat(gaps, first)
+    idx = np.arange(cols.size)
+    row = np.repeat(np.arange(u.shape[0]), np.diff(u.indptr))
+    k = np.minimum.reduceat(np.where(gaps == top[row], idx, cols.size), first)  # first widest gap per row
+    k_next = np.where(k == last, first, k + 1)
+    start = cols[k_next]
+    end = cols[k] + np.where(cols[k] < start, n, 0)
+    return start, end
+
+
 def arcs(cover: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]]:
     """Each row's smallest cyclic arc [start, end] (end may pass n: it wraps) over the n columns, whether the
-    row covers all of it, and -1 for empty rows. The arc leaves out the row's widest gap."""
-    n = cover.shape[1]
+    row covers all of it, and -1 for empty rows. The arc leaves out the row's widest gap (:func:`cyclic_arcs`)."""
+    cover = cover.tocsr()
+    size = cover.getnnz(axis=1)
     start = np.full(cover.shape[0], -1, dtype=np.int64)
     end = np.full(cover.shape[0], -1, dtype=np.int64)
-    exact = np.zeros(cover.shape[0], dtype=bool)
-    for i in range(cover.shape[0]):
-        cols = np.sort(cover.indices[cover.indptr[i]:cover.indptr[i + 1]])
-        if cols.size == 0:
-            continue
-        gaps = np.diff(np.append(cols, cols[0] + n))  # gaps[k]: from cols[k] to the next covered column
-        k = int(np.argmax(gaps))
-        start[i] = cols[(k + 1) % cols.size]
-        end[i] = cols[k] + (n if cols[k] < start[i] else 0)
-        exact[i] = end[i] - start[i] + 1 == cols.size
-    return start, end, exact
+    live = np.flatnonzero(size)
+    if live.size:
+        start[live], end[live] = cyclic_arcs(cover[live])
+    return start, end, (size > 0) & (end - start + 1 == size)
 
 
 class RingGraph:
