@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from planner import progress
 from planner.cli_parser import build_parser as _build_parser
+from planner.cli_profile import apply_config
 from planner.cli_report import parse_exports, write_exports
 from planner.cli_tiles import plan_command
 from planner.errors import ExitCode, InfeasibleError, InputError, PlannerError, UsageError, located_in
@@ -364,7 +365,12 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     try:
-        args = build_parser().parse_args(argv)
+        parser = build_parser()
+        apply_config(parser, argv)  # --config FILE: the profile's values become the defaults, the command line wins
+        args = parser.parse_args(argv)
+    except UsageError as exc:
+        print(f"planner: usage error: {exc.one_line()}", file=sys.stderr)
+        return int(exc.exit_code)
     except SystemExit as done:  # --help, --version, or a usage error already printed in one line
         return int(done.code or 0) if not isinstance(done.code, str) else int(ExitCode.USAGE)
     show = not getattr(args, "quiet", True) and sys.stderr.isatty()

@@ -13,6 +13,7 @@ from collections.abc import Callable, Mapping
 from planner import __version__
 from planner.cli_choices import BACKENDS, CONNECTIVITY, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
 from planner.cli_field import add_field_options, add_field_parser
+from planner.cli_profile import add_profile_options, hide_tuning
 from planner.cli_report import add_report_parser
 from planner.cli_tiles import add_tile_options
 from planner.cli_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT, SAMPLING_M, OncePerKey
@@ -176,6 +177,8 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     pl.add_argument("--verify-spacing", type=SAMPLING_M, default=0.1, metavar="M", help="verification sampling (default 0.1 m)")
     _add_limit_options(pl)
     add_tile_options(pl)
+    add_profile_options(pl)
+    hide_tuning(pl, "plan")
     pl.set_defaults(func=handlers["plan"])
     ve = sub.add_parser("verify", help="re-verify any plan's coverage on a fine sampling of every wall")
     _add_site_options(ve)
