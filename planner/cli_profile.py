@@ -44,7 +44,7 @@ TUNING: dict[str, tuple[str, ...]] = {
         # the tiles
         "--tile-time-limit", "--bound-time-limit", "--lagrange-work", "--lagrange-group", "--tile-search-moves",
         "--tile-search-seeds", "--tile-window-passes", "--tile-window-radius", "--tile-window-work",
-        "--tile-window-batch", "--tile-wall-clock", "--worker-memory",
+        "--tile-window-batch", "--tile-wall-clock", "--worker-memory", "--tile-budget",
         # input formats (table CSV closures, DXF, IFC)
         "--angular-tolerance", "--min-relative-precision", "--layer-height", "--dxf-side", "--exterior",
         "--ifc-windows",

@@ -13,15 +13,24 @@ from planner.errors import UsageError
 if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/startup.md)
     from planner.plan import Plan, PlanOptions
     from planner.site.model import Site
+    from planner.tiles import TileOptions
+    from planner.tiles.auto import Strategy
 
 
+#: the time budget of a tiled plan under --tiles auto, s (the issue's 10 minutes on the 16-ha plant, less reading,
+#: coverage and verification)
+BUDGET_S = 420.0
 #: the memory limit of each Dask worker unless --worker-memory says otherwise
 WORKER_MEMORY = "1.5GiB"
 
 
 def add_tile_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--tiles", type=POSITIVE, default=None, metavar="M",
-                   help="milp: plan by square tiles of M m (margins of S_max), stitched into one registered plan")
+    p.add_argument("--tiles", type=_tiles, default="auto", metavar="M|auto|off",
+                   help="milp: plan by square tiles of M m (margins of S_max), stitched into one registered plan; "
+                        "auto (default): tiles for a large site, sized to the site and --tile-budget "
+                        "(docs/large-sites.md); off: one model")
+    p.add_argument("--tile-budget", type=POSITIVE, default=BUDGET_S, metavar="S",
+                   help=f"--tiles auto: the time budget the tiles' work is split from (default {BUDGET_S:g} s)")
     p.add_argument("--tile-time-limit", type=POSITIVE, default=30.0, metavar="S",
                    help="--tiles: MILP work per tile, CP-SAT deterministic seconds, wall cap 4x (default 30)")
     p.add_argument("--bound-time-limit", type=NON_NEGATIVE, default=60.0, metavar="S",
@@ -55,6 +64,12 @@ def add_tile_options(p: argparse.ArgumentParser) -> None:
                    help=f"--tiles --workers: memory limit of each worker (default {WORKER_MEMORY})")
 
 
+def _tiles(text: str) -> float | str:
+    """--tiles: a core side in m, ``auto`` or ``off``."""
+    word = text.strip().lower()
+    return word if word in ("auto", "off") else POSITIVE(text)
+
+
 #: the WindowOptions and TileOptions fields checked there, and the flags that give them
 _FLAGS = {"radius_m": "--tile-window-radius", "work_s": "--tile-window-work", "passes": "--tile-window-passes",
           "batch": "--tile-window-batch", "local_search_moves": "--tile-search-moves",
@@ -65,19 +80,24 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
     """``plan_site`` or, with ``--tiles``, ``plan_by_tiles`` (serially or on Dask)."""
     from planner.plan import plan_site
 
-    if args.tiles is None:
-        given = [(f, v) for f, v in (("--scheduler", args.scheduler), ("--workers", args.workers),
-                                     ("--worker-memory", args.worker_memory != WORKER_MEMORY and args.worker_memory)) if v]
-        if given:
-            raise UsageError("--workers, --worker-memory and --scheduler run tiles; give --tiles M", field=given[0][0],
-                             value=given[0][1])
-        return plan_site(site, options)
+    strategy = None
+    if args.tiles in ("auto", "off"):
+        strategy = _auto(site, options, args)
+        if strategy.tiling is None:
+            given = [(f, v) for f, v in (("--scheduler", args.scheduler), ("--workers", args.workers),
+                                         ("--worker-memory", args.worker_memory != WORKER_MEMORY and args.worker_memory))
+                     if v]
+            if given:
+                raise UsageError(f"--workers, --worker-memory and --scheduler run tiles, and this plan is one model "
+                                 f"({strategy.reason}); give --tiles M", field=given[0][0], value=given[0][1])
+            return _with_strategy(plan_site(site, options), strategy)
+        return _with_strategy(_by_tiles(site, options, args, strategy), strategy)
     if options.method != "milp":
         raise UsageError("--tiles plans with the MILP", field="--method", value=options.method)
     if args.workers < 0:
         raise UsageError("must be >= 0", field="--workers", value=args.workers)
     from planner.solve.windows import WindowOptions
-    from planner.tiles import TileOptions, dask_client, plan_by_tiles
+    from planner.tiles import TileOptions
 
     try:  # WindowOptions and TileOptions check the values; the error names the flag that gave the bad one
         windows = WindowOptions(radius_m=args.tile_window_radius, work_s=args.tile_window_work,
@@ -92,7 +112,43 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
         if args.lagrange_work < 0:
             raise UsageError("must be >= 0", field="--lagrange-work", value=args.lagrange_work)
         tiling = replace(tiling, lagrange=args.lagrange_work > 0, lagrange_work_s=args.lagrange_work or 1.0)
-    if not args.workers and not args.scheduler:
+    return _run_tiles(site, options, tiling, args.workers, args)
+
+
+def _run_tiles(site: Site, options: PlanOptions, tiling: TileOptions, workers: int, args: argparse.Namespace) -> Plan:
+    from planner.tiles import dask_client, plan_by_tiles
+
+    if not workers and not args.scheduler:
         return plan_by_tiles(site, options, tiling)
-    with dask_client(args.workers, args.scheduler, args.worker_memory) as client:
+    with dask_client(workers, args.scheduler, args.worker_memory) as client:
         return plan_by_tiles(site, options, tiling, client=client)
+
+
+def _auto(site: Site, options: PlanOptions, args: argparse.Namespace) -> Strategy:
+    """``--tiles auto`` (or ``off``): the strategy :func:`planner.tiles.auto.choose` picks for this site."""
+    from planner.memory_guard import estimate_work
+    from planner.plan import closed_form_limits
+    from planner.tiles.auto import Strategy, choose
+    from planner.validate import validate_site
+
+    if args.tiles == "off":
+        return Strategy(None, 0, "--tiles off")
+    s_max = closed_form_limits(validate_site(site)).max_slant_range_m
+    pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_spacing_m, s_max).targets
+    return choose(site, options, s_max, pieces, budget_s=args.tile_budget)
+
+
+def _by_tiles(site: Site, options: PlanOptions, args: argparse.Namespace, strategy: Strategy) -> Plan:
+    """The tiles the strategy chose, in the registration mode the single model would use; ``--workers`` or
+    ``--scheduler`` when given, else the strategy's workers."""
+    from planner.coverage.links import default_registration
+
+    assert strategy.tiling is not None
+    options = replace(options, registration=options.registration or default_registration(site))
+    return _run_tiles(site, options, strategy.tiling, args.workers or strategy.workers, args)
+
+
+def _with_strategy(plan: Plan, strategy: Strategy) -> Plan:
+    """The plan with the strategy in its log (summary) and in its result's info (plan.json)."""
+    result = replace(plan.result, info={**plan.result.info, "strategy": strategy.to_dict()})
+    return replace(plan, result=result, log=(*plan.log, strategy.line()))

@@ -1,0 +1,104 @@
+"""The plain command's choice between one model and tiles, and the tiles' size and time split (issue 34).
+
+A site is planned by tiles when it is too large for one model and spans several tiles:
+
+- the MILP method (the greedy and the closed form have no tiles);
+- every zone in one frame (tiles are squares of one frame);
+- at least :data:`MIN_PIECES` wall pieces in the work estimate (:func:`planner.memory_guard.estimate_work`,
+  from the geometry alone): the bundled buildings and monuments have at most 3,000 (polygons A and C), the
+  16-ha plant 7,688, where the single connected model stopped at 109 stations against a bound of 62 after 654 s;
+- at least :data:`MIN_TILES` tiles of side ``tile_m`` = max(:data:`TILE_M`, 1.5 S_max) over the zones' extent.
+
+The tiled plan keeps the registration mode the single model would use (``--registration``, else the site's
+default), so the choice changes how the plan is searched for, not what it must satisfy.
+
+The time ``budget_s`` (``planner plan --tile-budget``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
+tiles that run side by side, the whole-site bound ``BOUND_SHARE`` and the Lagrangian bound ``LAGRANGE_SHARE``;
+the search and windows take what is left (their work is a move count and a window budget, both
+deterministic). Workers: the machine's cores less one, at most one per tile; none (in this process) on a
+machine of two cores or fewer, where a second process adds contention, not speed (docs/benchmarks/plant.md).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from planner.plan import PlanOptions
+from planner.site.model import Site
+from planner.solve.windows import WindowOptions
+from planner.tiles.run import TileOptions
+
+#: a site spanning fewer tiles than this is planned as one model
+MIN_TILES = 4
+#: a site of fewer wall pieces (work estimate) than this is planned as one model
+MIN_PIECES = 5_000
+#: the smallest core side of a tile, m (1.5 S_max when that is larger: a core is then wider than its margin)
+TILE_M = 100.0
+#: shares of the budget: every tile's MILP together, the whole-site bound MILP, the Lagrangian bound
+TILE_SHARE, BOUND_SHARE, LAGRANGE_SHARE = 0.30, 0.10, 0.15
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """What the plain command runs: ``tiling`` None for the single model; ``reason`` says why."""
+
+    tiling: TileOptions | None
+    workers: int
+    reason: str
+
+    @property
+    def tiles(self) -> bool:
+        return self.tiling is not None
+
+    def to_dict(self) -> dict[str, object]:
+        t = self.tiling
+        return {"kind": "tiles" if t else "single model", "reason": self.reason, "workers": self.workers,
+                **({"tile_m": t.tile_m, "tile_work_s": t.tile_time_limit_s, "bound_work_s": t.bound_time_limit_s,
+                    "lagrange_work_s": t.lagrange_work_s} if t else {})}
+
+    def line(self) -> str:
+        what = (f"tiles of {self.tiling.tile_m:g} m on {self.workers or 'no'} worker(s)" if self.tiling
+                else "single model")
+        return f"strategy: {what} ({self.reason})"
+
+
+def tile_count(site: Site, tile_m: float) -> int:
+    """Tiles of side ``tile_m`` over the bounding box of the zones' vertices."""
+    xy = np.vstack([z.xy for z in site.zones])
+    ext = xy.max(axis=0) - xy.min(axis=0)
+    return int(math.ceil(max(float(ext[0]), 1e-9) / tile_m) * math.ceil(max(float(ext[1]), 1e-9) / tile_m))
+
+
+def choose(site: Site, options: PlanOptions, s_max_m: float, pieces: int, budget_s: float,
+           cores: int | None = None) -> Strategy:
+    """The strategy for ``site`` (module docstring); ``pieces``: the work estimate's wall pieces."""
+    if options.method != "milp":
+        return Strategy(None, 0, f"method {options.method}")
+    if len({z.frame for z in site.zones}) != 1:
+        return Strategy(None, 0, "zones in several frames")
+    if pieces < MIN_PIECES:
+        return Strategy(None, 0, f"about {pieces:,} wall pieces, fewer than {MIN_PIECES:,}")
+    tile_m = max(TILE_M, 1.5 * s_max_m)
+    n = tile_count(site, tile_m)
+    if n < MIN_TILES:
+        return Strategy(None, 0, f"the site spans {n} tile(s) of {tile_m:g} m, fewer than {MIN_TILES}")
+    cores = os.cpu_count() or 1 if cores is None else cores
+    workers = 0 if cores <= 2 else min(cores - 1, n)
+    side_by_side = max(workers, 1)
+    tiling = TileOptions(
+        tile_m=tile_m,
+        tile_time_limit_s=_clamp(TILE_SHARE * budget_s * side_by_side / n, 2.0, 30.0),
+        bound_time_limit_s=_clamp(BOUND_SHARE * budget_s, 5.0, 60.0),
+        lagrange_work_s=_clamp(LAGRANGE_SHARE * budget_s * side_by_side / n, 1.0, 10.0),
+        windows=replace(WindowOptions(), seed=options.milp.seed),
+    )
+    return Strategy(tiling, workers, f"about {pieces:,} wall pieces over {n} tiles of {tile_m:g} m (at least "
+                                     f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s")
+
+
+def _clamp(x: float, lo: float, hi: float) -> float:
+    return float(min(max(x, lo), hi))

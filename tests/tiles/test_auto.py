@@ -1,0 +1,62 @@
+"""The plain command's strategy: one model or tiles, the tile size and the time split (planner.tiles.auto)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from planner.cli import main
+from planner.memory_guard import estimate_work
+from planner.plan import PlanOptions, closed_form_limits
+from planner.site.load import load_site
+from planner.tiles.auto import MIN_PIECES, choose, tile_count
+from planner.validate import validate_site
+from tests.conftest import INSTANCES
+
+
+def _strategy(name: str, cores: int = 2, budget_s: float = 420.0, method: str = "milp"):
+    site = load_site(INSTANCES / f"{name}.json")
+    s_max = closed_form_limits(validate_site(site)).max_slant_range_m
+    pieces = estimate_work(site, 1.0, 10.0, s_max).targets
+    return choose(site, PlanOptions(method=method), s_max, pieces, budget_s, cores=cores)
+
+
+@pytest.mark.parametrize("name", ["polygon_a", "polygon_c", "baalbek_site", "building27", "plant_1ha", "plant_4ha"])
+def test_buildings_monuments_and_small_plants_stay_one_model(name):
+    # at most 3,082 wall pieces (polygon C: 1,541 m of wall, both sides, 1-m pieces) < 5,000
+    assert _strategy(name).tiling is None
+
+
+def test_16ha_plant_goes_to_tiles_split_by_the_budget():
+    # 7,688 pieces >= 5,000; S_max 60 m -> tile side max(100, 1.5 x 60 = 90) = 100 m; the zones span
+    # 386.4 x 390.0 m -> 4 x 4 = 16 tiles
+    st = _strategy("plant_16ha", cores=2)
+    assert st.tiling is not None and st.tiling.tile_m == 100.0 and st.workers == 0
+    site = load_site(INSTANCES / "plant_16ha.json")
+    assert tile_count(site, 100.0) == 16
+    # 2 cores: no worker (in this process); each tile 0.30 x 420 / 16 = 7.875 s of work, the bound MILP
+    # 0.10 x 420 = 42 s, the Lagrangian 0.15 x 420 / 16 = 3.9375 s per part
+    assert st.tiling.tile_time_limit_s == pytest.approx(7.875)
+    assert st.tiling.bound_time_limit_s == pytest.approx(42.0)
+    assert st.tiling.lagrange_work_s == pytest.approx(3.9375)
+    # 16 cores: 15 workers, 15 tiles side by side: 0.30 x 420 x 15 / 16 = 118 s, capped at 30 s per tile
+    big = _strategy("plant_16ha", cores=16)
+    assert big.workers == 15 and big.tiling.tile_time_limit_s == 30.0 and big.tiling.lagrange_work_s == 10.0
+    assert "16 tiles of 100 m" in big.line() and big.to_dict()["kind"] == "tiles"
+
+
+def test_greedy_is_never_tiled():
+    assert _strategy("plant_16ha", method="greedy").reason == "method greedy"
+    assert MIN_PIECES == 5_000
+
+
+def test_plain_command_records_its_strategy(tmp_path, capsys):
+    out = tmp_path / "p"
+    assert main(["plan", str(INSTANCES / "house_doors.json"), "--out", str(out), "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert "strategy: single model (about 184 wall pieces, fewer than 5,000)" in text
+    plan = json.loads((out / "plan.json").read_text())
+    assert plan["solver"]["strategy"]["kind"] == "single model"
+    assert main(["plan", str(INSTANCES / "house_doors.json"), "--tiles", "off", "--quiet"]) == 0
+    assert "strategy: single model (--tiles off)" in capsys.readouterr().out
