@@ -10,7 +10,7 @@ import tomllib
 import pytest
 
 from planner.cli import build_parser, main
-from planner.cli_profile import DEFAULT_PROFILE, TUNING, apply_config
+from planner.cli.profile import DEFAULT_PROFILE, TUNING, apply_config
 from tests.conftest import INSTANCES
 
 

@@ -10,7 +10,7 @@ import subprocess
 import sys
 
 import planner
-from planner import cli_choices
+from planner.cli import choices as cli_choices
 from tests.conftest import ROOT
 
 #: what --help, --version and argument parsing must not load

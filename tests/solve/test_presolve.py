@@ -1,38 +1,60 @@
 """Dominance without the candidate x candidate product (issue 32), against its definition written plainly.
 
-The oracle: candidates in order of (largest coverage, cheapest, lowest index); i is dropped when some
-candidate j kept before it, no dearer, of its group, sees every piece i sees and (under ``adj``) is
-linked to every other neighbour of i; a candidate seeing nothing is dropped unless it may bridge. Both
-must drop exactly the same candidates on random small matrices, with and without an overlap graph.
+The oracle: candidates in a given order (largest coverage, cheapest, lowest index; under the overlap rule
+longest covered length first); i is dropped when some candidate j kept before it, no dearer, of its group,
+sees every piece i sees and (under ``adj``) is linked to every neighbour of i not dropped before i, j itself
+aside; a candidate seeing nothing is dropped when no neighbour of it is left or such a j is linked to all
+that are. The presolve must drop exactly those, and (checked by brute force over every subset of small
+random instances) an optimal connected plan must survive it.
 """
 
 from __future__ import annotations
+
+from itertools import combinations
 
 import numpy as np
 import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.sparse.csgraph import connected_components
 
-from planner.solve.presolve import _no_bridge, dominated
+from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
+from planner.solve.lazy_links import OverlapLinks, length_order, linked_dominated, representatives
+from planner.solve.presolve import dominated, presolve_order
 
 
-def oracle(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None, groups: list[int] | None) -> np.ndarray:
+def oracle(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None, groups: list[int] | None,
+           order: np.ndarray | None = None) -> np.ndarray:
     sets = [set(a.indices[a.indptr[i]:a.indptr[i + 1]].tolist()) for i in range(a.shape[0])]
     nb = None if adj is None else [set(adj.indices[adj.indptr[i]:adj.indptr[i + 1]].tolist()) for i in range(a.shape[0])]
-    order = sorted(range(a.shape[0]), key=lambda i: (-len(sets[i]), cost[i], i))
-    removed = np.zeros(a.shape[0], dtype=bool)
-    kept: dict[int, int] = {}
-    for rank, i in enumerate(order):
-        if not sets[i]:
-            if adj is None or _no_bridge(adj, i, removed, kept, cost, groups):
-                removed[i] = True
+    order = presolve_order(a, cost) if order is None else order
+    removed: set[int] = set()
+    kept: list[int] = []
+    for i in order.tolist():
+        left = set() if nb is None else nb[i] - removed
+        fits = [j for j in kept if cost[j] <= cost[i] and (groups is None or groups[j] == groups[i])
+                and (nb is None or left - {j} <= nb[j])]
+        if (not sets[i] and (nb is None or not left or fits)) or any(sets[i] <= sets[j] for j in fits):
+            removed.add(i)
+        else:
+            kept.append(i)
+    return np.isin(np.arange(a.shape[0]), sorted(removed))
+
+
+def connected_optimum(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix, groups: list[int],
+                      among: np.ndarray) -> float:
+    """The cheapest plan of candidates ``among`` that covers every piece, each group's stations connected."""
+    need = np.flatnonzero(np.diff(a.tocsc().indptr) > 0)
+    best = np.inf
+    for r in range(among.size + 1):
+        for plan in combinations(among.tolist(), r):
+            p = np.asarray(plan, dtype=np.int64)
+            if cost[p].sum() >= best or not np.isin(need, a[p].indices).all():
                 continue
-        elif any(sets[i] <= sets[j] and cost[j] <= cost[i] and (groups is None or groups[j] == groups[i])
-                 and (nb is None or nb[i] - {j} <= nb[j]) for j in kept):
-            removed[i] = True
-            continue
-        kept[i] = rank
-    return removed
+            if all(connected_components(adj[q][:, q], directed=False)[0] <= 1
+                   for g in set(groups) if (q := p[np.asarray(groups)[p] == g]).size):
+                best = float(cost[p].sum())
+    return best
 
 
 @settings(max_examples=300, deadline=None, derandomize=True, database=None)
@@ -80,8 +102,6 @@ def test_overlap_links_among_distinct_rows_keep_the_connected_optimum(seed: int,
 
 
 def test_representatives_one_per_group_and_row() -> None:
-    from planner.solve.milp import representatives
-
     # rows 0 and 2 equal (group 0): 0 stays; row 3 equals row 0 but in group 1: stays; row 1 alone
     a = sp.csr_matrix(np.array([[1, 1, 0], [0, 1, 1], [1, 1, 0], [1, 1, 0]], dtype=bool))
     assert representatives(a, np.ones(4), np.array([0, 0, 0, 1])).tolist() == [0, 1, 3]
@@ -89,37 +109,76 @@ def test_representatives_one_per_group_and_row() -> None:
     assert representatives(a, np.array([2.0, 1.0, 1.0, 1.0]), np.array([0, 0, 0, 1])).tolist() == [1, 2, 3]
 
 
-@settings(max_examples=300, deadline=None, derandomize=True, database=None)
-@given(n=st.integers(1, 30), m=st.integers(1, 10), seed=st.integers(0, 2**31 - 1), share=st.floats(0.0, 0.9),
-       grouped=st.booleans(), reps_only=st.booleans())
-def test_lazy_rows_drop_what_the_whole_relation_drops(n: int, m: int, seed: int, share: float, grouped: bool,
-                                                        reps_only: bool) -> None:
-    # the relation formed row by row as the presolve asks (planner.solve.lazy_links) against the same relation
-    # formed whole (overlap_adjacency among the same candidates): the same candidates dropped, and the relation
-    # handed on among the kept is the whole one's restricted to them
-    from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
-    from planner.solve.lazy_links import LazyLinks
-    from planner.solve.milp import representatives
-    from planner.solve.presolve import presolve_order
-
+def random_pool(n: int, m: int, seed: int, grouped: bool, density: float = 0.4
+                ) -> tuple[sp.csr_matrix, np.ndarray, np.ndarray, list[int]]:
+    """Coverage rows (a third of them repeated, as a fine grid gives), costs 1-2, piece lengths, groups."""
     rng = np.random.default_rng(seed)
-    a = sp.csr_matrix(rng.random((n, m)) < 0.4)
+    a = sp.csr_matrix(rng.random((n, m)) < density)
     if n > 2:
-        a = sp.vstack([a, a[: n // 3]]).tocsr()  # copies, as a fine grid gives
+        a = sp.vstack([a, a[: n // 3]]).tocsr()
     cost = rng.integers(1, 3, a.shape[0]).astype(float)
     lengths = rng.uniform(0.5, 2.0, m)
     groups = rng.integers(0, 2, a.shape[0]).tolist() if grouped else [0] * a.shape[0]
-    gid = group_ids(groups)
+    return a, cost, lengths, groups
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None)
+@given(n=st.integers(1, 30), m=st.integers(1, 10), seed=st.integers(0, 2**31 - 1), share=st.floats(0.0, 0.9),
+       grouped=st.booleans())
+def test_linked_dominance_drops_what_the_whole_relation_drops(n: int, m: int, seed: int, share: float,
+                                                              grouped: bool) -> None:
+    # the relation formed among the kept only, neighbours no longer than i left unchecked
+    # (planner.solve.lazy_links) against the definition over the relation formed whole, in the same order
+    # (longest covered length first): the same candidates dropped, and the relation handed on among the
+    # kept is the whole one's restricted to them
+    a, cost, lengths, groups = random_pool(n, m, seed, grouped)
     rule = OverlapRule(share)
-    reps = representatives(a, cost, gid) if reps_only else np.arange(a.shape[0])
-    sub, _ = overlap_adjacency(a[reps], lengths, rule, [groups[i] for i in reps])
-    coo = sub.tocoo()
-    whole = sp.csr_matrix((coo.data, (reps[coo.row], reps[coo.col])), shape=(a.shape[0],) * 2)
-    lazy = LazyLinks(a, lengths, rule, gid, reps, presolve_order(a, cost))
-    d_lazy, d_whole = dominated(a, cost, lazy, groups), dominated(a, cost, whole, groups)
-    assert d_lazy.tolist() == d_whole.tolist()
-    kept = np.flatnonzero(~d_lazy)
-    among = lazy.among(kept)
-    part = whole[kept][:, kept].tocoo()  # the whole relation among the kept, in the instance's indices
+    whole, _ = overlap_adjacency(a, lengths, rule, groups)
+    covered = np.asarray(a.astype(float) @ lengths).ravel()
+    drop, among = linked_dominated(a, cost, OverlapLinks(lengths, rule, group_ids(groups)))
+    assert drop.tolist() == oracle(a, cost, whole, groups, length_order(a, cost, covered)).tolist()
+    kept = np.flatnonzero(~drop)
+    part = whole[kept][:, kept].tocoo()
     expect = sp.csr_matrix((np.ones(part.nnz, dtype=bool), (kept[part.row], kept[part.col])), shape=whole.shape)
     assert (among != expect).nnz == 0
+
+
+@settings(max_examples=150, deadline=None, derandomize=True, database=None)
+@given(n=st.integers(1, 9), m=st.integers(1, 6), seed=st.integers(0, 2**31 - 1), grouped=st.booleans(),
+       density=st.floats(0.1, 0.5))
+def test_an_optimal_connected_plan_survives_dominance(n: int, m: int, seed: int, grouped: bool,
+                                                      density: float) -> None:
+    # brute force over every subset: the cheapest connected cover over the kept candidates costs what the
+    # cheapest over all of them costs, for a random relation (the rule of presolve.dominated) and for the
+    # overlap relation (lazy_links.linked_dominated)
+    a, cost, lengths, groups = random_pool(n, m, seed, grouped)
+    rng = np.random.default_rng(seed + 1)
+    c = a.shape[0]
+    upper = np.triu(rng.random((c, c)) < density, 1)
+    relations = [(sp.csr_matrix(upper | upper.T), None)]
+    rule = OverlapRule(float(rng.uniform(0.0, 0.8)))
+    relations.append((overlap_adjacency(a, lengths, rule, groups)[0], rule))
+    for adj, rule_or_none in relations:
+        every = connected_optimum(a, cost, adj, groups, np.arange(c))
+        if rule_or_none is None:
+            drop = dominated(a, cost, adj, groups)
+        else:
+            drop = linked_dominated(a, cost, OverlapLinks(lengths, rule_or_none, group_ids(groups)))[0]
+        assert connected_optimum(a, cost, adj, groups, np.flatnonzero(~drop)) == every
+
+
+@settings(max_examples=60, deadline=None, derandomize=True, database=None)
+@given(n=st.integers(1, 9), m=st.integers(1, 6), seed=st.integers(0, 2**31 - 1), share=st.floats(0.0, 0.8))
+def test_an_optimal_connected_plan_survives_the_passes(n: int, m: int, seed: int, share: float) -> None:
+    # milp._reduce alternates dominance (the first pass under the overlap rule, the others over the relation
+    # among the kept) with implied targets: a cover of the kept targets by the kept candidates covers all,
+    # and the cheapest connected one costs what the cheapest over everything costs
+    from planner.solve.milp import _reduce
+
+    a, cost, lengths, groups = random_pool(n, m, seed, True)
+    rule = OverlapRule(share)
+    whole, _ = overlap_adjacency(a, lengths, rule, groups)
+    drop, _, _ = _reduce(a, cost, OverlapLinks(lengths, rule, group_ids(groups)), groups)
+    kept = np.flatnonzero(~drop)
+    assert connected_optimum(a, cost, whole, groups, kept) == connected_optimum(a, cost, whole, groups,
+                                                                                np.arange(a.shape[0]))

@@ -7,7 +7,7 @@ import argparse
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from planner.cli_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT
+from planner.cli.option_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT
 from planner.errors import UsageError
 
 if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/startup.md)

@@ -20,7 +20,7 @@ def number(kind: type = float, *, above: float | None = None, at_least: float | 
 
     def parse(text: str) -> float:
         try:
-            value = kind(text.strip())
+            value: float = kind(text.strip())
         except ValueError:
             raise argparse.ArgumentTypeError(f"expected {'an integer' if kind is int else 'a number'}, "
                                              f"got {text!r}") from None

@@ -7,7 +7,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from planner.cli_choices import EXPORTS
+from planner.cli.choices import EXPORTS
 from planner.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # the rest loads when a command runs (a fast --help: docs/startup.md)

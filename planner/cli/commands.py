@@ -18,10 +18,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner import progress
-from planner.cli_parser import build_parser as _build_parser
-from planner.cli_profile import apply_config
-from planner.cli_report import parse_exports, write_exports
-from planner.cli_tiles import plan_command
+from planner.cli.parser import build_parser as _build_parser
+from planner.cli.profile import apply_config
+from planner.cli.report import parse_exports, write_exports
+from planner.cli.tiles import plan_command
 from planner.errors import ExitCode, InfeasibleError, InputError, PlannerError, UsageError, located_in
 from planner.json_text import dumps
 
@@ -158,7 +158,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     inputs = _network_inputs(args) if args.network or args.report else None
     field_options = None
     if args.field:  # the sheet's option values, checked before the planning too
-        from planner.cli_field import field_options as _field_options
+        from planner.cli.field import field_options as _field_options
 
         field_options = _field_options(args, "field-")
     site = load_with_overrides(args)
@@ -179,7 +179,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if inputs is not None:
         network = _network(site, list(plan.stations), args, inputs, show=args.network)
     if field_options is not None:
-        from planner.cli_field import write_field
+        from planner.cli.field import write_field
 
         write_field(site, plan.stations, field_options, args.field)
     if formats or args.report:
@@ -355,7 +355,7 @@ def cmd_chain(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``planner`` parser with this module's commands (:func:`planner.cli_parser.build_parser`)."""
+    """The ``planner`` parser with this module's commands (:func:`planner.cli.parser.build_parser`)."""
     return _build_parser({
         "validate": cmd_validate, "plan": cmd_plan, "verify": cmd_verify, "export": cmd_export,
         "network": cmd_network, "chain": cmd_chain, "assemble": cmd_assemble, "instruments": cmd_instruments,

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from planner.cli_types import POSITIVE, POSITIVE_INT
+from planner.cli.option_types import POSITIVE, POSITIVE_INT
 from planner.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)

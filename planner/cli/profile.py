@@ -11,7 +11,7 @@ time, the outputs). The solver and tile knobs, the rarer input-format options an
 
     planner plan site.json --config my.toml      # the command line still wins over the file
 
-The package ships the profile of the defaults (``planner/profiles/default.toml``, :data:`DEFAULT_PROFILE`):
+The package ships the profile of the defaults (``planner/cli/profiles/default.toml``, :data:`DEFAULT_PROFILE`):
 every tuning knob with a default, its value and what it does; a test checks it against the parser, so the file
 cannot drift from the defaults the command uses. A key the command does not know, or a value its
 option refuses, is a one-line usage error (exit 2) naming the file, the table and the key.
@@ -71,7 +71,7 @@ class _HelpAll(argparse.Action):
 def add_profile_options(p: argparse.ArgumentParser) -> None:
     """``--config FILE`` and ``--help-all`` (the file itself is read by :func:`apply_config` before parsing)."""
     p.add_argument("--config", metavar="FILE", help="a TOML profile of tuning options, [plan] table (see --help-all; "
-                   "defaults in planner/profiles/default.toml); the command line wins")
+                   "defaults in planner/cli/profiles/default.toml); the command line wins")
     p.add_argument("--help-all", action=_HelpAll)
 
 
