@@ -25,45 +25,63 @@ Examples
 >>> planner.write_report(planner.outcome_from_plan(plan), "out/")         # doctest: +SKIP
 """
 
-from planner._lazy import lazy_getattr
+import importlib
 import logging
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 __version__ = "0.2.0"
 
+
+def _lazy_getattr(package: str, table: dict[str, str], namespace: dict[str, Any]) -> Callable[[str], Any]:
+    """A module ``__getattr__`` (PEP 562) that imports ``table[name]`` on first use and keeps the value in
+    ``namespace``: for this package and :mod:`planner.exchange`."""
+
+    def __getattr__(name: str) -> Any:
+        module = table.get(name)
+        if module is None:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        value = getattr(importlib.import_module(module), name)
+        namespace[name] = value
+        return value
+
+    return __getattr__
+
 #: public name -> the module that defines it; imported on first use (PEP 562), so that
 #: ``import planner`` (and the ``planner`` command's start) loads no numerical stack
 _LAZY = {
-    **dict.fromkeys(('ErrorBudget', 'IncidenceErrorTable', 'instrument_height_tolerance_m', 'max_slant_range_m', 'point_error', 'sigma_instr_m', 'sigma_meas_m', 'tolerance_for_scale_m'), 'planner.accuracy'),
+    **dict.fromkeys(('ErrorBudget', 'IncidenceErrorTable', 'instrument_height_tolerance_m', 'max_slant_range_m', 'point_error', 'sigma_instr_m', 'sigma_meas_m', 'tolerance_for_scale_m'), 'planner.instrument.accuracy'),
     **dict.fromkeys(('ClosureError', 'ExitCode', 'InfeasibleError', 'InputError', 'PlannerError', 'UsageError'), 'planner.errors'),
-    **dict.fromkeys(('Scanner', 'TotalStation', 'list_instruments', 'load_instrument'), 'planner.instruments'),
-    **dict.fromkeys(('ClosureTolerance', 'Parameters', 'RangeLimit', 'resolve_range_limit'), 'planner.params'),
+    **dict.fromkeys(('Scanner', 'TotalStation', 'list_instruments', 'load_instrument'), 'planner.instrument.models'),
+    **dict.fromkeys(('ClosureTolerance', 'Parameters', 'RangeLimit', 'resolve_range_limit'), 'planner.site.params'),
     **dict.fromkeys(('ControlPoint', 'NoGoArea', 'Obstacle', 'ScanSide', 'Site', 'Wall', 'Zone', 'load_site'), 'planner.site'),
-    **dict.fromkeys(('ValidationReport', 'validate_site'), 'planner.validate'),
-    **dict.fromkeys(('Candidate', 'CandidateKind'), 'planner.candidates.model'),
+    **dict.fromkeys(('ValidationReport', 'validate_site'), 'planner.site.validate'),
+    **dict.fromkeys(('Candidate', 'CandidateKind'), 'planner.site.candidate'),
     **dict.fromkeys(('PoolOptions', 'candidate_pool'), 'planner.candidates.pool'),
     **dict.fromkeys(('CoverageProblem', 'build_coverage'), 'planner.coverage.matrix'),
     **dict.fromkeys(('OverlapRule',), 'planner.coverage.overlap'),
     **dict.fromkeys(('StationCoverage', 'station_coverage'), 'planner.coverage.stations'),
     **dict.fromkeys(('make_targets',), 'planner.coverage.targets'),
-    **dict.fromkeys(('DxfOptions', 'read_dxf_site', 'read_geojson_site', 'write_dxf', 'write_geojson', 'write_stations_csv'), 'planner.exchange'),
+    **dict.fromkeys(('write_dxf', 'write_geojson', 'write_stations_csv'), 'planner.exchange'),
+    **dict.fromkeys(('DxfOptions', 'read_dxf_site'), 'planner.site.dxf_in'),
+    **dict.fromkeys(('read_geojson_site',), 'planner.site.geojson_in'),
     **dict.fromkeys(('comparison_figure', 'network_figure', 'plan_figure', 'plan_figures'), 'planner.figures'),
     **dict.fromkeys(('NetworkReport', 'run_network'), 'planner.network.check'),
-    **dict.fromkeys(('Outcome', 'outcome_from_file', 'outcome_from_plan'), 'planner.outcome'),
+    **dict.fromkeys(('Outcome', 'outcome_from_file', 'outcome_from_plan'), 'planner.plan.outcome'),
     **dict.fromkeys(('Plan', 'PlanOptions', 'build_problem', 'plan_site'), 'planner.plan'),
-    **dict.fromkeys(('read_plan_stations', 'write_plan'), 'planner.plan_io'),
+    **dict.fromkeys(('read_plan_stations', 'write_plan'), 'planner.plan.plan_json'),
     **dict.fromkeys(('compare_methods', 'render_report', 'write_report'), 'planner.report'),
     **dict.fromkeys(('greedy_cover',), 'planner.solve.greedy'),
     **dict.fromkeys(('CoverInstance', 'cover_instance'), 'planner.solve.instance'),
     **dict.fromkeys(('MilpOptions',), 'planner.solve.milp'),
     **dict.fromkeys(('SolveResult', 'Status'), 'planner.solve.result'),
-    **dict.fromkeys(('VerifyReport', 'verify_stations'), 'planner.verify'),
+    **dict.fromkeys(('VerifyReport', 'verify_stations'), 'planner.plan.verify'),
 }
 
 logging.getLogger("planner").addHandler(logging.NullHandler())
 
 
-__getattr__ = lazy_getattr("planner", _LAZY, globals())
+__getattr__ = _lazy_getattr("planner", _LAZY, globals())
 
 
 def __dir__() -> list[str]:
@@ -84,35 +102,35 @@ if not TYPE_CHECKING:
 
 
 if TYPE_CHECKING:  # the static view of the same names, for type checkers and IDEs
-    from planner.accuracy import (
+    from planner.instrument.accuracy import (
         ErrorBudget, IncidenceErrorTable, instrument_height_tolerance_m, max_slant_range_m, point_error,
         sigma_instr_m, sigma_meas_m, tolerance_for_scale_m,
     )
     from planner.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
-    from planner.instruments import Scanner, TotalStation, list_instruments, load_instrument
-    from planner.params import ClosureTolerance, Parameters, RangeLimit, resolve_range_limit
+    from planner.instrument.models import Scanner, TotalStation, list_instruments, load_instrument
+    from planner.site.params import ClosureTolerance, Parameters, RangeLimit, resolve_range_limit
     from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone, load_site
-    from planner.validate import ValidationReport, validate_site
-    from planner.candidates.model import Candidate, CandidateKind
+    from planner.site.validate import ValidationReport, validate_site
+    from planner.site.candidate import Candidate, CandidateKind
     from planner.candidates.pool import PoolOptions, candidate_pool
     from planner.coverage.matrix import CoverageProblem, build_coverage
     from planner.coverage.overlap import OverlapRule
     from planner.coverage.stations import StationCoverage, station_coverage
     from planner.coverage.targets import make_targets
-    from planner.exchange import (
-        DxfOptions, read_dxf_site, read_geojson_site, write_dxf, write_geojson, write_stations_csv,
-    )
+    from planner.exchange import write_dxf, write_geojson, write_stations_csv
+    from planner.site.dxf_in import DxfOptions, read_dxf_site
+    from planner.site.geojson_in import read_geojson_site
     from planner.figures import comparison_figure, network_figure, plan_figure, plan_figures
     from planner.network.check import NetworkReport, run_network
-    from planner.outcome import Outcome, outcome_from_file, outcome_from_plan
+    from planner.plan.outcome import Outcome, outcome_from_file, outcome_from_plan
     from planner.plan import Plan, PlanOptions, build_problem, plan_site
-    from planner.plan_io import read_plan_stations, write_plan
+    from planner.plan.plan_json import read_plan_stations, write_plan
     from planner.report import compare_methods, render_report, write_report
     from planner.solve.greedy import greedy_cover
     from planner.solve.instance import CoverInstance, cover_instance
     from planner.solve.milp import MilpOptions, solve
     from planner.solve.result import SolveResult, Status
-    from planner.verify import VerifyReport, verify_stations
+    from planner.plan.verify import VerifyReport, verify_stations
 
 __all__ = [
     "Candidate", "CandidateKind", "ClosureError", "ClosureTolerance", "ControlPoint", "CoverInstance",

@@ -48,10 +48,10 @@ def argument(value: Any, kind: type | tuple[type, ...], name: str) -> None:
     if isinstance(value, kind):
         return
     kinds = kind if isinstance(kind, tuple) else (kind,)
-    want = " or ".join("None" if k is type(None) else _a(k.__name__) for k in kinds)
+    want = " or ".join("None" if k is type(None) else article(k.__name__) for k in kinds)
     how = "; ".join(MAKE[k.__name__] for k in kinds if k.__name__ in MAKE)
-    raise ArgumentTypeError(f"must be {want}, not {_a(type(value).__name__)}" + (f" ({how})" if how else ""),
-                            field=name, value=_shown(value))
+    raise ArgumentTypeError(f"must be {want}, not {article(type(value).__name__)}" + (f" ({how})" if how else ""),
+                            field=name, value=shown(value))
 
 
 def path_argument(value: Any, name: str) -> None:
@@ -59,35 +59,18 @@ def path_argument(value: Any, name: str) -> None:
     before), naming the argument and, for a number, its value."""
     if not isinstance(value, (str, os.PathLike)):
         raise ArgumentTypeError(f"must be a file path (str or pathlib.Path), not {type(value).__name__}", field=name,
-                                value=_shown(value))
+                                value=shown(value))
 
 
-def _a(noun: str) -> str:
+def article(noun: str) -> str:
     return ("an " if noun[:1].lower() in "aeiou" else "a ") + noun
 
 
-def _shown(value: Any) -> Any:
+def shown(value: Any) -> Any:
     """A short text or number as found; None (left out of the message) for other objects."""
     if isinstance(value, str):
         return value if len(value) <= 60 else value[:57] + "..."
     return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
-
-
-def stations_argument(stations: Any) -> None:
-    """``stations``: a sequence of candidates (``plan.stations``), not a Plan, a path or one candidate."""
-    from planner.candidates.model import Candidate
-
-    got = type(stations).__name__
-    if not isinstance(stations, (str, bytes)) and isinstance(stations, Iterable):
-        if not isinstance(stations, Sequence):  # a generator is left unread
-            return
-        bad = next((k for k, s in enumerate(stations, 1) if not isinstance(s, Candidate)), None)
-        if bad is None:
-            return
-        got = f"{got} whose item {bad} is {_a(type(stations[bad - 1]).__name__)}"
-    raise ArgumentTypeError(f"must be a sequence of stations (Candidate objects, e.g. plan.stations), not {_a(got)}"
-                            + (" (use plan.stations)" if got == "Plan" else ""), field="stations",
-                            value=_shown(stations))
 
 
 def count(value: Any, field: str, least: int = 0) -> None:

@@ -78,6 +78,10 @@ def run(row: dict[str, str], grid: float, pieces: float, time_limit: float, stan
             "total_s": round(time.perf_counter() - t0, 2), "versus_optimum": f"{n - opt:+d}"}
 
 
+#: the heading of the written part of agplib.md, kept when the table is rewritten
+NOTES = "## What the comparison shows"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--per-class", type=int, default=5)
@@ -97,7 +101,8 @@ def main() -> None:
         print(rows[-1], flush=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    with (out / "agplib.csv").open("w", newline="") as f:
+    (out / "results").mkdir(parents=True, exist_ok=True)
+    with (out / "results" / "agplib.csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(max(rows, key=len)))
         w.writeheader()
         w.writerows(rows)
@@ -110,7 +115,10 @@ def main() -> None:
             " ".join(__doc__.split("\n\n")[1].split()), "",
             "`finer`: the station count when a plan above the optimum is rerun with a twice finer grid and four times",
             "shorter wall pieces. `-1`: no plan, some wall piece seen by no candidate (status gives the first).", ""]
-    (out / "agplib.md").write_text("\n".join(head + lines) + "\n")
+    # the written analysis below the table is kept (everything from "## What the comparison shows" on)
+    old = (out / "agplib.md").read_text() if (out / "agplib.md").exists() else ""
+    notes = old[old.index(NOTES):] if NOTES in old else ""
+    (out / "agplib.md").write_text("\n".join(head + lines) + "\n" + ("\n" + notes if notes else ""))
     print("\n".join(lines))
 
 

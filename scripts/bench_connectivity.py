@@ -49,14 +49,14 @@ def build(name: str, cache: Path, pricing: bool) -> Path:
     from planner.site import load_site
     from planner.solve.instance import cover_instance
     from planner.solve.plane import price_plane
-    from planner.validate import validate_site
+    from planner.site.validate import validate_site
 
     site = load_site(ROOT / f"instances/{name}.json")
     options = replace(P.PlanOptions(method="milp"), pricing=pricing)
     validation = validate_site(site)
     problem = P.build_problem(site, options, validation)
     if pricing:
-        problem, _ = price_plane(site, problem, P._limits(validation, options), time_limit_s=options.pricing_time_limit_s)
+        problem, _ = price_plane(site, problem, P.plan_limits(validation, options), time_limit_s=options.pricing_time_limit_s)
     p = site.parameters
     inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m, name=name)
     cache.mkdir(parents=True, exist_ok=True)
@@ -136,15 +136,15 @@ def main() -> None:
                    **measure(path, method, backend or "cpsat", conn or "auto", threads, args.time_limit, ring or "on")}
             rows.append(row)
             print(" | ".join(str(row.get(f, "")) for f in FIELDS), flush=True)
-    args.out_dir.mkdir(parents=True, exist_ok=True)
+    (args.out_dir / "results").mkdir(parents=True, exist_ok=True)
     stem = "connectivity" + ("-nopricing" if args.no_pricing else "")
-    if args.only and (args.out_dir / f"{stem}.csv").exists():
+    if args.only and (args.out_dir / "results" / f"{stem}.csv").exists():
         key = ("instance", "method", "backend", "connectivity", "ring", "threads")
         fresh = {tuple(str(r[k]) for k in key): r for r in rows}
-        with open(args.out_dir / f"{stem}.csv", newline="") as f:
+        with open(args.out_dir / "results" / f"{stem}.csv", newline="") as f:
             old = list(csv.DictReader(f))
         rows = [fresh.pop(tuple(r.get(k, "") for k in key), r) for r in old] + list(fresh.values())
-    with open(args.out_dir / f"{stem}.csv", "w", newline="") as f:
+    with open(args.out_dir / "results" / f"{stem}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, FIELDS, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)

@@ -35,7 +35,7 @@ from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.plan import closed_form_limits, sight_limits
 from planner.site import Site, Zone, load_site
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -3,7 +3,7 @@
 For each site and candidate grid spacing, the plain ``planner plan SITE --grid-spacing G --out DIR`` (connected
 MILP under the site's overlap, regions and pricing on, 1 thread) runs as its own process under
 ``/usr/bin/time -v``. Columns: candidates and pairs (the pool after pricing, from plan.json), stations and
-status, wall time, peak RSS, and the memory guard's estimate (``planner.memory_guard.estimate_work``: what
+status, wall time, peak RSS, and the memory guard's estimate (``planner.plan.memory_guard.estimate_work``: what
 ``--memory-limit`` compares). Then the log-log slope of peak RSS against pairs (least squares over the rows
 of each site), and a figure.
 
@@ -40,9 +40,9 @@ def site_path(name: str, tmp: Path) -> Path:
 
 
 def estimate_bytes(site: Path, grid: float) -> int:
-    from planner.memory_guard import estimate_work
+    from planner.plan.memory_guard import estimate_work
     from planner.site import load_site
-    from planner.validate import validate_site
+    from planner.site.validate import validate_site
 
     s = load_site(site)
     reach = validate_site(s).range_limit.max_slant_range_m

@@ -160,7 +160,7 @@ def _figure(plan, tiling, path: Path) -> None:
 
 
 def _limits(plan):
-    from planner.plan import _limits as limits
+    from planner.plan import plan_limits as limits
 
     return limits(plan.validation, plan.options)
 

@@ -65,7 +65,8 @@ def main() -> None:
                 print(rows[-1], flush=True)
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    with (out / "benchmark.csv").open("w", newline="") as f:
+    (out / "results").mkdir(parents=True, exist_ok=True)
+    with (out / "results" / "benchmark.csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
         w.writerows(rows)

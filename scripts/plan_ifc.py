@@ -19,7 +19,7 @@ from pathlib import Path
 
 import planner
 from planner.coverage.links import default_registration
-from planner.exchange.ifc_in import IfcOptions
+from planner.site.ifc_in import IfcOptions
 from planner.figures.base import png_bytes
 from planner.figures.storey_fig import storey_figure
 

@@ -57,8 +57,8 @@ def test_sweep_script_uses_only_the_public_api():
 
 
 def test_only_the_command_line_prints():
-    # library modules log; print() appears only in planner/cli*.py (docstring examples aside)
-    offenders = [p.name for p in (ROOT / "planner").rglob("*.py") if not p.name.startswith("cli")
+    # library modules log; print() appears only in planner/cli/ (docstring examples aside)
+    offenders = [p.name for p in (ROOT / "planner").rglob("*.py") if "cli" not in p.relative_to(ROOT / "planner").parts
                  and any(line.lstrip().startswith("print(") for line in p.read_text().splitlines())]
     assert offenders == []
 
@@ -164,3 +164,23 @@ def test_an_object_of_the_wrong_kind_is_named_with_how_to_get_the_right_one(gree
     assert isinstance(err.value, TypeError) and isinstance(err.value, UsageError)
     assert str(err.value).startswith(field) and words in str(err.value)
     assert not list(tmp_path.iterdir())
+
+
+def test_scripts_import_only_public_names():
+    # issue 33: benchmarks and reproductions use the public API (no private module, no _name), so the package
+    # can change its insides without breaking them
+    import ast
+
+    offenders = []
+    for path in sorted((ROOT / "scripts").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("planner"):
+                parts = node.module.split(".")
+                names = [a.name for a in node.names]
+                if any(p.startswith("_") for p in parts) or any(n.startswith("_") for n in names):
+                    offenders.append(f"{path.name}: from {node.module} import {', '.join(names)}")
+            elif isinstance(node, ast.Attribute) and node.attr.startswith("_") and not node.attr.startswith("__"):
+                base = node.value
+                if isinstance(base, ast.Name) and base.id in ("planner", "P"):
+                    offenders.append(f"{path.name}: {base.id}.{node.attr}")
+    assert offenders == []

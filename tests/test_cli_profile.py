@@ -101,3 +101,17 @@ def test_profile_value_reaches_the_plan(tmp_path, capsys):
     plan = json.loads((out / "plan.json").read_text())
     text = json.dumps(plan)
     assert '"verify_spacing_m": 0.25' in text, sorted(plan)
+
+
+@pytest.mark.parametrize("extra", [[], ["--tiles", "off"], ["--method", "greedy"]])
+def test_plan_validates_the_site_once(monkeypatch, capsys, tmp_path, extra):
+    # issue 33: one validation per `planner plan` run, handed to the memory guard, the strategy and the plan
+    # (validate_site is the one caller of site_scanner: counting it counts the validations)
+    import planner.site.validate as validate
+
+    calls = []
+    real = validate.site_scanner
+    monkeypatch.setattr(validate, "site_scanner", lambda site: calls.append(site.name) or real(site))
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--no-pricing", *extra]) == 0, \
+        capsys.readouterr().err
+    assert calls == ["polygon_b"]

@@ -42,7 +42,7 @@ def test_version_and_help_exit_0():
 
 def test_cli_choices_match_the_library():
     from planner.exchange import EXPORTS
-    from planner.export import FORMATS
+    from planner.exchange.export import FORMATS
     from planner.plan import METHODS
     from planner.site import ScanSide
     from planner.solve.backends import BACKENDS
@@ -51,7 +51,7 @@ def test_cli_choices_match_the_library():
     assert cli_choices.METHODS == METHODS and cli_choices.BACKENDS == BACKENDS
     assert cli_choices.PRECISION_MODES == PRECISION_MODES and cli_choices.FORMATS == FORMATS
     assert cli_choices.EXPORTS == EXPORTS and cli_choices.SIDES == tuple(s.value for s in ScanSide)
-    from planner.accuracy import INCIDENCE_MODELS
+    from planner.instrument.accuracy import INCIDENCE_MODELS
 
     assert cli_choices.INCIDENCE_MODELS == INCIDENCE_MODELS
 

@@ -13,7 +13,7 @@ from planner.network.check import accuracy_check, run_network
 from planner.plan import PlanOptions, plan_site, sight_limits
 from planner.site import load_site
 from planner.solve.milp import MilpOptions
-from planner.verify import verify_stations
+from planner.plan.verify import verify_stations
 from tests.conftest import INSTANCES
 
 

@@ -7,10 +7,10 @@ import re
 
 import pytest
 
-from planner.accuracy import max_slant_range_m, sigma_instr_m, ErrorBudget
+from planner.instrument.accuracy import max_slant_range_m, sigma_instr_m, ErrorBudget
 from planner.errors import InputError
-from planner.instruments import Scanner, TotalStation, list_instruments, load_instrument
-from planner.params import Parameters, resolve_range_limit
+from planner.instrument.models import Scanner, TotalStation, list_instruments, load_instrument
+from planner.site.params import Parameters, resolve_range_limit
 
 
 def test_bundled_models_load():

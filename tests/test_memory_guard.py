@@ -10,7 +10,7 @@ import pytest
 
 import planner
 from planner.errors import InputError, UsageError
-from planner.memory_guard import check_memory, estimate_work, parse_memory
+from planner.plan.memory_guard import check_memory, estimate_work, parse_memory
 from planner.plan import PlanOptions, build_problem, closed_form_limits
 from tests.conftest import INSTANCES, ROOT
 

@@ -12,7 +12,7 @@ from planner.candidates.pool import PoolOptions
 from planner.cli import main
 from planner.errors import InfeasibleError
 from planner.plan import PlanOptions, build_problem, plan_site
-from planner.plan_io import plan_to_dict, read_plan_stations
+from planner.plan.plan_json import plan_to_dict, read_plan_stations
 from planner.site import ScanSide, Site, Zone, load_site
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions

@@ -16,7 +16,7 @@ from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.tripod import tripod_discs
-from planner.verify import verify_stations
+from planner.plan.verify import verify_stations
 from tests.conftest import INSTANCES
 
 NAMES = ("polygon_a", "polygon_b", "polygon_c", "baalbek")

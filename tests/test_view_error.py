@@ -8,15 +8,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from planner.accuracy import (
+from planner.instrument.accuracy import (
     ErrorBudget, RangeAngleSigma, combined_error_m, derive_theta_max_deg, incidence_factor, max_slant_range_m,
     point_error, precision_ok, sigma_instr_m, view_error_m,
 )
 from planner.errors import InputError
-from planner.params import Parameters, resolve_theta_limit
-from planner.instruments import load_instrument
+from planner.site.params import Parameters, resolve_theta_limit
+from planner.instrument.models import load_instrument
 from planner.site import load_site
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 from tests.conftest import square_rows
 
 P30 = RangeAngleSigma(range_sigma_const_m=0.0012, range_sigma_ppm=10.0, angle_sigma_arcsec=8.0)
@@ -114,7 +114,7 @@ def test_coverage_refuses_a_view_by_its_incidence_only_with_an_incidence_model()
 
 
 def test_max_slant_for_view_is_where_the_view_error_reaches_sigma_req():
-    from planner.accuracy import max_slant_for_view_m
+    from planner.instrument.accuracy import max_slant_for_view_m
 
     # at normal incidence every model gives (3.1): 239.55 m for the P30 at 10 mm with 0.5 mm terms
     s_max = max_slant_range_m(P30, sigma_instr_m(0.010, BUDGET))

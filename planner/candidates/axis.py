@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.from_regions import largest_part_pole
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.targets import SIDE_CODE, Targets
 from planner.coverage.visibility import SightLimits

@@ -10,7 +10,7 @@ import shapely
 from shapely.ops import polylabel
 
 from planner.candidates.formulas import VertexGeometry, WallPlan, horizontal_reach_m, vertex_geometry, wall_plan
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Zone
 from planner.site.traverse import table_from_polygon
 

@@ -18,7 +18,7 @@ import shapely
 
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.from_regions import largest_part_pole
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
 from planner.coverage.regions import (
     FrameSpace,

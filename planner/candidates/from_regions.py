@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from shapely.ops import polylabel
 
 from planner.candidates.closed_form import SIDE_TAG
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.regions import FrameSpace, coverage_regions
 from planner.coverage.targets import SIDE_CODE, Targets
 from planner.coverage.visibility import SightLimits

@@ -12,11 +12,11 @@ BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 CONNECTIVITY = ("auto", "bc", "flow", "loop")
 #: planner.solve.milp.PRECISION_MODES
 PRECISION_MODES = ("single", "combined")
-#: planner.export.FORMATS
+#: planner.exchange.export.FORMATS
 FORMATS = ("orlib", "mps", "json")
 #: planner.exchange.EXPORTS
 EXPORTS = ("dxf", "geojson", "csv")
 #: the values of planner.site.model.ScanSide
 SIDES = ("inside", "outside", "both")
-#: planner.accuracy.INCIDENCE_MODELS
+#: planner.instrument.accuracy.INCIDENCE_MODELS
 INCIDENCE_MODELS = ("none", "table", "soudarissanane")

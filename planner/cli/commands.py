@@ -23,15 +23,16 @@ from planner.cli.profile import apply_config
 from planner.cli.report import parse_exports, write_exports
 from planner.cli.tiles import plan_command
 from planner.errors import ExitCode, InfeasibleError, InputError, PlannerError, UsageError, located_in
-from planner.json_text import dumps
+from planner.text import dumps
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
 if TYPE_CHECKING:
-    from planner.exchange import DxfOptions
+    from planner.site.dxf_in import DxfOptions
     from planner.network.check import NetworkReport
     from planner.plan import PlanOptions
     from planner.site import Site
+    from planner.site.validate import ValidationReport
     from planner.solve.result import SolveResult
 
 #: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
@@ -39,7 +40,7 @@ MIN_MONTE_CARLO = 100
 
 def load_with_overrides(args: argparse.Namespace) -> Site:
     """Load the site and apply the command-line parameter overrides."""
-    from planner.params import ClosureTolerance
+    from planner.site.params import ClosureTolerance
     from planner.site import load_site
 
     tol_kw = {}
@@ -67,13 +68,13 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
 
 
 def _ifc_options(args: argparse.Namespace) -> Any:
-    from planner.exchange.ifc_in import IfcOptions
+    from planner.site.ifc_in import IfcOptions
 
     return IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
 
 
 def _dxf_options(args: argparse.Namespace) -> DxfOptions:
-    from planner.exchange.dxf_in import DxfOptions
+    from planner.site.dxf_in import DxfOptions
     from planner.site import ScanSide
 
     heights = {}
@@ -89,7 +90,7 @@ def _dxf_options(args: argparse.Namespace) -> DxfOptions:
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
-    from planner.validate import validate_site
+    from planner.site.validate import validate_site
 
     report = validate_site(load_with_overrides(args))
     print(dumps(report.to_dict()).rstrip("\n") if args.json else report.summary())
@@ -118,17 +119,16 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
                        pricing_time_limit_s=args.pricing_time_limit, memory_limit_bytes=_memory_limit(args))
 
 
-def _guard_memory(site: Site, args: argparse.Namespace) -> None:
+def _guard_memory(site: Site, args: argparse.Namespace, validation: ValidationReport) -> None:
     """The memory check of build_problem, run before the solver stacks load so that a refusal is quick."""
-    from planner.memory_guard import check_memory
-    from planner.validate import validate_site
+    from planner.plan.memory_guard import check_memory
 
-    s_max = validate_site(site).range_limit.max_slant_range_m
+    s_max = validation.range_limit.max_slant_range_m
     check_memory(site, args.target_spacing, args.grid_spacing, s_max, _memory_limit(args))
 
 
 def _memory_limit(args: argparse.Namespace) -> int | None:
-    from planner.memory_guard import parse_memory
+    from planner.plan.memory_guard import parse_memory
 
     return parse_memory(args.memory_limit) if args.memory_limit else None
 
@@ -162,13 +162,16 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
         field_options = _field_options(args, "field-")
     site = load_with_overrides(args)
-    _guard_memory(site, args)
-    from planner.outcome import outcome_from_plan
-    from planner.plan_io import write_plan
+    from planner.site.validate import validate_site
+
+    validation = validate_site(site)  # once per run: the guard, the strategy and the plan all take it
+    _guard_memory(site, args, validation)
+    from planner.plan.outcome import outcome_from_plan
+    from planner.plan.plan_json import write_plan
     from planner.report import compare_methods, write_report
 
     options = _plan_options(args, site.parameters.overlap)
-    plan = plan_command(site, options, args)
+    plan = plan_command(site, options, args, validation)
     if not plan.stations and plan.result.status.value in ("infeasible", "no_solution"):
         print(plan.summary().splitlines()[0])
         raise InfeasibleError(f"{plan.result.method} found no plan: {_no_plan_reason(plan.result, options)}")
@@ -248,7 +251,7 @@ def _network(site: Site, stations: list[Any], args: argparse.Namespace, inputs: 
 
 
 def cmd_network(args: argparse.Namespace) -> int:
-    from planner.plan_io import read_plan_stations
+    from planner.plan.plan_json import read_plan_stations
 
     _usable_folder("--out", args.out)
     inputs = _network_inputs(args)  # before any work
@@ -261,7 +264,7 @@ def cmd_network(args: argparse.Namespace) -> int:
 
 def _recorded_notes(path: str, site: Any) -> None:
     """Say which limits the plan was made under that differ from the site's (the check uses the site's)."""
-    from planner.plan_io import recorded_differences
+    from planner.plan.plan_json import recorded_differences
 
     for line in recorded_differences(path, site):
         print(line)
@@ -275,10 +278,10 @@ def _some_stations(path: str, stations: list[Any]) -> list[Any]:
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
-    from planner.plan import sight_limits
-    from planner.plan_io import read_plan_stations
-    from planner.validate import validate_site
-    from planner.verify import verify_stations
+    from planner.coverage.visibility import sight_limits
+    from planner.plan.plan_json import read_plan_stations
+    from planner.site.validate import validate_site
+    from planner.plan.verify import verify_stations
 
     site = load_with_overrides(args)
     validation = validate_site(site)
@@ -293,16 +296,19 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
 def cmd_export(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
-    _guard_memory(site, args)
+    from planner.site.validate import validate_site
+
+    validation = validate_site(site)
+    _guard_memory(site, args, validation)
     from planner.candidates.pool import PoolOptions
     from planner.coverage.overlap import OverlapRule
-    from planner.export import export_problem
+    from planner.exchange.export import export_problem
     from planner.plan import PlanOptions, build_problem
 
     options = PlanOptions(
         target_spacing_m=args.target_spacing, pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
         incidence_3d=args.incidence == "3d", precision=not args.no_precision, memory_limit_bytes=_memory_limit(args))
-    problem = build_problem(site, options)
+    problem = build_problem(site, options, validation)
     text = export_problem(problem, args.format, OverlapRule(site.parameters.overlap))
     if args.out:
         Path(args.out).write_text(text)
@@ -313,7 +319,7 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 
 def cmd_instruments(args: argparse.Namespace) -> int:
-    from planner.instruments import list_instruments, load_instrument
+    from planner.instrument.models import list_instruments, load_instrument
 
     for name in list_instruments():
         inst = load_instrument(name)
@@ -345,7 +351,7 @@ def cmd_assemble(args: argparse.Namespace) -> int:
 def cmd_chain(args: argparse.Namespace) -> int:
     """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
     from planner.network.survey import survey_network
-    from planner.plan_io import read_plan_stations
+    from planner.plan.plan_json import read_plan_stations
 
     site = load_with_overrides(args)
     stations = _some_stations(args.plan, read_plan_stations(args.plan, site))

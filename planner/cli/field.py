@@ -12,7 +12,7 @@ from planner.cli.option_types import POSITIVE, POSITIVE_INT
 from planner.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)
-    from planner.candidates.model import Candidate
+    from planner.site.candidate import Candidate
     from planner.field.run import FieldOptions, FieldPlan
     from planner.site import Site
 
@@ -96,8 +96,8 @@ def summary(fp: FieldPlan) -> str:
 
 
 def cmd_field(args: argparse.Namespace) -> int:
-    from planner.outcome import site_for_plan
-    from planner.plan_io import check_plan_meta, read_plan_stations
+    from planner.plan.outcome import site_for_plan
+    from planner.plan.plan_json import check_plan_meta, read_plan_stations
     from planner.site.fileio import read_json
 
     options = field_options(args)  # option values checked before any work

@@ -11,7 +11,7 @@ from planner.cli.choices import EXPORTS
 from planner.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # the rest loads when a command runs (a fast --help: docs/startup.md)
-    from planner.outcome import Outcome
+    from planner.plan.outcome import Outcome
 
 
 def parse_exports(text: str | None) -> list[str]:
@@ -36,13 +36,13 @@ def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | 
 
 def cmd_report(args: argparse.Namespace) -> int:
     from planner.network.check import run_network
-    from planner.outcome import outcome_from_file
+    from planner.plan.outcome import outcome_from_file
     from planner.report import write_report
 
     formats = parse_exports(args.export)
     ifc = None
     if args.storey or args.exterior or args.ifc_windows:
-        from planner.exchange.ifc_in import IfcOptions
+        from planner.site.ifc_in import IfcOptions
 
         ifc = IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
     outcome = outcome_from_file(args.plan, args.site, ifc=ifc)

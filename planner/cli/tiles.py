@@ -13,6 +13,7 @@ from planner.errors import UsageError
 if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/startup.md)
     from planner.plan import Plan, PlanOptions
     from planner.site.model import Site
+    from planner.site.validate import ValidationReport
     from planner.tiles import TileOptions
     from planner.tiles.auto import Strategy
 
@@ -76,13 +77,13 @@ _FLAGS = {"radius_m": "--tile-window-radius", "work_s": "--tile-window-work", "p
           "search_seeds": "--tile-search-seeds"}
 
 
-def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> Plan:
+def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace, validation: ValidationReport) -> Plan:
     """``plan_site`` or, with ``--tiles``, ``plan_by_tiles`` (serially or on Dask)."""
     from planner.plan import plan_site
 
     strategy = None
     if args.tiles in ("auto", "off"):
-        strategy = _auto(site, options, args)
+        strategy = _auto(site, options, args, validation)
         if strategy.tiling is None:
             given = [(f, v) for f, v in (("--scheduler", args.scheduler), ("--workers", args.workers),
                                          ("--worker-memory", args.worker_memory != WORKER_MEMORY and args.worker_memory))
@@ -90,8 +91,8 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
             if given:
                 raise UsageError(f"--workers, --worker-memory and --scheduler run tiles, and this plan is one model "
                                  f"({strategy.reason}); give --tiles M", field=given[0][0], value=given[0][1])
-            return _with_strategy(plan_site(site, options), strategy)
-        return _with_strategy(_by_tiles(site, options, args, strategy), strategy)
+            return _with_strategy(plan_site(site, options, validation), strategy)
+        return _with_strategy(_by_tiles(site, options, args, strategy, validation), strategy)
     if options.method != "milp":
         raise UsageError("--tiles plans with the MILP", field="--method", value=options.method)
     if args.workers < 0:
@@ -112,43 +113,55 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace) -> 
         if args.lagrange_work < 0:
             raise UsageError("must be >= 0", field="--lagrange-work", value=args.lagrange_work)
         tiling = replace(tiling, lagrange=args.lagrange_work > 0, lagrange_work_s=args.lagrange_work or 1.0)
-    return _run_tiles(site, options, tiling, args.workers, args)
+    return _run_tiles(site, options, tiling, args.workers, args, validation)
 
 
-def _run_tiles(site: Site, options: PlanOptions, tiling: TileOptions, workers: int, args: argparse.Namespace) -> Plan:
+def _run_tiles(site: Site, options: PlanOptions, tiling: TileOptions, workers: int, args: argparse.Namespace,
+               validation: ValidationReport) -> Plan:
     from planner.tiles import dask_client, plan_by_tiles
 
     if not workers and not args.scheduler:
-        return plan_by_tiles(site, options, tiling)
+        return plan_by_tiles(site, options, tiling, validation=validation)
     with dask_client(workers, args.scheduler, args.worker_memory) as client:
-        return plan_by_tiles(site, options, tiling, client=client)
+        return plan_by_tiles(site, options, tiling, client=client, validation=validation)
 
 
-def _auto(site: Site, options: PlanOptions, args: argparse.Namespace) -> Strategy:
+def _auto(site: Site, options: PlanOptions, args: argparse.Namespace, validation: ValidationReport) -> Strategy:
     """``--tiles auto`` (or ``off``): the strategy :func:`planner.tiles.auto.choose` picks for this site."""
-    from planner.memory_guard import estimate_work
-    from planner.plan import closed_form_limits
+    from planner.plan.memory_guard import estimate_work
     from planner.tiles.auto import Strategy, choose
-    from planner.validate import validate_site
 
     if args.tiles == "off":
         return Strategy(None, 0, "--tiles off")
-    s_max = closed_form_limits(validate_site(site)).max_slant_range_m
+    s_max = validation.range_limit.max_slant_range_m
     pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_spacing_m, s_max).targets
     return choose(site, options, s_max, pieces, budget_s=args.tile_budget)
 
 
-def _by_tiles(site: Site, options: PlanOptions, args: argparse.Namespace, strategy: Strategy) -> Plan:
+def _by_tiles(site: Site, options: PlanOptions, args: argparse.Namespace, strategy: Strategy,
+              validation: ValidationReport) -> Plan:
     """The tiles the strategy chose, in the registration mode the single model would use; ``--workers`` or
     ``--scheduler`` when given, else the strategy's workers."""
     from planner.coverage.links import default_registration
 
     assert strategy.tiling is not None
     options = replace(options, registration=options.registration or default_registration(site))
-    return _run_tiles(site, options, strategy.tiling, args.workers or strategy.workers, args)
+    return _run_tiles(site, options, strategy.tiling, args.workers or strategy.workers, args, validation)
 
 
 def _with_strategy(plan: Plan, strategy: Strategy) -> Plan:
-    """The plan with the strategy in its log (summary) and in its result's info (plan.json)."""
-    result = replace(plan.result, info={**plan.result.info, "strategy": strategy.to_dict()})
-    return replace(plan, result=result, log=(*plan.log, strategy.line()))
+    """The plan with the strategy in its log (summary) and in its result's info (plan.json), and the gap to the
+    best plan known for the site (:mod:`planner.plan.best_known`) where the file lists one."""
+    from planner.coverage.links import default_registration
+    from planner.plan.best_known import best_known
+
+    info = {**plan.result.info, "strategy": strategy.to_dict()}
+    log = [*plan.log, strategy.line()]
+    rule = plan.options.checked_rule(plan.site)
+    mode = plan.options.registration or default_registration(plan.site)
+    known = best_known(plan.site.name, mode, rule.overlap if plan.options.milp.rule else 0.0)
+    if known is not None:
+        info["best_known"] = {"stations": known.stations, "problem": known.problem, "command": known.command,
+                              "gap": (len(plan.stations) - known.stations) / max(len(plan.stations), 1)}
+        log.append(known.line(len(plan.stations)))
+    return replace(plan, result=replace(plan.result, info=info), log=tuple(log))

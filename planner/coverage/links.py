@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.matrix import blockers_for
 from planner.coverage.openings import accessible_areas, opening_segments, space_of
 from planner.coverage.visibility import segments_touch, sight_clear

@@ -13,7 +13,7 @@ import shapely
 from numpy.typing import NDArray
 
 from planner import progress
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.faces import keyed_parts, partner_stretches, trim_at_junctions
 from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
 from planner.coverage.targets import Targets

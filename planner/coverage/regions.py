@@ -17,7 +17,7 @@ R_t applies the rules of :mod:`planner.coverage.visibility` to a position instea
   edge (polygons circumscribing the true buffer, so that the region stays inside);
 - the view error (single precision with an incidence model): at each end, the positions whose view
   of that end has e(S, theta) <= sigma_req, a region star-shaped about the end, bounded by
-  rho(theta) = sqrt(S_lim(theta)^2 - dz^2) (:func:`planner.accuracy.max_slant_for_view_m`), drawn as
+  rho(theta) = sqrt(S_lim(theta)^2 - dz^2) (:func:`planner.instrument.accuracy.max_slant_for_view_m`), drawn as
   a polygon through ``PRECISION_SAMPLES`` points of that curve shrunk by its largest chord error
   (horizontal incidence only; with 3-D incidence plans skip regions and pricing, see
   :func:`regions_apply`).
@@ -352,7 +352,7 @@ def _precision_profile(rule: PrecisionRule, dz: float, theta_max_deg: float) -> 
     the curve's mid-parameter point, in metres) of its two sectors; samples double until that error is at most
     ``PRECISION_CHORD_M``. Cached per (rule, dz, theta_max): pieces of equal height share it.
     """
-    from planner.accuracy import IncidenceErrorTable, derive_theta_max_deg, max_slant_for_view_m
+    from planner.instrument.accuracy import IncidenceErrorTable, derive_theta_max_deg, max_slant_for_view_m
 
     args = (rule.scanner, rule.budget, rule.sigma_req_m, rule.incidence_model)
     top = min(theta_max_deg, derive_theta_max_deg(dz, *args))

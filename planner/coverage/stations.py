@@ -10,9 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.checks import argument, stations_argument
-from planner.accuracy import ErrorBudget, RangeAngleSigma, view_error_m
-from planner.candidates.model import Candidate
+from planner.checks import argument
+from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, view_error_m
+from planner.site.candidate import Candidate, stations_argument
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import piece_lengths
 from planner.coverage.targets import Targets, make_targets

@@ -21,13 +21,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.accuracy import ErrorBudget, RangeAngleSigma, precision_ok
+from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, precision_ok
+
+if TYPE_CHECKING:
+    from planner.site.validate import ValidationReport
 
 EPS_FRONT_M = 1e-6
 EPS_RANGE_M = 1e-6
@@ -38,7 +41,7 @@ EPS_SHORTEN_M = 1e-5
 
 @dataclass(frozen=True, eq=False)
 class PrecisionRule:
-    """How a view's point error is judged: e(S, theta) of :func:`planner.accuracy.view_error_m`.
+    """How a view's point error is judged: e(S, theta) of :func:`planner.instrument.accuracy.view_error_m`.
 
     ``combined``: views add information (sum (sigma_req / e_j)^2 >= 1), so no single view is
     refused for precision; verification and the network check judge the sum.
@@ -239,3 +242,18 @@ def sight_clear(
             (ca < -EPS_SIGHT_M) & (ab < -EPS_SIGHT_M) & (bc < -EPS_SIGHT_M))
         clear[pi[inside]] = False
     return clear
+
+
+def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False) -> SightLimits:
+    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req.
+
+    ``combined``: no single view is refused for precision (no precision range, no per-pair
+    test); the rule travels with the limits so that verification and the network check
+    judge the information sum. With ``precision`` off there is no rule at all.
+    """
+    p = validation.site.parameters
+    single = precision and not combined
+    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
+    rule = PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
+    return SightLimits(validation.range_limit.max_slant_range_m, validation.theta_max_deg, p.instrument_height_m,
+                       incidence_3d, precision_range, rule)

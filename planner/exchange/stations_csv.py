@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from planner.checks import argument
-from planner.outcome import Outcome
+from planner.plan.outcome import Outcome
 
 
 def write_stations_csv(outcome: Outcome, path: Path | str, crs: str | None = None) -> Path:

@@ -2,9 +2,9 @@
 (shortest or registration order) with a lower bound, the field time, registration targets, and the sheet
 (field.html, field.csv, field.geojson, field.json).
 
-Modules: :mod:`~planner.field.properties` (an instrument's field properties), :mod:`~planner.field.walking`
+Modules: :mod:`~planner.instrument.field_table` (an instrument's field properties), :mod:`~planner.field.walking`
 (walkable area, visibility graph, walking distances), :mod:`~planner.field.order` (OR-Tools routing),
 :mod:`~planner.field.bound` (Held-Karp 1-tree bound, exact DP), :mod:`~planner.field.timing` (field time,
 sessions), :mod:`~planner.field.targets` (registration targets), :mod:`~planner.field.sheet` (the files).
-This package file imports nothing, so :mod:`planner.instruments` can read field properties cheaply.
+This package file imports nothing, so :mod:`planner.instrument.models` can read field properties cheaply.
 """

@@ -20,7 +20,7 @@ import networkx as nx
 import numpy as np
 import shapely
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.errors import InfeasibleError, InputError, UsageError
 from planner.field.certify import Certified, certify
 from planner.field.order import (
@@ -30,7 +30,7 @@ from planner.field.order import (
     registration_violations,
     solve_order,
 )
-from planner.field.properties import DEFAULT_FIELD, FieldProperties
+from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
 from planner.field.scip_order import NODE_LIMIT
 from planner.field.targets import (
     STRONG_OVERLAP,
@@ -231,7 +231,7 @@ def _check_reach(site: Site, st: Sequence[Candidate], g: WalkGraph, node_station
 
 
 def _properties(site: Site) -> FieldProperties:
-    from planner.instruments import Scanner, load_instrument
+    from planner.instrument.models import Scanner, load_instrument
 
     inst = load_instrument(site.instrument)
     return inst.field_properties if isinstance(inst, Scanner) and inst.field_properties else DEFAULT_FIELD

@@ -19,7 +19,7 @@ from matplotlib.patches import Polygon
 from planner import __version__
 from planner.field.run import FieldPlan
 from planner.figures.base import decorate_plan, png_bytes
-from planner.json_text import dumps
+from planner.text import dumps
 
 HEADER = ("no.", "station", "x m", "y m", "zone", "side", "instrument height m", "scan setting", "walk m", "minutes",
           "targets seen", "session")

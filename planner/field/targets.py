@@ -28,14 +28,14 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, blockers_for, build_coverage
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_clear
-from planner.field.properties import FieldProperties
+from planner.instrument.field_table import FieldProperties
 from planner.field.walking import WalkSpace
 from planner.site.model import Site
 
@@ -77,8 +77,8 @@ class Target:
 
 def coverage_of(site: Site, stations: Sequence[Candidate]) -> CoverageProblem:
     """The coverage of the plan's stations on 1 m pieces, under the site's limits (horizontal incidence)."""
-    from planner.plan import sight_limits
-    from planner.validate import validate_site
+    from planner.coverage.visibility import sight_limits
+    from planner.site.validate import validate_site
 
     limits = sight_limits(validate_site(site), False, True)
     return build_coverage(site, stations, make_targets(site, 1.0), limits)

@@ -2,7 +2,7 @@
 total, and split into sessions of a given length.
 
 A setup's time is ``walk_m / walking_speed + setup_time + scan_time(setting) + targets x target_scan_time``
-(:class:`~planner.field.properties.FieldProperties`). Sessions are filled in visiting order: a setup that
+(:class:`~planner.instrument.field_table.FieldProperties`). Sessions are filled in visiting order: a setup that
 would make the session longer than ``--session`` opens the next one (the walk to it included).
 """
 
@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from planner.errors import UsageError
-from planner.field.properties import FieldProperties
+from planner.instrument.field_table import FieldProperties
 
 _UNITS = {"h": 3600.0, "min": 60.0, "s": 1.0}
 

@@ -13,7 +13,7 @@ from matplotlib.patches import Ellipse, Polygon
 from planner.checks import argument
 from planner.figures.base import decorate_plan
 from planner.network.adjustment import ELLIPSE_95
-from planner.outcome import Outcome
+from planner.plan.outcome import Outcome
 
 STYLES = {"registration": ("tab:blue", "-", 1.6, "registration (overlap) link"),
           "traverse": ("tab:red", "-", 1.0, "control traverse leg (total station)"),

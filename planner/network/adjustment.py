@@ -8,24 +8,32 @@ that takes directions), ``distance``, ``x``/``y`` (a coordinate observed
 directly, e.g. a control point with sigmas) and ``dx``/``dy`` (a relative
 position, e.g. a registration link between two scanner stations). Internally
 radians and metres; :func:`adjust` converts from the caller's units.
+
+The solver is sparse (:mod:`planner.network.lsq_sparse`): A in scipy.sparse, N factored by SuperLU,
+and of Q only the entries the results need, so time and memory grow with the observations, not with
+their square. ``method="dense"`` keeps the dense solver (:mod:`planner.network.lsq_dense`) as a
+cross-check.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
-import scipy.linalg as sla
 from numpy.typing import NDArray
 from scipy import stats
 
 from planner.errors import InputError
+from planner.network import lsq_dense, lsq_sparse
 
 KINDS = ("direction", "distance", "x", "y", "dx", "dy")
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0, "gon": math.pi / 200.0, "arcsec": math.pi / 648000.0}
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
+#: the solvers: ``sparse`` (``normal`` is the same: normal equations), ``dense`` and ``qr`` (dense A)
+METHODS = ("sparse", "normal", "dense", "qr")
 #: the smallest sigma an observation may have: 1 micrometre, 1e-8 rad (0.002 arcsec); finer is no survey
 #: measurement (a typo, or a unit mix-up), and 1/sigma^2 of 1e-300 is no number
 MIN_SIGMA_M, MIN_SIGMA_RAD = 1e-6, 1e-8
@@ -46,6 +54,8 @@ class Obs:
 
 @dataclass(frozen=True)
 class PointResult:
+    """An adjusted point: coordinates, sigmas and the error ellipse (semi-axes, azimuth of a from +x)."""
+
     name: str
     x: float
     y: float
@@ -57,7 +67,12 @@ class PointResult:
 
     @property
     def position_error(self) -> float:
+        """sqrt(sigma_x^2 + sigma_y^2)."""
         return math.hypot(self.sigma_x, self.sigma_y)
+
+
+def _no_covariance() -> NDArray[np.float64]:
+    return np.zeros((0, 0))
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,8 +87,15 @@ class Adjustment:
     dof: int
     chi2_p: float | None
     chi2_pass: bool | None
-    qxx: NDArray[np.float64]
     observations: tuple[Obs, ...]
+    #: forms the covariance of the points' coordinates when asked for (:attr:`qxx`)
+    covariance: Callable[[], NDArray[np.float64]] = field(default=_no_covariance, repr=False)
+
+    @cached_property
+    def qxx(self) -> NDArray[np.float64]:
+        """The covariance matrix of the unknown points' coordinates (x, y of each, in the order of
+        :attr:`points`; the caller's length unit squared), formed on first use."""
+        return self.covariance()
 
     @property
     def network_rms(self) -> float:
@@ -81,6 +103,7 @@ class Adjustment:
         return math.sqrt(sum(p.sigma_x**2 + p.sigma_y**2 for p in self.points) / max(len(self.points), 1))
 
     def point(self, name: str) -> PointResult:
+        """The point named ``name``."""
         return next(p for p in self.points if p.name == name)
 
     def unchecked(self, tol: float = 1e-6) -> list[int]:
@@ -88,79 +111,24 @@ class Adjustment:
         return [i for i, r in enumerate(self.redundancy) if r < tol]
 
     def worst_residual(self) -> tuple[int, float] | None:
+        """The observation with the largest standardised residual, and that residual (None: no residuals)."""
         if self.m0 is None or len(self.standardized) == 0:
             return None
         k = int(np.nanargmax(np.abs(self.standardized)))
         return k, float(self.standardized[k])
 
 
-def _design(coords: Mapping[str, tuple[float, float]], unknown: list[str], obs: Sequence[Obs]
-            ) -> tuple[NDArray, NDArray, list[str]]:
-    """Jacobian A and computed values f(X0) at the coordinates, and the orientation unknowns."""
-    orient = sorted({o.at for o in obs if o.kind == "direction"})
-    col = {name: 2 * k for k, name in enumerate(unknown)}
-    ocol = {s: 2 * len(unknown) + k for k, s in enumerate(orient)}
-    a = np.zeros((len(obs), 2 * len(unknown) + len(orient)))
-    f = np.zeros(len(obs))
-    for i, o in enumerate(obs):
-        xi, yi = coords[o.at]
-        if o.kind in ("x", "y"):
-            f[i] = xi if o.kind == "x" else yi
-            if o.at in col:
-                a[i, col[o.at] + (0 if o.kind == "x" else 1)] = 1.0
-            continue
-        assert o.to is not None  # only x/y observations have no target, and they were handled above
-        xj, yj = coords[o.to]
-        dx, dy = xj - xi, yj - yi
-        s2 = dx * dx + dy * dy
-        if o.kind in ("dx", "dy"):
-            k = 0 if o.kind == "dx" else 1
-            f[i] = dx if k == 0 else dy
-            if o.at in col:
-                a[i, col[o.at] + k] = -1.0
-            if o.to in col:
-                a[i, col[o.to] + k] = 1.0
-            continue
-        if s2 == 0:
-            raise InputError("observation between coincident points", row=i + 1, field=o.kind, value=f"{o.at}->{o.to}")
-        if o.kind == "distance":
-            s = math.sqrt(s2)
-            f[i] = s
-            g = (-dx / s, -dy / s, dx / s, dy / s)
-        else:  # direction: azimuth from +x, counter-clockwise, minus the station's orientation
-            f[i] = math.atan2(dy, dx)
-            g = (dy / s2, -dx / s2, -dy / s2, dx / s2)
-            a[i, ocol[o.at]] = -1.0
-        if o.at in col:
-            a[i, col[o.at]], a[i, col[o.at] + 1] = g[0], g[1]
-        if o.to in col:
-            a[i, col[o.to]], a[i, col[o.to] + 1] = g[2], g[3]
-    return a, f, orient
-
-
-def _wrap(angle: NDArray) -> NDArray:
+def _wrap(angle: NDArray[np.float64]) -> NDArray[np.float64]:
     return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
-def adjust(
-    coords: Mapping[str, tuple[float, float]], fixed: Sequence[str], observations: Sequence[Obs], *,
-    observed: bool = False, angle_unit: str = "rad", length_unit: str = "m", method: str = "normal",
-    sigma0: float = 1.0, max_iter: int = 10,
-) -> Adjustment:
-    """Design (``observed=False``: covariance only) or adjustment of a network.
-
-    ``coords`` are approximate (design) coordinates; ``fixed`` points are
-    known. Values and sigmas are in ``angle_unit`` (directions) and
-    ``length_unit`` (the rest); results come back in ``length_unit``.
-    ``method``: ``normal`` (N = A^T P A, solved by Cholesky) or ``qr``
-    (scipy's least squares on sqrt(P) A); both give the same answer.
-    """
-    ka, kl = ANGLE_UNITS[angle_unit], LENGTH_UNITS[length_unit]
-    xy = {n: (c[0] * kl, c[1] * kl) for n, c in coords.items()}
+def _checked(xy: Mapping[str, object], observations: Sequence[Obs], ka: float, kl: float, angle_unit: str,
+             length_unit: str) -> list[Obs]:
+    """The observations in radians and metres, each checked (kind, points, sigma)."""
     obs = [Obs(o.kind, o.at, o.to, o.value * (ka if o.kind == "direction" else kl),
                o.sigma * (ka if o.kind == "direction" else kl)) for o in observations]
     for k, o in enumerate(obs, 1):
-        where = dict(row=f"observations[{k}]", field=o.kind, value=f"{o.at}->{o.to}")
+        where = {"row": f"observations[{k}]", "field": o.kind, "value": f"{o.at}->{o.to}"}
         if o.kind not in KINDS:
             raise InputError(f"unknown observation kind (known: {', '.join(KINDS)})", **where)
         strangers = [n for n in ((o.at,) if o.kind in ("x", "y") else (o.at, o.to)) if n not in xy]
@@ -173,51 +141,112 @@ def adjust(
             unit = angle_unit if o.kind == "direction" else length_unit
             raise InputError(f"sigma must be at least {least_si / k_unit:g} {unit}, got {o.sigma / k_unit:g}: no survey "
                              "observation is that precise, and its weight 1/sigma^2 would swamp the adjustment", **where)
-    unknown = [n for n in xy if n not in set(fixed)]
+    return obs
+
+
+def _orientations(f: NDArray[np.float64], values: NDArray[np.float64], station: NDArray[np.int64], n: int
+                  ) -> NDArray[np.float64]:
+    """Approximate orientation of each station: the mean of its directions' f - value (wrapped)."""
+    groups: list[list[int]] = [[] for _ in range(n)]
+    for i, s in enumerate(station.tolist()):
+        if s >= 0:
+            groups[s].append(i)
+    d = _wrap(f - values)
+    return np.array([float(np.mean(d[g])) for g in groups])
+
+
+def adjust(
+    coords: Mapping[str, tuple[float, float]], fixed: Sequence[str], observations: Sequence[Obs], *,
+    observed: bool = False, angle_unit: str = "rad", length_unit: str = "m", method: str = "sparse",
+    sigma0: float = 1.0, max_iter: int = 10,
+) -> Adjustment:
+    """Design (``observed=False``: covariance only) or adjustment of a network.
+
+    ``coords`` are approximate (design) coordinates; ``fixed`` points are
+    known. Values and sigmas are in ``angle_unit`` (directions) and
+    ``length_unit`` (the rest); results come back in ``length_unit``.
+    ``method``: ``sparse`` (or ``normal``: sparse normal equations, see the module text), ``dense``
+    (dense normal equations, Cholesky) or ``qr`` (scipy's least squares on sqrt(P) A); all give the
+    same answer.
+    """
+    if method not in METHODS:
+        raise InputError(f"unknown adjustment method (known: {', '.join(METHODS)})", field="method", value=method)
+    ka, kl = ANGLE_UNITS[angle_unit], LENGTH_UNITS[length_unit]
+    names = list(coords)
+    xy = np.array([(c[0] * kl, c[1] * kl) for c in coords.values()], dtype=float).reshape(-1, 2)
+    obs = _checked(coords, observations, ka, kl, angle_unit, length_unit)
+    held = set(fixed)
+    unknown = [n for n in names if n not in held]
+    uidx = np.array([k for k, n in enumerate(names) if n not in held], dtype=np.int64)
     w = np.array([1.0 / o.sigma**2 for o in obs])
-    x_est = dict(xy)
-    orient_val: dict[str, float] = {}
-    for _ in range(max_iter if observed else 1):
-        a, f, orient = _design(x_est, unknown, obs)
-        if observed:
-            for s in orient:
-                orient_val.setdefault(s, float(np.mean([_wrap(np.array([f[i] - o.value]))[0] for i, o in enumerate(obs)
-                                                        if o.kind == "direction" and o.at == s])))
-            f = f - np.array([orient_val.get(o.at, 0.0) if o.kind == "direction" else 0.0 for o in obs])
-            l = np.array([o.value for o in obs]) - f
-            l = np.where([o.kind == "direction" for o in obs], _wrap(l), l)
+    values = np.array([o.value for o in obs])
+    is_dir = np.array([o.kind == "direction" for o in obs], dtype=bool)
+    dense = method in ("dense", "qr")
+    plan = lsq_sparse.Design(names, unknown, obs)
+    station_of = {st: k for k, st in enumerate(plan.orient)}
+    orient_station = np.array([station_of[o.at] if o.kind == "direction" else -1 for o in obs], dtype=np.int64)
+    orient_val = np.zeros(len(plan.orient))
+    l = np.zeros(len(obs))
+    dx = np.zeros(plan.n_unknowns)
+    a_dense: NDArray[np.float64] = np.zeros((0, 0))
+    normal: lsq_sparse.Normal | None = None
+    for it in range(max_iter if observed else 1):
+        if dense:
+            a_dense, f, _ = lsq_dense.design({n: (float(p[0]), float(p[1])) for n, p in zip(names, xy)}, unknown, obs)
         else:
-            l = np.zeros(len(obs))
-        dx = _solve(a, w, l, method)
-        for k, n in enumerate(unknown):
-            x_est[n] = (x_est[n][0] + dx[2 * k], x_est[n][1] + dx[2 * k + 1])
-        for k, s in enumerate(orient):
-            orient_val[s] = orient_val.get(s, 0.0) + dx[2 * len(unknown) + k]
-        if not observed or np.max(np.abs(dx[:2 * len(unknown)]), initial=0.0) < 1e-12:
+            a_sparse, f = plan.jacobian(xy)
+            normal = lsq_sparse.Normal(a_sparse, w)
+        if observed:
+            if it == 0:
+                orient_val = _orientations(f, values, orient_station, len(plan.orient))
+            f = f - np.where(is_dir, orient_val[np.maximum(orient_station, 0)] if len(plan.orient) else 0.0, 0.0)
+            l = values - f
+            l = np.where(is_dir, _wrap(l), l)
+        if dense:
+            dx = lsq_dense.solve(a_dense, w, l, method)
+        elif observed:
+            assert normal is not None
+            dx = normal.solve(normal.a.T @ (w * l))
+        nu = len(unknown)
+        xy[uidx, 0] += dx[0:2 * nu:2]
+        xy[uidx, 1] += dx[1:2 * nu:2]
+        orient_val = orient_val + dx[2 * nu:]
+        if not observed or np.max(np.abs(dx[:2 * nu]), initial=0.0) < 1e-12:
             break
-    return _results(x_est, unknown, obs, a, w, l if observed else None, dx if observed else None, kl, sigma0)
+    if dense:
+        qa, blocks, q = lsq_dense.covariance(a_dense, w, len(unknown))
+        v = a_dense @ dx - l
+        n_unk = a_dense.shape[1]
+
+        def cov() -> NDArray[np.float64]:
+            return q
+    else:
+        assert normal is not None
+        qa, blocks = lsq_sparse.selected_inverse(normal, len(unknown))
+        v = normal.a @ dx - l
+        n_unk = normal.a.shape[1]
+        cov = _lazy(normal, 2 * len(unknown))
+    return _results(unknown, xy[uidx], obs, w, qa, blocks, cov, v if observed else None, n_unk, kl, sigma0)
 
 
-def _solve(a: NDArray, w: NDArray, l: NDArray, method: str) -> NDArray:
-    n = a.T @ (a * w[:, None])
-    if np.linalg.matrix_rank(n) < n.shape[0]:
-        raise InputError(f"datum defect: the network leaves {n.shape[0] - np.linalg.matrix_rank(n)} "
-                         "unknown(s) undetermined (fix control points or add observations)", field="network")
-    if method == "qr":
-        sw = np.sqrt(w)
-        return sla.lstsq(a * sw[:, None], l * sw, lapack_driver="gelsy")[0]
-    return sla.cho_solve(sla.cho_factor(n), a.T @ (w * l))
+def _lazy(normal: lsq_sparse.Normal, k: int) -> Callable[[], NDArray[np.float64]]:
+    """Q of the first ``k`` unknowns, from A and P again (the factor is not kept)."""
+    a, w = normal.a, normal.w
+
+    def cov() -> NDArray[np.float64]:
+        return lsq_sparse.Normal(a, w).columns(k)
+    return cov
 
 
-def _results(xy, unknown, obs, a, w, l, dx, kl, sigma0) -> Adjustment:
-    n_mat = a.T @ (a * w[:, None])
-    q = np.linalg.inv(n_mat)
-    n_obs, n_unk = a.shape
+def _results(unknown: Sequence[str], xy: NDArray[np.float64], obs: Sequence[Obs], w: NDArray[np.float64],
+             qa: NDArray[np.float64], blocks: NDArray[np.float64], cov: Callable[[], NDArray[np.float64]],
+             v: NDArray[np.float64] | None, n_unk: int, kl: float, sigma0: float) -> Adjustment:
+    """The :class:`Adjustment` from diag(A Q A^T), the points' blocks of Q and the residuals (None: a design)."""
+    n_obs = len(obs)
     dof = n_obs - n_unk
-    qvv = 1.0 / w - np.einsum("ij,jk,ik->i", a, q, a)
+    qvv = 1.0 / w - qa
     redundancy = np.clip(qvv * w, 0.0, 1.0)
-    if l is not None:
-        v = a @ dx - l
+    if v is not None:
         m0 = math.sqrt(float(v @ (w * v)) / dof) if dof > 0 else None
         with np.errstate(divide="ignore", invalid="ignore"):
             std = np.where(qvv > 1e-15, v / np.sqrt(np.maximum(qvv, 1e-300)), np.nan)
@@ -229,11 +258,13 @@ def _results(xy, unknown, obs, a, w, l, dx, kl, sigma0) -> Adjustment:
     scale = (m0 if m0 is not None else sigma0) ** 2
     points = []
     for k, name in enumerate(unknown):
-        c = q[2 * k:2 * k + 2, 2 * k:2 * k + 2] * scale
+        c = blocks[k] * scale
         lam, vec = np.linalg.eigh(c)
         az = math.degrees(math.atan2(vec[1, 1], vec[0, 1])) % 180.0
-        points.append(PointResult(name, xy[name][0] / kl, xy[name][1] / kl, math.sqrt(c[0, 0]) / kl,
+        points.append(PointResult(name, float(xy[k, 0]) / kl, float(xy[k, 1]) / kl, math.sqrt(c[0, 0]) / kl,
                                   math.sqrt(c[1, 1]) / kl, math.sqrt(max(lam[1], 0.0)) / kl,
                                   math.sqrt(max(lam[0], 0.0)) / kl, az))
-    qxx = q[:2 * len(unknown), :2 * len(unknown)] * scale / kl**2
-    return Adjustment(tuple(points), v, redundancy, std, m0, dof, p, passed, qxx, tuple(obs))
+
+    def qxx() -> NDArray[np.float64]:
+        return cov() * scale / kl**2
+    return Adjustment(tuple(points), v, redundancy, std, m0, dof, p, passed, tuple(obs), qxx)

@@ -2,7 +2,7 @@
 
 For every target the plan covers, e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 +
 sigma_meas(S, theta)^2) (2.13, with the site's incidence model, see
-:func:`planner.accuracy.view_error_m`) with sigma_0 now the station's adjusted
+:func:`planner.instrument.accuracy.view_error_m`) with sigma_0 now the station's adjusted
 position error; in single precision the best station seeing it, in combined
 precision all of them (1/e^2 = sum 1/e_j^2), must stay within sigma_req (or the
 drawing scale's tolerance, table 1.1).
@@ -18,14 +18,14 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
-from planner.checks import argument, stations_argument
-from planner.accuracy import ErrorBudget, combined_error_m, view_error_m
-from planner.candidates.model import Candidate, check_unique_ids
+from planner.checks import argument
+from planner.instrument.accuracy import ErrorBudget, combined_error_m, view_error_m
+from planner.site.candidate import Candidate, check_unique_ids, stations_argument
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.errors import InputError
-from planner.json_text import finite_or_none
-from planner.instruments import TotalStation, load_instrument
+from planner.text import finite_or_none
+from planner.instrument.models import TotalStation, load_instrument
 from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
@@ -34,7 +34,7 @@ from planner.network.survey import SurveyNetwork, registration_links, survey_net
 from planner.network.traverse import (ControlTraverse, check_traverse_names, datum, propose_area_control, propose_traverse,
                                       survey_graph, tie_sigma_to)
 from planner.site.model import ControlPoint, Site
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 
 #: seed 003: cloud-to-cloud registration error of two stations R metres apart
 REG_A, REG_B = 6.8e-5, 0.0081
@@ -94,7 +94,7 @@ class NetworkReport:
         }
 
     def _repr_html_(self) -> str:
-        from planner.notebook import summary_html
+        from planner.text import summary_html
 
         return summary_html(self, "Network and accuracy check")
 
@@ -217,7 +217,7 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     if not isinstance(ts, TotalStation):
         raise InputError("is not a total station", field="total_station", value=total_station)
     validation = validate_site(site)
-    from planner.plan import sight_limits
+    from planner.coverage.visibility import sight_limits
 
     if precision not in ("single", "combined"):
         raise InputError("must be single or combined", field="precision", value=precision)

@@ -28,7 +28,7 @@ import numpy as np
 from scipy.spatial import Delaunay
 
 from planner.candidates.final_step import misplacement
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.matrix import blockers_for
 from planner.coverage.visibility import segments_touch
 from planner.site.model import ControlPoint, Site

@@ -16,8 +16,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from planner.errors import InputError
+from planner.network.lsq_sparse import Normal
 
 
 @dataclass(frozen=True)
@@ -42,28 +44,42 @@ class HeightResult:
 
 def adjust_heights(approx: Mapping[str, float], fixed: Mapping[str, float], observations: Sequence[HeightObs],
                    observed: bool = False) -> HeightResult:
-    """Least-squares heights (and their sigmas) of the points not in ``fixed``."""
+    """Least-squares heights (and their sigmas) of the points not in ``fixed``.
+
+    Sparse, as the plan adjustment (:mod:`planner.network.lsq_sparse`): of Q = N^-1 only the diagonal
+    is formed.
+
+    Raises
+    ------
+    InputError
+        When some point reaches no point of known height (a datum defect).
+    """
     unknown = [n for n in approx if n not in fixed]
     col = {n: k for k, n in enumerate(unknown)}
-    a = np.zeros((len(observations), len(unknown)))
+    rows: list[int] = []
+    cols: list[int] = []
+    vals: list[float] = []
     l = np.zeros(len(observations))
     w = np.array([1.0 / o.sigma_m**2 for o in observations])
     h0 = {**approx, **fixed}
     for i, o in enumerate(observations):
-        if o.at in col:
-            a[i, col[o.at]] = -1.0
-        if o.to in col:
-            a[i, col[o.to]] = 1.0
+        for name, sign in ((o.at, -1.0), (o.to, 1.0)):
+            if name in col and not (sign < 0 and o.to == o.at):  # a point to itself: +1 (as the dense A had it)
+                rows.append(i)
+                cols.append(col[name])
+                vals.append(sign)
         l[i] = (o.dh_m - (h0[o.to] - h0[o.at])) if observed else 0.0
-    n = a.T @ (a * w[:, None])
-    if np.linalg.matrix_rank(n) < len(unknown):
-        raise InputError("height datum defect: some stations reach no point of known height", field="heights")
-    q = np.linalg.inv(n)
-    x = q @ (a.T @ (w * l))
+    a = sp.csr_matrix((vals, (rows, cols)), shape=(len(observations), len(unknown)))
+    try:
+        normal = Normal(a, w)
+    except InputError:
+        raise InputError("height datum defect: some stations reach no point of known height", field="heights") from None
+    x = normal.solve(a.T @ (w * l))
     dof = len(observations) - len(unknown)
     m0 = None
     if observed and dof > 0:
         v = a @ x - l
         m0 = math.sqrt(float(v @ (w * v)) / dof)
     scale = (m0 or 1.0) ** 2
-    return HeightResult({n: h0[n] + x[k] for n, k in col.items()}, {n: math.sqrt(q[k, k] * scale) for n, k in col.items()}, m0)
+    q = normal.inverse_on(sp.identity(len(unknown), format="csc"))
+    return HeightResult({n: h0[n] + x[k] for n, k in col.items()}, {n: math.sqrt(q[k] * scale) for n, k in col.items()}, m0)

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.network.adjustment import Obs, _design, adjust
+from planner.network.adjustment import ANGLE_UNITS, LENGTH_UNITS, Obs, adjust
+from planner.network.lsq_sparse import Design
 
 #: observation errors are drawn from N(0, sigma) truncated at +-3 sigma (seed 003)
 TRUNCATE = 3.0
@@ -34,12 +35,9 @@ def monte_carlo(coords: Mapping[str, tuple[float, float]], fixed: Sequence[str],
     truth = adjust(coords, fixed, observations, angle_unit=angle_unit, length_unit=length_unit)
     names = [p.name for p in truth.points]
     # the error-free values of every observation at the design coordinates (orientation 0)
-    from planner.network.adjustment import ANGLE_UNITS, LENGTH_UNITS
-
     ka, kl = ANGLE_UNITS[angle_unit], LENGTH_UNITS[length_unit]
-    xy = {n: (c[0] * kl, c[1] * kl) for n, c in coords.items()}
-    internal = [Obs(o.kind, o.at, o.to, 0.0, o.sigma * (ka if o.kind == "direction" else kl)) for o in observations]
-    _, exact, _ = _design(xy, names, internal)
+    xy = np.array([(c[0] * kl, c[1] * kl) for c in coords.values()], dtype=float).reshape(-1, 2)
+    _, exact = Design(list(coords), names, observations).jacobian(xy)
     scale = np.array([ka if o.kind == "direction" else kl for o in observations])
     sig = np.array([o.sigma for o in observations])
     errors: dict[str, list[float]] = {n: [] for n in names}

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import networkx as nx
 import numpy as np
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
@@ -72,8 +72,8 @@ def registration_links(site: Site, stations: Sequence[Candidate], mode: str | No
                        problem: CoverageProblem | None = None) -> list[tuple[str, str]]:
     """Pairs of the plan's stations that can be registered (see the module text); ``problem``: their
     coverage, when already built (rows in the order of ``stations``)."""
-    from planner.plan import sight_limits
-    from planner.validate import validate_site
+    from planner.coverage.visibility import sight_limits
+    from planner.site.validate import validate_site
 
     limits = sight_limits(validate_site(site), False, True)
     if problem is None:

@@ -36,7 +36,7 @@ import networkx as nx
 import numpy as np
 import shapely
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.errors import InputError
 from planner.network.chain import TIE_RANGE_M

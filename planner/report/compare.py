@@ -9,14 +9,14 @@ from typing import Any
 from planner.checks import argument
 from planner.errors import PlannerError
 from planner.plan import Plan, PlanOptions, plan_site
-from planner.plan_io import plan_to_dict
+from planner.plan.plan_json import plan_to_dict
 from planner.site.model import Site
 
 log = logging.getLogger(__name__)
 
 
 def meta_row(meta: dict[str, Any], verified_percent: float) -> dict[str, Any]:
-    """A comparison row from a plan.json dictionary (:func:`planner.plan_io.plan_to_dict`)."""
+    """A comparison row from a plan.json dictionary (:func:`planner.plan.plan_json.plan_to_dict`)."""
     counts = meta.get("counts") or {}
     return {"method": meta.get("method", "?"), "backend": meta.get("backend") or "", "stations": counts.get("total"),
             "inside": counts.get("inside"), "outside": counts.get("outside"), "bound": meta.get("bound"),

@@ -1,4 +1,4 @@
-"""Render an :class:`~planner.outcome.Outcome` as one HTML file: inputs and parameters, closure table,
+"""Render an :class:`~planner.plan.outcome.Outcome` as one HTML file: inputs and parameters, closure table,
 station table, comparison of methods, figures, network and accuracy check, verification.
 
 The file needs nothing else (no external CSS, fonts or images). A short script marks on
@@ -20,7 +20,7 @@ from planner import __version__
 from planner.checks import argument
 from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
-from planner.outcome import Outcome
+from planner.plan.outcome import Outcome
 from planner.solve.tripod import MIN_RADIUS_M
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}

@@ -23,17 +23,14 @@ import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import shapely
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from planner.errors import InputError
 from planner.site.model import SITE_FRAME, ScanSide, Site, Wall, Zone
-from planner.site.placement import IDENTITY, Placement, place_zone, placed_site  # noqa: F401 (re-exported)
+from planner.site.placement import (  # noqa: F401 (Placement, place_zone, placed_site: re-exported)
+    IDENTITY, Placement, interiors_clash, misfit, normal_sign, place_zone, placed_site)
 
-#: interiors may overlap by this share of the smaller area (slivers from printed angles) and still count as disjoint;
-#: a coincidental match throws a zone across others, far beyond it
-OVERLAP_SHARE = 0.05
 
 
 @dataclass(frozen=True)
@@ -83,11 +80,6 @@ class AssemblyReport:
         return out
 
 
-def _normal_sign(zone: Zone) -> int:
-    """+1 when the scanned face looks to the left of the wall (inside), -1 (outside); 0 both sides."""
-    return {ScanSide.INSIDE: 1, ScanSide.OUTSIDE: -1}.get(zone.scan_side, 0)
-
-
 def adjustment_change_m(zone: Zone, wall: Wall) -> float:
     """How much the closure adjustment may have changed a side's length: the compass rule moves the
     side's far end by (its length / the perimeter) x the linear misclosure (0 for a zone that closes
@@ -114,7 +106,7 @@ def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallM
     out = []
     for i, za in enumerate(zones):
         for zb in zones[i + 1:]:
-            sa, sb = _normal_sign(za), _normal_sign(zb)
+            sa, sb = normal_sign(za), normal_sign(zb)
             if sa == 0 or sb == 0:
                 continue
             for wa in za.outer_walls:
@@ -134,7 +126,7 @@ def _face_ends(zone: Zone, w: Wall, p: Placement, thickness_m: float) -> NDArray
     """Ends of the OTHER face of wall ``w`` (site frame): the scanned face moved back by the thickness."""
     e = _ends(w, p)
     t = (e[1] - e[0]) / np.hypot(*(e[1] - e[0]))
-    n = np.array([-t[1], t[0]]) * _normal_sign(zone)
+    n = np.array([-t[1], t[0]]) * normal_sign(zone)
     return e - thickness_m * n
 
 
@@ -149,21 +141,6 @@ def _relative(m: WallMatch, placed: Zone, pp: Placement, other: Zone, other_wall
     rot = Placement((0.0, 0.0), math.degrees(ang))
     origin = target.mean(axis=0) - rot.apply(b.mean(axis=0))[0]
     return Placement((float(origin[0]), float(origin[1])), (math.degrees(ang) + 180.0) % 360.0 - 180.0)
-
-
-def _interiors_clash(za: Zone, pa: Placement, zb: Zone, pb: Placement) -> bool:
-    """True when two placed zones cannot both be real: rooms overlapping, or a room outside the outline."""
-    a, b = shapely.Polygon(pa.apply(za.xy)), shapely.Polygon(pb.apply(zb.xy))
-    small = OVERLAP_SHARE * min(a.area, b.area)
-    sa, sb = _normal_sign(za), _normal_sign(zb)
-    if sa == sb:
-        return bool(a.intersection(b).area > small)
-    room, outline = (a, b) if sa > 0 else (b, a)
-    return bool(room.difference(outline).area > small)
-
-
-def _misfit(p: Placement, q: Placement, zone: Zone) -> float:
-    return float(np.max(np.hypot(*(p.apply(zone.xy) - q.apply(zone.xy)).T)))
 
 
 def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0.0, anchor: str | None = None,
@@ -193,7 +170,7 @@ def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0
             (pz, pw), (oz, ow) = ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b)) if m.zone_a in placed else \
                 ((m.zone_b, m.wall_b), (m.zone_a, m.wall_a))
             cand = _relative(m, zones[pz], placed[pz], zones[oz], ow, pw, wall_thickness_m)
-            clash = next((z for z, p in placed.items() if _interiors_clash(zones[oz], cand, zones[z], p)), None)
+            clash = next((z for z, p in placed.items() if interiors_clash(zones[oz], cand, zones[z], p)), None)
             if clash is not None:
                 refused.append((m, f"coincidence: it would make {oz} overlap {clash}"))
                 continue
@@ -201,7 +178,7 @@ def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0
         for oz, options in reach.items():
             if oz in ambiguous:
                 continue
-            spread = max(_misfit(options[0][1], c, zones[oz]) for _, c in options)
+            spread = max(misfit(options[0][1], c, zones[oz]) for _, c in options)
             if spread > consistency_m:
                 ambiguous[oz] = (f"ambiguous: {', '.join(m.label for m, _ in options)} place it "
                                  f"up to {spread:.3f} m apart")
@@ -255,7 +232,7 @@ def _closing_matches(matches: list[WallMatch], used: list[WallMatch], refused: l
         if m in used or any(m is r for r, _ in refused) or m.zone_a not in placed or m.zone_b not in placed:
             continue
         cand = _relative(m, zones[m.zone_a], placed[m.zone_a], zones[m.zone_b], m.wall_b, m.wall_a, thickness_m)
-        miss = _misfit(cand, placed[m.zone_b], zones[m.zone_b])
+        miss = misfit(cand, placed[m.zone_b], zones[m.zone_b])
         if miss <= consistency_m:
             out.append(m)
         else:

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from planner.site.assemble import Placement, _interiors_clash, _misfit, _normal_sign
+from planner.site.placement import Placement, interiors_clash, misfit, normal_sign
 from planner.site.model import Wall, Zone
 
 #: contacts a placement needs (a corner alone, two contacts, fits any room)
@@ -71,13 +71,13 @@ def _wrap(a: float) -> float:
 
 def _site_walls(zones: dict[str, Zone], placed: dict[str, Placement]) -> list[tuple[Zone, Wall, NDArray[np.float64]]]:
     return [(zones[z], w, p.apply([w.start, w.end])) for z, p in placed.items() for w in zones[z].outer_walls
-            if _normal_sign(zones[z]) != 0]
+            if normal_sign(zones[z]) != 0]
 
 
 def _target_angle(zone: Zone, other: Zone, ends: NDArray[np.float64]) -> float:
     """Direction the unplaced zone's side must run along the placed side ``ends``."""
     d = _dir(ends[0], ends[1])
-    return d if _normal_sign(zone) != _normal_sign(other) else _wrap(d + math.pi)
+    return d if normal_sign(zone) != normal_sign(other) else _wrap(d + math.pi)
 
 
 def _contact(zone: Zone, w: Wall, p: Placement, other: Zone, ow: Wall, ends: NDArray[np.float64],
@@ -166,7 +166,7 @@ def place_by_contacts(zone: Zone, zones: dict[str, Zone], placed: dict[str, Plac
                       ) -> tuple[Placement | None, list[Contact], str]:
     """The placement of ``zone`` held by collinear contacts (see the module text), its contacts with
     residuals, and a reason (why it was placed, or why not)."""
-    if _normal_sign(zone) <= 0:
+    if normal_sign(zone) <= 0:
         return None, [], "only rooms (scanned inside) are placed by contacts"
     found: list[tuple[Placement, list[Contact]]] = []
     for seed in _seeds(zone, zones, placed, angle_deg):
@@ -177,10 +177,10 @@ def place_by_contacts(zone: Zone, zones: dict[str, Zone], placed: dict[str, Plac
         cs = contacts_at(zone, p, zones, placed, angle_deg, offset_m)
         if len(cs) < MIN_CONTACTS or not _two_directions(zone, cs):
             continue
-        if any(_interiors_clash(zone, p, zones[z], q) for z, q in placed.items()):
+        if any(interiors_clash(zone, p, zones[z], q) for z, q in placed.items()):
             continue
         p = _refine(zone, p, cs, zones, placed)
-        if not any(_misfit(p, q, zone) <= consistency_m for q, _ in found):
+        if not any(misfit(p, q, zone) <= consistency_m for q, _ in found):
             found.append((p, cs))
     if not found:
         return None, [], (f"no placement holds {MIN_CONTACTS} or more of its sides along placed walls "

@@ -10,9 +10,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from planner.accuracy import ErrorBudget
+from planner.instrument.accuracy import ErrorBudget
 from planner.errors import InputError
-from planner.params import DEFAULT_INSTRUMENT, MAX_HEIGHT_M, ClosureTolerance, Parameters
+from planner.site.params import DEFAULT_INSTRUMENT, MAX_HEIGHT_M, ClosureTolerance, Parameters
 from planner.site.fileio import read_json, to_float
 from planner.site.geometry import as_vertices, signed_area
 from planner.site.json_reader import InstanceReader

@@ -7,7 +7,7 @@ from typing import Any
 
 from planner.checks import path_argument
 from planner.errors import InputError
-from planner.params import ClosureTolerance, Parameters
+from planner.site.params import ClosureTolerance, Parameters
 from planner.site.instance_json import load_instance_json
 from planner.site.model import Site
 from planner.site.table_csv import read_table_csv
@@ -21,12 +21,12 @@ def load_site(path: Path | str, tolerance: ClosureTolerance | None = None, *, dx
               crs: str | None = None, ifc: Any = None) -> Site:
     """Read a site from a JSON instance, a table CSV, a DXF drawing or GeoJSON (by the file's extension).
 
-    ``dxf`` (a :class:`~planner.exchange.dxf_in.DxfOptions`) says which DXF layers hold what;
+    ``dxf`` (a :class:`~planner.site.dxf_in.DxfOptions`) says which DXF layers hold what;
     ``crs`` names the metric CRS a lon/lat GeoJSON is projected to; ``ifc`` (a
-    :class:`~planner.exchange.ifc_in.IfcOptions`) says which storeys of an IFC model to read.
+    :class:`~planner.site.ifc_in.IfcOptions`) says which storeys of an IFC model to read.
 
     A table CSV carries no parameters: the dissertation's defaults apply
-    (:class:`~planner.params.Parameters`), with S_max derived from the
+    (:class:`~planner.site.params.Parameters`), with S_max derived from the
     instrument. ``tolerance`` sets the closure tolerance of a CSV's zones (a
     JSON instance carries its own).
     """
@@ -36,15 +36,15 @@ def load_site(path: Path | str, tolerance: ClosureTolerance | None = None, *, dx
     if suffix == ".json":
         return load_instance_json(path)
     if suffix == ".dxf":
-        from planner.exchange.dxf_in import read_dxf_site
+        from planner.site.dxf_in import read_dxf_site
 
         return read_dxf_site(path, dxf)
     if suffix == ".geojson":
-        from planner.exchange.geojson_in import read_geojson_site
+        from planner.site.geojson_in import read_geojson_site
 
         return read_geojson_site(path, crs=crs)
     if suffix == ".ifc":
-        from planner.exchange.ifc_in import read_ifc_site
+        from planner.site.ifc_in import read_ifc_site
 
         return read_ifc_site(path, ifc)
     if suffix == ".pol":

@@ -2,7 +2,7 @@
 
 A plan exported to DXF or GeoJSON and read back as a site must plan the same: the drawing carries the
 geometry, and this record carries what the geometry does not say (the instrument, theta_max, overlap,
-sigma_req, the error budget, ...). It is the :class:`~planner.params.Parameters` field by field, so
+sigma_req, the error budget, ...). It is the :class:`~planner.site.params.Parameters` field by field, so
 reading it back is exact; unknown keys or values of the wrong kind are refused, naming the file.
 """
 
@@ -12,10 +12,10 @@ import json
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-from planner.accuracy import ErrorBudget
+from planner.instrument.accuracy import ErrorBudget
 from planner.errors import InputError, located_in
-from planner.instruments import load_instrument
-from planner.params import Parameters
+from planner.instrument.models import load_instrument
+from planner.site.params import Parameters
 from planner.site.fileio import known_keys, to_float
 from planner.site.model import Site
 

@@ -6,10 +6,11 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+import shapely
 from numpy.typing import NDArray
 
 from planner.errors import InputError
-from planner.site.model import SITE_FRAME, Site, Zone
+from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 
 
 @dataclass(frozen=True)
@@ -48,3 +49,28 @@ def place_zone(zone: Zone, p: Placement) -> Zone:
 def placed_site(site: Site, placements: dict[str, Placement]) -> Site:
     """The site with each placed zone moved into the site frame."""
     return replace(site, zones=tuple(place_zone(z, placements[z.id]) if z.id in placements else z for z in site.zones))
+
+
+#: interiors may overlap by this share of the smaller area (slivers from printed angles) and still count as disjoint;
+#: a coincidental match throws a zone across others, far beyond it
+OVERLAP_SHARE = 0.05
+
+
+def normal_sign(zone: Zone) -> int:
+    """+1 when the scanned face looks to the left of the wall (inside), -1 (outside); 0 both sides."""
+    return {ScanSide.INSIDE: 1, ScanSide.OUTSIDE: -1}.get(zone.scan_side, 0)
+
+
+def interiors_clash(za: Zone, pa: Placement, zb: Zone, pb: Placement) -> bool:
+    """True when two placed zones cannot both be real: rooms overlapping, or a room outside the outline."""
+    a, b = shapely.Polygon(pa.apply(za.xy)), shapely.Polygon(pb.apply(zb.xy))
+    small = OVERLAP_SHARE * min(a.area, b.area)
+    sa, sb = normal_sign(za), normal_sign(zb)
+    if sa == sb:
+        return bool(a.intersection(b).area > small)
+    room, outline = (a, b) if sa > 0 else (b, a)
+    return bool(room.difference(outline).area > small)
+
+
+def misfit(p: Placement, q: Placement, zone: Zone) -> float:
+    return float(np.max(np.hypot(*(p.apply(zone.xy) - q.apply(zone.xy)).T)))

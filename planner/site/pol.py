@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from planner.errors import InputError
-from planner.params import Parameters
+from planner.site.params import Parameters
 from planner.site.fileio import read_text
 from planner.site.geometry import signed_area
 from planner.site.model import ScanSide, Site, Zone

@@ -6,7 +6,7 @@ from collections.abc import Iterable
 from dataclasses import replace
 
 from planner.errors import InputError
-from planner.params import ClosureTolerance
+from planner.site.params import ClosureTolerance
 from planner.site.model import Correction, ScanSide, Zone
 from planner.site.traverse import AcceptedMisclosure, ZoneTable, reconstruct
 

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from planner.errors import ClosureError, InputError
-from planner.params import ClosureTolerance
+from planner.site.params import ClosureTolerance
 
 SCAN_SIDES = ("inside", "outside", "both")
 

@@ -302,17 +302,3 @@ class PulpBackend:
         if sol == pulp.LpSolutionInfeasible or prob.status == pulp.LpStatusInfeasible:
             return BackendResult(Outcome.INFEASIBLE, (), None, None)
         return BackendResult(Outcome.UNKNOWN, (), None, None)
-
-
-def make_backend(name: str, n: int, cost: np.ndarray) -> Any:
-    if name == "cpsat":
-        return CpSatBackend(n, cost)
-    if name in MipBackend.SOLVERS:
-        return MipBackend(name, n, cost)
-    if name == "pulp-cbc":
-        return PulpBackend(n, cost)
-    if name == "pyscipopt":
-        from planner.solve.scip_bc import PyScipBackend  # lazy: SCIP loads only when asked for
-
-        return PyScipBackend(n, cost)
-    raise UsageError(f"unknown backend (known: {', '.join(BACKENDS)})", field="backend", value=name)

@@ -15,7 +15,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from planner.solve.backends import Outcome, Row, make_backend
+from planner.solve.backends import Outcome, Row
+from planner.solve.registry import make_backend
 from planner.solve.connectivity import (
     connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
 )

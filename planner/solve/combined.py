@@ -1,7 +1,7 @@
 """Combined precision (``--precision combined``): the views of a piece add information.
 
 A piece t is accepted when sum_j (sigma_req / e_tj)^2 >= 1 over the chosen stations j that
-see it, e_tj = e(S, theta) of :func:`planner.accuracy.view_error_m` at the worst slant range
+see it, e_tj = e(S, theta) of :func:`planner.instrument.accuracy.view_error_m` at the worst slant range
 and incidence over the piece: the combined error 1 / sqrt(sum 1 / e_tj^2) is then at most
 sigma_req. The MILP holds these as rows; here are the same weights for the greedy and for
 verification, so that every method and every check judges a piece the same way.
@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.accuracy import view_error_m
+from planner.instrument.accuracy import view_error_m
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.visibility import PrecisionRule
 from planner.errors import InfeasibleError

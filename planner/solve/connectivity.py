@@ -1,4 +1,5 @@
-"""Connectivity of the chosen stations under the overlap relation: checks, cuts, repair, connected greedy.
+"""Connectivity of the chosen stations under the overlap relation: checks, cuts, repair, connected greedy
+(the greedy itself in :mod:`planner.solve.bundles`).
 
 The registration constraint says: within each group (zone, side) the chosen
 stations form a connected graph under the overlap relation. It is enforced
@@ -21,6 +22,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, dijkstra
 
 from planner.coverage.overlap import group_ids
+from planner.solve.bundles import bundle_cover
 
 Cut = tuple[np.ndarray, np.ndarray, float]  # (indices, coefficients, lower bound)
 
@@ -146,7 +148,7 @@ def path_to_nearest(weights: sp.csr_matrix, sources: Sequence[int], wanted: np.n
         return None
     target = int(hits[np.argmin(dist[hits])])
     path, v = [], target
-    src = set(int(x) for x in sources)
+    src = {int(x) for x in sources}
     while v >= 0 and v not in src:
         path.append(int(v))
         v = pred[v]
@@ -158,7 +160,7 @@ def repair(adj: sp.csr_matrix, cost: np.ndarray, groups: Sequence[Hashable], sel
 
     Returns None if some components cannot be joined at all.
     """
-    chosen = set(int(i) for i in selected)
+    chosen = {int(i) for i in selected}
     weights = _step_weights(adj, cost)
     for g, members in group_members(groups, sorted(chosen)).items():
         comps = components(adj, members)
@@ -177,69 +179,12 @@ def connected_greedy(
     by_candidate: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], cost: np.ndarray,
     need: np.ndarray, starts: int = 50,
 ) -> list[int] | None:
-    """A connected cover: per group, greedy that only adds stations linked to those already chosen.
+    """A cover of ``need`` whose every group's stations are connected under ``adj``, sorted; None when some
+    needed target is seen by no candidate or no connected choice was found.
 
-    For each group, up to ``starts`` start stations (those covering the most of
-    the group's still-needed targets) are tried and the result that leaves the
-    fewest targets unreached, then the cheapest, kept. When no linked station
-    adds coverage, the cheapest chain to one that does is added; targets no
-    chain reaches are left to the other groups. Returns None when some needed
-    target is still uncovered at the end.
+    The bundles of all groups grow together by Chvatal's rule over the stations linked to them, bridged by
+    the cheapest overlap paths where none gains, then pruned, and each bundle re-grown from ``starts``
+    seeds (:func:`planner.solve.bundles.bundle_cover`: phases, invariants, complexity, references).
     """
-    a = by_candidate.astype(np.int64).tocsr()
-    need = need.astype(bool).copy()
-    chosen: list[int] = []
-    order: dict[Hashable, list[int]] = {}
-    for i, g in enumerate(groups):
-        order.setdefault(g, []).append(i)
-    for g, members in order.items():
-        members_arr = np.asarray(members)
-        gain0 = a[members_arr] @ need.astype(np.int64)
-        if gain0.max(initial=0) == 0:
-            continue
-        seeds = members_arr[np.argsort(-gain0, kind="stable")[:starts]]
-        in_group = np.zeros(a.shape[0], dtype=bool)
-        in_group[members_arr] = True
-        weights = _step_weights(adj.multiply(in_group[:, None]).multiply(in_group[None, :]).tocsr(), cost)
-        best, best_key = None, None
-        for s in seeds:
-            got, missed = _grow(a, adj, cost, need, int(s), members_arr, weights)
-            key = (missed, float(cost[got].sum()))  # most coverage first, then cheapest
-            if best_key is None or key < best_key:
-                best, best_key = got, key
-        if best is None:
-            return None
-        chosen += best
-        need[a[best].indices] = False
-    return None if need.any() else sorted(chosen)
-
-
-def _grow(a: sp.csr_matrix, adj: sp.csr_matrix, cost: np.ndarray, need: np.ndarray, seed: int,
-          members: np.ndarray, weights: sp.csr_matrix) -> tuple[list[int], int]:
-    """Grow a connected set from ``seed``; returns it and how many needed targets it could not reach
-    (those stay needed: another zone-side may see them, else the caller finds no connected cover)."""
-    left = need.copy()
-    chosen = [seed]
-    in_group = np.zeros(a.shape[0], dtype=bool)
-    in_group[members] = True
-    left[a.indices[a.indptr[seed]:a.indptr[seed + 1]]] = False
-    group_need = np.asarray(a[members].sum(axis=0)).ravel() > 0
-    left &= group_need
-    while left.any():
-        taken = np.zeros(a.shape[0], dtype=bool)
-        taken[chosen] = True
-        frontier = np.flatnonzero((np.asarray(adj[chosen].sum(axis=0)).ravel() > 0) & in_group & ~taken)
-        gain = a[frontier] @ left.astype(np.int64) if frontier.size else np.zeros(0)
-        if frontier.size and gain.max() > 0:
-            k = frontier[int(np.argmax(gain / cost[frontier]))]
-            chosen.append(int(k))
-            left[a.indices[a.indptr[k]:a.indptr[k + 1]]] = False
-            continue
-        useful = in_group & ~taken & (np.asarray(a @ left.astype(np.int64)).ravel() > 0)
-        path = path_to_nearest(weights, chosen, useful)
-        if not path:
-            return chosen, int(left.sum())
-        chosen += path
-        for k in path:
-            left[a.indices[a.indptr[k]:a.indptr[k + 1]]] = False
-    return chosen, 0
+    return bundle_cover(by_candidate, adj, groups, np.asarray(cost, dtype=np.float64), np.asarray(need, dtype=bool),
+                        starts)

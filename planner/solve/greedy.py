@@ -77,15 +77,30 @@ def greedy_cover(
 
 
 def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: int = 50) -> SolveResult:
-    """Greedy under the registration rule: per zone-side, after the first station only stations linked
-    (overlap relation) to those already chosen are added; ``starts`` first stations are tried per group
-    and the cheapest plan kept (:func:`planner.solve.connectivity.connected_greedy`; deterministic).
+    """Greedy under the registration rule: a cover whose every registration group is one bundle connected
+    under ``rule`` (the baseline the MILP is compared against).
+
+    The bundles of all groups grow together by Chvatal's rule (newly covered targets per unit cost) over
+    the stations linked to them, or that start a group's bundle; where none gains, the cheapest overlap
+    path to a station that does is added, scored by what the whole path covers per station on it. Then
+    redundant stations are pruned and each bundle is re-grown alone from ``starts`` seeds, the cheapest
+    kept (:func:`planner.solve.bundles.bundle_cover`, after Chvatal 1979 and Jia & Lichti 2018/2019;
+    phases, invariants and complexity there). Deterministic: ties go to the lowest index.
+
+    Parameters
+    ----------
+    instance
+        The cover instance; without ``groups`` the plain greedy (:func:`greedy_cover`) is returned.
+    rule
+        The overlap rule that relates two stations of one group.
+    starts
+        Seeds tried per group when re-growing its bundle (0: the first pass, pruned, only).
 
     Returns
     -------
     SolveResult
-        ``feasible`` with a plan whose every zone-side is connected under ``rule``, or ``infeasible``
-        when some target cannot be covered by a connected choice.
+        ``feasible`` with a plan whose every group is connected under ``rule``, or ``infeasible`` when
+        some target cannot be covered by a connected choice the greedy finds.
     """
     start = time.perf_counter()
     a = instance.by_candidate.astype(bool).tocsr()

@@ -15,11 +15,11 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.accuracy import ErrorBudget, view_error_m
+from planner.instrument.accuracy import ErrorBudget, view_error_m
 from planner.checks import argument
 from planner.coverage.matrix import CoverageProblem
 from planner.errors import InputError
-from planner.instruments import Scanner
+from planner.instrument.models import Scanner
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,7 +84,7 @@ def cover_instance(
     With ``scanner``, ``budget`` and ``sigma_req_m`` the combined-precision
     weights are filled in: sigma_tj is the point error e of (2.13) at the
     largest slant range and incidence over piece t from candidate j (e(S, theta) of
-    :func:`planner.accuracy.view_error_m` with ``incidence_model``). ``groups`` (default:
+    :func:`planner.instrument.accuracy.view_error_m` with ``incidence_model``). ``groups`` (default:
     zone and side of each candidate) and ``links``: see
     :func:`planner.coverage.links.registration_groups`.
     """

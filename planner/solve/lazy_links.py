@@ -1,20 +1,37 @@
-"""The overlap relation formed row by row as the dominance presolve asks for it, and kept only for the kept.
+"""Dominance under the overlap rule with the relation formed among the kept candidates only (issue 32).
 
-The connected MILP needs the overlap relation among the candidates the presolve keeps; the presolve needs, for
-a candidate under test, its own links and those of the kept candidates that could replace it. Formed whole, the
-relation is quadratic in a pool where thousands of candidates see much of one wall: polygon C on a 3-m grid,
-22,367 distinct coverage rows, 26.7 million links and 2.2 GB to form them, of which the presolve keeps 2,238
-candidates whose rows hold 2.9 million links (measured). Here rows are formed a block at a time in the
-presolve's order (the candidate under test and the next ones), the rows of dropped candidates are let go at
-once, and the relation among the kept is assembled at the end: memory follows the kept candidates' links plus
-one block.
+The connected MILP needs the overlap relation among the candidates the presolve keeps; the presolve, as
+:func:`planner.solve.presolve.dominated` states it, drops i for a kept j of its group, no dearer, that sees
+every piece i sees and is linked to every neighbour k of i but j itself. Formed whole, that relation costs
+the sum over the pieces of their seers squared: polygon C on a 1.5-m grid, 122,200 candidates seeing 3,082
+pieces, 3.3e10 (measured). Two facts make the relation among the kept enough.
 
-Links are formed among one representative per distinct (group, coverage row) only, as
-:func:`planner.solve.milp.representatives` chooses them; the others get no links and are dropped by the
-presolve in favour of their representative (same coverage; nothing to cover in links).
+*Only the neighbours not dropped before i count.* Take an optimal connected plan and replace its dropped
+candidates by their replacers in the presolve's order. When i's turn comes, the candidates dropped before
+it are already out of the plan (and replacers are never dropped), so i's neighbours in the plan lie in
+N(i) minus the dropped ones; j, linked to all of them, joins i's part of the plan as i did. Cover and cost
+do not get worse, so an optimal connected plan over the kept candidates remains.
+
+*A shorter neighbour is j's neighbour anyway.* With C(j) >= C(i) the shared wall s(j, k) >= s(i, k) for
+every k and L_j >= L_i (L: covered length). If L_k <= L_i, k linked to i means s(i, k) >= rho min(L_i,
+L_k) = rho L_k = rho min(L_j, L_k), so k is linked to j (the other tests of the rule, s > 0 and s >=
+min_shared_m, only grow with s). In floating point too: s(j, k) sums a superset of the lengths s(i, k)
+sums, in the same (piece) order, and rounding is monotone. This needs a rule without ``max_link_m`` (a
+distance test is not monotone in coverage).
+
+So candidates are taken longest coverage first: a neighbour k of i that still matters (L_k > L_i) came
+before i, and is kept when it was not dropped. i is tested against the kept candidates only: one product of
+its coverage row with theirs gives, at once, the kept supersets of i (count of shared pieces = |C(i)|) and
+its links to the kept. A link k of i need not be looked up for j when s(i, k) already passes the rule
+against j (rho min(L_j, L_k) <= s(i, k)); the rest are looked up in j's row of the relation among the kept,
+which this builds as it goes and hands on. Work: the sum over pieces of (seers x kept seers), plus the
+relation among the kept. Identical coverage rows of a group are tested once (the cheapest, then the first,
+stays in their place; the others are dropped with it or for it: same links, same pieces).
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -23,68 +40,155 @@ from numpy.typing import NDArray
 from planner.coverage.gram import BLOCK_ENTRIES
 from planner.coverage.overlap import OverlapRule, link_filter
 
+#: candidates tested per block (one product each for the block's coverage rows against the kept ones)
+BLOCK_ROWS = 512
+#: the slack of the rule's share test (:func:`planner.coverage.overlap.link_filter`)
+_SLACK = 1e-9
 
-class LazyLinks:
-    """Rows of the overlap relation of ``a`` (candidates x pieces) under ``rule``, formed on demand.
 
-    ``reps``: the candidates that get links (ascending); ``gid``: group of each candidate; ``order``: the order
-    in which the presolve asks (rows are formed in blocks along it).
-    """
+@dataclass(frozen=True, eq=False)
+class OverlapLinks:
+    """The overlap relation of a coverage matrix under ``rule``, not formed: ``lengths`` of the pieces, the
+    group of each candidate (``gid``). :func:`linked_dominated` forms it among the candidates it keeps."""
 
-    def __init__(self, a: sp.csr_matrix, lengths: NDArray[np.float64], rule: OverlapRule, gid: NDArray[np.int64],
-                 reps: NDArray[np.int64], order: NDArray[np.int64]) -> None:
-        self.n = a.shape[0]
-        self._a = a.astype(np.float64).tocsr()
-        self._reps = np.asarray(reps, dtype=np.int64)
-        self._right = (self._a[self._reps] @ sp.diags(np.asarray(lengths, float))).T.tocsc()
-        self._is_rep = np.zeros(self.n, dtype=bool)
-        self._is_rep[self._reps] = True
-        covered = np.asarray(self._a @ lengths).ravel()
-        _, self._keep = link_filter(rule, covered, gid)
-        self._order = np.asarray(order, dtype=np.int64)[self._is_rep[order]]
-        self._pos = np.full(self.n, -1, dtype=np.int64)
-        self._pos[self._order] = np.arange(self._order.size)
-        self._rows: dict[int, NDArray[np.int64]] = {}
-        self._step = max(1, BLOCK_ENTRIES // max(self._reps.size, 1))
+    lengths: NDArray[np.float64]
+    rule: OverlapRule
+    gid: NDArray[np.int64]
 
-    def row(self, i: int) -> NDArray[np.int64]:
-        """The candidates linked to ``i`` (sorted); forms i's block when i's row is not held."""
-        if not self._is_rep[i]:
-            return np.zeros(0, dtype=np.int64)
-        got = self._rows.get(i)
-        if got is None:
-            self._form(int(self._pos[i]))
-            got = self._rows[i]
-        return got
 
-    def drop(self, i: int) -> None:
-        """Let go of a dropped candidate's row (it is never asked for again)."""
-        self._rows.pop(i, None)
+def representatives(a: sp.csr_matrix, cost: NDArray[np.float64], gid: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Indices (ascending) of one candidate per distinct (group, coverage row): the cheapest, then the first."""
+    a = a.tocsr()
+    a.sort_indices()
+    order = np.lexsort((np.arange(a.shape[0]), np.asarray(cost, float)))
+    seen: set[tuple[int, bytes]] = set()
+    keep = []
+    for i in order.tolist():
+        key = (int(gid[i]), a.indices[a.indptr[i]:a.indptr[i + 1]].tobytes())
+        if key not in seen:
+            seen.add(key)
+            keep.append(i)
+    return np.sort(np.asarray(keep, dtype=np.int64))
 
-    def _form(self, start: int) -> None:
-        block = [int(c) for c in self._order[start:start + self._step] if int(c) not in self._rows]
-        idx = np.asarray(block, dtype=np.int64)
-        prod = (self._a[idx] @ self._right).tocoo()
-        r, c, v = idx[prod.row], self._reps[prod.col], prod.data
-        ok = self._keep(r, c, v)
-        r, c = r[ok], c[ok]
-        order = np.lexsort((c, r))
-        r, c = r[order], c[order]
-        cuts = np.searchsorted(r, idx)
-        ends = np.searchsorted(r, idx, side="right")
-        for k, i in enumerate(block):
-            self._rows[i] = c[cuts[k]:ends[k]]
 
-    def among(self, kept: NDArray[np.int64]) -> sp.csr_matrix:
-        """The relation among ``kept`` (n x n, entries only between kept candidates), from the rows held."""
-        mask = np.zeros(self.n, dtype=bool)
-        mask[kept] = True
+def length_order(a: sp.csr_matrix, cost: NDArray[np.float64], covered: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Longest covered length first, then most pieces, cheapest, lowest index (a superset comes before)."""
+    return np.lexsort((np.arange(a.shape[0]), np.asarray(cost, float), -np.diff(a.indptr), -covered))
+
+
+def linked_dominated(a: sp.csr_matrix, cost: NDArray[np.float64], links: OverlapLinks
+                     ) -> tuple[NDArray[np.bool_], sp.csr_matrix]:
+    """Mask of the candidates dropped (see the module docstring) and the overlap relation among the others
+    (n x n, boolean, symmetric)."""
+    if links.rule.max_link_m is not None:
+        raise ValueError("a distance limit on links is not monotone in coverage: form the relation whole")
+    a = a.astype(bool).tocsr()
+    a.sort_indices()
+    n = a.shape[0]
+    ones = a.astype(np.float64)
+    weighted = (ones @ sp.diags(np.asarray(links.lengths, float))).tocsr()
+    covered = np.asarray(ones @ links.lengths, dtype=np.float64).ravel()
+    cost = np.asarray(cost, float)
+    _, keep = link_filter(links.rule, covered, links.gid)
+    reps = representatives(a, cost, links.gid)
+    order = reps[length_order(a[reps], cost[reps], covered[reps])]
+    state = _Kept(n)
+    removed = np.ones(n, dtype=bool)
+    size = np.diff(a.indptr)
+    rho = links.rule.overlap
+    lo = 0
+    while lo < order.size:
+        step = max(1, min(BLOCK_ROWS, BLOCK_ENTRIES // max(len(state.kept), 1)))
+        block = order[lo:lo + step]
+        lo += block.size
+        cols = np.concatenate([np.asarray(state.kept, dtype=np.int64), block])
+        right = weighted[cols].T.tocsc()
+        shared = (ones[block] @ right).tocsr()
+        count = (ones[block] @ ones[cols].T).tocsr()
+        shared.sort_indices()
+        count.sort_indices()
+        for r, i in enumerate(block.tolist()):
+            span = slice(shared.indptr[r], shared.indptr[r + 1])
+            c = cols[shared.indices[span]]
+            alive = state.is_kept[c]
+            c, s, k = c[alive], shared.data[span][alive], count.data[span][alive]
+            nb = keep(np.full(c.size, i), c, s)
+            nb_c, nb_s = c[nb], s[nb]
+            if size[i] == 0:
+                continue  # covers nothing, so no links: no bridge either
+            sup = c[(k == size[i]) & (cost[c] <= cost[i]) & (links.gid[c] == links.gid[i])]
+            if sup.size and _replaceable(sup, nb_c, nb_s, covered, i, rho, state):
+                continue
+            removed[i] = False
+            state.add(i, nb_c)
+    return removed, state.relation()
+
+
+def _replaceable(sup: NDArray[np.int64], nb_c: NDArray[np.int64], nb_s: NDArray[np.float64],
+                 covered: NDArray[np.float64], i: int, rho: float, state: _Kept) -> bool:
+    """Whether some kept superset j of i (``sup``) is linked to every kept neighbour k of i longer than i
+    (``nb_c``, sharing ``nb_s`` with i) but j itself; a k is looked up only where s(i, k) < rho min(L_j, L_k)."""
+    longer = covered[nb_c] > covered[i]
+    hard_c, theta = nb_c[longer], nb_s[longer] + _SLACK
+    live = rho * covered[hard_c] > theta  # s(i, k) passes against every j when rho L_k <= s(i, k)
+    hard_c, theta = hard_c[live], theta[live]
+    by = np.argsort(theta, kind="stable")
+    hard_c, theta = hard_c[by], theta[by]
+    sup = sup[np.argsort(covered[sup], kind="stable")]  # shortest first: fewest links to look up
+    reach = np.searchsorted(theta, rho * covered[sup], side="left")  # hard for j: theta_k < rho L_j
+    for j, m in zip(sup.tolist(), reach.tolist()):
+        need = hard_c[:m]
+        need = need[need != j]
+        if need.size == 0 or state.linked_to_all(j, need):
+            return True
+    return False
+
+
+class _Kept:
+    """The kept candidates in the order kept and the overlap relation among them as a bit matrix (its rows
+    one bit per kept candidate; at polygon C's 1.5-m grid a fifth of the pairs of the kept are linked, so
+    bits hold it in less than the sparse form would)."""
+
+    def __init__(self, n: int) -> None:
+        self.kept: list[int] = []
+        self.is_kept = np.zeros(n, dtype=bool)
+        self._pos = np.full(n, -1, dtype=np.int64)
+        self._bits = np.zeros((64, 8), dtype=np.uint8)
+
+    def add(self, i: int, nbrs: NDArray[np.int64]) -> None:
+        """Keep i, linked to the kept ``nbrs``."""
+        p = len(self.kept)
+        if p == self._bits.shape[0]:  # room for twice as many
+            grown = np.zeros((2 * p, 2 * self._bits.shape[1]), dtype=np.uint8)
+            grown[:p, :self._bits.shape[1]] = self._bits
+            self._bits = grown
+        self.kept.append(i)
+        self.is_kept[i] = True
+        self._pos[i] = p
+        q = self._pos[nbrs]
+        row = np.zeros(8 * self._bits.shape[1], dtype=bool)
+        row[q] = True
+        self._bits[p] = np.packbits(row, bitorder="little")
+        self._bits[q, p >> 3] |= np.uint8(1 << (p & 7))
+
+    def linked_to_all(self, j: int, ks: NDArray[np.int64]) -> bool:
+        """Whether kept j is linked to every kept k of ``ks``."""
+        q = self._pos[ks]
+        row = self._bits[self._pos[j]]
+        return bool(np.all((row[q >> 3] >> (q & 7)) & 1))
+
+    def relation(self) -> sp.csr_matrix:
+        """The relation among the kept (n x n), unpacked a block of rows at a time."""
+        n, m = self.is_kept.size, len(self.kept)
+        kept = np.asarray(self.kept, dtype=np.int64)
         rows, cols = [], []
-        for i in np.asarray(kept).tolist():
-            nb = self.row(i)
-            nb = nb[mask[nb]]
-            rows.append(np.full(nb.size, i, dtype=np.int64))
-            cols.append(nb)
+        step = max(1, BLOCK_ENTRIES // max(8 * self._bits.shape[1], 1))
+        for lo in range(0, m, step):
+            r, c = np.nonzero(np.unpackbits(self._bits[lo:lo + step], axis=1, bitorder="little")[:, :m])
+            rows.append(kept[r + lo])
+            cols.append(kept[c])
         r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
         c = np.concatenate(cols) if cols else np.zeros(0, np.int64)
-        return sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(self.n, self.n))
+        out = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(n, n))
+        out.sort_indices()
+        return out

@@ -31,14 +31,13 @@ from planner.errors import UsageError
 from planner.solve.backends import BACKENDS
 from planner.solve.block import BlockSolver, lengths
 from planner.solve.instance import CoverInstance
-from planner.solve.lazy_links import LazyLinks
+from planner.solve.lazy_links import OverlapLinks, linked_dominated
 from planner.solve.presolve import (
     PresolveReport,
     dominated,
     duplicate_targets,
     forced,
     implied_targets,
-    presolve_order,
 )
 from planner.solve.result import SolveResult, Status
 
@@ -179,7 +178,7 @@ def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveRepo
     """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
     the registration rule applies when ``o.rule`` is set and the instance has groups."""
     a = instance.by_candidate.astype(bool).tocsr()
-    adj: sp.csr_matrix | LazyLinks | None = None
+    adj: sp.csr_matrix | OverlapLinks | None = None
     if o.rule is not None and instance.groups is not None:
         adj = _adjacency(instance, a, o)
     report, adj = _presolve(instance, a, adj, o)
@@ -189,36 +188,16 @@ def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveRepo
                     for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
 
 
-def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.csr_matrix | LazyLinks:
+def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.csr_matrix | OverlapLinks:
     """The overlap relation (C x C). Where the presolve will run dominance and the relation depends on the
-    coverage alone (no ``max_link_m``, no links through openings), it is formed among one candidate per set of
-    identical coverage rows of a group (the cheapest, then the first): the others see the same pieces and have
-    the same links, so the presolve drops them (they are left without links, and the representative or a
-    candidate that replaces it stays). Building27 on a 1-m grid: 43,827 candidates, 4,864 distinct rows. There
-    it is not formed whole but row by row as the presolve asks (:class:`planner.solve.lazy_links.LazyLinks`)."""
+    coverage alone (no ``max_link_m``, no links through openings), it is not formed here: the presolve forms
+    it among the candidates it keeps (:func:`planner.solve.lazy_links.linked_dominated`)."""
     assert o.rule is not None and instance.groups is not None
     plain = o.presolve and o.k == 1 and o.precision == "single" and o.rule.max_link_m is None and (
         instance.links is None or instance.links.nnz == 0)
     if not plain:
         return overlap_adjacency(a, lengths(instance), o.rule, instance.groups, instance.xy, instance.links)[0]
-    gid = group_ids(instance.groups)
-    rep = representatives(a, instance.cost, gid)
-    return LazyLinks(a, lengths(instance), o.rule, gid, rep, presolve_order(a, instance.cost))
-
-
-def representatives(a: sp.csr_matrix, cost: np.ndarray, gid: np.ndarray) -> np.ndarray:
-    """Indices (ascending) of one candidate per distinct (group, coverage row): the cheapest, then the first."""
-    a = a.tocsr()
-    a.sort_indices()
-    order = np.lexsort((np.arange(a.shape[0]), np.asarray(cost, float)))
-    seen: set[tuple[int, bytes]] = set()
-    keep = []
-    for i in order.tolist():
-        key = (int(gid[i]), a.indices[a.indptr[i]:a.indptr[i + 1]].tobytes())
-        if key not in seen:
-            seen.add(key)
-            keep.append(i)
-    return np.sort(np.asarray(keep, dtype=np.int64))
+    return OverlapLinks(lengths(instance), o.rule, group_ids(instance.groups))
 
 
 def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | None) -> None:
@@ -238,13 +217,13 @@ def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | 
                 block.run(time.perf_counter() + share)
 
 
-def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | LazyLinks | None, o: MilpOptions
+def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | OverlapLinks | None, o: MilpOptions
               ) -> tuple[PresolveReport, sp.csr_matrix | None]:
     """The presolve's report and the overlap relation as a matrix (among the kept candidates where it came lazy)."""
     n_cand, n_targ = a.shape
     drop = np.zeros(n_cand, dtype=bool)
     if not o.presolve:
-        assert not isinstance(adj, LazyLinks)
+        assert not isinstance(adj, OverlapLinks)
         return PresolveReport(n_cand, n_targ, kept_candidates=tuple(range(n_cand)),
                               kept_targets=tuple(range(n_targ))), adj
     if o.k == 1 and o.precision == "single":
@@ -256,7 +235,7 @@ def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | La
     kept_c = np.flatnonzero(~drop)
     bt = a[kept_c].T.tocsr()
     must = forced(bt, o.k)
-    assert not isinstance(adj, LazyLinks)
+    assert not isinstance(adj, OverlapLinks)
     return PresolveReport(n_cand, n_targ, int(drop.sum()), int(dup.sum()), int(must.sum()),
                           tuple(kept_c.tolist()), tuple(np.flatnonzero(~dup).tolist()),
                           tuple(kept_c[must].tolist())), adj
@@ -266,7 +245,7 @@ def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | La
 _REDUCE_PASSES = 20
 
 
-def _reduce(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks | None,
+def _reduce(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | OverlapLinks | None,
             groups: Sequence[Hashable] | None) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix | None]:
     """Dominated candidates and implied targets (k = 1, single precision), alternated until neither
     removes anything: dropping candidates makes more targets implied (every *remaining* seer of t' sees
@@ -278,11 +257,12 @@ def _reduce(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks |
     after the first pass where it came lazy)."""
     kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
     for _ in range(_REDUCE_PASSES):
-        sub = adj if isinstance(adj, LazyLinks) else (adj[kc][:, kc].tocsr() if adj is not None else None)
-        d = dominated(a[kc][:, kt].tocsr(), cost[kc], sub, [groups[i] for i in kc] if groups is not None else None)
+        if isinstance(adj, OverlapLinks):  # the first pass, on every candidate: indices are the instance's
+            d, adj = linked_dominated(a, cost, adj)
+        else:
+            sub = adj[kc][:, kc].tocsr() if adj is not None else None
+            d = dominated(a[kc][:, kt].tocsr(), cost[kc], sub, [groups[i] for i in kc] if groups is not None else None)
         kc = kc[~d]
-        if isinstance(adj, LazyLinks):  # the first pass ran on every candidate: indices are the instance's
-            adj = adj.among(kc)
         imp = implied_targets(a[kc][:, kt].T.tocsr())
         kt = kt[~imp]
         if not (d.any() or imp.any()):

@@ -19,7 +19,7 @@ import numpy as np
 import shapely
 
 from planner.candidates.closed_form import SIDE_TAG
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.visibility import SightLimits

@@ -17,7 +17,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.coverage.overlap import group_ids
-from planner.solve.lazy_links import LazyLinks
 
 
 @dataclass(frozen=True)
@@ -42,22 +41,24 @@ def presolve_order(a: sp.csr_matrix, cost: np.ndarray) -> np.ndarray:
     return np.lexsort((np.arange(a.shape[0]), np.asarray(cost, float), -np.diff(a.tocsr().indptr)))
 
 
-def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks | None = None,
+def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = None,
               groups: Sequence[Hashable] | None = None) -> np.ndarray:
     """Mask of candidates that another candidate can always replace (see the module docstring).
 
-    Candidates are considered from the largest coverage down; among identical
-    ones the lowest index stays. A candidate is only ever replaced by one that
-    stays, so removing them all at once is sound.
+    Candidates are considered from the largest coverage down; among identical ones the lowest index stays.
+    Under ``adj``, i goes for a kept j (of its group, no dearer, seeing every piece i sees) linked to every
+    neighbour of i *not dropped before i*, j itself aside: replace the dropped candidates of an optimal
+    connected plan by their replacers in this order, and when i's turn comes the ones dropped before it are
+    out of the plan already, so i's neighbours in the plan are among those j is linked to (a replacer is
+    kept, never dropped). A candidate covering nothing goes when no neighbour of it is left, or for such a j.
 
     No candidate x candidate product is formed: candidate i can only be replaced by a *kept* candidate that
     sees every piece of i, and such a candidate sees i's piece with the fewest kept candidates. So each
     piece keeps the list of kept candidates that see it, and i is checked against the shortest of its
     pieces' lists only (a scratch mark of i's pieces, then |C(j) & C(i)| = |C(i)| for each j of that list).
     Work is the sum of those checks, in proportion to the pairs of the coverage matrix when few candidates
-    stay (on a 1-m grid over a building of small rooms: 25 kept of 35,729). ``adj`` may be a
-    :class:`planner.solve.lazy_links.LazyLinks` formed in :func:`presolve_order`: rows are then formed as asked
-    and those of dropped candidates let go.
+    stay (on a 1-m grid over a building of small rooms: 25 kept of 35,729). The overlap relation itself,
+    formed among the kept only, is :func:`planner.solve.lazy_links.linked_dominated`'s.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()
@@ -67,37 +68,31 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks
     order = presolve_order(a, cost)
     gid = np.zeros(n, dtype=np.int64) if groups is None else group_ids(groups)
     removed = np.zeros(n, dtype=bool)
-    kept_rank: dict[int, int] = {}
+    kept = np.zeros(n, dtype=bool)
     kept_by_piece: list[list[int]] = [[] for _ in range(n_t)]
     mark = np.zeros(n_t, dtype=np.int32)  # scratch: the pieces of the candidate under test
     near = np.zeros(n, dtype=np.int32)  # scratch: the overlap neighbours of the candidate under test
-    if isinstance(adj, sp.spmatrix):
+    if adj is not None:
         adj = adj.astype(np.int32).tocsr()
-    for rank, i in enumerate(order.tolist()):
+    for i in order.tolist():
         cols = a.indices[a.indptr[i]:a.indptr[i + 1]]
         if size[i] == 0:
-            if adj is None or _no_bridge(adj, i, removed, kept_rank, cost, groups):
+            if adj is None or _no_bridge(adj, i, removed, kept, cost, gid, near):
                 removed[i] = True  # covers nothing: dropped unless it may be the only link between others
-                _let_go(adj, i)
                 continue
-        elif _replaced(a, i, cols, kept_by_piece, mark, near, cost, adj, groups, gid):
+        elif _replaced(a, i, cols, kept_by_piece, mark, near, cost, adj, removed, gid):
             removed[i] = True
-            _let_go(adj, i)
             continue
-        kept_rank[i] = rank
+        kept[i] = True
         for t in cols.tolist():
             kept_by_piece[t].append(i)
     return removed
 
 
-def _let_go(adj: sp.csr_matrix | LazyLinks | None, i: int) -> None:
-    if isinstance(adj, LazyLinks):
-        adj.drop(i)
-
-
-def _nbrs(adj: sp.csr_matrix | LazyLinks, i: int) -> np.ndarray:
-    """The overlap neighbours of i."""
-    return adj.row(i) if isinstance(adj, LazyLinks) else adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+def _nbrs(adj: sp.csr_matrix, i: int, removed: np.ndarray) -> np.ndarray:
+    """The overlap neighbours of i not dropped so far."""
+    nb = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    return nb[~removed[nb]]
 
 
 def _segment_sums(values: np.ndarray, sizes: np.ndarray) -> np.ndarray:
@@ -118,17 +113,15 @@ def _row_sums(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray, mark: n
 
 
 def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[list[int]], mark: np.ndarray,
-              near: np.ndarray, cost: np.ndarray, adj: sp.csr_matrix | LazyLinks | None,
-              groups: Sequence[Hashable] | None, gid: np.ndarray) -> bool:
-    """Whether a kept candidate, no dearer and of i's group (linked to all of i's links under ``adj``), sees
-    every piece i sees."""
+              near: np.ndarray, cost: np.ndarray, adj: sp.csr_matrix | None, removed: np.ndarray,
+              gid: np.ndarray) -> bool:
+    """Whether a kept candidate, no dearer and of i's group (linked to all of i's links not dropped so far
+    under ``adj``), sees every piece i sees."""
     lists = [kept_by_piece[t] for t in cols.tolist()]
     shortest = np.asarray(min(lists, key=len), dtype=np.int64)
     if shortest.size == 0:
         return False
-    shortest = shortest[cost[shortest] <= cost[i]]
-    if groups is not None:
-        shortest = shortest[gid[shortest] == gid[i]]
+    shortest = shortest[(cost[shortest] <= cost[i]) & (gid[shortest] == gid[i])]
     if shortest.size == 0:
         return False
     mark[cols] = 1
@@ -139,41 +132,31 @@ def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[li
     inside = shortest[seen == cols.size]
     if adj is None or inside.size == 0:
         return inside.size > 0
-    ni = _nbrs(adj, i)
-    near[ni] = 1  # j must be linked to every neighbour of i but itself: |N(j) & N(i)| = |N(i)| - [j in N(i)]
-    try:
-        if isinstance(adj, LazyLinks):  # kept rows are held: |N(j) & N(i)| for every j at once
-            rows = [adj.row(j) for j in inside.tolist()]
-            sizes = np.fromiter((r.size for r in rows), dtype=np.int64, count=len(rows))
-            shared = _segment_sums(near[np.concatenate(rows)], sizes)
-        else:
-            shared = _row_sums(adj.indptr, adj.indices, inside, near)
-        return bool(np.any(shared == ni.size - near[inside]))
-    finally:
-        near[ni] = 0
+    return _links_cover(adj, inside, _nbrs(adj, i, removed), near)
 
 
-def _no_bridge(adj: sp.csr_matrix | LazyLinks, i: int, removed: np.ndarray, kept: dict[int, int], cost: np.ndarray,
-               groups: Sequence[Hashable] | None) -> bool:
-    """Whether a candidate covering nothing can go under the overlap rule: it has no neighbour, or a
-    kept j of its group, no dearer, is linked to every neighbour of i (j then stands in for it)."""
-    nb = _nbrs(adj, i)
+def _no_bridge(adj: sp.csr_matrix, i: int, removed: np.ndarray, kept: np.ndarray, cost: np.ndarray,
+               gid: np.ndarray, near: np.ndarray) -> bool:
+    """Whether a candidate covering nothing can go under the overlap rule: no neighbour of it is left, or a
+    kept j of its group, no dearer, is linked to every neighbour of i left (j then stands in for it)."""
+    nb = _nbrs(adj, i, removed)
     if nb.size == 0:
         return True
-    v = int(nb[0])
-    for j in [v, *_nbrs(adj, v).tolist()]:
-        if j != i and not removed[j] and j in kept and cost[j] <= cost[i] and \
-                (groups is None or groups[j] == groups[i]) and _links_cover(adj, i, j):
-            return True
-    return False
+    v = int(nb[0])  # j is v or a neighbour of v
+    js = np.append(adj.indices[adj.indptr[v]:adj.indptr[v + 1]], v)
+    js = js[(js != i) & kept[js] & (cost[js] <= cost[i]) & (gid[js] == gid[i])]
+    return _links_cover(adj, js, nb, near)
 
 
-def _links_cover(adj: sp.csr_matrix | LazyLinks, i: int, j: int) -> bool:
-    """Every overlap neighbour of i (other than j) is a neighbour of j."""
-    ni = _nbrs(adj, i)
-    ni = ni[ni != j]
-    nj = _nbrs(adj, j)
-    return ni.size <= nj.size and bool(np.isin(ni, nj).all())
+def _links_cover(adj: sp.csr_matrix, js: np.ndarray, nb: np.ndarray, near: np.ndarray) -> bool:
+    """Whether some j of ``js`` is linked to every candidate of ``nb`` but itself: |N(j) & nb| = |nb| - [j in nb]."""
+    if js.size == 0:
+        return False
+    near[nb] = 1
+    try:
+        return bool(np.any(_row_sums(adj.indptr, adj.indices, js, near) == nb.size - near[js]))
+    finally:
+        near[nb] = 0
 
 
 def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:

@@ -34,11 +34,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
-from planner.params import Parameters
+from planner.site.params import Parameters
 from planner.site.model import Site
 
 RIM_POINTS = 16
@@ -133,7 +133,7 @@ def tripod_discs(site: Site, problem: CoverageProblem, selected: Sequence[int], 
     """The largest safe disc of every chosen station (see the module docstring): centred on the station,
     or, with ``recentre``, anywhere (the station then moves to its centre; the disc need not hold the
     planned position)."""
-    from planner.accuracy import instrument_height_tolerance_m
+    from planner.instrument.accuracy import instrument_height_tolerance_m
 
     t: Targets = problem.targets
     relied = relied_targets(problem, selected, partners)

@@ -4,7 +4,7 @@ A site is planned by tiles when it is too large for one model and spans several 
 
 - the MILP method (the greedy and the closed form have no tiles);
 - every zone in one frame (tiles are squares of one frame);
-- at least :data:`MIN_PIECES` wall pieces in the work estimate (:func:`planner.memory_guard.estimate_work`,
+- at least :data:`MIN_PIECES` wall pieces in the work estimate (:func:`planner.plan.memory_guard.estimate_work`,
   from the geometry alone): the bundled buildings and monuments have at most 3,000 (polygons A and C), the
   16-ha plant 7,688, where the single connected model stopped at 109 stations against a bound of 62 after 654 s;
 - at least :data:`MIN_TILES` tiles of side ``tile_m`` = max(:data:`TILE_M`, 1.5 S_max) over the zones' extent.
@@ -14,8 +14,8 @@ default), so the choice changes how the plan is searched for, not what it must s
 
 The time ``budget_s`` (``planner plan --tile-budget``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
 tiles that run side by side, the whole-site bound ``BOUND_SHARE`` and the Lagrangian bound ``LAGRANGE_SHARE``;
-the search and windows take what is left (their work is a move count and a window budget, both
-deterministic). Workers: the machine's cores less one, at most one per tile; none (in this process) on a
+the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
+tile); the local search takes what is left (its work is a move count, deterministic). Workers: the machine's cores less one, at most one per tile; none (in this process) on a
 machine of two cores or fewer, where a second process adds contention, not speed (docs/benchmarks/plant.md).
 """
 
@@ -38,8 +38,11 @@ MIN_TILES = 4
 MIN_PIECES = 5_000
 #: the smallest core side of a tile, m (1.5 S_max when that is larger: a core is then wider than its margin)
 TILE_M = 100.0
-#: shares of the budget: every tile's MILP together, the whole-site bound MILP, the Lagrangian bound
-TILE_SHARE, BOUND_SHARE, LAGRANGE_SHARE = 0.30, 0.10, 0.15
+#: shares of the budget: every tile's MILP together, the whole-site bound MILP, the Lagrangian bound, the window
+#: re-solves (one window per station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
+TILE_SHARE, BOUND_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.10, 0.15, 0.30
+#: stations per tile the window budget is spread over (the 16-ha plant: about 100 stations on 16 tiles)
+STATIONS_PER_TILE = 6
 
 
 @dataclass(frozen=True)
@@ -94,7 +97,8 @@ def choose(site: Site, options: PlanOptions, s_max_m: float, pieces: int, budget
         tile_time_limit_s=_clamp(TILE_SHARE * budget_s * side_by_side / n, 2.0, 30.0),
         bound_time_limit_s=_clamp(BOUND_SHARE * budget_s, 5.0, 60.0),
         lagrange_work_s=_clamp(LAGRANGE_SHARE * budget_s * side_by_side / n, 1.0, 10.0),
-        windows=replace(WindowOptions(), seed=options.milp.seed),
+        windows=replace(WindowOptions(), seed=options.milp.seed,
+                        work_s=_clamp(WINDOW_SHARE * budget_s / (STATIONS_PER_TILE * n), 0.5, 3.0)),
     )
     return Strategy(tiling, workers, f"about {pieces:,} wall pieces over {n} tiles of {tile_m:g} m (at least "
                                      f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s")

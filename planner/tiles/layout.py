@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,8 +21,6 @@ from planner.coverage.targets import Targets
 from planner.errors import UsageError
 from planner.site.model import Site
 
-if TYPE_CHECKING:
-    from planner.tiles.tasks import TileJob
 
 
 @dataclass(frozen=True)
@@ -56,6 +54,15 @@ class Tile:
         return np.hypot(dx, dy) <= self.margin_m
 
 
+@dataclass(frozen=True)
+class TileJob:
+    """A tile with the global indices of its candidates (those within the margin) and of its core targets."""
+
+    tile: Tile
+    candidates: NDArray[np.int64]
+    targets: NDArray[np.int64]
+
+
 def make_tiles(points: NDArray[np.float64], size_m: float, margin_m: float) -> list[Tile]:
     """Square tiles of ``size_m`` over the bounding box of ``points`` (the target midpoints), row by row;
     a tile holding no point is dropped."""
@@ -83,8 +90,6 @@ def zone_anchors(site: Site, targets: Targets) -> NDArray[np.float64]:
 def tile_job(tile: Tile, anchor: NDArray[np.float64], targets: Targets, xy: NDArray[np.float64],
              usable: NDArray[np.bool_]) -> TileJob:
     """The tile's pieces (anchor in its core) and the usable candidates within ``margin_m`` of their box."""
-    from planner.tiles.tasks import TileJob
-
     ti = np.flatnonzero(tile.in_core(anchor))
     ends = np.vstack([np.asarray(targets.a)[ti], np.asarray(targets.b)[ti]])
     (x0, y0), (x1, y1) = ends.min(axis=0), ends.max(axis=0)

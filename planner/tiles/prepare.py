@@ -13,15 +13,15 @@ from typing import Any, cast
 import numpy as np
 import scipy.sparse as sp
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.links import registration_groups
 from planner.coverage.matrix import build_coverage, station_places
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
-from planner.plan import PlanOptions, _limits, site_candidates
+from planner.plan import PlanOptions, plan_limits, site_candidates
 from planner.site.model import Site
-from planner.validate import ValidationReport, validate_site
+from planner.site.validate import ValidationReport, validate_site
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ class Prepared:
 def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) -> tuple[list[Candidate], Targets]:
     """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them
     (:func:`planner.plan.site_candidates`), before the completion of unseen pieces."""
-    limits = _limits(validation, options)
+    limits = plan_limits(validation, options)
     targets = make_targets(site, options.target_spacing_m)
     return site_candidates(site, options, validation, targets, limits), targets
 
@@ -75,7 +75,7 @@ def prepare(site: Site, options: PlanOptions, validation: ValidationReport | Non
     rule's ``max_link_m`` or else the sight range. ``extra``: candidates added to the pool (those that the
     completion of unseen pieces found, :func:`planner.tiles.run.plan_by_tiles`)."""
     validation = validation or validate_site(site)
-    limits = _limits(validation, options)
+    limits = plan_limits(validation, options)
     pool, targets = site_pool(site, options, validation)
     pool = pool + list(extra)
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)

@@ -29,7 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.candidates.complete import complete_candidates
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import regions_apply
 from planner.coverage.overlap import OverlapRule
@@ -47,8 +47,8 @@ from planner.tiles.lagrange import group_parts
 from planner.tiles.prepare import prepare
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileResult, shrink_task, tile_task
-from planner.validate import ValidationReport
-from planner.verify import verify_stations
+from planner.site.validate import ValidationReport
+from planner.plan.verify import verify_stations
 
 
 @dataclass(frozen=True)
@@ -113,7 +113,8 @@ def _assemble(n_cand: int, n_targ: int, results: list[TileResult]) -> tuple[sp.c
 
 
 def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOptions | None = None,
-                  client: Any = None, extra: tuple[Candidate, ...] = ()) -> Plan:
+                  client: Any = None, extra: tuple[Candidate, ...] = (),
+                  validation: ValidationReport | None = None) -> Plan:
     """Plan ``site`` by tiles with the MILP options of ``options`` (module docstring); on ``client``
     (a ``dask.distributed.Client``) when given, else in this process. Same seed, same plan either way.
 
@@ -131,7 +132,7 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
     if len({z.frame for z in site.zones}) != 1:
         raise UsageError("tiles need every zone in one coordinate frame", field="tiles")
     start = time.perf_counter()
-    prep = prepare(site, options, extra=extra)
+    prep = prepare(site, options, validation, extra=extra)
     limits, pool, targets, groups = prep.limits, prep.pool, prep.targets, prep.groups
     margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
     anchor = zone_anchors(site, targets)
@@ -151,7 +152,7 @@ def plan_by_tiles(site: Site, options: PlanOptions | None = None, tiling: TileOp
                          else (problem, {}))
         found = tuple(done.candidates[len(pool):])
         if found and not extra:  # the tiles again, with a candidate from the region of every unseen piece
-            return plan_by_tiles(site, options, tiling, client, found)
+            return plan_by_tiles(site, options, tiling, client, found, prep.validation)
         err = unseen_error(done, done.uncoverable(), reasons)
         raise err.located(site.source) if site.source else err
     adj = prep.overlap(by_cand)

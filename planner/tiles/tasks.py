@@ -13,7 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
@@ -22,16 +22,7 @@ from planner.solve.instance import cover_instance
 from planner.solve.local_search import Shrunk, shrink
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import Status
-from planner.tiles.layout import Tile, take_targets
-
-
-@dataclass(frozen=True)
-class TileJob:
-    """A tile with the global indices of its candidates (those within the margin) and of its core targets."""
-
-    tile: Tile
-    candidates: NDArray[np.int64]
-    targets: NDArray[np.int64]
+from planner.tiles.layout import Tile, TileJob, take_targets
 
 
 @dataclass(frozen=True, eq=False)

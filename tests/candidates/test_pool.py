@@ -13,7 +13,7 @@ from planner.candidates.pool import PoolOptions, candidate_pool
 from planner.plan import closed_form_limits
 from planner.site import load_site
 from planner.site.model import Site
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 
 ANGLE, CENTRE, SHIFT = math.radians(37.0), np.array([123.4, -56.7]), np.array([1000.5, -2000.25])

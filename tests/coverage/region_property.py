@@ -8,7 +8,7 @@ import numpy as np
 import scipy.sparse as sp
 import shapely
 
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import ZoneSideBlockers, build_coverage
 from planner.coverage.regions import coverage_regions, region_tolerance_m
 from planner.coverage.targets import make_targets

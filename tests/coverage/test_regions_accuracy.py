@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import shapely
 
-from planner.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, sigma_instr_m
+from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, sigma_instr_m
 from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions, region_tolerance_m, regions_apply
 from planner.coverage.targets import make_targets

@@ -15,7 +15,7 @@ from planner.coverage.regions import coverage_regions
 from planner.coverage.targets import make_targets
 from planner.plan import sight_limits
 from planner.site import load_site
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 
 

@@ -16,8 +16,8 @@ from ezdxf import units
 
 import planner
 from planner.cli import main
-from planner.exchange import DxfOptions, read_dxf_site
-from planner.exchange.dxf_in import APPID
+from planner.site.dxf_in import DxfOptions, read_dxf_site
+from planner.site.dxf_in import APPID
 from planner.site.model import ScanSide
 from tests.conftest import ROOT
 from tests.test_cli import assert_one_line_error

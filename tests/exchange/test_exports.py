@@ -120,7 +120,7 @@ def test_station_csv_lists_every_station_after_comment_lines(polygon_b, tmp_path
 
 def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
     pytest.importorskip("pyproj")
-    from planner.exchange.crs import to_lonlat, to_projected
+    from planner.site.crs import to_lonlat, to_projected
 
     # a 40 x 30 m court in UTM zone 37N (EPSG:32637): east 277,000 m, north 3,770,000 m
     utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
@@ -144,7 +144,7 @@ def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
 def _lonlat_court(tmp_path):
     """A 40 x 30 m court in UTM zone 37N written as a lon/lat GeoJSON (RFC 7946's coordinates)."""
     pytest.importorskip("pyproj")
-    from planner.exchange.crs import to_lonlat
+    from planner.site.crs import to_lonlat
 
     utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
     ring = [list(p) for p in to_lonlat("EPSG:32637")(utm)]
@@ -166,7 +166,7 @@ def test_a_lonlat_geojson_without_crs_is_refused_not_read_as_a_millimetre_room(t
 
 def test_crs_must_be_projected():
     pytest.importorskip("pyproj")
-    from planner.exchange.crs import to_projected
+    from planner.site.crs import to_projected
 
     with pytest.raises(planner.UsageError, match="projected"):
         to_projected("EPSG:4326")

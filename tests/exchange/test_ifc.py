@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from planner.errors import InputError
-from planner.exchange.ifc_in import IfcOptions, read_ifc_site
+from planner.site.ifc_in import IfcOptions, read_ifc_site
 from planner.site.model import SITE_FRAME, ScanSide
 from tests.conftest import INSTANCES, ROOT
 

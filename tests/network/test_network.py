@@ -9,9 +9,9 @@ import re
 import numpy as np
 import pytest
 
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.cli import main
-from planner.instruments import load_instrument
+from planner.instrument.models import load_instrument
 from planner.network.check import accuracy_check, registration_sigma_m, run_network
 from planner.network.graph import diagnostics, station_network
 from planner.site import ScanSide, Site, Zone
@@ -92,7 +92,7 @@ def rep_problem(site, stations):
     from planner.coverage.matrix import build_coverage
     from planner.coverage.targets import make_targets
     from planner.plan import sight_limits
-    from planner.validate import validate_site
+    from planner.site.validate import validate_site
 
     return build_coverage(site, stations, make_targets(site, 1.0), sight_limits(validate_site(site), False, True))
 

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import pytest
 
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.candidates.pool import PoolOptions
 from planner.cli import main
 from planner.coverage.matrix import build_coverage
@@ -19,7 +19,7 @@ from planner.plan import PlanOptions, plan_site, sight_limits
 from planner.site import ScanSide
 from planner.site.load import load_site
 from planner.site.model import ControlPoint
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 
 HOUSE = INSTANCES / "house_doors.json"

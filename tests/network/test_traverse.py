@@ -14,7 +14,7 @@ import math
 
 import pytest
 
-from planner.candidates.model import Candidate, CandidateKind
+from planner.site.candidate import Candidate, CandidateKind
 from planner.cli import main
 from planner.errors import InputError
 from planner.network.check import run_network

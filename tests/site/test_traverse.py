@@ -9,7 +9,7 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 from planner.errors import ClosureError
-from planner.params import ClosureTolerance
+from planner.site.params import ClosureTolerance
 from planner.site import load_site
 from planner.site.geometry import signed_area, side_lengths
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable, reconstruct, table_from_polygon

@@ -13,8 +13,8 @@ import scipy.sparse as sp
 import shapely
 from hypothesis import strategies as st
 
-from planner.candidates.model import Candidate, CandidateKind
-from planner.params import Parameters
+from planner.site.candidate import Candidate, CandidateKind
+from planner.site.params import Parameters
 from planner.site.model import ScanSide, Site, Zone
 
 

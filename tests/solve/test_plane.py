@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from planner.params import Parameters
+from planner.site.params import Parameters
 from planner.plan import PlanOptions, plan_site
 from planner.site.load import load_site
 from planner.site.model import ScanSide, Site, Zone

@@ -32,13 +32,13 @@ from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions
 from planner.coverage.targets import Targets, make_targets
 from planner.errors import InfeasibleError
-from planner.params import Parameters
-from planner.plan import PlanOptions, _limits, coverage_problem, plan_site
+from planner.site.params import Parameters
+from planner.plan import PlanOptions, plan_limits, coverage_problem, plan_site
 from planner.site.model import ScanSide, Site, Zone
 from planner.solve.milp import MilpOptions
 from planner.solve.plane import price_plane
 from planner.solve.pricing import cover_lp
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 from tests.solve.plane_cases import as_candidates, min_cover, positions, rooms
 
 QUICK = settings(deadline=None, derandomize=True, database=None,
@@ -104,7 +104,7 @@ def test_c_plane_bound_at_most_brute_force_optimum(site: Site) -> None:
         plan = plan_site(site, options)
     except InfeasibleError:
         return
-    limits = _limits(validate_site(site), options)
+    limits = plan_limits(validate_site(site), options)
     t = plan.problem_size["targets"]
     zone = site.zones[0]
     targets = make_targets(site, options.target_spacing_m)
@@ -154,7 +154,7 @@ def check_corridor(width: float, length: float, theta: float, angle: float, shif
     pts = np.column_stack([xs, np.full(len(xs), width / 2)]) @ np.array([[c, s], [-s, c]]) + shift
     plan = plan_site(site, options)
     built = build_coverage(site, as_candidates(site.zones[0], pts, "C"), plan_problem_targets(site, options),
-                           _limits(validate_site(site), options))
+                           plan_limits(validate_site(site), options))
     assert built.uncoverable().size == 0, "the construction covers every piece"
     assert len(plan.stations) <= len(xs)
     assert plan.result.status.value == "optimal"

@@ -20,15 +20,15 @@ from hypothesis import strategies as st
 import planner
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
-from planner.params import Parameters
-from planner.plan import PlanOptions, _limits, coverage_problem, plan_site
+from planner.site.params import Parameters
+from planner.plan import PlanOptions, plan_limits, coverage_problem, plan_site
 from planner.site.model import ScanSide, Site, Zone
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.plane_patches import undominated
 from planner.solve.plane_ring import connected_plane_bound
 from planner.solve.ring import cyclic_arcs
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 from tests.solve.plane_cases import _place, as_candidates, outline, positions
 
@@ -102,7 +102,7 @@ def _ring_positions(site: Site, step: float, reach: float) -> np.ndarray:
 
 def connected_optimum(site: Site, options: PlanOptions, share: float) -> tuple[float, object]:
     """The exact connected optimum over a 0.5-m grid (brute force), and the problem it was solved on."""
-    limits = _limits(validate_site(site), options)
+    limits = plan_limits(validate_site(site), options)
     targets = make_targets(site, options.target_spacing_m)
     zone = site.zones[0]
     grid = positions(zone, 0.5) if zone.scan_side is ScanSide.INSIDE else as_candidates(
@@ -128,7 +128,7 @@ def test_bound_at_most_the_connected_optimum_over_a_grid(kind, w, h, a, b, theta
     if not math.isfinite(optimum):
         return  # a piece no grid position sees: nothing to compare
     problem, _unseen, _ = coverage_problem(site, options)
-    limits = _limits(validate_site(site), options)
+    limits = plan_limits(validate_site(site), options)
     t = problem.targets
     # ask for one more than the grid's optimum: a sound bound never gets there
     counts = {int(k): int(optimum) + 1 for k in np.unique(t.zone.astype(np.int64) * 2 + t.side)}

@@ -7,11 +7,11 @@ import json
 import pytest
 
 from planner.cli import main
-from planner.memory_guard import estimate_work
+from planner.plan.memory_guard import estimate_work
 from planner.plan import PlanOptions, closed_form_limits
 from planner.site.load import load_site
 from planner.tiles.auto import MIN_PIECES, choose, tile_count
-from planner.validate import validate_site
+from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 
 
@@ -40,6 +40,8 @@ def test_16ha_plant_goes_to_tiles_split_by_the_budget():
     assert st.tiling.tile_time_limit_s == pytest.approx(7.875)
     assert st.tiling.bound_time_limit_s == pytest.approx(42.0)
     assert st.tiling.lagrange_work_s == pytest.approx(3.9375)
+    # windows: 0.30 x 420 s over 6 stations per tile x 16 tiles = 96 windows -> 1.3125 s each
+    assert st.tiling.windows.work_s == pytest.approx(1.3125)
     # 16 cores: 15 workers, 15 tiles side by side: 0.30 x 420 x 15 / 16 = 118 s, capped at 30 s per tile
     big = _strategy("plant_16ha", cores=16)
     assert big.workers == 15 and big.tiling.tile_time_limit_s == 30.0 and big.tiling.lagrange_work_s == 10.0

@@ -135,7 +135,7 @@ def test_prepare_groups_follow_the_registration_mode(site) -> None:
 
 
 def _corridor():
-    from planner.params import Parameters
+    from planner.site.params import Parameters
     from planner.site.model import ScanSide, Site, Zone
 
     zone = Zone("K", ScanSide.INSIDE, ((0.0, 0.0), (200.0, 0.0), (200.0, 8.0), (0.0, 8.0)), (3.0,) * 4)

@@ -15,9 +15,9 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from planner.accuracy import RangeAngleSigma
+from planner.instrument.accuracy import RangeAngleSigma
 from planner.errors import InputError
-from planner.field.properties import FieldProperties, field_from_mapping
+from planner.instrument.field_table import FieldProperties, field_from_mapping
 
 
 @dataclass(frozen=True)
@@ -103,7 +103,7 @@ def default_models_dir() -> Path:
     env = os.environ.get("PLANNER_MODELS_DIR")
     if env:
         return Path(env)
-    return Path(__file__).resolve().parent.parent / "models"
+    return Path(__file__).resolve().parents[2] / "models"
 
 
 def list_instruments(models_dir: Path | None = None) -> list[str]:

@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from planner.errors import InputError
-from planner.exchange.dxf_arcs import check_arcs
-from planner.exchange.dxf_options import DxfOptions
+from planner.site.dxf_arcs import check_arcs
+from planner.site.dxf_options import DxfOptions
 
 APPID = "TLS_PLANNER"
 CLOSED_TOL_M = 1e-9

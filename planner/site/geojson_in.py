@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 
 from planner.errors import InputError, PlannerError
-from planner.exchange.crs import to_projected
-from planner.params import Parameters
+from planner.site.crs import to_projected
+from planner.site.params import Parameters
 from planner.site.fileio import read_json, to_float
 from planner.site.geometry import signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone

@@ -28,8 +28,8 @@ from typing import Any
 import shapely
 
 from planner.errors import InputError, located_in
-from planner.exchange.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
-from planner.params import Parameters
+from planner.site.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
+from planner.site.params import Parameters
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 
 #: elements that stand in rooms and block sight

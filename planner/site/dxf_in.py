@@ -7,7 +7,7 @@
   entities on layer 0 inside a block take the INSERT's layer (the CAD convention). TEXT/MTEXT
   label zones; annotation (dimensions, leaders, images) is read past; any other entity on a layer
   read (LINE, ARC, SPLINE, SOLID, HATCH, POINT, 3DFACE ...) is refused, naming what to draw instead
-  (:mod:`planner.exchange.dxf_entities`).
+  (:mod:`planner.site.dxf_entities`).
 - Heights, in this order: XDATA of application ``TLS_PLANNER`` (one 1040 real per vertex, as
   written by :mod:`planner.exchange.dxf_out`), the entity's thickness, the layer default of
   ``DxfOptions.layer_heights_m``; otherwise an error.
@@ -32,9 +32,9 @@ import numpy as np
 import shapely
 
 from planner.errors import InputError, PlannerError, located_in
-from planner.exchange.dxf_entities import APPID, Shape, read_shapes
-from planner.exchange.dxf_options import ZONE_LAYERS, DxfOptions
-from planner.params import Parameters
+from planner.site.dxf_entities import APPID, Shape, read_shapes
+from planner.site.dxf_options import ZONE_LAYERS, DxfOptions
+from planner.site.params import Parameters
 from planner.site.fileio import MAX_INPUT_BYTES
 from planner.site.geometry import check_simple_polygon, signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone

@@ -12,9 +12,8 @@ import networkx as nx
 import numpy as np
 
 from planner import progress
-from planner.accuracy import max_slant_range_m
 from planner.candidates.closed_form import Limits
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.candidates.axis import axis_candidates
 from planner.candidates.complete import complete_candidates
 from planner.candidates.from_regions import whole_side_candidates
@@ -25,7 +24,7 @@ from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import Targets, make_targets
-from planner.coverage.visibility import PrecisionRule, SightLimits
+from planner.coverage.visibility import SightLimits, sight_limits
 from planner.errors import InfeasibleError, UsageError
 from planner.site.model import Site
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
@@ -36,8 +35,8 @@ from planner.solve.plane import price_plane, with_plane_bound
 from planner.solve.plane_ring import CONNECTED_TIME_S, connected_plane_bound, plan_counts, with_connected_plane_bound
 from planner.solve.result import SolveResult
 from planner.solve.tripod import TripodDisc, tripod_discs, tripod_heights_line
-from planner.validate import ValidationReport, validate_site
-from planner.verify import VerifyReport, verify_stations
+from planner.site.validate import ValidationReport, validate_site
+from planner.plan.verify import VerifyReport, verify_stations
 
 METHODS = ("closed-form", "greedy", "milp")
 
@@ -66,7 +65,7 @@ class PlanOptions:
     regions: bool = True
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
-    memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.memory_guard)
+    memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
 
     def for_site(self, site: Site) -> "PlanOptions":
         """These options with the MILP's ``overlap="site"`` resolved to ``site``'s overlap share."""
@@ -133,7 +132,7 @@ class Plan:
         return out
 
     def _repr_html_(self) -> str:
-        from planner.notebook import summary_html
+        from planner.text import summary_html
 
         return summary_html(self, f"Plan: {len(self.stations)} stations")
 
@@ -203,21 +202,6 @@ class Plan:
         return f"accuracy: view error e(S, theta), incidence model {p.incidence_model}, precision {mode}, stand-off {p.min_standoff_m:g} m; {th}"
 
 
-def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False) -> SightLimits:
-    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req.
-
-    ``combined``: no single view is refused for precision (no precision range, no per-pair
-    test); the rule travels with the limits so that verification and the network check
-    judge the information sum. With ``precision`` off there is no rule at all.
-    """
-    p = validation.site.parameters
-    single = precision and not combined
-    precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
-    rule = PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
-    return SightLimits(validation.range_limit.max_slant_range_m, validation.theta_max_deg, p.instrument_height_m,
-                       incidence_3d, precision_range, rule)
-
-
 def closed_form_limits(validation: ValidationReport) -> Limits:
     p = validation.site.parameters
     return Limits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.overlap, p.instrument_height_m)
@@ -242,7 +226,8 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray, reasons: dict[int
     return InfeasibleError(f"{len(unseen)} target(s) seen by no candidate: {shown}{more}")
 
 
-def _limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
+def plan_limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
+    """The sight limits of a run: :func:`sight_limits` with the options' incidence and precision modes."""
     return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
 
 
@@ -277,8 +262,8 @@ def coverage_problem(site: Site, options: PlanOptions, validation: ValidationRep
     argument(site, Site, "site")
     argument(options, PlanOptions, "options")
     validation = validation or validate_site(site)
-    limits = _limits(validation, options)
-    from planner.memory_guard import check_memory  # issue 17: refuse what will not fit, before building
+    limits = plan_limits(validation, options)
+    from planner.plan.memory_guard import check_memory  # issue 17: refuse what will not fit, before building
 
     check_memory(site, options.target_spacing_m, options.pool.grid_spacing_m,
                  closed_form_limits(validation).max_slant_range_m, options.memory_limit_bytes)
@@ -309,8 +294,11 @@ def site_candidates(site: Site, options: PlanOptions, validation: ValidationRepo
                                          step_m=options.target_spacing_m))
 
 
-def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
+def plan_site(site: Site, options: PlanOptions | None = None, validation: ValidationReport | None = None) -> Plan:
     """Plan the stations of a site with the chosen method, check registration, and verify the plan.
+
+    ``validation``: the site's :func:`validate_site` report when the caller has it (the command line validates
+    once per run and hands it on); else it is made here.
 
     Raises
     ------
@@ -320,8 +308,12 @@ def plan_site(site: Site, options: PlanOptions | None = None) -> Plan:
     argument(site, Site, "site")
     argument(options, (PlanOptions, type(None)), "options")
     options = (options or PlanOptions()).for_site(site)
-    validation = validate_site(site)
-    limits = _limits(validation, options)
+    argument(validation, (ValidationReport, type(None)), "validation")
+    if validation is None:
+        validation = validate_site(site)
+    elif validation.site is not site:
+        raise UsageError("validation is the report of another site", field="validation", value=validation.site.name)
+    limits = plan_limits(validation, options)
     cf_limits = closed_form_limits(validation)
     start = time.perf_counter()
     spaces: dict[str, FrameSpace] = {}

@@ -1,6 +1,6 @@
 """An instrument's field properties: setup time, scan time per setting, walking speed, target limits.
 
-They are read from the ``[field]`` table of a model file in ``models/`` (:mod:`planner.instruments`);
+They are read from the ``[field]`` table of a model file in ``models/`` (:mod:`planner.instrument.models`);
 each model file names the source of every default in a comment. A model without the table gets
 :data:`DEFAULT_FIELD`, whose values are stated assumptions, not measurements (docs/field.md).
 """

@@ -15,7 +15,7 @@ import numpy as np
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
 from planner.errors import UsageError
-from planner.json_text import dumps
+from planner.text import dumps
 
 FORMATS = ("orlib", "mps", "json")
 

@@ -6,10 +6,10 @@ import math
 from pathlib import Path
 from typing import Any
 
-from planner.candidates.model import Candidate, CandidateKind, check_unique_ids
+from planner.site.candidate import Candidate, CandidateKind, check_unique_ids
 from planner.checks import SAMPLING_M
 from planner.errors import InputError
-from planner.json_text import dumps
+from planner.text import dumps
 from planner.plan import Plan
 from planner.site.fileio import read_json, to_float
 from planner.site.model import ScanSide, Site

@@ -10,12 +10,12 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from planner.accuracy import (
+from planner.instrument.accuracy import (
     INCIDENCE_MODELS, MAX_SIGMA_M, ErrorBudget, derive_theta_max_deg, incidence_limit_deg, max_slant_range_m,
     sigma_instr_m, tolerance_for_scale_m,
 )
 from planner.errors import InputError
-from planner.instruments import Scanner
+from planner.instrument.models import Scanner
 
 #: no wall, obstacle or instrument stands higher (m); a larger value is a typo
 MAX_HEIGHT_M = 1e4
@@ -101,7 +101,7 @@ class Parameters:
 
     def with_scale(self, scale: str | int) -> "Parameters":
         """The same parameters with sigma_req taken from drawing-scale table 1.1."""
-        from planner.accuracy import parse_scale
+        from planner.instrument.accuracy import parse_scale
 
         return replace(self, sigma_req_m=tolerance_for_scale_m(scale), drawing_scale=parse_scale(scale))
 

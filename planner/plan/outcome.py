@@ -14,19 +14,19 @@ from pathlib import Path
 from typing import Any
 
 from planner.checks import argument, path_argument
-from planner.candidates.model import Candidate
+from planner.site.candidate import Candidate
 from planner.coverage.stations import StationCoverage, station_coverage
 from planner.coverage.visibility import SightLimits
 from planner.errors import InputError, located_in
-from planner.instruments import load_instrument
+from planner.instrument.models import load_instrument
 from planner.network.check import NetworkReport
-from planner.plan import Plan, sight_limits
-from planner.plan_io import RECORDED_PARAMETERS, check_plan_meta, plan_to_dict, read_plan_stations
+from planner.plan.run import Plan, sight_limits
+from planner.plan.plan_json import RECORDED_PARAMETERS, check_plan_meta, plan_to_dict, read_plan_stations
 from planner.site.fileio import read_json
 from planner.site.load import load_site
 from planner.site.model import Site
-from planner.validate import ValidationReport, validate_site
-from planner.verify import VerifyReport, verify_stations
+from planner.site.validate import ValidationReport, validate_site
+from planner.plan.verify import VerifyReport, verify_stations
 
 
 @dataclass(frozen=True, eq=False)
@@ -45,7 +45,7 @@ class Outcome:
     comparison: tuple[dict[str, Any], ...] = field(default=())
 
     def _repr_html_(self) -> str:
-        from planner.notebook import summary_html
+        from planner.text import summary_html
 
         return summary_html(self, "Outcome")
 
@@ -71,7 +71,7 @@ def outcome_from_plan(plan: Plan, network: NetworkReport | None = None,
 
 def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path: str, ifc: Any = None) -> Site:
     """The site a plan.json was made for, with the parameters recorded in it (``ifc``: the storeys of an IFC
-    model, :class:`~planner.exchange.ifc_in.IfcOptions`)."""
+    model, :class:`~planner.site.ifc_in.IfcOptions`)."""
     src = site_path or meta.get("source")
     if not src:
         raise InputError("the plan names no site file; give one with --site", file=plan_path, field="source")
@@ -116,7 +116,7 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
 def _fits_in_memory(site: Site, validation: ValidationReport, spacing_m: float, grid_m: float, name: str) -> None:
     """The memory guard of ``planner plan`` for the spacings a plan.json records (an edited file may ask
     for pieces of a micrometre): refused naming the plan file and the field, before any coverage is built."""
-    from planner.memory_guard import default_limit_bytes, estimate_work
+    from planner.plan.memory_guard import default_limit_bytes, estimate_work
 
     est = estimate_work(site, spacing_m, grid_m, validation.range_limit.max_slant_range_m)
     if est.bytes > default_limit_bytes():

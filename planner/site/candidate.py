@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from enum import Enum
+from typing import Any
 
-from planner.checks import no_repeats
+from planner.checks import article, no_repeats, shown
+from planner.errors import ArgumentTypeError
 from planner.site.model import ScanSide
 
 
@@ -62,3 +64,18 @@ class Candidate:
 def check_unique_ids(stations: Sequence[Candidate], row: str = "station {}", file: str | None = None) -> None:
     """Stations are keyed by id in the network, the report and the exports: two with one id would merge."""
     no_repeats((s.id for s in stations), what="station id", field="id", row=row, file=file)
+
+
+def stations_argument(stations: Any) -> None:
+    """``stations``: a sequence of candidates (``plan.stations``), not a Plan, a path or one candidate."""
+    got = type(stations).__name__
+    if not isinstance(stations, (str, bytes)) and isinstance(stations, Iterable):
+        if not isinstance(stations, Sequence):  # a generator is left unread
+            return
+        bad = next((k for k, s in enumerate(stations, 1) if not isinstance(s, Candidate)), None)
+        if bad is None:
+            return
+        got = f"{got} whose item {bad} is {article(type(stations[bad - 1]).__name__)}"
+    raise ArgumentTypeError(f"must be a sequence of stations (Candidate objects, e.g. plan.stations), not {article(got)}"
+                            + (" (use plan.stations)" if got == "Plan" else ""), field="stations",
+                            value=shown(stations))

@@ -1,16 +1,19 @@
-"""JSON text the planner writes: strict (RFC 8259) so that any parser reads it.
+"""Results as text for front ends: strict JSON (plan.json, network.json, field.json) and notebook HTML.
 
-Python's ``json`` writes ``NaN`` and ``Infinity`` for non-finite floats, which JavaScript's
+**JSON.** Python's ``json`` writes ``NaN`` and ``Infinity`` for non-finite floats, which JavaScript's
 ``JSON.parse`` and strict parsers refuse. Here a non-finite float becomes ``null``; where that hides a
 meaning (a piece whose stations are not tied to control has an infinite error), the writer of the
 data states it in a field of its own (``untied``).
+
+**Notebooks.** Every result's ``_repr_html_`` is its ``summary()`` in a titled block (:func:`summary_html`).
 """
 
 from __future__ import annotations
 
+import html
 import json
 import math
-from typing import Any
+from typing import Any, Protocol
 
 
 def finite_or_none(value: float) -> float | None:
@@ -40,3 +43,14 @@ def _plain(o: Any) -> Any:
 def dumps(data: Any, indent: int | None = 2) -> str:
     """Strict JSON text of ``data`` (see the module docstring), with a final newline."""
     return json.dumps(_plain(data), indent=indent, allow_nan=False) + "\n"
+
+
+
+class HasSummary(Protocol):
+    def summary(self) -> str: ...
+
+
+def summary_html(obj: HasSummary, title: str) -> str:
+    """``<div><b>title</b><pre>summary</pre></div>``, escaped."""
+    return (f'<div class="tls-planner"><b>{html.escape(title)}</b>'
+            f'<pre style="font-size:90%">{html.escape(obj.summary())}</pre></div>')

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.candidates.final_step import misplacement
-from planner.candidates.model import Candidate, check_unique_ids
-from planner.checks import SAMPLING_M, argument, stations_argument
+from planner.site.candidate import Candidate, check_unique_ids, stations_argument
+from planner.checks import SAMPLING_M, argument
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import SIDE_NAME, make_targets
 from planner.coverage.visibility import SightLimits
@@ -76,7 +76,7 @@ class VerifyReport:
         }
 
     def _repr_html_(self) -> str:
-        from planner.notebook import summary_html
+        from planner.text import summary_html
 
         return summary_html(self, "Verification")
 

@@ -8,8 +8,8 @@ from typing import Any
 
 from planner.checks import argument
 from planner.errors import InputError, PlannerError
-from planner.instruments import Scanner, load_instrument
-from planner.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
+from planner.instrument.models import Scanner, load_instrument
+from planner.site.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
 from planner.site.model import Site
 
 
@@ -73,7 +73,7 @@ class ValidationReport:
         }
 
     def _repr_html_(self) -> str:
-        from planner.notebook import summary_html
+        from planner.text import summary_html
 
         return summary_html(self, "Validation")
 

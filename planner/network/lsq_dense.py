@@ -1,0 +1,110 @@
+"""The dense least squares of :mod:`planner.network.adjustment` (``method="dense"`` or ``"qr"``).
+
+The solver as it was before the sparse one (:mod:`planner.network.lsq_sparse`): a dense design
+matrix, the normal matrix inverted whole and a three-operand ``einsum`` for the redundancy numbers.
+Memory and time grow with observations x unknowns^2; kept as an independent cross-check of the
+sparse solver on small networks (tests/network).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sla
+from numpy.typing import NDArray
+
+from planner.errors import InputError
+
+
+def design(coords: Mapping[str, tuple[float, float]], unknown: Sequence[str], obs: Sequence[Any]
+           ) -> tuple[NDArray[np.float64], NDArray[np.float64], list[str]]:
+    """Jacobian A and computed values f(X0) at the coordinates, and the orientation unknowns.
+
+    Parameters
+    ----------
+    coords : mapping of str to (float, float)
+        Coordinates of every point (metres).
+    unknown : sequence of str
+        The points to be found, in the order of their columns.
+    obs : sequence of Obs
+        Observations in radians and metres.
+
+    Returns
+    -------
+    a : ndarray
+        The dense design matrix (observations x unknowns).
+    f : ndarray
+        The observations computed at ``coords`` (orientations 0).
+    orient : list of str
+        The stations with an orientation unknown, in the order of their columns.
+    """
+    orient = sorted({o.at for o in obs if o.kind == "direction"})
+    col = {name: 2 * k for k, name in enumerate(unknown)}
+    ocol = {s: 2 * len(unknown) + k for k, s in enumerate(orient)}
+    a = np.zeros((len(obs), 2 * len(unknown) + len(orient)))
+    f = np.zeros(len(obs))
+    for i, o in enumerate(obs):
+        xi, yi = coords[o.at]
+        if o.kind in ("x", "y"):
+            f[i] = xi if o.kind == "x" else yi
+            if o.at in col:
+                a[i, col[o.at] + (0 if o.kind == "x" else 1)] = 1.0
+            continue
+        assert o.to is not None  # only x/y observations have no target, and they were handled above
+        xj, yj = coords[o.to]
+        dx, dy = xj - xi, yj - yi
+        s2 = dx * dx + dy * dy
+        if o.kind in ("dx", "dy"):
+            k = 0 if o.kind == "dx" else 1
+            f[i] = dx if k == 0 else dy
+            if o.at in col:
+                a[i, col[o.at] + k] = -1.0
+            if o.to in col:
+                a[i, col[o.to] + k] = 1.0
+            continue
+        if s2 == 0:
+            raise InputError("observation between coincident points", row=i + 1, field=o.kind, value=f"{o.at}->{o.to}")
+        if o.kind == "distance":
+            s = math.sqrt(s2)
+            f[i] = s
+            g = (-dx / s, -dy / s, dx / s, dy / s)
+        else:  # direction: azimuth from +x, counter-clockwise, minus the station's orientation
+            f[i] = math.atan2(dy, dx)
+            g = (dy / s2, -dx / s2, -dy / s2, dx / s2)
+            a[i, ocol[o.at]] = -1.0
+        if o.at in col:
+            a[i, col[o.at]], a[i, col[o.at] + 1] = g[0], g[1]
+        if o.to in col:
+            a[i, col[o.to]], a[i, col[o.to] + 1] = g[2], g[3]
+    return a, f, orient
+
+
+def solve(a: NDArray[np.float64], w: NDArray[np.float64], l: NDArray[np.float64], method: str) -> NDArray[np.float64]:
+    """The corrections X = N^-1 A^T P l (``method`` ``qr``: least squares on sqrt(P) A instead).
+
+    Raises
+    ------
+    InputError
+        On a datum defect (N of less than full rank).
+    """
+    n = a.T @ (a * w[:, None])
+    if np.linalg.matrix_rank(n) < n.shape[0]:
+        raise InputError(f"datum defect: the network leaves {n.shape[0] - np.linalg.matrix_rank(n)} "
+                         "unknown(s) undetermined (fix control points or add observations)", field="network")
+    if method == "qr":
+        sw = np.sqrt(w)
+        return np.asarray(sla.lstsq(a * sw[:, None], l * sw, lapack_driver="gelsy")[0])
+    return np.asarray(sla.cho_solve(sla.cho_factor(n), a.T @ (w * l)))
+
+
+def covariance(a: NDArray[np.float64], w: NDArray[np.float64], n_points: int
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """diag(A Q A^T), the points' 2 x 2 blocks of Q = N^-1, and Q of the points' coordinates."""
+    q = np.linalg.inv(a.T @ (a * w[:, None]))
+    qa = np.einsum("ij,jk,ik->i", a, q, a)
+    blocks = np.array([q[2 * k:2 * k + 2, 2 * k:2 * k + 2] for k in range(n_points)]).reshape(n_points, 2, 2)
+    f64 = np.float64
+    return np.asarray(qa, dtype=f64), np.asarray(blocks, dtype=f64), np.asarray(q[:2 * n_points, :2 * n_points], dtype=f64)

@@ -1,0 +1,151 @@
+"""The sparse adjustment against the dense one kept beside it (``method="dense"``), on random networks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planner.errors import InputError
+from planner.network.adjustment import Adjustment, Obs, adjust
+
+TOL = 1e-9
+
+
+def random_network(seed: int, n_points: int, n_obs: int, n_fixed: int, kinds: tuple[str, ...]
+                   ) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
+    """Points on a 100 m square (at least 1 m apart), the first ``n_fixed`` fixed, and ``n_obs`` random
+    observations of ``kinds`` between random pairs (sigmas: 5", 2 mm, 8 mm)."""
+    rng = np.random.default_rng(seed)
+    xy: list[tuple[float, float]] = []
+    while len(xy) < n_points:
+        p = (float(rng.uniform(0, 100)), float(rng.uniform(0, 100)))
+        if all(math.dist(p, q) > 1.0 for q in xy):
+            xy.append(p)
+    names = [f"P{k}" for k in range(n_points)]
+    coords = dict(zip(names, xy))
+    obs = []
+    for _ in range(n_obs):
+        kind = kinds[int(rng.integers(len(kinds)))]
+        i, j = (int(v) for v in rng.choice(n_points, 2, replace=False))
+        (xi, yi), (xj, yj) = xy[i], xy[j]
+        if kind == "direction":
+            obs.append(Obs(kind, names[i], names[j], math.degrees(math.atan2(yj - yi, xj - xi)), 5 / 3600))
+        elif kind == "distance":
+            obs.append(Obs(kind, names[i], names[j], math.dist(xy[i], xy[j]), 0.002))
+        elif kind in ("dx", "dy"):
+            obs.append(Obs(kind, names[i], names[j], (xj - xi) if kind == "dx" else (yj - yi), 0.008))
+        else:
+            obs.append(Obs(kind, names[i], None, xi if kind == "x" else yi, 0.003))
+    return coords, names[:n_fixed], obs
+
+
+def assert_same(a: Adjustment, b: Adjustment) -> None:
+    """Points, redundancy numbers, residuals and the global test agree to TOL."""
+    assert [p.name for p in a.points] == [p.name for p in b.points]
+    for p, q in zip(a.points, b.points):
+        assert abs(p.x - q.x) <= TOL and abs(p.y - q.y) <= TOL
+        assert max(abs(u - v) for u, v in zip((p.sigma_x, p.sigma_y, p.ellipse_a, p.ellipse_b),
+                                               (q.sigma_x, q.sigma_y, q.ellipse_a, q.ellipse_b))) <= TOL
+    assert a.dof == b.dof
+    np.testing.assert_allclose(a.redundancy, b.redundancy, rtol=0, atol=TOL)
+    np.testing.assert_allclose(a.residuals, b.residuals, rtol=0, atol=TOL)
+    np.testing.assert_allclose(a.standardized, b.standardized, rtol=0, atol=1e-6)
+    assert (a.m0 is None) == (b.m0 is None)
+    if a.m0 is not None and b.m0 is not None and a.chi2_p is not None and b.chi2_p is not None:
+        assert abs(a.m0 - b.m0) <= TOL and abs(a.chi2_p - b.chi2_p) <= TOL
+    np.testing.assert_allclose(a.qxx, b.qxx, rtol=1e-9, atol=1e-15)
+
+
+def both(coords, fixed, obs, **kw):
+    """The dense and the sparse adjustment, or the error both raise (the same message)."""
+    out = []
+    for method in ("dense", "sparse"):
+        try:
+            out.append(adjust(coords, fixed, obs, method=method, **kw))
+        except InputError as exc:
+            out.append(exc.message)
+    return out
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(seed=st.integers(0, 2**31), n_points=st.integers(3, 14), extra=st.integers(0, 40), n_fixed=st.integers(0, 3),
+       kinds=st.sampled_from([("direction", "distance"), ("dx", "dy"), ("direction", "distance", "dx", "dy", "x", "y"),
+                              ("distance",), ("direction",)]),
+       observed=st.booleans())
+def test_sparse_and_dense_agree_on_random_networks(seed, n_points, extra, n_fixed, kinds, observed):
+    coords, fixed, obs = random_network(seed, n_points, 2 * n_points + extra, n_fixed, kinds)
+    if observed:
+        rng = np.random.default_rng(seed + 1)
+        obs = [Obs(o.kind, o.at, o.to, o.value + o.sigma * float(rng.standard_normal()), o.sigma) for o in obs]
+    dense, sparse = both(coords, fixed, obs, observed=observed, angle_unit="deg")
+    if isinstance(dense, str) or isinstance(sparse, str):
+        assert dense == sparse  # the same datum defect, counted the same
+    else:
+        assert_same(dense, sparse)
+
+
+def test_a_large_sparse_network_agrees_with_the_dense_one():
+    # 150 points, 1,500 observations of every kind: a network where the pattern of N is far from full
+    coords, fixed, obs = random_network(7, 150, 1500, 3, ("direction", "distance", "dx", "dy", "x", "y"))
+    dense, sparse = both(coords, fixed, obs, angle_unit="deg")
+    assert_same(dense, sparse)
+
+
+def test_datum_defects_are_counted_as_the_dense_solver_counts_them():
+    # a free network of distances (2 shifts and a rotation), and one point seen by one distance only
+    coords, _, obs = random_network(3, 6, 30, 0, ("distance",))
+    dense, sparse = both(coords, [], obs)
+    assert dense == sparse and "leaves 3 unknown(s)" in sparse
+    coords["Q"] = (500.0, 500.0)
+    dense, sparse = both(coords, ["P0", "P1"], obs + [Obs("distance", "P0", "Q", math.dist(coords["P0"], (500, 500)), 0.002)])
+    assert dense == sparse and "leaves 1 unknown(s)" in sparse
+
+
+def test_unknown_method_is_refused():
+    coords, fixed, obs = random_network(1, 4, 10, 2, ("distance",))
+    with pytest.raises(InputError, match="unknown adjustment method"):
+        adjust(coords, fixed, obs, method="cholmod")
+
+
+def test_coincident_points_are_named_by_both():
+    coords = {"A": (0.0, 0.0), "B": (10.0, 0.0), "C": (10.0, 0.0)}
+    obs = [Obs("distance", "A", "B", 10.0, 0.002), Obs("distance", "B", "C", 0.0, 0.002)]
+    dense, sparse = both(coords, ["A"], obs)
+    assert dense == sparse == "observation between coincident points"
+
+
+def test_heights_agree_with_the_dense_inverse():
+    # a random levelling network: 40 points, 3 of known height, 120 height differences
+    from planner.network.heights import HeightObs, adjust_heights
+
+    rng = np.random.default_rng(5)
+    names = [f"H{k}" for k in range(40)]
+    fixed = {n: float(rng.uniform(0, 10)) for n in names[:3]}
+    approx = {n: float(rng.uniform(0, 10)) for n in names[3:]}
+    pairs = [tuple(int(v) for v in rng.choice(40, 2, replace=False)) for _ in range(120)]
+    obs = [HeightObs(names[i], names[j], float(rng.normal(0, 0.5)), float(rng.uniform(0.001, 0.005))) for i, j in pairs]
+    got = adjust_heights(approx, fixed, obs, observed=True)
+    # the dense solution: A, N = A^T P A, Q = N^-1
+    unknown = list(approx)
+    a = np.zeros((len(obs), len(unknown)))
+    h0 = {**approx, **fixed}
+    for k, o in enumerate(obs):
+        for name, sign in ((o.at, -1.0), (o.to, 1.0)):
+            if name in approx:
+                a[k, unknown.index(name)] = sign
+    w = np.array([1 / o.sigma_m**2 for o in obs])
+    l = np.array([o.dh_m - (h0[o.to] - h0[o.at]) for o in obs])
+    q = np.linalg.inv(a.T @ (a * w[:, None]))
+    x = q @ (a.T @ (w * l))
+    v = a @ x - l
+    m0 = math.sqrt(float(v @ (w * v)) / (len(obs) - len(unknown)))
+    assert got.m0 == pytest.approx(m0, abs=TOL)
+    for k, n in enumerate(unknown):
+        assert abs(got.heights_m[n] - (h0[n] + x[k])) <= TOL
+        assert abs(got.sigma_m[n] - math.sqrt(q[k, k]) * m0) <= TOL
+    with pytest.raises(InputError, match="height datum defect"):
+        adjust_heights({**approx, "alone": 1.0}, fixed, obs)
