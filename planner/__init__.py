@@ -91,7 +91,7 @@ def __dir__() -> list[str]:
 
 # ``planner.solve`` is both a subpackage and the MILP function. The (namespace) package is bound
 # first, cheaply, so that loading its modules later never rebinds the name; then the function.
-import planner.solve  # noqa: E402
+import planner.solve  # noqa: E402, F401
 
 if not TYPE_CHECKING:
     def solve(*args: Any, **kwargs: Any) -> "SolveResult":
@@ -102,35 +102,41 @@ if not TYPE_CHECKING:
 
 
 if TYPE_CHECKING:  # the static view of the same names, for type checkers and IDEs
-    from planner.instrument.accuracy import (
-        ErrorBudget, IncidenceErrorTable, instrument_height_tolerance_m, max_slant_range_m, point_error,
-        sigma_instr_m, sigma_meas_m, tolerance_for_scale_m,
-    )
-    from planner.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
-    from planner.instrument.models import Scanner, TotalStation, list_instruments, load_instrument
-    from planner.site.params import ClosureTolerance, Parameters, RangeLimit, resolve_range_limit
-    from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone, load_site
-    from planner.site.validate import ValidationReport, validate_site
-    from planner.site.candidate import Candidate, CandidateKind
     from planner.candidates.pool import PoolOptions, candidate_pool
     from planner.coverage.matrix import CoverageProblem, build_coverage
     from planner.coverage.overlap import OverlapRule
     from planner.coverage.stations import StationCoverage, station_coverage
     from planner.coverage.targets import make_targets
+    from planner.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
     from planner.exchange import write_dxf, write_geojson, write_stations_csv
+    from planner.figures import comparison_figure, network_figure, plan_figure, plan_figures
+    from planner.instrument.accuracy import (
+        ErrorBudget,
+        IncidenceErrorTable,
+        instrument_height_tolerance_m,
+        max_slant_range_m,
+        point_error,
+        sigma_instr_m,
+        sigma_meas_m,
+        tolerance_for_scale_m,
+    )
+    from planner.instrument.models import Scanner, TotalStation, list_instruments, load_instrument
+    from planner.network.check import NetworkReport, run_network
+    from planner.plan import Plan, PlanOptions, build_problem, plan_site
+    from planner.plan.outcome import Outcome, outcome_from_file, outcome_from_plan
+    from planner.plan.plan_json import read_plan_stations, write_plan
+    from planner.plan.verify import VerifyReport, verify_stations
+    from planner.report import compare_methods, render_report, write_report
+    from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone, load_site
+    from planner.site.candidate import Candidate, CandidateKind
     from planner.site.dxf_in import DxfOptions, read_dxf_site
     from planner.site.geojson_in import read_geojson_site
-    from planner.figures import comparison_figure, network_figure, plan_figure, plan_figures
-    from planner.network.check import NetworkReport, run_network
-    from planner.plan.outcome import Outcome, outcome_from_file, outcome_from_plan
-    from planner.plan import Plan, PlanOptions, build_problem, plan_site
-    from planner.plan.plan_json import read_plan_stations, write_plan
-    from planner.report import compare_methods, render_report, write_report
+    from planner.site.params import ClosureTolerance, Parameters, RangeLimit, resolve_range_limit
+    from planner.site.validate import ValidationReport, validate_site
     from planner.solve.greedy import greedy_cover
     from planner.solve.instance import CoverInstance, cover_instance
     from planner.solve.milp import MilpOptions, solve
     from planner.solve.result import SolveResult, Status
-    from planner.plan.verify import VerifyReport, verify_stations
 
 __all__ = [
     "Candidate", "CandidateKind", "ClosureError", "ClosureTolerance", "ControlPoint", "CoverInstance",

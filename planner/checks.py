@@ -7,11 +7,10 @@ from __future__ import annotations
 import math
 import numbers
 import os
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from typing import Any
 
 from planner.errors import ArgumentTypeError, InputError, UsageError
-
 
 #: verification sampling along the walls (m): finer than 1 mm is no survey resolution (and 10^9 samples per km
 #: of wall), coarser than 10 m checks little more than the corners

@@ -95,7 +95,7 @@ class PlannerError(Exception):
     def __str__(self) -> str:
         return self.one_line()
 
-    def located(self, file: str) -> "PlannerError":
+    def located(self, file: str) -> PlannerError:
         """Return the same error with ``file`` filled in where it was missing."""
         if self.file is None:
             self.file = file

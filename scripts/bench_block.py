@@ -75,7 +75,7 @@ def main() -> None:
         base = cp.CpSolver
 
         class CoreSolver(base):  # type: ignore[misc,valid-type]
-            def Solve(self, *a: Any, **k: Any) -> Any:  # noqa: N802 (CP-SAT's name)
+            def Solve(self, *a: Any, **k: Any) -> Any:
                 self.parameters.optimize_with_core = True
                 return base.Solve(self, *a, **k)
 

@@ -25,9 +25,8 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-from _timed import peak_rss_mb
-
 import numpy as np
+from _timed import peak_rss_mb
 
 ROOT = Path(__file__).resolve().parent.parent
 FIELDS = ["instance", "pool", "method", "backend", "connectivity", "ring", "threads", "stations", "bound", "gap", "status",
@@ -47,9 +46,9 @@ def build(name: str, cache: Path, pricing: bool) -> Path:
         return path
     from planner import plan as P
     from planner.site import load_site
+    from planner.site.validate import validate_site
     from planner.solve.instance import cover_instance
     from planner.solve.plane import price_plane
-    from planner.site.validate import validate_site
 
     site = load_site(ROOT / f"instances/{name}.json")
     options = replace(P.PlanOptions(method="milp"), pricing=pricing)

@@ -26,9 +26,8 @@ import sys
 import time
 from pathlib import Path
 
-from _timed import peak_rss_mb
-
 import numpy as np
+from _timed import peak_rss_mb
 
 from planner.candidates.pool import PoolOptions, candidate_pool
 from planner.coverage.matrix import build_coverage
@@ -134,8 +133,9 @@ def main() -> None:
     scale = [measure(copies_of(c, n), args.repeat) for n in args.copies]
     head = "| site | walls | wall length m | candidates | targets | pairs kept | build s | C x T pairs/s | kept pairs/s |"
     line = "|---|---|---|---|---|---|---|---|---|"
-    fmt = lambda r: (f"| {r['site']} | {r['walls']} | {r['wall_m']:,.0f} | {r['candidates']:,} | {r['targets']:,} | "
-                     f"{r['kept']:,} | {r['time_s']:.2f} | {r['pairs_per_s']:,.0f} | {r['kept_per_s']:,.0f} |")
+    def fmt(r: dict) -> str:
+        return (f"| {r['site']} | {r['walls']} | {r['wall_m']:,.0f} | {r['candidates']:,} | {r['targets']:,} | "
+                f"{r['kept']:,} | {r['time_s']:.2f} | {r['pairs_per_s']:,.0f} | {r['kept_per_s']:,.0f} |")
     out = ["## Bundled instances", "", head, line] + [fmt(r) for r in rows]
     out += ["", "## Growth with site size (copies of polygon C)", "", head, line] + [fmt(r) for r in scale]
     t = np.array([r["time_s"] for r in scale])

@@ -14,8 +14,8 @@ parts, verified %, and the plain greedy (not connected) on the same matrix besid
 from __future__ import annotations
 
 import argparse
-import hashlib
 import csv
+import hashlib
 import json
 import math
 import re
@@ -57,7 +57,7 @@ class TreeRss:
                     pass
             self.peak = max(self.peak, total)
 
-    def __enter__(self) -> "TreeRss":
+    def __enter__(self) -> TreeRss:
         self._t.start()
         return self
 

@@ -24,9 +24,9 @@ from pathlib import Path
 import planner
 from planner.coverage.overlap import OverlapRule
 from planner.plan import PlanOptions, plan_site
+from planner.site import load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import MilpOptions
-from planner.site import load_site
 
 ROOT = Path(__file__).resolve().parent.parent
 FIELDS = ["instance", "method", "backend", "overlap", "stations", "inside", "outside", "bound", "gap", "status",

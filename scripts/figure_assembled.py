@@ -7,16 +7,15 @@ collinear contacts (a side along part of a placed wall) thick in blue.
 
 from __future__ import annotations
 
-
 import matplotlib
 
 matplotlib.use("Agg")
-from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.patches import Polygon  # noqa: E402
+from matplotlib.figure import Figure
+from matplotlib.patches import Polygon
 
-from planner.site.assemble import assemble  # noqa: E402
-from planner.site.load import load_site  # noqa: E402
-from planner.site.model import SITE_FRAME, ScanSide  # noqa: E402
+from planner.site.assemble import assemble
+from planner.site.load import load_site
+from planner.site.model import SITE_FRAME, ScanSide
 
 
 def main(src: str = "instances/baalbek.json", out: str = "docs/baalbek_assembled.png") -> None:

@@ -19,9 +19,9 @@ from pathlib import Path
 
 import planner
 from planner.coverage.links import default_registration
-from planner.site.ifc_in import IfcOptions
 from planner.figures.base import png_bytes
 from planner.figures.storey_fig import storey_figure
+from planner.site.ifc_in import IfcOptions
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -7,11 +7,19 @@ import math
 import numpy as np
 import pytest
 
-from planner.instrument.accuracy import (
-    ErrorBudget, IncidenceErrorTable, RangeAngleSigma, combined_sigma, instrument_height_tolerance_m,
-    max_slant_range_m, point_error, sigma_instr_m, sigma_meas_m, tolerance_for_scale_m,
-)
 from planner.errors import InfeasibleError, InputError
+from planner.instrument.accuracy import (
+    ErrorBudget,
+    IncidenceErrorTable,
+    RangeAngleSigma,
+    combined_sigma,
+    instrument_height_tolerance_m,
+    max_slant_range_m,
+    point_error,
+    sigma_instr_m,
+    sigma_meas_m,
+    tolerance_for_scale_m,
+)
 from planner.instrument.models import load_instrument
 
 P30 = RangeAngleSigma(range_sigma_const_m=0.0012, range_sigma_ppm=10.0, angle_sigma_arcsec=8.0)

@@ -11,9 +11,9 @@ from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.network.check import accuracy_check, run_network
 from planner.plan import PlanOptions, plan_site, sight_limits
+from planner.plan.verify import verify_stations
 from planner.site import load_site
 from planner.solve.milp import MilpOptions
-from planner.plan.verify import verify_stations
 from tests.conftest import INSTANCES
 
 

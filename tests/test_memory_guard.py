@@ -10,8 +10,8 @@ import pytest
 
 import planner
 from planner.errors import InputError, UsageError
-from planner.plan.memory_guard import check_memory, estimate_work, parse_memory
 from planner.plan import PlanOptions, build_problem, closed_form_limits
+from planner.plan.memory_guard import check_memory, estimate_work, parse_memory
 from tests.conftest import INSTANCES, ROOT
 
 HUGE_M = 10_000_000.0  # 10,000 km

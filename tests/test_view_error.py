@@ -8,14 +8,22 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from planner.instrument.accuracy import (
-    ErrorBudget, RangeAngleSigma, combined_error_m, derive_theta_max_deg, incidence_factor, max_slant_range_m,
-    point_error, precision_ok, sigma_instr_m, view_error_m,
-)
 from planner.errors import InputError
-from planner.site.params import Parameters, resolve_theta_limit
+from planner.instrument.accuracy import (
+    ErrorBudget,
+    RangeAngleSigma,
+    combined_error_m,
+    derive_theta_max_deg,
+    incidence_factor,
+    max_slant_range_m,
+    point_error,
+    precision_ok,
+    sigma_instr_m,
+    view_error_m,
+)
 from planner.instrument.models import load_instrument
 from planner.site import load_site
+from planner.site.params import Parameters, resolve_theta_limit
 from planner.site.validate import validate_site
 from tests.conftest import square_rows
 

@@ -26,10 +26,10 @@ from numpy.typing import NDArray
 
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.from_regions import largest_part_pole
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.targets import SIDE_CODE, Targets
 from planner.coverage.visibility import SightLimits
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
 
 #: boundary points of the stand area per narrowest half-width (so the Voronoi edges follow the axis)

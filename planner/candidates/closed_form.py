@@ -82,7 +82,8 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
         t = (xy[(i + 1) % n] - start) / wall.length_m
         nrm = sign * np.array([-t[1], t[0]])
         for k, st in enumerate(wp.stations, 1):
-            def at(x: float, y: float) -> tuple[float, float]:
+            def at(x: float, y: float, start: np.ndarray = start, t: np.ndarray = t,
+                   nrm: np.ndarray = nrm) -> tuple[float, float]:
                 q = start + x * t + y * nrm
                 return (float(q[0]), float(q[1]))
 

@@ -18,7 +18,6 @@ import shapely
 
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.from_regions import largest_part_pole
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
 from planner.coverage.regions import (
     FrameSpace,
@@ -27,6 +26,7 @@ from planner.coverage.regions import (
     why_empty,
 )
 from planner.coverage.visibility import SightLimits
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
 
 #: unseen pieces tried together (nearest first) when one candidate is sought for a stretch

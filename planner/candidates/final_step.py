@@ -9,9 +9,9 @@ import networkx as nx
 import numpy as np
 import scipy.sparse as sp
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import station_places
 from planner.coverage.overlap import OverlapRule, overlap_graph
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
 
 #: Fractions of the original stand-off tried, nearest to the original first.

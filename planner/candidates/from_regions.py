@@ -17,10 +17,10 @@ from numpy.typing import NDArray
 from shapely.ops import polylabel
 
 from planner.candidates.closed_form import SIDE_TAG
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.regions import FrameSpace, coverage_regions
 from planner.coverage.targets import SIDE_CODE, Targets
 from planner.coverage.visibility import SightLimits
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import Site
 
 #: the polylabel tolerance, as a share of the common part's size

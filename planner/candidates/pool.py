@@ -11,10 +11,9 @@ import shapely
 
 from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, pole_in_frame, scan_side_angles
 from planner.candidates.formulas import horizontal_reach_m
-from planner.site.candidate import Candidate, CandidateKind
 from planner.checks import argument, count, real
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site, Zone
-
 
 #: vertices within this of 180 deg (a curve drawn finely) get no corner rays or bisector points
 NEARLY_STRAIGHT_DEG = 5.0

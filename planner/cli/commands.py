@@ -28,10 +28,10 @@ from planner.text import dumps
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
 if TYPE_CHECKING:
-    from planner.site.dxf_in import DxfOptions
     from planner.network.check import NetworkReport
     from planner.plan import PlanOptions
     from planner.site import Site
+    from planner.site.dxf_in import DxfOptions
     from planner.site.validate import ValidationReport
     from planner.solve.result import SolveResult
 
@@ -40,8 +40,8 @@ MIN_MONTE_CARLO = 100
 
 def load_with_overrides(args: argparse.Namespace) -> Site:
     """Load the site and apply the command-line parameter overrides."""
-    from planner.site.params import ClosureTolerance
     from planner.site import load_site
+    from planner.site.params import ClosureTolerance
 
     tol_kw = {}
     if args.angular_tolerance is not None:
@@ -74,8 +74,8 @@ def _ifc_options(args: argparse.Namespace) -> Any:
 
 
 def _dxf_options(args: argparse.Namespace) -> DxfOptions:
-    from planner.site.dxf_in import DxfOptions
     from planner.site import ScanSide
+    from planner.site.dxf_in import DxfOptions
 
     heights = {}
     for item in args.layer_height:
@@ -200,7 +200,7 @@ def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
         return f"{info['count']} target(s) seen by fewer than k = {options.milp.k} candidates"
     if result.status.value == "no_solution":
         return f"no cover found within the time limit of {options.milp.time_limit_s:g} s (raise --time-limit)"
-    rules = ["every piece covered"] + (["k = %d" % options.milp.k] if options.milp.k > 1 else [])
+    rules = ["every piece covered"] + ([f"k = {options.milp.k}"] if options.milp.k > 1 else [])
     rules += ["registration overlap connected"] if options.milp.rule is not None else []
     rules += ["combined precision"] if options.combined else []
     return f"the solver proved that no set of candidates meets {', '.join(rules)}"
@@ -280,8 +280,8 @@ def _some_stations(path: str, stations: list[Any]) -> list[Any]:
 def cmd_verify(args: argparse.Namespace) -> int:
     from planner.coverage.visibility import sight_limits
     from planner.plan.plan_json import read_plan_stations
-    from planner.site.validate import validate_site
     from planner.plan.verify import verify_stations
+    from planner.site.validate import validate_site
 
     site = load_with_overrides(args)
     validation = validate_site(site)

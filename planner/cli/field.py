@@ -12,9 +12,9 @@ from planner.cli.option_types import POSITIVE, POSITIVE_INT
 from planner.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)
-    from planner.site.candidate import Candidate
     from planner.field.run import FieldOptions, FieldPlan
     from planner.site import Site
+    from planner.site.candidate import Candidate
 
 
 def _fraction(text: str) -> float:

@@ -13,10 +13,10 @@ from collections.abc import Callable, Mapping
 from planner import __version__
 from planner.cli.choices import BACKENDS, CONNECTIVITY, FORMATS, INCIDENCE_MODELS, METHODS, PRECISION_MODES, SIDES
 from planner.cli.field import add_field_options, add_field_parser
+from planner.cli.option_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT, SAMPLING_M, OncePerKey
 from planner.cli.profile import add_profile_options, hide_tuning
 from planner.cli.report import add_report_parser
 from planner.cli.tiles import add_tile_options
-from planner.cli.option_types import NON_NEGATIVE, NON_NEGATIVE_INT, POSITIVE, POSITIVE_INT, SAMPLING_M, OncePerKey
 from planner.errors import ExitCode
 
 Handlers = Mapping[str, Callable[[argparse.Namespace], int]]

@@ -67,7 +67,7 @@ def _shared(a0, a1, b0, b1, cos_tol: float) -> tuple[float, float] | None:
     v = b1 - b0
     if abs(float(np.dot(u, v))) < cos_tol * float(np.hypot(*v)):
         return None
-    (t0, o0), (t1, o1) = sorted(((float(np.dot(p - a0, u)), float(_cross(u, p - a0))) for p in (b0, b1)))
+    (t0, o0), (t1, o1) = sorted((float(np.dot(p - a0, u)), float(_cross(u, p - a0))) for p in (b0, b1))
     lo, hi = max(t0, 0.0), min(t1, la)
     if hi <= lo + JUNCTION_M:
         return None

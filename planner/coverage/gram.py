@@ -36,7 +36,9 @@ def filtered_gram(a: sp.csr_matrix, weights: NDArray[np.float64] | None, keep: K
         rows.append(r[m])
         cols.append(c[m])
         vals.append(v[m])
-    cat = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
+    def cat(xs: list[np.ndarray], dt: type) -> np.ndarray:
+        return np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
+
     out = sp.csr_matrix((cat(vals, np.float64), (cat(rows, np.int64), cat(cols, np.int64))), shape=(n, n))
     out.sort_indices()
     return out

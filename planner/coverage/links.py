@@ -19,11 +19,11 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.site.candidate import Candidate
 from planner.coverage.matrix import blockers_for
 from planner.coverage.openings import accessible_areas, opening_segments, space_of
 from planner.coverage.visibility import segments_touch, sight_clear
 from planner.errors import UsageError
+from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
 
 #: pair key of a station-to-station sight line (matches no wall key, and not the obstacles' -1)

@@ -13,11 +13,11 @@ import shapely
 from numpy.typing import NDArray
 
 from planner import progress
-from planner.site.candidate import Candidate
 from planner.coverage.faces import keyed_parts, partner_stretches, trim_at_junctions
 from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import Blockers, SightLimits, geometric_pairs, sight_clear, wall_key
+from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
 
 #: Candidates per block of the coverage build (the unit of its progress reports)

@@ -112,7 +112,7 @@ def accessible_areas(site: Site) -> dict[tuple[str, str], int]:
         g.add_nodes_from(space_of(z, s) for s in z.scan_side.sides)
     for frame in dict.fromkeys(z.frame for z in site.zones):
         inside = [(z, z.polygon) for z in site.zones if z.frame == frame and ScanSide.INSIDE in z.scan_side.sides]
-        for zi, w, kind, ends in opening_segments(site, frame):
+        for zi, _w, kind, ends in opening_segments(site, frame):
             if kind not in PASSABLE:
                 continue
             zone = site.zones[zi]

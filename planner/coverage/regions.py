@@ -30,9 +30,9 @@ own 1e-7 m sight tolerance); a position that passes the test but lies outside R_
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import shapely
@@ -41,7 +41,13 @@ from numpy.typing import NDArray
 from planner.coverage.matrix import blockers_for, convex_alone
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import (
-    EPS_FRONT_M, EPS_SHORTEN_M, EPS_SIGHT_M, Blockers, PrecisionRule, SightLimits, wall_key,
+    EPS_FRONT_M,
+    EPS_SHORTEN_M,
+    EPS_SIGHT_M,
+    Blockers,
+    PrecisionRule,
+    SightLimits,
+    wall_key,
 )
 from planner.site.model import SITE_FRAME, Site
 

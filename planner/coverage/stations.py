@@ -11,12 +11,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from planner.checks import argument
-from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, view_error_m
-from planner.site.candidate import Candidate, stations_argument
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import piece_lengths
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
+from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, view_error_m
+from planner.site.candidate import Candidate, stations_argument
 from planner.site.model import Site
 
 

@@ -163,7 +163,9 @@ def geometric_pairs(
         out_t.append(near[t])
         out_s.append(slant[k, t])
         out_i.append(inc)
-    cat: Any = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt))
+    def cat(xs: list[Any], dt: type) -> Any:
+        return np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
+
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
 
 

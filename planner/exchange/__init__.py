@@ -6,7 +6,7 @@ The names load on first use (PEP 562), so that writing one format does not impor
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from planner import _lazy_getattr
 

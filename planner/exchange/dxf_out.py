@@ -74,7 +74,7 @@ def write_dxf(o: Outcome, path: Path | str) -> Path:
     return out
 
 
-def _drawing(o: Outcome) -> "ezdxf.document.Drawing":
+def _drawing(o: Outcome) -> ezdxf.document.Drawing:
     """The outcome's drawing: layers, zones with XDATA, obstacles, no-go areas, coverage, stations, network."""
     doc = ezdxf.new("R2010", setup=True)
     doc.units = units.M

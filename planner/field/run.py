@@ -20,7 +20,6 @@ import networkx as nx
 import numpy as np
 import shapely
 
-from planner.site.candidate import Candidate
 from planner.errors import InfeasibleError, InputError, UsageError
 from planner.field.certify import Certified, certify
 from planner.field.order import (
@@ -30,7 +29,6 @@ from planner.field.order import (
     registration_violations,
     solve_order,
 )
-from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
 from planner.field.scip_order import NODE_LIMIT
 from planner.field.targets import (
     STRONG_OVERLAP,
@@ -49,6 +47,8 @@ from planner.field.walking import (
     walk_graph,
     walk_space,
 )
+from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
+from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
 
 

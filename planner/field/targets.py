@@ -28,15 +28,15 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.site.candidate import Candidate
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, blockers_for, build_coverage
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_clear
-from planner.instrument.field_table import FieldProperties
 from planner.field.walking import WalkSpace
+from planner.instrument.field_table import FieldProperties
+from planner.site.candidate import Candidate
 from planner.site.model import Site
 
 TARGETS_PER_LINK = 3

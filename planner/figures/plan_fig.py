@@ -11,10 +11,10 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 
 from planner.checks import argument
-from planner.site.candidate import CandidateKind
 from planner.coverage.targets import SIDE_CODE
 from planner.figures.base import decorate_plan
 from planner.plan.outcome import Outcome
+from planner.site.candidate import CandidateKind
 from planner.site.model import SITE_FRAME, ScanSide
 
 MARKERS = {CandidateKind.VERTEX: ("^", "vertex K^B"), CandidateKind.WALL: ("s", "wall K^C"),

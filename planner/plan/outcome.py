@@ -14,19 +14,19 @@ from pathlib import Path
 from typing import Any
 
 from planner.checks import argument, path_argument
-from planner.site.candidate import Candidate
 from planner.coverage.stations import StationCoverage, station_coverage
 from planner.coverage.visibility import SightLimits
 from planner.errors import InputError, located_in
 from planner.instrument.models import load_instrument
 from planner.network.check import NetworkReport
-from planner.plan.run import Plan, sight_limits
 from planner.plan.plan_json import RECORDED_PARAMETERS, check_plan_meta, plan_to_dict, read_plan_stations
+from planner.plan.run import Plan, sight_limits
+from planner.plan.verify import VerifyReport, verify_stations
+from planner.site.candidate import Candidate
 from planner.site.fileio import read_json
 from planner.site.load import load_site
 from planner.site.model import Site
 from planner.site.validate import ValidationReport, validate_site
-from planner.plan.verify import VerifyReport, verify_stations
 
 
 @dataclass(frozen=True, eq=False)

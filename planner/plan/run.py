@@ -5,38 +5,38 @@ from __future__ import annotations
 import math
 import time
 from collections import Counter
-from typing import Any
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import networkx as nx
 import numpy as np
 
 from planner import progress
-from planner.candidates.closed_form import Limits
-from planner.site.candidate import Candidate
 from planner.candidates.axis import axis_candidates
+from planner.candidates.closed_form import Limits
 from planner.candidates.complete import complete_candidates
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
 from planner.checks import SAMPLING_M, argument, count, flag, real
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits, sight_limits
 from planner.errors import InfeasibleError, UsageError
+from planner.plan.verify import VerifyReport, verify_stations
+from planner.site.candidate import Candidate
 from planner.site.model import Site
+from planner.site.validate import ValidationReport, validate_site
+from planner.solve.closed_form import closed_form_plan
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
-from planner.solve.closed_form import closed_form_plan
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.plane import price_plane, with_plane_bound
 from planner.solve.plane_ring import CONNECTED_TIME_S, connected_plane_bound, plan_counts, with_connected_plane_bound
 from planner.solve.result import SolveResult
 from planner.solve.tripod import TripodDisc, tripod_discs, tripod_heights_line
-from planner.site.validate import ValidationReport, validate_site
-from planner.plan.verify import VerifyReport, verify_stations
 
 METHODS = ("closed-form", "greedy", "milp")
 
@@ -67,7 +67,7 @@ class PlanOptions:
     pricing_time_limit_s: float = 120.0
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
 
-    def for_site(self, site: Site) -> "PlanOptions":
+    def for_site(self, site: Site) -> PlanOptions:
         """These options with the MILP's ``overlap="site"`` resolved to ``site``'s overlap share."""
         milp = self.milp.for_site(site.parameters.overlap)
         return self if milp is self.milp else replace(self, milp=milp)

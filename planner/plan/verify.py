@@ -17,12 +17,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.candidates.final_step import misplacement
-from planner.site.candidate import Candidate, check_unique_ids, stations_argument
 from planner.checks import SAMPLING_M, argument
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import SIDE_NAME, make_targets
 from planner.coverage.visibility import SightLimits
 from planner.errors import InputError
+from planner.site.candidate import Candidate, check_unique_ids, stations_argument
 from planner.site.model import Site
 
 

@@ -32,8 +32,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from planner.site.placement import Placement, interiors_clash, misfit, normal_sign
 from planner.site.model import Wall, Zone
+from planner.site.placement import Placement, interiors_clash, misfit, normal_sign
 
 #: contacts a placement needs (a corner alone, two contacts, fits any room)
 MIN_CONTACTS = 3

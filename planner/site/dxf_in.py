@@ -34,10 +34,10 @@ import shapely
 from planner.errors import InputError, PlannerError, located_in
 from planner.site.dxf_entities import APPID, Shape, read_shapes
 from planner.site.dxf_options import ZONE_LAYERS, DxfOptions
-from planner.site.params import Parameters
 from planner.site.fileio import MAX_INPUT_BYTES
 from planner.site.geometry import check_simple_polygon, signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
+from planner.site.params import Parameters
 from planner.site.params_io import record_from_dxf, with_record
 
 __all__ = ["APPID", "ZONE_LAYERS", "DxfOptions", "read_dxf_site"]

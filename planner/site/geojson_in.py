@@ -17,10 +17,10 @@ import numpy as np
 
 from planner.errors import InputError, PlannerError
 from planner.site.crs import to_projected
-from planner.site.params import Parameters
 from planner.site.fileio import read_json, to_float
 from planner.site.geometry import signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
+from planner.site.params import Parameters
 from planner.site.params_io import RECORD_KEY, read_site_record, with_record
 
 ROLES = ("zone", "obstacle", "no_go")

@@ -29,8 +29,8 @@ import shapely
 
 from planner.errors import InputError, located_in
 from planner.site.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
-from planner.site.params import Parameters
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
+from planner.site.params import Parameters
 
 #: elements that stand in rooms and block sight
 BLOCKER_TYPES = ("IfcWall", "IfcColumn", "IfcStair", "IfcFurnishingElement", "IfcBuildingElementProxy")

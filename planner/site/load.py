@@ -7,9 +7,9 @@ from typing import Any
 
 from planner.checks import path_argument
 from planner.errors import InputError
-from planner.site.params import ClosureTolerance, Parameters
 from planner.site.instance_json import load_instance_json
 from planner.site.model import Site
+from planner.site.params import ClosureTolerance, Parameters
 from planner.site.table_csv import read_table_csv
 from planner.site.tables import zone_from_table
 

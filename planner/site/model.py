@@ -19,8 +19,8 @@ from numpy.typing import NDArray
 
 from planner.checks import no_repeats
 from planner.errors import InputError
-from planner.site.params import MAX_HEIGHT_M, Parameters
 from planner.site.geometry import MAX_COORDINATE_M, check_simple_polygon, ring_key, side_lengths, signed_area
+from planner.site.params import MAX_HEIGHT_M, Parameters
 from planner.site.traverse import AcceptedMisclosure, ClosureReport
 
 SITE_FRAME = "site"
@@ -36,7 +36,7 @@ class ScanSide(str, Enum):
     BOTH = "both"        # the theoretical polygons A, B, C
 
     @property
-    def sides(self) -> tuple["ScanSide", ...]:
+    def sides(self) -> tuple[ScanSide, ...]:
         """The single sides this stands for (BOTH -> INSIDE, OUTSIDE)."""
         return (ScanSide.INSIDE, ScanSide.OUTSIDE) if self is ScanSide.BOTH else (self,)
 
@@ -95,7 +95,7 @@ class Zone:
     notes: tuple[str, ...] = ()
     holes: tuple[tuple[tuple[float, float], ...], ...] = ()
     hole_heights_m: tuple[tuple[float, ...], ...] = ()
-    openings: tuple["Opening", ...] = ()
+    openings: tuple[Opening, ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.id, str) or not self.id:
@@ -340,7 +340,7 @@ class Site:
                                      f"{side.value}", file=self.source or None, zone=z.id, field="outline")
                 first[key] = z.id
 
-    def with_parameters(self, **changes: object) -> "Site":
+    def with_parameters(self, **changes: object) -> Site:
         """The same site with some parameters changed (validated), e.g. ``site.with_parameters(theta_max_deg=60)``."""
         return replace(self, parameters=replace(self.parameters, **changes))  # type: ignore[arg-type]
 

@@ -10,11 +10,17 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from planner.instrument.accuracy import (
-    INCIDENCE_MODELS, MAX_SIGMA_M, ErrorBudget, derive_theta_max_deg, incidence_limit_deg, max_slant_range_m,
-    sigma_instr_m, tolerance_for_scale_m,
-)
 from planner.errors import InputError
+from planner.instrument.accuracy import (
+    INCIDENCE_MODELS,
+    MAX_SIGMA_M,
+    ErrorBudget,
+    derive_theta_max_deg,
+    incidence_limit_deg,
+    max_slant_range_m,
+    sigma_instr_m,
+    tolerance_for_scale_m,
+)
 from planner.instrument.models import Scanner
 
 #: no wall, obstacle or instrument stands higher (m); a larger value is a typo
@@ -99,7 +105,7 @@ class Parameters:
         _within(self.min_standoff_m, "min_standoff_m", MAX_RANGE_M)
         _within(self.instrument_height_span_m, "instrument_height_span_m", MAX_HEIGHT_M)
 
-    def with_scale(self, scale: str | int) -> "Parameters":
+    def with_scale(self, scale: str | int) -> Parameters:
         """The same parameters with sigma_req taken from drawing-scale table 1.1."""
         from planner.instrument.accuracy import parse_scale
 

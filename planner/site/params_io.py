@@ -12,12 +12,12 @@ import json
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-from planner.instrument.accuracy import ErrorBudget
 from planner.errors import InputError, located_in
+from planner.instrument.accuracy import ErrorBudget
 from planner.instrument.models import load_instrument
-from planner.site.params import Parameters
 from planner.site.fileio import known_keys, to_float
 from planner.site.model import Site
+from planner.site.params import Parameters
 
 #: the record's key in GeoJSON's ``planner`` member and the DXF header's custom property
 RECORD_KEY = "tls_planner_site"

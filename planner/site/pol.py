@@ -19,11 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from planner.errors import InputError
-from planner.site.params import Parameters
 from planner.site.fileio import read_text
 from planner.site.geometry import signed_area
 from planner.site.model import ScanSide, Site, Zone
-
+from planner.site.params import Parameters
 
 #: a coordinate: an ASCII rational p/q or a decimal number (no digit grouping, no inf/nan, no other digits)
 _RATIONAL = r"[+-]?[0-9]+/[0-9]+"

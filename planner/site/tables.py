@@ -6,8 +6,8 @@ from collections.abc import Iterable
 from dataclasses import replace
 
 from planner.errors import InputError
-from planner.site.params import ClosureTolerance
 from planner.site.model import Correction, ScanSide, Zone
+from planner.site.params import ClosureTolerance
 from planner.site.traverse import AcceptedMisclosure, ZoneTable, reconstruct
 
 VERTEX_FIELDS = ("interior_angle_deg", "vertex_height_m")
@@ -57,4 +57,4 @@ def zone_from_table(
             closure=closure,
         )
     except InputError as exc:
-        raise exc.located(file) if file else exc
+        raise (exc.located(file) if file else exc) from None

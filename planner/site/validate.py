@@ -9,8 +9,8 @@ from typing import Any
 from planner.checks import argument
 from planner.errors import InputError, PlannerError
 from planner.instrument.models import Scanner, load_instrument
-from planner.site.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
 from planner.site.model import Site
+from planner.site.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
 
 
 def site_scanner(site: Site) -> Scanner:
@@ -145,5 +145,5 @@ def validate_site(site: Site) -> ValidationReport:
         limit = resolve_range_limit(site.parameters, scanner)
         theta = resolve_theta_limit(site.parameters, scanner, limit.max_slant_range_m)
     except PlannerError as exc:
-        raise exc.located(site.source) if site.source else exc
+        raise (exc.located(site.source) if site.source else exc) from None
     return ValidationReport(site=site, scanner=scanner, range_limit=limit, theta_limit=theta)

@@ -16,14 +16,19 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 from planner.solve.backends import Outcome, Row
-from planner.solve.registry import make_backend
 from planner.solve.connectivity import (
-    connected_greedy, connectivity_cuts, disconnected_groups, essential_targets, neighbour_cuts, repair,
+    connected_greedy,
+    connectivity_cuts,
+    disconnected_groups,
+    essential_targets,
+    neighbour_cuts,
+    repair,
 )
 from planner.solve.flow import FlowModel, add_flow
 from planner.solve.greedy import greedy_cover
 from planner.solve.instance import CoverInstance
 from planner.solve.local_search import shrink
+from planner.solve.registry import make_backend
 from planner.solve.result import Status
 from planner.solve.ring import RingBound, RingGraph, lagrangian_bound, ring_graph
 from planner.solve.separators import layer_cuts
@@ -46,7 +51,7 @@ class BlockSolver:
     """One independent block: its backend model (with the cuts found so far) and its best connected plan."""
 
     def __init__(self, instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, cands: np.ndarray,
-                 targets: np.ndarray, forced_all: tuple[int, ...], o: "MilpOptions") -> None:
+                 targets: np.ndarray, forced_all: tuple[int, ...], o: MilpOptions) -> None:
         self.o, self.cands = o, cands
         self.sub = a[cands][:, targets].tocsr()
         self.cost = instance.cost[cands]

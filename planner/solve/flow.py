@@ -27,7 +27,7 @@ from scipy.sparse.csgraph import breadth_first_order
 
 
 def add_flow(backend: Any, adj: sp.csr_matrix, groups: Sequence[Hashable], essential: dict[Hashable, np.ndarray],
-             cost: np.ndarray, incumbent: Sequence[int] | None = None) -> "FlowModel":
+             cost: np.ndarray, incumbent: Sequence[int] | None = None) -> FlowModel:
     """Add the flow variables and rows of every group to ``backend`` (which must have ``add_vars``)."""
     model = FlowModel(adj, groups, essential, cost, incumbent)
     model.install(backend)

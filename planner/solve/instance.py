@@ -15,10 +15,10 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.instrument.accuracy import ErrorBudget, view_error_m
 from planner.checks import argument
 from planner.coverage.matrix import CoverageProblem
 from planner.errors import InputError
+from planner.instrument.accuracy import ErrorBudget, view_error_m
 from planner.instrument.models import Scanner
 
 

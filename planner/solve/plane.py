@@ -19,12 +19,12 @@ import numpy as np
 import shapely
 
 from planner.candidates.closed_form import SIDE_TAG
-from planner.site.candidate import Candidate, CandidateKind
+from planner.coverage.arrangement import heaviest_points, outer_max_weight
 from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.visibility import SightLimits
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
-from planner.coverage.arrangement import heaviest_points, outer_max_weight
 from planner.solve.pricing import WarmCoverLp
 from planner.solve.result import SolveResult, Status
 

@@ -3,9 +3,10 @@
 Dominance is the trap here: dropping a candidate whose coverage is a subset of
 another's is valid for the plain cover only. Under the registration
 constraint a dominated candidate can be the only bridge between two others,
-so there a candidate i is dropped only when some j of the same group covers
-everything i covers AND is linked to every station i is linked to (then j can
-take i's place in any connected plan).
+so there a candidate i is dropped only when some kept j of the same group covers
+everything i covers AND is linked to every station i is linked to that was not
+dropped before i (then j can take i's place in any connected plan: see
+:func:`dominated`).
 """
 
 from __future__ import annotations

@@ -99,7 +99,7 @@ def layer_cuts(adj: sp.csr_matrix, a: sp.csr_matrix, members: np.ndarray, essent
     in_group = np.zeros(adj.shape[0], dtype=bool)
     in_group[members] = True
     cuts = []
-    for t, dist in anchor_targets(adj, seers, ess, anchors):
+    for _t, dist in anchor_targets(adj, seers, ess, anchors):
         far = np.array([dist[seers.indices[seers.indptr[u]:seers.indptr[u + 1]]].min(initial=np.inf) for u in ess])
         far = far[np.isfinite(far)]
         depth = int(far.max(initial=0))

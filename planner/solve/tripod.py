@@ -34,12 +34,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from planner.site.candidate import Candidate
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
-from planner.site.params import Parameters
+from planner.site.candidate import Candidate
 from planner.site.model import Site
+from planner.site.params import Parameters
 
 RIM_POINTS = 16
 MAX_RADIUS_M = 25.0
@@ -188,7 +188,7 @@ def _shrink_until_safe(site: Site, cand: Candidate, p0: np.ndarray, centre: np.n
     return p0, 0.0
 
 
-def tripod_heights_line(discs: Sequence[TripodDisc], params: "Parameters") -> str:
+def tripod_heights_line(discs: Sequence[TripodDisc], params: Parameters) -> str:
     """One summary line: each station's instrument-height tolerance (3.32) in metres."""
     ih, span = params.instrument_height_m, params.instrument_height_span_m
     cells = ", ".join(f"{d.station} {d.height_tolerance_m:.3f}" for d in discs)

@@ -57,6 +57,7 @@ from planner.solve.instance import CoverInstance
 from planner.solve.milp import WALL_CAP, MilpOptions, solve
 from planner.solve.result import Status
 
+
 @dataclass(frozen=True)
 class WindowOptions:
     """``radius_m``: window radius around each centre station; ``work_s``: CP-SAT deterministic seconds per

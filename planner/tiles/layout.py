@@ -22,7 +22,6 @@ from planner.errors import UsageError
 from planner.site.model import Site
 
 
-
 @dataclass(frozen=True)
 class Tile:
     """Core square ``[x0_m, x0_m + size_m) x [y0_m, y0_m + size_m)`` with a margin of ``margin_m``."""

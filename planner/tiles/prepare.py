@@ -13,13 +13,13 @@ from typing import Any, cast
 import numpy as np
 import scipy.sparse as sp
 
-from planner.site.candidate import Candidate
 from planner.coverage.links import registration_groups
 from planner.coverage.matrix import build_coverage, station_places
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
 from planner.plan import PlanOptions, plan_limits, site_candidates
+from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport, validate_site
 

@@ -29,26 +29,26 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.candidates.complete import complete_candidates
-from planner.site.candidate import Candidate
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.regions import regions_apply
 from planner.coverage.overlap import OverlapRule
+from planner.coverage.regions import regions_apply
 from planner.errors import UsageError
 from planner.plan import Plan, PlanOptions, unseen_error
+from planner.plan.verify import verify_stations
+from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.solve.milp import WALL_CAP, MilpOptions
-from planner.solve.result import SolveResult, Status
-from planner.tiles.engine import TaskRunner, run_tasks
-from planner.tiles.layout import make_tiles, tile_job, zone_anchors
+from planner.site.validate import ValidationReport
 from planner.solve.connectivity import components, connected_greedy, group_members
 from planner.solve.local_search import Shrunk
+from planner.solve.milp import WALL_CAP, MilpOptions
+from planner.solve.result import SolveResult, Status
 from planner.solve.windows import WindowOptions, window_search
+from planner.tiles.engine import TaskRunner, run_tasks
 from planner.tiles.lagrange import group_parts
+from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.tiles.prepare import prepare
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileResult, shrink_task, tile_task
-from planner.site.validate import ValidationReport
-from planner.plan.verify import verify_stations
 
 
 @dataclass(frozen=True)

@@ -13,10 +13,10 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.site.candidate import Candidate
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
+from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.solve.instance import cover_instance
 from planner.solve.local_search import Shrunk, shrink

@@ -18,9 +18,9 @@ import pytest
 
 from planner.candidates.axis import maximal_cells, medial_axis
 from planner.errors import InfeasibleError
-from planner.site.params import Parameters
 from planner.plan import PlanOptions, build_problem, plan_site
 from planner.site.model import Obstacle, ScanSide, Site, Zone
+from planner.site.params import Parameters
 from planner.solve.milp import MilpOptions
 
 PLAIN = PlanOptions(method="milp", milp=MilpOptions(overlap=None))

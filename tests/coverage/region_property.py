@@ -8,10 +8,10 @@ import numpy as np
 import scipy.sparse as sp
 import shapely
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import Site
 
 

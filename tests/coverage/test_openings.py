@@ -8,7 +8,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.candidates.pool import PoolOptions
 from planner.cli import main
 from planner.coverage.links import opening_links
@@ -18,6 +17,7 @@ from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_clear
 from planner.plan import PlanOptions, plan_site
 from planner.site import ScanSide
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.load import load_site
 from planner.site.model import Opening
 from planner.solve.milp import MilpOptions

@@ -11,11 +11,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import ZoneSideBlockers, build_coverage
 from planner.coverage.regions import coverage_regions, region_tolerance_m
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import SightLimits
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import Obstacle, ScanSide, Site, Zone
 from tests.coverage.region_property import assert_regions_match
 

@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 import shapely
 
-from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, sigma_instr_m
 from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions, region_tolerance_m, regions_apply
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import PrecisionRule, SightLimits
+from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, sigma_instr_m
 from planner.site.model import Obstacle, ScanSide, Site, Zone
 from tests.coverage.region_property import assert_regions_match, probe_candidates
 

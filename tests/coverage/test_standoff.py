@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 import shapely
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import station_places
 from planner.network.check import run_network
 from planner.plan import PlanOptions, plan_site, sight_limits
+from planner.plan.verify import verify_stations
 from planner.site import ScanSide, load_site
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import SITE_FRAME, Site, Zone
 from planner.site.validate import validate_site
-from planner.plan.verify import verify_stations
 from tests.conftest import INSTANCES
 
 

@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import SightLimits, segments_touch
 from planner.site import ScanSide, Site, Zone
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import Obstacle
 
 

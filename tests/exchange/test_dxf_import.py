@@ -16,8 +16,7 @@ from ezdxf import units
 
 import planner
 from planner.cli import main
-from planner.site.dxf_in import DxfOptions, read_dxf_site
-from planner.site.dxf_in import APPID
+from planner.site.dxf_in import APPID, DxfOptions, read_dxf_site
 from planner.site.model import ScanSide
 from tests.conftest import ROOT
 from tests.test_cli import assert_one_line_error

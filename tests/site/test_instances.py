@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from planner.errors import ClosureError, InputError
-from planner.site.params import ClosureTolerance
 from planner.site import ScanSide, load_site
+from planner.site.params import ClosureTolerance
 from planner.site.table_csv import read_table_csv
 from planner.site.tables import zone_from_table
 from planner.site.traverse import walk

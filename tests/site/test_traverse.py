@@ -6,12 +6,13 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings, strategies as st
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from planner.errors import ClosureError
-from planner.site.params import ClosureTolerance
 from planner.site import load_site
-from planner.site.geometry import signed_area, side_lengths
+from planner.site.geometry import side_lengths, signed_area
+from planner.site.params import ClosureTolerance
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable, reconstruct, table_from_polygon
 from tests.conftest import INSTANCES
 

@@ -14,8 +14,8 @@ import shapely
 from hypothesis import strategies as st
 
 from planner.site.candidate import Candidate, CandidateKind
-from planner.site.params import Parameters
 from planner.site.model import ScanSide, Site, Zone
+from planner.site.params import Parameters
 
 
 def _place(xy: list[tuple[float, float]], angle_deg: float, shift: tuple[float, float]) -> tuple[tuple[float, float], ...]:

@@ -13,10 +13,10 @@ import math
 import numpy as np
 import pytest
 
-from planner.site.params import Parameters
 from planner.plan import PlanOptions, plan_site
 from planner.site.load import load_site
 from planner.site.model import ScanSide, Site, Zone
+from planner.site.params import Parameters
 from planner.solve.milp import MilpOptions
 from planner.solve.pricing import cover_lp
 from tests.conftest import INSTANCES

@@ -32,13 +32,13 @@ from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions
 from planner.coverage.targets import Targets, make_targets
 from planner.errors import InfeasibleError
-from planner.site.params import Parameters
-from planner.plan import PlanOptions, plan_limits, coverage_problem, plan_site
+from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
 from planner.site.model import ScanSide, Site, Zone
+from planner.site.params import Parameters
+from planner.site.validate import validate_site
 from planner.solve.milp import MilpOptions
 from planner.solve.plane import price_plane
 from planner.solve.pricing import cover_lp
-from planner.site.validate import validate_site
 from tests.solve.plane_cases import as_candidates, min_cover, positions, rooms
 
 QUICK = settings(deadline=None, derandomize=True, database=None,

@@ -20,15 +20,15 @@ from hypothesis import strategies as st
 import planner
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
-from planner.site.params import Parameters
-from planner.plan import PlanOptions, plan_limits, coverage_problem, plan_site
+from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
 from planner.site.model import ScanSide, Site, Zone
+from planner.site.params import Parameters
+from planner.site.validate import validate_site
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.plane_patches import undominated
 from planner.solve.plane_ring import connected_plane_bound
 from planner.solve.ring import cyclic_arcs
-from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 from tests.solve.plane_cases import _place, as_candidates, outline, positions
 

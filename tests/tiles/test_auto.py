@@ -7,11 +7,11 @@ import json
 import pytest
 
 from planner.cli import main
-from planner.plan.memory_guard import estimate_work
 from planner.plan import PlanOptions, closed_form_limits
+from planner.plan.memory_guard import estimate_work
 from planner.site.load import load_site
-from planner.tiles.auto import MIN_PIECES, choose, tile_count
 from planner.site.validate import validate_site
+from planner.tiles.auto import MIN_PIECES, choose, tile_count
 from tests.conftest import INSTANCES
 
 

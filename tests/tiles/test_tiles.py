@@ -135,8 +135,8 @@ def test_prepare_groups_follow_the_registration_mode(site) -> None:
 
 
 def _corridor():
-    from planner.site.params import Parameters
     from planner.site.model import ScanSide, Site, Zone
+    from planner.site.params import Parameters
 
     zone = Zone("K", ScanSide.INSIDE, ((0.0, 0.0), (200.0, 0.0), (200.0, 8.0), (0.0, 8.0)), (3.0,) * 4)
     return Site("corridor", (zone,), parameters=Parameters(theta_max_deg=68.0, overlap=0.0))
