@@ -97,8 +97,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(ROOT / "docs/reproduction.md"))
     args = ap.parse_args()
-    # the written part (what could not be reproduced, and why) is kept: everything above "## Candidate tables"
-    head = Path(args.out).read_text().split("\n## Candidate tables", 1)[0] if Path(args.out).exists() else ""
+    # the written part (what could not be reproduced, and why) is docs/reproduction.md's text above
+    # "## Candidate tables"; the tables below it are written anew
+    head = (ROOT / "docs/reproduction.md").read_text().split("\n## Candidate tables", 1)[0]
     lines = [head.rstrip(), "", "## Candidate tables", ""]
     for name in ("table_3_2", "table_3_3", "table_3_4"):
         lines += table_section(name)

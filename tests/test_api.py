@@ -184,3 +184,20 @@ def test_scripts_import_only_public_names():
                 if isinstance(base, ast.Name) and base.id in ("planner", "P"):
                     offenders.append(f"{path.name}: {base.id}.{node.attr}")
     assert offenders == []
+
+
+def test_one_home_for_the_overlap_rule_and_the_site_validation():
+    # issue 33: an OverlapRule is built in one place (planner.coverage.overlap.rule_of; planning_rule decides
+    # "overlap 0 means off"), and the command line validates a site once per run (tests/test_cli_profile.py)
+    import ast
+
+    builders = []
+    for path in sorted((ROOT / "planner").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", getattr(node.func, "attr", None)) == "OverlapRule":
+                builders.append(str(path.relative_to(ROOT)))
+    assert builders == ["planner/coverage/overlap.py"]
+    from planner.coverage.overlap import planning_rule, rule_of
+
+    assert planning_rule(0.0) is None and planning_rule(0.3) == rule_of(0.3)
+    assert rule_of(0.0).overlap == 0.0  # share 0 still links stations that share wall (checks, surveys)

@@ -148,7 +148,7 @@ def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: d
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache
     out: list[Candidate] = []
-    reach = limits.range_limit_m if math.isfinite(limits.range_limit_m) else 100.0
+    reach = limits.effective_range_m if math.isfinite(limits.effective_range_m) else 100.0
     for zi, zone in enumerate(site.zones):
         if zone.frame not in spaces:
             spaces[zone.frame] = frame_space(site, zone.frame, limits)

@@ -20,13 +20,13 @@ def _tan(deg: float) -> float:
     return math.tan(math.radians(deg))
 
 
-def horizontal_reach_m(s_max_m: float, height_m: float, instrument_height_m: float = 0.0) -> float:
+def horizontal_reach_m(max_slant_range_m: float, height_m: float, instrument_height_m: float = 0.0) -> float:
     """sqrt(S_max^2 - (h - IH)^2): the horizontal distance at which the top of a wall of height h is at S_max.
 
     0 when the top is out of reach altogether.
     """
     dz = height_m - instrument_height_m
-    return math.sqrt(s_max_m**2 - dz**2) if abs(dz) < s_max_m else 0.0
+    return math.sqrt(max_slant_range_m**2 - dz**2) if abs(dz) < max_slant_range_m else 0.0
 
 
 @dataclass(frozen=True)

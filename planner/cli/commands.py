@@ -99,12 +99,12 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
     from planner.candidates.pool import PoolOptions
-    from planner.coverage.overlap import OverlapRule
+    from planner.coverage.overlap import planning_rule
     from planner.plan import PlanOptions
     from planner.solve.milp import MilpOptions
 
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
-    rule = None if args.no_overlap or overlap == 0 else OverlapRule(overlap, args.min_shared, args.max_link)
+    rule = None if args.no_overlap else planning_rule(overlap, args.min_shared, args.max_link)
     milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
                        k=args.k, overlap=rule, precision=args.precision, connectivity=args.connectivity,
                        layer_cuts=args.layer_cuts, tree_bound=args.tree_bound, work_limit=args.work_limit,
@@ -123,8 +123,8 @@ def _guard_memory(site: Site, args: argparse.Namespace, validation: ValidationRe
     """The memory check of build_problem, run before the solver stacks load so that a refusal is quick."""
     from planner.plan.memory_guard import check_memory
 
-    s_max = validation.range_limit.max_slant_range_m
-    check_memory(site, args.target_spacing, args.grid_spacing, s_max, _memory_limit(args))
+    max_slant_range_m = validation.range_limit.max_slant_range_m
+    check_memory(site, args.target_spacing, args.grid_spacing, max_slant_range_m, _memory_limit(args))
 
 
 def _memory_limit(args: argparse.Namespace) -> int | None:
@@ -301,7 +301,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     validation = validate_site(site)
     _guard_memory(site, args, validation)
     from planner.candidates.pool import PoolOptions
-    from planner.coverage.overlap import OverlapRule
+    from planner.coverage.overlap import rule_of
     from planner.exchange.export import export_problem
     from planner.plan import PlanOptions, build_problem
 
@@ -309,7 +309,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         target_spacing_m=args.target_spacing, pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
         incidence_3d=args.incidence == "3d", precision=not args.no_precision, memory_limit_bytes=_memory_limit(args))
     problem = build_problem(site, options, validation)
-    text = export_problem(problem, args.format, OverlapRule(site.parameters.overlap))
+    text = export_problem(problem, args.format, rule_of(site.parameters.overlap))
     if args.out:
         Path(args.out).write_text(text)
         print(f"wrote {args.out}: {problem.shape[0]} candidates, {problem.shape[1]} targets, {problem.by_candidate.nnz:,} pairs")

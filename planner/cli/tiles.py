@@ -133,9 +133,9 @@ def _auto(site: Site, options: PlanOptions, args: argparse.Namespace, validation
 
     if args.tiles == "off":
         return Strategy(None, 0, "--tiles off")
-    s_max = validation.range_limit.max_slant_range_m
-    pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_spacing_m, s_max).targets
-    return choose(site, options, s_max, pieces, budget_s=args.tile_budget)
+    max_slant_range_m = validation.range_limit.max_slant_range_m
+    pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_spacing_m, max_slant_range_m).targets
+    return choose(site, options, max_slant_range_m, pieces, budget_s=args.tile_budget)
 
 
 def _by_tiles(site: Site, options: PlanOptions, args: argparse.Namespace, strategy: Strategy,

@@ -25,9 +25,13 @@ from planner.coverage.gram import filtered_gram
 from planner.errors import UsageError
 
 
+#: the overlap share when none is given (the dissertation's O = 30 %)
+DEFAULT_OVERLAP = 0.30
+
+
 @dataclass(frozen=True)
 class OverlapRule:
-    overlap: float = 0.30
+    overlap: float = DEFAULT_OVERLAP
     min_shared_m: float = 0.0
     max_link_m: float | None = None
 
@@ -38,6 +42,18 @@ class OverlapRule:
         real(self.min_shared_m, "min_shared_m", at_least=0.0, infinite_ok=True)  # inf: links given explicitly only
         if self.max_link_m is not None:
             real(self.max_link_m, "max_link_m", above=0.0, infinite_ok=True)
+
+
+def rule_of(share: float, min_shared_m: float = 0.0, max_link_m: float | None = None) -> OverlapRule:
+    """The overlap rule of a share of wall (with the optional shared-length and distance limits): the one place
+    a rule is built from a share. Share 0 still links any two stations that share wall (checking, surveys)."""
+    return OverlapRule(share, min_shared_m, max_link_m)
+
+
+def planning_rule(share: float, min_shared_m: float = 0.0, max_link_m: float | None = None) -> OverlapRule | None:
+    """The rule a plan must satisfy for a share: ``None`` for share 0 (no registration required), the one place
+    that decides "overlap 0 means off"."""
+    return None if share == 0 else rule_of(share, min_shared_m, max_link_m)
 
 
 def group_ids(groups: Sequence[Hashable]) -> NDArray[np.int64]:

@@ -87,7 +87,7 @@ def region_tolerance_m(limits: SightLimits, standoff_m: float = 0.0) -> float:
     (r (1 - cos(pi / n))), plus the sight test's tolerances, plus (with ``standoff_m``) the excess of
     the circumscribed stand-off buffers and (with a per-view precision test) twice the precision
     boundary's chord error."""
-    r = limits.range_limit_m
+    r = limits.effective_range_m
     sag = r * (1.0 - math.cos(math.pi / DISC_SEGMENTS)) if math.isfinite(r) else 0.0
     extra = _standoff_buffer_m(standoff_m) - standoff_m if standoff_m > 0 else 0.0
     extra += 2.0 * PRECISION_CHORD_M if limits.per_pair_precision else 0.0
@@ -124,7 +124,7 @@ def frame_space(site: Site, frame: str, limits: SightLimits, outer: bool = False
     inscribed in the true ones (they take away less: an outer approximation of the area)."""
     lo, hi = _frame_bounds(site, frame)
     diag = float(np.hypot(*(hi - lo)))
-    reach = limits.range_limit_m if math.isfinite(limits.range_limit_m) else 2.0 * diag
+    reach = limits.effective_range_m if math.isfinite(limits.effective_range_m) else 2.0 * diag
     reach = min(reach, 4.0 * diag + 100.0)  # a station farther off than this sees nothing better
     box = shapely.box(lo[0] - reach, lo[1] - reach, hi[0] + reach, hi[1] + reach)
     forbidden = []
@@ -274,7 +274,7 @@ def region_stages(targets: Targets, t: int, limits: SightLimits, space: FrameSpa
     discs, wedges, fans = [front], [], []
     for end, h in ((a, float(targets.ha_m[t])), (b, float(targets.hb_m[t]))):
         dz = max(abs(h - ih), ih)
-        s = limits.range_limit_m
+        s = limits.effective_range_m
         reach = far
         if math.isfinite(s) and s < far:
             if s <= dz:

@@ -78,7 +78,8 @@ class SightLimits:
         return p is not None and not p.combined and p.incidence_model != "none" and self.precision_range_m is not None
 
     @property
-    def range_limit_m(self) -> float:
+    def effective_range_m(self) -> float:
+        """The longest slant range a view may have: S_max, or the precision range where that is shorter."""
         p = self.precision_range_m
         return self.max_slant_range_m if p is None else min(self.max_slant_range_m, p)
 
@@ -125,11 +126,11 @@ def geometric_pairs(
     bounding box, so the work grows with the pairs in range, not with C x T.
     """
     ih = limits.instrument_height_m
-    reach = limits.range_limit_m
+    reach = limits.effective_range_m
     mid = (a + b) / 2.0
     half = np.hypot(*(b - a).T) / 2.0
     cos_max = math.cos(math.radians(limits.theta_max_deg + EPS_ANGLE_DEG))
-    s_lim = limits.range_limit_m + EPS_RANGE_M
+    longest = limits.effective_range_m + EPS_RANGE_M
     dz_a = np.maximum(np.abs(ha - ih), ih)  # the farther of top and foot, vertically
     dz_b = np.maximum(np.abs(hb - ih), ih)
     out_c, out_t, out_s, out_i = [], [], [], []
@@ -151,7 +152,7 @@ def geometric_pairs(
             else:
                 cos_i = np.minimum(d / np.maximum(hd_a, 1e-300), d / np.maximum(hd_b, 1e-300))
         side_ok = cand_inside[c0:c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
-        ok = side_ok & (d > EPS_FRONT_M) & (slant <= s_lim) & (cos_i >= cos_max)
+        ok = side_ok & (d > EPS_FRONT_M) & (slant <= longest) & (cos_i >= cos_max)
         k, t = np.nonzero(ok)
         inc = np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0)))
         if limits.per_pair_precision and limits.precision is not None:  # e(S, theta) at each end: the piece's worst point is one of its ends

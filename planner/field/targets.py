@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, blockers_for, build_coverage
 from planner.coverage.openings import PASSABLE, opening_segments
-from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+from planner.coverage.overlap import overlap_graph, piece_lengths, rule_of
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_clear
 from planner.field.walking import WalkSpace
@@ -88,14 +88,14 @@ def relation(site: Site, stations: Sequence[Candidate], problem: CoverageProblem
     """The overlap relation of the stations (node = index) with ``shared_m`` and ``fraction`` on each edge."""
     lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
     covered = np.asarray(problem.by_candidate.astype(np.float64) @ lengths).ravel()
-    labels, links = registration_groups(site, stations, default_registration(site), problem.limits.range_limit_m)
+    labels, links = registration_groups(site, stations, default_registration(site), problem.limits.effective_range_m)
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
     g = nx.Graph()
     g.add_nodes_from(range(len(stations)))
     groups: dict[object, list[int]] = {}
     for i, label in enumerate(labels):
         groups.setdefault(label, []).append(i)
-    rule = OverlapRule(site.parameters.overlap)
+    rule = rule_of(site.parameters.overlap)
     for nodes in groups.values():
         sub = overlap_graph(problem.by_candidate, lengths, nodes, rule, xy, links)
         for u, v, data in sub.edges(data=True):

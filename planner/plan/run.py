@@ -20,7 +20,7 @@ from planner.candidates.pool import PoolOptions, candidate_pool, dedupe
 from planner.checks import SAMPLING_M, argument, count, flag, real
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths, rule_of
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits, sight_limits
@@ -76,7 +76,7 @@ class PlanOptions:
         """The rule a plan's registration is checked on: the one it was planned under, else the site's
         (the closed form, or planning with no rule, is checked at the site's share)."""
         rule = self.milp.for_site(site.parameters.overlap).rule
-        return rule if self.method != "closed-form" and rule else OverlapRule(site.parameters.overlap)
+        return rule if self.method != "closed-form" and rule else rule_of(site.parameters.overlap)
 
     @property
     def combined(self) -> bool:
@@ -339,7 +339,7 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
             log.append(pricing.summary())
             pool, pool_pairs = problem.candidates, int(problem.by_candidate.nnz)
         mode = options.registration or default_registration(site)
-        reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.range_limit_m
+        reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
         groups, links = registration_groups(site, problem.candidates, mode, reach)
         inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
                               name=site.name, groups=groups, links=links, incidence_model=p.incidence_model)
@@ -360,7 +360,7 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
         result = combined_greedy(problem, limits.precision)
     elif (rule := options.milp.rule) is not None and rule.overlap > 0:  # greedy under the rule
         groups, links = registration_groups(site, problem.candidates, options.registration or default_registration(site),
-                                            rule.max_link_m or limits.range_limit_m)
+                                            rule.max_link_m or limits.effective_range_m)
         result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links), rule)
         if not result.selected:
             log.append("greedy: no cover connected under the overlap rule found; plain greedy plan instead")
@@ -369,7 +369,7 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
         result = greedy_cover(problem.by_candidate)
     rule = options.checked_rule(site)
     registration, partners = registration_check(problem, result.selected, rule, site, options.registration,
-                                                rule.max_link_m or limits.range_limit_m)
+                                                rule.max_link_m or limits.effective_range_m)
     if rule.overlap == 0:
         registration, log = {}, log + ["registration: not required (overlap 0)"]
     stations, tripods = placed_stations(site, problem, result.selected, options, partners)

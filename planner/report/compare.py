@@ -38,7 +38,8 @@ def compare_methods(site: Site, options: PlanOptions, done: Plan | None = None) 
         if done is not None and done.result.method == method:
             continue
         try:
-            rows.append(method_row(plan_site(site, replace(options, method=method, tripod=False, recentre=False))))
+            rows.append(method_row(plan_site(site, replace(options, method=method, tripod=False, recentre=False),
+                                             done.validation if done is not None and done.site is site else None)))
         except PlannerError as exc:  # e.g. a piece the closed form cannot see: shown, not fatal
             log.info("method %s failed: %s", method, exc)
             rows.append({"method": method, "status": f"failed: {exc.one_line()}"})

@@ -185,11 +185,11 @@ class ThetaLimit:
         return f"theta_max derived [{self.source}]: {cells}"
 
 
-def resolve_theta_limit(params: Parameters, scanner: Scanner, s_max_m: float) -> ThetaLimit:
+def resolve_theta_limit(params: Parameters, scanner: Scanner, max_slant_range_m: float) -> ThetaLimit:
     """theta_max as given, or derived from sigma_req at a few ranges up to S_max (see :class:`ThetaLimit`)."""
     if not params.derive_theta_max:
         return ThetaLimit(params.theta_max_deg, "given")
     model = params.incidence_model
-    ranges = [s for s in THETA_REPORT_RANGES_M if s < s_max_m] + [s_max_m]
+    ranges = [s for s in THETA_REPORT_RANGES_M if s < max_slant_range_m] + [max_slant_range_m]
     rows = tuple((round(s, 3), derive_theta_max_deg(s, scanner, params.budget, params.sigma_req_m, model)) for s in ranges)
     return ThetaLimit(min(incidence_limit_deg(model), 89.99), f"{model} model, sigma_req {params.sigma_req_m * 1000:g} mm", rows)

@@ -8,7 +8,7 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.final_step import drop_redundant, relocate
 from planner.candidates.pool import closed_form_candidates
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.overlap import OverlapRule, piece_lengths
+from planner.coverage.overlap import piece_lengths, rule_of
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
@@ -25,7 +25,7 @@ def closed_form_plan(site: Site, cf_limits: Limits, targets: Targets, limits: Si
     start = time.perf_counter()
     cands, log = relocate(site, closed_form_candidates(site, cf_limits))
     problem = build_coverage(site, cands, targets, limits)
-    rule = OverlapRule(site.parameters.overlap)
+    rule = rule_of(site.parameters.overlap)
     keep = drop_redundant(problem.by_candidate, [(c.zone, c.side) for c in cands],
                           piece_lengths(targets.s0_m, targets.s1_m), rule)
     dropped = [cands[i].id for i in range(len(cands)) if i not in set(keep)]

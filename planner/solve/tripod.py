@@ -148,15 +148,15 @@ def tripod_discs(site: Site, problem: CoverageProblem, selected: Sequence[int], 
         heights = np.concatenate([t.ha_m[ts], t.hb_m[ts]]) if ts.size else np.zeros(0)
         normals = np.vstack([t.normal[ts], t.normal[ts]]) if ts.size else np.zeros((0, 2))
         dz = np.maximum(np.abs(heights - ih), ih)
-        reach = np.sqrt(np.maximum(limits.range_limit_m**2 - dz**2, 0.0))
+        reach = np.sqrt(np.maximum(limits.effective_range_m**2 - dz**2, 0.0))
         if recentre:
             centre, radius = _socp_disc(p0, ends, normals, reach, limits.theta_max_deg)
         else:
             centre, radius = p0, _centred_radius(p0, ends, normals, reach, limits.theta_max_deg)
         centre, radius = _shrink_until_safe(site, cand, p0, centre, radius, _subset(t, ts), limits)
         tol = float("nan")
-        if heights.size and limits.range_limit_m > abs(float(heights.max()) - ih) + span:
-            tol = abs(instrument_height_tolerance_m(float(heights.max()), limits.range_limit_m, ih, ih + span))
+        if heights.size and limits.effective_range_m > abs(float(heights.max()) - ih) + span:
+            tol = abs(instrument_height_tolerance_m(float(heights.max()), limits.effective_range_m, ih, ih + span))
         out.append(TripodDisc(cand.id, radius, (float(centre[0]), float(centre[1])), int(ts.size), tol))
     return out
 

@@ -50,7 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner import progress
-from planner.coverage.overlap import OverlapRule
+from planner.coverage.overlap import rule_of
 from planner.errors import UsageError
 from planner.solve.connectivity import components, disconnected_groups, group_members
 from planner.solve.instance import CoverInstance
@@ -248,7 +248,7 @@ def connected_cover_within(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequenc
 _GREEDY_STARTS, _SEARCH_MOVES = 5, 100
 
 #: the window's links are the site's, given explicitly: no overlap test on the window's partial rows
-_LINKS_ONLY = OverlapRule(0.0, min_shared_m=math.inf)
+_LINKS_ONLY = rule_of(0.0, min_shared_m=math.inf)
 
 
 def _model(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], free: np.ndarray, rows: np.ndarray,

@@ -76,7 +76,7 @@ def tile_count(site: Site, tile_m: float) -> int:
     return int(math.ceil(max(float(ext[0]), 1e-9) / tile_m) * math.ceil(max(float(ext[1]), 1e-9) / tile_m))
 
 
-def choose(site: Site, options: PlanOptions, s_max_m: float, pieces: int, budget_s: float,
+def choose(site: Site, options: PlanOptions, max_slant_range_m: float, pieces: int, budget_s: float,
            cores: int | None = None) -> Strategy:
     """The strategy for ``site`` (module docstring); ``pieces``: the work estimate's wall pieces."""
     if options.method != "milp":
@@ -85,7 +85,7 @@ def choose(site: Site, options: PlanOptions, s_max_m: float, pieces: int, budget
         return Strategy(None, 0, "zones in several frames")
     if pieces < MIN_PIECES:
         return Strategy(None, 0, f"about {pieces:,} wall pieces, fewer than {MIN_PIECES:,}")
-    tile_m = max(TILE_M, 1.5 * s_max_m)
+    tile_m = max(TILE_M, 1.5 * max_slant_range_m)
     n = tile_count(site, tile_m)
     if n < MIN_TILES:
         return Strategy(None, 0, f"the site spans {n} tile(s) of {tile_m:g} m, fewer than {MIN_TILES}")

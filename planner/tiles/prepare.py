@@ -15,7 +15,7 @@ import scipy.sparse as sp
 
 from planner.coverage.links import registration_groups
 from planner.coverage.matrix import build_coverage, station_places
-from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
+from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths, rule_of
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
 from planner.plan import PlanOptions, plan_limits, site_candidates
@@ -81,8 +81,8 @@ def prepare(site: Site, options: PlanOptions, validation: ValidationReport | Non
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
     usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason], dtype=bool)
     mode = options.registration or "site"
-    reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.range_limit_m
+    reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
     labels, links = registration_groups(site, pool, mode, reach)
     groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
-    rule = options.milp.rule or OverlapRule(site.parameters.overlap)
+    rule = options.milp.rule or rule_of(site.parameters.overlap)
     return Prepared(validation, limits, tuple(pool), targets, xy, usable, mode, float(reach), groups, links, rule)

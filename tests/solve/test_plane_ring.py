@@ -106,7 +106,7 @@ def connected_optimum(site: Site, options: PlanOptions, share: float) -> tuple[f
     targets = make_targets(site, options.target_spacing_m)
     zone = site.zones[0]
     grid = positions(zone, 0.5) if zone.scan_side is ScanSide.INSIDE else as_candidates(
-        zone, _ring_positions(site, 0.5, math.sqrt(max(limits.range_limit_m**2 - 9.0, 1.0))))
+        zone, _ring_positions(site, 0.5, math.sqrt(max(limits.effective_range_m**2 - 9.0, 1.0))))
     problem = build_coverage(site, grid, targets, limits)
     if np.any(problem.by_target.getnnz(axis=1) == 0):
         return math.inf, problem
