@@ -34,7 +34,7 @@ from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.plane import price_plane, with_plane_bound
-from planner.solve.plane_ring import CONNECTED_TIME_S, connected_plane_bound, plan_counts, with_connected_plane_bound
+from planner.solve.plane_ring import connected_plane_bound, plan_counts, with_connected_plane_bound
 from planner.solve.result import SolveResult
 from planner.solve.tripod import TripodDisc, tripod_discs, tripod_heights_line
 
@@ -350,8 +350,7 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
             if result.scope != "plane" and mode == "zone" and links is None and result.selected:
                 share = options.milp.rule.overlap if options.milp.rule else 0.0
                 cb = connected_plane_bound(site, problem, limits, share, np.asarray(pricing.duals),
-                                           plan_counts(problem, result.selected), cache=region_cache,
-                                           time_limit_s=min(CONNECTED_TIME_S, options.pricing_time_limit_s))
+                                           plan_counts(problem, result.selected), cache=region_cache)
                 result = with_connected_plane_bound(result, cb)
                 log.append(cb.summary())
     elif options.combined and limits.precision is not None:

@@ -48,6 +48,7 @@ from planner.coverage.regions import (
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
 from planner.solve.plane_patches import (
+    FIRST_PATCHES,
     arc_links,
     patch_sets,
     patch_shapes,
@@ -62,8 +63,11 @@ MAX_FAMILY = 6_000
 #: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies;
 #: Baalbek's outline at 1.3-m patches passed 1.9 GB before this cap)
 MAX_LINKS = 3_000_000
-#: seconds the default plan gives the connected plane bound (checked before each zone-side and patch side)
-CONNECTED_TIME_S = 10.0
+#: the work the default plan gives the connected plane bound, in patches: a patch side of a zone-side costs the
+#: patches it lays (about FIRST_PATCHES, then 4x at each halving); sides are taken level by level across the
+#: zone-sides, and a level that would pass this budget is not started. A count, not a time, so the bound is
+#: the same under any load (a 10-s wall-clock limit gave polygon C 24 on a quiet machine and 22 under load)
+CONNECTED_WORK_PATCHES = 200_000
 
 
 @dataclass(frozen=True)
@@ -140,11 +144,13 @@ def side_ring_bound(outer: list[Any], inner: list[Any], lengths: NDArray[np.floa
 
 
 def connected_plane_bound(site: Site, problem: CoverageProblem, limits: SightLimits, share: float,
-                          duals: NDArray[np.float64], counts: dict[int, int], *, time_limit_s: float = 30.0,
+                          duals: NDArray[np.float64], counts: dict[int, int], *,
+                          work_patches: int = CONNECTED_WORK_PATCHES,
                           cache: dict[int, Any] | None = None) -> ConnectedPlaneBound:
     """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's
-    stations per zone-side (key ``2 zone + side``); each zone-side's ring walk is tried over the patch sides in
-    turn until it reaches that count or ``time_limit_s`` passes."""
+    stations per zone-side (key ``2 zone + side``); the ring walks are tried level by level (every zone-side's
+    first patch side, then the halvings), a zone-side dropping out when it reaches its count or its walk cannot
+    be formed, until the next level would pass ``work_patches`` patches (:data:`CONNECTED_WORK_PATCHES`)."""
     t0 = time.perf_counter()
     t = problem.targets
     key = t.zone.astype(np.int64) * 2 + t.side
@@ -161,23 +167,33 @@ def connected_plane_bound(site: Site, problem: CoverageProblem, limits: SightLim
     if clash:
         return ConnectedPlaneBound(None, (), time.perf_counter() - t0, clash)
     lengths_all = t.s1_m - t.s0_m
-    sides = []
-    for k, pieces in zip(keys, pieces_all):
-        o, r = [outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]
+    sides, levels = [], []
+    for pieces in pieces_all:
+        o = [outer[int(p)] for p in pieces]
         y = duals[pieces]
         pos = np.flatnonzero(y > 1e-9)
         w = outer_max_weight([o[j] for j in pos], y[pos], grow_m) if pos.size else 0.0
-        side = SideBound(_name(t, pieces[0]), float(y.sum()) / max(1.0, w), None, None, 0)
-        for h in patch_sides(o) if share > 0 else ():
-            if side.value >= counts.get(k, 0) or time.perf_counter() - t0 > time_limit_s:
-                break
+        sides.append(SideBound(_name(t, pieces[0]), float(y.sum()) / max(1.0, w), None, None, 0))
+        levels.append(list(patch_sides(o)) if share > 0 else [])
+    spent, open_ = 0, [True] * len(keys)
+    for level in range(max((len(x) for x in levels), default=0)):
+        for i, (k, pieces) in enumerate(zip(keys, pieces_all)):
+            if not open_[i] or level >= len(levels[i]) or sides[i].value >= counts.get(k, 0):
+                open_[i] = False
+                continue
+            cost = FIRST_PATCHES * 4**level
+            if spent + cost > work_patches:
+                open_[i] = False  # the budget: this side keeps what it has (the same under any load)
+                continue
+            spent += cost
+            h = levels[i][level]
+            o, r = [outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]
             ring, fam = side_ring_bound(o, r, lengths_all[pieces], seen[pieces], share, h, grow_m, shrink_m,
                                         counts.get(k, 0))
             if ring is None:
-                break  # too many patches or undominated ones, or arcs that do not chain: finer sides only add
-            if ring > (side.ring or 0):
-                side = SideBound(side.zone_side, side.farley, ring, h, fam)
-        sides.append(side)
+                open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
+            elif ring > (sides[i].ring or 0):
+                sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
     return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)
 
 

@@ -28,7 +28,17 @@ def _tiling(moves: int, passes: int = 0, batch: int = 1) -> TileOptions:
 
 
 @pytest.fixture(scope="module")
-def plans():
+def no_whole_site_greedy():
+    # the whole-site connected greedy (issue 34's bundles) now finds 9 on 1 ha, one above the bound, and the kept
+    # plan would leave the search and the windows nothing to do; withheld here, the kept plan is the stitched
+    # tile plan (11), which is what these tests exercise
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr("planner.tiles.run.connected_greedy", lambda *args, **kwargs: None)
+        yield
+
+
+@pytest.fixture(scope="module")
+def plans(no_whole_site_greedy):
     site = load_site(INSTANCES / "plant_1ha.json")
     return plan_by_tiles(site, OPTIONS, _tiling(0)), plan_by_tiles(site, OPTIONS, _tiling(300)), site
 
@@ -42,7 +52,7 @@ def dask2():
 
 
 @pytest.fixture(scope="module")
-def windowed(plans):
+def windowed(plans, no_whole_site_greedy):
     return plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1))
 
 
@@ -65,7 +75,7 @@ def test_search_never_grows_the_kept_plan_and_keeps_it_verified(plans) -> None:
     assert searched.result.info["stitch"]["tried"]["local search"] == record["after"]
 
 
-def test_search_on_a_tiled_plan_is_deterministic(plans) -> None:
+def test_search_on_a_tiled_plan_is_deterministic(plans, no_whole_site_greedy) -> None:
     _, searched, site = plans
     again = plan_by_tiles(site, OPTIONS, _tiling(300))
     assert [s.xy for s in again.stations] == [s.xy for s in searched.stations]
@@ -146,13 +156,13 @@ def test_windows_never_grow_the_kept_plan_and_keep_it_verified(plans, windowed) 
     assert windowed.result.info["stitch"]["tried"]["windows"] == record["after"]
 
 
-def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed) -> None:
+def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed, no_whole_site_greedy) -> None:
     again = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1))
     assert [s.xy for s in again.stations] == [s.xy for s in windowed.stations]
     assert again.result.info["windows"]["history"] == windowed.result.info["windows"]["history"]
 
 
-def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed, dask2) -> None:
+def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed, dask2, no_whole_site_greedy) -> None:
     # with batch 4 the windows run 4 at a time as Dask tasks; the answers are taken in the serial order, so
     # the plan and the window history are those of the serial run (which ignores the batch: no client)
     dist = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1, batch=4), client=dask2)
