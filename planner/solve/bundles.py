@@ -4,16 +4,16 @@ A *bundle* is the chosen stations of one registration group (a zone-side, or an 
 is registrable when every bundle is connected under the overlap relation ``adj``. :func:`bundle_cover`
 builds such a plan in four phases, in the manner of Jia and Lichti's hierarchical greedy:
 
-1. **grow** (:func:`grow`): Chvatal's rule, most newly covered targets per unit cost, over the stations
+1. **grow**: Chvatal's rule, most newly covered targets per unit cost, over the stations
    that keep every bundle connected: those linked (overlap) to their group's bundle, and the first
    station of a group not yet opened, which starts its bundle. All bundles grow in one loop, so a target
    goes to whichever group sees it most cheaply;
 2. **bridge**: when no such station covers anything new, the cheapest overlap path (Dijkstra, each
    step costing the station it enters) from a bundle to a station of its group's component that does,
    ranked by what the whole path newly covers per station on it, path stations counted;
-3. **prune** (:func:`prune`): stations whose targets others also cover are dropped, latest first,
+3. **prune**: stations whose targets others also cover are dropped, latest first,
    when their bundle stays connected without them;
-4. **re-grow** (:func:`regrow`): each bundle of two or more stations is grown afresh, alone, for the
+4. **re-grow**: each bundle of two or more stations is grown afresh, alone, for the
    targets only it covers, from its group's ``starts`` best seeds; the cheapest is kept if cheaper.
 
 Invariants: after every step of 1-2 each group's chosen stations form one connected bundle inside one
@@ -29,11 +29,14 @@ pass is O(k C + nnz(A)) plus O(E log C) per bridge; pruning is k connectivity ch
 chosen stations; re-growing a group of m candidates costs ``starts`` such passes on its m rows.
 Deterministic: ties go to the lowest index, no clock or random draws.
 
-Why not one group at a time: the former greedy grew each group in turn, from its best of ``starts`` seeds,
+Why all bundles at once: the former greedy grew each group in turn, from its best of ``starts`` seeds,
 until it covered every target any of its candidates sees, walking overlap paths to the far ones. Where
 groups see each other's walls (a plant: one group per object, 8-15 groups seeing each piece) the first
 groups walked round their neighbours: 94 stations on the 4-ha plant, 515 on the 16-ha one, where the plain
-greedy takes 32 and 113. Grown together, each target goes to the group that sees it most cheaply (31, 111).
+greedy takes 32 and 113; grown together, 31 and 111. Growing one bundle until no linked station gains
+before starting the next gave 157 on 16 ha; starting new bundles of a group there instead of bridging, and
+joining them at the end by shortest paths (Steiner-like), gave the same counts as bridging on every
+bundled site: docs/benchmarks/connected_greedy.md.
 
 References: V. Chvatal, "A greedy heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235,
 1979; F. Jia and D. D. Lichti, "An efficient, hierarchical viewpoint planning strategy for terrestrial
@@ -86,15 +89,19 @@ class Graph:
         return cls(a, a.T.tocsr(), adj, adj.multiply(cost[None, :]).tocsr(), gid, comp.astype(np.int64), cost)
 
     def rows(self, v: int) -> Ints:
-        return self.a.indices[self.a.indptr[v]:self.a.indptr[v + 1]]
+        return self.a.indices[self.a.indptr[v] : self.a.indptr[v + 1]]
 
     def sub(self, members: Ints, cols: Ints) -> Graph:
         """The graph of ``members`` (one group) on the targets ``cols``."""
-        return Graph.of(self.a[members][:, cols], self.adj[members][:, members], np.zeros(len(members), np.int64),
-                        self.cost[members])
+        return Graph.of(
+            self.a[members][:, cols],
+            self.adj[members][:, members],
+            np.zeros(len(members), np.int64),
+            self.cost[members],
+        )
 
 
-def grow(g: Graph, need: Flags, fixed: Mapping[int, int], first: int | None = None) -> tuple[list[int], Flags]:
+def _grow(g: Graph, need: Flags, fixed: Mapping[int, int], first: int | None = None) -> tuple[list[int], Flags]:
     """Phases 1-2 (module docstring): the stations in the order taken and the needed targets left unseen
     (none unless stuck). ``fixed``: group -> the component its bundle must lie in; ``first``: a station
     taken before the rule applies (a seed)."""
@@ -116,7 +123,7 @@ def grow(g: Graph, need: Flags, fixed: Mapping[int, int], first: int | None = No
             started[g.gid[v]] = True
             if opened[g.gid[v]] < 0:
                 opened[g.gid[v]] = g.comp[v]
-            linked[g.adj.indices[g.adj.indptr[v]:g.adj.indptr[v + 1]]] = True
+            linked[g.adj.indices[g.adj.indptr[v] : g.adj.indptr[v + 1]]] = True
             rows = g.rows(v)
             newly = rows[uncovered[rows]]
             if newly.size:
@@ -170,7 +177,7 @@ def _connected(adj: sp.csr_matrix, nodes: Sequence[int]) -> bool:
     return bool(connected_components(adj[nodes][:, nodes], directed=False)[0] == 1)
 
 
-def prune(g: Graph, need: Flags, order: Sequence[int]) -> list[int]:
+def _prune(g: Graph, need: Flags, order: Sequence[int]) -> list[int]:
     """Phase 3: drop, latest taken first, each station whose needed targets another chosen one also sees,
     when its group's other stations stay connected without it."""
     chosen = list(order)
@@ -187,7 +194,7 @@ def prune(g: Graph, need: Flags, order: Sequence[int]) -> list[int]:
     return chosen
 
 
-def regrow(g: Graph, need: Flags, chosen: Sequence[int], starts: int) -> list[int]:
+def _regrow(g: Graph, need: Flags, chosen: Sequence[int], starts: int) -> list[int]:
     """Phase 4: each group holding two or more stations re-grown alone for the needed targets no other
     group's station sees, from its ``starts`` candidates that see most of them; the cheapest plan kept
     when cheaper than the group's current one (groups in the order of their first chosen station)."""
@@ -209,17 +216,17 @@ def regrow(g: Graph, need: Flags, chosen: Sequence[int], starts: int) -> list[in
         best, best_cost = mine, float(g.cost[mine].sum())
         seeds = np.argsort(-seen, kind="stable")[:starts]
         for s in seeds[seen[seeds] > 0].tolist():
-            order, unseen = grow(sub, all_cols, {}, first=s)
+            order, unseen = _grow(sub, all_cols, {}, first=s)
             if unseen.any():
                 continue
-            got = members[prune(sub, all_cols, order)]
+            got = members[_prune(sub, all_cols, order)]
             if float(g.cost[got].sum()) < best_cost - 1e-9:
                 best, best_cost = got.tolist(), float(g.cost[got].sum())
         plan = others + [int(v) for v in best]
     return plan
 
 
-def fixed_components(g: Graph, need: Flags) -> dict[int, int] | None:
+def _fixed_components(g: Graph, need: Flags) -> dict[int, int] | None:
     """Group -> component for every needed target whose seers all lie in one component (a connected
     cover must then use it); None when two such targets fix one group to two components (no connected
     cover exists)."""
@@ -238,8 +245,14 @@ def fixed_components(g: Graph, need: Flags) -> dict[int, int] | None:
     return out
 
 
-def bundle_cover(by_candidate: sp.spmatrix, adj: sp.spmatrix, groups: Sequence[Hashable], cost: NDArray[np.float64],
-                 need: Flags, starts: int = 50) -> list[int] | None:
+def bundle_cover(
+    by_candidate: sp.spmatrix,
+    adj: sp.spmatrix,
+    groups: Sequence[Hashable],
+    cost: NDArray[np.float64],
+    need: Flags,
+    starts: int = 50,
+) -> list[int] | None:
     """A cover of ``need`` whose every group's stations are connected under ``adj`` (sorted), or None.
 
     Parameters
@@ -268,16 +281,16 @@ def bundle_cover(by_candidate: sp.spmatrix, adj: sp.spmatrix, groups: Sequence[H
     need = np.asarray(need, dtype=bool)
     if np.any(need & (np.diff(g.by_target.indptr) == 0)):
         return None
-    fixed = fixed_components(g, need)
+    fixed = _fixed_components(g, need)
     for _ in range(int(gid.max(initial=-1)) + 2):
         if fixed is None:
             return None
-        order, unseen = grow(g, need, fixed)
+        order, unseen = _grow(g, need, fixed)
         if not unseen.any():
-            plan = prune(g, need, regrow(g, need, prune(g, need, order), starts))
+            plan = _prune(g, need, _regrow(g, need, _prune(g, need, order), starts))
             return sorted(plan)
         t = int(np.flatnonzero(unseen)[0])  # fix a seer's group to the seer's component, then start again
-        seers = g.by_target.indices[g.by_target.indptr[t]:g.by_target.indptr[t + 1]]
+        seers = g.by_target.indices[g.by_target.indptr[t] : g.by_target.indptr[t + 1]]
         free = [int(s) for s in np.sort(seers) if int(g.gid[s]) not in fixed]
         if not free:
             return None

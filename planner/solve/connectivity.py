@@ -45,7 +45,9 @@ def components(adj: sp.csr_matrix, nodes: Sequence[int]) -> list[list[int]]:
     return sorted(comps, key=lambda c: (-len(c), c[0]))
 
 
-def disconnected_groups(adj: sp.csr_matrix, groups: Sequence[Hashable], selected: Sequence[int]) -> dict[Hashable, list[list[int]]]:
+def disconnected_groups(
+    adj: sp.csr_matrix, groups: Sequence[Hashable], selected: Sequence[int]
+) -> dict[Hashable, list[list[int]]]:
     """Groups whose chosen stations fall apart, with their components."""
     out = {}
     for g, members in group_members(groups, selected).items():
@@ -55,8 +57,9 @@ def disconnected_groups(adj: sp.csr_matrix, groups: Sequence[Hashable], selected
     return out
 
 
-def connectivity_cuts(adj: sp.csr_matrix, comps: list[list[int]], a: sp.csr_matrix | None = None,
-                      essential: np.ndarray | None = None) -> list[Cut]:
+def connectivity_cuts(
+    adj: sp.csr_matrix, comps: list[list[int]], a: sp.csr_matrix | None = None, essential: np.ndarray | None = None
+) -> list[Cut]:
     """Cuts that the current components violate (see the module docstring).
 
     For each component S, its region R(S) holds the candidates strictly closer
@@ -91,8 +94,13 @@ def connectivity_cuts(adj: sp.csr_matrix, comps: list[list[int]], a: sp.csr_matr
                 near = np.asarray(adj[comp].sum(axis=0)).ravel() > 0
                 near[comp] = False
                 ln = np.flatnonzero(near)
-                cuts.append((np.concatenate([ln, comp]).astype(np.int64),
-                             np.concatenate([np.ones(len(ln)), -np.ones(len(comp))]), 1.0 - len(comp)))
+                cuts.append(
+                    (
+                        np.concatenate([ln, comp]).astype(np.int64),
+                        np.concatenate([np.ones(len(ln)), -np.ones(len(comp))]),
+                        1.0 - len(comp),
+                    )
+                )
             continue
         near = np.asarray(adj[comp].sum(axis=0)).ravel() > 0
         near[comp] = False
@@ -104,8 +112,9 @@ def connectivity_cuts(adj: sp.csr_matrix, comps: list[list[int]], a: sp.csr_matr
     return cuts
 
 
-def neighbour_cuts(adj: sp.csr_matrix, a: sp.csr_matrix, groups: Sequence[Hashable],
-                   essential: dict[Hashable, np.ndarray]) -> list[Cut]:
+def neighbour_cuts(
+    adj: sp.csr_matrix, a: sp.csr_matrix, groups: Sequence[Hashable], essential: dict[Hashable, np.ndarray]
+) -> list[Cut]:
     """x_i <= sum of its overlap neighbours, for every candidate that alone misses an essential target
     of its group: a station that cannot do the group's work alone needs a registration partner.
     Added before the first solve, these rule out isolated stations from the start."""
@@ -115,9 +124,9 @@ def neighbour_cuts(adj: sp.csr_matrix, a: sp.csr_matrix, groups: Sequence[Hashab
         if ess is None or not ess.any():
             continue
         seen = np.zeros(a.shape[1], dtype=bool)
-        seen[a.indices[a.indptr[i]:a.indptr[i + 1]]] = True
+        seen[a.indices[a.indptr[i] : a.indptr[i + 1]]] = True
         if np.any(ess & ~seen):
-            nb = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+            nb = adj.indices[adj.indptr[i] : adj.indptr[i + 1]]
             cuts.append((np.append(nb, i).astype(np.int64), np.append(np.ones(len(nb)), -1.0), 0.0))
     return cuts
 
@@ -155,7 +164,9 @@ def path_to_nearest(weights: sp.csr_matrix, sources: Sequence[int], wanted: np.n
     return path
 
 
-def repair(adj: sp.csr_matrix, cost: np.ndarray, groups: Sequence[Hashable], selected: Sequence[int]) -> list[int] | None:
+def repair(
+    adj: sp.csr_matrix, cost: np.ndarray, groups: Sequence[Hashable], selected: Sequence[int]
+) -> list[int] | None:
     """Make each group's choice connected by adding the cheapest chains of stations between its components.
 
     Returns None if some components cannot be joined at all.
@@ -176,8 +187,12 @@ def repair(adj: sp.csr_matrix, cost: np.ndarray, groups: Sequence[Hashable], sel
 
 
 def connected_greedy(
-    by_candidate: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], cost: np.ndarray,
-    need: np.ndarray, starts: int = 50,
+    by_candidate: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    cost: np.ndarray,
+    need: np.ndarray,
+    starts: int = 50,
 ) -> list[int] | None:
     """A cover of ``need`` whose every group's stations are connected under ``adj``, sorted; None when some
     needed target is seen by no candidate or no connected choice was found.
@@ -186,5 +201,6 @@ def connected_greedy(
     the cheapest overlap paths where none gains, then pruned, and each bundle re-grown from ``starts``
     seeds (:func:`planner.solve.bundles.bundle_cover`: phases, invariants, complexity, references).
     """
-    return bundle_cover(by_candidate, adj, groups, np.asarray(cost, dtype=np.float64), np.asarray(need, dtype=bool),
-                        starts)
+    return bundle_cover(
+        by_candidate, adj, groups, np.asarray(cost, dtype=np.float64), np.asarray(need, dtype=bool), starts
+    )

@@ -16,7 +16,8 @@ from planner.solve.result import SolveResult, Status
 
 
 def greedy_cover(
-    by_candidate: sp.csr_matrix, must_cover: np.ndarray | None = None,
+    by_candidate: sp.csr_matrix,
+    must_cover: np.ndarray | None = None,
     weights: Sequence[float] | np.ndarray | None = None,
 ) -> SolveResult:
     """Greedy set cover (Chvatal 1979): repeatedly take the candidate with the lowest cost per newly covered target.
@@ -47,8 +48,11 @@ def greedy_cover(
     """
     start = time.perf_counter()
     if not sp.issparse(by_candidate):
-        raise ArgumentTypeError("must be a scipy.sparse matrix, candidates x targets (e.g. problem.by_candidate)",
-                                field="by_candidate", value=type(by_candidate).__name__)
+        raise ArgumentTypeError(
+            "must be a scipy.sparse matrix, candidates x targets (e.g. problem.by_candidate)",
+            field="by_candidate",
+            value=type(by_candidate).__name__,
+        )
     n_cand, n_targ = by_candidate.shape
     a = by_candidate.astype(np.int64)
     seen = np.asarray(a.sum(axis=0)).ravel() > 0
@@ -56,12 +60,21 @@ def greedy_cover(
         raise UsageError(f"needs one flag per target ({n_targ})", field="must_cover", value=np.shape(must_cover))
     uncovered = seen.copy() if must_cover is None else np.asarray(must_cover, dtype=bool).copy()
     if np.any(uncovered & ~seen):
-        return SolveResult("greedy", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
-                           info={"unseen_targets": np.flatnonzero(uncovered & ~seen).tolist()})
+        return SolveResult(
+            "greedy",
+            Status.INFEASIBLE,
+            (),
+            None,
+            time_s=time.perf_counter() - start,
+            info={"unseen_targets": np.flatnonzero(uncovered & ~seen).tolist()},
+        )
     w = np.ones(n_cand) if weights is None else np.asarray(weights, dtype=float)
     if w.shape != (n_cand,) or not (np.all(np.isfinite(w)) and np.all(w > 0)):  # 0 or -1 gave "0 stations"
-        raise InputError(f"needs {n_cand} finite costs > 0", field="weights", value=w.shape if w.shape != (n_cand,)
-                         else float(w[~(np.isfinite(w) & (w > 0))][0]))
+        raise InputError(
+            f"needs {n_cand} finite costs > 0",
+            field="weights",
+            value=w.shape if w.shape != (n_cand,) else float(w[~(np.isfinite(w) & (w > 0))][0]),
+        )
     chosen: list[int] = []
     taken = np.zeros(n_cand, dtype=bool)
     while uncovered.any():
@@ -71,9 +84,10 @@ def greedy_cover(
         best = int(np.argmax(score))  # first index among ties
         chosen.append(best)
         taken[best] = True
-        uncovered[a.indices[a.indptr[best]:a.indptr[best + 1]]] = False
-    return SolveResult("greedy", Status.FEASIBLE, tuple(chosen), float(w[chosen].sum()),
-                       time_s=time.perf_counter() - start)
+        uncovered[a.indices[a.indptr[best] : a.indptr[best + 1]]] = False
+    return SolveResult(
+        "greedy", Status.FEASIBLE, tuple(chosen), float(w[chosen].sum()), time_s=time.perf_counter() - start
+    )
 
 
 def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: int = 50) -> SolveResult:
@@ -113,5 +127,11 @@ def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: in
     info = {"connected": True, "starts": starts}
     if chosen is None:
         return SolveResult("greedy", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start, info=info)
-    return SolveResult("greedy", Status.FEASIBLE, tuple(chosen), float(instance.cost[chosen].sum()),
-                       time_s=time.perf_counter() - start, info=info)
+    return SolveResult(
+        "greedy",
+        Status.FEASIBLE,
+        tuple(chosen),
+        float(instance.cost[chosen].sum()),
+        time_s=time.perf_counter() - start,
+        info=info,
+    )

@@ -33,8 +33,9 @@ def test_bundles_grow_together_so_a_shared_target_goes_to_the_cheaper_group():
     # group h: c2 sees 4-7. Both groups see piece 4. Taken: c0 (4 new; ties with c2 go to the lower index),
     # then c2 (4 new, against 1 for c1): 2 stations, each group one bundle, the optimum. Growing g alone
     # first for all g can see (the former greedy) took c1 as well: 3.
-    inst = CoverInstance(matrix([{0, 1, 2, 3}, {3, 4}, {4, 5, 6, 7}], 8), np.ones(3), groups=("g", "g", "h"),
-                         target_length_m=np.ones(8))
+    inst = CoverInstance(
+        matrix([{0, 1, 2, 3}, {3, 4}, {4, 5, 6, 7}], 8), np.ones(3), groups=("g", "g", "h"), target_length_m=np.ones(8)
+    )
     r = connected_greedy_plan(inst, RULE)
     assert r.selected == (0, 2) and r.objective == 2.0
 
