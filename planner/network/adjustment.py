@@ -28,6 +28,7 @@ from scipy import stats
 
 from planner.errors import InputError
 from planner.network import lsq_dense, lsq_sparse
+from planner.network.normal import Normal
 
 KINDS = ("direction", "distance", "x", "y", "dx", "dy")
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0, "gon": math.pi / 200.0, "arcsec": math.pi / 648000.0}
@@ -162,12 +163,40 @@ def adjust(
 ) -> Adjustment:
     """Design (``observed=False``: covariance only) or adjustment of a network.
 
-    ``coords`` are approximate (design) coordinates; ``fixed`` points are
-    known. Values and sigmas are in ``angle_unit`` (directions) and
-    ``length_unit`` (the rest); results come back in ``length_unit``.
-    ``method``: ``sparse`` (or ``normal``: sparse normal equations, see the module text), ``dense``
-    (dense normal equations, Cholesky) or ``qr`` (scipy's least squares on sqrt(P) A); all give the
-    same answer.
+    Parameters
+    ----------
+    coords : mapping of str to (float, float)
+        Approximate (design) coordinates of every point, in ``length_unit``; their order is the
+        order of the unknowns.
+    fixed : sequence of str
+        The known points.
+    observations : sequence of Obs
+        Values and sigmas in ``angle_unit`` (directions) and ``length_unit`` (the rest).
+    observed : bool
+        Adjust the observed values (iterated to convergence, at most ``max_iter`` times); else the
+        design only: covariance, redundancy numbers, no residuals.
+    angle_unit, length_unit : str
+        Units of the input (:data:`ANGLE_UNITS`, :data:`LENGTH_UNITS`); results come back in
+        ``length_unit``.
+    method : str
+        ``sparse`` (or ``normal``): sparse normal equations, see the module text; ``dense``: dense
+        normal equations (Cholesky, the whole inverse); ``qr``: scipy's least squares on sqrt(P) A.
+        All give the same answer.
+    sigma0 : float
+        The a priori standard deviation of unit weight (chi-square test, and the scale of a design).
+    max_iter : int
+        Iterations of an adjustment of observations.
+
+    Returns
+    -------
+    Adjustment
+        Points with sigmas and error ellipses, redundancy numbers, residuals and the global test.
+
+    Raises
+    ------
+    InputError
+        On an unknown kind, method or point, a sigma out of range, coincident points of a distance
+        or direction, or a datum defect.
     """
     if method not in METHODS:
         raise InputError(f"unknown adjustment method (known: {', '.join(METHODS)})", field="method", value=method)
@@ -189,13 +218,13 @@ def adjust(
     l = np.zeros(len(obs))
     dx = np.zeros(plan.n_unknowns)
     a_dense: NDArray[np.float64] = np.zeros((0, 0))
-    normal: lsq_sparse.Normal | None = None
+    normal: Normal | None = None
     for it in range(max_iter if observed else 1):
         if dense:
             a_dense, f, _ = lsq_dense.design({n: (float(p[0]), float(p[1])) for n, p in zip(names, xy)}, unknown, obs)
         else:
             a_sparse, f = plan.jacobian(xy)
-            normal = lsq_sparse.Normal(a_sparse, w)
+            normal = Normal(a_sparse, w, len(plan.orient))
         if observed:
             if it == 0:
                 orient_val = _orientations(f, values, orient_station, len(plan.orient))
@@ -229,12 +258,12 @@ def adjust(
     return _results(unknown, xy[uidx], obs, w, qa, blocks, cov, v if observed else None, n_unk, kl, sigma0)
 
 
-def _lazy(normal: lsq_sparse.Normal, k: int) -> Callable[[], NDArray[np.float64]]:
+def _lazy(normal: Normal, k: int) -> Callable[[], NDArray[np.float64]]:
     """Q of the first ``k`` unknowns, from A and P again (the factor is not kept)."""
-    a, w = normal.a, normal.w
+    a, w, n_orient = normal.a, normal.w, normal.a.shape[1] - normal.k
 
     def cov() -> NDArray[np.float64]:
-        return lsq_sparse.Normal(a, w).columns(k)
+        return Normal(a, w, n_orient).columns(k)
     return cov
 
 

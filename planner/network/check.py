@@ -1,4 +1,5 @@
-"""The accuracy check of a plan: station network, a priori adjustment, point errors of every wall piece.
+"""The accuracy check of a plan: station network, a priori adjustment, point errors of every wall piece
+(:mod:`planner.network.pieces`).
 
 For every target the plan covers, e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 +
 sigma_meas(S, theta)^2) (2.13, with the site's incidence model, see
@@ -19,20 +20,28 @@ import networkx as nx
 import numpy as np
 
 from planner.checks import argument
-from planner.instrument.accuracy import ErrorBudget, combined_error_m, view_error_m
-from planner.site.candidate import Candidate, check_unique_ids, stations_argument
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.errors import InputError
-from planner.text import finite_or_none
 from planner.instrument.models import TotalStation, load_instrument
 from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
+from planner.network.pieces import accuracy_check
 from planner.network.survey import SurveyNetwork, registration_links, survey_network
-from planner.network.traverse import (ControlTraverse, check_traverse_names, datum, propose_area_control, propose_traverse,
-                                      survey_graph, tie_sigma_to)
+from planner.network.traverse import (
+    ControlTraverse,
+    check_traverse_names,
+    datum,
+    propose_area_control,
+    propose_traverse,
+    survey_graph,
+    tie_sigma_to,
+)
+from planner.site.candidate import Candidate, check_unique_ids, stations_argument
+
+__all__ = ["NetworkReport", "accuracy_check", "registration_sigma_m", "run_network"]
 from planner.site.model import ControlPoint, Site
 from planner.site.validate import validate_site
 
@@ -85,6 +94,7 @@ class NetworkReport:
             "stations": ellipses,
             "network_rms_m": self.network_rms_m,
             "adjustments": [{"dof": a.dof, "m0": a.m0, "chi2_p": a.chi2_p, "chi2_pass": a.chi2_pass,
+                             "observations": len(a.observations), "unknowns": len(a.observations) - a.dof,
                              "unchecked_observations": len(a.unchecked())} for a in self.adjustments],
             "failures": list(self.failures),
             "notes": list(self.notes),
@@ -249,8 +259,12 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     coords, fixed, obs = _design_observations(g, ts, ctrl, fixed_names)
     adjustments, failures, sigma = [], [], {}
     mcs = []
-    for comp in nx.connected_components(g):
-        comp_obs = [o for o in obs if o.at in comp]
+    parts = list(nx.connected_components(g))
+    part_of = {n: k for k, comp in enumerate(parts) for n in comp}
+    obs_of: list[list[Obs]] = [[] for _ in parts]
+    for o in obs:  # each part's observations, in their order
+        obs_of[part_of[o.at]].append(o)
+    for comp, comp_obs in zip(parts, obs_of):
         comp_fixed = [f for f in fixed if f in comp]
         names = {n: coords[n] for n in sorted(comp)}  # a fixed order of the unknowns (not set order)
         if not any(g.nodes[n]["kind"] == "station" for n in comp):
@@ -269,65 +283,3 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     survey = survey_network(site, stations, registration, links)
     return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes),
                          sigma_h, survey)
-
-
-def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any,
-                   combined: bool = False) -> dict[str, Any]:
-    """Point error of every covered piece from its best station (or all its stations combined), against
-    sigma_req (see module docstring)."""
-    p = site.parameters
-    b = p.budget
-    bt = problem.slant_m.T.tocsr()
-    inc = problem.incidence_deg.T.tocsr()
-    t = problem.targets
-    # the view error without the station term, for every pair at once; the station's own sigma_0 is added below
-    rest = ErrorBudget(0.0, b.centring_m, b.graphical_m)
-    e_view = view_error_m(bt.data, inc.data, scanner, rest, p.incidence_model)
-    s0_all = np.array([sigma.get(s.id, np.inf) for s in stations] or [0.0])
-    e_best = np.full(len(t), np.inf)
-    who = np.full(len(t), -1)
-    theta = np.full(len(t), np.nan)
-    for k in range(len(t)):
-        lo, hi = bt.indptr[k], bt.indptr[k + 1]
-        if hi == lo:
-            continue
-        cols = bt.indices[lo:hi]
-        e = np.sqrt(s0_all[cols] ** 2 + e_view[lo:hi] ** 2)
-        j = int(np.argmin(e))
-        e_best[k], who[k] = (combined_error_m(e) if combined else e[j]), cols[j]
-        theta[k] = inc.data[lo + j]
-    covered = who >= 0
-    fail = covered & (e_best > p.sigma_req_m)
-    zones = []
-    for zi, zid in enumerate(t.zone_ids):
-        for side in (0, 1):
-            m = covered & (t.zone == zi) & (t.side == side)
-            if m.any():
-                worst = float(e_best[m].max())  # infinite: some piece is seen by untied stations only
-                zones.append({"zone": zid, "side": ["inside", "outside"][side], "pass": not bool((fail & m).any()),
-                              "worst_e_m": finite_or_none(worst), "untied": not math.isfinite(worst)})
-    bad_st = sorted({stations[w].id for w in who[fail]})
-    suggestions = []
-    for sid in bad_st[:10]:
-        s0_m = float(sigma.get(sid, float("inf")))
-        if not math.isfinite(s0_m):
-            suggestions.append(f"station {sid} is not tied to control: add a control point it sees, or a registration link")
-        elif s0_m > p.sigma_req_m / 2:
-            suggestions.append(f"station {sid} position error {s0_m * 1000:.1f} mm: add a control point near it or shorten its chain")
-        else:
-            suggestions.append(f"targets of station {sid} are measured too far: add a station closer to them")
-    finite = e_best[covered & np.isfinite(e_best)]
-    return {"sigma_req_m": p.sigma_req_m, "drawing_scale": p.drawing_scale, "targets": int(covered.sum()),
-            "precision": "combined" if combined else "single", "incidence_model": p.incidence_model,
-            "failing_targets": int(fail.sum()), "unseen_targets": int((~covered).sum()),
-            # a piece no station sees is no pass: the check is of the wall, not of the pieces that happen to be seen
-            "pass": not bool(fail.any()) and bool(covered.all()),
-            # the worst finite error; pieces seen by untied stations only have none and are counted apart
-            "worst_e_m": float(finite.max()) if finite.size else None,
-            "untied_targets": int((covered & ~np.isfinite(e_best)).sum()), "zones": zones,
-            "failing_stations": bad_st, "failing_target_ids": [t.label(i) for i in np.flatnonzero(fail)[:50]],
-            "worst_targets": [{"target": t.label(i), "station": stations[who[i]].id, "e_m": finite_or_none(float(e_best[i])),
-                               "untied": not math.isfinite(e_best[i]),
-                               "incidence_deg": float(theta[i])}
-                              for i in np.argsort(-np.where(covered, e_best, -1.0))[:20] if covered[i]],
-            "suggestions": suggestions}

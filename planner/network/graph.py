@@ -17,38 +17,29 @@ linked to each other). Edges carry ``kinds`` (a set of ``sight``, ``delaunay``,
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import networkx as nx
 import numpy as np
+from numpy.typing import NDArray
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import shortest_path
 from scipy.spatial import Delaunay
 
-from planner.candidates.final_step import misplacement
-from planner.site.candidate import Candidate
-from planner.coverage.matrix import blockers_for
+from planner.coverage.matrix import station_places
 from planner.coverage.visibility import segments_touch
-from planner.site.model import ControlPoint, Site
+from planner.network.sight import blockers as _blockers
+from planner.network.sight import sight_clear
+from planner.site.candidate import Candidate
+from planner.site.model import ControlPoint, ScanSide, Site
 
 MIN_CONTROL_SPACING_M = 5.0
 #: control spots are tried at these distances from each station (smaller ones for small rooms)
 CONTROL_OFFSETS_M = (6.0, 4.0, 3.0, 2.0, 1.5)
-
-
-#: blockers of the last sites asked (a site is immutable: its blockers are built once per frame)
-_BLOCKERS: dict[tuple[int, str], tuple[Site, Any]] = {}
-
-
-def _blockers(site: Site, frame: str) -> Any:
-    hit = _BLOCKERS.get((id(site), frame))
-    if hit is None or hit[0] is not site:
-        if len(_BLOCKERS) > 32:
-            _BLOCKERS.clear()
-        hit = _BLOCKERS[(id(site), frame)] = (site, blockers_for(site, frame))
-    return hit[1]
 
 
 def intervisible(site: Site, frame: str, p: tuple[float, float], q: tuple[float, float]) -> bool:
@@ -69,36 +60,79 @@ class Diagnostics:
     articulation_points: list[str]
 
 
+def spots_around(site: Site, stations: Sequence[Candidate]) -> list[list[tuple[float, float]]]:
+    """The control spots of each station: ``CONTROL_OFFSETS_M`` from it in 8 directions (nearest radius
+    first), where a station of its zone-side could stand and which it sees. Whether one could stand there
+    is what :func:`planner.candidates.final_step.misplacement` says, in one classification of all spots."""
+    rings = [[(s.x + radius * math.cos(a * math.pi / 4), s.y + radius * math.sin(a * math.pi / 4))
+              for radius in CONTROL_OFFSETS_M for a in range(8)] for s in stations]
+    if not rings:
+        return []
+    per = len(rings[0])
+    xy = np.array([p for ring in rings for p in ring], dtype=float).reshape(-1, 2)
+    places = station_places(site, xy, [s.frame for s in stations for _ in range(per)])
+    zone = {z.id: i for i, z in enumerate(site.zones)}
+    ok = ~np.array([bool(r) for r in places.reason]).reshape(len(stations), per)
+    for k, s in enumerate(stations):
+        ok[k] &= places.inside[k * per:(k + 1) * per, zone[s.zone]] == (s.side is ScanSide.INSIDE)
+    from_ = np.repeat(np.array([s.xy for s in stations], dtype=float).reshape(-1, 2), per, axis=0)
+    frames = np.repeat(np.array([s.frame for s in stations], dtype=object), per)
+    seen = np.zeros(len(xy), dtype=bool)
+    for f in dict.fromkeys(frames.tolist()):
+        m = frames == f
+        seen[m] = sight_clear(site, f, from_[m], xy[m])
+    ok &= seen.reshape(len(stations), per)
+    return [[p for p, good in zip(ring, row) if good] for ring, row in zip(rings, ok)]
+
+
+def widest_triangle(spots: Sequence[tuple[float, float]]) -> tuple[tuple[tuple[float, float], ...] | None, tuple[bool, float]]:
+    """Of all triples of ``spots`` (in the order of ``itertools.combinations``), the first one of largest
+    area whose spots are all more than ``MIN_CONTROL_SPACING_M`` apart, else the first one of largest
+    smallest spacing; collinear triples (twice the area below 1e-6) never. Returns it (None: no triple)
+    and its key (spread apart, area or spacing)."""
+    m = len(spots)
+    if m < 3:
+        return None, (False, 0.0)
+    d = np.zeros((m, m))
+    for a, b in itertools.combinations(range(m), 2):
+        d[a, b] = d[b, a] = math.dist(spots[a], spots[b])
+    i, j, k = _triples(m)
+    xy = np.array(spots, dtype=float)
+    gap = np.minimum(np.minimum(d[i, j], d[j, k]), d[i, k])
+    p, q, r = xy[i], xy[j], xy[k]
+    a2 = np.abs((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0])) / 2
+    valid = a2 >= 1e-6
+    spread = valid & (gap > MIN_CONTROL_SPACING_M)
+    if spread.any():
+        t = int(np.argmax(np.where(spread, a2, -np.inf)))
+        key = (True, float(a2[t]))
+    elif (valid & (gap > 0.0)).any():
+        t = int(np.argmax(np.where(valid, gap, -np.inf)))
+        key = (False, float(gap[t]))
+    else:
+        return None, (False, 0.0)
+    return (spots[i[t]], spots[j[t]], spots[k[t]]), key
+
+
+@functools.lru_cache(maxsize=128)
+def _triples(m: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+    t = np.array(list(itertools.combinations(range(m), 3)), dtype=np.int64).reshape(-1, 3)
+    return t[:, 0], t[:, 1], t[:, 2]
+
+
 def propose_control(site: Site, stations: Sequence[Candidate], graph: nx.Graph,
                     notes: list[str] | None = None) -> list[ControlPoint]:
     """Three control points per connected part of the station graph: spots 6, 4 or 3 m from its
     stations (8 directions) where a station of that zone could stand and which see that station; of these
     the three spanning the largest triangle, each pair more than 5 m apart. Marked as proposed.
     A spot closer than the site's stand-off (``min_standoff_m``) to a wall or obstacle is no spot:
-    :func:`misplacement` refuses it, as it refuses a station there."""
+    :func:`planner.candidates.final_step.misplacement` refuses it, as it refuses a station there."""
     out: list[ControlPoint] = []
     by_id = {s.id: s for s in stations}
+    around = dict(zip(by_id, spots_around(site, list(by_id.values()))))
     for k, comp in enumerate(nx.connected_components(graph.subgraph([s.id for s in stations]))):
-        spots = []
-        for sid in sorted(comp):
-            s = by_id[sid]
-            for radius in CONTROL_OFFSETS_M:
-                for a in range(8):
-                    t = a * math.pi / 4
-                    x, y = s.x + radius * math.cos(t), s.y + radius * math.sin(t)
-                    if not misplacement(site, s, x, y) and intervisible(site, s.frame, s.xy, (x, y)):
-                        spots.append((x, y))
-        best, score = None, (False, 0.0)
-        for p, q, r in itertools.combinations(spots[:120], 3):
-            gap = min(math.dist(p, q), math.dist(q, r), math.dist(p, r))
-            a2 = abs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])) / 2
-            if a2 < 1e-6:
-                continue  # collinear
-            # spread more than 5 m apart first (largest triangle); in a room too small for that,
-            # the triple with the largest smallest spacing
-            key = (gap > MIN_CONTROL_SPACING_M, a2 if gap > MIN_CONTROL_SPACING_M else gap)
-            if key > score:
-                best, score = (p, q, r), key
+        spots = [p for sid in sorted(comp) for p in around[sid]]
+        best, score = widest_triangle(spots[:120])
         if best is not None and not score[0] and notes is not None:
             notes.append(f"control points of {', '.join(sorted(comp))} are only {score[1]:.1f} m apart: "
                          "no three spots more than 5 m apart fit there")
@@ -154,21 +188,24 @@ def _link(g: nx.Graph, u: str, v: str, kind: str, length: float) -> None:
 
 def diagnostics(g: nx.Graph) -> Diagnostics:
     """Connected parts, stations with no path to a control point, each station's path to its nearest
-    control point (fewest edges), and articulation points (nodes whose loss splits the network)."""
-    control = [n for n, d in g.nodes(data=True) if d["kind"] == "control"]
+    control point (fewest edges; of equally near ones the first control point of the graph, and the path
+    ``nx.shortest_path`` gives), and articulation points (nodes whose loss splits the network)."""
+    order = list(g)
+    index = {n: k for k, n in enumerate(order)}
+    control = np.array([index[n] for n, d in g.nodes(data=True) if d["kind"] == "control"], dtype=np.int64)
+    stations = [n for n, d in g.nodes(data=True) if d["kind"] == "station"]
     paths, untied = {}, []
-    for n, d in g.nodes(data=True):
-        if d["kind"] != "station":
-            continue
-        best = None
-        for c in control:
-            if nx.has_path(g, n, c):
-                p = nx.shortest_path(g, n, c)
-                if best is None or len(p) < len(best):
-                    best = p
-        if best is None:
-            untied.append(n)
-        else:
-            paths[n] = best
+    if stations and len(control):
+        edges = np.array([(index[u], index[v]) for u, v in g.edges()], dtype=np.int64).reshape(-1, 2)
+        adj = csr_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(len(order), len(order)))
+        hops = shortest_path(adj, directed=False, unweighted=True, indices=[index[n] for n in stations])
+        for n, row in zip(stations, hops.reshape(len(stations), -1)):
+            to_control = row[control]
+            if not np.isfinite(to_control).any():
+                untied.append(n)
+                continue
+            paths[n] = nx.shortest_path(g, n, order[control[int(np.argmin(to_control))]])
+    else:
+        untied = list(stations)
     return Diagnostics([sorted(c) for c in nx.connected_components(g)], sorted(untied), paths,
                        sorted(nx.articulation_points(g)))

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.errors import InputError
-from planner.network.lsq_sparse import Normal
+from planner.network.normal import Normal
 
 
 @dataclass(frozen=True)
@@ -81,5 +81,6 @@ def adjust_heights(approx: Mapping[str, float], fixed: Mapping[str, float], obse
         v = a @ x - l
         m0 = math.sqrt(float(v @ (w * v)) / dof)
     scale = (m0 or 1.0) ** 2
-    q = normal.inverse_on(sp.identity(len(unknown), format="csc"))
+    k = np.arange(len(unknown))
+    q = normal.inverse(sp.identity(len(unknown), format="csc"))(k, k)
     return HeightResult({n: h0[n] + x[k] for n, k in col.items()}, {n: math.sqrt(q[k] * scale) for n, k in col.items()}, m0)

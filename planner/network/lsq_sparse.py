@@ -1,19 +1,17 @@
-"""Sparse least squares for :mod:`planner.network.adjustment`: the design matrix, normal equations and
-the parts of their inverse the adjustment needs.
+"""Sparse least squares for :mod:`planner.network.adjustment`: the design matrix, and of Q = N^-1 the
+entries the results need.
 
 Every observation touches at most five unknowns (two points and a station's orientation), so the
-design matrix A (scipy.sparse, CSR) holds at most five entries a row. The normal matrix
-N = A^T P A is scaled to a unit diagonal (S N S, S = diag(N)^-1/2) and factored by SuperLU with the
-diagonal as pivots (a Cholesky factorisation in LU form; fill-reducing order of N + N^T). The
-adjustment needs of Q = N^-1 only
+design matrix A (scipy.sparse, CSR) holds at most five entries a row, and the normal equations
+(:class:`planner.network.normal.Normal`) are sparse. The adjustment needs of Q only
 
 - the entries on the pattern of N: the redundancy numbers are r_i = 1 - p_i a_i Q a_i^T, and
   a_i Q a_i^T sums Q over the pairs of unknowns of observation i, which are the pattern of N;
 - the 2 x 2 block of every point (its error ellipse);
 
-so Q is formed a block of columns at a time (solves with the factor) and only those entries are kept:
-memory O(entries of N + unknowns x block), not O(unknowns^2). The full coordinate covariance is
-formed only when asked for (:attr:`planner.network.adjustment.Adjustment.qxx`).
+so only those are formed: time and memory grow with the observations, not with their square.
+The full coordinate covariance is formed only when asked for
+(:attr:`planner.network.adjustment.Adjustment.qxx`).
 """
 
 from __future__ import annotations
@@ -23,21 +21,14 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
 from planner.errors import InputError
+from planner.network.normal import Normal
 
 #: observation kinds as codes (the order of :data:`planner.network.adjustment.KINDS`)
 X, Y, DX, DY, DISTANCE, DIRECTION = range(6)
 CODES = {"x": X, "y": Y, "dx": DX, "dy": DY, "distance": DISTANCE, "direction": DIRECTION}
-#: a pivot of the unit-diagonal normal matrix below this is a datum defect (an exact defect leaves
-#: a pivot of the order of the rounding error, 1e-16; a network of sound geometry, pivots near 1)
-PIVOT_TOL = 1e-10
-#: entries of the dense block of Q columns formed at a time
-BLOCK_ENTRIES = 2_000_000
-#: below this many unknowns a defect is counted as before, by the rank of the dense N
-DENSE_RANK_MAX = 3000
 
 
 class Design:
@@ -128,96 +119,25 @@ class Design:
         return a, f
 
 
-class Normal:
-    """N = A^T P A of a design matrix, scaled to a unit diagonal and factored (see the module text).
-
-    Raises
-    ------
-    InputError
-        On a datum defect: some unknown is not determined by the observations.
-    """
-
-    def __init__(self, a: sp.csr_matrix, w: NDArray[np.float64]) -> None:
-        self.a, self.w = a, w
-        u = a.shape[1]
-        n = (a.T @ sp.diags(w) @ a).tocsc()
-        d = n.diagonal()
-        self.s = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
-        self.lu = None
-        if u and np.all(d > 0):
-            m = sp.diags(self.s) @ n @ sp.diags(self.s)
-            try:
-                self.lu = spla.splu(m.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                    options={"SymmetricMode": True, "Equil": False})
-            except RuntimeError:  # an exactly zero pivot
-                self.lu = None
-        if u and (self.lu is None or np.min(np.abs(self.lu.U.diagonal())) < PIVOT_TOL):
-            raise InputError(f"datum defect: the network leaves {self._defect(n)} "
-                             "unknown(s) undetermined (fix control points or add observations)", field="network")
-
-    def _defect(self, n: sp.csc_matrix) -> int:
-        """How many unknowns are undetermined: by the dense rank (as the dense solver counts) on small
-        networks, else by the small pivots."""
-        u = n.shape[0]
-        if u <= DENSE_RANK_MAX or self.lu is None:
-            return int(u - np.linalg.matrix_rank(n.toarray()))
-        return int(np.sum(np.abs(self.lu.U.diagonal()) < PIVOT_TOL))
-
-    def solve(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
-        """N^-1 b (b a vector or a matrix of columns)."""
-        if self.lu is None:
-            return np.zeros_like(b)
-        s = self.s if b.ndim == 1 else self.s[:, None]
-        return s * self.lu.solve(np.ascontiguousarray(s * b))
-
-    def inverse_on(self, pattern: sp.csc_matrix) -> NDArray[np.float64]:
-        """The entries of N^-1 on ``pattern`` (CSC, sorted indices), in the order of ``pattern.data``."""
-        u = pattern.shape[0]
-        out = np.empty(pattern.nnz)
-        if self.lu is None:
-            return out
-        step = max(1, min(u, BLOCK_ENTRIES // max(u, 1)))
-        ptr, idx = pattern.indptr, pattern.indices
-        for c0 in range(0, u, step):
-            c1 = min(u, c0 + step)
-            e = np.zeros((u, c1 - c0))
-            e[np.arange(c0, c1), np.arange(c1 - c0)] = 1.0
-            x = self.lu.solve(e)  # columns c0..c1 of (S N S)^-1
-            lo, hi = ptr[c0], ptr[c1]
-            rows = idx[lo:hi]
-            cols = np.repeat(np.arange(c0, c1), np.diff(ptr[c0:c1 + 1]))
-            out[lo:hi] = x[rows, cols - c0] * self.s[rows] * self.s[cols]
-        return out
-
-    def columns(self, k: int) -> NDArray[np.float64]:
-        """The first ``k`` rows and columns of N^-1 (dense)."""
-        u = self.a.shape[1]
-        e = np.zeros((u, k))
-        e[np.arange(k), np.arange(k)] = 1.0
-        return self.solve(e)[:k]
-
-
 def selected_inverse(normal: Normal, n_points: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """diag(A Q A^T) per observation and the 2 x 2 blocks of Q per unknown point (``n_points`` x 2 x 2),
-    from the entries of Q on the pattern of N and on the points' blocks only."""
+    from the entries of Q on the pattern of N (and of the points' blocks) only."""
     a = normal.a
-    u = a.shape[1]
+    u, k = a.shape[1], normal.k
     ones = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape)
-    k = np.arange(2 * n_points)
-    partner = k ^ 1  # x <-> y of the same point
-    blocks = sp.csc_matrix((np.ones(2 * len(k)), (np.concatenate([k, k]), np.concatenate([k, partner]))), shape=(u, u))
-    pattern = (ones.T @ ones + blocks).tocsc()
+    c = np.arange(2 * n_points)
+    blocks = sp.csc_matrix((np.ones(2 * len(c)), (np.concatenate([c, c]), np.concatenate([c, c ^ 1]))), shape=(u, u))
+    # the points coupled through an orientation: the fill of its elimination (planner.network.normal)
+    through = ones[:, :k].T @ ones[:, k:]
+    fill = sp.block_diag([through @ through.T, sp.csr_matrix((u - k, u - k))]).tocsc()
+    pattern = (ones.T @ ones + blocks + fill).tocsc()
     pattern.sort_indices()
-    q = normal.inverse_on(pattern)
-    keys = np.repeat(np.arange(u, dtype=np.int64), np.diff(pattern.indptr)) * u + pattern.indices
-
-    def entry(r: NDArray[np.int64], c: NDArray[np.int64]) -> NDArray[np.float64]:
-        return q[np.searchsorted(keys, c.astype(np.int64) * u + r)]
-
+    entry = normal.inverse(pattern)
     lengths = np.diff(a.indptr)
+    most = int(lengths.max(initial=0))
     qa = np.zeros(a.shape[0])
-    for p in range(int(lengths.max(initial=0))):
-        for r in range(int(lengths.max(initial=0))):
+    for p in range(most):
+        for r in range(most):
             rows = np.flatnonzero(lengths > max(p, r))
             ip, ir = a.indptr[rows] + p, a.indptr[rows] + r
             qa[rows] += a.data[ip] * a.data[ir] * entry(a.indices[ip], a.indices[ir])

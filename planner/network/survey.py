@@ -19,14 +19,22 @@ from dataclasses import dataclass
 import networkx as nx
 import numpy as np
 
-from planner.site.candidate import Candidate
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.overlap import OverlapRule, overlap_graph, piece_lengths
+from planner.coverage.overlap import overlap_graph, piece_lengths, rule_of
 from planner.coverage.targets import make_targets
-from planner.network.chain import (DEFAULT_CONTROL_SIGMA_M, TIE_RANGE_M, ChainReport, chain_accuracy, control_count,
-                                   place_ties, target_centre_sigma_m, tie_sigma_m)
+from planner.network.chain import (
+    DEFAULT_CONTROL_SIGMA_M,
+    TIE_RANGE_M,
+    ChainReport,
+    chain_accuracy,
+    control_count,
+    place_ties,
+    target_centre_sigma_m,
+    tie_sigma_m,
+)
 from planner.network.graph import intervisible
+from planner.site.candidate import Candidate
 from planner.site.model import Site
 
 #: scan resolution 3 mm at 10 m (seed 003's example) as an angle in degrees
@@ -79,8 +87,8 @@ def registration_links(site: Site, stations: Sequence[Candidate], mode: str | No
     if problem is None:
         problem = build_coverage(site, stations, make_targets(site, 1.0), limits)
     targets = problem.targets
-    rule = OverlapRule(site.parameters.overlap)
-    labels, links = registration_groups(site, stations, mode or default_registration(site), limits.range_limit_m)
+    rule = rule_of(site.parameters.overlap)
+    labels, links = registration_groups(site, stations, mode or default_registration(site), limits.effective_range_m)
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
     groups: dict[object, list[int]] = {}
     for i, label in enumerate(labels):

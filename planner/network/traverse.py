@@ -25,7 +25,6 @@ wall: areas that no opening joins stay separate networks.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -36,14 +35,14 @@ import networkx as nx
 import numpy as np
 import shapely
 
-from planner.site.candidate import Candidate
+from planner.checks import no_repeats
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.errors import InputError
+from planner.network import proposal
 from planner.network.chain import TIE_RANGE_M
-from planner.candidates.final_step import misplacement
-from planner.network.graph import CONTROL_OFFSETS_M, intervisible, propose_control
+from planner.network.graph import intervisible, propose_control
 from planner.network.survey import DEFAULT_TARGETS, _tie
-from planner.checks import no_repeats
+from planner.site.candidate import Candidate
 from planner.site.fileio import known_keys, read_json, to_float
 from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
 
@@ -58,7 +57,8 @@ class ControlTraverse:
     source: str
 
     def lines(self) -> list[str]:
-        through = sum(any(p.name in leg for p in self.points) for leg in self.legs)
+        names = {p.name for p in self.points}
+        through = sum(u in names or v in names for u, v in self.legs)
         return [f"control traverse ({'PROPOSED' if self.proposed else 'given'}, {self.source}): {len(self.legs)} legs, "
                 f"{len(self.points)} traverse point(s), {through} leg(s) at a traverse point"]
 
@@ -104,23 +104,6 @@ def check_traverse_names(traverse: ControlTraverse, control: Sequence[ControlPoi
                              file=traverse.source.removeprefix("from "), row=f"points[{k}]", field="name", value=p.name)
 
 
-def _space(site: Site, c: ControlPoint) -> str:
-    """The room a point stands in (``in:<zone>``), or the ground outside the rooms of its frame."""
-    pt = shapely.Point(c.x, c.y)
-    room = next((z.id for z in site.zones if z.frame == c.frame and z.scan_side is not ScanSide.OUTSIDE
-                 and z.polygon.contains(pt)), None)
-    return f"in:{room}" if room is not None else f"out:{c.frame}"
-
-
-def _same_space(site: Site, a: ControlPoint, b: ControlPoint) -> bool:
-    """A proposed leg between two control points stays in one room (or outside): spaces are joined only at
-    the traverse points in their doors, so a sight line that slips through the few-cm junction gap where
-    two zones' walls meet (:mod:`planner.coverage.faces`) is no leg."""
-    if a.name.startswith("TP.") or b.name.startswith("TP."):
-        return True
-    return _space(site, a) == _space(site, b)
-
-
 def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: float) -> ControlTraverse:
     """Traverse points in the doors and gates, and legs between intervisible points (see the module text)."""
     points = []
@@ -132,13 +115,13 @@ def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: fl
                                            proposed=True, frame=frame))
     ring = _ring_points(site)
     nodes = list(control) + points + ring
-    legs = []
-    for a, b in itertools.combinations(nodes, 2):
-        if a.frame == b.frame and _same_space(site, a, b) and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m \
-                and intervisible(site, a.frame, (a.x, a.y), (b.x, b.y)):
-            legs.append((a.name, b.name))
-    kept = _needed(ring, nodes, legs)
-    legs = [(u, v) for u, v in legs if not {u, v} & ({r.name for r in ring} - kept)]
+    # a proposed leg stays in one room (or outside): spaces are joined only at the traverse points in their
+    # doors, so a sight line that slips through the few-cm junction gap where two zones' walls meet
+    # (planner.coverage.faces) is no leg
+    legs = proposal.legs(site, nodes, ts_range_m)
+    kept = proposal.needed(ring, nodes, legs)
+    dropped = {r.name for r in ring} - kept
+    legs = [(u, v) for u, v in legs if u not in dropped and v not in dropped]
     return ControlTraverse(tuple(points + [r for r in ring if r.name in kept]), tuple(legs), True,
                            "control points of each area, a point in every door or gate and round the outline where "
                            "needed, legs between points that see each other")
@@ -152,6 +135,7 @@ def _ring_points(site: Site) -> list[ControlPoint]:
     """Candidate traverse points outside each outline (a zone scanned outside), ``RING_OFFSET_M`` out from
     every corner on its bisector, where no zone is: a traverse round the building joins the ground outside."""
     out = []
+    grown = [o.polygon.buffer(1.0) for o in site.zones]  # each zone and 1 m round it
     for z in site.zones:
         if z.scan_side is not ScanSide.OUTSIDE:
             continue
@@ -164,26 +148,10 @@ def _ring_points(site: Site) -> list[ControlPoint]:
             for sign in (1.0, -1.0):
                 p = xy[k] + sign * RING_OFFSET_M * bis / np.hypot(*bis)
                 pt = shapely.Point(*p)
-                if not any(o.frame == z.frame and o.polygon.buffer(1.0).contains(pt) for o in site.zones):
+                if not any(o.frame == z.frame and around.contains(pt) for o, around in zip(site.zones, grown)):
                     out.append(ControlPoint(f"RP.{z.id}.{k + 1}", float(p[0]), float(p[1]), proposed=True, frame=z.frame))
                     break
     return out
-
-
-def _needed(ring: Sequence[ControlPoint], nodes: Sequence[ControlPoint], legs: Sequence[tuple[str, str]]) -> set[str]:
-    """The ring points on the shortest leg paths between the other points (the rest are dropped)."""
-    names = {r.name for r in ring}
-    pos = {n.name: (n.x, n.y) for n in nodes}
-    g = nx.Graph()
-    g.add_weighted_edges_from((u, v, math.dist(pos[u], pos[v])) for u, v in legs)
-    real = [n.name for n in nodes if n.name not in names and n.name in g]
-    kept: set[str] = set()
-    for src in real:
-        paths = nx.single_source_dijkstra_path(g, src)
-        for dst in real:
-            if dst != src and dst in paths:
-                kept.update(n for n in paths[dst] if n in names)
-    return kept
 
 
 def propose_area_control(site: Site, stations: Sequence[Candidate], links: Sequence[tuple[str, str]],
@@ -206,28 +174,13 @@ def propose_area_control(site: Site, stations: Sequence[Candidate], links: Seque
             if any(c.frame == st.frame and math.dist(st.xy, (c.x, c.y)) <= TIE_RANGE_M
                    and intervisible(site, c.frame, st.xy, (c.x, c.y)) for c in ctrl):
                 continue
-            spot = _best_spot(site, st, ctrl + doors)
+            spot = proposal.best_spot(site, st, ctrl + doors)
             if spot is None:
                 notes.append(f"no control spot fits next to {sid}: it is held by its registration links only")
                 continue
             n += 1
             ctrl.append(ControlPoint(f"CP{k + 1}.{n}", spot[0], spot[1], proposed=True, frame=st.frame))
     return ctrl
-
-
-def _best_spot(site: Site, st: Candidate, points: Sequence[ControlPoint]) -> tuple[float, float] | None:
-    """A control spot 1.5-6 m from station ``st`` that it sees, seeing as many of ``points`` (control points,
-    doors) as it can, so that a traverse leg can reach it; None when no spot fits."""
-    best, score = None, -1
-    for r in CONTROL_OFFSETS_M:
-        for a in range(8):
-            x, y = st.x + r * math.cos(a * math.pi / 4), st.y + r * math.sin(a * math.pi / 4)
-            if misplacement(site, st, x, y) or not intervisible(site, st.frame, st.xy, (x, y)):
-                continue
-            k = sum(c.frame == st.frame and intervisible(site, c.frame, (x, y), (c.x, c.y)) for c in points)
-            if k > score:
-                best, score = (x, y), k
-    return best
 
 
 def tie_sigma_to(distance_m: float) -> float:

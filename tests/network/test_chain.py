@@ -6,8 +6,15 @@ import math
 
 import pytest
 
-from planner.network.chain import (chain_accuracy, control_count, place_ties, registration_sigma_m, target_centre_sigma_m,
-                                   target_scan_sigma_m, tie_sigma_m)
+from planner.network.chain import (
+    chain_accuracy,
+    control_count,
+    place_ties,
+    registration_sigma_m,
+    target_centre_sigma_m,
+    target_scan_sigma_m,
+    tie_sigma_m,
+)
 
 # five stations 20 m apart on a line, registered one to the next
 XY = {f"S{k}": (20.0 * (k - 1), 0.0) for k in range(1, 6)}

@@ -9,12 +9,12 @@ import re
 import numpy as np
 import pytest
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.cli import main
 from planner.instrument.models import load_instrument
 from planner.network.check import accuracy_check, registration_sigma_m, run_network
 from planner.network.graph import diagnostics, station_network
 from planner.site import ScanSide, Site, Zone
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ControlPoint, Obstacle
 from tests.conftest import INSTANCES
 

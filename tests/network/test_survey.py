@@ -7,7 +7,6 @@ from dataclasses import replace
 
 import pytest
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.candidates.pool import PoolOptions
 from planner.cli import main
 from planner.coverage.matrix import build_coverage
@@ -17,6 +16,7 @@ from planner.network.check import run_network
 from planner.network.survey import registration_links, survey_network
 from planner.plan import PlanOptions, plan_site, sight_limits
 from planner.site import ScanSide
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.load import load_site
 from planner.site.model import ControlPoint
 from planner.site.validate import validate_site

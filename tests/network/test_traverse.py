@@ -9,17 +9,17 @@ C0 (1, 4) and C1 (5, 4) in A are fixed; C2 (15, 4) in B has coordinates good to 
 from __future__ import annotations
 
 import json
-import re
 import math
+import re
 
 import pytest
 
-from planner.site.candidate import Candidate, CandidateKind
 from planner.cli import main
 from planner.errors import InputError
 from planner.network.check import run_network
 from planner.network.traverse import NO_TRAVERSE, ControlTraverse, read_traverse
 from planner.site import ScanSide, Site, Zone
+from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ControlPoint, Opening
 
 TS_KINDS = {"sight", "delaunay", "traverse"}
