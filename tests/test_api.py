@@ -46,7 +46,7 @@ def test_results_have_summary_and_html_repr():
 
 
 def test_sweep_script_uses_only_the_public_api():
-    tree = ast.parse((ROOT / "scripts/sweep_polygon_a.py").read_text())
+    tree = ast.parse((ROOT / "scripts/studies/sweep_polygon_a.py").read_text())
     imports = {a.name for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom)) for a in n.names}
     modules = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     assert not any(m and m.startswith("planner") for m in modules)  # no "from planner.x import y"

@@ -1,7 +1,7 @@
 """The quick bundled rows of tests/expected/bundled_plans.json, replanned (issue 33: behaviour unchanged by moves).
 
 The recorded table is the one written before the refactor (docs/benchmarks/certificates.md, stop 37); the
-slower rows (polygons A and C, Baalbek, the plants) are checked by ``python scripts/check_bundled.py``.
+slower rows (polygons A and C, Baalbek, the plants) are checked by ``python scripts/checks/check_bundled.py``.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import pytest
 
 from tests.conftest import ROOT
 
-_spec = importlib.util.spec_from_file_location("check_bundled", ROOT / "scripts" / "check_bundled.py")
+_spec = importlib.util.spec_from_file_location("check_bundled", ROOT / "scripts" / "checks" / "check_bundled.py")
 check = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(check)  # type: ignore[union-attr]
 ROWS = json.loads(check.EXPECTED.read_text())["plans"]

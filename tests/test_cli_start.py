@@ -1,6 +1,6 @@
 """The command starts without the numerical stacks: what ``import planner.cli`` loads, --version, choices.
 
-No timing here (timings are measured in scripts/bench_startup.py, docs/startup.md): the test checks
+No timing here (timings are measured in scripts/bench/bench_startup.py, docs/startup.md): the test checks
 *which* modules the start imports, read from ``python -X importtime``, which is what the time follows.
 """
 

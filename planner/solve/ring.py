@@ -29,7 +29,7 @@ for the block in any cyclic order of its pieces, valid whenever every linked pai
 touch (checked; otherwise :func:`ring_graph` answers ``None``). Where every candidate's coverage *is*
 its arc, the walk is an optimal plan. Where arcs have holes (stations inside a concave outline see
 around a corner), :func:`lagrangian_bound` adds the cover rows back with multipliers. Polygon A (cached
-pool of ``scripts/bench_connectivity.py``, pieces in the outline's order): outside 15 and inside 10, its
+pool of ``scripts/bench/bench_connectivity.py``, pieces in the outline's order): outside 15 and inside 10, its
 connected optima, where the cut loop left a bound of 13 and 9 after 60 s (docs/milp.md). Bounds are
 over the candidate pool given.
 """

@@ -1,7 +1,7 @@
 """What a tiled plan needs of the whole site before any tile runs: the pool, the pieces, where a station
 may stand, the registration groups and the overlap rule, made once here for
-:func:`planner.tiles.run.plan_by_tiles` and for the scripts that study its matrix (``scripts/study_gap.py``,
-``scripts/bench_lagrange.py``), so that they always study the planner's own problem.
+:func:`planner.tiles.run.plan_by_tiles` and for the scripts that study its matrix (``scripts/studies/study_gap.py``,
+``scripts/bench/bench_lagrange.py``), so that they always study the planner's own problem.
 """
 
 from __future__ import annotations

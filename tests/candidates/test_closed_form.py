@@ -70,7 +70,7 @@ def test_wall_candidates_stand_at_hd0_from_their_wall():
 
 
 def test_docs_reproduction_md_is_what_its_script_writes_now(tmp_path):
-    # docs/reproduction.md is generated (scripts/reproduce_tables.py, ~5 s): a change that moves a count or
+    # docs/reproduction.md is generated (scripts/studies/reproduce_tables.py, ~5 s): a change that moves a count or
     # a coverage figure (it once went 96.888 -> 96.866 % on Baalbek unnoticed) must come with the page
     import subprocess
     import sys
@@ -78,6 +78,6 @@ def test_docs_reproduction_md_is_what_its_script_writes_now(tmp_path):
     from tests.conftest import ROOT
 
     out = tmp_path / "reproduction.md"
-    subprocess.run([sys.executable, str(ROOT / "scripts" / "reproduce_tables.py"), "--out", str(out)], check=True,
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "studies" / "reproduce_tables.py"), "--out", str(out)], check=True,
                    cwd=ROOT, capture_output=True)
     assert out.read_text() == (ROOT / "docs" / "reproduction.md").read_text()

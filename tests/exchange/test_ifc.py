@@ -1,6 +1,6 @@
 """IFC input: spaces -> inside zones per storey, blockers cut out, doors as openings, and the failures.
 
-The models are written here with IfcOpenShell's API (scripts/make_ifc_house.py, in millimetres):
+The models are written here with IfcOpenShell's API (scripts/make/make_ifc_house.py, in millimetres):
 ground floor an L-shaped living room with a 0.3 m column, a kitchen and a hall (rooms 2.7 m high),
 upper floor a bedroom and a study (2.5 m high), walls 0.2 m thick, five doors.
 """
@@ -24,7 +24,7 @@ FZK = ROOT / "instances" / "external" / "AC20-FZK-Haus.ifc"
 
 
 def _builder():
-    spec = importlib.util.spec_from_file_location("make_ifc_house", ROOT / "scripts" / "make_ifc_house.py")
+    spec = importlib.util.spec_from_file_location("make_ifc_house", ROOT / "scripts" / "make" / "make_ifc_house.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod.build_house

@@ -104,7 +104,7 @@ def test_cli_chain(tmp_path, capsys, argv):
 
 def test_assembled_temple_with_doors_is_one_network():
     # baalbek_site_doors.json: the assembled temple (all eleven rooms and the outline placed) with one ASSUMED
-    # 3 m door in each matched wall and each collinear contact (scripts/make_baalbek_doors.py): one accessible
+    # 3 m door in each matched wall and each collinear contact (scripts/make/make_baalbek_doors.py): one accessible
     # area, so one registration bundle
     site = load_site(INSTANCES / "baalbek_site_doors.json")
     plan = plan_site(site, PlanOptions(method="milp", registration="site", pricing=False))

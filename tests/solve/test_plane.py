@@ -103,7 +103,7 @@ def test_building_gets_one_station_per_room_that_allows_it() -> None:
         elif aspect >= 2.6:
             assert per_zone.get(zone.id) == 2, zone.id
             twos += 1
-    # building27's inside rooms (scripts/make_building.py): 22 of aspect <= 2.4, 2 of >= 2.6, and 3 between
+    # building27's inside rooms (scripts/make/make_building.py): 22 of aspect <= 2.4, 2 of >= 2.6, and 3 between
     # 2.4 and 2.6, where 1 m pieces may or may not let one station do (not checked)
     assert (checked, twos) == (22, 2)
     assert len(plan.stations) <= len(old.stations)

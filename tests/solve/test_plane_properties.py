@@ -11,7 +11,7 @@
     line, w/2 tan(theta_max) of wall seen either side, spaced by 2 w/2 tan(theta_max) - 1 m (so that every
     1-m piece lies whole in one window), the first and last one far enough in to see the end walls.
 
-Derandomised (the same examples every run). ``scripts/check_plane_properties.py`` runs more of them, with
+Derandomised (the same examples every run). ``scripts/checks/check_plane_properties.py`` runs more of them, with
 corridors up to 300 m.
 """
 
@@ -44,7 +44,7 @@ from tests.solve.plane_cases import as_candidates, min_cover, positions, rooms
 QUICK = settings(deadline=None, derandomize=True, database=None,
                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large])
 PLAIN = PlanOptions(method="milp", milp=MilpOptions(overlap=None, time_limit_s=30.0))
-#: examples per property in CI (2,000 in all); ``scripts/check_plane_properties.py`` scales them up
+#: examples per property in CI (2,000 in all); ``scripts/checks/check_plane_properties.py`` scales them up
 SCALE = float(os.environ.get("PLANNER_PROPERTY_SCALE", "1"))
 EXAMPLES = {k: max(1, int(n * SCALE)) for k, n in {"a": 1100, "b": 300, "c": 300, "d": 300}.items()}
 #: corridors up to this long (m); the script's long run goes to 300 m

@@ -13,7 +13,7 @@ from planner.plan import PlanOptions, build_problem
 from planner.site.load import load_site
 from tests.conftest import INSTANCES, ROOT
 
-spec = importlib.util.spec_from_file_location("make_plant", ROOT / "scripts" / "make_plant.py")
+spec = importlib.util.spec_from_file_location("make_plant", ROOT / "scripts" / "make" / "make_plant.py")
 make_plant = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(make_plant)
 

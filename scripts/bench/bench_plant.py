@@ -6,9 +6,9 @@ whole process tree (client + Dask workers) every 0.2 s. Per run: candidates, tar
 tile phase (coverage + tile MILPs), stitch and bound times, stations, bound, gap, registration
 parts, verified %, and the plain greedy (not connected) on the same matrix beside it.
 
-    python scripts/bench_plant.py [--areas 1 4 16] [--workers 1 2] [--tile 100] [--tile-time-limit 20]
+    python scripts/bench/bench_plant.py [--areas 1 4 16] [--workers 1 2] [--tile 100] [--tile-time-limit 20]
         [--search-moves 20000] [--search-seeds 1] [--window-passes 1] [--window-batch 1] [--csv docs/benchmarks/plant.csv] [--figure docs/benchmarks/plant_16ha.png]
-    python scripts/bench_plant.py --from-csv a.csv b.csv     # the table and slopes of earlier runs
+    python scripts/bench/bench_plant.py --from-csv a.csv b.csv     # the table and slopes of earlier runs
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from pathlib import Path
 
 from _timed import json_child
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",

@@ -6,7 +6,7 @@ For each case a plan is made once (``planner plan SITE --method greedy [--regist
 (network.json: the adjustments summed), wall time and peak RSS. ``--code DIR`` runs another checkout of the
 planner (e.g. the dense adjustment before this change) on the same plans, for a "before" column.
 
-    python scripts/bench_network.py [--cases plant_1ha plant_4ha ...] [--plans /tmp/network_plans]
+    python scripts/bench/bench_network.py [--cases plant_1ha plant_4ha ...] [--plans /tmp/network_plans]
         [--out docs/benchmarks/network.md] [--limit 900] [--code DIR]
 """
 
@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 HEADER = """# `planner network` at scale (issue 34, part 5)
 
 Wall time and peak RSS of one `planner network SITE PLAN` process per case (`/usr/bin/time -v`), on
@@ -104,7 +104,7 @@ def main(argv: list[str] | None = None) -> None:
     args = ap.parse_args(argv)
     rows: list[dict] = []
     given = argv if argv is not None else sys.argv[1:]
-    meta: dict[str, object] = {"command": "python scripts/bench_network.py " + " ".join(given)}
+    meta: dict[str, object] = {"command": "python scripts/bench/bench_network.py " + " ".join(given)}
     if args.from_json is not None:
         lines = [json.loads(line) for line in args.from_json.read_text().splitlines() if line.strip()]
         meta = next((r["meta"] for r in lines if "meta" in r), meta)

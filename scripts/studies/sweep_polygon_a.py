@@ -4,7 +4,7 @@ For each setting: the closed form, the greedy, and the MILP with the registratio
 constraint (CP-SAT, one thread, seed 0, ``--time-limit`` per solve), printing stations, the
 MILP bound and status. Usage::
 
-    python scripts/sweep_polygon_a.py [--time-limit 30] [--site instances/polygon_a.json]
+    python scripts/studies/sweep_polygon_a.py [--time-limit 30] [--site instances/polygon_a.json]
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import planner
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def main() -> None:

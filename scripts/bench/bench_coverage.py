@@ -1,7 +1,7 @@
 """Benchmark of the coverage build: candidate-target pairs per second, and growth with site size.
 
-Usage: python scripts/bench_coverage.py [--copies 1 2 5 10] [--out FILE.md]
-       python scripts/bench_coverage.py --grid 10 5 2 1 0.5 [--sites building27 polygon_c] [--out FILE.md]
+Usage: python scripts/bench/bench_coverage.py [--copies 1 2 5 10] [--out FILE.md]
+       python scripts/bench/bench_coverage.py --grid 10 5 2 1 0.5 [--sites building27 polygon_c] [--out FILE.md]
 
 With ``--grid``, each (site, grid spacing) is built in a fresh process under ``/usr/bin/time -v``:
 candidates, targets, pairs kept, build time and the process's peak RSS; then the slope of peak RSS
@@ -36,7 +36,7 @@ from planner.plan import closed_form_limits, sight_limits
 from planner.site import Site, Zone, load_site
 from planner.site.validate import validate_site
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def copies_of(site: Site, n: int, spacing_m: float = 450.0) -> Site:

@@ -6,7 +6,7 @@ process: with the pool as before (closed form, samples, corner rays, centres, 10
 MILP's bound, the bound's scope (``pool``: over the candidate pool; ``plane``: over every position,
 from pricing), the plane bound, pricing rounds and columns, and wall time (1 thread), one run each.
 
-    python scripts/bench_plane.py [--time-limit 60] [--instances polygon_a ...] [--out docs/benchmarks/plane.md]
+    python scripts/bench/bench_plane.py [--time-limit 60] [--instances polygon_a ...] [--out docs/benchmarks/plane.md]
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from planner.plan import PlanOptions, plan_site
 from planner.site import load_site
 from planner.solve.milp import MilpOptions
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 INSTANCES = ["polygon_a", "polygon_b", "polygon_c", "baalbek", "building27"]
 
 

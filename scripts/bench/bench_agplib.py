@@ -9,7 +9,7 @@ interior (a guard set sees every boundary point), so a higher count comes from t
 (finite candidates, grid points at least 0.1 m off the walls, whole-piece coverage) or the stricter sight
 test, and is listed. Where some piece is seen by no candidate the grid is refined to 1 m, then 0.5 m.
 
-    python scripts/bench_agplib.py [--per-class 5] [--sizes 20 40 60] [--out docs/benchmarks]
+    python scripts/bench/bench_agplib.py [--per-class 5] [--sizes 20 40 60] [--out docs/benchmarks]
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import planner
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 AGP = ROOT.parent / "shared/benchmarks/agplib"
 CLASSES = ("agp2009a-simplerand", "agp2009a-orthorand", "agp2009a-rvk", "agp2009a-cvk", "spike", "agp2013-gB-simple-simple")
 
@@ -111,7 +111,7 @@ def main() -> None:
     lines += [f"| {r['class']} | {r['instance']} | {r['vertices']} | {r['holes']} | {r['opt_point_guards']} | {r['stations']} | "
               f"{r.get('versus_optimum', '-')} | {r.get('fine_stations', '')} | {r['status']} | {r['grid_m']:g} | "
               f"{r.get('verified_percent', '-')} | {r['total_s']} |" for r in rows]
-    head = ["# Art-gallery polygons (AGPLIB), limits off", "", "Written by `python scripts/bench_agplib.py`. " +
+    head = ["# Art-gallery polygons (AGPLIB), limits off", "", "Written by `python scripts/bench/bench_agplib.py`. " +
             " ".join(__doc__.split("\n\n")[1].split()), "",
             "`finer`: the station count when a plan above the optimum is rerun with a twice finer grid and four times",
             "shorter wall pieces. `-1`: no plan, some wall piece seen by no candidate (status gives the first).", ""]

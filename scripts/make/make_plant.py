@@ -10,7 +10,7 @@ accessible area: the boundary less objects, equipment and no-go areas); one no-g
 5 x 5 m excavation) per 4 cells, on a road crossing. Parameters: Leica P30, theta_max 70 deg,
 overlap 30 %, slant range limited to 60 m (MAX_RANGE_M). An 8 m ring road runs around the cells inside the boundary.
 
-    python scripts/make_plant.py --area-ha 4 --seed 0 [--out instances/plant_4ha.json]
+    python scripts/make/make_plant.py --area-ha 4 --seed 0 [--out instances/plant_4ha.json]
 """
 
 from __future__ import annotations
@@ -83,11 +83,11 @@ def plant(area_ha: float, seed: int) -> dict:
     return {
         "format": "tls-planner/1",
         "name": f"plant_{area_ha:g}ha",
-        "description": (f"A generated plant (scripts/make_plant.py --area-ha {area_ha:g} --seed {seed}): "
+        "description": (f"A generated plant (scripts/make/make_plant.py --area-ha {area_ha:g} --seed {seed}): "
                         f"{n} x {n} cells of {CELL_M:g} m, one building, tank or pipe rack per cell scanned from "
                         "outside, small equipment as obstacles, roads between the cells as the accessible area, "
                         "excavations as no-go areas; an 8 m ring road inside the boundary."),
-        "source": "scripts/make_plant.py",
+        "source": "scripts/make/make_plant.py",
         "instrument": "leica-p30",
         "parameters": {"theta_max_deg": 70, "overlap": 0.30, "max_slant_range_m": MAX_RANGE_M},
         "zones": zones,

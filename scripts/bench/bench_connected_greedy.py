@@ -1,6 +1,6 @@
 """The connected greedy (``planner plan SITE --method greedy``, the overlap rule on) before and after issue 34's bundles.
 
-    python scripts/bench_connected_greedy.py [--sites polygon_a plant_16ha ...] [--before REV [--before-files F ...]]
+    python scripts/bench/bench_connected_greedy.py [--sites polygon_a plant_16ha ...] [--before REV [--before-files F ...]]
                                              [--md FILE]
 
 Each run is ``python -m planner plan instances/SITE.json --method greedy --quiet`` in a fresh process under
@@ -28,7 +28,7 @@ from pathlib import Path
 
 from _timed import peak_rss_mb
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 SITES = [
     "polygon_a",
     "polygon_b",
@@ -175,7 +175,7 @@ def main() -> None:
         rev = rev if args.before else "no `--before`"
         args.md.write_text(
             f"# The connected greedy before and after the bundles (issue 34)\n\nWritten by "
-            f"`python scripts/bench_connected_greedy.py` ({rev}; one run each, this machine). "
+            f"`python scripts/bench/bench_connected_greedy.py` ({rev}; one run each, this machine). "
             + " ".join(__doc__.split("\n\n")[2].split())
             + "\n\n"
             + "\n".join(lines)

@@ -2,7 +2,7 @@
 
 For each site a plan.json is made once (``planner plan SITE --out DIR``, default MILP, 60 s), then
 ``planner field`` runs in both modes under ``/usr/bin/time -v`` (wall time and peak RSS of the whole
-command). Usage: ``python scripts/bench_field.py [--work DIR] [--sites house_doors ...]``.
+command). Usage: ``python scripts/bench/bench_field.py [--work DIR] [--sites house_doors ...]``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 SITES = ("house_doors", "baalbek_site_doors", "plant_1ha")
 RANDOM_SIZES = (22, 50, 100)
 
@@ -99,7 +99,7 @@ def main() -> None:
                          d["gap"], d["bound_method"], d["registration_order_honoured"],
                          d["field_time_s"] / 3600, len(d["sessions"]), len(d["targets"]), weak, wall, rss))
     lines = ["# Field sheet benchmark (issue 35)", "",
-             ("`python scripts/bench_field.py` (one run each; wall time and peak RSS of the whole `planner field` "
+             ("`python scripts/bench/bench_field.py` (one run each; wall time and peak RSS of the whole `planner field` "
              "command under `/usr/bin/time -v`, Python start, site load and coverage included). Plans: "
              "`planner plan SITE --out DIR` (default MILP, 60 s). Route: OR-Tools routing (guided local search, "
              "1000 solutions, from the nearest-neighbour order), then in registration mode (and in shortest "

@@ -13,11 +13,11 @@ one thread, every count re-checked here (a cover covers every piece; a connected
 - ``plain scip``: the plain cover by SCIP (PySCIPOpt, 1 thread, ``--scip`` s): its best cover and its bound;
 - ``connected seed S``: the connected greedy (20 starts) pruned, then the connected local search for
   ``--connected-moves`` moves with seed S;
-- ``--highs``, ``--linked-lp``, ``--rank-cuts``, ``--merge``: the probes of ``scripts/_gap_probes.py`` (HiGHS's MIP
+- ``--highs``, ``--linked-lp``, ``--rank-cuts``, ``--merge``: the probes of ``scripts/studies/gap_probes.py`` (HiGHS's MIP
   on the plain cover; the LP with a linked station beside each; the LP with local rank cuts; the connected MILP
   over the union of the seeds' plans).
 
-    python scripts/study_gap.py --area 4 --discs 30 50 70 --plain-moves 30000 --scip 600 --seeds 0 1 2 \\
+    python scripts/studies/study_gap.py --area 4 --discs 30 50 70 --plain-moves 30000 --scip 600 --seeds 0 1 2 \\
         --csv docs/benchmarks/results/plant_gap_study.csv
 
 Each row: area, what, setting, stations (or LP value), bound (where one is proven), time_s. The peak RSS of
@@ -33,11 +33,13 @@ import time
 from pathlib import Path
 from typing import Any
 
-import _gap_probes as probes
-from _timed import append_csv, json_child
+import gap_probes as probes
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "scripts" / "bench"))  # the benchmarks' timing helpers
+
+from _timed import append_csv, json_child  # noqa: E402
 
 FIELDS = ["area_ha", "what", "setting", "pieces", "candidates", "value", "bound", "time_s", "peak_rss_mb"]
 

@@ -9,7 +9,7 @@ stations anywhere: the ring walk over patches, ``zone`` registration only; "-" w
 greedy's, and their ratio. Sites: the bundled instances (but the 16-ha plant: issue 34's) and the issue's two small cases (a 200 x 8 m
 corridor at theta_max 68 deg, an 8 x 4 m room at 45 deg without precision; both overlap 0).
 
-    python scripts/bench_certificates.py [--out docs/benchmarks/certificates.md]
+    python scripts/bench/bench_certificates.py [--out docs/benchmarks/certificates.md]
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 BUNDLED = ["polygon_a", "polygon_b", "polygon_c", "baalbek", "building27", "courtyard", "house_doors", "baalbek_site",
            "baalbek_site_doors", "plant_1ha", "plant_4ha"]
 SMALL = {

@@ -1,6 +1,6 @@
 """Replan every bundled instance and compare with tests/expected/bundled_plans.json (issue 33: behaviour unchanged).
 
-    python scripts/check_bundled.py [--sites polygon_a baalbek ...] [--no-greedy]
+    python scripts/checks/check_bundled.py [--sites polygon_a baalbek ...] [--no-greedy]
 
 For each site: ``planner plan SITE`` (the default MILP) and ``planner plan SITE --method greedy`` as separate
 processes. A row passes when the MILP plan has the recorded station count (or fewer where the recorded run ended
@@ -17,7 +17,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 EXPECTED = ROOT / "tests/expected/bundled_plans.json"
 #: the two small sites of issue 31, written as instances here: (parameters, outline, extra flags)
 SMALL = {

@@ -4,9 +4,9 @@ Run once with this checkout and once with the code before issue 16 on PYTHONPATH
 only what both have; what the older code lacks is shown as ``-``); each run prints one JSON line per
 (instance, configuration, method):
 
-    PYTHONPATH=. python scripts/bench_accuracy.py --label after  > after.jsonl
-    PYTHONPATH=/tmp/before python scripts/bench_accuracy.py --label before > before.jsonl
-    python scripts/bench_accuracy.py --table before.jsonl after.jsonl   # the markdown table
+    PYTHONPATH=. python scripts/bench/bench_accuracy.py --label after  > after.jsonl
+    PYTHONPATH=/tmp/before python scripts/bench/bench_accuracy.py --label before > before.jsonl
+    python scripts/bench/bench_accuracy.py --table before.jsonl after.jsonl   # the markdown table
 
 Configurations: ``default`` (the instance as given: theta_max 68 deg, single precision), ``derive``
 (theta_max derived from sigma_req with the table 2.3 model; after only), ``combined``
@@ -35,7 +35,7 @@ from planner.plan import PlanOptions, plan_site
 from planner.site import load_site
 from planner.solve.milp import MilpOptions
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 INSTANCES = ["polygon_a", "polygon_b", "polygon_c", "baalbek", "courtyard"]
 CONFIGS = ["default", "derive", "combined"]
 

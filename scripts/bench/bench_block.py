@@ -1,9 +1,9 @@
 """One block of the connected MILP, round by round: what each round of the cut loop costs and finds.
 
-Usage: python scripts/bench_block.py polygon_a --block 1 [--time-limit 60] [--floor] [--core]
+Usage: python scripts/bench/bench_block.py polygon_a --block 1 [--time-limit 60] [--floor] [--core]
                                      [--cache out/bench_connectivity]
 
-Protocol: the instance's cover problem is the cached pickle of ``scripts/bench_connectivity.py``
+Protocol: the instance's cover problem is the cached pickle of ``scripts/bench/bench_connectivity.py``
 (build it there first); presolve and blocks as ``planner.solve.milp.solve`` makes them (blocks
 smallest first, ``--block`` counts from 0); CP-SAT, cut loop, one thread, seed 0, 30 % overlap rule,
 local search on, the ring bound off unless ``--ring`` (it closes every block of A, B, C and Baalbek before
@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 

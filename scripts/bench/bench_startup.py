@@ -2,7 +2,7 @@
 
 Usage::
 
-    python scripts/bench_startup.py [--runs 10] [--huge]
+    python scripts/bench/bench_startup.py [--runs 10] [--huge]
 
 Runs ``python -m planner`` in fresh processes (the import cost is what is measured) and prints a
 markdown table; ``--huge`` adds the 10,000 km square (refused by the memory guard). Wall-clock
@@ -22,7 +22,7 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _cpu() -> float:

@@ -1,6 +1,6 @@
 """Reproduce the dissertation's candidate tables and station counts; write docs/reproduction.md.
 
-Usage: python scripts/reproduce_tables.py [--out docs/reproduction.md]
+Usage: python scripts/studies/reproduce_tables.py [--out docs/reproduction.md]
 
 Every printed number of tables 3.2-3.4 is compared with the closed form
 (planner.candidates.reproduce); the station counts of the four bundled
@@ -20,7 +20,7 @@ from planner.candidates.reproduce import ROUNDING, compare_table, generated_coun
 from planner.plan import PlanOptions, plan_site
 from planner.site import load_site
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 PRINTED = json.loads((ROOT / "tests/data/printed_candidates.json").read_text())
 LIMITS = Limits(95.913, 68.0, 0.30)
 REASONS = {

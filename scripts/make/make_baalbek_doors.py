@@ -8,7 +8,7 @@ which then opens to the ground outside), and at the middle of the shared part of
 contact (a side lying along part of a placed zone's wall), in the shorter of the two walls. It is a demonstration of site-wide registration, not a
 survey of the real doorways.
 
-    python scripts/make_baalbek_doors.py [--out instances/baalbek_site_doors.json]
+    python scripts/make/make_baalbek_doors.py [--out instances/baalbek_site_doors.json]
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import numpy as np
 
 from planner.site.load import load_site
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DOOR_M = 3.0
 MATCH = re.compile(r"^(\S+) side (\d+) = (\S+) side (\d+)$")
 CONTACT = re.compile(r"^(\S+) side (\d+) along (\S+) side (\d+)$")
@@ -61,7 +61,7 @@ def main() -> None:
     data["name"] = "baalbek_site_doors"
     data["description"] = (data["description"].rstrip(".") + ". With ASSUMED doors: the print gives no openings; "
                            f"one {DOOR_M:g} m door at the middle of every wall the assembly matched or found in contact "
-                           "(scripts/make_baalbek_doors.py), to plan the temple as one registration network.")
+                           "(scripts/make/make_baalbek_doors.py), to plan the temple as one registration network.")
     data["openings"] = doors(source)
     Path(args.out).write_text(json.dumps(data, indent=2) + "\n")
     print(f"wrote {args.out}: {len(data['openings'])} assumed doors")

@@ -6,7 +6,7 @@ Walls 0.2 m thick, outer box 12 m x 8 m; five doors (three between ground-floor 
 door, one upstairs). The file's length unit is the millimetre, so a reader that assumed metres
 would be 1000 times off. Usage::
 
-    python scripts/make_ifc_house.py [OUT.ifc] [--schema IFC4|IFC2X3]
+    python scripts/make/make_ifc_house.py [OUT.ifc] [--schema IFC4|IFC2X3]
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """OR-Library set-cover instances: every backend against the published optimum, and the greedy.
 
-Usage: python scripts/bench_orlib.py [--instances scp41 scp51 scpa1 scpnre1] [--time-limit 60]
+Usage: python scripts/bench/bench_orlib.py [--instances scp41 scp51 scpa1 scpnre1] [--time-limit 60]
 
 Protocol: each instance read from ../shared/benchmarks/orlib_scp, solved once per backend,
 one thread, seed 0, warm start from Chvatal's greedy (not for HiGHS, see docs/milp.md).
@@ -20,7 +20,7 @@ from planner.solve.greedy import greedy_cover
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.orlib import read_orlib
 
-ORLIB = Path(__file__).resolve().parent.parent.parent / "shared" / "benchmarks" / "orlib_scp"
+ORLIB = Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "orlib_scp"
 
 
 def main() -> None:

@@ -1,6 +1,6 @@
 """Registration connectivity: branch-and-cut, flow model and cut loop side by side, with both greedies.
 
-Usage: python scripts/bench_connectivity.py [--instances polygon_a ...] [--time-limit 60]
+Usage: python scripts/bench/bench_connectivity.py [--instances polygon_a ...] [--time-limit 60]
                                             [--cache out/bench_connectivity] [--out-dir docs/benchmarks]
 
 Protocol: each instance's cover problem is built once as ``planner plan`` builds it with default
@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 from _timed import peak_rss_mb
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 FIELDS = ["instance", "pool", "method", "backend", "connectivity", "ring", "threads", "stations", "bound", "gap", "status",
           "time_s", "connected", "covered", "peak_rss_mb"]
 PROTOCOL = ("bound: the MILP's lower bound over the pool; gap = (stations - bound) / stations; time s: the solve "
@@ -148,7 +148,7 @@ def main() -> None:
         w.writeheader()
         w.writerows(rows)
     lines = [f"# Registration connectivity: methods side by side ({pool} pool)", "",
-             f"Written by `python scripts/bench_connectivity.py{' --no-pricing' if args.no_pricing else ''}` "
+             f"Written by `python scripts/bench/bench_connectivity.py{' --no-pricing' if args.no_pricing else ''}` "
              f"(time limit {args.time_limit:g} s, seed 0, one run per row, this machine). " + PROTOCOL, "",
              "| " + " | ".join(FIELDS) + " |", "|" + "---|" * len(FIELDS)]
     lines += ["| " + " | ".join(str(r.get(f, "")) for f in FIELDS) + " |" for r in rows]

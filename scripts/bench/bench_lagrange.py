@@ -5,7 +5,7 @@ matrix, built as the tiles code builds it, the old bound and the Lagrangian boun
 whole cover, the old bound (max(ceil LP, cover-MILP bound at ``--bound-work`` CP-SAT deterministic
 seconds)) and its time, the Lagrangian bound (raw and rounded up), its time and how many parts were proven.
 
-    python scripts/bench_lagrange.py --area 4 --group 1 --iterations 0 --work 10 [--csv out.csv]
+    python scripts/bench/bench_lagrange.py --area 4 --group 1 --iterations 0 --work 10 [--csv out.csv]
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from pathlib import Path
 
 from _timed import append_csv, json_child
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 FIELDS = ["area_ha", "group", "parts", "iterations", "work_s", "candidates", "pieces", "lp", "old_bound", "old_bound_s",

@@ -4,7 +4,7 @@ The L has a 44 x 12 m wing along x and a 12 x 30 m wing up the y axis, walls 4.2
 0.3 m thick. Each wing is cut into two rows of rooms whose widths (2-7 m) are drawn from a seeded
 generator; every room is an inside zone, the outline an outside zone, all in the site frame.
 
-    python scripts/make_building.py [--seed 0] [--out instances/building23.json]
+    python scripts/make/make_building.py [--seed 0] [--out instances/building23.json]
 """
 
 from __future__ import annotations
@@ -51,9 +51,9 @@ def building(seed: int) -> dict:
     return {
         "format": "tls-planner/1",
         "name": f"building{len(rooms)}",
-        "description": (f"A generated building (scripts/make_building.py --seed {seed}): {len(rooms)} rooms 2-7 m "
+        "description": (f"A generated building (scripts/make/make_building.py --seed {seed}): {len(rooms)} rooms 2-7 m "
                         "across in an L-shaped outline, walls 4.2 m, interior walls 0.3 m."),
-        "source": "scripts/make_building.py",
+        "source": "scripts/make/make_building.py",
         "instrument": "dissertation-tables",
         "parameters": {"theta_max_deg": 68, "overlap": 0.30},
         "zones": zones,

@@ -1,7 +1,7 @@
 """The plane property tests (tests/solve/test_plane_properties.py) at a larger scale: more examples
 (derandomised as in CI, so a run is repeatable) and corridors up to 300 m long.
 
-    python scripts/check_plane_properties.py [--scale 10] [--corridor-m 300]
+    python scripts/checks/check_plane_properties.py [--scale 10] [--corridor-m 300]
 
 Exit status: pytest's (0: every property held on every example).
 """
@@ -14,7 +14,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def main() -> int:

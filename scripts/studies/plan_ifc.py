@@ -2,9 +2,9 @@
 
 Usage::
 
-    python scripts/plan_ifc.py [--fzk PATH] [--out docs/figures] [--registration zone|site]
+    python scripts/studies/plan_ifc.py [--fzk PATH] [--out docs/figures] [--registration zone|site]
 
-Plans instances/house2.ifc (written by scripts/make_ifc_house.py) storey by storey and, when it
+Plans instances/house2.ifc (written by scripts/make/make_ifc_house.py) storey by storey and, when it
 is present, the ground floor (Erdgeschoss) of the KIT AC20-FZK-Haus (not committed, docs/ifc.md),
 with the default options (MILP on CP-SAT, 1 thread); prints a markdown table and the stations per
 room, and writes one PNG per storey.
@@ -23,7 +23,7 @@ from planner.figures.base import png_bytes
 from planner.figures.storey_fig import storey_figure
 from planner.site.ifc_in import IfcOptions
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def plan_storey(path: Path, storey: str, out: Path, tag: str, registration: str | None = None) -> str:

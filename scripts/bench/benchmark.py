@@ -1,6 +1,6 @@
 """Greedy against optimal (and the dissertation's closed form) on the bundled instances.
 
-Usage: python scripts/benchmark.py [--instances polygon_a ...] [--backends cpsat scip ...]
+Usage: python scripts/bench/benchmark.py [--instances polygon_a ...] [--backends cpsat scip ...]
                                    [--time-limit 60] [--out-dir docs/benchmarks]
 
 Protocol: each instance is read from instances/NAME.json (S_max 95.913 m,
@@ -28,7 +28,7 @@ from planner.site import load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import MilpOptions
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 FIELDS = ["instance", "method", "backend", "overlap", "stations", "inside", "outside", "bound", "gap", "status",
           "time_s", "total_s", "verified_percent", "connected", "candidates", "targets"]
 

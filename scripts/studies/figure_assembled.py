@@ -1,6 +1,6 @@
 """Draw an assembled site (zones placed by `planner assemble`): docs/baalbek_assembled.png.
 
-Usage: python scripts/figure_assembled.py [INSTANCE.json] [OUT.png]
+Usage: python scripts/studies/figure_assembled.py [INSTANCE.json] [OUT.png]
 Zones left in their own frames are named in the title, not drawn; matched walls are drawn thick (red),
 collinear contacts (a side along part of a placed wall) thick in blue.
 """
