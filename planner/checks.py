@@ -23,8 +23,13 @@ def no_repeats(names: Iterable[str], *, what: str, field: str, row: str, file: s
     first: dict[str, int] = {}
     for k, name in enumerate(names, 1):
         if name in first:
-            raise InputError(f"{what} used twice (also {row.format(first[name])})", file=file, row=row.format(k),
-                             field=field, value=name)
+            raise InputError(
+                f"{what} used twice (also {row.format(first[name])})",
+                file=file,
+                row=row.format(k),
+                field=field,
+                value=name,
+            )
         first[name] = k
 
 
@@ -49,16 +54,20 @@ def argument(value: Any, kind: type | tuple[type, ...], name: str) -> None:
     kinds = kind if isinstance(kind, tuple) else (kind,)
     want = " or ".join("None" if k is type(None) else article(k.__name__) for k in kinds)
     how = "; ".join(MAKE[k.__name__] for k in kinds if k.__name__ in MAKE)
-    raise ArgumentTypeError(f"must be {want}, not {article(type(value).__name__)}" + (f" ({how})" if how else ""),
-                            field=name, value=shown(value))
+    raise ArgumentTypeError(
+        f"must be {want}, not {article(type(value).__name__)}" + (f" ({how})" if how else ""),
+        field=name,
+        value=shown(value),
+    )
 
 
 def path_argument(value: Any, name: str) -> None:
     """Refuse a file path that is no ``str`` or path-like (a Site, None, a number: pathlib's bare TypeError
     before), naming the argument and, for a number, its value."""
     if not isinstance(value, (str, os.PathLike)):
-        raise ArgumentTypeError(f"must be a file path (str or pathlib.Path), not {type(value).__name__}", field=name,
-                                value=shown(value))
+        raise ArgumentTypeError(
+            f"must be a file path (str or pathlib.Path), not {type(value).__name__}", field=name, value=shown(value)
+        )
 
 
 def article(noun: str) -> str:
@@ -78,8 +87,9 @@ def count(value: Any, field: str, least: int = 0) -> None:
         raise UsageError(f"must be an integer >= {least}", field=field, value=value)
 
 
-def real(value: Any, field: str, *, above: float | None = None, at_least: float | None = None,
-         infinite_ok: bool = False) -> None:
+def real(
+    value: Any, field: str, *, above: float | None = None, at_least: float | None = None, infinite_ok: bool = False
+) -> None:
     """A number (not a bool), finite unless ``infinite_ok``, > ``above`` or >= ``at_least``."""
     ok = not isinstance(value, bool) and isinstance(value, numbers.Real) and not math.isnan(value)
     ok = ok and (infinite_ok or math.isfinite(value))

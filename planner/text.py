@@ -45,12 +45,13 @@ def dumps(data: Any, indent: int | None = 2) -> str:
     return json.dumps(_plain(data), indent=indent, allow_nan=False) + "\n"
 
 
-
 class HasSummary(Protocol):
     def summary(self) -> str: ...
 
 
 def summary_html(obj: HasSummary, title: str) -> str:
     """``<div><b>title</b><pre>summary</pre></div>``, escaped."""
-    return (f'<div class="tls-planner"><b>{html.escape(title)}</b>'
-            f'<pre style="font-size:90%">{html.escape(obj.summary())}</pre></div>')
+    return (
+        f'<div class="tls-planner"><b>{html.escape(title)}</b>'
+        f'<pre style="font-size:90%">{html.escape(obj.summary())}</pre></div>'
+    )

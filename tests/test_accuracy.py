@@ -87,8 +87,9 @@ def test_incidence_table_nodes_and_interpolation():
         table.measured_mm([80])
 
 
-@pytest.mark.parametrize("scale, mm", [("1:50", 5), ("1:100", 20), ("1:200", 50), ("1:500", 300),
-                                        ("1:10", 2), (20, 2), ("1:75", 5)])
+@pytest.mark.parametrize(
+    "scale, mm", [("1:50", 5), ("1:100", 20), ("1:200", 50), ("1:500", 300), ("1:10", 2), (20, 2), ("1:75", 5)]
+)
 def test_drawing_scale_tolerance(scale, mm):
     # table 1.1, upper value of the row; between rows the stricter (1:75 -> the 1:50 row)
     assert tolerance_for_scale_m(scale) == pytest.approx(mm / 1000)

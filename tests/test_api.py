@@ -51,15 +51,22 @@ def test_sweep_script_uses_only_the_public_api():
     modules = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     assert not any(m and m.startswith("planner") for m in modules)  # no "from planner.x import y"
     assert "planner" in imports
-    used = {n.attr for n in ast.walk(tree)
-            if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id == "planner"}
+    used = {
+        n.attr
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id == "planner"
+    }
     assert used and used <= set(planner.__all__), used - set(planner.__all__)
 
 
 def test_only_the_command_line_prints():
     # library modules log; print() appears only in planner/cli/ (docstring examples aside)
-    offenders = [p.name for p in (ROOT / "planner").rglob("*.py") if "cli" not in p.relative_to(ROOT / "planner").parts
-                 and any(line.lstrip().startswith("print(") for line in p.read_text().splitlines())]
+    offenders = [
+        p.name
+        for p in (ROOT / "planner").rglob("*.py")
+        if "cli" not in p.relative_to(ROOT / "planner").parts
+        and any(line.lstrip().startswith("print(") for line in p.read_text().splitlines())
+    ]
     assert offenders == []
 
 
@@ -72,26 +79,29 @@ def test_with_parameters_changes_only_what_is_named_and_validates():
         site.with_parameters(theta_max_deg=95.0)
 
 
-@pytest.mark.parametrize("make, field", [
-    # options: the field at fault is named (a wrong type is refused, not coerced or crashed on later)
-    (lambda: planner.MilpOptions(time_limit_s=0), "time_limit_s"),
-    (lambda: planner.MilpOptions(threads=0), "threads"),
-    (lambda: planner.MilpOptions(k=1.5), "k"),
-    (lambda: planner.MilpOptions(k=True), "k"),
-    (lambda: planner.MilpOptions(ring_lagrange_steps=-5), "ring_lagrange_steps"),
-    (lambda: planner.MilpOptions(presolve="no"), "presolve"),
-    (lambda: planner.MilpOptions(overlap=0.3), "overlap"),
-    (lambda: planner.OverlapRule(overlap=1.0), "overlap"),
-    (lambda: planner.OverlapRule(max_link_m=0.0), "max_link_m"),
-    (lambda: planner.OverlapRule(min_shared_m=float("nan")), "min_shared_m"),
-    (lambda: planner.PoolOptions(grid_spacing_m=0), "grid_spacing_m"),
-    (lambda: planner.PoolOptions(seed=-1), "seed"),
-    (lambda: planner.PlanOptions(precision="no"), "precision"),
-    (lambda: planner.PlanOptions(verify_spacing_m=1e-6), "verify_spacing_m"),
-    (lambda: planner.PlanOptions(memory_limit_bytes=float("nan")), "memory_limit_bytes"),
-    # k > 1 is the MILP's: the greedy and the closed form would ignore it silently
-    (lambda: planner.PlanOptions(method="greedy", milp=planner.MilpOptions(k=2)), "k"),
-])
+@pytest.mark.parametrize(
+    "make, field",
+    [
+        # options: the field at fault is named (a wrong type is refused, not coerced or crashed on later)
+        (lambda: planner.MilpOptions(time_limit_s=0), "time_limit_s"),
+        (lambda: planner.MilpOptions(threads=0), "threads"),
+        (lambda: planner.MilpOptions(k=1.5), "k"),
+        (lambda: planner.MilpOptions(k=True), "k"),
+        (lambda: planner.MilpOptions(ring_lagrange_steps=-5), "ring_lagrange_steps"),
+        (lambda: planner.MilpOptions(presolve="no"), "presolve"),
+        (lambda: planner.MilpOptions(overlap=0.3), "overlap"),
+        (lambda: planner.OverlapRule(overlap=1.0), "overlap"),
+        (lambda: planner.OverlapRule(max_link_m=0.0), "max_link_m"),
+        (lambda: planner.OverlapRule(min_shared_m=float("nan")), "min_shared_m"),
+        (lambda: planner.PoolOptions(grid_spacing_m=0), "grid_spacing_m"),
+        (lambda: planner.PoolOptions(seed=-1), "seed"),
+        (lambda: planner.PlanOptions(precision="no"), "precision"),
+        (lambda: planner.PlanOptions(verify_spacing_m=1e-6), "verify_spacing_m"),
+        (lambda: planner.PlanOptions(memory_limit_bytes=float("nan")), "memory_limit_bytes"),
+        # k > 1 is the MILP's: the greedy and the closed form would ignore it silently
+        (lambda: planner.PlanOptions(method="greedy", milp=planner.MilpOptions(k=2)), "k"),
+    ],
+)
 def test_bad_options_name_their_field(make, field):
     with pytest.raises(UsageError, match=rf"\b{field} = "):
         make()
@@ -130,32 +140,36 @@ def greedy_b():
     return site, planner.plan_site(site, planner.PlanOptions(method="greedy"))
 
 
-@pytest.mark.parametrize("call, field, words", [
-    # a path where a Site goes, a method name where options go, a Plan where an Outcome or stations go ...
-    (lambda site, plan: planner.plan_site(str(INSTANCES / "polygon_b.json")), "site", "load_site(path) reads one"),
-    (lambda site, plan: planner.plan_site(site, "milp"), "options", "PlanOptions(method='milp')"),
-    (lambda site, plan: planner.validate_site(plan), "site", "not a Plan"),
-    (lambda site, plan: planner.build_problem(site, planner.MilpOptions()), "options", "not a MilpOptions"),
-    (lambda site, plan: planner.outcome_from_plan(site), "plan", "plan_site(site, options) makes one"),
-    (lambda site, plan: planner.outcome_from_plan(plan, plan), "network", "run_network(site, plan.stations)"),
-    (lambda site, plan: planner.run_network(site, plan), "stations", "use plan.stations"),
-    (lambda site, plan: planner.run_network(plan, plan.stations), "site", "not a Plan"),
-    (lambda site, plan: planner.run_network(site, [1, 2]), "stations", "item 1 is an int"),
-    (lambda site, plan: planner.write_report(plan, "unused"), "outcome", "outcome_from_plan(plan) makes one"),
-    (lambda site, plan: planner.write_dxf(plan, "unused.dxf"), "outcome", "not a Plan"),
-    (lambda site, plan: planner.write_geojson(site, "unused.geojson"), "outcome", "not a Site"),
-    (lambda site, plan: planner.write_stations_csv(plan, "unused.csv"), "outcome", "not a Plan"),
-    (lambda site, plan: planner.plan_figures(plan), "outcome", "not a Plan"),
-    (lambda site, plan: planner.network_figure(plan), "outcome", "not a Plan"),
-    (lambda site, plan: planner.cover_instance(plan), "problem", "build_problem(site, options) makes one"),
-    # a Site, None or a number where a path goes (pathlib's TypeError before)
-    (lambda site, plan: planner.load_site(site), "path", "must be a file path (str or pathlib.Path), not Site"),
-    (lambda site, plan: planner.load_site(None), "path", "not NoneType"),
-    (lambda site, plan: planner.outcome_from_file(5), "plan_path", "not int"),
-    (lambda site, plan: planner.greedy_cover(None), "by_candidate", "must be a scipy.sparse matrix"),
-])
-def test_an_object_of_the_wrong_kind_is_named_with_how_to_get_the_right_one(greedy_b, call, field, words, tmp_path,
-                                                                          monkeypatch):
+@pytest.mark.parametrize(
+    "call, field, words",
+    [
+        # a path where a Site goes, a method name where options go, a Plan where an Outcome or stations go ...
+        (lambda site, plan: planner.plan_site(str(INSTANCES / "polygon_b.json")), "site", "load_site(path) reads one"),
+        (lambda site, plan: planner.plan_site(site, "milp"), "options", "PlanOptions(method='milp')"),
+        (lambda site, plan: planner.validate_site(plan), "site", "not a Plan"),
+        (lambda site, plan: planner.build_problem(site, planner.MilpOptions()), "options", "not a MilpOptions"),
+        (lambda site, plan: planner.outcome_from_plan(site), "plan", "plan_site(site, options) makes one"),
+        (lambda site, plan: planner.outcome_from_plan(plan, plan), "network", "run_network(site, plan.stations)"),
+        (lambda site, plan: planner.run_network(site, plan), "stations", "use plan.stations"),
+        (lambda site, plan: planner.run_network(plan, plan.stations), "site", "not a Plan"),
+        (lambda site, plan: planner.run_network(site, [1, 2]), "stations", "item 1 is an int"),
+        (lambda site, plan: planner.write_report(plan, "unused"), "outcome", "outcome_from_plan(plan) makes one"),
+        (lambda site, plan: planner.write_dxf(plan, "unused.dxf"), "outcome", "not a Plan"),
+        (lambda site, plan: planner.write_geojson(site, "unused.geojson"), "outcome", "not a Site"),
+        (lambda site, plan: planner.write_stations_csv(plan, "unused.csv"), "outcome", "not a Plan"),
+        (lambda site, plan: planner.plan_figures(plan), "outcome", "not a Plan"),
+        (lambda site, plan: planner.network_figure(plan), "outcome", "not a Plan"),
+        (lambda site, plan: planner.cover_instance(plan), "problem", "build_problem(site, options) makes one"),
+        # a Site, None or a number where a path goes (pathlib's TypeError before)
+        (lambda site, plan: planner.load_site(site), "path", "must be a file path (str or pathlib.Path), not Site"),
+        (lambda site, plan: planner.load_site(None), "path", "not NoneType"),
+        (lambda site, plan: planner.outcome_from_file(5), "plan_path", "not int"),
+        (lambda site, plan: planner.greedy_cover(None), "by_candidate", "must be a scipy.sparse matrix"),
+    ],
+)
+def test_an_object_of_the_wrong_kind_is_named_with_how_to_get_the_right_one(
+    greedy_b, call, field, words, tmp_path, monkeypatch
+):
     # before: AttributeError deep inside ('Plan' object has no attribute 'coverage'); now one line naming the
     # argument, what it got and how to make what it takes, a UsageError that is also a TypeError; no file written
     monkeypatch.chdir(tmp_path)
@@ -194,7 +208,10 @@ def test_one_home_for_the_overlap_rule_and_the_site_validation():
     builders = []
     for path in sorted((ROOT / "planner").rglob("*.py")):
         for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.Call) and getattr(node.func, "id", getattr(node.func, "attr", None)) == "OverlapRule":
+            if (
+                isinstance(node, ast.Call)
+                and getattr(node.func, "id", getattr(node.func, "attr", None)) == "OverlapRule"
+            ):
                 builders.append(str(path.relative_to(ROOT)))
     assert builders == ["planner/coverage/overlap.py"]
     from planner.coverage.overlap import planning_rule, rule_of

@@ -9,8 +9,9 @@ from planner.plan.best_known import BEST_KNOWN, best_known
 
 def test_entries_have_a_command_and_a_count():
     rows = json.loads(BEST_KNOWN.read_text())["plans"]
-    assert rows and all(r["command"] and r["stations"] > 0 and r["problem"] in ("connected", "plain cover")
-                        for r in rows)
+    assert rows and all(
+        r["command"] and r["stations"] > 0 and r["problem"] in ("connected", "plain cover") for r in rows
+    )
 
 
 def test_lookup_matches_instance_problem_mode_and_overlap():

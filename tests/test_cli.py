@@ -61,18 +61,21 @@ def test_linear_misclosure_exits_3(capsys, write_csv):
     assert_one_line_error(err, "zone R", "linear misclosure 0.500 m", "1:81")
 
 
-@pytest.mark.parametrize("row, fragment", [
-    (("R", "inside", 2, 0, 5, 90, 5), "zone R row 2: side_length_m = 0"),
-    (("R", "inside", 2, -10, 5, 90, 5), "side_length_m = -10"),
-    (("R", "inside", 2, 10, -5, 90, 5), "wall_height_m = -5"),
-    (("R", "inside", 2, 10, 5, 90, 0), "vertex_height_m = 0"),
-    (("R", "inside", 2, 10, 5, 360, 5), "interior_angle_deg = 360: outside (0, 360)"),
-    (("R", "inside", 2, 10, 5, 0, 5), "interior_angle_deg = 0"),
-    (("R", "inside", 2, "nan", 5, 90, 5), "line 3: side_length_m = 'nan': must be finite"),
-    (("R", "inside", 2, 10, "inf", 90, 5), "wall_height_m = 'inf': must be finite"),
-    (("R", "inside", 2, 10, 5, "ninety", 5), "interior_angle_deg = 'ninety': not a number"),
-    (("R", "sideways", 2, 10, 5, 90, 5), "scan_side = 'sideways'"),
-])
+@pytest.mark.parametrize(
+    "row, fragment",
+    [
+        (("R", "inside", 2, 0, 5, 90, 5), "zone R row 2: side_length_m = 0"),
+        (("R", "inside", 2, -10, 5, 90, 5), "side_length_m = -10"),
+        (("R", "inside", 2, 10, -5, 90, 5), "wall_height_m = -5"),
+        (("R", "inside", 2, 10, 5, 90, 0), "vertex_height_m = 0"),
+        (("R", "inside", 2, 10, 5, 360, 5), "interior_angle_deg = 360: outside (0, 360)"),
+        (("R", "inside", 2, 10, 5, 0, 5), "interior_angle_deg = 0"),
+        (("R", "inside", 2, "nan", 5, 90, 5), "line 3: side_length_m = 'nan': must be finite"),
+        (("R", "inside", 2, 10, "inf", 90, 5), "wall_height_m = 'inf': must be finite"),
+        (("R", "inside", 2, 10, 5, "ninety", 5), "interior_angle_deg = 'ninety': not a number"),
+        (("R", "sideways", 2, 10, 5, 90, 5), "scan_side = 'sideways'"),
+    ],
+)
 def test_bad_values_exit_3(capsys, write_csv, row, fragment):
     rows = square_rows("R")
     rows[1] = row
@@ -101,7 +104,11 @@ def test_empty_file(capsys, tmp_path):
 
 
 def test_self_intersecting_zone_says_where(capsys, tmp_path):
-    inst = {"zones": [{"id": "bow", "scan_side": "inside", "coordinates": [[0, 0], [10, 10], [10, 0], [0, 10]], "height_m": 5}]}
+    inst = {
+        "zones": [
+            {"id": "bow", "scan_side": "inside", "coordinates": [[0, 0], [10, 10], [10, 0], [0, 10]], "height_m": 5}
+        ]
+    }
     (tmp_path / "bow.json").write_text(json.dumps(inst))
     code, _, err = run(capsys, "validate", str(tmp_path / "bow.json"))
     assert code == 3
@@ -140,17 +147,19 @@ def test_theta_max_in_instance_file_names_the_file(capsys, tmp_path):
 
 def test_usage_errors_exit_2_in_one_line(capsys):
     # argparse's errors too: no usage block before the message, the option and the value named
-    for argv, words in ((["validate"], "the following arguments are required: site"),
-                        (["frobnicate"], "invalid choice: 'frobnicate'"),
-                        (["plan", "x.json", "--incidence", "4d"], "argument --incidence: invalid choice: '4d'"),
-                        (["plan", "x.json", "--target-spacing", "0"], "argument --target-spacing: must be > 0, got '0'"),
-                        (["plan", "x.json", "--grid-spacing", "nan"], "argument --grid-spacing: must be > 0, got 'nan'"),
-                        (["plan", "x.json", "--threads", "0"], "argument --threads: must be >= 1, got '0'"),
-                        (["plan", "x.json", "--seed", "-1"], "argument --seed: must be >= 0, got '-1'"),
-                        (["plan", "x.json", "--time-limit", "-5"], "argument --time-limit: must be > 0, got '-5'"),
-                        (["plan", "x.json", "--max-link", "0"], "argument --max-link: must be > 0, got '0'"),
-                        (["verify", "x.json", "p.json", "--spacing", "1e-9"], "argument --spacing: must be >= 0.001 and <= 10"),
-                        (["assemble", "x.json", "--wall-thickness", "-1"], "argument --wall-thickness: must be >= 0")):
+    for argv, words in (
+        (["validate"], "the following arguments are required: site"),
+        (["frobnicate"], "invalid choice: 'frobnicate'"),
+        (["plan", "x.json", "--incidence", "4d"], "argument --incidence: invalid choice: '4d'"),
+        (["plan", "x.json", "--target-spacing", "0"], "argument --target-spacing: must be > 0, got '0'"),
+        (["plan", "x.json", "--grid-spacing", "nan"], "argument --grid-spacing: must be > 0, got 'nan'"),
+        (["plan", "x.json", "--threads", "0"], "argument --threads: must be >= 1, got '0'"),
+        (["plan", "x.json", "--seed", "-1"], "argument --seed: must be >= 0, got '-1'"),
+        (["plan", "x.json", "--time-limit", "-5"], "argument --time-limit: must be > 0, got '-5'"),
+        (["plan", "x.json", "--max-link", "0"], "argument --max-link: must be > 0, got '0'"),
+        (["verify", "x.json", "p.json", "--spacing", "1e-9"], "argument --spacing: must be >= 0.001 and <= 10"),
+        (["assemble", "x.json", "--wall-thickness", "-1"], "argument --wall-thickness: must be >= 0"),
+    ):
         assert main(argv) == 2, argv
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and words in err and "usage:" not in err, (argv, err)
@@ -195,8 +204,12 @@ def test_a_closed_output_pipe_stops_quietly_with_141():
     # `planner validate SITE --json | head -c 0`: the reader has closed the pipe (here before the interpreter
     # has even started, so the first write fails); the command must not report an internal error (exit 1)
     # but stop quietly, as a shell reports SIGPIPE (128 + 13)
-    proc = subprocess.Popen([sys.executable, "-m", "planner", "validate", str(INSTANCES / "baalbek.json"), "--json"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "planner", "validate", str(INSTANCES / "baalbek.json"), "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        cwd=ROOT,
+    )
     assert proc.stdout is not None and proc.stderr is not None
     proc.stdout.close()
     err = proc.stderr.read().decode()
@@ -212,19 +225,25 @@ def test_unusable_output_paths_are_one_line_usage_errors(capsys, tmp_path):
         assert code == 2 and out == "" and err.count("\n") == 1 and f"{flag} = " in err
     # an export into a folder, or into a folder that does not exist, names the path
     for target in (tmp_path, tmp_path / "no" / "such" / "x.mps"):
-        code, _, err = run(capsys, "export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(target))
+        code, _, err = run(
+            capsys, "export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(target)
+        )
         assert code == 2 and err.count("\n") == 1 and str(target) in err
 
 
 def test_a_hand_edited_plan_json_is_refused_in_one_line(capsys, tmp_path):
-    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(tmp_path), "--quiet"]) == 0
+    assert (
+        main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(tmp_path), "--quiet"]) == 0
+    )
     capsys.readouterr()
     good = json.loads((tmp_path / "plan.json").read_text())
-    cases = [(lambda d: d.update(parameters="x"), "parameters = 'x': must be an object"),
-             (lambda d: d["parameters"].update(seed="abc"), "parameters.seed = 'abc': must be an integer >= 0"),
-             (lambda d: d["parameters"].update(target_spacing_m=0), "parameters.target_spacing_m = 0: must be a number > 0"),
-             (lambda d: d.update(counts="x"), "counts = 'x': must be an object"),
-             (lambda d: d["stations"][1].update(id=d["stations"][0]["id"]), "station id used twice (also stations[1])")]
+    cases = [
+        (lambda d: d.update(parameters="x"), "parameters = 'x': must be an object"),
+        (lambda d: d["parameters"].update(seed="abc"), "parameters.seed = 'abc': must be an integer >= 0"),
+        (lambda d: d["parameters"].update(target_spacing_m=0), "parameters.target_spacing_m = 0: must be a number > 0"),
+        (lambda d: d.update(counts="x"), "counts = 'x': must be an object"),
+        (lambda d: d["stations"][1].update(id=d["stations"][0]["id"]), "station id used twice (also stations[1])"),
+    ]
     for edit, words in cases:
         data = json.loads(json.dumps(good))
         edit(data)
@@ -241,13 +260,25 @@ def test_a_hand_edited_plan_json_is_refused_in_one_line(capsys, tmp_path):
     code, _, err = run(capsys, "report", str(tmp_path / "theta.json"), "--no-network", "--out", str(tmp_path / "r"))
     assert code == 3 and "theta.json: theta_max_deg = 95" in err
     first = good["stations"][0]["id"]
-    for obs, words in (({"kind": "distance", "at": first, "to": "NOPE", "value": 5, "sigma": 0.002},
-                        "observations[1]: distance = '" + first + "->NOPE': names no point of the network: NOPE"),
-                       ({"kind": "distance", "at": first, "to": good["stations"][1]["id"], "value": 5, "sigma": 0},
-                        "sigma must be > 0, got 0")):
+    for obs, words in (
+        (
+            {"kind": "distance", "at": first, "to": "NOPE", "value": 5, "sigma": 0.002},
+            "observations[1]: distance = '" + first + "->NOPE': names no point of the network: NOPE",
+        ),
+        (
+            {"kind": "distance", "at": first, "to": good["stations"][1]["id"], "value": 5, "sigma": 0},
+            "sigma must be > 0, got 0",
+        ),
+    ):
         (tmp_path / "obs.json").write_text(json.dumps({"observations": [obs]}))
-        code, _, err = run(capsys, "network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "plan.json"),
-                           "--observations", str(tmp_path / "obs.json"))
+        code, _, err = run(
+            capsys,
+            "network",
+            str(INSTANCES / "polygon_b.json"),
+            str(tmp_path / "plan.json"),
+            "--observations",
+            str(tmp_path / "obs.json"),
+        )
         assert code == 3 and "obs.json: " in err and words in err, err
     # a plan without stations has no network (verify reports it as 0 % covered instead)
     (tmp_path / "empty.json").write_text(json.dumps({**good, "stations": []}))
@@ -269,14 +300,25 @@ def test_verify_says_when_the_plan_was_made_under_other_limits(tmp_path, capsys)
     assert "made with" not in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("argv, code, words", [
-    # each refused before any planning (the plan of Baalbek takes ~9 s; these take none of it)
-    (["--worker-memory", "2GiB"], 2, "--worker-memory = '2GiB': --workers, --worker-memory and --scheduler run tiles"),
-    (["--monte-carlo", "100"], 2, "--monte-carlo = 100: Monte Carlo runs are part of the network check; give --network"),
-    (["--network", "--monte-carlo", "5"], 2, "Monte Carlo needs at least 100 runs"),
-    (["--network", "--control", "no-such-control.json"], 3, "no-such-control.json: cannot read file"),
-    (["--out", ""], 2, "--out = '': is empty"),
-])
+@pytest.mark.parametrize(
+    "argv, code, words",
+    [
+        # each refused before any planning (the plan of Baalbek takes ~9 s; these take none of it)
+        (
+            ["--worker-memory", "2GiB"],
+            2,
+            "--worker-memory = '2GiB': --workers, --worker-memory and --scheduler run tiles",
+        ),
+        (
+            ["--monte-carlo", "100"],
+            2,
+            "--monte-carlo = 100: Monte Carlo runs are part of the network check; give --network",
+        ),
+        (["--network", "--monte-carlo", "5"], 2, "Monte Carlo needs at least 100 runs"),
+        (["--network", "--control", "no-such-control.json"], 3, "no-such-control.json: cannot read file"),
+        (["--out", ""], 2, "--out = '': is empty"),
+    ],
+)
 def test_plan_option_values_are_checked_before_the_planning(capsys, argv, code, words):
     assert main(["plan", str(INSTANCES / "baalbek.json"), *argv]) == code
     out, err = capsys.readouterr()

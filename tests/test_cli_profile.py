@@ -65,14 +65,17 @@ def test_config_sets_defaults_and_the_command_line_wins(tmp_path):
     assert fresh.tile_window_radius == 60.0 and fresh.backend == "cpsat"  # a new parser: the defaults again
 
 
-@pytest.mark.parametrize("body, fragment", [
-    ("[plan]\nno-such-knob = 1\n", "[plan] no-such-knob: no such option"),
-    ("[plan]\ntile-window-radius = -3\n", "[plan] tile-window-radius: must be > 0"),
-    ('[plan]\nbackend = "gurobi"\n', "[plan] backend: must be one of"),
-    ("[plan]\nlayer-cuts = 1\n", "[plan] layer-cuts: expected true or false"),
-    ("[plant]\nbackend = 'scip'\n", "[plant] is no command"),
-    ("[plan\n", "not a TOML file"),
-])
+@pytest.mark.parametrize(
+    "body, fragment",
+    [
+        ("[plan]\nno-such-knob = 1\n", "[plan] no-such-knob: no such option"),
+        ("[plan]\ntile-window-radius = -3\n", "[plan] tile-window-radius: must be > 0"),
+        ('[plan]\nbackend = "gurobi"\n', "[plan] backend: must be one of"),
+        ("[plan]\nlayer-cuts = 1\n", "[plan] layer-cuts: expected true or false"),
+        ("[plant]\nbackend = 'scip'\n", "[plant] is no command"),
+        ("[plan\n", "not a TOML file"),
+    ],
+)
 def test_bad_profile_is_one_line_usage_error(tmp_path, capsys, body, fragment):
     cfg = tmp_path / "bad.toml"
     cfg.write_text(body)
@@ -91,8 +94,15 @@ def test_missing_profile_is_usage_error(tmp_path, capsys):
 def test_profile_value_reaches_the_plan(tmp_path, capsys):
     # an 8 x 4 m room seen from inside (2 stations): the profile's verify spacing is the one the plan records
     site = tmp_path / "room.json"
-    site.write_text(json.dumps({"zones": [{"id": "R", "scan_side": "inside", "height_m": 3,
-                                           "coordinates": [[0, 0], [8, 0], [8, 4], [0, 4]]}]}))
+    site.write_text(
+        json.dumps(
+            {
+                "zones": [
+                    {"id": "R", "scan_side": "inside", "height_m": 3, "coordinates": [[0, 0], [8, 0], [8, 4], [0, 4]]}
+                ]
+            }
+        )
+    )
     cfg = tmp_path / "p.toml"
     cfg.write_text("[plan]\nverify-spacing = 0.25\nno-precision = true\n")
     out = tmp_path / "out"
@@ -112,6 +122,7 @@ def test_plan_validates_the_site_once(monkeypatch, capsys, tmp_path, extra):
     calls = []
     real = validate.site_scanner
     monkeypatch.setattr(validate, "site_scanner", lambda site: calls.append(site.name) or real(site))
-    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--no-pricing", *extra]) == 0, \
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--no-pricing", *extra]) == 0, (
         capsys.readouterr().err
+    )
     assert calls == ["polygon_b"]

@@ -14,16 +14,31 @@ from planner.cli import choices as cli_choices
 from tests.conftest import ROOT
 
 #: what --help, --version and argument parsing must not load
-HEAVY = ("numpy", "scipy", "shapely", "ortools", "networkx", "matplotlib", "ezdxf", "ifcopenshell", "cvxpy",
-         "pulp", "highspy", "pyproj")
+HEAVY = (
+    "numpy",
+    "scipy",
+    "shapely",
+    "ortools",
+    "networkx",
+    "matplotlib",
+    "ezdxf",
+    "ifcopenshell",
+    "cvxpy",
+    "pulp",
+    "highspy",
+    "pyproj",
+)
 
 
 def _imported_by(code: str) -> set[str]:
     run = subprocess.run([sys.executable, "-X", "importtime", "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert run.returncode == 0, run.stderr
     # lines "import time: self | cumulative | <indent>module"
-    return {line.rsplit("|", 1)[1].strip() for line in run.stderr.splitlines() if line.startswith("import time:")
-            and "|" in line and not line.rstrip().endswith("imported package")}
+    return {
+        line.rsplit("|", 1)[1].strip()
+        for line in run.stderr.splitlines()
+        if line.startswith("import time:") and "|" in line and not line.rstrip().endswith("imported package")
+    }
 
 
 def test_import_planner_cli_loads_no_numerical_stack():

@@ -22,7 +22,9 @@ def site():
     # polygon B with the P30 at 4 mm and S_max fixed at 150 m: the precision range of (3.1) is then
     # 85.6 m, so pieces farther than that from every station need two or more views combined
     s = load_site(INSTANCES / "polygon_b.json")
-    return replace(s, instrument="leica-p30", parameters=replace(s.parameters, sigma_req_m=0.004, max_slant_range_m=150.0))
+    return replace(
+        s, instrument="leica-p30", parameters=replace(s.parameters, sigma_req_m=0.004, max_slant_range_m=150.0)
+    )
 
 
 @pytest.fixture(scope="module")

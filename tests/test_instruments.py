@@ -38,7 +38,8 @@ def test_topcon_distance_models():
 def test_unit_change_leaves_s_max_unchanged(tmp_path):
     # the same P30 written in metres instead of millimetres gives the same S_max
     (tmp_path / "p30m.toml").write_text(
-        'kind = "scanner"\nrange_sigma_const_m = 0.0012\nrange_sigma_ppm = 10\nangle_sigma_arcsec = 8\n')
+        'kind = "scanner"\nrange_sigma_const_m = 0.0012\nrange_sigma_ppm = 10\nangle_sigma_arcsec = 8\n'
+    )
     in_m = load_instrument(str(tmp_path / "p30m.toml"))
     in_mm = load_instrument("leica-p30")
     s = sigma_instr_m(0.01, ErrorBudget())
@@ -52,7 +53,9 @@ def test_unknown_instrument_lists_known():
 
 def test_unknown_key_refused(tmp_path):
     f = tmp_path / "bad.toml"
-    f.write_text('kind = "scanner"\nrange_sigma_const_mm = 1\nrange_sigma_ppm = 1\nangle_sigma_arcsec = 1\nrange_sigma_cnst_mm = 2\n')
+    f.write_text(
+        'kind = "scanner"\nrange_sigma_const_mm = 1\nrange_sigma_ppm = 1\nangle_sigma_arcsec = 1\nrange_sigma_cnst_mm = 2\n'
+    )
     with pytest.raises(InputError, match=r"bad.toml: range_sigma_cnst_mm.*unknown key"):
         load_instrument(str(f))
 
@@ -80,7 +83,9 @@ def test_range_limit_sources():
 def test_datasheet_range_caps_the_derived_one(tmp_path):
     # a P30 model with a 100 m datasheet range: (3.1) gives 239.55 m, the cap wins
     f = tmp_path / "short.toml"
-    f.write_text('kind = "scanner"\nrange_sigma_const_mm = 1.2\nrange_sigma_ppm = 10\nangle_sigma_arcsec = 8\nmax_range_m = 100\n')
+    f.write_text(
+        'kind = "scanner"\nrange_sigma_const_mm = 1.2\nrange_sigma_ppm = 10\nangle_sigma_arcsec = 8\nmax_range_m = 100\n'
+    )
     limit = resolve_range_limit(Parameters(), load_instrument(str(f)))
     assert limit.max_slant_range_m == 100.0 and "239.55" in limit.source
 
@@ -90,14 +95,18 @@ def test_a_boolean_or_absurd_constant_is_refused(tmp_path, value, shown):
     # TOML booleans are no 1" of angle; 1e308" overflowed the accuracy model instead of being refused
     f = tmp_path / "odd.toml"
     f.write_text(f'kind = "scanner"\nrange_sigma_const_mm = 1\nrange_sigma_ppm = 1\nangle_sigma_arcsec = {value}\n')
-    with pytest.raises(InputError, match=re.escape(f"angle_sigma_arcsec = {shown}: must be a finite number >= 0 and <= 1e+09")):
+    with pytest.raises(
+        InputError, match=re.escape(f"angle_sigma_arcsec = {shown}: must be a finite number >= 0 and <= 1e+09")
+    ):
         load_instrument(str(f))
 
 
 def test_a_models_folder_that_is_not_there_is_named(monkeypatch, tmp_path):
     # a mistyped $PLANNER_MODELS_DIR listed no instrument and then called every name unknown ("known: none")
     monkeypatch.setenv("PLANNER_MODELS_DIR", str(tmp_path / "nowhere"))
-    with pytest.raises(InputError, match=r"models = '.*nowhere': the instrument models folder \(\$PLANNER_MODELS_DIR\)"):
+    with pytest.raises(
+        InputError, match=r"models = '.*nowhere': the instrument models folder \(\$PLANNER_MODELS_DIR\)"
+    ):
         load_instrument("leica-p30")
 
 
@@ -115,8 +124,10 @@ def test_a_model_whose_error_does_not_grow_with_range_needs_a_range(tmp_path, ca
     with pytest.raises(InputError, match=r"flat.toml: max_range_m: no range limit: give max_range_m, or a non-zero"):
         load_instrument(str(flat))
     site = tmp_path / "sq.json"
-    site.write_text('{"zones": [{"id": "court", "scan_side": "inside", "coordinates": [[0, 0], [20, 0], [20, 10], '
-                    '[0, 10]], "height_m": 5}]}')
+    site.write_text(
+        '{"zones": [{"id": "court", "scan_side": "inside", "coordinates": [[0, 0], [20, 0], [20, 10], '
+        '[0, 10]], "height_m": 5}]}'
+    )
     for argv in (["validate"], ["plan", "--method", "greedy", "--out", str(tmp_path)]):
         assert main([argv[0], str(site), *argv[1:], "--instrument", str(flat)]) == 3
         assert_one_line_error(capsys.readouterr().err, "flat.toml", "no range limit")
@@ -127,8 +138,10 @@ def test_a_model_whose_error_does_not_grow_with_range_needs_a_range(tmp_path, ca
 
 def test_a_range_limit_beyond_10_km_is_refused(tmp_path):
     # 1e-300 ppm leaves (3.1) a range of 4e304 m, a 1e9 m datasheet range 1e9 m: no plan can use either
-    for name, extra in (("tiny", "range_sigma_ppm = 1e-300\nangle_sigma_arcsec = 0\n"),
-                        ("far", "range_sigma_ppm = 0\nangle_sigma_arcsec = 0\nmax_range_m = 1e9\n")):
+    for name, extra in (
+        ("tiny", "range_sigma_ppm = 1e-300\nangle_sigma_arcsec = 0\n"),
+        ("far", "range_sigma_ppm = 0\nangle_sigma_arcsec = 0\nmax_range_m = 1e9\n"),
+    ):
         f = tmp_path / f"{name}.toml"
         f.write_text(f'kind = "scanner"\nrange_sigma_const_mm = 1.2\n{extra}')
         with pytest.raises(InputError, match=rf"instrument = '{name}': S_max .* is beyond 10000 m"):

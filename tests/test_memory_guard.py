@@ -18,9 +18,22 @@ HUGE_M = 10_000_000.0  # 10,000 km
 
 
 def _square(path, side_m: float):
-    path.write_text(json.dumps({"format": "tls-planner/1", "name": "square", "zones": [
-        {"id": "sq", "scan_side": "inside", "coordinates": [[0, 0], [side_m, 0], [side_m, side_m], [0, side_m]],
-         "vertex_heights_m": [10, 10, 10, 10]}]}))
+    path.write_text(
+        json.dumps(
+            {
+                "format": "tls-planner/1",
+                "name": "square",
+                "zones": [
+                    {
+                        "id": "sq",
+                        "scan_side": "inside",
+                        "coordinates": [[0, 0], [side_m, 0], [side_m, side_m], [0, side_m]],
+                        "vertex_heights_m": [10, 10, 10, 10],
+                    }
+                ],
+            }
+        )
+    )
     return path
 
 

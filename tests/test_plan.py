@@ -72,7 +72,9 @@ def test_corridor_needs_at_least_five_stations():
     # a 40 x 4 m corridor: a station d1 and 4 - d1 from the long walls sees at most
     # 2 d1 tan 68 + 2 (4 - d1) tan 68 = 8 tan 68 = 19.8 m of the 80 m of long wall: >= 5 stations
     z = Zone("K", ScanSide.INSIDE, ((0, 0), (40, 0), (40, 4), (0, 4)), (3.0,) * 4)
-    p = plan_site(Site("corridor", (z,), instrument="dissertation-tables"), PlanOptions(pool=PoolOptions(grid_spacing_m=1.0)))
+    p = plan_site(
+        Site("corridor", (z,), instrument="dissertation-tables"), PlanOptions(pool=PoolOptions(grid_spacing_m=1.0))
+    )
     assert len(p.stations) >= math.ceil(80 / (8 * math.tan(math.radians(68))))
     assert p.verification.complete
 
@@ -92,8 +94,16 @@ def test_same_seed_same_plan_and_json_roundtrip(tmp_path):
 def _moved_site(site: Site, angle_deg: float, dx: float, dy: float) -> Site:
     a = math.radians(angle_deg)
     rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-    zones = tuple(Zone(z.id, z.scan_side, tuple(map(tuple, (np.asarray(z.xy) @ rot.T + [dx, dy]).tolist())),
-                       z.vertex_heights_m, z.printed_wall_heights_m) for z in site.zones)
+    zones = tuple(
+        Zone(
+            z.id,
+            z.scan_side,
+            tuple(map(tuple, (np.asarray(z.xy) @ rot.T + [dx, dy]).tolist())),
+            z.vertex_heights_m,
+            z.printed_wall_heights_m,
+        )
+        for z in site.zones
+    )
     return Site(site.name, zones, site.parameters, site.instrument)
 
 
@@ -112,7 +122,9 @@ def test_connected_greedy_of_b_against_the_plain_one():
     conn = plan_site(site, PlanOptions(method="greedy"))
     plain = plan_site(site, PlanOptions(method="greedy", milp=MilpOptions(overlap=None)))
     milp = plan_site(site, PlanOptions(method="milp", pricing=False, milp=MilpOptions(time_limit_s=60)))
-    plain_opt = plan_site(site, PlanOptions(method="milp", pricing=False, milp=MilpOptions(overlap=None, time_limit_s=60)))
+    plain_opt = plan_site(
+        site, PlanOptions(method="milp", pricing=False, milp=MilpOptions(overlap=None, time_limit_s=60))
+    )
     assert plain.registration["B/outside"] > 1 and conn.registration == {"B/inside": 1, "B/outside": 1}
     assert milp.result.status.value == plain_opt.result.status.value == "optimal"
     assert len(conn.stations) >= milp.result.objective >= plain_opt.result.objective <= len(plain.stations)
@@ -135,11 +147,16 @@ def test_unseen_target_exits_4_listing_it(tmp_path, capsys):
     # within 68 deg lie within the 0.4-m stand-off of the walls, so the refusal says there is no place to stand)
     L = 60.0
     tip = (L * math.cos(math.radians(20)), L * math.sin(math.radians(20)))
-    inst = {"instrument": "dissertation-tables",
-            "zones": [{"id": "W", "scan_side": "inside", "coordinates": [[0, 0], [L, 0], list(tip)], "height_m": 5}]}
+    inst = {
+        "instrument": "dissertation-tables",
+        "zones": [{"id": "W", "scan_side": "inside", "coordinates": [[0, 0], [L, 0], list(tip)], "height_m": 5}],
+    }
     (tmp_path / "wedge.json").write_text(json.dumps(inst))
-    with pytest.raises(InfeasibleError, match=r"seen from no position \(coverage region empty\): W/inside/wall 1 "
-                                              r"0.00-1.00 m at \(.*\) \(no place to stand in front of it"):
+    with pytest.raises(
+        InfeasibleError,
+        match=r"seen from no position \(coverage region empty\): W/inside/wall 1 "
+        r"0.00-1.00 m at \(.*\) \(no place to stand in front of it",
+    ):
         plan_site(load_site(tmp_path / "wedge.json"))
     code = main(["plan", str(tmp_path / "wedge.json")])
     err = capsys.readouterr().err
@@ -181,8 +198,20 @@ def test_outside_walls_out_of_reach_exit_4_listing_them(tmp_path, capsys):
     # reach (5 > 3), so no point around the block can stand (its region is empty) and every one of the
     # 2 x (20 + 10) = 60 pieces is unseen: exit 4 listing them, not an internal error
     path = tmp_path / "block.json"
-    path.write_text(json.dumps({"zones": [{"id": "r", "scan_side": "outside", "height_m": 5,
-                                           "coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]]}]}))
+    path.write_text(
+        json.dumps(
+            {
+                "zones": [
+                    {
+                        "id": "r",
+                        "scan_side": "outside",
+                        "height_m": 5,
+                        "coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]],
+                    }
+                ]
+            }
+        )
+    )
     assert main(["plan", str(path), "--method", "greedy", "--max-range", "3", "--quiet"]) == 4
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "60 target(s) seen from no position" in err and "block.json" in err
@@ -201,7 +230,10 @@ def test_the_library_plans_under_the_sites_overlap_like_the_command(tmp_path):
     assert data["registration"]["overlap"] == 0.8 and data["registration"]["connected"] and plan.connected
     assert plan.options.milp.overlap == OverlapRule(0.8)
     out = tmp_path / "o"
-    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--overlap", "0.8", "--out", str(out)]) == 0
+    assert (
+        main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--overlap", "0.8", "--out", str(out)])
+        == 0
+    )
     assert json.loads((out / "plan.json").read_text())["counts"]["total"] == len(plan.stations)
     # overlap 0: no rule, as on the command line ("registration: not required")
     free = plan_site(site.with_parameters(overlap=0.0), PlanOptions(method="greedy"))

@@ -24,8 +24,10 @@ NAMES = ("polygon_a", "polygon_b", "polygon_c", "baalbek")
 
 @pytest.fixture(scope="module")
 def problems():
-    return {n: (load_site(INSTANCES / f"{n}.json"), build_problem(load_site(INSTANCES / f"{n}.json"), PlanOptions()))
-            for n in NAMES}
+    return {
+        n: (load_site(INSTANCES / f"{n}.json"), build_problem(load_site(INSTANCES / f"{n}.json"), PlanOptions()))
+        for n in NAMES
+    }
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -127,7 +129,9 @@ def test_cli_milp_plan_json(tmp_path, capsys):
 def test_export_orlib_roundtrip(tmp_path, capsys):
     from planner.solve.orlib import read_orlib
 
-    assert main(["export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(tmp_path / "b.txt")]) == 0
+    assert (
+        main(["export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(tmp_path / "b.txt")]) == 0
+    )
     inst = read_orlib(tmp_path / "b.txt")
     site = load_site(INSTANCES / "polygon_b.json")
     direct = solve(cover_instance(build_problem(site, PlanOptions())), MilpOptions(overlap=None))

@@ -58,8 +58,14 @@ def test_report_is_self_contained_and_every_image_decodes(report):
         img = matplotlib.image.imread(io.BytesIO(raw), format="png")
         assert img.shape[0] > 200 and img.shape[1] > 200
     text = " ".join(p.text)
-    for heading in ("Inputs and parameters", "Zones and closure", "Stations", "Comparison of methods",
-                    "Network and accuracy check", "Verification"):
+    for heading in (
+        "Inputs and parameters",
+        "Zones and closure",
+        "Stations",
+        "Comparison of methods",
+        "Network and accuracy check",
+        "Verification",
+    ):
         assert heading in text
     assert "closed-form" in text and "greedy" in text and "milp" in text
 
@@ -80,8 +86,15 @@ def _chromium() -> str | None:
 
 @pytest.mark.skipif(_chromium() is None, reason="no Chromium here; the parse test above checks the images")
 def test_report_renders_in_headless_chromium(report):
-    cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=10000", "--dump-dom",
-           report.as_uri()]
+    cmd = [
+        _chromium(),
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--virtual-time-budget=10000",
+        "--dump-dom",
+        report.as_uri(),
+    ]
     dom = subprocess.run(cmd, capture_output=True, text=True, timeout=120).stdout
     # the report's own script writes how many images decoded once the page has loaded
     assert 'data-images-ok="3/3"' in dom
@@ -101,14 +114,17 @@ def test_report_says_what_its_numbers_mean(report):
     assert f"{meta['gap']:.1%}" in text and "Solver s: the solver alone" in text and "bound (scope)" in text
 
 
-@pytest.mark.parametrize("key, value, words", [
-    # 1e-7 m pieces: polygon B's 1,533 m of wall (both sides) is ~1.5e10 pieces, terabytes of coverage
-    ("parameters.target_spacing_m", 1e-7, "would not fit in memory"),
-    # the command line samples at 1 mm .. 10 m; an edited plan may not ask for 1 nm
-    ("parameters.verify_spacing_m", 1e-9, "must be a number of metres in [0.001, 10]"),
-    # the site file's path must be text (a TypeError deep in pathlib before)
-    ("source", 5, "must be a file path (text) or null"),
-])
+@pytest.mark.parametrize(
+    "key, value, words",
+    [
+        # 1e-7 m pieces: polygon B's 1,533 m of wall (both sides) is ~1.5e10 pieces, terabytes of coverage
+        ("parameters.target_spacing_m", 1e-7, "would not fit in memory"),
+        # the command line samples at 1 mm .. 10 m; an edited plan may not ask for 1 nm
+        ("parameters.verify_spacing_m", 1e-9, "must be a number of metres in [0.001, 10]"),
+        # the site file's path must be text (a TypeError deep in pathlib before)
+        ("source", 5, "must be a file path (text) or null"),
+    ],
+)
 def test_report_refuses_an_edited_plans_spacing_naming_the_plan(tmp_path, capsys, key, value, words):
     import json
 

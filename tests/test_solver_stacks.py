@@ -73,8 +73,11 @@ assert m.getStatus() == "optimal" and m.getObjVal() == 2
 """
 
 
-@pytest.mark.parametrize("order", [(ORTOOLS, CVXPY, PULP, PYSCIPOPT), (PYSCIPOPT, CVXPY, ORTOOLS, PULP)],
-                         ids=["ortools-first", "pyscipopt-first"])
+@pytest.mark.parametrize(
+    "order",
+    [(ORTOOLS, CVXPY, PULP, PYSCIPOPT), (PYSCIPOPT, CVXPY, ORTOOLS, PULP)],
+    ids=["ortools-first", "pyscipopt-first"],
+)
 def test_solver_stacks_load_in_both_orders(order):
     code = "\n".join(textwrap.dedent(part) for part in order) + "\nprint('ok')\n"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)

@@ -109,8 +109,17 @@ def test_coverage_refuses_a_view_by_its_incidence_only_with_an_incidence_model()
     # (3.1) alone allows it (200 < 239.55 m), the table model does not (theta_max(200 m) = 37.1 deg)
     a, b = np.array([[0.0, 0.0]]), np.array([[1.0, 0.0]])
     cand = np.array([[142.0, 141.0]])
-    args = (cand, np.ones((1, 1), bool), np.zeros(1, np.int32), np.ones(1, bool), a, b,
-            np.zeros(1), np.zeros(1), np.array([[0.0, 1.0]]))
+    args = (
+        cand,
+        np.ones((1, 1), bool),
+        np.zeros(1, np.int32),
+        np.ones(1, bool),
+        a,
+        b,
+        np.zeros(1),
+        np.zeros(1),
+        np.array([[0.0, 1.0]]),
+    )
     s_prec = max_slant_range_m(P30, sigma_instr_m(0.010, BUDGET))
     for model, seen in (("none", 1), ("table", 0)):
         rule = PrecisionRule(P30, BUDGET, 0.010, model)

@@ -127,7 +127,9 @@ def locate(line: shapely.LineString, xy: NDArray[np.float64]) -> NDArray[np.floa
     return start[k] + along
 
 
-def offset_rings(zone_polygon: shapely.Geometry, area: shapely.Geometry, distances_m: Sequence[float]) -> list[shapely.LineString]:
+def offset_rings(
+    zone_polygon: shapely.Geometry, area: shapely.Geometry, distances_m: Sequence[float]
+) -> list[shapely.LineString]:
     """The rings at ``distances_m`` outside a zone's outline, clipped to the stand ``area``: where stations
     for an outside face stand (the outside has no medial axis to follow)."""
     out: list[shapely.LineString] = []
@@ -138,9 +140,15 @@ def offset_rings(zone_polygon: shapely.Geometry, area: shapely.Geometry, distanc
     return out
 
 
-def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: dict[str, FrameSpace] | None = None,
-                    cache: dict[int, shapely.Geometry] | None = None, cells: bool = True,
-                    step_m: float = 1.0) -> list[Candidate]:
+def axis_candidates(
+    site: Site,
+    targets: Targets,
+    limits: SightLimits,
+    spaces: dict[str, FrameSpace] | None = None,
+    cache: dict[int, shapely.Geometry] | None = None,
+    cells: bool = True,
+    step_m: float = 1.0,
+) -> list[Candidate]:
     """One candidate in every maximal cell of the coverage arrangement along the medial axis of each inside
     zone's stand area, and along rings at :data:`OUTSIDE_RINGS` around each outside zone (the cells of the
     zone-side's own pieces' regions); ``cache`` keeps the regions drawn. Without ``cells`` (where regions do
@@ -158,7 +166,9 @@ def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: d
             pieces = np.flatnonzero((targets.zone == zi) & (targets.side == SIDE_CODE[side]))
             if area.is_empty or pieces.size == 0:
                 continue
-            lines = medial_axis(area) if inside else offset_rings(zone.polygon, area, [f * reach for f in OUTSIDE_RINGS])
+            lines = (
+                medial_axis(area) if inside else offset_rings(zone.polygon, area, [f * reach for f in OUTSIDE_RINGS])
+            )
             if cells and pieces.size * shapely.get_num_coordinates(area) <= MAX_CELL_WORK:
                 missing = [int(t) for t in pieces if int(t) not in cache]
                 cache.update(coverage_regions(site, targets, limits, missing, spaces))
@@ -170,13 +180,16 @@ def axis_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: d
             if len(pts) > cap:  # evenly thinned: a huge or round room keeps a sample of its axis cells
                 pts = pts[np.linspace(0, len(pts) - 1, cap).round().astype(int)]
             tag = SIDE_TAG[side]
-            out += [Candidate(f"{zone.id}-{tag}-A{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.AXIS)
-                    for k, (x, y) in enumerate(pts, 1)]
+            out += [
+                Candidate(f"{zone.id}-{tag}-A{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.AXIS)
+                for k, (x, y) in enumerate(pts, 1)
+            ]
     return out
 
 
-def _zone_points(lines: Sequence[shapely.LineString], regions: Sequence[shapely.Geometry],
-                 step_m: float = 1.0) -> NDArray[np.float64]:
+def _zone_points(
+    lines: Sequence[shapely.LineString], regions: Sequence[shapely.Geometry], step_m: float = 1.0
+) -> NDArray[np.float64]:
     """The maximal-cell points of ``lines`` under ``regions``; with no regions, points every ``step_m``."""
     if not lines:
         return np.zeros((0, 2))
@@ -191,6 +204,8 @@ def _zone_points(lines: Sequence[shapely.LineString], regions: Sequence[shapely.
         return np.linspace(0.0, line.length, max(1, math.ceil(line.length / step_m)) + 1)
 
     parts = [shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in cut]
-    parts += [shapely.get_coordinates(shapely.line_interpolate_point(line, 0.5, normalized=True))
-              for line in lines[len(cut):]]
+    parts += [
+        shapely.get_coordinates(shapely.line_interpolate_point(line, 0.5, normalized=True))
+        for line in lines[len(cut) :]
+    ]
     return np.unique(np.round(np.vstack(parts), 9), axis=0)

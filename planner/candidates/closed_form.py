@@ -66,10 +66,22 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
         out = xy[(i + 1) % n] - xy[i]
         direction = _rotate(out / np.linalg.norm(out), sign * g.angle_deg / 2.0)
         p = xy[i] + g.hd_m * direction
-        vertex_cands.append(Candidate(
-            id=f"{zone.id}-{tag}-V{i + 1}", zone=zone.id, side=side, frame=zone.frame, x=float(p[0]), y=float(p[1]),
-            kind=CandidateKind.VERTEX, vertex=i + 1, alpha_deg=g.alpha_deg, hd_m=g.hd_m, gamma_deg=g.gamma_deg,
-            covered_m=g.covered_m))
+        vertex_cands.append(
+            Candidate(
+                id=f"{zone.id}-{tag}-V{i + 1}",
+                zone=zone.id,
+                side=side,
+                frame=zone.frame,
+                x=float(p[0]),
+                y=float(p[1]),
+                kind=CandidateKind.VERTEX,
+                vertex=i + 1,
+                alpha_deg=g.alpha_deg,
+                hd_m=g.hd_m,
+                gamma_deg=g.gamma_deg,
+                covered_m=g.covered_m,
+            )
+        )
     wplans, wall_cands = [], []
     for i, wall in enumerate(zone.outer_walls):
         g1, g2 = vgeo[i], vgeo[(i + 1) % n]
@@ -82,18 +94,36 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
         t = (xy[(i + 1) % n] - start) / wall.length_m
         nrm = sign * np.array([-t[1], t[0]])
         for k, st in enumerate(wp.stations, 1):
-            def at(x: float, y: float, start: np.ndarray = start, t: np.ndarray = t,
-                   nrm: np.ndarray = nrm) -> tuple[float, float]:
+
+            def at(
+                x: float, y: float, start: np.ndarray = start, t: np.ndarray = t, nrm: np.ndarray = nrm
+            ) -> tuple[float, float]:
                 q = start + x * t + y * nrm
                 return (float(q[0]), float(q[1]))
 
-            field = (at(st.x_m - st.half_base_m, st.y_m), at(st.x_m + st.half_base_m, st.y_m),
-                     at(st.x_m, st.y_m - st.height_m))
+            field = (
+                at(st.x_m - st.half_base_m, st.y_m),
+                at(st.x_m + st.half_base_m, st.y_m),
+                at(st.x_m, st.y_m - st.height_m),
+            )
             px, py = at(st.x_m, st.y_m)
-            wall_cands.append(Candidate(
-                id=f"{zone.id}-{tag}-W{i + 1}.{k}", zone=zone.id, side=side, frame=zone.frame, x=px, y=py,
-                kind=CandidateKind.WALL, wall=i + 1, local_x_m=st.x_m, local_y_m=st.y_m,
-                field_half_base_m=st.half_base_m, field_height_m=st.height_m, field=field))
+            wall_cands.append(
+                Candidate(
+                    id=f"{zone.id}-{tag}-W{i + 1}.{k}",
+                    zone=zone.id,
+                    side=side,
+                    frame=zone.frame,
+                    x=px,
+                    y=py,
+                    kind=CandidateKind.WALL,
+                    wall=i + 1,
+                    local_x_m=st.x_m,
+                    local_y_m=st.y_m,
+                    field_half_base_m=st.half_base_m,
+                    field_height_m=st.height_m,
+                    field=field,
+                )
+            )
     candidates = tuple(vertex_cands + wall_cands)
     replaced = False
     if side is ScanSide.INSIDE and not wall_cands:
@@ -160,5 +190,12 @@ def circle_candidate(zone: Zone, vgeo: tuple[VertexGeometry | None, ...], reach:
     (x, y), *_ = from_frame(np.array([[pole.x, pole.y]]), origin, axis).tolist()
     field = from_frame(np.asarray(region.exterior.coords[:-1]), origin, axis)
     return Candidate(
-        id=f"{zone.id}-in-C", zone=zone.id, side=ScanSide.INSIDE, frame=zone.frame, x=float(x), y=float(y),
-        kind=CandidateKind.CIRCLE, field=tuple((float(a), float(b)) for a, b in field))
+        id=f"{zone.id}-in-C",
+        zone=zone.id,
+        side=ScanSide.INSIDE,
+        frame=zone.frame,
+        x=float(x),
+        y=float(y),
+        kind=CandidateKind.CIRCLE,
+        field=tuple((float(a), float(b)) for a, b in field),
+    )

@@ -42,8 +42,9 @@ def _pole(region: shapely.Geometry) -> tuple[float, float]:
     return float(p.x), float(p.y)
 
 
-def _stretch_poles(problem: CoverageProblem, unseen: Sequence[int] | np.ndarray, regions: dict[int, shapely.Geometry],
-                   alone: bool) -> list[tuple[int, tuple[float, float]]]:
+def _stretch_poles(
+    problem: CoverageProblem, unseen: Sequence[int] | np.ndarray, regions: dict[int, shapely.Geometry], alone: bool
+) -> list[tuple[int, tuple[float, float]]]:
     """(owner piece, pole) for the unseen pieces with a region: each grouped with the nearest other unseen pieces
     of its zone-side whose regions still meet (``alone``: one pole per piece)."""
     t = problem.targets
@@ -69,9 +70,13 @@ def _stretch_poles(problem: CoverageProblem, unseen: Sequence[int] | np.ndarray,
     return out
 
 
-def complete_candidates(site: Site, problem: CoverageProblem, limits: SightLimits,
-                        spaces: dict[str, FrameSpace] | None = None,
-                        cache: dict[int, shapely.Geometry] | None = None) -> tuple[CoverageProblem, dict[int, str]]:
+def complete_candidates(
+    site: Site,
+    problem: CoverageProblem,
+    limits: SightLimits,
+    spaces: dict[str, FrameSpace] | None = None,
+    cache: dict[int, shapely.Geometry] | None = None,
+) -> tuple[CoverageProblem, dict[int, str]]:
     """``problem`` with a candidate from the coverage regions of every piece no candidate saw, and the pieces
     still unseen afterwards with the reason (a piece index -> why, in words)."""
     spaces = {} if spaces is None else spaces
@@ -87,8 +92,17 @@ def complete_candidates(site: Site, problem: CoverageProblem, limits: SightLimit
         for n, (k, (x, y)) in enumerate(poles, 1):
             zone = t.zone_ids[int(t.zone[k])]
             side = ScanSide.INSIDE if int(t.side[k]) == 0 else ScanSide.OUTSIDE
-            new.append(Candidate(f"{zone}-{SIDE_TAG[side]}-{tag}{n}", zone, side, t.frames[int(t.frame[k])], x, y,
-                                 CandidateKind.REGION))
+            new.append(
+                Candidate(
+                    f"{zone}-{SIDE_TAG[side]}-{tag}{n}",
+                    zone,
+                    side,
+                    t.frames[int(t.frame[k])],
+                    x,
+                    y,
+                    CandidateKind.REGION,
+                )
+            )
         if new:
             problem = merge_problems(problem, build_coverage(site, new, t, limits))
         unseen = problem.uncoverable()

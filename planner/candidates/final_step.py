@@ -58,20 +58,29 @@ def relocate(site: Site, candidates: list[Candidate]) -> tuple[list[Candidate], 
             for f in SHRINK_STEPS:
                 p = anchor + f * (np.array(c.xy) - anchor)
                 if not misplacement(site, c, float(p[0]), float(p[1])):
-                    moved = replace(c, x=float(p[0]), y=float(p[1]),
-                                    hd_m=None if c.hd_m is None else c.hd_m * f,
-                                    local_y_m=None if c.local_y_m is None else c.local_y_m * f)
+                    moved = replace(
+                        c,
+                        x=float(p[0]),
+                        y=float(p[1]),
+                        hd_m=None if c.hd_m is None else c.hd_m * f,
+                        local_y_m=None if c.local_y_m is None else c.local_y_m * f,
+                    )
                     log.append(f"{c.id}: {why}; stand-off reduced to {f:.0%}")
                     break
         if moved is None:
-            log.append(f"{c.id}: {why}; no position on the way to its {'vertex' if c.vertex else 'wall'} works, dropped")
+            log.append(
+                f"{c.id}: {why}; no position on the way to its {'vertex' if c.vertex else 'wall'} works, dropped"
+            )
         else:
             out.append(moved)
     return out, log
 
 
 def drop_redundant(
-    by_candidate: sp.csr_matrix, groups: Sequence[Hashable], lengths: np.ndarray, rule: OverlapRule,
+    by_candidate: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    lengths: np.ndarray,
+    rule: OverlapRule,
 ) -> list[int]:
     """Indices kept after removing candidates the plan does not need.
 
@@ -87,7 +96,7 @@ def drop_redundant(
     sizes = np.diff(a.indptr)
     keep = np.ones(a.shape[0], dtype=bool)
     for i in sorted(range(a.shape[0]), key=lambda i: (sizes[i], -i)):
-        cols = a.indices[a.indptr[i]:a.indptr[i + 1]]
+        cols = a.indices[a.indptr[i] : a.indptr[i + 1]]
         if not np.all(count[cols] >= 2):
             continue
         members = [j for j in range(a.shape[0]) if keep[j] and groups[j] == groups[i]]

@@ -86,11 +86,11 @@ class WallStation:
 class WallPlan:
     """The wall candidates of one wall (3.11-3.27) and the figures that decided them."""
 
-    hd0_m: float      # HD_0, perpendicular stand-off
+    hd0_m: float  # HD_0, perpendicular stand-off
     covered_m: float  # L_C
     reduced_m: float  # L_W''
-    x_raw: float      # X''
-    count: int        # X (as computed; <= 0 possible)
+    x_raw: float  # X''
+    count: int  # X (as computed; <= 0 possible)
     vertex_overlap_m: float  # l1 + l2 - L_W, the shared length of the two K^B
     stations: tuple[WallStation, ...]
 
@@ -116,8 +116,12 @@ def wall_plan(
     x_raw = (reduced - l_o) / (l_c - l_o) if l_c > l_o else math.inf
     count = math.ceil(x_raw) if math.isfinite(x_raw) else 0
     if count > MAX_WALL_STATIONS:  # a tiny theta_max: each station covers almost nothing (1e-6 deg ran for minutes)
-        raise InputError(f"the closed form would put {count:,} stations on one {wall_length_m:g} m wall (each covers "
-                         f"{l_c:.3g} m); theta_max is too small for this site", field="theta_max_deg", value=theta_max_deg)
+        raise InputError(
+            f"the closed form would put {count:,} stations on one {wall_length_m:g} m wall (each covers "
+            f"{l_c:.3g} m); theta_max is too small for this site",
+            field="theta_max_deg",
+            value=theta_max_deg,
+        )
     shared = l1_m + l2_m - wall_length_m
     cot = _tan(90.0 - theta_max_deg)
     stations: tuple[WallStation, ...]

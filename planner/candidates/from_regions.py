@@ -33,8 +33,14 @@ def spread_order(n: int) -> np.ndarray:
     return np.argsort((np.arange(n) * 0.6180339887498949) % 1.0, kind="stable")
 
 
-def common_region(site: Site, targets: Targets, pieces: Sequence[int] | NDArray[np.integer], limits: SightLimits,
-                  spaces: dict[str, FrameSpace], cache: dict[int, shapely.Geometry]) -> shapely.Geometry:
+def common_region(
+    site: Site,
+    targets: Targets,
+    pieces: Sequence[int] | NDArray[np.integer],
+    limits: SightLimits,
+    spaces: dict[str, FrameSpace],
+    cache: dict[int, shapely.Geometry],
+) -> shapely.Geometry:
     """Intersection of the coverage regions of ``pieces`` (stops as soon as it is empty)."""
     common: shapely.Geometry | None = None
     for t in np.asarray(pieces)[spread_order(len(pieces))]:
@@ -54,8 +60,13 @@ def largest_part_pole(region: shapely.Geometry, min_tolerance_m: float = 1e-6) -
     return polylabel(part, tolerance=max(POLE_TOLERANCE * float(np.sqrt(part.area)), min_tolerance_m))
 
 
-def whole_side_candidates(site: Site, targets: Targets, limits: SightLimits, spaces: dict[str, FrameSpace] | None = None,
-                          cache: dict[int, shapely.Geometry] | None = None) -> list[Candidate]:
+def whole_side_candidates(
+    site: Site,
+    targets: Targets,
+    limits: SightLimits,
+    spaces: dict[str, FrameSpace] | None = None,
+    cache: dict[int, shapely.Geometry] | None = None,
+) -> list[Candidate]:
     """One candidate per zone-side that a single station can cover, at the pole of the common region."""
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache
@@ -69,8 +80,15 @@ def whole_side_candidates(site: Site, targets: Targets, limits: SightLimits, spa
             if common.is_empty or common.area <= 0:
                 continue
             p = largest_part_pole(common)
-            out.append(Candidate(f"{zone.id}-{SIDE_TAG[side]}-R", zone.id, side, zone.frame, float(p.x), float(p.y),
-                                 CandidateKind.REGION))
+            out.append(
+                Candidate(
+                    f"{zone.id}-{SIDE_TAG[side]}-R",
+                    zone.id,
+                    side,
+                    zone.frame,
+                    float(p.x),
+                    float(p.y),
+                    CandidateKind.REGION,
+                )
+            )
     return out
-
-

@@ -75,8 +75,9 @@ def _grid_points(region: shapely.Geometry, origin: np.ndarray, ux: np.ndarray, s
     return pts[shapely.contains_xy(region, pts[:, 0], pts[:, 1])]
 
 
-def _sample_polygon(poly: shapely.Geometry, k: int, rng: np.random.Generator, origin: np.ndarray,
-                    ux: np.ndarray) -> np.ndarray:
+def _sample_polygon(
+    poly: shapely.Geometry, k: int, rng: np.random.Generator, origin: np.ndarray, ux: np.ndarray
+) -> np.ndarray:
     """Up to ``k`` uniform points of ``poly``, drawn in the box of its coordinates along the frame's axes
     (origin, ux): the same draws land on the same points of a rotated or translated site."""
     if k <= 0 or poly.is_empty or poly.area <= 0:
@@ -178,24 +179,59 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
     for c in closed:
         if c.field:
             origin, ux = _frame_axes(site, c.frame)
-            for k, (x, y) in enumerate(_sample_polygon(shapely.Polygon(c.field), options.field_samples, rng, origin, ux), 1):
+            for k, (x, y) in enumerate(
+                _sample_polygon(shapely.Polygon(c.field), options.field_samples, rng, origin, ux), 1
+            ):
                 pool.append(Candidate(f"{c.id}.f{k}", c.zone, c.side, c.frame, float(x), float(y), CandidateKind.FIELD))
-    walls = {f: shapely.MultiLineString([r for z in site.zones if z.frame == f for r in (z.polygon.exterior, *z.polygon.interiors)])
-             for f in dict.fromkeys(z.frame for z in site.zones)}
+    walls = {
+        f: shapely.MultiLineString(
+            [r for z in site.zones if z.frame == f for r in (z.polygon.exterior, *z.polygon.interiors)]
+        )
+        for f in dict.fromkeys(z.frame for z in site.zones)
+    }
     for zone in site.zones:
         for side in zone.scan_side.sides:
             tag = SIDE_TAG[side]
             for name, p in _corner_rays(zone, side, limits):
-                pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))
-            region = _region(zone, side, max(horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m))
+                pool.append(
+                    Candidate(
+                        f"{zone.id}-{tag}-{name}",
+                        zone.id,
+                        side,
+                        zone.frame,
+                        float(p[0]),
+                        float(p[1]),
+                        CandidateKind.FIELD,
+                    )
+                )
+            region = _region(
+                zone,
+                side,
+                max(
+                    horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m)
+                    for h in zone.vertex_heights_m
+                ),
+            )
             if region.is_empty:  # no wall top within reach from outside: no point stands usefully (coverage says
-                continue         # which pieces nothing sees, exit 4)
+                continue  # which pieces nothing sees, exit 4)
             if side is ScanSide.INSIDE:  # the point farthest from every wall: a room's natural centre station
                 origin, ux = _frame_axes(site, zone.frame)
                 centre = pole_in_frame(region, origin, ux)
-                pool.append(Candidate(f"{zone.id}-{tag}-P", zone.id, side, zone.frame, centre.x, centre.y, CandidateKind.GRID))
+                pool.append(
+                    Candidate(f"{zone.id}-{tag}-P", zone.id, side, zone.frame, centre.x, centre.y, CandidateKind.GRID)
+                )
             for name, p in _bisector_points(zone, region, options.min_standoff_m):
-                pool.append(Candidate(f"{zone.id}-{tag}-{name}", zone.id, side, zone.frame, float(p[0]), float(p[1]), CandidateKind.FIELD))
+                pool.append(
+                    Candidate(
+                        f"{zone.id}-{tag}-{name}",
+                        zone.id,
+                        side,
+                        zone.frame,
+                        float(p[0]),
+                        float(p[1]),
+                        CandidateKind.FIELD,
+                    )
+                )
             spacing = options.grid_spacing_m
             if region.area / spacing**2 < options.min_grid_points:
                 spacing = max(math.sqrt(region.area / options.min_grid_points), 0.25)
@@ -203,7 +239,11 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
             pts = _grid_points(region, origin, ux, spacing)
             far = shapely.distance(walls[zone.frame], shapely.points(pts)) >= options.min_standoff_m if len(pts) else []
             for k, (x, y) in enumerate(pts[np.asarray(far, dtype=bool)] if len(pts) else [], 1):
-                pool.append(Candidate(f"{zone.id}-{tag}-G{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.GRID))
+                pool.append(
+                    Candidate(
+                        f"{zone.id}-{tag}-G{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.GRID
+                    )
+                )
     return dedupe(pool)
 
 

@@ -47,16 +47,25 @@ def compare_table(table: str, printed: dict[str, Any], zone: Zone, limits: Limit
     for row in printed.get("vertex", []):
         plan = plans[row["side"]]
         options = [(i, g) for i, g in enumerate(plan.vertices) if g is not None]
-        i, g = min(options, key=lambda ig: (round(abs(ig[1].alpha_deg - row["alpha_deg"]), 2),
-                                            ig[0] + 1 != row["vertex_label"], abs(ig[1].hd_m - row["hd_m"])))
+        i, g = min(
+            options,
+            key=lambda ig: (
+                round(abs(ig[1].alpha_deg - row["alpha_deg"]), 2),
+                ig[0] + 1 != row["vertex_label"],
+                abs(ig[1].hd_m - row["hd_m"]),
+            ),
+        )
         where = f"{row['side']} vertex {i + 1} (printed label {row['vertex_label']})"
         for q, computed in (("alpha_deg", g.alpha_deg), ("hd_m", g.hd_m), ("gamma_deg", g.gamma_deg)):
             out.append(Comparison(table, row["candidate"], q, row[q], computed, where))
     for row in printed.get("wall", []):
         plan = plans[row["side"]]
         wall = plan.walls[row["wall"] - 1]
-        k = sum(1 for r in printed["wall"] if r["side"] == row["side"] and r["wall"] == row["wall"]
-                and r["candidate"] < row["candidate"])
+        k = sum(
+            1
+            for r in printed["wall"]
+            if r["side"] == row["side"] and r["wall"] == row["wall"] and r["candidate"] < row["candidate"]
+        )
         st = wall.stations[k] if k < len(wall.stations) else None
         where = f"{row['side']} wall {row['wall']} candidate {k + 1} of {len(wall.stations)}"
         for q, attr in (("x_m", "x_m"), ("y_m", "y_m"), ("half_base_m", "half_base_m"), ("field_height_m", "height_m")):

@@ -38,6 +38,7 @@ if TYPE_CHECKING:
 #: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
 MIN_MONTE_CARLO = 100
 
+
 def load_with_overrides(args: argparse.Namespace) -> Site:
     """Load the site and apply the command-line parameter overrides."""
     from planner.site import load_site
@@ -49,16 +50,29 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
     if args.min_relative_precision is not None:
         tol_kw["min_relative_precision"] = args.min_relative_precision
     suffix = Path(args.site).suffix.lower()
-    site = load_site(args.site, ClosureTolerance(**tol_kw) if tol_kw else None, crs=args.crs,
-                     dxf=_dxf_options(args) if suffix == ".dxf" else None,
-                     ifc=_ifc_options(args) if suffix == ".ifc" else None)
+    site = load_site(
+        args.site,
+        ClosureTolerance(**tol_kw) if tol_kw else None,
+        crs=args.crs,
+        dxf=_dxf_options(args) if suffix == ".dxf" else None,
+        ifc=_ifc_options(args) if suffix == ".ifc" else None,
+    )
     p = site.parameters
     derive = args.theta_max == "derive"
-    changes = {k: v for k, v in {
-        "max_slant_range_m": args.max_range, "theta_max_deg": None if derive else args.theta_max, "overlap": args.overlap,
-        "sigma_req_m": args.sigma_req, "instrument_height_m": args.instrument_height,
-        "incidence_model": args.incidence_model, "min_standoff_m": args.standoff, "derive_theta_max": derive or None,
-    }.items() if v is not None}
+    changes = {
+        k: v
+        for k, v in {
+            "max_slant_range_m": args.max_range,
+            "theta_max_deg": None if derive else args.theta_max,
+            "overlap": args.overlap,
+            "sigma_req_m": args.sigma_req,
+            "instrument_height_m": args.instrument_height,
+            "incidence_model": args.incidence_model,
+            "min_standoff_m": args.standoff,
+            "derive_theta_max": derive or None,
+        }.items()
+        if v is not None
+    }
     if args.sigma_req is not None:
         changes["drawing_scale"] = None
     p = replace(p, **changes)
@@ -105,18 +119,38 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
 
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
     rule = None if args.no_overlap else planning_rule(overlap, args.min_shared, args.max_link)
-    milp = MilpOptions(backend=args.backend, time_limit_s=args.time_limit, seed=args.seed, threads=args.threads,
-                       k=args.k, overlap=rule, precision=args.precision, connectivity=args.connectivity,
-                       layer_cuts=args.layer_cuts, tree_bound=args.tree_bound, work_limit=args.work_limit,
-                       local_search_moves=args.local_search_moves, ring_bound=not args.no_ring_bound,
-                       ring_lagrange_steps=args.ring_lagrange_steps)
-    return PlanOptions(method=args.method, target_spacing_m=args.target_spacing, pool=pool,
-                       incidence_3d=args.incidence == "3d", precision=not args.no_precision,
-                       verify_spacing_m=args.verify_spacing, milp=milp,
-                       tripod=args.method == "milp" or args.tripod, recentre=args.recentre,
-                       registration=args.registration,
-                       regions=not args.no_regions, pricing=not args.no_pricing,
-                       pricing_time_limit_s=args.pricing_time_limit, memory_limit_bytes=_memory_limit(args))
+    milp = MilpOptions(
+        backend=args.backend,
+        time_limit_s=args.time_limit,
+        seed=args.seed,
+        threads=args.threads,
+        k=args.k,
+        overlap=rule,
+        precision=args.precision,
+        connectivity=args.connectivity,
+        layer_cuts=args.layer_cuts,
+        tree_bound=args.tree_bound,
+        work_limit=args.work_limit,
+        local_search_moves=args.local_search_moves,
+        ring_bound=not args.no_ring_bound,
+        ring_lagrange_steps=args.ring_lagrange_steps,
+    )
+    return PlanOptions(
+        method=args.method,
+        target_spacing_m=args.target_spacing,
+        pool=pool,
+        incidence_3d=args.incidence == "3d",
+        precision=not args.no_precision,
+        verify_spacing_m=args.verify_spacing,
+        milp=milp,
+        tripod=args.method == "milp" or args.tripod,
+        recentre=args.recentre,
+        registration=args.registration,
+        regions=not args.no_regions,
+        pricing=not args.no_pricing,
+        pricing_time_limit_s=args.pricing_time_limit,
+        memory_limit_bytes=_memory_limit(args),
+    )
 
 
 def _guard_memory(site: Site, args: argparse.Namespace, validation: ValidationReport) -> None:
@@ -142,7 +176,9 @@ def _usable_folder(flag: str, folder: str | None) -> None:
     try:
         Path(folder).mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise UsageError(f"cannot be used as an output folder ({exc.strerror or exc})", field=flag, value=folder) from None
+        raise UsageError(
+            f"cannot be used as an output folder ({exc.strerror or exc})", field=flag, value=folder
+        ) from None
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -152,8 +188,11 @@ def cmd_plan(args: argparse.Namespace) -> int:
     for flag, folder in (("--out", args.out), ("--report", args.report), ("--field", args.field)):
         _usable_folder(flag, folder)  # before the planning, not after it
     if args.monte_carlo and not (args.network or args.report):
-        raise UsageError("Monte Carlo runs are part of the network check; give --network", field="--monte-carlo",
-                         value=args.monte_carlo)
+        raise UsageError(
+            "Monte Carlo runs are part of the network check; give --network",
+            field="--monte-carlo",
+            value=args.monte_carlo,
+        )
     # the network's option values and files, read before the planning (the report runs the network too)
     inputs = _network_inputs(args) if args.network or args.report else None
     field_options = None
@@ -212,8 +251,11 @@ def _network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
     from planner.network.traverse import read_traverse
 
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
-        raise UsageError(f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)", field="--monte-carlo",
-                         value=args.monte_carlo)
+        raise UsageError(
+            f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)",
+            field="--monte-carlo",
+            value=args.monte_carlo,
+        )
     if getattr(args, "traverse", None) and args.ts_everywhere:
         raise UsageError("--traverse and --ts-everywhere exclude each other", field="--traverse", value=args.traverse)
     with located_in(getattr(args, "control", None)):
@@ -224,18 +266,26 @@ def _network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
     return control, traverse
 
 
-def _network(site: Site, stations: list[Any], args: argparse.Namespace, inputs: tuple[Any, Any],
-             show: bool = True) -> NetworkReport:
+def _network(
+    site: Site, stations: list[Any], args: argparse.Namespace, inputs: tuple[Any, Any], show: bool = True
+) -> NetworkReport:
     """Run the network check with ``inputs`` = :func:`_network_inputs` (control points, traverse)."""
     from planner.network.check import run_network
     from planner.network.io import adjust_observations
 
     control, traverse = inputs
     with located_in(args.traverse if traverse is not None else None):  # a leg naming an unknown point
-        report = run_network(site, stations, control=control, monte_carlo_runs=args.monte_carlo, seed=args.seed,
-                             registration=getattr(args, "registration", None),
-                             precision=getattr(args, "precision", "single"), traverse=traverse,
-                             ts_everywhere=getattr(args, "ts_everywhere", False))
+        report = run_network(
+            site,
+            stations,
+            control=control,
+            monte_carlo_runs=args.monte_carlo,
+            seed=args.seed,
+            registration=getattr(args, "registration", None),
+            precision=getattr(args, "precision", "single"),
+            traverse=traverse,
+            ts_everywhere=getattr(args, "ts_everywhere", False),
+        )
     if not show:
         return report
     print(report.summary())
@@ -306,13 +356,19 @@ def cmd_export(args: argparse.Namespace) -> int:
     from planner.plan import PlanOptions, build_problem
 
     options = PlanOptions(
-        target_spacing_m=args.target_spacing, pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
-        incidence_3d=args.incidence == "3d", precision=not args.no_precision, memory_limit_bytes=_memory_limit(args))
+        target_spacing_m=args.target_spacing,
+        pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
+        incidence_3d=args.incidence == "3d",
+        precision=not args.no_precision,
+        memory_limit_bytes=_memory_limit(args),
+    )
     problem = build_problem(site, options, validation)
     text = export_problem(problem, args.format, rule_of(site.parameters.overlap))
     if args.out:
         Path(args.out).write_text(text)
-        print(f"wrote {args.out}: {problem.shape[0]} candidates, {problem.shape[1]} targets, {problem.by_candidate.nnz:,} pairs")
+        print(
+            f"wrote {args.out}: {problem.shape[0]} candidates, {problem.shape[1]} targets, {problem.by_candidate.nnz:,} pairs"
+        )
     else:
         sys.stdout.write(text)
     return ExitCode.OK
@@ -340,8 +396,11 @@ def cmd_assemble(args: argparse.Namespace) -> int:
     print("\n".join(report.lines()))
     if args.out:
         out = Path(args.out)
-        source = read_json(path) if path.suffix.lower() == ".json" else {
-            "format": "tls-planner/1", "name": path.stem, "zones": [{"table_csv": path.name}]}
+        source = (
+            read_json(path)
+            if path.suffix.lower() == ".json"
+            else {"format": "tls-planner/1", "name": path.stem, "zones": [{"table_csv": path.name}]}
+        )
         data = assembled_instance(source, str(path.parent), str(out.parent), report)
         out.write_text(dumps(data))
         print(f"wrote {out}: {len(report.placements)} zones placed, {len(report.unplaced)} left in their own frames")
@@ -362,10 +421,18 @@ def cmd_chain(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``planner`` parser with this module's commands (:func:`planner.cli.parser.build_parser`)."""
-    return _build_parser({
-        "validate": cmd_validate, "plan": cmd_plan, "verify": cmd_verify, "export": cmd_export,
-        "network": cmd_network, "chain": cmd_chain, "assemble": cmd_assemble, "instruments": cmd_instruments,
-    })
+    return _build_parser(
+        {
+            "validate": cmd_validate,
+            "plan": cmd_plan,
+            "verify": cmd_verify,
+            "export": cmd_export,
+            "network": cmd_network,
+            "chain": cmd_chain,
+            "assemble": cmd_assemble,
+            "instruments": cmd_instruments,
+        }
+    )
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -395,13 +462,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(ExitCode.BROKEN_PIPE)
     except OSError as exc:  # a path given on the command line that cannot be written (or read)
         where = f"{exc.filename}: " if exc.filename else ""
-        print(f"planner: error: {where}{exc.strerror or exc} (an output path given on the command line?)", file=sys.stderr)
+        print(
+            f"planner: error: {where}{exc.strerror or exc} (an output path given on the command line?)", file=sys.stderr
+        )
         return int(ExitCode.USAGE)
     except Exception as exc:  # a bug: one line, the traceback only on request
         if os.environ.get("PLANNER_DEBUG"):
             traceback.print_exc()
         first = str(exc).splitlines()[0] if str(exc) else ""
-        print(f"planner: internal error: {type(exc).__name__}: {first} (set PLANNER_DEBUG=1 for the traceback)", file=sys.stderr)
+        print(
+            f"planner: internal error: {type(exc).__name__}: {first} (set PLANNER_DEBUG=1 for the traceback)",
+            file=sys.stderr,
+        )
         return int(ExitCode.INTERNAL)
     finally:
         progress.set_sink(previous)

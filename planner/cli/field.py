@@ -29,11 +29,18 @@ def _fraction(text: str) -> float:
 
 def add_field_options(p: argparse.ArgumentParser, prefix: str = "") -> None:
     """Options of the sheet (``prefix`` ``field-`` on ``planner plan``)."""
-    p.add_argument(f"--{prefix}mode", choices=("shortest", "registration"), default="shortest",
-                   help="visiting order: shortest, or registration (each station after the first overlaps one "
-                        "scanned before it) (default shortest)")
-    p.add_argument(f"--{prefix}start", metavar="ID|X,Y",
-                   help="start at this station or point (default: the station nearest the first door or control point)")
+    p.add_argument(
+        f"--{prefix}mode",
+        choices=("shortest", "registration"),
+        default="shortest",
+        help="visiting order: shortest, or registration (each station after the first overlaps one "
+        "scanned before it) (default shortest)",
+    )
+    p.add_argument(
+        f"--{prefix}start",
+        metavar="ID|X,Y",
+        help="start at this station or point (default: the station nearest the first door or control point)",
+    )
     p.add_argument(f"--{prefix}session", metavar="DURATION", help="split the field time into sessions, e.g. 4h, 90min")
 
 
@@ -42,15 +49,29 @@ def add_field_parser(sub: Any) -> None:
     f = sub.add_parser("field", help="the field sheet of a plan: visiting order, walking route, field time, targets")
     f.add_argument("plan", help="plan.json written by planner plan --out")
     f.add_argument("--site", help="the site file (default: the one recorded in the plan)")
-    f.add_argument("--out", metavar="DIR", help="folder for field.html/.csv/.geojson/.json (default: the plan's folder)")
+    f.add_argument(
+        "--out", metavar="DIR", help="folder for field.html/.csv/.geojson/.json (default: the plan's folder)"
+    )
     add_field_options(f)
     f.add_argument("--tour", action="store_true", help="return to the start (default: an open path)")
     f.add_argument("--setting", metavar="NAME", help="scan setting of the instrument model (default: its default)")
-    f.add_argument("--strong-overlap", type=_fraction, default=0.5, metavar="F",
-                   help="a registration link sharing less than F of the smaller scan's wall gets targets (default 0.5)")
-    f.add_argument("--solution-limit", type=POSITIVE_INT, default=1000, metavar="N",
-                   help="routing: guided local search stops after N solutions (deterministic; default 1000)")
-    f.add_argument("--time-limit", type=POSITIVE, default=60.0, metavar="S", help="routing: safety cap in s (default 60)")
+    f.add_argument(
+        "--strong-overlap",
+        type=_fraction,
+        default=0.5,
+        metavar="F",
+        help="a registration link sharing less than F of the smaller scan's wall gets targets (default 0.5)",
+    )
+    f.add_argument(
+        "--solution-limit",
+        type=POSITIVE_INT,
+        default=1000,
+        metavar="N",
+        help="routing: guided local search stops after N solutions (deterministic; default 1000)",
+    )
+    f.add_argument(
+        "--time-limit", type=POSITIVE, default=60.0, metavar="S", help="routing: safety cap in s (default 60)"
+    )
     f.add_argument("--quiet", action="store_true", help="no progress bars")
     f.set_defaults(func=cmd_field)
 
@@ -61,15 +82,21 @@ def field_options(args: argparse.Namespace, prefix: str = "") -> FieldOptions:
 
     key = prefix.replace("-", "_")  # argparse: --field-mode is args.field_mode
     session = getattr(args, f"{key}session")
-    return FieldOptions(mode=getattr(args, f"{key}mode"), start=getattr(args, f"{key}start"),
-                        closed=getattr(args, "tour", False), session_s=parse_duration(session) if session else None,
-                        setting=getattr(args, "setting", None), strong_overlap=getattr(args, "strong_overlap", 0.5),
-                        solution_limit=getattr(args, "solution_limit", 1000),
-                        time_cap_s=getattr(args, "time_limit", 60.0) if prefix == "" else 60.0)
+    return FieldOptions(
+        mode=getattr(args, f"{key}mode"),
+        start=getattr(args, f"{key}start"),
+        closed=getattr(args, "tour", False),
+        session_s=parse_duration(session) if session else None,
+        setting=getattr(args, "setting", None),
+        strong_overlap=getattr(args, "strong_overlap", 0.5),
+        solution_limit=getattr(args, "solution_limit", 1000),
+        time_cap_s=getattr(args, "time_limit", 60.0) if prefix == "" else 60.0,
+    )
 
 
-def write_field(site: Site, stations: Sequence[Candidate], options: FieldOptions, folder: str,
-                plan_file: str | None = None) -> FieldPlan:
+def write_field(
+    site: Site, stations: Sequence[Candidate], options: FieldOptions, folder: str, plan_file: str | None = None
+) -> FieldPlan:
     """Make the sheet, print its summary and write its files into ``folder``."""
     from planner.field.run import field_plan
     from planner.field.sheet import write_sheet
@@ -84,15 +111,20 @@ def write_field(site: Site, stations: Sequence[Candidate], options: FieldOptions
 def summary(fp: FieldPlan) -> str:
     t = fp.time
     weak = sum(1 for lk in fp.links if lk.weak)
-    return "\n".join([
-        f"field sheet {fp.site.name}: {len(fp.order)} setups, {fp.options.mode} order from {fp.start_label}",
-        f"route {fp.route_length_m:.1f} m, lower bound {fp.lower_bound_m:.1f} m ({fp.bound_method}), gap "
-        f"{100 * fp.gap:.2f} %; nearest-neighbour order {fp.nearest_neighbour_m:.1f} m"
-        + ("" if fp.registration_ok else "; registration order NOT honoured (shortest mode)"),
-        (f"field time {t.total_s / 3600:.2f} h ({t.walking_s / 60:.0f} min walking, {t.station_s / 60:.0f} min at "
-        f"stations, setting {t.setting}) in {len(t.sessions)} session(s)"),
-        f"targets: {len(fp.targets)}; chain links {len(fp.links)}, weak left {weak}",
-        "order: " + " ".join(fp.stations[k].id for k in fp.order)])
+    return "\n".join(
+        [
+            f"field sheet {fp.site.name}: {len(fp.order)} setups, {fp.options.mode} order from {fp.start_label}",
+            f"route {fp.route_length_m:.1f} m, lower bound {fp.lower_bound_m:.1f} m ({fp.bound_method}), gap "
+            f"{100 * fp.gap:.2f} %; nearest-neighbour order {fp.nearest_neighbour_m:.1f} m"
+            + ("" if fp.registration_ok else "; registration order NOT honoured (shortest mode)"),
+            (
+                f"field time {t.total_s / 3600:.2f} h ({t.walking_s / 60:.0f} min walking, {t.station_s / 60:.0f} min at "
+                f"stations, setting {t.setting}) in {len(t.sessions)} session(s)"
+            ),
+            f"targets: {len(fp.targets)}; chain links {len(fp.links)}, weak left {weak}",
+            "order: " + " ".join(fp.stations[k].id for k in fp.order),
+        ]
+    )
 
 
 def cmd_field(args: argparse.Namespace) -> int:

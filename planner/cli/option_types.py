@@ -10,20 +10,25 @@ from collections.abc import Callable
 from planner.checks import SAMPLING_M as SAMPLING_RANGE_M
 
 
-def number(kind: type = float, *, above: float | None = None, at_least: float | None = None,
-           at_most: float | None = None) -> Callable[[str], float]:
+def number(
+    kind: type = float, *, above: float | None = None, at_least: float | None = None, at_most: float | None = None
+) -> Callable[[str], float]:
     """An argparse ``type``: ``kind`` (float or int) parsed from the text, finite, within the bounds given
     (``above`` < x, ``at_least`` <= x, x <= ``at_most``)."""
-    rules = [(above, lambda x, b: x > b, ">"), (at_least, lambda x, b: x >= b, ">="),
-             (at_most, lambda x, b: x <= b, "<=")]
+    rules = [
+        (above, lambda x, b: x > b, ">"),
+        (at_least, lambda x, b: x >= b, ">="),
+        (at_most, lambda x, b: x <= b, "<="),
+    ]
     wanted = " and ".join(f"{op} {b:g}" for b, _, op in rules if b is not None)
 
     def parse(text: str) -> float:
         try:
             value: float = kind(text.strip())
         except ValueError:
-            raise argparse.ArgumentTypeError(f"expected {'an integer' if kind is int else 'a number'}, "
-                                             f"got {text!r}") from None
+            raise argparse.ArgumentTypeError(
+                f"expected {'an integer' if kind is int else 'a number'}, got {text!r}"
+            ) from None
         if not math.isfinite(value) or not all(ok(value, b) for b, ok, _ in rules if b is not None):
             raise argparse.ArgumentTypeError(f"must be {'finite' if not wanted else wanted}, got {text!r}")
         return value
@@ -45,12 +50,18 @@ class OncePerKey(argparse.Action):
     """A repeatable ``KEY=VALUE`` option (``--layer-height WALLS=3``) that refuses a key given twice (keys
     compared case-insensitively, as DXF layer names are), since only one of the two values could be used."""
 
-    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
-                 option_string: str | None = None) -> None:
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: object,
+        option_string: str | None = None,
+    ) -> None:
         items = list(getattr(namespace, self.dest, None) or [])  # a copy: the default list is shared
         key = str(values).partition("=")[0].strip().upper()
         twice = next((old for old in items if old.partition("=")[0].strip().upper() == key), None)
         if twice is not None:
-            raise argparse.ArgumentError(self, f"layer {key!r} given twice ({twice!r} and {values!r}): give each "
-                                               "layer once")
+            raise argparse.ArgumentError(
+                self, f"layer {key!r} given twice ({twice!r} and {values!r}): give each layer once"
+            )
         setattr(namespace, self.dest, items + [str(values)])

@@ -35,18 +35,52 @@ DEFAULT_PROFILE = Path(__file__).with_name("profiles") / "default.toml"
 TUNING: dict[str, tuple[str, ...]] = {
     "plan": (
         # the solver
-        "--backend", "--work-limit", "--local-search-moves", "--connectivity", "--layer-cuts", "--tree-bound",
-        "--no-ring-bound", "--ring-lagrange-steps", "--no-regions", "--no-pricing", "--pricing-time-limit", "--seed",
+        "--backend",
+        "--work-limit",
+        "--local-search-moves",
+        "--connectivity",
+        "--layer-cuts",
+        "--tree-bound",
+        "--no-ring-bound",
+        "--ring-lagrange-steps",
+        "--no-regions",
+        "--no-pricing",
+        "--pricing-time-limit",
+        "--seed",
         # the registration rule's extra limits, the accuracy model's switches, verification
-        "--min-shared", "--max-link", "--incidence", "--no-precision", "--verify-spacing", "--tripod",
+        "--min-shared",
+        "--max-link",
+        "--incidence",
+        "--no-precision",
+        "--verify-spacing",
+        "--tripod",
         # the network check and the field sheet
-        "--monte-carlo", "--traverse", "--ts-everywhere", "--field-mode", "--field-start", "--field-session",
+        "--monte-carlo",
+        "--traverse",
+        "--ts-everywhere",
+        "--field-mode",
+        "--field-start",
+        "--field-session",
         # the tiles
-        "--tile-time-limit", "--bound-time-limit", "--lagrange-work", "--lagrange-group", "--tile-search-moves",
-        "--tile-search-seeds", "--tile-window-passes", "--tile-window-radius", "--tile-window-work",
-        "--tile-window-batch", "--tile-wall-clock", "--worker-memory", "--tile-budget",
+        "--tile-time-limit",
+        "--bound-time-limit",
+        "--lagrange-work",
+        "--lagrange-group",
+        "--tile-search-moves",
+        "--tile-search-seeds",
+        "--tile-window-passes",
+        "--tile-window-radius",
+        "--tile-window-work",
+        "--tile-window-batch",
+        "--tile-wall-clock",
+        "--worker-memory",
+        "--tile-budget",
         # input formats (table CSV closures, DXF, IFC)
-        "--angular-tolerance", "--min-relative-precision", "--layer-height", "--dxf-side", "--exterior",
+        "--angular-tolerance",
+        "--min-relative-precision",
+        "--layer-height",
+        "--dxf-side",
+        "--exterior",
         "--ifc-windows",
     ),
 }
@@ -56,11 +90,21 @@ class _HelpAll(argparse.Action):
     """``--help-all``: the help with the tuning options shown too, then exit 0."""
 
     def __init__(self, option_strings: Sequence[str], dest: str, **kwargs: Any) -> None:
-        super().__init__(option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, nargs=0,
-                         help="show every option, the tuning ones too (also settable by --config), and exit")
+        super().__init__(
+            option_strings,
+            dest=argparse.SUPPRESS,
+            default=argparse.SUPPRESS,
+            nargs=0,
+            help="show every option, the tuning ones too (also settable by --config), and exit",
+        )
 
-    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
-                 option_string: str | None = None) -> None:
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: object,
+        option_string: str | None = None,
+    ) -> None:
         for action in parser._actions:
             if hasattr(action, "tuning_help"):
                 action.help = f"[tuning] {action.tuning_help}"
@@ -70,8 +114,12 @@ class _HelpAll(argparse.Action):
 
 def add_profile_options(p: argparse.ArgumentParser) -> None:
     """``--config FILE`` and ``--help-all`` (the file itself is read by :func:`apply_config` before parsing)."""
-    p.add_argument("--config", metavar="FILE", help="a TOML profile of tuning options, [plan] table (see --help-all; "
-                   "defaults in planner/cli/profiles/default.toml); the command line wins")
+    p.add_argument(
+        "--config",
+        metavar="FILE",
+        help="a TOML profile of tuning options, [plan] table (see --help-all; "
+        "defaults in planner/cli/profiles/default.toml); the command line wins",
+    )
     p.add_argument("--help-all", action=_HelpAll)
 
 
@@ -108,8 +156,11 @@ def apply_profile(p: argparse.ArgumentParser, command: str, profile: Mapping[str
         action = by_name.get(str(key).replace("_", "-"))
         where = f"{source}: [{command}] {key}"
         if action is None or action.dest in ("help", "config", argparse.SUPPRESS):
-            raise UsageError(f"{where}: no such option of 'planner {command}' (see planner {command} --help-all)",
-                             field="--config", value=str(key))
+            raise UsageError(
+                f"{where}: no such option of 'planner {command}' (see planner {command} --help-all)",
+                field="--config",
+                value=str(key),
+            )
         action.default = _checked(action, value, where)
 
 
@@ -129,8 +180,9 @@ def _checked(action: argparse.Action, value: Any, where: str) -> Any:
         except (argparse.ArgumentTypeError, ValueError, TypeError) as exc:
             raise UsageError(f"{where}: {exc}", field="--config", value=repr(item)) from None
         if action.choices is not None and v not in action.choices:
-            raise UsageError(f"{where}: must be one of {', '.join(map(str, action.choices))}", field="--config",
-                             value=repr(item))
+            raise UsageError(
+                f"{where}: must be one of {', '.join(map(str, action.choices))}", field="--config", value=repr(item)
+            )
         out.append(v)
     return out if isinstance(value, list) else out[0]
 
@@ -158,6 +210,7 @@ def apply_config(parser: argparse.ArgumentParser, argv: Sequence[str] | None) ->
     profile = read_profile(path)
     unknown = [k for k in profile if k not in subs.choices]
     if unknown:
-        raise UsageError(f"{path}: [{unknown[0]}] is no command (tables: {', '.join(TUNING)})", field="--config",
-                         value=unknown[0])
+        raise UsageError(
+            f"{path}: [{unknown[0]}] is no command (tables: {', '.join(TUNING)})", field="--config", value=unknown[0]
+        )
     apply_profile(subs.choices[command], command, profile, path)

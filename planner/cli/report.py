@@ -27,9 +27,11 @@ def parse_exports(text: str | None) -> list[str]:
 def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | None) -> None:
     from planner.exchange import write_dxf, write_geojson, write_stations_csv
 
-    writers = {"dxf": lambda: write_dxf(outcome, Path(folder) / "plan.dxf"),
-               "geojson": lambda: write_geojson(outcome, Path(folder) / "plan.geojson", crs),
-               "csv": lambda: write_stations_csv(outcome, Path(folder) / "stations.csv", crs)}
+    writers = {
+        "dxf": lambda: write_dxf(outcome, Path(folder) / "plan.dxf"),
+        "geojson": lambda: write_geojson(outcome, Path(folder) / "plan.geojson", crs),
+        "csv": lambda: write_stations_csv(outcome, Path(folder) / "stations.csv", crs),
+    }
     for f in formats:
         print(f"wrote {writers[f]()}")
 
@@ -67,10 +69,13 @@ def _file_comparison(outcome: Outcome) -> list[dict[str, Any]]:
     from planner.solve.milp import MilpOptions
 
     m, p = outcome.meta, outcome.meta.get("parameters", {})
-    options = PlanOptions(target_spacing_m=float(p.get("target_spacing_m", 1.0)),
-                          pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
-                          incidence_3d=p.get("incidence") == "3d", precision=bool(p.get("precision", True)),
-                          milp=MilpOptions(precision=p.get("precision_mode", "single")))
+    options = PlanOptions(
+        target_spacing_m=float(p.get("target_spacing_m", 1.0)),
+        pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
+        incidence_3d=p.get("incidence") == "3d",
+        precision=bool(p.get("precision", True)),
+        milp=MilpOptions(precision=p.get("precision_mode", "single")),
+    )
     rows = [r for r in compare_methods(outcome.site, options) if r["method"] != m.get("method")]
     return rows + [{**meta_row(m, outcome.verification.percent), "stations": len(outcome.stations)}]
 

@@ -78,14 +78,16 @@ def _edge_points(lines: shapely.Geometry) -> tuple[NDArray, NDArray]:
     if len(parts) == 0:
         return np.zeros(0, dtype=object), np.zeros(0, dtype=object)
     mids = shapely.line_interpolate_point(parts, 0.5, normalized=True)
-    ends = np.vstack([shapely.get_coordinates(shapely.get_point(parts, 0)),
-                      shapely.get_coordinates(shapely.get_point(parts, -1))])
+    ends = np.vstack(
+        [shapely.get_coordinates(shapely.get_point(parts, 0)), shapely.get_coordinates(shapely.get_point(parts, -1))]
+    )
     ends = np.unique(np.round(ends, 12), axis=0)
     return mids, shapely.points(ends)
 
 
-def heaviest_points(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float,
-                    limit: int) -> tuple[list[Sample], float]:
+def heaviest_points(
+    regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float, limit: int
+) -> tuple[list[Sample], float]:
     """Points of the closed arrangement of ``regions`` weighing more than ``threshold`` (heaviest first,
     at most ``limit``; faces before edges before vertices at equal weight), and the largest weight seen."""
     keep = [k for k, g in enumerate(regions) if not g.is_empty and g.area > 0]
@@ -98,8 +100,11 @@ def heaviest_points(regions: Sequence[shapely.Geometry], weights: NDArray[np.flo
     tree = shapely.STRtree(polys)
     reps = shapely.point_on_surface(faces) if len(faces) else np.zeros(0, dtype=object)
     mids, nodes = _edge_points(lines)
-    groups = (("face", reps, _weigh(reps, tree, w, "within")), ("edge", mids, _weigh(mids, tree, w, "dwithin")),
-              ("vertex", nodes, _weigh(nodes, tree, w, "dwithin")))
+    groups = (
+        ("face", reps, _weigh(reps, tree, w, "within")),
+        ("edge", mids, _weigh(mids, tree, w, "dwithin")),
+        ("vertex", nodes, _weigh(nodes, tree, w, "dwithin")),
+    )
     pts = np.concatenate([g[1] for g in groups])
     wts = np.concatenate([g[2] for g in groups])
     kinds = np.concatenate([np.full(len(g[1]), k, dtype=object) for k, g in enumerate(groups)])
@@ -109,7 +114,9 @@ def heaviest_points(regions: Sequence[shapely.Geometry], weights: NDArray[np.flo
     order = np.lexsort((kinds, -wts))
     order = order[wts[order] > threshold][:limit]
     xy = shapely.get_coordinates(pts[order]) if order.size else np.zeros((0, 2))
-    return [Sample(float(px), float(py), float(wts[k]), groups[int(kinds[k])][0]) for (px, py), k in zip(xy, order)], best
+    return [
+        Sample(float(px), float(py), float(wts[k]), groups[int(kinds[k])][0]) for (px, py), k in zip(xy, order)
+    ], best
 
 
 def grown(regions: Sequence[shapely.Geometry], grow_m: float) -> list[shapely.Geometry]:

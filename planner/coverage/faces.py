@@ -75,8 +75,9 @@ def _shared(a0, a1, b0, b1, cos_tol: float) -> tuple[float, float] | None:
     return (lo, hi) if max(abs(off(lo)), abs(off(hi))) <= COINCIDENT_M else None
 
 
-def keyed_parts(lo: float, hi: float, own_key: int, stretches: list[tuple[float, float, int]]
-                ) -> list[tuple[float, float, int]]:
+def keyed_parts(
+    lo: float, hi: float, own_key: int, stretches: list[tuple[float, float, int]]
+) -> list[tuple[float, float, int]]:
     """Split the solid part lo..hi of a wall at its shared stretches: (s0, s1, key) pieces."""
     cuts = sorted({lo, hi, *(min(max(x, lo), hi) for s0, s1, _ in stretches for x in (s0, s1))})
     out = []
@@ -89,8 +90,9 @@ def keyed_parts(lo: float, hi: float, own_key: int, stretches: list[tuple[float,
     return out
 
 
-def trim_at_junctions(site: Site, zi: int, a: NDArray[np.float64], b: NDArray[np.float64], key: NDArray[np.int64]
-                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
+def trim_at_junctions(
+    site: Site, zi: int, a: NDArray[np.float64], b: NDArray[np.float64], key: NDArray[np.int64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
     """Blocking parts of zone ``zi`` with their ends cut back by ``COINCIDENT_M`` where they meet another
     zone's boundary (a wall of B that starts at A's wall may poke a hair into A), and the vertices of
     the parts away from other zones' boundaries. A shared stretch (partner key) is cut back at both

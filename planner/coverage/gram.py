@@ -30,12 +30,13 @@ def filtered_gram(a: sp.csr_matrix, weights: NDArray[np.float64] | None, keep: K
     step = max(1, BLOCK_ENTRIES // max(n, 1))  # a block's product has at most step x n entries
     rows, cols, vals = [], [], []
     for lo in range(0, n, step):
-        prod = (a[lo:lo + step] @ right).tocoo()
+        prod = (a[lo : lo + step] @ right).tocoo()
         r, c, v = prod.row.astype(np.int64) + lo, prod.col.astype(np.int64), prod.data
         m = keep(r, c, v)
         rows.append(r[m])
         cols.append(c[m])
         vals.append(v[m])
+
     def cat(xs: list[np.ndarray], dt: type) -> np.ndarray:
         return np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
 

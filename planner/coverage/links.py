@@ -30,8 +30,9 @@ from planner.site.model import SITE_FRAME, Site
 _NO_WALL = -2
 
 
-def opening_links(site: Site, xy: NDArray[np.float64], frames: Sequence[str], spaces: Sequence[object],
-                  reach_m: float) -> sp.csr_matrix:
+def opening_links(
+    site: Site, xy: NDArray[np.float64], frames: Sequence[str], spaces: Sequence[object], reach_m: float
+) -> sp.csr_matrix:
     """Symmetric C x C boolean matrix: stations of different spaces that see each other through an opening
     (both within ``reach_m`` of it and of each other)."""
     n = len(xy)
@@ -83,16 +84,18 @@ def default_registration(site: Site) -> str:
     return "site" if placed or any(z.openings for z in site.zones) else "zone"
 
 
-def registration_groups(site: Site, candidates: Sequence[Candidate], mode: str, reach_m: float
-                        ) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
+def registration_groups(
+    site: Site, candidates: Sequence[Candidate], mode: str, reach_m: float
+) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
     """Group label of each candidate and the links through openings (None in ``zone`` mode).
 
     ``zone``: one bundle per zone-side, as the dissertation plans; ``site``: one bundle per
     accessible area (:func:`planner.coverage.openings.accessible_areas`).
     """
     if mode not in REGISTRATION_MODES:
-        raise UsageError(f"unknown registration mode (known: {', '.join(REGISTRATION_MODES)})", field="registration",
-                         value=mode)
+        raise UsageError(
+            f"unknown registration mode (known: {', '.join(REGISTRATION_MODES)})", field="registration", value=mode
+        )
     if mode == "zone":
         return tuple((c.zone, c.side.value) for c in candidates), None
     by_id = {z.id: z for z in site.zones}

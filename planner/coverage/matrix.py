@@ -131,8 +131,11 @@ class ZoneSideBlockers:
         self._cache: dict[int, Blockers] = {}
         # zones with a gap in a wall: their own openings, or a neighbour's door through their shared wall
         segments = opening_segments(site, frame)
-        self._open = {zi for zi, z in enumerate(site.zones) if z.frame == frame and segments
-                      and any(wall_gaps(site, zi, w, segments) for w in z.walls)}
+        self._open = {
+            zi
+            for zi, z in enumerate(site.zones)
+            if z.frame == frame and segments and any(wall_gaps(site, zi, w, segments) for w in z.walls)
+        }
 
     def of(self, zone_index: int, inside: bool) -> Blockers:
         key = 2 * zone_index + (0 if inside else 1)
@@ -142,14 +145,16 @@ class ZoneSideBlockers:
                 self._cache[key] = self.all
             else:
                 poly = zone.polygon
-                keep = (shapely.intersects(poly, self._lines) if inside
-                        else ~shapely.contains_properly(poly, self._lines))
+                keep = (
+                    shapely.intersects(poly, self._lines) if inside else ~shapely.contains_properly(poly, self._lines)
+                )
                 b = self.all
                 self._cache[key] = Blockers(b.a[keep], b.b[keep], b.key[keep], _kept_vertices(b, keep))
         return self._cache[key]
 
-    def clear(self, xy: NDArray[np.float64], targets: Targets, pc: NDArray[np.int64], pt: NDArray[np.int64]
-              ) -> NDArray[np.bool_]:
+    def clear(
+        self, xy: NDArray[np.float64], targets: Targets, pc: NDArray[np.int64], pt: NDArray[np.int64]
+    ) -> NDArray[np.bool_]:
         """Sight test of the pairs (pc[k], pt[k]), zone-side by zone-side, in batches of SIGHT_BATCH pairs."""
         out = np.ones(len(pc), dtype=bool)
         group = targets.zone[pt].astype(np.int64) * 2 + targets.side[pt]
@@ -157,9 +162,14 @@ class ZoneSideBlockers:
             idx = np.flatnonzero(group == g)
             blockers = self.of(int(g) // 2, int(g) % 2 == 0)
             for lo in range(0, idx.size, SIGHT_BATCH):
-                k = idx[lo:lo + SIGHT_BATCH]
-                out[k] = sight_clear(xy[pc[k]], targets.a[pt[k]], targets.b[pt[k]],
-                                     wall_key(targets.zone[pt[k]], targets.wall[pt[k]]), blockers)
+                k = idx[lo : lo + SIGHT_BATCH]
+                out[k] = sight_clear(
+                    xy[pc[k]],
+                    targets.a[pt[k]],
+                    targets.b[pt[k]],
+                    wall_key(targets.zone[pt[k]], targets.wall[pt[k]]),
+                    blockers,
+                )
         return out
 
 
@@ -301,8 +311,17 @@ def build_coverage(
         views = None if open_view else ZoneSideBlockers(site, frame)
         for block in np.array_split(ci, math.ceil(len(ci) / block_size(len(ti)))):
             pairs = geometric_pairs(
-                xy[block], places.inside[block], targets.zone[ti], targets.side[ti] == 0, targets.a[ti], targets.b[ti],
-                targets.ha_m[ti], targets.hb_m[ti], targets.normal[ti], limits)
+                xy[block],
+                places.inside[block],
+                targets.zone[ti],
+                targets.side[ti] == 0,
+                targets.a[ti],
+                targets.b[ti],
+                targets.ha_m[ti],
+                targets.hb_m[ti],
+                targets.normal[ti],
+                limits,
+            )
             pc, pt = block[pairs.cand], ti[pairs.target]
             clear = np.ones(len(pc), dtype=bool) if views is None else views.clear(xy, targets, pc, pt)
             rows.append(pc[clear].astype(np.int32))
@@ -319,7 +338,9 @@ def build_coverage(
     del rows
     # each candidate's pairs come from one block, sorted by piece: a stable sort by candidate is CSR order
     order = None if np.all(r[1:] >= r[:-1]) else np.argsort(r, kind="stable")
-    indptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=shape[0]))]).astype(np.int32 if r.size < 2**31 else np.int64)
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=shape[0]))]).astype(
+        np.int32 if r.size < 2**31 else np.int64
+    )
     del r
     indices = _ordered(cols, order, np.int32)
 
@@ -328,9 +349,14 @@ def build_coverage(
 
     by_candidate = sp.csr_matrix((np.ones(len(indices), dtype=bool), indices, indptr), shape=shape, copy=False)
     return CoverageProblem(
-        candidates=cands, targets=targets, by_candidate=by_candidate, by_target=by_candidate.T.tocsr(),
-        slant_m=mat(slant, np.float64), incidence_deg=mat(inc, np.float64),
-        excluded={k: why for k, why in enumerate(places.reason) if why}, limits=limits,
+        candidates=cands,
+        targets=targets,
+        by_candidate=by_candidate,
+        by_target=by_candidate.T.tocsr(),
+        slant_m=mat(slant, np.float64),
+        incidence_deg=mat(inc, np.float64),
+        excluded={k: why for k, why in enumerate(places.reason) if why},
+        limits=limits,
     )
 
 
@@ -339,6 +365,12 @@ def merge_problems(p: CoverageProblem, q: CoverageProblem) -> CoverageProblem:
     by_c = sp.vstack([p.by_candidate, q.by_candidate]).tocsr()
     off = len(p.candidates)
     return CoverageProblem(
-        candidates=p.candidates + q.candidates, targets=p.targets, by_candidate=by_c, by_target=by_c.T.tocsr(),
-        slant_m=sp.vstack([p.slant_m, q.slant_m]).tocsr(), incidence_deg=sp.vstack([p.incidence_deg, q.incidence_deg]).tocsr(),
-        excluded={**p.excluded, **{k + off: v for k, v in q.excluded.items()}}, limits=p.limits)
+        candidates=p.candidates + q.candidates,
+        targets=p.targets,
+        by_candidate=by_c,
+        by_target=by_c.T.tocsr(),
+        slant_m=sp.vstack([p.slant_m, q.slant_m]).tocsr(),
+        incidence_deg=sp.vstack([p.incidence_deg, q.incidence_deg]).tocsr(),
+        excluded={**p.excluded, **{k + off: v for k, v in q.excluded.items()}},
+        limits=p.limits,
+    )

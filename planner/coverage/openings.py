@@ -54,8 +54,9 @@ def opening_segments(site: Site, frame: str) -> list[tuple[int, Wall, str, NDArr
     return out
 
 
-def wall_gaps(site: Site, zone_index: int, wall: Wall,
-              segments: list[tuple[int, Wall, str, NDArray[np.float64]]] | None = None) -> list[tuple[float, float]]:
+def wall_gaps(
+    site: Site, zone_index: int, wall: Wall, segments: list[tuple[int, Wall, str, NDArray[np.float64]]] | None = None
+) -> list[tuple[float, float]]:
     """Intervals (s0, s1) in metres along ``wall`` that are open: its own openings and those of any
     wall face of the same frame parallel to it and within ``OPENING_DEPTH_M``; merged, sorted."""
     zone = site.zones[zone_index]
@@ -122,15 +123,23 @@ def accessible_areas(site: Site) -> dict[tuple[str, str], int]:
             for side in zone.scan_side.sides:
                 behind = -left if side is ScanSide.INSIDE else left
                 g.add_edge(space_of(zone, side), _space_behind(zone, side, mid, behind, inside))
-    return {space: k for k, comp in enumerate(sorted(nx.connected_components(g), key=lambda c: sorted(c)))
-            for space in comp}
+    return {
+        space: k for k, comp in enumerate(sorted(nx.connected_components(g), key=lambda c: sorted(c))) for space in comp
+    }
 
 
-def _space_behind(zone: Zone, side: ScanSide, mid: NDArray[np.float64], behind: NDArray[np.float64],
-                  inside: list[tuple[Zone, shapely.Polygon]]) -> tuple[str, str]:
+def _space_behind(
+    zone: Zone,
+    side: ScanSide,
+    mid: NDArray[np.float64],
+    behind: NDArray[np.float64],
+    inside: list[tuple[Zone, shapely.Polygon]],
+) -> tuple[str, str]:
     for depth in (0.01, 0.1, 0.5, OPENING_DEPTH_M + 0.1):
         p = shapely.Point(*(mid + depth * behind))
-        hit = next((z for z, poly in inside if (z.id != zone.id or side is not ScanSide.INSIDE) and poly.contains(p)), None)
+        hit = next(
+            (z for z, poly in inside if (z.id != zone.id or side is not ScanSide.INSIDE) and poly.contains(p)), None
+        )
         if hit is not None:
             return ("in", hit.id)
     return ("out", zone.frame)

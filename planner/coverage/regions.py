@@ -99,7 +99,7 @@ class FrameSpace:
     """Where stations may stand in one frame, per zone and side, and the frame's blockers."""
 
     frame: str
-    inside: dict[int, shapely.Geometry]   # zone index -> stand area inside the zone
+    inside: dict[int, shapely.Geometry]  # zone index -> stand area inside the zone
     outside: dict[int, shapely.Geometry]  # zone index -> stand area outside the zone (within ``box``)
     box: shapely.Geometry
     blockers: Blockers | None  # None: a lone convex zone, where nothing blocks a front-facing piece
@@ -136,7 +136,9 @@ def frame_space(site: Site, frame: str, limits: SightLimits, outer: bool = False
     walls = [z.polygon.boundary for z in site.zones if z.frame == frame]
     standoff = site.parameters.min_standoff_m
     if standoff > 0:  # as station_places: no station closer than the stand-off to a wall or obstacle edge
-        edges = walls + ([shapely.Polygon(ob.vertices).boundary for ob in site.obstacles] if frame == SITE_FRAME else [])
+        edges = walls + (
+            [shapely.Polygon(ob.vertices).boundary for ob in site.obstacles] if frame == SITE_FRAME else []
+        )
         grow = standoff if outer else _standoff_buffer_m(standoff)
         forbidden.append(shapely.union_all(edges).buffer(grow, quad_segs=STANDOFF_QUAD_SEGS))
     if not outer:
@@ -149,7 +151,9 @@ def frame_space(site: Site, frame: str, limits: SightLimits, outer: bool = False
         inside[zi] = zone.polygon.difference(bad)
         outside[zi] = box.difference(zone.polygon).difference(bad)
     blockers = None if convex_alone(site, frame) else blockers_for(site, frame)  # as the coverage build does
-    return FrameSpace(frame, inside, outside, box, blockers, float(np.hypot(*(np.asarray(box.bounds[2:]) - box.bounds[:2]))))
+    return FrameSpace(
+        frame, inside, outside, box, blockers, float(np.hypot(*(np.asarray(box.bounds[2:]) - box.bounds[:2])))
+    )
 
 
 def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -157,8 +161,9 @@ def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
     return v / np.where(n > 0, n, 1.0)[..., None]
 
 
-def _incidence_region(end: NDArray, tangent: NDArray, normal: NDArray, theta_deg: float, dz: float,
-                      incidence_3d: bool, far: float) -> shapely.Geometry:
+def _incidence_region(
+    end: NDArray, tangent: NDArray, normal: NDArray, theta_deg: float, dz: float, incidence_3d: bool, far: float
+) -> shapely.Geometry:
     # ``far``: how far the region must reach (the range disc's radius when the range is limited)
     """Where the incidence at ``end`` is <= theta: a wedge (horizontal) or the region above a hyperbola (3-D)."""
     cot = 1.0 / math.tan(math.radians(theta_deg))
@@ -207,14 +212,22 @@ def _grazing(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> li
         for w in _unit(q2[touch] - q1[touch]):
             for sgn in (1.0, -1.0):
                 d = sgn * w
-                rot = [np.array([d[0] * math.cos(e) - d[1] * math.sin(e), d[0] * math.sin(e) + d[1] * math.cos(e)])
-                       for e in (half, -half)]
+                rot = [
+                    np.array([d[0] * math.cos(e) - d[1] * math.sin(e), d[0] * math.sin(e) + d[1] * math.cos(e)])
+                    for e in (half, -half)
+                ]
                 out.append(shapely.Polygon([x, x + far * rot[0], x + far * rot[1]]))
     return out
 
 
-def coverage_regions(site: Site, targets: Targets, limits: SightLimits, which: Sequence[int] | None = None,
-                     spaces: dict[str, FrameSpace] | None = None, outer: bool = False) -> dict[int, shapely.Geometry]:
+def coverage_regions(
+    site: Site,
+    targets: Targets,
+    limits: SightLimits,
+    which: Sequence[int] | None = None,
+    spaces: dict[str, FrameSpace] | None = None,
+    outer: bool = False,
+) -> dict[int, shapely.Geometry]:
     """R_t for the pieces ``which`` (all by default), as shapely geometries (possibly empty).
 
     ``spaces`` caches :func:`frame_space` per frame between calls (one cache per ``outer``). ``outer``: the
@@ -235,11 +248,16 @@ def outer_tolerance_m(limits: SightLimits) -> float:
     """How far a covering position can lie outside the outer region O_t (:func:`piece_region` with ``outer``):
     the approximations left there are the 3-D incidence chords, the precision boundary's chord error and the
     sight test's tolerances (range discs are circumscribed, stand-off buffers inscribed, no grazing slivers)."""
-    return (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0) + 1e-5 + (
-        2.0 * PRECISION_CHORD_M if limits.per_pair_precision else 0.0)
+    return (
+        (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0)
+        + 1e-5
+        + (2.0 * PRECISION_CHORD_M if limits.per_pair_precision else 0.0)
+    )
 
 
-def piece_region(targets: Targets, t: int, limits: SightLimits, space: FrameSpace, outer: bool = False) -> shapely.Geometry:
+def piece_region(
+    targets: Targets, t: int, limits: SightLimits, space: FrameSpace, outer: bool = False
+) -> shapely.Geometry:
     """R_t of one piece (see the module docstring). ``outer`` (with a ``space`` made with ``outer``): range
     discs circumscribed instead of inscribed and no grazing slivers, so that every covering position lies in
     the result or within :func:`outer_tolerance_m` of it (for bounds; ``R_t`` itself is for candidates)."""
@@ -260,8 +278,9 @@ STAGE_REASON = {
 }
 
 
-def region_stages(targets: Targets, t: int, limits: SightLimits, space: FrameSpace,
-                  outer: bool = False) -> Iterator[tuple[str, shapely.Geometry]]:
+def region_stages(
+    targets: Targets, t: int, limits: SightLimits, space: FrameSpace, outer: bool = False
+) -> Iterator[tuple[str, shapely.Geometry]]:
     """The region of piece ``t`` as it is built, one rule at a time: (stage, region so far) for the stages
     of :data:`STAGE_REASON` in order; the last is R_t. The first empty one says why R_t is empty."""
     a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
@@ -269,8 +288,14 @@ def region_stages(targets: Targets, t: int, limits: SightLimits, space: FrameSpa
     tangent = _unit(b - a)
     ih = limits.instrument_height_m
     far = space.far_m
-    front = shapely.Polygon([a + EPS_FRONT_M * n - far * tangent, b + EPS_FRONT_M * n + far * tangent,
-                             b + far * n + far * tangent, a + far * n - far * tangent])
+    front = shapely.Polygon(
+        [
+            a + EPS_FRONT_M * n - far * tangent,
+            b + EPS_FRONT_M * n + far * tangent,
+            b + far * n + far * tangent,
+            a + far * n - far * tangent,
+        ]
+    )
     discs, wedges, fans = [front], [], []
     for end, h in ((a, float(targets.ha_m[t])), (b, float(targets.hb_m[t]))):
         dz = max(abs(h - ih), ih)
@@ -302,12 +327,15 @@ def region_stages(targets: Targets, t: int, limits: SightLimits, space: FrameSpa
             try:
                 region = region.difference(shapely.union_all(shadows))
             except shapely.errors.GEOSException:  # near-coincident sliver edges (doors, junction cuts): snap-round
-                region = shapely.difference(region, shapely.union_all(shadows, grid_size=SNAP_GRID_M),
-                                            grid_size=SNAP_GRID_M)
+                region = shapely.difference(
+                    region, shapely.union_all(shadows, grid_size=SNAP_GRID_M), grid_size=SNAP_GRID_M
+                )
     yield "sight", region
 
 
-def _piece_shadows(targets: Targets, t: int, k: shapely.Geometry, space: FrameSpace, outer: bool) -> list[shapely.Geometry]:
+def _piece_shadows(
+    targets: Targets, t: int, k: shapely.Geometry, space: FrameSpace, outer: bool
+) -> list[shapely.Geometry]:
     """The shadows (and, unless ``outer``, the grazing slivers) of the blockers near piece ``t`` that meet ``k``."""
     bl = space.blockers
     tree = None if bl is None else bl._seg_tree  # type: ignore[attr-defined]
@@ -335,7 +363,9 @@ def why_empty(targets: Targets, t: int, limits: SightLimits, space: FrameSpace) 
     return None
 
 
-def _precision_region(end: NDArray, tangent: NDArray, normal: NDArray, dz: float, limits: SightLimits) -> shapely.Geometry:
+def _precision_region(
+    end: NDArray, tangent: NDArray, normal: NDArray, dz: float, limits: SightLimits
+) -> shapely.Geometry:
     """Positions whose (horizontal-incidence) view of ``end`` has e(S, theta) <= sigma_req (see
     :func:`_precision_profile`), as a polygon with its apex at ``end``."""
     rule = limits.precision
@@ -375,8 +405,10 @@ def _precision_profile(rule: PrecisionRule, dz: float, theta_max_deg: float) -> 
         th = np.unique(np.concatenate([np.sign(u) * top * (1.0 - (1.0 - np.abs(u)) ** 2), kinks, np.negative(kinks)]))
         th_m = (th[:-1] + th[1:]) / 2.0  # the table's kinks are sample points: between samples the curve is smooth
         r, r_m = rho(th), rho(th_m)
-        p0, p1, pm = (np.column_stack([rr * np.cos(np.radians(tt)), rr * np.sin(np.radians(tt))])
-                      for tt, rr in ((th[:-1], r[:-1]), (th[1:], r[1:]), (th_m, r_m)))
+        p0, p1, pm = (
+            np.column_stack([rr * np.cos(np.radians(tt)), rr * np.sin(np.radians(tt))])
+            for tt, rr in ((th[:-1], r[:-1]), (th[1:], r[1:]), (th_m, r_m))
+        )
         err = _point_segment_m(pm, p0, p1)  # how far the curve strays from each chord
         if err.max() <= PRECISION_CHORD_M or n > 64 * PRECISION_SAMPLES:  # (a cap; never reached in the tests)
             break

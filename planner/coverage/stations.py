@@ -62,8 +62,14 @@ class StationCoverage:
         return 100.0 * float(lengths[self.count > 0].sum()) / total if total else 100.0
 
 
-def station_coverage(site: Site, stations: Sequence[Candidate], limits: SightLimits, scanner: RangeAngleSigma,
-                     budget: ErrorBudget, spacing_m: float = 1.0) -> StationCoverage:
+def station_coverage(
+    site: Site,
+    stations: Sequence[Candidate],
+    limits: SightLimits,
+    scanner: RangeAngleSigma,
+    budget: ErrorBudget,
+    spacing_m: float = 1.0,
+) -> StationCoverage:
     """Build the coverage of ``stations`` alone on pieces of ``spacing_m`` and summarise it.
 
     Cost: one coverage build with len(stations) candidates, O(S x T) pair tests at most.
@@ -77,7 +83,7 @@ def station_coverage(site: Site, stations: Sequence[Candidate], limits: SightLim
     inc_t = problem.incidence_deg.T.tocsr()
     best = np.full(len(t), np.nan)
     for k in np.flatnonzero(count):
-        best[k] = float(inc_t.data[inc_t.indptr[k]:inc_t.indptr[k + 1]].min())
+        best[k] = float(inc_t.data[inc_t.indptr[k] : inc_t.indptr[k + 1]].min())
     lengths = piece_lengths(t.s0_m, t.s1_m)
     stats = []
     for i, s in enumerate(st):
@@ -89,5 +95,7 @@ def station_coverage(site: Site, stations: Sequence[Candidate], limits: SightLim
         slant = problem.slant_m.data[lo:hi]
         inc = problem.incidence_deg.data[lo:hi]
         e = view_error_m(slant, inc, scanner, budget, limits.precision.incidence_model if limits.precision else "none")
-        stats.append(StationStats(s.id, float(lengths[cols].sum()), float(inc.max()), float(slant.max()), float(e.max())))
+        stats.append(
+            StationStats(s.id, float(lengths[cols].sum()), float(inc.max()), float(slant.max()), float(e.max()))
+        )
     return StationCoverage(st, problem, count, best, tuple(stats))

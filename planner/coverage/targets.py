@@ -51,16 +51,19 @@ class Targets:
 
     def label(self, t: int) -> str:
         """A readable id: zone/side/wall and the piece's offsets."""
-        return (f"{self.zone_ids[self.zone[t]]}/{SIDE_NAME[int(self.side[t])]}/wall {self.wall[t]}"
-                f" {self.s0_m[t]:.2f}-{self.s1_m[t]:.2f} m")
+        return (
+            f"{self.zone_ids[self.zone[t]]}/{SIDE_NAME[int(self.side[t])]}/wall {self.wall[t]}"
+            f" {self.s0_m[t]:.2f}-{self.s1_m[t]:.2f} m"
+        )
 
     def midpoint(self, t: int) -> tuple[float, float]:
         m = (self.a[t] + self.b[t]) / 2.0
         return float(m[0]), float(m[1])
 
 
-def _cuts(length_m: float, gaps: list[tuple[float, float]], spacing_m: float, points: bool
-          ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _cuts(
+    length_m: float, gaps: list[tuple[float, float]], spacing_m: float, points: bool
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Piece ends (fractions of the wall) over the solid parts of a wall: each part cut into equal pieces."""
     t0, t1 = [], []
     for lo, hi in solid_intervals(length_m, gaps):
@@ -85,7 +88,9 @@ def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
     if not math.isfinite(spacing_m) or spacing_m <= 0:
         raise ValueError(f"target spacing must be > 0, got {spacing_m}")
     frames = tuple(dict.fromkeys(z.frame for z in site.zones))
-    cols: dict[str, list] = {k: [] for k in ("zone", "side", "wall", "s0", "s1", "a", "b", "ha", "hb", "normal", "frame")}
+    cols: dict[str, list] = {
+        k: [] for k in ("zone", "side", "wall", "s0", "s1", "a", "b", "ha", "hb", "normal", "frame")
+    }
     openings = {f: opening_segments(site, f) for f in frames}
     for zi, zone in enumerate(site.zones):
         for wall in zone.walls:
@@ -109,9 +114,17 @@ def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
                 cols["frame"].append(np.full(k, frames.index(zone.frame)))
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     return Targets(
-        zone=_ro(cat["zone"].astype(np.int32)), side=_ro(cat["side"].astype(np.int8)),
-        wall=_ro(cat["wall"].astype(np.int32)), s0_m=_ro(cat["s0"]), s1_m=_ro(cat["s1"]),
-        a=_ro(cat["a"]), b=_ro(cat["b"]), ha_m=_ro(cat["ha"]), hb_m=_ro(cat["hb"]),
-        normal=_ro(cat["normal"]), frame=_ro(cat["frame"].astype(np.int32)), frames=frames,
+        zone=_ro(cat["zone"].astype(np.int32)),
+        side=_ro(cat["side"].astype(np.int8)),
+        wall=_ro(cat["wall"].astype(np.int32)),
+        s0_m=_ro(cat["s0"]),
+        s1_m=_ro(cat["s1"]),
+        a=_ro(cat["a"]),
+        b=_ro(cat["b"]),
+        ha_m=_ro(cat["ha"]),
+        hb_m=_ro(cat["hb"]),
+        normal=_ro(cat["normal"]),
+        frame=_ro(cat["frame"].astype(np.int32)),
+        frames=frames,
         zone_ids=tuple(z.id for z in site.zones),
     )

@@ -94,8 +94,14 @@ class Blockers:
     vertices: NDArray[np.float64]
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "_seg_tree", shapely.STRtree(shapely.linestrings(np.stack([self.a, self.b], axis=1))) if len(self.a) else None)
-        object.__setattr__(self, "_vtx_tree", shapely.STRtree(shapely.points(self.vertices)) if len(self.vertices) else None)
+        object.__setattr__(
+            self,
+            "_seg_tree",
+            shapely.STRtree(shapely.linestrings(np.stack([self.a, self.b], axis=1))) if len(self.a) else None,
+        )
+        object.__setattr__(
+            self, "_vtx_tree", shapely.STRtree(shapely.points(self.vertices)) if len(self.vertices) else None
+        )
 
 
 def wall_key(zone_index: NDArray | int, wall: NDArray | int) -> NDArray[np.int64]:
@@ -108,14 +114,22 @@ class PairGeometry:
 
     cand: NDArray[np.int64]
     target: NDArray[np.int64]
-    slant_m: NDArray[np.float64]       # largest slant range over the piece
+    slant_m: NDArray[np.float64]  # largest slant range over the piece
     incidence_deg: NDArray[np.float64]  # largest incidence over the piece
 
 
 def geometric_pairs(
-    cand_xy: NDArray[np.float64], cand_inside: NDArray[np.bool_], t_zone: NDArray[np.int32], t_inside: NDArray[np.bool_],
-    a: NDArray[np.float64], b: NDArray[np.float64], ha: NDArray[np.float64], hb: NDArray[np.float64],
-    normal: NDArray[np.float64], limits: SightLimits, chunk: int = 64,
+    cand_xy: NDArray[np.float64],
+    cand_inside: NDArray[np.bool_],
+    t_zone: NDArray[np.int32],
+    t_inside: NDArray[np.bool_],
+    a: NDArray[np.float64],
+    b: NDArray[np.float64],
+    ha: NDArray[np.float64],
+    hb: NDArray[np.float64],
+    normal: NDArray[np.float64],
+    limits: SightLimits,
+    chunk: int = 64,
 ) -> PairGeometry:
     """All (candidate, piece) pairs meeting the range and incidence limits.
 
@@ -135,7 +149,7 @@ def geometric_pairs(
     dz_b = np.maximum(np.abs(hb - ih), ih)
     out_c, out_t, out_s, out_i = [], [], [], []
     for c0 in range(0, len(cand_xy), chunk):
-        cx = cand_xy[c0:c0 + chunk]
+        cx = cand_xy[c0 : c0 + chunk]
         lo, hi = cx.min(axis=0) - reach, cx.max(axis=0) + reach
         near = np.flatnonzero(np.all((mid + half[:, None] >= lo) & (mid - half[:, None] <= hi), axis=1))
         if near.size == 0:
@@ -151,11 +165,13 @@ def geometric_pairs(
                 cos_i = np.minimum(d / sa, d / sb)
             else:
                 cos_i = np.minimum(d / np.maximum(hd_a, 1e-300), d / np.maximum(hd_b, 1e-300))
-        side_ok = cand_inside[c0:c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
+        side_ok = cand_inside[c0 : c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
         ok = side_ok & (d > EPS_FRONT_M) & (slant <= longest) & (cos_i >= cos_max)
         k, t = np.nonzero(ok)
         inc = np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0)))
-        if limits.per_pair_precision and limits.precision is not None:  # e(S, theta) at each end: the piece's worst point is one of its ends
+        if (
+            limits.per_pair_precision and limits.precision is not None
+        ):  # e(S, theta) at each end: the piece's worst point is one of its ends
             hd = (hd_a[k, t], hd_b[k, t]) if not limits.incidence_3d else (sa[k, t], sb[k, t])
             keep = _end_precision(sa[k, t], d[k, t] / np.maximum(hd[0], 1e-300), limits.precision)
             keep &= _end_precision(sb[k, t], d[k, t] / np.maximum(hd[1], 1e-300), limits.precision)
@@ -164,6 +180,7 @@ def geometric_pairs(
         out_t.append(near[t])
         out_s.append(slant[k, t])
         out_i.append(inc)
+
     def cat(xs: list[Any], dt: type) -> Any:
         return np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
 
@@ -208,7 +225,11 @@ def segments_touch(p: NDArray, q: NDArray, r: NDArray, s: NDArray, eps: float = 
 
 
 def sight_clear(
-    c: NDArray[np.float64], a: NDArray[np.float64], b: NDArray[np.float64], key: NDArray[np.int64], blockers: Blockers,
+    c: NDArray[np.float64],
+    a: NDArray[np.float64],
+    b: NDArray[np.float64],
+    key: NDArray[np.int64],
+    blockers: Blockers,
 ) -> NDArray[np.bool_]:
     """For each pair (row), True when nothing blocks the view from c to the whole piece a-b."""
     n = len(c)
@@ -242,12 +263,15 @@ def sight_clear(
         v = blockers.vertices[vi]
         ca, ab, bc = _signed(c[pi], a[pi], v), _signed(a[pi], b[pi], v), _signed(b[pi], c[pi], v)
         inside = ((ca > EPS_SIGHT_M) & (ab > EPS_SIGHT_M) & (bc > EPS_SIGHT_M)) | (
-            (ca < -EPS_SIGHT_M) & (ab < -EPS_SIGHT_M) & (bc < -EPS_SIGHT_M))
+            (ca < -EPS_SIGHT_M) & (ab < -EPS_SIGHT_M) & (bc < -EPS_SIGHT_M)
+        )
         clear[pi[inside]] = False
     return clear
 
 
-def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False) -> SightLimits:
+def sight_limits(
+    validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False
+) -> SightLimits:
     """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req.
 
     ``combined``: no single view is refused for precision (no precision range, no per-pair
@@ -257,6 +281,14 @@ def sight_limits(validation: ValidationReport, incidence_3d: bool, precision: bo
     p = validation.site.parameters
     single = precision and not combined
     precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
-    rule = PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
-    return SightLimits(validation.range_limit.max_slant_range_m, validation.theta_max_deg, p.instrument_height_m,
-                       incidence_3d, precision_range, rule)
+    rule = (
+        PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
+    )
+    return SightLimits(
+        validation.range_limit.max_slant_range_m,
+        validation.theta_max_deg,
+        p.instrument_height_m,
+        incidence_3d,
+        precision_range,
+        rule,
+    )

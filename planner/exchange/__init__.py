@@ -13,7 +13,9 @@ from planner import _lazy_getattr
 EXPORTS = ("dxf", "geojson", "csv")
 
 _LAZY = {
-    "write_dxf": "planner.exchange.dxf_out", "outcome_geojson": "planner.exchange.geojson_out", "write_geojson": "planner.exchange.geojson_out",
+    "write_dxf": "planner.exchange.dxf_out",
+    "outcome_geojson": "planner.exchange.geojson_out",
+    "write_geojson": "planner.exchange.geojson_out",
     "write_stations_csv": "planner.exchange.stations_csv",
 }
 

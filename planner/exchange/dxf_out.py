@@ -23,7 +23,15 @@ from planner.site.params_io import dxf_properties, site_record
 
 APPID = "TLS_PLANNER"
 LAYERS = {  # name: ACI colour
-    "WALLS": 7, "HOLES": 7, "OBSTACLES": 8, "NOGO": 6, "STATIONS": 5, "FIELDS": 4, "COVERAGE": 3, "NETWORK": 2, "CONTROL": 1,
+    "WALLS": 7,
+    "HOLES": 7,
+    "OBSTACLES": 8,
+    "NOGO": 6,
+    "STATIONS": 5,
+    "FIELDS": 4,
+    "COVERAGE": 3,
+    "NETWORK": 2,
+    "CONTROL": 1,
 }
 #: coverage colours (ACI): seen by no station, by one, by two or more
 COVERAGE_ACI = {0: 1, 1: 3, 2: 5}
@@ -31,7 +39,9 @@ COVERAGE_ACI = {0: 1, 1: 3, 2: 5}
 
 def zone_xdata(zone_id: str, side: str, frame: str, heights: tuple[float, ...]) -> list[tuple[int, object]]:
     """XDATA tags of a zone polyline: 1000 strings key=value, then one 1040 real per vertex height."""
-    return [(1000, f"zone={zone_id}"), (1000, f"side={side}"), (1000, f"frame={frame}")] + [(1040, float(h)) for h in heights]
+    return [(1000, f"zone={zone_id}"), (1000, f"side={side}"), (1000, f"frame={frame}")] + [
+        (1040, float(h)) for h in heights
+    ]
 
 
 #: ezdxf's metadata option is one flag for the whole process: one drawing at a time switches it
@@ -88,7 +98,9 @@ def _drawing(o: Outcome) -> ezdxf.document.Drawing:
     msp = doc.modelspace()
     th = _label_height(o)
     for z in o.site.zones:
-        e = msp.add_lwpolyline(z.vertices, close=True, dxfattribs={"layer": "WALLS", "thickness": max(z.vertex_heights_m)})
+        e = msp.add_lwpolyline(
+            z.vertices, close=True, dxfattribs={"layer": "WALLS", "thickness": max(z.vertex_heights_m)}
+        )
         e.set_xdata(APPID, zone_xdata(z.id, z.scan_side.value, z.frame, z.vertex_heights_m))
         for ring, hs in zip(z.holes, z.hole_heights_m):
             e = msp.add_lwpolyline(ring, close=True, dxfattribs={"layer": "HOLES", "thickness": max(hs)})
@@ -113,7 +125,9 @@ def _drawing(o: Outcome) -> ezdxf.document.Drawing:
     if o.network is not None:
         g = o.network.graph
         for u, v in g.edges():
-            msp.add_line((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]), dxfattribs={"layer": "NETWORK"})
+            msp.add_line(
+                (g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]), dxfattribs={"layer": "NETWORK"}
+            )
         for c in o.network.control:
             msp.add_point((c.x, c.y), dxfattribs={"layer": "CONTROL"})
             msp.add_text(c.name, height=th, dxfattribs={"layer": "CONTROL"}).set_placement((c.x + th, c.y - 2 * th))

@@ -25,7 +25,9 @@ def to_orlib(problem: CoverageProblem, cost: np.ndarray | None = None) -> str:
     candidate are left out)."""
     bt = problem.by_target
     c = np.ones(problem.shape[0], dtype=int) if cost is None else np.asarray(cost)
-    rows = [bt.indices[bt.indptr[t]:bt.indptr[t + 1]] + 1 for t in range(bt.shape[0]) if bt.indptr[t + 1] > bt.indptr[t]]
+    rows = [
+        bt.indices[bt.indptr[t] : bt.indptr[t + 1]] + 1 for t in range(bt.shape[0]) if bt.indptr[t + 1] > bt.indptr[t]
+    ]
     out = [f"{len(rows)} {problem.shape[0]}", " ".join(str(int(v)) for v in c)]
     for r in rows:
         out.append(f"{len(r)} " + " ".join(str(int(v)) for v in r))
@@ -40,7 +42,7 @@ def to_mps(problem: CoverageProblem, k: int = 1) -> str:
     x = [s.BoolVar(c.id) for c in problem.candidates]
     bt = problem.by_target
     for t in range(bt.shape[0]):
-        idx = bt.indices[bt.indptr[t]:bt.indptr[t + 1]]
+        idx = bt.indices[bt.indptr[t] : bt.indptr[t + 1]]
         if idx.size:
             ct = s.RowConstraint(k, s.infinity(), f"t{t}")
             for i in idx:
@@ -54,18 +56,32 @@ def to_mps(problem: CoverageProblem, k: int = 1) -> str:
 
 def to_json(problem: CoverageProblem, rule: OverlapRule) -> dict[str, Any]:
     t = problem.targets
-    adj, share = overlap_adjacency(problem.by_candidate, piece_lengths(t.s0_m, t.s1_m), rule,
-                                   [(c.zone, c.side.value) for c in problem.candidates])
+    adj, share = overlap_adjacency(
+        problem.by_candidate, piece_lengths(t.s0_m, t.s1_m), rule, [(c.zone, c.side.value) for c in problem.candidates]
+    )
     bt = problem.by_target
     coo = share.tocoo()
     return {
-        "candidates": [{"id": c.id, "zone": c.zone, "side": c.side.value, "x": c.x, "y": c.y, "kind": c.kind.value}
-                       for c in problem.candidates],
-        "targets": [{"id": t.label(i), "zone": t.zone_ids[t.zone[i]], "side": ["inside", "outside"][int(t.side[i])],
-                     "wall": int(t.wall[i]), "from_m": float(t.s0_m[i]), "to_m": float(t.s1_m[i]),
-                     "seen_by": bt.indices[bt.indptr[i]:bt.indptr[i + 1]].tolist()} for i in range(len(t))],
-        "overlap": {"rule": {"overlap": rule.overlap, "min_shared_m": rule.min_shared_m, "max_link_m": rule.max_link_m},
-                    "edges": [[int(i), int(j), float(v)] for i, j, v in zip(coo.row, coo.col, coo.data) if i < j]},
+        "candidates": [
+            {"id": c.id, "zone": c.zone, "side": c.side.value, "x": c.x, "y": c.y, "kind": c.kind.value}
+            for c in problem.candidates
+        ],
+        "targets": [
+            {
+                "id": t.label(i),
+                "zone": t.zone_ids[t.zone[i]],
+                "side": ["inside", "outside"][int(t.side[i])],
+                "wall": int(t.wall[i]),
+                "from_m": float(t.s0_m[i]),
+                "to_m": float(t.s1_m[i]),
+                "seen_by": bt.indices[bt.indptr[i] : bt.indptr[i + 1]].tolist(),
+            }
+            for i in range(len(t))
+        ],
+        "overlap": {
+            "rule": {"overlap": rule.overlap, "min_shared_m": rule.min_shared_m, "max_link_m": rule.max_link_m},
+            "edges": [[int(i), int(j), float(v)] for i, j, v in zip(coo.row, coo.col, coo.data) if i < j],
+        },
     }
 
 

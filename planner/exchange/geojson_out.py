@@ -31,10 +31,22 @@ def _feature(geom: shapely.Geometry, props: dict[str, Any]) -> dict[str, Any]:
 def _site_features(o: Outcome) -> list[dict[str, Any]]:
     out = []
     for z in o.site.zones:
-        out.append(_feature(z.polygon, {"role": "zone", "id": z.id, "scan_side": z.scan_side.value, "frame": z.frame,
-                                        "vertex_heights_m": list(z.vertex_heights_m)}))
-    out += [_feature(shapely.Polygon(ob.vertices), {"role": "obstacle", "name": ob.name, "height_m": ob.height_m})
-            for ob in o.site.obstacles]
+        out.append(
+            _feature(
+                z.polygon,
+                {
+                    "role": "zone",
+                    "id": z.id,
+                    "scan_side": z.scan_side.value,
+                    "frame": z.frame,
+                    "vertex_heights_m": list(z.vertex_heights_m),
+                },
+            )
+        )
+    out += [
+        _feature(shapely.Polygon(ob.vertices), {"role": "obstacle", "name": ob.name, "height_m": ob.height_m})
+        for ob in o.site.obstacles
+    ]
     out += [_feature(shapely.Polygon(a.vertices), {"role": "no_go", "name": a.name}) for a in o.site.no_go_areas]
     return out
 
@@ -43,11 +55,22 @@ def _coverage_features(o: Outcome) -> list[dict[str, Any]]:
     t = o.coverage.targets
     out = []
     for k in range(len(t)):
-        out.append(_feature(shapely.LineString([t.a[k], t.b[k]]), {
-            "role": "coverage", "zone": t.zone_ids[t.zone[k]], "side": ("inside", "outside")[t.side[k]],
-            "wall": int(t.wall[k]), "from_m": _num(t.s0_m[k]), "to_m": _num(t.s1_m[k]),
-            "frame": t.frames[t.frame[k]], "stations": int(o.coverage.count[k]),
-            "best_incidence_deg": _num(o.coverage.best_incidence_deg[k])}))
+        out.append(
+            _feature(
+                shapely.LineString([t.a[k], t.b[k]]),
+                {
+                    "role": "coverage",
+                    "zone": t.zone_ids[t.zone[k]],
+                    "side": ("inside", "outside")[t.side[k]],
+                    "wall": int(t.wall[k]),
+                    "from_m": _num(t.s0_m[k]),
+                    "to_m": _num(t.s1_m[k]),
+                    "frame": t.frames[t.frame[k]],
+                    "stations": int(o.coverage.count[k]),
+                    "best_incidence_deg": _num(o.coverage.best_incidence_deg[k]),
+                },
+            )
+        )
     return out
 
 
@@ -55,14 +78,31 @@ def _station_features(o: Outcome) -> list[dict[str, Any]]:
     out = []
     for s, st in zip(o.stations, o.coverage.per_station):
         r = o.tripod_radius_m.get(s.id)
-        out.append(_feature(shapely.Point(s.x, s.y), {
-            "role": "station", "id": s.id, "zone": s.zone, "side": s.side.value, "kind": s.kind.value, "frame": s.frame,
-            "covered_m": _num(st.covered_m), "worst_incidence_deg": _num(st.worst_incidence_deg),
-            "longest_range_m": _num(st.longest_range_m), "worst_point_error_m": _num(st.worst_point_error_m),
-            "tripod_radius_m": _num(r) if r is not None else None}))
+        out.append(
+            _feature(
+                shapely.Point(s.x, s.y),
+                {
+                    "role": "station",
+                    "id": s.id,
+                    "zone": s.zone,
+                    "side": s.side.value,
+                    "kind": s.kind.value,
+                    "frame": s.frame,
+                    "covered_m": _num(st.covered_m),
+                    "worst_incidence_deg": _num(st.worst_incidence_deg),
+                    "longest_range_m": _num(st.longest_range_m),
+                    "worst_point_error_m": _num(st.worst_point_error_m),
+                    "tripod_radius_m": _num(r) if r is not None else None,
+                },
+            )
+        )
         if r is not None and r > 0:
-            out.append(_feature(shapely.Point(s.x, s.y).buffer(r, quad_segs=16),
-                                {"role": "tripod_disc", "station": s.id, "radius_m": _num(r), "frame": s.frame}))
+            out.append(
+                _feature(
+                    shapely.Point(s.x, s.y).buffer(r, quad_segs=16),
+                    {"role": "tripod_disc", "station": s.id, "radius_m": _num(r), "frame": s.frame},
+                )
+            )
     return out
 
 
@@ -70,12 +110,33 @@ def _network_features(o: Outcome) -> list[dict[str, Any]]:
     if o.network is None:
         return []
     g = o.network.graph
-    out = [_feature(shapely.LineString([(g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"])]),
-                    {"role": "network", "from": u, "to": v, "kinds": sorted(d["kinds"]), "length_m": _num(d["length_m"]),
-                     "frame": g.nodes[u]["frame"]}) for u, v, d in g.edges(data=True)]
-    out += [_feature(shapely.Point(c.x, c.y), {"role": "control", "name": c.name, "proposed": c.proposed, "frame": c.frame,
-                                               "sigma_m": _num(o.network.station_sigma.get(c.name, 0.0))})
-            for c in o.network.control]
+    out = [
+        _feature(
+            shapely.LineString([(g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"])]),
+            {
+                "role": "network",
+                "from": u,
+                "to": v,
+                "kinds": sorted(d["kinds"]),
+                "length_m": _num(d["length_m"]),
+                "frame": g.nodes[u]["frame"],
+            },
+        )
+        for u, v, d in g.edges(data=True)
+    ]
+    out += [
+        _feature(
+            shapely.Point(c.x, c.y),
+            {
+                "role": "control",
+                "name": c.name,
+                "proposed": c.proposed,
+                "frame": c.frame,
+                "sigma_m": _num(o.network.station_sigma.get(c.name, 0.0)),
+            },
+        )
+        for c in o.network.control
+    ]
     return out
 
 
@@ -85,18 +146,28 @@ def outcome_geojson(o: Outcome, crs: str | None = None) -> dict[str, Any]:
     if crs is not None:
         frames = {f["properties"].get("frame", SITE_FRAME) for f in feats} - {SITE_FRAME}
         if frames:
-            raise UsageError("only site-frame coordinates can be given a CRS; these zones have local frames",
-                             field="crs", value=", ".join(sorted(frames)))
+            raise UsageError(
+                "only site-frame coordinates can be given a CRS; these zones have local frames",
+                field="crs",
+                value=", ".join(sorted(frames)),
+            )
         fwd = to_lonlat(crs)
         for f in feats:
             geom = shapely.geometry.shape(f["geometry"])
             f["geometry"] = mapping(shapely.transform(geom, lambda a: fwd(np.asarray(a))))
-    return {"type": "FeatureCollection", "name": o.site.name,
-            "planner": {"units": "degrees (WGS84 lon/lat)" if crs else "metres", "crs": crs,
-                        "method": o.meta.get("method"), "stations": len(o.stations),
-                        # what the geometry does not say, so that the file read back as a site plans the same
-                        RECORD_KEY: site_record(o.site.name, o.site.instrument, o.site.parameters)},
-            "features": feats}
+    return {
+        "type": "FeatureCollection",
+        "name": o.site.name,
+        "planner": {
+            "units": "degrees (WGS84 lon/lat)" if crs else "metres",
+            "crs": crs,
+            "method": o.meta.get("method"),
+            "stations": len(o.stations),
+            # what the geometry does not say, so that the file read back as a site plans the same
+            RECORD_KEY: site_record(o.site.name, o.site.instrument, o.site.parameters),
+        },
+        "features": feats,
+    }
 
 
 def write_geojson(o: Outcome, path: Path | str, crs: str | None = None) -> Path:

@@ -23,8 +23,8 @@ def write_stations_csv(outcome: Outcome, path: Path | str, crs: str | None = Non
         f"# instrument {outcome.validation.scanner.name}; units metres; X, Y in "
         f"{'the projected CRS ' + crs if crs else 'the zone frame'}; "
         f"Z = instrument height above the floor ({p.instrument_height_m:.3f} m)",
-        f"# frames: {', '.join(frames)}" + ("" if len(frames) == 1 else
-                                           " (each table zone has its own frame: vertex 1 at 0,0, side 1 along +X)"),
+        f"# frames: {', '.join(frames)}"
+        + ("" if len(frames) == 1 else " (each table zone has its own frame: vertex 1 at 0,0, side 1 along +X)"),
         "ID,X,Y,Z",
     ]
     lines += [f"{s.id},{s.x:.3f},{s.y:.3f},{p.instrument_height_m:.3f}" for s in outcome.stations]

@@ -44,9 +44,17 @@ class Certified:
     scope: str
 
 
-def certify(d: NDArray[np.float64], result: OrderResult, mode: str, neighbours: Sequence[set[int]],
-            parts: Sequence[int], start_is_station: bool, closed: bool, node_limit: int = NODE_LIMIT,
-            wall_cap_s: float = WALL_CAP_S) -> Certified:
+def certify(
+    d: NDArray[np.float64],
+    result: OrderResult,
+    mode: str,
+    neighbours: Sequence[set[int]],
+    parts: Sequence[int],
+    start_is_station: bool,
+    closed: bool,
+    node_limit: int = NODE_LIMIT,
+    wall_cap_s: float = WALL_CAP_S,
+) -> Certified:
     """Bound ``result`` (the routing answer) and improve it by branch-and-cut where it helps (see the module text)."""
     n = len(d)
     if n <= EXACT_MAX_NODES:
@@ -55,8 +63,9 @@ def certify(d: NDArray[np.float64], result: OrderResult, mode: str, neighbours: 
         bounds = [(HK_TREE, held_karp_bound(d, result.length_m, closed))]
     registration = mode == "registration"
     if n > 2 and (registration or bounds[0][1] < (1.0 - GAP_TOLERANCE) * result.length_m):
-        ex = scip_order(d, registration, neighbours, parts, start_is_station, closed, result.order, node_limit,
-                         wall_cap_s)
+        ex = scip_order(
+            d, registration, neighbours, parts, start_is_station, closed, result.order, node_limit, wall_cap_s
+        )
         bounds.append((BC_OPT if ex.optimal else BC_BOUND, ex.bound_m))
         if ex.order is not None and ex.length_m < result.length_m - 1e-9:
             result = replace(result, order=ex.order, length_m=ex.length_m)

@@ -50,9 +50,17 @@ class ExactResult:
     wall_s: float
 
 
-def cpsat_order(d: NDArray[np.float64], registration: bool, neighbours: Sequence[set[int]], parts: Sequence[int],
-                start_is_station: bool = True, closed: bool = False, hint: Sequence[int] | None = None,
-                work_limit: float = WORK_LIMIT, wall_cap_s: float = WALL_CAP_S) -> ExactResult:
+def cpsat_order(
+    d: NDArray[np.float64],
+    registration: bool,
+    neighbours: Sequence[set[int]],
+    parts: Sequence[int],
+    start_is_station: bool = True,
+    closed: bool = False,
+    hint: Sequence[int] | None = None,
+    work_limit: float = WORK_LIMIT,
+    wall_cap_s: float = WALL_CAP_S,
+) -> ExactResult:
     """Solve the model of the module text on walking distances ``d`` (finite, m); ``hint``: an order from node 0
     (honouring the rule in ``registration`` mode) to start from."""
     from ortools.sat.python import cp_model
@@ -112,8 +120,13 @@ def cpsat_order(d: NDArray[np.float64], registration: bool, neighbours: Sequence
     return ExactResult(tuple(order), order_length(d, order, closed), bound, status == cp_model.OPTIMAL, capped, wall)
 
 
-def _add_rule(m, u: list, nbrs: Sequence[set[int]], parts: Sequence[int],  # type: ignore[no-untyped-def]
-              start_is_station: bool) -> None:
+def _add_rule(
+    m,
+    u: list,
+    nbrs: Sequence[set[int]],
+    parts: Sequence[int],  # type: ignore[no-untyped-def]
+    start_is_station: bool,
+) -> None:
     """The registration rule on the positions (see the module text)."""
     n = len(u)
     members: dict[int, list[int]] = {}

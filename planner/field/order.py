@@ -50,8 +50,9 @@ def order_length(d: NDArray[np.float64], order: Sequence[int], closed: bool = Fa
     return legs + (float(d[order[-1], order[0]]) if closed and len(order) > 1 else 0.0)
 
 
-def registration_violations(order: Sequence[int], neighbours: Sequence[set[int]], parts: Sequence[int],
-                            start_is_station: bool) -> list[int]:
+def registration_violations(
+    order: Sequence[int], neighbours: Sequence[set[int]], parts: Sequence[int], start_is_station: bool
+) -> list[int]:
     """The stations of ``order`` that break the registration rule (see the module text)."""
     seen: set[int] = set()
     started: set[int] = set()
@@ -59,7 +60,7 @@ def registration_violations(order: Sequence[int], neighbours: Sequence[set[int]]
     for k, node in enumerate(order):
         if node == 0 and not start_is_station:
             continue
-        ok = (node == 0 or bool(neighbours[node] & seen) or parts[node] not in started)
+        ok = node == 0 or bool(neighbours[node] & seen) or parts[node] not in started
         if k > 0 and not ok:
             bad.append(node)
         seen.add(node)
@@ -67,8 +68,9 @@ def registration_violations(order: Sequence[int], neighbours: Sequence[set[int]]
     return bad
 
 
-def nearest_neighbour(d: NDArray[np.float64], neighbours: Sequence[set[int]] | None, parts: Sequence[int],
-                      start_is_station: bool) -> tuple[int, ...]:
+def nearest_neighbour(
+    d: NDArray[np.float64], neighbours: Sequence[set[int]] | None, parts: Sequence[int], start_is_station: bool
+) -> tuple[int, ...]:
     """Greedy order from node 0: the nearest node next (``neighbours`` given: the nearest that keeps the
     registration rule); ties to the lower index."""
     n = len(d)
@@ -77,8 +79,11 @@ def nearest_neighbour(d: NDArray[np.float64], neighbours: Sequence[set[int]] | N
         started.add(parts[0])
     while len(order) < n:
         at = order[-1]
-        ok = [j for j in range(n) if j not in seen and (neighbours is None or bool(neighbours[j] & seen)
-                                                         or parts[j] not in started)]
+        ok = [
+            j
+            for j in range(n)
+            if j not in seen and (neighbours is None or bool(neighbours[j] & seen) or parts[j] not in started)
+        ]
         j = min(ok, key=lambda v: (float(d[at, v]), v))
         order.append(j)
         seen.add(j)
@@ -86,9 +91,16 @@ def nearest_neighbour(d: NDArray[np.float64], neighbours: Sequence[set[int]] | N
     return tuple(order)
 
 
-def solve_order(d: NDArray[np.float64], mode: str = "shortest", neighbours: Sequence[set[int]] | None = None,
-                parts: Sequence[int] | None = None, start_is_station: bool = True, closed: bool = False,
-                solution_limit: int = SOLUTION_LIMIT, time_cap_s: float = TIME_CAP_S) -> OrderResult:
+def solve_order(
+    d: NDArray[np.float64],
+    mode: str = "shortest",
+    neighbours: Sequence[set[int]] | None = None,
+    parts: Sequence[int] | None = None,
+    start_is_station: bool = True,
+    closed: bool = False,
+    solution_limit: int = SOLUTION_LIMIT,
+    time_cap_s: float = TIME_CAP_S,
+) -> OrderResult:
     """The visiting order of nodes 0..n-1 from node 0 on walking distances ``d`` (finite, m).
 
     ``neighbours[j]``: the nodes related to j by the overlap rule; ``parts[j]``: its registration part
@@ -107,7 +119,7 @@ def solve_order(d: NDArray[np.float64], mode: str = "shortest", neighbours: Sequ
     from ortools.constraint_solver import pywrapcp, routing_enums_pb2
 
     open_path = not closed
-    manager = (pywrapcp.RoutingIndexManager(n + 1, 1, [0], [n]) if open_path else pywrapcp.RoutingIndexManager(n, 1, 0))
+    manager = pywrapcp.RoutingIndexManager(n + 1, 1, [0], [n]) if open_path else pywrapcp.RoutingIndexManager(n, 1, 0)
     routing = pywrapcp.RoutingModel(manager)
     cost = np.zeros((n + 1, n + 1), dtype=np.int64)
     cost[:n, :n] = np.rint(d * SCALE).astype(np.int64)
@@ -141,8 +153,14 @@ def solve_order(d: NDArray[np.float64], mode: str = "shortest", neighbours: Sequ
     return OrderResult(best, length, nn, nn_m, capped)
 
 
-def _add_registration(routing, manager, nbrs: list[set[int]], parts: list[int],  # type: ignore[no-untyped-def]
-                      start_is_station: bool, n: int) -> None:
+def _add_registration(
+    routing,
+    manager,
+    nbrs: list[set[int]],
+    parts: list[int],  # type: ignore[no-untyped-def]
+    start_is_station: bool,
+    n: int,
+) -> None:
     """The registration rule as constraints on a rank dimension (see the module text)."""
     one = routing.RegisterUnaryTransitVector([1] * (n + 1))
     routing.AddDimension(one, 0, n + 1, True, "rank")

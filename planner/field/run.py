@@ -120,15 +120,20 @@ def _check_stands(site: Site, stations: Sequence[Candidate], space: WalkSpace, p
         zone = zones[s.zone]
         inside = zone.polygon.buffer(1e-6).covers(shapely.Point(s.xy))
         if s.side is ScanSide.INSIDE and not inside:
-            raise InputError(f"stands outside zone {s.zone}, which it scans from inside: the plan does not match the "
-                             f"site", **where)  # type: ignore[arg-type]
+            raise InputError(
+                f"stands outside zone {s.zone}, which it scans from inside: the plan does not match the site", **where
+            )  # type: ignore[arg-type]
         if s.side is ScanSide.OUTSIDE and zone.polygon.buffer(-1e-6).contains(shapely.Point(s.xy)):
-            raise InputError(f"stands inside zone {s.zone}, which it scans from outside: the plan does not match the "
-                             f"site", **where)  # type: ignore[arg-type]
+            raise InputError(
+                f"stands inside zone {s.zone}, which it scans from outside: the plan does not match the site", **where
+            )  # type: ignore[arg-type]
         off = snap_distance(space, s.xy)
         if off > SNAP_M:
-            raise InputError(f"stands {off:.2f} m from any walkable place (in an obstacle, a no-go area, a wall or "
-                             f"outside the site boundary): the plan does not match the site", **where)  # type: ignore[arg-type]
+            raise InputError(
+                f"stands {off:.2f} m from any walkable place (in an obstacle, a no-go area, a wall or "
+                f"outside the site boundary): the plan does not match the site",
+                **where,
+            )  # type: ignore[arg-type]
 
 
 def _area_name(site: Site, s: Candidate) -> str:
@@ -138,8 +143,9 @@ def _area_name(site: Site, s: Candidate) -> str:
     return f"zone {s.zone} ({s.side.value}), accessible area {area}"
 
 
-def _start(site: Site, stations: Sequence[Candidate], space: WalkSpace, start: str | None
-           ) -> tuple[int | None, tuple[float, float], str]:
+def _start(
+    site: Site, stations: Sequence[Candidate], space: WalkSpace, start: str | None
+) -> tuple[int | None, tuple[float, float], str]:
     """(station index or None, start point, label)."""
     ids = [s.id for s in stations]
     if start is not None:
@@ -151,13 +157,19 @@ def _start(site: Site, stations: Sequence[Candidate], space: WalkSpace, start: s
         except ValueError:
             raise UsageError("names no station of the plan and is no point x,y", field="--start", value=start) from None
         if not (math.isfinite(x) and math.isfinite(y)) or snap_distance(space, (x, y)) > SNAP_M:
-            raise UsageError("lies outside the walkable area of the site (outside the boundary, in a wall, an obstacle "
-                             "or a no-go area)", field="--start", value=start)
+            raise UsageError(
+                "lies outside the walkable area of the site (outside the boundary, in a wall, an obstacle "
+                "or a no-go area)",
+                field="--start",
+                value=start,
+            )
         return None, (x, y), f"point {x:g}, {y:g}"
     from planner.coverage.openings import PASSABLE, opening_segments
 
-    doors = [(op, ends) for op, ends in ((z, e) for _zi, z, kind, e in opening_segments(site, space.frame)
-                                         if kind in PASSABLE)]
+    doors = [
+        (op, ends)
+        for op, ends in ((z, e) for _zi, z, kind, e in opening_segments(site, space.frame) if kind in PASSABLE)
+    ]
     anchor: tuple[tuple[float, float], str] | None = None
     if doors:
         mid = doors[0][1].mean(axis=0)
@@ -172,19 +184,30 @@ def _start(site: Site, stations: Sequence[Candidate], space: WalkSpace, start: s
     return k, stations[k].xy, f"station {ids[k]} (nearest {anchor[1]})"
 
 
-def field_plan(site: Site, stations: Sequence[Candidate], options: FieldOptions = FieldOptions(),
-               props: FieldProperties | None = None, plan_file: str | None = None) -> FieldPlan:
+def field_plan(
+    site: Site,
+    stations: Sequence[Candidate],
+    options: FieldOptions = FieldOptions(),
+    props: FieldProperties | None = None,
+    plan_file: str | None = None,
+) -> FieldPlan:
     """Order, route, bound, targets and field time of a plan's ``stations`` on ``site`` (see the module text)."""
     t0 = time.perf_counter()
     st = tuple(stations)
     if not st:
-        raise InputError("the plan has no stations: there is nothing to visit", file=plan_file, field="stations", value=0)
+        raise InputError(
+            "the plan has no stations: there is nothing to visit", file=plan_file, field="stations", value=0
+        )
     frame = st[0].frame
     for s in st:
         if s.frame != frame:
-            raise InfeasibleError(f"stands in frame {s.frame!r}, station {st[0].id} in {frame!r}: zones in separate "
-                                  f"frames cannot be walked between (place them with planner assemble)",
-                                  file=plan_file, field="station", value=s.id)
+            raise InfeasibleError(
+                f"stands in frame {s.frame!r}, station {st[0].id} in {frame!r}: zones in separate "
+                f"frames cannot be walked between (place them with planner assemble)",
+                file=plan_file,
+                field="station",
+                value=s.id,
+            )
     space = walk_space(site, frame, [s.xy for s in st])
     _check_stands(site, st, space, plan_file)
     first, start_xy, label = _start(site, st, space, options.start)
@@ -199,10 +222,12 @@ def field_plan(site: Site, stations: Sequence[Candidate], options: FieldOptions 
     comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
     parts = [-1 if k < 0 else comp[k] for k in node_station]
     d = g.dist
-    result = solve_order(d, options.mode, nbrs, parts, first is not None, options.closed, options.solution_limit,
-                         options.time_cap_s)
-    cert = certify(d, result, options.mode, nbrs, parts, first is not None, options.closed, options.node_limit,
-                   options.time_cap_s)
+    result = solve_order(
+        d, options.mode, nbrs, parts, first is not None, options.closed, options.solution_limit, options.time_cap_s
+    )
+    cert = certify(
+        d, result, options.mode, nbrs, parts, first is not None, options.closed, options.node_limit, options.time_cap_s
+    )
     result, bound, method = cert.result, cert.bound_m, cert.method
     ok = not registration_violations(result.order, nbrs, parts, first is not None)
     order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
@@ -211,23 +236,48 @@ def field_plan(site: Site, stations: Sequence[Candidate], options: FieldOptions 
     if first is not None:
         legs = ((st[first].xy,),) + legs  # the first station: no walk to it
     props = props or _properties(site)
-    links, targets = propose_targets(site, st, space, props, order if options.mode == "registration" else None,
-                                     options.strong_overlap, problem)
-    walks = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[:len(order)]]
+    links, targets = propose_targets(
+        site, st, space, props, order if options.mode == "registration" else None, options.strong_overlap, problem
+    )
+    walks = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[: len(order)]]
     counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
     ft = field_time([st[k].id for k in order], walks, counts, props, options.setting, options.session_s)
-    return FieldPlan(site, st, order, start_xy, label, legs, result.length_m, bound, method, result.nearest_neighbour_m,
-                     options, ft, tuple(links), tuple(targets), space, site.parameters.instrument_height_m,
-                     result.capped, ok, time.perf_counter() - t0, cert)
+    return FieldPlan(
+        site,
+        st,
+        order,
+        start_xy,
+        label,
+        legs,
+        result.length_m,
+        bound,
+        method,
+        result.nearest_neighbour_m,
+        options,
+        ft,
+        tuple(links),
+        tuple(targets),
+        space,
+        site.parameters.instrument_height_m,
+        result.capped,
+        ok,
+        time.perf_counter() - t0,
+        cert,
+    )
 
 
-def _check_reach(site: Site, st: Sequence[Candidate], g: WalkGraph, node_station: list[int], label: str,
-                 plan_file: str | None) -> None:
+def _check_reach(
+    site: Site, st: Sequence[Candidate], g: WalkGraph, node_station: list[int], label: str, plan_file: str | None
+) -> None:
     for n, k in enumerate(node_station):
         if k >= 0 and not math.isfinite(g.dist[0, n]):
-            raise InfeasibleError(f"cannot be reached on foot from the start ({label}): it stands in "
-                                  f"{_area_name(site, st[k])}, which no door or gate joins to the start's",
-                                  file=plan_file, field="station", value=st[k].id)
+            raise InfeasibleError(
+                f"cannot be reached on foot from the start ({label}): it stands in "
+                f"{_area_name(site, st[k])}, which no door or gate joins to the start's",
+                file=plan_file,
+                field="station",
+                value=st[k].id,
+            )
 
 
 def _properties(site: Site) -> FieldProperties:

@@ -53,8 +53,9 @@ def _eligible(nbrs_mat: NDArray[np.bool_], part_mat: NDArray[np.bool_], inside: 
 class _Cuts:
     """The two cut families on an n x n matrix of arc values (arcs into the dummy end left out)."""
 
-    def __init__(self, n: int, nbrs: Sequence[set[int]], parts: Sequence[int], start_is_station: bool,
-                 registration: bool) -> None:
+    def __init__(
+        self, n: int, nbrs: Sequence[set[int]], parts: Sequence[int], start_is_station: bool, registration: bool
+    ) -> None:
         self.n, self.registration = n, registration
         self.nbrs = np.zeros((n, n), dtype=bool)
         for j in range(n):
@@ -125,9 +126,17 @@ def _walk(x: NDArray[np.float64]) -> list[int]:
         seen.add(at)
 
 
-def scip_order(d: NDArray[np.float64], registration: bool, neighbours: Sequence[set[int]], parts: Sequence[int],
-               start_is_station: bool = True, closed: bool = False, hint: Sequence[int] | None = None,
-               node_limit: int = NODE_LIMIT, wall_cap_s: float = WALL_CAP_S) -> ExactResult:
+def scip_order(
+    d: NDArray[np.float64],
+    registration: bool,
+    neighbours: Sequence[set[int]],
+    parts: Sequence[int],
+    start_is_station: bool = True,
+    closed: bool = False,
+    hint: Sequence[int] | None = None,
+    node_limit: int = NODE_LIMIT,
+    wall_cap_s: float = WALL_CAP_S,
+) -> ExactResult:
     """Solve the model of the module text on walking distances ``d`` (finite, m); ``hint``: an order from node 0
     (honouring the rule in ``registration`` mode) given to SCIP as its first solution."""
     import pyscipopt
@@ -162,8 +171,16 @@ def scip_order(d: NDArray[np.float64], registration: bool, neighbours: Sequence[
                 m.addCons(x[i, j] + x[j, i] <= 1)
     m.setObjIntegral()
     handler = _handler(pyscipopt)(x, cuts, n, registration, neighbours, parts, start_is_station)
-    m.includeConshdlr(handler, "route", "subtours and the registration rule", sepapriority=10, enfopriority=-10,
-                      chckpriority=-10, sepafreq=1, needscons=False)
+    m.includeConshdlr(
+        handler,
+        "route",
+        "subtours and the registration rule",
+        sepapriority=10,
+        enfopriority=-10,
+        chckpriority=-10,
+        sepafreq=1,
+        needscons=False,
+    )
     m.setBoolParam("misc/allowstrongdualreds", False)
     m.setBoolParam("misc/allowweakdualreds", False)
     m.setParam("limits/nodes", node_limit)
@@ -200,8 +217,16 @@ def _handler(scip: Any) -> type:
     result = scip.SCIP_RESULT
 
     class Route(scip.Conshdlr):  # type: ignore[misc, name-defined]
-        def __init__(self, x: dict, cuts: _Cuts, n: int, registration: bool, nbrs: Sequence[set[int]],
-                     parts: Sequence[int], start_is_station: bool) -> None:
+        def __init__(
+            self,
+            x: dict,
+            cuts: _Cuts,
+            n: int,
+            registration: bool,
+            nbrs: Sequence[set[int]],
+            parts: Sequence[int],
+            start_is_station: bool,
+        ) -> None:
             self.x, self.cuts, self.n = x, cuts, n
             self.rule = (registration, nbrs, parts, start_is_station)
 
@@ -225,7 +250,7 @@ def _handler(scip: Any) -> type:
                 bad = registration_violations(order, nbrs, parts, start_is_station)
                 if bad:
                     inside = np.zeros(self.n, dtype=bool)
-                    inside[order[order.index(bad[0]):]] = True
+                    inside[order[order.index(bad[0]) :]] = True
                     return inside
             return None
 
@@ -246,8 +271,9 @@ def _handler(scip: Any) -> type:
             return len(rows)
 
         def conscheck(self, constraints, solution, checkintegrality, checklprows, printreason, completely):
-            return {"result": result.INFEASIBLE if self._broken(self._values(solution)) is not None
-                    else result.FEASIBLE}
+            return {
+                "result": result.INFEASIBLE if self._broken(self._values(solution)) is not None else result.FEASIBLE
+            }
 
         def _enforce(self) -> dict:
             xv = self._values(None)

@@ -121,8 +121,9 @@ def chain_links(g: nx.Graph, order: Sequence[int] | None) -> list[tuple[int, int
     return out
 
 
-def _sphere_places(space: WalkSpace, site: Site, xy: NDArray[np.float64], pairs: list[tuple[int, int]],
-                   reach: float) -> NDArray[np.float64]:
+def _sphere_places(
+    space: WalkSpace, site: Site, xy: NDArray[np.float64], pairs: list[tuple[int, int]], reach: float
+) -> NDArray[np.float64]:
     """Tripod places: a grid within ``reach`` of both stations of a pair, and the middle of every door."""
     pts = [ends.mean(axis=0) for _zi, _w, kind, ends in opening_segments(site, space.frame) if kind in PASSABLE]
     for i, j in pairs:
@@ -133,8 +134,9 @@ def _sphere_places(space: WalkSpace, site: Site, xy: NDArray[np.float64], pairs:
         mid = shapely.Point((xy[i] + xy[j]) / 2.0)  # a tripod half-way, else some point both reach
         pts.append(np.array((mid if lens.covers(mid) else lens.representative_point()).coords[0]))
         x0, y0, x1, y1 = lens.bounds
-        gx, gy = np.meshgrid(np.arange(math.floor(x0), x1 + 1e-9, SPHERE_GRID_M),
-                             np.arange(math.floor(y0), y1 + 1e-9, SPHERE_GRID_M))
+        gx, gy = np.meshgrid(
+            np.arange(math.floor(x0), x1 + 1e-9, SPHERE_GRID_M), np.arange(math.floor(y0), y1 + 1e-9, SPHERE_GRID_M)
+        )
         grid = np.column_stack([gx.ravel(), gy.ravel()])
         inside = shapely.contains_xy(lens, grid[:, 0], grid[:, 1]) if len(grid) else np.zeros(0, bool)
         pts += list(grid[inside])
@@ -143,8 +145,9 @@ def _sphere_places(space: WalkSpace, site: Site, xy: NDArray[np.float64], pairs:
     return np.unique(np.round(np.asarray(pts, dtype=float), 6), axis=0)
 
 
-def _sphere_sight(site: Site, frame: str, xy: NDArray[np.float64], places: NDArray[np.float64],
-                  reach: float) -> NDArray[np.bool_]:
+def _sphere_sight(
+    site: Site, frame: str, xy: NDArray[np.float64], places: NDArray[np.float64], reach: float
+) -> NDArray[np.bool_]:
     """S x P: station s sees sphere place p (in range, not too close, nothing in between)."""
     seen = np.zeros((len(xy), len(places)), dtype=bool)
     if not len(places):
@@ -169,9 +172,15 @@ def _wall_sight(problem: CoverageProblem, props: FieldProperties) -> NDArray[np.
     return out
 
 
-def propose_targets(site: Site, stations: Sequence[Candidate], space: WalkSpace, props: FieldProperties,
-                    order: Sequence[int] | None = None, strong_overlap: float = STRONG_OVERLAP,
-                    problem: CoverageProblem | None = None) -> tuple[list[Link], list[Target]]:
+def propose_targets(
+    site: Site,
+    stations: Sequence[Candidate],
+    space: WalkSpace,
+    props: FieldProperties,
+    order: Sequence[int] | None = None,
+    strong_overlap: float = STRONG_OVERLAP,
+    problem: CoverageProblem | None = None,
+) -> tuple[list[Link], list[Target]]:
     """The chain links (weak ones with their targets) and the targets (see the module text).
 
     ``order``: the visiting order as station indices (registration order); None: the spanning forest.
@@ -199,8 +208,17 @@ def propose_targets(site: Site, stations: Sequence[Candidate], space: WalkSpace,
             kind, where = "checkerboard", f"wall {t.label(c).split(' ')[0]} at {(t.s0_m[c] + t.s1_m[c]) / 2:.1f} m"
         else:
             kind, where = "sphere", "tripod"
-        targets.append(Target(tid[c], kind, float(cand_xy[c, 0]), float(cand_xy[c, 1]), where,
-                              tuple(stations[int(s)].id for s in np.flatnonzero(seen[:, c])), serves))
+        targets.append(
+            Target(
+                tid[c],
+                kind,
+                float(cand_xy[c, 0]),
+                float(cand_xy[c, 1]),
+                where,
+                tuple(stations[int(s)].id for s in np.flatnonzero(seen[:, c])),
+                serves,
+            )
+        )
     targets += _control_targets(site, stations, xy, reach, len(targets))
     links = []
     for i, j in chain:
@@ -208,22 +226,38 @@ def propose_targets(site: Site, stations: Sequence[Candidate], space: WalkSpace,
         mine = tuple(tid[c] for c in chosen if both[c]) if (i, j) in weak else ()
         still = (i, j) in weak and len(mine) < TARGETS_PER_LINK
         apart = float(np.hypot(*(xy[i] - xy[j])))
-        links.append(Link(stations[i].id, stations[j].id, g[i][j]["shared_m"], g[i][j]["fraction"], still, mine,
-                          int(both.sum()), apart, _reason(apart, reach, int(both.sum())) if still else ""))
+        links.append(
+            Link(
+                stations[i].id,
+                stations[j].id,
+                g[i][j]["shared_m"],
+                g[i][j]["fraction"],
+                still,
+                mine,
+                int(both.sum()),
+                apart,
+                _reason(apart, reach, int(both.sum())) if still else "",
+            )
+        )
     return links, targets
 
 
 def _reason(apart: float, reach: float, places: int) -> str:
     """Why a weak link keeps fewer than :data:`TARGETS_PER_LINK` targets."""
     if apart > 2.0 * reach:
-        return (f"the stations stand {apart:.1f} m apart, more than twice the {reach:g} m target range: no target "
-                f"place is within range of both (register on the scans' overlap, or add a station between them)")
-    return (f"only {places} place(s) both stations see within the {reach:g} m target range and the target "
-            f"incidence (walls, obstacles or the walkable area leave no more)")
+        return (
+            f"the stations stand {apart:.1f} m apart, more than twice the {reach:g} m target range: no target "
+            f"place is within range of both (register on the scans' overlap, or add a station between them)"
+        )
+    return (
+        f"only {places} place(s) both stations see within the {reach:g} m target range and the target "
+        f"incidence (walls, obstacles or the walkable area leave no more)"
+    )
 
 
-def _choose(seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], xy: NDArray[np.float64],
-            weak: list[tuple[int, int]]) -> list[int]:
+def _choose(
+    seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], xy: NDArray[np.float64], weak: list[tuple[int, int]]
+) -> list[int]:
     """Fewest candidate places giving each weak link min(3, available) targets both see (CP-SAT)."""
     if not weak:
         return []
@@ -259,8 +293,9 @@ def _choose(seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], xy: NDArray[n
     return [c for c in keep if solver.Value(x[c])]
 
 
-def _control_targets(site: Site, stations: Sequence[Candidate], xy: NDArray[np.float64], reach: float,
-                     first: int) -> list[Target]:
+def _control_targets(
+    site: Site, stations: Sequence[Candidate], xy: NDArray[np.float64], reach: float, first: int
+) -> list[Target]:
     """A target on every control point of the instance, with the stations that see it (ties to control)."""
     out = []
     for k, cp in enumerate(site.control_points, 1):

@@ -27,8 +27,9 @@ def parse_duration(text: str) -> float:
     except ValueError:
         parts = re.fullmatch(r"((\d+(\.\d+)?)(h|min|s))+", raw)
         if not parts:
-            raise UsageError("expected a duration such as 4h, 90min, 1h30min or 45s", field="--session",
-                             value=text) from None
+            raise UsageError(
+                "expected a duration such as 4h, 90min, 1h30min or 45s", field="--session", value=text
+            ) from None
         seconds = sum(float(v) * _UNITS[u] for v, _, u in re.findall(r"(\d+(\.\d+)?)(h|min|s)", raw))
     else:
         seconds = hours * 3600.0
@@ -89,14 +90,26 @@ class FieldTime:
         return sum(s.station_s for s in self.setups)
 
     def to_dict(self) -> dict[str, object]:
-        return {"setting": self.setting, "total_s": self.total_s, "walking_s": self.walking_s,
-                "station_s": self.station_s, "session_limit_s": self.session_s,
-                "sessions": [{"number": s.number, "setups": list(s.setups), "duration_s": s.duration_s}
-                             for s in self.sessions]}
+        return {
+            "setting": self.setting,
+            "total_s": self.total_s,
+            "walking_s": self.walking_s,
+            "station_s": self.station_s,
+            "session_limit_s": self.session_s,
+            "sessions": [
+                {"number": s.number, "setups": list(s.setups), "duration_s": s.duration_s} for s in self.sessions
+            ],
+        }
 
 
-def field_time(ids: Sequence[str], walks_m: Sequence[float], targets: Sequence[int], props: FieldProperties,
-               setting: str | None = None, session_s: float | None = None) -> FieldTime:
+def field_time(
+    ids: Sequence[str],
+    walks_m: Sequence[float],
+    targets: Sequence[int],
+    props: FieldProperties,
+    setting: str | None = None,
+    session_s: float | None = None,
+) -> FieldTime:
     """The field time of stations ``ids`` in visiting order; ``walks_m[k]``: the walk to station k (from the
     start for k = 0), ``targets[k]``: targets it scans."""
     scan = props.scan_time_s(setting)
@@ -106,12 +119,23 @@ def field_time(ids: Sequence[str], walks_m: Sequence[float], targets: Sequence[i
     current: list[int] = []
     used = 0.0
     for k, (sid, walk, n_targets) in enumerate(zip(ids, walks_m, targets), 1):
-        row = Setup(k, sid, walk, walk / props.walking_speed_m_s, props.setup_time_s, scan,
-                    n_targets * props.target_scan_time_s, len(sessions) + 1)
+        row = Setup(
+            k,
+            sid,
+            walk,
+            walk / props.walking_speed_m_s,
+            props.setup_time_s,
+            scan,
+            n_targets * props.target_scan_time_s,
+            len(sessions) + 1,
+        )
         if session_s is not None:
             if row.total_s > session_s:
-                raise UsageError(f"is shorter than setup {k} (station {sid}: {row.total_s / 60:.1f} min with the walk "
-                                 f"to it)", field="--session", value=f"{session_s / 60:g}min")
+                raise UsageError(
+                    f"is shorter than setup {k} (station {sid}: {row.total_s / 60:.1f} min with the walk to it)",
+                    field="--session",
+                    value=f"{session_s / 60:g}min",
+                )
             if current and used + row.total_s > session_s:
                 sessions.append(Session(len(sessions) + 1, tuple(current), used))
                 current, used = [], 0.0

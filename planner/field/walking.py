@@ -62,7 +62,9 @@ def _passages(site: Site, frame: str) -> tuple[list[shapely.Geometry], list]:
         d = ends[1] - ends[0]
         n = np.array([-d[1], d[0]]) / float(np.hypot(*d))
         depth = OPENING_DEPTH_M + WALL_CLEARANCE_M
-        rects.append(shapely.Polygon([ends[0] + depth * n, ends[1] + depth * n, ends[1] - depth * n, ends[0] - depth * n]))
+        rects.append(
+            shapely.Polygon([ends[0] + depth * n, ends[1] + depth * n, ends[1] - depth * n, ends[0] - depth * n])
+        )
     return rects, segs
 
 
@@ -96,8 +98,11 @@ def walk_space(site: Site, frame: str, points: Sequence[tuple[float, float]] = (
         blocked_parts += [shapely.Polygon(ob.vertices) for ob in site.obstacles]
         blocked_parts += [shapely.Polygon(ng.vertices) for ng in site.no_go_areas]
     blocked = shapely.union_all(blocked_parts) if blocked_parts else shapely.Polygon()
-    strip = shapely.union_all(shapely.linestrings([list(w) for w in walls])).buffer(WALL_CLEARANCE_M, quad_segs=2) \
-        if walls else shapely.Polygon()
+    strip = (
+        shapely.union_all(shapely.linestrings([list(w) for w in walls])).buffer(WALL_CLEARANCE_M, quad_segs=2)
+        if walls
+        else shapely.Polygon()
+    )
     area = free.difference(shapely.union_all([strip, blocked])).intersection(base)
     area = shapely.set_precision(area, 1e-6)
     return WalkSpace(frame, area, tuple(walls), blocked)
@@ -188,8 +193,9 @@ def walk_graph(space: WalkSpace, points: Sequence[tuple[float, float]]) -> WalkG
     ok &= ~bad[i] & ~bad[j]
     w = np.hypot(*(nodes[i[ok]] - nodes[j[ok]]).T)
     w = np.maximum(w, 1e-9)  # csgraph drops explicit zeros
-    g = coo_matrix((np.concatenate([w, w]), (np.concatenate([i[ok], j[ok]]), np.concatenate([j[ok], i[ok]]))),
-                   shape=(n, n)).tocsr()
+    g = coo_matrix(
+        (np.concatenate([w, w]), (np.concatenate([i[ok], j[ok]]), np.concatenate([j[ok], i[ok]]))), shape=(n, n)
+    ).tocsr()
     d, pred = dijkstra(g, directed=False, indices=np.arange(m, n), return_predecessors=True)
     step = np.hypot(*(snapped - pts).T)  # the step from each point into the area
     dist = d[:, m:] + step[:, None] + step[None, :]

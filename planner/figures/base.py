@@ -33,8 +33,16 @@ def decorate_plan(ax: Axes, frame: str) -> None:
     ax.plot([bx, bx + bar], [by, by], color="black", lw=3, solid_capstyle="butt")
     ax.text(bx + bar / 2, by + 0.015 * h, f"{bar:g} m", ha="center", va="bottom", fontsize=8)
     label = "N" if frame == "site" else "N\n(frame +y)"
-    ax.annotate(label, xy=(0.95, 0.95), xytext=(0.95, 0.83), xycoords="axes fraction", ha="center", va="top",
-                fontsize=8, arrowprops={"arrowstyle": "-|>", "color": "black"})
+    ax.annotate(
+        label,
+        xy=(0.95, 0.95),
+        xytext=(0.95, 0.83),
+        xycoords="axes fraction",
+        ha="center",
+        va="top",
+        fontsize=8,
+        arrowprops={"arrowstyle": "-|>", "color": "black"},
+    )
     ax.grid(True, lw=0.3, alpha=0.5)
 
 

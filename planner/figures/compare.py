@@ -17,11 +17,16 @@ def comparison_figure(rows: Sequence[Mapping[str, Any]], title: str = "closed fo
     """
     instances = list(dict.fromkeys(r["instance"] for r in rows))
     series: dict[str, list[float]] = {}
-    for label, pick in (("closed form", lambda r: r["method"] == "closed-form"),
-                        ("greedy", lambda r: r["method"] == "greedy"),
-                        ("MILP", lambda r: r["method"] == "milp" and r.get("overlap", "no") == "no"),
-                        ("MILP + overlap", lambda r: r["method"] == "milp" and r.get("overlap") == "yes")):
-        vals = [min((float(r["stations"]) for r in rows if r["instance"] == i and pick(r)), default=np.nan) for i in instances]
+    for label, pick in (
+        ("closed form", lambda r: r["method"] == "closed-form"),
+        ("greedy", lambda r: r["method"] == "greedy"),
+        ("MILP", lambda r: r["method"] == "milp" and r.get("overlap", "no") == "no"),
+        ("MILP + overlap", lambda r: r["method"] == "milp" and r.get("overlap") == "yes"),
+    ):
+        vals = [
+            min((float(r["stations"]) for r in rows if r["instance"] == i and pick(r)), default=np.nan)
+            for i in instances
+        ]
         if not all(np.isnan(vals)):
             series[label] = vals
     fig = Figure(figsize=(13, 5), layout="constrained")
@@ -42,14 +47,18 @@ def comparison_figure(rows: Sequence[Mapping[str, Any]], title: str = "closed fo
     for k, b in enumerate(backends):
         t, hatch = [], []
         for inst, ov in groups:
-            r = next((r for r in milp if r["backend"] == b and r["instance"] == inst and r.get("overlap", "no") == ov), None)
+            r = next(
+                (r for r in milp if r["backend"] == b and r["instance"] == inst and r.get("overlap", "no") == ov), None
+            )
             t.append(float(r["time_s"]) if r else np.nan)
             hatch.append(r is not None and r.get("status") != "optimal")
         bars = ax2.bar(np.arange(len(groups)) + (k - (len(backends) - 1) / 2) * wb, t, wb, label=b)
         for bar, h in zip(bars, hatch):
             if h:
                 bar.set_hatch("//")
-    ax2.set_xticks(np.arange(len(groups)), [f"{i}\n{'overlap' if ov == 'yes' else 'plain'}" for i, ov in groups], fontsize=8)
+    ax2.set_xticks(
+        np.arange(len(groups)), [f"{i}\n{'overlap' if ov == 'yes' else 'plain'}" for i, ov in groups], fontsize=8
+    )
     ax2.set_yscale("log")
     ax2.set_ylabel("solve time (s, log scale)")
     ax2.set_title("MILP solve time per backend (hatched: not proven optimal)")

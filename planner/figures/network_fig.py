@@ -15,11 +15,13 @@ from planner.figures.base import decorate_plan
 from planner.network.adjustment import ELLIPSE_95
 from planner.plan.outcome import Outcome
 
-STYLES = {"registration": ("tab:blue", "-", 1.6, "registration (overlap) link"),
-          "traverse": ("tab:red", "-", 1.0, "control traverse leg (total station)"),
-          "tie": ("tab:purple", ":", 0.8, "tie (station scans targets on a control point)"),
-          "sight": ("0.55", ":", 0.8, "total-station sight line"),
-          "delaunay": ("tab:green", "--", 0.8, "triangulation (Delaunay, intervisible)")}
+STYLES = {
+    "registration": ("tab:blue", "-", 1.6, "registration (overlap) link"),
+    "traverse": ("tab:red", "-", 1.0, "control traverse leg (total station)"),
+    "tie": ("tab:purple", ":", 0.8, "tie (station scans targets on a control point)"),
+    "sight": ("0.55", ":", 0.8, "total-station sight line"),
+    "delaunay": ("tab:green", "--", 0.8, "triangulation (Delaunay, intervisible)"),
+}
 
 
 def _exaggeration(extent_m: float, largest_m: float) -> float:
@@ -50,8 +52,14 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
     for u, v, d in g.subgraph(nodes).edges(data=True):
         kind = next(k for k in STYLES if k in d["kinds"])
         colour, ls, lw, label = STYLES[kind]
-        ax.plot([g.nodes[u]["x"], g.nodes[v]["x"]], [g.nodes[u]["y"], g.nodes[v]["y"]], color=colour, ls=ls, lw=lw,
-                label=None if kind in shown else label)
+        ax.plot(
+            [g.nodes[u]["x"], g.nodes[v]["x"]],
+            [g.nodes[u]["y"], g.nodes[v]["y"]],
+            color=colour,
+            ls=ls,
+            lw=lw,
+            label=None if kind in shown else label,
+        )
         shown.add(kind)
     points = {p.name: p for a in o.network.adjustments for p in a.points if p.name in nodes}
     xy = np.array([(g.nodes[n]["x"], g.nodes[n]["y"]) for n in nodes])
@@ -60,9 +68,16 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
     for n in nodes:
         d = g.nodes[n]
         if d["kind"] == "control":
-            ax.plot(d["x"], d["y"], marker="^", ms=9, color="tab:red", ls="none",
-                    label=None if "control" in shown else "control point (proposed: open)",
-                    mfc="white" if d.get("proposed") else "tab:red")
+            ax.plot(
+                d["x"],
+                d["y"],
+                marker="^",
+                ms=9,
+                color="tab:red",
+                ls="none",
+                label=None if "control" in shown else "control point (proposed: open)",
+                mfc="white" if d.get("proposed") else "tab:red",
+            )
             shown.add("control")
         else:
             ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=None if "st" in shown else "station")
@@ -70,13 +85,25 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
         ax.annotate(n, (d["x"], d["y"]), xytext=(3, 3), textcoords="offset points", fontsize=6)
         p = points.get(n)
         if p is not None and p.ellipse_a > 0:
-            ax.add_patch(Ellipse((p.x, p.y), 2 * ELLIPSE_95 * p.ellipse_a * factor, 2 * ELLIPSE_95 * p.ellipse_b * factor,
-                                 angle=p.ellipse_azimuth_deg, fill=False, ec="tab:orange", lw=1.2,
-                                 label=None if "ell" in shown else f"95 % error ellipse x {factor:g}"))
+            ax.add_patch(
+                Ellipse(
+                    (p.x, p.y),
+                    2 * ELLIPSE_95 * p.ellipse_a * factor,
+                    2 * ELLIPSE_95 * p.ellipse_b * factor,
+                    angle=p.ellipse_azimuth_deg,
+                    fill=False,
+                    ec="tab:orange",
+                    lw=1.2,
+                    label=None if "ell" in shown else f"95 % error ellipse x {factor:g}",
+                )
+            )
             shown.add("ell")
     decorate_plan(ax, frame)
     ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
     worst = max((o.network.station_sigma.get(n, 0.0) for n in nodes), default=0.0)
-    ax.set_title(f"{o.site.name}: station network, frame {frame} - ellipses exaggerated x {factor:g} "
-                 f"(worst station {worst * 1000:.2f} mm)", fontsize=10)
+    ax.set_title(
+        f"{o.site.name}: station network, frame {frame} - ellipses exaggerated x {factor:g} "
+        f"(worst station {worst * 1000:.2f} mm)",
+        fontsize=10,
+    )
     return fig

@@ -17,10 +17,16 @@ from planner.plan.outcome import Outcome
 from planner.site.candidate import CandidateKind
 from planner.site.model import SITE_FRAME, ScanSide
 
-MARKERS = {CandidateKind.VERTEX: ("^", "vertex K^B"), CandidateKind.WALL: ("s", "wall K^C"),
-           CandidateKind.CIRCLE: ("o", "circle"), CandidateKind.FIELD: ("D", "field sample"),
-           CandidateKind.GRID: ("P", "grid"), CandidateKind.REGION: ("*", "from regions (whole zone-side, unseen piece)"),
-           CandidateKind.AXIS: ("v", "axis cell (regions)"), CandidateKind.PRICED: ("X", "priced (regions)")}
+MARKERS = {
+    CandidateKind.VERTEX: ("^", "vertex K^B"),
+    CandidateKind.WALL: ("s", "wall K^C"),
+    CandidateKind.CIRCLE: ("o", "circle"),
+    CandidateKind.FIELD: ("D", "field sample"),
+    CandidateKind.GRID: ("P", "grid"),
+    CandidateKind.REGION: ("*", "from regions (whole zone-side, unseen piece)"),
+    CandidateKind.AXIS: ("v", "axis cell (regions)"),
+    CandidateKind.PRICED: ("X", "priced (regions)"),
+}
 UNCOVERED = "red"
 
 
@@ -31,10 +37,21 @@ def _background(ax, o: Outcome, frame: str, zone_id: str) -> None:
                 ax.add_patch(Polygon(ring, closed=True, fill=False, ec="0.75", lw=0.6))
     if frame == SITE_FRAME:
         for ob in o.site.obstacles:
-            ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.6", ec="0.3", hatch="xx", alpha=0.6,
-                                 label=f"obstacle ({ob.height_m:g} m)"))
+            ax.add_patch(
+                Polygon(
+                    ob.vertices,
+                    closed=True,
+                    fc="0.6",
+                    ec="0.3",
+                    hatch="xx",
+                    alpha=0.6,
+                    label=f"obstacle ({ob.height_m:g} m)",
+                )
+            )
         for a in o.site.no_go_areas:
-            ax.add_patch(Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, label="no-go area"))
+            ax.add_patch(
+                Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, label="no-go area")
+            )
 
 
 def _pieces(o: Outcome, zi: int, side: ScanSide):
@@ -53,17 +70,43 @@ def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> None:
         if s.zone != zone_id or s.side is not side:
             continue
         if s.field:
-            ax.add_patch(Polygon(s.field, closed=True, fc="gold", ec="darkgoldenrod", alpha=0.25, lw=0.5,
-                                 label=None if "field" in shown else "movement field"))
+            ax.add_patch(
+                Polygon(
+                    s.field,
+                    closed=True,
+                    fc="gold",
+                    ec="darkgoldenrod",
+                    alpha=0.25,
+                    lw=0.5,
+                    label=None if "field" in shown else "movement field",
+                )
+            )
             shown.add("field")
         r = o.tripod_radius_m.get(s.id)
         if r:
-            ax.add_patch(Circle((s.x, s.y), r, fill=False, ls="--", ec="tab:purple", lw=0.8,
-                                label=None if "disc" in shown else "tripod disc"))
+            ax.add_patch(
+                Circle(
+                    (s.x, s.y),
+                    r,
+                    fill=False,
+                    ls="--",
+                    ec="tab:purple",
+                    lw=0.8,
+                    label=None if "disc" in shown else "tripod disc",
+                )
+            )
             shown.add("disc")
         marker, name = MARKERS[s.kind]
-        ax.plot(s.x, s.y, marker=marker, ms=7, mfc="white", mec="black", ls="none",
-                label=None if s.kind in shown else f"station: {name}")
+        ax.plot(
+            s.x,
+            s.y,
+            marker=marker,
+            ms=7,
+            mfc="white",
+            mec="black",
+            ls="none",
+            label=None if s.kind in shown else f"station: {name}",
+        )
         shown.add(s.kind)
         ax.annotate(str(numbers[s.id]), (s.x, s.y), xytext=(4, 4), textcoords="offset points", fontsize=7)
 
@@ -79,10 +122,12 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
     fig = Figure(figsize=(13, 6.2), layout="constrained")
     axes = fig.subplots(1, 2)
     top = max(int(count.max()) if count.size else 1, 1)
-    cmap_n = ListedColormap(["#74c476", "#31a354", "#238b45", "#006d2c", "#00441b"][:max(1, min(top, 5))])
+    cmap_n = ListedColormap(["#74c476", "#31a354", "#238b45", "#006d2c", "#00441b"][: max(1, min(top, 5))])
     norm_n = BoundaryNorm(np.arange(0.5, min(top, 5) + 1.5), cmap_n.N)
-    panels = ((axes[0], np.minimum(count, 5).astype(float), cmap_n, norm_n, "stations seeing the piece"),
-              (axes[1], inc, "viridis_r", Normalize(0.0, theta), "best incidence angle (deg)"))
+    panels = (
+        (axes[0], np.minimum(count, 5).astype(float), cmap_n, norm_n, "stations seeing the piece"),
+        (axes[1], inc, "viridis_r", Normalize(0.0, theta), "best incidence angle (deg)"),
+    )
     for ax, values, cmap, norm, label in panels:
         _background(ax, o, zone.frame, zone.id)
         for k, ring in enumerate(zone.rings[1:]):
@@ -91,8 +136,14 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
         lc = LineCollection(segs[seen], array=values[seen], cmap=cmap, norm=norm, linewidths=width[seen])
         ax.add_collection(lc)
         if (~seen).any():
-            ax.add_collection(LineCollection(segs[~seen], colors=UNCOVERED, linewidths=width[~seen] + 1.5,
-                                             label=f"uncovered ({int((~seen).sum())} pieces)"))
+            ax.add_collection(
+                LineCollection(
+                    segs[~seen],
+                    colors=UNCOVERED,
+                    linewidths=width[~seen] + 1.5,
+                    label=f"uncovered ({int((~seen).sum())} pieces)",
+                )
+            )
         cb = fig.colorbar(lc, ax=ax, shrink=0.8)
         if cmap is cmap_n:
             cb.set_ticks(range(1, min(top, 5) + 1))
@@ -100,12 +151,18 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
         _stations(ax, o, zone.id, side)
         decorate_plan(ax, zone.frame)
         ax.legend(loc="upper left", fontsize=7, framealpha=0.8)
-    hmax = max(max(zone.vertex_heights_m), *(max(h) for h in zone.hole_heights_m)) if zone.hole_heights_m else max(zone.vertex_heights_m)
+    hmax = (
+        max(max(zone.vertex_heights_m), *(max(h) for h in zone.hole_heights_m))
+        if zone.hole_heights_m
+        else max(zone.vertex_heights_m)
+    )
     axes[0].set_title(f"coverage count (line width ~ wall height, max {hmax:g} m)")
     axes[1].set_title(f"best incidence (limit {theta:g} deg)")
     n = sum(1 for s in o.stations if s.zone == zone.id and s.side is side)
-    fig.suptitle(f"{o.site.name}: zone {zone.id}, {side.value} - {n} stations, "
-                 f"{100 * float((count > 0).mean()) if count.size else 100:.1f} % of pieces covered")
+    fig.suptitle(
+        f"{o.site.name}: zone {zone.id}, {side.value} - {n} stations, "
+        f"{100 * float((count > 0).mean()) if count.size else 100:.1f} % of pieces covered"
+    )
     return fig
 
 

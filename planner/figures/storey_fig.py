@@ -39,8 +39,9 @@ def storey_figure(site: Site, stations: Sequence[Any], frame: str, title: str = 
 
 def _room(ax: Any, zone: Zone, colour: str) -> None:
     inside = zone.scan_side.value == "inside"
-    ax.add_patch(PolygonPatch(zone.xy, closed=True, fc=colour if inside else "none", alpha=0.15 if inside else 1,
-                              ec="none"))
+    ax.add_patch(
+        PolygonPatch(zone.xy, closed=True, fc=colour if inside else "none", alpha=0.15 if inside else 1, ec="none")
+    )
     for ring in zone.rings:
         closed = np.vstack([ring, ring[:1]])
         ax.plot(closed[:, 0], closed[:, 1], color="black", lw=1.2)

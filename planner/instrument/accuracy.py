@@ -118,9 +118,7 @@ class PointError:
     e_y_m: NDArray[np.float64]
 
 
-def point_error(
-    slant_m: ArrayLike, theta_deg: ArrayLike, model: RangeAngleSigma, budget: ErrorBudget
-) -> PointError:
+def point_error(slant_m: ArrayLike, theta_deg: ArrayLike, model: RangeAngleSigma, budget: ErrorBudget) -> PointError:
     """e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 + sigma_meas^2), e_x = e sin(theta), e_y = e cos(theta)."""
     e = np.sqrt(budget.squared_m2 + sigma_meas_m(slant_m, model) ** 2)
     th = np.radians(np.asarray(theta_deg, dtype=float))
@@ -132,17 +130,13 @@ def combined_sigma(*sigmas: float) -> float:
     return math.sqrt(sum(s * s for s in sigmas))
 
 
-def instrument_height_tolerance_m(
-    wall_height_m: float, slant_m: float, ih_low_m: float, ih_high_m: float
-) -> float:
+def instrument_height_tolerance_m(wall_height_m: float, slant_m: float, ih_low_m: float, ih_high_m: float) -> float:
     """Radius of a station's tolerance circle for tripod heights IH1..IH2 (3.32).
 
     Delta_HD = SD/2 * [sqrt(1 - ((h - IH2)/SD)^2) - sqrt(1 - ((h - IH1)/SD)^2)].
     """
     if not 0 <= ih_low_m <= ih_high_m or slant_m <= 0:
-        raise InputError(
-            "need 0 <= IH1 <= IH2 and SD > 0", field="instrument_height_m", value=(ih_low_m, ih_high_m)
-        )
+        raise InputError("need 0 <= IH1 <= IH2 and SD > 0", field="instrument_height_m", value=(ih_low_m, ih_high_m))
 
     def root(ih: float) -> float:
         r = (wall_height_m - ih) / slant_m
@@ -253,7 +247,9 @@ def incidence_limit_deg(model: str) -> float:
         return SOUDARISSANANE_MAX_DEG
     if model == "none":
         return 90.0
-    raise InputError(f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})", field="incidence_model", value=model)
+    raise InputError(
+        f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})", field="incidence_model", value=model
+    )
 
 
 def incidence_factor(incidence_deg: ArrayLike, model: str) -> NDArray[np.float64]:
@@ -278,8 +274,9 @@ def incidence_factor(incidence_deg: ArrayLike, model: str) -> NDArray[np.float64
     return np.ones_like(th)
 
 
-def view_error_m(slant_m: ArrayLike, incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget,
-                 model: str = "none") -> NDArray[np.float64]:
+def view_error_m(
+    slant_m: ArrayLike, incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, model: str = "none"
+) -> NDArray[np.float64]:
     """Point error e(S, theta) of one view: (2.13) with the incidence effect on the instrument term.
 
     e^2 = sigma_0^2 + sigma_c^2 + sigma_g^2 + sigma_meas(S, theta)^2, where for ``table``
@@ -297,8 +294,15 @@ def view_error_m(slant_m: ArrayLike, incidence_deg: ArrayLike, scanner: RangeAng
     return np.sqrt(budget.squared_m2 + meas2)
 
 
-def precision_ok(slant_m: ArrayLike, incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget,
-                 sigma_req_m: float, model: str = "none", eps_m: float = 1e-12) -> NDArray[np.bool_]:
+def precision_ok(
+    slant_m: ArrayLike,
+    incidence_deg: ArrayLike,
+    scanner: RangeAngleSigma,
+    budget: ErrorBudget,
+    sigma_req_m: float,
+    model: str = "none",
+    eps_m: float = 1e-12,
+) -> NDArray[np.bool_]:
     """One view meets the required accuracy: e(S, theta) <= sigma_req (single-view precision)."""
     return view_error_m(slant_m, incidence_deg, scanner, budget, model) <= sigma_req_m + eps_m
 
@@ -312,8 +316,14 @@ def combined_error_m(errors_m: ArrayLike) -> float:
     return math.inf if info == 0.0 else 1.0 / math.sqrt(info)
 
 
-def derive_theta_max_deg(slant_m: float, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float,
-                         model: str = "table", tol_deg: float = 1e-6) -> float:
+def derive_theta_max_deg(
+    slant_m: float,
+    scanner: RangeAngleSigma,
+    budget: ErrorBudget,
+    sigma_req_m: float,
+    model: str = "table",
+    tol_deg: float = 1e-6,
+) -> float:
     """Largest incidence at which a view at slant range S still meets sigma_req (bisection on e(S, theta)).
 
     Returns the model's limit when even that incidence meets the budget, and 0 when a
@@ -334,8 +344,9 @@ def derive_theta_max_deg(slant_m: float, scanner: RangeAngleSigma, budget: Error
     return lo
 
 
-def max_slant_for_view_m(incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float,
-                         model: str = "none") -> NDArray[np.float64]:
+def max_slant_for_view_m(
+    incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float, model: str = "none"
+) -> NDArray[np.float64]:
     """Largest slant range S with e(S, theta) <= sigma_req, per incidence (0 where not even S = 0 does).
 
     e grows with S at any incidence, so the views meeting sigma_req at incidence theta are those with

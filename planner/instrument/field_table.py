@@ -52,20 +52,33 @@ class FieldProperties:
         for name in _NUMBERS:
             value = getattr(self, name)
             zero_ok = name in ("setup_time_s", "target_scan_time_s")
-            if (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)
-                    or value < 0 or (value == 0 and not zero_ok)):
-                raise InputError(f"must be a finite number {'>= 0' if zero_ok else '> 0'}", field=f"field.{name}",
-                                 value=value)
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not math.isfinite(value)
+                or value < 0
+                or (value == 0 and not zero_ok)
+            ):
+                raise InputError(
+                    f"must be a finite number {'>= 0' if zero_ok else '> 0'}", field=f"field.{name}", value=value
+                )
         if not self.target_incidence_deg < 90:
-            raise InputError("must be below 90 deg", field="field.target_incidence_deg", value=self.target_incidence_deg)
+            raise InputError(
+                "must be below 90 deg", field="field.target_incidence_deg", value=self.target_incidence_deg
+            )
         if not self.scan_times_s:
             raise InputError("needs at least one setting", field="field.scan_time_s")
         for name, secs in self.scan_times_s:
             if isinstance(secs, bool) or not isinstance(secs, (int, float)) or not math.isfinite(secs) or secs <= 0:
-                raise InputError("must be a finite number of seconds > 0", field=f"field.scan_time_s.{name}", value=secs)
+                raise InputError(
+                    "must be a finite number of seconds > 0", field=f"field.scan_time_s.{name}", value=secs
+                )
         if self.default_setting not in self.settings:
-            raise InputError(f"is not a setting of scan_time_s (known: {', '.join(self.settings)})",
-                             field="field.default_setting", value=self.default_setting)
+            raise InputError(
+                f"is not a setting of scan_time_s (known: {', '.join(self.settings)})",
+                field="field.default_setting",
+                value=self.default_setting,
+            )
 
     @property
     def settings(self) -> tuple[str, ...]:
@@ -93,8 +106,9 @@ def field_from_mapping(data: Any) -> FieldProperties:
         if key == "scan_time_s":
             if not isinstance(raw, dict):
                 raise InputError("must be a table of setting = seconds", field="field.scan_time_s", value=raw)
-            values["scan_times_s"] = tuple((str(k), float(v) if isinstance(v, int) and not isinstance(v, bool) else v)
-                                           for k, v in raw.items())
+            values["scan_times_s"] = tuple(
+                (str(k), float(v) if isinstance(v, int) and not isinstance(v, bool) else v) for k, v in raw.items()
+            )
         elif key in _NUMBERS:
             values[key] = float(raw) if isinstance(raw, int) and not isinstance(raw, bool) else raw
         elif key in ("default_setting", "source"):

@@ -39,7 +39,9 @@ class Scanner(RangeAngleSigma):
     field_properties: FieldProperties | None = None
 
     def __post_init__(self) -> None:
-        _check_positive(self, ("range_sigma_const_m", "range_sigma_ppm", "angle_sigma_arcsec", "modelling_sigma_m"), True)
+        _check_positive(
+            self, ("range_sigma_const_m", "range_sigma_ppm", "angle_sigma_arcsec", "modelling_sigma_m"), True
+        )
         _check_positive(self, ("max_range_m", "max_slant_range_m"), False)
         unlimited = self.max_range_m is None and self.max_slant_range_m is None
         if unlimited and not (self.range_sigma_ppm or self.angle_sigma_arcsec):
@@ -65,8 +67,13 @@ class TotalStation:
     def __post_init__(self) -> None:
         _check_positive(
             self,
-            ("angle_sigma_arcsec", "prism_sigma_const_m", "prism_sigma_ppm",
-             "reflectorless_sigma_const_m", "reflectorless_sigma_ppm"),
+            (
+                "angle_sigma_arcsec",
+                "prism_sigma_const_m",
+                "prism_sigma_ppm",
+                "reflectorless_sigma_const_m",
+                "reflectorless_sigma_ppm",
+            ),
             True,
         )
         _check_positive(self, ("max_range_prism_m", "max_range_reflectorless_m"), False)
@@ -74,7 +81,9 @@ class TotalStation:
     def distance_model(self, reflectorless: bool = False) -> RangeAngleSigma:
         """The distance/angle error model for prism or reflectorless measurement."""
         if reflectorless:
-            return RangeAngleSigma(self.reflectorless_sigma_const_m, self.reflectorless_sigma_ppm, self.angle_sigma_arcsec)
+            return RangeAngleSigma(
+                self.reflectorless_sigma_const_m, self.reflectorless_sigma_ppm, self.angle_sigma_arcsec
+            )
         return RangeAngleSigma(self.prism_sigma_const_m, self.prism_sigma_ppm, self.angle_sigma_arcsec)
 
 
@@ -91,11 +100,19 @@ def _check_positive(obj: object, names: tuple[str, ...], zero_ok: bool) -> None:
         v = getattr(obj, name)
         if v is None:
             continue
-        bad = (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0
-               or (v == 0 and not zero_ok) or v > MAX_MODEL_VALUE)
+        bad = (
+            isinstance(v, bool)
+            or not isinstance(v, (int, float))
+            or not math.isfinite(v)
+            or v < 0
+            or (v == 0 and not zero_ok)
+            or v > MAX_MODEL_VALUE
+        )
         if bad:
             need = ">= 0" if zero_ok else "> 0"
-            raise InputError(f"must be a finite number {need} and <= {MAX_MODEL_VALUE:g}", zone=None, field=name, value=v)
+            raise InputError(
+                f"must be a finite number {need} and <= {MAX_MODEL_VALUE:g}", zone=None, field=name, value=v
+            )
 
 
 def default_models_dir() -> Path:

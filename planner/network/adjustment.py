@@ -123,11 +123,20 @@ def _wrap(angle: NDArray[np.float64]) -> NDArray[np.float64]:
     return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
-def _checked(xy: Mapping[str, object], observations: Sequence[Obs], ka: float, kl: float, angle_unit: str,
-             length_unit: str) -> list[Obs]:
+def _checked(
+    xy: Mapping[str, object], observations: Sequence[Obs], ka: float, kl: float, angle_unit: str, length_unit: str
+) -> list[Obs]:
     """The observations in radians and metres, each checked (kind, points, sigma)."""
-    obs = [Obs(o.kind, o.at, o.to, o.value * (ka if o.kind == "direction" else kl),
-               o.sigma * (ka if o.kind == "direction" else kl)) for o in observations]
+    obs = [
+        Obs(
+            o.kind,
+            o.at,
+            o.to,
+            o.value * (ka if o.kind == "direction" else kl),
+            o.sigma * (ka if o.kind == "direction" else kl),
+        )
+        for o in observations
+    ]
     for k, o in enumerate(obs, 1):
         where = {"row": f"observations[{k}]", "field": o.kind, "value": f"{o.at}->{o.to}"}
         if o.kind not in KINDS:
@@ -140,13 +149,17 @@ def _checked(xy: Mapping[str, object], observations: Sequence[Obs], ka: float, k
         k_unit, least_si = (ka, MIN_SIGMA_RAD) if o.kind == "direction" else (kl, MIN_SIGMA_M)
         if o.sigma < least_si:
             unit = angle_unit if o.kind == "direction" else length_unit
-            raise InputError(f"sigma must be at least {least_si / k_unit:g} {unit}, got {o.sigma / k_unit:g}: no survey "
-                             "observation is that precise, and its weight 1/sigma^2 would swamp the adjustment", **where)
+            raise InputError(
+                f"sigma must be at least {least_si / k_unit:g} {unit}, got {o.sigma / k_unit:g}: no survey "
+                "observation is that precise, and its weight 1/sigma^2 would swamp the adjustment",
+                **where,
+            )
     return obs
 
 
-def _orientations(f: NDArray[np.float64], values: NDArray[np.float64], station: NDArray[np.int64], n: int
-                  ) -> NDArray[np.float64]:
+def _orientations(
+    f: NDArray[np.float64], values: NDArray[np.float64], station: NDArray[np.int64], n: int
+) -> NDArray[np.float64]:
     """Approximate orientation of each station: the mean of its directions' f - value (wrapped)."""
     groups: list[list[int]] = [[] for _ in range(n)]
     for i, s in enumerate(station.tolist()):
@@ -157,9 +170,16 @@ def _orientations(f: NDArray[np.float64], values: NDArray[np.float64], station: 
 
 
 def adjust(
-    coords: Mapping[str, tuple[float, float]], fixed: Sequence[str], observations: Sequence[Obs], *,
-    observed: bool = False, angle_unit: str = "rad", length_unit: str = "m", method: str = "sparse",
-    sigma0: float = 1.0, max_iter: int = 10,
+    coords: Mapping[str, tuple[float, float]],
+    fixed: Sequence[str],
+    observations: Sequence[Obs],
+    *,
+    observed: bool = False,
+    angle_unit: str = "rad",
+    length_unit: str = "m",
+    method: str = "sparse",
+    sigma0: float = 1.0,
+    max_iter: int = 10,
 ) -> Adjustment:
     """Design (``observed=False``: covariance only) or adjustment of a network.
 
@@ -237,10 +257,10 @@ def adjust(
             assert normal is not None
             dx = normal.solve(normal.a.T @ (w * l))
         nu = len(unknown)
-        xy[uidx, 0] += dx[0:2 * nu:2]
-        xy[uidx, 1] += dx[1:2 * nu:2]
-        orient_val = orient_val + dx[2 * nu:]
-        if not observed or np.max(np.abs(dx[:2 * nu]), initial=0.0) < 1e-12:
+        xy[uidx, 0] += dx[0 : 2 * nu : 2]
+        xy[uidx, 1] += dx[1 : 2 * nu : 2]
+        orient_val = orient_val + dx[2 * nu :]
+        if not observed or np.max(np.abs(dx[: 2 * nu]), initial=0.0) < 1e-12:
             break
     if dense:
         qa, blocks, q = lsq_dense.covariance(a_dense, w, len(unknown))
@@ -264,12 +284,23 @@ def _lazy(normal: Normal, k: int) -> Callable[[], NDArray[np.float64]]:
 
     def cov() -> NDArray[np.float64]:
         return Normal(a, w, n_orient).columns(k)
+
     return cov
 
 
-def _results(unknown: Sequence[str], xy: NDArray[np.float64], obs: Sequence[Obs], w: NDArray[np.float64],
-             qa: NDArray[np.float64], blocks: NDArray[np.float64], cov: Callable[[], NDArray[np.float64]],
-             v: NDArray[np.float64] | None, n_unk: int, kl: float, sigma0: float) -> Adjustment:
+def _results(
+    unknown: Sequence[str],
+    xy: NDArray[np.float64],
+    obs: Sequence[Obs],
+    w: NDArray[np.float64],
+    qa: NDArray[np.float64],
+    blocks: NDArray[np.float64],
+    cov: Callable[[], NDArray[np.float64]],
+    v: NDArray[np.float64] | None,
+    n_unk: int,
+    kl: float,
+    sigma0: float,
+) -> Adjustment:
     """The :class:`Adjustment` from diag(A Q A^T), the points' blocks of Q and the residuals (None: a design)."""
     n_obs = len(obs)
     dof = n_obs - n_unk
@@ -290,10 +321,20 @@ def _results(unknown: Sequence[str], xy: NDArray[np.float64], obs: Sequence[Obs]
         c = blocks[k] * scale
         lam, vec = np.linalg.eigh(c)
         az = math.degrees(math.atan2(vec[1, 1], vec[0, 1])) % 180.0
-        points.append(PointResult(name, float(xy[k, 0]) / kl, float(xy[k, 1]) / kl, math.sqrt(c[0, 0]) / kl,
-                                  math.sqrt(c[1, 1]) / kl, math.sqrt(max(lam[1], 0.0)) / kl,
-                                  math.sqrt(max(lam[0], 0.0)) / kl, az))
+        points.append(
+            PointResult(
+                name,
+                float(xy[k, 0]) / kl,
+                float(xy[k, 1]) / kl,
+                math.sqrt(c[0, 0]) / kl,
+                math.sqrt(c[1, 1]) / kl,
+                math.sqrt(max(lam[1], 0.0)) / kl,
+                math.sqrt(max(lam[0], 0.0)) / kl,
+                az,
+            )
+        )
 
     def qxx() -> NDArray[np.float64]:
         return cov() * scale / kl**2
+
     return Adjustment(tuple(points), v, redundancy, std, m0, dof, p, passed, tuple(obs), qxx)

@@ -54,8 +54,9 @@ def target_scan_sigma_m(range_m: float, resolution_deg: float) -> float:
     return 0.22 * math.exp(0.03 * range_m) * math.exp(5.9 * range_m**0.615 * resolution_deg) / 1000.0
 
 
-def target_centre_sigma_m(control_sigma_m: float, ts_range_m: float, ts_distance_sigma_m: float,
-                          ts_angle_arcsec: float) -> float:
+def target_centre_sigma_m(
+    control_sigma_m: float, ts_range_m: float, ts_distance_sigma_m: float, ts_angle_arcsec: float
+) -> float:
     """m_c of a target centre coordinated from a control point (formula 3)."""
     rho = 206264.806
     meas2 = ts_distance_sigma_m**2 + 2.0 * (ts_range_m * ts_angle_arcsec / rho) ** 2
@@ -88,25 +89,32 @@ class ChainReport:
 
     def lines(self) -> list[str]:
         name, worst = self.worst
-        out = [f"registration chain: worst station {name} {worst * 1000:.2f} mm, "
-               f"{self.links_from_control.get(name, -1)} link(s) from control (chain model: each registration link "
-               f"adds its error to the stations beyond it; not the adjustment's a priori error)"]
+        out = [
+            f"registration chain: worst station {name} {worst * 1000:.2f} mm, "
+            f"{self.links_from_control.get(name, -1)} link(s) from control (chain model: each registration link "
+            f"adds its error to the stations beyond it; not the adjustment's a priori error)"
+        ]
         by_hops: dict[int, list[float]] = {}
         for s, h in self.links_from_control.items():
             by_hops.setdefault(h, []).append(self.sigma_m[s])
-        out += [f"  {h} link(s) from control: {len(v)} station(s), error up to {max(v) * 1000:.2f} mm"
-                for h, v in sorted(by_hops.items())]
+        out += [
+            f"  {h} link(s) from control: {len(v)} station(s), error up to {max(v) * 1000:.2f} mm"
+            for h, v in sorted(by_hops.items())
+        ]
         out.append(f"  weakest chain: {' - '.join(self.weakest_chain)}")
         if self.best_tie is not None and self.worst_after_tie_m is not None:
-            out.append(f"  one more control point (tie) at {self.best_tie}: worst error {worst * 1000:.2f} -> "
-                       f"{self.worst_after_tie_m * 1000:.2f} mm")
+            out.append(
+                f"  one more control point (tie) at {self.best_tie}: worst error {worst * 1000:.2f} -> "
+                f"{self.worst_after_tie_m * 1000:.2f} mm"
+            )
         if self.untied:
             out.append(f"  not tied to control (no datum): {', '.join(self.untied)}")
         return out
 
 
-def _observations(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]],
-                  ties: Mapping[str, float]) -> list[Obs]:
+def _observations(
+    xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]], ties: Mapping[str, float]
+) -> list[Obs]:
     obs = []
     for u, v in links:
         s = registration_sigma_m(math.dist(xy[u], xy[v]))
@@ -116,8 +124,9 @@ def _observations(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[s
     return obs
 
 
-def _sigmas(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]], ties: Mapping[str, float]
-            ) -> dict[str, float]:
+def _sigmas(
+    xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]], ties: Mapping[str, float]
+) -> dict[str, float]:
     """A priori position error of every station in a part that holds a tie."""
     g = nx.Graph()
     g.add_nodes_from(xy)
@@ -128,13 +137,19 @@ def _sigmas(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, st
             continue
         sub_links = [(u, v) for u, v in links if u in comp]
         order = sorted(comp)  # a fixed order of the unknowns (not set order)
-        adj = adjust({s: xy[s] for s in order}, [], _observations(xy, sub_links, {s: ties[s] for s in order if s in ties}))
+        adj = adjust(
+            {s: xy[s] for s in order}, [], _observations(xy, sub_links, {s: ties[s] for s in order if s in ties})
+        )
         out.update({p.name: p.position_error for p in adj.points})
     return out
 
 
-def chain_accuracy(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]],
-                   ties: Mapping[str, float], extra_tie_sigma_m: float | None = None) -> ChainReport:
+def chain_accuracy(
+    xy: Mapping[str, tuple[float, float]],
+    links: Sequence[tuple[str, str]],
+    ties: Mapping[str, float],
+    extra_tie_sigma_m: float | None = None,
+) -> ChainReport:
     """Station errors of a registration network held by ``ties`` (station -> m_t), and where one more
     tie of sigma ``extra_tie_sigma_m`` (default: the smallest given) helps most."""
     sigma = _sigmas(xy, links, ties)
@@ -165,8 +180,9 @@ def control_count(chain_length_m: float) -> int:
     return max(MIN_CONTROL, math.ceil(chain_length_m / CHAIN_PER_CONTROL_M))
 
 
-def place_ties(xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]], tie_sigma: float,
-               count: int) -> dict[str, float]:
+def place_ties(
+    xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]], tie_sigma: float, count: int
+) -> dict[str, float]:
     """Choose ``count`` stations of a connected part to tie to control, one at a time where the worst error
     is (the first: the station nearest the part's centre), so ties spread along the chains."""
     names = sorted(xy)

@@ -59,8 +59,8 @@ class NetworkReport:
     control: tuple[ControlPoint, ...]
     diagnostics: Diagnostics
     adjustments: tuple[Adjustment, ...]
-    failures: tuple[str, ...]          # parts that could not be adjusted, with the reason
-    station_sigma: dict[str, float]    # adjusted position error per station (m)
+    failures: tuple[str, ...]  # parts that could not be adjusted, with the reason
+    station_sigma: dict[str, float]  # adjusted position error per station (m)
     check: dict[str, Any]
     monte_carlo: tuple[MonteCarlo, ...] = field(default=())
     notes: tuple[str, ...] = ()
@@ -74,11 +74,22 @@ class NetworkReport:
 
     def to_dict(self) -> dict[str, Any]:
         g = self.graph
-        ellipses = {p.name: {"x": p.x, "y": p.y, "sigma_x_m": p.sigma_x, "sigma_y_m": p.sigma_y,
-                             "position_error_m": p.position_error, "ellipse_a_m": p.ellipse_a, "ellipse_b_m": p.ellipse_b,
-                             "ellipse_azimuth_deg": p.ellipse_azimuth_deg, "ellipse95_a_m": p.ellipse_a * ELLIPSE_95,
-                             "ellipse95_b_m": p.ellipse_b * ELLIPSE_95}
-                    for adj in self.adjustments for p in adj.points}
+        ellipses = {
+            p.name: {
+                "x": p.x,
+                "y": p.y,
+                "sigma_x_m": p.sigma_x,
+                "sigma_y_m": p.sigma_y,
+                "position_error_m": p.position_error,
+                "ellipse_a_m": p.ellipse_a,
+                "ellipse_b_m": p.ellipse_b,
+                "ellipse_azimuth_deg": p.ellipse_azimuth_deg,
+                "ellipse95_a_m": p.ellipse_a * ELLIPSE_95,
+                "ellipse95_b_m": p.ellipse_b * ELLIPSE_95,
+            }
+            for adj in self.adjustments
+            for p in adj.points
+        }
         for name, sh in self.sigma_h.items():
             if name in ellipses:
                 e = ellipses[name]
@@ -86,16 +97,31 @@ class NetworkReport:
                 e["point_error_3d_m"] = math.sqrt(e["position_error_m"] ** 2 + sh**2)  # m_P of seed 003
         return {
             "nodes": [{"id": n, **{k: v for k, v in d.items()}} for n, d in g.nodes(data=True)],
-            "edges": [{"from": u, "to": v, "kinds": sorted(d["kinds"]), "length_m": d["length_m"]} for u, v, d in g.edges(data=True)],
+            "edges": [
+                {"from": u, "to": v, "kinds": sorted(d["kinds"]), "length_m": d["length_m"]}
+                for u, v, d in g.edges(data=True)
+            ],
             "control": [{"name": c.name, "x": c.x, "y": c.y, "proposed": c.proposed} for c in self.control],
-            "diagnostics": {"components": self.diagnostics.components, "untied_stations": self.diagnostics.untied_stations,
-                            "articulation_points": self.diagnostics.articulation_points,
-                            "paths_to_control": self.diagnostics.paths_to_control},
+            "diagnostics": {
+                "components": self.diagnostics.components,
+                "untied_stations": self.diagnostics.untied_stations,
+                "articulation_points": self.diagnostics.articulation_points,
+                "paths_to_control": self.diagnostics.paths_to_control,
+            },
             "stations": ellipses,
             "network_rms_m": self.network_rms_m,
-            "adjustments": [{"dof": a.dof, "m0": a.m0, "chi2_p": a.chi2_p, "chi2_pass": a.chi2_pass,
-                             "observations": len(a.observations), "unknowns": len(a.observations) - a.dof,
-                             "unchecked_observations": len(a.unchecked())} for a in self.adjustments],
+            "adjustments": [
+                {
+                    "dof": a.dof,
+                    "m0": a.m0,
+                    "chi2_p": a.chi2_p,
+                    "chi2_pass": a.chi2_pass,
+                    "observations": len(a.observations),
+                    "unknowns": len(a.observations) - a.dof,
+                    "unchecked_observations": len(a.unchecked()),
+                }
+                for a in self.adjustments
+            ],
             "failures": list(self.failures),
             "notes": list(self.notes),
             "monte_carlo": [{"runs": m.runs, "rms_m": m.rms, "spread_m": m.spread} for m in self.monte_carlo],
@@ -111,13 +137,15 @@ class NetworkReport:
     def summary(self) -> str:
         worst = max(self.station_sigma.items(), key=lambda kv: kv[1], default=("-", float("nan")))
         c = self.check
-        lines = [f"network: {self.graph.number_of_nodes()} nodes, {self.graph.number_of_edges()} edges, "
-                 f"{len(self.diagnostics.components)} part(s), control points {len(self.control)} "
-                 f"({sum(cp.proposed for cp in self.control)} proposed)",
-                 f"stations untied to control: {', '.join(self.diagnostics.untied_stations) or 'none'}; "
-                 f"articulation points: {len(self.diagnostics.articulation_points)}",
-                 f"a priori station error (least-squares adjustment of the design network): worst {worst[0]} "
-                 f"{worst[1] * 1000:.2f} mm, network RMS {self.network_rms_m * 1000:.2f} mm"]
+        lines = [
+            f"network: {self.graph.number_of_nodes()} nodes, {self.graph.number_of_edges()} edges, "
+            f"{len(self.diagnostics.components)} part(s), control points {len(self.control)} "
+            f"({sum(cp.proposed for cp in self.control)} proposed)",
+            f"stations untied to control: {', '.join(self.diagnostics.untied_stations) or 'none'}; "
+            f"articulation points: {len(self.diagnostics.articulation_points)}",
+            f"a priori station error (least-squares adjustment of the design network): worst {worst[0]} "
+            f"{worst[1] * 1000:.2f} mm, network RMS {self.network_rms_m * 1000:.2f} mm",
+        ]
         lines += [f"  not adjusted: {f}" for f in self.failures]
         lines += [f"  note: {n}" for n in self.notes]
         for k, m in enumerate(self.monte_carlo, 1):
@@ -125,14 +153,22 @@ class NetworkReport:
             st = [v for name, v in m.rms.items() if name in self.station_sigma]
             st_rms = math.sqrt(float(np.mean(np.square(st)))) if st else float("nan")
             part = f", network part {k} of {len(self.monte_carlo)}" if len(self.monte_carlo) > 1 else ""
-            lines.append(f"Monte Carlo ({m.runs} runs{part}): station RMS {st_rms * 1000:.2f} mm over {len(st)} stations "
-                         f"(all {len(m.rms)} adjusted points, control and traverse points included: {m.mean_rms * 1000:.2f} mm)")
-        worst_e = f"worst e {c['worst_e_m'] * 1000:.2f} mm" if c["worst_e_m"] is not None else "no piece with a finite error"
+            lines.append(
+                f"Monte Carlo ({m.runs} runs{part}): station RMS {st_rms * 1000:.2f} mm over {len(st)} stations "
+                f"(all {len(m.rms)} adjusted points, control and traverse points included: {m.mean_rms * 1000:.2f} mm)"
+            )
+        worst_e = (
+            f"worst e {c['worst_e_m'] * 1000:.2f} mm" if c["worst_e_m"] is not None else "no piece with a finite error"
+        )
         if c.get("untied_targets"):
-            worst_e += f" where tied to control; {c['untied_targets']} pieces seen by untied stations only (no finite error)"
+            worst_e += (
+                f" where tied to control; {c['untied_targets']} pieces seen by untied stations only (no finite error)"
+            )
         unseen = f"; {c['unseen_targets']} pieces seen by no station" if c.get("unseen_targets") else ""
-        lines.append(f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
-                     f"({c['failing_targets']} of {c['targets']} seen pieces fail; {worst_e}{unseen})")
+        lines.append(
+            f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
+            f"({c['failing_targets']} of {c['targets']} seen pieces fail; {worst_e}{unseen})"
+        )
         for z in c["zones"]:
             worst_e = "untied station" if z["untied"] else f"{z['worst_e_m'] * 1000:.2f} mm"
             lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst_e}")
@@ -175,8 +211,9 @@ def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], not
     return out
 
 
-def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint],
-                         fixed: list[str] | None = None) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
+def _design_observations(
+    g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], fixed: list[str] | None = None
+) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
     coords = {n: (d["x"], d["y"]) for n, d in g.nodes(data=True)}
     if fixed is None:
         fixed = [c.name for c in control if c.sigma_x_m == 0 and c.sigma_y_m == 0]
@@ -189,7 +226,15 @@ def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[Contro
                     continue  # the total station stands on the scanner stations (on both ends of a traverse leg)
                 az = math.degrees(math.atan2(coords[b][1] - coords[a][1], coords[b][0] - coords[a][0]))
                 obs.append(Obs("direction", a, b, az, sb))
-                obs.append(Obs("distance", a, b, d["length_m"], ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6))
+                obs.append(
+                    Obs(
+                        "distance",
+                        a,
+                        b,
+                        d["length_m"],
+                        ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6,
+                    )
+                )
         if "registration" in d["kinds"]:
             s = registration_sigma_m(d["length_m"])
             obs.append(Obs("dx", u, v, coords[v][0] - coords[u][0], s))
@@ -204,11 +249,20 @@ def _design_observations(g: nx.Graph, ts: TotalStation, control: Sequence[Contro
     return coords, fixed, obs
 
 
-def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str = "topcon-os-105",
-                control: Sequence[ControlPoint] | None = None, monte_carlo_runs: int = 0, seed: int = 0,
-                target_spacing_m: float = 1.0, registration: str | None = None,
-                precision: str = "single", traverse: ControlTraverse | None = None,
-                ts_everywhere: bool = False) -> NetworkReport:
+def run_network(
+    site: Site,
+    stations: Sequence[Candidate],
+    *,
+    total_station: str = "topcon-os-105",
+    control: Sequence[ControlPoint] | None = None,
+    monte_carlo_runs: int = 0,
+    seed: int = 0,
+    target_spacing_m: float = 1.0,
+    registration: str | None = None,
+    precision: str = "single",
+    traverse: ControlTraverse | None = None,
+    ts_everywhere: bool = False,
+) -> NetworkReport:
     """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece.
 
     ``registration``: ``zone`` or ``site`` (default :func:`planner.coverage.links.default_registration`);
@@ -281,5 +335,16 @@ def run_network(site: Site, stations: Sequence[Candidate], *, total_station: str
     sigma_h = _heights(g, ts, ctrl, notes)
     check = accuracy_check(site, stations, problem, sigma, validation.scanner, precision == "combined")
     survey = survey_network(site, stations, registration, links)
-    return NetworkReport(g, tuple(ctrl), diag, tuple(adjustments), tuple(failures), sigma, check, tuple(mcs), tuple(notes),
-                         sigma_h, survey)
+    return NetworkReport(
+        g,
+        tuple(ctrl),
+        diag,
+        tuple(adjustments),
+        tuple(failures),
+        sigma,
+        check,
+        tuple(mcs),
+        tuple(notes),
+        sigma_h,
+        survey,
+    )

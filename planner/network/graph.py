@@ -64,8 +64,14 @@ def spots_around(site: Site, stations: Sequence[Candidate]) -> list[list[tuple[f
     """The control spots of each station: ``CONTROL_OFFSETS_M`` from it in 8 directions (nearest radius
     first), where a station of its zone-side could stand and which it sees. Whether one could stand there
     is what :func:`planner.candidates.final_step.misplacement` says, in one classification of all spots."""
-    rings = [[(s.x + radius * math.cos(a * math.pi / 4), s.y + radius * math.sin(a * math.pi / 4))
-              for radius in CONTROL_OFFSETS_M for a in range(8)] for s in stations]
+    rings = [
+        [
+            (s.x + radius * math.cos(a * math.pi / 4), s.y + radius * math.sin(a * math.pi / 4))
+            for radius in CONTROL_OFFSETS_M
+            for a in range(8)
+        ]
+        for s in stations
+    ]
     if not rings:
         return []
     per = len(rings[0])
@@ -74,7 +80,7 @@ def spots_around(site: Site, stations: Sequence[Candidate]) -> list[list[tuple[f
     zone = {z.id: i for i, z in enumerate(site.zones)}
     ok = ~np.array([bool(r) for r in places.reason]).reshape(len(stations), per)
     for k, s in enumerate(stations):
-        ok[k] &= places.inside[k * per:(k + 1) * per, zone[s.zone]] == (s.side is ScanSide.INSIDE)
+        ok[k] &= places.inside[k * per : (k + 1) * per, zone[s.zone]] == (s.side is ScanSide.INSIDE)
     from_ = np.repeat(np.array([s.xy for s in stations], dtype=float).reshape(-1, 2), per, axis=0)
     frames = np.repeat(np.array([s.frame for s in stations], dtype=object), per)
     seen = np.zeros(len(xy), dtype=bool)
@@ -85,7 +91,9 @@ def spots_around(site: Site, stations: Sequence[Candidate]) -> list[list[tuple[f
     return [[p for p, good in zip(ring, row) if good] for ring, row in zip(rings, ok)]
 
 
-def widest_triangle(spots: Sequence[tuple[float, float]]) -> tuple[tuple[tuple[float, float], ...] | None, tuple[bool, float]]:
+def widest_triangle(
+    spots: Sequence[tuple[float, float]],
+) -> tuple[tuple[tuple[float, float], ...] | None, tuple[bool, float]]:
     """Of all triples of ``spots`` (in the order of ``itertools.combinations``), the first one of largest
     area whose spots are all more than ``MIN_CONTROL_SPACING_M`` apart, else the first one of largest
     smallest spacing; collinear triples (twice the area below 1e-6) never. Returns it (None: no triple)
@@ -120,8 +128,9 @@ def _triples(m: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.i
     return t[:, 0], t[:, 1], t[:, 2]
 
 
-def propose_control(site: Site, stations: Sequence[Candidate], graph: nx.Graph,
-                    notes: list[str] | None = None) -> list[ControlPoint]:
+def propose_control(
+    site: Site, stations: Sequence[Candidate], graph: nx.Graph, notes: list[str] | None = None
+) -> list[ControlPoint]:
     """Three control points per connected part of the station graph: spots 6, 4 or 3 m from its
     stations (8 directions) where a station of that zone could stand and which see that station; of these
     the three spanning the largest triangle, each pair more than 5 m apart. Marked as proposed.
@@ -134,16 +143,23 @@ def propose_control(site: Site, stations: Sequence[Candidate], graph: nx.Graph,
         spots = [p for sid in sorted(comp) for p in around[sid]]
         best, score = widest_triangle(spots[:120])
         if best is not None and not score[0] and notes is not None:
-            notes.append(f"control points of {', '.join(sorted(comp))} are only {score[1]:.1f} m apart: "
-                         "no three spots more than 5 m apart fit there")
+            notes.append(
+                f"control points of {', '.join(sorted(comp))} are only {score[1]:.1f} m apart: "
+                "no three spots more than 5 m apart fit there"
+            )
         frame = by_id[sorted(comp)[0]].frame
         for j, (x, y) in enumerate(best or []):
             out.append(ControlPoint(f"CP{k + 1}.{j + 1}", x, y, proposed=True, frame=frame))
     return out
 
 
-def station_network(site: Site, stations: Sequence[Candidate], control: Sequence[ControlPoint],
-                    registration: Sequence[tuple[str, str]], ts_range_m: float) -> nx.Graph:
+def station_network(
+    site: Site,
+    stations: Sequence[Candidate],
+    control: Sequence[ControlPoint],
+    registration: Sequence[tuple[str, str]],
+    ts_range_m: float,
+) -> nx.Graph:
     """The network of the plan's stations and the control points (see the module docstring).
 
     A site's own control points live in the site frame; proposed ones in the
@@ -169,13 +185,15 @@ def station_network(site: Site, stations: Sequence[Candidate], control: Sequence
                 tri = Delaunay(pts)
             except Exception:  # collinear points: no triangulation
                 tri = None
-            for simplex in (tri.simplices if tri is not None else []):
+            for simplex in tri.simplices if tri is not None else []:
                 for i, j in itertools.combinations(simplex, 2):
                     u, v = nodes[i], nodes[j]
                     if intervisible(site, frame, xy[u], xy[v]):
                         _link(g, u, v, "delaunay", math.dist(xy[u], xy[v]))
     for u, v in registration:
-        _link(g, u, v, "registration", math.dist((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"])))
+        _link(
+            g, u, v, "registration", math.dist((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]))
+        )
     return g
 
 
@@ -207,5 +225,6 @@ def diagnostics(g: nx.Graph) -> Diagnostics:
             paths[n] = nx.shortest_path(g, n, order[control[int(np.argmin(to_control))]])
     else:
         untied = list(stations)
-    return Diagnostics([sorted(c) for c in nx.connected_components(g)], sorted(untied), paths,
-                       sorted(nx.articulation_points(g)))
+    return Diagnostics(
+        [sorted(c) for c in nx.connected_components(g)], sorted(untied), paths, sorted(nx.articulation_points(g))
+    )

@@ -42,8 +42,9 @@ class HeightResult:
     m0: float | None
 
 
-def adjust_heights(approx: Mapping[str, float], fixed: Mapping[str, float], observations: Sequence[HeightObs],
-                   observed: bool = False) -> HeightResult:
+def adjust_heights(
+    approx: Mapping[str, float], fixed: Mapping[str, float], observations: Sequence[HeightObs], observed: bool = False
+) -> HeightResult:
     """Least-squares heights (and their sigmas) of the points not in ``fixed``.
 
     Sparse, as the plan adjustment (:mod:`planner.network.lsq_sparse`): of Q = N^-1 only the diagonal
@@ -83,4 +84,6 @@ def adjust_heights(approx: Mapping[str, float], fixed: Mapping[str, float], obse
     scale = (m0 or 1.0) ** 2
     k = np.arange(len(unknown))
     q = normal.inverse(sp.identity(len(unknown), format="csc"))(k, k)
-    return HeightResult({n: h0[n] + x[k] for n, k in col.items()}, {n: math.sqrt(q[k] * scale) for n, k in col.items()}, m0)
+    return HeightResult(
+        {n: h0[n] + x[k] for n, k in col.items()}, {n: math.sqrt(q[k] * scale) for n, k in col.items()}, m0
+    )

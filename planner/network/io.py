@@ -32,10 +32,15 @@ def read_control(path: str) -> list[ControlPoint]:
             raise InputError("needs a name, x and y", **where)
         known_keys(d, CONTROL_KEYS, **where)
         with located_in(path):  # a point's own check (coordinates within +-1e8 m) names the file too
-            out.append(ControlPoint(str(d["name"]), to_float(d.get("x"), field="x", **where),
-                                    to_float(d.get("y"), field="y", **where),
-                                    sigma_x_m=to_float(d.get("sigma_x_mm", 0), field="sigma_x_mm", **where) / 1000,
-                                    sigma_y_m=to_float(d.get("sigma_y_mm", 0), field="sigma_y_mm", **where) / 1000))
+            out.append(
+                ControlPoint(
+                    str(d["name"]),
+                    to_float(d.get("x"), field="x", **where),
+                    to_float(d.get("y"), field="y", **where),
+                    sigma_x_m=to_float(d.get("sigma_x_mm", 0), field="sigma_x_mm", **where) / 1000,
+                    sigma_y_m=to_float(d.get("sigma_y_mm", 0), field="sigma_y_mm", **where) / 1000,
+                )
+            )
     no_repeats((c.name for c in out), what="control point name", field="name", row="control[{}]", file=path)
     return out
 
@@ -56,16 +61,32 @@ def adjust_observations(report: NetworkReport, path: str) -> str:
     for k, o in enumerate(data["observations"], 1):
         where: dict[str, Any] = dict(file=path, row=f"observations[{k}]")
         if not isinstance(o, dict) or o.get("kind") not in KINDS or o.get("at") not in coords:
-            raise InputError("needs a kind and a known point 'at'", **where, value=o.get("kind") if isinstance(o, dict) else o)
-        obs.append(Obs(o["kind"], o["at"], o.get("to"), to_float(o.get("value"), field="value", **where),
-                       to_float(o.get("sigma"), field="sigma", **where)))
+            raise InputError(
+                "needs a kind and a known point 'at'", **where, value=o.get("kind") if isinstance(o, dict) else o
+            )
+        obs.append(
+            Obs(
+                o["kind"],
+                o["at"],
+                o.get("to"),
+                to_float(o.get("value"), field="value", **where),
+                to_float(o.get("sigma"), field="sigma", **where),
+            )
+        )
     fixed = [c.name for c in report.control if c.sigma_x_m == 0 and c.sigma_y_m == 0]
     adj = adjust(coords, fixed, obs, observed=True, angle_unit=au, length_unit=lu)
-    lines = [f"adjustment of {len(obs)} observations: m0 {adj.m0:.3f}, dof {adj.dof}, chi-square p {adj.chi2_p:.3f} "
-             f"({'pass' if adj.chi2_pass else 'FAIL'})" if adj.m0 is not None else "adjustment: no redundancy"]
+    lines = [
+        f"adjustment of {len(obs)} observations: m0 {adj.m0:.3f}, dof {adj.dof}, chi-square p {adj.chi2_p:.3f} "
+        f"({'pass' if adj.chi2_pass else 'FAIL'})"
+        if adj.m0 is not None
+        else "adjustment: no redundancy"
+    ]
     w = adj.worst_residual()
     if w is not None:
         o = obs[w[0]]
-        lines.append(f"largest standardised residual {w[1]:+.2f} on {o.kind} {o.at}->{o.to}" + (" (suspect: |w| > 3.29)" if abs(w[1]) > 3.29 else ""))
+        lines.append(
+            f"largest standardised residual {w[1]:+.2f} on {o.kind} {o.at}->{o.to}"
+            + (" (suspect: |w| > 3.29)" if abs(w[1]) > 3.29 else "")
+        )
     lines += [f"  {p.name}: x {p.x:.4f} y {p.y:.4f} sigma {p.position_error * 1000:.2f} mm" for p in adj.points]
     return "\n".join(lines)

@@ -19,8 +19,9 @@ from numpy.typing import NDArray
 from planner.errors import InputError
 
 
-def design(coords: Mapping[str, tuple[float, float]], unknown: Sequence[str], obs: Sequence[Any]
-           ) -> tuple[NDArray[np.float64], NDArray[np.float64], list[str]]:
+def design(
+    coords: Mapping[str, tuple[float, float]], unknown: Sequence[str], obs: Sequence[Any]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], list[str]]:
     """Jacobian A and computed values f(X0) at the coordinates, and the orientation unknowns.
 
     Parameters
@@ -92,19 +93,27 @@ def solve(a: NDArray[np.float64], w: NDArray[np.float64], l: NDArray[np.float64]
     """
     n = a.T @ (a * w[:, None])
     if np.linalg.matrix_rank(n) < n.shape[0]:
-        raise InputError(f"datum defect: the network leaves {n.shape[0] - np.linalg.matrix_rank(n)} "
-                         "unknown(s) undetermined (fix control points or add observations)", field="network")
+        raise InputError(
+            f"datum defect: the network leaves {n.shape[0] - np.linalg.matrix_rank(n)} "
+            "unknown(s) undetermined (fix control points or add observations)",
+            field="network",
+        )
     if method == "qr":
         sw = np.sqrt(w)
         return np.asarray(sla.lstsq(a * sw[:, None], l * sw, lapack_driver="gelsy")[0])
     return np.asarray(sla.cho_solve(sla.cho_factor(n), a.T @ (w * l)))
 
 
-def covariance(a: NDArray[np.float64], w: NDArray[np.float64], n_points: int
-               ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+def covariance(
+    a: NDArray[np.float64], w: NDArray[np.float64], n_points: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """diag(A Q A^T), the points' 2 x 2 blocks of Q = N^-1, and Q of the points' coordinates."""
     q = np.linalg.inv(a.T @ (a * w[:, None]))
     qa = np.einsum("ij,jk,ik->i", a, q, a)
-    blocks = np.array([q[2 * k:2 * k + 2, 2 * k:2 * k + 2] for k in range(n_points)]).reshape(n_points, 2, 2)
+    blocks = np.array([q[2 * k : 2 * k + 2, 2 * k : 2 * k + 2] for k in range(n_points)]).reshape(n_points, 2, 2)
     f64 = np.float64
-    return np.asarray(qa, dtype=f64), np.asarray(blocks, dtype=f64), np.asarray(q[:2 * n_points, :2 * n_points], dtype=f64)
+    return (
+        np.asarray(qa, dtype=f64),
+        np.asarray(blocks, dtype=f64),
+        np.asarray(q[: 2 * n_points, : 2 * n_points], dtype=f64),
+    )

@@ -82,12 +82,17 @@ class Design:
         bad = np.flatnonzero(geo & (s2 == 0))
         if bad.size:
             i = int(bad[0])
-            raise InputError("observation between coincident points", row=i + 1, field=[*CODES][k[i]],
-                             value=f"{self.names[at[i]]}->{self.names[to[i]]}")
+            raise InputError(
+                "observation between coincident points",
+                row=i + 1,
+                field=[*CODES][k[i]],
+                value=f"{self.names[at[i]]}->{self.names[to[i]]}",
+            )
         safe2 = np.where(geo, s2, 1.0)
         s = np.sqrt(safe2)
-        f = np.select([k == X, k == Y, k == DX, k == DY, k == DISTANCE],
-                      [xy[at, 0], xy[at, 1], dx, dy, s], np.arctan2(dy, dx))
+        f = np.select(
+            [k == X, k == Y, k == DX, k == DY, k == DISTANCE], [xy[at, 0], xy[at, 1], dx, dy, s], np.arctan2(dy, dx)
+        )
         dist, dirn = k == DISTANCE, k == DIRECTION
         # the partial derivatives by the at point's x, y and the to point's x, y (section 2.1)
         ga = (np.select([dist, dirn], [-dx / s, dy / safe2], 0.0), np.select([dist, dirn], [-dy / s, -dx / safe2], 0.0))
@@ -113,8 +118,9 @@ class Design:
             put(geo, np.where(ca >= 0, ca + comp, -1), ga[comp])
             put(geo, np.where(ct >= 0, ct + comp, -1), gt[comp])
         put(dirn, self.orient_col, -1.0)
-        a = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(n, self.n_unknowns))
+        a = sp.csr_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, self.n_unknowns)
+        )
         a.sort_indices()
         return a, f
 

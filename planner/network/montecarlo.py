@@ -18,7 +18,7 @@ TRUNCATE = 3.0
 @dataclass(frozen=True)
 class MonteCarlo:
     runs: int
-    rms: dict[str, float]     # per point: sqrt(mean(dx^2 + dy^2)) over the runs
+    rms: dict[str, float]  # per point: sqrt(mean(dx^2 + dy^2)) over the runs
     spread: dict[str, float]  # per point: standard deviation of the position error over the runs
 
     @property
@@ -26,8 +26,16 @@ class MonteCarlo:
         return math.sqrt(float(np.mean([v**2 for v in self.rms.values()]))) if self.rms else 0.0
 
 
-def monte_carlo(coords: Mapping[str, tuple[float, float]], fixed: Sequence[str], observations: Sequence[Obs], *,
-                runs: int = 100, seed: int = 0, angle_unit: str = "rad", length_unit: str = "m") -> MonteCarlo:
+def monte_carlo(
+    coords: Mapping[str, tuple[float, float]],
+    fixed: Sequence[str],
+    observations: Sequence[Obs],
+    *,
+    runs: int = 100,
+    seed: int = 0,
+    angle_unit: str = "rad",
+    length_unit: str = "m",
+) -> MonteCarlo:
     """Draw every observation as truth + truncated normal error, adjust, and measure the point errors."""
     if runs < 1:
         raise ValueError("runs must be >= 1")
@@ -46,7 +54,9 @@ def monte_carlo(coords: Mapping[str, tuple[float, float]], fixed: Sequence[str],
         while np.any(np.abs(e) > TRUNCATE):
             bad = np.abs(e) > TRUNCATE
             e[bad] = rng.standard_normal(int(bad.sum()))
-        sim = [Obs(o.kind, o.at, o.to, exact[i] / scale[i] + sig[i] * e[i], o.sigma) for i, o in enumerate(observations)]
+        sim = [
+            Obs(o.kind, o.at, o.to, exact[i] / scale[i] + sig[i] * e[i], o.sigma) for i, o in enumerate(observations)
+        ]
         adj = adjust(coords, fixed, sim, observed=True, angle_unit=angle_unit, length_unit=length_unit)
         for p in adj.points:
             x0, y0 = coords[p.name]

@@ -53,12 +53,18 @@ def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
         if pivots is None:
             d = n.diagonal()
             s = sp.diags(1.0 / np.sqrt(np.where(d > 0, d, 1.0)))
-            lu = spla.splu((s @ n @ s + 1e-13 * sp.identity(u)).tocsc(), permc_spec="MMD_AT_PLUS_A",
-                           diag_pivot_thresh=0.0, options={"SymmetricMode": True, "Equil": False})
+            lu = spla.splu(
+                (s @ n @ s + 1e-13 * sp.identity(u)).tocsc(),
+                permc_spec="MMD_AT_PLUS_A",
+                diag_pivot_thresh=0.0,
+                options={"SymmetricMode": True, "Equil": False},
+            )
             pivots = lu.U.diagonal()
         count = int(np.sum(np.abs(pivots) < PIVOT_TOL))
-    return InputError(f"datum defect: the network leaves {count} unknown(s) undetermined (fix control points or "
-                      "add observations)", field="network")
+    return InputError(
+        f"datum defect: the network leaves {count} unknown(s) undetermined (fix control points or add observations)",
+        field="network",
+    )
 
 
 class Normal:
@@ -103,8 +109,12 @@ class Normal:
                 self.chol = np.asarray(sla.cholesky(m.toarray(), lower=True, check_finite=False))
                 pivots = np.diag(self.chol) ** 2
             else:
-                self.lu = spla.splu(m.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                    options={"SymmetricMode": True, "Equil": False})
+                self.lu = spla.splu(
+                    m.tocsc(),
+                    permc_spec="MMD_AT_PLUS_A",
+                    diag_pivot_thresh=0.0,
+                    options={"SymmetricMode": True, "Equil": False},
+                )
                 pivots = self.lu.U.diagonal()
         except (np.linalg.LinAlgError, RuntimeError):  # not positive definite, or an exactly zero pivot
             raise _defect(n, None) from None
@@ -156,6 +166,7 @@ class Normal:
 
             def pp_entry(r: NDArray[np.int64], c: NDArray[np.int64]) -> NDArray[np.float64]:
                 return values[np.searchsorted(keys, c.astype(np.int64) * k + r)]
+
         dinv = 1.0 / self.noo
         # Q_op = -N_oo^-1 N_op Q_pp and diag Q_oo = N_oo^-1 + N_oo^-2 N_op Q_pp N_po, where the pattern needs them
         op = pattern[k:, :k].tocoo()
@@ -166,15 +177,19 @@ class Normal:
             q_op = -dinv[o] * t[o, p]
             qoo = dinv + dinv**2 * np.asarray(sp.csr_matrix(npo.T).multiply(t).sum(axis=1)).ravel()
         else:
-            j_of = [npo.indices[npo.indptr[t]:npo.indptr[t + 1]] for t in range(u - k)]
-            v_of = [npo.data[npo.indptr[t]:npo.indptr[t + 1]] for t in range(u - k)]
+            j_of = [npo.indices[npo.indptr[t] : npo.indptr[t + 1]] for t in range(u - k)]
+            v_of = [npo.data[npo.indptr[t] : npo.indptr[t + 1]] for t in range(u - k)]
             lens = np.array([len(j) for j in j_of], dtype=np.int64)
             rep = np.repeat(np.arange(len(o)), lens[o])
             jj = np.concatenate([j_of[t] for t in o]) if len(o) else np.zeros(0, dtype=np.int64)
             vv = np.concatenate([v_of[t] for t in o]) if len(o) else np.zeros(0)
             q_op = -dinv[o] * np.bincount(rep, vv * pp_entry(jj, p[rep]), minlength=len(o))
-            qoo = dinv + dinv**2 * np.array([v @ pp_entry(np.repeat(j, len(j)), np.tile(j, len(j))).reshape(len(j), -1) @ v
-                                             for j, v in zip(j_of, v_of)])
+            qoo = dinv + dinv**2 * np.array(
+                [
+                    v @ pp_entry(np.repeat(j, len(j)), np.tile(j, len(j))).reshape(len(j), -1) @ v
+                    for j, v in zip(j_of, v_of)
+                ]
+            )
         op_keys = o * k + p
         order = np.argsort(op_keys)
         op_keys, q_op = op_keys[order], q_op[order]
@@ -193,6 +208,7 @@ class Normal:
             orient = lo >= k
             out[orient] = qoo[lo[orient] - k]  # one orientation per observation: only the diagonal is asked
             return out
+
         return entry
 
     def _pp_on(self, pattern: sp.csc_matrix) -> NDArray[np.float64]:
@@ -209,6 +225,6 @@ class Normal:
             x = self.lu.solve(e)  # columns c0..c1 of (S N* S)^-1
             lo, hi = ptr[c0], ptr[c1]
             rows = idx[lo:hi]
-            cols = np.repeat(np.arange(c0, c1), np.diff(ptr[c0:c1 + 1]))
+            cols = np.repeat(np.arange(c0, c1), np.diff(ptr[c0 : c1 + 1]))
             out[lo:hi] = x[rows, cols - c0] * self.s[rows] * self.s[cols]
         return out

@@ -22,8 +22,14 @@ from planner.site.model import Site
 from planner.text import finite_or_none
 
 
-def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any,
-                   combined: bool = False) -> dict[str, Any]:
+def accuracy_check(
+    site: Site,
+    stations: Sequence[Candidate],
+    problem: Any,
+    sigma: dict[str, float],
+    scanner: Any,
+    combined: bool = False,
+) -> dict[str, Any]:
     """Point error of every covered piece from its best station (or all its stations combined), against
     sigma_req (see module docstring)."""
     p = site.parameters
@@ -55,30 +61,56 @@ def accuracy_check(site: Site, stations: Sequence[Candidate], problem: Any, sigm
             m = covered & (t.zone == zi) & (t.side == side)
             if m.any():
                 worst = float(e_best[m].max())  # infinite: some piece is seen by untied stations only
-                zones.append({"zone": zid, "side": ["inside", "outside"][side], "pass": not bool((fail & m).any()),
-                              "worst_e_m": finite_or_none(worst), "untied": not math.isfinite(worst)})
+                zones.append(
+                    {
+                        "zone": zid,
+                        "side": ["inside", "outside"][side],
+                        "pass": not bool((fail & m).any()),
+                        "worst_e_m": finite_or_none(worst),
+                        "untied": not math.isfinite(worst),
+                    }
+                )
     bad_st = sorted({stations[w].id for w in who[fail]})
     suggestions = []
     for sid in bad_st[:10]:
         s0_m = float(sigma.get(sid, float("inf")))
         if not math.isfinite(s0_m):
-            suggestions.append(f"station {sid} is not tied to control: add a control point it sees, or a registration link")
+            suggestions.append(
+                f"station {sid} is not tied to control: add a control point it sees, or a registration link"
+            )
         elif s0_m > p.sigma_req_m / 2:
-            suggestions.append(f"station {sid} position error {s0_m * 1000:.1f} mm: add a control point near it or shorten its chain")
+            suggestions.append(
+                f"station {sid} position error {s0_m * 1000:.1f} mm: add a control point near it or shorten its chain"
+            )
         else:
             suggestions.append(f"targets of station {sid} are measured too far: add a station closer to them")
     finite = e_best[covered & np.isfinite(e_best)]
-    return {"sigma_req_m": p.sigma_req_m, "drawing_scale": p.drawing_scale, "targets": int(covered.sum()),
-            "precision": "combined" if combined else "single", "incidence_model": p.incidence_model,
-            "failing_targets": int(fail.sum()), "unseen_targets": int((~covered).sum()),
-            # a piece no station sees is no pass: the check is of the wall, not of the pieces that happen to be seen
-            "pass": not bool(fail.any()) and bool(covered.all()),
-            # the worst finite error; pieces seen by untied stations only have none and are counted apart
-            "worst_e_m": float(finite.max()) if finite.size else None,
-            "untied_targets": int((covered & ~np.isfinite(e_best)).sum()), "zones": zones,
-            "failing_stations": bad_st, "failing_target_ids": [t.label(i) for i in np.flatnonzero(fail)[:50]],
-            "worst_targets": [{"target": t.label(i), "station": stations[who[i]].id, "e_m": finite_or_none(float(e_best[i])),
-                               "untied": not math.isfinite(e_best[i]),
-                               "incidence_deg": float(theta[i])}
-                              for i in np.argsort(-np.where(covered, e_best, -1.0))[:20] if covered[i]],
-            "suggestions": suggestions}
+    return {
+        "sigma_req_m": p.sigma_req_m,
+        "drawing_scale": p.drawing_scale,
+        "targets": int(covered.sum()),
+        "precision": "combined" if combined else "single",
+        "incidence_model": p.incidence_model,
+        "failing_targets": int(fail.sum()),
+        "unseen_targets": int((~covered).sum()),
+        # a piece no station sees is no pass: the check is of the wall, not of the pieces that happen to be seen
+        "pass": not bool(fail.any()) and bool(covered.all()),
+        # the worst finite error; pieces seen by untied stations only have none and are counted apart
+        "worst_e_m": float(finite.max()) if finite.size else None,
+        "untied_targets": int((covered & ~np.isfinite(e_best)).sum()),
+        "zones": zones,
+        "failing_stations": bad_st,
+        "failing_target_ids": [t.label(i) for i in np.flatnonzero(fail)[:50]],
+        "worst_targets": [
+            {
+                "target": t.label(i),
+                "station": stations[who[i]].id,
+                "e_m": finite_or_none(float(e_best[i])),
+                "untied": not math.isfinite(e_best[i]),
+                "incidence_deg": float(theta[i]),
+            }
+            for i in np.argsort(-np.where(covered, e_best, -1.0))[:20]
+            if covered[i]
+        ],
+        "suggestions": suggestions,
+    }

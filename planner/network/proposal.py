@@ -77,7 +77,9 @@ def legs(site: Site, nodes: Sequence[ControlPoint], ts_range_m: float) -> list[t
     return [(nodes[i].name, nodes[j].name) for i, j in zip(a[clear].tolist(), b[clear].tolist())]
 
 
-def needed(ring: Sequence[ControlPoint], nodes: Sequence[ControlPoint], leg_list: Sequence[tuple[str, str]]) -> set[str]:
+def needed(
+    ring: Sequence[ControlPoint], nodes: Sequence[ControlPoint], leg_list: Sequence[tuple[str, str]]
+) -> set[str]:
     """The ring points on the shortest leg paths between the other points, as networkx's
     ``single_source_dijkstra_path`` from each of them finds the paths (its choice among paths of equal
     length: a node's predecessor is the one settled first that reaches it at its distance)."""
@@ -112,8 +114,9 @@ def needed(ring: Sequence[ControlPoint], nodes: Sequence[ControlPoint], leg_list
     return kept
 
 
-def _predecessors(d: NDArray[np.float64], eu: NDArray[np.int64], ev: NDArray[np.int64], ew: NDArray[np.float64],
-                  src: int) -> NDArray[np.int64] | None:
+def _predecessors(
+    d: NDArray[np.float64], eu: NDArray[np.int64], ev: NDArray[np.int64], ew: NDArray[np.float64], src: int
+) -> NDArray[np.int64] | None:
     """Each node's predecessor on the Dijkstra tree from ``src`` (-1: the source, or not reached); None
     where two predecessors reach a node at equal distances (then the order they were settled in decides)."""
     reach = np.isfinite(d[eu]) & (d[eu] + ew == d[ev]) & (ev != src)
@@ -131,8 +134,9 @@ def _predecessors(d: NDArray[np.float64], eu: NDArray[np.int64], ev: NDArray[np.
     return pred
 
 
-def _needed_networkx(g: nx.Graph, sources: Sequence[str], names: set[str], real: Sequence[str] | None = None
-                     ) -> set[str]:
+def _needed_networkx(
+    g: nx.Graph, sources: Sequence[str], names: set[str], real: Sequence[str] | None = None
+) -> set[str]:
     kept: set[str] = set()
     targets = list(real if real is not None else sources)
     for src in sources:

@@ -72,7 +72,7 @@ def _near_lines(pts: NDArray[np.float64], b: Any) -> sp.csr_matrix:
     step = max(1, CHUNK // max(n_edges, 1))
     rows, cols = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
     for k0 in range(0, len(pts), step):
-        chunk = pts[k0:k0 + step]
+        chunk = pts[k0 : k0 + step]
         p = np.repeat(chunk, n_edges, axis=0)
         r, s = np.tile(b.a, (len(chunk), 1)), np.tile(b.b, (len(chunk), 1))
         on = np.flatnonzero(_side(_signed(r, s, p), EPS_SIGHT_M) == 0)
@@ -119,9 +119,15 @@ def sight_clear(site: Site, frame: str, p: NDArray[np.float64], q: NDArray[np.fl
         pts, inv = np.unique(np.vstack([p[rest], q[rest]]), axis=0, return_inverse=True)
         inv = inv.ravel()
         near = _near_lines(pts, b)
-        on_line = (near[inv[:len(rest)]] + near[inv[len(rest):]]).tocoo()
-        key = np.unique(np.concatenate([close[seg].astype(np.int64) * n_edges + edge,
-                                        rest[on_line.row].astype(np.int64) * n_edges + on_line.col]))
+        on_line = (near[inv[: len(rest)]] + near[inv[len(rest) :]]).tocoo()
+        key = np.unique(
+            np.concatenate(
+                [
+                    close[seg].astype(np.int64) * n_edges + edge,
+                    rest[on_line.row].astype(np.int64) * n_edges + on_line.col,
+                ]
+            )
+        )
         k, e = key // n_edges, key % n_edges
         hit = segments_touch(p[k], q[k], b.a[e], b.b[e])
         clear[k[hit]] = False

@@ -59,16 +59,26 @@ class SurveyNetwork:
 
     def to_dict(self) -> dict[str, object]:
         c = self.chain
-        return {"parts": [list(p) for p in self.parts], "links": [list(k) for k in self.links],
-                "ties_sigma_m": dict(self.ties), "proposed_control": self.proposed, "frames": list(self.frames),
-                "station_sigma_m": dict(c.sigma_m), "links_from_control": dict(c.links_from_control),
-                "weakest_chain": list(c.weakest_chain), "best_extra_tie": c.best_tie,
-                "worst_after_extra_tie_m": c.worst_after_tie_m, "untied": list(c.untied)}
+        return {
+            "parts": [list(p) for p in self.parts],
+            "links": [list(k) for k in self.links],
+            "ties_sigma_m": dict(self.ties),
+            "proposed_control": self.proposed,
+            "frames": list(self.frames),
+            "station_sigma_m": dict(c.sigma_m),
+            "links_from_control": dict(c.links_from_control),
+            "weakest_chain": list(c.weakest_chain),
+            "best_extra_tie": c.best_tie,
+            "worst_after_extra_tie_m": c.worst_after_tie_m,
+            "untied": list(c.untied),
+        }
 
     def lines(self) -> list[str]:
-        return [f"survey network: {len(self.parts)} registration part(s), {len(self.links)} registration links, "
-                f"{len(self.ties)} station(s) tied to {'proposed ' if self.proposed else ''}control; "
-                f"datum frame(s): {', '.join(self.frames)}"] + self.chain.lines()
+        return [
+            f"survey network: {len(self.parts)} registration part(s), {len(self.links)} registration links, "
+            f"{len(self.ties)} station(s) tied to {'proposed ' if self.proposed else ''}control; "
+            f"datum frame(s): {', '.join(self.frames)}"
+        ] + self.chain.lines()
 
 
 def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
@@ -76,8 +86,9 @@ def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
     return tie_sigma_m(list(ranges), DEFAULT_RESOLUTION_DEG, float(np.sqrt(np.mean(np.square(centre)))))
 
 
-def registration_links(site: Site, stations: Sequence[Candidate], mode: str | None = None,
-                       problem: CoverageProblem | None = None) -> list[tuple[str, str]]:
+def registration_links(
+    site: Site, stations: Sequence[Candidate], mode: str | None = None, problem: CoverageProblem | None = None
+) -> list[tuple[str, str]]:
     """Pairs of the plan's stations that can be registered (see the module text); ``problem``: their
     coverage, when already built (rows in the order of ``stations``)."""
     from planner.coverage.visibility import sight_limits
@@ -100,8 +111,9 @@ def registration_links(site: Site, stations: Sequence[Candidate], mode: str | No
     return out
 
 
-def survey_network(site: Site, stations: Sequence[Candidate], mode: str | None = None,
-                   links: Sequence[tuple[str, str]] | None = None) -> SurveyNetwork:
+def survey_network(
+    site: Site, stations: Sequence[Candidate], mode: str | None = None, links: Sequence[tuple[str, str]] | None = None
+) -> SurveyNetwork:
     """Links (``links``: already found by :func:`registration_links`), ties (given or proposed control)
     and the chain accuracy of a plan's stations."""
     xy = {s.id: s.xy for s in stations}
@@ -116,14 +128,21 @@ def survey_network(site: Site, stations: Sequence[Candidate], mode: str | None =
         tie = _tie(DEFAULT_CONTROL_SIGMA_M, [DEFAULT_TARGET_RANGE_M] * DEFAULT_TARGETS)
         for part in parts:
             sub = [(u, v) for u, v in links if u in part]
-            tree = nx.minimum_spanning_tree(nx.Graph([(u, v, {"w": math.dist(xy[u], xy[v])}) for u, v in sub]), weight="w")
+            tree = nx.minimum_spanning_tree(
+                nx.Graph([(u, v, {"w": math.dist(xy[u], xy[v])}) for u, v in sub]), weight="w"
+            )
             length = sum(d["w"] for _, _, d in tree.edges(data=True))
             ties.update(place_ties({s: xy[s] for s in part}, sub, tie, control_count(length)))
     else:
         by_id = {s.id: s for s in stations}
         for sid, p in xy.items():
-            seen = [c for c in site.control_points if by_id[sid].frame == c.frame
-                    and math.dist(p, (c.x, c.y)) <= TIE_RANGE_M and intervisible(site, c.frame, p, (c.x, c.y))]
+            seen = [
+                c
+                for c in site.control_points
+                if by_id[sid].frame == c.frame
+                and math.dist(p, (c.x, c.y)) <= TIE_RANGE_M
+                and intervisible(site, c.frame, p, (c.x, c.y))
+            ]
             if seen:
                 ranges = [max(math.dist(p, (c.x, c.y)), 1.0) for c in seen]
                 ties[sid] = _tie(max(max(c.sigma_x_m, c.sigma_y_m) for c in seen), ranges)

@@ -59,8 +59,10 @@ class ControlTraverse:
     def lines(self) -> list[str]:
         names = {p.name for p in self.points}
         through = sum(u in names or v in names for u, v in self.legs)
-        return [f"control traverse ({'PROPOSED' if self.proposed else 'given'}, {self.source}): {len(self.legs)} legs, "
-                f"{len(self.points)} traverse point(s), {through} leg(s) at a traverse point"]
+        return [
+            f"control traverse ({'PROPOSED' if self.proposed else 'given'}, {self.source}): {len(self.legs)} legs, "
+            f"{len(self.points)} traverse point(s), {through} leg(s) at a traverse point"
+        ]
 
 
 NO_TRAVERSE = ControlTraverse((), (), False, "none: no total-station observations")
@@ -83,8 +85,14 @@ def read_traverse(path: str | Path) -> ControlTraverse:
         if not isinstance(p, dict) or "name" not in p:
             raise InputError("a point needs name, x, y", **where, value=p)
         known_keys(p, {"name", "x", "y", "frame"}, **where)
-        points.append(ControlPoint(str(p["name"]), to_float(p.get("x"), field="x", **where),
-                                   to_float(p.get("y"), field="y", **where), frame=str(p.get("frame", SITE_FRAME))))
+        points.append(
+            ControlPoint(
+                str(p["name"]),
+                to_float(p.get("x"), field="x", **where),
+                to_float(p.get("y"), field="y", **where),
+                frame=str(p.get("frame", SITE_FRAME)),
+            )
+        )
     legs = []
     for k, leg in enumerate(data["legs"], 1):
         if not (isinstance(leg, list) and len(leg) == 2 and all(isinstance(n, str) for n in leg) and leg[0] != leg[1]):
@@ -99,9 +107,14 @@ def check_traverse_names(traverse: ControlTraverse, control: Sequence[ControlPoi
     known = {c.name for c in control}
     for k, p in enumerate(traverse.points, 1):
         if p.name in known:
-            raise InputError("names a control point of the site: the two would merge into one network node; rename "
-                             "the traverse point (legs may name the control point itself)",
-                             file=traverse.source.removeprefix("from "), row=f"points[{k}]", field="name", value=p.name)
+            raise InputError(
+                "names a control point of the site: the two would merge into one network node; rename "
+                "the traverse point (legs may name the control point itself)",
+                file=traverse.source.removeprefix("from "),
+                row=f"points[{k}]",
+                field="name",
+                value=p.name,
+            )
 
 
 def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: float) -> ControlTraverse:
@@ -111,8 +124,15 @@ def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: fl
         for k, (zi, w, kind, ends) in enumerate(opening_segments(site, frame)):
             if kind in PASSABLE:
                 mid = ends.mean(axis=0)
-                points.append(ControlPoint(f"TP.{site.zones[zi].id}.{w.index}.{k + 1}", float(mid[0]), float(mid[1]),
-                                           proposed=True, frame=frame))
+                points.append(
+                    ControlPoint(
+                        f"TP.{site.zones[zi].id}.{w.index}.{k + 1}",
+                        float(mid[0]),
+                        float(mid[1]),
+                        proposed=True,
+                        frame=frame,
+                    )
+                )
     ring = _ring_points(site)
     nodes = list(control) + points + ring
     # a proposed leg stays in one room (or outside): spaces are joined only at the traverse points in their
@@ -122,9 +142,13 @@ def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: fl
     kept = proposal.needed(ring, nodes, legs)
     dropped = {r.name for r in ring} - kept
     legs = [(u, v) for u, v in legs if u not in dropped and v not in dropped]
-    return ControlTraverse(tuple(points + [r for r in ring if r.name in kept]), tuple(legs), True,
-                           "control points of each area, a point in every door or gate and round the outline where "
-                           "needed, legs between points that see each other")
+    return ControlTraverse(
+        tuple(points + [r for r in ring if r.name in kept]),
+        tuple(legs),
+        True,
+        "control points of each area, a point in every door or gate and round the outline where "
+        "needed, legs between points that see each other",
+    )
 
 
 #: traverse points round an outline stand this far out from its corners (on the bisector)
@@ -149,13 +173,16 @@ def _ring_points(site: Site) -> list[ControlPoint]:
                 p = xy[k] + sign * RING_OFFSET_M * bis / np.hypot(*bis)
                 pt = shapely.Point(*p)
                 if not any(o.frame == z.frame and around.contains(pt) for o, around in zip(site.zones, grown)):
-                    out.append(ControlPoint(f"RP.{z.id}.{k + 1}", float(p[0]), float(p[1]), proposed=True, frame=z.frame))
+                    out.append(
+                        ControlPoint(f"RP.{z.id}.{k + 1}", float(p[0]), float(p[1]), proposed=True, frame=z.frame)
+                    )
                     break
     return out
 
 
-def propose_area_control(site: Site, stations: Sequence[Candidate], links: Sequence[tuple[str, str]],
-                         notes: list[str]) -> list[ControlPoint]:
+def propose_area_control(
+    site: Site, stations: Sequence[Candidate], links: Sequence[tuple[str, str]], notes: list[str]
+) -> list[ControlPoint]:
     """Control for a scanner survey: three points per registration part (one accessible area in ``site``
     mode; :func:`planner.network.graph.propose_control`), then one more next to every station that sees
     none of them within ``TIE_RANGE_M`` (seed 003: targets 10-20 m from the station), so every station is
@@ -163,16 +190,23 @@ def propose_area_control(site: Site, stations: Sequence[Candidate], links: Seque
     reg = nx.Graph(list(links))
     reg.add_nodes_from(s.id for s in stations)
     ctrl = propose_control(site, stations, reg, notes)
-    doors = [ControlPoint("door", float(e.mean(axis=0)[0]), float(e.mean(axis=0)[1]), frame=f)
-             for f in dict.fromkeys(z.frame for z in site.zones) for _, _, kind, e in opening_segments(site, f)
-             if kind in PASSABLE]
+    doors = [
+        ControlPoint("door", float(e.mean(axis=0)[0]), float(e.mean(axis=0)[1]), frame=f)
+        for f in dict.fromkeys(z.frame for z in site.zones)
+        for _, _, kind, e in opening_segments(site, f)
+        if kind in PASSABLE
+    ]
     by_id = {s.id: s for s in stations}
     for k, comp in enumerate(nx.connected_components(reg.subgraph([s.id for s in stations]))):
         n = sum(c.name.startswith(f"CP{k + 1}.") for c in ctrl)
         for sid in sorted(comp):
             st = by_id[sid]
-            if any(c.frame == st.frame and math.dist(st.xy, (c.x, c.y)) <= TIE_RANGE_M
-                   and intervisible(site, c.frame, st.xy, (c.x, c.y)) for c in ctrl):
+            if any(
+                c.frame == st.frame
+                and math.dist(st.xy, (c.x, c.y)) <= TIE_RANGE_M
+                and intervisible(site, c.frame, st.xy, (c.x, c.y))
+                for c in ctrl
+            ):
                 continue
             spot = proposal.best_spot(site, st, ctrl + doors)
             if spot is None:
@@ -189,8 +223,13 @@ def tie_sigma_to(distance_m: float) -> float:
     return _tie(0.0, [max(distance_m, 1.0)] * DEFAULT_TARGETS)
 
 
-def survey_graph(site: Site, stations: Sequence[Candidate], control: Sequence[ControlPoint],
-                 traverse: ControlTraverse, links: Sequence[tuple[str, str]]) -> nx.Graph:
+def survey_graph(
+    site: Site,
+    stations: Sequence[Candidate],
+    control: Sequence[ControlPoint],
+    traverse: ControlTraverse,
+    links: Sequence[tuple[str, str]],
+) -> nx.Graph:
     """Stations, control and traverse points; edges ``registration``, ``tie`` and ``traverse`` (``kinds``,
     ``length_m``). Raises on a leg naming no point."""
     g = nx.Graph()
@@ -210,8 +249,11 @@ def survey_graph(site: Site, stations: Sequence[Candidate], control: Sequence[Co
         link(u, v, "registration")
     for s in stations:
         for c in control:
-            if c.frame == s.frame and math.dist(s.xy, (c.x, c.y)) <= TIE_RANGE_M \
-                    and intervisible(site, c.frame, s.xy, (c.x, c.y)):
+            if (
+                c.frame == s.frame
+                and math.dist(s.xy, (c.x, c.y)) <= TIE_RANGE_M
+                and intervisible(site, c.frame, s.xy, (c.x, c.y))
+            ):
                 link(s.id, c.name, "tie")
     for u, v in traverse.legs:
         for n in (u, v):
@@ -242,6 +284,8 @@ def datum(g: nx.Graph, control: Sequence[ControlPoint]) -> tuple[list[str], list
         best = max(sorted(groups), key=lambda k: served[k])
         held = sorted(groups[best], key=lambda c: int(c.rsplit(".", 1)[1]) if c.rsplit(".", 1)[1].isdigit() else 0)[:3]
         fixed += held
-        notes.append(f"datum of the network part holding {', '.join(sorted(groups))}: {', '.join(held)} held fixed; "
-                     "its other control points are found through the traverse, links and ties")
+        notes.append(
+            f"datum of the network part holding {', '.join(sorted(groups))}: {', '.join(held)} held fixed; "
+            "its other control points are found through the traverse, links and ties"
+        )
     return fixed, notes

@@ -22,5 +22,18 @@ from planner.plan.run import (
     unseen_error,
 )
 
-__all__ = ["METHODS", "Plan", "PlanOptions", "build_problem", "closed_form_limits", "coverage_problem",
-           "placed_stations", "plan_limits", "plan_site", "registration_check", "sight_limits", "site_candidates", "unseen_error"]
+__all__ = [
+    "METHODS",
+    "Plan",
+    "PlanOptions",
+    "build_problem",
+    "closed_form_limits",
+    "coverage_problem",
+    "placed_stations",
+    "plan_limits",
+    "plan_site",
+    "registration_check",
+    "sight_limits",
+    "site_candidates",
+    "unseen_error",
+]

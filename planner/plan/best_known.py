@@ -34,9 +34,11 @@ class Known:
         """How a plan of ``stations`` compares (the gap is (plan - best) / plan, as the bound's gap)."""
         gap = (stations - self.stations) / stations if stations else math.nan
         proven = ", proven optimal over its pool" if self.proven_optimal else ""
-        return (f"best known: {self.stations} stations ({self.problem}, registration {self.registration}, overlap "
-                f"{self.overlap:g}{proven}; {self.measured}: {self.command}); this plan {stations}, gap to it "
-                f"{gap * 100:.1f} %")
+        return (
+            f"best known: {self.stations} stations ({self.problem}, registration {self.registration}, overlap "
+            f"{self.overlap:g}{proven}; {self.measured}: {self.command}); this plan {stations}, gap to it "
+            f"{gap * 100:.1f} %"
+        )
 
 
 def best_known(instance: str, registration: str | None, overlap: float, path: Path = BEST_KNOWN) -> Known | None:
@@ -47,9 +49,20 @@ def best_known(instance: str, registration: str | None, overlap: float, path: Pa
         return None
     problem = "connected" if overlap > 0 else "plain cover"
     for row in rows:
-        if (row.get("instance") == instance and row.get("problem") == problem
-                and math.isclose(float(row.get("overlap", -1)), overlap)
-                and (problem == "plain cover" or row.get("registration") == registration)):
-            return Known(row["instance"], problem, row.get("registration"), float(row["overlap"]), int(row["stations"]),
-                         str(row.get("command", "")), str(row.get("measured", "")), bool(row.get("proven_optimal")))
+        if (
+            row.get("instance") == instance
+            and row.get("problem") == problem
+            and math.isclose(float(row.get("overlap", -1)), overlap)
+            and (problem == "plain cover" or row.get("registration") == registration)
+        ):
+            return Known(
+                row["instance"],
+                problem,
+                row.get("registration"),
+                float(row["overlap"]),
+                int(row["stations"]),
+                str(row.get("command", "")),
+                str(row.get("measured", "")),
+                bool(row.get("proven_optimal")),
+            )
     return None

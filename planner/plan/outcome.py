@@ -50,23 +50,37 @@ class Outcome:
         return summary_html(self, "Outcome")
 
     def summary(self) -> str:
-        return (f"{self.site.name}: {len(self.stations)} stations ({self.meta.get('method', '?')}), "
-                f"{self.coverage.percent_length:.3f} % of wall length covered; "
-                + self.verification.summary().splitlines()[0])
+        return (
+            f"{self.site.name}: {len(self.stations)} stations ({self.meta.get('method', '?')}), "
+            f"{self.coverage.percent_length:.3f} % of wall length covered; "
+            + self.verification.summary().splitlines()[0]
+        )
 
 
-def outcome_from_plan(plan: Plan, network: NetworkReport | None = None,
-                      comparison: Sequence[dict[str, Any]] = ()) -> Outcome:
+def outcome_from_plan(
+    plan: Plan, network: NetworkReport | None = None, comparison: Sequence[dict[str, Any]] = ()
+) -> Outcome:
     """The outcome of a plan computed in this process."""
     argument(plan, Plan, "plan")
     argument(network, (NetworkReport, type(None)), "network")
     o = plan.options
     limits = sight_limits(plan.validation, o.incidence_3d, o.precision, o.combined)
-    cov = station_coverage(plan.site, plan.stations, limits, plan.validation.scanner, plan.site.parameters.budget,
-                           o.target_spacing_m)
+    cov = station_coverage(
+        plan.site, plan.stations, limits, plan.validation.scanner, plan.site.parameters.budget, o.target_spacing_m
+    )
     radii = {s.id: d.radius_m for s, d in zip(plan.stations, plan.tripods)}
-    return Outcome(plan.site, plan.validation, limits, plan.stations, cov, plan.verification, radii,
-                   plan_to_dict(plan), network, tuple(comparison))
+    return Outcome(
+        plan.site,
+        plan.validation,
+        limits,
+        plan.stations,
+        cov,
+        plan.verification,
+        radii,
+        plan_to_dict(plan),
+        network,
+        tuple(comparison),
+    )
 
 
 def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path: str, ifc: Any = None) -> Site:
@@ -75,7 +89,11 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
     src = site_path or meta.get("source")
     if not src:
         raise InputError("the plan names no site file; give one with --site", file=plan_path, field="source")
-    tried = [Path(src)] if site_path else [Path(src), Path(plan_path).parent / src, Path(meta.get("source_resolved") or src)]
+    tried = (
+        [Path(src)]
+        if site_path
+        else [Path(src), Path(plan_path).parent / src, Path(meta.get("source_resolved") or src)]
+    )
     path = next((p for p in tried if p.exists()), Path(src))
     site = load_site(path, ifc=ifc)
     p = meta.get("parameters") or {}
@@ -89,8 +107,9 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
     return replace(site, parameters=params, instrument=p.get("instrument", site.instrument))
 
 
-def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None,
-                      network: NetworkReport | None = None, ifc: Any = None) -> Outcome:
+def outcome_from_file(
+    plan_path: str | Path, site_path: str | Path | None = None, network: NetworkReport | None = None, ifc: Any = None
+) -> Outcome:
     """The outcome of a plan.json (stations re-read, coverage and verification recomputed); ``ifc`` selects
     the storeys when the site is an IFC model."""
     path_argument(plan_path, "plan_path")
@@ -108,8 +127,11 @@ def outcome_from_file(plan_path: str | Path, site_path: str | Path | None = None
     _fits_in_memory(site, validation, spacing, float(p.get("grid_spacing_m", 1.0)), name)
     cov = station_coverage(site, stations, limits, validation.scanner, site.parameters.budget, spacing)
     verification = verify_stations(site, stations, limits, float(p.get("verify_spacing_m", 0.1)))
-    radii = {s["id"]: s["tripod_radius_m"] for s in meta.get("stations", []) if isinstance(s, dict)
-             and isinstance(s.get("tripod_radius_m"), (int, float))}
+    radii = {
+        s["id"]: s["tripod_radius_m"]
+        for s in meta.get("stations", [])
+        if isinstance(s, dict) and isinstance(s.get("tripod_radius_m"), (int, float))
+    }
     return Outcome(site, validation, limits, stations, cov, verification, radii, meta, network)
 
 
@@ -120,5 +142,9 @@ def _fits_in_memory(site: Site, validation: ValidationReport, spacing_m: float, 
 
     est = estimate_work(site, spacing_m, grid_m, validation.range_limit.max_slant_range_m)
     if est.bytes > default_limit_bytes():
-        raise InputError(f"the report's coverage would not fit in memory (the coverage problem needs about "
-                         f"{est.describe()})", file=name, field="parameters.target_spacing_m", value=spacing_m)
+        raise InputError(
+            f"the report's coverage would not fit in memory (the coverage problem needs about {est.describe()})",
+            file=name,
+            field="parameters.target_spacing_m",
+            value=spacing_m,
+        )

@@ -46,28 +46,52 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "instrument": plan.validation.scanner.name,
             "max_slant_range_m": plan.validation.range_limit.max_slant_range_m,
             "max_slant_range_source": plan.validation.range_limit.source,
-            "theta_max_deg": p.theta_max_deg, "overlap": p.overlap, "sigma_req_m": p.sigma_req_m,
-            "instrument_height_m": p.instrument_height_m, "target_spacing_m": o.target_spacing_m,
-            "grid_spacing_m": o.pool.grid_spacing_m, "field_samples": o.pool.field_samples, "seed": o.pool.seed,
-            "incidence": "3d" if o.incidence_3d else "horizontal", "precision": o.precision,
-            "precision_mode": "combined" if o.combined else "single", "incidence_model": p.incidence_model,
+            "theta_max_deg": p.theta_max_deg,
+            "overlap": p.overlap,
+            "sigma_req_m": p.sigma_req_m,
+            "instrument_height_m": p.instrument_height_m,
+            "target_spacing_m": o.target_spacing_m,
+            "grid_spacing_m": o.pool.grid_spacing_m,
+            "field_samples": o.pool.field_samples,
+            "seed": o.pool.seed,
+            "incidence": "3d" if o.incidence_3d else "horizontal",
+            "precision": o.precision,
+            "precision_mode": "combined" if o.combined else "single",
+            "incidence_model": p.incidence_model,
             "min_standoff_m": p.min_standoff_m,
             "verify_spacing_m": o.verify_spacing_m,
-            "milp": None if r.method != "milp" else {
-                "backend": o.milp.backend, "time_limit_s": o.milp.time_limit_s, "seed": o.milp.seed,
-                "threads": o.milp.threads, "k": o.milp.k, "precision": o.milp.precision,
+            "milp": None
+            if r.method != "milp"
+            else {
+                "backend": o.milp.backend,
+                "time_limit_s": o.milp.time_limit_s,
+                "seed": o.milp.seed,
+                "threads": o.milp.threads,
+                "k": o.milp.k,
+                "precision": o.milp.precision,
                 "min_shared_m": o.milp.rule.min_shared_m if o.milp.rule else None,
-                "max_link_m": o.milp.rule.max_link_m if o.milp.rule else None},
+                "max_link_m": o.milp.rule.max_link_m if o.milp.rule else None,
+            },
         },
         "presolve": r.info.get("presolve"),
         "solver": {k: v for k, v in r.info.items() if k != "presolve"},
-        "registration": {"connected": plan.connected, "components": plan.registration,
-                         # the share the registration was checked at (planned under, else the site's)
-                         "overlap": o.checked_rule(site).overlap},
+        "registration": {
+            "connected": plan.connected,
+            "components": plan.registration,
+            # the share the registration was checked at (planned under, else the site's)
+            "overlap": o.checked_rule(site).overlap,
+        },
         "problem": plan.problem_size,
-        "zones": [{"id": z.id, "side": z.scan_side.value, "frame": z.frame, "polygon": [list(v) for v in z.vertices],
-                   **({"holes": [[list(v) for v in r] for r in z.holes]} if z.holes else {})}
-                  for z in site.zones],
+        "zones": [
+            {
+                "id": z.id,
+                "side": z.scan_side.value,
+                "frame": z.frame,
+                "polygon": [list(v) for v in z.vertices],
+                **({"holes": [[list(v) for v in r] for r in z.holes]} if z.holes else {}),
+            }
+            for z in site.zones
+        ],
         "stations": [_station(s, plan.tripods[k] if plan.tripods else None) for k, s in enumerate(plan.stations)],
         "verification": plan.verification.to_dict(),
         "log": list(plan.log),
@@ -79,7 +103,9 @@ def _station(s: Candidate, disc: TripodDisc | None) -> dict[str, Any]:
     if disc is not None:
         out["tripod_radius_m"] = disc.radius_m
         out["tripod_centre"] = list(disc.centre)
-        out["height_tolerance_m"] = None if disc.height_tolerance_m != disc.height_tolerance_m else disc.height_tolerance_m
+        out["height_tolerance_m"] = (
+            None if disc.height_tolerance_m != disc.height_tolerance_m else disc.height_tolerance_m
+        )
     return out
 
 
@@ -113,7 +139,9 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
         except ValueError:
             side = None
         if side not in zones[zone].scan_side.sides:
-            raise InputError(f"zone {zone} is scanned {zones[zone].scan_side.value}", **where, field="side", value=row.get("side"))
+            raise InputError(
+                f"zone {zone} is scanned {zones[zone].scan_side.value}", **where, field="side", value=row.get("side")
+            )
         try:
             kind = CandidateKind(row.get("kind", "grid"))
         except ValueError:
@@ -125,9 +153,14 @@ def read_plan_stations(path: Path | str, site: Site) -> list[Candidate]:
 
 
 #: the site parameters a plan.json records (``report`` plans under them again), and the option setting each
-RECORDED_PARAMETERS = {"theta_max_deg": "--theta-max", "overlap": "--overlap", "sigma_req_m": "--sigma-req",
-                       "instrument_height_m": "--instrument-height", "incidence_model": "--incidence-model",
-                       "min_standoff_m": "--standoff"}
+RECORDED_PARAMETERS = {
+    "theta_max_deg": "--theta-max",
+    "overlap": "--overlap",
+    "sigma_req_m": "--sigma-req",
+    "instrument_height_m": "--instrument-height",
+    "incidence_model": "--incidence-model",
+    "min_standoff_m": "--standoff",
+}
 
 
 def recorded_differences(path: Path | str, site: Site) -> list[str]:
@@ -143,17 +176,26 @@ def recorded_differences(path: Path | str, site: Site) -> list[str]:
     for key, flag in (RECORDED_PARAMETERS | {"instrument": "--instrument"}).items():
         was = recorded.get(key)
         if key in recorded and was != now[key] and now[key] is not None:
-            out.append(f"note: {path} was made with {key} = {was} (checked here: {now[key]}); "
-                       f"give {flag} {was} to check it under its own limits")
+            out.append(
+                f"note: {path} was made with {key} = {was} (checked here: {now[key]}); "
+                f"give {flag} {was} to check it under its own limits"
+            )
     return out
 
 
 #: plan.json fields ``planner report`` reads back: (key, check, what it must be)
-_POSITIVE = (lambda v: isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0, "a number > 0")
-_SAMPLING = (lambda v: _POSITIVE[0](v) and SAMPLING_M[0] <= v <= SAMPLING_M[1],
-             f"a number of metres in [{SAMPLING_M[0]:g}, {SAMPLING_M[1]:g}], as the command line takes")
+_POSITIVE = (
+    lambda v: isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0,
+    "a number > 0",
+)
+_SAMPLING = (
+    lambda v: _POSITIVE[0](v) and SAMPLING_M[0] <= v <= SAMPLING_M[1],
+    f"a number of metres in [{SAMPLING_M[0]:g}, {SAMPLING_M[1]:g}], as the command line takes",
+)
 _PARAMETER_CHECKS: dict[str, tuple[Any, str]] = {
-    "target_spacing_m": _POSITIVE, "verify_spacing_m": _SAMPLING, "grid_spacing_m": _POSITIVE,
+    "target_spacing_m": _POSITIVE,
+    "verify_spacing_m": _SAMPLING,
+    "grid_spacing_m": _POSITIVE,
     "seed": (lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0, "an integer >= 0"),
     "instrument": (lambda v: isinstance(v, str), "an instrument name"),
     "incidence": (lambda v: v in ("horizontal", "3d"), "'horizontal' or '3d'"),

@@ -98,11 +98,15 @@ class PlanOptions:
         if self.registration not in (None, "zone", "site"):
             raise UsageError("must be 'zone', 'site' or None", field="registration", value=self.registration)
         if self.milp.k != 1 and self.method != "milp":  # the greedy and the closed form cover each piece once
-            raise UsageError(f"k > 1 needs method='milp' (method {self.method!r} covers each piece once)", field="k",
-                             value=self.milp.k)
+            raise UsageError(
+                f"k > 1 needs method='milp' (method {self.method!r} covers each piece once)",
+                field="k",
+                value=self.milp.k,
+            )
         if self.milp.precision == "combined" and not self.precision:
-            raise UsageError("combined precision needs the precision check (precision=True)", field="precision",
-                             value=self.precision)
+            raise UsageError(
+                "combined precision needs the precision check (precision=True)", field="precision", value=self.precision
+            )
 
 
 @dataclass(frozen=True)
@@ -154,12 +158,17 @@ class Plan:
         lines.append(self._accuracy_line())
         lines.append(self._bound_line())
         broken = {g: n for g, n in self.registration.items() if n > 1}
-        lines.append("registration: every registration group connected under the overlap relation" if not broken else
-                     "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items()))
+        lines.append(
+            "registration: every registration group connected under the overlap relation"
+            if not broken
+            else "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items())
+        )
         if self.tripods:
             radii = [d.radius_m for d in self.tripods]
-            lines.append(f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
-                         + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)"))
+            lines.append(
+                f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
+                + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)")
+            )
             lines.append(tripod_heights_line(self.tripods, self.site.parameters))
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
@@ -174,15 +183,22 @@ class Plan:
         pool = info.get("pool_bound", r.bound)
         plane = info.get("plane_bound")
         pool_s = f"{pool:g} over the candidate pool (MILP)" if pool is not None else "none over the pool"
-        plane_s = (f"{plane:g} over every position in the plane (cover LP priced over the coverage regions; "
-                   f"{info.get('certificate', {}).get('assumes', 'pieces of the target spacing')})"
-                   if plane is not None else "no plane bound (pricing off)")
+        plane_s = (
+            f"{plane:g} over every position in the plane (cover LP priced over the coverage regions; "
+            f"{info.get('certificate', {}).get('assumes', 'pieces of the target spacing')})"
+            if plane is not None
+            else "no plane bound (pricing off)"
+        )
         conn = info.get("connected_plane_bound")
         if conn is not None:
             plane_s += f"; connected plans: {conn:g} over every position in the plane (ring walk over patches)"
-        head = ("bound scope: plane (no plan from any positions in the plane has fewer stations)" if scope == "plane"
-                else "bound scope: pool (the plan is proven only over the candidate pool)" if r.status.value == "optimal"
-                else "bound scope: pool")
+        head = (
+            "bound scope: plane (no plan from any positions in the plane has fewer stations)"
+            if scope == "plane"
+            else "bound scope: pool (the plan is proven only over the candidate pool)"
+            if r.status.value == "optimal"
+            else "bound scope: pool"
+        )
         return f"{head}; bounds: {pool_s}; {plane_s}"
 
     @property
@@ -207,7 +223,9 @@ def closed_form_limits(validation: ValidationReport) -> Limits:
     return Limits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.overlap, p.instrument_height_m)
 
 
-def unseen_error(problem: CoverageProblem, unseen: np.ndarray, reasons: dict[int, str] | None = None) -> InfeasibleError:
+def unseen_error(
+    problem: CoverageProblem, unseen: np.ndarray, reasons: dict[int, str] | None = None
+) -> InfeasibleError:
     """The refusal of pieces nothing sees: up to five by id and position, each with its reason when known
     (``reasons``: why its coverage region is empty), and how many share each reason."""
     t = problem.targets
@@ -221,8 +239,9 @@ def unseen_error(problem: CoverageProblem, unseen: np.ndarray, reasons: dict[int
     if reasons:
         counts = Counter(reasons.get(int(i), "not checked") for i in unseen)
         tally = "; ".join(f"{n} {r}" for r, n in counts.items())
-        return InfeasibleError(f"{len(unseen)} target(s) seen from no position (coverage region empty): {shown}{more}"
-                               f" [{tally}]")
+        return InfeasibleError(
+            f"{len(unseen)} target(s) seen from no position (coverage region empty): {shown}{more} [{tally}]"
+        )
     return InfeasibleError(f"{len(unseen)} target(s) seen by no candidate: {shown}{more}")
 
 
@@ -231,9 +250,14 @@ def plan_limits(validation: ValidationReport, options: PlanOptions) -> SightLimi
     return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
 
 
-def build_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None, *,
-                  spaces: dict[str, FrameSpace] | None = None,
-                  region_cache: dict[int, Any] | None = None) -> CoverageProblem:
+def build_problem(
+    site: Site,
+    options: PlanOptions,
+    validation: ValidationReport | None = None,
+    *,
+    spaces: dict[str, FrameSpace] | None = None,
+    region_cache: dict[int, Any] | None = None,
+) -> CoverageProblem:
     """Candidates, targets and coverage of a site; refuses a problem with a target no position sees.
 
     ``spaces`` and ``region_cache``, when given, keep the frame spaces and coverage regions drawn for the
@@ -254,9 +278,14 @@ def build_problem(site: Site, options: PlanOptions, validation: ValidationReport
     return problem
 
 
-def coverage_problem(site: Site, options: PlanOptions, validation: ValidationReport | None = None, *,
-                     spaces: dict[str, FrameSpace] | None = None, region_cache: dict[int, Any] | None = None,
-                     ) -> tuple[CoverageProblem, np.ndarray, dict[int, str]]:
+def coverage_problem(
+    site: Site,
+    options: PlanOptions,
+    validation: ValidationReport | None = None,
+    *,
+    spaces: dict[str, FrameSpace] | None = None,
+    region_cache: dict[int, Any] | None = None,
+) -> tuple[CoverageProblem, np.ndarray, dict[int, str]]:
     """:func:`build_problem` without the refusal: the problem, the pieces no candidate sees (after every
     unseen piece got a candidate from its own region) and, per such piece, why its region is empty."""
     argument(site, Site, "site")
@@ -265,8 +294,13 @@ def coverage_problem(site: Site, options: PlanOptions, validation: ValidationRep
     limits = plan_limits(validation, options)
     from planner.plan.memory_guard import check_memory  # issue 17: refuse what will not fit, before building
 
-    check_memory(site, options.target_spacing_m, options.pool.grid_spacing_m,
-                 closed_form_limits(validation).max_slant_range_m, options.memory_limit_bytes)
+    check_memory(
+        site,
+        options.target_spacing_m,
+        options.pool.grid_spacing_m,
+        closed_form_limits(validation).max_slant_range_m,
+        options.memory_limit_bytes,
+    )
     targets = make_targets(site, options.target_spacing_m)
     spaces = {} if spaces is None else spaces
     region_cache = {} if region_cache is None else region_cache
@@ -279,9 +313,15 @@ def coverage_problem(site: Site, options: PlanOptions, validation: ValidationRep
     return problem, problem.uncoverable(), reasons
 
 
-def site_candidates(site: Site, options: PlanOptions, validation: ValidationReport, targets: Targets,
-                    limits: SightLimits, spaces: dict[str, FrameSpace] | None = None,
-                    region_cache: dict[int, Any] | None = None) -> list[Candidate]:
+def site_candidates(
+    site: Site,
+    options: PlanOptions,
+    validation: ValidationReport,
+    targets: Targets,
+    limits: SightLimits,
+    spaces: dict[str, FrameSpace] | None = None,
+    region_cache: dict[int, Any] | None = None,
+) -> list[Candidate]:
     """The candidate pool of a site (the one home of it: the single model and the tiles both take it): the
     closed form, field samples and grid of :func:`planner.candidates.pool.candidate_pool`; with regions, one
     station per zone-side where one sees all of it; a candidate per maximal cell of the regions along every
@@ -290,8 +330,10 @@ def site_candidates(site: Site, options: PlanOptions, validation: ValidationRepo
     exact = options.regions and regions_apply(limits)
     if exact:  # one station for a whole zone-side, found exactly where one exists
         pool = pool + whole_side_candidates(site, targets, limits, spaces, region_cache)
-    return dedupe(pool + axis_candidates(site, targets, limits, spaces, region_cache, cells=exact,
-                                         step_m=options.target_spacing_m))
+    return dedupe(
+        pool
+        + axis_candidates(site, targets, limits, spaces, region_cache, cells=exact, step_m=options.target_spacing_m)
+    )
 
 
 def plan_site(site: Site, options: PlanOptions | None = None, validation: ValidationReport | None = None) -> Plan:
@@ -320,9 +362,11 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
     region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
     problem = build_problem(site, options, validation, spaces=spaces, region_cache=region_cache)
     targets, pool = problem.targets, problem.candidates
-    log: list[str] = [f"coverage built in {time.perf_counter() - start:.2f} s "
-                      f"({len(pool):,} candidates of the pool, {problem.by_candidate.nnz:,} candidate-target pairs"
-                      f"{', before pricing' if options.method == 'milp' and options.pricing else ''})"]
+    log: list[str] = [
+        f"coverage built in {time.perf_counter() - start:.2f} s "
+        f"({len(pool):,} candidates of the pool, {problem.by_candidate.nnz:,} candidate-target pairs"
+        f"{', before pricing' if options.method == 'milp' and options.pricing else ''})"
+    ]
     pool_pairs = int(problem.by_candidate.nnz)
     if options.method == "closed-form":
         result, problem, extra = closed_form_plan(site, cf_limits, targets, limits)
@@ -331,26 +375,44 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
         p = site.parameters
         pricing_on = options.pricing and regions_apply(limits)
         if options.pricing and not pricing_on:
-            log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
+            log.append(
+                "pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence"
+            )
         if pricing_on:
             with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
-                problem, pricing = price_plane(site, problem, limits, time_limit_s=options.pricing_time_limit_s,
-                                               cache=region_cache, spaces=spaces)
+                problem, pricing = price_plane(
+                    site, problem, limits, time_limit_s=options.pricing_time_limit_s, cache=region_cache, spaces=spaces
+                )
             log.append(pricing.summary())
             pool, pool_pairs = problem.candidates, int(problem.by_candidate.nnz)
         mode = options.registration or default_registration(site)
         reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
         groups, links = registration_groups(site, problem.candidates, mode, reach)
-        inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m,
-                              name=site.name, groups=groups, links=links, incidence_model=p.incidence_model)
+        inst = cover_instance(
+            problem,
+            scanner=validation.scanner,
+            budget=p.budget,
+            sigma_req_m=p.sigma_req_m,
+            name=site.name,
+            groups=groups,
+            links=links,
+            incidence_model=p.incidence_model,
+        )
         with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
             result = solve(inst, options.milp)
         if pricing_on:
             result = with_plane_bound(result, pricing)
             if result.scope != "plane" and mode == "zone" and links is None and result.selected:
                 share = options.milp.rule.overlap if options.milp.rule else 0.0
-                cb = connected_plane_bound(site, problem, limits, share, np.asarray(pricing.duals),
-                                           plan_counts(problem, result.selected), cache=region_cache)
+                cb = connected_plane_bound(
+                    site,
+                    problem,
+                    limits,
+                    share,
+                    np.asarray(pricing.duals),
+                    plan_counts(problem, result.selected),
+                    cache=region_cache,
+                )
                 result = with_connected_plane_bound(result, cb)
                 log.append(cb.summary())
     elif options.combined and limits.precision is not None:
@@ -358,8 +420,12 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
 
         result = combined_greedy(problem, limits.precision)
     elif (rule := options.milp.rule) is not None and rule.overlap > 0:  # greedy under the rule
-        groups, links = registration_groups(site, problem.candidates, options.registration or default_registration(site),
-                                            rule.max_link_m or limits.effective_range_m)
+        groups, links = registration_groups(
+            site,
+            problem.candidates,
+            options.registration or default_registration(site),
+            rule.max_link_m or limits.effective_range_m,
+        )
         result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links), rule)
         if not result.selected:
             log.append("greedy: no cover connected under the overlap rule found; plain greedy plan instead")
@@ -367,20 +433,27 @@ def plan_site(site: Site, options: PlanOptions | None = None, validation: Valida
     else:
         result = greedy_cover(problem.by_candidate)
     rule = options.checked_rule(site)
-    registration, partners = registration_check(problem, result.selected, rule, site, options.registration,
-                                                rule.max_link_m or limits.effective_range_m)
+    registration, partners = registration_check(
+        problem, result.selected, rule, site, options.registration, rule.max_link_m or limits.effective_range_m
+    )
     if rule.overlap == 0:
         registration, log = {}, log + ["registration: not required (overlap 0)"]
     stations, tripods = placed_stations(site, problem, result.selected, options, partners)
     verification = verify_stations(site, stations, limits, options.verify_spacing_m)
     # the pool's size (after pricing for the MILP); the closed form solves over its own stations, not counted here
     size = {"candidates": len(pool), "targets": len(targets), "pairs": pool_pairs}
-    return Plan(site, options, validation, result, tuple(stations), verification, size, tuple(log),
-                registration, tripods)
+    return Plan(
+        site, options, validation, result, tuple(stations), verification, size, tuple(log), registration, tripods
+    )
 
 
-def placed_stations(site: Site, problem: CoverageProblem, selected: tuple[int, ...], options: PlanOptions,
-                    partners: dict[int, list[int]]) -> tuple[list[Candidate], tuple[TripodDisc, ...]]:
+def placed_stations(
+    site: Site,
+    problem: CoverageProblem,
+    selected: tuple[int, ...],
+    options: PlanOptions,
+    partners: dict[int, list[int]],
+) -> tuple[list[Candidate], tuple[TripodDisc, ...]]:
     """The chosen stations and, with ``options.tripod`` or ``options.recentre``, their tripod discs (relied
     pieces only, checked on centre and rim); ``recentre`` moves each station to its disc's centre."""
     stations = [problem.candidates[i] for i in selected]
@@ -392,9 +465,14 @@ def placed_stations(site: Site, problem: CoverageProblem, selected: tuple[int, .
     return stations, tripods
 
 
-def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule: OverlapRule,
-                       site: Site | None = None, mode: str | None = "zone", reach_m: float = math.inf,
-                       ) -> tuple[dict[str, int], dict[int, list[int]]]:
+def registration_check(
+    problem: CoverageProblem,
+    selected: tuple[int, ...],
+    rule: OverlapRule,
+    site: Site | None = None,
+    mode: str | None = "zone",
+    reach_m: float = math.inf,
+) -> tuple[dict[str, int], dict[int, list[int]]]:
     """Components of each registration group's chosen stations under the overlap relation, computed afresh
     with networkx (independent of any solver), and each station's registration partners.
 
@@ -404,8 +482,11 @@ def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule
     chosen = [problem.candidates[i] for i in selected]
     xy = np.array([c.xy for c in chosen], dtype=float).reshape(-1, 2)
     mode = mode or (default_registration(site) if site is not None else "zone")
-    labels, links = registration_groups(site, chosen, mode, reach_m) if site is not None else (
-        tuple((c.zone, c.side.value) for c in chosen), None)
+    labels, links = (
+        registration_groups(site, chosen, mode, reach_m)
+        if site is not None
+        else (tuple((c.zone, c.side.value) for c in chosen), None)
+    )
     groups: dict[Any, list[int]] = {}  # labels: (zone, side) pairs or ("area", k)
     for k, label in enumerate(labels):
         groups.setdefault(label, []).append(k)
@@ -414,7 +495,11 @@ def registration_check(problem: CoverageProblem, selected: tuple[int, ...], rule
     for label, nodes in groups.items():
         g = overlap_graph(sub, lengths, nodes, rule, xy, links)
         names = sorted({f"{chosen[k].zone}/{chosen[k].side.value}" for k in nodes})
-        key = "/".join(label) if mode == "zone" else f"area {label[1]} ({', '.join(names[:4])}{', ...' if len(names) > 4 else ''})"
+        key = (
+            "/".join(label)
+            if mode == "zone"
+            else f"area {label[1]} ({', '.join(names[:4])}{', ...' if len(names) > 4 else ''})"
+        )
         out[key] = nx.number_connected_components(g)
         partners.update({selected[n]: sorted(selected[m] for m in g.neighbors(n)) for n in nodes})
     return out, partners

@@ -68,10 +68,17 @@ class VerifyReport:
 
     def to_dict(self) -> dict:
         return {
-            "spacing_m": self.spacing_m, "percent": self.percent, "complete": self.complete, "precision": self.precision,
-            "zones": [{"zone": z.zone, "side": z.side, "points": z.points, "covered": z.covered, "percent": z.percent}
-                      for z in self.zones],
-            "gaps": [{"zone": g.zone, "side": g.side, "wall": g.wall, "from_m": g.from_m, "to_m": g.to_m} for g in self.gaps],
+            "spacing_m": self.spacing_m,
+            "percent": self.percent,
+            "complete": self.complete,
+            "precision": self.precision,
+            "zones": [
+                {"zone": z.zone, "side": z.side, "points": z.points, "covered": z.covered, "percent": z.percent}
+                for z in self.zones
+            ],
+            "gaps": [
+                {"zone": g.zone, "side": g.side, "wall": g.wall, "from_m": g.from_m, "to_m": g.to_m} for g in self.gaps
+            ],
             "misplaced": [{"station": s, "reason": r} for s, r in self.misplaced],
         }
 
@@ -94,14 +101,19 @@ class VerifyReport:
         return "\n".join(lines)
 
 
-def verify_stations(site: Site, stations: Sequence[Candidate], limits: SightLimits, spacing_m: float = 0.1) -> VerifyReport:
+def verify_stations(
+    site: Site, stations: Sequence[Candidate], limits: SightLimits, spacing_m: float = 0.1
+) -> VerifyReport:
     """Coverage of every wall face by ``stations``, sampled every ``spacing_m``, with gaps and misplaced stations."""
     argument(site, Site, "site")
     stations_argument(stations)
     check_unique_ids(stations)
     if not (isinstance(spacing_m, (int, float)) and SAMPLING_M[0] <= spacing_m <= SAMPLING_M[1]):  # as --spacing
-        raise InputError("sampling must be 0.001 .. 10 m (finer is no survey resolution, coarser checks little)",
-                         field="spacing_m", value=spacing_m)
+        raise InputError(
+            "sampling must be 0.001 .. 10 m (finer is no survey resolution, coarser checks little)",
+            field="spacing_m",
+            value=spacing_m,
+        )
     misplaced = tuple((s.id, why) for s in stations if (why := misplacement(site, s, s.x, s.y)))
     bad = {m for m, _ in misplaced}
     usable = [s for s in stations if s.id not in bad]

@@ -18,11 +18,21 @@ log = logging.getLogger(__name__)
 def meta_row(meta: dict[str, Any], verified_percent: float) -> dict[str, Any]:
     """A comparison row from a plan.json dictionary (:func:`planner.plan.plan_json.plan_to_dict`)."""
     counts = meta.get("counts") or {}
-    return {"method": meta.get("method", "?"), "backend": meta.get("backend") or "", "stations": counts.get("total"),
-            "inside": counts.get("inside"), "outside": counts.get("outside"), "bound": meta.get("bound"),
-            "gap": meta.get("gap"), "status": meta.get("status", ""), "time_s": meta.get("time_s"),
-            "bound_scope": meta.get("bound_scope"), "plane_bound": meta.get("plane_bound"),
-            "verified_percent": verified_percent, "connected": (meta.get("registration") or {}).get("connected")}
+    return {
+        "method": meta.get("method", "?"),
+        "backend": meta.get("backend") or "",
+        "stations": counts.get("total"),
+        "inside": counts.get("inside"),
+        "outside": counts.get("outside"),
+        "bound": meta.get("bound"),
+        "gap": meta.get("gap"),
+        "status": meta.get("status", ""),
+        "time_s": meta.get("time_s"),
+        "bound_scope": meta.get("bound_scope"),
+        "plane_bound": meta.get("plane_bound"),
+        "verified_percent": verified_percent,
+        "connected": (meta.get("registration") or {}).get("connected"),
+    }
 
 
 def method_row(plan: Plan) -> dict[str, Any]:
@@ -38,8 +48,15 @@ def compare_methods(site: Site, options: PlanOptions, done: Plan | None = None) 
         if done is not None and done.result.method == method:
             continue
         try:
-            rows.append(method_row(plan_site(site, replace(options, method=method, tripod=False, recentre=False),
-                                             done.validation if done is not None and done.site is site else None)))
+            rows.append(
+                method_row(
+                    plan_site(
+                        site,
+                        replace(options, method=method, tripod=False, recentre=False),
+                        done.validation if done is not None and done.site is site else None,
+                    )
+                )
+            )
         except PlannerError as exc:  # e.g. a piece the closed form cannot see: shown, not fatal
             log.info("method %s failed: %s", method, exc)
             rows.append({"method": method, "status": f"failed: {exc.one_line()}"})

@@ -27,8 +27,10 @@ CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
 th{background:#eee}td.l,th.l{text-align:left}img{max-width:100%;border:1px solid #ddd;margin:0.5em 0}
 .pass{color:#176317;font-weight:bold}.fail{color:#b00;font-weight:bold}figure{margin:0 0 2em}"""
-SCRIPT = ("window.addEventListener('load',function(){var im=document.images,ok=0;for(var i=0;i<im.length;i++)"
-          "{if(im[i].complete&&im[i].naturalWidth>0)ok++;}document.body.setAttribute('data-images-ok',ok+'/'+im.length);});")
+SCRIPT = (
+    "window.addEventListener('load',function(){var im=document.images,ok=0;for(var i=0;i<im.length;i++)"
+    "{if(im[i].complete&&im[i].naturalWidth>0)ok++;}document.body.setAttribute('data-images-ok',ok+'/'+im.length);});"
+)
 
 
 def _e(v: Any) -> str:
@@ -44,8 +46,10 @@ def _f(v: Any, fmt: str = ".3f") -> str:
 def table(header: Sequence[str], rows: Iterable[Sequence[Any]], left: int = 1) -> str:
     """An HTML table; the first ``left`` columns are left-aligned text."""
     th = "".join(f'<th class="{"l" if k < left else ""}">{_e(h)}</th>' for k, h in enumerate(header))
-    body = "".join("<tr>" + "".join(f'<td class="{"l" if k < left else ""}">{c}</td>' for k, c in enumerate(r)) + "</tr>"
-                   for r in rows)
+    body = "".join(
+        "<tr>" + "".join(f'<td class="{"l" if k < left else ""}">{c}</td>' for k, c in enumerate(r)) + "</tr>"
+        for r in rows
+    )
     return f"<table><tr>{th}</tr>{body}</table>"
 
 
@@ -55,14 +59,20 @@ def _img(png: bytes, alt: str) -> str:
 
 def _parameters(o: Outcome) -> str:
     p, lim, m = o.site.parameters, o.validation.range_limit, o.meta.get("parameters", {})
-    rows = [("site file", _e(o.site.source or "-")), ("instrument", _e(f"{o.validation.scanner.name}: {o.validation.scanner.description}")),
-            ("S_max (slant range)", f"{lim.max_slant_range_m:.3f} m ({_e(lim.source)})"),
-            ("theta_max", f"{p.theta_max_deg:g} deg"), ("overlap", f"{p.overlap:.0%}"),
-            ("sigma_req", f"{p.sigma_req_m * 1000:g} mm" + (f" (scale 1:{p.drawing_scale})" if p.drawing_scale else "")),
-            ("sigma_instr", f"{lim.sigma_instr_m * 1000:.3f} mm"), ("instrument height", f"{p.instrument_height_m:g} m"),
-            ("wall pieces", f"{m.get('target_spacing_m', '-')} m"), ("incidence", _e(m.get("incidence", "horizontal"))),
-            ("method", _e(f"{o.meta.get('method')} {o.meta.get('backend') or ''}")),
-            ("solver", _e(", ".join(f"{k} {v}" for k, v in (m.get("milp") or {}).items() if v is not None) or "-"))]
+    rows = [
+        ("site file", _e(o.site.source or "-")),
+        ("instrument", _e(f"{o.validation.scanner.name}: {o.validation.scanner.description}")),
+        ("S_max (slant range)", f"{lim.max_slant_range_m:.3f} m ({_e(lim.source)})"),
+        ("theta_max", f"{p.theta_max_deg:g} deg"),
+        ("overlap", f"{p.overlap:.0%}"),
+        ("sigma_req", f"{p.sigma_req_m * 1000:g} mm" + (f" (scale 1:{p.drawing_scale})" if p.drawing_scale else "")),
+        ("sigma_instr", f"{lim.sigma_instr_m * 1000:.3f} mm"),
+        ("instrument height", f"{p.instrument_height_m:g} m"),
+        ("wall pieces", f"{m.get('target_spacing_m', '-')} m"),
+        ("incidence", _e(m.get("incidence", "horizontal"))),
+        ("method", _e(f"{o.meta.get('method')} {o.meta.get('backend') or ''}")),
+        ("solver", _e(", ".join(f"{k} {v}" for k, v in (m.get("milp") or {}).items() if v is not None) or "-")),
+    ]
     return table(("parameter", "value"), rows, left=2)
 
 
@@ -70,44 +80,123 @@ def _closure(o: Outcome) -> str:
     rows = []
     for z in o.site.zones:
         c = z.closure
-        rows.append((_e(z.id), _e(z.scan_side.value), _e(z.frame), len(z.walls), _f(z.perimeter_m), _f(z.area_m2, ".1f"),
-                     _e(c.summary() if c else "given by coordinates")))
+        rows.append(
+            (
+                _e(z.id),
+                _e(z.scan_side.value),
+                _e(z.frame),
+                len(z.walls),
+                _f(z.perimeter_m),
+                _f(z.area_m2, ".1f"),
+                _e(c.summary() if c else "given by coordinates"),
+            )
+        )
     out = table(("zone", "side", "frame", "walls", "perimeter m", "area m2", "closure"), rows, left=3)
     if o.site.corrections:
         out += "<p>Corrections of printed data:</p>" + table(
             ("zone", "where", "field", "printed", "corrected", "reason"),
-            ((_e(c.zone), _e(c.target), _e(c.field), f"{c.printed:g}", f"{c.corrected:g}", _e(c.reason)) for c in o.site.corrections), left=3)
+            (
+                (_e(c.zone), _e(c.target), _e(c.field), f"{c.printed:g}", f"{c.corrected:g}", _e(c.reason))
+                for c in o.site.corrections
+            ),
+            left=3,
+        )
     return out
 
 
 def _stations(o: Outcome) -> str:
     rows = []
     for k, (s, st) in enumerate(zip(o.stations, o.coverage.per_station), 1):
-        rows.append((k, _e(s.id), _e(s.zone), _e(s.side.value), _e(s.kind.value), _f(s.x), _f(s.y), _f(st.covered_m, ".1f"),
-                     _f(st.worst_incidence_deg, ".1f"), _f(st.longest_range_m, ".1f"), _f(o.tripod_radius_m.get(s.id)),
-                     _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f")))
+        rows.append(
+            (
+                k,
+                _e(s.id),
+                _e(s.zone),
+                _e(s.side.value),
+                _e(s.kind.value),
+                _f(s.x),
+                _f(s.y),
+                _f(st.covered_m, ".1f"),
+                _f(st.worst_incidence_deg, ".1f"),
+                _f(st.longest_range_m, ".1f"),
+                _f(o.tripod_radius_m.get(s.id)),
+                _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f"),
+            )
+        )
     zero = sum(1 for s in o.stations if o.tripod_radius_m.get(s.id) == 0)
-    note = (f"<p>Tripod radius 0 ({zero} station(s)): no disc of at least {MIN_RADIUS_M * 100:g} cm keeps everything the "
-            f"plan relies on that station for; set it up at the planned point (such discs are not drawn in the "
-            f"exports).</p>" if zero else "")
-    return table(("no.", "id", "zone", "side", "kind", "x m", "y m", "covered wall m", "worst incidence deg",
-                  "longest range m", "tripod radius m", "predicted worst point error (2.13) mm"), rows, left=5) + note
+    note = (
+        f"<p>Tripod radius 0 ({zero} station(s)): no disc of at least {MIN_RADIUS_M * 100:g} cm keeps everything the "
+        f"plan relies on that station for; set it up at the planned point (such discs are not drawn in the "
+        f"exports).</p>"
+        if zero
+        else ""
+    )
+    return (
+        table(
+            (
+                "no.",
+                "id",
+                "zone",
+                "side",
+                "kind",
+                "x m",
+                "y m",
+                "covered wall m",
+                "worst incidence deg",
+                "longest range m",
+                "tripod radius m",
+                "predicted worst point error (2.13) mm",
+            ),
+            rows,
+            left=5,
+        )
+        + note
+    )
 
 
 def _comparison(o: Outcome) -> str:
     if not o.comparison:
         return "<p>No comparison was run.</p>"
-    rows = ((_e(r["method"]), _e(r.get("backend", "")), _f(r.get("stations"), "d"), _f(r.get("inside"), "d"),
-             _f(r.get("outside"), "d"), _bound_cell(r), _f(r.get("gap"), ".1%"), _e(r.get("status", "")),
-             _f(r.get("time_s"), ".2f"), _f(r.get("verified_percent"), ".3f"),
-             _e("" if "connected" not in r else ("yes" if r["connected"] else "no"))) for r in o.comparison)
+    rows = (
+        (
+            _e(r["method"]),
+            _e(r.get("backend", "")),
+            _f(r.get("stations"), "d"),
+            _f(r.get("inside"), "d"),
+            _f(r.get("outside"), "d"),
+            _bound_cell(r),
+            _f(r.get("gap"), ".1%"),
+            _e(r.get("status", "")),
+            _f(r.get("time_s"), ".2f"),
+            _f(r.get("verified_percent"), ".3f"),
+            _e("" if "connected" not in r else ("yes" if r["connected"] else "no")),
+        )
+        for r in o.comparison
+    )
     threads = (o.meta.get("parameters", {}).get("milp") or {}).get("threads", 1)
-    return (table(("method", "backend", "stations", "inside", "outside", "bound (scope)", "gap", "status", "solver s",
-                   "verified %", "registration connected"), rows, left=2)
-            + f"<p>Bound: no plan has fewer stations; its scope says over what (pool: the candidate pool, connected "
-              f"plans when registration is required; plane: any positions). Solver s: the solver alone, "
-              f"{threads} thread(s) for the MILP, 1 for the others; coverage build and pricing not included (milp-tiles: "
-              f"the whole tiled run, pool and coverage included).</p>")
+    return (
+        table(
+            (
+                "method",
+                "backend",
+                "stations",
+                "inside",
+                "outside",
+                "bound (scope)",
+                "gap",
+                "status",
+                "solver s",
+                "verified %",
+                "registration connected",
+            ),
+            rows,
+            left=2,
+        )
+        + f"<p>Bound: no plan has fewer stations; its scope says over what (pool: the candidate pool, connected "
+        f"plans when registration is required; plane: any positions). Solver s: the solver alone, "
+        f"{threads} thread(s) for the MILP, 1 for the others; coverage build and pricing not included (milp-tiles: "
+        f"the whole tiled run, pool and coverage included).</p>"
+    )
 
 
 def _bound_cell(r: dict[str, Any]) -> str:
@@ -115,7 +204,9 @@ def _bound_cell(r: dict[str, Any]) -> str:
     if not isinstance(r.get("bound"), (int, float)):
         return ""
     scope = r.get("bound_scope") or "pool"
-    plane = f"; plane {r['plane_bound']:g}" if scope == "pool" and isinstance(r.get("plane_bound"), (int, float)) else ""
+    plane = (
+        f"; plane {r['plane_bound']:g}" if scope == "pool" and isinstance(r.get("plane_bound"), (int, float)) else ""
+    )
     return f"{r['bound']:g} ({_e(scope)}{plane})"
 
 
@@ -124,24 +215,41 @@ def _network(o: Outcome) -> str:
         return "<p>The network check was not run.</p>"
     c = o.network.check
     verdict = f'<span class="{"pass" if c["pass"] else "fail"}">{"PASS" if c["pass"] else "FAIL"}</span>'
-    rows = ((_e(z["zone"]), _e(z["side"]), "pass" if z["pass"] else '<span class="fail">FAIL</span>',
-             "untied station" if z["untied"] else _f(z["worst_e_m"] * 1000, ".2f")) for z in c["zones"])
+    rows = (
+        (
+            _e(z["zone"]),
+            _e(z["side"]),
+            "pass" if z["pass"] else '<span class="fail">FAIL</span>',
+            "untied station" if z["untied"] else _f(z["worst_e_m"] * 1000, ".2f"),
+        )
+        for z in c["zones"]
+    )
     worst = "none finite" if c["worst_e_m"] is None else f"{c['worst_e_m'] * 1000:.2f} mm"
     untied = f"; {c['untied_targets']} pieces seen by untied stations only" if c.get("untied_targets") else ""
-    return (f"<p>Accuracy check at {c['sigma_req_m'] * 1000:g} mm: {verdict} ({c['failing_targets']} of {c['targets']} seen pieces "
-            f"fail; worst point error {worst}{untied}).</p>"
-            + table(("zone", "side", "check", "worst e mm"), rows, left=2)
-            + f"<pre>{_e(o.network.summary())}</pre>")
+    return (
+        f"<p>Accuracy check at {c['sigma_req_m'] * 1000:g} mm: {verdict} ({c['failing_targets']} of {c['targets']} seen pieces "
+        f"fail; worst point error {worst}{untied}).</p>"
+        + table(("zone", "side", "check", "worst e mm"), rows, left=2)
+        + f"<pre>{_e(o.network.summary())}</pre>"
+    )
 
 
 def _verification(o: Outcome) -> str:
     v = o.verification
-    head = f'<p>{"<span class=pass>complete</span>" if v.complete else "<span class=fail>incomplete</span>"}: ' \
-           f"{v.percent:.3f} % of points every {v.spacing_m:g} m covered.</p>"
+    head = (
+        f"<p>{'<span class=pass>complete</span>' if v.complete else '<span class=fail>incomplete</span>'}: "
+        f"{v.percent:.3f} % of points every {v.spacing_m:g} m covered.</p>"
+    )
     rows = ((_e(z.zone), _e(z.side), z.covered, z.points, _f(z.percent, ".3f")) for z in v.zones)
-    gaps = "".join(f"<li>{_e(g.zone)} {_e(g.side)} wall {g.wall}: {g.from_m:.2f}-{g.to_m:.2f} m</li>" for g in v.gaps[:50])
+    gaps = "".join(
+        f"<li>{_e(g.zone)} {_e(g.side)} wall {g.wall}: {g.from_m:.2f}-{g.to_m:.2f} m</li>" for g in v.gaps[:50]
+    )
     mis = "".join(f"<li>station {_e(s)}: {_e(r)}</li>" for s, r in v.misplaced)
-    return head + table(("zone", "side", "covered", "points", "%"), rows, left=2) + (f"<ul>{gaps}{mis}</ul>" if gaps or mis else "")
+    return (
+        head
+        + table(("zone", "side", "covered", "points", "%"), rows, left=2)
+        + (f"<ul>{gaps}{mis}</ul>" if gaps or mis else "")
+    )
 
 
 def render_report(o: Outcome, field: str | None = None) -> str:
@@ -152,19 +260,41 @@ def render_report(o: Outcome, field: str | None = None) -> str:
         figs += _img(png_bytes(network_figure(o)), "registration links, sight lines, control points and error ellipses")
     m = o.meta
     title = f"Scanner stations for {o.site.name}"
-    body = [f"<h1>{_e(title)}</h1>",
-            f"<p>{len(o.stations)} stations by {_e(m.get('method'))} ({_e(m.get('status'))}"
-            + (f", bound {_bound_cell(m)}" if isinstance(m.get("bound"), (int, float)) else "")
-            + f"); {o.coverage.percent_length:.3f} % of wall length covered on "
-            f"{_e(m.get('parameters', {}).get('target_spacing_m', 1.0))} m pieces. tls-planner {__version__}.</p>",
-            *([(f'<p>Field sheet (visiting order, walking route, field time, targets): <a href="{_e(field)}">'
-                f"{_e(field)}</a>.</p>")] if field else []),
-            "<h2>Inputs and parameters</h2>", _parameters(o), "<h2>Zones and closure</h2>", _closure(o),
-            "<h2>Stations</h2>", _stations(o), "<h2>Comparison of methods</h2>", _comparison(o),
-            "<h2>Plans</h2>", figs, "<h2>Network and accuracy check</h2>", _network(o),
-            "<h2>Verification</h2>", _verification(o)]
-    return (f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{_e(title)}</title>"
-            f"<style>{CSS}</style><script>{SCRIPT}</script></head><body>{''.join(body)}</body></html>\n")
+    body = [
+        f"<h1>{_e(title)}</h1>",
+        f"<p>{len(o.stations)} stations by {_e(m.get('method'))} ({_e(m.get('status'))}"
+        + (f", bound {_bound_cell(m)}" if isinstance(m.get("bound"), (int, float)) else "")
+        + f"); {o.coverage.percent_length:.3f} % of wall length covered on "
+        f"{_e(m.get('parameters', {}).get('target_spacing_m', 1.0))} m pieces. tls-planner {__version__}.</p>",
+        *(
+            [
+                (
+                    f'<p>Field sheet (visiting order, walking route, field time, targets): <a href="{_e(field)}">'
+                    f"{_e(field)}</a>.</p>"
+                )
+            ]
+            if field
+            else []
+        ),
+        "<h2>Inputs and parameters</h2>",
+        _parameters(o),
+        "<h2>Zones and closure</h2>",
+        _closure(o),
+        "<h2>Stations</h2>",
+        _stations(o),
+        "<h2>Comparison of methods</h2>",
+        _comparison(o),
+        "<h2>Plans</h2>",
+        figs,
+        "<h2>Network and accuracy check</h2>",
+        _network(o),
+        "<h2>Verification</h2>",
+        _verification(o),
+    ]
+    return (
+        f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>{_e(title)}</title>'
+        f"<style>{CSS}</style><script>{SCRIPT}</script></head><body>{''.join(body)}</body></html>\n"
+    )
 
 
 def write_report(o: Outcome, folder: Path | str, field: Path | str | None = None) -> Path:

@@ -5,6 +5,18 @@ from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, Sca
 from planner.site.traverse import AcceptedMisclosure, ClosureReport, TableRow, ZoneTable, reconstruct
 
 __all__ = [
-    "AcceptedMisclosure", "ClosureReport", "ControlPoint", "Correction", "NoGoArea", "Obstacle",
-    "ScanSide", "Site", "TableRow", "Wall", "Zone", "ZoneTable", "load_site", "reconstruct",
+    "AcceptedMisclosure",
+    "ClosureReport",
+    "ControlPoint",
+    "Correction",
+    "NoGoArea",
+    "Obstacle",
+    "ScanSide",
+    "Site",
+    "TableRow",
+    "Wall",
+    "Zone",
+    "ZoneTable",
+    "load_site",
+    "reconstruct",
 ]

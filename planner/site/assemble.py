@@ -65,15 +65,25 @@ class AssemblyReport:
     sources: dict[str, str] = field(default_factory=dict)  # how each placed zone was placed
 
     def lines(self) -> list[str]:
-        out = [f"anchor {self.anchor} (its frame is the site frame); tolerance {self.tolerance_m * 1000:.1f} mm, "
-               f"wall thickness {self.wall_thickness_m:.3f} m"]
-        out += [f"match   {m.label}: lengths {m.length_a_m:.4f} / {m.length_b_m:.4f} m (within {m.tolerance_m * 1000:.0f} mm), "
-                f"{'same' if m.same_direction else 'opposite'} direction, residual {m.residual_m * 1000:.1f} mm" for m in self.used]
+        out = [
+            f"anchor {self.anchor} (its frame is the site frame); tolerance {self.tolerance_m * 1000:.1f} mm, "
+            f"wall thickness {self.wall_thickness_m:.3f} m"
+        ]
+        out += [
+            f"match   {m.label}: lengths {m.length_a_m:.4f} / {m.length_b_m:.4f} m (within {m.tolerance_m * 1000:.0f} mm), "
+            f"{'same' if m.same_direction else 'opposite'} direction, residual {m.residual_m * 1000:.1f} mm"
+            for m in self.used
+        ]
         out += [f"refused {m.label} ({m.length_a_m:.4f} / {m.length_b_m:.4f} m): {why}" for m, why in self.refused]
-        out += [f"contact {c.label}: overlap {c.overlap_m:.2f} m, residual {c.residual_m * 1000:.1f} mm"
-                for c in self.contacts]
-        out += [f"placed  {z}: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
-                + (f" ({self.sources[z]})" if z in self.sources else "") for z, p in self.placements.items()]
+        out += [
+            f"contact {c.label}: overlap {c.overlap_m:.2f} m, residual {c.residual_m * 1000:.1f} mm"
+            for c in self.contacts
+        ]
+        out += [
+            f"placed  {z}: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
+            + (f" ({self.sources[z]})" if z in self.sources else "")
+            for z, p in self.placements.items()
+        ]
         out += [f"unplaced {z}: {why}" for z, why in self.unplaced]
         return out
 
@@ -103,7 +113,7 @@ def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallM
     (:func:`side_tolerance_m`), closest first."""
     out = []
     for i, za in enumerate(zones):
-        for zb in zones[i + 1:]:
+        for zb in zones[i + 1 :]:
             sa, sb = normal_sign(za), normal_sign(zb)
             if sa == 0 or sb == 0:
                 continue
@@ -111,8 +121,11 @@ def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallM
                 for wb in zb.outer_walls:
                     tol = side_tolerance_m(za, wa, zb, wb, tolerance_m)
                     if abs(wa.length_m - wb.length_m) <= tol:
-                        out.append(WallMatch(za.id, wa.index, zb.id, wb.index, wa.length_m, wb.length_m, sa != sb,
-                                             tolerance_m=tol))
+                        out.append(
+                            WallMatch(
+                                za.id, wa.index, zb.id, wb.index, wa.length_m, wb.length_m, sa != sb, tolerance_m=tol
+                            )
+                        )
     return sorted(out, key=lambda m: (abs(m.length_a_m - m.length_b_m) > tolerance_m, abs(m.length_a_m - m.length_b_m)))
 
 
@@ -128,8 +141,9 @@ def _face_ends(zone: Zone, w: Wall, p: Placement, thickness_m: float) -> NDArray
     return e - thickness_m * n
 
 
-def _relative(m: WallMatch, placed: Zone, pp: Placement, other: Zone, other_wall: int, placed_wall: int,
-              thickness_m: float) -> Placement:
+def _relative(
+    m: WallMatch, placed: Zone, pp: Placement, other: Zone, other_wall: int, placed_wall: int, thickness_m: float
+) -> Placement:
     """Placement of ``other`` that lays its side on the placed zone's side as the match says."""
     a = _face_ends(placed, placed.outer_walls[placed_wall - 1], pp, thickness_m)
     wb = other.outer_walls[other_wall - 1]
@@ -141,8 +155,13 @@ def _relative(m: WallMatch, placed: Zone, pp: Placement, other: Zone, other_wall
     return Placement((float(origin[0]), float(origin[1])), (math.degrees(ang) + 180.0) % 360.0 - 180.0)
 
 
-def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0.0, anchor: str | None = None,
-             consistency_m: float = 0.10) -> AssemblyReport:
+def assemble(
+    site: Site,
+    tolerance_m: float = 0.005,
+    wall_thickness_m: float = 0.0,
+    anchor: str | None = None,
+    consistency_m: float = 0.10,
+) -> AssemblyReport:
     """Place the table zones of a site from their shared walls (see the module text)."""
     if not tolerance_m > 0 or not wall_thickness_m >= 0:
         raise InputError("tolerance must be > 0 and wall thickness >= 0", field="tolerance", value=tolerance_m)
@@ -165,8 +184,11 @@ def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0
                 continue
             if (m.zone_a in placed) == (m.zone_b in placed):
                 continue
-            (pz, pw), (oz, ow) = ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b)) if m.zone_a in placed else \
-                ((m.zone_b, m.wall_b), (m.zone_a, m.wall_a))
+            (pz, pw), (oz, ow) = (
+                ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b))
+                if m.zone_a in placed
+                else ((m.zone_b, m.wall_b), (m.zone_a, m.wall_a))
+            )
             cand = _relative(m, zones[pz], placed[pz], zones[oz], ow, pw, wall_thickness_m)
             clash = next((z for z, p in placed.items() if interiors_clash(zones[oz], cand, zones[z], p)), None)
             if clash is not None:
@@ -178,8 +200,9 @@ def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0
                 continue
             spread = max(misfit(options[0][1], c, zones[oz]) for _, c in options)
             if spread > consistency_m:
-                ambiguous[oz] = (f"ambiguous: {', '.join(m.label for m, _ in options)} place it "
-                                 f"up to {spread:.3f} m apart")
+                ambiguous[oz] = (
+                    f"ambiguous: {', '.join(m.label for m, _ in options)} place it up to {spread:.3f} m apart"
+                )
                 refused += [(m, f"ambiguous placement of {oz}") for m, _ in options]
                 continue
             placed[oz] = options[0][1]
@@ -192,27 +215,48 @@ def assemble(site: Site, tolerance_m: float = 0.005, wall_thickness_m: float = 0
     loose = {z for z in placed if misclosed(zones[z]) and z not in held}
     first = [m for m in used if m.zone_a not in loose and m.zone_b not in loose]
     fitted = _fit(zones, {z: p for z, p in placed.items() if z not in loose}, held, first, wall_thickness_m)
-    fitted = _fit(zones, {**fitted, **{z: placed[z] for z in loose}}, set(fitted), [m for m in used if m not in first],
-                  wall_thickness_m)
+    fitted = _fit(
+        zones,
+        {**fitted, **{z: placed[z] for z in loose}},
+        set(fitted),
+        [m for m in used if m not in first],
+        wall_thickness_m,
+    )
     used = [replace(m, residual_m=_residual(m, zones, fitted, wall_thickness_m)) for m in used]
     sources = {z: _match_source(z, used, zones) for z in fitted if z not in fixed and z != anchor}
     from planner.site.contacts import place_unmatched
 
-    more, contacts, why_not = place_unmatched(zones, fitted, [z for z in zones if z not in fitted and z not in ambiguous])
+    more, contacts, why_not = place_unmatched(
+        zones, fitted, [z for z in zones if z not in fitted and z not in ambiguous]
+    )
     fitted.update({z: p for z, (p, _) in more.items()})
     sources.update({z: why for z, (_, why) in more.items()})
-    unplaced = [(z, ambiguous.get(z) or f"no wall of it matches a placed zone; by contacts: {why_not[z]}")
-                for z in zones if z not in fitted]
-    return AssemblyReport(anchor, {z: fitted[z] for z in zones if z in fitted and z not in fixed}, tuple(used),
-                          tuple(refused), tuple(unplaced), tolerance_m, wall_thickness_m, tuple(contacts), sources)
+    unplaced = [
+        (z, ambiguous.get(z) or f"no wall of it matches a placed zone; by contacts: {why_not[z]}")
+        for z in zones
+        if z not in fitted
+    ]
+    return AssemblyReport(
+        anchor,
+        {z: fitted[z] for z in zones if z in fitted and z not in fixed},
+        tuple(used),
+        tuple(refused),
+        tuple(unplaced),
+        tolerance_m,
+        wall_thickness_m,
+        tuple(contacts),
+        sources,
+    )
 
 
 def _match_source(z: str, used: list[WallMatch], zones: dict[str, Zone]) -> str:
     mine = [m for m in used if z in (m.zone_a, m.zone_b)]
     text = f"matched walls: {', '.join(m.label for m in mine)}"
     if misclosed(zones[z]):
-        text += (f"; its table misses by {zones[z].closure.linear_misclosure_m:.2f} m (accepted), so its sides "  # type: ignore[union-attr]
-                 "match within their closure adjustment's change and it was fitted after the others (held fixed), so it pulls none of them")
+        text += (
+            f"; its table misses by {zones[z].closure.linear_misclosure_m:.2f} m (accepted), so its sides "  # type: ignore[union-attr]
+            "match within their closure adjustment's change and it was fitted after the others (held fixed), so it pulls none of them"
+        )
     return text
 
 
@@ -221,9 +265,15 @@ def _default_anchor(site: Site) -> str:
     return outside[0] if len(outside) == 1 else max(site.zones, key=lambda z: z.area_m2).id
 
 
-def _closing_matches(matches: list[WallMatch], used: list[WallMatch], refused: list[tuple[WallMatch, str]],
-                     zones: dict[str, Zone], placed: dict[str, Placement], thickness_m: float,
-                     consistency_m: float) -> list[WallMatch]:
+def _closing_matches(
+    matches: list[WallMatch],
+    used: list[WallMatch],
+    refused: list[tuple[WallMatch, str]],
+    zones: dict[str, Zone],
+    placed: dict[str, Placement],
+    thickness_m: float,
+    consistency_m: float,
+) -> list[WallMatch]:
     """Matches between two zones placed by other matches: kept (they close loops) when they agree."""
     out = []
     for m in matches:
@@ -238,8 +288,9 @@ def _closing_matches(matches: list[WallMatch], used: list[WallMatch], refused: l
     return out
 
 
-def _one_partner(used: list[WallMatch], refused: list[tuple[WallMatch, str]]
-                 ) -> tuple[list[WallMatch], list[tuple[WallMatch, str]]]:
+def _one_partner(
+    used: list[WallMatch], refused: list[tuple[WallMatch, str]]
+) -> tuple[list[WallMatch], list[tuple[WallMatch, str]]]:
     """A wall face takes one partner: faces claimed twice keep neither claim out of the fit."""
     count: dict[tuple[str, int], int] = {}
     for m in used:
@@ -254,8 +305,9 @@ def _pairs(m: WallMatch, zones: dict[str, Zone]) -> tuple[Wall, Wall]:
     return zones[m.zone_a].outer_walls[m.wall_a - 1], zones[m.zone_b].outer_walls[m.wall_b - 1]
 
 
-def _match_residuals(m: WallMatch, zones: dict[str, Zone], pl: dict[str, Placement], thickness_m: float
-                     ) -> NDArray[np.float64]:
+def _match_residuals(
+    m: WallMatch, zones: dict[str, Zone], pl: dict[str, Placement], thickness_m: float
+) -> NDArray[np.float64]:
     wa, wb = _pairs(m, zones)
     a = _face_ends(zones[m.zone_a], wa, pl[m.zone_a], thickness_m)
     b = _ends(wb, pl[m.zone_b])
@@ -267,8 +319,9 @@ def _residual(m: WallMatch, zones: dict[str, Zone], pl: dict[str, Placement], th
     return float(np.max(np.hypot(r[:, 0], r[:, 1])))
 
 
-def _fit(zones: dict[str, Zone], start: dict[str, Placement], fixed: set[str], used: list[WallMatch],
-         thickness_m: float) -> dict[str, Placement]:
+def _fit(
+    zones: dict[str, Zone], start: dict[str, Placement], fixed: set[str], used: list[WallMatch], thickness_m: float
+) -> dict[str, Placement]:
     """Least squares over the placements of every zone reached (fixed ones held)."""
     free = [z for z in start if z not in fixed]
     if not free or not used:
@@ -281,7 +334,12 @@ def _fit(zones: dict[str, Zone], start: dict[str, Placement], fixed: set[str], u
         return pl
 
     x0 = np.array([c for z in free for c in (*start[z].origin, math.radians(start[z].rotation_deg))])
-    res = least_squares(lambda v: np.concatenate([_match_residuals(m, zones, unpack(v), thickness_m) for m in used]),
-                        x0, method="lm" if 4 * len(used) >= len(x0) else "trf", xtol=1e-12, ftol=1e-12)
+    res = least_squares(
+        lambda v: np.concatenate([_match_residuals(m, zones, unpack(v), thickness_m) for m in used]),
+        x0,
+        method="lm" if 4 * len(used) >= len(x0) else "trf",
+        xtol=1e-12,
+        ftol=1e-12,
+    )
     pl = unpack(res.x)
     return {z: replace(p, rotation_deg=(p.rotation_deg + 180.0) % 360.0 - 180.0) for z, p in pl.items()}

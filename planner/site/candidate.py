@@ -16,14 +16,13 @@ class CandidateKind(str, Enum):
     """Where a candidate comes from (the ``kind`` of a station in plan.json)."""
 
     VERTEX = "vertex"  # K^B, on the bisector of a corner
-    WALL = "wall"      # K^C, in front of a wall
+    WALL = "wall"  # K^C, in front of a wall
     CIRCLE = "circle"  # one station in the intersection of the vertex circles
-    FIELD = "field"    # sampled inside a closed-form candidate's movement field
-    GRID = "grid"      # on a grid over the accessible area
+    FIELD = "field"  # sampled inside a closed-form candidate's movement field
+    GRID = "grid"  # on a grid over the accessible area
     REGION = "region"  # in the common part of a zone-side's coverage regions (one station sees it all)
-    AXIS = "axis"      # in a cell of the coverage arrangement along a room's medial axis
+    AXIS = "axis"  # in a cell of the coverage arrangement along a room's medial axis
     PRICED = "priced"  # a face of the coverage-region arrangement found by geometric pricing
-
 
 
 @dataclass(frozen=True)
@@ -76,6 +75,9 @@ def stations_argument(stations: Any) -> None:
         if bad is None:
             return
         got = f"{got} whose item {bad} is {article(type(stations[bad - 1]).__name__)}"
-    raise ArgumentTypeError(f"must be a sequence of stations (Candidate objects, e.g. plan.stations), not {article(got)}"
-                            + (" (use plan.stations)" if got == "Plan" else ""), field="stations",
-                            value=shown(stations))
+    raise ArgumentTypeError(
+        f"must be a sequence of stations (Candidate objects, e.g. plan.stations), not {article(got)}"
+        + (" (use plan.stations)" if got == "Plan" else ""),
+        field="stations",
+        value=shown(stations),
+    )

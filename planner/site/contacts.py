@@ -70,8 +70,12 @@ def _wrap(a: float) -> float:
 
 
 def _site_walls(zones: dict[str, Zone], placed: dict[str, Placement]) -> list[tuple[Zone, Wall, NDArray[np.float64]]]:
-    return [(zones[z], w, p.apply([w.start, w.end])) for z, p in placed.items() for w in zones[z].outer_walls
-            if normal_sign(zones[z]) != 0]
+    return [
+        (zones[z], w, p.apply([w.start, w.end]))
+        for z, p in placed.items()
+        for w in zones[z].outer_walls
+        if normal_sign(zones[z]) != 0
+    ]
 
 
 def _target_angle(zone: Zone, other: Zone, ends: NDArray[np.float64]) -> float:
@@ -80,8 +84,16 @@ def _target_angle(zone: Zone, other: Zone, ends: NDArray[np.float64]) -> float:
     return d if normal_sign(zone) != normal_sign(other) else _wrap(d + math.pi)
 
 
-def _contact(zone: Zone, w: Wall, p: Placement, other: Zone, ow: Wall, ends: NDArray[np.float64],
-             angle_deg: float, offset_m: float) -> Contact | None:
+def _contact(
+    zone: Zone,
+    w: Wall,
+    p: Placement,
+    other: Zone,
+    ow: Wall,
+    ends: NDArray[np.float64],
+    angle_deg: float,
+    offset_m: float,
+) -> Contact | None:
     mine = p.apply([w.start, w.end])
     if abs(_wrap(_dir(mine[0], mine[1]) - _target_angle(zone, other, ends))) > math.radians(angle_deg):
         return None
@@ -96,8 +108,9 @@ def _contact(zone: Zone, w: Wall, p: Placement, other: Zone, ow: Wall, ends: NDA
     return Contact(zone.id, w.index, other.id, ow.index, w.length_m, ow.length_m, float(overlap))
 
 
-def contacts_at(zone: Zone, p: Placement, zones: dict[str, Zone], placed: dict[str, Placement],
-                angle_deg: float, offset_m: float) -> list[Contact]:
+def contacts_at(
+    zone: Zone, p: Placement, zones: dict[str, Zone], placed: dict[str, Placement], angle_deg: float, offset_m: float
+) -> list[Contact]:
     """Every contact of ``zone`` placed at ``p`` with the placed zones."""
     out = []
     for other, ow, ends in _site_walls(zones, placed):
@@ -108,8 +121,9 @@ def contacts_at(zone: Zone, p: Placement, zones: dict[str, Zone], placed: dict[s
     return out
 
 
-def _line_residuals(zone: Zone, p: Placement, cs: list[Contact], zones: dict[str, Zone],
-                    placed: dict[str, Placement]) -> NDArray[np.float64]:
+def _line_residuals(
+    zone: Zone, p: Placement, cs: list[Contact], zones: dict[str, Zone], placed: dict[str, Placement]
+) -> NDArray[np.float64]:
     """Perpendicular distances of the shorter segment's ends from the longer one's line, per contact."""
     out = []
     for c in cs:
@@ -123,8 +137,9 @@ def _line_residuals(zone: Zone, p: Placement, cs: list[Contact], zones: dict[str
     return np.asarray(out, dtype=float)
 
 
-def _refine(zone: Zone, p: Placement, cs: list[Contact], zones: dict[str, Zone],
-            placed: dict[str, Placement]) -> Placement:
+def _refine(
+    zone: Zone, p: Placement, cs: list[Contact], zones: dict[str, Zone], placed: dict[str, Placement]
+) -> Placement:
     def unpack(v: NDArray[np.float64]) -> Placement:
         return Placement((float(v[0]), float(v[1])), float(np.degrees(v[2])))
 
@@ -138,7 +153,7 @@ def _seeds(zone: Zone, zones: dict[str, Zone], placed: dict[str, Placement], ang
     """Placements that lay two non-parallel sides of ``zone`` on the lines of two placed sides."""
     walls = _site_walls(zones, placed)
     out = []
-    for (w1, w2) in itertools.permutations(zone.outer_walls, 2):
+    for w1, w2 in itertools.permutations(zone.outer_walls, 2):
         a1, a2 = _dir(np.array(w1.start), np.array(w1.end)), _dir(np.array(w2.start), np.array(w2.end))
         if abs(math.sin(a1 - a2)) < math.sin(math.radians(PARALLEL_DEG)) or w1.index > w2.index:
             continue
@@ -161,9 +176,15 @@ def _seeds(zone: Zone, zones: dict[str, Zone], placed: dict[str, Placement], ang
     return out
 
 
-def place_by_contacts(zone: Zone, zones: dict[str, Zone], placed: dict[str, Placement], *, angle_deg: float = 1.0,
-                      offset_m: float = 0.5, consistency_m: float = 0.10
-                      ) -> tuple[Placement | None, list[Contact], str]:
+def place_by_contacts(
+    zone: Zone,
+    zones: dict[str, Zone],
+    placed: dict[str, Placement],
+    *,
+    angle_deg: float = 1.0,
+    offset_m: float = 0.5,
+    consistency_m: float = 0.10,
+) -> tuple[Placement | None, list[Contact], str]:
     """The placement of ``zone`` held by collinear contacts (see the module text), its contacts with
     residuals, and a reason (why it was placed, or why not)."""
     if normal_sign(zone) <= 0:
@@ -183,21 +204,41 @@ def place_by_contacts(zone: Zone, zones: dict[str, Zone], placed: dict[str, Plac
         if not any(misfit(p, q, zone) <= consistency_m for q, _ in found):
             found.append((p, cs))
     if not found:
-        return None, [], (f"no placement holds {MIN_CONTACTS} or more of its sides along placed walls "
-                          "without overlapping a placed zone; left in its own frame")
-    scored = sorted(((len(cs), _rms(zone, p, cs, zones, placed), p, cs) for p, cs in found), key=lambda f: (-f[0], f[1]))
+        return (
+            None,
+            [],
+            (
+                f"no placement holds {MIN_CONTACTS} or more of its sides along placed walls "
+                "without overlapping a placed zone; left in its own frame"
+            ),
+        )
+    scored = sorted(
+        ((len(cs), _rms(zone, p, cs, zones, placed), p, cs) for p, cs in found), key=lambda f: (-f[0], f[1])
+    )
     n, rms, p, cs = scored[0]
     rivals = [f for f in scored[1:] if f[0] == n]
     if rivals and rivals[0][1] < RMS_RATIO * rms:
-        return None, [], (f"ambiguous: {len(rivals) + 1} placements are held by {n} contacts each and fit about "
-                          f"as well (RMS {rms * 1000:.0f} and {rivals[0][1] * 1000:.0f} mm); left in its own frame")
+        return (
+            None,
+            [],
+            (
+                f"ambiguous: {len(rivals) + 1} placements are held by {n} contacts each and fit about "
+                f"as well (RMS {rms * 1000:.0f} and {rivals[0][1] * 1000:.0f} mm); left in its own frame"
+            ),
+        )
     r = _line_residuals(zone, p, cs, zones, placed).reshape(-1, 2)
-    cs = [Contact(c.zone, c.wall, c.other, c.other_wall, c.length_m, c.other_length_m, c.overlap_m,
-                  float(np.max(np.abs(k)))) for c, k in zip(cs, r)]
+    cs = [
+        Contact(
+            c.zone, c.wall, c.other, c.other_wall, c.length_m, c.other_length_m, c.overlap_m, float(np.max(np.abs(k)))
+        )
+        for c, k in zip(cs, r)
+    ]
     why = f"placed by {n} collinear contacts, RMS {rms * 1000:.0f} mm"
     if rivals:
-        why += (f"; {len(rivals)} other placement(s) with {n} contacts fit at RMS {rivals[0][1] * 1000:.0f} mm "
-                f"or worse (more than {RMS_RATIO:g} x)")
+        why += (
+            f"; {len(rivals)} other placement(s) with {n} contacts fit at RMS {rivals[0][1] * 1000:.0f} mm "
+            f"or worse (more than {RMS_RATIO:g} x)"
+        )
     others = [f for f in scored[1:] if f[0] < n]
     why += f"; the next placement has {others[0][0]} contacts" if others else ""
     return p, cs, why
@@ -214,8 +255,9 @@ def _two_directions(zone: Zone, cs: list[Contact]) -> bool:
     return any(abs(math.sin(a - b)) >= math.sin(math.radians(PARALLEL_DEG)) for a, b in itertools.combinations(ang, 2))
 
 
-def place_unmatched(zones: dict[str, Zone], placed: dict[str, Placement], todo: list[str]
-                    ) -> tuple[dict[str, tuple[Placement, str]], list[Contact], dict[str, str]]:
+def place_unmatched(
+    zones: dict[str, Zone], placed: dict[str, Placement], todo: list[str]
+) -> tuple[dict[str, tuple[Placement, str]], list[Contact], dict[str, str]]:
     """Zones of ``todo`` placed by contacts, in rounds (a zone placed may hold the next); the placements
     with their reasons, the contacts used, and why each zone left over was not placed."""
     done: dict[str, tuple[Placement, str]] = {}

@@ -28,7 +28,9 @@ def _transformer(src: str, dst: str) -> Transform:
     try:
         target = CRS.from_user_input(dst if dst != WGS84 else src)
     except CRSError:
-        raise UsageError("unknown coordinate reference system", field="crs", value=dst if dst != WGS84 else src) from None
+        raise UsageError(
+            "unknown coordinate reference system", field="crs", value=dst if dst != WGS84 else src
+        ) from None
     if not target.is_projected:
         raise UsageError("planning needs a projected (metric) CRS", field="crs", value=target.to_string())
     t = Transformer.from_crs(src, dst, always_xy=True)
@@ -37,6 +39,7 @@ def _transformer(src: str, dst: str) -> Transform:
         a = np.asarray(xy, dtype=float).reshape(-1, 2)
         x, y = t.transform(a[:, 0], a[:, 1])
         return np.column_stack([x, y])
+
     return run
 
 

@@ -45,8 +45,9 @@ def entity_arcs(e: Any) -> list[Arc]:
         pts = [(float(x), float(y), elev, float(b)) for x, y, b in e.get_points("xyb")]
     else:  # a 2-D POLYLINE: its elevation is the z of a point
         elev = float(e.dxf.get("elevation", (0.0, 0.0, 0.0))[2])
-        pts = [(float(v.dxf.location.x), float(v.dxf.location.y), elev, float(v.dxf.get("bulge", 0.0)))
-               for v in e.vertices]
+        pts = [
+            (float(v.dxf.location.x), float(v.dxf.location.y), elev, float(v.dxf.get("bulge", 0.0))) for v in e.vertices
+        ]
     closed = bool(e.closed) if kind == "LWPOLYLINE" else bool(e.is_closed)
     ends = len(pts) if closed else len(pts) - 1
     return [_bulge_arc(e, k, pts[k], pts[(k + 1) % len(pts)]) for k in range(max(ends, 0)) if pts[k][3] != 0.0]
@@ -91,15 +92,22 @@ def check_arcs(e: Any, scale: float, flatten_m: float, **where: Any) -> None:
             raise InputError("bulge must be a finite number", **_at(a, where), field="bulge", value=a.bulge)
         far = (max(abs(a.anchor[0]), abs(a.anchor[1])) + a.reach) * scale
         if not math.isfinite(far) or far > MAX_COORDINATE_M:
-            raise InputError(f"an arc of radius {a.radius * scale:.4g} m reaches {far:.4g} m out, beyond "
-                             f"+-{MAX_COORDINATE_M:g} m", **_at(a, where), **_value(a, scale))
+            raise InputError(
+                f"an arc of radius {a.radius * scale:.4g} m reaches {far:.4g} m out, beyond +-{MAX_COORDINATE_M:g} m",
+                **_at(a, where),
+                **_value(a, scale),
+            )
     n = flattened_count(arcs, flatten_m / scale)
     if n > MAX_ARC_VERTICES:
         many = f"{n:,.0f}" if n < 1e12 else f"{n:.3g}"
         big = max(arcs, key=lambda a: a.radius)
-        raise InputError(f"flattening its arcs to {flatten_m:g} m would give about {many} vertices (limit "
-                         f"{MAX_ARC_VERTICES:,}; largest radius {big.radius * scale:.4g} m): draw the curve with "
-                         "vertices, or flatten coarser (DxfOptions.flatten_m)", **_at(big, where), **_value(big, scale))
+        raise InputError(
+            f"flattening its arcs to {flatten_m:g} m would give about {many} vertices (limit "
+            f"{MAX_ARC_VERTICES:,}; largest radius {big.radius * scale:.4g} m): draw the curve with "
+            "vertices, or flatten coarser (DxfOptions.flatten_m)",
+            **_at(big, where),
+            **_value(big, scale),
+        )
 
 
 def _at(a: Arc, where: dict[str, Any]) -> dict[str, Any]:

@@ -24,16 +24,40 @@ CLOSED_TOL_M = 1e-9
 OUTLINE_KINDS = ("LWPOLYLINE", "POLYLINE", "CIRCLE")
 LABEL_KINDS = ("TEXT", "MTEXT")
 #: annotation: it draws no outline, so it is read past on every layer
-ANNOTATION_KINDS = frozenset({
-    "DIMENSION", "ARC_DIMENSION", "LARGE_RADIAL_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "TOLERANCE",
-    "ATTDEF", "ATTRIB", "VIEWPORT", "IMAGE", "WIPEOUT", "ACAD_TABLE",
-})
+ANNOTATION_KINDS = frozenset(
+    {
+        "DIMENSION",
+        "ARC_DIMENSION",
+        "LARGE_RADIAL_DIMENSION",
+        "LEADER",
+        "MLEADER",
+        "MULTILEADER",
+        "TOLERANCE",
+        "ATTDEF",
+        "ATTRIB",
+        "VIEWPORT",
+        "IMAGE",
+        "WIPEOUT",
+        "ACAD_TABLE",
+    }
+)
 _OPEN = "is open geometry"
 _AREA = "is a filled area, not its outline (trace its boundary)"
 #: why an entity of a kind not read is refused (other kinds: "is not read on this layer")
 REFUSED_KINDS = {
-    "LINE": _OPEN, "ARC": _OPEN, "SPLINE": _OPEN, "ELLIPSE": _OPEN, "XLINE": _OPEN, "RAY": _OPEN, "MLINE": _OPEN,
-    "SOLID": _AREA, "TRACE": _AREA, "HATCH": _AREA, "MPOLYGON": _AREA, "3DFACE": _AREA, "REGION": _AREA,
+    "LINE": _OPEN,
+    "ARC": _OPEN,
+    "SPLINE": _OPEN,
+    "ELLIPSE": _OPEN,
+    "XLINE": _OPEN,
+    "RAY": _OPEN,
+    "MLINE": _OPEN,
+    "SOLID": _AREA,
+    "TRACE": _AREA,
+    "HATCH": _AREA,
+    "MPOLYGON": _AREA,
+    "3DFACE": _AREA,
+    "REGION": _AREA,
     "POINT": "marks a point, not an outline",
 }
 
@@ -101,12 +125,17 @@ def _points(e: Any, handle: str, options: DxfOptions, scale: float, file: str) -
 
 def _refuse(kind: str, layer: str, handle: str, file: str) -> None:
     why = REFUSED_KINDS.get(kind, "is not read on a zone, hole, obstacle or no-go layer")
-    raise InputError(f"{kind} {why}: draw zones, obstacles and no-go areas as closed polylines",
-                     file=file, row=f"layer {layer} handle {handle}", field=kind)
+    raise InputError(
+        f"{kind} {why}: draw zones, obstacles and no-go areas as closed polylines",
+        file=file,
+        row=f"layer {layer} handle {handle}",
+        field=kind,
+    )
 
 
-def read_shapes(msp: Any, options: DxfOptions, file: str,
-                scale: float) -> tuple[list[Shape], list[tuple[str, str, tuple]]]:
+def read_shapes(
+    msp: Any, options: DxfOptions, file: str, scale: float
+) -> tuple[list[Shape], list[tuple[str, str, tuple]]]:
     """The outlines and the labels (layer in capitals, text, position in metres) on the layers read."""
     shapes, texts = [], []
     for e, handle in expand(msp):
@@ -115,8 +144,13 @@ def read_shapes(msp: Any, options: DxfOptions, file: str,
             continue
         if kind in LABEL_KINDS:
             p = e.dxf.insert
-            texts.append((layer.upper(), e.plain_text().strip() if kind == "MTEXT" else e.dxf.text.strip(),
-                          (p.x * scale, p.y * scale)))
+            texts.append(
+                (
+                    layer.upper(),
+                    e.plain_text().strip() if kind == "MTEXT" else e.dxf.text.strip(),
+                    (p.x * scale, p.y * scale),
+                )
+            )
         elif kind in OUTLINE_KINDS:
             xy = _points(e, handle, options, scale, file)
             # a mirrored block turns the extrusion over and with it the sign of the thickness

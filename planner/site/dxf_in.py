@@ -96,8 +96,11 @@ def _heights(s: Shape, options: DxfOptions, scale: float, what: str) -> list[flo
         return [h * scale for h in heights]
     h = s.height(options)
     if h is None:
-        raise InputError(f"no wall height{what}: set the polyline's thickness or give a layer default height",
-                         field="thickness", value=s.thickness)
+        raise InputError(
+            f"no wall height{what}: set the polyline's thickness or give a layer default height",
+            field="thickness",
+            value=s.thickness,
+        )
     return [h] * len(s.xy)
 
 
@@ -113,8 +116,14 @@ def _zone(s: Shape, k: int, options: DxfOptions, texts: list, note: str | None, 
     xy = s.xy
     if signed_area(xy) <= 0:
         xy, heights = xy[::-1], heights[::-1]
-    return Zone(id=zid, scan_side=side, vertices=tuple(map(tuple, xy.tolist())), vertex_heights_m=tuple(heights),
-                frame=kv.get("frame", SITE_FRAME), notes=(note,) if note else ())
+    return Zone(
+        id=zid,
+        scan_side=side,
+        vertices=tuple(map(tuple, xy.tolist())),
+        vertex_heights_m=tuple(heights),
+        frame=kv.get("frame", SITE_FRAME),
+        notes=(note,) if note else (),
+    )
 
 
 def _hole_ring(s: Shape, zones: list[Zone], options: DxfOptions, scale: float) -> tuple[int, np.ndarray, list[float]]:
@@ -122,8 +131,10 @@ def _hole_ring(s: Shape, zones: list[Zone], options: DxfOptions, scale: float) -
     heights = _heights(s, options, scale, " for a hole")
     check_simple_polygon(s.xy, what="polygon")  # before shapely builds it: two vertices are no ring
     inner = shapely.Polygon(s.xy)
-    k = next((i for i, z in enumerate(zones)
-              if z.scan_side is ScanSide.INSIDE and shapely.Polygon(z.xy).contains(inner)), None)
+    k = next(
+        (i for i, z in enumerate(zones) if z.scan_side is ScanSide.INSIDE and shapely.Polygon(z.xy).contains(inner)),
+        None,
+    )
     if k is None:
         raise InputError("a hole must lie inside a zone scanned inside", field="HOLES")
     if signed_area(s.xy) > 0:
@@ -143,8 +154,11 @@ def _place_holes(zones: list[Zone], holes: list[Shape], options: DxfOptions, sca
     out = list(zones)
     with located_in(file):
         for k, rs in rings.items():
-            out[k] = replace(out[k], holes=out[k].holes + tuple(tuple(map(tuple, r.tolist())) for r, _ in rs),
-                             hole_heights_m=out[k].hole_heights_m + tuple(tuple(h) for _, h in rs))
+            out[k] = replace(
+                out[k],
+                holes=out[k].holes + tuple(tuple(map(tuple, r.tolist())) for r, _ in rs),
+                hole_heights_m=out[k].hole_heights_m + tuple(tuple(h) for _, h in rs),
+            )
     return out
 
 
@@ -156,8 +170,9 @@ def _other(s: Shape, k: int, role: str, options: DxfOptions) -> Obstacle | NoGoA
         return NoGoArea(name, verts)
     h = s.height(options)
     if h is None:
-        raise InputError("no obstacle height: set the polyline's thickness or a layer default", field="thickness",
-                         value=s.thickness)
+        raise InputError(
+            "no obstacle height: set the polyline's thickness or a layer default", field="thickness", value=s.thickness
+        )
     return Obstacle(name, verts, h)
 
 
@@ -211,7 +226,13 @@ def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameter
         layers = ", ".join(options.zone_layers)
         raise InputError(f"no closed polyline on a zone layer ({layers})", file=file, field="zones", value=0)
     zones = _place_holes(zones, [s for s in shapes if options.role(s.layer) == "hole"], options, scale, file)
-    site = Site(name=path.stem, zones=tuple(zones), parameters=parameters or Parameters(),
-                obstacles=tuple(others["obstacle"]), no_go_areas=tuple(others["no_go"]), source=file)
+    site = Site(
+        name=path.stem,
+        zones=tuple(zones),
+        parameters=parameters or Parameters(),
+        obstacles=tuple(others["obstacle"]),
+        no_go_areas=tuple(others["no_go"]),
+        source=file,
+    )
     # planner's own export carries the name, instrument and parameters in the header
     return with_record(site, record_from_dxf(list(doc.header.custom_vars), file), parameters)

@@ -14,7 +14,10 @@ from planner.errors import UsageError
 from planner.site.model import ScanSide
 
 ZONE_LAYERS: dict[str, ScanSide | None] = {
-    "WALLS": None, "ZONES": None, "ZONES-INSIDE": ScanSide.INSIDE, "ZONES-OUTSIDE": ScanSide.OUTSIDE,
+    "WALLS": None,
+    "ZONES": None,
+    "ZONES-INSIDE": ScanSide.INSIDE,
+    "ZONES-OUTSIDE": ScanSide.OUTSIDE,
     "ZONES-BOTH": ScanSide.BOTH,
 }
 
@@ -51,8 +54,11 @@ class DxfOptions:
             try:
                 object.__setattr__(self, "default_side", ScanSide(self.default_side))
             except ValueError:
-                raise UsageError(f"must be one of {', '.join(s.value for s in ScanSide)}", field="default_side",
-                                 value=self.default_side) from None
+                raise UsageError(
+                    f"must be one of {', '.join(s.value for s in ScanSide)}",
+                    field="default_side",
+                    value=self.default_side,
+                ) from None
         _one_per_layer(self.layer_heights_m, "layer_heights_m")
         _one_per_layer(self.zone_layers, "zone_layers")
         for layer, height in self.layer_heights_m.items():
@@ -87,9 +93,15 @@ def _one_per_layer(by_layer: object, name: str) -> None:
     seen: dict[str, str] = {}
     for layer in by_layer:
         if not isinstance(layer, str) or not layer:
-            raise UsageError("layer names must be non-empty text", field=name,
-                             value=layer if isinstance(layer, str) else type(layer).__name__)
+            raise UsageError(
+                "layer names must be non-empty text",
+                field=name,
+                value=layer if isinstance(layer, str) else type(layer).__name__,
+            )
         if layer.upper() in seen:
-            raise UsageError(f"layer given twice ({seen[layer.upper()]!r} and {layer!r}; names are "
-                             "case-insensitive)", field=name, value=layer)
+            raise UsageError(
+                f"layer given twice ({seen[layer.upper()]!r} and {layer!r}; names are case-insensitive)",
+                field=name,
+                value=layer,
+            )
         seen[layer.upper()] = layer

@@ -51,11 +51,19 @@ def read_json(path: Path | str) -> Any:
     except json.JSONDecodeError as exc:
         raise InputError(f"invalid JSON: {exc.msg}", file=name, row=f"line {exc.lineno} column {exc.colno}") from None
     except RecursionError:
-        raise InputError(f"invalid JSON: nested too deeply (over {MAX_JSON_DEPTH} levels of [ and {{)", file=name,
-                         row=_line_column(text, _too_deep_at(text))) from None
+        raise InputError(
+            f"invalid JSON: nested too deeply (over {MAX_JSON_DEPTH} levels of [ and {{)",
+            file=name,
+            row=_line_column(text, _too_deep_at(text)),
+        ) from None
     except _OutOfRange as exc:
-        raise InputError("invalid JSON: number out of range (beyond +-1.8e308)", file=name, field="number",
-                         row=_line_column(text, _number_at(text, exc.literal)), value=_shortened(exc.literal)) from None
+        raise InputError(
+            "invalid JSON: number out of range (beyond +-1.8e308)",
+            file=name,
+            field="number",
+            row=_line_column(text, _number_at(text, exc.literal)),
+            value=_shortened(exc.literal),
+        ) from None
     if re.search(_SURROGATE_ESCAPE, text):  # rare: only then is the parsed data searched
         _refuse_surrogates(data, name)
     return data
@@ -100,8 +108,11 @@ def _object(pairs: list[tuple[str, Any]], file: str) -> dict[str, Any]:
     seen: dict[str, Any] = {}
     for key, value in pairs:
         if key in seen:
-            raise InputError(f"key given twice in one object ({_brief(seen[key])} and {_brief(value)}); "
-                             "give it once", file=file, field=_printable(key))
+            raise InputError(
+                f"key given twice in one object ({_brief(seen[key])} and {_brief(value)}); give it once",
+                file=file,
+                field=_printable(key),
+            )
         seen[key] = value
     return data
 
@@ -164,12 +175,23 @@ def _refuse_surrogates(data: Any, file: str) -> None:
             stack += [(v, f"{where}[{k}]") for k, v in reversed(list(enumerate(item, 1)))]
         bad = next(((t, w) for t, w in texts if re.search(_LONE_SURROGATE, t)), None)
         if bad is not None:
-            raise InputError("not valid Unicode (a lone surrogate escape: half of a character pair)", file=file,
-                             field=bad[1], value=_shortened(bad[0], "characters"))
+            raise InputError(
+                "not valid Unicode (a lone surrogate escape: half of a character pair)",
+                file=file,
+                field=bad[1],
+                value=_shortened(bad[0], "characters"),
+            )
 
 
-def to_float(raw: Any, *, field: str, file: str | None = None, zone: str | None = None,
-             row: int | str | None = None, text: bool = False) -> float:
+def to_float(
+    raw: Any,
+    *,
+    field: str,
+    file: str | None = None,
+    zone: str | None = None,
+    row: int | str | None = None,
+    text: bool = False,
+) -> float:
     """A finite float from a JSON number, or with ``text=True`` from a CSV cell (plain decimal text: no
     Python digit grouping such as ``6_0``); NaN, inf, booleans, and text in JSON are refused."""
     if isinstance(raw, bool):
@@ -190,18 +212,26 @@ def to_float(raw: Any, *, field: str, file: str | None = None, zone: str | None 
         try:
             value = float(raw)
         except OverflowError:  # an integer no float holds (from a caller; read_json refuses it in the file)
-            raise InputError("number out of range (beyond +-1.8e308)", file=file, zone=zone, row=row,
-                             field=field) from None
+            raise InputError(
+                "number out of range (beyond +-1.8e308)", file=file, zone=zone, row=row, field=field
+            ) from None
     else:
-        raise InputError("must be a number", file=file, zone=zone, row=row, field=field,
-                         value=type(raw).__name__ if raw is not None else "null")
+        raise InputError(
+            "must be a number",
+            file=file,
+            zone=zone,
+            row=row,
+            field=field,
+            value=type(raw).__name__ if raw is not None else "null",
+        )
     if not math.isfinite(value):
         raise InputError("must be finite", file=file, zone=zone, row=row, field=field, value=raw)
     return value
 
 
-def to_int(raw: Any, *, field: str, file: str | None = None, zone: str | None = None,
-           row: int | str | None = None) -> int:
+def to_int(
+    raw: Any, *, field: str, file: str | None = None, zone: str | None = None, row: int | str | None = None
+) -> int:
     """A whole number from JSON: an integer, or a number with no fraction (``2.0``, as a JSON writer may put
     it); 1.9 is refused (it was read as 1), and so are booleans and text."""
     if isinstance(raw, float) and raw.is_integer() and abs(raw) <= 2.0**53:
@@ -216,5 +246,6 @@ def known_keys(data: dict[str, Any], known: set[str], **where: Any) -> None:
     """Refuse a key outside ``known`` (a typo must not drop a value silently), naming it and its value."""
     unknown = sorted(set(data) - known)
     if unknown:
-        raise InputError(f"unknown key (known: {', '.join(sorted(known))})", field=unknown[0], value=data[unknown[0]],
-                         **where)
+        raise InputError(
+            f"unknown key (known: {', '.join(sorted(known))})", field=unknown[0], value=data[unknown[0]], **where
+        )

@@ -31,8 +31,15 @@ PLAN_ROLES = ("coverage", "station", "tripod_disc", "network", "control")
 def _ring(raw: Any, where: dict[str, Any], fwd: Any) -> np.ndarray:
     if not isinstance(raw, list) or len(raw) < 4:
         raise InputError("a polygon ring needs at least 4 positions (closed)", **where, field="coordinates")
-    pts = np.array([[to_float(c, field="coordinates", **where) for c in p[:2]] if isinstance(p, list) and len(p) >= 2
-                    else [np.nan, np.nan] for p in raw], dtype=float)
+    pts = np.array(
+        [
+            [to_float(c, field="coordinates", **where) for c in p[:2]]
+            if isinstance(p, list) and len(p) >= 2
+            else [np.nan, np.nan]
+            for p in raw
+        ],
+        dtype=float,
+    )
     if np.isnan(pts).any():
         raise InputError("positions must be [x, y] numbers", **where, field="coordinates")
     if not np.allclose(pts[0], pts[-1], rtol=0, atol=1e-12):
@@ -51,8 +58,9 @@ def _heights(props: dict, n: int, where: dict[str, Any]) -> list[float]:
     given = [key for key in ("height_m", "height") if key in props]
     if "vertex_heights_m" in props:
         if given:  # two heights for one zone: one would be dropped silently
-            raise InputError(f"give vertex_heights_m or {given[0]}, not both", **where, field=given[0],
-                             value=_shown(props[given[0]]))
+            raise InputError(
+                f"give vertex_heights_m or {given[0]}, not both", **where, field=given[0], value=_shown(props[given[0]])
+            )
         raw = props["vertex_heights_m"]
         if not isinstance(raw, list) or len(raw) != n:
             raise InputError(f"needs a list of {n} heights", **where, field="vertex_heights_m")
@@ -82,8 +90,12 @@ def _member(f: dict, key: str, where: dict[str, Any]) -> dict:
 def _scan_side(props: dict, where: dict[str, Any]) -> ScanSide:
     side = props.get("scan_side", "inside")
     if not isinstance(side, str) or side not in {s.value for s in ScanSide}:
-        raise InputError(f"unknown scan side (known: {', '.join(s.value for s in ScanSide)})", **where,
-                         field="scan_side", value=_shown(side))
+        raise InputError(
+            f"unknown scan side (known: {', '.join(s.value for s in ScanSide)})",
+            **where,
+            field="scan_side",
+            value=_shown(side),
+        )
     return ScanSide(side)
 
 
@@ -95,8 +107,9 @@ def _feature(f: Any, k: int, file: str, fwd: Any) -> tuple[str, Any] | None:
     geom = _member(f, "geometry", where)
     role = props.get("role", "zone")
     if not isinstance(role, str):
-        raise InputError(f"unknown role (known: {', '.join(ROLES + PLAN_ROLES)})", **where, field="role",
-                         value=_shown(role))
+        raise InputError(
+            f"unknown role (known: {', '.join(ROLES + PLAN_ROLES)})", **where, field="role", value=_shown(role)
+        )
     if role in PLAN_ROLES:
         return None  # stations, coverage ... of an exported plan
     if role not in ROLES:  # a typo ("obstacel") must not drop a feature silently
@@ -114,12 +127,20 @@ def _feature(f: Any, k: int, file: str, fwd: Any) -> tuple[str, Any] | None:
         xy, h = _ccw(outer, _heights(props, len(outer), where))
         hole_xy = [_ccw(r, None, want_ccw=False)[0] for r in holes]
         side = _scan_side(props, where)
-        hh = (to_float(props["hole_height_m"], field="hole_height_m", **where) if "hole_height_m" in props
-              else max(h or [0.0]))
-        return role, Zone(id=name, scan_side=side, vertices=tuple(map(tuple, xy.tolist())),
-                          vertex_heights_m=tuple(h or ()), frame=str(props.get("frame", SITE_FRAME)),
-                          holes=tuple(tuple(map(tuple, r.tolist())) for r in hole_xy),
-                          hole_heights_m=tuple((hh,) * len(r) for r in hole_xy))
+        hh = (
+            to_float(props["hole_height_m"], field="hole_height_m", **where)
+            if "hole_height_m" in props
+            else max(h or [0.0])
+        )
+        return role, Zone(
+            id=name,
+            scan_side=side,
+            vertices=tuple(map(tuple, xy.tolist())),
+            vertex_heights_m=tuple(h or ()),
+            frame=str(props.get("frame", SITE_FRAME)),
+            holes=tuple(tuple(map(tuple, r.tolist())) for r in hole_xy),
+            hole_heights_m=tuple((hh,) * len(r) for r in hole_xy),
+        )
     if holes:
         raise InputError(f"a {role} cannot have holes", **where, field="geometry.coordinates")
     verts = tuple(map(tuple, outer.tolist()))
@@ -133,9 +154,17 @@ def read_geojson_site(path: Path | str, parameters: Parameters | None = None, cr
     path = Path(path)
     file = str(path)
     data = read_json(path)
-    if not isinstance(data, dict) or data.get("type") != "FeatureCollection" or not isinstance(data.get("features"), list):
-        raise InputError("must be a GeoJSON FeatureCollection", file=file, field="type",
-                         value=data.get("type") if isinstance(data, dict) else type(data).__name__)
+    if (
+        not isinstance(data, dict)
+        or data.get("type") != "FeatureCollection"
+        or not isinstance(data.get("features"), list)
+    ):
+        raise InputError(
+            "must be a GeoJSON FeatureCollection",
+            file=file,
+            field="type",
+            value=data.get("type") if isinstance(data, dict) else type(data).__name__,
+        )
     fwd = to_projected(crs) if crs else None
     out: dict[str, list] = {r: [] for r in ROLES}
     for k, f in enumerate(data["features"], 1):
@@ -151,8 +180,14 @@ def read_geojson_site(path: Path | str, parameters: Parameters | None = None, cr
         _not_degrees(out["zone"], file)
     meta = data.get("planner")
     record = read_site_record(meta[RECORD_KEY], file) if isinstance(meta, dict) and RECORD_KEY in meta else None
-    site = Site(name=path.stem, zones=tuple(out["zone"]), parameters=parameters or Parameters(),
-                obstacles=tuple(out["obstacle"]), no_go_areas=tuple(out["no_go"]), source=file)
+    site = Site(
+        name=path.stem,
+        zones=tuple(out["zone"]),
+        parameters=parameters or Parameters(),
+        obstacles=tuple(out["obstacle"]),
+        no_go_areas=tuple(out["no_go"]),
+        source=file,
+    )
     return with_record(site, record, parameters)
 
 
@@ -166,7 +201,10 @@ def _not_degrees(zones: list[Zone], file: str) -> None:
     xy = np.vstack([z.xy for z in zones])
     extent = float(max(np.ptp(xy[:, 0]), np.ptp(xy[:, 1])))
     if extent < _TINY and np.all(np.abs(xy[:, 0]) <= 180) and np.all(np.abs(xy[:, 1]) <= 90):
-        raise InputError(f"the zones span {extent:.3g} units: these look like lon/lat degrees (GeoJSON's default), "
-                         "read as metres; give --crs EPSG:<metric CRS> to project them (docs/exchange.md)",
-                         file=file, field="coordinates", value=f"{xy[0, 0]:.6f}, {xy[0, 1]:.6f}")
-
+        raise InputError(
+            f"the zones span {extent:.3g} units: these look like lon/lat degrees (GeoJSON's default), "
+            "read as metres; give --crs EPSG:<metric CRS> to project them (docs/exchange.md)",
+            file=file,
+            field="coordinates",
+            value=f"{xy[0, 0]:.6f}, {xy[0, 1]:.6f}",
+        )

@@ -28,7 +28,9 @@ def as_vertices(points: object, *, what: str, zone: str | None = None) -> NDArra
             raise InputError("must be an [x, y] pair", zone=zone, row=f"vertex {k}", field=what, value=p)
         for v in p:
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise InputError("coordinate must be a finite number", zone=zone, row=f"vertex {k}", field=what, value=v)
+                raise InputError(
+                    "coordinate must be a finite number", zone=zone, row=f"vertex {k}", field=what, value=v
+                )
         rows.append((float(p[0]), float(p[1])))
     xy = np.array(rows, dtype=float).reshape(-1, 2)
     if len(xy) > 3 and np.array_equal(xy[0], xy[-1]):
@@ -85,13 +87,24 @@ def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None
     far = np.flatnonzero(~np.all(np.isfinite(xy) & (np.abs(xy) <= MAX_COORDINATE_M), axis=1))
     if far.size:
         k = int(far[0])
-        raise InputError(f"coordinates must be finite and within +-{MAX_COORDINATE_M:g} m", zone=zone,
-                         row=f"vertex {k + 1}", field=what, value=tuple(float(v) for v in xy[k]))
+        raise InputError(
+            f"coordinates must be finite and within +-{MAX_COORDINATE_M:g} m",
+            zone=zone,
+            row=f"vertex {k + 1}",
+            field=what,
+            value=tuple(float(v) for v in xy[k]),
+        )
     lengths = side_lengths(xy)
     short = np.flatnonzero(lengths <= ZERO_LENGTH_M)
     if short.size:
         k = int(short[0]) + 1
-        raise InputError("zero-length side (duplicate vertex)", zone=zone, row=f"side {k}", field="side_length_m", value=float(lengths[k - 1]))
+        raise InputError(
+            "zero-length side (duplicate vertex)",
+            zone=zone,
+            row=f"side {k}",
+            field="side_length_m",
+            value=float(lengths[k - 1]),
+        )
     origin = xy[0]
     local = xy - origin
     if np.linalg.matrix_rank(local, tol=ZERO_LENGTH_M) < 2:
@@ -110,7 +123,8 @@ def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None
         p = shapely.get_coordinates(inter[k])[0] + origin
         raise InputError(
             f"self-intersecting polygon: sides {i[k] + 1} and {j[k] + 1} meet at ({p[0]:.3f}, {p[1]:.3f})",
-            zone=zone, field=what,
+            zone=zone,
+            field=what,
         )
     area = signed_area(xy)
     if abs(area) <= ZERO_LENGTH_M:

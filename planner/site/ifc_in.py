@@ -107,8 +107,10 @@ def _open(path: Path) -> Any:
     try:
         return ifcopenshell.open(str(path))
     except Exception as exc:  # IfcOpenShell raises plain errors for unreadable files
-        raise InputError(f"IfcOpenShell cannot read it: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
-                         file=str(path)) from None
+        raise InputError(
+            f"IfcOpenShell cannot read it: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
+            file=str(path),
+        ) from None
 
 
 def _storeys(model: Any, path: Path) -> list[_Storey]:
@@ -121,14 +123,22 @@ def _storeys(model: Any, path: Path) -> list[_Storey]:
     for k, st in enumerate(raw):
         elev = float(st.Elevation or 0.0) * scale
         nxt = float(raw[k + 1].Elevation or 0.0) * scale if k + 1 < len(raw) else None
-        spaces = tuple(sorted((e for e in ue.get_decomposition(st) if e.is_a("IfcSpace")),
-                              key=lambda e: (str(e.LongName or e.Name or ""), e.GlobalId)))
+        spaces = tuple(
+            sorted(
+                (e for e in ue.get_decomposition(st) if e.is_a("IfcSpace")),
+                key=lambda e: (str(e.LongName or e.Name or ""), e.GlobalId),
+            )
+        )
         height = nxt - elev if nxt is not None and nxt > elev else DEFAULT_STOREY_HEIGHT_M
         out.append(_Storey(st.Name or f"storey {k + 1}", st, elev, height, spaces))
     if not any(s.spaces for s in out):
-        raise InputError("no IfcSpace in any storey: the planner scans rooms; define the rooms as spaces in the "
-                         "authoring tool (e.g. Revit Rooms, ArchiCAD Zones) and export them to IFC",
-                         file=str(path), field="IfcSpace", value=0)
+        raise InputError(
+            "no IfcSpace in any storey: the planner scans rooms; define the rooms as spaces in the "
+            "authoring tool (e.g. Revit Rooms, ArchiCAD Zones) and export them to IFC",
+            file=str(path),
+            field="IfcSpace",
+            value=0,
+        )
     return out
 
 
@@ -149,17 +159,22 @@ def _select(storeys: list[_Storey], which: str | None, path: Path) -> list[_Stor
     return chosen
 
 
-def _storey_zones(model: Any, st: _Storey, frame: str, prefix: str, options: IfcOptions, settings: Any,
-                  file: str) -> list[Zone]:
+def _storey_zones(
+    model: Any, st: _Storey, frame: str, prefix: str, options: IfcOptions, settings: Any, file: str
+) -> list[Zone]:
     import ifcopenshell.util.element as ue
 
     contained = [e for e in ue.get_decomposition(st.entity) if not e.is_a("IfcSpace")]
-    blockers = [(e, s if e.is_a("IfcWall") else replace(s, footprint=s.footprint.convex_hull))
-                for e in contained if any(e.is_a(t) for t in BLOCKER_TYPES)
-                if (s := solid_of(e, settings)) is not None]
+    blockers = [
+        (e, s if e.is_a("IfcWall") else replace(s, footprint=s.footprint.convex_hull))
+        for e in contained
+        if any(e.is_a(t) for t in BLOCKER_TYPES)
+        if (s := solid_of(e, settings)) is not None
+    ]
     kinds = {"IfcDoor": "door"} | ({"IfcWindow": "window"} if options.windows else {})
-    openings = [(e, kinds[k], s) for e in contained for k in kinds if e.is_a(k)
-                if (s := solid_of(e, settings)) is not None]
+    openings = [
+        (e, kinds[k], s) for e in contained for k in kinds if e.is_a(k) if (s := solid_of(e, settings)) is not None
+    ]
     zones: list[Zone] = []
     used: set[str] = set()
     for space in st.spaces:
@@ -167,13 +182,24 @@ def _storey_zones(model: Any, st: _Storey, frame: str, prefix: str, options: Ifc
         zid = _unique(prefix + str(name), used)
         solid = solid_of(space, settings)
         if solid is None:
-            raise InputError("the space has no body geometry (IfcOpenShell built no shape for it)", file=file,
-                             zone=zid, field="Representation", value=space.GlobalId)
+            raise InputError(
+                "the space has no body geometry (IfcOpenShell built no shape for it)",
+                file=file,
+                zone=zid,
+                field="Representation",
+                value=space.GlobalId,
+            )
         height = solid.height_m if solid.height_m > 0 else st.height_m
         zone = _space_zone(zid, solid, height, blockers, frame, file)
-        ops = sorted((op for e, kind, s in openings for w in zone.walls
-               if (op := opening_on_wall(w, s.footprint, kind, e.Name or e.GlobalId)) is not None),
-                     key=lambda o: (o.wall, o.s0_m))
+        ops = sorted(
+            (
+                op
+                for e, kind, s in openings
+                for w in zone.walls
+                if (op := opening_on_wall(w, s.footprint, kind, e.Name or e.GlobalId)) is not None
+            ),
+            key=lambda o: (o.wall, o.s0_m),
+        )
         zones.append(replace(zone, openings=tuple(ops)) if ops else zone)
     if options.exterior:
         zones.append(_exterior(st, prefix, blockers, zones, frame))
@@ -188,26 +214,38 @@ def _unique(name: str, used: set[str]) -> str:
     return out
 
 
-def _space_zone(zid: str, solid: Solid, height: float, blockers: list[tuple[Any, Solid]], frame: str,
-                file: str) -> Zone:
+def _space_zone(
+    zid: str, solid: Solid, height: float, blockers: list[tuple[Any, Solid]], frame: str, file: str
+) -> Zone:
     """The zone of one space: its footprint less the blockers that stand in it."""
     room = largest_polygon(solid.footprint)
-    inside = [(s, min(height, s.height_m)) for _, s in blockers
-              if s.footprint.intersection(room).area > 0.5 * s.footprint.area]
+    inside = [
+        (s, min(height, s.height_m))
+        for _, s in blockers
+        if s.footprint.intersection(room).area > 0.5 * s.footprint.area
+    ]
     if inside:
         cut = shapely.union_all([s.footprint for s, _ in inside])
         half = SLOT_M / 2  # an opening (erode, dilate) fills the slots no scanner can see into
         room = room.difference(cut).buffer(-half, join_style="mitre").buffer(half, join_style="mitre")
         room = largest_polygon(shapely.simplify(room.intersection(largest_polygon(solid.footprint)), OUTLINE_TOL_M))
     if room.is_empty or room.area <= 0:
-        raise InputError("the space's footprint is empty once walls and columns are cut out", file=file,
-                         zone=zid, field="footprint")
+        raise InputError(
+            "the space's footprint is empty once walls and columns are cut out", file=file, zone=zid, field="footprint"
+        )
     outline = [tuple(map(float, p)) for p in room.exterior.coords[:-1]]
     holes = tuple(tuple((float(p[0]), float(p[1])) for p in r.coords[:-1]) for r in room.interiors)
     hole_h = tuple(tuple(_height_at(p, inside, height) for p in r) for r in holes)
-    return Zone(id=zid, scan_side=ScanSide.INSIDE, vertices=tuple(outline),  # type: ignore[arg-type]
-                vertex_heights_m=tuple(_height_at(p, inside, height) for p in outline), frame=frame,
-                holes=holes, hole_heights_m=hole_h, notes=("from IFC space",))
+    return Zone(
+        id=zid,
+        scan_side=ScanSide.INSIDE,
+        vertices=tuple(outline),  # type: ignore[arg-type]
+        vertex_heights_m=tuple(_height_at(p, inside, height) for p in outline),
+        frame=frame,
+        holes=holes,
+        hole_heights_m=hole_h,
+        notes=("from IFC space",),
+    )
 
 
 def _height_at(p: tuple[float, ...], inside: list[tuple[Solid, float]], height: float) -> float:
@@ -223,5 +261,11 @@ def _exterior(st: _Storey, prefix: str, blockers: list[tuple[Any, Solid]], zones
     merged = shapely.union_all(parts).buffer(0.01, join_style="mitre").buffer(-0.01, join_style="mitre")
     outline = largest_polygon(shapely.simplify(merged, 1e-3))
     xy = tuple(tuple(map(float, p)) for p in outline.exterior.coords[:-1])
-    return Zone(id=f"{prefix}exterior", scan_side=ScanSide.OUTSIDE, vertices=xy,  # type: ignore[arg-type]
-                vertex_heights_m=(round(st.height_m, 4),) * len(xy), frame=frame, notes=("from IFC outline",))
+    return Zone(
+        id=f"{prefix}exterior",
+        scan_side=ScanSide.OUTSIDE,
+        vertices=xy,  # type: ignore[arg-type]
+        vertex_heights_m=(round(st.height_m, 4),) * len(xy),
+        frame=frame,
+        notes=("from IFC outline",),
+    )

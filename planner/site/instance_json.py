@@ -22,9 +22,25 @@ from planner.site.tables import SIDE_FIELDS, VERTEX_FIELDS, zone_from_table
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable
 from planner.site.zone_extras import place_and_open
 
-TOP_KEYS = {"format", "name", "description", "source", "instrument", "parameters", "closure_tolerance",
-            "zones", "obstacles", "no_go", "boundary", "control_points", "corrections", "accepted_misclosures",
-            "placements", "openings", "assembly"}
+TOP_KEYS = {
+    "format",
+    "name",
+    "description",
+    "source",
+    "instrument",
+    "parameters",
+    "closure_tolerance",
+    "zones",
+    "obstacles",
+    "no_go",
+    "boundary",
+    "control_points",
+    "corrections",
+    "accepted_misclosures",
+    "placements",
+    "openings",
+    "assembly",
+}
 FORMAT = "tls-planner/1"
 
 
@@ -37,7 +53,9 @@ def load_instance_json(path: Path | str) -> Site:
         raise r.fail(f"unsupported format (this reader knows {FORMAT})", field="format", value=data["format"])
     try:
         params = _parameters(r, data.get("parameters", {}))
-        tol_data = r.obj(data.get("closure_tolerance", {}), "closure_tolerance", {"angular_deg", "min_relative_precision"})
+        tol_data = r.obj(
+            data.get("closure_tolerance", {}), "closure_tolerance", {"angular_deg", "min_relative_precision"}
+        )
         tolerance = ClosureTolerance(**{k: to_float(v, field=k, file=r.file) for k, v in tol_data.items()})
         corrections = tuple(_correction(r, c, k) for k, c in enumerate(r.items(data, "corrections"), 1))
         accepted = tuple(_accepted(r, a, k) for k, a in enumerate(r.items(data, "accepted_misclosures"), 1))
@@ -61,9 +79,24 @@ def load_instance_json(path: Path | str) -> Site:
         raise exc.located(r.file) from None
 
 
-PARAM_KEYS = {"theta_max_deg", "overlap", "sigma_req_m", "sigma_req_mm", "drawing_scale", "sigma_0_m", "sigma_0_mm",
-              "centring_m", "centring_mm", "graphical_m", "graphical_mm", "instrument_height_m",
-              "max_slant_range_m", "incidence_model", "min_standoff_m", "instrument_height_span_m"}
+PARAM_KEYS = {
+    "theta_max_deg",
+    "overlap",
+    "sigma_req_m",
+    "sigma_req_mm",
+    "drawing_scale",
+    "sigma_0_m",
+    "sigma_0_mm",
+    "centring_m",
+    "centring_mm",
+    "graphical_m",
+    "graphical_mm",
+    "instrument_height_m",
+    "max_slant_range_m",
+    "incidence_model",
+    "min_standoff_m",
+    "instrument_height_span_m",
+}
 
 
 def _parameters(r: InstanceReader, raw: Any) -> Parameters:
@@ -83,8 +116,9 @@ def _parameters(r: InstanceReader, raw: Any) -> Parameters:
         derive_theta_max=derive,
         incidence_model=str(d.get("incidence_model", base.incidence_model)),
         min_standoff_m=r.num(d, "min_standoff_m") if "min_standoff_m" in d else base.min_standoff_m,
-        instrument_height_span_m=(r.num(d, "instrument_height_span_m") if "instrument_height_span_m" in d
-                                  else base.instrument_height_span_m),
+        instrument_height_span_m=(
+            r.num(d, "instrument_height_span_m") if "instrument_height_span_m" in d else base.instrument_height_span_m
+        ),
         overlap=r.num(d, "overlap") if "overlap" in d else base.overlap,
         sigma_req_m=sigma_req if sigma_req is not None else base.sigma_req_m,
         budget=budget,
@@ -96,8 +130,13 @@ def _parameters(r: InstanceReader, raw: Any) -> Parameters:
     return params
 
 
-def _zones(r: InstanceReader, entries: list[Any], tolerance: ClosureTolerance,
-           corrections: tuple[Correction, ...], accepted: tuple[AcceptedMisclosure, ...]) -> tuple[Zone, ...]:
+def _zones(
+    r: InstanceReader,
+    entries: list[Any],
+    tolerance: ClosureTolerance,
+    corrections: tuple[Correction, ...],
+    accepted: tuple[AcceptedMisclosure, ...],
+) -> tuple[Zone, ...]:
     if not entries:
         raise r.fail("an instance needs at least one zone", field="zones", value=0)
     tables: list[ZoneTable] = []
@@ -154,7 +193,9 @@ def _scan_side(r: InstanceReader, e: dict[str, Any], zone: str) -> ScanSide:
     try:
         return ScanSide(e.get("scan_side"))
     except ValueError:
-        raise r.fail("must be inside, outside or both", zone=zone, field="scan_side", value=e.get("scan_side")) from None
+        raise r.fail(
+            "must be inside, outside or both", zone=zone, field="scan_side", value=e.get("scan_side")
+        ) from None
 
 
 def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
@@ -190,21 +231,35 @@ def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
         printed = [printed[(-j - 1) % n] for j in range(n)]
         notes = ("given clockwise; stored counter-clockwise from the same first vertex",)
     holes = [_hole(r, h, zone, j) for j, h in enumerate(e.get("holes") or [], 1)]
-    return Zone(id=zone, scan_side=side, vertices=tuple(map(tuple, xy.tolist())), vertex_heights_m=tuple(heights),
-                printed_wall_heights_m=tuple(printed) if any(p is not None for p in printed) else (), notes=notes,
-                holes=tuple(ring for ring, _ in holes), hole_heights_m=tuple(hs for _, hs in holes))
+    return Zone(
+        id=zone,
+        scan_side=side,
+        vertices=tuple(map(tuple, xy.tolist())),
+        vertex_heights_m=tuple(heights),
+        printed_wall_heights_m=tuple(printed) if any(p is not None for p in printed) else (),
+        notes=notes,
+        holes=tuple(ring for ring, _ in holes),
+        hole_heights_m=tuple(hs for _, hs in holes),
+    )
 
 
 def _wall_height(r: InstanceReader, raw: Any, zone: str, wall: int) -> float:
     """A printed wall height, > 0 and <= MAX_HEIGHT_M as a table's ``wall_height_m`` (-3 or 0 is no height)."""
     h = to_float(raw, field="wall_heights_m", file=r.file, zone=zone, row=f"wall {wall}")
     if not 0 < h <= MAX_HEIGHT_M:
-        raise r.fail(f"must be a height > 0 and <= {MAX_HEIGHT_M:g} m", zone=zone, row=f"wall {wall}",
-                     field="wall_heights_m", value=h)
+        raise r.fail(
+            f"must be a height > 0 and <= {MAX_HEIGHT_M:g} m",
+            zone=zone,
+            row=f"wall {wall}",
+            field="wall_heights_m",
+            value=h,
+        )
     return h
 
 
-def _hole(r: InstanceReader, entry: Any, zone: str, j: int) -> tuple[tuple[tuple[float, float], ...], tuple[float, ...]]:
+def _hole(
+    r: InstanceReader, entry: Any, zone: str, j: int
+) -> tuple[tuple[tuple[float, float], ...], tuple[float, ...]]:
     """A free-standing block inside the zone: {coordinates, height_m}; stored clockwise."""
     e = r.obj(entry, "holes entry", {"coordinates", "height_m"}, row=f"hole {j}")
     xy = as_vertices(e.get("coordinates"), what=f"hole {j}", zone=zone)
@@ -215,7 +270,12 @@ def _hole(r: InstanceReader, entry: Any, zone: str, j: int) -> tuple[tuple[tuple
 
 
 def _correction(r: InstanceReader, raw: Any, k: int) -> Correction:
-    d = r.obj(raw, "correction", {"zone", "vertex", "side", "field", "printed", "corrected", "reason"}, row=f"corrections[{k}]")
+    d = r.obj(
+        raw,
+        "correction",
+        {"zone", "vertex", "side", "field", "printed", "corrected", "reason"},
+        row=f"corrections[{k}]",
+    )
     where = dict(row=f"corrections[{k}]")
     zone, fld = r.text(d, "zone", **where), r.text(d, "field", **where)
     kind = "vertex" if "vertex" in d else "side"
@@ -223,34 +283,54 @@ def _correction(r: InstanceReader, raw: Any, k: int) -> Correction:
         raise r.fail("give exactly one of vertex or side", zone=zone, **where)
     allowed = VERTEX_FIELDS if kind == "vertex" else SIDE_FIELDS
     if fld not in allowed:
-        raise r.fail(f"a {kind} correction changes one of {', '.join(allowed)}", zone=zone, field="field", value=fld, **where)
-    return Correction(zone=zone, row=r.whole(d, kind, **where), field=fld, printed=r.num(d, "printed", **where),
-                      corrected=r.num(d, "corrected", **where), reason=r.text(d, "reason", **where))
+        raise r.fail(
+            f"a {kind} correction changes one of {', '.join(allowed)}", zone=zone, field="field", value=fld, **where
+        )
+    return Correction(
+        zone=zone,
+        row=r.whole(d, kind, **where),
+        field=fld,
+        printed=r.num(d, "printed", **where),
+        corrected=r.num(d, "corrected", **where),
+        reason=r.text(d, "reason", **where),
+    )
 
 
 def _accepted(r: InstanceReader, raw: Any, k: int) -> AcceptedMisclosure:
     keys = {"zone", "angular_misclosure_deg", "linear_misclosure_m", "reason"}
     d = r.obj(raw, "accepted misclosure", keys, row=f"accepted_misclosures[{k}]")
     where = dict(row=f"accepted_misclosures[{k}]")
-    return AcceptedMisclosure(zone=r.text(d, "zone", **where), angular_misclosure_deg=r.num(d, "angular_misclosure_deg", **where),
-                              linear_misclosure_m=r.num(d, "linear_misclosure_m", **where), reason=r.text(d, "reason", **where))
+    return AcceptedMisclosure(
+        zone=r.text(d, "zone", **where),
+        angular_misclosure_deg=r.num(d, "angular_misclosure_deg", **where),
+        linear_misclosure_m=r.num(d, "linear_misclosure_m", **where),
+        reason=r.text(d, "reason", **where),
+    )
 
 
-def _check_references(r: InstanceReader, zones: tuple[Zone, ...], corrections: tuple[Correction, ...],
-                      accepted: tuple[AcceptedMisclosure, ...]) -> None:
+def _check_references(
+    r: InstanceReader,
+    zones: tuple[Zone, ...],
+    corrections: tuple[Correction, ...],
+    accepted: tuple[AcceptedMisclosure, ...],
+) -> None:
     table_zones = {z.id for z in zones if z.closure is not None}
     for c in corrections:
         if c.zone not in table_zones:
             raise r.fail("correction names no table zone of this instance", zone=c.zone, field="corrections")
     for a in accepted:
         if a.zone not in table_zones:
-            raise r.fail("accepted misclosure names no table zone of this instance", zone=a.zone, field="accepted_misclosures")
+            raise r.fail(
+                "accepted misclosure names no table zone of this instance", zone=a.zone, field="accepted_misclosures"
+            )
 
 
 def _obstacle(r: InstanceReader, raw: Any, k: int) -> Obstacle:
     d = r.obj(raw, "obstacle", {"name", "polygon", "height_m"}, row=f"obstacles[{k}]")
     name = str(d.get("name", f"obstacle {k}"))
-    return Obstacle(name=name, vertices=r.polygon(d.get("polygon"), "polygon", name), height_m=r.num(d, "height_m", zone=name))
+    return Obstacle(
+        name=name, vertices=r.polygon(d.get("polygon"), "polygon", name), height_m=r.num(d, "height_m", zone=name)
+    )
 
 
 def _no_go(r: InstanceReader, raw: Any, k: int) -> NoGoArea:
@@ -263,6 +343,11 @@ def _control(r: InstanceReader, raw: Any, k: int) -> ControlPoint:
     keys = {"name", "x", "y", "z", "sigma_x_m", "sigma_x_mm", "sigma_y_m", "sigma_y_mm"}
     d = r.obj(raw, "control point", keys, row=f"control_points[{k}]")
     name = str(d.get("name", f"CP{k}"))
-    return ControlPoint(name=name, x=r.num(d, "x", row=name), y=r.num(d, "y", row=name),
-                        z=r.num(d, "z", row=name) if d.get("z") is not None else None,
-                        sigma_x_m=r.length(d, "sigma_x", 0.0, row=name), sigma_y_m=r.length(d, "sigma_y", 0.0, row=name))
+    return ControlPoint(
+        name=name,
+        x=r.num(d, "x", row=name),
+        y=r.num(d, "y", row=name),
+        z=r.num(d, "z", row=name) if d.get("z") is not None else None,
+        sigma_x_m=r.length(d, "sigma_x", 0.0, row=name),
+        sigma_y_m=r.length(d, "sigma_y", 0.0, row=name),
+    )

@@ -13,12 +13,24 @@ from planner.site.params import ClosureTolerance, Parameters
 from planner.site.table_csv import read_table_csv
 from planner.site.tables import zone_from_table
 
-READERS = {".json": "JSON instance", ".csv": "table CSV", ".dxf": "DXF drawing", ".geojson": "GeoJSON",
-           ".pol": "AGPLIB polygon", ".ifc": "IFC building model"}
+READERS = {
+    ".json": "JSON instance",
+    ".csv": "table CSV",
+    ".dxf": "DXF drawing",
+    ".geojson": "GeoJSON",
+    ".pol": "AGPLIB polygon",
+    ".ifc": "IFC building model",
+}
 
 
-def load_site(path: Path | str, tolerance: ClosureTolerance | None = None, *, dxf: Any = None,
-              crs: str | None = None, ifc: Any = None) -> Site:
+def load_site(
+    path: Path | str,
+    tolerance: ClosureTolerance | None = None,
+    *,
+    dxf: Any = None,
+    crs: str | None = None,
+    ifc: Any = None,
+) -> Site:
     """Read a site from a JSON instance, a table CSV, a DXF drawing or GeoJSON (by the file's extension).
 
     ``dxf`` (a :class:`~planner.site.dxf_in.DxfOptions`) says which DXF layers hold what;

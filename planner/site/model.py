@@ -31,9 +31,9 @@ HEIGHT_CHECK_TOL_M = 0.0005
 class ScanSide(str, Enum):
     """Where the stations of a zone stand."""
 
-    INSIDE = "inside"    # rooms, courts
+    INSIDE = "inside"  # rooms, courts
     OUTSIDE = "outside"  # the outer outline
-    BOTH = "both"        # the theoretical polygons A, B, C
+    BOTH = "both"  # the theoretical polygons A, B, C
 
     @property
     def sides(self) -> tuple[ScanSide, ...]:
@@ -104,21 +104,34 @@ class Zone:
             try:
                 object.__setattr__(self, "scan_side", ScanSide(self.scan_side))
             except ValueError:
-                raise InputError(f"must be one of {', '.join(s.value for s in ScanSide)}", zone=self.id,
-                                 field="scan_side", value=self.scan_side) from None
+                raise InputError(
+                    f"must be one of {', '.join(s.value for s in ScanSide)}",
+                    zone=self.id,
+                    field="scan_side",
+                    value=self.scan_side,
+                ) from None
         xy = np.asarray(self.vertices, dtype=float).reshape(-1, 2)
         check_simple_polygon(xy, what="polygon", zone=self.id)
         if signed_area(xy) <= 0:
             raise InputError("vertices must be counter-clockwise", zone=self.id, field="polygon")
         n = len(xy)
         if len(self.vertex_heights_m) != n:
-            raise InputError(f"needs {n} vertex heights", zone=self.id, field="vertex_heights_m", value=len(self.vertex_heights_m))
+            raise InputError(
+                f"needs {n} vertex heights", zone=self.id, field="vertex_heights_m", value=len(self.vertex_heights_m)
+            )
         for k, h in enumerate(self.vertex_heights_m, start=1):
             if not math.isfinite(h) or h <= 0 or h > MAX_HEIGHT_M:
-                raise InputError(f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m", zone=self.id, row=k,
-                                 field="vertex_height_m", value=h)
+                raise InputError(
+                    f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m",
+                    zone=self.id,
+                    row=k,
+                    field="vertex_height_m",
+                    value=h,
+                )
         if self.printed_wall_heights_m and len(self.printed_wall_heights_m) != n:
-            raise InputError(f"needs {n} wall heights", zone=self.id, field="wall_heights_m", value=len(self.printed_wall_heights_m))
+            raise InputError(
+                f"needs {n} wall heights", zone=self.id, field="wall_heights_m", value=len(self.printed_wall_heights_m)
+            )
         if self.holes:
             self._check_holes()
         self._check_openings()
@@ -127,15 +140,23 @@ class Zone:
         walls = self.walls
         for op in self.openings:
             if not 1 <= op.wall <= len(walls):
-                raise InputError(f"wall index out of 1..{len(walls)}", zone=self.id, field="opening wall", value=op.wall)
+                raise InputError(
+                    f"wall index out of 1..{len(walls)}", zone=self.id, field="opening wall", value=op.wall
+                )
             length = walls[op.wall - 1].length_m
             if op.s1_m > length + 1e-9:
-                raise InputError(f"runs past the end of wall {op.wall} ({length:.3f} m)", zone=self.id,
-                                 field="opening s1_m", value=op.s1_m)
+                raise InputError(
+                    f"runs past the end of wall {op.wall} ({length:.3f} m)",
+                    zone=self.id,
+                    field="opening s1_m",
+                    value=op.s1_m,
+                )
 
     def _check_holes(self) -> None:
         if self.scan_side is not ScanSide.INSIDE:
-            raise InputError("only a zone scanned inside can hold holes", zone=self.id, field="scan_side", value=self.scan_side.value)
+            raise InputError(
+                "only a zone scanned inside can hold holes", zone=self.id, field="scan_side", value=self.scan_side.value
+            )
         if len(self.hole_heights_m) != len(self.holes):
             raise InputError(f"needs heights for {len(self.holes)} holes", zone=self.id, field="hole_heights_m")
         for k, (ring, hs) in enumerate(zip(self.holes, self.hole_heights_m), 1):
@@ -144,12 +165,18 @@ class Zone:
             if signed_area(xy) >= 0:
                 raise InputError("hole vertices must be clockwise", zone=self.id, field=f"hole {k}")
             if len(hs) != len(xy) or not all(math.isfinite(h) and 0 < h <= MAX_HEIGHT_M for h in hs):
-                raise InputError(f"needs {len(xy)} finite heights > 0 and <= {MAX_HEIGHT_M:g} m", zone=self.id,
-                                 field=f"hole {k} heights")
+                raise InputError(
+                    f"needs {len(xy)} finite heights > 0 and <= {MAX_HEIGHT_M:g} m",
+                    zone=self.id,
+                    field=f"hole {k} heights",
+                )
         poly = self.polygon
         if not poly.is_valid:
-            raise InputError(f"holes and outline do not form a valid polygon ({shapely.is_valid_reason(poly)})",
-                             zone=self.id, field="holes")
+            raise InputError(
+                f"holes and outline do not form a valid polygon ({shapely.is_valid_reason(poly)})",
+                zone=self.id,
+                field="holes",
+            )
 
     @cached_property
     def xy(self) -> NDArray[np.float64]:
@@ -164,8 +191,15 @@ class Zone:
         n = len(self.vertices)
         printed = self.printed_wall_heights_m or (None,) * n
         return tuple(
-            Wall(self.id, i + 1, self.vertices[i], self.vertices[(i + 1) % n],
-                 self.vertex_heights_m[i], self.vertex_heights_m[(i + 1) % n], printed[i])
+            Wall(
+                self.id,
+                i + 1,
+                self.vertices[i],
+                self.vertices[(i + 1) % n],
+                self.vertex_heights_m[i],
+                self.vertex_heights_m[(i + 1) % n],
+                printed[i],
+            )
             for i in range(n)
         )
 
@@ -218,11 +252,16 @@ class Opening:
 
     def __post_init__(self) -> None:
         if self.kind not in OPENING_KINDS:
-            raise InputError(f"must be one of {', '.join(OPENING_KINDS)}", zone=self.name or None,
-                             field="opening kind", value=self.kind)
+            raise InputError(
+                f"must be one of {', '.join(OPENING_KINDS)}",
+                zone=self.name or None,
+                field="opening kind",
+                value=self.kind,
+            )
         if not (math.isfinite(self.s0_m) and math.isfinite(self.s1_m) and 0.0 <= self.s0_m < self.s1_m):
-            raise InputError("needs 0 <= s0_m < s1_m", zone=self.name or None, field="opening",
-                             value=f"{self.s0_m}..{self.s1_m}")
+            raise InputError(
+                "needs 0 <= s0_m < s1_m", zone=self.name or None, field="opening", value=f"{self.s0_m}..{self.s1_m}"
+            )
 
 
 @dataclass(frozen=True)
@@ -236,8 +275,12 @@ class Obstacle:
     def __post_init__(self) -> None:
         check_simple_polygon(np.asarray(self.vertices, float), what="obstacle", zone=self.name)
         if not math.isfinite(self.height_m) or self.height_m <= 0 or self.height_m > MAX_HEIGHT_M:
-            raise InputError(f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m", zone=self.name, field="height_m",
-                             value=self.height_m)
+            raise InputError(
+                f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m",
+                zone=self.name,
+                field="height_m",
+                value=self.height_m,
+            )
 
 
 @dataclass(frozen=True)
@@ -271,8 +314,13 @@ class ControlPoint:
                 continue
             sigma = f.startswith("sigma")  # coordinates within the zones' +-1e8 m (1e12 was accepted)
             if not math.isfinite(v) or (sigma and v < 0) or (not sigma and abs(v) > MAX_COORDINATE_M):
-                raise InputError("must be a finite number" + (" >= 0" if sigma else f" within +-{MAX_COORDINATE_M:g} m"),
-                                 zone=None, row=f"control point {self.name}", field=f, value=v)
+                raise InputError(
+                    "must be a finite number" + (" >= 0" if sigma else f" within +-{MAX_COORDINATE_M:g} m"),
+                    zone=None,
+                    row=f"control point {self.name}",
+                    field=f,
+                    value=v,
+                )
 
 
 @dataclass(frozen=True)
@@ -316,8 +364,13 @@ class Site:
             if z.id in seen:
                 raise InputError("duplicate zone id", file=self.source or None, zone=z.id, field="id", value=z.id)
             seen.add(z.id)
-        no_repeats((c.name for c in self.control_points), what="control point name", field="name",
-                   row="control_points[{}]", file=self.source or None)
+        no_repeats(
+            (c.name for c in self.control_points),
+            what="control point name",
+            field="name",
+            row="control_points[{}]",
+            file=self.source or None,
+        )
         self._check_drawn_twice()
         if self.boundary is not None:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
@@ -331,13 +384,20 @@ class Site:
         areas drawn twice are harmless (they block sight or standing once either way) and are accepted."""
         first: dict[tuple[object, ...], str] = {}
         for z in self.zones:
-            shape = (z.frame, ring_key(np.asarray(z.vertices, float)),
-                     tuple(sorted(ring_key(np.asarray(h, float)) for h in z.holes)))
+            shape = (
+                z.frame,
+                ring_key(np.asarray(z.vertices, float)),
+                tuple(sorted(ring_key(np.asarray(h, float)) for h in z.holes)),
+            )
             for side in z.scan_side.sides:
                 key = (side.value, *shape)
                 if key in first:
-                    raise InputError(f"drawn twice: the same outline as zone {first[key]!r}, both scanned from "
-                                     f"{side.value}", file=self.source or None, zone=z.id, field="outline")
+                    raise InputError(
+                        f"drawn twice: the same outline as zone {first[key]!r}, both scanned from {side.value}",
+                        file=self.source or None,
+                        zone=z.id,
+                        field="outline",
+                    )
                 first[key] = z.id
 
     def with_parameters(self, **changes: object) -> Site:

@@ -51,7 +51,9 @@ class ClosureTolerance:
         if not math.isfinite(self.angular_deg) or self.angular_deg < 0:
             raise InputError("must be a finite number >= 0", field="angular_tolerance_deg", value=self.angular_deg)
         if not math.isfinite(self.min_relative_precision) or self.min_relative_precision <= 0:
-            raise InputError("must be a finite number > 0", field="min_relative_precision", value=self.min_relative_precision)
+            raise InputError(
+                "must be a finite number > 0", field="min_relative_precision", value=self.min_relative_precision
+            )
 
 
 @dataclass(frozen=True)
@@ -98,8 +100,11 @@ class Parameters:
         if self.max_slant_range_m is not None:
             _within(self.max_slant_range_m, "max_slant_range_m", MAX_RANGE_M, zero_ok=False)
         if self.incidence_model not in INCIDENCE_MODELS:
-            raise InputError(f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})",
-                             field="incidence_model", value=self.incidence_model)
+            raise InputError(
+                f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})",
+                field="incidence_model",
+                value=self.incidence_model,
+            )
         if self.derive_theta_max and self.incidence_model == "none":
             object.__setattr__(self, "incidence_model", "table")
         _within(self.min_standoff_m, "min_standoff_m", MAX_RANGE_M)
@@ -150,15 +155,20 @@ def resolve_range_limit(params: Parameters, scanner: Scanner) -> RangeLimit:
     else:
         derived = max_slant_range_m(scanner, s_instr)
         if scanner.max_range_m is not None and scanner.max_range_m < derived:
-            limit = RangeLimit(scanner.max_range_m, s_instr,
-                               f"datasheet range of {scanner.name} ((3.1) gives {derived:.2f} m)")
+            limit = RangeLimit(
+                scanner.max_range_m, s_instr, f"datasheet range of {scanner.name} ((3.1) gives {derived:.2f} m)"
+            )
         else:
-            limit = RangeLimit(derived, s_instr,
-                               f"derived by (3.1) for {scanner.name} at sigma_req {params.sigma_req_m * 1000:g} mm")
+            limit = RangeLimit(
+                derived, s_instr, f"derived by (3.1) for {scanner.name} at sigma_req {params.sigma_req_m * 1000:g} mm"
+            )
     if not limit.max_slant_range_m <= MAX_RANGE_M:
-        raise InputError(f"S_max {limit.max_slant_range_m:.4g} m ({limit.source}) is beyond {MAX_RANGE_M:g} m: give the "
-                         f"instrument a max_range_m <= {MAX_RANGE_M:g}, or the site max_slant_range_m", field="instrument",
-                         value=scanner.name)
+        raise InputError(
+            f"S_max {limit.max_slant_range_m:.4g} m ({limit.source}) is beyond {MAX_RANGE_M:g} m: give the "
+            f"instrument a max_range_m <= {MAX_RANGE_M:g}, or the site max_slant_range_m",
+            field="instrument",
+            value=scanner.name,
+        )
     return limit
 
 
@@ -191,5 +201,9 @@ def resolve_theta_limit(params: Parameters, scanner: Scanner, max_slant_range_m:
         return ThetaLimit(params.theta_max_deg, "given")
     model = params.incidence_model
     ranges = [s for s in THETA_REPORT_RANGES_M if s < max_slant_range_m] + [max_slant_range_m]
-    rows = tuple((round(s, 3), derive_theta_max_deg(s, scanner, params.budget, params.sigma_req_m, model)) for s in ranges)
-    return ThetaLimit(min(incidence_limit_deg(model), 89.99), f"{model} model, sigma_req {params.sigma_req_m * 1000:g} mm", rows)
+    rows = tuple(
+        (round(s, 3), derive_theta_max_deg(s, scanner, params.budget, params.sigma_req_m, model)) for s in ranges
+    )
+    return ThetaLimit(
+        min(incidence_limit_deg(model), 89.99), f"{model} model, sigma_req {params.sigma_req_m * 1000:g} mm", rows
+    )

@@ -55,14 +55,17 @@ DXF_PART_CHARS = 200
 def dxf_properties(record: dict[str, Any]) -> list[tuple[str, str]]:
     """The record as DXF header custom properties ``tls_planner_site.1``, ``.2``, ... of JSON text."""
     text = json.dumps(record, sort_keys=True, separators=(",", ":"))
-    parts = [text[k:k + DXF_PART_CHARS] for k in range(0, len(text), DXF_PART_CHARS)]
+    parts = [text[k : k + DXF_PART_CHARS] for k in range(0, len(text), DXF_PART_CHARS)]
     return [(f"{RECORD_KEY}.{k}", part) for k, part in enumerate(parts, 1)]
 
 
 def record_from_dxf(properties: list[tuple[str, str]], file: str) -> SiteRecord | None:
     """The record of :func:`dxf_properties` read back (None: the drawing has none)."""
-    parts = sorted((int(tag.rsplit(".", 1)[1]), value) for tag, value in properties
-                   if tag.startswith(RECORD_KEY + ".") and tag.rsplit(".", 1)[1].isdigit())
+    parts = sorted(
+        (int(tag.rsplit(".", 1)[1]), value)
+        for tag, value in properties
+        if tag.startswith(RECORD_KEY + ".") and tag.rsplit(".", 1)[1].isdigit()
+    )
     if not parts:
         return None
     try:

@@ -22,7 +22,9 @@ class Placement:
 
     def __post_init__(self) -> None:
         if not all(math.isfinite(v) for v in (*self.origin, self.rotation_deg)):
-            raise InputError("placement must be finite numbers", field="placement", value=(*self.origin, self.rotation_deg))
+            raise InputError(
+                "placement must be finite numbers", field="placement", value=(*self.origin, self.rotation_deg)
+            )
 
     @property
     def matrix(self) -> NDArray[np.float64]:
@@ -31,8 +33,9 @@ class Placement:
 
     def apply(self, xy: NDArray[np.float64] | tuple | list[tuple[float, float]]) -> NDArray[np.float64]:
         """Local points (n, 2) in the site frame."""
-        return np.asarray(np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin),
-                          dtype=np.float64)
+        return np.asarray(
+            np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin), dtype=np.float64
+        )
 
 
 IDENTITY = Placement((0.0, 0.0), 0.0)
@@ -41,9 +44,16 @@ IDENTITY = Placement((0.0, 0.0), 0.0)
 def place_zone(zone: Zone, p: Placement) -> Zone:
     """The zone moved into the site frame (its walls, openings and heights keep their numbering)."""
     ring = lambda r: tuple((float(x), float(y)) for x, y in p.apply(r))  # noqa: E731
-    note = f"placed in the site frame: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
-    return replace(zone, vertices=ring(zone.vertices), holes=tuple(ring(h) for h in zone.holes),
-                   frame=SITE_FRAME, notes=zone.notes + (note,))
+    note = (
+        f"placed in the site frame: origin ({p.origin[0]:.3f}, {p.origin[1]:.3f}) m, rotation {p.rotation_deg:.4f} deg"
+    )
+    return replace(
+        zone,
+        vertices=ring(zone.vertices),
+        holes=tuple(ring(h) for h in zone.holes),
+        frame=SITE_FRAME,
+        notes=zone.notes + (note,),
+    )
 
 
 def placed_site(site: Site, placements: dict[str, Placement]) -> Site:

@@ -64,8 +64,9 @@ def _count(tok: str, file: str, k: int, what: str) -> int:
     return int(tok)
 
 
-def read_pol(path: Path | str, extent_m: float = 100.0, height_m: float = 3.0,
-             parameters: Parameters | None = None) -> Site:
+def read_pol(
+    path: Path | str, extent_m: float = 100.0, height_m: float = 3.0, parameters: Parameters | None = None
+) -> Site:
     """Read a ``.pol`` file as a one-zone site (see the module docstring)."""
     file = str(path)
     toks = read_text(Path(path)).split()
@@ -79,7 +80,9 @@ def read_pol(path: Path | str, extent_m: float = 100.0, height_m: float = 3.0,
         if n < 3:
             raise InputError(f"the {what} needs at least 3 vertices", file=file, row=f"token {pos + 1}", value=n)
         if pos + 1 + 2 * n > len(toks):
-            raise InputError(f"{what} promises {n} vertices; the file ends first", file=file, row=f"token {pos + 1}", value=n)
+            raise InputError(
+                f"{what} promises {n} vertices; the file ends first", file=file, row=f"token {pos + 1}", value=n
+            )
         vals = [_number(toks[pos + 1 + i], file, pos + 2 + i) for i in range(2 * n)]
         pos += 1 + 2 * n
         return np.array(vals, dtype=float).reshape(n, 2)
@@ -91,8 +94,13 @@ def read_pol(path: Path | str, extent_m: float = 100.0, height_m: float = 3.0,
         pos += 1
         holes = [ring(f"hole {k}") for k in range(1, h + 1)]
     if pos != len(toks):
-        raise InputError("unexpected tokens after the last ring", file=file, row=f"token {pos + 1}", field="token",
-                         value=_shown(toks[pos]))
+        raise InputError(
+            "unexpected tokens after the last ring",
+            file=file,
+            row=f"token {pos + 1}",
+            field="token",
+            value=_shown(toks[pos]),
+        )
     lo = outer.min(axis=0)
     scale = extent_m / float(np.ptp(outer, axis=0).max() or 1.0)
     outer = (outer - lo) * scale
@@ -101,10 +109,17 @@ def read_pol(path: Path | str, extent_m: float = 100.0, height_m: float = 3.0,
         outer = outer[::-1]
     holes = [r if signed_area(r) < 0 else r[::-1] for r in holes]
     try:
-        zone = Zone(id="P", scan_side=ScanSide.INSIDE, vertices=tuple(map(tuple, outer.tolist())),
-                    vertex_heights_m=(height_m,) * len(outer), holes=tuple(tuple(map(tuple, r.tolist())) for r in holes),
-                    hole_heights_m=tuple((height_m,) * len(r) for r in holes),
-                    notes=(f"AGPLIB coordinates scaled by {scale:.6g} (larger extent {extent_m:g} m), origin moved to the bounding box",))
+        zone = Zone(
+            id="P",
+            scan_side=ScanSide.INSIDE,
+            vertices=tuple(map(tuple, outer.tolist())),
+            vertex_heights_m=(height_m,) * len(outer),
+            holes=tuple(tuple(map(tuple, r.tolist())) for r in holes),
+            hole_heights_m=tuple((height_m,) * len(r) for r in holes),
+            notes=(
+                f"AGPLIB coordinates scaled by {scale:.6g} (larger extent {extent_m:g} m), origin moved to the bounding box",
+            ),
+        )
     except InputError as exc:
         raise exc.located(file) from None
     return Site(name=Path(path).stem, zones=(zone,), parameters=parameters or Parameters(), source=file)

@@ -45,7 +45,9 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
         if not any(c.strip() for c in cells):
             continue
         if len(cells) != len(header):
-            raise InputError(f"{len(cells)} fields, the header has {len(header)} (decimal comma?)", file=name, row=f"line {line_no}")
+            raise InputError(
+                f"{len(cells)} fields, the header has {len(header)} (decimal comma?)", file=name, row=f"line {line_no}"
+            )
         rec = dict(zip(header, (c.strip() for c in cells)))
         zone, side = rec["zone"], rec["scan_side"]
         where = dict(file=name, zone=zone or None, row=f"line {line_no}")
@@ -60,7 +62,12 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
         nums = {c: to_float(rec[c], field=c, text=True, **where) for c in NUMBER_COLUMNS}
         row = TableRow(index=index, line=line_no, **nums)
         if zone in zones and zones[zone][0] != side:
-            raise InputError(f"scan side differs from the zone's first row ({zones[zone][0]})", **where, field="scan_side", value=side)
+            raise InputError(
+                f"scan side differs from the zone's first row ({zones[zone][0]})",
+                **where,
+                field="scan_side",
+                value=side,
+            )
         zones.setdefault(zone, (side, []))[1].append(row)
     if not zones:
         raise InputError("no data rows", file=name)
@@ -84,6 +91,12 @@ def _zone_table(zone: str, side: str, rows: list[TableRow], file: str) -> ZoneTa
     rows = sorted(rows, key=lambda r: r.index)
     for expected, r in enumerate(rows, start=1):
         if r.index != expected:
-            raise InputError(f"indices must run 1..{len(rows)} without gaps or repeats",
-                             file=file, zone=zone, row=f"line {r.line}", field="index", value=r.index)
+            raise InputError(
+                f"indices must run 1..{len(rows)} without gaps or repeats",
+                file=file,
+                zone=zone,
+                row=f"line {r.line}",
+                field="index",
+                value=r.index,
+            )
     return ZoneTable(zone=zone, scan_side=side, rows=tuple(rows), file=file)

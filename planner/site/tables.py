@@ -24,12 +24,24 @@ def apply_corrections(table: ZoneTable, corrections: Iterable[Correction], file:
     rows = list(table.rows)
     for c in corrections:
         if not 1 <= c.row <= len(rows):
-            raise InputError(f"correction names {c.target}, the zone has {len(rows)} rows", file=file, zone=c.zone, row=c.row, field=c.field)
+            raise InputError(
+                f"correction names {c.target}, the zone has {len(rows)} rows",
+                file=file,
+                zone=c.zone,
+                row=c.row,
+                field=c.field,
+            )
         old = rows[c.row - 1]
         found = getattr(old, c.field)
         if abs(found - c.printed) > 1e-9 * max(1.0, abs(found)):
-            raise InputError(f"correction says printed {c.printed:g} but the table holds {found:g}",
-                             file=file, zone=c.zone, row=c.row, field=c.field, value=c.printed)
+            raise InputError(
+                f"correction says printed {c.printed:g} but the table holds {found:g}",
+                file=file,
+                zone=c.zone,
+                row=c.row,
+                field=c.field,
+                value=c.printed,
+            )
         rows[c.row - 1] = replace(old, **{c.field: c.corrected})  # type: ignore[arg-type]
     return replace(table, rows=tuple(rows))
 

@@ -39,7 +39,9 @@ class TableRow:
                 raise InputError("must be > 0", file=file, zone=zone, row=self.index, field=name, value=v)
         a = self.interior_angle_deg
         if not 0.0 < a < 360.0:
-            raise InputError("outside (0, 360) degrees", file=file, zone=zone, row=self.index, field="interior_angle_deg", value=a)
+            raise InputError(
+                "outside (0, 360) degrees", file=file, zone=zone, row=self.index, field="interior_angle_deg", value=a
+            )
 
 
 @dataclass(frozen=True)
@@ -66,8 +68,10 @@ class AcceptedMisclosure:
     reason: str
 
     def matches(self, angular_deg: float, linear_m: float) -> bool:
-        return (abs(angular_deg - self.angular_misclosure_deg) <= 0.001
-                and abs(linear_m - self.linear_misclosure_m) <= 0.001)
+        return (
+            abs(angular_deg - self.angular_misclosure_deg) <= 0.001
+            and abs(linear_m - self.linear_misclosure_m) <= 0.001
+        )
 
 
 @dataclass(frozen=True)
@@ -96,8 +100,9 @@ class ClosureReport:
     def summary(self) -> str:
         n = self.relative_precision
         ratio = "exact" if math.isinf(n) or n > 1e9 else f"1:{n:,.0f}"
-        text = (f"angles {self.angular_misclosure_deg:+.4f} deg, linear {self.linear_misclosure_m * 1000:.1f} mm "
-                f"({ratio})")
+        text = (
+            f"angles {self.angular_misclosure_deg:+.4f} deg, linear {self.linear_misclosure_m * 1000:.1f} mm ({ratio})"
+        )
         if self.accepted_reason:
             text += " [accepted]"
         return text
@@ -136,7 +141,8 @@ def reconstruct(
         raise ClosureError(
             f"angular misclosure {ang_mis:+.3f} deg (sum {angle_sum:.3f} vs {(n - 2) * 180:.0f} for {n} vertices), "
             f"tolerance {tolerance.angular_deg:g} deg",
-            file=table.file, zone=table.zone,
+            file=table.file,
+            zone=table.zone,
         )
     points = walk(lengths, angles - ang_mis / n)
     dx, dy = points[-1] - points[0]
@@ -147,20 +153,26 @@ def reconstruct(
         raise ClosureError(
             f"linear misclosure {lin:.3f} m (dx {dx:+.3f}, dy {dy:+.3f}), relative 1:{rel:.0f}, "
             f"required 1:{tolerance.min_relative_precision:.0f}",
-            file=table.file, zone=table.zone,
+            file=table.file,
+            zone=table.zone,
         )
     if accepted is not None and not accepted.matches(ang_mis, lin):
         raise ClosureError(
             f"accepted misclosure ({accepted.angular_misclosure_deg:+.3f} deg, {accepted.linear_misclosure_m:.3f} m) "
             f"does not match the data ({ang_mis:+.3f} deg, {lin:.3f} m)",
-            file=table.file, zone=table.zone,
+            file=table.file,
+            zone=table.zone,
         )
     walked = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
     shift = -np.outer(walked / perimeter, [dx, dy])
     vertices = points[:-1] + shift
     report = ClosureReport(
-        n=n, angle_sum_deg=angle_sum, angular_misclosure_deg=ang_mis,
-        misclosure_dx_m=float(dx), misclosure_dy_m=float(dy), perimeter_m=perimeter,
+        n=n,
+        angle_sum_deg=angle_sum,
+        angular_misclosure_deg=ang_mis,
+        misclosure_dx_m=float(dx),
+        misclosure_dy_m=float(dy),
+        perimeter_m=perimeter,
         max_vertex_shift_m=float(np.hypot(*shift.T).max()),
         accepted_reason=accepted.reason if accepted else None,
     )

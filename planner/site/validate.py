@@ -17,8 +17,12 @@ def site_scanner(site: Site) -> Scanner:
     """The site's instrument, which must be a scanner for planning."""
     inst = load_instrument(site.instrument)
     if not isinstance(inst, Scanner):
-        raise InputError("is a total station; planning needs a scanner", file=site.source or None,
-                         field="instrument", value=site.instrument)
+        raise InputError(
+            "is a total station; planning needs a scanner",
+            file=site.source or None,
+            field="instrument",
+            value=site.instrument,
+        )
     return inst
 
 
@@ -43,31 +47,52 @@ class ValidationReport:
             "source": self.site.source,
             "instrument": self.scanner.name,
             "parameters": {
-                "theta_max_deg": p.theta_max_deg, "overlap": p.overlap, "sigma_req_m": p.sigma_req_m,
-                "drawing_scale": p.drawing_scale, "sigma_0_m": p.budget.sigma_0_m,
-                "centring_m": p.budget.centring_m, "graphical_m": p.budget.graphical_m,
+                "theta_max_deg": p.theta_max_deg,
+                "overlap": p.overlap,
+                "sigma_req_m": p.sigma_req_m,
+                "drawing_scale": p.drawing_scale,
+                "sigma_0_m": p.budget.sigma_0_m,
+                "centring_m": p.budget.centring_m,
+                "graphical_m": p.budget.graphical_m,
                 "instrument_height_m": p.instrument_height_m,
                 "max_slant_range_m": self.range_limit.max_slant_range_m,
                 "max_slant_range_source": self.range_limit.source,
                 "sigma_instr_m": self.range_limit.sigma_instr_m,
-                "incidence_model": p.incidence_model, "min_standoff_m": p.min_standoff_m,
-                "theta_max_derived": None if self.theta_limit is None or not self.theta_limit.by_range else
-                [{"slant_m": s, "theta_max_deg": t} for s, t in self.theta_limit.by_range],
+                "incidence_model": p.incidence_model,
+                "min_standoff_m": p.min_standoff_m,
+                "theta_max_derived": None
+                if self.theta_limit is None or not self.theta_limit.by_range
+                else [{"slant_m": s, "theta_max_deg": t} for s, t in self.theta_limit.by_range],
             },
             "zones": [_zone_dict(z) for z in self.site.zones],
-            "obstacles": [{"name": o.name, "polygon": [list(v) for v in o.vertices], "height_m": o.height_m}
-                          for o in self.site.obstacles],
+            "obstacles": [
+                {"name": o.name, "polygon": [list(v) for v in o.vertices], "height_m": o.height_m}
+                for o in self.site.obstacles
+            ],
             "no_go": [{"name": a.name, "polygon": [list(v) for v in a.vertices]} for a in self.site.no_go_areas],
             "boundary": None if self.site.boundary is None else [list(v) for v in self.site.boundary],
-            "control_points": [{"name": c.name, "x": c.x, "y": c.y, "z": c.z, "sigma_x_m": c.sigma_x_m,
-                                "sigma_y_m": c.sigma_y_m} for c in self.site.control_points],
+            "control_points": [
+                {"name": c.name, "x": c.x, "y": c.y, "z": c.z, "sigma_x_m": c.sigma_x_m, "sigma_y_m": c.sigma_y_m}
+                for c in self.site.control_points
+            ],
             "corrections": [
-                {"zone": c.zone, "target": c.target, "field": c.field, "printed": c.printed,
-                 "corrected": c.corrected, "reason": c.reason} for c in self.site.corrections
+                {
+                    "zone": c.zone,
+                    "target": c.target,
+                    "field": c.field,
+                    "printed": c.printed,
+                    "corrected": c.corrected,
+                    "reason": c.reason,
+                }
+                for c in self.site.corrections
             ],
             "accepted_misclosures": [
-                {"zone": a.zone, "angular_misclosure_deg": a.angular_misclosure_deg,
-                 "linear_misclosure_m": a.linear_misclosure_m, "reason": a.reason}
+                {
+                    "zone": a.zone,
+                    "angular_misclosure_deg": a.angular_misclosure_deg,
+                    "linear_misclosure_m": a.linear_misclosure_m,
+                    "reason": a.reason,
+                }
                 for a in self.site.accepted_misclosures
             ],
         }
@@ -94,28 +119,43 @@ class ValidationReport:
         ]
         for z in s.zones:
             closure = z.closure.summary() if z.closure else "given by coordinates"
-            out.append(f"{z.id:<9}{z.scan_side.value:<9}{len(z.walls):>6}{z.perimeter_m:>13.3f}{z.area_m2:>12.1f}  {closure}")
+            out.append(
+                f"{z.id:<9}{z.scan_side.value:<9}{len(z.walls):>6}{z.perimeter_m:>13.3f}{z.area_m2:>12.1f}  {closure}"
+            )
         out.append(f"{'total':<18}{len(s.walls):>6}{sum(z.perimeter_m for z in s.zones):>13.3f}")
-        out.append(f"obstacles {len(s.obstacles)}, no-go areas {len(s.no_go_areas)}, "
-                   f"boundary {'yes' if s.boundary else 'none'}, control points {len(s.control_points)}")
+        out.append(
+            f"obstacles {len(s.obstacles)}, no-go areas {len(s.no_go_areas)}, "
+            f"boundary {'yes' if s.boundary else 'none'}, control points {len(s.control_points)}"
+        )
         out += ["", "walls (index: length m, top height start..end m, printed height)"]
         for z in s.zones:
-            cells = [f"{w.index}: {w.length_m:.3f}, {w.h_start_m:g}..{w.h_end_m:g}"
-                     + ("" if w.printed_height_m is None else f", {w.printed_height_m:g}") for w in z.walls]
+            cells = [
+                f"{w.index}: {w.length_m:.3f}, {w.h_start_m:g}..{w.h_end_m:g}"
+                + ("" if w.printed_height_m is None else f", {w.printed_height_m:g}")
+                for w in z.walls
+            ]
             out.append(f"  {z.id}: " + "; ".join(cells))
         bad = [(z.id, w) for z in s.zones for w in z.height_check_failures()]
         out.append("")
         if bad:
             out.append("wall heights that are not the max of their vertex heights:")
-            out += [f"  {zid} wall {w.index}: printed {w.printed_height_m:g}, vertices {w.h_start_m:g} / {w.h_end_m:g}" for zid, w in bad]
+            out += [
+                f"  {zid} wall {w.index}: printed {w.printed_height_m:g}, vertices {w.h_start_m:g} / {w.h_end_m:g}"
+                for zid, w in bad
+            ]
         else:
             out.append("wall heights: every printed wall height is the max of its two vertex heights")
         out.append("")
         out.append(f"corrections applied: {len(s.corrections)}")
-        out += [f"  {c.zone} {c.target} {c.field}: printed {c.printed:g} -> {c.corrected:g}. {c.reason}" for c in s.corrections]
+        out += [
+            f"  {c.zone} {c.target} {c.field}: printed {c.printed:g} -> {c.corrected:g}. {c.reason}"
+            for c in s.corrections
+        ]
         out.append(f"misclosures accepted: {len(s.accepted_misclosures)}")
         for a in s.accepted_misclosures:
-            out.append(f"  {a.zone}: {a.angular_misclosure_deg:+.3f} deg, {a.linear_misclosure_m:.3f} m (compass rule). {a.reason}")
+            out.append(
+                f"  {a.zone}: {a.angular_misclosure_deg:+.3f} deg, {a.linear_misclosure_m:.3f} m (compass rule). {a.reason}"
+            )
         notes = [f"  {z.id}: {n}" for z in s.zones for n in z.notes]
         if notes:
             out += ["notes:"] + notes
@@ -124,16 +164,30 @@ class ValidationReport:
 
 def _zone_dict(z: Any) -> dict[str, Any]:
     c = z.closure
-    closure = None if c is None else {
-        "angle_sum_deg": c.angle_sum_deg, "angular_misclosure_deg": c.angular_misclosure_deg,
-        "linear_misclosure_m": c.linear_misclosure_m, "dx_m": c.misclosure_dx_m, "dy_m": c.misclosure_dy_m,
-        "relative_precision": None if math.isinf(c.relative_precision) else c.relative_precision,
-        "max_vertex_shift_m": c.max_vertex_shift_m, "accepted_reason": c.accepted_reason,
-    }
+    closure = (
+        None
+        if c is None
+        else {
+            "angle_sum_deg": c.angle_sum_deg,
+            "angular_misclosure_deg": c.angular_misclosure_deg,
+            "linear_misclosure_m": c.linear_misclosure_m,
+            "dx_m": c.misclosure_dx_m,
+            "dy_m": c.misclosure_dy_m,
+            "relative_precision": None if math.isinf(c.relative_precision) else c.relative_precision,
+            "max_vertex_shift_m": c.max_vertex_shift_m,
+            "accepted_reason": c.accepted_reason,
+        }
+    )
     return {
-        "id": z.id, "side": z.scan_side.value, "frame": z.frame, "perimeter_m": z.perimeter_m, "area_m2": z.area_m2,
-        "polygon": [list(v) for v in z.vertices], "vertex_heights_m": list(z.vertex_heights_m),
-        "closure": closure, "notes": list(z.notes),
+        "id": z.id,
+        "side": z.scan_side.value,
+        "frame": z.frame,
+        "perimeter_m": z.perimeter_m,
+        "area_m2": z.area_m2,
+        "polygon": [list(v) for v in z.vertices],
+        "vertex_heights_m": list(z.vertex_heights_m),
+        "closure": closure,
+        "notes": list(z.notes),
     }
 
 

@@ -34,8 +34,18 @@ BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 #: (a row sum(floor(s*a) x) >= ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
 #: CP-SAT's workers, in order, for ``threads`` > 1: the full-LP worker first, then the core-based bound
-CP_PORTFOLIO = ("max_lp", "core", "quick_restart", "default_lp", "reduced_costs", "pseudo_costs", "no_lp",
-                "lb_tree_search", "probing", "fixed")
+CP_PORTFOLIO = (
+    "max_lp",
+    "core",
+    "quick_restart",
+    "default_lp",
+    "reduced_costs",
+    "pseudo_costs",
+    "no_lp",
+    "lb_tree_search",
+    "probing",
+    "fixed",
+)
 
 
 class Outcome(str, Enum):
@@ -135,8 +145,12 @@ class CpSatBackend:
         """Append ``count`` variables in [0, upper] (integer here: CP-SAT has no continuous ones;
         the flow models that use them have integral optima)."""
         ub = int(math.floor(upper))
-        self.x += [self.model.NewBoolVar(f"y{len(self.x) + k}") if binary else
-                   self.model.NewIntVar(0, ub, f"f{len(self.x) + k}") for k in range(count)]
+        self.x += [
+            self.model.NewBoolVar(f"y{len(self.x) + k}")
+            if binary
+            else self.model.NewIntVar(0, ub, f"f{len(self.x) + k}")
+            for k in range(count)
+        ]
 
     def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         self.model.ClearHints()
@@ -159,9 +173,13 @@ class CpSatBackend:
         self.work_used += float(solver.deterministic_time)
         cp = self._cp
         if status in (cp.OPTIMAL, cp.FEASIBLE):
-            sel = tuple(i for i, v in enumerate(self.x[:self.n]) if solver.BooleanValue(v))
-            return BackendResult(Outcome.OPTIMAL if status == cp.OPTIMAL else Outcome.FEASIBLE, sel,
-                                 solver.ObjectiveValue() / self.scale, solver.BestObjectiveBound() / self.scale)
+            sel = tuple(i for i, v in enumerate(self.x[: self.n]) if solver.BooleanValue(v))
+            return BackendResult(
+                Outcome.OPTIMAL if status == cp.OPTIMAL else Outcome.FEASIBLE,
+                sel,
+                solver.ObjectiveValue() / self.scale,
+                solver.BestObjectiveBound() / self.scale,
+            )
         if status == cp.INFEASIBLE:
             return BackendResult(Outcome.INFEASIBLE, (), None, None)
         return BackendResult(Outcome.UNKNOWN, (), None, solver.BestObjectiveBound() / self.scale)
@@ -213,8 +231,10 @@ class MipBackend:
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
         """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
         k0 = len(self.x)
-        self.x += [self.solver.BoolVar(f"y{k0 + k}") if binary else self.solver.NumVar(0.0, float(upper), f"f{k0 + k}")
-                   for k in range(count)]
+        self.x += [
+            self.solver.BoolVar(f"y{k0 + k}") if binary else self.solver.NumVar(0.0, float(upper), f"f{k0 + k}")
+            for k in range(count)
+        ]
 
     def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         s = self.solver
@@ -232,10 +252,14 @@ class MipBackend:
             status = s.Solve()
         lp = self._lp
         if status in (lp.Solver.OPTIMAL, lp.Solver.FEASIBLE):
-            sel = tuple(i for i, v in enumerate(self.x[:self.n]) if v.solution_value() > 0.5)
+            sel = tuple(i for i, v in enumerate(self.x[: self.n]) if v.solution_value() > 0.5)
             bound = s.Objective().BestBound()
-            return BackendResult(Outcome.OPTIMAL if status == lp.Solver.OPTIMAL else Outcome.FEASIBLE, sel,
-                                 s.Objective().Value(), bound if math.isfinite(bound) else None)
+            return BackendResult(
+                Outcome.OPTIMAL if status == lp.Solver.OPTIMAL else Outcome.FEASIBLE,
+                sel,
+                s.Objective().Value(),
+                bound if math.isfinite(bound) else None,
+            )
         if status == lp.Solver.INFEASIBLE:
             return BackendResult(Outcome.INFEASIBLE, (), None, None)
         return BackendResult(Outcome.UNKNOWN, (), None, None)
@@ -277,8 +301,10 @@ class PulpBackend:
         pulp = self._pulp
         prob = pulp.LpProblem("cover", pulp.LpMinimize)
         x = [pulp.LpVariable(f"x{i}", cat="Binary") for i in range(len(self.cost))]
-        x += [pulp.LpVariable(f"y{k}", cat="Binary") if b else pulp.LpVariable(f"f{k}", 0, ub)
-              for k, (ub, b) in enumerate(self.extra)]
+        x += [
+            pulp.LpVariable(f"y{k}", cat="Binary") if b else pulp.LpVariable(f"f{k}", 0, ub)
+            for k, (ub, b) in enumerate(self.extra)
+        ]
         prob += pulp.lpSum(float(c) * x[i] for i, c in enumerate(self.cost) if c)
         for k, (idx, coef, lb) in enumerate(self.rows):
             prob += pulp.lpSum(float(a) * x[int(i)] for i, a in zip(idx, coef)) >= float(lb), f"r{k}"
@@ -288,14 +314,19 @@ class PulpBackend:
             for i, val in hint_values(hint, self.n).items():
                 x[i].setInitialValue(val)
         with tempfile.TemporaryDirectory() as tmp:
-            cmd = pulp.PULP_CBC_CMD(msg=False, timeLimit=max(time_limit_s, 0.01), threads=threads,
-                                    warmStart=hint is not None, options=[f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"],
-                                    keepFiles=False)
+            cmd = pulp.PULP_CBC_CMD(
+                msg=False,
+                timeLimit=max(time_limit_s, 0.01),
+                threads=threads,
+                warmStart=hint is not None,
+                options=[f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"],
+                keepFiles=False,
+            )
             cmd.tmpDir = tmp
             prob.solve(cmd)
         sol = prob.sol_status
         if sol in (pulp.LpSolutionOptimal, pulp.LpSolutionIntegerFeasible):
-            sel = tuple(i for i, v in enumerate(x[:self.n]) if (v.value() or 0) > 0.5)
+            sel = tuple(i for i, v in enumerate(x[: self.n]) if (v.value() or 0) > 0.5)
             obj = float(self.cost[list(sel)].sum())
             optimal = sol == pulp.LpSolutionOptimal
             return BackendResult(Outcome.OPTIMAL if optimal else Outcome.FEASIBLE, sel, obj, obj if optimal else None)

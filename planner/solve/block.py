@@ -50,8 +50,16 @@ def lengths(instance: CoverInstance) -> np.ndarray:
 class BlockSolver:
     """One independent block: its backend model (with the cuts found so far) and its best connected plan."""
 
-    def __init__(self, instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | None, cands: np.ndarray,
-                 targets: np.ndarray, forced_all: tuple[int, ...], o: MilpOptions) -> None:
+    def __init__(
+        self,
+        instance: CoverInstance,
+        a: sp.csr_matrix,
+        adj: sp.csr_matrix | None,
+        cands: np.ndarray,
+        targets: np.ndarray,
+        forced_all: tuple[int, ...],
+        o: MilpOptions,
+    ) -> None:
         self.o, self.cands = o, cands
         self.sub = a[cands][:, targets].tocsr()
         self.cost = instance.cost[cands]
@@ -64,15 +72,18 @@ class BlockSolver:
         self.incumbent: list[int] | None = None
         self.flow: FlowModel | None = None
         if self.groups is not None and o.k == 1 and o.precision == "single":
-            self.incumbent = connected_greedy(self.sub, self.adj, self.groups, self.cost,
-                                              np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts)
+            self.incumbent = connected_greedy(
+                self.sub, self.adj, self.groups, self.cost, np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts
+            )
         elif self.groups is None and o.k == 1 and o.precision == "single":
             g = greedy_cover(self.sub, weights=self.cost)
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
         self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
         self.local_moves = 0
         self.done = self.infeasible = False
-        self._seen: list[tuple[list[int], dict]] = []  # disconnected solutions met during the current solve, with their parts
+        self._seen: list[
+            tuple[list[int], dict]
+        ] = []  # disconnected solutions met during the current solve, with their parts
         self._shrunk: set[float] = set()  # incumbent costs the local search started from
         self.ring: RingBound | None = None
         self.lagrange_steps = 0
@@ -81,17 +92,23 @@ class BlockSolver:
         if not self.done:  # a block the ring bound closed needs no model
             self._model(instance, a, targets, forced_all)
 
-    def _model(self, instance: CoverInstance, a: sp.csr_matrix, targets: np.ndarray, forced_all: tuple[int, ...]) -> None:
+    def _model(
+        self, instance: CoverInstance, a: sp.csr_matrix, targets: np.ndarray, forced_all: tuple[int, ...]
+    ) -> None:
         """The block's rows on its backend: cover (and precision) rows, forced candidates, and with registration
         groups the neighbour cuts and the rows of the connectivity method."""
         o, cands = self.o, self.cands
         bt = self.sub.T.tocsr()
-        rows: list[Row] = [(bt.indices[bt.indptr[t]:bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
-                           for t in range(bt.shape[0])]
+        rows: list[Row] = [
+            (bt.indices[bt.indptr[t] : bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
+            for t in range(bt.shape[0])
+        ]
         if o.precision == "combined" and instance.info is not None:
             info = instance.info[cands][:, targets].T.tocsr()
-            rows += [(info.indices[info.indptr[t]:info.indptr[t + 1]], info.data[info.indptr[t]:info.indptr[t + 1]], 1.0)
-                     for t in range(info.shape[0])]
+            rows += [
+                (info.indices[info.indptr[t] : info.indptr[t + 1]], info.data[info.indptr[t] : info.indptr[t + 1]], 1.0)
+                for t in range(info.shape[0])
+            ]
         self.backend.add_rows(rows)
         pos = {int(c): k for k, c in enumerate(cands)}
         self.backend.fix([pos[c] for c in forced_all if c in pos])
@@ -152,8 +169,9 @@ class BlockSolver:
                 return
             self._duals = -lp.ineqlin.marginals
         best = float(self.cost[self.incumbent].sum())
-        value, taken = lagrangian_bound(graph, sub, self.cost, self._duals, best,
-                                        best - 1 + 1e-6 if self.integral else best - 1e-9, steps)
+        value, taken = lagrangian_bound(
+            graph, sub, self.cost, self._duals, best, best - 1 + 1e-6 if self.integral else best - 1e-9, steps
+        )
         self.lagrange_steps += taken
         self.bound = max(self.bound, value)
         self.done = self._closed()
@@ -172,8 +190,12 @@ class BlockSolver:
         members: dict = {}
         for i, g in enumerate(self.groups or ()):
             members.setdefault(g, []).append(i)
-        return [cut for g, m in members.items() if self.essential.get(g) is not None
-                for cut in layer_cuts(self.adj, self.sub, np.asarray(m), self.essential[g])]
+        return [
+            cut
+            for g, m in members.items()
+            if self.essential.get(g) is not None
+            for cut in layer_cuts(self.adj, self.sub, np.asarray(m), self.essential[g])
+        ]
 
     def _better(self, chosen: list[int]) -> None:
         if self.incumbent is None or self.cost[chosen].sum() < self.cost[self.incumbent].sum() - 1e-9:
@@ -193,7 +215,11 @@ class BlockSolver:
             left = deadline - time.perf_counter()
             if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
                 return
-            hint = self.flow.hint(self.incumbent) if self.flow is not None and self.incumbent is not None else self.incumbent
+            hint = (
+                self.flow.hint(self.incumbent)
+                if self.flow is not None and self.incumbent is not None
+                else self.incumbent
+            )
             res = self.backend.solve(left, self.o.threads, self.o.seed, hint)
             self.rounds += 1
             self.cuts += getattr(self.backend, "cuts", 0) - self._backend_cuts
@@ -236,8 +262,14 @@ class BlockSolver:
     def _shrink(self) -> None:
         """Local search for a connected plan one station smaller, once per incumbent size, down to the bound."""
         o = self.o
-        if (self.groups is None or self.incumbent is None or o.local_search_moves == 0 or o.k != 1
-                or o.precision != "single" or np.ptp(self.cost) > 0):
+        if (
+            self.groups is None
+            or self.incumbent is None
+            or o.local_search_moves == 0
+            or o.k != 1
+            or o.precision != "single"
+            or np.ptp(self.cost) > 0
+        ):
             return
         size = float(self.cost[self.incumbent].sum())
         floor = int(np.ceil(self.bound / self.cost[0] - 1e-6))

@@ -15,7 +15,9 @@ from planner.site.model import Site
 from planner.solve.result import SolveResult, Status
 
 
-def closed_form_plan(site: Site, cf_limits: Limits, targets: Targets, limits: SightLimits) -> tuple[SolveResult, CoverageProblem, list[str]]:
+def closed_form_plan(
+    site: Site, cf_limits: Limits, targets: Targets, limits: SightLimits
+) -> tuple[SolveResult, CoverageProblem, list[str]]:
     """Closed-form candidates, moved where misplaced, redundant ones dropped (3.1.3).
 
     Returns the result (indices into the returned problem's candidates), that
@@ -26,13 +28,16 @@ def closed_form_plan(site: Site, cf_limits: Limits, targets: Targets, limits: Si
     cands, log = relocate(site, closed_form_candidates(site, cf_limits))
     problem = build_coverage(site, cands, targets, limits)
     rule = rule_of(site.parameters.overlap)
-    keep = drop_redundant(problem.by_candidate, [(c.zone, c.side) for c in cands],
-                          piece_lengths(targets.s0_m, targets.s1_m), rule)
+    keep = drop_redundant(
+        problem.by_candidate, [(c.zone, c.side) for c in cands], piece_lengths(targets.s0_m, targets.s1_m), rule
+    )
     dropped = [cands[i].id for i in range(len(cands)) if i not in set(keep)]
     if dropped:
         log.append(f"redundant closed-form candidates removed: {', '.join(dropped)}")
     covered = problem.covered_by(keep) > 0
     status = Status.FEASIBLE if covered.all() else Status.INCOMPLETE
     info = {"uncovered_targets": int((~covered).sum()), "generated": len(cands)}
-    result = SolveResult("closed-form", status, tuple(keep), float(len(keep)), time_s=time.perf_counter() - start, info=info)
+    result = SolveResult(
+        "closed-form", status, tuple(keep), float(len(keep)), time_s=time.perf_counter() - start, info=info
+    )
     return result, problem, log

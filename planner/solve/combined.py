@@ -59,8 +59,10 @@ def combined_greedy(problem: CoverageProblem, rule: PrecisionRule) -> SolveResul
     if short.size:
         t = problem.targets
         shown = "; ".join(t.label(i) for i in short[:5])
-        raise InfeasibleError(f"{short.size} target(s) where all candidates together miss sigma_req "
-                              f"{rule.sigma_req_m * 1000:g} mm in combined precision: {shown}")
+        raise InfeasibleError(
+            f"{short.size} target(s) where all candidates together miss sigma_req "
+            f"{rule.sigma_req_m * 1000:g} mm in combined precision: {shown}"
+        )
     need = np.ones(info.shape[1])
 
     def gain(j: int) -> float:
@@ -84,5 +86,11 @@ def combined_greedy(problem: CoverageProblem, rule: PrecisionRule) -> SolveResul
         need[cols] = np.maximum(need[cols] - info.data[lo:hi], 0.0)
     selected = tuple(chosen)
     status = Status.FEASIBLE if need.max(initial=0.0) <= INFO_TOL else Status.INCOMPLETE
-    return SolveResult("greedy", status, selected, float(len(selected)), time_s=time.perf_counter() - start,
-                       info={"precision": "combined"})
+    return SolveResult(
+        "greedy",
+        status,
+        selected,
+        float(len(selected)),
+        time_s=time.perf_counter() - start,
+        info={"precision": "combined"},
+    )

@@ -26,8 +26,14 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order
 
 
-def add_flow(backend: Any, adj: sp.csr_matrix, groups: Sequence[Hashable], essential: dict[Hashable, np.ndarray],
-             cost: np.ndarray, incumbent: Sequence[int] | None = None) -> FlowModel:
+def add_flow(
+    backend: Any,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    essential: dict[Hashable, np.ndarray],
+    cost: np.ndarray,
+    incumbent: Sequence[int] | None = None,
+) -> FlowModel:
     """Add the flow variables and rows of every group to ``backend`` (which must have ``add_vars``)."""
     model = FlowModel(adj, groups, essential, cost, incumbent)
     model.install(backend)
@@ -37,8 +43,14 @@ def add_flow(backend: Any, adj: sp.csr_matrix, groups: Sequence[Hashable], essen
 class FlowModel:
     """The flow variables' layout, so that a plan can be turned into a full hint."""
 
-    def __init__(self, adj: sp.csr_matrix, groups: Sequence[Hashable], essential: dict[Hashable, np.ndarray],
-                 cost: np.ndarray, incumbent: Sequence[int] | None) -> None:
+    def __init__(
+        self,
+        adj: sp.csr_matrix,
+        groups: Sequence[Hashable],
+        essential: dict[Hashable, np.ndarray],
+        cost: np.ndarray,
+        incumbent: Sequence[int] | None,
+    ) -> None:
         self.adj = adj.tocsr()
         index: dict[Hashable, list[int]] = {}
         for i, g in enumerate(groups):

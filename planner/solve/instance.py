@@ -52,12 +52,17 @@ class CoverInstance:
         cost = np.asarray(self.cost, dtype=float)
         if cost.size and not (np.all(np.isfinite(cost)) and np.all(cost > 0)):  # 0 or -1 made "0 stations" optimal
             bad = int(np.flatnonzero(~(np.isfinite(cost) & (cost > 0)))[0])
-            raise InputError("costs must be finite and > 0", row=f"candidate {bad}", field="cost", value=float(cost[bad]))
+            raise InputError(
+                "costs must be finite and > 0", row=f"candidate {bad}", field="cost", value=float(cost[bad])
+            )
         if self.groups is not None and len(self.groups) != c:
             raise InputError(f"{len(self.groups)} groups for {c} candidates", field="groups", value=len(self.groups))
         if self.target_length_m is not None and len(self.target_length_m) != t:
-            raise InputError(f"{len(self.target_length_m)} target lengths for {t} targets", field="target_length_m",
-                             value=len(self.target_length_m))
+            raise InputError(
+                f"{len(self.target_length_m)} target lengths for {t} targets",
+                field="target_length_m",
+                value=len(self.target_length_m),
+            )
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -74,9 +79,15 @@ class CoverInstance:
 
 
 def cover_instance(
-    problem: CoverageProblem, *, scanner: Scanner | None = None, budget: ErrorBudget | None = None,
-    sigma_req_m: float | None = None, cost: Sequence[float] | None = None, name: str = "",
-    groups: Sequence[Hashable] | None = None, links: sp.csr_matrix | None = None,
+    problem: CoverageProblem,
+    *,
+    scanner: Scanner | None = None,
+    budget: ErrorBudget | None = None,
+    sigma_req_m: float | None = None,
+    cost: Sequence[float] | None = None,
+    name: str = "",
+    groups: Sequence[Hashable] | None = None,
+    links: sp.csr_matrix | None = None,
     incidence_model: str = "none",
 ) -> CoverInstance:
     """The solver's view of a site's coverage problem.

@@ -70,8 +70,9 @@ def _gather(m: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 class _State:
     """The chosen set S with its target counts, weights, components and configuration flags."""
 
-    def __init__(self, a: sp.csr_matrix, adj: sp.csr_matrix, gid: np.ndarray, need: np.ndarray,
-                 chosen: Sequence[int]) -> None:
+    def __init__(
+        self, a: sp.csr_matrix, adj: sp.csr_matrix, gid: np.ndarray, need: np.ndarray, chosen: Sequence[int]
+    ) -> None:
         self.a, self.at, self.adj, self.gid = a, a.T.tocsr(), adj, gid
         self.weight = need.astype(np.float64)
         self.need = need
@@ -84,7 +85,7 @@ class _State:
         self._graph: tuple[np.ndarray, sp.csr_matrix, np.ndarray, int, np.ndarray] | None = None
 
     def _targets(self, c: int) -> np.ndarray:
-        return self.a.indices[self.a.indptr[c]:self.a.indptr[c + 1]]
+        return self.a.indices[self.a.indptr[c] : self.a.indptr[c + 1]]
 
     def unseen(self) -> np.ndarray:
         return np.flatnonzero(self.need & (self.cnt == 0))
@@ -109,8 +110,9 @@ class _State:
             row, col = _gather(self.adj, idx)
             keep = pos[col] >= 0  # _gather lists the rows in order: the kept entries are already CSR
             indptr = np.concatenate([[0], np.cumsum(np.bincount(row[keep], minlength=len(idx)))])
-            sub = sp.csr_matrix((np.ones(int(keep.sum()), dtype=bool), pos[col[keep]], indptr),
-                                shape=(len(idx), len(idx)))
+            sub = sp.csr_matrix(
+                (np.ones(int(keep.sum()), dtype=bool), pos[col[keep]], indptr), shape=(len(idx), len(idx))
+            )
             n, label = connected_components(sub, directed=False)
             parts = int(n - np.unique(self.gid[idx]).size)
             touched = np.zeros(self.a.shape[0], dtype=np.int64)
@@ -177,8 +179,16 @@ def _split(sub: sp.csr_matrix) -> np.ndarray:
     return np.array(out, dtype=np.int64)
 
 
-def shrink(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
-           moves: int = 5000, floor: int = 1, seed: int = 0, tabu: int = 2) -> Shrunk:
+def shrink(
+    a: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    plan: Sequence[int],
+    moves: int = 5000,
+    floor: int = 1,
+    seed: int = 0,
+    tabu: int = 2,
+) -> Shrunk:
     """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring).
 
     Parameters
@@ -258,7 +268,7 @@ def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
     pool: list[np.ndarray] = []
     if unseen.size:
         t = int(unseen[rng.integers(unseen.size)])
-        pool.append(st.at.indices[st.at.indptr[t]:st.at.indptr[t + 1]])
+        pool.append(st.at.indices[st.at.indptr[t] : st.at.indptr[t + 1]])
     if parts > 0:
         pool.append(np.flatnonzero(touched >= 2))
     cand = np.unique(np.concatenate(pool)) if pool else np.zeros(0, dtype=np.int64)

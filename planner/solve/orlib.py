@@ -28,19 +28,20 @@ def read_orlib(path: Path | str) -> CoverInstance:
         raise InputError("missing the header 'm n'", file=name)
     m, n = int(nums[0]), int(nums[1])
     pos = 2
-    cost = nums[pos:pos + n].astype(float)
+    cost = nums[pos : pos + n].astype(float)
     pos += n
     rows, cols = [], []
     for r in range(m):
         if pos >= nums.size:
             raise InputError(f"ends before row {r + 1} of {m}", file=name, row=r + 1)
         k = int(nums[pos])
-        members = nums[pos + 1:pos + 1 + k]
+        members = nums[pos + 1 : pos + 1 + k]
         if len(members) != k or np.any(members < 1) or np.any(members > n):
             raise InputError(f"bad column list ({k} columns announced)", file=name, row=r + 1)
         rows.append(np.full(k, r))
         cols.append(members - 1)
         pos += 1 + k
-    by_target = sp.csr_matrix((np.ones(sum(len(c) for c in cols), dtype=bool), (np.concatenate(rows), np.concatenate(cols))),
-                              shape=(m, n))
+    by_target = sp.csr_matrix(
+        (np.ones(sum(len(c) for c in cols), dtype=bool), (np.concatenate(rows), np.concatenate(cols))), shape=(m, n)
+    )
     return CoverInstance(by_candidate=by_target.T.tocsr(), cost=cost, name=Path(path).stem)

@@ -35,8 +35,10 @@ TIE_EPS = 1e-6
 
 
 #: what a plane certificate assumes (plan.json ``certificate.assumes``, the summary)
-ASSUMES = ("walls cut into pieces of the target spacing, each covered only when one station sees all of it; "
-           "coverage regions exact to within the tolerance")
+ASSUMES = (
+    "walls cut into pieces of the target spacing, each covered only when one station sees all of it; "
+    "coverage regions exact to within the tolerance"
+)
 
 
 @dataclass(frozen=True)
@@ -79,33 +81,51 @@ class PricingReport:
         return self.plane_bound >= self.integer_bound
 
     def to_dict(self) -> dict[str, Any]:
-        return {"converged": self.converged, "pool_lp_bound": self.lp_bound, "pool_integer_bound": self.integer_bound,
-                "plane_lp_bound": self.plane_lp_bound, "plane_bound": self.plane_bound,
-                "heaviest_weight": self.heaviest_weight,
-                "rounds": self.rounds, "columns_added": self.columns_added, "time_s": self.time_s,
-                "tolerance_m": self.tolerance_m, "note": self.note, "pool_lp_history": list(self.history),
-                "plane_lp_history": list(self.plane_history)}
+        return {
+            "converged": self.converged,
+            "pool_lp_bound": self.lp_bound,
+            "pool_integer_bound": self.integer_bound,
+            "plane_lp_bound": self.plane_lp_bound,
+            "plane_bound": self.plane_bound,
+            "heaviest_weight": self.heaviest_weight,
+            "rounds": self.rounds,
+            "columns_added": self.columns_added,
+            "time_s": self.time_s,
+            "tolerance_m": self.tolerance_m,
+            "note": self.note,
+            "pool_lp_history": list(self.history),
+            "plane_lp_history": list(self.plane_history),
+        }
 
     def summary(self) -> str:
-        head = (f"pricing: cover LP {self.lp_bound:.3f} over the pool; over every position in the plane "
-                f"LP >= {self.plane_lp_bound:.3f} (>= {self.plane_bound} stations; heaviest position weight "
-                f"{self.heaviest_weight:.4f} over outer regions grown by {self.tolerance_m * 1000:.3f} mm)")
+        head = (
+            f"pricing: cover LP {self.lp_bound:.3f} over the pool; over every position in the plane "
+            f"LP >= {self.plane_lp_bound:.3f} (>= {self.plane_bound} stations; heaviest position weight "
+            f"{self.heaviest_weight:.4f} over outer regions grown by {self.tolerance_m * 1000:.3f} mm)"
+        )
         state = "converged" if self.converged else "not converged"
-        return (f"{head}; {state}, {self.rounds} rounds, {self.columns_added} columns added, {self.time_s:.1f} s"
-                + (f"; {self.note}" if self.note else ""))
+        return f"{head}; {state}, {self.rounds} rounds, {self.columns_added} columns added, {self.time_s:.1f} s" + (
+            f"; {self.note}" if self.note else ""
+        )
 
 
 def _owner(problem: CoverageProblem, row: int) -> tuple[str, ScanSide]:
     """The zone-side whose pieces a priced column covers most of (its registration group)."""
     t = problem.targets
-    cols = problem.by_candidate.indices[problem.by_candidate.indptr[row]:problem.by_candidate.indptr[row + 1]]
+    cols = problem.by_candidate.indices[problem.by_candidate.indptr[row] : problem.by_candidate.indptr[row + 1]]
     keys, counts = np.unique(t.zone[cols].astype(np.int64) * 2 + t.side[cols], return_counts=True)
     k = int(keys[np.argmax(counts)])
     return t.zone_ids[k // 2], (ScanSide.INSIDE if k % 2 == 0 else ScanSide.OUTSIDE)
 
 
-def _heaviest(cache: dict[int, shapely.Geometry], t: Any, pos: np.ndarray, y: np.ndarray, per_round: int,
-              threshold: float = 1.0 + PRICE_EPS) -> tuple[list[tuple[int, Any]], float]:
+def _heaviest(
+    cache: dict[int, shapely.Geometry],
+    t: Any,
+    pos: np.ndarray,
+    y: np.ndarray,
+    per_round: int,
+    threshold: float = 1.0 + PRICE_EPS,
+) -> tuple[list[tuple[int, Any]], float]:
     """Points of the closed arrangements (one per frame) of the regions of the pieces ``pos`` weighing more than
     ``threshold`` (by default: those that price out)."""
     found_all: list[tuple[int, Any]] = []
@@ -119,8 +139,9 @@ def _heaviest(cache: dict[int, shapely.Geometry], t: Any, pos: np.ndarray, y: np
     return found_all, heaviest
 
 
-def _outer(site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarray,
-           spaces: dict[str, FrameSpace]) -> float:
+def _outer(
+    site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarray, spaces: dict[str, FrameSpace]
+) -> float:
     """An upper bound on any position's dual weight: the arrangement of the outer regions O_t (range discs
     circumscribed, stand-off buffers inscribed) grown by :func:`outer_tolerance_m`, per frame."""
     outer = coverage_regions(site, t, limits, [int(k) for k in pos], spaces, outer=True)
@@ -133,13 +154,23 @@ def _outer(site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarr
     return top
 
 
-def _add_points(site: Site, problem: CoverageProblem, model: WarmCoverLp, points: list[tuple[int, Any]],
-                y: np.ndarray, limits: SightLimits, tag: str, threshold: float) -> tuple[CoverageProblem, int]:
+def _add_points(
+    site: Site,
+    problem: CoverageProblem,
+    model: WarmCoverLp,
+    points: list[tuple[int, Any]],
+    y: np.ndarray,
+    limits: SightLimits,
+    tag: str,
+    threshold: float,
+) -> tuple[CoverageProblem, int]:
     """``problem`` with those ``points`` (frame index, sample) whose coverage by the coverage test weighs more
     than ``threshold``, as priced candidates owned by the zone-side they see most of; also added to ``model``."""
     t = problem.targets
-    new = [Candidate(f"{tag}.{k}", "", ScanSide.INSIDE, t.frames[fi], f.x, f.y, CandidateKind.PRICED)
-           for k, (fi, f) in enumerate(points, 1)]
+    new = [
+        Candidate(f"{tag}.{k}", "", ScanSide.INSIDE, t.frames[fi], f.x, f.y, CandidateKind.PRICED)
+        for k, (fi, f) in enumerate(points, 1)
+    ]
     if not new:
         return problem, 0
     sub = build_coverage(site, new, t, limits)
@@ -149,17 +180,27 @@ def _add_points(site: Site, problem: CoverageProblem, model: WarmCoverLp, points
         return problem, 0
     keep = sub.by_candidate[good]
     owners = [_owner(sub, int(g)) for g in good]
-    cands = tuple(Candidate(f"{z}-{SIDE_TAG[s]}-{new[g].id}", z, s, new[g].frame, new[g].x, new[g].y, CandidateKind.PRICED)
-                  for g, (z, s) in zip(good, owners))
+    cands = tuple(
+        Candidate(f"{z}-{SIDE_TAG[s]}-{new[g].id}", z, s, new[g].frame, new[g].x, new[g].y, CandidateKind.PRICED)
+        for g, (z, s) in zip(good, owners)
+    )
     piece = CoverageProblem(cands, t, keep, keep.T.tocsr(), sub.slant_m[good], sub.incidence_deg[good], {}, sub.limits)
     model.add_columns(keep)
     return merge_problems(problem, piece), len(cands)
 
 
-def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, max_rounds: int = 400,
-                per_round: int = 100, time_limit_s: float = 120.0, ties: int = 1000,
-                cache: dict[int, shapely.Geometry] | None = None,
-                spaces: dict[str, FrameSpace] | None = None) -> tuple[CoverageProblem, PricingReport]:
+def price_plane(
+    site: Site,
+    problem: CoverageProblem,
+    limits: SightLimits,
+    *,
+    max_rounds: int = 400,
+    per_round: int = 100,
+    time_limit_s: float = 120.0,
+    ties: int = 1000,
+    cache: dict[int, shapely.Geometry] | None = None,
+    spaces: dict[str, FrameSpace] | None = None,
+) -> tuple[CoverageProblem, PricingReport]:
     """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane.
 
     Columns come from the closed arrangement of the regions as drawn (inner approximations: faces, edges
@@ -194,8 +235,10 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
             break
         problem, n = _add_points(site, problem, model, faces, lp.y, limits, f"PR{rounds}", 1.0 + PRICE_EPS)
         if n == 0:
-            note = (f"{len(faces)} arrangement points price out by their regions but none by the coverage test "
-                    f"(within the {tol:.4f} m tolerance)")
+            note = (
+                f"{len(faces)} arrangement points price out by their regions but none by the coverage test "
+                f"(within the {tol:.4f} m tolerance)"
+            )
             break
         added += n
     if converged and ties:  # the optimal LP's alternatives: positions as good as its columns (reduced cost 0)
@@ -206,9 +249,20 @@ def price_plane(site: Site, problem: CoverageProblem, limits: SightLimits, *, ma
     w_star = _outer(site, t, limits, pos, lp.y, {})
     farley = float(lp.y.sum()) / max(1.0, w_star)
     plane_history.append(farley)
-    report = PricingReport(converged, history[-1], farley, rounds, added, time.perf_counter() - start,
-                           outer_tolerance_m(limits),
-                           note, tuple(history), tuple(plane_history), w_star, tuple(map(float, lp.y)))
+    report = PricingReport(
+        converged,
+        history[-1],
+        farley,
+        rounds,
+        added,
+        time.perf_counter() - start,
+        outer_tolerance_m(limits),
+        note,
+        tuple(history),
+        tuple(plane_history),
+        w_star,
+        tuple(map(float, lp.y)),
+    )
     return problem, report
 
 
@@ -222,10 +276,13 @@ def with_plane_bound(result: SolveResult, pricing: PricingReport) -> SolveResult
     plane = pricing.plane_bound
     info["pool_bound"] = result.bound
     info["plane_bound"] = plane
-    info["certificate"] = {"assumes": ASSUMES, "tolerance_m": pricing.tolerance_m,
-                           "plane_bound_from": "Farley's bound on the cover LP's duals over the closed arrangement of "
-                                               "the coverage regions grown by the tolerance (a plain cover; "
-                                               "registration not used)"}
+    info["certificate"] = {
+        "assumes": ASSUMES,
+        "tolerance_m": pricing.tolerance_m,
+        "plane_bound_from": "Farley's bound on the cover LP's duals over the closed arrangement of "
+        "the coverage regions grown by the tolerance (a plain cover; "
+        "registration not used)",
+    }
     proven = result.objective is not None and result.objective <= plane + 1e-9
     info["bound_scope"] = "plane" if proven else "pool"
     if proven:

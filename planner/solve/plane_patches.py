@@ -29,8 +29,9 @@ MAX_PATCHES = 250_000
 _ERODE_SEGS = 16
 
 
-def patch_shapes(outer: list[Any], inner: list[Any], h: float, grow_m: float, shrink_m: float
-                 ) -> tuple[list[Any], list[Any]]:
+def patch_shapes(
+    outer: list[Any], inner: list[Any], h: float, grow_m: float, shrink_m: float
+) -> tuple[list[Any], list[Any]]:
     """The outer regions grown (circumscribed) and the inner ones shrunk by their tolerance and half the diagonal of
     a patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short)."""
     half = h * math.sqrt(0.5)
@@ -38,8 +39,9 @@ def patch_shapes(outer: list[Any], inner: list[Any], h: float, grow_m: float, sh
     return grown(outer, grow_m + half), list(shapely.buffer(np.asarray(inner, dtype=object), -d, quad_segs=_ERODE_SEGS))
 
 
-def patch_sets(grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float
-                ) -> tuple[sp.csr_matrix, NDArray[np.float64]] | None:
+def patch_sets(
+    grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float
+) -> tuple[sp.csr_matrix, NDArray[np.float64]] | None:
     """U (patches x pieces) and l (per patch) on the grid of side ``h`` over the grown regions' bounds; None past
     ``MAX_PATCHES``. ``grow``/``shrink``: regions already grown / shrunk by the tolerance and half the diagonal."""
     live = [k for k, g in enumerate(grow) if not g.is_empty]
@@ -72,8 +74,9 @@ def patch_sets(grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64],
     return u[keep].tocsr(), lsum[keep]
 
 
-def undominated(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], n: int
-                 ) -> NDArray[np.int64]:
+def undominated(
+    start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], n: int
+) -> NDArray[np.int64]:
     """Indices of (start, span, low) triples no other holds: m holds p when m's arc holds p's on the ring and
     low[m] <= low[p] (of equal triples the first is kept). O(n^2) over a table of the arcs of the ring: the
     least ``low`` of every arc, with each arc also one turn back, minimised over starts <= s and ends >= e."""
@@ -97,14 +100,20 @@ def undominated(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[
     return np.flatnonzero(keep)
 
 
-def arc_links(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], cum: NDArray[np.float64],
-               n: int, share: float) -> sp.csr_matrix:
+def arc_links(
+    start: NDArray[np.int64],
+    span: NDArray[np.int64],
+    low: NDArray[np.float64],
+    cum: NDArray[np.float64],
+    n: int,
+    share: float,
+) -> sp.csr_matrix:
     """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring).
     ``cum``: prefix sums of the piece lengths over three turns (cum[0] = 0)."""
     end = start + span + 1  # exclusive
     rows, cols = [], []
     for lo in range(0, start.size, 512):
-        s, e = start[lo:lo + 512, None], end[lo:lo + 512, None]
+        s, e = start[lo : lo + 512, None], end[lo : lo + 512, None]
         shared = np.zeros((s.shape[0], start.size))
         for shift in (-n, 0, n):
             a = np.maximum(s, start[None, :] + shift)
@@ -112,7 +121,7 @@ def arc_links(start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np
             ok = b > a
             a, b = np.clip(a, 0, 3 * n), np.clip(b, 0, 3 * n)
             shared += np.where(ok, cum[np.maximum(b, a)] - cum[a], 0.0)
-        need = share * np.minimum(low[lo:lo + 512, None], low[None, :])
+        need = share * np.minimum(low[lo : lo + 512, None], low[None, :])
         link = (shared > 1e-12) & (shared + 1e-9 >= need)
         link[np.arange(s.shape[0]), np.arange(lo, lo + s.shape[0])] = False
         r, c = np.nonzero(link)

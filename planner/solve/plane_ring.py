@@ -98,20 +98,49 @@ class ConnectedPlaneBound:
     def summary(self) -> str:
         if self.bound is None:
             return f"connected plane bound: {self.note}"
-        parts = ", ".join(f"{s.zone_side} {s.value}" + (f" (ring walk, {s.patch_m:.2f}-m patches)" if s.ring is not None
-                                                          and s.ring >= math.ceil(s.farley - 1e-6) else "")
-                          for s in self.sides)
-        return (f"connected plane bound: {self.bound} stations for any plan connected under the overlap rule, stations "
-                f"anywhere ({parts}; {self.time_s:.1f} s)")
+        parts = ", ".join(
+            f"{s.zone_side} {s.value}"
+            + (
+                f" (ring walk, {s.patch_m:.2f}-m patches)"
+                if s.ring is not None and s.ring >= math.ceil(s.farley - 1e-6)
+                else ""
+            )
+            for s in self.sides
+        )
+        return (
+            f"connected plane bound: {self.bound} stations for any plan connected under the overlap rule, stations "
+            f"anywhere ({parts}; {self.time_s:.1f} s)"
+        )
 
     def to_dict(self) -> dict[str, Any]:
-        return {"bound": self.bound, "time_s": round(self.time_s, 3), "note": self.note,
-                "zone_sides": [{"zone_side": s.zone_side, "farley": round(s.farley, 6), "ring": s.ring,
-                                "patch_m": s.patch_m, "undominated_patches": s.family} for s in self.sides]}
+        return {
+            "bound": self.bound,
+            "time_s": round(self.time_s, 3),
+            "note": self.note,
+            "zone_sides": [
+                {
+                    "zone_side": s.zone_side,
+                    "farley": round(s.farley, 6),
+                    "ring": s.ring,
+                    "patch_m": s.patch_m,
+                    "undominated_patches": s.family,
+                }
+                for s in self.sides
+            ],
+        }
 
 
-def side_ring_bound(outer: list[Any], inner: list[Any], lengths: NDArray[np.float64], required: NDArray[np.bool_],
-                    share: float, h: float, grow_m: float, shrink_m: float, target: int) -> tuple[int | None, int]:
+def side_ring_bound(
+    outer: list[Any],
+    inner: list[Any],
+    lengths: NDArray[np.float64],
+    required: NDArray[np.bool_],
+    share: float,
+    h: float,
+    grow_m: float,
+    shrink_m: float,
+    target: int,
+) -> tuple[int | None, int]:
     """The ring walk over the undominated patches of side ``h`` of one zone-side (pieces in their cyclic order),
     searched only as far as it can stay under ``target``: (the walk's cost, or ``target`` when no walk is cheaper;
     None when not formed; the family size). ``outer``/``inner``: the pieces' O_t and R_t as drawn;
@@ -143,10 +172,17 @@ def side_ring_bound(outer: list[Any], inner: list[Any], lengths: NDArray[np.floa
     return (target if walk is None else min(target, round(walk.bound))), int(fam.size)
 
 
-def connected_plane_bound(site: Site, problem: CoverageProblem, limits: SightLimits, share: float,
-                          duals: NDArray[np.float64], counts: dict[int, int], *,
-                          work_patches: int = CONNECTED_WORK_PATCHES,
-                          cache: dict[int, Any] | None = None) -> ConnectedPlaneBound:
+def connected_plane_bound(
+    site: Site,
+    problem: CoverageProblem,
+    limits: SightLimits,
+    share: float,
+    duals: NDArray[np.float64],
+    counts: dict[int, int],
+    *,
+    work_patches: int = CONNECTED_WORK_PATCHES,
+    cache: dict[int, Any] | None = None,
+) -> ConnectedPlaneBound:
     """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's
     stations per zone-side (key ``2 zone + side``); the ring walks are tried level by level (every zone-side's
     first patch side, then the halvings), a zone-side dropping out when it reaches its count or its walk cannot
@@ -188,8 +224,9 @@ def connected_plane_bound(site: Site, problem: CoverageProblem, limits: SightLim
             spent += cost
             h = levels[i][level]
             o, r = [outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]
-            ring, fam = side_ring_bound(o, r, lengths_all[pieces], seen[pieces], share, h, grow_m, shrink_m,
-                                        counts.get(k, 0))
+            ring, fam = side_ring_bound(
+                o, r, lengths_all[pieces], seen[pieces], share, h, grow_m, shrink_m, counts.get(k, 0)
+            )
             if ring is None:
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
@@ -208,13 +245,17 @@ def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, An
     for pieces in pieces_all:
         geoms = [g for g in grown([outer[int(p)] for p in pieces], grow_m) if not g.is_empty]
         name = _name(t, pieces[0])
-        unions.setdefault(int(t.frame[pieces[0]]), []).append((name, shapely.union_all(np.asarray(geoms, dtype=object))))
+        unions.setdefault(int(t.frame[pieces[0]]), []).append(
+            (name, shapely.union_all(np.asarray(geoms, dtype=object)))
+        )
     for items in unions.values():
         for i in range(len(items)):
             for j in range(i + 1, len(items)):
                 if items[i][1].intersects(items[j][1]):
-                    return (f"not formed: {items[i][0]} and {items[j][0]} can be seen from one position "
-                            "(their outer coverage regions meet)")
+                    return (
+                        f"not formed: {items[i][0]} and {items[j][0]} can be seen from one position "
+                        "(their outer coverage regions meet)"
+                    )
     return ""
 
 
@@ -227,7 +268,8 @@ def with_connected_plane_bound(result: SolveResult, cb: ConnectedPlaneBound) -> 
     cert = dict(info.get("certificate") or {})
     cert["connected_plane_bound_from"] = (
         "per zone-side, the larger of its share of Farley's bound and the ring walk over undominated patches "
-        "(planner.solve.plane_ring): every connected plan under the overlap rule, stations anywhere")
+        "(planner.solve.plane_ring): every connected plan under the overlap rule, stations anywhere"
+    )
     info["certificate"] = cert
     if cb.bound is not None and result.objective is not None and result.objective <= cb.bound + 1e-9:
         info["bound_scope"] = "plane"

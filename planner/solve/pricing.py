@@ -59,8 +59,15 @@ class WarmCoverLp:
         h.setOptionValue("random_seed", 0)
         n_t, _ = by_target.shape
         self.n_t = n_t
-        h.addRows(n_t, np.ones(n_t), np.full(n_t, highspy.kHighsInf), 0, np.zeros(0, np.int32), np.zeros(0, np.int32),
-                  np.zeros(0))
+        h.addRows(
+            n_t,
+            np.ones(n_t),
+            np.full(n_t, highspy.kHighsInf),
+            0,
+            np.zeros(0, np.int32),
+            np.zeros(0, np.int32),
+            np.zeros(0),
+        )
         self.add_columns(by_target.T.tocsr())
 
     def add_columns(self, by_candidate: sp.csr_matrix) -> None:
@@ -69,8 +76,16 @@ class WarmCoverLp:
         n = a.shape[0]
         if n == 0:
             return
-        self._h.addCols(n, np.ones(n), np.zeros(n), np.full(n, np.inf), a.nnz, a.indptr[:-1].astype(np.int32),
-                        a.indices.astype(np.int32), a.data)
+        self._h.addCols(
+            n,
+            np.ones(n),
+            np.zeros(n),
+            np.full(n, np.inf),
+            a.nnz,
+            a.indptr[:-1].astype(np.int32),
+            a.indices.astype(np.int32),
+            a.data,
+        )
 
     def solve(self) -> CoverLp:
         h = self._h
@@ -92,8 +107,9 @@ class Face:
     weight: float
 
 
-def heaviest_faces(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float,
-                   limit: int) -> tuple[list[Face], float]:
+def heaviest_faces(
+    regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float, limit: int
+) -> tuple[list[Face], float]:
     """Faces of the arrangement of ``regions`` whose weight exceeds ``threshold`` (heaviest first, at
     most ``limit``), and the largest face weight found.
 

@@ -11,10 +11,10 @@ from typing import Any
 class Status(str, Enum):
     """How a method ended (an outcome, never an exception)."""
 
-    OPTIMAL = "optimal"          # proven optimal
-    FEASIBLE = "feasible"        # a full cover, optimality not proven
-    INCOMPLETE = "incomplete"    # a plan that leaves targets uncovered (e.g. the closed form on a sharp corner)
-    INFEASIBLE = "infeasible"    # proven: no cover exists (some target seen by no candidate)
+    OPTIMAL = "optimal"  # proven optimal
+    FEASIBLE = "feasible"  # a full cover, optimality not proven
+    INCOMPLETE = "incomplete"  # a plan that leaves targets uncovered (e.g. the closed form on a sharp corner)
+    INFEASIBLE = "infeasible"  # proven: no cover exists (some target seen by no candidate)
     NO_SOLUTION = "no_solution"  # the method stopped without a cover (time limit)
 
 

@@ -103,8 +103,14 @@ def arcs(cover: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64], ND
 class RingGraph:
     """The unrolled link graph of a block's arcs, built once; :meth:`walk` prices it for any node costs."""
 
-    def __init__(self, start: NDArray[np.int64], end: NDArray[np.int64], exact: NDArray[np.bool_],
-                 required: NDArray[np.bool_], graph: sp.csr_matrix) -> None:
+    def __init__(
+        self,
+        start: NDArray[np.int64],
+        end: NDArray[np.int64],
+        exact: NDArray[np.bool_],
+        required: NDArray[np.bool_],
+        graph: sp.csr_matrix,
+    ) -> None:
         self.m, self.n = start.size, required.size
         self.exact_arcs = int(exact.sum())
         self.graph = graph  # pattern of the lifted link graph; its data are set per pricing
@@ -120,8 +126,10 @@ class RingGraph:
         self.need = self.lo - np.mod(self.lo, self.n) + prev[np.mod(self.lo, self.n)] + self.n
         alive = start >= 0
         q = np.flatnonzero(required)
-        seers = [(np.flatnonzero(alive & (((start <= p) & (end >= p)) | ((start <= p + self.n) & (end >= p + self.n)))))
-                 for p in q]
+        seers = [
+            (np.flatnonzero(alive & (((start <= p) & (end >= p)) | ((start <= p + self.n) & (end >= p + self.n)))))
+            for p in q
+        ]
         self.anchors = min(seers, key=len)  # the arcs over the required piece fewest arcs hold
         self.q = int(q[min(range(len(seers)), key=lambda k: len(seers[k]))])
 
@@ -158,7 +166,9 @@ class RingGraph:
         walk = tuple(sorted({v % self.m for v in lpath + rpath}))
         # the walk's own cost (anchor once); Dijkstra chose it with _EPS per node, which can pass over a walk
         # cheaper by at most _EPS per lifted node: exact for integral costs, otherwise that much is taken off
-        true = float(cost[np.asarray(lpath) % self.m].sum() + cost[np.asarray(rpath[1:], dtype=np.int64) % self.m].sum())
+        true = float(
+            cost[np.asarray(lpath) % self.m].sum() + cost[np.asarray(rpath[1:], dtype=np.int64) % self.m].sum()
+        )
         exact = bool(np.all(cost == np.round(cost)))
         return RingBound(true if exact else true - _EPS * self.graph.shape[0], walk, self.exact_arcs)
 
@@ -190,8 +200,9 @@ def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
     return RingGraph(start, end, exact, required, graph)
 
 
-def ring_bound(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_matrix,
-               cost: NDArray[np.float64]) -> RingBound | None:
+def ring_bound(
+    cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_matrix, cost: NDArray[np.float64]
+) -> RingBound | None:
     """The cheapest walk over ``cover``'s arcs that covers every ``required`` piece (see :func:`ring_graph`);
     ``None`` when the theorem does not apply, a cost is not > 0, or no walk covers the ring."""
     if np.any(cost <= 0):
@@ -200,8 +211,16 @@ def ring_bound(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
     return g.walk(cost) if g is not None else None
 
 
-def lagrangian_bound(ring: RingGraph, sub: sp.csr_matrix, cost: NDArray[np.float64], lam: NDArray[np.float64],
-                     target: float, stop_above: float, iterations: int, give_up: int = 20) -> tuple[float, int]:
+def lagrangian_bound(
+    ring: RingGraph,
+    sub: sp.csr_matrix,
+    cost: NDArray[np.float64],
+    lam: NDArray[np.float64],
+    target: float,
+    stop_above: float,
+    iterations: int,
+    give_up: int = 20,
+) -> tuple[float, int]:
     """The ring bound with the cover rows added back by multipliers, raised by subgradient ascent.
 
     For lambda >= 0 on the required targets (columns of ``sub``, candidates x targets) and reduced costs

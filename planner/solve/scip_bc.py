@@ -66,16 +66,33 @@ class PyScipBackend:
         """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
         self.model.freeTransform()
         k0 = len(self.x)
-        self.x += [self.model.addVar(f"y{k0 + k}", vtype="B") if binary else
-                   self.model.addVar(f"f{k0 + k}", vtype="C", lb=0.0, ub=float(upper)) for k in range(count)]
+        self.x += [
+            self.model.addVar(f"y{k0 + k}", vtype="B")
+            if binary
+            else self.model.addVar(f"f{k0 + k}", vtype="C", lb=0.0, ub=float(upper))
+            for k in range(count)
+        ]
 
-    def connect(self, adj: sp.csr_matrix, groups: Sequence[Hashable], a: sp.csr_matrix,
-                essential: dict[Hashable, np.ndarray], separate: bool = True) -> None:
+    def connect(
+        self,
+        adj: sp.csr_matrix,
+        groups: Sequence[Hashable],
+        a: sp.csr_matrix,
+        essential: dict[Hashable, np.ndarray],
+        separate: bool = True,
+    ) -> None:
         """Enforce connectivity of each group's chosen stations inside the search (branch-and-cut)."""
-        self.handler = _handler(self._scip)(self.x[:self.n], adj, groups, a, essential, separate)
-        self.model.includeConshdlr(self.handler, "registration", "chosen stations of a zone-side connected",
-                                   sepapriority=10, enfopriority=-10, chckpriority=-10, sepafreq=1,
-                                   needscons=False)
+        self.handler = _handler(self._scip)(self.x[: self.n], adj, groups, a, essential, separate)
+        self.model.includeConshdlr(
+            self.handler,
+            "registration",
+            "chosen stations of a zone-side connected",
+            sepapriority=10,
+            enfopriority=-10,
+            chckpriority=-10,
+            sepafreq=1,
+            needscons=False,
+        )
         # the handler declares no variable locks: dual reductions would be unsafe
         self.model.setBoolParam("misc/allowstrongdualreds", False)
         self.model.setBoolParam("misc/allowweakdualreds", False)
@@ -101,7 +118,7 @@ class PyScipBackend:
         bound = float(dual) if np.isfinite(dual) and abs(dual) < 1e19 else None
         if m.getNSols() > 0:
             best = m.getBestSol()
-            sel = tuple(i for i, v in enumerate(self.x[:self.n]) if m.getSolVal(best, v) > 0.5)
+            sel = tuple(i for i, v in enumerate(self.x[: self.n]) if m.getSolVal(best, v) > 0.5)
             obj = float(m.getSolObjVal(best))
             return BackendResult(Outcome.OPTIMAL if status == "optimal" else Outcome.FEASIBLE, sel, obj, bound)
         if status == "infeasible":
@@ -114,8 +131,15 @@ def _handler(scip: Any) -> type:
     result = scip.SCIP_RESULT
 
     class Registration(scip.Conshdlr):  # type: ignore[misc, name-defined]
-        def __init__(self, x: list, adj: sp.csr_matrix, groups: Sequence[Hashable], a: sp.csr_matrix,
-                     essential: dict[Hashable, np.ndarray], separate: bool) -> None:
+        def __init__(
+            self,
+            x: list,
+            adj: sp.csr_matrix,
+            groups: Sequence[Hashable],
+            a: sp.csr_matrix,
+            essential: dict[Hashable, np.ndarray],
+            separate: bool,
+        ) -> None:
             self.x, self.adj, self.groups, self.a, self.essential = x, adj.tocsr(), list(groups), a.tocsr(), essential
             self.separate = separate
             self.n_int = self.n_frac = 0
@@ -141,8 +165,9 @@ def _handler(scip: Any) -> type:
             q = scip.quicksum
             for g, comps in broken.items():
                 for idx, coef, lb in connectivity_cuts(self.adj, comps, self.a, self.essential.get(g)):
-                    self.model.addCons(q(float(c) * self.x[int(i)] for i, c in zip(idx, coef)) >= float(lb),
-                                       removable=False)
+                    self.model.addCons(
+                        q(float(c) * self.x[int(i)] for i, c in zip(idx, coef)) >= float(lb), removable=False
+                    )
                     self.n_int += 1
             return {"result": result.CONSADDED}
 
@@ -188,15 +213,17 @@ def _handler(scip: Any) -> type:
             ess_t = np.flatnonzero(ess)
             for k, i in enumerate(sources):
                 seen = np.zeros(self.a.shape[1], dtype=bool)
-                seen[self.a.indices[self.a.indptr[i]:self.a.indptr[i + 1]]] = True
+                seen[self.a.indices[self.a.indptr[i] : self.a.indptr[i + 1]]] = True
                 need = ess_t[~seen[ess_t]]
                 if need.size == 0:
                     continue
                 # the essential target whose nearest seer is farthest from i in overlap steps
-                far = [min((hops[k][self.seers.indices[self.seers.indptr[t]:self.seers.indptr[t + 1]]]), default=np.inf)
-                       for t in need]
+                far = [
+                    min((hops[k][self.seers.indices[self.seers.indptr[t] : self.seers.indptr[t + 1]]]), default=np.inf)
+                    for t in need
+                ]
                 t = int(need[int(np.argmax(far))])
-                sinks = self.seers.indices[self.seers.indptr[t]:self.seers.indptr[t + 1]]
+                sinks = self.seers.indices[self.seers.indptr[t] : self.seers.indptr[t + 1]]
                 value, nodes = min_node_separator(base, i, sinks)
                 if vals[i] - value > MIN_VIOLATION:
                     yield i, nodes

@@ -33,8 +33,12 @@ def split_graph(adj: sp.csr_matrix, capacity: np.ndarray) -> sp.csr_matrix:
     coo = sp.triu(adj, k=1).tocoo()
     rows = np.concatenate([np.arange(n), n + coo.row, n + coo.col])
     cols = np.concatenate([n + np.arange(n), coo.col, coo.row])
-    caps = np.concatenate([np.round(np.clip(capacity, 0, None) * FLOW_SCALE).astype(np.int64),
-                           np.full(2 * coo.row.size, _BIG, dtype=np.int64)])
+    caps = np.concatenate(
+        [
+            np.round(np.clip(capacity, 0, None) * FLOW_SCALE).astype(np.int64),
+            np.full(2 * coo.row.size, _BIG, dtype=np.int64),
+        ]
+    )
     return sp.csr_matrix((caps.astype(np.int32), (rows, cols)), shape=(2 * n + 1, 2 * n + 1))
 
 
@@ -47,8 +51,10 @@ def min_node_separator(base: sp.csr_matrix, source: int, sinks: np.ndarray) -> t
     m = base.shape[0]
     n = (m - 1) // 2
     sink = 2 * n
-    extra = sp.csr_matrix((np.full(len(sinks), _BIG, dtype=np.int32), (n + np.asarray(sinks), np.full(len(sinks), sink))),
-                          shape=base.shape)
+    extra = sp.csr_matrix(
+        (np.full(len(sinks), _BIG, dtype=np.int32), (n + np.asarray(sinks), np.full(len(sinks), sink))),
+        shape=base.shape,
+    )
     graph = (base + extra).tocsr()
     graph.sort_indices()
     res = maximum_flow(graph, n + source, sink)
@@ -58,11 +64,13 @@ def min_node_separator(base: sp.csr_matrix, source: int, sinks: np.ndarray) -> t
     residual.eliminate_zeros()
     reach = np.zeros(m, dtype=bool)
     reach[breadth_first_order(residual, n + source, directed=True, return_predecessors=False)] = True
-    nodes = np.flatnonzero(reach[:n] & ~reach[n:2 * n])
+    nodes = np.flatnonzero(reach[:n] & ~reach[n : 2 * n])
     return res.flow_value / FLOW_SCALE, nodes
 
 
-def anchor_targets(adj: sp.csr_matrix, seers: sp.csr_matrix, targets: np.ndarray, count: int) -> list[tuple[int, np.ndarray]]:
+def anchor_targets(
+    adj: sp.csr_matrix, seers: sp.csr_matrix, targets: np.ndarray, count: int
+) -> list[tuple[int, np.ndarray]]:
     """Up to ``count`` targets spread out over the overlap graph (farthest-point order, start at the
     first), each with the hop distance of every candidate from the target's seers."""
     out: list[tuple[int, np.ndarray]] = []
@@ -72,10 +80,17 @@ def anchor_targets(adj: sp.csr_matrix, seers: sp.csr_matrix, targets: np.ndarray
     pick = 0
     for _ in range(min(count, targets.size)):
         t = int(targets[pick])
-        dist = dijkstra(adj, directed=False, indices=seers.indices[seers.indptr[t]:seers.indptr[t + 1]],
-                        unweighted=True, min_only=True)
+        dist = dijkstra(
+            adj,
+            directed=False,
+            indices=seers.indices[seers.indptr[t] : seers.indptr[t + 1]],
+            unweighted=True,
+            min_only=True,
+        )
         out.append((t, dist))
-        to_t = np.array([dist[seers.indices[seers.indptr[u]:seers.indptr[u + 1]]].min(initial=np.inf) for u in targets])
+        to_t = np.array(
+            [dist[seers.indices[seers.indptr[u] : seers.indptr[u + 1]]].min(initial=np.inf) for u in targets]
+        )
         nearest = np.minimum(nearest, to_t)
         finite = np.where(np.isfinite(nearest), nearest, -1)
         if finite.max() <= 0:
@@ -84,8 +99,9 @@ def anchor_targets(adj: sp.csr_matrix, seers: sp.csr_matrix, targets: np.ndarray
     return out
 
 
-def layer_cuts(adj: sp.csr_matrix, a: sp.csr_matrix, members: np.ndarray, essential: np.ndarray,
-               anchors: int = 8) -> list[tuple[np.ndarray, np.ndarray, float]]:
+def layer_cuts(
+    adj: sp.csr_matrix, a: sp.csr_matrix, members: np.ndarray, essential: np.ndarray, anchors: int = 8
+) -> list[tuple[np.ndarray, np.ndarray, float]]:
     """Distance-layer cuts of one group: sum_{v in L_k} x_v >= 1.
 
     For an essential target t, let d(v) be the overlap-step distance of candidate v from the
@@ -100,7 +116,7 @@ def layer_cuts(adj: sp.csr_matrix, a: sp.csr_matrix, members: np.ndarray, essent
     in_group[members] = True
     cuts = []
     for _t, dist in anchor_targets(adj, seers, ess, anchors):
-        far = np.array([dist[seers.indices[seers.indptr[u]:seers.indptr[u + 1]]].min(initial=np.inf) for u in ess])
+        far = np.array([dist[seers.indices[seers.indptr[u] : seers.indptr[u + 1]]].min(initial=np.inf) for u in ess])
         far = far[np.isfinite(far)]
         depth = int(far.max(initial=0))
         for k in range(1, depth + 1):
@@ -133,7 +149,7 @@ def set_separator(base: sp.csr_matrix, sources: np.ndarray, sinks: np.ndarray) -
     residual.eliminate_zeros()
     reach = np.zeros(m + 1, dtype=bool)
     reach[breadth_first_order(residual, src, directed=True, return_predecessors=False)] = True
-    nodes = np.flatnonzero(reach[:n] & ~reach[n:2 * n])
+    nodes = np.flatnonzero(reach[:n] & ~reach[n : 2 * n])
     return res.flow_value / FLOW_SCALE, nodes
 
 

@@ -26,8 +26,9 @@ from planner.coverage.overlap import group_ids
 Row = tuple[np.ndarray, np.ndarray, float]
 
 
-def add_tree_bound(backend: Any, a: sp.csr_matrix, lengths: np.ndarray, adj: sp.csr_matrix,
-                   groups: Sequence[Hashable]) -> int:
+def add_tree_bound(
+    backend: Any, a: sp.csr_matrix, lengths: np.ndarray, adj: sp.csr_matrix, groups: Sequence[Hashable]
+) -> int:
     """Add the tree-bound rows of every zone-side of a block; ``a``: the block's candidates x all targets.
 
     Returns the number of rows added.

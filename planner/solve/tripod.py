@@ -59,7 +59,9 @@ class TripodDisc:
     height_tolerance_m: float = float("nan")
 
 
-def relied_targets(problem: CoverageProblem, selected: Sequence[int], partners: dict[int, list[int]] | None = None) -> dict[int, np.ndarray]:
+def relied_targets(
+    problem: CoverageProblem, selected: Sequence[int], partners: dict[int, list[int]] | None = None
+) -> dict[int, np.ndarray]:
     """Per chosen candidate: the targets it answers for, plus those it shares with its registration partners.
 
     Every covered target answers to one chosen station, the nearest (smallest
@@ -85,8 +87,9 @@ def relied_targets(problem: CoverageProblem, selected: Sequence[int], partners: 
     return owner
 
 
-def _centred_radius(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray,
-                    theta_max_deg: float) -> float:
+def _centred_radius(
+    p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray, theta_max_deg: float
+) -> float:
     """Largest r of the disc centred on p0 (closed form of the module docstring's constraints)."""
     if len(ends) == 0:
         return MAX_RADIUS_M
@@ -98,7 +101,9 @@ def _centred_radius(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach
     return float(min(MAX_RADIUS_M, max(0.0, min(r_range.min(), r_inc.min()))))
 
 
-def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray, theta_max_deg: float) -> tuple[np.ndarray, float]:
+def _socp_disc(
+    p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray, theta_max_deg: float
+) -> tuple[np.ndarray, float]:
     # on import, cvxpy 1.8 logs that it does not know ortools 9.15 (for its GLOP/PDLP interfaces,
     # unused here); its logger is quiet while it loads
     logger = logging.getLogger("__cvxpy__")
@@ -128,8 +133,14 @@ def _socp_disc(p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.
     return np.asarray(p.value, dtype=float), max(float(r.value), 0.0)
 
 
-def tripod_discs(site: Site, problem: CoverageProblem, selected: Sequence[int], limits: SightLimits,
-                 partners: dict[int, list[int]] | None = None, recentre: bool = False) -> list[TripodDisc]:
+def tripod_discs(
+    site: Site,
+    problem: CoverageProblem,
+    selected: Sequence[int],
+    limits: SightLimits,
+    partners: dict[int, list[int]] | None = None,
+    recentre: bool = False,
+) -> list[TripodDisc]:
     """The largest safe disc of every chosen station (see the module docstring): centred on the station,
     or, with ``recentre``, anywhere (the station then moves to its centre; the disc need not hold the
     planned position)."""
@@ -167,8 +178,9 @@ def _subset(t: Targets, ts: np.ndarray) -> Targets:
     return replace(t, **{name: getattr(t, name)[ts] for name in arrays})
 
 
-def _shrink_until_safe(site: Site, cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float, t: Targets,
-                       limits: SightLimits) -> tuple[np.ndarray, float]:
+def _shrink_until_safe(
+    site: Site, cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float, t: Targets, limits: SightLimits
+) -> tuple[np.ndarray, float]:
     """Check the disc on its centre and rim; halve it about the planned station p0 until it is safe.
     Returns (centre, radius), (p0, 0) when no disc of at least ``MIN_RADIUS_M`` is."""
     from planner.candidates.final_step import misplacement

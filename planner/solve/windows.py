@@ -72,8 +72,12 @@ class WindowOptions:
     batch: int = 1
 
     def __post_init__(self) -> None:
-        for name, ok, least in (("radius_m", self.radius_m > 0, "> 0"), ("work_s", self.work_s > 0, "> 0"),
-                                ("passes", self.passes >= 0, ">= 0"), ("batch", self.batch >= 1, ">= 1")):
+        for name, ok, least in (
+            ("radius_m", self.radius_m > 0, "> 0"),
+            ("work_s", self.work_s > 0, "> 0"),
+            ("passes", self.passes >= 0, ">= 0"),
+            ("batch", self.batch >= 1, ">= 1"),
+        ):
             if not ok:
                 raise UsageError(f"must be {least}", field=name, value=getattr(self, name))
 
@@ -135,9 +139,16 @@ class _Here:
         return _Later(fn, job, shared)
 
 
-def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: Sequence[int],
-                  xy: np.ndarray, options: WindowOptions | None = None, floor: int = 1,
-                  run: Runner | None = None) -> Windowed:
+def window_search(
+    a: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    plan: Sequence[int],
+    xy: np.ndarray,
+    options: WindowOptions | None = None,
+    floor: int = 1,
+    run: Runner | None = None,
+) -> Windowed:
     """The smallest connected cover found by re-solving ``plan`` window by window (module docstring).
 
     Parameters
@@ -195,25 +206,49 @@ def window_search(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashabl
                 k = place + 1
         for _, later in flight:  # the plan reached the floor
             later.cancel()
-    return Windowed(tuple(int(i) for i in plan_s), len(set(plan)), windows, proven, capped, tuple(history),
-                    time.perf_counter() - start)
+    return Windowed(
+        tuple(int(i) for i in plan_s),
+        len(set(plan)),
+        windows,
+        proven,
+        capped,
+        tuple(history),
+        time.perf_counter() - start,
+    )
 
 
-def _window_task(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable],
-                 xy: np.ndarray, need: np.ndarray, o: WindowOptions,
-                 job: tuple[np.ndarray, int]) -> tuple[np.ndarray | None, Status, bool]:
+def _window_task(
+    a: sp.csr_matrix,
+    at: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    xy: np.ndarray,
+    need: np.ndarray,
+    o: WindowOptions,
+    job: tuple[np.ndarray, int],
+) -> tuple[np.ndarray | None, Status, bool]:
     """One window as a task: ``job`` is (the plan, the centre station)."""
     return _window(a, at, adj, groups, xy, job[0], job[1], need, o)
 
 
-def _window(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], xy: np.ndarray,
-            plan: np.ndarray, centre: int, need: np.ndarray, o: WindowOptions) -> tuple[np.ndarray | None, Status, bool]:
+def _window(
+    a: sp.csr_matrix,
+    at: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    xy: np.ndarray,
+    plan: np.ndarray,
+    centre: int,
+    need: np.ndarray,
+    o: WindowOptions,
+) -> tuple[np.ndarray | None, Status, bool]:
     """One window's MILP: the new plan (None when it found none), the MILP's status, and whether the wall
     clock stopped it."""
     inside = np.hypot(*(xy[plan] - xy[centre]).T) <= o.radius_m
     kept = plan[~inside]
-    rows = np.flatnonzero(need & (np.asarray(a[plan[inside]].sum(axis=0)).ravel() > 0)
-                          & (np.asarray(a[kept].sum(axis=0)).ravel() == 0))
+    rows = np.flatnonzero(
+        need & (np.asarray(a[plan[inside]].sum(axis=0)).ravel() > 0) & (np.asarray(a[kept].sum(axis=0)).ravel() == 0)
+    )
     near = np.flatnonzero(np.hypot(*(xy - xy[centre]).T) <= o.radius_m)
     free = np.setdiff1d(np.union1d(np.unique(at[rows].indices), near), kept)
     chosen, status, hit = connected_cover_within(a, adj, groups, free, rows, kept, o.work_s, o.seed)
@@ -222,9 +257,16 @@ def _window(a: sp.csr_matrix, at: sp.csr_matrix, adj: sp.csr_matrix, groups: Seq
     return np.union1d(kept, chosen).astype(np.int64), status, hit
 
 
-def connected_cover_within(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], free: np.ndarray,
-                           rows: np.ndarray, kept: np.ndarray, work_s: float,
-                           seed: int = 0) -> tuple[np.ndarray | None, Status, bool]:
+def connected_cover_within(
+    a: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    free: np.ndarray,
+    rows: np.ndarray,
+    kept: np.ndarray,
+    work_s: float,
+    seed: int = 0,
+) -> tuple[np.ndarray | None, Status, bool]:
     """The fewest candidates of ``free`` that see every target of ``rows`` and, with the stations ``kept``,
     leave each registration group one connected part (the window's MILP; ``kept`` may be empty).
 
@@ -233,8 +275,9 @@ def connected_cover_within(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequenc
     CP-SAT deterministic work, stopped it."""
     parts = [(g, p) for g, members in group_members(groups, kept.tolist()).items() for p in components(adj, members)]
     inst = _model(a, adj, groups, free, rows, parts)
-    milp = MilpOptions(overlap=_LINKS_ONLY, threads=1, seed=seed, greedy_starts=_GREEDY_STARTS,
-                       local_search_moves=_SEARCH_MOVES).with_work_limit(work_s, WALL_CAP)
+    milp = MilpOptions(
+        overlap=_LINKS_ONLY, threads=1, seed=seed, greedy_starts=_GREEDY_STARTS, local_search_moves=_SEARCH_MOVES
+    ).with_work_limit(work_s, WALL_CAP)
     r = solve(inst, milp)
     hit = bool(r.info.get("work", {}).get("wall_cap_hit", False))
     if not r.selected:
@@ -251,26 +294,52 @@ _GREEDY_STARTS, _SEARCH_MOVES = 5, 100
 _LINKS_ONLY = rule_of(0.0, min_shared_m=math.inf)
 
 
-def _model(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], free: np.ndarray, rows: np.ndarray,
-           parts: list[tuple[Hashable, list[int]]]) -> CoverInstance:
+def _model(
+    a: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: Sequence[Hashable],
+    free: np.ndarray,
+    rows: np.ndarray,
+    parts: list[tuple[Hashable, list[int]]],
+) -> CoverInstance:
     """The window's cover instance: the free candidates on the window's rows, then one forced node per
     kept part (a private row only it sees), linked to the free candidates linked to one of its stations."""
     nf, nk, nt = free.size, len(parts), rows.size
-    cover = sp.bmat([[a[free][:, rows], sp.csr_matrix((nf, nk), dtype=bool)],
-                     [sp.csr_matrix((nk, nt), dtype=bool), sp.identity(nk, dtype=bool, format="csr")]], format="csr")
-    member = sp.csr_matrix((np.ones(sum(len(p) for _, p in parts)),
-                            (np.concatenate([p for _, p in parts]).astype(np.int64) if parts else np.zeros(0, np.int64),
-                             np.repeat(np.arange(nk), [len(p) for _, p in parts]))), shape=(a.shape[0], nk))
+    cover = sp.bmat(
+        [
+            [a[free][:, rows], sp.csr_matrix((nf, nk), dtype=bool)],
+            [sp.csr_matrix((nk, nt), dtype=bool), sp.identity(nk, dtype=bool, format="csr")],
+        ],
+        format="csr",
+    )
+    member = sp.csr_matrix(
+        (
+            np.ones(sum(len(p) for _, p in parts)),
+            (
+                np.concatenate([p for _, p in parts]).astype(np.int64) if parts else np.zeros(0, np.int64),
+                np.repeat(np.arange(nk), [len(p) for _, p in parts]),
+            ),
+        ),
+        shape=(a.shape[0], nk),
+    )
     to_parts = sp.csr_matrix((adj[free].astype(np.float64) @ member) > 0)
-    links = sp.bmat([[adj[free][:, free], to_parts], [to_parts.T, sp.csr_matrix((nk, nk), dtype=bool)]],
-                    format="csr").astype(bool)
+    links = sp.bmat(
+        [[adj[free][:, free], to_parts], [to_parts.T, sp.csr_matrix((nk, nk), dtype=bool)]], format="csr"
+    ).astype(bool)
     labels = tuple([groups[int(i)] for i in free] + [g for g, _ in parts])
-    return CoverInstance(by_candidate=cover.astype(bool), cost=np.ones(nf + nk), name="window", groups=labels,
-                         target_length_m=np.ones(nt + nk), links=links)
+    return CoverInstance(
+        by_candidate=cover.astype(bool),
+        cost=np.ones(nf + nk),
+        name="window",
+        groups=labels,
+        target_length_m=np.ones(nt + nk),
+        links=links,
+    )
 
 
-def _valid(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: np.ndarray,
-           need: np.ndarray) -> bool:
+def _valid(
+    a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[Hashable], plan: np.ndarray, need: np.ndarray
+) -> bool:
     """``plan`` sees every needed target and each of its groups is one part."""
     seen = np.asarray(a[plan].sum(axis=0)).ravel() > 0
     return bool(seen[need].all()) and not disconnected_groups(adj, groups, plan.tolist())

@@ -59,13 +59,26 @@ class Strategy:
 
     def to_dict(self) -> dict[str, object]:
         t = self.tiling
-        return {"kind": "tiles" if t else "single model", "reason": self.reason, "workers": self.workers,
-                **({"tile_m": t.tile_m, "tile_work_s": t.tile_time_limit_s, "bound_work_s": t.bound_time_limit_s,
-                    "lagrange_work_s": t.lagrange_work_s} if t else {})}
+        return {
+            "kind": "tiles" if t else "single model",
+            "reason": self.reason,
+            "workers": self.workers,
+            **(
+                {
+                    "tile_m": t.tile_m,
+                    "tile_work_s": t.tile_time_limit_s,
+                    "bound_work_s": t.bound_time_limit_s,
+                    "lagrange_work_s": t.lagrange_work_s,
+                }
+                if t
+                else {}
+            ),
+        }
 
     def line(self) -> str:
-        what = (f"tiles of {self.tiling.tile_m:g} m on {self.workers or 'no'} worker(s)" if self.tiling
-                else "single model")
+        what = (
+            f"tiles of {self.tiling.tile_m:g} m on {self.workers or 'no'} worker(s)" if self.tiling else "single model"
+        )
         return f"strategy: {what} ({self.reason})"
 
 
@@ -76,8 +89,9 @@ def tile_count(site: Site, tile_m: float) -> int:
     return int(math.ceil(max(float(ext[0]), 1e-9) / tile_m) * math.ceil(max(float(ext[1]), 1e-9) / tile_m))
 
 
-def choose(site: Site, options: PlanOptions, max_slant_range_m: float, pieces: int, budget_s: float,
-           cores: int | None = None) -> Strategy:
+def choose(
+    site: Site, options: PlanOptions, max_slant_range_m: float, pieces: int, budget_s: float, cores: int | None = None
+) -> Strategy:
     """The strategy for ``site`` (module docstring); ``pieces``: the work estimate's wall pieces."""
     if options.method != "milp":
         return Strategy(None, 0, f"method {options.method}")
@@ -97,11 +111,18 @@ def choose(site: Site, options: PlanOptions, max_slant_range_m: float, pieces: i
         tile_time_limit_s=_clamp(TILE_SHARE * budget_s * side_by_side / n, 2.0, 30.0),
         bound_time_limit_s=_clamp(BOUND_SHARE * budget_s, 5.0, 60.0),
         lagrange_work_s=_clamp(LAGRANGE_SHARE * budget_s * side_by_side / n, 1.0, 10.0),
-        windows=replace(WindowOptions(), seed=options.milp.seed,
-                        work_s=_clamp(WINDOW_SHARE * budget_s / (STATIONS_PER_TILE * n), 0.5, 3.0)),
+        windows=replace(
+            WindowOptions(),
+            seed=options.milp.seed,
+            work_s=_clamp(WINDOW_SHARE * budget_s / (STATIONS_PER_TILE * n), 0.5, 3.0),
+        ),
     )
-    return Strategy(tiling, workers, f"about {pieces:,} wall pieces over {n} tiles of {tile_m:g} m (at least "
-                                     f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s")
+    return Strategy(
+        tiling,
+        workers,
+        f"about {pieces:,} wall pieces over {n} tiles of {tile_m:g} m (at least "
+        f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s",
+    )
 
 
 def _clamp(x: float, lo: float, hi: float) -> float:

@@ -25,8 +25,9 @@ MEMORY_PER_WORKER = "1.5GiB"
 
 
 @contextmanager
-def dask_client(workers: int = 0, scheduler: str | None = None,
-                memory_per_worker: str = MEMORY_PER_WORKER) -> Iterator[Any]:
+def dask_client(
+    workers: int = 0, scheduler: str | None = None, memory_per_worker: str = MEMORY_PER_WORKER
+) -> Iterator[Any]:
     """A Dask client: connected to ``scheduler`` (``tcp://HOST:PORT``) when given, else to an embedded
     ``LocalCluster`` of ``workers`` processes (one thread each). Closed on exit."""
     from dask.distributed import Client, LocalCluster
@@ -41,9 +42,18 @@ def dask_client(workers: int = 0, scheduler: str | None = None,
     if workers < 1:
         raise UsageError("needs at least 1 worker", field="workers", value=workers)
     _memory_bytes(memory_per_worker)
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory_per_worker,
-                      dashboard_address=":0", silence_logs=40,
-                      scheduler_kwargs={"dashboard": False}) as cluster, Client(cluster) as client:
+    with (
+        LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            memory_limit=memory_per_worker,
+            dashboard_address=":0",
+            silence_logs=40,
+            scheduler_kwargs={"dashboard": False},
+        ) as cluster,
+        Client(cluster) as client,
+    ):
         yield client
 
 
@@ -68,15 +78,20 @@ def _connect(scheduler: str) -> Any:
     try:
         return Client(scheduler, timeout=CONNECT_TIMEOUT_S)
     except ValueError as exc:  # e.g. "missing port number in address 'host'"
-        raise UsageError(f"not a scheduler address of the form tcp://HOST:PORT ({exc})", field="scheduler",
-                         value=scheduler) from None
+        raise UsageError(
+            f"not a scheduler address of the form tcp://HOST:PORT ({exc})", field="scheduler", value=scheduler
+        ) from None
     except (OSError, TimeoutError) as exc:
-        raise UnreachableError(f"no Dask scheduler answers there within {CONNECT_TIMEOUT_S:g} s ({exc})",
-                               field="scheduler", value=scheduler) from None
+        raise UnreachableError(
+            f"no Dask scheduler answers there within {CONNECT_TIMEOUT_S:g} s ({exc})",
+            field="scheduler",
+            value=scheduler,
+        ) from None
 
 
-def run_tasks(fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any], client: Any = None,
-              step: str = "tiles") -> list[Any]:
+def run_tasks(
+    fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any], client: Any = None, step: str = "tiles"
+) -> list[Any]:
     """``fn(**shared, job=job)`` for every job, in job order; on ``client`` when one is given.
 
     Progress (jobs done of all) is reported per finished job under ``step``.
@@ -111,8 +126,9 @@ def _scatter(client: Any, shared: dict[str, Any]) -> dict[str, Any]:
     return {k: client.scatter(v, broadcast=True, hash=False) for k, v in shared.items()}
 
 
-def _on_client(fn: Callable[..., Any], jobs: Sequence[Any], scattered: dict[str, Any], client: Any,
-               step: str) -> list[Any]:
+def _on_client(
+    fn: Callable[..., Any], jobs: Sequence[Any], scattered: dict[str, Any], client: Any, step: str
+) -> list[Any]:
     from dask.distributed import as_completed
 
     total = len(jobs)

@@ -106,7 +106,7 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     x = [model.NewBoolVar(f"x{j}") for j in cols]
     at = job.a[cols][:, rows].T.tocsr()
     for t in range(at.shape[0]):
-        model.AddBoolOr([x[j] for j in at.indices[at.indptr[t]:at.indptr[t + 1]]])
+        model.AddBoolOr([x[j] for j in at.indices[at.indptr[t] : at.indptr[t + 1]]])
     model.Minimize(sum(int(w) * v for w, v in zip(job.w[cols], x)))
     if job.hint is not None:
         for v, h in zip(x, job.hint[cols]):
@@ -145,8 +145,9 @@ def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], 
 
 def lp_duals(a: sp.csr_matrix, cost: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
     """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS dual simplex)."""
-    res = linprog(cost, A_ub=-a.T.astype(np.float64).tocsr(), b_ub=-np.ones(a.shape[1]), bounds=(0, None),
-                  method="highs-ds")
+    res = linprog(
+        cost, A_ub=-a.T.astype(np.float64).tocsr(), b_ub=-np.ones(a.shape[1]), bounds=(0, None), method="highs-ds"
+    )
     if res.status != 0:
         raise InfeasibleError(f"cover LP failed: {res.message}", field="lagrange")
     return float(res.fun), np.maximum(-np.asarray(res.ineqlin.marginals, dtype=float), 0.0)
@@ -163,30 +164,45 @@ def _check_parts(n_targets: int, parts: Sequence[NDArray[np.int64]]) -> NDArray[
     return part_of
 
 
-def split_costs(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64],
-                y: NDArray[np.float64] | None) -> tuple[list[NDArray[np.int64]], list[NDArray[np.float64]]]:
+def split_costs(
+    a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64], y: NDArray[np.float64] | None
+) -> tuple[list[NDArray[np.int64]], list[NDArray[np.float64]]]:
     """Per part, its candidates (those seeing one of its pieces) and their shares ``lam_i``: from the duals
     ``y`` plus an equal share of the reduced cost (module docstring); an equal split when ``y`` is None."""
     part_of = _check_parts(a.shape[1], parts)
     hits = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape) @ sp.csr_matrix(
-        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))
+        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts))
+    )
     seen = (hits > 0).tocsc()
-    dual = (a.astype(np.float64) @ sp.diags(y if y is not None else np.zeros(a.shape[1])) @ sp.csr_matrix(
-        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))).tocsc()
+    dual = (
+        a.astype(np.float64)
+        @ sp.diags(y if y is not None else np.zeros(a.shape[1]))
+        @ sp.csr_matrix((np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))
+    ).tocsc()
     count = np.asarray(seen.sum(axis=1)).ravel()
     reduced = cost - np.asarray(dual.sum(axis=1)).ravel()
     share = np.divide(reduced, count, out=np.zeros_like(reduced), where=count > 0)
     cands, lams = [], []
     for i in range(len(parts)):
-        js = seen.indices[seen.indptr[i]:seen.indptr[i + 1]].astype(np.int64)
+        js = seen.indices[seen.indptr[i] : seen.indptr[i + 1]].astype(np.int64)
         cands.append(js)
         lams.append(np.asarray(dual[js, i].todense()).ravel() + share[js])
     return cands, lams
 
 
-def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64] | None = None,
-                     iterations: int = 0, work_s: float = 10.0, scale: int = 100_000, start: str = "lp", seed: int = 0,
-                     upper: float | None = None, mu: float = 0.25, client: Any = None) -> LagrangeBound:
+def lagrangian_bound(
+    a: sp.csr_matrix,
+    parts: Sequence[NDArray[np.int64]],
+    cost: NDArray[np.float64] | None = None,
+    iterations: int = 0,
+    work_s: float = 10.0,
+    scale: int = 100_000,
+    start: str = "lp",
+    seed: int = 0,
+    upper: float | None = None,
+    mu: float = 0.25,
+    client: Any = None,
+) -> LagrangeBound:
     """The Lagrangian bound of the cover ``a`` (candidates x pieces) over the target partition ``parts``.
 
     Parameters
@@ -218,8 +234,9 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
         ``value`` never exceeds the cheapest cover of ``a``.
     """
     if start not in ("lp", "equal") or iterations < 0 or not work_s > 0 or scale < 1:
-        raise UsageError("start must be lp or equal, iterations >= 0, work_s > 0, scale >= 1", field="lagrange",
-                         value=start)
+        raise UsageError(
+            "start must be lp or equal, iterations >= 0, work_s > 0, scale >= 1", field="lagrange", value=start
+        )
     t0 = time.perf_counter()
     a = a.astype(bool).tocsr()
     c = np.ones(a.shape[0]) if cost is None else np.asarray(cost, dtype=float)
@@ -255,12 +272,22 @@ def lagrangian_bound(a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost:
         step = mu * (upper - value) / norm
         lams = [lam + step * gi for lam, gi in zip(lams, g)]
     integral = bool(np.all(c == np.round(c)))
-    return LagrangeBound(math.ceil(best - 1e-6) if integral else best, best, lp, done, best_parts, best_opt, upper,
-                         time.perf_counter() - t0, capped)
+    return LagrangeBound(
+        math.ceil(best - 1e-6) if integral else best,
+        best,
+        lp,
+        done,
+        best_parts,
+        best_opt,
+        upper,
+        time.perf_counter() - t0,
+        capped,
+    )
 
 
-def group_parts(cells: Sequence[tuple[int, int]], parts: Sequence[NDArray[np.int64]], group: int
-                ) -> list[NDArray[np.int64]]:
+def group_parts(
+    cells: Sequence[tuple[int, int]], parts: Sequence[NDArray[np.int64]], group: int
+) -> list[NDArray[np.int64]]:
     """The tiles' pieces ``parts`` (tile ``k`` at row and column ``cells[k]``) joined ``group`` x ``group``
     tiles at a time (fewer, larger parts: a stronger bound, harder parts), in order of the first tile."""
     if group < 1:
@@ -287,7 +314,7 @@ def _pruned(a: sp.csr_matrix, x: NDArray[np.bool_]) -> NDArray[np.bool_]:
     count = np.asarray(a[x].astype(np.int64).sum(axis=0)).ravel()
     sizes = np.diff(a.indptr)
     for j in sorted(np.flatnonzero(x), key=lambda j: (sizes[j], j)):
-        seen = a.indices[a.indptr[j]:a.indptr[j + 1]]
+        seen = a.indices[a.indptr[j] : a.indptr[j + 1]]
         if np.all(count[seen] >= 2):
             x[j] = False
             count[seen] -= 1

@@ -86,8 +86,9 @@ def zone_anchors(site: Site, targets: Targets) -> NDArray[np.float64]:
     return centres[np.asarray(targets.zone)]
 
 
-def tile_job(tile: Tile, anchor: NDArray[np.float64], targets: Targets, xy: NDArray[np.float64],
-             usable: NDArray[np.bool_]) -> TileJob:
+def tile_job(
+    tile: Tile, anchor: NDArray[np.float64], targets: Targets, xy: NDArray[np.float64], usable: NDArray[np.bool_]
+) -> TileJob:
     """The tile's pieces (anchor in its core) and the usable candidates within ``margin_m`` of their box."""
     ti = np.flatnonzero(tile.in_core(anchor))
     ends = np.vstack([np.asarray(targets.a)[ti], np.asarray(targets.b)[ti]])
@@ -103,6 +104,7 @@ def midpoints(targets: Targets) -> NDArray[np.float64]:
 
 def take_targets(targets: Targets, idx: NDArray[np.int64]) -> Targets:
     """The pieces ``idx`` of ``targets`` (same frames and zone ids), in that order."""
+
     def ro(a: NDArray) -> NDArray:
         out = np.ascontiguousarray(np.asarray(a)[idx])
         out.flags.writeable = False

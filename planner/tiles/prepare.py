@@ -68,8 +68,9 @@ def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) ->
     return site_candidates(site, options, validation, targets, limits), targets
 
 
-def prepare(site: Site, options: PlanOptions, validation: ValidationReport | None = None,
-            extra: Sequence[Candidate] = ()) -> Prepared:
+def prepare(
+    site: Site, options: PlanOptions, validation: ValidationReport | None = None, extra: Sequence[Candidate] = ()
+) -> Prepared:
     """The :class:`Prepared` problem of ``site`` under ``options``; registration ``options.registration``,
     else ``site`` (tiles: one registration bundle per accessible area by default), links within the overlap
     rule's ``max_link_m`` or else the sight range. ``extra``: candidates added to the pool (those that the

@@ -48,7 +48,7 @@ def prune(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], chosen: S
     """Drop stations that no piece needs and whose removal splits no registration group further."""
     keep = sorted(int(i) for i in chosen)
     count = np.asarray(a[keep].astype(np.int64).sum(axis=0)).ravel()
-    seen = {i: a.indices[a.indptr[i]:a.indptr[i + 1]] for i in keep}
+    seen = {i: a.indices[a.indptr[i] : a.indptr[i + 1]] for i in keep}
     for i in sorted(keep, key=lambda i: (len(seen[i]), i)):
         if np.any(count[seen[i]] <= 1):
             continue
@@ -75,8 +75,9 @@ class Stitched:
     tried: dict[str, int] | None = None
 
 
-def stitch(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], tile_plans: Sequence[Sequence[int]]
-           ) -> Stitched:
+def stitch(
+    a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], tile_plans: Sequence[Sequence[int]]
+) -> Stitched:
     """Union, prune, join, prune (module docstring)."""
     union = sorted({int(i) for plan in tile_plans for i in plan})
     first = prune(a, adj, groups, union)
@@ -127,9 +128,17 @@ def lp_bound(a: sp.csr_matrix) -> float:
     return float(res.fun)
 
 
-def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limited: bool = False,
-                 wall_cap: float = WALL_CAP, parts: Sequence[np.ndarray] | None = None, lagrange_iterations: int = 0,
-                 lagrange_work_s: float = 10.0, client: Any = None) -> Bound:
+def global_bound(
+    a: sp.csr_matrix,
+    time_limit_s: float,
+    seed: int = 0,
+    work_limited: bool = False,
+    wall_cap: float = WALL_CAP,
+    parts: Sequence[np.ndarray] | None = None,
+    lagrange_iterations: int = 0,
+    lagrange_work_s: float = 10.0,
+    client: Any = None,
+) -> Bound:
     """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped).
     ``work_limited``: the limit is CP-SAT work (deterministic seconds) under a wall cap ``wall_cap`` times
     as long, so the bound and the cover it returns do not depend on the load. With ``parts`` (a partition
@@ -147,7 +156,14 @@ def global_bound(a: sp.csr_matrix, time_limit_s: float, seed: int = 0, work_limi
         status, cover, capped = res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit
     lag = None
     if parts is not None:
-        lag = lagrangian_bound(a, parts, iterations=lagrange_iterations, work_s=lagrange_work_s, seed=seed,
-                               upper=float(len(cover)) if cover else None, client=client)
+        lag = lagrangian_bound(
+            a,
+            parts,
+            iterations=lagrange_iterations,
+            work_s=lagrange_work_s,
+            seed=seed,
+            upper=float(len(cover)) if cover else None,
+            client=client,
+        )
     # the Lagrangian bound solves the same cover LP for its duals: its value is not solved for twice
     return Bound(lag.lp if lag is not None else lp_bound(a), milp, status, cover, capped, lag)

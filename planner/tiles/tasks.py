@@ -53,8 +53,15 @@ class TileResult:
         return int(len(np.unique(self.cols)))
 
 
-def tile_task(site: Site, candidates: Sequence[Candidate], targets: Targets, limits: SightLimits,
-              groups: Sequence[str], job: TileJob, milp: MilpOptions) -> TileResult:
+def tile_task(
+    site: Site,
+    candidates: Sequence[Candidate],
+    targets: Targets,
+    limits: SightLimits,
+    groups: Sequence[str],
+    job: TileJob,
+    milp: MilpOptions,
+) -> TileResult:
     """Coverage of the tile's core pieces by the candidates in its margin, then the tile's MILP (with the
     registration rule inside the tile: overlap measured on the tile's pieces).
 
@@ -70,18 +77,34 @@ def tile_task(site: Site, candidates: Sequence[Candidate], targets: Targets, lim
     t1 = time.perf_counter()
     unseen = job.targets[problem.uncoverable()]
     if unseen.size:
-        return TileResult(job.tile, rows, cols, slant, inc, Status.INFEASIBLE, (), None, None, unseen, False,
-                          t1 - t0, 0.0)
+        return TileResult(
+            job.tile, rows, cols, slant, inc, Status.INFEASIBLE, (), None, None, unseen, False, t1 - t0, 0.0
+        )
     inst = cover_instance(problem, groups=[groups[i] for i in job.candidates], name=job.tile.name)
     res = solve(inst, milp)
     picked = list(res.selected)
     covers = bool(picked) and bool(np.all(problem.covered_by(picked) >= 1))
     selected = tuple(sorted(int(job.candidates[i]) for i in picked))
-    return TileResult(job.tile, rows, cols, slant, inc, res.status, selected, res.objective, res.bound,
-                      unseen, covers, t1 - t0, time.perf_counter() - t1, res.wall_cap_hit)
+    return TileResult(
+        job.tile,
+        rows,
+        cols,
+        slant,
+        inc,
+        res.status,
+        selected,
+        res.objective,
+        res.bound,
+        unseen,
+        covers,
+        t1 - t0,
+        time.perf_counter() - t1,
+        res.wall_cap_hit,
+    )
 
 
-def shrink_task(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], plan: Sequence[int], moves: int,
-                floor: int, job: int) -> Shrunk:
+def shrink_task(
+    a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], plan: Sequence[int], moves: int, floor: int, job: int
+) -> Shrunk:
     """The local search on the kept plan with seed ``job`` (one of the seeds of ``TileOptions.search_seeds``)."""
     return shrink(a, adj, groups, plan, moves=moves, floor=floor, seed=job)

@@ -63,21 +63,38 @@ def run(name: str, config: str, method: str, limit_s: float, label: str) -> dict
     plan = plan_site(site, options)
     wall = time.perf_counter() - t0
     if not plan.stations:  # a solver that found no plan (before issue 16: reported, exit 0)
-        return {"label": label, "instance": name, "config": config, "method": method,
-                "error": f"no plan: {plan.result.status.value}, verified {plan.verification.percent:.3f} %"}
+        return {
+            "label": label,
+            "instance": name,
+            "config": config,
+            "method": method,
+            "error": f"no plan: {plan.result.status.value}, verified {plan.verification.percent:.3f} %",
+        }
     kw = {"precision": "combined"} if combined and "precision" in inspect.signature(run_network).parameters else {}
     net = run_network(site, list(plan.stations), **kw)
     check = net.check
     proposed = [c for c in net.control if c.proposed]
     discs = plan.tripods
     return {
-        "label": label, "instance": name, "config": config, "method": method, "stations": len(plan.stations),
-        "status": plan.result.status.value, "time_s": round(wall, 2), "verify_percent": plan.verification.percent,
+        "label": label,
+        "instance": name,
+        "config": config,
+        "method": method,
+        "stations": len(plan.stations),
+        "status": plan.result.status.value,
+        "time_s": round(wall, 2),
+        "verify_percent": plan.verification.percent,
         "verify_mode": getattr(plan.verification, "precision", "single (combined dropped)" if combined else "single"),
-        "network_mode": check.get("precision", "single"), "failing": check["failing_targets"], "targets": check["targets"],
+        "network_mode": check.get("precision", "single"),
+        "failing": check["failing_targets"],
+        "targets": check["targets"],
         "worst_e_mm": round(check["worst_e_m"] * 1000, 2) if check["worst_e_m"] is not None else None,
-        "station_clearance_m": round(min(clearance_m(site, s.xy, s.frame) for s in plan.stations), 3) if plan.stations else None,
-        "control_clearance_m": round(min(clearance_m(site, (c.x, c.y), c.frame) for c in proposed), 3) if proposed else None,
+        "station_clearance_m": round(min(clearance_m(site, s.xy, s.frame) for s in plan.stations), 3)
+        if plan.stations
+        else None,
+        "control_clearance_m": round(min(clearance_m(site, (c.x, c.y), c.frame) for c in proposed), 3)
+        if proposed
+        else None,
         "discs_containing": sum(math.dist(s.xy, d.centre) <= d.radius_m + 1e-9 for s, d in zip(plan.stations, discs)),
         "discs_zero": sum(d.radius_m == 0.0 for d in discs),
         "accuracy_line": next((ln for ln in plan.summary().splitlines() if ln.startswith("accuracy:")), ""),
@@ -86,19 +103,28 @@ def run(name: str, config: str, method: str, limit_s: float, label: str) -> dict
 
 def table(paths: list[str]) -> str:
     rows = [json.loads(line) for path in paths for line in Path(path).read_text().splitlines() if line.strip()]
-    head = ("| instance | config | method | code | stations | verified % (mode) | network check: failing / pieces (mode) "
-            "| worst e mm | station clearance m | control clearance m | discs containing station (zero radius) | time s |")
+    head = (
+        "| instance | config | method | code | stations | verified % (mode) | network check: failing / pieces (mode) "
+        "| worst e mm | station clearance m | control clearance m | discs containing station (zero radius) | time s |"
+    )
     out = [head, "|" + "---|" * (head.count("|") - 1)]
     key = {c: i for i, c in enumerate(CONFIGS)}
-    for r in sorted(rows, key=lambda r: (INSTANCES.index(r["instance"]), key[r["config"]], r["method"], r["label"] != "before")):
+    for r in sorted(
+        rows, key=lambda r: (INSTANCES.index(r["instance"]), key[r["config"]], r["method"], r["label"] != "before")
+    ):
         if "error" in r:
-            out.append(f"| {r['instance']} | {r['config']} | {r['method']} | {r['label']} | failed: {r['error'][:80]} |" + " |" * 7)
+            out.append(
+                f"| {r['instance']} | {r['config']} | {r['method']} | {r['label']} | failed: {r['error'][:80]} |"
+                + " |" * 7
+            )
             continue
-        out.append(f"| {r['instance']} | {r['config']} | {r['method']} | {r['label']} | {r['stations']} | "
-                   f"{r['verify_percent']:.3f} ({r['verify_mode']}) | {r['failing']} / {r['targets']} ({r['network_mode']}) | "
-                   f"{r['worst_e_mm'] if r['worst_e_mm'] is not None else '-'} | {r['station_clearance_m'] if r['station_clearance_m'] is not None else '-'} | "
-                   f"{r['control_clearance_m'] if r['control_clearance_m'] is not None else '-'} | "
-                   f"{r['discs_containing']} of {r['stations']} ({r['discs_zero']}) | {r['time_s']} |")
+        out.append(
+            f"| {r['instance']} | {r['config']} | {r['method']} | {r['label']} | {r['stations']} | "
+            f"{r['verify_percent']:.3f} ({r['verify_mode']}) | {r['failing']} / {r['targets']} ({r['network_mode']}) | "
+            f"{r['worst_e_mm'] if r['worst_e_mm'] is not None else '-'} | {r['station_clearance_m'] if r['station_clearance_m'] is not None else '-'} | "
+            f"{r['control_clearance_m'] if r['control_clearance_m'] is not None else '-'} | "
+            f"{r['discs_containing']} of {r['stations']} ({r['discs_zero']}) | {r['time_s']} |"
+        )
     return "\n".join(out)
 
 

@@ -46,27 +46,36 @@ def main() -> None:
     ap.add_argument("--time-limit", type=float, default=60.0)
     ap.add_argument("--floor", action="store_true")
     ap.add_argument("--core", action="store_true")
-    ap.add_argument("--ring", action="store_true", help="with the ring bound (off here: it closes A, B, C and Baalbek's "
-                                                         "blocks before any round)")
+    ap.add_argument(
+        "--ring",
+        action="store_true",
+        help="with the ring bound (off here: it closes A, B, C and Baalbek's blocks before any round)",
+    )
     ap.add_argument("--cache", type=Path, default=ROOT / "out/bench_connectivity")
     args = ap.parse_args()
     from planner.solve.connectivity import components
 
     b = block_solver(args.cache / f"{args.instance}.pkl", args.block, args.ring)
-    print(f"block {args.block}: {b.sub.shape[0]} candidates x {b.sub.shape[1]} targets, "
-          f"connected greedy {len(b.incumbent or [])}", flush=True)
+    print(
+        f"block {args.block}: {b.sub.shape[0]} candidates x {b.sub.shape[1]} targets, "
+        f"connected greedy {len(b.incumbent or [])}",
+        flush=True,
+    )
     backend, solve_round = b.backend, b.backend.solve
     floor = [0]
 
     def traced(limit: float, threads: int, seed: int, hint: Any) -> Any:
         if args.floor and b.bound > 0 and int(np.ceil(b.bound - 1e-6)) > floor[0]:
             floor[0] = int(np.ceil(b.bound - 1e-6))
-            backend.model.Add(sum(backend.x[:backend.n]) >= floor[0])
+            backend.model.Add(sum(backend.x[: backend.n]) >= floor[0])
         t = time.perf_counter()
         res = solve_round(limit, threads, seed, hint)
         parts = sorted(len(c) for c in components(b.adj, list(res.selected))) if res.selected else []
-        print(f"  round {b.rounds + 1}: {time.perf_counter() - t:.1f} s {res.outcome.name} objective {res.objective} "
-              f"bound {res.bound} incumbent {len(b.incumbent or [])} parts {parts}", flush=True)
+        print(
+            f"  round {b.rounds + 1}: {time.perf_counter() - t:.1f} s {res.outcome.name} objective {res.objective} "
+            f"bound {res.bound} incumbent {len(b.incumbent or [])} parts {parts}",
+            flush=True,
+        )
         return res
 
     backend.solve = traced
@@ -82,9 +91,22 @@ def main() -> None:
         cp.CpSolver = CoreSolver
     start = time.perf_counter()
     b.run(start + args.time_limit)
-    print(json.dumps({"instance": args.instance, "block": args.block, "floor": args.floor, "core": args.core,
-                      "rounds": b.rounds, "cuts": b.cuts, "incumbent": len(b.incumbent or []), "bound": b.bound,
-                      "proven": b.done, "time_s": round(time.perf_counter() - start, 1)}))
+    print(
+        json.dumps(
+            {
+                "instance": args.instance,
+                "block": args.block,
+                "floor": args.floor,
+                "core": args.core,
+                "rounds": b.rounds,
+                "cuts": b.cuts,
+                "incumbent": len(b.incumbent or []),
+                "bound": b.bound,
+                "proven": b.done,
+                "time_s": round(time.perf_counter() - start, 1),
+            }
+        )
+    )
 
 
 if __name__ == "__main__":

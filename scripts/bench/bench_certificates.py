@@ -24,8 +24,19 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-BUNDLED = ["polygon_a", "polygon_b", "polygon_c", "baalbek", "building27", "courtyard", "house_doors", "baalbek_site",
-           "baalbek_site_doors", "plant_1ha", "plant_4ha"]
+BUNDLED = [
+    "polygon_a",
+    "polygon_b",
+    "polygon_c",
+    "baalbek",
+    "building27",
+    "courtyard",
+    "house_doors",
+    "baalbek_site",
+    "baalbek_site_doors",
+    "plant_1ha",
+    "plant_4ha",
+]
 SMALL = {
     "corridor_200x8": ({"theta_max_deg": 68, "overlap": 0}, [[0, 0], [200, 0], [200, 8], [0, 8]], []),
     "room_8x4_45deg": ({"theta_max_deg": 45, "overlap": 0}, [[0, 0], [8, 0], [8, 4], [0, 4]], ["--no-precision"]),
@@ -35,8 +46,13 @@ SMALL = {
 def run(args: list[str]) -> tuple[float, float, str]:
     """Wall seconds, peak RSS (GiB) and stdout of ``planner ARGS`` under /usr/bin/time -v."""
     t0 = time.perf_counter()
-    proc = subprocess.run(["/usr/bin/time", "-v", sys.executable, "-m", "planner", *args, "--quiet"],
-                          capture_output=True, text=True, cwd=ROOT, check=False)
+    proc = subprocess.run(
+        ["/usr/bin/time", "-v", sys.executable, "-m", "planner", *args, "--quiet"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        check=False,
+    )
     wall = time.perf_counter() - t0
     if proc.returncode != 0:
         raise SystemExit(f"planner {' '.join(args)} exited {proc.returncode}: {proc.stderr[-500:]}")
@@ -51,9 +67,11 @@ def row(name: str, site: Path, extra: list[str], tmp: Path) -> str:
     plan = json.loads((out / "plan.json").read_text())
     greedy = json.loads((tmp / f"{name}-greedy" / "plan.json").read_text())
     conn = "yes" if plan["registration"]["connected"] else "no"
-    return (f"| {name} | {plan['counts']['total']} | {plan['status']} | {conn} | {plan['pool_bound']:g} | "
-            f"{plan['plane_bound']} | {_dash(plan.get('connected_plane_bound'))} | {plan['bound_scope']} | {plan['problem']['candidates']:,} | {wall:.1f} | {rss:.2f} | "
-            f"{greedy['counts']['total']} | {g_wall:.1f} | {g_rss:.2f} | {wall / g_wall:.1f} |")
+    return (
+        f"| {name} | {plan['counts']['total']} | {plan['status']} | {conn} | {plan['pool_bound']:g} | "
+        f"{plan['plane_bound']} | {_dash(plan.get('connected_plane_bound'))} | {plan['bound_scope']} | {plan['problem']['candidates']:,} | {wall:.1f} | {rss:.2f} | "
+        f"{greedy['counts']['total']} | {g_wall:.1f} | {g_rss:.2f} | {wall / g_wall:.1f} |"
+    )
 
 
 def _dash(value: object) -> str:
@@ -64,15 +82,28 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out")
     a = ap.parse_args()
-    lines = [("| site | stations | status | connected | pool bound | plane bound | connected plane bound | scope | candidates | "
-             "wall s | peak GiB | greedy stations | greedy wall s | greedy peak GiB | time ratio |"), "|---" * 15 + "|"]
+    lines = [
+        (
+            "| site | stations | status | connected | pool bound | plane bound | connected plane bound | scope | candidates | "
+            "wall s | peak GiB | greedy stations | greedy wall s | greedy peak GiB | time ratio |"
+        ),
+        "|---" * 15 + "|",
+    ]
     with tempfile.TemporaryDirectory() as d:
         tmp = Path(d)
         sites = [(n, ROOT / f"instances/{n}.json", []) for n in BUNDLED]
         for name, (params, xy, extra) in SMALL.items():
             path = tmp / f"{name}.json"
-            path.write_text(json.dumps({"format": "tls-planner/1", "name": name, "parameters": params,
-                                        "zones": [{"id": "R", "scan_side": "inside", "coordinates": xy, "height_m": 3}]}))
+            path.write_text(
+                json.dumps(
+                    {
+                        "format": "tls-planner/1",
+                        "name": name,
+                        "parameters": params,
+                        "zones": [{"id": "R", "scan_side": "inside", "coordinates": xy, "height_m": 3}],
+                    }
+                )
+            )
             sites.append((name, path, extra))
         for name, path, extra in sites:
             lines.append(row(name, path, extra, tmp))

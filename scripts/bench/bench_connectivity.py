@@ -29,14 +29,39 @@ import numpy as np
 from _timed import peak_rss_mb
 
 ROOT = Path(__file__).resolve().parents[2]
-FIELDS = ["instance", "pool", "method", "backend", "connectivity", "ring", "threads", "stations", "bound", "gap", "status",
-          "time_s", "connected", "covered", "peak_rss_mb"]
-PROTOCOL = ("bound: the MILP's lower bound over the pool; gap = (stations - bound) / stations; time s: the solve "
-            "alone; connected: every zone-side one bundle under the 30 % rule, recomputed; covered: every target seen; "
-            "peak RSS of the solving process (/usr/bin/time -v). greedy-plain ignores the rule; pyscipopt runs one thread.")
+FIELDS = [
+    "instance",
+    "pool",
+    "method",
+    "backend",
+    "connectivity",
+    "ring",
+    "threads",
+    "stations",
+    "bound",
+    "gap",
+    "status",
+    "time_s",
+    "connected",
+    "covered",
+    "peak_rss_mb",
+]
+PROTOCOL = (
+    "bound: the MILP's lower bound over the pool; gap = (stations - bound) / stations; time s: the solve "
+    "alone; connected: every zone-side one bundle under the 30 % rule, recomputed; covered: every target seen; "
+    "peak RSS of the solving process (/usr/bin/time -v). greedy-plain ignores the rule; pyscipopt runs one thread."
+)
 #: (backend, connectivity, threads, ring bound) of the MILP runs
-MILP_RUNS = [("cpsat", "loop", 1, "on"), ("cpsat", "loop", 2, "on"), ("cpsat", "loop", 1, "off"), ("cpsat", "loop", 2, "off"),
-             ("cpsat", "flow", 1, "on"), ("cpsat", "flow", 2, "on"), ("pyscipopt", "bc", 1, "on"), ("scip", "flow", 1, "on")]
+MILP_RUNS = [
+    ("cpsat", "loop", 1, "on"),
+    ("cpsat", "loop", 2, "on"),
+    ("cpsat", "loop", 1, "off"),
+    ("cpsat", "loop", 2, "off"),
+    ("cpsat", "flow", 1, "on"),
+    ("cpsat", "flow", 2, "on"),
+    ("pyscipopt", "bc", 1, "on"),
+    ("scip", "flow", 1, "on"),
+]
 
 
 def build(name: str, cache: Path, pricing: bool) -> Path:
@@ -55,7 +80,9 @@ def build(name: str, cache: Path, pricing: bool) -> Path:
     validation = validate_site(site)
     problem = P.build_problem(site, options, validation)
     if pricing:
-        problem, _ = price_plane(site, problem, P.plan_limits(validation, options), time_limit_s=options.pricing_time_limit_s)
+        problem, _ = price_plane(
+            site, problem, P.plan_limits(validation, options), time_limit_s=options.pricing_time_limit_s
+        )
     p = site.parameters
     inst = cover_instance(problem, scanner=validation.scanner, budget=p.budget, sigma_req_m=p.sigma_req_m, name=name)
     cache.mkdir(parents=True, exist_ok=True)
@@ -77,19 +104,50 @@ def child(path: str, method: str, backend: str, connectivity: str, threads: int,
     elif method == "greedy-plain":
         r = greedy_cover(inst.by_candidate)
     else:
-        r = solve(inst, MilpOptions(backend=backend, connectivity=connectivity, threads=threads, time_limit_s=time_limit,
-                                    ring_bound=ring == "on"))
+        r = solve(
+            inst,
+            MilpOptions(
+                backend=backend,
+                connectivity=connectivity,
+                threads=threads,
+                time_limit_s=time_limit,
+                ring_bound=ring == "on",
+            ),
+        )
     a = inst.by_candidate.tocsr()
     adj, _ = overlap_adjacency(a, inst.target_length_m, rule, inst.groups, inst.xy)
     covered = bool(np.asarray(a[list(r.selected)].sum(axis=0)).ravel().all()) if r.selected else False
-    print(json.dumps({"stations": len(r.selected), "bound": r.bound, "status": r.status.value, "time_s": round(r.time_s, 2),
-                      "connected": not disconnected_groups(adj, inst.groups, r.selected), "covered": covered}))
+    print(
+        json.dumps(
+            {
+                "stations": len(r.selected),
+                "bound": r.bound,
+                "status": r.status.value,
+                "time_s": round(r.time_s, 2),
+                "connected": not disconnected_groups(adj, inst.groups, r.selected),
+                "covered": covered,
+            }
+        )
+    )
 
 
-def measure(path: Path, method: str, backend: str, connectivity: str, threads: int, time_limit: float,
-            ring: str) -> dict:
-    cmd = ["/usr/bin/time", "-v", sys.executable, __file__, "--child", str(path), method, backend, connectivity,
-           str(threads), str(time_limit), ring]
+def measure(
+    path: Path, method: str, backend: str, connectivity: str, threads: int, time_limit: float, ring: str
+) -> dict:
+    cmd = [
+        "/usr/bin/time",
+        "-v",
+        sys.executable,
+        __file__,
+        "--child",
+        str(path),
+        method,
+        backend,
+        connectivity,
+        str(threads),
+        str(time_limit),
+        ring,
+    ]
     res = subprocess.run(cmd, capture_output=True, text=True, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     lines = [ln for ln in res.stdout.splitlines() if ln.startswith("{")]
     if res.returncode != 0 or not lines:
@@ -109,12 +167,20 @@ def main() -> None:
     ap.add_argument("--no-pricing", action="store_true", help="the pool without priced columns")
     ap.add_argument("--cache", type=Path, default=ROOT / "out/bench_connectivity")
     ap.add_argument("--out-dir", type=Path, default=ROOT / "docs/benchmarks")
-    ap.add_argument("--only", nargs="+", metavar="METHOD",
-                    help="run only these methods (greedy-connected, greedy-plain, milp) and replace their rows "
-                         "of the instances run in the existing CSV, keeping the others")
-    ap.add_argument("--milp-runs", nargs="+", metavar="BACKEND:CONNECTIVITY:THREADS[:off]",
-                    help="only these MILP runs (default: every row of MILP_RUNS), e.g. cpsat:loop:1 cpsat:loop:1:off "
-                         "(off: without the ring bound)")
+    ap.add_argument(
+        "--only",
+        nargs="+",
+        metavar="METHOD",
+        help="run only these methods (greedy-connected, greedy-plain, milp) and replace their rows "
+        "of the instances run in the existing CSV, keeping the others",
+    )
+    ap.add_argument(
+        "--milp-runs",
+        nargs="+",
+        metavar="BACKEND:CONNECTIVITY:THREADS[:off]",
+        help="only these MILP runs (default: every row of MILP_RUNS), e.g. cpsat:loop:1 cpsat:loop:1:off "
+        "(off: without the ring bound)",
+    )
     ap.add_argument("--child", nargs=7, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
@@ -125,14 +191,26 @@ def main() -> None:
     rows = []
     for name in args.instances:
         path = build(name, args.cache, not args.no_pricing)
-        milp_runs = ([(b, c, int(t), (rest or ["on"])[0]) for b, c, t, *rest in (r.split(":") for r in args.milp_runs)]
-                     if args.milp_runs else MILP_RUNS)
-        runs = [("greedy-connected", "", "", 1, ""), ("greedy-plain", "", "", 1, "")] + [("milp", *r) for r in milp_runs]
+        milp_runs = (
+            [(b, c, int(t), (rest or ["on"])[0]) for b, c, t, *rest in (r.split(":") for r in args.milp_runs)]
+            if args.milp_runs
+            else MILP_RUNS
+        )
+        runs = [("greedy-connected", "", "", 1, ""), ("greedy-plain", "", "", 1, "")] + [
+            ("milp", *r) for r in milp_runs
+        ]
         runs = [r for r in runs if not args.only or r[0] in args.only]
         for method, backend, conn, threads, ring in runs:
-            row = {"instance": name, "pool": pool, "method": method, "backend": backend, "connectivity": conn,
-                   "ring": ring, "threads": threads,
-                   **measure(path, method, backend or "cpsat", conn or "auto", threads, args.time_limit, ring or "on")}
+            row = {
+                "instance": name,
+                "pool": pool,
+                "method": method,
+                "backend": backend,
+                "connectivity": conn,
+                "ring": ring,
+                "threads": threads,
+                **measure(path, method, backend or "cpsat", conn or "auto", threads, args.time_limit, ring or "on"),
+            }
             rows.append(row)
             print(" | ".join(str(row.get(f, "")) for f in FIELDS), flush=True)
     (args.out_dir / "results").mkdir(parents=True, exist_ok=True)
@@ -147,10 +225,15 @@ def main() -> None:
         w = csv.DictWriter(f, FIELDS, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
-    lines = [f"# Registration connectivity: methods side by side ({pool} pool)", "",
-             f"Written by `python scripts/bench/bench_connectivity.py{' --no-pricing' if args.no_pricing else ''}` "
-             f"(time limit {args.time_limit:g} s, seed 0, one run per row, this machine). " + PROTOCOL, "",
-             "| " + " | ".join(FIELDS) + " |", "|" + "---|" * len(FIELDS)]
+    lines = [
+        f"# Registration connectivity: methods side by side ({pool} pool)",
+        "",
+        f"Written by `python scripts/bench/bench_connectivity.py{' --no-pricing' if args.no_pricing else ''}` "
+        f"(time limit {args.time_limit:g} s, seed 0, one run per row, this machine). " + PROTOCOL,
+        "",
+        "| " + " | ".join(FIELDS) + " |",
+        "|" + "---|" * len(FIELDS),
+    ]
     lines += ["| " + " | ".join(str(r.get(f, "")) for f in FIELDS) + " |" for r in rows]
     (args.out_dir / f"{stem}.md").write_text("\n".join(lines) + "\n")
 

@@ -41,8 +41,10 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def copies_of(site: Site, n: int, spacing_m: float = 450.0) -> Site:
     z = site.zones[0]
-    zones = tuple(Zone(f"{z.id}{k}", z.scan_side, tuple((x + k * spacing_m, y) for x, y in z.vertices), z.vertex_heights_m)
-                  for k in range(n))
+    zones = tuple(
+        Zone(f"{z.id}{k}", z.scan_side, tuple((x + k * spacing_m, y) for x, y in z.vertices), z.vertex_heights_m)
+        for k in range(n)
+    )
     return Site(f"{site.name} x{n}", zones, site.parameters, site.instrument)
 
 
@@ -57,9 +59,17 @@ def measure(site: Site, repeat: int) -> dict:
         cov = build_coverage(site, cands, targets, limits)
         best = min(best, time.perf_counter() - t0)
     walls = sum(len(z.walls) for z in site.zones)
-    return {"site": site.name, "walls": walls, "wall_m": sum(z.perimeter_m for z in site.zones),
-            "candidates": len(cands), "targets": len(targets), "kept": cov.by_candidate.nnz, "time_s": best,
-            "pairs_per_s": len(cands) * len(targets) / best, "kept_per_s": cov.by_candidate.nnz / best}
+    return {
+        "site": site.name,
+        "walls": walls,
+        "wall_m": sum(z.perimeter_m for z in site.zones),
+        "candidates": len(cands),
+        "targets": len(targets),
+        "kept": cov.by_candidate.nnz,
+        "time_s": best,
+        "pairs_per_s": len(cands) * len(targets) / best,
+        "kept_per_s": cov.by_candidate.nnz / best,
+    }
 
 
 def one_grid(name: str, spacing_m: float) -> dict:
@@ -70,8 +80,12 @@ def one_grid(name: str, spacing_m: float) -> dict:
     targets = make_targets(site, 1.0)
     t0 = time.perf_counter()
     cov = build_coverage(site, cands, targets, sight_limits(v, False, True))
-    return {"candidates": len(cands), "targets": len(targets), "pairs": int(cov.by_candidate.nnz),
-            "build_s": time.perf_counter() - t0}
+    return {
+        "candidates": len(cands),
+        "targets": len(targets),
+        "pairs": int(cov.by_candidate.nnz),
+        "build_s": time.perf_counter() - t0,
+    }
 
 
 def grid_rows(names: list[str], spacings: list[float], limit_s: int) -> list[dict]:
@@ -89,24 +103,30 @@ def grid_rows(names: list[str], spacings: list[float], limit_s: int) -> list[dic
             if res.returncode != 0 or rss is None:
                 rows.append({"site": name, "grid_m": g, "note": (res.stderr.strip().splitlines() or ["failed"])[-1]})
                 continue
-            rows.append({"site": name, "grid_m": g, **json.loads(res.stdout.strip().splitlines()[-1]),
-                         "peak_mb": rss})
+            rows.append({"site": name, "grid_m": g, **json.loads(res.stdout.strip().splitlines()[-1]), "peak_mb": rss})
     return rows
 
 
 def grid_table(rows: list[dict]) -> str:
-    out = ["| site | grid m | candidates | targets | pairs kept | build s | peak RSS MB |", "|---|---|---|---|---|---|---|"]
+    out = [
+        "| site | grid m | candidates | targets | pairs kept | build s | peak RSS MB |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
         if "note" in r:
             out.append(f"| {r['site']} | {r['grid_m']:g} | - | - | - | - | {r['note']} |")
         else:
-            out.append(f"| {r['site']} | {r['grid_m']:g} | {r['candidates']:,} | {r['targets']:,} | {r['pairs']:,} | "
-                       f"{r['build_s']:.1f} | {r['peak_mb']:,.0f} |")
+            out.append(
+                f"| {r['site']} | {r['grid_m']:g} | {r['candidates']:,} | {r['targets']:,} | {r['pairs']:,} | "
+                f"{r['build_s']:.1f} | {r['peak_mb']:,.0f} |"
+            )
     for site in dict.fromkeys(r["site"] for r in rows):
         ok = [r for r in rows if r["site"] == site and "note" not in r]
         if len(ok) > 1:
             slope, icpt = np.polyfit([r["pairs"] for r in ok], [r["peak_mb"] * 2**20 for r in ok], 1)
-            out.append(f"\n{site}: peak RSS = {icpt / 2**20:,.0f} MB + {slope:.0f} bytes x pairs kept (least squares, {len(ok)} rows)")
+            out.append(
+                f"\n{site}: peak RSS = {icpt / 2**20:,.0f} MB + {slope:.0f} bytes x pairs kept (least squares, {len(ok)} rows)"
+            )
     return "\n".join(out)
 
 
@@ -128,14 +148,23 @@ def main() -> None:
         if args.out:
             Path(args.out).write_text(text + "\n")
         return
-    rows = [measure(load_site(ROOT / f"instances/{n}.json"), args.repeat) for n in ("polygon_a", "polygon_b", "polygon_c", "baalbek")]
+    rows = [
+        measure(load_site(ROOT / f"instances/{n}.json"), args.repeat)
+        for n in ("polygon_a", "polygon_b", "polygon_c", "baalbek")
+    ]
     c = load_site(ROOT / "instances/polygon_c.json")
     scale = [measure(copies_of(c, n), args.repeat) for n in args.copies]
-    head = "| site | walls | wall length m | candidates | targets | pairs kept | build s | C x T pairs/s | kept pairs/s |"
+    head = (
+        "| site | walls | wall length m | candidates | targets | pairs kept | build s | C x T pairs/s | kept pairs/s |"
+    )
     line = "|---|---|---|---|---|---|---|---|---|"
+
     def fmt(r: dict) -> str:
-        return (f"| {r['site']} | {r['walls']} | {r['wall_m']:,.0f} | {r['candidates']:,} | {r['targets']:,} | "
-                f"{r['kept']:,} | {r['time_s']:.2f} | {r['pairs_per_s']:,.0f} | {r['kept_per_s']:,.0f} |")
+        return (
+            f"| {r['site']} | {r['walls']} | {r['wall_m']:,.0f} | {r['candidates']:,} | {r['targets']:,} | "
+            f"{r['kept']:,} | {r['time_s']:.2f} | {r['pairs_per_s']:,.0f} | {r['kept_per_s']:,.0f} |"
+        )
+
     out = ["## Bundled instances", "", head, line] + [fmt(r) for r in rows]
     out += ["", "## Growth with site size (copies of polygon C)", "", head, line] + [fmt(r) for r in scale]
     t = np.array([r["time_s"] for r in scale])

@@ -21,8 +21,24 @@ from _timed import append_csv, json_child
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-FIELDS = ["area_ha", "group", "parts", "iterations", "work_s", "candidates", "pieces", "lp", "old_bound", "old_bound_s",
-          "lagrange_raw", "lagrange", "lagrange_s", "parts_proven", "upper", "peak_rss_mb"]
+FIELDS = [
+    "area_ha",
+    "group",
+    "parts",
+    "iterations",
+    "work_s",
+    "candidates",
+    "pieces",
+    "lp",
+    "old_bound",
+    "old_bound_s",
+    "lagrange_raw",
+    "lagrange",
+    "lagrange_s",
+    "parts_proven",
+    "upper",
+    "peak_rss_mb",
+]
 
 
 def one(area: float, group: int, iterations: int, work: float, bound_work: float) -> dict:
@@ -47,16 +63,43 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     t1 = time.perf_counter()
     new = global_bound(a, 0, parts=parts, lagrange_iterations=iterations, lagrange_work_s=work).lagrange
     assert new is not None
-    return {"area_ha": area, "group": group, "parts": len(parts), "iterations": new.iterations, "work_s": work,
-            "candidates": a.shape[0], "pieces": a.shape[1], "lp": round(old.lp, 3), "old_bound": old.value,
-            "old_bound_s": round(t1 - t0, 1), "lagrange_raw": round(new.raw, 3), "lagrange": new.value,
-            "lagrange_s": round(new.time_s, 1), "parts_proven": sum(new.proven), "upper": new.upper}
+    return {
+        "area_ha": area,
+        "group": group,
+        "parts": len(parts),
+        "iterations": new.iterations,
+        "work_s": work,
+        "candidates": a.shape[0],
+        "pieces": a.shape[1],
+        "lp": round(old.lp, 3),
+        "old_bound": old.value,
+        "old_bound_s": round(t1 - t0, 1),
+        "lagrange_raw": round(new.raw, 3),
+        "lagrange": new.value,
+        "lagrange_s": round(new.time_s, 1),
+        "parts_proven": sum(new.proven),
+        "upper": new.upper,
+    }
 
 
 def run(args: argparse.Namespace) -> dict:
-    return json_child(__file__, ["--one", "--area", f"{args.area:g}", "--group", str(args.group), "--iterations",
-                                 str(args.iterations), "--work", str(args.work), "--bound-work", str(args.bound_work)],
-                      "run")
+    return json_child(
+        __file__,
+        [
+            "--one",
+            "--area",
+            f"{args.area:g}",
+            "--group",
+            str(args.group),
+            "--iterations",
+            str(args.iterations),
+            "--work",
+            str(args.work),
+            "--bound-work",
+            str(args.bound_work),
+        ],
+        "run",
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -47,8 +47,24 @@ def plan(case: str, plans: Path) -> Path:
     instance, options = CASES[case]
     out = plans / case
     if not (out / "plan.json").is_file():
-        subprocess.run([sys.executable, "-m", "planner", "plan", f"instances/{instance}.json", "--method", "greedy",
-                        "--quiet", "--out", str(out), *options], cwd=ROOT, check=True, capture_output=True)
+        subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "planner",
+                "plan",
+                f"instances/{instance}.json",
+                "--method",
+                "greedy",
+                "--quiet",
+                "--out",
+                str(out),
+                *options,
+            ],
+            cwd=ROOT,
+            check=True,
+            capture_output=True,
+        )
     return out / "plan.json"
 
 
@@ -58,36 +74,63 @@ def measure(case: str, plan_path: Path, code: Path, limit_s: int) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         try:
-            proc = subprocess.run(["/usr/bin/time", "-v", sys.executable, "-m", "planner", "network",
-                                   str(ROOT / f"instances/{instance}.json"), str(plan_path), "--out", tmp],
-                                  cwd=code, capture_output=True, text=True, timeout=limit_s, check=False)
+            proc = subprocess.run(
+                [
+                    "/usr/bin/time",
+                    "-v",
+                    sys.executable,
+                    "-m",
+                    "planner",
+                    "network",
+                    str(ROOT / f"instances/{instance}.json"),
+                    str(plan_path),
+                    "--out",
+                    tmp,
+                ],
+                cwd=code,
+                capture_output=True,
+                text=True,
+                timeout=limit_s,
+                check=False,
+            )
         except subprocess.TimeoutExpired:
             return {"wall_s": time.perf_counter() - t0, "peak_gib": math.nan, "note": f"stopped at {limit_s} s"}
         rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", proc.stderr)
-        row: dict = {"wall_s": time.perf_counter() - t0, "peak_gib": int(rss.group(1)) / 2**20 if rss else math.nan,
-                     "note": "" if proc.returncode == 0 else f"exit {proc.returncode}"}
+        row: dict = {
+            "wall_s": time.perf_counter() - t0,
+            "peak_gib": int(rss.group(1)) / 2**20 if rss else math.nan,
+            "note": "" if proc.returncode == 0 else f"exit {proc.returncode}",
+        }
         net = Path(tmp) / "network.json"
         if net.is_file():
             data = json.loads(net.read_text())
-            row.update(nodes=len(data["nodes"]), edges=len(data["edges"]),
-                       observations=sum(a.get("observations", 0) for a in data["adjustments"]) or None,
-                       unknowns=sum(a.get("unknowns", 0) for a in data["adjustments"]) or None)
+            row.update(
+                nodes=len(data["nodes"]),
+                edges=len(data["edges"]),
+                observations=sum(a.get("observations", 0) for a in data["adjustments"]) or None,
+                unknowns=sum(a.get("unknowns", 0) for a in data["adjustments"]) or None,
+            )
     row["stations"] = len(json.loads(plan_path.read_text())["stations"])
     return row
 
 
 def table(rows: list[dict]) -> str:
     """The markdown table of the rows."""
+
     def num(v: object, fmt: str) -> str:
         return "-" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
 
-    head = ("| case | stations | nodes | edges | observations | unknowns | wall s | peak GiB | before: wall s | "
-            "before: peak GiB |\n|---|---|---|---|---|---|---|---|---|---|\n")
+    head = (
+        "| case | stations | nodes | edges | observations | unknowns | wall s | peak GiB | before: wall s | "
+        "before: peak GiB |\n|---|---|---|---|---|---|---|---|---|---|\n"
+    )
     body = "".join(
         f"| {r['case']} | {r['stations']} | {num(r.get('nodes'), ',')} | {num(r.get('edges'), ',')} | "
         f"{num(r.get('observations'), ',')} | {num(r.get('unknowns'), ',')} | {num(r['wall_s'], '.1f')} "
         f"{r['note']}| {num(r['peak_gib'], '.2f')} | {num(r.get('before_wall_s'), '.1f')} {r.get('before_note', '')}| "
-        f"{num(r.get('before_peak_gib'), '.2f')} |\n" for r in rows)
+        f"{num(r.get('before_peak_gib'), '.2f')} |\n"
+        for r in rows
+    )
     return head + body
 
 
@@ -124,9 +167,11 @@ def main(argv: list[str] | None = None) -> None:
     args.out.parent.mkdir(parents=True, exist_ok=True)
     notes = ""
     if args.out.is_file() and "\n## Notes" in args.out.read_text():  # kept from the last run, written by hand
-        notes = args.out.read_text()[args.out.read_text().index("\n## Notes"):]
-    args.out.write_text(f"{HEADER}\n\n`{meta['command']}` ({meta.get('date')}, {meta.get('cores')} cores, load average "
-                        f"{meta.get('load')} at the end)\n\n{table(rows)}{notes}")
+        notes = args.out.read_text()[args.out.read_text().index("\n## Notes") :]
+    args.out.write_text(
+        f"{HEADER}\n\n`{meta['command']}` ({meta.get('date')}, {meta.get('cores')} cores, load average "
+        f"{meta.get('load')} at the end)\n\n{table(rows)}{notes}"
+    )
     print(f"wrote {args.out}")
 
 

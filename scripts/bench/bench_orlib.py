@@ -29,7 +29,9 @@ def main() -> None:
     ap.add_argument("--time-limit", type=float, default=60.0)
     ap.add_argument("--dir", default=str(ORLIB))
     args = ap.parse_args()
-    optima = {r["instance"]: r["published_optimum"] for r in csv.DictReader((Path(args.dir) / "known_optima.csv").open())}
+    optima = {
+        r["instance"]: r["published_optimum"] for r in csv.DictReader((Path(args.dir) / "known_optima.csv").open())
+    }
     print("| instance | optimum | greedy | " + " | ".join(BACKENDS) + " |")
     print("|---|---|---|" + "---|" * len(BACKENDS))
     for name in args.instances:

@@ -34,10 +34,12 @@ def row(name: str, connected: bool, new_pool: bool, limit_s: float) -> str:
     pricing = info.get("pricing") or {}
     scope = info.get("bound_scope", "pool")
     plane = info.get("plane_bound")
-    return (f"| {name} | {'30 % connected' if connected else 'plain cover'} | {'regions + pricing' if new_pool else 'as before'} | "
-            f"{len(plan.stations)} | {r.status.value} | {r.bound if r.bound is not None else '-'} | {scope} | "
-            f"{plane if plane is not None else '-'} | {pricing.get('rounds', '-')} | {pricing.get('columns_added', '-')} | "
-            f"{plan.problem_size['candidates']:,} | {wall:.1f} | {plan.verification.percent:.3f} |")
+    return (
+        f"| {name} | {'30 % connected' if connected else 'plain cover'} | {'regions + pricing' if new_pool else 'as before'} | "
+        f"{len(plan.stations)} | {r.status.value} | {r.bound if r.bound is not None else '-'} | {scope} | "
+        f"{plane if plane is not None else '-'} | {pricing.get('rounds', '-')} | {pricing.get('columns_added', '-')} | "
+        f"{plan.problem_size['candidates']:,} | {wall:.1f} | {plan.verification.percent:.3f} |"
+    )
 
 
 def main() -> None:
@@ -47,8 +49,11 @@ def main() -> None:
     ap.add_argument("--rules", nargs="+", default=["plain", "connected"], choices=["plain", "connected"])
     ap.add_argument("--out")
     a = ap.parse_args()
-    lines = ["| instance | rule | pool | stations | status | MILP bound | bound scope | plane bound | pricing rounds | "
-             "columns added | candidates | wall s | verified % |", "|---" * 13 + "|"]
+    lines = [
+        "| instance | rule | pool | stations | status | MILP bound | bound scope | plane bound | pricing rounds | "
+        "columns added | candidates | wall s | verified % |",
+        "|---" * 13 + "|",
+    ]
     for name in a.instances:
         for rule in a.rules:
             for new_pool in (False, True):

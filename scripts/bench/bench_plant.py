@@ -29,10 +29,40 @@ from _timed import json_child
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-FIELDS = ["area_ha", "workers", "tiles", "candidates", "targets", "pairs", "tiles_s", "stitch_s", "bound_s", "total_s",
-          "stations", "bound", "lp_bound", "gap", "parts", "verified_percent", "greedy", "peak_rss_mb", "tree_rss_mb",
-          "plan_sha1", "limits", "wall_cap_hit", "search_before", "search_moves", "search_s", "windows_before", "windows",
-          "windows_proven", "windows_s", "windows_batch", "search_seeds", "search_per_seed"]
+FIELDS = [
+    "area_ha",
+    "workers",
+    "tiles",
+    "candidates",
+    "targets",
+    "pairs",
+    "tiles_s",
+    "stitch_s",
+    "bound_s",
+    "total_s",
+    "stations",
+    "bound",
+    "lp_bound",
+    "gap",
+    "parts",
+    "verified_percent",
+    "greedy",
+    "peak_rss_mb",
+    "tree_rss_mb",
+    "plan_sha1",
+    "limits",
+    "wall_cap_hit",
+    "search_before",
+    "search_moves",
+    "search_s",
+    "windows_before",
+    "windows",
+    "windows_proven",
+    "windows_s",
+    "windows_batch",
+    "search_seeds",
+    "search_per_seed",
+]
 
 
 class TreeRss:
@@ -66,9 +96,19 @@ class TreeRss:
         self._t.join()
 
 
-def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit: float, out: Path,
-        figure: Path | None, search_moves: int = 20_000, window_passes: int = 1, window_batch: int = 1,
-        search_seeds: int = 1) -> None:
+def one(
+    area: float,
+    workers: int,
+    tile_m: float,
+    tile_limit: float,
+    bound_limit: float,
+    out: Path,
+    figure: Path | None,
+    search_moves: int = 20_000,
+    window_passes: int = 1,
+    window_batch: int = 1,
+    search_seeds: int = 1,
+) -> None:
     """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
     from planner.plan import PlanOptions
     from planner.site.load import load_site
@@ -78,30 +118,61 @@ def one(area: float, workers: int, tile_m: float, tile_limit: float, bound_limit
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     options = PlanOptions(method="milp", pricing=False)
-    tiling = TileOptions(tile_m=tile_m, tile_time_limit_s=tile_limit, bound_time_limit_s=bound_limit,
-                         local_search_moves=search_moves, search_seeds=search_seeds, windows=WindowOptions(passes=window_passes, batch=window_batch))
+    tiling = TileOptions(
+        tile_m=tile_m,
+        tile_time_limit_s=tile_limit,
+        bound_time_limit_s=bound_limit,
+        local_search_moves=search_moves,
+        search_seeds=search_seeds,
+        windows=WindowOptions(passes=window_passes, batch=window_batch),
+    )
     with TreeRss() as rss:
         with dask_client(workers) as client:
             plan = plan_by_tiles(site, options, tiling, client=client)
     info = plan.result.info
-    row = {"area_ha": area, "workers": workers, "tiles": plan.problem_size["tiles"],
-           "candidates": plan.problem_size["candidates"], "targets": plan.problem_size["targets"],
-           "pairs": plan.problem_size["pairs"], **{k: info["times"][k] for k in ("tiles_s", "stitch_s", "bound_s", "total_s")},
-           "stations": len(plan.stations), "bound": plan.result.bound, "lp_bound": round(info["lp_bound"], 2),
-           "gap": round(plan.result.gap, 4), "parts": sum(plan.registration.values()),
-           "verified_percent": round(plan.verification.percent, 3), "tree_rss_mb": round(rss.peak / 2**20),
-           # which plan: a short hash of the sorted station ids (equal hashes: the same plan), and the limits
-           "plan_sha1": hashlib.sha1(",".join(sorted(s.id for s in plan.stations)).encode()).hexdigest()[:10],
-           "limits": info.get("limits", ""), "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none",
-           # the local search on the kept plan: stations before it, its moves and time
-           **{k: info.get("local_search", {}).get(f) for k, f in (("search_before", "before"), ("search_moves", "moves"),
-                                                                   ("search_s", "time_s"), ("search_seeds", "seeds"))},
-           "search_per_seed": " ".join(str(n) for n in info.get("local_search", {}).get("per_seed", [])),
-           # the window re-solves after it: stations before them, windows solved (proven), their time, and
-           # how many ran at a time (2 per worker thread on Dask)
-           **{k: info.get("windows", {}).get(f) for k, f in (("windows_before", "before"), ("windows", "windows"),
-                                                              ("windows_proven", "proven"), ("windows_s", "time_s"),
-                                                              ("windows_batch", "batch"))}}
+    row = {
+        "area_ha": area,
+        "workers": workers,
+        "tiles": plan.problem_size["tiles"],
+        "candidates": plan.problem_size["candidates"],
+        "targets": plan.problem_size["targets"],
+        "pairs": plan.problem_size["pairs"],
+        **{k: info["times"][k] for k in ("tiles_s", "stitch_s", "bound_s", "total_s")},
+        "stations": len(plan.stations),
+        "bound": plan.result.bound,
+        "lp_bound": round(info["lp_bound"], 2),
+        "gap": round(plan.result.gap, 4),
+        "parts": sum(plan.registration.values()),
+        "verified_percent": round(plan.verification.percent, 3),
+        "tree_rss_mb": round(rss.peak / 2**20),
+        # which plan: a short hash of the sorted station ids (equal hashes: the same plan), and the limits
+        "plan_sha1": hashlib.sha1(",".join(sorted(s.id for s in plan.stations)).encode()).hexdigest()[:10],
+        "limits": info.get("limits", ""),
+        "wall_cap_hit": " ".join(info.get("wall_cap_hit", [])) or "none",
+        # the local search on the kept plan: stations before it, its moves and time
+        **{
+            k: info.get("local_search", {}).get(f)
+            for k, f in (
+                ("search_before", "before"),
+                ("search_moves", "moves"),
+                ("search_s", "time_s"),
+                ("search_seeds", "seeds"),
+            )
+        },
+        "search_per_seed": " ".join(str(n) for n in info.get("local_search", {}).get("per_seed", [])),
+        # the window re-solves after it: stations before them, windows solved (proven), their time, and
+        # how many ran at a time (2 per worker thread on Dask)
+        **{
+            k: info.get("windows", {}).get(f)
+            for k, f in (
+                ("windows_before", "before"),
+                ("windows", "windows"),
+                ("windows_proven", "proven"),
+                ("windows_s", "time_s"),
+                ("windows_batch", "batch"),
+            )
+        },
+    }
     row["greedy"] = _greedy(site, options, plan, greedy_cover)
     out.write_text(json.dumps(row))
     if figure is not None:
@@ -131,8 +202,12 @@ def _figure(plan, tiling, path: Path) -> None:
     site = plan.site
     targets = make_targets(site, plan.options.target_spacing_m)
     cov = build_coverage(site, plan.stations, targets, _limits(plan))
-    g = overlap_graph(cov.by_candidate, piece_lengths(targets.s0_m, targets.s1_m), range(len(plan.stations)),
-                      OverlapRule(site.parameters.overlap))
+    g = overlap_graph(
+        cov.by_candidate,
+        piece_lengths(targets.s0_m, targets.s1_m),
+        range(len(plan.stations)),
+        OverlapRule(site.parameters.overlap),
+    )
     fig = Figure(figsize=(9, 9))
     ax = fig.add_subplot()
     for z in site.zones:
@@ -148,11 +223,22 @@ def _figure(plan, tiling, path: Path) -> None:
     ax.plot(*xy.T, "o", color="tab:red", ms=3.5, label=f"{len(xy)} stations")
     for t in plan.result.info["tiles"]:  # tile cores (a zone's pieces go to the tile holding its centre)
         x0, y0, size = t["core_m"]
-        ax.add_patch(Polygon([(x0, y0), (x0 + size, y0), (x0 + size, y0 + size), (x0, y0 + size)], closed=True,
-                             fill=False, ec="tab:green", ls=":", lw=0.8))
+        ax.add_patch(
+            Polygon(
+                [(x0, y0), (x0 + size, y0), (x0 + size, y0 + size), (x0, y0 + size)],
+                closed=True,
+                fill=False,
+                ec="tab:green",
+                ls=":",
+                lw=0.8,
+            )
+        )
     r = plan.result
-    ax.set_title(f"{site.name}: {len(xy)} stations, bound {r.bound:g} (gap {r.gap:.1%}), "
-                 f"{sum(plan.registration.values())} registration bundle(s); blue: overlap links, green: tiles", fontsize=9)
+    ax.set_title(
+        f"{site.name}: {len(xy)} stations, bound {r.bound:g} (gap {r.gap:.1%}), "
+        f"{sum(plan.registration.values())} registration bundle(s); blue: overlap links, green: tiles",
+        fontsize=9,
+    )
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.legend(loc="upper right", fontsize=8)
@@ -166,10 +252,26 @@ def _limits(plan):
 
 
 def run(area: float, workers: int, args: argparse.Namespace, figure: Path | None) -> dict:
-    args_ = ["--one", f"{area:g}", "--workers", str(workers), "--tile", str(args.tile), "--tile-time-limit",
-             str(args.tile_time_limit), "--bound-time-limit", str(args.bound_time_limit), "--search-moves",
-             str(args.search_moves), "--window-passes", str(args.window_passes), "--window-batch", str(args.window_batch),
-             "--search-seeds", str(args.search_seeds)]
+    args_ = [
+        "--one",
+        f"{area:g}",
+        "--workers",
+        str(workers),
+        "--tile",
+        str(args.tile),
+        "--tile-time-limit",
+        str(args.tile_time_limit),
+        "--bound-time-limit",
+        str(args.bound_time_limit),
+        "--search-moves",
+        str(args.search_moves),
+        "--window-passes",
+        str(args.window_passes),
+        "--window-batch",
+        str(args.window_batch),
+        "--search-seeds",
+        str(args.search_seeds),
+    ]
     args_ += ["--figure", str(figure)] if figure is not None else []
     t0 = time.perf_counter()
     row = json_child(__file__, args_, f"run {area} ha x {workers}")
@@ -186,8 +288,9 @@ def slopes(rows: list[dict], key: str) -> str:
         if r["workers"] == w and r[key]:
             first.setdefault(r["area_ha"], r[key])
     pts = sorted(first.items())
-    return ", ".join(f"{a0:g}->{a1:g} ha: {math.log(v1 / v0) / math.log(a1 / a0):.2f}"
-                     for (a0, v0), (a1, v1) in zip(pts, pts[1:]))
+    return ", ".join(
+        f"{a0:g}->{a1:g} ha: {math.log(v1 / v0) / math.log(a1 / a0):.2f}" for (a0, v0), (a1, v1) in zip(pts, pts[1:])
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -199,25 +302,49 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--bound-time-limit", type=float, default=60.0)
     ap.add_argument("--search-moves", type=int, default=20_000, help="local search moves on the kept plan (0: none)")
     ap.add_argument("--search-seeds", type=int, default=1, help="local searches with seeds 0..N-1, the smallest kept")
-    ap.add_argument("--window-passes", type=int, default=1, help="passes of window re-solves after the search (0: none)")
-    ap.add_argument("--window-batch", type=int, default=1, help="windows in flight as Dask tasks (1: one at a time in the client)")
+    ap.add_argument(
+        "--window-passes", type=int, default=1, help="passes of window re-solves after the search (0: none)"
+    )
+    ap.add_argument(
+        "--window-batch", type=int, default=1, help="windows in flight as Dask tasks (1: one at a time in the client)"
+    )
     ap.add_argument("--csv", type=Path, default=None)
-    ap.add_argument("--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)")
-    ap.add_argument("--from-csv", type=Path, nargs="+", default=None,
-                    help="print the table and slopes of CSVs written earlier (runs nothing)")
+    ap.add_argument(
+        "--figure", type=Path, default=None, help="figure of the largest plant's plan (at the most workers)"
+    )
+    ap.add_argument(
+        "--from-csv",
+        type=Path,
+        nargs="+",
+        default=None,
+        help="print the table and slopes of CSVs written earlier (runs nothing)",
+    )
     ap.add_argument("--one", type=float, default=None, help=argparse.SUPPRESS)
     ap.add_argument("--json", type=Path, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one is not None:
-        one(args.one, args.workers[0], args.tile, args.tile_time_limit, args.bound_time_limit, args.json, args.figure,
-            args.search_moves, args.window_passes, args.window_batch, args.search_seeds)
+        one(
+            args.one,
+            args.workers[0],
+            args.tile,
+            args.tile_time_limit,
+            args.bound_time_limit,
+            args.json,
+            args.figure,
+            args.search_moves,
+            args.window_passes,
+            args.window_batch,
+            args.search_seeds,
+        )
         return 0
     rows = []
     if args.from_csv:
         for path in args.from_csv:
             with path.open() as f:
-                rows += [{k: (float(v) if re.fullmatch(r"-?[0-9.]+", v or "") else v) for k, v in r.items()}
-                         for r in csv.DictReader(f)]
+                rows += [
+                    {k: (float(v) if re.fullmatch(r"-?[0-9.]+", v or "") else v) for k, v in r.items()}
+                    for r in csv.DictReader(f)
+                ]
     else:
         for area in args.areas:
             for w in args.workers:

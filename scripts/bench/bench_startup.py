@@ -47,23 +47,41 @@ def main() -> None:
     ap.add_argument("--huge", action="store_true", help="also time the refusal of the 10,000 km square")
     args = ap.parse_args()
     py = [sys.executable, "-m", "planner"]
-    cases = {"python -c pass (interpreter alone)": [sys.executable, "-c", "pass"],
-             "planner --help": py + ["--help"], "planner --version": py + ["--version"],
-             "planner validate instances/polygon_b.json": py + ["validate", "instances/polygon_b.json"]}
+    cases = {
+        "python -c pass (interpreter alone)": [sys.executable, "-c", "pass"],
+        "planner --help": py + ["--help"],
+        "planner --version": py + ["--version"],
+        "planner validate instances/polygon_b.json": py + ["validate", "instances/polygon_b.json"],
+    }
     tmp = Path(tempfile.mkdtemp())
     if args.huge:
         side = 10_000_000
-        (tmp / "huge.json").write_text(json.dumps({"format": "tls-planner/1", "name": "huge", "zones": [
-            {"id": "sq", "scan_side": "inside", "coordinates": [[0, 0], [side, 0], [side, side], [0, side]],
-             "vertex_heights_m": [10, 10, 10, 10]}]}))
+        (tmp / "huge.json").write_text(
+            json.dumps(
+                {
+                    "format": "tls-planner/1",
+                    "name": "huge",
+                    "zones": [
+                        {
+                            "id": "sq",
+                            "scan_side": "inside",
+                            "coordinates": [[0, 0], [side, 0], [side, side], [0, side]],
+                            "vertex_heights_m": [10, 10, 10, 10],
+                        }
+                    ],
+                }
+            )
+        )
         cases["planner plan huge.json (10,000 km square)"] = py + ["plan", str(tmp / "huge.json")]
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     print("| command | runs | wall min s | wall median s | wall max s | CPU median s | exit |")
     print("|---|---|---|---|---|---|---|")
     for name, cmd in cases.items():
         t, c, code = _time(cmd, args.runs)
-        print(f"| `{name}` | {len(t)} | {min(t):.3f} | {statistics.median(t):.3f} | {max(t):.3f} | "
-              f"{statistics.median(c):.3f} | {code} |")
+        print(
+            f"| `{name}` | {len(t)} | {min(t):.3f} | {statistics.median(t):.3f} | {max(t):.3f} | "
+            f"{statistics.median(c):.3f} | {code} |"
+        )
 
 
 if __name__ == "__main__":

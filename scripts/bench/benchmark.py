@@ -29,24 +29,55 @@ from planner.solve.backends import BACKENDS
 from planner.solve.milp import MilpOptions
 
 ROOT = Path(__file__).resolve().parents[2]
-FIELDS = ["instance", "method", "backend", "overlap", "stations", "inside", "outside", "bound", "gap", "status",
-          "time_s", "total_s", "verified_percent", "connected", "candidates", "targets"]
+FIELDS = [
+    "instance",
+    "method",
+    "backend",
+    "overlap",
+    "stations",
+    "inside",
+    "outside",
+    "bound",
+    "gap",
+    "status",
+    "time_s",
+    "total_s",
+    "verified_percent",
+    "connected",
+    "candidates",
+    "targets",
+]
 
 
 def run(name: str, method: str, backend: str = "", overlap: bool = False, time_limit: float = 60.0) -> dict:
     site = load_site(ROOT / f"instances/{name}.json")
-    milp = MilpOptions(backend=backend or "cpsat", time_limit_s=time_limit, overlap=OverlapRule(site.parameters.overlap) if overlap else None)
+    milp = MilpOptions(
+        backend=backend or "cpsat",
+        time_limit_s=time_limit,
+        overlap=OverlapRule(site.parameters.overlap) if overlap else None,
+    )
     t0 = time.perf_counter()
     plan = plan_site(site, PlanOptions(method=method, milp=milp, tripod=method == "milp"))
     sides = plan.count_by_side()
     r = plan.result
-    return {"instance": name, "method": method, "backend": r.backend or "", "overlap": "yes" if overlap else "no",
-            "connected": "yes" if plan.connected else "no", "stations": len(plan.stations),
-            "inside": sides.get("inside", 0), "outside": sides.get("outside", 0),
-            "bound": "" if r.bound is None else f"{r.bound:g}", "gap": "" if r.gap is None else f"{r.gap:.3f}",
-            "status": r.status.value, "time_s": f"{r.time_s:.2f}", "total_s": f"{time.perf_counter() - t0:.2f}",
-            "verified_percent": f"{plan.verification.percent:.3f}", "candidates": plan.problem_size["candidates"],
-            "targets": plan.problem_size["targets"]}
+    return {
+        "instance": name,
+        "method": method,
+        "backend": r.backend or "",
+        "overlap": "yes" if overlap else "no",
+        "connected": "yes" if plan.connected else "no",
+        "stations": len(plan.stations),
+        "inside": sides.get("inside", 0),
+        "outside": sides.get("outside", 0),
+        "bound": "" if r.bound is None else f"{r.bound:g}",
+        "gap": "" if r.gap is None else f"{r.gap:.3f}",
+        "status": r.status.value,
+        "time_s": f"{r.time_s:.2f}",
+        "total_s": f"{time.perf_counter() - t0:.2f}",
+        "verified_percent": f"{plan.verification.percent:.3f}",
+        "candidates": plan.problem_size["candidates"],
+        "targets": plan.problem_size["targets"],
+    }
 
 
 def main() -> None:
@@ -70,11 +101,15 @@ def main() -> None:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
         w.writerows(rows)
-    lines = ["| instance | method | backend | overlap | stations (in + out) | bound | gap | status | method s | total s | verified % | connected |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    lines += [f"| {r['instance']} | {r['method']} | {r['backend']} | {r['overlap']} | {r['stations']} ({r['inside']} + {r['outside']}) | "
-              f"{r['bound']} | {r['gap']} | {r['status']} | {r['time_s']} | {r['total_s']} | {r['verified_percent']} | {r['connected']} |"
-              for r in rows]
+    lines = [
+        "| instance | method | backend | overlap | stations (in + out) | bound | gap | status | method s | total s | verified % | connected |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    lines += [
+        f"| {r['instance']} | {r['method']} | {r['backend']} | {r['overlap']} | {r['stations']} ({r['inside']} + {r['outside']}) | "
+        f"{r['bound']} | {r['gap']} | {r['status']} | {r['time_s']} | {r['total_s']} | {r['verified_percent']} | {r['connected']} |"
+        for r in rows
+    ]
     (out / "benchmark.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     fig = planner.comparison_figure(rows, f"closed form vs greedy vs optimal (MILP limit {args.time_limit:g} s)")

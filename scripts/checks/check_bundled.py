@@ -32,14 +32,27 @@ def site_path(name: str, tmp: Path) -> tuple[Path, list[str]]:
         return ROOT / "instances" / f"{name}.json", []
     params, xy, extra = SMALL[name]
     path = tmp / f"{name}.json"
-    path.write_text(json.dumps({"format": "tls-planner/1", "name": name, "parameters": params,
-                                "zones": [{"id": "R", "scan_side": "inside", "coordinates": xy, "height_m": 3}]}))
+    path.write_text(
+        json.dumps(
+            {
+                "format": "tls-planner/1",
+                "name": name,
+                "parameters": params,
+                "zones": [{"id": "R", "scan_side": "inside", "coordinates": xy, "height_m": 3}],
+            }
+        )
+    )
     return path, extra
 
 
 def plan_json(site: Path, extra: list[str], out: Path) -> dict:
-    proc = subprocess.run([sys.executable, "-m", "planner", "plan", str(site), "--out", str(out), "--quiet", *extra],
-                          capture_output=True, text=True, cwd=ROOT, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "planner", "plan", str(site), "--out", str(out), "--quiet", *extra],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        check=False,
+    )
     if proc.returncode != 0:
         raise RuntimeError(f"planner plan {site.name} exited {proc.returncode}: {proc.stderr.strip()[-300:]}")
     return json.loads((out / "plan.json").read_text())
@@ -78,8 +91,11 @@ def main() -> int:
             got = plan_json(site, extra, tmp / name)
             greedy = None if a.no_greedy else plan_json(site, ["--method", "greedy", *extra], tmp / f"{name}-g")
             diff = differences(name, rows[name], got, greedy)
-            print(f"{name}: {'ok' if not diff else 'DIFFERS'} ({got['counts']['total']} stations, "
-                  f"{got['status']}, scope {got['bound_scope']})", flush=True)
+            print(
+                f"{name}: {'ok' if not diff else 'DIFFERS'} ({got['counts']['total']} stations, "
+                f"{got['status']}, scope {got['bound_scope']})",
+                flush=True,
+            )
             found += diff
     print("\n".join(found) if found else "every row as recorded")
     return 1 if found else 0

@@ -37,8 +37,16 @@ def doors(source: Path) -> list[dict]:
         za, wa, zb, wb = MATCH.match(m["match"]).groups()  # type: ignore[union-attr]
         length = site.zone(za).walls[int(wa) - 1].length_m
         mid = length / 2
-        out.append({"zone": za, "wall": int(wa), "s0_m": round(mid - DOOR_M / 2, 3), "s1_m": round(mid + DOOR_M / 2, 3),
-                    "kind": "door", "name": f"assumed door {za}/{wa} - {zb}/{wb}"})
+        out.append(
+            {
+                "zone": za,
+                "wall": int(wa),
+                "s0_m": round(mid - DOOR_M / 2, 3),
+                "s1_m": round(mid + DOOR_M / 2, 3),
+                "kind": "door",
+                "name": f"assumed door {za}/{wa} - {zb}/{wb}",
+            }
+        )
     for c in data["assembly"].get("contacts", []):
         za, wa, zb, wb = CONTACT.match(c["contact"]).groups()  # type: ignore[union-attr]
         a, b = site.zone(za).walls[int(wa) - 1], site.zone(zb).walls[int(wb) - 1]
@@ -46,8 +54,16 @@ def doors(source: Path) -> list[dict]:
         t = (np.array(short.end) - np.array(short.start)) / short.length_m
         s = sorted(float((np.array(p) - np.array(short.start)) @ t) for p in (long_.start, long_.end))
         mid = (max(s[0], 0.0) + min(s[1], short.length_m)) / 2
-        out.append({"zone": z, "wall": int(w), "s0_m": round(mid - DOOR_M / 2, 3), "s1_m": round(mid + DOOR_M / 2, 3),
-                    "kind": "door", "name": f"assumed door {za}/{wa} - {zb}/{wb} (contact)"})
+        out.append(
+            {
+                "zone": z,
+                "wall": int(w),
+                "s0_m": round(mid - DOOR_M / 2, 3),
+                "s1_m": round(mid + DOOR_M / 2, 3),
+                "kind": "door",
+                "name": f"assumed door {za}/{wa} - {zb}/{wb} (contact)",
+            }
+        )
     return out
 
 
@@ -59,9 +75,11 @@ def main() -> None:
     source = Path(args.source)
     data = json.loads(source.read_text())
     data["name"] = "baalbek_site_doors"
-    data["description"] = (data["description"].rstrip(".") + ". With ASSUMED doors: the print gives no openings; "
-                           f"one {DOOR_M:g} m door at the middle of every wall the assembly matched or found in contact "
-                           "(scripts/make/make_baalbek_doors.py), to plan the temple as one registration network.")
+    data["description"] = (
+        data["description"].rstrip(".") + ". With ASSUMED doors: the print gives no openings; "
+        f"one {DOOR_M:g} m door at the middle of every wall the assembly matched or found in contact "
+        "(scripts/make/make_baalbek_doors.py), to plan the temple as one registration network."
+    )
     data["openings"] = doors(source)
     Path(args.out).write_text(json.dumps(data, indent=2) + "\n")
     print(f"wrote {args.out}: {len(data['openings'])} assumed doors")

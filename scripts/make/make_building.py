@@ -44,15 +44,24 @@ def building(seed: int) -> dict:
     for x0, x1 in cols_b:
         for y0, y1 in _cuts(30.0, rng):
             rooms.append([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
-    zones = [{"id": f"R{k:02d}", "scan_side": "inside", "coordinates": [[round(a, 3), round(b, 3)] for a, b in r],
-              "height_m": HEIGHT_M} for k, r in enumerate(rooms, 1)]
+    zones = [
+        {
+            "id": f"R{k:02d}",
+            "scan_side": "inside",
+            "coordinates": [[round(a, 3), round(b, 3)] for a, b in r],
+            "height_m": HEIGHT_M,
+        }
+        for k, r in enumerate(rooms, 1)
+    ]
     outline = [[0, 0], [44, 0], [44, 12], [12, 12], [12, 30], [0, 30]]
     zones.append({"id": "outline", "scan_side": "outside", "coordinates": outline, "height_m": HEIGHT_M})
     return {
         "format": "tls-planner/1",
         "name": f"building{len(rooms)}",
-        "description": (f"A generated building (scripts/make/make_building.py --seed {seed}): {len(rooms)} rooms 2-7 m "
-                        "across in an L-shaped outline, walls 4.2 m, interior walls 0.3 m."),
+        "description": (
+            f"A generated building (scripts/make/make_building.py --seed {seed}): {len(rooms)} rooms 2-7 m "
+            "across in an L-shaped outline, walls 4.2 m, interior walls 0.3 m."
+        ),
         "source": "scripts/make/make_building.py",
         "instrument": "dissertation-tables",
         "parameters": {"theta_max_deg": 68, "overlap": 0.30},

@@ -20,20 +20,28 @@ Ring = list[tuple[float, float]]
 
 #: metres; (name, elevation, room height, rooms, walls, doors, columns)
 GROUND: dict = {
-    "name": "Ground floor", "elevation": 0.0, "height": 2.7,
+    "name": "Ground floor",
+    "elevation": 0.0,
+    "height": 2.7,
     "rooms": {
         "Living": [(0.2, 0.2), (7.9, 0.2), (7.9, 4.0), (4.0, 4.0), (4.0, 7.8), (0.2, 7.8)],
         "Kitchen": [(8.1, 0.2), (11.8, 0.2), (11.8, 4.0), (8.1, 4.0)],
         "Hall": [(4.2, 4.2), (11.8, 4.2), (11.8, 7.8), (4.2, 7.8)],
     },
     "walls": [(7.9, 0.2, 8.1, 4.0), (4.0, 4.0, 12.0, 4.2), (4.0, 4.2, 4.2, 8.0)],
-    "doors": {"D-living-kitchen": (7.9, 1.5, 8.1, 2.4), "D-kitchen-hall": (9.5, 4.0, 10.4, 4.2),
-              "D-living-hall": (4.0, 5.5, 4.2, 6.4), "D-front": (11.8, 5.5, 12.0, 6.5)},
+    "doors": {
+        "D-living-kitchen": (7.9, 1.5, 8.1, 2.4),
+        "D-kitchen-hall": (9.5, 4.0, 10.4, 4.2),
+        "D-living-hall": (4.0, 5.5, 4.2, 6.4),
+        "D-front": (11.8, 5.5, 12.0, 6.5),
+    },
     "columns": {"C1": (2.0, 2.0, 2.3, 2.3)},
     "windows": {"W-kitchen": (9.5, 0.0, 10.7, 0.2)},  # written only with build_house(..., windows=True)
 }
 UPPER: dict = {
-    "name": "Upper floor", "elevation": 3.0, "height": 2.5,
+    "name": "Upper floor",
+    "elevation": 3.0,
+    "height": 2.5,
     "rooms": {
         "Bedroom": [(0.2, 0.2), (5.9, 0.2), (5.9, 7.8), (0.2, 7.8)],
         "Study": [(6.1, 0.2), (11.8, 0.2), (11.8, 7.8), (6.1, 7.8)],
@@ -52,8 +60,14 @@ def _box(x0: float, y0: float, x1: float, y1: float) -> Ring:
     return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
 
 
-def build_house(path: Path | str, schema: str = "IFC4", *, spaces: bool = True, faceless_space: str | None = None,
-                windows: bool = False) -> Path:
+def build_house(
+    path: Path | str,
+    schema: str = "IFC4",
+    *,
+    spaces: bool = True,
+    faceless_space: str | None = None,
+    windows: bool = False,
+) -> Path:
     """Write the house to ``path`` and return it.
 
     ``spaces=False`` leaves the rooms out (a model the planner must refuse); ``faceless_space``
@@ -72,8 +86,14 @@ def build_house(path: Path | str, schema: str = "IFC4", *, spaces: bool = True, 
     length = run("unit.add_si_unit", f, unit_type="LENGTHUNIT", prefix="MILLI")
     run("unit.assign_unit", f, units=[length])
     model = run("context.add_context", f, context_type="Model")
-    body = run("context.add_context", f, context_type="Model", context_identifier="Body", target_view="MODEL_VIEW",
-               parent=model)
+    body = run(
+        "context.add_context",
+        f,
+        context_type="Model",
+        context_identifier="Body",
+        target_view="MODEL_VIEW",
+        parent=model,
+    )
     site = run("root.create_entity", f, ifc_class="IfcSite", name="Site")
     building = run("root.create_entity", f, ifc_class="IfcBuilding", name="House")
     run("aggregate.assign_object", f, products=[site], relating_object=project)

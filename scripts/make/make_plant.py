@@ -36,8 +36,12 @@ def _r(v: float) -> float:
 
 
 def _rect(cx: float, cy: float, w: float, h: float) -> list[list[float]]:
-    return [[_r(cx - w / 2), _r(cy - h / 2)], [_r(cx + w / 2), _r(cy - h / 2)],
-            [_r(cx + w / 2), _r(cy + h / 2)], [_r(cx - w / 2), _r(cy + h / 2)]]
+    return [
+        [_r(cx - w / 2), _r(cy - h / 2)],
+        [_r(cx + w / 2), _r(cy - h / 2)],
+        [_r(cx + w / 2), _r(cy + h / 2)],
+        [_r(cx - w / 2), _r(cy + h / 2)],
+    ]
 
 
 def _object(kind: str, cx: float, cy: float, rng: np.random.Generator) -> tuple[list[list[float]], float]:
@@ -69,8 +73,9 @@ def plant(area_ha: float, seed: int) -> dict:
             kind = kinds[int(rng.choice(3, p=[0.45, 0.35, 0.20]))]
             jx, jy = rng.uniform(-1.5, 1.5, size=2)
             xy, h = _object(kind, cx + jx, cy + jy, rng)
-            zones.append({"id": f"{kind[0].upper()}{i:02d}{j:02d}", "scan_side": "outside", "coordinates": xy,
-                          "height_m": h})
+            zones.append(
+                {"id": f"{kind[0].upper()}{i:02d}{j:02d}", "scan_side": "outside", "coordinates": xy, "height_m": h}
+            )
             if rng.random() < 1 / 3:  # equipment in a corner of the cell, clear of the object and the roads
                 s = rng.uniform(1.5, 2.5)
                 corner = rng.choice(4)
@@ -83,18 +88,24 @@ def plant(area_ha: float, seed: int) -> dict:
     return {
         "format": "tls-planner/1",
         "name": f"plant_{area_ha:g}ha",
-        "description": (f"A generated plant (scripts/make/make_plant.py --area-ha {area_ha:g} --seed {seed}): "
-                        f"{n} x {n} cells of {CELL_M:g} m, one building, tank or pipe rack per cell scanned from "
-                        "outside, small equipment as obstacles, roads between the cells as the accessible area, "
-                        "excavations as no-go areas; an 8 m ring road inside the boundary."),
+        "description": (
+            f"A generated plant (scripts/make/make_plant.py --area-ha {area_ha:g} --seed {seed}): "
+            f"{n} x {n} cells of {CELL_M:g} m, one building, tank or pipe rack per cell scanned from "
+            "outside, small equipment as obstacles, roads between the cells as the accessible area, "
+            "excavations as no-go areas; an 8 m ring road inside the boundary."
+        ),
         "source": "scripts/make/make_plant.py",
         "instrument": "leica-p30",
         "parameters": {"theta_max_deg": 70, "overlap": 0.30, "max_slant_range_m": MAX_RANGE_M},
         "zones": zones,
         "obstacles": obstacles,
         "no_go": no_go,
-        "boundary": [[-ROAD_M, -ROAD_M], [_r(side + ROAD_M), -ROAD_M], [_r(side + ROAD_M), _r(side + ROAD_M)],
-                     [-ROAD_M, _r(side + ROAD_M)]],
+        "boundary": [
+            [-ROAD_M, -ROAD_M],
+            [_r(side + ROAD_M), -ROAD_M],
+            [_r(side + ROAD_M), _r(side + ROAD_M)],
+            [-ROAD_M, _r(side + ROAD_M)],
+        ],
     }
 
 
@@ -110,7 +121,9 @@ def main(argv: list[str] | None = None) -> int:
     body = {k: v for k, v in data.items() if k != "zones"}
     text = json.dumps(body, indent=1, separators=(",", ": ")).rstrip("}").rstrip()
     out.write_text(text + f',\n "zones": [\n{lines}\n ]\n}}\n')
-    print(f"wrote {out}: {len(data['zones'])} objects, {len(data['obstacles'])} obstacles, {len(data['no_go'])} no-go areas")
+    print(
+        f"wrote {out}: {len(data['zones'])} objects, {len(data['obstacles'])} obstacles, {len(data['no_go'])} no-go areas"
+    )
     return 0
 
 

@@ -28,8 +28,16 @@ def main(src: str = "instances/baalbek.json", out: str = "docs/baalbek_assembled
         if z.frame != SITE_FRAME:
             continue
         outside = z.scan_side is ScanSide.OUTSIDE
-        ax.add_patch(Polygon(z.xy, closed=True, fc="none" if outside else "lightsteelblue", ec="k",
-                             lw=1.2 if outside else 0.8, alpha=1.0 if outside else 0.7))
+        ax.add_patch(
+            Polygon(
+                z.xy,
+                closed=True,
+                fc="none" if outside else "lightsteelblue",
+                ec="k",
+                lw=1.2 if outside else 0.8,
+                alpha=1.0 if outside else 0.7,
+            )
+        )
         if not outside:
             c = z.polygon.representative_point()
             ax.annotate(z.id, (c.x, c.y), ha="center", va="center", fontsize=8)
@@ -37,22 +45,35 @@ def main(src: str = "instances/baalbek.json", out: str = "docs/baalbek_assembled
     for m in report.used:
         w = zones[m.zone_a].outer_walls[m.wall_a - 1]
         ax.plot([w.start[0], w.end[0]], [w.start[1], w.end[1]], color="crimson", lw=3, solid_capstyle="butt")
-    ax.plot([], [], color="crimson", lw=3, label=f"matched walls ({len(report.used)}), residual <= "
-            f"{max(m.residual_m for m in report.used) * 1000:.1f} mm")
+    ax.plot(
+        [],
+        [],
+        color="crimson",
+        lw=3,
+        label=f"matched walls ({len(report.used)}), residual <= {max(m.residual_m for m in report.used) * 1000:.1f} mm",
+    )
     for c in report.contacts:
         w = zones[c.zone].outer_walls[c.wall - 1]
         ax.plot([w.start[0], w.end[0]], [w.start[1], w.end[1]], color="royalblue", lw=2.5, solid_capstyle="butt")
     if report.contacts:
-        ax.plot([], [], color="royalblue", lw=2.5, label=f"collinear contacts ({len(report.contacts)}), residual <= "
-                f"{max(c.residual_m for c in report.contacts) * 1000:.1f} mm")
+        ax.plot(
+            [],
+            [],
+            color="royalblue",
+            lw=2.5,
+            label=f"collinear contacts ({len(report.contacts)}), residual <= "
+            f"{max(c.residual_m for c in report.contacts) * 1000:.1f} mm",
+        )
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.legend(loc="lower left", fontsize=8)
     ax.set_xlabel("x, m (outline frame)")
     ax.set_ylabel("y, m")
     left = ", ".join(z for z, _ in report.unplaced) or "none"
-    ax.set_title(f"{site.name}: zones placed from shared walls and collinear contacts (table 4.3); not placed: {left}",
-                 fontsize=9)
+    ax.set_title(
+        f"{site.name}: zones placed from shared walls and collinear contacts (table 4.3); not placed: {left}",
+        fontsize=9,
+    )
     fig.tight_layout()
     fig.savefig(out)
     print(f"wrote {out}")

@@ -34,8 +34,13 @@ def cover_ip(rows: sp.csr_matrix, time_s: float) -> tuple[Any, np.ndarray, int]:
     """The cover of ``rows`` (pieces x candidates) by HiGHS's MIP within ``time_s``: its result, the chosen
     columns (re-checked to cover every row), and the proven bound on the fewest columns (rounded up)."""
     n = rows.shape[1]
-    r = milp(np.ones(n), constraints=LinearConstraint(rows, lb=1), integrality=np.ones(n), bounds=Bounds(0, 1),
-             options={"time_limit": time_s})
+    r = milp(
+        np.ones(n),
+        constraints=LinearConstraint(rows, lb=1),
+        integrality=np.ones(n),
+        bounds=Bounds(0, 1),
+        options={"time_limit": time_s},
+    )
     chosen = np.flatnonzero(np.round(r.x) > 0) if r.x is not None else np.array([], dtype=int)
     assert chosen.size == 0 or np.all(rows[:, chosen].sum(axis=1) >= 1), "HiGHS cover does not cover"
     return r, chosen, round(r.fun) if r.status == 0 else math.ceil(r.mip_dual_bound - 1e-6)
@@ -51,8 +56,13 @@ def highs_row(a: sp.csr_matrix, time_s: float) -> dict:
     at = _rows_seen(a)
     t0 = time.perf_counter()
     r, chosen, _ = cover_ip(at, time_s)
-    return {"what": "plain highs", "setting": f"{time_s:g} s, status {r.status}", "value": int(chosen.size) or "",
-            "bound": round(float(r.mip_dual_bound), 3), "time_s": round(time.perf_counter() - t0, 1)}
+    return {
+        "what": "plain highs",
+        "setting": f"{time_s:g} s, status {r.status}",
+        "value": int(chosen.size) or "",
+        "bound": round(float(r.mip_dual_bound), 3),
+        "time_s": round(time.perf_counter() - t0, 1),
+    }
 
 
 def linked_lp_row(a: sp.csr_matrix, adj: sp.csr_matrix) -> dict:
@@ -63,11 +73,17 @@ def linked_lp_row(a: sp.csr_matrix, adj: sp.csr_matrix) -> dict:
     links.eliminate_zeros()
     t0 = time.perf_counter()
     lhs = sp.vstack([-at, sp.identity(n, format="csr") - links]).tocsr()
-    res = linprog(np.ones(n), A_ub=lhs, b_ub=np.concatenate([-np.ones(at.shape[0]), np.zeros(n)]), bounds=(0, 1),
-                  method="highs")
+    res = linprog(
+        np.ones(n), A_ub=lhs, b_ub=np.concatenate([-np.ones(at.shape[0]), np.zeros(n)]), bounds=(0, 1), method="highs"
+    )
     assert res.status == 0, res.message
-    return {"what": "linked lp", "setting": "cover LP + a linked station beside each", "value": round(res.fun, 3),
-            "bound": "", "time_s": round(time.perf_counter() - t0, 1)}
+    return {
+        "what": "linked lp",
+        "setting": "cover LP + a linked station beside each",
+        "value": round(res.fun, 3),
+        "bound": "",
+        "time_s": round(time.perf_counter() - t0, 1),
+    }
 
 
 def rank_cut_row(a: sp.csr_matrix, mid: np.ndarray, radius: float, step: float, time_s: float) -> dict:
@@ -88,27 +104,40 @@ def rank_cut_row(a: sp.csr_matrix, mid: np.ndarray, radius: float, step: float, 
             cuts.append(row)
             rhs.append(k)
     lhs = sp.vstack([-at, -sp.csr_matrix(np.array(cuts))]).tocsr()
-    res = linprog(np.ones(a.shape[0]), A_ub=lhs, b_ub=-np.concatenate([np.ones(at.shape[0]), rhs]), bounds=(0, 1),
-                  method="highs")
+    res = linprog(
+        np.ones(a.shape[0]), A_ub=lhs, b_ub=-np.concatenate([np.ones(at.shape[0]), rhs]), bounds=(0, 1), method="highs"
+    )
     assert res.status == 0, res.message
-    return {"what": "rank cuts", "setting": f"{len(cuts)} discs of {radius:g} m every {step:g} m",
-            "value": round(res.fun, 3), "bound": "", "time_s": round(time.perf_counter() - t0, 1)}
+    return {
+        "what": "rank cuts",
+        "setting": f"{len(cuts)} discs of {radius:g} m every {step:g} m",
+        "value": round(res.fun, 3),
+        "bound": "",
+        "time_s": round(time.perf_counter() - t0, 1),
+    }
 
 
-def merge_row(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], plans: list[tuple[int, ...]],
-              work_s: float) -> dict:
+def merge_row(
+    a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], plans: list[tuple[int, ...]], work_s: float
+) -> dict:
     from planner.solve.connectivity import components, group_members
     from planner.solve.windows import connected_cover_within
 
     union = np.array(sorted(set().union(*map(set, plans))), dtype=np.int64)
     rows = np.flatnonzero(np.asarray(a[union].sum(axis=0)).ravel() > 0)
     t0 = time.perf_counter()
-    got, status, _ = connected_cover_within(a.astype(bool).tocsr(), adj.astype(bool).tocsr(), groups, union, rows,
-                                            np.zeros(0, dtype=np.int64), work_s)
+    got, status, _ = connected_cover_within(
+        a.astype(bool).tocsr(), adj.astype(bool).tocsr(), groups, union, rows, np.zeros(0, dtype=np.int64), work_s
+    )
     assert got is not None, "no connected plan within the union"
     chosen = got.tolist()
     assert np.all(np.asarray(a[chosen].sum(axis=0)).ravel()[rows] >= 1), "merged plan does not cover"
     assert all(len(components(adj, m)) == 1 for m in group_members(groups, chosen).values()), "merged plan split"
-    return {"what": "merge", "setting": f"union of {len(plans)} plans ({union.size} stations), {work_s:g} s work, "
-            f"{status.value} within the union", "value": len(chosen), "bound": "",
-            "time_s": round(time.perf_counter() - t0, 1)}
+    return {
+        "what": "merge",
+        "setting": f"union of {len(plans)} plans ({union.size} stations), {work_s:g} s work, "
+        f"{status.value} within the union",
+        "value": len(chosen),
+        "bound": "",
+        "time_s": round(time.perf_counter() - t0, 1),
+    }

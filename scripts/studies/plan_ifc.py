@@ -35,24 +35,37 @@ def plan_storey(path: Path, storey: str, out: Path, tag: str, registration: str 
     per_room = Counter(s.zone for s in plan.stations)
     rooms = ", ".join(f"{z.id} {per_room.get(z.id, 0)}" for z in site.zones)
     png = out / f"ifc_{tag}.png"
-    png.write_bytes(png_bytes(storey_figure(site, plan.stations, site.zones[0].frame,
-                                            f"{path.name}, storey {storey}: {len(plan.stations)} stations")))
+    png.write_bytes(
+        png_bytes(
+            storey_figure(
+                site, plan.stations, site.zones[0].frame, f"{path.name}, storey {storey}: {len(plan.stations)} stations"
+            )
+        )
+    )
     scope = r.info.get("bound_scope", "pool")
     mode = registration or default_registration(site)
-    return (f"| {path.name} | {storey} | {mode} | {len(site.zones)} | {len(plan.stations)} | {r.bound} ({scope}) | "
-            f"{dt:.1f} | {plan.verification.percent:.3f} % | {rooms} | {png.relative_to(ROOT) if png.is_relative_to(ROOT) else png} |")
+    return (
+        f"| {path.name} | {storey} | {mode} | {len(site.zones)} | {len(plan.stations)} | {r.bound} ({scope}) | "
+        f"{dt:.1f} | {plan.verification.percent:.3f} % | {rooms} | {png.relative_to(ROOT) if png.is_relative_to(ROOT) else png} |"
+    )
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fzk", default=str(ROOT / "instances/external/AC20-FZK-Haus.ifc"))
     ap.add_argument("--out", default=str(ROOT / "docs/figures"))
-    ap.add_argument("--registration", choices=("zone", "site"), default=None,
-                    help="registration bundles (default: the planner's, site for a model with doors)")
+    ap.add_argument(
+        "--registration",
+        choices=("zone", "site"),
+        default=None,
+        help="registration bundles (default: the planner's, site for a model with doors)",
+    )
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    print("| model | storey | registration | rooms | stations | bound (scope) | time s | verified | stations per room | figure |")
+    print(
+        "| model | storey | registration | rooms | stations | bound (scope) | time s | verified | stations per room | figure |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|")
     house = ROOT / "instances/house2.ifc"
     for storey in ("Ground floor", "Upper floor"):

@@ -34,8 +34,12 @@ def table_section(name: str) -> list[str]:
     zone = load_site(ROOT / f"instances/{spec['instance']}.json").zones[0]
     rows = compare_table(name, spec, zone, LIMITS)
     bad = [r for r in rows if not r.ok]
-    out = [f"### {name.replace('_', ' ').replace('table', 'Table').replace(' 3 ', ' 3.').replace(' 4 ', ' 4.')} ({spec['instance']})", "",
-           f"{len(rows)} printed numbers compared, {len(rows) - len(bad)} within rounding (|diff| <= {ROUNDING}).", ""]
+    out = [
+        f"### {name.replace('_', ' ').replace('table', 'Table').replace(' 3 ', ' 3.').replace(' 4 ', ' 4.')} ({spec['instance']})",
+        "",
+        f"{len(rows)} printed numbers compared, {len(rows) - len(bad)} within rounding (|diff| <= {ROUNDING}).",
+        "",
+    ]
     if bad:
         out += ["| row | quantity | where | printed | computed | reason |", "|---|---|---|---|---|---|"]
         for r in bad:
@@ -60,20 +64,24 @@ def baalbek_radii() -> list[str]:
         zone = site.zone(zid)
         plan = plan_zone_side(zone, zone.scan_side.sides[0], LIMITS)
         reach = [horizontal_reach_m(LIMITS.max_slant_range_m, h) for h in zone.vertex_heights_m]
-        radii = [round(r, 3) for r in circle_radii(plan.vertices, reach)][:len(printed[key])]
+        radii = [round(r, 3) for r in circle_radii(plan.vertices, reach)][: len(printed[key])]
         flag = "all within rounding" if all(abs(a - b) <= ROUNDING for a, b in zip(radii, printed[key])) else "DIFFER"
         out.append(f"- {zid}: printed {printed[key]}, computed {radii}: {flag}")
     return out + [""]
 
 
 def counts_section() -> list[str]:
-    out = ["## Station counts", "",
-           "Generated: the closed-form candidates of chapter 3. Final step: misplaced candidates moved "
-           "(stand-off reduced), then candidates dropped whose removal keeps every target covered and the "
-           "zone-side's registration-overlap graph as connected as before. Coverage: the closed-form plan "
-           "verified at 0.1 m with the linear height profile.", "",
-           "| instance | published (in + out) | generated (in + out) | after final step (in + out) | status | verified coverage |",
-           "|---|---|---|---|---|---|"]
+    out = [
+        "## Station counts",
+        "",
+        "Generated: the closed-form candidates of chapter 3. Final step: misplaced candidates moved "
+        "(stand-off reduced), then candidates dropped whose removal keeps every target covered and the "
+        "zone-side's registration-overlap graph as connected as before. Coverage: the closed-form plan "
+        "verified at 0.1 m with the linear height profile.",
+        "",
+        "| instance | published (in + out) | generated (in + out) | after final step (in + out) | status | verified coverage |",
+        "|---|---|---|---|---|---|",
+    ]
     for name in ("polygon_a", "polygon_b", "polygon_c", "baalbek"):
         site = load_site(ROOT / f"instances/{name}.json")
         gen = {"inside": 0, "outside": 0}
@@ -83,10 +91,12 @@ def counts_section() -> list[str]:
         plan = plan_site(site, PlanOptions(method="closed-form"))
         got = plan.count_by_side()
         pub = PRINTED["published_counts"][name]
-        out.append(f"| {name} | {pub['inside']} + {pub['outside']} = {pub['inside'] + pub['outside']} | "
-                   f"{gen['inside']} + {gen['outside']} = {sum(gen.values())} | "
-                   f"{got.get('inside', 0)} + {got.get('outside', 0)} = {len(plan.stations)} | "
-                   f"{plan.result.status.value} | {plan.verification.percent:.3f} % |")
+        out.append(
+            f"| {name} | {pub['inside']} + {pub['outside']} = {pub['inside'] + pub['outside']} | "
+            f"{gen['inside']} + {gen['outside']} = {sum(gen.values())} | "
+            f"{got.get('inside', 0)} + {got.get('outside', 0)} = {len(plan.stations)} | "
+            f"{plan.result.status.value} | {plan.verification.percent:.3f} % |"
+        )
         gaps = [f"{g.zone} {g.side} wall {g.wall} {g.from_m:.1f}-{g.to_m:.1f} m" for g in plan.verification.gaps]
         if gaps:
             out.append(f"|  | gaps: {'; '.join(gaps)} | | | | |")

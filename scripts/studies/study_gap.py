@@ -75,10 +75,17 @@ def disc_rows(a: Any, mid: Any, radii: list[float], time_s: float) -> list[dict]
         lp = linprog(np.ones(cols.size), A_ub=-at, b_ub=-np.ones(at.shape[0]), bounds=(0, 1), method="highs")
         ip, chosen, _ = probes.cover_ip(at, time_s)
         proven = ip.status == 0
-        rows.append({"what": "disc", "setting": f"r={r:g} m, LP {lp.fun:.3f}", "pieces": int(at.shape[0]),
-                     "candidates": int(cols.size), "value": int(chosen.size) if chosen.size else "",
-                     "bound": int(chosen.size) if proven else round(float(getattr(ip, "mip_dual_bound", np.nan)), 3),
-                     "time_s": round(time.perf_counter() - t0, 1)})
+        rows.append(
+            {
+                "what": "disc",
+                "setting": f"r={r:g} m, LP {lp.fun:.3f}",
+                "pieces": int(at.shape[0]),
+                "candidates": int(cols.size),
+                "value": int(chosen.size) if chosen.size else "",
+                "bound": int(chosen.size) if proven else round(float(getattr(ip, "mip_dual_bound", np.nan)), 3),
+                "time_s": round(time.perf_counter() - t0, 1),
+            }
+        )
     return rows
 
 
@@ -92,7 +99,7 @@ def greedy_cover(a: Any) -> list[int]:
     while open_.any():
         j = int(np.argmax(af @ open_.astype(np.float64)))
         chosen.append(j)
-        open_[a.indices[a.indptr[j]:a.indptr[j + 1]]] = False
+        open_[a.indices[a.indptr[j] : a.indptr[j + 1]]] = False
     return chosen
 
 
@@ -108,8 +115,13 @@ def plain_search_row(a: Any, moves: int) -> dict:
     found = shrink(a, sp.csr_matrix((n, n), dtype=bool), tuple(str(j) for j in range(n)), start, moves=moves, seed=0)
     seen = np.asarray(a[list(found.selected)].sum(axis=0)).ravel() > 0
     assert np.array_equal(seen, np.asarray(a.sum(axis=0)).ravel() > 0), "plain search lost a piece"
-    return {"what": "plain search", "setting": f"greedy {len(start)}, {moves} moves", "value": len(found.selected),
-            "bound": "", "time_s": round(time.perf_counter() - t0, 1)}
+    return {
+        "what": "plain search",
+        "setting": f"greedy {len(start)}, {moves} moves",
+        "value": len(found.selected),
+        "bound": "",
+        "time_s": round(time.perf_counter() - t0, 1),
+    }
 
 
 def scip_row(a: Any, time_s: float) -> dict:
@@ -124,16 +136,22 @@ def scip_row(a: Any, time_s: float) -> dict:
     m.setParam("lp/threads", 1)
     x = [m.addVar(vtype="B", obj=1.0) for _ in range(a.shape[0])]
     for t in np.flatnonzero(np.diff(at.indptr) > 0):
-        m.addCons(quicksum(x[j] for j in at.indices[at.indptr[t]:at.indptr[t + 1]]) >= 1)
+        m.addCons(quicksum(x[j] for j in at.indices[at.indptr[t] : at.indptr[t + 1]]) >= 1)
     t0 = time.perf_counter()
     m.optimize()
     best = int(round(m.getObjVal())) if m.getNSols() else ""
-    return {"what": "plain scip", "setting": f"{time_s:g} s, {m.getStatus()}", "value": best,
-            "bound": round(m.getDualbound(), 3), "time_s": round(time.perf_counter() - t0, 1)}
+    return {
+        "what": "plain scip",
+        "setting": f"{time_s:g} s, {m.getStatus()}",
+        "value": best,
+        "bound": round(m.getDualbound(), 3),
+        "time_s": round(time.perf_counter() - t0, 1),
+    }
 
 
-def connected_rows(a: Any, adj: Any, groups: tuple[str, ...], moves: int, seeds: list[int],
-                   plans: list | None = None) -> list[dict]:
+def connected_rows(
+    a: Any, adj: Any, groups: tuple[str, ...], moves: int, seeds: list[int], plans: list | None = None
+) -> list[dict]:
     """The connected greedy pruned, then the connected local search per seed; each seed's plan is appended to
     ``plans`` when given."""
     import numpy as np
@@ -146,8 +164,15 @@ def connected_rows(a: Any, adj: Any, groups: tuple[str, ...], moves: int, seeds:
     grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
     assert grown is not None, "no connected greedy plan"
     start = stitch(a, adj, groups, [grown]).selected
-    rows = [{"what": "connected greedy", "setting": "20 starts, pruned", "value": len(start), "bound": "",
-             "time_s": round(time.perf_counter() - t0, 1)}]
+    rows = [
+        {
+            "what": "connected greedy",
+            "setting": "20 starts, pruned",
+            "value": len(start),
+            "bound": "",
+            "time_s": round(time.perf_counter() - t0, 1),
+        }
+    ]
     for seed in seeds:
         t0 = time.perf_counter()
         found = shrink(a, adj, groups, start, moves=moves, seed=seed)
@@ -155,8 +180,15 @@ def connected_rows(a: Any, adj: Any, groups: tuple[str, ...], moves: int, seeds:
         assert all(p == 1 for p in parts), "connected search split a registration group"
         if plans is not None:
             plans.append(found.selected)
-        rows.append({"what": "connected search", "setting": f"seed {seed}, {moves} moves", "value": len(found.selected),
-                     "bound": "", "time_s": round(time.perf_counter() - t0, 1)})
+        rows.append(
+            {
+                "what": "connected search",
+                "setting": f"seed {seed}, {moves} moves",
+                "value": len(found.selected),
+                "bound": "",
+                "time_s": round(time.perf_counter() - t0, 1),
+            }
+        )
     return rows
 
 
@@ -165,8 +197,15 @@ def one(args: argparse.Namespace) -> list[dict]:
 
     a, adj, groups, mid = site_matrices(args.area)
     t0 = time.perf_counter()
-    rows = [{"what": "lp", "setting": "cover LP", "value": round(lp_bound(a), 3), "bound": "",
-             "time_s": round(time.perf_counter() - t0, 1)}]
+    rows = [
+        {
+            "what": "lp",
+            "setting": "cover LP",
+            "value": round(lp_bound(a), 3),
+            "bound": "",
+            "time_s": round(time.perf_counter() - t0, 1),
+        }
+    ]
     rows += disc_rows(a, mid, args.discs, args.disc_time)
     if args.plain_moves:
         rows.append(plain_search_row(a, args.plain_moves))
@@ -192,8 +231,18 @@ def one(args: argparse.Namespace) -> list[dict]:
 
 def _child_args(args: argparse.Namespace) -> list[str]:
     """The options of this run, for its child under ``/usr/bin/time -v``."""
-    out = ["--area", f"{args.area:g}", "--disc-time", f"{args.disc_time:g}", "--plain-moves", str(args.plain_moves),
-           "--scip", f"{args.scip:g}", "--connected-moves", str(args.connected_moves)]
+    out = [
+        "--area",
+        f"{args.area:g}",
+        "--disc-time",
+        f"{args.disc_time:g}",
+        "--plain-moves",
+        str(args.plain_moves),
+        "--scip",
+        f"{args.scip:g}",
+        "--connected-moves",
+        str(args.connected_moves),
+    ]
     out += ["--highs", f"{args.highs:g}", "--merge", f"{args.merge:g}"] + (["--linked-lp"] if args.linked_lp else [])
     if args.rank_cuts:
         out += ["--rank-cuts", *(f"{r:g}" for r in args.rank_cuts)]
@@ -215,10 +264,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--connected-moves", type=int, default=20000)
     ap.add_argument("--highs", type=float, default=0.0, metavar="S", help="plain cover by HiGHS's MIP for S s")
     ap.add_argument("--linked-lp", action="store_true", help="cover LP with a linked station beside each")
-    ap.add_argument("--rank-cuts", type=float, nargs=2, default=None, metavar=("R", "STEP"),
-                    help="cover LP with a rank cut per disc of R m every STEP m (each disc's optimum: --disc-time s)")
-    ap.add_argument("--merge", type=float, default=0.0, metavar="W",
-                    help="connected MILP (W s of CP-SAT work) over the union of the --seeds plans")
+    ap.add_argument(
+        "--rank-cuts",
+        type=float,
+        nargs=2,
+        default=None,
+        metavar=("R", "STEP"),
+        help="cover LP with a rank cut per disc of R m every STEP m (each disc's optimum: --disc-time s)",
+    )
+    ap.add_argument(
+        "--merge",
+        type=float,
+        default=0.0,
+        metavar="W",
+        help="connected MILP (W s of CP-SAT work) over the union of the --seeds plans",
+    )
     ap.add_argument("--csv", type=Path, default=None, help="append the rows to this CSV")
     ap.add_argument("--one", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--json", type=Path, default=None, help=argparse.SUPPRESS)

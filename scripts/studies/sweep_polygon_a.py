@@ -39,8 +39,11 @@ def main() -> None:
             plan = planner.plan_site(site, planner.PlanOptions(method="milp", milp=milp))
             r = plan.result
             bound = "-" if r.bound is None else f"{r.bound:g}"
-            print(f"| {theta:g} | {overlap:.0%} | {counts['closed-form']} | {counts['greedy']} | {len(plan.stations)} | "
-                  f"{bound} | {r.status.value} | {time.perf_counter() - t0:.1f} | {plan.verification.percent:.3f} |", flush=True)
+            print(
+                f"| {theta:g} | {overlap:.0%} | {counts['closed-form']} | {counts['greedy']} | {len(plan.stations)} | "
+                f"{bound} | {r.status.value} | {time.perf_counter() - t0:.1f} | {plan.verification.percent:.3f} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

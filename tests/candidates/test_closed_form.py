@@ -31,11 +31,14 @@ def test_printed_rows_reproduce_within_rounding(table):
     assert len(rows) == 4 * len(spec["wall"]) + 3 * len(spec["vertex"])
 
 
-@pytest.mark.parametrize("name, counts", [
-    ("polygon_a", {"inside": 12, "outside": 16}),   # published 12 + 16
-    ("polygon_b", {"inside": 1, "outside": 6}),     # published 1 + 6
-    ("polygon_c", {"inside": 17, "outside": 17}),   # table 3.4 lists 17 + 17 (text: 16 + 18)
-])
+@pytest.mark.parametrize(
+    "name, counts",
+    [
+        ("polygon_a", {"inside": 12, "outside": 16}),  # published 12 + 16
+        ("polygon_b", {"inside": 1, "outside": 6}),  # published 1 + 6
+        ("polygon_c", {"inside": 17, "outside": 17}),  # table 3.4 lists 17 + 17 (text: 16 + 18)
+    ],
+)
 def test_generated_counts_match_the_print(name, counts):
     zone = load_site(INSTANCES / f"{name}.json").zones[0]
     assert generated_counts(zone, LIMITS) == counts
@@ -78,6 +81,10 @@ def test_docs_reproduction_md_is_what_its_script_writes_now(tmp_path):
     from tests.conftest import ROOT
 
     out = tmp_path / "reproduction.md"
-    subprocess.run([sys.executable, str(ROOT / "scripts" / "studies" / "reproduce_tables.py"), "--out", str(out)], check=True,
-                   cwd=ROOT, capture_output=True)
+    subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "studies" / "reproduce_tables.py"), "--out", str(out)],
+        check=True,
+        cwd=ROOT,
+        capture_output=True,
+    )
     assert out.read_text() == (ROOT / "docs" / "reproduction.md").read_text()

@@ -60,8 +60,12 @@ def test_medial_axis_of_a_rectangle_is_its_centre_line() -> None:
     import shapely
 
     lines = medial_axis(shapely.box(0.0, 0.0, 30.0, 6.0))
-    xy = np.vstack([shapely.get_coordinates(shapely.line_interpolate_point(g, np.linspace(0, 1, 101), normalized=True))
-                    for g in lines])
+    xy = np.vstack(
+        [
+            shapely.get_coordinates(shapely.line_interpolate_point(g, np.linspace(0, 1, 101), normalized=True))
+            for g in lines
+        ]
+    )
     mid = xy[(xy[:, 0] > 3.5) & (xy[:, 0] < 26.5)]  # away from the corner branches (they reach x = 3)
     assert len(mid) > 0 and np.allclose(mid[:, 1], 3.0, atol=1e-9)
 
@@ -74,15 +78,25 @@ def test_maximal_cells_of_intervals() -> None:
     assert maximal_cells(lo, hi).tolist() == pytest.approx([1.5, 5.0, 6.75])
 
 
-@pytest.mark.parametrize(("site", "reason"), [
-    # walls 5 m high, S_max 4 m: no height reaches the top (s <= dz)
-    (Site("high", (box_zone(10.0, 6.0, 5.0),), Parameters(max_slant_range_m=4.0, overlap=0.0)), "beyond range"),
-    # 0.6 m wide: every point is within the 0.4-m stand-off of a wall
-    (Site("slot", (box_zone(10.0, 0.6),), Parameters(overlap=0.0)), "no place to stand"),
-    # a screen 0.2 m in front of the outside face from x = 2 to 8: behind it from everywhere
-    (Site("screen", (box_zone(10.0, 6.0, side=ScanSide.OUTSIDE),), Parameters(overlap=0.0),
-          obstacles=(Obstacle("screen", ((2.0, -0.3), (8.0, -0.3), (8.0, -0.2), (2.0, -0.2)), 5.0),)), "hidden behind"),
-])
+@pytest.mark.parametrize(
+    ("site", "reason"),
+    [
+        # walls 5 m high, S_max 4 m: no height reaches the top (s <= dz)
+        (Site("high", (box_zone(10.0, 6.0, 5.0),), Parameters(max_slant_range_m=4.0, overlap=0.0)), "beyond range"),
+        # 0.6 m wide: every point is within the 0.4-m stand-off of a wall
+        (Site("slot", (box_zone(10.0, 0.6),), Parameters(overlap=0.0)), "no place to stand"),
+        # a screen 0.2 m in front of the outside face from x = 2 to 8: behind it from everywhere
+        (
+            Site(
+                "screen",
+                (box_zone(10.0, 6.0, side=ScanSide.OUTSIDE),),
+                Parameters(overlap=0.0),
+                obstacles=(Obstacle("screen", ((2.0, -0.3), (8.0, -0.3), (8.0, -0.2), (2.0, -0.2)), 5.0),),
+            ),
+            "hidden behind",
+        ),
+    ],
+)
 def test_refusal_names_why_the_region_is_empty(site: Site, reason: str) -> None:
     with pytest.raises(InfeasibleError, match="seen from no position") as err:
         build_problem(site, PlanOptions(method="milp", precision=False))

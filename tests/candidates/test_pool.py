@@ -26,11 +26,13 @@ def _move(p: np.ndarray) -> np.ndarray:
 
 def _moved(site: Site) -> Site:
     ring = lambda r: tuple(map(tuple, _move(np.asarray(r)).tolist())) if len(r) else tuple(r)  # noqa: E731
-    return replace(site, zones=tuple(replace(z, vertices=ring(z.vertices), holes=tuple(ring(h) for h in z.holes))
-                                     for z in site.zones),
-                   obstacles=tuple(replace(o, vertices=ring(o.vertices)) for o in site.obstacles),
-                   no_go_areas=tuple(replace(o, vertices=ring(o.vertices)) for o in site.no_go_areas),
-                   boundary=ring(site.boundary) if site.boundary else site.boundary)
+    return replace(
+        site,
+        zones=tuple(replace(z, vertices=ring(z.vertices), holes=tuple(ring(h) for h in z.holes)) for z in site.zones),
+        obstacles=tuple(replace(o, vertices=ring(o.vertices)) for o in site.obstacles),
+        no_go_areas=tuple(replace(o, vertices=ring(o.vertices)) for o in site.no_go_areas),
+        boundary=ring(site.boundary) if site.boundary else site.boundary,
+    )
 
 
 @pytest.mark.parametrize("name", ["house_doors.json", "courtyard.json"])

@@ -34,7 +34,7 @@ def test_opening_pieces_are_no_targets():
     site = load_site(HOUSE)
     t = make_targets(site, 1.0)
     r1 = site.zones.index(site.zone("R1"))
-    on = (t.zone == r1)
+    on = t.zone == r1
     # R1 is 10 x 8 m = 36 m of wall; its front door (1.5 m) and the door to R2 (1.5 m) leave 33 m
     assert (t.s1_m - t.s0_m)[on].sum() == pytest.approx(33.0)
     # no piece of R1's wall 2 overlaps the door at 3.0..4.5 m
@@ -75,9 +75,16 @@ def test_accessible_areas_follow_doors_not_windows():
 
 def test_links_are_pairs_that_see_each_other_through_an_opening():
     site = load_site(HOUSE)
-    cands = [station(5, 4, "R1"), station(15, 3.5, "R2"), station(15, 7.5, "R2"), station(4.5, -10, "house", ScanSide.OUTSIDE)]
+    cands = [
+        station(5, 4, "R1"),
+        station(15, 3.5, "R2"),
+        station(15, 7.5, "R2"),
+        station(4.5, -10, "house", ScanSide.OUTSIDE),
+    ]
     xy = np.array([c.xy for c in cands])
-    links = opening_links(site, xy, [c.frame for c in cands], [space_of(site.zone(c.zone), c.side) for c in cands], 50.0)
+    links = opening_links(
+        site, xy, [c.frame for c in cands], [space_of(site.zone(c.zone), c.side) for c in cands], 50.0
+    )
     pairs = {tuple(sorted(p)) for p in zip(*links.nonzero())}
     # R1(5,4)-R2(15,3.5) crosses the R1-R2 door; R1(5,4)-outside(4.5,-10) crosses the front door (x 4.0..5.5);
     # R1(5,4)-R2(15,7.5) meets x = 10 at y = 5.75, beside the door (3.0..4.5): wall

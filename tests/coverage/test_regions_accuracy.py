@@ -31,19 +31,26 @@ def _site(name: str, standoff: float) -> Site:
     if name == "convex":
         site = Site("convex", (Zone("R", ScanSide.INSIDE, ((0, 0), (70, 0), (70, 45), (0, 45)), (6,) * 4),))
     else:
-        site = Site("L", (Zone("L", ScanSide.OUTSIDE, L_SHAPE, (6,) * 6),),
-                    obstacles=(Obstacle("column", ((70, 10), (72, 10), (72, 12), (70, 12)), 3.0),))
+        site = Site(
+            "L",
+            (Zone("L", ScanSide.OUTSIDE, L_SHAPE, (6,) * 6),),
+            obstacles=(Obstacle("column", ((70, 10), (72, 10), (72, 12), (70, 12)), 3.0),),
+        )
     return replace(site, parameters=replace(site.parameters, min_standoff_m=standoff))
 
 
 def _limits(model: str) -> SightLimits:
     s_prec = max_slant_range_m(P30, sigma_instr_m(SIGMA_REQ_M, BUDGET))
-    return SightLimits(100.0, 79.0, 1.5, precision_range_m=s_prec, precision=PrecisionRule(P30, BUDGET, SIGMA_REQ_M, model))
+    return SightLimits(
+        100.0, 79.0, 1.5, precision_range_m=s_prec, precision=PrecisionRule(P30, BUDGET, SIGMA_REQ_M, model)
+    )
 
 
 @pytest.mark.parametrize("model", ["table", "soudarissanane"])
 @pytest.mark.parametrize("name,standoff", [("convex", 0.4), ("L", 1.5)])
-def test_region_with_view_error_and_standoff_agrees_with_the_coverage_test(name: str, standoff: float, model: str) -> None:
+def test_region_with_view_error_and_standoff_agrees_with_the_coverage_test(
+    name: str, standoff: float, model: str
+) -> None:
     site, limits = _site(name, standoff), _limits(model)
     assert limits.per_pair_precision and regions_apply(limits)
     targets = make_targets(site, 2.0)
@@ -55,7 +62,9 @@ def test_region_with_view_error_and_standoff_agrees_with_the_coverage_test(name:
     # and points just off the walls, where the stand-off decides
     edge = rng.uniform(0.0, 1.0, size=400)
     pts = np.vstack([pts, np.column_stack([edge * 60.0, rng.uniform(-2 * standoff, 2 * standoff, 400)])])
-    seen_inside, covered = assert_regions_match(site, targets, limits, regions, pts, region_tolerance_m(limits, standoff))
+    seen_inside, covered = assert_regions_match(
+        site, targets, limits, regions, pts, region_tolerance_m(limits, standoff)
+    )
     plain = build_coverage(site, probe_candidates(site, pts), targets, replace(limits, precision=None)).by_target
     refused_by_error = plain.nnz - covered.nnz  # pairs the range rule allowed and the view error refused
     assert seen_inside > 1000

@@ -32,11 +32,11 @@ def seen(site: Site, stations, limits: SightLimits, spacing: float = 1.0):
 
 def test_segments_touch_cases():
     p, q = np.array([[0.0, 0.0]]), np.array([[2.0, 0.0]])
-    assert segments_touch(p, q, np.array([[1.0, -1.0]]), np.array([[1.0, 1.0]]))[0]      # crossing
-    assert segments_touch(p, q, np.array([[2.0, 0.0]]), np.array([[3.0, 1.0]]))[0]       # touching an end
-    assert segments_touch(p, q, np.array([[1.0, 0.0]]), np.array([[3.0, 0.0]]))[0]       # collinear overlap
-    assert not segments_touch(p, q, np.array([[3.0, 0.0]]), np.array([[4.0, 0.0]]))[0]   # collinear, apart
-    assert not segments_touch(p, q, np.array([[0.0, 1.0]]), np.array([[2.0, 1.0]]))[0]   # parallel
+    assert segments_touch(p, q, np.array([[1.0, -1.0]]), np.array([[1.0, 1.0]]))[0]  # crossing
+    assert segments_touch(p, q, np.array([[2.0, 0.0]]), np.array([[3.0, 1.0]]))[0]  # touching an end
+    assert segments_touch(p, q, np.array([[1.0, 0.0]]), np.array([[3.0, 0.0]]))[0]  # collinear overlap
+    assert not segments_touch(p, q, np.array([[3.0, 0.0]]), np.array([[4.0, 0.0]]))[0]  # collinear, apart
+    assert not segments_touch(p, q, np.array([[0.0, 1.0]]), np.array([[2.0, 1.0]]))[0]  # parallel
 
 
 def test_centre_of_a_square_room_sees_every_wall():
@@ -112,15 +112,18 @@ def test_both_views_agree_and_excluded_stations_see_nothing():
     assert cov.slant_m.getrow(0).nnz == 0
 
 
-@pytest.mark.parametrize("height, incidence_3d, pieces", [
-    # a 20 x 20 room, station at (10, 2), 2 m from the south wall; theta_max 68 deg, cos 68 = 0.3746.
-    # horizontal incidence: cos = 2 / sqrt(u^2 + 4) >= 0.3746 for |u| <= 4.95 m, whole 1-m pieces 6..13
-    (3.0, False, list(range(6, 14))),
-    # 3-D incidence to the wall top (3 m, instrument at 0): cos = 2 / sqrt(u^2 + 4 + 9), |u| <= 3.94 m: pieces 7..12
-    (3.0, True, list(range(7, 13))),
-    # 10 m walls: cos <= 2 / sqrt(4 + 100) = 0.196 < 0.3746 anywhere: nothing of the south wall in 3-D
-    (10.0, True, []),
-])
+@pytest.mark.parametrize(
+    "height, incidence_3d, pieces",
+    [
+        # a 20 x 20 room, station at (10, 2), 2 m from the south wall; theta_max 68 deg, cos 68 = 0.3746.
+        # horizontal incidence: cos = 2 / sqrt(u^2 + 4) >= 0.3746 for |u| <= 4.95 m, whole 1-m pieces 6..13
+        (3.0, False, list(range(6, 14))),
+        # 3-D incidence to the wall top (3 m, instrument at 0): cos = 2 / sqrt(u^2 + 4 + 9), |u| <= 3.94 m: pieces 7..12
+        (3.0, True, list(range(7, 13))),
+        # 10 m walls: cos <= 2 / sqrt(4 + 100) = 0.196 < 0.3746 anywhere: nothing of the south wall in 3-D
+        (10.0, True, []),
+    ],
+)
 def test_incidence_in_plan_and_in_3d_by_hand(height, incidence_3d, pieces):
     site = room(h=height)
     t, cov = seen(site, [station(10, 2)], SightLimits(95.913, 68.0, incidence_3d=incidence_3d))

@@ -85,11 +85,14 @@ def test_geojson_opens_with_shapely_and_round_trips(polygon_b, tmp_path):
     assert len(planner.plan_site(back, planner.PlanOptions(method="milp")).stations) == len(plan.stations)
 
 
-@pytest.mark.parametrize("edit, words", [
-    (lambda r: r["parameters"].update(theta_max=70), "tls_planner_site.parameters: theta_max = 70: unknown key"),
-    (lambda r: r["parameters"].update(overlap="0.3"), "parameters.overlap = '0.3': must be a number, not text"),
-    (lambda r: r.update(instrument="no-such-scanner"), "no-such-scanner"),
-])
+@pytest.mark.parametrize(
+    "edit, words",
+    [
+        (lambda r: r["parameters"].update(theta_max=70), "tls_planner_site.parameters: theta_max = 70: unknown key"),
+        (lambda r: r["parameters"].update(overlap="0.3"), "parameters.overlap = '0.3': must be a number, not text"),
+        (lambda r: r.update(instrument="no-such-scanner"), "no-such-scanner"),
+    ],
+)
 def test_an_edited_site_record_in_an_export_is_refused_naming_the_file(polygon_b, tmp_path, edit, words):
     # the record is checked like an instance's parameters: an edit by hand that breaks it is one line naming
     # the file, never a silently different plan
@@ -127,8 +130,16 @@ def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
     lonlat = to_lonlat("EPSG:32637")(utm)
     assert 36.0 < lonlat[0, 0] < 37.0 and 34.0 < lonlat[0, 1] < 34.1  # x = longitude first (always_xy)
     ring = [list(p) for p in lonlat] + [list(lonlat[0])]
-    fc = {"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring]},
-                                                     "properties": {"id": "court", "height_m": 8.0}}]}
+    fc = {
+        "type": "FeatureCollection",
+        "features": [
+            {
+                "type": "Feature",
+                "geometry": {"type": "Polygon", "coordinates": [ring]},
+                "properties": {"id": "court", "height_m": 8.0},
+            }
+        ],
+    }
     path = tmp_path / "court.geojson"
     path.write_text(json.dumps(fc))
     site = planner.read_geojson_site(path, crs="EPSG:32637")
@@ -148,8 +159,16 @@ def _lonlat_court(tmp_path):
 
     utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
     ring = [list(p) for p in to_lonlat("EPSG:32637")(utm)]
-    fc = {"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring + ring[:1]]},
-                                                     "properties": {"id": "court", "height_m": 8.0}}]}
+    fc = {
+        "type": "FeatureCollection",
+        "features": [
+            {
+                "type": "Feature",
+                "geometry": {"type": "Polygon", "coordinates": [ring + ring[:1]]},
+                "properties": {"id": "court", "height_m": 8.0},
+            }
+        ],
+    }
     path = tmp_path / "court.geojson"
     path.write_text(json.dumps(fc))
     return path
@@ -178,8 +197,26 @@ def test_cli_plans_a_lonlat_geojson_with_crs_and_exports_lonlat(tmp_path, capsys
 
     site = _lonlat_court(tmp_path)
     out = tmp_path / "out"
-    assert main(["plan", str(site), "--crs", "EPSG:32637", "--max-range", "60", "--method", "greedy",
-                 "--out", str(out), "--export", "geojson,csv", "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                str(site),
+                "--crs",
+                "EPSG:32637",
+                "--max-range",
+                "60",
+                "--method",
+                "greedy",
+                "--out",
+                str(out),
+                "--export",
+                "geojson,csv",
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     data = json.loads((out / "plan.geojson").read_text())
     assert data["planner"]["crs"] == "EPSG:32637"
     st = [f["geometry"]["coordinates"] for f in data["features"] if f["properties"]["role"] == "station"]
@@ -202,9 +239,26 @@ def test_dxf_is_the_same_bytes_in_two_processes_with_different_hash_seeds(tmp_pa
     files = []
     for seed in ("0", "1"):
         out = tmp_path / f"d{seed}"
-        run = subprocess.run([sys.executable, "-m", "planner", "plan", str(INSTANCES / "polygon_b.json"), "--method",
-                              "greedy", "--out", str(out), "--export", "dxf", "--quiet"], capture_output=True, text=True,
-                             cwd=ROOT, env={**os.environ, "PYTHONHASHSEED": seed})
+        run = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "planner",
+                "plan",
+                str(INSTANCES / "polygon_b.json"),
+                "--method",
+                "greedy",
+                "--out",
+                str(out),
+                "--export",
+                "dxf",
+                "--quiet",
+            ],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env={**os.environ, "PYTHONHASHSEED": seed},
+        )
         assert run.returncode == 0, run.stderr
         files.append((out / "plan.dxf").read_bytes())
     assert files[0] == files[1]

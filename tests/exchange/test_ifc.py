@@ -63,9 +63,12 @@ def test_storeys_by_index_and_all(house):
     assert all(set(z.vertex_heights_m) == {2.5} for z in upper.zones)
     both = read_ifc_site(house)  # default: every storey with spaces, each in its own frame
     assert [(z.frame, z.id) for z in both.zones] == [
-        ("Ground floor", "Ground floor/Hall"), ("Ground floor", "Ground floor/Kitchen"),
-        ("Ground floor", "Ground floor/Living"), ("Upper floor", "Upper floor/Bedroom"),
-        ("Upper floor", "Upper floor/Study")]
+        ("Ground floor", "Ground floor/Hall"),
+        ("Ground floor", "Ground floor/Kitchen"),
+        ("Ground floor", "Ground floor/Living"),
+        ("Upper floor", "Upper floor/Bedroom"),
+        ("Upper floor", "Upper floor/Study"),
+    ]
     with pytest.raises(InputError, match=r"no such storey \(the file has: 1 'Ground floor', 2 'Upper floor'\)"):
         read_ifc_site(house, IfcOptions(storey="Roof"))
 
@@ -80,16 +83,23 @@ def test_exterior_outline(house):
 
 def test_windows_are_openings_only_with_the_flag(tmp_path, house):
     # the bundled house has no windows: the flag changes nothing there
-    assert read_ifc_site(house, IfcOptions(storey="1")).zones == read_ifc_site(house, IfcOptions(storey="1", windows=True)).zones
+    assert (
+        read_ifc_site(house, IfcOptions(storey="1")).zones
+        == read_ifc_site(house, IfcOptions(storey="1", windows=True)).zones
+    )
     # a window in the kitchen's outer wall, x = 9.5..10.7 at y = 0..0.2: the kitchen's first wall runs from
     # (8.1, 0.2) to (11.8, 0.2), so the opening is at s = 9.5 - 8.1 = 1.4 .. 10.7 - 8.1 = 2.6 m along it
     glazed = _builder()(tmp_path / "glazed.ifc", windows=True)
-    plain, flagged = read_ifc_site(glazed, IfcOptions(storey="1")), read_ifc_site(glazed, IfcOptions(storey="1", windows=True))
+    plain, flagged = (
+        read_ifc_site(glazed, IfcOptions(storey="1")),
+        read_ifc_site(glazed, IfcOptions(storey="1", windows=True)),
+    )
     assert plain.zones == read_ifc_site(house, IfcOptions(storey="1")).zones  # a window is no door
     kitchen = flagged.zone("Kitchen")
     wall = _wall_with(kitchen, (8.1, 0.2), (11.8, 0.2))
-    assert [(o.wall, o.s0_m, o.s1_m, o.kind, o.name) for o in kitchen.openings if o.kind == "window"] == \
-        [(wall.index, pytest.approx(1.4), pytest.approx(2.6), "window", "W-kitchen")]
+    assert [(o.wall, o.s0_m, o.s1_m, o.kind, o.name) for o in kitchen.openings if o.kind == "window"] == [
+        (wall.index, pytest.approx(1.4), pytest.approx(2.6), "window", "W-kitchen")
+    ]
     assert [o.name for o in kitchen.openings if o.kind == "door"] == [o.name for o in plain.zone("Kitchen").openings]
 
 
@@ -98,8 +108,9 @@ def test_ifc2x3_reads_as_ifc4(tmp_path, house):
     assert "IFC2X3" in old.read_text()[:2000]
     for storey in ("1", "2"):
         a, b = read_ifc_site(house, IfcOptions(storey=storey)), read_ifc_site(old, IfcOptions(storey=storey))
-        assert [(z.id, z.vertices, z.vertex_heights_m, z.holes, z.openings) for z in a.zones] == \
-               [(z.id, z.vertices, z.vertex_heights_m, z.holes, z.openings) for z in b.zones]
+        assert [(z.id, z.vertices, z.vertex_heights_m, z.holes, z.openings) for z in a.zones] == [
+            (z.id, z.vertices, z.vertex_heights_m, z.holes, z.openings) for z in b.zones
+        ]
 
 
 def test_failures_are_one_line_errors(tmp_path):
@@ -112,8 +123,9 @@ def test_failures_are_one_line_errors(tmp_path):
         read_ifc_site(build(tmp_path / "empty.ifc", spaces=False))
     with pytest.raises(InputError, match="zone Kitchen.*no body geometry"):
         read_ifc_site(build(tmp_path / "faceless.ifc", faceless_space="Kitchen"), IfcOptions(storey="1"))
-    run = subprocess.run([sys.executable, "-m", "planner", "validate", str(text)], capture_output=True, text=True,
-                         cwd=ROOT)
+    run = subprocess.run(
+        [sys.executable, "-m", "planner", "validate", str(text)], capture_output=True, text=True, cwd=ROOT
+    )
     assert run.returncode == 3 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
 
 
@@ -121,12 +133,40 @@ def test_committed_house_plans_per_storey_and_verifies(tmp_path):
     """instances/house2.ifc (the script's output): each storey planned, verified 100 %."""
     for storey in ("1", "2"):
         out = tmp_path / storey
-        run = subprocess.run([sys.executable, "-m", "planner", "plan", str(INSTANCES / "house2.ifc"), "--storey",
-                              storey, "--out", str(out), "--quiet"], capture_output=True, text=True, cwd=ROOT)
+        run = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "planner",
+                "plan",
+                str(INSTANCES / "house2.ifc"),
+                "--storey",
+                storey,
+                "--out",
+                str(out),
+                "--quiet",
+            ],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+        )
         assert run.returncode == 0, run.stderr
         assert "verification at 0.1 m: 100.000 % covered" in run.stdout
-        ver = subprocess.run([sys.executable, "-m", "planner", "verify", str(INSTANCES / "house2.ifc"), "--storey",
-                              storey, str(out / "plan.json")], capture_output=True, text=True, cwd=ROOT)
+        ver = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "planner",
+                "verify",
+                str(INSTANCES / "house2.ifc"),
+                "--storey",
+                storey,
+                str(out / "plan.json"),
+            ],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+        )
         assert ver.returncode == 0, ver.stderr
         stations = json.loads((out / "plan.json").read_text())["stations"]
         zones = {s["zone"] for s in stations}
@@ -173,6 +213,9 @@ def test_a_zone_refused_by_the_site_model_names_the_file(tmp_path, house):
         space.ObjectPlacement.RelativePlacement.Location = far
 
     path = _edited(house, tmp_path / "far.ifc", move_living_room)
-    with pytest.raises(InputError, match=r"far\.ifc: zone Living vertex 1: polygon = \(79\d{14}\.\d, .*"
-                                         r"within \+-1e\+08 m"):
+    with pytest.raises(
+        InputError,
+        match=r"far\.ifc: zone Living vertex 1: polygon = \(79\d{14}\.\d, .*"
+        r"within \+-1e\+08 m",
+    ):
         read_ifc_site(path, IfcOptions(storey="1"))

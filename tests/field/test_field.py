@@ -115,8 +115,13 @@ def test_registration_order_is_honoured():
 
 
 def test_field_time_and_sessions():
-    props = FieldProperties(setup_time_s=100, walking_speed_m_s=1.0, scan_times_s=(("a", 200.0),),
-                            default_setting="a", target_scan_time_s=10)
+    props = FieldProperties(
+        setup_time_s=100,
+        walking_speed_m_s=1.0,
+        scan_times_s=(("a", 200.0),),
+        default_setting="a",
+        target_scan_time_s=10,
+    )
     t = field_time(["A", "B", "C"], [0.0, 50.0, 100.0], [0, 2, 1], props, session_s=parse_duration("10min"))
     # A: 0 + 100 + 200 = 300 s; B: 50 + 300 + 20 = 370 s; C: 100 + 300 + 10 = 410 s; total 1080 s
     assert [s.total_s for s in t.setups] == [300.0, 370.0, 410.0]
@@ -181,8 +186,9 @@ def test_cli_exit_codes(tmp_path, capsys):
     assert (tmp_path / "f" / "field.html").is_file()
     assert main(["field", str(plan), "--out", str(tmp_path / "f"), "--start", "500,500"]) == 2
     bad = tmp_path / "bad.json"
-    bad.write_text(json.dumps({"source": str(INSTANCES / "house_doors.json"),
-                               "stations": [dict(rows[0], zone="nowhere")]}))
+    bad.write_text(
+        json.dumps({"source": str(INSTANCES / "house_doors.json"), "stations": [dict(rows[0], zone="nowhere")]})
+    )
     assert main(["field", str(bad), "--out", str(tmp_path / "g")]) == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1].startswith("planner: error:") and "nowhere" in err[-1]
@@ -190,8 +196,23 @@ def test_cli_exit_codes(tmp_path, capsys):
 
 def test_plan_with_field(tmp_path):
     out = tmp_path / "p"
-    code = main(["plan", str(INSTANCES / "house_doors.json"), "--method", "greedy", "--out", str(out), "--field", str(out),
-                 "--field-mode", "registration", "--field-session", "1h", "--quiet"])
+    code = main(
+        [
+            "plan",
+            str(INSTANCES / "house_doors.json"),
+            "--method",
+            "greedy",
+            "--out",
+            str(out),
+            "--field",
+            str(out),
+            "--field-mode",
+            "registration",
+            "--field-session",
+            "1h",
+            "--quiet",
+        ]
+    )
     assert code == 0
     data = json.loads((out / "field.json").read_text())
     assert data["mode"] == "registration" and data["registration_order_honoured"]

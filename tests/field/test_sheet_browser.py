@@ -17,16 +17,36 @@ from tests.test_report import _chromium
 @pytest.fixture(scope="module")
 def sheet(tmp_path_factory):
     out = tmp_path_factory.mktemp("field")
-    code = main(["plan", str(INSTANCES / "house_doors.json"), "--method", "greedy", "--out", str(out),
-                 "--field", str(out), "--field-mode", "registration", "--quiet"])
+    code = main(
+        [
+            "plan",
+            str(INSTANCES / "house_doors.json"),
+            "--method",
+            "greedy",
+            "--out",
+            str(out),
+            "--field",
+            str(out),
+            "--field-mode",
+            "registration",
+            "--quiet",
+        ]
+    )
     assert code == 0
     return out
 
 
 @pytest.mark.skipif(_chromium() is None, reason="no Chromium here; test_sheet_files parses field.html")
 def test_field_sheet_renders_in_headless_chromium(sheet):
-    cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=10000", "--dump-dom",
-           (sheet / "field.html").as_uri()]
+    cmd = [
+        _chromium(),
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--virtual-time-budget=10000",
+        "--dump-dom",
+        (sheet / "field.html").as_uri(),
+    ]
     dom = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=120).stdout
     # the sheet's own script writes how many images decoded once the page has loaded: the one plan figure
     assert 'data-images-ok="1/1"' in dom

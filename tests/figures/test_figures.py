@@ -44,22 +44,50 @@ def test_uncovered_pieces_are_drawn_red():
     fig = plan_figure(o, "S", "inside")
     red = to_rgba("red")
     for ax in fig.axes[:2]:  # the two panels (colour bars come after)
-        reds = [c for c in ax.collections if isinstance(c, LineCollection)
-                and len(c.get_colors()) and tuple(c.get_colors()[0]) == red]
+        reds = [
+            c
+            for c in ax.collections
+            if isinstance(c, LineCollection) and len(c.get_colors()) and tuple(c.get_colors()[0]) == red
+        ]
         assert len(reds) == 1 and len(reds[0].get_segments()) == 6
     titles = [ax.get_title() for ax in fig.axes]
     assert any("coverage count" in t for t in titles) and any("incidence" in t for t in titles)
     texts = [t.get_text() for ax in fig.axes for t in ax.texts]
-    assert any(t.endswith(" m") for t in texts)          # scale bar label
-    assert any(t.startswith("N") for t in texts)         # north arrow
+    assert any(t.endswith(" m") for t in texts)  # scale bar label
+    assert any(t.startswith("N") for t in texts)  # north arrow
     assert "square" in fig._suptitle.get_text()
 
 
 def test_comparison_figure_from_benchmark_rows():
-    rows = [{"instance": "a", "method": "closed-form", "backend": "", "stations": "28", "time_s": "0.02", "status": "feasible"},
-            {"instance": "a", "method": "greedy", "backend": "", "stations": "26", "time_s": "0.01", "status": "feasible"},
-            {"instance": "a", "method": "milp", "backend": "cpsat", "overlap": "no", "stations": "19", "time_s": "0.5", "status": "optimal"},
-            {"instance": "a", "method": "milp", "backend": "cbc", "overlap": "no", "stations": "19", "time_s": "0.6", "status": "optimal"}]
+    rows = [
+        {
+            "instance": "a",
+            "method": "closed-form",
+            "backend": "",
+            "stations": "28",
+            "time_s": "0.02",
+            "status": "feasible",
+        },
+        {"instance": "a", "method": "greedy", "backend": "", "stations": "26", "time_s": "0.01", "status": "feasible"},
+        {
+            "instance": "a",
+            "method": "milp",
+            "backend": "cpsat",
+            "overlap": "no",
+            "stations": "19",
+            "time_s": "0.5",
+            "status": "optimal",
+        },
+        {
+            "instance": "a",
+            "method": "milp",
+            "backend": "cbc",
+            "overlap": "no",
+            "stations": "19",
+            "time_s": "0.6",
+            "status": "optimal",
+        },
+    ]
     fig = comparison_figure(rows)
     ax_counts, ax_times = fig.axes[:2]
     heights = sorted(round(p.get_height()) for p in ax_counts.patches)

@@ -53,11 +53,18 @@ def vector(v: Sequence[float] | np.ndarray) -> Any:
 def adjustment_numbers(adj: Any) -> dict[str, Any]:
     """The numbers an :class:`~planner.network.adjustment.Adjustment` returns (points, redundancy, tests;
     residuals only for an adjustment of observations: a design has none)."""
-    out = {"dof": adj.dof, "m0": adj.m0, "chi2_p": adj.chi2_p, "chi2_pass": adj.chi2_pass,
-           "n_obs": len(adj.redundancy),
-           "points": {p.name: [p.x, p.y, p.sigma_x, p.sigma_y, p.ellipse_a, p.ellipse_b, p.ellipse_azimuth_deg]
-                      for p in adj.points},
-           "redundancy": vector(adj.redundancy)}
+    out = {
+        "dof": adj.dof,
+        "m0": adj.m0,
+        "chi2_p": adj.chi2_p,
+        "chi2_pass": adj.chi2_pass,
+        "n_obs": len(adj.redundancy),
+        "points": {
+            p.name: [p.x, p.y, p.sigma_x, p.sigma_y, p.ellipse_a, p.ellipse_b, p.ellipse_azimuth_deg]
+            for p in adj.points
+        },
+        "redundancy": vector(adj.redundancy),
+    }
     if adj.m0 is not None:
         out.update(residuals=vector(adj.residuals), standardized=vector(adj.standardized))
     return out
@@ -87,10 +94,13 @@ def network_numbers(site_path: Path | str, plan_path: Path | str, method: str | 
             if record:
                 calls.append((dict(coords), list(fixed), list(obs), dict(kw)))
             return real(coords, fixed, obs, **({**kw, "method": method} if method else kw))
+
         return call
 
-    with mock.patch.object(check, "adjust", with_method(check.adjust, True)), \
-            mock.patch.object(chain, "adjust", with_method(chain.adjust, False)):
+    with (
+        mock.patch.object(check, "adjust", with_method(check.adjust, True)),
+        mock.patch.object(chain, "adjust", with_method(chain.adjust, False)),
+    ):
         report = check.run_network(site, stations)
     c = report.survey.chain if report.survey is not None else None
     observed: list[dict[str, Any]] = []
@@ -100,12 +110,17 @@ def network_numbers(site_path: Path | str, plan_path: Path | str, method: str | 
             observed.append(adjustment_numbers(check.adjust(coords, fixed, _noisy(obs, NOISE_SEED), **kw)))
         except InputError as exc:  # a part the design could not adjust either (see failures)
             observed.append({"error": exc.message})
-    return {"stations_n": len(stations), "graph": [report.graph.number_of_nodes(), report.graph.number_of_edges()],
-            "failures": list(report.failures),
-            "adjustments": [adjustment_numbers(a) for a in report.adjustments],
-            "chain": None if c is None else {"sigma_m": c.sigma_m, "best_tie": c.best_tie,
-                                             "worst_after_tie_m": c.worst_after_tie_m},
-            "sigma_h": report.sigma_h, "observed": observed}
+    return {
+        "stations_n": len(stations),
+        "graph": [report.graph.number_of_nodes(), report.graph.number_of_edges()],
+        "failures": list(report.failures),
+        "adjustments": [adjustment_numbers(a) for a in report.adjustments],
+        "chain": None
+        if c is None
+        else {"sigma_m": c.sigma_m, "best_tie": c.best_tie, "worst_after_tie_m": c.worst_after_tie_m},
+        "sigma_h": report.sigma_h,
+        "observed": observed,
+    }
 
 
 def write(plan: Path, method: str | None) -> Path:
@@ -119,8 +134,11 @@ def write(plan: Path, method: str | None) -> Path:
         tmp = Path(folder) / "plan.json"
         tmp.write_text(json.dumps({"stations": keep}))
         numbers = network_numbers(ROOT / "instances" / f"{name}.json", tmp, method)
-    out.write_text(dumps({"instance": f"instances/{name}.json", "method": method or "default",
-                          "stations": keep, "expected": numbers}))
+    out.write_text(
+        dumps(
+            {"instance": f"instances/{name}.json", "method": method or "default", "stations": keep, "expected": numbers}
+        )
+    )
     return out
 
 

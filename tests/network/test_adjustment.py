@@ -22,8 +22,12 @@ def test_worked_example_2_1_2():
     obs = [Obs(k, n, None, v, 1 / math.sqrt(p)) for (n, k), v, p in zip(names, L, P)]
     adj = adjust({"1": (1007.4, 1035.6), "2": (1048.4, 1037.6)}, [], obs, observed=True)
     got = adj.point("1"), adj.point("2")
-    assert (round(got[0].x, 4), round(got[0].y, 4), round(got[1].x, 4), round(got[1].y, 4)) == \
-        (1007.4067, 1035.5852, 1048.4097, 1037.5971)
+    assert (round(got[0].x, 4), round(got[0].y, 4), round(got[1].x, 4), round(got[1].y, 4)) == (
+        1007.4067,
+        1035.5852,
+        1048.4097,
+        1037.5971,
+    )
     # sigma of a weighted mean of two: 1 / sqrt(p1 + p2) (a priori, m0 scaling aside)
     design = adjust({"1": (1007.4, 1035.6), "2": (1048.4, 1037.6)}, [], obs)
     assert design.point("1").sigma_x == pytest.approx(1 / math.sqrt(113360.4 + 141893.2))
@@ -50,20 +54,33 @@ def traverse():
     for s in ("A", "B"):
         for t in ("C", "D"):
             az = math.atan2(coords[t][1] - coords[s][1], coords[t][0] - coords[s][0])
-            obs += [Obs("direction", s, t, math.degrees(az), 5 / 3600),
-                    Obs("distance", s, t, math.dist(coords[s], coords[t]), 0.002)]
+            obs += [
+                Obs("direction", s, t, math.degrees(az), 5 / 3600),
+                Obs("distance", s, t, math.dist(coords[s], coords[t]), 0.002),
+            ]
         other = "B" if s == "A" else "A"
-        obs.append(Obs("direction", s, other, math.degrees(math.atan2(coords[other][1] - coords[s][1],
-                                                                      coords[other][0] - coords[s][0])), 5 / 3600))
+        obs.append(
+            Obs(
+                "direction",
+                s,
+                other,
+                math.degrees(math.atan2(coords[other][1] - coords[s][1], coords[other][0] - coords[s][0])),
+                5 / 3600,
+            )
+        )
     obs.append(Obs("distance", "C", "D", math.dist(coords["C"], coords["D"]), 0.002))
     return coords, obs
 
 
 def test_normal_equations_and_qr_agree():
     coords, obs = traverse()
-    noisy = [Obs(o.kind, o.at, o.to, o.value + (0.003 if o.kind == "distance" else 2 / 3600) * ((-1) ** k), o.sigma)
-             for k, o in enumerate(obs)]
-    a = adjust(coords, ["A", "B"], [Obs(o.kind, o.at, o.to, o.value, o.sigma) for o in noisy], observed=True, angle_unit="deg")
+    noisy = [
+        Obs(o.kind, o.at, o.to, o.value + (0.003 if o.kind == "distance" else 2 / 3600) * ((-1) ** k), o.sigma)
+        for k, o in enumerate(obs)
+    ]
+    a = adjust(
+        coords, ["A", "B"], [Obs(o.kind, o.at, o.to, o.value, o.sigma) for o in noisy], observed=True, angle_unit="deg"
+    )
     b = adjust(coords, ["A", "B"], noisy, observed=True, angle_unit="deg", method="qr")
     for n in ("C", "D"):
         assert abs(a.point(n).x - b.point(n).x) < 1e-9 and abs(a.point(n).y - b.point(n).y) < 1e-9
@@ -73,13 +90,38 @@ def test_normal_equations_and_qr_agree():
 def test_degrees_gons_metres_millimetres_agree():
     coords, obs = traverse()
     deg = adjust(coords, ["A", "B"], obs, angle_unit="deg")
-    gon = adjust(coords, ["A", "B"], [Obs(o.kind, o.at, o.to, o.value * 400 / 360 if o.kind == "direction" else o.value,
-                                          o.sigma * 400 / 360 if o.kind == "direction" else o.sigma) for o in obs],
-                 angle_unit="gon")
+    gon = adjust(
+        coords,
+        ["A", "B"],
+        [
+            Obs(
+                o.kind,
+                o.at,
+                o.to,
+                o.value * 400 / 360 if o.kind == "direction" else o.value,
+                o.sigma * 400 / 360 if o.kind == "direction" else o.sigma,
+            )
+            for o in obs
+        ],
+        angle_unit="gon",
+    )
     mm_coords = {k: (x * 1000, y * 1000) for k, (x, y) in coords.items()}
-    mm = adjust(mm_coords, ["A", "B"], [Obs(o.kind, o.at, o.to, o.value if o.kind == "direction" else o.value * 1000,
-                                            o.sigma if o.kind == "direction" else o.sigma * 1000) for o in obs],
-                angle_unit="deg", length_unit="mm")
+    mm = adjust(
+        mm_coords,
+        ["A", "B"],
+        [
+            Obs(
+                o.kind,
+                o.at,
+                o.to,
+                o.value if o.kind == "direction" else o.value * 1000,
+                o.sigma if o.kind == "direction" else o.sigma * 1000,
+            )
+            for o in obs
+        ],
+        angle_unit="deg",
+        length_unit="mm",
+    )
     for n in ("C", "D"):
         assert gon.point(n).sigma_x == pytest.approx(deg.point(n).sigma_x, rel=1e-9)
         assert mm.point(n).sigma_y == pytest.approx(deg.point(n).sigma_y * 1000, rel=1e-9)
@@ -108,7 +150,9 @@ def test_registration_chain_is_weakest_in_the_middle():
     s = 0.01
     names = ["C0"] + [f"S{k}" for k in range(1, 6)] + ["C6"]
     coords = {n: (20.0 * k, 0.0) for k, n in enumerate(names)}
-    obs = [Obs(kind, names[k], names[k + 1], 20.0 if kind == "dx" else 0.0, s) for k in range(6) for kind in ("dx", "dy")]
+    obs = [
+        Obs(kind, names[k], names[k + 1], 20.0 if kind == "dx" else 0.0, s) for k in range(6) for kind in ("dx", "dy")
+    ]
     adj = adjust(coords, ["C0", "C6"], obs)
     sx = [adj.point(f"S{k}").sigma_x for k in range(1, 6)]
     assert sx == pytest.approx([s * math.sqrt(k * (6 - k) / 6) for k in range(1, 6)])

@@ -19,8 +19,8 @@ from planner.network.chain import (
 # five stations 20 m apart on a line, registered one to the next
 XY = {f"S{k}": (20.0 * (k - 1), 0.0) for k in range(1, 6)}
 LINKS = [(f"S{k}", f"S{k + 1}") for k in range(1, 5)]
-S = 6.8e-5 * 20 + 0.0081   # m_reg of a 20 m link = 9.46 mm (seed 003)
-T = 0.002                  # a tie of 2 mm
+S = 6.8e-5 * 20 + 0.0081  # m_reg of a 20 m link = 9.46 mm (seed 003)
+T = 0.002  # a tie of 2 mm
 
 
 def test_link_and_target_formulas_of_seed_003():
@@ -29,7 +29,9 @@ def test_link_and_target_formulas_of_seed_003():
     gamma = 1 / 60 + 1.88 / 3600
     assert target_scan_sigma_m(20.0, gamma) * 1000 == pytest.approx(0.76, abs=0.005)
     # formula 3 with m_P = 0, D = 20 m, 5", 2 mm: sqrt(2^2 + 2 (20000 * 5 / 206265)^2) = 2.11 mm ("not over 2 mm")
-    assert target_centre_sigma_m(0.0, 20.0, 0.002, 5.0) * 1000 == pytest.approx(math.sqrt(4 + 2 * (1e5 / 206264.806) ** 2))
+    assert target_centre_sigma_m(0.0, 20.0, 0.002, 5.0) * 1000 == pytest.approx(
+        math.sqrt(4 + 2 * (1e5 / 206264.806) ** 2)
+    )
     # formula 6: k = 4 equal targets -> sqrt(4 m^2) / 4 = m / 2
     m = math.hypot(0.002, target_scan_sigma_m(15.0, gamma))
     assert tie_sigma_m([15.0] * 4, gamma, 0.002) == pytest.approx(m / 2)

@@ -70,8 +70,10 @@ def test_network_results_equal_the_dense_ones(path: Path):
 
 
 def test_the_comparison_sees_a_change():
-    want = {"points": {"P": [1.0, 2.0, 0.001, 0.002, 0.0021, 0.0009, 30.0]}, "r": {"n": 3, "sum": 1.5, "index": [0, 2],
-                                                                                 "sample": [0.5, 0.25]}}
+    want = {
+        "points": {"P": [1.0, 2.0, 0.001, 0.002, 0.0021, 0.0009, 30.0]},
+        "r": {"n": 3, "sum": 1.5, "index": [0, 2], "sample": [0.5, 0.25]},
+    }
     same = json.loads(json.dumps(want))
     assert differences(want, same) == []
     same["points"]["P"][6] = 210.0 - 1e-12  # the same axis, a half turn on

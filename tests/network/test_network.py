@@ -52,7 +52,7 @@ def test_proposed_control_and_check_on_a_room():
     rep = run_network(site, stations)
     assert len(rep.control) == 3 and all(c.proposed for c in rep.control)
     xy = [(c.x, c.y) for c in rep.control]
-    assert min(math.dist(p, q) for i, p in enumerate(xy) for q in xy[i + 1:]) > 5.0
+    assert min(math.dist(p, q) for i, p in enumerate(xy) for q in xy[i + 1 :]) > 5.0
     assert rep.diagnostics.untied_stations == [] and set(rep.station_sigma) == {"S1", "S2"}
     # Topcon OS-105: 2 mm + 2 ppm to prisms, 5"; stations 6-25 m from fixed control: a few mm at most
     assert 0 < max(rep.station_sigma.values()) < 0.005
@@ -66,11 +66,17 @@ def test_accuracy_check_uses_the_adjusted_station_error():
     # (sqrt(9.9^2 + 0.5 + 1.3^2) = 10.01 mm)
     site = room_site()
     stations = [st("S1", 10, 10), st("S2", 30, 10)]
-    check = accuracy_check(site, stations, rep_problem(site, stations), {"S1": 0.0095, "S2": 0.0005},
-                           load_instrument("dissertation-tables"))
+    check = accuracy_check(
+        site,
+        stations,
+        rep_problem(site, stations),
+        {"S1": 0.0095, "S2": 0.0005},
+        load_instrument("dissertation-tables"),
+    )
     assert check["pass"]
-    alone = accuracy_check(site, stations[:1], rep_problem(site, stations[:1]), {"S1": 0.0099},
-                           load_instrument("dissertation-tables"))
+    alone = accuracy_check(
+        site, stations[:1], rep_problem(site, stations[:1]), {"S1": 0.0099}, load_instrument("dissertation-tables")
+    )
     assert not alone["pass"] and alone["failing_stations"] == ["S1"]
     assert "add a control point near it" in alone["suggestions"][0]
 
@@ -100,8 +106,20 @@ def rep_problem(site, stations):
 def test_network_cli_writes_ellipses(tmp_path, capsys):
     out = tmp_path / "b"
     assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out)]) == 0
-    assert main(["network", str(INSTANCES / "polygon_b.json"), str(out / "plan.json"), "--out", str(out),
-                 "--monte-carlo", "100"]) == 0
+    assert (
+        main(
+            [
+                "network",
+                str(INSTANCES / "polygon_b.json"),
+                str(out / "plan.json"),
+                "--out",
+                str(out),
+                "--monte-carlo",
+                "100",
+            ]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
     assert "accuracy check at 10 mm" in text and "Monte Carlo (100 runs" in text
     # one line per network part, each naming its part and giving the stations' RMS apart from the other points
@@ -134,8 +152,10 @@ def test_field_observations_are_adjusted(tmp_path):
     for u, v, d in g.edges(data=True):
         if g.nodes[u]["kind"] == "station":
             az = math.degrees(math.atan2(g.nodes[v]["y"] - g.nodes[u]["y"], g.nodes[v]["x"] - g.nodes[u]["x"]))
-            obs += [{"kind": "direction", "at": u, "to": v, "value": az, "sigma": 5 / 3600},
-                    {"kind": "distance", "at": u, "to": v, "value": d["length_m"] + 0.001, "sigma": 0.002}]
+            obs += [
+                {"kind": "direction", "at": u, "to": v, "value": az, "sigma": 5 / 3600},
+                {"kind": "distance", "at": u, "to": v, "value": d["length_m"] + 0.001, "sigma": 0.002},
+            ]
     (tmp_path / "obs.json").write_text(json.dumps({"angle_unit": "deg", "length_unit": "m", "observations": obs}))
     text = adjust_observations(rep, str(tmp_path / "obs.json"))
     assert "(pass)" in text and "dof 2" in text
@@ -146,7 +166,9 @@ def test_field_observations_are_adjusted(tmp_path):
 
 
 def test_monte_carlo_below_100_runs_is_a_usage_error(tmp_path, capsys):
-    (tmp_path / "p.json").write_text(json.dumps({"stations": [{"id": "S", "zone": "B", "side": "inside", "x": 50, "y": 40}]}))
+    (tmp_path / "p.json").write_text(
+        json.dumps({"stations": [{"id": "S", "zone": "B", "side": "inside", "x": 50, "y": 40}]})
+    )
     assert main(["network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "p.json"), "--monte-carlo", "20"]) == 2
 
 
@@ -170,13 +192,29 @@ def test_network_numbers_do_not_depend_on_the_hash_seed(tmp_path):
 
     from tests.conftest import INSTANCES, ROOT
 
-    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(tmp_path), "--quiet"]) == 0
+    assert (
+        main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(tmp_path), "--quiet"]) == 0
+    )
     outs = []
     for seed in ("0", "1"):
         out = tmp_path / f"n{seed}"
-        run = subprocess.run([sys.executable, "-m", "planner", "network", str(INSTANCES / "polygon_b.json"),
-                              str(tmp_path / "plan.json"), "--out", str(out), "--quiet"], capture_output=True, text=True,
-                             cwd=ROOT, env={**os.environ, "PYTHONHASHSEED": seed})
+        run = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "planner",
+                "network",
+                str(INSTANCES / "polygon_b.json"),
+                str(tmp_path / "plan.json"),
+                "--out",
+                str(out),
+                "--quiet",
+            ],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env={**os.environ, "PYTHONHASHSEED": seed},
+        )
         assert run.returncode == 0, run.stderr
         outs.append((out / "network.json").read_text())
     assert outs[0] == outs[1]

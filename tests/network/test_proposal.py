@@ -57,16 +57,27 @@ def test_a_sight_line_along_a_wall_line_far_from_the_wall(monkeypatch):
 def _old_legs(site, nodes, ts_range_m):
     def space(c):
         pt = shapely.Point(c.x, c.y)
-        room = next((z.id for z in site.zones if z.frame == c.frame and z.scan_side is not ScanSide.OUTSIDE
-                     and z.polygon.contains(pt)), None)
+        room = next(
+            (
+                z.id
+                for z in site.zones
+                if z.frame == c.frame and z.scan_side is not ScanSide.OUTSIDE and z.polygon.contains(pt)
+            ),
+            None,
+        )
         return f"in:{room}" if room is not None else f"out:{c.frame}"
 
     def same(a, b):
         return a.name.startswith("TP.") or b.name.startswith("TP.") or space(a) == space(b)
 
-    return [(a.name, b.name) for a, b in itertools.combinations(nodes, 2)
-            if a.frame == b.frame and same(a, b) and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m
-            and intervisible(site, a.frame, (a.x, a.y), (b.x, b.y))]
+    return [
+        (a.name, b.name)
+        for a, b in itertools.combinations(nodes, 2)
+        if a.frame == b.frame
+        and same(a, b)
+        and math.dist((a.x, a.y), (b.x, b.y)) <= ts_range_m
+        and intervisible(site, a.frame, (a.x, a.y), (b.x, b.y))
+    ]
 
 
 def _old_needed(ring, nodes, legs):
@@ -88,8 +99,10 @@ def test_legs_rooms_and_ring_points_equal_the_pairwise_loops(doors):
     rng = np.random.default_rng(1)
     b = sight.blockers(doors, "site")
     lo, hi = b.a.min(0), b.a.max(0)
-    nodes = [ControlPoint(f"{'TP.' if k % 9 == 0 else 'RP.' if k % 4 == 0 else 'CP'}{k}", *map(float, rng.uniform(lo, hi)))
-             for k in range(120)]
+    nodes = [
+        ControlPoint(f"{'TP.' if k % 9 == 0 else 'RP.' if k % 4 == 0 else 'CP'}{k}", *map(float, rng.uniform(lo, hi)))
+        for k in range(120)
+    ]
     legs = proposal.legs(doors, nodes, 40.0)
     assert legs == _old_legs(doors, nodes, 40.0) and legs
     ring = [n for n in nodes if n.name.startswith("RP.")]
@@ -100,10 +113,16 @@ def test_legs_rooms_and_ring_points_equal_the_pairwise_loops(doors):
 def test_ring_points_on_a_grid_of_equal_legs(seed):
     # a square grid: many shortest paths of equal length, where networkx's order of settling decides
     rng = np.random.default_rng(seed)
-    nodes = [ControlPoint(f"{'RP.' if rng.random() < 0.5 else 'CP'}{x}.{y}", float(x), float(y))
-             for x in range(7) for y in range(7)]
-    near = [(a.name, b.name) for a, b in itertools.combinations(nodes, 2)
-            if math.dist((a.x, a.y), (b.x, b.y)) <= 1.5 and rng.random() < 0.9]
+    nodes = [
+        ControlPoint(f"{'RP.' if rng.random() < 0.5 else 'CP'}{x}.{y}", float(x), float(y))
+        for x in range(7)
+        for y in range(7)
+    ]
+    near = [
+        (a.name, b.name)
+        for a, b in itertools.combinations(nodes, 2)
+        if math.dist((a.x, a.y), (b.x, b.y)) <= 1.5 and rng.random() < 0.9
+    ]
     ring = [n for n in nodes if n.name.startswith("RP.")]
     assert proposal.needed(ring, nodes, near) == _old_needed(ring, nodes, near)
 
@@ -142,8 +161,12 @@ def test_control_spots_and_triangles_equal_the_loops(doors):
         stations.append(Candidate(f"S{k}", z.id, ScanSide.INSIDE, z.frame, c.x, c.y, CandidateKind.GRID))
     got = spots_around(doors, stations)
     assert got == [_old_spots(doors, s) for s in stations] and any(got)
-    for spots in [*got, [(float(x), float(y)) for x in range(4) for y in range(4)],
-                  [tuple(map(float, p)) for p in rng.uniform(0, 20, (30, 2))], [(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)]]:
+    for spots in [
+        *got,
+        [(float(x), float(y)) for x in range(4) for y in range(4)],
+        [tuple(map(float, p)) for p in rng.uniform(0, 20, (30, 2))],
+        [(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)],
+    ]:
         assert widest_triangle(spots) == _old_triangle(spots)
     mine = [ControlPoint(f"C{k}", *map(float, rng.uniform(0, 60, 2))) for k in range(40)]
 
@@ -154,6 +177,7 @@ def test_control_spots_and_triangles_equal_the_loops(doors):
             if k > score:
                 best, score = (x, y), k
         return best
+
     assert [proposal.best_spot(doors, s, mine) for s in stations] == [old_best(s) for s in stations]
 
 

@@ -19,8 +19,9 @@ from planner.network.adjustment import Adjustment, Obs, adjust
 TOL = 1e-9
 
 
-def random_network(seed: int, n_points: int, n_obs: int, n_fixed: int, kinds: tuple[str, ...]
-                   ) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
+def random_network(
+    seed: int, n_points: int, n_obs: int, n_fixed: int, kinds: tuple[str, ...]
+) -> tuple[dict[str, tuple[float, float]], list[str], list[Obs]]:
     """Points on a 100 m square (at least 1 m apart), the first ``n_fixed`` fixed, and ``n_obs`` random
     observations of ``kinds`` between random pairs (sigmas: 5", 2 mm, 8 mm)."""
     rng = np.random.default_rng(seed)
@@ -52,8 +53,15 @@ def assert_same(a: Adjustment, b: Adjustment) -> None:
     assert [p.name for p in a.points] == [p.name for p in b.points]
     for p, q in zip(a.points, b.points):
         assert abs(p.x - q.x) <= TOL and abs(p.y - q.y) <= TOL
-        assert max(abs(u - v) for u, v in zip((p.sigma_x, p.sigma_y, p.ellipse_a, p.ellipse_b),
-                                               (q.sigma_x, q.sigma_y, q.ellipse_a, q.ellipse_b))) <= TOL
+        assert (
+            max(
+                abs(u - v)
+                for u, v in zip(
+                    (p.sigma_x, p.sigma_y, p.ellipse_a, p.ellipse_b), (q.sigma_x, q.sigma_y, q.ellipse_a, q.ellipse_b)
+                )
+            )
+            <= TOL
+        )
     assert a.dof == b.dof
     np.testing.assert_allclose(a.redundancy, b.redundancy, rtol=0, atol=TOL)
     np.testing.assert_allclose(a.residuals, b.residuals, rtol=0, atol=TOL)
@@ -84,10 +92,23 @@ def both(coords, fixed, obs, kind: str = "sparse", **kw):
 
 
 @settings(max_examples=60, deadline=None, derandomize=True)
-@given(seed=st.integers(0, 2**31), n_points=st.integers(3, 14), extra=st.integers(0, 40), n_fixed=st.integers(0, 3),
-       kinds=st.sampled_from([("direction", "distance"), ("dx", "dy"), ("direction", "distance", "dx", "dy", "x", "y"),
-                              ("distance",), ("direction",)]),
-       observed=st.booleans(), kind=st.sampled_from(["sparse", "dense"]))
+@given(
+    seed=st.integers(0, 2**31),
+    n_points=st.integers(3, 14),
+    extra=st.integers(0, 40),
+    n_fixed=st.integers(0, 3),
+    kinds=st.sampled_from(
+        [
+            ("direction", "distance"),
+            ("dx", "dy"),
+            ("direction", "distance", "dx", "dy", "x", "y"),
+            ("distance",),
+            ("direction",),
+        ]
+    ),
+    observed=st.booleans(),
+    kind=st.sampled_from(["sparse", "dense"]),
+)
 def test_sparse_and_dense_agree_on_random_networks(seed, n_points, extra, n_fixed, kinds, observed, kind):
     coords, fixed, obs = random_network(seed, n_points, 2 * n_points + extra, n_fixed, kinds)
     if observed:
@@ -119,8 +140,9 @@ def test_datum_defects_are_counted_as_the_dense_solver_counts_them(kind):
     dense, sparse = both(coords, [], obs, kind)
     assert dense == sparse and "leaves 3 unknown(s)" in sparse
     coords["Q"] = (500.0, 500.0)
-    dense, sparse = both(coords, ["P0", "P1"], obs + [Obs("distance", "P0", "Q", math.dist(coords["P0"], (500, 500)), 0.002)],
-                         kind)
+    dense, sparse = both(
+        coords, ["P0", "P1"], obs + [Obs("distance", "P0", "Q", math.dist(coords["P0"], (500, 500)), 0.002)], kind
+    )
     assert dense == sparse and "leaves 1 unknown(s)" in sparse
 
 

@@ -25,10 +25,12 @@ from tests.conftest import INSTANCES
 HOUSE = INSTANCES / "house_doors.json"
 # one station in each room of the house, in line with the doors (R1-R2 door at x = 10, y 3.0..4.5;
 # R2-R3 door at x = 20, y 3.5..5.0), and one outside in front of the front door (y = 0, x 4.0..5.5)
-STATIONS = [Candidate("S1", "R1", ScanSide.INSIDE, "site", 5.0, 4.0, CandidateKind.GRID),
-            Candidate("S2", "R2", ScanSide.INSIDE, "site", 15.0, 4.0, CandidateKind.GRID),
-            Candidate("S3", "R3", ScanSide.INSIDE, "site", 25.0, 4.2, CandidateKind.GRID),
-            Candidate("S0", "house", ScanSide.OUTSIDE, "site", 4.7, -6.0, CandidateKind.GRID)]
+STATIONS = [
+    Candidate("S1", "R1", ScanSide.INSIDE, "site", 5.0, 4.0, CandidateKind.GRID),
+    Candidate("S2", "R2", ScanSide.INSIDE, "site", 15.0, 4.0, CandidateKind.GRID),
+    Candidate("S3", "R3", ScanSide.INSIDE, "site", 25.0, 4.2, CandidateKind.GRID),
+    Candidate("S0", "house", ScanSide.OUTSIDE, "site", 4.7, -6.0, CandidateKind.GRID),
+]
 
 
 def test_rooms_link_only_through_their_doors_in_site_mode():
@@ -94,8 +96,14 @@ def test_coverage_refuses_a_station_off_its_own_zone_side():
 @pytest.mark.parametrize("argv", [["--registration", "zone"], []])
 def test_cli_chain(tmp_path, capsys, argv):
     plan = tmp_path / "plan.json"
-    plan.write_text('{"stations": [' + ", ".join(
-        f'{{"id": "{s.id}", "zone": "{s.zone}", "side": "{s.side.value}", "x": {s.x}, "y": {s.y}}}' for s in STATIONS) + "]}")
+    plan.write_text(
+        '{"stations": ['
+        + ", ".join(
+            f'{{"id": "{s.id}", "zone": "{s.zone}", "side": "{s.side.value}", "x": {s.x}, "y": {s.y}}}'
+            for s in STATIONS
+        )
+        + "]}"
+    )
     assert main(["chain", str(HOUSE), str(plan), *argv]) == 0
     out = capsys.readouterr().out
     parts = 4 if argv else 1

@@ -26,23 +26,37 @@ TS_KINDS = {"sight", "delaunay", "traverse"}
 
 
 def two_rooms(control: tuple[ControlPoint, ...] = ()) -> Site:
-    a = Zone("A", ScanSide.INSIDE, ((0, 0), (10, 0), (10, 8), (0, 8)), (3.0,) * 4,
-             openings=(Opening(2, 3.0, 5.0, "door", "A-B"),))
+    a = Zone(
+        "A",
+        ScanSide.INSIDE,
+        ((0, 0), (10, 0), (10, 8), (0, 8)),
+        (3.0,) * 4,
+        openings=(Opening(2, 3.0, 5.0, "door", "A-B"),),
+    )
     b = Zone("B", ScanSide.INSIDE, ((10, 0), (20, 0), (20, 8), (10, 8)), (3.0,) * 4)
     return Site("two rooms", (a, b), instrument="dissertation-tables", control_points=control)
 
 
-STATIONS = [Candidate("S1", "A", ScanSide.INSIDE, "site", 3, 7, CandidateKind.GRID),
-            Candidate("S2", "B", ScanSide.INSIDE, "site", 17, 7, CandidateKind.GRID)]
-CONTROL = (ControlPoint("C0", 1, 4), ControlPoint("C1", 5, 4), ControlPoint("C2", 15, 4, sigma_x_m=0.05, sigma_y_m=0.05))
+STATIONS = [
+    Candidate("S1", "A", ScanSide.INSIDE, "site", 3, 7, CandidateKind.GRID),
+    Candidate("S2", "B", ScanSide.INSIDE, "site", 17, 7, CandidateKind.GRID),
+]
+CONTROL = (
+    ControlPoint("C0", 1, 4),
+    ControlPoint("C1", 5, 4),
+    ControlPoint("C2", 15, 4, sigma_x_m=0.05, sigma_y_m=0.05),
+)
 # the planned traverse: back-sight C0 - C1, then C1 - T1 (in the door) - C2, two legs of 5 m
 LEGS = ControlTraverse((ControlPoint("T1", 10, 4),), (("C0", "C1"), ("C1", "T1"), ("T1", "C2")), False, "test")
 
 
 def _station_ts_edges(rep) -> list[tuple[str, str]]:
     g = rep.graph
-    return [(u, v) for u, v, d in g.edges(data=True)
-            if d["kinds"] & TS_KINDS and g.nodes[u]["kind"] == "station" and g.nodes[v]["kind"] == "station"]
+    return [
+        (u, v)
+        for u, v, d in g.edges(data=True)
+        if d["kinds"] & TS_KINDS and g.nodes[u]["kind"] == "station" and g.nodes[v]["kind"] == "station"
+    ]
 
 
 def test_one_traverse_leg_pair_through_the_door_makes_one_network():
@@ -103,9 +117,11 @@ def test_traverse_file_and_its_errors(tmp_path, capsys):
     with pytest.raises(InputError, match="names no control or traverse point"):
         run_network(two_rooms(CONTROL), STATIONS, traverse=read_traverse(path))
     # a typo in a key, or a coordinate in quotes, is refused (the value was dropped or converted before)
-    for data, words in (({"legs": [], "extra": 1}, "traverse: extra = 1: unknown key"),
-                        ({"points": [{"name": "T1", "x": 10, "y": 4, "colour": 1}], "legs": []}, "points[1]: colour = 1"),
-                        ({"points": [{"name": "T1", "x": "10", "y": 4}], "legs": []}, "x = '10': must be a number, not text")):
+    for data, words in (
+        ({"legs": [], "extra": 1}, "traverse: extra = 1: unknown key"),
+        ({"points": [{"name": "T1", "x": 10, "y": 4, "colour": 1}], "legs": []}, "points[1]: colour = 1"),
+        ({"points": [{"name": "T1", "x": "10", "y": 4}], "legs": []}, "x = '10': must be a number, not text"),
+    ):
         path.write_text(json.dumps(data))
         with pytest.raises(InputError, match=re.escape(words)):
             read_traverse(path)
@@ -113,8 +129,9 @@ def test_traverse_file_and_its_errors(tmp_path, capsys):
     plan.write_text(json.dumps({"stations": [{"id": "S", "zone": "B", "side": "inside", "x": 50, "y": 40}]}))
     from tests.conftest import INSTANCES
 
-    assert main(["network", str(INSTANCES / "polygon_b.json"), str(plan), "--traverse", str(path),
-                 "--ts-everywhere"]) == 2
+    assert (
+        main(["network", str(INSTANCES / "polygon_b.json"), str(plan), "--traverse", str(path), "--ts-everywhere"]) == 2
+    )
 
 
 def test_the_proposed_traverse_goes_round_a_building():
@@ -123,8 +140,10 @@ def test_the_proposed_traverse_goes_round_a_building():
     # 3 m out from the block's corners
     block = Zone("block", ScanSide.OUTSIDE, ((0, 0), (20, 0), (20, 8), (0, 8)), (3.0,) * 4)
     site = Site("block", (block,), instrument="dissertation-tables")
-    stations = [Candidate("S1", "block", ScanSide.OUTSIDE, "site", 10, -6, CandidateKind.GRID),
-                Candidate("S2", "block", ScanSide.OUTSIDE, "site", 10, 14, CandidateKind.GRID)]
+    stations = [
+        Candidate("S1", "block", ScanSide.OUTSIDE, "site", 10, -6, CandidateKind.GRID),
+        Candidate("S2", "block", ScanSide.OUTSIDE, "site", 10, 14, CandidateKind.GRID),
+    ]
     rep = run_network(site, stations)
     ring = [n for n in rep.graph if n.startswith("RP.")]
     assert len(rep.diagnostics.components) == 1 and ring
@@ -141,10 +160,17 @@ def test_traverse_names_that_would_merge_points_are_refused(tmp_path):
     # into one network node (4 nodes instead of 5 before): refused, naming the file, the point and the name.
     # "points": null is no list of points.
     path = tmp_path / "t.json"
-    cases = (({"points": [{"name": "C1", "x": 10, "y": 2}], "legs": [["C1", "C2"]]}, "points[1]: name = 'C1': names a control point"),
-             ({"points": [{"name": "T1", "x": 10, "y": 4}, {"name": "T1", "x": 15, "y": 4}], "legs": []},
-              "points[2]: name = 'T1': traverse point name used twice (also points[1])"),
-             ({"points": None, "legs": []}, "points: must be a list"))
+    cases = (
+        (
+            {"points": [{"name": "C1", "x": 10, "y": 2}], "legs": [["C1", "C2"]]},
+            "points[1]: name = 'C1': names a control point",
+        ),
+        (
+            {"points": [{"name": "T1", "x": 10, "y": 4}, {"name": "T1", "x": 15, "y": 4}], "legs": []},
+            "points[2]: name = 'T1': traverse point name used twice (also points[1])",
+        ),
+        ({"points": None, "legs": []}, "points: must be a list"),
+    )
     for data, words in cases:
         path.write_text(json.dumps(data))
         with pytest.raises(InputError, match=re.escape(words)) as err:

@@ -31,21 +31,29 @@ def _zone(zid: str, xy, side: ScanSide, move: Placement | None) -> Zone:
     pts = np.asarray(xy, dtype=float)
     if move is not None:  # local = R^T (site - origin)
         pts = (pts - np.asarray(move.origin)) @ move.matrix
-    return Zone(id=zid, scan_side=side, vertices=tuple(map(tuple, pts.tolist())), vertex_heights_m=(5.0,) * len(pts),
-                frame=zid)
+    return Zone(
+        id=zid, scan_side=side, vertices=tuple(map(tuple, pts.tolist())), vertex_heights_m=(5.0,) * len(pts), frame=zid
+    )
 
 
 def _site(extra: tuple[Zone, ...] = ()) -> Site:
-    zones = (_zone("outline", OUTLINE, ScanSide.OUTSIDE, None),
-             _zone("A", ROOM_A, ScanSide.INSIDE, Placement((3.0, -7.0), 33.0)),
-             _zone("B", ROOM_B, ScanSide.INSIDE, Placement((-50.0, 20.0), -121.0)))
+    zones = (
+        _zone("outline", OUTLINE, ScanSide.OUTSIDE, None),
+        _zone("A", ROOM_A, ScanSide.INSIDE, Placement((3.0, -7.0), 33.0)),
+        _zone("B", ROOM_B, ScanSide.INSIDE, Placement((-50.0, 20.0), -121.0)),
+    )
     return Site(name="block", zones=zones + extra)
 
 
 def test_two_rooms_and_outline_recover_the_true_layout():
     report = assemble(_site())
-    assert {m.label for m in report.used} >= {"A side 2 = B side 4", "outline side 4 = A side 3", "outline side 2 = B side 2",
-                                               "outline side 5 = A side 4", "outline side 3 = B side 3"}
+    assert {m.label for m in report.used} >= {
+        "A side 2 = B side 4",
+        "outline side 4 = A side 3",
+        "outline side 2 = B side 2",
+        "outline side 5 = A side 4",
+        "outline side 3 = B side 3",
+    }
     assert not report.unplaced
     # every placement undoes the move it was stored with: the placed vertices are the true ones
     placed = placed_site(_site(), report.placements)
@@ -60,8 +68,10 @@ def test_two_rooms_and_outline_recover_the_true_layout():
 def test_wall_thickness_offsets_the_faces():
     # B moved 0.5 m to the right (a 0.5 m wall between A and B): A's side 2 and B's side 4 are 0.5 m apart
     b = [(x + 0.5 if x >= 12 else x, y) for x, y in ROOM_B]
-    site = Site(name="t", zones=(_zone("A", ROOM_A, ScanSide.INSIDE, None),
-                                 _zone("B", b, ScanSide.INSIDE, Placement((5.0, 5.0), 90.0))))
+    site = Site(
+        name="t",
+        zones=(_zone("A", ROOM_A, ScanSide.INSIDE, None), _zone("B", b, ScanSide.INSIDE, Placement((5.0, 5.0), 90.0))),
+    )
     report = assemble(site, wall_thickness_m=0.5, anchor="A")
     assert np.allclose(placed_site(site, report.placements).zone("B").xy, b, atol=1e-9)
 
@@ -79,8 +89,13 @@ def test_coincidental_length_that_would_overlap_is_refused():
 def test_ambiguous_zone_is_left_unplaced_not_guessed():
     # one room with two sides matching two different outline sides of the same length (a 10 x 10 outline,
     # a 10 x 4 room): it could lie along any of them, so no placement is chosen
-    site = Site(name="amb", zones=(_zone("outline", [(0, 0), (10, 0), (10, 10), (0, 10)], ScanSide.OUTSIDE, None),
-                                   _zone("R", [(0, 0), (10, 0), (10, 4), (0, 4)], ScanSide.INSIDE, Placement((1, 1), 5.0))))
+    site = Site(
+        name="amb",
+        zones=(
+            _zone("outline", [(0, 0), (10, 0), (10, 10), (0, 10)], ScanSide.OUTSIDE, None),
+            _zone("R", [(0, 0), (10, 0), (10, 4), (0, 4)], ScanSide.INSIDE, Placement((1, 1), 5.0)),
+        ),
+    )
     report = assemble(site)
     assert dict(report.unplaced)["R"].startswith("ambiguous")
     assert not report.used
@@ -92,10 +107,20 @@ def test_baalbek_table_4_3_places_all_eleven_rooms_and_the_outline():
     # the 13 side matches (table 4.3: equal printed side lengths; docs/site.md lists them with their
     # lengths): five room-outline sides, eight room-room sides (Z1 and Z5 are placed by contacts instead)
     assert labels == {
-        "Z2 side 3 = outline side 17", "Z3 side 2 = outline side 5", "Z7 side 2 = outline side 13",
-        "Z10 side 1 = outline side 8", "Z11 side 3 = outline side 10",
-        "Z3 side 1 = Z6 side 3", "Z3 side 5 = Z8 side 4", "Z3 side 6 = Z8 side 3", "Z3 side 8 = Z9 side 1",
-        "Z3 side 9 = Z9 side 4", "Z3 side 11 = Z7 side 1", "Z4 side 1 = Z10 side 3", "Z4 side 3 = Z11 side 1"}
+        "Z2 side 3 = outline side 17",
+        "Z3 side 2 = outline side 5",
+        "Z7 side 2 = outline side 13",
+        "Z10 side 1 = outline side 8",
+        "Z11 side 3 = outline side 10",
+        "Z3 side 1 = Z6 side 3",
+        "Z3 side 5 = Z8 side 4",
+        "Z3 side 6 = Z8 side 3",
+        "Z3 side 8 = Z9 side 1",
+        "Z3 side 9 = Z9 side 4",
+        "Z3 side 11 = Z7 side 1",
+        "Z4 side 1 = Z10 side 3",
+        "Z4 side 3 = Z11 side 1",
+    }
     assert set(report.placements) == {"outline", *(f"Z{k}" for k in range(1, 12))}
     assert not report.unplaced
     # residuals: the printed lengths agree to 1 mm and the angles to 0.001 deg, so a few mm at most ...
@@ -130,8 +155,14 @@ def test_baalbek_z1_is_held_by_six_collinear_contacts():
     z1 = {c.label: c for c in report.contacts if c.zone == "Z1"}
     # the court's four sides lie along placed walls: side 1 along the outline, side 2 along Z3 and Z7, side 3
     # along the outline, side 4 along Z2 and the outline
-    assert set(z1) == {"Z1 side 1 along outline side 3", "Z1 side 2 along Z3 side 12", "Z1 side 2 along Z7 side 4",
-                       "Z1 side 3 along outline side 15", "Z1 side 4 along Z2 side 2", "Z1 side 4 along outline side 16"}
+    assert set(z1) == {
+        "Z1 side 1 along outline side 3",
+        "Z1 side 2 along Z3 side 12",
+        "Z1 side 2 along Z7 side 4",
+        "Z1 side 3 along outline side 15",
+        "Z1 side 4 along Z2 side 2",
+        "Z1 side 4 along outline side 16",
+    }
     assert max(c.residual_m for c in z1.values()) < 0.06
     # the same court turned by 180 deg fits its gap too, but more than twice as badly
     assert "fit at RMS" in report.sources["Z1"]
@@ -167,8 +198,16 @@ def test_cli_assemble_writes_a_loadable_instance(tmp_path, capsys):
 
 
 def _instance(tmp_path, **extra) -> str:
-    data = {"zones": [{"id": "R", "scan_side": "inside", "table": [
-        {"side_length_m": 10, "wall_height_m": 5, "interior_angle_deg": 90, "vertex_height_m": 5}] * 4}]}
+    data = {
+        "zones": [
+            {
+                "id": "R",
+                "scan_side": "inside",
+                "table": [{"side_length_m": 10, "wall_height_m": 5, "interior_angle_deg": 90, "vertex_height_m": 5}]
+                * 4,
+            }
+        ]
+    }
     data.update(extra)
     path = tmp_path / "i.json"
     path.write_text(json.dumps(data))
@@ -189,11 +228,13 @@ def test_json_openings_and_their_errors(tmp_path):
     site = load_instance_json(_instance(tmp_path, openings=[{"zone": "R", "wall": 2, "s0_m": 4, "s1_m": 5.5}]))
     (op,) = site.zone("R").openings
     assert (op.wall, op.s0_m, op.s1_m, op.kind) == (2, 4.0, 5.5, "door")
-    for bad, fragment in ((dict(openings=[{"zone": "R", "wall": 7, "s0_m": 1, "s1_m": 2}]), "wall index"),
-                          (dict(openings=[{"zone": "Q", "wall": 1, "s0_m": 1, "s1_m": 2}]), "names no zone"),
-                          (dict(openings=[{"zone": "R", "wall": 1, "s0_m": 1, "s1_m": 12}]), "past the end"),
-                          (dict(placements={"X": {"origin": [0, 0], "rotation_deg": 0}}), "unknown key"),
-                          (dict(placements={"R": {"origin": [0], "rotation_deg": 0}}), "origin")):
+    for bad, fragment in (
+        (dict(openings=[{"zone": "R", "wall": 7, "s0_m": 1, "s1_m": 2}]), "wall index"),
+        (dict(openings=[{"zone": "Q", "wall": 1, "s0_m": 1, "s1_m": 2}]), "names no zone"),
+        (dict(openings=[{"zone": "R", "wall": 1, "s0_m": 1, "s1_m": 12}]), "past the end"),
+        (dict(placements={"X": {"origin": [0, 0], "rotation_deg": 0}}), "unknown key"),
+        (dict(placements={"R": {"origin": [0], "rotation_deg": 0}}), "origin"),
+    ):
         with pytest.raises(InputError, match=fragment) as exc:
             load_instance_json(_instance(tmp_path, **bad))
         assert "i.json" in exc.value.one_line()

@@ -41,18 +41,36 @@ def refused(capsys, fragments: tuple[str, ...], *argv: str) -> None:
     assert_one_line_error(err, *fragments)
 
 
-@pytest.mark.parametrize("name, text, fragments", [
-    # nesting past Python's recursion limit: a RecursionError (exit 1) before; now located
-    ("deep.json", "[" * 100000 + "]" * 100000, ("line 1 column 101", "invalid JSON: nested too deeply")),
-    # a 5000-digit height: json's int() stopped at 4300 digits with a ValueError (exit 1)
-    ("digits.json", DIGITS, (f"line 1 column {DIGITS.index('9') + 1}:", "(5000 digits)", "invalid JSON: number out of range")),
-    # a 400-digit coordinate: an int no float holds, an OverflowError (exit 1) when converted
-    ("far.json", FAR, (f"line 1 column {FAR.index('9') + 1}:", "(400 digits)", "invalid JSON: number out of range")),
-    # a lone surrogate: read, then a UnicodeEncodeError (exit 1) when the summary was printed
-    ("surrogate.json", '{"name": "\\ud800", "zones": [' + ZONE_TEXT + "]}", ("name = '\\ud800'", "not valid Unicode")),
-    ("surrogate_id.json", '{"zones": [' + ZONE_TEXT.replace('"court"', '"c\\udc00"') + "]}",
-     ("zones[1].id", "not valid Unicode")),
-])
+@pytest.mark.parametrize(
+    "name, text, fragments",
+    [
+        # nesting past Python's recursion limit: a RecursionError (exit 1) before; now located
+        ("deep.json", "[" * 100000 + "]" * 100000, ("line 1 column 101", "invalid JSON: nested too deeply")),
+        # a 5000-digit height: json's int() stopped at 4300 digits with a ValueError (exit 1)
+        (
+            "digits.json",
+            DIGITS,
+            (f"line 1 column {DIGITS.index('9') + 1}:", "(5000 digits)", "invalid JSON: number out of range"),
+        ),
+        # a 400-digit coordinate: an int no float holds, an OverflowError (exit 1) when converted
+        (
+            "far.json",
+            FAR,
+            (f"line 1 column {FAR.index('9') + 1}:", "(400 digits)", "invalid JSON: number out of range"),
+        ),
+        # a lone surrogate: read, then a UnicodeEncodeError (exit 1) when the summary was printed
+        (
+            "surrogate.json",
+            '{"name": "\\ud800", "zones": [' + ZONE_TEXT + "]}",
+            ("name = '\\ud800'", "not valid Unicode"),
+        ),
+        (
+            "surrogate_id.json",
+            '{"zones": [' + ZONE_TEXT.replace('"court"', '"c\\udc00"') + "]}",
+            ("zones[1].id", "not valid Unicode"),
+        ),
+    ],
+)
 def test_json_the_parser_chokes_on_is_a_one_line_error(tmp_path, capsys, name, text, fragments):
     path = write(tmp_path, name, text)
     refused(capsys, (name, *fragments), "validate", str(path))
@@ -74,18 +92,22 @@ def test_a_csv_cell_over_the_field_limit_is_a_one_line_error(tmp_path, capsys):
 
 def test_a_key_given_twice_is_refused_with_both_values(tmp_path, capsys):
     # json keeps the last of two equal keys: theta_max 60 was dropped silently for 68
-    path = write(tmp_path, "dup.json", '{"parameters": {"theta_max_deg": 60, "theta_max_deg": 68}, "zones": ['
-                 + ZONE_TEXT + "]}")
+    path = write(
+        tmp_path, "dup.json", '{"parameters": {"theta_max_deg": 60, "theta_max_deg": 68}, "zones": [' + ZONE_TEXT + "]}"
+    )
     refused(capsys, ("dup.json", "theta_max_deg", "key given twice in one object (60 and 68)"), "validate", str(path))
 
 
-@pytest.mark.parametrize("parameters, fragment", [
-    # each was accepted by validate, and overflowed (OverflowError, exit 1) or ran with no range limit in plan
-    ({"max_slant_range_m": 1e300}, "max_slant_range_m = 1e+300: must be > 0 and <= 10000 m"),
-    ({"sigma_req_m": 1e300}, "sigma_req_m = 1e+300: must be > 0 and <= 1 m"),
-    ({"sigma_0_m": 1e300}, "sigma_0_m = 1e+300: must be a finite number >= 0 and <= 1 m"),
-    ({"instrument_height_span_m": 1e300}, "instrument_height_span_m = 1e+300: must be >= 0 and <= 10000 m"),
-])
+@pytest.mark.parametrize(
+    "parameters, fragment",
+    [
+        # each was accepted by validate, and overflowed (OverflowError, exit 1) or ran with no range limit in plan
+        ({"max_slant_range_m": 1e300}, "max_slant_range_m = 1e+300: must be > 0 and <= 10000 m"),
+        ({"sigma_req_m": 1e300}, "sigma_req_m = 1e+300: must be > 0 and <= 1 m"),
+        ({"sigma_0_m": 1e300}, "sigma_0_m = 1e+300: must be a finite number >= 0 and <= 1 m"),
+        ({"instrument_height_span_m": 1e300}, "instrument_height_span_m = 1e+300: must be >= 0 and <= 10000 m"),
+    ],
+)
 def test_huge_parameters_are_refused_naming_the_field(tmp_path, capsys, parameters, fragment):
     path = site(tmp_path, parameters=parameters)
     refused(capsys, ("site.json", fragment), "validate", str(path))
@@ -94,8 +116,18 @@ def test_huge_parameters_are_refused_naming_the_field(tmp_path, capsys, paramete
 def test_huge_command_line_parameters_go_through_the_same_check(tmp_path, capsys):
     # --max-range 1e300 overflowed in planning (exit 1); the bound itself (10 km) is accepted
     path = site(tmp_path)
-    refused(capsys, ("max_slant_range_m = 1e+300: must be > 0 and <= 10000 m",),
-            "plan", str(path), "--method", "greedy", "--max-range", "1e300", "--out", str(tmp_path))
+    refused(
+        capsys,
+        ("max_slant_range_m = 1e+300: must be > 0 and <= 10000 m",),
+        "plan",
+        str(path),
+        "--method",
+        "greedy",
+        "--max-range",
+        "1e300",
+        "--out",
+        str(tmp_path),
+    )
     refused(capsys, ("sigma_req_m = 1e+300",), "validate", str(path), "--sigma-req", "1e300")
     assert cli(capsys, "validate", str(path), "--max-range", "10000")[0] == 0
 
@@ -103,16 +135,26 @@ def test_huge_command_line_parameters_go_through_the_same_check(tmp_path, capsys
 @pytest.mark.parametrize("index", [1.9, "2"])
 def test_a_table_index_that_is_no_whole_number_is_refused(tmp_path, capsys, index):
     # "index": 1.9 was read as 1 (and this table then ran 1..4); the CSV reader refuses 1.9 already
-    rows = [{"index": k, "side_length_m": 10, "wall_height_m": 5, "interior_angle_deg": 90, "vertex_height_m": 5}
-            for k in (index, 2, 3, 4)]
+    rows = [
+        {"index": k, "side_length_m": 10, "wall_height_m": 5, "interior_angle_deg": 90, "vertex_height_m": 5}
+        for k in (index, 2, 3, 4)
+    ]
     path = site(tmp_path, zone={"id": "T", "scan_side": "inside", "table": rows})
     refused(capsys, ("site.json", "zone T row 1", f"index = {index!r}: must be a whole number"), "validate", str(path))
 
 
 def test_a_correction_of_vertex_1_point_7_is_refused(tmp_path, capsys):
     # the correction applied to vertex 1 before (printed 91 -> 90 there); "vertex": 1.0 still names vertex 1
-    rows = [{"index": k, "side_length_m": 10, "wall_height_m": 5, "interior_angle_deg": 91 if k == 1 else 90,
-             "vertex_height_m": 5} for k in range(1, 5)]
+    rows = [
+        {
+            "index": k,
+            "side_length_m": 10,
+            "wall_height_m": 5,
+            "interior_angle_deg": 91 if k == 1 else 90,
+            "vertex_height_m": 5,
+        }
+        for k in range(1, 5)
+    ]
     correction = {"zone": "T", "field": "interior_angle_deg", "printed": 91, "corrected": 90, "reason": "misprint"}
     zone = {"id": "T", "scan_side": "inside", "table": rows}
     path = site(tmp_path, zone=zone, corrections=[{**correction, "vertex": 1.7}])
@@ -139,17 +181,35 @@ def test_a_drawing_scale_written_plainly_is_read(tmp_path, capsys, scale):
 def test_a_wall_height_of_a_coordinate_zone_must_be_a_height(tmp_path, capsys, heights, wall, value):
     # -3 and 0 were accepted with a note ("printed -3") while a table row's wall_height_m 0 is refused
     path = site(tmp_path, zone={**SQUARE, "wall_heights_m": heights})
-    refused(capsys, ("site.json", f"zone court wall {wall}", f"wall_heights_m = {value}: must be a height > 0"),
-            "validate", str(path))
+    refused(
+        capsys,
+        ("site.json", f"zone court wall {wall}", f"wall_heights_m = {value}: must be a height > 0"),
+        "validate",
+        str(path),
+    )
 
 
 def test_control_points_beyond_the_coordinate_limit_are_refused(tmp_path, capsys):
     # x = 1e12 was accepted (zones are limited to +-1e8 m), in the instance and in a --control file
     path = site(tmp_path, control_points=[{"name": "F", "x": 1e12, "y": 0}])
-    refused(capsys, ("site.json", "control point F", "x = 1e+12: must be a finite number within +-1e+08 m"),
-            "validate", str(path))
+    refused(
+        capsys,
+        ("site.json", "control point F", "x = 1e+12: must be a finite number within +-1e+08 m"),
+        "validate",
+        str(path),
+    )
     control = write(tmp_path, "control.json", json.dumps([{"name": "F", "x": 5, "y": -1e12}]))
-    plan = write(tmp_path, "plan.json", json.dumps({"stations": [{"id": "S", "zone": "court", "side": "inside",
-                                                                  "x": 5, "y": 5}]}))
-    refused(capsys, ("control.json", "control point F", "y = -1e+12: must be a finite number within +-1e+08 m"),
-            "network", str(site(tmp_path, "plain.json")), str(plan), "--control", str(control))
+    plan = write(
+        tmp_path,
+        "plan.json",
+        json.dumps({"stations": [{"id": "S", "zone": "court", "side": "inside", "x": 5, "y": 5}]}),
+    )
+    refused(
+        capsys,
+        ("control.json", "control point F", "y = -1e+12: must be a finite number within +-1e+08 m"),
+        "network",
+        str(site(tmp_path, "plain.json")),
+        str(plan),
+        "--control",
+        str(control),
+    )

@@ -22,13 +22,21 @@ def _zone(zid: str, xy, side: ScanSide, frame: str = "site") -> Zone:
     pts = np.asarray(xy, dtype=float)
     if frame != "site":
         pts = (pts - np.asarray(MOVE.origin)) @ MOVE.matrix
-    return Zone(id=zid, scan_side=side, vertices=tuple(map(tuple, pts.tolist())), vertex_heights_m=(5.0,) * len(pts),
-                frame=frame)
+    return Zone(
+        id=zid,
+        scan_side=side,
+        vertices=tuple(map(tuple, pts.tolist())),
+        vertex_heights_m=(5.0,) * len(pts),
+        frame=frame,
+    )
 
 
 def _zones(outline=OUTLINE):
-    return {"outline": _zone("outline", outline, ScanSide.OUTSIDE), "A": _zone("A", ROOM_A, ScanSide.INSIDE),
-            "C": _zone("C", ROOM_C, ScanSide.INSIDE, frame="C")}
+    return {
+        "outline": _zone("outline", outline, ScanSide.OUTSIDE),
+        "A": _zone("A", ROOM_A, ScanSide.INSIDE),
+        "C": _zone("C", ROOM_C, ScanSide.INSIDE, frame="C"),
+    }
 
 
 def test_three_contacts_in_two_directions_place_the_room_exactly():
@@ -36,8 +44,11 @@ def test_three_contacts_in_two_directions_place_the_room_exactly():
     p, contacts, why = place_by_contacts(zones["C"], zones, {"outline": IDENTITY, "A": IDENTITY})
     assert p is not None, why
     assert np.allclose(p.apply(zones["C"].xy), ROOM_C, atol=1e-6)
-    assert {c.label for c in contacts} == {"C side 1 along outline side 1", "C side 3 along outline side 3",
-                                          "C side 4 along A side 2"}
+    assert {c.label for c in contacts} == {
+        "C side 1 along outline side 1",
+        "C side 3 along outline side 3",
+        "C side 4 along A side 2",
+    }
     # hand check: C's side 1 (15 m) lies on 15 of the outline's 30 m, its side 4 on all of A's 10 m
     over = {c.label: c.overlap_m for c in contacts}
     assert over["C side 1 along outline side 1"] == pytest.approx(15.0)

@@ -38,7 +38,9 @@ def test_courtyard_example_loads_every_feature():
 
 def test_mm_and_m_parameters_are_the_same(tmp_path):
     a = load_site(write(tmp_path, {"zones": [square()], "parameters": {"sigma_req_mm": 7, "sigma_0_mm": 1}}, "a.json"))
-    b = load_site(write(tmp_path, {"zones": [square()], "parameters": {"sigma_req_m": 0.007, "sigma_0_m": 0.001}}, "b.json"))
+    b = load_site(
+        write(tmp_path, {"zones": [square()], "parameters": {"sigma_req_m": 0.007, "sigma_0_m": 0.001}}, "b.json")
+    )
     assert a.parameters == b.parameters
 
 
@@ -48,8 +50,13 @@ def test_both_units_given_is_refused(tmp_path):
 
 
 def test_clockwise_coordinates_are_stored_counter_clockwise(tmp_path):
-    cw = {"id": "S", "scan_side": "inside", "coordinates": [[0, 0], [0, 10], [10, 10], [10, 0]],
-          "vertex_heights_m": [1, 2, 3, 4], "wall_heights_m": [2, 3, 4, 4]}
+    cw = {
+        "id": "S",
+        "scan_side": "inside",
+        "coordinates": [[0, 0], [0, 10], [10, 10], [10, 0]],
+        "vertex_heights_m": [1, 2, 3, 4],
+        "wall_heights_m": [2, 3, 4, 4],
+    }
     z = load_site(write(tmp_path, {"zones": [cw]})).zone("S")
     assert z.area_m2 == pytest.approx(100.0) and z.xy[0].tolist() == [0, 0]
     assert "clockwise" in z.notes[0]
@@ -70,20 +77,31 @@ def test_correction_must_match_the_printed_value(tmp_path):
     inst = json.loads((INSTANCES / "baalbek.json").read_text())
     inst["zones"] = [{"table_csv": "t.csv"}]
     inst["corrections"][1]["printed"] = 128.0
-    with pytest.raises(InputError, match=r"zone Z3 row 6: interior_angle_deg = 128: correction says printed 128 but the table holds 128.929"):
+    with pytest.raises(
+        InputError,
+        match=r"zone Z3 row 6: interior_angle_deg = 128: correction says printed 128 but the table holds 128.929",
+    ):
         load_site(write(tmp_path, inst))
 
 
 def test_correction_field_must_suit_vertex_or_side(tmp_path):
-    inst = {"zones": [square()], "corrections": [
-        {"zone": "S", "vertex": 1, "field": "side_length_m", "printed": 1, "corrected": 2, "reason": "x"}]}
+    inst = {
+        "zones": [square()],
+        "corrections": [
+            {"zone": "S", "vertex": 1, "field": "side_length_m", "printed": 1, "corrected": 2, "reason": "x"}
+        ],
+    }
     with pytest.raises(InputError, match="a vertex correction changes one of interior_angle_deg, vertex_height_m"):
         load_site(write(tmp_path, inst))
 
 
 def test_correction_of_unknown_zone(tmp_path):
-    inst = {"zones": [square()], "corrections": [
-        {"zone": "Q", "vertex": 1, "field": "vertex_height_m", "printed": 1, "corrected": 2, "reason": "x"}]}
+    inst = {
+        "zones": [square()],
+        "corrections": [
+            {"zone": "Q", "vertex": 1, "field": "vertex_height_m", "printed": 1, "corrected": 2, "reason": "x"}
+        ],
+    }
     with pytest.raises(InputError, match="zone Q: corrections: correction names no table zone"):
         load_site(write(tmp_path, inst))
 
@@ -97,24 +115,38 @@ def test_stale_acceptance_is_refused(tmp_path):
         load_site(write(tmp_path, inst))
 
 
-@pytest.mark.parametrize("inst, fragment", [
-    ({"zones": [square()], "colour": "red"}, "colour: unknown key in instance"),
-    ({"zones": []}, "zones = 0: an instance needs at least one zone"),
-    ({"zones": [square(), square()]}, "zone S: id = 'S': duplicate zone id"),
-    ({"zones": [square(side="up")]}, "zone S: scan_side = 'up'"),
-    ({"zones": [square(height_m=-1)]}, "zone S: height_m = -1: must be a height > 0"),  # named as written
-    # an opening reversed names its zone (it named the opening's own name as the zone before)
-    ({"zones": [square()], "openings": [{"zone": "S", "wall": 1, "s0_m": 5, "s1_m": 2, "name": "d"}]},
-     "zone S openings[1]: s0_m..s1_m = '5..2': needs 0 <= s0_m < s1_m"),
-    # a table_csv that is a folder names the instance's entry (it named the folder as the file before)
-    ({"zones": [{"table_csv": "."}]}, "zones[1]: table_csv = '.': names no file beside the instance"),
-    ({"zones": [square()], "parameters": {"overlap": 1.5}}, "overlap = 1.5"),
-    ({"zones": [square()], "parameters": {"sigma_req_mm": 5, "drawing_scale": "1:50"}}, "not both"),
-    ({"zones": [{**square(), "coordinates": [[0, 0], [1, 0], [1, 0], [0, 1]]}]}, "zone S side 2: side_length_m = 0: zero-length side"),
-    ({"zones": [{**square(), "coordinates": [[0, 0], [1, "x"], [0, 1]]}]}, "zone S vertex 2: coordinates = 'x': coordinate must be a finite number"),
-    ({"zones": [square()], "obstacles": [{"polygon": [[0, 0], [1, 0], [0, 1]], "height_m": 0}]}, "obstacle 1: height_m = 0"),
-    ({"format": "other/9", "zones": [square()]}, "format = 'other/9': unsupported format"),
-])
+@pytest.mark.parametrize(
+    "inst, fragment",
+    [
+        ({"zones": [square()], "colour": "red"}, "colour: unknown key in instance"),
+        ({"zones": []}, "zones = 0: an instance needs at least one zone"),
+        ({"zones": [square(), square()]}, "zone S: id = 'S': duplicate zone id"),
+        ({"zones": [square(side="up")]}, "zone S: scan_side = 'up'"),
+        ({"zones": [square(height_m=-1)]}, "zone S: height_m = -1: must be a height > 0"),  # named as written
+        # an opening reversed names its zone (it named the opening's own name as the zone before)
+        (
+            {"zones": [square()], "openings": [{"zone": "S", "wall": 1, "s0_m": 5, "s1_m": 2, "name": "d"}]},
+            "zone S openings[1]: s0_m..s1_m = '5..2': needs 0 <= s0_m < s1_m",
+        ),
+        # a table_csv that is a folder names the instance's entry (it named the folder as the file before)
+        ({"zones": [{"table_csv": "."}]}, "zones[1]: table_csv = '.': names no file beside the instance"),
+        ({"zones": [square()], "parameters": {"overlap": 1.5}}, "overlap = 1.5"),
+        ({"zones": [square()], "parameters": {"sigma_req_mm": 5, "drawing_scale": "1:50"}}, "not both"),
+        (
+            {"zones": [{**square(), "coordinates": [[0, 0], [1, 0], [1, 0], [0, 1]]}]},
+            "zone S side 2: side_length_m = 0: zero-length side",
+        ),
+        (
+            {"zones": [{**square(), "coordinates": [[0, 0], [1, "x"], [0, 1]]}]},
+            "zone S vertex 2: coordinates = 'x': coordinate must be a finite number",
+        ),
+        (
+            {"zones": [square()], "obstacles": [{"polygon": [[0, 0], [1, 0], [0, 1]], "height_m": 0}]},
+            "obstacle 1: height_m = 0",
+        ),
+        ({"format": "other/9", "zones": [square()]}, "format = 'other/9': unsupported format"),
+    ],
+)
 def test_refusals_name_file_and_value(tmp_path, inst, fragment):
     with pytest.raises(InputError) as exc:
         load_site(write(tmp_path, inst))

@@ -17,10 +17,15 @@ from planner.site.traverse import walk
 from tests.conftest import INSTANCES
 
 
-@pytest.mark.parametrize("name, zones, sides", [
-    ("polygon_a", ["A"], [4]), ("polygon_b", ["B"], [5]), ("polygon_c", ["C"], [8]),
-    ("baalbek", [f"Z{i}" for i in range(1, 12)] + ["outline"], [4, 4, 12, 4, 4, 4, 4, 4, 4, 4, 4, 18]),
-])
+@pytest.mark.parametrize(
+    "name, zones, sides",
+    [
+        ("polygon_a", ["A"], [4]),
+        ("polygon_b", ["B"], [5]),
+        ("polygon_c", ["C"], [8]),
+        ("baalbek", [f"Z{i}" for i in range(1, 12)] + ["outline"], [4, 4, 12, 4, 4, 4, 4, 4, 4, 4, 4, 18]),
+    ],
+)
 def test_bundled_instances_load(name, zones, sides):
     site = load_site(INSTANCES / f"{name}.json")
     assert [z.id for z in site.zones] == zones
@@ -75,8 +80,10 @@ def test_other_raw_zones_close_within_1_mm():
         assert zone_from_table(t, ClosureTolerance()).closure.linear_misclosure_m < 0.0015, t.zone
 
 
-@pytest.mark.parametrize("zone, vertex, value, closes_to_m", [("Z3", 6, 252.366, 0.001), ("Z8", 2, 90.960, 0.0015),
-                                                              ("outline", 18, 90.676, 0.017)])
+@pytest.mark.parametrize(
+    "zone, vertex, value, closes_to_m",
+    [("Z3", 6, 252.366, 0.001), ("Z8", 2, 90.960, 0.0015), ("outline", 18, 90.676, 0.017)],
+)
 def test_each_correction_is_the_only_single_angle_that_closes(zone, vertex, value, closes_to_m):
     # put the angle that restores (n-2)*180 at each vertex in turn: only the corrected vertex closes
     # within the default 1:2000 (Z8: at vertex 1, which the walk does not use, 0.04 m is left: 1:718)

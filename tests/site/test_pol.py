@@ -10,7 +10,17 @@ from tests.conftest import ROOT
 
 #: three small AGPLIB polygons copied from ../shared/benchmarks/agplib (provenance: tests/data/README.md)
 AGP = ROOT / "tests" / "data" / "agplib"
-LIMITS_OFF = ["--max-range", "10000", "--theta-max", "89.99", "--no-precision", "--no-overlap", "--grid-spacing", "2", "--quiet"]
+LIMITS_OFF = [
+    "--max-range",
+    "10000",
+    "--theta-max",
+    "89.99",
+    "--no-precision",
+    "--no-overlap",
+    "--grid-spacing",
+    "2",
+    "--quiet",
+]
 
 
 def test_pol_with_a_hole_is_scaled_and_oriented(tmp_path):

@@ -23,7 +23,9 @@ def _table(lengths, angles, heights=None) -> ZoneTable:
     return ZoneTable("T", "inside", rows)
 
 
-@pytest.mark.parametrize("name, zone, limit_mm", [("polygon_a", "A", 1e-6), ("polygon_b", "B", 1.0), ("polygon_c", "C", 2.5)])
+@pytest.mark.parametrize(
+    "name, zone, limit_mm", [("polygon_a", "A", 1e-6), ("polygon_b", "B", 1.0), ("polygon_c", "C", 2.5)]
+)
 def test_closures_of_table_3_1(name, zone, limit_mm):
     # METHOD.md section 3: A and B close exactly (B to 0.4 mm from 3-decimal rounding), C within 2 mm
     z = load_site(INSTANCES / f"{name}.json").zone(zone)
@@ -77,6 +79,7 @@ def report_lin(table: ZoneTable) -> float:
 
 
 # --- property tests: a polygon rebuilt from its own sides and angles is the polygon --------------
+
 
 def _frame(xy: np.ndarray) -> np.ndarray:
     """Move vertex 1 to the origin and turn side 1 onto +x (the table frame)."""

@@ -18,7 +18,9 @@ from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters
 
 
-def _place(xy: list[tuple[float, float]], angle_deg: float, shift: tuple[float, float]) -> tuple[tuple[float, float], ...]:
+def _place(
+    xy: list[tuple[float, float]], angle_deg: float, shift: tuple[float, float]
+) -> tuple[tuple[float, float], ...]:
     c, s = math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))
     pts = np.round(np.asarray(xy, float) @ np.array([[c, s], [-s, c]]) + np.asarray(shift), 9)  # to 1 nm, as drawn
     return tuple((float(x), float(y)) for x, y in pts)
@@ -56,11 +58,17 @@ def rooms(draw: st.DrawFn, max_size_m: float = 20.0, blocks: bool = True) -> Sit
         cx, cy = w / 2, h / 2
         holes = ([(cx - s, cy - s), (cx - s, cy + s), (cx + s, cy + s), (cx + s, cy - s)],)
     angle, shift = draw(st.floats(0, 360)), (draw(st.floats(-1e3, 1e3)), draw(st.floats(-1e3, 1e3)))
-    zone = Zone("R", ScanSide.INSIDE, _place(xy, angle, shift), (height,) * len(xy),
-                holes=tuple(_place(list(hole), angle, shift) for hole in holes),
-                hole_heights_m=tuple((height,) * 4 for _ in holes))
-    params = Parameters(theta_max_deg=draw(st.floats(30.0, 85.0)), max_slant_range_m=draw(st.floats(height + 1.0, 60.0)),
-                        overlap=0.0)
+    zone = Zone(
+        "R",
+        ScanSide.INSIDE,
+        _place(xy, angle, shift),
+        (height,) * len(xy),
+        holes=tuple(_place(list(hole), angle, shift) for hole in holes),
+        hole_heights_m=tuple((height,) * 4 for _ in holes),
+    )
+    params = Parameters(
+        theta_max_deg=draw(st.floats(30.0, 85.0)), max_slant_range_m=draw(st.floats(height + 1.0, 60.0)), overlap=0.0
+    )
     return Site(f"{kind} {w:.2f} x {h:.2f}", (zone,), parameters=params)
 
 
@@ -79,8 +87,10 @@ def positions(zone: Zone, step_m: float) -> list[Candidate]:
 
 
 def as_candidates(zone: Zone, pts: np.ndarray, tag: str = "Q") -> list[Candidate]:
-    return [Candidate(f"{tag}{k}", zone.id, zone.scan_side.sides[0], zone.frame, float(x), float(y), CandidateKind.GRID)
-            for k, (x, y) in enumerate(np.asarray(pts, float).reshape(-1, 2))]
+    return [
+        Candidate(f"{tag}{k}", zone.id, zone.scan_side.sides[0], zone.frame, float(x), float(y), CandidateKind.GRID)
+        for k, (x, y) in enumerate(np.asarray(pts, float).reshape(-1, 2))
+    ]
 
 
 def min_cover(by_candidate: sp.csr_matrix) -> float:
@@ -91,7 +101,12 @@ def min_cover(by_candidate: sp.csr_matrix) -> float:
     if np.any(np.diff(a.indptr) == 0):
         return math.inf
     n = a.shape[1]
-    res = milp(np.ones(n), constraints=LinearConstraint(a, lb=np.ones(a.shape[0])), integrality=np.ones(n),
-               bounds=Bounds(0, 1), options={"disp": False})
+    res = milp(
+        np.ones(n),
+        constraints=LinearConstraint(a, lb=np.ones(a.shape[0])),
+        integrality=np.ones(n),
+        bounds=Bounds(0, 1),
+        options={"disp": False},
+    )
     assert res.status == 0, res.message
     return float(round(res.fun))

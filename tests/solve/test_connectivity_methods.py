@@ -18,8 +18,17 @@ from planner.solve.milp import MilpOptions, solve
 
 RULE = OverlapRule(0.3)
 #: (backend, connectivity) pairs measured side by side; bc needs SCIP's constraint handler (PySCIPOpt)
-METHODS = [("pyscipopt", "bc"), ("pyscipopt", "flow"), ("pyscipopt", "loop"), ("cpsat", "flow"), ("cpsat", "loop"),
-           ("scip", "flow"), ("scip", "loop"), ("highs", "flow"), ("highs", "loop")]
+METHODS = [
+    ("pyscipopt", "bc"),
+    ("pyscipopt", "flow"),
+    ("pyscipopt", "loop"),
+    ("cpsat", "flow"),
+    ("cpsat", "loop"),
+    ("scip", "flow"),
+    ("scip", "loop"),
+    ("highs", "flow"),
+    ("highs", "loop"),
+]
 
 
 def instance(cover: list[set[int]], n_targets: int, groups: list[str]) -> CoverInstance:
@@ -35,7 +44,7 @@ def brute_force(inst: CoverInstance) -> int | None:
     a = inst.by_candidate.tocsr()
     adj, _ = overlap_adjacency(a, inst.target_length_m, RULE, inst.groups)
     n, full = a.shape[0], (1 << a.shape[1]) - 1
-    mask = [sum(1 << int(t) for t in a.indices[a.indptr[i]:a.indptr[i + 1]]) for i in range(n)]
+    mask = [sum(1 << int(t) for t in a.indices[a.indptr[i] : a.indptr[i + 1]]) for i in range(n)]
     for size in range(1, n + 1):
         for subset in itertools.combinations(range(n), size):
             union = 0
@@ -103,9 +112,17 @@ def test_methods_agree_with_enumeration(seed):
     inst = random_instance(seed)
     best = FOUND[seed]
     for backend, connectivity, extras in [(b, c, False) for b, c in METHODS] + EXTRAS:
-        for tree_bound in ((False, True) if extras else (False,)):
-            r = solve(inst, MilpOptions(backend=backend, connectivity=connectivity, tree_bound=tree_bound,
-                                        layer_cuts=extras, time_limit_s=20))
+        for tree_bound in (False, True) if extras else (False,):
+            r = solve(
+                inst,
+                MilpOptions(
+                    backend=backend,
+                    connectivity=connectivity,
+                    tree_bound=tree_bound,
+                    layer_cuts=extras,
+                    time_limit_s=20,
+                ),
+            )
             label = (backend, connectivity, tree_bound, extras)
             if best is None:
                 assert r.status.value in ("infeasible", "no_solution"), label

@@ -36,16 +36,19 @@ def _graph(n: int, edges: list[tuple[int, int]]) -> sp.csr_matrix:
     return sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(n, n))
 
 
-@pytest.mark.parametrize("n,edges,split", [
-    # path 0-1-2-3: the ends leave one piece (0 added), 1 and 2 cut it in two (1 added)
-    (4, [(0, 1), (1, 2), (2, 3)], [0, 1, 1, 0]),
-    # triangle 0-1-2 with a tail 2-3 and an isolated 4: only 2 cuts (1 added); removing 4 drops a part (-1)
-    (5, [(0, 1), (1, 2), (0, 2), (2, 3)], [0, 0, 1, 0, -1]),
-    # star with centre 0 and leaves 1..3: removing the centre leaves 3 parts of one (2 added)
-    (4, [(0, 1), (0, 2), (0, 3)], [2, 0, 0, 0]),
-    # two disjoint edges: every end removed leaves its partner, no part added
-    (4, [(0, 1), (2, 3)], [0, 0, 0, 0]),
-])
+@pytest.mark.parametrize(
+    "n,edges,split",
+    [
+        # path 0-1-2-3: the ends leave one piece (0 added), 1 and 2 cut it in two (1 added)
+        (4, [(0, 1), (1, 2), (2, 3)], [0, 1, 1, 0]),
+        # triangle 0-1-2 with a tail 2-3 and an isolated 4: only 2 cuts (1 added); removing 4 drops a part (-1)
+        (5, [(0, 1), (1, 2), (0, 2), (2, 3)], [0, 0, 1, 0, -1]),
+        # star with centre 0 and leaves 1..3: removing the centre leaves 3 parts of one (2 added)
+        (4, [(0, 1), (0, 2), (0, 3)], [2, 0, 0, 0]),
+        # two disjoint edges: every end removed leaves its partner, no part added
+        (4, [(0, 1), (2, 3)], [0, 0, 0, 0]),
+    ],
+)
 def test_split_counts_the_parts_a_removal_adds(n, edges, split):
     assert _split(_graph(n, edges)).tolist() == split
 
@@ -100,7 +103,9 @@ def test_from_the_connected_greedy_stays_a_connected_cover_not_below_the_optimum
     assert _is_connected_cover(inst, adj, found.selected)
     assert FOUND[seed] <= len(found.selected) <= len(greedy.selected)
     sizes = [size for _, size in found.history]
-    assert sizes == sorted(sizes, reverse=True) and all(b == s - 1 for s, b in zip([len(greedy.selected)] + sizes, sizes))
+    assert sizes == sorted(sizes, reverse=True) and all(
+        b == s - 1 for s, b in zip([len(greedy.selected)] + sizes, sizes)
+    )
     again = shrink(a, adj, _groups(inst), list(greedy.selected), moves=300)  # no clock; seeded draws
     assert again == found
 

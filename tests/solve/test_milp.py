@@ -16,9 +16,13 @@ def instance(cover: list[set[int]], n_targets: int, cost=None, groups=True, info
     rows = [i for i, c in enumerate(cover) for _ in c]
     cols = [t for c in cover for t in sorted(c)]
     a = sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(len(cover), n_targets))
-    return CoverInstance(a, np.ones(len(cover)) if cost is None else np.asarray(cost, float),
-                         groups=tuple("g" for _ in cover) if groups else None,
-                         target_length_m=np.ones(n_targets), info=info)
+    return CoverInstance(
+        a,
+        np.ones(len(cover)) if cost is None else np.asarray(cost, float),
+        groups=tuple("g" for _ in cover) if groups else None,
+        target_length_m=np.ones(n_targets),
+        info=info,
+    )
 
 
 # targets 0..5 of unit length; c0 and c1 cover the halves and share nothing, so they cannot be
@@ -111,7 +115,9 @@ def test_repeated_presolve_drops_what_the_first_pass_cannot():
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_presolve_forces_every_view_k_2_needs(backend):
     # k = 2: piece 0 is seen by c0 and c1 only, piece 1 by c0 and c2 only, so every candidate is needed
-    r = solve(instance([{0, 1}, {0}, {1}], 2, groups=False), MilpOptions(backend=backend, overlap=None, k=2, time_limit_s=20))
+    r = solve(
+        instance([{0, 1}, {0}, {1}], 2, groups=False), MilpOptions(backend=backend, overlap=None, k=2, time_limit_s=20)
+    )
     assert r.status.value == "optimal" and r.selected == (0, 1, 2) and r.objective == 3
 
 

@@ -41,8 +41,11 @@ def comb(k: int, tooth_m: float = 1.0, gap_m: float = 1.5, depth_m: float = 4.0,
         x0 = i * (tooth_m + gap_m)
         poly += [(x0 + tooth_m, base_m), (x0 + tooth_m, base_m + depth_m), (x0, base_m + depth_m), (x0, base_m)]
     poly = list(dict.fromkeys(poly))
-    return Site(f"comb {k}", (Zone("C", ScanSide.INSIDE, tuple(poly), (3.0,) * len(poly)),),
-                parameters=Parameters(theta_max_deg=89.0, **UNLIMITED))
+    return Site(
+        f"comb {k}",
+        (Zone("C", ScanSide.INSIDE, tuple(poly), (3.0,) * len(poly)),),
+        parameters=Parameters(theta_max_deg=89.0, **UNLIMITED),
+    )
 
 
 @pytest.mark.parametrize(("aspect", "stations"), [(1.0, 1), (2.0, 1), (2.4, 1), (2.6, 2), (4.0, 2)])

@@ -41,8 +41,12 @@ from planner.solve.plane import price_plane
 from planner.solve.pricing import cover_lp
 from tests.solve.plane_cases import as_candidates, min_cover, positions, rooms
 
-QUICK = settings(deadline=None, derandomize=True, database=None,
-                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large])
+QUICK = settings(
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large],
+)
 PLAIN = PlanOptions(method="milp", milp=MilpOptions(overlap=None, time_limit_s=30.0))
 #: examples per property in CI (2,000 in all); ``scripts/checks/check_plane_properties.py`` scales them up
 SCALE = float(os.environ.get("PLANNER_PROPERTY_SCALE", "1"))
@@ -121,8 +125,9 @@ def test_c_plane_bound_at_most_brute_force_optimum(site: Site) -> None:
 
 def corridor(width: float, length: float, theta: float, angle: float, shift: tuple[float, float]) -> Site:
     c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
-    xy = np.round(np.array([(0, 0), (length, 0), (length, width), (0, width)], float) @ np.array([[c, s], [-s, c]])
-                  + shift, 9)
+    xy = np.round(
+        np.array([(0, 0), (length, 0), (length, width), (0, width)], float) @ np.array([[c, s], [-s, c]]) + shift, 9
+    )
     zone = Zone("K", ScanSide.INSIDE, tuple(map(tuple, xy)), (3.0,) * 4)
     return Site("corridor", (zone,), parameters=Parameters(theta_max_deg=theta, max_slant_range_m=200.0, overlap=0.0))
 
@@ -139,10 +144,16 @@ def centre_line_plan(width: float, length: float, theta: float) -> np.ndarray:
 
 
 @settings(QUICK, max_examples=EXAMPLES["d"])
-@given(width=st.floats(1.5, 15.0), length=st.floats(20.0, CORRIDOR_M), theta=st.floats(50.0, 85.0),
-       angle=st.floats(0.0, 360.0), shift=st.tuples(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3)))
-def test_d_corridor_within_the_centre_line_construction(width: float, length: float, theta: float, angle: float,
-                                                        shift: tuple[float, float]) -> None:
+@given(
+    width=st.floats(1.5, 15.0),
+    length=st.floats(20.0, CORRIDOR_M),
+    theta=st.floats(50.0, 85.0),
+    angle=st.floats(0.0, 360.0),
+    shift=st.tuples(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3)),
+)
+def test_d_corridor_within_the_centre_line_construction(
+    width: float, length: float, theta: float, angle: float, shift: tuple[float, float]
+) -> None:
     check_corridor(width, length, theta, angle, shift)
 
 
@@ -153,8 +164,12 @@ def check_corridor(width: float, length: float, theta: float, angle: float, shif
     c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
     pts = np.column_stack([xs, np.full(len(xs), width / 2)]) @ np.array([[c, s], [-s, c]]) + shift
     plan = plan_site(site, options)
-    built = build_coverage(site, as_candidates(site.zones[0], pts, "C"), plan_problem_targets(site, options),
-                           plan_limits(validate_site(site), options))
+    built = build_coverage(
+        site,
+        as_candidates(site.zones[0], pts, "C"),
+        plan_problem_targets(site, options),
+        plan_limits(validate_site(site), options),
+    )
     assert built.uncoverable().size == 0, "the construction covers every piece"
     assert len(plan.stations) <= len(xs)
     assert plan.result.status.value == "optimal"

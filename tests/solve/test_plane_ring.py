@@ -32,8 +32,12 @@ from planner.solve.ring import cyclic_arcs
 from tests.conftest import INSTANCES
 from tests.solve.plane_cases import _place, as_candidates, outline, positions
 
-QUICK = settings(deadline=None, derandomize=True, database=None,
-                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large])
+QUICK = settings(
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large],
+)
 
 
 def _loop_arc(cols: list[int], n: int) -> tuple[int, int]:
@@ -49,9 +53,13 @@ def _loop_arc(cols: list[int], n: int) -> tuple[int, int]:
 @given(n=st.integers(1, 30), rows=st.lists(st.sets(st.integers(0, 29), min_size=1), min_size=1, max_size=20))
 def test_cyclic_arcs_agree_with_the_loop(n: int, rows: list[set[int]]) -> None:
     rows = [{c % n for c in r} for r in rows]
-    m = sp.csr_matrix((np.ones(sum(map(len, rows)), dtype=bool),
-                       (np.repeat(np.arange(len(rows)), [len(r) for r in rows]), [c for r in rows for c in sorted(r)])),
-                      shape=(len(rows), n))
+    m = sp.csr_matrix(
+        (
+            np.ones(sum(map(len, rows)), dtype=bool),
+            (np.repeat(np.arange(len(rows)), [len(r) for r in rows]), [c for r in rows for c in sorted(r)]),
+        ),
+        shape=(len(rows), n),
+    )
     start, end = cyclic_arcs(m)
     assert list(zip(start.tolist(), end.tolist())) == [_loop_arc(list(r), n) for r in rows]
 
@@ -63,30 +71,52 @@ def _holds(s1: int, e1: int, s2: int, e2: int, n: int) -> bool:
 
 
 @settings(QUICK, max_examples=300)
-@given(n=st.integers(2, 12), items=st.lists(st.tuples(st.integers(0, 11), st.integers(0, 11), st.integers(0, 4)),
-                                            min_size=1, max_size=25))
+@given(
+    n=st.integers(2, 12),
+    items=st.lists(st.tuples(st.integers(0, 11), st.integers(0, 11), st.integers(0, 4)), min_size=1, max_size=25),
+)
 def test_undominated_is_the_pairwise_definition(n: int, items: list[tuple[int, int, int]]) -> None:
     start = np.array([s % n for s, _, _ in items])
     span = np.array([k % n for _, k, _ in items])
     low = np.array([float(w) for _, _, w in items])
     kept = set(undominated(start, span, low, n).tolist())
     for p in range(len(items)):
-        held = [m for m in range(len(items)) if m != p and _holds(start[m], start[m] + span[m], start[p],
-                                                                      start[p] + span[p], n) and low[m] <= low[p]]
+        held = [
+            m
+            for m in range(len(items))
+            if m != p and _holds(start[m], start[m] + span[m], start[p], start[p] + span[p], n) and low[m] <= low[p]
+        ]
         # p goes when another holds it, except the first of equal sets with equal low (one of them stays)
-        same = [m for m in held if _holds(start[p], start[p] + span[p], start[m], start[m] + span[m], n)
-                and low[m] == low[p]]
+        same = [
+            m
+            for m in held
+            if _holds(start[p], start[p] + span[p], start[m], start[m] + span[m], n) and low[m] == low[p]
+        ]
         strict = [m for m in held if m not in same]
         expect = not strict and all(m > p for m in same)
         assert (p in kept) == expect, (p, held, kept)
 
 
-def block_site(kind: str, w: float, h: float, a: float, b: float, theta: float, reach: float, share: float,
-               inside: bool, angle: float, shift: tuple[float, float]) -> Site:
+def block_site(
+    kind: str,
+    w: float,
+    h: float,
+    a: float,
+    b: float,
+    theta: float,
+    reach: float,
+    share: float,
+    inside: bool,
+    angle: float,
+    shift: tuple[float, float],
+) -> Site:
     xy = outline(kind, w, h, a, b)
     zone = Zone("B", ScanSide.INSIDE if inside else ScanSide.OUTSIDE, _place(xy, angle, shift), (3.0,) * len(xy))
-    return Site(f"{kind} {w:.1f} x {h:.1f}", (zone,),
-                parameters=Parameters(theta_max_deg=theta, max_slant_range_m=reach, overlap=share))
+    return Site(
+        f"{kind} {w:.1f} x {h:.1f}",
+        (zone,),
+        parameters=Parameters(theta_max_deg=theta, max_slant_range_m=reach, overlap=share),
+    )
 
 
 def _ring_positions(site: Site, step: float, reach: float) -> np.ndarray:
@@ -105,8 +135,11 @@ def connected_optimum(site: Site, options: PlanOptions, share: float) -> tuple[f
     limits = plan_limits(validate_site(site), options)
     targets = make_targets(site, options.target_spacing_m)
     zone = site.zones[0]
-    grid = positions(zone, 0.5) if zone.scan_side is ScanSide.INSIDE else as_candidates(
-        zone, _ring_positions(site, 0.5, math.sqrt(max(limits.effective_range_m**2 - 9.0, 1.0))))
+    grid = (
+        positions(zone, 0.5)
+        if zone.scan_side is ScanSide.INSIDE
+        else as_candidates(zone, _ring_positions(site, 0.5, math.sqrt(max(limits.effective_range_m**2 - 9.0, 1.0))))
+    )
     problem = build_coverage(site, grid, targets, limits)
     if np.any(problem.by_target.getnnz(axis=1) == 0):
         return math.inf, problem
@@ -115,10 +148,19 @@ def connected_optimum(site: Site, options: PlanOptions, share: float) -> tuple[f
 
 
 @settings(QUICK, max_examples=60)
-@given(kind=st.sampled_from(["rect", "rect", "L", "U"]), w=st.floats(1.5, 5.0), h=st.floats(1.5, 5.0),
-       a=st.floats(0.3, 0.7), b=st.floats(0.3, 0.7), theta=st.floats(40.0, 80.0), reach=st.floats(6.0, 12.0),
-       share=st.floats(0.1, 0.6), inside=st.sampled_from([False, False, True]), angle=st.floats(0, 360),
-       shift=st.tuples(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3)))
+@given(
+    kind=st.sampled_from(["rect", "rect", "L", "U"]),
+    w=st.floats(1.5, 5.0),
+    h=st.floats(1.5, 5.0),
+    a=st.floats(0.3, 0.7),
+    b=st.floats(0.3, 0.7),
+    theta=st.floats(40.0, 80.0),
+    reach=st.floats(6.0, 12.0),
+    share=st.floats(0.1, 0.6),
+    inside=st.sampled_from([False, False, True]),
+    angle=st.floats(0, 360),
+    shift=st.tuples(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3)),
+)
 def test_bound_at_most_the_connected_optimum_over_a_grid(kind, w, h, a, b, theta, reach, share, inside, angle, shift):
     if kind != "rect":
         w, h = max(w, 5.0), max(h, 5.0)

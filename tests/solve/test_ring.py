@@ -34,8 +34,11 @@ def enumerate_optimum(a: sp.csr_matrix, cost: np.ndarray) -> float:
     best = np.inf
     for size in range(1, n + 1):
         for subset in itertools.combinations(range(n), size):
-            if cost[list(subset)].sum() < best and a[list(subset)].getnnz(axis=0).all() \
-                    and not disconnected_groups(adj, ["g"] * n, subset):
+            if (
+                cost[list(subset)].sum() < best
+                and a[list(subset)].getnnz(axis=0).all()
+                and not disconnected_groups(adj, ["g"] * n, subset)
+            ):
                 best = float(cost[list(subset)].sum())
     return best
 

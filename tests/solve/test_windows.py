@@ -100,8 +100,7 @@ def test_connected_cover_within_a_subset_and_beside_kept_stations():
     assert got is not None and got.tolist() == list(range(1, 21, 2)) and status is Status.OPTIMAL
     # stations 0..10 kept (one part), the right half's pieces 14..23 to cover: 12, 14, ..., 20 = 5 stations
     # join the kept part (10 and 12 share 2 of 4 pieces) and reach piece 23 (only candidate 20 sees it)
-    got, status, _ = connected_cover_within(a, adj, g, np.arange(11, 21), np.arange(14, 24), np.arange(11),
-                                            work_s=5.0)
+    got, status, _ = connected_cover_within(a, adj, g, np.arange(11, 21), np.arange(14, 24), np.arange(11), work_s=5.0)
     assert got is not None and got.tolist() == [12, 14, 16, 18, 20] and status is Status.OPTIMAL
 
 
@@ -136,12 +135,17 @@ def test_windows_in_flight_give_the_one_at_a_time_result():
                     def cancel(self):
                         runner.pending -= 1
                         runner.cancelled += 1
+
                 return Done()
 
         run = Eager()
         found = window_search(a, adj, _groups(inst), list(range(21)), xy, o, run=run)
-        assert (found.selected, found.history, found.windows, found.proven) == \
-            (one.selected, one.history, one.windows, one.proven)
+        assert (found.selected, found.history, found.windows, found.proven) == (
+            one.selected,
+            one.history,
+            one.windows,
+            one.proven,
+        )
         assert run.most == batch and run.pending == 0
         assert run.submitted == one.windows + run.cancelled
         assert run.cancelled <= len(one.history) * (batch - 1) + o.passes * (batch - 1)

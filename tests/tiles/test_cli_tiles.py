@@ -11,8 +11,23 @@ PLANT = str(INSTANCES / "plant_1ha.json")
 
 
 def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
-    code = main(["plan", PLANT, "--tiles", "50", "--tile-time-limit", "10", "--bound-time-limit", "10",
-                 "--tile-search-moves", "50", "--out", str(tmp_path), "--quiet"])
+    code = main(
+        [
+            "plan",
+            PLANT,
+            "--tiles",
+            "50",
+            "--tile-time-limit",
+            "10",
+            "--bound-time-limit",
+            "10",
+            "--tile-search-moves",
+            "50",
+            "--out",
+            str(tmp_path),
+            "--quiet",
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 0
     assert "4 tiles of 50 m, margin 60.0 m" in out  # plant_1ha: anchors span ~66 m -> 2 x 2 tiles; S_max 60 m
@@ -47,8 +62,12 @@ def test_negative_lagrange_work_is_a_usage_error(capsys) -> None:
 
 
 def test_bad_window_options_are_usage_errors(capsys) -> None:
-    for flag, value in (("--tile-window-radius", "0"), ("--tile-window-work", "-1"), ("--tile-window-passes", "-1"),
-                        ("--tile-window-batch", "0")):
+    for flag, value in (
+        ("--tile-window-radius", "0"),
+        ("--tile-window-work", "-1"),
+        ("--tile-window-passes", "-1"),
+        ("--tile-window-batch", "0"),
+    ):
         assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and flag in err and value in err

@@ -65,8 +65,9 @@ def test_bound_is_valid_and_at_least_the_lp_on_random_covers(seed: int) -> None:
     # every piece seen by its own station (so a cover exists) plus random stations; parts at random
     rng = np.random.default_rng(seed)
     n_t, n_extra = 9, 8
-    sets = [[t] for t in range(n_t)] + [sorted(rng.choice(n_t, size=rng.integers(2, 5), replace=False).tolist())
-                                        for _ in range(n_extra)]
+    sets = [[t] for t in range(n_t)] + [
+        sorted(rng.choice(n_t, size=rng.integers(2, 5), replace=False).tolist()) for _ in range(n_extra)
+    ]
     a = cover(sets, n_t)
     cost = rng.integers(1, 4, size=len(sets)).astype(float)
     label = rng.integers(0, 3, size=n_t)

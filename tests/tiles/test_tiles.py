@@ -114,9 +114,13 @@ def test_translated_plant_gives_the_same_counts(site, serial) -> None:
         return tuple((x + dx, y + dy) for x, y in v)
 
     zones = tuple(Zone(z.id, z.scan_side, move(z.vertices), z.vertex_heights_m) for z in site.zones)
-    moved = replace(site, zones=zones, boundary=move(site.boundary),
-                    obstacles=tuple(Obstacle(o.name, move(o.vertices), o.height_m) for o in site.obstacles),
-                    no_go_areas=tuple(NoGoArea(n.name, move(n.vertices)) for n in site.no_go_areas))
+    moved = replace(
+        site,
+        zones=zones,
+        boundary=move(site.boundary),
+        obstacles=tuple(Obstacle(o.name, move(o.vertices), o.height_m) for o in site.obstacles),
+        no_go_areas=tuple(NoGoArea(n.name, move(n.vertices)) for n in site.no_go_areas),
+    )
     plan = plan_by_tiles(moved, OPTIONS, TILING)
     assert len(plan.stations) == len(serial.stations)
     assert plan.result.bound == serial.result.bound

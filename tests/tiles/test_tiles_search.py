@@ -23,8 +23,13 @@ OPTIONS = PlanOptions(method="milp", pricing=False)
 def _tiling(moves: int, passes: int = 0, batch: int = 1) -> TileOptions:
     # short tile MILPs and the LP bound only (ceil(7.73) = 8 on 1 ha), so the kept plan has room to shrink
     # (11 stations here); window re-solves only with passes, of 60 m (most of the 1-ha site; one run: 11 -> 10)
-    return TileOptions(tile_m=50.0, tile_time_limit_s=0.5, bound_time_limit_s=0, local_search_moves=moves,
-                       windows=WindowOptions(radius_m=60.0, work_s=1.0, passes=passes, batch=batch))
+    return TileOptions(
+        tile_m=50.0,
+        tile_time_limit_s=0.5,
+        bound_time_limit_s=0,
+        local_search_moves=moves,
+        windows=WindowOptions(radius_m=60.0, work_s=1.0, passes=passes, batch=batch),
+    )
 
 
 @pytest.fixture(scope="module")
@@ -59,7 +64,9 @@ def windowed(plans, no_whole_site_greedy):
 def test_search_never_grows_the_kept_plan_and_keeps_it_verified(plans) -> None:
     without, searched, _ = plans
     before = without.result.info["local_search"]
-    assert before["moves"] == 0 and before["removed"] == 0 and before["before"] == before["after"] == len(without.stations)
+    assert (
+        before["moves"] == 0 and before["removed"] == 0 and before["before"] == before["after"] == len(without.stations)
+    )
     record = searched.result.info["local_search"]
     # the search starts from the same kept plan (same tiles, bound and greedy; only the budget differs)
     assert record["before"] == len(without.stations)
