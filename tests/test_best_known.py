@@ -17,7 +17,9 @@ def test_entries_have_a_command_and_a_count():
 def test_lookup_matches_instance_problem_mode_and_overlap():
     known = best_known("plant_16ha", "site", 0.3)
     assert known is not None and known.stations == 103 and known.problem == "connected"
-    assert best_known("plant_16ha", "zone", 0.3) is None  # another registration mode: not comparable
+    zone = best_known("plant_16ha", "zone", 0.3)  # the plain command's registration on the plant: its own entry
+    assert zone is not None and zone.stations == 96 and zone.registration == "zone"
+    assert best_known("plant_4ha", "zone", 0.3) is None  # no entry for that mode: nothing to compare
     assert best_known("plant_16ha", "site", 0.5) is None  # another overlap share
     plain = best_known("plant_4ha", None, 0.0)
     assert plain is not None and plain.stations == 27 and plain.proven_optimal
