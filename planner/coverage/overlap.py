@@ -24,7 +24,6 @@ from planner.checks import real
 from planner.coverage.gram import filtered_gram
 from planner.errors import UsageError
 
-
 #: the overlap share when none is given (the dissertation's O = 30 %)
 DEFAULT_OVERLAP = 0.30
 
@@ -69,9 +68,12 @@ def piece_lengths(s0_m: NDArray[np.float64], s1_m: NDArray[np.float64]) -> NDArr
 Pairs = Callable[[NDArray[np.int64], NDArray[np.int64]], NDArray[np.bool_]]
 
 
-def link_filter(rule: OverlapRule, covered: NDArray[np.float64], gid: NDArray[np.int64] | None = None,
-                xy: NDArray[np.float64] | None = None
-                ) -> tuple[Pairs, Callable[[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], NDArray[np.bool_]]]:
+def link_filter(
+    rule: OverlapRule,
+    covered: NDArray[np.float64],
+    gid: NDArray[np.int64] | None = None,
+    xy: NDArray[np.float64] | None = None,
+) -> tuple[Pairs, Callable[[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], NDArray[np.bool_]]]:
     """The rule as two tests on index pairs: ``allowed(r, c)`` (not the same, one group, within ``max_link_m``)
     and ``keep(r, c, shared)`` (allowed, and sharing > 0, >= ``overlap`` of the smaller of the two ``covered``
     lengths and >= ``min_shared_m``): the one home of "registered" for a coverage matrix."""
@@ -92,8 +94,11 @@ def link_filter(rule: OverlapRule, covered: NDArray[np.float64], gid: NDArray[np
 
 
 def overlap_adjacency(
-    by_candidate: sp.csr_matrix, lengths: NDArray[np.float64], rule: OverlapRule,
-    groups: Sequence[Hashable] | None = None, xy: NDArray[np.float64] | None = None,
+    by_candidate: sp.csr_matrix,
+    lengths: NDArray[np.float64],
+    rule: OverlapRule,
+    groups: Sequence[Hashable] | None = None,
+    xy: NDArray[np.float64] | None = None,
     links: sp.spmatrix | None = None,
 ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """Symmetric C x C adjacency of the overlap relation, and the shared length (m) on the same pattern.
@@ -121,8 +126,12 @@ def overlap_adjacency(
 
 
 def overlap_graph(
-    by_candidate: sp.csr_matrix, lengths: NDArray[np.float64], nodes: Sequence[int], rule: OverlapRule,
-    xy: NDArray[np.float64] | None = None, links: sp.spmatrix | None = None,
+    by_candidate: sp.csr_matrix,
+    lengths: NDArray[np.float64],
+    nodes: Sequence[int],
+    rule: OverlapRule,
+    xy: NDArray[np.float64] | None = None,
+    links: sp.spmatrix | None = None,
 ) -> nx.Graph:
     """Graph on ``nodes`` (candidate indices) with an edge wherever two can be registered.
 

@@ -11,7 +11,7 @@ The estimate counts, from the site's geometry alone (no candidate, target or pai
 
 Each count is priced at a per-item cost measured on the bundled instances (docs/startup.md); the
 largest single array (the meshgrid) is priced too, since it alone can exceed the memory; and the process
-itself (``BASE_BYTES``). ``scripts/bench_memory.py`` sets the estimate beside the measured peak.
+itself (``BASE_BYTES``). ``scripts/bench/bench_memory.py`` sets the estimate beside the measured peak.
 """
 
 from __future__ import annotations
@@ -57,12 +57,19 @@ class WorkEstimate:
 
     @property
     def bytes(self) -> int:
-        return (BASE_BYTES + self.targets * TARGET_BYTES + self.candidates * CANDIDATE_BYTES + self.pairs * PAIR_BYTES
-                + self.grid_points * GRID_POINT_BYTES)
+        return (
+            BASE_BYTES
+            + self.targets * TARGET_BYTES
+            + self.candidates * CANDIDATE_BYTES
+            + self.pairs * PAIR_BYTES
+            + self.grid_points * GRID_POINT_BYTES
+        )
 
     def describe(self) -> str:
-        return (f"{_fmt_bytes(self.bytes)} ({self.targets:.3g} wall pieces, {self.candidates:.3g} candidates, "
-                f"{self.pairs:.3g} pairs)")
+        return (
+            f"{_fmt_bytes(self.bytes)} ({self.targets:.3g} wall pieces, {self.candidates:.3g} candidates, "
+            f"{self.pairs:.3g} pairs)"
+        )
 
 
 def available_memory_bytes() -> int:
@@ -95,8 +102,9 @@ def parse_memory(text: str) -> int:
     try:
         value = float(num) * mult
     except ValueError:
-        raise UsageError("expected a size such as 4G, 512M or a number of bytes", field="--memory-limit",
-                         value=text) from None
+        raise UsageError(
+            "expected a size such as 4G, 512M or a number of bytes", field="--memory-limit", value=text
+        ) from None
     if not (math.isfinite(value) and value > 0):
         raise UsageError("must be a size > 0", field="--memory-limit", value=text)
     return int(value)
@@ -131,16 +139,21 @@ def _grid_count(zone: Zone, outside: bool, reach_m: float, spacing: float) -> tu
     return int(min(envelope, region_area / spacing**2 + 1)), int(envelope)
 
 
-def check_memory(site: Site, target_spacing_m: float, grid_spacing_m: float, reach_m: float,
-                 limit_bytes: int | None = None) -> WorkEstimate:
+def check_memory(
+    site: Site, target_spacing_m: float, grid_spacing_m: float, reach_m: float, limit_bytes: int | None = None
+) -> WorkEstimate:
     """Raise InputError (exit 3) when the estimate exceeds ``limit_bytes`` (default: a share of the
     available memory); return the estimate otherwise."""
     limit = default_limit_bytes() if limit_bytes is None else limit_bytes
     est = estimate_work(site, target_spacing_m, grid_spacing_m, reach_m)
     if est.bytes > limit:
-        raise InputError(f"the coverage problem needs about {est.describe()}, over this limit; coarsen "
-                         f"--target-spacing / --grid-spacing, split the site, or raise --memory-limit",
-                         file=site.source or None, field="--memory-limit", value=_fmt_bytes(limit))
+        raise InputError(
+            f"the coverage problem needs about {est.describe()}, over this limit; coarsen "
+            f"--target-spacing / --grid-spacing, split the site, or raise --memory-limit",
+            file=site.source or None,
+            field="--memory-limit",
+            value=_fmt_bytes(limit),
+        )
     return est
 
 

@@ -37,7 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.coverage.gram import BLOCK_ENTRIES
+from planner.coverage.gram import BLOCK_ENTRIES, Keep
 from planner.coverage.overlap import OverlapRule, link_filter
 
 #: candidates tested per block (one product each for the block's coverage rows against the kept ones)
@@ -64,7 +64,7 @@ def representatives(a: sp.csr_matrix, cost: NDArray[np.float64], gid: NDArray[np
     seen: set[tuple[int, bytes]] = set()
     keep = []
     for i in order.tolist():
-        key = (int(gid[i]), a.indices[a.indptr[i]:a.indptr[i + 1]].tobytes())
+        key = (int(gid[i]), a.indices[a.indptr[i] : a.indptr[i + 1]].tobytes())
         if key not in seen:
             seen.add(key)
             keep.append(i)
@@ -76,12 +76,13 @@ def length_order(a: sp.csr_matrix, cost: NDArray[np.float64], covered: NDArray[n
     return np.lexsort((np.arange(a.shape[0]), np.asarray(cost, float), -np.diff(a.indptr), -covered))
 
 
-def linked_dominated(a: sp.csr_matrix, cost: NDArray[np.float64], links: OverlapLinks
-                     ) -> tuple[NDArray[np.bool_], sp.csr_matrix]:
+def linked_dominated(
+    a: sp.csr_matrix, cost: NDArray[np.float64], links: OverlapLinks
+) -> tuple[NDArray[np.bool_], sp.csr_matrix]:
     """Mask of the candidates dropped (see the module docstring) and the overlap relation among the others
     (n x n, boolean, symmetric)."""
-    if links.rule.max_link_m is not None:
-        raise ValueError("a distance limit on links is not monotone in coverage: form the relation whole")
+    if links.rule.max_link_m is not None or not np.all(np.asarray(links.lengths) > 0):
+        raise ValueError("needs pieces of length > 0 and no distance limit on links (not monotone in coverage)")
     a = a.astype(bool).tocsr()
     a.sort_indices()
     n = a.shape[0]
@@ -98,34 +99,57 @@ def linked_dominated(a: sp.csr_matrix, cost: NDArray[np.float64], links: Overlap
     rho = links.rule.overlap
     lo = 0
     while lo < order.size:
-        step = max(1, min(BLOCK_ROWS, BLOCK_ENTRIES // max(len(state.kept), 1)))
-        block = order[lo:lo + step]
+        block = order[lo : lo + max(1, min(BLOCK_ROWS, BLOCK_ENTRIES // max(len(state.kept), 1)))]
         lo += block.size
         cols = np.concatenate([np.asarray(state.kept, dtype=np.int64), block])
-        right = weighted[cols].T.tocsc()
-        shared = (ones[block] @ right).tocsr()
-        count = (ones[block] @ ones[cols].T).tocsr()
-        shared.sort_indices()
-        count.sort_indices()
+        ptr, col, shared, link, sup = _block_pairs(ones, weighted, block, cols, size, cost, links.gid, keep)
         for r, i in enumerate(block.tolist()):
-            span = slice(shared.indptr[r], shared.indptr[r + 1])
-            c = cols[shared.indices[span]]
-            alive = state.is_kept[c]
-            c, s, k = c[alive], shared.data[span][alive], count.data[span][alive]
-            nb = keep(np.full(c.size, i), c, s)
-            nb_c, nb_s = c[nb], s[nb]
             if size[i] == 0:
                 continue  # covers nothing, so no links: no bridge either
-            sup = c[(k == size[i]) & (cost[c] <= cost[i]) & (links.gid[c] == links.gid[i])]
-            if sup.size and _replaceable(sup, nb_c, nb_s, covered, i, rho, state):
+            span = slice(ptr[r], ptr[r + 1])
+            c = col[span]
+            alive = state.is_kept[c]  # kept before the block, or in it before i
+            nb = alive & link[span]
+            js = c[alive & sup[span]]
+            if js.size and _replaceable(js, c[nb], shared[span][nb], covered, i, rho, state):
                 continue
             removed[i] = False
-            state.add(i, nb_c)
+            state.add(i, c[nb])
     return removed, state.relation()
 
 
-def _replaceable(sup: NDArray[np.int64], nb_c: NDArray[np.int64], nb_s: NDArray[np.float64],
-                 covered: NDArray[np.float64], i: int, rho: float, state: _Kept) -> bool:
+def _block_pairs(
+    ones: sp.csr_matrix,
+    weighted: sp.csr_matrix,
+    block: NDArray[np.int64],
+    cols: NDArray[np.int64],
+    size: NDArray[np.int64],
+    cost: NDArray[np.float64],
+    gid: NDArray[np.int64],
+    keep: Keep,
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
+    """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, the wall shared,
+    whether the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group)."""
+    right = weighted[cols].T.tocsr()
+    shared = (ones[block] @ right).tocsr()
+    count = (ones[block] @ sp.csr_matrix((np.ones(right.nnz), right.indices, right.indptr), shape=right.shape)).tocsr()
+    shared.sort_indices()
+    count.sort_indices()  # the same pattern as shared's: every piece has a length > 0
+    r = np.repeat(block, np.diff(shared.indptr))
+    c = cols[shared.indices]
+    sup = (count.data == size[r]) & (cost[c] <= cost[r]) & (gid[c] == gid[r]) & (c != r)
+    return shared.indptr, c, shared.data, keep(r, c, shared.data), sup
+
+
+def _replaceable(
+    sup: NDArray[np.int64],
+    nb_c: NDArray[np.int64],
+    nb_s: NDArray[np.float64],
+    covered: NDArray[np.float64],
+    i: int,
+    rho: float,
+    state: _Kept,
+) -> bool:
     """Whether some kept superset j of i (``sup``) is linked to every kept neighbour k of i longer than i
     (``nb_c``, sharing ``nb_s`` with i) but j itself; a k is looked up only where s(i, k) < rho min(L_j, L_k)."""
     longer = covered[nb_c] > covered[i]
@@ -160,7 +184,7 @@ class _Kept:
         p = len(self.kept)
         if p == self._bits.shape[0]:  # room for twice as many
             grown = np.zeros((2 * p, 2 * self._bits.shape[1]), dtype=np.uint8)
-            grown[:p, :self._bits.shape[1]] = self._bits
+            grown[:p, : self._bits.shape[1]] = self._bits
             self._bits = grown
         self.kept.append(i)
         self.is_kept[i] = True
@@ -184,7 +208,7 @@ class _Kept:
         rows, cols = [], []
         step = max(1, BLOCK_ENTRIES // max(8 * self._bits.shape[1], 1))
         for lo in range(0, m, step):
-            r, c = np.nonzero(np.unpackbits(self._bits[lo:lo + step], axis=1, bitorder="little")[:, :m])
+            r, c = np.nonzero(np.unpackbits(self._bits[lo : lo + step], axis=1, bitorder="little")[:, :m])
             rows.append(kept[r + lo])
             cols.append(kept[c])
         r = np.concatenate(rows) if rows else np.zeros(0, np.int64)

@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from planner.checks import argument, count, flag, real
-from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
+from planner.coverage.overlap import DEFAULT_OVERLAP, OverlapRule, group_ids, overlap_adjacency, planning_rule, rule_of
 from planner.errors import UsageError
 from planner.solve.backends import BACKENDS
 from planner.solve.block import BlockSolver, lengths
@@ -81,16 +81,26 @@ class MilpOptions:
 
     def __post_init__(self) -> None:
         if self.connectivity not in CONNECTIVITY:
-            raise UsageError(f"unknown connectivity method (known: {', '.join(CONNECTIVITY)})", field="connectivity",
-                             value=self.connectivity)
+            raise UsageError(
+                f"unknown connectivity method (known: {', '.join(CONNECTIVITY)})",
+                field="connectivity",
+                value=self.connectivity,
+            )
         if self.connectivity == "bc" and self.backend != "pyscipopt":
             raise UsageError("branch-and-cut needs the pyscipopt backend", field="backend", value=self.backend)
         if self.backend not in BACKENDS:
             raise UsageError(f"unknown backend (known: {', '.join(BACKENDS)})", field="backend", value=self.backend)
         if self.precision not in PRECISION_MODES:
             raise UsageError("must be single or combined", field="precision", value=self.precision)
-        for name, least in (("k", 1), ("threads", 1), ("seed", 0), ("greedy_starts", 1), ("max_rounds", 1),
-                            ("local_search_moves", 0), ("ring_lagrange_steps", 0)):
+        for name, least in (
+            ("k", 1),
+            ("threads", 1),
+            ("seed", 0),
+            ("greedy_starts", 1),
+            ("max_rounds", 1),
+            ("local_search_moves", 0),
+            ("ring_lagrange_steps", 0),
+        ):
             count(getattr(self, name), name, least)
         real(self.time_limit_s, "time_limit_s", above=0)
         for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound"):
@@ -100,19 +110,22 @@ class MilpOptions:
         if self.work_limit is not None:
             real(self.work_limit, "work_limit", above=0)
         if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
-            raise UsageError("a work limit needs a value > 0, the cpsat backend and one thread", field="work_limit",
-                             value=self.work_limit)
+            raise UsageError(
+                "a work limit needs a value > 0, the cpsat backend and one thread",
+                field="work_limit",
+                value=self.work_limit,
+            )
 
     @property
     def rule(self) -> OverlapRule | None:
         """The registration rule in force: ``"site"`` unresolved (no site at hand) is the default 30 %."""
-        return OverlapRule() if self.overlap == "site" else self.overlap
+        return rule_of(DEFAULT_OVERLAP) if self.overlap == "site" else self.overlap
 
     def for_site(self, overlap: float) -> MilpOptions:
         """These options with ``"site"`` resolved to a site's overlap share (0: no rule)."""
         if self.overlap != "site":
             return self
-        return replace(self, overlap=None if overlap == 0 else OverlapRule(overlap))
+        return replace(self, overlap=planning_rule(overlap))
 
     def with_work_limit(self, work_s: float, wall_cap: float) -> MilpOptions:
         """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap
@@ -143,35 +156,76 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     counts = np.diff(instance.by_target.indptr)
     if np.any(counts < o.k):
         bad = np.flatnonzero(counts < o.k)
-        return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start, backend=o.backend,
-                           info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)})
+        return SolveResult(
+            "milp",
+            Status.INFEASIBLE,
+            (),
+            None,
+            time_s=time.perf_counter() - start,
+            backend=o.backend,
+            info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)},
+        )
     connect = o.rule is not None and instance.groups is not None
     report, solvers = block_solvers(instance, o)
     _share_out(solvers, deadline, o.work_limit)
     if any(b.infeasible for b in solvers):
-        return SolveResult("milp", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start,
-                           backend=o.backend, info={"presolve": report.to_dict()})
+        return SolveResult(
+            "milp",
+            Status.INFEASIBLE,
+            (),
+            None,
+            time_s=time.perf_counter() - start,
+            backend=o.backend,
+            info={"presolve": report.to_dict()},
+        )
     if any(b.incumbent is None for b in solvers):
-        return SolveResult("milp", Status.NO_SOLUTION, (), None, time_s=time.perf_counter() - start,
-                           backend=o.backend, info={"presolve": report.to_dict()})
+        return SolveResult(
+            "milp",
+            Status.NO_SOLUTION,
+            (),
+            None,
+            time_s=time.perf_counter() - start,
+            backend=o.backend,
+            info={"presolve": report.to_dict()},
+        )
     selected: list[int] = [int(b.cands[i]) for b in solvers for i in (b.incumbent or ())]
     objective = float(sum(b.cost[b.incumbent].sum() for b in solvers))
-    bound = float(sum(b.cost[b.incumbent].sum() if b.done else min(b.bound, b.cost[b.incumbent].sum()) for b in solvers))
+    bound = float(
+        sum(b.cost[b.incumbent].sum() if b.done else min(b.bound, b.cost[b.incumbent].sum()) for b in solvers)
+    )
     all_optimal = all(b.done for b in solvers)
     rounds, cuts = sum(b.rounds for b in solvers), sum(b.cuts for b in solvers)
     status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
-    info = {"presolve": report.to_dict(), "rounds": rounds, "cuts": cuts, "connected": connect,
-            "local_search_moves": sum(b.local_moves for b in solvers),
-            "ring_bound": {"blocks": sum(b.ring is not None for b in solvers),
-                           "closed_before_search": sum(b.ring is not None and b.done and not b.rounds for b in solvers),
-                           "lagrange_steps": sum(b.lagrange_steps for b in solvers)},
-            "connectivity": o.connectivity_method if connect else "none"}
+    info = {
+        "presolve": report.to_dict(),
+        "rounds": rounds,
+        "cuts": cuts,
+        "connected": connect,
+        "local_search_moves": sum(b.local_moves for b in solvers),
+        "ring_bound": {
+            "blocks": sum(b.ring is not None for b in solvers),
+            "closed_before_search": sum(b.ring is not None and b.done and not b.rounds for b in solvers),
+            "lagrange_steps": sum(b.lagrange_steps for b in solvers),
+        },
+        "connectivity": o.connectivity_method if connect else "none",
+    }
     if o.work_limit is not None:
         used = sum(b.work_used for b in solvers)
-        info["work"] = {"limit": o.work_limit, "used": round(used, 3),
-                        "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline}
-    return SolveResult("milp", status, tuple(sorted(selected)), objective, bound=objective if all_optimal else bound,
-                       time_s=time.perf_counter() - start, backend=o.backend, info=info)
+        info["work"] = {
+            "limit": o.work_limit,
+            "used": round(used, 3),
+            "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline,
+        }
+    return SolveResult(
+        "milp",
+        status,
+        tuple(sorted(selected)),
+        objective,
+        bound=objective if all_optimal else bound,
+        time_s=time.perf_counter() - start,
+        backend=o.backend,
+        info=info,
+    )
 
 
 def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveReport, list[BlockSolver]]:
@@ -184,8 +238,10 @@ def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveRepo
     report, adj = _presolve(instance, a, adj, o)
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)
-    return report, [BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
-                    for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)]
+    return report, [
+        BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
+        for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)
+    ]
 
 
 def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.csr_matrix | OverlapLinks:
@@ -193,8 +249,14 @@ def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.
     coverage alone (no ``max_link_m``, no links through openings), it is not formed here: the presolve forms
     it among the candidates it keeps (:func:`planner.solve.lazy_links.linked_dominated`)."""
     assert o.rule is not None and instance.groups is not None
-    plain = o.presolve and o.k == 1 and o.precision == "single" and o.rule.max_link_m is None and (
-        instance.links is None or instance.links.nnz == 0)
+    plain = (
+        o.presolve
+        and o.k == 1
+        and o.precision == "single"
+        and o.rule.max_link_m is None
+        and (instance.links is None or instance.links.nnz == 0)
+        and bool(np.all(lengths(instance) > 0))
+    )
     if not plain:
         return overlap_adjacency(a, lengths(instance), o.rule, instance.groups, instance.xy, instance.links)[0]
     return OverlapLinks(lengths(instance), o.rule, group_ids(instance.groups))
@@ -217,15 +279,18 @@ def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | 
                 block.run(time.perf_counter() + share)
 
 
-def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | OverlapLinks | None, o: MilpOptions
-              ) -> tuple[PresolveReport, sp.csr_matrix | None]:
+def _presolve(
+    instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | OverlapLinks | None, o: MilpOptions
+) -> tuple[PresolveReport, sp.csr_matrix | None]:
     """The presolve's report and the overlap relation as a matrix (among the kept candidates where it came lazy)."""
+    start = time.perf_counter()
     n_cand, n_targ = a.shape
     drop = np.zeros(n_cand, dtype=bool)
     if not o.presolve:
         assert not isinstance(adj, OverlapLinks)
-        return PresolveReport(n_cand, n_targ, kept_candidates=tuple(range(n_cand)),
-                              kept_targets=tuple(range(n_targ))), adj
+        return PresolveReport(
+            n_cand, n_targ, kept_candidates=tuple(range(n_cand)), kept_targets=tuple(range(n_targ))
+        ), adj
     if o.k == 1 and o.precision == "single":
         drop, dup, adj = _reduce(a, instance.cost, adj, instance.groups if adj is not None else None)
     elif o.precision == "single":
@@ -236,22 +301,33 @@ def _presolve(instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | Ov
     bt = a[kept_c].T.tocsr()
     must = forced(bt, o.k)
     assert not isinstance(adj, OverlapLinks)
-    return PresolveReport(n_cand, n_targ, int(drop.sum()), int(dup.sum()), int(must.sum()),
-                          tuple(kept_c.tolist()), tuple(np.flatnonzero(~dup).tolist()),
-                          tuple(kept_c[must].tolist())), adj
+    links = None if adj is None else int(adj[kept_c][:, kept_c].nnz // 2)
+    return PresolveReport(
+        n_cand,
+        n_targ,
+        int(drop.sum()),
+        int(dup.sum()),
+        int(must.sum()),
+        tuple(kept_c.tolist()),
+        tuple(np.flatnonzero(~dup).tolist()),
+        tuple(kept_c[must].tolist()),
+        time.perf_counter() - start,
+        links,
+    ), adj
 
 
 #: at most this many alternations of dominance and implied targets (each pass is a valid reduction)
 _REDUCE_PASSES = 20
 
 
-def _reduce(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | OverlapLinks | None,
-            groups: Sequence[Hashable] | None) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix | None]:
+def _reduce(
+    a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | OverlapLinks | None, groups: Sequence[Hashable] | None
+) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix | None]:
     """Dominated candidates and implied targets (k = 1, single precision), alternated until neither
     removes anything: dropping candidates makes more targets implied (every *remaining* seer of t' sees
     t) and dropping targets makes more candidates dominated. Each step keeps the connected optimum of
     the problem it is applied to (see :func:`dominated` and :func:`implied_targets`), so the last
-    one's equals the first's. Polygon A (cached pool of scripts/bench_connectivity.py): 958 candidates x
+    one's equals the first's. Polygon A (cached pool of scripts/bench/bench_connectivity.py): 958 candidates x
     1,618 targets after one pass, 574 x 361 after this (measured).
     Returns the masks of dropped candidates and targets, and the relation (formed among the kept candidates
     after the first pass where it came lazy)."""

@@ -30,11 +30,24 @@ class PresolveReport:
     kept_candidates: tuple[int, ...] = ()
     kept_targets: tuple[int, ...] = ()
     forced_candidates: tuple[int, ...] = field(default=())
+    #: seconds the presolve took, and the overlap links among the kept candidates (None: no overlap rule)
+    time_s: float = 0.0
+    links: int | None = None
 
-    def to_dict(self) -> dict[str, int]:
-        return {"candidates_in": self.candidates_in, "targets_in": self.targets_in, "dominated_removed": self.dominated,
-                "duplicate_targets_removed": self.duplicate_targets, "forced": self.forced,
-                "candidates_out": len(self.kept_candidates), "targets_out": len(self.kept_targets)}
+    def to_dict(self) -> dict[str, int | float]:
+        out: dict[str, int | float] = {
+            "candidates_in": self.candidates_in,
+            "targets_in": self.targets_in,
+            "dominated_removed": self.dominated,
+            "duplicate_targets_removed": self.duplicate_targets,
+            "forced": self.forced,
+            "candidates_out": len(self.kept_candidates),
+            "targets_out": len(self.kept_targets),
+            "time_s": round(self.time_s, 2),
+        }
+        if self.links is not None:
+            out["links"] = self.links
+        return out
 
 
 def presolve_order(a: sp.csr_matrix, cost: np.ndarray) -> np.ndarray:
@@ -42,8 +55,9 @@ def presolve_order(a: sp.csr_matrix, cost: np.ndarray) -> np.ndarray:
     return np.lexsort((np.arange(a.shape[0]), np.asarray(cost, float), -np.diff(a.tocsr().indptr)))
 
 
-def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = None,
-              groups: Sequence[Hashable] | None = None) -> np.ndarray:
+def dominated(
+    a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = None, groups: Sequence[Hashable] | None = None
+) -> np.ndarray:
     """Mask of candidates that another candidate can always replace (see the module docstring).
 
     Candidates are considered from the largest coverage down; among identical ones the lowest index stays.
@@ -76,7 +90,7 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
     if adj is not None:
         adj = adj.astype(np.int32).tocsr()
     for i in order.tolist():
-        cols = a.indices[a.indptr[i]:a.indptr[i + 1]]
+        cols = a.indices[a.indptr[i] : a.indptr[i + 1]]
         if size[i] == 0:
             if adj is None or _no_bridge(adj, i, removed, kept, cost, gid, near):
                 removed[i] = True  # covers nothing: dropped unless it may be the only link between others
@@ -92,7 +106,7 @@ def dominated(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = No
 
 def _nbrs(adj: sp.csr_matrix, i: int, removed: np.ndarray) -> np.ndarray:
     """The overlap neighbours of i not dropped so far."""
-    nb = adj.indices[adj.indptr[i]:adj.indptr[i + 1]]
+    nb = adj.indices[adj.indptr[i] : adj.indptr[i + 1]]
     return nb[~removed[nb]]
 
 
@@ -113,9 +127,18 @@ def _row_sums(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray, mark: n
     return _segment_sums(mark[indices[pos]], sizes)
 
 
-def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[list[int]], mark: np.ndarray,
-              near: np.ndarray, cost: np.ndarray, adj: sp.csr_matrix | None, removed: np.ndarray,
-              gid: np.ndarray) -> bool:
+def _replaced(
+    a: sp.csr_matrix,
+    i: int,
+    cols: np.ndarray,
+    kept_by_piece: list[list[int]],
+    mark: np.ndarray,
+    near: np.ndarray,
+    cost: np.ndarray,
+    adj: sp.csr_matrix | None,
+    removed: np.ndarray,
+    gid: np.ndarray,
+) -> bool:
     """Whether a kept candidate, no dearer and of i's group (linked to all of i's links not dropped so far
     under ``adj``), sees every piece i sees."""
     lists = [kept_by_piece[t] for t in cols.tolist()]
@@ -136,15 +159,22 @@ def _replaced(a: sp.csr_matrix, i: int, cols: np.ndarray, kept_by_piece: list[li
     return _links_cover(adj, inside, _nbrs(adj, i, removed), near)
 
 
-def _no_bridge(adj: sp.csr_matrix, i: int, removed: np.ndarray, kept: np.ndarray, cost: np.ndarray,
-               gid: np.ndarray, near: np.ndarray) -> bool:
+def _no_bridge(
+    adj: sp.csr_matrix,
+    i: int,
+    removed: np.ndarray,
+    kept: np.ndarray,
+    cost: np.ndarray,
+    gid: np.ndarray,
+    near: np.ndarray,
+) -> bool:
     """Whether a candidate covering nothing can go under the overlap rule: no neighbour of it is left, or a
     kept j of its group, no dearer, is linked to every neighbour of i left (j then stands in for it)."""
     nb = _nbrs(adj, i, removed)
     if nb.size == 0:
         return True
     v = int(nb[0])  # j is v or a neighbour of v
-    js = np.append(adj.indices[adj.indptr[v]:adj.indptr[v + 1]], v)
+    js = np.append(adj.indices[adj.indptr[v] : adj.indptr[v + 1]], v)
     js = js[(js != i) & kept[js] & (cost[js] <= cost[i]) & (gid[js] == gid[i])]
     return _links_cover(adj, js, nb, near)
 
@@ -165,7 +195,7 @@ def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:
     seen: set[bytes] = set()
     dup = np.zeros(by_target.shape[0], dtype=bool)
     for t in range(by_target.shape[0]):
-        key = np.sort(by_target.indices[by_target.indptr[t]:by_target.indptr[t + 1]]).tobytes()
+        key = np.sort(by_target.indices[by_target.indptr[t] : by_target.indptr[t + 1]]).tobytes()
         if key in seen:
             dup[t] = True
         seen.add(key)
@@ -180,8 +210,8 @@ def implied_targets(by_target: sp.csr_matrix) -> np.ndarray:
     inter = (b @ b.T).tocsr()
     out = np.zeros(b.shape[0], dtype=bool)
     for t in range(b.shape[0]):
-        row = inter.indices[inter.indptr[t]:inter.indptr[t + 1]]
-        vals = inter.data[inter.indptr[t]:inter.indptr[t + 1]]
+        row = inter.indices[inter.indptr[t] : inter.indptr[t + 1]]
+        vals = inter.data[inter.indptr[t] : inter.indptr[t + 1]]
         sub = (vals == size[row]) & (row != t) & ((size[row] < size[t]) | (row < t))
         # a smaller-or-equal candidate set inside t's; equal sets: only the earlier one implies
         sub &= ~out[row] | (size[row] < size[t])
@@ -195,5 +225,5 @@ def forced(by_target: sp.csr_matrix, k: int) -> np.ndarray:
     counts = np.diff(by_target.indptr)
     must = np.zeros(by_target.shape[1], dtype=bool)
     for t in np.flatnonzero(counts == k):
-        must[by_target.indices[by_target.indptr[t]:by_target.indptr[t + 1]]] = True
+        must[by_target.indices[by_target.indptr[t] : by_target.indptr[t + 1]]] = True
     return must

@@ -23,17 +23,29 @@ from planner.solve.lazy_links import OverlapLinks, length_order, linked_dominate
 from planner.solve.presolve import dominated, presolve_order
 
 
-def oracle(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None, groups: list[int] | None,
-           order: np.ndarray | None = None) -> np.ndarray:
-    sets = [set(a.indices[a.indptr[i]:a.indptr[i + 1]].tolist()) for i in range(a.shape[0])]
-    nb = None if adj is None else [set(adj.indices[adj.indptr[i]:adj.indptr[i + 1]].tolist()) for i in range(a.shape[0])]
+def oracle(
+    a: sp.csr_matrix,
+    cost: np.ndarray,
+    adj: sp.csr_matrix | None,
+    groups: list[int] | None,
+    order: np.ndarray | None = None,
+) -> np.ndarray:
+    sets = [set(a.indices[a.indptr[i] : a.indptr[i + 1]].tolist()) for i in range(a.shape[0])]
+    nb = (
+        None
+        if adj is None
+        else [set(adj.indices[adj.indptr[i] : adj.indptr[i + 1]].tolist()) for i in range(a.shape[0])]
+    )
     order = presolve_order(a, cost) if order is None else order
     removed: set[int] = set()
     kept: list[int] = []
     for i in order.tolist():
         left = set() if nb is None else nb[i] - removed
-        fits = [j for j in kept if cost[j] <= cost[i] and (groups is None or groups[j] == groups[i])
-                and (nb is None or left - {j} <= nb[j])]
+        fits = [
+            j
+            for j in kept
+            if cost[j] <= cost[i] and (groups is None or groups[j] == groups[i]) and (nb is None or left - {j} <= nb[j])
+        ]
         if (not sets[i] and (nb is None or not left or fits)) or any(sets[i] <= sets[j] for j in fits):
             removed.add(i)
         else:
@@ -41,8 +53,9 @@ def oracle(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None, groups
     return np.isin(np.arange(a.shape[0]), sorted(removed))
 
 
-def connected_optimum(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix, groups: list[int],
-                      among: np.ndarray) -> float:
+def connected_optimum(
+    a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix, groups: list[int], among: np.ndarray
+) -> float:
     """The cheapest plan of candidates ``among`` that covers every piece, each group's stations connected."""
     need = np.flatnonzero(np.diff(a.tocsc().indptr) > 0)
     best = np.inf
@@ -51,15 +64,23 @@ def connected_optimum(a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix, gr
             p = np.asarray(plan, dtype=np.int64)
             if cost[p].sum() >= best or not np.isin(need, a[p].indices).all():
                 continue
-            if all(connected_components(adj[q][:, q], directed=False)[0] <= 1
-                   for g in set(groups) if (q := p[np.asarray(groups)[p] == g]).size):
+            if all(
+                connected_components(adj[q][:, q], directed=False)[0] <= 1
+                for g in set(groups)
+                if (q := p[np.asarray(groups)[p] == g]).size
+            ):
                 best = float(cost[p].sum())
     return best
 
 
 @settings(max_examples=300, deadline=None, derandomize=True, database=None)
-@given(n=st.integers(1, 14), m=st.integers(1, 8), seed=st.integers(0, 2**31 - 1), links=st.booleans(),
-       grouped=st.booleans())
+@given(
+    n=st.integers(1, 14),
+    m=st.integers(1, 8),
+    seed=st.integers(0, 2**31 - 1),
+    links=st.booleans(),
+    grouped=st.booleans(),
+)
 def test_dominated_matches_its_definition(n: int, m: int, seed: int, links: bool, grouped: bool) -> None:
     rng = np.random.default_rng(seed)
     a = sp.csr_matrix(rng.random((n, m)) < 0.35)
@@ -109,8 +130,9 @@ def test_representatives_one_per_group_and_row() -> None:
     assert representatives(a, np.array([2.0, 1.0, 1.0, 1.0]), np.array([0, 0, 0, 1])).tolist() == [1, 2, 3]
 
 
-def random_pool(n: int, m: int, seed: int, grouped: bool, density: float = 0.4
-                ) -> tuple[sp.csr_matrix, np.ndarray, np.ndarray, list[int]]:
+def random_pool(
+    n: int, m: int, seed: int, grouped: bool, density: float = 0.4
+) -> tuple[sp.csr_matrix, np.ndarray, np.ndarray, list[int]]:
     """Coverage rows (a third of them repeated, as a fine grid gives), costs 1-2, piece lengths, groups."""
     rng = np.random.default_rng(seed)
     a = sp.csr_matrix(rng.random((n, m)) < density)
@@ -123,10 +145,16 @@ def random_pool(n: int, m: int, seed: int, grouped: bool, density: float = 0.4
 
 
 @settings(max_examples=300, deadline=None, derandomize=True, database=None)
-@given(n=st.integers(1, 30), m=st.integers(1, 10), seed=st.integers(0, 2**31 - 1), share=st.floats(0.0, 0.9),
-       grouped=st.booleans())
-def test_linked_dominance_drops_what_the_whole_relation_drops(n: int, m: int, seed: int, share: float,
-                                                              grouped: bool) -> None:
+@given(
+    n=st.integers(1, 30),
+    m=st.integers(1, 10),
+    seed=st.integers(0, 2**31 - 1),
+    share=st.floats(0.0, 0.9),
+    grouped=st.booleans(),
+)
+def test_linked_dominance_drops_what_the_whole_relation_drops(
+    n: int, m: int, seed: int, share: float, grouped: bool
+) -> None:
     # the relation formed among the kept only, neighbours no longer than i left unchecked
     # (planner.solve.lazy_links) against the definition over the relation formed whole, in the same order
     # (longest covered length first): the same candidates dropped, and the relation handed on among the
@@ -144,10 +172,14 @@ def test_linked_dominance_drops_what_the_whole_relation_drops(n: int, m: int, se
 
 
 @settings(max_examples=150, deadline=None, derandomize=True, database=None)
-@given(n=st.integers(1, 9), m=st.integers(1, 6), seed=st.integers(0, 2**31 - 1), grouped=st.booleans(),
-       density=st.floats(0.1, 0.5))
-def test_an_optimal_connected_plan_survives_dominance(n: int, m: int, seed: int, grouped: bool,
-                                                      density: float) -> None:
+@given(
+    n=st.integers(1, 9),
+    m=st.integers(1, 6),
+    seed=st.integers(0, 2**31 - 1),
+    grouped=st.booleans(),
+    density=st.floats(0.1, 0.5),
+)
+def test_an_optimal_connected_plan_survives_dominance(n: int, m: int, seed: int, grouped: bool, density: float) -> None:
     # brute force over every subset: the cheapest connected cover over the kept candidates costs what the
     # cheapest over all of them costs, for a random relation (the rule of presolve.dominated) and for the
     # overlap relation (lazy_links.linked_dominated)
@@ -180,5 +212,6 @@ def test_an_optimal_connected_plan_survives_the_passes(n: int, m: int, seed: int
     whole, _ = overlap_adjacency(a, lengths, rule, groups)
     drop, _, _ = _reduce(a, cost, OverlapLinks(lengths, rule, group_ids(groups)), groups)
     kept = np.flatnonzero(~drop)
-    assert connected_optimum(a, cost, whole, groups, kept) == connected_optimum(a, cost, whole, groups,
-                                                                                np.arange(a.shape[0]))
+    assert connected_optimum(a, cost, whole, groups, kept) == connected_optimum(
+        a, cost, whole, groups, np.arange(a.shape[0])
+    )

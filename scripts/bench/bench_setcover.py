@@ -1,0 +1,428 @@
+"""Plain set cover: this project's solvers beside OR-Tools' ``set_cover`` module and CP-SAT (issue 34).
+
+Usage (the default --problems are the 22 of docs/benchmarks/setcover.md, ~48 min in all on its loaded 2-core machine;
+it was run in pieces of one or a few problems, listed there, each under 10 min):
+
+    /usr/bin/time -v python scripts/bench/bench_setcover.py --problems scp41 scp51 scp61 scpa1 scpb1 scpc1 scpd1 \\
+        --csv docs/benchmarks/results/setcover.csv
+    python scripts/bench/bench_setcover.py --table docs/benchmarks/results/setcover.csv   # the Markdown table
+
+Problems (registration dropped: cover every target some candidate sees, nothing else):
+
+- ``plant_4ha``, ``plant_16ha``: ``planner export instances/plant_<N>ha.json --format orlib`` (unit costs: stations),
+  exported once into ``--cache`` and read back with :func:`planner.solve.orlib.read_orlib`;
+- ``scpXY``: the OR-Library instance from ``--dir`` with its own column costs; ``scpXY-unit``: the same rows and
+  columns with every cost 1 (the unicost variant).
+
+Solvers, each run once, one thread, seed ``--seed`` where it takes one:
+
+- ``lp``: the LP relaxation (0 <= x <= 1) by HiGHS through ``scipy.optimize.linprog(method=--lp-method)``;
+- ``greedy``: Chvatal's greedy, :func:`planner.solve.greedy.greedy_cover` (cost per newly covered target);
+- ``shrink``: the weighted (row-weighting) local search :func:`planner.solve.local_search.shrink` from the greedy's
+  cover for ``--moves`` moves, with no overlap links and each candidate its own registration group (so the
+  connectivity term is always 0 and only coverage counts, as ``scripts/studies/study_gap.py --plain-moves``); it minimises
+  the number of stations, so it runs on unit costs only;
+- ``ortools-ss``: OR-Tools ``ElementDegreeSolutionGenerator`` then ``SteepestSearch`` (drops redundant columns);
+- ``ortools-gls``: OR-Tools ``GuidedLocalSearch`` from that cover, ``--gls-iterations`` iterations (deterministic:
+  neither OR-Tools heuristic draws random numbers, so they take no seed);
+- ``milp``: :func:`planner.solve.milp.solve` on CP-SAT (presolve, greedy warm start, 1 worker) stopped after
+  ``--cpsat-work`` deterministic seconds, with a wall-clock cap of ``--cpsat-wall`` s; its cover and bound.
+
+Each solver's time is its own (a search's time leaves out the construction it starts from): CPU seconds of this
+process (``resource.getrusage``, user + system) and wall seconds. Every cover is checked (covers every target,
+value recomputed from the costs). One CSV row per problem and solver (``--csv``, appended).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import os
+import resource
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+ROOT = Path(__file__).resolve().parents[2]
+ORLIB = ROOT.parent / "shared" / "benchmarks" / "orlib_scp"
+FIELDS = [
+    "problem",
+    "rows",
+    "cols",
+    "nnz",
+    "cost_type",
+    "solver",
+    "setting",
+    "value",
+    "bound",
+    "status",
+    "cpu_s",
+    "wall_s",
+    "load_avg",
+    "peak_rss_mb",
+]
+SOLVERS = ("lp", "greedy", "shrink", "ortools-ss", "ortools-gls", "milp")
+DEFAULT_PROBLEMS = [
+    "scp41",
+    "scp42",
+    "scp51",
+    "scp52",
+    "scp61",
+    "scp62",
+    "scpa1",
+    "scpa2",
+    "scpb1",
+    "scpc1",
+    "scpd1",
+    "scpnre1",
+    "scp41-unit",
+    "scp51-unit",
+    "scp61-unit",
+    "scpa1-unit",
+    "scpb1-unit",
+    "scpc1-unit",
+    "scpd1-unit",
+    "scpnre1-unit",
+    "plant_4ha",
+    "plant_16ha",
+]
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A plain cover: ``a`` is candidates x targets (bool CSR), every target seen by some candidate."""
+
+    name: str
+    a: sp.csr_matrix
+    cost: np.ndarray
+    cost_type: str
+
+
+def cpu_s() -> float:
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
+def timed(fn: Callable[[], Any]) -> tuple[Any, float, float]:
+    """``fn()``, its CPU seconds (this process) and its wall seconds."""
+    c0, t0 = cpu_s(), time.perf_counter()
+    out = fn()
+    return out, cpu_s() - c0, time.perf_counter() - t0
+
+
+def exported(area: str, cache: Path) -> Path:
+    """The plant's plain cover as an OR-Library file, exported once by ``planner export``."""
+    out = cache / f"{area}.txt"
+    if not out.exists():
+        cache.mkdir(parents=True, exist_ok=True)
+        tmp = out.with_suffix(".part")
+        cmd = [
+            sys.executable,
+            "-m",
+            "planner",
+            "export",
+            str(ROOT / "instances" / f"{area}.json"),
+            "--format",
+            "orlib",
+            "--out",
+            str(tmp),
+            "--quiet",
+        ]
+        subprocess.run(cmd, check=True, cwd=ROOT)
+        tmp.rename(out)
+    return out
+
+
+def load(name: str, orlib_dir: Path, cache: Path) -> Problem:
+    from planner.solve.orlib import read_orlib
+
+    if name.startswith("plant_"):
+        inst = read_orlib(exported(name, cache))
+        return Problem(name, inst.by_candidate.astype(bool).tocsr(), np.asarray(inst.cost, dtype=float), "unit")
+    base, _, kind = name.partition("-")
+    if kind not in ("", "unit"):
+        raise SystemExit(f"unknown problem {name!r}: scpXY, scpXY-unit, plant_4ha or plant_16ha")
+    inst = read_orlib(orlib_dir / f"{base}.txt")
+    cost = np.ones(inst.shape[0]) if kind == "unit" else np.asarray(inst.cost, dtype=float)
+    return Problem(name, inst.by_candidate.astype(bool).tocsr(), cost, "unit" if kind else "orlib")
+
+
+def checked(p: Problem, selected: Sequence[int], solver: str) -> float:
+    """The cost of ``selected``, after checking that it covers every target."""
+    sel = np.unique(np.asarray(selected, dtype=np.int64))
+    seen = np.zeros(p.a.shape[1], dtype=bool)
+    seen[p.a[sel].indices] = True
+    if not seen.all():
+        raise SystemExit(f"{p.name}: {solver} left {int((~seen).sum())} targets uncovered")
+    return float(p.cost[sel].sum())
+
+
+def run_lp(p: Problem, method: str) -> dict:
+    from scipy.optimize import linprog
+
+    at = p.a.T.tocsr().astype(float)
+    lp, c, w = timed(lambda: linprog(p.cost, A_ub=-at, b_ub=-np.ones(at.shape[0]), bounds=(0, 1), method=method))
+    return {
+        "solver": "lp",
+        "setting": method,
+        "value": round(float(lp.fun), 3) if lp.status == 0 else "",
+        "status": "optimal" if lp.status == 0 else lp.message,
+        "cpu_s": c,
+        "wall_s": w,
+    }
+
+
+def run_greedy(p: Problem) -> tuple[dict, list[int]]:
+    from planner.solve.greedy import greedy_cover
+
+    g, c, w = timed(lambda: greedy_cover(p.a, weights=p.cost))
+    chosen = list(g.selected)
+    return {
+        "solver": "greedy",
+        "setting": "Chvatal",
+        "value": checked(p, chosen, "greedy"),
+        "status": "feasible",
+        "cpu_s": c,
+        "wall_s": w,
+    }, chosen
+
+
+def run_shrink(p: Problem, start: list[int], moves: int, seed: int) -> dict:
+    from planner.solve.local_search import shrink
+
+    n = p.a.shape[0]
+    no_links = sp.csr_matrix((n, n), dtype=bool)
+    own_group = tuple(range(n))  # one group per candidate: no link is ever needed
+    found, c, w = timed(lambda: shrink(p.a, no_links, own_group, start, moves=moves, seed=seed))
+    last = found.history[-1][0] if found.history else 0
+    return {
+        "solver": "shrink",
+        "setting": f"{moves} moves from greedy {len(start)}, seed {seed}, last gain at {last}",
+        "value": checked(p, found.selected, "shrink"),
+        "status": "feasible",
+        "cpu_s": c,
+        "wall_s": w,
+    }
+
+
+def ortools_model(p: Problem) -> Any:
+    from ortools.set_cover.python import set_cover
+
+    model = set_cover.SetCoverModel()
+    a = p.a
+    for j in range(a.shape[0]):
+        model.add_empty_subset(float(p.cost[j]))
+        for e in a.indices[a.indptr[j] : a.indptr[j + 1]].tolist():
+            model.add_element_to_last_subset(e)
+    return model
+
+
+def run_ortools(p: Problem, iterations: int) -> list[dict]:
+    from ortools.set_cover.python import set_cover
+
+    model, build_c, _ = timed(lambda: ortools_model(p))
+    inv = set_cover.SetCoverInvariant(model)
+
+    def degree_then_steepest() -> bool:
+        ok = set_cover.ElementDegreeSolutionGenerator(inv).next_solution()
+        steepest = set_cover.SteepestSearch(inv)
+        steepest.set_max_iterations(max(model.num_subsets, 1))
+        return ok and steepest.next_solution()
+
+    ok, c1, w1 = timed(degree_then_steepest)
+    ss = np.flatnonzero(inv.is_selected())
+    rows = [
+        {
+            "solver": "ortools-ss",
+            "setting": f"element degree + steepest (model built in {build_c:.1f} CPU s)",
+            "value": checked(p, ss, "ortools-ss"),
+            "status": "feasible" if ok else "failed",
+            "cpu_s": c1,
+            "wall_s": w1,
+        }
+    ]
+
+    def gls() -> bool:
+        search = set_cover.GuidedLocalSearch(inv)
+        search.initialize()  # its penalty factor comes from the cost of the cover loaded now
+        search.set_max_iterations(iterations)
+        return search.next_solution()
+
+    ok, c2, w2 = timed(gls)
+    rows.append(
+        {
+            "solver": "ortools-gls",
+            "setting": f"{iterations} iterations from ortools-ss {len(ss)}",
+            "value": checked(p, np.flatnonzero(inv.is_selected()), "ortools-gls"),
+            "status": "feasible" if ok else "failed",
+            "cpu_s": c2,
+            "wall_s": w2,
+        }
+    )
+    return rows
+
+
+def run_milp(p: Problem, work_s: float, wall_s: float, seed: int) -> dict:
+    from planner.solve.instance import CoverInstance
+    from planner.solve.milp import MilpOptions, solve
+
+    inst = CoverInstance(by_candidate=p.a, cost=p.cost, name=p.name)
+    opts = MilpOptions(backend="cpsat", time_limit_s=wall_s, work_limit=work_s, seed=seed, threads=1, overlap=None)
+    r, c, w = timed(lambda: solve(inst, opts))
+    work = r.info.get("work", {})
+    value = checked(p, r.selected, "milp") if r.selected else ""
+    setting = f"{work_s:g} det-s (used {work.get('used', '?')}), wall cap {wall_s:g} s" + (
+        ", WALL CAP HIT" if r.wall_cap_hit else ""
+    )
+    return {
+        "solver": "milp",
+        "setting": setting,
+        "value": value,
+        "bound": "" if r.bound is None else round(float(r.bound), 3),
+        "status": r.status.value,
+        "cpu_s": c,
+        "wall_s": w,
+    }
+
+
+def bench(p: Problem, args: argparse.Namespace) -> list[dict]:
+    rows: list[dict] = []
+    solvers = set(args.solvers)
+
+    def emit(row: dict) -> None:
+        row.update(
+            problem=p.name,
+            rows=p.a.shape[1],
+            cols=p.a.shape[0],
+            nnz=p.a.nnz,
+            cost_type=p.cost_type,
+            load_avg=round(os.getloadavg()[0], 2),
+            peak_rss_mb=round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024),
+        )
+        row["cpu_s"], row["wall_s"] = round(row["cpu_s"], 2), round(row["wall_s"], 2)
+        rows.append(row)
+        print(
+            f"{p.name:12s} {row['solver']:12s} {row['value']!s:>9s} bound {row.get('bound', '')!s:>8s} "
+            f"{row['cpu_s']:8.2f} CPU s {row['wall_s']:8.2f} s  {row['setting']}",
+            flush=True,
+        )
+
+    if "lp" in solvers:
+        emit(run_lp(p, args.lp_method))
+    start: list[int] = []
+    if solvers & {"greedy", "shrink"}:
+        row, start = run_greedy(p)
+        emit(row)
+    if "shrink" in solvers and np.all(p.cost == 1.0):
+        emit(run_shrink(p, start, args.moves, args.seed))
+    if solvers & {"ortools-ss", "ortools-gls"}:
+        for row in run_ortools(p, args.gls_iterations):
+            emit(row)
+    if "milp" in solvers:
+        emit(run_milp(p, args.cpsat_work, args.cpsat_wall, args.seed))
+    return rows
+
+
+def append_csv(path: Path, rows: list[dict]) -> None:
+    new = not path.exists()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("a", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=FIELDS)
+        if new:
+            w.writeheader()
+        w.writerows({k: r.get(k, "") for k in FIELDS} for r in rows)
+
+
+def _num(v: str) -> str:
+    if v == "":
+        return "-"
+    x = float(v)
+    return f"{x:.0f}" if x == math.floor(x) else f"{x:.1f}"
+
+
+def table(path: Path, orlib_dir: Path) -> str:
+    """The Markdown table of a results CSV: one line per problem (OR-Library costs, unit costs, plants), the
+    published optimum where there is one, value (CPU s) per solver."""
+    optima: dict[str, str] = {}
+    known = orlib_dir / "known_optima.csv"
+    if known.exists():
+        optima = {r["instance"]: r["published_optimum"] for r in csv.DictReader(known.open())}
+    by: dict[str, dict[str, dict[str, str]]] = {}
+    for r in csv.DictReader(path.open()):
+        by.setdefault(r["problem"], {})[r["solver"]] = r
+
+    def order(name: str) -> tuple[int, int, str]:
+        kind = 2 if name.startswith("plant_") else 1 if name.endswith("-unit") else 0
+        base = name.removesuffix("-unit")
+        return kind, int(by[name][next(iter(by[name]))]["nnz"]) if kind == 2 else 0, base[:4] + base[4:].rjust(3)
+
+    head = (
+        "| problem | rows x cols | costs | optimum | LP | greedy | shrink | OR-Tools ED+SS | OR-Tools GLS "
+        "| CP-SAT MILP | CP-SAT bound |"
+    )
+    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for name in sorted(by, key=order):
+        s = by[name]
+        any_row = next(iter(s.values()))
+
+        def cell(solver: str, s: dict[str, dict[str, str]] = s) -> str:
+            r = s.get(solver)
+            return "-" if r is None else f"{_num(r['value'])} ({float(r['cpu_s']):.1f} s)"
+
+        lp = s.get("lp")
+        lp_cell = "-" if lp is None else f"{float(lp['value']):.2f}"
+        milp = s.get("milp")
+        bound = "-"
+        if milp is not None:
+            bound = _num(milp["bound"]) + (" (optimal)" if milp["status"] == "optimal" else "")
+        opt = optima.get(name, "-") if any_row["cost_type"] == "orlib" else "-"
+        out.append(
+            f"| {name} | {any_row['rows']} x {any_row['cols']} | {any_row['cost_type']} | {opt} | {lp_cell} | "
+            f"{cell('greedy')} | {cell('shrink')} | {cell('ortools-ss')} | {cell('ortools-gls')} | "
+            f"{cell('milp')} | {bound} |"
+        )
+    return "\n".join(out)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    ap.add_argument(
+        "--problems",
+        nargs="+",
+        default=DEFAULT_PROBLEMS,
+        help="scpXY (OR-Library costs), scpXY-unit (unit costs), plant_4ha, plant_16ha",
+    )
+    ap.add_argument("--solvers", nargs="+", default=list(SOLVERS), choices=SOLVERS)
+    ap.add_argument("--dir", type=Path, default=ORLIB, help="folder of the OR-Library scp*.txt files")
+    ap.add_argument("--cache", type=Path, default=Path("/tmp/bench_setcover"), help="folder of the plant exports")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--moves", type=int, default=30_000, help="moves of the local search (shrink)")
+    ap.add_argument("--gls-iterations", type=int, default=1_000_000)
+    ap.add_argument("--cpsat-work", type=float, default=300.0, help="CP-SAT deterministic seconds")
+    ap.add_argument("--cpsat-wall", type=float, default=540.0, help="CP-SAT wall-clock cap, s")
+    ap.add_argument("--lp-method", default="highs-ipm", help="scipy linprog method (HiGHS)")
+    ap.add_argument("--csv", type=Path, help="append one row per problem and solver")
+    ap.add_argument("--table", type=Path, metavar="CSV", help="print the Markdown table of a results CSV and exit")
+    args = ap.parse_args()
+    if args.table:
+        print(table(args.table, args.dir))
+        return
+    sys.path.insert(0, str(ROOT))
+    for name in args.problems:
+        rows = bench(load(name, args.dir, args.cache), args)
+        if args.csv:
+            append_csv(args.csv, rows)
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    print(f"peak RSS of this process {r.ru_maxrss / 1024:.0f} MB, CPU {r.ru_utime + r.ru_stime:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
