@@ -110,42 +110,42 @@ def parse_memory(text: str) -> int:
     return int(value)
 
 
-def estimate_work(site: Site, target_spacing_m: float, grid_spacing_m: float, reach_m: float) -> WorkEstimate:
-    """Count what the coverage build would make (see the module docstring); ``reach_m`` is S_max in plan."""
+def estimate_work(site: Site, target_spacing_m: float, grid_spacing_m: float, max_slant_range_m: float) -> WorkEstimate:
+    """Count what the coverage build would make (see the module docstring); ``max_slant_range_m``: S_max (its horizontal reach bounds the pairs)."""
     targets = candidates = grid = pairs = 0
     for zone in site.zones:
         for side in zone.scan_side.sides:
             n_t = sum(math.ceil(w.length_m / target_spacing_m) for w in zone.walls)
-            n_g, area = _grid_count(zone, side.value == "outside", reach_m, grid_spacing_m)
+            n_g, area = _grid_count(zone, side.value == "outside", max_slant_range_m, grid_spacing_m)
             n_c = n_g + CANDIDATES_PER_WALL * len(zone.walls)
-            in_front = int(min(n_c, math.pi * reach_m**2 / 2 / grid_spacing_m**2 + CANDIDATES_PER_WALL))
+            in_front = int(min(n_c, math.pi * max_slant_range_m**2 / 2 / grid_spacing_m**2 + CANDIDATES_PER_WALL))
             targets, candidates, grid = targets + n_t, candidates + n_c, grid + area
             pairs += n_t * in_front
     return WorkEstimate(targets, candidates, grid, pairs)
 
 
-def _grid_count(zone: Zone, outside: bool, reach_m: float, spacing: float) -> tuple[int, int]:
+def _grid_count(zone: Zone, outside: bool, max_slant_range_m: float, spacing: float) -> tuple[int, int]:
     """Grid points inside the zone-side region and points of the meshgrid over its envelope (frame axes
     of the zone's first wall, as the pool builds it)."""
     xy = zone.xy
     d = xy[1] - xy[0]
     ux = d / math.hypot(float(d[0]), float(d[1]))
     u, v = (xy - xy[0]) @ ux, (xy - xy[0]) @ [-ux[1], ux[0]]
-    pad = reach_m if outside else 0.0
+    pad = max_slant_range_m if outside else 0.0
     span_u = float(u.max() - u.min()) + 2 * pad
     span_v = float(v.max() - v.min()) + 2 * pad
     envelope = (span_u / spacing + 2) * (span_v / spacing + 2)
-    region_area = (math.pi * reach_m**2 + zone.perimeter_m * reach_m) if outside else zone.area_m2
+    region_area = (math.pi * max_slant_range_m**2 + zone.perimeter_m * max_slant_range_m) if outside else zone.area_m2
     return int(min(envelope, region_area / spacing**2 + 1)), int(envelope)
 
 
 def check_memory(
-    site: Site, target_spacing_m: float, grid_spacing_m: float, reach_m: float, limit_bytes: int | None = None
+    site: Site, target_spacing_m: float, grid_spacing_m: float, max_slant_range_m: float, limit_bytes: int | None = None
 ) -> WorkEstimate:
     """Raise InputError (exit 3) when the estimate exceeds ``limit_bytes`` (default: a share of the
     available memory); return the estimate otherwise."""
     limit = default_limit_bytes() if limit_bytes is None else limit_bytes
-    est = estimate_work(site, target_spacing_m, grid_spacing_m, reach_m)
+    est = estimate_work(site, target_spacing_m, grid_spacing_m, max_slant_range_m)
     if est.bytes > limit:
         raise InputError(
             f"the coverage problem needs about {est.describe()}, over this limit; coarsen "
