@@ -95,10 +95,10 @@ def choose(
     """The strategy for ``site`` (module docstring); ``pieces``: the work estimate's wall pieces."""
     if options.method != "milp":
         return Strategy(None, 0, f"method {options.method}")
-    if len({z.frame for z in site.zones}) != 1:
-        return Strategy(None, 0, "zones in several frames")
     if pieces < MIN_PIECES:
         return Strategy(None, 0, f"about {pieces:,} wall pieces, fewer than {MIN_PIECES:,}")
+    if len({z.frame for z in site.zones}) != 1:
+        return Strategy(None, 0, "zones in several frames")
     tile_m = max(TILE_M, 1.5 * max_slant_range_m)
     n = tile_count(site, tile_m)
     if n < MIN_TILES:
