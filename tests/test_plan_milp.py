@@ -10,13 +10,13 @@ import pytest
 from planner.cli import main
 from planner.coverage.overlap import OverlapRule
 from planner.plan import PlanOptions, build_problem, plan_site, registration_check
+from planner.plan.tripod import tripod_discs
 from planner.plan.verify import verify_stations
 from planner.site import ScanSide, Site, Zone, load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
-from planner.solve.tripod import tripod_discs
 from tests.conftest import INSTANCES
 
 NAMES = ("polygon_a", "polygon_b", "polygon_c", "baalbek")

@@ -15,12 +15,12 @@ from typing import Any
 
 from planner.checks import argument, path_argument
 from planner.coverage.stations import StationCoverage, station_coverage
-from planner.coverage.visibility import SightLimits
+from planner.coverage.visibility import SightLimits, sight_limits
 from planner.errors import InputError, located_in
 from planner.instrument.models import load_instrument
 from planner.network.check import NetworkReport
 from planner.plan.plan_json import RECORDED_PARAMETERS, check_plan_meta, plan_to_dict, read_plan_stations
-from planner.plan.run import Plan, sight_limits
+from planner.plan.result import Plan
 from planner.plan.verify import VerifyReport, verify_stations
 from planner.site.candidate import Candidate
 from planner.site.fileio import read_json

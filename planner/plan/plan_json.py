@@ -9,10 +9,10 @@ from typing import Any
 from planner.checks import SAMPLING_M
 from planner.errors import InputError
 from planner.plan import Plan
+from planner.plan.tripod import TripodDisc
 from planner.site.candidate import Candidate, CandidateKind, check_unique_ids
 from planner.site.fileio import read_json, to_float
 from planner.site.model import ScanSide, Site
-from planner.solve.tripod import TripodDisc
 from planner.text import dumps
 
 

@@ -21,7 +21,7 @@ from planner.checks import argument
 from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
 from planner.plan.outcome import Outcome
-from planner.solve.tripod import MIN_RADIUS_M
+from planner.plan.tripod import MIN_RADIUS_M
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}

@@ -70,10 +70,10 @@ def build(name: str, cache: Path, pricing: bool) -> Path:
     if path.exists():
         return path
     from planner import plan as P
+    from planner.certify.plane import price_plane
     from planner.site import load_site
     from planner.site.validate import validate_site
     from planner.solve.instance import cover_instance
-    from planner.solve.plane import price_plane
 
     site = load_site(ROOT / f"instances/{name}.json")
     options = replace(P.PlanOptions(method="milp"), pricing=pricing)

@@ -37,7 +37,7 @@ def test_dxf_has_every_layer_and_a_label_per_station(polygon_b, tmp_path):
     labels = sorted(t.dxf.text for t in msp.query('TEXT[layer=="STATIONS"]'))
     assert labels == sorted(s.id for s in plan.stations)
     assert len(msp.query('LWPOLYLINE[layer=="WALLS"]')) == len(site.zones)
-    # one coverage line per wall piece (B: 385 per side, 770 in all; tests/solve/test_tripod_discs.py)
+    # one coverage line per wall piece (B: 385 per side, 770 in all; tests/plan/test_tripod_discs.py)
     assert len(msp.query('LINE[layer=="COVERAGE"]')) == len(o.coverage.targets)
     assert len(msp.query('LINE[layer=="NETWORK"]')) == o.network.graph.number_of_edges()
     assert len(msp.query('POINT[layer=="CONTROL"]')) == len(o.network.control)

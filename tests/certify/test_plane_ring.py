@@ -1,4 +1,4 @@
-"""The connected plane bound (planner.solve.plane_ring): its parts against brute force, and the issue's case.
+"""The connected plane bound (planner.certify.plane_ring): its parts against brute force, and the issue's case.
 
 - ``ring.cyclic_arcs`` (vectorised) agrees with the widest-gap rule written as a loop, on random rows.
 - ``undominated`` (a table of the ring's arcs, O(n^2)) keeps exactly the triples no other holds (pairwise).
@@ -18,6 +18,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import planner
+from planner.certify.plane_patches import undominated
+from planner.certify.plane_ring import connected_plane_bound
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
@@ -26,11 +28,9 @@ from planner.site.params import Parameters
 from planner.site.validate import validate_site
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
-from planner.solve.plane_patches import undominated
-from planner.solve.plane_ring import connected_plane_bound
 from planner.solve.ring import cyclic_arcs
+from tests.certify.plane_cases import _place, as_candidates, outline, positions
 from tests.conftest import INSTANCES
-from tests.solve.plane_cases import _place, as_candidates, outline, positions
 
 QUICK = settings(
     deadline=None,

@@ -27,6 +27,7 @@ import shapely
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from planner.certify.plane import price_plane
 from planner.coverage.arrangement import heaviest_points
 from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions
@@ -37,9 +38,8 @@ from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters
 from planner.site.validate import validate_site
 from planner.solve.milp import MilpOptions
-from planner.solve.plane import price_plane
 from planner.solve.pricing import cover_lp
-from tests.solve.plane_cases import as_candidates, min_cover, positions, rooms
+from tests.certify.plane_cases import as_candidates, min_cover, positions, rooms
 
 QUICK = settings(
     deadline=None,

@@ -11,9 +11,9 @@ import pytest
 from planner.cli import main
 from planner.coverage.targets import make_targets
 from planner.plan import PlanOptions, plan_site
+from planner.plan.tripod import MIN_RADIUS_M
 from planner.site import ScanSide, load_site
 from planner.site.model import Site, Zone
-from planner.solve.tripod import MIN_RADIUS_M
 from tests.conftest import INSTANCES
 
 
@@ -69,7 +69,7 @@ def test_recentring_disc_reads_no_uninitialised_memory(monkeypatch):
 
     import numpy as np
 
-    from planner.solve.tripod import _socp_disc
+    from planner.plan.tripod import _socp_disc
 
     real_empty = np.empty
 

@@ -12,7 +12,14 @@ from planner.coverage.overlap import piece_lengths, rule_of
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
+from planner.site.validate import ValidationReport
 from planner.solve.result import SolveResult, Status
+
+
+def closed_form_limits(validation: ValidationReport) -> Limits:
+    """The closed form's limits (3.1): the slant range, theta_max, overlap and instrument height of the site."""
+    p = validation.site.parameters
+    return Limits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.overlap, p.instrument_height_m)
 
 
 def closed_form_plan(

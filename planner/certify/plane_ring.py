@@ -23,7 +23,7 @@ zone-side they see, and the plan's count is at least the sum over zone-sides of 
 walk and the zone-side's share of Farley's bound (its duals over the heaviest weight of its own regions).
 
 The bound tightens as h shrinks (U(P) and l(P) tend to the coverage of a point): it is tried at three
-sides in turn (:func:`planner.solve.plane_patches.patch_sides`) until it meets the plan or the time is up.
+sides in turn (:func:`planner.certify.plane_patches.patch_sides`) until it meets the plan or the time is up.
 """
 
 from __future__ import annotations
@@ -38,6 +38,14 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
+from planner.certify.plane_patches import (
+    FIRST_PATCHES,
+    arc_links,
+    patch_sets,
+    patch_shapes,
+    patch_sides,
+    undominated,
+)
 from planner.coverage.arrangement import grown, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import (
@@ -47,14 +55,6 @@ from planner.coverage.regions import (
 )
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
-from planner.solve.plane_patches import (
-    FIRST_PATCHES,
-    arc_links,
-    patch_sets,
-    patch_shapes,
-    patch_sides,
-    undominated,
-)
 from planner.solve.result import SolveResult, Status
 from planner.solve.ring import cyclic_arcs, ring_graph
 
@@ -268,7 +268,7 @@ def with_connected_plane_bound(result: SolveResult, cb: ConnectedPlaneBound) -> 
     cert = dict(info.get("certificate") or {})
     cert["connected_plane_bound_from"] = (
         "per zone-side, the larger of its share of Farley's bound and the ring walk over undominated patches "
-        "(planner.solve.plane_ring): every connected plan under the overlap rule, stations anywhere"
+        "(planner.certify.plane_ring): every connected plan under the overlap rule, stations anywhere"
     )
     info["certificate"] = cert
     if cb.bound is not None and result.objective is not None and result.objective <= cb.bound + 1e-9:

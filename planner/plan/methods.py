@@ -1,0 +1,145 @@
+"""The planning methods by name: :data:`REGISTRY` (what :func:`planner.plan.run.plan_site` looks up; its keys are
+:data:`METHODS`, the ``--method`` choices).
+
+Each method takes a :class:`MethodInput` (the site's coverage problem over its candidate pool, and what drew
+it) and returns a :class:`MethodOutput`: the solver's result, the problem the result's indices refer to, the
+pool the plan's size counts, and log lines. A new method is a function of that signature added here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from planner import progress
+from planner.certify.plane import price_plane, with_plane_bound
+from planner.certify.plane_ring import connected_plane_bound, plan_counts, with_connected_plane_bound
+from planner.coverage.links import default_registration, registration_groups
+from planner.coverage.matrix import CoverageProblem
+from planner.coverage.regions import FrameSpace, regions_apply
+from planner.coverage.visibility import SightLimits
+from planner.plan.closed_form import closed_form_limits, closed_form_plan
+from planner.site.model import Site
+from planner.site.validate import ValidationReport
+from planner.solve.greedy import connected_greedy_plan, greedy_cover
+from planner.solve.instance import cover_instance
+from planner.solve.milp import solve
+from planner.solve.result import SolveResult
+
+if TYPE_CHECKING:
+    from planner.plan.options import PlanOptions
+
+
+@dataclass(frozen=True)
+class MethodInput:
+    """What a method plans from: the site, the run's options, the sight limits and the coverage problem of the
+    pool; ``spaces`` and ``region_cache`` hold the frame spaces and coverage regions already drawn (pricing
+    reuses them)."""
+
+    site: Site
+    options: PlanOptions
+    validation: ValidationReport
+    limits: SightLimits
+    problem: CoverageProblem
+    spaces: dict[str, FrameSpace]
+    region_cache: dict[int, Any]
+
+
+@dataclass(frozen=True)
+class MethodOutput:
+    """A method's result; ``problem``: what its indices refer to; ``pool``: the pool the plan's size counts
+    (the MILP's after pricing; the closed form solves over its own stations, not counted)."""
+
+    result: SolveResult
+    problem: CoverageProblem
+    pool: CoverageProblem
+    log: tuple[str, ...] = ()
+
+
+def closed_form_method(run: MethodInput) -> MethodOutput:
+    """The dissertation's own plan: closed-form stations after the final step (3.1.3)."""
+    result, problem, log = closed_form_plan(
+        run.site, closed_form_limits(run.validation), run.problem.targets, run.limits
+    )
+    return MethodOutput(result, problem, run.problem, tuple(log))
+
+
+def milp_method(run: MethodInput) -> MethodOutput:
+    """The set-cover MILP (connected under the overlap rule), after pricing over the plane where the coverage
+    regions apply; the plane bound and, for zone registration, the connected plane bound beside it."""
+    site, options, limits, problem = run.site, run.options, run.limits, run.problem
+    log: list[str] = []
+    pricing_on = options.pricing and regions_apply(limits)
+    if options.pricing and not pricing_on:
+        log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
+    pricing = None
+    if pricing_on:
+        with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
+            problem, pricing = price_plane(
+                site,
+                problem,
+                limits,
+                time_limit_s=options.pricing_time_limit_s,
+                cache=run.region_cache,
+                spaces=run.spaces,
+            )
+        log.append(pricing.summary())
+    p = site.parameters
+    mode = options.registration or default_registration(site)
+    reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
+    groups, links = registration_groups(site, problem.candidates, mode, reach)
+    inst = cover_instance(
+        problem,
+        scanner=run.validation.scanner,
+        budget=p.budget,
+        sigma_req_m=p.sigma_req_m,
+        name=site.name,
+        groups=groups,
+        links=links,
+        incidence_model=p.incidence_model,
+    )
+    with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
+        result = solve(inst, options.milp)
+    if pricing is not None:
+        result = with_plane_bound(result, pricing)
+        if result.scope != "plane" and mode == "zone" and links is None and result.selected:
+            share = options.milp.rule.overlap if options.milp.rule else 0.0
+            duals = np.asarray(pricing.duals)
+            counts = plan_counts(problem, result.selected)
+            cb = connected_plane_bound(site, problem, limits, share, duals, counts, cache=run.region_cache)
+            result = with_connected_plane_bound(result, cb)
+            log.append(cb.summary())
+    return MethodOutput(result, problem, problem, tuple(log))
+
+
+def greedy_method(run: MethodInput) -> MethodOutput:
+    """Chvátal's greedy: with combined precision, the greedy that adds views' information; under an overlap
+    rule, the connected greedy (the plain one where it finds no connected cover); else the plain greedy."""
+    site, options, problem = run.site, run.options, run.problem
+    log: tuple[str, ...] = ()
+    if options.combined and run.limits.precision is not None:
+        from planner.solve.combined import combined_greedy
+
+        result = combined_greedy(problem, run.limits.precision)
+    elif (rule := options.milp.rule) is not None and rule.overlap > 0:
+        mode = options.registration or default_registration(site)
+        reach = rule.max_link_m or run.limits.effective_range_m
+        groups, links = registration_groups(site, problem.candidates, mode, reach)
+        result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links), rule)
+        if not result.selected:
+            log = ("greedy: no cover connected under the overlap rule found; plain greedy plan instead",)
+            result = greedy_cover(problem.by_candidate)
+    else:
+        result = greedy_cover(problem.by_candidate)
+    return MethodOutput(result, problem, problem, log)
+
+
+Method = Callable[[MethodInput], MethodOutput]
+
+#: the methods by ``--method`` name
+REGISTRY: dict[str, Method] = {"closed-form": closed_form_method, "greedy": greedy_method, "milp": milp_method}
+#: their names, in the order ``--method`` lists them
+METHODS: tuple[str, ...] = tuple(REGISTRY)

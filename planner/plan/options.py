@@ -1,0 +1,88 @@
+"""The options of a planning run (:class:`PlanOptions`) and the sight limits they give a validated site."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+from planner.candidates.pool import PoolOptions
+from planner.checks import SAMPLING_M, argument, count, flag, real
+from planner.coverage.overlap import OverlapRule, rule_of
+from planner.coverage.visibility import SightLimits, sight_limits
+from planner.errors import UsageError
+from planner.plan.methods import METHODS
+from planner.site.model import Site
+from planner.site.validate import ValidationReport
+from planner.solve.milp import MilpOptions
+
+
+@dataclass(frozen=True)
+class PlanOptions:
+    """Everything about a planning run that is not the site itself.
+
+    ``target_spacing_m`` = 1 m: walls are cut into pieces of at most 1 m, and a
+    piece counts as covered only when one station sees all of it, so a coarse
+    piece costs coverage at its ends; 1 m keeps that loss below the verify
+    sampling's resolution on the bundled sites while A (1,500 m of wall, both
+    sides) stays at 3,000 targets and the coverage build under a few seconds.
+    """
+
+    method: str = "greedy"
+    target_spacing_m: float = 1.0
+    pool: PoolOptions = field(default_factory=PoolOptions)
+    incidence_3d: bool = False
+    precision: bool = True
+    verify_spacing_m: float = 0.1
+    milp: MilpOptions = field(default_factory=MilpOptions)
+    tripod: bool = False
+    recentre: bool = False
+    registration: str | None = None  # zone | site; None: site where zones are placed or openings given
+    regions: bool = True
+    pricing: bool = True
+    pricing_time_limit_s: float = 120.0
+    memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
+
+    def for_site(self, site: Site) -> PlanOptions:
+        """These options with the MILP's ``overlap="site"`` resolved to ``site``'s overlap share."""
+        milp = self.milp.for_site(site.parameters.overlap)
+        return self if milp is self.milp else replace(self, milp=milp)
+
+    def checked_rule(self, site: Site) -> OverlapRule:
+        """The rule a plan's registration is checked on: the one it was planned under, else the site's
+        (the closed form, or planning with no rule, is checked at the site's share)."""
+        rule = self.milp.for_site(site.parameters.overlap).rule
+        return rule if self.method != "closed-form" and rule else rule_of(site.parameters.overlap)
+
+    @property
+    def combined(self) -> bool:
+        """Views add information (``--precision combined``), for every method."""
+        return self.precision and self.milp.precision == "combined"
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise UsageError(f"unknown method (known: {', '.join(METHODS)})", field="method", value=self.method)
+        argument(self.pool, PoolOptions, "pool")
+        argument(self.milp, MilpOptions, "milp")
+        real(self.target_spacing_m, "target_spacing_m", above=0)
+        real(self.verify_spacing_m, "verify_spacing_m", at_least=SAMPLING_M[0])  # finer than 1 mm: no survey resolution
+        real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)
+        for name in ("incidence_3d", "precision", "tripod", "recentre", "regions", "pricing"):
+            flag(getattr(self, name), name)
+        if self.memory_limit_bytes is not None:
+            count(self.memory_limit_bytes, "memory_limit_bytes", 1)
+        if self.registration not in (None, "zone", "site"):
+            raise UsageError("must be 'zone', 'site' or None", field="registration", value=self.registration)
+        if self.milp.k != 1 and self.method != "milp":  # the greedy and the closed form cover each piece once
+            raise UsageError(
+                f"k > 1 needs method='milp' (method {self.method!r} covers each piece once)",
+                field="k",
+                value=self.milp.k,
+            )
+        if self.milp.precision == "combined" and not self.precision:
+            raise UsageError(
+                "combined precision needs the precision check (precision=True)", field="precision", value=self.precision
+            )
+
+
+def plan_limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
+    """The sight limits of a run: :func:`sight_limits` with the options' incidence and precision modes."""
+    return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
