@@ -1,0 +1,100 @@
+"""``planner network`` and ``planner chain``: the station network of a plan, its least-squares accuracy and
+registration chain (the network check also runs from ``planner plan --network``)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from planner.cli.inputs import load_with_overrides, recorded_notes, some_stations, usable_folder
+from planner.errors import ExitCode, InputError, UsageError, located_in
+from planner.text import dumps
+
+# Everything else loads inside the command that needs it, so that --help, --version and validate
+# start without the solver, network, figure and report stacks (docs/startup.md).
+if TYPE_CHECKING:
+    from planner.network.check import NetworkReport
+    from planner.site import Site
+
+#: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
+MIN_MONTE_CARLO = 100
+
+
+def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
+    """The network options' values and files (control points, traverse), checked and read."""
+    from planner.network.io import read_control
+    from planner.network.traverse import read_traverse
+
+    if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
+        raise UsageError(
+            f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)",
+            field="--monte-carlo",
+            value=args.monte_carlo,
+        )
+    if getattr(args, "traverse", None) and args.ts_everywhere:
+        raise UsageError("--traverse and --ts-everywhere exclude each other", field="--traverse", value=args.traverse)
+    with located_in(getattr(args, "control", None)):
+        control = read_control(args.control) if getattr(args, "control", None) else None
+    traverse = read_traverse(args.traverse) if getattr(args, "traverse", None) else None
+    if getattr(args, "observations", None) and not Path(args.observations).is_file():
+        raise InputError("cannot read the observations: no such file", file=args.observations)
+    return control, traverse
+
+
+def network_check(
+    site: Site, stations: list[Any], args: argparse.Namespace, inputs: tuple[Any, Any], show: bool = True
+) -> NetworkReport:
+    """Run the network check with ``inputs`` = :func:`network_inputs` (control points, traverse)."""
+    from planner.network.check import run_network
+    from planner.network.io import adjust_observations
+
+    control, traverse = inputs
+    with located_in(args.traverse if traverse is not None else None):  # a leg naming an unknown point
+        report = run_network(
+            site,
+            stations,
+            control=control,
+            monte_carlo_runs=args.monte_carlo,
+            seed=args.seed,
+            registration=getattr(args, "registration", None),
+            precision=getattr(args, "precision", "single"),
+            traverse=traverse,
+            ts_everywhere=getattr(args, "ts_everywhere", False),
+        )
+    if not show:
+        return report
+    print(report.summary())
+    if getattr(args, "observations", None):
+        with located_in(args.observations):
+            print(adjust_observations(report, args.observations))
+    if args.out:
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+        path = Path(args.out) / "network.json"
+        path.write_text(dumps(report.to_dict()))
+        print(f"wrote {path}")
+    return report
+
+
+def cmd_network(args: argparse.Namespace) -> int:
+    from planner.plan.plan_json import read_plan_stations
+
+    usable_folder("--out", args.out)
+    inputs = network_inputs(args)  # before any work
+    site = load_with_overrides(args)
+    stations = some_stations(args.plan, read_plan_stations(args.plan, site))
+    recorded_notes(args.plan, site)
+    network_check(site, stations, args, inputs)
+    return ExitCode.OK
+
+
+def cmd_chain(args: argparse.Namespace) -> int:
+    """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
+    from planner.network.survey import survey_network
+    from planner.plan.plan_json import read_plan_stations
+
+    site = load_with_overrides(args)
+    stations = some_stations(args.plan, read_plan_stations(args.plan, site))
+    recorded_notes(args.plan, site)
+    print("\n".join(survey_network(site, stations, args.registration).lines()))
+    return ExitCode.OK
