@@ -30,7 +30,7 @@ import numpy as np
 from planner.plan import PlanOptions
 from planner.site.model import Site
 from planner.solve.windows import WindowOptions
-from planner.tiles.run import TileOptions
+from planner.tiles.options import TileOptions
 
 #: a site spanning fewer tiles than this is planned as one model
 MIN_TILES = 4

@@ -22,7 +22,6 @@ What holds and why:
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -38,68 +37,16 @@ from planner.plan.verify import verify_stations
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
-from planner.solve.connectivity import components, connected_greedy, group_members
-from planner.solve.local_search import Shrunk
-from planner.solve.milp import WALL_CAP, MilpOptions
+from planner.solve.milp import WALL_CAP
 from planner.solve.result import SolveResult, Status
-from planner.solve.windows import WindowOptions, window_search
-from planner.tiles.engine import TaskRunner, run_tasks
+from planner.tiles.engine import run_tasks
 from planner.tiles.lagrange import group_parts
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
+from planner.tiles.options import TileOptions, deterministic_limits, limits_line, tile_milp
 from planner.tiles.prepare import prepare
+from planner.tiles.search import best_plan, window_resolves
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
-from planner.tiles.tasks import TileResult, shrink_task, tile_task
-
-
-@dataclass(frozen=True)
-class TileOptions:
-    """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
-    ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
-    MILP for the bound (0: LP bound only); ``local_search_moves``: move budget of the local search on the
-    kept plan (:func:`planner.solve.local_search.shrink`; 0: none; a count, not a time, so
-    the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
-    limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
-    long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
-    wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
-    ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
-    ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
-    ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
-    LP-dual split only, 10 s: 75-116 s on the 16-ha plant, docs/benchmarks/plant.md). ``windows``: the
-    window re-solves after the local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none).
-    ``search_seeds``: the local search runs once per seed ``0 .. search_seeds - 1`` from the same kept plan
-    (as Dask tasks when there is a client) and the smallest result is kept, the lowest seed on ties; the
-    same plan on any number of workers."""
-
-    tile_m: float = 100.0
-    margin_m: float | None = None
-    tile_time_limit_s: float = 30.0
-    bound_time_limit_s: float = 60.0
-    deterministic: bool = True
-    lagrange: bool = True
-    lagrange_group: int = 1
-    lagrange_iterations: int = 0
-    lagrange_work_s: float = 10.0
-    local_search_moves: int = 20_000
-    search_seeds: int = 1
-    windows: WindowOptions = WindowOptions()
-
-    def __post_init__(self) -> None:
-        if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
-            raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=self.tile_m)
-        if not self.tile_time_limit_s > 0 or self.bound_time_limit_s < 0:
-            raise UsageError("tile time limit must be > 0", field="tile_time_limit_s", value=self.tile_time_limit_s)
-        if self.lagrange_group < 1 or self.lagrange_iterations < 0 or not self.lagrange_work_s > 0:
-            raise UsageError(
-                "Lagrangian parts need a group >= 1, iterations >= 0 and work > 0",
-                field="lagrange_group",
-                value=self.lagrange_group,
-            )
-        if self.local_search_moves < 0:
-            raise UsageError(
-                "local search moves must be >= 0", field="local_search_moves", value=self.local_search_moves
-            )
-        if self.search_seeds < 1:
-            raise UsageError("must be >= 1", field="search_seeds", value=self.search_seeds)
+from planner.tiles.tasks import TileResult, tile_task
 
 
 def _assemble(
@@ -160,7 +107,7 @@ def plan_by_tiles(
         "targets": targets,
         "limits": limits,
         "groups": groups,
-        "milp": _tile_milp(options, tiling),
+        "milp": tile_milp(options, tiling),
     }
     results = run_tasks(tile_task, jobs, shared, client)
     t_tiles = time.perf_counter() - start - t_pool
@@ -206,7 +153,7 @@ def plan_by_tiles(
         by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value, tiling.search_seeds, client
     )
     t_windows = time.perf_counter()
-    joined, windows = _windows(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
+    joined, windows = window_resolves(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
     return _finish(
         site,
         options,
@@ -232,154 +179,6 @@ def plan_by_tiles(
         search,
         windows,
     )
-
-
-def best_plan(
-    a: sp.csr_matrix,
-    adj: sp.csr_matrix,
-    groups: tuple[str, ...],
-    tiled: Stitched,
-    cover: tuple[int, ...],
-    moves: int = 0,
-    floor: int = 1,
-    seeds: int = 1,
-    client: Any = None,
-) -> tuple[Stitched, dict[str, Any]]:
-    """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
-    earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
-    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; ``tried`` records all
-    three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
-    (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound; once per seed
-    ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on ties)
-    then looks for a smaller connected cover; the second value says what it did."""
-    plans = [tiled]
-    if cover:
-        plans.append(replace(stitch(a, adj, groups, [cover]), source="whole-site cover, joined"))
-    grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
-    if grown is not None:
-        plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
-    best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
-    best = replace(best, tried={p.source: len(p.selected) for p in plans})
-    return _search(a, adj, groups, best, moves, floor, seeds, client)
-
-
-def _search(
-    a: sp.csr_matrix,
-    adj: sp.csr_matrix,
-    groups: tuple[str, ...],
-    kept: Stitched,
-    moves: int,
-    floor: int,
-    seeds: int = 1,
-    client: Any = None,
-) -> tuple[Stitched, dict[str, Any]]:
-    """The local search on ``kept`` (see :func:`best_plan`) and its record for plan.json."""
-    record: dict[str, Any] = {
-        "moves_budget": moves,
-        "moves": 0,
-        "before": len(kept.selected),
-        "after": len(kept.selected),
-        "removed": 0,
-        "time_s": 0.0,
-    }
-    if moves <= 0 or any(p > 1 for p in kept.parts.values()):  # it starts from a connected cover only
-        return kept, record
-    t0 = time.perf_counter()
-    shared = {"a": a, "adj": adj, "groups": groups, "plan": kept.selected, "moves": moves, "floor": floor}
-    runs: list[Shrunk] = run_tasks(
-        shrink_task, list(range(seeds)), shared, client if seeds > 1 else None, step="search"
-    )
-    seed = min(range(seeds), key=lambda k: (len(runs[k].selected), k))
-    found = runs[seed]
-    record.update(
-        moves=found.moves,
-        after=len(found.selected),
-        removed=found.removed,
-        time_s=round(time.perf_counter() - t0, 3),
-        history=[list(h) for h in found.history],
-        seeds=seeds,
-        seed=seed,
-        per_seed=[len(r.selected) for r in runs],
-    )
-    if not found.removed:
-        return kept, record
-    return _improved(kept, adj, groups, found.selected, "local search"), record
-
-
-def _windows(
-    a: sp.csr_matrix,
-    adj: sp.csr_matrix,
-    groups: tuple[str, ...],
-    kept: Stitched,
-    xy: np.ndarray,
-    options: WindowOptions,
-    floor: int,
-    client: Any = None,
-) -> tuple[Stitched, dict[str, Any]]:
-    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; with a
-    ``client`` and ``options.batch`` > 1 as Dask tasks, that many in flight (the same result as one at a
-    time; on the 2-core machine no faster, so not the default: docs/benchmarks/plant.md)."""
-    on_dask = client is not None and options.batch > 1
-    batch = options.batch if on_dask else 1
-    record: dict[str, Any] = {
-        "passes": options.passes,
-        "radius_m": options.radius_m,
-        "work_s": options.work_s,
-        "windows": 0,
-        "batch": batch,
-        "before": len(kept.selected),
-        "after": len(kept.selected),
-        "time_s": 0.0,
-    }
-    if options.passes <= 0 or any(p > 1 for p in kept.parts.values()):
-        return kept, record
-    found = window_search(a, adj, groups, kept.selected, xy, options, floor, TaskRunner(client) if on_dask else None)
-    record.update(
-        windows=found.windows,
-        proven=found.proven,
-        wall_cap_hit=found.wall_cap_hit,
-        after=len(found.selected),
-        time_s=round(found.time_s, 3),
-        history=[list(h) for h in found.history],
-    )
-    if not found.removed:
-        return kept, record
-    return _improved(kept, adj, groups, found.selected, "windows"), record
-
-
-def _improved(
-    kept: Stitched, adj: sp.csr_matrix, groups: tuple[str, ...], selected: tuple[int, ...], step: str
-) -> Stitched:
-    """``kept`` with the smaller plan ``selected`` that ``step`` found: its parts per group, its source and
-    ``tried`` entry."""
-    parts = {g: len(components(adj, m)) for g, m in group_members(groups, selected).items()}
-    return replace(
-        kept,
-        selected=selected,
-        parts=parts,
-        source=f"{kept.source} + {step}",
-        tried={**(kept.tried or {}), step: len(selected)},
-    )
-
-
-def deterministic_limits(milp: MilpOptions, tiling: TileOptions) -> bool:
-    """Whether the tile and bound MILPs run on CP-SAT work limits (see :class:`TileOptions`)."""
-    return tiling.deterministic and milp.backend == "cpsat" and milp.threads == 1
-
-
-def _limits_line(capped: list[str], work_limited: bool) -> str:
-    if not work_limited:
-        return "MILP limits: wall clock (a time-limited tile may end at another plan under another load)"
-    return "MILP limits: CP-SAT work in deterministic seconds (same plan under any load, serial or on Dask)" + (
-        f"; wall-clock cap reached in {', '.join(capped)}: those answers may depend on the load" if capped else ""
-    )
-
-
-def _tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
-    limit = tiling.tile_time_limit_s
-    if deterministic_limits(options.milp, tiling):
-        return options.milp.with_work_limit(limit, WALL_CAP)
-    return replace(options.milp, time_limit_s=limit)
 
 
 def _finish(
@@ -483,7 +282,7 @@ def _finish(
             if bad
             else "; every tile's plan covers its core"
         ),
-        _limits_line(capped, work_limited),
+        limits_line(capped, work_limited),
         "connected plans: "
         + ", ".join(f"{k} {v}" for k, v in (joined.tried or {}).items())
         + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations"

@@ -12,7 +12,7 @@ sees, not only a tile's), stations are then
 
 The same is done from the best whole-site cover the bound's MILP found (a plan without the
 registration rule, joined the same way) and from the connected greedy on the whole site; the
-smallest connected plan is kept (:func:`planner.tiles.run.best_plan`).
+smallest connected plan is kept (:func:`planner.tiles.search.best_plan`).
 
 Bound: every connected plan is a cover, so any lower bound of the plain set cover over the whole
 pool bounds the connected problem. Two are computed on the whole matrix: the LP relaxation

@@ -11,7 +11,7 @@ from planner.site.load import load_site
 from planner.solve.local_search import shrink
 from planner.solve.windows import WindowOptions
 from planner.tiles import TileOptions, plan_by_tiles
-from planner.tiles.run import best_plan
+from planner.tiles.search import best_plan
 from planner.tiles.stitch import stitch
 from tests.conftest import INSTANCES
 from tests.solve.test_connectivity_methods import instance, random_instance
@@ -38,7 +38,7 @@ def no_whole_site_greedy():
     # plan would leave the search and the windows nothing to do; withheld here, the kept plan is the stitched
     # tile plan (11), which is what these tests exercise
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr("planner.tiles.run.connected_greedy", lambda *args, **kwargs: None)
+        mp.setattr("planner.tiles.search.connected_greedy", lambda *args, **kwargs: None)
         yield
 
 

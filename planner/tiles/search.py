@@ -1,0 +1,146 @@
+"""The search after the tiles: the best of the stitched, joined and greedy plans, then the local search and the
+window re-solves on it (:func:`best_plan`, :func:`window_resolves`), each recorded for plan.json."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from planner.solve.connectivity import components, connected_greedy, group_members
+from planner.solve.local_search import Shrunk
+from planner.solve.windows import WindowOptions, window_search
+from planner.tiles.engine import TaskRunner, run_tasks
+from planner.tiles.stitch import Stitched, stitch
+from planner.tiles.tasks import shrink_task
+
+
+def best_plan(
+    a: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: tuple[str, ...],
+    tiled: Stitched,
+    cover: tuple[int, ...],
+    moves: int = 0,
+    floor: int = 1,
+    seeds: int = 1,
+    client: Any = None,
+) -> tuple[Stitched, dict[str, Any]]:
+    """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
+    earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
+    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; ``tried`` records all
+    three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
+    (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound; once per seed
+    ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on ties)
+    then looks for a smaller connected cover; the second value says what it did."""
+    plans = [tiled]
+    if cover:
+        plans.append(replace(stitch(a, adj, groups, [cover]), source="whole-site cover, joined"))
+    grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
+    if grown is not None:
+        plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
+    best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
+    best = replace(best, tried={p.source: len(p.selected) for p in plans})
+    return _search(a, adj, groups, best, moves, floor, seeds, client)
+
+
+def _search(
+    a: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: tuple[str, ...],
+    kept: Stitched,
+    moves: int,
+    floor: int,
+    seeds: int = 1,
+    client: Any = None,
+) -> tuple[Stitched, dict[str, Any]]:
+    """The local search on ``kept`` (see :func:`best_plan`) and its record for plan.json."""
+    record: dict[str, Any] = {
+        "moves_budget": moves,
+        "moves": 0,
+        "before": len(kept.selected),
+        "after": len(kept.selected),
+        "removed": 0,
+        "time_s": 0.0,
+    }
+    if moves <= 0 or any(p > 1 for p in kept.parts.values()):  # it starts from a connected cover only
+        return kept, record
+    t0 = time.perf_counter()
+    shared = {"a": a, "adj": adj, "groups": groups, "plan": kept.selected, "moves": moves, "floor": floor}
+    runs: list[Shrunk] = run_tasks(
+        shrink_task, list(range(seeds)), shared, client if seeds > 1 else None, step="search"
+    )
+    seed = min(range(seeds), key=lambda k: (len(runs[k].selected), k))
+    found = runs[seed]
+    record.update(
+        moves=found.moves,
+        after=len(found.selected),
+        removed=found.removed,
+        time_s=round(time.perf_counter() - t0, 3),
+        history=[list(h) for h in found.history],
+        seeds=seeds,
+        seed=seed,
+        per_seed=[len(r.selected) for r in runs],
+    )
+    if not found.removed:
+        return kept, record
+    return _improved(kept, adj, groups, found.selected, "local search"), record
+
+
+def window_resolves(
+    a: sp.csr_matrix,
+    adj: sp.csr_matrix,
+    groups: tuple[str, ...],
+    kept: Stitched,
+    xy: np.ndarray,
+    options: WindowOptions,
+    floor: int,
+    client: Any = None,
+) -> tuple[Stitched, dict[str, Any]]:
+    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; with a
+    ``client`` and ``options.batch`` > 1 as Dask tasks, that many in flight (the same result as one at a
+    time; on the 2-core machine no faster, so not the default: docs/benchmarks/plant.md)."""
+    on_dask = client is not None and options.batch > 1
+    batch = options.batch if on_dask else 1
+    record: dict[str, Any] = {
+        "passes": options.passes,
+        "radius_m": options.radius_m,
+        "work_s": options.work_s,
+        "windows": 0,
+        "batch": batch,
+        "before": len(kept.selected),
+        "after": len(kept.selected),
+        "time_s": 0.0,
+    }
+    if options.passes <= 0 or any(p > 1 for p in kept.parts.values()):
+        return kept, record
+    found = window_search(a, adj, groups, kept.selected, xy, options, floor, TaskRunner(client) if on_dask else None)
+    record.update(
+        windows=found.windows,
+        proven=found.proven,
+        wall_cap_hit=found.wall_cap_hit,
+        after=len(found.selected),
+        time_s=round(found.time_s, 3),
+        history=[list(h) for h in found.history],
+    )
+    if not found.removed:
+        return kept, record
+    return _improved(kept, adj, groups, found.selected, "windows"), record
+
+
+def _improved(
+    kept: Stitched, adj: sp.csr_matrix, groups: tuple[str, ...], selected: tuple[int, ...], step: str
+) -> Stitched:
+    """``kept`` with the smaller plan ``selected`` that ``step`` found: its parts per group, its source and
+    ``tried`` entry."""
+    parts = {g: len(components(adj, m)) for g, m in group_members(groups, selected).items()}
+    return replace(
+        kept,
+        selected=selected,
+        parts=parts,
+        source=f"{kept.source} + {step}",
+        tried={**(kept.tried or {}), step: len(selected)},
+    )
