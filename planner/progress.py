@@ -1,8 +1,9 @@
-"""Progress of long steps (coverage build, solving with a time limit).
+"""Progress of long steps (coverage build, solving with a time limit) and where a long run stands.
 
-Library code only calls :func:`report` / :func:`ticking`; those log at DEBUG level and pass the
-progress to a sink, which is None (nothing shown) unless a front end installs one. The command
-line installs a :class:`Bar` on standard error when it is a terminal and ``--quiet`` is not given.
+Library code only calls :func:`report` / :func:`ticking` (a step's share done, logged at DEBUG) and
+:func:`note` (one line when a tile or a phase ends, with the incumbent and the bound; logged at INFO), which
+pass them to a sink, None (nothing shown) unless a front end installs one. The command line installs a
+:class:`Bar` on standard error when it is a terminal and ``--quiet`` is not given.
 """
 
 from __future__ import annotations
@@ -32,6 +33,15 @@ def report(step: str, done: float, total: float) -> None:
     log.debug("%s: %.1f/%.1f", step, done, total)
     if _sink is not None:
         _sink(step, done, total)
+
+
+def note(text: str) -> None:
+    """Say where a long run stands in one line (a tile or a phase ended: its incumbent and bound); the sink
+    shows it when it has a ``note`` method (:class:`Bar` does)."""
+    log.info("%s", text)
+    shown = getattr(_sink, "note", None)
+    if shown is not None:
+        shown(text)
 
 
 @contextmanager
@@ -77,4 +87,9 @@ class Bar:
         if frac >= 1.0:
             self.stream.write("\n")
             self._closed = step
+        self.stream.flush()
+
+    def note(self, text: str) -> None:
+        """A line of its own above the bar (the bar is redrawn by the next report)."""
+        self.stream.write(f"\r{text:<{self.width + 36}}\n")
         self.stream.flush()

@@ -66,3 +66,20 @@ def test_library_prints_nothing(capsys):
     planner.run_network(site, list(plan.stations))
     out, err = capsys.readouterr()
     assert out == "" and err == ""
+
+
+def test_a_note_is_a_line_of_its_own_and_logged(caplog):
+    # a note ends the bar's line ("\r" first) and stands on its own line; the library also logs it at INFO
+    out = io.StringIO()
+    bar = progress.Bar(out, width=10)
+    previous = progress.set_sink(bar)
+    try:
+        bar("tiles", 1, 4)
+        with caplog.at_level("INFO", logger="planner.progress"):
+            progress.note("tile 1/4 (row 0, col 0): 3 stations, tile bound 3, optimal")
+    finally:
+        progress.set_sink(previous)
+    text = out.getvalue()
+    assert "\rtile 1/4 (row 0, col 0): 3 stations, tile bound 3, optimal" in text and text.endswith("\n")
+    assert caplog.messages == ["tile 1/4 (row 0, col 0): 3 stations, tile bound 3, optimal"]
+    progress.note("no sink: only logged")  # a sink of None shows nothing and raises nothing

@@ -90,20 +90,28 @@ def _connect(scheduler: str) -> Any:
 
 
 def run_tasks(
-    fn: Callable[..., Any], jobs: Sequence[Any], shared: dict[str, Any], client: Any = None, step: str = "tiles"
+    fn: Callable[..., Any],
+    jobs: Sequence[Any],
+    shared: dict[str, Any],
+    client: Any = None,
+    step: str = "tiles",
+    describe: Callable[[int, Any], str] | None = None,
 ) -> list[Any]:
     """``fn(**shared, job=job)`` for every job, in job order; on ``client`` when one is given.
 
-    Progress (jobs done of all) is reported per finished job under ``step``.
+    Progress (jobs done of all) is reported per finished job under ``step``; with ``describe``, each
+    finished job's line too (:func:`planner.progress.note` of ``describe(index, result)``).
     """
     total = len(jobs)
     if client is None:
         out = []
         for k, job in enumerate(jobs):
             out.append(fn(**shared, job=job))
+            if describe is not None:
+                progress.note(describe(k, out[-1]))
             progress.report(step, k + 1, total)
         return out
-    return _on_client(fn, jobs, _scatter(client, shared), client, step)
+    return _on_client(fn, jobs, _scatter(client, shared), client, step, describe)
 
 
 class TaskRunner:
@@ -127,7 +135,12 @@ def _scatter(client: Any, shared: dict[str, Any]) -> dict[str, Any]:
 
 
 def _on_client(
-    fn: Callable[..., Any], jobs: Sequence[Any], scattered: dict[str, Any], client: Any, step: str
+    fn: Callable[..., Any],
+    jobs: Sequence[Any],
+    scattered: dict[str, Any],
+    client: Any,
+    step: str,
+    describe: Callable[[int, Any], str] | None = None,
 ) -> list[Any]:
     from dask.distributed import as_completed
 
@@ -136,6 +149,9 @@ def _on_client(
     index = {f.key: k for k, f in enumerate(futures)}
     results: list[Any] = [None] * total
     for done, fut in enumerate(as_completed(futures), 1):
-        results[index[fut.key]] = fut.result()
+        k = index[fut.key]
+        results[k] = fut.result()
+        if describe is not None:
+            progress.note(describe(k, results[k]))
         progress.report(step, done, total)
     return results

@@ -22,11 +22,13 @@ What holds and why:
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
+from planner import progress
 from planner.candidates.complete import complete_candidates
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import OverlapRule
@@ -109,7 +111,7 @@ def plan_by_tiles(
         "groups": groups,
         "milp": tile_milp(options, tiling),
     }
-    results = run_tasks(tile_task, jobs, shared, client)
+    results = run_tasks(tile_task, jobs, shared, client, describe=_tile_line(len(jobs)))
     t_tiles = time.perf_counter() - start - t_pool
     by_cand, slant, inc = _assemble(len(pool), len(targets), results)
     problem = CoverageProblem(
@@ -135,6 +137,7 @@ def plan_by_tiles(
     adj = prep.overlap(by_cand)
     joined = stitch(by_cand, adj, groups, [r.selected for r in results])
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
+    progress.note(_standing("stitched", joined, None))
     parts = group_parts([(j.tile.row, j.tile.col) for j in jobs], [j.targets for j in jobs], tiling.lagrange_group)
     bound = global_bound(
         by_cand,
@@ -148,12 +151,15 @@ def plan_by_tiles(
         client=client,
     )
     t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
+    progress.note(_standing(f"bound {bound.value} over the pool ({bound.how})", joined, bound.value))
     t_search = time.perf_counter()
     joined, search = best_plan(
         by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value, tiling.search_seeds, client
     )
+    progress.note(_standing("best plan and local search", joined, bound.value))
     t_windows = time.perf_counter()
     joined, windows = window_resolves(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
+    progress.note(_standing("window re-solves", joined, bound.value))
     return _finish(
         site,
         options,
@@ -179,6 +185,27 @@ def plan_by_tiles(
         search,
         windows,
     )
+
+
+def _tile_line(total: int) -> Callable[[int, TileResult], str]:
+    """Each finished tile's progress line: its plan, the tile MILP's bound and status."""
+
+    def line(k: int, r: TileResult) -> str:
+        bound = "-" if r.bound is None else f"{r.bound:g}"
+        return (
+            f"tile {k + 1}/{total} (row {r.tile.row}, col {r.tile.col}): {len(r.selected)} stations, "
+            f"tile bound {bound}, {r.status.value}"
+        )
+
+    return line
+
+
+def _standing(phase: str, plan: Stitched, bound: int | None) -> str:
+    """Where the tiled run stands after ``phase``: the incumbent (connected or not), and the bound and gap."""
+    n, parts = len(plan.selected), sum(plan.parts.values())
+    conn = "connected" if all(p <= 1 for p in plan.parts.values()) else f"{parts} registration parts"
+    head = f"{phase}: incumbent {n} stations ({conn})"
+    return head if bound is None else f"{head}, bound {bound} over the pool, gap {(n - bound) / max(n, 1):.1%}"
 
 
 def _finish(

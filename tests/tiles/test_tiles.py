@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from planner import progress
 from planner.coverage.matrix import build_coverage
 from planner.plan import PlanOptions
 from planner.site.load import load_site
@@ -27,9 +28,49 @@ def site():
     return load_site(INSTANCES / "plant_1ha.json")
 
 
+class _Notes:
+    """A progress sink that keeps the notes (the bar's share reports are dropped)."""
+
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+
+    def __call__(self, step: str, done: float, total: float) -> None:
+        pass
+
+    def note(self, text: str) -> None:
+        self.lines.append(text)
+
+
 @pytest.fixture(scope="module")
-def serial(site):
-    return plan_by_tiles(site, OPTIONS, TILING)
+def serial_run(site):
+    notes = _Notes()
+    previous = progress.set_sink(notes)
+    try:
+        return plan_by_tiles(site, OPTIONS, TILING), notes.lines
+    finally:
+        progress.set_sink(previous)
+
+
+@pytest.fixture(scope="module")
+def serial(serial_run):
+    return serial_run[0]
+
+
+def test_progress_says_each_tile_and_phase_with_incumbent_and_bound(serial_run) -> None:
+    # issue 34: one line per tile (its stations, its MILP bound) and per phase (the incumbent, the bound, the gap);
+    # the figures are the plan's own: the tiles' in plan.json, the last incumbent the plan, the bound its bound
+    plan, lines = serial_run
+    tiles = plan.result.info["tiles"]
+    tile_lines = [line for line in lines if line.startswith("tile ")]
+    assert len(tile_lines) == len(tiles) == 4
+    for k, (line, tile) in enumerate(zip(tile_lines, tiles)):
+        assert line.startswith(f"tile {k + 1}/4 ") and f": {tile['stations']} stations, " in line
+    phases = [line.split(":")[0] for line in lines[len(tiles) :]]
+    assert phases[0] == "stitched" and phases[-2:] == ["best plan and local search", "window re-solves"]
+    assert lines[-1].startswith(f"window re-solves: incumbent {len(plan.stations)} stations (connected)")
+    bound = int(plan.result.bound)
+    assert f"bound {bound} over the pool" in lines[-1]
+    assert f"gap {(len(plan.stations) - bound) / len(plan.stations):.1%}" in lines[-1]
 
 
 def test_tiles_columns_are_the_site_matrix(site) -> None:
