@@ -1,10 +1,12 @@
-"""Plain set cover: this project's solvers beside OR-Tools' ``set_cover`` module and CP-SAT (issue 34).
+"""Plain set cover: this project's solvers beside OR-Tools' ``set_cover`` module, CP-SAT and CFT (issue 34).
 
 Usage (the default --problems are the 22 of docs/benchmarks/setcover.md, ~48 min in all on its loaded 2-core machine;
 it was run in pieces of one or a few problems, listed there, each under 10 min):
 
     /usr/bin/time -v python scripts/bench/bench_setcover.py --problems scp41 scp51 scp61 scpa1 scpb1 scpc1 scpd1 \\
         --csv docs/benchmarks/results/setcover.csv
+    python scripts/bench/bench_setcover.py --solvers cft --cft-bin /tmp/cft-src/build/accft \\
+        --csv docs/benchmarks/results/setcover.csv                        # the CFT rows, all 22 problems, ~2 min
     python scripts/bench/bench_setcover.py --table docs/benchmarks/results/setcover.csv   # the Markdown table
 
 Problems (registration dropped: cover every target some candidate sees, nothing else):
@@ -26,11 +28,21 @@ Solvers, each run once, one thread, seed ``--seed`` where it takes one:
 - ``ortools-gls``: OR-Tools ``GuidedLocalSearch`` from that cover, ``--gls-iterations`` iterations (deterministic:
   neither OR-Tools heuristic draws random numbers, so they take no seed);
 - ``milp``: :func:`planner.solve.milp.solve` on CP-SAT (presolve, greedy warm start, 1 worker) stopped after
-  ``--cpsat-work`` deterministic seconds, with a wall-clock cap of ``--cpsat-wall`` s; its cover and bound.
+  ``--cpsat-work`` deterministic seconds, with a wall-clock cap of ``--cpsat-wall`` s; its cover and bound;
+- ``cft``: the Caprara-Fischetti-Toth heuristic (1999) of https://github.com/c4v4/cft, built outside this repository
+  (``cmake -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build``) and given as ``--cft-bin PATH/accft``
+  (skipped with a note without it). Each problem is written as a strict OR-Library "scp" file (row counts on their
+  own line: its parser rejects the one-line rows of ``planner export``) with the costs the other solvers see (1 for
+  the unit variants), then ``accft -p SCP -s --seed -t --cft-limit -o SOL -v 2`` runs on it (single-threaded; its
+  time limit is wall-clock, and it also stops by its own criterion). Its cover is read back from ``SOL`` and checked;
+  its Lagrangian lower bound (the last ``lb`` of its log) goes into ``bound``. CPU seconds (user + system) and peak
+  RSS are those of the ``accft`` process, as ``/usr/bin/time`` reports them (``os.wait4`` here would count this
+  script's RSS at the fork), not of this script; wall seconds are around ``/usr/bin/time``; writing the file is not
+  timed.
 
 Each solver's time is its own (a search's time leaves out the construction it starts from): CPU seconds of this
-process (``resource.getrusage``, user + system) and wall seconds. Every cover is checked (covers every target,
-value recomputed from the costs). One CSV row per problem and solver (``--csv``, appended).
+process (``resource.getrusage``, user + system; ``accft``'s for ``cft``) and wall seconds. Every cover is checked
+(covers every target, value recomputed from the costs). One CSV row per problem and solver (``--csv``, appended).
 """
 
 from __future__ import annotations
@@ -39,9 +51,13 @@ import argparse
 import csv
 import math
 import os
+import re
 import resource
+import signal
 import subprocess
 import sys
+import tempfile
+import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -69,7 +85,7 @@ FIELDS = [
     "load_avg",
     "peak_rss_mb",
 ]
-SOLVERS = ("lp", "greedy", "shrink", "ortools-ss", "ortools-gls", "milp")
+SOLVERS = ("lp", "greedy", "shrink", "ortools-ss", "ortools-gls", "milp", "cft")
 DEFAULT_PROBLEMS = [
     "scp41",
     "scp42",
@@ -293,6 +309,68 @@ def run_milp(p: Problem, work_s: float, wall_s: float, seed: int) -> dict:
     }
 
 
+def write_scp(p: Problem, path: Path) -> None:
+    """``p`` as an OR-Library "scp" file: rows (targets) and columns (candidates), the column costs, then per row its
+    number of columns on a line of its own and those columns (1-based), 12 numbers a line."""
+
+    def lines(values: Sequence[str]) -> list[str]:
+        return [" " + " ".join(values[i : i + 12]) + " " for i in range(0, len(values), 12)]
+
+    by_target = p.a.T.tocsr()
+    out = [f" {by_target.shape[0]} {by_target.shape[1]} "]
+    out += lines([f"{c:.17g}" for c in p.cost.tolist()])
+    for i in range(by_target.shape[0]):
+        cols = by_target.indices[by_target.indptr[i] : by_target.indptr[i + 1]]
+        out.append(f" {len(cols)} ")
+        out += lines([str(j + 1) for j in sorted(cols.tolist())])
+    path.write_text("\n".join(out) + "\n")
+
+
+def run_cft(p: Problem, binary: Path, limit_s: float, seed: int, workdir: Path) -> dict:
+    """One run of the CFT binary (``accft``) on ``p``: its cover read back and checked, its own CPU, wall and RSS."""
+    inst, sol, log, usage = (workdir / f"{p.name}{ext}" for ext in (".txt", ".sol", ".log", ".time"))
+    write_scp(p, inst)
+    sol.unlink(missing_ok=True)
+    cmd = [str(binary), "-i", str(inst), "-p", "SCP", "-s", str(seed), "-t", f"{limit_s:g}", "-o", str(sol), "-v", "2"]
+    with log.open("w") as out:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(
+            ["/usr/bin/time", "-f", "%U %S %M", "-o", str(usage), *cmd],
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,  # its own process group, so the guard below stops accft too
+        )
+        # its limit is checked between phases: allow it 2 min more, then stop it
+        guard = threading.Timer(limit_s + 120, lambda: os.killpg(proc.pid, signal.SIGKILL))
+        guard.start()
+        proc.wait()
+        guard.cancel()
+        wall = time.perf_counter() - t0
+    text = log.read_text()
+    times = usage.read_text().split() if usage.exists() else []
+    user, system, rss_kb = times[-3:] if len(times) >= 3 else ("nan", "0", "0")  # nan: killed with /usr/bin/time
+    best = re.findall(r"CFT> Best solution (\S+) time (\S+)s", text)
+    lbs = re.findall(r"REFN>\s*\d+: Best solution \S+, lb (\S+),", text)
+    row = {
+        "solver": "cft",
+        "cpu_s": float(user) + float(system),
+        "wall_s": wall,
+        "peak_rss_mb": round(int(rss_kb) / 1024),  # accft's own peak
+        "bound": lbs[-1] if lbs else "",
+    }
+    if proc.returncode != 0 or not best or not sol.exists():
+        tail = " | ".join(text.strip().splitlines()[-2:])
+        return {**row, "setting": f"accft exit {proc.returncode}: {tail}", "value": "", "status": "failed"}
+    tokens = sol.read_text().split()
+    value = checked(p, [int(t) for t in tokens[1:]], "cft")
+    if abs(value - float(tokens[0])) > 1e-6 * max(1.0, value):
+        raise SystemExit(f"{p.name}: cft says its cover costs {tokens[0]}, it costs {value}")
+    own_s = float(best[-1][1])
+    stop = "its time limit" if own_s >= limit_s else "its own criterion"
+    setting = f"-s {seed} -t {limit_s:g} (wall), stopped by {stop} at {own_s:.1f} s, cover re-checked"
+    return {**row, "setting": setting, "value": value, "status": "feasible"}
+
+
 def bench(p: Problem, args: argparse.Namespace) -> list[dict]:
     rows: list[dict] = []
     solvers = set(args.solvers)
@@ -305,8 +383,8 @@ def bench(p: Problem, args: argparse.Namespace) -> list[dict]:
             nnz=p.a.nnz,
             cost_type=p.cost_type,
             load_avg=round(os.getloadavg()[0], 2),
-            peak_rss_mb=round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024),
         )
+        row.setdefault("peak_rss_mb", round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024))
         row["cpu_s"], row["wall_s"] = round(row["cpu_s"], 2), round(row["wall_s"], 2)
         rows.append(row)
         print(
@@ -328,6 +406,8 @@ def bench(p: Problem, args: argparse.Namespace) -> list[dict]:
             emit(row)
     if "milp" in solvers:
         emit(run_milp(p, args.cpsat_work, args.cpsat_wall, args.seed))
+    if "cft" in solvers and args.cft_bin is not None:
+        emit(run_cft(p, args.cft_bin, args.cft_limit, args.seed, args.cft_dir))
     return rows
 
 
@@ -366,9 +446,9 @@ def table(path: Path, orlib_dir: Path) -> str:
 
     head = (
         "| problem | rows x cols | costs | optimum | LP | greedy | shrink | OR-Tools ED+SS | OR-Tools GLS "
-        "| CP-SAT MILP | CP-SAT bound |"
+        "| CFT | CP-SAT MILP | CP-SAT bound |"
     )
-    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|"]
+    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name in sorted(by, key=order):
         s = by[name]
         any_row = next(iter(s.values()))
@@ -386,7 +466,7 @@ def table(path: Path, orlib_dir: Path) -> str:
         opt = optima.get(name, "-") if any_row["cost_type"] == "orlib" else "-"
         out.append(
             f"| {name} | {any_row['rows']} x {any_row['cols']} | {any_row['cost_type']} | {opt} | {lp_cell} | "
-            f"{cell('greedy')} | {cell('shrink')} | {cell('ortools-ss')} | {cell('ortools-gls')} | "
+            f"{cell('greedy')} | {cell('shrink')} | {cell('ortools-ss')} | {cell('ortools-gls')} | {cell('cft')} | "
             f"{cell('milp')} | {bound} |"
         )
     return "\n".join(out)
@@ -409,6 +489,13 @@ def main() -> None:
     ap.add_argument("--cpsat-work", type=float, default=300.0, help="CP-SAT deterministic seconds")
     ap.add_argument("--cpsat-wall", type=float, default=540.0, help="CP-SAT wall-clock cap, s")
     ap.add_argument("--lp-method", default="highs-ipm", help="scipy linprog method (HiGHS)")
+    ap.add_argument(
+        "--cft-bin", type=Path, metavar="PATH", help="the accft binary of c4v4/cft (cft is skipped without)"
+    )
+    ap.add_argument("--cft-limit", type=float, default=60.0, help="CFT's time limit (its -t, wall-clock), s")
+    ap.add_argument(
+        "--cft-dir", type=Path, help="keep CFT's problem, solution and log files here (default: a temp dir)"
+    )
     ap.add_argument("--csv", type=Path, help="append one row per problem and solver")
     ap.add_argument("--table", type=Path, metavar="CSV", help="print the Markdown table of a results CSV and exit")
     args = ap.parse_args()
@@ -416,10 +503,16 @@ def main() -> None:
         print(table(args.table, args.dir))
         return
     sys.path.insert(0, str(ROOT))
-    for name in args.problems:
-        rows = bench(load(name, args.dir, args.cache), args)
-        if args.csv:
-            append_csv(args.csv, rows)
+    if "cft" in args.solvers and args.cft_bin is None:
+        print("note: cft skipped, no --cft-bin given (build https://github.com/c4v4/cft, pass its accft)", flush=True)
+    with tempfile.TemporaryDirectory(prefix="bench_setcover_cft_") as tmp:
+        if args.cft_dir is None:
+            args.cft_dir = Path(tmp)
+        args.cft_dir.mkdir(parents=True, exist_ok=True)
+        for name in args.problems:
+            rows = bench(load(name, args.dir, args.cache), args)
+            if args.csv:
+                append_csv(args.csv, rows)
     r = resource.getrusage(resource.RUSAGE_SELF)
     print(f"peak RSS of this process {r.ru_maxrss / 1024:.0f} MB, CPU {r.ru_utime + r.ru_stime:.1f} s")
 
