@@ -131,7 +131,10 @@ class TaskRunner:
 
 
 def _scatter(client: Any, shared: dict[str, Any]) -> dict[str, Any]:
-    return {k: client.scatter(v, broadcast=True, hash=False) for k, v in shared.items()}
+    """Each shared value sent to every worker as one object, one future each: ``scatter(v)`` of a list would
+    send every element as a key of its own (the pool's 50,000 candidates on 64 ha: 50,000 keys, which
+    swamped the scheduler until it closed the client's connection)."""
+    return {k: client.scatter([v], broadcast=True, hash=False)[0] for k, v in shared.items()}
 
 
 def _on_client(
