@@ -39,6 +39,10 @@ if TYPE_CHECKING:
 
 #: steps of the Lagrangian ascent before the local search is tried (the rest of the budget comes after it)
 _FIRST_STEPS = 50
+#: the ascent's work budget, in walk units (each step's multi-source walk costs the lifted graph's links times
+#: its sources): 5e9 units, about 10 s here; polygon C's default block takes 35 steps of 2.7e6 (9e7), its 3-m
+#: grid 50 of 1.9e7 (9e8), its 1.5-m grid would take 500 long walks (more than 8 minutes, issue 32)
+RING_WORK = 5e9
 
 
 def lengths(instance: CoverInstance) -> np.ndarray:
@@ -87,6 +91,7 @@ class BlockSolver:
         self._shrunk: set[float] = set()  # incumbent costs the local search started from
         self.ring: RingBound | None = None
         self.lagrange_steps = 0
+        self.ring_work_capped = False  # the ascent stopped at RING_WORK before its steps
         if o.ring_bound:
             self._ring(a, targets)
         if not self.done:  # a block the ring bound closed needs no model
@@ -159,7 +164,12 @@ class BlockSolver:
             self._ascend(graph, o.ring_lagrange_steps - self.lagrange_steps)  # not when the first part gave up
 
     def _ascend(self, graph: RingGraph, steps: int) -> None:
-        """The Lagrangian ascent from the cover LP's duals toward the incumbent, ``steps`` steps at most."""
+        """The Lagrangian ascent from the cover LP's duals toward the incumbent, ``steps`` steps at most and, over
+        all its calls, :data:`RING_WORK` walk units (a count, not a time: the bound does not depend on the load)."""
+        per_step = max(1, graph.graph.nnz * len(graph.anchors))
+        allowed = int(RING_WORK // per_step) - self.lagrange_steps
+        self.ring_work_capped = self.ring_work_capped or allowed < steps
+        steps = min(steps, allowed)
         if steps <= 0 or self.incumbent is None:
             return
         sub = self.sub.astype(np.float64).tocsr()

@@ -206,6 +206,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
             "blocks": sum(b.ring is not None for b in solvers),
             "closed_before_search": sum(b.ring is not None and b.done and not b.rounds for b in solvers),
             "lagrange_steps": sum(b.lagrange_steps for b in solvers),
+            "work_capped_blocks": sum(b.ring_work_capped for b in solvers),
         },
         "connectivity": o.connectivity_method if connect else "none",
     }

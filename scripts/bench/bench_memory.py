@@ -2,12 +2,16 @@
 
 For each site and candidate grid spacing, the plain ``planner plan SITE --grid-spacing G --out DIR`` (connected
 MILP under the site's overlap, regions and pricing on, 1 thread) runs as its own process under
-``/usr/bin/time -v``. Columns: candidates and pairs (the pool after pricing, from plan.json), stations and
-status, wall time, peak RSS, and the memory guard's estimate (``planner.plan.memory_guard.estimate_work``: what
-``--memory-limit`` compares). Then the log-log slope of peak RSS against pairs (least squares over the rows
-of each site), and a figure.
+``/usr/bin/time -v``. Columns: candidates and pairs (the pool after pricing, from plan.json), the candidates the
+MILP's presolve keeps and its seconds, stations and status, wall time, peak RSS, and the memory guard's estimate
+(``planner.plan.memory_guard.estimate_work``: what ``--memory-limit`` compares). Then the log-log slopes of peak
+RSS and of wall time against pairs (least squares over the rows of each site), and a figure.
 
-    python scripts/bench/bench_memory.py [--sites building polygon_c] [--grids 3 2 1.5 1 0.5] [--out docs/benchmarks/memory.md]
+    python scripts/bench/bench_memory.py [--sites building polygon_c] [--grids 3 2 1.5 1 0.5] [--limit S]
+        [--out docs/benchmarks/memory.md] [--merge earlier.json ...]
+
+The rows also go to the .json beside ``--out``; ``--merge`` shows earlier runs' rows in the table and the figure
+too (a row of this run replaces one of the same site and grid); ``--sites`` with no site redraws them alone.
 
 ``building`` is ``scripts/make/make_building.py --seed 0`` (28 zones: 27 rooms 2-7 m across in an L-shaped
 outline 44 x 42 m, walls 4.2 m; the same as instances/building27.json).
@@ -18,12 +22,15 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
+import signal
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -52,40 +59,57 @@ def estimate_bytes(site: Path, grid: float) -> int:
     return estimate_work(s, 1.0, grid, reach).bytes
 
 
-def run(site: Path, grid: float, out: Path, limit_s: int) -> dict:
-    t0 = time.perf_counter()
+def usage_so_far(pid: int) -> tuple[float, float]:
+    """CPU seconds (user + system) and peak RSS (GiB, VmHWM) so far of the children of ``pid`` (``time``'s
+    planner), from /proc; NaN where it cannot be read."""
     try:
-        proc = subprocess.run(
-            [
-                "/usr/bin/time",
-                "-v",
-                sys.executable,
-                "-m",
-                "planner",
-                "plan",
-                str(site),
-                "--grid-spacing",
-                str(grid),
-                "--out",
-                str(out),
-                "--quiet",
-            ],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-            timeout=limit_s,
-            check=False,
-        )
-    except subprocess.TimeoutExpired:  # a row that says so, and the next grid goes on
+        kids = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
+        cpu, peak = 0.0, 0.0
+        for kid in kids:
+            stat = Path(f"/proc/{kid}/stat").read_text().rsplit(")", 1)[1].split()
+            cpu += (int(stat[11]) + int(stat[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime: fields 14, 15
+            hwm = re.search(r"VmHWM:\s+(\d+) kB", Path(f"/proc/{kid}/status").read_text())
+            peak = max(peak, int(hwm.group(1)) / 2**20 if hwm else math.nan)
+        return (cpu, peak) if kids else (math.nan, math.nan)
+    except (OSError, ValueError, IndexError):
+        return math.nan, math.nan
+
+
+def run(site: Path, grid: float, out: Path, limit_s: int) -> dict:
+    """One ``planner plan`` under ``/usr/bin/time -v``; past ``limit_s`` its whole process group is stopped (the
+    planner too, not only ``time``) and the row says so."""
+    t0 = time.perf_counter()
+    cmd = ["/usr/bin/time", "-v", sys.executable, "-m", "planner", "plan", str(site), "--grid-spacing", str(grid)]
+    proc = subprocess.Popen(
+        [*cmd, "--out", str(out), "--quiet"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        start_new_session=True,
+    )
+    try:
+        _, stderr = proc.communicate(timeout=limit_s)
+    except subprocess.TimeoutExpired:  # a row that says so (CPU and peak so far), and the next grid goes on
+        cpu_s, peak_gib = usage_so_far(proc.pid)
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
         return {
             "wall_s": time.perf_counter() - t0,
-            "peak_gib": math.nan,
+            "cpu_s": cpu_s,
+            "peak_gib": peak_gib,
             "exit": "stopped",
             "error": f"stopped at the {limit_s}-s limit",
         }
     wall = time.perf_counter() - t0
-    rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", proc.stderr)
-    row = {"wall_s": wall, "peak_gib": int(rss.group(1)) / 2**20 if rss else math.nan, "exit": proc.returncode}
+    rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", stderr)
+    cpu = [re.search(rf"{k} time \(seconds\): ([\d.]+)", stderr) for k in ("User", "System")]
+    row: dict[str, Any] = {
+        "wall_s": wall,
+        "cpu_s": sum(float(m.group(1)) for m in cpu if m) if all(cpu) else math.nan,
+        "peak_gib": int(rss.group(1)) / 2**20 if rss else math.nan,
+        "exit": proc.returncode,
+    }
     if proc.returncode == 0:
         plan = json.loads((out / "plan.json").read_text())
         pre = plan.get("presolve") or {}
@@ -99,7 +123,8 @@ def run(site: Path, grid: float, out: Path, limit_s: int) -> dict:
             presolve_s=pre.get("time_s", math.nan),
         )
     else:
-        row["error"] = proc.stderr.strip().splitlines()[-1][:200] if proc.stderr.strip() else ""
+        own = [ln for ln in stderr.split("\tCommand being timed")[0].splitlines() if ln.strip()]  # not time's
+        row["error"] = next((ln.strip()[:200] for ln in reversed(own) if not ln.startswith("Command exited")), "")
     return row
 
 
@@ -129,6 +154,10 @@ def figure(results: dict[str, list[dict]], path: Path) -> None:
             ax.annotate(
                 f"{r['grid']:g} m", (r["pairs"], r["peak_gib"]), fontsize=7, xytext=(3, -8), textcoords="offset points"
             )
+    from matplotlib.ticker import NullFormatter
+
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("candidate-target pairs (pool after pricing)")
     ax.set_ylabel("peak RSS of planner plan (GiB)")
     ax.set_title("Default MILP, finer candidate grids (1 thread)")
@@ -138,20 +167,66 @@ def figure(results: dict[str, list[dict]], path: Path) -> None:
     fig.savefig(path, dpi=120)
 
 
+HEADER = [
+    (
+        "| site | grid m | candidates | pairs | kept | presolve s | stations | status | scope | wall s | CPU s | peak GiB | "
+        "guard estimate GiB | estimate / peak |"
+    ),
+    "|---" * 14 + "|",
+]
+
+
+def cell(value: Any, fmt: str) -> str:
+    """``value`` formatted, or "-" where it is missing (NaN: a row of a run that did not measure it)."""
+    return "-" if value is None or (isinstance(value, float) and math.isnan(value)) else format(value, fmt)
+
+
+def row_line(name: str, r: dict) -> str:
+    """One row of the table."""
+    g, cpu = r["grid"], cell(r.get("cpu_s"), ".1f")
+    if r["exit"] != 0:
+        return (
+            f"| {name} | {g:g} | - | - | - | - | - | exit {r['exit']}: {r.get('error', '')} | - | "
+            f"{r['wall_s']:.1f} | {cpu} | {cell(r['peak_gib'], '.2f')} | {r['estimate_gib']:.2f} | - |"
+        )
+    return (
+        f"| {name} | {g:g} | {r['candidates']:,} | {r['pairs']:,} | {cell(r['kept'], ',')} | "
+        f"{cell(r['presolve_s'], '.1f')} | {r['stations']} | {r['status']} | {r['scope']} | "
+        f"{r['wall_s']:.1f} | {cpu} | {r['peak_gib']:.2f} | {r['estimate_gib']:.2f} | "
+        f"{r['estimate_gib'] / r['peak_gib']:.2f} |"
+    )
+
+
+def slope_line(name: str, rows: list[dict]) -> str:
+    """The site's slopes, as a row of the table."""
+    return (
+        f"| {name} | log-log slopes against pairs: peak memory {slope(rows):.2f}, wall time "
+        f"{slope(rows, 'wall_s'):.2f} ||||||||||||| "
+    )
+
+
+def merged(earlier: list[Path], results: dict[str, list[dict]]) -> dict[str, list[dict]]:
+    """The rows of earlier runs (their .json) with this run's: a row of this run replaces one of the same site
+    and grid; rows by site, then grid from coarse to fine."""
+    out: dict[str, dict[float, dict]] = {}
+    for path in earlier:
+        for name, rows in json.loads(path.read_text()).items():
+            for r in rows:
+                out.setdefault(name, {})[r["grid"]] = r
+    for name, rows in results.items():
+        for r in rows:
+            out.setdefault(name, {})[r["grid"]] = r
+    return {name: [by[g] for g in sorted(by, reverse=True)] for name, by in out.items()}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sites", nargs="+", default=["building", "polygon_c"])
+    ap.add_argument("--sites", nargs="*", default=["building", "polygon_c"], help="none: redraw --merge's rows")
     ap.add_argument("--grids", nargs="+", type=float, default=[3.0, 2.0, 1.5, 1.0, 0.5])
     ap.add_argument("--limit", type=int, default=1800, help="seconds per run before it is stopped")
-    ap.add_argument("--out", help="markdown table; the figure goes beside it as .png")
+    ap.add_argument("--out", help="markdown table; the figure (.png) and the rows (.json) go beside it")
+    ap.add_argument("--merge", nargs="*", type=Path, default=[], help="rows (.json) of earlier runs to show too")
     a = ap.parse_args()
-    lines = [
-        (
-            "| site | grid m | candidates | pairs | kept | presolve s | stations | status | scope | wall s | peak GiB | "
-            "guard estimate GiB | estimate / peak |"
-        ),
-        "|---" * 13 + "|",
-    ]
     results: dict[str, list[dict]] = {}
     with tempfile.TemporaryDirectory() as d:
         tmp = Path(d)
@@ -161,27 +236,16 @@ def main() -> None:
                 r = run(site, g, tmp / f"{name}-{g}", a.limit) | {"grid": g}
                 r["estimate_gib"] = estimate_bytes(site, g) / 2**30
                 results.setdefault(name, []).append(r)
-                if r["exit"] == 0:
-                    lines.append(
-                        f"| {name} | {g:g} | {r['candidates']:,} | {r['pairs']:,} | {r['kept']:,} | "
-                        f"{r['presolve_s']:.1f} | {r['stations']} | {r['status']} | {r['scope']} | "
-                        f"{r['wall_s']:.1f} | {r['peak_gib']:.2f} | {r['estimate_gib']:.2f} | "
-                        f"{r['estimate_gib'] / r['peak_gib']:.2f} |"
-                    )
-                else:
-                    lines.append(
-                        f"| {name} | {g:g} | - | - | - | - | - | exit {r['exit']}: {r.get('error', '')} | - | "
-                        f"{r['wall_s']:.1f} | {r['peak_gib']:.2f} | {r['estimate_gib']:.2f} | - |"
-                    )
-                print(lines[-1], flush=True)
-            lines.append(
-                f"| {name} | log-log slopes against pairs: peak memory {slope(results[name]):.2f}, wall time "
-                f"{slope(results[name], 'wall_s'):.2f} |||||||||||| "
-            )
-            print(lines[-1], flush=True)
+                print(row_line(name, r), flush=True)
+            print(slope_line(name, results[name]), flush=True)
     if a.out:
-        Path(a.out).write_text("\n".join(lines) + "\n")
-        figure(results, Path(a.out).with_suffix(".png"))
+        out = Path(a.out)
+        if results:
+            out.with_suffix(".json").write_text(json.dumps(results, indent=1) + "\n")
+        rows = merged(a.merge, results)
+        lines = [line for name, rs in rows.items() for line in [*(row_line(name, r) for r in rs), slope_line(name, rs)]]
+        out.write_text("\n".join(HEADER + lines) + "\n")
+        figure(rows, out.with_suffix(".png"))
 
 
 if __name__ == "__main__":

@@ -11,14 +11,17 @@ random instances) an optimal connected plan must survive it.
 from __future__ import annotations
 
 from itertools import combinations
+from unittest.mock import patch
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.sparse.csgraph import connected_components
 
 from planner.coverage.overlap import OverlapRule, group_ids, overlap_adjacency
+from planner.solve import presolve
 from planner.solve.lazy_links import OverlapLinks, length_order, linked_dominated, representatives
 from planner.solve.presolve import dominated, presolve_order
 
@@ -75,22 +78,47 @@ def connected_optimum(
 
 @settings(max_examples=300, deadline=None, derandomize=True, database=None)
 @given(
-    n=st.integers(1, 14),
+    n=st.integers(1, 24),
     m=st.integers(1, 8),
     seed=st.integers(0, 2**31 - 1),
-    links=st.booleans(),
+    density=st.one_of(st.none(), st.floats(0.1, 0.95)),
     grouped=st.booleans(),
+    bits=st.booleans(),
 )
-def test_dominated_matches_its_definition(n: int, m: int, seed: int, links: bool, grouped: bool) -> None:
+def test_dominated_matches_its_definition(
+    n: int, m: int, seed: int, density: float | None, grouped: bool, bits: bool
+) -> None:
+    # with the relation held as bits (replacers tried on 2, then 5 neighbours, then all) and as CSR rows only
     rng = np.random.default_rng(seed)
     a = sp.csr_matrix(rng.random((n, m)) < 0.35)
     cost = rng.integers(1, 3, n).astype(float)
     adj = None
-    if links:
-        upper = np.triu(rng.random((n, n)) < 0.3, 1)
+    if density is not None:
+        upper = np.triu(rng.random((n, n)) < density, 1)
         adj = sp.csr_matrix(upper | upper.T)
     groups = rng.integers(0, 2, n).tolist() if grouped else None
-    assert dominated(a, cost, adj, groups).tolist() == oracle(a, cost, adj, groups).tolist()
+    with patch.object(presolve, "_BITS_MAX", 16_384 if bits else 0), patch.object(presolve, "_PROBES", (2, 5)):
+        got = dominated(a, cost, adj, groups)
+    assert got.tolist() == oracle(a, cost, adj, groups).tolist()
+
+
+@pytest.mark.parametrize("flip", [0.0, 0.01])
+def test_bits_and_rows_drop_what_the_definition_drops(flip: float) -> None:
+    # 600 intervals on a line (pieces: 40 points), linked where they meet: a wider one holds a narrower one's
+    # pieces and links. Some links flipped. Neighbourhoods of ~180, so the default probes (16, 256) come into
+    # play; 519 and 23 of the 600 go.
+    rng = np.random.default_rng(7)
+    n = 600
+    x, r = rng.uniform(0, 10, n), rng.uniform(0.2, 1.5, n)
+    a = sp.csr_matrix(np.abs(np.linspace(0, 10, 40)[None, :] - x[:, None]) <= r[:, None])
+    cost = rng.integers(1, 3, n).astype(float)
+    upper = np.triu((np.abs(x[:, None] - x[None, :]) <= r[:, None] + r[None, :]) ^ (rng.random((n, n)) < flip), 1)
+    adj = sp.csr_matrix(upper | upper.T)
+    groups = rng.integers(0, 2, n).tolist()
+    want = oracle(a, cost, adj, groups).tolist()
+    for bits_max in (16_384, 0):  # bits, then the CSR rows only
+        with patch.object(presolve, "_BITS_MAX", bits_max):
+            assert dominated(a, cost, adj, groups).tolist() == want
 
 
 def test_a_subset_goes_and_equal_rows_keep_the_first() -> None:
