@@ -144,9 +144,11 @@ def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], 
 
 
 def lp_duals(a: sp.csr_matrix, cost: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
-    """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS dual simplex)."""
+    """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS interior point with crossover: the
+    dual simplex was still running after 30 CPU minutes on the 64-ha plant's whole cover; on 16 ha scipy's interior
+    point took 10 CPU s against 128 for the dual simplex, docs/benchmarks/setcover.md)."""
     res = linprog(
-        cost, A_ub=-a.T.astype(np.float64).tocsr(), b_ub=-np.ones(a.shape[1]), bounds=(0, None), method="highs-ds"
+        cost, A_ub=-a.T.astype(np.float64).tocsr(), b_ub=-np.ones(a.shape[1]), bounds=(0, None), method="highs-ipm"
     )
     if res.status != 0:
         raise InfeasibleError(f"cover LP failed: {res.message}", field="lagrange")
