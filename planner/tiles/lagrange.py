@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 from scipy.optimize import linprog
 
 from planner.errors import InfeasibleError, InternalError, UsageError
+from planner.solve.greedy import greedy_cover
 from planner.solve.milp import WALL_CAP
 from planner.solve.presolve import dominated, implied_targets
 from planner.tiles.engine import run_tasks
@@ -90,6 +91,9 @@ class LagrangeBound:
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, a wall
     cap ``WALL_CAP`` times as long); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
+    When CP-SAT finds no cover within its work (a large part on a small share of the budget: 64 ha), the
+    part's cover is Chvatal's greedy (:func:`_greedy_part`) and ``lower`` CP-SAT's bound, or 0 for the
+    candidates of cost >= 0 where that bound is not finite: both stay valid.
 
     Raises
     ------
@@ -120,13 +124,18 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     status = solver.Solve(model)
     if status == cp_model.INFEASIBLE:
         raise InfeasibleError("a piece of this part is seen by none of its candidates", field="lagrange part")
-    if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
-        raise InternalError(f"CP-SAT found no cover of a part: {solver.StatusName(status)}", field="lagrange part")
+    if status == cp_model.MODEL_INVALID:
+        raise InternalError(f"CP-SAT rejected a part: {solver.StatusName(status)}", field="lagrange part")
     chosen = free.copy()
-    chosen[cols] = [bool(solver.Value(v)) for v in x]
+    if status in (cp_model.OPTIMAL, cp_model.FEASIBLE):
+        chosen[cols] = [bool(solver.Value(v)) for v in x]
+    else:  # UNKNOWN: no cover within the work
+        chosen[cols] = _greedy_part(at.T.tocsr(), job.w[cols])
     objective = int(job.w[chosen].sum())
     optimal = status == cp_model.OPTIMAL
-    lower = objective if optimal else int(job.w[free].sum()) + math.ceil(solver.BestObjectiveBound() - 1e-9)
+    bound = solver.BestObjectiveBound()
+    rest = max(0, math.ceil(bound - 1e-9)) if math.isfinite(bound) else 0  # the kept costs are >= 0
+    lower = objective if optimal else int(job.w[free].sum()) + rest
     capped = not optimal and solver.wall_time >= 0.99 * WALL_CAP * work_s
     return PartResult(lower, objective, chosen, optimal, capped)
 
@@ -141,6 +150,20 @@ def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], 
     keep = np.zeros(len(w), dtype=bool)
     keep[rest[~dominated(a[rest][:, rows].tocsr(), w[rest].astype(float))]] = True
     return free, keep, rows
+
+
+def _greedy_part(a: sp.csr_matrix, w: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """A cover of every column of ``a`` (candidates x pieces) at costs ``w`` >= 0: the free candidates, then
+    Chvatal's greedy (:func:`planner.solve.greedy.greedy_cover`) on the pieces they leave."""
+    take = w == 0
+    open_ = a[take].getnnz(axis=0) == 0
+    paid = np.flatnonzero(~take)
+    if open_.any():
+        res = greedy_cover(a[paid].tocsr(), must_cover=open_, weights=w[paid].astype(float))
+        if res.status.value == "infeasible":
+            raise InfeasibleError("a piece of this part is seen by none of its candidates", field="lagrange part")
+        take[paid[list(res.selected)]] = True
+    return take
 
 
 def lp_duals(a: sp.csr_matrix, cost: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
