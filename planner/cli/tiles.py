@@ -162,6 +162,8 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace, val
     """``plan_site`` or, with ``--tiles``, ``plan_by_tiles`` (serially or on Dask)."""
     from planner.plan import plan_site
 
+    if args.workers < 0:
+        raise UsageError("must be >= 0", field="--workers", value=args.workers)
     strategy = None
     if args.tiles in ("auto", "off"):
         strategy = _auto(site, options, args, validation)
@@ -186,8 +188,6 @@ def plan_command(site: Site, options: PlanOptions, args: argparse.Namespace, val
         return _with_strategy(_by_tiles(site, options, args, strategy, validation), strategy)
     if options.method != "milp":
         raise UsageError("--tiles plans with the MILP", field="--method", value=options.method)
-    if args.workers < 0:
-        raise UsageError("must be >= 0", field="--workers", value=args.workers)
     from planner.solve.windows import WindowOptions
     from planner.tiles import TileOptions
 
@@ -235,27 +235,25 @@ def _run_tiles(
 
 
 def _auto(site: Site, options: PlanOptions, args: argparse.Namespace, validation: ValidationReport) -> Strategy:
-    """``--tiles auto`` (or ``off``): the strategy :func:`planner.tiles.auto.choose` picks for this site."""
-    from planner.plan.memory_guard import estimate_work
-    from planner.tiles.auto import Strategy, choose
+    """``--tiles auto`` (or ``off``): the strategy :func:`planner.tiles.auto.strategy_for` picks for this site,
+    on the ``--workers`` given (else the machine's choice)."""
+    from planner.tiles.auto import Strategy, strategy_for
 
     if args.tiles == "off":
         return Strategy(None, 0, "--tiles off")
-    max_slant_range_m = validation.range_limit.max_slant_range_m
-    pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_spacing_m, max_slant_range_m).targets
-    return choose(site, options, max_slant_range_m, pieces, budget_s=args.tile_budget)
+    return strategy_for(site, options, validation, budget_s=args.tile_budget, workers=args.workers or None)
 
 
 def _by_tiles(
     site: Site, options: PlanOptions, args: argparse.Namespace, strategy: Strategy, validation: ValidationReport
 ) -> Plan:
-    """The tiles the strategy chose, in the registration mode the single model would use; ``--workers`` or
-    ``--scheduler`` when given, else the strategy's workers."""
+    """The tiles the strategy chose, on its workers (``--workers`` when given) or ``--scheduler``, in the
+    registration mode the single model would use."""
     from planner.coverage.links import default_registration
 
     assert strategy.tiling is not None
     options = replace(options, registration=options.registration or default_registration(site))
-    return _run_tiles(site, options, strategy.tiling, args.workers or strategy.workers, args, validation)
+    return _run_tiles(site, options, strategy.tiling, strategy.workers, args, validation)
 
 
 def _with_strategy(plan: Plan, strategy: Strategy) -> Plan:

@@ -15,8 +15,11 @@ default), so the choice changes how the plan is searched for, not what it must s
 The time ``budget_s`` (``planner plan --tile-budget``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
 tiles that run side by side, the whole-site bound ``BOUND_SHARE`` and the Lagrangian bound ``LAGRANGE_SHARE``;
 the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
-tile); the local search takes what is left (its work is a move count, deterministic). Workers: the machine's cores less one, at most one per tile; none (in this process) on a
-machine of two cores or fewer, where a second process adds contention, not speed (docs/benchmarks/plant.md).
+tile); the local search takes what is left (its work is a move count, deterministic). Workers: half the
+machine's cores, at most one per tile; none (in this process) on a machine of two cores or fewer, where a second
+process adds contention, not speed (docs/benchmarks/plant.md). Half, not all: on 16 cores the 16-ha plant's tile
+phase ran 2.57 x faster on 8 workers than on 1 and only 1.1-1.5 x faster on 16, where the client, the scheduler
+and 16 workers shared 16 cores and the workers spent 2-3 x the CPU of 8 (docs/benchmarks/workers.md).
 """
 
 from __future__ import annotations
@@ -28,7 +31,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from planner.plan import PlanOptions
+from planner.plan.memory_guard import estimate_work
 from planner.site.model import Site
+from planner.site.validate import ValidationReport
 from planner.solve.windows import WindowOptions
 from planner.tiles.options import TileOptions
 
@@ -89,10 +94,28 @@ def tile_count(site: Site, tile_m: float) -> int:
     return int(math.ceil(max(float(ext[0]), 1e-9) / tile_m) * math.ceil(max(float(ext[1]), 1e-9) / tile_m))
 
 
-def choose(
-    site: Site, options: PlanOptions, max_slant_range_m: float, pieces: int, budget_s: float, cores: int | None = None
+def strategy_for(
+    site: Site, options: PlanOptions, validation: ValidationReport, budget_s: float, workers: int | None = None
 ) -> Strategy:
-    """The strategy for ``site`` (module docstring); ``pieces``: the work estimate's wall pieces."""
+    """The plain command's strategy for ``site`` (:func:`choose` on the memory guard's work estimate of its wall
+    pieces); ``workers``: the Dask workers asked for (``--workers``), else None for the machine's choice."""
+    max_slant_range_m = validation.range_limit.max_slant_range_m
+    pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_spacing_m, max_slant_range_m).targets
+    return choose(site, options, max_slant_range_m, pieces, budget_s, workers=workers)
+
+
+def choose(
+    site: Site,
+    options: PlanOptions,
+    max_slant_range_m: float,
+    pieces: int,
+    budget_s: float,
+    cores: int | None = None,
+    workers: int | None = None,
+) -> Strategy:
+    """The strategy for ``site`` (module docstring); ``pieces``: the work estimate's wall pieces. ``workers``
+    (given, >= 1): the tiles run on that many Dask workers, and the time split counts them as side by side;
+    else the workers follow from ``cores`` (default: this machine's)."""
     if options.method != "milp":
         return Strategy(None, 0, f"method {options.method}")
     if pieces < MIN_PIECES:
@@ -103,8 +126,9 @@ def choose(
     n = tile_count(site, tile_m)
     if n < MIN_TILES:
         return Strategy(None, 0, f"the site spans {n} tile(s) of {tile_m:g} m, fewer than {MIN_TILES}")
-    cores = os.cpu_count() or 1 if cores is None else cores
-    workers = 0 if cores <= 2 else min(cores - 1, n)
+    if not workers:
+        cores = os.cpu_count() or 1 if cores is None else cores
+        workers = 0 if cores <= 2 else min(cores // 2, n)
     side_by_side = max(workers, 1)
     tiling = TileOptions(
         tile_m=tile_m,

@@ -22,17 +22,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
-import re
-import signal
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from _timed import timed_plan
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -59,59 +56,11 @@ def estimate_bytes(site: Path, grid: float) -> int:
     return estimate_work(s, 1.0, grid, reach).bytes
 
 
-def usage_so_far(pid: int) -> tuple[float, float]:
-    """CPU seconds (user + system) and peak RSS (GiB, VmHWM) so far of the children of ``pid`` (``time``'s
-    planner), from /proc; NaN where it cannot be read."""
-    try:
-        kids = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
-        cpu, peak = 0.0, 0.0
-        for kid in kids:
-            stat = Path(f"/proc/{kid}/stat").read_text().rsplit(")", 1)[1].split()
-            cpu += (int(stat[11]) + int(stat[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime: fields 14, 15
-            hwm = re.search(r"VmHWM:\s+(\d+) kB", Path(f"/proc/{kid}/status").read_text())
-            peak = max(peak, int(hwm.group(1)) / 2**20 if hwm else math.nan)
-        return (cpu, peak) if kids else (math.nan, math.nan)
-    except (OSError, ValueError, IndexError):
-        return math.nan, math.nan
-
-
 def run(site: Path, grid: float, out: Path, limit_s: int) -> dict:
-    """One ``planner plan`` under ``/usr/bin/time -v``; past ``limit_s`` its whole process group is stopped (the
-    planner too, not only ``time``) and the row says so."""
-    t0 = time.perf_counter()
-    cmd = ["/usr/bin/time", "-v", sys.executable, "-m", "planner", "plan", str(site), "--grid-spacing", str(grid)]
-    proc = subprocess.Popen(
-        [*cmd, "--out", str(out), "--quiet"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=ROOT,
-        start_new_session=True,
-    )
-    try:
-        _, stderr = proc.communicate(timeout=limit_s)
-    except subprocess.TimeoutExpired:  # a row that says so (CPU and peak so far), and the next grid goes on
-        cpu_s, peak_gib = usage_so_far(proc.pid)
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.communicate()
-        return {
-            "wall_s": time.perf_counter() - t0,
-            "cpu_s": cpu_s,
-            "peak_gib": peak_gib,
-            "exit": "stopped",
-            "error": f"stopped at the {limit_s}-s limit",
-        }
-    wall = time.perf_counter() - t0
-    rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", stderr)
-    cpu = [re.search(rf"{k} time \(seconds\): ([\d.]+)", stderr) for k in ("User", "System")]
-    row: dict[str, Any] = {
-        "wall_s": wall,
-        "cpu_s": sum(float(m.group(1)) for m in cpu if m) if all(cpu) else math.nan,
-        "peak_gib": int(rss.group(1)) / 2**20 if rss else math.nan,
-        "exit": proc.returncode,
-    }
-    if proc.returncode == 0:
-        plan = json.loads((out / "plan.json").read_text())
+    """One ``planner plan SITE --grid-spacing G`` under ``/usr/bin/time -v`` (:func:`_timed.timed_plan`), with
+    the pool's size, the plan's and the presolve's figures from its plan.json."""
+    row, plan = timed_plan([str(site), "--grid-spacing", str(grid)], out, limit_s)
+    if plan is not None:
         pre = plan.get("presolve") or {}
         row.update(
             candidates=plan["problem"]["candidates"],
@@ -122,9 +71,6 @@ def run(site: Path, grid: float, out: Path, limit_s: int) -> dict:
             kept=pre.get("candidates_out", math.nan),
             presolve_s=pre.get("time_s", math.nan),
         )
-    else:
-        own = [ln for ln in stderr.split("\tCommand being timed")[0].splitlines() if ln.strip()]  # not time's
-        row["error"] = next((ln.strip()[:200] for ln in reversed(own) if not ln.startswith("Command exited")), "")
     return row
 
 

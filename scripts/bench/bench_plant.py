@@ -20,11 +20,10 @@ import json
 import math
 import re
 import sys
-import threading
 import time
 from pathlib import Path
 
-from _timed import json_child
+from _timed import TreeRss, json_child
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
@@ -63,37 +62,6 @@ FIELDS = [
     "search_seeds",
     "search_per_seed",
 ]
-
-
-class TreeRss:
-    """Peak of the summed RSS of this process and all its descendants, sampled every ``every_s``."""
-
-    def __init__(self, every_s: float = 0.2) -> None:
-        import psutil
-
-        self.proc, self.peak, self.every = psutil.Process(), 0, every_s
-        self._stop = threading.Event()
-        self._t = threading.Thread(target=self._run, daemon=True)
-
-    def _run(self) -> None:
-        import psutil
-
-        while not self._stop.wait(self.every):
-            total = 0
-            for p in [self.proc, *self.proc.children(recursive=True)]:
-                try:
-                    total += p.memory_info().rss
-                except psutil.Error:
-                    pass
-            self.peak = max(self.peak, total)
-
-    def __enter__(self) -> TreeRss:
-        self._t.start()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._stop.set()
-        self._t.join()
 
 
 def one(

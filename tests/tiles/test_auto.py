@@ -11,7 +11,7 @@ from planner.plan import PlanOptions, closed_form_limits
 from planner.plan.memory_guard import estimate_work
 from planner.site.load import load_site
 from planner.site.validate import validate_site
-from planner.tiles.auto import MIN_PIECES, choose, tile_count
+from planner.tiles.auto import MIN_PIECES, choose, strategy_for, tile_count
 from tests.conftest import INSTANCES
 
 
@@ -42,10 +42,36 @@ def test_16ha_plant_goes_to_tiles_split_by_the_budget():
     assert st.tiling.lagrange_work_s == pytest.approx(3.9375)
     # windows: 0.30 x 420 s over 6 stations per tile x 16 tiles = 96 windows -> 1.3125 s each
     assert st.tiling.windows.work_s == pytest.approx(1.3125)
-    # 16 cores: 15 workers, 15 tiles side by side: 0.30 x 420 x 15 / 16 = 118 s, capped at 30 s per tile
+    # 16 cores: half, 8 workers (docs/benchmarks/workers.md: 8 beat 16), 8 tiles side by side:
+    # 0.30 x 420 x 8 / 16 = 63 s, capped at 30 s per tile; Lagrangian 0.15 x 420 x 8 / 16 = 31.5, capped at 10
     big = _strategy("plant_16ha", cores=16)
-    assert big.workers == 15 and big.tiling.tile_time_limit_s == 30.0 and big.tiling.lagrange_work_s == 10.0
+    assert big.workers == 8 and big.tiling.tile_time_limit_s == 30.0 and big.tiling.lagrange_work_s == 10.0
     assert "16 tiles of 100 m" in big.line() and big.to_dict()["kind"] == "tiles"
+    # 4 cores: 2 workers; 3 cores: 1 (a worker process, the client waiting); 2 cores: none
+    assert [_strategy("plant_16ha", cores=c).workers for c in (4, 3, 2)] == [2, 1, 0]
+
+
+def test_workers_asked_for_are_the_strategys_and_set_its_split():
+    # `--workers N` (strategy_for(..., workers=N)): the strategy runs on N workers whatever the cores, says so in
+    # its line (stop 39's 64-ha run printed "on no worker(s)" under --workers 1), and counts N side by side
+    site = load_site(INSTANCES / "plant_16ha.json")
+    options = PlanOptions(method="milp")
+    one = strategy_for(site, options, validate_site(site), budget_s=420.0, workers=1)
+    # 1 side by side, as with none: 0.30 x 420 / 16 = 7.875 s per tile
+    assert one.workers == 1 and "on 1 worker(s)" in one.line()
+    assert one.tiling is not None and one.tiling.tile_time_limit_s == pytest.approx(7.875)
+    # 2 workers: 0.30 x 420 x 2 / 16 = 15.75 s per tile; Lagrangian 0.15 x 420 x 2 / 16 = 7.875 s per part
+    two = strategy_for(site, options, validate_site(site), budget_s=420.0, workers=2)
+    assert two.workers == 2 and two.tiling is not None
+    assert two.tiling.tile_time_limit_s == pytest.approx(15.75) and two.tiling.lagrange_work_s == pytest.approx(7.875)
+    # none asked for: the machine's choice, as choose() makes it (the same pieces estimate: 1-m pieces, 10-m grid)
+    assert strategy_for(site, options, validate_site(site), budget_s=420.0) == choose(
+        site, options, validate_site(site).range_limit.max_slant_range_m, _pieces(site), 420.0
+    )
+
+
+def _pieces(site) -> int:
+    return estimate_work(site, 1.0, 10.0, closed_form_limits(validate_site(site)).max_slant_range_m).targets
 
 
 def test_greedy_is_never_tiled():
