@@ -246,6 +246,7 @@ def price_plane(
         problem, n = _add_points(site, problem, model, points, lp.y, limits, "PT", 1.0 - TIE_EPS)
         added += n
     # Farley's bound on the last duals: y / max(1, w*) is dual feasible for every position of the plane
+    model.close()
     w_star = _outer(site, t, limits, pos, lp.y, {})
     farley = float(lp.y.sum()) / max(1.0, w_star)
     plane_history.append(farley)

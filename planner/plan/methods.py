@@ -91,11 +91,11 @@ def milp_method(run: MethodInput) -> MethodOutput:
     mode = options.registration or default_registration(site)
     reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
     groups, links = registration_groups(site, problem.candidates, mode, reach)
+    # the precision weights (a float per pair) only where the model reads them: combined precision
+    weights = {"scanner": run.validation.scanner, "budget": p.budget, "sigma_req_m": p.sigma_req_m}
     inst = cover_instance(
         problem,
-        scanner=run.validation.scanner,
-        budget=p.budget,
-        sigma_req_m=p.sigma_req_m,
+        **(weights if options.milp.precision == "combined" else {}),
         name=site.name,
         groups=groups,
         links=links,

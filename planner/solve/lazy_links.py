@@ -86,9 +86,9 @@ def linked_dominated(
     a = a.astype(bool).tocsr()
     a.sort_indices()
     n = a.shape[0]
-    ones = a.astype(np.float64)
-    weighted = (ones @ sp.diags(np.asarray(links.lengths, float))).tocsr()
-    covered = np.asarray(ones @ links.lengths, dtype=np.float64).ravel()
+    lengths = np.asarray(links.lengths, float)
+    # no float copy of the whole matrix (24 B a pair for two): the rows a block needs are cast per block
+    covered = np.asarray(a @ lengths, dtype=np.float64).ravel()
     cost = np.asarray(cost, float)
     _, keep = link_filter(links.rule, covered, links.gid)
     reps = representatives(a, cost, links.gid)
@@ -102,7 +102,7 @@ def linked_dominated(
         block = order[lo : lo + max(1, min(BLOCK_ROWS, BLOCK_ENTRIES // max(len(state.kept), 1)))]
         lo += block.size
         cols = np.concatenate([np.asarray(state.kept, dtype=np.int64), block])
-        ptr, col, shared, link, sup = _block_pairs(ones, weighted, block, cols, size, cost, links.gid, keep)
+        ptr, col, shared, link, sup = _block_pairs(a, lengths, block, cols, size, cost, links.gid, keep)
         for r, i in enumerate(block.tolist()):
             if size[i] == 0:
                 continue  # covers nothing, so no links: no bridge either
@@ -119,8 +119,8 @@ def linked_dominated(
 
 
 def _block_pairs(
-    ones: sp.csr_matrix,
-    weighted: sp.csr_matrix,
+    a: sp.csr_matrix,
+    lengths: NDArray[np.float64],
     block: NDArray[np.int64],
     cols: NDArray[np.int64],
     size: NDArray[np.int64],
@@ -129,10 +129,12 @@ def _block_pairs(
     keep: Keep,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
     """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, the wall shared,
-    whether the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group)."""
-    right = weighted[cols].T.tocsr()
-    shared = (ones[block] @ right).tocsr()
-    count = (ones[block] @ sp.csr_matrix((np.ones(right.nnz), right.indices, right.indptr), shape=right.shape)).tocsr()
+    whether the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group).
+    ``a``: the coverage (boolean), ``lengths``: the pieces' lengths."""
+    right = (a[cols].astype(np.float64) @ sp.diags(lengths)).T.tocsr()
+    left = a[block].astype(np.float64)
+    shared = (left @ right).tocsr()
+    count = (left @ sp.csr_matrix((np.ones(right.nnz), right.indices, right.indptr), shape=right.shape)).tocsr()
     shared.sort_indices()
     count.sort_indices()  # the same pattern as shared's: every piece has a length > 0
     r = np.repeat(block, np.diff(shared.indptr))

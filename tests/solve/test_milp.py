@@ -135,3 +135,46 @@ def test_independent_blocks_add_up():
     assert r.selected == (0, 2, 4, 6, 8, 9, 11, 13, 15, 17)
     _, blocks = block_solvers(inst, MilpOptions(overlap=OverlapRule(0.3)))
     assert len(blocks) == 2
+
+
+def _blocks_by_products(a, keep_c, keep_t, groups):
+    """The blocks as they were found before issue 32: candidates joined through shared targets and through the
+    candidate x candidate "same group" product."""
+    from scipy.sparse.csgraph import connected_components
+
+    from planner.solve.presolve import group_ids
+
+    sub = a[keep_c][:, keep_t]
+    nc, nt = sub.shape
+    links = [sp.bmat([[None, sub], [sub.T, None]]).tocsr()]
+    if groups is not None:
+        gid = group_ids([groups[i] for i in keep_c])
+        g = sp.csr_matrix((np.ones(nc), (np.arange(nc), gid)), shape=(nc, int(gid.max(initial=-1)) + 1))
+        links.append(sp.block_diag([(g @ g.T).astype(bool), sp.csr_matrix((nt, nt))]).tocsr())
+    n, label = connected_components(sum(links), directed=False)
+    out = []
+    for b in range(n):
+        members = np.flatnonzero(label == b)
+        bc, bt = keep_c[members[members < nc]], keep_t[members[members >= nc] - nc]
+        if bt.size:
+            out.append((bc, bt))
+    return sorted(out, key=lambda b: b[0].size * b[1].size)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_blocks_through_group_nodes_are_the_product_blocks(seed):
+    # issue 32: the blocks' "same group" links are group nodes now, not a kept x kept product; the blocks and
+    # their order must be the old ones (random sparse covers of 6-40 candidates over 5-30 pieces, 1-4 groups,
+    # random kept subsets; with and without groups)
+    from planner.solve.milp import _blocks
+
+    rng = np.random.default_rng(seed)
+    m, n = int(rng.integers(6, 41)), int(rng.integers(5, 31))
+    a = sp.random(m, n, density=float(rng.uniform(0.03, 0.2)), random_state=seed, format="csr").astype(bool)
+    keep_c = np.sort(rng.choice(m, size=int(rng.integers(1, m + 1)), replace=False))
+    keep_t = np.sort(rng.choice(n, size=int(rng.integers(1, n + 1)), replace=False))
+    for groups in (tuple(str(g) for g in rng.integers(0, int(rng.integers(1, 5)), size=m)), None):
+        got, want = _blocks(a, keep_c, keep_t, groups), _blocks_by_products(a, keep_c, keep_t, groups)
+        assert len(got) == len(want)
+        for (gc, gt), (wc, wt) in zip(got, want):
+            assert np.array_equal(gc, wc) and np.array_equal(gt, wt)

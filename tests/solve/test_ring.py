@@ -209,3 +209,43 @@ def test_a_work_budget_caps_the_ascent_and_the_answer_stays_right(seed, monkeypa
     assert capped.info["ring_bound"]["work_capped_blocks"] == int(free.info["ring_bound"]["lagrange_steps"] > 0)
     if np.isfinite(best):
         assert capped.status.value == "optimal" and capped.objective == free.objective == best
+
+
+def _pairwise_lift(cover: sp.csr_matrix, adj: sp.csr_matrix) -> sp.csr_matrix | None:
+    """The lifted link graph by its definition, as it was built before issue 32 (int64 lists, both directions
+    per lift pair): copies i at lift ki and j at lift kj are linked when the lifted arcs overlap or touch."""
+    from planner.solve.ring import _LIFTS
+
+    m, n = cover.shape
+    start, end, _ = arcs(cover)
+    pairs = sp.triu(adj, k=1).tocoo()
+    rows, cols = [], []
+    for i, j in zip(pairs.row.tolist(), pairs.col.tolist()):
+        if start[i] < 0 or start[j] < 0:
+            return None
+        for li, ki in enumerate(_LIFTS.tolist()):
+            for lj, kj in enumerate(_LIFTS.tolist()):
+                if start[j] + kj * n <= end[i] + ki * n + 1 and start[i] + ki * n <= end[j] + kj * n + 1:
+                    rows += [li * m + i, lj * m + j]
+                    cols += [lj * m + j, li * m + i]
+    size = _LIFTS.size * m
+    return sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(size, size))
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_ring_graph_is_the_pairwise_lift(seed):
+    # issue 32: the lifted graph is built in 32-bit halves and mirrored once; its pattern must be the
+    # definition's, pair by pair (random arcs of 3-9 pieces on a ring of 24, a ring of windows when even)
+    rng = np.random.default_rng(seed)
+    n = 24
+    cover = [
+        {(s + d) % n for d in range(int(rng.integers(3, 10)))}
+        for s in rng.integers(0, n, size=int(rng.integers(5, 14)))
+    ]
+    cover += [set(range(j, j + 5)) for j in range(0, n - 4, 4)] + [{20, 21, 22, 23, 0}] if seed % 2 == 0 else []
+    a = matrix(cover, n)
+    required = np.ones(n, dtype=bool)
+    g, want = ring_graph(a, required, adjacency(a)), _pairwise_lift(a, adjacency(a))
+    assert g is not None and want is not None and want.nnz > 0  # every seed here has linked arcs
+    assert g.graph.shape == want.shape
+    assert (g.graph != want).nnz == 0 and g.graph.has_sorted_indices
