@@ -56,10 +56,11 @@ def estimate_bytes(site: Path, grid: float) -> int:
     return estimate_work(s, 1.0, grid, reach).bytes
 
 
-def run(site: Path, grid: float, out: Path, limit_s: int) -> dict:
+def run(site: Path, grid: float, out: Path, limit_s: int, memory_limit: str | None = None) -> dict:
     """One ``planner plan SITE --grid-spacing G`` under ``/usr/bin/time -v`` (:func:`_timed.timed_plan`), with
     the pool's size, the plan's and the presolve's figures from its plan.json."""
-    row, plan = timed_plan([str(site), "--grid-spacing", str(grid)], out, limit_s)
+    given = ["--memory-limit", memory_limit] if memory_limit else []
+    row, plan = timed_plan([str(site), "--grid-spacing", str(grid), *given], out, limit_s)
     if plan is not None:
         pre = plan.get("presolve") or {}
         row.update(
@@ -170,6 +171,7 @@ def main() -> None:
     ap.add_argument("--sites", nargs="*", default=["building", "polygon_c"], help="none: redraw --merge's rows")
     ap.add_argument("--grids", nargs="+", type=float, default=[3.0, 2.0, 1.5, 1.0, 0.5])
     ap.add_argument("--limit", type=int, default=1800, help="seconds per run before it is stopped")
+    ap.add_argument("--memory-limit", help="the planner's --memory-limit (default: its own, half the available memory)")
     ap.add_argument("--out", help="markdown table; the figure (.png) and the rows (.json) go beside it")
     ap.add_argument("--merge", nargs="*", type=Path, default=[], help="rows (.json) of earlier runs to show too")
     a = ap.parse_args()
@@ -179,7 +181,7 @@ def main() -> None:
         for name in a.sites:
             site = site_path(name, tmp)
             for g in a.grids:
-                r = run(site, g, tmp / f"{name}-{g}", a.limit) | {"grid": g}
+                r = run(site, g, tmp / f"{name}-{g}", a.limit, a.memory_limit) | {"grid": g}
                 r["estimate_gib"] = estimate_bytes(site, g) / 2**30
                 results.setdefault(name, []).append(r)
                 print(row_line(name, r), flush=True)
