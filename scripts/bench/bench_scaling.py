@@ -84,7 +84,7 @@ def _how(plan: dict[str, Any]) -> str:
 
 
 def slope(rows: list[dict[str, Any]], key: str) -> float:
-    """Least-squares slope of log ``key`` against log area over the rows that finished."""
+    """Least-squares slope of log ``key`` against log area over the rows that finished and measured it."""
     ok = [r for r in rows if r.get("stations") and r.get(key)]
     if len(ok) < 2:
         return math.nan
@@ -95,11 +95,12 @@ def row_line(r: dict[str, Any]) -> str:
     if not r.get("stations"):
         return f"| {r['area_ha']:g} | exit {r['exit']}: {r.get('error', '')} |||||||||| {r['wall_s']:.1f} | - | - | - |"
     workers = f"{r['workers']} ({r['memory']})" if r["memory"] else "none (in the planner's process)"
+    pairs, tree = r.get("pairs"), r.get("tree_gib")  # absent from a row copied from an earlier run's notes
     return (
-        f"| {r['area_ha']:g} | {r['strategy']} | {workers} | {r['candidates']:,} | {r['pieces']:,} | {r['pairs']:,} | "
-        f"{r['stations']} ({'yes' if r['connected'] else 'no'}) | {r['verified']:.3f} % | {r['bound']:g} "
-        f"({r['bound_how']}) | {r['gap']:.1%} | {r['wall_s']:.1f} | {r['cpu_s']:.1f} | {r['peak_gib']:.2f} | "
-        f"{r['tree_gib']:.2f} |"
+        f"| {r['area_ha']:g}{r.get('note', '')} | {r['strategy']} | {workers} | {r['candidates']:,} | {r['pieces']:,} | "
+        f"{'-' if pairs is None else format(pairs, ',')} | {r['stations']} ({'yes' if r['connected'] else 'no'}) | "
+        f"{r['verified']:.3f} % | {r['bound']:g} ({r['bound_how']}) | {r['gap']:.1%} | {r['wall_s']:.1f} | "
+        f"{r['cpu_s']:.1f} | {r['peak_gib']:.2f} | {'-' if tree is None else format(tree, '.2f')} |"
     )
 
 
@@ -128,12 +129,17 @@ def figure(rows: list[dict[str, Any]], path: Path) -> None:
     from matplotlib.ticker import NullFormatter
 
     ok = [r for r in rows if r.get("stations")]
-    area = [r["area_ha"] for r in ok]
     fig, (ax_t, ax_m) = plt.subplots(1, 2, figsize=(10, 4))
-    for key, label in (("wall_s", "wall"), ("cpu_s", "CPU")):
-        ax_t.loglog(area, [r[key] for r in ok], "o-", label=f"{label} s (slope {slope(rows, key):.2f})")
-    for key, label in (("peak_gib", "largest process"), ("tree_gib", "all processes")):
-        ax_m.loglog(area, [r[key] for r in ok], "o-", label=f"{label} (slope {slope(rows, key):.2f})")
+    for ax, key, label in (
+        (ax_t, "wall_s", "wall s"),
+        (ax_t, "cpu_s", "CPU s"),
+        (ax_m, "peak_gib", "largest process"),
+        (ax_m, "tree_gib", "all processes"),
+    ):
+        have = [r for r in ok if r.get(key)]
+        ax.loglog(
+            [r["area_ha"] for r in have], [r[key] for r in have], "o-", label=f"{label} (slope {slope(rows, key):.2f})"
+        )
     for r in ok:
         ax_t.annotate(
             f"{r['stations']} st., {r['strategy']}", (r["area_ha"], r["wall_s"]), fontsize=7, xytext=(3, 5),
