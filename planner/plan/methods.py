@@ -92,10 +92,12 @@ def milp_method(run: MethodInput) -> MethodOutput:
     reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
     groups, links = registration_groups(site, problem.candidates, mode, reach)
     # the precision weights (a float per pair) only where the model reads them: combined precision
-    weights = {"scanner": run.validation.scanner, "budget": p.budget, "sigma_req_m": p.sigma_req_m}
+    combined = options.milp.precision == "combined"
     inst = cover_instance(
         problem,
-        **(weights if options.milp.precision == "combined" else {}),
+        scanner=run.validation.scanner if combined else None,
+        budget=p.budget if combined else None,
+        sigma_req_m=p.sigma_req_m if combined else None,
         name=site.name,
         groups=groups,
         links=links,
