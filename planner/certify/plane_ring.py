@@ -46,6 +46,7 @@ from planner.certify.plane_patches import (
     patch_sides,
     undominated,
 )
+from planner.certify.plane_refine import Refined, refined_bound
 from planner.coverage.arrangement import grown, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import (
@@ -80,10 +81,21 @@ class SideBound:
     ring: int | None
     patch_m: float | None
     family: int
+    #: the connected cover over refined patches (:mod:`planner.certify.plane_refine`), when it was run
+    refined: Refined | None = None
 
     @property
     def value(self) -> int:
-        return max(math.ceil(self.farley - 1e-6), self.ring or 0)
+        return max(math.ceil(self.farley - 1e-6), self.ring or 0, self.refined.bound if self.refined else 0)
+
+    def how(self) -> str:
+        """What gave the value: the refined cover, the ring walk, or (nothing said) Farley's share."""
+        r = self.refined
+        if r is not None and r.bound >= self.value and r.bound > max(math.ceil(self.farley - 1e-6), self.ring or 0):
+            return f" (connected cover over refined patches, {r.steps} steps, down to {r.smallest_m:.2f} m)"
+        if self.ring is not None and self.ring >= math.ceil(self.farley - 1e-6):
+            return f" (ring walk, {self.patch_m:.2f}-m patches)"
+        return ""
 
 
 @dataclass(frozen=True)
@@ -98,15 +110,7 @@ class ConnectedPlaneBound:
     def summary(self) -> str:
         if self.bound is None:
             return f"connected plane bound: {self.note}"
-        parts = ", ".join(
-            f"{s.zone_side} {s.value}"
-            + (
-                f" (ring walk, {s.patch_m:.2f}-m patches)"
-                if s.ring is not None and s.ring >= math.ceil(s.farley - 1e-6)
-                else ""
-            )
-            for s in self.sides
-        )
+        parts = ", ".join(f"{s.zone_side} {s.value}{s.how()}" for s in self.sides)
         return (
             f"connected plane bound: {self.bound} stations for any plan connected under the overlap rule, stations "
             f"anywhere ({parts}; {self.time_s:.1f} s)"
@@ -124,6 +128,15 @@ class ConnectedPlaneBound:
                     "ring": s.ring,
                     "patch_m": s.patch_m,
                     "undominated_patches": s.family,
+                    "refined": None
+                    if s.refined is None
+                    else {
+                        "bound": s.refined.bound,
+                        "steps": s.refined.steps,
+                        "patches": s.refined.patches,
+                        "smallest_patch_m": round(s.refined.smallest_m, 4),
+                        "last_cover_proven": s.refined.proven,
+                    },
                 }
                 for s in self.sides
             ],
@@ -182,11 +195,14 @@ def connected_plane_bound(
     *,
     work_patches: int = CONNECTED_WORK_PATCHES,
     cache: dict[int, Any] | None = None,
+    refine_steps: int = 0,
 ) -> ConnectedPlaneBound:
     """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's
     stations per zone-side (key ``2 zone + side``); the ring walks are tried level by level (every zone-side's
     first patch side, then the halvings), a zone-side dropping out when it reaches its count or its walk cannot
-    be formed, until the next level would pass ``work_patches`` patches (:data:`CONNECTED_WORK_PATCHES`)."""
+    be formed, until the next level would pass ``work_patches`` patches (:data:`CONNECTED_WORK_PATCHES`). With
+    ``refine_steps``, a zone-side still below its count then gets the connected cover over patches refined up to
+    that many times (:func:`planner.certify.plane_refine.refined_bound`)."""
     t0 = time.perf_counter()
     t = problem.targets
     key = t.zone.astype(np.int64) * 2 + t.side
@@ -231,6 +247,13 @@ def connected_plane_bound(
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
                 sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
+    for i, (k, pieces) in enumerate(zip(keys, pieces_all)):
+        if refine_steps > 0 and share > 0 and levels[i] and sides[i].value < counts.get(k, 0):
+            o, r = [outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]
+            refined = refined_bound(
+                o, r, lengths_all[pieces], seen[pieces], share, grow_m, shrink_m, levels[i][0], counts[k], refine_steps
+            )
+            sides[i] = replace(sides[i], refined=refined)
     return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)
 
 

@@ -68,6 +68,7 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
         regions=not args.no_regions,
         pricing=not args.no_pricing,
         pricing_time_limit_s=args.pricing_time_limit,
+        plane_refine_steps=args.plane_refine_steps,
         memory_limit_bytes=memory_limit(args),
     )
 

@@ -111,7 +111,16 @@ def milp_method(run: MethodInput) -> MethodOutput:
             share = options.milp.rule.overlap if options.milp.rule else 0.0
             duals = np.asarray(pricing.duals)
             counts = plan_counts(problem, result.selected)
-            cb = connected_plane_bound(site, problem, limits, share, duals, counts, cache=run.region_cache)
+            cb = connected_plane_bound(
+                site,
+                problem,
+                limits,
+                share,
+                duals,
+                counts,
+                cache=run.region_cache,
+                refine_steps=options.plane_refine_steps,
+            )
             result = with_connected_plane_bound(result, cb)
             log.append(cb.summary())
     return MethodOutput(result, problem, problem, tuple(log))

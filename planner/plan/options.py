@@ -39,6 +39,9 @@ class PlanOptions:
     regions: bool = True
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
+    #: refinements of the connected cover over patches for a zone-side the ring walk leaves below the plan
+    #: (:mod:`planner.certify.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 12
+    plane_refine_steps: int = 0
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
 
     def for_site(self, site: Site) -> PlanOptions:
@@ -65,6 +68,7 @@ class PlanOptions:
         real(self.target_spacing_m, "target_spacing_m", above=0)
         real(self.verify_spacing_m, "verify_spacing_m", at_least=SAMPLING_M[0])  # finer than 1 mm: no survey resolution
         real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)
+        count(self.plane_refine_steps, "plane_refine_steps", 0)
         for name in ("incidence_3d", "precision", "tripod", "recentre", "regions", "pricing"):
             flag(getattr(self, name), name)
         if self.memory_limit_bytes is not None:

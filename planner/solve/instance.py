@@ -33,6 +33,8 @@ class CoverInstance:
     ``info``: C x T weights (sigma_req / sigma_tj)^2 of the combined precision mode.
     ``links``: C x C symmetric pairs related besides shared wall (seen through an opening);
     ``groups`` are then accessible areas of the site (``--registration site``).
+    ``relation``: C x C symmetric, the registration relation given whole, in place of the overlap rule's
+    (:mod:`planner.certify.plane_refine`: relaxed links between patches of the plane); None: the rule's.
     """
 
     by_candidate: sp.csr_matrix
@@ -44,6 +46,7 @@ class CoverInstance:
     info: sp.csr_matrix | None = None
     candidate_ids: tuple[str, ...] | None = None
     links: sp.csr_matrix | None = None
+    relation: sp.csr_matrix | None = None
 
     def __post_init__(self) -> None:
         c, t = self.by_candidate.shape
@@ -57,6 +60,8 @@ class CoverInstance:
             )
         if self.groups is not None and len(self.groups) != c:
             raise InputError(f"{len(self.groups)} groups for {c} candidates", field="groups", value=len(self.groups))
+        if self.relation is not None and self.relation.shape != (c, c):
+            raise InputError(f"a relation of shape {self.relation.shape} for {c} candidates", field="relation", value=c)
         if self.target_length_m is not None and len(self.target_length_m) != t:
             raise InputError(
                 f"{len(self.target_length_m)} target lengths for {t} targets",

@@ -235,7 +235,7 @@ def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveRepo
     a = instance.by_candidate.astype(bool).tocsr()
     adj: sp.csr_matrix | OverlapLinks | None = None
     if o.rule is not None and instance.groups is not None:
-        adj = _adjacency(instance, a, o)
+        adj = instance.relation.astype(bool).tocsr() if instance.relation is not None else _adjacency(instance, a, o)
     report, adj = _presolve(instance, a, adj, o)
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)

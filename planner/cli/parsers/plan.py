@@ -113,6 +113,15 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         metavar="S",
         help="milp: time for geometric pricing (default 120 s); past it the bound scope stays 'pool'",
     )
+    pl.add_argument(
+        "--plane-refine-steps",
+        type=NON_NEGATIVE_INT,
+        default=0,
+        metavar="N",
+        help="milp, zone registration: refine the connected plane bound up to N times where the ring walk stays "
+        "below the plan (each a connected MILP over patches of the plane, split where its optimum sits; "
+        "Baalbek's outline is certified after 12); default 0, off",
+    )
     add_memory_option(pl)
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
     add_network_options(pl)
