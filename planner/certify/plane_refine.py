@@ -39,6 +39,7 @@ from planner.certify.plane_patches import MIN_PATCH_M, patch_shapes
 from planner.coverage.overlap import rule_of
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import MilpOptions, solve
+from planner.solve.presolve import dominated
 from planner.solve.result import Status
 
 #: CP-SAT work (deterministic seconds, 1 thread) for each step's connected cover; its wall-clock cap is
@@ -185,7 +186,8 @@ def distinct_rows(u: sp.csr_matrix, low: NDArray[np.float64]) -> tuple[NDArray[n
     u = u.tocsr()
     u.sort_indices()
     seen: dict[tuple[bytes, float], int] = {}
-    first, inverse = [], np.empty(u.shape[0], dtype=np.int64)
+    first: list[int] = []
+    inverse = np.empty(u.shape[0], dtype=np.int64)
     for i in range(u.shape[0]):
         k = (u.indices[u.indptr[i] : u.indptr[i + 1]].tobytes(), round(float(low[i]), 9))
         if k not in seen:
@@ -203,9 +205,17 @@ def connected_cover(
     share: float,
     work_s: float,
 ) -> tuple[int, bool, list[int]]:
-    """The connected cover of the ``required`` pieces over the patches (one per distinct row) under the relaxed
-    links: (its optimum, or its proven lower bound rounded up when not proven; proven; the rows chosen)."""
+    """The connected cover of the ``required`` pieces over the patches under the relaxed links: (its optimum, or
+    its proven lower bound rounded up when not proven; proven; the rows chosen, with every row equal to one).
+
+    One row per distinct (U, low), then only the undominated: Q goes for a kept P with U(P) holding U(Q) and
+    low(P) <= low(Q) (:func:`planner.solve.presolve.dominated` with low as the cost). P then has every
+    relaxed link Q has (more shared wall, a smaller need), so P stands in for Q in any connected cover; the
+    links are formed among the kept rows only (Baalbek's outline: 10,719 distinct rows, a few hundred kept)."""
     first, inverse = distinct_rows(u, low)
+    kept = ~dominated(u[first].tocsr(), low[first])
+    first = first[kept]
+    inverse = np.where(kept[inverse], np.cumsum(kept)[inverse] - 1, -1)
     ur, lr = u[first].tocsr(), low[first]
     n = first.size
     inst = CoverInstance(

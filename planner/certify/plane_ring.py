@@ -28,9 +28,8 @@ sides in turn (:func:`planner.certify.plane_patches.patch_sides`) until it meets
 
 from __future__ import annotations
 
-import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -38,6 +37,7 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
+from planner.certify.connected_result import ConnectedPlaneBound, SideBound
 from planner.certify.plane_patches import (
     FIRST_PATCHES,
     arc_links,
@@ -46,7 +46,7 @@ from planner.certify.plane_patches import (
     patch_sides,
     undominated,
 )
-from planner.certify.plane_refine import Refined, refined_bound
+from planner.certify.plane_refine import refined_bound
 from planner.coverage.arrangement import grown, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import (
@@ -56,7 +56,6 @@ from planner.coverage.regions import (
 )
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
-from planner.solve.result import SolveResult, Status
 from planner.solve.ring import cyclic_arcs, ring_graph
 
 #: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
@@ -69,78 +68,6 @@ MAX_LINKS = 3_000_000
 #: zone-sides, and a level that would pass this budget is not started. A count, not a time, so the bound is
 #: the same under any load (a 10-s wall-clock limit gave polygon C 24 on a quiet machine and 22 under load)
 CONNECTED_WORK_PATCHES = 200_000
-
-
-@dataclass(frozen=True)
-class SideBound:
-    """One zone-side's share: Farley's part ``farley`` (real), the ring walk over patches ``ring`` (or None when
-    not formed), the patch side and the family size it was formed on."""
-
-    zone_side: str
-    farley: float
-    ring: int | None
-    patch_m: float | None
-    family: int
-    #: the connected cover over refined patches (:mod:`planner.certify.plane_refine`), when it was run
-    refined: Refined | None = None
-
-    @property
-    def value(self) -> int:
-        return max(math.ceil(self.farley - 1e-6), self.ring or 0, self.refined.bound if self.refined else 0)
-
-    def how(self) -> str:
-        """What gave the value: the refined cover, the ring walk, or (nothing said) Farley's share."""
-        r = self.refined
-        if r is not None and r.bound >= self.value and r.bound > max(math.ceil(self.farley - 1e-6), self.ring or 0):
-            return f" (connected cover over refined patches, {r.steps} steps, down to {r.smallest_m:.2f} m)"
-        if self.ring is not None and self.ring >= math.ceil(self.farley - 1e-6):
-            return f" (ring walk, {self.patch_m:.2f}-m patches)"
-        return ""
-
-
-@dataclass(frozen=True)
-class ConnectedPlaneBound:
-    """The connected plane bound: ``bound`` (None when not applicable, ``note`` says why), per zone-side parts."""
-
-    bound: int | None
-    sides: tuple[SideBound, ...] = field(default_factory=tuple)
-    time_s: float = 0.0
-    note: str = ""
-
-    def summary(self) -> str:
-        if self.bound is None:
-            return f"connected plane bound: {self.note}"
-        parts = ", ".join(f"{s.zone_side} {s.value}{s.how()}" for s in self.sides)
-        return (
-            f"connected plane bound: {self.bound} stations for any plan connected under the overlap rule, stations "
-            f"anywhere ({parts}; {self.time_s:.1f} s)"
-        )
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "bound": self.bound,
-            "time_s": round(self.time_s, 3),
-            "note": self.note,
-            "zone_sides": [
-                {
-                    "zone_side": s.zone_side,
-                    "farley": round(s.farley, 6),
-                    "ring": s.ring,
-                    "patch_m": s.patch_m,
-                    "undominated_patches": s.family,
-                    "refined": None
-                    if s.refined is None
-                    else {
-                        "bound": s.refined.bound,
-                        "steps": s.refined.steps,
-                        "patches": s.refined.patches,
-                        "smallest_patch_m": round(s.refined.smallest_m, 4),
-                        "last_cover_proven": s.refined.proven,
-                    },
-                }
-                for s in self.sides
-            ],
-        }
 
 
 def side_ring_bound(
@@ -280,32 +207,3 @@ def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, An
                         "(their outer coverage regions meet)"
                     )
     return ""
-
-
-def with_connected_plane_bound(result: SolveResult, cb: ConnectedPlaneBound) -> SolveResult:
-    """``result`` with ``info['connected_plane_bound']`` (None where not formed) and its parts; the scope becomes
-    ``plane`` (and the bound the plan's count) when the plan meets it."""
-    info = dict(result.info)
-    info["connected_plane_bound"] = cb.bound
-    info["connected_plane"] = cb.to_dict()
-    cert = dict(info.get("certificate") or {})
-    cert["connected_plane_bound_from"] = (
-        "per zone-side, the larger of its share of Farley's bound and the ring walk over undominated patches "
-        "(planner.certify.plane_ring): every connected plan under the overlap rule, stations anywhere"
-    )
-    info["certificate"] = cert
-    if cb.bound is not None and result.objective is not None and result.objective <= cb.bound + 1e-9:
-        info["bound_scope"] = "plane"
-        return replace(result, status=Status.OPTIMAL, bound=float(cb.bound), info=info)
-    return replace(result, info=info)
-
-
-def plan_counts(problem: CoverageProblem, selected: tuple[int, ...]) -> dict[int, int]:
-    """The plan's stations per zone-side, keyed ``2 zone + side`` as the targets are."""
-    t = problem.targets
-    out: dict[int, int] = {}
-    for i in selected:
-        c = problem.candidates[i]
-        k = 2 * t.zone_ids.index(c.zone) + (0 if c.side.value == "inside" else 1)
-        out[k] = out.get(k, 0) + 1
-    return out

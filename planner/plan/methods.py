@@ -15,8 +15,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from planner import progress
+from planner.certify.connected_result import plan_counts, with_connected_plane_bound
 from planner.certify.plane import price_plane, with_plane_bound
-from planner.certify.plane_ring import connected_plane_bound, plan_counts, with_connected_plane_bound
+from planner.certify.plane_ring import connected_plane_bound
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply

@@ -97,7 +97,12 @@ class Plan:
         )
         conn = info.get("connected_plane_bound")
         if conn is not None:
-            plane_s += f"; connected plans: {conn:g} over every position in the plane (ring walk over patches)"
+            how = (
+                "ring walk over patches, connected cover over refined patches"
+                if any(s.get("refined") for s in info.get("connected_plane", {}).get("zone_sides", []))
+                else "ring walk over patches"
+            )
+            plane_s += f"; connected plans: {conn:g} over every position in the plane ({how})"
         head = (
             "bound scope: plane (no plan from any positions in the plane has fewer stations)"
             if scope == "plane"

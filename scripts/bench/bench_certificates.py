@@ -10,6 +10,10 @@ greedy's, and their ratio. Sites: the bundled instances (but the 16-ha plant: is
 corridor at theta_max 68 deg, an 8 x 4 m room at 45 deg without precision; both overlap 0).
 
     python scripts/bench/bench_certificates.py [--out docs/benchmarks/certificates.md]
+    python scripts/bench/bench_certificates.py --sites baalbek,polygon_a --refine-steps 20
+
+``--sites`` keeps the named rows only; ``--refine-steps N`` adds ``--plane-refine-steps N`` to the default run
+(the connected cover over refined patches, docs/plane.md), the row named with it.
 """
 
 from __future__ import annotations
@@ -60,15 +64,16 @@ def run(args: list[str]) -> tuple[float, float, str]:
     return wall, (int(rss.group(1)) / 2**20 if rss else float("nan")), proc.stdout
 
 
-def row(name: str, site: Path, extra: list[str], tmp: Path) -> str:
+def row(name: str, site: Path, extra: list[str], tmp: Path, refine: int = 0) -> str:
     out = tmp / name
-    wall, rss, _ = run(["plan", str(site), "--out", str(out), *extra])
+    more = ["--plane-refine-steps", str(refine)] if refine else []
+    wall, rss, _ = run(["plan", str(site), "--out", str(out), *extra, *more])
     g_wall, g_rss, _ = run(["plan", str(site), "--method", "greedy", "--out", str(tmp / f"{name}-greedy"), *extra])
     plan = json.loads((out / "plan.json").read_text())
     greedy = json.loads((tmp / f"{name}-greedy" / "plan.json").read_text())
     conn = "yes" if plan["registration"]["connected"] else "no"
     return (
-        f"| {name} | {plan['counts']['total']} | {plan['status']} | {conn} | {plan['pool_bound']:g} | "
+        f"| {name}{f' (--plane-refine-steps {refine})' if refine else ''} | {plan['counts']['total']} | {plan['status']} | {conn} | {plan['pool_bound']:g} | "
         f"{plan['plane_bound']} | {_dash(plan.get('connected_plane_bound'))} | {plan['bound_scope']} | {plan['problem']['candidates']:,} | {wall:.1f} | {rss:.2f} | "
         f"{greedy['counts']['total']} | {g_wall:.1f} | {g_rss:.2f} | {wall / g_wall:.1f} |"
     )
@@ -81,6 +86,8 @@ def _dash(value: object) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out")
+    ap.add_argument("--sites", help="comma-separated site names (default: all)")
+    ap.add_argument("--refine-steps", type=int, default=0, help="--plane-refine-steps for the default run")
     a = ap.parse_args()
     lines = [
         (
@@ -105,8 +112,11 @@ def main() -> None:
                 )
             )
             sites.append((name, path, extra))
+        keep = set(a.sites.split(",")) if a.sites else None
         for name, path, extra in sites:
-            lines.append(row(name, path, extra, tmp))
+            if keep is not None and name not in keep:
+                continue
+            lines.append(row(name, path, extra, tmp, a.refine_steps))
             print(lines[-1], flush=True)
     if a.out:
         Path(a.out).write_text("\n".join(lines) + "\n")

@@ -27,6 +27,7 @@ from planner.coverage.regions import coverage_regions, outer_tolerance_m, region
 from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
 from planner.site.validate import validate_site
 from planner.solve.milp import MilpOptions
+from tests.certify.test_plane_properties import SCALE
 from tests.certify.test_plane_ring import QUICK, block_site, connected_optimum
 
 
@@ -42,7 +43,7 @@ def _levels(site, options) -> tuple[_Levels, np.ndarray]:
     return lv, problem.by_target.getnnz(axis=1) > 0
 
 
-@settings(QUICK, max_examples=25)
+@settings(QUICK, max_examples=max(1, int(25 * SCALE)))
 @given(
     w=st.floats(1.5, 6.0),
     h=st.floats(1.5, 6.0),
@@ -113,7 +114,7 @@ def test_relaxed_links_are_the_pairwise_definition(rows, lens, lows, share, bloc
     assert len({(frozenset(rows[j]), round(low[j], 9)) for j in first.tolist()}) == first.size
 
 
-@settings(QUICK, max_examples=20)
+@settings(QUICK, max_examples=max(1, int(20 * SCALE)))
 @given(
     kind=st.sampled_from(["rect", "rect", "L", "U"]),
     w=st.floats(1.5, 5.0),

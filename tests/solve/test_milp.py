@@ -178,3 +178,25 @@ def test_blocks_through_group_nodes_are_the_product_blocks(seed):
         assert len(got) == len(want)
         for (gc, gt), (wc, wt) in zip(got, want):
             assert np.array_equal(gc, wc) and np.array_equal(gt, wt)
+
+
+def test_a_relation_given_whole_replaces_the_rules():
+    # BRIDGE under the 30 % rule links c2 with c0 and c1 (see above): given that relation whole, the connected
+    # optimum is the rule's {0, 1, 2}; given no link at all, no connected cover of two or more stations exists;
+    # given c0 - c1 linked directly, the plain cover {0, 1} is connected
+    from dataclasses import replace
+
+    from planner.coverage.overlap import overlap_adjacency
+
+    base = instance(BRIDGE, 6)
+    rule = OverlapRule(0.3)
+    adj, _ = overlap_adjacency(base.by_candidate, np.ones(6), rule, base.groups)
+    same = solve(replace(base, relation=adj), MilpOptions(overlap=rule, time_limit_s=10))
+    assert same.status.value == "optimal" and same.selected == (0, 1, 2)
+    none = solve(replace(base, relation=sp.csr_matrix((4, 4), dtype=bool)), MilpOptions(overlap=rule, time_limit_s=10))
+    assert none.status.value in ("infeasible", "no_solution")
+    direct = sp.csr_matrix((np.ones(2, dtype=bool), ([0, 1], [1, 0])), shape=(4, 4))
+    pair = solve(replace(base, relation=direct), MilpOptions(overlap=rule, time_limit_s=10))
+    assert pair.status.value == "optimal" and pair.selected == (0, 1)
+    with pytest.raises(ValueError, match="relation"):
+        replace(base, relation=sp.csr_matrix((3, 3), dtype=bool))
