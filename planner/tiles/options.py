@@ -42,6 +42,10 @@ class TileOptions:
     search_seeds: int = 1
     windows: WindowOptions = WindowOptions()
 
+    def margin_for(self, max_slant_range_m: float) -> float:
+        """The tiles' margin (m): ``margin_m``, or the slant range where it is not given (the exact margin)."""
+        return max_slant_range_m if self.margin_m is None else self.margin_m
+
     def __post_init__(self) -> None:
         if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
             raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=self.tile_m)

@@ -22,6 +22,8 @@ from planner.plan import PlanOptions, plan_limits, site_candidates
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport, validate_site
+from planner.tiles.layout import TileJob, make_tiles, tile_job, zone_anchors
+from planner.tiles.options import TileOptions, tile_milp
 
 
 @dataclass(frozen=True)
@@ -87,3 +89,23 @@ def prepare(
     groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
     rule = options.milp.rule or rule_of(site.parameters.overlap)
     return Prepared(validation, limits, tuple(pool), targets, xy, usable, mode, float(reach), groups, links, rule)
+
+
+def tile_work(
+    site: Site, options: PlanOptions, tiling: TileOptions, prep: Prepared
+) -> tuple[list[TileJob], dict[str, Any]]:
+    """The tiles' jobs (one per tile of ``tiling.tile_m``, with a margin of ``tiling.margin_m`` or the slant
+    range) and the values every tile task shares: what :func:`planner.tiles.run.plan_by_tiles` hands to its
+    engine, and ``scripts/bench/bench_workers.py`` to each worker count."""
+    margin = tiling.margin_for(prep.limits.max_slant_range_m)
+    anchor = zone_anchors(site, prep.targets)
+    jobs = [tile_job(t, anchor, prep.targets, prep.xy, prep.usable) for t in make_tiles(anchor, tiling.tile_m, margin)]
+    shared = {
+        "site": site,
+        "candidates": prep.pool,
+        "targets": prep.targets,
+        "limits": prep.limits,
+        "groups": prep.groups,
+        "milp": tile_milp(options, tiling),
+    }
+    return jobs, shared

@@ -43,9 +43,8 @@ from planner.solve.milp import WALL_CAP
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.lagrange import group_parts
-from planner.tiles.layout import make_tiles, tile_job, zone_anchors
-from planner.tiles.options import TileOptions, deterministic_limits, limits_line, tile_milp
-from planner.tiles.prepare import prepare
+from planner.tiles.options import TileOptions, deterministic_limits, limits_line
+from planner.tiles.prepare import prepare, tile_work
 from planner.tiles.search import best_plan, window_resolves
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileResult, tile_task
@@ -98,19 +97,8 @@ def plan_by_tiles(
     start = time.perf_counter()
     prep = prepare(site, options, validation, extra=extra)
     limits, pool, targets, groups = prep.limits, prep.pool, prep.targets, prep.groups
-    margin = limits.max_slant_range_m if tiling.margin_m is None else tiling.margin_m
-    anchor = zone_anchors(site, targets)
-    tiles = make_tiles(anchor, tiling.tile_m, margin)
-    jobs = [tile_job(t, anchor, targets, prep.xy, prep.usable) for t in tiles]
+    jobs, shared = tile_work(site, options, tiling, prep)
     t_pool = time.perf_counter() - start
-    shared = {
-        "site": site,
-        "candidates": pool,
-        "targets": targets,
-        "limits": limits,
-        "groups": groups,
-        "milp": tile_milp(options, tiling),
-    }
     results = run_tasks(tile_task, jobs, shared, client, describe=_tile_line(len(jobs)))
     t_tiles = time.perf_counter() - start - t_pool
     by_cand, slant, inc = _assemble(len(pool), len(targets), results)
@@ -178,7 +166,7 @@ def plan_by_tiles(
             "best_plan_s": t_windows - t_search,
             "windows_s": time.perf_counter() - t_windows,
             "total_s": time.perf_counter() - start,
-            "margin_m": margin,
+            "margin_m": tiling.margin_for(limits.max_slant_range_m),
             "tile_m": tiling.tile_m,
         },
         deterministic_limits(options.milp, tiling),

@@ -32,27 +32,13 @@ def problem(area: float, tile_work_s: float) -> tuple[list[Any], dict[str, Any],
     from planner.plan import PlanOptions
     from planner.site.load import load_site
     from planner.tiles import TileOptions
-    from planner.tiles.layout import make_tiles, tile_job, zone_anchors
-    from planner.tiles.options import tile_milp
-    from planner.tiles.prepare import prepare
+    from planner.tiles.prepare import prepare, tile_work
 
     t0 = time.perf_counter()
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     # the registration mode the plain command's tiles use: the single model's (the site's default)
     options = PlanOptions(method="milp", registration=default_registration(site)).for_site(site)
-    tiling = TileOptions(tile_time_limit_s=tile_work_s)
-    prep = prepare(site, options)
-    anchor = zone_anchors(site, prep.targets)
-    tiles = make_tiles(anchor, tiling.tile_m, prep.limits.max_slant_range_m)
-    jobs = [tile_job(t, anchor, prep.targets, prep.xy, prep.usable) for t in tiles]
-    shared = {
-        "site": site,
-        "candidates": prep.pool,
-        "targets": prep.targets,
-        "limits": prep.limits,
-        "groups": prep.groups,
-        "milp": tile_milp(options, tiling),
-    }
+    jobs, shared = tile_work(site, options, TileOptions(tile_time_limit_s=tile_work_s), prepare(site, options))
     return jobs, shared, time.perf_counter() - t0
 
 
