@@ -21,7 +21,7 @@ optimum reaches the plan's count (the plan is then optimal over the plane), the 
 proven within its work (its proven lower bound is kept), or the patches of the optimum cannot be split past
 :data:`MIN_PATCH_M`. This is the refinement of the exact art-gallery solvers (Tozoni, de Rezende and de Souza,
 ACM TOMS 2016: witnesses and guard candidates refined where the relaxation's optimum is not realised), here
-with the registration links. Baalbek's outline (821 pieces): 9 after 12 steps from 2.7-m patches.
+with the registration links. Baalbek's outline (821 pieces): 9 after 13 steps from 2.7-m patches.
 """
 
 from __future__ import annotations

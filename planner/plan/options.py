@@ -40,7 +40,7 @@ class PlanOptions:
     pricing: bool = True
     pricing_time_limit_s: float = 120.0
     #: refinements of the connected cover over patches for a zone-side the ring walk leaves below the plan
-    #: (:mod:`planner.certify.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 12
+    #: (:mod:`planner.certify.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 13
     plane_refine_steps: int = 0
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
 

@@ -120,7 +120,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         metavar="N",
         help="milp, zone registration: refine the connected plane bound up to N times where the ring walk stays "
         "below the plan (each a connected MILP over patches of the plane, split where its optimum sits; "
-        "Baalbek's outline is certified after 12); default 0, off",
+        "Baalbek's outline is certified after 13); default 0, off",
     )
     add_memory_option(pl)
     pl.add_argument("--network", action="store_true", help="then build the station network and check its accuracy")
