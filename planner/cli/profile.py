@@ -46,6 +46,7 @@ TUNING: dict[str, tuple[str, ...]] = {
         "--no-regions",
         "--no-pricing",
         "--pricing-time-limit",
+        "--plane-refine-steps",
         "--seed",
         # the registration rule's extra limits, the accuracy model's switches, verification
         "--min-shared",
