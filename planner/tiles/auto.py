@@ -81,9 +81,8 @@ class Strategy:
         }
 
     def line(self) -> str:
-        what = (
-            f"tiles of {self.tiling.tile_m:g} m on {self.workers or 'no'} worker(s)" if self.tiling else "single model"
-        )
+        where = f"on {self.workers} worker(s)" if self.workers else "in this process (no Dask worker)"
+        what = f"tiles of {self.tiling.tile_m:g} m {where}" if self.tiling else "single model"
         return f"strategy: {what} ({self.reason})"
 
 

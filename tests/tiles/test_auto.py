@@ -40,6 +40,7 @@ def test_16ha_plant_goes_to_tiles_split_by_the_budget():
     assert st.tiling.tile_time_limit_s == pytest.approx(7.875)
     assert st.tiling.bound_time_limit_s == pytest.approx(42.0)
     assert st.tiling.lagrange_work_s == pytest.approx(3.9375)
+    assert "tiles of 100 m in this process (no Dask worker)" in st.line()  # not 'on no worker(s)'
     # windows: 0.30 x 420 s over 6 stations per tile x 16 tiles = 96 windows -> 1.3125 s each
     assert st.tiling.windows.work_s == pytest.approx(1.3125)
     # 16 cores: half, 8 workers (docs/benchmarks/workers.md: 8 beat 16), 8 tiles side by side:
