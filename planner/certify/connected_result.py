@@ -27,15 +27,21 @@ class SideBound:
     refined: Refined | None = None
 
     @property
+    def farley_count(self) -> int:
+        """Farley's share rounded up (a whole number of stations)."""
+        return math.ceil(self.farley - 1e-6)
+
+    @property
     def value(self) -> int:
-        return max(math.ceil(self.farley - 1e-6), self.ring or 0, self.refined.bound if self.refined else 0)
+        return max(self.farley_count, self.ring or 0, self.refined.bound if self.refined else 0)
 
     def how(self) -> str:
-        """What gave the value: the refined cover, the ring walk, or (nothing said) Farley's share."""
+        """What gave the value: the refined cover (when it beat the others), the ring walk, or (nothing said)
+        Farley's share."""
         r = self.refined
-        if r is not None and r.bound >= self.value and r.bound > max(math.ceil(self.farley - 1e-6), self.ring or 0):
+        if r is not None and r.bound > max(self.farley_count, self.ring or 0):
             return f" (connected cover over refined patches, {r.steps} steps, down to {r.smallest_m:.2f} m)"
-        if self.ring is not None and self.ring >= math.ceil(self.farley - 1e-6):
+        if self.ring is not None and self.ring >= self.farley_count:
             return f" (ring walk, {self.patch_m:.2f}-m patches)"
         return ""
 

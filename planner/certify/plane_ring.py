@@ -146,9 +146,10 @@ def connected_plane_bound(
     if clash:
         return ConnectedPlaneBound(None, (), time.perf_counter() - t0, clash)
     lengths_all = t.s1_m - t.s0_m
+    # each zone-side's outer and inner regions, in its pieces' order
+    regions = [([outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]) for pieces in pieces_all]
     sides, levels = [], []
-    for pieces in pieces_all:
-        o = [outer[int(p)] for p in pieces]
+    for pieces, (o, _) in zip(pieces_all, regions):
         y = duals[pieces]
         pos = np.flatnonzero(y > 1e-9)
         w = outer_max_weight([o[j] for j in pos], y[pos], grow_m) if pos.size else 0.0
@@ -166,19 +167,25 @@ def connected_plane_bound(
                 continue
             spent += cost
             h = levels[i][level]
-            o, r = [outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]
             ring, fam = side_ring_bound(
-                o, r, lengths_all[pieces], seen[pieces], share, h, grow_m, shrink_m, counts.get(k, 0)
+                *regions[i], lengths_all[pieces], seen[pieces], share, h, grow_m, shrink_m, counts.get(k, 0)
             )
             if ring is None:
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
                 sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
     for i, (k, pieces) in enumerate(zip(keys, pieces_all)):
-        if refine_steps > 0 and share > 0 and levels[i] and sides[i].value < counts.get(k, 0):
-            o, r = [outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]
+        if refine_steps > 0 and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
             refined = refined_bound(
-                o, r, lengths_all[pieces], seen[pieces], share, grow_m, shrink_m, levels[i][0], counts[k], refine_steps
+                *regions[i],
+                lengths_all[pieces],
+                seen[pieces],
+                share,
+                grow_m,
+                shrink_m,
+                levels[i][0],
+                counts[k],
+                refine_steps,
             )
             sides[i] = replace(sides[i], refined=refined)
     return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)

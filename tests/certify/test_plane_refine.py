@@ -11,8 +11,6 @@ bound against brute force.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import scipy.sparse as sp
 from hypothesis import given, settings
@@ -22,13 +20,12 @@ import planner
 from planner.certify import plane_refine
 from planner.certify.plane_patches import patch_sides
 from planner.certify.plane_refine import _Levels, distinct_rows, relaxed_links, split
-from planner.certify.plane_ring import connected_plane_bound
 from planner.coverage.regions import coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
 from planner.site.validate import validate_site
 from planner.solve.milp import MilpOptions
 from tests.certify.test_plane_properties import SCALE
-from tests.certify.test_plane_ring import QUICK, block_site, connected_optimum
+from tests.certify.test_plane_ring import QUICK, block_site, bound_against_grid
 
 
 def _levels(site, options) -> tuple[_Levels, np.ndarray]:
@@ -129,18 +126,11 @@ def test_refined_bound_at_most_the_connected_optimum_over_a_grid(kind, w, h, the
     if kind != "rect":
         w, h = max(w, 5.0), max(h, 5.0)
     site = block_site(kind, w, h, 0.5, 0.5, theta, reach, share, inside, angle, (10.0, -20.0))
-    options = PlanOptions(method="milp", precision=False, milp=MilpOptions(overlap=planner.OverlapRule(share)))
-    optimum, _ = connected_optimum(site, options, share)
-    if not math.isfinite(optimum):
-        return  # a piece no grid position sees: nothing to compare
-    problem, _unseen, _ = coverage_problem(site, options)
-    limits = plan_limits(validate_site(site), options)
-    t = problem.targets
-    # ask for one more than the grid's optimum (a sound bound never gets there); the ring walk off (no patches)
-    counts = {int(k): int(optimum) + 1 for k in np.unique(t.zone.astype(np.int64) * 2 + t.side)}
-    cb = connected_plane_bound(site, problem, limits, share, np.zeros(len(t)), counts, work_patches=0, refine_steps=2)
-    assert cb.bound is not None and cb.bound <= optimum, (cb.summary(), optimum)
-    assert all(s.refined is not None and s.ring is None for s in cb.sides)
+    checked = bound_against_grid(site, share, work_patches=0, refine_steps=2)  # the ring walk off: no patches
+    if checked is not None:
+        cb, optimum = checked
+        assert cb.bound is not None and cb.bound <= optimum, (cb.summary(), optimum)
+        assert all(s.refined is not None and s.ring is None for s in cb.sides)
 
 
 def test_a_u_block_is_proven_by_the_cover_over_patches_where_the_ring_walk_is_not():
