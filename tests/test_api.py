@@ -202,7 +202,7 @@ def test_scripts_import_only_public_names():
 
 def test_one_home_for_the_overlap_rule_and_the_site_validation():
     # issue 33: an OverlapRule is built in one place (planner.coverage.overlap.rule_of; planning_rule decides
-    # "overlap 0 means off"), and the command line validates a site once per run (tests/test_cli_profile.py)
+    # "overlap 0 means off"), and the command line validates a site once per run (tests/cli/test_cli_profile.py)
     import ast
 
     builders = []

@@ -1,5 +1,5 @@
 """The fixed choices the ``planner`` command offers, kept here so that parsing the command line
-(and ``--help``) imports no numerical stack. tests/test_cli_start.py checks that each tuple equals
+(and ``--help``) imports no numerical stack. tests/cli/test_cli_start.py checks that each tuple equals
 the library's own constant."""
 
 from __future__ import annotations

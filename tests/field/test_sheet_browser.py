@@ -1,4 +1,4 @@
-"""field.html renders in headless Chromium, as the report does (tests/test_report.py): a plan of
+"""field.html renders in headless Chromium, as the report does (tests/report/test_report.py): a plan of
 house_doors with its field sheet, the page's own script marking every image decoded, one table row per setup."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from planner.cli import main
 from tests.conftest import INSTANCES
-from tests.test_report import _chromium
+from tests.report.test_report import _chromium
 
 
 @pytest.fixture(scope="module")

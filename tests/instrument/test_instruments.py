@@ -117,7 +117,7 @@ def test_a_model_whose_error_does_not_grow_with_range_needs_a_range(tmp_path, ca
     # a constant range error alone gave S_max = inf: validate printed "S_max inf m" (exit 0) and plan crashed
     # ("buffer distance must be finite", exit 1); now the model is refused, naming its file
     from planner.cli import main
-    from tests.test_cli import assert_one_line_error
+    from tests.cli.test_cli import assert_one_line_error
 
     flat = tmp_path / "flat.toml"
     flat.write_text(FLAT)

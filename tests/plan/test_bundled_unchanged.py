@@ -19,7 +19,7 @@ _spec.loader.exec_module(check)  # type: ignore[union-attr]
 ROWS = json.loads(check.EXPECTED.read_text())["plans"]
 
 
-@pytest.mark.parametrize("name", ["house_doors", "corridor_200x8"])  # B and the room: tests/test_plan*.py
+@pytest.mark.parametrize("name", ["house_doors", "corridor_200x8"])  # B and the room: tests/plan/test_plan*.py
 def test_quick_bundled_row_as_recorded(name, tmp_path):
     # house_doors: 6 stations, optimal, pool bound 6, plain plane bound 5, scope pool (site registration);
     # the 200 x 8 m corridor: 11 stations, both bounds 11, scope plane (issue 31's regression)

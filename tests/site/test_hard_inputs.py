@@ -15,7 +15,7 @@ import pytest
 import planner
 from planner.cli import main
 from tests.conftest import INSTANCES, ROOT, square_rows
-from tests.test_cli import assert_one_line_error
+from tests.cli.test_cli import assert_one_line_error
 
 
 def instance(tmp_path: Path, zones: list[dict], name: str = "site.json", **extra) -> Path:
