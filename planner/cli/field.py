@@ -1,4 +1,4 @@
-"""The ``planner field`` command (the field sheet of a plan, issue 35) and the ``--field DIR`` step of
+"""The ``planner field`` command (the field sheet of a plan) and the ``--field DIR`` step of
 ``planner plan``."""
 
 from __future__ import annotations

@@ -18,8 +18,8 @@ if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/
     from planner.tiles.auto import Strategy
 
 
-#: the time budget of a tiled plan under --tiles auto, s (the issue's 10 minutes on the 16-ha plant, less reading,
-#: coverage and verification)
+#: the time budget of a tiled plan under --tiles auto, s (a 16-ha plant planned within about 10 minutes, with
+#: reading, coverage and verification)
 BUDGET_S = 420.0
 #: the memory limit of each Dask worker unless --worker-memory says otherwise
 WORKER_MEMORY = "1.5GiB"

@@ -1,4 +1,4 @@
-"""The field sheet of a plan (issue 35): walking distances inside the accessible area, the visiting order
+"""The field sheet of a plan: walking distances inside the accessible area, the visiting order
 (shortest or registration order) with a lower bound, the field time, registration targets, and the sheet
 (field.html, field.csv, field.geojson, field.json).
 

@@ -93,7 +93,7 @@ def coverage_problem(
     argument(options, PlanOptions, "options")
     validation = validation or validate_site(site)
     limits = plan_limits(validation, options)
-    from planner.plan.memory_guard import check_memory  # issue 17: refuse what will not fit, before building
+    from planner.plan.memory_guard import check_memory  # refuse what will not fit, before building it
 
     check_memory(
         site,

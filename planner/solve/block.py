@@ -40,8 +40,8 @@ if TYPE_CHECKING:
 #: steps of the Lagrangian ascent before the local search is tried (the rest of the budget comes after it)
 _FIRST_STEPS = 50
 #: the ascent's work budget, in walk units (each step's multi-source walk costs the lifted graph's links times
-#: its sources): 5e9 units, about 10 s here; polygon C's default block takes 35 steps of 2.7e6 (9e7), its 3-m
-#: grid 50 of 1.9e7 (9e8), its 1.5-m grid would take 500 long walks (more than 8 minutes, issue 32)
+#: its sources): enough for the full ascent on the bundled instances' default grids, while a fine grid, whose
+#: walks grow with its links, stops on the budget instead of running for minutes (docs/benchmarks/memory.md)
 RING_WORK = 5e9
 
 

@@ -1,4 +1,4 @@
-"""Dominance under the overlap rule with the relation formed among the kept candidates only (issue 32).
+"""Dominance under the overlap rule with the relation formed among the kept candidates only.
 
 The connected MILP needs the overlap relation among the candidates the presolve keeps; the presolve, as
 :func:`planner.solve.presolve.dominated` states it, drops i for a kept j of its group, no dearer, that sees

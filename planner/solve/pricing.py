@@ -90,8 +90,8 @@ class WarmCoverLp:
     def close(self) -> None:
         """Free HiGHS's model and solver data now. The ``Highs`` object sits in a reference cycle with its
         callbacks, so without this its memory (about 72 B per candidate-piece pair) stays allocated until a
-        full garbage collection, which a planning run may never reach (issue 32: 0.7 GiB on polygon C at a
-        1.5-m grid, held from pricing to the end of the run)."""
+        full garbage collection, which a planning run may never reach: on fine grids it would be held from
+        pricing to the end of the run (docs/benchmarks/memory.md)."""
         self._h.clear()
 
     def solve(self) -> CoverLp:

@@ -242,8 +242,8 @@ def lagrangian_bound(
     without a better L. Stops after ``iterations`` steps, once L > ``stop_above`` (with integral costs,
     the incumbent's cost - 1: the incumbent is then proven), or after ``give_up`` steps none of which
     raised L above its first value (the ring adds nothing near these multipliers: on a plant tile, where
-    the block is many objects' walls and not one ring, L stayed at the cover LP's 7.7255 for 500 steps,
-    28 s of walks; measured, docs/benchmarks/plant.md). Returns the best L and the steps taken.
+    the block is many objects' walls and not one ring, L stayed at the cover LP's value for hundreds
+    of steps; docs/studies/plant.md). Returns the best L and the steps taken.
     Polygon C inside (375 candidates x 231 targets, arcs with holes; cached pool): ring 11, cover LP 10, L
     past 12 after 23 steps (0.3 s), so its connected optimum 13 is proven (integral costs; docs/milp.md)."""
     best, factor, stall, first = -np.inf, 2.0, 0, np.inf

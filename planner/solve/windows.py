@@ -30,11 +30,9 @@ again. Each answer taken was therefore made for the plan the one-at-a-time searc
 result, and the counts, do not depend on ``batch`` or on the number of workers (test
 ``test_windows_in_flight_give_the_one_at_a_time_result``).
 
-Cost: on the 16-ha plant (104 stations) windows of 60 m held 3 to 10 of the plan's stations, and one pass
-of 101 windows took 97-133 s one at a time; on 2 Dask workers of the 2-core machine 102 s with 4 in flight
-(128 s in batches of 4 with a barrier, as before); on 16 workers of a 16-core machine 73 s with 16 in flight
-(96 s in batches of 16) and 60 s with 64 (one run each, docs/benchmarks/plant.md). Keep several windows in
-flight per worker: a worker whose answer waits behind a slower one's is otherwise idle.
+Cost: a pass solves one window per station, each holding a few of the plan's stations; the windows are the
+serial part of a tiled run, and keeping several in flight per worker shortens the pass on many cores (a worker
+whose answer waits behind a slower one's is otherwise idle; the timings: docs/studies/plant.md).
 """
 
 from __future__ import annotations
@@ -285,9 +283,8 @@ def connected_cover_within(
     return np.array(sorted(int(free[i]) for i in r.selected if i < free.size), dtype=np.int64), r.status, hit
 
 
-#: a window's MILP: starts of its connected greedy and moves of its block local search (the defaults, 50 and
-#: 500, spent 46 s and 22 s of 160 s in the 101 windows of one 16-ha pass; 5 and 100 give the same plan in
-#: 112 s, one run each, docs/benchmarks/plant.md)
+#: a window's MILP: starts of its connected greedy and moves of its block local search (fewer than the
+#: single model's defaults: in a window they cost much of the pass and gave the same plan; docs/studies/plant.md)
 _GREEDY_STARTS, _SEARCH_MOVES = 5, 100
 
 #: the window's links are the site's, given explicitly: no overlap test on the window's partial rows

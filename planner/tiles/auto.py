@@ -1,4 +1,4 @@
-"""The plain command's choice between one model and tiles, and the tiles' size and time split (issue 34).
+"""The plain command's choice between one model and tiles, and the tiles' size and time split.
 
 A site is planned by tiles when it is too large for one model and spans several tiles:
 
@@ -6,7 +6,8 @@ A site is planned by tiles when it is too large for one model and spans several 
 - every zone in one frame (tiles are squares of one frame);
 - at least :data:`MIN_PIECES` wall pieces in the work estimate (:func:`planner.plan.memory_guard.estimate_work`,
   from the geometry alone): the bundled buildings and monuments have at most 3,000 (polygons A and C), the
-  16-ha plant 7,688, where the single connected model stopped at 109 stations against a bound of 62 after 654 s;
+  16-ha plant 7,688, where the single connected model ends its time far above its bound while the tiles
+  close most of that gap (docs/studies/plant.md);
 - at least :data:`MIN_TILES` tiles of side ``tile_m`` = max(:data:`TILE_M`, 1.5 S_max) over the zones' extent.
 
 The tiled plan keeps the registration mode the single model would use (``--registration``, else the site's
@@ -17,9 +18,9 @@ tiles that run side by side, the whole-site bound ``BOUND_SHARE`` and the Lagran
 the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
 tile); the local search takes what is left (its work is a move count, deterministic). Workers: half the
 machine's cores, at most one per tile; none (in this process) on a machine of two cores or fewer, where a second
-process adds contention, not speed (docs/benchmarks/plant.md). Half, not all: on 16 cores the 16-ha plant's tile
-phase ran 2.57 x faster on 8 workers than on 1 and only 1.1-1.5 x faster on 16, where the client, the scheduler
-and 16 workers shared 16 cores and the workers spent 2-3 x the CPU of 8 (docs/benchmarks/workers.md).
+process adds contention, not speed (docs/benchmarks/plant.md). Half, not all: with a worker on every
+core the client, the scheduler and the workers compete for the same cores, and the tile phase gains little over
+half the cores while spending much more CPU (docs/benchmarks/workers.md).
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ TILE_M = 100.0
 #: shares of the budget: every tile's MILP together, the whole-site bound MILP, the Lagrangian bound, the window
 #: re-solves (one window per station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
 TILE_SHARE, BOUND_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.10, 0.15, 0.30
-#: stations per tile the window budget is spread over (the 16-ha plant: about 100 stations on 16 tiles)
+#: stations per tile the window budget is spread over (the generated plants need about this many)
 STATIONS_PER_TILE = 6
 
 

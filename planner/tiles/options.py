@@ -23,7 +23,7 @@ class TileOptions:
     ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
     ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
     ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
-    LP-dual split only, 10 s: 75-116 s on the 16-ha plant, docs/benchmarks/plant.md). ``windows``: the
+    LP-dual split only, 10 s; its cost and gain on the plants: docs/studies/plant.md). ``windows``: the
     window re-solves after the local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none).
     ``search_seeds``: the local search runs once per seed ``0 .. search_seeds - 1`` from the same kept plan
     (as Dask tasks when there is a client) and the smallest result is kept, the lowest seed on ties; the

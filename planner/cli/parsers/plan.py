@@ -99,7 +99,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
     pl.add_argument(
         "--no-regions",
         action="store_true",
-        help="no whole-zone-side candidates from the coverage regions (the pool as before issue 12)",
+        help="no whole-zone-side candidates from the coverage regions (a smaller pool: closed form, samples, grid)",
     )
     pl.add_argument(
         "--no-pricing",
