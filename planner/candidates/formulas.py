@@ -1,4 +1,4 @@
-"""The closed-form station geometry of chapter 3 of seed 000 (METHOD.md section 2), as pure formulas.
+"""The closed-form station geometry of chapter 3 of seed 000 (docs/method.md section 2), as pure formulas.
 
 Angles in degrees, lengths in metres. Nothing here knows about coordinates:
 :mod:`planner.candidates.closed_form` places the results on a zone.

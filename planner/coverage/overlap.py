@@ -1,4 +1,4 @@
-"""The registration-overlap relation between stations (METHOD.md section 2, seed 003).
+"""The registration-overlap relation between stations (docs/method.md section 5, seed 003).
 
 Two stations can be registered to each other when the wall length both of them
 cover is at least ``overlap`` of the smaller of their two covered lengths,

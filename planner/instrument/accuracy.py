@@ -1,4 +1,4 @@
-"""Accuracy model of chapter 2 of the dissertation (METHOD.md section 1).
+"""Accuracy model of chapter 2 of the dissertation (docs/method.md section 1).
 
 All lengths are metres, angles degrees unless a name says otherwise
 (``_arcsec``, ``_mm``). Functions accept numpy arrays where they take a range

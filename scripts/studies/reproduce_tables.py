@@ -25,7 +25,7 @@ PRINTED = json.loads((ROOT / "tests/data/printed_candidates.json").read_text())
 LIMITS = Limits(95.913, 68.0, 0.30)
 REASONS = {
     ("table_3_2", "hd_m", "outside"): "copying error in the print: the exterior rows repeat the interior HD column; "
-    "(3.6) gives HD = cos 68 deg * sqrt(S_max^2 - h_V^2) / cos 45 deg (METHOD.md section 2)",
+    "(3.6) gives HD = cos 68 deg * sqrt(S_max^2 - h_V^2) / cos 45 deg (docs/method.md section 2)",
 }
 
 

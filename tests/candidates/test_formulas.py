@@ -1,4 +1,4 @@
-"""The closed-form formulas (3.3)-(3.27) against METHOD.md's verified reference values."""
+"""The closed-form formulas (3.3)-(3.27) against docs/method.md's reference values."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ def test_interior_vertex_of_a_rectangle():
 
 
 def test_exterior_vertex_of_a_rectangle():
-    # Angle 270: HD = cos 68 * 95.159 / cos 45 = 50.41 m, gamma = 180 - (22 + 135) = 23 (METHOD.md)
+    # Angle 270: HD = cos 68 * 95.159 / cos 45 = 50.41 m, gamma = 180 - (22 + 135) = 23 (docs/method.md)
     g = vertex_geometry(270.0, reach(12.0), THETA)
     assert g.hd_m == pytest.approx(50.41, abs=0.005) and g.gamma_deg == pytest.approx(23.0)
     # L = HD cos 45 (tan 68 - tan 45) = 35.647 * 1.4751 = 52.58

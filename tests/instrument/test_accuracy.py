@@ -1,4 +1,4 @@
-"""Accuracy model of METHOD.md section 1, against the dissertation's check values."""
+"""Accuracy model of docs/method.md section 1, against the dissertation's check values."""
 
 from __future__ import annotations
 

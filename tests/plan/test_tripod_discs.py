@@ -38,7 +38,7 @@ def test_every_tripod_disc_contains_its_station_and_recentring_moves_them():
 
 def test_height_tolerance_is_the_dissertation_check_value():
     # a 30 x 30 m room with 40 m walls, S_max = 96 m, tripod IH 0..0.4 m: (3.32) gives
-    # 96/2 * [sqrt(1 - (39.6/96)^2) - sqrt(1 - (40/96)^2)] = 48 * (0.910961 - 0.909059) = 0.091 m (METHOD.md)
+    # 96/2 * [sqrt(1 - (39.6/96)^2) - sqrt(1 - (40/96)^2)] = 48 * (0.910961 - 0.909059) = 0.091 m (docs/method.md)
     z = Zone("T", ScanSide.INSIDE, ((0, 0), (30, 0), (30, 30), (0, 30)), (40.0,) * 4)
     site = Site("temple", (z,), instrument="dissertation-tables")
     site = replace(site, parameters=replace(site.parameters, max_slant_range_m=96.0))

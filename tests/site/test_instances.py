@@ -1,4 +1,4 @@
-"""The bundled instances and the Baalbek data problems of METHOD.md section 3."""
+"""The bundled instances and the Baalbek data problems of docs/method.md section 3."""
 
 from __future__ import annotations
 
@@ -111,7 +111,7 @@ def test_corrections_are_recorded_with_printed_values():
     assert all(len(c.reason) > 40 for c in site.corrections)
     z6 = site.zone("Z6").closure
     assert z6.accepted_reason and z6.linear_misclosure_m == pytest.approx(1.040, abs=5e-4)
-    # the outline closes to 16 mm with the corrected angle (METHOD.md)
+    # the outline closes to 16 mm with the corrected angle (docs/method.md)
     assert site.zone("outline").closure.linear_misclosure_m == pytest.approx(0.016, abs=0.0005)
 
 

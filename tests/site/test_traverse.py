@@ -27,7 +27,7 @@ def _table(lengths, angles, heights=None) -> ZoneTable:
     "name, zone, limit_mm", [("polygon_a", "A", 1e-6), ("polygon_b", "B", 1.0), ("polygon_c", "C", 2.5)]
 )
 def test_closures_of_table_3_1(name, zone, limit_mm):
-    # METHOD.md section 3: A and B close exactly (B to 0.4 mm from 3-decimal rounding), C within 2 mm
+    # docs/method.md section 3: A and B close exactly (B to 0.4 mm from 3-decimal rounding), C within 2 mm
     z = load_site(INSTANCES / f"{name}.json").zone(zone)
     assert abs(z.closure.angular_misclosure_deg) < 1e-9
     assert z.closure.linear_misclosure_m * 1000 < limit_mm
