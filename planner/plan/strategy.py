@@ -18,9 +18,9 @@ tiles that run side by side, the whole-site bound ``BOUND_SHARE`` and the Lagran
 the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
 tile); the local search takes what is left (its work is a move count, deterministic). Workers: half the
 machine's cores, at most one per tile; none (in this process) on a machine of two cores or fewer, where a second
-process adds contention, not speed (docs/benchmarks/plant.md). Half, not all: with a worker on every
+process adds contention, not speed (docs/studies/workers.md). Half, not all: with a worker on every
 core the client, the scheduler and the workers compete for the same cores, and the tile phase gains little over
-half the cores while spending much more CPU (docs/benchmarks/workers.md).
+half the cores while spending much more CPU (docs/studies/workers.md).
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Probes of ``study_gap.py`` that tried to lift the bound or the plan past the tiled planner's, and did not
-on the plant instances (docs/benchmarks/plant.md, "What else was tried"): each returns CSV rows of
+on the plant instances (docs/studies/plant-gap.md): each returns CSV rows of
 ``study_gap.FIELDS`` (less area and memory), every count re-checked here.
 
 - ``highs_row``: the plain cover by HiGHS's MIP (``scipy.optimize.milp``), a time limit: its cover and bound;

@@ -1,4 +1,4 @@
-"""Where the gap of a tiled plant plan lies: the measurements of docs/benchmarks/plant.md, "Where the gap lies".
+"""Where the gap of a tiled plant plan lies: the measurements of docs/studies/plant-gap.md.
 
 On the whole-site matrix that ``planner plan --tiles`` assembles (:func:`planner.tiles.prepare.prepare`: its pool,
 candidates that stand nowhere dropped, the overlap relation of the site's registration rule), one run each,
@@ -18,7 +18,7 @@ one thread, every count re-checked here (a cover covers every piece; a connected
   over the union of the seeds' plans).
 
     python scripts/studies/study_gap.py --area 4 --discs 30 50 70 --plain-moves 30000 --scip 600 --seeds 0 1 2 \\
-        --csv docs/benchmarks/results/plant_gap_study.csv
+        --csv plant_gap_study.csv
 
 Each row: area, what, setting, stations (or LP value), bound (where one is proven), time_s. The peak RSS of
 the whole run (``/usr/bin/time -v``) is added to every row of that run.
