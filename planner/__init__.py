@@ -4,7 +4,9 @@ The pipeline, and the public API for each step:
 
 1. site: :func:`load_site` (JSON instance, table CSV, DXF, GeoJSON), :class:`Site`, :class:`Parameters`,
    :func:`validate_site`;
-2. candidates: :func:`candidate_pool` (the dissertation's closed-form stations, field samples, grid);
+2. the run resolved once: :func:`resolve` -> :class:`Problem` (validation, sight limits, registration rule and
+   scope, strategy); candidates: :func:`candidate_pool` (the dissertation's closed-form stations, field
+   samples, grid);
 3. coverage: :func:`build_problem` (candidates x wall pieces, both sparse views);
 4. solving: :func:`greedy_cover`, :func:`solve` (MILP on CP-SAT, SCIP, HiGHS, CBC, PuLP) or all of it
    at once with :func:`plan_site` -> :class:`Plan` (verified);
@@ -20,7 +22,7 @@ Examples
 --------
 >>> import planner
 >>> site = planner.load_site("instances/polygon_b.json")                  # doctest: +SKIP
->>> plan = planner.plan_site(site, planner.PlanOptions(method="milp"))   # doctest: +SKIP
+>>> plan = planner.plan_site(site)          # what `planner plan` gives   # doctest: +SKIP
 >>> print(plan.summary())                                                # doctest: +SKIP
 >>> planner.write_report(planner.outcome_from_plan(plan), "out/")         # doctest: +SKIP
 """
@@ -85,7 +87,9 @@ _LAZY = {
     **dict.fromkeys(("comparison_figure", "network_figure", "plan_figure", "plan_figures"), "planner.figures"),
     **dict.fromkeys(("NetworkReport", "run_network"), "planner.network.check"),
     **dict.fromkeys(("Outcome", "outcome_from_file", "outcome_from_plan"), "planner.plan.outcome"),
-    **dict.fromkeys(("Plan", "PlanOptions", "build_problem", "plan_site"), "planner.plan"),
+    **dict.fromkeys(("Plan", "PlanOptions", "Problem", "StrategyOptions", "build_problem", "resolve"), "planner.plan"),
+    **dict.fromkeys(("plan_site",), "planner.engine"),
+    **dict.fromkeys(("Sight",), "planner.coverage.sight"),
     **dict.fromkeys(("read_plan_stations", "write_plan"), "planner.plan.plan_json"),
     **dict.fromkeys(("compare_methods", "render_report", "write_report"), "planner.report"),
     **dict.fromkeys(("greedy_cover",), "planner.solve.greedy"),
@@ -123,8 +127,10 @@ if TYPE_CHECKING:  # the static view of the same names, for type checkers and ID
     from planner.candidates.pool import PoolOptions, candidate_pool
     from planner.coverage.matrix import CoverageProblem, build_coverage
     from planner.coverage.overlap import OverlapRule
+    from planner.coverage.sight import Sight
     from planner.coverage.stations import StationCoverage, station_coverage
     from planner.coverage.targets import make_targets
+    from planner.engine import plan_site
     from planner.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
     from planner.exchange import write_dxf, write_geojson, write_stations_csv
     from planner.figures import comparison_figure, network_figure, plan_figure, plan_figures
@@ -140,7 +146,7 @@ if TYPE_CHECKING:  # the static view of the same names, for type checkers and ID
     )
     from planner.instrument.models import Scanner, TotalStation, list_instruments, load_instrument
     from planner.network.check import NetworkReport, run_network
-    from planner.plan import Plan, PlanOptions, build_problem, plan_site
+    from planner.plan import Plan, PlanOptions, Problem, StrategyOptions, build_problem, resolve
     from planner.plan.outcome import Outcome, outcome_from_file, outcome_from_plan
     from planner.plan.plan_json import read_plan_stations, write_plan
     from planner.plan.verify import VerifyReport, verify_stations
@@ -181,13 +187,16 @@ __all__ = [
     "PlanOptions",
     "PlannerError",
     "PoolOptions",
+    "Problem",
     "RangeLimit",
     "ScanSide",
+    "Sight",
     "Scanner",
     "Site",
     "SolveResult",
     "StationCoverage",
     "Status",
+    "StrategyOptions",
     "TotalStation",
     "UsageError",
     "ValidationReport",
@@ -218,6 +227,7 @@ __all__ = [
     "read_geojson_site",
     "read_plan_stations",
     "render_report",
+    "resolve",
     "resolve_range_limit",
     "run_network",
     "sigma_instr_m",

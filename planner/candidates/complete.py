@@ -18,16 +18,16 @@ import shapely
 
 from planner.candidates.closed_form import SIDE_TAG
 from planner.candidates.from_regions import largest_part_pole
-from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
+from planner.coverage.matrix import CoverageProblem, merge_problems
 from planner.coverage.regions import (
     FrameSpace,
     coverage_regions,
     frame_space,
     why_empty,
 )
-from planner.coverage.visibility import SightLimits
+from planner.coverage.sight import Sight
 from planner.site.candidate import Candidate, CandidateKind
-from planner.site.model import ScanSide, Site
+from planner.site.model import ScanSide
 
 #: unseen pieces tried together (nearest first) when one candidate is sought for a stretch
 NEIGHBOURS = 64
@@ -71,14 +71,14 @@ def _stretch_poles(
 
 
 def complete_candidates(
-    site: Site,
+    sight: Sight,
     problem: CoverageProblem,
-    limits: SightLimits,
     spaces: dict[str, FrameSpace] | None = None,
     cache: dict[int, shapely.Geometry] | None = None,
 ) -> tuple[CoverageProblem, dict[int, str]]:
     """``problem`` with a candidate from the coverage regions of every piece no candidate saw, and the pieces
     still unseen afterwards with the reason (a piece index -> why, in words)."""
+    site, limits = sight.site, sight.limits
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache
     t = problem.targets
@@ -104,7 +104,7 @@ def complete_candidates(
                 )
             )
         if new:
-            problem = merge_problems(problem, build_coverage(site, new, t, limits))
+            problem = merge_problems(problem, sight.coverage(new, t))
         unseen = problem.uncoverable()
         if unseen.size == 0:
             return problem, {}

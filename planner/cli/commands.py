@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from planner.cli.inputs import guard_memory, load_with_overrides, memory_limit, recorded_notes, usable_folder
-from planner.cli.network_command import network_check, network_inputs
+from planner.cli.network_command import checking_problem, network_check, network_inputs
 from planner.cli.report import parse_exports, write_exports
-from planner.cli.tiles import plan_command
+from planner.cli.tiles import strategy_options
 from planner.errors import ExitCode, InfeasibleError, UsageError
 from planner.text import dumps
 
@@ -30,14 +31,16 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
-def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
+def plan_options(args: argparse.Namespace) -> PlanOptions:
+    """The options of ``planner plan`` (and of what the report compares): every value the command line gives,
+    once; the registration rule stays the site's share until the run is resolved."""
     from planner.candidates.pool import PoolOptions
-    from planner.coverage.overlap import planning_rule
+    from planner.coverage.overlap import SiteShare
     from planner.plan import PlanOptions
     from planner.solve.milp import MilpOptions
 
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
-    rule = None if args.no_overlap else planning_rule(overlap, args.min_shared, args.max_link)
+    rule = None if args.no_overlap else SiteShare(min_shared_m=args.min_shared, max_link_m=args.max_link)
     milp = MilpOptions(
         backend=args.backend,
         time_limit_s=args.time_limit,
@@ -54,7 +57,7 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
         ring_bound=not args.no_ring_bound,
         ring_lagrange_steps=args.ring_lagrange_steps,
     )
-    return PlanOptions(
+    options = PlanOptions(
         method=args.method,
         target_spacing_m=args.target_spacing,
         pool=pool,
@@ -62,7 +65,7 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
         precision=not args.no_precision,
         verify_spacing_m=args.verify_spacing,
         milp=milp,
-        tripod=args.method == "milp" or args.tripod,
+        tripod=True if args.tripod else None,
         recentre=args.recentre,
         registration=args.registration,
         regions=not args.no_regions,
@@ -71,6 +74,7 @@ def _plan_options(args: argparse.Namespace, overlap: float) -> PlanOptions:
         plane_refine_steps=args.plane_refine_steps,
         memory_limit_bytes=memory_limit(args),
     )
+    return replace(options, strategy=strategy_options(args, options))
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -82,7 +86,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if args.monte_carlo and not (args.network or args.report):
         raise UsageError(
             "Monte Carlo runs are part of the network check; give --network",
-            field="--monte-carlo",
+            field="--set monte-carlo",
             value=args.monte_carlo,
         )
     # the network's option values and files, read before the planning (the report runs the network too)
@@ -93,16 +97,17 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
         field_options = _field_options(args, "field-")
     site = load_with_overrides(args)
-    from planner.site.validate import validate_site
+    from planner.plan.problem import resolve
 
-    validation = validate_site(site)  # once per run: the guard, the strategy and the plan all take it
-    guard_memory(site, args, validation)
+    problem = resolve(site, plan_options(args))  # once per run: every stage takes it
+    guard_memory(problem)  # before the solver stacks load, so that a refusal is quick
+    from planner.engine import plan_site
     from planner.plan.outcome import outcome_from_plan
     from planner.plan.plan_json import write_plan
     from planner.report import compare_methods, write_report
 
-    options = _plan_options(args, site.parameters.overlap)
-    plan = plan_command(site, options, args, validation)
+    options = problem.options
+    plan = plan_site(problem)
     if not plan.stations and plan.result.status.value in ("infeasible", "no_solution"):
         print(plan.summary().splitlines()[0])
         raise InfeasibleError(f"{plan.result.method} found no plan: {_no_plan_reason(plan.result, options)}")
@@ -111,13 +116,13 @@ def cmd_plan(args: argparse.Namespace) -> int:
         print(f"wrote {write_plan(plan, args.out)}")
     network = None
     if inputs is not None:
-        network = network_check(site, list(plan.stations), args, inputs, show=args.network)
+        network = network_check(problem, list(plan.stations), args, inputs, show=args.network)
     if field_options is not None:
         from planner.cli.field import write_field
 
-        write_field(site, plan.stations, field_options, args.field)
+        write_field(problem, plan.stations, field_options, args.field)
     if formats or args.report:
-        outcome = outcome_from_plan(plan, network, compare_methods(site, options, plan) if args.report else ())
+        outcome = outcome_from_plan(plan, network, compare_methods(plan) if args.report else ())
         write_exports(outcome, formats, args.out, args.crs)
         if args.report:
             print(f"wrote {write_report(outcome, args.report, field=args.field)}")
@@ -138,32 +143,23 @@ def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
-    from planner.coverage.visibility import sight_limits
     from planner.plan.plan_json import read_plan_stations
     from planner.plan.verify import verify_stations
-    from planner.site.validate import validate_site
 
-    site = load_with_overrides(args)
-    validation = validate_site(site)
-    stations = read_plan_stations(args.plan, site)
-    limits = sight_limits(validation, args.incidence == "3d", not args.no_precision, args.precision == "combined")
-    report = verify_stations(site, stations, limits, args.spacing)
+    problem = checking_problem(args)
+    stations = read_plan_stations(args.plan, problem.site)
+    report = verify_stations(problem.sight, stations, args.spacing)
     print(f"plan {args.plan}: {len(stations)} stations")
-    recorded_notes(args.plan, site)
+    recorded_notes(args.plan, problem.site)
     print(report.summary())
     return ExitCode.OK if report.complete else ExitCode.INFEASIBLE
 
 
 def cmd_export(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
-    from planner.site.validate import validate_site
-
-    validation = validate_site(site)
-    guard_memory(site, args, validation)
     from planner.candidates.pool import PoolOptions
-    from planner.coverage.overlap import rule_of
-    from planner.exchange.export import export_problem
-    from planner.plan import PlanOptions, build_problem
+    from planner.plan import PlanOptions
+    from planner.plan.problem import resolve
 
     options = PlanOptions(
         target_spacing_m=args.target_spacing,
@@ -172,8 +168,13 @@ def cmd_export(args: argparse.Namespace) -> int:
         precision=not args.no_precision,
         memory_limit_bytes=memory_limit(args),
     )
-    problem = build_problem(site, options, validation)
-    text = export_problem(problem, args.format, rule_of(site.parameters.overlap))
+    resolved = resolve(site, options)
+    guard_memory(resolved)
+    from planner.exchange.export import export_problem
+    from planner.plan import build_problem
+
+    problem = build_problem(resolved)
+    text = export_problem(problem, args.format, resolved.checked_rule)
     if args.out:
         Path(args.out).write_text(text)
         print(

@@ -9,10 +9,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner.cli.option_types import POSITIVE, POSITIVE_INT
+from planner.cli.tuning import add_option, option_name
 from planner.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)
     from planner.field.run import FieldOptions, FieldPlan
+    from planner.plan.problem import Problem
     from planner.site import Site
     from planner.site.candidate import Candidate
 
@@ -27,21 +29,11 @@ def _fraction(text: str) -> float:
     return value
 
 
-def add_field_options(p: argparse.ArgumentParser, prefix: str = "") -> None:
-    """Options of the sheet (``prefix`` ``field-`` on ``planner plan``)."""
-    p.add_argument(
-        f"--{prefix}mode",
-        choices=("shortest", "registration"),
-        default="shortest",
-        help="visiting order: shortest, or registration (each station after the first overlaps one "
-        "scanned before it) (default shortest)",
-    )
-    p.add_argument(
-        f"--{prefix}start",
-        metavar="ID|X,Y",
-        help="start at this station or point (default: the station nearest the first door or control point)",
-    )
-    p.add_argument(f"--{prefix}session", metavar="DURATION", help="split the field time into sessions, e.g. 4h, 90min")
+def add_field_options(p: argparse.ArgumentParser) -> None:
+    """Options of the sheet: ``--mode``, ``--start``, ``--session`` (on ``planner plan`` the tuning keys
+    ``field-mode``, ``field-start``, ``field-session``: one help text for both, :mod:`planner.cli.tuning`)."""
+    for key in ("field-mode", "field-start", "field-session"):
+        add_option(p, key, name=key.removeprefix("field-"))
 
 
 def add_field_parser(sub: Any) -> None:
@@ -77,31 +69,40 @@ def add_field_parser(sub: Any) -> None:
 
 
 def field_options(args: argparse.Namespace, prefix: str = "") -> FieldOptions:
+    """The sheet's options from ``args`` (``prefix`` ``field-``: the keys of ``planner plan``); a bad value is a
+    usage error naming the option or key that gave it."""
     from planner.field.run import FieldOptions
     from planner.field.timing import parse_duration
 
     key = prefix.replace("-", "_")  # argparse: --field-mode is args.field_mode
     session = getattr(args, f"{key}session")
-    return FieldOptions(
-        mode=getattr(args, f"{key}mode"),
-        start=getattr(args, f"{key}start"),
-        closed=getattr(args, "tour", False),
-        session_s=parse_duration(session) if session else None,
-        setting=getattr(args, "setting", None),
-        strong_overlap=getattr(args, "strong_overlap", 0.5),
-        solution_limit=getattr(args, "solution_limit", 1000),
-        time_cap_s=getattr(args, "time_limit", 60.0) if prefix == "" else 60.0,
-    )
+    try:
+        return FieldOptions(
+            mode=getattr(args, f"{key}mode"),
+            start=getattr(args, f"{key}start"),
+            closed=getattr(args, "tour", False),
+            session_s=parse_duration(session) if session else None,
+            setting=getattr(args, "setting", None),
+            strong_overlap=getattr(args, "strong_overlap", 0.5),
+            solution_limit=getattr(args, "solution_limit", 1000),
+            time_cap_s=getattr(args, "time_limit", 60.0) if prefix == "" else 60.0,
+        )
+    except UsageError as err:
+        if not prefix or err.field not in ("--mode", "--start", "--session"):
+            raise
+        name = option_name(getattr(args, "command", None), f"{prefix}{err.field[2:]}")
+        raise UsageError(err.message, field=name, value=err.value) from None
 
 
 def write_field(
-    site: Site, stations: Sequence[Candidate], options: FieldOptions, folder: str, plan_file: str | None = None
+    site: Site | Problem, stations: Sequence[Candidate], options: FieldOptions, folder: str, plan_file: str | None = None
 ) -> FieldPlan:
     """Make the sheet, print its summary and write its files into ``folder``."""
     from planner.field.run import field_plan
     from planner.field.sheet import write_sheet
+    from planner.plan.problem import Problem
 
-    fp = field_plan(site, stations, options, plan_file=plan_file)
+    fp = field_plan(site.sight if isinstance(site, Problem) else site, stations, options, plan_file=plan_file)
     print(summary(fp))
     for path in write_sheet(fp, folder):
         print(f"wrote {path}")

@@ -9,14 +9,15 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from planner.cli.tuning import option_name
 from planner.errors import InputError, UsageError
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
 if TYPE_CHECKING:
+    from planner.plan.problem import Problem
     from planner.site import Site
     from planner.site.dxf_in import DxfOptions
-    from planner.site.validate import ValidationReport
 
 
 def load_with_overrides(args: argparse.Namespace) -> Site:
@@ -71,24 +72,26 @@ def _dxf_options(args: argparse.Namespace) -> DxfOptions:
     from planner.site import ScanSide
     from planner.site.dxf_in import DxfOptions
 
+    flag = option_name(getattr(args, "command", None), "layer-height")
     heights = {}
     for item in args.layer_height:
         layer, _, value = item.partition("=")
         try:
             heights[layer] = float(value)
         except ValueError:
-            raise UsageError("expected LAYER=HEIGHT_M", field="--layer-height", value=item) from None
+            raise UsageError("expected LAYER=HEIGHT_M", field=flag, value=item) from None
         if not (math.isfinite(heights[layer]) and heights[layer] > 0):
-            raise UsageError("height must be a finite number > 0", field="--layer-height", value=item)
+            raise UsageError("height must be a finite number > 0", field=flag, value=item)
     return DxfOptions(layer_heights_m=heights, default_side=ScanSide(args.dxf_side))
 
 
-def guard_memory(site: Site, args: argparse.Namespace, validation: ValidationReport) -> None:
+def guard_memory(problem: Problem) -> None:
     """The memory check of build_problem, run before the solver stacks load so that a refusal is quick."""
     from planner.plan.memory_guard import check_memory
 
-    max_slant_range_m = validation.range_limit.max_slant_range_m
-    check_memory(site, args.target_spacing, args.grid_spacing, max_slant_range_m, memory_limit(args))
+    o = problem.options
+    max_slant_range_m = problem.validation.range_limit.max_slant_range_m
+    check_memory(problem.site, o.target_spacing_m, o.pool.grid_spacing_m, max_slant_range_m, o.memory_limit_bytes)
 
 
 def memory_limit(args: argparse.Namespace) -> int | None:

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner.cli.inputs import load_with_overrides, recorded_notes, some_stations, usable_folder
+from planner.cli.tuning import option_name
 from planner.errors import ExitCode, InputError, UsageError, located_in
 from planner.text import dumps
 
@@ -15,7 +16,7 @@ from planner.text import dumps
 # start without the solver, network, figure and report stacks (docs/startup.md).
 if TYPE_CHECKING:
     from planner.network.check import NetworkReport
-    from planner.site import Site
+    from planner.plan.problem import Problem
 
 #: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
 MIN_MONTE_CARLO = 100
@@ -26,14 +27,16 @@ def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
     from planner.network.io import read_control
     from planner.network.traverse import read_traverse
 
+    command = getattr(args, "command", None)  # on plan the network's knobs are tuning keys (--set KEY=VALUE)
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(
             f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)",
-            field="--monte-carlo",
+            field=option_name(command, "monte-carlo"),
             value=args.monte_carlo,
         )
     if getattr(args, "traverse", None) and args.ts_everywhere:
-        raise UsageError("--traverse and --ts-everywhere exclude each other", field="--traverse", value=args.traverse)
+        names = option_name(command, "traverse"), option_name(command, "ts-everywhere")
+        raise UsageError(f"{names[0]} and {names[1]} exclude each other", field=names[0], value=args.traverse)
     with located_in(getattr(args, "control", None)):
         control = read_control(args.control) if getattr(args, "control", None) else None
     traverse = read_traverse(args.traverse) if getattr(args, "traverse", None) else None
@@ -43,22 +46,22 @@ def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
 
 
 def network_check(
-    site: Site, stations: list[Any], args: argparse.Namespace, inputs: tuple[Any, Any], show: bool = True
+    problem: Problem, stations: list[Any], args: argparse.Namespace, inputs: tuple[Any, Any], show: bool = True
 ) -> NetworkReport:
-    """Run the network check with ``inputs`` = :func:`network_inputs` (control points, traverse)."""
+    """Run the network check of ``problem``'s stations with ``inputs`` = :func:`network_inputs` (control points,
+    traverse), under the problem's sight and registration scope."""
     from planner.network.check import run_network
     from planner.network.io import adjust_observations
 
     control, traverse = inputs
     with located_in(args.traverse if traverse is not None else None):  # a leg naming an unknown point
         report = run_network(
-            site,
+            problem.sight,
             stations,
             control=control,
             monte_carlo_runs=args.monte_carlo,
             seed=args.seed,
-            registration=getattr(args, "registration", None),
-            precision=getattr(args, "precision", "single"),
+            registration=problem.registration,
             traverse=traverse,
             ts_everywhere=getattr(args, "ts_everywhere", False),
         )
@@ -81,11 +84,30 @@ def cmd_network(args: argparse.Namespace) -> int:
 
     usable_folder("--out", args.out)
     inputs = network_inputs(args)  # before any work
-    site = load_with_overrides(args)
-    stations = some_stations(args.plan, read_plan_stations(args.plan, site))
-    recorded_notes(args.plan, site)
-    network_check(site, stations, args, inputs)
+    problem = checking_problem(args)
+    stations = some_stations(args.plan, read_plan_stations(args.plan, problem.site))
+    recorded_notes(args.plan, problem.site)
+    network_check(problem, stations, args, inputs)
     return ExitCode.OK
+
+
+def checking_problem(args: argparse.Namespace) -> Problem:
+    """The site of a checking command (verify, network, chain) resolved once under the sight options it
+    has (incidence, precision) and its registration scope."""
+    from planner.plan import PlanOptions
+    from planner.plan.problem import resolve
+    from planner.plan.strategy import StrategyOptions
+    from planner.solve.milp import MilpOptions
+
+    precision = not getattr(args, "no_precision", False)
+    options = PlanOptions(
+        incidence_3d=getattr(args, "incidence", "horizontal") == "3d",
+        precision=precision,
+        milp=MilpOptions(precision=getattr(args, "precision", "single") if precision else "single"),
+        registration=getattr(args, "registration", None),
+        strategy=StrategyOptions(single=True),
+    )
+    return resolve(load_with_overrides(args), options)
 
 
 def cmd_chain(args: argparse.Namespace) -> int:
@@ -93,8 +115,8 @@ def cmd_chain(args: argparse.Namespace) -> int:
     from planner.network.survey import survey_network
     from planner.plan.plan_json import read_plan_stations
 
-    site = load_with_overrides(args)
-    stations = some_stations(args.plan, read_plan_stations(args.plan, site))
-    recorded_notes(args.plan, site)
-    print("\n".join(survey_network(site, stations, args.registration).lines()))
+    problem = checking_problem(args)
+    stations = some_stations(args.plan, read_plan_stations(args.plan, problem.site))
+    recorded_notes(args.plan, problem.site)
+    print("\n".join(survey_network(problem.sight, stations, problem.registration).lines()))
     return ExitCode.OK

@@ -49,9 +49,8 @@ def cmd_report(args: argparse.Namespace) -> int:
         ifc = IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
     outcome = outcome_from_file(args.plan, args.site, ifc=ifc)
     folder = args.out or str(Path(args.plan).parent)
-    rule = outcome.limits.precision
-    mode = "combined" if rule is not None and rule.combined else "single"  # judged as the plan was made
-    network = None if args.no_network else run_network(outcome.site, list(outcome.stations), seed=0, precision=mode)
+    # judged under the limits the plan was made under
+    network = None if args.no_network else run_network(outcome.sight, list(outcome.stations), seed=0)
     comparison = _file_comparison(outcome)
     outcome = replace(outcome, network=network, comparison=tuple(comparison))
     write_exports(outcome, formats, folder, args.crs)
@@ -63,7 +62,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 def _file_comparison(outcome: Outcome) -> list[dict[str, Any]]:
     """Closed form and greedy recomputed with the plan's settings, beside the plan's own figures."""
     from planner.candidates.pool import PoolOptions
-    from planner.plan import PlanOptions
+    from planner.plan import PlanOptions, resolve
     from planner.report import compare_methods
     from planner.report.compare import meta_row
     from planner.solve.milp import MilpOptions
@@ -76,7 +75,8 @@ def _file_comparison(outcome: Outcome) -> list[dict[str, Any]]:
         precision=bool(p.get("precision", True)),
         milp=MilpOptions(precision=p.get("precision_mode", "single")),
     )
-    rows = [r for r in compare_methods(outcome.site, options) if r["method"] != m.get("method")]
+    problem = resolve(outcome.site, options, validation=outcome.validation)
+    rows = [r for r in compare_methods(problem) if r["method"] != m.get("method")]
     return rows + [{**meta_row(m, outcome.verification.percent), "stations": len(outcome.stations)}]
 
 

@@ -55,6 +55,29 @@ def planning_rule(share: float, min_shared_m: float = 0.0, max_link_m: float | N
     return None if share == 0 else rule_of(share, min_shared_m, max_link_m)
 
 
+@dataclass(frozen=True, kw_only=True)
+class SiteShare:
+    """The registration rule at the site's own overlap share, with these extra limits: what a plan's options
+    ask for until the run is resolved against its site (:func:`planner.plan.problem.resolve`), where
+    :meth:`rule` gives the rule in force (``None`` for share 0)."""
+
+    min_shared_m: float = 0.0
+    max_link_m: float | None = None
+
+    def __post_init__(self) -> None:
+        real(self.min_shared_m, "min_shared_m", at_least=0.0, infinite_ok=True)
+        if self.max_link_m is not None:
+            real(self.max_link_m, "max_link_m", above=0.0, infinite_ok=True)
+
+    def rule(self, share: float) -> OverlapRule | None:
+        """The rule at ``share`` (the site's, or :data:`DEFAULT_OVERLAP` where no site is at hand)."""
+        return planning_rule(share, self.min_shared_m, self.max_link_m)
+
+
+#: the default registration requirement of a plan: the site's overlap share, no extra limits
+SITE_SHARE = SiteShare()
+
+
 def group_ids(groups: Sequence[Hashable]) -> NDArray[np.int64]:
     """The index of each item's group, groups numbered in order of first appearance."""
     index: dict[Hashable, int] = {}

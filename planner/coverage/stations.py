@@ -11,13 +11,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from planner.checks import argument
-from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import piece_lengths
-from planner.coverage.targets import Targets, make_targets
-from planner.coverage.visibility import SightLimits
-from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, view_error_m
+from planner.coverage.sight import Sight
+from planner.coverage.targets import Targets
+from planner.instrument.accuracy import view_error_m
 from planner.site.candidate import Candidate, stations_argument
-from planner.site.model import Site
 
 
 @dataclass(frozen=True)
@@ -62,22 +61,17 @@ class StationCoverage:
         return 100.0 * float(lengths[self.count > 0].sum()) / total if total else 100.0
 
 
-def station_coverage(
-    site: Site,
-    stations: Sequence[Candidate],
-    limits: SightLimits,
-    scanner: RangeAngleSigma,
-    budget: ErrorBudget,
-    spacing_m: float = 1.0,
-) -> StationCoverage:
-    """Build the coverage of ``stations`` alone on pieces of ``spacing_m`` and summarise it.
+def station_coverage(sight: Sight, stations: Sequence[Candidate], spacing_m: float = 1.0) -> StationCoverage:
+    """Build the coverage of ``stations`` alone on pieces of ``spacing_m`` under ``sight`` (its site's error
+    budget, its scanner) and summarise it.
 
     Cost: one coverage build with len(stations) candidates, O(S x T) pair tests at most.
     """
-    argument(site, Site, "site")
+    argument(sight, Sight, "sight")
     stations_argument(stations)
     st = tuple(stations)
-    problem = build_coverage(site, st, make_targets(site, spacing_m), limits)
+    limits, scanner, budget = sight.limits, sight.scanner, sight.site.parameters.budget
+    problem = sight.of_stations(st, spacing_m)
     t = problem.targets
     count = np.diff(problem.by_target.indptr).astype(np.int64)
     inc_t = problem.incidence_deg.T.tocsr()

@@ -20,6 +20,8 @@ import networkx as nx
 import numpy as np
 import shapely
 
+from planner.coverage.relation import station_relation
+from planner.coverage.sight import Sight, as_sight
 from planner.errors import InfeasibleError, InputError, UsageError
 from planner.field.certify import Certified, certify
 from planner.field.order import (
@@ -34,9 +36,7 @@ from planner.field.targets import (
     STRONG_OVERLAP,
     Link,
     Target,
-    coverage_of,
     propose_targets,
-    relation,
 )
 from planner.field.timing import FieldTime, field_time
 from planner.field.walking import (
@@ -185,14 +185,17 @@ def _start(
 
 
 def field_plan(
-    site: Site,
+    site: Site | Sight,
     stations: Sequence[Candidate],
     options: FieldOptions = FieldOptions(),
     props: FieldProperties | None = None,
     plan_file: str | None = None,
 ) -> FieldPlan:
-    """Order, route, bound, targets and field time of a plan's ``stations`` on ``site`` (see the module text)."""
+    """Order, route, bound, targets and field time of a plan's ``stations`` on ``site`` (see the module text):
+    the plan's sight (its resolved problem's), or a site seen under its own parameters."""
     t0 = time.perf_counter()
+    sight = as_sight(site)
+    site = sight.site
     st = tuple(stations)
     if not st:
         raise InputError(
@@ -216,8 +219,8 @@ def field_plan(
     node_station = ([first] if first is not None else [-1]) + rest
     g = walk_graph(space, [start_xy if k < 0 else st[k].xy for k in node_station])
     _check_reach(site, st, g, node_station, label, plan_file)
-    problem = coverage_of(site, st)
-    rel = relation(site, st, problem)
+    problem = sight.of_stations(st)
+    rel = station_relation(site, st, problem)
     nbrs = [set() if k < 0 else {node_station.index(u) for u in rel.neighbors(k)} for k in node_station]
     comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
     parts = [-1 if k < 0 else comp[k] for k in node_station]

@@ -28,11 +28,10 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.coverage.links import default_registration, registration_groups
-from planner.coverage.matrix import CoverageProblem, blockers_for, build_coverage
+from planner.coverage.matrix import CoverageProblem, blockers_for
 from planner.coverage.openings import PASSABLE, opening_segments
-from planner.coverage.overlap import overlap_graph, piece_lengths, rule_of
-from planner.coverage.targets import make_targets
+from planner.coverage.relation import station_relation
+from planner.coverage.sight import Sight
 from planner.coverage.visibility import sight_clear
 from planner.field.walking import WalkSpace
 from planner.instrument.field_table import FieldProperties
@@ -73,35 +72,6 @@ class Target:
     where: str
     seen_by: tuple[str, ...]
     links: tuple[tuple[str, str], ...]
-
-
-def coverage_of(site: Site, stations: Sequence[Candidate]) -> CoverageProblem:
-    """The coverage of the plan's stations on 1 m pieces, under the site's limits (horizontal incidence)."""
-    from planner.coverage.visibility import sight_limits
-    from planner.site.validate import validate_site
-
-    limits = sight_limits(validate_site(site), False, True)
-    return build_coverage(site, stations, make_targets(site, 1.0), limits)
-
-
-def relation(site: Site, stations: Sequence[Candidate], problem: CoverageProblem) -> nx.Graph:
-    """The overlap relation of the stations (node = index) with ``shared_m`` and ``fraction`` on each edge."""
-    lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
-    covered = np.asarray(problem.by_candidate.astype(np.float64) @ lengths).ravel()
-    labels, links = registration_groups(site, stations, default_registration(site), problem.limits.effective_range_m)
-    xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
-    g = nx.Graph()
-    g.add_nodes_from(range(len(stations)))
-    groups: dict[object, list[int]] = {}
-    for i, label in enumerate(labels):
-        groups.setdefault(label, []).append(i)
-    rule = rule_of(site.parameters.overlap)
-    for nodes in groups.values():
-        sub = overlap_graph(problem.by_candidate, lengths, nodes, rule, xy, links)
-        for u, v, data in sub.edges(data=True):
-            small = min(covered[u], covered[v])
-            g.add_edge(u, v, shared_m=data["shared_m"], fraction=data["shared_m"] / small if small > 0 else 0.0)
-    return g
 
 
 def chain_links(g: nx.Graph, order: Sequence[int] | None) -> list[tuple[int, int]]:
@@ -185,8 +155,8 @@ def propose_targets(
 
     ``order``: the visiting order as station indices (registration order); None: the spanning forest.
     """
-    problem = problem if problem is not None else coverage_of(site, stations)
-    g = relation(site, stations, problem)
+    problem = problem if problem is not None else Sight.of_site(site).of_stations(stations)
+    g = station_relation(site, stations, problem)
     chain = chain_links(g, order)
     weak = [(i, j) for i, j in chain if g[i][j]["fraction"] < strong_overlap]
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)

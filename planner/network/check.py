@@ -20,8 +20,7 @@ import networkx as nx
 import numpy as np
 
 from planner.checks import argument
-from planner.coverage.matrix import build_coverage
-from planner.coverage.targets import make_targets
+from planner.coverage.sight import Sight, as_sight
 from planner.errors import InputError
 from planner.instrument.models import TotalStation, load_instrument
 from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
@@ -43,7 +42,6 @@ from planner.site.candidate import Candidate, check_unique_ids, stations_argumen
 
 __all__ = ["NetworkReport", "accuracy_check", "registration_sigma_m", "run_network"]
 from planner.site.model import ControlPoint, Site
-from planner.site.validate import validate_site
 
 #: seed 003: cloud-to-cloud registration error of two stations R metres apart
 REG_A, REG_B = 6.8e-5, 0.0081
@@ -250,7 +248,7 @@ def _design_observations(
 
 
 def run_network(
-    site: Site,
+    site: Site | Sight,
     stations: Sequence[Candidate],
     *,
     total_station: str = "topcon-os-105",
@@ -267,29 +265,28 @@ def run_network(
 
     ``registration``: ``zone`` or ``site`` (default :func:`planner.coverage.links.default_registration`);
     the report also holds the network as a scanner survey (:mod:`planner.network.survey`).
-    ``precision``: ``single`` judges each piece by its best view, ``combined`` by all its views.
+    ``site``: the plan's sight (its resolved problem's), or a site, then seen under its own parameters with
+    ``precision``: ``single`` judges each piece by its best view, ``combined`` by all its views (a sight
+    carries its own precision mode).
     ``traverse``: the planned control traverse (default: proposed, :mod:`planner.network.traverse`); the
     total station observes its legs only, stations are held by registration links and ties.
     ``ts_everywhere``: the earlier design instead, a total station on every station sight line.
     """
-    argument(site, Site, "site")
+    argument(site, (Site, Sight), "site")
     stations_argument(stations)
+    if precision not in ("single", "combined"):
+        raise InputError("must be single or combined", field="precision", value=precision)
     if not stations:
         raise InputError("a network needs at least one station", field="stations", value=0)
     check_unique_ids(stations)
     ts = load_instrument(total_station)
     if not isinstance(ts, TotalStation):
         raise InputError("is not a total station", field="total_station", value=total_station)
-    validation = validate_site(site)
-    from planner.coverage.visibility import sight_limits
-
-    if precision not in ("single", "combined"):
-        raise InputError("must be single or combined", field="precision", value=precision)
-    limits = sight_limits(validation, False, True, precision == "combined")
-    targets = make_targets(site, target_spacing_m)
-    problem = build_coverage(site, stations, targets, limits)
+    sight = as_sight(site, combined=precision == "combined")
+    site = sight.site
+    problem = sight.of_stations(stations, target_spacing_m)
     # registration links within each zone-side, or across the site's accessible areas (through openings)
-    links = registration_links(site, stations, registration, problem)
+    links = registration_links(sight, stations, registration, problem)
     ts_range = ts.max_range_prism_m or 1000.0
     ctrl = list(control or site.control_points)
     notes: list[str] = []
@@ -333,7 +330,7 @@ def run_network(
         if monte_carlo_runs:
             mcs.append(monte_carlo(names, comp_fixed, comp_obs, runs=monte_carlo_runs, seed=seed, angle_unit="deg"))
     sigma_h = _heights(g, ts, ctrl, notes)
-    check = accuracy_check(site, stations, problem, sigma, validation.scanner, precision == "combined")
+    check = accuracy_check(site, stations, problem, sigma, sight.scanner, sight.combined)
     survey = survey_network(site, stations, registration, links)
     return NetworkReport(
         g,

@@ -19,10 +19,9 @@ from dataclasses import dataclass
 import networkx as nx
 import numpy as np
 
-from planner.coverage.links import default_registration, registration_groups
-from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.overlap import overlap_graph, piece_lengths, rule_of
-from planner.coverage.targets import make_targets
+from planner.coverage.matrix import CoverageProblem
+from planner.coverage.relation import station_relation
+from planner.coverage.sight import Sight, as_sight
 from planner.network.chain import (
     DEFAULT_CONTROL_SIGMA_M,
     TIE_RANGE_M,
@@ -87,37 +86,31 @@ def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
 
 
 def registration_links(
-    site: Site, stations: Sequence[Candidate], mode: str | None = None, problem: CoverageProblem | None = None
+    site: Site | Sight,
+    stations: Sequence[Candidate],
+    mode: str | None = None,
+    problem: CoverageProblem | None = None,
 ) -> list[tuple[str, str]]:
     """Pairs of the plan's stations that can be registered (see the module text); ``problem``: their
-    coverage, when already built (rows in the order of ``stations``)."""
-    from planner.coverage.visibility import sight_limits
-    from planner.site.validate import validate_site
-
-    limits = sight_limits(validate_site(site), False, True)
+    coverage, when already built (rows in the order of ``stations``); ``site``: the plan's sight, or a site
+    seen under its own parameters."""
+    sight = as_sight(site)
     if problem is None:
-        problem = build_coverage(site, stations, make_targets(site, 1.0), limits)
-    targets = problem.targets
-    rule = rule_of(site.parameters.overlap)
-    labels, links = registration_groups(site, stations, mode or default_registration(site), limits.effective_range_m)
-    xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
-    groups: dict[object, list[int]] = {}
-    for i, label in enumerate(labels):
-        groups.setdefault(label, []).append(i)
-    out = []
-    for nodes in groups.values():
-        g = overlap_graph(problem.by_candidate, piece_lengths(targets.s0_m, targets.s1_m), nodes, rule, xy, links)
-        out += [(stations[u].id, stations[v].id) for u, v in g.edges()]
-    return out
+        problem = sight.of_stations(stations)
+    g = station_relation(sight.site, stations, problem, mode)
+    return [(stations[u].id, stations[v].id) for u, v in g.edges()]
 
 
 def survey_network(
-    site: Site, stations: Sequence[Candidate], mode: str | None = None, links: Sequence[tuple[str, str]] | None = None
+    site: Site | Sight, stations: Sequence[Candidate], mode: str | None = None, links: Sequence[tuple[str, str]] | None = None
 ) -> SurveyNetwork:
     """Links (``links``: already found by :func:`registration_links`), ties (given or proposed control)
-    and the chain accuracy of a plan's stations."""
+    and the chain accuracy of a plan's stations; ``site``: the plan's sight, or a site alone."""
+    if links is None:
+        links = registration_links(site, stations, mode)
+    site = site.site if isinstance(site, Sight) else site
     xy = {s.id: s.xy for s in stations}
-    links = list(links) if links is not None else registration_links(site, stations, mode)
+    links = list(links)
     g = nx.Graph()
     g.add_nodes_from(xy)
     g.add_edges_from(links)

@@ -2,22 +2,23 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from planner.candidates.pool import PoolOptions
 from planner.checks import SAMPLING_M, argument, count, flag, real
-from planner.coverage.overlap import OverlapRule, rule_of
 from planner.coverage.visibility import SightLimits, sight_limits
 from planner.errors import UsageError
 from planner.plan.methods import METHODS
-from planner.site.model import Site
+from planner.plan.strategy import StrategyOptions
 from planner.site.validate import ValidationReport
 from planner.solve.milp import MilpOptions
 
 
 @dataclass(frozen=True)
 class PlanOptions:
-    """Everything about a planning run that is not the site itself.
+    """Everything about a planning run that is not the site itself. The defaults are the ``planner plan``
+    command's: the MILP with tripod discs, the registration rule at the site's overlap share, the strategy
+    (one model or tiles) chosen for the site.
 
     ``target_spacing_m`` = 1 m: walls are cut into pieces of at most 1 m, and a
     piece counts as covered only when one station sees all of it, so a coarse
@@ -26,14 +27,15 @@ class PlanOptions:
     sides) stays at 3,000 targets and the coverage build under a few seconds.
     """
 
-    method: str = "greedy"
+    method: str = "milp"
     target_spacing_m: float = 1.0
     pool: PoolOptions = field(default_factory=PoolOptions)
     incidence_3d: bool = False
     precision: bool = True
     verify_spacing_m: float = 0.1
     milp: MilpOptions = field(default_factory=MilpOptions)
-    tripod: bool = False
+    #: tripod discs round the stations; None (default): for the MILP, which always places them, else not
+    tripod: bool | None = None
     recentre: bool = False
     registration: str | None = None  # zone | site; None: site where zones are placed or openings given
     regions: bool = True
@@ -43,17 +45,7 @@ class PlanOptions:
     #: (:mod:`planner.certify.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 13
     plane_refine_steps: int = 0
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
-
-    def for_site(self, site: Site) -> PlanOptions:
-        """These options with the MILP's ``overlap="site"`` resolved to ``site``'s overlap share."""
-        milp = self.milp.for_site(site.parameters.overlap)
-        return self if milp is self.milp else replace(self, milp=milp)
-
-    def checked_rule(self, site: Site) -> OverlapRule:
-        """The rule a plan's registration is checked on: the one it was planned under, else the site's
-        (the closed form, or planning with no rule, is checked at the site's share)."""
-        rule = self.milp.for_site(site.parameters.overlap).rule
-        return rule if self.method != "closed-form" and rule else rule_of(site.parameters.overlap)
+    strategy: StrategyOptions = field(default_factory=StrategyOptions)
 
     @property
     def combined(self) -> bool:
@@ -65,6 +57,9 @@ class PlanOptions:
             raise UsageError(f"unknown method (known: {', '.join(METHODS)})", field="method", value=self.method)
         argument(self.pool, PoolOptions, "pool")
         argument(self.milp, MilpOptions, "milp")
+        argument(self.strategy, StrategyOptions, "strategy")
+        if self.tripod is None:  # the MILP places tripod discs; the greedy and the closed form only when asked
+            object.__setattr__(self, "tripod", self.method == "milp")
         real(self.target_spacing_m, "target_spacing_m", above=0)
         real(self.verify_spacing_m, "verify_spacing_m", at_least=SAMPLING_M[0])  # finer than 1 mm: no survey resolution
         real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)

@@ -14,19 +14,24 @@ from pathlib import Path
 from typing import Any
 
 from planner.checks import argument, path_argument
+from planner.coverage.sight import Sight
 from planner.coverage.stations import StationCoverage, station_coverage
-from planner.coverage.visibility import SightLimits, sight_limits
+from planner.coverage.visibility import SightLimits
 from planner.errors import InputError, located_in
 from planner.instrument.models import load_instrument
 from planner.network.check import NetworkReport
+from planner.plan.options import PlanOptions
 from planner.plan.plan_json import RECORDED_PARAMETERS, check_plan_meta, plan_to_dict, read_plan_stations
+from planner.plan.problem import resolve
 from planner.plan.result import Plan
+from planner.plan.strategy import StrategyOptions
 from planner.plan.verify import VerifyReport, verify_stations
 from planner.site.candidate import Candidate
 from planner.site.fileio import read_json
 from planner.site.load import load_site
 from planner.site.model import Site
-from planner.site.validate import ValidationReport, validate_site
+from planner.site.validate import ValidationReport
+from planner.solve.milp import MilpOptions
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,6 +48,11 @@ class Outcome:
     meta: dict[str, Any]
     network: NetworkReport | None = None
     comparison: tuple[dict[str, Any], ...] = field(default=())
+
+    @property
+    def sight(self) -> Sight:
+        """The site seen under the plan's limits, by its scanner: what the network check of it takes."""
+        return Sight(site=self.site, limits=self.limits, scanner=self.validation.scanner)
 
     def _repr_html_(self) -> str:
         from planner.text import summary_html
@@ -63,11 +73,9 @@ def outcome_from_plan(
     """The outcome of a plan computed in this process."""
     argument(plan, Plan, "plan")
     argument(network, (NetworkReport, type(None)), "network")
-    o = plan.options
-    limits = sight_limits(plan.validation, o.incidence_3d, o.precision, o.combined)
-    cov = station_coverage(
-        plan.site, plan.stations, limits, plan.validation.scanner, plan.site.parameters.budget, o.target_spacing_m
-    )
+    sight = plan.problem.sight
+    limits = sight.limits
+    cov = station_coverage(sight, plan.stations, plan.options.target_spacing_m)
     radii = {s.id: d.radius_m for s, d in zip(plan.stations, plan.tripods)}
     return Outcome(
         plan.site,
@@ -118,15 +126,22 @@ def outcome_from_file(
     name = str(plan_path)
     meta = check_plan_meta(read_json(plan_path), name)
     site = site_for_plan(meta, site_path, name, ifc)
-    validation = validate_site(site)
     p = meta.get("parameters") or {}
     combined = (p.get("milp") or {}).get("precision") == "combined" or p.get("precision_mode") == "combined"
-    limits = sight_limits(validation, p.get("incidence") == "3d", bool(p.get("precision", True)), combined)
+    precision = bool(p.get("precision", True))
+    recorded = PlanOptions(
+        incidence_3d=p.get("incidence") == "3d",
+        precision=precision,
+        milp=MilpOptions(precision="combined" if combined and precision else "single"),
+        strategy=StrategyOptions(single=True),
+    )
+    problem = resolve(site, recorded)  # the limits the plan was made under, resolved once
+    validation, sight, limits = problem.validation, problem.sight, problem.limits
     stations = tuple(read_plan_stations(plan_path, site))
     spacing = float(p.get("target_spacing_m", 1.0))
     _fits_in_memory(site, validation, spacing, float(p.get("grid_spacing_m", 1.0)), name)
-    cov = station_coverage(site, stations, limits, validation.scanner, site.parameters.budget, spacing)
-    verification = verify_stations(site, stations, limits, float(p.get("verify_spacing_m", 0.1)))
+    cov = station_coverage(sight, stations, spacing)
+    verification = verify_stations(sight, stations, float(p.get("verify_spacing_m", 0.1)))
     radii = {
         s["id"]: s["tripod_radius_m"]
         for s in meta.get("stations", [])

@@ -79,7 +79,7 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "connected": plan.connected,
             "components": plan.registration,
             # the share the registration was checked at (planned under, else the site's)
-            "overlap": o.checked_rule(site).overlap,
+            "overlap": plan.problem.checked_rule.overlap,
         },
         "problem": plan.problem_size,
         "zones": [

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planner.plan.options import PlanOptions
+from planner.plan.problem import Problem
 from planner.plan.tripod import TripodDisc, tripod_heights_line
 from planner.plan.verify import VerifyReport
 from planner.site.candidate import Candidate
@@ -15,13 +16,12 @@ from planner.site.validate import ValidationReport
 from planner.solve.result import SolveResult
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Plan:
-    """A verified plan: the chosen stations, how they were found, and their verification."""
+    """A verified plan: the resolved problem it answers, the chosen stations, how they were found, and their
+    verification."""
 
-    site: Site
-    options: PlanOptions
-    validation: ValidationReport
+    problem: Problem
     result: SolveResult
     stations: tuple[Candidate, ...]
     verification: VerifyReport
@@ -29,6 +29,18 @@ class Plan:
     log: tuple[str, ...] = ()
     registration: dict[str, int] = field(default_factory=dict)
     tripods: tuple[TripodDisc, ...] = ()
+
+    @property
+    def site(self) -> Site:
+        return self.problem.site
+
+    @property
+    def options(self) -> PlanOptions:
+        return self.problem.options
+
+    @property
+    def validation(self) -> ValidationReport:
+        return self.problem.validation
 
     @property
     def connected(self) -> bool:

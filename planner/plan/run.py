@@ -13,20 +13,20 @@ from planner.candidates.complete import complete_candidates
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import candidate_pool, dedupe
 from planner.checks import argument
-from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets, make_targets
-from planner.coverage.visibility import SightLimits
 from planner.errors import InfeasibleError, UsageError
 from planner.plan.closed_form import closed_form_limits
 from planner.plan.methods import REGISTRY, MethodInput
-from planner.plan.options import PlanOptions, plan_limits
+from planner.plan.options import PlanOptions
+from planner.plan.problem import Problem, resolve
 from planner.plan.registration import placed_stations, registration_check
 from planner.plan.result import Plan
 from planner.plan.verify import verify_stations
 from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.site.validate import ValidationReport, validate_site
+from planner.site.validate import ValidationReport
 
 
 def unseen_error(
@@ -52,14 +52,15 @@ def unseen_error(
 
 
 def build_problem(
-    site: Site,
-    options: PlanOptions,
+    site: Site | Problem,
+    options: PlanOptions | None = None,
     validation: ValidationReport | None = None,
     *,
     spaces: dict[str, FrameSpace] | None = None,
     region_cache: dict[int, Any] | None = None,
 ) -> CoverageProblem:
-    """Candidates, targets and coverage of a site; refuses a problem with a target no position sees.
+    """Candidates, targets and coverage of a resolved problem (or of a site with ``options``, resolved here);
+    refuses a problem with a target no position sees.
 
     ``spaces`` and ``region_cache``, when given, keep the frame spaces and coverage regions drawn for the
     region candidates (keyed by piece index of the problem's targets), for pricing to reuse.
@@ -72,54 +73,61 @@ def build_problem(
     InputError
         When the estimated memory of the work exceeds ``options.memory_limit_bytes`` (exit 3).
     """
-    problem, unseen, reasons = coverage_problem(site, options, validation, spaces=spaces, region_cache=region_cache)
+    resolved = as_problem(site, options, validation)
+    problem, unseen, reasons = coverage_problem(resolved, spaces=spaces, region_cache=region_cache)
     if unseen.size:
         err = unseen_error(problem, unseen, reasons)
-        raise err.located(site.source) if site.source else err
+        source = resolved.site.source
+        raise err.located(source) if source else err
     return problem
 
 
+def as_problem(
+    site: Site | Problem, options: PlanOptions | None = None, validation: ValidationReport | None = None
+) -> Problem:
+    """``site`` itself when it is a resolved problem (then neither ``options`` nor ``validation`` may be
+    given), else :func:`resolve` of it."""
+    if isinstance(site, Problem):
+        if options is not None or validation is not None:
+            raise UsageError("a resolved problem carries its options and validation", field="options")
+        return site
+    return resolve(site, options, validation=validation)
+
+
 def coverage_problem(
-    site: Site,
-    options: PlanOptions,
-    validation: ValidationReport | None = None,
+    problem: Problem,
     *,
     spaces: dict[str, FrameSpace] | None = None,
     region_cache: dict[int, Any] | None = None,
 ) -> tuple[CoverageProblem, np.ndarray, dict[int, str]]:
-    """:func:`build_problem` without the refusal: the problem, the pieces no candidate sees (after every
-    unseen piece got a candidate from its own region) and, per such piece, why its region is empty."""
-    argument(site, Site, "site")
-    argument(options, PlanOptions, "options")
-    validation = validation or validate_site(site)
-    limits = plan_limits(validation, options)
-    from planner.plan.memory_guard import check_memory  # refuse what will not fit, before building it
+    """:func:`build_problem` without the refusal: the coverage problem, the pieces no candidate sees (after
+    every unseen piece got a candidate from its own region) and, per such piece, why its region is empty."""
+    argument(problem, Problem, "problem")
+    site, options, limits = problem.site, problem.options, problem.limits
+    from planner.plan.memory_guard import check_memory  # refuse what will not fit, before building
 
     check_memory(
         site,
         options.target_spacing_m,
         options.pool.grid_spacing_m,
-        closed_form_limits(validation).max_slant_range_m,
+        closed_form_limits(problem.validation).max_slant_range_m,
         options.memory_limit_bytes,
     )
     targets = make_targets(site, options.target_spacing_m)
     spaces = {} if spaces is None else spaces
     region_cache = {} if region_cache is None else region_cache
-    pool = site_candidates(site, options, validation, targets, limits, spaces, region_cache)
-    problem = build_coverage(site, pool, targets, limits, step="coverage build")
+    pool = site_candidates(problem, targets, spaces, region_cache)
+    coverage = problem.sight.coverage(pool, targets, step="coverage build")
     reasons: dict[int, str] = {}
     if options.regions and regions_apply(limits):
         # a candidate from its own region for every piece still unseen; refused only when that is empty
-        problem, reasons = complete_candidates(site, problem, limits, spaces, region_cache)
-    return problem, problem.uncoverable(), reasons
+        coverage, reasons = complete_candidates(problem.sight, coverage, spaces, region_cache)
+    return coverage, coverage.uncoverable(), reasons
 
 
 def site_candidates(
-    site: Site,
-    options: PlanOptions,
-    validation: ValidationReport,
+    problem: Problem,
     targets: Targets,
-    limits: SightLimits,
     spaces: dict[str, FrameSpace] | None = None,
     region_cache: dict[int, Any] | None = None,
 ) -> list[Candidate]:
@@ -127,7 +135,8 @@ def site_candidates(
     closed form, field samples and grid of :func:`planner.candidates.pool.candidate_pool`; with regions, one
     station per zone-side where one sees all of it; a candidate per maximal cell of the regions along every
     room's medial axis and the rings round outside zones; duplicates removed."""
-    pool = candidate_pool(site, closed_form_limits(validation), options.pool)
+    site, options, limits = problem.site, problem.options, problem.limits
+    pool = candidate_pool(site, closed_form_limits(problem.validation), options.pool)
     exact = options.regions and regions_apply(limits)
     if exact:  # one station for a whole zone-side, found exactly where one exists
         pool = pool + whole_side_candidates(site, targets, limits, spaces, region_cache)
@@ -137,53 +146,51 @@ def site_candidates(
     )
 
 
-def plan_site(site: Site, options: PlanOptions | None = None, validation: ValidationReport | None = None) -> Plan:
-    """Plan the stations of a site with the chosen method (:data:`planner.plan.methods.REGISTRY`), check
-    registration, and verify the plan.
-
-    ``validation``: the site's :func:`validate_site` report when the caller has it (the command line validates
-    once per run and hands it on); else it is made here.
+def plan_single(problem: Problem) -> Plan:
+    """Plan the stations of a resolved problem as one model, with its method
+    (:data:`planner.plan.methods.REGISTRY`), check registration, and verify the plan. The public entry,
+    which also chooses tiles for a large site, is :func:`planner.engine.plan_site`.
 
     Raises
     ------
     InfeasibleError
         When some wall piece is seen by no candidate of the pool (listed by id and position).
     """
-    argument(site, Site, "site")
-    argument(options, (PlanOptions, type(None)), "options")
-    options = (options or PlanOptions()).for_site(site)
-    argument(validation, (ValidationReport, type(None)), "validation")
-    if validation is None:
-        validation = validate_site(site)
-    elif validation.site is not site:
-        raise UsageError("validation is the report of another site", field="validation", value=validation.site.name)
-    limits = plan_limits(validation, options)
+    argument(problem, Problem, "problem")
+    site, options, validation, limits = problem.site, problem.options, problem.validation, problem.limits
     start = time.perf_counter()
     spaces: dict[str, FrameSpace] = {}
     region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
-    problem = build_problem(site, options, validation, spaces=spaces, region_cache=region_cache)
+    coverage = build_problem(problem, spaces=spaces, region_cache=region_cache)
     log = [
         f"coverage built in {time.perf_counter() - start:.2f} s "
-        f"({len(problem.candidates):,} candidates of the pool, {problem.by_candidate.nnz:,} candidate-target pairs"
+        f"({len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
         f"{', before pricing' if options.method == 'milp' and options.pricing else ''})"
     ]
-    out = REGISTRY[options.method](MethodInput(site, options, validation, limits, problem, spaces, region_cache))
-    result, problem = out.result, out.problem
+    out = REGISTRY[options.method](MethodInput(site, options, validation, limits, coverage, spaces, region_cache))
+    result, coverage = out.result, out.problem
     log += out.log
-    rule = options.checked_rule(site)
+    rule = problem.checked_rule
     registration, partners = registration_check(
-        problem, result.selected, rule, site, options.registration, rule.max_link_m or limits.effective_range_m
+        coverage, result.selected, rule, site, problem.registration, rule.max_link_m or limits.effective_range_m
     )
     if rule.overlap == 0:
         registration, log = {}, [*log, "registration: not required (overlap 0)"]
-    stations, tripods = placed_stations(site, problem, result.selected, options, partners)
-    verification = verify_stations(site, stations, limits, options.verify_spacing_m)
+    stations, tripods = placed_stations(site, coverage, result.selected, options, partners)
+    verification = verify_stations(problem.sight, stations, options.verify_spacing_m)
     # the pool's size (after pricing for the MILP); the closed form solves over its own stations, not counted here
     size = {
         "candidates": len(out.pool.candidates),
-        "targets": len(problem.targets),
+        "targets": len(coverage.targets),
         "pairs": int(out.pool.by_candidate.nnz),
     }
     return Plan(
-        site, options, validation, result, tuple(stations), verification, size, tuple(log), registration, tripods
+        problem=problem,
+        result=result,
+        stations=tuple(stations),
+        verification=verification,
+        problem_size=size,
+        log=tuple(log),
+        registration=registration,
+        tripods=tripods,
     )

@@ -28,15 +28,115 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from planner.plan import PlanOptions
+from planner.checks import count, real
+from planner.errors import UsageError
 from planner.plan.memory_guard import estimate_work
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
 from planner.solve.windows import WindowOptions
-from planner.tiles.options import TileOptions
+
+if TYPE_CHECKING:
+    from planner.plan.options import PlanOptions
+
+#: the time budget of a tiled plan chosen automatically, s (its shares below)
+BUDGET_S = 420.0
+#: the memory limit of each Dask worker unless set
+WORKER_MEMORY = "1.5GiB"
+
+@dataclass(frozen=True)
+class TileOptions:
+    """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
+    ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
+    MILP for the bound (0: LP bound only); ``local_search_moves``: move budget of the local search on the
+    kept plan (:func:`planner.solve.local_search.shrink`; 0: none; a count, not a time, so
+    the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
+    limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
+    long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
+    wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
+    ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
+    ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
+    ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
+    LP-dual split only, 10 s; its cost and gain on the plants: docs/studies/plant.md). ``windows``: the
+    window re-solves after the local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none).
+    ``search_seeds``: the local search runs once per seed ``0 .. search_seeds - 1`` from the same kept plan
+    (as Dask tasks when there is a client) and the smallest result is kept, the lowest seed on ties; the
+    same plan on any number of workers."""
+
+    tile_m: float = 100.0
+    margin_m: float | None = None
+    tile_time_limit_s: float = 30.0
+    bound_time_limit_s: float = 60.0
+    deterministic: bool = True
+    lagrange: bool = True
+    lagrange_group: int = 1
+    lagrange_iterations: int = 0
+    lagrange_work_s: float = 10.0
+    local_search_moves: int = 20_000
+    search_seeds: int = 1
+    windows: WindowOptions = WindowOptions()
+
+    def margin_for(self, max_slant_range_m: float) -> float:
+        """The tiles' margin (m): ``margin_m``, or the slant range where it is not given (the exact margin)."""
+        return max_slant_range_m if self.margin_m is None else self.margin_m
+
+    def __post_init__(self) -> None:
+        if not self.tile_m > 0 or (self.margin_m is not None and self.margin_m < 0):
+            raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=self.tile_m)
+        if not self.tile_time_limit_s > 0 or self.bound_time_limit_s < 0:
+            raise UsageError("tile time limit must be > 0", field="tile_time_limit_s", value=self.tile_time_limit_s)
+        if self.lagrange_group < 1 or self.lagrange_iterations < 0 or not self.lagrange_work_s > 0:
+            raise UsageError(
+                "Lagrangian parts need a group >= 1, iterations >= 0 and work > 0",
+                field="lagrange_group",
+                value=self.lagrange_group,
+            )
+        if self.local_search_moves < 0:
+            raise UsageError(
+                "local search moves must be >= 0", field="local_search_moves", value=self.local_search_moves
+            )
+        if self.search_seeds < 1:
+            raise UsageError("must be >= 1", field="search_seeds", value=self.search_seeds)
+
+
+@dataclass(frozen=True, kw_only=True)
+class StrategyOptions:
+    """How a run searches for its plan: one model or tiles, and where the tiles run.
+
+    ``single``: always one model. ``tiling``: always tiles, with these options. Neither (the default): the
+    strategy :func:`choose` picks for the site, its tile budget ``budget_s`` split as the module says.
+    ``workers``: Dask worker processes for the tiles (0: the machine's choice when chosen automatically, else
+    in this process); ``scheduler``: an existing Dask cluster instead; ``worker_memory``: each worker's limit.
+    """
+
+    single: bool = False
+    tiling: TileOptions | None = None
+    budget_s: float = BUDGET_S
+    workers: int = 0
+    scheduler: str | None = None
+    worker_memory: str = WORKER_MEMORY
+
+    def __post_init__(self) -> None:
+        if self.single and self.tiling is not None:
+            raise UsageError("one model or tiles, not both", field="tiles", value=self.tiling.tile_m)
+        real(self.budget_s, "budget_s", above=0)
+        count(self.workers, "workers", 0)
+
+    @property
+    def runs_tiles_elsewhere(self) -> tuple[str, object] | None:
+        """The first option given that only tiles use (workers, worker memory, scheduler), else None."""
+        for name, value in (
+            ("scheduler", self.scheduler),
+            ("workers", self.workers),
+            ("worker_memory", self.worker_memory != WORKER_MEMORY and self.worker_memory),
+        ):
+            if value:
+                return name, value
+        return None
+
 
 #: a site spanning fewer tiles than this is planned as one model
 MIN_TILES = 4
@@ -92,6 +192,35 @@ def tile_count(site: Site, tile_m: float) -> int:
     xy = np.vstack([z.xy for z in site.zones])
     ext = xy.max(axis=0) - xy.min(axis=0)
     return int(math.ceil(max(float(ext[0]), 1e-9) / tile_m) * math.ceil(max(float(ext[1]), 1e-9) / tile_m))
+
+
+def resolve_strategy(site: Site, options: PlanOptions, validation: ValidationReport) -> Strategy:
+    """The strategy of a run: ``options.strategy`` as given (one model, or tiles of a given size), else the
+    automatic choice (:func:`strategy_for`).
+
+    Raises
+    ------
+    UsageError
+        When tiles are asked for with a method other than the MILP, or Dask workers for one model.
+    """
+    o = options.strategy
+    if o.tiling is not None:
+        if options.method != "milp":
+            raise UsageError("tiles plan with the MILP", field="method", value=options.method)
+        return Strategy(o.tiling, o.workers, f"tiles of {o.tiling.tile_m:g} m asked for")
+    strategy = (
+        Strategy(None, 0, "one model asked for")
+        if o.single
+        else strategy_for(site, options, validation, o.budget_s, workers=o.workers or None)
+    )
+    given = o.runs_tiles_elsewhere
+    if strategy.tiling is None and given is not None:
+        raise UsageError(
+            f"Dask workers and schedulers run tiles, and this plan is one model ({strategy.reason}); ask for tiles",
+            field=given[0],
+            value=given[1],
+        )
+    return strategy
 
 
 def strategy_for(

@@ -18,12 +18,10 @@ import numpy as np
 
 from planner.candidates.final_step import misplacement
 from planner.checks import SAMPLING_M, argument
-from planner.coverage.matrix import build_coverage
+from planner.coverage.sight import Sight
 from planner.coverage.targets import SIDE_NAME, make_targets
-from planner.coverage.visibility import SightLimits
 from planner.errors import InputError
 from planner.site.candidate import Candidate, check_unique_ids, stations_argument
-from planner.site.model import Site
 
 
 @dataclass(frozen=True)
@@ -101,11 +99,11 @@ class VerifyReport:
         return "\n".join(lines)
 
 
-def verify_stations(
-    site: Site, stations: Sequence[Candidate], limits: SightLimits, spacing_m: float = 0.1
-) -> VerifyReport:
-    """Coverage of every wall face by ``stations``, sampled every ``spacing_m``, with gaps and misplaced stations."""
-    argument(site, Site, "site")
+def verify_stations(sight: Sight, stations: Sequence[Candidate], spacing_m: float = 0.1) -> VerifyReport:
+    """Coverage of every wall face of ``sight.site`` by ``stations`` under ``sight.limits``, sampled every
+    ``spacing_m``, with gaps and misplaced stations."""
+    argument(sight, Sight, "sight")
+    site, limits = sight.site, sight.limits
     stations_argument(stations)
     check_unique_ids(stations)
     if not (isinstance(spacing_m, (int, float)) and SAMPLING_M[0] <= spacing_m <= SAMPLING_M[1]):  # as --spacing
@@ -118,7 +116,7 @@ def verify_stations(
     bad = {m for m, _ in misplaced}
     usable = [s for s in stations if s.id not in bad]
     pts = make_targets(site, spacing_m, points=True)
-    cov = build_coverage(site, usable, pts, limits, step="verification")
+    cov = sight.coverage(usable, pts, step="verification")
     seen = np.diff(cov.by_target.indptr) > 0
     rule = limits.precision
     if rule is not None and rule.combined:  # views add information: seen is not enough

@@ -8,9 +8,8 @@ from typing import Any
 
 from planner.checks import argument
 from planner.errors import PlannerError
-from planner.plan import Plan, PlanOptions, plan_site
+from planner.plan import Plan, Problem, StrategyOptions, plan_single, resolve
 from planner.plan.plan_json import plan_to_dict
-from planner.site.model import Site
 
 log = logging.getLogger(__name__)
 
@@ -39,27 +38,22 @@ def method_row(plan: Plan) -> dict[str, Any]:
     return meta_row(plan_to_dict(plan), plan.verification.percent)
 
 
-def compare_methods(site: Site, options: PlanOptions, done: Plan | None = None) -> list[dict[str, Any]]:
-    """Closed form and greedy (cheap: one coverage build each) beside ``done``, the plan already made."""
-    argument(site, Site, "site")
-    argument(options, PlanOptions, "options")
+def compare_methods(done: Plan | Problem) -> list[dict[str, Any]]:
+    """Closed form and greedy (cheap: one coverage build each) beside ``done``, the plan already made (or, given
+    a resolved problem alone, beside nothing), each on the same site, validation and limits."""
+    argument(done, (Plan, Problem), "done")
+    problem = done.problem if isinstance(done, Plan) else done
+    plain = StrategyOptions(single=True)  # the greedy and the closed form run as one model
     rows = []
     for method in ("closed-form", "greedy"):
-        if done is not None and done.result.method == method:
+        if isinstance(done, Plan) and done.result.method == method:
             continue
+        options = replace(problem.options, method=method, tripod=False, recentre=False, strategy=plain)
         try:
-            rows.append(
-                method_row(
-                    plan_site(
-                        site,
-                        replace(options, method=method, tripod=False, recentre=False),
-                        done.validation if done is not None and done.site is site else None,
-                    )
-                )
-            )
+            rows.append(method_row(plan_single(resolve(problem.site, options, validation=problem.validation))))
         except PlannerError as exc:  # e.g. a piece the closed form cannot see: shown, not fatal
             log.info("method %s failed: %s", method, exc)
             rows.append({"method": method, "status": f"failed: {exc.one_line()}"})
-    if done is not None:
+    if isinstance(done, Plan):
         rows.append(method_row(done))
     return rows

@@ -19,14 +19,21 @@ from __future__ import annotations
 import time
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from planner.checks import argument, count, flag, real
-from planner.coverage.overlap import DEFAULT_OVERLAP, OverlapRule, group_ids, overlap_adjacency, planning_rule, rule_of
+from planner.coverage.overlap import (
+    DEFAULT_OVERLAP,
+    SITE_SHARE,
+    OverlapRule,
+    SiteShare,
+    group_ids,
+    overlap_adjacency,
+)
 from planner.errors import UsageError
 from planner.solve.backends import BACKENDS
 from planner.solve.block import BlockSolver, lengths
@@ -56,9 +63,10 @@ class MilpOptions:
     seed: int = 0
     threads: int = 1
     k: int = 1
-    #: the registration rule: an :class:`OverlapRule`, ``None`` (none), or ``"site"`` (default): the site's own
-    #: overlap share (``plan_site`` and the tiles read it; 0 means none; a bare ``solve`` has no site: 0.30)
-    overlap: OverlapRule | None | Literal["site"] = "site"
+    #: the registration rule: an :class:`OverlapRule`, ``None`` (none), or a :class:`SiteShare` (default): the
+    #: site's own overlap share, resolved once per run with the site (0 means none; a bare ``solve`` has no
+    #: site: :data:`DEFAULT_OVERLAP`)
+    overlap: OverlapRule | SiteShare | None = SITE_SHARE
     precision: str = "single"
     greedy_starts: int = 50
     max_rounds: int = 500
@@ -105,8 +113,7 @@ class MilpOptions:
         real(self.time_limit_s, "time_limit_s", above=0)
         for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound"):
             flag(getattr(self, name), name)
-        if self.overlap != "site":
-            argument(self.overlap, (OverlapRule, type(None)), "overlap")
+        argument(self.overlap, (OverlapRule, SiteShare, type(None)), "overlap")
         if self.work_limit is not None:
             real(self.work_limit, "work_limit", above=0)
         if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
@@ -118,14 +125,9 @@ class MilpOptions:
 
     @property
     def rule(self) -> OverlapRule | None:
-        """The registration rule in force: ``"site"`` unresolved (no site at hand) is the default 30 %."""
-        return rule_of(DEFAULT_OVERLAP) if self.overlap == "site" else self.overlap
-
-    def for_site(self, overlap: float) -> MilpOptions:
-        """These options with ``"site"`` resolved to a site's overlap share (0: no rule)."""
-        if self.overlap != "site":
-            return self
-        return replace(self, overlap=planning_rule(overlap))
+        """The registration rule in force: a :class:`SiteShare` unresolved (no site at hand) is taken at the
+        default share."""
+        return self.overlap.rule(DEFAULT_OVERLAP) if isinstance(self.overlap, SiteShare) else self.overlap
 
     def with_work_limit(self, work_s: float, wall_cap: float) -> MilpOptions:
         """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap

@@ -7,21 +7,23 @@ may stand, the registration groups and the overlap rule, made once here for
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
 import scipy.sparse as sp
 
 from planner.coverage.links import registration_groups
-from planner.coverage.matrix import build_coverage, station_places
+from planner.coverage.matrix import station_places
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths, rule_of
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
-from planner.plan import PlanOptions, plan_limits, site_candidates
+from planner.errors import UsageError
+from planner.plan import PlanOptions, site_candidates
+from planner.plan.problem import Problem, resolve
 from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.site.validate import ValidationReport, validate_site
+from planner.site.validate import ValidationReport
 from planner.tiles.layout import TileJob, make_tiles, tile_job, zone_anchors
 from planner.tiles.options import TileOptions, tile_milp
 
@@ -34,8 +36,7 @@ class Prepared:
     reach ``reach_m``, each candidate's group name in ``groups`` with the ``links`` between groups, and the
     overlap ``rule`` (the plan's, else the site's overlap share)."""
 
-    validation: ValidationReport
-    limits: SightLimits
+    problem: Problem
     pool: tuple[Candidate, ...]
     targets: Targets
     xy: np.ndarray
@@ -46,65 +47,79 @@ class Prepared:
     links: Any
     rule: OverlapRule
 
+    @property
+    def validation(self) -> ValidationReport:
+        return self.problem.validation
+
+    @property
+    def limits(self) -> SightLimits:
+        return self.problem.limits
+
     def overlap(self, by_candidate: sp.csr_matrix) -> sp.csr_matrix:
         """The overlap relation (candidate x candidate, symmetric) of a coverage matrix over this pool."""
         lengths = piece_lengths(self.targets.s0_m, self.targets.s1_m)
         adj, _ = overlap_adjacency(by_candidate, lengths, self.rule, self.groups, self.xy, self.links)
         return cast(sp.csr_matrix, adj)
 
-    def coverage(self, site: Site) -> sp.csr_matrix:
+    def coverage(self) -> sp.csr_matrix:
         """The whole site's coverage (candidates x pieces, bool CSR) built in one piece, with the rows of
         candidates that stand nowhere emptied: the matrix the tiles assemble (their columns are the site's,
         test ``test_tiles_columns_are_the_site_matrix``). For studies of it; the planner builds it by tiles."""
-        a = build_coverage(site, list(self.pool), self.targets, self.limits).by_candidate.astype(bool).tocsr()
+        a = self.problem.sight.coverage(list(self.pool), self.targets).by_candidate.astype(bool).tocsr()
         a.data &= np.repeat(self.usable, np.diff(a.indptr))  # a row per candidate: empty where it stands nowhere
         a.eliminate_zeros()
         return a
 
 
-def site_pool(site: Site, options: PlanOptions, validation: ValidationReport) -> tuple[list[Candidate], Targets]:
+def site_pool(problem: Problem) -> tuple[list[Candidate], Targets]:
     """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them
     (:func:`planner.plan.site_candidates`), before the completion of unseen pieces."""
-    limits = plan_limits(validation, options)
-    targets = make_targets(site, options.target_spacing_m)
-    return site_candidates(site, options, validation, targets, limits), targets
+    targets = make_targets(problem.site, problem.options.target_spacing_m)
+    return site_candidates(problem, targets), targets
 
 
-def prepare(
-    site: Site, options: PlanOptions, validation: ValidationReport | None = None, extra: Sequence[Candidate] = ()
-) -> Prepared:
-    """The :class:`Prepared` problem of ``site`` under ``options``; registration ``options.registration``,
-    else ``site`` (tiles: one registration bundle per accessible area by default), links within the overlap
-    rule's ``max_link_m`` or else the sight range. ``extra``: candidates added to the pool (those that the
-    completion of unseen pieces found, :func:`planner.tiles.run.plan_by_tiles`)."""
-    validation = validation or validate_site(site)
-    limits = plan_limits(validation, options)
-    pool, targets = site_pool(site, options, validation)
+def tiles_problem(site: Site | Problem, options: PlanOptions | None = None) -> Problem:
+    """``site`` itself when it is a resolved problem, else ``site`` resolved for tiles under ``options``
+    (default: the MILP), registration ``options.registration`` or else ``site`` (one registration bundle per
+    accessible area: tiles are squares of one frame)."""
+    if isinstance(site, Problem):
+        if options is not None:
+            raise UsageError("a resolved problem carries its options", field="options")
+        return site
+    options = options or PlanOptions(method="milp")
+    return resolve(site, replace(options, registration=options.registration or "site"))
+
+
+def prepare(problem: Problem | Site, options: PlanOptions | None = None, extra: Sequence[Candidate] = ()) -> Prepared:
+    """The :class:`Prepared` problem of a resolved run (or of a site, :func:`tiles_problem`): its registration scope, links within the overlap rule's
+    ``max_link_m`` or else the sight range. ``extra``: candidates added to the pool (those that the completion of
+    unseen pieces found, :func:`planner.tiles.run.plan_by_tiles`)."""
+    problem = tiles_problem(problem, options)
+    site, limits = problem.site, problem.limits
+    pool, targets = site_pool(problem)
     pool = pool + list(extra)
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
     usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason], dtype=bool)
-    mode = options.registration or "site"
-    reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
+    mode = problem.registration
+    reach = (problem.rule.max_link_m if problem.rule else None) or limits.effective_range_m
     labels, links = registration_groups(site, pool, mode, reach)
     groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
-    rule = options.milp.rule or rule_of(site.parameters.overlap)
-    return Prepared(validation, limits, tuple(pool), targets, xy, usable, mode, float(reach), groups, links, rule)
+    rule = problem.rule or rule_of(site.parameters.overlap)
+    return Prepared(problem, tuple(pool), targets, xy, usable, mode, float(reach), groups, links, rule)
 
 
-def tile_work(
-    site: Site, options: PlanOptions, tiling: TileOptions, prep: Prepared
-) -> tuple[list[TileJob], dict[str, Any]]:
+def tile_work(tiling: TileOptions, prep: Prepared) -> tuple[list[TileJob], dict[str, Any]]:
     """The tiles' jobs (one per tile of ``tiling.tile_m``, with a margin of ``tiling.margin_m`` or the slant
     range) and the values every tile task shares: what :func:`planner.tiles.run.plan_by_tiles` hands to its
     engine, and ``scripts/bench/bench_workers.py`` to each worker count."""
+    site, options = prep.problem.site, prep.problem.options
     margin = tiling.margin_for(prep.limits.max_slant_range_m)
     anchor = zone_anchors(site, prep.targets)
     jobs = [tile_job(t, anchor, prep.targets, prep.xy, prep.usable) for t in make_tiles(anchor, tiling.tile_m, margin)]
     shared = {
-        "site": site,
+        "sight": prep.problem.sight,
         "candidates": prep.pool,
         "targets": prep.targets,
-        "limits": prep.limits,
         "groups": prep.groups,
         "milp": tile_milp(options, tiling),
     }

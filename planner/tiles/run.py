@@ -35,16 +35,16 @@ from planner.coverage.overlap import OverlapRule
 from planner.coverage.regions import regions_apply
 from planner.errors import UsageError
 from planner.plan import Plan, PlanOptions, unseen_error
+from planner.plan.problem import Problem
 from planner.plan.verify import verify_stations
 from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.site.validate import ValidationReport
 from planner.solve.milp import WALL_CAP
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
 from planner.tiles.lagrange import group_parts
 from planner.tiles.options import TileOptions, deterministic_limits, limits_line
-from planner.tiles.prepare import prepare, tile_work
+from planner.tiles.prepare import prepare, tile_work, tiles_problem
 from planner.tiles.search import best_plan, window_resolves
 from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
 from planner.tiles.tasks import TileResult, tile_task
@@ -71,15 +71,15 @@ def _assemble(
 
 
 def plan_by_tiles(
-    site: Site,
+    site: Site | Problem,
     options: PlanOptions | None = None,
     tiling: TileOptions | None = None,
     client: Any = None,
     extra: tuple[Candidate, ...] = (),
-    validation: ValidationReport | None = None,
 ) -> Plan:
-    """Plan ``site`` by tiles with the MILP options of ``options`` (module docstring); on ``client``
-    (a ``dask.distributed.Client``) when given, else in this process. Same seed, same plan either way.
+    """Plan a resolved problem (or a site, :func:`planner.tiles.prepare.tiles_problem`) by tiles with the MILP
+    options of its options (module docstring); on ``client`` (a ``dask.distributed.Client``) when given, else
+    in this process. Same seed, same plan either way.
 
     Raises
     ------
@@ -90,14 +90,15 @@ def plan_by_tiles(
         the pool sees gets one from its region (:func:`planner.candidates.complete.complete_candidates`), and
         the tiles run once more with those candidates added (``extra``).
     """
-    options = (options or PlanOptions(method="milp")).for_site(site)
+    resolved = tiles_problem(site, options)
+    site, options = resolved.site, resolved.options
     tiling = tiling or TileOptions()
     if len({z.frame for z in site.zones}) != 1:
         raise UsageError("tiles need every zone in one coordinate frame", field="tiles")
     start = time.perf_counter()
-    prep = prepare(site, options, validation, extra=extra)
+    prep = prepare(resolved, extra=extra)
     limits, pool, targets, groups = prep.limits, prep.pool, prep.targets, prep.groups
-    jobs, shared = tile_work(site, options, tiling, prep)
+    jobs, shared = tile_work(tiling, prep)
     t_pool = time.perf_counter() - start
     results = run_tasks(tile_task, jobs, shared, client, describe=_tile_line(len(jobs)))
     t_tiles = time.perf_counter() - start - t_pool
@@ -115,11 +116,11 @@ def plan_by_tiles(
     unseen = problem.uncoverable()
     if unseen.size:
         done, reasons = (
-            complete_candidates(site, problem, limits) if options.regions and regions_apply(limits) else (problem, {})
+            complete_candidates(resolved.sight, problem) if options.regions and regions_apply(limits) else (problem, {})
         )
         found = tuple(done.candidates[len(pool) :])
         if found and not extra:  # the tiles again, with a candidate from the region of every unseen piece
-            return plan_by_tiles(site, options, tiling, client, found, prep.validation)
+            return plan_by_tiles(resolved, None, tiling, client, found)
         err = unseen_error(done, done.uncoverable(), reasons)
         raise err.located(site.source) if site.source else err
     adj = prep.overlap(by_cand)
@@ -149,9 +150,7 @@ def plan_by_tiles(
     joined, windows = window_resolves(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
     progress.note(_standing("window re-solves", joined, bound.value))
     return _finish(
-        site,
-        options,
-        prep.validation,
+        resolved,
         problem,
         results,
         joined,
@@ -197,9 +196,7 @@ def _standing(phase: str, plan: Stitched, bound: int | None) -> str:
 
 
 def _finish(
-    site: Site,
-    options: PlanOptions,
-    validation: ValidationReport,
+    resolved: Problem,
     problem: CoverageProblem,
     results: list[TileResult],
     joined: Stitched,
@@ -214,6 +211,7 @@ def _finish(
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
     from planner.plan import placed_stations, registration_check
 
+    site, options = resolved.site, resolved.options
     n = len(joined.selected)
     value = bound.value
     status = Status.OPTIMAL if n == value and all(p <= 1 for p in joined.parts.values()) else Status.FEASIBLE
@@ -281,7 +279,7 @@ def _finish(
     )
     parts, partners = registration_check(problem, joined.selected, rule, site, *registration)
     stations, tripods = placed_stations(site, problem, joined.selected, options, partners)
-    verification = verify_stations(site, stations, problem.limits, options.verify_spacing_m)
+    verification = verify_stations(resolved.sight, stations, options.verify_spacing_m)
     size = {
         "candidates": len(problem.candidates),
         "targets": len(problem.targets),
@@ -320,4 +318,13 @@ def _finish(
         + (f", Lagrangian over {len(bound.lagrange.per_tile)} parts {bound.lagrange.raw:.2f}" if bound.lagrange else "")
         + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}",
     )
-    return Plan(site, options, validation, result, tuple(stations), verification, size, log, parts, tripods)
+    return Plan(
+        problem=resolved,
+        result=result,
+        stations=tuple(stations),
+        verification=verification,
+        problem_size=size,
+        log=log,
+        registration=parts,
+        tripods=tripods,
+    )

@@ -13,11 +13,9 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.coverage.matrix import build_coverage
+from planner.coverage.sight import Sight
 from planner.coverage.targets import Targets
-from planner.coverage.visibility import SightLimits
 from planner.site.candidate import Candidate
-from planner.site.model import Site
 from planner.solve.instance import cover_instance
 from planner.solve.local_search import Shrunk, shrink
 from planner.solve.milp import MilpOptions, solve
@@ -54,10 +52,9 @@ class TileResult:
 
 
 def tile_task(
-    site: Site,
+    sight: Sight,
     candidates: Sequence[Candidate],
     targets: Targets,
-    limits: SightLimits,
     groups: Sequence[str],
     job: TileJob,
     milp: MilpOptions,
@@ -69,7 +66,7 @@ def tile_task(
     """
     t0 = time.perf_counter()
     cands = [candidates[i] for i in job.candidates]
-    problem = build_coverage(site, cands, take_targets(targets, job.targets), limits)
+    problem = sight.coverage(cands, take_targets(targets, job.targets))
     coo = problem.by_candidate.tocoo()
     rows, cols = job.candidates[coo.row], job.targets[coo.col]
     slant = problem.slant_m.tocoo().data

@@ -1,0 +1,89 @@
+"""The engine: :func:`plan_site`, what ``planner plan`` runs, for a site, its file, or a resolved problem.
+
+reader (:func:`planner.site.load_site`) -> resolved problem (:func:`planner.plan.problem.resolve`) -> the
+strategy it names (one model, :func:`planner.plan.run.plan_single`; or tiles, on Dask where it says,
+:func:`planner.tiles.plan_by_tiles`) -> a verified :class:`~planner.plan.result.Plan`, with the strategy and the
+gap to the best plan known for the site in its log and its result's info. The command line parses, calls this
+and prints: the library and the command give the same plan.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import replace
+
+from planner.errors import UsageError
+from planner.plan.best_known import best_known
+from planner.plan.options import PlanOptions
+from planner.plan.problem import Problem, resolve
+from planner.plan.result import Plan
+from planner.plan.run import plan_single
+from planner.site import load_site
+from planner.site.model import Site
+
+
+def problem_of(site: Site | str | os.PathLike[str] | Problem, options: PlanOptions | None = None) -> Problem:
+    """``site`` resolved under ``options``: read first when it is a path; a resolved problem as it is (then
+    ``options`` must be None: the problem carries its own)."""
+    if isinstance(site, Problem):
+        if options is not None:
+            raise UsageError("a resolved problem carries its options; give one or the other", field="options")
+        return site
+    if isinstance(site, (str, os.PathLike)):
+        site = load_site(site)
+    return resolve(site, options)
+
+
+def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOptions | None = None) -> Plan:
+    """Plan a site as ``planner plan`` does: the problem resolved once (:func:`problem_of`), planned by the
+    strategy it names, verified, with the strategy and the best-known gap added.
+
+    Examples
+    --------
+    >>> import planner
+    >>> plan = planner.plan_site("instances/polygon_b.json")            # doctest: +SKIP
+    >>> problem = planner.resolve(planner.load_site("instances/plant_16ha.json"))  # doctest: +SKIP
+    >>> problem.strategy.tiles                                          # doctest: +SKIP
+    True
+
+    Raises
+    ------
+    InfeasibleError
+        When some wall piece is seen from no position.
+    UsageError
+        When the options contradict each other or the site (e.g. Dask workers for one model).
+    """
+    problem = problem_of(site, options)
+    strategy = problem.strategy
+    if strategy.tiling is None:
+        plan = plan_single(problem)
+    else:
+        from planner.tiles import dask_client, plan_by_tiles
+
+        o = problem.options.strategy
+        if not strategy.workers and not o.scheduler:
+            plan = plan_by_tiles(problem, tiling=strategy.tiling)
+        else:
+            with dask_client(strategy.workers, o.scheduler, o.worker_memory) as client:
+                plan = plan_by_tiles(problem, tiling=strategy.tiling, client=client)
+    return with_strategy(plan)
+
+
+def with_strategy(plan: Plan) -> Plan:
+    """The plan with its problem's strategy in its log (summary) and in its result's info (plan.json), and the
+    gap to the best plan known for the site (:mod:`planner.plan.best_known`) where the file lists one."""
+    problem = plan.problem
+    info = {**plan.result.info, "strategy": problem.strategy.to_dict()}
+    log = [*plan.log, problem.strategy.line()]
+    share = problem.checked_rule.overlap if problem.rule else 0.0
+    known = best_known(plan.site.name, problem.registration, share)
+    if known is not None:
+        n = len(plan.stations)
+        info["best_known"] = {
+            "stations": known.stations,
+            "problem": known.problem,
+            "command": known.command,
+            "gap": (n - known.stations) / max(n, 1),
+        }
+        log.append(known.line(n))
+    return replace(plan, result=replace(plan.result, info=info), log=tuple(log))

@@ -1,0 +1,129 @@
+"""The resolved problem of a run (:class:`Problem`, made by :func:`resolve`): the site validated once, the one
+sight (limits), the one registration rule and scope, and the strategy. Every later stage takes it, or the
+:class:`~planner.plan.result.Plan` that carries it, and none re-derives what it holds."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any
+
+from planner.checks import argument
+from planner.coverage.links import default_registration
+from planner.coverage.overlap import OverlapRule, SiteShare, rule_of
+from planner.coverage.sight import Sight
+from planner.coverage.visibility import SightLimits
+from planner.errors import UsageError
+from planner.plan.options import PlanOptions, plan_limits
+from planner.plan.strategy import Strategy, resolve_strategy
+from planner.site.model import Site
+from planner.site.validate import ValidationReport, validate_site
+
+
+@dataclass(frozen=True, kw_only=True)
+class Problem:
+    """What a run plans, resolved once.
+
+    ``options``: as given, with the registration rule and scope filled in (``options.milp.overlap`` is
+    ``rule``, ``options.registration`` is ``registration``). ``sight``: the site and its sight limits, which
+    build every coverage matrix of the run. ``rule``: the registration rule the plan must meet (None: none, the
+    one place that decides "off": overlap share 0 or no rule asked for); ``checked_rule``: the rule its
+    registration is checked and reported on (the planning rule, else the site's share). ``registration``:
+    ``zone`` (one bundle per zone-side) or ``site`` (across the accessible areas), ``registration_reason``
+    why. ``strategy``: one model or tiles, with the reason.
+    """
+
+    site: Site
+    validation: ValidationReport
+    options: PlanOptions
+    sight: Sight
+    rule: OverlapRule | None
+    checked_rule: OverlapRule
+    registration: str
+    registration_reason: str
+    strategy: Strategy
+
+    @property
+    def limits(self) -> SightLimits:
+        return self.sight.limits
+
+    def summary(self) -> str:
+        """The resolved choices, a line each: what every number of the run was computed under."""
+        lim = self.limits
+        rule = self.rule
+        rule_text = (
+            f"overlap {rule.overlap:.0%}"
+            + (f", at least {rule.min_shared_m:g} m shared" if rule.min_shared_m else "")
+            + (f", links up to {rule.max_link_m:g} m" if rule.max_link_m else "")
+            if rule
+            else "none"
+        )
+        return "\n".join(
+            [
+                f"site {self.site.name}: {len(self.site.zones)} zone(s), instrument {self.validation.scanner.name}",
+                f"limits: S_max {lim.max_slant_range_m:g} m, theta_max {lim.theta_max_deg:g} deg, incidence "
+                f"{'3-D' if lim.incidence_3d else 'horizontal'}, precision "
+                f"{'off' if lim.precision is None else ('combined' if lim.precision.combined else 'single view')}",
+                f"registration rule: {rule_text}; scope {self.registration} ({self.registration_reason})",
+                self.strategy.line(),
+            ]
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        lim = self.limits
+        return {
+            "max_slant_range_m": lim.max_slant_range_m,
+            "theta_max_deg": lim.theta_max_deg,
+            "incidence_3d": lim.incidence_3d,
+            "rule": None
+            if self.rule is None
+            else {"overlap": self.rule.overlap, "min_shared_m": self.rule.min_shared_m, "max_link_m": self.rule.max_link_m},
+            "registration": self.registration,
+            "registration_reason": self.registration_reason,
+            "strategy": self.strategy.to_dict(),
+        }
+
+
+def resolve(site: Site, options: PlanOptions | None = None, *, validation: ValidationReport | None = None) -> Problem:
+    """Resolve a run once: validate ``site`` (unless its report is given), take its sight limits, its
+    registration rule and scope, and the strategy (:func:`planner.plan.strategy.resolve_strategy`).
+
+    Raises
+    ------
+    ClosureError, InputError
+        From the validation of the site.
+    UsageError
+        When ``validation`` is another site's report, or the options ask for what the site cannot give.
+    """
+    argument(site, Site, "site")
+    argument(options, (PlanOptions, type(None)), "options")
+    argument(validation, (ValidationReport, type(None)), "validation")
+    options = options or PlanOptions()
+    if validation is None:
+        validation = validate_site(site)
+    elif validation.site is not site:
+        raise UsageError("validation is the report of another site", field="validation", value=validation.site.name)
+    share = site.parameters.overlap
+    asked = options.milp.overlap
+    rule = asked.rule(share) if isinstance(asked, SiteShare) else asked
+    checked = rule if options.method != "closed-form" and rule else rule_of(share)
+    if options.registration is not None:
+        registration, reason = options.registration, "asked for"
+    else:
+        registration = default_registration(site)
+        reason = (
+            "zones placed in one site frame, or openings given"
+            if registration == "site"
+            else "zones in their own frames, no openings: one bundle per zone-side"
+        )
+    resolved = replace(options, milp=replace(options.milp, overlap=rule), registration=registration)
+    return Problem(
+        site=site,
+        validation=validation,
+        options=resolved,
+        sight=Sight(site=site, limits=plan_limits(validation, resolved), scanner=validation.scanner),
+        rule=rule,
+        checked_rule=checked,
+        registration=registration,
+        registration_reason=reason,
+        strategy=resolve_strategy(site, resolved, validation),
+    )
