@@ -43,6 +43,8 @@ MAKE = {
     "NetworkReport": "planner.run_network(site, plan.stations) makes one",
     "CoverInstance": "planner.cover_instance(problem) makes one",
     "OverlapRule": "e.g. planner.OverlapRule(0.3)",
+    "Problem": "planner.resolve(site, options) makes one",
+    "Sight": "planner.resolve(site, options).sight, or planner.Sight.of_site(site)",
 }
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 from dataclasses import replace
 
+from planner.checks import argument
 from planner.errors import UsageError
 from planner.plan.best_known import best_known
 from planner.plan.options import PlanOptions
@@ -25,6 +26,7 @@ from planner.site.model import Site
 def problem_of(site: Site | str | os.PathLike[str] | Problem, options: PlanOptions | None = None) -> Problem:
     """``site`` resolved under ``options``: read first when it is a path; a resolved problem as it is (then
     ``options`` must be None: the problem carries its own)."""
+    argument(site, (Site, str, os.PathLike, Problem), "site")
     if isinstance(site, Problem):
         if options is not None:
             raise UsageError("a resolved problem carries its options; give one or the other", field="options")

@@ -144,7 +144,7 @@ def greedy_b():
     "call, field, words",
     [
         # a path where a Site goes, a method name where options go, a Plan where an Outcome or stations go ...
-        (lambda site, plan: planner.plan_site(str(INSTANCES / "polygon_b.json")), "site", "load_site(path) reads one"),
+        (lambda site, plan: planner.plan_site(5), "site", "load_site(path) reads one"),
         (lambda site, plan: planner.plan_site(site, "milp"), "options", "PlanOptions(method='milp')"),
         (lambda site, plan: planner.validate_site(plan), "site", "not a Plan"),
         (lambda site, plan: planner.build_problem(site, planner.MilpOptions()), "options", "not a MilpOptions"),

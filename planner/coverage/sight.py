@@ -29,7 +29,9 @@ class Sight:
     scanner: Scanner
 
     @classmethod
-    def of_site(cls, site: Site, *, incidence_3d: bool = False, precision: bool = True, combined: bool = False) -> Sight:
+    def of_site(
+        cls, site: Site, *, incidence_3d: bool = False, precision: bool = True, combined: bool = False
+    ) -> Sight:
         """The sight of ``site`` validated alone, under its own parameters: for checking stations (network,
         registration, field sheet) without a planning run; a run passes its problem's sight instead."""
         validation = validate_site(site)

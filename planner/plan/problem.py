@@ -76,7 +76,11 @@ class Problem:
             "incidence_3d": lim.incidence_3d,
             "rule": None
             if self.rule is None
-            else {"overlap": self.rule.overlap, "min_shared_m": self.rule.min_shared_m, "max_link_m": self.rule.max_link_m},
+            else {
+                "overlap": self.rule.overlap,
+                "min_shared_m": self.rule.min_shared_m,
+                "max_link_m": self.rule.max_link_m,
+            },
             "registration": self.registration,
             "registration_reason": self.registration_reason,
             "strategy": self.strategy.to_dict(),

@@ -47,6 +47,7 @@ BUDGET_S = 420.0
 #: the memory limit of each Dask worker unless set
 WORKER_MEMORY = "1.5GiB"
 
+
 @dataclass(frozen=True)
 class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);

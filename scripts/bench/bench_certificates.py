@@ -12,7 +12,7 @@ corridor at theta_max 68 deg, an 8 x 4 m room at 45 deg without precision; both 
     python scripts/bench/bench_certificates.py [--out docs/benchmarks/certificates.md]
     python scripts/bench/bench_certificates.py --sites baalbek,polygon_a --refine-steps 20
 
-``--sites`` keeps the named rows only; ``--refine-steps N`` adds ``--plane-refine-steps N`` to the default run
+``--sites`` keeps the named rows only; ``--refine-steps N`` adds ``--set plane-refine-steps=N`` to the default run
 (the connected cover over refined patches, docs/plane.md), the row named with it.
 """
 
@@ -43,7 +43,11 @@ BUNDLED = [
 ]
 SMALL = {
     "corridor_200x8": ({"theta_max_deg": 68, "overlap": 0}, [[0, 0], [200, 0], [200, 8], [0, 8]], []),
-    "room_8x4_45deg": ({"theta_max_deg": 45, "overlap": 0}, [[0, 0], [8, 0], [8, 4], [0, 4]], ["--no-precision"]),
+    "room_8x4_45deg": (
+        {"theta_max_deg": 45, "overlap": 0},
+        [[0, 0], [8, 0], [8, 4], [0, 4]],
+        ["--set", "no-precision"],
+    ),
 }
 
 
@@ -66,14 +70,14 @@ def run(args: list[str]) -> tuple[float, float, str]:
 
 def row(name: str, site: Path, extra: list[str], tmp: Path, refine: int = 0) -> str:
     out = tmp / name
-    more = ["--plane-refine-steps", str(refine)] if refine else []
+    more = ["--set", f"plane-refine-steps={refine}"] if refine else []
     wall, rss, _ = run(["plan", str(site), "--out", str(out), *extra, *more])
     g_wall, g_rss, _ = run(["plan", str(site), "--method", "greedy", "--out", str(tmp / f"{name}-greedy"), *extra])
     plan = json.loads((out / "plan.json").read_text())
     greedy = json.loads((tmp / f"{name}-greedy" / "plan.json").read_text())
     conn = "yes" if plan["registration"]["connected"] else "no"
     return (
-        f"| {name}{f' (--plane-refine-steps {refine})' if refine else ''} | {plan['counts']['total']} | {plan['status']} | {conn} | {plan['pool_bound']:g} | "
+        f"| {name}{f' (--set plane-refine-steps={refine})' if refine else ''} | {plan['counts']['total']} | {plan['status']} | {conn} | {plan['pool_bound']:g} | "
         f"{plan['plane_bound']} | {_dash(plan.get('connected_plane_bound'))} | {plan['bound_scope']} | {plan['problem']['candidates']:,} | {wall:.1f} | {rss:.2f} | "
         f"{greedy['counts']['total']} | {g_wall:.1f} | {g_rss:.2f} | {wall / g_wall:.1f} |"
     )
@@ -87,7 +91,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out")
     ap.add_argument("--sites", help="comma-separated site names (default: all)")
-    ap.add_argument("--refine-steps", type=int, default=0, help="--plane-refine-steps for the default run")
+    ap.add_argument("--refine-steps", type=int, default=0, help="plane-refine-steps for the default run")
     a = ap.parse_args()
     lines = [
         (

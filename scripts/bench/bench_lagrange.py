@@ -54,7 +54,7 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     prep = prepare(site, PlanOptions(method="milp", pricing=False))
-    a, targets, limits = prep.coverage(site), prep.targets, prep.limits
+    a, targets, limits = prep.coverage(), prep.targets, prep.limits
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, 100.0, limits.max_slant_range_m)
     parts = group_parts([(t.row, t.col) for t in tiles], [np.flatnonzero(t.in_core(anchor)) for t in tiles], group)

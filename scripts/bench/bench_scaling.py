@@ -2,7 +2,7 @@
 
 Each area is the command a user types, ``planner plan instances/plant_Nha.json --out DIR``, as its own process
 under ``/usr/bin/time -v`` (:func:`_timed.timed_plan`). Where the plain command's strategy for the site is tiles
-(:func:`planner.tiles.auto.strategy_for`), ``--workers N --worker-memory M`` are added, so that the tiles run on
+(:func:`planner.plan.strategy.strategy_for`), ``--workers N --set worker-memory=M`` are added, so that the tiles run on
 Dask with a bounded memory per worker; a site the strategy plans as one model gets no Dask flag (the command
 refuses them there). Per row: the strategy, candidates, pieces and pairs, stations (connected), the bound over the
 pool and its derivation, the gap, the verified share, wall and CPU seconds, the peak RSS of the largest process
@@ -42,16 +42,16 @@ def plant(area: float) -> Path:
 
 
 def dask_flags(site_path: Path, workers: int, memory: str) -> list[str]:
-    """``--workers`` and ``--worker-memory`` where the plain command's strategy for the site is tiles, else none."""
+    """``--workers`` and the worker-memory key where the plain command's strategy for the site is tiles, else none."""
     from planner.cli.tiles import BUDGET_S
     from planner.plan import PlanOptions
+    from planner.plan.strategy import strategy_for
     from planner.site.load import load_site
     from planner.site.validate import validate_site
-    from planner.tiles.auto import strategy_for
 
     site = load_site(site_path)
     strategy = strategy_for(site, PlanOptions(method="milp"), validate_site(site), BUDGET_S, workers=workers)
-    return ["--workers", str(workers), "--worker-memory", memory] if strategy.tiles and workers else []
+    return ["--workers", str(workers), "--set", f"worker-memory={memory}"] if strategy.tiles and workers else []
 
 
 def run(area: float, workers: int, memory: str, out: Path, limit_s: int) -> dict[str, Any]:

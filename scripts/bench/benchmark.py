@@ -23,7 +23,8 @@ from pathlib import Path
 
 import planner
 from planner.coverage.overlap import OverlapRule
-from planner.plan import PlanOptions, plan_site
+from planner.engine import plan_site
+from planner.plan import PlanOptions
 from planner.site import load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import MilpOptions

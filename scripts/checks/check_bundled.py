@@ -22,7 +22,11 @@ EXPECTED = ROOT / "tests/expected/bundled_plans.json"
 #: the two small sites of issue 31, written as instances here: (parameters, outline, extra flags)
 SMALL = {
     "corridor_200x8": ({"theta_max_deg": 68, "overlap": 0}, [[0, 0], [200, 0], [200, 8], [0, 8]], []),
-    "room_8x4_45deg": ({"theta_max_deg": 45, "overlap": 0}, [[0, 0], [8, 0], [8, 4], [0, 4]], ["--no-precision"]),
+    "room_8x4_45deg": (
+        {"theta_max_deg": 45, "overlap": 0},
+        [[0, 0], [8, 0], [8, 4], [0, 4]],
+        ["--set", "no-precision"],
+    ),
 }
 
 

@@ -17,7 +17,8 @@ from pathlib import Path
 from planner.candidates.closed_form import Limits, circle_radii, plan_zone_side
 from planner.candidates.formulas import horizontal_reach_m
 from planner.candidates.reproduce import ROUNDING, compare_table, generated_counts
-from planner.plan import PlanOptions, plan_site
+from planner.engine import plan_site
+from planner.plan import PlanOptions
 from planner.site import load_site
 
 ROOT = Path(__file__).resolve().parents[2]

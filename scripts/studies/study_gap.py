@@ -55,7 +55,7 @@ def site_matrices(area: float) -> tuple[Any, Any, tuple[str, ...], Any]:
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     prep = prepare(site, PlanOptions(method="milp", pricing=False))
-    a = prep.coverage(site)
+    a = prep.coverage()
     adj, groups, targets = prep.overlap(a), prep.groups, prep.targets
     mid = (np.asarray(targets.a) + np.asarray(targets.b)) / 2.0
     return a, adj, groups, mid

@@ -17,8 +17,9 @@ import numpy as np
 import pytest
 
 from planner.candidates.axis import maximal_cells, medial_axis
+from planner.engine import plan_site
 from planner.errors import InfeasibleError
-from planner.plan import PlanOptions, build_problem, plan_site
+from planner.plan import PlanOptions, build_problem
 from planner.site.model import Obstacle, ScanSide, Site, Zone
 from planner.site.params import Parameters
 from planner.solve.milp import MilpOptions

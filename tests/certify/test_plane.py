@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from planner.plan import PlanOptions, plan_site
+from planner.engine import plan_site
+from planner.plan import PlanOptions
 from planner.site.load import load_site
 from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters

@@ -32,8 +32,9 @@ from planner.coverage.arrangement import heaviest_points
 from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions
 from planner.coverage.targets import Targets, make_targets
+from planner.engine import plan_site
 from planner.errors import InfeasibleError
-from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
+from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
 from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters
 from planner.site.validate import validate_site
@@ -59,7 +60,7 @@ CORRIDOR_M = float(os.environ.get("PLANNER_PROPERTY_CORRIDOR_M", "60"))
 @given(site=rooms(), precision=st.booleans())
 def test_a_no_piece_refused_that_a_position_sees(site: Site, precision: bool) -> None:
     options = PlanOptions(method="milp", precision=precision, milp=MilpOptions(overlap=None))
-    problem, unseen, reasons = coverage_problem(site, options)
+    problem, unseen, reasons = coverage_problem(resolve(site, options))
     if unseen.size == 0:
         return
     assert set(map(int, unseen)) <= set(reasons), "every refused piece has a reason"
@@ -72,7 +73,7 @@ def test_a_no_piece_refused_that_a_position_sees(site: Site, precision: bool) ->
 @given(site=rooms(max_size_m=12.0), seed=st.integers(0, 2**31 - 1))
 def test_b_no_sampled_position_beats_the_plane_bound(site: Site, seed: int) -> None:
     options = PlanOptions(method="milp", precision=False, milp=MilpOptions(overlap=None))
-    problem, unseen, _ = coverage_problem(site, options)
+    problem, unseen, _ = coverage_problem(resolve(site, options))
     if unseen.size:
         return
     limits = problem.limits

@@ -21,7 +21,8 @@ from planner.certify import plane_refine
 from planner.certify.plane_patches import patch_sides
 from planner.certify.plane_refine import _Levels, distinct_rows, relaxed_links, split
 from planner.coverage.regions import coverage_regions, outer_tolerance_m, region_tolerance_m
-from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
+from planner.engine import plan_site
+from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
 from planner.site.validate import validate_site
 from planner.solve.milp import MilpOptions
 from tests.certify.test_plane_properties import SCALE
@@ -29,7 +30,7 @@ from tests.certify.test_plane_ring import QUICK, block_site, bound_against_grid
 
 
 def _levels(site, options) -> tuple[_Levels, np.ndarray]:
-    problem, _unseen, _ = coverage_problem(site, options)
+    problem, _unseen, _ = coverage_problem(resolve(site, options))
     limits = plan_limits(validate_site(site), options)
     t = problem.targets
     outer = coverage_regions(site, t, limits, None, {}, outer=True)

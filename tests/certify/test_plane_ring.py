@@ -23,7 +23,8 @@ from planner.certify.plane_patches import undominated
 from planner.certify.plane_ring import connected_plane_bound
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
-from planner.plan import PlanOptions, coverage_problem, plan_limits, plan_site
+from planner.engine import plan_site
+from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
 from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters
 from planner.site.validate import validate_site
@@ -180,7 +181,7 @@ def bound_against_grid(site: Site, share: float, **kwargs: int) -> tuple[Connect
     optimum, _ = connected_optimum(site, options, share)
     if not math.isfinite(optimum):
         return None
-    problem, _unseen, _ = coverage_problem(site, options)
+    problem, _unseen, _ = coverage_problem(resolve(site, options))
     limits = plan_limits(validate_site(site), options)
     t = problem.targets
     counts = {int(k): int(optimum) + 1 for k in np.unique(t.zone.astype(np.int64) * 2 + t.side)}

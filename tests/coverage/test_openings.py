@@ -15,7 +15,8 @@ from planner.coverage.matrix import blockers_for
 from planner.coverage.openings import accessible_areas, space_of, wall_gaps
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_clear
-from planner.plan import PlanOptions, plan_site
+from planner.engine import plan_site
+from planner.plan import PlanOptions
 from planner.site import ScanSide
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.load import load_site

@@ -9,13 +9,14 @@ import pytest
 import shapely
 
 from planner.coverage.matrix import station_places
+from planner.coverage.sight import Sight
+from planner.engine import plan_site
 from planner.network.check import run_network
-from planner.plan import PlanOptions, plan_site, sight_limits
+from planner.plan import PlanOptions
 from planner.plan.verify import verify_stations
 from planner.site import ScanSide, load_site
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import SITE_FRAME, Site, Zone
-from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 
 
@@ -39,7 +40,7 @@ def test_station_places_refuses_a_point_inside_the_standoff_with_the_reason():
 def test_verify_flags_a_station_2_cm_from_a_wall():
     site = _room(0.4)
     near = Candidate("S1", "R", ScanSide.INSIDE, SITE_FRAME, 10.0, 0.02, CandidateKind.GRID)
-    report = verify_stations(site, [near], sight_limits(validate_site(site), False, True), 0.5)
+    report = verify_stations(Sight.of_site(site), [near], 0.5)
     assert report.misplaced == (("S1", "0.020 m from a wall of zone R (stand-off 0.4 m)"),)
     assert not report.complete
 

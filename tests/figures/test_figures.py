@@ -29,8 +29,9 @@ def square_outcome(stations: list[Candidate]) -> Outcome:
     site = planner.Site("square", (zone,), planner.Parameters(max_slant_range_m=30.0))
     v = planner.validate_site(site)
     limits = sight_limits(v, False, True)
-    cov = planner.station_coverage(site, stations, limits, v.scanner, site.parameters.budget)
-    ver = planner.verify_stations(site, stations, limits)
+    sight = planner.Sight(site=site, limits=limits, scanner=v.scanner)
+    cov = planner.station_coverage(sight, stations)
+    ver = planner.verify_stations(sight, stations)
     return Outcome(site, v, limits, tuple(stations), cov, ver, {s.id: 0.5 for s in stations}, {"method": "hand"})
 
 

@@ -11,10 +11,12 @@ from planner.candidates.pool import PoolOptions
 from planner.cli import main
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
+from planner.coverage.visibility import sight_limits
+from planner.engine import plan_site
 from planner.network.chain import TIE_RANGE_M, control_count
 from planner.network.check import run_network
 from planner.network.survey import registration_links, survey_network
-from planner.plan import PlanOptions, plan_site, sight_limits
+from planner.plan import PlanOptions
 from planner.site import ScanSide
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.load import load_site

@@ -8,9 +8,12 @@ from dataclasses import replace
 import pytest
 
 from planner.coverage.matrix import build_coverage
+from planner.coverage.sight import Sight
 from planner.coverage.targets import make_targets
+from planner.coverage.visibility import sight_limits
+from planner.engine import plan_site
 from planner.network.check import accuracy_check, run_network
-from planner.plan import PlanOptions, plan_site, sight_limits
+from planner.plan import PlanOptions
 from planner.plan.verify import verify_stations
 from planner.site import load_site
 from planner.solve.milp import MilpOptions
@@ -37,7 +40,7 @@ def test_combined_greedy_plan_verifies_in_combined_mode_only(site, greedy_plan):
     assert plan.result.info["precision"] == "combined"
     assert plan.verification.complete and plan.verification.precision == "combined"
     # judged view by view, the same stations leave wall uncovered: the plan does rely on combining
-    single = verify_stations(site, plan.stations, sight_limits(plan.validation, False, True), 0.1)
+    single = verify_stations(Sight.of_site(site), plan.stations, 0.1)
     assert single.precision == "single" and single.percent < 100.0
 
 

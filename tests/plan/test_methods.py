@@ -6,7 +6,8 @@ import ast
 from pathlib import Path
 
 from planner.cli import choices
-from planner.plan import METHODS, PlanOptions, build_problem, plan_site
+from planner.engine import plan_site
+from planner.plan import METHODS, PlanOptions, build_problem
 from planner.plan.methods import REGISTRY, MethodOutput
 from planner.site import ScanSide, Site, Zone
 from planner.site.candidate import CandidateKind

@@ -10,8 +10,9 @@ import pytest
 
 from planner.candidates.pool import PoolOptions
 from planner.cli import main
+from planner.engine import plan_site
 from planner.errors import InfeasibleError
-from planner.plan import PlanOptions, build_problem, plan_site
+from planner.plan import PlanOptions, build_problem
 from planner.plan.plan_json import plan_to_dict, read_plan_stations
 from planner.site import ScanSide, Site, Zone, load_site
 from planner.solve.instance import cover_instance

@@ -10,7 +10,8 @@ import pytest
 
 from planner.cli import main
 from planner.coverage.targets import make_targets
-from planner.plan import PlanOptions, plan_site
+from planner.engine import plan_site
+from planner.plan import PlanOptions
 from planner.plan.tripod import MIN_RADIUS_M
 from planner.site import ScanSide, load_site
 from planner.site.model import Site, Zone

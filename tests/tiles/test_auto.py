@@ -1,4 +1,4 @@
-"""The plain command's strategy: one model or tiles, the tile size and the time split (planner.tiles.auto)."""
+"""The plain command's strategy: one model or tiles, the tile size and the time split (planner.plan.strategy)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import pytest
 from planner.cli import main
 from planner.plan import PlanOptions, closed_form_limits
 from planner.plan.memory_guard import estimate_work
+from planner.plan.strategy import MIN_PIECES, choose, strategy_for, tile_count
 from planner.site.load import load_site
 from planner.site.validate import validate_site
-from planner.tiles.auto import MIN_PIECES, choose, strategy_for, tile_count
 from tests.conftest import INSTANCES
 
 
@@ -88,4 +88,4 @@ def test_plain_command_records_its_strategy(tmp_path, capsys):
     plan = json.loads((out / "plan.json").read_text())
     assert plan["solver"]["strategy"]["kind"] == "single model"
     assert main(["plan", str(INSTANCES / "house_doors.json"), "--tiles", "off", "--quiet"]) == 0
-    assert "strategy: single model (--tiles off)" in capsys.readouterr().out
+    assert "strategy: single model (one model asked for)" in capsys.readouterr().out

@@ -17,12 +17,12 @@ def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
             PLANT,
             "--tiles",
             "50",
-            "--tile-time-limit",
-            "10",
-            "--bound-time-limit",
-            "10",
-            "--tile-search-moves",
-            "50",
+            "--set",
+            "tile-time-limit=10",
+            "--set",
+            "bound-time-limit=10",
+            "--set",
+            "tile-search-moves=50",
             "--out",
             str(tmp_path),
             "--quiet",
@@ -56,29 +56,29 @@ def test_tiles_with_greedy_is_a_usage_error(capsys) -> None:
 
 
 def test_negative_lagrange_work_is_a_usage_error(capsys) -> None:
-    assert main(["plan", PLANT, "--tiles", "50", "--lagrange-work", "-1"]) == 2
+    assert main(["plan", PLANT, "--tiles", "50", "--set", "lagrange-work=-1"]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "--lagrange-work" in err
+    assert len(err.splitlines()) == 1 and "--set lagrange-work" in err
 
 
 def test_bad_window_options_are_usage_errors(capsys) -> None:
-    for flag, value in (
-        ("--tile-window-radius", "0"),
-        ("--tile-window-work", "-1"),
-        ("--tile-window-passes", "-1"),
-        ("--tile-window-batch", "0"),
+    for key, value in (
+        ("tile-window-radius", "0"),
+        ("tile-window-work", "-1"),
+        ("tile-window-passes", "-1"),
+        ("tile-window-batch", "0"),
     ):
-        assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
+        assert main(["plan", PLANT, "--tiles", "50", "--set", f"{key}={value}"]) == 2
         err = capsys.readouterr().err.strip()
-        assert len(err.splitlines()) == 1 and flag in err and value in err
+        assert len(err.splitlines()) == 1 and f"--set {key}" in err and value in err
 
 
-def test_bad_search_options_name_their_flag(capsys) -> None:
-    # the parser checks them (and TileOptions again for the library); the one-line error names the flag
-    for flag, value in (("--tile-search-moves", "-1"), ("--tile-search-seeds", "0")):
-        assert main(["plan", PLANT, "--tiles", "50", flag, value]) == 2
+def test_bad_search_options_name_their_key(capsys) -> None:
+    # the key's type checks them (and TileOptions again for the library); the one-line error names the key
+    for key, value in (("tile-search-moves", "-1"), ("tile-search-seeds", "0")):
+        assert main(["plan", PLANT, "--tiles", "50", "--set", f"{key}={value}"]) == 2
         err = capsys.readouterr().err.strip()
-        assert len(err.splitlines()) == 1 and f"argument {flag}: must be" in err and f"'{value}'" in err
+        assert len(err.splitlines()) == 1 and f"--set {key}: must be" in err and f"'{value}'" in err
 
 
 def test_a_scheduler_address_that_is_malformed_or_silent_is_named(capsys, monkeypatch) -> None:
@@ -102,6 +102,6 @@ def test_a_scheduler_address_that_is_malformed_or_silent_is_named(capsys, monkey
 
 def test_a_bad_worker_memory_is_a_usage_error(capsys) -> None:
     for size, why in (("lots", "not a memory size"), ("0", "must be > 0")):
-        assert main(["plan", PLANT, "--tiles", "50", "--workers", "1", "--worker-memory", size]) == 2
+        assert main(["plan", PLANT, "--tiles", "50", "--workers", "1", "--set", f"worker-memory={size}"]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and f"'{size}'" in err and why in err

@@ -87,12 +87,12 @@ def test_tiles_columns_are_the_site_matrix(site) -> None:
     assert sorted(np.concatenate([j.targets for j in jobs]).tolist()) == list(range(len(targets)))
     pairs = set()
     for job in jobs:
-        r = tile_task(site, pool, targets, limits, ["g"] * len(pool), job, MilpOptions(overlap=None, time_limit_s=5))
+        r = tile_task(prep.problem.sight, pool, targets, ["g"] * len(pool), job, MilpOptions(overlap=None, time_limit_s=5))
         pairs |= set(zip(r.rows.tolist(), r.cols.tolist()))
     coo = whole.by_candidate.tocoo()
     assert pairs == set(zip(coo.row.tolist(), coo.col.tolist()))
     # the matrix the gap studies use (Prepared.coverage, built in one piece) is the tiles' matrix
-    study = prep.coverage(site).tocoo()
+    study = prep.coverage().tocoo()
     assert pairs == set(zip(study.row.tolist(), study.col.tolist()))
 
 
