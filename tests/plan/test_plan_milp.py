@@ -9,6 +9,7 @@ import pytest
 
 from planner.cli import main
 from planner.coverage.overlap import OverlapRule
+from planner.coverage.sight import Sight
 from planner.engine import plan_site
 from planner.plan import PlanOptions, build_problem, registration_check
 from planner.plan.tripod import tripod_discs
@@ -58,7 +59,7 @@ def test_connected_plan_of_polygon_b_on_every_backend(problems, polygon_b_connec
     comps, _ = registration_check(problem, r.selected, OverlapRule(0.3))
     assert set(comps.values()) == {1}  # each zone-side one registration bundle, checked with networkx
     stations = [problem.candidates[i] for i in r.selected]
-    assert verify_stations(planner.Sight.of_site(site), stations).complete
+    assert verify_stations(Sight.of_site(site), stations).complete
     # every backend proves the same optimum, between the plain cover's optimum (a connected plan is a
     # cover) and the connected greedy (a connected plan; the MILP's warm start)
     plain = solve(cover_instance(problem), MilpOptions(backend="cpsat", overlap=None, time_limit_s=60))
