@@ -12,7 +12,7 @@ from planner.coverage.visibility import SightLimits, sight_limits
 from planner.instrument.models import Scanner
 from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.site.validate import validate_site
+from planner.site.validate import ValidationReport, validate_site
 
 #: the wall pieces of the network check, the field sheet and the station summaries, m
 STATION_PIECE_M = 1.0
@@ -34,9 +34,7 @@ class Sight:
     ) -> Sight:
         """The sight of ``site`` validated alone, under its own parameters: for checking stations (network,
         registration, field sheet) without a planning run; a run passes its problem's sight instead."""
-        validation = validate_site(site)
-        limits = sight_limits(validation, incidence_3d, precision, combined)
-        return cls(site=site, limits=limits, scanner=validation.scanner)
+        return sight_of(site, incidence_3d=incidence_3d, precision=precision, combined=combined)[1]
 
     @property
     def combined(self) -> bool:
@@ -51,6 +49,22 @@ class Sight:
     def of_stations(self, stations: Sequence[Candidate], spacing_m: float = STATION_PIECE_M) -> CoverageProblem:
         """The coverage of a plan's stations on wall pieces of at most ``spacing_m``."""
         return self.coverage(stations, make_targets(self.site, spacing_m))
+
+
+def sight_of(
+    site: Site,
+    *,
+    incidence_3d: bool = False,
+    precision: bool = True,
+    combined: bool = False,
+    validation: ValidationReport | None = None,
+) -> tuple[ValidationReport, Sight]:
+    """The validation of ``site`` (``validation`` when given, else validated here: the one place a site is
+    validated for planning or checking) and its :class:`Sight` under the incidence and precision modes."""
+    if validation is None:
+        validation = validate_site(site)
+    limits = sight_limits(validation, incidence_3d, precision, combined)
+    return validation, Sight(site=site, limits=limits, scanner=validation.scanner)
 
 
 def as_sight(site: Site | Sight, *, combined: bool = False) -> Sight:

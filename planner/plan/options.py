@@ -6,7 +6,8 @@ from dataclasses import dataclass, field
 
 from planner.candidates.pool import PoolOptions
 from planner.checks import SAMPLING_M, argument, count, flag, real
-from planner.coverage.visibility import SightLimits, sight_limits
+from planner.coverage.sight import sight_of
+from planner.coverage.visibility import SightLimits
 from planner.errors import UsageError
 from planner.plan.methods import METHODS
 from planner.plan.strategy import StrategyOptions
@@ -84,4 +85,5 @@ class PlanOptions:
 
 def plan_limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:
     """The sight limits of a run: :func:`sight_limits` with the options' incidence and precision modes."""
-    return sight_limits(validation, options.incidence_3d, options.precision, options.combined)
+    modes = {"incidence_3d": options.incidence_3d, "precision": options.precision, "combined": options.combined}
+    return sight_of(validation.site, validation=validation, **modes)[1].limits

@@ -10,13 +10,13 @@ from typing import Any
 from planner.checks import argument
 from planner.coverage.links import default_registration
 from planner.coverage.overlap import OverlapRule, SiteShare, rule_of
-from planner.coverage.sight import Sight
+from planner.coverage.sight import Sight, sight_of
 from planner.coverage.visibility import SightLimits
 from planner.errors import UsageError
-from planner.plan.options import PlanOptions, plan_limits
+from planner.plan.options import PlanOptions
 from planner.plan.strategy import Strategy, resolve_strategy
 from planner.site.model import Site
-from planner.site.validate import ValidationReport, validate_site
+from planner.site.validate import ValidationReport
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -102,9 +102,7 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
     argument(options, (PlanOptions, type(None)), "options")
     argument(validation, (ValidationReport, type(None)), "validation")
     options = options or PlanOptions()
-    if validation is None:
-        validation = validate_site(site)
-    elif validation.site is not site:
+    if validation is not None and validation.site is not site:
         raise UsageError("validation is the report of another site", field="validation", value=validation.site.name)
     share = site.parameters.overlap
     asked = options.milp.overlap
@@ -120,11 +118,13 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
             else "zones in their own frames, no openings: one bundle per zone-side"
         )
     resolved = replace(options, milp=replace(options.milp, overlap=rule), registration=registration)
+    modes = {"incidence_3d": resolved.incidence_3d, "precision": resolved.precision, "combined": resolved.combined}
+    validation, sight = sight_of(site, validation=validation, **modes)
     return Problem(
         site=site,
         validation=validation,
         options=resolved,
-        sight=Sight(site=site, limits=plan_limits(validation, resolved), scanner=validation.scanner),
+        sight=sight,
         rule=rule,
         checked_rule=checked,
         registration=registration,
