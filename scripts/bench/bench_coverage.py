@@ -32,7 +32,8 @@ from _timed import peak_rss_mb
 from planner.candidates.pool import PoolOptions, candidate_pool
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
-from planner.plan import closed_form_limits, sight_limits
+from planner.coverage.visibility import sight_limits
+from planner.plan import closed_form_limits
 from planner.site import Site, Zone, load_site
 from planner.site.validate import validate_site
 

@@ -7,10 +7,10 @@ from matplotlib.collections import LineCollection
 from matplotlib.colors import to_rgba
 
 import planner
+from planner.coverage.visibility import sight_limits
 from planner.figures.base import nice_length
 from planner.figures.compare import comparison_figure
 from planner.figures.plan_fig import plan_figure
-from planner.plan import sight_limits
 from planner.plan.outcome import Outcome
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide

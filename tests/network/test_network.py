@@ -97,7 +97,7 @@ def test_accuracy_check_fails_a_wall_left_unseen():
 def rep_problem(site, stations):
     from planner.coverage.matrix import build_coverage
     from planner.coverage.targets import make_targets
-    from planner.plan import sight_limits
+    from planner.coverage.visibility import sight_limits
     from planner.site.validate import validate_site
 
     return build_coverage(site, stations, make_targets(site, 1.0), sight_limits(validate_site(site), False, True))
