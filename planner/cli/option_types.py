@@ -57,11 +57,18 @@ class OncePerKey(argparse.Action):
         values: object,
         option_string: str | None = None,
     ) -> None:
-        items = list(getattr(namespace, self.dest, None) or [])  # a copy: the default list is shared
-        key = str(values).partition("=")[0].strip().upper()
-        twice = next((old for old in items if old.partition("=")[0].strip().upper() == key), None)
-        if twice is not None:
-            raise argparse.ArgumentError(
-                self, f"layer {key!r} given twice ({twice!r} and {values!r}): give each layer once"
-            )
-        setattr(namespace, self.dest, items + [str(values)])
+        try:
+            items = once_per_key(list(getattr(namespace, self.dest, None) or []), str(values))
+        except ValueError as exc:
+            raise argparse.ArgumentError(self, str(exc)) from None
+        setattr(namespace, self.dest, items)
+
+
+def once_per_key(items: list[str], item: str) -> list[str]:
+    """``items`` with the ``KEY=VALUE`` ``item`` added (a new list); ValueError where its key, compared
+    case-insensitively, is already there."""
+    key = item.partition("=")[0].strip().upper()
+    twice = next((old for old in items if old.partition("=")[0].strip().upper() == key), None)
+    if twice is not None:
+        raise ValueError(f"layer {key!r} given twice ({twice!r} and {item!r}): give each layer once")
+    return [*items, item]

@@ -1,103 +1,59 @@
-"""Tuning profiles of the command line: the knobs ``--help`` leaves out, their defaults, and ``--config FILE``.
+"""Tuning profiles of the command line: ``--set KEY=VALUE``, ``--config FILE`` and ``--help-all``.
 
-``planner plan --help`` lists what a surveyor sets (the site, the instrument's limits, the method and its
-time, the outputs). The solver and tile knobs, the rarer input-format options and the field-sheet details are
-*tuning*: hidden from ``--help``, listed by ``--help-all``, and settable from a TOML profile::
+``planner plan`` takes as flags what a surveyor sets (the site, the instrument's limits, the method and its
+time, the outputs). The solver, tile and Dask knobs, the rarer input-format options and the field-sheet details
+are *tuning keys* (:mod:`planner.cli.tuning`, one table with each key's type, default and help): no flags, so
+``--help-all`` stays short, but set one at a time on the command line or from a TOML profile::
+
+    planner plan site.json --set tile-window-radius=80 --set backend=scip
 
     # my.toml
     [plan]
     tile-window-radius = 80
     backend = "scip"
 
-    planner plan site.json --config my.toml      # the command line still wins over the file
+    planner plan site.json --config my.toml      # --set and the flags still win over the file
 
-The package ships the profile of the defaults (``planner/cli/profiles/default.toml``, :data:`DEFAULT_PROFILE`):
-every tuning knob with a default, its value and what it does; a test checks it against the parser, so the file
-cannot drift from the defaults the command uses. A key the command does not know, or a value its
-option refuses, is a one-line usage error (exit 2) naming the file, the table and the key.
+Each value goes through the key's own check (the type function and choices its flag had), and lands in the
+parsed namespace under the attribute its flag had (``args.tile_window_radius``), so the commands read it as
+before. ``planner plan --help-all`` lists the keys after the options. The package ships the profile of the
+defaults (``planner/cli/profiles/default.toml``, :data:`DEFAULT_PROFILE`): every key with what it does and its
+default; a test checks it against the table. A key the command does not know, or a value the key refuses, is a
+one-line usage error (exit 2) naming the key (and for a profile the file and the table).
 """
 
 from __future__ import annotations
 
 import argparse
+import difflib
+import shutil
 import sys
 import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from planner.cli.tuning import KNOBS, TUNING, Knob, keys_help
 from planner.errors import UsageError
+
+__all__ = ["DEFAULT_PROFILE", "TUNING", "add_profile_options", "apply_config", "apply_profile", "read_profile"]
 
 #: the profile shipped with the package: the defaults of every tuning knob that has one
 DEFAULT_PROFILE = Path(__file__).with_name("profiles") / "default.toml"
 
-#: per subcommand, the options ``--help`` leaves out (``--help-all`` lists them); all are settable by ``--config``
-TUNING: dict[str, tuple[str, ...]] = {
-    "plan": (
-        # the solver
-        "--backend",
-        "--work-limit",
-        "--local-search-moves",
-        "--connectivity",
-        "--layer-cuts",
-        "--tree-bound",
-        "--no-ring-bound",
-        "--ring-lagrange-steps",
-        "--no-regions",
-        "--no-pricing",
-        "--pricing-time-limit",
-        "--plane-refine-steps",
-        "--seed",
-        # the registration rule's extra limits, the accuracy model's switches, verification
-        "--min-shared",
-        "--max-link",
-        "--incidence",
-        "--no-precision",
-        "--verify-spacing",
-        "--tripod",
-        # the network check and the field sheet
-        "--monte-carlo",
-        "--traverse",
-        "--ts-everywhere",
-        "--field-mode",
-        "--field-start",
-        "--field-session",
-        # the tiles
-        "--tile-time-limit",
-        "--bound-time-limit",
-        "--lagrange-work",
-        "--lagrange-group",
-        "--tile-search-moves",
-        "--tile-search-seeds",
-        "--tile-window-passes",
-        "--tile-window-radius",
-        "--tile-window-work",
-        "--tile-window-batch",
-        "--tile-wall-clock",
-        "--worker-memory",
-        "--tile-budget",
-        # input formats (table CSV closures, DXF, IFC)
-        "--angular-tolerance",
-        "--min-relative-precision",
-        "--layer-height",
-        "--dxf-side",
-        "--exterior",
-        "--ifc-windows",
-    ),
-}
-
 
 class _HelpAll(argparse.Action):
-    """``--help-all``: the help with the tuning options shown too, then exit 0."""
+    """``--help-all``: the help, then every tuning key with its values and help; exit 0."""
 
-    def __init__(self, option_strings: Sequence[str], dest: str, **kwargs: Any) -> None:
+    def __init__(self, option_strings: Sequence[str], dest: str, *, command: str, **kwargs: Any) -> None:
         super().__init__(
             option_strings,
             dest=argparse.SUPPRESS,
             default=argparse.SUPPRESS,
             nargs=0,
-            help="show every option, the tuning ones too (also settable by --config), and exit",
+            help="show this help and every tuning key (--set, --config), and exit",
         )
+        self.command = command
 
     def __call__(
         self,
@@ -106,31 +62,84 @@ class _HelpAll(argparse.Action):
         values: object,
         option_string: str | None = None,
     ) -> None:
-        for action in parser._actions:
-            if hasattr(action, "tuning_help"):
-                action.help = f"[tuning] {action.tuning_help}"
-        parser.print_help()
+        epilog, parser.epilog = parser.epilog, None  # the epilog points here: the keys follow instead
+        try:
+            text = parser.format_help()
+        finally:
+            parser.epilog = epilog
+        print(text + "\n" + keys_help(self.command, shutil.get_terminal_size().columns - 2))
         parser.exit()
 
 
-def add_profile_options(p: argparse.ArgumentParser) -> None:
-    """``--config FILE`` and ``--help-all`` (the file itself is read by :func:`apply_config` before parsing)."""
+class _SetKey(argparse.Action):
+    """``--set KEY=VALUE`` (repeatable): one tuning key's value, checked by the key, into the namespace under the
+    attribute its flag had; a later ``--set`` of the same key wins (a repeatable key collects its items)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str, *, command: str, **kwargs: Any) -> None:
+        super().__init__(
+            option_strings,
+            dest=argparse.SUPPRESS,
+            default=argparse.SUPPRESS,
+            metavar="KEY=VALUE",
+            help="set a tuning key, e.g. --set tile-window-radius=80 (repeatable; the keys: --help-all); "
+            "wins over --config",
+        )
+        self.command = command
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: object,
+        option_string: str | None = None,
+    ) -> None:
+        key, eq, text = str(values).partition("=")
+        flag = f"--{key.strip().replace('_', '-')}"
+        if flag in parser._option_string_actions:
+            raise UsageError(
+                f"{flag} is an option of 'planner {self.command}', not a tuning key: give {flag}",
+                field=f"--set {values}",
+            )
+        knob = tuning_key(self.command, key.strip(), f"--set {values}")
+        where = f"--set {knob.key}"
+        try:
+            value = knob.from_text(text if eq else None, getattr(namespace, knob.dest, None))
+        except ValueError as exc:
+            raise UsageError(str(exc), field=where) from None
+        setattr(namespace, knob.dest, value)
+
+
+def tuning_key(command: str, key: str, where: str) -> Knob:
+    """The tuning key ``key`` of ``command`` (``_`` taken for ``-``); else a usage error naming ``where``, with
+    the keys of that name nearest to it."""
+    name = key.replace("_", "-")
+    keys = TUNING.get(command, ())
+    if name in keys:
+        return KNOBS[name]
+    near = difflib.get_close_matches(name, keys, n=3)
+    hint = f"; did you mean {' or '.join(near)}?" if near else ""
+    raise UsageError(
+        f"no tuning key {name!r} of 'planner {command}' (see planner {command} --help-all){hint}", field=where
+    )
+
+
+def add_profile_options(p: argparse.ArgumentParser, command: str) -> None:
+    """``--set KEY=VALUE``, ``--config FILE`` (read by :func:`apply_config` before parsing) and ``--help-all``
+    for ``command``, whose tuning keys start at their defaults in the parsed namespace."""
+    keys = TUNING.get(command, ())
+    p.add_argument("--set", action=_SetKey, command=command)
     p.add_argument(
         "--config",
         metavar="FILE",
-        help="a TOML profile of tuning options, [plan] table (see --help-all; "
+        help=f"a TOML profile of tuning keys, [{command}] table (see --help-all; "
         "defaults in planner/cli/profiles/default.toml); the command line wins",
     )
-    p.add_argument("--help-all", action=_HelpAll)
-
-
-def hide_tuning(p: argparse.ArgumentParser, command: str) -> None:
-    """Hide ``command``'s tuning options from ``--help`` (``--help-all`` shows them, marked ``[tuning]``)."""
-    names = set(TUNING.get(command, ()))
-    for action in p._actions:
-        if names.intersection(action.option_strings):
-            action.tuning_help = action.help  # type: ignore[attr-defined]
-            action.help = argparse.SUPPRESS
+    p.add_argument("--help-all", action=_HelpAll, command=command)
+    p.set_defaults(**{KNOBS[key].dest: KNOBS[key].initial for key in keys})
+    p.epilog = (
+        f"{len(keys)} tuning keys (solver, tiles and Dask, field sheet, input formats) are set by --set KEY=VALUE "
+        f"or --config FILE; planner {command} --help-all lists them."
+    )
 
 
 def read_profile(path: str | Path) -> dict[str, Any]:
@@ -145,45 +154,49 @@ def read_profile(path: str | Path) -> dict[str, Any]:
 
 
 def apply_profile(p: argparse.ArgumentParser, command: str, profile: Mapping[str, Any], source: str | Path) -> None:
-    """Set the defaults of ``p`` (the ``command`` subparser) from the profile's ``[command]`` table.
+    """Set the defaults of ``p`` (the ``command`` subparser) from the profile's ``[command]`` table: its tuning
+    keys, and any of its options (``method = "greedy"``), which the command line then overrides.
 
-    Each value goes through its option's own check (type, choices), so a profile value is refused exactly as
-    the same value on the command line would be."""
+    Each value goes through its key's or option's own check (type, choices), so a profile value is refused
+    exactly as the same value on the command line would be."""
     table = profile.get(command, {})
     if not isinstance(table, dict):
         raise UsageError(f"[{command}] must be a table", field=str(source), value=type(table).__name__)
     by_name = {s.lstrip("-"): a for a in p._actions for s in a.option_strings if s.startswith("--")}
     for key, value in table.items():
-        action = by_name.get(str(key).replace("_", "-"))
-        where = f"{source}: [{command}] {key}"
-        if action is None or action.dest in ("help", "config", argparse.SUPPRESS):
-            raise UsageError(
-                f"{where}: no such option of 'planner {command}' (see planner {command} --help-all)",
-                field="--config",
-                value=str(key),
-            )
-        action.default = _checked(action, value, where)
+        name = str(key).replace("_", "-")
+        where = f"[{command}] {key}"
+        action = by_name.get(name)
+        try:
+            if name in TUNING.get(command, ()):
+                knob = KNOBS[name]
+                p.set_defaults(**{knob.dest: knob.from_profile(value)})
+            elif action is not None and action.dest not in ("help", "config", argparse.SUPPRESS):
+                action.default = _checked(action, value)
+            else:
+                tuning_key(command, name, where)  # the error, with the nearest keys
+        except ValueError as exc:  # UsageError is one: it keeps its words, with the file in front
+            message = exc.one_line() if isinstance(exc, UsageError) else f"{where}: {exc}"
+            raise UsageError(message, file=str(source)) from None
 
 
-def _checked(action: argparse.Action, value: Any, where: str) -> Any:
-    """``value`` as the option would parse it on the command line."""
+def _checked(action: argparse.Action, value: Any) -> Any:
+    """``value`` as the option would parse it on the command line; ValueError says why not."""
     if isinstance(action, (argparse._StoreTrueAction, argparse._StoreFalseAction)):
         if not isinstance(value, bool):
-            raise UsageError(f"{where}: expected true or false", field="--config", value=repr(value))
+            raise ValueError("expected true or false")
         return value
     if action.nargs == 0 or isinstance(value, (dict, bool)):
-        raise UsageError(f"{where}: not a value this option takes", field="--config", value=repr(value))
+        raise ValueError("not a value this option takes")
     items = value if isinstance(value, list) else [value]
     out = []
     for item in items:
         try:
             v = action.type(str(item)) if callable(action.type) else item
         except (argparse.ArgumentTypeError, ValueError, TypeError) as exc:
-            raise UsageError(f"{where}: {exc}", field="--config", value=repr(item)) from None
+            raise ValueError(str(exc)) from None
         if action.choices is not None and v not in action.choices:
-            raise UsageError(
-                f"{where}: must be one of {', '.join(map(str, action.choices))}", field="--config", value=repr(item)
-            )
+            raise ValueError(f"must be one of {', '.join(map(str, action.choices))}, got {item!r}")
         out.append(v)
     return out if isinstance(value, list) else out[0]
 
@@ -211,7 +224,5 @@ def apply_config(parser: argparse.ArgumentParser, argv: Sequence[str] | None) ->
     profile = read_profile(path)
     unknown = [k for k in profile if k not in subs.choices]
     if unknown:
-        raise UsageError(
-            f"{path}: [{unknown[0]}] is no command (tables: {', '.join(TUNING)})", field="--config", value=unknown[0]
-        )
+        raise UsageError(f"[{unknown[0]}] is no command (tables: {', '.join(TUNING)})", file=path)
     apply_profile(subs.choices[command], command, profile, path)

@@ -150,13 +150,15 @@ def test_usage_errors_exit_2_in_one_line(capsys):
     for argv, words in (
         (["validate"], "the following arguments are required: site"),
         (["frobnicate"], "invalid choice: 'frobnicate'"),
-        (["plan", "x.json", "--incidence", "4d"], "argument --incidence: invalid choice: '4d'"),
+        (["verify", "x.json", "p.json", "--incidence", "4d"], "argument --incidence: invalid choice: '4d'"),
+        (["plan", "x.json", "--set", "incidence=4d"], "--set incidence: must be one of horizontal, 3d, got '4d'"),
         (["plan", "x.json", "--target-spacing", "0"], "argument --target-spacing: must be > 0, got '0'"),
         (["plan", "x.json", "--grid-spacing", "nan"], "argument --grid-spacing: must be > 0, got 'nan'"),
-        (["plan", "x.json", "--threads", "0"], "argument --threads: must be >= 1, got '0'"),
-        (["plan", "x.json", "--seed", "-1"], "argument --seed: must be >= 0, got '-1'"),
+        (["plan", "x.json", "--set", "threads=0"], "--set threads: must be >= 1, got '0'"),
+        (["plan", "x.json", "--set", "seed=-1"], "--set seed: must be >= 0, got '-1'"),
+        (["export", "x.json", "--seed", "-1"], "argument --seed: must be >= 0, got '-1'"),
         (["plan", "x.json", "--time-limit", "-5"], "argument --time-limit: must be > 0, got '-5'"),
-        (["plan", "x.json", "--max-link", "0"], "argument --max-link: must be > 0, got '0'"),
+        (["plan", "x.json", "--set", "max-link=0"], "--set max-link: must be > 0, got '0'"),
         (["verify", "x.json", "p.json", "--spacing", "1e-9"], "argument --spacing: must be >= 0.001 and <= 10"),
         (["assemble", "x.json", "--wall-thickness", "-1"], "argument --wall-thickness: must be >= 0"),
     ):
@@ -305,16 +307,16 @@ def test_verify_says_when_the_plan_was_made_under_other_limits(tmp_path, capsys)
     [
         # each refused before any planning (the plan of Baalbek takes ~9 s; these take none of it)
         (
-            ["--worker-memory", "2GiB"],
+            ["--set", "worker-memory=2GiB"],
             2,
-            "--worker-memory = '2GiB': --workers, --worker-memory and --scheduler run tiles",
+            "--set worker-memory = '2GiB': ",
         ),
         (
-            ["--monte-carlo", "100"],
+            ["--set", "monte-carlo=100"],
             2,
-            "--monte-carlo = 100: Monte Carlo runs are part of the network check; give --network",
+            "--set monte-carlo = 100: Monte Carlo runs are part of the network check; give --network",
         ),
-        (["--network", "--monte-carlo", "5"], 2, "Monte Carlo needs at least 100 runs"),
+        (["--network", "--set", "monte-carlo=5"], 2, "--set monte-carlo = 5: Monte Carlo needs at least 100 runs"),
         (["--network", "--control", "no-such-control.json"], 3, "no-such-control.json: cannot read file"),
         (["--out", ""], 2, "--out = '': is empty"),
     ],

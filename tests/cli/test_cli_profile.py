@@ -1,4 +1,4 @@
-"""Tuning profiles: ``plan --help`` on one screen, ``--help-all`` and ``--config FILE`` for the rest."""
+"""Tuning keys: ``plan --help-all`` short, every knob still settable by ``--set KEY=VALUE`` and ``--config FILE``."""
 
 from __future__ import annotations
 
@@ -11,13 +11,17 @@ import pytest
 
 from planner.cli import build_parser, main
 from planner.cli.profile import DEFAULT_PROFILE, TUNING, apply_config
+from planner.cli.tuning import KNOBS, profile_text
 from tests.conftest import INSTANCES
 
 
-def _plan_parser(parser: argparse.ArgumentParser | None = None) -> argparse.ArgumentParser:
+def _subparsers(parser: argparse.ArgumentParser | None = None) -> dict[str, argparse.ArgumentParser]:
     parser = parser or build_parser()
-    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    return subs.choices["plan"]
+    return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+
+
+def _plan_parser(parser: argparse.ArgumentParser | None = None) -> argparse.ArgumentParser:
+    return _subparsers(parser)["plan"]
 
 
 def _options(text: str) -> list[str]:
@@ -25,54 +29,95 @@ def _options(text: str) -> list[str]:
     return re.findall(r"^  (-[-\w]+)", text, flags=re.MULTILINE)
 
 
-def test_plan_help_fits_one_screen_and_help_all_lists_every_option(capsys):
+def test_plan_help_all_has_at_most_45_options_and_lists_every_tuning_key(capsys):
     assert main(["plan", "--help"]) == 0
-    short = _options(capsys.readouterr().out)
-    assert len(short) <= 35, short  # issue 33: about 30 options, at most 35
+    short = capsys.readouterr().out
+    assert len(_options(short)) <= 35, _options(short)  # --help on one screen: about 30 options, at most 35
+    assert "--help-all lists them" in short  # the keys are found from --help
     assert main(["plan", "--help-all"]) == 0
     full = capsys.readouterr().out
-    everything = _options(full)
-    for flag in TUNING["plan"]:
-        assert flag not in short and flag in everything, flag
-    assert set(short) <= set(everything)
-    # every option of the parser is listed by one of the two (nothing unreachable)
+    options = _options(full)
+    assert len(options) <= 45, options
+    # every option of the parser is listed (nothing unreachable), and no tuning key is an option
     flags = {s for a in _plan_parser()._actions for s in a.option_strings if s.startswith("--")}
-    assert flags <= set(everything) | {"--help"}
-    assert full.count("[tuning]") == len(TUNING["plan"])
+    assert flags | {"-h"} == set(options) | {"--help"}
+    keys = full.split("tuning keys (")[1]
+    for key in TUNING["plan"]:
+        assert f"--{key}" not in flags, key
+        assert re.search(rf"^  {key}[=\[]", keys, flags=re.MULTILINE), key  # listed with its values and help
+        assert KNOBS[key].help.split()[0] in keys
 
 
-def test_shipped_profile_holds_every_tuning_default_as_the_parser_has_it():
-    profile = tomllib.loads(DEFAULT_PROFILE.read_text())["plan"]
-    actions = {s: a for a in _plan_parser()._actions for s in a.option_strings}
-    with_default = {f[2:]: actions[f].default for f in TUNING["plan"] if actions[f].default not in (None, [])}
-    assert profile == with_default  # the file documents exactly the defaults the command uses
-    # keys without a default are named in the file as comments, so the file lists every knob
+def test_every_subcommand_has_at_most_45_options(capsys):
+    for name, sub in _subparsers().items():
+        options = [a for a in sub._actions if a.option_strings]
+        assert len(options) <= 45, (name, len(options))
+
+
+def test_shipped_profile_is_the_table_of_keys():
     text = DEFAULT_PROFILE.read_text()
-    for flag in TUNING["plan"]:
-        assert re.search(rf"^#? ?{flag[2:]} = ", text, flags=re.MULTILINE), flag
+    # the file is written from the table: python -c "from planner.cli.tuning import profile_text;
+    # open('planner/cli/profiles/default.toml', 'w').write(profile_text('plan'))"
+    assert text == profile_text("plan")
+    profile = tomllib.loads(text)["plan"]
+    with_default = {k: KNOBS[k].initial for k in TUNING["plan"] if KNOBS[k].initial not in (None, [])}
+    assert profile == with_default  # the file holds exactly the defaults the command uses
+    fresh = build_parser().parse_args(["plan", "site.json"])
+    for key in TUNING["plan"]:
+        assert getattr(fresh, KNOBS[key].dest) == KNOBS[key].initial, key  # and the parser starts from them
+        assert re.search(rf"^#? ?{key} = ", text, flags=re.MULTILINE), key  # keys without a default: commented
 
 
-def test_config_sets_defaults_and_the_command_line_wins(tmp_path):
+def test_set_and_config_set_the_flag_attributes_and_the_command_line_wins(tmp_path):
     cfg = tmp_path / "my.toml"
-    cfg.write_text('[plan]\ntile-window-radius = 80\nbackend = "scip"\nno_ring_bound = true\n')
+    cfg.write_text('[plan]\ntile-window-radius = 80\nbackend = "scip"\nno_ring_bound = true\nmethod = "greedy"\n')
     parser = build_parser()
-    argv = ["plan", "site.json", "--config", str(cfg), "--backend", "highs"]
+    argv = ["plan", "site.json", "--config", str(cfg), "--set", "backend=highs", "--set", "threads=2"]
+    argv += ["--set", "no-pricing", "--set", "layer-height=WALLS=3", "--set", "layer-height=ROOF=5", "--method", "milp"]
     apply_config(parser, argv)
     args = parser.parse_args(argv)
     assert args.tile_window_radius == 80.0 and args.no_ring_bound is True  # from the file
-    assert args.backend == "highs"  # the command line wins over the file
+    assert args.backend == "highs" and args.method == "milp"  # the command line wins over the file
+    assert args.threads == 2 and args.no_pricing is True and args.layer_height == ["WALLS=3", "ROOF=5"]
     fresh = build_parser().parse_args(["plan", "site.json"])
     assert fresh.tile_window_radius == 60.0 and fresh.backend == "cpsat"  # a new parser: the defaults again
+    assert fresh.layer_height == [] and fresh.no_pricing is False
+    later = build_parser().parse_args(["plan", "s.json", "--set", "seed=3", "--set", "seed=4", "--set", "tripod=no"])
+    assert later.seed == 4 and later.tripod is False  # the last --set of a key wins
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["--set", "tile-window-radius=-3"], "--set tile-window-radius: must be > 0, got '-3'"),
+        (["--set", "backend=gurobi"], "--set backend: must be one of cpsat"),
+        (["--set", "no-pricing=maybe"], "--set no-pricing: expected true or false"),
+        (["--set", "threads=0"], "--set threads: must be >= 1, got '0'"),
+        (["--set", "angular-tolerance=x"], "--set angular-tolerance: invalid float value: 'x'"),
+        (["--set", "tile-radius=3"], "no tuning key 'tile-radius' of 'planner plan'"),
+        (["--set", "tile-radius=3"], "did you mean tile-window-radius?"),
+        (["--set", "method=greedy"], "--method is an option of 'planner plan', not a tuning key"),
+        (["--set", "layer-height=A=1", "--set", "layer-height=a=2"], "layer 'A' given twice"),
+        (["--set", "max-link"], "--set max-link: expected max-link=M"),
+    ],
+)
+def test_bad_set_is_one_line_usage_error(capsys, argv, fragment):
+    code = main(["plan", str(INSTANCES / "polygon_b.json"), *argv])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert len(err.strip().splitlines()) == 1 and fragment in err and "Traceback" not in err, err
 
 
 @pytest.mark.parametrize(
     "body, fragment",
     [
-        ("[plan]\nno-such-knob = 1\n", "[plan] no-such-knob: no such option"),
+        ("[plan]\nno-such-knob = 1\n", "bad.toml: [plan] no-such-knob: no tuning key 'no-such-knob'"),
         ("[plan]\ntile-window-radius = -3\n", "[plan] tile-window-radius: must be > 0"),
         ('[plan]\nbackend = "gurobi"\n', "[plan] backend: must be one of"),
         ("[plan]\nlayer-cuts = 1\n", "[plan] layer-cuts: expected true or false"),
         ("[plant]\nbackend = 'scip'\n", "[plant] is no command"),
+        ("[plan]\nlayer-height = ['W=1', 'w=2']\n", "[plan] layer-height: layer 'W' given twice"),
+        ("[plan]\nthreads = [2]\n", "[plan] threads: not a value this key takes"),
         ("[plan\n", "not a TOML file"),
     ],
 )
@@ -91,8 +136,9 @@ def test_missing_profile_is_usage_error(tmp_path, capsys):
     assert code == 2 and "cannot read the profile" in err and "none.toml" in err
 
 
-def test_profile_value_reaches_the_plan(tmp_path, capsys):
-    # an 8 x 4 m room seen from inside (2 stations): the profile's verify spacing is the one the plan records
+@pytest.mark.parametrize("given", ["config", "set"])
+def test_tuning_value_reaches_the_plan(tmp_path, capsys, given):
+    # an 8 x 4 m room seen from inside (2 stations): the key's verify spacing is the one the plan records
     site = tmp_path / "room.json"
     site.write_text(
         json.dumps(
@@ -105,8 +151,9 @@ def test_profile_value_reaches_the_plan(tmp_path, capsys):
     )
     cfg = tmp_path / "p.toml"
     cfg.write_text("[plan]\nverify-spacing = 0.25\nno-precision = true\n")
+    keys = ["--config", str(cfg)] if given == "config" else ["--set", "verify-spacing=0.25", "--set", "no-precision"]
     out = tmp_path / "out"
-    code = main(["plan", str(site), "--method", "greedy", "--config", str(cfg), "--out", str(out), "--quiet"])
+    code = main(["plan", str(site), "--method", "greedy", *keys, "--out", str(out), "--quiet"])
     assert code == 0, capsys.readouterr().err
     plan = json.loads((out / "plan.json").read_text())
     text = json.dumps(plan)
@@ -122,7 +169,7 @@ def test_plan_validates_the_site_once(monkeypatch, capsys, tmp_path, extra):
     calls = []
     real = validate.site_scanner
     monkeypatch.setattr(validate, "site_scanner", lambda site: calls.append(site.name) or real(site))
-    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--no-pricing", *extra]) == 0, (
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--set", "no-pricing", *extra]) == 0, (
         capsys.readouterr().err
     )
     assert calls == ["polygon_b"]

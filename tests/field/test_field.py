@@ -206,10 +206,10 @@ def test_plan_with_field(tmp_path):
             str(out),
             "--field",
             str(out),
-            "--field-mode",
-            "registration",
-            "--field-session",
-            "1h",
+            "--set",
+            "field-mode=registration",
+            "--set",
+            "field-session=1h",
             "--quiet",
         ]
     )

@@ -27,8 +27,8 @@ def sheet(tmp_path_factory):
             str(out),
             "--field",
             str(out),
-            "--field-mode",
-            "registration",
+            "--set",
+            "field-mode=registration",
             "--quiet",
         ]
     )

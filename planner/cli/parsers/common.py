@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Collection, Mapping
 
-from planner.cli.choices import INCIDENCE_MODELS, SIDES
-from planner.cli.option_types import NON_NEGATIVE_INT, POSITIVE, OncePerKey
+from planner.cli.choices import INCIDENCE_MODELS
+from planner.cli.option_types import POSITIVE
+from planner.cli.tuning import add_option
 from planner.errors import ExitCode
 
 #: each subcommand's function, by name
@@ -22,7 +23,9 @@ class Parser(argparse.ArgumentParser):
         raise SystemExit(ExitCode.USAGE)
 
 
-def add_site_options(p: argparse.ArgumentParser) -> None:
+def add_site_options(p: argparse.ArgumentParser, tuning: Collection[str] = ()) -> None:
+    """The site and its parameter overrides; the input-format knobs among ``tuning`` (the command's tuning keys)
+    are keys, not flags."""
     p.add_argument(
         "site",
         help="site file: JSON instance (.json), table CSV (.csv), DXF (.dxf), GeoJSON (.geojson), "
@@ -52,75 +55,42 @@ def add_site_options(p: argparse.ArgumentParser) -> None:
     acc.add_argument("--sigma-req", type=float, metavar="M", help="required accuracy in m")
     acc.add_argument("--scale", metavar="1:N", help="drawing scale; accuracy from table 1.1")
     p.add_argument("--instrument-height", type=float, metavar="M", help="instrument height IH in m")
-    p.add_argument("--angular-tolerance", type=float, metavar="DEG", help="closure tolerance of table CSV zones")
-    p.add_argument("--min-relative-precision", type=float, metavar="N", help="closure 1:N of table CSV zones")
+    add_option(p, "angular-tolerance", tuning)
+    add_option(p, "min-relative-precision", tuning)
     p.add_argument(
         "--crs",
         metavar="CRS",
         help="metric CRS (e.g. EPSG:32636) of a lon/lat GeoJSON site; exports go back to lon/lat",
     )
-    p.add_argument(
-        "--layer-height",
-        action=OncePerKey,
-        default=[],
-        metavar="LAYER=M",
-        help="DXF: wall height of polylines on LAYER that carry none (repeatable, once per layer)",
-    )
-    p.add_argument(
-        "--dxf-side",
-        choices=SIDES,
-        default="inside",
-        help="DXF: scan side of zones whose layer and XDATA do not say (default inside)",
-    )
+    add_option(p, "layer-height", tuning)
+    add_option(p, "dxf-side", tuning)
     p.add_argument(
         "--storey",
         metavar="NAME|INDEX|all",
         help="IFC: the building storey to read (default: every storey that holds spaces)",
     )
-    p.add_argument("--exterior", action="store_true", help="IFC: also scan the storey's outer outline from outside")
-    p.add_argument(
-        "--ifc-windows",
-        action="store_true",
-        help="IFC: record windows as openings too (default: a window is wall surface)",
-    )
+    add_option(p, "exterior", tuning)
+    add_option(p, "ifc-windows", tuning)
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
-def add_network_options(p: argparse.ArgumentParser) -> None:
+def add_network_options(p: argparse.ArgumentParser, tuning: Collection[str] = ()) -> None:
+    """Control points and the network check's knobs (those among ``tuning`` as keys)."""
     p.add_argument("--control", metavar="FILE", help="control points (JSON list: name, x, y, sigma_x_mm, sigma_y_mm)")
-    p.add_argument(
-        "--monte-carlo",
-        type=NON_NEGATIVE_INT,
-        default=0,
-        metavar="N",
-        help="also simulate N adjustments (seeded; N >= 100)",
-    )
-    p.add_argument(
-        "--traverse",
-        metavar="FILE",
-        help="the planned control traverse (JSON: points, legs), the only "
-        "total-station observations; 'none' for no traverse (default: a proposed one, labelled so)",
-    )
-    p.add_argument(
-        "--ts-everywhere",
-        action="store_true",
-        help="the earlier design: a total station on every station sight line (no traverse)",
-    )
+    for key in ("monte-carlo", "traverse", "ts-everywhere"):
+        add_option(p, key, tuning)
 
 
-def add_limit_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--incidence",
-        choices=("horizontal", "3d"),
-        default="horizontal",
-        help="incidence angle in plan (as the dissertation) or 3-D to the top of the wall (default horizontal)",
-    )
-    p.add_argument("--no-precision", action="store_true", help="do not require the predicted point error <= sigma_req")
+def add_limit_options(p: argparse.ArgumentParser, tuning: Collection[str] = ()) -> None:
+    """The incidence angle and the precision requirement (those among ``tuning`` as keys)."""
+    add_option(p, "incidence", tuning)
+    add_option(p, "no-precision", tuning)
 
 
-def add_pool_options(p: argparse.ArgumentParser) -> None:
-    """The options that fix the coverage problem: pieces, candidate grid, sampling seed (plan and export)."""
-    p.add_argument("--seed", type=NON_NEGATIVE_INT, default=0, help="seed of the movement-field sampling (default 0)")
+def add_pool_options(p: argparse.ArgumentParser, tuning: Collection[str] = ()) -> None:
+    """The options that fix the coverage problem: pieces, candidate grid, sampling seed (plan and export; the
+    seed among ``tuning`` as a key)."""
+    add_option(p, "seed", tuning)
     p.add_argument("--target-spacing", type=POSITIVE, default=1.0, metavar="M", help="wall piece length (default 1 m)")
     p.add_argument(
         "--grid-spacing", type=POSITIVE, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)"
