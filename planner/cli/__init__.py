@@ -2,7 +2,8 @@
 
 - :mod:`planner.cli.main`: the entry point (:func:`main`: exit codes, one-line errors);
 - :mod:`planner.cli.parser` and :mod:`planner.cli.parsers`: the subcommands' parsers, one module each;
-- :mod:`planner.cli.profile`: tuning options (hidden from ``--help``, ``--help-all``, ``--config FILE``);
+- :mod:`planner.cli.tuning`: the tuning keys (one table: type, default, help); :mod:`planner.cli.profile`: how
+  they are set (``--set KEY=VALUE``, ``--config FILE``) and listed (``--help-all``);
 - :mod:`planner.cli.commands`, :mod:`planner.cli.network_command`: the commands (read, call the library, print);
   :mod:`planner.cli.inputs`: the site and files they read;
 - :mod:`planner.cli.tiles`, :mod:`planner.cli.field`, :mod:`planner.cli.report`: the large-site, field-sheet

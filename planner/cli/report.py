@@ -89,7 +89,9 @@ def add_report_parser(sub: Any) -> None:
     rp.add_argument("--crs", metavar="CRS", help="write GeoJSON in lon/lat from this metric CRS")
     rp.add_argument("--no-network", action="store_true", help="leave out the network and accuracy check")
     rp.add_argument("--storey", metavar="NAME|INDEX|all", help="IFC site: the storey the plan was made for")
-    rp.add_argument("--exterior", action="store_true", help="IFC site: planned with --exterior")
-    rp.add_argument("--ifc-windows", action="store_true", help="IFC site: planned with --ifc-windows")
+    rp.add_argument("--exterior", action="store_true", help="IFC site: planned with --exterior (plan: --set exterior)")
+    rp.add_argument(
+        "--ifc-windows", action="store_true", help="IFC site: planned with --ifc-windows (plan: --set ifc-windows)"
+    )
     rp.add_argument("--quiet", action="store_true", help="no progress bars")
     rp.set_defaults(func=cmd_report)

@@ -68,8 +68,8 @@ _FLAGS = {
 
 
 def strategy_options(args: argparse.Namespace, options: PlanOptions) -> StrategyOptions:
-    """The run's strategy from ``--tiles`` (auto, off or a size with the tile flags), ``--tile-budget`` and
-    where the tiles run (``--workers``, ``--scheduler``, ``--worker-memory``)."""
+    """The run's strategy from ``--tiles`` (auto, off or a size with the tile keys), the ``tile-budget`` key and
+    where the tiles run (``--workers``, ``--scheduler``, the ``worker-memory`` key)."""
     from planner.plan.strategy import StrategyOptions
 
     if args.workers < 0:

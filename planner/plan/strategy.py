@@ -13,7 +13,7 @@ A site is planned by tiles when it is too large for one model and spans several 
 The tiled plan keeps the registration mode the single model would use (``--registration``, else the site's
 default), so the choice changes how the plan is searched for, not what it must satisfy.
 
-The time ``budget_s`` (``planner plan --tile-budget``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
+The time ``budget_s`` (``planner plan --set tile-budget=S``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
 tiles that run side by side, the whole-site bound ``BOUND_SHARE`` and the Lagrangian bound ``LAGRANGE_SHARE``;
 the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
 tile); the local search takes what is left (its work is a move count, deterministic). Workers: half the
