@@ -32,7 +32,7 @@ def problem_of(site: Site | str | os.PathLike[str] | Problem, options: PlanOptio
             raise UsageError("a resolved problem carries its options; give one or the other", field="options")
         return site
     if isinstance(site, (str, os.PathLike)):
-        site = load_site(site)
+        site = load_site(os.fspath(site))
     return resolve(site, options)
 
 

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from planner.cli.inputs import guard_memory, load_with_overrides, memory_limit, recorded_notes, usable_folder
 from planner.cli.network_command import checking_problem, network_check, network_inputs
 from planner.cli.report import parse_exports, write_exports
-from planner.cli.tiles import strategy_options
+from planner.cli.tiles import option_flag, strategy_options
 from planner.errors import ExitCode, InfeasibleError, UsageError
 from planner.text import dumps
 
@@ -99,7 +99,10 @@ def cmd_plan(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
     from planner.plan.problem import resolve
 
-    problem = resolve(site, plan_options(args))  # once per run: every stage takes it
+    try:
+        problem = resolve(site, plan_options(args))  # once per run: every stage takes it
+    except UsageError as err:  # a strategy option refused: named as the user gave it
+        raise UsageError(err.message, field=option_flag(err.field), value=err.value) from None
     guard_memory(problem)  # before the solver stacks load, so that a refusal is quick
     from planner.engine import plan_site
     from planner.plan.outcome import outcome_from_plan
@@ -135,7 +138,11 @@ def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
     if "targets_seen_by_fewer_than_k" in info:
         return f"{info['count']} target(s) seen by fewer than k = {options.milp.k} candidates"
     if result.status.value == "no_solution":
-        return f"no cover found within the time limit of {options.milp.time_limit_s:g} s (raise --time-limit)"
+        o = options.milp
+        work = o.limits["work_limit"]
+        stops = [f"work limit of {work:g} s of CP-SAT work (--set work-limit=S)"] if work else []
+        stops += [f"wall-clock cap of {o.time_limit_s:g} s (raise --time-limit)"] if o.time_limit_s is not None else []
+        return "no cover found within the " + (" or the ".join(stops) or f"{o.backend} solver's node limit")
     rules = ["every piece covered"] + ([f"k = {options.milp.k}"] if options.milp.k > 1 else [])
     rules += ["registration overlap connected"] if options.milp.rule is not None else []
     rules += ["combined precision"] if options.combined else []

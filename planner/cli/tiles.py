@@ -89,7 +89,7 @@ def strategy_options(args: argparse.Namespace, options: PlanOptions) -> Strategy
             worker_memory=args.worker_memory,
         )
     except UsageError as err:
-        raise UsageError(err.message, field=_flag(err.field), value=err.value) from None
+        raise UsageError(err.message, field=option_flag(err.field), value=err.value) from None
 
 
 def _tiling(args: argparse.Namespace, options: PlanOptions) -> TileOptions:
@@ -116,7 +116,7 @@ def _tiling(args: argparse.Namespace, options: PlanOptions) -> TileOptions:
             windows=windows,
         )
     except UsageError as err:
-        raise UsageError(err.message, field=_flag(err.field), value=err.value) from None
+        raise UsageError(err.message, field=option_flag(err.field), value=err.value) from None
     if args.lagrange_work is not None:
         if args.lagrange_work < 0:
             raise UsageError("must be >= 0", field="--set lagrange-work", value=args.lagrange_work)
@@ -124,6 +124,6 @@ def _tiling(args: argparse.Namespace, options: PlanOptions) -> TileOptions:
     return tiling
 
 
-def _flag(field: str | None) -> str | None:
+def option_flag(field: str | None) -> str | None:
     """The flag that gives an option's field (the field itself where none does)."""
     return _FLAGS.get(field or "", field)

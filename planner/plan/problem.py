@@ -5,12 +5,14 @@ sight (limits), the one registration rule and scope, and the strategy. Every lat
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Any
 
 from planner.checks import argument
 from planner.coverage.links import default_registration
 from planner.coverage.overlap import OverlapRule, SiteShare, rule_of
 from planner.coverage.sight import Sight, sight_of
+from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
 from planner.errors import UsageError
 from planner.plan.options import PlanOptions
@@ -44,7 +46,13 @@ class Problem:
 
     @property
     def limits(self) -> SightLimits:
+        """The sight limits (S_max, theta_max, incidence, the accuracy rule) every coverage is built under."""
         return self.sight.limits
+
+    @cached_property
+    def targets(self) -> Targets:
+        """The wall pieces of the run: every wall face cut into pieces of at most the target spacing."""
+        return make_targets(self.site, self.options.target_spacing_m)
 
     def summary(self) -> str:
         """The resolved choices, a line each: what every number of the run was computed under."""

@@ -15,7 +15,7 @@ from planner.candidates.pool import candidate_pool, dedupe
 from planner.checks import argument
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
-from planner.coverage.targets import Targets, make_targets
+from planner.coverage.targets import Targets
 from planner.errors import InfeasibleError, UsageError
 from planner.plan.closed_form import closed_form_limits
 from planner.plan.methods import REGISTRY, MethodInput
@@ -113,7 +113,7 @@ def coverage_problem(
         closed_form_limits(problem.validation).max_slant_range_m,
         options.memory_limit_bytes,
     )
-    targets = make_targets(site, options.target_spacing_m)
+    targets = problem.targets
     spaces = {} if spaces is None else spaces
     region_cache = {} if region_cache is None else region_cache
     pool = site_candidates(problem, targets, spaces, region_cache)

@@ -16,7 +16,7 @@ import scipy.sparse as sp
 from planner.coverage.links import registration_groups
 from planner.coverage.matrix import station_places
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths, rule_of
-from planner.coverage.targets import Targets, make_targets
+from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.errors import UsageError
 from planner.plan import PlanOptions, site_candidates
@@ -74,8 +74,7 @@ class Prepared:
 def site_pool(problem: Problem) -> tuple[list[Candidate], Targets]:
     """The candidate pool and targets of the whole site, exactly as :func:`planner.plan.build_problem` makes them
     (:func:`planner.plan.site_candidates`), before the completion of unseen pieces."""
-    targets = make_targets(problem.site, problem.options.target_spacing_m)
-    return site_candidates(problem, targets), targets
+    return site_candidates(problem, problem.targets), problem.targets
 
 
 def tiles_problem(site: Site | Problem, options: PlanOptions | None = None) -> Problem:
