@@ -50,7 +50,8 @@ class PricingReport:
     (``heaviest_weight``) bounds any position's dual weight from above (the regions grown by the tolerance,
     :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced
     out. ``lp_holds_over_plane``: the pool's integer LP bound holds over the plane (Farley's bound rounds up
-    to it).
+    to it). ``wall_cap_hit``: the user's wall-clock cap, not the round limit, stopped it (then the columns, and
+    so the bound, may depend on the machine's load).
     """
 
     converged: bool
@@ -65,6 +66,7 @@ class PricingReport:
     plane_history: tuple[float, ...] = field(default_factory=tuple)
     heaviest_weight: float = 0.0
     duals: tuple[float, ...] = field(default_factory=tuple, repr=False)  # the last LP's y, per piece
+    wall_cap_hit: bool = False
 
     @property
     def integer_bound(self) -> int:
@@ -93,6 +95,7 @@ class PricingReport:
             "time_s": self.time_s,
             "tolerance_m": self.tolerance_m,
             "note": self.note,
+            "wall_cap_hit": self.wall_cap_hit,
             "pool_lp_history": list(self.history),
             "plane_lp_history": list(self.plane_history),
         }
@@ -196,7 +199,7 @@ def price_plane(
     *,
     max_rounds: int = 400,
     per_round: int = 100,
-    time_limit_s: float = 120.0,
+    time_limit_s: float | None = None,
     ties: int = 1000,
     cache: dict[int, shapely.Geometry] | None = None,
     spaces: dict[str, FrameSpace] | None = None,
@@ -210,6 +213,9 @@ def price_plane(
     (:func:`planner.coverage.arrangement.outer_max_weight`): an upper bound on any position's weight, so the
     bound holds for every cover from any positions (pieces of the chosen spacing, each seen whole by one
     station). Scope ``plane`` when its ceiling reaches the pool LP's.
+
+    Limits: ``max_rounds`` rounds of pricing (a count: the same columns under any load) and, only where the user
+    sets one, a wall-clock cap ``time_limit_s`` (None: none).
     """
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
@@ -217,7 +223,7 @@ def price_plane(
     spaces = {} if spaces is None else spaces
     t = problem.targets
     added, history, plane_history, note = 0, [], [], ""
-    rounds, converged = 0, False
+    rounds, converged, capped = 0, False, False
     model = WarmCoverLp(problem.by_target)
     while True:
         lp = model.solve()
@@ -225,8 +231,11 @@ def price_plane(
         pos = np.flatnonzero(lp.y > 1e-9)
         missing = [int(k) for k in pos if int(k) not in cache]
         cache.update(coverage_regions(site, t, limits, missing, spaces))
-        if rounds >= max_rounds or time.perf_counter() - start > time_limit_s:
-            note = f"stopped after {rounds} rounds / {time.perf_counter() - start:.0f} s before pricing converged"
+        capped = time_limit_s is not None and time.perf_counter() - start > time_limit_s
+        if rounds >= max_rounds or capped:
+            note = f"stopped after {rounds} rounds / {time.perf_counter() - start:.0f} s before pricing converged" + (
+                f" (the wall-clock cap of {time_limit_s:g} s; may depend on the load)" if capped else ""
+            )
             break
         rounds += 1
         faces, _ = _heaviest(cache, t, pos, lp.y, per_round)
@@ -263,6 +272,7 @@ def price_plane(
         tuple(plane_history),
         w_star,
         tuple(map(float, lp.y)),
+        capped,
     )
     return problem, report
 

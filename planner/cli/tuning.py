@@ -151,9 +151,10 @@ KNOBS: dict[str, Knob] = {
             Knob(
                 key="work-limit",
                 parse=POSITIVE,
+                default=25.0,
                 metavar="S",
-                help="cpsat, 1 thread: stop on S deterministic seconds of CP-SAT work (same plan under any load); "
-                "--time-limit stays a wall-clock cap",
+                help="milp, cpsat: stop on S deterministic seconds of CP-SAT work, a count (default 25; with one "
+                "thread the same plan under any load); --time-limit adds a wall-clock cap",
             ),
             Knob(
                 key="local-search-moves",
@@ -199,9 +200,9 @@ KNOBS: dict[str, Knob] = {
             Knob(
                 key="pricing-time-limit",
                 parse=NON_NEGATIVE,
-                default=120.0,
                 metavar="S",
-                help="milp: time for geometric pricing (default 120 s); past it the bound scope stays 'pool'",
+                help="milp: a wall-clock cap on geometric pricing in s (default none: its 400 rounds stop it); "
+                "a capped pricing says so and may depend on the load",
             ),
             Knob(
                 key="plane-refine-steps",
@@ -302,7 +303,8 @@ KNOBS: dict[str, Knob] = {
                 parse=POSITIVE,
                 default=30.0,
                 metavar="S",
-                help="--tiles M: MILP work per tile, CP-SAT deterministic seconds, wall cap 4x (default 30)",
+                help="--tiles M: MILP work per tile, CP-SAT deterministic seconds (default 30; --time-limit caps "
+                "each tile's wall clock)",
             ),
             Knob(
                 key="bound-time-limit",
@@ -360,7 +362,7 @@ KNOBS: dict[str, Knob] = {
                 parse=POSITIVE,
                 default=3.0,
                 metavar="S",
-                help="--tiles M: CP-SAT deterministic seconds per window, wall cap 4x (default 3)",
+                help="--tiles M: CP-SAT deterministic seconds per window (default 3)",
             ),
             Knob(
                 key="tile-window-batch",

@@ -41,7 +41,8 @@ class PlanOptions:
     registration: str | None = None  # zone | site; None: site where zones are placed or openings given
     regions: bool = True
     pricing: bool = True
-    pricing_time_limit_s: float = 120.0
+    #: a wall-clock cap on pricing, only where the user sets one (None: none; its 400 rounds, a count, stop it)
+    pricing_time_limit_s: float | None = None
     #: refinements of the connected cover over patches for a zone-side the ring walk leaves below the plan
     #: (:mod:`planner.certify.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 13
     plane_refine_steps: int = 0
@@ -63,7 +64,8 @@ class PlanOptions:
             object.__setattr__(self, "tripod", self.method == "milp")
         real(self.target_spacing_m, "target_spacing_m", above=0)
         real(self.verify_spacing_m, "verify_spacing_m", at_least=SAMPLING_M[0])  # finer than 1 mm: no survey resolution
-        real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)
+        if self.pricing_time_limit_s is not None:
+            real(self.pricing_time_limit_s, "pricing_time_limit_s", at_least=0)
         count(self.plane_refine_steps, "plane_refine_steps", 0)
         for name in ("incidence_3d", "precision", "tripod", "recentre", "regions", "pricing"):
             flag(getattr(self, name), name)

@@ -40,6 +40,9 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "certificate": r.info.get("certificate"),
         "time_s": r.time_s,
         "time_covers": plan.time_label,
+        # the steps the user's wall-clock cap cut (empty: only counted work stopped the run: the same plan under
+        # any load)
+        "wall_cap_hit": wall_cap_hit(r.info),
         "backend": r.backend,
         "counts": {"inside": sides.get("inside", 0), "outside": sides.get("outside", 0), "total": len(plan.stations)},
         "parameters": {
@@ -65,6 +68,7 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             else {
                 "backend": o.milp.backend,
                 "time_limit_s": o.milp.time_limit_s,
+                **{k: v for k, v in o.milp.limits.items() if k != "wall_cap_s"},
                 "seed": o.milp.seed,
                 "threads": o.milp.threads,
                 "k": o.milp.k,
@@ -96,6 +100,16 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "verification": plan.verification.to_dict(),
         "log": list(plan.log),
     }
+
+
+def wall_cap_hit(info: dict[str, Any]) -> list[str]:
+    """The steps of a run that the user's wall-clock cap cut, from its result's ``info``: the MILP (``milp``),
+    pricing (``pricing``), or the tiles, bound and windows of a tiled run by name."""
+    tiled = info.get("wall_cap_hit")
+    steps = [str(s) for s in tiled] if isinstance(tiled, list) else []
+    steps += ["milp"] if (info.get("work") or {}).get("wall_cap_hit") else []
+    steps += ["pricing"] if (info.get("pricing") or {}).get("wall_cap_hit") else []
+    return steps
 
 
 def _station(s: Candidate, disc: TripodDisc | None) -> dict[str, Any]:

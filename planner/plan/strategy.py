@@ -55,8 +55,8 @@ class TileOptions:
     MILP for the bound (0: LP bound only); ``local_search_moves``: move budget of the local search on the
     kept plan (:func:`planner.solve.local_search.shrink`; 0: none; a count, not a time, so
     the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
-    limits are CP-SAT work in deterministic seconds, with a wall-clock cap of ``WALL_CAP`` times as
-    long, so the plan is the same under any load and on any number of Dask workers; otherwise they are
+    limits are CP-SAT work in deterministic seconds, with no wall-clock cap but the user's ``--time-limit``
+    per tile, so the plan is the same under any load and on any number of Dask workers; otherwise they are
     wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
     ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
     ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
@@ -217,7 +217,7 @@ def resolve_strategy(site: Site, options: PlanOptions, validation: ValidationRep
     given = o.runs_tiles_elsewhere
     if strategy.tiling is None and given is not None:
         raise UsageError(
-            f"Dask workers and schedulers run tiles, and this plan is one model ({strategy.reason}); ask for tiles",
+            f"Dask workers and schedulers run tiles, and this plan is one model ({strategy.reason}); ask for tiles (--tiles M)",
             field=given[0],
             value=given[1],
         )

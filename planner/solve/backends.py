@@ -2,9 +2,15 @@
 
 Each backend holds one model (binary x, minimise cost . x, rows
 ``sum coef * x >= lb``), accepts more rows between solves (the lazy
-connectivity cuts) and solves with a time limit, thread count, seed and a
-warm-start hint. Backends: OR-Tools CP-SAT; OR-Tools' linear solver with SCIP,
-HiGHS or CBC; PuLP with CBC; SCIP through PySCIPOpt (planner.solve.scip_bc).
+connectivity cuts) and solves with a thread count, seed, warm-start hint and an
+optional wall-clock cap (``None``: none). Backends: OR-Tools CP-SAT; OR-Tools'
+linear solver with SCIP, HiGHS or CBC; PuLP with CBC; SCIP through PySCIPOpt
+(planner.solve.scip_bc).
+
+Work limits, which make a solve's answer independent of the machine's load: CP-SAT stops on deterministic
+time (:attr:`CpSatBackend.work_limit`); SCIP (both ways) and PuLP's CBC on branch-and-bound nodes per solve
+(``node_limit``). HiGHS and CBC through OR-Tools take no node limit in this build: they run to their optimum
+unless the user's wall-clock cap stops them.
 """
 
 from __future__ import annotations
@@ -30,6 +36,8 @@ Hint = list[int] | dict[int, float]
 #: called with each improving solution found during a solve (chosen candidates, objective); True stops the solve
 Watch = Callable[[tuple[int, ...], float], bool]
 BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
+#: the backends a node limit per solve stops (the others: CP-SAT's work, or nothing but the user's wall cap)
+NODE_LIMITED = ("scip", "pulp-cbc", "pyscipopt")
 #: CP-SAT needs integer coefficients: fractional ones are scaled by this and rounded down
 #: (a row sum(floor(s*a) x) >= ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
@@ -152,13 +160,14 @@ class CpSatBackend:
             for k in range(count)
         ]
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
+    def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         self.model.ClearHints()
         if hint is not None:
             for i, val in hint_values(hint, self.n).items():
                 self.model.AddHint(self.x[i], int(round(val)))
         solver = self._cp.CpSolver()
-        solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
+        if time_limit_s is not None and math.isfinite(time_limit_s):  # the user's wall-clock cap, if any
+            solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
         if self.work_limit is not None:  # a work budget makes one worker's answer independent of the load
             solver.parameters.max_deterministic_time = max(self.work_limit - self.work_used, 1e-3)
         # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly
@@ -213,6 +222,8 @@ class MipBackend:
         self.solver.SuppressOutput()
         self.x = [self.solver.BoolVar(f"x{i}") for i in range(n)]
         self.n = n
+        #: branch-and-bound nodes per solve (SCIP only; None: no limit)
+        self.node_limit: int | None = None
         obj = self.solver.Objective()
         for i, c in enumerate(cost):
             obj.SetCoefficient(self.x[i], float(c))
@@ -236,12 +247,14 @@ class MipBackend:
             for k in range(count)
         ]
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
+    def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         s = self.solver
-        s.SetTimeLimit(int(max(time_limit_s, 0.01) * 1000))
+        if time_limit_s is not None and math.isfinite(time_limit_s):  # the user's wall-clock cap, if any
+            s.SetTimeLimit(int(max(time_limit_s, 0.01) * 1000))
         s.SetNumThreads(threads)
         if self.name == "scip":
-            s.SetSolverSpecificParametersAsString(f"randomization/randomseedshift = {seed}\n")
+            nodes = f"limits/nodes = {self.node_limit}\n" if self.node_limit is not None else ""
+            s.SetSolverSpecificParametersAsString(f"randomization/randomseedshift = {seed}\n{nodes}")
         if hint is not None and self.name != "highs":  # SetHint crashes HiGHS 1.12 in OR-Tools 9.15 (segfault)
             values = hint_values(hint, self.n)
             s.SetHint([self.x[i] for i in values], list(values.values()))
@@ -279,6 +292,8 @@ class PulpBackend:
         self.fixed: list[int] = []
         self.n = len(self.cost)
         self.extra: list[tuple[float, bool]] = []  # (upper, binary) of each added variable
+        #: branch-and-bound nodes per solve (None: no limit)
+        self.node_limit: int | None = None
 
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
         """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
@@ -290,14 +305,14 @@ class PulpBackend:
     def fix(self, idx: list[int]) -> None:
         self.fixed += idx
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
+    def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         # PuLP 3.3 announces its 4.0 API (prob.add_variable, COIN_CMD) with a DeprecationWarning per
         # variable; the project pins pulp < 4, where this API works, so the notices are silenced here
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
             return self._solve(time_limit_s, threads, seed, hint)
 
-    def _solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
+    def _solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         pulp = self._pulp
         prob = pulp.LpProblem("cover", pulp.LpMinimize)
         x = [pulp.LpVariable(f"x{i}", cat="Binary") for i in range(len(self.cost))]
@@ -316,10 +331,11 @@ class PulpBackend:
         with tempfile.TemporaryDirectory() as tmp:
             cmd = pulp.PULP_CBC_CMD(
                 msg=False,
-                timeLimit=max(time_limit_s, 0.01),
+                timeLimit=max(time_limit_s, 0.01) if time_limit_s is not None and math.isfinite(time_limit_s) else None,
                 threads=threads,
                 warmStart=hint is not None,
-                options=[f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"],
+                options=[f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"]
+                + ([f"maxNodes {self.node_limit}"] if self.node_limit is not None else []),
                 keepFiles=False,
             )
             cmd.tmpDir = tmp

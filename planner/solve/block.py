@@ -3,7 +3,7 @@
 :func:`planner.solve.milp.solve` makes one :class:`BlockSolver` per block (no shared target, no common
 registration group). Before any search a block of one group gets the ring bound and its Lagrangian
 ascent (:mod:`planner.solve.ring`); then :meth:`BlockSolver.run` solves, cuts disconnected answers off and
-re-solves until its plan is connected and proven, or its time is up.
+re-solves until its plan is connected and proven, or its work (or the user's wall-clock cap) is used up.
 """
 
 from __future__ import annotations
@@ -70,6 +70,8 @@ class BlockSolver:
         self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
         self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
         self.backend = make_backend(o.backend, len(cands), self.cost)
+        if hasattr(self.backend, "node_limit"):  # the backends that take a node limit per solve
+            self.backend.node_limit = o.node_limit
         self.essential: dict = {}  # set with the model: only the search uses it
         self.integral = bool(np.all(self.cost == np.round(self.cost)))
         self._duals: np.ndarray | None = None  # the cover LP's duals, solved once for the ascent
@@ -217,8 +219,9 @@ class BlockSolver:
         return float(getattr(self.backend, "work_used", 0.0))
 
     def run(self, deadline: float, work_until: float | None = None) -> None:
-        """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline, or (when
-        given) until the block's CP-SAT work reaches ``work_until``."""
+        """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline (``math.inf``:
+        none), (when given) until the block's CP-SAT work reaches ``work_until``, or until a solve stopped on its
+        limit finds nothing to cut (a re-solve of the same model would give the same answer)."""
         if work_until is not None:
             self.backend.work_limit = work_until
         while not self.done and self.rounds < self.o.max_rounds:
@@ -261,6 +264,8 @@ class BlockSolver:
             self.cuts += len(new)
             self._shrink()
             self.done = self._closed()
+            if not new and res.outcome is Outcome.FEASIBLE:
+                return
 
     def _closed(self) -> bool:
         """Whether the incumbent is connected and meets the bound (integral costs: its ceiling)."""

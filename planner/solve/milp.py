@@ -16,6 +16,7 @@ blocks add up.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
@@ -35,7 +36,7 @@ from planner.coverage.overlap import (
     overlap_adjacency,
 )
 from planner.errors import UsageError
-from planner.solve.backends import BACKENDS
+from planner.solve.backends import BACKENDS, NODE_LIMITED
 from planner.solve.block import BlockSolver, lengths
 from planner.solve.instance import CoverInstance
 from planner.solve.lazy_links import OverlapLinks, linked_dominated
@@ -49,8 +50,15 @@ from planner.solve.presolve import (
 from planner.solve.result import SolveResult, Status
 
 PRECISION_MODES = ("single", "combined")
-#: wall-clock cap of a work-limited MILP, as a multiple of its work limit (:meth:`MilpOptions.with_work_limit`)
-WALL_CAP = 4.0
+#: CP-SAT deterministic seconds a whole solve may spend (cpsat; about a minute of one core): a count of work, so
+#: the plan is the same under any load; Baalbek's site with doors and the 4-ha plant end on it, the other bundled
+#: sites are proven well within it
+WORK_LIMIT = 25.0
+#: branch-and-bound nodes per solve on the backends that take a node limit (:data:`NODE_LIMITED`)
+NODE_LIMIT = 10_000
+#: wall-clock cap of a work-limited MILP the tiles and windows run, as a multiple of its work limit
+#: (:meth:`MilpOptions.with_work_limit`); None: no cap (a wall-clock limit is only a cap the user sets)
+WALL_CAP: float | None = None
 #: how registration connectivity is enforced: branch-and-cut in one SCIP tree (PySCIPOpt),
 #: a single-commodity flow model, or the cut loop that re-solves after each round of cuts
 CONNECTIVITY = ("auto", "bc", "flow", "loop")
@@ -59,7 +67,9 @@ CONNECTIVITY = ("auto", "bc", "flow", "loop")
 @dataclass(frozen=True)
 class MilpOptions:
     backend: str = "cpsat"
-    time_limit_s: float = 60.0
+    #: a wall-clock cap in seconds on the whole solve, only where the user sets one (None: none). A solve it
+    #: cuts may depend on the machine's load: ``info["work"]["wall_cap_hit"]`` says so
+    time_limit_s: float | None = None
     seed: int = 0
     threads: int = 1
     k: int = 1
@@ -80,9 +90,12 @@ class MilpOptions:
     #: steps of the Lagrangian ascent that adds the cover rows to the ring bound (a count: the same bound
     #: under any load; 0: the ring bound alone)
     ring_lagrange_steps: int = 500
-    #: CP-SAT deterministic seconds for the whole solve (cpsat, 1 thread): the answer then does not depend
-    #: on the machine's load; ``time_limit_s`` stays a wall-clock cap (``info["work"]`` says which ended it)
-    work_limit: float | None = None
+    #: CP-SAT deterministic seconds for the whole solve (cpsat; None: none): with one thread the answer does not
+    #: depend on the machine's load. Other backends ignore it
+    work_limit: float | None = WORK_LIMIT
+    #: branch-and-bound nodes per solve of the cut loop on scip, pulp-cbc and pyscipopt (None: none); highs and
+    #: cbc take none, so there only the user's ``time_limit_s`` stops a solve short of its optimum
+    node_limit: int | None = NODE_LIMIT
     #: swaps of the local search (:mod:`planner.solve.local_search`) that tries, once per incumbent size, to
     #: find a connected plan one station smaller, down to the block's bound (unit costs, k = 1; 0: off)
     local_search_moves: int = 500
@@ -110,18 +123,15 @@ class MilpOptions:
             ("ring_lagrange_steps", 0),
         ):
             count(getattr(self, name), name, least)
-        real(self.time_limit_s, "time_limit_s", above=0)
+        if self.time_limit_s is not None:
+            real(self.time_limit_s, "time_limit_s", above=0)
+        if self.node_limit is not None:
+            count(self.node_limit, "node_limit", 1)
         for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound"):
             flag(getattr(self, name), name)
         argument(self.overlap, (OverlapRule, SiteShare, type(None)), "overlap")
         if self.work_limit is not None:
             real(self.work_limit, "work_limit", above=0)
-        if self.work_limit is not None and not (self.work_limit > 0 and self.backend == "cpsat" and self.threads == 1):
-            raise UsageError(
-                "a work limit needs a value > 0, the cpsat backend and one thread",
-                field="work_limit",
-                value=self.work_limit,
-            )
 
     @property
     def rule(self) -> OverlapRule | None:
@@ -129,10 +139,22 @@ class MilpOptions:
         default share."""
         return self.overlap.rule(DEFAULT_OVERLAP) if isinstance(self.overlap, SiteShare) else self.overlap
 
-    def with_work_limit(self, work_s: float, wall_cap: float) -> MilpOptions:
-        """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap
-        of ``wall_cap`` times as long."""
-        return replace(self, time_limit_s=wall_cap * work_s, work_limit=work_s)
+    def with_work_limit(self, work_s: float, wall_cap: float | None = WALL_CAP) -> MilpOptions:
+        """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap of
+        ``wall_cap`` times as long (None: the user's cap ``time_limit_s``, if any)."""
+        return replace(
+            self, time_limit_s=self.time_limit_s if wall_cap is None else wall_cap * work_s, work_limit=work_s
+        )
+
+    @property
+    def limits(self) -> dict[str, Any]:
+        """The limits that stop this solve on its backend: its counted work (``work_limit`` CP-SAT deterministic
+        seconds on cpsat, ``node_limit`` nodes per solve where the backend takes one) and the wall-clock cap."""
+        return {
+            "work_limit": self.work_limit if self.backend == "cpsat" else None,
+            "node_limit": self.node_limit if self.backend in NODE_LIMITED else None,
+            "wall_cap_s": self.time_limit_s,
+        }
 
     @property
     def connectivity_method(self) -> str:
@@ -154,7 +176,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         raise UsageError("not a MilpOptions field", field=unknown[0], value=overrides[unknown[0]])
     o = replace(options or MilpOptions(), **overrides) if overrides else (options or MilpOptions())
     start = time.perf_counter()
-    deadline = start + o.time_limit_s
+    deadline = math.inf if o.time_limit_s is None else start + o.time_limit_s
     counts = np.diff(instance.by_target.indptr)
     if np.any(counts < o.k):
         bad = np.flatnonzero(counts < o.k)
@@ -169,7 +191,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         )
     connect = o.rule is not None and instance.groups is not None
     report, solvers = block_solvers(instance, o)
-    _share_out(solvers, deadline, o.work_limit)
+    _share_out(solvers, deadline, o.work_limit if o.backend == "cpsat" else None)
     if any(b.infeasible for b in solvers):
         return SolveResult(
             "milp",
@@ -212,13 +234,15 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         },
         "connectivity": o.connectivity_method if connect else "none",
     }
-    if o.work_limit is not None:
-        used = sum(b.work_used for b in solvers)
-        info["work"] = {
-            "limit": o.work_limit,
-            "used": round(used, 3),
-            "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline,
-        }
+    limits = o.limits
+    info["work"] = {
+        "limit": limits["work_limit"],
+        "used": round(sum(b.work_used for b in solvers), 3),
+        "node_limit": limits["node_limit"],
+        "wall_cap_s": limits["wall_cap_s"],
+        # the user's wall-clock cap, not the counted work, ended the search: only then may the plan depend on the load
+        "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline,
+    }
     return SolveResult(
         "milp",
         status,
@@ -267,8 +291,9 @@ def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.
 
 def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | None) -> None:
     """Pass 1: each block an equal share of what is left (a block that finishes early leaves its rest);
-    pass 2: the blocks not yet proven share whatever is left. Shares are of wall-clock time, or of CP-SAT
-    work (deterministic seconds: every share, and so the plan, is the same under any load)."""
+    pass 2: the blocks not yet proven share whatever is left. Shares are of CP-SAT work (deterministic
+    seconds: every share, and so the plan, is the same under any load), else of the user's wall-clock cap;
+    with neither, each block runs until it is proven or its node limit per solve ends its cut loop."""
     for first in (True, False):
         todo = solvers if first else [b for b in solvers if not b.done]
         for k, block in enumerate(todo):
@@ -279,7 +304,7 @@ def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | 
                 continue
             share = (deadline - time.perf_counter()) / (len(todo) - k)
             if share > 0:
-                block.run(time.perf_counter() + share)
+                block.run(time.perf_counter() + share if math.isfinite(share) else math.inf)
 
 
 def _presolve(

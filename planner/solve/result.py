@@ -15,7 +15,7 @@ class Status(str, Enum):
     FEASIBLE = "feasible"  # a full cover, optimality not proven
     INCOMPLETE = "incomplete"  # a plan that leaves targets uncovered (e.g. the closed form on a sharp corner)
     INFEASIBLE = "infeasible"  # proven: no cover exists (some target seen by no candidate)
-    NO_SOLUTION = "no_solution"  # the method stopped without a cover (time limit)
+    NO_SOLUTION = "no_solution"  # the method stopped without a cover (its work limit, or the user's wall-clock cap)
 
 
 @dataclass(frozen=True)
@@ -40,7 +40,8 @@ class SolveResult:
 
     @property
     def wall_cap_hit(self) -> bool:
-        """A work-limited MILP (``info["work"]``) that its wall-clock cap ended: only then may it depend on the load."""
+        """A MILP (``info["work"]``) that the user's wall-clock cap ended before its counted work: only then may
+        its answer depend on the machine's load."""
         return bool(self.info.get("work", {}).get("wall_cap_hit", False))
 
     def _repr_html_(self) -> str:
@@ -54,7 +55,9 @@ class SolveResult:
         bound = "" if self.bound is None or math.isnan(self.bound) else f", bound {self.bound:g}"
         obj = "-" if self.objective is None else f"{self.objective:g}"
         label = f" ({time_label})" if time_label else ""
-        return f"{self.method}: {self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}"
+        cap = self.info.get("work", {}).get("wall_cap_s")
+        cut = f"; stopped by the wall-clock cap of {cap:g} s (may depend on the load)" if self.wall_cap_hit else ""
+        return f"{self.method}: {self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}{cut}"
 
     @property
     def scope(self) -> str | None:

@@ -19,6 +19,7 @@ seed goes to ``randomization/randomseedshift``.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Hashable, Sequence
 from typing import Any
 
@@ -50,6 +51,8 @@ class PyScipBackend:
         if np.all(np.abs(cost - np.round(cost)) < 1e-12):
             self.model.setObjIntegral()
         self.handler: Any = None
+        #: branch-and-bound nodes per solve (None: no limit)
+        self.node_limit: int | None = None
 
     def add_rows(self, rows: list[Row]) -> None:
         self.model.freeTransform()
@@ -101,10 +104,13 @@ class PyScipBackend:
     def cuts(self) -> int:
         return 0 if self.handler is None else self.handler.n_int + self.handler.n_frac
 
-    def solve(self, time_limit_s: float, threads: int, seed: int, hint: Hint | None) -> BackendResult:
+    def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         m = self.model
         m.freeTransform()
-        m.setParam("limits/time", max(time_limit_s, 0.01))
+        if time_limit_s is not None and math.isfinite(time_limit_s):  # the user's wall-clock cap, if any
+            m.setParam("limits/time", max(time_limit_s, 0.01))
+        if self.node_limit is not None:
+            m.setParam("limits/nodes", self.node_limit)
         m.setParam("randomization/randomseedshift", int(seed))
         m.setParam("lp/threads", 1)
         if hint is not None:

@@ -19,7 +19,8 @@ solve vehicle routing problems" (CP 1998), with an exact MILP as the repair step
 
 One pass visits every station of the plan as a centre, in an order drawn by a generator of fixed seed
 (stations already removed are skipped). Work limits, not clocks, stop each window, so the result depends
-only on the input and the options (the wall-clock cap, ``WALL_CAP`` times the work, is counted when reached).
+only on the input and the options (a wall-clock cap, ``WALL_CAP`` times the work where one is set, is
+counted when reached).
 
 Windows may run ``batch`` at a time through ``run`` (tiled plans on Dask, with ``WindowOptions.batch`` > 1):
 ``batch`` windows are kept in flight, each for the next centre still in the plan, all against the plan as it

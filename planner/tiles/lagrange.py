@@ -89,8 +89,8 @@ class LagrangeBound:
 
 
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
-    """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, a wall
-    cap ``WALL_CAP`` times as long); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
+    """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, and a wall
+    cap ``WALL_CAP`` times as long where one is set); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
     When CP-SAT finds no cover within its work (a large part on a small share of the budget: 64 ha), the
     part's cover is Chvatal's greedy (:func:`_greedy_part`) and ``lower`` CP-SAT's bound, or 0 for the
     candidates of cost >= 0 where that bound is not finite: both stay valid.
@@ -120,7 +120,8 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     solver.parameters.random_seed = seed
     solver.parameters.linearization_level = 2
     solver.parameters.max_deterministic_time = work_s
-    solver.parameters.max_time_in_seconds = WALL_CAP * work_s
+    if WALL_CAP is not None:
+        solver.parameters.max_time_in_seconds = WALL_CAP * work_s
     status = solver.Solve(model)
     if status == cp_model.INFEASIBLE:
         raise InfeasibleError("a piece of this part is seen by none of its candidates", field="lagrange part")
@@ -136,7 +137,7 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     bound = solver.BestObjectiveBound()
     rest = max(0, math.ceil(bound - 1e-9)) if math.isfinite(bound) else 0  # the kept costs are >= 0
     lower = objective if optimal else int(job.w[free].sum()) + rest
-    capped = not optimal and solver.wall_time >= 0.99 * WALL_CAP * work_s
+    capped = WALL_CAP is not None and not optimal and solver.wall_time >= 0.99 * WALL_CAP * work_s
     return PartResult(lower, objective, chosen, optimal, capped)
 
 

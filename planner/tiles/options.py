@@ -29,4 +29,4 @@ def tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
     limit = tiling.tile_time_limit_s
     if deterministic_limits(options.milp, tiling):
         return options.milp.with_work_limit(limit, WALL_CAP)
-    return replace(options.milp, time_limit_s=limit)
+    return replace(options.milp, time_limit_s=limit, work_limit=None)  # the user chose wall-clock limits

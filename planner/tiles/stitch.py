@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Hashable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -133,15 +133,15 @@ def global_bound(
     time_limit_s: float,
     seed: int = 0,
     work_limited: bool = False,
-    wall_cap: float = WALL_CAP,
+    wall_cap: float | None = WALL_CAP,
     parts: Sequence[np.ndarray] | None = None,
     lagrange_iterations: int = 0,
     lagrange_work_s: float = 10.0,
     client: Any = None,
 ) -> Bound:
     """The LP bound and, with ``time_limit_s`` > 0, the cover MILP's bound (registration rule dropped).
-    ``work_limited``: the limit is CP-SAT work (deterministic seconds) under a wall cap ``wall_cap`` times
-    as long, so the bound and the cover it returns do not depend on the load. With ``parts`` (a partition
+    ``work_limited``: the limit is CP-SAT work (deterministic seconds), under a wall cap ``wall_cap`` times
+    as long where one is given (None: none), so the bound and the cover it returns do not depend on the load. With ``parts`` (a partition
     of the pieces, e.g. the tiles' cores) also the Lagrangian bound over them
     (:func:`planner.tiles.lagrange.lagrangian_bound`, always on CP-SAT work limits; on ``client`` if given)."""
     milp: float | None = None
@@ -150,8 +150,9 @@ def global_bound(
     capped = False
     if time_limit_s > 0:
         inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
-        opts = MilpOptions(overlap=None, time_limit_s=time_limit_s, seed=seed, threads=1)
-        res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else opts)
+        opts = MilpOptions(overlap=None, seed=seed, threads=1)
+        wall = replace(opts, time_limit_s=time_limit_s, work_limit=None)  # the user chose wall-clock limits
+        res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else wall)
         milp = res.objective if res.status is Status.OPTIMAL else res.bound
         status, cover, capped = res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit
     lag = None

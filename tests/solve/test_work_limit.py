@@ -1,4 +1,5 @@
-"""A work limit (CP-SAT deterministic seconds) makes a time-limited MILP's answer independent of the load."""
+"""A work limit (CP-SAT deterministic seconds, the default) makes the MILP's answer independent of the load; a
+wall-clock cap is only what the user sets, and the result says when it cut the solve."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import scipy.sparse as sp
 
 from planner.errors import UsageError
 from planner.solve.instance import CoverInstance
-from planner.solve.milp import MilpOptions, solve
+from planner.solve.milp import NODE_LIMIT, WORK_LIMIT, MilpOptions, solve
 from planner.solve.result import Status
 
 
@@ -61,7 +62,34 @@ def test_enough_work_proves_the_optimum_the_wall_clock_solve_proves() -> None:
     assert worked.objective == plain.objective
 
 
-@pytest.mark.parametrize("kw", [{"backend": "scip"}, {"threads": 2}, {"work_limit": 0.0}])
-def test_work_limit_needs_cpsat_one_thread_and_a_positive_value(kw: dict) -> None:
-    with pytest.raises(UsageError, match=r"work.limit"):  # the combination, or the value (work_limit = 0)
-        MilpOptions(**{"work_limit": 1.0, **kw})
+@pytest.mark.parametrize("kw", [{"work_limit": 0.0}, {"work_limit": -1.0}, {"node_limit": 0}, {"time_limit_s": 0}])
+def test_limits_must_be_positive(kw: dict) -> None:
+    with pytest.raises(UsageError, match=next(iter(kw))):
+        MilpOptions(**kw)
+
+
+def test_the_default_limits_count_work_and_no_wall_clock() -> None:
+    o = MilpOptions()
+    assert (o.time_limit_s, o.work_limit, o.threads) == (None, WORK_LIMIT, 1)
+    assert o.limits == {"work_limit": WORK_LIMIT, "node_limit": None, "wall_cap_s": None}
+    # the other backends keep the default work limit without complaint; those that take one get a node limit
+    assert MilpOptions(backend="scip").limits == {"work_limit": None, "node_limit": NODE_LIMIT, "wall_cap_s": None}
+    assert MilpOptions(backend="highs").limits == {"work_limit": None, "node_limit": None, "wall_cap_s": None}
+    r = solve(random_cover(5, n_cand=60, n_targ=80, density=0.06), overlap=None)
+    assert r.status is Status.OPTIMAL
+    assert r.info["work"]["wall_cap_hit"] is False and r.info["work"]["wall_cap_s"] is None
+    assert "wall-clock cap" not in r.summary()
+
+
+def test_a_wall_cap_that_cuts_the_solve_is_reported() -> None:
+    r = solve(random_cover(3, n_cand=1500, n_targ=2500, density=0.004), overlap=None, time_limit_s=0.05)
+    assert r.info["work"]["wall_cap_hit"] is True and r.wall_cap_hit
+    assert "stopped by the wall-clock cap of 0.05 s" in r.summary()
+
+
+@pytest.mark.parametrize("backend", ["scip", "pulp-cbc", "pyscipopt"])
+def test_a_node_limit_stops_the_other_backends(backend: str) -> None:
+    inst = random_cover(3, n_cand=100, n_targ=150, density=0.03)
+    r = solve(inst, MilpOptions(backend=backend, overlap=None, presolve=False, node_limit=1))
+    assert r.status in (Status.OPTIMAL, Status.FEASIBLE) and r.info["work"]["node_limit"] == 1
+    assert np.all(inst.by_candidate[list(r.selected)].sum(axis=0) >= 1)

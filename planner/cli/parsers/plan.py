@@ -31,7 +31,14 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         default="milp",
         help="closed-form (the dissertation), greedy (Chvatal) or milp (optimal; default)",
     )
-    pl.add_argument("--time-limit", type=POSITIVE, default=60.0, metavar="S", help="MILP time limit in s (default 60)")
+    pl.add_argument(
+        "--time-limit",
+        type=POSITIVE,
+        default=None,
+        metavar="S",
+        help="a wall-clock cap on the MILP in s (default none: it stops on its work-limit, the same plan under any "
+        "load; a capped plan says so)",
+    )
     pl.add_argument("--k", type=POSITIVE_INT, default=1, help="each wall piece seen by at least k stations (default 1)")
     pl.add_argument(
         "--precision",
