@@ -62,7 +62,12 @@ def add_field_parser(sub: Any) -> None:
         help="routing: guided local search stops after N solutions (deterministic; default 1000)",
     )
     f.add_argument(
-        "--time-limit", type=POSITIVE, default=60.0, metavar="S", help="routing: safety cap in s (default 60)"
+        "--time-limit",
+        type=POSITIVE,
+        default=None,
+        metavar="S",
+        help="routing and branch-and-cut: a wall-clock cap in s (default none: they stop on counted work, the "
+        "same sheet under any load; a capped sheet says so)",
     )
     f.add_argument("--quiet", action="store_true", help="no progress bars")
     f.set_defaults(func=cmd_field)
@@ -85,7 +90,7 @@ def field_options(args: argparse.Namespace, prefix: str = "") -> FieldOptions:
             setting=getattr(args, "setting", None),
             strong_overlap=getattr(args, "strong_overlap", 0.5),
             solution_limit=getattr(args, "solution_limit", 1000),
-            time_cap_s=getattr(args, "time_limit", 60.0) if prefix == "" else 60.0,
+            time_cap_s=getattr(args, "time_limit", None) if prefix == "" else None,
         )
     except UsageError as err:
         if not prefix or err.field not in ("--mode", "--start", "--session"):
@@ -117,7 +122,12 @@ def summary(fp: FieldPlan) -> str:
             f"field sheet {fp.site.name}: {len(fp.order)} setups, {fp.options.mode} order from {fp.start_label}",
             f"route {fp.route_length_m:.1f} m, lower bound {fp.lower_bound_m:.1f} m ({fp.bound_method}), gap "
             f"{100 * fp.gap:.2f} %; nearest-neighbour order {fp.nearest_neighbour_m:.1f} m"
-            + ("" if fp.registration_ok else "; registration order NOT honoured (shortest mode)"),
+            + ("" if fp.registration_ok else "; registration order NOT honoured (shortest mode)")
+            + (
+                f"; stopped by the wall-clock cap of {fp.options.time_cap_s:g} s (may depend on the load)"
+                if fp.capped and fp.options.time_cap_s is not None
+                else ""
+            ),
             (
                 f"field time {t.total_s / 3600:.2f} h ({t.walking_s / 60:.0f} min walking, {t.station_s / 60:.0f} min at "
                 f"stations, setting {t.setting}) in {len(t.sessions)} session(s)"

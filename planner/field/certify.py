@@ -53,7 +53,7 @@ def certify(
     start_is_station: bool,
     closed: bool,
     node_limit: int = NODE_LIMIT,
-    wall_cap_s: float = WALL_CAP_S,
+    wall_cap_s: float | None = WALL_CAP_S,
 ) -> Certified:
     """Bound ``result`` (the routing answer) and improve it by branch-and-cut where it helps (see the module text)."""
     n = len(d)

@@ -12,7 +12,7 @@ the start's part stands at least as far down the order as its hop distance from 
 Costs are the walking distances in cm rounded **down**, so every order costs at least the model's cost, and
 the solver's proven objective bound / 100 is a lower bound in metres on the real optimum. The search starts
 from a hint (the routing answer). Determinism: one worker, seed 0, and a limit on CP-SAT's *deterministic*
-time (a count of work, the same on every machine); the wall-clock cap is only a safety net and
+time (a count of work, the same on every machine); a wall-clock cap applies only where the caller sets one, and
 :attr:`ExactResult.capped` says when it was reached.
 """
 
@@ -34,7 +34,8 @@ from planner.field.order import order_length
 SCALE = 100.0
 #: CP-SAT's deterministic time limit (about seconds of one core; machine-independent)
 WORK_LIMIT = 20.0
-WALL_CAP_S = 60.0
+#: no wall-clock cap unless the caller sets one
+WALL_CAP_S: float | None = None
 
 
 @dataclass(frozen=True)
@@ -59,7 +60,7 @@ def cpsat_order(
     closed: bool = False,
     hint: Sequence[int] | None = None,
     work_limit: float = WORK_LIMIT,
-    wall_cap_s: float = WALL_CAP_S,
+    wall_cap_s: float | None = WALL_CAP_S,
 ) -> ExactResult:
     """Solve the model of the module text on walking distances ``d`` (finite, m); ``hint``: an order from node 0
     (honouring the rule in ``registration`` mode) to start from."""
@@ -104,10 +105,11 @@ def cpsat_order(
     solver.parameters.random_seed = 0
     solver.parameters.linearization_level = 2
     solver.parameters.max_deterministic_time = work_limit
-    solver.parameters.max_time_in_seconds = wall_cap_s
+    if wall_cap_s is not None:
+        solver.parameters.max_time_in_seconds = wall_cap_s
     status = solver.Solve(m)
     wall = time.perf_counter() - t0
-    capped = wall >= 0.98 * wall_cap_s
+    capped = wall_cap_s is not None and wall >= 0.98 * wall_cap_s
     if status == cp_model.INFEASIBLE:
         raise InternalError("the visiting-order model has no solution (the registration rule cannot be kept)")
     bound = max(0.0, float(solver.BestObjectiveBound()) / SCALE)

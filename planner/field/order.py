@@ -8,9 +8,9 @@ be related to it). The rule is a constraint of the routing model (a rank dimensi
 "some neighbour has a smaller rank, or none of its part has"), honoured by every solution.
 
 Determinism: the search starts from the nearest-neighbour order (which honours the rule) and runs guided
-local search for at most ``solution_limit`` solutions, one thread, so the same input gives the same order
-on every machine; ``time_limit_s`` is only a safety cap (when it is reached the order may depend on
-the machine's speed, and :attr:`OrderResult.capped` says so).
+local search for ``solution_limit`` solutions, one thread, with no time limit, so the same input gives the same
+order on every machine and under any load; ``time_cap_s`` is a wall-clock cap only where the user sets one
+(when it is reached the order may depend on the machine's speed, and :attr:`OrderResult.capped` says so).
 """
 
 from __future__ import annotations
@@ -25,9 +25,10 @@ from numpy.typing import NDArray
 from planner.errors import InternalError, UsageError
 
 MODES = ("shortest", "registration")
-#: guided local search stops after this many solutions (deterministic), or at the time cap
+#: guided local search stops after this many solutions (a count: deterministic)
 SOLUTION_LIMIT = 1000
-TIME_CAP_S = 60.0
+#: no wall-clock cap unless the user sets one
+TIME_CAP_S: float | None = None
 #: walking distances go to the solver in millimetres
 SCALE = 1000.0
 
@@ -99,7 +100,7 @@ def solve_order(
     start_is_station: bool = True,
     closed: bool = False,
     solution_limit: int = SOLUTION_LIMIT,
-    time_cap_s: float = TIME_CAP_S,
+    time_cap_s: float | None = TIME_CAP_S,
 ) -> OrderResult:
     """The visiting order of nodes 0..n-1 from node 0 on walking distances ``d`` (finite, m).
 
@@ -130,7 +131,8 @@ def solve_order(
     params = pywrapcp.DefaultRoutingSearchParameters()
     params.local_search_metaheuristic = routing_enums_pb2.LocalSearchMetaheuristic.GUIDED_LOCAL_SEARCH
     params.solution_limit = solution_limit
-    params.time_limit.FromMilliseconds(int(time_cap_s * 1000))
+    if time_cap_s is not None:  # the user's wall-clock cap; by default the solution limit alone stops the search
+        params.time_limit.FromMilliseconds(int(time_cap_s * 1000))
     routing.CloseModelWithParameters(params)
     initial = routing.ReadAssignmentFromRoutes([list(nn[1:])], True)
     if initial is None:
@@ -139,7 +141,7 @@ def solve_order(
 
     t0 = time.perf_counter()
     solution = routing.SolveFromAssignmentWithParameters(initial, params)
-    capped = time.perf_counter() - t0 >= 0.98 * time_cap_s
+    capped = time_cap_s is not None and time.perf_counter() - t0 >= 0.98 * time_cap_s
     if solution is None:
         return OrderResult(nn, nn_m, nn, nn_m, capped)
     order, index = [], routing.Start(0)

@@ -56,8 +56,9 @@ from planner.site.model import ScanSide, Site
 class FieldOptions:
     """How the sheet is made: ``mode`` shortest|registration, ``start`` (a station id, ``x,y``, or None for
     the station nearest the first door or control point), ``closed`` (back to the start), ``session_s``,
-    the scan ``setting`` (None: the instrument's default), ``strong_overlap``, the routing limits and the
-    branch-and-cut's deterministic ``node_limit``."""
+    the scan ``setting`` (None: the instrument's default), ``strong_overlap``, the routing's ``solution_limit``
+    and the branch-and-cut's ``node_limit`` (counts: the same sheet under any load), and ``time_cap_s``, a
+    wall-clock cap on both only where the user sets one (None: none)."""
 
     mode: str = "shortest"
     start: str | None = None
@@ -66,7 +67,7 @@ class FieldOptions:
     setting: str | None = None
     strong_overlap: float = STRONG_OVERLAP
     solution_limit: int = SOLUTION_LIMIT
-    time_cap_s: float = TIME_CAP_S
+    time_cap_s: float | None = TIME_CAP_S
     node_limit: int = NODE_LIMIT
 
     def __post_init__(self) -> None:
@@ -76,6 +77,8 @@ class FieldOptions:
             raise UsageError("must be a fraction in [0, 1]", field="--strong-overlap", value=self.strong_overlap)
         if self.session_s is not None and not (math.isfinite(self.session_s) and self.session_s > 0):
             raise UsageError("must be a duration > 0", field="--session", value=self.session_s)
+        if self.time_cap_s is not None and not (math.isfinite(self.time_cap_s) and self.time_cap_s > 0):
+            raise UsageError("must be a number of seconds > 0", field="--time-limit", value=self.time_cap_s)
 
 
 @dataclass(frozen=True, eq=False)

@@ -17,7 +17,7 @@ fractional LP points get the cuts of the suffixes of a greedy order read from th
 with the most LP flow in from the nodes taken) and of the components of the LP's support.
 
 Costs are the walking distances in mm rounded **down**, so SCIP's dual bound / 1000 is a lower bound in metres. Determinism: one thread, seed 0, a limit on branch-and-bound nodes;
-the wall-clock cap is only a safety net (:attr:`planner.field.exact.ExactResult.capped`).
+a wall-clock cap applies only where the user sets one (:attr:`planner.field.exact.ExactResult.capped`).
 """
 
 from __future__ import annotations
@@ -37,7 +37,8 @@ from planner.field.order import order_length
 SCALE = 1000.0
 #: branch-and-bound nodes SCIP may open (deterministic work limit)
 NODE_LIMIT = 2000
-WALL_CAP_S = 120.0
+#: no wall-clock cap unless the user sets one
+WALL_CAP_S: float | None = None
 #: a fractional cut is added when violated by more than this
 MIN_VIOLATION = 1e-3
 
@@ -135,7 +136,7 @@ def scip_order(
     closed: bool = False,
     hint: Sequence[int] | None = None,
     node_limit: int = NODE_LIMIT,
-    wall_cap_s: float = WALL_CAP_S,
+    wall_cap_s: float | None = WALL_CAP_S,
 ) -> ExactResult:
     """Solve the model of the module text on walking distances ``d`` (finite, m); ``hint``: an order from node 0
     (honouring the rule in ``registration`` mode) given to SCIP as its first solution."""
@@ -184,7 +185,8 @@ def scip_order(
     m.setBoolParam("misc/allowstrongdualreds", False)
     m.setBoolParam("misc/allowweakdualreds", False)
     m.setParam("limits/nodes", node_limit)
-    m.setParam("limits/time", wall_cap_s)
+    if wall_cap_s is not None:
+        m.setParam("limits/time", wall_cap_s)
     m.setParam("randomization/randomseedshift", 0)
     m.setParam("lp/threads", 1)
     if hint is not None:

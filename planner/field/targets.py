@@ -43,6 +43,8 @@ SPHERE_GRID_M = 1.0
 MIN_TARGET_DISTANCE_M = 2.0
 #: a link sharing at least this fraction of the smaller scan's covered wall needs no targets
 STRONG_OVERLAP = 0.5
+#: CP-SAT deterministic seconds for the choice of targets (one worker; a count, not a time)
+TARGET_WORK = 10.0
 _NO_WALL = -2
 
 
@@ -256,7 +258,7 @@ def _choose(
     solver = cp_model.CpSolver()
     solver.parameters.num_workers = 1
     solver.parameters.random_seed = 0
-    solver.parameters.max_time_in_seconds = 20.0
+    solver.parameters.max_deterministic_time = TARGET_WORK  # a count of work: the same targets under any load
     status = solver.Solve(model)
     if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
         return []
