@@ -10,7 +10,7 @@ verification included; "solve s" is the greedy alone (plan.json ``time_s``). "af
 or, with ``--before-files``, this checkout with only those files as at REV (``git show``); without
 ``--before`` it is left empty. The MILP reference is the default MILP's count recorded in
 tests/expected/bundled_plans.json ("feasible": stopped at its time limit), and 109 for the 16-ha plant (the
-issue's figure, not rerun). Every plan is checked from its plan.json: registration connected, verification
+single model's count, not rerun). Every plan is checked from its plan.json: registration connected, verification
 complete. Prints the Markdown table; ``--md`` also writes it with this protocol.
 """
 
@@ -63,7 +63,7 @@ HEADER = [
 def milp_reference(site: str) -> str:
     rows = json.loads((ROOT / "tests/expected/bundled_plans.json").read_text())["plans"]
     if site == "plant_16ha":
-        return f"{MILP_16HA} (issue)"
+        return f"{MILP_16HA} (single model)"
     row = rows.get(site)
     if row is None:
         return ""
@@ -174,7 +174,7 @@ def main() -> None:
         )
         rev = rev if args.before else "no `--before`"
         args.md.write_text(
-            f"# The connected greedy before and after the bundles (issue 34)\n\nWritten by "
+            f"# The connected greedy before and after the bundles\n\nWritten by "
             f"`python scripts/bench/bench_connected_greedy.py` ({rev}; one run each, this machine). "
             + " ".join(__doc__.split("\n\n")[2].split())
             + "\n\n"

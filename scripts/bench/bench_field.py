@@ -140,7 +140,7 @@ def main() -> None:
                 )
             )
     lines = [
-        "# Field sheet benchmark (issue 35)",
+        "# Field sheet benchmark",
         "",
         (
             "`python scripts/bench/bench_field.py` (one run each; wall time and peak RSS of the whole `planner field` "

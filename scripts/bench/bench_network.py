@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-HEADER = """# `planner network` at scale (issue 34, part 5)
+HEADER = """# `planner network` at scale
 
 Wall time and peak RSS of one `planner network SITE PLAN` process per case (`/usr/bin/time -v`), on
 greedy plans (`planner plan SITE --method greedy`, the plants with `--registration site`; `plant_4ha_zone`
