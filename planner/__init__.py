@@ -37,7 +37,7 @@ __version__ = "0.2.0"
 
 def _lazy_getattr(package: str, table: dict[str, str], namespace: dict[str, Any]) -> Callable[[str], Any]:
     """A module ``__getattr__`` (PEP 562) that imports ``table[name]`` on first use and keeps the value in
-    ``namespace``: for this package and :mod:`planner.exchange`."""
+    ``namespace``: for this package and :mod:`planner.io`."""
 
     def __getattr__(name: str) -> Any:
         module = table.get(name)
@@ -67,13 +67,12 @@ _LAZY = {
         "planner.instrument.accuracy",
     ),
     **dict.fromkeys(
-        ("ClosureError", "ExitCode", "InfeasibleError", "InputError", "PlannerError", "UsageError"), "planner.errors"
+        ("ClosureError", "ExitCode", "InfeasibleError", "InputError", "PlannerError", "UsageError"),
+        "planner.core.errors",
     ),
     **dict.fromkeys(("Scanner", "TotalStation", "list_instruments", "load_instrument"), "planner.instrument.models"),
     **dict.fromkeys(("ClosureTolerance", "Parameters", "RangeLimit", "resolve_range_limit"), "planner.site.params"),
-    **dict.fromkeys(
-        ("ControlPoint", "NoGoArea", "Obstacle", "ScanSide", "Site", "Wall", "Zone", "load_site"), "planner.site"
-    ),
+    **dict.fromkeys(("ControlPoint", "NoGoArea", "Obstacle", "ScanSide", "Site", "Wall", "Zone"), "planner.site"),
     **dict.fromkeys(("ValidationReport", "validate_site"), "planner.site.validate"),
     **dict.fromkeys(("Candidate", "CandidateKind"), "planner.site.candidate"),
     **dict.fromkeys(("PoolOptions", "candidate_pool"), "planner.candidates.pool"),
@@ -81,16 +80,18 @@ _LAZY = {
     **dict.fromkeys(("OverlapRule",), "planner.coverage.overlap"),
     **dict.fromkeys(("StationCoverage", "station_coverage"), "planner.coverage.stations"),
     **dict.fromkeys(("make_targets",), "planner.coverage.targets"),
-    **dict.fromkeys(("write_dxf", "write_geojson", "write_stations_csv"), "planner.exchange"),
-    **dict.fromkeys(("DxfOptions", "read_dxf_site"), "planner.site.dxf_in"),
-    **dict.fromkeys(("read_geojson_site",), "planner.site.geojson_in"),
+    **dict.fromkeys(("write_dxf", "write_geojson", "write_stations_csv"), "planner.io"),
+    **dict.fromkeys(("load_site",), "planner.io.load"),
+    **dict.fromkeys(("DxfOptions", "read_dxf_site"), "planner.io.dxf_in"),
+    **dict.fromkeys(("read_geojson_site",), "planner.io.geojson_in"),
     **dict.fromkeys(("comparison_figure", "network_figure", "plan_figure", "plan_figures"), "planner.figures"),
     **dict.fromkeys(("NetworkReport", "run_network"), "planner.network.check"),
-    **dict.fromkeys(("Outcome", "outcome_from_file", "outcome_from_plan"), "planner.plan.outcome"),
+    **dict.fromkeys(("Outcome", "outcome_from_plan"), "planner.plan.outcome"),
+    **dict.fromkeys(("outcome_from_file",), "planner.io.plan_file"),
     **dict.fromkeys(("Plan", "PlanOptions", "Problem", "StrategyOptions", "build_problem", "resolve"), "planner.plan"),
     **dict.fromkeys(("plan_site",), "planner.engine"),
     **dict.fromkeys(("Sight",), "planner.coverage.sight"),
-    **dict.fromkeys(("read_plan_stations", "write_plan"), "planner.plan.plan_json"),
+    **dict.fromkeys(("read_plan_stations", "write_plan"), "planner.io.plan_json"),
     **dict.fromkeys(("compare_methods", "render_report", "write_report"), "planner.report"),
     **dict.fromkeys(("greedy_cover",), "planner.solve.greedy"),
     **dict.fromkeys(("CoverInstance", "cover_instance"), "planner.solve.instance"),
@@ -125,14 +126,13 @@ if not TYPE_CHECKING:
 
 if TYPE_CHECKING:  # the static view of the same names, for type checkers and IDEs
     from planner.candidates.pool import PoolOptions, candidate_pool
+    from planner.core.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
     from planner.coverage.matrix import CoverageProblem, build_coverage
     from planner.coverage.overlap import OverlapRule
     from planner.coverage.sight import Sight
     from planner.coverage.stations import StationCoverage, station_coverage
     from planner.coverage.targets import make_targets
     from planner.engine import plan_site
-    from planner.errors import ClosureError, ExitCode, InfeasibleError, InputError, PlannerError, UsageError
-    from planner.exchange import write_dxf, write_geojson, write_stations_csv
     from planner.figures import comparison_figure, network_figure, plan_figure, plan_figures
     from planner.instrument.accuracy import (
         ErrorBudget,
@@ -145,16 +145,18 @@ if TYPE_CHECKING:  # the static view of the same names, for type checkers and ID
         tolerance_for_scale_m,
     )
     from planner.instrument.models import Scanner, TotalStation, list_instruments, load_instrument
+    from planner.io import load_site, write_dxf, write_geojson, write_stations_csv
+    from planner.io.dxf_in import DxfOptions, read_dxf_site
+    from planner.io.geojson_in import read_geojson_site
+    from planner.io.plan_file import outcome_from_file
+    from planner.io.plan_json import read_plan_stations, write_plan
     from planner.network.check import NetworkReport, run_network
     from planner.plan import Plan, PlanOptions, Problem, StrategyOptions, build_problem, resolve
-    from planner.plan.outcome import Outcome, outcome_from_file, outcome_from_plan
-    from planner.plan.plan_json import read_plan_stations, write_plan
+    from planner.plan.outcome import Outcome, outcome_from_plan
     from planner.plan.verify import VerifyReport, verify_stations
     from planner.report import compare_methods, render_report, write_report
-    from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone, load_site
+    from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone
     from planner.site.candidate import Candidate, CandidateKind
-    from planner.site.dxf_in import DxfOptions, read_dxf_site
-    from planner.site.geojson_in import read_geojson_site
     from planner.site.params import ClosureTolerance, Parameters, RangeLimit, resolve_range_limit
     from planner.site.validate import ValidationReport, validate_site
     from planner.solve.greedy import greedy_cover

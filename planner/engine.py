@@ -12,14 +12,14 @@ from __future__ import annotations
 import os
 from dataclasses import replace
 
-from planner.checks import argument
-from planner.errors import UsageError
+from planner.core.checks import argument
+from planner.core.errors import UsageError
+from planner.io import load_site
 from planner.plan.best_known import best_known
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
 from planner.plan.result import Plan
 from planner.plan.run import plan_single
-from planner.site import load_site
 from planner.site.model import Site
 
 

@@ -10,7 +10,7 @@ import inspect
 import pytest
 
 import planner
-from planner.errors import InputError, UsageError
+from planner.core.errors import InputError, UsageError
 from tests.conftest import INSTANCES, ROOT
 
 
@@ -173,7 +173,7 @@ def test_an_object_of_the_wrong_kind_is_named_with_how_to_get_the_right_one(
     # before: AttributeError deep inside ('Plan' object has no attribute 'coverage'); now one line naming the
     # argument, what it got and how to make what it takes, a UsageError that is also a TypeError; no file written
     monkeypatch.chdir(tmp_path)
-    with pytest.raises(planner.errors.ArgumentTypeError) as err:
+    with pytest.raises(planner.core.errors.ArgumentTypeError) as err:
         call(*greedy_b)
     assert isinstance(err.value, TypeError) and isinstance(err.value, UsageError)
     assert str(err.value).startswith(field) and words in str(err.value)

@@ -17,9 +17,9 @@ import planner
 from planner.cli.commands import plan_options
 from planner.cli.main import build_parser, main
 from planner.cli.profile import apply_config
+from planner.core.errors import UsageError
 from planner.coverage.overlap import SiteShare
-from planner.errors import UsageError
-from planner.plan.plan_json import plan_to_dict
+from planner.io.plan_json import plan_to_dict
 
 INSTANCES = Path(__file__).resolve().parents[1] / "instances"
 

@@ -1,5 +1,5 @@
 """The connected plane bound as a result: per zone-side parts (:class:`SideBound`), the whole
-(:class:`ConnectedPlaneBound`, computed by :func:`planner.certify.plane_ring.connected_plane_bound`), and the plan's
+(:class:`ConnectedPlaneBound`, computed by :func:`planner.bounds.plane_ring.connected_plane_bound`), and the plan's
 result with it (:func:`with_connected_plane_bound`)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from planner.certify.plane_refine import Refined
+from planner.bounds.plane_refine import Refined
 from planner.coverage.matrix import CoverageProblem
 from planner.solve.result import SolveResult, Status
 
@@ -23,7 +23,7 @@ class SideBound:
     ring: int | None
     patch_m: float | None
     family: int
-    #: the connected cover over refined patches (:mod:`planner.certify.plane_refine`), when it was run
+    #: the connected cover over refined patches (:mod:`planner.bounds.plane_refine`), when it was run
     refined: Refined | None = None
 
     @property
@@ -100,8 +100,8 @@ def with_connected_plane_bound(result: SolveResult, cb: ConnectedPlaneBound) -> 
     cert = dict(info.get("certificate") or {})
     cert["connected_plane_bound_from"] = (
         "per zone-side, the largest of its share of Farley's bound, the ring walk over undominated patches "
-        "(planner.certify.plane_ring) and, where run, the connected cover over refined patches "
-        "(planner.certify.plane_refine): every connected plan under the overlap rule, stations anywhere"
+        "(planner.bounds.plane_ring) and, where run, the connected cover over refined patches "
+        "(planner.bounds.plane_refine): every connected plan under the overlap rule, stations anywhere"
     )
     info["certificate"] = cert
     if cb.bound is not None and result.objective is not None and result.objective <= cb.bound + 1e-9:

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,11 +37,10 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import linprog
 
-from planner.errors import InfeasibleError, InternalError, UsageError
+from planner.core.errors import InfeasibleError, InternalError, UsageError
 from planner.solve.greedy import greedy_cover
 from planner.solve.milp import WALL_CAP
 from planner.solve.presolve import dominated, implied_targets
-from planner.tiles.engine import run_tasks
 
 
 @dataclass(frozen=True)
@@ -86,6 +85,16 @@ class LagrangeBound:
     def optimal(self) -> bool:
         """Every part proven optimal at the best split (else some part gave CP-SAT's bound only)."""
         return all(self.proven)
+
+
+#: how the parts of one step are solved: ``runner(solve_part, jobs, shared)`` -> their results in job order (the
+#: tiles pass their Dask task runner; by default one after the other in this process)
+PartRunner = Callable[[Callable[..., PartResult], list[PartJob], dict[str, Any]], list[PartResult]]
+
+
+def serial_parts(fn: Callable[..., PartResult], jobs: list[PartJob], shared: dict[str, Any]) -> list[PartResult]:
+    """``fn(**shared, job=job)`` for each job in order, in this process."""
+    return [fn(**shared, job=job) for job in jobs]
 
 
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
@@ -227,7 +236,7 @@ def lagrangian_bound(
     seed: int = 0,
     upper: float | None = None,
     mu: float = 0.25,
-    client: Any = None,
+    runner: PartRunner | None = None,
 ) -> LagrangeBound:
     """The Lagrangian bound of the cover ``a`` (candidates x pieces) over the target partition ``parts``.
 
@@ -251,8 +260,9 @@ def lagrangian_bound(
         The cost of a known cover (the step aims at it); else the best union of the parts' covers, pruned.
     mu
         First step factor (Polyak's); halved when a step does not raise the bound.
-    client
-        A ``dask.distributed.Client`` to run the parts on, or None (in this process).
+    runner
+        How each step's parts are solved (:data:`PartRunner`): the tiles run them as Dask tasks; None, one after
+        the other in this process.
 
     Returns
     -------
@@ -279,7 +289,7 @@ def lagrangian_bound(
     done = capped = 0
     for k in range(iterations + 1):
         jobs = [PartJob(s, np.floor(lam * scale).astype(np.int64), h) for s, lam, h in zip(subs, lams, hints)]
-        res: list[PartResult] = run_tasks(solve_part, jobs, {"work_s": work_s, "seed": seed}, client, step="lagrange")
+        res: list[PartResult] = (runner or serial_parts)(solve_part, jobs, {"work_s": work_s, "seed": seed})
         done, capped = k, capped + sum(r.capped for r in res)
         value = sum(r.lower for r in res) / scale
         x = np.zeros(a.shape[0], dtype=bool)

@@ -1,4 +1,4 @@
-"""Patches of the plane and arcs of a ring, for the connected plane bound (:mod:`planner.certify.plane_ring`).
+"""Patches of the plane and arcs of a ring, for the connected plane bound (:mod:`planner.bounds.plane_ring`).
 
 A patch is a square of side h on a grid over a zone-side's grown regions. :func:`patch_sets` gives what each may
 see (U, the pieces whose grown outer region holds its centre) and what it surely sees (low, the wall length of the

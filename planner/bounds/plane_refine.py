@@ -1,6 +1,6 @@
 """A connected plane bound by refinement: the connected cover over patches, split where its optimum sits.
 
-The ring walk (:mod:`planner.certify.plane_ring`) replaces each patch by the smallest arc that holds what it
+The ring walk (:mod:`planner.bounds.plane_ring`) replaces each patch by the smallest arc that holds what it
 may see; on a concave outline the arcs claim the hidden wall between the runs a station sees, and the walk
 stays below the plan (Baalbek's outline: 7 against 9). Here the patches keep their sets.
 
@@ -35,7 +35,7 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
-from planner.certify.plane_patches import MIN_PATCH_M, patch_shapes
+from planner.bounds.plane_patches import MIN_PATCH_M, patch_shapes
 from planner.coverage.overlap import rule_of
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import MilpOptions, solve

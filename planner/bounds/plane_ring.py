@@ -23,7 +23,7 @@ zone-side they see, and the plan's count is at least the sum over zone-sides of 
 walk and the zone-side's share of Farley's bound (its duals over the heaviest weight of its own regions).
 
 The bound tightens as h shrinks (U(P) and l(P) tend to the coverage of a point): it is tried at three
-sides in turn (:func:`planner.certify.plane_patches.patch_sides`) until it meets the plan or the time is up.
+sides in turn (:func:`planner.bounds.plane_patches.patch_sides`) until it meets the plan or the time is up.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
-from planner.certify.connected_result import ConnectedPlaneBound, SideBound
-from planner.certify.plane_patches import (
+from planner.bounds.connected_result import ConnectedPlaneBound, SideBound
+from planner.bounds.plane_patches import (
     FIRST_PATCHES,
     arc_links,
     patch_sets,
@@ -46,7 +46,7 @@ from planner.certify.plane_patches import (
     patch_sides,
     undominated,
 )
-from planner.certify.plane_refine import refined_bound
+from planner.bounds.plane_refine import refined_bound
 from planner.coverage.arrangement import grown, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import (
@@ -129,7 +129,7 @@ def connected_plane_bound(
     first patch side, then the halvings), a zone-side dropping out when it reaches its count or its walk cannot
     be formed, until the next level would pass ``work_patches`` patches (:data:`CONNECTED_WORK_PATCHES`). With
     ``refine_steps``, a zone-side still below its count then gets the connected cover over patches refined up to
-    that many times (:func:`planner.certify.plane_refine.refined_bound`)."""
+    that many times (:func:`planner.bounds.plane_refine.refined_bound`)."""
     t0 = time.perf_counter()
     t = problem.targets
     key = t.zone.astype(np.int64) * 2 + t.side

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 
 
 def _cos(deg: float) -> float:

@@ -11,7 +11,7 @@ import shapely
 
 from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, pole_in_frame, scan_side_angles
 from planner.candidates.formulas import horizontal_reach_m
-from planner.checks import argument, count, real
+from planner.core.checks import argument, count, real
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site, Zone
 

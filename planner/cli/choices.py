@@ -12,9 +12,9 @@ BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 CONNECTIVITY = ("auto", "bc", "flow", "loop")
 #: planner.solve.milp.PRECISION_MODES
 PRECISION_MODES = ("single", "combined")
-#: planner.exchange.export.FORMATS
+#: planner.io.export.FORMATS
 FORMATS = ("orlib", "mps", "json")
-#: planner.exchange.EXPORTS
+#: planner.io.EXPORTS
 EXPORTS = ("dxf", "geojson", "csv")
 #: the values of planner.site.model.ScanSide
 SIDES = ("inside", "outside", "both")

@@ -13,8 +13,8 @@ from planner.cli.inputs import guard_memory, load_with_overrides, memory_limit, 
 from planner.cli.network_command import checking_problem, network_check, network_inputs
 from planner.cli.report import parse_exports, write_exports
 from planner.cli.tiles import option_flag, strategy_options
-from planner.errors import ExitCode, InfeasibleError, UsageError
-from planner.text import dumps
+from planner.core.errors import ExitCode, InfeasibleError, UsageError
+from planner.core.text import dumps
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
@@ -105,8 +105,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
         raise UsageError(err.message, field=option_flag(err.field), value=err.value) from None
     guard_memory(problem)  # before the solver stacks load, so that a refusal is quick
     from planner.engine import plan_site
+    from planner.io.plan_json import write_plan
     from planner.plan.outcome import outcome_from_plan
-    from planner.plan.plan_json import write_plan
     from planner.report import compare_methods, write_report
 
     options = problem.options
@@ -150,7 +150,7 @@ def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
-    from planner.plan.plan_json import read_plan_stations
+    from planner.io.plan_json import read_plan_stations
     from planner.plan.verify import verify_stations
 
     problem = checking_problem(args)
@@ -177,7 +177,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     )
     resolved = resolve(site, options)
     guard_memory(resolved)
-    from planner.exchange.export import export_problem
+    from planner.io.export import export_problem
     from planner.plan import build_problem
 
     problem = build_problem(resolved)
@@ -203,10 +203,10 @@ def cmd_instruments(args: argparse.Namespace) -> int:
 
 def cmd_assemble(args: argparse.Namespace) -> int:
     """Place the table zones of an instance from their shared walls; print matches, residuals, unplaced zones."""
-    from planner.site import load_site
+    from planner.core.fileio import read_json
+    from planner.io import load_site
+    from planner.io.assembly_io import assembled_instance
     from planner.site.assemble import assemble
-    from planner.site.assembly_io import assembled_instance
-    from planner.site.fileio import read_json
 
     path = Path(args.site)
     site = load_site(path)

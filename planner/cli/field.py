@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from planner.cli.option_types import POSITIVE, POSITIVE_INT
 from planner.cli.tuning import add_option, option_name
-from planner.errors import ExitCode, UsageError
+from planner.core.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)
     from planner.field.run import FieldOptions, FieldPlan
@@ -100,7 +100,11 @@ def field_options(args: argparse.Namespace, prefix: str = "") -> FieldOptions:
 
 
 def write_field(
-    site: Site | Problem, stations: Sequence[Candidate], options: FieldOptions, folder: str, plan_file: str | None = None
+    site: Site | Problem,
+    stations: Sequence[Candidate],
+    options: FieldOptions,
+    folder: str,
+    plan_file: str | None = None,
 ) -> FieldPlan:
     """Make the sheet, print its summary and write its files into ``folder``."""
     from planner.field.run import field_plan
@@ -139,9 +143,9 @@ def summary(fp: FieldPlan) -> str:
 
 
 def cmd_field(args: argparse.Namespace) -> int:
-    from planner.plan.outcome import site_for_plan
-    from planner.plan.plan_json import check_plan_meta, read_plan_stations
-    from planner.site.fileio import read_json
+    from planner.core.fileio import read_json
+    from planner.io.plan_file import site_for_plan
+    from planner.io.plan_json import check_plan_meta, read_plan_stations
 
     options = field_options(args)  # option values checked before any work
     folder = args.out or str(Path(args.plan).parent)

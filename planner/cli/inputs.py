@@ -10,19 +10,19 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner.cli.tuning import option_name
-from planner.errors import InputError, UsageError
+from planner.core.errors import InputError, UsageError
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
 if TYPE_CHECKING:
+    from planner.io.dxf_in import DxfOptions
     from planner.plan.problem import Problem
     from planner.site import Site
-    from planner.site.dxf_in import DxfOptions
 
 
 def load_with_overrides(args: argparse.Namespace) -> Site:
     """Load the site and apply the command-line parameter overrides."""
-    from planner.site import load_site
+    from planner.io import load_site
     from planner.site.params import ClosureTolerance
 
     tol_kw = {}
@@ -63,14 +63,14 @@ def load_with_overrides(args: argparse.Namespace) -> Site:
 
 
 def _ifc_options(args: argparse.Namespace) -> Any:
-    from planner.site.ifc_in import IfcOptions
+    from planner.io.ifc_in import IfcOptions
 
     return IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
 
 
 def _dxf_options(args: argparse.Namespace) -> DxfOptions:
+    from planner.io.dxf_in import DxfOptions
     from planner.site import ScanSide
-    from planner.site.dxf_in import DxfOptions
 
     flag = option_name(getattr(args, "command", None), "layer-height")
     heights = {}
@@ -116,7 +116,7 @@ def usable_folder(flag: str, folder: str | None) -> None:
 
 def recorded_notes(path: str, site: Any) -> None:
     """Say which limits the plan was made under that differ from the site's (the check uses the site's)."""
-    from planner.plan.plan_json import recorded_differences
+    from planner.io.plan_json import recorded_differences
 
     for line in recorded_differences(path, site):
         print(line)

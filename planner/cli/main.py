@@ -1,7 +1,7 @@
 """The ``planner`` command: one function per subcommand; parses, calls the library, prints.
 
 Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible problem, 5 unreachable
-scheduler, 141 standard output closed by its reader (see :mod:`planner.errors`). Errors print as one
+scheduler, 141 standard output closed by its reader (see :mod:`planner.core.errors`). Errors print as one
 line on stderr; set PLANNER_DEBUG=1 to see the traceback of an internal error.
 """
 
@@ -13,12 +13,12 @@ import sys
 import traceback
 from collections.abc import Sequence
 
-from planner import progress
 from planner.cli.commands import cmd_assemble, cmd_export, cmd_instruments, cmd_plan, cmd_validate, cmd_verify
 from planner.cli.network_command import cmd_chain, cmd_network
 from planner.cli.parser import build_parser as _build_parser
 from planner.cli.profile import apply_config
-from planner.errors import ExitCode, PlannerError, UsageError
+from planner.core import progress
+from planner.core.errors import ExitCode, PlannerError, UsageError
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING, Any
 
 from planner.cli.inputs import load_with_overrides, recorded_notes, some_stations, usable_folder
 from planner.cli.tuning import option_name
-from planner.errors import ExitCode, InputError, UsageError, located_in
-from planner.text import dumps
+from planner.core.errors import ExitCode, InputError, UsageError, located_in
+from planner.core.text import dumps
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
@@ -24,7 +24,7 @@ MIN_MONTE_CARLO = 100
 
 def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
     """The network options' values and files (control points, traverse), checked and read."""
-    from planner.network.io import read_control
+    from planner.io.network_files import read_control
     from planner.network.traverse import read_traverse
 
     command = getattr(args, "command", None)  # on plan the network's knobs are tuning keys (--set KEY=VALUE)
@@ -50,8 +50,8 @@ def network_check(
 ) -> NetworkReport:
     """Run the network check of ``problem``'s stations with ``inputs`` = :func:`network_inputs` (control points,
     traverse), under the problem's sight and registration scope."""
+    from planner.io.network_files import adjust_observations
     from planner.network.check import run_network
-    from planner.network.io import adjust_observations
 
     control, traverse = inputs
     with located_in(args.traverse if traverse is not None else None):  # a leg naming an unknown point
@@ -80,7 +80,7 @@ def network_check(
 
 
 def cmd_network(args: argparse.Namespace) -> int:
-    from planner.plan.plan_json import read_plan_stations
+    from planner.io.plan_json import read_plan_stations
 
     usable_folder("--out", args.out)
     inputs = network_inputs(args)  # before any work
@@ -112,8 +112,8 @@ def checking_problem(args: argparse.Namespace) -> Problem:
 
 def cmd_chain(args: argparse.Namespace) -> int:
     """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
+    from planner.io.plan_json import read_plan_stations
     from planner.network.survey import survey_network
-    from planner.plan.plan_json import read_plan_stations
 
     problem = checking_problem(args)
     stations = some_stations(args.plan, read_plan_stations(args.plan, problem.site))

@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from planner.cli.tuning import KNOBS, TUNING, Knob, keys_help
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 
 __all__ = ["DEFAULT_PROFILE", "TUNING", "add_profile_options", "apply_config", "apply_profile", "read_profile"]
 

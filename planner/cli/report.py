@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner.cli.choices import EXPORTS
-from planner.errors import ExitCode, UsageError
+from planner.core.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # the rest loads when a command runs (a fast --help: docs/startup.md)
     from planner.plan.outcome import Outcome
@@ -25,7 +25,7 @@ def parse_exports(text: str | None) -> list[str]:
 
 
 def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | None) -> None:
-    from planner.exchange import write_dxf, write_geojson, write_stations_csv
+    from planner.io import write_dxf, write_geojson, write_stations_csv
 
     writers = {
         "dxf": lambda: write_dxf(outcome, Path(folder) / "plan.dxf"),
@@ -37,14 +37,14 @@ def write_exports(outcome: Outcome, formats: list[str], folder: str, crs: str | 
 
 
 def cmd_report(args: argparse.Namespace) -> int:
+    from planner.io.plan_file import outcome_from_file
     from planner.network.check import run_network
-    from planner.plan.outcome import outcome_from_file
     from planner.report import write_report
 
     formats = parse_exports(args.export)
     ifc = None
     if args.storey or args.exterior or args.ifc_windows:
-        from planner.site.ifc_in import IfcOptions
+        from planner.io.ifc_in import IfcOptions
 
         ifc = IfcOptions(storey=args.storey, windows=args.ifc_windows, exterior=args.exterior)
     outcome = outcome_from_file(args.plan, args.site, ifc=ifc)

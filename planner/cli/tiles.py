@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from planner.cli.option_types import NON_NEGATIVE_INT, POSITIVE
 from planner.cli.tuning import BUDGET_S, WORKER_MEMORY
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 
 if TYPE_CHECKING:  # the plan stack loads inside the command (fast --help, docs/startup.md)
     from planner.plan import PlanOptions

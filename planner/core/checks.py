@@ -1,6 +1,6 @@
 """Checks of option values for the frozen option dataclasses (``__post_init__``): a wrong type or an out-of-range
-value is a :class:`~planner.errors.UsageError` naming the field and the value, before any work starts; and the
-one check of names that must be unique (station ids, control point names), an :class:`~planner.errors.InputError`."""
+value is a :class:`~planner.core.errors.UsageError` naming the field and the value, before any work starts; and the
+one check of names that must be unique (station ids, control point names), an :class:`~planner.core.errors.InputError`."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import os
 from collections.abc import Iterable
 from typing import Any
 
-from planner.errors import ArgumentTypeError, InputError, UsageError
+from planner.core.errors import ArgumentTypeError, InputError, UsageError
 
 #: verification sampling along the walls (m): finer than 1 mm is no survey resolution (and 10^9 samples per km
 #: of wall), coarser than 10 m checks little more than the corners

@@ -9,7 +9,7 @@ import re
 from pathlib import Path
 from typing import Any
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 
 #: Instance files larger than this are refused before they are read (64 MiB).
 MAX_INPUT_BYTES = 64 * 1024 * 1024

@@ -19,10 +19,10 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from planner.core.errors import UsageError
 from planner.coverage.matrix import blockers_for
 from planner.coverage.openings import accessible_areas, opening_segments, space_of
 from planner.coverage.visibility import segments_touch, sight_clear
-from planner.errors import UsageError
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
 

@@ -12,7 +12,7 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
-from planner import progress
+from planner.core import progress
 from planner.coverage.faces import keyed_parts, partner_stretches, trim_at_junctions
 from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
 from planner.coverage.targets import Targets
@@ -293,7 +293,7 @@ def build_coverage(
     """Compute which candidate sees which target (see :mod:`planner.coverage.visibility`).
 
     With ``step`` set, progress is reported every ``PROGRESS_BLOCK`` candidates under that name
-    (:mod:`planner.progress`).
+    (:mod:`planner.core.progress`).
     """
     cands = tuple(candidates)
     xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)

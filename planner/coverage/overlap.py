@@ -20,9 +20,9 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.checks import real
+from planner.core.checks import real
+from planner.core.errors import UsageError
 from planner.coverage.gram import filtered_gram
-from planner.errors import UsageError
 
 #: the overlap share when none is given (the dissertation's O = 30 %)
 DEFAULT_OVERLAP = 0.30

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.checks import argument
+from planner.core.checks import argument
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import piece_lengths
 from planner.coverage.sight import Sight

@@ -27,7 +27,7 @@ import networkx as nx
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.errors import InternalError
+from planner.core.errors import InternalError
 from planner.field.order import order_length
 
 #: distances go to CP-SAT in centimetres, rounded down

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.errors import InternalError, UsageError
+from planner.core.errors import InternalError, UsageError
 
 MODES = ("shortest", "registration")
 #: guided local search stops after this many solutions (a count: deterministic)

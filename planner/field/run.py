@@ -2,7 +2,7 @@
 the registration targets and the field time (:func:`field_plan`); :mod:`planner.field.sheet` writes it.
 
 Errors (one line each): a station that does not stand where its zone and side say, or stands in no
-walkable place, is a plan that does not match the site (:class:`~planner.errors.InputError`, exit 3); a
+walkable place, is a plan that does not match the site (:class:`~planner.core.errors.InputError`, exit 3); a
 ``--start`` that names no station and no point of the walkable area is a usage error (exit 2); a station
 that cannot be reached on foot from the start is an infeasible route (exit 4), named with its zone and
 accessible area.
@@ -20,9 +20,9 @@ import networkx as nx
 import numpy as np
 import shapely
 
+from planner.core.errors import InfeasibleError, InputError, UsageError
 from planner.coverage.relation import station_relation
 from planner.coverage.sight import Sight, as_sight
-from planner.errors import InfeasibleError, InputError, UsageError
 from planner.field.certify import Certified, certify
 from planner.field.order import (
     MODES,

@@ -17,9 +17,9 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
 
 from planner import __version__
+from planner.core.text import dumps
 from planner.field.run import FieldPlan
 from planner.figures.base import decorate_plan, png_bytes
-from planner.text import dumps
 
 HEADER = (
     "no.",

@@ -13,7 +13,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 from planner.instrument.field_table import FieldProperties
 
 _UNITS = {"h": 3600.0, "min": 60.0, "s": 1.0}

@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Ellipse, Polygon
 
-from planner.checks import argument
+from planner.core.checks import argument
 from planner.figures.base import decorate_plan
 from planner.network.adjustment import ELLIPSE_95
 from planner.plan.outcome import Outcome

@@ -10,7 +10,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 
-from planner.checks import argument
+from planner.core.checks import argument
 from planner.coverage.targets import SIDE_CODE
 from planner.figures.base import decorate_plan
 from planner.plan.outcome import Outcome

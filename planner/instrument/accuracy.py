@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from planner.errors import InfeasibleError, InputError
+from planner.core.errors import InfeasibleError, InputError
 
 #: arc-seconds per radian (the print rounds it to 206265).
 RHO_ARCSEC: float = 180.0 * 3600.0 / math.pi

@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 
 #: keys of a ``[field]`` table besides ``scan_time_s``
 _NUMBERS = ("setup_time_s", "walking_speed_m_s", "target_scan_time_s", "target_range_m", "target_incidence_deg")

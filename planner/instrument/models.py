@@ -15,7 +15,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.instrument.accuracy import RangeAngleSigma
 from planner.instrument.field_table import FieldProperties, field_from_mapping
 

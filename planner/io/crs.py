@@ -12,7 +12,7 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 
 WGS84 = "EPSG:4326"
 

@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.site.geometry import MAX_COORDINATE_M
 
 #: an entity whose arcs would flatten to more vertices than this is refused (a round apse of 5,000

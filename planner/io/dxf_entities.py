@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from planner.errors import InputError
-from planner.site.dxf_arcs import check_arcs
-from planner.site.dxf_options import DxfOptions
+from planner.core.errors import InputError
+from planner.io.dxf_arcs import check_arcs
+from planner.io.dxf_options import DxfOptions
 
 APPID = "TLS_PLANNER"
 CLOSED_TOL_M = 1e-9

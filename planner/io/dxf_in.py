@@ -7,9 +7,9 @@
   entities on layer 0 inside a block take the INSERT's layer (the CAD convention). TEXT/MTEXT
   label zones; annotation (dimensions, leaders, images) is read past; any other entity on a layer
   read (LINE, ARC, SPLINE, SOLID, HATCH, POINT, 3DFACE ...) is refused, naming what to draw instead
-  (:mod:`planner.site.dxf_entities`).
+  (:mod:`planner.io.dxf_entities`).
 - Heights, in this order: XDATA of application ``TLS_PLANNER`` (one 1040 real per vertex, as
-  written by :mod:`planner.exchange.dxf_out`), the entity's thickness, the layer default of
+  written by :mod:`planner.io.dxf_out`), the entity's thickness, the layer default of
   ``DxfOptions.layer_heights_m``; otherwise an error.
 - Holes: closed polylines on ``HOLES`` are free-standing blocks of the inside zone that contains
   them (their walls are scanned from the zone); heights as for zones.
@@ -31,14 +31,14 @@ from typing import Any
 import numpy as np
 import shapely
 
-from planner.errors import InputError, PlannerError, located_in
-from planner.site.dxf_entities import APPID, Shape, read_shapes
-from planner.site.dxf_options import ZONE_LAYERS, DxfOptions
-from planner.site.fileio import MAX_INPUT_BYTES
+from planner.core.errors import InputError, PlannerError, located_in
+from planner.core.fileio import MAX_INPUT_BYTES
+from planner.io.dxf_entities import APPID, Shape, read_shapes
+from planner.io.dxf_options import ZONE_LAYERS, DxfOptions
+from planner.io.params_io import record_from_dxf, with_record
 from planner.site.geometry import check_simple_polygon, signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
 from planner.site.params import Parameters
-from planner.site.params_io import record_from_dxf, with_record
 
 __all__ = ["APPID", "ZONE_LAYERS", "DxfOptions", "read_dxf_site"]
 

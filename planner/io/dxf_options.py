@@ -1,7 +1,7 @@
 """Which DXF layers hold what, the layer default heights and the arc flattening of the DXF reader.
 
 :class:`DxfOptions` is checked when it is made: a bad value is a
-:class:`~planner.errors.UsageError` naming the field, before any file is read.
+:class:`~planner.core.errors.UsageError` naming the field, before any file is read.
 """
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from planner.checks import real
-from planner.errors import UsageError
+from planner.core.checks import real
+from planner.core.errors import UsageError
 from planner.site.model import ScanSide
 
 ZONE_LAYERS: dict[str, ScanSide | None] = {

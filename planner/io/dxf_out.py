@@ -2,7 +2,7 @@
 
 Zones are closed LWPOLYLINEs on WALLS with their height as thickness and, in XDATA of the
 application ``TLS_PLANNER``, the zone id, scan side, frame and per-vertex heights, so that
-:func:`planner.site.dxf_in.read_dxf_site` reads the same site back (the round trip).
+:func:`planner.io.dxf_in.read_dxf_site` reads the same site back (the round trip).
 """
 
 from __future__ import annotations
@@ -17,9 +17,9 @@ from pathlib import Path
 import ezdxf
 from ezdxf import units
 
-from planner.checks import argument
+from planner.core.checks import argument
+from planner.io.params_io import dxf_properties, site_record
 from planner.plan.outcome import Outcome
-from planner.site.params_io import dxf_properties, site_record
 
 APPID = "TLS_PLANNER"
 LAYERS = {  # name: ACI colour

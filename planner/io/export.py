@@ -12,10 +12,10 @@ from typing import Any
 
 import numpy as np
 
+from planner.core.errors import UsageError
+from planner.core.text import dumps
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths
-from planner.errors import UsageError
-from planner.text import dumps
 
 FORMATS = ("orlib", "mps", "json")
 

@@ -15,16 +15,16 @@ from typing import Any
 
 import numpy as np
 
-from planner.errors import InputError, PlannerError
-from planner.site.crs import to_projected
-from planner.site.fileio import read_json, to_float
+from planner.core.errors import InputError, PlannerError
+from planner.core.fileio import read_json, to_float
+from planner.io.crs import to_projected
+from planner.io.params_io import RECORD_KEY, read_site_record, with_record
 from planner.site.geometry import signed_area
 from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Zone
 from planner.site.params import Parameters
-from planner.site.params_io import RECORD_KEY, read_site_record, with_record
 
 ROLES = ("zone", "obstacle", "no_go")
-#: the roles of an exported plan's other features (planner/exchange/geojson_out.py), read past
+#: the roles of an exported plan's other features (planner/io/geojson_out.py), read past
 PLAN_ROLES = ("coverage", "station", "tripod_disc", "network", "control")
 
 

@@ -11,13 +11,13 @@ import numpy as np
 import shapely
 from shapely.geometry import mapping
 
-from planner.checks import argument
-from planner.errors import UsageError
+from planner.core.checks import argument
+from planner.core.errors import UsageError
+from planner.core.text import dumps
+from planner.io.crs import to_lonlat
+from planner.io.params_io import RECORD_KEY, site_record
 from planner.plan.outcome import Outcome
-from planner.site.crs import to_lonlat
 from planner.site.model import SITE_FRAME
-from planner.site.params_io import RECORD_KEY, site_record
-from planner.text import dumps
 
 
 def _num(v: float) -> float | None:

@@ -27,8 +27,8 @@ from typing import Any
 
 import shapely
 
-from planner.errors import InputError, located_in
-from planner.site.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
+from planner.core.errors import InputError, located_in
+from planner.io.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 from planner.site.params import Parameters
 

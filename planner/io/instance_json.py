@@ -10,15 +10,15 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from planner.errors import InputError
+from planner.core.errors import InputError
+from planner.core.fileio import read_json, to_float
 from planner.instrument.accuracy import ErrorBudget
-from planner.site.fileio import read_json, to_float
+from planner.io.json_reader import InstanceReader
+from planner.io.table_csv import NUMBER_COLUMNS, read_table_csv
+from planner.io.tables import SIDE_FIELDS, VERTEX_FIELDS, zone_from_table
 from planner.site.geometry import as_vertices, signed_area
-from planner.site.json_reader import InstanceReader
 from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, ScanSide, Site, Zone
 from planner.site.params import DEFAULT_INSTRUMENT, MAX_HEIGHT_M, ClosureTolerance, Parameters
-from planner.site.table_csv import NUMBER_COLUMNS, read_table_csv
-from planner.site.tables import SIDE_FIELDS, VERTEX_FIELDS, zone_from_table
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable
 from planner.site.zone_extras import place_and_open
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, overload
 
-from planner.errors import InputError
-from planner.site.fileio import to_float, to_int
+from planner.core.errors import InputError
+from planner.core.fileio import to_float, to_int
 from planner.site.geometry import as_vertices, signed_area
 
 

@@ -5,13 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from planner.checks import path_argument
-from planner.errors import InputError
-from planner.site.instance_json import load_instance_json
+from planner.core.checks import path_argument
+from planner.core.errors import InputError
+from planner.io.instance_json import load_instance_json
+from planner.io.table_csv import read_table_csv
+from planner.io.tables import zone_from_table
 from planner.site.model import Site
 from planner.site.params import ClosureTolerance, Parameters
-from planner.site.table_csv import read_table_csv
-from planner.site.tables import zone_from_table
 
 READERS = {
     ".json": "JSON instance",
@@ -33,9 +33,9 @@ def load_site(
 ) -> Site:
     """Read a site from a JSON instance, a table CSV, a DXF drawing or GeoJSON (by the file's extension).
 
-    ``dxf`` (a :class:`~planner.site.dxf_in.DxfOptions`) says which DXF layers hold what;
+    ``dxf`` (a :class:`~planner.io.dxf_in.DxfOptions`) says which DXF layers hold what;
     ``crs`` names the metric CRS a lon/lat GeoJSON is projected to; ``ifc`` (a
-    :class:`~planner.site.ifc_in.IfcOptions`) says which storeys of an IFC model to read.
+    :class:`~planner.io.ifc_in.IfcOptions`) says which storeys of an IFC model to read.
 
     A table CSV carries no parameters: the dissertation's defaults apply
     (:class:`~planner.site.params.Parameters`), with S_max derived from the
@@ -48,19 +48,19 @@ def load_site(
     if suffix == ".json":
         return load_instance_json(path)
     if suffix == ".dxf":
-        from planner.site.dxf_in import read_dxf_site
+        from planner.io.dxf_in import read_dxf_site
 
         return read_dxf_site(path, dxf)
     if suffix == ".geojson":
-        from planner.site.geojson_in import read_geojson_site
+        from planner.io.geojson_in import read_geojson_site
 
         return read_geojson_site(path, crs=crs)
     if suffix == ".ifc":
-        from planner.site.ifc_in import read_ifc_site
+        from planner.io.ifc_in import read_ifc_site
 
         return read_ifc_site(path, ifc)
     if suffix == ".pol":
-        from planner.site.pol import read_pol
+        from planner.io.pol import read_pol
 
         return read_pol(path)
     if suffix == ".csv":

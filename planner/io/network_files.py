@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from planner.checks import no_repeats
-from planner.errors import InputError, located_in
+from planner.core.checks import no_repeats
+from planner.core.errors import InputError, located_in
+from planner.core.fileio import known_keys, read_json, to_float
 from planner.network.adjustment import ANGLE_UNITS, KINDS, LENGTH_UNITS, Obs, adjust
 from planner.network.check import NetworkReport
-from planner.site.fileio import known_keys, read_json, to_float
 from planner.site.model import ControlPoint
 
 

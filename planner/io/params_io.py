@@ -12,10 +12,10 @@ import json
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-from planner.errors import InputError, located_in
+from planner.core.errors import InputError, located_in
+from planner.core.fileio import known_keys, to_float
 from planner.instrument.accuracy import ErrorBudget
 from planner.instrument.models import load_instrument
-from planner.site.fileio import known_keys, to_float
 from planner.site.model import Site
 from planner.site.params import Parameters
 

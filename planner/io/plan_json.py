@@ -6,14 +6,14 @@ import math
 from pathlib import Path
 from typing import Any
 
-from planner.checks import SAMPLING_M
-from planner.errors import InputError
+from planner.core.checks import SAMPLING_M
+from planner.core.errors import InputError
+from planner.core.fileio import read_json, to_float
+from planner.core.text import dumps
 from planner.plan import Plan
 from planner.plan.tripod import TripodDisc
 from planner.site.candidate import Candidate, CandidateKind, check_unique_ids
-from planner.site.fileio import read_json, to_float
 from planner.site.model import ScanSide, Site
-from planner.text import dumps
 
 
 def plan_to_dict(plan: Plan) -> dict[str, Any]:

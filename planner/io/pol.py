@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from planner.errors import InputError
-from planner.site.fileio import read_text
+from planner.core.errors import InputError
+from planner.core.fileio import read_text
 from planner.site.geometry import signed_area
 from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from planner.checks import argument
+from planner.core.checks import argument
 from planner.plan.outcome import Outcome
 
 

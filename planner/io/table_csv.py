@@ -17,8 +17,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from planner.errors import InputError
-from planner.site.fileio import read_text, to_float
+from planner.core.errors import InputError
+from planner.core.fileio import read_text, to_float
 from planner.site.traverse import SCAN_SIDES, TableRow, ZoneTable
 
 COLUMNS = ("zone", "scan_side", "index", "side_length_m", "wall_height_m", "interior_angle_deg", "vertex_height_m")

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import replace
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.site.model import Correction, ScanSide, Zone
 from planner.site.params import ClosureTolerance
 from planner.site.traverse import AcceptedMisclosure, ZoneTable, reconstruct

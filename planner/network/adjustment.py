@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.network import lsq_dense, lsq_sparse
 from planner.network.normal import Normal
 

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import networkx as nx
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.network.adjustment import Obs, adjust
 
 #: seed 003: cloud-to-cloud registration error m_reg = REG_A * R + REG_B (m)

@@ -19,9 +19,9 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
-from planner.checks import argument
+from planner.core.checks import argument
+from planner.core.errors import InputError
 from planner.coverage.sight import Sight, as_sight
-from planner.errors import InputError
 from planner.instrument.models import TotalStation, load_instrument
 from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
@@ -128,7 +128,7 @@ class NetworkReport:
         }
 
     def _repr_html_(self) -> str:
-        from planner.text import summary_html
+        from planner.core.text import summary_html
 
         return summary_html(self, "Network and accuracy check")
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.network.normal import Normal
 
 

@@ -16,7 +16,7 @@ import numpy as np
 import scipy.linalg as sla
 from numpy.typing import NDArray
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 
 
 def design(

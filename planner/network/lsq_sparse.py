@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.network.normal import Normal
 
 #: observation kinds as codes (the order of :data:`planner.network.adjustment.KINDS`)

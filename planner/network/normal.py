@@ -26,7 +26,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 
 #: a pivot of the unit-diagonal normal matrix below this is a datum defect (an exact defect leaves
 #: a pivot of the order of the rounding error, 1e-16; a network of sound geometry, pivots near 1)

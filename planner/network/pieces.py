@@ -16,10 +16,10 @@ from typing import Any
 
 import numpy as np
 
+from planner.core.text import finite_or_none
 from planner.instrument.accuracy import ErrorBudget, combined_error_m, view_error_m
 from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.text import finite_or_none
 
 
 def accuracy_check(

@@ -102,7 +102,10 @@ def registration_links(
 
 
 def survey_network(
-    site: Site | Sight, stations: Sequence[Candidate], mode: str | None = None, links: Sequence[tuple[str, str]] | None = None
+    site: Site | Sight,
+    stations: Sequence[Candidate],
+    mode: str | None = None,
+    links: Sequence[tuple[str, str]] | None = None,
 ) -> SurveyNetwork:
     """Links (``links``: already found by :func:`registration_links`), ties (given or proposed control)
     and the chain accuracy of a plan's stations; ``site``: the plan's sight, or a site alone."""

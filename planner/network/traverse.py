@@ -35,15 +35,15 @@ import networkx as nx
 import numpy as np
 import shapely
 
-from planner.checks import no_repeats
+from planner.core.checks import no_repeats
+from planner.core.errors import InputError
+from planner.core.fileio import known_keys, read_json, to_float
 from planner.coverage.openings import PASSABLE, opening_segments
-from planner.errors import InputError
 from planner.network import proposal
 from planner.network.chain import TIE_RANGE_M
 from planner.network.graph import intervisible, propose_control
 from planner.network.survey import DEFAULT_TARGETS, _tie
 from planner.site.candidate import Candidate
-from planner.site.fileio import known_keys, read_json, to_float
 from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
 
 

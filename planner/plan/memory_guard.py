@@ -21,7 +21,7 @@ import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from planner.errors import InputError, UsageError
+from planner.core.errors import InputError, UsageError
 
 if TYPE_CHECKING:
     from planner.site.model import Site, Zone

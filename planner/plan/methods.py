@@ -14,10 +14,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from planner import progress
-from planner.certify.connected_result import plan_counts, with_connected_plane_bound
-from planner.certify.plane import price_plane, with_plane_bound
-from planner.certify.plane_ring import connected_plane_bound
+from planner.bounds.connected_result import plan_counts, with_connected_plane_bound
+from planner.bounds.plane import price_plane, with_plane_bound
+from planner.bounds.plane_ring import connected_plane_bound
+from planner.core import progress
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply

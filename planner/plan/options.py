@@ -5,10 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from planner.candidates.pool import PoolOptions
-from planner.checks import SAMPLING_M, argument, count, flag, real
+from planner.core.checks import SAMPLING_M, argument, count, flag, real
+from planner.core.errors import UsageError
 from planner.coverage.sight import sight_of
 from planner.coverage.visibility import SightLimits
-from planner.errors import UsageError
 from planner.plan.methods import METHODS
 from planner.plan.strategy import StrategyOptions
 from planner.site.validate import ValidationReport
@@ -44,7 +44,7 @@ class PlanOptions:
     #: a wall-clock cap on pricing, only where the user sets one (None: none; its 400 rounds, a count, stop it)
     pricing_time_limit_s: float | None = None
     #: refinements of the connected cover over patches for a zone-side the ring walk leaves below the plan
-    #: (:mod:`planner.certify.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 13
+    #: (:mod:`planner.bounds.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 13
     plane_refine_steps: int = 0
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
     strategy: StrategyOptions = field(default_factory=StrategyOptions)

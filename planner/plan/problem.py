@@ -8,13 +8,13 @@ from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import Any
 
-from planner.checks import argument
+from planner.core.checks import argument
+from planner.core.errors import UsageError
 from planner.coverage.links import default_registration
 from planner.coverage.overlap import OverlapRule, SiteShare, rule_of
 from planner.coverage.sight import Sight, sight_of
 from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
-from planner.errors import UsageError
 from planner.plan.options import PlanOptions
 from planner.plan.strategy import Strategy, resolve_strategy
 from planner.site.model import Site

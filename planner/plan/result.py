@@ -54,7 +54,7 @@ class Plan:
         return out
 
     def _repr_html_(self) -> str:
-        from planner.text import summary_html
+        from planner.core.text import summary_html
 
         return summary_html(self, f"Plan: {len(self.stations)} stations")
 

@@ -12,11 +12,11 @@ from planner.candidates.axis import axis_candidates
 from planner.candidates.complete import complete_candidates
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import candidate_pool, dedupe
-from planner.checks import argument
+from planner.core.checks import argument
+from planner.core.errors import InfeasibleError, UsageError
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets
-from planner.errors import InfeasibleError, UsageError
 from planner.plan.closed_form import closed_form_limits
 from planner.plan.methods import REGISTRY, MethodInput
 from planner.plan.options import PlanOptions

@@ -32,8 +32,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from planner.checks import count, real
-from planner.errors import UsageError
+from planner.core.checks import count, real
+from planner.core.errors import UsageError
 from planner.plan.memory_guard import estimate_work
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
@@ -58,7 +58,7 @@ class TileOptions:
     limits are CP-SAT work in deterministic seconds, with no wall-clock cap but the user's ``--time-limit``
     per tile, so the plan is the same under any load and on any number of Dask workers; otherwise they are
     wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
-    ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), its parts
+    ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.bounds.lagrange`), its parts
     ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
     ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
     LP-dual split only, 10 s; its cost and gain on the plants: docs/studies/plant.md). ``windows``: the

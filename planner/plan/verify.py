@@ -17,10 +17,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.candidates.final_step import misplacement
-from planner.checks import SAMPLING_M, argument
+from planner.core.checks import SAMPLING_M, argument
+from planner.core.errors import InputError
 from planner.coverage.sight import Sight
 from planner.coverage.targets import SIDE_NAME, make_targets
-from planner.errors import InputError
 from planner.site.candidate import Candidate, check_unique_ids, stations_argument
 
 
@@ -81,7 +81,7 @@ class VerifyReport:
         }
 
     def _repr_html_(self) -> str:
-        from planner.text import summary_html
+        from planner.core.text import summary_html
 
         return summary_html(self, "Verification")
 

@@ -6,16 +6,16 @@ import logging
 from dataclasses import replace
 from typing import Any
 
-from planner.checks import argument
-from planner.errors import PlannerError
+from planner.core.checks import argument
+from planner.core.errors import PlannerError
 from planner.plan import Plan, Problem, StrategyOptions, plan_single, resolve
-from planner.plan.plan_json import plan_to_dict
+from planner.plan.plan_dict import plan_to_dict
 
 log = logging.getLogger(__name__)
 
 
 def meta_row(meta: dict[str, Any], verified_percent: float) -> dict[str, Any]:
-    """A comparison row from a plan.json dictionary (:func:`planner.plan.plan_json.plan_to_dict`)."""
+    """A comparison row from a plan.json dictionary (:func:`planner.io.plan_json.plan_to_dict`)."""
     counts = meta.get("counts") or {}
     return {
         "method": meta.get("method", "?"),

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from planner import __version__
-from planner.checks import argument
+from planner.core.checks import argument
 from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
 from planner.plan.outcome import Outcome

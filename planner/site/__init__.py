@@ -1,6 +1,6 @@
-"""Site geometry: zones with walls and heights, obstacles, no-go areas, control; the readers."""
+"""Site geometry: zones with walls and heights, obstacles, no-go areas, control points, traverse closure and
+assembly (the readers that make a :class:`Site` from a file are in :mod:`planner.io`)."""
 
-from planner.site.load import load_site
 from planner.site.model import ControlPoint, Correction, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone
 from planner.site.traverse import AcceptedMisclosure, ClosureReport, TableRow, ZoneTable, reconstruct
 
@@ -17,6 +17,5 @@ __all__ = [
     "Wall",
     "Zone",
     "ZoneTable",
-    "load_site",
     "reconstruct",
 ]

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.site.model import SITE_FRAME, ScanSide, Site, Wall, Zone
 from planner.site.placement import IDENTITY, Placement, interiors_clash, misfit, normal_sign, place_zone, placed_site  # noqa: F401 (Placement, place_zone, placed_site: re-exported)
 

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
-from planner.checks import article, no_repeats, shown
-from planner.errors import ArgumentTypeError
+from planner.core.checks import article, no_repeats, shown
+from planner.core.errors import ArgumentTypeError
 from planner.site.model import ScanSide
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 
 #: Two vertices closer than this (m) make a zero-length side.
 ZERO_LENGTH_M = 1e-9

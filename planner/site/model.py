@@ -17,8 +17,8 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.checks import no_repeats
-from planner.errors import InputError
+from planner.core.checks import no_repeats
+from planner.core.errors import InputError
 from planner.site.geometry import MAX_COORDINATE_M, check_simple_polygon, ring_key, side_lengths, signed_area
 from planner.site.params import MAX_HEIGHT_M, Parameters
 from planner.site.traverse import AcceptedMisclosure, ClosureReport

@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.instrument.accuracy import (
     INCIDENCE_MODELS,
     MAX_SIGMA_M,

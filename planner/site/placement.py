@@ -9,7 +9,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 
 

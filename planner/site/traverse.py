@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.errors import ClosureError, InputError
+from planner.core.errors import ClosureError, InputError
 from planner.site.params import ClosureTolerance
 
 SCAN_SIDES = ("inside", "outside", "both")

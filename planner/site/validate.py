@@ -6,8 +6,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from planner.checks import argument
-from planner.errors import InputError, PlannerError
+from planner.core.checks import argument
+from planner.core.errors import InputError, PlannerError
 from planner.instrument.models import Scanner, load_instrument
 from planner.site.model import Site
 from planner.site.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
@@ -98,7 +98,7 @@ class ValidationReport:
         }
 
     def _repr_html_(self) -> str:
-        from planner.text import summary_html
+        from planner.core.text import summary_html
 
         return summary_html(self, "Validation")
 

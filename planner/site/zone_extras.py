@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any, Protocol
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.site.assemble import Placement, place_zone
 from planner.site.model import OPENING_KINDS, SITE_FRAME, Opening, Zone
 from planner.site.snap import snap_zones

@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 
 Row = tuple[np.ndarray, np.ndarray, float]
 #: a warm start: the chosen candidates, or a value for each variable (added variables included)

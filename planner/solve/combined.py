@@ -16,9 +16,9 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from planner.core.errors import InfeasibleError
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.visibility import PrecisionRule
-from planner.errors import InfeasibleError
 from planner.instrument.accuracy import view_error_m
 from planner.solve.result import SolveResult, Status
 

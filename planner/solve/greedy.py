@@ -8,8 +8,8 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.sparse as sp
 
+from planner.core.errors import ArgumentTypeError, InputError, UsageError
 from planner.coverage.overlap import OverlapRule, overlap_adjacency
-from planner.errors import ArgumentTypeError, InputError, UsageError
 from planner.solve.connectivity import connected_greedy
 from planner.solve.instance import CoverInstance
 from planner.solve.result import SolveResult, Status

@@ -15,9 +15,9 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.checks import argument
+from planner.core.checks import argument
+from planner.core.errors import InputError
 from planner.coverage.matrix import CoverageProblem
-from planner.errors import InputError
 from planner.instrument.accuracy import ErrorBudget, view_error_m
 from planner.instrument.models import Scanner
 
@@ -34,7 +34,7 @@ class CoverInstance:
     ``links``: C x C symmetric pairs related besides shared wall (seen through an opening);
     ``groups`` are then accessible areas of the site (``--registration site``).
     ``relation``: C x C symmetric, the registration relation given whole, in place of the overlap rule's
-    (:mod:`planner.certify.plane_refine`: relaxed links between patches of the plane); None: the rule's.
+    (:mod:`planner.bounds.plane_refine`: relaxed links between patches of the plane); None: the rule's.
     """
 
     by_candidate: sp.csr_matrix

@@ -26,7 +26,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from planner.checks import argument, count, flag, real
+from planner.core.checks import argument, count, flag, real
+from planner.core.errors import UsageError
 from planner.coverage.overlap import (
     DEFAULT_OVERLAP,
     SITE_SHARE,
@@ -35,7 +36,6 @@ from planner.coverage.overlap import (
     group_ids,
     overlap_adjacency,
 )
-from planner.errors import UsageError
 from planner.solve.backends import BACKENDS, NODE_LIMITED
 from planner.solve.block import BlockSolver, lengths
 from planner.solve.instance import CoverInstance

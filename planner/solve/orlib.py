@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from planner.errors import InputError
-from planner.site.fileio import read_text
+from planner.core.errors import InputError
+from planner.core.fileio import read_text
 from planner.solve.instance import CoverInstance
 
 

@@ -22,7 +22,7 @@ import shapely
 from numpy.typing import NDArray
 from scipy.optimize import linprog
 
-from planner.errors import InternalError
+from planner.core.errors import InternalError
 
 
 @dataclass(frozen=True, eq=False)

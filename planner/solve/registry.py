@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 from planner.solve.backends import BACKENDS, CpSatBackend, MipBackend, PulpBackend
 
 

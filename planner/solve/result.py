@@ -45,7 +45,7 @@ class SolveResult:
         return bool(self.info.get("work", {}).get("wall_cap_hit", False))
 
     def _repr_html_(self) -> str:
-        from planner.text import summary_html
+        from planner.core.text import summary_html
 
         return summary_html(self, f"{self.method} result")
 

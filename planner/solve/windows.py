@@ -48,9 +48,9 @@ from typing import Any, Protocol
 import numpy as np
 import scipy.sparse as sp
 
-from planner import progress
+from planner.core import progress
+from planner.core.errors import UsageError
 from planner.coverage.overlap import rule_of
-from planner.errors import UsageError
 from planner.solve.connectivity import components, disconnected_groups, group_members
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import WALL_CAP, MilpOptions, solve

@@ -14,8 +14,8 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
 
-from planner import progress
-from planner.errors import UnreachableError, UsageError
+from planner.core import progress
+from planner.core.errors import UnreachableError, UsageError
 
 #: seconds to wait for an existing scheduler to answer
 CONNECT_TIMEOUT_S = 10.0
@@ -100,7 +100,7 @@ def run_tasks(
     """``fn(**shared, job=job)`` for every job, in job order; on ``client`` when one is given.
 
     Progress (jobs done of all) is reported per finished job under ``step``; with ``describe``, each
-    finished job's line too (:func:`planner.progress.note` of ``describe(index, result)``).
+    finished job's line too (:func:`planner.core.progress.note` of ``describe(index, result)``).
     """
     total = len(jobs)
     if client is None:

@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from planner.core.errors import UsageError
 from planner.coverage.targets import Targets
-from planner.errors import UsageError
 from planner.site.model import Site
 
 

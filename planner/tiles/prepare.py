@@ -13,12 +13,12 @@ from typing import Any, cast
 import numpy as np
 import scipy.sparse as sp
 
+from planner.core.errors import UsageError
 from planner.coverage.links import registration_groups
 from planner.coverage.matrix import station_places
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths, rule_of
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
-from planner.errors import UsageError
 from planner.plan import PlanOptions, site_candidates
 from planner.plan.problem import Problem, resolve
 from planner.site.candidate import Candidate

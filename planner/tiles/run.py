@@ -9,7 +9,7 @@ What holds and why:
   piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (``site`` mode by default: one
   bundle per accessible area);
 - bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`) and, with
-  ``TileOptions.lagrange``, the Lagrangian bound over the tiles (:mod:`planner.tiles.lagrange`), over
+  ``TileOptions.lagrange``, the Lagrangian bound over the tiles (:mod:`planner.bounds.lagrange`), over
   the pool; the gap is (stations - bound) / stations;
 - local search: the kept plan is shrunk by :func:`planner.solve.local_search.shrink` within
   ``TileOptions.local_search_moves`` moves (a count: the plan does not depend on the load); each plan it
@@ -28,12 +28,13 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from planner import progress
+from planner.bounds.lagrange import group_parts
 from planner.candidates.complete import complete_candidates
+from planner.core import progress
+from planner.core.errors import UsageError
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import OverlapRule
 from planner.coverage.regions import regions_apply
-from planner.errors import UsageError
 from planner.plan import Plan, PlanOptions, unseen_error
 from planner.plan.problem import Problem
 from planner.plan.verify import verify_stations
@@ -42,7 +43,6 @@ from planner.site.model import Site
 from planner.solve.milp import WALL_CAP
 from planner.solve.result import SolveResult, Status
 from planner.tiles.engine import run_tasks
-from planner.tiles.lagrange import group_parts
 from planner.tiles.options import TileOptions, deterministic_limits, limits_line
 from planner.tiles.prepare import prepare, tile_work, tiles_problem
 from planner.tiles.search import best_plan, window_resolves

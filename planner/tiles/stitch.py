@@ -18,7 +18,7 @@ Bound: every connected plan is a cover, so any lower bound of the plain set cove
 pool bounds the connected problem. Two are computed on the whole matrix: the LP relaxation
 (HiGHS interior point; rounded up, an integer count) and the best bound of the cover MILP without
 the registration rule (CP-SAT, time-limited); optionally a third, the Lagrangian decomposition over
-the tiles (:mod:`planner.tiles.lagrange`); the largest is reported.
+the tiles (:mod:`planner.bounds.lagrange`); the largest is reported.
 """
 
 from __future__ import annotations
@@ -26,18 +26,20 @@ from __future__ import annotations
 import math
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
+from planner.bounds.lagrange import LagrangeBound, lagrangian_bound
 from planner.solve.connectivity import components, group_members, repair
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import WALL_CAP, MilpOptions, solve
 from planner.solve.presolve import implied_targets
 from planner.solve.result import Status
-from planner.tiles.lagrange import LagrangeBound, lagrangian_bound
+from planner.tiles.engine import run_tasks
 
 
 def _group_parts(adj: sp.csr_matrix, groups: Sequence[str], chosen: Sequence[int], g: str) -> int:
@@ -143,7 +145,7 @@ def global_bound(
     ``work_limited``: the limit is CP-SAT work (deterministic seconds), under a wall cap ``wall_cap`` times
     as long where one is given (None: none), so the bound and the cover it returns do not depend on the load. With ``parts`` (a partition
     of the pieces, e.g. the tiles' cores) also the Lagrangian bound over them
-    (:func:`planner.tiles.lagrange.lagrangian_bound`, always on CP-SAT work limits; on ``client`` if given)."""
+    (:func:`planner.bounds.lagrange.lagrangian_bound`, always on CP-SAT work limits; on ``client`` if given)."""
     milp: float | None = None
     status: Status | None = None
     cover: tuple[int, ...] = ()
@@ -164,7 +166,7 @@ def global_bound(
             work_s=lagrange_work_s,
             seed=seed,
             upper=float(len(cover)) if cover else None,
-            client=client,
+            runner=partial(run_tasks, client=client, step="lagrange"),
         )
     # the Lagrangian bound solves the same cover LP for its duals: its value is not solved for twice
     return Bound(lag.lp if lag is not None else lp_bound(a), milp, status, cover, capped, lag)

@@ -31,9 +31,9 @@ from pathlib import Path
 import shapely
 
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.network.check import run_network
 from planner.plan import PlanOptions
-from planner.site import load_site
 from planner.solve.milp import MilpOptions
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -70,8 +70,8 @@ def build(name: str, cache: Path, pricing: bool) -> Path:
     if path.exists():
         return path
     from planner import plan as P
-    from planner.certify.plane import price_plane
-    from planner.site import load_site
+    from planner.bounds.plane import price_plane
+    from planner.io import load_site
     from planner.site.validate import validate_site
     from planner.solve.instance import cover_instance
 

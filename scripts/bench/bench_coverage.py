@@ -33,8 +33,9 @@ from planner.candidates.pool import PoolOptions, candidate_pool
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_limits
+from planner.io import load_site
 from planner.plan import closed_form_limits
-from planner.site import Site, Zone, load_site
+from planner.site import Site, Zone
 from planner.site.validate import validate_site
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -45,9 +45,9 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     """Matrix as :func:`planner.tiles.run.plan_by_tiles` has it (the tiles' columns are the site's), then bounds."""
     import numpy as np
 
+    from planner.bounds.lagrange import group_parts
+    from planner.io.load import load_site
     from planner.plan import PlanOptions
-    from planner.site.load import load_site
-    from planner.tiles.lagrange import group_parts
     from planner.tiles.layout import make_tiles, zone_anchors
     from planner.tiles.prepare import prepare
     from planner.tiles.stitch import global_bound

@@ -47,8 +47,8 @@ def site_path(name: str, tmp: Path) -> Path:
 
 
 def estimate_bytes(site: Path, grid: float) -> int:
+    from planner.io import load_site
     from planner.plan.memory_guard import estimate_work
-    from planner.site import load_site
     from planner.site.validate import validate_site
 
     s = load_site(site)

@@ -16,8 +16,8 @@ import time
 from pathlib import Path
 
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.plan import PlanOptions
-from planner.site import load_site
 from planner.solve.milp import MilpOptions
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -78,8 +78,8 @@ def one(
     search_seeds: int = 1,
 ) -> None:
     """Plan one plant by tiles on ``workers`` Dask workers; write the figures as JSON to ``out``."""
+    from planner.io.load import load_site
     from planner.plan import PlanOptions
-    from planner.site.load import load_site
     from planner.solve.greedy import greedy_cover
     from planner.solve.windows import WindowOptions
     from planner.tiles import TileOptions, dask_client, plan_by_tiles

@@ -29,8 +29,8 @@ from _timed import ROOT, TreeRss
 def problem(area: float, tile_work_s: float) -> tuple[list[Any], dict[str, Any], float]:
     """The tile jobs and the shared values of the plant's plain tiled plan, and the seconds they took."""
     from planner.coverage.links import default_registration
+    from planner.io.load import load_site
     from planner.plan import PlanOptions
-    from planner.site.load import load_site
     from planner.tiles import TileOptions
     from planner.tiles.prepare import prepare, tile_work
 

@@ -24,8 +24,8 @@ from pathlib import Path
 import planner
 from planner.coverage.overlap import OverlapRule
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.plan import PlanOptions
-from planner.site import load_site
 from planner.solve.backends import BACKENDS
 from planner.solve.milp import MilpOptions
 

@@ -1,5 +1,5 @@
-"""The plane property tests (tests/certify/test_plane_properties.py, and the refined connected bound's in
-tests/certify/test_plane_refine.py) at a larger scale: more examples
+"""The plane property tests (tests/bounds/test_plane_properties.py, and the refined connected bound's in
+tests/bounds/test_plane_refine.py) at a larger scale: more examples
 (derandomised as in CI, so a run is repeatable) and corridors up to 300 m long.
 
     python scripts/checks/check_plane_properties.py [--scale 10] [--corridor-m 300]
@@ -24,7 +24,7 @@ def main() -> int:
     ap.add_argument("--corridor-m", type=float, default=300.0, help="longest corridor (m, default 300)")
     a = ap.parse_args()
     env = dict(os.environ, PLANNER_PROPERTY_SCALE=str(a.scale), PLANNER_PROPERTY_CORRIDOR_M=str(a.corridor_m))
-    tests = ["tests/certify/test_plane_properties.py", "tests/certify/test_plane_refine.py"]
+    tests = ["tests/bounds/test_plane_properties.py", "tests/bounds/test_plane_refine.py"]
     cmd = [sys.executable, "-m", "pytest", "-q", *tests]
     return subprocess.call(cmd, cwd=ROOT, env=env)
 

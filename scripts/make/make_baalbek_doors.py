@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from planner.site.load import load_site
+from planner.io.load import load_site
 
 ROOT = Path(__file__).resolve().parents[2]
 DOOR_M = 3.0

@@ -13,8 +13,8 @@ matplotlib.use("Agg")
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
 
+from planner.io.load import load_site
 from planner.site.assemble import assemble
-from planner.site.load import load_site
 from planner.site.model import SITE_FRAME, ScanSide
 
 

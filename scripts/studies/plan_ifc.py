@@ -21,7 +21,7 @@ import planner
 from planner.coverage.links import default_registration
 from planner.figures.base import png_bytes
 from planner.figures.storey_fig import storey_figure
-from planner.site.ifc_in import IfcOptions
+from planner.io.ifc_in import IfcOptions
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -18,8 +18,8 @@ from planner.candidates.closed_form import Limits, circle_radii, plan_zone_side
 from planner.candidates.formulas import horizontal_reach_m
 from planner.candidates.reproduce import ROUNDING, compare_table, generated_counts
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.plan import PlanOptions
-from planner.site import load_site
 
 ROOT = Path(__file__).resolve().parents[2]
 PRINTED = json.loads((ROOT / "tests/data/printed_candidates.json").read_text())

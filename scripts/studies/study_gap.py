@@ -49,8 +49,8 @@ def site_matrices(area: float) -> tuple[Any, Any, tuple[str, ...], Any]:
     as :func:`planner.tiles.run.plan_by_tiles` has them (its tiles' columns are the site's)."""
     import numpy as np
 
+    from planner.io.load import load_site
     from planner.plan import PlanOptions
-    from planner.site.load import load_site
     from planner.tiles.prepare import prepare
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")

@@ -8,7 +8,8 @@ import pytest
 
 from planner.candidates.closed_form import Limits, plan_zone_side
 from planner.candidates.reproduce import compare_table, generated_counts
-from planner.site import ScanSide, load_site
+from planner.io import load_site
+from planner.site import ScanSide
 from tests.conftest import INSTANCES, ROOT
 
 PRINTED = json.loads((ROOT / "tests/data/printed_candidates.json").read_text())

@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from planner.candidates.axis import maximal_cells, medial_axis
+from planner.core.errors import InfeasibleError
 from planner.engine import plan_site
-from planner.errors import InfeasibleError
 from planner.plan import PlanOptions, build_problem
 from planner.site.model import Obstacle, ScanSide, Site, Zone
 from planner.site.params import Parameters

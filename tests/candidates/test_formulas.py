@@ -7,7 +7,7 @@ import math
 import pytest
 
 from planner.candidates.formulas import MAX_WALL_STATIONS, horizontal_reach_m, vertex_geometry, wall_plan
-from planner.errors import InputError
+from planner.core.errors import InputError
 
 S, THETA, O = 95.913, 68.0, 0.30
 

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from planner.candidates.pool import PoolOptions, candidate_pool
+from planner.io import load_site
 from planner.plan import closed_form_limits
-from planner.site import load_site
 from planner.site.model import Site
 from planner.site.validate import validate_site
 from tests.conftest import INSTANCES

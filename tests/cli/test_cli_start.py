@@ -56,8 +56,8 @@ def test_version_and_help_exit_0():
 
 
 def test_cli_choices_match_the_library():
-    from planner.exchange import EXPORTS
-    from planner.exchange.export import FORMATS
+    from planner.io import EXPORTS
+    from planner.io.export import FORMATS
     from planner.plan import METHODS
     from planner.site import ScanSide
     from planner.solve.backends import BACKENDS

@@ -16,10 +16,10 @@ from planner.coverage.openings import accessible_areas, space_of, wall_gaps
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_clear
 from planner.engine import plan_site
+from planner.io.load import load_site
 from planner.plan import PlanOptions
 from planner.site import ScanSide
 from planner.site.candidate import Candidate, CandidateKind
-from planner.site.load import load_site
 from planner.site.model import Opening
 from planner.solve.milp import MilpOptions
 from tests.conftest import INSTANCES

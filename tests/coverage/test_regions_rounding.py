@@ -14,7 +14,7 @@ from planner.candidates.from_regions import common_region
 from planner.coverage.regions import coverage_regions
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_limits
-from planner.site import load_site
+from planner.io import load_site
 from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 

@@ -11,10 +11,11 @@ import shapely
 from planner.coverage.matrix import station_places
 from planner.coverage.sight import Sight
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.network.check import run_network
 from planner.plan import PlanOptions
 from planner.plan.verify import verify_stations
-from planner.site import ScanSide, load_site
+from planner.site import ScanSide
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import SITE_FRAME, Site, Zone
 from tests.conftest import INSTANCES

@@ -11,7 +11,7 @@ import pytest
 import shapely
 
 from planner.cli import main
-from planner.errors import InfeasibleError, InputError, UsageError
+from planner.core.errors import InfeasibleError, InputError, UsageError
 from planner.field.bound import exact_order, held_karp_bound
 from planner.field.order import registration_violations, solve_order
 from planner.field.run import FieldOptions, field_plan
@@ -19,7 +19,7 @@ from planner.field.sheet import write_sheet
 from planner.field.timing import field_time, parse_duration
 from planner.field.walking import walk_graph, walk_space
 from planner.instrument.field_table import FieldProperties
-from planner.site import load_site
+from planner.io import load_site
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide
 from tests.conftest import INSTANCES

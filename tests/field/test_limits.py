@@ -8,7 +8,7 @@ import threading
 import numpy as np
 import pytest
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 from planner.field.order import solve_order
 from planner.field.run import FieldOptions
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from planner.errors import InfeasibleError, InputError
+from planner.core.errors import InfeasibleError, InputError
 from planner.instrument.accuracy import (
     ErrorBudget,
     IncidenceErrorTable,

@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.instrument.accuracy import ErrorBudget, max_slant_range_m, sigma_instr_m
 from planner.instrument.models import Scanner, TotalStation, list_instruments, load_instrument
 from planner.site.params import Parameters, resolve_range_limit

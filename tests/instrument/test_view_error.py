@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.instrument.accuracy import (
     ErrorBudget,
     RangeAngleSigma,
@@ -22,7 +22,7 @@ from planner.instrument.accuracy import (
     view_error_m,
 )
 from planner.instrument.models import load_instrument
-from planner.site import load_site
+from planner.io import load_site
 from planner.site.params import Parameters, resolve_theta_limit
 from planner.site.validate import validate_site
 from tests.conftest import square_rows

@@ -80,10 +80,10 @@ def _noisy(obs: Sequence[Any], seed: int) -> list[Any]:
 def network_numbers(site_path: Path | str, plan_path: Path | str, method: str | None = None) -> dict[str, Any]:
     """Run the network check of the plan on the site and return its numbers (see the module text);
     ``method``: the adjustment's method (None: its default)."""
-    from planner.errors import InputError
+    from planner.core.errors import InputError
+    from planner.io import load_site
+    from planner.io.plan_json import read_plan_stations
     from planner.network import chain, check
-    from planner.plan.plan_json import read_plan_stations
-    from planner.site import load_site
 
     site = load_site(str(site_path))
     stations = read_plan_stations(plan_path, site)

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.network.adjustment import Obs, adjust
 from planner.network.montecarlo import monte_carlo
 

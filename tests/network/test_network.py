@@ -143,7 +143,7 @@ def test_field_observations_are_adjusted(tmp_path):
     # 5"): the directions (5" at 10-20 m is 0.2-0.5 mm) hold the stations at the design, so each of the 4
     # distances keeps its -1 mm residual: vPv = 4 (1/2)^2 = 1 on 8 - 6 = 2 degrees of freedom (two stations
     # and two orientation unknowns), m0 = sqrt(1/2) = 0.707
-    from planner.network.io import adjust_observations
+    from planner.io.network_files import adjust_observations
 
     site = room_site()
     rep = run_network(site, [st("S1", 10, 10), st("S2", 30, 10)])

@@ -16,9 +16,9 @@ import pytest
 import shapely
 
 from planner.candidates.final_step import misplacement
+from planner.io import load_site
 from planner.network import graph, proposal, sight
 from planner.network.graph import CONTROL_OFFSETS_M, diagnostics, intervisible, spots_around, widest_triangle
-from planner.site import load_site
 from planner.site.model import ControlPoint, ScanSide
 from tests.conftest import INSTANCES
 

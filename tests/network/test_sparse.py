@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.network import normal
 from planner.network.adjustment import Adjustment, Obs, adjust
 

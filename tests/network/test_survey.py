@@ -13,13 +13,13 @@ from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_limits
 from planner.engine import plan_site
+from planner.io.load import load_site
 from planner.network.chain import TIE_RANGE_M, control_count
 from planner.network.check import run_network
 from planner.network.survey import registration_links, survey_network
 from planner.plan import PlanOptions
 from planner.site import ScanSide
 from planner.site.candidate import Candidate, CandidateKind
-from planner.site.load import load_site
 from planner.site.model import ControlPoint
 from planner.site.validate import validate_site
 from tests.conftest import INSTANCES

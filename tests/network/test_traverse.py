@@ -15,7 +15,7 @@ import re
 import pytest
 
 from planner.cli import main
-from planner.errors import InputError
+from planner.core.errors import InputError
 from planner.network.check import run_network
 from planner.network.traverse import NO_TRAVERSE, ControlTraverse, read_traverse
 from planner.site import ScanSide, Site, Zone

@@ -12,10 +12,10 @@ from planner.coverage.sight import Sight
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_limits
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.network.check import accuracy_check, run_network
 from planner.plan import PlanOptions
 from planner.plan.verify import verify_stations
-from planner.site import load_site
 from planner.solve.milp import MilpOptions
 from tests.conftest import INSTANCES
 

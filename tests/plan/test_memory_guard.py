@@ -9,7 +9,7 @@ import sys
 import pytest
 
 import planner
-from planner.errors import InputError, UsageError
+from planner.core.errors import InputError, UsageError
 from planner.plan import PlanOptions, build_problem, closed_form_limits
 from planner.plan.memory_guard import check_memory, estimate_work, parse_memory
 from tests.conftest import INSTANCES, ROOT

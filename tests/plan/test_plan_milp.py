@@ -11,10 +11,11 @@ from planner.cli import main
 from planner.coverage.overlap import OverlapRule
 from planner.coverage.sight import Sight
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.plan import PlanOptions, build_problem, registration_check
 from planner.plan.tripod import tripod_discs
 from planner.plan.verify import verify_stations
-from planner.site import ScanSide, Site, Zone, load_site
+from planner.site import ScanSide, Site, Zone
 from planner.solve.backends import BACKENDS
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import cover_instance

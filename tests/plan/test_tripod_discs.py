@@ -11,9 +11,10 @@ import pytest
 from planner.cli import main
 from planner.coverage.targets import make_targets
 from planner.engine import plan_site
+from planner.io import load_site
 from planner.plan import PlanOptions
 from planner.plan.tripod import MIN_RADIUS_M
-from planner.site import ScanSide, load_site
+from planner.site import ScanSide
 from planner.site.model import Site, Zone
 from tests.conftest import INSTANCES
 

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from planner.cli import main
-from planner.errors import InputError
+from planner.core.errors import InputError
+from planner.io.instance_json import load_instance_json
+from planner.io.load import load_site
 from planner.site.assemble import Placement, assemble, placed_site
-from planner.site.instance_json import load_instance_json
-from planner.site.load import load_site
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 from planner.site.snap import SNAP_M
 from tests.conftest import INSTANCES

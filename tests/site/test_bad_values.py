@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from planner.cli import main
-from tests.conftest import HEADER
 from tests.cli.test_cli import assert_one_line_error
+from tests.conftest import HEADER
 
 SQUARE = {"id": "court", "scan_side": "inside", "coordinates": [[0, 0], [20, 0], [20, 10], [0, 10]], "height_m": 5}
 ZONE_TEXT = json.dumps(SQUARE)

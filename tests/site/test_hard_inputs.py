@@ -1,5 +1,5 @@
 """The catalogue of hard inputs (docs/hard-inputs.md): each gives a correct result or a one-line error
-with its exit code. DXF cases are in tests/exchange/test_dxf_import.py."""
+with its exit code. DXF cases are in tests/io/test_dxf_import.py."""
 
 from __future__ import annotations
 
@@ -14,8 +14,8 @@ import pytest
 
 import planner
 from planner.cli import main
-from tests.conftest import INSTANCES, ROOT, square_rows
 from tests.cli.test_cli import assert_one_line_error
+from tests.conftest import INSTANCES, ROOT, square_rows
 
 
 def instance(tmp_path: Path, zones: list[dict], name: str = "site.json", **extra) -> Path:

@@ -8,11 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from planner.errors import ClosureError, InputError
-from planner.site import ScanSide, load_site
+from planner.core.errors import ClosureError, InputError
+from planner.io import load_site
+from planner.io.table_csv import read_table_csv
+from planner.io.tables import zone_from_table
+from planner.site import ScanSide
 from planner.site.params import ClosureTolerance
-from planner.site.table_csv import read_table_csv
-from planner.site.tables import zone_from_table
 from planner.site.traverse import walk
 from tests.conftest import INSTANCES
 

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from planner.errors import ClosureError
-from planner.site import load_site
+from planner.core.errors import ClosureError
+from planner.io import load_site
 from planner.site.geometry import side_lengths, signed_area
 from planner.site.params import ClosureTolerance
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable, reconstruct, table_from_polygon

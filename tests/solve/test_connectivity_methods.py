@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from planner.core.errors import UsageError
 from planner.coverage.overlap import OverlapRule, overlap_adjacency
-from planner.errors import UsageError
 from planner.solve.connectivity import disconnected_groups
 from planner.solve.greedy import connected_greedy_plan
 from planner.solve.instance import CoverInstance

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 from planner.solve.greedy import connected_greedy_plan
 from planner.solve.result import Status
 from planner.solve.windows import WindowOptions, connected_cover_within, window_search

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import NODE_LIMIT, WORK_LIMIT, MilpOptions, solve
 from planner.solve.result import Status

@@ -7,10 +7,10 @@ import json
 import pytest
 
 from planner.cli import main
+from planner.io.load import load_site
 from planner.plan import PlanOptions, closed_form_limits
 from planner.plan.memory_guard import estimate_work
 from planner.plan.strategy import MIN_PIECES, choose, strategy_for, tile_count
-from planner.site.load import load_site
 from planner.site.validate import validate_site
 from tests.conftest import INSTANCES
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
 from planner.tiles.engine import _scatter, dask_client, run_tasks
 
 

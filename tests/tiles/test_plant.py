@@ -9,8 +9,8 @@ import math
 import pytest
 
 from planner.coverage.links import registration_groups
+from planner.io.load import load_site
 from planner.plan import PlanOptions, build_problem
-from planner.site.load import load_site
 from tests.conftest import INSTANCES, ROOT
 
 spec = importlib.util.spec_from_file_location("make_plant", ROOT / "scripts" / "make" / "make_plant.py")

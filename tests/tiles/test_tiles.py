@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from planner import progress
+from planner.core import progress
 from planner.coverage.matrix import build_coverage
+from planner.io.load import load_site
 from planner.plan import PlanOptions
-from planner.site.load import load_site
 from planner.solve.milp import MilpOptions
 from planner.tiles import TileOptions, dask_client, plan_by_tiles
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
@@ -87,7 +87,9 @@ def test_tiles_columns_are_the_site_matrix(site) -> None:
     assert sorted(np.concatenate([j.targets for j in jobs]).tolist()) == list(range(len(targets)))
     pairs = set()
     for job in jobs:
-        r = tile_task(prep.problem.sight, pool, targets, ["g"] * len(pool), job, MilpOptions(overlap=None, time_limit_s=5))
+        r = tile_task(
+            prep.problem.sight, pool, targets, ["g"] * len(pool), job, MilpOptions(overlap=None, time_limit_s=5)
+        )
         pairs |= set(zip(r.rows.tolist(), r.cols.tolist()))
     coo = whole.by_candidate.tocoo()
     assert pairs == set(zip(coo.row.tolist(), coo.col.tolist()))

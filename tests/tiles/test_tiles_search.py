@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import pytest
 
-from planner.errors import UsageError
+from planner.core.errors import UsageError
+from planner.io.load import load_site
 from planner.plan import PlanOptions
-from planner.site.load import load_site
 from planner.solve.local_search import shrink
 from planner.solve.windows import WindowOptions
 from planner.tiles import TileOptions, plan_by_tiles

@@ -9,7 +9,7 @@ from collections.abc import Callable, Collection, Mapping
 from planner.cli.choices import INCIDENCE_MODELS
 from planner.cli.option_types import POSITIVE
 from planner.cli.tuning import add_option
-from planner.errors import ExitCode
+from planner.core.errors import ExitCode
 
 #: each subcommand's function, by name
 Handlers = Mapping[str, Callable[[argparse.Namespace], int]]

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from planner.errors import ClosureError, InputError
-from planner.site import load_site
+from planner.core.errors import ClosureError, InputError
+from planner.io import load_site
 from tests.conftest import INSTANCES
 
 
@@ -169,7 +169,7 @@ def test_nan_in_json_refused(tmp_path):
 
 
 def test_oversized_file_refused_before_reading(tmp_path, monkeypatch):
-    import planner.site.fileio as fileio
+    import planner.core.fileio as fileio
 
     monkeypatch.setattr(fileio, "MAX_INPUT_BYTES", 100)
     p = write(tmp_path, {"zones": [square()], "description": "x" * 200})

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from planner.errors import InputError
-from planner.site.ifc_in import IfcOptions, read_ifc_site
+from planner.core.errors import InputError
+from planner.io.ifc_in import IfcOptions, read_ifc_site
 from planner.site.model import SITE_FRAME, ScanSide
 from tests.conftest import INSTANCES, ROOT
 

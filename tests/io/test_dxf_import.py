@@ -16,10 +16,10 @@ from ezdxf import units
 
 import planner
 from planner.cli import main
-from planner.site.dxf_in import APPID, DxfOptions, read_dxf_site
+from planner.io.dxf_in import APPID, DxfOptions, read_dxf_site
 from planner.site.model import ScanSide
-from tests.conftest import ROOT
 from tests.cli.test_cli import assert_one_line_error
+from tests.conftest import ROOT
 
 SQUARE = [(0, 0), (10, 0), (10, 10), (0, 10)]
 

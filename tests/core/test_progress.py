@@ -7,8 +7,8 @@ import io
 import threading
 
 import planner
-from planner import progress
 from planner.cli import main
+from planner.core import progress
 from tests.conftest import INSTANCES
 
 
@@ -75,7 +75,7 @@ def test_a_note_is_a_line_of_its_own_and_logged(caplog):
     previous = progress.set_sink(bar)
     try:
         bar("tiles", 1, 4)
-        with caplog.at_level("INFO", logger="planner.progress"):
+        with caplog.at_level("INFO", logger="planner.core.progress"):
             progress.note("tile 1/4 (row 0, col 0): 3 stations, tile bound 3, optimal")
     finally:
         progress.set_sink(previous)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from planner.errors import UsageError
-from planner.tiles.lagrange import group_parts, lagrangian_bound, split_costs
+from planner.bounds.lagrange import group_parts, lagrangian_bound, split_costs
+from planner.core.errors import UsageError
 from planner.tiles.stitch import lp_bound
 
 
@@ -99,8 +99,8 @@ def test_parts_must_partition_the_pieces() -> None:
 
 
 def test_tiled_plan_reports_the_lagrangian_bound() -> None:
+    from planner.io.load import load_site
     from planner.plan import PlanOptions
-    from planner.site.load import load_site
     from planner.solve.milp import MilpOptions
     from planner.tiles import TileOptions, plan_by_tiles
     from tests.conftest import INSTANCES
@@ -137,7 +137,7 @@ def test_a_part_with_no_cover_within_its_work_gets_the_greedy_and_a_valid_bound(
 
     import scipy.sparse as sp
 
-    lagrange = importlib.import_module("planner.tiles.lagrange")
+    lagrange = importlib.import_module("planner.bounds.lagrange")
     calls = []
     greedy = lagrange._greedy_part
     monkeypatch.setattr(lagrange, "_greedy_part", lambda a, w: calls.append(a.shape) or greedy(a, w))

@@ -1,4 +1,4 @@
-"""The connected plane bound (planner.certify.plane_ring): its parts against brute force, and the issue's case.
+"""The connected plane bound (planner.bounds.plane_ring): its parts against brute force, and the issue's case.
 
 - ``ring.cyclic_arcs`` (vectorised) agrees with the widest-gap rule written as a loop, on random rows.
 - ``undominated`` (a table of the ring's arcs, O(n^2)) keeps exactly the triples no other holds (pairwise).
@@ -18,9 +18,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import planner
-from planner.certify.connected_result import ConnectedPlaneBound
-from planner.certify.plane_patches import undominated
-from planner.certify.plane_ring import connected_plane_bound
+from planner.bounds.connected_result import ConnectedPlaneBound
+from planner.bounds.plane_patches import undominated
+from planner.bounds.plane_ring import connected_plane_bound
 from planner.coverage.matrix import build_coverage
 from planner.coverage.targets import make_targets
 from planner.engine import plan_site
@@ -31,7 +31,7 @@ from planner.site.validate import validate_site
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.ring import cyclic_arcs
-from tests.certify.plane_cases import _place, as_candidates, outline, positions
+from tests.bounds.plane_cases import _place, as_candidates, outline, positions
 from tests.conftest import INSTANCES
 
 QUICK = settings(

@@ -27,20 +27,20 @@ import shapely
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from planner.certify.plane import price_plane
+from planner.bounds.plane import price_plane
+from planner.core.errors import InfeasibleError
 from planner.coverage.arrangement import heaviest_points
 from planner.coverage.matrix import build_coverage
 from planner.coverage.regions import coverage_regions
 from planner.coverage.targets import Targets, make_targets
 from planner.engine import plan_site
-from planner.errors import InfeasibleError
 from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
 from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters
 from planner.site.validate import validate_site
 from planner.solve.milp import MilpOptions
 from planner.solve.pricing import cover_lp
-from tests.certify.plane_cases import as_candidates, min_cover, positions, rooms
+from tests.bounds.plane_cases import as_candidates, min_cover, positions, rooms
 
 QUICK = settings(
     deadline=None,

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from planner.engine import plan_site
+from planner.io.load import load_site
 from planner.plan import PlanOptions
-from planner.site.load import load_site
 from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters
 from planner.solve.milp import MilpOptions

@@ -13,7 +13,7 @@ import pytest
 from shapely.geometry import shape
 
 import planner
-from planner.exchange.dxf_out import LAYERS
+from planner.io.dxf_out import LAYERS
 from tests.conftest import INSTANCES
 
 
@@ -96,8 +96,8 @@ def test_geojson_opens_with_shapely_and_round_trips(polygon_b, tmp_path):
 def test_an_edited_site_record_in_an_export_is_refused_naming_the_file(polygon_b, tmp_path, edit, words):
     # the record is checked like an instance's parameters: an edit by hand that breaks it is one line naming
     # the file, never a silently different plan
-    from planner.errors import InputError
-    from planner.site.params_io import RECORD_KEY
+    from planner.core.errors import InputError
+    from planner.io.params_io import RECORD_KEY
 
     site, plan, o = polygon_b
     path = planner.write_geojson(o, tmp_path / "plan.geojson")
@@ -123,7 +123,7 @@ def test_station_csv_lists_every_station_after_comment_lines(polygon_b, tmp_path
 
 def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
     pytest.importorskip("pyproj")
-    from planner.site.crs import to_lonlat, to_projected
+    from planner.io.crs import to_lonlat, to_projected
 
     # a 40 x 30 m court in UTM zone 37N (EPSG:32637): east 277,000 m, north 3,770,000 m
     utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
@@ -146,7 +146,7 @@ def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
     np.testing.assert_allclose(site.zones[0].xy, utm, atol=1e-6)
     np.testing.assert_allclose(to_projected("EPSG:32637")(lonlat), utm, atol=1e-6)
     plan = planner.plan_site(site)
-    out = planner.exchange.outcome_geojson(planner.outcome_from_plan(plan), crs="EPSG:32637")
+    out = planner.io.outcome_geojson(planner.outcome_from_plan(plan), crs="EPSG:32637")
     pts = np.array([f["geometry"]["coordinates"] for f in out["features"] if f["properties"]["role"] == "station"])
     back = to_projected("EPSG:32637")(pts)
     np.testing.assert_allclose(back, [s.xy for s in plan.stations], atol=1e-6)
@@ -155,7 +155,7 @@ def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
 def _lonlat_court(tmp_path):
     """A 40 x 30 m court in UTM zone 37N written as a lon/lat GeoJSON (RFC 7946's coordinates)."""
     pytest.importorskip("pyproj")
-    from planner.site.crs import to_lonlat
+    from planner.io.crs import to_lonlat
 
     utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
     ring = [list(p) for p in to_lonlat("EPSG:32637")(utm)]
@@ -185,7 +185,7 @@ def test_a_lonlat_geojson_without_crs_is_refused_not_read_as_a_millimetre_room(t
 
 def test_crs_must_be_projected():
     pytest.importorskip("pyproj")
-    from planner.site.crs import to_projected
+    from planner.io.crs import to_projected
 
     with pytest.raises(planner.UsageError, match="projected"):
         to_projected("EPSG:4326")
@@ -275,7 +275,7 @@ def test_dxf_written_from_threads_at_once_is_the_same_and_leaves_ezdxf_as_it_was
     # option must be off afterwards (without the lock one thread restored another's "on" in 2 of 3 runs)
     from concurrent.futures import ThreadPoolExecutor
 
-    from planner.exchange.dxf_out import write_dxf
+    from planner.io.dxf_out import write_dxf
 
     outcome = polygon_b[2]
     with ThreadPoolExecutor(4) as ex:

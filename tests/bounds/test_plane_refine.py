@@ -1,4 +1,4 @@
-"""The refined connected plane bound (planner.certify.plane_refine): its parts against their definitions, and the
+"""The refined connected plane bound (planner.bounds.plane_refine): its parts against their definitions, and the
 bound against brute force.
 
 - A quarter never does more than its parent: its U within the parent's, its low at least the parent's (the
@@ -17,16 +17,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import planner
-from planner.certify import plane_refine
-from planner.certify.plane_patches import patch_sides
-from planner.certify.plane_refine import _Levels, distinct_rows, relaxed_links, split
+from planner.bounds import plane_refine
+from planner.bounds.plane_patches import patch_sides
+from planner.bounds.plane_refine import _Levels, distinct_rows, relaxed_links, split
 from planner.coverage.regions import coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.engine import plan_site
 from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
 from planner.site.validate import validate_site
 from planner.solve.milp import MilpOptions
-from tests.certify.test_plane_properties import SCALE
-from tests.certify.test_plane_ring import QUICK, block_site, bound_against_grid
+from tests.bounds.test_plane_properties import SCALE
+from tests.bounds.test_plane_ring import QUICK, block_site, bound_against_grid
 
 
 def _levels(site, options) -> tuple[_Levels, np.ndarray]:
