@@ -52,7 +52,7 @@ class PartJob:
     hint: NDArray[np.bool_] | None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PartResult:
     """A part's answer in scaled units: ``lower`` (proven), ``objective`` of ``chosen`` (its best cover)."""
 
@@ -63,7 +63,7 @@ class PartResult:
     capped: bool = False
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LagrangeBound:
     """The best bound found: ``value`` (rounded up when the costs are integers), ``raw`` (not rounded),
     ``lp`` (whole-cover LP), ``iterations`` run, ``per_tile`` (each part's bound at the best split,
@@ -147,7 +147,7 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     rest = max(0, math.ceil(bound - 1e-9)) if math.isfinite(bound) else 0  # the kept costs are >= 0
     lower = objective if optimal else int(job.w[free].sum()) + rest
     capped = WALL_CAP is not None and not optimal and solver.wall_time >= 0.99 * WALL_CAP * work_s
-    return PartResult(lower, objective, chosen, optimal, capped)
+    return PartResult(lower=lower, objective=objective, chosen=chosen, optimal=optimal, capped=capped)
 
 
 def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64]]:
@@ -309,15 +309,15 @@ def lagrangian_bound(
         lams = [lam + step * gi for lam, gi in zip(lams, g)]
     integral = bool(np.all(c == np.round(c)))
     return LagrangeBound(
-        math.ceil(best - 1e-6) if integral else best,
-        best,
-        lp,
-        done,
-        best_parts,
-        best_opt,
-        upper,
-        time.perf_counter() - t0,
-        capped,
+        value=math.ceil(best - 1e-6) if integral else best,
+        raw=best,
+        lp=lp,
+        iterations=done,
+        per_tile=best_parts,
+        proven=best_opt,
+        upper=upper,
+        time_s=time.perf_counter() - t0,
+        capped=capped,
     )
 
 

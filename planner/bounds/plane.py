@@ -187,7 +187,16 @@ def _add_points(
         Candidate(f"{z}-{SIDE_TAG[s]}-{new[g].id}", z, s, new[g].frame, new[g].x, new[g].y, CandidateKind.PRICED)
         for g, (z, s) in zip(good, owners)
     )
-    piece = CoverageProblem(cands, t, keep, keep.T.tocsr(), sub.slant_m[good], sub.incidence_deg[good], {}, sub.limits)
+    piece = CoverageProblem(
+        candidates=cands,
+        targets=t,
+        by_candidate=keep,
+        by_target=keep.T.tocsr(),
+        slant_m=sub.slant_m[good],
+        incidence_deg=sub.incidence_deg[good],
+        excluded={},
+        limits=sub.limits,
+    )
     model.add_columns(keep)
     return merge_problems(problem, piece), len(cands)
 

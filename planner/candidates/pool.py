@@ -19,7 +19,7 @@ from planner.site.model import ScanSide, Site, Zone
 NEARLY_STRAIGHT_DEG = 5.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PoolOptions:
     """How dense the pool is.
 

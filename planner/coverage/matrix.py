@@ -253,7 +253,7 @@ def _on_own_side(site: Site, cands: Sequence[Candidate], places: Places) -> Plac
     return Places(places.inside, tuple(reason))
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class CoverageProblem:
     """Candidates, targets and the boolean coverage matrix in both views.
 

@@ -282,13 +282,21 @@ def sight_limits(
     single = precision and not combined
     precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
     rule = (
-        PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
+        PrecisionRule(
+            scanner=validation.scanner,
+            budget=p.budget,
+            sigma_req_m=p.sigma_req_m,
+            incidence_model=p.incidence_model,
+            combined=combined,
+        )
+        if precision
+        else None
     )
     return SightLimits(
-        validation.range_limit.max_slant_range_m,
-        validation.theta_max_deg,
-        p.instrument_height_m,
-        incidence_3d,
-        precision_range,
-        rule,
+        max_slant_range_m=validation.range_limit.max_slant_range_m,
+        theta_max_deg=validation.theta_max_deg,
+        instrument_height_m=p.instrument_height_m,
+        incidence_3d=incidence_3d,
+        precision_range_m=precision_range,
+        precision=rule,
     )

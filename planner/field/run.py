@@ -52,7 +52,7 @@ from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FieldOptions:
     """How the sheet is made: ``mode`` shortest|registration, ``start`` (a station id, ``x,y``, or None for
     the station nearest the first door or control point), ``closed`` (back to the start), ``session_s``,
@@ -81,7 +81,7 @@ class FieldOptions:
             raise UsageError("must be a number of seconds > 0", field="--time-limit", value=self.time_cap_s)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class FieldPlan:
     """Everything the sheet shows; ``order`` holds indices into ``stations`` in visiting order."""
 
@@ -249,26 +249,26 @@ def field_plan(
     counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
     ft = field_time([st[k].id for k in order], walks, counts, props, options.setting, options.session_s)
     return FieldPlan(
-        site,
-        st,
-        order,
-        start_xy,
-        label,
-        legs,
-        result.length_m,
-        bound,
-        method,
-        result.nearest_neighbour_m,
-        options,
-        ft,
-        tuple(links),
-        tuple(targets),
-        space,
-        site.parameters.instrument_height_m,
-        result.capped,
-        ok,
-        time.perf_counter() - t0,
-        cert,
+        site=site,
+        stations=st,
+        order=order,
+        start_xy=start_xy,
+        start_label=label,
+        legs=legs,
+        route_length_m=result.length_m,
+        lower_bound_m=bound,
+        bound_method=method,
+        nearest_neighbour_m=result.nearest_neighbour_m,
+        options=options,
+        time=ft,
+        links=tuple(links),
+        targets=tuple(targets),
+        space=space,
+        instrument_height_m=site.parameters.instrument_height_m,
+        capped=result.capped,
+        registration_ok=ok,
+        solve_s=time.perf_counter() - t0,
+        certified=cert,
     )
 
 

@@ -22,7 +22,7 @@ ZONE_LAYERS: dict[str, ScanSide | None] = {
 }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DxfOptions:
     """Which layers hold what (names compared case-insensitively) and the defaults.
 

@@ -42,7 +42,7 @@ OUTLINE_TOL_M = 0.02
 DEFAULT_STOREY_HEIGHT_M = 3.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class IfcOptions:
     """What to read from an IFC file: which storey(s), windows as openings, the exterior outline."""
 

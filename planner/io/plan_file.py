@@ -81,7 +81,17 @@ def outcome_from_file(
         for s in meta.get("stations", [])
         if isinstance(s, dict) and isinstance(s.get("tripod_radius_m"), (int, float))
     }
-    return Outcome(site, validation, limits, stations, cov, verification, radii, meta, network)
+    return Outcome(
+        site=site,
+        validation=validation,
+        limits=limits,
+        stations=stations,
+        coverage=cov,
+        verification=verification,
+        tripod_radius_m=radii,
+        meta=meta,
+        network=network,
+    )
 
 
 def _fits_in_memory(site: Site, validation: ValidationReport, spacing_m: float, grid_m: float, name: str) -> None:

@@ -51,7 +51,7 @@ def registration_sigma_m(length_m: float) -> float:
     return REG_A * length_m + REG_B
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class NetworkReport:
     graph: nx.Graph
     control: tuple[ControlPoint, ...]
@@ -333,15 +333,15 @@ def run_network(
     check = accuracy_check(site, stations, problem, sigma, sight.scanner, sight.combined)
     survey = survey_network(site, stations, registration, links)
     return NetworkReport(
-        g,
-        tuple(ctrl),
-        diag,
-        tuple(adjustments),
-        tuple(failures),
-        sigma,
-        check,
-        tuple(mcs),
-        tuple(notes),
-        sigma_h,
-        survey,
+        graph=g,
+        control=tuple(ctrl),
+        diagnostics=diag,
+        adjustments=tuple(adjustments),
+        failures=tuple(failures),
+        station_sigma=sigma,
+        check=check,
+        monte_carlo=tuple(mcs),
+        notes=tuple(notes),
+        sigma_h=sigma_h,
+        survey=survey,
     )

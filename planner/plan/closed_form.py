@@ -45,6 +45,11 @@ def closed_form_plan(
     status = Status.FEASIBLE if covered.all() else Status.INCOMPLETE
     info = {"uncovered_targets": int((~covered).sum()), "generated": len(cands)}
     result = SolveResult(
-        "closed-form", status, tuple(keep), float(len(keep)), time_s=time.perf_counter() - start, info=info
+        method="closed-form",
+        status=status,
+        selected=tuple(keep),
+        objective=float(len(keep)),
+        time_s=time.perf_counter() - start,
+        info=info,
     )
     return result, problem, log

@@ -15,7 +15,7 @@ from planner.site.validate import ValidationReport
 from planner.solve.milp import MilpOptions
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PlanOptions:
     """Everything about a planning run that is not the site itself. The defaults are the ``planner plan``
     command's: the MILP with tripod discs, the registration rule at the site's overlap share, the strategy

@@ -25,7 +25,7 @@ from planner.site.model import Site
 from planner.site.validate import ValidationReport
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Outcome:
     """Everything shown about one plan. ``meta`` is the plan.json dictionary (method, status, bound ...)."""
 
@@ -69,14 +69,14 @@ def outcome_from_plan(
     cov = station_coverage(sight, plan.stations, plan.options.target_spacing_m)
     radii = {s.id: d.radius_m for s, d in zip(plan.stations, plan.tripods)}
     return Outcome(
-        plan.site,
-        plan.validation,
-        limits,
-        plan.stations,
-        cov,
-        plan.verification,
-        radii,
-        plan_to_dict(plan),
-        network,
-        tuple(comparison),
+        site=plan.site,
+        validation=plan.validation,
+        limits=limits,
+        stations=plan.stations,
+        coverage=cov,
+        verification=plan.verification,
+        tripod_radius_m=radii,
+        meta=plan_to_dict(plan),
+        network=network,
+        comparison=tuple(comparison),
     )

@@ -48,7 +48,7 @@ BUDGET_S = 420.0
 WORKER_MEMORY = "1.5GiB"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
     ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover

@@ -47,7 +47,7 @@ class Gap:
     to_m: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class VerifyReport:
     spacing_m: float
     zones: tuple[ZoneSideCoverage, ...]
@@ -134,7 +134,7 @@ def verify_stations(sight: Sight, stations: Sequence[Candidate], spacing_m: floa
                 idx = np.flatnonzero(mask & (pts.wall == wall))
                 gaps += _runs(zid, SIDE_NAME[side], int(wall), pts.s0_m[idx], ~seen[idx])
     mode = "off" if rule is None else "combined" if rule.combined else "single"
-    return VerifyReport(spacing_m, tuple(zones), tuple(gaps), misplaced, mode)
+    return VerifyReport(spacing_m=spacing_m, zones=tuple(zones), gaps=tuple(gaps), misplaced=misplaced, precision=mode)
 
 
 def _runs(zone: str, side: str, wall: int, s: np.ndarray, miss: np.ndarray) -> list[Gap]:

@@ -87,10 +87,10 @@ def combined_greedy(problem: CoverageProblem, rule: PrecisionRule) -> SolveResul
     selected = tuple(chosen)
     status = Status.FEASIBLE if need.max(initial=0.0) <= INFO_TOL else Status.INCOMPLETE
     return SolveResult(
-        "greedy",
-        status,
-        selected,
-        float(len(selected)),
+        method="greedy",
+        status=status,
+        selected=selected,
+        objective=float(len(selected)),
         time_s=time.perf_counter() - start,
         info={"precision": "combined"},
     )

@@ -61,10 +61,10 @@ def greedy_cover(
     uncovered = seen.copy() if must_cover is None else np.asarray(must_cover, dtype=bool).copy()
     if np.any(uncovered & ~seen):
         return SolveResult(
-            "greedy",
-            Status.INFEASIBLE,
-            (),
-            None,
+            method="greedy",
+            status=Status.INFEASIBLE,
+            selected=(),
+            objective=None,
             time_s=time.perf_counter() - start,
             info={"unseen_targets": np.flatnonzero(uncovered & ~seen).tolist()},
         )
@@ -86,7 +86,11 @@ def greedy_cover(
         taken[best] = True
         uncovered[a.indices[a.indptr[best] : a.indptr[best + 1]]] = False
     return SolveResult(
-        "greedy", Status.FEASIBLE, tuple(chosen), float(w[chosen].sum()), time_s=time.perf_counter() - start
+        method="greedy",
+        status=Status.FEASIBLE,
+        selected=tuple(chosen),
+        objective=float(w[chosen].sum()),
+        time_s=time.perf_counter() - start,
     )
 
 
@@ -126,12 +130,19 @@ def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: in
     chosen = connected_greedy(a, adj, instance.groups, instance.cost, need, starts)
     info = {"connected": True, "starts": starts}
     if chosen is None:
-        return SolveResult("greedy", Status.INFEASIBLE, (), None, time_s=time.perf_counter() - start, info=info)
+        return SolveResult(
+            method="greedy",
+            status=Status.INFEASIBLE,
+            selected=(),
+            objective=None,
+            time_s=time.perf_counter() - start,
+            info=info,
+        )
     return SolveResult(
-        "greedy",
-        Status.FEASIBLE,
-        tuple(chosen),
-        float(instance.cost[chosen].sum()),
+        method="greedy",
+        status=Status.FEASIBLE,
+        selected=tuple(chosen),
+        objective=float(instance.cost[chosen].sum()),
         time_s=time.perf_counter() - start,
         info=info,
     )

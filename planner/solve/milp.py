@@ -64,7 +64,7 @@ WALL_CAP: float | None = None
 CONNECTIVITY = ("auto", "bc", "flow", "loop")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class MilpOptions:
     backend: str = "cpsat"
     #: a wall-clock cap in seconds on the whole solve, only where the user sets one (None: none). A solve it
@@ -181,10 +181,10 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     if np.any(counts < o.k):
         bad = np.flatnonzero(counts < o.k)
         return SolveResult(
-            "milp",
-            Status.INFEASIBLE,
-            (),
-            None,
+            method="milp",
+            status=Status.INFEASIBLE,
+            selected=(),
+            objective=None,
             time_s=time.perf_counter() - start,
             backend=o.backend,
             info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)},
@@ -194,20 +194,20 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     _share_out(solvers, deadline, o.work_limit if o.backend == "cpsat" else None)
     if any(b.infeasible for b in solvers):
         return SolveResult(
-            "milp",
-            Status.INFEASIBLE,
-            (),
-            None,
+            method="milp",
+            status=Status.INFEASIBLE,
+            selected=(),
+            objective=None,
             time_s=time.perf_counter() - start,
             backend=o.backend,
             info={"presolve": report.to_dict()},
         )
     if any(b.incumbent is None for b in solvers):
         return SolveResult(
-            "milp",
-            Status.NO_SOLUTION,
-            (),
-            None,
+            method="milp",
+            status=Status.NO_SOLUTION,
+            selected=(),
+            objective=None,
             time_s=time.perf_counter() - start,
             backend=o.backend,
             info={"presolve": report.to_dict()},
@@ -244,10 +244,10 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline,
     }
     return SolveResult(
-        "milp",
-        status,
-        tuple(sorted(selected)),
-        objective,
+        method="milp",
+        status=status,
+        selected=tuple(sorted(selected)),
+        objective=objective,
         bound=objective if all_optimal else bound,
         time_s=time.perf_counter() - start,
         backend=o.backend,
@@ -316,9 +316,13 @@ def _presolve(
     drop = np.zeros(n_cand, dtype=bool)
     if not o.presolve:
         assert not isinstance(adj, OverlapLinks)
-        return PresolveReport(
-            n_cand, n_targ, kept_candidates=tuple(range(n_cand)), kept_targets=tuple(range(n_targ))
-        ), adj
+        every = PresolveReport(
+            candidates_in=n_cand,
+            targets_in=n_targ,
+            kept_candidates=tuple(range(n_cand)),
+            kept_targets=tuple(range(n_targ)),
+        )
+        return every, adj
     if o.k == 1 and o.precision == "single":
         drop, dup, adj = _reduce(a, instance.cost, adj, instance.groups if adj is not None else None)
     elif o.precision == "single":
@@ -330,18 +334,19 @@ def _presolve(
     must = forced(bt, o.k)
     assert not isinstance(adj, OverlapLinks)
     links = None if adj is None else int(adj[kept_c][:, kept_c].nnz // 2)
-    return PresolveReport(
-        n_cand,
-        n_targ,
-        int(drop.sum()),
-        int(dup.sum()),
-        int(must.sum()),
-        tuple(kept_c.tolist()),
-        tuple(np.flatnonzero(~dup).tolist()),
-        tuple(kept_c[must].tolist()),
-        time.perf_counter() - start,
-        links,
-    ), adj
+    report = PresolveReport(
+        candidates_in=n_cand,
+        targets_in=n_targ,
+        dominated=int(drop.sum()),
+        duplicate_targets=int(dup.sum()),
+        forced=int(must.sum()),
+        kept_candidates=tuple(kept_c.tolist()),
+        kept_targets=tuple(np.flatnonzero(~dup).tolist()),
+        forced_candidates=tuple(kept_c[must].tolist()),
+        time_s=time.perf_counter() - start,
+        links=links,
+    )
+    return report, adj
 
 
 #: at most this many alternations of dominance and implied targets (each pass is a valid reduction)

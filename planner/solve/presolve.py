@@ -25,7 +25,7 @@ _PROBES = (16, 256)
 _BITS_MAX = 16_384
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PresolveReport:
     candidates_in: int
     targets_in: int

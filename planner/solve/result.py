@@ -18,7 +18,7 @@ class Status(str, Enum):
     NO_SOLUTION = "no_solution"  # the method stopped without a cover (its work limit, or the user's wall-clock cap)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SolveResult:
     """Indices of the chosen candidates and what the method can say about them."""
 

@@ -57,7 +57,7 @@ from planner.solve.milp import WALL_CAP, MilpOptions, solve
 from planner.solve.result import Status
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class WindowOptions:
     """``radius_m``: window radius around each centre station; ``work_s``: CP-SAT deterministic seconds per
     window; ``passes``: visits of every station as a centre (0: off); ``seed``: order of the centres;

@@ -104,14 +104,14 @@ def plan_by_tiles(
     t_tiles = time.perf_counter() - start - t_pool
     by_cand, slant, inc = _assemble(len(pool), len(targets), results)
     problem = CoverageProblem(
-        pool,
-        targets,
-        by_cand,
-        by_cand.T.tocsr(),
-        slant,
-        inc,
-        {int(k): "stands nowhere" for k in np.flatnonzero(~prep.usable)},
-        limits,
+        candidates=pool,
+        targets=targets,
+        by_candidate=by_cand,
+        by_target=by_cand.T.tocsr(),
+        slant_m=slant,
+        incidence_deg=inc,
+        excluded={int(k): "stands nowhere" for k in np.flatnonzero(~prep.usable)},
+        limits=limits,
     )
     unseen = problem.uncoverable()
     if unseen.size:
@@ -268,10 +268,10 @@ def _finish(
         "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()},
     }
     result = SolveResult(
-        "milp-tiles",
-        status,
-        joined.selected,
-        float(n),
+        method="milp-tiles",
+        status=status,
+        selected=joined.selected,
+        objective=float(n),
         bound=float(value),
         time_s=times["total_s"],
         backend=options.milp.backend,

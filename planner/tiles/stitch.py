@@ -63,7 +63,7 @@ def prune(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], chosen: S
     return keep
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Stitched:
     """The site plan made from the tiles': ``selected`` (global indices), how many stations the
     union, the pruning and the joining chains held, and the parts of each group at the end."""
@@ -87,10 +87,16 @@ def stitch(
     joined = first if joined is None else joined
     final = prune(a, adj, groups, joined)
     parts = {g: len(components(adj, m)) for g, m in group_members(groups, final).items()}
-    return Stitched(tuple(final), len(union), len(union) - len(first), len(joined) - len(first), parts)
+    return Stitched(
+        selected=tuple(final),
+        union=len(union),
+        pruned=len(union) - len(first),
+        added=len(joined) - len(first),
+        parts=parts,
+    )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Bound:
     """A lower bound on the stations of any cover from the pool: ``value`` = max of the two below;
     ``cover``: the best cover the MILP found (registration not required), a second start for stitching."""
@@ -169,4 +175,11 @@ def global_bound(
             runner=partial(run_tasks, client=client, step="lagrange"),
         )
     # the Lagrangian bound solves the same cover LP for its duals: its value is not solved for twice
-    return Bound(lag.lp if lag is not None else lp_bound(a), milp, status, cover, capped, lag)
+    return Bound(
+        lp=lag.lp if lag is not None else lp_bound(a),
+        milp=milp,
+        milp_status=status,
+        cover=cover,
+        wall_cap_hit=capped,
+        lagrange=lag,
+    )

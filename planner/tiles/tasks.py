@@ -23,7 +23,7 @@ from planner.solve.result import Status
 from planner.tiles.layout import Tile, TileJob, take_targets
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class TileResult:
     """A tile's coverage pairs (global indices, with worst slant range and incidence) and its plan.
 
@@ -75,7 +75,19 @@ def tile_task(
     unseen = job.targets[problem.uncoverable()]
     if unseen.size:
         return TileResult(
-            job.tile, rows, cols, slant, inc, Status.INFEASIBLE, (), None, None, unseen, False, t1 - t0, 0.0
+            tile=job.tile,
+            rows=rows,
+            cols=cols,
+            slant_m=slant,
+            incidence_deg=inc,
+            status=Status.INFEASIBLE,
+            selected=(),
+            objective=None,
+            bound=None,
+            unseen=unseen,
+            covers_core=False,
+            coverage_s=t1 - t0,
+            solve_s=0.0,
         )
     inst = cover_instance(problem, groups=[groups[i] for i in job.candidates], name=job.tile.name)
     res = solve(inst, milp)
@@ -83,20 +95,20 @@ def tile_task(
     covers = bool(picked) and bool(np.all(problem.covered_by(picked) >= 1))
     selected = tuple(sorted(int(job.candidates[i]) for i in picked))
     return TileResult(
-        job.tile,
-        rows,
-        cols,
-        slant,
-        inc,
-        res.status,
-        selected,
-        res.objective,
-        res.bound,
-        unseen,
-        covers,
-        t1 - t0,
-        time.perf_counter() - t1,
-        res.wall_cap_hit,
+        tile=job.tile,
+        rows=rows,
+        cols=cols,
+        slant_m=slant,
+        incidence_deg=inc,
+        status=res.status,
+        selected=selected,
+        objective=res.objective,
+        bound=res.bound,
+        unseen=unseen,
+        covers_core=covers,
+        coverage_s=t1 - t0,
+        solve_s=time.perf_counter() - t1,
+        wall_cap_hit=res.wall_cap_hit,
     )
 
 

@@ -32,7 +32,16 @@ def square_outcome(stations: list[Candidate]) -> Outcome:
     sight = planner.Sight(site=site, limits=limits, scanner=v.scanner)
     cov = planner.station_coverage(sight, stations)
     ver = planner.verify_stations(sight, stations)
-    return Outcome(site, v, limits, tuple(stations), cov, ver, {s.id: 0.5 for s in stations}, {"method": "hand"})
+    return Outcome(
+        site=site,
+        validation=v,
+        limits=limits,
+        stations=tuple(stations),
+        coverage=cov,
+        verification=ver,
+        tripod_radius_m={s.id: 0.5 for s in stations},
+        meta={"method": "hand"},
+    )
 
 
 def test_uncovered_pieces_are_drawn_red():
