@@ -81,6 +81,8 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "overlap": plan.problem.checked_rule.overlap,
         },
         "problem": plan.problem_size,
+        # what every number above was computed under: the limits, the registration rule and scope, the strategy
+        "resolved": plan.problem.to_dict(),
         "zones": [
             {
                 "id": z.id,
