@@ -32,6 +32,7 @@ def test_public_functions_are_typed():
                     assert p.annotation is not inspect.Parameter.empty, (name, p.name)
 
 
+@pytest.mark.slow
 def test_results_have_summary_and_html_repr():
     site = planner.load_site(INSTANCES / "polygon_b.json")
     plan = planner.plan_site(site)
@@ -107,6 +108,7 @@ def test_bad_options_name_their_field(make, field):
         make()
 
 
+@pytest.mark.slow
 def test_library_misuse_is_refused_not_answered():
     site = planner.load_site(INSTANCES / "polygon_b.json")
     problem = planner.build_problem(site, planner.PlanOptions())

@@ -73,6 +73,7 @@ assert m.getStatus() == "optimal" and m.getObjVal() == 2
 """
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "order",
     [(ORTOOLS, CVXPY, PULP, PYSCIPOPT), (PYSCIPOPT, CVXPY, ORTOOLS, PULP)],

@@ -98,6 +98,7 @@ def test_parts_must_partition_the_pieces() -> None:
         lagrangian_bound(a, [np.array([0, 1])])
 
 
+@pytest.mark.slow
 def test_tiled_plan_reports_the_lagrangian_bound() -> None:
     from planner.io.load import load_site
     from planner.plan import PlanOptions
@@ -127,6 +128,7 @@ def test_tile_options_reject_a_group_below_one() -> None:
         TileOptions(lagrange_group=0)
 
 
+@pytest.mark.slow
 def test_a_part_with_no_cover_within_its_work_gets_the_greedy_and_a_valid_bound(monkeypatch):
     # the 64-ha plant's Lagrangian parts got 1-10 s of CP-SAT work each; a large part found no cover in it
     # (status UNKNOWN) and the run stopped with an internal error. Now the part's cover is the greedy's and its

@@ -85,6 +85,7 @@ def test_lp_duals_are_feasible_and_tight() -> None:
     assert np.all(by_target.T.astype(float) @ lp.y <= 1 + 1e-9)  # dual feasible: no column prices out
 
 
+@pytest.mark.slow
 def test_building_gets_one_station_per_room_that_allows_it() -> None:
     """building27: every room with aspect <= 2.4 (< tan 68 deg = 2.475, margin for the 1 m pieces) gets
     exactly one station; rooms above 2.6 get two. Never more stations than the pool without regions."""

@@ -56,6 +56,7 @@ EXAMPLES = {k: max(1, int(n * SCALE)) for k, n in {"a": 1100, "b": 300, "c": 300
 CORRIDOR_M = float(os.environ.get("PLANNER_PROPERTY_CORRIDOR_M", "60"))
 
 
+@pytest.mark.slow
 @settings(QUICK, max_examples=EXAMPLES["a"])
 @given(site=rooms(), precision=st.booleans())
 def test_a_no_piece_refused_that_a_position_sees(site: Site, precision: bool) -> None:
@@ -69,6 +70,7 @@ def test_a_no_piece_refused_that_a_position_sees(site: Site, precision: bool) ->
     assert not seen.any(), f"refused pieces seen from the dense grid: {unseen[seen > 0].tolist()}"
 
 
+@pytest.mark.slow
 @settings(QUICK, max_examples=EXAMPLES["b"])
 @given(site=rooms(max_size_m=12.0), seed=st.integers(0, 2**31 - 1))
 def test_b_no_sampled_position_beats_the_plane_bound(site: Site, seed: int) -> None:
@@ -101,6 +103,7 @@ def _stack(a: sp.csr_matrix, b: sp.csr_matrix) -> sp.csr_matrix:
     return sp.vstack([a, b]).tocsr()
 
 
+@pytest.mark.slow
 @settings(QUICK, max_examples=EXAMPLES["c"])
 @given(site=rooms(max_size_m=6.0, blocks=False))
 def test_c_plane_bound_at_most_brute_force_optimum(site: Site) -> None:
@@ -144,6 +147,7 @@ def centre_line_plan(width: float, length: float, theta: float) -> np.ndarray:
     return np.linspace(x0, length - x0, n)
 
 
+@pytest.mark.slow
 @settings(QUICK, max_examples=EXAMPLES["d"])
 @given(
     width=st.floats(1.5, 15.0),

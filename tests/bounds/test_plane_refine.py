@@ -12,6 +12,7 @@ bound against brute force.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -41,6 +42,7 @@ def _levels(site, options) -> tuple[_Levels, np.ndarray]:
     return lv, problem.by_target.getnnz(axis=1) > 0
 
 
+@pytest.mark.slow
 @settings(QUICK, max_examples=max(1, int(25 * SCALE)))
 @given(
     w=st.floats(1.5, 6.0),
@@ -112,6 +114,7 @@ def test_relaxed_links_are_the_pairwise_definition(rows, lens, lows, share, bloc
     assert len({(frozenset(rows[j]), round(low[j], 9)) for j in first.tolist()}) == first.size
 
 
+@pytest.mark.slow
 @settings(QUICK, max_examples=max(1, int(20 * SCALE)))
 @given(
     kind=st.sampled_from(["rect", "rect", "L", "U"]),

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -149,6 +150,7 @@ def connected_optimum(site: Site, options: PlanOptions, share: float) -> tuple[f
     return (float(result.objective) if result.status.value == "optimal" else -math.inf), problem
 
 
+@pytest.mark.slow
 @settings(QUICK, max_examples=60)
 @given(
     kind=st.sampled_from(["rect", "rect", "L", "U"]),
@@ -188,6 +190,7 @@ def bound_against_grid(site: Site, share: float, **kwargs: int) -> tuple[Connect
     return connected_plane_bound(site, problem, limits, share, np.zeros(len(t)), counts, **kwargs), optimum
 
 
+@pytest.mark.slow
 def test_polygon_b_is_proven_over_the_plane():
     # plain cover: 1 inside + 4 outside (plane bound 5); connected: the outside ring walk needs 5, so 1 + 5 = 6
     plan = plan_site(planner.load_site(INSTANCES / "polygon_b.json"), PlanOptions(method="milp"))

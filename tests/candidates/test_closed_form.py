@@ -73,6 +73,7 @@ def test_wall_candidates_stand_at_hd0_from_their_wall():
     assert all(c.y < 0 for c in outside.candidates if c.wall == 1)
 
 
+@pytest.mark.slow
 def test_docs_reproduction_md_is_what_its_script_writes_now(tmp_path):
     # docs/reproduction.md is generated (scripts/studies/reproduce_tables.py, ~5 s): a change that moves a count or
     # a coverage figure (it once went 96.888 -> 96.866 % on Baalbek unnoticed) must come with the page

@@ -189,6 +189,7 @@ def test_scale_option_sets_accuracy(capsys):
     assert "S_max 270.000 m [datasheet range of leica-p30 ((3.1) gives 490.5" in out
 
 
+@pytest.mark.slow
 def test_console_script_and_module_agree():
     args = ["validate", str(INSTANCES / "polygon_c.json")]
     exe = Path(sys.executable).parent / "planner"

@@ -6,6 +6,8 @@ from __future__ import annotations
 import io
 import threading
 
+import pytest
+
 import planner
 from planner.cli import main
 from planner.core import progress
@@ -47,6 +49,7 @@ def test_ticking_reports_elapsed_time_against_the_limit():
     assert seen[-1][1] == 10.0  # closed at the end
 
 
+@pytest.mark.slow
 def test_cli_shows_bars_only_on_a_terminal_without_quiet(monkeypatch, tmp_path):
     args = ["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy"]
     for quiet, expect in ((False, True), (True, False)):
@@ -60,6 +63,7 @@ def test_cli_shows_bars_only_on_a_terminal_without_quiet(monkeypatch, tmp_path):
     assert err.getvalue() == ""
 
 
+@pytest.mark.slow
 def test_library_prints_nothing(capsys):
     site = planner.load_site(INSTANCES / "polygon_b.json")
     plan = planner.plan_site(site, planner.PlanOptions(method="milp", tripod=True))

@@ -92,6 +92,7 @@ def test_links_are_pairs_that_see_each_other_through_an_opening():
     assert pairs == {(0, 1), (0, 3)}
 
 
+@pytest.mark.slow
 def test_house_plans_as_one_registration_network_through_its_doors():
     site = load_site(HOUSE)
     options = PlanOptions(method="milp", pool=PoolOptions(grid_spacing_m=2.0))
@@ -108,6 +109,7 @@ def test_house_plans_as_one_registration_network_through_its_doors():
     assert zone_plan.verification.complete
 
 
+@pytest.mark.slow
 def test_assembled_temple_one_bundle_per_accessible_area():
     # Baalbek as assembled: 8 rooms and the outline in the site frame, Z1, Z5, Z6 in their own frames;
     # table 4.3 gives no doors, so every room is an accessible area of its own and the ground outside one more
@@ -136,7 +138,7 @@ def test_json_window_does_not_join_but_lets_sight_through(tmp_path):
     assert data["openings"][3]["kind"] == "window"
 
 
-@pytest.mark.parametrize("name", ["baalbek_site.json", "house_doors.json"])
+@pytest.mark.parametrize("name", [pytest.param("baalbek_site.json", marks=pytest.mark.slow), "house_doors.json"])
 def test_zone_side_blockers_give_the_pairs_of_the_full_blocker_set(name, monkeypatch):
     # the per-zone-side blocker subsets (issue 12) must keep the junction cuts of placed zones (no cut end
     # comes back as a vertex) and every blocker for a zone with a gap, even one made by a neighbour's door

@@ -106,6 +106,7 @@ def test_bound_below_brute_force_optimum_below_route(inst, mode):
     assert cert.result.length_m <= opt + tol and cert.bound_m >= opt - tol
 
 
+@pytest.mark.slow
 def test_branch_and_cut_closes_the_gap_on_a_random_plan():
     # 40 random points (the benchmark's kind: a square of side 10 sqrt(n) m, overlap within 16 m with
     # probability 1/2 plus the minimum spanning tree): the registration order is proven optimal, below

@@ -154,6 +154,7 @@ def test_line_entities_on_a_zone_layer_are_refused(tmp_path):
         read_dxf_site(save(doc, tmp_path))
 
 
+@pytest.mark.slow
 def test_holes_layer_and_round_trip_of_a_court_with_a_block(tmp_path):
     # a 40 x 30 court (walls 6 m) with a 10 x 10 block (8 m) drawn on HOLES: 4 + 4 walls, area 1200 - 100
     doc, msp = drawing()

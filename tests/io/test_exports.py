@@ -29,6 +29,7 @@ def same_parameters(site, like):
     return replace(site, parameters=like.parameters, instrument=like.instrument)
 
 
+@pytest.mark.slow
 def test_dxf_has_every_layer_and_a_label_per_station(polygon_b, tmp_path):
     site, plan, o = polygon_b
     doc = ezdxf.readfile(planner.write_dxf(o, tmp_path / "plan.dxf"))
@@ -44,6 +45,7 @@ def test_dxf_has_every_layer_and_a_label_per_station(polygon_b, tmp_path):
     assert doc.units == 6  # metres
 
 
+@pytest.mark.slow
 def test_dxf_round_trip_keeps_station_count(polygon_b, tmp_path):
     site, plan, o = polygon_b
     # the drawing carries the instrument and parameters (header properties): read back as they were, so the
@@ -59,6 +61,7 @@ def test_dxf_round_trip_keeps_station_count(polygon_b, tmp_path):
     assert again.verification.complete
 
 
+@pytest.mark.slow
 def test_dxf_round_trip_of_a_multi_frame_site_keeps_greedy_count(tmp_path):
     site = planner.load_site(INSTANCES / "baalbek.json")
     plan = planner.plan_site(site)  # greedy
@@ -68,6 +71,7 @@ def test_dxf_round_trip_of_a_multi_frame_site_keeps_greedy_count(tmp_path):
     assert len(planner.plan_site(back).stations) == len(plan.stations)
 
 
+@pytest.mark.slow
 def test_geojson_opens_with_shapely_and_round_trips(polygon_b, tmp_path):
     site, plan, o = polygon_b
     path = planner.write_geojson(o, tmp_path / "plan.geojson")
@@ -85,6 +89,7 @@ def test_geojson_opens_with_shapely_and_round_trips(polygon_b, tmp_path):
     assert len(planner.plan_site(back, planner.PlanOptions(method="milp")).stations) == len(plan.stations)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "edit, words",
     [
@@ -109,6 +114,7 @@ def test_an_edited_site_record_in_an_export_is_refused_naming_the_file(polygon_b
     assert str(path) in str(err.value) and words in str(err.value)
 
 
+@pytest.mark.slow
 def test_station_csv_lists_every_station_after_comment_lines(polygon_b, tmp_path):
     site, plan, o = polygon_b
     text = planner.write_stations_csv(o, tmp_path / "stations.csv").read_text().splitlines()
@@ -226,6 +232,7 @@ def test_cli_plans_a_lonlat_geojson_with_crs_and_exports_lonlat(tmp_path, capsys
     assert "projected CRS EPSG:32637" in (out / "stations.csv").read_text()
 
 
+@pytest.mark.slow
 def test_dxf_is_the_same_bytes_in_two_processes_with_different_hash_seeds(tmp_path):
     # ezdxf stamps creation and save times, random GUIDs and a written-at marker, and orders its CLASSES
     # section by set iteration (PYTHONHASHSEED): the same plan gave a different file each run. Now two
@@ -270,6 +277,7 @@ def test_dxf_is_the_same_bytes_in_two_processes_with_different_hash_seeds(tmp_pa
     assert ezdxf.options.write_fixed_meta_data_for_testing is False  # the option is restored after a save
 
 
+@pytest.mark.slow
 def test_dxf_written_from_threads_at_once_is_the_same_and_leaves_ezdxf_as_it_was(polygon_b, tmp_path):
     # ezdxf's metadata option is process-wide: 16 writes on 4 threads must each give the one file, and the
     # option must be off afterwards (without the lock one thread restored another's "on" in 2 of 3 runs)

@@ -129,6 +129,7 @@ def test_failures_are_one_line_errors(tmp_path):
     assert run.returncode == 3 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
 
 
+@pytest.mark.slow
 def test_committed_house_plans_per_storey_and_verifies(tmp_path):
     """instances/house2.ifc (the script's output): each storey planned, verified 100 %."""
     for storey in ("1", "2"):

@@ -35,6 +35,7 @@ def test_pol_with_a_hole_is_scaled_and_oriented(tmp_path):
     assert "scaled by 25" in z.notes[0]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("rel", ["randsimple-20-1.pol", "random-20-1.pol", "spike60n14.pol"])
 def test_art_gallery_polygon_with_limits_off_plans_and_verifies(rel, capsys, tmp_path):
     code = main(["plan", str(AGP / rel), *LIMITS_OFF, "--out", str(tmp_path)])

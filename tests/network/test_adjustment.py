@@ -159,6 +159,7 @@ def test_registration_chain_is_weakest_in_the_middle():
     assert max(sx) == sx[2]
 
 
+@pytest.mark.slow
 def test_monte_carlo_agrees_with_the_covariance():
     coords, obs = traverse()
     mc = monte_carlo(coords, ["A", "B"], obs, runs=300, seed=11, angle_unit="deg")
@@ -185,6 +186,7 @@ def test_levelling_line_between_two_benchmarks():
     assert dh_sigma_m(100.0, 90.0, 0.002, 5.0) == pytest.approx(100 * 5 / 206264.806, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_monte_carlo_same_seed_same_result():
     # seeded draws: the same seed gives the same RMS per point, another seed other draws
     coords, obs = traverse()

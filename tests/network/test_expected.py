@@ -19,6 +19,8 @@ from tests.network.expected_results import EXPECTED, ROOT, network_numbers
 
 TOL = 1e-9
 FILES = sorted(EXPECTED.glob("*.json"))
+#: the recorded networks that take seconds to recompute: only in the full run (pytest -m slow)
+SLOW = {"plant_4ha", "baalbek_site_doors", "polygon_a", "polygon_c"}
 
 
 def differences(want: Any, got: Any, where: str = "", tol: float = TOL) -> list[tuple[str, float]]:
@@ -61,7 +63,9 @@ def max_difference(want: Any, got: Any) -> float:
     return max((d for _, d in differences(want, got, tol=-1.0)), default=0.0)
 
 
-@pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
+@pytest.mark.parametrize(
+    "path", [pytest.param(p, id=p.stem, marks=[pytest.mark.slow] if p.stem in SLOW else []) for p in FILES]
+)
 def test_network_results_equal_the_dense_ones(path: Path):
     data = json.loads(path.read_text())
     got = network_numbers(ROOT / data["instance"], path)  # the file reads as a plan: its stations

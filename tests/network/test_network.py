@@ -103,6 +103,7 @@ def rep_problem(site, stations):
     return build_coverage(site, stations, make_targets(site, 1.0), sight_limits(validate_site(site), False, True))
 
 
+@pytest.mark.slow
 def test_network_cli_writes_ellipses(tmp_path, capsys):
     out = tmp_path / "b"
     assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out)]) == 0
@@ -183,6 +184,7 @@ def test_station_heights_from_a_control_height():
     assert data["S1"]["point_error_3d_m"] > data["S1"]["position_error_m"]
 
 
+@pytest.mark.slow
 def test_network_numbers_do_not_depend_on_the_hash_seed(tmp_path):
     # the adjustment's unknowns were ordered by set iteration, so the last digits of the station errors (and
     # the network figure) changed with PYTHONHASHSEED; two processes with different seeds must agree exactly
@@ -220,6 +222,7 @@ def test_network_numbers_do_not_depend_on_the_hash_seed(tmp_path):
     assert outs[0] == outs[1]
 
 
+@pytest.mark.slow
 def test_network_json_is_strict_and_names_pieces_of_untied_stations(tmp_path, capsys):
     # The courtyard's court and room stations are tied to no control point, so their pieces have no finite
     # error. network.json must still be strict JSON (no Infinity/NaN tokens: JavaScript's JSON.parse refuses

@@ -121,6 +121,7 @@ def test_sparse_and_dense_agree_on_random_networks(seed, n_points, extra, n_fixe
         assert_same(dense, sparse)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["sparse", "dense"])
 def test_a_large_sparse_network_agrees_with_the_dense_one(kind):
     # 90 points, 900 observations of every kind: a network where the pattern of N is far from full

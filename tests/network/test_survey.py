@@ -74,6 +74,7 @@ def test_given_control_ties_stations_within_range_and_sight():
     assert net.chain.worst[0] == "S3" and net.chain.sigma_m["S3"] > net.chain.sigma_m["S2"] > net.chain.sigma_m["S1"]
 
 
+@pytest.mark.slow
 def test_house_plan_network_is_one_network_and_the_cli_prints_the_chain(tmp_path, capsys):
     site = load_site(HOUSE)
     plan = plan_site(site, PlanOptions(method="milp", pool=PoolOptions(grid_spacing_m=2.0)))
@@ -112,6 +113,7 @@ def test_cli_chain(tmp_path, capsys, argv):
     assert f"survey network: {parts} registration part(s)" in out and "registration chain: worst station" in out
 
 
+@pytest.mark.slow
 def test_assembled_temple_with_doors_is_one_network():
     # baalbek_site_doors.json: the assembled temple (all eleven rooms and the outline placed) with one ASSUMED
     # 3 m door in each matched wall and each collinear contact (scripts/make/make_baalbek_doors.py): one accessible

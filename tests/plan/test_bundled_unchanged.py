@@ -17,6 +17,8 @@ _spec = importlib.util.spec_from_file_location("check_bundled", ROOT / "scripts"
 check = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(check)  # type: ignore[union-attr]
 ROWS = json.loads(check.EXPECTED.read_text())["plans"]
+#: each row plans a site twice (seconds each): in the full run only (the quick tier plans B in tests/plan/test_plan*.py)
+pytestmark = pytest.mark.slow
 
 
 @pytest.mark.parametrize("name", ["house_doors", "corridor_200x8"])  # B and the room: tests/plan/test_plan*.py

@@ -63,6 +63,7 @@ def test_network_check_agrees_with_verification(site, greedy_plan):
     assert net_c["precision"] == "combined" and net_c["failing_targets"] <= net_s["failing_targets"]
 
 
+@pytest.mark.slow
 def test_combined_milp_plan_verifies(site):
     options = PlanOptions(method="milp", milp=MilpOptions(precision="combined", overlap=None, time_limit_s=60))
     plan = plan_site(site, options)

@@ -56,7 +56,9 @@ def test_estimate_counts_of_the_huge_square(tmp_path):
         check_memory(site, 1.0, 10.0, 270.0, limit_bytes=10 * 2**40)
 
 
-@pytest.mark.parametrize("name", ["polygon_b.json", "courtyard.json", "baalbek.json"])
+@pytest.mark.parametrize(
+    "name", ["polygon_b.json", "courtyard.json", pytest.param("baalbek.json", marks=pytest.mark.slow)]
+)
 def test_estimate_bounds_what_the_build_makes(name):
     site = planner.load_site(INSTANCES / name)
     problem = build_problem(site, PlanOptions())

@@ -21,15 +21,21 @@ from planner.solve.milp import MilpOptions
 from tests.conftest import INSTANCES
 
 
+class _Plans(dict):
+    """A polygon's closed-form and greedy plans, made when a test first reads them (the quick tier reads B only)."""
+
+    def __missing__(self, name: str) -> dict:
+        site = load_site(INSTANCES / f"{name}.json")
+        self[name] = {m: plan_site(site, PlanOptions(method=m)) for m in ("closed-form", "greedy")}
+        return self[name]
+
+
 @pytest.fixture(scope="module")
 def plans():
-    out = {}
-    for name in ("polygon_a", "polygon_b", "polygon_c"):
-        site = load_site(INSTANCES / f"{name}.json")
-        out[name] = {m: plan_site(site, PlanOptions(method=m)) for m in ("closed-form", "greedy")}
-    return out
+    return _Plans()
 
 
+@pytest.mark.slow
 def test_closed_form_polygon_a_is_28_and_verifies(plans):
     p = plans["polygon_a"]["closed-form"]
     assert p.count_by_side() == {"inside": 12, "outside": 16}  # published 12 + 16
@@ -41,6 +47,7 @@ def test_closed_form_polygon_b_is_7_and_verifies(plans):
     assert p.count_by_side() == {"inside": 1, "outside": 6} and p.verification.complete
 
 
+@pytest.mark.slow
 def test_closed_form_polygon_c_leaves_the_sharp_corner(plans):
     # docs/reproduction.md: the 23.179 deg corner cannot be reached by the closed form
     p = plans["polygon_c"]["closed-form"]
@@ -48,7 +55,10 @@ def test_closed_form_polygon_c_leaves_the_sharp_corner(plans):
     assert all(g.zone == "C" and g.side == "inside" and g.wall in (1, 8) for g in p.verification.gaps)
 
 
-@pytest.mark.parametrize("name", ["polygon_a", "polygon_b", "polygon_c"])
+@pytest.mark.parametrize(
+    "name",
+    [pytest.param("polygon_a", marks=pytest.mark.slow), "polygon_b", pytest.param("polygon_c", marks=pytest.mark.slow)],
+)
 def test_greedy_verifies_at_100_percent(plans, name):
     p = plans[name]["greedy"]
     assert p.result.status.value == "feasible"
@@ -60,11 +70,13 @@ def test_greedy_verifies_at_100_percent(plans, name):
     assert len(p.stations) == p.result.objective
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["polygon_a", "polygon_c"])
 def test_greedy_needs_fewer_stations_than_the_closed_form(plans, name):
     assert len(plans[name]["greedy"].stations) < len(plans[name]["closed-form"].stations)
 
 
+@pytest.mark.slow
 def test_baalbek_greedy_verifies():
     p = plan_site(load_site(INSTANCES / "baalbek.json"), PlanOptions(method="greedy"))
     assert p.verification.complete and len(p.stations) < 32  # published closed form: 32
@@ -81,6 +93,7 @@ def test_corridor_needs_at_least_five_stations():
     assert p.verification.complete
 
 
+@pytest.mark.slow
 def test_same_seed_same_plan_and_json_roundtrip(tmp_path):
     site = load_site(INSTANCES / "polygon_b.json")
     a = plan_site(site, PlanOptions(pool=PoolOptions(seed=7)))
@@ -109,13 +122,17 @@ def _moved_site(site: Site, angle_deg: float, dx: float, dy: float) -> Site:
     return Site(site.name, zones, site.parameters, site.instrument)
 
 
-@pytest.mark.parametrize("name", ["polygon_a", "polygon_b", "polygon_c"])
+@pytest.mark.parametrize(
+    "name",
+    [pytest.param("polygon_a", marks=pytest.mark.slow), "polygon_b", pytest.param("polygon_c", marks=pytest.mark.slow)],
+)
 def test_greedy_honours_the_overlap_rule(plans, name):
     # the default greedy only adds stations linked to those chosen: every zone-side in one bundle
     p = plans[name]["greedy"]
     assert p.result.info["connected"] and all(n == 1 for n in p.registration.values())
 
 
+@pytest.mark.slow
 def test_connected_greedy_of_b_against_the_plain_one():
     # polygon B: the plain greedy (--no-overlap) leaves the outside in several registration bundles;
     # the connected greedy is registrable and pays for it. Chain of invariants over one pool:
@@ -133,6 +150,7 @@ def test_connected_greedy_of_b_against_the_plain_one():
     assert conn.verification.complete and milp.verification.complete
 
 
+@pytest.mark.slow
 def test_rotating_and_translating_a_site_changes_no_count():
     base = load_site(INSTANCES / "polygon_b.json")
     here = _moved_site(base, 0.0, 0.0, 0.0)
@@ -165,6 +183,7 @@ def test_unseen_target_exits_4_listing_it(tmp_path, capsys):
     assert code == 4 and "wedge.json" in err and "W/inside/wall" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_cli_plan_writes_plan_json_and_verify_reads_it(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["plan", str(INSTANCES / "polygon_a.json"), "--method", "closed-form", "--out", str(out)]) == 0
@@ -220,6 +239,7 @@ def test_outside_walls_out_of_reach_exit_4_listing_them(tmp_path, capsys):
     assert "[60 beyond range" in err
 
 
+@pytest.mark.slow
 def test_the_library_plans_under_the_sites_overlap_like_the_command(tmp_path):
     # The MILP options' default rule is "the site's": a site asking 80 % overlap gets a plan connected at
     # 80 % (checked afresh on the chosen stations), not one planned and checked at 30 % (the old default)

@@ -25,15 +25,20 @@ from tests.conftest import INSTANCES
 NAMES = ("polygon_a", "polygon_b", "polygon_c", "baalbek")
 
 
+class _Problems(dict):
+    """An instance's site and planning problem, built when a test first reads them (the quick tier reads B only)."""
+
+    def __missing__(self, n: str) -> tuple:
+        self[n] = (load_site(INSTANCES / f"{n}.json"), build_problem(load_site(INSTANCES / f"{n}.json"), PlanOptions()))
+        return self[n]
+
+
 @pytest.fixture(scope="module")
 def problems():
-    return {
-        n: (load_site(INSTANCES / f"{n}.json"), build_problem(load_site(INSTANCES / f"{n}.json"), PlanOptions()))
-        for n in NAMES
-    }
+    return _Problems()
 
 
-@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n != "polygon_b" else n for n in NAMES])
 def test_plain_cover_backends_agree_and_beat_greedy(problems, name):
     site, problem = problems[name]
     inst = cover_instance(problem)
@@ -79,6 +84,7 @@ def baalbek_connected_optimum(problems):
     return r.objective, plain.objective
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", ["cpsat", "scip"])
 def test_connected_plan_of_baalbek(problems, baalbek_connected_optimum, backend):
     site, problem = problems["baalbek"]
@@ -92,6 +98,7 @@ def test_connected_plan_of_baalbek(problems, baalbek_connected_optimum, backend)
     assert set(comps.values()) == {1} and len(comps) == 12
 
 
+@pytest.mark.slow
 def test_same_seed_same_milp_plan():
     site = load_site(INSTANCES / "polygon_b.json")
     opts = PlanOptions(method="milp", milp=MilpOptions(seed=3))
@@ -112,6 +119,7 @@ def test_tripod_disc_in_a_square_room():
     assert disc.centre == pytest.approx((10.0, 10.0), abs=1e-3)
 
 
+@pytest.mark.slow
 def test_cli_milp_plan_json(tmp_path, capsys):
     out = tmp_path / "b"
     assert main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "milp", "--out", str(out), "--recentre"]) == 0
@@ -129,13 +137,12 @@ def test_cli_milp_plan_json(tmp_path, capsys):
     assert data["verification"]["complete"]
 
 
-def test_export_orlib_roundtrip(tmp_path, capsys):
+def test_export_orlib_roundtrip(problems, tmp_path, capsys):
     from planner.solve.orlib import read_orlib
 
     assert (
         main(["export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(tmp_path / "b.txt")]) == 0
     )
     inst = read_orlib(tmp_path / "b.txt")
-    site = load_site(INSTANCES / "polygon_b.json")
-    direct = solve(cover_instance(build_problem(site, PlanOptions())), MilpOptions(overlap=None))
+    direct = solve(cover_instance(problems["polygon_b"][1]), MilpOptions(overlap=None))  # the same build, made once
     assert solve(inst, MilpOptions(overlap=None)).objective == direct.objective

@@ -19,6 +19,7 @@ from planner.site.model import Site, Zone
 from tests.conftest import INSTANCES
 
 
+@pytest.mark.slow
 def test_every_tripod_disc_contains_its_station_and_recentring_moves_them():
     site = load_site(INSTANCES / "polygon_b.json")
     plain = plan_site(site, PlanOptions(method="greedy", tripod=True))

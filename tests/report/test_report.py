@@ -70,6 +70,7 @@ def test_report_is_self_contained_and_every_image_decodes(report):
     assert "closed-form" in text and "greedy" in text and "milp" in text
 
 
+@pytest.mark.slow
 def test_report_from_plan_json_lists_the_same_stations(report, tmp_path, capsys):
     plan_json = report.parent / "plan.json"
     capsys.readouterr()

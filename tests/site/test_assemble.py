@@ -101,6 +101,7 @@ def test_ambiguous_zone_is_left_unplaced_not_guessed():
     assert not report.used
 
 
+@pytest.mark.slow
 def test_baalbek_table_4_3_places_all_eleven_rooms_and_the_outline():
     report = assemble(load_site(INSTANCES / "baalbek.json"))
     labels = {m.label for m in report.used}
@@ -130,6 +131,7 @@ def test_baalbek_table_4_3_places_all_eleven_rooms_and_the_outline():
     assert "collinear contacts" in report.sources["Z1"] and "collinear contacts" in report.sources["Z5"]
 
 
+@pytest.mark.slow
 def test_baalbek_z6_matches_within_its_closure_change_and_pulls_nothing():
     raw = load_site(INSTANCES / "baalbek.json")
     report = assemble(raw)
@@ -150,6 +152,7 @@ def test_baalbek_z6_matches_within_its_closure_change_and_pulls_nothing():
         assert report.placements[zid].origin == pytest.approx(alone.placements[zid].origin, abs=1e-6)
 
 
+@pytest.mark.slow
 def test_baalbek_z1_is_held_by_six_collinear_contacts():
     report = assemble(load_site(INSTANCES / "baalbek.json"))
     z1 = {c.label: c for c in report.contacts if c.zone == "Z1"}
@@ -168,6 +171,7 @@ def test_baalbek_z1_is_held_by_six_collinear_contacts():
     assert "fit at RMS" in report.sources["Z1"]
 
 
+@pytest.mark.slow
 def test_bundled_site_instance_matches_a_fresh_assembly():
     site = load_site(INSTANCES / "baalbek_site.json")
     raw = load_site(INSTANCES / "baalbek.json")
@@ -185,6 +189,7 @@ def test_bundled_site_instance_matches_a_fresh_assembly():
     assert all(z.frame == SITE_FRAME for z in site.zones)
 
 
+@pytest.mark.slow
 def test_cli_assemble_writes_a_loadable_instance(tmp_path, capsys):
     out = tmp_path / "sub" / "site.json"
     out.parent.mkdir()

@@ -135,12 +135,14 @@ def test_hole_touching_the_outline_at_a_point_is_planned(tmp_path):
     assert len(plan.site.zones[0].walls) == 8  # 4 outline walls + 4 block walls
 
 
+@pytest.mark.slow
 def test_free_standing_block_walls_are_covered(tmp_path):
     plan = plan_ok(court_with_block(tmp_path, [[15, 10], [15, 20], [25, 20], [25, 10]]), "milp")
     assert plan.verification.percent == 100.0
     assert len(plan.stations) >= 2  # one station cannot see all four faces of the block
 
 
+@pytest.mark.slow
 def test_5000_vertex_outline(tmp_path):
     # a round apse drawn with 5,000 vertices on a 50 m circle: perimeter 2 n r sin(pi/n) = 314.1592 m,
     # area n r^2 sin(2 pi/n) / 2 = 7853.98 m2; from the centre every wall is seen at 0 deg, 50 m away
@@ -156,6 +158,7 @@ def test_5000_vertex_outline(tmp_path):
     assert len(plan.stations) == 1 and plan.result.status is planner.Status.OPTIMAL
 
 
+@pytest.mark.slow
 def test_projected_coordinates_around_a_million_metres_change_no_count():
     base = planner.load_site(INSTANCES / "polygon_b.json")
     shift = np.array([612345.678, 5543210.123])  # UTM-like easting / northing

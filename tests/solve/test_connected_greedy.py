@@ -4,6 +4,7 @@ and on random small instances a cover of every coverable target, one bundle per 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -88,6 +89,7 @@ def instances(draw: st.DrawFn) -> tuple[sp.csr_matrix, list[str]]:
     return sp.csr_matrix(np.array(cells, dtype=bool).reshape(n_cand, n_targ)), groups
 
 
+@pytest.mark.slow
 @settings(derandomize=True, max_examples=300, deadline=None)
 @given(instances(), st.integers(0, 3))
 def test_random_instances_give_a_connected_cover_of_every_coverable_target(case, starts):

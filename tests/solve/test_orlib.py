@@ -25,7 +25,7 @@ def _read(name: str):
     return read_orlib(ORLIB / f"{name}.txt")
 
 
-@pytest.mark.parametrize("name", ["scp41", "scp51", "scpa1"])
+@pytest.mark.parametrize("name", ["scp41", "scp51", pytest.param("scpa1", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_backends_prove_the_published_optimum(name, backend):
     inst = _read(name)
@@ -42,6 +42,7 @@ def test_greedy_is_never_below_the_optimum(name):
     assert g.objective >= OPTIMA[name] and (inst.coverage_count(g.selected) >= 1).all()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_scpnre1_within_ten_seconds(backend):
     # HiGHS needed 190 s to prove 29 (known_optima.csv); in 10 s every backend must return a valid

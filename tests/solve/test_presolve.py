@@ -128,6 +128,7 @@ def test_a_subset_goes_and_equal_rows_keep_the_first() -> None:
     assert dominated(a, np.ones(4)).tolist() == [False, True, True, False]
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None, derandomize=True, database=None)
 @given(seed=st.integers(0, 2**31 - 1), copies=st.integers(1, 4))
 def test_overlap_links_among_distinct_rows_keep_the_connected_optimum(seed: int, copies: int) -> None:
@@ -199,6 +200,7 @@ def test_linked_dominance_drops_what_the_whole_relation_drops(
     assert (among != expect).nnz == 0
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, derandomize=True, database=None)
 @given(
     n=st.integers(1, 9),

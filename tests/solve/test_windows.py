@@ -104,6 +104,7 @@ def test_connected_cover_within_a_subset_and_beside_kept_stations():
     assert got is not None and got.tolist() == [12, 14, 16, 18, 20] and status is Status.OPTIMAL
 
 
+@pytest.mark.slow
 def test_windows_in_flight_give_the_one_at_a_time_result():
     # windows of radius 4 on the line of 21 remove stations at several windows (history above); with 2, 3 or 7
     # windows in flight (solved at once when submitted, as workers would), each answer taken was made for the

@@ -80,6 +80,7 @@ def test_greedy_is_never_tiled():
     assert MIN_PIECES == 5_000
 
 
+@pytest.mark.slow
 def test_plain_command_records_its_strategy(tmp_path, capsys):
     out = tmp_path / "p"
     assert main(["plan", str(INSTANCES / "house_doors.json"), "--out", str(out), "--quiet"]) == 0

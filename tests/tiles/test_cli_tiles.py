@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from planner.cli import main
 from tests.conftest import INSTANCES
 
 PLANT = str(INSTANCES / "plant_1ha.json")
 
 
+@pytest.mark.slow
 def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
     code = main(
         [

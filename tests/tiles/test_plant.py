@@ -37,12 +37,14 @@ def test_bundled_plants_are_the_generator_output(area: int, tmp_path) -> None:
     assert out.stat().st_size < 64_000  # small files
 
 
+@pytest.mark.slow
 def test_plant_loads_and_every_piece_is_seen() -> None:
     site = load_site(INSTANCES / "plant_1ha.json")
     problem = build_problem(site, PlanOptions(method="milp"))  # raises InfeasibleError on an unseen piece
     assert problem.uncoverable().size == 0
 
 
+@pytest.mark.slow
 def test_site_registration_puts_the_whole_plant_in_one_group() -> None:
     """The plant's open ground is one accessible area: in ``site`` mode (what tiles use) every candidate is in
     one group, whichever zone proposed it; in ``zone`` mode there is one group per object (9 on 1 ha)."""

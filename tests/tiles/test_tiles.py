@@ -56,6 +56,7 @@ def serial(serial_run):
     return serial_run[0]
 
 
+@pytest.mark.slow
 def test_progress_says_each_tile_and_phase_with_incumbent_and_bound(serial_run) -> None:
     # issue 34: one line per tile (its stations, its MILP bound) and per phase (the incumbent, the bound, the gap);
     # the figures are the plan's own: the tiles' in plan.json, the last incumbent the plan, the bound its bound
@@ -73,6 +74,7 @@ def test_progress_says_each_tile_and_phase_with_incumbent_and_bound(serial_run) 
     assert f"gap {(len(plan.stations) - bound) / len(plan.stations):.1%}" in lines[-1]
 
 
+@pytest.mark.slow
 def test_tiles_columns_are_the_site_matrix(site) -> None:
     """Each piece is in one tile, and a tile's candidates (within S_max of its pieces) are all that can see
     them: the tiles' pairs, put together, are exactly the pairs of the whole-site build."""
@@ -98,6 +100,7 @@ def test_tiles_columns_are_the_site_matrix(site) -> None:
     assert pairs == set(zip(study.row.tolist(), study.col.tolist()))
 
 
+@pytest.mark.slow
 def test_tiled_plan_verifies_is_one_bundle_and_bounded(site, serial) -> None:
     info = serial.result.info
     assert all(t["covers_core"] for t in info["tiles"])  # every tile's plan covers its own pieces
@@ -108,6 +111,7 @@ def test_tiled_plan_verifies_is_one_bundle_and_bounded(site, serial) -> None:
     assert serial.result.gap == pytest.approx((len(serial.stations) - bound) / len(serial.stations))
 
 
+@pytest.mark.slow
 def test_tiled_plan_has_a_tripod_disc_per_station(serial) -> None:
     # as plan_site: one disc per station, centred on it (no --recentre), radius >= 0, and a station
     # whose relied pieces allow no disc of the stated resolution gets radius 0, never a negative one
@@ -119,6 +123,7 @@ def test_tiled_plan_has_a_tripod_disc_per_station(serial) -> None:
     assert all(d.relied_targets > 0 for d in discs)  # every station is relied on for some piece
 
 
+@pytest.mark.slow
 def test_tile_milps_run_on_work_limits_by_default(serial) -> None:
     # CP-SAT work (deterministic seconds) limits the tile and bound MILPs, so the plan does not depend on
     # the load; plan.json names any part whose 4x wall-clock cap was reached instead (none on a quiet
@@ -137,6 +142,7 @@ def test_lp_bound_of_a_small_cover() -> None:
     assert lp_bound(a) == pytest.approx(1.5)
 
 
+@pytest.mark.slow
 def test_dask_on_two_workers_gives_the_serial_plan(site, serial) -> None:
     with dask_client(workers=2) as client:
         assert len(client.scheduler_info()["workers"]) == 2
@@ -146,6 +152,7 @@ def test_dask_on_two_workers_gives_the_serial_plan(site, serial) -> None:
     assert [t["stations"] for t in dist.result.info["tiles"]] == [t["stations"] for t in serial.result.info["tiles"]]
 
 
+@pytest.mark.slow
 def test_translated_plant_gives_the_same_counts(site, serial) -> None:
     from dataclasses import replace
 
@@ -169,6 +176,7 @@ def test_translated_plant_gives_the_same_counts(site, serial) -> None:
     assert plan.result.bound == serial.result.bound
 
 
+@pytest.mark.slow
 def test_prepare_groups_follow_the_registration_mode(site) -> None:
     """Tiles default to ``site`` registration: the 1-ha plant's open ground is one accessible area, so one
     group; ``zone`` gives one group per object (9 zones in plant_1ha.json); links reach the sight range

@@ -61,6 +61,7 @@ def windowed(plans, no_whole_site_greedy):
     return plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1))
 
 
+@pytest.mark.slow
 def test_search_never_grows_the_kept_plan_and_keeps_it_verified(plans) -> None:
     without, searched, _ = plans
     before = without.result.info["local_search"]
@@ -82,6 +83,7 @@ def test_search_never_grows_the_kept_plan_and_keeps_it_verified(plans) -> None:
     assert searched.result.info["stitch"]["tried"]["local search"] == record["after"]
 
 
+@pytest.mark.slow
 def test_search_on_a_tiled_plan_is_deterministic(plans, no_whole_site_greedy) -> None:
     _, searched, site = plans
     again = plan_by_tiles(site, OPTIONS, _tiling(300))
@@ -131,6 +133,7 @@ def test_search_seeds_keep_the_smallest_run_and_the_lowest_seed_on_ties() -> Non
     assert set(one.selected) == set(alone[0].selected) and rec1["per_seed"] == [len(alone[0].selected)]
 
 
+@pytest.mark.slow
 def test_search_seeds_on_two_dask_workers_give_the_serial_result(dask2) -> None:
     a, adj, groups, tiled = _seeded()
     serial = best_plan(a, adj, groups, tiled, (), moves=5, seeds=4)
@@ -146,6 +149,7 @@ def test_negative_move_budget_is_refused() -> None:
         TileOptions(search_seeds=0)
 
 
+@pytest.mark.slow
 def test_windows_never_grow_the_kept_plan_and_keep_it_verified(plans, windowed) -> None:
     without = plans[0]
     off = without.result.info["windows"]
@@ -163,12 +167,14 @@ def test_windows_never_grow_the_kept_plan_and_keep_it_verified(plans, windowed) 
     assert windowed.result.info["stitch"]["tried"]["windows"] == record["after"]
 
 
+@pytest.mark.slow
 def test_windows_on_a_tiled_plan_are_deterministic(plans, windowed, no_whole_site_greedy) -> None:
     again = plan_by_tiles(plans[2], OPTIONS, _tiling(0, passes=1))
     assert [s.xy for s in again.stations] == [s.xy for s in windowed.stations]
     assert again.result.info["windows"]["history"] == windowed.result.info["windows"]["history"]
 
 
+@pytest.mark.slow
 def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed, dask2, no_whole_site_greedy) -> None:
     # with batch 4 the windows run 4 at a time as Dask tasks; the answers are taken in the serial order, so
     # the plan and the window history are those of the serial run (which ignores the batch: no client)
