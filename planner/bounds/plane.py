@@ -32,6 +32,10 @@ from planner.solve.result import SolveResult, Status
 PRICE_EPS = 1e-7
 #: after convergence, points within this of the cost (reduced cost ~0) join the pool as alternatives
 TIE_EPS = 1e-6
+#: pricing's work limit: the points of the rounds' arrangements weighed, summed (a count that follows the cost of
+#: a round, whose bulk is weighing them; about two minutes of one core on the 1-ha plant, which it stops after 22
+#: rounds). No round starts once it is reached
+PRICING_WORK = 1_100_000
 
 
 #: what a plane certificate assumes (plan.json ``certificate.assumes``, the summary)
@@ -50,8 +54,9 @@ class PricingReport:
     (``heaviest_weight``) bounds any position's dual weight from above (the regions grown by the tolerance,
     :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced
     out. ``lp_holds_over_plane``: the pool's integer LP bound holds over the plane (Farley's bound rounds up
-    to it). ``wall_cap_hit``: the user's wall-clock cap, not the round limit, stopped it (then the columns, and
-    so the bound, may depend on the machine's load).
+    to it). ``work``: the arrangement points its rounds weighed (:data:`PRICING_WORK`). ``wall_cap_hit``: the
+    user's wall-clock cap, not the round or work limit, stopped it (then the columns, and so the bound, may depend
+    on the machine's load).
     """
 
     converged: bool
@@ -67,6 +72,7 @@ class PricingReport:
     heaviest_weight: float = 0.0
     duals: tuple[float, ...] = field(default_factory=tuple, repr=False)  # the last LP's y, per piece
     wall_cap_hit: bool = False
+    work: int = 0
 
     @property
     def integer_bound(self) -> int:
@@ -96,6 +102,7 @@ class PricingReport:
             "tolerance_m": self.tolerance_m,
             "note": self.note,
             "wall_cap_hit": self.wall_cap_hit,
+            "work": self.work,
             "pool_lp_history": list(self.history),
             "plane_lp_history": list(self.plane_history),
         }
@@ -128,15 +135,16 @@ def _heaviest(
     y: np.ndarray,
     per_round: int,
     threshold: float = 1.0 + PRICE_EPS,
+    work: list[int] | None = None,
 ) -> tuple[list[tuple[int, Any]], float]:
     """Points of the closed arrangements (one per frame) of the regions of the pieces ``pos`` weighing more than
-    ``threshold`` (by default: those that price out)."""
+    ``threshold`` (by default: those that price out); ``work`` gets the points weighed per frame appended."""
     found_all: list[tuple[int, Any]] = []
     heaviest = 0.0
     for fi in range(len(t.frames)):
         here = pos[t.frame[pos] == fi]
         if here.size:
-            found, top = heaviest_points([cache[int(k)] for k in here], y[here], threshold, per_round)
+            found, top = heaviest_points([cache[int(k)] for k in here], y[here], threshold, per_round, work)
             found_all += [(fi, f) for f in found]
             heaviest = max(heaviest, top)
     return found_all, heaviest
@@ -209,6 +217,7 @@ def price_plane(
     max_rounds: int = 400,
     per_round: int = 100,
     time_limit_s: float | None = None,
+    max_work: int | None = PRICING_WORK,
     ties: int = 1000,
     cache: dict[int, shapely.Geometry] | None = None,
     spaces: dict[str, FrameSpace] | None = None,
@@ -223,8 +232,9 @@ def price_plane(
     bound holds for every cover from any positions (pieces of the chosen spacing, each seen whole by one
     station). Scope ``plane`` when its ceiling reaches the pool LP's.
 
-    Limits: ``max_rounds`` rounds of pricing (a count: the same columns under any load) and, only where the user
-    sets one, a wall-clock cap ``time_limit_s`` (None: none).
+    Limits: ``max_rounds`` rounds of pricing and ``max_work`` arrangement points weighed, no round started once
+    it is reached (counts: the same columns under any load; None: no work limit) and, only where the user sets
+    one, a wall-clock cap ``time_limit_s`` (None: none).
     """
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
@@ -233,6 +243,7 @@ def price_plane(
     t = problem.targets
     added, history, plane_history, note = 0, [], [], ""
     rounds, converged, capped = 0, False, False
+    work: list[int] = []  # points weighed, per arrangement
     model = WarmCoverLp(problem.by_target)
     while True:
         lp = model.solve()
@@ -241,13 +252,21 @@ def price_plane(
         missing = [int(k) for k in pos if int(k) not in cache]
         cache.update(coverage_regions(site, t, limits, missing, spaces))
         capped = time_limit_s is not None and time.perf_counter() - start > time_limit_s
-        if rounds >= max_rounds or capped:
-            note = f"stopped after {rounds} rounds / {time.perf_counter() - start:.0f} s before pricing converged" + (
-                f" (the wall-clock cap of {time_limit_s:g} s; may depend on the load)" if capped else ""
+        spent = max_work is not None and sum(work) >= max_work
+        if rounds >= max_rounds or capped or spent:
+            why = (
+                f"the wall-clock cap of {time_limit_s:g} s; may depend on the load"
+                if capped
+                else f"its work limit of {max_work:,} arrangement points"
+                if spent
+                else f"its {max_rounds} rounds"
+            )
+            note = (
+                f"stopped after {rounds} rounds / {time.perf_counter() - start:.0f} s before pricing converged ({why})"
             )
             break
         rounds += 1
-        faces, _ = _heaviest(cache, t, pos, lp.y, per_round)
+        faces, _ = _heaviest(cache, t, pos, lp.y, per_round, work=work)
         if not faces:
             converged = True
             break
@@ -282,6 +301,7 @@ def price_plane(
         w_star,
         tuple(map(float, lp.y)),
         capped,
+        sum(work),
     )
     return problem, report
 

@@ -201,8 +201,8 @@ KNOBS: dict[str, Knob] = {
                 key="pricing-time-limit",
                 parse=NON_NEGATIVE,
                 metavar="S",
-                help="milp: a wall-clock cap on geometric pricing in s (default none: its 400 rounds stop it); "
-                "a capped pricing says so and may depend on the load",
+                help="milp: a wall-clock cap on geometric pricing in s (default none: its rounds and work, counts, "
+                "stop it); a capped pricing says so and may depend on the load",
             ),
             Knob(
                 key="plane-refine-steps",

@@ -86,10 +86,16 @@ def _edge_points(lines: shapely.Geometry) -> tuple[NDArray, NDArray]:
 
 
 def heaviest_points(
-    regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float, limit: int
+    regions: Sequence[shapely.Geometry],
+    weights: NDArray[np.float64],
+    threshold: float,
+    limit: int,
+    work: list[int] | None = None,
 ) -> tuple[list[Sample], float]:
     """Points of the closed arrangement of ``regions`` weighing more than ``threshold`` (heaviest first,
-    at most ``limit``; faces before edges before vertices at equal weight), and the largest weight seen."""
+    at most ``limit``; faces before edges before vertices at equal weight), and the largest weight seen.
+    ``work``, where given, gets the number of arrangement points weighed appended: a count that follows the
+    cost of the call (weighing them is its bulk), for a caller's work limit."""
     keep = [k for k, g in enumerate(regions) if not g.is_empty and g.area > 0]
     if not keep:
         return [], 0.0
@@ -106,6 +112,8 @@ def heaviest_points(
         ("vertex", nodes, _weigh(nodes, tree, w, "dwithin")),
     )
     pts = np.concatenate([g[1] for g in groups])
+    if work is not None:
+        work.append(len(pts))
     wts = np.concatenate([g[2] for g in groups])
     kinds = np.concatenate([np.full(len(g[1]), k, dtype=object) for k, g in enumerate(groups)])
     if len(pts) == 0:

@@ -41,7 +41,7 @@ class PlanOptions:
     registration: str | None = None  # zone | site; None: site where zones are placed or openings given
     regions: bool = True
     pricing: bool = True
-    #: a wall-clock cap on pricing, only where the user sets one (None: none; its 400 rounds, a count, stop it)
+    #: a wall-clock cap on pricing, only where the user sets one (None: none; its rounds and work, counts, stop it)
     pricing_time_limit_s: float | None = None
     #: refinements of the connected cover over patches for a zone-side the ring walk leaves below the plan
     #: (:mod:`planner.bounds.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 13
