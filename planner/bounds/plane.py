@@ -32,10 +32,10 @@ from planner.solve.result import SolveResult, Status
 PRICE_EPS = 1e-7
 #: after convergence, points within this of the cost (reduced cost ~0) join the pool as alternatives
 TIE_EPS = 1e-6
-#: pricing's work limit: the points of the rounds' arrangements weighed, summed (a count that follows the cost of
-#: a round, whose bulk is weighing them; about two minutes of one core on the 1-ha plant, which it stops after 22
-#: rounds). No round starts once it is reached
-PRICING_WORK = 1_100_000
+#: pricing's work limit: the (point, region) pairs found in weighing the points of the rounds' arrangements,
+#: summed (a count that follows the cost of a round, whose bulk is that weighing; about two minutes of one core on
+#: the 1-ha plant, which it stops after 21 rounds). No round starts once it is reached
+PRICING_WORK = 16_000_000
 
 
 #: what a plane certificate assumes (plan.json ``certificate.assumes``, the summary)
@@ -54,7 +54,7 @@ class PricingReport:
     (``heaviest_weight``) bounds any position's dual weight from above (the regions grown by the tolerance,
     :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced
     out. ``lp_holds_over_plane``: the pool's integer LP bound holds over the plane (Farley's bound rounds up
-    to it). ``work``: the arrangement points its rounds weighed (:data:`PRICING_WORK`). ``wall_cap_hit``: the
+    to it). ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`). ``wall_cap_hit``: the
     user's wall-clock cap, not the round or work limit, stopped it (then the columns, and so the bound, may depend
     on the machine's load).
     """
@@ -138,7 +138,7 @@ def _heaviest(
     work: list[int] | None = None,
 ) -> tuple[list[tuple[int, Any]], float]:
     """Points of the closed arrangements (one per frame) of the regions of the pieces ``pos`` weighing more than
-    ``threshold`` (by default: those that price out); ``work`` gets the points weighed per frame appended."""
+    ``threshold`` (by default: those that price out); ``work`` gets the pairs weighed appended."""
     found_all: list[tuple[int, Any]] = []
     heaviest = 0.0
     for fi in range(len(t.frames)):
@@ -232,7 +232,7 @@ def price_plane(
     bound holds for every cover from any positions (pieces of the chosen spacing, each seen whole by one
     station). Scope ``plane`` when its ceiling reaches the pool LP's.
 
-    Limits: ``max_rounds`` rounds of pricing and ``max_work`` arrangement points weighed, no round started once
+    Limits: ``max_rounds`` rounds of pricing and ``max_work`` (point, region) pairs weighed, no round started once
     it is reached (counts: the same columns under any load; None: no work limit) and, only where the user sets
     one, a wall-clock cap ``time_limit_s`` (None: none).
     """
@@ -243,7 +243,7 @@ def price_plane(
     t = problem.targets
     added, history, plane_history, note = 0, [], [], ""
     rounds, converged, capped = 0, False, False
-    work: list[int] = []  # points weighed, per arrangement
+    work: list[int] = []  # (point, region) pairs weighed, per weighing
     model = WarmCoverLp(problem.by_target)
     while True:
         lp = model.solve()
@@ -257,7 +257,7 @@ def price_plane(
             why = (
                 f"the wall-clock cap of {time_limit_s:g} s; may depend on the load"
                 if capped
-                else f"its work limit of {max_work:,} arrangement points"
+                else f"its work limit of {max_work:,} weighed pairs"
                 if spent
                 else f"its {max_rounds} rounds"
             )

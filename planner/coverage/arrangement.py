@@ -60,14 +60,19 @@ def _noded(polys: Sequence[shapely.Geometry]) -> shapely.Geometry:
     return shapely.union_all(shapely.boundary(np.asarray(polys, dtype=object)))
 
 
-def _weigh(points: NDArray, tree: shapely.STRtree, w: NDArray[np.float64], predicate: str) -> NDArray[np.float64]:
-    """Sum of the weights of the regions (the tree's) holding each point, closed containment."""
+def _weigh(
+    points: NDArray, tree: shapely.STRtree, w: NDArray[np.float64], predicate: str, work: list[int] | None = None
+) -> NDArray[np.float64]:
+    """Sum of the weights of the regions (the tree's) holding each point, closed containment; ``work``, where
+    given, gets the number of (point, region) pairs found appended."""
     if len(points) == 0:
         return np.zeros(0)
     if predicate == "dwithin":
         pi, ri = tree.query(points, predicate="dwithin", distance=TOUCH_M)
     else:
         pi, ri = tree.query(points, predicate=predicate)
+    if work is not None:
+        work.append(len(pi))
     return np.asarray(np.bincount(pi, weights=w[ri], minlength=len(points)), dtype=np.float64)
 
 
@@ -94,8 +99,8 @@ def heaviest_points(
 ) -> tuple[list[Sample], float]:
     """Points of the closed arrangement of ``regions`` weighing more than ``threshold`` (heaviest first,
     at most ``limit``; faces before edges before vertices at equal weight), and the largest weight seen.
-    ``work``, where given, gets the number of arrangement points weighed appended: a count that follows the
-    cost of the call (weighing them is its bulk), for a caller's work limit."""
+    ``work``, where given, gets the (point, region) pairs found in weighing them appended: a count that follows
+    the cost of the call (weighing is its bulk), for a caller's work limit."""
     keep = [k for k, g in enumerate(regions) if not g.is_empty and g.area > 0]
     if not keep:
         return [], 0.0
@@ -107,13 +112,11 @@ def heaviest_points(
     reps = shapely.point_on_surface(faces) if len(faces) else np.zeros(0, dtype=object)
     mids, nodes = _edge_points(lines)
     groups = (
-        ("face", reps, _weigh(reps, tree, w, "within")),
-        ("edge", mids, _weigh(mids, tree, w, "dwithin")),
-        ("vertex", nodes, _weigh(nodes, tree, w, "dwithin")),
+        ("face", reps, _weigh(reps, tree, w, "within", work)),
+        ("edge", mids, _weigh(mids, tree, w, "dwithin", work)),
+        ("vertex", nodes, _weigh(nodes, tree, w, "dwithin", work)),
     )
     pts = np.concatenate([g[1] for g in groups])
-    if work is not None:
-        work.append(len(pts))
     wts = np.concatenate([g[2] for g in groups])
     kinds = np.concatenate([np.full(len(g[1]), k, dtype=object) for k, g in enumerate(groups)])
     if len(pts) == 0:

@@ -1,4 +1,4 @@
-"""Pricing stops on counted work (rounds, arrangement points weighed) by default; a wall-clock cap only where the
+"""Pricing stops on counted work (rounds, (point, region) pairs weighed) by default; a wall-clock cap only where the
 user sets one, and a cap that cuts it is said."""
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ def test_the_default_pricing_counts_its_work_and_converges_within_it() -> None:
 def test_the_work_limit_stops_pricing_after_the_round_that_reached_it() -> None:
     report = _priced(max_work=1)
     assert (report.rounds, report.converged, report.wall_cap_hit) == (1, False, False)
-    assert "work limit of 1 arrangement points" in report.note
+    assert "work limit of 1 weighed pairs" in report.note
 
 
 def test_a_wall_clock_cap_that_cuts_pricing_is_said() -> None:
