@@ -19,7 +19,7 @@ from planner.cli.main import build_parser, main
 from planner.cli.profile import apply_config
 from planner.core.errors import UsageError
 from planner.coverage.overlap import SiteShare
-from planner.io.plan_json import plan_to_dict
+from planner.plan.plan_dict import plan_to_dict
 
 INSTANCES = Path(__file__).resolve().parents[1] / "instances"
 
@@ -85,4 +85,5 @@ def test_library_and_command_give_the_same_plan(name: str, tmp_path: Path) -> No
     for key in ("stations", "bound", "bound_scope", "status", "objective"):
         assert library[key] == command[key], key
     assert library["solver"]["strategy"] == command["solver"]["strategy"]
+    assert library["resolved"] == command["resolved"]  # the same limits, rule, scope and strategy, written out
     assert library["verification"]["percent"] == command["verification"]["percent"] == 100.0

@@ -9,7 +9,7 @@ import os
 import pytest
 
 import planner
-from planner.io.plan_json import plan_to_dict
+from planner.plan.plan_dict import plan_to_dict
 from tests.conftest import INSTANCES, ROOT
 
 _spec = importlib.util.spec_from_file_location("check_determinism", ROOT / "scripts" / "check_determinism.py")

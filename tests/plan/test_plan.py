@@ -13,8 +13,9 @@ from planner.cli import main
 from planner.core.errors import InfeasibleError
 from planner.engine import plan_site
 from planner.io import load_site
-from planner.io.plan_json import plan_to_dict, read_plan_stations
+from planner.io.plan_json import read_plan_stations
 from planner.plan import PlanOptions, build_problem
+from planner.plan.plan_dict import plan_to_dict
 from planner.site import ScanSide, Site, Zone
 from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions
