@@ -13,13 +13,12 @@ import os
 from dataclasses import replace
 
 from planner.core.checks import argument
-from planner.core.errors import UsageError
 from planner.io import load_site
 from planner.plan.best_known import best_known
 from planner.plan.options import PlanOptions
-from planner.plan.problem import Problem, resolve
+from planner.plan.problem import Problem
 from planner.plan.result import Plan
-from planner.plan.run import plan_single
+from planner.plan.run import as_problem, plan_single
 from planner.site.model import Site
 
 
@@ -27,13 +26,9 @@ def problem_of(site: Site | str | os.PathLike[str] | Problem, options: PlanOptio
     """``site`` resolved under ``options``: read first when it is a path; a resolved problem as it is (then
     ``options`` must be None: the problem carries its own)."""
     argument(site, (Site, str, os.PathLike, Problem), "site")
-    if isinstance(site, Problem):
-        if options is not None:
-            raise UsageError("a resolved problem carries its options; give one or the other", field="options")
-        return site
     if isinstance(site, (str, os.PathLike)):
         site = load_site(os.fspath(site))
-    return resolve(site, options)
+    return as_problem(site, options)
 
 
 def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOptions | None = None) -> Plan:

@@ -96,16 +96,12 @@ def checking_problem(args: argparse.Namespace) -> Problem:
     has (incidence, precision) and its registration scope."""
     from planner.plan import PlanOptions
     from planner.plan.problem import resolve
-    from planner.plan.strategy import StrategyOptions
-    from planner.solve.milp import MilpOptions
 
-    precision = not getattr(args, "no_precision", False)
-    options = PlanOptions(
+    options = PlanOptions.checking(
         incidence_3d=getattr(args, "incidence", "horizontal") == "3d",
-        precision=precision,
-        milp=MilpOptions(precision=getattr(args, "precision", "single") if precision else "single"),
+        precision=not getattr(args, "no_precision", False),
+        combined=getattr(args, "precision", "single") == "combined",
         registration=getattr(args, "registration", None),
-        strategy=StrategyOptions(single=True),
     )
     return resolve(load_with_overrides(args), options)
 

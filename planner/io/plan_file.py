@@ -18,11 +18,9 @@ from planner.network.check import NetworkReport
 from planner.plan.options import PlanOptions
 from planner.plan.outcome import Outcome
 from planner.plan.problem import resolve
-from planner.plan.strategy import StrategyOptions
 from planner.plan.verify import verify_stations
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
-from planner.solve.milp import MilpOptions
 
 
 def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path: str, ifc: Any = None) -> Site:
@@ -63,12 +61,7 @@ def outcome_from_file(
     p = meta.get("parameters") or {}
     combined = (p.get("milp") or {}).get("precision") == "combined" or p.get("precision_mode") == "combined"
     precision = bool(p.get("precision", True))
-    recorded = PlanOptions(
-        incidence_3d=p.get("incidence") == "3d",
-        precision=precision,
-        milp=MilpOptions(precision="combined" if combined and precision else "single"),
-        strategy=StrategyOptions(single=True),
-    )
+    recorded = PlanOptions.checking(incidence_3d=p.get("incidence") == "3d", precision=precision, combined=combined)
     problem = resolve(site, recorded)  # the limits the plan was made under, resolved once
     validation, sight, limits = problem.validation, problem.sight, problem.limits
     stations = tuple(read_plan_stations(plan_path, site))

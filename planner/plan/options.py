@@ -49,6 +49,25 @@ class PlanOptions:
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
     strategy: StrategyOptions = field(default_factory=StrategyOptions)
 
+    @classmethod
+    def checking(
+        cls,
+        *,
+        incidence_3d: bool = False,
+        precision: bool = True,
+        combined: bool = False,
+        registration: str | None = None,
+    ) -> PlanOptions:
+        """The options that check stations already chosen (verify, network, a plan read back): the sight modes
+        and registration scope only, as one model."""
+        return cls(
+            incidence_3d=incidence_3d,
+            precision=precision,
+            milp=MilpOptions(precision="combined" if combined and precision else "single"),
+            registration=registration,
+            strategy=StrategyOptions(single=True),
+        )
+
     @property
     def combined(self) -> bool:
         """Views add information (``--precision combined``), for every method."""

@@ -54,9 +54,17 @@ class Problem:
         """The wall pieces of the run: every wall face cut into pieces of at most the target spacing."""
         return make_targets(self.site, self.options.target_spacing_m)
 
-    def summary(self) -> str:
-        """The resolved choices, a line each: what every number of the run was computed under."""
+    def limits_line(self) -> str:
+        """The sight limits in one line."""
         lim = self.limits
+        precision = "off" if lim.precision is None else ("combined" if lim.precision.combined else "single view")
+        return (
+            f"limits: S_max {lim.max_slant_range_m:g} m, theta_max {lim.theta_max_deg:g} deg, incidence "
+            f"{'3-D' if lim.incidence_3d else 'horizontal'}, precision {precision}"
+        )
+
+    def registration_line(self) -> str:
+        """The registration rule and scope, with why, in one line."""
         rule = self.rule
         rule_text = (
             f"overlap {rule.overlap:.0%}"
@@ -65,16 +73,12 @@ class Problem:
             if rule
             else "none"
         )
-        return "\n".join(
-            [
-                f"site {self.site.name}: {len(self.site.zones)} zone(s), instrument {self.validation.scanner.name}",
-                f"limits: S_max {lim.max_slant_range_m:g} m, theta_max {lim.theta_max_deg:g} deg, incidence "
-                f"{'3-D' if lim.incidence_3d else 'horizontal'}, precision "
-                f"{'off' if lim.precision is None else ('combined' if lim.precision.combined else 'single view')}",
-                f"registration rule: {rule_text}; scope {self.registration} ({self.registration_reason})",
-                self.strategy.line(),
-            ]
-        )
+        return f"registration rule: {rule_text}; scope {self.registration} ({self.registration_reason})"
+
+    def summary(self) -> str:
+        """The resolved choices, a line each: what every number of the run was computed under."""
+        site = f"site {self.site.name}: {len(self.site.zones)} zone(s), instrument {self.validation.scanner.name}"
+        return "\n".join([site, self.limits_line(), self.registration_line(), self.strategy.line()])
 
     def to_dict(self) -> dict[str, Any]:
         lim = self.limits

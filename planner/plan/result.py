@@ -72,7 +72,7 @@ class Plan:
             f"{'zone':<{w}}{'side':<9}{'stations':>9}",
         ]
         lines += [f"{z:<{w}}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
-        lines += self.problem.summary().splitlines()[1:3]  # the limits, the registration rule and scope
+        lines += [self.problem.limits_line(), self.problem.registration_line()]
         lines += list(self.log)
         lines.append(self._accuracy_line())
         lines.append(self._bound_line())

@@ -13,7 +13,6 @@ from typing import Any, cast
 import numpy as np
 import scipy.sparse as sp
 
-from planner.core.errors import UsageError
 from planner.coverage.links import registration_groups
 from planner.coverage.matrix import station_places
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths, rule_of
@@ -21,6 +20,7 @@ from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.plan import PlanOptions, site_candidates
 from planner.plan.problem import Problem, resolve
+from planner.plan.run import as_problem
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
@@ -82,9 +82,7 @@ def tiles_problem(site: Site | Problem, options: PlanOptions | None = None) -> P
     (default: the MILP), registration ``options.registration`` or else ``site`` (one registration bundle per
     accessible area: tiles are squares of one frame)."""
     if isinstance(site, Problem):
-        if options is not None:
-            raise UsageError("a resolved problem carries its options", field="options")
-        return site
+        return as_problem(site, options)
     options = options or PlanOptions(method="milp")
     return resolve(site, replace(options, registration=options.registration or "site"))
 
