@@ -14,7 +14,7 @@ from dataclasses import replace
 
 from planner.core.checks import argument
 from planner.io import load_site
-from planner.plan.best_known import best_known
+from planner.plan.best_known import best_known, problem_kind
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem
 from planner.plan.result import Plan
@@ -68,19 +68,19 @@ def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOption
 
 def with_strategy(plan: Plan) -> Plan:
     """The plan with its problem's strategy in its log (summary) and in its result's info (plan.json), and the
-    gap to the best plan known for the site (:mod:`planner.plan.best_known`) where the file lists one."""
+    best plan known for the site (:mod:`planner.plan.best_known`) where the file lists one for the same problem:
+    the gap to it when it was made on the plan's own pool (the same fingerprint), else a line saying the pools
+    differ. The problem is the plain cover when the run has no registration rule, else the connected plan."""
     problem = plan.problem
     info = {**plan.result.info, "strategy": problem.strategy.to_dict()}
     log = [*plan.log, problem.strategy.line()]
+    kind = problem_kind(problem.rule is not None)
     share = problem.checked_rule.overlap if problem.rule else 0.0
-    known = best_known(plan.site.name, problem.registration, share)
+    registration = problem.registration if problem.rule else None
+    fingerprint = plan.pool.fingerprint if plan.pool is not None else None
+    known = best_known(plan.site.name, kind, registration, share, fingerprint)
     if known is not None:
         n = len(plan.stations)
-        info["best_known"] = {
-            "stations": known.stations,
-            "problem": known.problem,
-            "command": known.command,
-            "gap": (n - known.stations) / max(n, 1),
-        }
+        info["best_known"] = known.to_dict(n)
         log.append(known.line(n))
     return replace(plan, result=replace(plan.result, info=info), log=tuple(log))

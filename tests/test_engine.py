@@ -3,7 +3,9 @@
 - the command's options with no flags are the library's defaults (so the two cannot drift apart);
 - the plan of a path through the library and the plan.json of the command name the same stations, bound and
   bound scope (slow: three full planning runs each way);
-- the strategy of the 16-ha plant is tiles when resolved by the library, as the command chooses.
+- the strategy of the 16-ha plant is tiles when resolved by the library, as the command chooses;
+- a plan records its pool's fingerprint, and the best plan known is compared (a gap) only on the same problem and
+  pool (issue 44).
 """
 
 from __future__ import annotations
@@ -14,11 +16,13 @@ from pathlib import Path
 import pytest
 
 import planner
+import planner.plan.best_known as best_known_module
 from planner.cli.commands import plan_options
 from planner.cli.main import build_parser, main
 from planner.cli.profile import apply_config
 from planner.core.errors import UsageError
 from planner.coverage.overlap import SiteShare
+from planner.engine import with_strategy
 from planner.plan.plan_dict import plan_to_dict
 
 INSTANCES = Path(__file__).resolve().parents[1] / "instances"
@@ -82,8 +86,60 @@ def test_library_and_command_give_the_same_plan(name: str, tmp_path: Path) -> No
     assert main(["plan", str(path), "--out", str(tmp_path), "--quiet"]) == 0
     command = json.loads((tmp_path / "plan.json").read_text())
     library = plan_to_dict(planner.plan_site(str(path)))
-    for key in ("stations", "bound", "bound_scope", "status", "objective"):
+    for key in ("stations", "bound", "bound_scope", "status", "objective", "pool"):
         assert library[key] == command[key], key
     assert library["solver"]["strategy"] == command["solver"]["strategy"]
     assert library["resolved"] == command["resolved"]  # the same limits, rule, scope and strategy, written out
     assert library["verification"]["percent"] == command["verification"]["percent"] == 100.0
+
+
+def _small_plan(**options) -> planner.Plan:
+    # polygon_a with coarse pieces and grid, greedy: under a second
+    pool = planner.PoolOptions(grid_spacing_m=20.0)
+    o = planner.PlanOptions(method="greedy", target_spacing_m=5.0, pool=pool, **options)
+    return planner.plan_site(INSTANCES / "polygon_a.json", o)
+
+
+def _best_known(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, *rows: dict) -> None:
+    path = tmp_path / "best_known.json"
+    path.write_text(json.dumps({"plans": list(rows)}))
+    monkeypatch.setattr(best_known_module, "BEST_KNOWN", path)
+
+
+def _entry(problem: str, fingerprint: str | None, stations: int, **more) -> dict:
+    pool = None if fingerprint is None else {"fingerprint": fingerprint, "candidates": 1, "targets": 1, "pairs": 1}
+    return {"instance": "polygon_a", "problem": problem, "stations": stations, "pool": pool, "command": "c", **more}
+
+
+def test_a_plan_records_its_pool_and_the_gap_only_on_the_same_pool(tmp_path, monkeypatch) -> None:
+    plan = _small_plan()
+    data = plan_to_dict(plan)
+    assert plan.pool is not None and data["pool"] == plan.pool.to_dict()
+    assert data["pool"]["candidates"] == data["problem"]["candidates"] and data["pool"]["pairs"] > 0
+    assert "best_known" not in data["solver"]  # the real file lists no entry for polygon_a
+    n, fp, rule = len(plan.stations), plan.pool.fingerprint, plan.problem.rule
+    assert rule is not None and plan.problem.registration == "zone"
+    row = {"registration": "zone", "overlap": rule.overlap}
+    _best_known(tmp_path, monkeypatch, _entry("connected", fp, n - 1, **row))
+    same = with_strategy(plan)
+    assert f"this plan {n}, gap to it {100 / n:.1f} %" in same.log[-1]
+    assert same.result.info["best_known"]["same_pool"] is True
+    _best_known(tmp_path, monkeypatch, _entry("connected", "0123456789ab", n - 1, **row))
+    other = with_strategy(plan)
+    assert "on another pool (fingerprint 0123456789ab" in other.log[-1] and "gap to it" not in other.log[-1]
+    known = plan_to_dict(other)["solver"]["best_known"]
+    assert known["same_pool"] is False and known["gap"] is None and known["pool"]["fingerprint"] == "0123456789ab"
+    _best_known(tmp_path, monkeypatch, _entry("plain cover", fp, n - 1, registration=None, overlap=0.0))
+    assert "best_known" not in with_strategy(plan).result.info  # a connected plan is not compared with a plain one
+
+
+def test_a_run_with_no_rule_is_compared_with_the_plain_cover(tmp_path, monkeypatch) -> None:
+    plan = _small_plan(milp=planner.MilpOptions(overlap=None))  # --no-overlap
+    assert plan.problem.rule is None and plan.pool is not None
+    n, fp = len(plan.stations), plan.pool.fingerprint
+    connected = _entry("connected", fp, n - 2, registration="zone", overlap=0.3)
+    _best_known(tmp_path, monkeypatch, connected, _entry("plain cover", fp, n, registration=None, overlap=0.0))
+    out = with_strategy(plan)
+    known = out.result.info["best_known"]
+    assert known["problem"] == "plain cover" and known["same_pool"] and known["gap"] == 0.0
+    assert "(plain cover, registration None, overlap 0" in out.log[-1] and "gap to it 0.0 %" in out.log[-1]

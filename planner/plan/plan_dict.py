@@ -81,6 +81,9 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "overlap": plan.problem.checked_rule.overlap,
         },
         "problem": plan.problem_size,
+        # the pool the plan was chosen from and its fingerprint (planner.coverage.fingerprint): the best plans known
+        # are compared only on the same pool (None: the path that made the plan did not record it)
+        "pool": plan.pool.to_dict() if plan.pool is not None else None,
         # what every number above was computed under: the limits, the registration rule and scope, the strategy
         "resolved": plan.problem.to_dict(),
         "zones": [

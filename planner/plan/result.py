@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from planner.coverage.fingerprint import Pool
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem
 from planner.plan.tripod import TripodDisc, tripod_heights_line
@@ -19,7 +20,9 @@ from planner.solve.result import SolveResult
 @dataclass(frozen=True, kw_only=True)
 class Plan:
     """A verified plan: the resolved problem it answers, the chosen stations, how they were found, and their
-    verification."""
+    verification. ``pool``: the size and fingerprint of the coverage problem it was chosen from
+    (:func:`planner.coverage.fingerprint.pool_of`; None where the path that made it did not record it), which
+    the best plans known are matched on."""
 
     problem: Problem
     result: SolveResult
@@ -29,6 +32,7 @@ class Plan:
     log: tuple[str, ...] = ()
     registration: dict[str, int] = field(default_factory=dict)
     tripods: tuple[TripodDisc, ...] = ()
+    pool: Pool | None = None
 
     @property
     def site(self) -> Site:

@@ -14,6 +14,7 @@ from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import candidate_pool, dedupe
 from planner.core.checks import argument
 from planner.core.errors import InfeasibleError, UsageError
+from planner.coverage.fingerprint import pool_of
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets
@@ -193,4 +194,5 @@ def plan_single(problem: Problem) -> Plan:
         log=tuple(log),
         registration=registration,
         tripods=tripods,
+        pool=pool_of(out.pool),  # the pool the size counts: the best plans known are matched on its fingerprint
     )
