@@ -40,6 +40,16 @@ def test_the_command_without_flags_plans_with_the_library_defaults() -> None:
     assert plan_options(_args(["plan", str(INSTANCES / "polygon_b.json")])) == planner.PlanOptions()
 
 
+def test_the_command_s_copies_of_the_defaults_equal_the_library_s() -> None:
+    # cli/tuning.py keeps its own copies so that --help imports no solver
+    from planner.cli import tuning
+    from planner.plan import strategy
+    from planner.solve import cft
+
+    assert (tuning.BUDGET_S, tuning.WORKER_MEMORY) == (strategy.BUDGET_S, strategy.WORKER_MEMORY)
+    assert (tuning.HEUR_ITERS, tuning.MOVES_PER_PIECE) == (cft.HEUR_ITERS, strategy.MOVES_PER_PIECE)
+
+
 def test_the_defaults_are_the_command_s_method() -> None:
     o = planner.PlanOptions()
     assert o.method == "milp" and o.tripod is True  # the MILP places tripod discs

@@ -63,6 +63,7 @@ _FLAGS = {
     "passes": "--set tile-window-passes",
     "batch": "--set tile-window-batch",
     "local_search_moves": "--set tile-search-moves",
+    "moves_per_piece": "--set tile-moves-per-piece",
     "search_seeds": "--set tile-search-seeds",
 }
 
@@ -112,6 +113,9 @@ def _tiling(args: argparse.Namespace, options: PlanOptions) -> TileOptions:
             deterministic=not args.tile_wall_clock,
             lagrange_group=args.lagrange_group,
             local_search_moves=args.tile_search_moves,
+            moves_per_piece=args.tile_moves_per_piece,
+            cft=args.tile_cft_iters > 0,
+            cft_iters=max(args.tile_cft_iters, 1),
             search_seeds=args.tile_search_seeds,
             windows=windows,
         )

@@ -37,6 +37,10 @@ from planner.cli.option_types import (
 BUDGET_S = 420.0
 #: the memory limit of each Dask worker unless the worker-memory key says otherwise
 WORKER_MEMORY = "1.5GiB"
+#: CFT's heuristic iterations per round (planner.solve.cft.HEUR_ITERS; kept here so that --help imports no solver)
+HEUR_ITERS = 250
+#: the tiled local search's moves per wall piece (planner.plan.strategy.MOVES_PER_PIECE)
+MOVES_PER_PIECE = 10.0
 
 #: the words a true/false key takes on the command line (case does not matter)
 _TRUE = ("true", "yes", "on", "1")
@@ -309,9 +313,18 @@ KNOBS: dict[str, Knob] = {
             Knob(
                 key="bound-time-limit",
                 parse=NON_NEGATIVE,
-                default=60.0,
+                default=0.0,
                 metavar="S",
-                help="--tiles M: work of the whole-site cover MILP for the lower bound (default 60; 0: LP bound only)",
+                help="--tiles M: work of a whole-site cover MILP for the lower bound (default 0: none; the bound is "
+                "the LP's, the Lagrangian's and CFT's)",
+            ),
+            Knob(
+                key="tile-cft-iters",
+                parse=NON_NEGATIVE_INT,
+                default=HEUR_ITERS,
+                metavar="N",
+                help=f"--tiles M: heuristic iterations per round of CFT's whole-site plain cover (default {HEUR_ITERS}; "
+                "0: no CFT cover)",
             ),
             Knob(
                 key="lagrange-work",
@@ -330,10 +343,16 @@ KNOBS: dict[str, Knob] = {
             Knob(
                 key="tile-search-moves",
                 parse=NON_NEGATIVE_INT,
-                default=20_000,
                 metavar="N",
-                help="--tiles M: move budget of the local search that shrinks the kept connected plan "
-                "(default 20000; 0: none)",
+                help="--tiles M: move budget of the local search that shrinks the kept plan (default: "
+                "tile-moves-per-piece per wall piece; 0: none)",
+            ),
+            Knob(
+                key="tile-moves-per-piece",
+                parse=NON_NEGATIVE,
+                default=MOVES_PER_PIECE,
+                metavar="K",
+                help=f"--tiles M: the local search's moves per wall piece of the site (default {MOVES_PER_PIECE:g})",
             ),
             Knob(
                 key="tile-search-seeds",

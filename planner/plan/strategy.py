@@ -14,9 +14,10 @@ The tiled plan keeps the registration mode the single model would use (``--regis
 default), so the choice changes how the plan is searched for, not what it must satisfy.
 
 The time ``budget_s`` (``planner plan --set tile-budget=S``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
-tiles that run side by side, the whole-site bound ``BOUND_SHARE`` and the Lagrangian bound ``LAGRANGE_SHARE``;
+tiles that run side by side, and the Lagrangian bound ``LAGRANGE_SHARE``;
 the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
-tile); the local search takes what is left (its work is a move count, deterministic). Workers: half the
+tile); the whole-site plain cover (CFT: its own iteration counts) and the local search (``MOVES_PER_PIECE`` moves
+per wall piece) take what is left; all of them count work, not seconds, so the plan is the same under any load. Workers: half the
 machine's cores, at most one per tile; none (in this process) on a machine of two cores or fewer, where a second
 process adds contention, not speed (docs/studies/workers.md). Half, not all: with a worker on every
 core the client, the scheduler and the workers compete for the same cores, and the tile phase gains little over
@@ -37,6 +38,7 @@ from planner.core.errors import UsageError
 from planner.plan.memory_guard import estimate_work
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
+from planner.solve.cft import HEUR_ITERS
 from planner.solve.windows import WindowOptions
 
 if TYPE_CHECKING:
@@ -44,6 +46,8 @@ if TYPE_CHECKING:
 
 #: the time budget of a tiled plan chosen automatically, s (its shares below)
 BUDGET_S = 420.0
+#: the local search's moves per wall piece of the site, unless a count is given
+MOVES_PER_PIECE = 10.0
 #: the memory limit of each Dask worker unless set
 WORKER_MEMORY = "1.5GiB"
 
@@ -52,9 +56,12 @@ WORKER_MEMORY = "1.5GiB"
 class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
     ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
-    MILP for the bound (0: LP bound only); ``local_search_moves``: move budget of the local search on the
-    kept plan (:func:`planner.solve.local_search.shrink`; 0: none; a count, not a time, so
-    the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
+    MILP for the bound (0: none, the default: CFT's cover replaces its cover, and its bound was below the LP's
+    on every plant); ``cft``: the whole-site plain cover by CFT (:mod:`planner.solve.cft`, ``cft_iters`` heuristic
+    iterations per round), the plan of a run with no registration rule and a start of the connected one;
+    ``local_search_moves``: move budget of the local search on the kept plan
+    (:func:`planner.solve.local_search.shrink`; 0: none; None, the default: ``moves_per_piece`` per wall piece,
+    so the budget follows the site's size; a count, not a time, so the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
     limits are CP-SAT work in deterministic seconds, with no wall-clock cap but the user's ``--time-limit``
     per tile, so the plan is the same under any load and on any number of Dask workers; otherwise they are
     wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
@@ -70,15 +77,24 @@ class TileOptions:
     tile_m: float = 100.0
     margin_m: float | None = None
     tile_time_limit_s: float = 30.0
-    bound_time_limit_s: float = 60.0
+    bound_time_limit_s: float = 0.0
     deterministic: bool = True
+    cft: bool = True
+    cft_iters: int = HEUR_ITERS
     lagrange: bool = True
     lagrange_group: int = 1
     lagrange_iterations: int = 0
     lagrange_work_s: float = 10.0
-    local_search_moves: int = 20_000
+    local_search_moves: int | None = None
+    moves_per_piece: float = MOVES_PER_PIECE
     search_seeds: int = 1
     windows: WindowOptions = WindowOptions()
+
+    def moves_for(self, pieces: int) -> int:
+        """The local search's move budget on a site of ``pieces`` wall pieces."""
+        if self.local_search_moves is not None:
+            return self.local_search_moves
+        return round(self.moves_per_piece * pieces)
 
     def margin_for(self, max_slant_range_m: float) -> float:
         """The tiles' margin (m): ``margin_m``, or the slant range where it is not given (the exact margin)."""
@@ -95,7 +111,7 @@ class TileOptions:
                 field="lagrange_group",
                 value=self.lagrange_group,
             )
-        if self.local_search_moves < 0:
+        if self.local_search_moves is not None and self.local_search_moves < 0 or not self.moves_per_piece >= 0:
             raise UsageError(
                 "local search moves must be >= 0", field="local_search_moves", value=self.local_search_moves
             )
@@ -145,9 +161,9 @@ MIN_TILES = 4
 MIN_PIECES = 5_000
 #: the smallest core side of a tile, m (1.5 S_max when that is larger: a core is then wider than its margin)
 TILE_M = 100.0
-#: shares of the budget: every tile's MILP together, the whole-site bound MILP, the Lagrangian bound, the window
-#: re-solves (one window per station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
-TILE_SHARE, BOUND_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.10, 0.15, 0.30
+#: shares of the budget: every tile's MILP together, the Lagrangian bound, the window re-solves (one window per
+#: station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
+TILE_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.15, 0.30
 #: stations per tile the window budget is spread over (the generated plants need about this many)
 STATIONS_PER_TILE = 6
 
@@ -176,6 +192,10 @@ class Strategy:
                     "tile_work_s": t.tile_time_limit_s,
                     "bound_work_s": t.bound_time_limit_s,
                     "lagrange_work_s": t.lagrange_work_s,
+                    "cover": f"CFT, {t.cft_iters} iterations" if t.cft else None,
+                    "search_moves": t.local_search_moves
+                    if t.local_search_moves is not None
+                    else f"{t.moves_per_piece:g} per piece",
                 }
                 if t
                 else {}
@@ -263,7 +283,6 @@ def choose(
     tiling = TileOptions(
         tile_m=tile_m,
         tile_time_limit_s=_clamp(TILE_SHARE * budget_s * side_by_side / n, 2.0, 30.0),
-        bound_time_limit_s=_clamp(BOUND_SHARE * budget_s, 5.0, 60.0),
         lagrange_work_s=_clamp(LAGRANGE_SHARE * budget_s * side_by_side / n, 1.0, 10.0),
         windows=replace(
             WindowOptions(),

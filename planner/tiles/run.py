@@ -1,19 +1,24 @@
 """Planning a large site by tiles: pool, tiles with S_max margins, per-tile coverage and MILP
-(serially or on Dask), stitching on the whole matrix, a global lower bound, verification.
+(serially or on Dask), the whole-site plain cover, a global lower bound, the search, verification.
 
 What holds and why:
 
 - coverage: exact (see :mod:`planner.tiles.layout`): the tiles' columns are the site's matrix;
 - each tile's plan is re-checked to cover its core pieces, so their union covers the site;
+- the whole-site plain cover: CFT (:mod:`planner.solve.cft`; ``TileOptions.cft``), its own iteration counts,
+  no clock;
 - registration: the stitched plan is checked on the site's overlap relation (shared wall over every
-  piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (``site`` mode by default: one
-  bundle per accessible area);
-- bound: max of the whole-matrix LP and cover-MILP bounds (:mod:`planner.tiles.stitch`) and, with
-  ``TileOptions.lagrange``, the Lagrangian bound over the tiles (:mod:`planner.bounds.lagrange`), over
-  the pool; the gap is (stations - bound) / stations;
+  piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (one bundle per
+  accessible area in ``site`` mode); with no registration rule (``--no-overlap``) the plan is the plain cover
+  and its local search (:func:`planner.tiles.search.plain_plan`), and registration is only reported;
+- bound: the largest of the bounds of :mod:`planner.tiles.bound` (the cover LP, the disjoint sub-areas, the
+  Lagrangian over the tiles, CFT's), over the pool, with the one that decides; the gap is
+  (stations - bound) / stations;
+- starts of a connected plan: the stitched tile plans, the CFT cover joined by the fewest linking stations
+  found (:func:`planner.tiles.search.joined_cover`), the connected greedy; the best is kept;
 - local search: the kept plan is shrunk by :func:`planner.solve.local_search.shrink` within
-  ``TileOptions.local_search_moves`` moves (a count: the plan does not depend on the load); each plan it
-  returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it;
+  ``TileOptions.moves_for(pieces)`` moves (a count set by the site's size: the plan does not depend on the load);
+  each plan it returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it;
 - windows: then the plan is re-solved exactly window by window (:mod:`planner.solve.windows`,
   ``TileOptions.windows``; CP-SAT work per window, so again the same plan under any load), checked the
   same way and recorded in ``info["windows"]``.
@@ -33,20 +38,20 @@ from planner.candidates.complete import complete_candidates
 from planner.core import progress
 from planner.core.errors import UsageError
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.overlap import OverlapRule
 from planner.coverage.regions import regions_apply
 from planner.plan import Plan, PlanOptions, unseen_error
 from planner.plan.problem import Problem
-from planner.plan.verify import verify_stations
 from planner.site.candidate import Candidate
 from planner.site.model import Site
+from planner.solve.cft import cft_cover
 from planner.solve.milp import WALL_CAP
-from planner.solve.result import SolveResult, Status
+from planner.tiles.bound import global_bound
 from planner.tiles.engine import run_tasks
-from planner.tiles.options import TileOptions, deterministic_limits, limits_line
+from planner.tiles.finish import finish_plan
+from planner.tiles.options import TileOptions, deterministic_limits
 from planner.tiles.prepare import prepare, tile_work, tiles_problem
-from planner.tiles.search import best_plan, window_resolves
-from planner.tiles.stitch import Bound, Stitched, global_bound, stitch
+from planner.tiles.search import best_plan, plain_plan, window_resolves
+from planner.tiles.stitch import Stitched, stitch
 from planner.tiles.tasks import TileResult, tile_task
 
 
@@ -123,10 +128,16 @@ def plan_by_tiles(
             return plan_by_tiles(resolved, None, tiling, client, found)
         err = unseen_error(done, done.uncoverable(), reasons)
         raise err.located(site.source) if site.source else err
-    adj = prep.overlap(by_cand)
-    joined = stitch(by_cand, adj, groups, [r.selected for r in results])
+    plain = resolved.rule is None  # --no-overlap: a plain cover, no registration to meet
+    adj = None if plain else prep.overlap(by_cand)
+    joined = None if adj is None else stitch(by_cand, adj, groups, [r.selected for r in results])
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
-    progress.note(_standing("stitched", joined, None))
+    if joined is not None:
+        progress.note(_standing("stitched", joined, None))
+    cover = cft_cover(by_cand, seed=options.milp.seed, heur_iters=tiling.cft_iters) if tiling.cft else None
+    t_cover = time.perf_counter() - start - t_pool - t_tiles - t_stitch
+    if cover is not None:
+        progress.note(f"whole-site plain cover (CFT): {len(cover.selected)} stations in {cover.time_s:.1f} s")
     parts = group_parts([(j.tile.row, j.tile.col) for j in jobs], [j.targets for j in jobs], tiling.lagrange_group)
     bound = global_bound(
         by_cand,
@@ -138,18 +149,26 @@ def plan_by_tiles(
         lagrange_iterations=tiling.lagrange_iterations,
         lagrange_work_s=tiling.lagrange_work_s,
         client=client,
+        cft=cover.lower_bound if cover is not None else None,
     )
-    t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch
-    progress.note(_standing(f"bound {bound.value} over the pool ({bound.how})", joined, bound.value))
+    t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch - t_cover
+    progress.note(f"bound {bound.value} over the pool: {bound.how}")
     t_search = time.perf_counter()
-    joined, search = best_plan(
-        by_cand, adj, groups, joined, bound.cover, tiling.local_search_moves, bound.value, tiling.search_seeds, client
-    )
-    progress.note(_standing("best plan and local search", joined, bound.value))
-    t_windows = time.perf_counter()
-    joined, windows = window_resolves(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
-    progress.note(_standing("window re-solves", joined, bound.value))
-    return _finish(
+    whole = cover.selected if cover is not None else bound.cover
+    moves = tiling.moves_for(len(targets))
+    windows: dict[str, Any] = {}
+    if adj is None or joined is None:
+        start_cover = whole or tuple(sorted({int(i) for r in results for i in r.selected}))
+        joined, search = plain_plan(by_cand, start_cover, moves, bound.value)
+        progress.note(f"plain cover and local search: {len(joined.selected)} stations, bound {bound.value}")
+        t_windows = time.perf_counter()
+    else:
+        joined, search = best_plan(by_cand, adj, groups, joined, whole, moves, bound.value, tiling.search_seeds, client)
+        progress.note(_standing("best plan and local search", joined, bound.value))
+        t_windows = time.perf_counter()
+        joined, windows = window_resolves(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
+        progress.note(_standing("window re-solves", joined, bound.value))
+    return finish_plan(
         resolved,
         problem,
         results,
@@ -161,6 +180,7 @@ def plan_by_tiles(
             "pool_s": t_pool,
             "tiles_s": t_tiles,
             "stitch_s": t_stitch,
+            "cover_s": t_cover,
             "bound_s": t_bound,
             "best_plan_s": t_windows - t_search,
             "windows_s": time.perf_counter() - t_windows,
@@ -171,6 +191,7 @@ def plan_by_tiles(
         deterministic_limits(options.milp, tiling),
         search,
         windows,
+        cover,
     )
 
 
@@ -193,138 +214,3 @@ def _standing(phase: str, plan: Stitched, bound: int | None) -> str:
     conn = "connected" if all(p <= 1 for p in plan.parts.values()) else f"{parts} registration parts"
     head = f"{phase}: incumbent {n} stations ({conn})"
     return head if bound is None else f"{head}, bound {bound} over the pool, gap {(n - bound) / max(n, 1):.1%}"
-
-
-def _finish(
-    resolved: Problem,
-    problem: CoverageProblem,
-    results: list[TileResult],
-    joined: Stitched,
-    bound: Bound,
-    rule: OverlapRule,
-    registration: tuple[str, float],
-    times: dict[str, float],
-    work_limited: bool = False,
-    search: dict[str, Any] | None = None,
-    windows: dict[str, Any] | None = None,
-) -> Plan:
-    """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
-    from planner.plan import placed_stations, registration_check
-
-    site, options = resolved.site, resolved.options
-    n = len(joined.selected)
-    value = bound.value
-    status = Status.OPTIMAL if n == value and all(p <= 1 for p in joined.parts.values()) else Status.FEASIBLE
-    tiles_info = [
-        {
-            "tile": r.tile.name,
-            "core_m": [r.tile.x0_m, r.tile.y0_m, r.tile.size_m],
-            "candidates": int(len(np.unique(r.rows))),
-            "targets": r.n_targets,
-            "status": r.status.value,
-            "stations": len(r.selected),
-            "bound": r.bound,
-            "covers_core": r.covers_core,
-            "coverage_s": round(r.coverage_s, 3),
-            "solve_s": round(r.solve_s, 3),
-        }
-        for r in results
-    ]
-    capped = (
-        [r.tile.name for r in results if r.wall_cap_hit]
-        + (["bound"] if bound.wall_cap_hit else [])
-        + (["Lagrangian bound"] if bound.lagrange is not None and bound.lagrange.capped else [])
-        + (["windows"] if windows and windows.get("wall_cap_hit") else [])
-    )
-    info = {
-        "tiles": tiles_info,
-        "bound_scope": "pool",
-        "lp_bound": bound.lp,
-        "cover_milp_bound": bound.milp,
-        "stitch": {
-            "source": joined.source,
-            "tried": joined.tried,
-            "union": joined.union,
-            "pruned": joined.pruned,
-            "added": joined.added,
-        },
-        "bound_how": bound.how,
-        "lagrange": None
-        if bound.lagrange is None
-        else {
-            "value": bound.lagrange.value,
-            "raw": bound.lagrange.raw,
-            "lp": bound.lagrange.lp,
-            "iterations": bound.lagrange.iterations,
-            "per_tile": list(bound.lagrange.per_tile),
-            "proven": list(bound.lagrange.proven),
-            "upper": bound.lagrange.upper,
-            "time_s": round(bound.lagrange.time_s, 3),
-        },
-        "limits": "CP-SAT work (deterministic s)" if work_limited else "wall clock (s)",
-        "wall_cap_hit": capped,
-        "local_search": search or {},
-        "windows": windows or {},
-        "times": {k: round(v, 3) if isinstance(v, float) else v for k, v in times.items()},
-    }
-    result = SolveResult(
-        method="milp-tiles",
-        status=status,
-        selected=joined.selected,
-        objective=float(n),
-        bound=float(value),
-        time_s=times["total_s"],
-        backend=options.milp.backend,
-        info=info,
-    )
-    parts, partners = registration_check(problem, joined.selected, rule, site, *registration)
-    stations, tripods = placed_stations(site, problem, joined.selected, options, partners)
-    verification = verify_stations(resolved.sight, stations, options.verify_spacing_m)
-    size = {
-        "candidates": len(problem.candidates),
-        "targets": len(problem.targets),
-        "pairs": int(problem.by_candidate.nnz),
-        "tiles": len(results),
-    }
-    bad = [r.tile.name for r in results if not r.covers_core]
-    log = (
-        f"{len(results)} tiles of {times['tile_m']:g} m, margin {times['margin_m']:.1f} m: coverage and tile MILPs "
-        f"in {times['tiles_s']:.1f} s"
-        + (
-            f"; tiles whose plan does not cover their core: {', '.join(bad)}"
-            if bad
-            else "; every tile's plan covers its core"
-        ),
-        limits_line(capped, work_limited),
-        "connected plans: "
-        + ", ".join(f"{k} {v}" for k, v in (joined.tried or {}).items())
-        + f"; kept the {joined.source} (union {joined.union}, pruned {joined.pruned}, chains added {joined.added}) -> {n} stations"
-        + (
-            f"; local search: {search['before']} -> {search['after']} in {search['moves']} moves"
-            if search and search["moves"]
-            else ""
-        )
-        + (
-            f"; windows: {windows['before']} -> {windows['after']} in {windows['windows']} windows of {windows['radius_m']:g} m"
-            if windows and windows["windows"]
-            else ""
-        ),
-        f"bound {value} (LP {bound.lp:.2f}"
-        + (
-            f", cover MILP {bound.milp:g} {bound.milp_status.value}"
-            if bound.milp is not None and bound.milp_status is not None
-            else ""
-        )
-        + (f", Lagrangian over {len(bound.lagrange.per_tile)} parts {bound.lagrange.raw:.2f}" if bound.lagrange else "")
-        + f"; registration rule dropped, so it bounds the connected plan too), gap {result.gap:.1%}",
-    )
-    return Plan(
-        problem=resolved,
-        result=result,
-        stations=tuple(stations),
-        verification=verification,
-        problem_size=size,
-        log=log,
-        registration=parts,
-        tripods=tripods,
-    )

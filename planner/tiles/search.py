@@ -1,5 +1,6 @@
 """The search after the tiles: the best of the stitched, joined and greedy plans, then the local search and the
-window re-solves on it (:func:`best_plan`, :func:`window_resolves`), each recorded for plan.json."""
+window re-solves on it (:func:`best_plan`, :func:`window_resolves`), each recorded for plan.json; for a plan
+with no registration rule, the plain cover and its local search (:func:`plain_plan`)."""
 
 from __future__ import annotations
 
@@ -12,9 +13,10 @@ import scipy.sparse as sp
 
 from planner.solve.connectivity import components, connected_greedy, group_members
 from planner.solve.local_search import Shrunk
+from planner.solve.steiner import steiner_join
 from planner.solve.windows import WindowOptions, window_search
 from planner.tiles.engine import TaskRunner, run_tasks
-from planner.tiles.stitch import Stitched, stitch
+from planner.tiles.stitch import Stitched, prune, stitch
 from planner.tiles.tasks import shrink_task
 
 
@@ -30,21 +32,49 @@ def best_plan(
     client: Any = None,
 ) -> tuple[Stitched, dict[str, Any]]:
     """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
-    earlier): the stitched tile plans, the whole-site cover joined, and the connected greedy on the whole
-    site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; ``tried`` records all
-    three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
+    earlier): the stitched tile plans, the whole-site plain ``cover`` joined (:func:`joined_cover`), and the
+    connected greedy on the whole site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts)
+    pruned; ``tried`` records all three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
     (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound; once per seed
     ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on ties)
     then looks for a smaller connected cover; the second value says what it did."""
     plans = [tiled]
     if cover:
-        plans.append(replace(stitch(a, adj, groups, [cover]), source="whole-site cover, joined"))
+        plans.append(joined_cover(a, adj, groups, cover))
     grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
     if grown is not None:
         plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
     best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
     best = replace(best, tried={p.source: len(p.selected) for p in plans})
     return _search(a, adj, groups, best, moves, floor, seeds, client)
+
+
+def joined_cover(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], cover: tuple[int, ...]) -> Stitched:
+    """The whole-site plain ``cover`` made one registered network: each group's parts joined by the fewest
+    linking stations found (:func:`planner.solve.steiner.steiner_join`), then pruned (stations whose pieces
+    others see, dropped while their group stays connected)."""
+    grown = steiner_join(adj, groups, cover) or list(cover)  # None: some group cannot be joined at all
+    final = prune(a, adj, groups, grown)
+    parts = {g: len(components(adj, m)) for g, m in group_members(groups, final).items()}
+    return Stitched(
+        selected=tuple(final),
+        union=len(cover),
+        pruned=len(grown) - len(final),
+        added=len(grown) - len(cover),
+        parts=parts,
+        source="whole-site cover, joined",
+    )
+
+
+def plain_plan(a: sp.csr_matrix, cover: tuple[int, ...], moves: int, floor: int) -> tuple[Stitched, dict[str, Any]]:
+    """The plan of a run with no registration rule: the whole-site plain ``cover``, then the local search with
+    no links (:func:`planner.solve.local_search.shrink`, each candidate its own group) for ``moves`` moves, down
+    to ``floor`` stations; the second value records the search."""
+    n = a.shape[0]
+    start = Stitched(selected=tuple(cover), union=len(cover), pruned=0, added=0, parts={}, source="whole-site cover")
+    alone = sp.csr_matrix((n, n), dtype=bool)
+    found, record = _search(a, alone, tuple(str(i) for i in range(n)), start, moves, floor)
+    return replace(found, parts={}), record
 
 
 def _search(

@@ -50,7 +50,7 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     from planner.plan import PlanOptions
     from planner.tiles.layout import make_tiles, zone_anchors
     from planner.tiles.prepare import prepare
-    from planner.tiles.stitch import global_bound
+    from planner.tiles.bound import global_bound
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     prep = prepare(site, PlanOptions(method="milp", pricing=False))

@@ -4,7 +4,7 @@ On the whole-site matrix that ``planner plan --tiles`` assembles (:func:`planner
 candidates that stand nowhere dropped, the overlap relation of the site's registration rule), one run each,
 one thread, every count re-checked here (a cover covers every piece; a connected plan is one part):
 
-- ``lp``: the cover LP (registration dropped), :func:`planner.tiles.stitch.lp_bound`;
+- ``lp``: the cover LP (registration dropped), :func:`planner.tiles.bound.lp_bound`;
 - ``disc R``: the pieces within R m of the site's centre covered alone (every candidate seeing one of them):
   LP and integer optimum (HiGHS through ``scipy.optimize.milp``, ``--disc-time`` s): how large the
   integrality gap is locally;
@@ -193,7 +193,7 @@ def connected_rows(
 
 
 def one(args: argparse.Namespace) -> list[dict]:
-    from planner.tiles.stitch import lp_bound
+    from planner.tiles.bound import lp_bound
 
     a, adj, groups, mid = site_matrices(args.area)
     t0 = time.perf_counter()

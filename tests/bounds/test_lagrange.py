@@ -11,7 +11,7 @@ import scipy.sparse as sp
 
 from planner.bounds.lagrange import group_parts, lagrangian_bound, split_costs
 from planner.core.errors import UsageError
-from planner.tiles.stitch import lp_bound
+from planner.tiles.bound import lp_bound
 
 
 def cover(sets: list[list[int]], n_targets: int) -> sp.csr_matrix:

@@ -35,10 +35,11 @@ def test_16ha_plant_goes_to_tiles_split_by_the_budget():
     assert st.tiling is not None and st.tiling.tile_m == 100.0 and st.workers == 0
     site = load_site(INSTANCES / "plant_16ha.json")
     assert tile_count(site, 100.0) == 16
-    # 2 cores: no worker (in this process); each tile 0.30 x 420 / 16 = 7.875 s of work, the bound MILP
-    # 0.10 x 420 = 42 s, the Lagrangian 0.15 x 420 / 16 = 3.9375 s per part
+    # 2 cores: no worker (in this process); each tile 0.30 x 420 / 16 = 7.875 s of work, no bound MILP (CFT's
+    # cover instead), the Lagrangian 0.15 x 420 / 16 = 3.9375 s per part; the local search 10 moves per piece
     assert st.tiling.tile_time_limit_s == pytest.approx(7.875)
-    assert st.tiling.bound_time_limit_s == pytest.approx(42.0)
+    assert st.tiling.bound_time_limit_s == 0.0 and st.tiling.cft
+    assert st.tiling.moves_for(7_688) == 76_880
     assert st.tiling.lagrange_work_s == pytest.approx(3.9375)
     assert "tiles of 100 m in this process (no Dask worker)" in st.line()  # not 'on no worker(s)'
     # windows: 0.30 x 420 s over 6 stations per tile x 16 tiles = 96 windows -> 1.3125 s each

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from planner.tiles.stitch import lp_bound, prune, stitch
+from planner.tiles.bound import lp_bound
+from planner.tiles.stitch import prune, stitch
 from tests.solve.test_connectivity_methods import WINDOWS, instance
 from tests.solve.test_local_search import _adjacency
 

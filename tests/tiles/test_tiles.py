@@ -15,7 +15,7 @@ from planner.solve.milp import MilpOptions
 from planner.tiles import TileOptions, dask_client, plan_by_tiles
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.tiles.prepare import prepare
-from planner.tiles.stitch import lp_bound
+from planner.tiles.bound import lp_bound
 from planner.tiles.tasks import tile_task
 from tests.conftest import INSTANCES
 
@@ -219,3 +219,19 @@ def test_tiles_complete_a_pool_that_misses_pieces(monkeypatch) -> None:
     plan = plan_by_tiles(_corridor(), OPTIONS, TILING)
     assert plan.verification.complete
     assert any(s.x > 100.0 for s in plan.stations)  # the east is planned, from the completed candidates
+
+
+@pytest.mark.slow
+def test_no_overlap_is_honoured_by_tiles(site, serial) -> None:
+    # --no-overlap (MilpOptions(overlap=None)): the tiled run plans the plain cover (CFT's, then the local search
+    # with no links), never the connected plan; every piece is still seen, and it needs no more stations than
+    # the connected plan of the same pool (that plan is a cover too)
+    options = PlanOptions(method="milp", pricing=False, tripod=True, milp=MilpOptions(overlap=None, time_limit_s=20))
+    plain = plan_by_tiles(site, options, TILING)
+    assert plain.problem.rule is None
+    assert plain.verification.percent == 100.0
+    assert len(plain.stations) <= len(serial.stations)
+    info = plain.result.info
+    assert info["cover"]["engine"].startswith("CFT") and info["windows"] == {}  # no connected window re-solves
+    assert any("kept the whole-site cover" in line and "connected plans" not in line for line in plain.log)
+    assert info["bound_terms"][0]["bound"] == "cover LP" and plain.result.bound <= len(plain.stations)
