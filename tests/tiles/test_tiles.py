@@ -13,9 +13,9 @@ from planner.io.load import load_site
 from planner.plan import PlanOptions
 from planner.solve.milp import MilpOptions
 from planner.tiles import TileOptions, dask_client, plan_by_tiles
+from planner.tiles.bound import lp_bound
 from planner.tiles.layout import make_tiles, tile_job, zone_anchors
 from planner.tiles.prepare import prepare
-from planner.tiles.bound import lp_bound
 from planner.tiles.tasks import tile_task
 from tests.conftest import INSTANCES
 
