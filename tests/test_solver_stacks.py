@@ -4,7 +4,8 @@ ortools 9.15 bundles HiGHS 1.12.0; cvxpy 1.9 needs highspy >= 1.14, and once bot
 one process an import fails (undefined symbol). The project pins cvxpy 1.8 with
 highspy 1.12.0; this test guards that pin. Each order runs in a fresh interpreter, because
 the clash only shows when both libraries load into the same process. PySCIPOpt (its own SCIP,
-beside the SCIP and HiGHS that ortools bundles) is loaded first in one order and last in the other.
+beside the SCIP and HiGHS that ortools bundles) is loaded first in one order and last in the other;
+pycft (CFT's C++, with its own fmt) is loaded last in one order and before ortools in the other.
 """
 
 from __future__ import annotations
@@ -72,11 +73,20 @@ m.optimize()
 assert m.getStatus() == "optimal" and m.getObjVal() == 2
 """
 
+PYCFT = """
+from pycft import SetCoverSolver
+s = SetCoverSolver()
+for elements, cost in (([0, 1], 2.0), ([1, 2], 3.0), ([0, 1, 2], 6.0), ([2], 1.0)):
+    s.add_set(elements, cost=cost)
+s.solve(seed=0, verbose=0)
+assert sorted(s.get_solution()) == [0, 3] and s.get_cost() == 3.0  # {0, 1} and {2}: 2 + 1
+"""
+
 
 @pytest.mark.slow
 @pytest.mark.parametrize(
     "order",
-    [(ORTOOLS, CVXPY, PULP, PYSCIPOPT), (PYSCIPOPT, CVXPY, ORTOOLS, PULP)],
+    [(ORTOOLS, CVXPY, PULP, PYSCIPOPT, PYCFT), (PYSCIPOPT, CVXPY, PYCFT, ORTOOLS, PULP)],
     ids=["ortools-first", "pyscipopt-first"],
 )
 def test_solver_stacks_load_in_both_orders(order):

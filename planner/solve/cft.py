@@ -55,6 +55,8 @@ def cft_cover(
     ------
     InfeasibleError
         When some target is seen by no row (no cover exists): CFT itself would return a non-cover.
+    ValueError
+        When ``start`` is given and is not a cover (its rows that see nothing are dropped, repeats ignored).
     """
     a = sp.csr_matrix(a, dtype=bool)
     n_rows, n_cols = a.shape

@@ -7,12 +7,15 @@ it was run in pieces of one or a few problems, listed there, each under 10 min):
         --csv docs/benchmarks/results/setcover.csv
     python scripts/bench/bench_setcover.py --solvers cft --cft-bin /tmp/cft-src/build/accft \\
         --csv docs/benchmarks/results/setcover.csv                        # the CFT rows, all 22 problems, ~2 min
+    python scripts/bench/bench_setcover.py --solvers pycft pycft-shrink --problems plant_4ha \
+        --matrix plant_4ha=/tmp/exp/a4.npz --csv docs/benchmarks/results/setcover.csv  # the project's CFT engine
     python scripts/bench/bench_setcover.py --table docs/benchmarks/results/setcover.csv   # the Markdown table
 
 Problems (registration dropped: cover every target some candidate sees, nothing else):
 
 - ``plant_4ha``, ``plant_16ha``: ``planner export instances/plant_<N>ha.json --format orlib`` (unit costs: stations),
-  exported once into ``--cache`` and read back with :func:`planner.solve.orlib.read_orlib`;
+  exported once into ``--cache`` and read back with :func:`planner.solve.orlib.read_orlib`, or, with ``--matrix
+  plant_4ha=PATH``, the same candidates x targets matrix saved by ``scipy.sparse.save_npz`` (all-zero columns dropped);
 - ``scpXY``: the OR-Library instance from ``--dir`` with its own column costs; ``scpXY-unit``: the same rows and
   columns with every cost 1 (the unicost variant).
 
@@ -38,7 +41,12 @@ Solvers, each run once, one thread, seed ``--seed`` where it takes one:
   its Lagrangian lower bound (the last ``lb`` of its log) goes into ``bound``. CPU seconds (user + system) and peak
   RSS are those of the ``accft`` process, as ``/usr/bin/time`` reports them (``os.wait4`` here would count this
   script's RSS at the fork), not of this script; wall seconds are around ``/usr/bin/time``; writing the file is not
-  timed.
+  timed;
+- ``pycft``: the project's plain-cover engine, :func:`planner.solve.cft.cft_cover` (the same CFT through the ``pycft``
+  bindings, in this process), seed ``--seed``, no time limit (it stops by its own criterion); its Lagrangian lower
+  bound goes into ``bound``;
+- ``pycft-shrink``: ``shrink`` as above (no links, each candidate its own group, ``--moves`` moves, seed ``--seed``)
+  started from the ``pycft`` cover instead of the greedy's; unit costs only.
 
 Each solver's time is its own (a search's time leaves out the construction it starts from): CPU seconds of this
 process (``resource.getrusage``, user + system; ``accft``'s for ``cft``) and wall seconds. Every cover is checked
@@ -85,7 +93,7 @@ FIELDS = [
     "load_avg",
     "peak_rss_mb",
 ]
-SOLVERS = ("lp", "greedy", "shrink", "ortools-ss", "ortools-gls", "milp", "cft")
+SOLVERS = ("lp", "greedy", "shrink", "ortools-ss", "ortools-gls", "milp", "cft", "pycft", "pycft-shrink")
 DEFAULT_PROBLEMS = [
     "scp41",
     "scp42",
@@ -157,9 +165,13 @@ def exported(area: str, cache: Path) -> Path:
     return out
 
 
-def load(name: str, orlib_dir: Path, cache: Path) -> Problem:
+def load(name: str, orlib_dir: Path, cache: Path, matrices: dict[str, Path] | None = None) -> Problem:
     from planner.solve.orlib import read_orlib
 
+    if matrices and name in matrices:  # a saved candidates x targets matrix, unit costs
+        a = sp.load_npz(matrices[name]).tocsr().astype(bool)
+        a = a[:, np.flatnonzero(a.getnnz(axis=0) > 0)].tocsr()  # every target seen by some candidate
+        return Problem(name, a, np.ones(a.shape[0]), "unit")
     if name.startswith("plant_"):
         inst = read_orlib(exported(name, cache))
         return Problem(name, inst.by_candidate.astype(bool).tocsr(), np.asarray(inst.cost, dtype=float), "unit")
@@ -211,7 +223,9 @@ def run_greedy(p: Problem) -> tuple[dict, list[int]]:
     }, chosen
 
 
-def run_shrink(p: Problem, start: list[int], moves: int, seed: int) -> dict:
+def run_shrink(
+    p: Problem, start: list[int], moves: int, seed: int, solver: str = "shrink", origin: str = "greedy"
+) -> dict:
     from planner.solve.local_search import shrink
 
     n = p.a.shape[0]
@@ -220,9 +234,9 @@ def run_shrink(p: Problem, start: list[int], moves: int, seed: int) -> dict:
     found, c, w = timed(lambda: shrink(p.a, no_links, own_group, start, moves=moves, seed=seed))
     last = found.history[-1][0] if found.history else 0
     return {
-        "solver": "shrink",
-        "setting": f"{moves} moves from greedy {len(start)}, seed {seed}, last gain at {last}",
-        "value": checked(p, found.selected, "shrink"),
+        "solver": solver,
+        "setting": f"{moves} moves from {origin} {len(start)}, seed {seed}, last gain at {last}",
+        "value": checked(p, found.selected, solver),
         "status": "feasible",
         "cpu_s": c,
         "wall_s": w,
@@ -307,6 +321,24 @@ def run_milp(p: Problem, work_s: float, wall_s: float, seed: int) -> dict:
         "cpu_s": c,
         "wall_s": w,
     }
+
+
+def run_pycft(p: Problem, seed: int) -> tuple[dict, list[int]]:
+    """The project's engine, :func:`planner.solve.cft.cft_cover`: CFT through ``pycft``, no time limit."""
+    from planner.solve.cft import cft_cover
+
+    unit = bool(np.all(p.cost == 1.0))
+    r, c, w = timed(lambda: cft_cover(p.a, None if unit else p.cost, seed=seed))
+    chosen = list(r.selected)
+    return {
+        "solver": "pycft",
+        "setting": f"cft_cover seed {seed}, heur_iters 250, no time limit (own criterion, {r.time_s:.1f} s), re-checked",
+        "value": checked(p, chosen, "pycft"),
+        "bound": round(r.lower_bound, 3),
+        "status": "feasible",
+        "cpu_s": c,
+        "wall_s": w,
+    }, chosen
 
 
 def write_scp(p: Problem, path: Path) -> None:
@@ -408,6 +440,11 @@ def bench(p: Problem, args: argparse.Namespace) -> list[dict]:
         emit(run_milp(p, args.cpsat_work, args.cpsat_wall, args.seed))
     if "cft" in solvers and args.cft_bin is not None:
         emit(run_cft(p, args.cft_bin, args.cft_limit, args.seed, args.cft_dir))
+    if solvers & {"pycft", "pycft-shrink"}:
+        row, cft_start = run_pycft(p, args.seed)
+        emit(row)
+        if "pycft-shrink" in solvers and np.all(p.cost == 1.0):
+            emit(run_shrink(p, cft_start, args.moves, args.seed, solver="pycft-shrink", origin="pycft"))
     return rows
 
 
@@ -446,9 +483,9 @@ def table(path: Path, orlib_dir: Path) -> str:
 
     head = (
         "| problem | rows x cols | costs | optimum | LP | greedy | shrink | OR-Tools ED+SS | OR-Tools GLS "
-        "| CFT | CP-SAT MILP | CP-SAT bound |"
+        "| CFT | CFT (pycft) | pycft + shrink | CP-SAT MILP | CP-SAT bound |"
     )
-    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name in sorted(by, key=order):
         s = by[name]
         any_row = next(iter(s.values()))
@@ -467,7 +504,7 @@ def table(path: Path, orlib_dir: Path) -> str:
         out.append(
             f"| {name} | {any_row['rows']} x {any_row['cols']} | {any_row['cost_type']} | {opt} | {lp_cell} | "
             f"{cell('greedy')} | {cell('shrink')} | {cell('ortools-ss')} | {cell('ortools-gls')} | {cell('cft')} | "
-            f"{cell('milp')} | {bound} |"
+            f"{cell('pycft')} | {cell('pycft-shrink')} | {cell('milp')} | {bound} |"
         )
     return "\n".join(out)
 
@@ -496,6 +533,13 @@ def main() -> None:
     ap.add_argument(
         "--cft-dir", type=Path, help="keep CFT's problem, solution and log files here (default: a temp dir)"
     )
+    ap.add_argument(
+        "--matrix",
+        nargs="+",
+        default=[],
+        metavar="NAME=NPZ",
+        help="read problem NAME (unit costs) from a saved candidates x targets matrix instead of exporting it",
+    )
     ap.add_argument("--csv", type=Path, help="append one row per problem and solver")
     ap.add_argument("--table", type=Path, metavar="CSV", help="print the Markdown table of a results CSV and exit")
     args = ap.parse_args()
@@ -510,7 +554,8 @@ def main() -> None:
             args.cft_dir = Path(tmp)
         args.cft_dir.mkdir(parents=True, exist_ok=True)
         for name in args.problems:
-            rows = bench(load(name, args.dir, args.cache), args)
+            matrices = {k: Path(v) for k, _, v in (m.partition("=") for m in args.matrix)}
+            rows = bench(load(name, args.dir, args.cache, matrices), args)
             if args.csv:
                 append_csv(args.csv, rows)
     r = resource.getrusage(resource.RUSAGE_SELF)
