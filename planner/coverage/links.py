@@ -14,6 +14,7 @@ crosses an opening, nothing else blocks it, and it is no longer than the link li
 from __future__ import annotations
 
 from collections.abc import Hashable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -78,10 +79,60 @@ def opening_links(
 REGISTRATION_MODES = ("zone", "site")
 
 
-def default_registration(site: Site) -> str:
-    """``site`` where table zones were placed in the site frame or openings are given, else ``zone``."""
-    placed = any(z.frame == SITE_FRAME and z.closure is not None for z in site.zones)
-    return "site" if placed or any(z.openings for z in site.zones) else "zone"
+@dataclass(frozen=True)
+class RegistrationDefault:
+    """The registration scope a site gets when none is asked for: ``mode`` (``zone`` or ``site``) and
+    ``reason``, the words the summary's registration line prints."""
+
+    mode: str
+    reason: str
+
+
+def _frame_words(frame: str) -> str:
+    return "site coordinates" if frame == SITE_FRAME else f"frame {frame!r}"
+
+
+def default_registration(site: Site) -> RegistrationDefault:
+    """The scope of a site's registration when none is asked for, and why.
+
+    ``site`` (one bundle per accessible area, :func:`planner.coverage.openings.accessible_areas`) where
+    openings are given, or where the site has more than one zone and every zone stands in one frame (placed,
+    given in site coordinates, or read from one model), outdoors too: stations on the same ground link when
+    the overlap rule holds on what both see. ``zone`` (one bundle per zone-side, as the dissertation plans)
+    where the site has one zone, or each zone stands in its own frame (table zones). Mixed frames: ``site``
+    where table zones were placed in the site frame, else ``zone``.
+    """
+    zones = site.zones
+    n = len(zones)
+    if any(z.openings for z in zones):
+        return RegistrationDefault("site", "openings given: one bundle per accessible area, linked through them")
+    if n == 1:
+        return RegistrationDefault("zone", "one zone")
+    frames = list(dict.fromkeys(z.frame for z in zones))
+    if len(frames) == 1:
+        return RegistrationDefault(
+            "site", f"the {n} zones share one frame ({_frame_words(frames[0])}): one bundle per accessible area"
+        )
+    placed = sum(z.frame == SITE_FRAME and z.closure is not None for z in zones)
+    if placed:
+        return RegistrationDefault(
+            "site", f"{placed} of the {n} zones placed in the site frame: one bundle per accessible area"
+        )
+    if len(frames) == n:
+        return RegistrationDefault(
+            "zone", f"each of the {n} zones in its own frame: one bundle per zone-side, as the dissertation plans"
+        )
+    return RegistrationDefault("zone", f"the {n} zones in {len(frames)} frames, none placed: one bundle per zone-side")
+
+
+def zone_side_groups(candidates: Sequence[Candidate], labels: Sequence[Hashable], links: sp.csr_matrix | None) -> bool:
+    """True when registration groups ``labels`` (with ``links``) are the zone-sides: no link through an
+    opening, and each group holds the candidates of exactly one zone-side (``site`` registration of rooms
+    without doors and a single outside zone, or ``zone`` registration)."""
+    if links is not None and links.nnz:
+        return False
+    pairs = {(label, (c.zone, c.side)) for label, c in zip(labels, candidates, strict=True)}
+    return len(pairs) == len({p[0] for p in pairs}) == len({p[1] for p in pairs})
 
 
 def registration_groups(

@@ -28,7 +28,7 @@ def station_relation(
     lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
     covered = np.asarray(problem.by_candidate.astype(np.float64) @ lengths).ravel()
     reach = problem.limits.effective_range_m
-    labels, links = registration_groups(site, stations, mode or default_registration(site), reach)
+    labels, links = registration_groups(site, stations, mode or default_registration(site).mode, reach)
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
     g = nx.Graph()
     g.add_nodes_from(range(len(stations)))

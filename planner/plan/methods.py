@@ -18,7 +18,7 @@ from planner.bounds.connected_result import plan_counts, with_connected_plane_bo
 from planner.bounds.plane import price_plane, with_plane_bound
 from planner.bounds.plane_ring import connected_plane_bound
 from planner.core import progress
-from planner.coverage.links import default_registration, registration_groups
+from planner.coverage.links import default_registration, registration_groups, zone_side_groups
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.visibility import SightLimits
@@ -89,7 +89,7 @@ def milp_method(run: MethodInput) -> MethodOutput:
             )
         log.append(pricing.summary())
     p = site.parameters
-    mode = options.registration or default_registration(site)
+    mode = options.registration or default_registration(site).mode
     reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
     groups, links = registration_groups(site, problem.candidates, mode, reach)
     # the precision weights (a float per pair) only where the model reads them: combined precision
@@ -108,7 +108,7 @@ def milp_method(run: MethodInput) -> MethodOutput:
         result = solve(inst, options.milp)
     if pricing is not None:
         result = with_plane_bound(result, pricing)
-        if result.scope != "plane" and mode == "zone" and links is None and result.selected:
+        if result.scope != "plane" and zone_side_groups(problem.candidates, groups, links) and result.selected:
             share = options.milp.rule.overlap if options.milp.rule else 0.0
             duals = np.asarray(pricing.duals)
             counts = plan_counts(problem, result.selected)
@@ -137,7 +137,7 @@ def greedy_method(run: MethodInput) -> MethodOutput:
 
         result = combined_greedy(problem, run.limits.precision)
     elif (rule := options.milp.rule) is not None and rule.overlap > 0:
-        mode = options.registration or default_registration(site)
+        mode = options.registration or default_registration(site).mode
         reach = rule.max_link_m or run.limits.effective_range_m
         groups, links = registration_groups(site, problem.candidates, mode, reach)
         result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links), rule)

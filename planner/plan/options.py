@@ -38,7 +38,7 @@ class PlanOptions:
     #: tripod discs round the stations; None (default): for the MILP, which always places them, else not
     tripod: bool | None = None
     recentre: bool = False
-    registration: str | None = None  # zone | site; None: site where zones are placed or openings given
+    registration: str | None = None  # zone | site; None: default_registration (site where zones share a frame)
     regions: bool = True
     pricing: bool = True
     #: a wall-clock cap on pricing, only where the user sets one (None: none; its rounds and work, counts, stop it)

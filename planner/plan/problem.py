@@ -123,12 +123,8 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
     if options.registration is not None:
         registration, reason = options.registration, "asked for"
     else:
-        registration = default_registration(site)
-        reason = (
-            "zones placed in one site frame, or openings given"
-            if registration == "site"
-            else "zones in their own frames, no openings: one bundle per zone-side"
-        )
+        default = default_registration(site)
+        registration, reason = default.mode, default.reason
     resolved = replace(options, milp=replace(options.milp, overlap=rule), registration=registration)
     modes = {"incidence_3d": resolved.incidence_3d, "precision": resolved.precision, "combined": resolved.combined}
     validation, sight = sight_of(site, validation=validation, **modes)

@@ -53,7 +53,7 @@ def registration_check(
     lengths = piece_lengths(problem.targets.s0_m, problem.targets.s1_m)
     chosen = [problem.candidates[i] for i in selected]
     xy = np.array([c.xy for c in chosen], dtype=float).reshape(-1, 2)
-    mode = mode or (default_registration(site) if site is not None else "zone")
+    mode = mode or (default_registration(site).mode if site is not None else "zone")
     labels, links = (
         registration_groups(site, chosen, mode, reach_m)
         if site is not None

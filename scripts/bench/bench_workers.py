@@ -37,7 +37,7 @@ def problem(area: float, tile_work_s: float) -> tuple[list[Any], dict[str, Any],
     t0 = time.perf_counter()
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     # the registration mode the plain command's tiles use: the single model's (the site's default)
-    options = PlanOptions(method="milp", registration=default_registration(site))
+    options = PlanOptions(method="milp", registration=default_registration(site).mode)
     jobs, shared = tile_work(TileOptions(tile_time_limit_s=tile_work_s), prepare(site, options))
     return jobs, shared, time.perf_counter() - t0
 

@@ -43,7 +43,7 @@ def plan_storey(path: Path, storey: str, out: Path, tag: str, registration: str 
         )
     )
     scope = r.info.get("bound_scope", "pool")
-    mode = registration or default_registration(site)
+    mode = registration or default_registration(site).mode
     return (
         f"| {path.name} | {storey} | {mode} | {len(site.zones)} | {len(plan.stations)} | {r.bound} ({scope}) | "
         f"{dt:.1f} | {plan.verification.percent:.3f} % | {rooms} | {png.relative_to(ROOT) if png.is_relative_to(ROOT) else png} |"

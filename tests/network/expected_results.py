@@ -13,7 +13,9 @@ them again with the dense solver kept as ``method="dense"``::
     python -m tests.network.expected_results --method dense PLAN.json [PLAN.json ...]
 
 where each plan's file name (``<instance>.json`` or a folder ``<instance>/plan.json``) names the
-instance under ``instances/``.
+instance under ``instances/``; ``--registration zone|site`` (default: the site's) is recorded in the file as
+``registration``, the scope the numbers hold for (the plants' files: ``zone``, their default before issue 44;
+a file without it: the site's default).
 """
 
 from __future__ import annotations
@@ -77,9 +79,12 @@ def _noisy(obs: Sequence[Any], seed: int) -> list[Any]:
     return [Obs(o.kind, o.at, o.to, o.value + o.sigma * float(k), o.sigma) for o, k in zip(obs, e)]
 
 
-def network_numbers(site_path: Path | str, plan_path: Path | str, method: str | None = None) -> dict[str, Any]:
+def network_numbers(
+    site_path: Path | str, plan_path: Path | str, method: str | None = None, registration: str | None = None
+) -> dict[str, Any]:
     """Run the network check of the plan on the site and return its numbers (see the module text);
-    ``method``: the adjustment's method (None: its default)."""
+    ``method``: the adjustment's method (None: its default); ``registration``: the scope (None: the site's
+    default)."""
     from planner.core.errors import InputError
     from planner.io import load_site
     from planner.io.plan_json import read_plan_stations
@@ -101,7 +106,7 @@ def network_numbers(site_path: Path | str, plan_path: Path | str, method: str | 
         mock.patch.object(check, "adjust", with_method(check.adjust, True)),
         mock.patch.object(chain, "adjust", with_method(chain.adjust, False)),
     ):
-        report = check.run_network(site, stations)
+        report = check.run_network(site, stations, registration=registration)
     c = report.survey.chain if report.survey is not None else None
     observed: list[dict[str, Any]] = []
     for coords, fixed, obs, kw in calls:
@@ -123,20 +128,32 @@ def network_numbers(site_path: Path | str, plan_path: Path | str, method: str | 
     }
 
 
-def write(plan: Path, method: str | None) -> Path:
-    """Write ``expected/<instance>.json`` for a plan of ``instances/<instance>.json``."""
+def write(plan: Path, method: str | None, registration: str | None = None) -> Path:
+    """Write ``expected/<instance>.json`` for a plan of ``instances/<instance>.json``, under ``registration``
+    (None: the site's default), recorded in the file."""
+    from planner.coverage.links import default_registration
+    from planner.io import load_site
+
     name = plan.parent.name if plan.name == "plan.json" else plan.stem
     stations = json.loads(plan.read_text())["stations"]
     keep = [{k: s[k] for k in ("id", "zone", "side", "x", "y", "kind") if k in s} for s in stations]
     EXPECTED.mkdir(exist_ok=True)
     out = EXPECTED / f"{name}.json"
+    site_path = ROOT / "instances" / f"{name}.json"
+    mode = registration or default_registration(load_site(str(site_path))).mode
     with tempfile.TemporaryDirectory() as folder:
         tmp = Path(folder) / "plan.json"
         tmp.write_text(json.dumps({"stations": keep}))
-        numbers = network_numbers(ROOT / "instances" / f"{name}.json", tmp, method)
+        numbers = network_numbers(site_path, tmp, method, mode)
     out.write_text(
         dumps(
-            {"instance": f"instances/{name}.json", "method": method or "default", "stations": keep, "expected": numbers}
+            {
+                "instance": f"instances/{name}.json",
+                "method": method or "default",
+                "registration": mode,
+                "stations": keep,
+                "expected": numbers,
+            }
         )
     )
     return out
@@ -158,9 +175,10 @@ def main(argv: Sequence[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("plans", nargs="+", type=Path)
     ap.add_argument("--method", default=None, help="the adjustment's method (default: its default)")
+    ap.add_argument("--registration", choices=("zone", "site"), default=None, help="default: the site's")
     args = ap.parse_args(argv)
     for plan in args.plans:
-        print(write(plan, args.method))
+        print(write(plan, args.method, args.registration))
 
 
 if __name__ == "__main__":

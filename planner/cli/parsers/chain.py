@@ -19,6 +19,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         "--registration",
         choices=("zone", "site"),
         default=None,
-        help="registration groups (default: site where zones are placed or openings given)",
+        help="registration groups (default: site where the zones share one frame or openings are given; zone for "
+        "one zone or zones in their own frames)",
     )
     c.set_defaults(func=handlers["chain"])

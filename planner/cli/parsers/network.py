@@ -32,7 +32,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         "--registration",
         choices=("zone", "site"),
         default=None,
-        help="registration links per zone-side or across the site (default: site where zones are placed "
-        "or openings given)",
+        help="registration links per zone-side or across the site (default: site where the zones share one "
+        "frame or openings are given; zone for one zone or zones in their own frames)",
     )
     nw.set_defaults(func=handlers["network"])

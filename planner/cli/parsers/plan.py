@@ -54,7 +54,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         choices=("zone", "site"),
         default=None,
         help="one registration bundle per zone-side, or per accessible area of the site (default: site "
-        "where zones are placed or openings given)",
+        "where the zones share one frame or openings are given; zone for one zone or zones in their own frames)",
     )
     pl.add_argument("--recentre", action="store_true", help="move each station to the centre of its tripod disc")
     add_memory_option(pl)
