@@ -6,11 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from planner.coverage.overlap import overlap_adjacency
 from planner.solve.connectivity import disconnected_groups
 from planner.solve.greedy import connected_greedy_plan
-from planner.solve.local_search import _pick_add, _split, _State, shrink
+from planner.solve.local_search import _components, _pick_add, _split, _State, shrink
 from planner.solve.milp import MilpOptions, solve
 from tests.solve.test_connectivity_methods import FOUND, RULE, WINDOWS, instance, random_instance
 
@@ -50,7 +51,12 @@ def _graph(n: int, edges: list[tuple[int, int]]) -> sp.csr_matrix:
     ],
 )
 def test_split_counts_the_parts_a_removal_adds(n, edges, split):
-    assert _split(_graph(n, edges)).tolist() == split
+    g = _graph(n, edges)
+    assert _split((g.indptr.tolist(), g.indices.tolist())).tolist() == split
+    # the components the search counts: as scipy's
+    k, label = _components(n, g.indptr.tolist(), g.indices.tolist())
+    ks, ls = connected_components(g, directed=False)
+    assert k == ks and (label == ls).all()
 
 
 def test_windows_chain_of_seven_shrinks_to_the_chain_of_five():
