@@ -16,7 +16,7 @@ default), so the choice changes how the plan is searched for, not what it must s
 The time ``budget_s`` (``planner plan --set tile-budget=S``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
 tiles that run side by side, and the Lagrangian bound ``LAGRANGE_SHARE``;
 the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
-tile); the whole-site plain cover (CFT: its own iteration counts) and the local search (``MOVES_PER_PIECE`` moves
+tile; off by default, :data:`WINDOW_PASSES`); the whole-site plain cover (CFT: its own iteration counts) and the local search (``MOVES_PER_PIECE`` moves
 per wall piece) take what is left; all of them count work, not seconds, so the plan is the same under any load. Workers: half the
 machine's cores, at most one per tile; none (in this process) on a machine of two cores or fewer, where a second
 process adds contention, not speed (docs/studies/workers.md). Half, not all: with a worker on every
@@ -164,6 +164,10 @@ TILE_M = 100.0
 #: shares of the budget: every tile's MILP together, the Lagrangian bound, the window re-solves (one window per
 #: station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
 TILE_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.15, 0.30
+#: window re-solves of the automatic strategy: none (on the 16-ha plant's site-connected plan of 99 stations one
+#: pass of 99 windows found nothing smaller in 373 s; the local search's moves do better there); ``--tiles M`` with
+#: ``--set tile-window-passes=1`` runs them
+WINDOW_PASSES = 0
 #: stations per tile the window budget is spread over (the generated plants need about this many)
 STATIONS_PER_TILE = 6
 
@@ -286,6 +290,7 @@ def choose(
         lagrange_work_s=_clamp(LAGRANGE_SHARE * budget_s * side_by_side / n, 1.0, 10.0),
         windows=replace(
             WindowOptions(),
+            passes=WINDOW_PASSES,
             seed=options.milp.seed,
             work_s=_clamp(WINDOW_SHARE * budget_s / (STATIONS_PER_TILE * n), 0.5, 3.0),
         ),

@@ -7,7 +7,7 @@ may stand, the registration groups and the overlap rule, made once here for
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
@@ -79,12 +79,12 @@ def site_pool(problem: Problem) -> tuple[list[Candidate], Targets]:
 
 def tiles_problem(site: Site | Problem, options: PlanOptions | None = None) -> Problem:
     """``site`` itself when it is a resolved problem, else ``site`` resolved for tiles under ``options``
-    (default: the MILP), registration ``options.registration`` or else ``site`` (one registration bundle per
-    accessible area: tiles are squares of one frame)."""
+    (default: the MILP), registration ``options.registration`` or else the site's default (one registration
+    bundle per accessible area wherever the zones share one frame, which tiles need:
+    :func:`planner.coverage.links.default_registration`)."""
     if isinstance(site, Problem):
         return as_problem(site, options)
-    options = options or PlanOptions(method="milp")
-    return resolve(site, replace(options, registration=options.registration or "site"))
+    return resolve(site, options or PlanOptions(method="milp"))
 
 
 def prepare(problem: Problem | Site, options: PlanOptions | None = None, extra: Sequence[Candidate] = ()) -> Prepared:

@@ -113,11 +113,17 @@ def test_tiled_plan_reports_the_lagrangian_bound() -> None:
     lag = info["lagrange"]
     assert len(lag["per_tile"]) == len(info["tiles"]) == 4  # 2 x 2 tiles of 50 m, one part each
     assert lag["raw"] == pytest.approx(sum(lag["per_tile"]))
-    assert "Lagrangian bound over 4 tile parts" in info["bound_how"]
-    # the reported bound is the largest of the three, and bounds the plan
+    assert "Lagrangian over 4 tile parts" in info["bound_how"]
+    # the reported bound is the largest of those computed (LP, cover MILP, Lagrangian, CFT's), and bounds the plan
     milp = info["cover_milp_bound"]
-    expected = max(math.ceil(info["lp_bound"] - 1e-6), math.ceil(milp - 1e-6) if milp is not None else 0, lag["value"])
+    cft = math.ceil(info["cover"]["lower_bound"] - 1e-6)
+    lp = math.ceil(info["lp_bound"] - 1e-6)
+    expected = max(lp, math.ceil(milp - 1e-6) if milp is not None else 0, lag["value"], cft)
     assert plan.result.bound == expected <= len(plan.stations)
+    assert [t["stations"] for t in info["bound_terms"]] == [lp, lag["value"], cft] + (
+        [math.ceil(milp - 1e-6)] if milp is not None else []
+    )
+    assert info["bound_decided_by"] in info["bound_how"]
     assert lag["raw"] >= info["lp_bound"] - 0.01  # LP-dual split: at least the LP, less the flooring
 
 

@@ -42,8 +42,9 @@ def test_16ha_plant_goes_to_tiles_split_by_the_budget():
     assert st.tiling.moves_for(7_688) == 76_880
     assert st.tiling.lagrange_work_s == pytest.approx(3.9375)
     assert "tiles of 100 m in this process (no Dask worker)" in st.line()  # not 'on no worker(s)'
-    # windows: 0.30 x 420 s over 6 stations per tile x 16 tiles = 96 windows -> 1.3125 s each
-    assert st.tiling.windows.work_s == pytest.approx(1.3125)
+    # windows: 0.30 x 420 s over 6 stations per tile x 16 tiles = 96 windows -> 1.3125 s each, but no pass by
+    # default (WINDOW_PASSES)
+    assert st.tiling.windows.work_s == pytest.approx(1.3125) and st.tiling.windows.passes == 0
     # 16 cores: half, 8 workers (docs/studies/workers.md: 8 beat 16), 8 tiles side by side:
     # 0.30 x 420 x 8 / 16 = 63 s, capped at 30 s per tile; Lagrangian 0.15 x 420 x 8 / 16 = 31.5, capped at 10
     big = _strategy("plant_16ha", cores=16)
