@@ -28,6 +28,7 @@ from planner.solve.flow import FlowModel, add_flow
 from planner.solve.greedy import greedy_cover
 from planner.solve.instance import CoverInstance
 from planner.solve.local_search import shrink
+from planner.solve.plain_start import plain_start
 from planner.solve.registry import make_backend
 from planner.solve.result import Status
 from planner.solve.ring import RingBound, RingGraph, lagrangian_bound, ring_graph
@@ -36,6 +37,7 @@ from planner.solve.treebound import add_tree_bound
 
 if TYPE_CHECKING:
     from planner.solve.milp import MilpOptions
+    from planner.solve.plain_start import PlainStart
 
 #: steps of the Lagrangian ascent before the local search is tried (the rest of the budget comes after it)
 _FIRST_STEPS = 50
@@ -84,12 +86,13 @@ class BlockSolver:
         elif self.groups is None and o.k == 1 and o.precision == "single":
             g = greedy_cover(self.sub, weights=self.cost)
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
-        self.bound, self.rounds, self.cuts, self._backend_cuts = 0.0, 0, 0, 0
-        self.local_moves = 0
+        self.rounds, self.cuts, self._backend_cuts = 0, 0, 0
+        self.plain: PlainStart | None = plain_start(self.sub, self.cost, self.groups, self.incumbent, o)
+        if self.plain is not None:  # no registration groups: the better of greedy and CFT's searched cover
+            self._better(list(self.plain.selected))
+        self.bound, self.local_moves = (self.plain.bound, self.plain.moves) if self.plain else (0.0, 0)
         self.done = self.infeasible = False
-        self._seen: list[
-            tuple[list[int], dict]
-        ] = []  # disconnected solutions met during the current solve, with their parts
+        self._seen: list[tuple[list[int], dict]] = []  # disconnected solutions of the current solve, with parts
         self._shrunk: set[float] = set()  # incumbent costs the local search started from
         self.ring: RingBound | None = None
         self.lagrange_steps = 0

@@ -7,7 +7,9 @@
 
 The problem is split into independent blocks (no shared target, no common
 group), each presolved and warm-started from a connected greedy plan
-(:mod:`planner.solve.block`). A block of one group first gets the ring bound
+(:mod:`planner.solve.block`), or, with no registration groups, from the
+better of the greedy cover and CFT's cover shrunk by the local search
+(:mod:`planner.solve.plain_start`). A block of one group first gets the ring bound
 (:mod:`planner.solve.ring`), which closes A, B, C, Baalbek and building27
 before any search; the others are solved, connectivity cuts added and the
 block re-solved until its choice is connected. Objectives and bounds of the
@@ -40,6 +42,7 @@ from planner.solve.backends import BACKENDS, NODE_LIMITED
 from planner.solve.block import BlockSolver, lengths
 from planner.solve.instance import CoverInstance
 from planner.solve.lazy_links import OverlapLinks, linked_dominated
+from planner.solve.plain_start import MOVES_PER_TARGET, plain_record
 from planner.solve.presolve import (
     PresolveReport,
     dominated,
@@ -66,6 +69,11 @@ CONNECTIVITY = ("auto", "bc", "flow", "loop")
 
 @dataclass(frozen=True, kw_only=True)
 class MilpOptions:
+    """The MILP's options, each checked when made (:class:`UsageError` on a bad value). Every limit of the search
+    is a count (CP-SAT work, nodes, rounds, moves, steps) unless the user sets ``time_limit_s``; a block with no
+    registration groups gets the plain start (``plain_start``, ``plain_start_moves``), a connected one the local
+    search of ``local_search_moves``."""
+
     backend: str = "cpsat"
     #: a wall-clock cap in seconds on the whole solve, only where the user sets one (None: none). A solve it
     #: cuts may depend on the machine's load: ``info["work"]["wall_cap_hit"]`` says so
@@ -97,8 +105,15 @@ class MilpOptions:
     #: cbc take none, so there only the user's ``time_limit_s`` stops a solve short of its optimum
     node_limit: int | None = NODE_LIMIT
     #: swaps of the local search (:mod:`planner.solve.local_search`) that tries, once per incumbent size, to
-    #: find a connected plan one station smaller, down to the block's bound (unit costs, k = 1; 0: off)
+    #: find a connected plan one station smaller, down to the block's bound (unit costs, k = 1; 0: off, the plain
+    #: start's search included)
     local_search_moves: int = 500
+    #: the plain start (:mod:`planner.solve.plain_start`): a block with no registration groups (unit costs, k = 1,
+    #: single precision) starts from CFT's cover shrunk by the plain local search where that beats its greedy
+    plain_start: bool = True
+    #: moves of the plain start's local search per target of its block, a count set by the block's size (as the
+    #: tiled plan's ``MOVES_PER_PIECE``; 0: CFT's cover unsearched)
+    plain_start_moves: float = MOVES_PER_TARGET
 
     def __post_init__(self) -> None:
         if self.connectivity not in CONNECTIVITY:
@@ -127,8 +142,9 @@ class MilpOptions:
             real(self.time_limit_s, "time_limit_s", above=0)
         if self.node_limit is not None:
             count(self.node_limit, "node_limit", 1)
-        for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound"):
+        for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound", "plain_start"):
             flag(getattr(self, name), name)
+        real(self.plain_start_moves, "plain_start_moves", at_least=0)
         argument(self.overlap, (OverlapRule, SiteShare, type(None)), "overlap")
         if self.work_limit is not None:
             real(self.work_limit, "work_limit", above=0)
@@ -234,6 +250,8 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         },
         "connectivity": o.connectivity_method if connect else "none",
     }
+    if any(b.plain is not None for b in solvers):  # only then: a connected run's record stays as it was
+        info["plain_start"] = plain_record([b.plain for b in solvers if b.plain is not None])
     limits = o.limits
     info["work"] = {
         "limit": limits["work_limit"],
