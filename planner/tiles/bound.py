@@ -139,7 +139,7 @@ def global_bound(
     capped = False
     if time_limit_s > 0:
         inst = CoverInstance(by_candidate=a.astype(bool).tocsr(), cost=np.ones(a.shape[0]), name="site cover")
-        opts = MilpOptions(overlap=None, seed=seed, threads=1)
+        opts = MilpOptions(overlap=None, seed=seed, threads=1, plain_start=False)  # a bound; CFT runs once elsewhere
         wall = replace(opts, time_limit_s=time_limit_s, work_limit=None)  # the user chose wall-clock limits
         res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else wall)
         milp = res.objective if res.status is Status.OPTIMAL else res.bound

@@ -26,7 +26,10 @@ def limits_line(capped: list[str], work_limited: bool) -> str:
 
 
 def tile_milp(options: PlanOptions, tiling: TileOptions) -> MilpOptions:
+    """A tile's MILP options: the tile limits, and no plain-cover start (CFT and its search) in the tiles, where
+    the whole site's plain cover is made once (:mod:`planner.tiles.run`)."""
     limit = tiling.tile_time_limit_s
+    options = replace(options, milp=replace(options.milp, plain_start=False))
     if deterministic_limits(options.milp, tiling):
         return options.milp.with_work_limit(limit, WALL_CAP)
     return replace(options.milp, time_limit_s=limit, work_limit=None)  # the user chose wall-clock limits
