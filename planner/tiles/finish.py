@@ -123,14 +123,19 @@ def finish_plan(
         "pairs": int(problem.by_candidate.nnz),
         "tiles": len(results),
     }
-    bad = [r.tile.name for r in results if not r.covers_core]
+    bad = [r.tile.name for r in results if not r.covers_core and r.status is not Status.NO_SOLUTION]
+    solved = any(r.status is not Status.NO_SOLUTION for r in results)
     log = (
-        f"{len(results)} tiles of {times['tile_m']:g} m, margin {times['margin_m']:.1f} m: coverage and tile MILPs "
-        f"in {times['tiles_s']:.1f} s"
+        f"{len(results)} tiles of {times['tile_m']:g} m, margin {times['margin_m']:.1f} m: "
         + (
-            f"; tiles whose plan does not cover their core: {', '.join(bad)}"
-            if bad
-            else "; every tile's plan covers its core"
+            f"coverage and tile MILPs in {times['tiles_s']:.1f} s"
+            + (
+                f"; tiles whose plan does not cover their core: {', '.join(bad)}"
+                if bad
+                else "; every tile's plan covers its core"
+            )
+            if solved
+            else f"coverage in {times['tiles_s']:.1f} s (no tile MILPs: the whole-site plain cover is CFT's)"
         ),
         limits_line(capped, work_limited),
         _search_line(joined, search, windows, cover),

@@ -118,6 +118,6 @@ def tile_work(tiling: TileOptions, prep: Prepared) -> tuple[list[TileJob], dict[
         "candidates": prep.pool,
         "targets": prep.targets,
         "groups": prep.groups,
-        "milp": tile_milp(options, tiling),
+        "milp": tile_milp(options, tiling) if tiling.tile_plans or not tiling.cft else None,
     }
     return jobs, shared

@@ -130,7 +130,8 @@ def plan_by_tiles(
         raise err.located(site.source) if site.source else err
     plain = resolved.rule is None  # --no-overlap: a plain cover, no registration to meet
     adj = None if plain else prep.overlap(by_cand)
-    joined = None if adj is None else stitch(by_cand, adj, groups, [r.selected for r in results])
+    tile_plans = [r.selected for r in results if r.selected]
+    joined = stitch(by_cand, adj, groups, tile_plans) if adj is not None and tile_plans else None
     t_stitch = time.perf_counter() - start - t_pool - t_tiles
     if joined is not None:
         progress.note(_standing("stitched", joined, None))
@@ -157,22 +158,22 @@ def plan_by_tiles(
     whole = cover.selected if cover is not None else bound.cover
     moves = tiling.moves_for(len(targets))
     windows: dict[str, Any] = {}
-    if adj is None or joined is None:
-        start_cover = whole or tuple(sorted({int(i) for r in results for i in r.selected}))
-        joined, search = plain_plan(by_cand, start_cover, moves, bound.value)
-        progress.note(f"plain cover and local search: {len(joined.selected)} stations, bound {bound.value}")
+    if adj is None:
+        start_cover = whole or tuple(sorted({int(i) for p in tile_plans for i in p}))
+        kept, search = plain_plan(by_cand, start_cover, moves, bound.value)
+        progress.note(f"plain cover and local search: {len(kept.selected)} stations, bound {bound.value}")
         t_windows = time.perf_counter()
     else:
-        joined, search = best_plan(by_cand, adj, groups, joined, whole, moves, bound.value, tiling.search_seeds, client)
-        progress.note(_standing("best plan and local search", joined, bound.value))
+        kept, search = best_plan(by_cand, adj, groups, joined, whole, moves, bound.value, tiling.search_seeds, client)
+        progress.note(_standing("best plan and local search", kept, bound.value))
         t_windows = time.perf_counter()
-        joined, windows = window_resolves(by_cand, adj, groups, joined, prep.xy, tiling.windows, bound.value, client)
-        progress.note(_standing("window re-solves", joined, bound.value))
+        kept, windows = window_resolves(by_cand, adj, groups, kept, prep.xy, tiling.windows, bound.value, client)
+        progress.note(_standing("window re-solves", kept, bound.value))
     return finish_plan(
         resolved,
         problem,
         results,
-        joined,
+        kept,
         bound,
         prep.rule,
         (prep.mode, prep.reach_m),

@@ -24,7 +24,7 @@ def best_plan(
     a: sp.csr_matrix,
     adj: sp.csr_matrix,
     groups: tuple[str, ...],
-    tiled: Stitched,
+    tiled: Stitched | None,
     cover: tuple[int, ...],
     moves: int = 0,
     floor: int = 1,
@@ -38,7 +38,7 @@ def best_plan(
     (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound; once per seed
     ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on ties)
     then looks for a smaller connected cover; the second value says what it did."""
-    plans = [tiled]
+    plans = [tiled] if tiled is not None else []
     if cover:
         plans.append(joined_cover(a, adj, groups, cover))
     grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)

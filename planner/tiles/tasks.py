@@ -57,10 +57,11 @@ def tile_task(
     targets: Targets,
     groups: Sequence[str],
     job: TileJob,
-    milp: MilpOptions,
+    milp: MilpOptions | None,
 ) -> TileResult:
     """Coverage of the tile's core pieces by the candidates in its margin, then the tile's MILP (with the
-    registration rule inside the tile: overlap measured on the tile's pieces).
+    registration rule inside the tile: overlap measured on the tile's pieces); with ``milp`` None the coverage
+    only (status NO_SOLUTION, no plan: the whole site's plain cover is made once, :mod:`planner.tiles.run`).
 
     Returns the result also when some core piece is seen by no candidate (``unseen``, status INFEASIBLE).
     """
@@ -73,14 +74,14 @@ def tile_task(
     inc = problem.incidence_deg.tocoo().data
     t1 = time.perf_counter()
     unseen = job.targets[problem.uncoverable()]
-    if unseen.size:
+    if unseen.size or milp is None:
         return TileResult(
             tile=job.tile,
             rows=rows,
             cols=cols,
             slant_m=slant,
             incidence_deg=inc,
-            status=Status.INFEASIBLE,
+            status=Status.INFEASIBLE if unseen.size else Status.NO_SOLUTION,
             selected=(),
             objective=None,
             bound=None,

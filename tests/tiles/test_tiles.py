@@ -235,3 +235,16 @@ def test_no_overlap_is_honoured_by_tiles(site, serial) -> None:
     assert info["cover"]["engine"].startswith("CFT") and info["windows"] == {}  # no connected window re-solves
     assert any("kept the whole-site cover" in line and "connected plans" not in line for line in plain.log)
     assert info["bound_terms"][0]["bound"] == "cover LP" and plain.result.bound <= len(plain.stations)
+
+
+@pytest.mark.slow
+def test_tiles_without_tile_milps_still_plan_a_verified_connected_site(site) -> None:
+    # tile_plans=False (the automatic strategy's choice where CFT runs): the tiles give the coverage only; the
+    # plan is grown from CFT's cover and the connected greedy, and is checked like any other
+    tiling = TileOptions(tile_m=50.0, tile_time_limit_s=20.0, tile_plans=False)
+    plan = plan_by_tiles(site, OPTIONS, tiling)
+    info = plan.result.info
+    assert {t["status"] for t in info["tiles"]} == {"no_solution"} and all(t["stations"] == 0 for t in info["tiles"])
+    assert "tile plans" not in info["stitch"]["source"]
+    assert plan.verification.percent == 100.0 and list(plan.registration.values()) == [1]
+    assert any("no tile MILPs" in line for line in plan.log)
