@@ -74,7 +74,7 @@ def plain_plan(a: sp.csr_matrix, cover: tuple[int, ...], moves: int, floor: int)
     start = Stitched(selected=tuple(cover), union=len(cover), pruned=0, added=0, parts={}, source="whole-site cover")
     alone = sp.csr_matrix((n, n), dtype=bool)
     found, record = _search(a, alone, tuple(str(i) for i in range(n)), start, moves, floor)
-    return replace(found, parts={}), record
+    return replace(found, parts={}, tried=None), record  # no connected plans were tried
 
 
 def _search(
