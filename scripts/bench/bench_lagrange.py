@@ -48,9 +48,9 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     from planner.bounds.lagrange import group_parts
     from planner.io.load import load_site
     from planner.plan import PlanOptions
+    from planner.tiles.bound import global_bound
     from planner.tiles.layout import make_tiles, zone_anchors
     from planner.tiles.prepare import prepare
-    from planner.tiles.bound import global_bound
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
     prep = prepare(site, PlanOptions(method="milp", pricing=False))
