@@ -8,6 +8,7 @@ re-solves until its plan is connected and proven, or its work (or the user's wal
 
 from __future__ import annotations
 
+import math
 import time
 from typing import TYPE_CHECKING
 
@@ -65,8 +66,9 @@ class BlockSolver:
         targets: np.ndarray,
         forced_all: tuple[int, ...],
         o: MilpOptions,
+        deadline: float = math.inf,
     ) -> None:
-        self.o, self.cands = o, cands
+        self.o, self.cands, self.deadline = o, cands, deadline
         self.sub = a[cands][:, targets].tocsr()
         self.cost = instance.cost[cands]
         self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
@@ -87,7 +89,7 @@ class BlockSolver:
             g = greedy_cover(self.sub, weights=self.cost)
             self.incumbent = list(g.selected) if g.status is Status.FEASIBLE else None
         self.rounds, self.cuts, self._backend_cuts = 0, 0, 0
-        self.plain: PlainStart | None = plain_start(self.sub, self.cost, self.groups, self.incumbent, o)
+        self.plain: PlainStart | None = plain_start(self.sub, self.cost, self.groups, self.incumbent, o, deadline)
         if self.plain is not None:  # no registration groups: the better of greedy and CFT's searched cover
             self._better(list(self.plain.selected))
         self.bound, self.local_moves = (self.plain.bound, self.plain.moves) if self.plain else (0.0, 0)
@@ -294,6 +296,8 @@ class BlockSolver:
         if size in self._shrunk or len(self.incumbent) <= floor:
             return
         self._shrunk.add(size)
-        found = shrink(self.sub, self.adj, self.groups, self.incumbent, o.local_search_moves, floor)
+        found = shrink(
+            self.sub, self.adj, self.groups, self.incumbent, o.local_search_moves, floor, deadline=self.deadline
+        )
         self.local_moves += found.moves
         self._better(list(found.selected))

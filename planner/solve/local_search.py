@@ -32,6 +32,8 @@ depends only on the input, ``moves`` and ``seed`` (no clock).
 
 from __future__ import annotations
 
+import math
+import time
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass
 
@@ -40,6 +42,9 @@ import scipy.sparse as sp
 
 from planner.coverage.overlap import group_ids
 from planner.solve.connectivity import path_to_nearest
+
+#: moves between two looks at the clock where the user set a wall-clock cap
+_CLOCK_EVERY = 64
 
 
 @dataclass(frozen=True)
@@ -212,6 +217,7 @@ def shrink(
     floor: int = 1,
     seed: int = 0,
     tabu: int = 2,
+    deadline: float = math.inf,
 ) -> Shrunk:
     """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring).
 
@@ -233,6 +239,9 @@ def shrink(
         Seed of the generator that draws the unseen target a move repairs.
     tabu
         Moves a station added may not be removed.
+    deadline
+        The user's wall-clock cap as a ``time.perf_counter()`` instant (looked at every
+        :data:`_CLOCK_EVERY` moves); ``math.inf``, the default, is none: the search stops on its moves alone.
 
     Returns
     -------
@@ -251,7 +260,10 @@ def shrink(
     _drop(st, 0)
     history: list[tuple[int, int]] = []
     step = 0
+    capped = math.isfinite(deadline)
     for step in range(1, moves + 1):
+        if capped and step % _CLOCK_EVERY == 0 and time.perf_counter() >= deadline:
+            break
         idx, parts = st.graph()[0], st.graph()[3]
         if parts == 0 and st.unseen().size == 0:
             best = tuple(int(i) for i in idx)

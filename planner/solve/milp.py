@@ -206,7 +206,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
             info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)},
         )
     connect = o.rule is not None and instance.groups is not None
-    report, solvers = block_solvers(instance, o)
+    report, solvers = block_solvers(instance, o, deadline)
     _share_out(solvers, deadline, o.work_limit if o.backend == "cpsat" else None)
     if any(b.infeasible for b in solvers):
         return SolveResult(
@@ -273,9 +273,12 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     )
 
 
-def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveReport, list[BlockSolver]]:
+def block_solvers(
+    instance: CoverInstance, o: MilpOptions, deadline: float = math.inf
+) -> tuple[PresolveReport, list[BlockSolver]]:
     """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
-    the registration rule applies when ``o.rule`` is set and the instance has groups."""
+    the registration rule applies when ``o.rule`` is set and the instance has groups. ``deadline``: the user's
+    wall-clock cap as a ``time.perf_counter()`` instant, which the blocks' starts and searches keep too."""
     a = instance.by_candidate.astype(bool).tocsr()
     adj: sp.csr_matrix | OverlapLinks | None = None
     if o.rule is not None and instance.groups is not None:
@@ -284,7 +287,7 @@ def block_solvers(instance: CoverInstance, o: MilpOptions) -> tuple[PresolveRepo
     keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
     keep_t = np.asarray(report.kept_targets, dtype=np.int64)
     return report, [
-        BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o)
+        BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o, deadline)
         for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)
     ]
 

@@ -19,6 +19,7 @@ start under any load.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -62,7 +63,12 @@ class PlainStart:
 
 
 def plain_start(
-    a: sp.csr_matrix, cost: np.ndarray, groups: list | None, incumbent: list[int] | None, o: MilpOptions
+    a: sp.csr_matrix,
+    cost: np.ndarray,
+    groups: list | None,
+    incumbent: list[int] | None,
+    o: MilpOptions,
+    deadline: float = math.inf,
 ) -> PlainStart | None:
     """The start of a plain block (module docstring), or None where it does not apply: registration groups (a
     connected block keeps its own start and search), the start off, k > 1, combined precision, costs not all equal,
@@ -81,6 +87,9 @@ def plain_start(
     o
         The MILP's options: ``plain_start``, ``plain_start_moves``, ``local_search_moves`` (0: no search) and
         ``seed`` (of CFT and of the search).
+    deadline
+        The user's wall-clock cap (``o.time_limit_s``) as a ``time.perf_counter()`` instant: CFT and the search
+        stop there, so the cap holds for the whole solve (``math.inf``: none, the default).
     """
     n_cand, n_targ = a.shape
     if (
@@ -100,13 +109,16 @@ def plain_start(
     greedy = tuple(sorted(int(i) for i in incumbent))
     if len(greedy) <= math.ceil(lp_bound - 1e-6):  # the greedy cover is optimal already
         return PlainStart(selected=greedy, greedy=len(greedy), lp_bound=unit * lp_bound)
-    cft = cft_cover(a, seed=o.seed)
+    left = deadline - time.perf_counter()
+    if left <= 0:
+        return None
+    cft = cft_cover(a, seed=o.seed, time_cap_s=left if math.isfinite(left) else None)
     floor = math.ceil(max(lp_bound, cft.lower_bound) - 1e-6)
     moves = 0 if o.local_search_moves == 0 else round(o.plain_start_moves * n_targ)
     found, made = cft.selected, 0
     if moves > 0 and len(found) > floor:
         alone = sp.csr_matrix((n_cand, n_cand), dtype=bool)  # no links: each candidate its own group
-        searched = shrink(a, alone, range(n_cand), found, moves, floor, seed=o.seed)
+        searched = shrink(a, alone, range(n_cand), found, moves, floor, seed=o.seed, deadline=deadline)
         found, made = searched.selected, searched.moves
     return PlainStart(
         selected=found if len(found) < len(greedy) else greedy,
