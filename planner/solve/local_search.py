@@ -208,6 +208,14 @@ def _split(sub: tuple[list[int], list[int]]) -> np.ndarray:
     return np.array(out, dtype=np.int64)
 
 
+def unlinked(n: int) -> tuple[sp.csr_matrix, tuple[str, ...]]:
+    """The links and groups that make :func:`shrink` a plain cover search (no registration rule): no links, each
+    of the ``n`` candidates its own group, so any cover is "connected". The plain start of the MILP
+    (:mod:`planner.solve.plain_start`) and the large-site plain plan (:func:`planner.tiles.search.plain_plan`)
+    both search this way."""
+    return sp.csr_matrix((n, n), dtype=bool), tuple(str(i) for i in range(n))
+
+
 def shrink(
     a: sp.csr_matrix,
     adj: sp.csr_matrix,

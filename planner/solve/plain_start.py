@@ -28,7 +28,7 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 from planner.solve.cft import cft_cover
-from planner.solve.local_search import shrink
+from planner.solve.local_search import shrink, unlinked
 
 if TYPE_CHECKING:
     from planner.solve.milp import MilpOptions
@@ -117,8 +117,8 @@ def plain_start(
     moves = 0 if o.local_search_moves == 0 else round(o.plain_start_moves * n_targ)
     found, made = cft.selected, 0
     if moves > 0 and len(found) > floor:
-        alone = sp.csr_matrix((n_cand, n_cand), dtype=bool)  # no links: each candidate its own group
-        searched = shrink(a, alone, range(n_cand), found, moves, floor, seed=o.seed, deadline=deadline)
+        alone, groups_of = unlinked(n_cand)
+        searched = shrink(a, alone, groups_of, found, moves, floor, seed=o.seed, deadline=deadline)
         found, made = searched.selected, searched.moves
     return PlainStart(
         selected=found if len(found) < len(greedy) else greedy,

@@ -12,7 +12,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.solve.connectivity import components, connected_greedy, group_members
-from planner.solve.local_search import Shrunk
+from planner.solve.local_search import Shrunk, unlinked
 from planner.solve.steiner import steiner_join
 from planner.solve.windows import WindowOptions, window_search
 from planner.tiles.engine import TaskRunner, run_tasks
@@ -70,10 +70,8 @@ def plain_plan(a: sp.csr_matrix, cover: tuple[int, ...], moves: int, floor: int)
     """The plan of a run with no registration rule: the whole-site plain ``cover``, then the local search with
     no links (:func:`planner.solve.local_search.shrink`, each candidate its own group) for ``moves`` moves, down
     to ``floor`` stations; the second value records the search."""
-    n = a.shape[0]
     start = Stitched(selected=tuple(cover), union=len(cover), pruned=0, added=0, parts={}, source="whole-site cover")
-    alone = sp.csr_matrix((n, n), dtype=bool)
-    found, record = _search(a, alone, tuple(str(i) for i in range(n)), start, moves, floor)
+    found, record = _search(a, *unlinked(a.shape[0]), start, moves, floor)
     return replace(found, parts={}, tried=None), record  # no connected plans were tried
 
 
