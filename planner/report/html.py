@@ -1,5 +1,6 @@
-"""Render an :class:`~planner.plan.outcome.Outcome` as one HTML file: inputs and parameters, closure table,
-station table, comparison of methods, figures, network and accuracy check, verification.
+"""Render an :class:`~planner.plan.outcome.Outcome` as one HTML file: the interactive site map
+(:mod:`planner.report.site_map`), inputs and parameters, closure table, station table, comparison of methods,
+figures, network and accuracy check, verification.
 
 The file needs nothing else (no external CSS, fonts or images). A short script marks on
 ``<body data-images-ok="k/n">`` how many embedded images decoded, which the render test reads
@@ -12,7 +13,7 @@ import base64
 import html
 import math
 import os
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +23,7 @@ from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
 from planner.plan.outcome import Outcome
 from planner.plan.tripod import MIN_RADIUS_M
+from planner.report.site_map import read_field_sheet, site_map_html, station_row_id
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
@@ -43,12 +45,17 @@ def _f(v: Any, fmt: str = ".3f") -> str:
     return format(v, fmt) if isinstance(v, (int, float)) and not isinstance(v, bool) else _e(v)
 
 
-def table(header: Sequence[str], rows: Iterable[Sequence[Any]], left: int = 1) -> str:
-    """An HTML table; the first ``left`` columns are left-aligned text."""
+def table(
+    header: Sequence[str], rows: Iterable[Sequence[Any]], left: int = 1, row_ids: Sequence[str] | None = None
+) -> str:
+    """An HTML table; the first ``left`` columns are left-aligned text; ``row_ids``: an HTML id per row (the site
+    map links to the station table's rows)."""
     th = "".join(f'<th class="{"l" if k < left else ""}">{_e(h)}</th>' for k, h in enumerate(header))
     body = "".join(
-        "<tr>" + "".join(f'<td class="{"l" if k < left else ""}">{c}</td>' for k, c in enumerate(r)) + "</tr>"
-        for r in rows
+        (f'<tr id="{_e(row_ids[n])}">' if row_ids else "<tr>")
+        + "".join(f'<td class="{"l" if k < left else ""}">{c}</td>' for k, c in enumerate(r))
+        + "</tr>"
+        for n, r in enumerate(rows)
     )
     return f"<table><tr>{th}</tr>{body}</table>"
 
@@ -149,6 +156,7 @@ def _stations(o: Outcome) -> str:
             ),
             rows,
             left=5,
+            row_ids=[station_row_id(k) for k in range(1, len(rows) + 1)],
         )
         + note
     )
@@ -252,8 +260,9 @@ def _verification(o: Outcome) -> str:
     )
 
 
-def render_report(o: Outcome, field: str | None = None) -> str:
-    """The report as one HTML string; ``field``: the address of the plan's field sheet (field.html) to link."""
+def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str, Any] | None = None) -> str:
+    """The report as one HTML string; ``field``: the address of the plan's field sheet (field.html) to link;
+    ``field_sheet``: that sheet as ``field.json`` holds it, whose route and targets the site map draws."""
     argument(o, Outcome, "outcome")
     figs = "".join(_img(png_bytes(f), f"plan {name}: coverage count and best incidence") for name, f in plan_figures(o))
     if o.network is not None:
@@ -276,6 +285,8 @@ def render_report(o: Outcome, field: str | None = None) -> str:
             if field
             else []
         ),
+        "<h2>Site map</h2>",
+        site_map_html(o, field_sheet),
         "<h2>Inputs and parameters</h2>",
         _parameters(o),
         "<h2>Zones and closure</h2>",
@@ -308,5 +319,5 @@ def write_report(o: Outcome, folder: Path | str, field: Path | str | None = None
     link = None
     if sheet.is_file():
         link = os.path.relpath(sheet.resolve(), out.resolve()).replace(os.sep, "/")
-    path.write_text(render_report(o, link))
+    path.write_text(render_report(o, link, read_field_sheet(sheet.parent) if link else None))
     return path

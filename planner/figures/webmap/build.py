@@ -1,0 +1,208 @@
+"""Fill a :class:`~planner.figures.webmap.model.SiteMap` from a site, its stations, their coverage and a field
+sheet: :func:`site_map_data`, with :func:`wall_lines`, :func:`coverage_runs` and :func:`field_layers`.
+
+Coverage is drawn as runs, not pieces: consecutive pieces one station covers on one wall face (no opening
+between them) become one segment, so a 100-station plan over thousands of pieces draws a few runs per
+station and wall, never one element per piece per station.
+
+This module takes the site model and a coverage matrix (lower layers) and the field sheet as its
+``field.json`` dictionary (:func:`planner.field.sheet.to_dict`), so the report and the field sheet, which may
+not import each other, both build their map here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from planner.coverage.matrix import CoverageProblem
+from planner.coverage.overlap import piece_lengths
+from planner.coverage.targets import SIDE_NAME
+from planner.figures.webmap.model import MapLine, MapLink, MapPoint, MapStation, Point, Run, SiteMap
+from planner.site.candidate import Candidate
+from planner.site.model import SITE_FRAME, Site
+
+#: two pieces join into one run where the first ends within this of where the second starts (m)
+JOIN_M = 1e-6
+
+
+def _pt(p: Any) -> Point:
+    return float(p[0]), float(p[1])
+
+
+def wall_lines(site: Site) -> tuple[MapLine, ...]:
+    """Every zone ring (outline and holes) and opening in its zone's frame; obstacles, no-go areas and the
+    boundary in the site frame (where the figures draw them too)."""
+    out: list[MapLine] = []
+    for z in site.zones:
+        for k, ring in enumerate(z.rings):
+            name = z.id if k == 0 else f"{z.id} hole {k}"
+            out.append(
+                MapLine(f"{z.id}#{k}", z.frame, "wall", tuple(map(_pt, ring)), True, f"{name} ({z.scan_side.value})")
+            )
+        walls = z.walls
+        for op in z.openings:
+            w = walls[op.wall - 1]
+            (x0, y0), (x1, y1) = w.start, w.end
+            f0, f1 = op.s0_m / w.length_m, min(op.s1_m / w.length_m, 1.0)
+            pts = ((x0 + f0 * (x1 - x0), y0 + f0 * (y1 - y0)), (x0 + f1 * (x1 - x0), y0 + f1 * (y1 - y0)))
+            name = op.name or f"{op.kind} on wall {op.wall}"
+            out.append(MapLine(f"{z.id}/{name}", z.frame, "opening", pts, False, f"{z.id}: {name}"))
+    for ob in site.obstacles:
+        out.append(MapLine(ob.name, SITE_FRAME, "obstacle", tuple(map(_pt, ob.vertices)), True, f"obstacle {ob.name}"))
+    for a in site.no_go_areas:
+        out.append(MapLine(a.name, SITE_FRAME, "nogo", tuple(map(_pt, a.vertices)), True, f"no-go area {a.name}"))
+    if site.boundary is not None:
+        out.append(MapLine("boundary", SITE_FRAME, "boundary", tuple(map(_pt, site.boundary)), True, "site boundary"))
+    return tuple(out)
+
+
+def coverage_runs(problem: CoverageProblem) -> list[tuple[Run, ...]]:
+    """For each row of ``problem`` (a station), the runs of pieces it covers.
+
+    A run is a maximal sequence of pieces, consecutive in the targets' order, on the same zone, side and
+    wall, each starting where the one before ends. Cost: O(nnz) over the matrix, one pass per station.
+    """
+    t = problem.targets
+    n = len(t)
+    lengths = piece_lengths(t.s0_m, t.s1_m)
+    joins = np.zeros(n, dtype=bool)  # piece k runs on into piece k + 1
+    if n > 1:
+        joins[:-1] = (
+            (t.zone[:-1] == t.zone[1:])
+            & (t.side[:-1] == t.side[1:])
+            & (t.wall[:-1] == t.wall[1:])
+            & (np.abs(t.s1_m[:-1] - t.s0_m[1:]) <= JOIN_M)
+        )
+    m = problem.by_candidate
+    out: list[tuple[Run, ...]] = []
+    for i in range(m.shape[0]):
+        cols = np.sort(m.indices[m.indptr[i] : m.indptr[i + 1]])
+        if cols.size == 0:
+            out.append(())
+            continue
+        cut = np.flatnonzero((np.diff(cols) != 1) | ~joins[cols[:-1]])
+        firsts, lasts = cols[np.r_[0, cut + 1]], cols[np.r_[cut, cols.size - 1]]
+        runs = []
+        for f, la in zip(firsts.tolist(), lasts.tolist()):
+            label = (
+                f"{t.zone_ids[t.zone[f]]}/{SIDE_NAME[int(t.side[f])]}/wall {t.wall[f]} "
+                f"{t.s0_m[f]:.2f}-{t.s1_m[la]:.2f} m"
+            )
+            runs.append(Run(_pt(t.a[f]), _pt(t.b[la]), la - f + 1, float(lengths[f : la + 1].sum()), label))
+        out.append(tuple(runs))
+    return out
+
+
+def field_layers(
+    sheet: Mapping[str, Any], frame_of: Mapping[str, str]
+) -> tuple[tuple[MapLine, ...], MapPoint | None, tuple[MapPoint, ...], dict[str, int]]:
+    """The walking route (one line per leg), its start, the registration targets and each station's place
+    in the visiting order, from a field sheet's ``field.json`` dictionary.
+
+    ``frame_of``: station id to frame; a leg is drawn in the frame of the station it walks to, a target in
+    that of the first station that sees it. Stations the sheet names but ``frame_of`` lacks are left out.
+    """
+    order = [str(s) for s in sheet.get("order", [])]
+    legs = sheet.get("legs", [])
+    route = tuple(
+        MapLine(f"leg {k}", frame_of[sid], "route", tuple(map(_pt, leg)), False, f"walk to {sid} (setup {k})")
+        for k, (sid, leg) in enumerate(zip(order, legs), 1)
+        if sid in frame_of and len(leg) > 1
+    )
+    start = None
+    if order and order[0] in frame_of and sheet.get("start_xy") is not None:
+        start = MapPoint(
+            "start", frame_of[order[0]], *_pt(sheet["start_xy"]), "start", f"start: {sheet.get('start', '')}"
+        )
+    targets = []
+    for t in sheet.get("targets", []):
+        seen = [s for s in t.get("seen_by", []) if s in frame_of]
+        if seen:
+            label = f"{t['id']} {t['kind']} ({t.get('where', '')}), seen by {', '.join(seen)}"
+            targets.append(MapPoint(str(t["id"]), frame_of[seen[0]], float(t["x"]), float(t["y"]), t["kind"], label))
+    visits = {sid: k for k, sid in enumerate(order, 1)}
+    return route, start, tuple(targets), visits
+
+
+def site_map_data(
+    site: Site,
+    stations: Sequence[Candidate],
+    *,
+    runs: Sequence[tuple[Run, ...]] | None = None,
+    links: Sequence[MapLink] = (),
+    field_sheet: Mapping[str, Any] | None = None,
+    control: Sequence[MapPoint] = (),
+    traverse: Sequence[MapLine] = (),
+    rows: Mapping[str, str] | None = None,
+) -> SiteMap:
+    """The map of a site and its stations.
+
+    Parameters
+    ----------
+    site, stations
+        The site and the plan's stations; each station is labelled with its number in ``stations`` (1-based,
+        as the report's station table numbers them).
+    runs
+        Per station (same order), the wall it covers: :func:`coverage_runs` of the stations' coverage
+        matrix; None: no coverage layer.
+    links
+        Registration links between the stations (by id).
+    field_sheet
+        The field sheet as ``field.json`` holds it (:func:`planner.field.sheet.to_dict` of a ``FieldPlan``):
+        route, start, targets and the visiting order; None: no field layers.
+    control, traverse
+        Control points and control traverse legs (the network check's).
+    rows
+        Station id to the HTML id of its row in the page's station table.
+
+    Examples
+    --------
+    The field sheet's map (no coverage matrix at hand, links from the sheet's own chain)::
+
+        sheet = to_dict(fp)
+        links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
+        html = render_site_map(site_map_data(fp.site, fp.stations, links=links, field_sheet=sheet))
+    """
+    frame_of = {s.id: s.frame for s in stations}
+    route: tuple[MapLine, ...] = ()
+    start: MapPoint | None = None
+    targets: tuple[MapPoint, ...] = ()
+    visits: dict[str, int] = {}
+    if field_sheet is not None:
+        route, start, targets, visits = field_layers(field_sheet, frame_of)
+    walls = wall_lines(site)
+    frames = dict.fromkeys([z.frame for z in site.zones] + [s.frame for s in stations])
+    if any(w.frame == SITE_FRAME for w in walls):
+        frames.setdefault(SITE_FRAME)
+    rows = rows or {}
+    st = tuple(
+        MapStation(
+            s.id,
+            s.frame,
+            float(s.x),
+            float(s.y),
+            str(k),
+            s.zone,
+            s.side.value,
+            s.kind.value,
+            rows.get(s.id, ""),
+            visits.get(s.id, 0),
+            tuple(runs[k - 1]) if runs is not None else (),
+        )
+        for k, s in enumerate(stations, 1)
+    )
+    return SiteMap(
+        title=site.name,
+        frames=tuple(frames),
+        walls=walls,
+        stations=st,
+        links=tuple(lk for lk in links if lk.a in frame_of and lk.b in frame_of),
+        route=route,
+        start=start,
+        targets=targets,
+        control=tuple(control),
+        traverse=tuple(traverse),
+    )
