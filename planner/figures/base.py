@@ -8,6 +8,10 @@ import math
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
+#: room around the data of a plan panel (a share of its span, as ``Axes.margins``): the scale bar and the
+#: north arrow stand in it, clear of walls and stations
+PLAN_MARGIN = 0.12
+
 
 def nice_length(span_m: float) -> float:
     """A round scale-bar length (1, 2 or 5 x 10^k m) close to a fifth of ``span_m``."""
@@ -21,16 +25,31 @@ def decorate_plan(ax: Axes, frame: str) -> None:
 
     In a zone's own frame "north" is the frame's +y axis; the arrow says so.
     """
+    frame_axes(ax)
+    scale_and_north(ax, frame)
+
+
+def frame_axes(ax: Axes, margin: float | None = None) -> None:
+    """Equal aspect (limits adjusted), metre labels, a light grid; ``margin``: room around the data (a share
+    of its span, as ``Axes.margins``) for the scale bar and north arrow; ``None``: matplotlib's default."""
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
+    if margin is not None:
+        ax.margins(margin)
     ax.autoscale_view()
+    ax.grid(True, lw=0.3, alpha=0.5)
+
+
+def scale_and_north(ax: Axes, frame: str) -> None:
+    """A scale bar in the lower left and a north arrow in the upper right of the axes' present limits (after
+    :func:`planner.figures.labels.freeze_layout` they are the final ones)."""
     x0, x1 = ax.get_xlim()
     y0, y1 = ax.get_ylim()
     w, h = x1 - x0, y1 - y0
     bar = nice_length(w)
     bx, by = x0 + 0.05 * w, y0 + 0.05 * h
-    ax.plot([bx, bx + bar], [by, by], color="black", lw=3, solid_capstyle="butt")
+    ax.plot([bx, bx + bar], [by, by], color="black", lw=3, solid_capstyle="butt", scalex=False, scaley=False)
     ax.text(bx + bar / 2, by + 0.015 * h, f"{bar:g} m", ha="center", va="bottom", fontsize=8)
     label = "N" if frame == "site" else "N\n(frame +y)"
     ax.annotate(
@@ -43,7 +62,6 @@ def decorate_plan(ax: Axes, frame: str) -> None:
         fontsize=8,
         arrowprops={"arrowstyle": "-|>", "color": "black"},
     )
-    ax.grid(True, lw=0.3, alpha=0.5)
 
 
 def png_bytes(fig: Figure, dpi: int = 110) -> bytes:

@@ -11,7 +11,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Ellipse, Polygon
 
 from planner.core.checks import argument
-from planner.figures.base import decorate_plan
+from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.labels import PointLabel, finish_plans
 from planner.network.adjustment import ELLIPSE_95
 from planner.plan.outcome import Outcome
 
@@ -65,6 +66,7 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
     xy = np.array([(g.nodes[n]["x"], g.nodes[n]["y"]) for n in nodes])
     extent = float(np.ptp(xy, axis=0).max()) if len(xy) > 1 else 1.0
     factor = _exaggeration(extent, max((p.ellipse_a * ELLIPSE_95 for p in points.values()), default=0.0))
+    labels: list[PointLabel] = []
     for n in nodes:
         d = g.nodes[n]
         if d["kind"] == "control":
@@ -79,10 +81,11 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
                 mfc="white" if d.get("proposed") else "tab:red",
             )
             shown.add("control")
+            labels.append(PointLabel(d["x"], d["y"], n, f"control:{n}", 9.0))
         else:
             ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=None if "st" in shown else "station")
             shown.add("st")
-        ax.annotate(n, (d["x"], d["y"]), xytext=(3, 3), textcoords="offset points", fontsize=6)
+            labels.append(PointLabel(d["x"], d["y"], n, f"station:{n}", 5.0))
         p = points.get(n)
         if p is not None and p.ellipse_a > 0:
             ax.add_patch(
@@ -98,7 +101,7 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
                 )
             )
             shown.add("ell")
-    decorate_plan(ax, frame)
+    frame_axes(ax, PLAN_MARGIN)
     ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
     worst = max((o.network.station_sigma.get(n, 0.0) for n in nodes), default=0.0)
     ax.set_title(
@@ -106,4 +109,5 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
         f"(worst station {worst * 1000:.2f} mm)",
         fontsize=10,
     )
+    finish_plans(fig, [(ax, frame, labels)], fontsize=6)  # last: scale bar and labels in the final layout
     return fig

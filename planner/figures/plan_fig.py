@@ -5,6 +5,7 @@ tripod discs."""
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize
 from matplotlib.figure import Figure
@@ -12,7 +13,8 @@ from matplotlib.patches import Circle, Polygon
 
 from planner.core.checks import argument
 from planner.coverage.targets import SIDE_CODE
-from planner.figures.base import decorate_plan
+from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.labels import PointLabel, finish_plans
 from planner.plan.outcome import Outcome
 from planner.site.candidate import CandidateKind
 from planner.site.model import SITE_FRAME, ScanSide
@@ -63,7 +65,9 @@ def _pieces(o: Outcome, zi: int, side: ScanSide):
     return segs, o.coverage.count[m], o.coverage.best_incidence_deg[m], width
 
 
-def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> None:
+def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> list[PointLabel]:
+    """Draw the zone-side's stations; their number labels, to be placed once the panel is complete."""
+    labels: list[PointLabel] = []
     numbers = {s.id: k for k, s in enumerate(o.stations, 1)}
     shown = set()
     for s in o.stations:
@@ -108,7 +112,8 @@ def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> None:
             label=None if s.kind in shown else f"station: {name}",
         )
         shown.add(s.kind)
-        ax.annotate(str(numbers[s.id]), (s.x, s.y), xytext=(4, 4), textcoords="offset points", fontsize=7)
+        labels.append(PointLabel(s.x, s.y, str(numbers[s.id]), f"station:{s.id}", 7.0))
+    return labels
 
 
 def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
@@ -128,6 +133,7 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
         (axes[0], np.minimum(count, 5).astype(float), cmap_n, norm_n, "stations seeing the piece"),
         (axes[1], inc, "viridis_r", Normalize(0.0, theta), "best incidence angle (deg)"),
     )
+    panel_labels: list[tuple[Axes, str, list[PointLabel]]] = []
     for ax, values, cmap, norm, label in panels:
         _background(ax, o, zone.frame, zone.id)
         for k, ring in enumerate(zone.rings[1:]):
@@ -148,9 +154,10 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
         if cmap is cmap_n:
             cb.set_ticks(range(1, min(top, 5) + 1))
         cb.set_label(label + (" (5 = 5 or more)" if cmap is cmap_n and top > 5 else ""))
-        _stations(ax, o, zone.id, side)
-        decorate_plan(ax, zone.frame)
+        labels = _stations(ax, o, zone.id, side)
+        frame_axes(ax, PLAN_MARGIN)
         ax.legend(loc="upper left", fontsize=7, framealpha=0.8)
+        panel_labels.append((ax, zone.frame, labels))
     hmax = (
         max(max(zone.vertex_heights_m), *(max(h) for h in zone.hole_heights_m))
         if zone.hole_heights_m
@@ -163,6 +170,7 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
         f"{o.site.name}: zone {zone.id}, {side.value} - {n} stations, "
         f"{100 * float((count > 0).mean()) if count.size else 100:.1f} % of pieces covered"
     )
+    finish_plans(fig, panel_labels, fontsize=7)  # last: scale bars and labels in the final, frozen layout
     return fig
 
 

@@ -1,6 +1,6 @@
 """A floor plan of one frame (a building storey): every room with its openings, and the stations.
 
-Rooms are drawn filled and labelled, blocks (columns, stairs) hatched, openings (doors, windows)
+Rooms are drawn filled and named, blocks (columns, stairs) hatched, openings (doors, windows)
 as coloured gaps on their walls, each station as a triangle with its id and its zone's colour.
 """
 
@@ -13,7 +13,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon as PolygonPatch
 
-from planner.figures.base import decorate_plan
+from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.labels import PointLabel, finish_plans
 from planner.site.model import Site, Wall, Zone
 
 OPENING_COLOUR = {"door": "tab:orange", "gate": "tab:brown", "window": "tab:cyan"}
@@ -31,9 +32,10 @@ def storey_figure(site: Site, stations: Sequence[Any], frame: str, title: str = 
     mine = [s for s in stations if s.frame == frame]
     for s in mine:
         ax.plot([s.x], [s.y], marker="^", ms=9, color=colours.get(s.zone, "red"), mec="black", zorder=5)
-        ax.annotate(str(s.id), (s.x, s.y), xytext=(4, 4), textcoords="offset points", fontsize=6, zorder=6)
     ax.set_title(title or f"{frame}: {len(zones)} rooms, {len(mine)} stations")
-    decorate_plan(ax, frame)
+    frame_axes(ax, PLAN_MARGIN)
+    labels = [PointLabel(s.x, s.y, str(s.id), f"station:{s.id}", 9.0) for s in mine] + [_name(z) for z in zones]
+    finish_plans(fig, [(ax, frame, labels)], fontsize=6)  # last: scale bar and labels in the final layout
     return fig
 
 
@@ -48,12 +50,17 @@ def _room(ax: Any, zone: Zone, colour: str) -> None:
     for hole in zone.holes:
         ax.add_patch(PolygonPatch(np.asarray(hole), closed=True, fc="0.6", ec="black", hatch="//", lw=0.8))
     for op in zone.openings:
-        _gap(ax, zone.walls[op.wall - 1], op.s0_m, op.s1_m, OPENING_COLOUR.get(op.kind, "tab:orange"))
+        draw_gap(ax, zone.walls[op.wall - 1], op.s0_m, op.s1_m, OPENING_COLOUR.get(op.kind, "tab:orange"))
+
+
+def _name(zone: Zone) -> PointLabel:
+    """The room's name, placed next to a point inside it (with the other labels, so that it meets none)."""
     cx, cy = zone.polygon.representative_point().coords[0]
-    ax.text(cx, cy, zone.id.rsplit("/", 1)[-1], ha="center", va="center", fontsize=8, color="0.2")
+    return PointLabel(cx, cy, zone.id.rsplit("/", 1)[-1], f"room:{zone.id}", 0.0, 8.0)
 
 
-def _gap(ax: Any, wall: Wall, s0: float, s1: float, colour: str) -> None:
+def draw_gap(ax: Any, wall: Wall, s0: float, s1: float, colour: str) -> None:
+    """Draw the opening from ``s0`` to ``s1`` metres along ``wall`` as a coloured gap."""
     a, b = np.asarray(wall.start, dtype=float), np.asarray(wall.end, dtype=float)
     u = (b - a) / wall.length_m
     p, q = a + s0 * u, a + s1 * u

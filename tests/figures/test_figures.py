@@ -23,9 +23,10 @@ def test_nice_length_is_round_and_near_a_fifth():
     assert abs(nice_length(0.9) - 0.2) < 1e-12
 
 
-def square_outcome(stations: list[Candidate]) -> Outcome:
-    """A 10 m square room (walls 3 m) with the given stations; S_max 30 m."""
-    zone = planner.Zone("S", ScanSide.INSIDE, ((0, 0), (10, 0), (10, 10), (0, 10)), (3.0,) * 4)
+def square_outcome(stations: list[Candidate], side_m: float = 10.0) -> Outcome:
+    """A square room ``side_m`` wide (walls 3 m) with the given stations; S_max 30 m."""
+    a = side_m
+    zone = planner.Zone("S", ScanSide.INSIDE, ((0, 0), (a, 0), (a, a), (0, a)), (3.0,) * 4)
     site = planner.Site("square", (zone,), planner.Parameters(max_slant_range_m=30.0))
     v = planner.validate_site(site)
     limits = sight_limits(v, False, True)

@@ -1,0 +1,325 @@
+"""Point labels that never overlap: each other, the markers of the points, or the texts and legend already in
+the axes (:func:`place_labels`; the geometry alone: :func:`arrange_boxes`).
+
+The method, in display pixels, after one draw that settles the layout:
+
+1. the figure is drawn once without rendering (the layout engine and the equal aspect settle the axes), then
+   frozen (:func:`freeze_layout`): the layout engine is switched off and the labelled axes keep their limits,
+   so a later draw or ``savefig`` puts everything exactly where it was measured;
+2. every label's box is measured with the figure's renderer (``Text.get_window_extent``);
+3. obstacles: every point's marker (a square of the marker's size), the texts already in the axes (scale bar,
+   north arrow, room names) and the legend;
+4. labels are placed greedily, the most crowded point first (most other points within three label sizes; ties
+   by input order): of its candidate boxes, taken in order of preference, the first inside the axes that meets
+   no obstacle and no label placed before (a gap of :data:`PAD_PX` kept) is taken. Candidates: the 8 compass
+   positions (NE, NW, SE, SW, E, W, N, S) on two near rings next to the marker, then rings further out, each a
+   label height or a quarter of its radius beyond the last, with as many directions as fit half a label apart
+   along the ring (nearest to NE first), to the axes' diagonal. A label off the near rings gets a thin leader
+   line to its point;
+5. a label with no free candidate anywhere is left out (:attr:`Placed.omitted`), never drawn over another.
+
+Same input, same placement: the order and the candidates depend on the input only.
+
+Cost: O(n^2) for the crowding order, then per label O(c x (n + m)) box tests for the c candidates tried
+(evaluated in blocks with numpy, usually only the 16 near ones), with n labels and m fixed obstacles; at most
+some thousand candidates per label in the worst case.
+
+Limits: leader lines may cross other leaders, lines and labels (only text boxes and markers are kept apart);
+labels stay inside the axes, so in a very dense cluster some are left out; a label is placed for the figure's
+size as drawn (changing the figure's size or the axes' limits afterwards voids the guarantee; saving at another
+dpi keeps it, all sizes scaling alike, within the :data:`PAD_PX` gap).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from matplotlib import patheffects
+from matplotlib.axes import Axes
+from matplotlib.backend_bases import RendererBase
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.text import Annotation
+from numpy.typing import NDArray
+
+from planner.figures.base import scale_and_north
+
+#: pixels kept free between any two boxes (labels, markers, obstacles)
+PAD_PX = 2.0
+#: gaps (pixels beyond the marker) of the near rings, where a label needs no leader line
+NEAR_GAPS_PX = (1.0, 4.0)
+#: the first gap of the far rings (pixels beyond the marker)
+FAR_START_PX = 10.0
+#: compass directions of the near rings, in order of preference: NE, NW, SE, SW, E, W, N, S
+COMPASS_DEG = (45.0, 135.0, 315.0, 225.0, 0.0, 180.0, 90.0, 270.0)
+_BLOCK = 256  # candidates tested at once
+
+
+@dataclass(frozen=True)
+class PointLabel:
+    """A point to label: data coordinates, the text, a key it is known by (default: the text), the size of
+    its marker (diameter in points, as matplotlib's ``ms``; 0: none), which no label may cover, and the text's
+    size (points; ``None``: the size :func:`place_labels` is given)."""
+
+    x: float
+    y: float
+    text: str
+    key: str = ""
+    marker_pt: float = 6.0
+    fontsize: float | None = None
+
+
+@dataclass(frozen=True)
+class Placed:
+    """What :func:`place_labels` drew: the label texts, the leader lines, and the keys left out for want of room."""
+
+    texts: tuple[Annotation, ...]
+    leaders: tuple[Line2D, ...]
+    omitted: tuple[str, ...]
+
+
+def freeze_layout(fig: Figure, axes: Sequence[Axes] = ()) -> RendererBase:
+    """Draw ``fig`` once without rendering (layout and aspect settle), switch its layout engine off and fix the
+    limits of ``axes``; returns the renderer that measures text at the figure's dpi."""
+    if not hasattr(fig.canvas, "get_renderer"):
+        FigureCanvasAgg(fig)
+    fig.draw_without_rendering()
+    for ax in axes:
+        ax.set_xlim(ax.get_xlim())
+        ax.set_ylim(ax.get_ylim())
+        if ax.get_aspect() != "auto":
+            ax.set_adjustable("box")  # the limits now fit the box: keep both, and no warning about fixed limits
+    if fig.get_layout_engine() is not None:
+        fig.set_layout_engine("none")
+    renderer: RendererBase = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+    return renderer
+
+
+def _candidates(
+    anchor: NDArray[np.float64], size: NDArray[np.float64], reach: float, limit: float
+) -> tuple[NDArray[np.float64], int]:
+    """Candidate box centres around ``anchor`` in order of preference, and how many are near (no leader).
+
+    ``reach``: the marker's half size plus the gap; ``limit``: the largest gap tried."""
+    w, h = float(size[0]), float(size[1])
+    angles: list[float] = [a for _ in NEAR_GAPS_PX for a in COMPASS_DEG]
+    gaps: list[float] = [g for g in NEAR_GAPS_PX for _ in COMPASS_DEG]
+    gap = FAR_START_PX
+    while gap <= limit:
+        ring = reach + gap + (w + h) / 4.0  # about the radius of the boxes' centres
+        n = max(8, math.ceil(2.0 * math.pi * ring / max((w + h) / 2.0, 1.0)))
+        step = 360.0 / n
+        turn = sorted((step * k for k in range(n)), key=lambda a: (min(a, 360.0 - a), a))  # nearest NE first
+        angles += [(45.0 + a) % 360.0 for a in turn]
+        gaps += [gap] * n
+        gap += max(h, 0.25 * gap)
+    th = np.radians(np.asarray(angles))
+    c, s = np.cos(th), np.sin(th)
+    g = np.asarray(gaps)
+    # the box's side (or corner) that faces the point lies ``gap`` along the direction beyond the marker
+    sx = np.where(np.abs(c) > 0.38, np.sign(c), 0.0)
+    sy = np.where(np.abs(s) > 0.38, np.sign(s), 0.0)
+    centres = np.column_stack([anchor[0] + g * c + sx * (reach + w / 2.0), anchor[1] + g * s + sy * (reach + h / 2.0)])
+    return centres, len(NEAR_GAPS_PX) * len(COMPASS_DEG)
+
+
+def crowding_order(anchors: NDArray[np.float64], sizes: NDArray[np.float64]) -> list[int]:
+    """Indices, the most crowded point first: most other points within three of its label sizes (w + h);
+    ties by index."""
+    n = len(anchors)
+    if n == 0:
+        return []
+    d = np.hypot(*(anchors[:, None, :] - anchors[None, :, :]).transpose(2, 0, 1))
+    near = (d < 3.0 * sizes.sum(axis=1)[:, None]).sum(axis=1) - 1
+    return sorted(range(n), key=lambda i: (-int(near[i]), i))
+
+
+def arrange_boxes(
+    anchors: NDArray[np.float64],
+    sizes: NDArray[np.float64],
+    frame: tuple[float, float, float, float],
+    obstacles: NDArray[np.float64] | None = None,
+    marker_half: NDArray[np.float64] | None = None,
+    max_gap_px: float | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Box centres for labels of ``sizes`` (n x 2, width and height) at ``anchors`` (n x 2), all in pixels.
+
+    Parameters
+    ----------
+    anchors, sizes
+        Points and their label sizes.
+    frame
+        ``(x0, y0, x1, y1)``: every box stays inside.
+    obstacles
+        Boxes ``(x0, y0, x1, y1)`` (m x 4) no label may meet.
+    marker_half
+        Half the marker size of each point (n); each marker is an obstacle too.
+    max_gap_px
+        The farthest a box is put from its marker; ``None``: up to the frame's diagonal.
+
+    Returns
+    -------
+    centres, leader
+        Centres (n x 2; NaN where the label was left out) and whether each needs a leader line.
+    """
+    anchors = np.asarray(anchors, dtype=float).reshape(-1, 2)
+    sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
+    n = len(anchors)
+    half = np.zeros(n) if marker_half is None else np.asarray(marker_half, dtype=float)
+    marks = np.column_stack([anchors - half[:, None], anchors + half[:, None]])
+    fixed = np.asarray(obstacles, dtype=float).reshape(-1, 4) if obstacles is not None else np.empty((0, 4))
+    boxes = [fixed, marks]
+    centres = np.full((n, 2), np.nan)
+    leader = np.zeros(n, dtype=bool)
+    x0, y0, x1, y1 = frame
+    limit = math.hypot(x1 - x0, y1 - y0) if max_gap_px is None else float(max_gap_px)
+    for i in crowding_order(anchors, sizes):
+        taken = np.vstack(boxes)
+        cand, near = _candidates(anchors[i], sizes[i], half[i] + PAD_PX, limit)
+        hw, hh = sizes[i] / 2.0
+        for lo in range(0, len(cand), _BLOCK):
+            c = cand[lo : lo + _BLOCK]
+            bx = np.column_stack([c[:, 0] - hw, c[:, 1] - hh, c[:, 0] + hw, c[:, 1] + hh])
+            inside = (bx[:, 0] >= x0) & (bx[:, 1] >= y0) & (bx[:, 2] <= x1) & (bx[:, 3] <= y1)
+            hit = (
+                (bx[:, None, 0] < taken[None, :, 2] + PAD_PX)
+                & (bx[:, None, 2] > taken[None, :, 0] - PAD_PX)
+                & (bx[:, None, 1] < taken[None, :, 3] + PAD_PX)
+                & (bx[:, None, 3] > taken[None, :, 1] - PAD_PX)
+            ).any(axis=1)
+            free = np.flatnonzero(inside & ~hit)
+            if free.size:
+                k = int(free[0])
+                centres[i] = c[k]
+                leader[i] = lo + k >= near
+                boxes.append(bx[k : k + 1])
+                break
+    return centres, leader
+
+
+def _fixed_boxes(ax: Axes, renderer: RendererBase) -> NDArray[np.float64]:
+    """The boxes of the visible texts already in ``ax`` and of its legend (pixels)."""
+    out = [t.get_window_extent(renderer) for t in ax.texts if t.get_visible() and t.get_text()]
+    legend = ax.get_legend()
+    if legend is not None and legend.get_visible():
+        out.append(legend.get_window_extent(renderer))
+    return np.array([b.extents for b in out], dtype=float).reshape(-1, 4)
+
+
+def place_labels(
+    ax: Axes,
+    labels: Sequence[PointLabel],
+    *,
+    fontsize: float = 7.0,
+    color: str = "black",
+    leader_color: str = "0.45",
+    gid: str = "label",
+    max_gap_px: float | None = None,
+    renderer: RendererBase | None = None,
+) -> Placed:
+    """Label ``labels`` in ``ax`` so that no two labels, no label and marker, and no label and earlier text or
+    legend overlap (the module text gives the method, its cost and its limits).
+
+    Call it last, once everything else of the figure is drawn: it freezes the layout (:func:`freeze_layout`).
+    Each label is an annotation with ``gid`` ``"{gid}:{key}"``, a white halo, centred on its box.
+
+    Parameters
+    ----------
+    ax
+        The axes; its figure is drawn once to measure.
+    labels
+        The points and their texts.
+    fontsize, color, leader_color
+        Text size (points) and colours of the texts and the leader lines.
+    gid
+        The prefix of each label's ``gid``.
+    max_gap_px
+        The farthest a label is put from its marker (pixels); ``None``: anywhere in the axes.
+    renderer
+        The renderer :func:`freeze_layout` returned for ``ax`` (and the figure's other axes to label): the
+        figure is then not drawn again, which saves one draw per panel; ``None``: freeze here.
+
+    Returns
+    -------
+    Placed
+        The annotations drawn, the leader lines, and the keys left out for want of room.
+    """
+    fig = ax.get_figure(root=True)
+    assert isinstance(fig, Figure)
+    if renderer is None:
+        renderer = freeze_layout(fig, [ax])
+    fixed = _fixed_boxes(ax, renderer)
+    halo = [patheffects.withStroke(linewidth=2.0, foreground="white")]
+    arts: list[Annotation] = []
+    for p in labels:
+        a = ax.annotate(
+            p.text,
+            (p.x, p.y),
+            xytext=(0.0, 0.0),
+            textcoords="offset points",
+            ha="center",
+            va="center",
+            fontsize=fontsize if p.fontsize is None else p.fontsize,
+            color=color,
+            zorder=6,
+            annotation_clip=False,
+            path_effects=halo,
+            gid=f"{gid}:{p.key or p.text}",
+        )
+        arts.append(a)
+    sizes = np.array([a.get_window_extent(renderer).size for a in arts], dtype=float).reshape(-1, 2)
+    anchors = ax.transData.transform(np.array([(p.x, p.y) for p in labels], dtype=float).reshape(-1, 2))
+    half = np.array([p.marker_pt / 2.0 * fig.dpi / 72.0 for p in labels], dtype=float)
+    frame = tuple(float(v) for v in ax.bbox.extents)
+    centres, leader = arrange_boxes(anchors, sizes, (frame[0], frame[1], frame[2], frame[3]), fixed, half, max_gap_px)
+    kept: list[Annotation] = []
+    lines: list[Line2D] = []
+    omitted: list[str] = []
+    to_points = 72.0 / fig.dpi
+    inverse = ax.transData.inverted()
+    for p, a, c, lead, anchor, size, r in zip(labels, arts, centres, leader, anchors, sizes, half):
+        if np.isnan(c[0]):
+            a.remove()
+            omitted.append(p.key or p.text)
+            continue
+        a.xyann = ((c[0] - anchor[0]) * to_points, (c[1] - anchor[1]) * to_points)
+        kept.append(a)
+        if lead:
+            near = np.clip(anchor, c - size / 2.0, c + size / 2.0)
+            v = near - anchor
+            start = anchor + v * min(1.0, r / max(float(np.hypot(*v)), 1e-9))
+            (xa, ya), (xb, yb) = inverse.transform(np.array([start, near]))
+            lines += ax.plot([xa, xb], [ya, yb], color=leader_color, lw=0.5, zorder=5, scalex=False, scaley=False)
+    return Placed(tuple(kept), tuple(lines), tuple(omitted))
+
+
+def note_omitted(ax: Axes, placed: Placed) -> None:
+    """Say under ``ax`` (in its x label, whose room the layout has already kept) how many labels were left out."""
+    if placed.omitted:
+        n = len(placed.omitted)
+        ax.set_xlabel(f"{ax.get_xlabel()}   ({n} label{'s' if n > 1 else ''} left out: no room)")
+
+
+def finish_plans(
+    fig: Figure,
+    panels: Sequence[tuple[Axes, str, Sequence[PointLabel]]],
+    fontsize: float = 7.0,
+    max_gap_px: float | None = None,
+) -> list[Placed]:
+    """The last step of a plan figure whose panels were set up by :func:`planner.figures.base.frame_axes`:
+    freeze the layout once, then in each panel ``(axes, frame, labels)`` draw the scale bar and north arrow in
+    the final limits and place the labels (:func:`place_labels`), noting any left out (:func:`note_omitted`).
+
+    Returns what :func:`place_labels` returned for each panel."""
+    renderer = freeze_layout(fig, [ax for ax, _, _ in panels])
+    out = []
+    for ax, frame, labels in panels:
+        scale_and_north(ax, frame)
+        placed = place_labels(ax, labels, fontsize=fontsize, max_gap_px=max_gap_px, renderer=renderer)
+        note_omitted(ax, placed)
+        out.append(placed)
+    return out

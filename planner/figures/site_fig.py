@@ -1,0 +1,226 @@
+"""The whole site in one figure (:func:`site_figure`): every zone's walls, blocks and openings, obstacles and
+no-go areas, the stations numbered in walking order (or plan order), the registration links between them, the
+control points, a scale bar and north arrow, and labels that never overlap (:mod:`planner.figures.labels`).
+
+A site whose zones share one frame is one panel. A site whose zones stand in separate frames (a table site, such
+as ``instances/baalbek.json``, one frame per zone) gets one panel per frame, numbered on across the panels.
+
+For large sites the figure grows (to 16 x 12 in) and the markers, lines and numbers shrink with the number of
+stations; every number is still tried, first next to its station, then further out on a leader line up to
+:data:`LEADER_MAX_PX` (60 px; beyond, a number would be hard to match to its station), and a number that fits
+nowhere is left out and counted under the panel (the station table still lists it).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import networkx as nx
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Polygon
+
+from planner.core.checks import argument
+from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.labels import PointLabel, finish_plans
+from planner.figures.storey_fig import OPENING_COLOUR, draw_gap
+from planner.network.survey import registration_links
+from planner.plan.outcome import Outcome
+from planner.site.model import SITE_FRAME, ControlPoint
+
+#: the farthest a number is put from its station (pixels beyond the marker), on a leader line
+LEADER_MAX_PX = 60.0
+#: more links than this per station are drawn as their shortest spanning forest (:func:`shown_links`)
+DENSE_LINKS = 3
+_LINK = "tab:blue"
+_CONTROL = "tab:red"
+
+
+def station_numbers(o: Outcome, order: Sequence[str] | None = None) -> dict[str, int]:
+    """Each station's number (1..N): in ``order`` (station ids in visiting order, as the field plan walks
+    them), then the stations ``order`` leaves out in plan order; without ``order``, plan order.
+
+    Raises ``ValueError`` for an id that is no station of the plan, or one given twice."""
+    ids = [s.id for s in o.stations]
+    given = list(order or ())
+    unknown = sorted(set(given) - set(ids))
+    if unknown:
+        raise ValueError(f"order names stations the plan does not have: {', '.join(unknown)}")
+    if len(set(given)) != len(given):
+        raise ValueError("order names a station more than once")
+    rest = [i for i in ids if i not in set(given)]
+    return {sid: k for k, sid in enumerate(given + rest, 1)}
+
+
+def _links(o: Outcome) -> list[tuple[str, str]]:
+    """The registration links: the network's where it was checked, else the plan's relation afresh."""
+    if o.network is not None:
+        g = o.network.graph
+        return [(u, v) for u, v, d in g.edges(data=True) if "registration" in d["kinds"]]
+    if not o.stations:
+        return []
+    mode = (o.meta.get("resolved") or {}).get("registration")
+    return registration_links(o.sight, list(o.stations), mode, o.coverage.problem)
+
+
+def shown_links(o: Outcome, links: Sequence[tuple[str, str]]) -> list[tuple[str, str]]:
+    """The links drawn: all of them, or, where they are more than :data:`DENSE_LINKS` per station (a large open
+    area where every station registers to every other), the shortest spanning forest of them, which shows
+    what is connected to what in one line per station."""
+    if len(links) <= DENSE_LINKS * max(len(o.stations), 1):
+        return list(links)
+    xy = {s.id: s.xy for s in o.stations}
+    g = nx.Graph()
+    g.add_weighted_edges_from((u, v, math.dist(xy[u], xy[v])) for u, v in links)
+    return sorted((u, v) for u, v, _ in nx.minimum_spanning_edges(g, algorithm="kruskal"))
+
+
+def _control(o: Outcome, control: Sequence[ControlPoint] | None) -> list[ControlPoint]:
+    if control is not None:
+        return list(control)
+    if o.network is not None:
+        g = o.network.graph
+        return [
+            ControlPoint(n, d["x"], d["y"], proposed=bool(d.get("proposed")), frame=d["frame"])
+            for n, d in g.nodes(data=True)
+            if d["kind"] == "control"
+        ]
+    return list(o.site.control_points)
+
+
+def _count(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def _scale(n: int) -> tuple[float, float, float]:
+    """Marker size (points), font size and wall line width for ``n`` stations."""
+    if n <= 30:
+        return 6.0, 7.0, 1.0
+    if n <= 80:
+        return 4.5, 6.0, 0.8
+    return 3.5, 5.0, 0.6
+
+
+def _walls(ax: Axes, o: Outcome, frame: str, lw: float) -> None:
+    zones = [z for z in o.site.zones if z.frame == frame]
+    segs = [np.vstack([r, r[:1]]) for z in zones for r in z.rings]
+    ax.add_collection(LineCollection(segs, colors="black", linewidths=lw, zorder=2))
+    for z in zones:
+        for hole in z.holes:
+            ax.add_patch(Polygon(np.asarray(hole), closed=True, fc="0.85", ec="none", zorder=1))
+        for op in z.openings:
+            draw_gap(ax, z.walls[op.wall - 1], op.s0_m, op.s1_m, OPENING_COLOUR.get(op.kind, "tab:orange"))
+    if frame == SITE_FRAME:
+        for ob in o.site.obstacles:
+            ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.6", ec="0.3", hatch="xx", alpha=0.6, zorder=1))
+        for a in o.site.no_go_areas:
+            ax.add_patch(Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, zorder=1))
+
+
+def _panel(
+    ax: Axes,
+    o: Outcome,
+    frame: str,
+    numbers: dict[str, int],
+    links: list[tuple[str, str]],
+    control: list[ControlPoint],
+) -> list[PointLabel]:
+    """Draw one frame's panel; the labels of its stations and control points, to be placed last."""
+    ms, _, lw = _scale(len(o.stations))
+    _walls(ax, o, frame, lw)
+    st = {s.id: s for s in o.stations if s.frame == frame}
+    segs = [(st[u].xy, st[v].xy) for u, v in links if u in st and v in st]
+    if segs:
+        ax.add_collection(
+            LineCollection(segs, colors=_LINK, linewidths=0.6 + 0.4 * lw, alpha=0.7, zorder=3, gid="links")
+        )
+    labels: list[PointLabel] = []
+    mine = sorted(st.values(), key=lambda s: numbers[s.id])
+    if mine:
+        xy = np.array([s.xy for s in mine], dtype=float)
+        ax.plot(xy[:, 0], xy[:, 1], "o", ms=ms, mfc="white", mec="black", mew=0.8, ls="none", zorder=4, gid="stations")
+    labels += [PointLabel(s.x, s.y, str(numbers[s.id]), f"station:{s.id}", ms) for s in mine]
+    here = [c for c in control if c.frame == frame]
+    for c in here:
+        face = "white" if c.proposed else _CONTROL
+        ax.plot(c.x, c.y, "^", ms=ms + 2, color=_CONTROL, mfc=face, zorder=4, gid=f"control:{c.name}")
+    labels += [PointLabel(c.x, c.y, c.name, f"control:{c.name}", ms + 2) for c in here]
+    frame_axes(ax, PLAN_MARGIN)
+    if len({z.frame for z in o.site.zones}) > 1:
+        ax.set_title(f"frame {frame}: {_count(len(mine), 'station')}", fontsize=9)
+    return labels
+
+
+def site_figure(
+    o: Outcome, order: Sequence[str] | None = None, control: Sequence[ControlPoint] | None = None
+) -> Figure:
+    """Every zone of the site with the stations, their registration links and the control points.
+
+    Parameters
+    ----------
+    o
+        The plan's outcome; its network report, where present, gives the registration links and the control
+        points (proposed ones drawn open), else the links are the plan's registration relation computed afresh.
+    order
+        Station ids in visiting order (the field plan's walk): station ``order[k]`` is numbered ``k + 1``;
+        stations it leaves out follow in plan order. ``None``: numbered in plan order.
+    control
+        Control points to draw instead of the network's (or, without a network, the site's).
+
+    Returns
+    -------
+    Figure
+        One panel per frame (one for a site in one frame), each with a scale bar and a north arrow; every
+        station number and control name labelled without overlap (see the module text for large sites).
+    """
+    argument(o, Outcome, "outcome")
+    numbers = station_numbers(o, order)
+    frames = list(dict.fromkeys(z.frame for z in o.site.zones))
+    ncols = math.ceil(math.sqrt(len(frames)))
+    nrows = math.ceil(len(frames) / ncols)
+    fig = Figure(figsize=_size(o, frames, ncols, nrows), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
+    every, points = _links(o), _control(o, control)
+    links = shown_links(o, every)
+    labels = [_panel(ax, o, frame, numbers, links, points) for ax, frame in zip(axes, frames)]
+    for ax in axes[len(frames) :]:
+        ax.set_visible(False)
+    handles = [
+        Line2D([], [], color="black", lw=1.0, label="wall"),
+        Line2D(
+            [],
+            [],
+            color=_LINK,
+            lw=1.0,
+            label="registration link"
+            if len(links) == len(every)
+            else f"registration links: shortest spanning forest ({len(links)} of {len(every)})",
+        ),
+        Line2D([], [], marker="o", ls="none", mfc="white", mec="black", label="station (number: visiting order)"),
+    ]
+    if points:
+        handles.append(Line2D([], [], marker="^", ls="none", color=_CONTROL, label="control point (open: proposed)"))
+    if any(z.openings for z in o.site.zones):
+        handles.append(Line2D([], [], color="tab:orange", lw=4, label="opening"))
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8, frameon=False)
+    how = "walking order" if order else "plan order"
+    fig.suptitle(f"{o.site.name}: {_count(len(o.stations), 'station')}, numbered in {how}")
+    panels = [(ax, frame, mine) for ax, frame, mine in zip(axes, frames, labels)]
+    finish_plans(fig, panels, fontsize=_scale(len(o.stations))[1], max_gap_px=LEADER_MAX_PX)
+    return fig
+
+
+def _size(o: Outcome, frames: list[str], ncols: int, nrows: int) -> tuple[float, float]:
+    """Figure size (inches): about 10 in wide for a small site, growing with the stations to 16, the height
+    after the site's shape (one frame) or the panel grid."""
+    width = min(16.0, 10.0 + 0.06 * max(0, len(o.stations) - 30))
+    if len(frames) > 1:
+        return width, min(12.0, width * nrows / ncols * 0.9 + 0.6)
+    xy = np.vstack([np.asarray(r) for z in o.site.zones for r in z.rings])
+    span = np.ptp(xy, axis=0)
+    ratio = float(span[1] / span[0]) if span[0] > 0 else 1.0
+    return width, float(np.clip(width * ratio + 1.2, 5.0, 12.0))
