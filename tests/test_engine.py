@@ -152,4 +152,4 @@ def test_a_run_with_no_rule_is_compared_with_the_plain_cover(tmp_path, monkeypat
     out = with_strategy(plan)
     known = out.result.info["best_known"]
     assert known["problem"] == "plain cover" and known["same_pool"] and known["gap"] == 0.0
-    assert "(plain cover, registration None, overlap 0" in out.log[-1] and "gap to it 0.0 %" in out.log[-1]
+    assert "(plain cover, registration none, overlap 0" in out.log[-1] and "gap to it 0.0 %" in out.log[-1]

@@ -1,4 +1,5 @@
-"""Results as text for front ends: strict JSON (plan.json, network.json, field.json) and notebook HTML.
+"""Results as text for front ends: strict JSON (plan.json, network.json, field.json), notebook HTML, and the
+building blocks of the terminal summaries (aligned tables, ``key value`` lines, folded notes).
 
 **JSON.** Python's ``json`` writes ``NaN`` and ``Infinity`` for non-finite floats, which JavaScript's
 ``JSON.parse`` and strict parsers refuse. Here a non-finite float becomes ``null``; where that hides a
@@ -6,6 +7,11 @@ meaning (a piece whose stations are not tied to control has an infinite error), 
 data states it in a field of its own (``untied``).
 
 **Notebooks.** Every result's ``_repr_html_`` is its ``summary()`` in a titled block (:func:`summary_html`).
+
+**Terminal.** A summary is read by a person, so it shows no Python reprs (no ``{'key': ...}``, ``[...]``,
+``None``, ``True``): :func:`table` aligns rows in columns as wide as their content, numbers right-aligned;
+:func:`key_values` prints ``key  value`` lines; :func:`yes_no` and :func:`or_none` give the words;
+:func:`fold_alike` folds notes that differ only in the names they mention into one line with a count.
 """
 
 from __future__ import annotations
@@ -13,6 +19,8 @@ from __future__ import annotations
 import html
 import json
 import math
+import re
+from collections.abc import Iterable, Sequence
 from typing import Any, Protocol
 
 
@@ -55,3 +63,150 @@ def summary_html(obj: HasSummary, title: str) -> str:
         f'<div class="tls-planner"><b>{html.escape(title)}</b>'
         f'<pre style="font-size:90%">{html.escape(obj.summary())}</pre></div>'
     )
+
+
+#: a cell that reads as a number (with thousands separators, a sign, a ratio ``a/b`` or a unit): right-aligned
+_NUMBER = re.compile(r"^[-+]?(?=[\d.])[\d,]*\.?\d*(/[\d,]*\.?\d*)?( ?(%|m|mm|s|deg))?$")
+#: a word of a note: letters, digits and the joiners of names (``Z4-in-G4``, ``CP4.1``), no trailing punctuation
+_WORD = re.compile(r"\w(?:[\w.\-/]*\w)?")
+
+
+def yes_no(flag: bool) -> str:
+    """``yes`` or ``no``: a truth value as a person writes it."""
+    return "yes" if flag else "no"
+
+
+def or_none(value: Any, fmt: str = "") -> str:
+    """``value`` formatted with ``fmt``, or the word ``none`` where it is None."""
+    return "none" if value is None else format(value, fmt)
+
+
+def _cell(value: Any) -> str:
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return yes_no(value)
+    if isinstance(value, int):
+        return f"{value:,}"
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def _numeric(text: str) -> bool:
+    return bool(_NUMBER.match(text)) and any(c.isdigit() for c in text)
+
+
+def table(
+    header: Sequence[str],
+    rows: Iterable[Sequence[Any]],
+    *,
+    indent: str = "  ",
+    right: Sequence[bool] | None = None,
+) -> list[str]:
+    """Rows as aligned lines under a header, two spaces between columns.
+
+    Parameters
+    ----------
+    header
+        The column titles.
+    rows
+        The cells; None prints as ``none``, a bool as ``yes``/``no``, an int with thousands separators, a float
+        by ``:g`` (format floats beforehand to fix their decimals).
+    indent
+        Put before every line.
+    right
+        Which columns are right-aligned; by default those whose every non-empty cell reads as a number
+        (``1,058``, ``100.000``, ``3835/3835``, ``4.06 mm``).
+
+    Returns
+    -------
+    list of str
+        The header line and one line per row, each column as wide as its widest cell, trailing spaces removed.
+    """
+    body = [[_cell(v) for v in row] for row in rows]
+    n = len(header)
+    if any(len(row) != n for row in body):
+        raise ValueError(f"every row needs {n} cells")
+    if right is None:
+        right = [bool(col) and all(_numeric(c) for c in col if c) for col in ([r[k] for r in body] for k in range(n))]
+    widths = [max([len(header[k])] + [len(r[k]) for r in body]) for k in range(n)]
+
+    def line(cells: Sequence[str]) -> str:
+        parts = [c.rjust(w) if r else c.ljust(w) for c, w, r in zip(cells, widths, right)]
+        return (indent + "  ".join(parts)).rstrip()
+
+    return [line(header)] + [line(r) for r in body]
+
+
+def key_values(pairs: Iterable[tuple[str, Any]], *, indent: str = "  ") -> list[str]:
+    """``key  value`` lines, the values starting in one column (None as ``none``, a bool as ``yes``/``no``)."""
+    items = [(k, _cell(v)) for k, v in pairs]
+    width = max((len(k) for k, _ in items), default=0)
+    return [f"{indent}{k.ljust(width)}  {v}".rstrip() for k, v in items]
+
+
+def natural_key(text: str) -> tuple[Any, ...]:
+    """Sort key that orders the numbers inside names by value: Z2 before Z10, CP1.2 before CP1.10."""
+    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.split(r"(\d+)", text) if t)
+
+
+def _names(line: str, names: frozenset[str]) -> list[tuple[int, int, str]]:
+    """The names a note mentions, with their spans: words that hold both a letter and a digit (``Z4``,
+    ``CP4.1``, ``outline-out-V18``) or are among ``names``. Bare numbers are measurements, never names."""
+    out = []
+    for m in _WORD.finditer(line):
+        w = m.group()
+        if w in names or (any(c.isdigit() for c in w) and any(c.isalpha() for c in w)):
+            out.append((m.start(), m.end(), w))
+    return out
+
+
+def fold_alike(lines: Iterable[str], names: Iterable[str] = (), *, shown: int = 6) -> list[str]:
+    """Notes that differ only in the names they mention, folded into one line with a count.
+
+    Two notes are alike when they read the same once every name in them is blanked out (a name: a word with
+    both letters and digits, such as ``Z4``, ``CP4.1`` or ``Z8-in-C``, or one of ``names``, such as zone names
+    without digits). Numbers alone are not names, so notes that differ in a measured value stay apart. Each
+    group of alike notes prints once, at the place of its first note: the note whose name comes first in
+    natural order, then ``(same for N: A, B, ..., Z)`` naming the first name that differs between them
+    (``shown`` names at most, the first ones and the last); identical notes print once with ``(N times)``.
+
+    Parameters
+    ----------
+    lines
+        The notes, in the order they came.
+    names
+        Further words to treat as names (zone ids without digits, station ids).
+    shown
+        How many differing names the count lists before it elides them.
+
+    Returns
+    -------
+    list of str
+        The notes, each group of alike ones folded.
+    """
+    known = frozenset(names)
+    groups: dict[str, list[tuple[str, list[str]]]] = {}
+    for line in lines:
+        spans = _names(line, known)
+        key, at = [], 0
+        for start, end, _ in spans:
+            key += [line[at:start], "\0"]
+            at = end
+        key.append(line[at:])
+        groups.setdefault("".join(key), []).append((line, [w for _, _, w in spans]))
+    out = []
+    for members in groups.values():
+        if len(members) == 1:
+            out.append(members[0][0])
+            continue
+        varying = next((k for k in range(len(members[0][1])) if len({m[1][k] for m in members}) > 1), None)
+        if varying is None:
+            out.append(f"{members[0][0]} ({len(members)} times)")
+            continue
+        labels = sorted({m[1][varying] for m in members}, key=natural_key)
+        first = min(members, key=lambda m: natural_key(m[1][varying]))[0]
+        listed = labels if len(labels) <= shown else labels[: shown - 1] + ["...", labels[-1]]
+        out.append(f"{first} (same for {len(members)}: {', '.join(listed)})")
+    return out

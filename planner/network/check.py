@@ -28,6 +28,7 @@ from planner.network.graph import Diagnostics, diagnostics, propose_control, sta
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
 from planner.network.pieces import accuracy_check
+from planner.network.summary import network_summary
 from planner.network.survey import SurveyNetwork, registration_links, survey_network
 from planner.network.traverse import (
     ControlTraverse,
@@ -133,47 +134,8 @@ class NetworkReport:
         return summary_html(self, "Network and accuracy check")
 
     def summary(self) -> str:
-        worst = max(self.station_sigma.items(), key=lambda kv: kv[1], default=("-", float("nan")))
-        c = self.check
-        lines = [
-            f"network: {self.graph.number_of_nodes()} nodes, {self.graph.number_of_edges()} edges, "
-            f"{len(self.diagnostics.components)} part(s), control points {len(self.control)} "
-            f"({sum(cp.proposed for cp in self.control)} proposed)",
-            f"stations untied to control: {', '.join(self.diagnostics.untied_stations) or 'none'}; "
-            f"articulation points: {len(self.diagnostics.articulation_points)}",
-            f"a priori station error (least-squares adjustment of the design network): worst {worst[0]} "
-            f"{worst[1] * 1000:.2f} mm, network RMS {self.network_rms_m * 1000:.2f} mm",
-        ]
-        lines += [f"  not adjusted: {f}" for f in self.failures]
-        lines += [f"  note: {n}" for n in self.notes]
-        for k, m in enumerate(self.monte_carlo, 1):
-            # stations alone, to compare with the a priori network RMS above; all adjusted points beside it
-            st = [v for name, v in m.rms.items() if name in self.station_sigma]
-            st_rms = math.sqrt(float(np.mean(np.square(st)))) if st else float("nan")
-            part = f", network part {k} of {len(self.monte_carlo)}" if len(self.monte_carlo) > 1 else ""
-            lines.append(
-                f"Monte Carlo ({m.runs} runs{part}): station RMS {st_rms * 1000:.2f} mm over {len(st)} stations "
-                f"(all {len(m.rms)} adjusted points, control and traverse points included: {m.mean_rms * 1000:.2f} mm)"
-            )
-        worst_e = (
-            f"worst e {c['worst_e_m'] * 1000:.2f} mm" if c["worst_e_m"] is not None else "no piece with a finite error"
-        )
-        if c.get("untied_targets"):
-            worst_e += (
-                f" where tied to control; {c['untied_targets']} pieces seen by untied stations only (no finite error)"
-            )
-        unseen = f"; {c['unseen_targets']} pieces seen by no station" if c.get("unseen_targets") else ""
-        lines.append(
-            f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
-            f"({c['failing_targets']} of {c['targets']} seen pieces fail; {worst_e}{unseen})"
-        )
-        for z in c["zones"]:
-            worst_e = "untied station" if z["untied"] else f"{z['worst_e_m'] * 1000:.2f} mm"
-            lines.append(f"  {z['zone']:<9}{z['side']:<9}{'pass' if z['pass'] else 'FAIL':<6} worst e {worst_e}")
-        lines += [f"  fix: {s}" for s in c["suggestions"]]
-        if self.survey is not None:
-            lines += self.survey.lines()
-        return "\n".join(lines)
+        """The network check for the terminal (:func:`planner.network.summary.network_summary`)."""
+        return network_summary(self)
 
 
 def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], notes: list[str]) -> dict[str, float]:

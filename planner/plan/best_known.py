@@ -61,7 +61,7 @@ class Known:
         """How a plan of ``stations`` compares: the gap on the same pool, else that the pools differ."""
         proven = ", proven optimal over its pool" if self.proven_optimal else ""
         head = (
-            f"best known: {self.stations} stations ({self.problem}, registration {self.registration}, overlap "
+            f"best known: {self.stations} stations ({self.problem}, registration {self.registration or 'none'}, overlap "
             f"{self.overlap:g}{proven}; {self.measured}: {self.command})"
         )
         gap = self.gap(stations)

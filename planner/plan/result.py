@@ -6,10 +6,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from planner.core.text import fold_alike, table
 from planner.coverage.fingerprint import Pool
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem
-from planner.plan.tripod import TripodDisc, tripod_heights_line
+from planner.plan.tripod import TripodDisc
 from planner.plan.verify import VerifyReport
 from planner.site.candidate import Candidate
 from planner.site.model import Site
@@ -63,54 +64,118 @@ class Plan:
         return summary_html(self, f"Plan: {len(self.stations)} stations")
 
     def summary(self) -> str:
-        by_zone: dict[tuple[str, str], int] = {}
-        for s in self.stations:
-            by_zone[(s.zone, s.side.value)] = by_zone.get((s.zone, s.side.value), 0) + 1
+        """The plan for the terminal: how it was found, the stations per zone (in the site's order), the limits
+        and rules it answers, both bounds with what each holds over, registration, tripod discs and the
+        verification; notes of the run that differ only in the names they mention come folded into one line."""
         sides = self.count_by_side()
-        w = max([10] + [len(z) + 1 for z, _ in by_zone])  # long room names (IFC) keep their column
         lines = [
-            f"instance {self.site.name}, method {self.result.method}: {self.result.summary(self.time_label)}",
-            f"presolve: {self.result.info['presolve']}" if "presolve" in self.result.info else "",
+            f"instance {self.site.name}: {self.result.summary(self.time_label)}",
+            self._presolve_line(),
             f"stations: {len(self.stations)} (inside {sides.get('inside', 0)}, outside {sides.get('outside', 0)}); "
-            f"candidates {self.problem_size['candidates']}, targets {self.problem_size['targets']}",
-            f"{'zone':<{w}}{'side':<9}{'stations':>9}",
+            f"candidates {self.problem_size['candidates']:,}, targets {self.problem_size['targets']:,}",
         ]
-        lines += [f"{z:<{w}}{s:<9}{n:>9}" for (z, s), n in by_zone.items()]
+        lines += table(["zone", "side", "stations"], self._by_zone())
         lines += [self.problem.limits_line(), self.problem.registration_line()]
-        lines += list(self.log)
+        lines += fold_alike(self.log, [z.id for z in self.site.zones])
         lines.append(self._accuracy_line())
-        lines.append(self._bound_line())
+        lines += self._bound_lines()
         broken = {g: n for g, n in self.registration.items() if n > 1}
         lines.append(
             "registration: every registration group connected under the overlap relation"
             if not broken
             else "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items())
         )
-        if self.tripods:
-            radii = [d.radius_m for d in self.tripods]
-            lines.append(
-                f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
-                + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)")
-            )
-            lines.append(tripod_heights_line(self.tripods, self.site.parameters))
+        lines += self._tripod_lines()
         lines.append(self.verification.summary())
         return "\n".join(line for line in lines if line)
 
-    def _bound_line(self) -> str:
-        """Both bounds, each with what it holds over: the pool's (the MILP's) and the plane's (pricing)."""
+    def _site_order(self, zone: str, side: str) -> tuple[int, int]:
+        """Sort key of a zone-side: the zone's place in the site file, inside before outside."""
+        order = {z.id: k for k, z in enumerate(self.site.zones)}
+        return order.get(zone, len(order)), 0 if side == "inside" else 1
+
+    def _by_zone(self) -> list[tuple[str, str, int]]:
+        """(zone, side, stations) per zone-side with stations, in the site's order."""
+        counts: dict[tuple[str, str], int] = {}
+        for s in self.stations:
+            counts[(s.zone, s.side.value)] = counts.get((s.zone, s.side.value), 0) + 1
+        return [(z, s, n) for (z, s), n in sorted(counts.items(), key=lambda kv: self._site_order(*kv[0]))]
+
+    def _presolve_line(self) -> str:
+        """The MILP presolve's counts in one sentence (empty where it did not run)."""
+        info = self.result.info.get("presolve")
+        if not isinstance(info, dict):
+            return ""
+        known = (
+            "candidates_in",
+            "candidates_out",
+            "dominated_removed",
+            "forced",
+            "targets_in",
+            "targets_out",
+            "duplicate_targets_removed",
+            "links",
+            "time_s",
+        )
+        if not all(k in info for k in known[:7]):  # another solver's report: its keys as they are
+            return "presolve: " + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in info.items())
+        links = f", {info['links']:,} overlap links among the candidates kept" if "links" in info else ""
+        time = f", {info['time_s']:.2f} s" if "time_s" in info else ""
+        rest = "".join(f", {k.replace('_', ' ')} {v}" for k, v in info.items() if k not in known)
+        return (
+            f"presolve: candidates {info['candidates_in']:,} -> {info['candidates_out']:,} "
+            f"({info['dominated_removed']:,} dominated, {info['forced']:,} forced into the plan), "
+            f"targets {info['targets_in']:,} -> {info['targets_out']:,} "
+            f"({info['duplicate_targets_removed']:,} implied by other targets){links}{rest}{time}"
+        )
+
+    def _tripod_lines(self) -> list[str]:
+        """The tripod discs' radii, then each station's disc and instrument-height tolerance (3.32) as a table
+        in the site's order."""
+        if not self.tripods:
+            return []
+        radii = [d.radius_m for d in self.tripods]
+        p = self.site.parameters
+        ih, span = p.instrument_height_m, p.instrument_height_span_m
+        placed = {s.id: s for s in self.stations}
+
+        def key(d: TripodDisc) -> tuple[int, int]:
+            s = placed.get(d.station)
+            return self._site_order(s.zone, s.side.value) if s is not None else (len(self.site.zones), 2)
+
+        rows = [
+            (
+                d.station,
+                placed[d.station].zone if d.station in placed else "",
+                placed[d.station].side.value if d.station in placed else "",
+                f"{d.radius_m:.3f}",
+                f"{d.height_tolerance_m:.3f}",
+            )
+            for d in sorted(self.tripods, key=key)
+        ]
+        head = [
+            f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
+            + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)"),
+            f"instrument-height tolerance (3.32, IH {ih:g}..{ih + span:g} m) and tripod disc per station:",
+        ]
+        return head + table(["station", "zone", "side", "disc radius m", "IH tolerance m"], rows)
+
+    def _bound_lines(self) -> list[str]:
+        """The bound's scope, then each bound on a line of its own with what it holds over: the pool's (the
+        MILP's), the plane's (pricing) and the connected plans' plane bound."""
         r = self.result
         scope = r.scope
         if scope is None:
-            return ""
+            return []
         info = r.info
         pool = info.get("pool_bound", r.bound)
         plane = info.get("plane_bound")
-        pool_s = f"{pool:g} over the candidate pool (MILP)" if pool is not None else "none over the pool"
-        plane_s = (
-            f"{plane:g} over every position in the plane (cover LP priced over the coverage regions; "
-            f"{info.get('certificate', {}).get('assumes', 'pieces of the target spacing')})"
+        rows = [(f"{pool:g}" if pool is not None else "none", "over the candidate pool (MILP)")]
+        assumes = info.get("certificate", {}).get("assumes", "pieces of the target spacing")
+        rows.append(
+            (f"{plane:g}", f"over every position in the plane (cover LP priced over the coverage regions; {assumes})")
             if plane is not None
-            else "no plane bound (pricing off)"
+            else ("none", "over the plane (pricing off)")
         )
         conn = info.get("connected_plane_bound")
         if conn is not None:
@@ -119,15 +184,16 @@ class Plan:
                 if any(s.get("refined") for s in info.get("connected_plane", {}).get("zone_sides", []))
                 else "ring walk over patches"
             )
-            plane_s += f"; connected plans: {conn:g} over every position in the plane ({how})"
+            rows.append((f"{conn:g}", f"connected plans, over every position in the plane ({how})"))
         head = (
-            "bound scope: plane (no plan from any positions in the plane has fewer stations)"
+            "bound scope: plane (no plan from any positions in the plane has fewer stations); bounds:"
             if scope == "plane"
-            else "bound scope: pool (the plan is proven only over the candidate pool)"
+            else "bound scope: pool (the plan is proven only over the candidate pool); bounds:"
             if r.status.value == "optimal"
-            else "bound scope: pool"
+            else "bound scope: pool; bounds:"
         )
-        return f"{head}; bounds: {pool_s}; {plane_s}"
+        width = max(len(b) for b, _ in rows)
+        return [head] + [f"  {b.rjust(width)}  {what}" for b, what in rows]
 
     @property
     def time_label(self) -> str:

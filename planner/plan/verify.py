@@ -19,6 +19,7 @@ import numpy as np
 from planner.candidates.final_step import misplacement
 from planner.core.checks import SAMPLING_M, argument
 from planner.core.errors import InputError
+from planner.core.text import table
 from planner.coverage.sight import Sight
 from planner.coverage.targets import SIDE_NAME, make_targets
 from planner.site.candidate import Candidate, check_unique_ids, stations_argument
@@ -86,13 +87,16 @@ class VerifyReport:
         return summary_html(self, "Verification")
 
     def summary(self) -> str:
+        """The verification for the terminal: covered share, a table of zone-sides (in the order of the site's
+        zones), the uncovered stretches (30 at most) and the misplaced stations."""
         mode = " (combined precision)" if self.precision == "combined" else ""
         lines = [f"verification at {self.spacing_m:g} m{mode}: {self.percent:.3f} % covered"]
-        w = max([9] + [len(z.zone) + 1 for z in self.zones])  # long room names (IFC) keep their column
-        lines += [f"  {z.zone:<{w}}{z.side:<9}{z.covered:>8}/{z.points:<8}{z.percent:8.3f} %" for z in self.zones]
+        rows = [(z.zone, z.side, z.points, z.covered, f"{z.percent:.3f}") for z in self.zones]
+        lines += table(["zone", "side", "points", "covered", "covered %"], rows)
         if self.gaps:
-            lines.append(f"uncovered stretches ({len(self.gaps)}):")
-            lines += [f"  {g.zone} {g.side} wall {g.wall}: {g.from_m:.2f}-{g.to_m:.2f} m" for g in self.gaps[:30]]
+            lines.append(f"uncovered stretches ({len(self.gaps)}), in metres from the wall's first vertex:")
+            shown = [(g.zone, g.side, g.wall, f"{g.from_m:.2f}", f"{g.to_m:.2f}") for g in self.gaps[:30]]
+            lines += table(["zone", "side", "wall", "from m", "to m"], shown)
             if len(self.gaps) > 30:
                 lines.append(f"  ... and {len(self.gaps) - 30} more")
         lines += [f"misplaced station {s}: {r}" for s, r in self.misplaced]
