@@ -13,6 +13,7 @@ from planner.cli.inputs import guard_memory, load_with_overrides, memory_limit, 
 from planner.cli.network_command import checking_problem, network_check, network_inputs
 from planner.cli.report import parse_exports, write_exports
 from planner.cli.tiles import option_flag, strategy_options
+from planner.cli.tuning import option_name
 from planner.core.errors import ExitCode, InfeasibleError, UsageError
 from planner.core.text import dumps
 
@@ -39,6 +40,7 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
     from planner.plan import PlanOptions
     from planner.solve.milp import MilpOptions
 
+    _plan_rules(args)
     pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
     rule = None if args.no_overlap else SiteShare(min_shared_m=args.min_shared, max_link_m=args.max_link)
     milp = MilpOptions(
@@ -77,6 +79,38 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
     return replace(options, strategy=strategy_options(args, options))
 
 
+#: the options' fields of the library by the command line's key (``--KEY`` or ``--set KEY``) that sets them
+_PLAN_KEYS = {
+    "k": "k",
+    "method": "method",
+    "precision": "precision",
+    "registration": "registration",
+    "backend": "backend",
+    "connectivity": "connectivity",
+    "target_spacing_m": "target-spacing",
+    "verify_spacing_m": "verify-spacing",
+    "grid_spacing_m": "grid-spacing",
+    "time_limit_s": "time-limit",
+}
+
+
+def _plan_rules(args: argparse.Namespace) -> None:
+    """The rules between ``planner plan``'s options, said in its flags before the library says them in its
+    fields."""
+    if args.k != 1 and args.method != "milp":
+        raise UsageError(f"{args.k} needs --method milp (the {args.method} method covers each piece once)", field="--k")
+    if args.precision == "combined" and args.no_precision:
+        off = option_name("plan", "no-precision")
+        raise UsageError(f"combined needs the precision check, which {off} turns off", field="--precision")
+
+
+def plan_flag(field: str | None) -> str | None:
+    """The flag (or ``--set KEY``) of ``planner plan`` that sets an options field (the field where none does)."""
+    if field in _PLAN_KEYS:
+        return option_name("plan", _PLAN_KEYS[field])
+    return option_flag(field)
+
+
 def cmd_plan(args: argparse.Namespace) -> int:
     formats = parse_exports(args.export)
     if formats and not args.out:
@@ -102,7 +136,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     try:
         problem = resolve(site, plan_options(args))  # once per run: every stage takes it
     except UsageError as err:  # a strategy option refused: named as the user gave it
-        raise UsageError(err.message, field=option_flag(err.field), value=err.value) from None
+        raise UsageError(err.message, field=plan_flag(err.field), value=err.value) from None
     guard_memory(problem)  # before the solver stacks load, so that a refusal is quick
     from planner.engine import plan_site
     from planner.io.plan_json import write_plan

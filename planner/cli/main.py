@@ -52,8 +52,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = progress.set_sink(progress.Bar(sys.stderr) if show else None)
     try:
         return int(args.func(args))
-    except PlannerError as exc:
-        print(f"planner: error: {exc.one_line()}", file=sys.stderr)
+    except PlannerError as exc:  # a usage error says so, as argparse's own do
+        kind = "usage error" if isinstance(exc, UsageError) else "error"
+        print(f"planner: {kind}: {exc.one_line()}", file=sys.stderr)
         return int(exc.exit_code)
     except KeyboardInterrupt:
         print("planner: interrupted", file=sys.stderr)

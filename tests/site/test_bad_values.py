@@ -35,9 +35,10 @@ def cli(capsys, *argv: str) -> tuple[int, str]:
     return code, capsys.readouterr().err
 
 
-def refused(capsys, fragments: tuple[str, ...], *argv: str) -> None:
+def refused(capsys, fragments: tuple[str, ...], *argv: str, exit_code: int = 3) -> None:
+    """``planner *argv`` fails with ``exit_code`` (3: invalid input) and one line holding every fragment."""
     code, err = cli(capsys, *argv)
-    assert code == 3, err
+    assert code == exit_code, err
     assert_one_line_error(err, *fragments)
 
 
@@ -114,11 +115,12 @@ def test_huge_parameters_are_refused_naming_the_field(tmp_path, capsys, paramete
 
 
 def test_huge_command_line_parameters_go_through_the_same_check(tmp_path, capsys):
-    # --max-range 1e300 overflowed in planning (exit 1); the bound itself (10 km) is accepted
+    # --max-range 1e300 overflowed in planning (exit 1); the bound itself (10 km) is accepted; the value came
+    # from the command line, so the usage error (exit 2) names the flag, not the site parameter it sets
     path = site(tmp_path)
     refused(
         capsys,
-        ("max_slant_range_m = 1e+300: must be > 0 and <= 10000 m",),
+        ("--max-range: 1e+300 is not a slant range S_max in metres (expected > 0 and <= 10000 m)",),
         "plan",
         str(path),
         "--method",
@@ -127,8 +129,10 @@ def test_huge_command_line_parameters_go_through_the_same_check(tmp_path, capsys
         "1e300",
         "--out",
         str(tmp_path),
+        exit_code=2,
     )
-    refused(capsys, ("sigma_req_m = 1e+300",), "validate", str(path), "--sigma-req", "1e300")
+    fragment = ("--sigma-req: 1e+300 is not a required accuracy",)
+    refused(capsys, fragment, "validate", str(path), "--sigma-req", "1e300", exit_code=2)
     assert cli(capsys, "validate", str(path), "--max-range", "10000")[0] == 0
 
 
@@ -168,7 +172,10 @@ def test_a_drawing_scale_takes_plain_digits_only(tmp_path, capsys, scale):
     # these were read as 1:20, 1:50, 1:50 and 1:50 (spaces dropped, then float()); CSV and JSON refuse 3_0
     path = site(tmp_path, parameters={"drawing_scale": scale})
     refused(capsys, ("site.json", f"drawing_scale = {scale!r}: not a drawing scale like 1:50"), "validate", str(path))
-    refused(capsys, (f"drawing_scale = {scale!r}",), "validate", str(site(tmp_path, "plain.json")), "--scale", scale)
+    # given by --scale it is a usage error naming the flag
+    code, err = cli(capsys, "validate", str(site(tmp_path, "plain.json")), "--scale", scale)
+    assert code == 2
+    assert_one_line_error(err, f"--scale: {scale} is not a drawing scale like 1:50")
 
 
 @pytest.mark.parametrize("scale", ["1:50", " 1 : 50 ", "50", "1:50.0"])
