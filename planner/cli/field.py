@@ -30,9 +30,10 @@ def _fraction(text: str) -> float:
 
 
 def add_field_options(p: argparse.ArgumentParser) -> None:
-    """Options of the sheet: ``--mode``, ``--start``, ``--session`` (on ``planner plan`` the tuning keys
-    ``field-mode``, ``field-start``, ``field-session``: one help text for both, :mod:`planner.cli.tuning`)."""
-    for key in ("field-mode", "field-start", "field-session"):
+    """Options of the sheet: ``--mode``, ``--start``, ``--session``, ``--strict-walls`` (on ``planner plan``
+    the tuning keys ``field-mode``, ``field-start``, ``field-session``, ``field-strict-walls``: one help text
+    for both, :mod:`planner.cli.tuning`)."""
+    for key in ("field-mode", "field-start", "field-session", "field-strict-walls"):
         add_option(p, key, name=key.removeprefix("field-"))
 
 
@@ -91,6 +92,7 @@ def field_options(args: argparse.Namespace, prefix: str = "") -> FieldOptions:
             strong_overlap=getattr(args, "strong_overlap", 0.5),
             solution_limit=getattr(args, "solution_limit", 1000),
             time_cap_s=getattr(args, "time_limit", None) if prefix == "" else None,
+            strict_walls=bool(getattr(args, f"{key}strict_walls", False)),
         )
     except UsageError as err:
         if not prefix or err.field not in ("--mode", "--start", "--session"):
@@ -119,8 +121,12 @@ def write_field(
 
 
 def summary(fp: FieldPlan) -> str:
+    """The sheet's summary as printed: route, bound, time, targets, order, and the rooms without openings."""
+    from planner.field.crossing import advice
+
     t = fp.time
     weak = sum(1 for lk in fp.links if lk.weak)
+    walls = advice(fp.crossings)
     return "\n".join(
         [
             f"field sheet {fp.site.name}: {len(fp.order)} setups, {fp.options.mode} order from {fp.start_label}",
@@ -138,8 +144,26 @@ def summary(fp: FieldPlan) -> str:
             ),
             f"targets: {len(fp.targets)}; chain links {len(fp.links)}, weak left {weak}",
             "order: " + " ".join(fp.stations[k].id for k in fp.order),
+            *([walls] if walls else []),
         ]
     )
+
+
+#: the suffixes of site files that are never a plan.json
+SITE_SUFFIXES = (".csv", ".dxf", ".pol", ".ifc")
+
+
+def _not_a_site(path: str, data: Any = None) -> None:
+    """A site file given where a plan.json belongs is a usage error (exit 2), said as such: a table, drawing or
+    building model by its suffix, a JSON instance by its ``zones`` without ``stations``."""
+    site = Path(path).suffix.lower() in SITE_SUFFIXES or (
+        isinstance(data, dict) and "zones" in data and "stations" not in data
+    )
+    if site:
+        raise UsageError(
+            f"{path} is a site file; planner field expects a plan.json written by `planner plan --out DIR` "
+            f"(plan it first: planner plan {path} --out DIR --field DIR)"
+        )
 
 
 def cmd_field(args: argparse.Namespace) -> int:
@@ -151,7 +175,10 @@ def cmd_field(args: argparse.Namespace) -> int:
     folder = args.out or str(Path(args.plan).parent)
     if not folder.strip():
         raise UsageError("is empty: name a folder", field="--out", value=args.out)
-    meta = check_plan_meta(read_json(args.plan), args.plan)
+    _not_a_site(args.plan)
+    raw = read_json(args.plan)
+    _not_a_site(args.plan, raw)
+    meta = check_plan_meta(raw, args.plan)
     site = site_for_plan(meta, args.site, args.plan)
     stations = read_plan_stations(args.plan, site)
     write_field(site, stations, options, folder, plan_file=args.plan)

@@ -292,6 +292,12 @@ KNOBS: dict[str, Knob] = {
                 metavar="DURATION",
                 help="split the field time into sessions, e.g. 4h, 90min",
             ),
+            Knob(
+                key="field-strict-walls",
+                switch=True,
+                help="refuse a plan whose stations no walk joins (rooms without an opening in the model; exit 4) "
+                "instead of a straight leg through the walls",
+            ),
         ),
         *_in(
             TILES,

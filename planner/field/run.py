@@ -4,8 +4,9 @@ the registration targets and the field time (:func:`field_plan`); :mod:`planner.
 Errors (one line each): a station that does not stand where its zone and side say, or stands in no
 walkable place, is a plan that does not match the site (:class:`~planner.core.errors.InputError`, exit 3); a
 ``--start`` that names no station and no point of the walkable area is a usage error (exit 2); a station
-that cannot be reached on foot from the start is an infeasible route (exit 4), named with its zone and
-accessible area.
+that no walk joins to the start is reached by a straight leg through the walls, listed on the sheet
+(:mod:`planner.field.crossing`), or, with ``strict_walls``, an infeasible route (exit 4), named with its
+zone and accessible area.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from planner.core.errors import InfeasibleError, InputError, UsageError
 from planner.coverage.relation import station_relation
 from planner.coverage.sight import Sight, as_sight
 from planner.field.certify import Certified, certify
+from planner.field.crossing import Crossing, bridge, check_reach, crossings, part_names
 from planner.field.order import (
     MODES,
     SOLUTION_LIMIT,
@@ -57,8 +59,9 @@ class FieldOptions:
     """How the sheet is made: ``mode`` shortest|registration, ``start`` (a station id, ``x,y``, or None for
     the station nearest the first door or control point), ``closed`` (back to the start), ``session_s``,
     the scan ``setting`` (None: the instrument's default), ``strong_overlap``, the routing's ``solution_limit``
-    and the branch-and-cut's ``node_limit`` (counts: the same sheet under any load), and ``time_cap_s``, a
-    wall-clock cap on both only where the user sets one (None: none)."""
+    and the branch-and-cut's ``node_limit`` (counts: the same sheet under any load), ``time_cap_s``, a
+    wall-clock cap on both only where the user sets one (None: none), and ``strict_walls``: refuse a plan
+    whose stations no walk joins (exit 4) instead of crossing walls (:mod:`planner.field.crossing`)."""
 
     mode: str = "shortest"
     start: str | None = None
@@ -69,6 +72,7 @@ class FieldOptions:
     solution_limit: int = SOLUTION_LIMIT
     time_cap_s: float | None = TIME_CAP_S
     node_limit: int = NODE_LIMIT
+    strict_walls: bool = False
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -105,6 +109,7 @@ class FieldPlan:
     registration_ok: bool
     solve_s: float = field(default=0.0)
     certified: Certified | None = field(default=None)
+    crossings: tuple[Crossing, ...] = field(default=())  # legs through walls (no opening in the model)
 
     @property
     def gap(self) -> float:
@@ -137,13 +142,6 @@ def _check_stands(site: Site, stations: Sequence[Candidate], space: WalkSpace, p
                 f"outside the site boundary): the plan does not match the site",
                 **where,
             )  # type: ignore[arg-type]
-
-
-def _area_name(site: Site, s: Candidate) -> str:
-    from planner.coverage.openings import accessible_areas, space_of
-
-    area = accessible_areas(site).get(space_of(site.zone(s.zone), s.side))
-    return f"zone {s.zone} ({s.side.value}), accessible area {area}"
 
 
 def _start(
@@ -221,13 +219,14 @@ def field_plan(
     rest = [k for k in range(len(st)) if k != first]
     node_station = ([first] if first is not None else [-1]) + rest
     g = walk_graph(space, [start_xy if k < 0 else st[k].xy for k in node_station])
-    _check_reach(site, st, g, node_station, label, plan_file)
+    if options.strict_walls:
+        check_reach(site, st, g, node_station, label, plan_file)
     problem = sight.of_stations(st)
     rel = station_relation(site, st, problem)
     nbrs = [set() if k < 0 else {node_station.index(u) for u in rel.neighbors(k)} for k in node_station]
     comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
     parts = [-1 if k < 0 else comp[k] for k in node_station]
-    d = g.dist
+    d = bridge(g)  # a straight line through the walls where no walk joins two stations
     result = solve_order(
         d, options.mode, nbrs, parts, first is not None, options.closed, options.solution_limit, options.time_cap_s
     )
@@ -238,9 +237,19 @@ def field_plan(
     ok = not registration_violations(result.order, nbrs, parts, first is not None)
     order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
     path_nodes = list(result.order) + ([0] if options.closed else [])
-    legs = tuple(tuple(g.path(a, b)) for a, b in itertools.pairwise(path_nodes))
+    legs = tuple(tuple(_leg(g, a, b)) for a, b in itertools.pairwise(path_nodes))
     if first is not None:
         legs = ((st[first].xy,),) + legs  # the first station: no walk to it
+    numbers = {n: order.index(k) + 1 for n, k in enumerate(node_station) if k >= 0}
+    through = crossings(
+        site,
+        g,
+        path_nodes,
+        [label if k < 0 else st[k].id for k in node_station],
+        [numbers.get(n) for n in range(len(node_station))],
+        part_names(site, g, node_station, st),
+        0 if first is None else 1,
+    )
     props = props or _properties(site)
     links, targets = propose_targets(
         site, st, space, props, order if options.mode == "registration" else None, options.strong_overlap, problem
@@ -269,21 +278,15 @@ def field_plan(
         registration_ok=ok,
         solve_s=time.perf_counter() - t0,
         certified=cert,
+        crossings=through,
     )
 
 
-def _check_reach(
-    site: Site, st: Sequence[Candidate], g: WalkGraph, node_station: list[int], label: str, plan_file: str | None
-) -> None:
-    for n, k in enumerate(node_station):
-        if k >= 0 and not math.isfinite(g.dist[0, n]):
-            raise InfeasibleError(
-                f"cannot be reached on foot from the start ({label}): it stands in "
-                f"{_area_name(site, st[k])}, which no door or gate joins to the start's",
-                file=plan_file,
-                field="station",
-                value=st[k].id,
-            )
+def _leg(g: WalkGraph, a: int, b: int) -> list[tuple[float, float]]:
+    """The walk from point a to point b of ``g``, or the straight line where no walk joins them."""
+    if math.isfinite(g.dist[a, b]):
+        return g.path(a, b)
+    return [(float(g.points[a][0]), float(g.points[a][1])), (float(g.points[b][0]), float(g.points[b][1]))]
 
 
 def _properties(site: Site) -> FieldProperties:

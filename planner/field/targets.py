@@ -12,9 +12,12 @@ Target places: a checkerboard at the middle of a wall piece (1 m pieces) that bo
 the instrument's target range and target incidence, or a sphere on a tripod in the walkable area (a
 grid of :data:`SPHERE_GRID_M` within target range of both, the pair's midpoint (else a point of the
 lens both reach, which a thin lens may hold without a grid point), and the middle of every door and gate),
-at least :data:`MIN_TARGET_DISTANCE_M` from each and in sight of both. The fewest places that give every
-weak link its targets are chosen by CP-SAT (one worker, fixed seed); ties go to shorter ranges. Control
-points of the instance are targets too (ties to control), listed with the stations that see them.
+at least :data:`MIN_TARGET_DISTANCE_M` from each and in sight of both. Each weak link gets its own three
+places, spread apart: of the places both stations see, the triple with the largest smallest pairwise distance
+among the triangles with no angle below :data:`~planner.field.spread.MIN_ANGLE_DEG` (exact;
+:mod:`planner.field.spread`), with that distance, the triangle's smallest angle and, where the places allow no
+:data:`~planner.field.spread.MIN_SPREAD_M` or no such triangle, why. Control points of the instance are targets
+too (ties to control), listed with the stations that see them.
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ from planner.coverage.openings import PASSABLE, opening_segments
 from planner.coverage.relation import station_relation
 from planner.coverage.sight import Sight
 from planner.coverage.visibility import sight_clear
+from planner.field.spread import Spread, spread
 from planner.field.walking import WalkSpace
 from planner.instrument.field_table import FieldProperties
 from planner.site.candidate import Candidate
@@ -43,8 +47,6 @@ SPHERE_GRID_M = 1.0
 MIN_TARGET_DISTANCE_M = 2.0
 #: a link sharing at least this fraction of the smaller scan's covered wall needs no targets
 STRONG_OVERLAP = 0.5
-#: CP-SAT deterministic seconds for the choice of targets (one worker; a count, not a time)
-TARGET_WORK = 10.0
 _NO_WALL = -2
 
 
@@ -61,6 +63,9 @@ class Link:
     places: int = 0  # target places both see (fewer than TARGETS_PER_LINK: the link stays weak)
     apart_m: float = 0.0  # straight-line distance of the two stations
     reason: str = ""  # why a weak link stays weak ("" when it is not)
+    spread_m: float | None = None  # the smallest pairwise distance of its targets (two or more)
+    min_angle_deg: float | None = None  # the smallest angle of their triangle (three)
+    spread_note: str = ""  # why they stand closer than MIN_SPREAD_M or make a thinner triangle ("" when not)
 
 
 @dataclass(frozen=True)
@@ -169,13 +174,13 @@ def propose_targets(
     t = problem.targets
     cand_xy = np.vstack([(t.a + t.b) / 2.0, places]) if len(places) else (t.a + t.b) / 2.0
     seen = np.hstack([wall, sphere])  # S x (pieces + places)
-    chosen = _choose(seen, cand_xy, xy, weak)
+    own = {(i, j): _spread(seen, cand_xy, i, j) for i, j in weak}
+    chosen = sorted({c for sp in own.values() for c in sp.chosen})
     targets: list[Target] = []
     tid: dict[int, str] = {}
     for c in chosen:
-        c = int(c)
         tid[c] = f"T{len(targets) + 1}"
-        serves = tuple((stations[i].id, stations[j].id) for i, j in weak if seen[i, c] and seen[j, c])
+        serves = tuple((stations[i].id, stations[j].id) for (i, j), sp in own.items() if c in sp.chosen)
         if c < len(t):
             kind, where = "checkerboard", f"wall {t.label(c).split(' ')[0]} at {(t.s0_m[c] + t.s1_m[c]) / 2:.1f} m"
         else:
@@ -195,8 +200,8 @@ def propose_targets(
     links = []
     for i, j in chain:
         both = seen[i] & seen[j]
-        mine = tuple(tid[c] for c in chosen if both[c]) if (i, j) in weak else ()
-        still = (i, j) in weak and len(mine) < TARGETS_PER_LINK
+        sp = own.get((i, j), Spread((), None, None))
+        still = (i, j) in weak and len(sp.chosen) < TARGETS_PER_LINK
         apart = float(np.hypot(*(xy[i] - xy[j])))
         links.append(
             Link(
@@ -205,13 +210,24 @@ def propose_targets(
                 g[i][j]["shared_m"],
                 g[i][j]["fraction"],
                 still,
-                mine,
+                tuple(tid[c] for c in sp.chosen),
                 int(both.sum()),
                 apart,
                 _reason(apart, reach, int(both.sum())) if still else "",
+                sp.min_distance_m,
+                sp.min_angle_deg,
+                sp.note,
             )
         )
     return links, targets
+
+
+def _spread(seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], i: int, j: int) -> Spread:
+    """The places chosen for the weak link (i, j): the spread triple of the places both see
+    (:func:`~planner.field.spread.spread`), as indices of ``cand_xy``; fewer than three places: all of them."""
+    cands = np.flatnonzero(seen[i] & seen[j])
+    sp = spread(cand_xy[cands])
+    return Spread(tuple(sorted(int(cands[k]) for k in sp.chosen)), sp.min_distance_m, sp.min_angle_deg, sp.note)
 
 
 def _reason(apart: float, reach: float, places: int) -> str:
@@ -225,44 +241,6 @@ def _reason(apart: float, reach: float, places: int) -> str:
         f"only {places} place(s) both stations see within the {reach:g} m target range and the target "
         f"incidence (walls, obstacles or the walkable area leave no more)"
     )
-
-
-def _choose(
-    seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], xy: NDArray[np.float64], weak: list[tuple[int, int]]
-) -> list[int]:
-    """Fewest candidate places giving each weak link min(3, available) targets both see (CP-SAT)."""
-    if not weak:
-        return []
-    need = [np.flatnonzero(seen[i] & seen[j]) for i, j in weak]
-    # dominance: of places serving the same set of weak links keep the three with the shortest longest range
-    serve: dict[tuple[int, ...], list[int]] = {}
-    for c in sorted(set(np.concatenate(need).tolist())):
-        key = tuple(k for k, (i, j) in enumerate(weak) if seen[i, c] and seen[j, c])
-        serve.setdefault(key, []).append(c)
-    cost = {}  # the longest range from a station of a link the place serves
-    for key, group in serve.items():
-        ends = sorted({s for k in key for s in weak[k]})
-        for c in group:
-            cost[c] = float(np.hypot(*(xy[ends] - cand_xy[c]).T).max())
-    keep = sorted(c for group in serve.values() for c in sorted(group, key=lambda c: (cost[c], c))[:TARGETS_PER_LINK])
-    from ortools.sat.python import cp_model
-
-    model = cp_model.CpModel()
-    x = {c: model.NewBoolVar(f"x{c}") for c in keep}
-    kept = set(keep)
-    for cands in need:
-        here = [x[int(c)] for c in cands if int(c) in kept]
-        if here:
-            model.Add(sum(here) >= min(TARGETS_PER_LINK, len(here)))
-    model.Minimize(sum(1_000_000 * v + round(cost[c] * 100) for c, v in x.items()))
-    solver = cp_model.CpSolver()
-    solver.parameters.num_workers = 1
-    solver.parameters.random_seed = 0
-    solver.parameters.max_deterministic_time = TARGET_WORK  # a count of work: the same targets under any load
-    status = solver.Solve(model)
-    if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
-        return []
-    return [c for c in keep if solver.Value(x[c])]
 
 
 def _control_targets(

@@ -175,7 +175,10 @@ def test_bad_input(house):
     zones = tuple(replace(z, openings=()) if z.id == "R2" else z for z in house.zones)
     closed = replace(house, zones=zones)
     with pytest.raises(InfeasibleError, match="SR3.*zone R3 \\(inside\\)"):
-        field_plan(closed, stations[:3], FieldOptions(start="SR1"))
+        field_plan(closed, stations[:3], FieldOptions(start="SR1", strict_walls=True))
+    # without --strict-walls the leg into R3 is a straight line through the wall R2-R3, and listed
+    fp = field_plan(closed, stations[:3], FieldOptions(start="SR1"))
+    assert [(c.start, c.end, c.zones) for c in fp.crossings] == [("SR2", "SR3", ("R2", "R3"))]
 
 
 def test_cli_exit_codes(tmp_path, capsys):
