@@ -23,7 +23,7 @@ from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
 from planner.plan.outcome import Outcome
 from planner.plan.tripod import MIN_RADIUS_M
-from planner.report.site_map import read_field_sheet, site_map_html, station_row_id
+from planner.report.site_map import read_field_sheet, site_map_html, site_plan_html, station_row_id
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
@@ -285,6 +285,8 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
             if field
             else []
         ),
+        "<h2>Site plan</h2>",
+        site_plan_html(o, field_sheet),
         "<h2>Site map</h2>",
         site_map_html(o, field_sheet),
         "<h2>Inputs and parameters</h2>",

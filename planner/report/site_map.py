@@ -12,6 +12,8 @@ pan and zoom: :mod:`planner.figures.webmap.render` (one map, a selector for site
 
 from __future__ import annotations
 
+import base64
+import html
 import json
 from collections.abc import Mapping
 from pathlib import Path
@@ -19,6 +21,8 @@ from typing import Any
 
 from planner.core.checks import argument
 from planner.coverage.relation import station_relation
+from planner.figures.base import png_bytes
+from planner.figures.site_fig import site_figure
 from planner.figures.webmap import MapLine, MapLink, MapPoint, SiteMap, coverage_runs, render_site_map, site_map_data
 from planner.plan.outcome import Outcome
 
@@ -99,3 +103,17 @@ def read_field_sheet(folder: Path | str) -> dict[str, Any] | None:
 def site_map_html(o: Outcome, field_sheet: Mapping[str, Any] | None = None) -> str:
     """The report's map fragment (see :func:`planner.figures.webmap.render_site_map`)."""
     return render_site_map(outcome_site_map(o, field_sheet))
+
+
+def site_plan_html(o: Outcome, field_sheet: Mapping[str, Any] | None) -> str:
+    """The whole site on one figure (:func:`planner.figures.site_fig.site_figure`): every zone in its frame,
+    stations numbered in the field sheet's walking order where one was written (else the plan's order),
+    registration links, control points, scale bar and north. The per-zone plans follow under "Plans"."""
+    ids = {s.id for s in o.stations}
+    order = [str(s) for s in (field_sheet or {}).get("order", []) if str(s) in ids] or None
+    how = "numbered in walking order (field sheet)" if order else "numbered in the plan's order"
+    fig = site_figure(o, order=order)
+    png = base64.b64encode(png_bytes(fig)).decode()
+    alt = f"the whole site: stations {how}, registration links, control points, scale bar and north"
+    caption = html.escape(alt)
+    return f'<figure><img alt="{caption}" src="data:image/png;base64,{png}"><figcaption>{caption}</figcaption></figure>'

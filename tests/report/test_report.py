@@ -49,8 +49,8 @@ def test_report_is_self_contained_and_every_image_decodes(report):
     p = Images()
     p.feed(report.read_text())
     assert not p.links  # no external CSS, script or font
-    # polygon B is scanned on both sides: two plan figures, plus the network figure
-    assert len(p.src) == 3
+    # the site-wide plan first, then polygon B's two plan figures (scanned on both sides) and the network figure
+    assert len(p.src) == 4
     for src in p.src:
         assert src.startswith("data:image/png;base64,")
         raw = base64.b64decode(src.split(",", 1)[1], validate=True)
@@ -68,6 +68,11 @@ def test_report_is_self_contained_and_every_image_decodes(report):
     ):
         assert heading in text
     assert "closed-form" in text and "greedy" in text and "milp" in text
+    # the report opens with the whole site: its first heading after the title is the site plan, then the map
+    page = report.read_text()
+    first = re.findall(r"<h2>([^<]+)</h2>", page)[:2]
+    assert first == ["Site plan", "Site map"]
+    assert page.index("the whole site: stations numbered") < page.index("plan B")
 
 
 @pytest.mark.slow
@@ -98,7 +103,7 @@ def test_report_renders_in_headless_chromium(report):
     ]
     dom = subprocess.run(cmd, capture_output=True, text=True, timeout=120).stdout
     # the report's own script writes how many images decoded once the page has loaded
-    assert 'data-images-ok="3/3"' in dom
+    assert 'data-images-ok="4/4"' in dom  # the site plan, two plan figures, the network figure
 
 
 def test_report_says_what_its_numbers_mean(report):
