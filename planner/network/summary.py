@@ -16,13 +16,16 @@ if TYPE_CHECKING:
     from planner.network.check import NetworkReport
 
 
-def network_summary(report: NetworkReport) -> str:
+def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
     """``report`` in lines a person reads.
 
     Parameters
     ----------
     report
         The network check of a plan.
+    accuracy
+        Include the accuracy check's verdict and its table per zone-side (the report shows them as its own
+        table, and leaves them out here so they do not appear twice).
 
     Returns
     -------
@@ -62,6 +65,8 @@ def network_summary(report: NetworkReport) -> str:
             f" where tied to control; {c['untied_targets']} pieces seen by untied stations only (no finite error)"
         )
     unseen = f"; {c['unseen_targets']} pieces seen by no station" if c.get("unseen_targets") else ""
+    if not accuracy:
+        return "\n".join(lines + (report.survey.lines() if report.survey is not None else []))
     lines.append(
         f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
         f"({c['failing_targets']} of {c['targets']} seen pieces fail; {worst_e}{unseen})"

@@ -21,6 +21,7 @@ from planner import __version__
 from planner.core.checks import argument
 from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
+from planner.network.summary import network_summary
 from planner.plan.outcome import Outcome
 from planner.plan.tripod import MIN_RADIUS_M
 from planner.report.site_map import read_field_sheet, site_map_html, site_plan_html, station_row_id
@@ -28,7 +29,8 @@ from planner.report.site_map import read_field_sheet, site_map_html, site_plan_h
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
 th{background:#eee}td.l,th.l{text-align:left}img{max-width:100%;border:1px solid #ddd;margin:0.5em 0}
-.pass{color:#176317;font-weight:bold}.fail{color:#b00;font-weight:bold}figure{margin:0 0 2em}"""
+.pass{color:#176317;font-weight:bold}.fail{color:#b00;font-weight:bold}figure{margin:0 0 2em}
+table{display:block;overflow-x:auto;max-width:100%}ul.notes{font-size:0.9em}ul.notes li{overflow-wrap:anywhere;margin:0.15em 0}"""
 SCRIPT = (
     "window.addEventListener('load',function(){var im=document.images,ok=0;for(var i=0;i<im.length;i++)"
     "{if(im[i].complete&&im[i].naturalWidth>0)ok++;}document.body.setAttribute('data-images-ok',ok+'/'+im.length);});"
@@ -238,8 +240,16 @@ def _network(o: Outcome) -> str:
         f"<p>Accuracy check at {c['sigma_req_m'] * 1000:g} mm: {verdict} ({c['failing_targets']} of {c['targets']} seen pieces "
         f"fail; worst point error {worst}{untied}).</p>"
         + table(("zone", "side", "check", "worst e mm"), rows, left=2)
-        + f"<pre>{_e(o.network.summary())}</pre>"
+        + _network_notes(o)
     )
+
+
+def _network_notes(o: Outcome) -> str:
+    """The rest of the network check (size, ties, a priori error, notes, the scanner survey) as a list that
+    wraps at the page's width; the accuracy check is the table above, not repeated."""
+    assert o.network is not None
+    lines = [ln.strip() for ln in network_summary(o.network, accuracy=False).splitlines() if ln.strip()]
+    return '<ul class="notes">' + "".join(f"<li>{_e(ln)}</li>" for ln in lines) + "</ul>"
 
 
 def _verification(o: Outcome) -> str:

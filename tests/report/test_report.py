@@ -145,3 +145,12 @@ def test_report_refuses_an_edited_plans_spacing_naming_the_plan(tmp_path, capsys
     assert main(["report", str(edited), "--no-network", "--out", str(tmp_path / "r")]) == 3
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and str(edited) in err and f"{key} = " in err and words in err
+
+
+def test_the_accuracy_table_appears_once_and_no_text_block_runs_off_the_page(report):
+    page = report.read_text()
+    # one accuracy table (header "worst e mm"); the network's other lines are a wrapping list, not a <pre> block
+    assert len(re.findall(r"<th[^>]*>worst e mm</th>", page)) == 1
+    assert "<pre>" not in page and '<ul class="notes">' in page
+    notes = page.split('<ul class="notes">', 1)[1].split("</ul>", 1)[0]
+    assert "network:" in notes and "accuracy check at" not in notes
