@@ -8,6 +8,7 @@ Modules: :mod:`~planner.instrument.field_table` (an instrument's field propertie
 sessions), :mod:`~planner.field.crossing` (legs through walls where the model has no opening),
 :mod:`~planner.field.targets` (registration targets), :mod:`~planner.field.spread` (three targets spread apart),
 :mod:`~planner.field.sheet` (the files: :mod:`~planner.field.tables`, :mod:`~planner.field.figure`,
-:mod:`~planner.field.page`, :mod:`~planner.field.pdf`).
+:mod:`~planner.field.page` with its site map :mod:`~planner.field.site_map`, :mod:`~planner.field.record`
+(field.json), :mod:`~planner.field.pdf`).
 This package file imports nothing, so :mod:`planner.instrument.models` can read field properties cheaply.
 """

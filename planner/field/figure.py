@@ -1,61 +1,115 @@
-"""The field sheet's plan figure: walls (solid parts), obstacles, no-go areas, the route (legs through walls
-dashed: no opening in the model), the stations numbered in visiting order and the targets. field.html embeds
-it as a PNG, field.pdf draws it on its first page."""
+"""The field sheet's plan figure (:func:`figure`): walls (solid parts), obstacles, no-go areas, the route (legs
+through walls dashed: no opening in the model), the stations numbered in visiting order and the targets, with a
+scale bar and a north arrow. field.html embeds it as a PNG, field.pdf draws it on its first page.
+
+The numbers and target names are placed last, so that no two overlap, nor cover a marker, the scale bar or the
+north arrow (:func:`planner.figures.labels.finish_plans`): next to their point where there is room, else on a
+leader line up to :data:`LEADER_MAX_PX` away; one that fits nowhere is left out and counted under the plan
+(the setup table and the target table still list it).
+"""
 
 from __future__ import annotations
 
+from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 
 from planner.field.run import FieldPlan
-from planner.figures.base import decorate_plan
+from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.labels import PointLabel, finish_plans
 
 #: the legend's entry for a leg through walls
 THROUGH_LABEL = "leg through a wall (no opening in the model)"
+#: the figure's size (inches) unless the caller gives the paper's (field.pdf)
+SIZE = (11.0, 8.0)
+#: marker sizes (points) of a station, a target and the start; font sizes of their labels
+STATION_PT, TARGET_PT, START_PT = 8.0, 6.0, 14.0
+STATION_FONT, TARGET_FONT = 8.0, 6.5
+#: the farthest a label is put from its point (pixels beyond the marker), on a leader line
+LEADER_MAX_PX = 80.0
+_TARGET = "tab:red"
 
 
-def figure(fp: FieldPlan) -> Figure:
-    """The plan: walls (solid parts), obstacles, no-go areas, the route, numbered stations and the targets."""
-    fig = Figure(figsize=(11, 8), layout="constrained")
+def _route(ax: Axes, fp: FieldPlan) -> list[Line2D]:
+    """Draw the legs (through walls: orange, dashed) and the start; the legend's handles."""
+    through = {c.leg for c in fp.crossings}
+    walks = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k not in through]
+    walls = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k in through]
+    ax.add_collection(LineCollection(walks, colors="tab:blue", linewidths=1.4, alpha=0.8, zorder=3, gid="route"))
+    handles = [Line2D([], [], color="tab:blue", lw=1.4, label="route")]
+    if walls:
+        ax.add_collection(
+            LineCollection(walls, colors="tab:orange", linewidths=1.4, linestyles="--", zorder=3, gid="through")
+        )
+        handles.append(Line2D([], [], color="tab:orange", lw=1.4, ls="--", label=THROUGH_LABEL))
+    ax.plot(*fp.start_xy, marker="*", ms=START_PT, color="tab:green", ls="none", zorder=4)
+    handles.append(Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"))
+    return handles
+
+
+def _points(ax: Axes, fp: FieldPlan) -> list[PointLabel]:
+    """Draw the stations and targets; their labels, to be placed once the plan is complete."""
+    labels: list[PointLabel] = []
+    starts_at_station = False
+    for n, k in enumerate(fp.order, 1):
+        s = fp.stations[k]
+        ax.plot(s.x, s.y, "o", ms=STATION_PT, mfc="white", mec="black", mew=1.0, ls="none", zorder=5)
+        at_start = s.xy == fp.start_xy
+        starts_at_station |= at_start
+        size = max(STATION_PT, START_PT) if at_start else STATION_PT  # the start's star is drawn under it
+        labels.append(PointLabel(s.x, s.y, str(n), f"station:{s.id}", size, STATION_FONT))
+    if not starts_at_station:
+        labels.append(PointLabel(*fp.start_xy, "start", "start", START_PT, TARGET_FONT))
+    for t in fp.targets:
+        ax.plot(t.x, t.y, marker="x" if t.kind != "control" else "^", color=_TARGET, ms=TARGET_PT, ls="none", zorder=5)
+        labels.append(PointLabel(t.x, t.y, t.id, f"target:{t.id}", TARGET_PT, TARGET_FONT))
+    return labels
+
+
+def figure(fp: FieldPlan, size: tuple[float, float] = SIZE) -> Figure:
+    """The plan of the field sheet (see the module text).
+
+    Parameters
+    ----------
+    fp
+        The field sheet.
+    size
+        The figure's size in inches: the labels are placed for it, so a caller that prints on other paper
+        passes the paper's size here rather than resizing the figure afterwards.
+
+    Returns
+    -------
+    Figure
+        One panel; labels with ``gid`` ``label:station:ID`` (text: the setup number), ``label:target:ID`` and
+        ``label:start`` (where the start is no station).
+    """
+    fig = Figure(figsize=size, layout="constrained")
     ax = fig.subplots()
     walls = [list(w) for w in fp.space.solid_walls]
-    ax.add_collection(LineCollection(walls, colors="black", linewidths=1.2, label="wall"))
+    ax.add_collection(LineCollection(walls, colors="black", linewidths=1.2, zorder=2))
     site = fp.site
     if fp.space.frame == "site":
         for ob in site.obstacles:
-            ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.6", ec="0.3", alpha=0.6))
+            ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.6", ec="0.3", alpha=0.6, zorder=1))
         for a in site.no_go_areas:
-            ax.add_patch(Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5))
-    through = {c.leg for c in fp.crossings}
-    labelled: set[bool] = set()
-    for k, leg in enumerate(fp.legs):
-        if len(leg) > 1:
-            xs, ys = zip(*leg)
-            wall = k in through
-            label = None if wall in labelled else THROUGH_LABEL if wall else "route"
-            labelled.add(wall)
-            ax.plot(
-                xs,
-                ys,
-                color="tab:orange" if wall else "tab:blue",
-                ls="--" if wall else "-",
-                lw=1.4,
-                alpha=0.9 if wall else 0.8,
-                label=label,
-            )
-    ax.plot(*fp.start_xy, marker="*", ms=14, color="tab:green", ls="none", label=f"start: {fp.start_label}")
-    for n, k in enumerate(fp.order, 1):
-        s = fp.stations[k]
-        ax.plot(s.x, s.y, "o", ms=13, mfc="white", mec="black", ls="none")
-        ax.annotate(str(n), (s.x, s.y), ha="center", va="center", fontsize=7, fontweight="bold")
-    for t in fp.targets:
-        ax.plot(t.x, t.y, marker="x" if t.kind != "control" else "^", color="tab:red", ms=6, ls="none")
-        ax.annotate(t.id, (t.x, t.y), xytext=(3, -8), textcoords="offset points", fontsize=6, color="tab:red")
-    decorate_plan(ax, fp.space.frame)
-    ax.legend(loc="lower right", fontsize=7, framealpha=0.8)
+            ax.add_patch(Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, zorder=1))
+    handles = [Line2D([], [], color="black", lw=1.2, label="wall"), *_route(ax, fp)]
+    labels = _points(ax, fp)
+    handles.append(
+        Line2D([], [], marker="o", mfc="white", mec="black", ls="none", label="station (number: visiting order)")
+    )
+    if fp.targets:
+        handles.append(Line2D([], [], marker="x", color=_TARGET, ls="none", label="target"))
+    frame_axes(ax, PLAN_MARGIN)
     ax.set_title(
         f"{site.name}: {len(fp.order)} setups, {fp.options.mode} order, route {fp.route_length_m:.0f} m "
         f"(bound {fp.lower_bound_m:.0f} m, gap {100 * fp.gap:.1f} %)"
     )
+    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 3), fontsize=8, frameon=False)
+    (placed,) = finish_plans(fig, [(ax, fp.space.frame, labels)], max_gap_px=LEADER_MAX_PX)
+    for text in placed.texts:
+        if str(text.get_gid()).startswith("label:target:"):
+            text.set_color(_TARGET)
     return fig

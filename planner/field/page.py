@@ -1,5 +1,7 @@
-"""field.html: the print-ready field sheet as one page (the plan figure embedded as a PNG), with the legs that
-cross a wall and each link's target geometry."""
+"""field.html: the print-ready field sheet as one page: the summary, the interactive site map
+(:mod:`planner.field.site_map`; on screen only, not printed), the plan figure embedded as a PNG, one row per
+setup (row ``n`` has the id :func:`~planner.field.site_map.setup_row_id` ``(n)``, which the map links to), the
+legs that cross a wall and each link's target geometry. No address: the page works from a file, offline."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ from planner import __version__
 from planner.field.crossing import advice
 from planner.field.figure import figure
 from planner.field.run import FieldPlan
+from planner.field.site_map import field_map_html, setup_row_id
 from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
 from planner.field.tables import HEADER, rows
 from planner.figures.base import png_bytes
@@ -18,7 +21,8 @@ from planner.figures.base import png_bytes
 CSS = """body{font-family:system-ui,sans-serif;margin:1.5em;color:#111;max-width:1100px}
 table{border-collapse:collapse;font-size:0.85em;margin:0.5em 0 1em}th,td{border:1px solid #999;padding:2px 6px;text-align:right}
 th{background:#eee}td.l,th.l{text-align:left}img{max-width:100%}h1{font-size:1.4em}h2{font-size:1.1em}
-@media print{body{margin:0;max-width:none}figure{page-break-after:always}tr{page-break-inside:avoid}a{color:#111}}"""
+@media print{body{margin:0;max-width:none}figure{page-break-after:always}tr{page-break-inside:avoid}a{color:#111}
+section.site-map{display:none}}"""
 SCRIPT = (
     "window.addEventListener('load',function(){var im=document.images,ok=0;for(var i=0;i<im.length;i++)"
     "{if(im[i].complete&&im[i].naturalWidth>0)ok++;}document.body.setAttribute('data-images-ok',ok+'/'+im.length);});"
@@ -29,16 +33,28 @@ def _e(v: Any) -> str:
     return html.escape(str(v))
 
 
-def render_html(fp: FieldPlan, png: bytes | None = None) -> str:
-    """field.html as one string (the figure embedded)."""
+def render_html(fp: FieldPlan, png: bytes | None = None, site_map: str | None = None) -> str:
+    """field.html as one string.
+
+    Parameters
+    ----------
+    fp
+        The field sheet.
+    png
+        The plan figure as PNG bytes; None: drawn here (:func:`planner.field.figure.figure`).
+    site_map
+        The site map fragment; None: made here (:func:`planner.field.site_map.field_map_html`).
+    """
     png = png if png is not None else png_bytes(figure(fp))
     head = "".join(
         f'<th class="{"l" if c in ("station", "zone", "side", "scan setting", "targets seen") else ""}">{_e(c)}</th>'
         for c in HEADER
     )
     body = "".join(
-        "<tr>" + "".join(f'<td class="{"l" if isinstance(v, str) else ""}">{_e(v)}</td>' for v in r) + "</tr>"
-        for r in rows(fp)
+        f'<tr id="{setup_row_id(n)}">'
+        + "".join(f'<td class="{"l" if isinstance(v, str) else ""}">{_e(v)}</td>' for v in r)
+        + "</tr>"
+        for n, r in enumerate(rows(fp), 1)
     )
     t = fp.time
     totals = (
@@ -72,6 +88,10 @@ def render_html(fp: FieldPlan, png: bytes | None = None) -> str:
             f"{fp.nearest_neighbour_m:.1f} m. Registration order honoured: {'yes' if fp.registration_ok else 'no'}. "
             f"Field time {t.total_s / 3600:.2f} h ({t.walking_s / 60:.0f} min walking, {t.station_s / 60:.0f} min at "
             f"stations; scan setting {_e(t.setting)}). tls-planner {__version__}.</p>"
+        ),
+        (
+            '<section class="site-map"><h2>Site map</h2>'
+            f"{field_map_html(fp) if site_map is None else site_map}</section>"
         ),
         (
             f'<figure><img alt="plan with route" src="data:image/png;base64,{base64.b64encode(png).decode()}">'

@@ -168,8 +168,7 @@ def write_pdf(fp: FieldPlan, path: Path | str) -> Path:
     """Write field.pdf (see the module text) and return its path."""
     out = Path(path)
     _, size = map_paper(fp)
-    plan = figure(fp)
-    plan.set_size_inches(*size)
+    plan = figure(fp, size)  # labels placed for the paper's size
     meta = {"Title": f"Field sheet {fp.site.name}", "Creator": f"tls-planner {__version__}", "CreationDate": None}
     with matplotlib.rc_context({"pdf.compression": 0, "pdf.fonttype": 3}), PdfPages(out, metadata=meta) as pdf:
         pdf.savefig(plan)

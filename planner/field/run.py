@@ -22,6 +22,7 @@ import numpy as np
 import shapely
 
 from planner.core.errors import InfeasibleError, InputError, UsageError
+from planner.coverage.matrix import CoverageProblem
 from planner.coverage.relation import station_relation
 from planner.coverage.sight import Sight, as_sight
 from planner.field.certify import Certified, certify
@@ -110,6 +111,7 @@ class FieldPlan:
     solve_s: float = field(default=0.0)
     certified: Certified | None = field(default=None)
     crossings: tuple[Crossing, ...] = field(default=())  # legs through walls (no opening in the model)
+    coverage: CoverageProblem | None = field(default=None)  # the stations' wall pieces, rows in ``stations`` order
 
     @property
     def gap(self) -> float:
@@ -279,6 +281,7 @@ def field_plan(
         solve_s=time.perf_counter() - t0,
         certified=cert,
         crossings=through,
+        coverage=problem,
     )
 
 

@@ -58,6 +58,8 @@ def test_rooms_without_openings_get_legs_through_walls(tmp_path, capsys):
     assert total == pytest.approx(data["route_length_m"], rel=1e-6)
     html = (out / "field.html").read_text()
     assert "Legs that cross a wall" in html and "no opening in the model between rooms" in html
+    # the site map draws each of them in the route layer, in the dash of a leg through a wall
+    assert html.count('<polyline class="sm-route sm-through"') == len(legs)
 
 
 def test_strict_walls_refuses_as_before(tmp_path, capsys):

@@ -9,15 +9,17 @@ no address) to pan, zoom, switch layers and frames, and tap a station for what i
 
 It lives under :mod:`planner.figures` (below both :mod:`planner.report` and :mod:`planner.field`, which may not
 import each other) so that report.html (:mod:`planner.report.site_map` fills it from an ``Outcome``) and the
-field sheet both embed the same map. For a field sheet::
+field sheet (:mod:`planner.field.site_map` fills it from a ``FieldPlan``) both embed the same map. In short::
 
-    from planner.field.sheet import to_dict
-    from planner.figures.webmap import MapLink, render_site_map, site_map_data
+    from planner.field.record import to_dict
+    from planner.figures.webmap import MapLink, coverage_runs, render_site_map, site_map_data
 
     links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
-    fragment = render_site_map(site_map_data(fp.site, fp.stations, links=links, field_sheet=to_dict(fp)))
+    data = site_map_data(fp.site, fp.stations, runs=coverage_runs(fp.coverage), links=links, field_sheet=to_dict(fp))
+    fragment = render_site_map(data, dom_id="field-map", table="setup table")
 
-(add ``runs=coverage_runs(sight.of_stations(fp.stations))`` for the coverage layer).
+(the field sheet passes its stations in visiting order, so that the map numbers them as its setup table, and
+``rows`` to link each to its row).
 """
 
 from planner.figures.webmap.build import coverage_runs, field_layers, site_map_data, wall_lines

@@ -26,6 +26,8 @@ from planner.site.model import SITE_FRAME, Site
 
 #: two pieces join into one run where the first ends within this of where the second starts (m)
 JOIN_M = 1e-6
+#: the tooltip of a route leg through a wall adds this
+THROUGH_NOTE = ": a straight line through a wall (no opening in the model)"
 
 
 def _pt(p: Any) -> Point:
@@ -102,13 +104,25 @@ def field_layers(
     """The walking route (one line per leg), its start, the registration targets and each station's place
     in the visiting order, from a field sheet's ``field.json`` dictionary.
 
+    A leg the sheet lists under ``legs_crossing_walls`` (a straight line through a wall where the model has no
+    opening, :mod:`planner.field.crossing`) is a line of kind ``through``, drawn in the route layer in its own
+    dash.
+
     ``frame_of``: station id to frame; a leg is drawn in the frame of the station it walks to, a target in
     that of the first station that sees it. Stations the sheet names but ``frame_of`` lacks are left out.
     """
     order = [str(s) for s in sheet.get("order", [])]
     legs = sheet.get("legs", [])
+    through = {int(c["leg"]) for c in sheet.get("legs_crossing_walls", [])}
     route = tuple(
-        MapLine(f"leg {k}", frame_of[sid], "route", tuple(map(_pt, leg)), False, f"walk to {sid} (setup {k})")
+        MapLine(
+            f"leg {k}",
+            frame_of[sid],
+            "through" if k - 1 in through else "route",
+            tuple(map(_pt, leg)),
+            False,
+            f"walk to {sid} (setup {k})" + (THROUGH_NOTE if k - 1 in through else ""),
+        )
         for k, (sid, leg) in enumerate(zip(order, legs), 1)
         if sid in frame_of and len(leg) > 1
     )
@@ -160,11 +174,13 @@ def site_map_data(
 
     Examples
     --------
-    The field sheet's map (no coverage matrix at hand, links from the sheet's own chain)::
+    The field sheet's map (links from the sheet's own chain; :func:`planner.field.site_map.field_site_map`
+    also orders the stations by visit and links them to the setup table's rows)::
 
         sheet = to_dict(fp)
         links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
-        html = render_site_map(site_map_data(fp.site, fp.stations, links=links, field_sheet=sheet))
+        runs = coverage_runs(fp.coverage)
+        html = render_site_map(site_map_data(fp.site, fp.stations, runs=runs, links=links, field_sheet=sheet))
     """
     frame_of = {s.id: s.frame for s in stations}
     route: tuple[MapLine, ...] = ()

@@ -19,7 +19,8 @@ class MapLine:
     """A polyline of the map: a wall ring, an obstacle, a no-go area, an opening, a route leg, a traverse leg.
 
     ``kind`` picks the style and the layer (``wall``, ``opening``, ``obstacle``, ``nogo``, ``boundary``,
-    ``route``, ``traverse``); ``closed``: a ring (drawn as a polygon); ``label``: a tooltip.
+    ``route``, ``through``: a route leg through a wall, ``traverse``); ``closed``: a ring (drawn as a polygon);
+    ``label``: a tooltip.
     """
 
     id: str

@@ -27,7 +27,12 @@ LAYERS = (
     ("walls", "walls", "zones' walls, openings (orange), obstacles, no-go areas, boundary"),
     ("coverage", "coverage", "the wall the selected station covers (green)"),
     ("links", "links", "registration links between stations (selected: red)"),
-    ("route", "route", "the field walking route (dashed) from its start (square)"),
+    (
+        "route",
+        "route",
+        "the field walking route (dashed) from its start (square); legs through a wall, where the model has no "
+        "opening: orange, short dashes",
+    ),
     ("traverse", "traverse", "control traverse legs (total station)"),
     ("control", "control", "control points (proposed: open triangles)"),
     ("targets", "targets", "registration targets"),
@@ -153,7 +158,8 @@ def _frame(m: SiteMap, frame: str, dom_id: str, shown: bool) -> tuple[str, tuple
             for lk in m.links
             if lk.a in ids and lk.b in ids
         ),
-        "route": "".join(_line(r, "sm-route") for r in route) + "".join(_point(p, scale) for p in start),
+        "route": "".join(_line(r, "sm-route" + (" sm-through" if r.kind == "through" else "")) for r in route)
+        + "".join(_point(p, scale) for p in start),
         "traverse": "".join(_line(t, "sm-trav") for t in traverse),
         "control": "".join(_point(p, scale) for p in control),
         "targets": "".join(_point(p, scale) for p in targets),
@@ -185,7 +191,7 @@ def _present(m: SiteMap) -> list[tuple[str, str, str]]:
     return [layer for layer in LAYERS if has[layer[0]]]
 
 
-def render_site_map(m: SiteMap, dom_id: str = "site-map") -> str:
+def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station table") -> str:
     """The interactive map of ``m`` as an HTML fragment (a ``<div class="smap">`` holding its style sheet, the
     controls, the SVG, the station panel and the script), for any page's ``<body>``.
 
@@ -193,7 +199,8 @@ def render_site_map(m: SiteMap, dom_id: str = "site-map") -> str:
     place in ``m.stations``); give each map of a page its own. The fragment contains no URL: it works from a
     file, offline, and in a mail attachment. A page's own script can select a station with
     ``document.getElementById(dom_id).smapSelect(station_id)``; a station whose ``row`` names an element of
-    the page marks it (class ``sm-row``) when selected, and a click on that element selects the station.
+    the page marks it (class ``sm-row``) when selected, and a click on that element selects the station;
+    ``table``: what the help line and the station panel call the page's table of those rows.
     """
     per_frame = Counter(s.frame for s in m.stations)
     first = max(m.frames, key=lambda f: per_frame.get(f, 0)) if m.frames else ""
@@ -220,13 +227,13 @@ def render_site_map(m: SiteMap, dom_id: str = "site-map") -> str:
         '<button type="button" data-zoom="fit" title="whole frame">fit</button></span>'
     )
     shows = "the wall it covers, its links" + (
-        " and its row in the station table (a click on a row shows its station here)"
+        f" and its row in the {table} (a click on a row shows its station here)"
         if any(s.row for s in m.stations)
         else ""
     )
     label = _e(f"site map of {m.title}")
     return (
-        f'<div class="smap" id="{_e(dom_id)}" data-first="{_e(first)}"><style>{asset("site_map.css")}</style>'
+        f'<div class="smap" id="{_e(dom_id)}" data-first="{_e(first)}" data-table="{_e(table)}"><style>{asset("site_map.css")}</style>'
         f'<div class="sm-bar">{select}{boxes}{zoom}</div><div class="sm-wrap">'
         f'<svg class="sm-svg" style="aspect-ratio:{_c(box[2])}/{_c(box[3])}" aria-label="{label}" '
         f'viewBox="{view}" preserveAspectRatio="xMidYMid meet">{frames}</svg>'

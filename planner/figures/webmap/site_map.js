@@ -112,7 +112,7 @@
       panel.appendChild(p);
       var row = d('row') && document.getElementById(d('row'));
       if (row) {
-        var a = el('a', 'row in the station table');
+        var a = el('a', 'row in the ' + (root.getAttribute('data-table') || 'station table'));
         a.href = '#' + d('row');
         a.setAttribute('data-row', d('row'));
         panel.appendChild(el('p')).appendChild(a);
@@ -215,17 +215,22 @@
     var sel = root.querySelector('.sm-frame');
     if (sel) sel.addEventListener('change', function () { clear(); showFrame(sel.value); });
 
-    /* a click on a station's row in the table shows the station on the map */
-    Object.keys(stations).forEach(function (id) {
-      var row = stations[id].getAttribute('data-row') && document.getElementById(stations[id].getAttribute('data-row'));
-      if (!row) return;
-      row.style.cursor = 'pointer';
-      row.title = 'show on the site map';
-      row.addEventListener('click', function () {
-        select(id);
-        root.scrollIntoView({ block: 'start' });
+    /* a click on a station's row in the table shows the station on the map; a table after the map is not
+       parsed yet when this runs, so the rows are bound once the document is */
+    function bindRows() {
+      Object.keys(stations).forEach(function (id) {
+        var row = stations[id].getAttribute('data-row') && document.getElementById(stations[id].getAttribute('data-row'));
+        if (!row) return;
+        row.style.cursor = 'pointer';
+        row.title = 'show on the site map';
+        row.addEventListener('click', function () {
+          select(id);
+          root.scrollIntoView({ block: 'start' });
+        });
       });
-    });
+    }
+    if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', bindRows);
+    else bindRows();
     window.addEventListener('resize', rescale);
     showFrame(root.getAttribute('data-first') || Object.keys(frames)[0]);
     window.addEventListener('load', rescale);

@@ -1,0 +1,89 @@
+"""``field.json``: the field sheet as one dictionary (:func:`to_dict`), which the sheet writes, the report reads
+back (:func:`planner.report.site_map.read_field_sheet`) and the site maps of both pages draw their route and
+targets from (:func:`planner.figures.webmap.field_layers`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from planner import __version__
+from planner.field.crossing import advice, closed_parts
+from planner.field.run import FieldPlan
+from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
+from planner.field.tables import HEADER, rows
+
+
+def to_dict(fp: FieldPlan) -> dict[str, Any]:
+    """field.json: the order, route, bound, field time, setups, targets, links and legs through walls of ``fp``
+    (plain numbers, text and lists: :func:`planner.core.text.dumps` writes it)."""
+    o = fp.options
+    return {
+        "instance": fp.site.name,
+        "mode": o.mode,
+        "closed": o.closed,
+        "start": fp.start_label,
+        "start_xy": list(fp.start_xy),
+        "order": [fp.stations[k].id for k in fp.order],
+        "route_length_m": fp.route_length_m,
+        "lower_bound_m": fp.lower_bound_m,
+        "bound_method": fp.bound_method,
+        "bound_scope": fp.certified.scope if fp.certified else "shortest route",
+        "bounds": {m: b for m, b in fp.certified.bounds} if fp.certified else {},
+        "gap": fp.gap,
+        "nearest_neighbour_m": fp.nearest_neighbour_m,
+        "registration_order_honoured": fp.registration_ok,
+        "search_capped": fp.capped,
+        "legs": [[list(p) for p in leg] for leg in fp.legs],
+        "field_time_s": fp.time.total_s,
+        "time": fp.time.to_dict(),
+        "sessions": fp.time.to_dict()["sessions"],
+        "setups": [dict(zip(HEADER, r)) for r in rows(fp)],
+        "targets": [
+            {
+                "id": t.id,
+                "kind": t.kind,
+                "x": t.x,
+                "y": t.y,
+                "where": t.where,
+                "seen_by": list(t.seen_by),
+                "links": [list(p) for p in t.links],
+            }
+            for t in fp.targets
+        ],
+        "links": [
+            {
+                "a": lk.a,
+                "b": lk.b,
+                "shared_m": lk.shared_m,
+                "fraction": lk.fraction,
+                "weak": lk.weak,
+                "targets": list(lk.targets),
+                "target_places": lk.places,
+                "apart_m": lk.apart_m,
+                "weak_reason": lk.reason,
+                "target_spread_m": lk.spread_m,
+                "target_min_angle_deg": lk.min_angle_deg,
+                "target_geometry_note": lk.spread_note,
+            }
+            for lk in fp.links
+        ],
+        "target_geometry": {"min_spread_m": MIN_SPREAD_M, "min_angle_deg": MIN_ANGLE_DEG},
+        "legs_crossing_walls": [
+            {
+                "leg": c.leg,
+                "setup": c.setup,
+                "from": c.start,
+                "to": c.end,
+                "length_m": c.length_m,
+                "zones": list(c.zones),
+                "parts": list(c.parts),
+            }
+            for c in fp.crossings
+        ],
+        "wall_crossing": "straight line from setup to setup, through the walls it meets",
+        "no_opening_between": list(closed_parts(fp.crossings)),
+        "walls_advice": advice(fp.crossings),
+        "instrument_height_m": fp.instrument_height_m,
+        "solve_s": fp.solve_s,
+        "version": __version__,
+    }

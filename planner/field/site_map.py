@@ -1,0 +1,48 @@
+"""The interactive site map of field.html (:func:`field_map_html`): the same map as report.html's
+(:mod:`planner.figures.webmap`), filled from a :class:`~planner.field.run.FieldPlan` (:func:`field_site_map`).
+
+What it shows, by layer: the zones' walls and openings, obstacles, no-go areas and the boundary; per station
+the runs of wall it covers (the coverage the sheet was made from, :attr:`FieldPlan.coverage
+<planner.field.run.FieldPlan.coverage>`, hidden until the station is selected); the registration links of the
+sheet's chain (weak ones dashed); the walking route from its start, the legs through a wall (where the model
+has no opening, :mod:`planner.field.crossing`) in their own dash; the registration targets. Stations are
+numbered in visiting order, as the setup table numbers them, and each links to its row of that table
+(:func:`setup_row_id`): a tap on a station marks its row, a click on a row shows its station.
+"""
+
+from __future__ import annotations
+
+from planner.field.record import to_dict
+from planner.field.run import FieldPlan
+from planner.figures.webmap import MapLink, SiteMap, coverage_runs, render_site_map, site_map_data
+
+#: the HTML id of field.html's map
+MAP_ID = "field-map"
+
+
+def setup_row_id(n: int) -> str:
+    """The HTML id of the row of setup ``n`` (1-based, visiting order) in field.html's setup table."""
+    return f"setup-{n}"
+
+
+def field_site_map(fp: FieldPlan) -> SiteMap:
+    """The map data of a field sheet: stations in visiting order (numbered 1..N as the setup table; any
+    station the order leaves out follows in plan order), their covered runs, the chain's links, the route
+    and targets of :func:`~planner.field.record.to_dict`, and each station's setup-table row.
+
+    Where ``fp`` carries no coverage (a plan built by hand without one), the map has no coverage layer."""
+    seen = set(fp.order)
+    visiting = [*fp.order, *(k for k in range(len(fp.stations)) if k not in seen)]
+    stations = [fp.stations[k] for k in visiting]
+    runs = None
+    if fp.coverage is not None:
+        every = coverage_runs(fp.coverage)
+        runs = [every[k] for k in visiting]
+    links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
+    rows = {s.id: setup_row_id(n) for n, s in enumerate(stations[: len(fp.order)], 1)}
+    return site_map_data(fp.site, stations, runs=runs, links=links, field_sheet=to_dict(fp), rows=rows)
+
+
+def field_map_html(fp: FieldPlan) -> str:
+    """The map of :func:`field_site_map` as a self-contained HTML fragment (id :data:`MAP_ID`; no address)."""
+    return render_site_map(field_site_map(fp), dom_id=MAP_ID, table="setup table")
