@@ -7,6 +7,7 @@ Only ``json`` is used to parse: nothing in a file is ever evaluated.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -141,6 +142,7 @@ def _zones(
         raise r.fail("an instance needs at least one zone", field="zones", value=0)
     tables: list[ZoneTable] = []
     zones: list[Zone | None] = []
+    levels: list[tuple[float, float | None]] = []  # floor_level_m, ceiling_height_m of each zone
     for k, entry in enumerate(entries, 1):
         if isinstance(entry, dict) and "table_csv" in entry:
             e = r.obj(entry, "zones entry", {"table_csv", "zones"}, row=f"zones[{k}]")
@@ -158,24 +160,40 @@ def _zones(
                 found = [t for t in found if t.zone in wanted]
             tables += found
             zones += [None] * len(found)
+            levels += [(0.0, None)] * len(found)  # a table CSV: floor at 0, no ceiling
         elif isinstance(entry, dict) and "table" in entry:
             tables.append(_inline_table(r, entry, k))
             zones.append(None)
+            levels.append(_levels(r, entry, tables[-1].zone))
         else:
             zones.append(_coordinate_zone(r, entry, k))
+            levels.append((0.0, None))  # read by _coordinate_zone itself
     table_iter = iter(tables)
     result = []
-    for z in zones:
+    for z, given in zip(zones, levels):
         if z is None:
             t = next(table_iter)
             acc = next((a for a in accepted if a.zone == t.zone), None)
             z = zone_from_table(t, tolerance, [c for c in corrections if c.zone == t.zone], acc)
+            if given != (0.0, None):
+                z = replace(z, floor_level_m=given[0], ceiling_height_m=given[1])
         result.append(z)
     return tuple(result)
 
 
+LEVEL_KEYS = {"floor_level_m", "ceiling_height_m"}
+
+
+def _levels(r: InstanceReader, e: dict[str, Any], zone: str) -> tuple[float, float | None]:
+    """The zone's ``floor_level_m`` (default 0) and ``ceiling_height_m`` (default and ``null``: no ceiling); the
+    zone checks their ranges."""
+    floor = r.num(e, "floor_level_m", zone=zone) if "floor_level_m" in e else 0.0
+    ceiling = r.num(e, "ceiling_height_m", zone=zone) if e.get("ceiling_height_m") is not None else None
+    return floor, ceiling
+
+
 def _inline_table(r: InstanceReader, entry: dict[str, Any], k: int) -> ZoneTable:
-    e = r.obj(entry, "zones entry", {"id", "scan_side", "table"}, row=f"zones[{k}]")
+    e = r.obj(entry, "zones entry", {"id", "scan_side", "table"} | LEVEL_KEYS, row=f"zones[{k}]")
     zone = r.text(e, "id")
     side = _scan_side(r, e, zone)
     rows = []
@@ -199,7 +217,7 @@ def _scan_side(r: InstanceReader, e: dict[str, Any], zone: str) -> ScanSide:
 
 
 def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
-    keys = {"id", "scan_side", "coordinates", "vertex_heights_m", "height_m", "wall_heights_m", "holes"}
+    keys = {"id", "scan_side", "coordinates", "vertex_heights_m", "height_m", "wall_heights_m", "holes"} | LEVEL_KEYS
     e = r.obj(entry, "zones entry", keys, row=f"zones[{k}]")
     zone = r.text(e, "id")
     side = _scan_side(r, e, zone)
@@ -231,6 +249,7 @@ def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
         printed = [printed[(-j - 1) % n] for j in range(n)]
         notes = ("given clockwise; stored counter-clockwise from the same first vertex",)
     holes = [_hole(r, h, zone, j) for j, h in enumerate(e.get("holes") or [], 1)]
+    floor, ceiling = _levels(r, e, zone)
     return Zone(
         id=zone,
         scan_side=side,
@@ -240,6 +259,8 @@ def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
         notes=notes,
         holes=tuple(ring for ring, _ in holes),
         hole_heights_m=tuple(hs for _, hs in holes),
+        floor_level_m=floor,
+        ceiling_height_m=ceiling,
     )
 
 

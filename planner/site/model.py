@@ -83,6 +83,12 @@ class Zone:
     ``holes``: free-standing blocks inside an inside-scanned zone (piers, a cella inside a court),
     each a ring stored clockwise so that the zone is to the left of its walls too; their walls
     are scanned from the zone and numbered after the outline's (n+1, n+2, ...).
+
+    ``floor_level_m``: the height of the zone's floor in the site's vertical datum (default 0; may be
+    negative, a cellar); ``ceiling_height_m``: the ceiling's height above that floor, or None for no
+    ceiling (a court, an open ruin, every table CSV zone). Both serve the floor and ceiling targets
+    (:mod:`planner.coverage.surfaces`); wall heights and instrument heights stay measured from the
+    zone's own floor, so the defaults change nothing.
     """
 
     id: str
@@ -96,6 +102,8 @@ class Zone:
     holes: tuple[tuple[tuple[float, float], ...], ...] = ()
     hole_heights_m: tuple[tuple[float, ...], ...] = ()
     openings: tuple[Opening, ...] = ()
+    floor_level_m: float = 0.0
+    ceiling_height_m: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.id, str) or not self.id:
@@ -135,6 +143,25 @@ class Zone:
         if self.holes:
             self._check_holes()
         self._check_openings()
+        self._check_levels()
+
+    def _check_levels(self) -> None:
+        """The floor level within +-MAX_HEIGHT_M, the ceiling (when given) above the floor and at most MAX_HEIGHT_M."""
+        f = self.floor_level_m
+        if isinstance(f, bool) or not isinstance(f, (int, float)) or not math.isfinite(f) or abs(f) > MAX_HEIGHT_M:
+            raise InputError(
+                f"must be a finite level within +-{MAX_HEIGHT_M:g} m", zone=self.id, field="floor_level_m", value=f
+            )
+        c = self.ceiling_height_m
+        if c is None:
+            return
+        if isinstance(c, bool) or not isinstance(c, (int, float)) or not math.isfinite(c) or not 0 < c <= MAX_HEIGHT_M:
+            raise InputError(
+                f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m above the floor (or null: no ceiling)",
+                zone=self.id,
+                field="ceiling_height_m",
+                value=c,
+            )
 
     def _check_openings(self) -> None:
         walls = self.walls

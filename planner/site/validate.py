@@ -186,6 +186,9 @@ def _zone_dict(z: Any) -> dict[str, Any]:
         "area_m2": z.area_m2,
         "polygon": [list(v) for v in z.vertices],
         "vertex_heights_m": list(z.vertex_heights_m),
+        # the floor and ceiling of docs/instance-format.md, only where not the defaults (floor 0, no ceiling)
+        **({"floor_level_m": z.floor_level_m} if z.floor_level_m != 0.0 else {}),
+        **({"ceiling_height_m": z.ceiling_height_m} if z.ceiling_height_m is not None else {}),
         "closure": closure,
         "notes": list(z.notes),
     }
