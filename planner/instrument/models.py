@@ -27,6 +27,15 @@ class Scanner(RangeAngleSigma):
     ``max_slant_range_m`` fixes S_max outright (the ``dissertation-tables``
     preset); otherwise S_max is derived from (3.1) for the required accuracy
     and capped by the datasheet ``max_range_m``.
+
+    The vertical field of view, for floors and ceilings (:mod:`planner.coverage.surface_sight`):
+    ``nadir_blind_half_angle_deg`` is the half angle of the cone round the plumb line under the
+    instrument that it cannot see (a scanner of 360 x V deg vertical field with the gap below sees down
+    to (V - 180) / 2 deg below the horizon, so the half angle is (360 - V) / 2: 35 deg for the P30's
+    290 deg); ``zenith_blind_half_angle_deg`` the same above it (None for a scanner that sees through
+    the zenith, as the P30 does); ``instrument_height_3d_m`` the default height of the instrument above
+    the floor for 3-D work. None, the default of each: no blind cone, no default height; walls do not
+    use them.
     """
 
     name: str = ""
@@ -37,12 +46,17 @@ class Scanner(RangeAngleSigma):
     modelling_sigma_m: float = 0.0
     #: setup and scan times, walking speed, target limits (the model's ``[field]`` table; None: the defaults)
     field_properties: FieldProperties | None = None
+    nadir_blind_half_angle_deg: float | None = None
+    zenith_blind_half_angle_deg: float | None = None
+    instrument_height_3d_m: float | None = None
 
     def __post_init__(self) -> None:
         _check_positive(
             self, ("range_sigma_const_m", "range_sigma_ppm", "angle_sigma_arcsec", "modelling_sigma_m"), True
         )
-        _check_positive(self, ("max_range_m", "max_slant_range_m"), False)
+        _check_positive(self, ("max_range_m", "max_slant_range_m", "instrument_height_3d_m"), False)
+        for name in ("nadir_blind_half_angle_deg", "zenith_blind_half_angle_deg"):
+            _check_half_angle(name, getattr(self, name))
         unlimited = self.max_range_m is None and self.max_slant_range_m is None
         if unlimited and not (self.range_sigma_ppm or self.angle_sigma_arcsec):
             # sigma_meas would not grow with range: (3.1) gives S_max = inf ("S_max inf m"), which no plan can use
@@ -113,6 +127,14 @@ def _check_positive(obj: object, names: tuple[str, ...], zero_ok: bool) -> None:
             raise InputError(
                 f"must be a finite number {need} and <= {MAX_MODEL_VALUE:g}", zone=None, field=name, value=v
             )
+
+
+def _check_half_angle(name: str, v: object) -> None:
+    """A blind cone's half angle: None (no cone) or a number of degrees in [0, 90)."""
+    if v is None:
+        return
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not 0 <= v < 90:
+        raise InputError("must be a half angle in degrees, >= 0 and < 90", zone=None, field=name, value=v)
 
 
 def default_models_dir() -> Path:
