@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import re
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -17,8 +16,8 @@ import planner
 from planner.field.run import FieldOptions, FieldPlan, field_plan
 from planner.field.sheet import write_sheet
 from planner.field.site_map import setup_row_id
+from tests.browser import body_attributes, chromium, dump_dom, probe
 from tests.conftest import INSTANCES
-from tests.report.test_report import _chromium
 
 URL = re.compile(r"https?://", re.IGNORECASE)
 NO_CHROMIUM = "no Chromium here; test_field and test_walls parse field.html"
@@ -35,24 +34,12 @@ def sheet(tmp_path_factory) -> tuple[FieldPlan, Path]:
     return fp, out
 
 
-def _dom(page: Path) -> str:
-    cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--window-size=1200,900"]
-    cmd += ["--virtual-time-budget=10000", "--dump-dom", page.as_uri()]
-    return subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=120).stdout
-
-
-def _body(dom: str) -> dict[str, str]:
-    tag = re.search(r"<body([^>]*)>", dom)
-    assert tag, dom[:500]
-    return {k: v.replace("&gt;", ">").replace("&quot;", '"') for k, v in re.findall(r'([\w-]+)="([^"]*)"', tag[1])}
-
-
-@pytest.mark.skipif(_chromium() is None, reason=NO_CHROMIUM)
+@pytest.mark.skipif(chromium() is None, reason=NO_CHROMIUM)
 def test_field_sheet_renders_in_headless_chromium(sheet):
     fp, out = sheet
     html = (out / "field.html").read_text()
     assert not URL.search(html)  # self-contained: no script, font or image fetched
-    dom = _dom(out / "field.html")
+    dom = dump_dom(out / "field.html")
     # the sheet's own script writes how many images decoded once the page has loaded: the one plan figure (the
     # site map is inline SVG, no image)
     assert 'data-images-ok="1/1"' in dom
@@ -69,16 +56,8 @@ def test_field_sheet_renders_in_headless_chromium(sheet):
     assert f"total: {len(order)} setups" in setups
 
 
-PROBE = """<script>
-(function () {
-  var errors = [];
-  function note() { document.body.setAttribute('data-errors', JSON.stringify(errors)); }
-  window.onerror = function (m) { errors.push(String(m)); note(); };
-  var ce = console.error;
-  console.error = function () { errors.push(Array.prototype.join.call(arguments, ' ')); note(); ce.apply(console, arguments); };
-  window.addEventListener('load', function () { setTimeout(function () {
-    var b = document.body;
-    note();
+PROBE = probe(
+    """
     var st = document.querySelector('#field-map .sm-st[data-id="__ID__"]');
     st.dispatchEvent(new MouseEvent('click', {bubbles: true, cancelable: true, view: window}));
     var hl = document.querySelectorAll('#field-map .sm-cv line.hl'), n = 0;
@@ -92,13 +71,11 @@ PROBE = """<script>
     b.setAttribute('data-rows', ids.join(' '));
     document.getElementById('__ROW__').click();
     b.setAttribute('data-row-selects', (document.querySelector('#field-map .sm-st.sm-sel') || {id: ''}).getAttribute('data-id'));
-    note();
-  }, 50); });
-})();
-</script>"""
+"""
+)
 
 
-@pytest.mark.skipif(_chromium() is None, reason=NO_CHROMIUM)
+@pytest.mark.skipif(chromium() is None, reason=NO_CHROMIUM)
 def test_tap_on_a_station_highlights_its_wall_links_and_setup_row(sheet, tmp_path):
     fp, out = sheet
     assert fp.coverage is not None
@@ -107,10 +84,10 @@ def test_tap_on_a_station_highlights_its_wall_links_and_setup_row(sheet, tmp_pat
     n, k = next((n, k) for n, k in enumerate(fp.order, 1) if by_station.indptr[k + 1] > by_station.indptr[k])
     station, other = fp.stations[k], fp.stations[fp.order[n % len(fp.order)]]
     html = (out / "field.html").read_text()
-    probe = PROBE.replace("__ID__", station.id).replace("__ROW__", setup_row_id(n % len(fp.order) + 1))
+    script = PROBE.replace("__ID__", station.id).replace("__ROW__", setup_row_id(n % len(fp.order) + 1))
     page = tmp_path / "probe.html"
-    page.write_text(html.replace("</body>", probe + "</body>"))
-    b = _body(_dom(page))
+    page.write_text(html.replace("</body>", script + "</body>"))
+    b = body_attributes(dump_dom(page))
     assert json.loads(b["data-errors"]) == []  # no script error, no console error
     pieces = int(by_station.indptr[k + 1] - by_station.indptr[k])
     assert int(b["data-hl-pieces"]) == pieces > 0  # every piece it covers, from the sheet's coverage matrix

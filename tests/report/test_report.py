@@ -6,7 +6,6 @@ from __future__ import annotations
 import base64
 import io
 import re
-import shutil
 import subprocess
 from html.parser import HTMLParser
 
@@ -14,6 +13,7 @@ import matplotlib.image
 import pytest
 
 from planner.cli import main
+from tests.browser import chromium
 from tests.conftest import INSTANCES
 
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -86,14 +86,10 @@ def test_report_from_plan_json_lists_the_same_stations(report, tmp_path, capsys)
     assert "The network check was not run." in (tmp_path / "report.html").read_text()
 
 
-def _chromium() -> str | None:
-    return shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
-
-
-@pytest.mark.skipif(_chromium() is None, reason="no Chromium here; the parse test above checks the images")
+@pytest.mark.skipif(chromium() is None, reason="no Chromium here; the parse test above checks the images")
 def test_report_renders_in_headless_chromium(report):
     cmd = [
-        _chromium(),
+        chromium(),
         "--headless",
         "--no-sandbox",
         "--disable-gpu",

@@ -18,8 +18,8 @@ import planner
 from planner.figures.webmap import MapLine, MapLink, MapPoint, MapStation, Run, SiteMap, render_site_map
 from planner.figures.webmap.build import field_layers
 from planner.report.site_map import outcome_site_map, site_map_html
+from tests.browser import body_attributes, chromium, dump_dom, probe
 from tests.conftest import INSTANCES, square_rows
-from tests.report.test_report import _chromium
 
 URL = re.compile(r"https?://", re.IGNORECASE)
 
@@ -174,16 +174,9 @@ def test_field_layers_from_field_json():
 
 # --- in a browser -------------------------------------------------------------------------------------------
 
-PROBE = """<script>
-(function () {
-  var errors = [];
-  function note() { document.body.setAttribute('data-errors', JSON.stringify(errors)); }
-  window.onerror = function (m) { errors.push(String(m)); note(); };
-  var ce = console.error;
-  console.error = function () { errors.push(Array.prototype.join.call(arguments, ' ')); note(); ce.apply(console, arguments); };
-  window.addEventListener('load', function () { setTimeout(function () {
-    var b = document.body, svg = document.querySelector('.smap svg');
-    note();
+PROBE = probe(
+    """
+    var svg = document.querySelector('.smap svg');
     var st = document.querySelector('.sm-st[data-id="__ID__"]');
     st.dispatchEvent(new MouseEvent('click', {bubbles: true, cancelable: true, view: window}));
     var hl = document.querySelectorAll('.sm-cv line.hl'), n = 0;
@@ -205,10 +198,8 @@ PROBE = """<script>
     document.querySelector('input[data-layer="__LAYER__"]').click();
     for (var j = 0; j < shown.length; j++) after += getComputedStyle(shown[j]).display !== 'none';
     b.setAttribute('data-layer-shown', before + '->' + after);
-    note();
-  }, 50); });
-})();
-</script>"""
+"""
+)
 
 
 @pytest.fixture(scope="module")
@@ -224,14 +215,8 @@ def house(tmp_path_factory):
     return o, planner.write_report(o, out, field=out)
 
 
-def _body(dom: str) -> dict[str, str]:
-    tag = re.search(r"<body([^>]*)>", dom)
-    assert tag, dom[:500]
-    return {k: v.replace("&gt;", ">").replace("&quot;", '"') for k, v in re.findall(r'([\w-]+)="([^"]*)"', tag[1])}
-
-
 @pytest.mark.slow
-@pytest.mark.skipif(_chromium() is None, reason="no Chromium here; the parse tests check the fragment")
+@pytest.mark.skipif(chromium() is None, reason="no Chromium here; the parse tests check the fragment")
 def test_click_on_a_station_highlights_its_wall_links_and_row(house, tmp_path):
     o, report = house
     html = report.read_text()
@@ -242,11 +227,7 @@ def test_click_on_a_station_highlights_its_wall_links_and_row(house, tmp_path):
     page.write_text(
         html.replace("</body>", PROBE.replace("__ID__", first.id).replace("__LAYER__", "walls") + "</body>")
     )
-    cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--window-size=1200,900"]
-    dom = subprocess.run(
-        [*cmd, "--virtual-time-budget=10000", "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120
-    ).stdout
-    b = _body(dom)
+    b = body_attributes(dump_dom(page))
     assert json.loads(b["data-errors"]) == []
     m = o.coverage.problem.by_candidate
     assert int(b["data-hl-pieces"]) == m.indptr[1] - m.indptr[0] > 0  # every piece it covers, from the matrix
@@ -259,10 +240,10 @@ def test_click_on_a_station_highlights_its_wall_links_and_row(house, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(_chromium() is None, reason="no Chromium here; the parse tests check the fragment")
+@pytest.mark.skipif(chromium() is None, reason="no Chromium here; the parse tests check the fragment")
 def test_phone_width_screenshot(house, tmp_path: Path):
     _, report = house
     png = tmp_path / "phone.png"
-    cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=390,844"]
+    cmd = [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=390,844"]
     subprocess.run([*cmd, f"--screenshot={png}", report.as_uri()], capture_output=True, timeout=120)
     assert png.is_file() and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 15_000
