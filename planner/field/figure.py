@@ -44,7 +44,8 @@ def _route(ax: Axes, fp: FieldPlan) -> list[Line2D]:
             LineCollection(walls, colors="tab:orange", linewidths=1.4, linestyles="--", zorder=3, gid="through")
         )
         handles.append(Line2D([], [], color="tab:orange", lw=1.4, ls="--", label=THROUGH_LABEL))
-    ax.plot(*fp.start_xy, marker="*", ms=START_PT, color="tab:green", ls="none", zorder=4)
+    # over the station it may stand on (stations are drawn at zorder 5): a white circle must not hide it
+    ax.plot(*fp.start_xy, marker="*", ms=START_PT, color="tab:green", mec="darkgreen", mew=0.6, ls="none", zorder=6)
     handles.append(Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"))
     return handles
 
@@ -58,7 +59,7 @@ def _points(ax: Axes, fp: FieldPlan) -> list[PointLabel]:
         ax.plot(s.x, s.y, "o", ms=STATION_PT, mfc="white", mec="black", mew=1.0, ls="none", zorder=5)
         at_start = s.xy == fp.start_xy
         starts_at_station |= at_start
-        size = max(STATION_PT, START_PT) if at_start else STATION_PT  # the start's star is drawn under it
+        size = max(STATION_PT, START_PT) if at_start else STATION_PT  # the start's star is drawn over it
         labels.append(PointLabel(s.x, s.y, str(n), f"station:{s.id}", size, STATION_FONT))
     if not starts_at_station:
         labels.append(PointLabel(*fp.start_xy, "start", "start", START_PT, TARGET_FONT))
