@@ -28,6 +28,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.coverage.targets import read_only
 from planner.site.model import SITE_FRAME, ScanSide, Site
 
 FLOOR = 0
@@ -40,12 +41,6 @@ SLIVER_SHARE = 1e-4
 REACH_TOL_M = 1e-9
 #: cells clipped per call (bounds the memory of one shapely call on a large zone)
 CELL_BATCH = 65_536
-
-
-def _ro(a: NDArray) -> NDArray:
-    a = np.ascontiguousarray(a)
-    a.flags.writeable = False
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -234,17 +229,17 @@ def make_surface_targets(site: Site, spacing_m: float, kinds: Iterable[str] = ("
     normal[:, 2] = np.where(kind_arr == FLOOR, 1.0, -1.0)
     centroid = shapely.get_coordinates(shapely.centroid(poly_arr)) if polys else np.zeros((0, 2))
     return SurfaceTargets(
-        zone=_ro(np.asarray(cols["zone"], dtype=np.int32)),
-        kind=_ro(kind_arr),
-        frame=_ro(np.asarray(cols["frame"], dtype=np.int32)),
-        cell=_ro(np.asarray(cols["cell"], dtype=np.int32).reshape(-1, 2)),
-        polygon=_ro(poly_arr),
-        corners=_ro(corners),
-        n_corners=_ro(counts),
-        centroid=_ro(centroid),
-        area_m2=_ro(shapely.area(poly_arr).astype(np.float64)),
-        height_m=_ro(np.asarray(cols["height"], dtype=np.float64)),
-        normal=_ro(normal),
+        zone=read_only(np.asarray(cols["zone"], dtype=np.int32)),
+        kind=read_only(kind_arr),
+        frame=read_only(np.asarray(cols["frame"], dtype=np.int32)),
+        cell=read_only(np.asarray(cols["cell"], dtype=np.int32).reshape(-1, 2)),
+        polygon=read_only(poly_arr),
+        corners=read_only(corners),
+        n_corners=read_only(counts),
+        centroid=read_only(centroid),
+        area_m2=read_only(shapely.area(poly_arr).astype(np.float64)),
+        height_m=read_only(np.asarray(cols["height"], dtype=np.float64)),
+        normal=read_only(normal),
         frames=frames,
         zone_ids=tuple(z.id for z in site.zones),
         spacing_m=float(spacing_m),

@@ -15,7 +15,8 @@ SIDE_CODE = {ScanSide.INSIDE: 0, ScanSide.OUTSIDE: 1}
 SIDE_NAME = {0: "inside", 1: "outside"}
 
 
-def _ro(a: NDArray) -> NDArray:
+def read_only(a: NDArray) -> NDArray:
+    """``a`` as a contiguous array that cannot be written (the target arrays are shared, never changed)."""
     a = np.ascontiguousarray(a)
     a.flags.writeable = False
     return a
@@ -114,17 +115,17 @@ def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
                 cols["frame"].append(np.full(k, frames.index(zone.frame)))
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     return Targets(
-        zone=_ro(cat["zone"].astype(np.int32)),
-        side=_ro(cat["side"].astype(np.int8)),
-        wall=_ro(cat["wall"].astype(np.int32)),
-        s0_m=_ro(cat["s0"]),
-        s1_m=_ro(cat["s1"]),
-        a=_ro(cat["a"]),
-        b=_ro(cat["b"]),
-        ha_m=_ro(cat["ha"]),
-        hb_m=_ro(cat["hb"]),
-        normal=_ro(cat["normal"]),
-        frame=_ro(cat["frame"].astype(np.int32)),
+        zone=read_only(cat["zone"].astype(np.int32)),
+        side=read_only(cat["side"].astype(np.int8)),
+        wall=read_only(cat["wall"].astype(np.int32)),
+        s0_m=read_only(cat["s0"]),
+        s1_m=read_only(cat["s1"]),
+        a=read_only(cat["a"]),
+        b=read_only(cat["b"]),
+        ha_m=read_only(cat["ha"]),
+        hb_m=read_only(cat["hb"]),
+        normal=read_only(cat["normal"]),
+        frame=read_only(cat["frame"].astype(np.int32)),
         frames=frames,
         zone_ids=tuple(z.id for z in site.zones),
     )
