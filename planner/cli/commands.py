@@ -75,6 +75,8 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
         pricing_time_limit_s=args.pricing_time_limit,
         plane_refine_steps=args.plane_refine_steps,
         memory_limit_bytes=memory_limit(args),
+        surfaces=tuple(args.surfaces.split(",")),
+        theta_max_floor_deg=args.theta_max_floor,
     )
     return replace(options, strategy=strategy_options(args, options))
 
@@ -91,6 +93,8 @@ _PLAN_KEYS = {
     "verify_spacing_m": "verify-spacing",
     "grid_spacing_m": "grid-spacing",
     "time_limit_s": "time-limit",
+    "surfaces": "surfaces",
+    "theta_max_floor_deg": "theta-max-floor",
 }
 
 

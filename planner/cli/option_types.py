@@ -72,3 +72,25 @@ def once_per_key(items: list[str], item: str) -> list[str]:
     if twice is not None:
         raise ValueError(f"layer {key!r} given twice ({twice!r} and {item!r}): give each layer once")
     return [*items, item]
+
+
+#: the surfaces ``--set surfaces`` takes (planner.plan.options.SURFACES, kept here so that --help imports no planner)
+SURFACE_NAMES = ("walls", "floors", "ceilings")
+
+
+def surface_list(text: str) -> str:
+    """An argparse ``type``: a comma-separated list of distinct surface names that holds ``walls``
+    (``walls,floors``), returned as given without blanks."""
+    names = [n.strip().lower() for n in text.split(",")]
+    unknown = [n for n in names if n not in SURFACE_NAMES]
+    if unknown:
+        raise argparse.ArgumentTypeError(
+            f"unknown surface {unknown[0]!r} (known: {', '.join(SURFACE_NAMES)}), got {text!r}"
+        )
+    if "walls" not in names:
+        raise argparse.ArgumentTypeError(
+            f"must include walls: walls are always targets (e.g. walls,floors), got {text!r}"
+        )
+    if len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"names a surface twice, got {text!r}")
+    return ",".join(names)

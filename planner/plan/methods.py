@@ -9,10 +9,11 @@ pool the plan's size counts, and log lines. A new method is a function of that s
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from planner.bounds.connected_result import plan_counts, with_connected_plane_bound
 from planner.bounds.plane import price_plane, with_plane_bound
@@ -26,7 +27,7 @@ from planner.plan.closed_form import closed_form_limits, closed_form_plan
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
-from planner.solve.instance import cover_instance
+from planner.solve.instance import CoverInstance, cover_instance
 from planner.solve.milp import solve
 from planner.solve.result import SolveResult
 
@@ -38,7 +39,9 @@ if TYPE_CHECKING:
 class MethodInput:
     """What a method plans from: the site, the run's options, the sight limits and the coverage problem of the
     pool; ``spaces`` and ``region_cache`` hold the frame spaces and coverage regions already drawn (pricing
-    reuses them)."""
+    reuses them). ``surfaces``: candidates x floor and ceiling patches (bool CSR, the patches some candidate
+    sees), columns every method covers besides the wall pieces (None: walls only); the registration links and
+    the precision rule stay the walls' (a patch adds no shared wall)."""
 
     site: Site
     options: PlanOptions
@@ -47,6 +50,22 @@ class MethodInput:
     problem: CoverageProblem
     spaces: dict[str, FrameSpace]
     region_cache: dict[int, Any]
+    surfaces: sp.csr_matrix | None = None
+
+
+def with_columns(inst: CoverInstance, extra: sp.csr_matrix | None) -> CoverInstance:
+    """``inst`` with the columns ``extra`` (candidates x patches) appended as targets of no wall length, so that
+    they count in no overlap; their precision weight is 1 (one view meets it)."""
+    if extra is None:
+        return inst
+    if extra.shape[0] != inst.shape[0]:
+        raise ValueError(f"{extra.shape[0]} rows of surface columns for {inst.shape[0]} candidates")
+    by = sp.hstack([inst.by_candidate, extra], format="csr").astype(bool)
+    lengths = None
+    if inst.target_length_m is not None:
+        lengths = np.concatenate([np.asarray(inst.target_length_m, dtype=float), np.zeros(extra.shape[1])])
+    info = None if inst.info is None else sp.hstack([inst.info, extra.astype(float)], format="csr")
+    return replace(inst, by_candidate=by, target_length_m=lengths, info=info)
 
 
 @dataclass(frozen=True)
@@ -74,7 +93,11 @@ def milp_method(run: MethodInput) -> MethodOutput:
     site, options, limits, problem = run.site, run.options, run.limits, run.problem
     log: list[str] = []
     pricing_on = options.pricing and regions_apply(limits)
-    if options.pricing and not pricing_on:
+    if run.surfaces is not None:
+        from planner.plan.surfaces import PLANE_OFF
+
+        log.append(f"bound over the pool ({PLANE_OFF})")
+    elif options.pricing and not pricing_on:
         log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
     pricing = None
     if pricing_on:
@@ -105,7 +128,11 @@ def milp_method(run: MethodInput) -> MethodOutput:
         incidence_model=p.incidence_model,
     )
     with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
-        result = solve(inst, options.milp)
+        result = solve(with_columns(inst, run.surfaces), options.milp)
+    if run.surfaces is not None:
+        from planner.plan.surfaces import PLANE_OFF
+
+        result = replace(result, info={**result.info, "plane_off": PLANE_OFF})
     if pricing is not None:
         result = with_plane_bound(result, pricing)
         if result.scope != "plane" and zone_side_groups(problem.candidates, groups, links) and result.selected:
@@ -140,13 +167,21 @@ def greedy_method(run: MethodInput) -> MethodOutput:
         mode = options.registration or default_registration(site).mode
         reach = rule.max_link_m or run.limits.effective_range_m
         groups, links = registration_groups(site, problem.candidates, mode, reach)
-        result = connected_greedy_plan(cover_instance(problem, name=site.name, groups=groups, links=links), rule)
+        inst = with_columns(cover_instance(problem, name=site.name, groups=groups, links=links), run.surfaces)
+        result = connected_greedy_plan(inst, rule)
         if not result.selected:
             log = ("greedy: no cover connected under the overlap rule found; plain greedy plan instead",)
-            result = greedy_cover(problem.by_candidate)
+            result = greedy_cover(_columns(problem, run.surfaces))
     else:
-        result = greedy_cover(problem.by_candidate)
+        result = greedy_cover(_columns(problem, run.surfaces))
     return MethodOutput(result, problem, problem, log)
+
+
+def _columns(problem: CoverageProblem, extra: sp.csr_matrix | None) -> sp.csr_matrix:
+    """The wall coverage with the surface columns appended (the wall coverage alone without them)."""
+    if extra is None:
+        return problem.by_candidate
+    return sp.hstack([problem.by_candidate, extra], format="csr").astype(bool)
 
 
 Method = Callable[[MethodInput], MethodOutput]

@@ -48,6 +48,16 @@ class PlanOptions:
     plane_refine_steps: int = 0
     memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
     strategy: StrategyOptions = field(default_factory=StrategyOptions)
+    #: the surfaces planned (issue 46): walls always, and floors and ceilings where asked
+    #: (:mod:`planner.plan.surfaces`; ``("walls",)``: the wall plan alone, unchanged)
+    surfaces: tuple[str, ...] = ("walls",)
+    #: the incidence limit of floors and ceilings in degrees (None: theta_max)
+    theta_max_floor_deg: float | None = None
+
+    @property
+    def beyond_walls(self) -> bool:
+        """Floors or ceilings are targets besides the walls."""
+        return any(s != "walls" for s in self.surfaces)
 
     @classmethod
     def checking(
@@ -90,6 +100,11 @@ class PlanOptions:
             flag(getattr(self, name), name)
         if self.memory_limit_bytes is not None:
             count(self.memory_limit_bytes, "memory_limit_bytes", 1)
+        _check_surfaces(self.surfaces)
+        if self.theta_max_floor_deg is not None:
+            real(self.theta_max_floor_deg, "theta_max_floor_deg", above=0)
+            if self.theta_max_floor_deg > 90:
+                raise UsageError("must be at most 90 deg", field="theta_max_floor_deg", value=self.theta_max_floor_deg)
         if self.registration not in (None, "zone", "site"):
             raise UsageError("must be 'zone', 'site' or None", field="registration", value=self.registration)
         if self.milp.k != 1 and self.method != "milp":  # the greedy and the closed form cover each piece once
@@ -102,6 +117,29 @@ class PlanOptions:
             raise UsageError(
                 "combined precision needs the precision check (precision=True)", field="precision", value=self.precision
             )
+
+
+#: the surfaces a plan can take as targets, in the order plan.json lists them
+SURFACES: tuple[str, ...] = ("walls", "floors", "ceilings")
+
+
+def _check_surfaces(surfaces: object) -> None:
+    """``surfaces``: a tuple of distinct names of :data:`SURFACES` that holds ``walls``."""
+    if not isinstance(surfaces, tuple) or not all(isinstance(s, str) for s in surfaces):
+        raise UsageError("must be a tuple of surface names", field="surfaces", value=surfaces)
+    unknown = [s for s in surfaces if s not in SURFACES]
+    if unknown:
+        raise UsageError(
+            f"unknown surface {unknown[0]!r} (known: {', '.join(SURFACES)})", field="surfaces", value=",".join(surfaces)
+        )
+    if "walls" not in surfaces:
+        raise UsageError(
+            "must include walls: walls are always targets (e.g. walls,floors)",
+            field="surfaces",
+            value=",".join(surfaces),
+        )
+    if len(set(surfaces)) != len(surfaces):
+        raise UsageError("names a surface twice", field="surfaces", value=",".join(surfaces))
 
 
 def plan_limits(validation: ValidationReport, options: PlanOptions) -> SightLimits:

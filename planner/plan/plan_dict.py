@@ -99,6 +99,8 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "stations": [_station(s, plan.tripods[k] if plan.tripods else None) for k, s in enumerate(plan.stations)],
         "verification": plan.verification.to_dict(),
         "log": list(plan.log),
+        # floors and ceilings (issue 46), only where the plan has them: a walls-only plan.json is unchanged
+        **({"surfaces": plan.surfaces.to_dict()} if plan.surfaces is not None else {}),
     }
 
 

@@ -17,6 +17,7 @@ from planner.coverage.targets import Targets, make_targets
 from planner.coverage.visibility import SightLimits
 from planner.plan.options import PlanOptions
 from planner.plan.strategy import Strategy, resolve_strategy
+from planner.plan.surfaces import SurfaceSetup, surface_setup
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
 
@@ -31,7 +32,9 @@ class Problem:
     one place that decides "off": overlap share 0 or no rule asked for); ``checked_rule``: the rule its
     registration is checked and reported on (the planning rule, else the site's share). ``registration``:
     ``zone`` (one bundle per zone-side) or ``site`` (across the accessible areas), ``registration_reason``
-    why. ``strategy``: one model or tiles, with the reason.
+    why. ``strategy``: one model or tiles, with the reason. ``surfaces``: the floors and ceilings planned
+    besides the walls, with their patches and sight limits (None: walls only); pricing is then off, since the
+    plane bound covers walls only.
     """
 
     site: Site
@@ -43,6 +46,7 @@ class Problem:
     registration: str
     registration_reason: str
     strategy: Strategy
+    surfaces: SurfaceSetup | None = None
 
     @property
     def limits(self) -> SightLimits:
@@ -78,7 +82,8 @@ class Problem:
     def summary(self) -> str:
         """The resolved choices, a line each: what every number of the run was computed under."""
         site = f"site {self.site.name}: {len(self.site.zones)} zone(s), instrument {self.validation.scanner.name}"
-        return "\n".join([site, self.limits_line(), self.registration_line(), self.strategy.line()])
+        lines = [site, self.limits_line(), self.registration_line(), self.strategy.line()]
+        return "\n".join(lines + ([self.surfaces.line()] if self.surfaces is not None else []))
 
     def to_dict(self) -> dict[str, Any]:
         lim = self.limits
@@ -128,6 +133,16 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
     resolved = replace(options, milp=replace(options.milp, overlap=rule), registration=registration)
     modes = {"incidence_3d": resolved.incidence_3d, "precision": resolved.precision, "combined": resolved.combined}
     validation, sight = sight_of(site, validation=validation, **modes)
+    surfaces = surface_setup(site, validation, resolved, sight.limits)
+    if surfaces is not None:  # the patches are priced over no region: the bound holds over the pool
+        resolved = replace(resolved, pricing=False)
+    strategy = resolve_strategy(site, resolved, validation)
+    if surfaces is not None and strategy.tiles:
+        raise UsageError(
+            f"floors and ceilings are planned in one model for now, and this site is planned by tiles "
+            f"({strategy.reason}); give --tiles off",
+            field="tiles",
+        )
     return Problem(
         site=site,
         validation=validation,
@@ -137,5 +152,6 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
         checked_rule=checked,
         registration=registration,
         registration_reason=reason,
-        strategy=resolve_strategy(site, resolved, validation),
+        strategy=strategy,
+        surfaces=surfaces,
     )

@@ -12,6 +12,7 @@ from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem
 from planner.plan.tripod import TripodDisc
 from planner.plan.verify import VerifyReport
+from planner.plan.verify_surfaces import SurfaceReport
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
@@ -34,6 +35,7 @@ class Plan:
     registration: dict[str, int] = field(default_factory=dict)
     tripods: tuple[TripodDisc, ...] = ()
     pool: Pool | None = None
+    surfaces: SurfaceReport | None = None
 
     @property
     def site(self) -> Site:
@@ -87,6 +89,9 @@ class Plan:
         )
         lines += self._tripod_lines()
         lines.append(self.verification.summary())
+        if self.surfaces is not None:
+            lines += [self.problem.surfaces.line()] if self.problem.surfaces is not None else []
+            lines += self.surfaces.lines()
         return "\n".join(line for line in lines if line)
 
     def _site_order(self, zone: str, side: str) -> tuple[int, int]:
@@ -175,7 +180,7 @@ class Plan:
         rows.append(
             (f"{plane:g}", f"over every position in the plane (cover LP priced over the coverage regions; {assumes})")
             if plane is not None
-            else ("none", "over the plane (pricing off)")
+            else ("none", f"over the plane ({info.get('plane_off', 'pricing off')})")
         )
         conn = info.get("connected_plane_bound")
         if conn is not None:

@@ -24,7 +24,9 @@ from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
 from planner.plan.registration import placed_stations, registration_check
 from planner.plan.result import Plan
+from planner.plan.surfaces import floor_candidates, surface_cover
 from planner.plan.verify import verify_stations
+from planner.plan.verify_surfaces import verify_surfaces
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
@@ -141,6 +143,8 @@ def site_candidates(
     exact = options.regions and regions_apply(limits)
     if exact:  # one station for a whole zone-side, found exactly where one exists
         pool = pool + whole_side_candidates(site, targets, limits, spaces, region_cache)
+    if problem.surfaces is not None:  # a grid over the floors, finer than the walls' (issue 46)
+        pool = pool + floor_candidates(site, problem.surfaces, options.pool.min_standoff_m)
     return dedupe(
         pool
         + axis_candidates(site, targets, limits, spaces, region_cache, cells=exact, step_m=options.target_spacing_m)
@@ -168,7 +172,16 @@ def plan_single(problem: Problem) -> Plan:
         f"({len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
         f"{', before pricing' if options.method == 'milp' and options.pricing else ''})"
     ]
-    out = REGISTRY[options.method](MethodInput(site, options, validation, limits, coverage, spaces, region_cache))
+    cover = None
+    if problem.surfaces is not None:  # the floor and ceiling columns, for the same candidates
+        t0 = time.perf_counter()
+        cover = surface_cover(site, problem.surfaces, coverage.candidates, coverage.excluded)
+        log.append(f"{cover.line(problem.surfaces)} ({time.perf_counter() - t0:.2f} s)")
+    extra = None if cover is None else cover.matrix
+    run = MethodInput(site, options, validation, limits, coverage, spaces, region_cache, extra)
+    out = REGISTRY[options.method](run)
+    if cover is not None and out.problem.candidates != coverage.candidates:  # pricing is off with surfaces
+        raise RuntimeError("the method changed the candidate pool the surface columns were built for")
     result, coverage = out.result, out.problem
     log += out.log
     rule = problem.checked_rule
@@ -179,6 +192,11 @@ def plan_single(problem: Problem) -> Plan:
         registration, log = {}, [*log, "registration: not required (overlap 0)"]
     stations, tripods = placed_stations(site, coverage, result.selected, options, partners)
     verification = verify_stations(problem.sight, stations, options.verify_spacing_m)
+    surfaces = None
+    if cover is not None and problem.surfaces is not None:
+        t0 = time.perf_counter()
+        surfaces = verify_surfaces(site, problem.surfaces, cover, stations, options.verify_spacing_m)
+        log.append(f"surfaces verified in {time.perf_counter() - t0:.2f} s")
     # the pool's size (after pricing for the MILP); the closed form solves over its own stations, not counted here
     size = {
         "candidates": len(out.pool.candidates),
@@ -194,5 +212,7 @@ def plan_single(problem: Problem) -> Plan:
         log=tuple(log),
         registration=registration,
         tripods=tripods,
-        pool=pool_of(out.pool),  # the pool the size counts: the best plans known are matched on its fingerprint
+        # the pool the size counts: the best plans known (of walls) are matched on its fingerprint
+        pool=pool_of(out.pool) if surfaces is None else None,
+        surfaces=surfaces,
     )

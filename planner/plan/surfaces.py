@@ -1,0 +1,232 @@
+"""Floors and ceilings as targets of a plan (issue 46): what :func:`planner.plan.problem.resolve` records when
+the surfaces go beyond walls, and the stations x patches columns the methods cover besides the wall pieces.
+
+The wall machinery stays as it is: the wall coverage (:class:`~planner.coverage.matrix.CoverageProblem`), the
+registration relation and the precision rule read walls only. The patches of
+:func:`planner.coverage.surfaces.make_surface_targets` (made once per run, at the target spacing) are seen by
+the rules of :mod:`planner.coverage.surface_sight`; a patch no candidate sees is reported and left out of the
+cover, as a wall piece the walls leave out is.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Collection
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from scipy import sparse
+
+from planner.core.errors import UsageError
+from planner.coverage.plan_sight import EPS_PLAN_M
+from planner.coverage.surface_sight import SurfaceLimits, surface_limits, surface_sight
+from planner.coverage.surfaces import KIND_NAME, SurfaceTargets, make_surface_targets, open_area
+from planner.site.candidate import Candidate, CandidateKind
+from planner.site.model import ScanSide, Site
+
+if TYPE_CHECKING:
+    from planner.coverage.visibility import SightLimits
+    from planner.plan.options import PlanOptions
+    from planner.site.validate import ValidationReport
+
+#: the reason the plane bound is not claimed when surfaces go beyond walls
+PLANE_OFF = "surfaces beyond walls: the plane bound covers walls only"
+#: the option that sets the instrument height (named by the refusal when none is known)
+HEIGHT_FLAG = "--instrument-height"
+#: the most floor candidates of one zone (a finer grid is coarsened to it)
+MAX_FLOOR_CANDIDATES = 5_000
+
+
+@dataclass(frozen=True, eq=False)
+class SurfaceSetup:
+    """The floors and ceilings of a run: ``kinds`` (``floor``, ``ceiling``), their ``patches``, the sight
+    ``limits`` of a station on them and where the instrument height came from (``height_source``)."""
+
+    kinds: tuple[str, ...]
+    patches: SurfaceTargets
+    limits: SurfaceLimits
+    height_source: str
+
+    def line(self) -> str:
+        """The surfaces in one line: kinds, patches, area, instrument height and incidence limit."""
+        lim = self.limits
+        theta = lim.theta_for(0)
+        return (
+            f"surfaces: walls, {', '.join(k + 's' for k in self.kinds)}: {len(self.patches):,} patches of at most "
+            f"{self.patches.spacing_m:g} m ({self.patches.total_area_m2():.1f} m2); instrument {lim.instrument_height_m:g} m "
+            f"above the floor ({self.height_source}), incidence <= {theta:g} deg"
+            + (f", blind cone {lim.nadir_blind_half_angle_deg:g} deg" if lim.nadir_blind_half_angle_deg else "")
+        )
+
+
+def surface_setup(
+    site: Site, validation: ValidationReport, options: PlanOptions, limits: SightLimits
+) -> SurfaceSetup | None:
+    """The surfaces of a run beyond walls (None: walls only).
+
+    The instrument height is the site's (``--instrument-height``, ``instrument_height_m``) where it is > 0,
+    else the scanner model's ``instrument_height_3d_m``.
+
+    Raises
+    ------
+    UsageError
+        No instrument height known (naming ``--instrument-height``), or the closed-form method, or combined
+        precision, which plan walls only.
+    """
+    if not options.beyond_walls:
+        return None
+    if options.method == "closed-form":
+        raise UsageError("the closed form plans walls only; floors and ceilings need milp or greedy", field="method")
+    if options.combined:
+        raise UsageError(
+            "combined precision is for walls only; floors and ceilings plan with single-view precision",
+            field="precision",
+        )
+    scanner = validation.scanner
+    ih_site = site.parameters.instrument_height_m
+    if ih_site > 0:
+        ih, source = ih_site, "the site's instrument height"
+    elif scanner.instrument_height_3d_m is not None:
+        ih, source = scanner.instrument_height_3d_m, f"{scanner.name}'s instrument_height_3d_m"
+    else:
+        raise UsageError(
+            f"floors and ceilings need the instrument height: give {HEIGHT_FLAG} M "
+            f"({scanner.name} has no instrument_height_3d_m)",
+            field=HEIGHT_FLAG,
+        )
+    kinds = tuple(k for k in ("floor", "ceiling") if k + "s" in options.surfaces)
+    sl = surface_limits(
+        scanner, limits.max_slant_range_m, limits.theta_max_deg, ih, theta_max_floor_deg=options.theta_max_floor_deg
+    )
+    return SurfaceSetup(kinds, make_surface_targets(site, options.target_spacing_m, kinds), sl, source)
+
+
+def standing_zones(site: Site, candidates: tuple[Candidate, ...] | list[Candidate]) -> NDArray[np.int64]:
+    """For each candidate, the index of the inside zone of its frame on whose floor it stands (-1: none).
+
+    A candidate planned for a zone's outside sees no floor (-1); one inside stands in the first zone of its
+    frame scanned from inside whose floor (outline less its blocks) holds it, edge included.
+    """
+    out = np.full(len(candidates), -1, dtype=np.int64)
+    if not candidates:
+        return out
+    xy = np.array([c.xy for c in candidates], dtype=float).reshape(-1, 2)
+    inside = np.array([c.side is ScanSide.INSIDE for c in candidates], dtype=bool)
+    frame = np.array([c.frame for c in candidates], dtype=object)
+    for zi, zone in enumerate(site.zones):
+        if ScanSide.INSIDE not in zone.scan_side.sides:
+            continue
+        todo = np.flatnonzero((out < 0) & inside & (frame == zone.frame))
+        if todo.size == 0:
+            continue
+        area = open_area(site, zi).buffer(EPS_PLAN_M, join_style="mitre")
+        on = np.asarray(shapely.covers(area, shapely.points(xy[todo])))
+        out[todo[on]] = zi
+    return out
+
+
+def floor_spacing(setup: SurfaceSetup) -> float:
+    """The spacing of the floor candidates: half the width of the ring a station sees the floor in (from the blind
+    disc's radius to the incidence reach), at least 0.5 m; e.g. (3.71 - 1.05) / 2 = 1.33 m for the P30 at 1.5 m."""
+    lim = setup.limits
+    ih = lim.instrument_height_m
+    reach = ih * math.tan(math.radians(min(lim.theta_for(0), 89.0)))
+    reach = min(reach, lim.max_slant_range_m)
+    blind = ih * math.tan(math.radians(lim.nadir_blind_half_angle_deg or 0.0))
+    return max(0.5, (reach - blind) / 2)
+
+
+def floor_candidates(site: Site, setup: SurfaceSetup, standoff_m: float) -> list[Candidate]:
+    """Candidates on a square grid over each inside zone's floor (:func:`floor_spacing`, axes from the zone's first
+    wall, so that moving the site moves the grid), at least ``standoff_m`` from its walls and blocks, so that
+    every patch has stations near enough to see it (the wall pool's grid is coarser than a floor's reach)."""
+    spacing = floor_spacing(setup)
+    out: list[Candidate] = []
+    for zi, zone in enumerate(site.zones):
+        if ScanSide.INSIDE not in zone.scan_side.sides:
+            continue
+        area = open_area(site, zi)
+        inner = area.buffer(-standoff_m) if standoff_m > 0 else area
+        if inner.is_empty:
+            continue
+        h = max(spacing, math.sqrt(area.area / MAX_FLOOR_CANDIDATES))
+        xy = np.asarray(zone.xy, dtype=float)
+        ux = (xy[1] - xy[0]) / np.hypot(*(xy[1] - xy[0]))
+        uy = np.array([-ux[1], ux[0]])
+        rel = np.asarray(shapely.get_coordinates(shapely.envelope(area))) - xy[0]
+        u, v = rel @ ux, rel @ uy
+        iu = np.arange(math.floor(u.min() / h), math.ceil(u.max() / h) + 1) * h
+        iv = np.arange(math.floor(v.min() / h), math.ceil(v.max() / h) + 1) * h
+        gu, gv = np.meshgrid(iu + h / 2, iv + h / 2)
+        pts = xy[0] + np.outer(gu.ravel(), ux) + np.outer(gv.ravel(), uy)
+        pts = pts[shapely.contains_xy(inner, pts[:, 0], pts[:, 1])]
+        out += [
+            Candidate(
+                f"{zone.id}-in-F{k}", zone.id, ScanSide.INSIDE, zone.frame, float(x), float(y), CandidateKind.GRID
+            )
+            for k, (x, y) in enumerate(pts, 1)
+        ]
+    return out
+
+
+def patch_matrix(
+    site: Site,
+    setup: SurfaceSetup,
+    candidates: tuple[Candidate, ...] | list[Candidate],
+    excluded: Collection[int] = (),
+) -> sparse.csr_matrix:
+    """Boolean CSR, candidates x patches: True where the candidate sees the whole patch
+    (:func:`planner.coverage.surface_sight.surface_sight`, the candidate in the zone it stands in); the
+    ``excluded`` candidates (where no station may stand: the wall coverage's) see none."""
+    n, p = len(candidates), len(setup.patches)
+    zone = standing_zones(site, candidates)
+    zone[np.asarray(list(excluded), dtype=np.int64)] = -1
+    rows = np.flatnonzero(zone >= 0)
+    if rows.size == 0 or p == 0:
+        return sparse.csr_matrix((n, p), dtype=bool)
+    xy = np.array([candidates[int(i)].xy for i in rows], dtype=float).reshape(-1, 2)
+    sub = surface_sight(site, setup.patches, xy, zone[rows], setup.limits).tocoo()
+    return sparse.csr_matrix((np.ones(sub.nnz, dtype=bool), (rows[sub.row], sub.col)), shape=(n, p), dtype=bool)
+
+
+@dataclass(frozen=True, eq=False)
+class SurfaceCover:
+    """The patch columns of a cover: ``matrix`` (candidates x the patches some candidate sees), ``seen`` those
+    patches' indices, ``unseen`` the patches no candidate sees (left out of the cover, reported)."""
+
+    matrix: sparse.csr_matrix
+    seen: NDArray[np.int64]
+    unseen: NDArray[np.int64]
+
+    def unseen_dict(self, setup: SurfaceSetup) -> dict[str, object]:
+        """The unseen patches: count, area and zones with their kinds."""
+        p = setup.patches
+        zones = sorted({f"{p.zone_ids[int(p.zone[t])]}/{KIND_NAME[int(p.kind[t])]}" for t in self.unseen})
+        return {"count": int(self.unseen.size), "area_m2": float(p.area_m2[self.unseen].sum()), "zones": zones}
+
+    def line(self, setup: SurfaceSetup) -> str:
+        """The patches covered, and those left out (no candidate sees them), in one line."""
+        u = self.unseen_dict(setup)
+        left = (
+            f"; {u['count']} patch(es) ({u['area_m2']:.2f} m2) seen by no candidate, left out: {', '.join(u['zones'])}"  # type: ignore[arg-type]
+            if u["count"]
+            else ""
+        )
+        return f"surface cover: {len(self.seen):,} patches as {self.matrix.nnz:,} candidate-patch pairs{left}"
+
+
+def surface_cover(
+    site: Site,
+    setup: SurfaceSetup,
+    candidates: tuple[Candidate, ...] | list[Candidate],
+    excluded: Collection[int] = (),
+) -> SurfaceCover:
+    """The patch columns for ``candidates`` (``excluded``: those that may not stand where they are): the seen
+    patches kept, the unseen ones set apart."""
+    full = patch_matrix(site, setup, candidates, excluded)
+    counts = np.diff(full.tocsc().indptr)
+    seen, unseen = np.flatnonzero(counts > 0), np.flatnonzero(counts == 0)
+    return SurfaceCover(full[:, seen].tocsr(), seen.astype(np.int64), unseen.astype(np.int64))

@@ -1,0 +1,213 @@
+"""Verification of floors and ceilings, point by point, independent of :mod:`planner.coverage.surface_sight`.
+
+Each floor and ceiling of each zone is sampled on a grid (cell centres every ``spacing_m``, the verify
+spacing; coarsened where a surface would pass :data:`MAX_POINTS` points, and the report says so). A point
+counts as covered when some planned station sees it:
+
+- the station stands on the same zone's floor (scanned from inside, outside every block);
+- the slant range from the instrument (the floor level plus the instrument height) to the point is <= S_max;
+- the incidence, the angle between the ray and the surface's normal, atan(d / |dz|) for horizontal distance
+  d and height difference dz, is <= the surface's limit (``theta_max_floor_deg``, else theta_max), with the
+  floor below the instrument and the ceiling above it;
+- the ray is outside the blind cone: its angle from the nadir (floors) or the zenith (ceilings) is >= the
+  model's half angle;
+- in plan, the segment from the station to the point keeps inside the zone's outline and out of its blocks
+  (every block for a floor, those above the instrument for a ceiling), shapely ``covered_by`` vectorised.
+
+It shares with planning only the surfaces' areas (what is a target) and the limits' values.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from planner.core.text import table
+from planner.coverage.surfaces import CEILING, FLOOR, KIND_CODE, surface_areas, zone_blocks
+from planner.plan.surfaces import SurfaceCover, SurfaceSetup
+from planner.site.candidate import Candidate
+from planner.site.model import ScanSide, Site
+
+#: the most sample points of one zone's surface; a finer grid is coarsened to it
+MAX_POINTS = 200_000
+#: slack of the plan-view test (a segment grazing a wall or block corner is clear)
+EPS_M = 1e-6
+
+
+@dataclass(frozen=True)
+class SurfaceCoverage:
+    """Sample points of one zone's floor or ceiling and how many some station sees (``spacing_m``: the grid's)."""
+
+    zone: str
+    kind: str
+    points: int
+    covered: int
+    spacing_m: float
+
+    @property
+    def percent(self) -> float:
+        return 100.0 * self.covered / self.points if self.points else 100.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class SurfaceReport:
+    """The floors and ceilings of a plan: the kinds planned, the patches and their area, the patches no
+    candidate saw (left out of the cover), and the point-wise verification per zone and kind."""
+
+    kinds: tuple[str, ...]
+    patches: int
+    patch_area_m2: float
+    instrument_height_m: float
+    theta_max_floor_deg: float
+    unseen: dict[str, Any]
+    spacing_m: float
+    rows: tuple[SurfaceCoverage, ...]
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def percent(self) -> float:
+        pts = sum(r.points for r in self.rows)
+        return 100.0 * sum(r.covered for r in self.rows) / pts if pts else 100.0
+
+    @property
+    def complete(self) -> bool:
+        """Every sample point of every surface is covered."""
+        return all(r.covered == r.points for r in self.rows)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "types": ["walls", *(k + "s" for k in self.kinds)],
+            "patches": self.patches,
+            "patch_area_m2": self.patch_area_m2,
+            "instrument_height_m": self.instrument_height_m,
+            "theta_max_floor_deg": self.theta_max_floor_deg,
+            "unseen_patches": self.unseen,
+            "verification": {
+                "spacing_m": self.spacing_m,
+                "percent": self.percent,
+                "complete": self.complete,
+                "zones": [
+                    {
+                        "zone": r.zone,
+                        "type": r.kind,
+                        "points": r.points,
+                        "covered": r.covered,
+                        "percent": r.percent,
+                        "spacing_m": r.spacing_m,
+                    }
+                    for r in self.rows
+                ],
+                "notes": list(self.notes),
+            },
+        }
+
+    def lines(self) -> list[str]:
+        """The surfaces' verification for the terminal: a line, a table per zone and kind, the notes."""
+        state = "complete" if self.complete else "INCOMPLETE"
+        head = [
+            f"surfaces verified at {self.spacing_m:g} m: {self.percent:.3f} % of floor/ceiling points covered ({state})"
+        ]
+        rows = [(r.zone, r.kind, r.points, r.covered, f"{r.percent:.3f}") for r in self.rows]
+        out = head + table(["zone", "surface", "points", "covered", "covered %"], rows)
+        if self.unseen.get("count"):
+            u = self.unseen
+            out.append(
+                f"surface patches seen by no candidate (left out of the cover): {u['count']}, {u['area_m2']:.2f} m2 "
+                f"in {', '.join(u['zones'])}"
+            )
+        return out + list(self.notes)
+
+
+def _grid(area: shapely.Geometry, spacing_m: float) -> tuple[NDArray[np.float64], float]:
+    """Cell centres of a grid of ``spacing_m`` over ``area``'s bounds that lie in it (the spacing coarsened so
+    that the grid holds at most :data:`MAX_POINTS` points)."""
+    x0, y0, x1, y1 = area.bounds
+    h = max(spacing_m, math.sqrt((x1 - x0) * (y1 - y0) / MAX_POINTS))
+    xs = x0 + h * (np.arange(max(1, math.ceil((x1 - x0) / h))) + 0.5)
+    ys = y0 + h * (np.arange(max(1, math.ceil((y1 - y0) / h))) + 0.5)
+    gx, gy = np.meshgrid(xs, ys)
+    pts = np.column_stack([gx.ravel(), gy.ravel()])
+    inside = shapely.contains_xy(area, pts[:, 0], pts[:, 1])
+    return pts[inside], h
+
+
+def _seen_by(
+    station: NDArray[np.float64], pts: NDArray[np.float64], dz: float, setup: SurfaceSetup, kind: int, clear: Any
+) -> NDArray[np.bool_]:
+    """Which points one station sees (dz: the surface's height less the instrument's)."""
+    lim = setup.limits
+    d = np.hypot(pts[:, 0] - station[0], pts[:, 1] - station[1])
+    slant = np.hypot(d, dz)
+    angle = np.degrees(np.arctan2(d, abs(dz)))  # from the normal, and from the nadir or zenith alike
+    half = lim.nadir_blind_half_angle_deg if kind == FLOOR else lim.zenith_blind_half_angle_deg
+    ok = (slant <= lim.max_slant_range_m + 1e-9) & (angle <= lim.theta_for(kind) + 1e-9)
+    if half:
+        ok &= angle >= half - 1e-9
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        segs = shapely.linestrings(np.stack([np.broadcast_to(station, (idx.size, 2)), pts[idx]], axis=1))
+        ok[idx] = shapely.covered_by(segs, clear)
+    return np.asarray(ok, dtype=bool)
+
+
+def verify_surfaces(
+    site: Site, setup: SurfaceSetup, cover: SurfaceCover, stations: Sequence[Candidate], spacing_m: float
+) -> SurfaceReport:
+    """The point-wise verification of the floors and ceilings of ``setup`` by ``stations``."""
+    lim = setup.limits
+    rows: list[SurfaceCoverage] = []
+    notes: list[str] = []
+    for zi, zone in enumerate(site.zones):
+        if ScanSide.INSIDE not in zone.scan_side.sides:
+            continue
+        outline = shapely.Polygon(zone.xy)
+        blocks = zone_blocks(site, zi)
+        stand = outline.difference(shapely.union_all([b for b, _ in blocks])) if blocks else outline
+        stand = stand.buffer(EPS_M, join_style="mitre")
+        here = [
+            s
+            for s in stations
+            if s.side is ScanSide.INSIDE and s.frame == zone.frame and stand.covers(shapely.Point(s.xy))
+        ]
+        eye = zone.floor_level_m + lim.instrument_height_m
+        for kind_name, area in surface_areas(site, zi).items():
+            name = {FLOOR: "floor", CEILING: "ceiling"}[kind_name]
+            if name not in setup.kinds or area.is_empty:
+                continue
+            kind = KIND_CODE[name]
+            pts, h = _grid(area, spacing_m)
+            if h > spacing_m:
+                notes.append(
+                    f"{zone.id}/{name}: sampled every {h:.3f} m, not {spacing_m:g} m ({MAX_POINTS:,} points at most)"
+                )
+            height = zone.floor_level_m + ((zone.ceiling_height_m or 0.0) if kind == CEILING else 0.0)
+            dz = height - eye
+            covered = np.zeros(len(pts), dtype=bool)
+            hiding = [b for b, top in blocks if kind == FLOOR or top > lim.instrument_height_m]
+            clear = (outline.difference(shapely.union_all(hiding)) if hiding else outline).buffer(
+                EPS_M, join_style="mitre"
+            )
+            if (dz < 0) if kind == FLOOR else (dz > 0):
+                for s in here:
+                    todo = np.flatnonzero(~covered)
+                    if todo.size == 0:
+                        break
+                    covered[todo] = _seen_by(np.asarray(s.xy, dtype=float), pts[todo], dz, setup, kind, clear)
+            rows.append(SurfaceCoverage(zone.id, name, len(pts), int(covered.sum()), h))
+    return SurfaceReport(
+        kinds=setup.kinds,
+        patches=len(setup.patches),
+        patch_area_m2=float(setup.patches.total_area_m2()),
+        instrument_height_m=lim.instrument_height_m,
+        theta_max_floor_deg=lim.theta_for(FLOOR),
+        unseen=cover.unseen_dict(setup),
+        spacing_m=spacing_m,
+        rows=tuple(rows),
+        notes=tuple(notes),
+    )
