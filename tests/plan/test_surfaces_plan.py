@@ -171,3 +171,51 @@ def test_verification_finds_a_floor_one_station_leaves_uncovered(tmp_path):
     assert not report.complete and "INCOMPLETE" in report.lines()[0]
     # the candidate sees whole patches only: one at the room's corner, 5.8 m away, is not among them
     assert cover.unseen.size > 0 and cover.matrix.shape == (1, cover.seen.size)
+
+
+def _l_room(tmp_path: Path) -> Path:
+    # an L: the 12 x 5 m bar and the 5 x 5 m arm above its left end (85 m2), a 0.6 m column at (2, 2) that
+    # reaches the 2.8 m ceiling: floor and ceiling are each 85 - 0.36 = 84.64 m2, 8,464 points at 0.1 m
+    zone = {
+        "id": "L",
+        "scan_side": "inside",
+        "coordinates": [[0, 0], [12, 0], [12, 5], [5, 5], [5, 10], [0, 10]],
+        "height_m": 3.0,
+        "ceiling_height_m": 2.8,
+        "holes": [{"coordinates": [[2, 2], [2.6, 2], [2.6, 2.6], [2, 2.6]], "height_m": 2.8}],
+    }
+    path = tmp_path / "l.json"
+    path.write_text(json.dumps({"name": "lroom", "instrument": "leica-p30", "zones": [zone]}))
+    return path
+
+
+def test_l_room_with_a_column_planned_with_floor_and_ceiling(tmp_path):
+    plan = _plan([str(_l_room(tmp_path)), "--set", "surfaces=walls,floors,ceilings"], tmp_path / "l")
+    rows = {r["type"]: r for r in plan["surfaces"]["verification"]["zones"]}
+    assert rows["floor"]["points"] == rows["ceiling"]["points"] == 8464
+    assert plan["surfaces"]["verification"]["complete"]
+
+
+def test_verification_sees_no_floor_round_the_inner_corner(tmp_path):
+    # one station at (6, 4), 1 m right of and below the L's inner corner (5, 5). The floor point (4, 6.5) is
+    # 3.20 m away (within 1.050..3.713 m) but the segment to it crosses x = 5 at y = 5.25, outside the L: hidden.
+    # A point (x, y) of the arm (x < 5, y > 5) is hidden when that crossing, y' = 4 + (y - 4) / (6 - x), is above
+    # 5, i.e. x + y > 10 (on the line, the segment grazes the corner: seen). The column's nearest corner (2.6, 2.6)
+    # is 3.68 m away, so its shadow within the 3.713 m reach is a sliver: the verification counts the ring's points
+    # less the hidden ones, and at most a few fewer
+    site = load_site(_l_room(tmp_path))
+    problem = resolve(site, PlanOptions(surfaces=("walls", "floors")))
+    assert problem.surfaces is not None
+    one = Candidate("c", "L", ScanSide.INSIDE, site.zones[0].frame, 6.0, 4.0, CandidateKind.GRID)
+    report = verify_surfaces(site, problem.surfaces, surface_cover(site, problem.surfaces, [one]), [one], 0.1)
+    g = np.arange(0.05, 12.0, 0.1)
+    px, py = np.meshgrid(g, np.arange(0.05, 10.0, 0.1))
+    x, y = px.ravel(), py.ravel()
+    floor = ((y < 5) | (x < 5)) & ~((x > 2) & (x < 2.6) & (y > 2) & (y < 2.6))
+    d = np.hypot(x - 6.0, y - 4.0)
+    ring = floor & (d >= 1.5 * math.tan(math.radians(35))) & (d <= 1.5 * math.tan(math.radians(68)))
+    behind = ring & (x < 5) & (y > 5) & (x + y > 10 + 1e-6)  # round the corner, hidden from (6, 4)
+    assert behind.sum() > 0
+    (row,) = report.rows
+    assert row.points == int(floor.sum()) == 8464
+    assert int(ring.sum()) - int(behind.sum()) - 10 <= row.covered <= int(ring.sum()) - int(behind.sum())
