@@ -219,3 +219,12 @@ def test_verification_sees_no_floor_round_the_inner_corner(tmp_path):
     (row,) = report.rows
     assert row.points == int(floor.sum()) == 8464
     assert int(ring.sum()) - int(behind.sum()) - 10 <= row.covered <= int(ring.sum()) - int(behind.sum())
+
+
+@pytest.mark.parametrize("extra", [["--method", "greedy"], ["--method", "greedy", "--no-overlap"], ["--no-overlap"]])
+def test_every_method_but_the_closed_form_covers_the_floor(tmp_path, extra):
+    # the connected greedy, the plain greedy and the plain MILP cover the patch columns too: the 10 x 6 m floor
+    # verifies at 100 % (6,000 points), and no plan has fewer stations than the walls alone need (1)
+    room = _room_csv(tmp_path)
+    plan = _plan([str(room), "--set", "surfaces=walls,floors", *extra], tmp_path / "m")
+    assert plan["surfaces"]["verification"]["complete"] and len(plan["stations"]) > 1
