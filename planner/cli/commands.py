@@ -193,11 +193,28 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
     problem = checking_problem(args)
     stations = read_plan_stations(args.plan, problem.site)
+    surfaces = tuple(args.surfaces.split(","))
+    setup = None
+    if surfaces != ("walls",):  # floors and ceilings too (issue 46): the same setup as planning takes
+        from planner.plan.surfaces import surface_setup
+
+        checked = replace(problem.options, surfaces=surfaces, theta_max_floor_deg=args.theta_max_floor)
+        try:
+            setup = surface_setup(problem.site, problem.validation, checked, problem.limits)
+        except UsageError as err:
+            raise UsageError(err.message, field=plan_flag(err.field), value=err.value) from None
     report = verify_stations(problem.sight, stations, args.spacing)
     print(f"plan {args.plan}: {len(stations)} stations")
     recorded_notes(args.plan, problem.site)
     print(report.summary())
-    return ExitCode.OK if report.complete else ExitCode.INFEASIBLE
+    complete = report.complete
+    if setup is not None:
+        from planner.plan.verify_surfaces import verify_surfaces
+
+        checked_surfaces = verify_surfaces(problem.site, setup, None, stations, args.spacing)
+        print("\n".join(checked_surfaces.lines()))
+        complete = complete and checked_surfaces.complete
+    return ExitCode.OK if complete else ExitCode.INFEASIBLE
 
 
 def cmd_export(args: argparse.Namespace) -> int:

@@ -65,7 +65,7 @@ class SurfaceReport:
     patch_area_m2: float
     instrument_height_m: float
     theta_max_floor_deg: float
-    unseen: dict[str, Any]
+    unseen: dict[str, Any] | None
     spacing_m: float
     rows: tuple[SurfaceCoverage, ...]
     notes: tuple[str, ...] = field(default_factory=tuple)
@@ -115,7 +115,7 @@ class SurfaceReport:
         ]
         rows = [(r.zone, r.kind, r.points, r.covered, f"{r.percent:.3f}") for r in self.rows]
         out = head + table(["zone", "surface", "points", "covered", "covered %"], rows)
-        if self.unseen.get("count"):
+        if self.unseen and self.unseen.get("count"):
             u = self.unseen
             out.append(
                 f"surface patches seen by no candidate (left out of the cover): {u['count']}, {u['area_m2']:.2f} m2 "
@@ -157,9 +157,10 @@ def _seen_by(
 
 
 def verify_surfaces(
-    site: Site, setup: SurfaceSetup, cover: SurfaceCover, stations: Sequence[Candidate], spacing_m: float
+    site: Site, setup: SurfaceSetup, cover: SurfaceCover | None, stations: Sequence[Candidate], spacing_m: float
 ) -> SurfaceReport:
-    """The point-wise verification of the floors and ceilings of ``setup`` by ``stations``."""
+    """The point-wise verification of the floors and ceilings of ``setup`` by ``stations``; ``cover``: the plan's
+    patch columns, whose unseen patches the report lists (None: a plan checked alone, no pool)."""
     lim = setup.limits
     rows: list[SurfaceCoverage] = []
     notes: list[str] = []
@@ -206,7 +207,7 @@ def verify_surfaces(
         patch_area_m2=float(setup.patches.total_area_m2()),
         instrument_height_m=lim.instrument_height_m,
         theta_max_floor_deg=lim.theta_for(FLOOR),
-        unseen=cover.unseen_dict(setup),
+        unseen=None if cover is None else cover.unseen_dict(setup),
         spacing_m=spacing_m,
         rows=tuple(rows),
         notes=tuple(notes),

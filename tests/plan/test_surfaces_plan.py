@@ -228,3 +228,18 @@ def test_every_method_but_the_closed_form_covers_the_floor(tmp_path, extra):
     room = _room_csv(tmp_path)
     plan = _plan([str(room), "--set", "surfaces=walls,floors", *extra], tmp_path / "m")
     assert plan["surfaces"]["verification"]["complete"] and len(plan["stations"]) > 1
+
+
+def test_verify_command_checks_floors_when_asked(tmp_path, capsys):
+    # the floors plan verifies (exit 0); the walls-only plan's one station leaves the floor beyond 3.713 m and
+    # inside its 1.050 m blind disc unseen: incomplete, exit 4 (INFEASIBLE), as a wall left uncovered
+    room = _room_csv(tmp_path)
+    _plan([str(room), "--set", "surfaces=walls,floors"], tmp_path / "f")
+    _plan([str(room)], tmp_path / "w")
+    capsys.readouterr()
+    floors = ["--surfaces", "walls,floors"]
+    assert main(["verify", str(room), str(tmp_path / "f" / "plan.json"), *floors]) == ExitCode.OK
+    assert "(complete)" in capsys.readouterr().out
+    assert main(["verify", str(room), str(tmp_path / "w" / "plan.json"), *floors]) == ExitCode.INFEASIBLE
+    assert "(INCOMPLETE)" in capsys.readouterr().out
+    assert main(["verify", str(room), str(tmp_path / "w" / "plan.json")]) == ExitCode.OK  # walls alone: complete

@@ -11,6 +11,7 @@ from planner.cli.parsers.common import (
     add_limit_options,
     add_site_options,
 )
+from planner.cli.tuning import add_option
 
 
 def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
@@ -27,5 +28,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         default="single",
         help="single: each point needs one view within sigma_req; combined: its views add information (default single)",
     )
+    add_option(ve, "surfaces")
+    add_option(ve, "theta-max-floor")
     add_limit_options(ve)
     ve.set_defaults(func=handlers["verify"])
