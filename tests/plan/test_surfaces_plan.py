@@ -243,3 +243,17 @@ def test_verify_command_checks_floors_when_asked(tmp_path, capsys):
     assert main(["verify", str(room), str(tmp_path / "w" / "plan.json"), *floors]) == ExitCode.INFEASIBLE
     assert "(INCOMPLETE)" in capsys.readouterr().out
     assert main(["verify", str(room), str(tmp_path / "w" / "plan.json")]) == ExitCode.OK  # walls alone: complete
+
+
+def test_a_floor_no_station_can_see_is_reported_and_left_out(tmp_path, capsys):
+    # theta-max-floor 30 deg is inside the P30's 35 deg blind cone: every ray near enough the normal is blind, so
+    # no candidate sees any of the 60 patches (60 m2); they are left out of the cover and reported, the walls are
+    # planned as ever (one station) and the floor's verification says 0 % and INCOMPLETE
+    room = _room_csv(tmp_path)
+    plan = _plan([str(room), "--set", "surfaces=walls,floors", "--set", "theta-max-floor=30"], tmp_path / "t")
+    assert plan["surfaces"]["unseen_patches"] == {"count": 60, "area_m2": 60.0, "zones": ["R/floor"]}
+    assert plan["surfaces"]["theta_max_floor_deg"] == 30.0 and len(plan["stations"]) == 1
+    v = plan["surfaces"]["verification"]
+    assert not v["complete"] and v["zones"][0]["covered"] == 0
+    out = capsys.readouterr().out
+    assert "60 patch(es) (60.00 m2) seen by no candidate, left out: R/floor" in out and "(INCOMPLETE)" in out
