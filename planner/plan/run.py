@@ -24,7 +24,7 @@ from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
 from planner.plan.registration import placed_stations, registration_check
 from planner.plan.result import Plan
-from planner.plan.surfaces import floor_candidates, surface_cover
+from planner.plan.surfaces import floor_candidates, surface_cover, surface_discs
 from planner.plan.verify import verify_stations
 from planner.plan.verify_surfaces import verify_surfaces
 from planner.site.candidate import Candidate
@@ -191,6 +191,9 @@ def plan_single(problem: Problem) -> Plan:
     if rule.overlap == 0:
         registration, log = {}, [*log, "registration: not required (overlap 0)"]
     stations, tripods = placed_stations(site, coverage, result.selected, options, partners)
+    if cover is not None and problem.surfaces is not None and tripods:  # discs that keep the floors too
+        tripods, shrunk = surface_discs(site, problem.surfaces, cover, result.selected, stations, tripods)
+        log.append(f"tripod discs: {shrunk} of {len(tripods)} shrunk to keep their floor and ceiling patches")
     verification = verify_stations(problem.sight, stations, options.verify_spacing_m)
     surfaces = None
     if cover is not None and problem.surfaces is not None:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Collection
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -30,6 +30,7 @@ from planner.site.model import ScanSide, Site
 if TYPE_CHECKING:
     from planner.coverage.visibility import SightLimits
     from planner.plan.options import PlanOptions
+    from planner.plan.tripod import TripodDisc
     from planner.site.validate import ValidationReport
 
 #: the reason the plane bound is not claimed when surfaces go beyond walls
@@ -80,6 +81,11 @@ def surface_setup(
         return None
     if options.method == "closed-form":
         raise UsageError("the closed form plans walls only; floors and ceilings need milp or greedy", field="method")
+    if options.recentre:
+        raise UsageError(
+            "recentring keeps each station's walls only; floors and ceilings keep the planned stations",
+            field="--recentre",
+        )
     if options.combined:
         raise UsageError(
             "combined precision is for walls only; floors and ceilings plan with single-view precision",
@@ -230,3 +236,68 @@ def surface_cover(
     counts = np.diff(full.tocsc().indptr)
     seen, unseen = np.flatnonzero(counts > 0), np.flatnonzero(counts == 0)
     return SurfaceCover(full[:, seen].tocsr(), seen.astype(np.int64), unseen.astype(np.int64))
+
+
+#: directions round a tripod disc's rim at which its surface patches are checked again
+RIM_POINTS = 16
+#: a tripod disc smaller than this is none (:data:`planner.plan.tripod.MIN_RADIUS_M`)
+MIN_DISC_M = 0.05
+
+
+def _margins(site: Site, setup: SurfaceSetup, xy: NDArray, zone: NDArray, pid: NDArray) -> NDArray[np.float64]:
+    """How far each station (``xy``, standing in ``zone``) may move and still see all of patch ``pid``, by range,
+    incidence and the blind cone: the reach less the farthest corner, and the nearest point less the blind radius."""
+    lim, p = setup.limits, setup.patches
+    floor = np.array([z.floor_level_m for z in site.zones])[zone]
+    dz = np.abs(p.height_m[pid] - (floor + lim.instrument_height_m))
+    kind = p.kind[pid]
+    theta = np.where(kind == 0, lim.theta_for(0), lim.theta_for(1))
+    reach = np.minimum(np.sqrt(np.maximum(lim.max_slant_range_m**2 - dz**2, 0.0)), dz * np.tan(np.radians(theta)))
+    far = np.hypot(*(p.corners[pid] - xy[:, None, :]).transpose(2, 0, 1)).max(axis=1)
+    half = np.where(kind == 0, lim.nadir_blind_half_angle_deg or 0.0, lim.zenith_blind_half_angle_deg or 0.0)
+    near = shapely.distance(shapely.points(xy), p.polygon[pid])
+    return np.asarray(np.minimum(reach - far, near - dz * np.tan(np.radians(half))), dtype=np.float64)
+
+
+def surface_discs(
+    site: Site,
+    setup: SurfaceSetup,
+    cover: SurfaceCover,
+    selected: tuple[int, ...],
+    stations: list[Candidate],
+    discs: tuple[TripodDisc, ...],
+) -> tuple[tuple[TripodDisc, ...], int]:
+    """The tripod discs shrunk so that each keeps the floor and ceiling patches its station answers for (each
+    seen patch answers to the chosen station that sees it with the largest margin), and how many were shrunk.
+
+    The radius is the smallest margin (:func:`_margins`) of the station's patches, checked with the full sight
+    test at :data:`RIM_POINTS` points of the rim and halved (three times at most, then 0) until none is lost.
+    """
+    if not discs or cover.matrix.shape[1] == 0:
+        return discs, 0
+    m = cover.matrix[list(selected)].tocoo()
+    rows, pid = m.row.astype(np.int64), cover.seen[m.col]
+    xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
+    zone = standing_zones(site, stations)
+    margin = _margins(site, setup, xy[rows], zone[rows], pid)
+    order = np.lexsort((-margin, pid))
+    first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]  # the best station of each patch
+    out, shrunk = list(discs), 0
+    angles = np.linspace(0.0, 2 * math.pi, RIM_POINTS, endpoint=False)
+    ring = np.column_stack([np.cos(angles), np.sin(angles)])
+    for k in np.unique(rows[first]):
+        mine = first[rows[first] == k]
+        r = min(discs[k].radius_m, float(margin[mine].min()))
+        need = pid[mine]
+        for _ in range(4):
+            if r < MIN_DISC_M:
+                break
+            rim = xy[k] + r * ring
+            seen = surface_sight(site, setup.patches, rim, np.full(RIM_POINTS, zone[k]), setup.limits)
+            if seen[:, need].toarray().all():
+                break
+            r /= 2
+        r = r if r >= MIN_DISC_M else 0.0
+        if r < discs[k].radius_m:
+            out[k], shrunk = replace(discs[k], radius_m=r), shrunk + 1
+    return tuple(out), shrunk

@@ -76,6 +76,14 @@ def test_room_floor_planned_and_found_covered_by_an_independent_check(tmp_path, 
     angle = np.degrees(np.arctan2(d, IH))
     seen = (angle <= 68.0) & (angle >= 35.0)
     assert seen.any(axis=1).all(), pts[~seen.any(axis=1)][:5]
+    # each station may stand anywhere in its tripod disc: all moved together to a point of their rims (8
+    # directions), the floor is still covered
+    radius = np.array([s["tripod_radius_m"] for s in plan["stations"]])
+    for a in np.linspace(0.0, 2 * math.pi, 8, endpoint=False):
+        moved = st + 0.999 * radius[:, None] * np.array([math.cos(a), math.sin(a)])
+        dm = np.hypot(pts[:, None, 0] - moved[None, :, 0], pts[:, None, 1] - moved[None, :, 1])
+        am = np.degrees(np.arctan2(dm, IH))
+        assert ((am <= 68.0) & (am >= 35.0)).any(axis=1).all(), a
     # the package's own verification agrees, and the summary says what the bound holds over
     v = plan["surfaces"]["verification"]
     assert v["complete"] and v["zones"] == [
@@ -116,6 +124,7 @@ def test_walls_only_plan_json_unchanged_by_the_surfaces_key(tmp_path):
             ["--instrument-height", "instrument_height_3d_m"],
         ),
         (["--set", "surfaces=walls,floors", "--method", "closed-form"], ["--method", "walls only"]),
+        (["--set", "surfaces=walls,floors", "--recentre"], ["--recentre", "walls only"]),
     ],
 )
 def test_bad_surface_options_are_one_line_usage_errors(tmp_path, capsys, args, words):
