@@ -11,7 +11,12 @@ storeys that hold spaces):
   block (a hole) with their own height, so they block sight and no station stands on them;
 - doors (and windows with ``windows=True``) become openings on the zone walls they stand in;
 - with ``exterior=True`` the outer outline of the storey (spaces and walls together) is added as
-  an outside zone with the storey height.
+  an outside zone with the storey height;
+- each space zone's floor level (``Zone.floor_level_m``) is the storey's elevation plus the space's own
+  base offset (the bottom of its solid less the storey's placement; see :func:`floor_level`), and its
+  ceiling (``Zone.ceiling_height_m``) is the space's height, as its walls'; the exterior outline has its
+  floor at the storey's elevation and no ceiling. The levels serve the floor and ceiling targets only
+  (``--set surfaces=walls,floors,ceilings``); walls are seen as before.
 
 One storey reads into the site frame; several storeys each into a frame named after the storey (so
 the rooms of one floor never hide those of another). Coordinates and heights are metres from the
@@ -53,11 +58,18 @@ class IfcOptions:
 
 @dataclass(frozen=True)
 class _Storey:
+    """One building storey: its name, entity, elevation and height (m), the z of its placement, its spaces.
+
+    ``base_z_m`` is the world z (m) of the storey's own placement, or its elevation when it has none (the
+    spaces are then placed absolutely).
+    """
+
     name: str
     entity: Any
     elevation_m: float
     height_m: float
     spaces: tuple[Any, ...]
+    base_z_m: float = 0.0
 
 
 def read_ifc_site(path: Path | str, options: IfcOptions | None = None) -> Site:
@@ -130,7 +142,8 @@ def _storeys(model: Any, path: Path) -> list[_Storey]:
             )
         )
         height = nxt - elev if nxt is not None and nxt > elev else DEFAULT_STOREY_HEIGHT_M
-        out.append(_Storey(st.Name or f"storey {k + 1}", st, elev, height, spaces))
+        base = _placement_z(st, scale)
+        out.append(_Storey(st.Name or f"storey {k + 1}", st, elev, height, spaces, elev if base is None else base))
     if not any(s.spaces for s in out):
         raise InputError(
             "no IfcSpace in any storey: the planner scans rooms; define the rooms as spaces in the "
@@ -140,6 +153,57 @@ def _storeys(model: Any, path: Path) -> list[_Storey]:
             value=0,
         )
     return out
+
+
+def _placement_z(entity: Any, scale: float) -> float | None:
+    """The world z (m) of ``entity``'s local placement, or None when it has none (or one IfcOpenShell cannot read).
+
+    Parameters
+    ----------
+    entity
+        An IFC product (here a building storey).
+    scale
+        Metres per unit of the file's length unit.
+
+    Returns
+    -------
+    float or None
+        The placement's z in metres.
+    """
+    import ifcopenshell.util.placement as up
+
+    placement = getattr(entity, "ObjectPlacement", None)
+    if placement is None:
+        return None
+    try:
+        return float(up.get_local_placement(placement)[2, 3]) * scale
+    except Exception:  # an unusual placement (grid, linear) the utility does not resolve: as if none
+        return None
+
+
+def floor_level(elevation_m: float, base_z_m: float, solid_z_min_m: float) -> float:
+    """A space's floor level (m, the site's vertical datum): its storey's elevation plus its own base offset.
+
+    The offset is the bottom of the space's solid (world coordinates) less the world z of its storey's
+    placement: 0 for a space that stands on its storey's base, as in every exporter we know; a space on a
+    raised floor or in a split level sits that much higher. The storey's ``Elevation`` is the datum, as
+    the storeys' order and heights are read from it.
+
+    Parameters
+    ----------
+    elevation_m
+        The storey's elevation (its ``Elevation`` in metres).
+    base_z_m
+        The world z of the storey's placement (m); its elevation when the storey has no placement.
+    solid_z_min_m
+        The bottom of the space's solid in world coordinates (m).
+
+    Returns
+    -------
+    float
+        The floor level, rounded to 0.1 mm.
+    """
+    return round(elevation_m + (solid_z_min_m - base_z_m), 4)
 
 
 def _select(storeys: list[_Storey], which: str | None, path: Path) -> list[_Storey]:
@@ -190,7 +254,11 @@ def _storey_zones(
                 value=space.GlobalId,
             )
         height = solid.height_m if solid.height_m > 0 else st.height_m
-        zone = _space_zone(zid, solid, height, blockers, frame, file)
+        zone = replace(
+            _space_zone(zid, solid, height, blockers, frame, file),
+            floor_level_m=floor_level(st.elevation_m, st.base_z_m, solid.z_min_m),
+            ceiling_height_m=round(height, 4),
+        )
         ops = sorted(
             (
                 op
@@ -268,4 +336,5 @@ def _exterior(st: _Storey, prefix: str, blockers: list[tuple[Any, Solid]], zones
         vertex_heights_m=(round(st.height_m, 4),) * len(xy),
         frame=frame,
         notes=("from IFC outline",),
+        floor_level_m=round(st.elevation_m, 4),
     )
