@@ -19,6 +19,7 @@ from planner.coverage.visibility import SightLimits
 from planner.network.check import NetworkReport
 from planner.plan.plan_dict import plan_to_dict
 from planner.plan.result import Plan
+from planner.plan.surfaces import SurfaceSetup
 from planner.plan.verify import VerifyReport
 from planner.site.candidate import Candidate
 from planner.site.model import Site
@@ -27,7 +28,9 @@ from planner.site.validate import ValidationReport
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class Outcome:
-    """Everything shown about one plan. ``meta`` is the plan.json dictionary (method, status, bound ...)."""
+    """Everything shown about one plan. ``meta`` is the plan.json dictionary (method, status, bound ...; its
+    ``surfaces``: the floors and ceilings' verification, where the plan has them); ``surfaces``: the floor and
+    ceiling patches and the rules they were planned under (None: walls only, or not rebuilt)."""
 
     site: Site
     validation: ValidationReport
@@ -39,6 +42,7 @@ class Outcome:
     meta: dict[str, Any]
     network: NetworkReport | None = None
     comparison: tuple[dict[str, Any], ...] = field(default=())
+    surfaces: SurfaceSetup | None = None
 
     @property
     def sight(self) -> Sight:
@@ -79,4 +83,5 @@ def outcome_from_plan(
         meta=plan_to_dict(plan),
         network=network,
         comparison=tuple(comparison),
+        surfaces=plan.problem.surfaces if plan.surfaces is not None else None,
     )

@@ -1,6 +1,7 @@
 """Render an :class:`~planner.plan.outcome.Outcome` as one HTML file: the interactive site map
 (:mod:`planner.report.site_map`), inputs and parameters, closure table, station table, comparison of methods,
-figures, network and accuracy check, verification.
+figures, network and accuracy check, verification, and floors and ceilings where the plan has them
+(:mod:`planner.report.surfaces_section`).
 
 The file needs nothing else (no external CSS, fonts or images). A short script marks on
 ``<body data-images-ok="k/n">`` how many embedded images decoded, which the render test reads
@@ -25,6 +26,7 @@ from planner.network.summary import network_summary
 from planner.plan.outcome import Outcome
 from planner.plan.tripod import MIN_RADIUS_M
 from planner.report.site_map import read_field_sheet, site_map_html, site_plan_html, station_row_id
+from planner.report.surfaces_section import surfaces_section
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
@@ -313,6 +315,7 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
         _network(o),
         "<h2>Verification</h2>",
         _verification(o),
+        surfaces_section(o),
     ]
     return (
         f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>{_e(title)}</title>'

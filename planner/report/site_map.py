@@ -3,7 +3,8 @@
 field sheet, where one was written), :func:`site_map_html` renders it.
 
 What it shows, by layer: the zones' walls and openings, obstacles, no-go areas and the boundary; per station
-the runs of wall it covers (from the outcome's recomputed coverage, hidden until the station is selected);
+the runs of wall it covers (from the outcome's recomputed coverage, hidden until the station is selected) and,
+where the plan has floors and ceilings, the patches of them it sees (merged per zone and kind, hidden alike);
 the registration links (the plan's overlap relation, :func:`planner.coverage.relation.station_relation`,
 under the registration scope the plan was made with, whether or not the network check ran); the walking
 route and targets of the field sheet; the control points and traverse legs of the network check. Frames,
@@ -25,6 +26,7 @@ from planner.figures.base import png_bytes
 from planner.figures.site_fig import site_figure
 from planner.figures.webmap import MapLine, MapLink, MapPoint, SiteMap, coverage_runs, render_site_map, site_map_data
 from planner.plan.outcome import Outcome
+from planner.report.surfaces_section import station_areas
 
 
 def station_row_id(k: int) -> str:
@@ -87,6 +89,7 @@ def outcome_site_map(o: Outcome, field_sheet: Mapping[str, Any] | None = None) -
         control=control,
         traverse=traverse,
         rows={s.id: station_row_id(k) for k, s in enumerate(o.stations, 1)},
+        areas=station_areas(o),
     )
 
 

@@ -23,10 +23,11 @@ field sheet (:mod:`planner.field.site_map` fills it from a ``FieldPlan``) both e
 """
 
 from planner.figures.webmap.build import coverage_runs, field_layers, site_map_data, wall_lines
-from planner.figures.webmap.model import MapLine, MapLink, MapPoint, MapStation, Run, SiteMap
+from planner.figures.webmap.model import MapArea, MapLine, MapLink, MapPoint, MapStation, Run, SiteMap
 from planner.figures.webmap.render import render_site_map
 
 __all__ = [
+    "MapArea",
     "MapLine",
     "MapLink",
     "MapPoint",

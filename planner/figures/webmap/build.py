@@ -20,7 +20,7 @@ import numpy as np
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import piece_lengths
 from planner.coverage.targets import SIDE_NAME
-from planner.figures.webmap.model import MapLine, MapLink, MapPoint, MapStation, Point, Run, SiteMap
+from planner.figures.webmap.model import MapArea, MapLine, MapLink, MapPoint, MapStation, Point, Run, SiteMap
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
 
@@ -151,6 +151,7 @@ def site_map_data(
     control: Sequence[MapPoint] = (),
     traverse: Sequence[MapLine] = (),
     rows: Mapping[str, str] | None = None,
+    areas: Sequence[tuple[MapArea, ...]] | None = None,
 ) -> SiteMap:
     """The map of a site and its stations.
 
@@ -171,6 +172,8 @@ def site_map_data(
         Control points and control traverse legs (the network check's).
     rows
         Station id to the HTML id of its row in the page's station table.
+    areas
+        Per station (same order), the floor and ceiling it covers; None: no floors layer.
 
     Examples
     --------
@@ -207,6 +210,7 @@ def site_map_data(
             rows.get(s.id, ""),
             visits.get(s.id, 0),
             tuple(runs[k - 1]) if runs is not None else (),
+            tuple(areas[k - 1]) if areas is not None else (),
         )
         for k, s in enumerate(stations, 1)
     )

@@ -47,12 +47,28 @@ class Run:
 
 
 @dataclass(frozen=True)
+class MapArea:
+    """Floor or ceiling one station covers in one zone, merged into one shape: drawn filled (even-odd).
+
+    ``rings``: the exterior rings and holes of its polygons; ``kind``: ``floor`` or ``ceiling``; ``patches``:
+    how many surface patches it merges; ``area_m2``: their area; ``label``: zone and kind.
+    """
+
+    rings: tuple[tuple[Point, ...], ...]
+    kind: str
+    patches: int
+    area_m2: float
+    label: str = ""
+
+
+@dataclass(frozen=True)
 class MapStation:
     """A station as the map shows it: where it stands, what it covers, and where it is listed.
 
     ``label``: the short text drawn beside it (its number in the plan); ``row``: the HTML id of its row in
     the page's station table ("" where the page has none); ``visit``: its place in the field visiting
-    order (0: no order); ``runs``: the wall it covers (empty where the page has no coverage to show).
+    order (0: no order); ``runs``: the wall it covers (empty where the page has no coverage to show);
+    ``areas``: the floor and ceiling it covers (empty: walls only).
     """
 
     id: str
@@ -66,6 +82,7 @@ class MapStation:
     row: str = ""
     visit: int = 0
     runs: tuple[Run, ...] = ()
+    areas: tuple[MapArea, ...] = ()
 
     @property
     def pieces(self) -> int:
@@ -76,6 +93,16 @@ class MapStation:
     def covered_m(self) -> float:
         """Wall covered, in metres."""
         return sum(r.length_m for r in self.runs)
+
+    @property
+    def patches(self) -> int:
+        """Floor and ceiling patches covered, summed over the areas."""
+        return sum(a.patches for a in self.areas)
+
+    @property
+    def covered_m2(self) -> float:
+        """Floor and ceiling covered, in square metres."""
+        return sum(a.area_m2 for a in self.areas)
 
 
 @dataclass(frozen=True)

@@ -20,11 +20,12 @@ from collections.abc import Iterable
 from functools import cache
 from importlib.resources import files
 
-from planner.figures.webmap.model import MapLine, MapPoint, MapStation, Point, SiteMap
+from planner.figures.webmap.model import MapArea, MapLine, MapPoint, MapStation, Point, SiteMap
 
 #: layers in drawing order (later on top) and their checkbox labels
 LAYERS = (
     ("walls", "walls", "zones' walls, openings (orange), obstacles, no-go areas, boundary"),
+    ("floors", "floors", "the floor (blue) and ceiling (purple) the selected station covers"),
     ("coverage", "coverage", "the wall the selected station covers (green)"),
     ("links", "links", "registration links between stations (selected: red)"),
     (
@@ -103,6 +104,7 @@ def _station(s: MapStation, dom_id: str, k: int, scale: float) -> str:
         "data-m": f"{s.covered_m:.1f}",
         "data-row": s.row,
         "data-visit": s.visit,
+        **({"data-fn": s.patches, "data-fm2": f"{s.covered_m2:.1f}"} if s.areas else {}),
     }
     a = " ".join(f'{name}="{_e(v)}"' for name, v in attrs.items() if v != "")
     return (
@@ -119,6 +121,18 @@ def _runs(s: MapStation) -> str:
         for r in s.runs
     )
     return f'<g class="sm-cv" data-st="{_e(s.id)}">{lines}</g>'
+
+
+def _area(a: MapArea) -> str:
+    d = "".join("M" + " ".join(map(_xy, ring)) + "Z" for ring in a.rings)
+    return (
+        f'<path class="sm-{_e(a.kind)}" d="{d}" data-n="{a.patches}" data-m2="{a.area_m2:.2f}">'
+        f"<title>{_e(a.label)}</title></path>"
+    )
+
+
+def _areas(s: MapStation) -> str:
+    return f'<g class="sm-fl" data-st="{_e(s.id)}">{"".join(map(_area, s.areas))}</g>'
 
 
 def _box(points: Iterable[Point]) -> tuple[float, float, float, float]:
@@ -149,6 +163,7 @@ def _frame(m: SiteMap, frame: str, dom_id: str, shown: bool) -> tuple[str, tuple
     at = {s.id: (s.x, s.y) for _, s in st}
     body = {
         "walls": "".join(_line(w, f"sm-{w.kind}") for w in walls),
+        "floors": "".join(_areas(s) for _, s in st if s.areas),
         "coverage": "".join(_runs(s) for _, s in st if s.runs),
         "links": "".join(
             f'<line class="sm-lk{" weak" if lk.weak else ""}" data-a="{_e(lk.a)}" data-b="{_e(lk.b)}"'
@@ -180,6 +195,7 @@ def _frame(m: SiteMap, frame: str, dom_id: str, shown: bool) -> tuple[str, tuple
 def _present(m: SiteMap) -> list[tuple[str, str, str]]:
     has = {
         "walls": bool(m.walls),
+        "floors": any(s.areas for s in m.stations),
         "coverage": any(s.runs for s in m.stations),
         "links": bool(m.links),
         "route": bool(m.route),
@@ -226,7 +242,8 @@ def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station 
         '<button type="button" data-zoom="out" title="zoom out">&minus;</button>'
         '<button type="button" data-zoom="fit" title="whole frame">fit</button></span>'
     )
-    shows = "the wall it covers, its links" + (
+    floors = ", the floor and ceiling it covers" if any(s.areas for s in m.stations) else ""
+    shows = f"the wall it covers{floors}, its links" + (
         f" and its row in the {table} (a click on a row shows its station here)"
         if any(s.row for s in m.stations)
         else ""

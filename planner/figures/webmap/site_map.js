@@ -15,7 +15,7 @@
     root.setAttribute('data-ready', '1');
     var svg = root.querySelector('svg.sm-svg');
     var panel = root.querySelector('.sm-panel');
-    var frames = {}, stations = {}, cover = {}, links = {}, marks = {};
+    var frames = {}, stations = {}, cover = {}, floors = {}, links = {}, marks = {};
     var cur = null, view = [0, 0, 1, 1];
     each(root.querySelectorAll('.sm-fr'), function (g) {
       var f = g.getAttribute('data-frame');
@@ -24,6 +24,7 @@
     });
     each(root.querySelectorAll('.sm-st'), function (s) { stations[s.getAttribute('data-id')] = s; });
     each(root.querySelectorAll('.sm-cv'), function (g) { cover[g.getAttribute('data-st')] = g; });
+    each(root.querySelectorAll('.sm-fl'), function (g) { floors[g.getAttribute('data-st')] = g; });
     each(root.querySelectorAll('.sm-lk'), function (l) {
       ['data-a', 'data-b'].forEach(function (a) {
         var id = l.getAttribute(a);
@@ -100,6 +101,9 @@
       if (cover[id] || d('n') !== '0') {
         panel.appendChild(el('p', 'covers ' + d('n') + ' wall piece(s), ' + d('m') + ' m, in ' + d('runs') + ' run(s)'));
       }
+      if (d('fn')) {
+        panel.appendChild(el('p', 'covers ' + d('fn') + ' floor/ceiling patch(es), ' + d('fm2') + ' m\u00b2'));
+      }
       if (d('visit') && d('visit') !== '0') panel.appendChild(el('p', 'field visit no. ' + d('visit')));
       var mine = links[id] || [];
       var p = el('p', mine.length ? 'linked to: ' : 'no registration link');
@@ -133,6 +137,11 @@
       if (g) {
         each(g.querySelectorAll('line'), function (l) { l.classList.add('hl'); });
         g.parentNode.appendChild(g);
+      }
+      var f = floors[id];
+      if (f) {
+        each(f.querySelectorAll('path'), function (a) { a.classList.add('hl'); });
+        f.parentNode.appendChild(f);
       }
       (links[id] || []).forEach(function (l) {
         l.classList.add('hl');
