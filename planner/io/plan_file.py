@@ -17,7 +17,8 @@ from planner.io.plan_json import RECORDED_PARAMETERS, check_plan_meta, read_plan
 from planner.network.check import NetworkReport
 from planner.plan.options import PlanOptions
 from planner.plan.outcome import Outcome
-from planner.plan.problem import resolve
+from planner.plan.problem import Problem, resolve
+from planner.plan.surfaces import SurfaceSetup, surface_setup
 from planner.plan.verify import verify_stations
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
@@ -84,7 +85,26 @@ def outcome_from_file(
         tripod_radius_m=radii,
         meta=meta,
         network=network,
+        surfaces=_surfaces(meta, problem, spacing),
     )
+
+
+def _surfaces(meta: dict[str, Any], problem: Problem, spacing_m: float) -> SurfaceSetup | None:
+    """The floor and ceiling patches of a plan that recorded surfaces beyond walls, made again under the recorded
+    instrument height, incidence limit and target spacing (None: a walls-only plan). The report draws them on its
+    map; their verification is plan.json's."""
+    s = meta.get("surfaces")
+    kinds = tuple(str(t) for t in (s.get("types") or ()) if t != "walls") if isinstance(s, dict) else ()
+    if not kinds:
+        return None
+    assert isinstance(s, dict)
+    theta = s.get("theta_max_floor_deg")
+    options = PlanOptions(
+        surfaces=("walls", *kinds),
+        theta_max_floor_deg=float(theta) if isinstance(theta, (int, float)) else None,
+        target_spacing_m=spacing_m,
+    )
+    return surface_setup(problem.site, problem.validation, options, problem.limits)
 
 
 def _fits_in_memory(site: Site, validation: ValidationReport, spacing_m: float, grid_m: float, name: str) -> None:

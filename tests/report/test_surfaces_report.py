@@ -136,3 +136,16 @@ def test_click_marks_the_stations_floor_cells(floors: tuple[Path, Path, dict], t
     kinds = len({(int(patches.zone[c]), int(patches.kind[c])) for c in cols})
     assert b["data-fl"] == f"0/{kinds}/{kinds}/{cols.size}"
     assert f"covers {cols.size} floor/ceiling patch(es)" in b["data-panel"]
+
+
+def test_report_from_plan_json_draws_the_same_floor_cells(floors: tuple[Path, Path, dict], tmp_path: Path) -> None:
+    """``planner report PLAN.json`` makes the patches again under the recorded rules: the same section, the same
+    floors layer as the report ``planner plan --report`` wrote."""
+    room, out, _ = floors
+    again = tmp_path / "again"
+    args = ["report", str(out / "plan.json"), "--site", str(room), "--out", str(again), "--no-network", "--quiet"]
+    assert main(args) == ExitCode.OK
+    first, second = (out / "report.html").read_text(), (again / "report.html").read_text()
+    assert GROUP.findall(second) == GROUP.findall(first) != []
+    sec = "<h2>Floors and ceilings</h2>"
+    assert second[second.index(sec) :] == first[first.index(sec) :]
