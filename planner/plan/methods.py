@@ -24,6 +24,7 @@ from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.visibility import SightLimits
 from planner.plan.closed_form import closed_form_limits, closed_form_plan
+from planner.plan.surfaces import PLANE_OFF
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
@@ -60,7 +61,7 @@ def with_columns(inst: CoverInstance, extra: sp.csr_matrix | None) -> CoverInsta
         return inst
     if extra.shape[0] != inst.shape[0]:
         raise ValueError(f"{extra.shape[0]} rows of surface columns for {inst.shape[0]} candidates")
-    by = sp.hstack([inst.by_candidate, extra], format="csr").astype(bool)
+    by = _columns(inst.by_candidate, extra)
     lengths = None
     if inst.target_length_m is not None:
         lengths = np.concatenate([np.asarray(inst.target_length_m, dtype=float), np.zeros(extra.shape[1])])
@@ -94,8 +95,6 @@ def milp_method(run: MethodInput) -> MethodOutput:
     log: list[str] = []
     pricing_on = options.pricing and regions_apply(limits)
     if run.surfaces is not None:
-        from planner.plan.surfaces import PLANE_OFF
-
         log.append(f"bound over the pool ({PLANE_OFF})")
     elif options.pricing and not pricing_on:
         log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
@@ -130,8 +129,6 @@ def milp_method(run: MethodInput) -> MethodOutput:
     with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
         result = solve(with_columns(inst, run.surfaces), options.milp)
     if run.surfaces is not None:
-        from planner.plan.surfaces import PLANE_OFF
-
         result = replace(result, info={**result.info, "plane_off": PLANE_OFF})
     if pricing is not None:
         result = with_plane_bound(result, pricing)
@@ -171,17 +168,17 @@ def greedy_method(run: MethodInput) -> MethodOutput:
         result = connected_greedy_plan(inst, rule)
         if not result.selected:
             log = ("greedy: no cover connected under the overlap rule found; plain greedy plan instead",)
-            result = greedy_cover(_columns(problem, run.surfaces))
+            result = greedy_cover(_columns(problem.by_candidate, run.surfaces))
     else:
-        result = greedy_cover(_columns(problem, run.surfaces))
+        result = greedy_cover(_columns(problem.by_candidate, run.surfaces))
     return MethodOutput(result, problem, problem, log)
 
 
-def _columns(problem: CoverageProblem, extra: sp.csr_matrix | None) -> sp.csr_matrix:
+def _columns(walls: sp.csr_matrix, extra: sp.csr_matrix | None) -> sp.csr_matrix:
     """The wall coverage with the surface columns appended (the wall coverage alone without them)."""
     if extra is None:
-        return problem.by_candidate
-    return sp.hstack([problem.by_candidate, extra], format="csr").astype(bool)
+        return walls
+    return sp.hstack([walls, extra], format="csr").astype(bool)
 
 
 Method = Callable[[MethodInput], MethodOutput]
