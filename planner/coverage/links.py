@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from planner.core.errors import UsageError
 from planner.coverage.matrix import blockers_for
 from planner.coverage.openings import accessible_areas, opening_segments, space_of
+from planner.coverage.stair_links import stair_links
 from planner.coverage.visibility import segments_touch, sight_clear
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
@@ -141,7 +142,9 @@ def registration_groups(
     """Group label of each candidate and the links through openings (None in ``zone`` mode).
 
     ``zone``: one bundle per zone-side, as the dissertation plans; ``site``: one bundle per
-    accessible area (:func:`planner.coverage.openings.accessible_areas`).
+    accessible area (:func:`planner.coverage.openings.accessible_areas`, storeys joined by the site's stairs),
+    linked through openings and, across storeys, through the stairs
+    (:func:`planner.coverage.stair_links.stair_links`).
     """
     if mode not in REGISTRATION_MODES:
         raise UsageError(
@@ -154,4 +157,6 @@ def registration_groups(
     areas = accessible_areas(site)
     xy = np.array([c.xy for c in candidates], dtype=float).reshape(-1, 2)
     links = opening_links(site, xy, [c.frame for c in candidates], spaces, reach_m)
+    if site.stairs:
+        links = (links + stair_links(site, xy, spaces, reach_m)).astype(bool).tocsr()
     return tuple(("area", areas[s]) for s in spaces), links

@@ -11,7 +11,8 @@ Accessible areas: each inside zone is a space of its own, and the outside of eve
 zone of a frame is one space (the open ground around the buildings). A door or gate joins the
 space of its zone with the space found just behind the wall (the first zone a point behind the gap
 falls in, up to ``OPENING_DEPTH_M`` + 0.1 m deep; none: the frame's outside). Windows let sight
-through but join nothing.
+through but join nothing. A stair (``Site.stairs``) joins the space of its lower zone with that of its upper
+zone: one walks up it, so the storeys it connects are one accessible area.
 """
 
 from __future__ import annotations
@@ -123,6 +124,8 @@ def accessible_areas(site: Site) -> dict[tuple[str, str], int]:
             for side in zone.scan_side.sides:
                 behind = -left if side is ScanSide.INSIDE else left
                 g.add_edge(space_of(zone, side), _space_behind(zone, side, mid, behind, inside))
+    for stair in site.stairs:
+        g.add_edge(("in", stair.lower_zone), ("in", stair.upper_zone))
     return {
         space: k for k, comp in enumerate(sorted(nx.connected_components(g), key=lambda c: sorted(c))) for space in comp
     }

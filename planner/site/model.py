@@ -21,6 +21,7 @@ from planner.core.checks import no_repeats
 from planner.core.errors import InputError
 from planner.site.geometry import MAX_COORDINATE_M, check_simple_polygon, ring_key, side_lengths, signed_area
 from planner.site.params import MAX_HEIGHT_M, Parameters
+from planner.site.stairs import Stair
 from planner.site.traverse import AcceptedMisclosure, ClosureReport
 
 SITE_FRAME = "site"
@@ -382,6 +383,8 @@ class Site:
     corrections: tuple[Correction, ...] = ()
     accepted_misclosures: tuple[AcceptedMisclosure, ...] = ()
     source: str = ""
+    #: vertical connections between zones of two storeys (read from a building model; none elsewhere)
+    stairs: tuple[Stair, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.zones:
@@ -399,6 +402,15 @@ class Site:
             file=self.source or None,
         )
         self._check_drawn_twice()
+        for stair in self.stairs:
+            for zid in stair.zones:
+                if zid not in seen:
+                    raise InputError(
+                        "a stair names a zone the site does not have",
+                        file=self.source or None,
+                        field=f"stair {stair.name}",
+                        value=zid,
+                    )
         if self.boundary is not None:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
 
