@@ -12,6 +12,9 @@ storeys that hold spaces):
 - doors (and windows with ``windows=True``) become openings on the zone walls they stand in;
 - with ``exterior=True`` the outer outline of the storey (spaces and walls together) is added as
   an outside zone with the storey height;
+- with several storeys, each ``IfcStair`` that leads from a room of one read storey to a room of the next
+  becomes a :class:`planner.site.stairs.Stair` (:mod:`planner.io.ifc_stairs`): the registration network then
+  runs across the storeys through it;
 - each space zone's floor level (``Zone.floor_level_m``) is the storey's elevation plus the space's own
   base offset (the bottom of its solid less the storey's placement; see :func:`floor_level`), and its
   ceiling (``Zone.ceiling_height_m``) is the space's height, as its walls'; the exterior outline has its
@@ -34,6 +37,7 @@ import shapely
 
 from planner.core.errors import InputError, located_in
 from planner.io.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
+from planner.io.ifc_stairs import StoreyZones, read_stairs
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 from planner.site.params import Parameters
 
@@ -87,15 +91,19 @@ def read_ifc_site(path: Path | str, options: IfcOptions | None = None) -> Site:
     storeys = _select(_storeys(model, path), options.storey, path)
     settings = geometry_settings()
     zones: list[Zone] = []
+    read: list[StoreyZones] = []
     note = _unit_note(model)
     with located_in(str(path)):  # the zones' own checks name no file
         for st in storeys:
             frame = SITE_FRAME if len(storeys) == 1 else st.name
             prefix = "" if len(storeys) == 1 else f"{st.name}/"
-            zones += _storey_zones(model, st, frame, prefix, options, settings, str(path))
+            these = _storey_zones(model, st, frame, prefix, options, settings, str(path))
+            read.append(StoreyZones(entity=st.entity, elevation_m=st.elevation_m, zones=tuple(these)))
+            zones += these
         if note:
             zones = [replace(z, notes=z.notes + (note,)) for z in zones]
-        return Site(name=path.stem, zones=tuple(zones), parameters=Parameters(), source=str(path))
+        stairs = read_stairs(read, settings) if len(read) > 1 else ()
+        return Site(name=path.stem, zones=tuple(zones), parameters=Parameters(), source=str(path), stairs=stairs)
 
 
 def _unit_note(model: Any) -> str | None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from planner.plan.networks import storey_networks
 from planner.plan.result import Plan
 from planner.plan.tripod import TripodDisc
 from planner.site.candidate import Candidate
@@ -79,6 +80,8 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "components": plan.registration,
             # the share the registration was checked at (planned under, else the site's)
             "overlap": plan.problem.checked_rule.overlap,
+            # storeys joined by stairs into one network (issue 46), only where the site has stairs
+            **({"networks": [n.to_dict() for n in storey_networks(site, plan.registration)]} if site.stairs else {}),
         },
         "problem": plan.problem_size,
         # the pool the plan was chosen from and its fingerprint (planner.coverage.fingerprint): the best plans known

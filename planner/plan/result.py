@@ -8,6 +8,7 @@ import numpy as np
 
 from planner.core.text import fold_alike, table
 from planner.coverage.fingerprint import Pool
+from planner.plan.networks import storey_networks
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem
 from planner.plan.tripod import TripodDisc
@@ -87,6 +88,7 @@ class Plan:
             if not broken
             else "registration: not connected: " + ", ".join(f"{g} in {n} parts" for g, n in broken.items())
         )
+        lines += [n.line() for n in storey_networks(self.site, self.registration)]
         lines += self._tripod_lines()
         lines.append(self.verification.summary())
         if self.surfaces is not None:

@@ -1,9 +1,11 @@
 """Write a small two-storey IFC house with IfcOpenShell's API: instances/house2.ifc.
 
 Ground floor (elevation 0, rooms 2.7 m high): an L-shaped living room with a 0.3 m square column,
-a kitchen and a hall; upper floor (elevation 3.0 m, rooms 2.5 m high): a bedroom and a study.
-Walls 0.2 m thick, outer box 12 m x 8 m; five doors (three between ground-floor rooms, the front
-door, one upstairs). The file's length unit is the millimetre, so a reader that assumed metres
+a kitchen and a hall with a straight stair (1.0 m wide, 4.2 m long, against the hall's north wall, its body
+a block extruded 3.0 m, up to the upper floor); upper floor (elevation 3.0 m, rooms 2.5 m high): a bedroom,
+a study and a landing that runs round the stairwell (the stair's footprint), with doors into both rooms.
+Walls 0.2 m thick, outer box 12 m x 8 m; seven doors (three between ground-floor rooms, the front
+door, three upstairs). The file's length unit is the millimetre, so a reader that assumed metres
 would be 1000 times off. Usage::
 
     python scripts/make/make_ifc_house.py [OUT.ifc] [--schema IFC4|IFC2X3]
@@ -36,6 +38,8 @@ GROUND: dict = {
         "D-front": (11.8, 5.5, 12.0, 6.5),
     },
     "columns": {"C1": (2.0, 2.0, 2.3, 2.3)},
+    # (x0, y0, x1, y1, rise m): the flight climbs east from x = 6.1 to its top at x = 10.3
+    "stairs": {"S-hall-landing": (6.1, 6.8, 10.3, 7.8, 3.0)},
     "windows": {"W-kitchen": (9.5, 0.0, 10.7, 0.2)},  # written only with build_house(..., windows=True)
 }
 UPPER: dict = {
@@ -44,11 +48,18 @@ UPPER: dict = {
     "height": 2.5,
     "rooms": {
         "Bedroom": [(0.2, 0.2), (5.9, 0.2), (5.9, 7.8), (0.2, 7.8)],
-        "Study": [(6.1, 0.2), (11.8, 0.2), (11.8, 7.8), (6.1, 7.8)],
+        "Study": [(6.1, 0.2), (11.8, 0.2), (11.8, 5.0), (6.1, 5.0)],
+        # round the stairwell 6.1..10.3 x 6.8..7.8 (the stair's footprint): the stair arrives at x = 10.3
+        "Landing": [(6.1, 5.2), (11.8, 5.2), (11.8, 7.8), (10.3, 7.8), (10.3, 6.8), (6.1, 6.8)],
     },
-    "walls": [(5.9, 0.0, 6.1, 8.0)],
-    "doors": {"D-bedroom-study": (5.9, 3.0, 6.1, 3.9)},
+    "walls": [(5.9, 0.0, 6.1, 8.0), (6.1, 5.0, 11.8, 5.2)],
+    "doors": {
+        "D-bedroom-study": (5.9, 3.0, 6.1, 3.9),
+        "D-landing-study": (7.0, 5.0, 7.9, 5.2),
+        "D-landing-bedroom": (5.9, 5.6, 6.1, 6.5),
+    },
     "columns": {},
+    "stairs": {},
 }
 OUTER_WALLS = [(0.0, 0.0, 12.0, 0.2), (11.8, 0.0, 12.0, 8.0), (0.0, 7.8, 12.0, 8.0), (0.0, 0.0, 0.2, 8.0)]
 DOOR_HEIGHT_M = 2.1
@@ -137,6 +148,10 @@ def build_house(
             column = run("root.create_entity", f, ifc_class="IfcColumn", name=name)
             solid(column, _box(*c), h, z)
             contained.append(column)
+        for name, (*box, rise) in level["stairs"].items():
+            stair = run("root.create_entity", f, ifc_class="IfcStair", name=name)
+            solid(stair, _box(*box), rise, z)
+            contained.append(stair)
         run("spatial.assign_container", f, products=contained, relating_structure=storey)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

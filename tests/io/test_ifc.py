@@ -1,8 +1,9 @@
 """IFC input: spaces -> inside zones per storey, blockers cut out, doors as openings, and the failures.
 
 The models are written here with IfcOpenShell's API (scripts/make/make_ifc_house.py, in millimetres):
-ground floor an L-shaped living room with a 0.3 m column, a kitchen and a hall (rooms 2.7 m high),
-upper floor a bedroom and a study (2.5 m high), walls 0.2 m thick, five doors.
+ground floor an L-shaped living room with a 0.3 m column, a kitchen and a hall with a straight stair (rooms
+2.7 m high), upper floor a bedroom, a study and a landing round the stairwell (2.5 m high), walls 0.2 m thick,
+seven doors.
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ def test_ground_floor_rooms_heights_column_and_doors(house):
 
 def test_storeys_by_index_and_all(house):
     upper = read_ifc_site(house, IfcOptions(storey="2"))
-    assert [z.id for z in upper.zones] == ["Bedroom", "Study"]
+    assert [z.id for z in upper.zones] == ["Bedroom", "Landing", "Study"]
     assert all(set(z.vertex_heights_m) == {2.5} for z in upper.zones)
     both = read_ifc_site(house)  # default: every storey with spaces, each in its own frame
     assert [(z.frame, z.id) for z in both.zones] == [
@@ -67,6 +68,7 @@ def test_storeys_by_index_and_all(house):
         ("Ground floor", "Ground floor/Kitchen"),
         ("Ground floor", "Ground floor/Living"),
         ("Upper floor", "Upper floor/Bedroom"),
+        ("Upper floor", "Upper floor/Landing"),
         ("Upper floor", "Upper floor/Study"),
     ]
     with pytest.raises(InputError, match=r"no such storey \(the file has: 1 'Ground floor', 2 'Upper floor'\)"):
@@ -171,7 +173,7 @@ def test_committed_house_plans_per_storey_and_verifies(tmp_path):
         assert ver.returncode == 0, ver.stderr
         stations = json.loads((out / "plan.json").read_text())["stations"]
         zones = {s["zone"] for s in stations}
-        assert zones == ({"Hall", "Kitchen", "Living"} if storey == "1" else {"Bedroom", "Study"})
+        assert zones == ({"Hall", "Kitchen", "Living"} if storey == "1" else {"Bedroom", "Landing", "Study"})
 
 
 @pytest.mark.skipif(not FZK.is_file(), reason="AC20-FZK-Haus.ifc not present (not committed; docs/ifc.md)")
