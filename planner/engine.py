@@ -54,6 +54,10 @@ def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOption
     strategy = problem.strategy
     if strategy.tiling is None:
         plan = plan_single(problem)
+        if problem.options.objective == "field-time":  # beside the plans at one setting and the fewest stations
+            from planner.field.tradeoff import with_tradeoff
+
+            plan = with_tradeoff(plan)
     else:
         from planner.tiles import dask_client, plan_by_tiles
 

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 #: planner.plan.METHODS
 METHODS = ("closed-form", "greedy", "milp")
+#: planner.plan.options.OBJECTIVES
+OBJECTIVES = ("stations", "field-time")
 #: planner.solve.backends.BACKENDS
 BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 #: planner.solve.milp.CONNECTIVITY

@@ -77,6 +77,8 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
         memory_limit_bytes=memory_limit(args),
         surfaces=tuple(args.surfaces.split(",")),
         theta_max_floor_deg=args.theta_max_floor,
+        max_point_spacing_m=getattr(args, "max_point_spacing", None),
+        objective=getattr(args, "objective", "stations"),
     )
     return replace(options, strategy=strategy_options(args, options))
 
@@ -95,6 +97,8 @@ _PLAN_KEYS = {
     "time_limit_s": "time-limit",
     "surfaces": "surfaces",
     "theta_max_floor_deg": "theta-max-floor",
+    "max_point_spacing_m": "max-point-spacing",
+    "objective": "objective",
 }
 
 
@@ -161,7 +165,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if field_options is not None:
         from planner.cli.field import write_field
 
-        write_field(problem, plan.stations, field_options, args.field)
+        settings = plan.hours.settings if plan.hours is not None and field_options.setting is None else None
+        write_field(problem, plan.stations, field_options, args.field, settings=settings)
     if formats or args.report:
         outcome = outcome_from_plan(plan, network, compare_methods(plan) if args.report else ())
         write_exports(outcome, formats, args.out, args.crs)

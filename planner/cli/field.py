@@ -107,13 +107,16 @@ def write_field(
     options: FieldOptions,
     folder: str,
     plan_file: str | None = None,
+    settings: Sequence[str] | None = None,
 ) -> FieldPlan:
-    """Make the sheet, print its summary and write its files into ``folder``."""
+    """Make the sheet, print its summary and write its files into ``folder``; ``settings``: each station's scan
+    setting where the plan chose them (issue 47)."""
     from planner.field.run import field_plan
     from planner.field.sheet import write_sheet
     from planner.plan.problem import Problem
 
-    fp = field_plan(site.sight if isinstance(site, Problem) else site, stations, options, plan_file=plan_file)
+    sight = site.sight if isinstance(site, Problem) else site
+    fp = field_plan(sight, stations, options, plan_file=plan_file, settings=settings)
     print(summary(fp))
     for path in write_sheet(fp, folder):
         print(f"wrote {path}")
@@ -181,5 +184,18 @@ def cmd_field(args: argparse.Namespace) -> int:
     meta = check_plan_meta(raw, args.plan)
     site = site_for_plan(meta, args.site, args.plan)
     stations = read_plan_stations(args.plan, site)
-    write_field(site, stations, options, folder, plan_file=args.plan)
+    settings = _plan_settings(raw, len(stations), args)
+    write_field(site, stations, options, folder, plan_file=args.plan, settings=settings)
     return ExitCode.OK
+
+
+def _plan_settings(raw: object, n: int, args: argparse.Namespace) -> list[str] | None:
+    """The scan setting of each station where plan.json records them (a plan with --objective field-time or
+    --max-point-spacing), unless ``--setting`` asks for one setting for all."""
+    if getattr(args, "setting", None) is not None or not isinstance(raw, dict):
+        return None
+    rows = raw.get("stations")
+    if not isinstance(rows, list) or len(rows) != n:
+        return None
+    settings = [row.get("setting") if isinstance(row, dict) else None for row in rows]
+    return [str(s) for s in settings] if all(isinstance(s, str) for s in settings) else None

@@ -193,9 +193,12 @@ def field_plan(
     options: FieldOptions = FieldOptions(),
     props: FieldProperties | None = None,
     plan_file: str | None = None,
+    settings: Sequence[str] | None = None,
 ) -> FieldPlan:
     """Order, route, bound, targets and field time of a plan's ``stations`` on ``site`` (see the module text):
-    the plan's sight (its resolved problem's), or a site seen under its own parameters."""
+    the plan's sight (its resolved problem's), or a site seen under its own parameters. ``settings``: the scan
+    setting of each station (aligned with ``stations``) where the plan chose them (issue 47), timed each at its
+    own; None: every station at ``options.setting``."""
     t0 = time.perf_counter()
     sight = as_sight(site)
     site = sight.site
@@ -258,7 +261,8 @@ def field_plan(
     )
     walks = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[: len(order)]]
     counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
-    ft = field_time([st[k].id for k in order], walks, counts, props, options.setting, options.session_s)
+    per = None if settings is None else {s.id: v for s, v in zip(st, settings)}
+    ft = field_time([st[k].id for k in order], walks, counts, props, options.setting, options.session_s, per)
     return FieldPlan(
         site=site,
         stations=st,

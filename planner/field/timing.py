@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from planner.core.errors import UsageError
@@ -109,16 +109,21 @@ def field_time(
     props: FieldProperties,
     setting: str | None = None,
     session_s: float | None = None,
+    settings: Mapping[str, str] | None = None,
 ) -> FieldTime:
     """The field time of stations ``ids`` in visiting order; ``walks_m[k]``: the walk to station k (from the
-    start for k = 0), ``targets[k]``: targets it scans."""
-    scan = props.scan_time_s(setting)
+    start for k = 0), ``targets[k]``: targets it scans. ``settings``: a scan setting per station id (a plan that
+    chose them, issue 47), in place of the one ``setting``."""
+    scans = [props.scan_time_s(settings[i] if settings else setting) for i in ids]
     name = setting or props.default_setting
+    if settings:
+        names = sorted({settings[i] for i in ids})
+        name = names[0] if len(names) == 1 else "per station: " + ", ".join(names)
     setups: list[Setup] = []
     sessions: list[Session] = []
     current: list[int] = []
     used = 0.0
-    for k, (sid, walk, n_targets) in enumerate(zip(ids, walks_m, targets), 1):
+    for k, (sid, walk, n_targets, scan) in enumerate(zip(ids, walks_m, targets, scans), 1):
         row = Setup(
             k,
             sid,

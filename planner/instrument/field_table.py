@@ -8,11 +8,14 @@ each model file names the source of every default in a comment. A model without 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
 from planner.core.errors import InputError
 
+#: a setting's name as the datasheets print it: the point spacing at a range, "6.3 mm @ 10 m"
+_SETTING = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*mm\s*@\s*(\d+(?:\.\d+)?)\s*m\s*$")
 #: keys of a ``[field]`` table besides ``scan_time_s``
 _NUMBERS = ("setup_time_s", "walking_speed_m_s", "target_scan_time_s", "target_range_m", "target_incidence_deg")
 
@@ -84,6 +87,27 @@ class FieldProperties:
     def settings(self) -> tuple[str, ...]:
         """The names of the scan settings, in file order."""
         return tuple(name for name, _ in self.scan_times_s)
+
+    def step_rad(self, setting: str) -> float:
+        """The angular step of ``setting`` (rad), read from its name, the point spacing at a range as the
+        datasheets print it: "6.3 mm @ 10 m" steps 6.3e-3 / 10 = 6.3e-4 rad (issue 47: point spacing)."""
+        if setting not in self.settings:
+            raise InputError(
+                f"unknown scan setting (known: {', '.join(self.settings)})", field="setting", value=setting
+            )
+        found = _SETTING.match(setting)
+        if found is None or float(found.group(2)) <= 0 or float(found.group(1)) <= 0:
+            raise InputError(
+                "names no point spacing: a setting for --max-point-spacing is named as 'SPACING mm @ RANGE m'",
+                field=f"field.scan_time_s.{setting}",
+                value=setting,
+            )
+        return float(found.group(1)) * 1e-3 / float(found.group(2))
+
+    def by_step(self) -> tuple[tuple[str, float, float], ...]:
+        """``(setting, step_rad, scan_time_s)`` of every setting, coarsest step first."""
+        rows = [(name, self.step_rad(name), float(secs)) for name, secs in self.scan_times_s]
+        return tuple(sorted(rows, key=lambda r: -r[1]))
 
     def scan_time_s(self, setting: str | None = None) -> float:
         """Seconds of one scan at ``setting`` (None: the default setting)."""

@@ -53,6 +53,17 @@ class PlanOptions:
     surfaces: tuple[str, ...] = ("walls",)
     #: the incidence limit of floors and ceilings in degrees (None: theta_max)
     theta_max_floor_deg: float | None = None
+    #: the largest point spacing a view may give a wall piece to cover it, in metres (issue 47,
+    #: :mod:`planner.coverage.spacing`; None: no spacing condition, the plan unchanged)
+    max_point_spacing_m: float | None = None
+    #: what the plan minimises: ``stations`` (the default, unchanged) or ``field-time``, the set-up and scan
+    #: time with a scan setting chosen per station (:mod:`planner.plan.field_time`)
+    objective: str = "stations"
+
+    @property
+    def hours(self) -> bool:
+        """A run with point spacing or the field-time objective (scan settings per station, issue 47)."""
+        return self.max_point_spacing_m is not None or self.objective != "stations"
 
     @property
     def beyond_walls(self) -> bool:
@@ -105,6 +116,25 @@ class PlanOptions:
             real(self.theta_max_floor_deg, "theta_max_floor_deg", above=0)
             if self.theta_max_floor_deg > 90:
                 raise UsageError("must be at most 90 deg", field="theta_max_floor_deg", value=self.theta_max_floor_deg)
+        if self.max_point_spacing_m is not None:
+            real(self.max_point_spacing_m, "max_point_spacing_m", above=0)
+        if self.objective not in OBJECTIVES:
+            raise UsageError(
+                f"unknown objective (known: {', '.join(OBJECTIVES)})", field="objective", value=self.objective
+            )
+        if self.hours and self.method != "milp":
+            raise UsageError(
+                "point spacing and the field-time objective need method='milp' (settings are chosen by the MILP)",
+                field="method",
+                value=self.method,
+            )
+        if self.hours and self.beyond_walls:
+            raise UsageError(
+                "point spacing and the field-time objective are checked on walls only for now: "
+                "plan floors and ceilings without them",
+                field="surfaces",
+                value=",".join(self.surfaces),
+            )
         if self.registration not in (None, "zone", "site"):
             raise UsageError("must be 'zone', 'site' or None", field="registration", value=self.registration)
         if self.milp.k != 1 and self.method != "milp":  # the greedy and the closed form cover each piece once
@@ -118,6 +148,9 @@ class PlanOptions:
                 "combined precision needs the precision check (precision=True)", field="precision", value=self.precision
             )
 
+
+#: what a plan can minimise (``--objective``)
+OBJECTIVES: tuple[str, ...] = ("stations", "field-time")
 
 #: the surfaces a plan can take as targets, in the order plan.json lists them
 SURFACES: tuple[str, ...] = ("walls", "floors", "ceilings")

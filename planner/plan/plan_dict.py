@@ -99,11 +99,16 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             }
             for z in site.zones
         ],
-        "stations": [_station(s, plan.tripods[k] if plan.tripods else None) for k, s in enumerate(plan.stations)],
+        "stations": [
+            _station(s, plan.tripods[k] if plan.tripods else None, plan.hours.settings[k] if plan.hours else None)
+            for k, s in enumerate(plan.stations)
+        ],
         "verification": plan.verification.to_dict(),
         "log": list(plan.log),
         # floors and ceilings (issue 46), only where the plan has them: a walls-only plan.json is unchanged
         **({"surfaces": plan.surfaces.to_dict()} if plan.surfaces is not None else {}),
+        # scan settings, set-up + scan time, point spacing (issue 47), only where asked: other plan.json unchanged
+        **({"hours": plan.hours.to_dict()} if plan.hours is not None else {}),
     }
 
 
@@ -117,8 +122,10 @@ def wall_cap_hit(info: dict[str, Any]) -> list[str]:
     return steps
 
 
-def _station(s: Candidate, disc: TripodDisc | None) -> dict[str, Any]:
+def _station(s: Candidate, disc: TripodDisc | None, setting: str | None = None) -> dict[str, Any]:
     out: dict[str, Any] = {"id": s.id, "zone": s.zone, "side": s.side.value, "x": s.x, "y": s.y, "kind": s.kind.value}
+    if setting is not None:
+        out["setting"] = setting
     if disc is not None:
         out["tripod_radius_m"] = disc.radius_m
         out["tripod_centre"] = list(disc.centre)

@@ -136,7 +136,15 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
     surfaces = surface_setup(site, validation, resolved, sight.limits)
     if surfaces is not None:  # the patches are priced over no region: the bound holds over the pool
         resolved = replace(resolved, pricing=False)
+    if resolved.hours:  # pricing's regions know no spacing, tripod discs keep no setting (issue 47)
+        resolved = replace(resolved, pricing=False, tripod=False, recentre=False)
     strategy = resolve_strategy(site, resolved, validation)
+    if resolved.hours and strategy.tiles:
+        raise UsageError(
+            f"point spacing and the field-time objective are planned in one model for now, and this site is "
+            f"planned by tiles ({strategy.reason}); give --tiles off",
+            field="tiles",
+        )
     if surfaces is not None and strategy.tiles:
         raise UsageError(
             f"floors and ceilings are planned in one model for now, and this site is planned by tiles "

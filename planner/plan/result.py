@@ -8,6 +8,7 @@ import numpy as np
 
 from planner.core.text import fold_alike, table
 from planner.coverage.fingerprint import Pool
+from planner.plan.hours import Hours
 from planner.plan.networks import storey_networks
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem
@@ -37,6 +38,8 @@ class Plan:
     tripods: tuple[TripodDisc, ...] = ()
     pool: Pool | None = None
     surfaces: SurfaceReport | None = None
+    #: scan settings, set-up + scan time and point spacing (issue 47; None: a plan of stations alone)
+    hours: Hours | None = None
 
     @property
     def site(self) -> Site:
@@ -91,6 +94,8 @@ class Plan:
         lines += [n.line() for n in storey_networks(self.site, self.registration)]
         lines += self._tripod_lines()
         lines.append(self.verification.summary())
+        if self.hours is not None:
+            lines += self.hours.lines()
         if self.surfaces is not None:
             lines += [self.problem.surfaces.line()] if self.problem.surfaces is not None else []
             lines += self.surfaces.lines()

@@ -18,7 +18,10 @@ from planner.coverage.fingerprint import pool_of
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets
+from planner.instrument.field_table import FieldProperties
 from planner.plan.closed_form import closed_form_limits
+from planner.plan.field_time import field_properties, hours_method, spacing_coverage, spacing_refusal
+from planner.plan.hours import Hours
 from planner.plan.methods import REGISTRY, MethodInput
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
@@ -26,10 +29,12 @@ from planner.plan.registration import placed_stations, registration_check
 from planner.plan.result import Plan
 from planner.plan.surfaces import floor_candidates, surface_cover, surface_discs
 from planner.plan.verify import verify_stations
+from planner.plan.verify_spacing import verify_spacing
 from planner.plan.verify_surfaces import verify_surfaces
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
+from planner.solve.result import SolveResult
 
 
 def unseen_error(
@@ -151,10 +156,11 @@ def site_candidates(
     )
 
 
-def plan_single(problem: Problem) -> Plan:
+def plan_single(problem: Problem, props: FieldProperties | None = None) -> Plan:
     """Plan the stations of a resolved problem as one model, with its method
     (:data:`planner.plan.methods.REGISTRY`), check registration, and verify the plan. The public entry,
-    which also chooses tiles for a large site, is :func:`planner.engine.plan_site`.
+    which also chooses tiles for a large site, is :func:`planner.engine.plan_site`. ``props``: the scan settings
+    a run with point spacing or the field-time objective chooses from (None: the instrument's table).
 
     Raises
     ------
@@ -178,8 +184,12 @@ def plan_single(problem: Problem) -> Plan:
         cover = surface_cover(site, problem.surfaces, coverage.candidates, coverage.excluded)
         log.append(f"{cover.line(problem.surfaces)} ({time.perf_counter() - t0:.2f} s)")
     extra = None if cover is None else cover.matrix
+    if options.hours:  # the instrument's settings (``props``: a table given for the run, e.g. one setting)
+        props = props or field_properties(site)
+    if props is not None and options.max_point_spacing_m is not None:
+        refuse_spacing(problem, coverage, props)
     run = MethodInput(site, options, validation, limits, coverage, spaces, region_cache, extra)
-    out = REGISTRY[options.method](run)
+    out = hours_method(run, props) if props is not None else REGISTRY[options.method](run)
     if cover is not None and out.problem.candidates != coverage.candidates:  # pricing is off with surfaces
         raise RuntimeError("the method changed the candidate pool the surface columns were built for")
     result, coverage = out.result, out.problem
@@ -195,6 +205,7 @@ def plan_single(problem: Problem) -> Plan:
         tripods, shrunk = surface_discs(site, problem.surfaces, cover, result.selected, stations, tripods)
         log.append(f"tripod discs: {shrunk} of {len(tripods)} shrunk to keep their floor and ceiling patches")
     verification = verify_stations(problem.sight, stations, options.verify_spacing_m)
+    hours = None if props is None else hours_of(problem, props, result, stations)
     surfaces = None
     if cover is not None and problem.surfaces is not None:
         t0 = time.perf_counter()
@@ -218,4 +229,35 @@ def plan_single(problem: Problem) -> Plan:
         # the pool the size counts: the best plans known (of walls) are matched on its fingerprint
         pool=pool_of(out.pool) if surfaces is None else None,
         surfaces=surfaces,
+        hours=hours,
+    )
+
+
+def refuse_spacing(problem: Problem, coverage: CoverageProblem, props: FieldProperties) -> None:
+    """Refuse, before any solver runs, a run with pieces that no candidate scans at the asked spacing even at
+    the instrument's finest setting (each with the finest spacing it gets)."""
+    spacing = problem.options.max_point_spacing_m
+    assert spacing is not None
+    name, step, _ = props.by_step()[-1]
+    unseen = spacing_coverage(coverage, step, spacing).uncoverable()
+    if unseen.size:
+        err = spacing_refusal(coverage, unseen, name, step, spacing)
+        source = problem.site.source
+        raise err.located(source) if source else err
+
+
+def hours_of(problem: Problem, props: FieldProperties, result: SolveResult, stations: list[Candidate]) -> Hours:
+    """The settings, set-up + scan time and spacing check of a plan with scan settings."""
+    o = problem.options
+    settings = tuple(result.info.get("settings", ()))
+    spacing = None
+    if o.max_point_spacing_m is not None and len(settings) == len(stations):
+        spacing = verify_spacing(problem.sight, stations, settings, props, o.max_point_spacing_m, o.verify_spacing_m)
+    return Hours.of(
+        objective=o.objective,
+        max_spacing_m=o.max_point_spacing_m,
+        settings=settings,
+        props=props,
+        timing=dict(result.info.get("field_time", {})),
+        spacing=spacing,
     )

@@ -69,6 +69,9 @@ def test_cli_choices_match_the_library():
     from planner.instrument.accuracy import INCIDENCE_MODELS
 
     assert cli_choices.INCIDENCE_MODELS == INCIDENCE_MODELS
+    from planner.plan.options import OBJECTIVES
+
+    assert cli_choices.OBJECTIVES == OBJECTIVES
 
 
 def test_lazy_names_are_the_public_names():

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from planner.cli.choices import METHODS, PRECISION_MODES
+from planner.cli.choices import METHODS, OBJECTIVES, PRECISION_MODES
 from planner.cli.option_types import POSITIVE, POSITIVE_INT
 from planner.cli.parsers.common import (
     Handlers,
@@ -45,6 +45,21 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         choices=PRECISION_MODES,
         default="single",
         help="single: each view must meet sigma_req; combined: views add information (every method; default single)",
+    )
+    pl.add_argument(
+        "--max-point-spacing",
+        type=POSITIVE,
+        default=None,
+        metavar="M",
+        help="the largest point spacing on the walls in m, e.g. 0.006: a view covers a piece only at a scan "
+        "setting that gives it that (default none; docs/field-time.md)",
+    )
+    pl.add_argument(
+        "--objective",
+        choices=OBJECTIVES,
+        default="stations",
+        help="stations: the fewest stations (default); field-time: the least set-up + scan time, a scan setting "
+        "chosen per station, compared with the plans at one setting",
     )
     pl.add_argument(
         "--no-overlap", action="store_true", help="MILP and greedy without the registration-overlap constraint"

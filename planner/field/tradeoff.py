@@ -1,0 +1,187 @@
+"""The trade-off between stations and hours on site (issue 47): the field-time plan beside the plans at one
+scan setting and the fewest-stations plan, each timed whole (set-up, scan, walking, targets).
+
+Every plan of the table is made by the same engine on the same pool and verified: a plan "at one setting" is
+the fewest stations when every station scans at that setting (the instrument's table cut to it); a setting
+whose scans cannot give some piece the spacing is listed as not meeting it. Walking and targets come from the
+field sheet's route and proposed targets (:func:`planner.field.run.field_plan`), so the totals are the ones
+the sheet would print. The plan kept is the one of least total: the field-time plan unless walking or targets
+turn the order round, and then the table says so.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+from planner.core.errors import InfeasibleError
+from planner.core.text import table
+from planner.field.run import FieldOptions, field_plan
+from planner.instrument.field_table import FieldProperties
+from planner.plan.field_time import field_properties
+from planner.plan.run import plan_single
+
+if TYPE_CHECKING:
+    from planner.plan.result import Plan
+
+FIELD_TIME = "field time"
+FEWEST = "fewest stations"
+
+
+@dataclass(frozen=True, kw_only=True)
+class Row:
+    """One plan of the table; times in seconds (None: not timed); ``note`` says why a row has no plan."""
+
+    label: str
+    stations: int | None = None
+    setup_s: float | None = None
+    scan_s: float | None = None
+    walking_s: float | None = None
+    targets_s: float | None = None
+    settings: str = ""
+    note: str = ""
+
+    @property
+    def total_s(self) -> float | None:
+        parts = (self.setup_s, self.scan_s, self.walking_s, self.targets_s)
+        return None if any(p is None for p in parts) else float(sum(p for p in parts if p is not None))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "label": self.label,
+            "stations": self.stations,
+            "setup_s": self.setup_s,
+            "scan_s": self.scan_s,
+            "walking_s": self.walking_s,
+            "targets_s": self.targets_s,
+            "total_s": self.total_s,
+            "settings": self.settings,
+            "note": self.note,
+        }
+
+
+@dataclass(frozen=True, kw_only=True)
+class Tradeoff:
+    rows: tuple[Row, ...]
+    kept: str
+
+    def best_single(self) -> Row | None:
+        """The single-setting plan of least total time (None where no setting meets the spacing)."""
+        timed = [r for r in self.rows if r.label.startswith("one setting") and r.total_s is not None]
+        return min(timed, key=lambda r: r.total_s or 0.0) if timed else None
+
+    def row(self, label: str) -> Row:
+        return next(r for r in self.rows if r.label == label)
+
+    @property
+    def gain_s(self) -> float | None:
+        """The best single-setting plan's total less the kept plan's (> 0: the kept plan saves that much)."""
+        best, kept = self.best_single(), self.row(self.kept)
+        if best is None or best.total_s is None or kept.total_s is None:
+            return None
+        return best.total_s - kept.total_s
+
+    def lines(self) -> list[str]:
+        head = ["plan", "stations", "set-up h", "scan h", "walking h", "targets h", "total h", "settings"]
+        rows = [
+            (
+                r.label + (" (kept)" if r.label == self.kept else ""),
+                "-" if r.stations is None else r.stations,
+                _h(r.setup_s),
+                _h(r.scan_s),
+                _h(r.walking_s),
+                _h(r.targets_s),
+                _h(r.total_s),
+                r.settings or r.note,
+            )
+            for r in self.rows
+        ]
+        gain = self.gain_s
+        best = self.best_single()
+        tail = (
+            f"gain over the best plan at one setting ({best.label}): {gain / 3600:.2f} h ({gain:,.0f} s)"
+            if gain is not None and best is not None
+            else "no plan at one setting meets the spacing: the gain is all of it"
+        )
+        return [
+            "trade-off (times for one crew; walking and targets from the field sheet's route):",
+            *table(head, rows),
+            tail,
+        ]
+
+    def to_dict(self) -> dict[str, Any]:
+        best = self.best_single()
+        return {
+            "rows": [r.to_dict() for r in self.rows],
+            "kept": self.kept,
+            "best_single": None if best is None else best.label,
+            "gain_s": self.gain_s,
+        }
+
+
+def with_tradeoff(plan: Plan) -> Plan:
+    """``plan`` (a field-time plan) with its trade-off table attached, or the plan of the table with the least
+    total time where that is another one (a log line says so)."""
+    problem = plan.problem
+    props = field_properties(plan.site)
+    stations_problem = replace(problem, options=replace(problem.options, objective="stations"))
+    plans: list[tuple[str, Plan | None, str]] = []
+    for name, _step, scan in props.by_step() if problem.options.max_point_spacing_m is not None else _all(props):
+        one = replace(props, scan_times_s=((name, scan),), default_setting=name)
+        try:
+            plans.append((f"one setting: {name}", plan_single(stations_problem, props=one), ""))
+        except InfeasibleError:
+            plans.append((f"one setting: {name}", None, "does not meet the spacing"))
+    plans.append((FEWEST, plan_single(stations_problem, props=props), ""))
+    plans.append((FIELD_TIME, plan, ""))
+    rows = [_row(label, p, props, note) for label, p, note in plans]
+    timed = [(r.total_s, k) for k, r in enumerate(rows) if r.total_s is not None]
+    kept_index = min(timed)[1] if timed else len(rows) - 1
+    if rows[-1].total_s is not None and rows[-1].total_s <= rows[kept_index].total_s:  # type: ignore[operator]
+        kept_index = len(rows) - 1  # ties keep the field-time plan
+    kept_plan = plans[kept_index][1]
+    assert kept_plan is not None and kept_plan.hours is not None
+    trade = Tradeoff(rows=tuple(rows), kept=rows[kept_index].label)
+    log = kept_plan.log
+    if kept_index != len(rows) - 1:
+        log = (
+            *log,
+            f"field time: the plan '{rows[kept_index].label}' has the least total time with walking and targets: kept",
+        )
+    return replace(kept_plan, hours=replace(kept_plan.hours, tradeoff=trade), log=log)
+
+
+def _all(props: FieldProperties) -> list[tuple[str, float, float]]:
+    return [(n, 0.0, props.scan_time_s(n)) for n in props.settings]
+
+
+def _row(label: str, plan: Plan | None, props: FieldProperties, note: str) -> Row:
+    """The row of ``plan``: set-up and scan from its settings, walking and targets from its field sheet."""
+    if plan is None or plan.hours is None:
+        return Row(label=label, note=note)
+    h = plan.hours
+    walking = targets = None
+    try:
+        fp = field_plan(plan.problem.sight, plan.stations, FieldOptions(), props, settings=h.settings)
+        walking = fp.time.walking_s
+        targets = sum(s.targets_s for s in fp.time.setups)
+    except InfeasibleError as err:  # stations in separate frames: no walk joins them
+        note = f"walking not timed: {err.message}"
+    counts: dict[str, int] = {}
+    for s in h.settings:
+        counts[s] = counts.get(s, 0) + 1
+    used = ", ".join(f"{n} x {s}" for s, n in sorted(counts.items(), key=lambda kv: -kv[1]))
+    return Row(
+        label=label,
+        stations=len(plan.stations),
+        setup_s=h.setup_s,
+        scan_s=h.scan_s,
+        walking_s=walking,
+        targets_s=targets,
+        settings=used,
+        note=note,
+    )
+
+
+def _h(seconds: float | None) -> str:
+    return "-" if seconds is None else f"{seconds / 3600:.2f}"

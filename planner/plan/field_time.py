@@ -1,0 +1,280 @@
+"""Plans for the hours on site (issue 47): point spacing as a coverage condition and a scan setting per station.
+
+- **Point spacing** (``--max-point-spacing M``): a view covers a wall piece only where the spacing it gives
+  the whole piece at the station's setting (:mod:`planner.coverage.spacing`) is at most M.
+- **Columns are (station, setting) pairs** (:func:`setting_columns`): a candidate at each setting of the
+  instrument's ``[field]`` table, costing set-up + scan time (s). A finer setting sees every piece a coarser
+  one does, so a pair is kept only where it covers more than every coarser pair of its candidate.
+- **Objectives**: ``stations`` (the default) takes the fewest stations, each able to scan at the finest
+  setting, then the cheapest settings for them (:func:`assign_settings`, an exact cover of the chosen
+  stations' pairs by scan time); ``field-time`` minimises set-up + scan over every pair with the registration
+  and precision rules as for stations (:func:`field_time_method`). Registration is judged on what two stations
+  see (the sight coverage), not on the spacing: a coarse scan registers as well as a fine one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from planner.core.errors import InfeasibleError
+from planner.coverage.links import default_registration, registration_groups
+from planner.coverage.matrix import CoverageProblem
+from planner.coverage.overlap import overlap_adjacency
+from planner.coverage.spacing import spacing_factors
+from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
+from planner.plan.methods import MethodInput, MethodOutput
+from planner.site.model import Site
+from planner.solve.instance import CoverInstance
+from planner.solve.milp import solve
+from planner.solve.result import SolveResult, Status
+
+#: a view meets the spacing within this relative tolerance (rounding of the settings' names, not a margin)
+_REL_TOL = 1e-9
+
+
+def field_properties(site: Site) -> FieldProperties:
+    """The ``[field]`` table of the site's instrument (the planner's stated defaults where it has none)."""
+    from planner.instrument.models import Scanner, load_instrument
+
+    inst = load_instrument(site.instrument)
+    return inst.field_properties if isinstance(inst, Scanner) and inst.field_properties else DEFAULT_FIELD
+
+
+def masked(problem: CoverageProblem, keep: NDArray[np.bool_]) -> CoverageProblem:
+    """``problem`` with only the views ``keep`` (aligned with ``by_candidate``'s stored pairs) left."""
+    m = problem.by_candidate.tocsr()
+    rows = np.repeat(np.arange(m.shape[0]), np.diff(m.indptr))[keep]
+    cols = m.indices[keep]
+
+    def pick(values: sp.csr_matrix) -> NDArray[np.float64]:
+        v = values.tocsr()
+        if (
+            v.indptr.shape == m.indptr.shape
+            and np.array_equal(v.indptr, m.indptr)
+            and np.array_equal(v.indices, m.indices)
+        ):
+            return np.asarray(v.data[keep], dtype=float)
+        return np.asarray(v[rows, cols], dtype=float).ravel()
+
+    def build(values: NDArray) -> sp.csr_matrix:
+        return sp.csr_matrix((values, (rows, cols)), shape=m.shape)
+
+    by = build(np.ones(len(rows), dtype=bool))
+    return replace(
+        problem,
+        by_candidate=by,
+        by_target=by.T.tocsr(),
+        slant_m=build(pick(problem.slant_m)),
+        incidence_deg=build(pick(problem.incidence_deg)),
+    )
+
+
+def spacing_coverage(problem: CoverageProblem, step_rad: float, max_spacing_m: float) -> CoverageProblem:
+    """The views of ``problem`` whose point spacing at angular step ``step_rad`` is at most ``max_spacing_m``."""
+    f = spacing_factors(problem)
+    return masked(problem, f.data * step_rad <= max_spacing_m * (1 + _REL_TOL))
+
+
+def spacing_refusal(
+    problem: CoverageProblem, unseen: NDArray[np.int64], setting: str, step_rad: float, m: float
+) -> InfeasibleError:
+    """The refusal of pieces no view meets the spacing on: up to five, each with the finest spacing reached."""
+    f = spacing_factors(problem).tocsc()
+    t = problem.targets
+    shown = []
+    for i in unseen[:5]:
+        col = f.data[f.indptr[i] : f.indptr[i + 1]]
+        best = f" (finest {1e3 * col.min() * step_rad:.1f} mm)" if col.size else " (seen by no candidate)"
+        shown.append(f"{t.label(int(i))} at ({t.midpoint(int(i))[0]:.2f}, {t.midpoint(int(i))[1]:.2f}){best}")
+    more = f" and {len(unseen) - 5} more" if len(unseen) > 5 else ""
+    return InfeasibleError(
+        f"{len(unseen)} piece(s) no candidate scans at a point spacing of at most {1e3 * m:g} mm, even at the finest "
+        f"setting {setting!r}: {'; '.join(shown)}{more}"
+    )
+
+
+@dataclass(frozen=True)
+class SettingColumns:
+    """The (station, setting) pairs of a pool: ``candidate[j]`` and ``setting[j]`` (an index of ``names``) of
+    column j, the pieces it covers (``matrix``, columns x pieces) and its cost, set-up + scan (s)."""
+
+    candidate: NDArray[np.int64]
+    setting: NDArray[np.int64]
+    names: tuple[str, ...]
+    matrix: sp.csr_matrix
+    cost_s: NDArray[np.float64]
+
+    def expand(self) -> sp.csr_matrix:
+        """Columns x candidates: column j's candidate (to carry per-candidate data onto the columns)."""
+        n = len(self.candidate)
+        n_cand = int(self.candidate.max()) + 1 if n else 0
+        return sp.csr_matrix((np.ones(n, dtype=bool), (np.arange(n), self.candidate)), shape=(n, n_cand))
+
+
+def setting_columns(
+    problem: CoverageProblem, props: FieldProperties, max_spacing_m: float | None, rows: NDArray[np.int64] | None = None
+) -> SettingColumns:
+    """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair
+    is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it."""
+    settings = (
+        props.by_step() if max_spacing_m is not None else tuple((n, 0.0, props.scan_time_s(n)) for n in props.settings)
+    )
+    a = problem.by_candidate.tocsr()
+    if rows is not None:
+        a = a[rows]
+    f = spacing_factors(problem).tocsr()[rows] if (max_spacing_m is not None and rows is not None) else None
+    if max_spacing_m is not None and f is None:
+        f = spacing_factors(problem).tocsr()
+    base = np.arange(a.shape[0]) if rows is None else np.asarray(rows, dtype=np.int64)
+    best = np.zeros(a.shape[0], dtype=np.int64)
+    cand, sets, mats, costs = [], [], [], []
+    for s, (_name, step, scan) in enumerate(settings):
+        ok = (
+            np.ones(a.nnz, dtype=bool)
+            if f is None or max_spacing_m is None
+            else f.data * step <= max_spacing_m * (1 + _REL_TOL)
+        )
+        m = sp.csr_matrix((ok, a.indices.copy(), a.indptr.copy()), shape=a.shape)  # eliminate_zeros works in place
+        m.eliminate_zeros()
+        n = np.diff(m.indptr)
+        take = np.flatnonzero(n > best)
+        best[take] = n[take]
+        cand.append(base[take])
+        sets.append(np.full(len(take), s, dtype=np.int64))
+        mats.append(m[take])
+        costs.append(np.full(len(take), props.setup_time_s + scan))
+    matrix = sp.vstack(mats, format="csr") if mats else sp.csr_matrix((0, a.shape[1]), dtype=bool)
+    return SettingColumns(
+        candidate=np.concatenate(cand).astype(np.int64),
+        setting=np.concatenate(sets).astype(np.int64),
+        names=tuple(name for name, _, _ in settings),
+        matrix=matrix.astype(bool),
+        cost_s=np.concatenate(costs).astype(float),
+    )
+
+
+def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
+    """The plan of a run with point spacing or the field-time objective: ``field-time`` minimises set-up + scan
+    over (station, setting) pairs; ``stations`` minimises the stations (every pair at cost 1: a finer pair
+    dominates its coarser ones, so each station may scan at its finest setting), then gives each chosen
+    station the cheapest setting that keeps the cover (:func:`assign_settings`)."""
+    if run.options.objective == "field-time":
+        return field_time_method(run, props)
+    out = field_time_method(run, props, unit=True)
+    if not out.result.selected:
+        return out
+    settings, timing = assign_settings(run.problem, out.result.selected, props, run.options.max_point_spacing_m, run)
+    info = {**out.result.info, "settings": [settings[c] for c in out.result.selected], "field_time": timing}
+    line = f"settings for the chosen stations: set-up + scan {_hours(timing['objective_s'])} ({timing['status']})"  # type: ignore[arg-type]
+    return replace(out, result=replace(out.result, info=info), log=(*out.log, line))
+
+
+def field_time_method(run: MethodInput, props: FieldProperties, *, unit: bool = False) -> MethodOutput:
+    """The plan of least set-up + scan time over (station, setting) pairs (``unit``: of fewest pairs),
+    connected under the registration rule as the stations plan is; the result counts stations, its info holds
+    the time, its bound and the setting of each station."""
+    site, options, problem = run.site, run.options, run.problem
+    cols = setting_columns(problem, props, options.max_point_spacing_m)
+    mode = options.registration or default_registration(site).mode
+    rule = options.milp.rule
+    reach = (rule.max_link_m if rule else None) or run.limits.effective_range_m
+    groups, links = registration_groups(site, problem.candidates, mode, reach)
+    lengths = np.asarray(problem.targets.s1_m - problem.targets.s0_m, dtype=float)
+    xy = np.array([c.xy for c in problem.candidates], dtype=float).reshape(-1, 2)
+    p = sp.csr_matrix(
+        (np.ones(len(cols.candidate)), (np.arange(len(cols.candidate)), cols.candidate)),
+        shape=(len(cols.candidate), len(problem.candidates)),
+    )
+    relation = None
+    if rule is not None:  # what both stations see, at any setting: the sight coverage's overlap
+        base, _ = overlap_adjacency(problem.by_candidate.astype(bool).tocsr(), lengths, rule, groups, xy, links)
+        relation = (p @ base.astype(float) @ p.T).tocsr().astype(bool)
+    ids = tuple(f"{problem.candidates[c].id}@{cols.names[s]}" for c, s in zip(cols.candidate, cols.setting))
+    inst = CoverInstance(
+        by_candidate=cols.matrix,
+        cost=np.ones(len(cols.cost_s)) if unit else cols.cost_s,
+        name=site.name,
+        groups=tuple(groups[c] for c in cols.candidate),
+        target_length_m=lengths,
+        xy=xy[cols.candidate],
+        candidate_ids=ids,
+        relation=relation,
+    )
+    timed = solve(inst, options.milp)
+    chosen = _per_station(cols, timed.selected)
+    selected = tuple(sorted(chosen))
+    info = {
+        **timed.info,
+        "objective": "stations" if unit else "field-time",
+        "settings": [cols.names[chosen[c]] for c in selected],
+        "setting_columns": len(cols.candidate),
+    }
+    head = f"{len(cols.candidate):,} (station, setting) columns over {len(problem.candidates):,} candidates"
+    if unit:  # the station count is the objective: the result as the MILP gives it, over the candidates
+        result = replace(timed, selected=selected, objective=float(len(selected)) if selected else None, info=info)
+        return MethodOutput(result, problem, problem, (f"point spacing: {head}",))
+    info["field_time"] = _time_info(timed)
+    status = timed.status if timed.status in (Status.NO_SOLUTION, Status.INFEASIBLE) else Status.FEASIBLE
+    result = SolveResult(
+        method=timed.method,
+        status=status,
+        selected=selected,
+        objective=float(len(selected)) if selected else None,
+        time_s=timed.time_s,
+        backend=timed.backend,
+        info=info,
+    )
+    log = (
+        f"field time: {head}; set-up + scan {_hours(timed.objective)}, bound {_hours(timed.bound)} over the pool "
+        f"({timed.status.value})",
+    )
+    return MethodOutput(result, problem, problem, log)
+
+
+def assign_settings(
+    problem: CoverageProblem,
+    selected: tuple[int, ...],
+    props: FieldProperties,
+    max_spacing_m: float | None,
+    run: MethodInput,
+) -> tuple[dict[int, str], dict[str, object]]:
+    """The cheapest setting of each chosen station (candidate index -> setting) that still covers every piece at
+    the spacing: an exact cover of the chosen stations' (station, setting) pairs by set-up + scan time, each
+    station at one setting at least (``selected`` sorted, as results hold them)."""
+    rows = np.asarray(selected, dtype=np.int64)
+    cols = setting_columns(problem, props, max_spacing_m, rows)
+    # every chosen station stands, so it scans at some setting: a column "station k" each of its pairs covers
+    stands = sp.csr_matrix(
+        (
+            np.ones(len(cols.candidate), dtype=bool),
+            (np.arange(len(cols.candidate)), np.searchsorted(rows, cols.candidate)),
+        ),
+        shape=(len(cols.candidate), len(rows)),
+    )
+    inst = CoverInstance(
+        by_candidate=sp.hstack([cols.matrix, stands], format="csr"), cost=cols.cost_s, name=run.site.name
+    )
+    timed = solve(inst, replace(run.options.milp, overlap=None))
+    chosen = _per_station(cols, timed.selected)
+    return {c: cols.names[s] for c, s in chosen.items()}, _time_info(timed)
+
+
+def _per_station(cols: SettingColumns, picked: tuple[int, ...]) -> dict[int, int]:
+    """Candidate -> setting index of the picked columns (the finest where a candidate was picked twice)."""
+    out: dict[int, int] = {}
+    for j in picked:
+        c, s = int(cols.candidate[j]), int(cols.setting[j])
+        out[c] = max(out.get(c, s), s)
+    return out
+
+
+def _time_info(r: SolveResult) -> dict[str, object]:
+    return {"objective_s": r.objective, "bound_s": r.bound, "gap": r.gap, "status": r.status.value, "scope": "pool"}
+
+
+def _hours(seconds: float | None) -> str:
+    return "-" if seconds is None else f"{seconds / 3600:.2f} h ({seconds:,.0f} s)"

@@ -1,0 +1,88 @@
+"""What a plan with scan settings says about the hours on site (issue 47): the objective, each station's
+setting, the set-up + scan time with the bound the MILP proves on it, and the spacing verification."""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+from typing import Any
+
+from planner.instrument.field_table import FieldProperties
+from planner.plan.verify_spacing import SpacingReport
+
+
+@dataclass(frozen=True, kw_only=True)
+class Hours:
+    """``settings[k]``: the scan setting of the plan's station k. ``timing``: the set-up + scan objective
+    (``objective_s``), its bound (``bound_s``, over the pool), gap and status: for ``field-time`` the MILP's over
+    every (station, setting) pair; for ``stations`` the settings' over the chosen stations only."""
+
+    objective: str
+    max_spacing_m: float | None
+    settings: tuple[str, ...]
+    setup_s: float
+    scan_s: float
+    timing: dict[str, Any]
+    spacing: SpacingReport | None = None
+    tradeoff: Any = None  # planner.field.tradeoff.Tradeoff, attached by the engine
+
+    @classmethod
+    def of(
+        cls,
+        *,
+        objective: str,
+        max_spacing_m: float | None,
+        settings: tuple[str, ...],
+        props: FieldProperties,
+        timing: dict[str, Any],
+        spacing: SpacingReport | None,
+    ) -> Hours:
+        return cls(
+            objective=objective,
+            max_spacing_m=max_spacing_m,
+            settings=settings,
+            setup_s=len(settings) * props.setup_time_s,
+            scan_s=sum(props.scan_time_s(s) for s in settings),
+            timing=timing,
+            spacing=spacing,
+        )
+
+    @property
+    def setup_scan_s(self) -> float:
+        return self.setup_s + self.scan_s
+
+    def lines(self) -> list[str]:
+        """The objective, the settings used, the set-up + scan time with its bound and the spacing check."""
+        counts = Counter(self.settings)
+        used = ", ".join(f"{n} x {s}" for s, n in sorted(counts.items(), key=lambda kv: -kv[1]))
+        t = self.timing
+        bound = t.get("bound_s")
+        gap = t.get("gap")
+        what = (
+            "over every (station, setting) pair of the pool" if self.objective == "field-time" else "for these stations"
+        )
+        proven = f"; bound {bound / 3600:.2f} h {what}, gap {gap:.2%}" if bound is not None and gap is not None else ""
+        spacing = "none" if self.max_spacing_m is None else f"at most {1e3 * self.max_spacing_m:g} mm"
+        lines = [
+            f"objective: {self.objective}; point spacing {spacing}; settings: {used}",
+            f"set-up + scan: {self.setup_scan_s / 3600:.2f} h (set-up {self.setup_s / 3600:.2f} h, scan "
+            f"{self.scan_s / 3600:.2f} h){proven}",
+        ]
+        if self.spacing is not None:
+            lines += self.spacing.lines()
+        if self.tradeoff is not None:
+            lines += self.tradeoff.lines()
+        return lines
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "objective": self.objective,
+            "max_point_spacing_m": self.max_spacing_m,
+            "settings": list(self.settings),
+            "setup_s": self.setup_s,
+            "scan_s": self.scan_s,
+            "setup_scan_s": self.setup_scan_s,
+            "setup_scan_bound": self.timing,
+            "spacing": None if self.spacing is None else self.spacing.to_dict(),
+            "tradeoff": None if self.tradeoff is None else self.tradeoff.to_dict(),
+        }
