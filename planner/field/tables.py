@@ -37,7 +37,7 @@ def rows(fp: FieldPlan) -> list[list[Any]]:
                 s.zone,
                 s.side.value,
                 fp.instrument_height_m,
-                fp.time.setting,
+                setup.setting or fp.time.setting,
                 round(setup.walk_m, 1),
                 round(setup.total_s / 60.0, 1),
                 " ".join(fp.targets_of(s.id)),

@@ -50,6 +50,7 @@ class Setup:
     scan_s: float
     targets_s: float
     session: int
+    setting: str = ""  # the scan setting of this setup
 
     @property
     def station_s(self) -> float:
@@ -114,7 +115,8 @@ def field_time(
     """The field time of stations ``ids`` in visiting order; ``walks_m[k]``: the walk to station k (from the
     start for k = 0), ``targets[k]``: targets it scans. ``settings``: a scan setting per station id (a plan that
     chose them, issue 47), in place of the one ``setting``."""
-    scans = [props.scan_time_s(settings[i] if settings else setting) for i in ids]
+    named = [settings[i] if settings else (setting or props.default_setting) for i in ids]
+    scans = [props.scan_time_s(n) for n in named]
     name = setting or props.default_setting
     if settings:
         names = sorted({settings[i] for i in ids})
@@ -123,7 +125,7 @@ def field_time(
     sessions: list[Session] = []
     current: list[int] = []
     used = 0.0
-    for k, (sid, walk, n_targets, scan) in enumerate(zip(ids, walks_m, targets, scans), 1):
+    for k, (sid, walk, n_targets, scan, set_name) in enumerate(zip(ids, walks_m, targets, scans, named), 1):
         row = Setup(
             k,
             sid,
@@ -133,6 +135,7 @@ def field_time(
             scan,
             n_targets * props.target_scan_time_s,
             len(sessions) + 1,
+            set_name,
         )
         if session_s is not None:
             if row.total_s > session_s:
@@ -144,7 +147,7 @@ def field_time(
             if current and used + row.total_s > session_s:
                 sessions.append(Session(len(sessions) + 1, tuple(current), used))
                 current, used = [], 0.0
-                row = Setup(k, sid, walk, row.walk_s, row.setup_s, scan, row.targets_s, len(sessions) + 1)
+                row = Setup(k, sid, walk, row.walk_s, row.setup_s, scan, row.targets_s, len(sessions) + 1, set_name)
         setups.append(row)
         current.append(k)
         used += row.total_s

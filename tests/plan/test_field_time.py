@@ -1,0 +1,191 @@
+"""Plans for the hours on site (issue 47): ``--max-point-spacing`` and ``--objective field-time``.
+
+The room: 24 m x 6 m, walls 3 m, Leica P30 (leica-p30.toml: set-up 180 s; scans 20, 80, 331 and 1,242 s at
+12.5, 6.3, 3.1 and 1.6 mm @ 10 m), the instrument on the floor (the JSON format's default height 0). At 6 mm
+the coarsest setting reaches no piece: its top is 3 m above the instrument, so the vertical spacing is at least
+2 x 3 m x 1.25e-3 = 7.5 mm (planner.coverage.spacing); 6.3 mm @ 10 m needs a view with hd + 9 / hd <= 6 / 0.63
+= 9.52 m and hd^2 / d <= 9.52 m, which only near views meet.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from planner.cli import main
+from planner.core.errors import ExitCode, UsageError
+from planner.engine import plan_site
+from planner.plan import PlanOptions
+from planner.plan.field_time import field_properties, setting_columns
+from planner.plan.problem import resolve
+from planner.plan.run import build_problem
+
+SETUP_S = 180.0
+SCAN_S = {"12.5 mm @ 10 m": 20.0, "6.3 mm @ 10 m": 80.0, "3.1 mm @ 10 m": 331.0, "1.6 mm @ 10 m": 1242.0}
+
+
+def _room(tmp_path: Path, dx: float = 0.0, dy: float = 0.0) -> Path:
+    zone = {
+        "id": "R",
+        "scan_side": "inside",
+        "coordinates": [[dx, dy], [dx + 24, dy], [dx + 24, dy + 6], [dx, dy + 6]],
+        "height_m": 3.0,
+    }
+    path = tmp_path / f"room_{dx:g}_{dy:g}.json"
+    path.write_text(json.dumps({"name": "room", "instrument": "leica-p30", "zones": [zone]}))
+    return path
+
+
+def _plan(args: list[str], out: Path) -> dict:
+    assert main(["plan", *args, "--quiet", "--out", str(out)]) == ExitCode.OK
+    return json.loads((out / "plan.json").read_text())
+
+
+def _setup_scan(plan: dict) -> float:
+    return sum(SETUP_S + SCAN_S[s["setting"]] for s in plan["stations"])
+
+
+@pytest.fixture(scope="module")
+def plans(tmp_path_factory) -> dict[str, dict]:
+    tmp = tmp_path_factory.mktemp("hours")
+    room = _room(tmp)
+    return {
+        "stations": _plan([str(room), "--max-point-spacing", "0.006"], tmp / "s"),
+        "field-time": _plan([str(room), "--max-point-spacing", "0.006", "--objective", "field-time"], tmp / "f"),
+    }
+
+
+def test_each_station_has_a_setting_and_the_time_adds_up(plans):
+    for objective, plan in plans.items():
+        h = plan["hours"]
+        assert h["objective"] == objective
+        assert [s["setting"] for s in plan["stations"]] == h["settings"]
+        # set-up + scan, summed station by station from the model's table
+        assert h["setup_scan_s"] == pytest.approx(_setup_scan(plan))
+        assert h["setup_s"] == pytest.approx(SETUP_S * len(plan["stations"]))
+
+
+def test_the_field_time_plan_is_proven_within_1_percent_and_no_slower(plans):
+    ft, fewest = plans["field-time"]["hours"], plans["stations"]["hours"]
+    bound = ft["setup_scan_bound"]
+    assert bound["scope"] == "pool" and bound["gap"] <= 0.01
+    assert bound["bound_s"] <= ft["setup_scan_s"] + 1e-6
+    # the fewest-stations plan is one of the plans the field-time MILP chose among
+    assert ft["setup_scan_s"] <= fewest["setup_scan_s"] + 1e-6
+    assert len(plans["field-time"]["stations"]) >= len(plans["stations"]["stations"])
+
+
+def test_every_plan_meets_the_spacing_in_verification(plans):
+    for plan in plans.values():
+        assert plan["verification"]["percent"] == 100.0
+        spacing = plan["hours"]["spacing"]
+        assert spacing["complete"] and spacing["percent"] == 100.0
+        assert spacing["worst_m"] <= 0.006 * (1 + 1e-9)
+        assert plan["registration"]["connected"]
+
+
+def test_the_trade_off_table_keeps_the_plan_of_least_total(plans):
+    t = plans["field-time"]["hours"]["tradeoff"]
+    rows = {r["label"]: r for r in t["rows"]}
+    # 12.5 mm @ 10 m cannot give the 3 m tops 6 mm (7.5 mm at best): listed, without a plan
+    assert rows["one setting: 12.5 mm @ 10 m"]["stations"] is None
+    assert rows["one setting: 12.5 mm @ 10 m"]["note"] == "does not meet the spacing"
+    timed = [r for r in t["rows"] if r["total_s"] is not None]
+    kept = rows[t["kept"]]
+    assert kept["total_s"] == min(r["total_s"] for r in timed)
+    for r in timed:  # each total is its parts
+        assert r["total_s"] == pytest.approx(r["setup_s"] + r["scan_s"] + r["walking_s"] + r["targets_s"])
+    best = min(r["total_s"] for r in timed if r["label"].startswith("one setting"))
+    assert t["gain_s"] == pytest.approx(best - kept["total_s"]) and t["gain_s"] >= 0
+
+
+def test_a_spacing_no_setting_reaches_is_refused_before_any_solver(tmp_path, capsys):
+    room = _room(tmp_path)
+    code = main(["plan", str(room), "--max-point-spacing", "0.0005", "--quiet"])
+    assert code == ExitCode.INFEASIBLE
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and str(room) in err
+    assert "at a point spacing of at most 0.5 mm, even at the finest setting '1.6 mm @ 10 m'" in err
+    assert "(finest " in err  # each piece with the finest spacing it gets
+
+
+def test_columns_keep_a_finer_setting_only_where_it_covers_more(tmp_path):
+    site_path = _room(tmp_path)
+    problem = resolve(__import__("planner").load_site(str(site_path)), PlanOptions(max_point_spacing_m=0.006))
+    cov = build_problem(problem)
+    props = field_properties(problem.site)
+    cols = setting_columns(cov, props, 0.006)
+    names = [n for n, _, _ in props.by_step()]
+    assert "12.5 mm @ 10 m" not in {cols.names[s] for s in cols.setting}  # no piece at 7.5 mm or finer
+    assert np.allclose(cols.cost_s, [SETUP_S + SCAN_S[names[s]] for s in cols.setting])
+    count = np.diff(cols.matrix.indptr)
+    for c in np.unique(cols.candidate):
+        mine = np.flatnonzero(cols.candidate == c)
+        assert list(cols.setting[mine]) == sorted(cols.setting[mine])  # coarse to fine
+        assert all(np.diff(count[mine]) > 0)  # each finer pair covers more
+
+
+def test_moving_the_room_changes_no_count_or_time(tmp_path):
+    o = PlanOptions(max_point_spacing_m=0.006, objective="field-time")
+    from planner.plan.run import plan_single
+
+    here = plan_single(resolve(__import__("planner").load_site(str(_room(tmp_path))), o))
+    there = plan_single(resolve(__import__("planner").load_site(str(_room(tmp_path, 1000.0, -2000.0))), o))
+    assert len(here.stations) == len(there.stations)
+    assert here.hours is not None and there.hours is not None
+    assert here.hours.setup_scan_s == pytest.approx(there.hours.setup_scan_s)
+
+
+def test_same_command_same_plan(tmp_path):
+    room = _room(tmp_path)
+    o = PlanOptions(max_point_spacing_m=0.006, objective="field-time")
+    a, b = plan_site(room, o), plan_site(room, o)
+    assert [(s.id, s.x, s.y) for s in a.stations] == [(s.id, s.x, s.y) for s in b.stations]
+    assert a.hours is not None and b.hours is not None and a.hours.settings == b.hours.settings
+
+
+def test_without_the_flags_the_plan_and_its_file_are_unchanged(tmp_path):
+    room = _room(tmp_path)
+    plain = _plan([str(room)], tmp_path / "p")
+    explicit = _plan([str(room), "--objective", "stations"], tmp_path / "e")
+    assert "hours" not in plain and all("setting" not in s for s in plain["stations"])
+    assert [(s["id"], s["x"], s["y"]) for s in plain["stations"]] == [
+        (s["id"], s["x"], s["y"]) for s in explicit["stations"]
+    ]
+
+
+def test_the_field_sheet_times_each_station_at_its_own_setting(plans, tmp_path):
+    plan = plans["field-time"]
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps(plan))
+    assert main(["field", str(path), "--out", str(tmp_path / "sheet"), "--quiet"]) == ExitCode.OK
+    sheet = json.loads((tmp_path / "sheet" / "field.json").read_text())
+    by_id = {s["id"]: s["setting"] for s in plan["stations"]}
+    assert {row["station"]: row["scan setting"] for row in sheet["setups"]} == by_id
+    # each setup's minutes: set-up + its own scan (+ walk + targets)
+    for row in sheet["setups"]:
+        assert row["minutes"] >= round((SETUP_S + SCAN_S[by_id[row["station"]]]) / 60, 1) - 0.05
+
+
+@pytest.mark.parametrize(
+    ("options", "field"),
+    [
+        ({"objective": "hours"}, "objective"),
+        ({"objective": "field-time", "method": "greedy"}, "method"),
+        ({"max_point_spacing_m": 0.006, "surfaces": ("walls", "floors")}, "surfaces"),
+        ({"max_point_spacing_m": 0.0}, "max_point_spacing_m"),
+    ],
+)
+def test_options_that_cannot_go_together_are_refused_by_name(options, field):
+    with pytest.raises(UsageError) as err:
+        PlanOptions(**options)
+    assert err.value.field == field
+
+
+def test_the_command_line_refuses_a_bad_objective_with_exit_2(tmp_path, capsys):
+    assert main(["plan", str(_room(tmp_path)), "--objective", "hours"]) == ExitCode.USAGE
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--objective: invalid choice: 'hours'" in err
