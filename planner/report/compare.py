@@ -48,7 +48,16 @@ def compare_methods(done: Plan | Problem) -> list[dict[str, Any]]:
     for method in ("closed-form", "greedy"):
         if isinstance(done, Plan) and done.result.method == method:
             continue
-        options = replace(problem.options, method=method, tripod=False, recentre=False, strategy=plain)
+        # they plan stations alone: no point spacing, no field time (the MILP's; its trade-off table has them)
+        options = replace(
+            problem.options,
+            method=method,
+            tripod=False,
+            recentre=False,
+            strategy=plain,
+            max_point_spacing_m=None,
+            objective="stations",
+        )
         try:
             rows.append(method_row(plan_single(resolve(problem.site, options, validation=problem.validation))))
         except PlannerError as exc:  # e.g. a piece the closed form cannot see: shown, not fatal

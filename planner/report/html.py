@@ -25,6 +25,7 @@ from planner.figures.base import png_bytes
 from planner.network.summary import network_summary
 from planner.plan.outcome import Outcome
 from planner.plan.tripod import MIN_RADIUS_M
+from planner.report.hours_section import hours_section
 from planner.report.site_map import read_field_sheet, site_map_html, site_plan_html, station_row_id
 from planner.report.surfaces_section import surfaces_section
 
@@ -315,6 +316,7 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
         _network(o),
         "<h2>Verification</h2>",
         _verification(o),
+        hours_section(o),
         surfaces_section(o),
     ]
     return (

@@ -189,3 +189,20 @@ def test_the_command_line_refuses_a_bad_objective_with_exit_2(tmp_path, capsys):
     assert main(["plan", str(_room(tmp_path)), "--objective", "hours"]) == ExitCode.USAGE
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "--objective: invalid choice: 'hours'" in err
+
+
+def test_the_report_shows_the_hours_and_the_trade_off(tmp_path):
+    room = _room(tmp_path)
+    args = ["plan", str(room), "--max-point-spacing", "0.006", "--objective", "field-time", "--quiet"]
+    assert main([*args, "--out", str(tmp_path), "--report", str(tmp_path)]) == ExitCode.OK
+    page = (tmp_path / "report.html").read_text()
+    assert "<h2>Hours on site</h2>" in page and "<h3>Trade-off: stations and hours</h3>" in page
+    section = page.split("<h2>Hours on site</h2>")[1]
+    assert "at most 6 mm on every wall" in section and "does not meet the spacing" in section
+    assert section.count("<tr>") >= 6 and 'src="data:image/png;base64,' in section  # the table and the figure
+
+
+def test_a_plan_without_settings_has_no_hours_section(tmp_path):
+    room = _room(tmp_path)
+    assert main(["plan", str(room), "--quiet", "--out", str(tmp_path), "--report", str(tmp_path)]) == ExitCode.OK
+    assert "Hours on site" not in (tmp_path / "report.html").read_text()
