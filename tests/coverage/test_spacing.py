@@ -114,3 +114,17 @@ def test_a_setting_named_without_a_spacing_is_refused_with_its_name():
     with pytest.raises(InputError, match=r"field\.scan_time_s\.high = 'high': names no point spacing") as err:
         props.step_rad("high")
     assert "\n" not in str(err.value)
+
+
+def test_every_bundled_scanner_names_its_settings_by_spacing():
+    """Each model's [field] settings give an angular step (--max-point-spacing works with every bundled scanner)."""
+    from planner.instrument.models import Scanner, list_instruments
+
+    models = [load_instrument(name) for name in list_instruments()]
+    scanners = [m for m in models if isinstance(m, Scanner)]
+    assert len(scanners) >= 3
+    for m in scanners:
+        props = m.field_properties
+        assert props is not None, m.name
+        steps = [step for _, step, _ in props.by_step()]
+        assert steps == sorted(steps, reverse=True) and all(s > 0 for s in steps), m.name
