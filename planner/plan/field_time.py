@@ -159,12 +159,17 @@ def setting_columns(
 
 def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
     """The plan of a run with point spacing or the field-time objective: ``field-time`` minimises set-up + scan
-    over (station, setting) pairs; ``stations`` minimises the stations (every pair at cost 1: a finer pair
-    dominates its coarser ones, so each station may scan at its finest setting), then gives each chosen
-    station the cheapest setting that keeps the cover (:func:`assign_settings`)."""
+    over (station, setting) pairs; ``stations`` minimises the stations, each able to scan at the finest setting
+    (a finer setting sees every piece a coarser one does, so the coarser pairs add nothing to a count), then
+    gives each chosen station the cheapest setting that keeps the cover (:func:`assign_settings`)."""
     if run.options.objective == "field-time":
         return field_time_method(run, props)
-    out = field_time_method(run, props, unit=True)
+    # the fewest stations: every station may scan at the finest setting, which sees all a coarser one sees
+    name, _step, scan = (
+        props.by_step()[-1] if run.options.max_point_spacing_m is not None else (props.settings[0], 0.0, 0.0)
+    )
+    finest = replace(props, scan_times_s=((name, props.scan_time_s(name)),), default_setting=name)
+    out = field_time_method(run, finest, unit=True)
     if not out.result.selected:
         return out
     settings, timing = assign_settings(run.problem, out.result.selected, props, run.options.max_point_spacing_m, run)
