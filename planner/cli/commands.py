@@ -75,7 +75,7 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
         pricing_time_limit_s=args.pricing_time_limit,
         plane_refine_steps=args.plane_refine_steps,
         memory_limit_bytes=memory_limit(args),
-        surfaces=tuple(args.surfaces.split(",")),
+        surfaces=tuple(getattr(args, "surfaces", "walls").split(",")),
         theta_max_floor_deg=args.theta_max_floor,
         max_point_spacing_m=getattr(args, "max_point_spacing", None),
         objective=getattr(args, "objective", "stations"),

@@ -31,7 +31,6 @@ from planner.cli.option_types import (
     OncePerKey,
     number,
     once_per_key,
-    surface_list,
 )
 
 #: the time budget of a tiled plan under --tiles auto, s (the issue's 10 minutes on the 16-ha plant, less reading,
@@ -256,14 +255,6 @@ KNOBS: dict[str, Knob] = {
                 help="verification sampling (default 0.1 m)",
             ),
             Knob(key="tripod", switch=True, help="compute tripod discs (always on for milp)"),
-            Knob(
-                key="surfaces",
-                parse=surface_list,
-                default="walls",
-                metavar="LIST",
-                help="the surfaces planned: walls and, as targets besides them, floors and ceilings, e.g. "
-                "walls,floors (default walls; one model, bound over the pool; docs/surfaces.md)",
-            ),
             Knob(
                 key="theta-max-floor",
                 parse=number(float, above=0, at_most=90),

@@ -19,7 +19,7 @@ storeys that hold spaces):
   base offset (the bottom of its solid less the storey's placement; see :func:`floor_level`), and its
   ceiling (``Zone.ceiling_height_m``) is the space's height, as its walls'; the exterior outline has its
   floor at the storey's elevation and no ceiling. The levels serve the floor and ceiling targets only
-  (``--set surfaces=walls,floors,ceilings``); walls are seen as before.
+  (``--surfaces walls,floors,ceilings``); walls are seen as before.
 
 One storey reads into the site frame; several storeys each into a frame named after the storey (so
 the rooms of one floor never hide those of another). Coordinates and heights are metres from the

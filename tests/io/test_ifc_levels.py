@@ -121,7 +121,7 @@ def _plan(args: list[str], out: Path) -> dict[str, Any]:
 def test_house_planned_with_floors_and_ceilings_verified_complete(tmp_path: Path, capsys: Any) -> None:
     walls = _plan([], tmp_path / "walls")
     t0 = time.perf_counter()
-    full = _plan(["--set", "surfaces=walls,floors,ceilings", "--instrument-height", "1.5"], tmp_path / "full")
+    full = _plan(["--surfaces", "walls,floors,ceilings", "--instrument-height", "1.5"], tmp_path / "full")
     took = time.perf_counter() - t0
     surf = full["surfaces"]
     assert surf["types"] == ["walls", "floors", "ceilings"] and surf["instrument_height_m"] == 1.5

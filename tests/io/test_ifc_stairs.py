@@ -58,7 +58,7 @@ def test_house_planned_as_one_network_across_the_stair(tmp_path: Path, capsys: A
     _one_network(walls, ["Ground floor", "Upper floor"], "S-hall-landing")
     assert walls["verification"]["percent"] == 100.0
     t0 = time.perf_counter()
-    full = _plan(HOUSE, ["--set", "surfaces=walls,floors,ceilings"], tmp_path / "full")
+    full = _plan(HOUSE, ["--surfaces", "walls,floors,ceilings"], tmp_path / "full")
     took = time.perf_counter() - t0
     _one_network(full, ["Ground floor", "Upper floor"], "S-hall-landing")
     assert full["verification"]["percent"] == 100.0

@@ -1,4 +1,4 @@
-"""Floors and ceilings planned by the pipeline (issue 46, ``--set surfaces=walls,floors``): a plain room's floor
+"""Floors and ceilings planned by the pipeline (issue 46, ``--surfaces walls,floors``): a plain room's floor
 found covered by an independent check written here, walls-only plans unchanged, the refusals, ceilings, and a
 moved room planned alike.
 
@@ -63,7 +63,7 @@ def _stations(plan: dict) -> list[tuple[str, float, float]]:
 
 def test_room_floor_planned_and_found_covered_by_an_independent_check(tmp_path, capsys):
     room = _room_csv(tmp_path)
-    plan = _plan([str(room), "--set", "surfaces=walls,floors", "--instrument-height", "1.5"], tmp_path / "f")
+    plan = _plan([str(room), "--surfaces", "walls,floors", "--instrument-height", "1.5"], tmp_path / "f")
     assert plan["parameters"]["instrument"] == "leica-p30"  # the model with the 35 deg blind cone
     # every floor point of a 0.1 m grid (cell centres: 100 x 60 = 6,000 points) within 68 deg of the normal and
     # outside the 35 deg cone of some station: 1.050 m <= d <= 3.713 m (a convex room: nothing hides a point)
@@ -105,7 +105,7 @@ def test_room_floor_planned_and_found_covered_by_an_independent_check(tmp_path, 
 def test_walls_only_plan_json_unchanged_by_the_surfaces_key(tmp_path):
     room = _room_csv(tmp_path)
     plain = _plan([str(room)], tmp_path / "a")
-    walls = _plan([str(room), "--set", "surfaces=walls"], tmp_path / "b")
+    walls = _plan([str(room), "--surfaces", "walls"], tmp_path / "b")
     assert "surfaces" not in plain and "surfaces" not in walls
     assert _stations(plain) == _stations(walls)
     timing = {"time_s", "log", "solver", "presolve", "source", "source_resolved"}
@@ -115,16 +115,16 @@ def test_walls_only_plan_json_unchanged_by_the_surfaces_key(tmp_path):
 @pytest.mark.parametrize(
     ("args", "words"),
     [
-        (["--set", "surfaces=floors"], ["--set surfaces", "must include walls"]),
-        (["--set", "surfaces=walls,roofs"], ["--set surfaces", "unknown surface 'roofs'"]),
+        (["--surfaces", "floors"], ["--surfaces", "must include walls"]),
+        (["--surfaces", "walls,roofs"], ["--surfaces", "unknown surface 'roofs'"]),
         (["--set", "theta-max-floor=95"], ["--set theta-max-floor", "<= 90"]),
         # the site's instrument height is 0 and the ScanStation 2 model gives no 3-D height
         (
-            ["--set", "surfaces=walls,floors", "--instrument", "leica-scanstation-2"],
+            ["--surfaces", "walls,floors", "--instrument", "leica-scanstation-2"],
             ["--instrument-height", "instrument_height_3d_m"],
         ),
-        (["--set", "surfaces=walls,floors", "--method", "closed-form"], ["--method", "walls only"]),
-        (["--set", "surfaces=walls,floors", "--recentre"], ["--recentre", "walls only"]),
+        (["--surfaces", "walls,floors", "--method", "closed-form"], ["--method", "walls only"]),
+        (["--surfaces", "walls,floors", "--recentre"], ["--recentre", "walls only"]),
     ],
 )
 def test_bad_surface_options_are_one_line_usage_errors(tmp_path, capsys, args, words):
@@ -148,7 +148,7 @@ def test_ceilings_planned_and_verified(tmp_path):
     # ceiling at 3 m, instrument at 1.5 m: dz = +1.5 m, the same 3.713 m reach as the floor; the P30 has no
     # zenith cone, so the ceiling straight above a station is seen
     path = _room_json(tmp_path, ceiling=3.0)
-    plan = _plan([str(path), "--set", "surfaces=walls,floors,ceilings", "--instrument-height", "1.5"], tmp_path / "c")
+    plan = _plan([str(path), "--surfaces", "walls,floors,ceilings", "--instrument-height", "1.5"], tmp_path / "c")
     rows = {r["type"]: r for r in plan["surfaces"]["verification"]["zones"]}
     assert set(rows) == {"floor", "ceiling"}
     assert rows["floor"]["percent"] == rows["ceiling"]["percent"] == 100.0
@@ -156,8 +156,8 @@ def test_ceilings_planned_and_verified(tmp_path):
 
 
 def test_moving_the_room_changes_no_station_count(tmp_path):
-    here = _plan([str(_room_json(tmp_path)), "--set", "surfaces=walls,floors"], tmp_path / "a")
-    moved = _plan([str(_room_json(tmp_path, 1234.5, -678.25)), "--set", "surfaces=walls,floors"], tmp_path / "b")
+    here = _plan([str(_room_json(tmp_path)), "--surfaces", "walls,floors"], tmp_path / "a")
+    moved = _plan([str(_room_json(tmp_path, 1234.5, -678.25)), "--surfaces", "walls,floors"], tmp_path / "b")
     # the instance's instrument height is 0: the P30's instrument_height_3d_m, 1.5 m, is taken
     assert here["surfaces"]["instrument_height_m"] == moved["surfaces"]["instrument_height_m"] == 1.5
     assert len(here["stations"]) == len(moved["stations"])
@@ -199,7 +199,7 @@ def _l_room(tmp_path: Path) -> Path:
 
 
 def test_l_room_with_a_column_planned_with_floor_and_ceiling(tmp_path):
-    plan = _plan([str(_l_room(tmp_path)), "--set", "surfaces=walls,floors,ceilings"], tmp_path / "l")
+    plan = _plan([str(_l_room(tmp_path)), "--surfaces", "walls,floors,ceilings"], tmp_path / "l")
     rows = {r["type"]: r for r in plan["surfaces"]["verification"]["zones"]}
     assert rows["floor"]["points"] == rows["ceiling"]["points"] == 8464
     assert plan["surfaces"]["verification"]["complete"]
@@ -235,7 +235,7 @@ def test_every_method_but_the_closed_form_covers_the_floor(tmp_path, extra):
     # the connected greedy, the plain greedy and the plain MILP cover the patch columns too: the 10 x 6 m floor
     # verifies at 100 % (6,000 points), and no plan has fewer stations than the walls alone need (1)
     room = _room_csv(tmp_path)
-    plan = _plan([str(room), "--set", "surfaces=walls,floors", *extra], tmp_path / "m")
+    plan = _plan([str(room), "--surfaces", "walls,floors", *extra], tmp_path / "m")
     assert plan["surfaces"]["verification"]["complete"] and len(plan["stations"]) > 1
 
 
@@ -243,7 +243,7 @@ def test_verify_command_checks_floors_when_asked(tmp_path, capsys):
     # the floors plan verifies (exit 0); the walls-only plan's one station leaves the floor beyond 3.713 m and
     # inside its 1.050 m blind disc unseen: incomplete, exit 4 (INFEASIBLE), as a wall left uncovered
     room = _room_csv(tmp_path)
-    _plan([str(room), "--set", "surfaces=walls,floors"], tmp_path / "f")
+    _plan([str(room), "--surfaces", "walls,floors"], tmp_path / "f")
     _plan([str(room)], tmp_path / "w")
     capsys.readouterr()
     floors = ["--surfaces", "walls,floors"]
@@ -259,7 +259,7 @@ def test_a_floor_no_station_can_see_is_reported_and_left_out(tmp_path, capsys):
     # no candidate sees any of the 60 patches (60 m2); they are left out of the cover and reported, the walls are
     # planned as ever (one station) and the floor's verification says 0 % and INCOMPLETE
     room = _room_csv(tmp_path)
-    plan = _plan([str(room), "--set", "surfaces=walls,floors", "--set", "theta-max-floor=30"], tmp_path / "t")
+    plan = _plan([str(room), "--surfaces", "walls,floors", "--set", "theta-max-floor=30"], tmp_path / "t")
     assert plan["surfaces"]["unseen_patches"] == {"count": 60, "area_m2": 60.0, "zones": ["R/floor"]}
     assert plan["surfaces"]["theta_max_floor_deg"] == 30.0 and len(plan["stations"]) == 1
     v = plan["surfaces"]["verification"]

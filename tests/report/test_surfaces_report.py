@@ -42,7 +42,7 @@ def _plan(tmp_path: Path, name: str, *extra: str) -> tuple[Path, Path, dict]:
 @pytest.fixture(scope="module")
 def floors(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, dict]:
     """The room planned with its floor: the room, the output folder and plan.json."""
-    return _plan(tmp_path_factory.mktemp("floors"), "f", "--set", "surfaces=walls,floors", "--instrument-height", "1.5")
+    return _plan(tmp_path_factory.mktemp("floors"), "f", "--surfaces", "walls,floors", "--instrument-height", "1.5")
 
 
 def _seen(room: Path, plan: dict) -> tuple[list[str], object, object]:

@@ -7,7 +7,7 @@ import sys
 from collections.abc import Callable, Collection, Mapping
 
 from planner.cli.choices import INCIDENCE_MODELS
-from planner.cli.option_types import POSITIVE
+from planner.cli.option_types import POSITIVE, surface_list
 from planner.cli.tuning import add_option
 from planner.core.errors import ExitCode
 
@@ -113,3 +113,15 @@ def theta(text: str) -> float | str:
         return float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected degrees or 'derive', got {text!r}") from None
+
+
+def add_surfaces_option(p: argparse.ArgumentParser, what: str = "planned") -> None:
+    """``--surfaces LIST``: walls and, besides them, floors and ceilings (issue 46)."""
+    p.add_argument(
+        "--surfaces",
+        type=surface_list,
+        default="walls",
+        metavar="LIST",
+        help=f"the surfaces {what}: walls and, besides them, floors and ceilings, e.g. walls,floors,ceilings "
+        "(default walls; docs/surfaces.md)",
+    )

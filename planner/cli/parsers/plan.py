@@ -14,6 +14,7 @@ from planner.cli.parsers.common import (
     add_network_options,
     add_pool_options,
     add_site_options,
+    add_surfaces_option,
 )
 from planner.cli.profile import add_profile_options
 from planner.cli.tiles import add_tile_options
@@ -46,6 +47,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         default="single",
         help="single: each view must meet sigma_req; combined: views add information (every method; default single)",
     )
+    add_surfaces_option(pl)
     pl.add_argument(
         "--max-point-spacing",
         type=POSITIVE,

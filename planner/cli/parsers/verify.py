@@ -10,6 +10,7 @@ from planner.cli.parsers.common import (
     Handlers,
     add_limit_options,
     add_site_options,
+    add_surfaces_option,
 )
 from planner.cli.tuning import add_option
 
@@ -28,7 +29,7 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         default="single",
         help="single: each point needs one view within sigma_req; combined: its views add information (default single)",
     )
-    add_option(ve, "surfaces")
+    add_surfaces_option(ve, "verified")
     add_option(ve, "theta-max-floor")
     add_limit_options(ve)
     ve.set_defaults(func=handlers["verify"])
