@@ -28,6 +28,7 @@ from planner.plan.tripod import MIN_RADIUS_M
 from planner.report.hours_section import hours_section
 from planner.report.site_map import read_field_sheet, site_map_html, site_plan_html, station_row_id
 from planner.report.surfaces_section import surfaces_section
+from planner.report.view3d_section import view3d_section
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
@@ -302,6 +303,7 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
         site_plan_html(o, field_sheet),
         "<h2>Site map</h2>",
         site_map_html(o, field_sheet),
+        view3d_section(o),
         "<h2>Inputs and parameters</h2>",
         _parameters(o),
         "<h2>Zones and closure</h2>",
