@@ -74,8 +74,12 @@ class Plan:
         and rules it answers, both bounds with what each holds over, registration, tripod discs and the
         verification; notes of the run that differ only in the names they mention come folded into one line."""
         sides = self.count_by_side()
+        head = f"instance {self.site.name}: {self.result.summary(self.time_label)}"
+        if self.hours is not None and self.hours.objective == "field-time":  # the count is not what was minimised
+            t = self.hours.timing
+            head += f" (objective field-time: set-up + scan {self.hours.setup_scan_s / 3600:.2f} h, {t.get('status')})"
         lines = [
-            f"instance {self.site.name}: {self.result.summary(self.time_label)}",
+            head,
             self._presolve_line(),
             f"stations: {len(self.stations)} (inside {sides.get('inside', 0)}, outside {sides.get('outside', 0)}); "
             f"candidates {self.problem_size['candidates']:,}, targets {self.problem_size['targets']:,}",

@@ -206,3 +206,19 @@ def test_a_plan_without_settings_has_no_hours_section(tmp_path):
     room = _room(tmp_path)
     assert main(["plan", str(room), "--quiet", "--out", str(tmp_path), "--report", str(tmp_path)]) == ExitCode.OK
     assert "Hours on site" not in (tmp_path / "report.html").read_text()
+
+
+def test_planner_verify_checks_the_spacing_at_each_station_s_setting(plans, tmp_path, capsys):
+    room = _room(tmp_path)
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps(plans["field-time"]))
+    assert main(["verify", str(room), str(path), "--max-point-spacing", "0.006"]) == ExitCode.OK
+    assert "100.000 % of" in capsys.readouterr().out
+    # every station at the coarsest setting: the 3 m tops cannot get 6 mm (7.5 mm at best), exit 4
+    coarse = json.loads(path.read_text())
+    for s in coarse["stations"]:
+        s["setting"] = "12.5 mm @ 10 m"
+    path.write_text(json.dumps(coarse))
+    assert main(["verify", str(room), str(path), "--max-point-spacing", "0.006"]) == ExitCode.INFEASIBLE
+    out = capsys.readouterr().out
+    assert "points over" in out

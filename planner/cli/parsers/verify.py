@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from planner.cli.choices import PRECISION_MODES
-from planner.cli.option_types import SAMPLING_M
+from planner.cli.option_types import POSITIVE, SAMPLING_M
 from planner.cli.parsers.common import (
     Handlers,
     add_limit_options,
@@ -30,6 +30,14 @@ def add_parser(sub: argparse._SubParsersAction, handlers: Handlers) -> None:
         help="single: each point needs one view within sigma_req; combined: its views add information (default single)",
     )
     add_surfaces_option(ve, "verified")
+    ve.add_argument(
+        "--max-point-spacing",
+        type=POSITIVE,
+        default=None,
+        metavar="M",
+        help="also check that every wall point gets at most M m point spacing from a station that sees it, at "
+        "the station's setting in the plan (its 'setting'; else the instrument's default) (docs/field-time.md)",
+    )
     add_option(ve, "theta-max-floor")
     add_limit_options(ve)
     ve.set_defaults(func=handlers["verify"])
