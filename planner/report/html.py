@@ -1,7 +1,7 @@
 """Render an :class:`~planner.plan.outcome.Outcome` as one HTML file: the interactive site map
-(:mod:`planner.report.site_map`), inputs and parameters, closure table, station table, comparison of methods,
-figures, network and accuracy check, verification, and floors and ceilings where the plan has them
-(:mod:`planner.report.surfaces_section`).
+(:mod:`planner.report.site_map`), the 3-D view (:mod:`planner.report.view3d_section`), inputs and parameters,
+closure table, station table, comparison of methods, figures, network and accuracy check, verification, and
+floors and ceilings where the plan has them (:mod:`planner.report.surfaces_section`).
 
 The file needs nothing else (no external CSS, fonts or images). A short script marks on
 ``<body data-images-ok="k/n">`` how many embedded images decoded, which the render test reads

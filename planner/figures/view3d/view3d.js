@@ -165,6 +165,12 @@
         draw();
       });
     });
+    var pending = false;
+    function later() {  /* one redraw per animation frame while dragging or wheeling */
+      if (pending) return;
+      pending = true;
+      (window.requestAnimationFrame || setTimeout)(function () { pending = false; draw(); });
+    }
     var drag = null;
     canvas.addEventListener('pointerdown', function (e) {
       drag = { x: e.clientX, y: e.clientY, yaw: st.yaw, pitch: st.pitch, moved: false };
@@ -176,7 +182,7 @@
       if (Math.abs(dx) + Math.abs(dy) > 3) drag.moved = true;
       st.yaw = drag.yaw - dx * 0.4;
       st.pitch = Math.max(0, Math.min(90, drag.pitch + dy * 0.4));
-      draw();
+      later();
     });
     canvas.addEventListener('pointerup', function (e) {
       if (drag && !drag.moved) {
@@ -189,9 +195,9 @@
     canvas.addEventListener('wheel', function (e) {
       e.preventDefault();
       st.zoom *= e.deltaY < 0 ? 1.15 : 1 / 1.15;
-      draw();
+      later();
     }, { passive: false });
-    window.addEventListener('resize', draw);
+    window.addEventListener('resize', later);
     root.v3dSelect = function (id) {
       for (var k = 0; k < stations.length; k++) if (stations[k][0] === id) return select(k);
       select(-1);
