@@ -126,6 +126,7 @@ def write_field(
 def summary(fp: FieldPlan) -> str:
     """The sheet's summary as printed: route, bound, time, targets, order, and the rooms without openings."""
     from planner.field.crossing import advice
+    from planner.field.storeys import stairs_line
 
     t = fp.time
     weak = sum(1 for lk in fp.links if lk.weak)
@@ -147,6 +148,7 @@ def summary(fp: FieldPlan) -> str:
             ),
             f"targets: {len(fp.targets)}; chain links {len(fp.links)}, weak left {weak}",
             "order: " + " ".join(fp.stations[k].id for k in fp.order),
+            *([stairs_line(fp)] if fp.spaces else []),
             *([walls] if walls else []),
         ]
     )

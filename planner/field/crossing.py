@@ -21,6 +21,7 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.core.errors import InfeasibleError
+from planner.field.storeys import StoreyWalk
 from planner.field.walking import WalkGraph
 from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
@@ -46,7 +47,7 @@ class Crossing:
     parts: tuple[str, str]
 
 
-def bridge(g: WalkGraph) -> NDArray[np.float64]:
+def bridge(g: WalkGraph | StoreyWalk) -> NDArray[np.float64]:
     """The walking distances of ``g``, with the straight-line distance where no walk joins two points."""
     d = g.dist.copy()
     far = ~np.isfinite(d)
@@ -56,7 +57,9 @@ def bridge(g: WalkGraph) -> NDArray[np.float64]:
     return d
 
 
-def part_names(site: Site, g: WalkGraph, node_station: Sequence[int], stations: Sequence[Candidate]) -> list[str]:
+def part_names(
+    site: Site, g: WalkGraph | StoreyWalk, node_station: Sequence[int], stations: Sequence[Candidate]
+) -> list[str]:
     """A name for the walkable part each point of ``g`` stands in: its rooms (the zones of the inside stations
     in it, in the site's order) and :data:`OPEN_GROUND` where an outside station stands in it, joined by "+";
     a part that holds only the start point is "the start"."""
@@ -82,7 +85,7 @@ def zones_crossed(site: Site, frame: str, a: tuple[float, float], b: tuple[float
 
 def crossings(
     site: Site,
-    g: WalkGraph,
+    g: WalkGraph | StoreyWalk,
     path_nodes: Sequence[int],
     labels: Sequence[str],
     numbers: Sequence[int | None],
@@ -104,7 +107,7 @@ def crossings(
                 labels[a],
                 labels[b],
                 math.dist(pa, pb),
-                zones_crossed(site, g.space.frame, pa, pb),
+                zones_crossed(site, g.frames[a] if isinstance(g, StoreyWalk) else g.space.frame, pa, pb),
                 (parts[a], parts[b]),
             )
         )
@@ -147,7 +150,12 @@ def _area_name(site: Site, s: Candidate) -> str:
 
 
 def check_reach(
-    site: Site, st: Sequence[Candidate], g: WalkGraph, node_station: list[int], label: str, plan_file: str | None
+    site: Site,
+    st: Sequence[Candidate],
+    g: WalkGraph | StoreyWalk,
+    node_station: list[int],
+    label: str,
+    plan_file: str | None,
 ) -> None:
     """``--strict-walls``: a station no walk joins to the start (node 0 of ``g``) is an infeasible route
     (exit 4), named with its zone and accessible area."""

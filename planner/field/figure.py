@@ -69,6 +69,107 @@ def _points(ax: Axes, fp: FieldPlan) -> list[PointLabel]:
     return labels
 
 
+#: the legend's entry for a stair leg (across storeys)
+STAIR_LABEL = "stair leg (foot to head)"
+_STAIR = "tab:purple"
+
+
+def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
+    """Across storeys: one panel per frame walked through, side by side, each with its walls, the route's
+    parts in that frame, its stations and the targets its stations see; a stair leg is drawn in both panels
+    it joins (purple), from the foot to the head."""
+    frames = [sp.frame for sp in fp.spaces]
+    fig = Figure(figsize=size, layout="constrained")
+    axes = fig.subplots(1, len(frames), squeeze=False)[0]
+    through = {c.leg for c in fp.crossings}
+    number = {k: n for n, k in enumerate(fp.order, 1)}
+    panels = []
+    for ax, sp in zip(axes, fp.spaces):
+        fr = sp.frame
+        ax.add_collection(LineCollection([list(w) for w in sp.solid_walls], colors="black", linewidths=1.2, zorder=2))
+        walks: list[list[tuple[float, float]]] = []
+        walls: list[list[tuple[float, float]]] = []
+        stairs: list[list[tuple[float, float]]] = []
+        for k, (leg, frs) in enumerate(zip(fp.legs, fp.leg_frames)):
+            run: list[tuple[float, float]] = []
+            for t, (p, f) in enumerate(zip(leg, frs)):
+                if t and frs[t - 1] != f and fr in (f, frs[t - 1]):
+                    stairs.append([leg[t - 1], p])
+                if f == fr:
+                    run.append(p)
+                elif len(run) > 1:
+                    (walls if k in through else walks).append(run)
+                    run = []
+                else:
+                    run = []
+            if len(run) > 1:
+                (walls if k in through else walks).append(run)
+        ax.add_collection(LineCollection(walks, colors="tab:blue", linewidths=1.4, alpha=0.8, zorder=3, gid="route"))
+        if walls:
+            ax.add_collection(
+                LineCollection(walls, colors="tab:orange", linewidths=1.4, linestyles="--", zorder=3, gid="through")
+            )
+        if stairs:
+            ax.add_collection(LineCollection(stairs, colors=_STAIR, linewidths=2.2, zorder=4, gid="stair"))
+        labels: list[PointLabel] = []
+        at_station = False
+        for k, s in enumerate(fp.stations):
+            if s.frame != fr or k not in number:
+                continue
+            ax.plot(s.x, s.y, "o", ms=STATION_PT, mfc="white", mec="black", mew=1.0, ls="none", zorder=5)
+            here = fr == fp.space.frame and s.xy == fp.start_xy
+            at_station |= here
+            size_pt = max(STATION_PT, START_PT) if here else STATION_PT
+            labels.append(PointLabel(s.x, s.y, str(number[k]), f"station:{s.id}", size_pt, STATION_FONT))
+        if fr == fp.space.frame:
+            ax.plot(
+                *fp.start_xy, marker="*", ms=START_PT, color="tab:green", mec="darkgreen", mew=0.6, ls="none", zorder=6
+            )
+            if not at_station:
+                labels.append(PointLabel(*fp.start_xy, "start", "start", START_PT, TARGET_FONT))
+        seers = {s.id: s.frame for s in fp.stations}
+        for tg in fp.targets:
+            if fr not in {seers.get(i) for i in tg.seen_by}:
+                continue
+            ax.plot(
+                tg.x,
+                tg.y,
+                marker="x" if tg.kind != "control" else "^",
+                color=_TARGET,
+                ms=TARGET_PT,
+                ls="none",
+                zorder=5,
+            )
+            labels.append(PointLabel(tg.x, tg.y, tg.id, f"target:{tg.id}", TARGET_PT, TARGET_FONT))
+        frame_axes(ax, PLAN_MARGIN)
+        ax.set_title(fr, fontsize=9)
+        panels.append((ax, fr, labels))
+    handles = [
+        Line2D([], [], color="black", lw=1.2, label="wall"),
+        Line2D([], [], color="tab:blue", lw=1.4, label="route"),
+        Line2D([], [], color=_STAIR, lw=2.2, label=STAIR_LABEL),
+    ]
+    if through:
+        handles.append(Line2D([], [], color="tab:orange", lw=1.4, ls="--", label=THROUGH_LABEL))
+    handles.append(Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"))
+    handles.append(
+        Line2D([], [], marker="o", mfc="white", mec="black", ls="none", label="station (number: visiting order)")
+    )
+    if fp.targets:
+        handles.append(Line2D([], [], marker="x", color=_TARGET, ls="none", label="target"))
+    fig.suptitle(
+        f"{fp.site.name}: {len(fp.order)} setups on {len(frames)} storeys, {fp.options.mode} order, route "
+        f"{fp.route_length_m:.0f} m with {len(fp.stair_legs)} stair leg(s) (bound {fp.lower_bound_m:.0f} m, gap "
+        f"{100 * fp.gap:.1f} %)"
+    )
+    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 3), fontsize=8, frameon=False)
+    for placed in finish_plans(fig, panels, max_gap_px=LEADER_MAX_PX):
+        for text in placed.texts:
+            if str(text.get_gid()).startswith("label:target:"):
+                text.set_color(_TARGET)
+    return fig
+
+
 def figure(fp: FieldPlan, size: tuple[float, float] = SIZE) -> Figure:
     """The plan of the field sheet (see the module text).
 
@@ -84,8 +185,11 @@ def figure(fp: FieldPlan, size: tuple[float, float] = SIZE) -> Figure:
     -------
     Figure
         One panel; labels with ``gid`` ``label:station:ID`` (text: the setup number), ``label:target:ID`` and
-        ``label:start`` (where the start is no station).
+        ``label:start`` (where the start is no station). Across storeys (``fp.spaces``): one panel per storey
+        (:func:`_storey_figure`).
     """
+    if fp.spaces:
+        return _storey_figure(fp, size)
     fig = Figure(figsize=size, layout="constrained")
     ax = fig.subplots()
     walls = [list(w) for w in fp.space.solid_walls]

@@ -86,4 +86,33 @@ def to_dict(fp: FieldPlan) -> dict[str, Any]:
         "instrument_height_m": fp.instrument_height_m,
         "solve_s": fp.solve_s,
         "version": __version__,
+    } | (_storeys(fp) if fp.spaces else {})
+
+
+def _storeys(fp: FieldPlan) -> dict[str, Any]:
+    """Across storeys (:mod:`planner.field.storeys`): the frames walked through, the frame of every point of
+    every leg, and the stair legs (leg index, stair, way, foot, head, run, rise, length)."""
+    from planner.field.storeys import climbs
+
+    return {
+        "frames": [sp.frame for sp in fp.spaces],
+        "start_frame": fp.space.frame,
+        "station_frames": {s.id: s.frame for s in fp.stations},
+        "leg_frames": [list(f) for f in fp.leg_frames],
+        "stair_legs": [
+            {
+                "leg": k,
+                "stair": f.stair,
+                "way": climbs(f, fp.leg_frames[k]),
+                "lower_frame": f.lower,
+                "upper_frame": f.upper,
+                "foot": list(f.foot),
+                "head": list(f.head),
+                "run_m": f.run_m,
+                "rise_m": f.rise_m,
+                "length_m": f.length_m,
+            }
+            for k, f in fp.stair_legs
+        ],
+        "stair_leg_length": "run in plan (foot to head) plus rise (z_max - z_min), timed at the walking speed",
     }

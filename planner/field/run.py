@@ -14,7 +14,7 @@ from __future__ import annotations
 import itertools
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import networkx as nx
@@ -35,6 +35,7 @@ from planner.field.order import (
     solve_order,
 )
 from planner.field.scip_order import NODE_LIMIT
+from planner.field.storeys import Flight, StoreyWalk, joined_frames, storey_spaces, storey_walks
 from planner.field.targets import (
     STRONG_OVERLAP,
     Link,
@@ -112,6 +113,10 @@ class FieldPlan:
     certified: Certified | None = field(default=None)
     crossings: tuple[Crossing, ...] = field(default=())  # legs through walls (no opening in the model)
     coverage: CoverageProblem | None = field(default=None)  # the stations' wall pieces, rows in ``stations`` order
+    # across storeys (stations in several frames joined by stairs; all empty for one frame):
+    spaces: tuple[WalkSpace, ...] = field(default=())  # every frame walked through (``space`` is the first's)
+    leg_frames: tuple[tuple[str, ...], ...] = field(default=())  # the frame of each point of each leg
+    stair_legs: tuple[tuple[int, Flight], ...] = field(default=())  # (leg index, the flight it climbs or descends)
 
     @property
     def gap(self) -> float:
@@ -123,7 +128,9 @@ class FieldPlan:
         return [t.id for t in self.targets if station_id in t.seen_by]
 
 
-def _check_stands(site: Site, stations: Sequence[Candidate], space: WalkSpace, plan_file: str | None) -> None:
+def _check_stands(
+    site: Site, stations: Sequence[Candidate], spaces: dict[str, WalkSpace], plan_file: str | None
+) -> None:
     zones = {z.id: z for z in site.zones}
     for k, s in enumerate(stations, 1):
         where = {"file": plan_file, "row": f"stations[{k}]", "field": "station", "value": s.id}
@@ -137,7 +144,7 @@ def _check_stands(site: Site, stations: Sequence[Candidate], space: WalkSpace, p
             raise InputError(
                 f"stands inside zone {s.zone}, which it scans from outside: the plan does not match the site", **where
             )  # type: ignore[arg-type]
-        off = snap_distance(space, s.xy)
+        off = snap_distance(spaces[s.frame], s.xy)
         if off > SNAP_M:
             raise InputError(
                 f"stands {off:.2f} m from any walkable place (in an obstacle, a no-go area, a wall or "
@@ -147,9 +154,15 @@ def _check_stands(site: Site, stations: Sequence[Candidate], space: WalkSpace, p
 
 
 def _start(
-    site: Site, stations: Sequence[Candidate], space: WalkSpace, start: str | None
+    site: Site,
+    stations: Sequence[Candidate],
+    space: WalkSpace,
+    start: str | None,
+    walks: Callable[[list[tuple[float, float]]], np.ndarray] | None = None,
 ) -> tuple[int | None, tuple[float, float], str]:
-    """(station index or None, start point, label)."""
+    """(station index or None, start point, label). ``space``: the first station's frame's walkable area (where a
+    start point and the first door lie); ``walks``: the distance matrix of the stations and a point of that
+    frame, last (None: walks in ``space``)."""
     ids = [s.id for s in stations]
     if start is not None:
         if start in ids:
@@ -182,8 +195,9 @@ def _start(
         anchor = ((c.x, c.y), f"control point {c.name}")
     if anchor is None:
         return 0, stations[0].xy, f"station {ids[0]} (the plan's first)"
-    g = walk_graph(space, [*(s.xy for s in stations), anchor[0]])
-    k = int(np.argmin(g.dist[-1, :-1]))
+    pts = [*(s.xy for s in stations), anchor[0]]
+    dist = walk_graph(space, pts).dist if walks is None else walks(pts)
+    k = int(np.argmin(dist[-1, :-1]))
     return k, stations[k].xy, f"station {ids[k]} (nearest {anchor[1]})"
 
 
@@ -208,22 +222,40 @@ def field_plan(
             "the plan has no stations: there is nothing to visit", file=plan_file, field="stations", value=0
         )
     frame = st[0].frame
+    frames = list(dict.fromkeys(s.frame for s in st))
+    joined = joined_frames(site, frames) if len(frames) > 1 and site.stairs else None
     for s in st:
-        if s.frame != frame:
+        if s.frame != frame and joined is None:
             raise InfeasibleError(
                 f"stands in frame {s.frame!r}, station {st[0].id} in {frame!r}: zones in separate "
-                f"frames cannot be walked between (place them with planner assemble)",
+                f"frames cannot be walked between (no stair joins them; place them with planner assemble)",
                 file=plan_file,
                 field="station",
                 value=s.id,
             )
-    space = walk_space(site, frame, [s.xy for s in st])
-    _check_stands(site, st, space, plan_file)
-    first, start_xy, label = _start(site, st, space, options.start)
+    walks: Callable[[list[tuple[float, float]]], np.ndarray] | None = None
+    if joined is None:
+        space = walk_space(site, frame, [s.xy for s in st])
+        spaces = {frame: space}
+    else:  # across storeys (planner.field.storeys): each frame's walks joined by the stairs
+        spaces = storey_spaces(site, joined, st)
+        space = spaces[frame]
+        frames_of = [s.frame for s in st]
+
+        def walks(pts: list[tuple[float, float]]) -> np.ndarray:
+            return storey_walks(site, spaces, pts, [*frames_of, frame][: len(pts)]).dist
+
+    _check_stands(site, st, spaces, plan_file)
+    first, start_xy, label = _start(site, st, space, options.start, walks)
     # nodes: the start first (a station or a point), then the other stations
     rest = [k for k in range(len(st)) if k != first]
     node_station = ([first] if first is not None else [-1]) + rest
-    g = walk_graph(space, [start_xy if k < 0 else st[k].xy for k in node_station])
+    node_xy = [start_xy if k < 0 else st[k].xy for k in node_station]
+    g: WalkGraph | StoreyWalk
+    if joined is None:
+        g = walk_graph(space, node_xy)
+    else:
+        g = storey_walks(site, spaces, node_xy, [frame if k < 0 else st[k].frame for k in node_station])
     if options.strict_walls:
         check_reach(site, st, g, node_station, label, plan_file)
     problem = sight.of_stations(st)
@@ -243,6 +275,16 @@ def field_plan(
     order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
     path_nodes = list(result.order) + ([0] if options.closed else [])
     legs = tuple(tuple(_leg(g, a, b)) for a, b in itertools.pairwise(path_nodes))
+    leg_frames: tuple[tuple[str, ...], ...] = ()
+    stair_legs: list[tuple[int, Flight]] = []
+    if isinstance(g, StoreyWalk):
+        routes = [_storey_leg(g, a, b) for a, b in itertools.pairwise(path_nodes)]
+        legs = tuple(tuple(r[0]) for r in routes)
+        leg_frames = tuple(tuple(r[1]) for r in routes)
+        off = 0 if first is None else 1
+        stair_legs = [(t + off, f) for t, r in enumerate(routes) for f in r[2]]
+        if first is not None:
+            leg_frames = ((st[first].frame,),) + leg_frames
     if first is not None:
         legs = ((st[first].xy,),) + legs  # the first station: no walk to it
     numbers = {n: order.index(k) + 1 for n, k in enumerate(node_station) if k >= 0}
@@ -257,12 +299,24 @@ def field_plan(
     )
     props = props or _properties(site)
     links, targets = propose_targets(
-        site, st, space, props, order if options.mode == "registration" else None, options.strong_overlap, problem
+        site,
+        st,
+        space,
+        props,
+        order if options.mode == "registration" else None,
+        options.strong_overlap,
+        problem,
+        None if joined is None else spaces,
     )
-    walks = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[: len(order)]]
+    if joined is None:
+        walked = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[: len(order)]]
+    else:  # a flight counts its run and its rise: the distances the order was made on
+        steps = [float(d[a, b]) for a, b in itertools.pairwise(path_nodes)]
+        walked = ([0.0] if first is not None else []) + steps
+        walked = walked[: len(order)]
     counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
     per = None if settings is None else {s.id: v for s, v in zip(st, settings)}
-    ft = field_time([st[k].id for k in order], walks, counts, props, options.setting, options.session_s, per)
+    ft = field_time([st[k].id for k in order], walked, counts, props, options.setting, options.session_s, per)
     return FieldPlan(
         site=site,
         stations=st,
@@ -286,10 +340,22 @@ def field_plan(
         certified=cert,
         crossings=through,
         coverage=problem,
+        spaces=() if joined is None else tuple(spaces.values()),
+        leg_frames=leg_frames,
+        stair_legs=tuple(stair_legs),
     )
 
 
-def _leg(g: WalkGraph, a: int, b: int) -> list[tuple[float, float]]:
+def _storey_leg(g: StoreyWalk, a: int, b: int) -> tuple[list[tuple[float, float]], list[str], list[Flight]]:
+    """The walk from point a to point b across storeys, the frame of each of its points and the flights it
+    takes; the straight line where no walk joins them."""
+    if math.isfinite(g.dist[a, b]):
+        return g.route(a, b)
+    pa, pb = (float(g.points[a][0]), float(g.points[a][1])), (float(g.points[b][0]), float(g.points[b][1]))
+    return [pa, pb], [g.frames[a], g.frames[b]], []
+
+
+def _leg(g: WalkGraph | StoreyWalk, a: int, b: int) -> list[tuple[float, float]]:
     """The walk from point a to point b of ``g``, or the straight line where no walk joins them."""
     if math.isfinite(g.dist[a, b]):
         return g.path(a, b)

@@ -39,21 +39,25 @@ def geojson(fp: FieldPlan) -> dict[str, Any]:
                     "zone": s.zone,
                     "side": s.side.value,
                     "targets": fp.targets_of(s.id),
-                },
+                }
+                | ({"frame": s.frame} if fp.spaces else {}),
             }
         )
-    line: list[list[float]] = []
-    for leg in fp.legs:
-        for p in leg:
-            if not line or line[-1] != list(p):
-                line.append(list(p))
-    feats.append(
-        {
-            "type": "Feature",
-            "geometry": {"type": "LineString", "coordinates": line},
-            "properties": {"role": "route", "length_m": fp.route_length_m, "mode": fp.options.mode},
-        }
-    )
+    if fp.spaces:
+        feats += _storey_route(fp)
+    else:
+        line: list[list[float]] = []
+        for leg in fp.legs:
+            for p in leg:
+                if not line or line[-1] != list(p):
+                    line.append(list(p))
+        feats.append(
+            {
+                "type": "Feature",
+                "geometry": {"type": "LineString", "coordinates": line},
+                "properties": {"role": "route", "length_m": fp.route_length_m, "mode": fp.options.mode},
+            }
+        )
     for t in fp.targets:
         feats.append(
             {
@@ -67,7 +71,51 @@ def geojson(fp: FieldPlan) -> dict[str, Any]:
         "name": f"{fp.site.name} field sheet",
         "frame": fp.space.frame,
         "features": feats,
-    }
+    } | ({"frames": [sp.frame for sp in fp.spaces]} if fp.spaces else {})
+
+
+def _storey_route(fp: FieldPlan) -> list[dict[str, Any]]:
+    """Across storeys: the route as one LineString per stretch walked in one frame (property ``frame``, in walking
+    order, ``part`` numbering them) and one per stair leg (role ``stair``, from the foot to the head's plan
+    point)."""
+    from planner.field.storeys import climbs
+
+    runs: list[tuple[str, list[list[float]]]] = []
+    stairs: list[dict[str, Any]] = []
+    for k, (leg, frs) in enumerate(zip(fp.legs, fp.leg_frames)):
+        queue = [fl for kk, fl in fp.stair_legs if kk == k]
+        for t, (p, f) in enumerate(zip(leg, frs)):
+            if t and frs[t - 1] != f and queue:
+                fl = queue.pop(0)
+                stairs.append(
+                    {
+                        "type": "Feature",
+                        "geometry": {"type": "LineString", "coordinates": [list(leg[t - 1]), list(p)]},
+                        "properties": {
+                            "role": "stair",
+                            "stair": fl.stair,
+                            "way": climbs(fl, frs),
+                            "leg": k,
+                            "run_m": fl.run_m,
+                            "rise_m": fl.rise_m,
+                            "length_m": fl.length_m,
+                        },
+                    }
+                )
+            if not runs or runs[-1][0] != f:
+                runs.append((f, []))
+            if not runs[-1][1] or runs[-1][1][-1] != list(p):
+                runs[-1][1].append(list(p))
+    out = [
+        {
+            "type": "Feature",
+            "geometry": {"type": "LineString", "coordinates": line},
+            "properties": {"role": "route", "part": n, "frame": f, "mode": fp.options.mode},
+        }
+        for n, (f, line) in enumerate(runs, 1)
+        if len(line) > 1
+    ]
+    return out + stairs
 
 
 def write_sheet(fp: FieldPlan, folder: Path | str) -> list[Path]:

@@ -23,7 +23,7 @@ too (ties to control), listed with the stations that see them.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import networkx as nx
@@ -35,6 +35,7 @@ from planner.coverage.matrix import CoverageProblem, blockers_for
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.coverage.relation import station_relation
 from planner.coverage.sight import Sight
+from planner.coverage.stair_links import stair_edge
 from planner.coverage.visibility import sight_clear
 from planner.field.spread import Spread, spread
 from planner.field.walking import WalkSpace
@@ -139,6 +140,51 @@ def _sphere_sight(
     return seen
 
 
+def _storey_places(
+    site: Site,
+    stations: Sequence[Candidate],
+    spaces: Mapping[str, WalkSpace],
+    xy: NDArray[np.float64],
+    pairs: list[tuple[int, int]],
+    reach: float,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
+    """Tripod places across storeys, what each station sees of them and where they stand: in each frame with
+    stations, those of :func:`_sphere_places` for its pairs, seen from its own stations only (its own walls);
+    for a pair of two frames (a link through a stair, :mod:`planner.coverage.stair_links`), the edge points
+    of the stairs that join the two frames, each seen from the stations of both (each in its own frame)."""
+    frame = [s.frame for s in stations]
+    blocks: list[NDArray[np.float64]] = []
+    sights: list[NDArray[np.bool_]] = []
+    where: list[str] = []
+    for fr, sp in spaces.items():
+        here = np.array([f == fr for f in frame], dtype=bool)
+        if not here.any():
+            continue
+        p = _sphere_places(sp, site, xy, [(i, j) for i, j in pairs if frame[i] == fr == frame[j]], reach)
+        seen = np.zeros((len(stations), len(p)), dtype=bool)
+        seen[here] = _sphere_sight(site, fr, xy[here], p, reach)
+        blocks.append(p)
+        sights.append(seen)
+        where += ["tripod"] * len(p)
+    across = {frozenset((frame[i], frame[j])) for i, j in pairs if frame[i] != frame[j]}
+    for stair in site.stairs:
+        ends = (site.zone(stair.lower_zone).frame, site.zone(stair.upper_zone).frame)
+        if frozenset(ends) not in across:
+            continue
+        e = stair_edge(stair)
+        seen = np.zeros((len(stations), len(e)), dtype=bool)
+        for fr in ends:
+            here = np.array([f == fr for f in frame], dtype=bool)
+            if here.any():
+                seen[here] = _sphere_sight(site, fr, xy[here], e, reach)
+        blocks.append(e)
+        sights.append(seen)
+        where += [f"tripod at the edge of stair {stair.name}"] * len(e)
+    if not blocks:
+        return np.zeros((0, 2)), np.zeros((len(stations), 0), dtype=bool), []
+    return np.vstack(blocks), np.hstack(sights), where
+
+
 def _wall_sight(problem: CoverageProblem, props: FieldProperties) -> NDArray[np.bool_]:
     """S x T: station s reads a checkerboard on piece t (seen, within target range and incidence)."""
     by = problem.by_candidate.tocsr()
@@ -157,10 +203,12 @@ def propose_targets(
     order: Sequence[int] | None = None,
     strong_overlap: float = STRONG_OVERLAP,
     problem: CoverageProblem | None = None,
+    spaces: Mapping[str, WalkSpace] | None = None,
 ) -> tuple[list[Link], list[Target]]:
     """The chain links (weak ones with their targets) and the targets (see the module text).
 
     ``order``: the visiting order as station indices (registration order); None: the spanning forest.
+    ``spaces``: across storeys, the walkable area of every frame (:func:`_storey_places`); None: ``space``.
     """
     problem = problem if problem is not None else Sight.of_site(site).of_stations(stations)
     g = station_relation(site, stations, problem)
@@ -169,8 +217,12 @@ def propose_targets(
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
     reach = props.target_range_m
     wall = _wall_sight(problem, props)
-    places = _sphere_places(space, site, xy, weak, reach)
-    sphere = _sphere_sight(site, space.frame, xy, places, reach)
+    where_of: list[str] = []
+    if spaces is None:
+        places = _sphere_places(space, site, xy, weak, reach)
+        sphere = _sphere_sight(site, space.frame, xy, places, reach)
+    else:
+        places, sphere, where_of = _storey_places(site, stations, spaces, xy, weak, reach)
     t = problem.targets
     cand_xy = np.vstack([(t.a + t.b) / 2.0, places]) if len(places) else (t.a + t.b) / 2.0
     seen = np.hstack([wall, sphere])  # S x (pieces + places)
@@ -184,7 +236,7 @@ def propose_targets(
         if c < len(t):
             kind, where = "checkerboard", f"wall {t.label(c).split(' ')[0]} at {(t.s0_m[c] + t.s1_m[c]) / 2:.1f} m"
         else:
-            kind, where = "sphere", "tripod"
+            kind, where = "sphere", where_of[c - len(t)] if where_of else "tripod"
         targets.append(
             Target(
                 tid[c],

@@ -126,6 +126,8 @@ def field_layers(
         for k, (sid, leg) in enumerate(zip(order, legs), 1)
         if sid in frame_of and len(leg) > 1
     )
+    if sheet.get("leg_frames"):  # across storeys: each leg's stretch in each frame, the stairs between
+        route = _storey_legs(order, legs, sheet["leg_frames"], through, frame_of)
     start = None
     if order and order[0] in frame_of and sheet.get("start_xy") is not None:
         start = MapPoint(
@@ -139,6 +141,42 @@ def field_layers(
             targets.append(MapPoint(str(t["id"]), frame_of[seen[0]], float(t["x"]), float(t["y"]), t["kind"], label))
     visits = {sid: k for k, sid in enumerate(order, 1)}
     return route, start, tuple(targets), visits
+
+
+def _storey_legs(
+    order: list[str],
+    legs: list[Any],
+    leg_frames: list[Any],
+    through: set[int],
+    frame_of: Mapping[str, str],
+) -> tuple[MapLine, ...]:
+    """A field sheet across storeys: one line per stretch of a leg walked in one frame (drawn in that frame),
+    a stair leg (its foot to its head) drawn in both frames it joins."""
+    out = []
+    for k, (sid, leg, frs) in enumerate(zip(order, legs, leg_frames), 1):
+        if sid not in frame_of or len(leg) < 2:
+            continue
+        kind = "through" if k - 1 in through else "route"
+        note = f"walk to {sid} (setup {k})" + (THROUGH_NOTE if k - 1 in through else "")
+        run: list[Any] = []
+        part = 0
+        for t, (p, f) in enumerate(zip(leg, frs)):
+            if t and frs[t - 1] != f:
+                if len(run) > 1:
+                    out.append(MapLine(f"leg {k}.{part}", frs[t - 1], kind, tuple(map(_pt, run)), False, note))
+                part += 1
+                for fr in (frs[t - 1], f):
+                    out.append(
+                        MapLine(
+                            f"leg {k}.{part}.{fr}", fr, kind, tuple(map(_pt, [leg[t - 1], p])), False, note + ", stair"
+                        )
+                    )
+                part += 1
+                run = []
+            run.append(p)
+        if len(run) > 1:
+            out.append(MapLine(f"leg {k}.{part}", frs[-1], kind, tuple(map(_pt, run)), False, note))
+    return tuple(out)
 
 
 def site_map_data(
