@@ -101,6 +101,7 @@ def render_html(fp: FieldPlan, png: bytes | None = None, site_map: str | None = 
         f"<table><tr>{head}</tr>{body}{totals}</table>",
         f"<ul>{sessions}</ul>",
         walls,
+        _storeys_html(fp),
         "<h2>Registration targets</h2>",
         (
             f"<table><tr><th class=l>target</th><th class=l>kind</th><th>x m</th><th>y m</th><th class=l>where</th>"
@@ -114,6 +115,32 @@ def render_html(fp: FieldPlan, png: bytes | None = None, site_map: str | None = 
     return (
         f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>{_e(title)}</title>'
         f"<style>{CSS}</style><script>{SCRIPT}</script></head><body>{''.join(parts)}</body></html>\n"
+    )
+
+
+def _storeys_html(fp: FieldPlan) -> str:
+    """Across storeys: the frames walked through and one row per stair leg of the route; "" for one frame."""
+    if not fp.spaces:
+        return ""
+    from planner.field.storeys import climbs
+
+    body = "".join(
+        f"<tr><td>{k + 1 if k < len(fp.order) else 'back to the start'}</td><td class=l>{_e(f.stair)}</td>"
+        f"<td class=l>{_e(climbs(f, fp.leg_frames[k]))}</td><td class=l>{_e(f.lower)}</td><td class=l>{_e(f.upper)}</td>"
+        f"<td>{f.run_m:.1f}</td><td>{f.rise_m:.1f}</td><td>{f.length_m:.1f}</td></tr>"
+        for k, f in fp.stair_legs
+    )
+    names = ", ".join(sp.frame for sp in fp.spaces)
+    table = (
+        f"<table><tr><th>to setup</th><th class=l>stair</th><th class=l>way</th><th class=l>lower storey</th>"
+        f"<th class=l>upper storey</th><th>run m</th><th>rise m</th><th>m</th></tr>{body}</table>"
+        if body
+        else "<p>The route takes no stair.</p>"
+    )
+    return (
+        f"<h2>Across storeys</h2><p>The route walks through {len(fp.spaces)} storeys ({_e(names)}); a stair leg goes "
+        f"from the stair's foot to its head, its length the run in plan plus the rise (counted in the route and the "
+        f"walking time). One plan panel per storey.</p>{table}"
     )
 
 

@@ -27,6 +27,7 @@ from planner import __version__
 from planner.field.crossing import advice
 from planner.field.figure import figure
 from planner.field.run import FieldPlan
+from planner.field.storeys import stairs_line
 from planner.field.tables import rows, totals
 
 #: paper sizes in inches, (width, height) landscape
@@ -159,7 +160,10 @@ def _foot(
         f"session {s.number}: setups {s.setups[0]}-{s.setups[-1]}, {s.duration_s / 60:.0f} min"
         for s in fp.time.sessions
     )
-    extra = textwrap.wrap(advice(fp.crossings), width_chars)[: FOOT_LINES - 3]
+    extra = textwrap.wrap(advice(fp.crossings), width_chars)
+    if fp.spaces:  # across storeys: the stair legs first
+        extra = textwrap.wrap(stairs_line(fp), width_chars) + extra
+    extra = extra[: FOOT_LINES - 3]
     for k, text in enumerate([_fit(sessions, width_chars), *extra], 1):
         fig.text(MARGIN_IN / fig.get_size_inches()[0], y - k * line, text, fontsize=FONT_PT, va="baseline")
 

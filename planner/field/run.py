@@ -247,6 +247,8 @@ def field_plan(
 
     _check_stands(site, st, spaces, plan_file)
     first, start_xy, label = _start(site, st, space, options.start, walks)
+    if joined is not None and first is None:
+        label += f" ({frame})"  # a point start stands on the storey of the plan's first station
     # nodes: the start first (a station or a point), then the other stations
     rest = [k for k in range(len(st)) if k != first]
     node_station = ([first] if first is not None else [-1]) + rest
