@@ -79,8 +79,22 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
         theta_max_floor_deg=args.theta_max_floor,
         max_point_spacing_m=getattr(args, "max_point_spacing", None),
         objective=getattr(args, "objective", "stations"),
+        session_s=_session(args),
     )
     return replace(options, strategy=strategy_options(args, options))
+
+
+def _session(args: argparse.Namespace) -> float | None:
+    """The field session (``--set field-session=4h``) in seconds, which the field-time trade-off counts in."""
+    from planner.field.timing import parse_duration
+
+    text = getattr(args, "field_session", None)
+    if not text:
+        return None
+    try:
+        return parse_duration(text)
+    except UsageError as err:
+        raise UsageError(err.message, field=option_name("plan", "field-session"), value=err.value) from None
 
 
 #: the options' fields of the library by the command line's key (``--KEY`` or ``--set KEY``) that sets them

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
-from planner.core.errors import InfeasibleError
+from planner.core.errors import InfeasibleError, UsageError
 from planner.core.text import table
 from planner.field.run import FieldOptions, field_plan
 from planner.instrument.field_table import FieldProperties
@@ -38,6 +38,7 @@ class Row:
     scan_s: float | None = None
     walking_s: float | None = None
     targets_s: float | None = None
+    sessions: int | None = None
     settings: str = ""
     note: str = ""
 
@@ -55,6 +56,7 @@ class Row:
             "walking_s": self.walking_s,
             "targets_s": self.targets_s,
             "total_s": self.total_s,
+            "sessions": self.sessions,
             "settings": self.settings,
             "note": self.note,
         }
@@ -82,7 +84,9 @@ class Tradeoff:
         return best.total_s - kept.total_s
 
     def lines(self) -> list[str]:
-        head = ["plan", "stations", "set-up h", "scan h", "walking h", "targets h", "total h", "settings"]
+        counted = any(r.sessions is not None for r in self.rows)
+        head = ["plan", "stations", "set-up h", "scan h", "walking h", "targets h", "total h"]
+        head += ["sessions", "settings"] if counted else ["settings"]
         rows = [
             (
                 r.label + (" (kept)" if r.label == self.kept else ""),
@@ -92,6 +96,7 @@ class Tradeoff:
                 _h(r.walking_s),
                 _h(r.targets_s),
                 _h(r.total_s),
+                *(["-" if r.sessions is None else r.sessions] if counted else []),
                 r.settings or r.note,
             )
             for r in self.rows
@@ -134,7 +139,8 @@ def with_tradeoff(plan: Plan) -> Plan:
             plans.append((f"one setting: {name}", None, "does not meet the spacing"))
     plans.append((FEWEST, plan_single(stations_problem, props=props), ""))
     plans.append((FIELD_TIME, plan, ""))
-    rows = [_row(label, p, props, note) for label, p, note in plans]
+    session = problem.options.session_s
+    rows = [_row(label, p, props, note, session) for label, p, note in plans]
     timed = [(r.total_s, k) for k, r in enumerate(rows) if r.total_s is not None]
     kept_index = min(timed)[1] if timed else len(rows) - 1
     if rows[-1].total_s is not None and rows[-1].total_s <= rows[kept_index].total_s:  # type: ignore[operator]
@@ -155,18 +161,23 @@ def _all(props: FieldProperties) -> list[tuple[str, float, float]]:
     return [(n, 0.0, props.scan_time_s(n)) for n in props.settings]
 
 
-def _row(label: str, plan: Plan | None, props: FieldProperties, note: str) -> Row:
+def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, session_s: float | None = None) -> Row:
     """The row of ``plan``: set-up and scan from its settings, walking and targets from its field sheet."""
     if plan is None or plan.hours is None:
         return Row(label=label, note=note)
     h = plan.hours
-    walking = targets = None
+    walking = targets = sessions = None
     try:
-        fp = field_plan(plan.problem.sight, plan.stations, FieldOptions(), props, settings=h.settings)
+        fp = field_plan(
+            plan.problem.sight, plan.stations, FieldOptions(session_s=session_s), props, settings=h.settings
+        )
         walking = fp.time.walking_s
         targets = sum(s.targets_s for s in fp.time.setups)
+        sessions = len(fp.time.sessions) if session_s is not None else None
     except InfeasibleError as err:  # stations in separate frames: no walk joins them
         note = f"walking not timed: {err.message}"
+    except UsageError as err:  # a setup longer than the session
+        note = f"sessions not counted: --session {err.message}"
     counts: dict[str, int] = {}
     for s in h.settings:
         counts[s] = counts.get(s, 0) + 1
@@ -178,6 +189,7 @@ def _row(label: str, plan: Plan | None, props: FieldProperties, note: str) -> Ro
         scan_s=h.scan_s,
         walking_s=walking,
         targets_s=targets,
+        sessions=sessions,
         settings=used,
         note=note,
     )

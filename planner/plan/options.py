@@ -59,6 +59,9 @@ class PlanOptions:
     #: what the plan minimises: ``stations`` (the default, unchanged) or ``field-time``, the set-up and scan
     #: time with a scan setting chosen per station (:mod:`planner.plan.field_time`)
     objective: str = "stations"
+    #: the length of a field session in seconds (the field sheet's ``--session``), in which the field-time
+    #: trade-off counts each plan's sessions (None: not counted)
+    session_s: float | None = None
 
     @property
     def hours(self) -> bool:
@@ -118,6 +121,8 @@ class PlanOptions:
                 raise UsageError("must be at most 90 deg", field="theta_max_floor_deg", value=self.theta_max_floor_deg)
         if self.max_point_spacing_m is not None:
             real(self.max_point_spacing_m, "max_point_spacing_m", above=0)
+        if self.session_s is not None:
+            real(self.session_s, "session_s", above=0)
         if self.objective not in OBJECTIVES:
             raise UsageError(
                 f"unknown objective (known: {', '.join(OBJECTIVES)})", field="objective", value=self.objective

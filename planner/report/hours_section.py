@@ -66,13 +66,16 @@ def hours_section(o: Outcome) -> str:
 
 def _tradeoff(t: Mapping[str, Any]) -> str:
     rows = list(t.get("rows") or [])
-    head = ("plan", "stations", "set-up h", "scan h", "walking h", "targets h", "total h", "settings")
-    th = "".join(f'<th class="{"l" if k in (0, 7) else ""}">{_e(c)}</th>' for k, c in enumerate(head))
+    counted = any(r.get("sessions") is not None for r in rows)
+    head = ("plan", "stations", "set-up h", "scan h", "walking h", "targets h", "total h")
+    head += ("sessions", "settings") if counted else ("settings",)
+    th = "".join(f'<th class="{"l" if k in (0, len(head) - 1) else ""}">{_e(c)}</th>' for k, c in enumerate(head))
     body = "".join(
         "<tr>"
         + f'<td class="l">{_e(r["label"])}{" <b>(kept)</b>" if r["label"] == t.get("kept") else ""}</td>'
         + f"<td>{'-' if r.get('stations') is None else r['stations']}</td>"
         + "".join(f"<td>{_h(r.get(k))}</td>" for k in ("setup_s", "scan_s", "walking_s", "targets_s", "total_s"))
+        + (f"<td>{'-' if r.get('sessions') is None else r['sessions']}</td>" if counted else "")
         + f'<td class="l">{_e(r.get("settings") or r.get("note") or "")}</td></tr>'
         for r in rows
     )

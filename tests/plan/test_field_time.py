@@ -10,6 +10,7 @@ the coarsest setting reaches no piece: its top is 3 m above the instrument, so t
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -222,3 +223,15 @@ def test_planner_verify_checks_the_spacing_at_each_station_s_setting(plans, tmp_
     assert main(["verify", str(room), str(path), "--max-point-spacing", "0.006"]) == ExitCode.INFEASIBLE
     out = capsys.readouterr().out
     assert "points over" in out
+
+
+def test_the_trade_off_counts_sessions_of_the_field_sheet_s_length(tmp_path):
+    """With --set field-session=1h each timed plan's setups are packed into 1-hour sessions in visiting order, so
+    a plan needs at least ceil(total / 1 h) of them (a setup never splits)."""
+    room = _room(tmp_path)
+    args = [str(room), "--max-point-spacing", "0.006", "--objective", "field-time", "--set", "field-session=1h"]
+    plan = _plan(args, tmp_path / "s")
+    timed = [r for r in plan["hours"]["tradeoff"]["rows"] if r["total_s"] is not None]
+    assert timed
+    for r in timed:
+        assert isinstance(r["sessions"], int) and r["sessions"] >= math.ceil(r["total_s"] / 3600 - 1e-9)
