@@ -67,7 +67,7 @@ def hours_section(o: Outcome) -> str:
 def _tradeoff(t: Mapping[str, Any]) -> str:
     rows = list(t.get("rows") or [])
     counted = any(r.get("sessions") is not None for r in rows)
-    head = ("plan", "stations", "set-up h", "scan h", "walking h", "targets h", "total h")
+    head: tuple[str, ...] = ("plan", "stations", "set-up h", "scan h", "walking h", "targets h", "total h")
     head += ("sessions", "settings") if counted else ("settings",)
     th = "".join(f'<th class="{"l" if k in (0, len(head) - 1) else ""}">{_e(c)}</th>' for k, c in enumerate(head))
     body = "".join(
