@@ -10,6 +10,8 @@ leader line up to :data:`LEADER_MAX_PX` away; one that fits nowhere is left out 
 
 from __future__ import annotations
 
+import math
+
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
@@ -75,12 +77,16 @@ _STAIR = "tab:purple"
 
 
 def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
-    """Across storeys: one panel per frame walked through, side by side, each with its walls, the route's
+    """Across storeys: one panel per frame walked through, two side by side in a row, each with its walls, the route's
     parts in that frame, its stations and the targets its stations see; a stair leg is drawn in both panels
     it joins (purple), from the foot to the head."""
     frames = [sp.frame for sp in fp.spaces]
     fig = Figure(figsize=size, layout="constrained")
-    axes = fig.subplots(1, len(frames), squeeze=False)[0]
+    ncols = min(len(frames), 2)  # two storeys side by side; more in rows of two
+    grid = fig.subplots(math.ceil(len(frames) / ncols), ncols, squeeze=False).ravel()
+    for spare in grid[len(frames) :]:
+        spare.set_visible(False)
+    axes = grid[: len(frames)]
     through = {c.leg for c in fp.crossings}
     number = {k: n for n, k in enumerate(fp.order, 1)}
     panels = []

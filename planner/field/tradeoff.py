@@ -174,7 +174,7 @@ def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, sessi
         walking = fp.time.walking_s
         targets = sum(s.targets_s for s in fp.time.setups)
         sessions = len(fp.time.sessions) if session_s is not None else None
-    except InfeasibleError as err:  # stations in separate frames: no walk joins them
+    except InfeasibleError as err:  # stations in separate frames that no stair joins: no walk joins them
         note = f"walking not timed: {err.message}"
     except UsageError as err:  # a setup longer than the session
         note = f"sessions not counted: --session {err.message}"

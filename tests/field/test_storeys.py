@@ -159,3 +159,23 @@ def test_house2_all_storeys_field_sheet(tmp_path) -> None:
     walks = sum(float(r["walk m"]) for r in d["setups"])
     assert walks == pytest.approx(d["route_length_m"], abs=0.05 * len(d["setups"]))  # the rows round to 0.1 m
     assert (sheet / "field.pdf").stat().st_size > 0 and (sheet / "field.html").stat().st_size > 0
+
+
+def test_figure_and_site_map_have_each_storey() -> None:
+    """The plan figure: one panel per storey, the stair leg drawn in both; the site map: each stretch of the route in
+    its own storey, the stair leg in both, every point of a line where the sheet put it."""
+    from planner.field.figure import figure
+    from planner.field.site_map import field_site_map
+
+    fp = field_plan(_site(), STATIONS, FieldOptions(start="h1"))
+    fig = figure(fp)
+    panels = [ax for ax in fig.axes if ax.get_visible()]
+    assert [ax.get_title() for ax in panels] == ["F1", "F2"]
+    for ax in panels:
+        assert any(c.get_gid() == "stair" for c in ax.collections)
+    route = field_site_map(fp).route
+    assert {ln.frame for ln in route} == {"F1", "F2"}
+    stair = [ln for ln in route if ln.label.endswith("stair")]
+    assert {ln.frame for ln in stair} == {"F1", "F2"} and len(stair) == 2
+    xy = {(round(p[0], 2), round(p[1], 2)) for ln in stair for p in ln.points}
+    assert xy == {(2.0, 1.5), (6.05, 1.5)}  # the foot and the head
