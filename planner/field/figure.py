@@ -100,7 +100,7 @@ def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
             run: list[tuple[float, float]] = []
             for t, (p, f) in enumerate(zip(leg, frs)):
                 if t and frs[t - 1] != f and fr in (f, frs[t - 1]):
-                    stairs.append([leg[t - 1], p])
+                    (walls if k in through else stairs).append([leg[t - 1], p])
                 if f == fr:
                     run.append(p)
                 elif len(run) > 1:

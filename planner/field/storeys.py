@@ -129,8 +129,9 @@ def flights(site: Site, stair: Stair, spaces: dict[str, WalkSpace]) -> list[Flig
 
 
 def joined_frames(site: Site, frames: Sequence[str]) -> list[str] | None:
-    """The frames a walk from ``frames`` (those the stations stand in) may pass through: every frame of the
-    stairs' component holding them, in the site's zone order; None where no chain of stairs joins them all."""
+    """The frames a walk from ``frames`` (those the stations stand in) may pass through: the frames of the
+    stairs' component holding them, less those beyond every station's storey (a storey above the top one with
+    stations, and so on), in the site's zone order; None where no chain of stairs joins them all."""
     g = nx.Graph()
     g.add_nodes_from(frames)
     for s in site.stairs:
@@ -138,6 +139,12 @@ def joined_frames(site: Site, frames: Sequence[str]) -> list[str] | None:
     comp = nx.node_connected_component(g, frames[0])
     if any(f not in comp for f in frames):
         return None
+    sub = nx.Graph(g.subgraph(comp))
+    leaves = [f for f in sub if sub.degree(f) <= 1 and f not in frames]
+    while leaves:  # a storey beyond the last one with stations is never walked through
+        sub.remove_nodes_from(leaves)
+        leaves = [f for f in sub if sub.degree(f) <= 1 and f not in frames]
+    comp = set(sub)
     order = list(dict.fromkeys(z.frame for z in site.zones))
     return [f for f in order if f in comp] + sorted(f for f in comp if f not in order)
 

@@ -179,3 +179,37 @@ def test_figure_and_site_map_have_each_storey() -> None:
     assert {ln.frame for ln in stair} == {"F1", "F2"} and len(stair) == 2
     xy = {(round(p[0], 2), round(p[1], 2)) for ln in stair for p in ln.points}
     assert xy == {(2.0, 1.5), (6.05, 1.5)}  # the foot and the head
+
+
+def test_storeys_walked_through_are_those_between_stations() -> None:
+    """Three storeys F1 - F2 - F3 joined by two stairs: stations on F1 and F3 walk through F2; stations on F1 and
+    F2 leave F3 out; a storey no stair reaches is refused (None)."""
+    hall = _zone("Hall", "F1", [(0, 0), (10, 0), (10, 4), (0, 4)])
+    mid = _zone("Mid", "F2", [(0, 0), (10, 0), (10, 4), (0, 4)])
+    top = _zone("Top", "F3", [(0, 0), (10, 0), (10, 4), (0, 4)])
+    alone = _zone("Shed", "F4", [(20, 0), (24, 0), (24, 4), (20, 4)])
+    s1 = Stair(name="S1", lower_zone="Hall", upper_zone="Mid", footprint=FOOT, z_min_m=0.0, z_max_m=3.0)
+    s2 = Stair(name="S2", lower_zone="Mid", upper_zone="Top", footprint=FOOT, z_min_m=3.0, z_max_m=6.0)
+    site = Site(name="three storeys", zones=(hall, mid, top, alone), stairs=(s1, s2))
+    assert joined_frames(site, ["F1", "F3"]) == ["F1", "F2", "F3"]
+    assert joined_frames(site, ["F1", "F2"]) == ["F1", "F2"]
+    assert joined_frames(site, ["F1", "F4"]) is None
+
+
+def test_walk_through_a_storey_between() -> None:
+    """Stations on F1 (2, 3) and F3 (8, 3) of three storeys, both stairs on the footprint 2..6 x 1..2 inside the
+    rooms (no outline meets an end: a tie, both directions offered), each 4 + 3 = 7 m: the shortest walk takes S1
+    from (6, 1.5) up to (2, 1.5), S2 from there up to (6, 1.5): hypot(4, 1.5) + 7 + 0 + 7 + hypot(2, 1.5)."""
+    hall = _zone("Hall", "F1", [(0, 0), (10, 0), (10, 4), (0, 4)])
+    mid = _zone("Mid", "F2", [(0, 0), (10, 0), (10, 4), (0, 4)])
+    top = _zone("Top", "F3", [(0, 0), (10, 0), (10, 4), (0, 4)])
+    s1 = Stair(name="S1", lower_zone="Hall", upper_zone="Mid", footprint=FOOT, z_min_m=0.0, z_max_m=3.0)
+    s2 = Stair(name="S2", lower_zone="Mid", upper_zone="Top", footprint=FOOT, z_min_m=3.0, z_max_m=6.0)
+    site = Site(name="three storeys", zones=(hall, mid, top), stairs=(s1, s2))
+    st = [
+        Candidate(id="a", zone="Hall", side=ScanSide.INSIDE, frame="F1", x=2.0, y=3.0, kind=CandidateKind.GRID),
+        Candidate(id="b", zone="Top", side=ScanSide.INSIDE, frame="F3", x=8.0, y=3.0, kind=CandidateKind.GRID),
+    ]
+    fp = field_plan(site, st, FieldOptions(start="a"))
+    assert fp.route_length_m == pytest.approx(math.hypot(4, 1.5) + 7.0 + 7.0 + math.hypot(2, 1.5), abs=1e-6)
+    assert [f.stair for _, f in fp.stair_legs] == ["S1", "S2"] and [sp.frame for sp in fp.spaces] == ["F1", "F2", "F3"]
