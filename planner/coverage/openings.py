@@ -1,4 +1,4 @@
-"""Openings (doors, gates, windows) as gaps in walls, and the accessible areas they join.
+"""Openings (doors, gates, windows, passages) as gaps in walls, and the accessible areas they join.
 
 An opening is declared on one wall of one zone, in metres along that wall. When zones are placed
 together, the same wall is also a side of the neighbouring zone (its other face, run the other way,
@@ -8,7 +8,7 @@ of or behind it: a door goes through the whole wall. Sight passes through a gap;
 gap are no targets (there is no wall there to scan).
 
 Accessible areas: each inside zone is a space of its own, and the outside of every outside-scanned
-zone of a frame is one space (the open ground around the buildings). A door or gate joins the
+zone of a frame is one space (the open ground around the buildings). A door, gate or passage joins the
 space of its zone with the space found just behind the wall (the first zone a point behind the gap
 falls in, up to ``OPENING_DEPTH_M`` + 0.1 m deep; none: the frame's outside). Windows let sight
 through but join nothing. A stair (``Site.stairs``) joins the space of its lower zone with that of its upper
@@ -31,8 +31,8 @@ from planner.site.model import ScanSide, Site, Wall, Zone
 OPENING_DEPTH_M = 1.0
 #: faces of one wall are parallel within this angle
 PARALLEL_DEG = 2.0
-#: kinds of opening one can walk (and carry a scanner) through
-PASSABLE = ("door", "gate")
+#: kinds of opening one can walk (and carry a scanner) through: a passage (no door in it) as a door
+PASSABLE = ("door", "gate", "passage")
 
 
 def _cross(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:

@@ -204,8 +204,10 @@ def site_figure(
     ]
     if points:
         handles.append(Line2D([], [], marker="^", ls="none", color=_CONTROL, label="control point (open: proposed)"))
-    if any(z.openings for z in o.site.zones):
+    if any(op.kind != "passage" for z in o.site.zones for op in z.openings):
         handles.append(Line2D([], [], color="tab:orange", lw=4, label="opening"))
+    if any(op.kind == "passage" for z in o.site.zones for op in z.openings):
+        handles.append(Line2D([], [], color=OPENING_COLOUR["passage"], lw=4, label="passage (no door)"))
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8, frameon=False)
     how = "walking order" if order else "plan order"
     fig.suptitle(f"{o.site.name}: {_count(len(o.stations), 'station')}, numbered in {how}")

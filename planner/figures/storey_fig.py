@@ -17,7 +17,7 @@ from planner.figures.base import PLAN_MARGIN, frame_axes
 from planner.figures.labels import PointLabel, finish_plans
 from planner.site.model import Site, Wall, Zone
 
-OPENING_COLOUR = {"door": "tab:orange", "gate": "tab:brown", "window": "tab:cyan"}
+OPENING_COLOUR = {"door": "tab:orange", "gate": "tab:brown", "window": "tab:cyan", "passage": "tab:olive"}
 
 
 def storey_figure(site: Site, stations: Sequence[Any], frame: str, title: str = "") -> Figure:

@@ -9,7 +9,9 @@ storeys that hold spaces):
 - walls, columns, stairs and furniture that stand inside a space (more than half of their footprint)
   are cut out of it: the zone's outline runs round them (a notch) or they become a free-standing
   block (a hole) with their own height, so they block sight and no station stands on them;
-- doors (and windows with ``windows=True``) become openings on the zone walls they stand in;
+- doors (and windows with ``windows=True``) become openings on the zone walls they stand in; so do
+  unfilled wall openings one can walk through and the stretches where two spaces touch with no wall
+  between, as openings of kind ``passage`` (:mod:`planner.io.ifc_passages`);
 - with ``exterior=True`` the outer outline of the storey (spaces and walls together) is added as
   an outside zone with the storey height;
 - with several storeys, each ``IfcStair`` that leads from a room of one read storey to a room of the next
@@ -37,6 +39,7 @@ import shapely
 
 from planner.core.errors import InputError, located_in
 from planner.io.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
+from planner.io.ifc_passages import open_boundaries, unfilled_openings, wide_enough
 from planner.io.ifc_stairs import StoreyZones, read_stairs
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
 from planner.site.params import Parameters
@@ -245,8 +248,12 @@ def _storey_zones(
     ]
     kinds = {"IfcDoor": "door"} | ({"IfcWindow": "window"} if options.windows else {})
     openings = [
-        (e, kinds[k], s) for e in contained for k in kinds if e.is_a(k) if (s := solid_of(e, settings)) is not None
-    ]
+        (e.Name or e.GlobalId, kinds[k], s)
+        for e in contained
+        for k in kinds
+        if e.is_a(k)
+        if (s := solid_of(e, settings)) is not None
+    ] + [(name, "passage", s) for name, s in unfilled_openings(model, st.entity, st.base_z_m, settings)]
     zones: list[Zone] = []
     used: set[str] = set()
     for space in st.spaces:
@@ -270,16 +277,29 @@ def _storey_zones(
         ops = sorted(
             (
                 op
-                for e, kind, s in openings
+                for name, kind, s in openings
                 for w in zone.walls
-                if (op := opening_on_wall(w, s.footprint, kind, e.Name or e.GlobalId)) is not None
+                if (op := opening_on_wall(w, s.footprint, kind, name)) is not None
+                if kind != "passage" or wide_enough(op)
             ),
             key=lambda o: (o.wall, o.s0_m),
         )
         zones.append(replace(zone, openings=tuple(ops)) if ops else zone)
+    zones = _with_open_boundaries(zones, [s.footprint for e, s in blockers if e.is_a("IfcWall")])
     if options.exterior:
         zones.append(_exterior(st, prefix, blockers, zones, frame))
     return zones
+
+
+def _with_open_boundaries(zones: list[Zone], walls: list[shapely.Geometry]) -> list[Zone]:
+    """The zones with a passage wherever two of them touch with no wall between (:mod:`planner.io.ifc_passages`)."""
+    extra = open_boundaries(zones, walls)
+    return [
+        replace(z, openings=tuple(sorted(z.openings + tuple(extra[z.id]), key=lambda o: (o.wall, o.s0_m))))
+        if z.id in extra
+        else z
+        for z in zones
+    ]
 
 
 def _unique(name: str, used: set[str]) -> str:

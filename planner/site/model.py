@@ -263,12 +263,13 @@ class Zone:
         return tuple(w for w in self.walls if not w.height_check_ok)
 
 
-OPENING_KINDS = ("door", "gate", "window")
+#: ``passage``: a gap one walks through that no door fills (an unfilled wall opening, two rooms open to each other)
+OPENING_KINDS = ("door", "gate", "window", "passage")
 
 
 @dataclass(frozen=True)
 class Opening:
-    """A gap in one wall of a zone (door, gate, window): ``s0_m``..``s1_m`` along wall ``wall``
+    """A gap in one wall of a zone (door, gate, window, passage): ``s0_m``..``s1_m`` along wall ``wall``
     (1-based, the zone's numbering: outline first, then holes). What it does for sight and
     targets is decided downstream (coverage); this object only holds where it is."""
 
