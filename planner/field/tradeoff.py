@@ -39,6 +39,11 @@ class Row:
     walking_s: float | None = None
     targets_s: float | None = None
     sessions: int | None = None
+    #: the field sheet's route (m), its lower bound (m) and how the bound was found: the walking part's own
+    #: certificate (the MILP's bound covers set-up and scan only)
+    route_m: float | None = None
+    route_bound_m: float | None = None
+    route_bound_method: str = ""
     settings: str = ""
     note: str = ""
 
@@ -57,6 +62,9 @@ class Row:
             "targets_s": self.targets_s,
             "total_s": self.total_s,
             "sessions": self.sessions,
+            "route_m": self.route_m,
+            "route_bound_m": self.route_bound_m,
+            "route_bound_method": self.route_bound_method,
             "settings": self.settings,
             "note": self.note,
         }
@@ -108,11 +116,15 @@ class Tradeoff:
             if gain is not None and best is not None
             else "no plan at one setting meets the spacing: the gain is all of it"
         )
-        return [
-            "trade-off (times for one crew; walking and targets from the field sheet's route):",
-            *table(head, rows),
-            tail,
-        ]
+        kept = self.row(self.kept)
+        route = (
+            f"route of the kept plan: {kept.route_m:,.1f} m, lower bound {kept.route_bound_m:,.1f} m "
+            f"({kept.route_bound_method}), gap {_gap(kept.route_m, kept.route_bound_m):.2%}"
+            if kept.route_m is not None and kept.route_bound_m is not None
+            else ""
+        )
+        head_line = "trade-off (times for one crew; walking and targets from the field sheet's route):"
+        return [head_line, *table(head, rows), tail, *([route] if route else [])]
 
     def to_dict(self) -> dict[str, Any]:
         best = self.best_single()
@@ -166,7 +178,8 @@ def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, sessi
     if plan is None or plan.hours is None:
         return Row(label=label, note=note)
     h = plan.hours
-    walking = targets = sessions = None
+    walking = targets = sessions = route = bound = None
+    method = ""
     try:
         fp = field_plan(
             plan.problem.sight, plan.stations, FieldOptions(session_s=session_s), props, settings=h.settings
@@ -174,6 +187,7 @@ def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, sessi
         walking = fp.time.walking_s
         targets = sum(s.targets_s for s in fp.time.setups)
         sessions = len(fp.time.sessions) if session_s is not None else None
+        route, bound, method = fp.route_length_m, fp.lower_bound_m, fp.bound_method
     except InfeasibleError as err:  # stations in separate frames that no stair joins: no walk joins them
         note = f"walking not timed: {err.message}"
     except UsageError as err:  # a setup longer than the session
@@ -190,9 +204,16 @@ def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, sessi
         walking_s=walking,
         targets_s=targets,
         sessions=sessions,
+        route_m=route,
+        route_bound_m=bound,
+        route_bound_method=method,
         settings=used,
         note=note,
     )
+
+
+def _gap(route: float, bound: float) -> float:
+    return max(0.0, (route - bound) / route) if route > 0 else 0.0
 
 
 def _h(seconds: float | None) -> str:

@@ -133,6 +133,13 @@ class PlanOptions:
                 field="method",
                 value=self.method,
             )
+        if self.hours and (self.milp.k != 1 or self.milp.precision == "combined"):
+            raise UsageError(
+                "point spacing and the field-time objective cover each piece once, each view on its own: "
+                "plan them with k = 1 and single precision",
+                field="k" if self.milp.k != 1 else "precision",
+                value=self.milp.k if self.milp.k != 1 else self.milp.precision,
+            )
         if self.hours and self.beyond_walls:
             raise UsageError(
                 "point spacing and the field-time objective are checked on walls only for now: "

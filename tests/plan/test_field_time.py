@@ -23,6 +23,7 @@ from planner.plan import PlanOptions
 from planner.plan.field_time import field_properties, setting_columns
 from planner.plan.problem import resolve
 from planner.plan.run import build_problem
+from planner.solve.milp import MilpOptions
 
 SETUP_S = 180.0
 SCAN_S = {"12.5 mm @ 10 m": 20.0, "6.3 mm @ 10 m": 80.0, "3.1 mm @ 10 m": 331.0, "1.6 mm @ 10 m": 1242.0}
@@ -178,6 +179,9 @@ def test_the_field_sheet_times_each_station_at_its_own_setting(plans, tmp_path):
         ({"objective": "field-time", "method": "greedy"}, "method"),
         ({"max_point_spacing_m": 0.006, "surfaces": ("walls", "floors")}, "surfaces"),
         ({"max_point_spacing_m": 0.0}, "max_point_spacing_m"),
+        # a station at two settings would count twice for k = 2; views adding information is not modelled
+        ({"max_point_spacing_m": 0.006, "milp": MilpOptions(k=2)}, "k"),
+        ({"objective": "field-time", "milp": MilpOptions(precision="combined")}, "precision"),
     ],
 )
 def test_options_that_cannot_go_together_are_refused_by_name(options, field):
@@ -235,3 +239,12 @@ def test_the_trade_off_counts_sessions_of_the_field_sheet_s_length(tmp_path):
     assert timed
     for r in timed:
         assert isinstance(r["sessions"], int) and r["sessions"] >= math.ceil(r["total_s"] / 3600 - 1e-9)
+
+
+def test_the_walking_part_states_its_own_bound(plans):
+    """The MILP bounds set-up and scan; the route of each timed plan comes with the field sheet's lower bound."""
+    for r in plans["field-time"]["hours"]["tradeoff"]["rows"]:
+        if r["total_s"] is None:
+            continue
+        assert r["route_bound_m"] <= r["route_m"] + 1e-6 and r["route_bound_method"]
+        assert r["walking_s"] == pytest.approx(r["route_m"] / 0.8, rel=0.01, abs=1.0)  # 0.8 m/s (leica-p30.toml)
