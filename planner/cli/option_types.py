@@ -74,7 +74,7 @@ def once_per_key(items: list[str], item: str) -> list[str]:
     return [*items, item]
 
 
-#: the surfaces ``--set surfaces`` takes (planner.plan.options.SURFACES, kept here so that --help imports no planner)
+#: the surfaces ``--surfaces`` takes (planner.plan.options.SURFACES, kept here so that --help imports no planner)
 SURFACE_NAMES = ("walls", "floors", "ceilings")
 
 
