@@ -7,8 +7,9 @@ import argparse
 import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from planner.cli.hours import session_of, verify_spacing_of
 from planner.cli.inputs import guard_memory, load_with_overrides, memory_limit, recorded_notes, usable_folder
 from planner.cli.network_command import checking_problem, network_check, network_inputs
 from planner.cli.report import parse_exports, write_exports
@@ -79,22 +80,9 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
         theta_max_floor_deg=args.theta_max_floor,
         max_point_spacing_m=getattr(args, "max_point_spacing", None),
         objective=getattr(args, "objective", "stations"),
-        session_s=_session(args),
+        session_s=session_of(args),
     )
     return replace(options, strategy=strategy_options(args, options))
-
-
-def _session(args: argparse.Namespace) -> float | None:
-    """The field session (``--set field-session=4h``) in seconds, which the field-time trade-off counts in."""
-    from planner.field.timing import parse_duration
-
-    text = getattr(args, "field_session", None)
-    if not text:
-        return None
-    try:
-        return parse_duration(text)
-    except UsageError as err:
-        raise UsageError(err.message, field=option_name("plan", "field-session"), value=err.value) from None
 
 
 #: the options' fields of the library by the command line's key (``--KEY`` or ``--set KEY``) that sets them
@@ -234,34 +222,10 @@ def cmd_verify(args: argparse.Namespace) -> int:
         print("\n".join(checked_surfaces.lines()))
         complete = complete and checked_surfaces.complete
     if args.max_point_spacing is not None:  # the spacing at each station's own setting (issue 47)
-        spacing = _verify_spacing(args, problem, stations)
+        spacing = verify_spacing_of(args, problem, stations)
         print("\n".join(spacing.lines()))
         complete = complete and spacing.complete
     return ExitCode.OK if complete else ExitCode.INFEASIBLE
-
-
-def _verify_spacing(args: argparse.Namespace, problem: Any, stations: Any) -> Any:
-    """The spacing check of ``planner verify --max-point-spacing``: each station at the setting plan.json
-    records for it, else at the instrument's default setting."""
-    from planner.core.fileio import read_json
-    from planner.plan.field_time import field_properties
-    from planner.plan.verify_spacing import verify_spacing
-
-    props = field_properties(problem.site)
-    rows = read_json(args.plan).get("stations", [])
-    recorded = [r.get("setting") if isinstance(r, dict) else None for r in rows]
-    settings: list[str] = [str(s) for s in recorded]
-    if len(recorded) != len(stations) or not all(isinstance(s, str) for s in recorded):
-        settings = [props.default_setting] * len(stations)
-    for s in settings:
-        if s not in props.settings:
-            raise UsageError(
-                f"is not a setting of the instrument {problem.site.instrument} (known: {', '.join(props.settings)})",
-                file=args.plan,
-                field="setting",
-                value=s,
-            )
-    return verify_spacing(problem.sight, stations, settings, props, args.max_point_spacing, args.spacing)
 
 
 def cmd_export(args: argparse.Namespace) -> int:
