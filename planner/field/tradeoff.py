@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 from planner.core.errors import InfeasibleError, UsageError
 from planner.core.text import table
-from planner.field.run import FieldOptions, field_plan
+from planner.field.route_search import shorter_walks
+from planner.field.run import FieldOptions, FieldPlan, field_plan
 from planner.instrument.field_table import FieldProperties
 from planner.plan.field_time import field_properties
 from planner.plan.run import plan_single
@@ -152,16 +153,23 @@ def with_tradeoff(plan: Plan) -> Plan:
     plans.append((FEWEST, plan_single(stations_problem, props=props), ""))
     plans.append((FIELD_TIME, plan, ""))
     session = problem.options.session_s
-    rows = [_row(label, p, props, note, session) for label, p, note in plans]
-    timed = [(r.total_s, k) for k, r in enumerate(rows) if r.total_s is not None]
-    kept_index = min(timed)[1] if timed else len(rows) - 1
-    if rows[-1].total_s is not None and rows[-1].total_s <= rows[kept_index].total_s:  # type: ignore[operator]
-        kept_index = len(rows) - 1  # ties keep the field-time plan
+    made = [_row(label, p, props, note, session) for label, p, note in plans]
+    rows = [r for r, _ in made]
+    fp = made[-1][1]
+    if fp is not None:  # the field-time plan's stations moved to shorten its walk (planner.field.route_search)
+        found = shorter_walks(plan, fp, props)
+        if found is not None:
+            moved, n = found
+            plans.append((f"{FIELD_TIME}, {n} moved for the walk", moved, ""))
+            rows.append(_row(plans[-1][0], moved, props, "", session)[0])
+    timed = [k for k, r in enumerate(rows) if r.total_s is not None]
+    # the least total; ties keep the later row (the field-time plans come last)
+    kept_index = min(timed, key=lambda k: (rows[k].total_s, -k)) if timed else len(rows) - 1
     kept_plan = plans[kept_index][1]
     assert kept_plan is not None and kept_plan.hours is not None
     trade = Tradeoff(rows=tuple(rows), kept=rows[kept_index].label)
     log = kept_plan.log
-    if kept_index != len(rows) - 1:
+    if not rows[kept_index].label.startswith(FIELD_TIME):
         log = (
             *log,
             f"field time: the plan '{rows[kept_index].label}' has the least total time with walking and targets: kept",
@@ -173,13 +181,16 @@ def _all(props: FieldProperties) -> list[tuple[str, float, float]]:
     return [(n, 0.0, props.scan_time_s(n)) for n in props.settings]
 
 
-def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, session_s: float | None = None) -> Row:
+def _row(
+    label: str, plan: Plan | None, props: FieldProperties, note: str, session_s: float | None = None
+) -> tuple[Row, FieldPlan | None]:
     """The row of ``plan``: set-up and scan from its settings, walking and targets from its field sheet."""
     if plan is None or plan.hours is None:
-        return Row(label=label, note=note)
+        return Row(label=label, note=note), None
     h = plan.hours
     walking = targets = sessions = route = bound = None
     method = ""
+    fp = None
     try:
         fp = field_plan(
             plan.problem.sight, plan.stations, FieldOptions(session_s=session_s), props, settings=h.settings
@@ -196,7 +207,7 @@ def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, sessi
     for s in h.settings:
         counts[s] = counts.get(s, 0) + 1
     used = ", ".join(f"{n} x {s}" for s, n in sorted(counts.items(), key=lambda kv: -kv[1]))
-    return Row(
+    row = Row(
         label=label,
         stations=len(plan.stations),
         setup_s=h.setup_s,
@@ -210,6 +221,7 @@ def _row(label: str, plan: Plan | None, props: FieldProperties, note: str, sessi
         settings=used,
         note=note,
     )
+    return row, fp
 
 
 def _gap(route: float, bound: float) -> float:

@@ -14,7 +14,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Hashable
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -31,6 +33,10 @@ from planner.site.model import Site
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import solve
 from planner.solve.result import SolveResult, Status
+
+if TYPE_CHECKING:
+    from planner.coverage.visibility import SightLimits
+    from planner.plan.options import PlanOptions
 
 #: a view meets the spacing within this relative tolerance (rounding of the settings' names, not a margin)
 _REL_TOL = 1e-9
@@ -184,20 +190,14 @@ def field_time_method(run: MethodInput, props: FieldProperties, *, unit: bool = 
     the time, its bound and the setting of each station."""
     site, options, problem = run.site, run.options, run.problem
     cols = setting_columns(problem, props, options.max_point_spacing_m)
-    mode = options.registration or default_registration(site).mode
-    rule = options.milp.rule
-    reach = (rule.max_link_m if rule else None) or run.limits.effective_range_m
-    groups, links = registration_groups(site, problem.candidates, mode, reach)
+    groups, base = candidate_relation(site, options, run.limits, problem)
     lengths = np.asarray(problem.targets.s1_m - problem.targets.s0_m, dtype=float)
     xy = np.array([c.xy for c in problem.candidates], dtype=float).reshape(-1, 2)
     p = sp.csr_matrix(
         (np.ones(len(cols.candidate)), (np.arange(len(cols.candidate)), cols.candidate)),
         shape=(len(cols.candidate), len(problem.candidates)),
     )
-    relation = None
-    if rule is not None:  # what both stations see, at any setting: the sight coverage's overlap
-        base, _ = overlap_adjacency(problem.by_candidate.astype(bool).tocsr(), lengths, rule, groups, xy, links)
-        relation = (p @ base.astype(float) @ p.T).tocsr().astype(bool)
+    relation = None if base is None else (p @ base.astype(float) @ p.T).tocsr().astype(bool)
     ids = tuple(f"{problem.candidates[c].id}@{cols.names[s]}" for c, s in zip(cols.candidate, cols.setting))
     inst = CoverInstance(
         by_candidate=cols.matrix,
@@ -238,6 +238,23 @@ def field_time_method(run: MethodInput, props: FieldProperties, *, unit: bool = 
         f"({timed.status.value})",
     )
     return MethodOutput(result, problem, problem, log)
+
+
+def candidate_relation(
+    site: Site, options: PlanOptions, limits: SightLimits, problem: CoverageProblem
+) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
+    """The registration group of each candidate and the overlap relation between candidates (None without a
+    rule): what both see, at any setting, under the run's rule, with the links through openings and stairs."""
+    mode = options.registration or default_registration(site).mode
+    rule = options.milp.rule
+    reach = (rule.max_link_m if rule else None) or limits.effective_range_m
+    groups, links = registration_groups(site, problem.candidates, mode, reach)
+    if rule is None:
+        return groups, None
+    lengths = np.asarray(problem.targets.s1_m - problem.targets.s0_m, dtype=float)
+    xy = np.array([c.xy for c in problem.candidates], dtype=float).reshape(-1, 2)
+    base, _ = overlap_adjacency(problem.by_candidate.astype(bool).tocsr(), lengths, rule, groups, xy, links)
+    return groups, base.tocsr()
 
 
 def assign_settings(

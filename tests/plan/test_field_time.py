@@ -248,3 +248,33 @@ def test_the_walking_part_states_its_own_bound(plans):
             continue
         assert r["route_bound_m"] <= r["route_m"] + 1e-6 and r["route_bound_method"]
         assert r["walking_s"] == pytest.approx(r["route_m"] / 0.8, rel=0.01, abs=1.0)  # 0.8 m/s (leica-p30.toml)
+
+
+def test_the_walk_search_keeps_every_rule_and_never_lengthens_the_total(plans):
+    """Whatever the search moved, the kept plan covers, meets the spacing, is connected (above) and its set-up
+    + scan is no dearer than the MILP's optimum (no move costs more): the bound still holds."""
+    t = plans["field-time"]["hours"]["tradeoff"]
+    rows = {r["label"]: r for r in t["rows"]}
+    ft = rows["field time"]
+    kept = rows[t["kept"]]
+    assert kept["total_s"] <= ft["total_s"] + 1e-6
+    if t["kept"].startswith("field time,"):  # moved for the walk
+        assert kept["setup_s"] + kept["scan_s"] <= ft["setup_s"] + ft["scan_s"] + 1e-6
+        assert kept["route_m"] < ft["route_m"]
+
+
+@pytest.mark.slow
+def test_building27_walk_search_moves_stations_and_shortens_the_route(tmp_path):
+    """building27 at 6 mm (docs/field-time.md): the search moves stations of the field-time plan, the route
+    gets shorter, set-up + scan stays at the MILP's optimum, and the moved plan verifies."""
+    site = Path(__file__).resolve().parents[2] / "instances" / "building27.json"
+    plan = plan_site(site, PlanOptions(max_point_spacing_m=0.006, objective="field-time"))
+    assert plan.hours is not None and plan.hours.tradeoff is not None
+    t = plan.hours.tradeoff
+    moved = [r for r in t.rows if r.label.startswith("field time,")]
+    assert moved and t.kept == moved[0].label
+    ft = t.row("field time")
+    assert moved[0].route_m < ft.route_m and moved[0].total_s < ft.total_s
+    assert plan.hours.setup_scan_s == pytest.approx(plan.hours.timing["bound_s"])
+    assert plan.verification.percent == 100.0 and plan.connected
+    assert plan.hours.spacing is not None and plan.hours.spacing.complete
