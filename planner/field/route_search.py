@@ -27,7 +27,8 @@ from scipy.sparse.csgraph import connected_components
 from planner.coverage.matrix import CoverageProblem
 from planner.field.run import FieldPlan
 from planner.instrument.field_table import FieldProperties
-from planner.plan.field_time import SettingColumns, candidate_relation, setting_columns
+from planner.plan.columns import SettingColumns, setting_columns
+from planner.plan.field_time import candidate_relation
 from planner.plan.registration import registration_check
 from planner.plan.run import build_problem
 from planner.plan.verify import verify_stations

@@ -2,7 +2,7 @@
 
 - **Point spacing** (``--max-point-spacing M``): a view covers a wall piece only where the spacing it gives
   the whole piece at the station's setting (:mod:`planner.coverage.spacing`) is at most M.
-- **Columns are (station, setting) pairs** (:func:`setting_columns`): a candidate at each setting of the
+- **Columns are (station, setting) pairs** (:func:`planner.plan.columns.setting_columns`): a candidate at each setting of the
   instrument's ``[field]`` table, costing set-up + scan time (s). A finer setting sees every piece a coarser
   one does, so a pair is kept only where it covers more than every coarser pair of its candidate.
 - **Objectives**: ``stations`` (the default) takes the fewest stations, each able to scan at the finest
@@ -15,19 +15,17 @@
 from __future__ import annotations
 
 from collections.abc import Hashable
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
-from numpy.typing import NDArray
 
-from planner.core.errors import InfeasibleError
 from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import overlap_adjacency
-from planner.coverage.spacing import spacing_factors
 from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
+from planner.plan.columns import SettingColumns, setting_columns
 from planner.plan.methods import MethodInput, MethodOutput
 from planner.site.model import Site
 from planner.solve.instance import CoverInstance
@@ -38,9 +36,6 @@ if TYPE_CHECKING:
     from planner.coverage.visibility import SightLimits
     from planner.plan.options import PlanOptions
 
-#: a view meets the spacing within this relative tolerance (rounding of the settings' names, not a margin)
-_REL_TOL = 1e-9
-
 
 def field_properties(site: Site) -> FieldProperties:
     """The ``[field]`` table of the site's instrument (the planner's stated defaults where it has none)."""
@@ -48,119 +43,6 @@ def field_properties(site: Site) -> FieldProperties:
 
     inst = load_instrument(site.instrument)
     return inst.field_properties if isinstance(inst, Scanner) and inst.field_properties else DEFAULT_FIELD
-
-
-def masked(problem: CoverageProblem, keep: NDArray[np.bool_]) -> CoverageProblem:
-    """``problem`` with only the views ``keep`` (aligned with ``by_candidate``'s stored pairs) left."""
-    m = problem.by_candidate.tocsr()
-    rows = np.repeat(np.arange(m.shape[0]), np.diff(m.indptr))[keep]
-    cols = m.indices[keep]
-
-    def pick(values: sp.csr_matrix) -> NDArray[np.float64]:
-        v = values.tocsr()
-        if (
-            v.indptr.shape == m.indptr.shape
-            and np.array_equal(v.indptr, m.indptr)
-            and np.array_equal(v.indices, m.indices)
-        ):
-            return np.asarray(v.data[keep], dtype=float)
-        return np.asarray(v[rows, cols], dtype=float).ravel()
-
-    def build(values: NDArray) -> sp.csr_matrix:
-        return sp.csr_matrix((values, (rows, cols)), shape=m.shape)
-
-    by = build(np.ones(len(rows), dtype=bool))
-    return replace(
-        problem,
-        by_candidate=by,
-        by_target=by.T.tocsr(),
-        slant_m=build(pick(problem.slant_m)),
-        incidence_deg=build(pick(problem.incidence_deg)),
-    )
-
-
-def spacing_coverage(problem: CoverageProblem, step_rad: float, max_spacing_m: float) -> CoverageProblem:
-    """The views of ``problem`` whose point spacing at angular step ``step_rad`` is at most ``max_spacing_m``."""
-    f = spacing_factors(problem)
-    return masked(problem, f.data * step_rad <= max_spacing_m * (1 + _REL_TOL))
-
-
-def spacing_refusal(
-    problem: CoverageProblem, unseen: NDArray[np.int64], setting: str, step_rad: float, m: float
-) -> InfeasibleError:
-    """The refusal of pieces no view meets the spacing on: up to five, each with the finest spacing reached."""
-    f = spacing_factors(problem).tocsc()
-    t = problem.targets
-    shown = []
-    for i in unseen[:5]:
-        col = f.data[f.indptr[i] : f.indptr[i + 1]]
-        best = f" (finest {1e3 * col.min() * step_rad:.1f} mm)" if col.size else " (seen by no candidate)"
-        shown.append(f"{t.label(int(i))} at ({t.midpoint(int(i))[0]:.2f}, {t.midpoint(int(i))[1]:.2f}){best}")
-    more = f" and {len(unseen) - 5} more" if len(unseen) > 5 else ""
-    return InfeasibleError(
-        f"{len(unseen)} piece(s) no candidate scans at a point spacing of at most {1e3 * m:g} mm, even at the finest "
-        f"setting {setting!r}: {'; '.join(shown)}{more}"
-    )
-
-
-@dataclass(frozen=True)
-class SettingColumns:
-    """The (station, setting) pairs of a pool: ``candidate[j]`` and ``setting[j]`` (an index of ``names``) of
-    column j, the pieces it covers (``matrix``, columns x pieces) and its cost, set-up + scan (s)."""
-
-    candidate: NDArray[np.int64]
-    setting: NDArray[np.int64]
-    names: tuple[str, ...]
-    matrix: sp.csr_matrix
-    cost_s: NDArray[np.float64]
-
-    def expand(self) -> sp.csr_matrix:
-        """Columns x candidates: column j's candidate (to carry per-candidate data onto the columns)."""
-        n = len(self.candidate)
-        n_cand = int(self.candidate.max()) + 1 if n else 0
-        return sp.csr_matrix((np.ones(n, dtype=bool), (np.arange(n), self.candidate)), shape=(n, n_cand))
-
-
-def setting_columns(
-    problem: CoverageProblem, props: FieldProperties, max_spacing_m: float | None, rows: NDArray[np.int64] | None = None
-) -> SettingColumns:
-    """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair
-    is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it."""
-    settings = (
-        props.by_step() if max_spacing_m is not None else tuple((n, 0.0, props.scan_time_s(n)) for n in props.settings)
-    )
-    a = problem.by_candidate.tocsr()
-    if rows is not None:
-        a = a[rows]
-    f = spacing_factors(problem).tocsr()[rows] if (max_spacing_m is not None and rows is not None) else None
-    if max_spacing_m is not None and f is None:
-        f = spacing_factors(problem).tocsr()
-    base = np.arange(a.shape[0]) if rows is None else np.asarray(rows, dtype=np.int64)
-    best = np.zeros(a.shape[0], dtype=np.int64)
-    cand, sets, mats, costs = [], [], [], []
-    for s, (_name, step, scan) in enumerate(settings):
-        ok = (
-            np.ones(a.nnz, dtype=bool)
-            if f is None or max_spacing_m is None
-            else f.data * step <= max_spacing_m * (1 + _REL_TOL)
-        )
-        m = sp.csr_matrix((ok, a.indices.copy(), a.indptr.copy()), shape=a.shape)  # eliminate_zeros works in place
-        m.eliminate_zeros()
-        n = np.diff(m.indptr)
-        take = np.flatnonzero(n > best)
-        best[take] = n[take]
-        cand.append(base[take])
-        sets.append(np.full(len(take), s, dtype=np.int64))
-        mats.append(m[take])
-        costs.append(np.full(len(take), props.setup_time_s + scan))
-    matrix = sp.vstack(mats, format="csr") if mats else sp.csr_matrix((0, a.shape[1]), dtype=bool)
-    return SettingColumns(
-        candidate=np.concatenate(cand).astype(np.int64),
-        setting=np.concatenate(sets).astype(np.int64),
-        names=tuple(name for name, _, _ in settings),
-        matrix=matrix.astype(bool),
-        cost_s=np.concatenate(costs).astype(float),
-    )
 
 
 def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:

@@ -20,7 +20,8 @@ from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets
 from planner.instrument.field_table import FieldProperties
 from planner.plan.closed_form import closed_form_limits
-from planner.plan.field_time import field_properties, hours_method, spacing_coverage, spacing_refusal
+from planner.plan.columns import spacing_coverage, spacing_refusal
+from planner.plan.field_time import field_properties, hours_method
 from planner.plan.hours import Hours
 from planner.plan.methods import REGISTRY, MethodInput
 from planner.plan.options import PlanOptions

@@ -20,7 +20,8 @@ from planner.cli import main
 from planner.core.errors import ExitCode, UsageError
 from planner.engine import plan_site
 from planner.plan import PlanOptions
-from planner.plan.field_time import field_properties, setting_columns
+from planner.plan.columns import setting_columns
+from planner.plan.field_time import field_properties
 from planner.plan.problem import resolve
 from planner.plan.run import build_problem
 from planner.solve.milp import MilpOptions

@@ -1,0 +1,132 @@
+"""The (station, setting) columns of a pool and the point spacing's coverage (issue 47): which views meet a
+spacing at a setting (:func:`spacing_coverage`, :func:`spacing_refusal`), and every useful pair of a candidate
+and a setting with its cost (:func:`setting_columns`). Planning with them: :mod:`planner.plan.field_time`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from planner.core.errors import InfeasibleError
+from planner.coverage.matrix import CoverageProblem
+from planner.coverage.spacing import spacing_factors
+from planner.instrument.field_table import FieldProperties
+
+#: a view meets the spacing within this relative tolerance (rounding of the settings' names, not a margin)
+_REL_TOL = 1e-9
+
+
+def masked(problem: CoverageProblem, keep: NDArray[np.bool_]) -> CoverageProblem:
+    """``problem`` with only the views ``keep`` (aligned with ``by_candidate``'s stored pairs) left."""
+    m = problem.by_candidate.tocsr()
+    rows = np.repeat(np.arange(m.shape[0]), np.diff(m.indptr))[keep]
+    cols = m.indices[keep]
+
+    def pick(values: sp.csr_matrix) -> NDArray[np.float64]:
+        v = values.tocsr()
+        if (
+            v.indptr.shape == m.indptr.shape
+            and np.array_equal(v.indptr, m.indptr)
+            and np.array_equal(v.indices, m.indices)
+        ):
+            return np.asarray(v.data[keep], dtype=float)
+        return np.asarray(v[rows, cols], dtype=float).ravel()
+
+    def build(values: NDArray) -> sp.csr_matrix:
+        return sp.csr_matrix((values, (rows, cols)), shape=m.shape)
+
+    by = build(np.ones(len(rows), dtype=bool))
+    return replace(
+        problem,
+        by_candidate=by,
+        by_target=by.T.tocsr(),
+        slant_m=build(pick(problem.slant_m)),
+        incidence_deg=build(pick(problem.incidence_deg)),
+    )
+
+
+def spacing_coverage(problem: CoverageProblem, step_rad: float, max_spacing_m: float) -> CoverageProblem:
+    """The views of ``problem`` whose point spacing at angular step ``step_rad`` is at most ``max_spacing_m``."""
+    f = spacing_factors(problem)
+    return masked(problem, f.data * step_rad <= max_spacing_m * (1 + _REL_TOL))
+
+
+def spacing_refusal(
+    problem: CoverageProblem, unseen: NDArray[np.int64], setting: str, step_rad: float, m: float
+) -> InfeasibleError:
+    """The refusal of pieces no view meets the spacing on: up to five, each with the finest spacing reached."""
+    f = spacing_factors(problem).tocsc()
+    t = problem.targets
+    shown = []
+    for i in unseen[:5]:
+        col = f.data[f.indptr[i] : f.indptr[i + 1]]
+        best = f" (finest {1e3 * col.min() * step_rad:.1f} mm)" if col.size else " (seen by no candidate)"
+        shown.append(f"{t.label(int(i))} at ({t.midpoint(int(i))[0]:.2f}, {t.midpoint(int(i))[1]:.2f}){best}")
+    more = f" and {len(unseen) - 5} more" if len(unseen) > 5 else ""
+    return InfeasibleError(
+        f"{len(unseen)} piece(s) no candidate scans at a point spacing of at most {1e3 * m:g} mm, even at the finest "
+        f"setting {setting!r}: {'; '.join(shown)}{more}"
+    )
+
+
+@dataclass(frozen=True)
+class SettingColumns:
+    """The (station, setting) pairs of a pool: ``candidate[j]`` and ``setting[j]`` (an index of ``names``) of
+    column j, the pieces it covers (``matrix``, columns x pieces) and its cost, set-up + scan (s)."""
+
+    candidate: NDArray[np.int64]
+    setting: NDArray[np.int64]
+    names: tuple[str, ...]
+    matrix: sp.csr_matrix
+    cost_s: NDArray[np.float64]
+
+    def expand(self) -> sp.csr_matrix:
+        """Columns x candidates: column j's candidate (to carry per-candidate data onto the columns)."""
+        n = len(self.candidate)
+        n_cand = int(self.candidate.max()) + 1 if n else 0
+        return sp.csr_matrix((np.ones(n, dtype=bool), (np.arange(n), self.candidate)), shape=(n, n_cand))
+
+
+def setting_columns(
+    problem: CoverageProblem, props: FieldProperties, max_spacing_m: float | None, rows: NDArray[np.int64] | None = None
+) -> SettingColumns:
+    """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair
+    is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it."""
+    settings = (
+        props.by_step() if max_spacing_m is not None else tuple((n, 0.0, props.scan_time_s(n)) for n in props.settings)
+    )
+    a = problem.by_candidate.tocsr()
+    if rows is not None:
+        a = a[rows]
+    f = spacing_factors(problem).tocsr()[rows] if (max_spacing_m is not None and rows is not None) else None
+    if max_spacing_m is not None and f is None:
+        f = spacing_factors(problem).tocsr()
+    base = np.arange(a.shape[0]) if rows is None else np.asarray(rows, dtype=np.int64)
+    best = np.zeros(a.shape[0], dtype=np.int64)
+    cand, sets, mats, costs = [], [], [], []
+    for s, (_name, step, scan) in enumerate(settings):
+        ok = (
+            np.ones(a.nnz, dtype=bool)
+            if f is None or max_spacing_m is None
+            else f.data * step <= max_spacing_m * (1 + _REL_TOL)
+        )
+        m = sp.csr_matrix((ok, a.indices.copy(), a.indptr.copy()), shape=a.shape)  # eliminate_zeros works in place
+        m.eliminate_zeros()
+        n = np.diff(m.indptr)
+        take = np.flatnonzero(n > best)
+        best[take] = n[take]
+        cand.append(base[take])
+        sets.append(np.full(len(take), s, dtype=np.int64))
+        mats.append(m[take])
+        costs.append(np.full(len(take), props.setup_time_s + scan))
+    matrix = sp.vstack(mats, format="csr") if mats else sp.csr_matrix((0, a.shape[1]), dtype=bool)
+    return SettingColumns(
+        candidate=np.concatenate(cand).astype(np.int64),
+        setting=np.concatenate(sets).astype(np.int64),
+        names=tuple(name for name, _, _ in settings),
+        matrix=matrix.astype(bool),
+        cost_s=np.concatenate(costs).astype(float),
+    )
