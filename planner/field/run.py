@@ -51,7 +51,8 @@ from planner.field.walking import (
     walk_graph,
     walk_space,
 )
-from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
+from planner.instrument.field_table import FieldProperties
+from planner.plan.field_time import field_properties
 from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
 
@@ -299,7 +300,7 @@ def field_plan(
         part_names(site, g, node_station, st),
         0 if first is None else 1,
     )
-    props = props or _properties(site)
+    props = props or field_properties(site)
     links, targets = propose_targets(
         site,
         st,
@@ -362,10 +363,3 @@ def _leg(g: WalkGraph | StoreyWalk, a: int, b: int) -> list[tuple[float, float]]
     if math.isfinite(g.dist[a, b]):
         return g.path(a, b)
     return [(float(g.points[a][0]), float(g.points[a][1])), (float(g.points[b][0]), float(g.points[b][1]))]
-
-
-def _properties(site: Site) -> FieldProperties:
-    from planner.instrument.models import Scanner, load_instrument
-
-    inst = load_instrument(site.instrument)
-    return inst.field_properties if isinstance(inst, Scanner) and inst.field_properties else DEFAULT_FIELD
