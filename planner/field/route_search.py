@@ -111,6 +111,7 @@ def _replanned(
     """The plan of the moved stations, verified afresh (coverage, spacing, registration)."""
     problem = plan.problem
     o = problem.options
+    chosen = sorted(chosen, key=lambda j: int(cols.candidate[j]))  # results hold their stations sorted
     selected = tuple(int(cols.candidate[j]) for j in chosen)
     stations = tuple(cov.candidates[c] for c in selected)
     settings = tuple(cols.names[int(cols.setting[j])] for j in chosen)
@@ -128,7 +129,8 @@ def _replanned(
     if isinstance(bound, (int, float)) and setup_s + scan_s > 0:  # the MILP's bound holds for any plan
         timing.update(objective_s=setup_s + scan_s, gap=max(0.0, (setup_s + scan_s - bound) / (setup_s + scan_s)))
     hours = replace(plan.hours, settings=settings, setup_s=setup_s, scan_s=scan_s, spacing=spacing, timing=timing)
-    result = replace(plan.result, selected=selected, info={**plan.result.info, "settings": list(settings)})
+    info = {**plan.result.info, "settings": list(settings), "field_time": timing}
+    result = replace(plan.result, selected=selected, info=info)
     return replace(
         plan,
         result=result,

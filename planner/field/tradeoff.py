@@ -112,11 +112,13 @@ class Tradeoff:
         ]
         gain = self.gain_s
         best = self.best_single()
-        tail = (
-            f"gain over the best plan at one setting ({best.label}): {gain / 3600:.2f} h ({gain:,.0f} s)"
-            if gain is not None and best is not None
-            else "no plan at one setting meets the spacing: the gain is all of it"
-        )
+        singles = [r for r in self.rows if r.label.startswith("one setting")]
+        if gain is not None and best is not None:
+            tail = f"gain over the best plan at one setting ({best.label}): {gain / 3600:.2f} h ({gain:,.0f} s)"
+        elif any(r.stations is not None for r in singles):
+            tail = "gain not computed: the plans are not all timed whole (see their notes)"
+        else:
+            tail = "no plan at one setting meets the spacing"
         kept = self.row(self.kept)
         route = (
             f"route of the kept plan: {kept.route_m:,.1f} m, lower bound {kept.route_bound_m:,.1f} m "
@@ -166,15 +168,32 @@ def with_tradeoff(plan: Plan) -> Plan:
     # the least total; ties keep the later row (the field-time plans come last)
     kept_index = min(timed, key=lambda k: (rows[k].total_s, -k)) if timed else len(rows) - 1
     kept_plan = plans[kept_index][1]
-    assert kept_plan is not None and kept_plan.hours is not None
+    if kept_plan is None or kept_plan.hours is None or not kept_plan.stations:
+        kept_index, kept_plan = len(plans) - 1, plan  # nothing timed: the field-time plan as it came
+    assert kept_plan.hours is not None
     trade = Tradeoff(rows=tuple(rows), kept=rows[kept_index].label)
     log = kept_plan.log
+    if not plan.stations:
+        log = (*log, f"field time: the field-time MILP found no plan ({plan.result.status.value})")
     if not rows[kept_index].label.startswith(FIELD_TIME):
         log = (
             *log,
             f"field time: the plan '{rows[kept_index].label}' has the least total time with walking and targets: kept",
         )
-    return replace(kept_plan, hours=replace(kept_plan.hours, tradeoff=trade), log=log)
+    hours = replace(kept_plan.hours, tradeoff=trade, objective="field-time", timing=_timing(plan, kept_plan))
+    return replace(kept_plan, hours=hours, log=log)
+
+
+def _timing(field: Plan, kept: Plan) -> dict[str, Any]:
+    """The field-time MILP's bound on set-up + scan (over every pair of the pool: it holds for any plan of it),
+    with the kept plan's set-up + scan and its gap to that bound."""
+    assert field.hours is not None and kept.hours is not None
+    timing = dict(field.hours.timing)
+    bound, total = timing.get("bound_s"), kept.hours.setup_scan_s
+    timing["objective_s"] = total
+    if isinstance(bound, (int, float)) and total > 0:
+        timing["gap"] = max(0.0, (total - bound) / total)
+    return timing
 
 
 def _all(props: FieldProperties) -> list[tuple[str, float, float]]:
@@ -187,6 +206,8 @@ def _row(
     """The row of ``plan``: set-up and scan from its settings, walking and targets from its field sheet."""
     if plan is None or plan.hours is None:
         return Row(label=label, note=note), None
+    if not plan.stations:  # the solver stopped without a plan (its work limit, a wall-clock cap)
+        return Row(label=label, note=f"no plan ({plan.result.status.value})"), None
     h = plan.hours
     walking = targets = sessions = route = bound = None
     method = ""

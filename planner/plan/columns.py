@@ -94,16 +94,21 @@ def setting_columns(
     problem: CoverageProblem, props: FieldProperties, max_spacing_m: float | None, rows: NDArray[np.int64] | None = None
 ) -> SettingColumns:
     """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair
-    is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it."""
-    settings = (
-        props.by_step() if max_spacing_m is not None else tuple((n, 0.0, props.scan_time_s(n)) for n in props.settings)
-    )
+    is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it
+    (without a spacing every setting covers the same: the cheapest is kept). A candidate left with no pair gets
+    one at the cheapest setting covering nothing: it may still stand for registration, which is judged on what
+    stations see, not on the spacing (a relay between two stations)."""
+    if max_spacing_m is not None:
+        settings = props.by_step()
+    else:  # cheapest first: the only pair kept per candidate
+        settings = tuple(sorted(((n, 0.0, props.scan_time_s(n)) for n in props.settings), key=lambda r: r[2]))
     a = problem.by_candidate.tocsr()
     if rows is not None:
         a = a[rows]
-    f = spacing_factors(problem).tocsr()[rows] if (max_spacing_m is not None and rows is not None) else None
-    if max_spacing_m is not None and f is None:
+    f = None
+    if max_spacing_m is not None:
         f = spacing_factors(problem).tocsr()
+        f = f[rows] if rows is not None else f
     base = np.arange(a.shape[0]) if rows is None else np.asarray(rows, dtype=np.int64)
     best = np.zeros(a.shape[0], dtype=np.int64)
     cand, sets, mats, costs = [], [], [], []
@@ -122,6 +127,13 @@ def setting_columns(
         sets.append(np.full(len(take), s, dtype=np.int64))
         mats.append(m[take])
         costs.append(np.full(len(take), props.setup_time_s + scan))
+    relay = np.flatnonzero(best == 0)  # no pair: a relay at the cheapest setting
+    if relay.size:
+        cheap = min(range(len(settings)), key=lambda k: (settings[k][2], k))
+        cand.append(base[relay])
+        sets.append(np.full(len(relay), cheap, dtype=np.int64))
+        mats.append(sp.csr_matrix((len(relay), a.shape[1]), dtype=bool))
+        costs.append(np.full(len(relay), props.setup_time_s + settings[cheap][2]))
     matrix = sp.vstack(mats, format="csr") if mats else sp.csr_matrix((0, a.shape[1]), dtype=bool)
     return SettingColumns(
         candidate=np.concatenate(cand).astype(np.int64),

@@ -53,9 +53,10 @@ def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
     if run.options.objective == "field-time":
         return field_time_method(run, props)
     # the fewest stations: every station may scan at the finest setting, which sees all a coarser one sees
-    name, _step, scan = (
-        props.by_step()[-1] if run.options.max_point_spacing_m is not None else (props.settings[0], 0.0, 0.0)
-    )
+    if run.options.max_point_spacing_m is not None:
+        name = props.by_step()[-1][0]
+    else:  # every setting sees the same: the cheapest
+        name = min(props.settings, key=props.scan_time_s)
     finest = replace(props, scan_times_s=((name, props.scan_time_s(name)),), default_setting=name)
     out = field_time_method(run, finest, unit=True)
     if not out.result.selected:

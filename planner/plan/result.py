@@ -76,8 +76,9 @@ class Plan:
         sides = self.count_by_side()
         head = f"instance {self.site.name}: {self.result.summary(self.time_label)}"
         if self.hours is not None and self.hours.objective == "field-time":  # the count is not what was minimised
-            t = self.hours.timing
-            head += f" (objective field-time: set-up + scan {self.hours.setup_scan_s / 3600:.2f} h, {t.get('status')})"
+            gap = self.hours.timing.get("gap")
+            to_bound = "" if gap is None else f", {gap:.2%} above its bound"
+            head += f" (objective field-time: set-up + scan {self.hours.setup_scan_s / 3600:.2f} h{to_bound})"
         lines = [
             head,
             self._presolve_line(),

@@ -13,12 +13,12 @@ from planner.candidates.complete import complete_candidates
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import candidate_pool, dedupe
 from planner.core.checks import argument
-from planner.core.errors import InfeasibleError, UsageError
+from planner.core.errors import InfeasibleError, InputError, UsageError
 from planner.coverage.fingerprint import pool_of
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets
-from planner.instrument.field_table import FieldProperties
+from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
 from planner.plan.closed_form import closed_form_limits
 from planner.plan.columns import spacing_coverage, spacing_refusal
 from planner.plan.field_time import field_properties, hours_method
@@ -187,6 +187,13 @@ def plan_single(problem: Problem, props: FieldProperties | None = None) -> Plan:
     extra = None if cover is None else cover.matrix
     if options.hours:  # the instrument's settings (``props``: a table given for the run, e.g. one setting)
         props = props or field_properties(site)
+        if props is DEFAULT_FIELD and options.max_point_spacing_m is not None:
+            raise InputError(
+                f"instrument {site.instrument!r} has no [field] table of scan settings named by their point "
+                "spacing ('6.3 mm @ 10 m'): --max-point-spacing needs one (docs/field-time.md)",
+                field="instrument",
+                value=site.instrument,
+            )
     if props is not None and options.max_point_spacing_m is not None:
         refuse_spacing(problem, coverage, props)
     run = MethodInput(site, options, validation, limits, coverage, spaces, region_cache, extra)

@@ -122,7 +122,15 @@ def test_columns_keep_a_finer_setting_only_where_it_covers_more(tmp_path):
     props = field_properties(problem.site)
     cols = setting_columns(cov, props, 0.006)
     names = [n for n, _, _ in props.by_step()]
-    assert "12.5 mm @ 10 m" not in {cols.names[s] for s in cols.setting}  # no piece at 7.5 mm or finer
+    covering = np.diff(cols.matrix.indptr) > 0
+    assert "12.5 mm @ 10 m" not in {cols.names[s] for s in cols.setting[covering]}  # no piece at 7.5 mm or finer
+    # a candidate with no pair meeting the spacing stays as one relay at the cheapest setting, covering nothing
+    relays = cols.candidate[~covering]
+    assert len(set(relays.tolist())) == len(relays) and not set(relays.tolist()) & set(
+        cols.candidate[covering].tolist()
+    )
+    assert {cols.names[s] for s in cols.setting[~covering]} <= {"12.5 mm @ 10 m"}
+    assert set(cols.candidate.tolist()) == set(range(len(cov.candidates)))
     assert np.allclose(cols.cost_s, [SETUP_S + SCAN_S[names[s]] for s in cols.setting])
     count = np.diff(cols.matrix.indptr)
     for c in np.unique(cols.candidate):
@@ -279,3 +287,57 @@ def test_building27_walk_search_moves_stations_and_shortens_the_route(tmp_path):
     assert plan.hours.setup_scan_s == pytest.approx(plan.hours.timing["bound_s"])
     assert plan.verification.percent == 100.0 and plan.connected
     assert plan.hours.spacing is not None and plan.hours.spacing.complete
+
+
+def _p30_without(tmp_path: Path, field: bool = True, finest_first: bool = False) -> Path:
+    """The P30 model file, its settings listed finest first, or without its [field] table."""
+    text = (Path(__file__).resolve().parents[2] / "models" / "leica-p30.toml").read_text()
+    head, _, table = text.partition("[field]")
+    if not field:
+        text = head
+    elif finest_first:
+        rows = [line for line in table.splitlines() if line.startswith('"')]
+        table = table.replace("\n".join(rows), "\n".join(reversed(rows)))
+        text = head + "[field]" + table
+    path = tmp_path / "p30.toml"
+    path.write_text(text)
+    return path
+
+
+def test_without_a_spacing_field_time_takes_the_cheapest_setting_whatever_the_file_order(tmp_path):
+    """Without a spacing every setting sees the same pieces, so each station scans at the cheapest (12.5 mm @ 10 m,
+    20 s) even when the table lists the finest first."""
+    model = _p30_without(tmp_path, finest_first=True)
+    plan = _plan([str(_room(tmp_path)), "--instrument", str(model), "--objective", "field-time"], tmp_path / "o")
+    assert {s["setting"] for s in plan["stations"]} == {"12.5 mm @ 10 m"}
+    assert plan["hours"]["objective"] == "field-time"
+
+
+def test_an_instrument_without_a_settings_table_is_refused_for_a_spacing(tmp_path, capsys):
+    model = _p30_without(tmp_path, field=False)
+    args = ["plan", str(_room(tmp_path)), "--instrument", str(model), "--max-point-spacing", "0.006", "--quiet"]
+    assert main(args) == ExitCode.INVALID_INPUT
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "has no [field] table of scan settings" in err
+
+
+def test_a_field_time_milp_without_a_plan_leaves_a_row_saying_so(tmp_path, monkeypatch):
+    """The field-time MILP stopped before any plan (as a wall-clock cap may stop it): no crash, the row says so,
+    and the plan kept is the best one timed."""
+    import planner.plan.field_time as ft
+    from planner.solve.result import SolveResult, Status
+
+    real = ft.solve
+
+    def no_plan(inst, options):  # the field-time MILP (costs in seconds, above 1): no solution
+        if inst.cost.max() > 1 and inst.by_candidate.shape[1] > 0 and inst.relation is not None:
+            return SolveResult(method="milp", status=Status.NO_SOLUTION, selected=(), objective=None)
+        return real(inst, options)
+
+    monkeypatch.setattr(ft, "solve", no_plan)
+    plan = plan_site(_room(tmp_path), PlanOptions(max_point_spacing_m=0.006, objective="field-time"))
+    assert plan.hours is not None and plan.hours.tradeoff is not None
+    row = plan.hours.tradeoff.row("field time")
+    assert row.stations is None and row.note == "no plan (no_solution)"
+    assert plan.stations and plan.hours.tradeoff.kept != "field time"
+    assert any("found no plan" in line for line in plan.log)
