@@ -43,14 +43,17 @@ MOVES = 200
 MIN_GAIN_M = 0.5
 
 
-def shorter_walks(plan: Plan, fp: FieldPlan, props: FieldProperties, moves: int = MOVES) -> tuple[Plan, int] | None:
+def shorter_walks(
+    plan: Plan, fp: FieldPlan, props: FieldProperties, cov: CoverageProblem | None = None, moves: int = MOVES
+) -> tuple[Plan, int] | None:
     """``plan`` with stations moved to shorten its walk (see the module text) and the number moved, or None
-    where no move applies or the plan's stations are not columns of its pool."""
+    where no move applies or the plan's stations are not columns of its pool. ``cov``: the coverage of the plan's
+    pool where the caller has it (None: built here)."""
     h = plan.hours
     if h is None or len(h.settings) != len(plan.stations):
         return None
     problem = plan.problem
-    cov = build_problem(problem)
+    cov = build_problem(problem) if cov is None else cov
     cols = setting_columns(cov, props, problem.options.max_point_spacing_m)
     index = {c.id: k for k, c in enumerate(cov.candidates)}
     column = {(int(c), cols.names[s]): j for j, (c, s) in enumerate(zip(cols.candidate, cols.setting))}

@@ -20,7 +20,8 @@ from planner.field.route_search import shorter_walks
 from planner.field.run import FieldOptions, FieldPlan, field_plan
 from planner.instrument.field_table import FieldProperties
 from planner.plan.field_time import field_properties
-from planner.plan.run import plan_single
+from planner.plan.hours import settings_line
+from planner.plan.run import build_problem, plan_single
 
 if TYPE_CHECKING:
     from planner.plan.result import Plan
@@ -145,21 +146,21 @@ def with_tradeoff(plan: Plan) -> Plan:
     problem = plan.problem
     props = field_properties(plan.site)
     stations_problem = replace(problem, options=replace(problem.options, objective="stations"))
+    cov = build_problem(stations_problem)  # the pool every plan of the table and the walk search share
     plans: list[tuple[str, Plan | None, str]] = []
-    for name, _step, scan in props.by_step() if problem.options.max_point_spacing_m is not None else _all(props):
-        one = replace(props, scan_times_s=((name, scan),), default_setting=name)
+    for name in props.settings_by_step() if problem.options.max_point_spacing_m is not None else props.settings:
         try:
-            plans.append((f"one setting: {name}", plan_single(stations_problem, props=one), ""))
+            plans.append((f"one setting: {name}", plan_single(stations_problem, props.only(name), cov), ""))
         except InfeasibleError:
             plans.append((f"one setting: {name}", None, "does not meet the spacing"))
-    plans.append((FEWEST, plan_single(stations_problem, props=props), ""))
+    plans.append((FEWEST, plan_single(stations_problem, props, cov), ""))
     plans.append((FIELD_TIME, plan, ""))
     session = problem.options.session_s
     made = [_row(label, p, props, note, session) for label, p, note in plans]
     rows = [r for r, _ in made]
     fp = made[-1][1]
     if fp is not None:  # the field-time plan's stations moved to shorten its walk (planner.field.route_search)
-        found = shorter_walks(plan, fp, props)
+        found = shorter_walks(plan, fp, props, cov)
         if found is not None:
             moved, n = found
             plans.append((f"{FIELD_TIME}, {n} moved for the walk", moved, ""))
@@ -196,10 +197,6 @@ def _timing(field: Plan, kept: Plan) -> dict[str, Any]:
     return timing
 
 
-def _all(props: FieldProperties) -> list[tuple[str, float, float]]:
-    return [(n, 0.0, props.scan_time_s(n)) for n in props.settings]
-
-
 def _row(
     label: str, plan: Plan | None, props: FieldProperties, note: str, session_s: float | None = None
 ) -> tuple[Row, FieldPlan | None]:
@@ -224,10 +221,7 @@ def _row(
         note = f"walking not timed: {err.message}"
     except UsageError as err:  # a setup longer than the session
         note = f"sessions not counted: --session {err.message}"
-    counts: dict[str, int] = {}
-    for s in h.settings:
-        counts[s] = counts.get(s, 0) + 1
-    used = ", ".join(f"{n} x {s}" for s, n in sorted(counts.items(), key=lambda kv: -kv[1]))
+    used = settings_line(h.settings)
     row = Row(
         label=label,
         stations=len(plan.stations),

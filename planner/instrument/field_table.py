@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from planner.core.errors import InputError
@@ -108,6 +108,14 @@ class FieldProperties:
         """``(setting, step_rad, scan_time_s)`` of every setting, coarsest step first."""
         rows = [(name, self.step_rad(name), float(secs)) for name, secs in self.scan_times_s]
         return tuple(sorted(rows, key=lambda r: -r[1]))
+
+    def only(self, setting: str) -> FieldProperties:
+        """These properties with ``setting`` as the only scan setting (a plan at one setting, issue 47)."""
+        return replace(self, scan_times_s=((setting, self.scan_time_s(setting)),), default_setting=setting)
+
+    def settings_by_step(self) -> tuple[str, ...]:
+        """The names of the settings, coarsest step first (as :meth:`by_step` orders them)."""
+        return tuple(name for name, _, _ in self.by_step())
 
     def scan_time_s(self, setting: str | None = None) -> float:
         """Seconds of one scan at ``setting`` (None: the default setting)."""

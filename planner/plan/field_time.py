@@ -57,8 +57,7 @@ def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
         name = props.by_step()[-1][0]
     else:  # every setting sees the same: the cheapest
         name = min(props.settings, key=props.scan_time_s)
-    finest = replace(props, scan_times_s=((name, props.scan_time_s(name)),), default_setting=name)
-    out = field_time_method(run, finest, unit=True)
+    out = field_time_method(run, props.only(name), unit=True)
     if not out.result.selected:
         return out
     settings, timing = assign_settings(run.problem, out.result.selected, props, run.options.max_point_spacing_m, run)

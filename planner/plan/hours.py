@@ -4,11 +4,17 @@ setting, the set-up + scan time with the bound the MILP proves on it, and the sp
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from planner.instrument.field_table import FieldProperties
 from planner.plan.verify_spacing import SpacingReport
+
+
+def settings_line(settings: Sequence[str]) -> str:
+    """How many stations scan at each setting, the most used first: "28 x 3.1 mm @ 10 m, 11 x 6.3 mm @ 10 m"."""
+    return ", ".join(f"{n} x {s}" for s, n in sorted(Counter(settings).items(), key=lambda kv: -kv[1]))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -53,8 +59,7 @@ class Hours:
 
     def lines(self) -> list[str]:
         """The objective, the settings used, the set-up + scan time with its bound and the spacing check."""
-        counts = Counter(self.settings)
-        used = ", ".join(f"{n} x {s}" for s, n in sorted(counts.items(), key=lambda kv: -kv[1]))
+        used = settings_line(self.settings)
         t = self.timing
         bound = t.get("bound_s")
         gap = t.get("gap")

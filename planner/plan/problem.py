@@ -139,15 +139,10 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
     if resolved.hours:  # pricing's regions know no spacing, tripod discs keep no setting (issue 47)
         resolved = replace(resolved, pricing=False, tripod=False, recentre=False)
     strategy = resolve_strategy(site, resolved, validation)
-    if resolved.hours and strategy.tiles:
+    if strategy.tiles and (resolved.hours or surfaces is not None):  # neither is planned by tiles yet
+        what = "point spacing and the field-time objective are" if resolved.hours else "floors and ceilings are"
         raise UsageError(
-            f"point spacing and the field-time objective are planned in one model for now, and this site is "
-            f"planned by tiles ({strategy.reason}); give --tiles off",
-            field="tiles",
-        )
-    if surfaces is not None and strategy.tiles:
-        raise UsageError(
-            f"floors and ceilings are planned in one model for now, and this site is planned by tiles "
+            f"{what} planned in one model for now, and this site is planned by tiles "
             f"({strategy.reason}); give --tiles off",
             field="tiles",
         )

@@ -157,11 +157,15 @@ def site_candidates(
     )
 
 
-def plan_single(problem: Problem, props: FieldProperties | None = None) -> Plan:
+def plan_single(
+    problem: Problem, props: FieldProperties | None = None, coverage: CoverageProblem | None = None
+) -> Plan:
     """Plan the stations of a resolved problem as one model, with its method
     (:data:`planner.plan.methods.REGISTRY`), check registration, and verify the plan. The public entry,
     which also chooses tiles for a large site, is :func:`planner.engine.plan_site`. ``props``: the scan settings
     a run with point spacing or the field-time objective chooses from (None: the instrument's table).
+    ``coverage``: the problem's coverage where the caller built it already (:func:`build_problem` of this
+    problem, or of one that differs in its objective only: the trade-off's plans share one); None: built here.
 
     Raises
     ------
@@ -173,10 +177,16 @@ def plan_single(problem: Problem, props: FieldProperties | None = None) -> Plan:
     start = time.perf_counter()
     spaces: dict[str, FrameSpace] = {}
     region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
-    coverage = build_problem(problem, spaces=spaces, region_cache=region_cache)
+    built = coverage is None
+    if coverage is None:
+        coverage = build_problem(problem, spaces=spaces, region_cache=region_cache)
     log = [
-        f"coverage built in {time.perf_counter() - start:.2f} s "
-        f"({len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
+        (
+            f"coverage built in {time.perf_counter() - start:.2f} s "
+            if built
+            else "coverage given (built once for the run) "
+        )
+        + f"({len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
         f"{', before pricing' if options.method == 'milp' and options.pricing else ''})"
     ]
     cover = None
