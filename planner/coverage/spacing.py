@@ -15,6 +15,15 @@ convex along the wall); the vertical one, ``f(hd) = hd + dz^2 / hd`` with dz the
 The spacing a view gives a piece is the largest of the three, times delta: :func:`spacing_factors` returns that
 factor (metres per radian of step), so ``factor x delta <= max_spacing`` decides each (view, setting).
 
+What "spacing" measures: at one azimuth the beam sweeps a vertical line of the wall, so the points lie on
+vertical columns ``hd^2 x delta / d`` apart, and along each column ``(hd + dz^2 / hd) x delta`` apart. Neighbouring
+columns are shifted along their lines (at one elevation the beam climbs as it turns away from the perpendicular),
+so two points of one elevation are further apart than the column gap, up to
+``sqrt((hd^2 / d)^2 + (dz x / d)^2) x delta`` (x along the wall from the perpendicular's foot); but every point of
+the wall still lies within half a column gap across and half a point gap along a column of a sample. The two gaps
+are the lattice's spacing across and along, which the specifications' "point spacing" asks for; the distance
+between points of one elevation is not.
+
 The bound is over the whole piece, from its foot to its top, at both ends: a piece meets the spacing only
 where every point of it does. Vertical walls only (the planner's wall model); floors and ceilings are not
 checked for spacing.

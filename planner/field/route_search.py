@@ -96,7 +96,20 @@ def shorter_walks(
                 break
     if moved == 0:
         return None
-    return _replanned(plan, cov, cols, chosen, props), moved
+    found = _replanned(plan, cov, cols, chosen, props)
+    return (found, moved) if _holds(found, plan) else None
+
+
+def _holds(moved: Plan, plan: Plan) -> bool:
+    """Whether the moved plan passes its own checks as ``plan`` does: coverage, the spacing, and no registration
+    group in more parts (the moves keep all three by construction; this re-checks the verified plan)."""
+    if plan.verification.complete and not moved.verification.complete:
+        return False
+    spacing = moved.hours.spacing if moved.hours is not None else None
+    if spacing is not None and not spacing.complete:
+        return False
+    before, after = plan.registration or {}, moved.registration or {}
+    return all(after.get(g, 1) <= max(before.get(g, 1), 1) for g in after)
 
 
 def _connected(base: sp.csr_matrix, cand: np.ndarray, chosen: list[int], group_of: np.ndarray, g: int) -> bool:

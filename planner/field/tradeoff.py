@@ -152,7 +152,8 @@ def with_tradeoff(plan: Plan) -> Plan:
         try:
             plans.append((f"one setting: {name}", plan_single(stations_problem, props.only(name), cov), ""))
         except InfeasibleError:
-            plans.append((f"one setting: {name}", None, "does not meet the spacing"))
+            spaced = problem.options.max_point_spacing_m is not None
+            plans.append((f"one setting: {name}", None, "does not meet the spacing" if spaced else "no plan"))
     plans.append((FEWEST, plan_single(stations_problem, props, cov), ""))
     plans.append((FIELD_TIME, plan, ""))
     session = problem.options.session_s
@@ -194,6 +195,8 @@ def _timing(field: Plan, kept: Plan) -> dict[str, Any]:
     timing["objective_s"] = total
     if isinstance(bound, (int, float)) and total > 0:
         timing["gap"] = max(0.0, (total - bound) / total)
+        if timing["gap"] > 0 and timing.get("status") == "optimal":  # optimal was said of the MILP's own plan
+            timing["status"] = "feasible"
     return timing
 
 

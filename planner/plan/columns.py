@@ -95,11 +95,14 @@ def setting_columns(
 ) -> SettingColumns:
     """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair
     is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it
-    (without a spacing every setting covers the same: the cheapest is kept). A candidate left with no pair gets
-    one at the cheapest setting covering nothing: it may still stand for registration, which is judged on what
-    stations see, not on the spacing (a relay between two stations)."""
+    (without a spacing every setting covers the same: the cheapest is kept). That drops only dominated pairs
+    because a setting is first dropped where another is no coarser and no dearer (:func:`useful_settings`):
+    of the settings left, a finer one always costs more. A candidate with no pair at the cheapest setting gets
+    one there covering nothing: it may still stand for registration, which is judged on what stations see, not
+    on the spacing (a relay between two stations), and it should not pay for a finer setting to do so. So the
+    pairs kept hold an optimum of every (station, setting) pair: a bound over them is a bound over all."""
     if max_spacing_m is not None:
-        settings = props.by_step()
+        settings = useful_settings(props.by_step())
     else:  # cheapest first: the only pair kept per candidate
         settings = tuple(sorted(((n, 0.0, props.scan_time_s(n)) for n in props.settings), key=lambda r: r[2]))
     a = problem.by_candidate.tocsr()
@@ -127,9 +130,9 @@ def setting_columns(
         sets.append(np.full(len(take), s, dtype=np.int64))
         mats.append(m[take])
         costs.append(np.full(len(take), props.setup_time_s + scan))
-    relay = np.flatnonzero(best == 0)  # no pair: a relay at the cheapest setting
+    cheap = min(range(len(settings)), key=lambda k: (settings[k][2], k))
+    relay = _without_cheap_pair(base, cand, sets, cheap)  # a relay at the cheapest setting
     if relay.size:
-        cheap = min(range(len(settings)), key=lambda k: (settings[k][2], k))
         cand.append(base[relay])
         sets.append(np.full(len(relay), cheap, dtype=np.int64))
         mats.append(sp.csr_matrix((len(relay), a.shape[1]), dtype=bool))
@@ -142,3 +145,29 @@ def setting_columns(
         matrix=matrix.astype(bool),
         cost_s=np.concatenate(costs).astype(float),
     )
+
+
+def useful_settings(settings: tuple[tuple[str, float, float], ...]) -> tuple[tuple[str, float, float], ...]:
+    """``settings`` (name, step, scan time; coarsest step first) less each one that another setting makes
+    useless: no coarser and no dearer (on an exact tie the one listed first stays). Of those left, a finer
+    setting always costs more, which :func:`setting_columns` relies on."""
+    kept = []
+    for k, (_name, step, scan) in enumerate(settings):
+        beaten = any(
+            (s2 <= step and t2 <= scan) and (s2 < step or t2 < scan or j < k)
+            for j, (_n2, s2, t2) in enumerate(settings)
+            if j != k
+        )
+        if not beaten:
+            kept.append(settings[k])
+    return tuple(kept)
+
+
+def _without_cheap_pair(
+    base: NDArray[np.int64], cand: list[NDArray[np.int64]], sets: list[NDArray[np.int64]], cheap: int
+) -> NDArray[np.int64]:
+    """Positions (in ``base``) of the candidates with no pair at setting ``cheap`` among the pairs so far."""
+    chosen = np.concatenate(cand) if cand else np.zeros(0, dtype=np.int64)
+    at = np.concatenate(sets) if sets else np.zeros(0, dtype=np.int64)
+    has = np.isin(base, chosen[at == cheap])
+    return np.flatnonzero(~has)

@@ -62,7 +62,8 @@ def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
         return out
     settings, timing = assign_settings(run.problem, out.result.selected, props, run.options.max_point_spacing_m, run)
     info = {**out.result.info, "settings": [settings[c] for c in out.result.selected], "field_time": timing}
-    line = f"settings for the chosen stations: set-up + scan {_hours(timing['objective_s'])} ({timing['status']})"  # type: ignore[arg-type]
+    how = f"{timing['status']}" if "fallback" not in timing else f"no answer within its limits: all at {name}"
+    line = f"settings for the chosen stations: set-up + scan {_hours(timing['objective_s'])} ({how})"  # type: ignore[arg-type]
     return replace(out, result=replace(out.result, info=info), log=(*out.log, line))
 
 
@@ -163,6 +164,10 @@ def assign_settings(
         by_candidate=sp.hstack([cols.matrix, stands], format="csr"), cost=cols.cost_s, name=run.site.name
     )
     timed = solve(inst, replace(run.options.milp, overlap=None))
+    if not timed.selected:  # no answer within its limits: each station at the setting it was chosen at (a cover)
+        name = props.by_step()[-1][0] if max_spacing_m is not None else min(props.settings, key=props.scan_time_s)
+        info = {**_time_info(timed), "objective_s": len(rows) * (props.setup_time_s + props.scan_time_s(name))}
+        return {int(c): name for c in rows}, {**info, "gap": None, "fallback": name}
     chosen = _per_station(cols, timed.selected)
     return {c: cols.names[s] for c, s in chosen.items()}, _time_info(timed)
 

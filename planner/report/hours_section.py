@@ -83,9 +83,17 @@ def _tradeoff(t: Mapping[str, Any]) -> str:
     said = (
         f"<p>Gain over the best plan at one setting ({_e(t.get('best_single'))}): {_h(gain)} h.</p>"
         if isinstance(gain, (int, float))
-        else "<p>No plan at one setting meets the spacing.</p>"
+        else f"<p>{_e(_no_gain(rows))}</p>"
     )
     png = base64.b64encode(png_bytes(tradeoff_figure(rows, str(t.get("kept"))))).decode()
     cap = "hours on site per plan: set-up, scan, walking (the field sheet's route) and targets"
     fig = f'<figure><img alt="{cap}" src="data:image/png;base64,{png}"><figcaption>{cap}</figcaption></figure>'
     return f"<h3>Trade-off: stations and hours</h3><table><tr>{th}</tr>{body}</table>{said}{fig}"
+
+
+def _no_gain(rows: list[dict[str, Any]]) -> str:
+    """Why no gain is printed, as the summary says it (:meth:`planner.field.tradeoff.Tradeoff.lines`)."""
+    singles = [r for r in rows if str(r.get("label", "")).startswith("one setting")]
+    if any(r.get("stations") is not None for r in singles):
+        return "Gain not computed: the plans are not all timed whole (see their notes)."
+    return "No plan at one setting meets the spacing."

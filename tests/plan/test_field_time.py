@@ -20,7 +20,7 @@ from planner.cli import main
 from planner.core.errors import ExitCode, UsageError
 from planner.engine import plan_site
 from planner.plan import PlanOptions
-from planner.plan.columns import setting_columns
+from planner.plan.columns import setting_columns, useful_settings
 from planner.plan.field_time import field_properties
 from planner.plan.problem import resolve
 from planner.plan.run import build_problem
@@ -124,19 +124,28 @@ def test_columns_keep_a_finer_setting_only_where_it_covers_more(tmp_path):
     names = [n for n, _, _ in props.by_step()]
     covering = np.diff(cols.matrix.indptr) > 0
     assert "12.5 mm @ 10 m" not in {cols.names[s] for s in cols.setting[covering]}  # no piece at 7.5 mm or finer
-    # a candidate with no pair meeting the spacing stays as one relay at the cheapest setting, covering nothing
+    # every candidate has one pair at the cheapest setting: where it meets the spacing on no piece there, a relay
+    # covering nothing (registration is judged on what stations see; a relay need not pay for a finer setting)
     relays = cols.candidate[~covering]
-    assert len(set(relays.tolist())) == len(relays) and not set(relays.tolist()) & set(
-        cols.candidate[covering].tolist()
-    )
+    assert len(set(relays.tolist())) == len(relays)
     assert {cols.names[s] for s in cols.setting[~covering]} <= {"12.5 mm @ 10 m"}
-    assert set(cols.candidate.tolist()) == set(range(len(cov.candidates)))
+    cheapest = cols.names.index("12.5 mm @ 10 m")
+    assert sorted(cols.candidate[cols.setting == cheapest].tolist()) == list(range(len(cov.candidates)))
     assert np.allclose(cols.cost_s, [SETUP_S + SCAN_S[names[s]] for s in cols.setting])
     count = np.diff(cols.matrix.indptr)
     for c in np.unique(cols.candidate):
         mine = np.flatnonzero(cols.candidate == c)
-        assert list(cols.setting[mine]) == sorted(cols.setting[mine])  # coarse to fine
+        mine = mine[np.argsort(cols.setting[mine], kind="stable")]  # coarse to fine
         assert all(np.diff(count[mine]) > 0)  # each finer pair covers more
+
+
+def test_a_setting_no_coarser_and_no_dearer_than_another_is_dropped():
+    # (name, step rad, scan s), coarsest first: "b" is finer than "a" and no dearer, so "a" is useless; "d" ties
+    # "c" exactly (same step, same time) and is listed after it; "e" is finer and dearer than all: kept
+    settings = (("a", 2e-3, 100.0), ("b", 1e-3, 100.0), ("c", 5e-4, 300.0), ("d", 5e-4, 300.0), ("e", 2e-4, 900.0))
+    assert [n for n, _, _ in useful_settings(settings)] == ["b", "c", "e"]
+    kept = useful_settings(settings)
+    assert all(t1 < t2 for (_, _, t1), (_, _, t2) in zip(kept, kept[1:]))  # finer always dearer
 
 
 def test_moving_the_room_changes_no_count_or_time(tmp_path):
@@ -341,3 +350,27 @@ def test_a_field_time_milp_without_a_plan_leaves_a_row_saying_so(tmp_path, monke
     assert row.stations is None and row.note == "no plan (no_solution)"
     assert plan.stations and plan.hours.tradeoff.kept != "field time"
     assert any("found no plan" in line for line in plan.log)
+
+
+def test_settings_of_the_fewest_stations_fall_back_to_the_finest_when_their_milp_finds_none(tmp_path, monkeypatch):
+    # the settings MILP (the second solve of a stations plan with a spacing) ends with no answer: every chosen
+    # station keeps the finest setting it was chosen at, set-up + scan counted for that (no traceback)
+    import planner.plan.field_time as ft
+    from planner.solve.result import SolveResult, Status
+
+    real = ft.solve
+    calls = []
+
+    def second_fails(inst, options):
+        calls.append(1)
+        if len(calls) == 1:
+            return real(inst, options)
+        return SolveResult(method="milp", status=Status.NO_SOLUTION, selected=(), objective=None)
+
+    monkeypatch.setattr(ft, "solve", second_fails)
+    plan = plan_site(__import__("planner").load_site(str(_room(tmp_path))), PlanOptions(max_point_spacing_m=0.006))
+    info = plan.result.info
+    n = len(plan.result.selected)
+    assert n > 0 and info["settings"] == ["1.6 mm @ 10 m"] * n
+    assert info["field_time"]["fallback"] == "1.6 mm @ 10 m"
+    assert info["field_time"]["objective_s"] == pytest.approx(n * (SETUP_S + SCAN_S["1.6 mm @ 10 m"]))
