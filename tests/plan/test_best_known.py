@@ -91,3 +91,33 @@ def test_no_file_no_entry(tmp_path):
     assert best_known("plant_16ha", CONNECTED, "site", 0.3, None, tmp_path / "none.json") is None
     (tmp_path / "bad.json").write_text("{")
     assert best_known("plant_16ha", CONNECTED, "site", 0.3, None, tmp_path / "bad.json") is None
+
+
+def test_each_plan_file_of_the_best_known_holds_its_count_and_is_a_connected_cover():
+    # an entry naming its plan file (docs/benchmarks/plans/): the file has the entry's stations on the entry's pool,
+    # and re-checked here from the site alone: every wall point at 0.1 m seen, one registration part per group
+    from pathlib import Path
+
+    from planner import load_site
+    from planner.io.plan_json import read_plan_stations
+    from planner.plan import PlanOptions
+    from planner.plan.problem import resolve
+    from planner.plan.registration import registration_check
+    from planner.plan.verify import verify_stations
+
+    root = Path(BEST_KNOWN).resolve().parents[2]
+    named = [e for e in json.loads(Path(BEST_KNOWN).read_text())["plans"] if e.get("plan")]
+    assert named, "the 16-ha connected entry names its plan file"
+    for entry in named:
+        data = json.loads((root / entry["plan"]).read_text())
+        assert len(data["stations"]) == entry["stations"]
+        assert data["pool"] == entry["pool"]
+        problem = resolve(load_site(str(root / "instances" / f"{entry['instance']}.json")), PlanOptions())
+        stations = read_plan_stations(root / entry["plan"], problem.site)
+        assert verify_stations(problem.sight, stations, 0.1).complete
+        cov = problem.sight.coverage(stations, problem.targets)
+        rule = problem.checked_rule
+        reach = rule.max_link_m or problem.limits.effective_range_m
+        parts, _ = registration_check(cov, tuple(range(len(stations))), rule, problem.site, problem.registration, reach)
+        assert entry["registration"] == problem.registration == "site"
+        assert list(parts.values()) == [1]
