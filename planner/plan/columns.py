@@ -91,7 +91,12 @@ class SettingColumns:
 
 
 def setting_columns(
-    problem: CoverageProblem, props: FieldProperties, max_spacing_m: float | None, rows: NDArray[np.int64] | None = None
+    problem: CoverageProblem,
+    props: FieldProperties,
+    max_spacing_m: float | None,
+    rows: NDArray[np.int64] | None = None,
+    *,
+    all_relays: bool = True,
 ) -> SettingColumns:
     """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair
     is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it
@@ -100,7 +105,9 @@ def setting_columns(
     of the settings left, a finer one always costs more. A candidate with no pair at the cheapest setting gets
     one there covering nothing: it may still stand for registration, which is judged on what stations see, not
     on the spacing (a relay between two stations), and it should not pay for a finer setting to do so. So the
-    pairs kept hold an optimum of every (station, setting) pair: a bound over them is a bound over all."""
+    pairs kept hold an optimum of every (station, setting) pair: a bound over them is a bound over all.
+    ``all_relays=False``: relays only for the candidates with no other pair (fewer columns, the same station
+    counts; a field-time optimum over them may cost more)."""
     if max_spacing_m is not None:
         settings = useful_settings(props.by_step())
     else:  # cheapest first: the only pair kept per candidate
@@ -131,7 +138,7 @@ def setting_columns(
         mats.append(m[take])
         costs.append(np.full(len(take), props.setup_time_s + scan))
     cheap = min(range(len(settings)), key=lambda k: (settings[k][2], k))
-    relay = _without_cheap_pair(base, cand, sets, cheap)  # a relay at the cheapest setting
+    relay = _without_cheap_pair(base, cand, sets, cheap) if all_relays else np.flatnonzero(best == 0)
     if relay.size:
         cand.append(base[relay])
         sets.append(np.full(len(relay), cheap, dtype=np.int64))

@@ -374,3 +374,19 @@ def test_settings_of_the_fewest_stations_fall_back_to_the_finest_when_their_milp
     assert n > 0 and info["settings"] == ["1.6 mm @ 10 m"] * n
     assert info["field_time"]["fallback"] == "1.6 mm @ 10 m"
     assert info["field_time"]["objective_s"] == pytest.approx(n * (SETUP_S + SCAN_S["1.6 mm @ 10 m"]))
+
+
+def test_the_columns_with_fewer_relays_are_a_subset_of_all(tmp_path):
+    # the field-time MILP may take its plan from the model with a relay only where a candidate has no other pair:
+    # its columns are some of the whole model's, so the whole model's bound holds for that plan too
+    site_path = _room(tmp_path)
+    problem = resolve(__import__("planner").load_site(str(site_path)), PlanOptions(max_point_spacing_m=0.006))
+    cov = build_problem(problem)
+    props = field_properties(problem.site)
+    every = setting_columns(cov, props, 0.006)
+    few = setting_columns(cov, props, 0.006, all_relays=False)
+    pairs = set(zip(every.candidate.tolist(), every.setting.tolist()))
+    assert set(zip(few.candidate.tolist(), few.setting.tolist())) <= pairs
+    assert len(few.candidate) <= len(every.candidate) and few.names == every.names
+    covering = np.diff(few.matrix.indptr) > 0
+    assert set(few.candidate[~covering].tolist()).isdisjoint(few.candidate[covering].tolist())
