@@ -20,7 +20,7 @@ from planner.field.route_search import shorter_walks
 from planner.field.run import FieldOptions, FieldPlan, field_plan
 from planner.instrument.field_table import FieldProperties
 from planner.plan.field_time import field_properties
-from planner.plan.hours import settings_line
+from planner.plan.hours import no_gain_reason, settings_line
 from planner.plan.run import build_problem, plan_single
 
 if TYPE_CHECKING:
@@ -116,10 +116,8 @@ class Tradeoff:
         singles = [r for r in self.rows if r.label.startswith("one setting")]
         if gain is not None and best is not None:
             tail = f"gain over the best plan at one setting ({best.label}): {gain / 3600:.2f} h ({gain:,.0f} s)"
-        elif any(r.stations is not None for r in singles):
-            tail = "gain not computed: the plans are not all timed whole (see their notes)"
         else:
-            tail = "no plan at one setting meets the spacing"
+            tail = no_gain_reason(any(r.stations is not None for r in singles))
         kept = self.row(self.kept)
         route = (
             f"route of the kept plan: {kept.route_m:,.1f} m, lower bound {kept.route_bound_m:,.1f} m "

@@ -52,19 +52,23 @@ def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
     gives each chosen station the cheapest setting that keeps the cover (:func:`assign_settings`)."""
     if run.options.objective == "field-time":
         return field_time_method(run, props)
-    # the fewest stations: every station may scan at the finest setting, which sees all a coarser one sees
-    if run.options.max_point_spacing_m is not None:
-        name = props.by_step()[-1][0]
-    else:  # every setting sees the same: the cheapest
-        name = min(props.settings, key=props.scan_time_s)
+    name = _count_setting(props, run.options.max_point_spacing_m)
     out = field_time_method(run, props.only(name), unit=True)
     if not out.result.selected:
         return out
     settings, timing = assign_settings(run.problem, out.result.selected, props, run.options.max_point_spacing_m, run)
     info = {**out.result.info, "settings": [settings[c] for c in out.result.selected], "field_time": timing}
-    how = f"{timing['status']}" if "fallback" not in timing else f"no answer within its limits: all at {name}"
+    how = f"no answer within its limits: all at {name}" if "fallback" in timing else f"{timing['status']}"
     line = f"settings for the chosen stations: set-up + scan {_hours(timing['objective_s'])} ({how})"  # type: ignore[arg-type]
     return replace(out, result=replace(out.result, info=info), log=(*out.log, line))
+
+
+def _count_setting(props: FieldProperties, max_spacing_m: float | None) -> str:
+    """The setting a stations plan is counted at: with a spacing the finest, which sees all a coarser one sees;
+    without one the cheapest (every setting sees the same)."""
+    if max_spacing_m is not None:
+        return props.by_step()[-1][0]
+    return min(props.settings, key=props.scan_time_s)
 
 
 def field_time_method(run: MethodInput, props: FieldProperties, *, unit: bool = False) -> MethodOutput:
@@ -190,7 +194,7 @@ def assign_settings(
     )
     timed = solve(inst, replace(run.options.milp, overlap=None))
     if not timed.selected:  # no answer within its limits: each station at the setting it was chosen at (a cover)
-        name = props.by_step()[-1][0] if max_spacing_m is not None else min(props.settings, key=props.scan_time_s)
+        name = _count_setting(props, max_spacing_m)
         info = {**_time_info(timed), "objective_s": len(rows) * (props.setup_time_s + props.scan_time_s(name))}
         return {int(c): name for c in rows}, {**info, "gap": None, "fallback": name}
     chosen = _per_station(cols, timed.selected)

@@ -17,6 +17,14 @@ def settings_line(settings: Sequence[str]) -> str:
     return ", ".join(f"{n} x {s}" for s, n in sorted(Counter(settings).items(), key=lambda kv: -kv[1]))
 
 
+def no_gain_reason(single_timed: bool) -> str:
+    """Why a trade-off prints no gain: some plan at one setting exists but not every plan was timed whole
+    (``single_timed``), or no plan at one setting meets the spacing (the summary's and the report's words)."""
+    if single_timed:
+        return "gain not computed: the plans are not all timed whole (see their notes)"
+    return "no plan at one setting meets the spacing"
+
+
 @dataclass(frozen=True, kw_only=True)
 class Hours:
     """``settings[k]``: the scan setting of the plan's station k. ``timing``: the set-up + scan objective

@@ -11,6 +11,7 @@ from typing import Any
 
 from planner.figures.base import png_bytes
 from planner.figures.tradeoff_fig import tradeoff_figure
+from planner.plan.hours import no_gain_reason
 from planner.plan.outcome import Outcome
 
 
@@ -92,8 +93,7 @@ def _tradeoff(t: Mapping[str, Any]) -> str:
 
 
 def _no_gain(rows: list[dict[str, Any]]) -> str:
-    """Why no gain is printed, as the summary says it (:meth:`planner.field.tradeoff.Tradeoff.lines`)."""
+    """Why no gain is printed, in the summary's words (:func:`planner.plan.hours.no_gain_reason`)."""
     singles = [r for r in rows if str(r.get("label", "")).startswith("one setting")]
-    if any(r.get("stations") is not None for r in singles):
-        return "Gain not computed: the plans are not all timed whole (see their notes)."
-    return "No plan at one setting meets the spacing."
+    reason = no_gain_reason(any(r.get("stations") is not None for r in singles))
+    return f"{reason[0].upper()}{reason[1:]}."

@@ -115,11 +115,14 @@ def test_a_spacing_no_setting_reaches_is_refused_before_any_solver(tmp_path, cap
     assert "(finest " in err  # each piece with the finest spacing it gets
 
 
+def _room_pool(tmp_path):
+    """The 24 x 6 m room's coverage at a 6 mm spacing and its instrument's field table (the P30's)."""
+    problem = resolve(__import__("planner").load_site(str(_room(tmp_path))), PlanOptions(max_point_spacing_m=0.006))
+    return build_problem(problem), field_properties(problem.site)
+
+
 def test_columns_keep_a_finer_setting_only_where_it_covers_more(tmp_path):
-    site_path = _room(tmp_path)
-    problem = resolve(__import__("planner").load_site(str(site_path)), PlanOptions(max_point_spacing_m=0.006))
-    cov = build_problem(problem)
-    props = field_properties(problem.site)
+    cov, props = _room_pool(tmp_path)
     cols = setting_columns(cov, props, 0.006)
     names = [n for n, _, _ in props.by_step()]
     covering = np.diff(cols.matrix.indptr) > 0
@@ -379,10 +382,7 @@ def test_settings_of_the_fewest_stations_fall_back_to_the_finest_when_their_milp
 def test_the_columns_with_fewer_relays_are_a_subset_of_all(tmp_path):
     # the field-time MILP may take its plan from the model with a relay only where a candidate has no other pair:
     # its columns are some of the whole model's, so the whole model's bound holds for that plan too
-    site_path = _room(tmp_path)
-    problem = resolve(__import__("planner").load_site(str(site_path)), PlanOptions(max_point_spacing_m=0.006))
-    cov = build_problem(problem)
-    props = field_properties(problem.site)
+    cov, props = _room_pool(tmp_path)
     every = setting_columns(cov, props, 0.006)
     few = setting_columns(cov, props, 0.006, all_relays=False)
     pairs = set(zip(every.candidate.tolist(), every.setting.tolist()))
