@@ -17,6 +17,8 @@ from planner.site.model import ScanSide, Site, Zone
 
 #: vertices within this of 180 deg (a curve drawn finely) get no corner rays or bisector points
 NEARLY_STRAIGHT_DEG = 5.0
+#: the candidate grid where none is given and no strategy chose one (one model, studies, tests), m
+GRID_SPACING_M = 10.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -24,23 +26,30 @@ class PoolOptions:
     """How dense the pool is.
 
     ``grid_spacing_m``: grid over the accessible area (a zone-side region too
-    small for ``min_grid_points`` at that spacing gets a finer grid);
+    small for ``min_grid_points`` at that spacing gets a finer grid); None: the run's strategy chooses it
+    (:func:`planner.plan.problem.resolve`), :data:`GRID_SPACING_M` where nothing chooses (``grid_m``);
     ``field_samples``: random points (seeded) per movement field;
     ``min_standoff_m``: grid and field points closer to a wall are dropped.
     """
 
-    grid_spacing_m: float = 10.0
+    grid_spacing_m: float | None = None
     field_samples: int = 6
     min_grid_points: int = 12
     min_standoff_m: float = 0.5
     seed: int = 0
 
     def __post_init__(self) -> None:
-        real(self.grid_spacing_m, "grid_spacing_m", above=0.0)
+        if self.grid_spacing_m is not None:
+            real(self.grid_spacing_m, "grid_spacing_m", above=0.0)
         real(self.min_standoff_m, "min_standoff_m", at_least=0.0)
         count(self.field_samples, "field_samples", 0)
         count(self.min_grid_points, "min_grid_points", 1)
         count(self.seed, "seed", 0)
+
+    @property
+    def grid_m(self) -> float:
+        """The grid spacing this pool is built with, m: the one given or chosen, else :data:`GRID_SPACING_M`."""
+        return GRID_SPACING_M if self.grid_spacing_m is None else self.grid_spacing_m
 
 
 def closed_form_candidates(site: Site, limits: Limits) -> list[Candidate]:
@@ -232,7 +241,7 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
                         CandidateKind.FIELD,
                     )
                 )
-            spacing = options.grid_spacing_m
+            spacing = options.grid_m
             if region.area / spacing**2 < options.min_grid_points:
                 spacing = max(math.sqrt(region.area / options.min_grid_points), 0.25)
             origin, ux = _frame_axes(site, zone.frame)

@@ -144,7 +144,7 @@ def guard_memory(problem: Problem) -> None:
 
     o = problem.options
     max_slant_range_m = problem.validation.range_limit.max_slant_range_m
-    check_memory(problem.site, o.target_spacing_m, o.pool.grid_spacing_m, max_slant_range_m, o.memory_limit_bytes)
+    check_memory(problem.site, o.target_spacing_m, o.pool.grid_m, max_slant_range_m, o.memory_limit_bytes)
 
 
 def memory_limit(args: argparse.Namespace) -> int | None:

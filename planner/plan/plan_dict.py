@@ -50,7 +50,7 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
             "sigma_req_m": p.sigma_req_m,
             "instrument_height_m": p.instrument_height_m,
             "target_spacing_m": o.target_spacing_m,
-            "grid_spacing_m": o.pool.grid_spacing_m,
+            "grid_spacing_m": o.pool.grid_m,
             "field_samples": o.pool.field_samples,
             "seed": o.pool.seed,
             "incidence": "3d" if o.incidence_3d else "horizontal",

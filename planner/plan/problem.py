@@ -139,6 +139,9 @@ def resolve(site: Site, options: PlanOptions | None = None, *, validation: Valid
     if resolved.hours:  # pricing's regions know no spacing, tripod discs keep no setting (issue 47)
         resolved = replace(resolved, pricing=False, tripod=False, recentre=False)
     strategy = resolve_strategy(site, resolved, validation)
+    if resolved.pool.grid_spacing_m is None:  # the grid the strategy chose, else the pool's default, recorded
+        grid = strategy.grid_spacing_m or resolved.pool.grid_m
+        resolved = replace(resolved, pool=replace(resolved.pool, grid_spacing_m=grid))
     if strategy.tiles and (resolved.hours or surfaces is not None):  # neither is planned by tiles yet
         what = "point spacing and the field-time objective are" if resolved.hours else "floors and ceilings are"
         raise UsageError(

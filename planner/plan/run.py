@@ -118,7 +118,7 @@ def coverage_problem(
     check_memory(
         site,
         options.target_spacing_m,
-        options.pool.grid_spacing_m,
+        options.pool.grid_m,
         closed_form_limits(problem.validation).max_slant_range_m,
         options.memory_limit_bytes,
     )

@@ -17,7 +17,16 @@ The time ``budget_s`` (``planner plan --set tile-budget=S``, default 420 s) is s
 tiles that run side by side, and the Lagrangian bound ``LAGRANGE_SHARE``;
 the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
 tile; off by default, :data:`WINDOW_PASSES`); the whole-site plain cover (CFT: its own iteration counts) and the local search (``MOVES_PER_PIECE`` moves
-per wall piece) take what is left; all of them count work, not seconds, so the plan is the same under any load. Workers: half the
+per wall piece) take what is left; all of them count work, not seconds, so the plan is the same under any load.
+A plan with a registration rule (a connected one) runs no CFT cover: its joined cover never was the best start
+(16-ha plant: 129 stations against the connected greedy's 115; 64 ha: 457 against 427) and took 173 s of 489
+(16 ha); the local search gets that time instead, ``CONNECTED_MOVES_PER_PIECE`` moves per piece.
+Where no grid is given (``--grid-spacing``), a tiled site of at most :data:`FINE_GRID_PIECES` pieces gets a
+candidate grid of :data:`FINE_GRID_M` (``Strategy.grid_spacing_m``; :func:`planner.plan.problem.resolve` builds
+the pool with it): on the 16-ha plant the search from the connected greedy found 99 stations in 115,320 moves on
+the 10-m grid's pool (12,476 candidates, cover LP 67.45), 97 on a 5-m grid's (19,523, LP 65.60) and 96 on the
+4-m grid's (24,775; 97 at move 34,756, 96 at move 101,859) (docs/large-sites.md); a larger site keeps the 10-m
+grid (64 ha: 63,540 candidates and 4.1 GiB on it already). Workers: half the
 machine's cores, at most one per tile; none (in this process) on a machine of two cores or fewer, where a second
 process adds contention, not speed (docs/studies/workers.md). Half, not all: with a worker on every
 core the client, the scheduler and the workers compete for the same cores, and the tile phase gains little over
@@ -48,6 +57,14 @@ if TYPE_CHECKING:
 BUDGET_S = 420.0
 #: the local search's moves per wall piece of the site, unless a count is given
 MOVES_PER_PIECE = 10.0
+#: the same for a connected plan of the automatic strategy, which runs no CFT cover (module docstring): on the
+#: 16-ha plant 115,320 moves, where the search from the connected greedy's 115 stations finds 100 at move 69,745
+#: and 99 at move 79,877 (docs/large-sites.md)
+CONNECTED_MOVES_PER_PIECE = 15.0
+#: the candidate grid of a tiled site of at most FINE_GRID_PIECES wall pieces where none is given, m (module docstring)
+FINE_GRID_M = 4.0
+#: the most wall pieces (work estimate) a tiled site may have for the fine grid: the 600-s class of the 16-ha plant
+FINE_GRID_PIECES = 10_000
 #: the memory limit of each Dask worker unless set
 WORKER_MEMORY = "1.5GiB"
 
@@ -59,8 +76,8 @@ class TileOptions:
     MILP for the bound (0: none, the default: CFT's cover replaces its cover, and its bound was below the LP's
     on every plant); ``cft``: the whole-site plain cover by CFT (:mod:`planner.solve.cft`, ``cft_iters`` heuristic
     iterations per round), the plan of a run with no registration rule and a start of the connected one;
-    ``tile_plans``: each tile's MILP, another start (off: the tiles give the coverage only; the automatic
-    strategy turns them off where CFT runs: on the 16-ha plant's site-connected problem the stitched tile plans
+    ``tile_plans``: each tile's MILP, another start (off: the tiles give the coverage only, but for a plain cover
+    with no CFT cover, which starts from them; the automatic strategy turns them off: on the 16-ha plant's site-connected problem the stitched tile plans
     gave 134 stations against the connected greedy's 115, and took 190 s of the tiles' 238);
     ``local_search_moves``: move budget of the local search on the kept plan
     (:func:`planner.solve.local_search.shrink`; 0: none; None, the default: ``moves_per_piece`` per wall piece,
@@ -178,11 +195,13 @@ STATIONS_PER_TILE = 6
 
 @dataclass(frozen=True)
 class Strategy:
-    """What the plain command runs: ``tiling`` None for the single model; ``reason`` says why."""
+    """What the plain command runs: ``tiling`` None for the single model; ``reason`` says why;
+    ``grid_spacing_m``: the candidate grid it chooses where none is given (None: the pool's default)."""
 
     tiling: TileOptions | None
     workers: int
     reason: str
+    grid_spacing_m: float | None = None
 
     @property
     def tiles(self) -> bool:
@@ -201,6 +220,7 @@ class Strategy:
                     "bound_work_s": t.bound_time_limit_s,
                     "lagrange_work_s": t.lagrange_work_s,
                     "cover": f"CFT, {t.cft_iters} iterations" if t.cft else None,
+                    "grid_spacing_m": self.grid_spacing_m,
                     "search_moves": t.local_search_moves
                     if t.local_search_moves is not None
                     else f"{t.moves_per_piece:g} per piece",
@@ -258,7 +278,7 @@ def strategy_for(
     """The plain command's strategy for ``site`` (:func:`choose` on the memory guard's work estimate of its wall
     pieces); ``workers``: the Dask workers asked for (``--workers``), else None for the machine's choice."""
     max_slant_range_m = validation.range_limit.max_slant_range_m
-    pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_spacing_m, max_slant_range_m).targets
+    pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_m, max_slant_range_m).targets
     return choose(site, options, max_slant_range_m, pieces, budget_s, workers=workers)
 
 
@@ -288,11 +308,14 @@ def choose(
         cores = os.cpu_count() or 1 if cores is None else cores
         workers = 0 if cores <= 2 else min(cores // 2, n)
     side_by_side = max(workers, 1)
+    connected = options.milp.overlap is not None  # a registration rule: CFT's cover is no start worth its time
     tiling = TileOptions(
         tile_m=tile_m,
         tile_time_limit_s=_clamp(TILE_SHARE * budget_s * side_by_side / n, 2.0, 30.0),
         lagrange_work_s=_clamp(LAGRANGE_SHARE * budget_s * side_by_side / n, 1.0, 10.0),
         tile_plans=False,
+        cft=not connected,
+        moves_per_piece=CONNECTED_MOVES_PER_PIECE if connected else MOVES_PER_PIECE,
         windows=replace(
             WindowOptions(),
             passes=WINDOW_PASSES,
@@ -300,11 +323,18 @@ def choose(
             work_s=_clamp(WINDOW_SHARE * budget_s / (STATIONS_PER_TILE * n), 0.5, 3.0),
         ),
     )
+    fine = pieces <= FINE_GRID_PIECES
     return Strategy(
         tiling,
         workers,
         f"about {pieces:,} wall pieces over {n} tiles of {tile_m:g} m (at least "
-        f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s",
+        f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s"
+        + (
+            f"; candidate grid {FINE_GRID_M:g} m where none is given (at most {FINE_GRID_PIECES:,} pieces)"
+            if fine
+            else ""
+        ),
+        FINE_GRID_M if fine else None,
     )
 
 

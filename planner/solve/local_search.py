@@ -124,10 +124,11 @@ class _State:
             touched = np.zeros(self.a.shape[0], dtype=np.int64)
             if parts == 0:  # one component per group: linked or not
                 touched[col] = 1
-            else:  # distinct (candidate, component) pairs: a bool table, not np.unique (hash-based in numpy 2, ~5x slower here)
-                hit = np.zeros((self.a.shape[0], n), dtype=bool)
-                hit[col, label[row]] = True
-                touched = hit.sum(axis=1, dtype=np.int64)
+            else:  # distinct (candidate, component) pairs: a bool table, not np.unique (hash-based in numpy 2, ~5x slower
+                # here), a row per component, summed over its few rows (a sum along each candidate's row of n is slower)
+                hit = np.zeros((n, self.a.shape[0]), dtype=bool)
+                hit[label[row], col] = True
+                touched = hit.sum(axis=0, dtype=np.int64)
             self._graph = (idx, sub, label, parts, touched)
         return self._graph
 

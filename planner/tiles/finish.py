@@ -135,7 +135,8 @@ def finish_plan(
                 else "; every tile's plan covers its core"
             )
             if solved
-            else f"coverage in {times['tiles_s']:.1f} s (no tile MILPs: the whole-site plain cover is CFT's)"
+            else f"coverage in {times['tiles_s']:.1f} s (no tile MILPs: "
+            + ("the whole-site plain cover is CFT's)" if cover is not None else "the whole-site search makes the plan)")
         ),
         limits_line(capped, work_limited),
         _search_line(joined, search, windows, cover),

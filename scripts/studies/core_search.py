@@ -17,7 +17,9 @@ pool's fingerprint), so that ``planner verify SITE OUT`` re-checks its coverage 
     python scripts/studies/core_search.py instances/plant_16ha.json \\
         --plans docs/benchmarks/plans/plant_16ha_p99.json docs/benchmarks/plans/plant_16ha_p100.json \\
         --start docs/benchmarks/plans/plant_16ha_p99.json --core 10 --moves 40000 --seeds 0 1 2 3 4 5 \\
-        --out plant_16ha_core.json
+        --grid-spacing 10 --out plant_16ha_core.json
+
+(``--grid-spacing 10``: the pool those plans were made on, before the 16-ha plant's default grid became 4 m.)
 
 One thread; the result depends only on the inputs and the arguments (seeded draws, move counts, no clock).
 """
@@ -38,15 +40,20 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 
-def site_matrices(path: Path) -> tuple[Any, sp.csr_matrix, sp.csr_matrix, tuple[str, ...], str]:
+def site_matrices(
+    path: Path, grid_spacing_m: float | None = None
+) -> tuple[Any, sp.csr_matrix, sp.csr_matrix, tuple[str, ...], str]:
     """The pool, coverage (candidates x pieces, bool CSR), overlap adjacency, registration groups and the pool's
-    fingerprint, as the plain ``planner plan SITE`` builds them for a plant (tiles; registration by default)."""
+    fingerprint, as the plain ``planner plan SITE [--grid-spacing M]`` builds them for a plant (tiles;
+    registration by default; ``grid_spacing_m`` None: the strategy's grid)."""
+    from planner.candidates.pool import PoolOptions
     from planner.coverage.fingerprint import pool_fingerprint
     from planner.io.load import load_site
     from planner.plan import PlanOptions
     from planner.tiles.prepare import prepare
 
-    prep = prepare(load_site(path), PlanOptions(method="milp", pricing=False))
+    pool = PoolOptions(grid_spacing_m=grid_spacing_m)
+    prep = prepare(load_site(path), PlanOptions(method="milp", pricing=False, pool=pool))
     a = prep.coverage()
     return prep.pool, a, prep.overlap(a).astype(bool).tocsr(), prep.groups, pool_fingerprint(prep.pool, prep.targets)
 
@@ -111,9 +118,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--moves", type=int, default=40000)
     p.add_argument("--seeds", type=int, nargs="+", default=[0])
     p.add_argument("--out", type=Path, required=True)
+    p.add_argument("--grid-spacing", type=float, default=None, help="the pool's grid, m (default: the plan's own)")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
-    pool, a, adj, groups, fingerprint = site_matrices(args.site)
+    pool, a, adj, groups, fingerprint = site_matrices(args.site, args.grid_spacing)
     plans = [read_plan(f, pool) for f in args.plans]
     start = read_plan(args.start, pool)
     checked(a, adj, groups, start, start)

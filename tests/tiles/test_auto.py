@@ -12,6 +12,8 @@ from planner.plan import PlanOptions, closed_form_limits
 from planner.plan.memory_guard import estimate_work
 from planner.plan.strategy import MIN_PIECES, choose, strategy_for, tile_count
 from planner.site.validate import validate_site
+from planner.solve.cft import HEUR_ITERS
+from planner.solve.milp import MilpOptions
 from tests.conftest import INSTANCES
 
 
@@ -35,11 +37,13 @@ def test_16ha_plant_goes_to_tiles_split_by_the_budget():
     assert st.tiling is not None and st.tiling.tile_m == 100.0 and st.workers == 0
     site = load_site(INSTANCES / "plant_16ha.json")
     assert tile_count(site, 100.0) == 16
-    # 2 cores: no worker (in this process); each tile 0.30 x 420 / 16 = 7.875 s of work, no bound MILP (CFT's
-    # cover instead), the Lagrangian 0.15 x 420 / 16 = 3.9375 s per part; the local search 10 moves per piece
+    # 2 cores: no worker (in this process); each tile 0.30 x 420 / 16 = 7.875 s of work, no bound MILP, the
+    # Lagrangian 0.15 x 420 / 16 = 3.9375 s per part; a connected plan (the site's registration rule): no CFT
+    # cover, the local search 15 moves per piece, 15 x 7,688 = 115,320
     assert st.tiling.tile_time_limit_s == pytest.approx(7.875)
-    assert st.tiling.bound_time_limit_s == 0.0 and st.tiling.cft
-    assert st.tiling.moves_for(7_688) == 76_880
+    assert st.tiling.bound_time_limit_s == 0.0 and not st.tiling.cft
+    assert st.tiling.moves_for(7_688) == 115_320
+    assert st.to_dict()["cover"] is None and st.to_dict()["search_moves"] == "15 per piece"
     assert st.tiling.lagrange_work_s == pytest.approx(3.9375)
     assert "tiles of 100 m in this process (no Dask worker)" in st.line()  # not 'on no worker(s)'
     # windows: 0.30 x 420 s over 6 stations per tile x 16 tiles = 96 windows -> 1.3125 s each, but no pass by
@@ -52,6 +56,16 @@ def test_16ha_plant_goes_to_tiles_split_by_the_budget():
     assert "16 tiles of 100 m" in big.line() and big.to_dict()["kind"] == "tiles"
     # 4 cores: 2 workers; 3 cores: 1 (a worker process, the client waiting); 2 cores: none
     assert [_strategy("plant_16ha", cores=c).workers for c in (4, 3, 2)] == [2, 1, 0]
+
+
+def test_a_plain_cover_keeps_cft_and_ten_moves_per_piece():
+    # --no-overlap (no registration rule): CFT's cover is the plan's start, 10 moves per piece, 76,880 on 16 ha
+    site = load_site(INSTANCES / "plant_16ha.json")
+    s_max = closed_form_limits(validate_site(site)).max_slant_range_m
+    plain = PlanOptions(method="milp", milp=MilpOptions(overlap=None))
+    st = choose(site, plain, s_max, estimate_work(site, 1.0, 10.0, s_max).targets, 420.0, cores=2)
+    assert st.tiling is not None and st.tiling.cft and st.tiling.moves_for(7_688) == 76_880
+    assert st.to_dict()["cover"] == f"CFT, {HEUR_ITERS} iterations"
 
 
 def test_workers_asked_for_are_the_strategys_and_set_its_split():
@@ -92,3 +106,19 @@ def test_plain_command_records_its_strategy(tmp_path, capsys):
     assert plan["solver"]["strategy"]["kind"] == "single model"
     assert main(["plan", str(INSTANCES / "house_doors.json"), "--tiles", "off", "--quiet"]) == 0
     assert "strategy: single model (one model asked for)" in capsys.readouterr().out
+
+
+def test_a_tiled_site_of_few_pieces_gets_the_fine_grid_where_none_is_given():
+    # 16 ha: 7,688 pieces <= 10,000 -> the strategy's grid 4 m, and resolve builds the pool with it; a grid given is
+    # kept; one model keeps the 10-m default (polygon A); 64 ha: 30,358 pieces > 10,000 -> the 10-m default
+    from planner.candidates.pool import PoolOptions
+    from planner.plan.problem import resolve
+    from planner.plan.strategy import FINE_GRID_M, FINE_GRID_PIECES
+
+    assert _strategy("plant_16ha").grid_spacing_m == FINE_GRID_M == 4.0 and 7_688 <= FINE_GRID_PIECES
+    assert "candidate grid 4 m where none is given" in _strategy("plant_16ha").line()
+    assert _strategy("plant_64ha").grid_spacing_m is None and _strategy("polygon_a").grid_spacing_m is None
+    plant = load_site(INSTANCES / "plant_16ha.json")
+    assert resolve(plant, PlanOptions()).options.pool.grid_spacing_m == 4.0
+    assert resolve(plant, PlanOptions(pool=PoolOptions(grid_spacing_m=10.0))).options.pool.grid_spacing_m == 10.0
+    assert resolve(load_site(INSTANCES / "polygon_a.json"), PlanOptions()).options.pool.grid_spacing_m == 10.0

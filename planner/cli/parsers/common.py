@@ -93,7 +93,12 @@ def add_pool_options(p: argparse.ArgumentParser, tuning: Collection[str] = ()) -
     add_option(p, "seed", tuning)
     p.add_argument("--target-spacing", type=POSITIVE, default=1.0, metavar="M", help="wall piece length (default 1 m)")
     p.add_argument(
-        "--grid-spacing", type=POSITIVE, default=10.0, metavar="M", help="candidate grid spacing (default 10 m)"
+        "--grid-spacing",
+        type=POSITIVE,
+        default=None,
+        metavar="M",
+        help="candidate grid spacing (default 10 m; 4 m for a site planned by tiles of at most "
+        "10,000 wall pieces: docs/large-sites.md)",
     )
 
 
