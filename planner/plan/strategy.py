@@ -44,7 +44,7 @@ import numpy as np
 
 from planner.core.checks import count, real
 from planner.core.errors import UsageError
-from planner.plan.memory_guard import estimate_work
+from planner.plan.memory_guard import default_limit_bytes, estimate_work
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
 from planner.solve.cft import HEUR_ITERS
@@ -73,9 +73,10 @@ WORKER_MEMORY = "1.5GiB"
 class TileOptions:
     """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
     ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
-    MILP for the bound (0: none, the default: CFT's cover replaces its cover, and its bound was below the LP's
-    on every plant); ``cft``: the whole-site plain cover by CFT (:mod:`planner.solve.cft`, ``cft_iters`` heuristic
-    iterations per round), the plan of a run with no registration rule and a start of the connected one;
+    MILP for the bound (0: none, the default: its bound was below the LP's on every plant, and CFT's cover, where
+    CFT runs, replaces its cover); ``cft``: the whole-site plain cover by CFT (:mod:`planner.solve.cft`, ``cft_iters``
+    heuristic iterations per round), the plan of a run with no registration rule and a start of the connected one
+    (the automatic strategy turns it off for a connected plan, module docstring);
     ``tile_plans``: each tile's MILP, another start (off: the tiles give the coverage only, but for a plain cover
     with no CFT cover, which starts from them; the automatic strategy turns them off: on the 16-ha plant's site-connected problem the stitched tile plans
     gave 134 stations against the connected greedy's 115, and took 190 s of the tiles' 238);
@@ -276,10 +277,17 @@ def strategy_for(
     site: Site, options: PlanOptions, validation: ValidationReport, budget_s: float, workers: int | None = None
 ) -> Strategy:
     """The plain command's strategy for ``site`` (:func:`choose` on the memory guard's work estimate of its wall
-    pieces); ``workers``: the Dask workers asked for (``--workers``), else None for the machine's choice."""
+    pieces); ``workers``: the Dask workers asked for (``--workers``), else None for the machine's choice. The fine
+    grid is kept only where its estimate fits the memory limit (``options.memory_limit_bytes``, else the
+    guard's default): otherwise the 10-m grid, which the guard then checks as before."""
     max_slant_range_m = validation.range_limit.max_slant_range_m
     pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_m, max_slant_range_m).targets
-    return choose(site, options, max_slant_range_m, pieces, budget_s, workers=workers)
+    strategy = choose(site, options, max_slant_range_m, pieces, budget_s, workers=workers)
+    if strategy.grid_spacing_m is not None:  # the fine grid only where the memory guard will let its pool be built
+        fine = estimate_work(site, options.target_spacing_m, strategy.grid_spacing_m, max_slant_range_m)
+        if fine.bytes > (options.memory_limit_bytes or default_limit_bytes()):
+            strategy = replace(strategy, grid_spacing_m=None, reason=strategy.reason.split("; candidate grid")[0])
+    return strategy
 
 
 def choose(
@@ -308,7 +316,8 @@ def choose(
         cores = os.cpu_count() or 1 if cores is None else cores
         workers = 0 if cores <= 2 else min(cores // 2, n)
     side_by_side = max(workers, 1)
-    connected = options.milp.overlap is not None  # a registration rule: CFT's cover is no start worth its time
+    # a registration rule (options resolved: milp.overlap is the rule or None): CFT's cover is no start worth its time
+    connected = options.milp.overlap is not None
     tiling = TileOptions(
         tile_m=tile_m,
         tile_time_limit_s=_clamp(TILE_SHARE * budget_s * side_by_side / n, 2.0, 30.0),
@@ -323,7 +332,7 @@ def choose(
             work_s=_clamp(WINDOW_SHARE * budget_s / (STATIONS_PER_TILE * n), 0.5, 3.0),
         ),
     )
-    fine = pieces <= FINE_GRID_PIECES
+    fine = pieces <= FINE_GRID_PIECES and options.pool.grid_spacing_m is None  # a grid given is the user's
     return Strategy(
         tiling,
         workers,

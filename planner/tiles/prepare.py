@@ -7,7 +7,7 @@ may stand, the registration groups and the overlap rule, made once here for
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
@@ -77,14 +77,21 @@ def site_pool(problem: Problem) -> tuple[list[Candidate], Targets]:
     return site_candidates(problem, problem.targets), problem.targets
 
 
-def tiles_problem(site: Site | Problem, options: PlanOptions | None = None) -> Problem:
+def tiles_problem(
+    site: Site | Problem, options: PlanOptions | None = None, tiling: TileOptions | None = None
+) -> Problem:
     """``site`` itself when it is a resolved problem, else ``site`` resolved for tiles under ``options``
     (default: the MILP), registration ``options.registration`` or else the site's default (one registration
     bundle per accessible area wherever the zones share one frame, which tiles need:
-    :func:`planner.coverage.links.default_registration`)."""
+    :func:`planner.coverage.links.default_registration`). ``tiling`` given (and no strategy in ``options``): the
+    strategy is those tiles, as ``planner plan --tiles M`` resolves it (so the same pool: the automatic strategy's
+    finer grid is its own); None: the automatic strategy, the plain command's pool."""
     if isinstance(site, Problem):
         return as_problem(site, options)
-    return resolve(site, options or PlanOptions(method="milp"))
+    options = options or PlanOptions(method="milp")
+    if tiling is not None and options.strategy.tiling is None and not options.strategy.single:
+        options = replace(options, strategy=replace(options.strategy, tiling=tiling))  # as `--tiles M` resolves
+    return resolve(site, options)
 
 
 def prepare(problem: Problem | Site, options: PlanOptions | None = None, extra: Sequence[Candidate] = ()) -> Prepared:

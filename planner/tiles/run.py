@@ -14,8 +14,10 @@ What holds and why:
 - bound: the largest of the bounds of :mod:`planner.tiles.bound` (the cover LP, the disjoint sub-areas, the
   Lagrangian over the tiles, CFT's), over the pool, with the one that decides; the gap is
   (stations - bound) / stations;
-- starts of a connected plan: the stitched tile plans, the CFT cover joined by the fewest linking stations
-  found (:func:`planner.tiles.search.joined_cover`), the connected greedy; the best is kept;
+- starts of a connected plan: the stitched tile plans (``TileOptions.tile_plans``), the CFT cover joined by the
+  fewest linking stations found (:func:`planner.tiles.search.joined_cover`; ``TileOptions.cft``: the automatic
+  strategy turns both off for a connected plan), the connected greedy; the best is kept (with none, Chvatal's
+  cover joined);
 - local search: the kept plan is shrunk by :func:`planner.solve.local_search.shrink` within
   ``TileOptions.moves_for(pieces)`` moves (a count set by the site's size: the plan does not depend on the load);
   each plan it returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it;
@@ -95,7 +97,7 @@ def plan_by_tiles(
         the pool sees gets one from its region (:func:`planner.candidates.complete.complete_candidates`), and
         the tiles run once more with those candidates added (``extra``).
     """
-    resolved = tiles_problem(site, options)
+    resolved = tiles_problem(site, options, tiling)
     site, options = resolved.site, resolved.options
     tiling = tiling or TileOptions()
     if len({z.frame for z in site.zones}) != 1:

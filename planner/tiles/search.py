@@ -12,6 +12,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.solve.connectivity import components, connected_greedy, group_members
+from planner.solve.greedy import greedy_cover
 from planner.solve.local_search import Shrunk, unlinked
 from planner.solve.steiner import steiner_join
 from planner.solve.windows import WindowOptions, window_search
@@ -31,10 +32,11 @@ def best_plan(
     seeds: int = 1,
     client: Any = None,
 ) -> tuple[Stitched, dict[str, Any]]:
-    """The best of three connected plans (fewest registration parts, then fewest stations; ties keep the
-    earlier): the stitched tile plans, the whole-site plain ``cover`` joined (:func:`joined_cover`), and the
-    connected greedy on the whole site (:func:`planner.solve.connectivity.connected_greedy`, 20 starts)
-    pruned; ``tried`` records all three. When the kept plan is one bundle per group and ``moves`` > 0, the local search
+    """The best of the connected plans given or found (fewest registration parts, then fewest stations; ties keep
+    the earlier): the stitched tile plans (where ``tiled``), the whole-site plain ``cover`` joined (where given:
+    :func:`joined_cover`), and the connected greedy on the whole site
+    (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; where none of them is (no tile plans,
+    no cover, no connected choice), Chvatal's cover joined as far as the links go; ``tried`` records each. When the kept plan is one bundle per group and ``moves`` > 0, the local search
     (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound; once per seed
     ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on ties)
     then looks for a smaller connected cover; the second value says what it did."""
@@ -44,6 +46,9 @@ def best_plan(
     grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
     if grown is not None:
         plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
+    if not plans:  # no connected choice and no other start (no CFT cover, no tile plans): Chvatal's cover, joined
+        plain = greedy_cover(a).selected  # (every piece some candidate sees), joined as far as the links go
+        plans.append(replace(joined_cover(a, adj, groups, tuple(plain)), source="greedy cover, joined"))
     best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
     best = replace(best, tried={p.source: len(p.selected) for p in plans})
     return _search(a, adj, groups, best, moves, floor, seeds, client)

@@ -46,6 +46,7 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     import numpy as np
 
     from planner.bounds.lagrange import group_parts
+    from planner.candidates.pool import PoolOptions
     from planner.io.load import load_site
     from planner.plan import PlanOptions
     from planner.tiles.bound import global_bound
@@ -53,7 +54,9 @@ def one(area: float, group: int, iterations: int, work: float, bound_work: float
     from planner.tiles.prepare import prepare
 
     site = load_site(ROOT / "instances" / f"plant_{area:g}ha.json")
-    prep = prepare(site, PlanOptions(method="milp", pricing=False))
+    prep = prepare(
+        site, PlanOptions(method="milp", pricing=False, pool=PoolOptions(grid_spacing_m=10.0))
+    )  # the 10-m grid of the published figures (the plain command's 16-ha pool is 4 m since issue 44's finer grid)
     a, targets, limits = prep.coverage(), prep.targets, prep.limits
     anchor = zone_anchors(site, targets)
     tiles = make_tiles(anchor, 100.0, limits.max_slant_range_m)

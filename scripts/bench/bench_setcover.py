@@ -156,6 +156,8 @@ def exported(area: str, cache: Path) -> Path:
             str(ROOT / "instances" / f"{area}.json"),
             "--format",
             "orlib",
+            "--grid-spacing",  # the 10-m grid of the published table (the plain command's 16-ha pool is 4 m now)
+            "10",
             "--out",
             str(tmp),
             "--quiet",

@@ -118,7 +118,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--moves", type=int, default=40000)
     p.add_argument("--seeds", type=int, nargs="+", default=[0])
     p.add_argument("--out", type=Path, required=True)
-    p.add_argument("--grid-spacing", type=float, default=None, help="the pool's grid, m (default: the plan's own)")
+    p.add_argument(
+        "--grid-spacing",
+        type=float,
+        default=None,
+        help="the pool's grid, m (default: the plain command's for the site, 4 m on 16 ha)",
+    )
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     pool, a, adj, groups, fingerprint = site_matrices(args.site, args.grid_spacing)

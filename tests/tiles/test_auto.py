@@ -120,5 +120,17 @@ def test_a_tiled_site_of_few_pieces_gets_the_fine_grid_where_none_is_given():
     assert _strategy("plant_64ha").grid_spacing_m is None and _strategy("polygon_a").grid_spacing_m is None
     plant = load_site(INSTANCES / "plant_16ha.json")
     assert resolve(plant, PlanOptions()).options.pool.grid_spacing_m == 4.0
-    assert resolve(plant, PlanOptions(pool=PoolOptions(grid_spacing_m=10.0))).options.pool.grid_spacing_m == 10.0
+    given = resolve(plant, PlanOptions(pool=PoolOptions(grid_spacing_m=10.0)))
+    assert given.options.pool.grid_spacing_m == 10.0 and given.strategy.grid_spacing_m is None  # no 4 m recorded
+    assert "candidate grid" not in given.strategy.line()
+    # the fine grid's estimate (0.87 GiB on 16 ha) over a 600-MiB limit: the 10-m grid, which fits (0.38 GiB)
+    small = resolve(plant, PlanOptions(memory_limit_bytes=600 * 2**20))
+    assert small.options.pool.grid_spacing_m == 10.0 and small.strategy.grid_spacing_m is None
+    # tiles asked for (`--tiles 100`, or plan_by_tiles with its TileOptions): the automatic strategy's grid is its own
+    from planner.plan.strategy import StrategyOptions, TileOptions
+    from planner.tiles.prepare import tiles_problem
+
+    asked = PlanOptions(strategy=StrategyOptions(tiling=TileOptions(tile_m=100.0)))
+    assert resolve(plant, asked).options.pool.grid_spacing_m == 10.0
+    assert tiles_problem(plant, None, TileOptions(tile_m=100.0)).options.pool.grid_spacing_m == 10.0
     assert resolve(load_site(INSTANCES / "polygon_a.json"), PlanOptions()).options.pool.grid_spacing_m == 10.0

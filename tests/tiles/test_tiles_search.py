@@ -185,3 +185,18 @@ def test_windows_on_two_dask_workers_give_the_serial_result(plans, windowed, das
     assert record["batch"] == 4 and serial["batch"] == 1
     assert dist.result.selected == windowed.result.selected
     assert (record["windows"], record["history"]) == (serial["windows"], serial["history"])
+
+
+def test_with_no_connected_choice_and_no_other_start_the_greedy_cover_is_kept_in_its_parts(monkeypatch):
+    # two candidates, each the only seer of its piece, not linked, one group: no connected cover exists; with no
+    # CFT cover and no tile plans (the automatic strategy's connected plan) Chvatal's cover {0, 1} is kept, joined
+    # as far as the links go: still 2 parts of group "g", recorded as such (not a crash on no start)
+    import numpy as np
+    import scipy.sparse as sp
+
+    monkeypatch.setattr("planner.tiles.search.connected_greedy", lambda *args, **kwargs: None)
+    a = sp.csr_matrix(np.eye(2, dtype=bool))
+    adj = sp.csr_matrix((2, 2), dtype=bool)
+    kept, record = best_plan(a, adj, ("g", "g"), None, (), moves=100)
+    assert kept.selected == (0, 1) and kept.parts == {"g": 2} and kept.source == "greedy cover, joined"
+    assert record["moves"] == 0  # the search starts from a connected cover only

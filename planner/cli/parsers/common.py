@@ -97,8 +97,8 @@ def add_pool_options(p: argparse.ArgumentParser, tuning: Collection[str] = ()) -
         type=POSITIVE,
         default=None,
         metavar="M",
-        help="candidate grid spacing (default 10 m; 4 m for a site planned by tiles of at most "
-        "10,000 wall pieces: docs/large-sites.md)",
+        help="candidate grid spacing (default 10 m; 4 m where the automatic strategy (--tiles auto) plans "
+        "the site by tiles and it has at most 10,000 wall pieces: docs/large-sites.md)",
     )
 
 
