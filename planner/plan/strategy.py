@@ -237,7 +237,12 @@ class Strategy:
     def line(self) -> str:
         where = f"on {self.workers} worker(s)" if self.workers else "in this process (no Dask worker)"
         what = f"tiles of {self.tiling.tile_m:g} m {where}" if self.tiling else "single model"
-        return f"strategy: {what} ({self.reason})"
+        grid = (
+            f"; candidate grid {self.grid_spacing_m:g} m where none is given (at most {FINE_GRID_PIECES:,} pieces)"
+            if self.grid_spacing_m is not None
+            else ""
+        )
+        return f"strategy: {what} ({self.reason}{grid})"
 
 
 def tile_count(site: Site, tile_m: float) -> int:
@@ -290,7 +295,7 @@ def strategy_for(
     if strategy.grid_spacing_m is not None:  # the fine grid only where the memory guard will let its pool be built
         fine = estimate_work(site, options.target_spacing_m, strategy.grid_spacing_m, max_slant_range_m)
         if fine.bytes > (options.memory_limit_bytes or FINE_GRID_BYTES):
-            strategy = replace(strategy, grid_spacing_m=None, reason=strategy.reason.split("; candidate grid")[0])
+            strategy = replace(strategy, grid_spacing_m=None)
     return strategy
 
 
@@ -341,12 +346,7 @@ def choose(
         tiling,
         workers,
         f"about {pieces:,} wall pieces over {n} tiles of {tile_m:g} m (at least "
-        f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s"
-        + (
-            f"; candidate grid {FINE_GRID_M:g} m where none is given (at most {FINE_GRID_PIECES:,} pieces)"
-            if fine
-            else ""
-        ),
+        f"{MIN_PIECES:,} and {MIN_TILES}); time budget {budget_s:g} s",
         FINE_GRID_M if fine else None,
     )
 
