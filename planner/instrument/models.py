@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from planner.core.errors import InputError
+from planner.core.resources import data_path
 from planner.instrument.accuracy import RangeAngleSigma
 from planner.instrument.field_table import FieldProperties, field_from_mapping
 
@@ -138,11 +139,12 @@ def _check_half_angle(name: str, v: object) -> None:
 
 
 def default_models_dir() -> Path:
-    """Where instrument files are looked up: $PLANNER_MODELS_DIR, else the repository's ``models/``."""
+    """Where instrument files are looked up: $PLANNER_MODELS_DIR, else the repository's ``models/`` (the copy an
+    installed wheel ships, outside a checkout)."""
     env = os.environ.get("PLANNER_MODELS_DIR")
     if env:
         return Path(env)
-    return Path(__file__).resolve().parents[2] / "models"
+    return data_path("models")
 
 
 def list_instruments(models_dir: Path | None = None) -> list[str]:

@@ -5,8 +5,8 @@ fingerprint, :mod:`planner.coverage.fingerprint`). An entry is the same problem 
 problem (``connected`` under the registration rule, or the ``plain cover`` of a run with no rule), the
 registration mode and the overlap share match; ``planner plan`` prints its gap to such an entry only when the
 pool's fingerprint matches too. An entry of the same problem on another pool (or on one not recorded: ``"pool":
-null``) gets a line saying so, with no gap. Outside a checkout of the repository (no ``docs/``) there is no
-file and nothing is printed.
+null``) gets a line saying so, with no gap. A wheel install reads the copy it ships
+(:func:`planner.core.resources.data_path`), so it prints what the checkout prints.
 """
 
 from __future__ import annotations
@@ -17,8 +17,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-#: the file in a checkout of the repository
-BEST_KNOWN = Path(__file__).resolve().parents[2] / "docs" / "benchmarks" / "best_known.json"
+from planner.core.resources import data_path
+
+#: the file: the checkout's ``docs/benchmarks/best_known.json``, else the copy an installed wheel ships
+BEST_KNOWN = data_path("best_known.json")
 #: the two problems an entry may hold for
 CONNECTED, PLAIN = "connected", "plain cover"
 
