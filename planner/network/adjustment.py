@@ -72,6 +72,11 @@ class PointResult:
         return math.hypot(self.sigma_x, self.sigma_y)
 
 
+def relative(at: str, to: str, xy: Mapping[str, tuple[float, float]], sigma: float) -> list[Obs]:
+    """The ``dx`` and ``dy`` observations of ``to`` from ``at`` at the coordinates ``xy``, each of ``sigma``."""
+    return [Obs("dx", at, to, xy[to][0] - xy[at][0], sigma), Obs("dy", at, to, xy[to][1] - xy[at][1], sigma)]
+
+
 def _no_covariance() -> NDArray[np.float64]:
     return np.zeros((0, 0))
 
@@ -97,11 +102,6 @@ class Adjustment:
         """The covariance matrix of the unknown points' coordinates (x, y of each, in the order of
         :attr:`points`; the caller's length unit squared), formed on first use."""
         return self.covariance()
-
-    @property
-    def network_rms(self) -> float:
-        """sqrt(trace of the coordinate covariance / number of points): the mean point error (2.11)."""
-        return math.sqrt(sum(p.sigma_x**2 + p.sigma_y**2 for p in self.points) / max(len(self.points), 1))
 
     def point(self, name: str) -> PointResult:
         """The point named ``name``."""
@@ -228,41 +228,8 @@ def adjust(
     unknown = [n for n in names if n not in held]
     uidx = np.array([k for k, n in enumerate(names) if n not in held], dtype=np.int64)
     w = np.array([1.0 / o.sigma**2 for o in obs])
-    values = np.array([o.value for o in obs])
-    is_dir = np.array([o.kind == "direction" for o in obs], dtype=bool)
-    dense = method in ("dense", "qr")
-    plan = lsq_sparse.Design(names, unknown, obs)
-    station_of = {st: k for k, st in enumerate(plan.orient)}
-    orient_station = np.array([station_of[o.at] if o.kind == "direction" else -1 for o in obs], dtype=np.int64)
-    orient_val = np.zeros(len(plan.orient))
-    l = np.zeros(len(obs))
-    dx = np.zeros(plan.n_unknowns)
-    a_dense: NDArray[np.float64] = np.zeros((0, 0))
-    normal: Normal | None = None
-    for it in range(max_iter if observed else 1):
-        if dense:
-            a_dense, f, _ = lsq_dense.design({n: (float(p[0]), float(p[1])) for n, p in zip(names, xy)}, unknown, obs)
-        else:
-            a_sparse, f = plan.jacobian(xy)
-            normal = Normal(a_sparse, w, len(plan.orient))
-        if observed:
-            if it == 0:
-                orient_val = _orientations(f, values, orient_station, len(plan.orient))
-            f = f - np.where(is_dir, orient_val[np.maximum(orient_station, 0)] if len(plan.orient) else 0.0, 0.0)
-            l = values - f
-            l = np.where(is_dir, _wrap(l), l)
-        if dense:
-            dx = lsq_dense.solve(a_dense, w, l, method)
-        elif observed:
-            assert normal is not None
-            dx = normal.solve(normal.a.T @ (w * l))
-        nu = len(unknown)
-        xy[uidx, 0] += dx[0 : 2 * nu : 2]
-        xy[uidx, 1] += dx[1 : 2 * nu : 2]
-        orient_val = orient_val + dx[2 * nu :]
-        if not observed or np.max(np.abs(dx[: 2 * nu]), initial=0.0) < 1e-12:
-            break
-    if dense:
+    dx, l, a_dense, normal = _iterate(names, unknown, uidx, xy, obs, w, method, max_iter if observed else 0)
+    if a_dense is not None:
         qa, blocks, q = lsq_dense.covariance(a_dense, w, len(unknown))
         v = a_dense @ dx - l
         n_unk = a_dense.shape[1]
@@ -276,6 +243,57 @@ def adjust(
         n_unk = normal.a.shape[1]
         cov = _lazy(normal, 2 * len(unknown))
     return _results(unknown, xy[uidx], obs, w, qa, blocks, cov, v if observed else None, n_unk, kl, sigma0)
+
+
+def _iterate(
+    names: list[str],
+    unknown: list[str],
+    uidx: NDArray[np.int64],
+    xy: NDArray[np.float64],
+    obs: list[Obs],
+    w: NDArray[np.float64],
+    method: str,
+    max_iter: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None, Normal | None]:
+    """Gauss-Newton iterations of the adjustment (``max_iter`` 0: the design only, one linearisation, no
+    observed values); moves ``xy`` (metres) in place. Returns the last corrections, the reduced observations,
+    and the dense design matrix (dense methods) or the normal equations (sparse)."""
+    observed = max_iter > 0
+    values = np.array([o.value for o in obs])
+    is_dir = np.array([o.kind == "direction" for o in obs], dtype=bool)
+    dense = method in ("dense", "qr")
+    plan = lsq_sparse.Design(names, unknown, obs)
+    station_of = {st: k for k, st in enumerate(plan.orient)}
+    orient_station = np.array([station_of[o.at] if o.kind == "direction" else -1 for o in obs], dtype=np.int64)
+    orient_val = np.zeros(len(plan.orient))
+    l = np.zeros(len(obs))
+    dx = np.zeros(plan.n_unknowns)
+    a_dense: NDArray[np.float64] | None = None
+    normal: Normal | None = None
+    nu = len(unknown)
+    for it in range(max(max_iter, 1)):
+        if dense:
+            a_dense, f, _ = lsq_dense.design({n: (float(p[0]), float(p[1])) for n, p in zip(names, xy)}, unknown, obs)
+        else:
+            a_sparse, f = plan.jacobian(xy)
+            normal = Normal(a_sparse, w, len(plan.orient))
+        if observed:
+            if it == 0:
+                orient_val = _orientations(f, values, orient_station, len(plan.orient))
+            f = f - np.where(is_dir, orient_val[np.maximum(orient_station, 0)] if len(plan.orient) else 0.0, 0.0)
+            l = values - f
+            l = np.where(is_dir, _wrap(l), l)
+        if a_dense is not None:
+            dx = lsq_dense.solve(a_dense, w, l, method)
+        elif observed:
+            assert normal is not None
+            dx = normal.solve(normal.a.T @ (w * l))
+        xy[uidx, 0] += dx[0 : 2 * nu : 2]
+        xy[uidx, 1] += dx[1 : 2 * nu : 2]
+        orient_val = orient_val + dx[2 * nu :]
+        if not observed or np.max(np.abs(dx[: 2 * nu]), initial=0.0) < 1e-12:
+            break
+    return dx, l, a_dense, normal
 
 
 def _lazy(normal: Normal, k: int) -> Callable[[], NDArray[np.float64]]:

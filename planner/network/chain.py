@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import networkx as nx
 
 from planner.core.errors import InputError
-from planner.network.adjustment import Obs, adjust
+from planner.network.adjustment import Obs, adjust, relative
 
 #: seed 003: cloud-to-cloud registration error m_reg = REG_A * R + REG_B (m)
 REG_A, REG_B = 6.8e-5, 0.0081
@@ -117,8 +117,7 @@ def _observations(
 ) -> list[Obs]:
     obs = []
     for u, v in links:
-        s = registration_sigma_m(math.dist(xy[u], xy[v]))
-        obs += [Obs("dx", u, v, xy[v][0] - xy[u][0], s), Obs("dy", u, v, xy[v][1] - xy[u][1], s)]
+        obs += relative(u, v, xy, registration_sigma_m(math.dist(xy[u], xy[v])))
     for st, s in ties.items():
         obs += [Obs("x", st, None, xy[st][0], s), Obs("y", st, None, xy[st][1], s)]
     return obs

@@ -1,13 +1,5 @@
 """The accuracy check of a plan: station network, a priori adjustment, point errors of every wall piece
-(:mod:`planner.network.pieces`).
-
-For every target the plan covers, e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 +
-sigma_meas(S, theta)^2) (2.13, with the site's incidence model, see
-:func:`planner.instrument.accuracy.view_error_m`) with sigma_0 now the station's adjusted
-position error; in single precision the best station seeing it, in combined
-precision all of them (1/e^2 = sum 1/e_j^2), must stay within sigma_req (or the
-drawing scale's tolerance, table 1.1).
-"""
+(:mod:`planner.network.pieces` gives the point error's formula and the pass rule)."""
 
 from __future__ import annotations
 
@@ -23,7 +15,8 @@ from planner.core.checks import argument
 from planner.core.errors import InputError
 from planner.coverage.sight import Sight, as_sight
 from planner.instrument.models import TotalStation, load_instrument
-from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust
+from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust, relative
+from planner.network.chain import registration_sigma_m
 from planner.network.graph import Diagnostics, diagnostics, propose_control, station_network
 from planner.network.heights import HeightObs, adjust_heights, dh_sigma_m
 from planner.network.montecarlo import MonteCarlo, monte_carlo
@@ -40,16 +33,15 @@ from planner.network.traverse import (
     tie_sigma_to,
 )
 from planner.site.candidate import Candidate, check_unique_ids, stations_argument
-
-__all__ = ["NetworkReport", "accuracy_check", "registration_sigma_m", "run_network"]
 from planner.site.model import ControlPoint, Site
 
-#: seed 003: cloud-to-cloud registration error of two stations R metres apart
-REG_A, REG_B = 6.8e-5, 0.0081
+__all__ = ["NetworkReport", "accuracy_check", "registration_sigma_m", "run_network"]
+#: the edge kinds the total station observes (direction and distance)
+TS_KINDS = frozenset({"sight", "delaunay", "traverse"})
 
 
-def registration_sigma_m(length_m: float) -> float:
-    return REG_A * length_m + REG_B
+def _distance_sigma_m(ts: TotalStation, length_m: float) -> float:
+    return ts.prism_sigma_const_m + ts.prism_sigma_ppm * length_m / 1e6
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -154,8 +146,8 @@ def _heights(g: nx.Graph, ts: TotalStation, control: Sequence[ControlPoint], not
         base = float(np.mean(list(fixed.values())))
         obs = []
         for u, v, d in g.subgraph(comp).edges(data=True):
-            if d["kinds"] & {"sight", "delaunay", "traverse"}:
-                sd = ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6
+            if d["kinds"] & TS_KINDS:
+                sd = _distance_sigma_m(ts, d["length_m"])
                 obs.append(HeightObs(u, v, 0.0, dh_sigma_m(d["length_m"], 90.0, sd, ts.angle_sigma_arcsec)))
             elif "tie" in d["kinds"]:  # the station's targets on the control point give its height too
                 obs.append(HeightObs(u, v, 0.0, tie_sigma_to(d["length_m"])))
@@ -180,28 +172,16 @@ def _design_observations(
     obs: list[Obs] = []
     sb = ts.angle_sigma_arcsec / 3600.0
     for u, v, d in g.edges(data=True):
-        if d["kinds"] & {"sight", "delaunay", "traverse"}:
+        if d["kinds"] & TS_KINDS:
             for a, b in ((u, v), (v, u)):
                 if g.nodes[a]["kind"] != "station" and "traverse" not in d["kinds"]:
                     continue  # the total station stands on the scanner stations (on both ends of a traverse leg)
                 az = math.degrees(math.atan2(coords[b][1] - coords[a][1], coords[b][0] - coords[a][0]))
                 obs.append(Obs("direction", a, b, az, sb))
-                obs.append(
-                    Obs(
-                        "distance",
-                        a,
-                        b,
-                        d["length_m"],
-                        ts.prism_sigma_const_m + ts.prism_sigma_ppm * d["length_m"] / 1e6,
-                    )
-                )
-        if "registration" in d["kinds"]:
-            s = registration_sigma_m(d["length_m"])
-            obs.append(Obs("dx", u, v, coords[v][0] - coords[u][0], s))
-            obs.append(Obs("dy", u, v, coords[v][1] - coords[u][1], s))
-        if "tie" in d["kinds"]:
-            s = tie_sigma_to(d["length_m"])
-            obs += [Obs("dx", u, v, coords[v][0] - coords[u][0], s), Obs("dy", u, v, coords[v][1] - coords[u][1], s)]
+                obs.append(Obs("distance", a, b, d["length_m"], _distance_sigma_m(ts, d["length_m"])))
+        for kind, sigma_of in (("registration", registration_sigma_m), ("tie", tie_sigma_to)):
+            if kind in d["kinds"]:
+                obs += relative(u, v, coords, sigma_of(d["length_m"]))
     for c in control:
         if c.name in coords and c.name not in fixed and c.sigma_x_m > 0 and c.sigma_y_m > 0:
             obs.append(Obs("x", c.name, None, c.x, c.sigma_x_m))
@@ -249,29 +229,69 @@ def run_network(
     problem = sight.of_stations(stations, target_spacing_m)
     # registration links within each zone-side, or across the site's accessible areas (through openings)
     links = registration_links(sight, stations, registration, problem)
-    ts_range = ts.max_range_prism_m or 1000.0
-    ctrl = list(control or site.control_points)
     notes: list[str] = []
-    fixed_names: list[str] | None = None
+    g, ctrl, fixed_names = _network(
+        site, stations, list(control or site.control_points), links, ts, traverse, ts_everywhere, notes
+    )
+    coords, fixed, obs = _design_observations(g, ts, ctrl, fixed_names)
+    adjustments, failures, sigma, mcs = _adjust_parts(g, coords, fixed, obs, monte_carlo_runs, seed)
+    sigma_h = _heights(g, ts, ctrl, notes)
+    return NetworkReport(
+        graph=g,
+        control=tuple(ctrl),
+        diagnostics=diagnostics(g),
+        adjustments=tuple(adjustments),
+        failures=tuple(failures),
+        station_sigma=sigma,
+        check=accuracy_check(site, stations, problem, sigma, sight.scanner, sight.combined),
+        monte_carlo=tuple(mcs),
+        notes=tuple(notes),
+        sigma_h=sigma_h,
+        survey=survey_network(site, stations, registration, links),
+    )
+
+
+def _network(
+    site: Site,
+    stations: Sequence[Candidate],
+    ctrl: list[ControlPoint],
+    links: Sequence[tuple[str, str]],
+    ts: TotalStation,
+    traverse: ControlTraverse | None,
+    ts_everywhere: bool,
+    notes: list[str],
+) -> tuple[nx.Graph, list[ControlPoint], list[str] | None]:
+    """The network graph, its control points (given or proposed, traverse points included) and the points
+    held fixed (None: the control points without sigmas)."""
+    ts_range_m = ts.max_range_prism_m or 1000.0
     if ts_everywhere:
-        g = station_network(site, stations, ctrl, links, ts_range)
+        g = station_network(site, stations, ctrl, links, ts_range_m)
         if not ctrl:
             ctrl = propose_control(site, stations, g, notes)
-            g = station_network(site, stations, ctrl, links, ts_range)
-    else:
-        if not ctrl:  # per registration part (one accessible area in site mode), and next to untied stations
-            ctrl = propose_area_control(site, stations, links, notes)
-        if traverse is not None:
-            check_traverse_names(traverse, ctrl)
-        trav = traverse if traverse is not None else propose_traverse(site, ctrl, ts_range)
-        g = survey_graph(site, stations, ctrl, trav, links)
-        fixed_names, datum_notes = datum(g, ctrl)
-        notes += trav.lines() + datum_notes
-        ctrl += list(trav.points)
-    diag = diagnostics(g)
-    coords, fixed, obs = _design_observations(g, ts, ctrl, fixed_names)
-    adjustments, failures, sigma = [], [], {}
-    mcs = []
+            g = station_network(site, stations, ctrl, links, ts_range_m)
+        return g, ctrl, None
+    if not ctrl:  # per registration part (one accessible area in site mode), and next to untied stations
+        ctrl = propose_area_control(site, stations, links, notes)
+    if traverse is not None:
+        check_traverse_names(traverse, ctrl)
+    trav = traverse if traverse is not None else propose_traverse(site, ctrl, ts_range_m)
+    g = survey_graph(site, stations, ctrl, trav, links)
+    fixed_names, datum_notes = datum(g, ctrl)
+    notes += trav.lines() + datum_notes
+    return g, ctrl + list(trav.points), fixed_names
+
+
+def _adjust_parts(
+    g: nx.Graph,
+    coords: dict[str, tuple[float, float]],
+    fixed: list[str],
+    obs: list[Obs],
+    monte_carlo_runs: int,
+    seed: int,
+) -> tuple[list[Adjustment], list[str], dict[str, float], list[MonteCarlo]]:
+    """Each connected part holding a station adjusted on its own: the adjustments, the parts that failed (with
+    the reason), each station's position error (m) and the Monte Carlo runs."""
+    adjustments, failures, sigma, mcs = [], [], {}, []
     parts = list(nx.connected_components(g))
     part_of = {n: k for k, comp in enumerate(parts) for n in comp}
     obs_of: list[list[Obs]] = [[] for _ in parts]
@@ -291,19 +311,4 @@ def run_network(
         sigma.update({p.name: p.position_error for p in adj.points if g.nodes[p.name]["kind"] == "station"})
         if monte_carlo_runs:
             mcs.append(monte_carlo(names, comp_fixed, comp_obs, runs=monte_carlo_runs, seed=seed, angle_unit="deg"))
-    sigma_h = _heights(g, ts, ctrl, notes)
-    check = accuracy_check(site, stations, problem, sigma, sight.scanner, sight.combined)
-    survey = survey_network(site, stations, registration, links)
-    return NetworkReport(
-        graph=g,
-        control=tuple(ctrl),
-        diagnostics=diag,
-        adjustments=tuple(adjustments),
-        failures=tuple(failures),
-        station_sigma=sigma,
-        check=check,
-        monte_carlo=tuple(mcs),
-        notes=tuple(notes),
-        sigma_h=sigma_h,
-        survey=survey,
-    )
+    return adjustments, failures, sigma, mcs

@@ -165,11 +165,7 @@ def station_network(
     A site's own control points live in the site frame; proposed ones in the
     frame of the stations they serve.
     """
-    g = nx.Graph()
-    for s in stations:
-        g.add_node(s.id, kind="station", x=s.x, y=s.y, frame=s.frame, zone=s.zone)
-    for c in control:
-        g.add_node(c.name, kind="control", x=c.x, y=c.y, frame=c.frame, proposed=c.proposed)
+    g = point_graph(stations, control)
     frames: dict[str, list[str]] = {}
     for n, d in g.nodes(data=True):
         frames.setdefault(d["frame"], []).append(n)
@@ -178,7 +174,7 @@ def station_network(
         for u, v in itertools.combinations(nodes, 2):
             d = math.dist(xy[u], xy[v])
             if d <= ts_range_m and intervisible(site, frame, xy[u], xy[v]):
-                _link(g, u, v, "sight", d)
+                add_link(g, u, v, "sight", d)
         if len(nodes) >= 3:
             pts = np.array([xy[n] for n in nodes])
             try:
@@ -189,19 +185,30 @@ def station_network(
                 for i, j in itertools.combinations(simplex, 2):
                     u, v = nodes[i], nodes[j]
                     if intervisible(site, frame, xy[u], xy[v]):
-                        _link(g, u, v, "delaunay", math.dist(xy[u], xy[v]))
+                        add_link(g, u, v, "delaunay", math.dist(xy[u], xy[v]))
     for u, v in registration:
-        _link(
-            g, u, v, "registration", math.dist((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]))
-        )
+        add_link(g, u, v, "registration")
     return g
 
 
-def _link(g: nx.Graph, u: str, v: str, kind: str, length: float) -> None:
+def point_graph(stations: Sequence[Candidate], control: Sequence[ControlPoint]) -> nx.Graph:
+    """A graph of the stations (``kind`` station) and control points (``kind`` control), no edges yet."""
+    g = nx.Graph()
+    for s in stations:
+        g.add_node(s.id, kind="station", x=s.x, y=s.y, frame=s.frame, zone=s.zone)
+    for c in control:
+        g.add_node(c.name, kind="control", x=c.x, y=c.y, frame=c.frame, proposed=c.proposed)
+    return g
+
+
+def add_link(g: nx.Graph, u: str, v: str, kind: str, length_m: float | None = None) -> None:
+    """Add ``kind`` to the edge u-v (made, of ``length_m``, or the nodes' distance, where there is none)."""
     if g.has_edge(u, v):
         g.edges[u, v]["kinds"].add(kind)
     else:
-        g.add_edge(u, v, kinds={kind}, length_m=length)
+        if length_m is None:
+            length_m = math.dist((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]))
+        g.add_edge(u, v, kinds={kind}, length_m=length_m)
 
 
 def diagnostics(g: nx.Graph) -> Diagnostics:

@@ -41,7 +41,7 @@ from planner.core.fileio import known_keys, read_json, to_float
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.network import proposal
 from planner.network.chain import TIE_RANGE_M
-from planner.network.graph import intervisible, propose_control
+from planner.network.graph import add_link, intervisible, point_graph, propose_control
 from planner.network.survey import DEFAULT_TARGETS, _tie
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
@@ -232,21 +232,9 @@ def survey_graph(
 ) -> nx.Graph:
     """Stations, control and traverse points; edges ``registration``, ``tie`` and ``traverse`` (``kinds``,
     ``length_m``). Raises on a leg naming no point."""
-    g = nx.Graph()
-    for s in stations:
-        g.add_node(s.id, kind="station", x=s.x, y=s.y, frame=s.frame, zone=s.zone)
-    for c in (*control, *traverse.points):
-        g.add_node(c.name, kind="control", x=c.x, y=c.y, frame=c.frame, proposed=c.proposed)
-
-    def link(u: str, v: str, kind: str) -> None:
-        d = math.dist((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]))
-        if g.has_edge(u, v):
-            g.edges[u, v]["kinds"].add(kind)
-        else:
-            g.add_edge(u, v, kinds={kind}, length_m=d)
-
+    g = point_graph(stations, (*control, *traverse.points))
     for u, v in links:
-        link(u, v, "registration")
+        add_link(g, u, v, "registration")
     for s in stations:
         for c in control:
             if (
@@ -254,12 +242,12 @@ def survey_graph(
                 and math.dist(s.xy, (c.x, c.y)) <= TIE_RANGE_M
                 and intervisible(site, c.frame, s.xy, (c.x, c.y))
             ):
-                link(s.id, c.name, "tie")
+                add_link(g, s.id, c.name, "tie")
     for u, v in traverse.legs:
         for n in (u, v):
             if n not in g or g.nodes[n]["kind"] != "control":
                 raise InputError("a traverse leg names no control or traverse point", field="traverse", value=n)
-        link(u, v, "traverse")
+        add_link(g, u, v, "traverse")
     return g
 
 
