@@ -39,6 +39,8 @@ SLAB_KEY_BASE = -(2**40)
 #: zones' floor and ceiling keys count down from here (slab keys stay above it)
 SURFACE_KEY_BASE = -(2**41)
 
+Floats = NDArray[np.float64]
+
 
 def obstacle_key(k: int) -> int:
     """Source key of obstacle ``k`` (its index in ``site.obstacles``)."""
@@ -108,13 +110,7 @@ class SiteMesh:
         return SiteMesh(self.vertices + np.array([dx, dy, dz]), self.triangles, self.source, self.kind)
 
 
-def quads(
-    a: NDArray[np.float64],
-    b: NDArray[np.float64],
-    z0: NDArray[np.float64],
-    za: NDArray[np.float64],
-    zb: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+def quads(a: Floats, b: Floats, z0: Floats, za: Floats, zb: Floats) -> tuple[Floats, NDArray[np.int64]]:
     """Vertical quads over the plan segments a-b (n x 2), from ``z0`` up to ``za`` at a and ``zb`` at b.
 
     Returns 4n vertices and 2n triangles (quad k: triangles 2k and 2k + 1). O(n).
@@ -175,6 +171,35 @@ def site_mesh(
     no top cap: a sight line entering one through its top would leave through a wall, which blocks it anyway.
     """
     levels = floors_m or {}
+    parts = _Parts()
+    walls = _wall_quads(site, frame, levels)
+    if walls is not None:
+        parts.add(*walls, KIND_WALL)
+    if frame == SITE_FRAME:
+        for k, ob in enumerate(site.obstacles):
+            xy = np.asarray(ob.vertices, float)
+            n = len(xy)
+            v, t = quads(xy, np.roll(xy, -1, axis=0), np.zeros(n), np.full(n, ob.height_m), np.full(n, ob.height_m))
+            parts.add(v, t, obstacle_key(k), KIND_OBSTACLE)
+            parts.add(*cap(shapely.Polygon(xy), ob.height_m), obstacle_key(k), KIND_OBSTACLE)
+    for k, s in enumerate(slabs):
+        parts.add(*cap(shapely.Polygon(s.outline, list(s.holes)), s.z_m), slab_key(k), KIND_SLAB)
+    for zi, zone in enumerate(site.zones):
+        if zone.frame != frame or ScanSide.INSIDE not in zone.scan_side.sides:
+            continue
+        level = float(levels.get(zone.id, zone.floor_level_m))
+        if floors:
+            parts.add(*cap(zone.polygon, level), floor_key(zi), KIND_FLOOR)
+        if ceilings and zone.ceiling_height_m is not None:
+            parts.add(*cap(zone.polygon, level + zone.ceiling_height_m), ceiling_key(zi), KIND_CEILING)
+    return parts.mesh()
+
+
+def _wall_quads(
+    site: Site, frame: str, levels: Mapping[str, float]
+) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]] | None:
+    """The solid parts of the walls of ``frame``'s zones as quads (vertices, triangles, source key per
+    triangle), cut at openings; None when there is none."""
     segments = opening_segments(site, frame)
     a, b, z0, za, zb, key = [], [], [], [], [], []
     for zi, zone in enumerate(site.zones):
@@ -191,38 +216,29 @@ def site_mesh(
                 za.append(floor + float(w.height_at(lo / length)))
                 zb.append(floor + float(w.height_at(hi / length)))
                 key.append(int(wall_key(zi, w.index)))
-    verts: list[NDArray[np.float64]] = []
-    tris: list[NDArray[np.int64]] = []
-    sources: list[NDArray[np.int64]] = []
-    kinds: list[NDArray[np.int8]] = []
+    if not a:
+        return None
+    v, t = quads(np.array(a), np.array(b), np.array(z0), np.array(za), np.array(zb))
+    return v, t, np.repeat(np.array(key, np.int64), 2)
 
-    def add(v: NDArray[np.float64], t: NDArray[np.int64], src: NDArray[np.int64] | int, kind: int) -> None:
-        offset = sum(len(x) for x in verts)
-        verts.append(v)
-        tris.append(t + offset)
-        sources.append(np.broadcast_to(np.asarray(src, np.int64), (len(t),)))
-        kinds.append(np.full(len(t), kind, np.int8))
 
-    if a:
-        v, t = quads(np.array(a), np.array(b), np.array(z0), np.array(za), np.array(zb))
-        add(v, t, np.repeat(np.array(key, np.int64), 2), KIND_WALL)
-    if frame == SITE_FRAME:
-        for k, ob in enumerate(site.obstacles):
-            xy = np.asarray(ob.vertices, float)
-            n = len(xy)
-            v, t = quads(xy, np.roll(xy, -1, axis=0), np.zeros(n), np.full(n, ob.height_m), np.full(n, ob.height_m))
-            add(v, t, obstacle_key(k), KIND_OBSTACLE)
-            add(*cap(shapely.Polygon(xy), ob.height_m), obstacle_key(k), KIND_OBSTACLE)
-    for k, s in enumerate(slabs):
-        add(*cap(shapely.Polygon(s.outline, list(s.holes)), s.z_m), slab_key(k), KIND_SLAB)
-    for zi, zone in enumerate(site.zones):
-        if zone.frame != frame or ScanSide.INSIDE not in zone.scan_side.sides:
-            continue
-        level = float(levels.get(zone.id, zone.floor_level_m))
-        if floors:
-            add(*cap(zone.polygon, level), floor_key(zi), KIND_FLOOR)
-        if ceilings and zone.ceiling_height_m is not None:
-            add(*cap(zone.polygon, level + zone.ceiling_height_m), ceiling_key(zi), KIND_CEILING)
-    if not tris:
-        return SiteMesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64), np.zeros(0, np.int64), np.zeros(0, np.int8))
-    return SiteMesh(np.concatenate(verts), np.concatenate(tris), np.concatenate(sources), np.concatenate(kinds))
+class _Parts:
+    """Triangle sets collected for a :class:`SiteMesh`, each with its source key(s) and kind."""
+
+    def __init__(self) -> None:
+        self.verts: list[NDArray[np.float64]] = []
+        self.tris: list[NDArray[np.int64]] = []
+        self.sources: list[NDArray[np.int64]] = []
+        self.kinds: list[NDArray[np.int8]] = []
+
+    def add(self, v: NDArray[np.float64], t: NDArray[np.int64], src: NDArray[np.int64] | int, kind: int) -> None:
+        self.tris.append(t + sum(len(x) for x in self.verts))
+        self.verts.append(v)
+        self.sources.append(np.broadcast_to(np.asarray(src, np.int64), (len(t),)))
+        self.kinds.append(np.full(len(t), kind, np.int8))
+
+    def mesh(self) -> SiteMesh:
+        if not self.tris:
+            return SiteMesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64), np.zeros(0, np.int64), np.zeros(0, np.int8))
+        cat = np.concatenate
+        return SiteMesh(cat(self.verts), cat(self.tris), cat(self.sources), cat(self.kinds))

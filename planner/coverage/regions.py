@@ -18,7 +18,7 @@ R_t applies the rules of :mod:`planner.coverage.visibility` to a position instea
 - the view error (single precision with an incidence model): at each end, the positions whose view
   of that end has e(S, theta) <= sigma_req, a region star-shaped about the end, bounded by
   rho(theta) = sqrt(S_lim(theta)^2 - dz^2) (:func:`planner.instrument.accuracy.max_slant_for_view_m`), drawn as
-  a polygon through ``PRECISION_SAMPLES`` points of that curve shrunk by its largest chord error
+  a polygon through points of that curve (:mod:`planner.coverage.region_precision`) shrunk by its largest chord error
   (horizontal incidence only; with 3-D incidence plans skip regions and pricing, see
   :func:`regions_apply`).
 
@@ -32,20 +32,19 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
 from planner.coverage.matrix import blockers_for, convex_alone
+from planner.coverage.region_precision import PRECISION_CHORD_M, precision_region
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import (
     EPS_FRONT_M,
     EPS_SHORTEN_M,
     EPS_SIGHT_M,
     Blockers,
-    PrecisionRule,
     SightLimits,
     wall_key,
 )
@@ -64,10 +63,6 @@ SNAP_GRID_M = 1e-6
 ON_WALL_M = 1e-6
 #: segments per quarter circle of the stand-off buffers
 STANDOFF_QUAD_SEGS = 16
-#: points of the precision boundary rho(theta) per end of a piece
-PRECISION_SAMPLES = 257
-#: the precision boundary's chord error may be up to this before it is sampled more finely (m)
-PRECISION_CHORD_M = 1e-3
 
 
 def regions_apply(limits: SightLimits) -> bool:
@@ -310,7 +305,7 @@ def region_stages(
             discs.append(shapely.Point(end).buffer(disc, quad_segs=DISC_SEGMENTS // 4))
         wedges.append(_incidence_region(end, tangent, n, limits.theta_max_deg, dz, limits.incidence_3d, 1.01 * reach))
         if limits.per_pair_precision:
-            fans.append(_precision_region(end, tangent, n, dz, limits))
+            fans.append(precision_region(end, tangent, n, dz, limits))
     k = shapely.intersection_all(discs)
     yield "range", k
     k = shapely.intersection_all([k, *wedges]) if not k.is_empty else k
@@ -361,65 +356,3 @@ def why_empty(targets: Targets, t: int, limits: SightLimits, space: FrameSpace) 
         if region.is_empty:
             return STAGE_REASON[stage]
     return None
-
-
-def _precision_region(
-    end: NDArray, tangent: NDArray, normal: NDArray, dz: float, limits: SightLimits
-) -> shapely.Geometry:
-    """Positions whose (horizontal-incidence) view of ``end`` has e(S, theta) <= sigma_req (see
-    :func:`_precision_profile`), as a polygon with its apex at ``end``."""
-    rule = limits.precision
-    a, r = _precision_profile(rule, round(dz, 9), limits.theta_max_deg)
-    if a.size == 0:
-        return shapely.Polygon()
-    pts = end + np.outer(r * np.cos(a), normal) + np.outer(r * np.sin(a), tangent)
-    fan = shapely.Polygon(np.vstack([end, pts]))
-    return fan if fan.is_valid else shapely.make_valid(fan)
-
-
-@lru_cache(maxsize=256)
-def _precision_profile(rule: PrecisionRule, dz: float, theta_max_deg: float) -> tuple[NDArray, NDArray]:
-    """The boundary rho(theta) = sqrt(S_lim(theta)^2 - dz^2) of the precision part of a region, theta from
-    the normal (radians) and rho (m), drawn inside the true curve.
-
-    theta runs to ``top``, the smaller of theta_max and the incidence at which not even S = dz meets
-    sigma_req; there rho falls like sqrt(top - theta), so theta is sampled as top (1 - (1 - u)^2) with u
-    uniform, on which rho is smooth, plus the table's angles (where rho has kinks). Each vertex is pulled in by the larger chord error (chord against
-    the curve's mid-parameter point, in metres) of its two sectors; samples double until that error is at most
-    ``PRECISION_CHORD_M``. Cached per (rule, dz, theta_max): pieces of equal height share it.
-    """
-    from planner.instrument.accuracy import IncidenceErrorTable, derive_theta_max_deg, max_slant_for_view_m
-
-    args = (rule.scanner, rule.budget, rule.sigma_req_m, rule.incidence_model)
-    top = min(theta_max_deg, derive_theta_max_deg(dz, *args))
-    if top <= 0.0:
-        return np.zeros(0), np.zeros(0)
-
-    def rho(th: NDArray) -> NDArray:
-        return np.sqrt(np.maximum(max_slant_for_view_m(np.abs(th), *args) ** 2 - dz * dz, 0.0))
-
-    kinks = [k for k in (IncidenceErrorTable().theta_deg if rule.incidence_model == "table" else ()) if 0.0 < k < top]
-    n = PRECISION_SAMPLES
-    while True:
-        u = np.linspace(-1.0, 1.0, n)
-        th = np.unique(np.concatenate([np.sign(u) * top * (1.0 - (1.0 - np.abs(u)) ** 2), kinks, np.negative(kinks)]))
-        th_m = (th[:-1] + th[1:]) / 2.0  # the table's kinks are sample points: between samples the curve is smooth
-        r, r_m = rho(th), rho(th_m)
-        p0, p1, pm = (
-            np.column_stack([rr * np.cos(np.radians(tt)), rr * np.sin(np.radians(tt))])
-            for tt, rr in ((th[:-1], r[:-1]), (th[1:], r[1:]), (th_m, r_m))
-        )
-        err = _point_segment_m(pm, p0, p1)  # how far the curve strays from each chord
-        if err.max() <= PRECISION_CHORD_M or n > 64 * PRECISION_SAMPLES:  # (a cap; never reached in the tests)
-            break
-        n = 2 * n - 1
-    pull = np.maximum(np.concatenate([[0.0], err]), np.concatenate([err, [0.0]]))
-    return np.radians(th), np.maximum(r - pull, 0.0)
-
-
-def _point_segment_m(p: NDArray, a: NDArray, b: NDArray) -> NDArray[np.float64]:
-    """Distance of each point p from the segment a-b (row-wise)."""
-    ab, ap = b - a, p - a
-    L2 = np.einsum("ij,ij->i", ab, ab)
-    s = np.clip(np.einsum("ij,ij->i", ap, ab) / np.where(L2 > 0, L2, 1.0), 0.0, 1.0)
-    return np.hypot(*(ap - s[:, None] * ab).T)

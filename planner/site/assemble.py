@@ -172,56 +172,10 @@ def assemble(
         raise InputError("anchor names no zone of the site", file=site.source or None, field="anchor", value=anchor)
     placed: dict[str, Placement] = dict(fixed) or {anchor: IDENTITY}
     matches = candidate_matches(site.zones, tolerance_m)
-    used: list[WallMatch] = []
-    refused: list[tuple[WallMatch, str]] = []
-    ambiguous: dict[str, str] = {}
-    progress = True
-    while progress:
-        progress = False
-        reach: dict[str, list[tuple[WallMatch, Placement]]] = {}
-        for m in matches:
-            if m in used or any(m is r for r, _ in refused):
-                continue
-            if (m.zone_a in placed) == (m.zone_b in placed):
-                continue
-            (pz, pw), (oz, ow) = (
-                ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b))
-                if m.zone_a in placed
-                else ((m.zone_b, m.wall_b), (m.zone_a, m.wall_a))
-            )
-            cand = _relative(m, zones[pz], placed[pz], zones[oz], ow, pw, wall_thickness_m)
-            clash = next((z for z, p in placed.items() if interiors_clash(zones[oz], cand, zones[z], p)), None)
-            if clash is not None:
-                refused.append((m, f"coincidence: it would make {oz} overlap {clash}"))
-                continue
-            reach.setdefault(oz, []).append((m, cand))
-        for oz, options in reach.items():
-            if oz in ambiguous:
-                continue
-            spread = max(misfit(options[0][1], c, zones[oz]) for _, c in options)
-            if spread > consistency_m:
-                ambiguous[oz] = (
-                    f"ambiguous: {', '.join(m.label for m, _ in options)} place it up to {spread:.3f} m apart"
-                )
-                refused += [(m, f"ambiguous placement of {oz}") for m, _ in options]
-                continue
-            placed[oz] = options[0][1]
-            used += [m for m, _ in options]
-            progress = True
+    used, refused, ambiguous = _grow(matches, zones, placed, wall_thickness_m, consistency_m)
     used += _closing_matches(matches, used, refused, zones, placed, wall_thickness_m, consistency_m)
     used, refused = _one_partner(used, refused)
-    # zones with an accepted misclosure are fitted after the others, which they must not pull
-    held = set(fixed) or {anchor}
-    loose = {z for z in placed if misclosed(zones[z]) and z not in held}
-    first = [m for m in used if m.zone_a not in loose and m.zone_b not in loose]
-    fitted = _fit(zones, {z: p for z, p in placed.items() if z not in loose}, held, first, wall_thickness_m)
-    fitted = _fit(
-        zones,
-        {**fitted, **{z: placed[z] for z in loose}},
-        set(fitted),
-        [m for m in used if m not in first],
-        wall_thickness_m,
-    )
+    fitted = _fit_in_order(zones, placed, set(fixed) or {anchor}, used, wall_thickness_m)
     used = [replace(m, residual_m=_residual(m, zones, fitted, wall_thickness_m)) for m in used]
     sources = {z: _match_source(z, used, zones) for z in fitted if z not in fixed and z != anchor}
     from planner.site.contacts import place_unmatched
@@ -247,6 +201,65 @@ def assemble(
         tuple(contacts),
         sources,
     )
+
+
+def _grow(
+    matches: list[WallMatch],
+    zones: dict[str, Zone],
+    placed: dict[str, Placement],
+    thickness_m: float,
+    consistency_m: float,
+) -> tuple[list[WallMatch], list[tuple[WallMatch, str]], dict[str, str]]:
+    """Place zones (into ``placed``) one ring of matches at a time, from the zones already placed: a match
+    that would make interiors overlap is refused, a zone whose matches disagree is ambiguous. Returns the
+    matches used, those refused with why, and the ambiguous zones with why."""
+    used: list[WallMatch] = []
+    refused: list[tuple[WallMatch, str]] = []
+    ambiguous: dict[str, str] = {}
+    progress = True
+    while progress:
+        progress = False
+        reach: dict[str, list[tuple[WallMatch, Placement]]] = {}
+        for m in matches:
+            if m in used or any(m is r for r, _ in refused) or (m.zone_a in placed) == (m.zone_b in placed):
+                continue
+            (pz, pw), (oz, ow) = (
+                ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b))
+                if m.zone_a in placed
+                else ((m.zone_b, m.wall_b), (m.zone_a, m.wall_a))
+            )
+            cand = _relative(m, zones[pz], placed[pz], zones[oz], ow, pw, thickness_m)
+            clash = next((z for z, p in placed.items() if interiors_clash(zones[oz], cand, zones[z], p)), None)
+            if clash is not None:
+                refused.append((m, f"coincidence: it would make {oz} overlap {clash}"))
+                continue
+            reach.setdefault(oz, []).append((m, cand))
+        for oz, options in reach.items():
+            if oz in ambiguous:
+                continue
+            spread = max(misfit(options[0][1], c, zones[oz]) for _, c in options)
+            if spread > consistency_m:
+                ambiguous[oz] = (
+                    f"ambiguous: {', '.join(m.label for m, _ in options)} place it up to {spread:.3f} m apart"
+                )
+                refused += [(m, f"ambiguous placement of {oz}") for m, _ in options]
+                continue
+            placed[oz] = options[0][1]
+            used += [m for m, _ in options]
+            progress = True
+    return used, refused, ambiguous
+
+
+def _fit_in_order(
+    zones: dict[str, Zone], placed: dict[str, Placement], held: set[str], used: list[WallMatch], thickness_m: float
+) -> dict[str, Placement]:
+    """The least-squares fit of the placements, ``held`` fixed; zones with an accepted misclosure are fitted
+    after the others (those held then), which they must not pull."""
+    loose = {z for z in placed if misclosed(zones[z]) and z not in held}
+    first = [m for m in used if m.zone_a not in loose and m.zone_b not in loose]
+    fitted = _fit(zones, {z: p for z, p in placed.items() if z not in loose}, held, first, thickness_m)
+    rest = [m for m in used if m not in first]
+    return _fit(zones, {**fitted, **{z: placed[z] for z in loose}}, set(fitted), rest, thickness_m)
 
 
 def _match_source(z: str, used: list[WallMatch], zones: dict[str, Zone]) -> str:
