@@ -60,14 +60,8 @@ def greedy_cover(
         raise UsageError(f"needs one flag per target ({n_targ})", field="must_cover", value=np.shape(must_cover))
     uncovered = seen.copy() if must_cover is None else np.asarray(must_cover, dtype=bool).copy()
     if np.any(uncovered & ~seen):
-        return SolveResult(
-            method="greedy",
-            status=Status.INFEASIBLE,
-            selected=(),
-            objective=None,
-            time_s=time.perf_counter() - start,
-            info={"unseen_targets": np.flatnonzero(uncovered & ~seen).tolist()},
-        )
+        unseen = np.flatnonzero(uncovered & ~seen).tolist()
+        return SolveResult.no_plan("greedy", Status.INFEASIBLE, start, info={"unseen_targets": unseen})
     w = np.ones(n_cand) if weights is None else np.asarray(weights, dtype=float)
     if w.shape != (n_cand,) or not (np.all(np.isfinite(w)) and np.all(w > 0)):  # 0 or -1 gave "0 stations"
         raise InputError(
@@ -85,12 +79,18 @@ def greedy_cover(
         chosen.append(best)
         taken[best] = True
         uncovered[a.indices[a.indptr[best] : a.indptr[best + 1]]] = False
+    return _feasible(chosen, w, start)
+
+
+def _feasible(chosen: list[int], cost: np.ndarray, start: float, info: dict | None = None) -> SolveResult:
+    """The greedy's cover ``chosen`` (in the order taken) at ``cost``, timed from ``start``."""
     return SolveResult(
         method="greedy",
         status=Status.FEASIBLE,
         selected=tuple(chosen),
-        objective=float(w[chosen].sum()),
+        objective=float(cost[chosen].sum()),
         time_s=time.perf_counter() - start,
+        info=info or {},
     )
 
 
@@ -130,19 +130,5 @@ def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: in
     chosen = connected_greedy(a, adj, instance.groups, instance.cost, need, starts)
     info = {"connected": True, "starts": starts}
     if chosen is None:
-        return SolveResult(
-            method="greedy",
-            status=Status.INFEASIBLE,
-            selected=(),
-            objective=None,
-            time_s=time.perf_counter() - start,
-            info=info,
-        )
-    return SolveResult(
-        method="greedy",
-        status=Status.FEASIBLE,
-        selected=tuple(chosen),
-        objective=float(instance.cost[chosen].sum()),
-        time_s=time.perf_counter() - start,
-        info=info,
-    )
+        return SolveResult.no_plan("greedy", Status.INFEASIBLE, start, info=info)
+    return _feasible(chosen, instance.cost, start, info)

@@ -5,58 +5,41 @@
                sum_j (sigma_req / sigma_tj)^2 x_j >= 1          every t (precision "combined")
                chosen stations of each group connected          (overlap relation, lazy cuts)
 
-The problem is split into independent blocks (no shared target, no common
-group), each presolved and warm-started from a connected greedy plan
-(:mod:`planner.solve.block`), or, with no registration groups, from the
-better of the greedy cover and CFT's cover shrunk by the local search
-(:mod:`planner.solve.plain_start`). A block of one group first gets the ring bound
-(:mod:`planner.solve.ring`), which closes A, B, C, Baalbek and building27
-before any search; the others are solved, connectivity cuts added and the
-block re-solved until its choice is connected. Objectives and bounds of the
-blocks add up.
+The problem is split into independent blocks (no shared target, no common group,
+:mod:`planner.solve.decompose`), each presolved and warm-started from a connected greedy plan
+(:mod:`planner.solve.block`), or, with no registration groups, from the better of the greedy cover and
+CFT's cover shrunk by the local search (:mod:`planner.solve.plain_start`). A block of one group first
+gets the ring bound (:mod:`planner.solve.ring`), which often closes it before any search; the others are
+solved, connectivity cuts added and the block re-solved until its choice is connected. Objectives and
+bounds of the blocks add up.
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from planner.core.checks import argument, count, flag, real
 from planner.core.errors import UsageError
-from planner.coverage.overlap import (
-    DEFAULT_OVERLAP,
-    SITE_SHARE,
-    OverlapRule,
-    SiteShare,
-    group_ids,
-    overlap_adjacency,
-)
+from planner.core.settings import DEFAULTS
+from planner.coverage.overlap import DEFAULT_OVERLAP, SITE_SHARE, OverlapRule, SiteShare
 from planner.solve.backends import BACKENDS, NODE_LIMITED
-from planner.solve.block import BlockSolver, lengths
+from planner.solve.block import BlockSolver
+from planner.solve.decompose import block_solvers
 from planner.solve.instance import CoverInstance
-from planner.solve.lazy_links import OverlapLinks, linked_dominated
 from planner.solve.plain_start import MOVES_PER_TARGET, plain_record
-from planner.solve.presolve import (
-    PresolveReport,
-    dominated,
-    duplicate_targets,
-    forced,
-    implied_targets,
-)
 from planner.solve.result import SolveResult, Status
+
+__all__ = ["MilpOptions", "block_solvers", "solve"]
 
 PRECISION_MODES = ("single", "combined")
 #: CP-SAT deterministic seconds a whole solve may spend (cpsat; about a minute of one core): a count of work, so
-#: the plan is the same under any load; Baalbek's site with doors and the 4-ha plant end on it, the other bundled
-#: sites are proven well within it
-WORK_LIMIT = 25.0
+#: the plan is the same under any load (docs/milp.md: the sites that end on it)
+WORK_LIMIT: float = DEFAULTS["milp.work_limit"]
 #: branch-and-bound nodes per solve on the backends that take a node limit (:data:`NODE_LIMITED`)
 NODE_LIMIT = 10_000
 #: wall-clock cap of a work-limited MILP the tiles and windows run, as a multiple of its work limit
@@ -74,27 +57,28 @@ class MilpOptions:
     registration groups gets the plain start (``plain_start``, ``plain_start_moves``), a connected one the local
     search of ``local_search_moves``."""
 
-    backend: str = "cpsat"
+    backend: str = DEFAULTS["milp.backend"]
     #: a wall-clock cap in seconds on the whole solve, only where the user sets one (None: none). A solve it
     #: cuts may depend on the machine's load: ``info["work"]["wall_cap_hit"]`` says so
-    time_limit_s: float | None = None
-    seed: int = 0
-    threads: int = 1
-    k: int = 1
+    time_limit_s: float | None = DEFAULTS["milp.time_limit_s"]
+    seed: int = DEFAULTS["milp.seed"]
+    threads: int = DEFAULTS["milp.threads"]
+    k: int = DEFAULTS["milp.k"]
     #: the registration rule: an :class:`OverlapRule`, ``None`` (none), or a :class:`SiteShare` (default): the
     #: site's own overlap share, resolved once per run with the site (0 means none; a bare ``solve`` has no
     #: site: :data:`DEFAULT_OVERLAP`)
     overlap: OverlapRule | SiteShare | None = SITE_SHARE
-    precision: str = "single"
+    #: ``single``: each view meets sigma_req alone; ``combined``: the views of a point add information
+    precision: str = DEFAULTS["milp.precision"]
     greedy_starts: int = 50
     max_rounds: int = 500
     presolve: bool = True
-    connectivity: str = "auto"
-    layer_cuts: bool = False
-    tree_bound: bool = False
+    connectivity: str = DEFAULTS["milp.connectivity"]
+    layer_cuts: bool = DEFAULTS["milp.layer_cuts"]
+    tree_bound: bool = DEFAULTS["milp.tree_bound"]
     #: the ring bound (:mod:`planner.solve.ring`): a block of one registration group whose stations see runs
     #: of its wall gets the cheapest walk over its arcs as a lower bound (exact where every run is whole)
-    ring_bound: bool = True
+    ring_bound: bool = DEFAULTS["milp.ring_bound"]
     #: steps of the Lagrangian ascent that adds the cover rows to the ring bound (a count: the same bound
     #: under any load; 0: the ring bound alone)
     ring_lagrange_steps: int = 500
@@ -107,7 +91,7 @@ class MilpOptions:
     #: swaps of the local search (:mod:`planner.solve.local_search`) that tries, once per incumbent size, to
     #: find a connected plan one station smaller, down to the block's bound (unit costs, k = 1; 0: off, the plain
     #: start's search included)
-    local_search_moves: int = 500
+    local_search_moves: int = DEFAULTS["milp.local_search_moves"]
     #: the plain start (:mod:`planner.solve.plain_start`): a block with no registration groups (unit costs, k = 1,
     #: single precision) starts from CFT's cover shrunk by the plain local search where that beats its greedy
     plain_start: bool = True
@@ -196,50 +180,40 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     counts = np.diff(instance.by_target.indptr)
     if np.any(counts < o.k):
         bad = np.flatnonzero(counts < o.k)
-        return SolveResult(
-            method="milp",
-            status=Status.INFEASIBLE,
-            selected=(),
-            objective=None,
-            time_s=time.perf_counter() - start,
-            backend=o.backend,
-            info={"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)},
-        )
-    connect = o.rule is not None and instance.groups is not None
+        info = {"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)}
+        return SolveResult.no_plan("milp", Status.INFEASIBLE, start, o.backend, info)
     report, solvers = block_solvers(instance, o, deadline)
     _share_out(solvers, deadline, o.work_limit if o.backend == "cpsat" else None)
-    if any(b.infeasible for b in solvers):
-        return SolveResult(
-            method="milp",
-            status=Status.INFEASIBLE,
-            selected=(),
-            objective=None,
-            time_s=time.perf_counter() - start,
-            backend=o.backend,
-            info={"presolve": report.to_dict()},
-        )
-    if any(b.incumbent is None for b in solvers):
-        return SolveResult(
-            method="milp",
-            status=Status.NO_SOLUTION,
-            selected=(),
-            objective=None,
-            time_s=time.perf_counter() - start,
-            backend=o.backend,
-            info={"presolve": report.to_dict()},
-        )
+    if any(b.infeasible for b in solvers) or any(b.incumbent is None for b in solvers):
+        status = Status.INFEASIBLE if any(b.infeasible for b in solvers) else Status.NO_SOLUTION
+        return SolveResult.no_plan("milp", status, start, o.backend, {"presolve": report.to_dict()})
     selected: list[int] = [int(b.cands[i]) for b in solvers for i in (b.incumbent or ())]
     objective = float(sum(b.cost[b.incumbent].sum() for b in solvers))
     bound = float(
         sum(b.cost[b.incumbent].sum() if b.done else min(b.bound, b.cost[b.incumbent].sum()) for b in solvers)
     )
     all_optimal = all(b.done for b in solvers)
-    rounds, cuts = sum(b.rounds for b in solvers), sum(b.cuts for b in solvers)
-    status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
-    info = {
-        "presolve": report.to_dict(),
-        "rounds": rounds,
-        "cuts": cuts,
+    info = _record(solvers, o, o.rule is not None and instance.groups is not None)
+    # the user's wall-clock cap, not the counted work, ended the search: only then may the plan depend on the load
+    info["work"]["wall_cap_hit"] = not all_optimal and time.perf_counter() >= deadline
+    return SolveResult(
+        method="milp",
+        status=Status.OPTIMAL if all_optimal else Status.FEASIBLE,
+        selected=tuple(sorted(selected)),
+        objective=objective,
+        bound=objective if all_optimal else bound,
+        time_s=time.perf_counter() - start,
+        backend=o.backend,
+        info={"presolve": report.to_dict(), **info},
+    )
+
+
+def _record(solvers: list[BlockSolver], o: MilpOptions, connect: bool) -> dict[str, Any]:
+    """What the blocks did, summed (``SolveResult.info`` after the presolve's report; ``work.wall_cap_hit``
+    is the caller's to add)."""
+    info: dict[str, Any] = {
+        "rounds": sum(b.rounds for b in solvers),
+        "cuts": sum(b.cuts for b in solvers),
         "connected": connect,
         "local_search_moves": sum(b.local_moves for b in solvers),
         "ring_bound": {
@@ -258,56 +232,8 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         "used": round(sum(b.work_used for b in solvers), 3),
         "node_limit": limits["node_limit"],
         "wall_cap_s": limits["wall_cap_s"],
-        # the user's wall-clock cap, not the counted work, ended the search: only then may the plan depend on the load
-        "wall_cap_hit": not all_optimal and time.perf_counter() >= deadline,
     }
-    return SolveResult(
-        method="milp",
-        status=status,
-        selected=tuple(sorted(selected)),
-        objective=objective,
-        bound=objective if all_optimal else bound,
-        time_s=time.perf_counter() - start,
-        backend=o.backend,
-        info=info,
-    )
-
-
-def block_solvers(
-    instance: CoverInstance, o: MilpOptions, deadline: float = math.inf
-) -> tuple[PresolveReport, list[BlockSolver]]:
-    """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
-    the registration rule applies when ``o.rule`` is set and the instance has groups. ``deadline``: the user's
-    wall-clock cap as a ``time.perf_counter()`` instant, which the blocks' starts and searches keep too."""
-    a = instance.by_candidate.astype(bool).tocsr()
-    adj: sp.csr_matrix | OverlapLinks | None = None
-    if o.rule is not None and instance.groups is not None:
-        adj = instance.relation.astype(bool).tocsr() if instance.relation is not None else _adjacency(instance, a, o)
-    report, adj = _presolve(instance, a, adj, o)
-    keep_c = np.asarray(report.kept_candidates, dtype=np.int64)
-    keep_t = np.asarray(report.kept_targets, dtype=np.int64)
-    return report, [
-        BlockSolver(instance, a, adj, bc, bt, report.forced_candidates, o, deadline)
-        for bc, bt in _blocks(a, keep_c, keep_t, instance.groups)
-    ]
-
-
-def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.csr_matrix | OverlapLinks:
-    """The overlap relation (C x C). Where the presolve will run dominance and the relation depends on the
-    coverage alone (no ``max_link_m``, no links through openings), it is not formed here: the presolve forms
-    it among the candidates it keeps (:func:`planner.solve.lazy_links.linked_dominated`)."""
-    assert o.rule is not None and instance.groups is not None
-    plain = (
-        o.presolve
-        and o.k == 1
-        and o.precision == "single"
-        and o.rule.max_link_m is None
-        and (instance.links is None or instance.links.nnz == 0)
-        and bool(np.all(lengths(instance) > 0))
-    )
-    if not plain:
-        return overlap_adjacency(a, lengths(instance), o.rule, instance.groups, instance.xy, instance.links)[0]
-    return OverlapLinks(lengths(instance), o.rule, group_ids(instance.groups))
+    return info
 
 
 def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | None) -> None:
@@ -326,105 +252,3 @@ def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | 
             share = (deadline - time.perf_counter()) / (len(todo) - k)
             if share > 0:
                 block.run(time.perf_counter() + share if math.isfinite(share) else math.inf)
-
-
-def _presolve(
-    instance: CoverInstance, a: sp.csr_matrix, adj: sp.csr_matrix | OverlapLinks | None, o: MilpOptions
-) -> tuple[PresolveReport, sp.csr_matrix | None]:
-    """The presolve's report and the overlap relation as a matrix (among the kept candidates where it came lazy)."""
-    start = time.perf_counter()
-    n_cand, n_targ = a.shape
-    drop = np.zeros(n_cand, dtype=bool)
-    if not o.presolve:
-        assert not isinstance(adj, OverlapLinks)
-        every = PresolveReport(
-            candidates_in=n_cand,
-            targets_in=n_targ,
-            kept_candidates=tuple(range(n_cand)),
-            kept_targets=tuple(range(n_targ)),
-        )
-        return every, adj
-    if o.k == 1 and o.precision == "single":
-        drop, dup, adj = _reduce(a, instance.cost, adj, instance.groups if adj is not None else None)
-    elif o.precision == "single":
-        dup = duplicate_targets(instance.by_target)
-    else:
-        dup = np.zeros(n_targ, dtype=bool)
-    kept_c = np.flatnonzero(~drop)
-    bt = a[kept_c].T.tocsr()
-    must = forced(bt, o.k)
-    assert not isinstance(adj, OverlapLinks)
-    links = None if adj is None else int(adj[kept_c][:, kept_c].nnz // 2)
-    report = PresolveReport(
-        candidates_in=n_cand,
-        targets_in=n_targ,
-        dominated=int(drop.sum()),
-        duplicate_targets=int(dup.sum()),
-        forced=int(must.sum()),
-        kept_candidates=tuple(kept_c.tolist()),
-        kept_targets=tuple(np.flatnonzero(~dup).tolist()),
-        forced_candidates=tuple(kept_c[must].tolist()),
-        time_s=time.perf_counter() - start,
-        links=links,
-    )
-    return report, adj
-
-
-#: at most this many alternations of dominance and implied targets (each pass is a valid reduction)
-_REDUCE_PASSES = 20
-
-
-def _reduce(
-    a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | OverlapLinks | None, groups: Sequence[Hashable] | None
-) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix | None]:
-    """Dominated candidates and implied targets (k = 1, single precision), alternated until neither
-    removes anything: dropping candidates makes more targets implied (every *remaining* seer of t' sees
-    t) and dropping targets makes more candidates dominated. Each step keeps the connected optimum of
-    the problem it is applied to (see :func:`dominated` and :func:`implied_targets`), so the last
-    one's equals the first's. Polygon A (cached pool of scripts/bench/bench_connectivity.py): 958 candidates x
-    1,618 targets after one pass, 574 x 361 after this (measured).
-    Returns the masks of dropped candidates and targets, and the relation (formed among the kept candidates
-    after the first pass where it came lazy)."""
-    kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
-    for _ in range(_REDUCE_PASSES):
-        if isinstance(adj, OverlapLinks):  # the first pass, on every candidate: indices are the instance's
-            d, adj = linked_dominated(a, cost, adj)
-        else:
-            sub = adj[kc][:, kc].tocsr() if adj is not None else None
-            d = dominated(a[kc][:, kt].tocsr(), cost[kc], sub, [groups[i] for i in kc] if groups is not None else None)
-        kc = kc[~d]
-        imp = implied_targets(a[kc][:, kt].T.tocsr())
-        kt = kt[~imp]
-        if not (d.any() or imp.any()):
-            break
-    drop, dup = np.ones(a.shape[0], dtype=bool), np.ones(a.shape[1], dtype=bool)
-    drop[kc], dup[kt] = False, False
-    return drop, dup, adj
-
-
-def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Independent parts: candidates linked through shared targets or a common group.
-
-    The components of one graph: candidates, then targets, then one node per group, a candidate joined to its
-    targets and to its group's node (linear in the pairs and candidates; the candidate x candidate "same group"
-    product it replaces grew as the kept candidates squared, 1.4 GiB on polygon C at a 1-m grid). The group
-    nodes come last, so every component's lowest node, and with it the order of the labels, is as before."""
-    sub = a[keep_c][:, keep_t].tocsr()
-    nc, nt = sub.shape
-    gid = group_ids([groups[i] for i in keep_c]) if groups is not None else np.zeros(0, dtype=np.int64)
-    ng = int(gid.max(initial=-1)) + 1
-    rows = np.concatenate([np.repeat(np.arange(nc), np.diff(sub.indptr)), np.arange(gid.size)])
-    cols = np.concatenate([nc + sub.indices, nc + nt + gid])
-    size = nc + nt + ng
-    graph = sp.csr_matrix((np.ones(rows.size, dtype=bool), (rows, cols)), shape=(size, size))
-    n, label = connected_components(graph, directed=False)
-    out = []
-    for b in range(n):
-        members = np.flatnonzero(label == b)
-        bc, bt = keep_c[members[members < nc]], keep_t[members[(members >= nc) & (members < nc + nt)] - nc]
-        if bt.size:
-            out.append((bc, bt))
-    # smallest first: a small block is usually proven inside its share and leaves the rest, in one
-    # piece, to the larger ones (polygon C: the outside block proves in ~7 s, the inside one then
-    # runs on without the restart that a second pass costs); ties keep the component order
-    return sorted(out, key=lambda b: b[0].size * b[1].size)

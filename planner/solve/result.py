@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
@@ -30,6 +31,22 @@ class SolveResult:
     time_s: float = 0.0
     backend: str | None = None
     info: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def no_plan(
+        cls, method: str, status: Status, start: float, backend: str | None = None, info: dict[str, Any] | None = None
+    ) -> SolveResult:
+        """A result without stations (``status`` infeasible or no solution), timed from ``start``
+        (a ``time.perf_counter()`` instant)."""
+        return cls(
+            method=method,
+            status=status,
+            selected=(),
+            objective=None,
+            time_s=time.perf_counter() - start,
+            backend=backend,
+            info=info or {},
+        )
 
     @property
     def gap(self) -> float | None:

@@ -193,45 +193,50 @@ def _handler(scip: Any) -> type:
             found = 0
             base = split_graph(self.adj, vals)
             for g, members in self.members.items():
-                for i, nodes in self._separate_group(g, members, vals, base):
-                    row = self.model.createEmptyRowUnspec(name="sep", lhs=0.0, rhs=None, local=False, removable=True)
-                    self.model.cacheRowExtensions(row)
-                    for v in nodes:
-                        self.model.addVarToRow(row, self.x[int(v)], 1.0)
-                    self.model.addVarToRow(row, self.x[int(i)], -1.0)
-                    self.model.flushRowExtensions(row)
-                    self.model.addCut(row, forcecut=False)
-                    self.model.addPoolCut(row)
-                    self.model.releaseRow(row)
+                for i, nodes in _separations(self, self.essential.get(g), members, vals, base):
+                    _add_separator_cut(self.model, self.x, i, nodes)
                     found += 1
             self.n_frac += found
             return {"result": result.SEPARATED if found else result.DIDNOTFIND}
 
-        def _separate_group(self, g: Hashable, members: np.ndarray, vals: np.ndarray, base: sp.csr_matrix):
-            ess = self.essential.get(g)
-            if ess is None or not ess.any():
-                return
-            order = members[np.argsort(-vals[members], kind="stable")]
-            sources = [int(i) for i in order[:MAX_SOURCES] if vals[i] > MIN_VIOLATION]
-            if not sources:
-                return
-            hops = dijkstra(self.adj, directed=False, indices=sources, unweighted=True)
-            ess_t = np.flatnonzero(ess)
-            for k, i in enumerate(sources):
-                seen = np.zeros(self.a.shape[1], dtype=bool)
-                seen[self.a.indices[self.a.indptr[i] : self.a.indptr[i + 1]]] = True
-                need = ess_t[~seen[ess_t]]
-                if need.size == 0:
-                    continue
-                # the essential target whose nearest seer is farthest from i in overlap steps
-                far = [
-                    min((hops[k][self.seers.indices[self.seers.indptr[t] : self.seers.indptr[t + 1]]]), default=np.inf)
-                    for t in need
-                ]
-                t = int(need[int(np.argmax(far))])
-                sinks = self.seers.indices[self.seers.indptr[t] : self.seers.indptr[t + 1]]
-                value, nodes = min_node_separator(base, i, sinks)
-                if vals[i] - value > MIN_VIOLATION:
-                    yield i, nodes
-
     return Registration
+
+
+def _add_separator_cut(model: Any, x: list, i: int, nodes: Sequence[int]) -> None:
+    """The cut ``sum(x[nodes]) >= x[i]`` (a node separator between station ``i`` and a target's seers), to the
+    LP and the cut pool."""
+    row = model.createEmptyRowUnspec(name="sep", lhs=0.0, rhs=None, local=False, removable=True)
+    model.cacheRowExtensions(row)
+    for v in nodes:
+        model.addVarToRow(row, x[int(v)], 1.0)
+    model.addVarToRow(row, x[int(i)], -1.0)
+    model.flushRowExtensions(row)
+    model.addCut(row, forcecut=False)
+    model.addPoolCut(row)
+    model.releaseRow(row)
+
+
+def _separations(h: Any, ess: np.ndarray | None, members: np.ndarray, vals: np.ndarray, base: sp.csr_matrix):
+    """The violated separator inequalities of one group (members ``members``, essential targets ``ess``) at the
+    LP point ``vals``, for the handler ``h``: pairs (station i, separator nodes)."""
+    if ess is None or not ess.any():
+        return
+    order = members[np.argsort(-vals[members], kind="stable")]
+    sources = [int(i) for i in order[:MAX_SOURCES] if vals[i] > MIN_VIOLATION]
+    if not sources:
+        return
+    hops = dijkstra(h.adj, directed=False, indices=sources, unweighted=True)
+    ess_t = np.flatnonzero(ess)
+    seers = h.seers
+    for k, i in enumerate(sources):
+        seen = np.zeros(h.a.shape[1], dtype=bool)
+        seen[h.a.indices[h.a.indptr[i] : h.a.indptr[i + 1]]] = True
+        need = ess_t[~seen[ess_t]]
+        if need.size == 0:
+            continue
+        # the essential target whose nearest seer is farthest from i in overlap steps
+        far = [min((hops[k][seers.indices[seers.indptr[t] : seers.indptr[t + 1]]]), default=np.inf) for t in need]
+        t = int(need[int(np.argmax(far))])
+        value, nodes = min_node_separator(base, i, seers.indices[seers.indptr[t] : seers.indptr[t + 1]])
+        if vals[i] - value > MIN_VIOLATION:
+            yield i, nodes

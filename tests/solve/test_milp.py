@@ -166,7 +166,7 @@ def test_blocks_through_group_nodes_are_the_product_blocks(seed):
     # issue 32: the blocks' "same group" links are group nodes now, not a kept x kept product; the blocks and
     # their order must be the old ones (random sparse covers of 6-40 candidates over 5-30 pieces, 1-4 groups,
     # random kept subsets; with and without groups)
-    from planner.solve.milp import _blocks
+    from planner.solve.decompose import _blocks
 
     rng = np.random.default_rng(seed)
     m, n = int(rng.integers(6, 41)), int(rng.integers(5, 31))

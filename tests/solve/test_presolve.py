@@ -232,10 +232,10 @@ def test_an_optimal_connected_plan_survives_dominance(n: int, m: int, seed: int,
 @settings(max_examples=60, deadline=None, derandomize=True, database=None)
 @given(n=st.integers(1, 9), m=st.integers(1, 6), seed=st.integers(0, 2**31 - 1), share=st.floats(0.0, 0.8))
 def test_an_optimal_connected_plan_survives_the_passes(n: int, m: int, seed: int, share: float) -> None:
-    # milp._reduce alternates dominance (the first pass under the overlap rule, the others over the relation
+    # decompose._reduce alternates dominance (the first pass under the overlap rule, the others over the relation
     # among the kept) with implied targets: a cover of the kept targets by the kept candidates covers all,
     # and the cheapest connected one costs what the cheapest over everything costs
-    from planner.solve.milp import _reduce
+    from planner.solve.decompose import _reduce
 
     a, cost, lengths, groups = random_pool(n, m, seed, True)
     rule = OverlapRule(share)
