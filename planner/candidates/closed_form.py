@@ -53,28 +53,50 @@ def scan_side_angles(zone: Zone, side: ScanSide) -> np.ndarray:
 def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
     """Vertex candidates, wall candidates and (inside, when no wall needs one) the circle candidate."""
     xy = np.asarray(zone.xy, dtype=float)
-    n = len(xy)
     angles = scan_side_angles(zone, side)
-    sign = 1.0 if side is ScanSide.INSIDE else -1.0  # inside is to the left of each CCW wall
-    tag = SIDE_TAG[side]
     reach = [horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m]
-    vgeo = tuple(vertex_geometry(float(angles[i]), reach[i], limits.theta_max_deg) for i in range(n))
-    vertex_cands = []
+    vgeo = tuple(vertex_geometry(float(angles[i]), reach[i], limits.theta_max_deg) for i in range(len(xy)))
+    vertex_cands = _vertex_candidates(zone, side, xy, vgeo)
+    wplans, wall_cands = _wall_candidates(zone, side, xy, vgeo, limits)
+    candidates = tuple(vertex_cands + wall_cands)
+    replaced = False
+    if side is ScanSide.INSIDE and not wall_cands:
+        circle = circle_candidate(zone, vgeo, reach)
+        if circle is not None:
+            candidates, replaced = (circle,), True
+    return ZoneSidePlan(zone.id, side, vgeo, tuple(wplans), candidates, replaced)
+
+
+def _candidate(zone: Zone, side: ScanSide, name: str, x: float, y: float, kind: CandidateKind, **more) -> Candidate:
+    """The closed-form candidate ``name`` of a zone-side (id ``zone-side-name``) at (x, y)."""
+    return Candidate(
+        id=f"{zone.id}-{SIDE_TAG[side]}-{name}", zone=zone.id, side=side, frame=zone.frame, x=x, y=y, kind=kind, **more
+    )
+
+
+def _sign(side: ScanSide) -> float:
+    """+1 inside (to the left of each CCW wall), -1 outside."""
+    return 1.0 if side is ScanSide.INSIDE else -1.0
+
+
+def _vertex_candidates(
+    zone: Zone, side: ScanSide, xy: np.ndarray, vgeo: tuple[VertexGeometry | None, ...]
+) -> list[Candidate]:
+    """One candidate per vertex not cancelled, on its bisector at the distance HD."""
+    out_cands = []
     for i, g in enumerate(vgeo):
         if g is None:
             continue
-        out = xy[(i + 1) % n] - xy[i]
-        direction = _rotate(out / np.linalg.norm(out), sign * g.angle_deg / 2.0)
-        p = xy[i] + g.hd_m * direction
-        vertex_cands.append(
-            Candidate(
-                id=f"{zone.id}-{tag}-V{i + 1}",
-                zone=zone.id,
-                side=side,
-                frame=zone.frame,
-                x=float(p[0]),
-                y=float(p[1]),
-                kind=CandidateKind.VERTEX,
+        out = xy[(i + 1) % len(xy)] - xy[i]
+        p = xy[i] + g.hd_m * _rotate(out / np.linalg.norm(out), _sign(side) * g.angle_deg / 2.0)
+        out_cands.append(
+            _candidate(
+                zone,
+                side,
+                f"V{i + 1}",
+                float(p[0]),
+                float(p[1]),
+                CandidateKind.VERTEX,
                 vertex=i + 1,
                 alpha_deg=g.alpha_deg,
                 hd_m=g.hd_m,
@@ -82,40 +104,48 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
                 covered_m=g.covered_m,
             )
         )
+    return out_cands
+
+
+def _wall_candidates(
+    zone: Zone, side: ScanSide, xy: np.ndarray, vgeo: tuple[VertexGeometry | None, ...], limits: Limits
+) -> tuple[list[WallPlan], list[Candidate]]:
+    """Each wall's plan (the length its vertex candidates leave) and its wall candidates, in site coordinates."""
+    n = len(xy)
     wplans, wall_cands = [], []
     for i, wall in enumerate(zone.outer_walls):
         g1, g2 = vgeo[i], vgeo[(i + 1) % n]
-        l1 = g1.covered_m if g1 else 0.0
-        l2 = g2.covered_m if g2 else 0.0
         reach_c = horizontal_reach_m(limits.max_slant_range_m, wall.height_m, limits.instrument_height_m)
-        wp = wall_plan(wall.length_m, reach_c, l1, l2, limits.theta_max_deg, limits.overlap)
+        wp = wall_plan(
+            wall.length_m,
+            reach_c,
+            g1.covered_m if g1 else 0.0,
+            g2.covered_m if g2 else 0.0,
+            limits.theta_max_deg,
+            limits.overlap,
+        )
         wplans.append(wp)
         start = xy[i]
         t = (xy[(i + 1) % n] - start) / wall.length_m
-        nrm = sign * np.array([-t[1], t[0]])
+        nrm = _sign(side) * np.array([-t[1], t[0]])
+
+        def at(x: float, y: float, start: np.ndarray = start, t: np.ndarray = t, nrm: np.ndarray = nrm):
+            q = start + x * t + y * nrm
+            return (float(q[0]), float(q[1]))
+
         for k, st in enumerate(wp.stations, 1):
-
-            def at(
-                x: float, y: float, start: np.ndarray = start, t: np.ndarray = t, nrm: np.ndarray = nrm
-            ) -> tuple[float, float]:
-                q = start + x * t + y * nrm
-                return (float(q[0]), float(q[1]))
-
             field = (
                 at(st.x_m - st.half_base_m, st.y_m),
                 at(st.x_m + st.half_base_m, st.y_m),
                 at(st.x_m, st.y_m - st.height_m),
             )
-            px, py = at(st.x_m, st.y_m)
             wall_cands.append(
-                Candidate(
-                    id=f"{zone.id}-{tag}-W{i + 1}.{k}",
-                    zone=zone.id,
-                    side=side,
-                    frame=zone.frame,
-                    x=px,
-                    y=py,
-                    kind=CandidateKind.WALL,
+                _candidate(
+                    zone,
+                    side,
+                    f"W{i + 1}.{k}",
+                    *at(st.x_m, st.y_m),
+                    CandidateKind.WALL,
                     wall=i + 1,
                     local_x_m=st.x_m,
                     local_y_m=st.y_m,
@@ -124,13 +154,7 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
                     field=field,
                 )
             )
-    candidates = tuple(vertex_cands + wall_cands)
-    replaced = False
-    if side is ScanSide.INSIDE and not wall_cands:
-        circle = circle_candidate(zone, vgeo, reach)
-        if circle is not None:
-            candidates, replaced = (circle,), True
-    return ZoneSidePlan(zone.id, side, vgeo, tuple(wplans), candidates, replaced)
+    return wplans, wall_cands
 
 
 def circle_radii(vgeo: tuple[VertexGeometry | None, ...], reach: list[float]) -> list[float]:

@@ -12,6 +12,7 @@ import shapely
 from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, pole_in_frame, scan_side_angles
 from planner.candidates.formulas import horizontal_reach_m
 from planner.core.checks import argument, count, real
+from planner.core.settings import DEFAULTS
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site, Zone
 
@@ -32,11 +33,11 @@ class PoolOptions:
     ``min_standoff_m``: grid and field points closer to a wall are dropped.
     """
 
-    grid_spacing_m: float | None = None
+    grid_spacing_m: float | None = DEFAULTS["pool.grid_spacing_m"]
     field_samples: int = 6
     min_grid_points: int = 12
     min_standoff_m: float = 0.5
-    seed: int = 0
+    seed: int = DEFAULTS["pool.seed"]
 
     def __post_init__(self) -> None:
         if self.grid_spacing_m is not None:
@@ -200,60 +201,37 @@ def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Can
     }
     for zone in site.zones:
         for side in zone.scan_side.sides:
-            tag = SIDE_TAG[side]
-            for name, p in _corner_rays(zone, side, limits):
-                pool.append(
-                    Candidate(
-                        f"{zone.id}-{tag}-{name}",
-                        zone.id,
-                        side,
-                        zone.frame,
-                        float(p[0]),
-                        float(p[1]),
-                        CandidateKind.FIELD,
-                    )
-                )
-            region = _region(
-                zone,
-                side,
-                max(
-                    horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m)
-                    for h in zone.vertex_heights_m
-                ),
-            )
-            if region.is_empty:  # no wall top within reach from outside: no point stands usefully (coverage says
-                continue  # which pieces nothing sees, exit 4)
-            if side is ScanSide.INSIDE:  # the point farthest from every wall: a room's natural centre station
-                origin, ux = _frame_axes(site, zone.frame)
-                centre = pole_in_frame(region, origin, ux)
-                pool.append(
-                    Candidate(f"{zone.id}-{tag}-P", zone.id, side, zone.frame, centre.x, centre.y, CandidateKind.GRID)
-                )
-            for name, p in _bisector_points(zone, region, options.min_standoff_m):
-                pool.append(
-                    Candidate(
-                        f"{zone.id}-{tag}-{name}",
-                        zone.id,
-                        side,
-                        zone.frame,
-                        float(p[0]),
-                        float(p[1]),
-                        CandidateKind.FIELD,
-                    )
-                )
-            spacing = options.grid_m
-            if region.area / spacing**2 < options.min_grid_points:
-                spacing = max(math.sqrt(region.area / options.min_grid_points), 0.25)
-            origin, ux = _frame_axes(site, zone.frame)
-            pts = _grid_points(region, origin, ux, spacing)
-            far = shapely.distance(walls[zone.frame], shapely.points(pts)) >= options.min_standoff_m if len(pts) else []
-            for k, (x, y) in enumerate(pts[np.asarray(far, dtype=bool)] if len(pts) else [], 1):
-                pool.append(
-                    Candidate(
-                        f"{zone.id}-{tag}-G{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.GRID
-                    )
-                )
+            pool += _zone_side_points(site, zone, side, limits, options, walls[zone.frame])
     return dedupe(pool)
+
+
+def _zone_side_points(
+    site: Site, zone: Zone, side: ScanSide, limits: Limits, options: PoolOptions, walls: shapely.Geometry
+) -> list[Candidate]:
+    """The corner rays, the centre (inside), the corner-bisector points and the grid of one zone-side."""
+
+    def point(name: str, x: float, y: float, kind: CandidateKind = CandidateKind.FIELD) -> Candidate:
+        return Candidate(f"{zone.id}-{SIDE_TAG[side]}-{name}", zone.id, side, zone.frame, float(x), float(y), kind)
+
+    out = [point(name, *p) for name, p in _corner_rays(zone, side, limits)]
+    reach = max(
+        horizontal_reach_m(limits.max_slant_range_m, h, limits.instrument_height_m) for h in zone.vertex_heights_m
+    )
+    region = _region(zone, side, reach)
+    if region.is_empty:  # no wall top within reach from outside: no point stands usefully (coverage says
+        return out  # which pieces nothing sees, exit 4)
+    origin, ux = _frame_axes(site, zone.frame)
+    if side is ScanSide.INSIDE:  # the point farthest from every wall: a room's natural centre station
+        centre = pole_in_frame(region, origin, ux)
+        out.append(point("P", centre.x, centre.y, CandidateKind.GRID))
+    out += [point(name, *p) for name, p in _bisector_points(zone, region, options.min_standoff_m)]
+    spacing = options.grid_m
+    if region.area / spacing**2 < options.min_grid_points:
+        spacing = max(math.sqrt(region.area / options.min_grid_points), 0.25)
+    pts = _grid_points(region, origin, ux, spacing)
+    far = shapely.distance(walls, shapely.points(pts)) >= options.min_standoff_m if len(pts) else []
+    kept = pts[np.asarray(far, dtype=bool)] if len(pts) else []
+    return out + [point(f"G{k}", x, y, CandidateKind.GRID) for k, (x, y) in enumerate(kept, 1)]
 
 
 def dedupe(cands: Sequence[Candidate], tol_m: float = 1e-6) -> list[Candidate]:
