@@ -15,7 +15,7 @@ python3 -m venv "$work/venv"
 mkdir "$work/run"
 status=0
 for name in "${names[@]}"; do
-  cp "$root/instances/$name.json" "$work/run/"
+  cp "$root/instances/$name".* "$work/run/"  # the instance and the tables it names
   (cd "$work/run" && "$work/venv/bin/planner" plan "$name.json" > "$work/wheel_$name.txt" 2>&1) || true
   (cd "$root" && planner plan "instances/$name.json" > "$work/checkout_$name.txt" 2>&1) || true
   # the whole output, less the timings and the folder of the file
