@@ -10,8 +10,8 @@ Bounds, each valid for the mode's optimum:
 The shortest order's bounds are bounds on the registration order too (the rule only removes orders). The
 largest bound is printed, named by its method. The branch-and-cut runs in registration mode always, and in
 shortest mode only where the Held-Karp bound leaves a gap above :data:`GAP_TOLERANCE`; where its order is
-shorter than the routing answer, it is taken. (:func:`planner.field.exact.cpsat_order`, a CP-SAT position
-model of the same problem, is kept as an independent cross-check in the tests: its bound is far weaker.)
+shorter than the routing answer, it is taken. (A CP-SAT position model of the same problem, with a far weaker
+bound, is kept in the tests as an independent cross-check.)
 """
 
 from __future__ import annotations

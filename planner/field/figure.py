@@ -19,11 +19,13 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 
 from planner.field.run import FieldPlan
+from planner.field.walking import WalkSpace
 from planner.figures.base import PLAN_MARGIN, frame_axes
 from planner.figures.labels import PointLabel, finish_plans
 
-#: the legend's entry for a leg through walls
+#: the legend's entries for a leg through walls and a stair leg (across storeys)
 THROUGH_LABEL = "leg through a wall (no opening in the model)"
+STAIR_LABEL = "stair leg (foot to head)"
 #: the figure's size (inches) unless the caller gives the paper's (field.pdf)
 SIZE = (11.0, 8.0)
 #: marker sizes (points) of a station, a target and the start; font sizes of their labels
@@ -31,130 +33,53 @@ STATION_PT, TARGET_PT, START_PT = 8.0, 6.0, 14.0
 STATION_FONT, TARGET_FONT = 8.0, 6.5
 #: the farthest a label is put from its point (pixels beyond the marker), on a leader line
 LEADER_MAX_PX = 80.0
-_TARGET = "tab:red"
+_TARGET, _STAIR = "tab:red", "tab:purple"
 
 
-def _route(ax: Axes, fp: FieldPlan) -> list[Line2D]:
-    """Draw the legs (through walls: orange, dashed) and the start; the legend's handles."""
-    through = {c.leg for c in fp.crossings}
-    walks = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k not in through]
-    walls = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k in through]
+def _walls(ax: Axes, space: WalkSpace) -> None:
+    ax.add_collection(LineCollection([list(w) for w in space.solid_walls], colors="black", linewidths=1.2, zorder=2))
+
+
+def _legs(ax: Axes, walks: list, walls: list, stairs: list | None = None) -> None:
+    """Draw the walks, the legs through walls (orange, dashed) and the stair legs (purple)."""
     ax.add_collection(LineCollection(walks, colors="tab:blue", linewidths=1.4, alpha=0.8, zorder=3, gid="route"))
-    handles = [Line2D([], [], color="tab:blue", lw=1.4, label="route")]
     if walls:
         ax.add_collection(
             LineCollection(walls, colors="tab:orange", linewidths=1.4, linestyles="--", zorder=3, gid="through")
         )
-        handles.append(Line2D([], [], color="tab:orange", lw=1.4, ls="--", label=THROUGH_LABEL))
-    # over the station it may stand on (stations are drawn at zorder 5): a white circle must not hide it
-    ax.plot(*fp.start_xy, marker="*", ms=START_PT, color="tab:green", mec="darkgreen", mew=0.6, ls="none", zorder=6)
-    handles.append(Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"))
-    return handles
+    if stairs:
+        ax.add_collection(LineCollection(stairs, colors=_STAIR, linewidths=2.2, zorder=4, gid="stair"))
 
 
-def _points(ax: Axes, fp: FieldPlan) -> list[PointLabel]:
-    """Draw the stations and targets; their labels, to be placed once the plan is complete."""
+def _points(ax: Axes, fp: FieldPlan, numbered: list, targets: list, start: bool = True) -> list[PointLabel]:
+    """Draw the ``numbered`` stations ((setup number, station)), the start where the panel holds it (``start``)
+    and ``targets``; their labels, to be placed once the plan is complete."""
     labels: list[PointLabel] = []
     starts_at_station = False
-    for n, k in enumerate(fp.order, 1):
-        s = fp.stations[k]
+    for n, s in numbered:
         ax.plot(s.x, s.y, "o", ms=STATION_PT, mfc="white", mec="black", mew=1.0, ls="none", zorder=5)
-        at_start = s.xy == fp.start_xy
+        at_start = start and s.xy == fp.start_xy
         starts_at_station |= at_start
         size = max(STATION_PT, START_PT) if at_start else STATION_PT  # the start's star is drawn over it
         labels.append(PointLabel(s.x, s.y, str(n), f"station:{s.id}", size, STATION_FONT))
-    if not starts_at_station:
-        labels.append(PointLabel(*fp.start_xy, "start", "start", START_PT, TARGET_FONT))
-    for t in fp.targets:
+    if start:  # over the station it may stand on: a white circle must not hide it
+        ax.plot(*fp.start_xy, marker="*", ms=START_PT, color="tab:green", mec="darkgreen", mew=0.6, ls="none", zorder=6)
+        if not starts_at_station:
+            labels.append(PointLabel(*fp.start_xy, "start", "start", START_PT, TARGET_FONT))
+    for t in targets:
         ax.plot(t.x, t.y, marker="x" if t.kind != "control" else "^", color=_TARGET, ms=TARGET_PT, ls="none", zorder=5)
         labels.append(PointLabel(t.x, t.y, t.id, f"target:{t.id}", TARGET_PT, TARGET_FONT))
     return labels
 
 
-#: the legend's entry for a stair leg (across storeys)
-STAIR_LABEL = "stair leg (foot to head)"
-_STAIR = "tab:purple"
-
-
-def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
-    """Across storeys: one panel per frame walked through, two side by side in a row, each with its walls, the route's
-    parts in that frame, its stations and the targets its stations see; a stair leg is drawn in both panels
-    it joins (purple), from the foot to the head."""
-    frames = [sp.frame for sp in fp.spaces]
-    fig = Figure(figsize=size, layout="constrained")
-    ncols = min(len(frames), 2)  # two storeys side by side; more in rows of two
-    grid = fig.subplots(math.ceil(len(frames) / ncols), ncols, squeeze=False).ravel()
-    for spare in grid[len(frames) :]:
-        spare.set_visible(False)
-    axes = grid[: len(frames)]
-    through = {c.leg for c in fp.crossings}
-    number = {k: n for n, k in enumerate(fp.order, 1)}
-    panels = []
-    for ax, sp in zip(axes, fp.spaces):
-        fr = sp.frame
-        ax.add_collection(LineCollection([list(w) for w in sp.solid_walls], colors="black", linewidths=1.2, zorder=2))
-        walks: list[list[tuple[float, float]]] = []
-        walls: list[list[tuple[float, float]]] = []
-        stairs: list[list[tuple[float, float]]] = []
-        for k, (leg, frs) in enumerate(zip(fp.legs, fp.leg_frames)):
-            run: list[tuple[float, float]] = []
-            for t, (p, f) in enumerate(zip(leg, frs)):
-                if t and frs[t - 1] != f and fr in (f, frs[t - 1]):
-                    (walls if k in through else stairs).append([leg[t - 1], p])
-                if f == fr:
-                    run.append(p)
-                elif len(run) > 1:
-                    (walls if k in through else walks).append(run)
-                    run = []
-                else:
-                    run = []
-            if len(run) > 1:
-                (walls if k in through else walks).append(run)
-        ax.add_collection(LineCollection(walks, colors="tab:blue", linewidths=1.4, alpha=0.8, zorder=3, gid="route"))
-        if walls:
-            ax.add_collection(
-                LineCollection(walls, colors="tab:orange", linewidths=1.4, linestyles="--", zorder=3, gid="through")
-            )
-        if stairs:
-            ax.add_collection(LineCollection(stairs, colors=_STAIR, linewidths=2.2, zorder=4, gid="stair"))
-        labels: list[PointLabel] = []
-        at_station = False
-        for k, s in enumerate(fp.stations):
-            if s.frame != fr or k not in number:
-                continue
-            ax.plot(s.x, s.y, "o", ms=STATION_PT, mfc="white", mec="black", mew=1.0, ls="none", zorder=5)
-            here = fr == fp.space.frame and s.xy == fp.start_xy
-            at_station |= here
-            size_pt = max(STATION_PT, START_PT) if here else STATION_PT
-            labels.append(PointLabel(s.x, s.y, str(number[k]), f"station:{s.id}", size_pt, STATION_FONT))
-        if fr == fp.space.frame:
-            ax.plot(
-                *fp.start_xy, marker="*", ms=START_PT, color="tab:green", mec="darkgreen", mew=0.6, ls="none", zorder=6
-            )
-            if not at_station:
-                labels.append(PointLabel(*fp.start_xy, "start", "start", START_PT, TARGET_FONT))
-        seers = {s.id: s.frame for s in fp.stations}
-        for tg in fp.targets:
-            if fr not in {seers.get(i) for i in tg.seen_by}:
-                continue
-            ax.plot(
-                tg.x,
-                tg.y,
-                marker="x" if tg.kind != "control" else "^",
-                color=_TARGET,
-                ms=TARGET_PT,
-                ls="none",
-                zorder=5,
-            )
-            labels.append(PointLabel(tg.x, tg.y, tg.id, f"target:{tg.id}", TARGET_PT, TARGET_FONT))
-        frame_axes(ax, PLAN_MARGIN)
-        ax.set_title(fr, fontsize=9)
-        panels.append((ax, fr, labels))
+def _finish(fig: Figure, fp: FieldPlan, panels: list, through: bool, stairs: bool = False) -> None:
+    """The legend under the plan, then the labels of ``panels`` placed (targets' in the targets' colour)."""
     handles = [
         Line2D([], [], color="black", lw=1.2, label="wall"),
         Line2D([], [], color="tab:blue", lw=1.4, label="route"),
-        Line2D([], [], color=_STAIR, lw=2.2, label=STAIR_LABEL),
     ]
+    if stairs:
+        handles.append(Line2D([], [], color=_STAIR, lw=2.2, label=STAIR_LABEL))
     if through:
         handles.append(Line2D([], [], color="tab:orange", lw=1.4, ls="--", label=THROUGH_LABEL))
     handles.append(Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"))
@@ -163,16 +88,65 @@ def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
     )
     if fp.targets:
         handles.append(Line2D([], [], marker="x", color=_TARGET, ls="none", label="target"))
-    fig.suptitle(
-        f"{fp.site.name}: {len(fp.order)} setups on {len(frames)} storeys, {fp.options.mode} order, route "
-        f"{fp.route_length_m:.0f} m with {len(fp.stair_legs)} stair leg(s) (bound {fp.lower_bound_m:.0f} m, gap "
-        f"{100 * fp.gap:.1f} %)"
-    )
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 3), fontsize=8, frameon=False)
     for placed in finish_plans(fig, panels, max_gap_px=LEADER_MAX_PX):
         for text in placed.texts:
             if str(text.get_gid()).startswith("label:target:"):
                 text.set_color(_TARGET)
+
+
+def _frame_legs(fp: FieldPlan, fr: str, through: set[int]) -> tuple[list, list, list]:
+    """The route's parts in frame ``fr``: walks, legs through walls, and the stair legs that end in ``fr``."""
+    walks: list[list[tuple[float, float]]] = []
+    walls: list[list[tuple[float, float]]] = []
+    stairs: list[list[tuple[float, float]]] = []
+    for k, (leg, frs) in enumerate(zip(fp.legs, fp.leg_frames)):
+        run: list[tuple[float, float]] = []
+        for t, (p, f) in enumerate(zip(leg, frs)):
+            if t and frs[t - 1] != f and fr in (f, frs[t - 1]):
+                (walls if k in through else stairs).append([leg[t - 1], p])
+            if f == fr:
+                run.append(p)
+            elif len(run) > 1:
+                (walls if k in through else walks).append(run)
+                run = []
+            else:
+                run = []
+        if len(run) > 1:
+            (walls if k in through else walks).append(run)
+    return walks, walls, stairs
+
+
+def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
+    """Across storeys: one panel per frame walked through, two side by side in a row, each with its walls, the
+    route's parts in that frame, its stations and the targets its stations see; a stair leg is drawn in both
+    panels it joins (purple), from the foot to the head."""
+    frames = [sp.frame for sp in fp.spaces]
+    fig = Figure(figsize=size, layout="constrained")
+    ncols = min(len(frames), 2)  # two storeys side by side; more in rows of two
+    grid = fig.subplots(math.ceil(len(frames) / ncols), ncols, squeeze=False).ravel()
+    for spare in grid[len(frames) :]:
+        spare.set_visible(False)
+    through = {c.leg for c in fp.crossings}
+    number = {k: n for n, k in enumerate(fp.order, 1)}
+    seers = {s.id: s.frame for s in fp.stations}
+    panels = []
+    for ax, sp in zip(grid, fp.spaces):
+        fr = sp.frame
+        _walls(ax, sp)
+        _legs(ax, *_frame_legs(fp, fr, through))
+        numbered = [(number[k], s) for k, s in enumerate(fp.stations) if s.frame == fr and k in number]
+        targets = [tg for tg in fp.targets if fr in {seers.get(i) for i in tg.seen_by}]
+        labels = _points(ax, fp, numbered, targets, start=fr == fp.space.frame)
+        frame_axes(ax, PLAN_MARGIN)
+        ax.set_title(fr, fontsize=9)
+        panels.append((ax, fr, labels))
+    fig.suptitle(
+        f"{fp.site.name}: {len(fp.order)} setups on {len(frames)} storeys, {fp.options.mode} order, route "
+        f"{fp.route_length_m:.0f} m with {len(fp.stair_legs)} stair leg(s) (bound {fp.lower_bound_m:.0f} m, gap "
+        f"{100 * fp.gap:.1f} %)"
+    )
+    _finish(fig, fp, panels, bool(through), stairs=True)
     return fig
 
 
@@ -198,29 +172,22 @@ def figure(fp: FieldPlan, size: tuple[float, float] = SIZE) -> Figure:
         return _storey_figure(fp, size)
     fig = Figure(figsize=size, layout="constrained")
     ax = fig.subplots()
-    walls = [list(w) for w in fp.space.solid_walls]
-    ax.add_collection(LineCollection(walls, colors="black", linewidths=1.2, zorder=2))
+    _walls(ax, fp.space)
     site = fp.site
     if fp.space.frame == "site":
         for ob in site.obstacles:
             ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.6", ec="0.3", alpha=0.6, zorder=1))
         for a in site.no_go_areas:
             ax.add_patch(Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, zorder=1))
-    handles = [Line2D([], [], color="black", lw=1.2, label="wall"), *_route(ax, fp)]
-    labels = _points(ax, fp)
-    handles.append(
-        Line2D([], [], marker="o", mfc="white", mec="black", ls="none", label="station (number: visiting order)")
-    )
-    if fp.targets:
-        handles.append(Line2D([], [], marker="x", color=_TARGET, ls="none", label="target"))
+    through = {c.leg for c in fp.crossings}
+    walks = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k not in through]
+    walls = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k in through]
+    _legs(ax, walks, walls)
+    labels = _points(ax, fp, [(n, fp.stations[k]) for n, k in enumerate(fp.order, 1)], list(fp.targets))
     frame_axes(ax, PLAN_MARGIN)
     ax.set_title(
         f"{site.name}: {len(fp.order)} setups, {fp.options.mode} order, route {fp.route_length_m:.0f} m "
         f"(bound {fp.lower_bound_m:.0f} m, gap {100 * fp.gap:.1f} %)"
     )
-    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 3), fontsize=8, frameon=False)
-    (placed,) = finish_plans(fig, [(ax, fp.space.frame, labels)], max_gap_px=LEADER_MAX_PX)
-    for text in placed.texts:
-        if str(text.get_gid()).startswith("label:target:"):
-            text.set_color(_TARGET)
+    _finish(fig, fp, [(ax, fp.space.frame, labels)], bool(walls))
     return fig

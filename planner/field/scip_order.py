@@ -1,5 +1,5 @@
 """The visiting order by branch-and-cut (SCIP through PySCIPOpt): an exact answer, or a certified lower bound,
-in both modes, with an LP relaxation far stronger than the position model of :mod:`planner.field.exact`.
+in both modes.
 
 Nodes 0..n-1, node 0 the start; a Boolean ``x_ij`` per arc. A closed tour: every node has one arc out and
 one in. An open path: node 0 has one arc out and none in, every other node one in and one out, where "out"
@@ -16,8 +16,9 @@ Integral points are checked exactly (follow the arcs from 0; the first subtour o
 fractional LP points get the cuts of the suffixes of a greedy order read from the LP (from 0, next the node
 with the most LP flow in from the nodes taken) and of the components of the LP's support.
 
-Costs are the walking distances in mm rounded **down**, so SCIP's dual bound / 1000 is a lower bound in metres. Determinism: one thread, seed 0, a limit on branch-and-bound nodes;
-a wall-clock cap applies only where the user sets one (:attr:`planner.field.exact.ExactResult.capped`).
+Costs are the walking distances in mm rounded **down**, so SCIP's dual bound / 1000 is a lower bound in metres.
+Determinism: one thread, seed 0, a limit on branch-and-bound nodes; a wall-clock cap applies only where the user
+sets one (:attr:`ExactResult.capped`).
 """
 
 from __future__ import annotations
@@ -25,13 +26,13 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.field.exact import ExactResult
-from planner.field.order import order_length
+from planner.field.order import order_length, registration_violations
 
 #: distances go to SCIP in millimetres, rounded down
 SCALE = 1000.0
@@ -41,6 +42,19 @@ NODE_LIMIT = 2000
 WALL_CAP_S: float | None = None
 #: a fractional cut is added when violated by more than this
 MIN_VIOLATION = 1e-3
+
+
+@dataclass(frozen=True)
+class ExactResult:
+    """The best order found (None: none), its real length in m, the lower bound in m on the optimum of the
+    model's mode, whether the bound is proven tight, and whether the wall-clock cap was hit."""
+
+    order: tuple[int, ...] | None
+    length_m: float
+    bound_m: float
+    optimal: bool
+    capped: bool
+    wall_s: float
 
 
 def _eligible(nbrs_mat: NDArray[np.bool_], part_mat: NDArray[np.bool_], inside: NDArray[np.bool_]) -> NDArray[np.bool_]:
@@ -148,30 +162,9 @@ def scip_order(
         order = tuple(range(n))
         length = order_length(d, order, closed) if n else 0.0
         return ExactResult(order, length, length, True, False, 0.0)
-    cost = np.floor(np.asarray(d, dtype=float) * SCALE)
+    m, x, ends = _model(pyscipopt, np.floor(np.asarray(d, dtype=float) * SCALE), closed)
     cuts = _Cuts(n, neighbours, parts, start_is_station, registration)
-    m = pyscipopt.Model("order")
-    m.hideOutput()
-    x: dict[tuple[int, int], Any] = {}
-    for i in range(n):
-        for j in range(n):
-            if i != j and (j != 0 or closed):
-                x[i, j] = m.addVar(f"x{i}_{j}", vtype="B", obj=float(cost[i, j]))
-    ends = {i: m.addVar(f"e{i}", vtype="B", obj=0.0) for i in range(1, n)} if not closed else {}
-    q = pyscipopt.quicksum
-    for i in range(n):
-        m.addCons(q(x[i, j] for j in range(n) if (i, j) in x) + ends.get(i, 0.0) == 1)
-    for j in range(n):
-        if j or closed:
-            m.addCons(q(x[i, j] for i in range(n) if (i, j) in x) == 1)
-    if ends:
-        m.addCons(q(ends.values()) == 1)
-    for i in range(n):
-        for j in range(i + 1, n):
-            if (i, j) in x and (j, i) in x:
-                m.addCons(x[i, j] + x[j, i] <= 1)
-    m.setObjIntegral()
-    handler = _handler(pyscipopt)(x, cuts, n, registration, neighbours, parts, start_is_station)
+    handler = _handler(pyscipopt)(x, cuts, n, (registration, neighbours, parts, start_is_station))
     m.includeConshdlr(
         handler,
         "route",
@@ -190,47 +183,112 @@ def scip_order(
     m.setParam("randomization/randomseedshift", 0)
     m.setParam("lp/threads", 1)
     if hint is not None:
-        sol = m.createSol()
-        nxt = dict(zip(hint, [*hint[1:], 0 if closed else -1]))
-        for (i, j), v in x.items():
-            m.setSolVal(sol, v, float(nxt[i] == j))
-        for i, v in ends.items():
-            m.setSolVal(sol, v, float(nxt[i] == -1))
-        m.addSol(sol)
+        _start_from(m, x, ends, hint, closed)
     m.optimize()
-    wall = time.perf_counter() - t0
+    return _result(m, x, d, closed, time.perf_counter() - t0)
+
+
+def _model(scip: Any, cost: NDArray[np.float64], closed: bool) -> tuple[Any, dict[tuple[int, int], Any], dict]:
+    """The SCIP model of the module text without its cuts: the arc variables ``x``, the variables ``ends`` of
+    the arcs into the dummy end (open path), one arc out of and into every node, 2-cycles forbidden."""
+    n = len(cost)
+    m = scip.Model("order")
+    m.hideOutput()
+    x: dict[tuple[int, int], Any] = {}
+    for i in range(n):
+        for j in range(n):
+            if i != j and (j != 0 or closed):
+                x[i, j] = m.addVar(f"x{i}_{j}", vtype="B", obj=float(cost[i, j]))
+    ends = {i: m.addVar(f"e{i}", vtype="B", obj=0.0) for i in range(1, n)} if not closed else {}
+    q = scip.quicksum
+    for i in range(n):
+        m.addCons(q(x[i, j] for j in range(n) if (i, j) in x) + ends.get(i, 0.0) == 1)
+    for j in range(n):
+        if j or closed:
+            m.addCons(q(x[i, j] for i in range(n) if (i, j) in x) == 1)
+    if ends:
+        m.addCons(q(ends.values()) == 1)
+    for i in range(n):
+        for j in range(i + 1, n):
+            if (i, j) in x and (j, i) in x:
+                m.addCons(x[i, j] + x[j, i] <= 1)
+    m.setObjIntegral()
+    return m, x, ends
+
+
+def _start_from(m: Any, x: dict[tuple[int, int], Any], ends: dict, hint: Sequence[int], closed: bool) -> None:
+    """Give SCIP the order ``hint`` as its first solution."""
+    sol = m.createSol()
+    nxt = dict(zip(hint, [*hint[1:], 0 if closed else -1]))
+    for (i, j), v in x.items():
+        m.setSolVal(sol, v, float(nxt[i] == j))
+    for i, v in ends.items():
+        m.setSolVal(sol, v, float(nxt[i] == -1))
+    m.addSol(sol)
+
+
+def _result(m: Any, x: dict[tuple[int, int], Any], d: NDArray[np.float64], closed: bool, wall: float) -> ExactResult:
+    """The solved model's best order (None where it has none), its length, the dual bound and the status."""
+    n = len(d)
     capped = m.getStatus() == "timelimit"
     dual = m.getDualbound()
     bound = max(0.0, float(dual) / SCALE) if math.isfinite(dual) and abs(dual) < 1e19 else 0.0
-    if m.getNSols() == 0:
-        return ExactResult(None, math.inf, bound, False, capped, wall)
-    best = m.getBestSol()
-    xv = np.zeros((n, n))
-    for (i, j), v in x.items():
-        xv[i, j] = m.getSolVal(best, v)
-    order = tuple(_walk(xv))
+    order: tuple[int, ...] = ()
+    if m.getNSols():
+        best = m.getBestSol()
+        xv = np.zeros((n, n))
+        for (i, j), v in x.items():
+            xv[i, j] = m.getSolVal(best, v)
+        order = tuple(_walk(xv))
     if len(order) != n:
         return ExactResult(None, math.inf, bound, False, capped, wall)
     return ExactResult(order, order_length(d, order, closed), bound, m.getStatus() == "optimal", capped, wall)
 
 
+def _broken(xv: NDArray[np.float64], rule: tuple) -> NDArray[np.bool_] | None:
+    """The set S of an integral point's first subtour or rule break (None: a valid order); ``rule``:
+    (registration, neighbours, parts, start_is_station)."""
+    n = len(xv)
+    order = _walk(xv)
+    if len(order) < n:
+        inside = np.ones(n, dtype=bool)
+        inside[order] = False
+        return inside
+    registration, nbrs, parts, start_is_station = rule
+    bad = registration_violations(order, nbrs, parts, start_is_station) if registration else []
+    if not bad:
+        return None
+    inside = np.zeros(n, dtype=bool)
+    inside[order[order.index(bad[0]) :]] = True
+    return inside
+
+
+def _add_rows(scip: Any, model: Any, x: dict[tuple[int, int], Any], rows: list, cut: bool) -> int:
+    """Add the rows ``(source mask, target mask)``: as cuts to the LP (``cut``) or as constraints."""
+    for src, dst in rows:
+        terms = [x[i, j] for i in np.flatnonzero(src) for j in np.flatnonzero(dst) if (i, j) in x]
+        if not cut:
+            model.addCons(scip.quicksum(terms) >= 1, removable=False)
+            continue
+        row = model.createEmptyRowUnspec(name="c", lhs=1.0, rhs=None, local=False, removable=True)
+        model.cacheRowExtensions(row)
+        for v in terms:
+            model.addVarToRow(row, v, 1.0)
+        model.flushRowExtensions(row)
+        model.addCut(row, forcecut=False)
+        model.addPoolCut(row)
+        model.releaseRow(row)
+    return len(rows)
+
+
 def _handler(scip: Any) -> type:
-    """The constraint handler class (PySCIPOpt is imported lazily)."""
+    """The constraint handler class (PySCIPOpt is imported lazily). SCIP passes the callbacks' arguments by
+    position; those the handler does not read are taken as ``*_``."""
     result = scip.SCIP_RESULT
 
     class Route(scip.Conshdlr):  # type: ignore[misc, name-defined]
-        def __init__(
-            self,
-            x: dict,
-            cuts: _Cuts,
-            n: int,
-            registration: bool,
-            nbrs: Sequence[set[int]],
-            parts: Sequence[int],
-            start_is_station: bool,
-        ) -> None:
-            self.x, self.cuts, self.n = x, cuts, n
-            self.rule = (registration, nbrs, parts, start_is_station)
+        def __init__(self, x: dict, cuts: _Cuts, n: int, rule: tuple) -> None:
+            self.x, self.cuts, self.n, self.rule = x, cuts, n, rule
 
         def _values(self, sol: Any) -> NDArray[np.float64]:
             v = np.zeros((self.n, self.n))
@@ -238,69 +296,30 @@ def _handler(scip: Any) -> type:
                 v[i, j] = self.model.getSolVal(sol, var)
             return v
 
-        def _broken(self, xv: NDArray[np.float64]) -> NDArray[np.bool_] | None:
-            """The set S of an integral point's first subtour or rule break (None: a valid order)."""
-            from planner.field.order import registration_violations
+        def conscheck(self, _constraints: Any, solution: Any, *_: Any) -> dict:
+            broken = _broken(self._values(solution), self.rule) is not None
+            return {"result": result.INFEASIBLE if broken else result.FEASIBLE}
 
-            order = _walk(xv)
-            if len(order) < self.n:
-                inside = np.ones(self.n, dtype=bool)
-                inside[order] = False
-                return inside
-            registration, nbrs, parts, start_is_station = self.rule
-            if registration:
-                bad = registration_violations(order, nbrs, parts, start_is_station)
-                if bad:
-                    inside = np.zeros(self.n, dtype=bool)
-                    inside[order[order.index(bad[0]) :]] = True
-                    return inside
-            return None
-
-        def _add(self, rows: list, cut: bool) -> int:
-            for src, dst in rows:
-                terms = [self.x[i, j] for i in np.flatnonzero(src) for j in np.flatnonzero(dst) if (i, j) in self.x]
-                if cut:
-                    row = self.model.createEmptyRowUnspec(name="c", lhs=1.0, rhs=None, local=False, removable=True)
-                    self.model.cacheRowExtensions(row)
-                    for v in terms:
-                        self.model.addVarToRow(row, v, 1.0)
-                    self.model.flushRowExtensions(row)
-                    self.model.addCut(row, forcecut=False)
-                    self.model.addPoolCut(row)
-                    self.model.releaseRow(row)
-                else:
-                    self.model.addCons(scip.quicksum(terms) >= 1, removable=False)
-            return len(rows)
-
-        def conscheck(self, constraints, solution, checkintegrality, checklprows, printreason, completely):
-            return {
-                "result": result.INFEASIBLE if self._broken(self._values(solution)) is not None else result.FEASIBLE
-            }
-
-        def _enforce(self) -> dict:
+        def consenfolp(self, *_: Any) -> dict:
             xv = self._values(None)
-            inside = self._broken(xv)
+            inside = _broken(xv, self.rule)
             if inside is None:
                 return {"result": result.FEASIBLE}
             rows = self.cuts.violated(xv, [inside], 0.5)
             if not rows:  # cannot happen for an integral point; be safe
                 return {"result": result.INFEASIBLE}
-            self._add(rows, cut=False)
+            _add_rows(scip, self.model, self.x, rows, cut=False)
             return {"result": result.CONSADDED}
 
-        def consenfolp(self, constraints, nusefulconss, solinfeasible):
-            return self._enforce()
+        consenfops = consenfolp
 
-        def consenfops(self, constraints, nusefulconss, solinfeasible, objinfeasible):
-            return self._enforce()
-
-        def conslock(self, constraint, locktype, nlockspos, nlocksneg):
+        def conslock(self, *_: Any) -> None:
             pass
 
-        def conssepalp(self, constraints, nusefulconss):
+        def conssepalp(self, *_: Any) -> dict:
             xv = self._values(None)
             rows = self.cuts.violated(xv, _components(xv) + _suffixes(xv), MIN_VIOLATION)
-            found = self._add(rows, cut=True)
+            found = _add_rows(scip, self.model, self.x, rows, cut=True)
             return {"result": result.SEPARATED if found else result.DIDNOTFIND}
 
     return Route

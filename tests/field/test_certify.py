@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planner.field.certify import BC_OPT, HK_EXACT, certify
-from planner.field.exact import cpsat_order
 from planner.field.order import order_length, registration_violations, solve_order
+from tests.field.cpsat_model import cpsat_order
 
 
 def brute_force(d, nbrs, parts, start_is_station, closed, registration):

@@ -1,4 +1,6 @@
-"""The visiting order as a CP-SAT model: an exact answer (or a certified lower bound) in both modes.
+"""The visiting order as a CP-SAT position model: the tests' independent cross-check of the branch-and-cut
+(:mod:`planner.field.scip_order`), whose LP relaxation is far stronger. An exact answer (or a certified lower
+bound) in both modes.
 
 Nodes 0..n-1, node 0 the start. A Boolean ``x_ij`` per arc and one ``AddCircuit``: a closed tour runs
 through the nodes; an open path through the nodes and a dummy end node E (arcs i -> E at cost 0, the arc
@@ -13,7 +15,7 @@ Costs are the walking distances in cm rounded **down**, so every order costs at 
 the solver's proven objective bound / 100 is a lower bound in metres on the real optimum. The search starts
 from a hint (the routing answer). Determinism: one worker, seed 0, and a limit on CP-SAT's *deterministic*
 time (a count of work, the same on every machine); a wall-clock cap applies only where the caller sets one, and
-:attr:`ExactResult.capped` says when it was reached.
+:attr:`~planner.field.scip_order.ExactResult.capped` says when it was reached.
 """
 
 from __future__ import annotations
@@ -21,7 +23,6 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import networkx as nx
 import numpy as np
@@ -29,26 +30,12 @@ from numpy.typing import NDArray
 
 from planner.core.errors import InternalError
 from planner.field.order import order_length
+from planner.field.scip_order import ExactResult
 
 #: distances go to CP-SAT in centimetres, rounded down
 SCALE = 100.0
 #: CP-SAT's deterministic time limit (about seconds of one core; machine-independent)
 WORK_LIMIT = 20.0
-#: no wall-clock cap unless the caller sets one
-WALL_CAP_S: float | None = None
-
-
-@dataclass(frozen=True)
-class ExactResult:
-    """The best order CP-SAT found (None: none), its real length in m, the lower bound in m on the optimum
-    of the model's mode, whether the bound is proven tight, and whether the wall-clock cap was hit."""
-
-    order: tuple[int, ...] | None
-    length_m: float
-    bound_m: float
-    optimal: bool
-    capped: bool
-    wall_s: float
 
 
 def cpsat_order(
@@ -60,7 +47,7 @@ def cpsat_order(
     closed: bool = False,
     hint: Sequence[int] | None = None,
     work_limit: float = WORK_LIMIT,
-    wall_cap_s: float | None = WALL_CAP_S,
+    wall_cap_s: float | None = None,
 ) -> ExactResult:
     """Solve the model of the module text on walking distances ``d`` (finite, m); ``hint``: an order from node 0
     (honouring the rule in ``registration`` mode) to start from."""
