@@ -40,14 +40,13 @@ def test_the_command_without_flags_plans_with_the_library_defaults() -> None:
     assert plan_options(_args(["plan", str(INSTANCES / "polygon_b.json")])) == planner.PlanOptions()
 
 
-def test_the_command_s_copies_of_the_defaults_equal_the_library_s() -> None:
-    # cli/tuning.py keeps its own copies so that --help imports no solver
-    from planner.cli import tuning
+def test_the_library_s_defaults_are_the_settings() -> None:
+    # one home: planner/core/settings.py (import-light, so that --help imports no solver)
+    from planner.core.settings import DEFAULTS
     from planner.plan import strategy
-    from planner.solve import cft
 
-    assert (tuning.BUDGET_S, tuning.WORKER_MEMORY) == (strategy.BUDGET_S, strategy.WORKER_MEMORY)
-    assert (tuning.HEUR_ITERS, tuning.MOVES_PER_PIECE) == (cft.HEUR_ITERS, strategy.MOVES_PER_PIECE)
+    assert (strategy.BUDGET_S, strategy.WORKER_MEMORY) == (DEFAULTS["strategy.budget_s"], 3 * 2**29)
+    assert strategy.MOVES_PER_PIECE == DEFAULTS["tiling.moves_per_piece"]
 
 
 def test_the_defaults_are_the_command_s_method() -> None:
@@ -128,7 +127,7 @@ def test_a_plan_records_its_pool_and_the_gap_only_on_the_same_pool(tmp_path, mon
     assert data["pool"]["candidates"] == data["problem"]["candidates"] and data["pool"]["pairs"] > 0
     assert "best_known" not in data["solver"]  # the real file lists no entry for polygon_a
     n, fp, rule = len(plan.stations), plan.pool.fingerprint, plan.problem.rule
-    assert rule is not None and plan.problem.registration == "zone"
+    assert rule is not None and plan.problem.registration.mode == "zone"
     row = {"registration": "zone", "overlap": rule.overlap}
     _best_known(tmp_path, monkeypatch, _entry("connected", fp, n - 1, **row))
     same = with_strategy(plan)

@@ -10,12 +10,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from planner.cli.hours import session_of, verify_spacing_of
-from planner.cli.inputs import guard_memory, load_with_overrides, memory_limit, recorded_notes, usable_folder
+from planner.cli.inputs import guard_memory, load_with_overrides, recorded_notes, usable_folder
 from planner.cli.network_command import checking_problem, network_check, network_inputs
 from planner.cli.report import parse_exports, write_exports
-from planner.cli.tiles import option_flag, strategy_options
-from planner.cli.tuning import option_name
+from planner.cli.tuning import field_flag, option_name
 from planner.core.errors import ExitCode, InfeasibleError, UsageError
+from planner.core.settings import SETTINGS
 from planner.core.text import dumps
 
 # Everything else loads inside the command that needs it, so that --help, --version and validate
@@ -34,91 +34,33 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 
 def plan_options(args: argparse.Namespace) -> PlanOptions:
-    """The options of ``planner plan`` (and of what the report compares): every value the command line gives,
-    once; the registration rule stays the site's share until the run is resolved."""
-    from planner.candidates.pool import PoolOptions
-    from planner.coverage.overlap import SiteShare
-    from planner.plan import PlanOptions
-    from planner.solve.milp import MilpOptions
+    """The options of ``planner plan`` (and of ``export``): every setting the command line gives, walked into the
+    option fields its schema names (:func:`planner.plan.options.options_from_settings`); the registration rule
+    stays the site's share until the run is resolved."""
+    from planner.plan.options import options_from_settings
 
     _plan_rules(args)
-    pool = PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed)
-    rule = None if args.no_overlap else SiteShare(min_shared_m=args.min_shared, max_link_m=args.max_link)
-    milp = MilpOptions(
-        backend=args.backend,
-        time_limit_s=args.time_limit,
-        seed=args.seed,
-        threads=args.threads,
-        k=args.k,
-        overlap=rule,
-        precision=args.precision,
-        connectivity=args.connectivity,
-        layer_cuts=args.layer_cuts,
-        tree_bound=args.tree_bound,
-        work_limit=args.work_limit,
-        local_search_moves=args.local_search_moves,
-        ring_bound=not args.no_ring_bound,
-        ring_lagrange_steps=args.ring_lagrange_steps,
-    )
-    options = PlanOptions(
-        method=args.method,
-        target_spacing_m=args.target_spacing,
-        pool=pool,
-        incidence_3d=args.incidence == "3d",
-        precision=not args.no_precision,
-        verify_spacing_m=args.verify_spacing,
-        milp=milp,
-        tripod=True if args.tripod else None,
-        recentre=args.recentre,
-        registration=args.registration,
-        regions=not args.no_regions,
-        pricing=not args.no_pricing,
-        pricing_time_limit_s=args.pricing_time_limit,
-        plane_refine_steps=args.plane_refine_steps,
-        memory_limit_bytes=memory_limit(args),
-        surfaces=tuple(getattr(args, "surfaces", "walls").split(",")),
-        theta_max_floor_deg=args.theta_max_floor,
-        max_point_spacing_m=getattr(args, "max_point_spacing", None),
-        objective=getattr(args, "objective", "stations"),
-        session_s=session_of(args),
-    )
-    return replace(options, strategy=strategy_options(args, options))
-
-
-#: the options' fields of the library by the command line's key (``--KEY`` or ``--set KEY``) that sets them
-_PLAN_KEYS = {
-    "k": "k",
-    "method": "method",
-    "precision": "precision",
-    "registration": "registration",
-    "backend": "backend",
-    "connectivity": "connectivity",
-    "target_spacing_m": "target-spacing",
-    "verify_spacing_m": "verify-spacing",
-    "grid_spacing_m": "grid-spacing",
-    "time_limit_s": "time-limit",
-    "surfaces": "surfaces",
-    "theta_max_floor_deg": "theta-max-floor",
-    "max_point_spacing_m": "max-point-spacing",
-    "objective": "objective",
-}
+    values = {key: getattr(args, s.dest) for key, s in SETTINGS.items() if hasattr(args, s.dest)}
+    try:
+        return options_from_settings(values, session_s=session_of(args))
+    except UsageError as err:
+        raise UsageError(err.message, field=plan_flag(err.field), value=err.value) from None
 
 
 def _plan_rules(args: argparse.Namespace) -> None:
     """The rules between ``planner plan``'s options, said in its flags before the library says them in its
     fields."""
-    if args.k != 1 and args.method != "milp":
+    if getattr(args, "k", 1) != 1 and args.method != "milp":
         raise UsageError(f"{args.k} needs --method milp (the {args.method} method covers each piece once)", field="--k")
-    if args.precision == "combined" and args.no_precision:
+    if getattr(args, "precision", "single") == "combined" and args.no_precision:
         off = option_name("plan", "no-precision")
         raise UsageError(f"combined needs the precision check, which {off} turns off", field="--precision")
 
 
 def plan_flag(field: str | None) -> str | None:
-    """The flag (or ``--set KEY``) of ``planner plan`` that sets an options field (the field where none does)."""
-    if field in _PLAN_KEYS:
-        return option_name("plan", _PLAN_KEYS[field])
-    return option_flag(field)
+    """The flag (or ``--set KEY``) of ``planner plan`` that sets a setting or an options field (the field where
+    none does)."""
+    return option_name("plan", field) if field in SETTINGS else field_flag("plan", field)
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -127,12 +69,6 @@ def cmd_plan(args: argparse.Namespace) -> int:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
     for flag, folder in (("--out", args.out), ("--report", args.report), ("--field", args.field)):
         usable_folder(flag, folder)  # before the planning, not after it
-    if args.monte_carlo and not (args.network or args.report):
-        raise UsageError(
-            "Monte Carlo runs are part of the network check; give --network",
-            field="--set monte-carlo",
-            value=args.monte_carlo,
-        )
     # the network's option values and files, read before the planning (the report runs the network too)
     inputs = network_inputs(args) if args.network or args.report else None
     field_options = None
@@ -202,7 +138,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     stations = read_plan_stations(args.plan, problem.site)
     surfaces = tuple(args.surfaces.split(","))
     setup = None
-    if surfaces != ("walls",):  # floors and ceilings too (issue 46): the same setup as planning takes
+    if surfaces != ("walls",):  # floors and ceilings too: the same setup as planning takes
         from planner.plan.surfaces import surface_setup
 
         checked = replace(problem.options, surfaces=surfaces, theta_max_floor_deg=args.theta_max_floor)
@@ -221,7 +157,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         checked_surfaces = verify_surfaces(problem.site, setup, None, stations, args.spacing)
         print("\n".join(checked_surfaces.lines()))
         complete = complete and checked_surfaces.complete
-    if args.max_point_spacing is not None:  # the spacing at each station's own setting (issue 47)
+    if args.max_point_spacing is not None:  # the spacing at each station's own setting
         spacing = verify_spacing_of(args, problem, stations)
         print("\n".join(spacing.lines()))
         complete = complete and spacing.complete
@@ -230,17 +166,9 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
 def cmd_export(args: argparse.Namespace) -> int:
     site = load_with_overrides(args)
-    from planner.candidates.pool import PoolOptions
-    from planner.plan import PlanOptions
     from planner.plan.problem import resolve
 
-    options = PlanOptions(
-        target_spacing_m=args.target_spacing,
-        pool=PoolOptions(grid_spacing_m=args.grid_spacing, seed=args.seed),
-        incidence_3d=args.incidence == "3d",
-        precision=not args.no_precision,
-        memory_limit_bytes=memory_limit(args),
-    )
+    options = plan_options(args)
     resolved = resolve(site, options)
     guard_memory(resolved)
     from planner.io.export import export_problem

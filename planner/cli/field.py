@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner.cli.option_types import POSITIVE, POSITIVE_INT
-from planner.cli.tuning import add_option, option_name
+from planner.cli.tuning import add_setting, option_name
 from planner.core.errors import ExitCode, UsageError
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)
@@ -34,7 +34,7 @@ def add_field_options(p: argparse.ArgumentParser) -> None:
     the tuning keys ``field-mode``, ``field-start``, ``field-session``, ``field-strict-walls``: one help text
     for both, :mod:`planner.cli.tuning`)."""
     for key in ("field-mode", "field-start", "field-session", "field-strict-walls"):
-        add_option(p, key, name=key.removeprefix("field-"))
+        add_setting(p, key, name=key.removeprefix("field-"))
 
 
 def add_field_parser(sub: Any) -> None:
@@ -113,10 +113,8 @@ def write_field(
     setting where the plan chose them (issue 47)."""
     from planner.field.run import field_plan
     from planner.field.sheet import write_sheet
-    from planner.plan.problem import Problem
 
-    sight = site.sight if isinstance(site, Problem) else site
-    fp = field_plan(sight, stations, options, plan_file=plan_file, settings=settings)
+    fp = field_plan(site, stations, options, plan_file=plan_file, settings=settings)
     print(summary(fp))
     for path in write_sheet(fp, folder):
         print(f"wrote {path}")
@@ -175,6 +173,7 @@ def cmd_field(args: argparse.Namespace) -> int:
     from planner.core.fileio import read_json
     from planner.io.plan_file import site_for_plan
     from planner.io.plan_json import check_plan_meta, read_plan_stations
+    from planner.plan.problem import recorded_problem
 
     options = field_options(args)  # option values checked before any work
     folder = args.out or str(Path(args.plan).parent)
@@ -187,7 +186,8 @@ def cmd_field(args: argparse.Namespace) -> int:
     site = site_for_plan(meta, args.site, args.plan)
     stations = read_plan_stations(args.plan, site)
     settings = _plan_settings(raw, len(stations), args)
-    write_field(site, stations, options, folder, plan_file=args.plan, settings=settings)
+    problem = recorded_problem(site, meta)  # the plan's sight and registration: the sheet relates its own pairs
+    write_field(problem, stations, options, folder, plan_file=args.plan, settings=settings)
     return ExitCode.OK
 
 

@@ -147,12 +147,6 @@ def guard_memory(problem: Problem) -> None:
     check_memory(problem.site, o.target_spacing_m, o.pool.grid_m, max_slant_range_m, o.memory_limit_bytes)
 
 
-def memory_limit(args: argparse.Namespace) -> int | None:
-    from planner.plan.memory_guard import parse_memory
-
-    return parse_memory(args.memory_limit) if args.memory_limit else None
-
-
 def usable_folder(flag: str, folder: str | None) -> None:
     """An output folder given on the command line: it is (or can be made) a folder, else a usage error."""
     if folder is None:

@@ -84,7 +84,7 @@ def cmd_network(args: argparse.Namespace) -> int:
 
     usable_folder("--out", args.out)
     inputs = network_inputs(args)  # before any work
-    problem = checking_problem(args)
+    problem = plan_registration(checking_problem(args), args)
     stations = some_stations(args.plan, read_plan_stations(args.plan, problem.site))
     recorded_notes(args.plan, problem.site)
     network_check(problem, stations, args, inputs)
@@ -106,12 +106,24 @@ def checking_problem(args: argparse.Namespace) -> Problem:
     return resolve(load_with_overrides(args), options)
 
 
+def plan_registration(problem: Problem, args: argparse.Namespace) -> Problem:
+    """``problem`` with the registration the plan file records (unless ``--registration`` asks for one): the
+    network relates the plan's own pairs."""
+    from planner.core.fileio import read_json
+    from planner.plan.problem import with_recorded_registration
+
+    if getattr(args, "registration", None) is not None:
+        return problem
+    raw = read_json(args.plan)
+    return with_recorded_registration(problem, raw) if isinstance(raw, dict) else problem
+
+
 def cmd_chain(args: argparse.Namespace) -> int:
     """The plan's network as a scanner survey: registration links, ties to control, chain accuracy."""
     from planner.io.plan_json import read_plan_stations
     from planner.network.survey import survey_network
 
-    problem = checking_problem(args)
+    problem = plan_registration(checking_problem(args), args)
     stations = some_stations(args.plan, read_plan_stations(args.plan, problem.site))
     recorded_notes(args.plan, problem.site)
     print("\n".join(survey_network(problem.sight, stations, problem.registration).lines()))

@@ -74,23 +74,42 @@ def once_per_key(items: list[str], item: str) -> list[str]:
     return [*items, item]
 
 
-#: the surfaces ``--surfaces`` takes (planner.plan.options.SURFACES, kept here so that --help imports no planner)
-SURFACE_NAMES = ("walls", "floors", "ceilings")
+def name_list(choices: tuple[str, ...], need: str = "", what: str = "name") -> Callable[[str], str]:
+    """An argparse ``type``: a comma-separated list of distinct names of ``choices`` that holds ``need`` (a name,
+    or none), returned without blanks (``walls,floors``); the empty text: no names."""
+
+    def parse(text: str) -> str:
+        names = [n.strip().lower() for n in text.split(",") if n.strip()]
+        unknown = [n for n in names if n not in choices]
+        if unknown:
+            raise argparse.ArgumentTypeError(
+                f"unknown {what} {unknown[0]!r} (known: {', '.join(choices)}), got {text!r}"
+            )
+        if need and need not in names:
+            raise argparse.ArgumentTypeError(f"must include {need} (e.g. {need},{choices[-1]}), got {text!r}")
+        if len(set(names)) != len(names):
+            raise argparse.ArgumentTypeError(f"names a {what} twice, got {text!r}")
+        return ",".join(names)
+
+    parse.__name__ = "list"
+    return parse
 
 
-def surface_list(text: str) -> str:
-    """An argparse ``type``: a comma-separated list of distinct surface names that holds ``walls``
-    (``walls,floors``), returned as given without blanks."""
-    names = [n.strip().lower() for n in text.split(",")]
-    unknown = [n for n in names if n not in SURFACE_NAMES]
-    if unknown:
-        raise argparse.ArgumentTypeError(
-            f"unknown surface {unknown[0]!r} (known: {', '.join(SURFACE_NAMES)}), got {text!r}"
-        )
-    if "walls" not in names:
-        raise argparse.ArgumentTypeError(
-            f"must include walls: walls are always targets (e.g. walls,floors), got {text!r}"
-        )
-    if len(set(names)) != len(names):
-        raise argparse.ArgumentTypeError(f"names a surface twice, got {text!r}")
-    return ",".join(names)
+def memory_size(text: str) -> int:
+    """An argparse ``type``: a memory size (``1.5GiB``, ``4G``, ``512M``, ``800k`` or bytes; binary multiples) in
+    bytes, the one unit inside."""
+    units = {"k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
+    t = text.strip().lower().removesuffix("b").removesuffix("i")
+    try:
+        value = float(t[:-1] if t[-1:] in units else t) * units.get(t[-1:], 1)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a memory size such as 1.5GiB, 4G or bytes, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be > 0 (a memory size), got {text!r}")
+    return int(value)
+
+
+def tiles(text: str) -> float | str:
+    """``--tiles``: a core side in m, ``auto`` or ``off``."""
+    word = text.strip().lower()
+    return word if word in ("auto", "off") else POSITIVE(text)

@@ -1,25 +1,8 @@
-"""Tuning profiles of the command line: ``--set KEY=VALUE``, ``--config FILE`` and ``--help-all``.
-
-``planner plan`` takes as flags what a surveyor sets (the site, the instrument's limits, the method and its
-time, the outputs). The solver, tile and Dask knobs, the rarer input-format options and the field-sheet details
-are *tuning keys* (:mod:`planner.cli.tuning`, one table with each key's type, default and help): no flags, so
-``--help-all`` stays short, but set one at a time on the command line or from a TOML profile::
-
-    planner plan site.json --set tile-window-radius=80 --set backend=scip
-
-    # my.toml
-    [plan]
-    tile-window-radius = 80
-    backend = "scip"
-
-    planner plan site.json --config my.toml      # --set and the flags still win over the file
-
-Each value goes through the key's own check (the type function and choices its flag had), and lands in the
-parsed namespace under the attribute its flag had (``args.tile_window_radius``), so the commands read it as
-before. ``planner plan --help-all`` lists the keys after the options. The package ships the profile of the
-defaults (``planner/cli/profiles/default.toml``, :data:`DEFAULT_PROFILE`): every key with what it does and its
-default; a test checks it against the table. A key the command does not know, or a value the key refuses, is a
-one-line usage error (exit 2) naming the key (and for a profile the file and the table).
+"""How the tuning keys (:mod:`planner.cli.tuning`) are set and listed: ``--set KEY=VALUE``, ``--config FILE``
+(a TOML profile: ``[plan]`` then ``key = value`` lines) and ``--help-all``. Each value goes through its key's own
+check and lands in the parsed namespace under the setting's attribute (``args.tile_budget``); ``--set`` and the
+flags win over the file. A key the command does not know, or a value the key refuses, is a one-line usage error
+(exit 2) naming the key (and for a profile the file and the table).
 """
 
 from __future__ import annotations
@@ -33,8 +16,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from planner.cli.tuning import KNOBS, TUNING, Knob, keys_help
+from planner.cli.tuning import TUNING, from_profile, from_text, keys_help
 from planner.core.errors import UsageError
+from planner.core.settings import SETTINGS, Setting
 
 __all__ = ["DEFAULT_PROFILE", "TUNING", "add_profile_options", "apply_config", "apply_profile", "read_profile"]
 
@@ -42,26 +26,18 @@ __all__ = ["DEFAULT_PROFILE", "TUNING", "add_profile_options", "apply_config", "
 DEFAULT_PROFILE = Path(__file__).with_name("profiles") / "default.toml"
 
 
-class _HelpAll(argparse.Action):
-    """``--help-all``: the help, then every tuning key with its values and help; exit 0."""
+class _CommandAction(argparse.Action):
+    """An option of ``command``'s tuning (``--help-all``, ``--set``) that stores nothing by itself."""
 
     def __init__(self, option_strings: Sequence[str], dest: str, *, command: str, **kwargs: Any) -> None:
-        super().__init__(
-            option_strings,
-            dest=argparse.SUPPRESS,
-            default=argparse.SUPPRESS,
-            nargs=0,
-            help="show this help and every tuning key (--set, --config), and exit",
-        )
+        super().__init__(option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, **kwargs)
         self.command = command
 
-    def __call__(
-        self,
-        parser: argparse.ArgumentParser,
-        namespace: argparse.Namespace,
-        values: object,
-        option_string: str | None = None,
-    ) -> None:
+
+class _HelpAll(_CommandAction):
+    """``--help-all``: the help, then every tuning key with its values and help; exit 0."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: Any, values: Any, option: Any = None) -> None:
         epilog, parser.epilog = parser.epilog, None  # the epilog points here: the keys follow instead
         try:
             text = parser.format_help()
@@ -71,28 +47,11 @@ class _HelpAll(argparse.Action):
         parser.exit()
 
 
-class _SetKey(argparse.Action):
-    """``--set KEY=VALUE`` (repeatable): one tuning key's value, checked by the key, into the namespace under the
-    attribute its flag had; a later ``--set`` of the same key wins (a repeatable key collects its items)."""
+class _SetKey(_CommandAction):
+    """``--set KEY=VALUE`` (repeatable): one tuning key's value, checked by the key, into the namespace; a later
+    ``--set`` of the same key wins (a repeatable key collects its items)."""
 
-    def __init__(self, option_strings: Sequence[str], dest: str, *, command: str, **kwargs: Any) -> None:
-        super().__init__(
-            option_strings,
-            dest=argparse.SUPPRESS,
-            default=argparse.SUPPRESS,
-            metavar="KEY=VALUE",
-            help="set a tuning key, e.g. --set tile-window-radius=80 (repeatable; the keys: --help-all); "
-            "wins over --config",
-        )
-        self.command = command
-
-    def __call__(
-        self,
-        parser: argparse.ArgumentParser,
-        namespace: argparse.Namespace,
-        values: object,
-        option_string: str | None = None,
-    ) -> None:
+    def __call__(self, parser: argparse.ArgumentParser, namespace: Any, values: Any, option: Any = None) -> None:
         key, eq, text = str(values).partition("=")
         flag = f"--{key.strip().replace('_', '-')}"
         if flag in parser._option_string_actions:
@@ -100,22 +59,21 @@ class _SetKey(argparse.Action):
                 f"{flag} is an option of 'planner {self.command}', not a tuning key: give {flag}",
                 field=f"--set {values}",
             )
-        knob = tuning_key(self.command, key.strip(), f"--set {values}")
-        where = f"--set {knob.key}"
+        s = tuning_key(self.command, key.strip(), f"--set {values}")
         try:
-            value = knob.from_text(text if eq else None, getattr(namespace, knob.dest, None))
+            value = from_text(s, text if eq else None, getattr(namespace, s.dest, None))
         except ValueError as exc:
-            raise UsageError(str(exc), field=where) from None
-        setattr(namespace, knob.dest, value)
+            raise UsageError(str(exc), field=f"--set {s.key}") from None
+        setattr(namespace, s.dest, value)
 
 
-def tuning_key(command: str, key: str, where: str) -> Knob:
+def tuning_key(command: str, key: str, where: str) -> Setting:
     """The tuning key ``key`` of ``command`` (``_`` taken for ``-``); else a usage error naming ``where``, with
     the keys of that name nearest to it."""
     name = key.replace("_", "-")
     keys = TUNING.get(command, ())
     if name in keys:
-        return KNOBS[name]
+        return SETTINGS[name]
     near = difflib.get_close_matches(name, keys, n=3)
     hint = f"; did you mean {' or '.join(near)}?" if near else ""
     raise UsageError(
@@ -127,15 +85,23 @@ def add_profile_options(p: argparse.ArgumentParser, command: str) -> None:
     """``--set KEY=VALUE``, ``--config FILE`` (read by :func:`apply_config` before parsing) and ``--help-all``
     for ``command``, whose tuning keys start at their defaults in the parsed namespace."""
     keys = TUNING.get(command, ())
-    p.add_argument("--set", action=_SetKey, command=command)
+    p.add_argument(
+        "--set",
+        action=_SetKey,
+        command=command,
+        metavar="KEY=VALUE",
+        help="set a tuning key, e.g. --set tile-budget=600 (repeatable; the keys: --help-all); wins over --config",
+    )
     p.add_argument(
         "--config",
         metavar="FILE",
         help=f"a TOML profile of tuning keys, [{command}] table (see --help-all; "
         "defaults in planner/cli/profiles/default.toml); the command line wins",
     )
-    p.add_argument("--help-all", action=_HelpAll, command=command)
-    p.set_defaults(**{KNOBS[key].dest: KNOBS[key].initial for key in keys})
+    p.add_argument(
+        "--help-all", action=_HelpAll, command=command, nargs=0, help="show this help and every tuning key, and exit"
+    )
+    p.set_defaults(**{SETTINGS[key].dest: SETTINGS[key].initial for key in keys})
     p.epilog = (
         f"{len(keys)} tuning keys (solver, tiles and Dask, field sheet, input formats) are set by --set KEY=VALUE "
         f"or --config FILE; planner {command} --help-all lists them."
@@ -169,8 +135,7 @@ def apply_profile(p: argparse.ArgumentParser, command: str, profile: Mapping[str
         action = by_name.get(name)
         try:
             if name in TUNING.get(command, ()):
-                knob = KNOBS[name]
-                p.set_defaults(**{knob.dest: knob.from_profile(value)})
+                p.set_defaults(**{SETTINGS[name].dest: from_profile(SETTINGS[name], value)})
             elif action is not None and action.dest not in ("help", "config", argparse.SUPPRESS):
                 action.default = _checked(action, value)
             else:

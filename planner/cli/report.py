@@ -7,8 +7,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from planner.cli.choices import EXPORTS
 from planner.core.errors import ExitCode, UsageError
+from planner.core.settings import EXPORTS
 
 if TYPE_CHECKING:  # the rest loads when a command runs (a fast --help: docs/startup.md)
     from planner.plan.outcome import Outcome
@@ -50,7 +50,11 @@ def cmd_report(args: argparse.Namespace) -> int:
     outcome = outcome_from_file(args.plan, args.site, ifc=ifc)
     folder = args.out or str(Path(args.plan).parent)
     # judged under the limits the plan was made under
-    network = None if args.no_network else run_network(outcome.sight, list(outcome.stations), seed=0)
+    network = (
+        None
+        if args.no_network
+        else run_network(outcome.sight, list(outcome.stations), seed=0, registration=outcome.registration)
+    )
     comparison = _file_comparison(outcome)
     outcome = replace(outcome, network=network, comparison=tuple(comparison))
     write_exports(outcome, formats, folder, args.crs)

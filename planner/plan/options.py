@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from planner.candidates.pool import PoolOptions
 from planner.core.checks import SAMPLING_M, argument, count, flag, real
 from planner.core.errors import UsageError
+from planner.core.settings import DEFAULTS, OBJECTIVES, SURFACES, field_values, setting_of
 from planner.coverage.sight import sight_of
 from planner.coverage.visibility import SightLimits
 from planner.plan.methods import METHODS
@@ -28,44 +31,46 @@ class PlanOptions:
     sides) stays at 3,000 targets and the coverage build under a few seconds.
     """
 
-    method: str = "milp"
-    target_spacing_m: float = 1.0
+    method: str = DEFAULTS["plan.method"]
+    target_spacing_m: float = DEFAULTS["plan.target_spacing_m"]
     pool: PoolOptions = field(default_factory=PoolOptions)
-    incidence_3d: bool = False
-    precision: bool = True
+    incidence_3d: bool = DEFAULTS["plan.incidence_3d"]
+    #: the precision check: a view covers a point only where its predicted error meets sigma_req
+    precision: bool = DEFAULTS["plan.precision"]
     verify_spacing_m: float = 0.1
     milp: MilpOptions = field(default_factory=MilpOptions)
     #: tripod discs round the stations; None (default): for the MILP, which always places them, else not
     tripod: bool | None = None
-    recentre: bool = False
-    registration: str | None = None  # zone | site; None: default_registration (site where zones share a frame)
-    regions: bool = True
-    pricing: bool = True
+    recentre: bool = DEFAULTS["plan.recentre"]
+    registration: str | None = DEFAULTS["plan.registration"]  # zone | site; None: site where zones share a frame
+    regions: bool = DEFAULTS["plan.regions"]
+    pricing: bool = DEFAULTS["plan.pricing"]
     #: a wall-clock cap on pricing, only where the user sets one (None: none; its rounds and work, counts, stop it)
     pricing_time_limit_s: float | None = None
     #: refinements of the connected cover over patches for a zone-side the ring walk leaves below the plan
-    #: (:mod:`planner.bounds.plane_refine`; 0: off). Each is one connected MILP; Baalbek's outline needs 13
-    plane_refine_steps: int = 0
-    memory_limit_bytes: int | None = None  # None: a share of the available memory (planner.plan.memory_guard)
+    #: (:mod:`planner.bounds.plane_refine`; 0: off). Each is one connected MILP
+    plane_refine_steps: int = DEFAULTS["plan.plane_refine_steps"]
+    #: None: a share of the available memory (planner.plan.memory_guard)
+    memory_limit_bytes: int | None = DEFAULTS["plan.memory_limit_bytes"]
     strategy: StrategyOptions = field(default_factory=StrategyOptions)
-    #: the surfaces planned (issue 46): walls always, and floors and ceilings where asked
+    #: the surfaces planned: walls always, and floors and ceilings where asked
     #: (:mod:`planner.plan.surfaces`; ``("walls",)``: the wall plan alone, unchanged)
-    surfaces: tuple[str, ...] = ("walls",)
+    surfaces: tuple[str, ...] = DEFAULTS["plan.surfaces"]
     #: the incidence limit of floors and ceilings in degrees (None: theta_max)
-    theta_max_floor_deg: float | None = None
-    #: the largest point spacing a view may give a wall piece to cover it, in metres (issue 47,
-    #: :mod:`planner.coverage.spacing`; None: no spacing condition, the plan unchanged)
-    max_point_spacing_m: float | None = None
+    theta_max_floor_deg: float | None = DEFAULTS["plan.theta_max_floor_deg"]
+    #: the largest point spacing a view may give a wall piece to cover it, in metres
+    #: (:mod:`planner.coverage.spacing`; None: no spacing condition, the plan unchanged)
+    max_point_spacing_m: float | None = DEFAULTS["plan.max_point_spacing_m"]
     #: what the plan minimises: ``stations`` (the default, unchanged) or ``field-time``, the set-up and scan
     #: time with a scan setting chosen per station (:mod:`planner.plan.field_time`)
-    objective: str = "stations"
+    objective: str = DEFAULTS["plan.objective"]
     #: the length of a field session in seconds (the field sheet's ``--session``), in which the field-time
     #: trade-off counts each plan's sessions (None: not counted)
     session_s: float | None = None
 
     @property
     def hours(self) -> bool:
-        """A run with point spacing or the field-time objective (scan settings per station, issue 47)."""
+        """A run with point spacing or the field-time objective (scan settings per station)."""
         return self.max_point_spacing_m is not None or self.objective != "stations"
 
     @property
@@ -161,11 +166,7 @@ class PlanOptions:
             )
 
 
-#: what a plan can minimise (``--objective``)
-OBJECTIVES: tuple[str, ...] = ("stations", "field-time")
-
-#: the surfaces a plan can take as targets, in the order plan.json lists them
-SURFACES: tuple[str, ...] = ("walls", "floors", "ceilings")
+__all__ = ["OBJECTIVES", "SURFACES", "PlanOptions", "options_from_settings", "plan_limits"]
 
 
 def _check_surfaces(surfaces: object) -> None:
@@ -191,3 +192,36 @@ def plan_limits(validation: ValidationReport, options: PlanOptions) -> SightLimi
     """The sight limits of a run: :func:`sight_limits` with the options' incidence and precision modes."""
     modes = {"incidence_3d": options.incidence_3d, "precision": options.precision, "combined": options.combined}
     return sight_of(validation.site, validation=validation, **modes)[1].limits
+
+
+def options_from_settings(values: Mapping[str, Any], *, session_s: float | None = None) -> PlanOptions:
+    """The options of a run from setting values by key (:data:`planner.core.settings.SETTINGS`; a missing one:
+    its default): each value goes to the fields its setting names, part by part. ``session_s``: the field
+    session in seconds. A value the options refuse is a :class:`UsageError` whose field is the setting's key."""
+    from planner.coverage.overlap import SiteShare
+    from planner.plan.strategy import StrategyOptions, TileOptions
+    from planner.solve.milp import MilpOptions
+    from planner.solve.windows import WindowOptions
+
+    parts: dict[str, dict[str, Any]] = {}
+    for path, value in field_values(values).items():
+        part, name = path.split(".")
+        parts.setdefault(part, {})[name] = value
+    try:
+        tiling = parts.pop("tiling")
+        tile_m = tiling.pop("tile_m")
+        if tile_m not in ("auto", "off") and parts["plan"]["method"] != "milp":
+            raise UsageError("tiles plan with the MILP", field="method", value=parts["plan"]["method"])
+        windows = WindowOptions(**parts.pop("windows"))
+        tiles = None if tile_m in ("auto", "off") else TileOptions(tile_m=tile_m, windows=windows, **tiling)
+        rule = None if values.get("no-overlap") else SiteShare(**parts.pop("rule"))
+        return PlanOptions(
+            pool=PoolOptions(**parts.pop("pool")),
+            milp=MilpOptions(overlap=rule, **parts.pop("milp")),
+            strategy=StrategyOptions(tiling=tiles, **parts.pop("strategy")),
+            session_s=session_s,
+            **parts.pop("plan"),
+        )
+    except UsageError as err:  # named by the setting that gave the field
+        s = setting_of(err.field)
+        raise UsageError(err.message, field=s.key if s else err.field, value=err.value) from None

@@ -44,6 +44,7 @@ import numpy as np
 
 from planner.core.checks import count, real
 from planner.core.errors import UsageError
+from planner.core.settings import DEFAULTS
 from planner.plan.memory_guard import estimate_work
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
@@ -54,9 +55,9 @@ if TYPE_CHECKING:
     from planner.plan.options import PlanOptions
 
 #: the time budget of a tiled plan chosen automatically, s (its shares below)
-BUDGET_S = 420.0
+BUDGET_S: float = DEFAULTS["strategy.budget_s"]
 #: the local search's moves per wall piece of the site, unless a count is given
-MOVES_PER_PIECE = 10.0
+MOVES_PER_PIECE: float = DEFAULTS["tiling.moves_per_piece"]
 #: the same for a connected plan of the automatic strategy, which runs no CFT cover (module docstring): on the
 #: 16-ha plant 115,320 moves, where the search from the connected greedy's 115 stations finds 100 at move 69,745
 #: and 99 at move 79,877 (docs/large-sites.md)
@@ -68,8 +69,8 @@ FINE_GRID_PIECES = 10_000
 #: the most memory the fine grid's coverage problem may need (the guard's estimate) where no limit is given: the
 #: 16-ha plant's is 0.87 GiB (measured peak 1.29 GiB)
 FINE_GRID_BYTES = 2 * 2**30
-#: the memory limit of each Dask worker unless set
-WORKER_MEMORY = "1.5GiB"
+#: the memory limit of each Dask worker unless set, bytes (1.5 GiB)
+WORKER_MEMORY: int = DEFAULTS["strategy.worker_memory"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -100,7 +101,7 @@ class TileOptions:
 
     tile_m: float = 100.0
     margin_m: float | None = None
-    tile_time_limit_s: float = 30.0
+    tile_time_limit_s: float = DEFAULTS["tiling.tile_time_limit_s"]
     bound_time_limit_s: float = 0.0
     deterministic: bool = True
     tile_plans: bool = True
@@ -109,7 +110,7 @@ class TileOptions:
     lagrange: bool = True
     lagrange_group: int = 1
     lagrange_iterations: int = 0
-    lagrange_work_s: float = 10.0
+    lagrange_work_s: float = DEFAULTS["tiling.lagrange_work_s"]
     local_search_moves: int | None = None
     moves_per_piece: float = MOVES_PER_PIECE
     search_seeds: int = 1
@@ -159,7 +160,7 @@ class StrategyOptions:
     budget_s: float = BUDGET_S
     workers: int = 0
     scheduler: str | None = None
-    worker_memory: str = WORKER_MEMORY
+    worker_memory: int = WORKER_MEMORY
 
     def __post_init__(self) -> None:
         if self.single and self.tiling is not None:

@@ -11,7 +11,8 @@ import pytest
 
 from planner.cli import build_parser, main
 from planner.cli.profile import DEFAULT_PROFILE, TUNING, apply_config
-from planner.cli.tuning import KNOBS, profile_text
+from planner.cli.tuning import profile_text
+from planner.core.settings import SETTINGS
 from tests.conftest import INSTANCES
 
 
@@ -29,11 +30,9 @@ def _options(text: str) -> list[str]:
     return re.findall(r"^  (-[-\w]+)", text, flags=re.MULTILINE)
 
 
-def test_plan_help_all_has_at_most_45_options_and_lists_every_tuning_key(capsys):
+def test_plan_help_all_lists_every_option_and_tuning_key(capsys):
     assert main(["plan", "--help"]) == 0
     short = capsys.readouterr().out
-    # --help on one screen: about 30 options, at most 38 (35 until issues 46 and 47 named --surfaces,
-    # --max-point-spacing and --objective as flags)
     assert len(_options(short)) <= 38, _options(short)
     assert "--help-all lists them" in short  # the keys are found from --help
     assert main(["plan", "--help-all"]) == 0
@@ -47,7 +46,7 @@ def test_plan_help_all_has_at_most_45_options_and_lists_every_tuning_key(capsys)
     for key in TUNING["plan"]:
         assert f"--{key}" not in flags, key
         assert re.search(rf"^  {key}[=\[]", keys, flags=re.MULTILINE), key  # listed with its values and help
-        assert KNOBS[key].help.split()[0] in keys
+        assert SETTINGS[key].help.split()[0] in keys
 
 
 def test_every_subcommand_has_at_most_45_options(capsys):
@@ -62,42 +61,54 @@ def test_shipped_profile_is_the_table_of_keys():
     # open('planner/cli/profiles/default.toml', 'w').write(profile_text('plan'))"
     assert text == profile_text("plan")
     profile = tomllib.loads(text)["plan"]
-    with_default = {k: KNOBS[k].initial for k in TUNING["plan"] if KNOBS[k].initial not in (None, [])}
+    with_default = {k: SETTINGS[k].initial for k in TUNING["plan"] if SETTINGS[k].initial not in (None, [])}
     assert profile == with_default  # the file holds exactly the defaults the command uses
     fresh = build_parser().parse_args(["plan", "site.json"])
     for key in TUNING["plan"]:
-        assert getattr(fresh, KNOBS[key].dest) == KNOBS[key].initial, key  # and the parser starts from them
+        assert getattr(fresh, SETTINGS[key].dest) == SETTINGS[key].initial, key  # and the parser starts from them
         assert re.search(rf"^#? ?{key} = ", text, flags=re.MULTILINE), key  # keys without a default: commented
 
 
 def test_set_and_config_set_the_flag_attributes_and_the_command_line_wins(tmp_path):
     cfg = tmp_path / "my.toml"
-    cfg.write_text('[plan]\ntile-window-radius = 80\nbackend = "scip"\nno_ring_bound = true\nmethod = "greedy"\n')
+    cfg.write_text('[plan]\ntile-budget = 80\nbackend = "scip"\nexterior = true\nmethod = "greedy"\n')
     parser = build_parser()
     argv = ["plan", "site.json", "--config", str(cfg), "--set", "backend=highs", "--set", "threads=2"]
-    argv += ["--set", "no-pricing", "--set", "layer-height=WALLS=3", "--set", "layer-height=ROOF=5", "--method", "milp"]
+    argv += [
+        "--set",
+        "ifc-windows",
+        "--set",
+        "layer-height=WALLS=3",
+        "--set",
+        "layer-height=ROOF=5",
+        "--method",
+        "milp",
+    ]
     apply_config(parser, argv)
     args = parser.parse_args(argv)
-    assert args.tile_window_radius == 80.0 and args.no_ring_bound is True  # from the file
+    assert args.tile_budget == 80.0 and args.exterior is True  # from the file
     assert args.backend == "highs" and args.method == "milp"  # the command line wins over the file
-    assert args.threads == 2 and args.no_pricing is True and args.layer_height == ["WALLS=3", "ROOF=5"]
+    assert args.threads == 2 and args.ifc_windows is True and args.layer_height == ["WALLS=3", "ROOF=5"]
     fresh = build_parser().parse_args(["plan", "site.json"])
-    assert fresh.tile_window_radius == 60.0 and fresh.backend == "cpsat"  # a new parser: the defaults again
-    assert fresh.layer_height == [] and fresh.no_pricing is False
-    later = build_parser().parse_args(["plan", "s.json", "--set", "seed=3", "--set", "seed=4", "--set", "tripod=no"])
-    assert later.seed == 4 and later.tripod is False  # the last --set of a key wins
+    assert fresh.tile_budget == 420.0 and fresh.backend == "cpsat"  # a new parser: the defaults again
+    assert fresh.layer_height == [] and fresh.ifc_windows is False
+    later = build_parser().parse_args(["plan", "s.json", "--set", "seed=3", "--set", "seed=4", "--set", "exterior=no"])
+    assert later.seed == 4 and later.exterior is False  # the last --set of a key wins
+    sizes = build_parser().parse_args(["plan", "s.json", "--set", "worker-memory=2G", "--memory-limit", "512M"])
+    assert (sizes.worker_memory, sizes.memory_limit) == (2 * 2**30, 512 * 2**20)  # bytes inside
 
 
 @pytest.mark.parametrize(
     "argv, fragment",
     [
-        (["--set", "tile-window-radius=-3"], "--set tile-window-radius: must be > 0, got '-3'"),
+        (["--set", "tile-budget=-3"], "--set tile-budget: must be > 0, got '-3'"),
         (["--set", "backend=gurobi"], "--set backend: must be one of cpsat"),
-        (["--set", "no-pricing=maybe"], "--set no-pricing: expected true or false"),
+        (["--set", "exterior=maybe"], "--set exterior: expected true or false"),
+        (["--set", "variant=no-such"], "--set variant: unknown variant 'no-such'"),
         (["--set", "threads=0"], "--set threads: must be >= 1, got '0'"),
-        (["--set", "angular-tolerance=x"], "--set angular-tolerance: invalid float value: 'x'"),
-        (["--set", "tile-radius=3"], "no tuning key 'tile-radius' of 'planner plan'"),
-        (["--set", "tile-radius=3"], "did you mean tile-window-radius?"),
+        (["--set", "angular-tolerance=x"], "--set angular-tolerance: expected a number, got 'x'"),
+        (["--set", "tile-budge=3"], "no tuning key 'tile-budge' of 'planner plan'"),
+        (["--set", "tile-budge=3"], "did you mean tile-budget?"),
         (["--set", "method=greedy"], "--method is an option of 'planner plan', not a tuning key"),
         (["--set", "layer-height=A=1", "--set", "layer-height=a=2"], "layer 'A' given twice"),
         (["--set", "max-link"], "--set max-link: expected max-link=M"),
@@ -114,9 +125,9 @@ def test_bad_set_is_one_line_usage_error(capsys, argv, fragment):
     "body, fragment",
     [
         ("[plan]\nno-such-knob = 1\n", "bad.toml: [plan] no-such-knob: no tuning key 'no-such-knob'"),
-        ("[plan]\ntile-window-radius = -3\n", "[plan] tile-window-radius: must be > 0"),
+        ("[plan]\ntile-budget = -3\n", "[plan] tile-budget: must be > 0"),
         ('[plan]\nbackend = "gurobi"\n', "[plan] backend: must be one of"),
-        ("[plan]\nlayer-cuts = 1\n", "[plan] layer-cuts: expected true or false"),
+        ("[plan]\nexterior = 1\n", "[plan] exterior: expected true or false"),
         ("[plant]\nbackend = 'scip'\n", "[plant] is no command"),
         ("[plan]\nlayer-height = ['W=1', 'w=2']\n", "[plan] layer-height: layer 'W' given twice"),
         ("[plan]\nthreads = [2]\n", "[plan] threads: not a value this key takes"),
@@ -140,7 +151,7 @@ def test_missing_profile_is_usage_error(tmp_path, capsys):
 
 @pytest.mark.parametrize("given", ["config", "set"])
 def test_tuning_value_reaches_the_plan(tmp_path, capsys, given):
-    # an 8 x 4 m room seen from inside (2 stations): the key's verify spacing is the one the plan records
+    # an 8 x 4 m room seen from inside (2 stations): the key's seed is the one the plan records
     site = tmp_path / "room.json"
     site.write_text(
         json.dumps(
@@ -152,26 +163,26 @@ def test_tuning_value_reaches_the_plan(tmp_path, capsys, given):
         )
     )
     cfg = tmp_path / "p.toml"
-    cfg.write_text("[plan]\nverify-spacing = 0.25\nno-precision = true\n")
-    keys = ["--config", str(cfg)] if given == "config" else ["--set", "verify-spacing=0.25", "--set", "no-precision"]
+    cfg.write_text("[plan]\nseed = 7\nno-precision = true\n")
+    keys = ["--config", str(cfg)] if given == "config" else ["--set", "seed=7", "--set", "no-precision"]
     out = tmp_path / "out"
     code = main(["plan", str(site), "--method", "greedy", *keys, "--out", str(out), "--quiet"])
     assert code == 0, capsys.readouterr().err
     plan = json.loads((out / "plan.json").read_text())
     text = json.dumps(plan)
-    assert '"verify_spacing_m": 0.25' in text, sorted(plan)
+    assert '"seed": 7' in text and '"precision": false' in text, sorted(plan)
 
 
 @pytest.mark.parametrize("extra", [[], ["--tiles", "off"], ["--method", "greedy"]])
 def test_plan_validates_the_site_once(monkeypatch, capsys, tmp_path, extra):
-    # issue 33: one validation per `planner plan` run, handed to the memory guard, the strategy and the plan
+    # one validation per `planner plan` run, handed to the memory guard, the strategy and the plan
     # (validate_site is the one caller of site_scanner: counting it counts the validations)
     import planner.site.validate as validate
 
     calls = []
     real = validate.site_scanner
     monkeypatch.setattr(validate, "site_scanner", lambda site: calls.append(site.name) or real(site))
-    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--set", "no-pricing", *extra]) == 0, (
+    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--set", "variant=no-pricing", *extra]) == 0, (
         capsys.readouterr().err
     )
     assert calls == ["polygon_b"]

@@ -10,7 +10,7 @@ import subprocess
 import sys
 
 import planner
-from planner.cli import choices as cli_choices
+from planner.core import settings as cli_choices
 from tests.conftest import ROOT
 
 #: what --help, --version and argument parsing must not load
@@ -69,9 +69,33 @@ def test_cli_choices_match_the_library():
     from planner.instrument.accuracy import INCIDENCE_MODELS
 
     assert cli_choices.INCIDENCE_MODELS == INCIDENCE_MODELS
-    from planner.plan.options import OBJECTIVES
+    from planner.plan.options import OBJECTIVES, SURFACES
+    from planner.solve.milp import CONNECTIVITY
 
-    assert cli_choices.OBJECTIVES == OBJECTIVES
+    assert cli_choices.OBJECTIVES == OBJECTIVES and cli_choices.SURFACES == SURFACES
+    assert cli_choices.CONNECTIVITY == CONNECTIVITY
+
+
+def test_the_settings_defaults_are_the_option_dataclasses():
+    """The schema feeds the option dataclasses' defaults; where a dataclass keeps its own (the window
+    re-solves, the tiles), the values the settings derive equal them, so the same defaults reach the library."""
+    from dataclasses import asdict
+
+    from planner.plan import PlanOptions
+    from planner.plan.options import options_from_settings
+    from planner.plan.strategy import TileOptions
+    from planner.solve.windows import WindowOptions
+
+    assert options_from_settings({}) == PlanOptions()
+    flat = {f"{part}.{k}": v for part, o in (("plan", PlanOptions()), ("milp", PlanOptions().milp)) for k, v in
+            asdict(o).items()}  # fmt: skip
+    flat |= {f"tiling.{k}": v for k, v in asdict(TileOptions()).items()}
+    flat |= {f"windows.{k}": v for k, v in asdict(WindowOptions()).items()}
+    flat |= {f"pool.{k}": v for k, v in asdict(PlanOptions().pool).items()}
+    flat |= {f"strategy.{k}": v for k, v in asdict(PlanOptions().strategy).items()}
+    for path, value in cli_choices.DEFAULTS.items():
+        if path in flat and path != "tiling.tile_m":
+            assert flat[path] == value, path
 
 
 def test_lazy_names_are_the_public_names():

@@ -5,7 +5,7 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-from planner.cli import choices
+from planner.core import settings as choices
 from planner.engine import plan_site
 from planner.plan import METHODS, PlanOptions, build_problem
 from planner.plan.methods import REGISTRY, MethodOutput

@@ -21,11 +21,9 @@ def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
             "--tiles",
             "50",
             "--set",
-            "tile-time-limit=10",
+            "tile-budget=140",
             "--set",
-            "bound-time-limit=10",
-            "--set",
-            "tile-search-moves=50",
+            "moves-per-piece=0.1",
             "--out",
             str(tmp_path),
             "--quiet",
@@ -39,7 +37,7 @@ def test_plan_by_tiles_from_the_command_line(capsys, tmp_path) -> None:
     data = json.loads((tmp_path / "plan.json").read_text())
     assert len(data["stations"]) >= data["bound"] >= 1  # never below the proven bound (over the pool)
     search = data["solver"]["local_search"]  # the local search on the kept plan, as asked
-    assert search["moves_budget"] == 50 and search["moves"] <= 50
+    assert 0 < search["moves_budget"] and search["moves"] <= search["moves_budget"]  # 0.1 move per wall piece
     # the windows come after the search and may take more off (with the axis candidates in the pool: 10 -> 9)
     assert len(data["stations"]) <= search["after"] == search["before"] - search["removed"]
 
@@ -58,19 +56,14 @@ def test_tiles_with_greedy_is_a_usage_error(capsys) -> None:
     assert "MILP" in capsys.readouterr().err
 
 
-def test_negative_lagrange_work_is_a_usage_error(capsys) -> None:
-    assert main(["plan", PLANT, "--tiles", "50", "--set", "lagrange-work=-1"]) == 2
+def test_negative_tile_budget_is_a_usage_error(capsys) -> None:
+    assert main(["plan", PLANT, "--tiles", "50", "--set", "tile-budget=-1"]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "--set lagrange-work" in err
+    assert len(err.splitlines()) == 1 and "--set tile-budget" in err
 
 
 def test_bad_window_options_are_usage_errors(capsys) -> None:
-    for key, value in (
-        ("tile-window-radius", "0"),
-        ("tile-window-work", "-1"),
-        ("tile-window-passes", "-1"),
-        ("tile-window-batch", "0"),
-    ):
+    for key, value in (("tile-window-passes", "-1"), ("tile-budget", "0")):
         assert main(["plan", PLANT, "--tiles", "50", "--set", f"{key}={value}"]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and f"--set {key}" in err and value in err
@@ -78,7 +71,7 @@ def test_bad_window_options_are_usage_errors(capsys) -> None:
 
 def test_bad_search_options_name_their_key(capsys) -> None:
     # the key's type checks them (and TileOptions again for the library); the one-line error names the key
-    for key, value in (("tile-search-moves", "-1"), ("tile-search-seeds", "0")):
+    for key, value in (("moves-per-piece", "-1"),):
         assert main(["plan", PLANT, "--tiles", "50", "--set", f"{key}={value}"]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and f"--set {key}: must be" in err and f"'{value}'" in err
