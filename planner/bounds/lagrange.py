@@ -100,7 +100,7 @@ def serial_parts(fn: Callable[..., PartResult], jobs: list[PartJob], shared: dic
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, and a wall
     cap ``WALL_CAP`` times as long where one is set); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
-    When CP-SAT finds no cover within its work (a large part on a small share of the budget: 64 ha), the
+    When CP-SAT finds no cover within its work (a large part on a small share of the budget), the
     part's cover is Chvatal's greedy (:func:`_greedy_part`) and ``lower`` CP-SAT's bound, or 0 for the
     candidates of cost >= 0 where that bound is not finite: both stay valid.
 
@@ -177,9 +177,8 @@ def _greedy_part(a: sp.csr_matrix, w: NDArray[np.int64]) -> NDArray[np.bool_]:
 
 
 def lp_duals(a: sp.csr_matrix, cost: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
-    """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS interior point with crossover: the
-    dual simplex was still running after 30 CPU minutes on the 64-ha plant's whole cover; on 16 ha scipy's interior
-    point took 10 CPU s against 128 for the dual simplex, docs/benchmarks/setcover.md)."""
+    """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS interior point with crossover: far
+    faster than the dual simplex on a large site's whole cover, docs/benchmarks/setcover.md)."""
     res = linprog(
         cost, A_ub=-a.T.astype(np.float64).tocsr(), b_ub=-np.ones(a.shape[1]), bounds=(0, None), method="highs-ipm"
     )
@@ -238,36 +237,17 @@ def lagrangian_bound(
     mu: float = 0.25,
     runner: PartRunner | None = None,
 ) -> LagrangeBound:
-    """The Lagrangian bound of the cover ``a`` (candidates x pieces) over the target partition ``parts``.
+    """The Lagrangian bound of the cover ``a`` (candidates x pieces, each piece seen by some candidate) over the
+    target partition ``parts`` (the piece indices of each part, each piece in exactly one); its ``value`` never
+    exceeds the cheapest cover of ``a``.
 
-    Parameters
-    ----------
-    a
-        Coverage, candidates by pieces; every piece must be seen by some candidate.
-    parts
-        Piece indices of each part; every piece in exactly one.
-    cost
-        Candidate costs, >= 0 (default 1 each).
-    iterations
-        Subgradient steps after the first split (0: the first split only).
-    work_s
-        CP-SAT deterministic seconds per part and iteration.
-    scale
-        Costs are floored to multiples of ``1 / scale`` (module docstring).
-    start
-        ``"lp"``: the LP-dual split; ``"equal"``: ``c_j / |I(j)|``.
-    upper
-        The cost of a known cover (the step aims at it); else the best union of the parts' covers, pruned.
-    mu
-        First step factor (Polyak's); halved when a step does not raise the bound.
-    runner
-        How each step's parts are solved (:data:`PartRunner`): the tiles run them as Dask tasks; None, one after
-        the other in this process.
-
-    Returns
-    -------
-    LagrangeBound
-        ``value`` never exceeds the cheapest cover of ``a``.
+    ``cost``: the candidates' costs, >= 0 (default 1 each). ``iterations``: subgradient steps after the first
+    split (0: the first split only). ``work_s``: CP-SAT deterministic seconds per part and step. ``scale``: costs
+    are floored to multiples of ``1 / scale`` (module docstring). ``start``: ``"lp"``, the LP-dual split, or
+    ``"equal"``, ``c_j / |I(j)|``. ``upper``: the cost of a known cover, which the step aims at (default: the best
+    union of the parts' covers, pruned). ``mu``: the first step factor (Polyak's), halved when a step does not
+    raise the bound. ``runner``: how each step's parts are solved (:data:`PartRunner`: the tiles run them as Dask
+    tasks; None: one after the other in this process).
     """
     if start not in ("lp", "equal") or iterations < 0 or not work_s > 0 or scale < 1:
         raise UsageError(
@@ -278,10 +258,7 @@ def lagrangian_bound(
     c = np.ones(a.shape[0]) if cost is None else np.asarray(cost, dtype=float)
     lp, y = lp_duals(a, c)
     cands, lams = split_costs(a, parts, c, y if start == "lp" else None)
-    subs = []
-    for js, p in zip(cands, parts):
-        sub = a[js][:, p].tocsc()
-        subs.append(sub[:, ~implied_targets(sub.T.tocsr())].tocsr())
+    subs = [_part_matrix(a, js, p) for js, p in zip(cands, parts)]
     best, upper = -math.inf, math.inf if upper is None else upper
     best_opt: tuple[bool, ...] = ()
     best_parts: tuple[float, ...] = ()
@@ -292,10 +269,7 @@ def lagrangian_bound(
         res: list[PartResult] = (runner or serial_parts)(solve_part, jobs, {"work_s": work_s, "seed": seed})
         done, capped = k, capped + sum(r.capped for r in res)
         value = sum(r.lower for r in res) / scale
-        x = np.zeros(a.shape[0], dtype=bool)
-        for js, r in zip(cands, res):
-            x[js[r.chosen]] = True
-        upper = min(upper, float(c[_pruned(a, x)].sum()))
+        upper = min(upper, _union_cost(a, c, cands, res))
         if value > best + 1e-12:
             best, best_parts, best_opt = value, tuple(r.lower / scale for r in res), tuple(r.optimal for r in res)
         else:
@@ -319,6 +293,22 @@ def lagrangian_bound(
         time_s=time.perf_counter() - t0,
         capped=capped,
     )
+
+
+def _part_matrix(a: sp.csr_matrix, js: NDArray[np.int64], part: NDArray[np.int64]) -> sp.csr_matrix:
+    """The part's candidates ``js`` by its pieces, less the pieces another of them implies."""
+    sub = a[js][:, part].tocsc()
+    return sub[:, ~implied_targets(sub.T.tocsr())].tocsr()
+
+
+def _union_cost(
+    a: sp.csr_matrix, c: NDArray[np.float64], cands: list[NDArray[np.int64]], res: list[PartResult]
+) -> float:
+    """The cost of the union of the parts' covers, pruned (a cover of the whole)."""
+    x = np.zeros(a.shape[0], dtype=bool)
+    for js, r in zip(cands, res):
+        x[js[r.chosen]] = True
+    return float(c[_pruned(a, x)].sum())
 
 
 def group_parts(

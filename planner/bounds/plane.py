@@ -224,24 +224,18 @@ def price_plane(
 ) -> tuple[CoverageProblem, PricingReport]:
     """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane.
 
-    Columns come from the closed arrangement of the regions as drawn (inner approximations: faces, edges
-    and vertices, :func:`planner.coverage.arrangement.heaviest_points`), each checked with the coverage test.
-    The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals ``y``, with ``w*``
-    the heaviest weight of the arrangement of the regions *grown* by the region tolerance
-    (:func:`planner.coverage.arrangement.outer_max_weight`): an upper bound on any position's weight, so the
-    bound holds for every cover from any positions (pieces of the chosen spacing, each seen whole by one
-    station). Scope ``plane`` when its ceiling reaches the pool LP's.
-
-    Limits: ``max_rounds`` rounds of pricing and ``max_work`` (point, region) pairs weighed, no round started once
-    it is reached (counts: the same columns under any load; None: no work limit) and, only where the user sets
-    one, a wall-clock cap ``time_limit_s`` (None: none).
+    Columns come from the closed arrangement of the regions as drawn (:func:`_heaviest`), each checked with
+    the coverage test. The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals
+    ``y``, with ``w*`` from the regions *grown* by the tolerance (:func:`_outer`): it holds for every cover
+    from any positions. Limits: ``max_rounds`` rounds and ``max_work`` (point, region) pairs weighed, counts
+    (the same columns under any load), and only where the user sets one a wall-clock cap ``time_limit_s``.
     """
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
     cache = {} if cache is None else cache
     spaces = {} if spaces is None else spaces
     t = problem.targets
-    added, history, plane_history, note = 0, [], [], ""
+    added, history, note = 0, [], ""
     rounds, converged, capped = 0, False, False
     work: list[int] = []  # (point, region) pairs weighed, per weighing
     model = WarmCoverLp(problem.by_target)
@@ -254,16 +248,7 @@ def price_plane(
         capped = time_limit_s is not None and time.perf_counter() - start > time_limit_s
         spent = max_work is not None and sum(work) >= max_work
         if rounds >= max_rounds or capped or spent:
-            why = (
-                f"the wall-clock cap of {time_limit_s:g} s; may depend on the load"
-                if capped
-                else f"its work limit of {max_work:,} weighed pairs"
-                if spent
-                else f"its {max_rounds} rounds"
-            )
-            note = (
-                f"stopped after {rounds} rounds / {time.perf_counter() - start:.0f} s before pricing converged ({why})"
-            )
+            note = _stopped(rounds, start, time_limit_s if capped else None, max_work if spent else None, max_rounds)
             break
         rounds += 1
         faces, _ = _heaviest(cache, t, pos, lp.y, per_round, work=work)
@@ -286,7 +271,6 @@ def price_plane(
     model.close()
     w_star = _outer(site, t, limits, pos, lp.y, {})
     farley = float(lp.y.sum()) / max(1.0, w_star)
-    plane_history.append(farley)
     report = PricingReport(
         converged,
         history[-1],
@@ -297,13 +281,26 @@ def price_plane(
         outer_tolerance_m(limits),
         note,
         tuple(history),
-        tuple(plane_history),
+        (farley,),
         w_star,
         tuple(map(float, lp.y)),
         capped,
         sum(work),
     )
     return problem, report
+
+
+def _stopped(rounds: int, start: float, cap_s: float | None, work: int | None, max_rounds: int) -> str:
+    """Why pricing stopped before it converged: the wall-clock cap ``cap_s``, the work limit ``work`` (the one
+    reached, or None), else its rounds."""
+    why = (
+        f"the wall-clock cap of {cap_s:g} s; may depend on the load"
+        if cap_s is not None
+        else f"its work limit of {work:,} weighed pairs"
+        if work is not None
+        else f"its {max_rounds} rounds"
+    )
+    return f"stopped after {rounds} rounds / {time.perf_counter() - start:.0f} s before pricing converged ({why})"
 
 
 def with_plane_bound(result: SolveResult, pricing: PricingReport) -> SolveResult:

@@ -9,6 +9,7 @@ pieces whose shrunk region holds it); :func:`planner.solve.ring.cyclic_arcs` the
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -23,10 +24,27 @@ FIRST_PATCHES = 20_000
 #: no patch side below this (m)
 MIN_PATCH_M = 0.02
 #: at most this many patch centres (the grid over a zone-side's grown regions) per zone-side and patch side; past it
-#: that side and the finer ones are skipped (Baalbek's outline at 0.5 m: 384,174 patches, 17,373 undominated, 110 s)
+#: that side and the finer ones are skipped
 MAX_PATCHES = 250_000
 #: segments per quarter circle of the shrunk regions; the shrink is divided by cos(pi / (4 * this))
 _ERODE_SEGS = 16
+
+
+@dataclass(frozen=True)
+class SidePieces:
+    """One zone-side's pieces in their cyclic order: their outer and inner regions as drawn (O_t, R_t), lengths,
+    which of them a plan must cover, and the regions' tolerances (``grow_m`` outward, ``shrink_m`` inward)."""
+
+    outer: list[Any]
+    inner: list[Any]
+    lengths: NDArray[np.float64]
+    required: NDArray[np.bool_]
+    grow_m: float
+    shrink_m: float
+
+    def shapes(self, h: float) -> tuple[list[Any], list[Any]]:
+        """The regions grown and shrunk for patches of side ``h`` (:func:`patch_shapes`)."""
+        return patch_shapes(self.outer, self.inner, h, self.grow_m, self.shrink_m)
 
 
 def patch_shapes(

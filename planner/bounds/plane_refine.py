@@ -2,7 +2,7 @@
 
 The ring walk (:mod:`planner.bounds.plane_ring`) replaces each patch by the smallest arc that holds what it
 may see; on a concave outline the arcs claim the hidden wall between the runs a station sees, and the walk
-stays below the plan (Baalbek's outline: 7 against 9). Here the patches keep their sets.
+can stay below the plan. Here the patches keep their sets.
 
 **Relaxation.** The family is a set of squares that together hold every position that sees a piece of the
 zone-side. For a patch P, U(P) is the pieces whose outer region O_t (grown by its tolerance and half P's
@@ -21,22 +21,21 @@ optimum reaches the plan's count (the plan is then optimal over the plane), the 
 proven within its work (its proven lower bound is kept), or the patches of the optimum cannot be split past
 :data:`MIN_PATCH_M`. This is the refinement of the exact art-gallery solvers (Tozoni, de Rezende and de Souza,
 ACM TOMS 2016: witnesses and guard candidates refined where the relaxation's optimum is not realised), here
-with the registration links. Baalbek's outline (821 pieces): 9 after 13 steps from 2.7-m patches.
+with the registration links.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
-from planner.bounds.plane_patches import MIN_PATCH_M, patch_shapes
-from planner.coverage.overlap import rule_of
+from planner.bounds.plane_patches import MIN_PATCH_M, SidePieces
+from planner.coverage.overlap import SITE_SHARE
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.presolve import dominated
@@ -67,17 +66,8 @@ class Refined:
 class _Levels:
     """The grown and shrunk regions of the zone-side for patches of side ``h0 / 2**level``, indexed by STR-trees."""
 
-    def __init__(
-        self,
-        outer: list[Any],
-        inner: list[Any],
-        lengths: NDArray[np.float64],
-        grow_m: float,
-        shrink_m: float,
-        h0: float,
-    ) -> None:
-        self.outer, self.inner, self.lengths = outer, inner, lengths
-        self.grow_m, self.shrink_m, self.h0 = grow_m, shrink_m, h0
+    def __init__(self, pieces: SidePieces, h0: float) -> None:
+        self.pieces, self.h0 = pieces, h0
         self._trees: dict[int, tuple[shapely.STRtree, shapely.STRtree]] = {}
 
     def side(self, level: int) -> float:
@@ -88,15 +78,15 @@ class _Levels:
     ) -> tuple[sp.csr_matrix, NDArray[np.float64]]:
         """U (patches x pieces) and low of the patches of one level centred at (cx, cy)."""
         if level not in self._trees:
-            g, s = patch_shapes(self.outer, self.inner, self.side(level), self.grow_m, self.shrink_m)
+            g, s = self.pieces.shapes(self.side(level))
             self._trees[level] = (shapely.STRtree(g), shapely.STRtree(s))
         grow, shrink = self._trees[level]
         pts = shapely.points(cx, cy)
         pi, gi = grow.query(pts, predicate="within")
-        u = sp.csr_matrix((np.ones(pi.size, dtype=bool), (pi, gi)), shape=(cx.size, len(self.outer)))
+        u = sp.csr_matrix((np.ones(pi.size, dtype=bool), (pi, gi)), shape=(cx.size, len(self.pieces.outer)))
         si, sj = shrink.query(pts, predicate="within")
         low = np.zeros(cx.size)
-        np.add.at(low, si, self.lengths[sj])
+        np.add.at(low, si, self.pieces.lengths[sj])
         return u, low
 
 
@@ -126,7 +116,7 @@ class _Family:
 def grid_family(lv: _Levels) -> _Family:
     """The level-0 patches: a grid of side h0 over the box of the grown regions (every position that may see a
     piece lies in it), those that may see nothing left out."""
-    shapes, _ = patch_shapes(lv.outer, lv.inner, lv.h0, lv.grow_m, lv.shrink_m)
+    shapes, _ = lv.pieces.shapes(lv.h0)
     live = [g for g in shapes if not g.is_empty]
     b = np.array([shapely.bounds(g) for g in live])
     x0, y0 = b[:, 0].min(), b[:, 1].min()
@@ -211,7 +201,7 @@ def connected_cover(
     One row per distinct (U, low), then only the undominated: Q goes for a kept P with U(P) holding U(Q) and
     low(P) <= low(Q) (:func:`planner.solve.presolve.dominated` with low as the cost). P then has every
     relaxed link Q has (more shared wall, a smaller need), so P stands in for Q in any connected cover; the
-    links are formed among the kept rows only (Baalbek's outline: 10,719 distinct rows, a few hundred kept)."""
+    links are formed among the kept rows only."""
     first, inverse = distinct_rows(u, low)
     kept = ~dominated(u[first].tocsr(), low[first])
     first = first[kept]
@@ -225,7 +215,7 @@ def connected_cover(
         target_length_m=lengths[required],
         relation=relaxed_links(ur, lr, lengths, share),
     )
-    res = solve(inst, MilpOptions(overlap=rule_of(share), work_limit=work_s))
+    res = solve(inst, MilpOptions(overlap=SITE_SHARE.rule(share), work_limit=work_s))
     proven = res.status is Status.OPTIMAL
     chosen = np.flatnonzero(np.isin(inverse, np.asarray(res.selected, dtype=np.int64))).tolist() if proven else []
     value = int(round(res.objective)) if proven and res.objective is not None else math.ceil((res.bound or 0.0) - 1e-6)
@@ -233,25 +223,15 @@ def connected_cover(
 
 
 def refined_bound(
-    outer: list[Any],
-    inner: list[Any],
-    lengths: NDArray[np.float64],
-    required: NDArray[np.bool_],
-    share: float,
-    grow_m: float,
-    shrink_m: float,
-    h0: float,
-    target: int,
-    steps: int,
-    work_s: float = STEP_WORK_S,
+    pieces: SidePieces, share: float, h0: float, target: int, steps: int, work_s: float = STEP_WORK_S
 ) -> Refined:
     """The refined bound of one zone-side (module docstring), from patches of side ``h0``, at most ``steps``
     refinements, stopping once it reaches ``target`` (the plan's count there)."""
-    lv = _Levels(outer, inner, lengths, grow_m, shrink_m, h0)
+    lv = _Levels(pieces, h0)
     fam = grid_family(lv)
     best, taken, proven = 0, 0, False
     while True:
-        value, proven, chosen = connected_cover(fam.u, fam.low, lengths, required, share, work_s)
+        value, proven, chosen = connected_cover(fam.u, fam.low, pieces.lengths, pieces.required, share, work_s)
         best = max(best, value)
         rows = np.asarray([r for r in chosen if lv.side(int(fam.level[r]) + 1) >= MIN_PATCH_M], dtype=np.int64)
         if best >= target or not proven or taken >= steps or rows.size == 0:

@@ -40,9 +40,9 @@ from numpy.typing import NDArray
 from planner.bounds.connected_result import ConnectedPlaneBound, SideBound
 from planner.bounds.plane_patches import (
     FIRST_PATCHES,
+    SidePieces,
     arc_links,
     patch_sets,
-    patch_shapes,
     patch_sides,
     undominated,
 )
@@ -60,32 +60,22 @@ from planner.solve.ring import cyclic_arcs, ring_graph
 
 #: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
 MAX_FAMILY = 6_000
-#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies;
-#: Baalbek's outline at 1.3-m patches passed 1.9 GB before this cap)
+#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies: past
+#: this, a large outline's graph runs to gigabytes)
 MAX_LINKS = 3_000_000
 #: the work the default plan gives the connected plane bound, in patches: a patch side of a zone-side costs the
 #: patches it lays (about FIRST_PATCHES, then 4x at each halving); sides are taken level by level across the
 #: zone-sides, and a level that would pass this budget is not started. A count, not a time, so the bound is
-#: the same under any load (a 10-s wall-clock limit gave polygon C 24 on a quiet machine and 22 under load)
+#: the same under any load
 CONNECTED_WORK_PATCHES = 200_000
 
 
-def side_ring_bound(
-    outer: list[Any],
-    inner: list[Any],
-    lengths: NDArray[np.float64],
-    required: NDArray[np.bool_],
-    share: float,
-    h: float,
-    grow_m: float,
-    shrink_m: float,
-    target: int,
-) -> tuple[int | None, int]:
-    """The ring walk over the undominated patches of side ``h`` of one zone-side (pieces in their cyclic order),
-    searched only as far as it can stay under ``target``: (the walk's cost, or ``target`` when no walk is cheaper;
-    None when not formed; the family size). ``outer``/``inner``: the pieces' O_t and R_t as drawn;
-    ``grow_m``/``shrink_m``: their tolerances (half the patch diagonal is added to both)."""
-    grow, shrink = patch_shapes(outer, inner, h, grow_m, shrink_m)
+def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:
+    """The ring walk over the undominated patches of side ``h`` of one zone-side, searched only as far as it can
+    stay under ``target``: (the walk's cost, or ``target`` when no walk is cheaper; None when not formed; the
+    family size). The patches grow the outer regions and shrink the inner ones by half their diagonal too."""
+    lengths = pieces.lengths
+    grow, shrink = pieces.shapes(h)
     sets = patch_sets(grow, shrink, lengths, h)
     if sets is None:
         return None, 0
@@ -104,7 +94,7 @@ def side_ring_bound(
     r = np.repeat(np.arange(fam.size), sp_ + 1)
     c = (np.concatenate([np.arange(a, a + k + 1) for a, k in zip(s, sp_)]) % n) if fam.size else np.zeros(0, int)
     cover = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(fam.size, n))
-    graph = ring_graph(cover, required, adj)
+    graph = ring_graph(cover, pieces.required, adj)
     if graph is None:
         return None, int(fam.size)
     # a walk of fewer than target stations has both branches from its anchor at most target - 2 long
@@ -146,10 +136,15 @@ def connected_plane_bound(
     if clash:
         return ConnectedPlaneBound(None, (), time.perf_counter() - t0, clash)
     lengths_all = t.s1_m - t.s0_m
-    # each zone-side's outer and inner regions, in its pieces' order
-    regions = [([outer[int(p)] for p in pieces], [cache[int(p)] for p in pieces]) for pieces in pieces_all]
+    regions = [
+        SidePieces(
+            [outer[int(p)] for p in ps], [cache[int(p)] for p in ps], lengths_all[ps], seen[ps], grow_m, shrink_m
+        )
+        for ps in pieces_all
+    ]
     sides, levels = [], []
-    for pieces, (o, _) in zip(pieces_all, regions):
+    for pieces, side_pieces in zip(pieces_all, regions):
+        o = side_pieces.outer
         y = duals[pieces]
         pos = np.flatnonzero(y > 1e-9)
         w = outer_max_weight([o[j] for j in pos], y[pos], grow_m) if pos.size else 0.0
@@ -157,7 +152,7 @@ def connected_plane_bound(
         levels.append(list(patch_sides(o)) if share > 0 else [])
     spent, open_ = 0, [True] * len(keys)
     for level in range(max((len(x) for x in levels), default=0)):
-        for i, (k, pieces) in enumerate(zip(keys, pieces_all)):
+        for i, k in enumerate(keys):
             if not open_[i] or level >= len(levels[i]) or sides[i].value >= counts.get(k, 0):
                 open_[i] = False
                 continue
@@ -167,26 +162,14 @@ def connected_plane_bound(
                 continue
             spent += cost
             h = levels[i][level]
-            ring, fam = side_ring_bound(
-                *regions[i], lengths_all[pieces], seen[pieces], share, h, grow_m, shrink_m, counts.get(k, 0)
-            )
+            ring, fam = side_ring_bound(regions[i], share, h, counts.get(k, 0))
             if ring is None:
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
                 sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
-    for i, (k, pieces) in enumerate(zip(keys, pieces_all)):
+    for i, k in enumerate(keys):
         if refine_steps > 0 and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
-            refined = refined_bound(
-                *regions[i],
-                lengths_all[pieces],
-                seen[pieces],
-                share,
-                grow_m,
-                shrink_m,
-                levels[i][0],
-                counts[k],
-                refine_steps,
-            )
+            refined = refined_bound(regions[i], share, levels[i][0], counts[k], refine_steps)
             sides[i] = replace(sides[i], refined=refined)
     return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)
 

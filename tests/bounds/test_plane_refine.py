@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 import planner
 from planner.bounds import plane_refine
-from planner.bounds.plane_patches import patch_sides
+from planner.bounds.plane_patches import SidePieces, patch_sides
 from planner.bounds.plane_refine import _Levels, distinct_rows, relaxed_links, split
 from planner.coverage.regions import coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.engine import plan_site
@@ -38,8 +38,9 @@ def _levels(site, options) -> tuple[_Levels, np.ndarray]:
     inner = coverage_regions(site, t, limits, None, {})
     n = len(t)
     o, r = [outer[i] for i in range(n)], [inner[i] for i in range(n)]
-    lv = _Levels(o, r, t.s1_m - t.s0_m, outer_tolerance_m(limits), region_tolerance_m(limits), patch_sides(o)[0])
-    return lv, problem.by_target.getnnz(axis=1) > 0
+    seen = problem.by_target.getnnz(axis=1) > 0
+    pieces = SidePieces(o, r, t.s1_m - t.s0_m, seen, outer_tolerance_m(limits), region_tolerance_m(limits))
+    return _Levels(pieces, patch_sides(o)[0]), seen
 
 
 @pytest.mark.slow
