@@ -76,15 +76,7 @@ class ConnectedPlaneBound:
                     "ring": s.ring,
                     "patch_m": s.patch_m,
                     "undominated_patches": s.family,
-                    "refined": None
-                    if s.refined is None
-                    else {
-                        "bound": s.refined.bound,
-                        "steps": s.refined.steps,
-                        "patches": s.refined.patches,
-                        "smallest_patch_m": round(s.refined.smallest_m, 4),
-                        "last_cover_proven": s.refined.proven,
-                    },
+                    "refined": None if s.refined is None else s.refined.to_dict(),
                 }
                 for s in self.sides
             ],

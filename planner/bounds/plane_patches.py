@@ -19,6 +19,9 @@ from numpy.typing import NDArray
 
 from planner.coverage.arrangement import grown
 
+Ints = NDArray[np.int64]
+Floats = NDArray[np.float64]
+
 #: the first patch side gives about this many patches over the zone-side's box; then halved, twice
 FIRST_PATCHES = 20_000
 #: no patch side below this (m)
@@ -118,14 +121,7 @@ def undominated(
     return np.flatnonzero(keep)
 
 
-def arc_links(
-    start: NDArray[np.int64],
-    span: NDArray[np.int64],
-    low: NDArray[np.float64],
-    cum: NDArray[np.float64],
-    n: int,
-    share: float,
-) -> sp.csr_matrix:
+def arc_links(start: Ints, span: Ints, low: Floats, cum: Floats, n: int, share: float) -> sp.csr_matrix:
     """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring).
     ``cum``: prefix sums of the piece lengths over three turns (cum[0] = 0)."""
     end = start + span + 1  # exclusive

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -61,6 +62,15 @@ class Refined:
     patches: int
     smallest_m: float
     proven: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "bound": self.bound,
+            "steps": self.steps,
+            "patches": self.patches,
+            "smallest_patch_m": round(self.smallest_m, 4),
+            "last_cover_proven": self.proven,
+        }
 
 
 class _Levels:

@@ -89,21 +89,11 @@ def _vertex_candidates(
             continue
         out = xy[(i + 1) % len(xy)] - xy[i]
         p = xy[i] + g.hd_m * _rotate(out / np.linalg.norm(out), _sign(side) * g.angle_deg / 2.0)
-        out_cands.append(
-            _candidate(
-                zone,
-                side,
-                f"V{i + 1}",
-                float(p[0]),
-                float(p[1]),
-                CandidateKind.VERTEX,
-                vertex=i + 1,
-                alpha_deg=g.alpha_deg,
-                hd_m=g.hd_m,
-                gamma_deg=g.gamma_deg,
-                covered_m=g.covered_m,
-            )
+        geometry = dict(alpha_deg=g.alpha_deg, hd_m=g.hd_m, gamma_deg=g.gamma_deg, covered_m=g.covered_m)
+        v = _candidate(
+            zone, side, f"V{i + 1}", float(p[0]), float(p[1]), CandidateKind.VERTEX, vertex=i + 1, **geometry
         )
+        out_cands.append(v)
     return out_cands
 
 
@@ -139,21 +129,10 @@ def _wall_candidates(
                 at(st.x_m + st.half_base_m, st.y_m),
                 at(st.x_m, st.y_m - st.height_m),
             )
-            wall_cands.append(
-                _candidate(
-                    zone,
-                    side,
-                    f"W{i + 1}.{k}",
-                    *at(st.x_m, st.y_m),
-                    CandidateKind.WALL,
-                    wall=i + 1,
-                    local_x_m=st.x_m,
-                    local_y_m=st.y_m,
-                    field_half_base_m=st.half_base_m,
-                    field_height_m=st.height_m,
-                    field=field,
-                )
-            )
+            local = dict(wall=i + 1, local_x_m=st.x_m, local_y_m=st.y_m, field=field)
+            size = dict(field_half_base_m=st.half_base_m, field_height_m=st.height_m)
+            w = _candidate(zone, side, f"W{i + 1}.{k}", *at(st.x_m, st.y_m), CandidateKind.WALL, **local, **size)
+            wall_cands.append(w)
     return wplans, wall_cands
 
 

@@ -3,8 +3,8 @@
 The connected MILP needs the overlap relation among the candidates the presolve keeps; the presolve, as
 :func:`planner.solve.presolve.dominated` states it, drops i for a kept j of its group, no dearer, that sees
 every piece i sees and is linked to every neighbour k of i but j itself. Formed whole, that relation costs
-the sum over the pieces of their seers squared: polygon C on a 1.5-m grid, 122,200 candidates seeing 3,082
-pieces, 3.3e10 (measured). Two facts make the relation among the kept enough.
+the sum over the pieces of their seers squared, far too much on a fine grid. Two facts make the relation
+among the kept enough.
 
 *Only the neighbours not dropped before i count.* Take an optimal connected plan and replace its dropped
 candidates by their replacers in the presolve's order. When i's turn comes, the candidates dropped before
@@ -39,6 +39,9 @@ from numpy.typing import NDArray
 
 from planner.coverage.gram import BLOCK_ENTRIES, Keep
 from planner.coverage.overlap import OverlapRule, link_filter
+
+Ints = NDArray[np.int64]
+Floats = NDArray[np.float64]
 
 #: candidates tested per block (one product each for the block's coverage rows against the kept ones)
 BLOCK_ROWS = 512
@@ -119,15 +122,8 @@ def linked_dominated(
 
 
 def _block_pairs(
-    a: sp.csr_matrix,
-    lengths: NDArray[np.float64],
-    block: NDArray[np.int64],
-    cols: NDArray[np.int64],
-    size: NDArray[np.int64],
-    cost: NDArray[np.float64],
-    gid: NDArray[np.int64],
-    keep: Keep,
-) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
+    a: sp.csr_matrix, lengths: Floats, block: Ints, cols: Ints, size: Ints, cost: Floats, gid: Ints, keep: Keep
+) -> tuple[Ints, Ints, Floats, NDArray[np.bool_], NDArray[np.bool_]]:
     """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, the wall shared,
     whether the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group).
     ``a``: the coverage (boolean), ``lengths``: the pieces' lengths."""
@@ -171,9 +167,8 @@ def _replaceable(
 
 
 class _Kept:
-    """The kept candidates in the order kept and the overlap relation among them as a bit matrix (its rows
-    one bit per kept candidate; at polygon C's 1.5-m grid a fifth of the pairs of the kept are linked, so
-    bits hold it in less than the sparse form would)."""
+    """The kept candidates in the order kept and the overlap relation among them as a bit matrix (one bit per
+    kept candidate: on a fine grid a large share of the pairs are linked, and bits hold that in less)."""
 
     def __init__(self, n: int) -> None:
         self.kept: list[int] = []
