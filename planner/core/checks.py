@@ -83,6 +83,11 @@ def shown(value: Any) -> Any:
     return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
 
 
+def finite_number(value: Any) -> bool:
+    """True for a finite int or float (a bool is no number here)."""
+    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
+
+
 def count(value: Any, field: str, least: int = 0) -> None:
     """An integer (not a bool, not a float) >= ``least``."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least:

@@ -40,16 +40,9 @@ def _fmt_value(value: Any) -> str:
 
 
 class PlannerError(Exception):
-    """Base of every error the planner raises on purpose.
-
-    Parameters
-    ----------
-    message
-        What is wrong, in words (no location; that comes from the keywords).
-    file, zone, row, field, value
-        Where the problem is and what was found there; each optional. ``value``
-        is quoted as found (``None`` means "not given", so it is left out).
-    """
+    """Base of every error the planner raises on purpose: ``message`` says what is wrong (no location);
+    ``file``, ``zone``, ``row``, ``field`` and ``value`` where, and what was found there (each optional;
+    ``value`` quoted as found, None left out)."""
 
     exit_code: ExitCode = ExitCode.INTERNAL
 

@@ -15,17 +15,22 @@ from planner.core.errors import InputError
 MAX_INPUT_BYTES = 64 * 1024 * 1024
 
 
-def read_text(path: Path) -> str:
-    """The file's text (UTF-8, BOM allowed); refuses missing, huge, binary or empty files."""
-    name = str(path)
+def check_size(path: Path) -> None:
+    """Refuse a file that cannot be read or is larger than ``MAX_INPUT_BYTES``, before it is read."""
     try:
         size = path.stat().st_size
     except OSError as exc:
-        raise InputError(f"cannot read file: {exc.strerror}", file=name) from None
+        raise InputError(f"cannot read file: {exc.strerror}", file=str(path)) from None
+    if size > MAX_INPUT_BYTES:
+        raise InputError(f"file too large ({size:,} bytes; limit {MAX_INPUT_BYTES:,})", file=str(path), value=size)
+
+
+def read_text(path: Path) -> str:
+    """The file's text (UTF-8, BOM allowed); refuses missing, huge, binary or empty files."""
+    name = str(path)
+    check_size(path)
     if not path.is_file():
         raise InputError("not a file", file=name)
-    if size > MAX_INPUT_BYTES:
-        raise InputError(f"file too large ({size:,} bytes; limit {MAX_INPUT_BYTES:,})", file=name, value=size)
     try:
         text = path.read_bytes().decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -216,14 +221,8 @@ def to_float(
                 "number out of range (beyond +-1.8e308)", file=file, zone=zone, row=row, field=field
             ) from None
     else:
-        raise InputError(
-            "must be a number",
-            file=file,
-            zone=zone,
-            row=row,
-            field=field,
-            value=type(raw).__name__ if raw is not None else "null",
-        )
+        shown = type(raw).__name__ if raw is not None else "null"
+        raise InputError("must be a number", file=file, zone=zone, row=row, field=field, value=shown)
     if not math.isfinite(value):
         raise InputError("must be finite", file=file, zone=zone, row=row, field=field, value=raw)
     return value

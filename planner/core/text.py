@@ -98,31 +98,14 @@ def _numeric(text: str) -> bool:
 
 
 def table(
-    header: Sequence[str],
-    rows: Iterable[Sequence[Any]],
-    *,
-    indent: str = "  ",
-    right: Sequence[bool] | None = None,
+    header: Sequence[str], rows: Iterable[Sequence[Any]], *, indent: str = "  ", right: Sequence[bool] | None = None
 ) -> list[str]:
-    """Rows as aligned lines under a header, two spaces between columns.
+    """The header line and one line per row, each column as wide as its widest cell, two spaces between
+    columns, ``indent`` before every line, trailing spaces removed.
 
-    Parameters
-    ----------
-    header
-        The column titles.
-    rows
-        The cells; None prints as ``none``, a bool as ``yes``/``no``, an int with thousands separators, a float
-        by ``:g`` (format floats beforehand to fix their decimals).
-    indent
-        Put before every line.
-    right
-        Which columns are right-aligned; by default those whose every non-empty cell reads as a number
-        (``1,058``, ``100.000``, ``3835/3835``, ``4.06 mm``).
-
-    Returns
-    -------
-    list of str
-        The header line and one line per row, each column as wide as its widest cell, trailing spaces removed.
+    Cells: None prints as ``none``, a bool as ``yes``/``no``, an int with thousands separators, a float by
+    ``:g`` (format floats beforehand to fix their decimals). ``right``: which columns are right-aligned; by
+    default those whose every non-empty cell reads as a number (``1,058``, ``3835/3835``, ``4.06 mm``).
     """
     body = [[_cell(v) for v in row] for row in rows]
     n = len(header)
@@ -171,20 +154,7 @@ def fold_alike(lines: Iterable[str], names: Iterable[str] = (), *, shown: int = 
     group of alike notes prints once, at the place of its first note: the note whose name comes first in
     natural order, then ``(same for N: A, B, ..., Z)`` naming the first name that differs between them
     (``shown`` names at most, the first ones and the last); identical notes print once with ``(N times)``.
-
-    Parameters
-    ----------
-    lines
-        The notes, in the order they came.
-    names
-        Further words to treat as names (zone ids without digits, station ids).
-    shown
-        How many differing names the count lists before it elides them.
-
-    Returns
-    -------
-    list of str
-        The notes, each group of alike ones folded.
+    ``names``: further words to treat as names (zone ids without digits, station ids).
     """
     known = frozenset(names)
     groups: dict[str, list[tuple[str, list[str]]]] = {}

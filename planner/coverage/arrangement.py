@@ -1,27 +1,18 @@
 """The arrangement of weighted coverage regions: where their weight is heaviest.
 
-Geometric pricing asks two different questions of the regions R_t (each with a dual weight y_t >= 0):
+Geometric pricing asks two questions of the regions R_t (each with a dual weight y_t >= 0):
 
-1. **Where to put a new candidate** (:func:`heaviest_points`): points of the *closed* arrangement of
-   the regions as drawn (inner approximations: a point of R_t passes the coverage test), heaviest
-   first. Regions are closed sets; where two only touch (along an edge, or at a point, as the
-   45 deg diagonals of a rectangle at theta_max 45 deg do) the weight there is larger than on any open
-   face beside it. So the samples are: a point inside every face, the midpoint of every edge of the
-   noded boundaries and every node (vertex) of them, each weighed by the closed regions within
-   ``TOUCH_M`` of it. The coverage test then decides whether the point really covers those pieces.
+1. **Where to put a new candidate** (:func:`heaviest_points`): points of the *closed* arrangement of the
+   regions as drawn (inner approximations), heaviest first. Where two regions only touch (along an edge or
+   at a point) the weight is larger than on any open face beside it, so the samples are a point inside every
+   face, the midpoint of every edge and every node, each weighed by the closed regions within ``TOUCH_M``.
 
-2. **The heaviest weight anywhere in the plane** (:func:`outer_max_weight`), for a bound. The true
-   coverage set C_t of a piece lies within ``grow_m`` (the region tolerance) of R_t, so each region is
-   grown by ``grow_m`` plus a margin, as a polygon that circumscribes the round buffer. Claim: the
-   heaviest open face of the arrangement of the grown regions weighs at least sum_{t: p in C_t} y_t
-   for every position p. Proof: p lies within ``grow_m`` of every R_t with p in C_t, so the open disc
-   of radius ``margin`` about p lies inside every grown region of those t; the disc meets some open
-   face F (faces are dense), F does not cross any grown region's boundary, so F lies inside all of
-   them, and its weight is at least p's. The weight of a face is read at a point on its surface with
-   closed containment (``intersects``), which can only add weight: the maximum stays an upper bound.
-   A check that the faces found fill the union of the grown regions (area within 1e-6 relative) guards
-   against a face lost by the polygoniser (faces inside some region, their areas summed); if it fails
-   the answer is the sum of all weights, a bound that is always true.
+2. **The heaviest weight anywhere in the plane** (:func:`outer_max_weight`), for a bound. The true coverage
+   set C_t lies within ``grow_m`` of R_t, so each region is grown by ``grow_m`` plus a margin (circumscribed).
+   Then the open disc of radius ``margin`` about any position p lies in every grown region of the t with p in
+   C_t, and meets an open face inside all of them: the heaviest face weighs at least p's weight. Faces are
+   weighed with closed containment, which can only add weight. If the faces found do not fill the union of the
+   grown regions (a face lost by the polygoniser), the answer is the sum of all weights, always a bound.
 """
 
 from __future__ import annotations

@@ -1,15 +1,11 @@
 """Two faces of one wall: sides of two zones placed together that lie on the same line.
 
-Assembled zones share walls: room A's side and room B's side are the two faces of one wall, on the
-same line to within the placement residuals (a few mm at Baalbek), so one of the two faces may lie
-a hair IN FRONT of the other. As a blocker of sight it would then hide the other face from its
-own room. A face is never hidden by the other face of its own wall, so each shared stretch blocks
-sight under the key of its partner face: the sight test skips a piece's own wall key, so a piece
-of B's face ignores A's coincident stretch, and a piece of A's face ignores B's. Everything else
-is blocked by both faces as before. Where a wall of B meets A's wall (a junction), B's wall end
-may poke a hair into A: such ends are cut back by ``JUNCTION_M`` and their vertices dropped (A's
-wall, continuous there, still blocks everything beyond). The price: a gap of at most 2 x 5 cm where
-two zones' corners meet, which a sight line would have to pass twice to reach a scanned face.
+The two faces of a shared wall lie on one line only to within the placement residuals, so one may lie a
+hair IN FRONT of the other and, as a blocker, hide it from its own room. A face is never hidden by the other
+face of its own wall: each shared stretch blocks sight under the key of its partner face, which the sight
+test skips for the partner's pieces. Where a wall of B meets A's wall (a junction), B's wall end may poke a
+hair into A: such ends are cut back by ``JUNCTION_M`` and their vertices dropped (A's wall still blocks
+beyond), leaving a gap of at most 2 x ``JUNCTION_M`` that a sight line would have to pass twice.
 """
 
 from __future__ import annotations
@@ -21,21 +17,16 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.coverage.visibility import wall_key
+from planner.site.geometry import cross_z
 from planner.site.model import Site
 
-#: faces of one wall lie within this distance of each other's line where they overlap (placement
-#: residuals and printed-data misfits: at Baalbek the outline's side 12 runs 0.28 deg off Z3's side 10,
-#: 11 cm away at its end)
+#: faces of one wall lie within this distance of each other's line where they overlap (placement residuals
+#: and printed-data misfits)
 COINCIDENT_M = 0.15
 #: wall ends within this distance of another zone's boundary are cut back by it (junctions)
 JUNCTION_M = 0.05
 #: and run parallel within this angle
 PARALLEL_DEG = 2.0
-
-
-def _cross(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:
-    """z of the 2-D cross product u x v."""
-    return float(u[0] * v[1] - u[1] * v[0])
 
 
 def partner_stretches(site: Site, frame: str) -> dict[tuple[int, int], list[tuple[float, float, int]]]:
@@ -67,7 +58,7 @@ def _shared(a0, a1, b0, b1, cos_tol: float) -> tuple[float, float] | None:
     v = b1 - b0
     if abs(float(np.dot(u, v))) < cos_tol * float(np.hypot(*v)):
         return None
-    (t0, o0), (t1, o1) = sorted((float(np.dot(p - a0, u)), float(_cross(u, p - a0))) for p in (b0, b1))
+    (t0, o0), (t1, o1) = sorted((float(np.dot(p - a0, u)), cross_z(u, p - a0)) for p in (b0, b1))
     lo, hi = max(t0, 0.0), min(t1, la)
     if hi <= lo + JUNCTION_M:
         return None

@@ -1,18 +1,12 @@
 """The pool a plan was chosen from, named by a fingerprint (:func:`pool_of`): what the best plans known
 (``docs/benchmarks/best_known.json``) are compared on, so a gap is printed only between plans of one pool.
 
-The fingerprint is the first 12 hex digits of a SHA-256 over
-
-- the counts: candidates and targets;
-- the candidates in pool order: position rounded to 1 mm, zone, scan side and frame;
-- the targets in order: zone, scan side and the piece's two ends rounded to 1 mm.
-
-It depends on nothing but these: not on the machine, its load, the number of Dask workers, the time a run took,
-nor on the candidates' ids or kinds. Positions are in each zone's frame, so a site moved (translated, rotated) or
-drawn anew gets another fingerprint even where its shape is the same: a best plan known holds for the pool as
-drawn. Pairs (the coverage matrix's nonzeros) are recorded beside it but not hashed: they follow from the
-candidates, the targets and the sight limits, and a last-bit difference of a sight test on another machine
-should not make another pool.
+The fingerprint is the first 12 hex digits of a SHA-256 over the counts of candidates and targets, the
+candidates in pool order (position rounded to 1 mm, zone, scan side, frame) and the targets in order (zone,
+scan side, the piece's ends rounded to 1 mm). Nothing else: not the machine, its load, the workers, the run
+time, nor the candidates' ids or kinds. Positions are in each zone's frame, so a site moved or drawn anew gets
+another fingerprint. Pairs are recorded beside it but not hashed: they follow from the pool and the sight
+limits, and a last-bit difference of a sight test on another machine should not make another pool.
 """
 
 from __future__ import annotations
@@ -20,7 +14,7 @@ from __future__ import annotations
 import hashlib
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -46,12 +40,7 @@ class Pool:
     fingerprint: str
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "candidates": self.candidates,
-            "targets": self.targets,
-            "pairs": self.pairs,
-            "fingerprint": self.fingerprint,
-        }
+        return asdict(self)
 
 
 def _mm(values: ArrayLike) -> NDArray[np.int64]:

@@ -90,12 +90,8 @@ def _solid_parts(site: Site, zi: int, segments: list, partners: dict) -> tuple[N
 
 
 def convex_alone(site: Site, frame: str) -> bool:
-    """True when ``frame`` holds one convex zone without holes and (in the site frame) no obstacles.
-
-    Then every pair that passed the front-facing test is in clear view: from inside, a convex
-    polygon's wall cannot hide another; from outside, a wall faces the station exactly when the
-    station is in front of its line. This spares the sight test on finely drawn round rooms.
-    """
+    """True when ``frame`` holds one convex zone without holes and (in the site frame) no obstacles: then
+    every front-facing pair is in clear view, and the sight test is spared (finely drawn round rooms)."""
     zones = [z for z in site.zones if z.frame == frame]
     if len(zones) != 1 or zones[0].holes or (frame == SITE_FRAME and site.obstacles):
         return False
@@ -117,13 +113,9 @@ def block_size(n_targets: int) -> int:
 
 class ZoneSideBlockers:
     """The blockers that can hide a piece of one zone-side from a station on that side, built once per
-    zone-side of a frame.
-
-    From inside zone z, a view that leaves z crosses one of z's walls, so only edges that meet z matter;
-    from outside, only edges not strictly inside z. A zone with openings sees through them, so it keeps
-    every blocker of the frame. This keeps the sight test of a building of many rooms from testing every
-    room's walls against every view.
-    """
+    zone-side of a frame: from inside zone z only edges that meet z, from outside only edges not strictly
+    inside z; a zone with openings keeps every blocker of the frame. A building of many rooms then does not
+    test every room's walls against every view."""
 
     def __init__(self, site: Site, frame: str) -> None:
         self.site, self.all = site, blockers_for(site, frame)
@@ -174,12 +166,8 @@ class ZoneSideBlockers:
 
 
 def _kept_vertices(b: Blockers, keep: NDArray[np.bool_]) -> NDArray[np.float64]:
-    """The blocker vertices of the triangle test that are end points of the kept segments.
-
-    Only vertices ``blockers_for`` gave are kept: at the junctions of placed zones it cuts wall ends back
-    and drops their vertices (:func:`planner.coverage.faces.trim_at_junctions`), and those cut ends must
-    not come back as vertices here.
-    """
+    """The blocker vertices (only those ``blockers_for`` gave: it drops the vertices of wall ends cut back at
+    junctions, :func:`planner.coverage.faces.trim_at_junctions`) that are end points of the kept segments."""
     if not keep.any() or len(b.vertices) == 0:
         return np.zeros((0, 2))
     ends = {tuple(p) for p in np.vstack([b.a[keep], b.b[keep]]).tolist()}
@@ -196,13 +184,9 @@ class Places:
 
 
 def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -> Places:
-    """Classify station positions: inside which zones, and forbidden ones with the reason.
-
-    Forbidden: on a wall line or closer to one than the site's stand-off
-    (``min_standoff_m``: a tripod needs room for its legs), inside an obstacle or
-    closer to its edge than the stand-off, inside a no-go area, or outside the site
-    boundary (obstacles, no-go areas and the boundary apply in the site frame).
-    """
+    """Classify station positions: inside which zones, and forbidden ones with the reason: on a wall line or
+    closer to one than the stand-off (``min_standoff_m``), inside an obstacle or closer to its edge than the
+    stand-off, inside a no-go area, or outside the site boundary (these three in the site frame)."""
     n = len(xy)
     standoff = site.parameters.min_standoff_m
     frames_arr = np.asarray(frames, dtype=object)
@@ -255,13 +239,9 @@ def _on_own_side(site: Site, cands: Sequence[Candidate], places: Places) -> Plac
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class CoverageProblem:
-    """Candidates, targets and the boolean coverage matrix in both views.
-
-    ``by_candidate`` is C x T (CSR: row c lists the targets c sees);
-    ``by_target`` is T x C (CSR: row t lists the candidates that see t).
-    ``slant_m`` and ``incidence_deg`` hold, on the same pattern as
-    ``by_candidate``, the worst slant range and incidence over each piece.
-    """
+    """Candidates, targets and the boolean coverage matrix in both views: ``by_candidate`` C x T and
+    ``by_target`` T x C (CSR); ``slant_m`` and ``incidence_deg`` hold, on ``by_candidate``'s pattern, the worst
+    slant range and incidence over each piece."""
 
     candidates: tuple[Candidate, ...]
     targets: Targets
@@ -290,11 +270,8 @@ class CoverageProblem:
 def build_coverage(
     site: Site, candidates: Sequence[Candidate], targets: Targets, limits: SightLimits, step: str = ""
 ) -> CoverageProblem:
-    """Compute which candidate sees which target (see :mod:`planner.coverage.visibility`).
-
-    With ``step`` set, progress is reported every ``PROGRESS_BLOCK`` candidates under that name
-    (:mod:`planner.core.progress`).
-    """
+    """Compute which candidate sees which target (:mod:`planner.coverage.visibility`); with ``step`` set,
+    progress is reported every block of candidates under that name (:mod:`planner.core.progress`)."""
     cands = tuple(candidates)
     xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)
     places = _on_own_side(site, cands, station_places(site, xy, [c.frame for c in cands]))
@@ -310,18 +287,7 @@ def build_coverage(
         open_view = convex_alone(site, frame)  # nothing can block a front-facing piece of a lone convex zone
         views = None if open_view else ZoneSideBlockers(site, frame)
         for block in np.array_split(ci, math.ceil(len(ci) / block_size(len(ti)))):
-            pairs = geometric_pairs(
-                xy[block],
-                places.inside[block],
-                targets.zone[ti],
-                targets.side[ti] == 0,
-                targets.a[ti],
-                targets.b[ti],
-                targets.ha_m[ti],
-                targets.hb_m[ti],
-                targets.normal[ti],
-                limits,
-            )
+            pairs = geometric_pairs(xy[block], places.inside[block], targets, ti, limits)
             pc, pt = block[pairs.cand], ti[pairs.target]
             clear = np.ones(len(pc), dtype=bool) if views is None else views.clear(xy, targets, pc, pt)
             rows.append(pc[clear].astype(np.int32))

@@ -1,15 +1,10 @@
 """A site's blockers as triangles in 3-D: the scene the 3-D sight test (:mod:`planner.coverage.rays`) casts into.
 
-Walls are extruded from their zone's floor (``Zone.floor_level_m``, unless given) up to their top edge, which runs
-linearly from ``h_start_m`` to ``h_end_m`` as :class:`planner.site.model.Wall` says (the same profile
-:func:`planner.coverage.targets.make_targets` samples for ``ha_m``/``hb_m``); an opening of the plan view
-(:mod:`planner.coverage.openings`) is a full-height gap here too. Obstacles (site frame only, as in
-:func:`planner.coverage.matrix.blockers_for`) are prisms from 0 m to their ``height_m`` with a top cap.
-A zone scanned from inside may add its floor (at its floor level) and, where it has one, its ceiling (floor level +
-``ceiling_height_m``) as horizontal plates; :class:`Slab` plates are any other horizontal polygons at a height.
-
-A vertical wall quad with a linear top is planar, so two triangles cover it exactly. Each triangle keeps the
-``source`` it came from, so that a sight line can skip the surface its target lies on:
+Walls stand from their zone's floor up to their linear top edge (:class:`planner.site.model.Wall`), cut at
+openings (full-height gaps); obstacles (site frame only) are capped prisms from 0 m to ``height_m``. A zone
+scanned from inside may add its floor and ceiling as horizontal plates; a :class:`Slab` is any other one.
+A wall quad with a linear top is planar: two triangles cover it exactly. Each triangle keeps its ``source``,
+so that a sight line can skip the surface its target lies on:
 
 - a wall: :func:`planner.coverage.visibility.wall_key` of (zone index, 1-based wall index), >= 0, the key
   the plan-view blockers use;
@@ -29,6 +24,7 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
+from planner.coverage.targets import read_only
 from planner.coverage.visibility import wall_key
 from planner.site.model import SITE_FRAME, ScanSide, Site
 
@@ -88,9 +84,7 @@ class SiteMesh:
 
     def __post_init__(self) -> None:
         for name in ("vertices", "triangles", "source", "kind"):
-            a = np.ascontiguousarray(getattr(self, name))
-            a.flags.writeable = False
-            object.__setattr__(self, name, a)
+            object.__setattr__(self, name, read_only(getattr(self, name)))
         if self.vertices.ndim != 2 or self.vertices.shape[1] != 3:
             raise ValueError(f"vertices must be V x 3, got {self.vertices.shape}")
         if self.triangles.ndim != 2 or self.triangles.shape[1] != 3:
@@ -105,9 +99,9 @@ class SiteMesh:
         """The triangles' corners, T x 3 (corner) x 3 (x, y, z)."""
         return self.vertices[self.triangles]
 
-    def translated(self, dx: float, dy: float, dz: float = 0.0) -> SiteMesh:
-        """The same mesh moved by (dx, dy, dz)."""
-        return SiteMesh(self.vertices + np.array([dx, dy, dz]), self.triangles, self.source, self.kind)
+    def translated(self, dx_m: float, dy_m: float, dz_m: float = 0.0) -> SiteMesh:
+        """The same mesh moved by (dx_m, dy_m, dz_m)."""
+        return SiteMesh(self.vertices + np.array([dx_m, dy_m, dz_m]), self.triangles, self.source, self.kind)
 
 
 def quads(a: Floats, b: Floats, z0: Floats, za: Floats, zb: Floats) -> tuple[Floats, NDArray[np.int64]]:
@@ -141,34 +135,12 @@ def site_mesh(
     floors: bool = False,
     ceilings: bool = False,
 ) -> SiteMesh:
-    """Triangulate the blockers of ``frame``: walls of its zones, obstacles (site frame), ``slabs``, and where
-    asked the zones' floors and ceilings.
+    """Triangulate the blockers of ``frame``: its zones' walls (outline and holes, cut at openings), obstacles
+    (site frame), ``slabs`` and, with ``floors``/``ceilings``, the floor and ceiling of each zone scanned from
+    inside. ``floors_m``: a zone's floor level by zone id, in place of its ``floor_level_m``.
 
-    Parameters
-    ----------
-    site
-        The site; every zone in ``frame`` contributes its walls (outline and holes), cut at openings.
-    frame
-        The frame whose zones are meshed; obstacles belong to the site frame only.
-    floors_m
-        Floor level of a zone by zone id, in place of its ``floor_level_m``: its walls stand from there to
-        floor + height (wall heights are measured from the zone's own floor).
-    slabs
-        Horizontal plates to add.
-    floors, ceilings
-        Add the floor (the zone's polygon, holes left out, at its floor level) and the ceiling (at floor +
-        ``ceiling_height_m``, zones that have one) of every zone of ``frame`` scanned from inside.
-
-    Returns
-    -------
-    SiteMesh
-        Two triangles per solid wall part and per obstacle side, a cap per obstacle, slab, floor and ceiling.
-
-    Notes
-    -----
-    O(walls + obstacle and slab vertices), apart from :func:`wall_gaps`'s scan of the frame's openings per wall.
-    Shared faces of placed zones are meshed once per zone (each under its own key), and zone holes (piers) get
-    no top cap: a sight line entering one through its top would leave through a wall, which blocks it anyway.
+    O(walls + obstacle and slab vertices). Shared faces of placed zones are meshed once per zone (each under its
+    own key); zone holes (piers) get no top cap: a line entering one through its top leaves through a wall.
     """
     levels = floors_m or {}
     parts = _Parts()

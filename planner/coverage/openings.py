@@ -1,30 +1,26 @@
 """Openings (doors, gates, windows, passages) as gaps in walls, and the accessible areas they join.
 
-An opening is declared on one wall of one zone, in metres along that wall. When zones are placed
-together, the same wall is also a side of the neighbouring zone (its other face, run the other way,
-or moved back by the wall's thickness), so an opening is a gap in EVERY wall face of the same frame
-that runs parallel to its wall (within ``PARALLEL_DEG``) and lies at most ``OPENING_DEPTH_M`` in front
-of or behind it: a door goes through the whole wall. Sight passes through a gap; the pieces of a
-gap are no targets (there is no wall there to scan).
+An opening is declared on one wall of one zone, in metres along it. It is a gap in EVERY wall face of the
+frame that runs parallel to its wall (within ``PARALLEL_DEG``) at most ``OPENING_DEPTH_M`` in front of or
+behind it (a placed neighbour's face of the same wall): a door goes through the whole wall. Sight passes
+through a gap; a gap holds no targets.
 
-Accessible areas: each inside zone is a space of its own, and the outside of every outside-scanned
-zone of a frame is one space (the open ground around the buildings). A door, gate or passage joins the
-space of its zone with the space found just behind the wall (the first zone a point behind the gap
-falls in, up to ``OPENING_DEPTH_M`` + 0.1 m deep; none: the frame's outside). Windows let sight
-through but join nothing. A stair (``Site.stairs``) joins the space of its lower zone with that of its upper
-zone: one walks up it, so the storeys it connects are one accessible area.
+Accessible areas: each inside zone is a space, and the outside of a frame's outside-scanned zones is one.
+A door, gate or passage joins its zone's space with the space just behind the wall (none found: the frame's
+outside); windows join nothing. A stair (``Site.stairs``) joins its lower zone's space with its upper one's.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Hashable, Sequence
+from collections.abc import Sequence
 
 import networkx as nx
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.site.geometry import cross_z
 from planner.site.model import ScanSide, Site, Wall, Zone
 
 #: the deepest wall an opening goes through (faces of one wall are at most this far apart)
@@ -33,11 +29,6 @@ OPENING_DEPTH_M = 1.0
 PARALLEL_DEG = 2.0
 #: kinds of opening one can walk (and carry a scanner) through: a passage (no door in it) as a door
 PASSABLE = ("door", "gate", "passage")
-
-
-def _cross(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:
-    """z of the 2-D cross product u x v."""
-    return float(u[0] * v[1] - u[1] * v[0])
 
 
 def opening_segments(site: Site, frame: str) -> list[tuple[int, Wall, str, NDArray[np.float64]]]:
@@ -68,16 +59,13 @@ def wall_gaps(
     cos_tol = math.cos(math.radians(PARALLEL_DEG))
     found = []
     for zi, w, _kind, ends in segs:
-        if zi == zone_index and w.index == wall.index:
-            s = sorted(float(np.dot(e - a, u)) for e in ends)
-        else:
+        if zi != zone_index or w.index != wall.index:  # another face: parallel and close enough
             v = ends[1] - ends[0]
             if abs(float(np.dot(v, u))) < cos_tol * float(np.hypot(*v)):
                 continue
-            off = [abs(float(_cross(u, e - a))) for e in ends]
-            if max(off) > OPENING_DEPTH_M:
+            if max(abs(cross_z(u, e - a)) for e in ends) > OPENING_DEPTH_M:
                 continue
-            s = sorted(float(np.dot(e - a, u)) for e in ends)
+        s = sorted(float(np.dot(e - a, u)) for e in ends)
         lo, hi = max(s[0], 0.0), min(s[1], length)
         if hi > lo + 1e-9:
             found.append((lo, hi))
@@ -146,10 +134,3 @@ def _space_behind(
         if hit is not None:
             return ("in", hit.id)
     return ("out", zone.frame)
-
-
-def area_groups(site: Site, zones: Sequence[str], sides: Sequence[ScanSide]) -> tuple[Hashable, ...]:
-    """The accessible-area label of each candidate (given by its zone id and side)."""
-    areas = accessible_areas(site)
-    by_id = {z.id: z for z in site.zones}
-    return tuple(("area", areas[space_of(by_id[z], s)]) for z, s in zip(zones, sides))

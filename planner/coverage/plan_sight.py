@@ -1,17 +1,12 @@
 """The plan-view part of the floor and ceiling sight test: do the segments from a station to every point of a
 patch keep clear of what can hide it?
 
-What can hide a patch of zone z, its *blockers*: the footprints of z's blocks (holes, obstacles) of at least a
-given height, and the pockets between z's outline and its convex hull (a segment that leaves a non-convex
-room crosses its wall). Each is shrunk by ``EPS_PLAN_M``, so that a patch or a segment that only touches one
-(a patch cut at a column, a station at a wall) stays clear.
-
-The segments from a station s to every point of a patch P sweep P's *fan* from s. For P convex and s outside
-P's bounding box it is P together with the triangle (s, c-, c+) over the two corners that bound P's angular
-extent from s; otherwise (a patch clipped non-convex at a block or an inner corner, a station over the patch)
-it is the union of the triangles (s, a, b) over P's edges a-b, since every point of P lies on a segment from
-s to a point of P's boundary. A pair is clear when no blocker meets the triangles; P itself is tested once,
-by :func:`PlanBlockers.hits` on the patches.
+A patch of zone z is hidden by its *blockers*: the footprints of z's blocks (holes, obstacles) of at least a
+given height and the pockets between z's outline and its convex hull, each shrunk by ``EPS_PLAN_M`` so that
+only touching one stays clear. The segments from station s to a patch P sweep P's *fan*: for P convex and s
+outside its bounding box, P with the triangle (s, c-, c+) over the corners that bound P's angular extent;
+otherwise the union of the triangles (s, a, b) over P's edges. A pair is clear when no blocker meets the
+triangles; P itself is tested once (:func:`PlanBlockers.hits`).
 """
 
 from __future__ import annotations

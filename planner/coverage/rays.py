@@ -4,20 +4,13 @@
 triangle of a :class:`planner.coverage.mesh.SiteMesh` (other than those of ``skip[i]``, the surface the end
 lies on). The conventions are those of the plan-view test (:mod:`planner.coverage.visibility`):
 
-- touching counts as blocked: a segment blocked by a triangle is one whose Euclidean distance to it is at most
-  ``EPS_TOUCH_M`` (= ``EPS_SIGHT_M``, 1e-7 m); a sight line grazing a wall's top edge is blocked;
-- each segment stops ``EPS_SHORTEN_M`` (1e-5 m, at most half its length) before its end, so that a point on a
-  wall is not hidden by the walls that meet it there; the origin (a station, which stands off every surface) is
-  kept.
+- touching counts as blocked (distance at most ``EPS_TOUCH_M``): a line grazing a wall's top edge is blocked;
+- each segment stops ``EPS_SHORTEN_M`` (at most half its length) before its end, so that a point on a wall is not
+  hidden by the walls that meet it there; the origin (a station, off every surface) is kept.
 
-How. The triangles' plan-view boxes sit in a shapely STRtree. Each chunk of ``SEGMENT_CHUNK`` segments is cut
-into pieces of at most ``PIECE_M`` in plan, and the pieces' boxes are queried: the pairs found are those whose
-plan views may meet (a projection never lengthens a distance), near the segment rather than anywhere in its
-bounding box. Cheap conservative filters follow (:meth:`RayIndex.pairs`: the segment's plan line against the
-triangle's box, skipped sources, height ranges, the triangle's plane), each keeping a margin of ``MARGIN`` * eps;
-the pairs left go in batches of ``PAIR_BATCH`` to :func:`segment_hits_triangles`, the exact vectorised test,
-pairs of segments already blocked being left out. Work grows with the (segment, triangle) pairs whose plan boxes
-meet piece by piece, memory with a chunk's pairs; no N x T array anywhere.
+How: the pieces (at most ``PIECE_M`` in plan) of each chunk of segments query an STRtree of the triangles' plan
+boxes; conservative filters (:meth:`RayIndex.pairs`) thin the pairs, and :func:`segment_hits_triangles` tests
+the rest exactly, in batches. Work grows with the pairs whose plan boxes meet; no N x T array anywhere.
 """
 
 from __future__ import annotations
@@ -34,12 +27,11 @@ from planner.coverage.visibility import EPS_SHORTEN_M, EPS_SIGHT_M
 
 #: a segment within this distance of a triangle is blocked by it (the plan view's EPS_SIGHT_M)
 EPS_TOUCH_M = EPS_SIGHT_M
-#: segments per tree query: the pairs of a chunk (and their memory) grow with it; 42 MB peak in all for 5e4 segments
-#: of the 2,008-triangle hall of scripts/bench/bench_rays.py (tracemalloc)
+#: segments per tree query: the pairs of a chunk (and their memory) grow with it
 SEGMENT_CHUNK = 4096
-#: pairs per exact test: its arrays peak at about 32 MB for 2**16 pairs that all cross their planes (tracemalloc)
+#: pairs per exact test (bounds the memory of its arrays)
 PAIR_BATCH = 1 << 16
-#: the filters before the exact test keep pairs within MARGIN * eps (rounding of absolute coordinates is far less)
+#: the filters before the exact test keep pairs within MARGIN * eps_m (rounding of absolute coordinates is far less)
 MARGIN = 2.0
 #: segments are cut into pieces of at most this length (plan view) for the tree query, so a long diagonal
 #: segment meets the triangles near it, not all those in its bounding box
@@ -68,16 +60,16 @@ class RayIndex:
     tree: shapely.STRtree
 
     def pairs(
-        self, o: NDArray[np.float64], e: NDArray[np.float64], skip: NDArray[np.int64], eps: float
+        self, o: NDArray[np.float64], e: NDArray[np.float64], skip: NDArray[np.int64], eps_m: float
     ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-        """(segment, triangle) pairs, sorted, that may come within ``eps``: conservative filters, each with a margin
-        of ``MARGIN`` * eps, in order. O(Q log T + E) for Q pieces and E pairs whose boxes meet.
+        """(segment, triangle) pairs, sorted, that may come within ``eps_m``: conservative filters, each with a margin
+        of ``MARGIN`` * eps_m, in order. O(Q log T + E) for Q pieces and E pairs whose boxes meet.
 
         1. the box of a piece (at most ``PIECE_M`` long in plan) of the segment meets the triangle's plan box (the
         tree); 2. the segment's plan line passes within reach of that box; 3. the triangle is not skipped and the
         height ranges overlap; 4. the segment's ends are not both beyond the triangle's plane on one side.
         """
-        m = MARGIN * eps
+        m = MARGIN * eps_m
         lo, hi = np.minimum(o, e), np.maximum(o, e)
         d = e[:, :2] - o[:, :2]
         length = np.hypot(d[:, 0], d[:, 1])
@@ -163,18 +155,18 @@ def segment_distance2(
 
 
 def segment_hits_triangles(
-    o: NDArray[np.float64], e: NDArray[np.float64], tri: NDArray[np.float64], eps: float = EPS_TOUCH_M
+    o: NDArray[np.float64], e: NDArray[np.float64], tri: NDArray[np.float64], eps_m: float = EPS_TOUCH_M
 ) -> NDArray[np.bool_]:
-    """Row-wise: is the closed segment o-e within ``eps`` of the closed triangle ``tri`` (P x 3 x 3)?
+    """Row-wise: is the closed segment o-e within ``eps_m`` of the closed triangle ``tri`` (P x 3 x 3)?
 
     The distance of a segment to a triangle is 0 where it crosses the triangle, else it is reached at an end of
     the segment (over the triangle's face) or on an edge of the triangle; so the segment is blocked when
 
     1. it crosses the triangle's plane at a point inside the triangle, or
-    2. an end lies within ``eps`` of the plane and projects inside the triangle, or
-    3. an edge of the triangle comes within ``eps`` of it (:func:`segment_distance2`).
+    2. an end lies within ``eps_m`` of the plane and projects inside the triangle, or
+    3. an edge of the triangle comes within ``eps_m`` of it (:func:`segment_distance2`).
 
-    Segments with both ends farther than ``eps`` on one side of the plane are out first. Everything is computed
+    Segments with both ends farther than ``eps_m`` on one side of the plane are out first. Everything is computed
     relative to ``o`` (a translation of the scene changes only the last bits). O(P), no loop in Python.
     """
     o, e, tri = np.asarray(o, float), np.asarray(e, float), np.asarray(tri, float)
@@ -186,7 +178,7 @@ def segment_hits_triangles(
     unit = n / np.where(nn > 0, nn, 1.0)[:, None]
     s0 = -_dot(unit, a)
     s1 = s0 + _dot(unit, d)
-    near = np.flatnonzero(~(((s0 > eps) & (s1 > eps)) | ((s0 < -eps) & (s1 < -eps))))
+    near = np.flatnonzero(~(((s0 > eps_m) & (s1 > eps_m)) | ((s0 < -eps_m) & (s1 < -eps_m))))
     if near.size == 0:
         return hit
     d, a, b, c, n, unit, s0, s1 = d[near], a[near], b[near], c[near], n[near], unit[near], s0[near], s1[near]
@@ -196,14 +188,14 @@ def segment_hits_triangles(
     x = d * np.where(crosses, s0 / np.where(den != 0, den, 1.0), 0.0)[:, None]
     h = crosses & _inside(n, a, b, c, x)
     for q, s in ((np.zeros_like(d), s0), (d, s1)):  # an end over the face
-        h |= flat & (np.abs(s) <= eps) & _inside(n, a, b, c, q - unit * s[:, None])
+        h |= flat & (np.abs(s) <= eps_m) & _inside(n, a, b, c, q - unit * s[:, None])
     rest = np.flatnonzero(~h)
     if rest.size:
         zero, dr = np.zeros((rest.size, 3)), d[rest]
         ar, br, cr = a[rest], b[rest], c[rest]
         d2 = np.minimum(segment_distance2(zero, dr, ar, br - ar), segment_distance2(zero, dr, br, cr - br))
         d2 = np.minimum(d2, segment_distance2(zero, dr, cr, ar - cr))
-        h[rest] = d2 <= eps * eps
+        h[rest] = d2 <= eps_m * eps_m
     hit[near] = h
     return hit
 
@@ -224,37 +216,16 @@ def occluded(
     ends: ArrayLike,
     skip: ArrayLike | None = None,
     *,
-    eps: float = EPS_TOUCH_M,
+    eps_m: float = EPS_TOUCH_M,
     shorten_m: float = EPS_SHORTEN_M,
     chunk: int = SEGMENT_CHUNK,
 ) -> NDArray[np.bool_]:
-    """Whether each segment origin -> end (shortened at its end) is blocked by the mesh.
+    """N booleans: whether each segment ``origins[i]`` -> ``ends[i]`` (N x 3, m; shortened by ``shorten_m`` at
+    its end) comes within ``eps_m`` of the mesh (:func:`planner.coverage.mesh.site_mesh`).
 
-    Parameters
-    ----------
-    mesh
-        The site's triangles (:func:`planner.coverage.mesh.site_mesh`).
-    origins, ends
-        N x 3 points (x, y, z in metres): stations at instrument height, points on the surfaces.
-    skip
-        N source keys (or None): the triangles of ``skip[i]`` do not block segment i (the target's own wall,
-        as the plan view skips the piece's wall); ``NO_SKIP`` skips nothing. A source is a wall (one plane) or
-        a whole obstacle or slab, so skip only a wall: an obstacle skipped would no longer hide its far side.
-    eps
-        The touching distance (module docstring).
-    shorten_m
-        How far before its end each segment stops.
-    chunk
-        Segments per tree query.
-
-    Returns
-    -------
-    numpy.ndarray
-        N booleans, True where blocked.
-
-    Notes
-    -----
-    O(Q log T + E + P) time for Q pieces of segments, E (piece, triangle) pairs whose plan boxes meet and P pairs
+    ``skip``: N source keys (or None) whose triangles do not block segment i (the target's own wall);
+    ``NO_SKIP`` skips nothing. Skip only a wall: an obstacle skipped would no longer hide its far side.
+    O(Q log T + E + P) for Q pieces of segments, E (piece, triangle) pairs whose plan boxes meet and P pairs
     tested exactly; memory O(a chunk's E).
     """
     o = np.asarray(origins, dtype=float).reshape(-1, 3)
@@ -273,11 +244,11 @@ def occluded(
     for c0 in range(0, n, chunk):
         oc, ec, kc = o[c0 : c0 + chunk], e[c0 : c0 + chunk], sk[c0 : c0 + chunk]
         blocked = out[c0 : c0 + chunk]  # a view: writes go to out
-        si, ti = idx.pairs(oc, ec, kc, eps)
+        si, ti = idx.pairs(oc, ec, kc, eps_m)
         for p0 in range(0, len(si), PAIR_BATCH):
             ps, pt = si[p0 : p0 + PAIR_BATCH], ti[p0 : p0 + PAIR_BATCH]
             live = ~blocked[ps]
             ps, pt = ps[live], pt[live]
             if ps.size:
-                blocked[ps[segment_hits_triangles(oc[ps], ec[ps], idx.corners[pt], eps)]] = True
+                blocked[ps[segment_hits_triangles(oc[ps], ec[ps], idx.corners[pt], eps_m)]] = True
     return out

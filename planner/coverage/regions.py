@@ -2,29 +2,18 @@
 
 R_t applies the rules of :mod:`planner.coverage.visibility` to a position instead of a candidate:
 
-- the scan side: inside the piece's zone for an inside face, outside it for an outside face, and
-  where a station may stand at all (:func:`accessible_area`);
-- the incidence limit at both ends of the piece: with horizontal incidence, the wedge with apex at
-  the end, axis along the face normal and half-angle theta_max; with 3-D incidence the convex region
-  d >= cot(theta_max) sqrt(u^2 + dz^2) (d off the face, u along it, dz the vertical reach to the
-  farther of top and foot), bounded by chords of its boundary;
-- the slant range to top and foot at both ends: discs of radius sqrt(S^2 - dz^2) about each end,
-  as inscribed polygons (``DISC_SEGMENTS`` vertices on the circle);
-- sight: minus the shadow of every wall and obstacle edge near the piece, the set of positions p
-  for which the edge meets the triangle p-a-b (the union, over points q of the edge, of the wedge of
-  rays from the piece through q);
-- the stand-off (``min_standoff_m``): minus a buffer of that width around every wall and obstacle
-  edge (polygons circumscribing the true buffer, so that the region stays inside);
-- the view error (single precision with an incidence model): at each end, the positions whose view
-  of that end has e(S, theta) <= sigma_req, a region star-shaped about the end, bounded by
-  rho(theta) = sqrt(S_lim(theta)^2 - dz^2) (:func:`planner.instrument.accuracy.max_slant_for_view_m`), drawn as
-  a polygon through points of that curve (:mod:`planner.coverage.region_precision`) shrunk by its largest chord error
-  (horizontal incidence only; with 3-D incidence plans skip regions and pricing, see
-  :func:`regions_apply`).
+- the scan side and where a station may stand at all (:func:`frame_space`);
+- the incidence limit at both ends: a wedge of half-angle theta_max about the face normal, or with 3-D
+  incidence the convex region d >= cot(theta_max) sqrt(u^2 + dz^2), bounded by chords;
+- the slant range to top and foot at both ends: inscribed discs of radius sqrt(S^2 - dz^2);
+- sight: minus the shadow of every wall and obstacle edge near the piece (positions p for which the edge
+  meets the triangle p-a-b);
+- the stand-off: minus a circumscribed buffer around every wall and obstacle edge;
+- the view error (single precision with an incidence model, horizontal incidence only, see
+  :func:`regions_apply`): the region of :mod:`planner.coverage.region_precision` at each end.
 
-Every approximation is from the inside, so a point in R_t passes the coverage test (up to the test's
-own 1e-7 m sight tolerance); a position that passes the test but lies outside R_t is within
-``region_tolerance_m`` of R_t's boundary (the sagitta of the inscribed discs).
+Every approximation is from the inside, so a point in R_t passes the coverage test (up to its own sight
+tolerance); a position that passes it but lies outside R_t is within :func:`region_tolerance_m` of R_t.
 """
 
 from __future__ import annotations
@@ -37,7 +26,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.coverage.matrix import blockers_for, convex_alone
+from planner.coverage.matrix import ON_WALL_M, blockers_for, convex_alone
 from planner.coverage.region_precision import PRECISION_CHORD_M, precision_region
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import (
@@ -59,8 +48,6 @@ HYPERBOLA_SAGITTA_M = 1e-3
 GRAZE_DEG = math.degrees(math.asin(EPS_SIGHT_M / EPS_SHORTEN_M))
 #: grid of the snap-rounded overlay used when GEOS's floating overlay of the shadows fails (1 um)
 SNAP_GRID_M = 1e-6
-#: a station closer than this to a wall line stands nowhere (as in the coverage build)
-ON_WALL_M = 1e-6
 #: segments per quarter circle of the stand-off buffers
 STANDOFF_QUAD_SEGS = 16
 

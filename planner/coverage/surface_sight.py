@@ -1,31 +1,22 @@
 """Which stations see which floor and ceiling patches: range, 3-D incidence, blind cones, plan-view sight.
 
-A station (x, y) of zone z stands on z's floor with the instrument ``IH`` above it, at height
-``floor_level_m + IH``. It sees a patch of :mod:`planner.coverage.surfaces` when, for the WHOLE patch:
+A station of zone z stands on z's floor with the instrument ``IH`` above it. It sees a patch of
+:mod:`planner.coverage.surfaces` when, for the WHOLE patch:
 
-- the patch belongs to the station's own zone (a floor in another room is not seen; the station must
-  stand in the zone's floor area, not in a block);
-- the slant range from the instrument to every corner is <= S_max (range is convex in the point, so the
-  corners bound the patch);
-- the 3-D incidence, the angle between the ray and the patch normal, is <= the limit of the surface:
-  ``theta_max_floor_deg`` for floors and ceilings (``theta_max_deg`` unless set). On a horizontal patch
-  it is atan(d / |dz|) for horizontal distance d and height difference dz, growing with d, so the
-  corners bound it again; a ceiling at or below the instrument is not seen;
-- no point of the patch lies inside a blind cone: the angle of the ray from the nadir (floors) or the
-  zenith (ceilings) is >= the model's half angle, i.e. the patch's nearest point is at least
-  |dz| tan(half angle) away horizontally (the nearest point, not the corners: a blind disc can sit
-  inside a patch whose corners are all outside it). The P30 sees through the zenith: no cone above,
-  and a ray to a ceiling (above the horizon) never meets the cone below;
-- in plan, the segment from the station to every point of the patch neither leaves the zone's outline nor
-  enters a block (holes, obstacles) that can be in the way: every block for a floor, and for a ceiling
-  those standing above the instrument (a lower block is under every upward ray);
-  :mod:`planner.coverage.plan_sight` tests the patch's whole fan. This is conservative: a wall or block
-  lower than the instrument hides in plan what it does not hide in 3-D (the floor far behind a low
-  plinth, a ruin's low wall), and a ceiling patch over a block that stands above the instrument but
-  below the ceiling is seen by no station. The 3-D ray engine is to replace this test.
+- the patch belongs to the station's own zone, and the station stands on its floor area;
+- the slant range to every corner is <= S_max (range is convex: the corners bound the patch);
+- the 3-D incidence, atan(d / |dz|) on a horizontal patch, is <= the surface's limit
+  (``theta_max_floor_deg``); it grows with d, so the corners bound it; a ceiling at or below the
+  instrument is not seen;
+- no point of the patch lies in a blind cone about the nadir (floors) or zenith (ceilings): the patch's
+  nearest point (not its corners) is at least |dz| tan(half angle) away horizontally;
+- in plan, the segment to every point of the patch neither leaves the zone's outline nor enters a block
+  that can be in the way (every block for a floor, those above the instrument for a ceiling):
+  :mod:`planner.coverage.plan_sight` tests the patch's whole fan. This is conservative: a block lower than
+  the instrument hides in plan what it does not hide in 3-D.
 
-Pairs come from an STRtree query of the zone's patches within the horizontal reach that range and
-incidence allow, so the work grows with the pairs in reach, never with stations x patches.
+Pairs come from an STRtree query within the horizontal reach that range and incidence allow, so the work
+grows with the pairs in reach, never with stations x patches.
 """
 
 from __future__ import annotations
@@ -38,6 +29,7 @@ import shapely
 from numpy.typing import NDArray
 from scipy import sparse
 
+from planner.core.checks import finite_number
 from planner.coverage.plan_sight import EPS_PLAN_M, PlanBlockers, convex, fans_clear, plan_blockers
 from planner.coverage.surfaces import CEILING, FLOOR, REACH_TOL_M, SurfaceTargets, open_area
 from planner.instrument.models import Scanner
@@ -67,7 +59,7 @@ class SurfaceLimits:
 
     def __post_init__(self) -> None:
         def bad(v: object, lo: float, hi: float, lo_open: bool, hi_open: bool) -> bool:
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            if not finite_number(v):
                 return True
             return v < lo or (lo_open and v == lo) or v > hi or (hi_open and v == hi)
 
@@ -100,13 +92,8 @@ def surface_limits(
     instrument_height_m: float | None = None,
     theta_max_floor_deg: float | None = None,
 ) -> SurfaceLimits:
-    """The limits for a scanner: its blind cones, and its ``instrument_height_3d_m`` unless a height is given.
-
-    Raises
-    ------
-    ValueError
-        No instrument height given and none in the model.
-    """
+    """The limits for a scanner: its blind cones, and its ``instrument_height_3d_m`` unless a height is given
+    (a ValueError when neither is)."""
     ih = instrument_height_m if instrument_height_m is not None else scanner.instrument_height_3d_m
     if ih is None:
         raise ValueError(f"no instrument height for 3-D work: give one, or instrument_height_3d_m in {scanner.name}")

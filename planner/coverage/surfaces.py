@@ -1,21 +1,16 @@
 """Floor and ceiling targets: each zone's floor and ceiling cut into patches of at most ``spacing_m`` a side.
 
-A zone scanned from inside (``inside`` or ``both``) has a floor at ``floor_level_m`` and, where
-``ceiling_height_m`` is given, a ceiling that much above it; an ``outside`` zone (a building's outline)
-has neither, and a zone without a ceiling (a court, an open ruin, every table CSV zone) has no ceiling.
+A zone scanned from inside has a floor at ``floor_level_m`` and, where ``ceiling_height_m`` is given, a
+ceiling that much above it; an ``outside`` zone has neither.
 
-- **Floor**: the zone's outline less the footprints of the blocks standing in it, its holes (piers, a
-  cella) and, for a zone in the site frame, the obstacles that overlap it. Floor under a block is not a
-  target: no one scans the floor under a column. No-go areas are floor (sight passes over them; only
-  stations may not stand there), so they stay targets.
-- **Ceiling**: the outline less the footprints of the blocks that reach the ceiling (height above the
-  floor >= ``ceiling_height_m``); a lower block leaves the ceiling above it a target.
+- **Floor**: the outline less the footprints of the blocks standing in it (its holes and, in the site
+  frame, the obstacles that overlap it): no one scans the floor under a column. No-go areas stay floor.
+- **Ceiling**: the outline less the footprints of the blocks that reach the ceiling.
 
-Each area is cut by a square grid anchored at the outline's bounding box: its width and depth are each
-split into equal cells no wider than ``spacing_m`` (as walls are cut into equal pieces), and the cells are
-clipped to the area (``shapely.intersection``, vectorised). A clipped cell in several parts gives one patch
-per part; a part holding a hole (a small column inside one cell) is cut through each hole's centroid so
-that no patch holds a hole; parts smaller than ``SLIVER_SHARE`` of a full cell are slivers and dropped.
+Each area is cut by a square grid anchored at the outline's bounding box (width and depth split into equal
+cells no wider than ``spacing_m``), the cells clipped to the area. A clipped cell in several parts gives one
+patch per part; a part holding a hole is cut through each hole's centroid; parts smaller than
+``SLIVER_SHARE`` of a full cell are slivers and dropped.
 """
 
 from __future__ import annotations
@@ -28,7 +23,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.coverage.targets import read_only
+from planner.coverage.targets import PieceArrays
 from planner.site.model import SITE_FRAME, ScanSide, Site
 
 FLOOR = 0
@@ -44,19 +39,15 @@ CELL_BATCH = 65_536
 
 
 @dataclass(frozen=True, eq=False)
-class SurfaceTargets:
+class SurfaceTargets(PieceArrays):
     """Floor and ceiling patches as parallel read-only arrays (one entry per patch).
 
-    ``zone`` indexes ``site.zones``; ``kind`` is ``FLOOR`` (0) or ``CEILING`` (1); ``frame`` indexes
-    ``frames`` (the zones' frames in site order, as :class:`planner.coverage.targets.Targets`); ``cell`` the
-    grid column and row of the patch's cell; ``polygon`` the patch (shapely, no holes); ``corners`` its
-    vertices, (P, K, 2), each row padded to K by repeating its last vertex, ``n_corners`` how many are its
-    own; ``centroid``; ``area_m2``; ``height_m`` the patch's height in the site's vertical datum (the floor
-    level, or the floor level plus the ceiling height); ``normal`` the unit normal towards the room, (0, 0, 1)
-    on a floor and (0, 0, -1) on a ceiling.
+    ``kind`` is ``FLOOR`` or ``CEILING``; ``frame`` indexes ``frames`` (as in
+    :class:`planner.coverage.targets.Targets`); ``cell`` the grid column and row; ``polygon`` the patch (no
+    holes); ``corners`` its vertices (P, K, 2), padded by repeating the last, ``n_corners`` how many are its
+    own; ``height_m`` in the site's vertical datum; ``normal`` the unit normal towards the room.
     """
 
-    zone: NDArray[np.int32]
     kind: NDArray[np.int8]
     frame: NDArray[np.int32]
     cell: NDArray[np.int32]
@@ -70,9 +61,6 @@ class SurfaceTargets:
     frames: tuple[str, ...]
     zone_ids: tuple[str, ...]
     spacing_m: float
-
-    def __len__(self) -> int:
-        return len(self.zone)
 
     def label(self, t: int) -> str:
         """A readable id: zone/kind, the grid cell and the patch's centroid, e.g. ``Z1/floor cell 3,4 at 3.50, 4.50 m``."""
@@ -92,11 +80,8 @@ class SurfaceTargets:
 
 
 def zone_blocks(site: Site, zi: int) -> list[tuple[shapely.Polygon, float]]:
-    """Footprints and heights (the top above the zone's floor) of the blocks standing in zone ``zi``.
-
-    Its holes (each at its highest vertex) and, for a zone in the site frame, every obstacle whose
-    footprint overlaps the zone's outline by some area.
-    """
+    """Footprints and heights (the top above the zone's floor) of the blocks standing in zone ``zi``: its
+    holes (at their highest vertex) and, in the site frame, the obstacles overlapping its outline by some area."""
     zone = site.zones[zi]
     out = [(shapely.Polygon(ring), float(max(hs))) for ring, hs in zip(zone.holes, zone.hole_heights_m)]
     if zone.frame == SITE_FRAME and site.obstacles:
@@ -109,12 +94,8 @@ def zone_blocks(site: Site, zi: int) -> list[tuple[shapely.Polygon, float]]:
 
 
 def open_area(site: Site, zi: int, reaching_m: float = 0.0) -> shapely.Polygon | shapely.MultiPolygon:
-    """Zone ``zi``'s outline less the footprints of its blocks whose top is at least ``reaching_m`` above the floor.
-
-    ``open_area(site, zi)`` (every block) is the floor; with the ceiling height (less ``REACH_TOL_M``) it is
-    the ceiling; the sight test (:mod:`planner.coverage.surface_sight`) also takes the area free of the
-    blocks that stand above the instrument.
-    """
+    """Zone ``zi``'s outline less the footprints of its blocks whose top is at least ``reaching_m`` above the
+    floor: with 0 the floor, with the ceiling height (less ``REACH_TOL_M``) the ceiling."""
     outline = shapely.Polygon(site.zones[zi].xy)
     cut = [poly for poly, h in zone_blocks(site, zi) if h >= reaching_m]
     return outline.difference(shapely.union_all(cut)) if cut else outline
@@ -191,13 +172,8 @@ def _corners(polys: NDArray[np.object_]) -> tuple[NDArray[np.float64], NDArray[n
 
 
 def make_surface_targets(site: Site, spacing_m: float, kinds: Iterable[str] = ("floor", "ceiling")) -> SurfaceTargets:
-    """Cut the floor and ceiling (``kinds``) of every zone into patches no wider than ``spacing_m``.
-
-    Raises
-    ------
-    ValueError
-        A spacing that is not a finite number > 0, or a kind other than ``floor`` and ``ceiling``.
-    """
+    """Cut the floor and ceiling (``kinds``) of every zone into patches no wider than ``spacing_m`` (a
+    ValueError for a spacing that is not a finite number > 0, or another kind)."""
     if not math.isfinite(spacing_m) or spacing_m <= 0:
         raise ValueError(f"surface target spacing must be > 0, got {spacing_m}")
     wanted = set(kinds)
@@ -229,17 +205,17 @@ def make_surface_targets(site: Site, spacing_m: float, kinds: Iterable[str] = ("
     normal[:, 2] = np.where(kind_arr == FLOOR, 1.0, -1.0)
     centroid = shapely.get_coordinates(shapely.centroid(poly_arr)) if polys else np.zeros((0, 2))
     return SurfaceTargets(
-        zone=read_only(np.asarray(cols["zone"], dtype=np.int32)),
-        kind=read_only(kind_arr),
-        frame=read_only(np.asarray(cols["frame"], dtype=np.int32)),
-        cell=read_only(np.asarray(cols["cell"], dtype=np.int32).reshape(-1, 2)),
-        polygon=read_only(poly_arr),
-        corners=read_only(corners),
-        n_corners=read_only(counts),
-        centroid=read_only(centroid),
-        area_m2=read_only(shapely.area(poly_arr).astype(np.float64)),
-        height_m=read_only(np.asarray(cols["height"], dtype=np.float64)),
-        normal=read_only(normal),
+        zone=np.asarray(cols["zone"], dtype=np.int32),
+        kind=kind_arr,
+        frame=np.asarray(cols["frame"], dtype=np.int32),
+        cell=np.asarray(cols["cell"], dtype=np.int32).reshape(-1, 2),
+        polygon=poly_arr,
+        corners=corners,
+        n_corners=counts,
+        centroid=centroid,
+        area_m2=shapely.area(poly_arr).astype(np.float64),
+        height_m=np.asarray(cols["height"], dtype=np.float64),
+        normal=normal,
         frames=frames,
         zone_ids=tuple(z.id for z in site.zones),
         spacing_m=float(spacing_m),

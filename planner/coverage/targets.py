@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,17 +23,31 @@ def read_only(a: NDArray) -> NDArray:
 
 
 @dataclass(frozen=True, eq=False)
-class Targets:
-    """Wall-face pieces as parallel read-only arrays (one entry per piece).
-
-    ``zone`` indexes ``site.zones``; ``side`` is 0 inside / 1 outside; ``wall``
-    is the 1-based wall index; ``s0_m``/``s1_m`` the piece's offsets along the
-    wall; ``a``/``b`` its end points; ``ha_m``/``hb_m`` the top heights there
-    (linear profile); ``normal`` the unit normal pointing to the scanning side;
-    ``frame`` indexes ``frames``. A piece with ``a == b`` is a point (verify).
-    """
+class PieceArrays:
+    """Targets as parallel arrays, one entry per piece; ``zone`` indexes ``site.zones``. Every array field is
+    stored read-only (the target arrays are shared, never changed)."""
 
     zone: NDArray[np.int32]
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, np.ndarray):
+                object.__setattr__(self, f.name, read_only(value))
+
+    def __len__(self) -> int:
+        return len(self.zone)
+
+
+@dataclass(frozen=True, eq=False)
+class Targets(PieceArrays):
+    """Wall-face pieces as parallel read-only arrays (one entry per piece).
+
+    ``side`` is 0 inside / 1 outside; ``wall`` the 1-based wall index; ``s0_m``/``s1_m`` the piece's offsets
+    along the wall; ``a``/``b`` its end points; ``ha_m``/``hb_m`` the top heights there; ``normal`` the unit
+    normal to the scanning side; ``frame`` indexes ``frames``. A piece with ``a == b`` is a point (verify).
+    """
+
     side: NDArray[np.int8]
     wall: NDArray[np.int32]
     s0_m: NDArray[np.float64]
@@ -46,9 +60,6 @@ class Targets:
     frame: NDArray[np.int32]
     frames: tuple[str, ...]
     zone_ids: tuple[str, ...]
-
-    def __len__(self) -> int:
-        return len(self.zone)
 
     def label(self, t: int) -> str:
         """A readable id: zone/side/wall and the piece's offsets."""
@@ -78,14 +89,9 @@ def _cuts(
 
 
 def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
-    """Cut every scanned wall face into equal pieces no longer than ``spacing_m``.
-
-    Openings are gaps: each solid part of a wall between openings is cut on its own, and no piece
-    lies in an opening (see :mod:`planner.coverage.openings`).
-
-    With ``points=True`` the result holds the pieces' end points instead (each
-    a zero-length piece), the fine sampling used by verification.
-    """
+    """Cut every scanned wall face into equal pieces no longer than ``spacing_m``; each solid part between
+    openings is cut on its own. With ``points=True``: the pieces' end points instead (zero-length pieces),
+    the fine sampling of verification."""
     if not math.isfinite(spacing_m) or spacing_m <= 0:
         raise ValueError(f"target spacing must be > 0, got {spacing_m}")
     frames = tuple(dict.fromkeys(z.frame for z in site.zones))
@@ -115,17 +121,17 @@ def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
                 cols["frame"].append(np.full(k, frames.index(zone.frame)))
     cat = {k: np.concatenate(v) for k, v in cols.items()}
     return Targets(
-        zone=read_only(cat["zone"].astype(np.int32)),
-        side=read_only(cat["side"].astype(np.int8)),
-        wall=read_only(cat["wall"].astype(np.int32)),
-        s0_m=read_only(cat["s0"]),
-        s1_m=read_only(cat["s1"]),
-        a=read_only(cat["a"]),
-        b=read_only(cat["b"]),
-        ha_m=read_only(cat["ha"]),
-        hb_m=read_only(cat["hb"]),
-        normal=read_only(cat["normal"]),
-        frame=read_only(cat["frame"].astype(np.int32)),
+        zone=cat["zone"].astype(np.int32),
+        side=cat["side"].astype(np.int8),
+        wall=cat["wall"].astype(np.int32),
+        s0_m=cat["s0"],
+        s1_m=cat["s1"],
+        a=cat["a"],
+        b=cat["b"],
+        ha_m=cat["ha"],
+        hb_m=cat["hb"],
+        normal=cat["normal"],
+        frame=cat["frame"].astype(np.int32),
         frames=frames,
         zone_ids=tuple(z.id for z in site.zones),
     )

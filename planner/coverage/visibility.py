@@ -2,19 +2,15 @@
 
 A piece a-b is seen from station c when, for the WHOLE piece:
 - c stands in front of the face (perpendicular distance > ``EPS_FRONT_M``);
-- the slant range from the instrument (height IH) to the top and the foot of
-  the wall at both ends is <= S_max (distance to a segment is convex, so the
-  ends bound the whole piece);
-- the incidence angle (horizontal, or 3-D to the top) at both ends is <= theta_max
-  (it grows with the distance from the foot of the perpendicular, so again the
-  ends bound it);
-- the sight lines c->a and c->b cross no wall or obstacle edge (touching counts
-  as crossing, within ``EPS_SIGHT_M``; the piece's own wall is skipped, and each
-  line stops ``EPS_SHORTEN_M`` before the wall), and no wall or obstacle vertex
-  lies strictly inside the triangle c-a-b (a thin column between the two lines).
+- the slant range from the instrument (height IH) to the top and the foot of the wall at both ends is
+  <= S_max (distance to a segment is convex, so the ends bound the piece);
+- the incidence (horizontal, or 3-D to the top) at both ends is <= theta_max (it grows with the
+  distance from the foot of the perpendicular, so again the ends bound it);
+- the sight lines c->a and c->b cross no wall or obstacle edge (touching within ``EPS_SIGHT_M`` counts;
+  the piece's own wall is skipped; each line stops ``EPS_SHORTEN_M`` before the wall), and no blocker
+  vertex lies strictly inside the triangle c-a-b (a thin column between the two lines).
 
-Candidate pairs come from a bounding-box query on a shapely STRtree, so the
-sight test grows with the pairs near a blocker, not with pairs x blockers.
+Pairs come from STRtree queries, so the work grows with the pairs near a blocker, not pairs x blockers.
 """
 
 from __future__ import annotations
@@ -30,6 +26,7 @@ from numpy.typing import NDArray
 from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, precision_ok
 
 if TYPE_CHECKING:
+    from planner.coverage.targets import Targets
     from planner.site.validate import ValidationReport
 
 EPS_FRONT_M = 1e-6
@@ -37,6 +34,9 @@ EPS_RANGE_M = 1e-6
 EPS_ANGLE_DEG = 1e-7
 EPS_SIGHT_M = 1e-7
 EPS_SHORTEN_M = 1e-5
+
+F64 = NDArray[np.float64]
+Mask = NDArray[np.bool_]
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,13 +56,10 @@ class PrecisionRule:
 
 @dataclass(frozen=True)
 class SightLimits:
-    """The limits a pair must meet; ``precision_range_m`` is the range at which the
-    predicted point error reaches the required accuracy at normal incidence (None: no
-    precision model). ``precision``, when its incidence model is not ``none`` and the mode
-    is single, also refuses each pair for which the view of either end of the piece, at that
-    end's slant range (to the farther of top and foot) and incidence, has e(S, theta) > sigma_req.
-    e grows with the distance along the wall from the foot of the perpendicular, so the worst
-    point of a piece is one of its ends and this is the piece's worst view."""
+    """The limits a pair must meet; ``precision_range_m`` is the range at which the predicted point error
+    reaches the required accuracy at normal incidence (None: no precision model). With ``per_pair_precision``
+    each pair is also refused when the view of either end of the piece (the worst point of a piece is one
+    of its ends) has e(S, theta) > sigma_req."""
 
     max_slant_range_m: float
     theta_max_deg: float
@@ -119,26 +116,17 @@ class PairGeometry:
 
 
 def geometric_pairs(
-    cand_xy: NDArray[np.float64],
-    cand_inside: NDArray[np.bool_],
-    t_zone: NDArray[np.int32],
-    t_inside: NDArray[np.bool_],
-    a: NDArray[np.float64],
-    b: NDArray[np.float64],
-    ha: NDArray[np.float64],
-    hb: NDArray[np.float64],
-    normal: NDArray[np.float64],
-    limits: SightLimits,
-    chunk: int = 64,
+    cand_xy: F64, cand_inside: Mask, targets: Targets, ti: NDArray[np.int64], limits: SightLimits, chunk: int = 64
 ) -> PairGeometry:
-    """All (candidate, piece) pairs meeting the range and incidence limits.
+    """All (candidate, piece) pairs of the pieces ``targets[ti]`` meeting the range and incidence limits
+    (``target`` of the result indexes ``ti``).
 
-    A candidate may see a piece only from the piece's side of its zone:
-    ``cand_inside[c, z]`` (is candidate c inside zone z) must equal
-    ``t_inside[t]`` (is piece t an inside face) for the piece's zone ``t_zone[t]``.
-    Each chunk of candidates is matched only with pieces within S_max of its
-    bounding box, so the work grows with the pairs in range, not with C x T.
+    A candidate sees a piece only from the piece's side of its zone: ``cand_inside[c, z]`` (candidate c inside
+    zone z) must match the piece's side for its zone. Each chunk of candidates is matched only with the pieces
+    within reach of its bounding box, so the work grows with the pairs in range, not with C x T.
     """
+    t_zone, t_inside, normal = targets.zone[ti], targets.side[ti] == 0, targets.normal[ti]
+    a, b, ha, hb = targets.a[ti], targets.b[ti], targets.ha_m[ti], targets.hb_m[ti]
     ih = limits.instrument_height_m
     reach = limits.effective_range_m
     mid = (a + b) / 2.0
@@ -201,15 +189,15 @@ def _signed(p: NDArray, q: NDArray, r: NDArray) -> NDArray:
     return cross / np.where(n > 0, n, 1.0)
 
 
-def _side(x: NDArray, eps: float) -> NDArray:
-    """-1, 0 or +1: which side of a line, with |distance| <= eps counted as on it."""
-    return np.where(np.abs(x) <= eps, 0.0, np.sign(x))
+def _side(x: NDArray, eps_m: float) -> NDArray:
+    """-1, 0 or +1: which side of a line, with |distance| <= eps_m counted as on it."""
+    return np.where(np.abs(x) <= eps_m, 0.0, np.sign(x))
 
 
-def segments_touch(p: NDArray, q: NDArray, r: NDArray, s: NDArray, eps: float = EPS_SIGHT_M) -> NDArray[np.bool_]:
-    """Closed segments p-q and r-s (row-wise) meet, counting touching and collinear overlap within eps."""
-    o1, o2 = _side(_signed(r, s, p), eps), _side(_signed(r, s, q), eps)
-    o3, o4 = _side(_signed(p, q, r), eps), _side(_signed(p, q, s), eps)
+def segments_touch(p: NDArray, q: NDArray, r: NDArray, s: NDArray, eps_m: float = EPS_SIGHT_M) -> NDArray[np.bool_]:
+    """Closed segments p-q and r-s (row-wise) meet, counting touching and collinear overlap within eps_m."""
+    o1, o2 = _side(_signed(r, s, p), eps_m), _side(_signed(r, s, q), eps_m)
+    o3, o4 = _side(_signed(p, q, r), eps_m), _side(_signed(p, q, s), eps_m)
     cross = (o1 * o2 <= 0) & (o3 * o4 <= 0)
     collinear = (o1 == 0) & (o2 == 0)
     if np.any(collinear):
@@ -218,19 +206,13 @@ def segments_touch(p: NDArray, q: NDArray, r: NDArray, s: NDArray, eps: float = 
         tp = np.einsum("ij,ij->i", p - r, d) / n2
         tq = np.einsum("ij,ij->i", q - r, d) / n2
         lo, hi = np.minimum(tp, tq), np.maximum(tp, tq)
-        tol = eps / np.sqrt(n2)
+        tol = eps_m / np.sqrt(n2)
         overlap = (lo <= 1 + tol) & (hi >= -tol)
         cross &= ~collinear | overlap
     return cross
 
 
-def sight_clear(
-    c: NDArray[np.float64],
-    a: NDArray[np.float64],
-    b: NDArray[np.float64],
-    key: NDArray[np.int64],
-    blockers: Blockers,
-) -> NDArray[np.bool_]:
+def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blockers) -> Mask:
     """For each pair (row), True when nothing blocks the view from c to the whole piece a-b."""
     n = len(c)
     clear = np.ones(n, dtype=bool)

@@ -70,13 +70,8 @@ def sigma_meas_m(slant_m: ArrayLike, model: RangeAngleSigma) -> NDArray[np.float
 
 
 def sigma_instr_m(sigma_req_m: float, budget: ErrorBudget) -> float:
-    """Allowed instrument error sqrt(sigma_req^2 - (sigma_0^2 + sigma_c^2 + sigma_g^2)) (3.2).
-
-    Raises
-    ------
-    InfeasibleError
-        When the non-instrument errors alone already use the whole budget.
-    """
+    """Allowed instrument error sqrt(sigma_req^2 - (sigma_0^2 + sigma_c^2 + sigma_g^2)) (3.2); an
+    InfeasibleError when the non-instrument errors alone use the whole budget."""
     left = sigma_req_m**2 - budget.squared_m2
     if left <= 0.0:
         raise InfeasibleError(
@@ -149,12 +144,11 @@ def instrument_height_tolerance_m(wall_height_m: float, slant_m: float, ih_low_m
 
 @dataclass(frozen=True)
 class IncidenceErrorTable:
-    """Measured point error against incidence angle at Baalbek (table 2.3; Leica P30, 14-50 m).
+    """Measured point error against incidence angle (table 2.3 of the dissertation; Leica P30).
 
-    ``f_x`` is the error along the wall, ``f_y`` across it, both in mm. Within
-    0..68 deg the values are interpolated linearly; the dissertation finds the
-    error grows linearly from 68 to 79 deg, so that span extrapolates the last
-    segment; beyond 79 deg the table says nothing and the call is refused.
+    ``f_x`` is the error along the wall, ``f_y`` across it, both in mm, interpolated linearly over the table;
+    the error grows linearly up to ``linear_until_deg``, so that span extrapolates the last segment; beyond
+    it the table says nothing and the call is refused.
     """
 
     theta_deg: tuple[float, ...] = (0, 10, 20, 30, 40, 50, 60, 68)
@@ -216,12 +210,8 @@ def parse_scale(text: str | int | float) -> int:
 
 
 def tolerance_for_scale_m(scale: str | int | float) -> float:
-    """Largest allowed error for a drawing scale (table 1.1, the row's upper value).
-
-    A scale between two rows takes the stricter row (1:75 -> 5 mm, as 1:50);
-    1:50 -> 5 mm, 1:100 -> 20 mm, 1:200 -> 50 mm, 1:500 -> 300 mm. Scales
-    smaller than 1:500 are outside the table and refused.
-    """
+    """Largest allowed error for a drawing scale (table 1.1, the row's upper value); a scale between two rows
+    takes the stricter row, scales smaller than the table's last are refused."""
     n = parse_scale(scale)
     previous_max: float | None = None
     for largest, _low, high in DRAWING_SCALE_TOLERANCES_MM:
@@ -237,6 +227,10 @@ def tolerance_for_scale_m(scale: str | int | float) -> float:
 INCIDENCE_MODELS: tuple[str, ...] = ("none", "table", "soudarissanane")
 #: largest incidence the Soudarissanane model is evaluated at (1/cos grows without bound towards 90 deg)
 SOUDARISSANANE_MAX_DEG: float = 85.0
+#: a view's error may pass sigma_req by this rounding (m)
+PRECISION_EPS_M = 1e-12
+#: the bisection of :func:`derive_theta_max_deg` stops at this width (deg)
+THETA_TOL_DEG = 1e-6
 
 
 def incidence_limit_deg(model: str) -> float:
@@ -255,9 +249,8 @@ def incidence_limit_deg(model: str) -> float:
 def incidence_factor(incidence_deg: ArrayLike, model: str) -> NDArray[np.float64]:
     """How much the instrument term of a view grows with incidence, relative to a perpendicular view.
 
-    ``table``: the ratio measured at Baalbek (table 2.3). At normal incidence the error is
-    f_y(0) = 8.22 mm across the wall; with incidence an along-wall error f_x(theta) appears,
-    so k = sqrt(f_y(0)^2 + f_x(theta)^2) / f_y(0) (60 deg: sqrt(8.22^2 + 7.17^2) / 8.22 = 1.327).
+    ``table``: the measured ratio (table 2.3): at normal incidence the error is f_y(0) across the wall; with
+    incidence an along-wall error f_x(theta) appears, so k = sqrt(f_y(0)^2 + f_x(theta)^2) / f_y(0).
     ``soudarissanane``: 1 / cos(theta) (the signal-to-noise ratio falls with cos theta,
     Soudarissanane et al. 2011), applied to the range term only (see :func:`view_error_m`).
     ``none``: 1. Angles beyond a model's limit are clipped to it (the limit itself is enforced by
@@ -301,10 +294,9 @@ def precision_ok(
     budget: ErrorBudget,
     sigma_req_m: float,
     model: str = "none",
-    eps_m: float = 1e-12,
 ) -> NDArray[np.bool_]:
     """One view meets the required accuracy: e(S, theta) <= sigma_req (single-view precision)."""
-    return view_error_m(slant_m, incidence_deg, scanner, budget, model) <= sigma_req_m + eps_m
+    return view_error_m(slant_m, incidence_deg, scanner, budget, model) <= sigma_req_m + PRECISION_EPS_M
 
 
 def combined_error_m(errors_m: ArrayLike) -> float:
@@ -317,12 +309,7 @@ def combined_error_m(errors_m: ArrayLike) -> float:
 
 
 def derive_theta_max_deg(
-    slant_m: float,
-    scanner: RangeAngleSigma,
-    budget: ErrorBudget,
-    sigma_req_m: float,
-    model: str = "table",
-    tol_deg: float = 1e-6,
+    slant_m: float, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float, model: str = "table"
 ) -> float:
     """Largest incidence at which a view at slant range S still meets sigma_req (bisection on e(S, theta)).
 
@@ -338,7 +325,7 @@ def derive_theta_max_deg(
     if not ok(0.0):
         return 0.0
     lo = 0.0
-    while hi - lo > tol_deg:
+    while hi - lo > THETA_TOL_DEG:
         mid = (lo + hi) / 2.0
         lo, hi = (mid, hi) if ok(mid) else (lo, mid)
     return lo

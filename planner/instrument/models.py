@@ -8,13 +8,13 @@ so a typo never silently drops a value.
 
 from __future__ import annotations
 
-import math
 import os
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from planner.core.checks import finite_number
 from planner.core.errors import InputError
 from planner.core.resources import data_path
 from planner.instrument.accuracy import RangeAngleSigma
@@ -25,18 +25,12 @@ from planner.instrument.field_table import FieldProperties, field_from_mapping
 class Scanner(RangeAngleSigma):
     """A terrestrial laser scanner: sigma_S = X + Y ppm and angle sigma_beta.
 
-    ``max_slant_range_m`` fixes S_max outright (the ``dissertation-tables``
-    preset); otherwise S_max is derived from (3.1) for the required accuracy
-    and capped by the datasheet ``max_range_m``.
-
-    The vertical field of view, for floors and ceilings (:mod:`planner.coverage.surface_sight`):
-    ``nadir_blind_half_angle_deg`` is the half angle of the cone round the plumb line under the
-    instrument that it cannot see (a scanner of 360 x V deg vertical field with the gap below sees down
-    to (V - 180) / 2 deg below the horizon, so the half angle is (360 - V) / 2: 35 deg for the P30's
-    290 deg); ``zenith_blind_half_angle_deg`` the same above it (None for a scanner that sees through
-    the zenith, as the P30 does); ``instrument_height_3d_m`` the default height of the instrument above
-    the floor for 3-D work. None, the default of each: no blind cone, no default height; walls do not
-    use them.
+    ``max_slant_range_m`` fixes S_max outright; otherwise S_max follows from (3.1) for the required
+    accuracy, capped by the datasheet ``max_range_m``. For floors and ceilings
+    (:mod:`planner.coverage.surface_sight`): ``nadir_blind_half_angle_deg``, the half angle of the cone
+    under the instrument that it cannot see ((360 - V) / 2 for a vertical field of V deg with the gap
+    below), ``zenith_blind_half_angle_deg`` the same above it, ``instrument_height_3d_m`` the default
+    instrument height above the floor; None: no cone, no default height.
     """
 
     name: str = ""
@@ -115,26 +109,18 @@ def _check_positive(obj: object, names: tuple[str, ...], zero_ok: bool) -> None:
         v = getattr(obj, name)
         if v is None:
             continue
-        bad = (
-            isinstance(v, bool)
-            or not isinstance(v, (int, float))
-            or not math.isfinite(v)
-            or v < 0
-            or (v == 0 and not zero_ok)
-            or v > MAX_MODEL_VALUE
-        )
-        if bad:
+        if not finite_number(v) or v < 0 or (v == 0 and not zero_ok) or v > MAX_MODEL_VALUE:
             need = ">= 0" if zero_ok else "> 0"
             raise InputError(
                 f"must be a finite number {need} and <= {MAX_MODEL_VALUE:g}", zone=None, field=name, value=v
             )
 
 
-def _check_half_angle(name: str, v: object) -> None:
+def _check_half_angle(name: str, v: Any) -> None:
     """A blind cone's half angle: None (no cone) or a number of degrees in [0, 90)."""
     if v is None:
         return
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not 0 <= v < 90:
+    if not finite_number(v) or not 0 <= v < 90:
         raise InputError("must be a half angle in degrees, >= 0 and < 90", zone=None, field=name, value=v)
 
 
@@ -158,14 +144,8 @@ def list_instruments(models_dir: Path | None = None) -> list[str]:
 
 
 def load_instrument(name_or_path: str, models_dir: Path | None = None) -> Instrument:
-    """Load an instrument by name (``leica-p30``) or by the path of a TOML file.
-
-    Raises
-    ------
-    InputError
-        Unknown name (the message lists the known ones), unreadable file,
-        unknown key, or a value out of range.
-    """
+    """Load an instrument by name (``leica-p30``) or by the path of a TOML file; an InputError for an
+    unknown name (listing the known ones), an unreadable file, an unknown key or a value out of range."""
     path = Path(name_or_path)
     if path.suffix != ".toml":
         folder = models_dir or default_models_dir()

@@ -1,17 +1,14 @@
 """Zones placed together: shared walls found from equal side lengths, and one rigid fit over all of them.
 
-Every table zone lives in a frame of its own. Two faces of the same wall have equal length and
-opposite scanning normals: two rooms (both scanned inside, both stored counter-clockwise) run
-along a shared wall in opposite directions; a room and the outline that holds it (scanned inside
-and outside) run along it in the same direction. A match of two such sides gives one zone's
-placement relative to the other; all kept matches are then fitted together by least squares
-(four endpoint residuals per match), the anchor zone held fixed.
-
+Every table zone lives in a frame of its own. Two faces of one wall have equal length and opposite
+scanning normals: two rooms run along a shared wall in opposite directions, a room and the outline that
+holds it in the same direction. A match of two such sides places one zone relative to the other; all kept
+matches are then fitted by least squares (four endpoint residuals per match), the anchor held fixed.
 Equal lengths also occur by coincidence, so a match is never taken on length alone:
 
-- it must place the two zones without their interiors overlapping (a room inside the outline);
+- it must place the two zones without their interiors overlapping;
 - every match that reaches a zone not yet placed must put it in the same place (within
-  ``consistency_m``); when two disagree the zone is reported ambiguous and left unplaced;
+  ``consistency_m``); else the zone is ambiguous and left unplaced;
 - a wall face takes at most one partner.
 
 Nothing is guessed: zones no match reaches stay in their own frame and are listed.

@@ -27,14 +27,9 @@ class CandidateKind(str, Enum):
 
 @dataclass(frozen=True)
 class Candidate:
-    """One candidate station in the frame of its zone.
-
-    ``zone``/``side`` say which zone face the candidate was proposed for; it
-    may see other faces of the same frame too (the coverage matrix says).
-    The closed-form figures (``alpha_deg`` ... ``field_height_m``) are set
-    for vertex and wall candidates and kept for the reproduction tables;
-    ``field`` is the movement field polygon in frame coordinates, if any.
-    """
+    """One candidate station in the frame of its zone, proposed for the face ``zone``/``side`` (it may see other
+    faces of the frame too). The closed-form figures (``alpha_deg`` ... ``field_height_m``) are set for vertex
+    and wall candidates, for the reproduction tables; ``field``: the movement field polygon, if any."""
 
     id: str
     zone: str

@@ -1,32 +1,26 @@
 """Zones placed by collinear contacts: sides that lie along (a part of) walls of zones already placed.
 
-A room whose side lengths equal no other zone's side can still be fixed by where its walls run: a court
-filling the space between placed rooms has each of its sides along a wall of a neighbour, a side
-holding several shorter walls or lying along part of a longer one. A *contact* is a side of the
-unplaced zone and a side of a placed zone that run along one line (within ``angle_deg`` and
-``offset_m``, in opposite directions for two rooms, the same direction for a room and the outline)
-and overlap along it by at least half the shorter of the two.
-
-Two non-parallel contacts fix a placement (rotation and both translations), but a right-angled
-corner fits any rectangle, so a zone is placed only when:
+A room whose side lengths equal no other zone's side can still be fixed by where its walls run. A *contact*
+is a side of the unplaced zone and a side of a placed zone that run along one line (within ``angle_deg``
+and ``offset_m``; opposite directions for two rooms, the same for a room and the outline) and overlap by at
+least half the shorter. Two non-parallel contacts fix a placement, but a right-angled corner fits any
+rectangle, so a zone is placed only when:
 
 - at least ``MIN_CONTACTS`` contacts hold at the fitted placement, in at least two directions;
 - its interior overlaps no placed room and stays inside the outline;
 - every other placement held by as many contacts fits at least ``RMS_RATIO`` times worse (RMS of the
-  line residuals); else it is ambiguous and left unplaced (a near-rectangle fits its gap turned by
-  180 deg too: the print's side lengths then decide, through the residuals).
+  line residuals); else it is ambiguous and left unplaced.
 
-The placement is fitted by least squares (the perpendicular distances of the shorter segment's ends
-from the longer segment's line, all other zones held); each contact's residual is the largest of its
-two distances. Nothing is guessed: a zone that fails a rule stays in its own frame and the reason is
-reported.
+The placement is fitted by least squares (the distances of the shorter segment's ends from the longer
+segment's line, other zones held); a contact's residual is the larger of its two. A zone that fails a
+rule stays in its own frame, with the reason reported.
 """
 
 from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -204,35 +198,18 @@ def place_by_contacts(
         if not any(misfit(p, q, zone) <= consistency_m for q, _ in found):
             found.append((p, cs))
     if not found:
-        return (
-            None,
-            [],
-            (
-                f"no placement holds {MIN_CONTACTS} or more of its sides along placed walls "
-                "without overlapping a placed zone; left in its own frame"
-            ),
-        )
+        why = f"no placement holds {MIN_CONTACTS} or more of its sides along placed walls without overlapping"
+        return None, [], why + " a placed zone; left in its own frame"
     scored = sorted(
         ((len(cs), _rms(zone, p, cs, zones, placed), p, cs) for p, cs in found), key=lambda f: (-f[0], f[1])
     )
     n, rms, p, cs = scored[0]
     rivals = [f for f in scored[1:] if f[0] == n]
     if rivals and rivals[0][1] < RMS_RATIO * rms:
-        return (
-            None,
-            [],
-            (
-                f"ambiguous: {len(rivals) + 1} placements are held by {n} contacts each and fit about "
-                f"as well (RMS {rms * 1000:.0f} and {rivals[0][1] * 1000:.0f} mm); left in its own frame"
-            ),
-        )
+        why = f"ambiguous: {len(rivals) + 1} placements are held by {n} contacts each and fit about as well"
+        return None, [], why + f" (RMS {rms * 1000:.0f} and {rivals[0][1] * 1000:.0f} mm); left in its own frame"
     r = _line_residuals(zone, p, cs, zones, placed).reshape(-1, 2)
-    cs = [
-        Contact(
-            c.zone, c.wall, c.other, c.other_wall, c.length_m, c.other_length_m, c.overlap_m, float(np.max(np.abs(k)))
-        )
-        for c, k in zip(cs, r)
-    ]
+    cs = [replace(c, residual_m=float(np.max(np.abs(k)))) for c, k in zip(cs, r)]
     why = f"placed by {n} collinear contacts, RMS {rms * 1000:.0f} mm"
     if rivals:
         why += (

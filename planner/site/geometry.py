@@ -2,17 +2,22 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.core.checks import finite_number
 from planner.core.errors import InputError
 
 #: Two vertices closer than this (m) make a zero-length side.
 ZERO_LENGTH_M = 1e-9
+
+
+def cross_z(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:
+    """z of the 2-D cross product u x v."""
+    return float(u[0] * v[1] - u[1] * v[0])
 
 
 def as_vertices(points: object, *, what: str, zone: str | None = None) -> NDArray[np.float64]:
@@ -27,7 +32,7 @@ def as_vertices(points: object, *, what: str, zone: str | None = None) -> NDArra
         if not isinstance(p, Sequence) or isinstance(p, (str, bytes)) or len(p) != 2:
             raise InputError("must be an [x, y] pair", zone=zone, row=f"vertex {k}", field=what, value=p)
         for v in p:
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            if not finite_number(v):
                 raise InputError(
                     "coordinate must be a finite number", zone=zone, row=f"vertex {k}", field=what, value=v
                 )
@@ -75,11 +80,8 @@ MAX_COORDINATE_M = 1e8
 
 
 def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None = None) -> None:
-    """Refuse fewer than 3 vertices, zero-length sides, zero area and self-intersection.
-
-    Self-intersection is found with a spatial index over the sides (shapely
-    STRtree), so a 5,000-vertex outline is checked without n^2 pair tests.
-    The message names the two sides (1-based) and where they meet.
+    """Refuse fewer than 3 vertices, zero-length sides, zero area and self-intersection (found with an
+    STRtree over the sides, not n^2 pair tests); the message names the two sides (1-based) and where they meet.
     """
     n = len(xy)
     if n < 3:

@@ -1,9 +1,8 @@
 """The site: zones with walls and height profiles, obstacles, no-go areas, boundary, control.
 
-All value objects are frozen and validated on construction. Coordinates are
-metres in the zone's ``frame``: a table zone lives in its own frame (named
-after the zone), zones given by coordinates share the frame ``"site"`` with
-the obstacles, no-go areas, boundary and control points.
+All value objects are frozen and validated on construction. Coordinates are metres in the zone's
+``frame``: a table zone lives in its own frame, zones given by coordinates share the frame ``"site"``
+with the obstacles, no-go areas, boundary and control points.
 """
 
 from __future__ import annotations
@@ -17,7 +16,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.core.checks import no_repeats
+from planner.core.checks import finite_number, no_repeats
 from planner.core.errors import InputError
 from planner.site.features import SITE_FRAME, ControlPoint, Correction, NoGoArea, Obstacle, Opening
 from planner.site.geometry import check_simple_polygon, ring_key, side_lengths, signed_area
@@ -44,11 +43,8 @@ class ScanSide(str, Enum):
 
 @dataclass(frozen=True)
 class Wall:
-    """Wall ``index`` (1-based) of a zone: from vertex ``index`` to the next, counter-clockwise.
-
-    The top edge runs linearly from ``h_start_m`` to ``h_end_m``; the interior
-    of the zone is to the left of the direction start -> end.
-    """
+    """Wall ``index`` (1-based) of a zone: from vertex ``index`` to the next, counter-clockwise (the zone to
+    its left); the top edge runs linearly from ``h_start_m`` to ``h_end_m``."""
 
     zone: str
     index: int
@@ -81,15 +77,11 @@ class Wall:
 class Zone:
     """A simple polygon, stored counter-clockwise, scanned from ``scan_side``.
 
-    ``holes``: free-standing blocks inside an inside-scanned zone (piers, a cella inside a court),
-    each a ring stored clockwise so that the zone is to the left of its walls too; their walls
-    are scanned from the zone and numbered after the outline's (n+1, n+2, ...).
-
-    ``floor_level_m``: the height of the zone's floor in the site's vertical datum (default 0; may be
-    negative, a cellar); ``ceiling_height_m``: the ceiling's height above that floor, or None for no
-    ceiling (a court, an open ruin, every table CSV zone). Both serve the floor and ceiling targets
-    (:mod:`planner.coverage.surfaces`); wall heights and instrument heights stay measured from the
-    zone's own floor, so the defaults change nothing.
+    ``holes``: free-standing blocks inside an inside-scanned zone (piers), each a ring stored clockwise so
+    that the zone is to the left of its walls too; their walls are numbered after the outline's.
+    ``floor_level_m``: the floor's height in the site's vertical datum; ``ceiling_height_m``: the ceiling's
+    height above that floor (None: no ceiling). Both serve the floor and ceiling targets; wall and instrument
+    heights stay measured from the zone's own floor.
     """
 
     id: str
@@ -149,14 +141,14 @@ class Zone:
     def _check_levels(self) -> None:
         """The floor level within +-MAX_HEIGHT_M, the ceiling (when given) above the floor and at most MAX_HEIGHT_M."""
         f = self.floor_level_m
-        if isinstance(f, bool) or not isinstance(f, (int, float)) or not math.isfinite(f) or abs(f) > MAX_HEIGHT_M:
+        if not finite_number(f) or abs(f) > MAX_HEIGHT_M:
             raise InputError(
                 f"must be a finite level within +-{MAX_HEIGHT_M:g} m", zone=self.id, field="floor_level_m", value=f
             )
         c = self.ceiling_height_m
         if c is None:
             return
-        if isinstance(c, bool) or not isinstance(c, (int, float)) or not math.isfinite(c) or not 0 < c <= MAX_HEIGHT_M:
+        if not finite_number(c) or not 0 < c <= MAX_HEIGHT_M:
             raise InputError(
                 f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m above the floor (or null: no ceiling)",
                 zone=self.id,
@@ -310,12 +302,9 @@ class Site:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
 
     def _check_drawn_twice(self) -> None:
-        """Refuse a zone drawn twice (the same outline, scanned from the same side in the same frame, e.g. a CAD
-        polyline copied onto itself): its walls would be counted twice in every report. A zone scanned from
-        inside and one from outside on the same outline (a building's rooms and its facade) are two zones, not a
-        repeat, and so are two rooms alike in different frames (table zones each start at 0,0 in their own
-        frame); a ``both`` zone repeats an ``inside`` or ``outside`` one on its outline. Obstacles and no-go
-        areas drawn twice are harmless (they block sight or standing once either way) and are accepted."""
+        """Refuse a zone drawn twice (the same outline and holes, scanned from the same side in the same frame):
+        its walls would count twice in every report. Inside and outside zones on one outline are two zones, and
+        so are alike rooms in different frames; a ``both`` zone repeats an ``inside`` or ``outside`` one."""
         first: dict[tuple[object, ...], str] = {}
         for z in self.zones:
             shape = (

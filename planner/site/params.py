@@ -10,9 +10,9 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from planner.core.checks import finite_number
 from planner.core.errors import InputError
 from planner.instrument.accuracy import (
-    INCIDENCE_MODELS,
     MAX_SIGMA_M,
     ErrorBudget,
     derive_theta_max_deg,
@@ -36,12 +36,9 @@ DEFAULT_INSTRUMENT = "leica-p30"
 class ClosureTolerance:
     """How well a zone's traverse must close before it is accepted and adjusted.
 
-    ``angular_deg``: largest |sum of angles - (n-2)*180|. The tables print
-    angles to 0.001 deg, so rounding alone can reach 0.0005 deg per angle;
-    0.01 deg (36") admits that for up to 20 vertices and still catches any
-    misprinted angle. ``min_relative_precision``: perimeter / linear
-    misclosure must be at least this N (1:N); 1:2000 is the usual plan-traverse
-    tolerance and is 5 mm on a 10 m room, well above the 1 mm print rounding.
+    ``angular_deg``: largest |sum of angles - (n-2)*180| (the default admits the print's rounding to 0.001
+    deg for up to 20 vertices); ``min_relative_precision``: perimeter / linear misclosure must be at least
+    this N (1:N; 1:2000 is the usual plan-traverse tolerance).
     """
 
     angular_deg: float = 0.01
@@ -60,20 +57,14 @@ class ClosureTolerance:
 class Parameters:
     """What the surveyor asks for; validated on construction.
 
-    ``sigma_req_m`` is the required model accuracy; ``drawing_scale`` (a
-    denominator, e.g. 50 for 1:50) records where it came from when it was
-    derived from table 1.1. ``max_slant_range_m`` overrides S_max.
-
-    ``incidence_model``: how the point error of a view grows with incidence (``none``: range
-    only, as (2.13) prints it; ``table``: the ratio measured in table 2.3; ``soudarissanane``:
-    1/cos on the range term). ``derive_theta_max``: theta_max is not given but follows from
-    sigma_req (the largest incidence whose view error stays within budget at the range in
-    question; ``theta_max_deg`` then only seeds the closed-form candidates); it switches the
-    ``table`` model on when none is chosen. ``min_standoff_m``: no station or control point
-    closer than this to a wall or obstacle edge (0.4 m: the radius of a tripod's leg spread).
-    ``instrument_height_span_m``: how much higher than IH the tripod may be set up; the
-    tolerance circle (3.32) of each station is reported for IH..IH + span (0.4 m as the
-    dissertation's check value).
+    ``sigma_req_m``: the required model accuracy; ``drawing_scale`` (a denominator) records where it came
+    from when derived from table 1.1; ``max_slant_range_m`` overrides S_max. ``incidence_model``: how a
+    view's point error grows with incidence (``none``, ``table``, ``soudarissanane``: see
+    :func:`planner.instrument.accuracy.incidence_factor`). ``derive_theta_max``: theta_max follows from
+    sigma_req (``theta_max_deg`` then only seeds the closed-form candidates; it switches ``table`` on when no
+    model is chosen). ``min_standoff_m``: no station or control point closer to a wall or obstacle edge (a
+    tripod's leg spread). ``instrument_height_span_m``: how much higher than IH the tripod may stand (the
+    tolerance circle (3.32) is reported for IH..IH + span).
     """
 
     theta_max_deg: float = 68.0
@@ -99,12 +90,7 @@ class Parameters:
         _within(self.instrument_height_m, "instrument_height_m", MAX_HEIGHT_M)
         if self.max_slant_range_m is not None:
             _within(self.max_slant_range_m, "max_slant_range_m", MAX_RANGE_M, zero_ok=False)
-        if self.incidence_model not in INCIDENCE_MODELS:
-            raise InputError(
-                f"unknown incidence model (known: {', '.join(INCIDENCE_MODELS)})",
-                field="incidence_model",
-                value=self.incidence_model,
-            )
+        incidence_limit_deg(self.incidence_model)  # refuses an unknown model
         if self.derive_theta_max and self.incidence_model == "none":
             object.__setattr__(self, "incidence_model", "table")
         _within(self.min_standoff_m, "min_standoff_m", MAX_RANGE_M)
@@ -118,7 +104,7 @@ class Parameters:
 
 
 def _finite(value: Any, name: str) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+    if not finite_number(value):
         raise InputError("must be a finite number", field=name, value=value)
 
 
@@ -139,13 +125,9 @@ class RangeLimit:
 
 
 def resolve_range_limit(params: Parameters, scanner: Scanner) -> RangeLimit:
-    """S_max for these parameters and scanner.
-
-    Order: the parameter override; else the scanner preset's fixed value; else
-    (3.1) for sigma_instr of (3.2), capped by the datasheet range. Raises
-    InfeasibleError when no instrument budget is left (3.2 has no real root), and
-    InputError when the scanner's limit is beyond ``MAX_RANGE_M`` (a model whose
-    errors barely grow with range, without a datasheet range).
+    """S_max for these parameters and scanner: the parameter override, else the scanner's fixed value, else
+    (3.1) for sigma_instr of (3.2), capped by the datasheet range. InfeasibleError when no instrument budget
+    is left; InputError when the limit is beyond ``MAX_RANGE_M`` (no datasheet range, errors barely growing).
     """
     s_instr = sigma_instr_m(params.sigma_req_m, params.budget)
     if params.max_slant_range_m is not None:

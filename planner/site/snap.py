@@ -1,16 +1,11 @@
 """Zones placed together are snapped onto each other, so that a shared wall is ONE line.
 
-Placements from printed tables leave the two faces of a wall a few mm to a few cm apart (at
-Baalbek up to 15 cm, where the outline's side 12 runs 0.28 deg off Z3's side 10). As drawn, one
-face then lies a hair in front of the other and hides it from its own room. Snapping: zones are
-taken largest first; each vertex of a placed zone within ``SNAP_M`` of a vertex of a zone already
-taken moves onto it, else within ``SNAP_M`` of a wall of one moves onto that wall. Every move is
-recorded in the zone's notes (largest move in metres). Zones keep their vertex count and numbering.
-
-A zone whose table does not close and was accepted as printed (Baalbek Z6 misses by 1.04 m) has
-vertices known only to within what the compass rule moved them (``max_vertex_shift_m``, 0.67 m for
-Z6): its vertices snap within ``SNAP_M`` plus that shift, so that it neither pokes into a neighbour
-nor leaves a sliver open.
+Placements from printed tables leave the two faces of a wall a few mm to a few cm apart, so one face lies a
+hair in front of the other and hides it from its own room. Zones are taken largest first; each vertex of a
+placed zone within ``SNAP_M`` of a vertex of a zone already taken moves onto it, else within ``SNAP_M`` of
+a wall of one onto that wall. Every move is noted in the zone's notes; vertex count and numbering stay.
+A zone accepted with a misclosure has vertices known only to within what the compass rule moved them
+(``max_vertex_shift_m``): they snap within ``SNAP_M`` plus that shift.
 """
 
 from __future__ import annotations

@@ -1,9 +1,7 @@
 """Zones given as closed traverses (tables 3.1 and 4.3): closure, Bowditch adjustment.
 
-Frame of a table zone: vertex 1 at (0, 0), side 1 along +x, walking
-counter-clockwise; row i gives side i and the interior angle and height of
-vertex i, the vertex at the START of side i; at each vertex the walk turns
-left by 180 deg - angle.
+Frame of a table zone: vertex 1 at (0, 0), side 1 along +x, walking counter-clockwise; row i gives side i
+and the interior angle and height of vertex i (the START of side i); the walk turns left by 180 deg - angle.
 """
 
 from __future__ import annotations
@@ -56,11 +54,8 @@ class ZoneTable:
 
 @dataclass(frozen=True)
 class AcceptedMisclosure:
-    """An instance's explicit acceptance of a zone that does not close, with its reason.
-
-    The recorded figures must match what the loader computes (to 0.001 deg and
-    1 mm): an acceptance never covers data it was not written for.
-    """
+    """An instance's explicit acceptance of a zone that does not close, with its reason; its figures must
+    match what the loader computes (to 0.001 deg and 1 mm), so it never covers data it was not written for."""
 
     zone: str
     angular_misclosure_deg: float
@@ -124,9 +119,8 @@ def reconstruct(
 ) -> tuple[NDArray[np.float64], ClosureReport]:
     """Vertices (n, 2) of a table zone and its closure report.
 
-    The angular misclosure is spread equally over the angles, the linear one
-    by the compass rule (Bowditch): vertex k moves by -misclosure * (length
-    walked to k) / perimeter. Beyond tolerance a ClosureError names the zone
+    The angular misclosure is spread equally over the angles, the linear one by the compass rule (vertex k
+    moves by -misclosure * (length walked to k) / perimeter). Beyond tolerance a ClosureError names the zone
     and the figures, unless ``accepted`` records exactly these figures.
     """
     rows = table.rows

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 from planner.core.checks import argument
-from planner.core.errors import InputError, PlannerError
+from planner.core.errors import InputError, located_in
 from planner.instrument.models import Scanner, load_instrument
 from planner.site.model import Site
 from planner.site.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
@@ -86,15 +86,7 @@ class ValidationReport:
                 }
                 for c in self.site.corrections
             ],
-            "accepted_misclosures": [
-                {
-                    "zone": a.zone,
-                    "angular_misclosure_deg": a.angular_misclosure_deg,
-                    "linear_misclosure_m": a.linear_misclosure_m,
-                    "reason": a.reason,
-                }
-                for a in self.site.accepted_misclosures
-            ],
+            "accepted_misclosures": [asdict(a) for a in self.site.accepted_misclosures],
         }
 
     def _repr_html_(self) -> str:
@@ -197,10 +189,8 @@ def _zone_dict(z: Any) -> dict[str, Any]:
 def validate_site(site: Site) -> ValidationReport:
     """Check that a loaded site can be planned: its instrument exists and S_max is defined."""
     argument(site, Site, "site")
-    try:
+    with located_in(site.source or None):
         scanner = site_scanner(site)
         limit = resolve_range_limit(site.parameters, scanner)
         theta = resolve_theta_limit(site.parameters, scanner, limit.max_slant_range_m)
-    except PlannerError as exc:
-        raise (exc.located(site.source) if site.source else exc) from None
     return ValidationReport(site=site, scanner=scanner, range_limit=limit, theta_limit=theta)

@@ -103,23 +103,17 @@ def test_precision_ok_and_combined_error():
 
 
 def test_coverage_refuses_a_view_by_its_incidence_only_with_an_incidence_model():
+    from planner.coverage.targets import Targets
     from planner.coverage.visibility import PrecisionRule, SightLimits, geometric_pairs
 
     # a 1 m piece on the x axis facing +y, one candidate 200 m away at about 45 deg incidence:
     # (3.1) alone allows it (200 < 239.55 m), the table model does not (theta_max(200 m) = 37.1 deg)
     a, b = np.array([[0.0, 0.0]]), np.array([[1.0, 0.0]])
     cand = np.array([[142.0, 141.0]])
-    args = (
-        cand,
-        np.ones((1, 1), bool),
-        np.zeros(1, np.int32),
-        np.ones(1, bool),
-        a,
-        b,
-        np.zeros(1),
-        np.zeros(1),
-        np.array([[0.0, 1.0]]),
-    )
+    one, zero = np.ones(1), np.zeros(1)
+    zone, side = np.zeros(1, np.int32), np.zeros(1, np.int8)  # zone 0, an inside face
+    piece = Targets(zone, side, one, zero, one, a, b, zero, zero, np.array([[0.0, 1.0]]), zone, ("site",), ("Z",))
+    args = (cand, np.ones((1, 1), bool), piece, np.arange(1))
     s_prec = max_slant_range_m(P30, sigma_instr_m(0.010, BUDGET))
     for model, seen in (("none", 1), ("table", 0)):
         rule = PrecisionRule(P30, BUDGET, 0.010, model)
