@@ -29,14 +29,8 @@ pass is O(k C + nnz(A)) plus O(E log C) per bridge; pruning is k connectivity ch
 chosen stations; re-growing a group of m candidates costs ``starts`` such passes on its m rows.
 Deterministic: ties go to the lowest index, no clock or random draws.
 
-Why all bundles at once: the former greedy grew each group in turn, from its best of ``starts`` seeds,
-until it covered every target any of its candidates sees, walking overlap paths to the far ones. Where
-groups see each other's walls (a plant: one group per object, 8-15 groups seeing each piece) the first
-groups walked round their neighbours: 94 stations on the 4-ha plant, 515 on the 16-ha one, where the plain
-greedy takes 32 and 113; grown together, 31 and 111. Growing one bundle until no linked station gains
-before starting the next gave 157 on 16 ha; starting new bundles of a group there instead of bridging, and
-joining them at the end by shortest paths (Steiner-like), gave the same counts as bridging on every
-bundled site: docs/benchmarks/connected_greedy.md.
+Why all bundles at once: where groups see each other's walls, groups grown one at a time walk round their
+neighbours and take several times the plain greedy's stations (docs/benchmarks/connected_greedy.md).
 
 References: V. Chvatal, "A greedy heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235,
 1979; F. Jia and D. D. Lichti, "An efficient, hierarchical viewpoint planning strategy for terrestrial
@@ -253,28 +247,12 @@ def bundle_cover(
     need: Flags,
     starts: int = 50,
 ) -> list[int] | None:
-    """A cover of ``need`` whose every group's stations are connected under ``adj`` (sorted), or None.
+    """A cover of the targets ``need`` whose every group's stations are connected under ``adj`` (sorted), or None
+    when some needed target is seen by no candidate or no connected choice was found (module docstring).
 
-    Parameters
-    ----------
-    by_candidate
-        C x T coverage, row c = the targets candidate c sees.
-    adj
-        C x C symmetric overlap relation (pairs across groups are ignored).
-    groups
-        Registration group of each candidate.
-    cost
-        Cost of each candidate (> 0).
-    need
-        Boolean mask of the targets to cover.
-    starts
-        Seeds tried per group when re-growing its bundle (phase 4; 0: no re-growing).
-
-    Returns
-    -------
-    list of int or None
-        The chosen candidates, or None when some needed target is seen by no candidate or no connected
-        choice was found (module docstring: phases, invariants, complexity).
+    ``by_candidate``: C x T coverage; ``adj``: C x C symmetric overlap relation (pairs across groups ignored);
+    ``groups``: each candidate's registration group; ``cost``: each candidate's cost (> 0); ``starts``: seeds
+    tried per group when re-growing its bundle (phase 4; 0: no re-growing).
     """
     gid = group_ids(groups)
     g = Graph.of(by_candidate, adj, gid, np.asarray(cost, dtype=np.float64))

@@ -1,10 +1,7 @@
-"""Fewer stations for a connected plan: two-phase moves with row weighting, from a polygon's block to a plant.
+"""Fewer stations for a connected plan: two-phase moves with row weighting.
 
 Used by the MILP (an incumbent one station smaller for a block, down to its bound) and by tiled plans
-(the kept plan of a plant). A first version scored every (station, candidate) swap each move, O(nnz(A) *
-n) and a transitive closure per station: on the blocks of A, B, C and Baalbek it found the same plans
-at 500 moves as this one, 3 to 4 times slower, and it does not scale to a plant (5,728 candidates, ~120
-stations). :func:`shrink` searches the objective
+(the kept plan). :func:`shrink` searches the objective
 
     f(S) = sum of the weights of the targets S leaves unseen + w_link * sum_g (parts of g in S - 1),
 
@@ -63,9 +60,8 @@ class Shrunk:
 
 
 def _gather(m: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, without
-    building a sparse matrix (a move makes many small gathers; slices joined by one concatenate are
-    faster here than one fancy index over the ~10,000 entries of ~100 rows)."""
+    """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, without building a
+    sparse matrix (slices joined by one concatenate: faster for the many small gathers of a move)."""
     rows = np.asarray(rows, dtype=np.int64)
     if rows.size == 0:
         return np.zeros(0, dtype=np.int64), m.indices[:0]
@@ -124,8 +120,7 @@ class _State:
             touched = np.zeros(self.a.shape[0], dtype=np.int64)
             if parts == 0:  # one component per group: linked or not
                 touched[col] = 1
-            else:  # distinct (candidate, component) pairs: a bool table, not np.unique (hash-based in numpy 2, ~5x slower
-                # here), a row per component, summed over its few rows (a sum along each candidate's row of n is slower)
+            else:  # distinct (candidate, component) pairs: a bool table a row per component (faster than np.unique)
                 hit = np.zeros((n, self.a.shape[0]), dtype=bool)
                 hit[label[row], col] = True
                 touched = hit.sum(axis=0, dtype=np.int64)
@@ -153,8 +148,7 @@ class _State:
 
 def _components(n: int, ptr: list[int], ind: list[int]) -> tuple[int, np.ndarray]:
     """The number of components of the graph of ``n`` nodes given as CSR lists, and each node's label (in order
-    of each component's lowest node): a depth-first pass on Python lists, faster than building a scipy matrix
-    for the ~100 nodes of a plan (the matrix and its checks cost ~5x more)."""
+    of each component's lowest node): a depth-first pass on Python lists, faster than scipy for a plan's few."""
     label = [-1] * n
     k = 0
     for root in range(n):
@@ -173,9 +167,8 @@ def _components(n: int, ptr: list[int], ind: list[int]) -> tuple[int, np.ndarray
 
 
 def _split(sub: tuple[list[int], list[int]]) -> np.ndarray:
-    """Components added to its own component by removing each node (-1 for an isolated node); one
-    iterative articulation-point pass (Hopcroft-Tarjan), O(nodes + links), on Python lists (faster
-    than numpy scalars for the ~100 nodes of a plan). ``sub``: the graph as CSR lists (indptr, indices)."""
+    """Components added to its own component by removing each node (-1 for an isolated node): one iterative
+    articulation-point pass (Hopcroft-Tarjan), O(nodes + links). ``sub``: the graph as CSR lists (indptr, indices)."""
     ptr, ind = sub
     n = len(ptr) - 1
     disc, low, out = [-1] * n, [0] * n, [0] * n
@@ -228,34 +221,15 @@ def shrink(
     tabu: int = 2,
     deadline: float = math.inf,
 ) -> Shrunk:
-    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring).
+    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring): a connected
+    cover no larger than ``plan`` (``plan`` itself when none smaller is found), and the moves it took.
 
-    Parameters
-    ----------
-    a
-        C x T boolean CSR coverage matrix (the targets to cover are those ``plan`` covers).
-    adj
-        C x C symmetric overlap adjacency; links join candidates of one group only.
-    groups
-        Registration group of each candidate.
-    plan
-        A connected cover (returned unchanged when no smaller one is found).
-    moves
-        Move budget in all (0: ``plan`` is returned as it is).
-    floor
-        Stop at this many stations (a proven lower bound).
-    seed
-        Seed of the generator that draws the unseen target a move repairs.
-    tabu
-        Moves a station added may not be removed.
-    deadline
-        The user's wall-clock cap as a ``time.perf_counter()`` instant (looked at every
-        :data:`_CLOCK_EVERY` moves); ``math.inf``, the default, is none: the search stops on its moves alone.
-
-    Returns
-    -------
-    Shrunk
-        A connected cover no larger than ``plan``, and the moves it took.
+    ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric
+    overlap adjacency, links within a group only; ``groups``: each candidate's registration group; ``plan``: a
+    connected cover; ``moves``: the move budget (0: ``plan`` as it is); ``floor``: stop at this many stations (a
+    proven lower bound); ``seed``: of the generator that draws the unseen target a move repairs; ``tabu``: moves
+    a station added may not be removed; ``deadline``: the user's wall-clock cap as a ``time.perf_counter()``
+    instant, looked at every :data:`_CLOCK_EVERY` moves (``math.inf``: none, the moves alone stop it).
     """
     best = tuple(sorted(int(i) for i in plan))
     a = a.astype(np.float64).tocsr()

@@ -1,5 +1,5 @@
-"""The two halves of geometric pricing: the LP relaxation of the cover with its duals, and the
-heaviest face of an arrangement of coverage regions.
+"""The LP half of geometric pricing: the relaxation of the cover with its duals (the heaviest positions of
+an arrangement of coverage regions: :func:`planner.coverage.arrangement.heaviest_points`).
 
 LP (over the current pool, x >= 0; the upper bound x <= 1 is redundant at the optimum)::
 
@@ -13,12 +13,10 @@ when no position has one, the LP value bounds every cover drawn from anywhere in
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-import shapely
 from numpy.typing import NDArray
 from scipy.optimize import linprog
 
@@ -103,43 +101,3 @@ class WarmCoverLp:
         sol = h.getSolution()
         y = np.maximum(np.asarray(sol.row_dual, float), 0.0)
         return CoverLp(float(h.getInfo().objective_function_value), np.asarray(sol.col_value, float), y)
-
-
-@dataclass(frozen=True)
-class Face:
-    """A face of the arrangement: an interior point and the dual weight of the regions holding it."""
-
-    x: float
-    y: float
-    weight: float
-
-
-def heaviest_faces(
-    regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], threshold: float, limit: int
-) -> tuple[list[Face], float]:
-    """Faces of the arrangement of ``regions`` whose weight exceeds ``threshold`` (heaviest first, at
-    most ``limit``), and the largest face weight found.
-
-    The boundaries are noded (one union) and polygonised; every face of the arrangement is a polygon
-    of that linework, the weight is constant on it, and a point on its surface stands for it. Regions
-    are closed sets, so the heaviest position lies in (the closure of) some face: the maximum over faces
-    is the maximum over the plane.
-    """
-    keep = [k for k, g in enumerate(regions) if not g.is_empty and g.area > 0]
-    if not keep:
-        return [], 0.0
-    polys = [regions[k] for k in keep]
-    w = np.asarray(weights, float)[keep]
-    lines = shapely.union_all(shapely.boundary(np.asarray(polys, dtype=object)))
-    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(lines)))
-    if len(faces) == 0:
-        return [], 0.0
-    reps = shapely.point_on_surface(faces)
-    tree = shapely.STRtree(polys)
-    fi, ri = tree.query(reps, predicate="within")
-    face_w = np.bincount(fi, weights=w[ri], minlength=len(faces))
-    best = float(face_w.max())
-    order = np.argsort(-face_w, kind="stable")
-    order = order[face_w[order] > threshold][:limit]
-    xy = shapely.get_coordinates(reps[order])
-    return [Face(float(px), float(py), float(face_w[k])) for (px, py), k in zip(xy, order)], best

@@ -124,37 +124,3 @@ def layer_cuts(
             if layer.size:
                 cuts.append((layer.astype(np.int64), np.ones(layer.size), 1.0))
     return cuts
-
-
-def set_separator(base: sp.csr_matrix, sources: np.ndarray, sinks: np.ndarray) -> tuple[float, np.ndarray]:
-    """Smallest-capacity node set meeting every overlap path from a node of ``sources`` to one of ``sinks``
-    (the end nodes' own capacities count: a node of both sets is such a path by itself).
-
-    With S = the seers of one essential target and T = the seers of another, both targets are covered
-    by a connected choice, so a chosen path runs from S to T and every such separator N holds a chosen
-    station: sum_{v in N} x_v >= 1 (cover rows and distance layers are special cases).
-    Returns the cut value and the separator's nodes.
-    """
-    m = base.shape[0]
-    n = (m - 1) // 2
-    src, sink = 2 * n, 2 * n + 1
-    rows = np.concatenate([np.full(len(sources), src), n + np.asarray(sinks)])
-    cols = np.concatenate([np.asarray(sources), np.full(len(sinks), sink)])
-    big = sp.csr_matrix((np.full(rows.size, _BIG, dtype=np.int32), (rows, cols)), shape=(m + 1, m + 1))
-    graph = (_pad(base) + big).tocsr()
-    graph.sort_indices()
-    res = maximum_flow(graph, src, sink)
-    residual = (graph.astype(np.int64) - res.flow.astype(np.int64)).tocsr()
-    residual.data[residual.data < 0] = 0
-    residual.eliminate_zeros()
-    reach = np.zeros(m + 1, dtype=bool)
-    reach[breadth_first_order(residual, src, directed=True, return_predecessors=False)] = True
-    nodes = np.flatnonzero(reach[:n] & ~reach[n : 2 * n])
-    return res.flow_value / FLOW_SCALE, nodes
-
-
-def _pad(base: sp.csr_matrix) -> sp.csr_matrix:
-    """The split graph with one more (isolated) node, for a super-source."""
-    coo = base.tocoo()
-    m = base.shape[0] + 1
-    return sp.csr_matrix((coo.data, (coo.row, coo.col)), shape=(m, m))
