@@ -1,33 +1,18 @@
 """Point labels that never overlap: each other, the markers of the points, or the texts and legend already in
 the axes (:func:`place_labels`; the geometry alone: :func:`arrange_boxes`).
 
-The method, in display pixels, after one draw that settles the layout:
+The method, in display pixels: the figure is drawn once without rendering and frozen (:func:`freeze_layout`),
+so that a later draw or ``savefig`` puts everything where it was measured; every label's box is measured; the
+obstacles are every point's marker, the texts already in the axes and the legend. Labels are placed greedily,
+the most crowded point first (:func:`crowding_order`): of its candidate boxes, in order of preference, the first
+inside the axes that meets no obstacle and no label placed before (a gap of :data:`PAD_PX` kept) is taken.
+Candidates: the 8 compass positions on two near rings next to the marker, then rings further out, with as many
+directions as fit half a label apart, to the axes' diagonal; a label off the near rings gets a leader line. A
+label with no free candidate is left out (:attr:`Placed.omitted`), never drawn over another. Same input, same
+placement.
 
-1. the figure is drawn once without rendering (the layout engine and the equal aspect settle the axes), then
-   frozen (:func:`freeze_layout`): the layout engine is switched off and the labelled axes keep their limits,
-   so a later draw or ``savefig`` puts everything exactly where it was measured;
-2. every label's box is measured with the figure's renderer (``Text.get_window_extent``);
-3. obstacles: every point's marker (a square of the marker's size), the texts already in the axes (scale bar,
-   north arrow, room names) and the legend;
-4. labels are placed greedily, the most crowded point first (most other points within three label sizes; ties
-   by input order): of its candidate boxes, taken in order of preference, the first inside the axes that meets
-   no obstacle and no label placed before (a gap of :data:`PAD_PX` kept) is taken. Candidates: the 8 compass
-   positions (NE, NW, SE, SW, E, W, N, S) on two near rings next to the marker, then rings further out, each a
-   label height or a quarter of its radius beyond the last, with as many directions as fit half a label apart
-   along the ring (nearest to NE first), to the axes' diagonal. A label off the near rings gets a thin leader
-   line to its point;
-5. a label with no free candidate anywhere is left out (:attr:`Placed.omitted`), never drawn over another.
-
-Same input, same placement: the order and the candidates depend on the input only.
-
-Cost: O(n^2) for the crowding order, then per label O(c x (n + m)) box tests for the c candidates tried
-(evaluated in blocks with numpy, usually only the 16 near ones), with n labels and m fixed obstacles; at most
-some thousand candidates per label in the worst case.
-
-Limits: leader lines may cross other leaders, lines and labels (only text boxes and markers are kept apart);
-labels stay inside the axes, so in a very dense cluster some are left out; a label is placed for the figure's
-size as drawn (changing the figure's size or the axes' limits afterwards voids the guarantee; saving at another
-dpi keeps it, all sizes scaling alike, within the :data:`PAD_PX` gap).
+Limits: leader lines may cross other leaders, lines and labels (only text boxes and markers are kept apart); a
+label is placed for the figure's size as drawn (resizing afterwards voids the guarantee; another dpi keeps it).
 """
 
 from __future__ import annotations
@@ -146,25 +131,12 @@ def arrange_boxes(
     marker_half: NDArray[np.float64] | None = None,
     max_gap_px: float | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Box centres for labels of ``sizes`` (n x 2, width and height) at ``anchors`` (n x 2), all in pixels.
+    """Box centres for labels of ``sizes`` (n x 2, width and height) at ``anchors`` (n x 2), all in pixels, and
+    whether each needs a leader line; NaN where the label was left out.
 
-    Parameters
-    ----------
-    anchors, sizes
-        Points and their label sizes.
-    frame
-        ``(x0, y0, x1, y1)``: every box stays inside.
-    obstacles
-        Boxes ``(x0, y0, x1, y1)`` (m x 4) no label may meet.
-    marker_half
-        Half the marker size of each point (n); each marker is an obstacle too.
-    max_gap_px
-        The farthest a box is put from its marker; ``None``: up to the frame's diagonal.
-
-    Returns
-    -------
-    centres, leader
-        Centres (n x 2; NaN where the label was left out) and whether each needs a leader line.
+    Every box stays inside ``frame`` ``(x0, y0, x1, y1)`` and meets none of the ``obstacles`` (m x 4 boxes) nor
+    the markers (``marker_half``: half each point's marker size); ``max_gap_px``: the farthest a box is put from
+    its marker (``None``: up to the frame's diagonal).
     """
     anchors = np.asarray(anchors, dtype=float).reshape(-1, 2)
     sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
@@ -222,55 +194,19 @@ def place_labels(
     renderer: RendererBase | None = None,
 ) -> Placed:
     """Label ``labels`` in ``ax`` so that no two labels, no label and marker, and no label and earlier text or
-    legend overlap (the module text gives the method, its cost and its limits).
+    legend overlap (the module text gives the method and its limits).
 
-    Call it last, once everything else of the figure is drawn: it freezes the layout (:func:`freeze_layout`).
-    Each label is an annotation with ``gid`` ``"{gid}:{key}"``, a white halo, centred on its box.
-
-    Parameters
-    ----------
-    ax
-        The axes; its figure is drawn once to measure.
-    labels
-        The points and their texts.
-    fontsize, color, leader_color
-        Text size (points) and colours of the texts and the leader lines.
-    gid
-        The prefix of each label's ``gid``.
-    max_gap_px
-        The farthest a label is put from its marker (pixels); ``None``: anywhere in the axes.
-    renderer
-        The renderer :func:`freeze_layout` returned for ``ax`` (and the figure's other axes to label): the
-        figure is then not drawn again, which saves one draw per panel; ``None``: freeze here.
-
-    Returns
-    -------
-    Placed
-        The annotations drawn, the leader lines, and the keys left out for want of room.
+    Call it last, once everything else of the figure is drawn: it freezes the layout (:func:`freeze_layout`),
+    unless ``renderer`` is the one :func:`freeze_layout` returned for ``ax`` (and the figure's other axes to
+    label), which saves one draw per panel. Each label is an annotation with ``gid`` ``"{gid}:{key}"``, a white
+    halo, centred on its box, at most ``max_gap_px`` from its marker (``None``: anywhere in the axes).
     """
     fig = ax.get_figure(root=True)
     assert isinstance(fig, Figure)
     if renderer is None:
         renderer = freeze_layout(fig, [ax])
     fixed = _fixed_boxes(ax, renderer)
-    halo = [patheffects.withStroke(linewidth=2.0, foreground="white")]
-    arts: list[Annotation] = []
-    for p in labels:
-        a = ax.annotate(
-            p.text,
-            (p.x, p.y),
-            xytext=(0.0, 0.0),
-            textcoords="offset points",
-            ha="center",
-            va="center",
-            fontsize=fontsize if p.fontsize is None else p.fontsize,
-            color=color,
-            zorder=6,
-            annotation_clip=False,
-            path_effects=halo,
-            gid=f"{gid}:{p.key or p.text}",
-        )
-        arts.append(a)
+    arts = [_annotation(ax, p, fontsize, color, gid) for p in labels]
     sizes = np.array([a.get_window_extent(renderer).size for a in arts], dtype=float).reshape(-1, 2)
     anchors = ax.transData.transform(np.array([(p.x, p.y) for p in labels], dtype=float).reshape(-1, 2))
     half = np.array([p.marker_pt / 2.0 * fig.dpi / 72.0 for p in labels], dtype=float)
@@ -280,7 +216,6 @@ def place_labels(
     lines: list[Line2D] = []
     omitted: list[str] = []
     to_points = 72.0 / fig.dpi
-    inverse = ax.transData.inverted()
     for p, a, c, lead, anchor, size, r in zip(labels, arts, centres, leader, anchors, sizes, half):
         if np.isnan(c[0]):
             a.remove()
@@ -289,12 +224,42 @@ def place_labels(
         a.xyann = ((c[0] - anchor[0]) * to_points, (c[1] - anchor[1]) * to_points)
         kept.append(a)
         if lead:
-            near = np.clip(anchor, c - size / 2.0, c + size / 2.0)
-            v = near - anchor
-            start = anchor + v * min(1.0, r / max(float(np.hypot(*v)), 1e-9))
-            (xa, ya), (xb, yb) = inverse.transform(np.array([start, near]))
-            lines += ax.plot([xa, xb], [ya, yb], color=leader_color, lw=0.5, zorder=5, scalex=False, scaley=False)
+            lines += _leader(ax, anchor, c, size, r, leader_color)
     return Placed(tuple(kept), tuple(lines), tuple(omitted))
+
+
+def _annotation(ax: Axes, p: PointLabel, fontsize: float, color: str, gid: str) -> Annotation:
+    """The label of ``p`` drawn on its point (moved to its box later), with a white halo."""
+    return ax.annotate(
+        p.text,
+        (p.x, p.y),
+        xytext=(0.0, 0.0),
+        textcoords="offset points",
+        ha="center",
+        va="center",
+        fontsize=fontsize if p.fontsize is None else p.fontsize,
+        color=color,
+        zorder=6,
+        annotation_clip=False,
+        path_effects=[patheffects.withStroke(linewidth=2.0, foreground="white")],
+        gid=f"{gid}:{p.key or p.text}",
+    )
+
+
+def _leader(
+    ax: Axes,
+    anchor: NDArray[np.float64],
+    centre: NDArray[np.float64],
+    size: NDArray[np.float64],
+    marker_half: float,
+    color: str,
+) -> list[Line2D]:
+    """A thin line from the edge of the marker at ``anchor`` to the nearest point of the box (all in pixels)."""
+    near = np.clip(anchor, centre - size / 2.0, centre + size / 2.0)
+    v = near - anchor
+    start = anchor + v * min(1.0, marker_half / max(float(np.hypot(*v)), 1e-9))
+    (xa, ya), (xb, yb) = ax.transData.inverted().transform(np.array([start, near]))
+    return ax.plot([xa, xb], [ya, yb], color=color, lw=0.5, zorder=5, scalex=False, scaley=False)
 
 
 def note_omitted(ax: Axes, placed: Placed) -> None:

@@ -1,25 +1,10 @@
 """Read a floor plan from DXF: closed polylines on named layers become zones, obstacles and no-go areas.
 
-- Entities: LWPOLYLINE and 2-D POLYLINE (closed flag, or first point = last point), CIRCLE;
-  bulges (arcs) and circles are flattened to ``flatten_m``, after a size check (an arc reaching
-  beyond 1e8 m, or one that would flatten to more than 100,000 vertices, is refused). Block
-  references (INSERT) are expanded recursively with their transformation, mirrored ones too;
-  entities on layer 0 inside a block take the INSERT's layer (the CAD convention). TEXT/MTEXT
-  label zones; annotation (dimensions, leaders, images) is read past; any other entity on a layer
-  read (LINE, ARC, SPLINE, SOLID, HATCH, POINT, 3DFACE ...) is refused, naming what to draw instead
-  (:mod:`planner.io.dxf_entities`).
-- Heights, in this order: XDATA of application ``TLS_PLANNER`` (one 1040 real per vertex, as
-  written by :mod:`planner.io.dxf_out`), the entity's thickness, the layer default of
-  ``DxfOptions.layer_heights_m``; otherwise an error.
-- Holes: closed polylines on ``HOLES`` are free-standing blocks of the inside zone that contains
-  them (their walls are scanned from the zone); heights as for zones.
-- Zone id: XDATA ``zone=...``, else a TEXT/MTEXT of the same layer inside the polygon, else
-  ``LAYER-n``. Scan side: the layer's own (``ZONES-OUTSIDE`` ...), else XDATA ``side=`` (inside,
-  outside or both; another value is refused), else ``DxfOptions.default_side``.
-- Units: ``$INSUNITS`` (mm, cm, m, inch, foot ...) scaled to metres; 0 (unitless) is read as metres
-  and said in the zone notes.
-Vertex order is made counter-clockwise: DXF has no orientation convention (a mirrored block
-reverses it), so this changes no data. Nothing in the file is executed; ezdxf only parses tags.
+docs/exchange.md tables what is read: the entities (:mod:`planner.io.dxf_entities`; arcs checked, then
+flattened, :mod:`planner.io.dxf_arcs`), heights (XDATA of application ``TLS_PLANNER`` as
+:mod:`planner.io.dxf_out` writes it, else the thickness, else the layer default), holes, zone ids, scan sides
+and units. Vertex order is made counter-clockwise: DXF has no orientation convention (a mirrored block
+reverses it). Nothing in the file is executed; ezdxf only parses tags.
 """
 
 from __future__ import annotations

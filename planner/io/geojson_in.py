@@ -1,11 +1,9 @@
-"""Read a floor plan from GeoJSON: Polygon features with a ``role`` (zone, obstacle, no_go) and heights.
+"""Read a floor plan from GeoJSON: Polygon features with a ``role`` (zone, obstacle, no_go) and heights
+(docs/exchange.md lists the properties read).
 
-Properties read: ``role`` (default ``zone``), ``id`` or ``name``, ``scan_side`` (default inside),
-``vertex_heights_m`` (one per vertex of the outer ring) or ``height_m`` / ``height`` (one for all),
-``frame``. Interior rings of a zone are free-standing blocks inside it whose walls are scanned
-too (holes). Other features (stations, coverage of an exported plan) are skipped, so an exported
-plan.geojson reads back as its site. With ``crs`` the coordinates are lon/lat (RFC 7946) and are
-projected to that metric CRS (pyproj, x/y order).
+Interior rings of a zone are holes. Features of an exported plan's other roles are skipped, so an exported
+plan.geojson reads back as its site. With ``crs`` the coordinates are lon/lat (RFC 7946), projected to that
+metric CRS.
 """
 
 from __future__ import annotations

@@ -1,32 +1,15 @@
 """Read a building model (IFC2X3, IFC4) through IfcOpenShell: one inside zone per IfcSpace.
 
-Per building storey (``IfcOptions.storey``: a name, a 1-based index or ``all``; by default the
-storeys that hold spaces):
+docs/ifc.md tables what is read from which entity. In short, per selected building storey
+(``IfcOptions.storey``): each IfcSpace is an inside zone (outline: the plan footprint of its body; wall
+height: its height, else the storey height); walls, columns, stairs and furniture standing in it are cut out
+(a notch or a hole); doors (windows with ``windows=True``), unfilled wall openings and open boundaries between
+spaces are openings (:mod:`planner.io.ifc_passages`); ``exterior=True`` adds the storey's outer outline as an
+outside zone; stairs between read storeys join them (:mod:`planner.io.ifc_stairs`). Each space's floor level
+and ceiling serve the floor and ceiling targets (:func:`floor_level`).
 
-- each IfcSpace becomes an inside zone named by its long name (else its name); its outline is the
-  plan footprint of the space's body geometry, its wall height the space's height (the z extent
-  of that geometry) or, without one, the storey height (to the next storey's elevation);
-- walls, columns, stairs and furniture that stand inside a space (more than half of their footprint)
-  are cut out of it: the zone's outline runs round them (a notch) or they become a free-standing
-  block (a hole) with their own height, so they block sight and no station stands on them;
-- doors (and windows with ``windows=True``) become openings on the zone walls they stand in; so do
-  unfilled wall openings one can walk through and the stretches where two spaces touch with no wall
-  between, as openings of kind ``passage`` (:mod:`planner.io.ifc_passages`);
-- with ``exterior=True`` the outer outline of the storey (spaces and walls together) is added as
-  an outside zone with the storey height;
-- with several storeys, each ``IfcStair`` that leads from a room of one read storey to a room of the next
-  becomes a :class:`planner.site.stairs.Stair` (:mod:`planner.io.ifc_stairs`): the registration network then
-  runs across the storeys through it;
-- each space zone's floor level (``Zone.floor_level_m``) is the storey's elevation plus the space's own
-  base offset (the bottom of its solid less the storey's placement; see :func:`floor_level`), and its
-  ceiling (``Zone.ceiling_height_m``) is the space's height, as its walls'; the exterior outline has its
-  floor at the storey's elevation and no ceiling. The levels serve the floor and ceiling targets only
-  (``--surfaces walls,floors,ceilings``); walls are seen as before.
-
-One storey reads into the site frame; several storeys each into a frame named after the storey (so
-the rooms of one floor never hide those of another). Coordinates and heights are metres from the
-file's own units and placements (IfcOpenShell's geometry kernel applies both); a model whose unit
-assignment gives no length unit is read as metres, and each zone's notes say so.
+One storey reads into the site frame; several each into a frame named after the storey. Coordinates are metres
+from the file's units and placements; a model without a length unit is read as metres, noted on each zone.
 """
 
 from __future__ import annotations
@@ -167,20 +150,8 @@ def _storeys(model: Any, path: Path) -> list[_Storey]:
 
 
 def _placement_z(entity: Any, scale: float) -> float | None:
-    """The world z (m) of ``entity``'s local placement, or None when it has none (or one IfcOpenShell cannot read).
-
-    Parameters
-    ----------
-    entity
-        An IFC product (here a building storey).
-    scale
-        Metres per unit of the file's length unit.
-
-    Returns
-    -------
-    float or None
-        The placement's z in metres.
-    """
+    """The world z (m) of ``entity``'s local placement (``scale``: metres per file unit), or None when it has
+    none (or one IfcOpenShell cannot read)."""
     import ifcopenshell.util.placement as up
 
     placement = getattr(entity, "ObjectPlacement", None)
@@ -193,34 +164,15 @@ def _placement_z(entity: Any, scale: float) -> float | None:
 
 
 def floor_level(elevation_m: float, base_z_m: float, solid_z_min_m: float) -> float:
-    """A space's floor level (m, the site's vertical datum): its storey's elevation plus its own base offset.
-
-    The offset is the bottom of the space's solid (world coordinates) less the world z of its storey's
-    placement: 0 for a space that stands on its storey's base, as in every exporter we know; a space on a
-    raised floor or in a split level sits that much higher. The storey's ``Elevation`` is the datum, as
-    the storeys' order and heights are read from it.
-
-    Parameters
-    ----------
-    elevation_m
-        The storey's elevation (its ``Elevation`` in metres).
-    base_z_m
-        The world z of the storey's placement (m); its elevation when the storey has no placement.
-    solid_z_min_m
-        The bottom of the space's solid in world coordinates (m).
-
-    Returns
-    -------
-    float
-        The floor level, rounded to 0.1 mm.
-    """
+    """A space's floor level (m, rounded to 0.1 mm): its storey's ``Elevation`` (the datum) plus its own base
+    offset, the bottom of its solid (``solid_z_min_m``, world) less the world z of the storey's placement
+    (``base_z_m``; the elevation where the storey has none). The offset is 0 for a space on its storey's base, as
+    every exporter we know writes it; a space on a raised floor or in a split level sits that much higher."""
     return round(elevation_m + (solid_z_min_m - base_z_m), 4)
 
 
 def _select(storeys: list[_Storey], which: str | None, path: Path) -> list[_Storey]:
-    if which is None:
-        return [s for s in storeys if s.spaces]
-    if which == "all":
+    if which is None or which == "all":
         return [s for s in storeys if s.spaces]
     if which.isdigit() and 1 <= int(which) <= len(storeys):
         chosen = [storeys[int(which) - 1]]

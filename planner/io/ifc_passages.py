@@ -1,19 +1,13 @@
 """Passages of a building model that no door fills: bare wall openings and rooms open to each other.
 
-Two ways a room is reached without an ``IfcDoor``, both read as openings of kind ``passage`` (one walks and
-sees through them as through a door, :data:`planner.coverage.openings.PASSABLE`):
+Both are read as openings of kind ``passage`` (walked and seen through as a door,
+:data:`planner.coverage.openings.PASSABLE`; docs/ifc.md gives the rules):
 
-- **an unfilled wall opening**: an ``IfcOpeningElement`` that voids a wall (``IfcRelVoidsElement``), is filled
-  by nothing (no ``IfcRelFillsElement``: no door, no window), is not a recess (``PredefinedType`` ``RECESS``),
-  starts at most :data:`MAX_SILL_M` above its storey's floor and is at least :data:`MIN_HEIGHT_M` high. Its
-  footprint is clipped to its wall's (the opening's body usually sticks out of both faces) and placed on the
-  zone walls it stands in like a door's (:func:`planner.io.ifc_geom.opening_on_wall`), so it is an opening of
-  the rooms on both sides. A high opening (a window without glazing, a hatch) or a low one stays wall;
-- **an open boundary**: two spaces of one storey that touch with no wall between them (an open-plan kitchen
-  and living room; exporters write a *virtual* space boundary there, ``IfcVirtualElement``, which is not
-  read: the geometry says the same). Each stretch of a zone's wall that runs within :data:`ABUT_M` of another
-  space zone of the storey, outside every wall's footprint, is a passage of both zones, named ``open to
-  <the other room>``. No wall fits in such a gap, so sight passes there.
+- **an unfilled wall opening** (:func:`unfilled_openings`): an ``IfcOpeningElement`` that voids a wall, is
+  filled by nothing and is no recess, low and high enough to walk through; its footprint clipped to its wall's
+  and placed on the zone walls it stands in like a door's;
+- **an open boundary** (:func:`open_boundaries`): two spaces of one storey that touch with no wall between them
+  (exporters write a *virtual* space boundary there, which is not read: the geometry says the same).
 
 Stretches narrower than :data:`MIN_WIDTH_M` stay wall either way (no one carries a scanner through them).
 """
@@ -45,24 +39,8 @@ WALL_SHRINK_M = 0.01
 
 
 def unfilled_openings(model: Any, storey: Any, floor_z_m: float, settings: Any) -> list[tuple[str, Solid]]:
-    """The name and clipped solid of every unfilled wall opening of ``storey`` that one can walk through.
-
-    Parameters
-    ----------
-    model
-        The IfcOpenShell model.
-    storey
-        The ``IfcBuildingStorey`` whose walls the openings void (a wall's container).
-    floor_z_m
-        The world z (m) of the storey's floor: its placement's z, or its elevation without one.
-    settings
-        IfcOpenShell geometry settings (:func:`planner.io.ifc_geom.geometry_settings`).
-
-    Returns
-    -------
-    list of (str, Solid)
-        The opening's name (else its GlobalId) and its solid, the footprint clipped to its wall's.
-    """
+    """The name (else GlobalId) and solid, footprint clipped to its wall's, of every unfilled wall opening of
+    ``storey`` that one can walk through; ``floor_z_m``: the world z of the storey's floor."""
     import ifcopenshell.util.element as ue
 
     out = []
@@ -89,20 +67,9 @@ def wide_enough(op: Opening) -> bool:
 
 
 def open_boundaries(zones: Sequence[Zone], walls: Sequence[shapely.Geometry]) -> dict[str, list[Opening]]:
-    """The passages of each zone to the zones it touches with no wall between (see the module docstring).
-
-    Parameters
-    ----------
-    zones
-        The inside zones of one storey (one frame).
-    walls
-        The footprints of the storey's walls.
-
-    Returns
-    -------
-    dict
-        Zone id to its passages (only zones that have some).
-    """
+    """Zone id to the passages of that zone (only zones that have some) to the zones of ``zones`` (the inside
+    zones of one storey) it touches where no footprint of ``walls`` stands between, named ``open to <room>``.
+    Each stretch of a zone's wall within :data:`ABUT_M` of another zone is one."""
     cut = shapely.union_all([w.buffer(-WALL_SHRINK_M, join_style="mitre") for w in walls]) if walls else None
     polys = {z.id: z.polygon for z in zones}
     near = {z.id: p.buffer(ABUT_M, join_style="mitre") for z, p in zip(zones, polys.values(), strict=True)}

@@ -37,14 +37,15 @@ class InstanceReader:
         return value
 
     def num(self, data: dict[str, Any], key: str, **where: Any) -> float:
-        if key not in data:
-            raise self.fail("missing", field=key, **where)
-        return to_float(data[key], field=key, file=self.file, **where)
+        return to_float(self._given(data, key, where), field=key, file=self.file, **where)
 
     def whole(self, data: dict[str, Any], key: str, **where: Any) -> int:
+        return to_int(self._given(data, key, where), field=key, file=self.file, **where)
+
+    def _given(self, data: dict[str, Any], key: str, where: dict[str, Any]) -> Any:
         if key not in data:
             raise self.fail("missing", field=key, **where)
-        return to_int(data[key], field=key, file=self.file, **where)
+        return data[key]
 
     @overload
     def length(self, data: dict[str, Any], base: str, default: float, **where: Any) -> float: ...
@@ -57,9 +58,7 @@ class InstanceReader:
         keys = [k for k in (f"{base}_m", f"{base}_mm") if k in data]
         if len(keys) == 2:
             raise self.fail("given twice (in m and mm)", field=base, **where)
-        if not keys:
-            return default
-        if data[keys[0]] is None:
+        if not keys or data[keys[0]] is None:
             return default
         value = to_float(data[keys[0]], field=keys[0], file=self.file, **where)
         return value / 1000.0 if keys[0].endswith("_mm") else value

@@ -1,11 +1,9 @@
 """Art-gallery benchmark polygons (AGPLIB ``.pol``): one line, ``n x1 y1 ... xn yn [h n1 ... ]``.
 
-Coordinates are exact rationals ``p/q`` (or plain numbers) in no stated unit; the outline is
-counter-clockwise, optionally followed by h holes. The polygon is scaled so that its larger
-extent is ``extent_m`` (default 100 m; the zone's notes record the factor) and becomes one
-inside zone whose holes are free-standing blocks; every wall gets ``height_m``. Numbers are
-parsed with :class:`fractions.Fraction` after a check that they are ASCII rationals or decimals;
-nothing is evaluated, and a number beyond the range of a float is refused.
+The outline (counter-clockwise, then h holes) becomes one inside zone scaled to a larger extent of
+``extent_m``, every wall ``height_m`` (docs/exchange.md). Numbers are ASCII rationals ``p/q`` or decimals,
+read with :class:`fractions.Fraction`; nothing is evaluated, and a number beyond the range of a float is
+refused.
 """
 
 from __future__ import annotations

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import replace
+from typing import Any
 
 from planner.core.errors import InputError
 from planner.site.model import Correction, ScanSide, Zone
@@ -23,24 +24,14 @@ def apply_corrections(table: ZoneTable, corrections: Iterable[Correction], file:
     """
     rows = list(table.rows)
     for c in corrections:
+        where: dict[str, Any] = dict(file=file, zone=c.zone, row=c.row, field=c.field)
         if not 1 <= c.row <= len(rows):
-            raise InputError(
-                f"correction names {c.target}, the zone has {len(rows)} rows",
-                file=file,
-                zone=c.zone,
-                row=c.row,
-                field=c.field,
-            )
+            raise InputError(f"correction names {c.target}, the zone has {len(rows)} rows", **where)
         old = rows[c.row - 1]
         found = getattr(old, c.field)
         if abs(found - c.printed) > 1e-9 * max(1.0, abs(found)):
             raise InputError(
-                f"correction says printed {c.printed:g} but the table holds {found:g}",
-                file=file,
-                zone=c.zone,
-                row=c.row,
-                field=c.field,
-                value=c.printed,
+                f"correction says printed {c.printed:g} but the table holds {found:g}", **where, value=c.printed
             )
         rows[c.row - 1] = replace(old, **{c.field: c.corrected})  # type: ignore[arg-type]
     return replace(table, rows=tuple(rows))

@@ -181,42 +181,21 @@ def adjust(
     sigma0: float = 1.0,
     max_iter: int = 10,
 ) -> Adjustment:
-    """Design (``observed=False``: covariance only) or adjustment of a network.
+    """Design (``observed=False``: covariance, redundancy numbers, no residuals) or adjustment of a network.
 
-    Parameters
-    ----------
-    coords : mapping of str to (float, float)
-        Approximate (design) coordinates of every point, in ``length_unit``; their order is the
-        order of the unknowns.
-    fixed : sequence of str
-        The known points.
-    observations : sequence of Obs
-        Values and sigmas in ``angle_unit`` (directions) and ``length_unit`` (the rest).
-    observed : bool
-        Adjust the observed values (iterated to convergence, at most ``max_iter`` times); else the
-        design only: covariance, redundancy numbers, no residuals.
-    angle_unit, length_unit : str
-        Units of the input (:data:`ANGLE_UNITS`, :data:`LENGTH_UNITS`); results come back in
-        ``length_unit``.
-    method : str
-        ``sparse`` (or ``normal``): sparse normal equations, see the module text; ``dense``: dense
-        normal equations (Cholesky, the whole inverse); ``qr``: scipy's least squares on sqrt(P) A.
-        All give the same answer.
-    sigma0 : float
-        The a priori standard deviation of unit weight (chi-square test, and the scale of a design).
-    max_iter : int
-        Iterations of an adjustment of observations.
-
-    Returns
-    -------
-    Adjustment
-        Points with sigmas and error ellipses, redundancy numbers, residuals and the global test.
+    ``coords``: approximate (design) coordinates of every point, in ``length_unit``, in the order of the
+    unknowns; ``fixed``: the known points; ``observations``: values and sigmas in ``angle_unit`` (directions)
+    and ``length_unit`` (the rest; :data:`ANGLE_UNITS`, :data:`LENGTH_UNITS`); results come back in
+    ``length_unit``. ``observed``: adjust the observed values, iterated to convergence (at most ``max_iter``
+    times). ``method``: ``sparse`` (or ``normal``, see the module text), ``dense`` (Cholesky, the whole
+    inverse) or ``qr`` (least squares on sqrt(P) A); all give the same answer. ``sigma0``: the a priori
+    standard deviation of unit weight (the chi-square test, and the scale of a design).
 
     Raises
     ------
     InputError
-        On an unknown kind, method or point, a sigma out of range, coincident points of a distance
-        or direction, or a datum defect.
+        On an unknown kind, method or point, a sigma out of range, coincident points of a distance or
+        direction, or a datum defect.
     """
     if method not in METHODS:
         raise InputError(f"unknown adjustment method (known: {', '.join(METHODS)})", field="method", value=method)

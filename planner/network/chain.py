@@ -1,23 +1,14 @@
 """Registration-chain accuracy (seed 003): scans registered one to the next, held by ties to control.
 
-The network as a scanner survey measures it:
+- a registration link between scans is a relative position with sigma m_reg = 6.8e-5 R + 0.0081 m (R: the
+  stations' distance; the overlap rule decides only WHETHER two scans link);
+- a tie: a station that scans k targets set on control points takes the control datum with
+  m_t = sqrt(sum m_c,scan_i^2) / k (formula 6), each target's error joining the target centre's error from the
+  control survey, m_c (formula 3, :func:`target_centre_sigma_m`), and the scanner's error in finding it,
+  m_scan (formula 4, :func:`target_scan_sigma_m`).
 
-- registration links between scans (cloud-to-cloud, or target-based through an opening), each a
-  relative position with sigma m_reg = 6.8e-5 R + 0.0081 m (R: distance between the stations;
-  seed 003, fitted at 6.3 mm resolution; the overlap rule decides WHETHER two scans link, seed 003
-  gives no dependence of the error on the overlap share);
-- ties: a station that scans k targets set on control points takes the control datum with
-  m_t = sqrt(sum m_c,scan_i^2) / k (seed 003, formula 6), where each target's error
-  m_c,scan^2 = m_c^2 + m_scan^2 joins the target centre's error from the control survey,
-  m_c = sqrt(m_P^2 + m_D^2 + 2 (D m_beta / rho)^2) (formula 3: m_P the control point's own error, D the
-  total-station distance to the target), and the scanner's error in finding it,
-  m_scan = 0.22 e^(0.03 R) e^(5.9 R^0.615 gamma) mm (formula 4: R in m, gamma the scan resolution as
-  an angle in degrees; 0.76 mm at R = 20 m, gamma = 1'1.88" = 3 mm at 10 m).
-
-Total-station observations between stations are not part of it (they belong to a planned
-traverse). Each station's a priori error follows from one least-squares adjustment of the links
-and ties (:func:`planner.network.adjustment.adjust`, x and y independent); it grows with the
-number of links to the nearest tie and is largest in the middle of a chain between two ties.
+Each station's a priori error follows from one least-squares adjustment of the links and ties
+(:func:`planner.network.adjustment.adjust`); it grows with the links to the nearest tie.
 """
 
 from __future__ import annotations
@@ -33,8 +24,7 @@ from planner.network.adjustment import Obs, adjust, relative
 
 #: seed 003: cloud-to-cloud registration error m_reg = REG_A * R + REG_B (m)
 REG_A, REG_B = 6.8e-5, 0.0081
-#: a control point's own position error (m_P) when the instance does not give one: seed 003's
-#: target-centre estimate, about 2 mm for D <= 20 m, 5", 2 mm
+#: a control point's own position error (m_P) when the instance does not give one (seed 003's estimate)
 DEFAULT_CONTROL_SIGMA_M = 0.002
 #: field practice (seed 003): targets 10-20 m from the station, one control point per 25-50 m of chain
 TIE_RANGE_M = 20.0

@@ -1,18 +1,10 @@
-"""The station network (networkx): stations and control points, sight lines, triangulation, registration.
+"""The station network (networkx) of the earlier design, kept behind ``--ts-everywhere``: a total station on
+every scanner station. The default network (:mod:`planner.network.traverse`) observes with the total station
+only the legs of a control traverse; the control proposal and the sight test here serve both.
 
-This is the earlier design, kept behind ``--ts-everywhere``: a total station on every scanner station.
-The default network of a plan (:mod:`planner.network.traverse`) observes with the total station only
-the legs of a control traverse; the control proposal and the sight test here serve both.
-
-One network per frame (table zones each have their own frame and are never
-linked to each other). Edges carry ``kinds`` (a set of ``sight``, ``delaunay``,
-``registration``) and ``length_m``:
-
-- ``sight``: two nodes intervisible (no wall or obstacle edge in between) and
-  within the total station's range;
-- ``delaunay``: an edge of the Delaunay triangulation of the frame's nodes,
-  kept where intervisible (the dissertation's figs 4.9-4.10);
-- ``registration``: two stations related by the overlap relation.
+One network per frame. Edges carry ``length_m`` and ``kinds``, a set of: ``sight`` (two nodes intervisible and
+within the total station's range), ``delaunay`` (an edge of the Delaunay triangulation of the frame's nodes,
+kept where intervisible: the dissertation's figs 4.9-4.10) and ``registration`` (two related stations).
 """
 
 from __future__ import annotations

@@ -45,16 +45,8 @@ class HeightResult:
 def adjust_heights(
     approx: Mapping[str, float], fixed: Mapping[str, float], observations: Sequence[HeightObs], observed: bool = False
 ) -> HeightResult:
-    """Least-squares heights (and their sigmas) of the points not in ``fixed``.
-
-    Sparse, as the plan adjustment (:mod:`planner.network.lsq_sparse`): of Q = N^-1 only the diagonal
-    is formed.
-
-    Raises
-    ------
-    InputError
-        When some point reaches no point of known height (a datum defect).
-    """
+    """Least-squares heights (and their sigmas) of the points not in ``fixed``; sparse, as the plan adjustment,
+    with only the diagonal of Q = N^-1 formed. InputError where some point reaches no point of known height."""
     unknown = [n for n in approx if n not in fixed]
     col = {n: k for k, n in enumerate(unknown)}
     rows: list[int] = []

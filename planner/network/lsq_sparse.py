@@ -34,21 +34,10 @@ CODES = {"x": X, "y": Y, "dx": DX, "dy": DY, "distance": DISTANCE, "direction": 
 class Design:
     """The observations of a network as index arrays, and their Jacobian at given coordinates.
 
-    Parameters
-    ----------
-    names : sequence of str
-        The points, in the order of the rows of the coordinate arrays.
-    unknown : sequence of str
-        The points to be found, in the order of their columns (x, y each).
-    observations : sequence of Obs
-        The observations (:class:`planner.network.adjustment.Obs`), their points among ``names``.
-
-    Attributes
-    ----------
-    orient : list of str
-        The stations that take directions (one orientation unknown each, after the points' columns).
-    n_unknowns : int
-        Columns of A.
+    ``names``: the points, in the order of the rows of the coordinate arrays; ``unknown``: the points to be
+    found, in the order of their columns (x, y each); ``observations``: :class:`planner.network.adjustment.Obs`.
+    ``orient``: the stations that take directions (one orientation unknown each, after the points' columns);
+    ``n_unknowns``: the columns of A.
     """
 
     def __init__(self, names: Sequence[str], unknown: Sequence[str], observations: Sequence[Any]) -> None:
@@ -65,13 +54,8 @@ class Design:
         self.n_unknowns = 2 * len(unknown) + len(self.orient)
 
     def jacobian(self, xy: NDArray[np.float64]) -> tuple[sp.csr_matrix, NDArray[np.float64]]:
-        """A (sparse, sorted indices) and the computed values f(X0) at the points ``xy`` (n x 2, metres).
-
-        Raises
-        ------
-        InputError
-            On a distance or direction between coincident points.
-        """
+        """A (sparse, sorted indices) and the computed values f(X0) at the points ``xy`` (n x 2, metres);
+        InputError on a distance or direction between coincident points."""
         k, at, to = self.kind, self.at, self.to
         n = len(k)
         rel = to >= 0

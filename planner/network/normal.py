@@ -68,21 +68,9 @@ def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
 
 
 class Normal:
-    """N = A^T P A of a design matrix, reduced and factored (see the module text).
-
-    Parameters
-    ----------
-    a : scipy.sparse.csr_matrix
-        The design matrix; its last ``n_orient`` columns are orientation unknowns.
-    w : ndarray
-        The weights 1 / sigma^2.
-    n_orient : int
-        How many orientation unknowns (each observation holds at most one of them).
-
-    Raises
-    ------
-    InputError
-        On a datum defect: some unknown is not determined by the observations.
+    """N = A^T P A of a design matrix ``a`` (its last ``n_orient`` columns orientation unknowns, each
+    observation holding at most one) and weights ``w`` = 1 / sigma^2, reduced and factored (see the module
+    text). Raises InputError on a datum defect: some unknown not determined by the observations.
     """
 
     def __init__(self, a: sp.csr_matrix, w: NDArray[np.float64], n_orient: int = 0) -> None:

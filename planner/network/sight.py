@@ -1,20 +1,14 @@
 """Many sight lines at once: for each pair p-q, the answer of :func:`planner.network.graph.intervisible`.
 
-``intervisible`` tests one segment against every wall and obstacle edge of the frame; the network
-of a large site asks it for every pair of its control and traverse points (a million pairs on the
-16-ha plant, each against thousands of edges). Here:
+1. a segment that crosses or touches an edge (GEOS, exact, against all edges at once, prepared) is blocked:
+   :func:`planner.coverage.visibility.segments_touch` says so too, its tolerance (``EPS_SIGHT_M``) only adding
+   touches;
+2. any other segment is tested with ``segments_touch`` itself, against only the edges that could touch it:
+   those within ``MARGIN`` of it, and those whose LINE passes within the tolerance of an end of the segment
+   (its side rule counts such an end as on the line).
 
-1. a segment that crosses or touches an edge (GEOS, exact, against all edges at once, prepared) is
-   blocked: :func:`planner.coverage.visibility.segments_touch` says so too, since its tolerance
-   (``EPS_SIGHT_M``, far above the rounding of its side tests) only adds touches;
-2. any other segment is tested with ``segments_touch`` itself, against only the edges that could
-   touch it: those within ``MARGIN`` of it (none for most), and those whose LINE passes within the
-   tolerance of an end of the segment (its side rule counts such an end as on the line, and with a
-   segment that runs along that line it reports a touch even where the two segments lie apart).
-
-Any other edge gives no touch: both ends of the segment lie strictly on one side of its line, or the
-segment's line separates its ends strictly and it crosses the segment (step 1) or comes within the
-tolerance of it.
+Any other edge gives no touch: the segment's ends lie strictly on one side of its line, or it crosses the
+segment (step 1) or comes within the tolerance of it.
 """
 
 from __future__ import annotations
@@ -83,22 +77,8 @@ def _near_lines(pts: NDArray[np.float64], b: Any) -> sp.csr_matrix:
 
 
 def sight_clear(site: Site, frame: str, p: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """For each row, True when no wall or obstacle edge of ``frame`` touches the segment p-q.
-
-    Parameters
-    ----------
-    site : Site
-        The site.
-    frame : str
-        The frame of every segment.
-    p, q : ndarray
-        The segments' ends (m x 2).
-
-    Returns
-    -------
-    ndarray of bool
-        ``intervisible(site, frame, p[k], q[k])`` for every k.
-    """
+    """``intervisible(site, frame, p[k], q[k])`` for every row k of the segments' ends ``p``, ``q`` (m x 2): True
+    when no wall or obstacle edge of ``frame`` touches the segment."""
     p = np.asarray(p, dtype=float).reshape(-1, 2)
     q = np.asarray(q, dtype=float).reshape(-1, 2)
     m = len(p)

@@ -17,21 +17,8 @@ if TYPE_CHECKING:
 
 
 def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
-    """``report`` in lines a person reads.
-
-    Parameters
-    ----------
-    report
-        The network check of a plan.
-    accuracy
-        Include the accuracy check's verdict and its table per zone-side (the report shows them as its own
-        table, and leaves them out here so they do not appear twice).
-
-    Returns
-    -------
-    str
-        The summary, one fact a line; no Python reprs.
-    """
+    """``report`` in lines a person reads, one fact a line; ``accuracy``: include the accuracy check's verdict and
+    its table per zone-side (the report shows them as its own table, and leaves them out here)."""
     worst = max(report.station_sigma.items(), key=lambda kv: kv[1], default=("-", float("nan")))
     c = report.check
     lines = [

@@ -1,26 +1,15 @@
 """The control traverse of a site, and the network of a plan as surveyed: links, ties, traverse legs.
 
-A surveyor ties every scan to one control network (fig 4.10 of the dissertation draws one network
-over the temple; seed 003: the control network is measured by traditional methods, a linear-angular
-network between intervisible neighbouring control points, and the scans are tied to it). So the
-network of a plan holds three kinds of measurement, and total-station observations only on the
-traverse:
+A surveyor ties every scan to one control network measured by traditional methods (seed 003), so the network
+of a plan holds three kinds of measurement (docs/network.md), total-station observations only on the
+traverse: ``registration`` (two related stations, a relative position), ``tie`` (a station within
+``TIE_RANGE_M`` of a control point it sees scans targets set there: a relative position of sigma m_t) and
+``traverse`` (a leg observed with the total station from both ends, direction and distance).
 
-- ``registration``: two stations related by the overlap relation, or seeing each other through an
-  opening (:mod:`planner.coverage.links`): a relative position, sigma 6.8e-5 R + 0.0081 m (seed 003);
-- ``tie``: a station within ``TIE_RANGE_M`` of a control point it sees scans targets set there
-  (4 targets, formula 6 with the targets coordinated from that point): a relative position station -
-  control point, sigma m_t;
-- ``traverse``: a leg of the control traverse, observed with the total station from both ends
-  (direction and distance).
-
-The traverse is the user's (``--traverse FILE``: points and legs), or PROPOSED: the control points of
-every accessible area, a traverse point in the middle of every door or gate, and a leg between every
-two of these points of one room (or of the ground outside) that see each other within the total station's range, and
-between each door's point and the points on either side that see it; outside, points 3 m out from the
-outline's corners (``RP.``) carry the traverse round the building where the shortest leg paths between
-the other points need them. A leg never passes through a
-wall: areas that no opening joins stay separate networks.
+The traverse is the user's (:func:`read_traverse`) or proposed (:func:`propose_traverse`): the control points,
+a point in every door or gate, points round the outline (``RP.``) where the shortest leg paths need them, and
+legs between points of one room (or of the ground outside) that see each other within range. A leg never
+passes through a wall: areas that no opening joins stay separate networks.
 """
 
 from __future__ import annotations

@@ -124,7 +124,7 @@ def test_fragment_json_is_compact_escaped_and_has_no_address(room):
 
 
 def test_the_inlined_script_cannot_end_its_element():
-    from planner.figures.view3d.render import asset
+    from planner.figures.webmap.render import asset
 
-    js = asset("view3d.js")
+    js = asset("view3d.js", "planner.figures.view3d")
     assert "</script" not in js.lower() and "<!--" not in js and not re.search(r"https?://", js)

@@ -17,11 +17,9 @@ from numpy.typing import NDArray
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.targets import Targets
 from planner.figures.view3d.model import Covered, Scene3D, Station3D, Surface, View, WallQuad, Zone3D
+from planner.figures.webmap.build import run_ends
 from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
-
-#: two pieces join into one run where the first ends within this of where the second starts (m)
-JOIN_M = 1e-6
 
 
 def wall_quads(site: Site) -> tuple[WallQuad, ...]:
@@ -52,23 +50,10 @@ def surfaces(site: Site) -> tuple[Surface, ...]:
 def covered_runs(
     targets: Targets, cols: NDArray[np.integer], wall_at: Mapping[tuple[int, int], int]
 ) -> tuple[Covered, ...]:
-    """The runs of the pieces ``cols`` (target indices): maximal sequences consecutive in the targets' order on
-    the same zone, side and wall, each piece starting where the one before ends. ``wall_at``: (zone index,
-    1-based wall) to the scene's wall index."""
+    """The runs of the pieces ``cols`` (target indices, :func:`planner.figures.webmap.build.run_ends`);
+    ``wall_at``: (zone index, 1-based wall) to the scene's wall index."""
     t = targets
-    cols = np.sort(np.asarray(cols, dtype=np.int64))
-    if cols.size == 0:
-        return ()
-    f, g = cols[:-1], cols[1:]
-    joins = (
-        (g - f == 1)
-        & (t.zone[f] == t.zone[g])
-        & (t.side[f] == t.side[g])
-        & (t.wall[f] == t.wall[g])
-        & (np.abs(t.s1_m[f] - t.s0_m[g]) <= JOIN_M)
-    )
-    cut = np.flatnonzero(~joins)
-    firsts, lasts = cols[np.r_[0, cut + 1]], cols[np.r_[cut, cols.size - 1]]
+    firsts, lasts = run_ends(t, cols)
     return tuple(
         Covered(wall_at[(int(t.zone[a]), int(t.wall[a]))], float(t.s0_m[a]), float(t.s1_m[b]), int(b - a + 1))
         for a, b in zip(firsts.tolist(), lasts.tolist())

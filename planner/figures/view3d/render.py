@@ -13,11 +13,10 @@ from __future__ import annotations
 
 import html
 import json
-from functools import cache
-from importlib.resources import files
 from typing import Any
 
 from planner.figures.view3d.model import Covered, Scene3D
+from planner.figures.webmap.render import asset
 
 CSS = (
     ".v3d{margin:0.5em 0 1.5em}.v3d canvas{width:100%;height:560px;max-height:75vh;border:1px solid #ccc;"
@@ -25,12 +24,6 @@ CSS = (
     "align-items:center;font-size:0.9em;margin:0.3em 0}.v3-bar button{min-width:2.2em}.v3-info{font-size:0.9em;"
     "margin:0.3em 0}.v3-help{font-size:0.85em;color:#555;margin:0.2em 0}"
 )
-
-
-@cache
-def asset(name: str) -> str:
-    """The text of a package data file of this package (``view3d.js``)."""
-    return files("planner.figures.view3d").joinpath(name).read_text(encoding="utf-8")
 
 
 def _m(v: float) -> float | int:
@@ -101,5 +94,5 @@ def render_view3d(s: Scene3D, dom_id: str = "view-3d") -> str:
         "purple; green: the wall the stations cover, or the selected station's (pick it in the list or click it); "
         "stations stand at instrument height above their floor.</p>"
         f'<script type="application/json" class="v3-data">{scene_json(s)}</script>'
-        f"<script>{asset('view3d.js')}</script></div>"
+        f"<script>{asset('view3d.js', 'planner.figures.view3d')}</script></div>"
     )

@@ -16,10 +16,11 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import piece_lengths
-from planner.coverage.targets import SIDE_NAME
+from planner.coverage.targets import SIDE_NAME, Targets
 from planner.figures.webmap.model import MapArea, MapLine, MapLink, MapPoint, MapStation, Point, Run, SiteMap
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
@@ -61,32 +62,32 @@ def wall_lines(site: Site) -> tuple[MapLine, ...]:
     return tuple(out)
 
 
-def coverage_runs(problem: CoverageProblem) -> list[tuple[Run, ...]]:
-    """For each row of ``problem`` (a station), the runs of pieces it covers.
+def run_ends(t: Targets, cols: NDArray[np.integer]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The first and last piece of each run of the pieces ``cols`` (target indices): a maximal sequence of pieces
+    consecutive in the targets' order on the same zone, side and wall, each starting where the one before ends."""
+    cols = np.sort(np.asarray(cols, dtype=np.int64))
+    if cols.size == 0:
+        return cols, cols
+    f, g = cols[:-1], cols[1:]
+    joins = (
+        (g - f == 1)
+        & (t.zone[f] == t.zone[g])
+        & (t.side[f] == t.side[g])
+        & (t.wall[f] == t.wall[g])
+        & (np.abs(t.s1_m[f] - t.s0_m[g]) <= JOIN_M)
+    )
+    cut = np.flatnonzero(~joins)
+    return cols[np.r_[0, cut + 1]], cols[np.r_[cut, cols.size - 1]]
 
-    A run is a maximal sequence of pieces, consecutive in the targets' order, on the same zone, side and
-    wall, each starting where the one before ends. Cost: O(nnz) over the matrix, one pass per station.
-    """
+
+def coverage_runs(problem: CoverageProblem) -> list[tuple[Run, ...]]:
+    """For each row of ``problem`` (a station), the runs of pieces it covers (:func:`run_ends`)."""
     t = problem.targets
-    n = len(t)
     lengths = piece_lengths(t.s0_m, t.s1_m)
-    joins = np.zeros(n, dtype=bool)  # piece k runs on into piece k + 1
-    if n > 1:
-        joins[:-1] = (
-            (t.zone[:-1] == t.zone[1:])
-            & (t.side[:-1] == t.side[1:])
-            & (t.wall[:-1] == t.wall[1:])
-            & (np.abs(t.s1_m[:-1] - t.s0_m[1:]) <= JOIN_M)
-        )
     m = problem.by_candidate
     out: list[tuple[Run, ...]] = []
     for i in range(m.shape[0]):
-        cols = np.sort(m.indices[m.indptr[i] : m.indptr[i + 1]])
-        if cols.size == 0:
-            out.append(())
-            continue
-        cut = np.flatnonzero((np.diff(cols) != 1) | ~joins[cols[:-1]])
-        firsts, lasts = cols[np.r_[0, cut + 1]], cols[np.r_[cut, cols.size - 1]]
+        firsts, lasts = run_ends(t, m.indices[m.indptr[i] : m.indptr[i + 1]])
         runs = []
         for f, la in zip(firsts.tolist(), lasts.tolist()):
             label = (
@@ -191,37 +192,15 @@ def site_map_data(
     rows: Mapping[str, str] | None = None,
     areas: Sequence[tuple[MapArea, ...]] | None = None,
 ) -> SiteMap:
-    """The map of a site and its stations.
+    """The map of a site and its stations, each labelled with its number in ``stations`` (1-based, as the
+    report's station table numbers them).
 
-    Parameters
-    ----------
-    site, stations
-        The site and the plan's stations; each station is labelled with its number in ``stations`` (1-based,
-        as the report's station table numbers them).
-    runs
-        Per station (same order), the wall it covers: :func:`coverage_runs` of the stations' coverage
-        matrix; None: no coverage layer.
-    links
-        Registration links between the stations (by id).
-    field_sheet
-        The field sheet as ``field.json`` holds it (:func:`planner.field.sheet.to_dict` of a ``FieldPlan``):
-        route, start, targets and the visiting order; None: no field layers.
-    control, traverse
-        Control points and control traverse legs (the network check's).
-    rows
-        Station id to the HTML id of its row in the page's station table.
-    areas
-        Per station (same order), the floor and ceiling it covers; None: no floors layer.
-
-    Examples
-    --------
-    The field sheet's map (links from the sheet's own chain; :func:`planner.field.site_map.field_site_map`
-    also orders the stations by visit and links them to the setup table's rows)::
-
-        sheet = to_dict(fp)
-        links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
-        runs = coverage_runs(fp.coverage)
-        html = render_site_map(site_map_data(fp.site, fp.stations, runs=runs, links=links, field_sheet=sheet))
+    ``runs`` and ``areas``: per station (same order), the wall (:func:`coverage_runs`) and the floor and ceiling
+    it covers (None: no such layer); ``links``: registration links between the stations (by id);
+    ``field_sheet``: a field sheet's ``field.json`` dictionary (route, start, targets, visiting order; None: no
+    field layers); ``control``, ``traverse``: the network check's control points and traverse legs; ``rows``:
+    station id to the HTML id of its row in the page's station table. The package text
+    (:mod:`planner.figures.webmap`) shows how the field sheet calls it.
     """
     frame_of = {s.id: s.frame for s in stations}
     route: tuple[MapLine, ...] = ()
@@ -234,8 +213,29 @@ def site_map_data(
     frames = dict.fromkeys([z.frame for z in site.zones] + [s.frame for s in stations])
     if any(w.frame == SITE_FRAME for w in walls):
         frames.setdefault(SITE_FRAME)
-    rows = rows or {}
-    st = tuple(
+    return SiteMap(
+        title=site.name,
+        frames=tuple(frames),
+        walls=walls,
+        stations=_stations(stations, runs, areas, rows or {}, visits),
+        links=tuple(lk for lk in links if lk.a in frame_of and lk.b in frame_of),
+        route=route,
+        start=start,
+        targets=targets,
+        control=tuple(control),
+        traverse=tuple(traverse),
+    )
+
+
+def _stations(
+    stations: Sequence[Candidate],
+    runs: Sequence[tuple[Run, ...]] | None,
+    areas: Sequence[tuple[MapArea, ...]] | None,
+    rows: Mapping[str, str],
+    visits: Mapping[str, int],
+) -> tuple[MapStation, ...]:
+    """The stations as the map shows them, numbered 1.. in the order given."""
+    return tuple(
         MapStation(
             s.id,
             s.frame,
@@ -251,16 +251,4 @@ def site_map_data(
             tuple(areas[k - 1]) if areas is not None else (),
         )
         for k, s in enumerate(stations, 1)
-    )
-    return SiteMap(
-        title=site.name,
-        frames=tuple(frames),
-        walls=walls,
-        stations=st,
-        links=tuple(lk for lk in links if lk.a in frame_of and lk.b in frame_of),
-        route=route,
-        start=start,
-        targets=targets,
-        control=tuple(control),
-        traverse=tuple(traverse),
     )

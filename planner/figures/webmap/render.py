@@ -47,9 +47,9 @@ OFF = ' style="display:none"'
 
 
 @cache
-def asset(name: str) -> str:
-    """The text of a package data file of this package (``site_map.js``, ``site_map.css``)."""
-    return files("planner.figures.webmap").joinpath(name).read_text(encoding="utf-8")
+def asset(name: str, package: str = "planner.figures.webmap") -> str:
+    """The text of a package data file (``site_map.js``, ``site_map.css``; ``view3d.js`` of the 3-D view's)."""
+    return files(package).joinpath(name).read_text(encoding="utf-8")
 
 
 def _e(v: object) -> str:
