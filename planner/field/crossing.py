@@ -1,12 +1,12 @@
 """Legs that cross a wall: where the site model has no opening between two parts of the walkable area.
 
-A site drawn without its doors (Baalbek's rooms, entered in reality) splits the walkable area into parts
-no walk joins. The sheet is still made: a leg between two parts is the **straight line** from one setup to
+A site drawn without its doors (rooms entered in reality) splits the walkable area into parts no walk
+joins. The sheet is still made: a leg between two parts is the **straight line** from one setup to
 the other, through whatever walls it meets (:func:`bridge`: its length is the straight-line distance, so
 the order and the bound are those of walks where they exist and of straight lines where they do not). Each
 such leg is listed (:class:`Crossing`: the zones whose walls it crosses, the parts it joins), drawn dashed,
 and the summary says once which rooms have no opening in the model (:func:`advice`). ``--strict-walls``
-refuses such a plan instead (exit 4), as the sheet did before.
+refuses such a plan instead (exit 4).
 """
 
 from __future__ import annotations
@@ -100,17 +100,9 @@ def crossings(
         if math.isfinite(g.dist[a, b]):
             continue
         pa, pb = (float(g.points[a][0]), float(g.points[a][1])), (float(g.points[b][0]), float(g.points[b][1]))
-        out.append(
-            Crossing(
-                first_leg + t,
-                numbers[b],
-                labels[a],
-                labels[b],
-                math.dist(pa, pb),
-                zones_crossed(site, g.frames[a] if isinstance(g, StoreyWalk) else g.space.frame, pa, pb),
-                (parts[a], parts[b]),
-            )
-        )
+        zones = zones_crossed(site, g.frames[a] if isinstance(g, StoreyWalk) else g.space.frame, pa, pb)
+        leg = (first_leg + t, numbers[b], labels[a], labels[b], math.dist(pa, pb), zones, (parts[a], parts[b]))
+        out.append(Crossing(*leg))
     return tuple(out)
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -156,12 +157,7 @@ def solve_order(
 
 
 def _add_registration(
-    routing,
-    manager,
-    nbrs: list[set[int]],
-    parts: list[int],  # type: ignore[no-untyped-def]
-    start_is_station: bool,
-    n: int,
+    routing: Any, manager: Any, nbrs: list[set[int]], parts: list[int], start_is_station: bool, n: int
 ) -> None:
     """The registration rule as constraints on a rank dimension (see the module text)."""
     one = routing.RegisterUnaryTransitVector([1] * (n + 1))
@@ -169,7 +165,7 @@ def _add_registration(
     rank = routing.GetDimensionOrDie("rank")
     solver = routing.solver()
 
-    def r(node: int):  # type: ignore[no-untyped-def]
+    def r(node: int) -> Any:
         return rank.CumulVar(manager.NodeToIndex(node))
 
     members: dict[int, list[int]] = {}

@@ -102,19 +102,12 @@ def _row(fig: Figure, y: float, values: list[str], widths: list[int], edges: lis
     pw, _ = fig.get_size_inches()
     char = FONT_PT * _CHAR / 72.0 / pw  # one character in figure fraction
     x0 = MARGIN_IN / pw
+    weight = "bold" if bold else None
     for c, v in enumerate(values):
         v = _fit(v, widths[c] - 2)
         left = c in _LEFT
         x = x0 + (edges[c] if left else edges[c] + widths[c] - 2) * char
-        fig.text(
-            x,
-            y,
-            v,
-            ha="left" if left else "right",
-            va="baseline",
-            fontsize=FONT_PT,
-            fontweight="bold" if bold else None,
-        )
+        fig.text(x, y, v, ha="left" if left else "right", va="baseline", fontsize=FONT_PT, fontweight=weight)
 
 
 def _table_pages(fp: FieldPlan) -> list[Figure]:

@@ -23,26 +23,18 @@ from planner.field.tables import HEADER, rows
 __all__ = ["HEADER", "figure", "geojson", "render_html", "rows", "to_dict", "write_sheet"]
 
 
+def _feature(geometry: str, coordinates: list, /, **properties: Any) -> dict[str, Any]:
+    return {"type": "Feature", "geometry": {"type": geometry, "coordinates": coordinates}, "properties": properties}
+
+
 def geojson(fp: FieldPlan) -> dict[str, Any]:
     """Stations in order (Points), the route (LineString) and targets, in the frame's metres."""
     feats: list[dict[str, Any]] = []
     for n, k in enumerate(fp.order, 1):
         s = fp.stations[k]
-        feats.append(
-            {
-                "type": "Feature",
-                "geometry": {"type": "Point", "coordinates": [s.x, s.y]},
-                "properties": {
-                    "role": "station",
-                    "number": n,
-                    "id": s.id,
-                    "zone": s.zone,
-                    "side": s.side.value,
-                    "targets": fp.targets_of(s.id),
-                }
-                | ({"frame": s.frame} if fp.spaces else {}),
-            }
-        )
+        props = {"role": "station", "number": n, "id": s.id, "zone": s.zone, "side": s.side.value}
+        props |= {"targets": fp.targets_of(s.id)} | ({"frame": s.frame} if fp.spaces else {})
+        feats.append(_feature("Point", [s.x, s.y], **props))
     if fp.spaces:
         feats += _storey_route(fp)
     else:
@@ -51,21 +43,9 @@ def geojson(fp: FieldPlan) -> dict[str, Any]:
             for p in leg:
                 if not line or line[-1] != list(p):
                     line.append(list(p))
-        feats.append(
-            {
-                "type": "Feature",
-                "geometry": {"type": "LineString", "coordinates": line},
-                "properties": {"role": "route", "length_m": fp.route_length_m, "mode": fp.options.mode},
-            }
-        )
+        feats.append(_feature("LineString", line, role="route", length_m=fp.route_length_m, mode=fp.options.mode))
     for t in fp.targets:
-        feats.append(
-            {
-                "type": "Feature",
-                "geometry": {"type": "Point", "coordinates": [t.x, t.y]},
-                "properties": {"role": "target", "id": t.id, "kind": t.kind, "seen_by": list(t.seen_by)},
-            }
-        )
+        feats.append(_feature("Point", [t.x, t.y], role="target", id=t.id, kind=t.kind, seen_by=list(t.seen_by)))
     return {
         "type": "FeatureCollection",
         "name": f"{fp.site.name} field sheet",
@@ -87,31 +67,16 @@ def _storey_route(fp: FieldPlan) -> list[dict[str, Any]]:
         for t, (p, f) in enumerate(zip(leg, frs)):
             if t and frs[t - 1] != f and queue:
                 fl = queue.pop(0)
+                climb = {"stair": fl.stair, "way": climbs(fl, frs), "leg": k, "run_m": fl.run_m, "rise_m": fl.rise_m}
                 stairs.append(
-                    {
-                        "type": "Feature",
-                        "geometry": {"type": "LineString", "coordinates": [list(leg[t - 1]), list(p)]},
-                        "properties": {
-                            "role": "stair",
-                            "stair": fl.stair,
-                            "way": climbs(fl, frs),
-                            "leg": k,
-                            "run_m": fl.run_m,
-                            "rise_m": fl.rise_m,
-                            "length_m": fl.length_m,
-                        },
-                    }
+                    _feature("LineString", [list(leg[t - 1]), list(p)], role="stair", **climb, length_m=fl.length_m)
                 )
             if not runs or runs[-1][0] != f:
                 runs.append((f, []))
             if not runs[-1][1] or runs[-1][1][-1] != list(p):
                 runs[-1][1].append(list(p))
     out = [
-        {
-            "type": "Feature",
-            "geometry": {"type": "LineString", "coordinates": line},
-            "properties": {"role": "route", "part": n, "frame": f, "mode": fp.options.mode},
-        }
+        _feature("LineString", line, role="route", part=n, frame=f, mode=fp.options.mode)
         for n, (f, line) in enumerate(runs, 1)
         if len(line) > 1
     ]

@@ -60,22 +60,19 @@ def _hull(p: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _tall_enough(
-    p: NDArray[np.float64],
-    hull: NDArray[np.float64],
-    i: NDArray[np.intp],
-    j: NDArray[np.intp],
-    dist: NDArray[np.float64],
-    min_angle_deg: float,
+    p: NDArray[np.float64], hull: NDArray[np.float64], pairs: NDArray[np.intp], a_deg: float
 ) -> NDArray[np.bool_]:
-    """Pairs (i, j) some point stands at least |ij| min(sin 2a, sin 120 deg) off the line through: a necessary
-    condition for (i, j) to be the shortest side of a triangle with every angle >= a. With the angles A at i,
-    B at j and C (the smallest) at k, k stands |ij| sin A sin B / sin C off the line (law of sines); for a
-    given C, sin A sin B = (cos(A - B) + cos C) / 2 is least at A = C, B = 180 - 2C, giving sin 2C, and C lies
-    in [a, 60]. Tested on the convex hull's corners."""
+    """Which ``pairs`` (i, j) (P x 2) some point stands at least |ij| min(sin 2a, sin 120 deg) off the line
+    through, for a = ``a_deg``: a necessary condition for (i, j) to be the shortest side of a triangle with every
+    angle >= a. With the angles A at i, B at j and C (the smallest) at k, k stands |ij| sin A sin B / sin C off
+    the line (law of sines); for a given C, sin A sin B = (cos(A - B) + cos C) / 2 is least at A = C,
+    B = 180 - 2C, giving sin 2C, and C lies in [a, 60]. Tested on the convex hull's corners."""
+    i, j = pairs[:, 0], pairs[:, 1]
     v = p[j] - p[i]
+    dist = np.hypot(v[:, 0], v[:, 1])
     nrm = np.column_stack([-v[:, 1], v[:, 0]]) / np.maximum(dist, 1e-300)[:, None]
     off = nrm @ hull.T - np.einsum("bx,bx->b", nrm, p[i])[:, None]  # signed distances of the corners
-    low = min(math.sin(math.radians(2 * min_angle_deg)), math.sin(math.radians(120.0)))
+    low = min(math.sin(math.radians(2 * a_deg)), math.sin(math.radians(120.0)))
     return np.abs(off).max(axis=1) >= dist * low - 1e-9
 
 
@@ -92,7 +89,7 @@ def _first_pair(p: NDArray[np.float64], d: NDArray[np.float64], min_angle_deg: f
     for lo in range(0, len(order), _BLOCK):
         blk = order[lo : lo + _BLOCK]
         if min_angle_deg > 0:  # a pair no place stands far enough off can be no such triangle's shortest side
-            blk = blk[_tall_enough(p, hull, iu[blk], ju[blk], dist[blk], min_angle_deg)]
+            blk = blk[_tall_enough(p, hull, np.column_stack([iu[blk], ju[blk]]), min_angle_deg)]
             if not blk.size:
                 continue
         i, j, dd = iu[blk], ju[blk], dist[blk]

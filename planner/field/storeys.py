@@ -1,4 +1,4 @@
-"""Walking across storeys: the walk graphs of several frames joined by their stairs (issue 46, step 3).
+"""Walking across storeys: the walk graphs of several frames joined by their stairs.
 
 A building read with every storey holds one frame per storey; the frames share plan coordinates and differ by
 name only (:mod:`planner.site.stairs`). Within a frame the walk is that of :mod:`planner.field.walking`. A
@@ -265,19 +265,9 @@ def storey_walks(
     d, pred = dijkstra(g, directed=False, indices=np.arange(len(pts)), return_predecessors=True)
     dist = d[:, : len(pts)]
     np.fill_diagonal(dist, 0.0)
-    _, comp = connected_components(g, directed=False)
-    return StoreyWalk(
-        pts,
-        tuple(point_frames),
-        spaces,
-        graphs,
-        local,
-        tuple(node_frame),
-        edges,
-        dist,
-        pred.astype(np.int32),
-        comp[: len(pts)].astype(np.int32),
-    )
+    comp = connected_components(g, directed=False)[1][: len(pts)].astype(np.int32)
+    frs, pred = tuple(point_frames), pred.astype(np.int32)
+    return StoreyWalk(pts, frs, spaces, graphs, local, tuple(node_frame), edges, dist, pred, comp)
 
 
 def climbs(flight: Flight, leg_frames: Sequence[str]) -> str:

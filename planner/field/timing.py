@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from planner.core.errors import UsageError
 from planner.instrument.field_table import FieldProperties
@@ -114,7 +114,7 @@ def field_time(
 ) -> FieldTime:
     """The field time of stations ``ids`` in visiting order; ``walks_m[k]``: the walk to station k (from the
     start for k = 0), ``targets[k]``: targets it scans. ``settings``: a scan setting per station id (a plan that
-    chose them, issue 47), in place of the one ``setting``."""
+    chose them), in place of the one ``setting``."""
     named = [settings[i] if settings else (setting or props.default_setting) for i in ids]
     scans = [props.scan_time_s(n) for n in named]
     name = setting or props.default_setting
@@ -126,17 +126,8 @@ def field_time(
     current: list[int] = []
     used = 0.0
     for k, (sid, walk, n_targets, scan, set_name) in enumerate(zip(ids, walks_m, targets, scans, named), 1):
-        row = Setup(
-            k,
-            sid,
-            walk,
-            walk / props.walking_speed_m_s,
-            props.setup_time_s,
-            scan,
-            n_targets * props.target_scan_time_s,
-            len(sessions) + 1,
-            set_name,
-        )
+        targets_s = n_targets * props.target_scan_time_s
+        row = Setup(k, sid, walk, walk / props.walking_speed_m_s, props.setup_time_s, scan, targets_s, 0, set_name)
         if session_s is not None:
             if row.total_s > session_s:
                 raise UsageError(
@@ -147,8 +138,7 @@ def field_time(
             if current and used + row.total_s > session_s:
                 sessions.append(Session(len(sessions) + 1, tuple(current), used))
                 current, used = [], 0.0
-                row = Setup(k, sid, walk, row.walk_s, row.setup_s, scan, row.targets_s, len(sessions) + 1, set_name)
-        setups.append(row)
+        setups.append(replace(row, session=len(sessions) + 1))
         current.append(k)
         used += row.total_s
     if current:

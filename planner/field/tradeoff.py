@@ -1,5 +1,5 @@
-"""The trade-off between stations and hours on site (issue 47): the field-time plan beside the plans at one
-scan setting and the fewest-stations plan, each timed whole (set-up, scan, walking, targets).
+"""The trade-off between stations and hours on site: the field-time plan beside the plans at one scan setting
+and the fewest-stations plan, each timed whole (set-up, scan, walking, targets).
 
 Every plan of the table is made by the same engine on the same pool and verified: a plan "at one setting" is
 the fewest stations when every station scans at that setting (the instrument's table cut to it); a setting
@@ -55,21 +55,12 @@ class Row:
         return None if any(p is None for p in parts) else float(sum(p for p in parts if p is not None))
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "label": self.label,
-            "stations": self.stations,
-            "setup_s": self.setup_s,
-            "scan_s": self.scan_s,
-            "walking_s": self.walking_s,
-            "targets_s": self.targets_s,
-            "total_s": self.total_s,
-            "sessions": self.sessions,
-            "route_m": self.route_m,
-            "route_bound_m": self.route_bound_m,
-            "route_bound_method": self.route_bound_method,
-            "settings": self.settings,
-            "note": self.note,
-        }
+        return {k: getattr(self, k) for k in _ROW_KEYS}
+
+
+#: the keys of a row in plan.json, in order
+_ROW_KEYS = "label stations setup_s scan_s walking_s targets_s total_s sessions".split()
+_ROW_KEYS += "route_m route_bound_m route_bound_method settings note".split()
 
 
 @dataclass(frozen=True, kw_only=True)
