@@ -15,8 +15,8 @@ from planner.solve.result import SolveResult, Status
 
 @dataclass(frozen=True)
 class SideBound:
-    """One zone-side's share: Farley's part ``farley`` (real), the ring walk over patches ``ring`` (or None when
-    not formed), the patch side and the family size it was formed on."""
+    """One zone-side's share: Farley's part ``farley`` (real), the ring walk over patches ``ring`` (or None when not
+    formed), the patch side and the family size it was formed on."""
 
     zone_side: str
     farley: float
@@ -36,8 +36,8 @@ class SideBound:
         return max(self.farley_count, self.ring or 0, self.refined.bound if self.refined else 0)
 
     def how(self) -> str:
-        """What gave the value: the refined cover (when it beat the others), the ring walk, or (nothing said)
-        Farley's share."""
+        """What gave the value: the refined cover (when it beat the others), the ring walk, or (nothing said) Farley's
+        share."""
         r = self.refined
         if r is not None and r.bound > max(self.farley_count, self.ring or 0):
             return f" (connected cover over refined patches, {r.steps} steps, down to {r.smallest_m:.2f} m)"

@@ -1,11 +1,11 @@
 """A lower bound on the plain cover by Lagrangian decomposition over tiles.
 
-The targets are partitioned into parts ``T_1 .. T_m`` (the tiles' cores, or groups of them). A
-candidate ``j`` that sees pieces of several parts ``I(j)`` has its cost split, ``c_j = sum_{i in I(j)}
-lam_ij``. Any cover ``x`` then costs ``sum_i sum_j lam_ij x_j >= sum_i OPT_i(lam_i)``, where
-``OPT_i`` is the cheapest cover of ``T_i`` alone with the costs ``lam_i``: each part's share of ``x``
-covers that part. So ``L(lam) = sum_i OPT_i(lam_i)`` bounds every cover from below, for any split, and
-so every connected plan too; it stays valid with each ``OPT_i`` replaced by a proven lower bound of it.
+The targets are partitioned into parts ``T_1 .. T_m`` (the tiles' cores, or groups of them). A candidate ``j`` that
+sees pieces of several parts ``I(j)`` has its cost split, ``c_j = sum_{i in I(j)} lam_ij``. Any cover ``x`` then costs
+``sum_i sum_j lam_ij x_j >= sum_i OPT_i(lam_i)``, where ``OPT_i`` is the cheapest cover of ``T_i`` alone with the
+costs ``lam_i``: each part's share of ``x`` covers that part. So ``L(lam) = sum_i OPT_i(lam_i)`` bounds every cover
+from below, for any split, and so every connected plan too; it stays valid with each ``OPT_i`` replaced by a proven
+lower bound of it.
 
 What is computed:
 
@@ -19,9 +19,9 @@ What is computed:
   cover), which keeps ``sum_i lam_ij = c_j``; the step is Polyak's, towards the cheapest cover made so
   far as the union of the parts' covers, halved whenever ``L`` does not improve. The best ``L`` is kept.
 
-Each part is one CP-SAT model (one worker) stopped on deterministic work, so the bound does not
-depend on the machine's load; the parts are independent and run as :func:`planner.tiles.engine.run_tasks`
-jobs (serially, or on a Dask client).
+Each part is one CP-SAT model (one worker) stopped on deterministic work, so the bound does not depend on the
+machine's load; the parts are independent and run as :func:`planner.tiles.engine.run_tasks` jobs (serially, or on a
+Dask client).
 """
 
 from __future__ import annotations
@@ -65,11 +65,11 @@ class PartResult:
 
 @dataclass(frozen=True, kw_only=True)
 class LagrangeBound:
-    """The best bound found: ``value`` (rounded up when the costs are integers), ``raw`` (not rounded),
-    ``lp`` (whole-cover LP), ``iterations`` run, ``per_tile`` (each part's bound at the best split,
-    original units), ``proven`` (which parts were solved to optimality there), ``upper`` (cheapest union
-    of the parts' covers, pruned: a cover of the whole), ``time_s``, ``capped`` (part solves stopped by
-    the wall-clock cap, not the work limit: then, and only then, the bound may depend on the load)."""
+    """The best bound found: ``value`` (rounded up when the costs are integers), ``raw`` (not rounded), ``lp``
+    (whole-cover LP), ``iterations`` run, ``per_tile`` (each part's bound at the best split, original units),
+    ``proven`` (which parts were solved to optimality there), ``upper`` (cheapest union of the parts' covers, pruned:
+    a cover of the whole), ``time_s``, ``capped`` (part solves stopped by the wall-clock cap, not the work limit:
+    then, and only then, the bound may depend on the load)."""
 
     value: float
     raw: float
@@ -87,8 +87,8 @@ class LagrangeBound:
         return all(self.proven)
 
 
-#: how the parts of one step are solved: ``runner(solve_part, jobs, shared)`` -> their results in job order (the
-#: tiles pass their Dask task runner; by default one after the other in this process)
+#: how the parts of one step are solved: ``runner(solve_part, jobs, shared)`` -> their results in job order (the tiles
+#: pass their Dask task runner; by default one after the other in this process)
 PartRunner = Callable[[Callable[..., PartResult], list[PartJob], dict[str, Any]], list[PartResult]]
 
 
@@ -98,11 +98,11 @@ def serial_parts(fn: Callable[..., PartResult], jobs: list[PartJob], shared: dic
 
 
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
-    """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, and a wall
-    cap ``WALL_CAP`` times as long where one is set); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
-    When CP-SAT finds no cover within its work (a large part on a small share of the budget), the
-    part's cover is Chvatal's greedy (:func:`_greedy_part`) and ``lower`` CP-SAT's bound, or 0 for the
-    candidates of cost >= 0 where that bound is not finite: both stay valid.
+    """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, and a wall cap
+    ``WALL_CAP`` times as long where one is set); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
+    When CP-SAT finds no cover within its work (a large part on a small share of the budget), the part's cover is
+    Chvatal's greedy (:func:`_greedy_part`) and ``lower`` CP-SAT's bound, or 0 for the candidates of cost >= 0 where
+    that bound is not finite: both stay valid.
 
     Raises
     ------
@@ -151,9 +151,9 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
 
 
 def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64]]:
-    """Candidates of negative cost (in every optimal cover, so taken), the rest that no other of them can
-    replace at no more cost (:func:`planner.solve.presolve.dominated`, sound for costs >= 0), and the pieces
-    the taken ones leave uncovered. The part's optimum is unchanged."""
+    """Candidates of negative cost (in every optimal cover, so taken), the rest that no other of them can replace at
+    no more cost (:func:`planner.solve.presolve.dominated`, sound for costs >= 0), and the pieces the taken ones leave
+    uncovered. The part's optimum is unchanged."""
     free = w < 0
     rows = np.flatnonzero(np.asarray(a[free].sum(axis=0)).ravel() == 0)
     rest = np.flatnonzero(~free)
@@ -163,8 +163,8 @@ def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], 
 
 
 def _greedy_part(a: sp.csr_matrix, w: NDArray[np.int64]) -> NDArray[np.bool_]:
-    """A cover of every column of ``a`` (candidates x pieces) at costs ``w`` >= 0: the free candidates, then
-    Chvatal's greedy (:func:`planner.solve.greedy.greedy_cover`) on the pieces they leave."""
+    """A cover of every column of ``a`` (candidates x pieces) at costs ``w`` >= 0: the free candidates, then Chvatal's
+    greedy (:func:`planner.solve.greedy.greedy_cover`) on the pieces they leave."""
     take = w == 0
     open_ = a[take].getnnz(axis=0) == 0
     paid = np.flatnonzero(~take)
@@ -201,8 +201,8 @@ def _check_parts(n_targets: int, parts: Sequence[NDArray[np.int64]]) -> NDArray[
 def split_costs(
     a: sp.csr_matrix, parts: Sequence[NDArray[np.int64]], cost: NDArray[np.float64], y: NDArray[np.float64] | None
 ) -> tuple[list[NDArray[np.int64]], list[NDArray[np.float64]]]:
-    """Per part, its candidates (those seeing one of its pieces) and their shares ``lam_i``: from the duals
-    ``y`` plus an equal share of the reduced cost (module docstring); an equal split when ``y`` is None."""
+    """Per part, its candidates (those seeing one of its pieces) and their shares ``lam_i``: from the duals ``y`` plus
+    an equal share of the reduced cost (module docstring); an equal split when ``y`` is None."""
     part_of = _check_parts(a.shape[1], parts)
     hits = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape) @ sp.csr_matrix(
         (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts))
@@ -241,13 +241,13 @@ def lagrangian_bound(
     target partition ``parts`` (the piece indices of each part, each piece in exactly one); its ``value`` never
     exceeds the cheapest cover of ``a``.
 
-    ``cost``: the candidates' costs, >= 0 (default 1 each). ``iterations``: subgradient steps after the first
-    split (0: the first split only). ``work_s``: CP-SAT deterministic seconds per part and step. ``scale``: costs
-    are floored to multiples of ``1 / scale`` (module docstring). ``start``: ``"lp"``, the LP-dual split, or
-    ``"equal"``, ``c_j / |I(j)|``. ``upper``: the cost of a known cover, which the step aims at (default: the best
-    union of the parts' covers, pruned). ``mu``: the first step factor (Polyak's), halved when a step does not
-    raise the bound. ``runner``: how each step's parts are solved (:data:`PartRunner`: the tiles run them as Dask
-    tasks; None: one after the other in this process).
+    ``cost``: the candidates' costs, >= 0 (default 1 each). ``iterations``: subgradient steps after the first split
+    (0: the first split only). ``work_s``: CP-SAT deterministic seconds per part and step. ``scale``: costs are
+    floored to multiples of ``1 / scale`` (module docstring). ``start``: ``"lp"``, the LP-dual split, or ``"equal"``,
+    ``c_j / |I(j)|``. ``upper``: the cost of a known cover, which the step aims at (default: the best union of the
+    parts' covers, pruned). ``mu``: the first step factor (Polyak's), halved when a step does not raise the bound.
+    ``runner``: how each step's parts are solved (:data:`PartRunner`: the tiles run them as Dask tasks; None: one
+    after the other in this process).
     """
     if start not in ("lp", "equal") or iterations < 0 or not work_s > 0 or scale < 1:
         raise UsageError(
@@ -314,8 +314,8 @@ def _union_cost(
 def group_parts(
     cells: Sequence[tuple[int, int]], parts: Sequence[NDArray[np.int64]], group: int
 ) -> list[NDArray[np.int64]]:
-    """The tiles' pieces ``parts`` (tile ``k`` at row and column ``cells[k]``) joined ``group`` x ``group``
-    tiles at a time (fewer, larger parts: a stronger bound, harder parts), in order of the first tile."""
+    """The tiles' pieces ``parts`` (tile ``k`` at row and column ``cells[k]``) joined ``group`` x ``group`` tiles at a
+    time (fewer, larger parts: a stronger bound, harder parts), in order of the first tile."""
     if group < 1:
         raise UsageError("must be >= 1", field="lagrange_group", value=group)
     merged: dict[tuple[int, int], list[NDArray[np.int64]]] = {}

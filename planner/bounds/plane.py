@@ -1,11 +1,11 @@
-"""Geometric column generation: grow the candidate pool until the cover LP's bound holds for every
-position in the plane (at the chosen wall discretisation), or say that it holds over the pool only.
+"""Geometric column generation: grow the candidate pool until the cover LP's bound holds for every position in the
+plane (at the chosen wall discretisation), or say that it holds over the pool only.
 
-Each round solves the cover LP on the pool, takes the pieces with a positive dual, builds (once) their
-coverage regions and looks for the heaviest faces of their arrangement, frame by frame. A face heavier
-than the station cost (1) is a position that prices out: its point is tested with the coverage test
-itself and added as a candidate when its true covered pieces price out too. When no face is heavier
-than 1, the LP value is a lower bound over the plane: no position anywhere could lower it.
+Each round solves the cover LP on the pool, takes the pieces with a positive dual, builds (once) their coverage
+regions and looks for the heaviest faces of their arrangement, frame by frame. A face heavier than the station cost
+(1) is a position that prices out: its point is tested with the coverage test itself and added as a candidate when its
+true covered pieces price out too. When no face is heavier than 1, the LP value is a lower bound over the plane: no
+position anywhere could lower it.
 """
 
 from __future__ import annotations
@@ -32,9 +32,9 @@ from planner.solve.result import SolveResult, Status
 PRICE_EPS = 1e-7
 #: after convergence, points within this of the cost (reduced cost ~0) join the pool as alternatives
 TIE_EPS = 1e-6
-#: pricing's work limit: the (point, region) pairs found in weighing the points of the rounds' arrangements,
-#: summed (a count that follows the cost of a round, whose bulk is that weighing; about two minutes of one core on
-#: the 1-ha plant, which it stops after 21 rounds). No round starts once it is reached
+#: pricing's work limit: the (point, region) pairs found in weighing the points of the rounds' arrangements, summed (a
+#: count that follows the cost of a round, whose bulk is that weighing; about two minutes of one core on the 1-ha
+#: plant, which it stops after 21 rounds). No round starts once it is reached
 PRICING_WORK = 16_000_000
 
 
@@ -49,14 +49,14 @@ ASSUMES = (
 class PricingReport:
     """What pricing established.
 
-    ``lp_bound`` is the cover LP over the final pool. ``plane_lp_bound`` holds over every position in the
-    plane: Farley's bound ``sum(y) / max(1, w*)``, where ``y`` are the last LP's duals and ``w*``
-    (``heaviest_weight``) bounds any position's dual weight from above (the regions grown by the tolerance,
-    :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced
-    out. ``lp_holds_over_plane``: the pool's integer LP bound holds over the plane (Farley's bound rounds up
-    to it). ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`). ``wall_cap_hit``: the
-    user's wall-clock cap, not the round or work limit, stopped it (then the columns, and so the bound, may depend
-    on the machine's load).
+    ``lp_bound`` is the cover LP over the final pool. ``plane_lp_bound`` holds over every position in the plane:
+    Farley's bound ``sum(y) / max(1, w*)``, where ``y`` are the last LP's duals and ``w*`` (``heaviest_weight``)
+    bounds any position's dual weight from above (the regions grown by the tolerance,
+    :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced out.
+    ``lp_holds_over_plane``: the pool's integer LP bound holds over the plane (Farley's bound rounds up to it).
+    ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`). ``wall_cap_hit``: the user's
+    wall-clock cap, not the round or work limit, stopped it (then the columns, and so the bound, may depend on the
+    machine's load).
     """
 
     converged: bool
@@ -175,8 +175,8 @@ def _add_points(
     tag: str,
     threshold: float,
 ) -> tuple[CoverageProblem, int]:
-    """``problem`` with those ``points`` (frame index, sample) whose coverage by the coverage test weighs more
-    than ``threshold``, as priced candidates owned by the zone-side they see most of; also added to ``model``."""
+    """``problem`` with those ``points`` (frame index, sample) whose coverage by the coverage test weighs more than
+    ``threshold``, as priced candidates owned by the zone-side they see most of; also added to ``model``."""
     t = problem.targets
     new = [
         Candidate(f"{tag}.{k}", "", ScanSide.INSIDE, t.frames[fi], f.x, f.y, CandidateKind.PRICED)
@@ -224,11 +224,11 @@ def price_plane(
 ) -> tuple[CoverageProblem, PricingReport]:
     """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane.
 
-    Columns come from the closed arrangement of the regions as drawn (:func:`_heaviest`), each checked with
-    the coverage test. The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals
-    ``y``, with ``w*`` from the regions *grown* by the tolerance (:func:`_outer`): it holds for every cover
-    from any positions. Limits: ``max_rounds`` rounds and ``max_work`` (point, region) pairs weighed, counts
-    (the same columns under any load), and only where the user sets one a wall-clock cap ``time_limit_s``.
+    Columns come from the closed arrangement of the regions as drawn (:func:`_heaviest`), each checked with the
+    coverage test. The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals ``y``, with
+    ``w*`` from the regions *grown* by the tolerance (:func:`_outer`): it holds for every cover from any positions.
+    Limits: ``max_rounds`` rounds and ``max_work`` (point, region) pairs weighed, counts (the same columns under any
+    load), and only where the user sets one a wall-clock cap ``time_limit_s``.
     """
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
@@ -305,9 +305,9 @@ def _stopped(rounds: int, start: float, cap_s: float | None, work: int | None, m
 
 def with_plane_bound(result: SolveResult, pricing: PricingReport) -> SolveResult:
     """The MILP result with what pricing adds: ``info['pool_bound']`` (the MILP's own bound, over the pool),
-    ``info['plane_bound']`` (ceil of Farley's bound: every cover from any positions has at least that many
-    stations) and ``info['bound_scope']``: ``plane`` when the plan meets the plane bound (optimal over every
-    position; ``bound`` becomes the plane bound), else ``pool`` (``bound`` stays the MILP's, over the pool)."""
+    ``info['plane_bound']`` (ceil of Farley's bound: every cover from any positions has at least that many stations)
+    and ``info['bound_scope']``: ``plane`` when the plan meets the plane bound (optimal over every position; ``bound``
+    becomes the plane bound), else ``pool`` (``bound`` stays the MILP's, over the pool)."""
     info = dict(result.info)
     info["pricing"] = pricing.to_dict()
     plane = pricing.plane_bound

@@ -1,27 +1,26 @@
 """A connected plane bound by refinement: the connected cover over patches, split where its optimum sits.
 
-The ring walk (:mod:`planner.bounds.plane_ring`) replaces each patch by the smallest arc that holds what it
-may see; on a concave outline the arcs claim the hidden wall between the runs a station sees, and the walk
-can stay below the plan. Here the patches keep their sets.
+The ring walk (:mod:`planner.bounds.plane_ring`) replaces each patch by the smallest arc that holds what it may see;
+on a concave outline the arcs claim the hidden wall between the runs a station sees, and the walk can stay below the
+plan. Here the patches keep their sets.
 
-**Relaxation.** The family is a set of squares that together hold every position that sees a piece of the
-zone-side. For a patch P, U(P) is the pieces whose outer region O_t (grown by its tolerance and half P's
-diagonal) holds P's centre, and low(P) the wall length of the pieces whose region R_t (shrunk by its tolerance
-and half the diagonal) holds it: every position p in P covers C(p) within U(P) and at least low(P) of wall.
-Two registered stations p, q share at least f min(L(p), L(q)) > 0 of wall, so their patches satisfy the
-*relaxed link* |U(P) n U(Q)| > 0 and >= f min(low(P), low(Q)). A connected plan of k stations anywhere,
-each replaced by the patch that holds it, is therefore a connected cover of the zone-side's pieces by at most
-k patches under the relaxed links: the optimum of that connected cover over the family (the connected MILP,
-:func:`planner.solve.milp.solve`, given the relation) bounds every connected plan from below.
+**Relaxation.** The family is a set of squares that together hold every position that sees a piece of the zone-side.
+For a patch P, U(P) is the pieces whose outer region O_t (grown by its tolerance and half P's diagonal) holds P's
+centre, and low(P) the wall length of the pieces whose region R_t (shrunk by its tolerance and half the diagonal)
+holds it: every position p in P covers C(p) within U(P) and at least low(P) of wall. Two registered stations p, q
+share at least f min(L(p), L(q)) > 0 of wall, so their patches satisfy the *relaxed link* |U(P) n U(Q)| > 0 and >= f
+min(low(P), low(Q)). A connected plan of k stations anywhere, each replaced by the patch that holds it, is therefore a
+connected cover of the zone-side's pieces by at most k patches under the relaxed links: the optimum of that connected
+cover over the family (the connected MILP, :func:`planner.solve.milp.solve`, given the relation) bounds every
+connected plan from below.
 
-**Refinement.** Each patch of the optimum is split into its four quarters and the cover solved again. A quarter
-holds a subset of its parent's positions, so its U lies within the parent's and its low is at least the
-parent's: whatever the quarters do, the parent did, and the optimum never falls. It is repeated until the
-optimum reaches the plan's count (the plan is then optimal over the plane), the steps are spent, a solve is not
-proven within its work (its proven lower bound is kept), or the patches of the optimum cannot be split past
-:data:`MIN_PATCH_M`. This is the refinement of the exact art-gallery solvers (Tozoni, de Rezende and de Souza,
-ACM TOMS 2016: witnesses and guard candidates refined where the relaxation's optimum is not realised), here
-with the registration links.
+**Refinement.** Each patch of the optimum is split into its four quarters and the cover solved again. A quarter holds
+a subset of its parent's positions, so its U lies within the parent's and its low is at least the parent's: whatever
+the quarters do, the parent did, and the optimum never falls. It is repeated until the optimum reaches the plan's
+count (the plan is then optimal over the plane), the steps are spent, a solve is not proven within its work (its
+proven lower bound is kept), or the patches of the optimum cannot be split past :data:`MIN_PATCH_M`. This is the
+refinement of the exact art-gallery solvers (Tozoni, de Rezende and de Souza, ACM TOMS 2016: witnesses and guard
+candidates refined where the relaxation's optimum is not realised), here with the registration links.
 """
 
 from __future__ import annotations
@@ -42,13 +41,13 @@ from planner.solve.milp import MilpOptions, solve
 from planner.solve.presolve import dominated
 from planner.solve.result import Status
 
-#: CP-SAT work (deterministic seconds, 1 thread) for each step's connected cover, with no wall-clock cap: a count,
-#: so the bound is the same under any load
+#: CP-SAT work (deterministic seconds, 1 thread) for each step's connected cover, with no wall-clock cap: a count, so
+#: the bound is the same under any load
 STEP_WORK_S = 60.0
 #: rows of the relaxed-link product formed at a time (a block of patches x all patches, float32)
 _BLOCK = 512
-#: the relaxed link is taken when the float32 shared length is within this of f min(low) (m): more links than
-#: the exact test, never fewer, so the bound stays sound
+#: the relaxed link is taken when the float32 shared length is within this of f min(low) (m): more links than the
+#: exact test, never fewer, so the bound stays sound
 _SLACK_M = 1e-3
 
 
@@ -124,8 +123,8 @@ class _Family:
 
 
 def grid_family(lv: _Levels) -> _Family:
-    """The level-0 patches: a grid of side h0 over the box of the grown regions (every position that may see a
-    piece lies in it), those that may see nothing left out."""
+    """The level-0 patches: a grid of side h0 over the box of the grown regions (every position that may see a piece
+    lies in it), those that may see nothing left out."""
     shapes, _ = lv.pieces.shapes(lv.h0)
     live = [g for g in shapes if not g.is_empty]
     b = np.array([shapely.bounds(g) for g in live])
@@ -159,8 +158,8 @@ def split(fam: _Family, rows: NDArray[np.int64], lv: _Levels) -> _Family:
 def relaxed_links(
     u: sp.csr_matrix, low: NDArray[np.float64], lengths: NDArray[np.float64], share: float
 ) -> sp.csr_matrix:
-    """The relaxed links (module docstring) among the rows of ``u``, symmetric, no diagonal: formed a block of
-    rows against a block of columns at a time (float32, with :data:`_SLACK_M` toward linking)."""
+    """The relaxed links (module docstring) among the rows of ``u``, symmetric, no diagonal: formed a block of rows
+    against a block of columns at a time (float32, with :data:`_SLACK_M` toward linking)."""
     n = u.shape[0]
     w = u.astype(np.float32).multiply(lengths.astype(np.float32)[None, :]).tocsr()
     ub = u.astype(np.float32).tocsr()
@@ -205,13 +204,13 @@ def connected_cover(
     share: float,
     work_s: float,
 ) -> tuple[int, bool, list[int]]:
-    """The connected cover of the ``required`` pieces over the patches under the relaxed links: (its optimum, or
-    its proven lower bound rounded up when not proven; proven; the rows chosen, with every row equal to one).
+    """The connected cover of the ``required`` pieces over the patches under the relaxed links: (its optimum, or its
+    proven lower bound rounded up when not proven; proven; the rows chosen, with every row equal to one).
 
-    One row per distinct (U, low), then only the undominated: Q goes for a kept P with U(P) holding U(Q) and
-    low(P) <= low(Q) (:func:`planner.solve.presolve.dominated` with low as the cost). P then has every
-    relaxed link Q has (more shared wall, a smaller need), so P stands in for Q in any connected cover; the
-    links are formed among the kept rows only."""
+    One row per distinct (U, low), then only the undominated: Q goes for a kept P with U(P) holding U(Q) and low(P) <=
+    low(Q) (:func:`planner.solve.presolve.dominated` with low as the cost). P then has every relaxed link Q has (more
+    shared wall, a smaller need), so P stands in for Q in any connected cover; the links are formed among the kept
+    rows only."""
     first, inverse = distinct_rows(u, low)
     kept = ~dominated(u[first].tocsr(), low[first])
     first = first[kept]

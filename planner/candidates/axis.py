@@ -1,18 +1,16 @@
 """Candidates along each room's medial axis, one in every cell of the coverage arrangement on it.
 
-A grid anchored anywhere misses a room narrower than its step (a corridor 8 m wide between two rows of
-a 10-m grid gets no candidate at all). The medial axis of a room's stand area (the points with two or
-more nearest boundary points: a corridor's centre line, a room's skeleton) runs through every part of
-it, however narrow and however turned. It is approximated by the Voronoi edges of the boundary sampled
-finely (edges strictly inside the area).
+A grid anchored anywhere misses a room narrower than its step (a corridor 8 m wide between two rows of a 10-m grid
+gets no candidate at all). The medial axis of a room's stand area (the points with two or more nearest boundary
+points: a corridor's centre line, a room's skeleton) runs through every part of it, however narrow and however turned.
+It is approximated by the Voronoi edges of the boundary sampled finely (edges strictly inside the area).
 
-Along the axis the set of pieces a station covers changes only where the axis crosses the boundary of
-a coverage region R_t: each region holds closed stretches of the axis. A candidate is put in every
-maximal cell of those stretches (where a stretch ends right after the last one began: the classic
-maximal cliques of intervals), so the pool holds, for every position on the axis, a candidate that sees
-all it sees (up to the regions' tolerance). Any plan whose stations stand on the axis (a corridor's
-centre-line construction: stations ``w/2 tan(theta_max)`` either side of each other) is matched or
-beaten by the plain cover over the pool.
+Along the axis the set of pieces a station covers changes only where the axis crosses the boundary of a coverage
+region R_t: each region holds closed stretches of the axis. A candidate is put in every maximal cell of those
+stretches (where a stretch ends right after the last one began: the classic maximal cliques of intervals), so the pool
+holds, for every position on the axis, a candidate that sees all it sees (up to the regions' tolerance). Any plan
+whose stations stand on the axis (a corridor's centre-line construction: stations ``w/2 tan(theta_max)`` either side
+of each other) is matched or beaten by the plain cover over the pool.
 """
 
 from __future__ import annotations
@@ -38,16 +36,16 @@ SAMPLES_PER_WIDTH = 8
 MAX_SAMPLE_STEP_M = 0.5
 #: no more boundary samples than this per zone (a huge zone keeps a coarser axis)
 MAX_BOUNDARY_SAMPLES = 20_000
-#: axis candidates per zone-side times its pieces at most (the cells are thinned evenly beyond it): a
-#: round room drawn with 5,000 walls has a spoke per vertex, and every candidate on them sees the room
+#: axis candidates per zone-side times its pieces at most (the cells are thinned evenly beyond it): a round room drawn
+#: with 5,000 walls has a spoke per vertex, and every candidate on them sees the room
 MAX_AXIS_PAIRS = 2_000_000
 #: ... but never fewer candidates than this
 MIN_AXIS_CANDIDATES = 100
-#: distances of the rings around an outside zone along which its candidates are put, as shares of the
-#: horizontal reach (stations for an outside face stand far off: 30-56 m of 96 m on polygon C)
+#: distances of the rings around an outside zone along which its candidates are put, as shares of the horizontal reach
+#: (stations for an outside face stand far off: 30-56 m of 96 m on polygon C)
 OUTSIDE_RINGS = (0.3, 0.45)
-#: pieces x vertices of the stand area above which the lines are sampled every ``step_m`` instead of cut by
-#: the regions (a 5,000-vertex apse: 25 million; polygon A's largest zone-side: under 1 million)
+#: pieces x vertices of the stand area above which the lines are sampled every ``step_m`` instead of cut by the
+#: regions (a 5,000-vertex apse: 25 million; polygon A's largest zone-side: under 1 million)
 MAX_CELL_WORK = 4_000_000
 #: axis lines shorter than this get one candidate at their middle instead of their cells (m)
 MIN_CELL_LINE_M = 0.5
@@ -58,8 +56,8 @@ CUT_TOL_M = 1e-6
 
 
 def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
-    """The medial axis of ``area`` (a polygon or multipolygon) as merged lines, approximated by the Voronoi
-    edges of its boundary sampled at an eighth of its narrowest half-width (at most 0.5 m, at least 1 mm)."""
+    """The medial axis of ``area`` (a polygon or multipolygon) as merged lines, approximated by the Voronoi edges of
+    its boundary sampled at an eighth of its narrowest half-width (at most 0.5 m, at least 1 mm)."""
     out: list[shapely.LineString] = []
     for part in shapely.get_parts(area):
         if part.is_empty or part.area <= 0:
@@ -97,9 +95,9 @@ def intervals(line: shapely.LineString, regions: Sequence[shapely.Geometry]) -> 
 
 
 def maximal_cells(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> NDArray[np.float64]:
-    """A point of every maximal cell of closed intervals [lo, hi] on a line: where a stretch ends right after
-    the last one began, the middle of the two (the set of stretches holding it is then not contained in any
-    other point's). Every position on the line sees a subset of the pieces seen from one of these points."""
+    """A point of every maximal cell of closed intervals [lo, hi] on a line: where a stretch ends right after the last
+    one began, the middle of the two (the set of stretches holding it is then not contained in any other point's).
+    Every position on the line sees a subset of the pieces seen from one of these points."""
     if lo.size == 0:
         return np.zeros(0)
     lo = np.round(lo / CUT_TOL_M) * CUT_TOL_M
@@ -114,8 +112,8 @@ def maximal_cells(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> NDArray[n
 
 
 def locate(line: shapely.LineString, xy: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Distance along ``line`` of each point of ``xy`` (points on or next to it): its nearest segment found with
-    a tree, then the projection onto it (``line_locate_point`` walks every vertex for every point)."""
+    """Distance along ``line`` of each point of ``xy`` (points on or next to it): its nearest segment found with a
+    tree, then the projection onto it (``line_locate_point`` walks every vertex for every point)."""
     v = shapely.get_coordinates(line)
     a, b = v[:-1], v[1:]
     seg = np.hypot(*(b - a).T)
@@ -130,8 +128,8 @@ def locate(line: shapely.LineString, xy: NDArray[np.float64]) -> NDArray[np.floa
 def offset_rings(
     zone_polygon: shapely.Geometry, area: shapely.Geometry, distances_m: Sequence[float]
 ) -> list[shapely.LineString]:
-    """The rings at ``distances_m`` outside a zone's outline, clipped to the stand ``area``: where stations
-    for an outside face stand (the outside has no medial axis to follow)."""
+    """The rings at ``distances_m`` outside a zone's outline, clipped to the stand ``area``: where stations for an
+    outside face stand (the outside has no medial axis to follow)."""
     out: list[shapely.LineString] = []
     for d in distances_m:
         ring = shapely.boundary(zone_polygon.buffer(d, quad_segs=8, join_style="mitre", mitre_limit=2.0))
@@ -149,10 +147,10 @@ def axis_candidates(
     cells: bool = True,
     step_m: float = 1.0,
 ) -> list[Candidate]:
-    """One candidate in every maximal cell of the coverage arrangement along the medial axis of each inside
-    zone's stand area, and along rings at :data:`OUTSIDE_RINGS` around each outside zone (the cells of the
-    zone-side's own pieces' regions); ``cache`` keeps the regions drawn. Without ``cells`` (where regions do
-    not model the coverage test), or past :data:`MAX_CELL_WORK`, points every ``step_m`` along the lines."""
+    """One candidate in every maximal cell of the coverage arrangement along the medial axis of each inside zone's
+    stand area, and along rings at :data:`OUTSIDE_RINGS` around each outside zone (the cells of the zone-side's own
+    pieces' regions); ``cache`` keeps the regions drawn. Without ``cells`` (where regions do not model the coverage
+    test), or past :data:`MAX_CELL_WORK`, points every ``step_m`` along the lines."""
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache
     out: list[Candidate] = []

@@ -1,12 +1,12 @@
 """Complete candidates: no wall piece is refused while some position sees it.
 
-A sampled pool can miss the only places from which a piece is seen (a narrow wing, a niche). Before any
-refusal, every piece that no candidate sees gets a candidate from its own coverage region R_t: the pole
-(the point farthest from the boundary) of R_t intersected with as many regions of the nearby unseen
-pieces as keep it non-empty, so that one candidate serves a whole unseen stretch. The coverage test then
-decides; a piece still unseen after that gets the pole of its own region alone. A piece is refused only
-when R_t is empty, with the rule that emptied it (:func:`planner.coverage.regions.why_empty`), or when
-even the pole of R_t fails the coverage test (a region thinner than the test's tolerance).
+A sampled pool can miss the only places from which a piece is seen (a narrow wing, a niche). Before any refusal, every
+piece that no candidate sees gets a candidate from its own coverage region R_t: the pole (the point farthest from the
+boundary) of R_t intersected with as many regions of the nearby unseen pieces as keep it non-empty, so that one
+candidate serves a whole unseen stretch. The coverage test then decides; a piece still unseen after that gets the pole
+of its own region alone. A piece is refused only when R_t is empty, with the rule that emptied it
+(:func:`planner.coverage.regions.why_empty`), or when even the pole of R_t fails the coverage test (a region thinner
+than the test's tolerance).
 """
 
 from __future__ import annotations
@@ -45,8 +45,8 @@ def _pole(region: shapely.Geometry) -> tuple[float, float]:
 def _stretch_poles(
     problem: CoverageProblem, unseen: Sequence[int] | np.ndarray, regions: dict[int, shapely.Geometry], alone: bool
 ) -> list[tuple[int, tuple[float, float]]]:
-    """(owner piece, pole) for the unseen pieces with a region: each grouped with the nearest other unseen pieces
-    of its zone-side whose regions still meet (``alone``: one pole per piece)."""
+    """(owner piece, pole) for the unseen pieces with a region: each grouped with the nearest other unseen pieces of
+    its zone-side whose regions still meet (``alone``: one pole per piece)."""
     t = problem.targets
     todo = [int(k) for k in unseen if not regions[int(k)].is_empty and regions[int(k)].area > MIN_AREA_M2]
     left = set(todo)
@@ -76,8 +76,8 @@ def complete_candidates(
     spaces: dict[str, FrameSpace] | None = None,
     cache: dict[int, shapely.Geometry] | None = None,
 ) -> tuple[CoverageProblem, dict[int, str]]:
-    """``problem`` with a candidate from the coverage regions of every piece no candidate saw, and the pieces
-    still unseen afterwards with the reason (a piece index -> why, in words)."""
+    """``problem`` with a candidate from the coverage regions of every piece no candidate saw, and the pieces still
+    unseen afterwards with the reason (a piece index -> why, in words)."""
     site, limits = sight.site, sight.limits
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache

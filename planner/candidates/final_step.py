@@ -43,9 +43,9 @@ def misplacement(site: Site, c: Candidate, x: float, y: float) -> str:
 
 
 def relocate(site: Site, candidates: list[Candidate]) -> tuple[list[Candidate], list[str]]:
-    """Move each misplaced closed-form candidate toward its vertex or wall (HD or HD_0 reduced in 5 % steps)
-    until it stands on its scan side, in the boundary, outside obstacles and no-go areas; drop it if
-    no step works. Returns the candidates and a log line per change."""
+    """Move each misplaced closed-form candidate toward its vertex or wall (HD or HD_0 reduced in 5 % steps) until it
+    stands on its scan side, in the boundary, outside obstacles and no-go areas; drop it if no step works. Returns the
+    candidates and a log line per change."""
     out, log = [], []
     for c in candidates:
         why = misplacement(site, c, c.x, c.y)
@@ -84,12 +84,10 @@ def drop_redundant(
 ) -> list[int]:
     """Indices kept after removing candidates the plan does not need.
 
-    A candidate is redundant when every target it sees stays seen without it
-    AND its group (zone-side) keeps as few registration components as before
-    (the closed form builds the required overlap into its spacing; dropping a
-    station that bridges two others would break it). Candidates are tried from
-    the one seeing the fewest targets (ties: the later one first), so the
-    result is deterministic; the covered set never shrinks.
+    A candidate is redundant when every target it sees stays seen without it AND its group (zone-side) keeps as few
+    registration components as before (the closed form builds the required overlap into its spacing; dropping a
+    station that bridges two others would break it). Candidates are tried from the one seeing the fewest targets
+    (ties: the later one first), so the result is deterministic; the covered set never shrinks.
     """
     a = by_candidate.astype(np.int64).tocsr()
     count = np.asarray(a.sum(axis=0)).ravel()

@@ -1,7 +1,7 @@
 """The closed-form station geometry of chapter 3 of seed 000 (docs/method.md section 2), as pure formulas.
 
-Angles in degrees, lengths in metres. Nothing here knows about coordinates:
-:mod:`planner.candidates.closed_form` places the results on a zone.
+Angles in degrees, lengths in metres. Nothing here knows about coordinates: :mod:`planner.candidates.closed_form`
+places the results on a zone.
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ def horizontal_reach_m(max_slant_range_m: float, height_m: float, instrument_hei
 
 @dataclass(frozen=True)
 class VertexGeometry:
-    """A vertex candidate K^B: half-angle alpha, distance HD from the vertex, scanning angle gamma,
-    and L, the wall length it covers on each side of the corner (3.3-3.10)."""
+    """A vertex candidate K^B: half-angle alpha, distance HD from the vertex, scanning angle gamma, and L, the wall
+    length it covers on each side of the corner (3.3-3.10)."""
 
     angle_deg: float  # polygon angle on the scanning side
     alpha_deg: float
@@ -48,9 +48,9 @@ class VertexGeometry:
 def vertex_geometry(angle_deg: float, reach_m: float, theta_max_deg: float) -> VertexGeometry | None:
     """K^B for a vertex whose angle on the scanning side is ``angle_deg``; None when cancelled.
 
-    ``reach_m`` is sqrt(S_max^2 - h_V^2). Angle < 180 (3.3-3.5) exists only if
-    alpha > 90 - theta_max; Angle >= 180 (3.6-3.10) only if alpha < 90 + theta_max.
-    (A straight vertex, Angle = 180, takes the second case: a wall station.)
+    ``reach_m`` is sqrt(S_max^2 - h_V^2). Angle < 180 (3.3-3.5) exists only if alpha > 90 - theta_max; Angle >= 180
+    (3.6-3.10) only if alpha < 90 + theta_max. (A straight vertex, Angle = 180, takes the second case: a wall
+    station.)
     """
     alpha = angle_deg / 2.0
     if reach_m <= 0.0:
@@ -72,9 +72,8 @@ def vertex_geometry(angle_deg: float, reach_m: float, theta_max_deg: float) -> V
 
 @dataclass(frozen=True)
 class WallStation:
-    """One wall candidate K^C in the wall's frame (x along the wall from its first vertex, y into
-    the scanning side) with its movement field, an isosceles triangle of base b and height h
-    whose base lies at y and apex at y - h."""
+    """One wall candidate K^C in the wall's frame (x along the wall from its first vertex, y into the scanning side)
+    with its movement field, an isosceles triangle of base b and height h whose base lies at y and apex at y - h."""
 
     x_m: float
     y_m: float
@@ -104,9 +103,8 @@ def wall_plan(
 ) -> WallPlan:
     """Wall candidates for a wall of length L_W whose ends' K^B cover l1 and l2 (0 if cancelled).
 
-    ``reach_m`` is sqrt(S_max^2 - h_C^2). Cases (3.19-3.27): X <= 0 with the
-    two K^B sharing at least O% of the shorter of l1, l2: no candidate;
-    X <= 0 without it, or X = 1: one candidate; X > 1: X candidates.
+    ``reach_m`` is sqrt(S_max^2 - h_C^2). Cases (3.19-3.27): X <= 0 with the two K^B sharing at least O% of the
+    shorter of l1, l2: no candidate; X <= 0 without it, or X = 1: one candidate; X > 1: X candidates.
     """
     o = overlap
     hd0 = reach_m * _cos(theta_max_deg)

@@ -1,10 +1,9 @@
 """Candidates from coverage regions: one station for a whole zone-side wherever one exists.
 
-For every zone-side, the intersection of the coverage regions of all its pieces is the set of
-positions from which one station covers the whole zone-side. It is computed exactly (up to the
-regions' inner approximation of range discs) and, when not empty, its pole of inaccessibility
-(the point farthest from its boundary, so that the coverage test is not decided by rounding) is
-a candidate. Found by geometry, never by sampling.
+For every zone-side, the intersection of the coverage regions of all its pieces is the set of positions from which one
+station covers the whole zone-side. It is computed exactly (up to the regions' inner approximation of range discs)
+and, when not empty, its pole of inaccessibility (the point farthest from its boundary, so that the coverage test is
+not decided by rounding) is a candidate. Found by geometry, never by sampling.
 """
 
 from __future__ import annotations
@@ -28,8 +27,8 @@ POLE_TOLERANCE = 1e-3
 
 
 def spread_order(n: int) -> np.ndarray:
-    """0..n-1 in an order that jumps around the zone (golden-ratio stride), so that opposite walls
-    meet early and an empty intersection shows after a few pieces."""
+    """0..n-1 in an order that jumps around the zone (golden-ratio stride), so that opposite walls meet early and an
+    empty intersection shows after a few pieces."""
     return np.argsort((np.arange(n) * 0.6180339887498949) % 1.0, kind="stable")
 
 
@@ -54,8 +53,8 @@ def common_region(
 
 
 def largest_part_pole(region: shapely.Geometry, min_tolerance_m: float = 1e-6) -> shapely.Point:
-    """The pole of inaccessibility (the point farthest from the boundary) of the largest part of ``region``,
-    found to ``POLE_TOLERANCE`` of its size (at least ``min_tolerance_m``)."""
+    """The pole of inaccessibility (the point farthest from the boundary) of the largest part of ``region``, found to
+    ``POLE_TOLERANCE`` of its size (at least ``min_tolerance_m``)."""
     part = max(shapely.get_parts(region), key=lambda g: g.area)
     return polylabel(part, tolerance=max(POLE_TOLERANCE * float(np.sqrt(part.area)), min_tolerance_m))
 

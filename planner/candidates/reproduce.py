@@ -1,8 +1,8 @@
 """Compare the closed form with the dissertation's printed candidate tables (3.2-3.4).
 
-Printed vertex labels do not follow one convention (docs/method.md section 2), so
-vertex rows are matched by angle: the computed vertex of the same side whose
-alpha is closest to the printed one (ties: the printed label, then the closest HD).
+Printed vertex labels do not follow one convention (docs/method.md section 2), so vertex rows are matched by angle:
+the computed vertex of the same side whose alpha is closest to the printed one (ties: the printed label, then the
+closest HD).
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from typing import Any
 from planner.candidates.closed_form import Limits, ZoneSidePlan, plan_zone_side
 from planner.site.model import Zone
 
-#: The print rounds to 3 decimals, but its intermediate values were rounded too:
-#: differences up to 0.003 are rounding; anything larger is listed as not reproduced.
+#: The print rounds to 3 decimals, but its intermediate values were rounded too: differences up to 0.003 are rounding;
+#: anything larger is listed as not reproduced.
 ROUNDING = 0.003
 
 

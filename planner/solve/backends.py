@@ -1,16 +1,14 @@
 """Interchangeable 0-1 solvers behind one interface.
 
-Each backend holds one model (binary x, minimise cost . x, rows
-``sum coef * x >= lb``), accepts more rows between solves (the lazy
-connectivity cuts) and solves with a thread count, seed, warm-start hint and an
-optional wall-clock cap (``None``: none). Backends: OR-Tools CP-SAT; OR-Tools'
-linear solver with SCIP, HiGHS or CBC; PuLP with CBC; SCIP through PySCIPOpt
-(planner.solve.scip_bc).
+Each backend holds one model (binary x, minimise cost . x, rows ``sum coef * x >= lb``), accepts more rows between
+solves (the lazy connectivity cuts) and solves with a thread count, seed, warm-start hint and an optional wall-clock
+cap (``None``: none). Backends: OR-Tools CP-SAT; OR-Tools' linear solver with SCIP, HiGHS or CBC; PuLP with CBC; SCIP
+through PySCIPOpt (planner.solve.scip_bc).
 
-Work limits, which make a solve's answer independent of the machine's load: CP-SAT stops on deterministic
-time (:attr:`CpSatBackend.work_limit`); SCIP (both ways) and PuLP's CBC on branch-and-bound nodes per solve
-(``node_limit``). HiGHS and CBC through OR-Tools take no node limit in this build: they run to their optimum
-unless the user's wall-clock cap stops them.
+Work limits, which make a solve's answer independent of the machine's load: CP-SAT stops on deterministic time
+(:attr:`CpSatBackend.work_limit`); SCIP (both ways) and PuLP's CBC on branch-and-bound nodes per solve
+(``node_limit``). HiGHS and CBC through OR-Tools take no node limit in this build: they run to their optimum unless
+the user's wall-clock cap stops them.
 """
 
 from __future__ import annotations
@@ -38,8 +36,8 @@ Watch = Callable[[tuple[int, ...], float], bool]
 BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
 #: the backends a node limit per solve stops (the others: CP-SAT's work, or nothing but the user's wall cap)
 NODE_LIMITED = ("scip", "pulp-cbc", "pyscipopt")
-#: CP-SAT needs integer coefficients: fractional ones are scaled by this and rounded down
-#: (a row sum(floor(s*a) x) >= ceil(s*lb) implies the original, so solutions stay feasible).
+#: CP-SAT needs integer coefficients: fractional ones are scaled by this and rounded down (a row sum(floor(s*a) x) >=
+#: ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
 #: CP-SAT's workers, in order, for ``threads`` > 1: the full-LP worker first, then the core-based bound
 CP_PORTFOLIO = (
@@ -73,8 +71,8 @@ class BackendResult:
 
 @contextlib.contextmanager
 def _quiet_stdout_fd() -> Iterator[None]:
-    """Silence what native code writes straight to file descriptor 1 (HiGHS prints a banner on
-    every solve whatever SuppressOutput says); library code must not print."""
+    """Silence what native code writes straight to file descriptor 1 (HiGHS prints a banner on every solve whatever
+    SuppressOutput says); library code must not print."""
     try:
         sys.stdout.flush()
         saved = os.dup(1)
@@ -120,9 +118,9 @@ class CpSatBackend:
         self.model.Minimize(sum(int(ci) * self.x[i] for i, ci in enumerate(c) if ci))
 
     def add_rows(self, rows: list[Row]) -> None:
-        """Add ``sum coef * x >= lb`` rows. Rows ``x_i <= sum_{v in N} x_v`` that share N (the region
-        cuts of one component) become one literal y_N with y_N => OR(N) and x_i => y_N: the same
-        linear relaxation, one long clause instead of |R| long rows."""
+        """Add ``sum coef * x >= lb`` rows. Rows ``x_i <= sum_{v in N} x_v`` that share N (the region cuts of one
+        component) become one literal y_N with y_N => OR(N) and x_i => y_N: the same linear relaxation, one long
+        clause instead of |R| long rows."""
         shared: dict[tuple[int, ...], list[int]] = {}
         for idx, coef, lb in rows:
             neg = np.flatnonzero(coef < 0)
@@ -150,8 +148,8 @@ class CpSatBackend:
             self.model.Add(self.x[i] == 1)
 
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
-        """Append ``count`` variables in [0, upper] (integer here: CP-SAT has no continuous ones;
-        the flow models that use them have integral optima)."""
+        """Append ``count`` variables in [0, upper] (integer here: CP-SAT has no continuous ones; the flow models that
+        use them have integral optima)."""
         ub = int(math.floor(upper))
         self.x += [
             self.model.NewBoolVar(f"y{len(self.x) + k}")
@@ -170,9 +168,8 @@ class CpSatBackend:
             solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
         if self.work_limit is not None:  # a work budget makes one worker's answer independent of the load
             solver.parameters.max_deterministic_time = max(self.work_limit - self.work_used, 1e-3)
-        # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly
-        # (scp41: 0.04 s, against no bound in 60 s without it); workers = threads (8 workers on a
-        # 2-core machine only share the cores)
+        # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly (scp41: 0.04 s,
+        # against no bound in 60 s without it); workers = threads (8 workers on a 2-core machine only share the cores)
         solver.parameters.num_workers = threads
         if threads > 1:  # CP-SAT's own choice for 2 workers has no full-LP worker: no bound on polygon A
             solver.parameters.subsolvers.extend(CP_PORTFOLIO[:threads])
@@ -306,8 +303,8 @@ class PulpBackend:
         self.fixed += idx
 
     def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
-        # PuLP 3.3 announces its 4.0 API (prob.add_variable, COIN_CMD) with a DeprecationWarning per
-        # variable; the project pins pulp < 4, where this API works, so the notices are silenced here
+        # PuLP 3.3 announces its 4.0 API (prob.add_variable, COIN_CMD) with a DeprecationWarning per variable; the
+        # project pins pulp < 4, where this API works, so the notices are silenced here
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
             return self._solve(time_limit_s, threads, seed, hint)

@@ -1,9 +1,9 @@
 """One independent block of the connected MILP: its backend model, the cuts found so far, its best plan.
 
-:func:`planner.solve.milp.solve` makes one :class:`BlockSolver` per block (no shared target, no common
-registration group). Before any search a block of one group gets the ring bound and its Lagrangian
-ascent (:mod:`planner.solve.ring`); then :meth:`BlockSolver.run` solves, cuts disconnected answers off and
-re-solves until its plan is connected and proven, or its work (or the user's wall-clock cap) is used up.
+:func:`planner.solve.milp.solve` makes one :class:`BlockSolver` per block (no shared target, no common registration
+group). Before any search a block of one group gets the ring bound and its Lagrangian ascent
+(:mod:`planner.solve.ring`); then :meth:`BlockSolver.run` solves, cuts disconnected answers off and re-solves until
+its plan is connected and proven, or its work (or the user's wall-clock cap) is used up.
 """
 
 from __future__ import annotations
@@ -42,9 +42,9 @@ if TYPE_CHECKING:
 
 #: steps of the Lagrangian ascent before the local search is tried (the rest of the budget comes after it)
 _FIRST_STEPS = 50
-#: the ascent's work budget, in walk units (each step's multi-source walk costs the lifted graph's links times
-#: its sources): enough for the full ascent on the bundled instances' default grids, while a fine grid, whose
-#: walks grow with its links, stops on the budget instead of running for minutes (docs/benchmarks/memory.md)
+#: the ascent's work budget, in walk units (each step's multi-source walk costs the lifted graph's links times its
+#: sources): enough for the full ascent on the bundled instances' default grids, while a fine grid, whose walks grow
+#: with its links, stops on the budget instead of running for minutes (docs/benchmarks/memory.md)
 RING_WORK = 5e9
 
 
@@ -140,13 +140,13 @@ class BlockSolver:
             self.backend.watch = self._watch
 
     def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> None:
-        """Before any search, for a block of one registration group (k = 1, single precision): the ring bound
-        over every piece its candidates see, in the instance's order (its walk becomes the incumbent when it is a
-        connected cover), then the Lagrangian ascent from the cover LP's duals (:mod:`planner.solve.ring`) for
-        at most ``_FIRST_STEPS`` steps; if the block is still open, the local search from the incumbent and,
-        unless the first steps gave up (no step raised the bound, :func:`planner.solve.ring.lagrangian_bound`),
-        the rest of the ascent's steps toward the new incumbent. Closes the block when the incumbent meets the bound
-        (the local search comes second: on building27 it cost 2.2 s in two rooms that one ascent step closes)."""
+        """Before any search, for a block of one registration group (k = 1, single precision): the ring bound over
+        every piece its candidates see, in the instance's order (its walk becomes the incumbent when it is a connected
+        cover), then the Lagrangian ascent from the cover LP's duals (:mod:`planner.solve.ring`) for at most
+        ``_FIRST_STEPS`` steps; if the block is still open, the local search from the incumbent and, unless the first
+        steps gave up (no step raised the bound, :func:`planner.solve.ring.lagrangian_bound`), the rest of the
+        ascent's steps toward the new incumbent. Closes the block when the incumbent meets the bound (the local search
+        comes second: on building27 it cost 2.2 s in two rooms that one ascent step closes)."""
         o = self.o
         if self.groups is None or self.adj is None or len(set(self.groups)) != 1 or o.k != 1 or o.precision != "single":
             return
@@ -171,8 +171,8 @@ class BlockSolver:
             self._ascend(graph, o.ring_lagrange_steps - self.lagrange_steps)  # not when the first part gave up
 
     def _ascend(self, graph: RingGraph, steps: int) -> None:
-        """The Lagrangian ascent from the cover LP's duals toward the incumbent, ``steps`` steps at most and, over
-        all its calls, :data:`RING_WORK` walk units (a count, not a time: the bound does not depend on the load)."""
+        """The Lagrangian ascent from the cover LP's duals toward the incumbent, ``steps`` steps at most and, over all
+        its calls, :data:`RING_WORK` walk units (a count, not a time: the bound does not depend on the load)."""
         per_step = max(1, graph.graph.nnz * len(graph.anchors))
         allowed = int(RING_WORK // per_step) - self.lagrange_steps
         self.ring_work_capped = self.ring_work_capped or allowed < steps

@@ -1,8 +1,8 @@
 """The connected greedy's core: registration bundles grown together by gain, bridged, pruned, re-grown.
 
-A *bundle* is the chosen stations of one registration group (a zone-side, or an accessible area); a plan
-is registrable when every bundle is connected under the overlap relation ``adj``. :func:`bundle_cover`
-builds such a plan in four phases, in the manner of Jia and Lichti's hierarchical greedy:
+A *bundle* is the chosen stations of one registration group (a zone-side, or an accessible area); a plan is
+registrable when every bundle is connected under the overlap relation ``adj``. :func:`bundle_cover` builds such a plan
+in four phases, in the manner of Jia and Lichti's hierarchical greedy:
 
 1. **grow**: Chvatal's rule, most newly covered targets per unit cost, over the stations
    that keep every bundle connected: those linked (overlap) to their group's bundle, and the first
@@ -16,26 +16,26 @@ builds such a plan in four phases, in the manner of Jia and Lichti's hierarchica
 4. **re-grow**: each bundle of two or more stations is grown afresh, alone, for the
    targets only it covers, from its group's ``starts`` best seeds; the cheapest is kept if cheaper.
 
-Invariants: after every step of 1-2 each group's chosen stations form one connected bundle inside one
-component of the group's overlap graph (so no joining pass is needed at the end); ``uncovered`` holds
-exactly the needed targets no chosen station sees; ``gain[c]`` is how many of them candidate c sees.
-Phases 3-4 keep coverage and connectivity. A group opened in one component cannot later use another:
-when that leaves a target unseen, the group is fixed to a component that sees it and the pass restarts
-(at most once per group); a target whose seers all lie in one component fixes that component up front.
+Invariants: after every step of 1-2 each group's chosen stations form one connected bundle inside one component of the
+group's overlap graph (so no joining pass is needed at the end); ``uncovered`` holds exactly the needed targets no
+chosen station sees; ``gain[c]`` is how many of them candidate c sees. Phases 3-4 keep coverage and connectivity. A
+group opened in one component cannot later use another: when that leaves a target unseen, the group is fixed to a
+component that sees it and the pass restarts (at most once per group); a target whose seers all lie in one component
+fixes that component up front.
 
-Complexity (C candidates, T targets, E overlap pairs, k stations taken): the gain is updated from the
-columns of the newly covered targets, O(nnz(A)) over a pass, and each step scans the C candidates, so a
-pass is O(k C + nnz(A)) plus O(E log C) per bridge; pruning is k connectivity checks of one group's
-chosen stations; re-growing a group of m candidates costs ``starts`` such passes on its m rows.
-Deterministic: ties go to the lowest index, no clock or random draws.
+Complexity (C candidates, T targets, E overlap pairs, k stations taken): the gain is updated from the columns of the
+newly covered targets, O(nnz(A)) over a pass, and each step scans the C candidates, so a pass is O(k C + nnz(A)) plus
+O(E log C) per bridge; pruning is k connectivity checks of one group's chosen stations; re-growing a group of m
+candidates costs ``starts`` such passes on its m rows. Deterministic: ties go to the lowest index, no clock or random
+draws.
 
-Why all bundles at once: where groups see each other's walls, groups grown one at a time walk round their
-neighbours and take several times the plain greedy's stations (docs/benchmarks/connected_greedy.md).
+Why all bundles at once: where groups see each other's walls, groups grown one at a time walk round their neighbours
+and take several times the plain greedy's stations (docs/benchmarks/connected_greedy.md).
 
-References: V. Chvatal, "A greedy heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235,
-1979; F. Jia and D. D. Lichti, "An efficient, hierarchical viewpoint planning strategy for terrestrial
-laser scanner networks", ISPRS Annals IV-2:137-144, 2018, and "A model-based design system for
-terrestrial laser scanning networks in complex sites", Remote Sensing 11(15):1749, 2019.
+References: V. Chvatal, "A greedy heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235, 1979; F. Jia
+and D. D. Lichti, "An efficient, hierarchical viewpoint planning strategy for terrestrial laser scanner networks",
+ISPRS Annals IV-2:137-144, 2018, and "A model-based design system for terrestrial laser scanning networks in complex
+sites", Remote Sensing 11(15):1749, 2019.
 """
 
 from __future__ import annotations
@@ -96,9 +96,9 @@ class Graph:
 
 
 def _grow(g: Graph, need: Flags, fixed: Mapping[int, int], first: int | None = None) -> tuple[list[int], Flags]:
-    """Phases 1-2 (module docstring): the stations in the order taken and the needed targets left unseen
-    (none unless stuck). ``fixed``: group -> the component its bundle must lie in; ``first``: a station
-    taken before the rule applies (a seed)."""
+    """Phases 1-2 (module docstring): the stations in the order taken and the needed targets left unseen (none unless
+    stuck). ``fixed``: group -> the component its bundle must lie in; ``first``: a station taken before the rule
+    applies (a seed)."""
     n = g.a.shape[0]
     uncovered = need.copy()
     gain = np.asarray(g.a @ uncovered.astype(np.int64)).ravel()
@@ -143,8 +143,8 @@ def _grow(g: Graph, need: Flags, fixed: Mapping[int, int], first: int | None = N
 
 
 def _bridge(g: Graph, reach: Flags, taken: Flags, uncovered: Flags, gain: Ints, sources: list[int]) -> list[int] | None:
-    """The overlap path from the chosen stations to one of ``reach`` that newly covers the most per unit of
-    its cost (nodes from the bundle outward, the bundle excluded); None when none is reachable."""
+    """The overlap path from the chosen stations to one of ``reach`` that newly covers the most per unit of its cost
+    (nodes from the bundle outward, the bundle excluded); None when none is reachable."""
     if not reach.any() or not sources:
         return None
     dist, pred, _ = dijkstra(g.steps, directed=True, indices=sources, min_only=True, return_predecessors=True)
@@ -172,8 +172,8 @@ def _connected(adj: sp.csr_matrix, nodes: Sequence[int]) -> bool:
 
 
 def _prune(g: Graph, need: Flags, order: Sequence[int]) -> list[int]:
-    """Phase 3: drop, latest taken first, each station whose needed targets another chosen one also sees,
-    when its group's other stations stay connected without it."""
+    """Phase 3: drop, latest taken first, each station whose needed targets another chosen one also sees, when its
+    group's other stations stay connected without it."""
     chosen = list(order)
     count = np.asarray(g.a[chosen].sum(axis=0)).ravel() if chosen else np.zeros(g.a.shape[1], np.int64)
     for v in reversed(order):
@@ -189,9 +189,9 @@ def _prune(g: Graph, need: Flags, order: Sequence[int]) -> list[int]:
 
 
 def _regrow(g: Graph, need: Flags, chosen: Sequence[int], starts: int) -> list[int]:
-    """Phase 4: each group holding two or more stations re-grown alone for the needed targets no other
-    group's station sees, from its ``starts`` candidates that see most of them; the cheapest plan kept
-    when cheaper than the group's current one (groups in the order of their first chosen station)."""
+    """Phase 4: each group holding two or more stations re-grown alone for the needed targets no other group's station
+    sees, from its ``starts`` candidates that see most of them; the cheapest plan kept when cheaper than the group's
+    current one (groups in the order of their first chosen station)."""
     plan = list(chosen)
     for grp in dict.fromkeys(int(g.gid[v]) for v in chosen):
         mine = [v for v in plan if g.gid[v] == grp]
@@ -221,9 +221,8 @@ def _regrow(g: Graph, need: Flags, chosen: Sequence[int], starts: int) -> list[i
 
 
 def _fixed_components(g: Graph, need: Flags) -> dict[int, int] | None:
-    """Group -> component for every needed target whose seers all lie in one component (a connected
-    cover must then use it); None when two such targets fix one group to two components (no connected
-    cover exists)."""
+    """Group -> component for every needed target whose seers all lie in one component (a connected cover must then
+    use it); None when two such targets fix one group to two components (no connected cover exists)."""
     bt = g.by_target
     rows = np.flatnonzero(np.diff(bt.indptr) > 0)  # segments of the seen targets (empty rows have none)
     if rows.size == 0:
@@ -247,12 +246,12 @@ def bundle_cover(
     need: Flags,
     starts: int = 50,
 ) -> list[int] | None:
-    """A cover of the targets ``need`` whose every group's stations are connected under ``adj`` (sorted), or None
-    when some needed target is seen by no candidate or no connected choice was found (module docstring).
+    """A cover of the targets ``need`` whose every group's stations are connected under ``adj`` (sorted), or None when
+    some needed target is seen by no candidate or no connected choice was found (module docstring).
 
     ``by_candidate``: C x T coverage; ``adj``: C x C symmetric overlap relation (pairs across groups ignored);
-    ``groups``: each candidate's registration group; ``cost``: each candidate's cost (> 0); ``starts``: seeds
-    tried per group when re-growing its bundle (phase 4; 0: no re-growing).
+    ``groups``: each candidate's registration group; ``cost``: each candidate's cost (> 0); ``starts``: seeds tried
+    per group when re-growing its bundle (phase 4; 0: no re-growing).
     """
     gid = group_ids(groups)
     g = Graph.of(by_candidate, adj, gid, np.asarray(cost, dtype=np.float64))

@@ -1,16 +1,16 @@
 """The plain cover of a large matrix by CFT: the heuristic of Caprara, Fischetti and Toth (1999), through ``pycft``.
 
-CFT (A. Caprara, M. Fischetti, P. Toth, "A heuristic method for the set covering problem", Operations
-Research 47(5), 1999; the C++ of Cavaliere and Accorsi, bound by Krupke as ``pycft``) works on a core of
-columns priced by Lagrangian multipliers: subgradient optimisation of the multipliers, a greedy guided by
-the reduced costs, column fixing, and refinement that unfixes and repeats. It is what the large-site path
-uses wherever it needs a plain cover (registration dropped): the ``--no-overlap`` plan, and the cover a
-connected plan is grown from (:mod:`planner.tiles.search`). On the 16-ha plant's pool it finds a smaller
-cover than this project's greedy and local search (docs/benchmarks/setcover.md).
+CFT (A. Caprara, M. Fischetti, P. Toth, "A heuristic method for the set covering problem", Operations Research 47(5),
+1999; the C++ of Cavaliere and Accorsi, bound by Krupke as ``pycft``) works on a core of columns priced by Lagrangian
+multipliers: subgradient optimisation of the multipliers, a greedy guided by the reduced costs, column fixing, and
+refinement that unfixes and repeats. It is what the large-site path uses wherever it needs a plain cover (registration
+dropped): the ``--no-overlap`` plan, and the cover a connected plan is grown from (:mod:`planner.tiles.search`). On
+the 16-ha plant's pool it finds a smaller cover than this project's greedy and local search
+(docs/benchmarks/setcover.md).
 
-Determinism: CFT is run with its seed and no time limit, so it stops on its own rules (a count of
-heuristic iterations, the refinement's cutoff): the same matrix and seed give the same cover under any
-load. ``time_cap_s`` is a cap only a user sets.
+Determinism: CFT is run with its seed and no time limit, so it stops on its own rules (a count of heuristic
+iterations, the refinement's cutoff): the same matrix and seed give the same cover under any load. ``time_cap_s`` is a
+cap only a user sets.
 """
 
 from __future__ import annotations
@@ -29,9 +29,9 @@ HEUR_ITERS = 250
 
 @dataclass(frozen=True, kw_only=True)
 class CftCover:
-    """``selected``: the cover (rows of the matrix, sorted); ``lower_bound``: CFT's Lagrangian lower bound
-    (over the same matrix, unit costs unless costs were given); ``time_s``: wall seconds of the solve, one
-    thread; ``capped``: the user's time cap stopped it."""
+    """``selected``: the cover (rows of the matrix, sorted); ``lower_bound``: CFT's Lagrangian lower bound (over the
+    same matrix, unit costs unless costs were given); ``time_s``: wall seconds of the solve, one thread; ``capped``:
+    the user's time cap stopped it."""
 
     selected: tuple[int, ...]
     lower_bound: float
@@ -48,8 +48,8 @@ def cft_cover(
     time_cap_s: float | None = None,
     start: tuple[int, ...] = (),
 ) -> CftCover:
-    """A cover of every column of ``a`` (candidates x targets, CSR) by rows of least total ``cost`` (default
-    1 each: stations), found by CFT. ``start``: a cover to start from (its cost is the first upper bound).
+    """A cover of every column of ``a`` (candidates x targets, CSR) by rows of least total ``cost`` (default 1 each:
+    stations), found by CFT. ``start``: a cover to start from (its cost is the first upper bound).
 
     Raises
     ------

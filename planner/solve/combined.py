@@ -1,10 +1,9 @@
 """Combined precision (``--precision combined``): the views of a piece add information.
 
-A piece t is accepted when sum_j (sigma_req / e_tj)^2 >= 1 over the chosen stations j that
-see it, e_tj = e(S, theta) of :func:`planner.instrument.accuracy.view_error_m` at the worst slant range
-and incidence over the piece: the combined error 1 / sqrt(sum 1 / e_tj^2) is then at most
-sigma_req. The MILP holds these as rows; here are the same weights for the greedy and for
-verification, so that every method and every check judges a piece the same way.
+A piece t is accepted when sum_j (sigma_req / e_tj)^2 >= 1 over the chosen stations j that see it, e_tj = e(S, theta)
+of :func:`planner.instrument.accuracy.view_error_m` at the worst slant range and incidence over the piece: the
+combined error 1 / sqrt(sum 1 / e_tj^2) is then at most sigma_req. The MILP holds these as rows; here are the same
+weights for the greedy and for verification, so that every method and every check judges a piece the same way.
 """
 
 from __future__ import annotations
@@ -43,10 +42,10 @@ def information_met(info: sp.csr_matrix, selected: list[int] | tuple[int, ...]) 
 
 
 def combined_greedy(problem: CoverageProblem, rule: PrecisionRule) -> SolveResult:
-    """Greedy for combined precision: repeatedly take the candidate adding the most capped information
-    sum_t min(w_jt, need_t) until every piece's need (1 at the start) is met. Lazy evaluation:
-    a candidate's gain only falls as needs are met, so a stale heap entry is re-scored, never
-    trusted. Ties go to the lower index (the pool's order), so the result is deterministic.
+    """Greedy for combined precision: repeatedly take the candidate adding the most capped information sum_t min(w_jt,
+    need_t) until every piece's need (1 at the start) is met. Lazy evaluation: a candidate's gain only falls as needs
+    are met, so a stale heap entry is re-scored, never trusted. Ties go to the lower index (the pool's order), so the
+    result is deterministic.
 
     Raises
     ------

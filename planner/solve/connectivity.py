@@ -1,16 +1,14 @@
-"""Connectivity of the chosen stations under the overlap relation: checks, cuts, repair, connected greedy
-(the greedy itself in :mod:`planner.solve.bundles`).
+"""Connectivity of the chosen stations under the overlap relation: checks, cuts, repair, connected greedy (the greedy
+itself in :mod:`planner.solve.bundles`).
 
-The registration constraint says: within each group (zone, side) the chosen
-stations form a connected graph under the overlap relation. It is enforced
-lazily: solve without it, find the components of each group's choice, and
-for a component S add the cut
+The registration constraint says: within each group (zone, side) the chosen stations form a connected graph under the
+overlap relation. It is enforced lazily: solve without it, find the components of each group's choice, and for a
+component S add the cut
 
     sum_{v in N(S)} x_v >= x_i + x_j - 1        (i in S, j chosen outside S)
 
-where N(S) are the candidates adjacent to S but not in it: if i and j are
-both chosen, some station must stand next to S to lead out of it. The cut is
-valid for every connected choice, so the relaxation's optimum is a lower bound.
+where N(S) are the candidates adjacent to S but not in it: if i and j are both chosen, some station must stand next to
+S to lead out of it. The cut is valid for every connected choice, so the relaxation's optimum is a lower bound.
 """
 
 from __future__ import annotations
@@ -62,16 +60,12 @@ def connectivity_cuts(
 ) -> list[Cut]:
     """Cuts that the current components violate (see the module docstring).
 
-    For each component S, its region R(S) holds the candidates strictly closer
-    (in overlap steps) to S than to any other component; R(S)'s boundary N(R)
-    then holds no chosen station. When R(S) cannot cover every *essential*
-    target of the group (a target only that group's candidates see), a
-    connected plan that uses any station i of R(S) must leave R(S), so
-    sum_{v in N(R)} x_v >= x_i for every i in R(S): one cut per candidate of
-    the region, which rules out every disconnected plan with a part inside it;
-    and, S being inside R, sum_{v in N(S)} x_v >= sum_{s in S} x_s - |S| + 1 (S
-    whole needs a chosen neighbour), which also cuts S off wherever the other
-    parts stand.
+    For each component S, its region R(S) holds the candidates strictly closer (in overlap steps) to S than to any
+    other component; R(S)'s boundary N(R) then holds no chosen station. When R(S) cannot cover every *essential*
+    target of the group (a target only that group's candidates see), a connected plan that uses any station i of R(S)
+    must leave R(S), so sum_{v in N(R)} x_v >= x_i for every i in R(S): one cut per candidate of the region, which
+    rules out every disconnected plan with a part inside it; and, S being inside R, sum_{v in N(S)} x_v >= sum_{s in
+    S} x_s - |S| + 1 (S whole needs a chosen neighbour), which also cuts S off wherever the other parts stand.
     Otherwise the pairwise cut (with a station j of another component) is used.
     """
     n = adj.shape[0]
@@ -115,9 +109,9 @@ def connectivity_cuts(
 def neighbour_cuts(
     adj: sp.csr_matrix, a: sp.csr_matrix, groups: Sequence[Hashable], essential: dict[Hashable, np.ndarray]
 ) -> list[Cut]:
-    """x_i <= sum of its overlap neighbours, for every candidate that alone misses an essential target
-    of its group: a station that cannot do the group's work alone needs a registration partner.
-    Added before the first solve, these rule out isolated stations from the start."""
+    """x_i <= sum of its overlap neighbours, for every candidate that alone misses an essential target of its group: a
+    station that cannot do the group's work alone needs a registration partner. Added before the first solve, these
+    rule out isolated stations from the start."""
     cuts: list[Cut] = []
     for i in range(a.shape[0]):
         ess = essential.get(groups[i])
@@ -194,12 +188,12 @@ def connected_greedy(
     need: np.ndarray,
     starts: int = 50,
 ) -> list[int] | None:
-    """A cover of ``need`` whose every group's stations are connected under ``adj``, sorted; None when some
-    needed target is seen by no candidate or no connected choice was found.
+    """A cover of ``need`` whose every group's stations are connected under ``adj``, sorted; None when some needed
+    target is seen by no candidate or no connected choice was found.
 
-    The bundles of all groups grow together by Chvatal's rule over the stations linked to them, bridged by
-    the cheapest overlap paths where none gains, then pruned, and each bundle re-grown from ``starts``
-    seeds (:func:`planner.solve.bundles.bundle_cover`: phases, invariants, complexity, references).
+    The bundles of all groups grow together by Chvatal's rule over the stations linked to them, bridged by the
+    cheapest overlap paths where none gains, then pruned, and each bundle re-grown from ``starts`` seeds
+    (:func:`planner.solve.bundles.bundle_cover`: phases, invariants, complexity, references).
     """
     return bundle_cover(
         by_candidate, adj, groups, np.asarray(cost, dtype=np.float64), np.asarray(need, dtype=bool), starts

@@ -1,5 +1,5 @@
-"""The MILP's decomposition: the presolve (dominated candidates, implied targets, forced stations) and the
-independent blocks (no shared target, no common group), each with its :class:`BlockSolver`."""
+"""The MILP's decomposition: the presolve (dominated candidates, implied targets, forced stations) and the independent
+blocks (no shared target, no common group), each with its :class:`BlockSolver`."""
 
 from __future__ import annotations
 
@@ -25,9 +25,9 @@ if TYPE_CHECKING:
 def block_solvers(
     instance: CoverInstance, o: MilpOptions, deadline: float = math.inf
 ) -> tuple[PresolveReport, list[BlockSolver]]:
-    """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them;
-    the registration rule applies when ``o.rule`` is set and the instance has groups. ``deadline``: the user's
-    wall-clock cap as a ``time.perf_counter()`` instant, which the blocks' starts and searches keep too."""
+    """The presolve report and one solver per independent block (smallest first), as :func:`solve` runs them; the
+    registration rule applies when ``o.rule`` is set and the instance has groups. ``deadline``: the user's wall-clock
+    cap as a ``time.perf_counter()`` instant, which the blocks' starts and searches keep too."""
     a = instance.by_candidate.astype(bool).tocsr()
     adj: sp.csr_matrix | OverlapLinks | None = None
     if o.rule is not None and instance.groups is not None:
@@ -42,9 +42,9 @@ def block_solvers(
 
 
 def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.csr_matrix | OverlapLinks:
-    """The overlap relation (C x C). Where the presolve will run dominance and the relation depends on the
-    coverage alone (no ``max_link_m``, no links through openings), it is not formed here: the presolve forms
-    it among the candidates it keeps (:func:`planner.solve.lazy_links.linked_dominated`)."""
+    """The overlap relation (C x C). Where the presolve will run dominance and the relation depends on the coverage
+    alone (no ``max_link_m``, no links through openings), it is not formed here: the presolve forms it among the
+    candidates it keeps (:func:`planner.solve.lazy_links.linked_dominated`)."""
     assert o.rule is not None and instance.groups is not None
     plain = (
         o.presolve
@@ -108,14 +108,13 @@ _REDUCE_PASSES = 20
 def _reduce(
     a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | OverlapLinks | None, groups: Sequence[Hashable] | None
 ) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix | None]:
-    """Dominated candidates and implied targets (k = 1, single precision), alternated until neither
-    removes anything: dropping candidates makes more targets implied (every *remaining* seer of t' sees
-    t) and dropping targets makes more candidates dominated. Each step keeps the connected optimum of
-    the problem it is applied to (see :func:`dominated` and :func:`implied_targets`), so the last
-    one's equals the first's. Polygon A (cached pool of scripts/bench/bench_connectivity.py): 958 candidates x
-    1,618 targets after one pass, 574 x 361 after this (measured).
-    Returns the masks of dropped candidates and targets, and the relation (formed among the kept candidates
-    after the first pass where it came lazy)."""
+    """Dominated candidates and implied targets (k = 1, single precision), alternated until neither removes anything:
+    dropping candidates makes more targets implied (every *remaining* seer of t' sees t) and dropping targets makes
+    more candidates dominated. Each step keeps the connected optimum of the problem it is applied to (see
+    :func:`dominated` and :func:`implied_targets`), so the last one's equals the first's. Polygon A (cached pool of
+    scripts/bench/bench_connectivity.py): 958 candidates x 1,618 targets after one pass, 574 x 361 after this
+    (measured). Returns the masks of dropped candidates and targets, and the relation (formed among the kept
+    candidates after the first pass where it came lazy)."""
     kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
     for _ in range(_REDUCE_PASSES):
         if isinstance(adj, OverlapLinks):  # the first pass, on every candidate: indices are the instance's
@@ -136,10 +135,10 @@ def _reduce(
 def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) -> list[tuple[np.ndarray, np.ndarray]]:
     """Independent parts: candidates linked through shared targets or a common group.
 
-    The components of one graph: candidates, then targets, then one node per group, a candidate joined to its
-    targets and to its group's node (linear in the pairs and candidates; the candidate x candidate "same group"
-    product it replaces grew as the kept candidates squared, 1.4 GiB on polygon C at a 1-m grid). The group
-    nodes come last, so every component's lowest node, and with it the order of the labels, is as before."""
+    The components of one graph: candidates, then targets, then one node per group, a candidate joined to its targets
+    and to its group's node (linear in the pairs and candidates; the candidate x candidate "same group" product it
+    replaces grew as the kept candidates squared, 1.4 GiB on polygon C at a 1-m grid). The group nodes come last, so
+    every component's lowest node, and with it the order of the labels, is as before."""
     sub = a[keep_c][:, keep_t].tocsr()
     nc, nt = sub.shape
     gid = group_ids([groups[i] for i in keep_c]) if groups is not None else np.zeros(0, dtype=np.int64)
@@ -155,7 +154,7 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
         bc, bt = keep_c[members[members < nc]], keep_t[members[(members >= nc) & (members < nc + nt)] - nc]
         if bt.size:
             out.append((bc, bt))
-    # smallest first: a small block is usually proven inside its share and leaves the rest, in one
-    # piece, to the larger ones (polygon C: the outside block proves in ~7 s, the inside one then
-    # runs on without the restart that a second pass costs); ties keep the component order
+    # smallest first: a small block is usually proven inside its share and leaves the rest, in one piece, to the
+    # larger ones (polygon C: the outside block proves in ~7 s, the inside one then runs on without the restart that a
+    # second pass costs); ties keep the component order
     return sorted(out, key=lambda b: b[0].size * b[1].size)

@@ -1,19 +1,17 @@
 """Registration connectivity as a single-commodity flow (Dehbi et al., ISPRS J. 2021).
 
-Per group g (zone-side) with members V_g and the overlap edges among them as
-arcs in both directions, with U_g an upper bound on the group's station count:
+Per group g (zone-side) with members V_g and the overlap edges among them as arcs in both directions, with U_g an
+upper bound on the group's station count:
 
     r_i in {0, 1},  r_i <= x_i,  sum_{i in V_g} r_i <= 1  (= 1 when g has essential targets)
     0 <= f_ij <= (U_g - 1) x_i,   f_ij <= (U_g - 1) x_j               every arc (i, j)
     sum_j f_ji - sum_j f_ij >= x_i - U_g r_i                          every i in V_g
 
-The root (the station with r_i = 1, chosen by the solver) sends one unit to
-every other chosen station along chosen stations only. A chosen part without
-the root would need a net inflow equal to its size, but no flow enters it (flow
-runs only between chosen, overlapping stations), so every feasible x is
-connected; and a connected choice routes the units along a spanning tree. U_g
-is |V_g|, or less when an incumbent plan bounds the station count (only plans
-at most as costly as it are sought).
+The root (the station with r_i = 1, chosen by the solver) sends one unit to every other chosen station along chosen
+stations only. A chosen part without the root would need a net inflow equal to its size, but no flow enters it (flow
+runs only between chosen, overlapping stations), so every feasible x is connected; and a connected choice routes the
+units along a spanning tree. U_g is |V_g|, or less when an incumbent plan bounds the station count (only plans at most
+as costly as it are sought).
 """
 
 from __future__ import annotations

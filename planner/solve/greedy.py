@@ -22,29 +22,15 @@ def greedy_cover(
 ) -> SolveResult:
     """Greedy set cover (Chvatal 1979): repeatedly take the candidate with the lowest cost per newly covered target.
 
-    Parameters
-    ----------
-    by_candidate
-        C x T boolean CSR matrix, row c = targets candidate c sees.
-    must_cover
-        Boolean mask of the targets to cover (default: every target some candidate sees).
-    weights
-        Cost per candidate (default 1: fewest stations).
+    ``by_candidate``: C x T boolean CSR matrix, row c = the targets candidate c sees; ``must_cover``: mask of the
+    targets to cover (default: every target some candidate sees); ``weights``: cost per candidate (default 1: fewest
+    stations). Returns ``feasible`` with the chosen candidates in the order taken, or ``infeasible`` when a target in
+    ``must_cover`` is seen by no candidate.
 
-    Returns
-    -------
-    SolveResult
-        ``feasible`` with the chosen candidates in the order taken, or ``infeasible``
-        when a target in ``must_cover`` is seen by no candidate.
-
-    Notes
-    -----
-    Ties go to the lowest candidate index, so the pool order (closed form first)
-    decides them and the result is deterministic. Invariant: after each step
-    ``uncovered`` holds exactly the targets no chosen candidate sees. Each step
-    costs one sparse product, O(nnz); at most min(C, T) steps. The cover is
-    within H(max set size) <= 1 + ln T of the optimum (Chvatal 1979, "A greedy
-    heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235).
+    Ties go to the lowest candidate index, so the pool order (closed form first) decides them. Invariant: after each
+    step ``uncovered`` holds exactly the targets no chosen candidate sees. Each step costs one sparse product, O(nnz);
+    at most min(C, T) steps. The cover is within H(max set size) <= 1 + ln T of the optimum (Chvatal, "A greedy
+    heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235, 1979).
     """
     start = time.perf_counter()
     if not sp.issparse(by_candidate):
@@ -95,30 +81,20 @@ def _feasible(chosen: list[int], cost: np.ndarray, start: float, info: dict | No
 
 
 def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: int = 50) -> SolveResult:
-    """Greedy under the registration rule: a cover whose every registration group is one bundle connected
-    under ``rule`` (the baseline the MILP is compared against).
+    """Greedy under the registration rule: a cover whose every registration group is one bundle connected under
+    ``rule`` (the baseline the MILP is compared against).
 
-    The bundles of all groups grow together by Chvatal's rule (newly covered targets per unit cost) over
-    the stations linked to them, or that start a group's bundle; where none gains, the cheapest overlap
-    path to a station that does is added, scored by what the whole path covers per station on it. Then
-    redundant stations are pruned and each bundle is re-grown alone from ``starts`` seeds, the cheapest
-    kept (:func:`planner.solve.bundles.bundle_cover`, after Chvatal 1979 and Jia & Lichti 2018/2019;
-    phases, invariants and complexity there). Deterministic: ties go to the lowest index.
+    The bundles of all groups grow together by Chvatal's rule (newly covered targets per unit cost) over the stations
+    linked to them, or that start a group's bundle; where none gains, the cheapest overlap path to a station that does
+    is added, scored by what the whole path covers per station on it. Then redundant stations are pruned and each
+    bundle is re-grown alone from ``starts`` seeds, the cheapest kept (:func:`planner.solve.bundles.bundle_cover`,
+    after Chvatal 1979 and Jia & Lichti 2018/2019; phases, invariants and complexity there). Deterministic: ties go to
+    the lowest index.
 
-    Parameters
-    ----------
-    instance
-        The cover instance; without ``groups`` the plain greedy (:func:`greedy_cover`) is returned.
-    rule
-        The overlap rule that relates two stations of one group.
-    starts
-        Seeds tried per group when re-growing its bundle (0: the first pass, pruned, only).
-
-    Returns
-    -------
-    SolveResult
-        ``feasible`` with a plan whose every group is connected under ``rule``, or ``infeasible`` when
-        some target cannot be covered by a connected choice the greedy finds.
+    Without ``groups`` in ``instance`` the plain greedy (:func:`greedy_cover`) is returned. ``rule`` relates two
+    stations of one group; ``starts``: seeds tried per group when re-growing its bundle (0: the first pass, pruned,
+    only). Returns ``feasible`` with a plan whose every group is connected under ``rule``, or ``infeasible`` when the
+    greedy finds no connected choice that covers every target.
     """
     start = time.perf_counter()
     a = instance.by_candidate.astype(bool).tocsr()

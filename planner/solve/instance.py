@@ -1,8 +1,7 @@
 """A set-cover instance as the solvers see it: a coverage matrix, costs, and the registration data.
 
-The same type carries a site's coverage problem (with groups, wall lengths and
-positions for the registration-overlap constraint, and information weights
-for the combined precision mode) and a plain OR-Library instance (costs only).
+The same type carries a site's coverage problem (with groups, wall lengths and positions for the registration-overlap
+constraint, and information weights for the combined precision mode) and a plain OR-Library instance (costs only).
 """
 
 from __future__ import annotations
@@ -26,15 +25,13 @@ from planner.instrument.models import Scanner
 class CoverInstance:
     """Candidates (rows of ``by_candidate``) covering targets (columns).
 
-    ``groups[c]``: the registration group of candidate c (zone, side); the
-    chosen candidates of one group must form a connected overlap graph.
-    ``target_length_m``: wall length of each target (overlap is measured in
-    metres of wall). ``xy``: candidate positions (for ``max_link_m``).
-    ``info``: C x T weights (sigma_req / sigma_tj)^2 of the combined precision mode.
-    ``links``: C x C symmetric pairs related besides shared wall (seen through an opening);
-    ``groups`` are then accessible areas of the site (``--registration site``).
-    ``relation``: C x C symmetric, the registration relation given whole, in place of the overlap rule's
-    (:mod:`planner.bounds.plane_refine`: relaxed links between patches of the plane); None: the rule's.
+    ``groups[c]``: the registration group of candidate c (zone, side); the chosen candidates of one group must form a
+    connected overlap graph. ``target_length_m``: wall length of each target (overlap is measured in metres of wall).
+    ``xy``: candidate positions (for ``max_link_m``). ``info``: C x T weights (sigma_req / sigma_tj)^2 of the combined
+    precision mode. ``links``: C x C symmetric pairs related besides shared wall (seen through an opening); ``groups``
+    are then accessible areas of the site (``--registration site``). ``relation``: C x C symmetric, the registration
+    relation given whole, in place of the overlap rule's (:mod:`planner.bounds.plane_refine`: relaxed links between
+    patches of the plane); None: the rule's.
     """
 
     by_candidate: sp.csr_matrix
@@ -97,12 +94,10 @@ def cover_instance(
 ) -> CoverInstance:
     """The solver's view of a site's coverage problem.
 
-    With ``scanner``, ``budget`` and ``sigma_req_m`` the combined-precision
-    weights are filled in: sigma_tj is the point error e of (2.13) at the
-    largest slant range and incidence over piece t from candidate j (e(S, theta) of
-    :func:`planner.instrument.accuracy.view_error_m` with ``incidence_model``). ``groups`` (default:
-    zone and side of each candidate) and ``links``: see
-    :func:`planner.coverage.links.registration_groups`.
+    With ``scanner``, ``budget`` and ``sigma_req_m`` the combined-precision weights are filled in: sigma_tj is the
+    point error e of (2.13) at the largest slant range and incidence over piece t from candidate j (e(S, theta) of
+    :func:`planner.instrument.accuracy.view_error_m` with ``incidence_model``). ``groups`` (default: zone and side of
+    each candidate) and ``links``: see :func:`planner.coverage.links.registration_groups`.
     """
     argument(problem, CoverageProblem, "problem")
     info = None

@@ -1,32 +1,30 @@
 """Dominance under the overlap rule with the relation formed among the kept candidates only.
 
 The connected MILP needs the overlap relation among the candidates the presolve keeps; the presolve, as
-:func:`planner.solve.presolve.dominated` states it, drops i for a kept j of its group, no dearer, that sees
-every piece i sees and is linked to every neighbour k of i but j itself. Formed whole, that relation costs
-the sum over the pieces of their seers squared, far too much on a fine grid. Two facts make the relation
-among the kept enough.
+:func:`planner.solve.presolve.dominated` states it, drops i for a kept j of its group, no dearer, that sees every
+piece i sees and is linked to every neighbour k of i but j itself. Formed whole, that relation costs the sum over the
+pieces of their seers squared, far too much on a fine grid. Two facts make the relation among the kept enough.
 
-*Only the neighbours not dropped before i count.* Take an optimal connected plan and replace its dropped
-candidates by their replacers in the presolve's order. When i's turn comes, the candidates dropped before
-it are already out of the plan (and replacers are never dropped), so i's neighbours in the plan lie in
-N(i) minus the dropped ones; j, linked to all of them, joins i's part of the plan as i did. Cover and cost
-do not get worse, so an optimal connected plan over the kept candidates remains.
+*Only the neighbours not dropped before i count.* Take an optimal connected plan and replace its dropped candidates by
+their replacers in the presolve's order. When i's turn comes, the candidates dropped before it are already out of the
+plan (and replacers are never dropped), so i's neighbours in the plan lie in N(i) minus the dropped ones; j, linked to
+all of them, joins i's part of the plan as i did. Cover and cost do not get worse, so an optimal connected plan over
+the kept candidates remains.
 
-*A shorter neighbour is j's neighbour anyway.* With C(j) >= C(i) the shared wall s(j, k) >= s(i, k) for
-every k and L_j >= L_i (L: covered length). If L_k <= L_i, k linked to i means s(i, k) >= rho min(L_i,
-L_k) = rho L_k = rho min(L_j, L_k), so k is linked to j (the other tests of the rule, s > 0 and s >=
-min_shared_m, only grow with s). In floating point too: s(j, k) sums a superset of the lengths s(i, k)
-sums, in the same (piece) order, and rounding is monotone. This needs a rule without ``max_link_m`` (a
-distance test is not monotone in coverage).
+*A shorter neighbour is j's neighbour anyway.* With C(j) >= C(i) the shared wall s(j, k) >= s(i, k) for every k and
+L_j >= L_i (L: covered length). If L_k <= L_i, k linked to i means s(i, k) >= rho min(L_i, L_k) = rho L_k = rho
+min(L_j, L_k), so k is linked to j (the other tests of the rule, s > 0 and s >= min_shared_m, only grow with s). In
+floating point too: s(j, k) sums a superset of the lengths s(i, k) sums, in the same (piece) order, and rounding is
+monotone. This needs a rule without ``max_link_m`` (a distance test is not monotone in coverage).
 
-So candidates are taken longest coverage first: a neighbour k of i that still matters (L_k > L_i) came
-before i, and is kept when it was not dropped. i is tested against the kept candidates only: one product of
-its coverage row with theirs gives, at once, the kept supersets of i (count of shared pieces = |C(i)|) and
-its links to the kept. A link k of i need not be looked up for j when s(i, k) already passes the rule
-against j (rho min(L_j, L_k) <= s(i, k)); the rest are looked up in j's row of the relation among the kept,
-which this builds as it goes and hands on. Work: the sum over pieces of (seers x kept seers), plus the
-relation among the kept. Identical coverage rows of a group are tested once (the cheapest, then the first,
-stays in their place; the others are dropped with it or for it: same links, same pieces).
+So candidates are taken longest coverage first: a neighbour k of i that still matters (L_k > L_i) came before i, and
+is kept when it was not dropped. i is tested against the kept candidates only: one product of its coverage row with
+theirs gives, at once, the kept supersets of i (count of shared pieces = |C(i)|) and its links to the kept. A link k
+of i need not be looked up for j when s(i, k) already passes the rule against j (rho min(L_j, L_k) <= s(i, k)); the
+rest are looked up in j's row of the relation among the kept, which this builds as it goes and hands on. Work: the sum
+over pieces of (seers x kept seers), plus the relation among the kept. Identical coverage rows of a group are tested
+once (the cheapest, then the first, stays in their place; the others are dropped with it or for it: same links, same
+pieces).
 """
 
 from __future__ import annotations
@@ -51,8 +49,8 @@ _SLACK = 1e-9
 
 @dataclass(frozen=True, eq=False)
 class OverlapLinks:
-    """The overlap relation of a coverage matrix under ``rule``, not formed: ``lengths`` of the pieces, the
-    group of each candidate (``gid``). :func:`linked_dominated` forms it among the candidates it keeps."""
+    """The overlap relation of a coverage matrix under ``rule``, not formed: ``lengths`` of the pieces, the group of
+    each candidate (``gid``). :func:`linked_dominated` forms it among the candidates it keeps."""
 
     lengths: NDArray[np.float64]
     rule: OverlapRule
@@ -82,8 +80,8 @@ def length_order(a: sp.csr_matrix, cost: NDArray[np.float64], covered: NDArray[n
 def linked_dominated(
     a: sp.csr_matrix, cost: NDArray[np.float64], links: OverlapLinks
 ) -> tuple[NDArray[np.bool_], sp.csr_matrix]:
-    """Mask of the candidates dropped (see the module docstring) and the overlap relation among the others
-    (n x n, boolean, symmetric)."""
+    """Mask of the candidates dropped (see the module docstring) and the overlap relation among the others (n x n,
+    boolean, symmetric)."""
     if links.rule.max_link_m is not None or not np.all(np.asarray(links.lengths) > 0):
         raise ValueError("needs pieces of length > 0 and no distance limit on links (not monotone in coverage)")
     a = a.astype(bool).tocsr()
@@ -124,9 +122,9 @@ def linked_dominated(
 def _block_pairs(
     a: sp.csr_matrix, lengths: Floats, block: Ints, cols: Ints, size: Ints, cost: Floats, gid: Ints, keep: Keep
 ) -> tuple[Ints, Ints, Floats, NDArray[np.bool_], NDArray[np.bool_]]:
-    """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, the wall shared,
-    whether the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group).
-    ``a``: the coverage (boolean), ``lengths``: the pieces' lengths."""
+    """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, the wall shared, whether
+    the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group). ``a``: the
+    coverage (boolean), ``lengths``: the pieces' lengths."""
     right = (a[cols].astype(np.float64) @ sp.diags(lengths)).T.tocsr()
     left = a[block].astype(np.float64)
     shared = (left @ right).tocsr()
@@ -148,8 +146,8 @@ def _replaceable(
     rho: float,
     state: _Kept,
 ) -> bool:
-    """Whether some kept superset j of i (``sup``) is linked to every kept neighbour k of i longer than i
-    (``nb_c``, sharing ``nb_s`` with i) but j itself; a k is looked up only where s(i, k) < rho min(L_j, L_k)."""
+    """Whether some kept superset j of i (``sup``) is linked to every kept neighbour k of i longer than i (``nb_c``,
+    sharing ``nb_s`` with i) but j itself; a k is looked up only where s(i, k) < rho min(L_j, L_k)."""
     longer = covered[nb_c] > covered[i]
     hard_c, theta = nb_c[longer], nb_s[longer] + _SLACK
     live = rho * covered[hard_c] > theta  # s(i, k) passes against every j when rho L_k <= s(i, k)
@@ -167,8 +165,8 @@ def _replaceable(
 
 
 class _Kept:
-    """The kept candidates in the order kept and the overlap relation among them as a bit matrix (one bit per
-    kept candidate: on a fine grid a large share of the pairs are linked, and bits hold that in less)."""
+    """The kept candidates in the order kept and the overlap relation among them as a bit matrix (one bit per kept
+    candidate: on a fine grid a large share of the pairs are linked, and bits hold that in less)."""
 
     def __init__(self, n: int) -> None:
         self.kept: list[int] = []

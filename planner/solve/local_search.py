@@ -1,13 +1,13 @@
 """Fewer stations for a connected plan: two-phase moves with row weighting.
 
-Used by the MILP (an incumbent one station smaller for a block, down to its bound) and by tiled plans
-(the kept plan). :func:`shrink` searches the objective
+Used by the MILP (an incumbent one station smaller for a block, down to its bound) and by tiled plans (the kept plan).
+:func:`shrink` searches the objective
 
     f(S) = sum of the weights of the targets S leaves unseen + w_link * sum_g (parts of g in S - 1),
 
-with the moves of RWLS (Gao et al., "An efficient local search heuristic with row weighting for the
-unicost set covering problem", EJOR 246(3), 2015) and configuration checking (Wang et al., "A
-weighting-based local search heuristic algorithm for the set covering problem", CEC 2014):
+with the moves of RWLS (Gao et al., "An efficient local search heuristic with row weighting for the unicost set
+covering problem", EJOR 246(3), 2015) and configuration checking (Wang et al., "A weighting-based local search
+heuristic algorithm for the set covering problem", CEC 2014):
 
 1. when S is a connected cover it is kept and the station of least removal cost is dropped (S one
    smaller); otherwise
@@ -20,11 +20,11 @@ weighting-based local search heuristic algorithm for the set covering problem", 
    candidate sharing a target with it changed state);
 4. the weights of the unseen targets, and w_link while S is in pieces, grow by one.
 
-So a candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs
-O(targets and links of the few stations and candidates it touches) plus one connected-components and
-one articulation pass on the ~n chosen stations, never a dense candidate x target array. Ties go to the
-candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the result
-depends only on the input, ``moves`` and ``seed`` (no clock).
+So a candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs O(targets and
+links of the few stations and candidates it touches) plus one connected-components and one articulation pass on the ~n
+chosen stations, never a dense candidate x target array. Ties go to the candidate unchanged longest, then to the
+lowest index, and draws to a generator of fixed seed: the result depends only on the input, ``moves`` and ``seed`` (no
+clock).
 """
 
 from __future__ import annotations
@@ -46,8 +46,8 @@ _CLOCK_EVERY = 64
 
 @dataclass(frozen=True)
 class Shrunk:
-    """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``moves``:
-    moves made (at most the budget); ``history``: (move, stations) of each smaller connected cover found."""
+    """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``moves``: moves made (at
+    most the budget); ``history``: (move, stations) of each smaller connected cover found."""
 
     selected: tuple[int, ...]
     start: int
@@ -60,8 +60,8 @@ class Shrunk:
 
 
 def _gather(m: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, without building a
-    sparse matrix (slices joined by one concatenate: faster for the many small gathers of a move)."""
+    """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, without building a sparse
+    matrix (slices joined by one concatenate: faster for the many small gathers of a move)."""
     rows = np.asarray(rows, dtype=np.int64)
     if rows.size == 0:
         return np.zeros(0, dtype=np.int64), m.indices[:0]
@@ -105,8 +105,8 @@ class _State:
         self._graph = None
 
     def graph(self) -> tuple[np.ndarray, tuple[list[int], list[int]], np.ndarray, int, np.ndarray]:
-        """S (sorted), its overlap subgraph, each station's component label, the sum over groups of
-        (components - 1), and for every candidate the number of S's components it is linked to."""
+        """S (sorted), its overlap subgraph, each station's component label, the sum over groups of (components - 1),
+        and for every candidate the number of S's components it is linked to."""
         if self._graph is None:
             idx = np.flatnonzero(self.in_s)
             pos = np.full(self.a.shape[0], -1, dtype=np.int64)
@@ -147,8 +147,8 @@ class _State:
 
 
 def _components(n: int, ptr: list[int], ind: list[int]) -> tuple[int, np.ndarray]:
-    """The number of components of the graph of ``n`` nodes given as CSR lists, and each node's label (in order
-    of each component's lowest node): a depth-first pass on Python lists, faster than scipy for a plan's few."""
+    """The number of components of the graph of ``n`` nodes given as CSR lists, and each node's label (in order of
+    each component's lowest node): a depth-first pass on Python lists, faster than scipy for a plan's few."""
     label = [-1] * n
     k = 0
     for root in range(n):
@@ -203,10 +203,10 @@ def _split(sub: tuple[list[int], list[int]]) -> np.ndarray:
 
 
 def unlinked(n: int) -> tuple[sp.csr_matrix, tuple[str, ...]]:
-    """The links and groups that make :func:`shrink` a plain cover search (no registration rule): no links, each
-    of the ``n`` candidates its own group, so any cover is "connected". The plain start of the MILP
-    (:mod:`planner.solve.plain_start`) and the large-site plain plan (:func:`planner.tiles.search.plain_plan`)
-    both search this way."""
+    """The links and groups that make :func:`shrink` a plain cover search (no registration rule): no links, each of
+    the ``n`` candidates its own group, so any cover is "connected". The plain start of the MILP
+    (:mod:`planner.solve.plain_start`) and the large-site plain plan (:func:`planner.tiles.search.plain_plan`) both
+    search this way."""
     return sp.csr_matrix((n, n), dtype=bool), tuple(str(i) for i in range(n))
 
 
@@ -221,15 +221,15 @@ def shrink(
     tabu: int = 2,
     deadline: float = math.inf,
 ) -> Shrunk:
-    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring): a connected
-    cover no larger than ``plan`` (``plan`` itself when none smaller is found), and the moves it took.
+    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring): a connected cover
+    no larger than ``plan`` (``plan`` itself when none smaller is found), and the moves it took.
 
-    ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric
-    overlap adjacency, links within a group only; ``groups``: each candidate's registration group; ``plan``: a
-    connected cover; ``moves``: the move budget (0: ``plan`` as it is); ``floor``: stop at this many stations (a
-    proven lower bound); ``seed``: of the generator that draws the unseen target a move repairs; ``tabu``: moves
-    a station added may not be removed; ``deadline``: the user's wall-clock cap as a ``time.perf_counter()``
-    instant, looked at every :data:`_CLOCK_EVERY` moves (``math.inf``: none, the moves alone stop it).
+    ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric overlap
+    adjacency, links within a group only; ``groups``: each candidate's registration group; ``plan``: a connected
+    cover; ``moves``: the move budget (0: ``plan`` as it is); ``floor``: stop at this many stations (a proven lower
+    bound); ``seed``: of the generator that draws the unseen target a move repairs; ``tabu``: moves a station added
+    may not be removed; ``deadline``: the user's wall-clock cap as a ``time.perf_counter()`` instant, looked at every
+    :data:`_CLOCK_EVERY` moves (``math.inf``: none, the moves alone stop it).
     """
     best = tuple(sorted(int(i) for i in plan))
     a = a.astype(np.float64).tocsr()
@@ -279,9 +279,8 @@ def _drop(st: _State, step: int) -> None:
 
 
 def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
-    """The candidate to add, and the parts S will be in: best score among the seers of one drawn unseen
-    target and the candidates linked to two parts of S, allowed by configuration checking (all of them
-    when none is)."""
+    """The candidate to add, and the parts S will be in: best score among the seers of one drawn unseen target and the
+    candidates linked to two parts of S, allowed by configuration checking (all of them when none is)."""
     idx, _, label, parts, touched = st.graph()
     unseen = st.unseen()
     pool: list[np.ndarray] = []

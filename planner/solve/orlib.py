@@ -1,8 +1,7 @@
 """Reader of OR-Library set-covering files (Beasley 1987, 1990).
 
-Format: m (rows) n (columns); the n column costs; then for each row the number
-of columns covering it followed by those columns (1-based). Rows are the
-targets, columns the candidates.
+Format: m (rows) n (columns); the n column costs; then for each row the number of columns covering it followed by
+those columns (1-based). Rows are the targets, columns the candidates.
 """
 
 from __future__ import annotations

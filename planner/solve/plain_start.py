@@ -1,17 +1,15 @@
 """The start of a plain block of the MILP: CFT's cover, shrunk by the plain local search, where it beats the greedy.
 
 A block with no registration groups (``--no-overlap``; unit costs, k = 1, single precision) is a plain set cover.
-:class:`planner.solve.block.BlockSolver` starts it from the greedy cover (Chvatal), which on the 4-ha plant's
-pool (``planner plan instances/plant_4ha.json --no-overlap``) is 32 stations; from there CP-SAT's work limit
-ended on a cover of 31 (bound 21, measured 2026-11-27). :func:`plain_start` gives the block the start the
-large-site path uses (:func:`planner.tiles.search.plain_plan`): CFT's cover (:func:`planner.solve.cft.cft_cover`)
-searched by :func:`planner.solve.local_search.shrink` with no links, each candidate its own group, taken when it is
-smaller than the greedy's. On that block (1,950 candidates x 1,516 targets after the presolve) CFT gives 26 in
-about 10 s and the search 25 (at move 15,095 of its 15,160, about 20 s); CP-SAT goes on from 25 and the plan has 25.
+:class:`planner.solve.block.BlockSolver` starts it from the greedy cover (Chvatal), from which CP-SAT's work limit may
+end far above the optimum on a large block. :func:`plain_start` gives the block the start the large-site path uses
+(:func:`planner.tiles.search.plain_plan`): CFT's cover (:func:`planner.solve.cft.cft_cover`) searched by
+:func:`planner.solve.local_search.shrink` with no links, each candidate its own group, taken when it is smaller than
+the greedy's.
 
-What it costs is spent only where it can pay: a block of fewer than :data:`MIN_TARGETS` targets, or whose greedy
-cover already meets the cover LP's bound (rounded up), keeps its greedy start. Every step stops on counts (CFT's
-own iteration rules, the search's moves: ``MilpOptions.plain_start_moves`` per target of the block, by default
+What it costs is spent only where it can pay: a block of fewer than :data:`MIN_TARGETS` targets, or whose greedy cover
+already meets the cover LP's bound (rounded up), keeps its greedy start. Every step stops on counts (CFT's own
+iteration rules, the search's moves: ``MilpOptions.plain_start_moves`` per target of the block, by default
 :data:`MOVES_PER_TARGET`, as the tiled plan's search) and the seed, never on the clock: the same block gives the same
 start under any load.
 """
@@ -36,17 +34,17 @@ if TYPE_CHECKING:
 #: moves of the search per target of the block unless ``MilpOptions.plain_start_moves`` says otherwise: the tiled
 #: plan's :data:`planner.plan.strategy.MOVES_PER_PIECE` (a test keeps them equal; the solvers may not import the plan)
 MOVES_PER_TARGET = 10.0
-#: blocks with fewer targets keep their greedy start (the greedy of a handful of targets is near its optimum, and
-#: the MILP proves it at once)
+#: blocks with fewer targets keep their greedy start (the greedy of a handful of targets is near its optimum, and the
+#: MILP proves it at once)
 MIN_TARGETS = 20
 
 
 @dataclass(frozen=True, kw_only=True)
 class PlainStart:
     """``selected``: the smallest cover met (the greedy's when nothing beat it); ``greedy``: the greedy cover's
-    stations; ``lp_bound``: the block's cover LP, in cost units; ``cft``: stations of CFT's cover (None: not run,
-    the greedy met the bound); ``cft_bound``: CFT's Lagrangian bound, in cost units; ``searched``: stations after
-    the local search from CFT's cover; ``moves``: moves the search made."""
+    stations; ``lp_bound``: the block's cover LP, in cost units; ``cft``: stations of CFT's cover (None: not run, the
+    greedy met the bound); ``cft_bound``: CFT's Lagrangian bound, in cost units; ``searched``: stations after the
+    local search from CFT's cover; ``moves``: moves the search made."""
 
     selected: tuple[int, ...]
     greedy: int
@@ -71,25 +69,13 @@ def plain_start(
     deadline: float = math.inf,
 ) -> PlainStart | None:
     """The start of a plain block (module docstring), or None where it does not apply: registration groups (a
-    connected block keeps its own start and search), the start off, k > 1, combined precision, costs not all equal,
-    no greedy cover, a block of fewer than :data:`MIN_TARGETS` targets, or a greedy cover of one station.
+    connected block keeps its own start and search), the start off, k > 1, combined precision, costs not all equal, no
+    greedy cover, a block of fewer than :data:`MIN_TARGETS` targets, or a greedy cover of one station.
 
-    Parameters
-    ----------
-    a
-        The block's candidates x targets boolean CSR coverage.
-    cost
-        Cost of each candidate (all equal, else None is returned).
-    groups
-        The block's registration group of each candidate (None: a plain block).
-    incumbent
-        The block's greedy cover (rows of ``a``).
-    o
-        The MILP's options: ``plain_start``, ``plain_start_moves``, ``local_search_moves`` (0: no search) and
-        ``seed`` (of CFT and of the search).
-    deadline
-        The user's wall-clock cap (``o.time_limit_s``) as a ``time.perf_counter()`` instant: CFT and the search
-        stop there, so the cap holds for the whole solve (``math.inf``: none, the default).
+    ``a``: the block's candidates x targets boolean coverage; ``cost``: per candidate; ``groups``: the block's
+    registration group of each candidate (None: a plain block); ``incumbent``: the block's greedy cover (rows of
+    ``a``); ``o``: the MILP's options (``plain_start``, ``plain_start_moves``, ``local_search_moves``, ``seed``);
+    ``deadline``: the user's wall-clock cap as a ``time.perf_counter()`` instant, where CFT and the search stop.
     """
     n_cand, n_targ = a.shape
     if (
@@ -132,9 +118,9 @@ def plain_start(
 
 
 def plain_record(starts: list[PlainStart]) -> dict[str, int]:
-    """What the plain starts of a solve did, for plan.json: the blocks that took it, those where CFT ran, the
-    greedy covers' stations, the starts' stations (the smaller of the greedy's and the searched cover) and the
-    search's moves, each summed over the blocks."""
+    """What the plain starts of a solve did, for plan.json: the blocks that took it, those where CFT ran, the greedy
+    covers' stations, the starts' stations (the smaller of the greedy's and the searched cover) and the search's
+    moves, each summed over the blocks."""
     return {
         "blocks": len(starts),
         "cft_blocks": sum(s.cft is not None for s in starts),

@@ -1,11 +1,9 @@
 """Presolve of the cover: dominated candidates, duplicate targets, forced candidates.
 
-Dominance is the trap here: dropping a candidate whose coverage is a subset of
-another's is valid for the plain cover only. Under the registration
-constraint a dominated candidate can be the only bridge between two others,
-so there a candidate i is dropped only when some kept j of the same group covers
-everything i covers AND is linked to every station i is linked to that was not
-dropped before i (then j can take i's place in any connected plan: see
+Dominance is the trap here: dropping a candidate whose coverage is a subset of another's is valid for the plain cover
+only. Under the registration constraint a dominated candidate can be the only bridge between two others, so there a
+candidate i is dropped only when some kept j of the same group covers everything i covers AND is linked to every
+station i is linked to that was not dropped before i (then j can take i's place in any connected plan: see
 :func:`dominated`).
 """
 
@@ -65,20 +63,20 @@ def dominated(
 ) -> np.ndarray:
     """Mask of candidates that another candidate can always replace (see the module docstring).
 
-    Candidates are considered from the largest coverage down; among identical ones the lowest index stays.
-    Under ``adj``, i goes for a kept j (of its group, no dearer, seeing every piece i sees) linked to every
-    neighbour of i *not dropped before i*, j itself aside: replace the dropped candidates of an optimal
-    connected plan by their replacers in this order, and when i's turn comes the ones dropped before it are
-    out of the plan already, so i's neighbours in the plan are among those j is linked to (a replacer is
-    kept, never dropped). A candidate covering nothing goes when no neighbour of it is left, or for such a j.
+    Candidates are considered from the largest coverage down; among identical ones the lowest index stays. Under
+    ``adj``, i goes for a kept j (of its group, no dearer, seeing every piece i sees) linked to every neighbour of i
+    *not dropped before i*, j itself aside: replace the dropped candidates of an optimal connected plan by their
+    replacers in this order, and when i's turn comes the ones dropped before it are out of the plan already, so i's
+    neighbours in the plan are among those j is linked to (a replacer is kept, never dropped). A candidate covering
+    nothing goes when no neighbour of it is left, or for such a j.
 
-    No candidate x candidate product is formed: candidate i can only be replaced by a *kept* candidate that
-    sees every piece of i, and such a candidate sees i's piece with the fewest kept candidates. So each
-    piece keeps the list of kept candidates that see it, and i is checked against the shortest of its
-    pieces' lists only (a scratch mark of i's pieces, then |C(j) & C(i)| = |C(i)| for each j of that list).
-    Work is the sum of those checks, in proportion to the pairs of the coverage matrix when few candidates
-    stay (on a 1-m grid over a building of small rooms: 25 kept of 35,729). The overlap relation itself,
-    formed among the kept only, is :func:`planner.solve.lazy_links.linked_dominated`'s.
+    No candidate x candidate product is formed: candidate i can only be replaced by a *kept* candidate that sees every
+    piece of i, and such a candidate sees i's piece with the fewest kept candidates. So each piece keeps the list of
+    kept candidates that see it, and i is checked against the shortest of its pieces' lists only (a scratch mark of
+    i's pieces, then |C(j) & C(i)| = |C(i)| for each j of that list). Work is the sum of those checks, in proportion
+    to the pairs of the coverage matrix when few candidates stay (on a 1-m grid over a building of small rooms: 25
+    kept of 35,729). The overlap relation itself, formed among the kept only, is
+    :func:`planner.solve.lazy_links.linked_dominated`'s.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()
@@ -135,8 +133,8 @@ def _replaced(
     removed: np.ndarray,
     gid: np.ndarray,
 ) -> bool:
-    """Whether a kept candidate, no dearer and of i's group (linked to all of i's links not dropped so far
-    under ``rel``), sees every piece i sees."""
+    """Whether a kept candidate, no dearer and of i's group (linked to all of i's links not dropped so far under
+    ``rel``), sees every piece i sees."""
     lists = [kept_by_piece[t] for t in cols.tolist()]
     shortest = np.asarray(min(lists, key=len), dtype=np.int64)
     if shortest.size == 0:
@@ -158,8 +156,8 @@ def _replaced(
 def _no_bridge(
     rel: _Relation, i: int, removed: np.ndarray, kept: np.ndarray, cost: np.ndarray, gid: np.ndarray
 ) -> bool:
-    """Whether a candidate covering nothing can go under the overlap rule: no neighbour of it is left, or a
-    kept j of its group, no dearer, is linked to every neighbour of i left (j then stands in for it)."""
+    """Whether a candidate covering nothing can go under the overlap rule: no neighbour of it is left, or a kept j of
+    its group, no dearer, is linked to every neighbour of i left (j then stands in for it)."""
     nb = rel.row(i, removed)
     if nb.size == 0:
         return True
@@ -170,8 +168,8 @@ def _no_bridge(
 
 
 class _Relation:
-    """The overlap relation of :func:`dominated`: CSR rows and, among at most ``_BITS_MAX`` candidates, rows of
-    bits too (n^2 / 8 bytes: 32 MiB at 16,384)."""
+    """The overlap relation of :func:`dominated`: CSR rows and, among at most ``_BITS_MAX`` candidates, rows of bits
+    too (n^2 / 8 bytes: 32 MiB at 16,384)."""
 
     def __init__(self, adj: sp.csr_matrix) -> None:
         self.adj = adj.astype(np.int32).tocsr()
@@ -193,8 +191,8 @@ class _Relation:
     def covers(self, js: np.ndarray, nb: np.ndarray) -> bool:
         """Whether some j of ``js`` is linked to every candidate of ``nb`` but itself.
 
-        With bits, most j fail on a few of nb: all are tried on ``_PROBES`` of nb spread over it first, and
-        only those that pass on the rest. Else |N(j) & nb| = |nb| - [j in nb], summed over the rows of js."""
+        With bits, most j fail on a few of nb: all are tried on ``_PROBES`` of nb spread over it first, and only those
+        that pass on the rest. Else |N(j) & nb| = |nb| - [j in nb], summed over the rows of js."""
         ptr = self.adj.indptr
         js = js[ptr[js + 1] - ptr[js] >= nb.size - 1]
         if js.size == 0:
@@ -228,8 +226,8 @@ def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:
 
 
 def implied_targets(by_target: sp.csr_matrix) -> np.ndarray:
-    """Mask of targets whose cover follows from another's: if every candidate that sees t' also sees t,
-    covering t' covers t (valid for k = 1 in the single-precision mode). Duplicates keep the lowest index."""
+    """Mask of targets whose cover follows from another's: if every candidate that sees t' also sees t, covering t'
+    covers t (valid for k = 1 in the single-precision mode). Duplicates keep the lowest index."""
     b = by_target.astype(np.int64).tocsr()
     size = np.diff(b.indptr)
     inter = (b @ b.T).tocsr()

@@ -1,14 +1,14 @@
-"""The LP half of geometric pricing: the relaxation of the cover with its duals (the heaviest positions of
-an arrangement of coverage regions: :func:`planner.coverage.arrangement.heaviest_points`).
+"""The LP half of geometric pricing: the relaxation of the cover with its duals (the heaviest positions of an
+arrangement of coverage regions: :func:`planner.coverage.arrangement.heaviest_points`).
 
 LP (over the current pool, x >= 0; the upper bound x <= 1 is redundant at the optimum)::
 
     minimise sum_j x_j   subject to   sum_{j sees t} x_j >= 1   for every piece t
 
-Its dual prices each piece, y_t >= 0, with sum_{t seen by j} y_t <= 1 for every pooled j. A
-position p whose regions carry sum_{t: p in R_t} y_t > 1 is a column of negative reduced cost;
-when no position has one, the LP value bounds every cover drawn from anywhere in the plane
-(Tozoni, de Rezende, de Souza, "Algorithm 966", ACM TOMS 2016, do the same for point guards).
+Its dual prices each piece, y_t >= 0, with sum_{t seen by j} y_t <= 1 for every pooled j. A position p whose regions
+carry sum_{t: p in R_t} y_t > 1 is a column of negative reduced cost; when no position has one, the LP value bounds
+every cover drawn from anywhere in the plane (Tozoni, de Rezende, de Souza, "Algorithm 966", ACM TOMS 2016, do the
+same for point guards).
 """
 
 from __future__ import annotations
@@ -44,9 +44,9 @@ def cover_lp(by_target: sp.csr_matrix, cost: NDArray[np.float64] | None = None) 
 
 
 class WarmCoverLp:
-    """The cover LP kept in one HiGHS model (``highspy``, 1 thread): columns are appended between solves and
-    each re-solve starts from the last optimal basis (the new columns enter at 0, so the basis stays primal
-    feasible), instead of a solve from scratch per pricing round (polygon A: 0.54 s per round from scratch)."""
+    """The cover LP kept in one HiGHS model (``highspy``, 1 thread): columns are appended between solves and each
+    re-solve starts from the last optimal basis (the new columns enter at 0, so the basis stays primal feasible),
+    instead of a solve from scratch per pricing round (polygon A: 0.54 s per round from scratch)."""
 
     def __init__(self, by_target: sp.csr_matrix) -> None:
         import highspy
@@ -86,10 +86,10 @@ class WarmCoverLp:
         )
 
     def close(self) -> None:
-        """Free HiGHS's model and solver data now. The ``Highs`` object sits in a reference cycle with its
-        callbacks, so without this its memory (about 72 B per candidate-piece pair) stays allocated until a
-        full garbage collection, which a planning run may never reach: on fine grids it would be held from
-        pricing to the end of the run (docs/benchmarks/memory.md)."""
+        """Free HiGHS's model and solver data now. The ``Highs`` object sits in a reference cycle with its callbacks,
+        so without this its memory (about 72 B per candidate-piece pair) stays allocated until a full garbage
+        collection, which a planning run may never reach: on fine grids it would be held from pricing to the end of
+        the run (docs/benchmarks/memory.md)."""
         self._h.clear()
 
     def solve(self) -> CoverLp:

@@ -36,8 +36,8 @@ class SolveResult:
     def no_plan(
         cls, method: str, status: Status, start: float, backend: str | None = None, info: dict[str, Any] | None = None
     ) -> SolveResult:
-        """A result without stations (``status`` infeasible or no solution), timed from ``start``
-        (a ``time.perf_counter()`` instant)."""
+        """A result without stations (``status`` infeasible or no solution), timed from ``start`` (a
+        ``time.perf_counter()`` instant)."""
         return cls(
             method=method,
             status=status,
@@ -57,8 +57,8 @@ class SolveResult:
 
     @property
     def wall_cap_hit(self) -> bool:
-        """A MILP (``info["work"]``) that the user's wall-clock cap ended before its counted work: only then may
-        its answer depend on the machine's load."""
+        """A MILP (``info["work"]``) that the user's wall-clock cap ended before its counted work: only then may its
+        answer depend on the machine's load."""
         return bool(self.info.get("work", {}).get("wall_cap_hit", False))
 
     def _repr_html_(self) -> str:

@@ -1,36 +1,34 @@
 """The connected cover of a ring of wall pieces by arcs, solved exactly as a shortest walk.
 
-A zone-side's wall is a ring (or a chain) of pieces, and a station usually sees one run of
-consecutive pieces: an arc. Two linked stations share wall, so their arcs overlap. For such a block the
-connected optimum is a shortest path, not a search:
+A zone-side's wall is a ring (or a chain) of pieces, and a station usually sees one run of consecutive pieces: an arc.
+Two linked stations share wall, so their arcs overlap. For such a block the connected optimum is a shortest path, not
+a search:
 
-**Theorem.** Let every candidate j cover the arc h_j of a cyclic order of the pieces, and let every
-linked pair's arcs overlap or touch. Then a cheapest connected set of candidates whose arcs cover the
-required pieces costs exactly as much as a cheapest *walk* in the link graph whose arcs, unrolled onto
-the line, cover a stretch that leaves out no required piece.
+**Theorem.** Let every candidate j cover the arc h_j of a cyclic order of the pieces, and let every linked pair's arcs
+overlap or touch. Then a cheapest connected set of candidates whose arcs cover the required pieces costs exactly as
+much as a cheapest *walk* in the link graph whose arcs, unrolled onto the line, cover a stretch that leaves out no
+required piece.
 
-*Proof.* (<=) Take an optimal set C and a spanning tree of its links. Unroll the ring onto the line
-(the universal cover) and lay the tree's arcs down from a root, each child on the copy that overlaps or
-touches its parent's: their union is one interval U, and U projects onto every required piece. The path
-in the tree from the arc holding U's left end to the arc holding its right end has a union that
-contains U (consecutive arcs touch), and its cost is at most C's. (>=) A walk's distinct candidates are
-linked in a chain, and the union of its arcs covers every required piece: a feasible set no dearer than
-the walk.
+*Proof.* (<=) Take an optimal set C and a spanning tree of its links. Unroll the ring onto the line (the universal
+cover) and lay the tree's arcs down from a root, each child on the copy that overlaps or touches its parent's: their
+union is one interval U, and U projects onto every required piece. The path in the tree from the arc holding U's left
+end to the arc holding its right end has a union that contains U (consecutive arcs touch), and its cost is at most
+C's. (>=) A walk's distinct candidates are linked in a chain, and the union of its arcs covers every required piece: a
+feasible set no dearer than the walk.
 
-**Search.** Fix the required piece q seen (by arc) by the fewest candidates. The optimal path holds an
-arc M over q; from M it runs left to its leftmost arc and right to its rightmost. So one Dijkstra per
-such M on the unrolled graph (copies of the ring at offsets -n, 0, n, 2n; entering a node costs its
-candidate's cost) gives every left end's and right end's cost, and the best pair whose stretch leaves
-out no required piece is found with suffix minima: O(|M| (E + C) log C) for C candidates and E links.
+**Search.** Fix the required piece q seen (by arc) by the fewest candidates. The optimal path holds an arc M over q;
+from M it runs left to its leftmost arc and right to its rightmost. So one Dijkstra per such M on the unrolled graph
+(copies of the ring at offsets -n, 0, n, 2n; entering a node costs its candidate's cost) gives every left end's and
+right end's cost, and the best pair whose stretch leaves out no required piece is found with suffix minima: O(|M| (E +
+C) log C) for C candidates and E links.
 
-**A bound in general.** With each candidate's coverage replaced by the smallest arc that holds it (a
-superset) and the links kept, every connected plan stays feasible, so the walk's cost is a lower bound
-for the block in any cyclic order of its pieces, valid whenever every linked pair's arcs overlap or
-touch (checked; otherwise :func:`ring_graph` answers ``None``). Where every candidate's coverage *is*
-its arc, the walk is an optimal plan. Where arcs have holes (stations inside a concave outline see
-around a corner), :func:`lagrangian_bound` adds the cover rows back with multipliers. Polygon A (cached
-pool of ``scripts/bench/bench_connectivity.py``, pieces in the outline's order): outside 15 and inside 10, its
-connected optima, where the cut loop left a bound of 13 and 9 after 60 s (docs/milp.md). Bounds are
+**A bound in general.** With each candidate's coverage replaced by the smallest arc that holds it (a superset) and the
+links kept, every connected plan stays feasible, so the walk's cost is a lower bound for the block in any cyclic order
+of its pieces, valid whenever every linked pair's arcs overlap or touch (checked; otherwise :func:`ring_graph` answers
+``None``). Where every candidate's coverage *is* its arc, the walk is an optimal plan. Where arcs have holes (stations
+inside a concave outline see around a corner), :func:`lagrangian_bound` adds the cover rows back with multipliers.
+Polygon A (cached pool of ``scripts/bench/bench_connectivity.py``, pieces in the outline's order): outside 15 and
+inside 10, its connected optima, where the cut loop left a bound of 13 and 9 after 60 s (docs/milp.md). Bounds are
 over the candidate pool given.
 """
 
@@ -53,10 +51,10 @@ _EPS = 1e-9
 class RingBound:
     """The cheapest walk over a block's arcs.
 
-    ``bound``: a lower bound on the block's connected optimum over its candidate pool (exact when
-    ``exact_arcs`` equals the candidates that cover anything); ``walk``: the distinct candidates of
-    the walk (block indices), a plan of cost ``bound`` when every one of them covers its whole arc;
-    ``exact_arcs``: candidates whose coverage is exactly their arc.
+    ``bound``: a lower bound on the block's connected optimum over its candidate pool (exact when ``exact_arcs``
+    equals the candidates that cover anything); ``walk``: the distinct candidates of the walk (block indices), a plan
+    of cost ``bound`` when every one of them covers its whole arc; ``exact_arcs``: candidates whose coverage is
+    exactly their arc.
     """
 
     bound: float
@@ -65,8 +63,8 @@ class RingBound:
 
 
 def cyclic_arcs(u: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Each non-empty row's smallest cyclic arc [start, end] over the n columns (end may pass n), leaving out
-    the row's widest gap (first widest on ties); rows must be non-empty."""
+    """Each non-empty row's smallest cyclic arc [start, end] over the n columns (end may pass n), leaving out the
+    row's widest gap (first widest on ties); rows must be non-empty."""
     u = u.tocsr()
     u.sort_indices()
     n = u.shape[1]
@@ -88,8 +86,8 @@ def cyclic_arcs(u: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64]]
 
 
 def arcs(cover: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]]:
-    """Each row's smallest cyclic arc [start, end] (end may pass n: it wraps) over the n columns, whether the
-    row covers all of it, and -1 for empty rows. The arc leaves out the row's widest gap (:func:`cyclic_arcs`)."""
+    """Each row's smallest cyclic arc [start, end] (end may pass n: it wraps) over the n columns, whether the row
+    covers all of it, and -1 for empty rows. The arc leaves out the row's widest gap (:func:`cyclic_arcs`)."""
     cover = cover.tocsr()
     size = cover.getnnz(axis=1)
     start = np.full(cover.shape[0], -1, dtype=np.int64)
@@ -164,8 +162,8 @@ class RingGraph:
         pr, source, left, r = pick
         lpath, rpath = _path(pr, source, left), _path(pr, source, r)
         walk = tuple(sorted({v % self.m for v in lpath + rpath}))
-        # the walk's own cost (anchor once); Dijkstra chose it with _EPS per node, which can pass over a walk
-        # cheaper by at most _EPS per lifted node: exact for integral costs, otherwise that much is taken off
+        # the walk's own cost (anchor once); Dijkstra chose it with _EPS per node, which can pass over a walk cheaper
+        # by at most _EPS per lifted node: exact for integral costs, otherwise that much is taken off
         true = float(
             cost[np.asarray(lpath) % self.m].sum() + cost[np.asarray(rpath[1:], dtype=np.int64) % self.m].sum()
         )
@@ -175,8 +173,8 @@ class RingGraph:
 
 def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_matrix) -> RingGraph | None:
     """The unrolled link graph of ``cover``'s arcs (candidates x pieces in cyclic order), ``required`` pieces to
-    cover, links ``adj``; ``None`` when the theorem does not apply (a linked pair's arcs neither overlap nor
-    touch, nothing required)."""
+    cover, links ``adj``; ``None`` when the theorem does not apply (a linked pair's arcs neither overlap nor touch,
+    nothing required)."""
     m, n = cover.shape
     if not required.any():
         return None
@@ -185,9 +183,9 @@ def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
     i, j = pairs.row.astype(np.int64), pairs.col.astype(np.int64)
     if np.any(start[i] < 0) or np.any(start[j] < 0):
         return None
-    # lifted links as 32-bit node numbers, one half (i's copy to j's) per lift pair, mirrored once at the end:
-    # the int64 row and column lists and their concatenated copies took about 470 B a link at the peak
-    # (polygon C at a 1-m grid: 5.9 million links, 2.7 GiB); the graph is the same (test_ring_graph_is_the_pairwise_lift)
+    # lifted links as 32-bit node numbers, one half (i's copy to j's) per lift pair, mirrored once at the end: the
+    # int64 row and column lists and their concatenated copies took about 470 B a link at the peak (polygon C at a 1-m
+    # grid: 5.9 million links, 2.7 GiB); the graph is the same (test_ring_graph_is_the_pairwise_lift)
     idx = np.int32 if _LIFTS.size * m < np.iinfo(np.int32).max else np.int64
     i32, j32 = i.astype(idx), j.astype(idx)
     rows, cols, touch = [], [], np.zeros(i.size, dtype=bool)
@@ -213,8 +211,8 @@ def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
 def ring_bound(
     cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_matrix, cost: NDArray[np.float64]
 ) -> RingBound | None:
-    """The cheapest walk over ``cover``'s arcs that covers every ``required`` piece (see :func:`ring_graph`);
-    ``None`` when the theorem does not apply, a cost is not > 0, or no walk covers the ring."""
+    """The cheapest walk over ``cover``'s arcs that covers every ``required`` piece (see :func:`ring_graph`); ``None``
+    when the theorem does not apply, a cost is not > 0, or no walk covers the ring."""
     if np.any(cost <= 0):
         return None
     g = ring_graph(cover, required, adj)

@@ -1,8 +1,7 @@
 """SCIP through PySCIPOpt: a backend of its own, and branch-and-cut for registration connectivity.
 
-As a plain backend (``pyscipopt``) it holds the cover model and re-solves it
-after each round of the cut loop like the others. With :meth:`PyScipBackend.connect`
-it also gets a constraint handler, so connectivity is enforced inside one
+As a plain backend (``pyscipopt``) it holds the cover model and re-solves it after each round of the cut loop like the
+others. With :meth:`PyScipBackend.connect` it also gets a constraint handler, so connectivity is enforced inside one
 search tree (no restarts, SCIP keeps its cut pool):
 
 * ``conscheck`` rejects a candidate solution whose chosen stations of some
@@ -12,9 +11,8 @@ search tree (no restarts, SCIP keeps its cut pool):
 * ``conssepalp`` separates fractional LP points with minimum node-separator
   inequalities (:mod:`planner.solve.separators`).
 
-PySCIPOpt is imported lazily, inside the functions, so that importing the
-planner does not load SCIP. SCIP solves on one thread (deterministic); the
-seed goes to ``randomization/randomseedshift``.
+PySCIPOpt is imported lazily, inside the functions, so that importing the planner does not load SCIP. SCIP solves on
+one thread (deterministic); the seed goes to ``randomization/randomseedshift``.
 """
 
 from __future__ import annotations
@@ -203,8 +201,8 @@ def _handler(scip: Any) -> type:
 
 
 def _add_separator_cut(model: Any, x: list, i: int, nodes: Sequence[int]) -> None:
-    """The cut ``sum(x[nodes]) >= x[i]`` (a node separator between station ``i`` and a target's seers), to the
-    LP and the cut pool."""
+    """The cut ``sum(x[nodes]) >= x[i]`` (a node separator between station ``i`` and a target's seers), to the LP and
+    the cut pool."""
     row = model.createEmptyRowUnspec(name="sep", lhs=0.0, rhs=None, local=False, removable=True)
     model.cacheRowExtensions(row)
     for v in nodes:
@@ -217,8 +215,8 @@ def _add_separator_cut(model: Any, x: list, i: int, nodes: Sequence[int]) -> Non
 
 
 def _separations(h: Any, ess: np.ndarray | None, members: np.ndarray, vals: np.ndarray, base: sp.csr_matrix):
-    """The violated separator inequalities of one group (members ``members``, essential targets ``ess``) at the
-    LP point ``vals``, for the handler ``h``: pairs (station i, separator nodes)."""
+    """The violated separator inequalities of one group (members ``members``, essential targets ``ess``) at the LP
+    point ``vals``, for the handler ``h``: pairs (station i, separator nodes)."""
     if ess is None or not ess.any():
         return
     order = members[np.argsort(-vals[members], kind="stable")]

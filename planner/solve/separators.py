@@ -1,19 +1,16 @@
 """Minimum node separators on the overlap graph, for cutting off fractional points.
 
-The node-separator inequalities (Fischetti, Leitner, Ljubic, Luipersbeck,
-Monaci, Resch, Salvagnin, Sinnl, "Thinning out Steiner trees: a node-based
-model for uniform edge costs", Math. Prog. Comp. 9, 2017) say: when the chosen
-stations of a zone-side must be connected, a station i and a station of a set
-T that must hold a chosen station can only both be chosen when every set N of
-nodes that separates i from T holds a chosen one:
+The node-separator inequalities (Fischetti, Leitner, Ljubic, Luipersbeck, Monaci, Resch, Salvagnin, Sinnl, "Thinning
+out Steiner trees: a node-based model for uniform edge costs", Math. Prog. Comp. 9, 2017) say: when the chosen
+stations of a zone-side must be connected, a station i and a station of a set T that must hold a chosen station can
+only both be chosen when every set N of nodes that separates i from T holds a chosen one:
 
     sum_{v in N} x_v >= x_i.
 
-Here T is the set of candidates that see an *essential* target of the group
-(one that only the group's candidates see), so some station of T is always
-chosen. The most violated such cut for a point x* is a minimum vertex cut with
-node capacities x*, i.e. a maximum flow on the split-node graph (v_in -> v_out
-with capacity x*_v, u_out -> v_in unbounded for every overlap edge).
+Here T is the set of candidates that see an *essential* target of the group (one that only the group's candidates
+see), so some station of T is always chosen. The most violated such cut for a point x* is a minimum vertex cut with
+node capacities x*, i.e. a maximum flow on the split-node graph (v_in -> v_out with capacity x*_v, u_out -> v_in
+unbounded for every overlap edge).
 """
 
 from __future__ import annotations
@@ -45,8 +42,8 @@ def split_graph(adj: sp.csr_matrix, capacity: np.ndarray) -> sp.csr_matrix:
 def min_node_separator(base: sp.csr_matrix, source: int, sinks: np.ndarray) -> tuple[float, np.ndarray]:
     """Smallest-capacity node set separating ``source`` from every node of ``sinks`` (sink nodes may be in it).
 
-    Returns the cut value (in the capacity's units) and the separator's nodes.
-    The source's own capacity does not count: the flow starts at its out-node.
+    Returns the cut value (in the capacity's units) and the separator's nodes. The source's own capacity does not
+    count: the flow starts at its out-node.
     """
     m = base.shape[0]
     n = (m - 1) // 2
@@ -71,8 +68,8 @@ def min_node_separator(base: sp.csr_matrix, source: int, sinks: np.ndarray) -> t
 def anchor_targets(
     adj: sp.csr_matrix, seers: sp.csr_matrix, targets: np.ndarray, count: int
 ) -> list[tuple[int, np.ndarray]]:
-    """Up to ``count`` targets spread out over the overlap graph (farthest-point order, start at the
-    first), each with the hop distance of every candidate from the target's seers."""
+    """Up to ``count`` targets spread out over the overlap graph (farthest-point order, start at the first), each with
+    the hop distance of every candidate from the target's seers."""
     out: list[tuple[int, np.ndarray]] = []
     if targets.size == 0:
         return out
@@ -104,11 +101,11 @@ def layer_cuts(
 ) -> list[tuple[np.ndarray, np.ndarray, float]]:
     """Distance-layer cuts of one group: sum_{v in L_k} x_v >= 1.
 
-    For an essential target t, let d(v) be the overlap-step distance of candidate v from the
-    candidates that see t, and D the largest distance from them to the nearest seer of another
-    essential target. Some chosen station sees t and one sees that other target, joined by a chosen
-    path along which d rises by at most one per step; so for k = 1..D the layer L_k = {v: d(v) = k}
-    holds a chosen station. Layers of disjoint support add up: the LP pays at least D + 1.
+    For an essential target t, let d(v) be the overlap-step distance of candidate v from the candidates that see t,
+    and D the largest distance from them to the nearest seer of another essential target. Some chosen station sees t
+    and one sees that other target, joined by a chosen path along which d rises by at most one per step; so for k =
+    1..D the layer L_k = {v: d(v) = k} holds a chosen station. Layers of disjoint support add up: the LP pays at least
+    D + 1.
     """
     seers = a.T.tocsr()
     ess = np.flatnonzero(essential)

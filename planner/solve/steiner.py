@@ -1,10 +1,10 @@
 """Joining a cover's pieces into one registered network with few linking stations: a Steiner-tree view.
 
-A cover from a plain-cover engine (:mod:`planner.solve.cft`) usually falls apart under the overlap relation:
-its stations see disjoint walls. Each registration group's chosen stations form components; joining them is
-a node-weighted Steiner problem over the overlap graph (terminals: the components; cost: the stations added).
-:func:`steiner_join` uses Mehlhorn's construction (K. Mehlhorn, "A faster approximation algorithm for the
-Steiner problem in graphs", Information Processing Letters 27, 1988), with node weights:
+A cover from a plain-cover engine (:mod:`planner.solve.cft`) usually falls apart under the overlap relation: its
+stations see disjoint walls. Each registration group's chosen stations form components; joining them is a
+node-weighted Steiner problem over the overlap graph (terminals: the components; cost: the stations added).
+:func:`steiner_join` uses Mehlhorn's construction (K. Mehlhorn, "A faster approximation algorithm for the Steiner
+problem in graphs", Information Processing Letters 27, 1988), with node weights:
 
 1. one multi-source shortest-path pass from every chosen station (distance 0) over ``adj``, each step costing
    the station it enters (0 for a chosen one): each candidate's distance to, and nearest, component (its
@@ -13,11 +13,11 @@ Steiner problem in graphs", Information Processing Letters 27, 1988), with node 
 3. a minimum spanning tree over the components with the cheapest bridge of each pair; its bridges' paths are
    added, cheapest first, skipping one whose components an earlier bridge already joined.
 
-So a bridge's stations are counted once even when several bridges share them only through the spanning
-tree; the result is at most twice the cost of the best tree joining the components through the Voronoi
-paths (Mehlhorn's bound for edge weights; with node weights it is a heuristic). Cost: one Dijkstra, O(E log
-C), and one pass over the E overlap pairs, per round; a round joins every component it can, and a second
-round runs only if a group was left in pieces (it never is when the group's overlap graph is connected).
+So a bridge's stations are counted once even when several bridges share them only through the spanning tree; the
+result is at most twice the cost of the best tree joining the components through the Voronoi paths (Mehlhorn's bound
+for edge weights; with node weights it is a heuristic). Cost: one Dijkstra, O(E log C), and one pass over the E
+overlap pairs, per round; a round joins every component it can, and a second round runs only if a group was left in
+pieces (it never is when the group's overlap graph is connected).
 """
 
 from __future__ import annotations
@@ -34,9 +34,9 @@ from planner.solve.connectivity import group_members
 def steiner_join(
     adj: sp.csr_matrix, groups: Sequence[Hashable], selected: Sequence[int], cost: np.ndarray | None = None
 ) -> list[int] | None:
-    """``selected`` with linking stations added so that each group's chosen stations are connected under
-    ``adj`` (module docstring), sorted; None when some group's components cannot be joined at all.
-    ``cost``: each candidate's cost (default 1: stations)."""
+    """``selected`` with linking stations added so that each group's chosen stations are connected under ``adj``
+    (module docstring), sorted; None when some group's components cannot be joined at all. ``cost``: each candidate's
+    cost (default 1: stations)."""
     adj = sp.csr_matrix(adj, dtype=bool)
     n = adj.shape[0]
     cost = np.ones(n) if cost is None else np.asarray(cost, dtype=float)
@@ -54,8 +54,8 @@ def steiner_join(
 
 
 def _join_once(adj: sp.csr_matrix, cost: np.ndarray, members: list[int], chosen: set[int]) -> list[int] | None:
-    """The stations one Mehlhorn round adds to join ``members``' components ([] when they are one; None when
-    they cannot be joined)."""
+    """The stations one Mehlhorn round adds to join ``members``' components ([] when they are one; None when they
+    cannot be joined)."""
     sub = adj[members][:, members]
     k, label = connected_components(sub, directed=False)
     if k <= 1:

@@ -1,16 +1,16 @@
 """A covering bound for connected choices: the tree (Hunter) bound on the union of coverage.
 
-For sets A_1..A_k and any tree T on them, |A_1 u ... u A_k| <= sum |A_i| - sum_{(i,j) in T} |A_i n A_j|
-(Hunter 1976, "An upper bound for the probability of a union", J. Appl. Prob. 13). Take A_i as the
-wall length station i sees among the targets only its zone-side's candidates see (total L_g): a
-connected choice has a spanning tree of overlap edges, so with y_e = 1 on that tree
+For sets A_1..A_k and any tree T on them, |A_1 u ... u A_k| <= sum |A_i| - sum_{(i,j) in T} |A_i n A_j| (Hunter 1976,
+"An upper bound for the probability of a union", J. Appl. Prob. 13). Take A_i as the wall length station i sees among
+the targets only its zone-side's candidates see (total L_g): a connected choice has a spanning tree of overlap edges,
+so with y_e = 1 on that tree
 
     sum_i w_i x_i - sum_e s_e y_e >= L_g,   sum_e y_e = sum_i x_i - 1,   y_e <= x_u, y_e <= x_v
 
-where w_i is station i's length and s_e the length both ends of edge e see. Linked stations share at
-least 30 % of the smaller one's wall, so every station after the first pays for its overlap: the
-cover's LP bound rises (polygon A: 8 -> 8.74 inside, 11 -> 12.27 outside). Lengths are rounded to
-millimetres in the relaxing direction (w up, s down, L down) so that the rows stay valid on every backend.
+where w_i is station i's length and s_e the length both ends of edge e see. Linked stations share at least 30 % of the
+smaller one's wall, so every station after the first pays for its overlap: the cover's LP bound rises (polygon A: 8 ->
+8.74 inside, 11 -> 12.27 outside). Lengths are rounded to millimetres in the relaxing direction (w up, s down, L down)
+so that the rows stay valid on every backend.
 """
 
 from __future__ import annotations
