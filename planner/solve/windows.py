@@ -1,7 +1,7 @@
 """Fewer stations for a large connected plan: re-solve it exactly inside windows of the site (LNS).
 
-The local search (:mod:`planner.solve.local_search`) changes one or two stations a move; a plant's plan
-can still hold a group of stations that a different group, one smaller, would replace. A *window* is a
+The local search (:mod:`planner.solve.local_search`) changes one or two stations a move; a large plan can
+still hold a group of stations that a different group, one smaller, would replace. A *window* is a
 disc of radius ``radius_m`` around one chosen station c. With S the plan, D the chosen stations inside
 the window and F = S \\ D the ones kept,
 
@@ -32,8 +32,7 @@ result, and the counts, do not depend on ``batch`` or on the number of workers (
 ``test_windows_in_flight_give_the_one_at_a_time_result``).
 
 Cost: a pass solves one window per station, each holding a few of the plan's stations; the windows are the
-serial part of a tiled run, and keeping several in flight per worker shortens the pass on many cores (a worker
-whose answer waits behind a slower one's is otherwise idle; the timings: docs/studies/plant.md).
+serial part of a tiled run, and keeping several in flight per worker shortens the pass on many cores.
 """
 
 from __future__ import annotations
@@ -150,24 +149,11 @@ def window_search(
 ) -> Windowed:
     """The smallest connected cover found by re-solving ``plan`` window by window (module docstring).
 
-    Parameters
-    ----------
-    a
-        C x T boolean coverage matrix (the targets to cover are those ``plan`` covers).
-    adj
-        C x C symmetric overlap adjacency; links join candidates of one group only.
-    groups
-        Registration group of each candidate.
-    plan
-        A connected cover (each group one part).
-    xy
-        C x 2 candidate positions (m).
-    floor
-        Stop at this many stations (a proven lower bound).
-    run
-        Keep ``options.batch`` windows in flight with ``run`` (a :class:`Runner`, e.g.
-        :class:`planner.tiles.engine.TaskRunner` on Dask; default: here, one after the other); the result is
-        the same for every batch (module docstring).
+    ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric overlap
+    adjacency, links within a group only; ``groups``: each candidate's registration group; ``plan``: a connected
+    cover; ``xy``: C x 2 candidate positions (m); ``floor``: stop at this many stations (a proven lower bound);
+    ``run``: a :class:`Runner` (e.g. :class:`planner.tiles.engine.TaskRunner` on Dask) that keeps
+    ``options.batch`` windows in flight (default: here, one after the other; the result is the same).
     """
     o = options or WindowOptions()
     in_flight = o.batch if run is not None else 1
@@ -226,23 +212,9 @@ def _window_task(
     o: WindowOptions,
     job: tuple[np.ndarray, int],
 ) -> tuple[np.ndarray | None, Status, bool]:
-    """One window as a task: ``job`` is (the plan, the centre station)."""
-    return _window(a, at, adj, groups, xy, job[0], job[1], need, o)
-
-
-def _window(
-    a: sp.csr_matrix,
-    at: sp.csr_matrix,
-    adj: sp.csr_matrix,
-    groups: Sequence[Hashable],
-    xy: np.ndarray,
-    plan: np.ndarray,
-    centre: int,
-    need: np.ndarray,
-    o: WindowOptions,
-) -> tuple[np.ndarray | None, Status, bool]:
-    """One window's MILP: the new plan (None when it found none), the MILP's status, and whether the wall
-    clock stopped it."""
+    """One window's MILP as a task (``job``: the plan and the centre station): the new plan (None when it found
+    none), the MILP's status, and whether the wall clock stopped it."""
+    plan, centre = job
     inside = np.hypot(*(xy[plan] - xy[centre]).T) <= o.radius_m
     kept = plan[~inside]
     rows = np.flatnonzero(
@@ -278,14 +250,13 @@ def connected_cover_within(
         overlap=_LINKS_ONLY, threads=1, seed=seed, greedy_starts=_GREEDY_STARTS, local_search_moves=_SEARCH_MOVES
     ).with_work_limit(work_s, WALL_CAP)
     r = solve(inst, milp)
-    hit = bool(r.info.get("work", {}).get("wall_cap_hit", False))
     if not r.selected:
-        return None, r.status, hit
-    return np.array(sorted(int(free[i]) for i in r.selected if i < free.size), dtype=np.int64), r.status, hit
+        return None, r.status, r.wall_cap_hit
+    return np.array(sorted(int(free[i]) for i in r.selected if i < free.size), dtype=np.int64), r.status, r.wall_cap_hit
 
 
 #: a window's MILP: starts of its connected greedy and moves of its block local search (fewer than the
-#: single model's defaults: in a window they cost much of the pass and gave the same plan; docs/studies/plant.md)
+#: single model's defaults: in a window they cost much of the pass and gave the same plan)
 _GREEDY_STARTS, _SEARCH_MOVES = 5, 100
 
 #: the window's links are the site's, given explicitly: no overlap test on the window's partial rows
