@@ -146,7 +146,7 @@ class BlockSolver:
         ``_FIRST_STEPS`` steps; if the block is still open, the local search from the incumbent and, unless the first
         steps gave up (no step raised the bound, :func:`planner.solve.ring.lagrangian_bound`), the rest of the
         ascent's steps toward the new incumbent. Closes the block when the incumbent meets the bound (the local search
-        comes second: on building27 it cost 2.2 s in two rooms that one ascent step closes)."""
+        comes second: one ascent step often closes what it would take long to find)."""
         o = self.o
         if self.groups is None or self.adj is None or len(set(self.groups)) != 1 or o.k != 1 or o.precision != "single":
             return

@@ -74,9 +74,8 @@ def dominated(
     piece of i, and such a candidate sees i's piece with the fewest kept candidates. So each piece keeps the list of
     kept candidates that see it, and i is checked against the shortest of its pieces' lists only (a scratch mark of
     i's pieces, then |C(j) & C(i)| = |C(i)| for each j of that list). Work is the sum of those checks, in proportion
-    to the pairs of the coverage matrix when few candidates stay (on a 1-m grid over a building of small rooms: 25
-    kept of 35,729). The overlap relation itself, formed among the kept only, is
-    :func:`planner.solve.lazy_links.linked_dominated`'s.
+    to the pairs of the coverage matrix when few candidates stay. The overlap relation itself, formed among the kept
+    only, is :func:`planner.solve.lazy_links.linked_dominated`'s.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()

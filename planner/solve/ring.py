@@ -27,9 +27,7 @@ links kept, every connected plan stays feasible, so the walk's cost is a lower b
 of its pieces, valid whenever every linked pair's arcs overlap or touch (checked; otherwise :func:`ring_graph` answers
 ``None``). Where every candidate's coverage *is* its arc, the walk is an optimal plan. Where arcs have holes (stations
 inside a concave outline see around a corner), :func:`lagrangian_bound` adds the cover rows back with multipliers.
-Polygon A (cached pool of ``scripts/bench/bench_connectivity.py``, pieces in the outline's order): outside 15 and
-inside 10, its connected optima, where the cut loop left a bound of 13 and 9 after 60 s (docs/milp.md). Bounds are
-over the candidate pool given.
+Bounds are over the candidate pool given (figures: docs/milp.md).
 """
 
 from __future__ import annotations
@@ -239,11 +237,8 @@ def lagrangian_bound(
     ``lam``: Polyak steps toward ``target`` (the incumbent's cost), the step factor 2 halved after 20 steps
     without a better L. Stops after ``iterations`` steps, once L > ``stop_above`` (with integral costs,
     the incumbent's cost - 1: the incumbent is then proven), or after ``give_up`` steps none of which
-    raised L above its first value (the ring adds nothing near these multipliers: on a plant tile, where
-    the block is many objects' walls and not one ring, L stayed at the cover LP's value for hundreds
-    of steps; docs/studies/plant.md). Returns the best L and the steps taken.
-    Polygon C inside (375 candidates x 231 targets, arcs with holes; cached pool): ring 11, cover LP 10, L
-    past 12 after 23 steps (0.3 s), so its connected optimum 13 is proven (integral costs; docs/milp.md)."""
+    raised L above its first value (the ring adds nothing near these multipliers, as on a block of many objects'
+    walls that is not one ring). Returns the best L and the steps taken."""
     best, factor, stall, first = -np.inf, 2.0, 0, np.inf
     for step in range(iterations):
         rc = cost - sub @ lam

@@ -8,9 +8,8 @@ so with y_e = 1 on that tree
     sum_i w_i x_i - sum_e s_e y_e >= L_g,   sum_e y_e = sum_i x_i - 1,   y_e <= x_u, y_e <= x_v
 
 where w_i is station i's length and s_e the length both ends of edge e see. Linked stations share at least 30 % of the
-smaller one's wall, so every station after the first pays for its overlap: the cover's LP bound rises (polygon A: 8 ->
-8.74 inside, 11 -> 12.27 outside). Lengths are rounded to millimetres in the relaxing direction (w up, s down, L down)
-so that the rows stay valid on every backend.
+smaller one's wall, so every station after the first pays for its overlap: the cover's LP bound rises. Lengths are
+rounded to millimetres in the relaxing direction (w up, s down, L down) so that the rows stay valid on every backend.
 """
 
 from __future__ import annotations
@@ -29,10 +28,7 @@ Row = tuple[np.ndarray, np.ndarray, float]
 def add_tree_bound(
     backend: Any, a: sp.csr_matrix, lengths: np.ndarray, adj: sp.csr_matrix, groups: Sequence[Hashable]
 ) -> int:
-    """Add the tree-bound rows of every zone-side of a block; ``a``: the block's candidates x all targets.
-
-    Returns the number of rows added.
-    """
+    """Add the tree-bound rows of every zone-side of a block (``a``: its candidates x all targets); the rows added."""
     a = a.astype(np.float64).tocsr()
     gid = group_ids(groups)
     upper = sp.triu(adj, k=1).tocoo()
