@@ -9,7 +9,8 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 names=("${@:-polygon_b plant_1ha}")
 read -r -a names <<< "${names[*]}"
-python3 -m build --outdir "$work/dist" "$root" > "$work/build.log" 2>&1 || { tail -20 "$work/build.log"; exit 1; }
+python3 -m venv "$work/buildenv" && "$work/buildenv/bin/pip" install -q build
+"$work/buildenv/bin/python" -m build --outdir "$work/dist" "$root" > "$work/build.log" 2>&1 || { tail -20 "$work/build.log"; exit 1; }
 python3 -m venv "$work/venv"
 "$work/venv/bin/pip" install -q "$work"/dist/*.whl
 mkdir "$work/run"
