@@ -22,7 +22,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.candidates.closed_form import SIDE_TAG
+from planner.candidates.closed_form import side_candidate
 from planner.candidates.from_regions import largest_part_pole
 from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.targets import SIDE_CODE, Targets
@@ -177,9 +177,8 @@ def axis_candidates(
             cap = max(MIN_AXIS_CANDIDATES, MAX_AXIS_PAIRS // max(int(pieces.size), 1))
             if len(pts) > cap:  # evenly thinned: a huge or round room keeps a sample of its axis cells
                 pts = pts[np.linspace(0, len(pts) - 1, cap).round().astype(int)]
-            tag = SIDE_TAG[side]
             out += [
-                Candidate(f"{zone.id}-{tag}-A{k}", zone.id, side, zone.frame, float(x), float(y), CandidateKind.AXIS)
+                side_candidate(zone.id, side, zone.frame, f"A{k}", float(x), float(y), CandidateKind.AXIS)
                 for k, (x, y) in enumerate(pts, 1)
             ]
     return out

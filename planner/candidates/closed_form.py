@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import shapely
@@ -67,11 +68,11 @@ def plan_zone_side(zone: Zone, side: ScanSide, limits: Limits) -> ZoneSidePlan:
     return ZoneSidePlan(zone.id, side, vgeo, tuple(wplans), candidates, replaced)
 
 
-def _candidate(zone: Zone, side: ScanSide, name: str, x: float, y: float, kind: CandidateKind, **more) -> Candidate:
-    """The closed-form candidate ``name`` of a zone-side (id ``zone-side-name``) at (x, y)."""
-    return Candidate(
-        id=f"{zone.id}-{SIDE_TAG[side]}-{name}", zone=zone.id, side=side, frame=zone.frame, x=x, y=y, kind=kind, **more
-    )
+def side_candidate(
+    zone: str, side: ScanSide, frame: str, name: str, x: float, y: float, kind: CandidateKind, **more: Any
+) -> Candidate:
+    """The candidate ``name`` of a zone-side (id ``zone-in-name`` / ``zone-out-name``) at (x, y) of ``frame``."""
+    return Candidate(f"{zone}-{SIDE_TAG[side]}-{name}", zone, side, frame, x, y, kind, **more)
 
 
 def _sign(side: ScanSide) -> float:
@@ -89,11 +90,9 @@ def _vertex_candidates(
             continue
         out = xy[(i + 1) % len(xy)] - xy[i]
         p = xy[i] + g.hd_m * _rotate(out / np.linalg.norm(out), _sign(side) * g.angle_deg / 2.0)
-        geometry = dict(alpha_deg=g.alpha_deg, hd_m=g.hd_m, gamma_deg=g.gamma_deg, covered_m=g.covered_m)
-        v = _candidate(
-            zone, side, f"V{i + 1}", float(p[0]), float(p[1]), CandidateKind.VERTEX, vertex=i + 1, **geometry
-        )
-        out_cands.append(v)
+        geometry = dict(vertex=i + 1, alpha_deg=g.alpha_deg, hd_m=g.hd_m, gamma_deg=g.gamma_deg, covered_m=g.covered_m)
+        x, y = float(p[0]), float(p[1])
+        out_cands.append(side_candidate(zone.id, side, zone.frame, f"V{i + 1}", x, y, CandidateKind.VERTEX, **geometry))
     return out_cands
 
 
@@ -104,16 +103,9 @@ def _wall_candidates(
     n = len(xy)
     wplans, wall_cands = [], []
     for i, wall in enumerate(zone.outer_walls):
-        g1, g2 = vgeo[i], vgeo[(i + 1) % n]
+        l1, l2 = (g.covered_m if g else 0.0 for g in (vgeo[i], vgeo[(i + 1) % n]))
         reach_c = horizontal_reach_m(limits.max_slant_range_m, wall.height_m, limits.instrument_height_m)
-        wp = wall_plan(
-            wall.length_m,
-            reach_c,
-            g1.covered_m if g1 else 0.0,
-            g2.covered_m if g2 else 0.0,
-            limits.theta_max_deg,
-            limits.overlap,
-        )
+        wp = wall_plan(wall.length_m, reach_c, l1, l2, limits.theta_max_deg, limits.overlap)
         wplans.append(wp)
         start = xy[i]
         t = (xy[(i + 1) % n] - start) / wall.length_m
@@ -131,7 +123,8 @@ def _wall_candidates(
             )
             local = dict(wall=i + 1, local_x_m=st.x_m, local_y_m=st.y_m, field=field)
             size = dict(field_half_base_m=st.half_base_m, field_height_m=st.height_m)
-            w = _candidate(zone, side, f"W{i + 1}.{k}", *at(st.x_m, st.y_m), CandidateKind.WALL, **local, **size)
+            px, py = at(st.x_m, st.y_m)
+            w = side_candidate(zone.id, side, zone.frame, f"W{i + 1}.{k}", px, py, CandidateKind.WALL, **local, **size)
             wall_cands.append(w)
     return wplans, wall_cands
 

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 import shapely
 
-from planner.candidates.closed_form import SIDE_TAG
+from planner.candidates.closed_form import side_candidate
 from planner.candidates.from_regions import largest_part_pole
 from planner.coverage.matrix import CoverageProblem, merge_problems
 from planner.coverage.regions import (
@@ -26,7 +26,7 @@ from planner.coverage.regions import (
     why_empty,
 )
 from planner.coverage.sight import Sight
-from planner.site.candidate import Candidate, CandidateKind
+from planner.site.candidate import CandidateKind
 from planner.site.model import ScanSide
 
 #: unseen pieces tried together (nearest first) when one candidate is sought for a stretch
@@ -92,17 +92,7 @@ def complete_candidates(
         for n, (k, (x, y)) in enumerate(poles, 1):
             zone = t.zone_ids[int(t.zone[k])]
             side = ScanSide.INSIDE if int(t.side[k]) == 0 else ScanSide.OUTSIDE
-            new.append(
-                Candidate(
-                    f"{zone}-{SIDE_TAG[side]}-{tag}{n}",
-                    zone,
-                    side,
-                    t.frames[int(t.frame[k])],
-                    x,
-                    y,
-                    CandidateKind.REGION,
-                )
-            )
+            new.append(side_candidate(zone, side, t.frames[int(t.frame[k])], f"{tag}{n}", x, y, CandidateKind.REGION))
         if new:
             problem = merge_problems(problem, sight.coverage(new, t))
         unseen = problem.uncoverable()

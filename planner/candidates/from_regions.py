@@ -15,7 +15,7 @@ import shapely
 from numpy.typing import NDArray
 from shapely.ops import polylabel
 
-from planner.candidates.closed_form import SIDE_TAG
+from planner.candidates.closed_form import side_candidate
 from planner.coverage.regions import FrameSpace, coverage_regions
 from planner.coverage.targets import SIDE_CODE, Targets
 from planner.coverage.visibility import SightLimits
@@ -79,15 +79,5 @@ def whole_side_candidates(
             if common.is_empty or common.area <= 0:
                 continue
             p = largest_part_pole(common)
-            out.append(
-                Candidate(
-                    f"{zone.id}-{SIDE_TAG[side]}-R",
-                    zone.id,
-                    side,
-                    zone.frame,
-                    float(p.x),
-                    float(p.y),
-                    CandidateKind.REGION,
-                )
-            )
+            out.append(side_candidate(zone.id, side, zone.frame, "R", float(p.x), float(p.y), CandidateKind.REGION))
     return out

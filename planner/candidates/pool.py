@@ -9,7 +9,13 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from planner.candidates.closed_form import SIDE_TAG, Limits, plan_zone_side, pole_in_frame, scan_side_angles
+from planner.candidates.closed_form import (
+    Limits,
+    plan_zone_side,
+    pole_in_frame,
+    scan_side_angles,
+    side_candidate,
+)
 from planner.candidates.formulas import horizontal_reach_m
 from planner.core.checks import argument, count, real
 from planner.core.settings import DEFAULTS
@@ -209,7 +215,7 @@ def _zone_side_points(
     """The corner rays, the centre (inside), the corner-bisector points and the grid of one zone-side."""
 
     def point(name: str, x: float, y: float, kind: CandidateKind = CandidateKind.FIELD) -> Candidate:
-        return Candidate(f"{zone.id}-{SIDE_TAG[side]}-{name}", zone.id, side, zone.frame, float(x), float(y), kind)
+        return side_candidate(zone.id, side, zone.frame, name, float(x), float(y), kind)
 
     out = [point(name, *p) for name, p in _corner_rays(zone, side, limits)]
     reach = max(
