@@ -42,6 +42,15 @@ NODE_LIMIT = 2000
 WALL_CAP_S: float | None = None
 #: a fractional cut is added when violated by more than this
 MIN_VIOLATION = 1e-3
+#: the constraint handler's priorities: it separates every round, enforces and checks after SCIP's own
+HANDLER = {"sepapriority": 10, "enfopriority": -10, "chckpriority": -10, "sepafreq": 1, "needscons": False}
+#: the handler declares no variable locks, so dual reductions would be unsafe; one LP thread, seed 0
+SETTINGS = {
+    "misc/allowstrongdualreds": False,
+    "misc/allowweakdualreds": False,
+    "randomization/randomseedshift": 0,
+    "lp/threads": 1,
+}
 
 
 @dataclass(frozen=True)
@@ -165,23 +174,11 @@ def scip_order(
     m, x, ends = _model(pyscipopt, np.floor(np.asarray(d, dtype=float) * SCALE), closed)
     cuts = _Cuts(n, neighbours, parts, start_is_station, registration)
     handler = _handler(pyscipopt)(x, cuts, n, (registration, neighbours, parts, start_is_station))
-    m.includeConshdlr(
-        handler,
-        "route",
-        "subtours and the registration rule",
-        sepapriority=10,
-        enfopriority=-10,
-        chckpriority=-10,
-        sepafreq=1,
-        needscons=False,
-    )
-    m.setBoolParam("misc/allowstrongdualreds", False)
-    m.setBoolParam("misc/allowweakdualreds", False)
-    m.setParam("limits/nodes", node_limit)
+    m.includeConshdlr(handler, "route", "subtours and the registration rule", **HANDLER)
+    for name, value in {**SETTINGS, "limits/nodes": node_limit}.items():
+        m.setParam(name, value)
     if wall_cap_s is not None:
         m.setParam("limits/time", wall_cap_s)
-    m.setParam("randomization/randomseedshift", 0)
-    m.setParam("lp/threads", 1)
     if hint is not None:
         _start_from(m, x, ends, hint, closed)
     m.optimize()

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
@@ -39,6 +40,9 @@ from planner.field.walking import SNAP_M, WalkGraph, WalkSpace, walk_graph, walk
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.stairs import Stair
+
+if TYPE_CHECKING:
+    from planner.field.run import FieldPlan
 
 #: a zone's outline this close to a footprint's short side touches it (m)
 TOUCH_M = 0.05
@@ -244,14 +248,13 @@ def storey_walks(
     rows: list[int] = []
     cols: list[int] = []
     w: list[float] = []
-    for fr in frames:
-        ids, d = local[fr], graphs[fr].dist
-        for a in range(len(ids)):
-            for b in range(a + 1, len(ids)):
-                if math.isfinite(d[a, b]):
-                    rows.append(ids[a])
-                    cols.append(ids[b])
-                    w.append(max(float(d[a, b]), 1e-9))
+    for fr in frames:  # each frame's walks between its points and stair ends
+        ids, d = np.asarray(local[fr], dtype=int), graphs[fr].dist
+        a, b = np.triu_indices(len(ids), k=1)
+        ok = np.isfinite(d[a, b])
+        rows += ids[a[ok]].tolist()
+        cols += ids[b[ok]].tolist()
+        w += np.maximum(d[a[ok], b[ok]], 1e-9).tolist()
     edges: dict[tuple[int, int], Flight] = {}
     for f in fl:
         u, v = extra[(f.lower, f.foot)], extra[(f.upper, f.head)]
@@ -286,12 +289,8 @@ def stair_text(leg: int, flight: Flight, leg_frames: Sequence[Sequence[str]], se
     )
 
 
-def stairs_line(fp: object) -> str:
+def stairs_line(fp: FieldPlan) -> str:
     """The summary's line for a sheet across storeys: the frames and every stair leg of the route."""
-    spaces = getattr(fp, "spaces", ())
-    legs = getattr(fp, "stair_legs", ())
-    frames = getattr(fp, "leg_frames", ())
-    names = ", ".join(s.frame for s in spaces)
-    n = len(getattr(fp, "order", ()))
-    said = "; ".join(stair_text(k, f, frames, n) for k, f in legs) or "none"
-    return f"across storeys: {len(spaces)} frames ({names}); stair legs {len(legs)}: {said}"
+    names = ", ".join(s.frame for s in fp.spaces)
+    said = "; ".join(stair_text(k, f, fp.leg_frames, len(fp.order)) for k, f in fp.stair_legs) or "none"
+    return f"across storeys: {len(fp.spaces)} frames ({names}); stair legs {len(fp.stair_legs)}: {said}"

@@ -91,16 +91,9 @@ class FieldTime:
         return sum(s.station_s for s in self.setups)
 
     def to_dict(self) -> dict[str, object]:
-        return {
-            "setting": self.setting,
-            "total_s": self.total_s,
-            "walking_s": self.walking_s,
-            "station_s": self.station_s,
-            "session_limit_s": self.session_s,
-            "sessions": [
-                {"number": s.number, "setups": list(s.setups), "duration_s": s.duration_s} for s in self.sessions
-            ],
-        }
+        sessions = [{"number": s.number, "setups": list(s.setups), "duration_s": s.duration_s} for s in self.sessions]
+        times = {k: getattr(self, k) for k in ("setting", "total_s", "walking_s", "station_s")}
+        return times | {"session_limit_s": self.session_s, "sessions": sessions}
 
 
 def field_time(

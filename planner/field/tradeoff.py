@@ -198,37 +198,20 @@ def _row(
     if not plan.stations:  # the solver stopped without a plan (its work limit, a wall-clock cap)
         return Row(label=label, note=f"no plan ({plan.result.status.value})"), None
     h = plan.hours
-    walking = targets = sessions = route = bound = None
-    method = ""
-    fp = None
+    used = settings_line(h.settings)
+    row = Row(label=label, stations=len(plan.stations), setup_s=h.setup_s, scan_s=h.scan_s, settings=used, note=note)
     try:
         fp = field_plan(
             plan.problem.sight, plan.stations, FieldOptions(session_s=session_s), props, settings=h.settings
         )
-        walking = fp.time.walking_s
-        targets = sum(s.targets_s for s in fp.time.setups)
-        sessions = len(fp.time.sessions) if session_s is not None else None
-        route, bound, method = fp.route_length_m, fp.lower_bound_m, fp.bound_method
     except InfeasibleError as err:  # stations in separate frames that no stair joins: no walk joins them
-        note = f"walking not timed: {err.message}"
+        return replace(row, note=f"walking not timed: {err.message}"), None
     except UsageError as err:  # a setup longer than the session
-        note = f"sessions not counted: --session {err.message}"
-    used = settings_line(h.settings)
-    row = Row(
-        label=label,
-        stations=len(plan.stations),
-        setup_s=h.setup_s,
-        scan_s=h.scan_s,
-        walking_s=walking,
-        targets_s=targets,
-        sessions=sessions,
-        route_m=route,
-        route_bound_m=bound,
-        route_bound_method=method,
-        settings=used,
-        note=note,
-    )
-    return row, fp
+        return replace(row, note=f"sessions not counted: --session {err.message}"), None
+    t = fp.time
+    row = replace(row, walking_s=t.walking_s, targets_s=sum(s.targets_s for s in t.setups), route_m=fp.route_length_m)
+    sessions = len(t.sessions) if session_s is not None else None
+    return replace(row, sessions=sessions, route_bound_m=fp.lower_bound_m, route_bound_method=fp.bound_method), fp
 
 
 def _gap(route: float, bound: float) -> float:
