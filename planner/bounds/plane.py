@@ -33,8 +33,7 @@ PRICE_EPS = 1e-7
 #: after convergence, points within this of the cost (reduced cost ~0) join the pool as alternatives
 TIE_EPS = 1e-6
 #: pricing's work limit: the (point, region) pairs found in weighing the points of the rounds' arrangements, summed (a
-#: count that follows the cost of a round, whose bulk is that weighing; about two minutes of one core on the 1-ha
-#: plant, which it stops after 21 rounds). No round starts once it is reached
+#: count that follows the cost of a round, whose bulk is that weighing). No round starts once it is reached
 PRICING_WORK = 16_000_000
 
 
@@ -141,13 +140,19 @@ def _heaviest(
     ``threshold`` (by default: those that price out); ``work`` gets the pairs weighed appended."""
     found_all: list[tuple[int, Any]] = []
     heaviest = 0.0
+    for fi, here in _frames(t, pos):
+        found, top = heaviest_points([cache[int(k)] for k in here], y[here], threshold, per_round, work)
+        found_all += [(fi, f) for f in found]
+        heaviest = max(heaviest, top)
+    return found_all, heaviest
+
+
+def _frames(t: Any, pos: np.ndarray):
+    """The pieces ``pos`` frame by frame: (frame index, its pieces), frames with none left out."""
     for fi in range(len(t.frames)):
         here = pos[t.frame[pos] == fi]
         if here.size:
-            found, top = heaviest_points([cache[int(k)] for k in here], y[here], threshold, per_round, work)
-            found_all += [(fi, f) for f in found]
-            heaviest = max(heaviest, top)
-    return found_all, heaviest
+            yield fi, here
 
 
 def _outer(
@@ -157,12 +162,7 @@ def _outer(
     circumscribed, stand-off buffers inscribed) grown by :func:`outer_tolerance_m`, per frame."""
     outer = coverage_regions(site, t, limits, [int(k) for k in pos], spaces, outer=True)
     grow = outer_tolerance_m(limits)
-    top = 0.0
-    for fi in range(len(t.frames)):
-        here = pos[t.frame[pos] == fi]
-        if here.size:
-            top = max(top, outer_max_weight([outer[int(k)] for k in here], y[here], grow))
-    return top
+    return max([0.0, *(outer_max_weight([outer[int(k)] for k in here], y[here], grow) for _, here in _frames(t, pos))])
 
 
 def _add_points(
