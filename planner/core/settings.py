@@ -27,7 +27,6 @@ from typing import Any
 METHODS = ("closed-form", "greedy", "milp")
 OBJECTIVES = ("stations", "field-time")
 BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
-CONNECTIVITY = ("auto", "bc", "flow", "loop")
 PRECISION_MODES = ("single", "combined")
 FORMATS = ("orlib", "mps", "json")
 EXPORTS = ("dxf", "geojson", "csv")
@@ -243,15 +242,6 @@ SETTINGS: dict[str, Setting] = {
                 to={"milp.backend": None},
             ),  # fmt: skip
             Setting(
-                key="threads",
-                kind="int",
-                at_least=1,
-                default=1,
-                metavar="N",
-                help="solver threads (default 1: deterministic)",
-                to={"milp.threads": None},
-            ),
-            Setting(
                 key="work-limit",
                 kind="float",
                 above=0,
@@ -275,14 +265,6 @@ SETTINGS: dict[str, Setting] = {
                     "tiling.moves_per_piece": None,
                     "milp.local_search_moves": lambda v: round(SEARCH_MOVES_PER_PIECE * v),
                 },
-            ),
-            Setting(
-                key="connectivity",
-                choices=CONNECTIVITY,
-                default="auto",
-                help="milp: registration connectivity by branch-and-cut (bc, pyscipopt backend), a flow model or the "
-                "cut loop (auto: bc on pyscipopt, loop elsewhere)",
-                to={"milp.connectivity": None},
             ),
             Setting(
                 key="variant",
@@ -413,13 +395,6 @@ SETTINGS: dict[str, Setting] = {
                 "gives each tile's MILP 1/14 of it, each Lagrangian part 1/42, each window 1/140 (default 420 s: "
                 "30, 10, 3)",
                 to={"strategy.budget_s": None, **{p: _share(f) for p, f in TILE_SPLIT.items()}},
-            ),
-            Setting(
-                key="tile-window-passes",
-                **_INT0,
-                default=1,
-                help="--tiles M: passes of the exact window re-solves after the local search (default 1; 0: none)",
-                to={"windows.passes": None},
             ),
             Setting(
                 key="worker-memory",

@@ -62,7 +62,7 @@ class MilpOptions:
     #: cuts may depend on the machine's load: ``info["work"]["wall_cap_hit"]`` says so
     time_limit_s: float | None = DEFAULTS["milp.time_limit_s"]
     seed: int = DEFAULTS["milp.seed"]
-    threads: int = DEFAULTS["milp.threads"]
+    threads: int = 1
     k: int = DEFAULTS["milp.k"]
     #: the registration rule: an :class:`OverlapRule`, ``None`` (none), or a :class:`SiteShare` (default): the
     #: site's own overlap share, resolved once per run with the site (0 means none; a bare ``solve`` has no
@@ -73,7 +73,7 @@ class MilpOptions:
     greedy_starts: int = 50
     max_rounds: int = 500
     presolve: bool = True
-    connectivity: str = DEFAULTS["milp.connectivity"]
+    connectivity: str = "auto"
     layer_cuts: bool = DEFAULTS["milp.layer_cuts"]
     tree_bound: bool = DEFAULTS["milp.tree_bound"]
     #: the ring bound (:mod:`planner.solve.ring`): a block of one registration group whose stations see runs

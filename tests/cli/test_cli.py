@@ -159,7 +159,7 @@ def test_usage_errors_exit_2_in_one_line(capsys):
         (["plan", "x.json", "--set", "incidence=4d"], "--set incidence: must be one of horizontal, 3d, got '4d'"),
         (["plan", "x.json", "--target-spacing", "0"], "argument --target-spacing: must be > 0, got '0'"),
         (["plan", "x.json", "--grid-spacing", "nan"], "argument --grid-spacing: must be > 0, got 'nan'"),
-        (["plan", "x.json", "--set", "threads=0"], "--set threads: must be >= 1, got '0'"),
+        (["plan", "x.json", "--set", "plane-refine-steps=-1"], "--set plane-refine-steps: must be >= 0, got '-1'"),
         (["plan", "x.json", "--set", "seed=-1"], "--set seed: must be >= 0, got '-1'"),
         (["export", "x.json", "--seed", "-1"], "argument --seed: must be >= 0, got '-1'"),
         (["plan", "x.json", "--time-limit", "-5"], "argument --time-limit: must be > 0, got '-5'"),

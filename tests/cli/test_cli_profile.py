@@ -73,7 +73,7 @@ def test_set_and_config_set_the_flag_attributes_and_the_command_line_wins(tmp_pa
     cfg = tmp_path / "my.toml"
     cfg.write_text('[plan]\ntile-budget = 80\nbackend = "scip"\nexterior = true\nmethod = "greedy"\n')
     parser = build_parser()
-    argv = ["plan", "site.json", "--config", str(cfg), "--set", "backend=highs", "--set", "threads=2"]
+    argv = ["plan", "site.json", "--config", str(cfg), "--set", "backend=highs", "--set", "seed=2"]
     argv += [
         "--set",
         "ifc-windows",
@@ -88,7 +88,7 @@ def test_set_and_config_set_the_flag_attributes_and_the_command_line_wins(tmp_pa
     args = parser.parse_args(argv)
     assert args.tile_budget == 80.0 and args.exterior is True  # from the file
     assert args.backend == "highs" and args.method == "milp"  # the command line wins over the file
-    assert args.threads == 2 and args.ifc_windows is True and args.layer_height == ["WALLS=3", "ROOF=5"]
+    assert args.seed == 2 and args.ifc_windows is True and args.layer_height == ["WALLS=3", "ROOF=5"]
     fresh = build_parser().parse_args(["plan", "site.json"])
     assert fresh.tile_budget == 420.0 and fresh.backend == "cpsat"  # a new parser: the defaults again
     assert fresh.layer_height == [] and fresh.ifc_windows is False
@@ -105,7 +105,7 @@ def test_set_and_config_set_the_flag_attributes_and_the_command_line_wins(tmp_pa
         (["--set", "backend=gurobi"], "--set backend: must be one of cpsat"),
         (["--set", "exterior=maybe"], "--set exterior: expected true or false"),
         (["--set", "variant=no-such"], "--set variant: unknown variant 'no-such'"),
-        (["--set", "threads=0"], "--set threads: must be >= 1, got '0'"),
+        (["--set", "plane-refine-steps=-1"], "--set plane-refine-steps: must be >= 0, got '-1'"),
         (["--set", "angular-tolerance=x"], "--set angular-tolerance: expected a number, got 'x'"),
         (["--set", "tile-budge=3"], "no tuning key 'tile-budge' of 'planner plan'"),
         (["--set", "tile-budge=3"], "did you mean tile-budget?"),
@@ -130,7 +130,7 @@ def test_bad_set_is_one_line_usage_error(capsys, argv, fragment):
         ("[plan]\nexterior = 1\n", "[plan] exterior: expected true or false"),
         ("[plant]\nbackend = 'scip'\n", "[plant] is no command"),
         ("[plan]\nlayer-height = ['W=1', 'w=2']\n", "[plan] layer-height: layer 'W' given twice"),
-        ("[plan]\nthreads = [2]\n", "[plan] threads: not a value this key takes"),
+        ("[plan]\nseed = [2]\n", "[plan] seed: not a value this key takes"),
         ("[plan\n", "not a TOML file"),
     ],
 )

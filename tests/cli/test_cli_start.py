@@ -70,10 +70,8 @@ def test_cli_choices_match_the_library():
 
     assert cli_choices.INCIDENCE_MODELS == INCIDENCE_MODELS
     from planner.plan.options import OBJECTIVES, SURFACES
-    from planner.solve.milp import CONNECTIVITY
 
     assert cli_choices.OBJECTIVES == OBJECTIVES and cli_choices.SURFACES == SURFACES
-    assert cli_choices.CONNECTIVITY == CONNECTIVITY
 
 
 def test_the_settings_defaults_are_the_option_dataclasses():

@@ -63,7 +63,7 @@ def test_negative_tile_budget_is_a_usage_error(capsys) -> None:
 
 
 def test_bad_window_options_are_usage_errors(capsys) -> None:
-    for key, value in (("tile-window-passes", "-1"), ("tile-budget", "0")):
+    for key, value in (("tile-budget", "-1"), ("tile-budget", "0")):
         assert main(["plan", PLANT, "--tiles", "50", "--set", f"{key}={value}"]) == 2
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and f"--set {key}" in err and value in err
