@@ -1,4 +1,4 @@
-"""The engine: :func:`plan_site`, what ``planner plan`` runs, for a site, its file, or a resolved problem.
+"""The engine: :func:`plan_site`, what ``planner plan`` runs, for a site file, a site, or a resolved problem.
 
 reader (:func:`planner.site.load_site`) -> resolved problem (:func:`planner.plan.problem.resolve`) -> the
 strategy it names (one model, :func:`planner.plan.run.plan_single`; or tiles, on Dask where it says,
@@ -34,6 +34,10 @@ def problem_of(site: Site | str | os.PathLike[str] | Problem, options: PlanOptio
 def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOptions | None = None) -> Plan:
     """Plan a site as ``planner plan`` does: the problem resolved once (:func:`problem_of`), planned by the
     strategy it names, verified, with the strategy and the best-known gap added.
+
+    The public form is ``plan_site(path or Site, options)``; a resolved :class:`Problem` is taken as it is (then
+    ``options`` must be None). The plan's problem holds the run's one registration
+    (:attr:`Problem.registration`), which its field sheet, network check and report map take.
 
     Examples
     --------
@@ -80,7 +84,7 @@ def with_strategy(plan: Plan) -> Plan:
     log = [*plan.log, problem.strategy.line()]
     kind = problem_kind(problem.rule is not None)
     share = problem.checked_rule.overlap if problem.rule else 0.0
-    registration = problem.registration if problem.rule else None
+    registration = problem.registration.mode if problem.rule else None
     fingerprint = plan.pool.fingerprint if plan.pool is not None else None
     known = best_known(plan.site.name, kind, registration, share, fingerprint)
     if known is not None:

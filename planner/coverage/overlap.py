@@ -12,6 +12,7 @@ zones are also related by ``links``: they see each other through an opening (see
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
 
@@ -76,6 +77,8 @@ class SiteShare:
 
 #: the default registration requirement of a plan: the site's overlap share, no extra limits
 SITE_SHARE = SiteShare()
+#: a rule no shared wall meets: stations relate only by links given explicitly
+LINKS_ONLY = rule_of(0.0, min_shared_m=math.inf)
 
 
 def group_ids(groups: Sequence[Hashable]) -> NDArray[np.int64]:

@@ -1,4 +1,4 @@
-"""A search that shortens the walk of a plan with scan settings (issue 47, step 3).
+"""A search that shortens the walk of a plan with scan settings.
 
 The MILP proves set-up + scan; walking is left to the field sheet's route. This search moves stations along
 that route: station j, visited between stations p and n, moves to another candidate m of the pool (at a
@@ -29,7 +29,6 @@ from planner.field.run import FieldPlan
 from planner.instrument.field_table import FieldProperties
 from planner.plan.columns import SettingColumns, setting_columns
 from planner.plan.field_time import candidate_relation
-from planner.plan.registration import registration_check
 from planner.plan.run import build_problem
 from planner.plan.verify import verify_stations
 from planner.plan.verify_spacing import verify_spacing
@@ -63,7 +62,7 @@ def shorter_walks(
         if j is None:
             return None
         chosen.append(j)
-    groups, base = candidate_relation(problem.site, problem.options, problem.limits, cov)
+    groups, base = candidate_relation(problem.registration, cov)
     a = cols.matrix.tocsr()
     counts = np.asarray(a[chosen].sum(axis=0)).ravel()
     xy = np.array([c.xy for c in cov.candidates], dtype=float)[cols.candidate]
@@ -131,9 +130,7 @@ def _replanned(
     selected = tuple(int(cols.candidate[j]) for j in chosen)
     stations = tuple(cov.candidates[c] for c in selected)
     settings = tuple(cols.names[int(cols.setting[j])] for j in chosen)
-    rule = problem.checked_rule
-    reach = rule.max_link_m or problem.limits.effective_range_m
-    registration, _ = registration_check(cov, selected, rule, problem.site, problem.registration, reach)
+    registration, _ = problem.registration.check(cov, selected)
     spacing = None
     if o.max_point_spacing_m is not None:
         spacing = verify_spacing(problem.sight, stations, settings, props, o.max_point_spacing_m, o.verify_spacing_m)

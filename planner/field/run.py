@@ -23,7 +23,7 @@ import shapely
 
 from planner.core.errors import InfeasibleError, InputError, UsageError
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.relation import station_relation
+from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight, as_sight
 from planner.field.certify import Certified, certify
 from planner.field.crossing import Crossing, bridge, check_reach, crossings, part_names
@@ -53,6 +53,7 @@ from planner.field.walking import (
 )
 from planner.instrument.field_table import FieldProperties
 from planner.plan.field_time import field_properties
+from planner.plan.problem import Problem
 from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
 
@@ -114,6 +115,7 @@ class FieldPlan:
     certified: Certified | None = field(default=None)
     crossings: tuple[Crossing, ...] = field(default=())  # legs through walls (no opening in the model)
     coverage: CoverageProblem | None = field(default=None)  # the stations' wall pieces, rows in ``stations`` order
+    pairs: tuple[tuple[str, str], ...] = field(default=())  # the plan's registration relation (station ids)
     # across storeys (stations in several frames joined by stairs; all empty for one frame):
     spaces: tuple[WalkSpace, ...] = field(default=())  # every frame walked through (``space`` is the first's)
     leg_frames: tuple[tuple[str, ...], ...] = field(default=())  # the frame of each point of each leg
@@ -203,21 +205,129 @@ def _start(
 
 
 def field_plan(
-    site: Site | Sight,
+    site: Problem | Site | Sight,
     stations: Sequence[Candidate],
     options: FieldOptions = FieldOptions(),
     props: FieldProperties | None = None,
     plan_file: str | None = None,
     settings: Sequence[str] | None = None,
 ) -> FieldPlan:
-    """Order, route, bound, targets and field time of a plan's ``stations`` on ``site`` (see the module text):
-    the plan's sight (its resolved problem's), or a site seen under its own parameters. ``settings``: the scan
-    setting of each station (aligned with ``stations``) where the plan chose them (issue 47), timed each at its
-    own; None: every station at ``options.setting``."""
+    """Order, route, bound, targets and field time of a plan's ``stations`` (see the module text). ``site``: the
+    plan's resolved problem (its sight and registration: the sheet relates the plan's own pairs), or a site or
+    sight alone, then registered at the site's own defaults. ``settings``: the scan setting of each station
+    (aligned with ``stations``) where the plan chose them, timed each at its own; None: every station at
+    ``options.setting``."""
     t0 = time.perf_counter()
-    sight = as_sight(site)
-    site = sight.site
-    st = tuple(stations)
+    sight = site.sight if isinstance(site, Problem) else as_sight(site)
+    registration = site.registration if isinstance(site, Problem) else Registration.of(sight)
+    site, st = sight.site, tuple(stations)
+    walk = _walk(site, st, plan_file)
+    first, start_xy, label = _start(site, st, walk.space, options.start, walk.walks)
+    if walk.joined is not None and first is None:
+        label += f" ({walk.frame})"  # a point start stands on the storey of the plan's first station
+    # nodes: the start first (a station or a point), then the other stations
+    node_station = ([first] if first is not None else [-1]) + [k for k in range(len(st)) if k != first]
+    node_xy = [start_xy if k < 0 else st[k].xy for k in node_station]
+    g: WalkGraph | StoreyWalk
+    if walk.joined is None:
+        g = walk_graph(walk.space, node_xy)
+    else:
+        g = storey_walks(site, walk.spaces, node_xy, [walk.frame if k < 0 else st[k].frame for k in node_station])
+    if options.strict_walls:
+        check_reach(site, st, g, node_station, label, plan_file)
+    problem = sight.of_stations(st)
+    rel = registration.relation(st, problem)
+    nbrs = [set() if k < 0 else {node_station.index(u) for u in rel.neighbors(k)} for k in node_station]
+    comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
+    parts = [-1 if k < 0 else comp[k] for k in node_station]
+    d = bridge(g)  # a straight line through the walls where no walk joins two stations
+    at_station = first is not None
+    result = solve_order(
+        d, options.mode, nbrs, parts, at_station, options.closed, options.solution_limit, options.time_cap_s
+    )
+    cert = certify(
+        d, result, options.mode, nbrs, parts, at_station, options.closed, options.node_limit, options.time_cap_s
+    )
+    result = cert.result
+    order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
+    path_nodes = list(result.order) + ([0] if options.closed else [])
+    legs, leg_frames, stair_legs = _legs(g, path_nodes, st, first)
+    numbers = {n: order.index(k) + 1 for n, k in enumerate(node_station) if k >= 0}
+    through = crossings(
+        site,
+        g,
+        path_nodes,
+        [label if k < 0 else st[k].id for k in node_station],
+        [numbers.get(n) for n in range(len(node_station))],
+        part_names(site, g, node_station, st),
+        int(at_station),
+    )
+    props = props or field_properties(site)
+    links, targets = propose_targets(
+        site,
+        st,
+        walk.space,
+        props,
+        rel,
+        problem,
+        order if options.mode == "registration" else None,
+        options.strong_overlap,
+        None if walk.joined is None else walk.spaces,
+    )
+    if walk.joined is None:
+        walked = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[: len(order)]]
+    else:  # a flight counts its run and its rise: the distances the order was made on
+        walked = ([0.0] if at_station else []) + [float(d[a, b]) for a, b in itertools.pairwise(path_nodes)]
+        walked = walked[: len(order)]
+    counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
+    per = None if settings is None else {s.id: v for s, v in zip(st, settings)}
+    ft = field_time([st[k].id for k in order], walked, counts, props, options.setting, options.session_s, per)
+    return FieldPlan(
+        site=site,
+        stations=st,
+        order=order,
+        start_xy=start_xy,
+        start_label=label,
+        legs=legs,
+        route_length_m=result.length_m,
+        lower_bound_m=cert.bound_m,
+        bound_method=cert.method,
+        nearest_neighbour_m=result.nearest_neighbour_m,
+        options=options,
+        time=ft,
+        links=tuple(links),
+        targets=tuple(targets),
+        space=walk.space,
+        instrument_height_m=site.parameters.instrument_height_m,
+        capped=result.capped,
+        registration_ok=not registration_violations(result.order, nbrs, parts, at_station),
+        solve_s=time.perf_counter() - t0,
+        certified=cert,
+        crossings=through,
+        coverage=problem,
+        pairs=tuple((st[u].id, st[v].id) for u, v in rel.edges()),
+        spaces=() if walk.joined is None else tuple(walk.spaces.values()),
+        leg_frames=leg_frames,
+        stair_legs=tuple(stair_legs),
+    )
+
+
+@dataclass(frozen=True)
+class _Walk:
+    """Where a plan's stations are walked: the first station's ``frame`` and walkable ``space``, every frame's
+    ``spaces``, the frames ``joined`` by stairs (None: one frame) and, across storeys, the ``walks`` between
+    points (None: in ``space``)."""
+
+    frame: str
+    space: WalkSpace
+    spaces: dict[str, WalkSpace]
+    joined: object | None
+    walks: Callable[[list[tuple[float, float]]], np.ndarray] | None
+
+
+def _walk(site: Site, st: tuple[Candidate, ...], plan_file: str | None) -> _Walk:
+    """The walkable areas of the stations' frames, each station checked to stand in one, refused where the
+    plan has no station or stations stand in frames no stair joins."""
     if not st:
         raise InputError(
             "the plan has no stations: there is nothing to visit", file=plan_file, field="stations", value=0
@@ -236,47 +346,23 @@ def field_plan(
             )
     walks: Callable[[list[tuple[float, float]]], np.ndarray] | None = None
     if joined is None:
-        space = walk_space(site, frame, [s.xy for s in st])
-        spaces = {frame: space}
+        spaces = {frame: walk_space(site, frame, [s.xy for s in st])}
     else:  # across storeys (planner.field.storeys): each frame's walks joined by the stairs
         spaces = storey_spaces(site, joined, st)
-        space = spaces[frame]
         frames_of = [s.frame for s in st]
 
         def walks(pts: list[tuple[float, float]]) -> np.ndarray:
             return storey_walks(site, spaces, pts, [*frames_of, frame][: len(pts)]).dist
 
     _check_stands(site, st, spaces, plan_file)
-    first, start_xy, label = _start(site, st, space, options.start, walks)
-    if joined is not None and first is None:
-        label += f" ({frame})"  # a point start stands on the storey of the plan's first station
-    # nodes: the start first (a station or a point), then the other stations
-    rest = [k for k in range(len(st)) if k != first]
-    node_station = ([first] if first is not None else [-1]) + rest
-    node_xy = [start_xy if k < 0 else st[k].xy for k in node_station]
-    g: WalkGraph | StoreyWalk
-    if joined is None:
-        g = walk_graph(space, node_xy)
-    else:
-        g = storey_walks(site, spaces, node_xy, [frame if k < 0 else st[k].frame for k in node_station])
-    if options.strict_walls:
-        check_reach(site, st, g, node_station, label, plan_file)
-    problem = sight.of_stations(st)
-    rel = station_relation(site, st, problem)
-    nbrs = [set() if k < 0 else {node_station.index(u) for u in rel.neighbors(k)} for k in node_station]
-    comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
-    parts = [-1 if k < 0 else comp[k] for k in node_station]
-    d = bridge(g)  # a straight line through the walls where no walk joins two stations
-    result = solve_order(
-        d, options.mode, nbrs, parts, first is not None, options.closed, options.solution_limit, options.time_cap_s
-    )
-    cert = certify(
-        d, result, options.mode, nbrs, parts, first is not None, options.closed, options.node_limit, options.time_cap_s
-    )
-    result, bound, method = cert.result, cert.bound_m, cert.method
-    ok = not registration_violations(result.order, nbrs, parts, first is not None)
-    order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
-    path_nodes = list(result.order) + ([0] if options.closed else [])
+    return _Walk(frame, spaces[frame], spaces, joined, walks)
+
+
+def _legs(
+    g: WalkGraph | StoreyWalk, path_nodes: list[int], st: tuple[Candidate, ...], first: int | None
+) -> tuple[tuple[tuple[tuple[float, float], ...], ...], tuple[tuple[str, ...], ...], list[tuple[int, Flight]]]:
+    """The walk of each leg of the route (the first station's: no walk to it), across storeys also the frame
+    of each point of each leg and the flights climbed or descended (leg index, flight)."""
     legs = tuple(tuple(_leg(g, a, b)) for a, b in itertools.pairwise(path_nodes))
     leg_frames: tuple[tuple[str, ...], ...] = ()
     stair_legs: list[tuple[int, Flight]] = []
@@ -289,64 +375,8 @@ def field_plan(
         if first is not None:
             leg_frames = ((st[first].frame,),) + leg_frames
     if first is not None:
-        legs = ((st[first].xy,),) + legs  # the first station: no walk to it
-    numbers = {n: order.index(k) + 1 for n, k in enumerate(node_station) if k >= 0}
-    through = crossings(
-        site,
-        g,
-        path_nodes,
-        [label if k < 0 else st[k].id for k in node_station],
-        [numbers.get(n) for n in range(len(node_station))],
-        part_names(site, g, node_station, st),
-        0 if first is None else 1,
-    )
-    props = props or field_properties(site)
-    links, targets = propose_targets(
-        site,
-        st,
-        space,
-        props,
-        order if options.mode == "registration" else None,
-        options.strong_overlap,
-        problem,
-        None if joined is None else spaces,
-    )
-    if joined is None:
-        walked = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[: len(order)]]
-    else:  # a flight counts its run and its rise: the distances the order was made on
-        steps = [float(d[a, b]) for a, b in itertools.pairwise(path_nodes)]
-        walked = ([0.0] if first is not None else []) + steps
-        walked = walked[: len(order)]
-    counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
-    per = None if settings is None else {s.id: v for s, v in zip(st, settings)}
-    ft = field_time([st[k].id for k in order], walked, counts, props, options.setting, options.session_s, per)
-    return FieldPlan(
-        site=site,
-        stations=st,
-        order=order,
-        start_xy=start_xy,
-        start_label=label,
-        legs=legs,
-        route_length_m=result.length_m,
-        lower_bound_m=bound,
-        bound_method=method,
-        nearest_neighbour_m=result.nearest_neighbour_m,
-        options=options,
-        time=ft,
-        links=tuple(links),
-        targets=tuple(targets),
-        space=space,
-        instrument_height_m=site.parameters.instrument_height_m,
-        capped=result.capped,
-        registration_ok=ok,
-        solve_s=time.perf_counter() - t0,
-        certified=cert,
-        crossings=through,
-        coverage=problem,
-        spaces=() if joined is None else tuple(spaces.values()),
-        leg_frames=leg_frames,
-        stair_legs=tuple(stair_legs),
-    )
+        legs = ((st[first].xy,),) + legs
+    return legs, leg_frames, stair_legs
 
 
 def _storey_leg(g: StoreyWalk, a: int, b: int) -> tuple[list[tuple[float, float]], list[str], list[Flight]]:

@@ -33,8 +33,6 @@ from numpy.typing import NDArray
 
 from planner.coverage.matrix import CoverageProblem, blockers_for
 from planner.coverage.openings import PASSABLE, opening_segments
-from planner.coverage.relation import station_relation
-from planner.coverage.sight import Sight
 from planner.coverage.stair_links import stair_edge
 from planner.coverage.visibility import sight_clear
 from planner.field.spread import Spread, spread
@@ -200,18 +198,20 @@ def propose_targets(
     stations: Sequence[Candidate],
     space: WalkSpace,
     props: FieldProperties,
+    relation: nx.Graph,
+    problem: CoverageProblem,
     order: Sequence[int] | None = None,
     strong_overlap: float = STRONG_OVERLAP,
-    problem: CoverageProblem | None = None,
     spaces: Mapping[str, WalkSpace] | None = None,
 ) -> tuple[list[Link], list[Target]]:
     """The chain links (weak ones with their targets) and the targets (see the module text).
 
+    ``relation``: the plan's registration relation of ``stations``
+    (:meth:`planner.coverage.relation.Registration.relation`); ``problem``: their coverage, rows in their order.
     ``order``: the visiting order as station indices (registration order); None: the spanning forest.
     ``spaces``: across storeys, the walkable area of every frame (:func:`_storey_places`); None: ``space``.
     """
-    problem = problem if problem is not None else Sight.of_site(site).of_stations(stations)
-    g = station_relation(site, stations, problem)
+    g = relation
     chain = chain_links(g, order)
     weak = [(i, j) for i, j in chain if g[i][j]["fraction"] < strong_overlap]
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)

@@ -63,8 +63,7 @@ def _links(o: Outcome) -> list[tuple[str, str]]:
         return [(u, v) for u, v, d in g.edges(data=True) if "registration" in d["kinds"]]
     if not o.stations:
         return []
-    mode = (o.meta.get("resolved") or {}).get("registration")
-    return registration_links(o.sight, list(o.stations), mode, o.coverage.problem)
+    return registration_links(o.sight, list(o.stations), o.registration, o.coverage.problem)
 
 
 def shown_links(o: Outcome, links: Sequence[tuple[str, str]]) -> list[tuple[str, str]]:

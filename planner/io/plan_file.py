@@ -17,7 +17,7 @@ from planner.io.plan_json import RECORDED_PARAMETERS, check_plan_meta, read_plan
 from planner.network.check import NetworkReport
 from planner.plan.options import PlanOptions
 from planner.plan.outcome import Outcome
-from planner.plan.problem import Problem, resolve
+from planner.plan.problem import Problem, recorded_problem
 from planner.plan.surfaces import SurfaceSetup, surface_setup
 from planner.plan.verify import verify_stations
 from planner.site.model import Site
@@ -60,10 +60,7 @@ def outcome_from_file(
     meta = check_plan_meta(read_json(plan_path), name)
     site = site_for_plan(meta, site_path, name, ifc)
     p = meta.get("parameters") or {}
-    combined = (p.get("milp") or {}).get("precision") == "combined" or p.get("precision_mode") == "combined"
-    precision = bool(p.get("precision", True))
-    recorded = PlanOptions.checking(incidence_3d=p.get("incidence") == "3d", precision=precision, combined=combined)
-    problem = resolve(site, recorded)  # the limits the plan was made under, resolved once
+    problem = recorded_problem(site, meta)  # the limits and registration the plan was made under, resolved once
     validation, sight, limits = problem.validation, problem.sight, problem.limits
     stations = tuple(read_plan_stations(plan_path, site))
     spacing = float(p.get("target_spacing_m", 1.0))
@@ -84,6 +81,7 @@ def outcome_from_file(
         verification=verification,
         tripod_radius_m=radii,
         meta=meta,
+        registration=problem.registration,
         network=network,
         surfaces=_surfaces(meta, problem, spacing),
     )

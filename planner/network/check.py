@@ -13,6 +13,7 @@ import numpy as np
 
 from planner.core.checks import argument
 from planner.core.errors import InputError
+from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight, as_sight
 from planner.instrument.models import TotalStation, load_instrument
 from planner.network.adjustment import ELLIPSE_95, Adjustment, Obs, adjust, relative
@@ -198,14 +199,15 @@ def run_network(
     monte_carlo_runs: int = 0,
     seed: int = 0,
     target_spacing_m: float = 1.0,
-    registration: str | None = None,
+    registration: Registration | str | None = None,
     precision: str = "single",
     traverse: ControlTraverse | None = None,
     ts_everywhere: bool = False,
 ) -> NetworkReport:
     """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece.
 
-    ``registration``: ``zone`` or ``site`` (default :func:`planner.coverage.links.default_registration`);
+    ``registration``: the plan's (:attr:`planner.plan.problem.Problem.registration`), or a mode, ``zone`` or
+    ``site`` (None: the site's default), at the site's overlap share;
     the report also holds the network as a scanner survey (:mod:`planner.network.survey`).
     ``site``: the plan's sight (its resolved problem's), or a site, then seen under its own parameters with
     ``precision``: ``single`` judges each piece by its best view, ``combined`` by all its views (a sight

@@ -20,7 +20,7 @@ import networkx as nx
 import numpy as np
 
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.relation import station_relation
+from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight, as_sight
 from planner.network.chain import (
     DEFAULT_CONTROL_SIGMA_M,
@@ -85,32 +85,40 @@ def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
     return tie_sigma_m(list(ranges), DEFAULT_RESOLUTION_DEG, float(np.sqrt(np.mean(np.square(centre)))))
 
 
+def registration_of(sight: Sight, registration: Registration | str | None) -> Registration:
+    """The plan's registration as given, else the registration of ``sight``'s site in ``registration`` mode
+    (None: the site's default) at its own overlap share."""
+    return registration if isinstance(registration, Registration) else Registration.of(sight, registration)
+
+
 def registration_links(
     site: Site | Sight,
     stations: Sequence[Candidate],
-    mode: str | None = None,
+    registration: Registration | str | None = None,
     problem: CoverageProblem | None = None,
 ) -> list[tuple[str, str]]:
-    """Pairs of the plan's stations that can be registered (see the module text); ``problem``: their
-    coverage, when already built (rows in the order of ``stations``); ``site``: the plan's sight, or a site
-    seen under its own parameters."""
+    """Pairs of the plan's stations that can be registered (see the module text): the relation of the plan's
+    ``registration`` (:meth:`planner.coverage.relation.Registration.relation`; a mode or None: the site's,
+    :func:`registration_of`); ``problem``: their coverage, when already built (rows in the order of
+    ``stations``); ``site``: the plan's sight, or a site seen under its own parameters."""
     sight = as_sight(site)
     if problem is None:
         problem = sight.of_stations(stations)
-    g = station_relation(sight.site, stations, problem, mode)
+    g = registration_of(sight, registration).relation(stations, problem)
     return [(stations[u].id, stations[v].id) for u, v in g.edges()]
 
 
 def survey_network(
     site: Site | Sight,
     stations: Sequence[Candidate],
-    mode: str | None = None,
+    registration: Registration | str | None = None,
     links: Sequence[tuple[str, str]] | None = None,
 ) -> SurveyNetwork:
-    """Links (``links``: already found by :func:`registration_links`), ties (given or proposed control)
-    and the chain accuracy of a plan's stations; ``site``: the plan's sight, or a site alone."""
+    """Links (``links``: already found by :func:`registration_links`, else found there under
+    ``registration``), ties (given or proposed control) and the chain accuracy of a plan's stations; ``site``:
+    the plan's sight, or a site alone."""
     if links is None:
-        links = registration_links(site, stations, mode)
+        links = registration_links(site, stations, registration)
     site = site.site if isinstance(site, Sight) else site
     xy = {s.id: s.xy for s in stations}
     links = list(links)

@@ -8,7 +8,7 @@ outcomes.
 - :mod:`planner.plan.run`: :func:`plan_single` (candidates -> coverage -> method -> registration check ->
   verification, as one model);
 - :mod:`planner.plan.result`: :class:`Plan`, a verified plan and its summary;
-- :mod:`planner.plan.registration`: the registration check and the stations' tripod discs;
+- :mod:`planner.plan.registration`: the stations' tripod discs;
 - :mod:`planner.plan.verify`: re-verification of any plan on a fine sampling of every wall;
 - :mod:`planner.plan.outcome`: a plan with its coverage, network check and figures' inputs, from a run or a file.
 """
@@ -17,7 +17,7 @@ from planner.plan.closed_form import closed_form_limits
 from planner.plan.methods import METHODS
 from planner.plan.options import PlanOptions, plan_limits
 from planner.plan.problem import Problem, resolve
-from planner.plan.registration import placed_stations, registration_check
+from planner.plan.registration import placed_stations
 from planner.plan.result import Plan
 from planner.plan.run import build_problem, coverage_problem, plan_single, site_candidates, unseen_error
 from planner.plan.strategy import Strategy, StrategyOptions
@@ -35,7 +35,6 @@ __all__ = [
     "placed_stations",
     "plan_limits",
     "plan_single",
-    "registration_check",
     "resolve",
     "site_candidates",
     "unseen_error",

@@ -8,7 +8,7 @@ from planner.candidates.closed_form import Limits
 from planner.candidates.final_step import drop_redundant, relocate
 from planner.candidates.pool import closed_form_candidates
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.overlap import piece_lengths, rule_of
+from planner.coverage.overlap import OverlapRule, piece_lengths
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
@@ -23,9 +23,9 @@ def closed_form_limits(validation: ValidationReport) -> Limits:
 
 
 def closed_form_plan(
-    site: Site, cf_limits: Limits, targets: Targets, limits: SightLimits
+    site: Site, cf_limits: Limits, targets: Targets, limits: SightLimits, rule: OverlapRule
 ) -> tuple[SolveResult, CoverageProblem, list[str]]:
-    """Closed-form candidates, moved where misplaced, redundant ones dropped (3.1.3).
+    """Closed-form candidates, moved where misplaced, redundant ones dropped (3.1.3) under the overlap ``rule``.
 
     Returns the result (indices into the returned problem's candidates), that
     problem, and a log of the moves and removals. The status is ``incomplete``
@@ -34,7 +34,6 @@ def closed_form_plan(
     start = time.perf_counter()
     cands, log = relocate(site, closed_form_candidates(site, cf_limits))
     problem = build_coverage(site, cands, targets, limits)
-    rule = rule_of(site.parameters.overlap)
     keep = drop_redundant(
         problem.by_candidate, [(c.zone, c.side) for c in cands], piece_lengths(targets.s0_m, targets.s1_m), rule
     )

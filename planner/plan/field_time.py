@@ -16,14 +16,13 @@ from __future__ import annotations
 
 from collections.abc import Hashable
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 
-from planner.coverage.links import default_registration, registration_groups
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import overlap_adjacency
+from planner.coverage.relation import Registration
 from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
 from planner.plan.columns import SettingColumns, setting_columns
 from planner.plan.methods import MethodInput, MethodOutput
@@ -31,10 +30,6 @@ from planner.site.model import Site
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import solve
 from planner.solve.result import SolveResult, Status
-
-if TYPE_CHECKING:
-    from planner.coverage.visibility import SightLimits
-    from planner.plan.options import PlanOptions
 
 
 def field_properties(site: Site) -> FieldProperties:
@@ -75,8 +70,8 @@ def field_time_method(run: MethodInput, props: FieldProperties, *, unit: bool = 
     """The plan of least set-up + scan time over (station, setting) pairs (``unit``: of fewest pairs),
     connected under the registration rule as the stations plan is; the result counts stations, its info holds
     the time, its bound and the setting of each station."""
-    site, options, problem = run.site, run.options, run.problem
-    groups, base = candidate_relation(site, options, run.limits, problem)
+    options, problem = run.options, run.problem
+    groups, base = candidate_relation(run.registration, problem)
     # a count: relays at a finer setting cost as much as at the cheapest, so the fewer columns give the same plans
     cols = setting_columns(problem, props, options.max_point_spacing_m, all_relays=not unit)
     timed = _solve_columns(run, cols, groups, base, unit)
@@ -153,14 +148,12 @@ def _bounded(r: SolveResult, bound: float | None) -> SolveResult:
 
 
 def candidate_relation(
-    site: Site, options: PlanOptions, limits: SightLimits, problem: CoverageProblem
+    registration: Registration, problem: CoverageProblem
 ) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
     """The registration group of each candidate and the overlap relation between candidates (None without a
     rule): what both see, at any setting, under the run's rule, with the links through openings and stairs."""
-    mode = options.registration or default_registration(site).mode
-    rule = options.milp.rule
-    reach = (rule.max_link_m if rule else None) or limits.effective_range_m
-    groups, links = registration_groups(site, problem.candidates, mode, reach)
+    rule = registration.rule
+    groups, links = registration.groups(problem.candidates)
     if rule is None:
         return groups, None
     lengths = np.asarray(problem.targets.s1_m - problem.targets.s0_m, dtype=float)

@@ -19,9 +19,10 @@ from planner.bounds.connected_result import plan_counts, with_connected_plane_bo
 from planner.bounds.plane import price_plane, with_plane_bound
 from planner.bounds.plane_ring import connected_plane_bound
 from planner.core import progress
-from planner.coverage.links import default_registration, registration_groups, zone_side_groups
+from planner.coverage.links import zone_side_groups
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
+from planner.coverage.relation import Registration
 from planner.coverage.visibility import SightLimits
 from planner.plan.closed_form import closed_form_limits, closed_form_plan
 from planner.plan.surfaces import PLANE_OFF
@@ -38,16 +39,17 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class MethodInput:
-    """What a method plans from: the site, the run's options, the sight limits and the coverage problem of the
-    pool; ``spaces`` and ``region_cache`` hold the frame spaces and coverage regions already drawn (pricing
-    reuses them). ``surfaces``: candidates x floor and ceiling patches (bool CSR, the patches some candidate
-    sees), columns every method covers besides the wall pieces (None: walls only); the registration links and
-    the precision rule stay the walls' (a patch adds no shared wall)."""
+    """What a method plans from: the site, the run's options, the sight limits, the registration and the
+    coverage problem of the pool; ``spaces`` and ``region_cache`` hold the frame spaces and coverage regions
+    already drawn (pricing reuses them). ``surfaces``: candidates x floor and ceiling patches (bool CSR, the
+    patches some candidate sees), columns every method covers besides the wall pieces (None: walls only); the
+    registration links and the precision rule stay the walls' (a patch adds no shared wall)."""
 
     site: Site
     options: PlanOptions
     validation: ValidationReport
     limits: SightLimits
+    registration: Registration
     problem: CoverageProblem
     spaces: dict[str, FrameSpace]
     region_cache: dict[int, Any]
@@ -82,8 +84,9 @@ class MethodOutput:
 
 def closed_form_method(run: MethodInput) -> MethodOutput:
     """The dissertation's own plan: closed-form stations after the final step (3.1.3)."""
+    cf_limits = closed_form_limits(run.validation)
     result, problem, log = closed_form_plan(
-        run.site, closed_form_limits(run.validation), run.problem.targets, run.limits
+        run.site, cf_limits, run.problem.targets, run.limits, run.registration.checked_rule
     )
     return MethodOutput(result, problem, run.problem, tuple(log))
 
@@ -111,9 +114,7 @@ def milp_method(run: MethodInput) -> MethodOutput:
             )
         log.append(pricing.summary())
     p = site.parameters
-    mode = options.registration or default_registration(site).mode
-    reach = (options.milp.rule.max_link_m if options.milp.rule else None) or limits.effective_range_m
-    groups, links = registration_groups(site, problem.candidates, mode, reach)
+    groups, links = run.registration.groups(problem.candidates)
     # the precision weights (a float per pair) only where the model reads them: combined precision
     combined = options.milp.precision == "combined"
     inst = cover_instance(
@@ -133,7 +134,7 @@ def milp_method(run: MethodInput) -> MethodOutput:
     if pricing is not None:
         result = with_plane_bound(result, pricing)
         if result.scope != "plane" and zone_side_groups(problem.candidates, groups, links) and result.selected:
-            share = options.milp.rule.overlap if options.milp.rule else 0.0
+            share = run.registration.rule.overlap if run.registration.rule else 0.0
             duals = np.asarray(pricing.duals)
             counts = plan_counts(problem, result.selected)
             cb = connected_plane_bound(
@@ -160,10 +161,8 @@ def greedy_method(run: MethodInput) -> MethodOutput:
         from planner.solve.combined import combined_greedy
 
         result = combined_greedy(problem, run.limits.precision)
-    elif (rule := options.milp.rule) is not None and rule.overlap > 0:
-        mode = options.registration or default_registration(site).mode
-        reach = rule.max_link_m or run.limits.effective_range_m
-        groups, links = registration_groups(site, problem.candidates, mode, reach)
+    elif (rule := run.registration.rule) is not None and rule.overlap > 0:
+        groups, links = run.registration.groups(problem.candidates)
         inst = with_columns(cover_instance(problem, name=site.name, groups=groups, links=links), run.surfaces)
         result = connected_greedy_plan(inst, rule)
         if not result.selected:

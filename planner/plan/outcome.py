@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from planner.core.checks import argument
+from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight
 from planner.coverage.stations import StationCoverage, station_coverage
 from planner.coverage.visibility import SightLimits
@@ -30,7 +31,8 @@ from planner.site.validate import ValidationReport
 class Outcome:
     """Everything shown about one plan. ``meta`` is the plan.json dictionary (method, status, bound ...; its
     ``surfaces``: the floors and ceilings' verification, where the plan has them); ``surfaces``: the floor and
-    ceiling patches and the rules they were planned under (None: walls only, or not rebuilt)."""
+    ceiling patches and the rules they were planned under (None: walls only, or not rebuilt); ``registration``:
+    the plan's, whose pairs the map and the network check draw."""
 
     site: Site
     validation: ValidationReport
@@ -40,6 +42,7 @@ class Outcome:
     verification: VerifyReport
     tripod_radius_m: dict[str, float]
     meta: dict[str, Any]
+    registration: Registration
     network: NetworkReport | None = None
     comparison: tuple[dict[str, Any], ...] = field(default=())
     surfaces: SurfaceSetup | None = None
@@ -81,6 +84,7 @@ def outcome_from_plan(
         verification=plan.verification,
         tripod_radius_m=radii,
         meta=plan_to_dict(plan),
+        registration=plan.problem.registration,
         network=network,
         comparison=tuple(comparison),
         surfaces=plan.problem.surfaces if plan.surfaces is not None else None,

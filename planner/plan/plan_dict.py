@@ -10,12 +10,12 @@ from planner.plan.networks import storey_networks
 from planner.plan.result import Plan
 from planner.plan.tripod import TripodDisc
 from planner.site.candidate import Candidate
+from planner.site.model import Zone
 
 
 def plan_to_dict(plan: Plan) -> dict[str, Any]:
     """The plan as plain JSON-ready data (coordinates in each zone's frame)."""
-    site, o, r = plan.site, plan.options, plan.result
-    p = site.parameters
+    site, r = plan.site, plan.result
     sides = plan.count_by_side()
     return {
         "instance": site.name,
@@ -41,74 +41,83 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "wall_cap_hit": wall_cap_hit(r.info),
         "backend": r.backend,
         "counts": {"inside": sides.get("inside", 0), "outside": sides.get("outside", 0), "total": len(plan.stations)},
-        "parameters": {
-            "instrument": plan.validation.scanner.name,
-            "max_slant_range_m": plan.validation.range_limit.max_slant_range_m,
-            "max_slant_range_source": plan.validation.range_limit.source,
-            "theta_max_deg": p.theta_max_deg,
-            "overlap": p.overlap,
-            "sigma_req_m": p.sigma_req_m,
-            "instrument_height_m": p.instrument_height_m,
-            "target_spacing_m": o.target_spacing_m,
-            "grid_spacing_m": o.pool.grid_m,
-            "field_samples": o.pool.field_samples,
-            "seed": o.pool.seed,
-            "incidence": "3d" if o.incidence_3d else "horizontal",
-            "precision": o.precision,
-            "precision_mode": "combined" if o.combined else "single",
-            "incidence_model": p.incidence_model,
-            "min_standoff_m": p.min_standoff_m,
-            "verify_spacing_m": o.verify_spacing_m,
-            "milp": None
-            if r.method != "milp"
-            else {
-                "backend": o.milp.backend,
-                "time_limit_s": o.milp.time_limit_s,
-                **{k: v for k, v in o.milp.limits.items() if k != "wall_cap_s"},
-                "seed": o.milp.seed,
-                "threads": o.milp.threads,
-                "k": o.milp.k,
-                "precision": o.milp.precision,
-                "min_shared_m": o.milp.rule.min_shared_m if o.milp.rule else None,
-                "max_link_m": o.milp.rule.max_link_m if o.milp.rule else None,
-            },
-        },
+        "parameters": _parameters(plan),
         "presolve": r.info.get("presolve"),
         "solver": {k: v for k, v in r.info.items() if k != "presolve"},
-        "registration": {
-            "connected": plan.connected,
-            "components": plan.registration,
-            # the share the registration was checked at (planned under, else the site's)
-            "overlap": plan.problem.checked_rule.overlap,
-            # storeys joined by stairs into one network (issue 46), only where the site has stairs
-            **({"networks": [n.to_dict() for n in storey_networks(site, plan.registration)]} if site.stairs else {}),
-        },
+        "registration": _registration(plan),
         "problem": plan.problem_size,
         # the pool the plan was chosen from and its fingerprint (planner.coverage.fingerprint): the best plans known
         # are compared only on the same pool (None: the path that made the plan did not record it)
         "pool": plan.pool.to_dict() if plan.pool is not None else None,
         # what every number above was computed under: the limits, the registration rule and scope, the strategy
         "resolved": plan.problem.to_dict(),
-        "zones": [
-            {
-                "id": z.id,
-                "side": z.scan_side.value,
-                "frame": z.frame,
-                "polygon": [list(v) for v in z.vertices],
-                **({"holes": [[list(v) for v in r] for r in z.holes]} if z.holes else {}),
-            }
-            for z in site.zones
-        ],
+        "zones": [_zone(z) for z in site.zones],
         "stations": [
             _station(s, plan.tripods[k] if plan.tripods else None, plan.hours.settings[k] if plan.hours else None)
             for k, s in enumerate(plan.stations)
         ],
         "verification": plan.verification.to_dict(),
         "log": list(plan.log),
-        # floors and ceilings (issue 46), only where the plan has them: a walls-only plan.json is unchanged
+        # floors and ceilings, only where the plan has them: a walls-only plan.json is unchanged
         **({"surfaces": plan.surfaces.to_dict()} if plan.surfaces is not None else {}),
-        # scan settings, set-up + scan time, point spacing (issue 47), only where asked: other plan.json unchanged
+        # scan settings, set-up + scan time, point spacing, only where asked: other plan.json unchanged
         **({"hours": plan.hours.to_dict()} if plan.hours is not None else {}),
+    }
+
+
+def _parameters(plan: Plan) -> dict[str, Any]:
+    """The parameters and options the plan was made under (the MILP's only for a MILP plan)."""
+    o, r, p = plan.options, plan.result, plan.site.parameters
+    return {
+        "instrument": plan.validation.scanner.name,
+        "max_slant_range_m": plan.validation.range_limit.max_slant_range_m,
+        "max_slant_range_source": plan.validation.range_limit.source,
+        "theta_max_deg": p.theta_max_deg,
+        "overlap": p.overlap,
+        "sigma_req_m": p.sigma_req_m,
+        "instrument_height_m": p.instrument_height_m,
+        "target_spacing_m": o.target_spacing_m,
+        "grid_spacing_m": o.pool.grid_m,
+        "field_samples": o.pool.field_samples,
+        "seed": o.pool.seed,
+        "incidence": "3d" if o.incidence_3d else "horizontal",
+        "precision": o.precision,
+        "precision_mode": "combined" if o.combined else "single",
+        "incidence_model": p.incidence_model,
+        "min_standoff_m": p.min_standoff_m,
+        "verify_spacing_m": o.verify_spacing_m,
+        "milp": None
+        if r.method != "milp"
+        else {
+            "backend": o.milp.backend,
+            "time_limit_s": o.milp.time_limit_s,
+            **{k: v for k, v in o.milp.limits.items() if k != "wall_cap_s"},
+            "seed": o.milp.seed,
+            "threads": o.milp.threads,
+            "k": o.milp.k,
+            "precision": o.milp.precision,
+            "min_shared_m": o.milp.rule.min_shared_m if o.milp.rule else None,
+            "max_link_m": o.milp.rule.max_link_m if o.milp.rule else None,
+        },
+    }
+
+
+def _registration(plan: Plan) -> dict[str, Any]:
+    """The registration check: connected or not, the components of each group, the share it was checked at
+    (planned under, else the site's) and, only where the site has stairs, the storeys joined into one network."""
+    out = {"connected": plan.connected, "components": plan.registration, "overlap": plan.problem.checked_rule.overlap}
+    if plan.site.stairs:
+        out["networks"] = [n.to_dict() for n in storey_networks(plan.site, plan.registration)]
+    return out
+
+
+def _zone(z: Zone) -> dict[str, Any]:
+    return {
+        "id": z.id,
+        "side": z.scan_side.value,
+        "frame": z.frame,
+        "polygon": [list(v) for v in z.vertices],
+        **({"holes": [[list(v) for v in r] for r in z.holes]} if z.holes else {}),
     }
 
 

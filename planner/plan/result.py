@@ -38,7 +38,7 @@ class Plan:
     tripods: tuple[TripodDisc, ...] = ()
     pool: Pool | None = None
     surfaces: SurfaceReport | None = None
-    #: scan settings, set-up + scan time and point spacing (issue 47; None: a plan of stations alone)
+    #: scan settings, set-up + scan time and point spacing (None: a plan of stations alone)
     hours: Hours | None = None
 
     @property

@@ -23,12 +23,12 @@ from planner.plan.closed_form import closed_form_limits
 from planner.plan.columns import spacing_coverage, spacing_refusal
 from planner.plan.field_time import field_properties, hours_method
 from planner.plan.hours import Hours
-from planner.plan.methods import REGISTRY, MethodInput
+from planner.plan.methods import REGISTRY, MethodInput, MethodOutput
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
-from planner.plan.registration import placed_stations, registration_check
+from planner.plan.registration import placed_stations
 from planner.plan.result import Plan
-from planner.plan.surfaces import floor_candidates, surface_cover, surface_discs
+from planner.plan.surfaces import SurfaceCover, floor_candidates, surface_cover, surface_discs
 from planner.plan.verify import verify_stations
 from planner.plan.verify_spacing import verify_spacing
 from planner.plan.verify_surfaces import verify_surfaces
@@ -149,7 +149,7 @@ def site_candidates(
     exact = options.regions and regions_apply(limits)
     if exact:  # one station for a whole zone-side, found exactly where one exists
         pool = pool + whole_side_candidates(site, targets, limits, spaces, region_cache)
-    if problem.surfaces is not None:  # a grid over the floors, finer than the walls' (issue 46)
+    if problem.surfaces is not None:  # a grid over the floors, finer than the walls'
         pool = pool + floor_candidates(site, problem.surfaces, options.pool.min_standoff_m)
     return dedupe(
         pool
@@ -173,7 +173,20 @@ def plan_single(
         When some wall piece is seen by no candidate of the pool (listed by id and position).
     """
     argument(problem, Problem, "problem")
-    site, options, validation, limits = problem.site, problem.options, problem.validation, problem.limits
+    run, cover, log = _method_input(problem, coverage)
+    props = _settings(problem, run.problem, props)
+    out = hours_method(run, props) if props is not None else REGISTRY[problem.options.method](run)
+    if cover is not None and out.problem.candidates != run.problem.candidates:  # pricing is off with surfaces
+        raise RuntimeError("the method changed the candidate pool the surface columns were built for")
+    return _checked_plan(problem, out, cover, props, [*log, *out.log])
+
+
+def _method_input(
+    problem: Problem, coverage: CoverageProblem | None
+) -> tuple[MethodInput, SurfaceCover | None, list[str]]:
+    """What the method plans from (the pool's coverage, built here unless given, with the regions drawn for
+    pricing), the floor and ceiling columns of the same candidates where the run has surfaces, and the log."""
+    site, options = problem.site, problem.options
     start = time.perf_counter()
     spaces: dict[str, FrameSpace] = {}
     region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
@@ -195,7 +208,17 @@ def plan_single(
         cover = surface_cover(site, problem.surfaces, coverage.candidates, coverage.excluded)
         log.append(f"{cover.line(problem.surfaces)} ({time.perf_counter() - t0:.2f} s)")
     extra = None if cover is None else cover.matrix
-    if options.hours:  # the instrument's settings (``props``: a table given for the run, e.g. one setting)
+    run = MethodInput(
+        site, options, problem.validation, problem.limits, problem.registration, coverage, spaces, region_cache, extra
+    )
+    return run, cover, log
+
+
+def _settings(problem: Problem, coverage: CoverageProblem, props: FieldProperties | None) -> FieldProperties | None:
+    """The scan settings a run with point spacing or the field-time objective chooses from (``props``: a table
+    given for the run, else the instrument's), refused where the spacing cannot be met; None: a run of stations."""
+    site, options = problem.site, problem.options
+    if options.hours:
         props = props or field_properties(site)
         if props is DEFAULT_FIELD and options.max_point_spacing_m is not None:
             raise InputError(
@@ -206,24 +229,23 @@ def plan_single(
             )
     if props is not None and options.max_point_spacing_m is not None:
         refuse_spacing(problem, coverage, props)
-    run = MethodInput(site, options, validation, limits, coverage, spaces, region_cache, extra)
-    out = hours_method(run, props) if props is not None else REGISTRY[options.method](run)
-    if cover is not None and out.problem.candidates != coverage.candidates:  # pricing is off with surfaces
-        raise RuntimeError("the method changed the candidate pool the surface columns were built for")
+    return props
+
+
+def _checked_plan(
+    problem: Problem, out: MethodOutput, cover: SurfaceCover | None, props: FieldProperties | None, log: list[str]
+) -> Plan:
+    """The method's plan with its registration checked, its stations placed and verified."""
+    site, options = problem.site, problem.options
     result, coverage = out.result, out.problem
-    log += out.log
-    rule = problem.checked_rule
-    registration, partners = registration_check(
-        coverage, result.selected, rule, site, problem.registration, rule.max_link_m or limits.effective_range_m
-    )
-    if rule.overlap == 0:
+    registration, partners = problem.registration.check(coverage, result.selected)
+    if problem.checked_rule.overlap == 0:
         registration, log = {}, [*log, "registration: not required (overlap 0)"]
     stations, tripods = placed_stations(site, coverage, result.selected, options, partners)
     if cover is not None and problem.surfaces is not None and tripods:  # discs that keep the floors too
         tripods, shrunk = surface_discs(site, problem.surfaces, cover, result.selected, stations, tripods)
         log.append(f"tripod discs: {shrunk} of {len(tripods)} shrunk to keep their floor and ceiling patches")
     verification = verify_stations(problem.sight, stations, options.verify_spacing_m)
-    hours = None if props is None else hours_of(problem, props, result, stations)
     surfaces = None
     if cover is not None and problem.surfaces is not None:
         t0 = time.perf_counter()
@@ -247,7 +269,7 @@ def plan_single(
         # the pool the size counts: the best plans known (of walls) are matched on its fingerprint
         pool=pool_of(out.pool) if surfaces is None else None,
         surfaces=surfaces,
-        hours=hours,
+        hours=None if props is None else hours_of(problem, props, result, stations),
     )
 
 

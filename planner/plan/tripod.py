@@ -39,7 +39,6 @@ from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.site.params import Parameters
 
 RIM_POINTS = 16
 MAX_RADIUS_M = 25.0
@@ -198,10 +197,3 @@ def _shrink_until_safe(
             return centre, radius
         centre, radius = p0 + (centre - p0) / 2.0, radius / 2.0
     return p0, 0.0
-
-
-def tripod_heights_line(discs: Sequence[TripodDisc], params: Parameters) -> str:
-    """One summary line: each station's instrument-height tolerance (3.32) in metres."""
-    ih, span = params.instrument_height_m, params.instrument_height_span_m
-    cells = ", ".join(f"{d.station} {d.height_tolerance_m:.3f}" for d in discs)
-    return f"instrument-height tolerance (3.32, IH {ih:g}..{ih + span:g} m), m per station: {cells}"

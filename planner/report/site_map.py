@@ -21,7 +21,6 @@ from pathlib import Path
 from typing import Any
 
 from planner.core.checks import argument
-from planner.coverage.relation import station_relation
 from planner.figures.base import png_bytes
 from planner.figures.site_fig import site_figure
 from planner.figures.webmap import MapLine, MapLink, MapPoint, SiteMap, coverage_runs, render_site_map, site_map_data
@@ -35,8 +34,7 @@ def station_row_id(k: int) -> str:
 
 
 def _links(o: Outcome) -> list[MapLink]:
-    mode = (o.meta.get("resolved") or {}).get("registration")
-    g = station_relation(o.site, o.stations, o.coverage.problem, mode if mode in ("zone", "site") else None)
+    g = o.registration.relation(o.stations, o.coverage.problem)
     return [
         MapLink(o.stations[u].id, o.stations[v].id, float(d["shared_m"]), float(d["fraction"]))
         for u, v, d in sorted(g.edges(data=True), key=lambda e: (min(e[0], e[1]), max(e[0], e[1])))

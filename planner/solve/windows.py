@@ -37,7 +37,6 @@ serial part of a tiled run, and keeping several in flight per worker shortens th
 
 from __future__ import annotations
 
-import math
 import time
 from collections import deque
 from collections.abc import Callable, Hashable, Sequence
@@ -49,7 +48,7 @@ import scipy.sparse as sp
 
 from planner.core import progress
 from planner.core.errors import UsageError
-from planner.coverage.overlap import rule_of
+from planner.coverage.overlap import LINKS_ONLY
 from planner.solve.connectivity import components, disconnected_groups, group_members
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import WALL_CAP, MilpOptions, solve
@@ -260,7 +259,7 @@ def connected_cover_within(
 _GREEDY_STARTS, _SEARCH_MOVES = 5, 100
 
 #: the window's links are the site's, given explicitly: no overlap test on the window's partial rows
-_LINKS_ONLY = rule_of(0.0, min_shared_m=math.inf)
+_LINKS_ONLY = LINKS_ONLY
 
 
 def _model(

@@ -132,8 +132,8 @@ class TaskRunner:
 
 def _scatter(client: Any, shared: dict[str, Any]) -> dict[str, Any]:
     """Each shared value sent to every worker as one object, one future each: ``scatter(v)`` of a list would
-    send every element as a key of its own (the pool's 50,000 candidates on 64 ha: 50,000 keys, which
-    swamped the scheduler until it closed the client's connection)."""
+    send every element as a key of its own (a key per candidate of a large pool swamps the scheduler until it
+    closes the client's connection)."""
     return {k: client.scatter([v], broadcast=True, hash=False)[0] for k, v in shared.items()}
 
 

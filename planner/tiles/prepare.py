@@ -13,9 +13,9 @@ from typing import Any, cast
 import numpy as np
 import scipy.sparse as sp
 
-from planner.coverage.links import registration_groups
 from planner.coverage.matrix import station_places
-from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengths, rule_of
+from planner.coverage.overlap import overlap_adjacency, piece_lengths
+from planner.coverage.relation import Registration
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.plan import PlanOptions, site_candidates
@@ -32,20 +32,16 @@ from planner.tiles.options import TileOptions, tile_milp
 class Prepared:
     """The whole site's problem before coverage: ``pool`` (candidates) and ``targets`` (pieces) as
     :func:`planner.plan.build_problem` makes them, ``xy`` (candidates' positions), ``usable`` (where a
-    station may stand: ``station_places`` gives no reason against it), the registration ``mode`` and link
-    reach ``reach_m``, each candidate's group name in ``groups`` with the ``links`` between groups, and the
-    overlap ``rule`` (the plan's, else the site's overlap share)."""
+    station may stand: ``station_places`` gives no reason against it), and each candidate's registration group
+    name in ``groups`` with the ``links`` between groups (the problem's registration)."""
 
     problem: Problem
     pool: tuple[Candidate, ...]
     targets: Targets
     xy: np.ndarray
     usable: np.ndarray
-    mode: str
-    reach_m: float
     groups: tuple[str, ...]
     links: Any
-    rule: OverlapRule
 
     @property
     def validation(self) -> ValidationReport:
@@ -55,10 +51,15 @@ class Prepared:
     def limits(self) -> SightLimits:
         return self.problem.limits
 
+    @property
+    def registration(self) -> Registration:
+        return self.problem.registration
+
     def overlap(self, by_candidate: sp.csr_matrix) -> sp.csr_matrix:
         """The overlap relation (candidate x candidate, symmetric) of a coverage matrix over this pool."""
         lengths = piece_lengths(self.targets.s0_m, self.targets.s1_m)
-        adj, _ = overlap_adjacency(by_candidate, lengths, self.rule, self.groups, self.xy, self.links)
+        rule = self.registration.checked_rule
+        adj, _ = overlap_adjacency(by_candidate, lengths, rule, self.groups, self.xy, self.links)
         return cast(sp.csr_matrix, adj)
 
     def coverage(self) -> sp.csr_matrix:
@@ -99,17 +100,14 @@ def prepare(problem: Problem | Site, options: PlanOptions | None = None, extra: 
     ``max_link_m`` or else the sight range. ``extra``: candidates added to the pool (those that the completion of
     unseen pieces found, :func:`planner.tiles.run.plan_by_tiles`)."""
     problem = tiles_problem(problem, options)
-    site, limits = problem.site, problem.limits
+    site = problem.site
     pool, targets = site_pool(problem)
     pool = pool + list(extra)
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
     usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason], dtype=bool)
-    mode = problem.registration
-    reach = (problem.rule.max_link_m if problem.rule else None) or limits.effective_range_m
-    labels, links = registration_groups(site, pool, mode, reach)
+    labels, links = problem.registration.groups(pool)
     groups = tuple("/".join(str(x) for x in cast(tuple, g)) for g in labels)
-    rule = problem.rule or rule_of(site.parameters.overlap)
-    return Prepared(problem, tuple(pool), targets, xy, usable, mode, float(reach), groups, links, rule)
+    return Prepared(problem, tuple(pool), targets, xy, usable, groups, links)
 
 
 def tile_work(tiling: TileOptions, prep: Prepared) -> tuple[list[TileJob], dict[str, Any]]:

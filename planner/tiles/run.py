@@ -8,8 +8,8 @@ What holds and why:
 - the whole-site plain cover: CFT (:mod:`planner.solve.cft`; ``TileOptions.cft``), its own iteration counts,
   no clock;
 - registration: the stitched plan is checked on the site's overlap relation (shared wall over every
-  piece a station sees) with the groups of :func:`planner.coverage.links.registration_groups` (one bundle per
-  accessible area in ``site`` mode); with no registration rule (``--no-overlap``) the plan is the plain cover
+  piece a station sees) in the groups of the problem's registration (one bundle per accessible area in ``site``
+  mode); with no registration rule (``--no-overlap``) the plan is the plain cover
   and its local search (:func:`planner.tiles.search.plain_plan`), and registration is only reported;
 - bound: the largest of the bounds of :mod:`planner.tiles.bound` (the cover LP, the disjoint sub-areas, the
   Lagrangian over the tiles, CFT's), over the pool, with the one that decides; the gap is
@@ -45,13 +45,14 @@ from planner.plan import Plan, PlanOptions, unseen_error
 from planner.plan.problem import Problem
 from planner.site.candidate import Candidate
 from planner.site.model import Site
-from planner.solve.cft import cft_cover
+from planner.solve.cft import CftCover, cft_cover
 from planner.solve.milp import WALL_CAP
-from planner.tiles.bound import global_bound
+from planner.tiles.bound import Bound, global_bound
 from planner.tiles.engine import run_tasks
 from planner.tiles.finish import finish_plan
+from planner.tiles.layout import TileJob
 from planner.tiles.options import TileOptions, deterministic_limits
-from planner.tiles.prepare import prepare, tile_work, tiles_problem
+from planner.tiles.prepare import Prepared, prepare, tile_work, tiles_problem
 from planner.tiles.search import best_plan, plain_plan, window_resolves
 from planner.tiles.stitch import Stitched, stitch
 from planner.tiles.tasks import TileResult, tile_task
@@ -102,43 +103,81 @@ def plan_by_tiles(
     tiling = tiling or TileOptions()
     if len({z.frame for z in site.zones}) != 1:
         raise UsageError("tiles need every zone in one coordinate frame", field="tiles")
-    start = time.perf_counter()
+    laps = _Laps()
     prep = prepare(resolved, extra=extra)
-    limits, pool, targets, groups = prep.limits, prep.pool, prep.targets, prep.groups
     jobs, shared = tile_work(tiling, prep)
-    t_pool = time.perf_counter() - start
+    laps("pool_s")
     results = run_tasks(tile_task, jobs, shared, client, describe=_tile_line(len(jobs)))
-    t_tiles = time.perf_counter() - start - t_pool
-    by_cand, slant, inc = _assemble(len(pool), len(targets), results)
-    problem = CoverageProblem(
-        candidates=pool,
-        targets=targets,
+    laps("tiles_s")
+    problem = _site_coverage(prep, results)
+    unseen = problem.uncoverable()
+    if unseen.size:
+        apply = options.regions and regions_apply(prep.limits)
+        done, reasons = complete_candidates(resolved.sight, problem) if apply else (problem, {})
+        found = tuple(done.candidates[len(prep.pool) :])
+        if found and not extra:  # the tiles again, with a candidate from the region of every unseen piece
+            return plan_by_tiles(resolved, None, tiling, client, found)
+        err = unseen_error(done, done.uncoverable(), reasons)
+        raise err.located(site.source) if site.source else err
+    kept, bound, search, windows, cover = _search(prep, problem.by_candidate, results, jobs, tiling, client, laps)
+    times = {
+        **laps.times,
+        "total_s": time.perf_counter() - laps.start,
+        "margin_m": tiling.margin_for(prep.limits.max_slant_range_m),
+        "tile_m": tiling.tile_m,
+    }
+    limited = deterministic_limits(options.milp, tiling)
+    return finish_plan(resolved, problem, results, kept, bound, times, limited, search, windows, cover)
+
+
+class _Laps:
+    """The seconds of each step of a run, each from the end of the one before."""
+
+    def __init__(self) -> None:
+        self.start = self.last = time.perf_counter()
+        self.times: dict[str, float] = {}
+
+    def __call__(self, name: str) -> None:
+        now = time.perf_counter()
+        self.times[name], self.last = now - self.last, now
+
+
+def _site_coverage(prep: Prepared, results: list[TileResult]) -> CoverageProblem:
+    """The whole site's coverage problem assembled from the tiles' pairs."""
+    by_cand, slant, inc = _assemble(len(prep.pool), len(prep.targets), results)
+    return CoverageProblem(
+        candidates=prep.pool,
+        targets=prep.targets,
         by_candidate=by_cand,
         by_target=by_cand.T.tocsr(),
         slant_m=slant,
         incidence_deg=inc,
         excluded={int(k): "stands nowhere" for k in np.flatnonzero(~prep.usable)},
-        limits=limits,
+        limits=prep.limits,
     )
-    unseen = problem.uncoverable()
-    if unseen.size:
-        done, reasons = (
-            complete_candidates(resolved.sight, problem) if options.regions and regions_apply(limits) else (problem, {})
-        )
-        found = tuple(done.candidates[len(pool) :])
-        if found and not extra:  # the tiles again, with a candidate from the region of every unseen piece
-            return plan_by_tiles(resolved, None, tiling, client, found)
-        err = unseen_error(done, done.uncoverable(), reasons)
-        raise err.located(site.source) if site.source else err
-    plain = resolved.rule is None  # --no-overlap: a plain cover, no registration to meet
+
+
+def _search(
+    prep: Prepared,
+    by_cand: sp.csr_matrix,
+    results: list[TileResult],
+    jobs: list[TileJob],
+    tiling: TileOptions,
+    client: Any,
+    laps: _Laps,
+) -> tuple[Stitched, Bound, dict[str, Any], dict[str, Any], CftCover | None]:
+    """The plan from the tiles' coverage: the stitched tile plans, CFT's plain cover, the global bound, then the
+    best start with its local search and, under a registration rule, the window re-solves."""
+    options, groups = prep.problem.options, prep.groups
+    plain = prep.problem.rule is None  # --no-overlap: a plain cover, no registration to meet
     adj = None if plain else prep.overlap(by_cand)
     tile_plans = [r.selected for r in results if r.selected]
     joined = stitch(by_cand, adj, groups, tile_plans) if adj is not None and tile_plans else None
-    t_stitch = time.perf_counter() - start - t_pool - t_tiles
+    laps("stitch_s")
     if joined is not None:
         progress.note(_standing("stitched", joined, None))
     cover = cft_cover(by_cand, seed=options.milp.seed, heur_iters=tiling.cft_iters) if tiling.cft else None
-    t_cover = time.perf_counter() - start - t_pool - t_tiles - t_stitch
+    laps("cover_s")
     if cover is not None:
         progress.note(f"whole-site plain cover (CFT): {len(cover.selected)} stations in {cover.time_s:.1f} s")
     parts = group_parts([(j.tile.row, j.tile.col) for j in jobs], [j.targets for j in jobs], tiling.lagrange_group)
@@ -154,48 +193,24 @@ def plan_by_tiles(
         client=client,
         cft=cover.lower_bound if cover is not None else None,
     )
-    t_bound = time.perf_counter() - start - t_pool - t_tiles - t_stitch - t_cover
+    laps("bound_s")
     progress.note(f"bound {bound.value} over the pool: {bound.how}")
-    t_search = time.perf_counter()
     whole = cover.selected if cover is not None else bound.cover
-    moves = tiling.moves_for(len(targets))
+    moves = tiling.moves_for(len(prep.targets))
     windows: dict[str, Any] = {}
     if adj is None:
         start_cover = whole or tuple(sorted({int(i) for p in tile_plans for i in p}))
         kept, search = plain_plan(by_cand, start_cover, moves, bound.value)
         progress.note(f"plain cover and local search: {len(kept.selected)} stations, bound {bound.value}")
-        t_windows = time.perf_counter()
+        laps("best_plan_s")
     else:
         kept, search = best_plan(by_cand, adj, groups, joined, whole, moves, bound.value, tiling.search_seeds, client)
         progress.note(_standing("best plan and local search", kept, bound.value))
-        t_windows = time.perf_counter()
+        laps("best_plan_s")
         kept, windows = window_resolves(by_cand, adj, groups, kept, prep.xy, tiling.windows, bound.value, client)
         progress.note(_standing("window re-solves", kept, bound.value))
-    return finish_plan(
-        resolved,
-        problem,
-        results,
-        kept,
-        bound,
-        prep.rule,
-        (prep.mode, prep.reach_m),
-        {
-            "pool_s": t_pool,
-            "tiles_s": t_tiles,
-            "stitch_s": t_stitch,
-            "cover_s": t_cover,
-            "bound_s": t_bound,
-            "best_plan_s": t_windows - t_search,
-            "windows_s": time.perf_counter() - t_windows,
-            "total_s": time.perf_counter() - start,
-            "margin_m": tiling.margin_for(limits.max_slant_range_m),
-            "tile_m": tiling.tile_m,
-        },
-        deterministic_limits(options.milp, tiling),
-        search,
-        windows,
-        cover,
-    )
+    laps("windows_s")
+    return kept, bound, search, windows, cover
 
 
 def _tile_line(total: int) -> Callable[[int, TileResult], str]:

@@ -135,7 +135,7 @@ def window_resolves(
 ) -> tuple[Stitched, dict[str, Any]]:
     """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; with a
     ``client`` and ``options.batch`` > 1 as Dask tasks, that many in flight (the same result as one at a
-    time; on the 2-core machine no faster, so not the default: docs/studies/plant.md)."""
+    time; not faster on few cores, so not the default: docs/studies/plant.md)."""
     on_dask = client is not None and options.batch > 1
     batch = options.batch if on_dask else 1
     record: dict[str, Any] = {

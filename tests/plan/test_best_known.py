@@ -102,7 +102,6 @@ def test_each_plan_file_of_the_best_known_holds_its_count_and_is_a_connected_cov
     from planner.io.plan_json import read_plan_stations
     from planner.plan import PlanOptions
     from planner.plan.problem import resolve
-    from planner.plan.registration import registration_check
     from planner.plan.verify import verify_stations
 
     root = Path(BEST_KNOWN).resolve().parents[2]
@@ -116,8 +115,6 @@ def test_each_plan_file_of_the_best_known_holds_its_count_and_is_a_connected_cov
         stations = read_plan_stations(root / entry["plan"], problem.site)
         assert verify_stations(problem.sight, stations, 0.1).complete
         cov = problem.sight.coverage(stations, problem.targets)
-        rule = problem.checked_rule
-        reach = rule.max_link_m or problem.limits.effective_range_m
-        parts, _ = registration_check(cov, tuple(range(len(stations))), rule, problem.site, problem.registration, reach)
-        assert entry["registration"] == problem.registration == "site"
+        parts, _ = problem.registration.check(cov, tuple(range(len(stations))))
+        assert entry["registration"] == problem.registration.mode == "site"
         assert list(parts.values()) == [1]

@@ -9,10 +9,11 @@ import pytest
 
 from planner.cli import main
 from planner.coverage.overlap import OverlapRule
+from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight
 from planner.engine import plan_site
 from planner.io import load_site
-from planner.plan import PlanOptions, build_problem, registration_check
+from planner.plan import PlanOptions, build_problem
 from planner.plan.tripod import tripod_discs
 from planner.plan.verify import verify_stations
 from planner.site import ScanSide, Site, Zone
@@ -50,6 +51,11 @@ def test_plain_cover_backends_agree_and_beat_greedy(problems, name):
     assert (inst.coverage_count(best.selected) >= 1).all()
 
 
+def registration_check(site, problem, selected):
+    """Each zone-side's components of ``selected`` under a 30 % rule, checked afresh with networkx."""
+    return Registration.of(Sight.of_site(site), "zone", OverlapRule(0.3)).check(problem, selected)
+
+
 @pytest.fixture(scope="module")
 def polygon_b_connected(problems):
     """Polygon B's connected optimum by CP-SAT, the reference every backend must meet."""
@@ -62,7 +68,7 @@ def test_connected_plan_of_polygon_b_on_every_backend(problems, polygon_b_connec
     site, problem = problems["polygon_b"]
     r = solve(cover_instance(problem), MilpOptions(backend=backend, time_limit_s=60))
     assert r.status.value == polygon_b_connected.status.value == "optimal"
-    comps, _ = registration_check(problem, r.selected, OverlapRule(0.3))
+    comps, _ = registration_check(site, problem, r.selected)
     assert set(comps.values()) == {1}  # each zone-side one registration bundle, checked with networkx
     stations = [problem.candidates[i] for i in r.selected]
     assert verify_stations(Sight.of_site(site), stations).complete
@@ -94,7 +100,7 @@ def test_connected_plan_of_baalbek(problems, baalbek_connected_optimum, backend)
     # time runs out, its plan must still be connected and no better than the proven optimum
     r = solve(cover_instance(problem), MilpOptions(backend=backend, time_limit_s=120))
     assert r.objective == connected if r.status.value == "optimal" else r.objective >= connected
-    comps, _ = registration_check(problem, r.selected, OverlapRule(0.3))
+    comps, _ = registration_check(site, problem, r.selected)
     assert set(comps.values()) == {1} and len(comps) == 12
 
 

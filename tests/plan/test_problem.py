@@ -25,7 +25,7 @@ from tests.conftest import INSTANCES
 )
 def test_registration_line_says_the_scope_and_why(name, scope, reason):
     problem = resolve(load_site(INSTANCES / name))
-    assert problem.registration == scope and problem.options.registration == scope
+    assert problem.registration.mode == scope and problem.options.registration == scope
     assert reason in problem.registration_reason
     assert f"; scope {scope} ({reason}" in problem.registration_line()
     assert problem.to_dict()["registration"] == scope
@@ -34,4 +34,4 @@ def test_registration_line_says_the_scope_and_why(name, scope, reason):
 @pytest.mark.parametrize(("name", "asked"), [("plant_1ha.json", "zone"), ("baalbek.json", "site")])
 def test_registration_asked_for_wins_over_the_default(name, asked):
     problem = resolve(load_site(INSTANCES / name), PlanOptions(registration=asked))
-    assert problem.registration == asked and problem.registration_reason == "asked for"
+    assert problem.registration.mode == asked and problem.registration_reason == "asked for"

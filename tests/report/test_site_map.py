@@ -101,10 +101,9 @@ def test_fragment_holds_every_station_of_the_plan_and_no_address(polygon_b):
 
 def test_links_are_the_plans_registration_relation(polygon_b):
     meta, o, _ = polygon_b
-    from planner.coverage.relation import station_relation
-
     m = outcome_site_map(o)
-    g = station_relation(o.site, o.stations, o.coverage.problem, meta["resolved"]["registration"])
+    assert o.registration.mode == meta["resolved"]["registration"]
+    g = o.registration.relation(o.stations, o.coverage.problem)
     assert {frozenset((lk.a, lk.b)) for lk in m.links} == {
         frozenset((o.stations[u].id, o.stations[v].id)) for u, v in g.edges()
     }

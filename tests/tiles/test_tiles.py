@@ -182,10 +182,11 @@ def test_prepare_groups_follow_the_registration_mode(site) -> None:
     group; ``zone`` gives one group per object (9 zones in plant_1ha.json); links reach the sight range
     (P30 at the plant's limits: 60 m) and the rule is the site's 30 % overlap."""
     plain = prepare(site, OPTIONS)
-    assert plain.mode == "site" and len(set(plain.groups)) == 1
+    assert plain.registration.mode == "site" and len(set(plain.groups)) == 1
     zoned = prepare(site, PlanOptions(method="milp", pricing=False, registration="zone"))
-    assert zoned.mode == "zone" and len(set(zoned.groups)) == len(site.zones) == 9
-    assert plain.reach_m == pytest.approx(60.0) and plain.rule.overlap == pytest.approx(0.3)
+    assert zoned.registration.mode == "zone" and len(set(zoned.groups)) == len(site.zones) == 9
+    reg = plain.registration
+    assert reg.reach_m == pytest.approx(60.0) and reg.checked_rule.overlap == pytest.approx(0.3)
     assert len(plain.pool) == len(plain.groups) == plain.xy.shape[0] == plain.usable.size
 
 
