@@ -134,13 +134,6 @@ def advice(found: Sequence[Crossing]) -> str:
     )
 
 
-def _area_name(site: Site, s: Candidate) -> str:
-    from planner.coverage.openings import accessible_areas, space_of
-
-    area = accessible_areas(site).get(space_of(site.zone(s.zone), s.side))
-    return f"zone {s.zone} ({s.side.value}), accessible area {area}"
-
-
 def check_reach(
     site: Site,
     st: Sequence[Candidate],
@@ -151,12 +144,16 @@ def check_reach(
 ) -> None:
     """``--strict-walls``: a station no walk joins to the start (node 0 of ``g``) is an infeasible route
     (exit 4), named with its zone and accessible area."""
+    from planner.coverage.openings import accessible_areas, space_of
+
     for n, k in enumerate(node_station):
         if k >= 0 and not math.isfinite(g.dist[0, n]):
+            s = st[k]
+            area = accessible_areas(site).get(space_of(site.zone(s.zone), s.side))
             raise InfeasibleError(
-                f"cannot be reached on foot from the start ({label}): it stands in "
-                f"{_area_name(site, st[k])}, which no door or gate joins to the start's",
+                f"cannot be reached on foot from the start ({label}): it stands in zone {s.zone} "
+                f"({s.side.value}), accessible area {area}, which no door or gate joins to the start's",
                 file=plan_file,
                 field="station",
-                value=st[k].id,
+                value=s.id,
             )

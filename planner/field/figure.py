@@ -107,11 +107,10 @@ def _frame_legs(fp: FieldPlan, fr: str, through: set[int]) -> tuple[list, list, 
                 (walls if k in through else stairs).append([leg[t - 1], p])
             if f == fr:
                 run.append(p)
-            elif len(run) > 1:
+                continue
+            if len(run) > 1:
                 (walls if k in through else walks).append(run)
-                run = []
-            else:
-                run = []
+            run = []
         if len(run) > 1:
             (walls if k in through else walks).append(run)
     return walks, walls, stairs

@@ -16,6 +16,7 @@ order on every machine and under any load; ``time_cap_s`` is a wall-clock cap on
 from __future__ import annotations
 
 import itertools
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -138,8 +139,6 @@ def solve_order(
     initial = routing.ReadAssignmentFromRoutes([list(nn[1:])], True)
     if initial is None:
         raise InternalError("the nearest-neighbour order was refused by the routing model")
-    import time
-
     t0 = time.perf_counter()
     solution = routing.SolveFromAssignmentWithParameters(initial, params)
     capped = time_cap_s is not None and time.perf_counter() - t0 >= 0.98 * time_cap_s

@@ -13,6 +13,7 @@ without a creation date, so the same sheet gives the same bytes.
 
 from __future__ import annotations
 
+import itertools
 import math
 import textwrap
 from pathlib import Path
@@ -69,20 +70,13 @@ def rows_per_page(page_height_in: float = A4[1], font_pt: float = FONT_PT) -> in
     return lines - TOP_LINES - 1 - FOOT_LINES
 
 
-def _cells(fp: FieldPlan) -> list[list[str]]:
-    return [[f"{v}" for v in r] for r in rows(fp)]
-
-
 def _columns(cells: list[list[str]], width_chars: int) -> tuple[list[int], list[int]]:
     """Column widths in characters (the widest cell or head, plus 2) and their left edges; the targets column
     takes what is left of the page's width."""
     widths = [max([len(HEADS[c])] + [len(r[c]) for r in cells]) + 2 for c in range(len(HEADS))]
     rest = width_chars - (sum(widths) - widths[10])
     widths[10] = max(len(HEADS[10]) + 2, min(widths[10], rest))
-    edges = [0]
-    for w in widths[:-1]:
-        edges.append(edges[-1] + w)
-    return widths, edges
+    return widths, [0, *itertools.accumulate(widths[:-1])]
 
 
 def _fit(text: str, width: int) -> str:
@@ -115,7 +109,7 @@ def _table_pages(fp: FieldPlan) -> list[Figure]:
     pw, ph = A4
     line = FONT_PT * LINE / 72.0 / ph  # one line in figure fraction
     width_chars = int((pw - 2 * MARGIN_IN) * 72.0 / (FONT_PT * _CHAR))
-    cells = _cells(fp)
+    cells = [[f"{v}" for v in r] for r in rows(fp)]
     widths, edges = _columns([*cells, ["", *[f"{v}" for v in totals(fp)[1:]]]], width_chars)
     per = rows_per_page(ph)
     n_pages = max(1, math.ceil(len(cells) / per))

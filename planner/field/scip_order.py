@@ -230,16 +230,18 @@ def _result(m: Any, x: dict[tuple[int, int], Any], d: NDArray[np.float64], close
     capped = m.getStatus() == "timelimit"
     dual = m.getDualbound()
     bound = max(0.0, float(dual) / SCALE) if math.isfinite(dual) and abs(dual) < 1e19 else 0.0
-    order: tuple[int, ...] = ()
-    if m.getNSols():
-        best = m.getBestSol()
-        xv = np.zeros((n, n))
-        for (i, j), v in x.items():
-            xv[i, j] = m.getSolVal(best, v)
-        order = tuple(_walk(xv))
+    order = tuple(_walk(_arc_values(m, x, n, m.getBestSol()))) if m.getNSols() else ()
     if len(order) != n:
         return ExactResult(None, math.inf, bound, False, capped, wall)
     return ExactResult(order, order_length(d, order, closed), bound, m.getStatus() == "optimal", capped, wall)
+
+
+def _arc_values(m: Any, x: dict[tuple[int, int], Any], n: int, sol: Any) -> NDArray[np.float64]:
+    """The arc values of solution ``sol`` (None: the current LP point) as an n x n matrix."""
+    v = np.zeros((n, n))
+    for (i, j), var in x.items():
+        v[i, j] = m.getSolVal(sol, var)
+    return v
 
 
 def _broken(xv: NDArray[np.float64], rule: tuple) -> NDArray[np.bool_] | None:
@@ -287,18 +289,12 @@ def _handler(scip: Any) -> type:
         def __init__(self, x: dict, cuts: _Cuts, n: int, rule: tuple) -> None:
             self.x, self.cuts, self.n, self.rule = x, cuts, n, rule
 
-        def _values(self, sol: Any) -> NDArray[np.float64]:
-            v = np.zeros((self.n, self.n))
-            for (i, j), var in self.x.items():
-                v[i, j] = self.model.getSolVal(sol, var)
-            return v
-
         def conscheck(self, _constraints: Any, solution: Any, *_: Any) -> dict:
-            broken = _broken(self._values(solution), self.rule) is not None
+            broken = _broken(_arc_values(self.model, self.x, self.n, solution), self.rule) is not None
             return {"result": result.INFEASIBLE if broken else result.FEASIBLE}
 
         def consenfolp(self, *_: Any) -> dict:
-            xv = self._values(None)
+            xv = _arc_values(self.model, self.x, self.n, None)
             inside = _broken(xv, self.rule)
             if inside is None:
                 return {"result": result.FEASIBLE}
@@ -314,7 +310,7 @@ def _handler(scip: Any) -> type:
             pass
 
         def conssepalp(self, *_: Any) -> dict:
-            xv = self._values(None)
+            xv = _arc_values(self.model, self.x, self.n, None)
             rows = self.cuts.violated(xv, _components(xv) + _suffixes(xv), MIN_VIOLATION)
             found = _add_rows(scip, self.model, self.x, rows, cut=True)
             return {"result": result.SEPARATED if found else result.DIDNOTFIND}

@@ -232,19 +232,15 @@ def storey_walks(
     graphs: dict[str, WalkGraph] = {}
     local: dict[str, list[int]] = {}
     node_frame: list[str] = list(point_frames)
-    extra: dict[tuple[str, tuple[float, float]], int] = {}
+    extra: dict[tuple[str, tuple[float, float]], int] = {}  # (frame, stair end) -> its node, after the points
     n = len(pts)
     for fr in frames:
         here = [k for k in range(len(pts)) if point_frames[k] == fr]
-        ids = list(here)
-        for p in ends[fr]:
-            extra[(fr, p)] = n
-            ids.append(n)
-            node_frame.append(fr)
-            n += 1
-        xy = [tuple(pts[k]) for k in here] + list(ends[fr])
-        graphs[fr] = walk_graph(spaces[fr], xy)  # type: ignore[arg-type]
-        local[fr] = ids
+        extra |= {(fr, p): n + t for t, p in enumerate(ends[fr])}
+        local[fr] = here + list(range(n, n + len(ends[fr])))
+        node_frame += [fr] * len(ends[fr])
+        n += len(ends[fr])
+        graphs[fr] = walk_graph(spaces[fr], [tuple(pts[k]) for k in here] + ends[fr])  # type: ignore[arg-type]
     rows: list[int] = []
     cols: list[int] = []
     w: list[float] = []

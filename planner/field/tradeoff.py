@@ -92,11 +92,7 @@ class Tradeoff:
             (
                 r.label + (" (kept)" if r.label == self.kept else ""),
                 "-" if r.stations is None else r.stations,
-                _h(r.setup_s),
-                _h(r.scan_s),
-                _h(r.walking_s),
-                _h(r.targets_s),
-                _h(r.total_s),
+                *map(_h, (r.setup_s, r.scan_s, r.walking_s, r.targets_s, r.total_s)),
                 *(["-" if r.sessions is None else r.sessions] if counted else []),
                 r.settings or r.note,
             )

@@ -23,13 +23,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, dijkstra
 from shapely.geometry.polygon import orient
 
-from planner.coverage.openings import (
-    OPENING_DEPTH_M,
-    PASSABLE,
-    opening_segments,
-    solid_intervals,
-    wall_gaps,
-)
+from planner.coverage.openings import OPENING_DEPTH_M, PASSABLE, opening_segments, solid_intervals, wall_gaps
 from planner.site.model import SITE_FRAME, ScanSide, Site
 
 #: open ground around the zones of a frame without a site boundary (m)
