@@ -8,7 +8,7 @@ import math
 import numbers
 import os
 from collections.abc import Iterable
-from typing import Any
+from typing import Any, TypeGuard
 
 from planner.core.errors import ArgumentTypeError, InputError, UsageError
 
@@ -83,7 +83,7 @@ def shown(value: Any) -> Any:
     return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
 
 
-def finite_number(value: Any) -> bool:
+def finite_number(value: Any) -> TypeGuard[float]:
     """True for a finite int or float (a bool is no number here)."""
     return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
 

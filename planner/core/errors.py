@@ -1,15 +1,9 @@
 """The one error hierarchy of the planner, and the exit codes the CLI maps it to.
 
-Every error renders as ONE line naming where the problem is (file, zone, row,
-field) and the offending value, so a surveyor can find it in the input.
-Positions count from 1, as a surveyor counts rows and entries: ``control_points[4]``
-is the fourth entry of that JSON list (index 3 to a programmer), ``row 2`` the
-second data row of a table.
-
-Exit codes
-----------
-0 ok, 1 internal error, 2 usage, 3 invalid input, 4 infeasible problem, 5 unreachable service
-(a Dask scheduler that does not answer), 141 standard output closed by its reader.
+Every error renders as ONE line naming where the problem is (file, zone, row, field) and the offending value, so a
+surveyor can find it in the input. Positions count from 1, as a surveyor counts rows and entries:
+``control_points[4]`` is the fourth entry of that JSON list, ``row 2`` the second data row of a table.
+Exit codes: :class:`ExitCode`.
 """
 
 from __future__ import annotations

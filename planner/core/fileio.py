@@ -41,14 +41,11 @@ def read_text(path: Path) -> str:
 
 
 def read_json(path: Path | str) -> Any:
-    """The parsed JSON of a file read with :func:`read_text`. ``json`` builds plain data only: nothing in
-    the file is evaluated.
-
-    Refused as an InputError naming the file and the line (or the key): invalid JSON, nesting deeper than the
-    parser can follow, an integer beyond the float range (``json`` would stop at 4300 digits or hand on a
-    number no float holds), a key given twice in one object (``json`` keeps the last silently), and text
-    that is not valid Unicode (a lone surrogate escape such as ``\\ud800``, which no output can print).
-    """
+    """The parsed JSON of a file read with :func:`read_text`. ``json`` builds plain data only: nothing in the file is
+    evaluated. Refused as an InputError naming the file and the line (or the key): invalid JSON, nesting deeper than the
+    parser can follow, an integer beyond the float range (``json`` would stop at 4300 digits or hand on a number no
+    float holds), a key given twice in one object (``json`` keeps the last silently), and text that is not valid Unicode
+    (a lone surrogate escape such as ``\\ud800``, which no output can print)."""
     name = str(path)
     text = read_text(Path(path))
     try:

@@ -1,17 +1,16 @@
-"""Results as text for front ends: strict JSON (plan.json, network.json, field.json), notebook HTML, and the
-building blocks of the terminal summaries (aligned tables, ``key value`` lines, folded notes).
+"""Results as text for front ends: strict JSON (plan.json, network.json, field.json), notebook HTML, and the building
+blocks of the terminal summaries (aligned tables, ``key value`` lines, folded notes).
 
-**JSON.** Python's ``json`` writes ``NaN`` and ``Infinity`` for non-finite floats, which JavaScript's
-``JSON.parse`` and strict parsers refuse. Here a non-finite float becomes ``null``; where that hides a
-meaning (a piece whose stations are not tied to control has an infinite error), the writer of the
-data states it in a field of its own (``untied``).
+**JSON.** Python's ``json`` writes ``NaN`` and ``Infinity`` for non-finite floats, which JavaScript's ``JSON.parse`` and
+strict parsers refuse. Here a non-finite float becomes ``null``; where that hides a meaning (a piece whose stations are
+not tied to control has an infinite error), the writer of the data states it in a field of its own (``untied``).
 
 **Notebooks.** Every result's ``_repr_html_`` is its ``summary()`` in a titled block (:func:`summary_html`).
 
-**Terminal.** A summary is read by a person, so it shows no Python reprs (no ``{'key': ...}``, ``[...]``,
-``None``, ``True``): :func:`table` aligns rows in columns as wide as their content, numbers right-aligned;
-:func:`key_values` prints ``key  value`` lines; :func:`yes_no` and :func:`or_none` give the words;
-:func:`fold_alike` folds notes that differ only in the names they mention into one line with a count.
+**Terminal.** A summary is read by a person, so it shows no Python reprs (no ``{'key': ...}``, ``[...]``, ``None``,
+``True``): :func:`table` aligns rows in columns as wide as their content, numbers right-aligned; :func:`key_values`
+prints ``key  value`` lines; :func:`yes_no` and :func:`or_none` give the words; :func:`fold_alike` folds notes that
+differ only in the names they mention into one line with a count.
 """
 
 from __future__ import annotations
@@ -100,13 +99,11 @@ def _numeric(text: str) -> bool:
 def table(
     header: Sequence[str], rows: Iterable[Sequence[Any]], *, indent: str = "  ", right: Sequence[bool] | None = None
 ) -> list[str]:
-    """The header line and one line per row, each column as wide as its widest cell, two spaces between
-    columns, ``indent`` before every line, trailing spaces removed.
-
-    Cells: None prints as ``none``, a bool as ``yes``/``no``, an int with thousands separators, a float by
-    ``:g`` (format floats beforehand to fix their decimals). ``right``: which columns are right-aligned; by
-    default those whose every non-empty cell reads as a number (``1,058``, ``3835/3835``, ``4.06 mm``).
-    """
+    """The header line and one line per row, each column as wide as its widest cell, two spaces between columns,
+    ``indent`` before every line, trailing spaces removed. Cells: None prints as ``none``, a bool as ``yes``/``no``, an
+    int with thousands separators, a float by ``:g`` (format floats beforehand to fix their decimals). ``right``: which
+    columns are right-aligned; by default those whose every non-empty cell reads as a number (``1,058``, ``3835/3835``,
+    ``4.06 mm``)."""
     body = [[_cell(v) for v in row] for row in rows]
     n = len(header)
     if any(len(row) != n for row in body):

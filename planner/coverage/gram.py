@@ -1,8 +1,8 @@
 """Candidate x candidate products of the coverage matrix, in row blocks, keeping only the pairs asked for.
 
-The full product A W A^T (shared wall between every two candidates) of a dense pool has up to C^2 entries
-even when only a few pairs matter (a subset relation, an overlap of 30 %). Computing it a block of rows at
-a time and filtering each block before the next keeps memory proportional to the pairs kept plus one block.
+The full product A W A^T (shared wall between every two candidates) of a dense pool has up to C^2 entries even when
+only a few pairs matter; computing it a block of rows at a time and filtering each block keeps memory proportional to
+the pairs kept plus one block.
 """
 
 from __future__ import annotations
@@ -20,10 +20,8 @@ Keep = Callable[[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], NDA
 
 
 def filtered_gram(a: sp.csr_matrix, weights: NDArray[np.float64] | None, keep: Keep) -> sp.csr_matrix:
-    """The C x C matrix A diag(w) A^T restricted to the entries (i, j, v) where ``keep(i, j, v)`` holds.
-
-    ``keep`` gets global row and column indices and the values of one block at a time.
-    """
+    """The C x C matrix A diag(w) A^T restricted to the entries (i, j, v) where ``keep(i, j, v)`` holds. ``keep`` gets
+    global row and column indices and the values of one block at a time."""
     a = a.astype(np.float64).tocsr()
     n = a.shape[0]
     right = (a if weights is None else a @ sp.diags(np.asarray(weights, float))).T.tocsc()

@@ -24,8 +24,8 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
-from planner.coverage.targets import read_only
 from planner.coverage.visibility import wall_key
+from planner.site.geometry import read_only
 from planner.site.model import SITE_FRAME, ScanSide, Site
 
 #: ``kind`` of a triangle: a wall, an obstacle prism (side or top), a slab, a zone's floor, a zone's ceiling
@@ -70,12 +70,10 @@ class Slab:
 
 @dataclass(frozen=True, eq=False)
 class SiteMesh:
-    """Triangles in 3-D with the surface each came from.
-
-    ``vertices`` is V x 3 (x, y, z in metres), ``triangles`` T x 3 indices into it, ``source`` (T,) the
-    source key of each triangle (see the module docstring) and ``kind`` (T,) its ``KIND_*``. The arrays are
-    read-only; the mesh compares by identity, so that :mod:`planner.coverage.rays` can keep its index.
-    """
+    """Triangles in 3-D with the surface each came from. ``vertices`` is V x 3 (x, y, z in metres), ``triangles`` T x 3
+    indices into it, ``source`` (T,) the source key of each triangle (see the module docstring) and ``kind`` (T,) its
+    ``KIND_*``. The arrays are read-only; the mesh compares by identity, so that :mod:`planner.coverage.rays` can keep
+    its index."""
 
     vertices: NDArray[np.float64]
     triangles: NDArray[np.int64]
@@ -135,13 +133,11 @@ def site_mesh(
     floors: bool = False,
     ceilings: bool = False,
 ) -> SiteMesh:
-    """Triangulate the blockers of ``frame``: its zones' walls (outline and holes, cut at openings), obstacles
-    (site frame), ``slabs`` and, with ``floors``/``ceilings``, the floor and ceiling of each zone scanned from
-    inside. ``floors_m``: a zone's floor level by zone id, in place of its ``floor_level_m``.
-
-    O(walls + obstacle and slab vertices). Shared faces of placed zones are meshed once per zone (each under its
-    own key); zone holes (piers) get no top cap: a line entering one through its top leaves through a wall.
-    """
+    """Triangulate the blockers of ``frame``: its zones' walls (outline and holes, cut at openings), obstacles (site
+    frame), ``slabs`` and, with ``floors``/``ceilings``, the floor and ceiling of each zone scanned from inside.
+    ``floors_m``: a zone's floor level by zone id, in place of its ``floor_level_m``. O(walls + obstacle and slab
+    vertices). Shared faces of placed zones are meshed once per zone (each under its own key); zone holes (piers) get no
+    top cap: a line entering one through its top leaves through a wall."""
     levels = floors_m or {}
     parts = _Parts()
     walls = _wall_quads(site, frame, levels)

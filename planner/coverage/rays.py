@@ -47,8 +47,7 @@ def _dot(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
 @dataclass(frozen=True, eq=False)
 class RayIndex:
     """What :func:`occluded` keeps of a mesh (T triangles): corners (T x 3 x 3); plan-view boxes (T x 4: centre
-    x, y, half size x, y) and in an STRtree; height ranges; unit normals (T x 3) and plane offsets (n . x = offset);
-    sources."""
+    x, y, half size x, y) and in an STRtree; height ranges; unit normals (T x 3) and plane offsets; sources."""
 
     corners: NDArray[np.float64]
     plan: NDArray[np.float64]
@@ -135,11 +134,9 @@ def _inside(
 def segment_distance2(
     p1: NDArray[np.float64], d1: NDArray[np.float64], p2: NDArray[np.float64], d2: NDArray[np.float64]
 ) -> NDArray[np.float64]:
-    """Squared distance between the segments p1 + s d1 and p2 + t d2 (s, t in [0, 1]), row-wise.
-
-    Ericson, *Real-Time Collision Detection* (2005), 5.1.9: the closest points of the lines, clamped to the
-    segments; parallel and zero-length segments included. O(rows).
-    """
+    """Squared distance between the segments p1 + s d1 and p2 + t d2 (s, t in [0, 1]), row-wise. Ericson, *Real-Time
+    Collision Detection* (2005), 5.1.9: the closest points of the lines, clamped to the segments; parallel and
+    zero-length segments included. O(rows)."""
     r = p1 - p2
     a, e, f, c, b = _dot(d1, d1), _dot(d2, d2), _dot(d2, r), _dot(d1, r), _dot(d1, d2)
     sa, se = np.where(a > 0, a, 1.0), np.where(e > 0, e, 1.0)
@@ -220,14 +217,11 @@ def occluded(
     shorten_m: float = EPS_SHORTEN_M,
     chunk: int = SEGMENT_CHUNK,
 ) -> NDArray[np.bool_]:
-    """N booleans: whether each segment ``origins[i]`` -> ``ends[i]`` (N x 3, m; shortened by ``shorten_m`` at
-    its end) comes within ``eps_m`` of the mesh (:func:`planner.coverage.mesh.site_mesh`).
-
-    ``skip``: N source keys (or None) whose triangles do not block segment i (the target's own wall);
-    ``NO_SKIP`` skips nothing. Skip only a wall: an obstacle skipped would no longer hide its far side.
-    O(Q log T + E + P) for Q pieces of segments, E (piece, triangle) pairs whose plan boxes meet and P pairs
-    tested exactly; memory O(a chunk's E).
-    """
+    """N booleans: whether each segment ``origins[i]`` -> ``ends[i]`` (N x 3, m; shortened by ``shorten_m`` at its end)
+    comes within ``eps_m`` of the mesh (:func:`planner.coverage.mesh.site_mesh`). ``skip``: N source keys (or None)
+    whose triangles do not block segment i (the target's own wall); ``NO_SKIP`` skips nothing. Skip only a wall: an
+    obstacle skipped would no longer hide its far side. O(Q log T + E + P) for Q pieces of segments, E (piece, triangle)
+    pairs whose plan boxes meet and P pairs tested exactly; memory O(a chunk's E)."""
     o = np.asarray(origins, dtype=float).reshape(-1, 3)
     e = np.asarray(ends, dtype=float).reshape(-1, 3)
     if o.shape != e.shape:

@@ -35,14 +35,11 @@ def precision_region(
 
 @lru_cache(maxsize=256)
 def precision_profile(rule: PrecisionRule, dz: float, theta_max_deg: float) -> tuple[NDArray, NDArray]:
-    """The boundary rho(theta) = sqrt(S_lim(theta)^2 - dz^2) of the precision part of a region, theta from
-    the normal (radians) and rho (m), drawn inside the true curve.
-
-    theta runs to ``top`` (theta_max, or where not even S = dz meets sigma_req); rho falls like
-    sqrt(top - theta) there, so theta is sampled as top (1 - (1 - u)^2), u uniform, plus the table's angles
-    (kinks). Each vertex is pulled in by the larger chord error of its two sectors; samples double until that
-    error is at most ``PRECISION_CHORD_M``. Cached: pieces of equal height share it.
-    """
+    """The boundary rho(theta) = sqrt(S_lim(theta)^2 - dz^2) of the precision part of a region, theta from the normal
+    (radians) and rho (m), drawn inside the true curve. theta runs to ``top`` (theta_max, or where not even S = dz meets
+    sigma_req); rho falls like sqrt(top - theta) there, so theta is sampled as top (1 - (1 - u)^2), u uniform, plus the
+    table's angles (kinks). Each vertex is pulled in by the larger chord error of its two sectors; samples double until
+    that error is at most ``PRECISION_CHORD_M``. Cached: pieces of equal height share it."""
     args = (rule.scanner, rule.budget, rule.sigma_req_m, rule.incidence_model)
     top = min(theta_max_deg, derive_theta_max_deg(dz, *args))
     if top <= 0.0:

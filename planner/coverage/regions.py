@@ -53,9 +53,9 @@ STANDOFF_QUAD_SEGS = 16
 
 
 def regions_apply(limits: SightLimits) -> bool:
-    """Whether R_t models the coverage test for ``limits``: not for the incidence-dependent view error
-    with 3-D incidence (along a ray from a piece's end the 3-D incidence falls while the range grows,
-    so that region is not drawn)."""
+    """Whether R_t models the coverage test for ``limits``: not for the incidence-dependent view error with 3-D
+    incidence (along a ray from a piece's end the 3-D incidence falls while the range grows, so that region is not
+    drawn)."""
     return not (limits.incidence_3d and limits.per_pair_precision)
 
 
@@ -65,10 +65,9 @@ def _standoff_buffer_m(standoff_m: float) -> float:
 
 
 def region_tolerance_m(limits: SightLimits, standoff_m: float = 0.0) -> float:
-    """How far outside R_t a covering position can lie: the sagitta of the largest inscribed disc
-    (r (1 - cos(pi / n))), plus the sight test's tolerances, plus (with ``standoff_m``) the excess of
-    the circumscribed stand-off buffers and (with a per-view precision test) twice the precision
-    boundary's chord error."""
+    """How far outside R_t a covering position can lie: the sagitta of the largest inscribed disc (r (1 - cos(pi / n))),
+    plus the sight test's tolerances, plus (with ``standoff_m``) the excess of the circumscribed stand-off buffers and
+    (with a per-view precision test) twice the precision boundary's chord error."""
     r = limits.effective_range_m
     sag = r * (1.0 - math.cos(math.pi / DISC_SEGMENTS)) if math.isfinite(r) else 0.0
     extra = _standoff_buffer_m(standoff_m) - standoff_m if standoff_m > 0 else 0.0
@@ -210,11 +209,9 @@ def coverage_regions(
     spaces: dict[str, FrameSpace] | None = None,
     outer: bool = False,
 ) -> dict[int, shapely.Geometry]:
-    """R_t for the pieces ``which`` (all by default), as shapely geometries (possibly empty).
-
-    ``spaces`` caches :func:`frame_space` per frame between calls (one cache per ``outer``). ``outer``: the
-    outer approximation O_t instead (:func:`piece_region`).
-    """
+    """R_t for the pieces ``which`` (all by default), as shapely geometries (possibly empty). ``spaces`` caches
+    :func:`frame_space` per frame between calls (one cache per ``outer``). ``outer``: the outer approximation O_t
+    instead (:func:`piece_region`)."""
     spaces = spaces if spaces is not None else {}
     idx = range(len(targets)) if which is None else which
     out: dict[int, shapely.Geometry] = {}

@@ -1,6 +1,5 @@
-"""What a set of stations does for the walls: per piece (how often seen, best incidence) and per station
-(covered wall, worst incidence, longest range, worst predicted point error). Figures, the report and the
-exports all read this."""
+"""What a set of stations does for the walls: per piece (how often seen, best incidence) and per station (covered wall,
+worst incidence, longest range, worst predicted point error). Figures, the report and the exports all read this."""
 
 from __future__ import annotations
 
@@ -32,11 +31,9 @@ class StationStats:
 
 @dataclass(frozen=True, eq=False)
 class StationCoverage:
-    """Coverage of the wall pieces by a given list of stations.
-
-    ``count[t]`` stations see piece t; ``best_incidence_deg[t]`` is the smallest
-    (best) worst-over-the-piece incidence among them, NaN when none sees it.
-    """
+    """Coverage of the wall pieces by a given list of stations. ``count[t]`` stations see piece t;
+    ``best_incidence_deg[t]`` is the smallest (best) worst-over-the-piece incidence among them, NaN when none sees
+    it."""
 
     stations: tuple[Candidate, ...]
     problem: CoverageProblem
@@ -62,11 +59,8 @@ class StationCoverage:
 
 
 def station_coverage(sight: Sight, stations: Sequence[Candidate], spacing_m: float = 1.0) -> StationCoverage:
-    """Build the coverage of ``stations`` alone on pieces of ``spacing_m`` under ``sight`` (its site's error
-    budget, its scanner) and summarise it.
-
-    Cost: one coverage build with len(stations) candidates, O(S x T) pair tests at most.
-    """
+    """Build the coverage of ``stations`` alone on pieces of ``spacing_m`` under ``sight`` (its site's error budget, its
+    scanner) and summarise it. Cost: one coverage build with len(stations) candidates, O(S x T) pair tests at most."""
     argument(sight, Sight, "sight")
     stations_argument(stations)
     st = tuple(stations)

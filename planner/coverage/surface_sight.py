@@ -5,18 +5,17 @@ A station of zone z stands on z's floor with the instrument ``IH`` above it. It 
 
 - the patch belongs to the station's own zone, and the station stands on its floor area;
 - the slant range to every corner is <= S_max (range is convex: the corners bound the patch);
-- the 3-D incidence, atan(d / |dz|) on a horizontal patch, is <= the surface's limit
-  (``theta_max_floor_deg``); it grows with d, so the corners bound it; a ceiling at or below the
-  instrument is not seen;
-- no point of the patch lies in a blind cone about the nadir (floors) or zenith (ceilings): the patch's
-  nearest point (not its corners) is at least |dz| tan(half angle) away horizontally;
-- in plan, the segment to every point of the patch neither leaves the zone's outline nor enters a block
-  that can be in the way (every block for a floor, those above the instrument for a ceiling):
-  :mod:`planner.coverage.plan_sight` tests the patch's whole fan. This is conservative: a block lower than
-  the instrument hides in plan what it does not hide in 3-D.
+- the 3-D incidence, atan(d / |dz|) on a horizontal patch, is <= the surface's limit (``theta_max_floor_deg``); it grows
+  with d, so the corners bound it; a ceiling at or below the instrument is not seen;
+- no point of the patch lies in a blind cone about the nadir (floors) or zenith (ceilings): the patch's nearest point
+  (not its corners) is at least |dz| tan(half angle) away horizontally;
+- in plan, the segment to every point of the patch neither leaves the zone's outline nor enters a block that can be in
+  the way (every block for a floor, those above the instrument for a ceiling): :mod:`planner.coverage.plan_sight` tests
+  the patch's whole fan. This is conservative: a block lower than the instrument hides in plan what it does not hide in
+  3-D.
 
-Pairs come from an STRtree query within the horizontal reach that range and incidence allow, so the work
-grows with the pairs in reach, never with stations x patches.
+Pairs come from an STRtree query within the horizontal reach that range and incidence allow, so the work grows with the
+pairs in reach, never with stations x patches.
 """
 
 from __future__ import annotations
@@ -43,12 +42,9 @@ PAIR_BATCH = 1 << 20
 
 @dataclass(frozen=True)
 class SurfaceLimits:
-    """The limits a station-patch pair must meet.
-
-    ``theta_max_floor_deg``: the incidence limit of floors and ceilings (None: ``theta_max_deg``);
-    ``instrument_height_m``: the instrument above the station's floor (> 0); the blind half angles are
-    the scanner's (None: no cone).
-    """
+    """The limits a station-patch pair must meet. ``theta_max_floor_deg``: the incidence limit of floors and ceilings
+    (None: ``theta_max_deg``); ``instrument_height_m``: the instrument above the station's floor (> 0); the blind half
+    angles are the scanner's (None: no cone)."""
 
     max_slant_range_m: float
     theta_max_deg: float
@@ -145,11 +141,8 @@ class _Layer:
 def surface_pairs(
     site: Site, patches: SurfaceTargets, xy: NDArray[np.float64], zone: NDArray[np.integer], limits: SurfaceLimits
 ) -> SurfacePairs:
-    """Every (station, patch) pair in which the station sees the whole patch (the module's rules).
-
-    ``xy`` (N, 2) are the stations in their zone's frame, ``zone`` (N,) the index in ``site.zones`` of the
-    zone each stands in.
-    """
+    """Every (station, patch) pair in which the station sees the whole patch (the module's rules). ``xy`` (N, 2) are the
+    stations in their zone's frame, ``zone`` (N,) the index in ``site.zones`` of the zone each stands in."""
     xy = np.asarray(xy, dtype=float).reshape(-1, 2)
     zone = np.asarray(zone, dtype=np.int64).reshape(-1)
     if len(zone) != len(xy):

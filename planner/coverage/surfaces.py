@@ -40,16 +40,13 @@ CELL_BATCH = 65_536
 
 @dataclass(frozen=True, eq=False)
 class SurfaceTargets(PieceArrays):
-    """Floor and ceiling patches as parallel read-only arrays (one entry per patch).
-
-    ``kind`` is ``FLOOR`` or ``CEILING``; ``frame`` indexes ``frames`` (as in
-    :class:`planner.coverage.targets.Targets`); ``cell`` the grid column and row; ``polygon`` the patch (no
-    holes); ``corners`` its vertices (P, K, 2), padded by repeating the last, ``n_corners`` how many are its
-    own; ``height_m`` in the site's vertical datum; ``normal`` the unit normal towards the room.
-    """
+    """Floor and ceiling patches as parallel read-only arrays (one entry per patch). ``kind`` is ``FLOOR`` or
+    ``CEILING``; ``frame`` indexes ``frames`` (as in :class:`planner.coverage.targets.Targets`); ``cell`` the grid
+    column and row; ``polygon`` the patch (no holes); ``corners`` its vertices (P, K, 2), padded by repeating the last,
+    ``n_corners`` how many are its own; ``height_m`` in the site's vertical datum; ``normal`` the unit normal towards
+    the room."""
 
     kind: NDArray[np.int8]
-    frame: NDArray[np.int32]
     cell: NDArray[np.int32]
     polygon: NDArray[np.object_]
     corners: NDArray[np.float64]
@@ -58,8 +55,6 @@ class SurfaceTargets(PieceArrays):
     area_m2: NDArray[np.float64]
     height_m: NDArray[np.float64]
     normal: NDArray[np.float64]
-    frames: tuple[str, ...]
-    zone_ids: tuple[str, ...]
     spacing_m: float
 
     def label(self, t: int) -> str:

@@ -9,25 +9,23 @@ import numpy as np
 from numpy.typing import NDArray
 
 from planner.coverage.openings import opening_segments, solid_intervals, wall_gaps
+from planner.site.geometry import read_only
 from planner.site.model import ScanSide, Site
 
 SIDE_CODE = {ScanSide.INSIDE: 0, ScanSide.OUTSIDE: 1}
 SIDE_NAME = {0: "inside", 1: "outside"}
 
 
-def read_only(a: NDArray) -> NDArray:
-    """``a`` as a contiguous array that cannot be written (the target arrays are shared, never changed)."""
-    a = np.ascontiguousarray(a)
-    a.flags.writeable = False
-    return a
-
-
 @dataclass(frozen=True, eq=False)
 class PieceArrays:
-    """Targets as parallel arrays, one entry per piece; ``zone`` indexes ``site.zones``. Every array field is
-    stored read-only (the target arrays are shared, never changed)."""
+    """Targets as parallel arrays, one entry per piece; ``zone`` indexes ``site.zones``, ``frame`` indexes
+    ``frames`` (the zones' frames in site order). Every array field is stored read-only (the target arrays are
+    shared, never changed)."""
 
     zone: NDArray[np.int32]
+    frame: NDArray[np.int32]
+    frames: tuple[str, ...]
+    zone_ids: tuple[str, ...]
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -41,12 +39,10 @@ class PieceArrays:
 
 @dataclass(frozen=True, eq=False)
 class Targets(PieceArrays):
-    """Wall-face pieces as parallel read-only arrays (one entry per piece).
-
-    ``side`` is 0 inside / 1 outside; ``wall`` the 1-based wall index; ``s0_m``/``s1_m`` the piece's offsets
-    along the wall; ``a``/``b`` its end points; ``ha_m``/``hb_m`` the top heights there; ``normal`` the unit
-    normal to the scanning side; ``frame`` indexes ``frames``. A piece with ``a == b`` is a point (verify).
-    """
+    """Wall-face pieces as parallel read-only arrays (one entry per piece). ``side`` is 0 inside / 1 outside; ``wall``
+    the 1-based wall index; ``s0_m``/``s1_m`` the piece's offsets along the wall; ``a``/``b`` its end points;
+    ``ha_m``/``hb_m`` the top heights there; ``normal`` the unit normal to the scanning side; ``frame`` indexes
+    ``frames``. A piece with ``a == b`` is a point (verify)."""
 
     side: NDArray[np.int8]
     wall: NDArray[np.int32]
@@ -57,9 +53,6 @@ class Targets(PieceArrays):
     ha_m: NDArray[np.float64]
     hb_m: NDArray[np.float64]
     normal: NDArray[np.float64]
-    frame: NDArray[np.int32]
-    frames: tuple[str, ...]
-    zone_ids: tuple[str, ...]
 
     def label(self, t: int) -> str:
         """A readable id: zone/side/wall and the piece's offsets."""

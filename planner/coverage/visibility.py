@@ -42,10 +42,8 @@ Mask = NDArray[np.bool_]
 @dataclass(frozen=True, eq=False)
 class PrecisionRule:
     """How a view's point error is judged: e(S, theta) of :func:`planner.instrument.accuracy.view_error_m`.
-
-    ``combined``: views add information (sum (sigma_req / e_j)^2 >= 1), so no single view is
-    refused for precision; verification and the network check judge the sum.
-    """
+    ``combined``: views add information (sum (sigma_req / e_j)^2 >= 1), so no single view is refused for precision;
+    verification and the network check judge the sum."""
 
     scanner: RangeAngleSigma
     budget: ErrorBudget
@@ -118,13 +116,10 @@ class PairGeometry:
 def geometric_pairs(
     cand_xy: F64, cand_inside: Mask, targets: Targets, ti: NDArray[np.int64], limits: SightLimits, chunk: int = 64
 ) -> PairGeometry:
-    """All (candidate, piece) pairs of the pieces ``targets[ti]`` meeting the range and incidence limits
-    (``target`` of the result indexes ``ti``).
-
-    A candidate sees a piece only from the piece's side of its zone: ``cand_inside[c, z]`` (candidate c inside
-    zone z) must match the piece's side for its zone. Each chunk of candidates is matched only with the pieces
-    within reach of its bounding box, so the work grows with the pairs in range, not with C x T.
-    """
+    """All (candidate, piece) pairs of the pieces ``targets[ti]`` meeting the range and incidence limits (``target`` of
+    the result indexes ``ti``). A candidate sees a piece only from the piece's side of its zone: ``cand_inside[c, z]``
+    (candidate c inside zone z) must match the piece's side for its zone. Each chunk of candidates is matched only with
+    the pieces within reach of its bounding box, so the work grows with the pairs in range, not with C x T."""
     t_zone, t_inside, normal = targets.zone[ti], targets.side[ti] == 0, targets.normal[ti]
     a, b, ha, hb = targets.a[ti], targets.b[ti], targets.ha_m[ti], targets.hb_m[ti]
     ih = limits.instrument_height_m
@@ -254,25 +249,15 @@ def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blocke
 def sight_limits(
     validation: ValidationReport, incidence_3d: bool, precision: bool, combined: bool = False
 ) -> SightLimits:
-    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req.
-
-    ``combined``: no single view is refused for precision (no precision range, no per-pair
-    test); the rule travels with the limits so that verification and the network check
-    judge the information sum. With ``precision`` off there is no rule at all.
-    """
+    """The pair limits for a validated site; the precision range is (3.1) for the scanner and sigma_req. ``combined``:
+    no single view is refused for precision (no precision range, no per-pair test); the rule travels with the limits so
+    that verification and the network check judge the information sum. With ``precision`` off there is no rule at
+    all."""
     p = validation.site.parameters
     single = precision and not combined
     precision_range = max_slant_range_m(validation.scanner, validation.range_limit.sigma_instr_m) if single else None
     rule = (
-        PrecisionRule(
-            scanner=validation.scanner,
-            budget=p.budget,
-            sigma_req_m=p.sigma_req_m,
-            incidence_model=p.incidence_model,
-            combined=combined,
-        )
-        if precision
-        else None
+        PrecisionRule(validation.scanner, p.budget, p.sigma_req_m, p.incidence_model, combined) if precision else None
     )
     return SightLimits(
         max_slant_range_m=validation.range_limit.max_slant_range_m,

@@ -1,11 +1,10 @@
 """Accuracy model of chapter 2 of the dissertation (docs/method.md section 1).
 
-All lengths are metres, angles degrees unless a name says otherwise
-(``_arcsec``, ``_mm``). Functions accept numpy arrays where they take a range
-or an angle, so coverage tests can call them on whole candidate x target blocks.
+All lengths are metres, angles degrees unless a name says otherwise (``_arcsec``, ``_mm``). Functions accept numpy
+arrays where they take a range or an angle, so coverage tests can call them on whole candidate x target blocks.
 
-References: equations (2.4), (2.5), (2.13)-(2.15), (3.1), (3.2), (3.28)-(3.32)
-and tables 1.1 and 2.3 of seed 000 (Shoker 2021).
+References: equations (2.4), (2.5), (2.13)-(2.15), (3.1), (3.2), (3.28)-(3.32) and tables 1.1 and 2.3 of seed 000
+(Shoker 2021).
 """
 
 from __future__ import annotations
@@ -84,10 +83,8 @@ def sigma_instr_m(sigma_req_m: float, budget: ErrorBudget) -> float:
 
 
 def max_slant_range_m(model: RangeAngleSigma, sigma_instr: float) -> float:
-    """Largest slant range whose sigma_meas <= sigma_instr: the positive root of (3.1).
-
-    S^2 (Y^2/1e12 + sigma_beta^2/rho^2) + S (2 X Y / 1e6) + X^2 - sigma_instr^2 = 0.
-    """
+    """Largest slant range whose sigma_meas <= sigma_instr: the positive root of (3.1). S^2 (Y^2/1e12 +
+    sigma_beta^2/rho^2) + S (2 X Y / 1e6) + X^2 - sigma_instr^2 = 0."""
     x, y = model.range_sigma_const_m, model.range_sigma_ppm
     a = y**2 / 1e12 + (model.angle_sigma_arcsec / RHO_ARCSEC) ** 2
     b = 2.0 * x * y / 1e6
@@ -126,10 +123,8 @@ def combined_sigma(*sigmas: float) -> float:
 
 
 def instrument_height_tolerance_m(wall_height_m: float, slant_m: float, ih_low_m: float, ih_high_m: float) -> float:
-    """Radius of a station's tolerance circle for tripod heights IH1..IH2 (3.32).
-
-    Delta_HD = SD/2 * [sqrt(1 - ((h - IH2)/SD)^2) - sqrt(1 - ((h - IH1)/SD)^2)].
-    """
+    """Radius of a station's tolerance circle for tripod heights IH1..IH2 (3.32). Delta_HD = SD/2 * [sqrt(1 - ((h -
+    IH2)/SD)^2) - sqrt(1 - ((h - IH1)/SD)^2)]."""
     if not 0 <= ih_low_m <= ih_high_m or slant_m <= 0:
         raise InputError("need 0 <= IH1 <= IH2 and SD > 0", field="instrument_height_m", value=(ih_low_m, ih_high_m))
 
@@ -144,12 +139,10 @@ def instrument_height_tolerance_m(wall_height_m: float, slant_m: float, ih_low_m
 
 @dataclass(frozen=True)
 class IncidenceErrorTable:
-    """Measured point error against incidence angle (table 2.3 of the dissertation; Leica P30).
-
-    ``f_x`` is the error along the wall, ``f_y`` across it, both in mm, interpolated linearly over the table;
-    the error grows linearly up to ``linear_until_deg``, so that span extrapolates the last segment; beyond
-    it the table says nothing and the call is refused.
-    """
+    """Measured point error against incidence angle (table 2.3 of the dissertation; Leica P30). ``f_x`` is the error
+    along the wall, ``f_y`` across it, both in mm, interpolated linearly over the table; the error grows linearly up to
+    ``linear_until_deg``, so that span extrapolates the last segment; beyond it the table says nothing and the call is
+    refused."""
 
     theta_deg: tuple[float, ...] = (0, 10, 20, 30, 40, 50, 60, 68)
     f_x_mm: tuple[float, ...] = (0.00, 1.23, 3.20, 4.43, 5.6, 6.52, 7.17, 7.60)
@@ -192,11 +185,9 @@ _SCALE = r"(?:1\s*:\s*)?([0-9]+(?:\.[0-9]*)?)"
 
 
 def parse_scale(text: str | int | float) -> int:
-    """Read a drawing scale written ``"1:50"``, ``"50"`` or ``50`` into its denominator.
-
-    Text takes plain decimal digits only: ``1:2_0`` (Python's digit grouping), ``1:5 0`` and ``1:5e1`` are
-    refused, not read as 1:20 and 1:50, as the CSV and JSON readers refuse ``3_0``.
-    """
+    """Read a drawing scale written ``"1:50"``, ``"50"`` or ``50`` into its denominator. Text takes plain decimal digits
+    only: ``1:2_0`` (Python's digit grouping), ``1:5 0`` and ``1:5e1`` are refused, not read as 1:20 and 1:50, as the
+    CSV and JSON readers refuse ``3_0``."""
     match = re.fullmatch(_SCALE, text.strip(), re.ASCII) if isinstance(text, str) else None
     if match is not None:
         denominator = float(match.group(1))
@@ -247,15 +238,12 @@ def incidence_limit_deg(model: str) -> float:
 
 
 def incidence_factor(incidence_deg: ArrayLike, model: str) -> NDArray[np.float64]:
-    """How much the instrument term of a view grows with incidence, relative to a perpendicular view.
-
-    ``table``: the measured ratio (table 2.3): at normal incidence the error is f_y(0) across the wall; with
-    incidence an along-wall error f_x(theta) appears, so k = sqrt(f_y(0)^2 + f_x(theta)^2) / f_y(0).
-    ``soudarissanane``: 1 / cos(theta) (the signal-to-noise ratio falls with cos theta,
-    Soudarissanane et al. 2011), applied to the range term only (see :func:`view_error_m`).
-    ``none``: 1. Angles beyond a model's limit are clipped to it (the limit itself is enforced by
-    the coverage test).
-    """
+    """How much the instrument term of a view grows with incidence, relative to a perpendicular view. ``table``: the
+    measured ratio (table 2.3): at normal incidence the error is f_y(0) across the wall; with incidence an along-wall
+    error f_x(theta) appears, so k = sqrt(f_y(0)^2 + f_x(theta)^2) / f_y(0). ``soudarissanane``: 1 / cos(theta) (the
+    signal-to-noise ratio falls with cos theta, Soudarissanane et al. 2011), applied to the range term only (see
+    :func:`view_error_m`). ``none``: 1. Angles beyond a model's limit are clipped to it (the limit itself is enforced by
+    the coverage test)."""
     th = np.clip(np.asarray(incidence_deg, dtype=float), 0.0, incidence_limit_deg(model))
     if model == "table":
         table = IncidenceErrorTable()
@@ -270,13 +258,10 @@ def incidence_factor(incidence_deg: ArrayLike, model: str) -> NDArray[np.float64
 def view_error_m(
     slant_m: ArrayLike, incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, model: str = "none"
 ) -> NDArray[np.float64]:
-    """Point error e(S, theta) of one view: (2.13) with the incidence effect on the instrument term.
-
-    e^2 = sigma_0^2 + sigma_c^2 + sigma_g^2 + sigma_meas(S, theta)^2, where for ``table``
-    sigma_meas(S, theta) = sigma_meas(S) * k(theta) and for ``soudarissanane`` the range term
-    sigma_S grows as 1/cos(theta) while the angular term stays. ``none`` is (2.13) as printed.
-    The one function coverage, verification, the report and the network check use.
-    """
+    """Point error e(S, theta) of one view: (2.13) with the incidence effect on the instrument term. e^2 = sigma_0^2 +
+    sigma_c^2 + sigma_g^2 + sigma_meas(S, theta)^2, where for ``table`` sigma_meas(S, theta) = sigma_meas(S) * k(theta)
+    and for ``soudarissanane`` the range term sigma_S grows as 1/cos(theta) while the angular term stays. ``none`` is
+    (2.13) as printed. The one function coverage, verification, the report and the network check use."""
     s = np.asarray(slant_m, dtype=float)
     if model == "soudarissanane":
         angular = scanner.angle_sigma_arcsec / RHO_ARCSEC * s
@@ -334,14 +319,12 @@ def derive_theta_max_deg(
 def max_slant_for_view_m(
     incidence_deg: ArrayLike, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float, model: str = "none"
 ) -> NDArray[np.float64]:
-    """Largest slant range S with e(S, theta) <= sigma_req, per incidence (0 where not even S = 0 does).
-
-    e grows with S at any incidence, so the views meeting sigma_req at incidence theta are those with
-    S <= this value: the boundary of the precision part of a coverage region. With k = k(theta), the
-    range term k_r (X + Y S) and the angular term k_a (sigma_beta / rho) S (table: k_r = k_a = k;
-    Soudarissanane: k_r = k, k_a = 1; none: 1) give the positive root of (3.1) generalised:
-    S^2 (k_r^2 Y^2 + k_a^2 b^2) + 2 S k_r^2 X Y + k_r^2 X^2 - (sigma_req^2 - sigma_0^2 - sigma_c^2 - sigma_g^2) = 0.
-    """
+    """Largest slant range S with e(S, theta) <= sigma_req, per incidence (0 where not even S = 0 does). e grows with S
+    at any incidence, so the views meeting sigma_req at incidence theta are those with S <= this value: the boundary of
+    the precision part of a coverage region. With k = k(theta), the range term k_r (X + Y S) and the angular term k_a
+    (sigma_beta / rho) S (table: k_r = k_a = k; Soudarissanane: k_r = k, k_a = 1; none: 1) give the positive root of
+    (3.1) generalised: S^2 (k_r^2 Y^2 + k_a^2 b^2) + 2 S k_r^2 X Y + k_r^2 X^2 - (sigma_req^2 - sigma_0^2 - sigma_c^2 -
+    sigma_g^2) = 0."""
     k = incidence_factor(np.atleast_1d(np.asarray(incidence_deg, dtype=float)), model)
     k_a = np.ones_like(k) if model == "soudarissanane" else k
     x, y = scanner.range_sigma_const_m, scanner.range_sigma_ppm / 1e6

@@ -1,9 +1,8 @@
 """Instrument models (scanners, total stations) read from the TOML files in ``models/``.
 
-A model file names its ``kind`` (``scanner`` or ``total_station``) and gives
-lengths with their unit in the key: ``range_sigma_const_mm = 1.2`` and
-``range_sigma_const_m = 0.0012`` are the same model. Unknown keys are refused,
-so a typo never silently drops a value.
+A model file names its ``kind`` (``scanner`` or ``total_station``) and gives lengths with their unit in the key:
+``range_sigma_const_mm = 1.2`` and ``range_sigma_const_m = 0.0012`` are the same model. Unknown keys are refused, so a
+typo never silently drops a value.
 """
 
 from __future__ import annotations
@@ -23,15 +22,12 @@ from planner.instrument.field_table import FieldProperties, field_from_mapping
 
 @dataclass(frozen=True)
 class Scanner(RangeAngleSigma):
-    """A terrestrial laser scanner: sigma_S = X + Y ppm and angle sigma_beta.
-
-    ``max_slant_range_m`` fixes S_max outright; otherwise S_max follows from (3.1) for the required
-    accuracy, capped by the datasheet ``max_range_m``. For floors and ceilings
-    (:mod:`planner.coverage.surface_sight`): ``nadir_blind_half_angle_deg``, the half angle of the cone
-    under the instrument that it cannot see ((360 - V) / 2 for a vertical field of V deg with the gap
-    below), ``zenith_blind_half_angle_deg`` the same above it, ``instrument_height_3d_m`` the default
-    instrument height above the floor; None: no cone, no default height.
-    """
+    """A terrestrial laser scanner: sigma_S = X + Y ppm and angle sigma_beta. ``max_slant_range_m`` fixes S_max
+    outright; otherwise S_max follows from (3.1) for the required accuracy, capped by the datasheet ``max_range_m``. For
+    floors and ceilings (:mod:`planner.coverage.surface_sight`): ``nadir_blind_half_angle_deg``, the half angle of the
+    cone under the instrument that it cannot see ((360 - V) / 2 for a vertical field of V deg with the gap below),
+    ``zenith_blind_half_angle_deg`` the same above it, ``instrument_height_3d_m`` the default instrument height above
+    the floor; None: no cone, no default height."""
 
     name: str = ""
     description: str = ""
@@ -99,8 +95,7 @@ class TotalStation:
 Instrument = Scanner | TotalStation
 
 
-#: no instrument constant (ranges in m, sigmas in mm or arcsec, ppm, degrees) is anywhere near this; a
-#: larger one is a typo that would overflow the accuracy model (1e308 arcsec)
+#: no instrument constant is anywhere near this; a larger one is a typo that would overflow the accuracy model
 MAX_MODEL_VALUE = 1e9
 
 

@@ -1,19 +1,18 @@
 """Zones placed by collinear contacts: sides that lie along (a part of) walls of zones already placed.
 
-A room whose side lengths equal no other zone's side can still be fixed by where its walls run. A *contact*
-is a side of the unplaced zone and a side of a placed zone that run along one line (within ``angle_deg``
-and ``offset_m``; opposite directions for two rooms, the same for a room and the outline) and overlap by at
-least half the shorter. Two non-parallel contacts fix a placement, but a right-angled corner fits any
-rectangle, so a zone is placed only when:
+A room whose side lengths equal no other zone's side can still be fixed by where its walls run. A *contact* is a side of
+the unplaced zone and a side of a placed zone that run along one line (within ``angle_deg`` and ``offset_m``; opposite
+directions for two rooms, the same for a room and the outline) and overlap by at least half the shorter. Two
+non-parallel contacts fix a placement, but a right-angled corner fits any rectangle, so a zone is placed only when:
 
 - at least ``MIN_CONTACTS`` contacts hold at the fitted placement, in at least two directions;
 - its interior overlaps no placed room and stays inside the outline;
-- every other placement held by as many contacts fits at least ``RMS_RATIO`` times worse (RMS of the
-  line residuals); else it is ambiguous and left unplaced.
+- every other placement held by as many contacts fits at least ``RMS_RATIO`` times worse (RMS of the line residuals);
+  else it is ambiguous and left unplaced.
 
-The placement is fitted by least squares (the distances of the shorter segment's ends from the longer
-segment's line, other zones held); a contact's residual is the larger of its two. A zone that fails a
-rule stays in its own frame, with the reason reported.
+The placement is fitted by least squares (the distances of the shorter segment's ends from the longer segment's line,
+other zones held); a contact's residual is the larger of its two. A zone that fails a rule stays in its own frame, with
+the reason reported.
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ import numpy as np
 
 from planner.core.errors import InputError
 from planner.site.geometry import MAX_COORDINATE_M, check_simple_polygon
-from planner.site.params import MAX_HEIGHT_M
+from planner.site.params import HEIGHT_RULE, height_ok
 
 #: the frame of zones given by coordinates, obstacles, no-go areas, boundary and control points
 SITE_FRAME = "site"
@@ -56,13 +56,8 @@ class Obstacle:
 
     def __post_init__(self) -> None:
         check_simple_polygon(np.asarray(self.vertices, float), what="obstacle", zone=self.name)
-        if not math.isfinite(self.height_m) or self.height_m <= 0 or self.height_m > MAX_HEIGHT_M:
-            raise InputError(
-                f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m",
-                zone=self.name,
-                field="height_m",
-                value=self.height_m,
-            )
+        if not height_ok(self.height_m):
+            raise InputError(HEIGHT_RULE, zone=self.name, field="height_m", value=self.height_m)
 
 
 @dataclass(frozen=True)

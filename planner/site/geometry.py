@@ -15,16 +15,21 @@ from planner.core.errors import InputError
 ZERO_LENGTH_M = 1e-9
 
 
+def read_only(a: NDArray) -> NDArray:
+    """``a`` as a contiguous array that cannot be written (arrays shared between objects, never changed)."""
+    a = np.ascontiguousarray(a)
+    a.flags.writeable = False
+    return a
+
+
 def cross_z(u: NDArray[np.float64], v: NDArray[np.float64]) -> float:
     """z of the 2-D cross product u x v."""
     return float(u[0] * v[1] - u[1] * v[0])
 
 
 def as_vertices(points: object, *, what: str, zone: str | None = None) -> NDArray[np.float64]:
-    """Read a list of [x, y] pairs into an (n, 2) float array, refusing anything non-finite.
-
-    A closing vertex equal to the first is dropped (GeoJSON/DXF write rings closed).
-    """
+    """Read a list of [x, y] pairs into an (n, 2) float array, refusing anything non-finite. A closing vertex equal to
+    the first is dropped (GeoJSON/DXF write rings closed)."""
     if not isinstance(points, Sequence) or isinstance(points, (str, bytes)):
         raise InputError("must be a list of [x, y] pairs", zone=zone, field=what, value=type(points).__name__)
     rows = []
@@ -44,11 +49,8 @@ def as_vertices(points: object, *, what: str, zone: str | None = None) -> NDArra
 
 
 def signed_area(xy: NDArray[np.float64]) -> float:
-    """Shoelace area, positive for counter-clockwise vertex order.
-
-    Coordinates are taken relative to the first vertex so that projected
-    coordinates around 10^6 m lose no precision.
-    """
+    """Shoelace area, positive for counter-clockwise vertex order. Coordinates are taken relative to the first vertex so
+    that projected coordinates around 10^6 m lose no precision."""
     if len(xy) < 3:  # no area (check_simple_polygon says why)
         return 0.0
     with np.errstate(over="ignore", invalid="ignore"):  # absurd coordinates: check_simple_polygon names them
@@ -80,9 +82,8 @@ MAX_COORDINATE_M = 1e8
 
 
 def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None = None) -> None:
-    """Refuse fewer than 3 vertices, zero-length sides, zero area and self-intersection (found with an
-    STRtree over the sides, not n^2 pair tests); the message names the two sides (1-based) and where they meet.
-    """
+    """Refuse fewer than 3 vertices, zero-length sides, zero area and self-intersection (found with an STRtree over the
+    sides, not n^2 pair tests); the message names the two sides (1-based) and where they meet."""
     n = len(xy)
     if n < 3:
         raise InputError("a polygon needs at least 3 vertices", zone=zone, field=what, value=n)

@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass, field, replace
 from enum import Enum
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 import shapely
@@ -19,8 +20,8 @@ from numpy.typing import NDArray
 from planner.core.checks import finite_number, no_repeats
 from planner.core.errors import InputError
 from planner.site.features import SITE_FRAME, ControlPoint, Correction, NoGoArea, Obstacle, Opening
-from planner.site.geometry import check_simple_polygon, ring_key, side_lengths, signed_area
-from planner.site.params import MAX_HEIGHT_M, Parameters
+from planner.site.geometry import check_simple_polygon, read_only, ring_key, side_lengths, signed_area
+from planner.site.params import HEIGHT_RULE, MAX_HEIGHT_M, Parameters, height_ok
 from planner.site.stairs import Stair
 from planner.site.traverse import AcceptedMisclosure, ClosureReport
 
@@ -75,14 +76,11 @@ class Wall:
 
 @dataclass(frozen=True)
 class Zone:
-    """A simple polygon, stored counter-clockwise, scanned from ``scan_side``.
-
-    ``holes``: free-standing blocks inside an inside-scanned zone (piers), each a ring stored clockwise so
-    that the zone is to the left of its walls too; their walls are numbered after the outline's.
-    ``floor_level_m``: the floor's height in the site's vertical datum; ``ceiling_height_m``: the ceiling's
-    height above that floor (None: no ceiling). Both serve the floor and ceiling targets; wall and instrument
-    heights stay measured from the zone's own floor.
-    """
+    """A simple polygon, stored counter-clockwise, scanned from ``scan_side``. ``holes``: free-standing blocks inside an
+    inside-scanned zone (piers), each a ring stored clockwise so that the zone is to the left of its walls too; their
+    walls are numbered after the outline's. ``floor_level_m``: the floor's height in the site's vertical datum;
+    ``ceiling_height_m``: the ceiling's height above that floor (None: no ceiling). Both serve the floor and ceiling
+    targets; wall and instrument heights stay measured from the zone's own floor."""
 
     id: str
     scan_side: ScanSide
@@ -105,105 +103,71 @@ class Zone:
             try:
                 object.__setattr__(self, "scan_side", ScanSide(self.scan_side))
             except ValueError:
-                raise InputError(
-                    f"must be one of {', '.join(s.value for s in ScanSide)}",
-                    zone=self.id,
-                    field="scan_side",
-                    value=self.scan_side,
+                raise self._bad(
+                    f"must be one of {', '.join(s.value for s in ScanSide)}", "scan_side", self.scan_side
                 ) from None
         xy = np.asarray(self.vertices, dtype=float).reshape(-1, 2)
         check_simple_polygon(xy, what="polygon", zone=self.id)
         if signed_area(xy) <= 0:
-            raise InputError("vertices must be counter-clockwise", zone=self.id, field="polygon")
+            raise self._bad("vertices must be counter-clockwise", "polygon")
         n = len(xy)
         if len(self.vertex_heights_m) != n:
-            raise InputError(
-                f"needs {n} vertex heights", zone=self.id, field="vertex_heights_m", value=len(self.vertex_heights_m)
-            )
+            raise self._bad(f"needs {n} vertex heights", "vertex_heights_m", len(self.vertex_heights_m))
         for k, h in enumerate(self.vertex_heights_m, start=1):
-            if not math.isfinite(h) or h <= 0 or h > MAX_HEIGHT_M:
-                raise InputError(
-                    f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m",
-                    zone=self.id,
-                    row=k,
-                    field="vertex_height_m",
-                    value=h,
-                )
+            if not height_ok(h):
+                raise self._bad(HEIGHT_RULE, "vertex_height_m", h, row=k)
         if self.printed_wall_heights_m and len(self.printed_wall_heights_m) != n:
-            raise InputError(
-                f"needs {n} wall heights", zone=self.id, field="wall_heights_m", value=len(self.printed_wall_heights_m)
-            )
+            raise self._bad(f"needs {n} wall heights", "wall_heights_m", len(self.printed_wall_heights_m))
         if self.holes:
             self._check_holes()
         self._check_openings()
         self._check_levels()
 
+    def _bad(self, message: str, field: str, value: Any = None, **where: Any) -> InputError:
+        """The error of a zone's value: ``message``, naming this zone, ``field`` and ``value``."""
+        return InputError(message, zone=self.id, field=field, value=value, **where)
+
     def _check_levels(self) -> None:
         """The floor level within +-MAX_HEIGHT_M, the ceiling (when given) above the floor and at most MAX_HEIGHT_M."""
         f = self.floor_level_m
         if not finite_number(f) or abs(f) > MAX_HEIGHT_M:
-            raise InputError(
-                f"must be a finite level within +-{MAX_HEIGHT_M:g} m", zone=self.id, field="floor_level_m", value=f
-            )
+            raise self._bad(f"must be a finite level within +-{MAX_HEIGHT_M:g} m", "floor_level_m", f)
         c = self.ceiling_height_m
         if c is None:
             return
         if not finite_number(c) or not 0 < c <= MAX_HEIGHT_M:
-            raise InputError(
-                f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m above the floor (or null: no ceiling)",
-                zone=self.id,
-                field="ceiling_height_m",
-                value=c,
-            )
+            raise self._bad(f"{HEIGHT_RULE} above the floor (or null: no ceiling)", "ceiling_height_m", c)
 
     def _check_openings(self) -> None:
         walls = self.walls
         for op in self.openings:
             if not 1 <= op.wall <= len(walls):
-                raise InputError(
-                    f"wall index out of 1..{len(walls)}", zone=self.id, field="opening wall", value=op.wall
-                )
+                raise self._bad(f"wall index out of 1..{len(walls)}", "opening wall", op.wall)
             length = walls[op.wall - 1].length_m
             if op.s1_m > length + 1e-9:
-                raise InputError(
-                    f"runs past the end of wall {op.wall} ({length:.3f} m)",
-                    zone=self.id,
-                    field="opening s1_m",
-                    value=op.s1_m,
-                )
+                raise self._bad(f"runs past the end of wall {op.wall} ({length:.3f} m)", "opening s1_m", op.s1_m)
 
     def _check_holes(self) -> None:
         if self.scan_side is not ScanSide.INSIDE:
-            raise InputError(
-                "only a zone scanned inside can hold holes", zone=self.id, field="scan_side", value=self.scan_side.value
-            )
+            raise self._bad("only a zone scanned inside can hold holes", "scan_side", self.scan_side.value)
         if len(self.hole_heights_m) != len(self.holes):
-            raise InputError(f"needs heights for {len(self.holes)} holes", zone=self.id, field="hole_heights_m")
+            raise self._bad(f"needs heights for {len(self.holes)} holes", "hole_heights_m")
         for k, (ring, hs) in enumerate(zip(self.holes, self.hole_heights_m), 1):
             xy = np.asarray(ring, dtype=float).reshape(-1, 2)
             check_simple_polygon(xy, what=f"hole {k}", zone=self.id)
             if signed_area(xy) >= 0:
-                raise InputError("hole vertices must be clockwise", zone=self.id, field=f"hole {k}")
-            if len(hs) != len(xy) or not all(math.isfinite(h) and 0 < h <= MAX_HEIGHT_M for h in hs):
-                raise InputError(
-                    f"needs {len(xy)} finite heights > 0 and <= {MAX_HEIGHT_M:g} m",
-                    zone=self.id,
-                    field=f"hole {k} heights",
-                )
+                raise self._bad("hole vertices must be clockwise", f"hole {k}")
+            if len(hs) != len(xy) or not all(height_ok(h) for h in hs):
+                raise self._bad(f"needs {len(xy)} finite heights > 0 and <= {MAX_HEIGHT_M:g} m", f"hole {k} heights")
         poly = self.polygon
         if not poly.is_valid:
-            raise InputError(
-                f"holes and outline do not form a valid polygon ({shapely.is_valid_reason(poly)})",
-                zone=self.id,
-                field="holes",
-            )
+            why = f"holes and outline do not form a valid polygon ({shapely.is_valid_reason(poly)})"
+            raise self._bad(why, "holes")
 
     @cached_property
     def xy(self) -> NDArray[np.float64]:
         """Vertices as a read-only (n, 2) array."""
-        a = np.asarray(self.vertices, dtype=float)
-        a.flags.writeable = False
-        return a
+        return read_only(np.asarray(self.vertices, dtype=float))
 
     @cached_property
     def outer_walls(self) -> tuple[Wall, ...]:

@@ -25,21 +25,26 @@ from planner.instrument.models import Scanner
 
 #: no wall, obstacle or instrument stands higher (m); a larger value is a typo
 MAX_HEIGHT_M = 1e4
-#: no slant range (and no stand-off) is longer (m): the longest-ranging scanners reach about 6 km, the bundled
-#: models 300 m, a total station 4 km to a prism; a longer one is a typo (1e300 overflowed the planning)
+#: no slant range (and no stand-off) is longer (m): no scanner or total station reaches this far; a longer one is a typo
 MAX_RANGE_M = 1e4
 
 DEFAULT_INSTRUMENT = "leica-p30"
 
+#: what :func:`height_ok` asks, as an error says it
+HEIGHT_RULE = f"must be a finite height > 0 and <= {MAX_HEIGHT_M:g} m"
+
+
+def height_ok(h: float) -> bool:
+    """A finite height > 0 and <= ``MAX_HEIGHT_M`` (walls, holes, obstacles)."""
+    return math.isfinite(h) and 0 < h <= MAX_HEIGHT_M
+
 
 @dataclass(frozen=True)
 class ClosureTolerance:
-    """How well a zone's traverse must close before it is accepted and adjusted.
-
-    ``angular_deg``: largest |sum of angles - (n-2)*180| (the default admits the print's rounding to 0.001
-    deg for up to 20 vertices); ``min_relative_precision``: perimeter / linear misclosure must be at least
-    this N (1:N; 1:2000 is the usual plan-traverse tolerance).
-    """
+    """How well a zone's traverse must close before it is accepted and adjusted. ``angular_deg``: largest |sum of angles
+    - (n-2)*180| (the default admits the print's rounding to 0.001 deg for up to 20 vertices);
+    ``min_relative_precision``: perimeter / linear misclosure must be at least this N (1:N; 1:2000 is the usual
+    plan-traverse tolerance)."""
 
     angular_deg: float = 0.01
     min_relative_precision: float = 2000.0
@@ -55,17 +60,14 @@ class ClosureTolerance:
 
 @dataclass(frozen=True)
 class Parameters:
-    """What the surveyor asks for; validated on construction.
-
-    ``sigma_req_m``: the required model accuracy; ``drawing_scale`` (a denominator) records where it came
-    from when derived from table 1.1; ``max_slant_range_m`` overrides S_max. ``incidence_model``: how a
-    view's point error grows with incidence (``none``, ``table``, ``soudarissanane``: see
-    :func:`planner.instrument.accuracy.incidence_factor`). ``derive_theta_max``: theta_max follows from
-    sigma_req (``theta_max_deg`` then only seeds the closed-form candidates; it switches ``table`` on when no
-    model is chosen). ``min_standoff_m``: no station or control point closer to a wall or obstacle edge (a
-    tripod's leg spread). ``instrument_height_span_m``: how much higher than IH the tripod may stand (the
-    tolerance circle (3.32) is reported for IH..IH + span).
-    """
+    """What the surveyor asks for; validated on construction. ``sigma_req_m``: the required model accuracy;
+    ``drawing_scale`` (a denominator) records where it came from when derived from table 1.1; ``max_slant_range_m``
+    overrides S_max. ``incidence_model``: how a view's point error grows with incidence (``none``, ``table``,
+    ``soudarissanane``: see :func:`planner.instrument.accuracy.incidence_factor`). ``derive_theta_max``: theta_max
+    follows from sigma_req (``theta_max_deg`` then only seeds the closed-form candidates; it switches ``table`` on when
+    no model is chosen). ``min_standoff_m``: no station or control point closer to a wall or obstacle edge (a tripod's
+    leg spread). ``instrument_height_span_m``: how much higher than IH the tripod may stand (the tolerance circle (3.32)
+    is reported for IH..IH + span)."""
 
     theta_max_deg: float = 68.0
     overlap: float = 0.30
@@ -125,10 +127,9 @@ class RangeLimit:
 
 
 def resolve_range_limit(params: Parameters, scanner: Scanner) -> RangeLimit:
-    """S_max for these parameters and scanner: the parameter override, else the scanner's fixed value, else
-    (3.1) for sigma_instr of (3.2), capped by the datasheet range. InfeasibleError when no instrument budget
-    is left; InputError when the limit is beyond ``MAX_RANGE_M`` (no datasheet range, errors barely growing).
-    """
+    """S_max for these parameters and scanner: the parameter override, else the scanner's fixed value, else (3.1) for
+    sigma_instr of (3.2), capped by the datasheet range. InfeasibleError when no instrument budget is left; InputError
+    when the limit is beyond ``MAX_RANGE_M`` (no datasheet range, errors barely growing)."""
     s_instr = sigma_instr_m(params.sigma_req_m, params.budget)
     if params.max_slant_range_m is not None:
         return RangeLimit(params.max_slant_range_m, s_instr, "given (max_slant_range_m)")
@@ -160,11 +161,9 @@ THETA_REPORT_RANGES_M: tuple[float, ...] = (25.0, 50.0, 100.0, 150.0, 200.0)
 
 @dataclass(frozen=True)
 class ThetaLimit:
-    """The incidence limit in force: ``theta_max_deg`` for the coverage test, and where it came from.
-
-    When derived, coverage takes the model's limit and the per-view precision test decides, so
-    the limit falls with range; ``by_range`` lists (S, theta_max(S)) for the summary.
-    """
+    """The incidence limit in force: ``theta_max_deg`` for the coverage test, and where it came from. When derived,
+    coverage takes the model's limit and the per-view precision test decides, so the limit falls with range;
+    ``by_range`` lists (S, theta_max(S)) for the summary."""
 
     theta_max_deg: float
     source: str

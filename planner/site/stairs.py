@@ -18,10 +18,9 @@ from planner.site.geometry import check_simple_polygon
 
 @dataclass(frozen=True, kw_only=True)
 class Stair:
-    """A stair (``name``: the model's element name) from ``lower_zone`` up to ``upper_zone`` (two different
-    zones); ``footprint``: its plan outline (m, a simple polygon) in the plan coordinates both zones' frames
-    share; ``z_min_m``, ``z_max_m``: its bottom and top in the site's vertical datum (information only).
-    """
+    """A stair (``name``: the model's element name) from ``lower_zone`` up to ``upper_zone`` (two different zones);
+    ``footprint``: its plan outline (m, a simple polygon) in the plan coordinates both zones' frames share; ``z_min_m``,
+    ``z_max_m``: its bottom and top in the site's vertical datum (information only)."""
 
     name: str
     lower_zone: str

@@ -117,12 +117,9 @@ def reconstruct(
     tolerance: ClosureTolerance,
     accepted: AcceptedMisclosure | None = None,
 ) -> tuple[NDArray[np.float64], ClosureReport]:
-    """Vertices (n, 2) of a table zone and its closure report.
-
-    The angular misclosure is spread equally over the angles, the linear one by the compass rule (vertex k
-    moves by -misclosure * (length walked to k) / perimeter). Beyond tolerance a ClosureError names the zone
-    and the figures, unless ``accepted`` records exactly these figures.
-    """
+    """Vertices (n, 2) of a table zone and its closure report. The angular misclosure is spread equally over the angles,
+    the linear one by the compass rule (vertex k moves by -misclosure * (length walked to k) / perimeter). Beyond
+    tolerance a ClosureError names the zone and the figures, unless ``accepted`` records exactly these figures."""
     rows = table.rows
     n = len(rows)
     if n < 3:
@@ -174,10 +171,8 @@ def reconstruct(
 
 
 def table_from_polygon(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Side lengths and interior angles (deg) of a counter-clockwise polygon, the inverse of :func:`walk`.
-
-    Angle i is at vertex i, between side i-1 (arriving) and side i (leaving).
-    """
+    """Side lengths and interior angles (deg) of a counter-clockwise polygon, the inverse of :func:`walk`. Angle i is at
+    vertex i, between side i-1 (arriving) and side i (leaving)."""
     d = np.roll(xy, -1, axis=0) - xy
     lengths = np.hypot(d[:, 0], d[:, 1])
     heading = np.degrees(np.arctan2(d[:, 1], d[:, 0]))

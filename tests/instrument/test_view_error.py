@@ -112,7 +112,21 @@ def test_coverage_refuses_a_view_by_its_incidence_only_with_an_incidence_model()
     cand = np.array([[142.0, 141.0]])
     one, zero = np.ones(1), np.zeros(1)
     zone, side = np.zeros(1, np.int32), np.zeros(1, np.int8)  # zone 0, an inside face
-    piece = Targets(zone, side, one, zero, one, a, b, zero, zero, np.array([[0.0, 1.0]]), zone, ("site",), ("Z",))
+    piece = Targets(
+        zone=zone,
+        frame=zone,
+        frames=("site",),
+        zone_ids=("Z",),
+        side=side,
+        wall=one,
+        s0_m=zero,
+        s1_m=one,
+        a=a,
+        b=b,
+        ha_m=zero,
+        hb_m=zero,
+        normal=np.array([[0.0, 1.0]]),
+    )
     args = (cand, np.ones((1, 1), bool), piece, np.arange(1))
     s_prec = max_slant_range_m(P30, sigma_instr_m(0.010, BUDGET))
     for model, seen in (("none", 1), ("table", 0)):
