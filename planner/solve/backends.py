@@ -22,7 +22,7 @@ import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from enum import Enum
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -33,9 +33,35 @@ Row = tuple[np.ndarray, np.ndarray, float]
 Hint = list[int] | dict[int, float]
 #: called with each improving solution found during a solve (chosen candidates, objective); True stops the solve
 Watch = Callable[[tuple[int, ...], float], bool]
-BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
+
+
+@dataclass(frozen=True)
+class Capabilities:
+    """What a backend can do, by which the solver tells backends apart (never by name): ``work_limit``, it stops on
+    deterministic work (an answer independent of the load); ``node_limit``, on branch-and-bound nodes per solve;
+    ``watch``, it hands each improving solution to a callback; ``branch_and_cut``, connectivity inside one search
+    tree; ``hints``, it takes a warm start; ``banner``, its native code prints to stdout on every solve."""
+
+    work_limit: bool = False
+    node_limit: bool = False
+    watch: bool = False
+    branch_and_cut: bool = False
+    hints: bool = True
+    banner: bool = False
+
+
+#: every backend by name, with its capabilities
+CAPABILITIES = {
+    "cpsat": Capabilities(work_limit=True, watch=True),
+    "scip": Capabilities(node_limit=True),
+    "highs": Capabilities(hints=False, banner=True),  # SetHint crashes HiGHS 1.12 in OR-Tools 9.15 (segfault)
+    "cbc": Capabilities(),
+    "pulp-cbc": Capabilities(node_limit=True),
+    "pyscipopt": Capabilities(node_limit=True, branch_and_cut=True),
+}
+BACKENDS = tuple(CAPABILITIES)
 #: the backends a node limit per solve stops (the others: CP-SAT's work, or nothing but the user's wall cap)
-NODE_LIMITED = ("scip", "pulp-cbc", "pyscipopt")
+NODE_LIMITED = tuple(name for name, c in CAPABILITIES.items() if c.node_limit)
 #: CP-SAT needs integer coefficients: fractional ones are scaled by this and rounded down (a row sum(floor(s*a) x) >=
 #: ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
@@ -67,6 +93,22 @@ class BackendResult:
     selected: tuple[int, ...]
     objective: float | None
     bound: float | None
+
+
+class Backend(Protocol):
+    """One 0-1 model on a solver (module docstring): rows and fixings added between solves, each solve with a
+    wall-clock cap (None: none), a thread count, a seed and a warm-start hint."""
+
+    name: str
+    capabilities: Capabilities
+
+    def add_rows(self, rows: list[Row]) -> None: ...
+
+    def fix(self, idx: list[int]) -> None: ...
+
+    def add_vars(self, count: int, upper: float, binary: bool) -> None: ...
+
+    def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult: ...
 
 
 @contextlib.contextmanager
@@ -101,6 +143,7 @@ def _is_int(a: np.ndarray) -> bool:
 
 class CpSatBackend:
     name = "cpsat"
+    capabilities = CAPABILITIES[name]
 
     def __init__(self, n: int, cost: np.ndarray) -> None:
         from ortools.sat.python import cp_model
@@ -213,13 +256,14 @@ class MipBackend:
 
         self._lp = pywraplp
         self.name = name
+        self.capabilities = CAPABILITIES[name]
         self.solver = pywraplp.Solver.CreateSolver(self.SOLVERS[name])
         if self.solver is None:
             raise UsageError("solver not available in this OR-Tools build", field="backend", value=name)
         self.solver.SuppressOutput()
         self.x = [self.solver.BoolVar(f"x{i}") for i in range(n)]
         self.n = n
-        #: branch-and-bound nodes per solve (SCIP only; None: no limit)
+        #: branch-and-bound nodes per solve (where ``capabilities.node_limit``; None: no limit)
         self.node_limit: int | None = None
         obj = self.solver.Objective()
         for i, c in enumerate(cost):
@@ -249,16 +293,13 @@ class MipBackend:
         if time_limit_s is not None and math.isfinite(time_limit_s):  # the user's wall-clock cap, if any
             s.SetTimeLimit(int(max(time_limit_s, 0.01) * 1000))
         s.SetNumThreads(threads)
-        if self.name == "scip":
+        if self.capabilities.node_limit:  # SCIP: its seed and node limit as its own parameters
             nodes = f"limits/nodes = {self.node_limit}\n" if self.node_limit is not None else ""
             s.SetSolverSpecificParametersAsString(f"randomization/randomseedshift = {seed}\n{nodes}")
-        if hint is not None and self.name != "highs":  # SetHint crashes HiGHS 1.12 in OR-Tools 9.15 (segfault)
+        if hint is not None and self.capabilities.hints:
             values = hint_values(hint, self.n)
             s.SetHint([self.x[i] for i in values], list(values.values()))
-        if self.name == "highs":
-            with _quiet_stdout_fd():
-                status = s.Solve()
-        else:
+        with _quiet_stdout_fd() if self.capabilities.banner else contextlib.nullcontext():
             status = s.Solve()
         lp = self._lp
         if status in (lp.Solver.OPTIMAL, lp.Solver.FEASIBLE):
@@ -279,6 +320,7 @@ class PulpBackend:
     """PuLP with its bundled CBC; the model is rebuilt on each solve (PuLP writes an MPS file)."""
 
     name = "pulp-cbc"
+    capabilities = CAPABILITIES[name]
 
     def __init__(self, n: int, cost: np.ndarray) -> None:
         import pulp

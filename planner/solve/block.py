@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -73,9 +73,8 @@ class BlockSolver:
         self.cost = instance.cost[cands]
         self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
         self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
-        self.backend = make_backend(o.backend, len(cands), self.cost)
-        if hasattr(self.backend, "node_limit"):  # the backends that take a node limit per solve
-            self.backend.node_limit = o.node_limit
+        # a Backend; its capabilities say which optional members (watch, work_limit, cuts, connect) it has
+        self.backend: Any = make_backend(o.backend, len(cands), self.cost, o.node_limit)
         self.essential: dict = {}  # set with the model: only the search uses it
         self.integral = bool(np.all(self.cost == np.round(self.cost)))
         self._duals: np.ndarray | None = None  # the cover LP's duals, solved once for the ascent
@@ -136,7 +135,7 @@ class BlockSolver:
             self.backend.connect(self.adj, self.groups, self.sub, self.essential)
         elif o.connectivity_method == "flow":
             self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
-        if o.connectivity_method == "loop" and hasattr(self.backend, "watch"):
+        if o.connectivity_method == "loop" and self.backend.capabilities.watch:
             self.backend.watch = self._watch
 
     def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> None:
@@ -221,7 +220,7 @@ class BlockSolver:
     @property
     def work_used(self) -> float:
         """CP-SAT deterministic seconds this block has spent (0 on other backends)."""
-        return float(getattr(self.backend, "work_used", 0.0))
+        return float(self.backend.work_used) if self.backend.capabilities.work_limit else 0.0
 
     def run(self, deadline: float, work_until: float | None = None) -> None:
         """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline (``math.inf``:
@@ -240,8 +239,9 @@ class BlockSolver:
             )
             res = self.backend.solve(left, self.o.threads, self.o.seed, hint)
             self.rounds += 1
-            self.cuts += getattr(self.backend, "cuts", 0) - self._backend_cuts
-            self._backend_cuts = getattr(self.backend, "cuts", 0)
+            if self.backend.capabilities.branch_and_cut:  # the cuts its handler added inside the search
+                self.cuts += self.backend.cuts - self._backend_cuts
+                self._backend_cuts = self.backend.cuts
             if res.bound is not None:
                 self.bound = max(self.bound, res.bound)
             if res.outcome is Outcome.INFEASIBLE:

@@ -27,12 +27,12 @@ from planner.core.checks import argument, count, flag, real
 from planner.core.errors import UsageError
 from planner.core.settings import DEFAULTS
 from planner.coverage.overlap import DEFAULT_OVERLAP, SITE_SHARE, OverlapRule, SiteShare
-from planner.solve.backends import BACKENDS, NODE_LIMITED
+from planner.solve.backends import BACKENDS, CAPABILITIES, NODE_LIMITED
 from planner.solve.block import BlockSolver
 from planner.solve.decompose import block_solvers
 from planner.solve.instance import CoverInstance
 from planner.solve.plain_start import MOVES_PER_TARGET, plain_record
-from planner.solve.result import SolveResult, Status
+from planner.solve.result import MilpStats, RingStats, SolveResult, Status, WorkStats
 
 __all__ = ["MilpOptions", "block_solvers", "solve"]
 
@@ -183,7 +183,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         info = {"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)}
         return SolveResult.no_plan("milp", Status.INFEASIBLE, start, o.backend, info)
     report, solvers = block_solvers(instance, o, deadline)
-    _share_out(solvers, deadline, o.work_limit if o.backend == "cpsat" else None)
+    _share_out(solvers, deadline, o.work_limit if CAPABILITIES[o.backend].work_limit else None)
     if any(b.infeasible for b in solvers) or any(b.incumbent is None for b in solvers):
         status = Status.INFEASIBLE if any(b.infeasible for b in solvers) else Status.NO_SOLUTION
         return SolveResult.no_plan("milp", status, start, o.backend, {"presolve": report.to_dict()})
@@ -193,9 +193,9 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         sum(b.cost[b.incumbent].sum() if b.done else min(b.bound, b.cost[b.incumbent].sum()) for b in solvers)
     )
     all_optimal = all(b.done for b in solvers)
-    info = _record(solvers, o, o.rule is not None and instance.groups is not None)
     # the user's wall-clock cap, not the counted work, ended the search: only then may the plan depend on the load
-    info["work"]["wall_cap_hit"] = not all_optimal and time.perf_counter() >= deadline
+    capped = not all_optimal and time.perf_counter() >= deadline
+    stats = _stats(solvers, o, o.rule is not None and instance.groups is not None, capped)
     return SolveResult(
         method="milp",
         status=Status.OPTIMAL if all_optimal else Status.FEASIBLE,
@@ -204,36 +204,36 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         bound=objective if all_optimal else bound,
         time_s=time.perf_counter() - start,
         backend=o.backend,
-        info={"presolve": report.to_dict(), **info},
+        info={"presolve": report.to_dict(), **stats.to_dict()},
+        stats=stats,
     )
 
 
-def _record(solvers: list[BlockSolver], o: MilpOptions, connect: bool) -> dict[str, Any]:
-    """What the blocks did, summed (``SolveResult.info`` after the presolve's report; ``work.wall_cap_hit``
-    is the caller's to add)."""
-    info: dict[str, Any] = {
-        "rounds": sum(b.rounds for b in solvers),
-        "cuts": sum(b.cuts for b in solvers),
-        "connected": connect,
-        "local_search_moves": sum(b.local_moves for b in solvers),
-        "ring_bound": {
-            "blocks": sum(b.ring is not None for b in solvers),
-            "closed_before_search": sum(b.ring is not None and b.done and not b.rounds for b in solvers),
-            "lagrange_steps": sum(b.lagrange_steps for b in solvers),
-            "work_capped_blocks": sum(b.ring_work_capped for b in solvers),
-        },
-        "connectivity": o.connectivity_method if connect else "none",
-    }
-    if any(b.plain is not None for b in solvers):  # only then: a connected run's record stays as it was
-        info["plain_start"] = plain_record([b.plain for b in solvers if b.plain is not None])
+def _stats(solvers: list[BlockSolver], o: MilpOptions, connect: bool, capped: bool) -> MilpStats:
+    """What the blocks did, summed; ``capped``: the user's wall-clock cap ended the search."""
+    plain = [b.plain for b in solvers if b.plain is not None]
     limits = o.limits
-    info["work"] = {
-        "limit": limits["work_limit"],
-        "used": round(sum(b.work_used for b in solvers), 3),
-        "node_limit": limits["node_limit"],
-        "wall_cap_s": limits["wall_cap_s"],
-    }
-    return info
+    return MilpStats(
+        rounds=sum(b.rounds for b in solvers),
+        cuts=sum(b.cuts for b in solvers),
+        connected=connect,
+        local_search_moves=sum(b.local_moves for b in solvers),
+        ring_bound=RingStats(
+            blocks=sum(b.ring is not None for b in solvers),
+            closed_before_search=sum(b.ring is not None and b.done and not b.rounds for b in solvers),
+            lagrange_steps=sum(b.lagrange_steps for b in solvers),
+            work_capped_blocks=sum(b.ring_work_capped for b in solvers),
+        ),
+        connectivity=o.connectivity_method if connect else "none",
+        plain_start=plain_record(plain) if plain else None,
+        work=WorkStats(
+            limits["work_limit"],
+            round(sum(b.work_used for b in solvers), 3),
+            limits["node_limit"],
+            limits["wall_cap_s"],
+            capped,
+        ),
+    )
 
 
 def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | None) -> None:

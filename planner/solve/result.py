@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from enum import Enum
 from typing import Any
 
@@ -19,6 +19,54 @@ class Status(str, Enum):
     NO_SOLUTION = "no_solution"  # the method stopped without a cover (its work limit, or the user's wall-clock cap)
 
 
+@dataclass(frozen=True)
+class WorkStats:
+    """What stopped a MILP and what it spent: ``limit`` (CP-SAT deterministic seconds; None where the backend takes
+    none), ``used``, ``node_limit`` (per solve, where the backend takes one), ``wall_cap_s`` (the user's wall-clock
+    cap) and ``wall_cap_hit``: that cap, not the counted work, ended the search (only then may the plan depend on the
+    machine's load)."""
+
+    limit: float | None
+    used: float
+    node_limit: int | None
+    wall_cap_s: float | None
+    wall_cap_hit: bool = False
+
+
+@dataclass(frozen=True)
+class RingStats:
+    """The ring bound's part in a MILP: ``blocks`` that got it, those it ``closed_before_search``, the Lagrangian
+    ascent's steps, and the blocks whose ascent stopped on its work budget."""
+
+    blocks: int
+    closed_before_search: int
+    lagrange_steps: int
+    work_capped_blocks: int
+
+
+@dataclass(frozen=True, kw_only=True)
+class MilpStats:
+    """A MILP's statistics, summed over its blocks (``SolveResult.info`` holds them as :meth:`to_dict`, after the
+    presolve's report): cut-loop ``rounds`` and ``cuts``, whether registration was ``connected`` and by which
+    ``connectivity`` method, the local search's moves, the ring bound, the plain start (None where no block took
+    it: :func:`planner.solve.plain_start.plain_record`) and the work."""
+
+    rounds: int
+    cuts: int
+    connected: bool
+    local_search_moves: int
+    ring_bound: RingStats
+    connectivity: str
+    plain_start: dict[str, int] | None
+    work: WorkStats
+
+    def to_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        if self.plain_start is None:  # only where a block took it: a connected run's record stays as it was
+            del d["plain_start"]
+        return d
+
+
 @dataclass(frozen=True, kw_only=True)
 class SolveResult:
     """Indices of the chosen candidates and what the method can say about them."""
@@ -31,6 +79,8 @@ class SolveResult:
     time_s: float = 0.0
     backend: str | None = None
     info: dict[str, Any] = field(default_factory=dict)
+    #: the MILP's statistics, typed (None for the other methods)
+    stats: MilpStats | None = field(default=None, repr=False, compare=False)
 
     @classmethod
     def no_plan(
@@ -59,7 +109,7 @@ class SolveResult:
     def wall_cap_hit(self) -> bool:
         """A MILP (``info["work"]``) that the user's wall-clock cap ended before its counted work: only then may its
         answer depend on the machine's load."""
-        return bool(self.info.get("work", {}).get("wall_cap_hit", False))
+        return self.stats is not None and self.stats.work.wall_cap_hit
 
     def _repr_html_(self) -> str:
         from planner.core.text import summary_html
@@ -72,8 +122,12 @@ class SolveResult:
         bound = "" if self.bound is None or math.isnan(self.bound) else f", bound {self.bound:g}"
         obj = "-" if self.objective is None else f"{self.objective:g}"
         label = f" ({time_label})" if time_label else ""
-        cap = self.info.get("work", {}).get("wall_cap_s")
-        cut = f"; stopped by the wall-clock cap of {cap:g} s (may depend on the load)" if self.wall_cap_hit else ""
+        cap = self.stats.work.wall_cap_s if self.stats is not None else None
+        cut = (
+            f"; stopped by the wall-clock cap of {cap:g} s (may depend on the load)"
+            if cap and self.wall_cap_hit
+            else ""
+        )
         return f"{self.method}: {self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}{cut}"
 
     @property

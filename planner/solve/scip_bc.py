@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
-from planner.solve.backends import BackendResult, Hint, Outcome, Row, hint_values
+from planner.solve.backends import CAPABILITIES, BackendResult, Hint, Outcome, Row, hint_values
 from planner.solve.connectivity import connectivity_cuts, disconnected_groups
 from planner.solve.separators import min_node_separator, split_graph
 
@@ -36,6 +36,7 @@ MIN_VIOLATION = 1e-3
 
 class PyScipBackend:
     name = "pyscipopt"
+    capabilities = CAPABILITIES[name]
 
     def __init__(self, n: int, cost: np.ndarray) -> None:
         import pyscipopt

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from planner.plan import PlanOptions
+from planner.solve.backends import CAPABILITIES
 from planner.solve.milp import WALL_CAP, MilpOptions
 
 __all__ = ["TileOptions", "deterministic_limits", "limits_line", "tile_milp"]
@@ -14,7 +15,7 @@ from planner.plan.strategy import TileOptions
 
 def deterministic_limits(milp: MilpOptions, tiling: TileOptions) -> bool:
     """Whether the tile and bound MILPs run on CP-SAT work limits (see :class:`TileOptions`)."""
-    return tiling.deterministic and milp.backend == "cpsat" and milp.threads == 1
+    return tiling.deterministic and CAPABILITIES[milp.backend].work_limit and milp.threads == 1
 
 
 def limits_line(capped: list[str], work_limited: bool) -> str:
