@@ -1,8 +1,8 @@
 """Today's pool against the pool grown from coverage regions (issue 12), on the bundled instances.
 
 For each instance and each rule (plain cover; 30 % overlap connected) the MILP runs twice in this one
-process: with the pool as before (closed form, samples, corner rays, centres, 10 m grid: ``--set no-regions
---set no-pricing``) and with the whole-zone-side candidates and geometric pricing. Columns: stations, the
+process: with the pool as before (closed form, samples, corner rays, centres, 10 m grid: ``--set variant=no-regions
+--set variant=no-pricing``) and with the whole-zone-side candidates and geometric pricing. Columns: stations, the
 MILP's bound, the bound's scope (``pool``: over the candidate pool; ``plane``: over every position,
 from pricing), the plane bound, pricing rounds and columns, and wall time (1 thread), one run each.
 
