@@ -16,6 +16,7 @@ from planner.field.figure import figure
 from planner.field.run import FieldPlan
 from planner.field.site_map import field_map_html, setup_row_id
 from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
+from planner.field.storeys import climbs
 from planner.field.tables import HEADER, rows
 from planner.figures.base import png_bytes
 
@@ -132,8 +133,6 @@ def _storeys_html(fp: FieldPlan) -> str:
     """Across storeys: the frames walked through and one row per stair leg of the route; "" for one frame."""
     if not fp.spaces:
         return ""
-    from planner.field.storeys import climbs
-
     legs = [
         (k + 1 if k < len(fp.order) else "back to the start", f.stair, climbs(f, fp.leg_frames[k]), f.lower, f.upper)
         + (f"{f.run_m:.1f}", f"{f.rise_m:.1f}", f"{f.length_m:.1f}")

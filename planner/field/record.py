@@ -10,6 +10,7 @@ from planner import __version__
 from planner.field.crossing import advice, closed_parts
 from planner.field.run import FieldPlan
 from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
+from planner.field.storeys import climbs
 from planner.field.tables import HEADER, rows
 
 
@@ -92,8 +93,6 @@ def to_dict(fp: FieldPlan) -> dict[str, Any]:
 def _storeys(fp: FieldPlan) -> dict[str, Any]:
     """Across storeys (:mod:`planner.field.storeys`): the frames walked through, the frame of every point of
     every leg, and the stair legs (leg index, stair, way, foot, head, run, rise, length)."""
-    from planner.field.storeys import climbs
-
     return {
         "frames": [sp.frame for sp in fp.spaces],
         "start_frame": fp.space.frame,

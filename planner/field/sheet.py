@@ -18,6 +18,7 @@ from planner.field.page import render_html
 from planner.field.pdf import write_pdf
 from planner.field.record import to_dict
 from planner.field.run import FieldPlan
+from planner.field.storeys import climbs
 from planner.field.tables import HEADER, rows
 
 __all__ = ["HEADER", "figure", "geojson", "render_html", "rows", "to_dict", "write_sheet"]
@@ -58,8 +59,6 @@ def _storey_route(fp: FieldPlan) -> list[dict[str, Any]]:
     """Across storeys: the route as one LineString per stretch walked in one frame (property ``frame``, in walking
     order, ``part`` numbering them) and one per stair leg (role ``stair``, from the foot to the head's plan
     point)."""
-    from planner.field.storeys import climbs
-
     runs: list[tuple[str, list[list[float]]]] = []
     stairs: list[dict[str, Any]] = []
     for k, (leg, frs) in enumerate(zip(fp.legs, fp.leg_frames)):

@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, dijkstra
 
-from planner.field.walking import SNAP_M, WalkGraph, WalkSpace, walk_graph, walk_space
+from planner.field.walking import SNAP_M, WalkGraph, WalkSpace, walk_graph, walk_nodes, walk_space
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.stairs import Stair
@@ -180,13 +180,7 @@ class StoreyWalk:
 
     def route(self, i: int, j: int) -> tuple[list[tuple[float, float]], list[str], list[Flight]]:
         """The walk from point i to point j: its polyline, the frame of each of its points, the flights climbed."""
-        chain, at = [j], j
-        while at != i:
-            at = int(self.predecessors[i, at])
-            if at < 0:
-                raise ValueError(f"no walk from point {i} to point {j}")
-            chain.append(at)
-        chain.reverse()
+        chain = walk_nodes(self.predecessors, i, j)
         pts: list[tuple[float, float]] = []
         frs: list[str] = []
         used: list[Flight] = []

@@ -139,16 +139,21 @@ class WalkGraph:
     def path(self, i: int, j: int) -> list[tuple[float, float]]:
         """The walk from point i to point j as a polyline (the points themselves at its ends)."""
         m = len(self.nodes) - len(self.points)
-        target, at, chain = m + j, m + j, []
-        while at != m + i:
-            chain.append(at)
-            at = int(self.predecessors[i, at])
-            if at < 0:
-                raise ValueError(f"no walk from point {i} to point {target - m}")
-        chain.append(m + i)
-        pts = [tuple(map(float, self.nodes[k])) for k in reversed(chain)]
+        pts = [tuple(map(float, self.nodes[k])) for k in walk_nodes(self.predecessors, i, j, m)]
         out = [tuple(map(float, self.points[i]))] + pts + [tuple(map(float, self.points[j]))]
         return [p for k, p in enumerate(out) if k == 0 or math.dist(p, out[k - 1]) > 1e-9]  # type: ignore[misc]
+
+
+def walk_nodes(predecessors: NDArray[np.int32], i: int, j: int, offset: int = 0) -> list[int]:
+    """The graph nodes of the shortest walk from point i (node ``offset + i``) to point j, from the predecessors
+    of Dijkstra's runs from the points (row i: the run from point i)."""
+    at, chain = offset + j, [offset + j]
+    while at != offset + i:
+        at = int(predecessors[i, at])
+        if at < 0:
+            raise ValueError(f"no walk from point {i} to point {j}")
+        chain.append(at)
+    return chain[::-1]
 
 
 def snap_distance(space: WalkSpace, xy: tuple[float, float]) -> float:
