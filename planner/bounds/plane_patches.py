@@ -146,8 +146,7 @@ def arc_links(start: Ints, span: Ints, low: Floats, cum: Floats, n: int, share: 
 
 
 def patch_sides(outer: list[Any]) -> tuple[float, ...]:
-    """The patch sides to try on a zone-side: about ``FIRST_PATCHES`` over its regions' box, then halved twice
-    (polygon B's outside, 96-m reach: 2.1, 1.0, 0.5 m; a 5-m block at 12-m reach: 0.2, 0.1, 0.05 m)."""
+    """The patch sides to try on a zone-side: about ``FIRST_PATCHES`` over its regions' box, then halved twice."""
     live = [g for g in outer if not g.is_empty]
     if not live:
         return ()

@@ -42,10 +42,10 @@ MAX_AXIS_PAIRS = 2_000_000
 #: ... but never fewer candidates than this
 MIN_AXIS_CANDIDATES = 100
 #: distances of the rings around an outside zone along which its candidates are put, as shares of the horizontal reach
-#: (stations for an outside face stand far off: 30-56 m of 96 m on polygon C)
+#: (stations for an outside face stand far off)
 OUTSIDE_RINGS = (0.3, 0.45)
 #: pieces x vertices of the stand area above which the lines are sampled every ``step_m`` instead of cut by the
-#: regions (a 5,000-vertex apse: 25 million; polygon A's largest zone-side: under 1 million)
+#: regions (a many-vertex apse passes it; an ordinary zone-side stays well under it)
 MAX_CELL_WORK = 4_000_000
 #: axis lines shorter than this get one candidate at their middle instead of their cells (m)
 MIN_CELL_LINE_M = 0.5

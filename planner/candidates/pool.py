@@ -114,8 +114,8 @@ def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[s
     """Points near each wall of a corner from which the corner point itself is seen within theta_max.
 
     From a corner, the corner point is seen at incidence <= theta_max only from bearings >= 90 - theta_max off the
-    wall; in a sharp corner (e.g. the 23 deg corner of polygon C) that is a thin sliver along the other wall, which no
-    grid hits. Rays at the middle of each sliver, at 1/5 .. 4/5 of the reach.
+    wall; in a sharp corner that is a thin sliver along the other wall, which no grid hits. Rays at the middle of each
+    sliver, at 1/5 .. 4/5 of the reach.
     """
     xy = np.asarray(zone.xy)
     n = len(xy)

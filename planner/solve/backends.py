@@ -211,10 +211,10 @@ class CpSatBackend:
             solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
         if self.work_limit is not None:  # a work budget makes one worker's answer independent of the load
             solver.parameters.max_deterministic_time = max(self.work_limit - self.work_used, 1e-3)
-        # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly (scp41: 0.04 s,
-        # against no bound in 60 s without it); workers = threads (8 workers on a 2-core machine only share the cores)
+        # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly; workers =
+        # threads (more workers than cores only share the cores)
         solver.parameters.num_workers = threads
-        if threads > 1:  # CP-SAT's own choice for 2 workers has no full-LP worker: no bound on polygon A
+        if threads > 1:  # CP-SAT's own choice for 2 workers has no full-LP worker (and often no bound)
             solver.parameters.subsolvers.extend(CP_PORTFOLIO[:threads])
         solver.parameters.linearization_level = 2
         solver.parameters.random_seed = seed

@@ -111,10 +111,9 @@ def _reduce(
     """Dominated candidates and implied targets (k = 1, single precision), alternated until neither removes anything:
     dropping candidates makes more targets implied (every *remaining* seer of t' sees t) and dropping targets makes
     more candidates dominated. Each step keeps the connected optimum of the problem it is applied to (see
-    :func:`dominated` and :func:`implied_targets`), so the last one's equals the first's. Polygon A (cached pool of
-    scripts/bench/bench_connectivity.py): 958 candidates x 1,618 targets after one pass, 574 x 361 after this
-    (measured). Returns the masks of dropped candidates and targets, and the relation (formed among the kept
-    candidates after the first pass where it came lazy)."""
+    :func:`dominated` and :func:`implied_targets`), so the last one's equals the first's. Returns the masks of dropped
+    candidates and targets, and the relation (formed among the kept candidates after the first pass where it came
+    lazy)."""
     kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
     for _ in range(_REDUCE_PASSES):
         if isinstance(adj, OverlapLinks):  # the first pass, on every candidate: indices are the instance's
@@ -136,9 +135,9 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
     """Independent parts: candidates linked through shared targets or a common group.
 
     The components of one graph: candidates, then targets, then one node per group, a candidate joined to its targets
-    and to its group's node (linear in the pairs and candidates; the candidate x candidate "same group" product it
-    replaces grew as the kept candidates squared, 1.4 GiB on polygon C at a 1-m grid). The group nodes come last, so
-    every component's lowest node, and with it the order of the labels, is as before."""
+    and to its group's node (linear in the pairs and candidates, not the candidates squared of a "same group"
+    product). The group nodes come last, so every component's lowest node, and with it the order of the labels, is
+    as before."""
     sub = a[keep_c][:, keep_t].tocsr()
     nc, nt = sub.shape
     gid = group_ids([groups[i] for i in keep_c]) if groups is not None else np.zeros(0, dtype=np.int64)
@@ -155,6 +154,5 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
         if bt.size:
             out.append((bc, bt))
     # smallest first: a small block is usually proven inside its share and leaves the rest, in one piece, to the
-    # larger ones (polygon C: the outside block proves in ~7 s, the inside one then runs on without the restart that a
-    # second pass costs); ties keep the component order
+    # larger ones (no restart of a second pass); ties keep the component order
     return sorted(out, key=lambda b: b[0].size * b[1].size)

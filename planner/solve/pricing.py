@@ -46,7 +46,7 @@ def cover_lp(by_target: sp.csr_matrix, cost: NDArray[np.float64] | None = None) 
 class WarmCoverLp:
     """The cover LP kept in one HiGHS model (``highspy``, 1 thread): columns are appended between solves and each
     re-solve starts from the last optimal basis (the new columns enter at 0, so the basis stays primal feasible),
-    instead of a solve from scratch per pricing round (polygon A: 0.54 s per round from scratch)."""
+    instead of a solve from scratch per pricing round."""
 
     def __init__(self, by_target: sp.csr_matrix) -> None:
         import highspy

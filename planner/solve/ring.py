@@ -181,9 +181,8 @@ def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
     i, j = pairs.row.astype(np.int64), pairs.col.astype(np.int64)
     if np.any(start[i] < 0) or np.any(start[j] < 0):
         return None
-    # lifted links as 32-bit node numbers, one half (i's copy to j's) per lift pair, mirrored once at the end: the
-    # int64 row and column lists and their concatenated copies took about 470 B a link at the peak (polygon C at a 1-m
-    # grid: 5.9 million links, 2.7 GiB); the graph is the same (test_ring_graph_is_the_pairwise_lift)
+    # lifted links as 32-bit node numbers, one half (i's copy to j's) per lift pair, mirrored once at the end: int64
+    # lists and their copies take gigabytes on a fine grid; the graph is the same (test_ring_graph_is_the_pairwise_lift)
     idx = np.int32 if _LIFTS.size * m < np.iinfo(np.int32).max else np.int64
     i32, j32 = i.astype(idx), j.astype(idx)
     rows, cols, touch = [], [], np.zeros(i.size, dtype=bool)
