@@ -102,14 +102,8 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     ``WALL_CAP`` times as long where one is set); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
     When CP-SAT finds no cover within its work (a large part on a small share of the budget), the part's cover is
     Chvatal's greedy (:func:`_greedy_part`) and ``lower`` CP-SAT's bound, or 0 for the candidates of cost >= 0 where
-    that bound is not finite: both stay valid.
-
-    Raises
-    ------
-    InfeasibleError
-        When some piece of the part is seen by none of its candidates.
-    InternalError
-        When CP-SAT rejects the model.
+    that bound is not finite: both stay valid. :class:`InfeasibleError` when some piece of the part is seen by none of
+    its candidates, :class:`InternalError` when CP-SAT rejects the model.
     """
     from ortools.sat.python import cp_model
 

@@ -48,14 +48,9 @@ def cft_cover(
     start: tuple[int, ...] = (),
 ) -> CftCover:
     """A cover of every column of ``a`` (candidates x targets, CSR) by rows of least total ``cost`` (default 1 each:
-    stations), found by CFT. ``start``: a cover to start from (its cost is the first upper bound).
-
-    Raises
-    ------
-    InfeasibleError
-        When some target is seen by no row (no cover exists): CFT itself would return a non-cover.
-    ValueError
-        When ``start`` is given and is not a cover (its rows that see nothing are dropped, repeats ignored).
+    stations), found by CFT. ``start``: a cover to start from (its cost is the first upper bound). Raises
+    :class:`InfeasibleError` when some target is seen by no row (CFT itself would return a non-cover), ``ValueError``
+    when ``start`` is not a cover (its rows that see nothing are dropped, repeats ignored).
     """
     a = sp.csr_matrix(a, dtype=bool)
     n_rows, n_cols = a.shape

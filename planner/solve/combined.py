@@ -45,12 +45,8 @@ def combined_greedy(problem: CoverageProblem, rule: PrecisionRule) -> SolveResul
     """Greedy for combined precision: repeatedly take the candidate adding the most capped information sum_t min(w_jt,
     need_t) until every piece's need (1 at the start) is met. Lazy evaluation: a candidate's gain only falls as needs
     are met, so a stale heap entry is re-scored, never trusted. Ties go to the lower index (the pool's order), so the
-    result is deterministic.
-
-    Raises
-    ------
-    InfeasibleError
-        When even all candidates together give some piece less than the needed information.
+    result is deterministic. :class:`InfeasibleError` when even all candidates together give some piece less than the
+    needed information.
     """
     start = time.perf_counter()
     info = information(problem, rule)
