@@ -1,6 +1,6 @@
-"""Figures (matplotlib, headless: built on :class:`matplotlib.figure.Figure`, never pyplot, so no display
-and no global state is needed): plan per zone-side, the whole site, registration and network, method
-comparison; point labels placed so that they never overlap (:mod:`planner.figures.labels`)."""
+"""Figures (matplotlib, headless: built on :class:`matplotlib.figure.Figure`, never pyplot, so no display and no global
+state is needed): plan per zone-side, the whole site, registration and network, method comparison; point labels placed
+so that they never overlap (:mod:`planner.figures.labels`)."""
 
 from planner.figures.compare import comparison_figure
 from planner.figures.labels import place_labels

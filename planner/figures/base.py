@@ -30,8 +30,8 @@ def decorate_plan(ax: Axes, frame: str) -> None:
 
 
 def frame_axes(ax: Axes, margin: float | None = None) -> None:
-    """Equal aspect (limits adjusted), metre labels, a light grid; ``margin``: room around the data (a share
-    of its span, as ``Axes.margins``) for the scale bar and north arrow; ``None``: matplotlib's default."""
+    """Equal aspect (limits adjusted), metre labels, a light grid; ``margin``: room around the data (a share of its
+    span, as ``Axes.margins``) for the scale bar and north arrow; ``None``: matplotlib's default."""
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")

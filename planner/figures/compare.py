@@ -12,8 +12,8 @@ from matplotlib.figure import Figure
 def comparison_figure(rows: Sequence[Mapping[str, Any]], title: str = "closed form vs greedy vs optimal") -> Figure:
     """Rows as written by ``scripts/bench/benchmark.py`` (instance, method, backend, overlap, stations, time_s, status).
 
-    Left: stations per instance for closed form, greedy, and the best MILP plan without and with
-    overlap. Right: MILP solve time per backend and instance (log scale; hatched = not proven optimal).
+    Left: stations per instance for closed form, greedy, and the best MILP plan without and with overlap. Right: MILP
+    solve time per backend and instance (log scale; hatched = not proven optimal).
     """
     instances = list(dict.fromkeys(r["instance"] for r in rows))
     series: dict[str, list[float]] = {}

@@ -1,18 +1,17 @@
-"""Point labels that never overlap: each other, the markers of the points, or the texts and legend already in
-the axes (:func:`place_labels`; the geometry alone: :func:`arrange_boxes`).
+"""Point labels that never overlap: each other, the markers of the points, or the texts and legend already in the axes
+(:func:`place_labels`; the geometry alone: :func:`arrange_boxes`).
 
-The method, in display pixels: the figure is drawn once without rendering and frozen (:func:`freeze_layout`),
-so that a later draw or ``savefig`` puts everything where it was measured; every label's box is measured; the
-obstacles are every point's marker, the texts already in the axes and the legend. Labels are placed greedily,
-the most crowded point first (:func:`crowding_order`): of its candidate boxes, in order of preference, the first
-inside the axes that meets no obstacle and no label placed before (a gap of :data:`PAD_PX` kept) is taken.
-Candidates: the 8 compass positions on two near rings next to the marker, then rings further out, with as many
-directions as fit half a label apart, to the axes' diagonal; a label off the near rings gets a leader line. A
-label with no free candidate is left out (:attr:`Placed.omitted`), never drawn over another. Same input, same
-placement.
+The method, in display pixels: the figure is drawn once without rendering and frozen (:func:`freeze_layout`), so that a
+later draw or ``savefig`` puts everything where it was measured; every label's box is measured; the obstacles are every
+point's marker, the texts already in the axes and the legend. Labels are placed greedily, the most crowded point first
+(:func:`crowding_order`): of its candidate boxes, in order of preference, the first inside the axes that meets no
+obstacle and no label placed before (a gap of :data:`PAD_PX` kept) is taken. Candidates: the 8 compass positions on two
+near rings next to the marker, then rings further out, with as many directions as fit half a label apart, to the axes'
+diagonal; a label off the near rings gets a leader line. A label with no free candidate is left out
+(:attr:`Placed.omitted`), never drawn over another. Same input, same placement.
 
-Limits: leader lines may cross other leaders, lines and labels (only text boxes and markers are kept apart); a
-label is placed for the figure's size as drawn (resizing afterwards voids the guarantee; another dpi keeps it).
+Limits: leader lines may cross other leaders, lines and labels (only text boxes and markers are kept apart); a label is
+placed for the figure's size as drawn (resizing afterwards voids the guarantee; another dpi keeps it).
 """
 
 from __future__ import annotations
@@ -46,9 +45,9 @@ _BLOCK = 256  # candidates tested at once
 
 @dataclass(frozen=True)
 class PointLabel:
-    """A point to label: data coordinates, the text, a key it is known by (default: the text), the size of
-    its marker (diameter in points, as matplotlib's ``ms``; 0: none), which no label may cover, and the text's
-    size (points; ``None``: the size :func:`place_labels` is given)."""
+    """A point to label: data coordinates, the text, a key it is known by (default: the text), the size of its marker
+    (diameter in points, as matplotlib's ``ms``; 0: none), which no label may cover, and the text's size (points;
+    ``None``: the size :func:`place_labels` is given)."""
 
     x: float
     y: float
@@ -68,8 +67,8 @@ class Placed:
 
 
 def freeze_layout(fig: Figure, axes: Sequence[Axes] = ()) -> RendererBase:
-    """Draw ``fig`` once without rendering (layout and aspect settle), switch its layout engine off and fix the
-    limits of ``axes``; returns the renderer that measures text at the figure's dpi."""
+    """Draw ``fig`` once without rendering (layout and aspect settle), switch its layout engine off and fix the limits
+    of ``axes``; returns the renderer that measures text at the figure's dpi."""
     if not hasattr(fig.canvas, "get_renderer"):
         FigureCanvasAgg(fig)
     fig.draw_without_rendering()
@@ -85,17 +84,17 @@ def freeze_layout(fig: Figure, axes: Sequence[Axes] = ()) -> RendererBase:
 
 
 def _candidates(
-    anchor: NDArray[np.float64], size: NDArray[np.float64], reach: float, limit: float
+    anchor: NDArray[np.float64], size: NDArray[np.float64], reach_px: float, limit_px: float
 ) -> tuple[NDArray[np.float64], int]:
     """Candidate box centres around ``anchor`` in order of preference, and how many are near (no leader).
 
-    ``reach``: the marker's half size plus the gap; ``limit``: the largest gap tried."""
+    ``reach_px``: the marker's half size plus the gap; ``limit_px``: the largest gap tried."""
     w, h = float(size[0]), float(size[1])
     angles: list[float] = [a for _ in NEAR_GAPS_PX for a in COMPASS_DEG]
     gaps: list[float] = [g for g in NEAR_GAPS_PX for _ in COMPASS_DEG]
     gap = FAR_START_PX
-    while gap <= limit:
-        ring = reach + gap + (w + h) / 4.0  # about the radius of the boxes' centres
+    while gap <= limit_px:
+        ring = reach_px + gap + (w + h) / 4.0  # about the radius of the boxes' centres
         n = max(8, math.ceil(2.0 * math.pi * ring / max((w + h) / 2.0, 1.0)))
         step = 360.0 / n
         turn = sorted((step * k for k in range(n)), key=lambda a: (min(a, 360.0 - a), a))  # nearest NE first
@@ -108,13 +107,15 @@ def _candidates(
     # the box's side (or corner) that faces the point lies ``gap`` along the direction beyond the marker
     sx = np.where(np.abs(c) > 0.38, np.sign(c), 0.0)
     sy = np.where(np.abs(s) > 0.38, np.sign(s), 0.0)
-    centres = np.column_stack([anchor[0] + g * c + sx * (reach + w / 2.0), anchor[1] + g * s + sy * (reach + h / 2.0)])
+    centres = np.column_stack(
+        [anchor[0] + g * c + sx * (reach_px + w / 2.0), anchor[1] + g * s + sy * (reach_px + h / 2.0)]
+    )
     return centres, len(NEAR_GAPS_PX) * len(COMPASS_DEG)
 
 
 def crowding_order(anchors: NDArray[np.float64], sizes: NDArray[np.float64]) -> list[int]:
-    """Indices, the most crowded point first: most other points within three of its label sizes (w + h);
-    ties by index."""
+    """Indices, the most crowded point first: most other points within three of its label sizes (w + h); ties by
+    index."""
     n = len(anchors)
     if n == 0:
         return []
@@ -131,12 +132,12 @@ def arrange_boxes(
     marker_half: NDArray[np.float64] | None = None,
     max_gap_px: float | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Box centres for labels of ``sizes`` (n x 2, width and height) at ``anchors`` (n x 2), all in pixels, and
-    whether each needs a leader line; NaN where the label was left out.
+    """Box centres for labels of ``sizes`` (n x 2, width and height) at ``anchors`` (n x 2), all in pixels, and whether
+    each needs a leader line; NaN where the label was left out.
 
-    Every box stays inside ``frame`` ``(x0, y0, x1, y1)`` and meets none of the ``obstacles`` (m x 4 boxes) nor
-    the markers (``marker_half``: half each point's marker size); ``max_gap_px``: the farthest a box is put from
-    its marker (``None``: up to the frame's diagonal).
+    Every box stays inside ``frame`` ``(x0, y0, x1, y1)`` and meets none of the ``obstacles`` (m x 4 boxes) nor the
+    markers (``marker_half``: half each point's marker size); ``max_gap_px``: the farthest a box is put from its marker
+    (``None``: up to the frame's diagonal).
     """
     anchors = np.asarray(anchors, dtype=float).reshape(-1, 2)
     sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
@@ -148,10 +149,10 @@ def arrange_boxes(
     centres = np.full((n, 2), np.nan)
     leader = np.zeros(n, dtype=bool)
     x0, y0, x1, y1 = frame
-    limit = math.hypot(x1 - x0, y1 - y0) if max_gap_px is None else float(max_gap_px)
+    limit_px = math.hypot(x1 - x0, y1 - y0) if max_gap_px is None else float(max_gap_px)
     for i in crowding_order(anchors, sizes):
         taken = np.vstack(boxes)
-        cand, near = _candidates(anchors[i], sizes[i], half[i] + PAD_PX, limit)
+        cand, near = _candidates(anchors[i], sizes[i], half[i] + PAD_PX, limit_px)
         hw, hh = sizes[i] / 2.0
         for lo in range(0, len(cand), _BLOCK):
             c = cand[lo : lo + _BLOCK]
@@ -193,13 +194,13 @@ def place_labels(
     max_gap_px: float | None = None,
     renderer: RendererBase | None = None,
 ) -> Placed:
-    """Label ``labels`` in ``ax`` so that no two labels, no label and marker, and no label and earlier text or
-    legend overlap (the module text gives the method and its limits).
+    """Label ``labels`` in ``ax`` so that no two labels, no label and marker, and no label and earlier text or legend
+    overlap (the module text gives the method and its limits).
 
-    Call it last, once everything else of the figure is drawn: it freezes the layout (:func:`freeze_layout`),
-    unless ``renderer`` is the one :func:`freeze_layout` returned for ``ax`` (and the figure's other axes to
-    label), which saves one draw per panel. Each label is an annotation with ``gid`` ``"{gid}:{key}"``, a white
-    halo, centred on its box, at most ``max_gap_px`` from its marker (``None``: anywhere in the axes).
+    Call it last, once everything else of the figure is drawn: it freezes the layout (:func:`freeze_layout`), unless
+    ``renderer`` is the one :func:`freeze_layout` returned for ``ax`` (and the figure's other axes to label), which
+    saves one draw per panel. Each label is an annotation with ``gid`` ``"{gid}:{key}"``, a white halo, centred on its
+    box, at most ``max_gap_px`` from its marker (``None``: anywhere in the axes).
     """
     fig = ax.get_figure(root=True)
     assert isinstance(fig, Figure)
@@ -275,9 +276,9 @@ def finish_plans(
     fontsize: float = 7.0,
     max_gap_px: float | None = None,
 ) -> list[Placed]:
-    """The last step of a plan figure whose panels were set up by :func:`planner.figures.base.frame_axes`:
-    freeze the layout once, then in each panel ``(axes, frame, labels)`` draw the scale bar and north arrow in
-    the final limits and place the labels (:func:`place_labels`), noting any left out (:func:`note_omitted`).
+    """The last step of a plan figure whose panels were set up by :func:`planner.figures.base.frame_axes`: freeze the
+    layout once, then in each panel ``(axes, frame, labels)`` draw the scale bar and north arrow in the final limits and
+    place the labels (:func:`place_labels`), noting any left out (:func:`note_omitted`).
 
     Returns what :func:`place_labels` returned for each panel."""
     renderer = freeze_layout(fig, [ax for ax, _, _ in panels])

@@ -1,6 +1,6 @@
-"""Registration and network figure: overlap (registration) links, ties to control, control-traverse legs
-(or, in the earlier design, total-station sight lines and the Delaunay triangulation), control points
-and exaggerated error ellipses (scale stated)."""
+"""Registration and network figure: overlap (registration) links, ties to control, control-traverse legs (or, in the
+earlier design, total-station sight lines and the Delaunay triangulation), control points and exaggerated error ellipses
+(scale stated)."""
 
 from __future__ import annotations
 

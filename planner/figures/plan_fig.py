@@ -1,6 +1,5 @@
-"""Plan figure of one zone-side: walls coloured by coverage (count | best incidence), uncovered in red,
-line width by wall height, obstacles and no-go areas, numbered stations by kind, movement fields and
-tripod discs."""
+"""Plan figure of one zone-side: walls coloured by coverage (count | best incidence), uncovered in red, line width by
+wall height, obstacles and no-go areas, numbered stations by kind, movement fields and tripod discs."""
 
 from __future__ import annotations
 
@@ -15,6 +14,7 @@ from planner.core.checks import argument
 from planner.coverage.targets import SIDE_CODE
 from planner.figures.base import PLAN_MARGIN, frame_axes
 from planner.figures.labels import PointLabel, finish_plans
+from planner.figures.storey_fig import draw_obstacles
 from planner.plan.outcome import Outcome
 from planner.site.candidate import CandidateKind
 from planner.site.model import SITE_FRAME, ScanSide
@@ -38,22 +38,7 @@ def _background(ax, o: Outcome, frame: str, zone_id: str) -> None:
             for ring in z.rings:
                 ax.add_patch(Polygon(ring, closed=True, fill=False, ec="0.75", lw=0.6))
     if frame == SITE_FRAME:
-        for ob in o.site.obstacles:
-            ax.add_patch(
-                Polygon(
-                    ob.vertices,
-                    closed=True,
-                    fc="0.6",
-                    ec="0.3",
-                    hatch="xx",
-                    alpha=0.6,
-                    label=f"obstacle ({ob.height_m:g} m)",
-                )
-            )
-        for a in o.site.no_go_areas:
-            ax.add_patch(
-                Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, label="no-go area")
-            )
+        draw_obstacles(ax, o.site)
 
 
 def _pieces(o: Outcome, zi: int, side: ScanSide):

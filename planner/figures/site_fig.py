@@ -1,14 +1,11 @@
-"""The whole site in one figure (:func:`site_figure`): every zone's walls, blocks and openings, obstacles and
-no-go areas, the stations numbered in walking order (or plan order), the registration links between them, the
-control points, a scale bar and north arrow, and labels that never overlap (:mod:`planner.figures.labels`).
+"""The whole site in one figure (:func:`site_figure`): every zone's walls, blocks and openings, obstacles and no-go
+areas, the stations numbered in walking order (or plan order), the registration links between them, the control points,
+a scale bar and north arrow, and labels that never overlap (:mod:`planner.figures.labels`).
 
-A site whose zones share one frame is one panel. A site whose zones stand in separate frames (a table site, such
-as ``instances/baalbek.json``, one frame per zone) gets one panel per frame, numbered on across the panels.
-
-For large sites the figure grows (to 16 x 12 in) and the markers, lines and numbers shrink with the number of
-stations; every number is still tried, first next to its station, then further out on a leader line up to
-:data:`LEADER_MAX_PX` (60 px; beyond, a number would be hard to match to its station), and a number that fits
-nowhere is left out and counted under the panel (the station table still lists it).
+One panel per frame (a table site, one frame per zone, gets one panel per zone), numbered on across the panels. For
+large sites the figure grows and the markers, lines and numbers shrink with the number of stations; a number that fits
+nowhere within :data:`LEADER_MAX_PX` of its station is left out and counted under the panel (the station table still
+lists it).
 """
 
 from __future__ import annotations
@@ -27,7 +24,7 @@ from matplotlib.patches import Polygon
 from planner.core.checks import argument
 from planner.figures.base import PLAN_MARGIN, frame_axes
 from planner.figures.labels import PointLabel, finish_plans
-from planner.figures.storey_fig import OPENING_COLOUR, draw_gap
+from planner.figures.storey_fig import OPENING_COLOUR, draw_gap, draw_obstacles
 from planner.network.survey import registration_links
 from planner.plan.outcome import Outcome
 from planner.site.model import SITE_FRAME, ControlPoint
@@ -41,8 +38,8 @@ _CONTROL = "tab:red"
 
 
 def station_numbers(o: Outcome, order: Sequence[str] | None = None) -> dict[str, int]:
-    """Each station's number (1..N): in ``order`` (station ids in visiting order, as the field plan walks
-    them), then the stations ``order`` leaves out in plan order; without ``order``, plan order.
+    """Each station's number (1..N): in ``order`` (station ids in visiting order, as the field plan walks them), then
+    the stations ``order`` leaves out in plan order; without ``order``, plan order.
 
     Raises ``ValueError`` for an id that is no station of the plan, or one given twice."""
     ids = [s.id for s in o.stations]
@@ -67,9 +64,9 @@ def _links(o: Outcome) -> list[tuple[str, str]]:
 
 
 def shown_links(o: Outcome, links: Sequence[tuple[str, str]]) -> list[tuple[str, str]]:
-    """The links drawn: all of them, or, where they are more than :data:`DENSE_LINKS` per station (a large open
-    area where every station registers to every other), the shortest spanning forest of them, which shows
-    what is connected to what in one line per station."""
+    """The links drawn: all of them, or, where they are more than :data:`DENSE_LINKS` per station (a large open area
+    where every station registers to every other), the shortest spanning forest of them, which shows what is connected
+    to what in one line per station."""
     if len(links) <= DENSE_LINKS * max(len(o.stations), 1):
         return list(links)
     xy = {s.id: s.xy for s in o.stations}
@@ -114,10 +111,7 @@ def _walls(ax: Axes, o: Outcome, frame: str, lw: float) -> None:
         for op in z.openings:
             draw_gap(ax, z.walls[op.wall - 1], op.s0_m, op.s1_m, OPENING_COLOUR.get(op.kind, "tab:orange"))
     if frame == SITE_FRAME:
-        for ob in o.site.obstacles:
-            ax.add_patch(Polygon(ob.vertices, closed=True, fc="0.6", ec="0.3", hatch="xx", alpha=0.6, zorder=1))
-        for a in o.site.no_go_areas:
-            ax.add_patch(Polygon(a.vertices, closed=True, fc="mistyrose", ec="red", hatch="//", alpha=0.5, zorder=1))
+        draw_obstacles(ax, o.site, zorder=1)
 
 
 def _panel(
@@ -157,24 +151,12 @@ def _panel(
 def site_figure(
     o: Outcome, order: Sequence[str] | None = None, control: Sequence[ControlPoint] | None = None
 ) -> Figure:
-    """Every zone of the site with the stations, their registration links and the control points.
+    """Every zone of the site with the stations, their registration links and the control points: one panel per frame,
+    each with a scale bar and a north arrow, every label placed without overlap.
 
-    Parameters
-    ----------
-    o
-        The plan's outcome; its network report, where present, gives the registration links and the control
-        points (proposed ones drawn open), else the links are the plan's registration relation computed afresh.
-    order
-        Station ids in visiting order (the field plan's walk): station ``order[k]`` is numbered ``k + 1``;
-        stations it leaves out follow in plan order. ``None``: numbered in plan order.
-    control
-        Control points to draw instead of the network's (or, without a network, the site's).
-
-    Returns
-    -------
-    Figure
-        One panel per frame (one for a site in one frame), each with a scale bar and a north arrow; every
-        station number and control name labelled without overlap (see the module text for large sites).
+    The network report of ``o``, where present, gives the registration links and the control points (proposed ones drawn
+    open), else the links are the plan's registration relation computed afresh. ``order``: station ids in visiting order
+    (:func:`station_numbers`); ``control``: control points to draw instead.
     """
     argument(o, Outcome, "outcome")
     numbers = station_numbers(o, order)
@@ -216,8 +198,8 @@ def site_figure(
 
 
 def _size(o: Outcome, frames: list[str], ncols: int, nrows: int) -> tuple[float, float]:
-    """Figure size (inches): about 10 in wide for a small site, growing with the stations to 16, the height
-    after the site's shape (one frame) or the panel grid."""
+    """Figure size (inches): about 10 in wide for a small site, growing with the stations to 16, the height after the
+    site's shape (one frame) or the panel grid."""
     width = min(16.0, 10.0 + 0.06 * max(0, len(o.stations) - 30))
     if len(frames) > 1:
         return width, min(12.0, width * nrows / ncols * 0.9 + 0.6)

@@ -1,7 +1,7 @@
 """A floor plan of one frame (a building storey): every room with its openings, and the stations.
 
-Rooms are drawn filled and named, blocks (columns, stairs) hatched, openings (doors, windows)
-as coloured gaps on their walls, each station as a triangle with its id and its zone's colour.
+Rooms are drawn filled and named, blocks (columns, stairs) hatched, openings (doors, windows) as coloured gaps on their
+walls, each station as a triangle with its id and its zone's colour.
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ OPENING_COLOUR = {"door": "tab:orange", "gate": "tab:brown", "window": "tab:cyan
 
 
 def storey_figure(site: Site, stations: Sequence[Any], frame: str, title: str = "") -> Figure:
-    """Rooms of ``frame`` with their openings and the ``stations`` (objects with ``id``, ``zone``,
-    ``frame``, ``x``, ``y``) that stand in that frame."""
+    """Rooms of ``frame`` with their openings and the ``stations`` (objects with ``id``, ``zone``, ``frame``, ``x``,
+    ``y``) that stand in that frame."""
     fig = Figure(figsize=(8, 6))
     ax = fig.add_subplot()
     zones = [z for z in site.zones if z.frame == frame]
@@ -59,9 +59,20 @@ def _name(zone: Zone) -> PointLabel:
     return PointLabel(cx, cy, zone.id.rsplit("/", 1)[-1], f"room:{zone.id}", 0.0, 8.0)
 
 
-def draw_gap(ax: Any, wall: Wall, s0: float, s1: float, colour: str) -> None:
-    """Draw the opening from ``s0`` to ``s1`` metres along ``wall`` as a coloured gap."""
+def draw_obstacles(ax: Any, site: Site, zorder: float | None = None) -> None:
+    """The site's obstacles (grey, hatched, labelled with their height) and no-go areas (red, hatched)."""
+    for ob in site.obstacles:
+        label = f"obstacle ({ob.height_m:g} m)"
+        ax.add_patch(PolygonPatch(ob.vertices, fc="0.6", ec="0.3", hatch="xx", alpha=0.6, label=label, zorder=zorder))
+    for a in site.no_go_areas:
+        ax.add_patch(
+            PolygonPatch(a.vertices, fc="mistyrose", ec="red", hatch="//", alpha=0.5, label="no-go area", zorder=zorder)
+        )
+
+
+def draw_gap(ax: Any, wall: Wall, s0_m: float, s1_m: float, colour: str) -> None:
+    """Draw the opening from ``s0_m`` to ``s1_m`` along ``wall`` as a coloured gap."""
     a, b = np.asarray(wall.start, dtype=float), np.asarray(wall.end, dtype=float)
     u = (b - a) / wall.length_m
-    p, q = a + s0 * u, a + s1 * u
+    p, q = a + s0_m * u, a + s1_m * u
     ax.plot([p[0], q[0]], [p[1], q[1]], color=colour, lw=4, solid_capstyle="butt", zorder=4)

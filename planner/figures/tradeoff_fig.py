@@ -1,5 +1,5 @@
-"""The trade-off figure of a field-time plan (issue 47): stations against hours on site, one bar per plan of the
-trade-off table, stacked set-up, scan, walking and targets, with its station count above it."""
+"""The trade-off figure of a field-time plan: stations against hours on site, one bar per plan of the trade-off table,
+stacked set-up, scan, walking and targets, with its station count above it."""
 
 from __future__ import annotations
 
@@ -18,8 +18,8 @@ PARTS = (
 
 
 def tradeoff_figure(rows: Sequence[Mapping[str, Any]], kept: str, title: str = "") -> Figure:
-    """Hours per plan (``rows``: plan.json's ``hours.tradeoff.rows``), stacked by part, the kept plan marked;
-    plans without one (a setting that does not meet the spacing) are listed at zero, marked so."""
+    """Hours per plan (``rows``: plan.json's ``hours.tradeoff.rows``), stacked by part, the kept plan marked; plans
+    without one (a setting that does not meet the spacing) are listed at zero, marked so."""
     fig = Figure(figsize=(8.0, 4.2))
     ax = fig.add_subplot(1, 1, 1)
     labels = [str(r["label"]).replace("one setting: ", "") for r in rows]

@@ -1,9 +1,8 @@
-"""Every reader and writer: sites in (JSON instance, table CSV, DXF, GeoJSON, IFC, AGPLIB polygons:
-:func:`load_site`), control points and field observations in, plans out and back (plan.json), and a plan out to
-the field and to CAD/GIS (station list CSV, GeoJSON, DXF) and the coverage problem out to other solvers.
+"""Every reader and writer: sites in (JSON instance, table CSV, DXF, GeoJSON, IFC, AGPLIB polygons: :func:`load_site`),
+control points and field observations in, plans out and back (plan.json), and a plan out to the field and to CAD/GIS
+(station list CSV, GeoJSON, DXF) and the coverage problem out to other solvers.
 
-The names load on first use (PEP 562), so that reading or writing one format does not import the others'
-libraries.
+The names load on first use (PEP 562), so that reading or writing one format does not import the others' libraries.
 """
 
 from __future__ import annotations

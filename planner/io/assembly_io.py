@@ -8,8 +8,8 @@ from planner.site.assemble import AssemblyReport
 
 
 def assembled_instance(source: dict, source_dir: str, out_dir: str, report: AssemblyReport) -> dict:
-    """A JSON instance (as a dict) with the report's placements, table CSV paths made relative to ``out_dir``,
-    and an ``assembly`` record of the matches (kept for the reader, not read back)."""
+    """A JSON instance (as a dict) with the report's placements, table CSV paths made relative to ``out_dir``, and an
+    ``assembly`` record of the matches (kept for the reader, not read back)."""
     data = dict(source)
     zones = []
     for entry in data.get("zones", []):

@@ -1,8 +1,8 @@
 """Optional coordinate reference systems (pyproj, always x/y = easting/northing = lon/lat order).
 
-Planning runs in metres on a projected plane. A GeoJSON file in longitude/latitude (RFC 7946) is
-read by projecting it to a metric CRS the user names (e.g. ``EPSG:32636``, UTM 36N), and exports
-go back to lon/lat the same way. pyproj is needed only when a CRS is given.
+Planning runs in metres on a projected plane. A GeoJSON file in longitude/latitude (RFC 7946) is read by projecting it
+to a metric CRS the user names (e.g. ``EPSG:32636``, UTM 36N), and exports go back to lon/lat the same way. pyproj is
+needed only when a CRS is given.
 """
 
 from __future__ import annotations

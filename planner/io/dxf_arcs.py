@@ -1,10 +1,9 @@
 """Size checks of a DXF entity's arcs (polyline bulges, circles) before they are flattened.
 
-Flattening an arc to ``flatten_m`` costs vertices in proportion to ``sqrt(radius / flatten_m)``: a
-bulge of 1e12 on a 10 m chord is an arc of radius 2.5e12 m, whose flattening to 0.01 m would not end
-(and would fill the memory) before the coordinate check of the polygon could refuse it. So each
-arc's reach is checked against :data:`~planner.site.geometry.MAX_COORDINATE_M` and the vertices its
-flattening would give are counted, first.
+Flattening an arc to ``flatten_m`` costs vertices in proportion to ``sqrt(radius / flatten_m)``: a bulge of 1e12 on a 10
+m chord is an arc of radius 2.5e12 m, whose flattening to 0.01 m would not end (and would fill the memory) before the
+coordinate check of the polygon could refuse it. So each arc's reach is checked against
+:data:`~planner.site.geometry.MAX_COORDINATE_M` and the vertices its flattening would give are counted, first.
 """
 
 from __future__ import annotations
@@ -23,8 +22,8 @@ MAX_ARC_VERTICES = 100_000
 
 @dataclass(frozen=True)
 class Arc:
-    """One arc in drawing units: its centre-side anchor (chord midpoint or circle centre) in WCS x/y,
-    the farthest its points lie from that anchor, its radius and sweep (radians)."""
+    """One arc in drawing units: its centre-side anchor (chord midpoint or circle centre) in WCS x/y, the farthest its
+    points lie from that anchor, its radius and sweep (radians)."""
 
     vertex: int | None  # 1-based vertex whose bulge it is; None for a circle
     bulge: float | None
@@ -82,8 +81,8 @@ def flattened_count(arcs: list[Arc], flatten: float) -> float:
 
 
 def check_arcs(e: Any, scale: float, flatten_m: float, **where: Any) -> None:
-    """Refuse an arc that reaches beyond +-MAX_COORDINATE_M, or arcs whose flattening would give
-    more than MAX_ARC_VERTICES vertices; ``scale`` converts drawing units to metres."""
+    """Refuse an arc that reaches beyond +-MAX_COORDINATE_M, or arcs whose flattening would give more than
+    MAX_ARC_VERTICES vertices; ``scale`` converts drawing units to metres."""
     arcs = entity_arcs(e)
     if not arcs:
         return

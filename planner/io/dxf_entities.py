@@ -1,9 +1,9 @@
 """The DXF reader's first pass: the entities on the layers it reads, as closed outlines and labels.
 
-Block references are expanded; LWPOLYLINE, 2-D POLYLINE and CIRCLE become outlines (their arcs
-checked for size, then flattened), TEXT and MTEXT labels. Annotation (dimensions, leaders, images)
-draws nothing and is read past; every other entity on a zone, hole, obstacle or no-go layer is
-refused with what to draw instead, so that no drawn shape is dropped silently.
+Block references are expanded; LWPOLYLINE, 2-D POLYLINE and CIRCLE become outlines (their arcs checked for size, then
+flattened), TEXT and MTEXT labels. Annotation (dimensions, leaders, images) draws nothing and is read past; every other
+entity on a zone, hole, obstacle or no-go layer is refused with what to draw instead, so that no drawn shape is dropped
+silently.
 """
 
 from __future__ import annotations
@@ -25,39 +25,16 @@ OUTLINE_KINDS = ("LWPOLYLINE", "POLYLINE", "CIRCLE")
 LABEL_KINDS = ("TEXT", "MTEXT")
 #: annotation: it draws no outline, so it is read past on every layer
 ANNOTATION_KINDS = frozenset(
-    {
-        "DIMENSION",
-        "ARC_DIMENSION",
-        "LARGE_RADIAL_DIMENSION",
-        "LEADER",
-        "MLEADER",
-        "MULTILEADER",
-        "TOLERANCE",
-        "ATTDEF",
-        "ATTRIB",
-        "VIEWPORT",
-        "IMAGE",
-        "WIPEOUT",
-        "ACAD_TABLE",
-    }
+    ("DIMENSION", "ARC_DIMENSION", "LARGE_RADIAL_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "TOLERANCE")
+    + ("ATTDEF", "ATTRIB", "VIEWPORT", "IMAGE", "WIPEOUT", "ACAD_TABLE")
 )
-_OPEN = "is open geometry"
-_AREA = "is a filled area, not its outline (trace its boundary)"
 #: why an entity of a kind not read is refused (other kinds: "is not read on this layer")
 REFUSED_KINDS = {
-    "LINE": _OPEN,
-    "ARC": _OPEN,
-    "SPLINE": _OPEN,
-    "ELLIPSE": _OPEN,
-    "XLINE": _OPEN,
-    "RAY": _OPEN,
-    "MLINE": _OPEN,
-    "SOLID": _AREA,
-    "TRACE": _AREA,
-    "HATCH": _AREA,
-    "MPOLYGON": _AREA,
-    "3DFACE": _AREA,
-    "REGION": _AREA,
+    **dict.fromkeys(("LINE", "ARC", "SPLINE", "ELLIPSE", "XLINE", "RAY", "MLINE"), "is open geometry"),
+    **dict.fromkeys(
+        ("SOLID", "TRACE", "HATCH", "MPOLYGON", "3DFACE", "REGION"),
+        "is a filled area, not its outline (trace its boundary)",
+    ),
     "POINT": "marks a point, not an outline",
 }
 
@@ -83,8 +60,8 @@ class Shape:
 
 
 def expand(entities: Any, layer: str | None = None, where: str = "", depth: int = 0) -> Iterator[tuple[Any, str]]:
-    """Entities with block references replaced by their (transformed) content, each with its handle
-    (for block content: the block name and the handle of the INSERT)."""
+    """Entities with block references replaced by their (transformed) content, each with its handle (for block content:
+    the block name and the handle of the INSERT)."""
     for e in entities:
         if depth and layer and e.dxf.get("layer", "0") == "0":
             e.dxf.layer = layer

@@ -1,10 +1,10 @@
 """Read a floor plan from DXF: closed polylines on named layers become zones, obstacles and no-go areas.
 
-docs/exchange.md tables what is read: the entities (:mod:`planner.io.dxf_entities`; arcs checked, then
-flattened, :mod:`planner.io.dxf_arcs`), heights (XDATA of application ``TLS_PLANNER`` as
-:mod:`planner.io.dxf_out` writes it, else the thickness, else the layer default), holes, zone ids, scan sides
-and units. Vertex order is made counter-clockwise: DXF has no orientation convention (a mirrored block
-reverses it). Nothing in the file is executed; ezdxf only parses tags.
+docs/exchange.md tables what is read: the entities (:mod:`planner.io.dxf_entities`; arcs checked, then flattened,
+:mod:`planner.io.dxf_arcs`), heights (XDATA of application ``TLS_PLANNER`` as :mod:`planner.io.dxf_out` writes it, else
+the thickness, else the layer default), holes, zone ids, scan sides and units. Vertex order is made counter-clockwise:
+DXF has no orientation convention (a mirrored block reverses it). Nothing in the file is executed; ezdxf only parses
+tags.
 """
 
 from __future__ import annotations
@@ -55,8 +55,8 @@ def _located(exc: PlannerError, s: Shape, file: str) -> PlannerError:
 
 
 def _label(s: Shape, texts: list[tuple[str, str, tuple]]) -> str | None:
-    """The first TEXT/MTEXT of the shape's layer that stands inside it (an outline of fewer than 3
-    vertices holds none: the zone's check says why it is no polygon)."""
+    """The first TEXT/MTEXT of the shape's layer that stands inside it (an outline of fewer than 3 vertices holds none:
+    the zone's check says why it is no polygon)."""
     if len(s.xy) < 3:
         return None
     poly = shapely.Polygon(s.xy)

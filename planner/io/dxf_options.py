@@ -1,7 +1,7 @@
 """Which DXF layers hold what, the layer default heights and the arc flattening of the DXF reader.
 
-:class:`DxfOptions` is checked when it is made: a bad value is a
-:class:`~planner.core.errors.UsageError` naming the field, before any file is read.
+:class:`DxfOptions` is checked when it is made: a bad value is a :class:`~planner.core.errors.UsageError` naming the
+field, before any file is read.
 """
 
 from __future__ import annotations

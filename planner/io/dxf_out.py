@@ -1,8 +1,8 @@
 """DXF export (ezdxf, metres): layers WALLS, HOLES, OBSTACLES, NOGO, STATIONS, FIELDS, COVERAGE, NETWORK, CONTROL.
 
-Zones are closed LWPOLYLINEs on WALLS with their height as thickness and, in XDATA of the
-application ``TLS_PLANNER``, the zone id, scan side, frame and per-vertex heights, so that
-:func:`planner.io.dxf_in.read_dxf_site` reads the same site back (the round trip).
+Zones are closed LWPOLYLINEs on WALLS with their height as thickness and, in XDATA of the application ``TLS_PLANNER``,
+the zone id, scan side, frame and per-vertex heights, so that :func:`planner.io.dxf_in.read_dxf_site` reads the same
+site back (the round trip).
 """
 
 from __future__ import annotations
@@ -50,9 +50,9 @@ _FIXED_METADATA = threading.Lock()
 
 @contextmanager
 def _fixed_metadata() -> Iterator[None]:
-    """ezdxf's fixed metadata while a drawing is made and saved (dates 2000-01-01, constant GUIDs, a marker
-    without time stamp), so that the same plan gives the same bytes; the option is restored afterwards. Held
-    under a lock: two threads writing at once would otherwise restore each other's setting."""
+    """ezdxf's fixed metadata while a drawing is made and saved (dates 2000-01-01, constant GUIDs, a marker without time
+    stamp), so that the same plan gives the same bytes; the option is restored afterwards. Held under a lock: two
+    threads writing at once would otherwise restore each other's setting."""
     with _FIXED_METADATA:
         before = ezdxf.options.write_fixed_meta_data_for_testing
         ezdxf.options.write_fixed_meta_data_for_testing = True
@@ -70,9 +70,9 @@ def _label_height(o: Outcome) -> float:
 
 
 def write_dxf(o: Outcome, path: Path | str) -> Path:
-    """Write the outcome as a DXF R2010 drawing in metres; return the path. The same outcome gives the same
-    bytes (fixed metadata; the CLASSES section, which ezdxf fills in an order that changes with Python's string
-    hash seed, in name order)."""
+    """Write the outcome as a DXF R2010 drawing in metres; return the path. The same outcome gives the same bytes (fixed
+    metadata; the CLASSES section, which ezdxf fills in an order that changes with Python's string hash seed, in name
+    order)."""
     argument(o, Outcome, "outcome")
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -1,9 +1,8 @@
 """Export a site's coverage problem for third-party solvers: OR-Library, MPS or JSON.
 
-OR-Library and MPS carry the plain cover (min cost, every target covered k
-times); the registration constraint is lazy here and has no compact linear
-form, so the JSON export carries the overlap graph's edges for solvers that
-want to add it themselves.
+OR-Library and MPS carry the plain cover (min cost, every target covered k times); the registration constraint is lazy
+here and has no compact linear form, so the JSON export carries the overlap graph's edges for solvers that want to add
+it themselves.
 """
 
 from __future__ import annotations
@@ -21,8 +20,8 @@ FORMATS = ("orlib", "mps", "json")
 
 
 def to_orlib(problem: CoverageProblem, cost: np.ndarray | None = None) -> str:
-    """Beasley's format: 'm n', the n costs, then per row its count and 1-based columns (targets seen by no
-    candidate are left out)."""
+    """Beasley's format: 'm n', the n costs, then per row its count and 1-based columns (targets seen by no candidate
+    are left out)."""
     bt = problem.by_target
     c = np.ones(problem.shape[0], dtype=int) if cost is None else np.asarray(cost)
     rows = [

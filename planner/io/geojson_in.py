@@ -1,9 +1,8 @@
 """Read a floor plan from GeoJSON: Polygon features with a ``role`` (zone, obstacle, no_go) and heights
 (docs/exchange.md lists the properties read).
 
-Interior rings of a zone are holes. Features of an exported plan's other roles are skipped, so an exported
-plan.geojson reads back as its site. With ``crs`` the coordinates are lon/lat (RFC 7946), projected to that
-metric CRS.
+Interior rings of a zone are holes. Features of an exported plan's other roles are skipped, so an exported plan.geojson
+reads back as its site. With ``crs`` the coordinates are lon/lat (RFC 7946), projected to that metric CRS.
 """
 
 from __future__ import annotations

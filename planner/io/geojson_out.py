@@ -1,5 +1,5 @@
-"""GeoJSON export of an outcome: zones (importable again), walls' coverage, stations, tripod discs,
-network links and control points, one FeatureCollection, each feature with a ``role``."""
+"""GeoJSON export of an outcome: zones (importable again), walls' coverage, stations, tripod discs, network links and
+control points, one FeatureCollection, each feature with a ``role``."""
 
 from __future__ import annotations
 

@@ -1,8 +1,7 @@
 """Plan geometry of IFC elements: footprints from their meshes, openings found on zone walls.
 
-IfcOpenShell's geometry kernel places every element in world coordinates (its local placements
-applied) and returns metres whatever the file's length unit, so nothing here assumes a unit or
-a placement.
+IfcOpenShell's geometry kernel places every element in world coordinates (its local placements applied) and returns
+metres whatever the file's length unit, so nothing here assumes a unit or a placement.
 """
 
 from __future__ import annotations
@@ -104,9 +103,9 @@ def largest_polygon(geom: shapely.Geometry) -> shapely.Polygon:
 def opening_on_wall(wall: Wall, footprint: shapely.Geometry, kind: str, name: str) -> Opening | None:
     """The stretch of ``wall`` that an opening's footprint stands in, or None.
 
-    The opening counts when its footprint lies on the outer side of the wall face (the zone is to
-    the left of the wall), within ``MAX_WALL_THICKNESS_M`` of it, runs along it (its long axis
-    within ``MAX_OPENING_SKEW_DEG``) and shares at least ``MIN_OPENING_M`` of its length.
+    The opening counts when its footprint lies on the outer side of the wall face (the zone is to the left of the wall),
+    within ``MAX_WALL_THICKNESS_M`` of it, runs along it (its long axis within ``MAX_OPENING_SKEW_DEG``) and shares at
+    least ``MIN_OPENING_M`` of its length.
     """
     length = wall.length_m
     if length <= MIN_OPENING_M:

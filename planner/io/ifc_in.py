@@ -1,15 +1,15 @@
 """Read a building model (IFC2X3, IFC4) through IfcOpenShell: one inside zone per IfcSpace.
 
-docs/ifc.md tables what is read from which entity. In short, per selected building storey
-(``IfcOptions.storey``): each IfcSpace is an inside zone (outline: the plan footprint of its body; wall
-height: its height, else the storey height); walls, columns, stairs and furniture standing in it are cut out
-(a notch or a hole); doors (windows with ``windows=True``), unfilled wall openings and open boundaries between
-spaces are openings (:mod:`planner.io.ifc_passages`); ``exterior=True`` adds the storey's outer outline as an
-outside zone; stairs between read storeys join them (:mod:`planner.io.ifc_stairs`). Each space's floor level
-and ceiling serve the floor and ceiling targets (:func:`floor_level`).
+docs/ifc.md tables what is read from which entity. In short, per selected building storey (``IfcOptions.storey``): each
+IfcSpace is an inside zone (outline: the plan footprint of its body; wall height: its height, else the storey height);
+walls, columns, stairs and furniture standing in it are cut out (a notch or a hole); doors (windows with
+``windows=True``), unfilled wall openings and open boundaries between spaces are openings
+(:mod:`planner.io.ifc_passages`); ``exterior=True`` adds the storey's outer outline as an outside zone; stairs between
+read storeys join them (:mod:`planner.io.ifc_stairs`). Each space's floor level and ceiling serve the floor and ceiling
+targets (:func:`floor_level`).
 
-One storey reads into the site frame; several each into a frame named after the storey. Coordinates are metres
-from the file's units and placements; a model without a length unit is read as metres, noted on each zone.
+One storey reads into the site frame; several each into a frame named after the storey. Coordinates are metres from the
+file's units and placements; a model without a length unit is read as metres, noted on each zone.
 """
 
 from __future__ import annotations
@@ -50,8 +50,8 @@ class IfcOptions:
 class _Storey:
     """One building storey: its name, entity, elevation and height (m), the z of its placement, its spaces.
 
-    ``base_z_m`` is the world z (m) of the storey's own placement, or its elevation when it has none (the
-    spaces are then placed absolutely).
+    ``base_z_m`` is the world z (m) of the storey's own placement, or its elevation when it has none (the spaces are
+    then placed absolutely).
     """
 
     name: str
@@ -150,8 +150,8 @@ def _storeys(model: Any, path: Path) -> list[_Storey]:
 
 
 def _placement_z(entity: Any, scale: float) -> float | None:
-    """The world z (m) of ``entity``'s local placement (``scale``: metres per file unit), or None when it has
-    none (or one IfcOpenShell cannot read)."""
+    """The world z (m) of ``entity``'s local placement (``scale``: metres per file unit), or None when it has none (or
+    one IfcOpenShell cannot read)."""
     import ifcopenshell.util.placement as up
 
     placement = getattr(entity, "ObjectPlacement", None)
@@ -164,10 +164,10 @@ def _placement_z(entity: Any, scale: float) -> float | None:
 
 
 def floor_level(elevation_m: float, base_z_m: float, solid_z_min_m: float) -> float:
-    """A space's floor level (m, rounded to 0.1 mm): its storey's ``Elevation`` (the datum) plus its own base
-    offset, the bottom of its solid (``solid_z_min_m``, world) less the world z of the storey's placement
-    (``base_z_m``; the elevation where the storey has none). The offset is 0 for a space on its storey's base, as
-    every exporter we know writes it; a space on a raised floor or in a split level sits that much higher."""
+    """A space's floor level (m, rounded to 0.1 mm): its storey's ``Elevation`` (the datum) plus its own base offset,
+    the bottom of its solid (``solid_z_min_m``, world) less the world z of the storey's placement (``base_z_m``; the
+    elevation where the storey has none). The offset is 0 for a space on its storey's base, as every exporter we know
+    writes it; a space on a raised floor or in a split level sits that much higher."""
     return round(elevation_m + (solid_z_min_m - base_z_m), 4)
 
 

@@ -3,9 +3,9 @@
 Both are read as openings of kind ``passage`` (walked and seen through as a door,
 :data:`planner.coverage.openings.PASSABLE`; docs/ifc.md gives the rules):
 
-- **an unfilled wall opening** (:func:`unfilled_openings`): an ``IfcOpeningElement`` that voids a wall, is
-  filled by nothing and is no recess, low and high enough to walk through; its footprint clipped to its wall's
-  and placed on the zone walls it stands in like a door's;
+- **an unfilled wall opening** (:func:`unfilled_openings`): an ``IfcOpeningElement`` that voids a wall, is filled by
+  nothing and is no recess, low and high enough to walk through; its footprint clipped to its wall's and placed on the
+  zone walls it stands in like a door's;
 - **an open boundary** (:func:`open_boundaries`): two spaces of one storey that touch with no wall between them
   (exporters write a *virtual* space boundary there, which is not read: the geometry says the same).
 
@@ -39,8 +39,8 @@ WALL_SHRINK_M = 0.01
 
 
 def unfilled_openings(model: Any, storey: Any, floor_z_m: float, settings: Any) -> list[tuple[str, Solid]]:
-    """The name (else GlobalId) and solid, footprint clipped to its wall's, of every unfilled wall opening of
-    ``storey`` that one can walk through; ``floor_z_m``: the world z of the storey's floor."""
+    """The name (else GlobalId) and solid, footprint clipped to its wall's, of every unfilled wall opening of ``storey``
+    that one can walk through; ``floor_z_m``: the world z of the storey's floor."""
     import ifcopenshell.util.element as ue
 
     out = []
@@ -67,9 +67,9 @@ def wide_enough(op: Opening) -> bool:
 
 
 def open_boundaries(zones: Sequence[Zone], walls: Sequence[shapely.Geometry]) -> dict[str, list[Opening]]:
-    """Zone id to the passages of that zone (only zones that have some) to the zones of ``zones`` (the inside
-    zones of one storey) it touches where no footprint of ``walls`` stands between, named ``open to <room>``.
-    Each stretch of a zone's wall within :data:`ABUT_M` of another zone is one."""
+    """Zone id to the passages of that zone (only zones that have some) to the zones of ``zones`` (the inside zones of
+    one storey) it touches where no footprint of ``walls`` stands between, named ``open to <room>``. Each stretch of a
+    zone's wall within :data:`ABUT_M` of another zone is one."""
     cut = shapely.union_all([w.buffer(-WALL_SHRINK_M, join_style="mitre") for w in walls]) if walls else None
     polys = {z.id: z.polygon for z in zones}
     near = {z.id: p.buffer(ABUT_M, join_style="mitre") for z, p in zip(zones, polys.values(), strict=True)}

@@ -1,17 +1,10 @@
 """Stairs of a building model: which zone of one storey a stair leads up to which zone of the next.
 
-Every ``IfcStair`` contained in a read storey (and every ``IfcStairFlight`` that is not part of one) becomes a
-:class:`planner.site.stairs.Stair` when the storey above is read too:
-
-- its footprint and z extent come from its body geometry (the union of its parts' where the stair itself has
-  none, as some exporters write the flights only), in world coordinates: IfcOpenShell's kernel applies every
-  placement, so the storeys' frames share plan coordinates (the frames differ by name only, no offset);
-- the lower zone is the inside zone of the stair's own storey that meets most of the footprint widened by
-  ``NEAR_M`` (the room the stair stands in: the reader cuts the stair out of it, so the room runs round it);
-- the upper zone is the inside zone of the next storey up (by elevation) that meets most of the same widened
-  footprint (the landing or gallery its top arrives in, which holds the stairwell or runs round it);
-- a stair whose top stays more than ``REACH_TOL_M`` below the next storey's elevation leads nowhere read here
-  (a few steps to a raised part of the same floor) and is left out, as is one with no zone below or above.
+Every ``IfcStair`` of a read storey (and every ``IfcStairFlight`` that is not part of one) becomes a
+:class:`planner.site.stairs.Stair` when the storey above is read too (docs/ifc.md): its footprint and z extent from its
+body (else its parts'), in world coordinates; its lower and upper zones the inside zones of its storey and of the next
+one up that meet most of its footprint widened by ``NEAR_M``. A stair whose top stays more than ``REACH_TOL_M`` below
+the next storey's elevation, or with no zone below or above, is left out.
 """
 
 from __future__ import annotations

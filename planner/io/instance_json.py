@@ -1,8 +1,7 @@
 """Reader of the JSON instance format (documented in docs/instance-format.md).
 
-Lengths carry their unit in the key (``sigma_req_mm`` or ``sigma_req_m``);
-unknown keys are refused so that a typo never silently drops a setting.
-Only ``json`` is used to parse: nothing in a file is ever evaluated.
+Lengths carry their unit in the key (``sigma_req_mm`` or ``sigma_req_m``); unknown keys are refused so that a typo never
+silently drops a setting. Only ``json`` is used to parse: nothing in a file is ever evaluated.
 """
 
 from __future__ import annotations
@@ -185,8 +184,8 @@ LEVEL_KEYS = {"floor_level_m", "ceiling_height_m"}
 
 
 def _levels(r: InstanceReader, e: dict[str, Any], zone: str) -> tuple[float, float | None]:
-    """The zone's ``floor_level_m`` (default 0) and ``ceiling_height_m`` (default and ``null``: no ceiling); the
-    zone checks their ranges."""
+    """The zone's ``floor_level_m`` (default 0) and ``ceiling_height_m`` (default and ``null``: no ceiling); the zone
+    checks their ranges."""
     floor = r.num(e, "floor_level_m", zone=zone) if "floor_level_m" in e else 0.0
     ceiling = r.num(e, "ceiling_height_m", zone=zone) if e.get("ceiling_height_m") is not None else None
     return floor, ceiling
@@ -226,21 +225,13 @@ def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
     if "vertex_heights_m" in e and "height_m" in e:  # two values, one would be dropped silently
         raise r.fail("give vertex_heights_m or height_m, not both", zone=zone, field="height_m", value=e["height_m"])
     if "vertex_heights_m" in e:
-        raw = e["vertex_heights_m"]
-        if not isinstance(raw, list) or len(raw) != n:
-            raise r.fail(f"needs a list of {n} heights", zone=zone, field="vertex_heights_m")
+        raw = _per_vertex(r, e, "vertex_heights_m", n, zone)
         heights = [to_float(h, field="vertex_heights_m", file=r.file, zone=zone, row=i) for i, h in enumerate(raw, 1)]
-    else:
-        h = r.num(e, "height_m", zone=zone)
-        if not 0 < h <= MAX_HEIGHT_M:  # named as written (the zone would call it its vertex heights)
-            raise r.fail(f"must be a height > 0 and <= {MAX_HEIGHT_M:g} m", zone=zone, field="height_m", value=h)
-        heights = [h] * n
+    else:  # checked here, named as written (the zone would call it its vertex heights)
+        heights = [_height(r, r.num(e, "height_m", zone=zone), "height_m", zone=zone)] * n
     printed: list[float | None] = [None] * n
     if "wall_heights_m" in e:
-        raw = e["wall_heights_m"]
-        if not isinstance(raw, list) or len(raw) != n:
-            raise r.fail(f"needs a list of {n} heights", zone=zone, field="wall_heights_m")
-        printed = [_wall_height(r, h, zone, i) for i, h in enumerate(raw, 1)]
+        printed = [_wall_height(r, h, zone, i) for i, h in enumerate(_per_vertex(r, e, "wall_heights_m", n, zone), 1)]
     notes: tuple[str, ...] = ()
     if n >= 3 and signed_area(xy) < 0:
         # keep vertex 1; reversed walk: new wall j joins given vertices -j and -j-1, i.e. given wall -j-1
@@ -264,18 +255,25 @@ def _coordinate_zone(r: InstanceReader, entry: Any, k: int) -> Zone:
     )
 
 
-def _wall_height(r: InstanceReader, raw: Any, zone: str, wall: int) -> float:
-    """A printed wall height, > 0 and <= MAX_HEIGHT_M as a table's ``wall_height_m`` (-3 or 0 is no height)."""
-    h = to_float(raw, field="wall_heights_m", file=r.file, zone=zone, row=f"wall {wall}")
+def _per_vertex(r: InstanceReader, e: dict[str, Any], key: str, n: int, zone: str) -> list[Any]:
+    """``e[key]``, a list of one value per vertex."""
+    raw = e[key]
+    if not isinstance(raw, list) or len(raw) != n:
+        raise r.fail(f"needs a list of {n} heights", zone=zone, field=key)
+    return raw
+
+
+def _height(r: InstanceReader, h: float, field: str, **where: Any) -> float:
+    """``h``, a height > 0 and <= MAX_HEIGHT_M."""
     if not 0 < h <= MAX_HEIGHT_M:
-        raise r.fail(
-            f"must be a height > 0 and <= {MAX_HEIGHT_M:g} m",
-            zone=zone,
-            row=f"wall {wall}",
-            field="wall_heights_m",
-            value=h,
-        )
+        raise r.fail(f"must be a height > 0 and <= {MAX_HEIGHT_M:g} m", **where, field=field, value=h)
     return h
+
+
+def _wall_height(r: InstanceReader, raw: Any, zone: str, wall: int) -> float:
+    """A printed wall height, checked as a table's ``wall_height_m`` (-3 or 0 is no height)."""
+    where: dict[str, Any] = dict(zone=zone, row=f"wall {wall}")
+    return _height(r, to_float(raw, field="wall_heights_m", file=r.file, **where), "wall_heights_m", **where)
 
 
 def _hole(

@@ -1,6 +1,6 @@
-"""The reader behind the JSON instance format: a file name that every error names, and the few ways a value
-is taken from a JSON object (an object with known keys, a list, a number, a whole number, a length in m or
-mm, a text, a polygon)."""
+"""The reader behind the JSON instance format: a file name that every error names, and the few ways a value is taken
+from a JSON object (an object with known keys, a list, a number, a whole number, a length in m or mm, a text, a
+polygon)."""
 
 from __future__ import annotations
 

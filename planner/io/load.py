@@ -33,14 +33,13 @@ def load_site(
 ) -> Site:
     """Read a site from a JSON instance, a table CSV, a DXF drawing or GeoJSON (by the file's extension).
 
-    ``dxf`` (a :class:`~planner.io.dxf_in.DxfOptions`) says which DXF layers hold what;
-    ``crs`` names the metric CRS a lon/lat GeoJSON is projected to; ``ifc`` (a
-    :class:`~planner.io.ifc_in.IfcOptions`) says which storeys of an IFC model to read.
+    ``dxf`` (a :class:`~planner.io.dxf_in.DxfOptions`) says which DXF layers hold what; ``crs`` names the metric CRS a
+    lon/lat GeoJSON is projected to; ``ifc`` (a :class:`~planner.io.ifc_in.IfcOptions`) says which storeys of an IFC
+    model to read.
 
-    A table CSV carries no parameters: the dissertation's defaults apply
-    (:class:`~planner.site.params.Parameters`), with S_max derived from the
-    instrument. ``tolerance`` sets the closure tolerance of a CSV's zones (a
-    JSON instance carries its own).
+    A table CSV carries no parameters: the dissertation's defaults apply (:class:`~planner.site.params.Parameters`),
+    with S_max derived from the instrument. ``tolerance`` sets the closure tolerance of a CSV's zones (a JSON instance
+    carries its own).
     """
     path_argument(path, "path")
     path = Path(path)

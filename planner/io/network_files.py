@@ -11,18 +11,13 @@ from planner.network.adjustment import ANGLE_UNITS, KINDS, LENGTH_UNITS, Obs, ad
 from planner.network.check import NetworkReport
 from planner.site.model import ControlPoint
 
-
-def _load(path: str) -> object:
-    return read_json(path)
-
-
 #: the keys of a control point entry
 CONTROL_KEYS = {"name", "x", "y", "z", "sigma_x_mm", "sigma_y_mm"}
 
 
 def read_control(path: str) -> list[ControlPoint]:
     """A JSON list of {name, x, y, z?, sigma_x_mm?, sigma_y_mm?} (sigmas 0: fixed)."""
-    data = _load(path)
+    data = read_json(path)
     if not isinstance(data, list) or not data:
         raise InputError("must be a non-empty list of control points", file=path)
     out = []
@@ -46,10 +41,10 @@ def read_control(path: str) -> list[ControlPoint]:
 
 
 def adjust_observations(report: NetworkReport, path: str) -> str:
-    """Adjust field observations ({angle_unit, length_unit, observations: [{kind, at, to, value, sigma}]})
-    on the network's design coordinates; returns a text summary with m_0, the chi-square test and the
-    largest standardised residual."""
-    data = _load(path)
+    """Adjust field observations ({angle_unit, length_unit, observations: [{kind, at, to, value, sigma}]}) on the
+    network's design coordinates; returns a text summary with m_0, the chi-square test and the largest standardised
+    residual."""
+    data = read_json(path)
     if not isinstance(data, dict) or not isinstance(data.get("observations"), list):
         raise InputError("needs an object with a list 'observations'", file=path)
     au, lu = data.get("angle_unit", "deg"), data.get("length_unit", "m")

@@ -1,9 +1,9 @@
 """A site's instrument and parameters as a record that travels inside the exports (DXF, GeoJSON).
 
-A plan exported to DXF or GeoJSON and read back as a site must plan the same: the drawing carries the
-geometry, and this record carries what the geometry does not say (the instrument, theta_max, overlap,
-sigma_req, the error budget, ...). It is the :class:`~planner.site.params.Parameters` field by field, so
-reading it back is exact; unknown keys or values of the wrong kind are refused, naming the file.
+A plan exported to DXF or GeoJSON and read back as a site must plan the same: the drawing carries the geometry, and this
+record carries what the geometry does not say (the instrument, theta_max, overlap, sigma_req, the error budget, ...). It
+is the :class:`~planner.site.params.Parameters` field by field, so reading it back is exact; unknown keys or values of
+the wrong kind are refused, naming the file.
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ class SiteRecord:
 
 
 def with_record(site: Site, record: SiteRecord | None, parameters: Parameters | None = None) -> Site:
-    """``site`` (as its drawing gave it) with the record's name, instrument and parameters; ``parameters``, when
-    the caller gives them, win over the record's. No record: ``site`` unchanged."""
+    """``site`` (as its drawing gave it) with the record's name, instrument and parameters; ``parameters``, when the
+    caller gives them, win over the record's. No record: ``site`` unchanged."""
     if record is None:
         return site
     return replace(site, name=record.name, instrument=record.instrument, parameters=parameters or record.parameters)

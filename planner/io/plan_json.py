@@ -71,9 +71,9 @@ RECORDED_PARAMETERS = {
 
 
 def recorded_differences(path: Path | str, site: Site) -> list[str]:
-    """One line per site parameter that ``path`` (a plan.json) records with another value than ``site`` has:
-    the plan was made under other limits than it is now checked against (``verify``, ``network``, ``chain``
-    check it against the site as given, which is the point when the site is the stricter requirement)."""
+    """One line per site parameter that ``path`` (a plan.json) records with another value than ``site`` has: the plan
+    was made under other limits than it is now checked against (``verify``, ``network``, ``chain`` check it against the
+    site as given, which is the point when the site is the stricter requirement)."""
     data = read_json(path)
     recorded = data.get("parameters") if isinstance(data, dict) else None
     if not isinstance(recorded, dict):
@@ -113,8 +113,8 @@ _PARAMETER_CHECKS: dict[str, tuple[Any, str]] = {
 
 
 def check_plan_meta(meta: Any, name: str) -> dict[str, Any]:
-    """The plan.json object ``planner report`` reads, its fields checked: a clear one-line error naming the
-    file and the field, instead of a crash deep in the report (the plan may have been edited by hand)."""
+    """The plan.json object ``planner report`` reads, its fields checked: a clear one-line error naming the file and the
+    field, instead of a crash deep in the report (the plan may have been edited by hand)."""
     if not isinstance(meta, dict):
         raise InputError("a plan must be a JSON object", file=name)
     for key in ("parameters", "counts", "registration"):

@@ -1,9 +1,8 @@
 """Art-gallery benchmark polygons (AGPLIB ``.pol``): one line, ``n x1 y1 ... xn yn [h n1 ... ]``.
 
-The outline (counter-clockwise, then h holes) becomes one inside zone scaled to a larger extent of
-``extent_m``, every wall ``height_m`` (docs/exchange.md). Numbers are ASCII rationals ``p/q`` or decimals,
-read with :class:`fractions.Fraction`; nothing is evaluated, and a number beyond the range of a float is
-refused.
+The outline (counter-clockwise, then h holes) becomes one inside zone scaled to a larger extent of ``extent_m``, every
+wall ``height_m`` (docs/exchange.md). Numbers are ASCII rationals ``p/q`` or decimals, read with
+:class:`fractions.Fraction`; nothing is evaluated, and a number beyond the range of a float is refused.
 """
 
 from __future__ import annotations

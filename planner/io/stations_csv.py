@@ -11,9 +11,9 @@ from planner.plan.outcome import Outcome
 def write_stations_csv(outcome: Outcome, path: Path | str, crs: str | None = None) -> Path:
     """Write ``#`` comment lines, the header row ``ID,X,Y,Z`` and one row per station (metres, 3 decimals).
 
-    X, Y are in the frame of each station's zone (the frame is named in the comments when a site
-    has more than one, or the projected CRS ``crs`` the site was read in); Z is the height of the scanner's centre above the floor, the instrument
-    height IH, since a site carries no terrain model.
+    X, Y are in the frame of each station's zone (the frame is named in the comments when a site has more than one, or
+    the projected CRS ``crs`` the site was read in); Z is the height of the scanner's centre above the floor, the
+    instrument height IH, since a site carries no terrain model.
     """
     argument(outcome, Outcome, "outcome")
     site, p = outcome.site, outcome.site.parameters

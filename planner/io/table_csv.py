@@ -4,9 +4,8 @@ Columns (exactly these, any order)::
 
     zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m
 
-Row ``index`` i gives side i and the interior angle and height of vertex i,
-the vertex at the START of side i. The reader checks form (columns, numbers,
-consecutive indices); value ranges are checked after corrections are applied.
+Row ``index`` i gives side i and the interior angle and height of vertex i, the vertex at the START of side i. The
+reader checks form (columns, numbers, consecutive indices); value ranges are checked after corrections are applied.
 """
 
 from __future__ import annotations
@@ -75,8 +74,8 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
 
 
 def _rows(reader: Any, file: str) -> Iterator[list[str]]:
-    """The rows of a ``csv.reader`` (``Any``: its type is private to ``_csv``); a row it cannot read, e.g. a
-    cell over its 131072-character limit, is an InputError naming the line (it was an internal error)."""
+    """The rows of a ``csv.reader`` (``Any``: its type is private to ``_csv``); a row it cannot read, e.g. a cell over
+    its 131072-character limit, is an InputError naming the line (it was an internal error)."""
     while True:
         try:
             row = next(reader)

@@ -18,9 +18,8 @@ SIDE_FIELDS = ("side_length_m", "wall_height_m")
 def apply_corrections(table: ZoneTable, corrections: Iterable[Correction], file: str | None) -> ZoneTable:
     """The table with each correction's value put in place of the printed one.
 
-    A correction must name an existing row and a field of the right kind, and
-    its ``printed`` value must be what the table holds: a correction is a record
-    of a change to printed data, never a blind overwrite.
+    A correction must name an existing row and a field of the right kind, and its ``printed`` value must be what the
+    table holds: a correction is a record of a change to printed data, never a blind overwrite.
     """
     rows = list(table.rows)
     for c in corrections:

@@ -3,16 +3,14 @@
     V = A X - L,  P = diag(1 / sigma^2),  N = A^T P A,  Q = N^-1,  X = Q A^T P L,
     m_0^2 = V^T P V / (n - u)
 
-Observation kinds: ``direction`` (with one orientation unknown per station
-that takes directions), ``distance``, ``x``/``y`` (a coordinate observed
-directly, e.g. a control point with sigmas) and ``dx``/``dy`` (a relative
-position, e.g. a registration link between two scanner stations). Internally
-radians and metres; :func:`adjust` converts from the caller's units.
+Observation kinds: ``direction`` (with one orientation unknown per station that takes directions), ``distance``,
+``x``/``y`` (a coordinate observed directly, e.g. a control point with sigmas) and ``dx``/``dy`` (a relative position,
+e.g. a registration link between two scanner stations). Internally radians and metres; :func:`adjust` converts from the
+caller's units.
 
-The solver is sparse (:mod:`planner.network.lsq_sparse`): A in scipy.sparse, N factored by SuperLU,
-and of Q only the entries the results need, so time and memory grow with the observations, not with
-their square. ``method="dense"`` keeps the dense solver (:mod:`planner.network.lsq_dense`) as a
-cross-check.
+The solver is sparse (:mod:`planner.network.lsq_sparse`): A in scipy.sparse, N factored by SuperLU, and of Q only the
+entries the results need, so time and memory grow with the observations, not with their square. ``method="dense"`` keeps
+the dense solver (:mod:`planner.network.lsq_dense`) as a cross-check.
 """
 
 from __future__ import annotations
@@ -99,8 +97,8 @@ class Adjustment:
 
     @cached_property
     def qxx(self) -> NDArray[np.float64]:
-        """The covariance matrix of the unknown points' coordinates (x, y of each, in the order of
-        :attr:`points`; the caller's length unit squared), formed on first use."""
+        """The covariance matrix of the unknown points' coordinates (x, y of each, in the order of :attr:`points`; the
+        caller's length unit squared), formed on first use."""
         return self.covariance()
 
     def point(self, name: str) -> PointResult:
@@ -183,13 +181,13 @@ def adjust(
 ) -> Adjustment:
     """Design (``observed=False``: covariance, redundancy numbers, no residuals) or adjustment of a network.
 
-    ``coords``: approximate (design) coordinates of every point, in ``length_unit``, in the order of the
-    unknowns; ``fixed``: the known points; ``observations``: values and sigmas in ``angle_unit`` (directions)
-    and ``length_unit`` (the rest; :data:`ANGLE_UNITS`, :data:`LENGTH_UNITS`); results come back in
-    ``length_unit``. ``observed``: adjust the observed values, iterated to convergence (at most ``max_iter``
-    times). ``method``: ``sparse`` (or ``normal``, see the module text), ``dense`` (Cholesky, the whole
-    inverse) or ``qr`` (least squares on sqrt(P) A); all give the same answer. ``sigma0``: the a priori
-    standard deviation of unit weight (the chi-square test, and the scale of a design).
+    ``coords``: approximate (design) coordinates of every point, in ``length_unit``, in the order of the unknowns;
+    ``fixed``: the known points; ``observations``: values and sigmas in ``angle_unit`` (directions) and ``length_unit``
+    (the rest; :data:`ANGLE_UNITS`, :data:`LENGTH_UNITS`); results come back in ``length_unit``. ``observed``: adjust
+    the observed values, iterated to convergence (at most ``max_iter`` times). ``method``: ``sparse`` (or ``normal``,
+    see the module text), ``dense`` (Cholesky, the whole inverse) or ``qr`` (least squares on sqrt(P) A); all give the
+    same answer. ``sigma0``: the a priori standard deviation of unit weight (the chi-square test, and the scale of a
+    design).
 
     Raises
     ------
@@ -234,9 +232,9 @@ def _iterate(
     method: str,
     max_iter: int,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None, Normal | None]:
-    """Gauss-Newton iterations of the adjustment (``max_iter`` 0: the design only, one linearisation, no
-    observed values); moves ``xy`` (metres) in place. Returns the last corrections, the reduced observations,
-    and the dense design matrix (dense methods) or the normal equations (sparse)."""
+    """Gauss-Newton iterations of the adjustment (``max_iter`` 0: the design only, one linearisation, no observed
+    values); moves ``xy`` (metres) in place. Returns the last corrections, the reduced observations, and the dense
+    design matrix (dense methods) or the normal equations (sparse)."""
     observed = max_iter > 0
     values = np.array([o.value for o in obs])
     is_dir = np.array([o.kind == "direction" for o in obs], dtype=bool)

@@ -1,11 +1,11 @@
 """Registration-chain accuracy (seed 003): scans registered one to the next, held by ties to control.
 
-- a registration link between scans is a relative position with sigma m_reg = 6.8e-5 R + 0.0081 m (R: the
-  stations' distance; the overlap rule decides only WHETHER two scans link);
-- a tie: a station that scans k targets set on control points takes the control datum with
-  m_t = sqrt(sum m_c,scan_i^2) / k (formula 6), each target's error joining the target centre's error from the
-  control survey, m_c (formula 3, :func:`target_centre_sigma_m`), and the scanner's error in finding it,
-  m_scan (formula 4, :func:`target_scan_sigma_m`).
+- a registration link between scans is a relative position with sigma m_reg = 6.8e-5 R + 0.0081 m (R: the stations'
+  distance; the overlap rule decides only WHETHER two scans link);
+- a tie: a station that scans k targets set on control points takes the control datum with m_t = sqrt(sum m_c,scan_i^2)
+  / k (formula 6), each target's error joining the target centre's error from the control survey, m_c (formula 3,
+  :func:`target_centre_sigma_m`), and the scanner's error in finding it, m_scan (formula 4,
+  :func:`target_scan_sigma_m`).
 
 Each station's a priori error follows from one least-squares adjustment of the links and ties
 (:func:`planner.network.adjustment.adjust`); it grows with the links to the nearest tie.
@@ -63,8 +63,8 @@ def tie_sigma_m(target_ranges_m: Sequence[float], resolution_deg: float, centre_
 
 @dataclass(frozen=True)
 class ChainReport:
-    """A priori error of each station and its distance in links from control; the weakest chain;
-    the station where one more tie (a control point it scans) lowers the worst error most."""
+    """A priori error of each station and its distance in links from control; the weakest chain; the station where one
+    more tie (a control point it scans) lowers the worst error most."""
 
     sigma_m: dict[str, float]
     links_from_control: dict[str, int]
@@ -139,8 +139,8 @@ def chain_accuracy(
     ties: Mapping[str, float],
     extra_tie_sigma_m: float | None = None,
 ) -> ChainReport:
-    """Station errors of a registration network held by ``ties`` (station -> m_t), and where one more
-    tie of sigma ``extra_tie_sigma_m`` (default: the smallest given) helps most."""
+    """Station errors of a registration network held by ``ties`` (station -> m_t), and where one more tie of sigma
+    ``extra_tie_sigma_m`` (default: the smallest given) helps most."""
     sigma = _sigmas(xy, links, ties)
     g = nx.Graph()
     g.add_nodes_from(xy)
@@ -170,15 +170,15 @@ def control_count(chain_length_m: float) -> int:
 
 
 def place_ties(
-    xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]], tie_sigma: float, count: int
+    xy: Mapping[str, tuple[float, float]], links: Sequence[tuple[str, str]], sigma_m: float, count: int
 ) -> dict[str, float]:
-    """Choose ``count`` stations of a connected part to tie to control, one at a time where the worst error
-    is (the first: the station nearest the part's centre), so ties spread along the chains."""
+    """Choose ``count`` stations of a connected part to tie to control, one at a time where the worst error is (the
+    first: the station nearest the part's centre), so ties spread along the chains."""
     names = sorted(xy)
     cx = sum(p[0] for p in xy.values()) / len(xy)
     cy = sum(p[1] for p in xy.values()) / len(xy)
-    ties = {min(names, key=lambda s: math.dist(xy[s], (cx, cy))): tie_sigma}
+    ties = {min(names, key=lambda s: math.dist(xy[s], (cx, cy))): sigma_m}
     while len(ties) < min(count, len(names)):
         sigma = _sigmas(xy, links, ties)
-        ties[max((s for s in sigma if s not in ties), key=lambda s: sigma[s])] = tie_sigma
+        ties[max((s for s in sigma if s not in ties), key=lambda s: sigma[s])] = sigma_m
     return ties

@@ -1,10 +1,10 @@
-"""The station network (networkx) of the earlier design, kept behind ``--ts-everywhere``: a total station on
-every scanner station. The default network (:mod:`planner.network.traverse`) observes with the total station
-only the legs of a control traverse; the control proposal and the sight test here serve both.
+"""The station network (networkx) of the earlier design, kept behind ``--ts-everywhere``: a total station on every
+scanner station. The default network (:mod:`planner.network.traverse`) observes with the total station only the legs of
+a control traverse; the control proposal and the sight test here serve both.
 
-One network per frame. Edges carry ``length_m`` and ``kinds``, a set of: ``sight`` (two nodes intervisible and
-within the total station's range), ``delaunay`` (an edge of the Delaunay triangulation of the frame's nodes,
-kept where intervisible: the dissertation's figs 4.9-4.10) and ``registration`` (two related stations).
+One network per frame. Edges carry ``length_m`` and ``kinds``, a set of: ``sight`` (two nodes intervisible and within
+the total station's range), ``delaunay`` (an edge of the Delaunay triangulation of the frame's nodes, kept where
+intervisible: the dissertation's figs 4.9-4.10) and ``registration`` (two related stations).
 """
 
 from __future__ import annotations
@@ -53,9 +53,9 @@ class Diagnostics:
 
 
 def spots_around(site: Site, stations: Sequence[Candidate]) -> list[list[tuple[float, float]]]:
-    """The control spots of each station: ``CONTROL_OFFSETS_M`` from it in 8 directions (nearest radius
-    first), where a station of its zone-side could stand and which it sees. Whether one could stand there
-    is what :func:`planner.candidates.final_step.misplacement` says, in one classification of all spots."""
+    """The control spots of each station: ``CONTROL_OFFSETS_M`` from it in 8 directions (nearest radius first), where a
+    station of its zone-side could stand and which it sees. Whether one could stand there is what
+    :func:`planner.candidates.final_step.misplacement` says, in one classification of all spots."""
     rings = [
         [
             (s.x + radius * math.cos(a * math.pi / 4), s.y + radius * math.sin(a * math.pi / 4))
@@ -86,10 +86,10 @@ def spots_around(site: Site, stations: Sequence[Candidate]) -> list[list[tuple[f
 def widest_triangle(
     spots: Sequence[tuple[float, float]],
 ) -> tuple[tuple[tuple[float, float], ...] | None, tuple[bool, float]]:
-    """Of all triples of ``spots`` (in the order of ``itertools.combinations``), the first one of largest
-    area whose spots are all more than ``MIN_CONTROL_SPACING_M`` apart, else the first one of largest
-    smallest spacing; collinear triples (twice the area below 1e-6) never. Returns it (None: no triple)
-    and its key (spread apart, area or spacing)."""
+    """Of all triples of ``spots`` (in the order of ``itertools.combinations``), the first one of largest area whose
+    spots are all more than ``MIN_CONTROL_SPACING_M`` apart, else the first one of largest smallest spacing; collinear
+    triples (twice the area below 1e-6) never. Returns it (None: no triple) and its key (spread apart, area or
+    spacing)."""
     m = len(spots)
     if m < 3:
         return None, (False, 0.0)
@@ -123,11 +123,11 @@ def _triples(m: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.i
 def propose_control(
     site: Site, stations: Sequence[Candidate], graph: nx.Graph, notes: list[str] | None = None
 ) -> list[ControlPoint]:
-    """Three control points per connected part of the station graph: spots 6, 4 or 3 m from its
-    stations (8 directions) where a station of that zone could stand and which see that station; of these
-    the three spanning the largest triangle, each pair more than 5 m apart. Marked as proposed.
-    A spot closer than the site's stand-off (``min_standoff_m``) to a wall or obstacle is no spot:
-    :func:`planner.candidates.final_step.misplacement` refuses it, as it refuses a station there."""
+    """Three control points per connected part of the station graph: spots 6, 4 or 3 m from its stations (8 directions)
+    where a station of that zone could stand and which see that station; of these the three spanning the largest
+    triangle, each pair more than 5 m apart. Marked as proposed. A spot closer than the site's stand-off
+    (``min_standoff_m``) to a wall or obstacle is no spot: :func:`planner.candidates.final_step.misplacement` refuses
+    it, as it refuses a station there."""
     out: list[ControlPoint] = []
     by_id = {s.id: s for s in stations}
     around = dict(zip(by_id, spots_around(site, list(by_id.values()))))
@@ -154,8 +154,7 @@ def station_network(
 ) -> nx.Graph:
     """The network of the plan's stations and the control points (see the module docstring).
 
-    A site's own control points live in the site frame; proposed ones in the
-    frame of the stations they serve.
+    A site's own control points live in the site frame; proposed ones in the frame of the stations they serve.
     """
     g = point_graph(stations, control)
     frames: dict[str, list[str]] = {}
@@ -204,9 +203,9 @@ def add_link(g: nx.Graph, u: str, v: str, kind: str, length_m: float | None = No
 
 
 def diagnostics(g: nx.Graph) -> Diagnostics:
-    """Connected parts, stations with no path to a control point, each station's path to its nearest
-    control point (fewest edges; of equally near ones the first control point of the graph, and the path
-    ``nx.shortest_path`` gives), and articulation points (nodes whose loss splits the network)."""
+    """Connected parts, stations with no path to a control point, each station's path to its nearest control point
+    (fewest edges; of equally near ones the first control point of the graph, and the path ``nx.shortest_path`` gives),
+    and articulation points (nodes whose loss splits the network)."""
     order = list(g)
     index = {n: k for k, n in enumerate(order)}
     control = np.array([index[n] for n, d in g.nodes(data=True) if d["kind"] == "control"], dtype=np.int64)

@@ -1,12 +1,11 @@
 """Heights of the stations by trigonometric levelling: the 1-D part of a 2-D + 1-D adjustment.
 
-A total station measuring slant distance S and zenith angle z to a point gives
-the height difference dh = S cos z, with
+A total station measuring slant distance S and zenith angle z to a point gives the height difference dh = S cos z, with
 
     sigma_dh^2 = (cos z * sigma_S)^2 + (S sin z * sigma_z)^2
 
-(sigma_z in radians; for a level sight, sigma_dh ~ S sigma_z). Control points
-with a height are fixed; the adjustment is linear: dh_ij = H_j - H_i.
+(sigma_z in radians; for a level sight, sigma_dh ~ S sigma_z). Control points with a height are fixed; the adjustment is
+linear: dh_ij = H_j - H_i.
 """
 
 from __future__ import annotations
@@ -45,8 +44,8 @@ class HeightResult:
 def adjust_heights(
     approx: Mapping[str, float], fixed: Mapping[str, float], observations: Sequence[HeightObs], observed: bool = False
 ) -> HeightResult:
-    """Least-squares heights (and their sigmas) of the points not in ``fixed``; sparse, as the plan adjustment,
-    with only the diagonal of Q = N^-1 formed. InputError where some point reaches no point of known height."""
+    """Least-squares heights (and their sigmas) of the points not in ``fixed``; sparse, as the plan adjustment, with
+    only the diagonal of Q = N^-1 formed. InputError where some point reaches no point of known height."""
     unknown = [n for n in approx if n not in fixed]
     col = {n: k for k, n in enumerate(unknown)}
     rows: list[int] = []

@@ -1,6 +1,6 @@
-"""The dense least squares of :mod:`planner.network.adjustment` (``method="dense"`` or ``"qr"``): a dense
-design matrix and the normal matrix inverted whole. Memory and time grow with observations x unknowns^2; kept
-as an independent cross-check of the sparse solver (:mod:`planner.network.lsq_sparse`) on small networks.
+"""The dense least squares of :mod:`planner.network.adjustment` (``method="dense"`` or ``"qr"``): a dense design matrix
+and the normal matrix inverted whole. Memory and time grow with observations x unknowns^2; kept as an independent
+cross-check of the sparse solver (:mod:`planner.network.lsq_sparse`) on small networks.
 """
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ from planner.core.errors import InputError
 def design(
     coords: Mapping[str, tuple[float, float]], unknown: Sequence[str], obs: Sequence[Any]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], list[str]]:
-    """The dense design matrix A (observations x unknowns, ``unknown`` in the order of their columns), the
-    observations computed at ``coords`` (metres; orientations 0) and the stations with an orientation unknown, in
-    the order of their columns; ``obs`` in radians and metres."""
+    """The dense design matrix A (observations x unknowns, ``unknown`` in the order of their columns), the observations
+    computed at ``coords`` (metres; orientations 0) and the stations with an orientation unknown, in the order of their
+    columns; ``obs`` in radians and metres."""
     orient = sorted({o.at for o in obs if o.kind == "direction"})
     col = {name: 2 * k for k, name in enumerate(unknown)}
     ocol = {s: 2 * len(unknown) + k for k, s in enumerate(orient)}
@@ -64,8 +64,8 @@ def design(
 
 
 def solve(a: NDArray[np.float64], w: NDArray[np.float64], l: NDArray[np.float64], method: str) -> NDArray[np.float64]:
-    """The corrections X = N^-1 A^T P l (``method`` ``qr``: least squares on sqrt(P) A instead); InputError on a
-    datum defect (N of less than full rank)."""
+    """The corrections X = N^-1 A^T P l (``method`` ``qr``: least squares on sqrt(P) A instead); InputError on a datum
+    defect (N of less than full rank)."""
     n = a.T @ (a * w[:, None])
     if np.linalg.matrix_rank(n) < n.shape[0]:
         raise InputError(

@@ -1,17 +1,16 @@
-"""Sparse least squares for :mod:`planner.network.adjustment`: the design matrix, and of Q = N^-1 the
-entries the results need.
+"""Sparse least squares for :mod:`planner.network.adjustment`: the design matrix, and of Q = N^-1 the entries the
+results need.
 
-Every observation touches at most five unknowns (two points and a station's orientation), so the
-design matrix A (scipy.sparse, CSR) holds at most five entries a row, and the normal equations
-(:class:`planner.network.normal.Normal`) are sparse. The adjustment needs of Q only
+Every observation touches at most five unknowns (two points and a station's orientation), so the design matrix A
+(scipy.sparse, CSR) holds at most five entries a row, and the normal equations (:class:`planner.network.normal.Normal`)
+are sparse. The adjustment needs of Q only
 
-- the entries on the pattern of N: the redundancy numbers are r_i = 1 - p_i a_i Q a_i^T, and
-  a_i Q a_i^T sums Q over the pairs of unknowns of observation i, which are the pattern of N;
+- the entries on the pattern of N: the redundancy numbers are r_i = 1 - p_i a_i Q a_i^T, and a_i Q a_i^T sums Q over the
+  pairs of unknowns of observation i, which are the pattern of N;
 - the 2 x 2 block of every point (its error ellipse);
 
-so only those are formed: time and memory grow with the observations, not with their square.
-The full coordinate covariance is formed only when asked for
-(:attr:`planner.network.adjustment.Adjustment.qxx`).
+so only those are formed: time and memory grow with the observations, not with their square. The full coordinate
+covariance is formed only when asked for (:attr:`planner.network.adjustment.Adjustment.qxx`).
 """
 
 from __future__ import annotations
@@ -34,10 +33,10 @@ CODES = {"x": X, "y": Y, "dx": DX, "dy": DY, "distance": DISTANCE, "direction": 
 class Design:
     """The observations of a network as index arrays, and their Jacobian at given coordinates.
 
-    ``names``: the points, in the order of the rows of the coordinate arrays; ``unknown``: the points to be
-    found, in the order of their columns (x, y each); ``observations``: :class:`planner.network.adjustment.Obs`.
-    ``orient``: the stations that take directions (one orientation unknown each, after the points' columns);
-    ``n_unknowns``: the columns of A.
+    ``names``: the points, in the order of the rows of the coordinate arrays; ``unknown``: the points to be found, in
+    the order of their columns (x, y each); ``observations``: :class:`planner.network.adjustment.Obs`. ``orient``: the
+    stations that take directions (one orientation unknown each, after the points' columns); ``n_unknowns``: the columns
+    of A.
     """
 
     def __init__(self, names: Sequence[str], unknown: Sequence[str], observations: Sequence[Any]) -> None:
@@ -54,8 +53,8 @@ class Design:
         self.n_unknowns = 2 * len(unknown) + len(self.orient)
 
     def jacobian(self, xy: NDArray[np.float64]) -> tuple[sp.csr_matrix, NDArray[np.float64]]:
-        """A (sparse, sorted indices) and the computed values f(X0) at the points ``xy`` (n x 2, metres);
-        InputError on a distance or direction between coincident points."""
+        """A (sparse, sorted indices) and the computed values f(X0) at the points ``xy`` (n x 2, metres); InputError on
+        a distance or direction between coincident points."""
         k, at, to = self.kind, self.at, self.to
         n = len(k)
         rel = to >= 0
@@ -110,8 +109,8 @@ class Design:
 
 
 def selected_inverse(normal: Normal, n_points: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """diag(A Q A^T) per observation and the 2 x 2 blocks of Q per unknown point (``n_points`` x 2 x 2),
-    from the entries of Q on the pattern of N (and of the points' blocks) only."""
+    """diag(A Q A^T) per observation and the 2 x 2 blocks of Q per unknown point (``n_points`` x 2 x 2), from the
+    entries of Q on the pattern of N (and of the points' blocks) only."""
     a = normal.a
     u, k = a.shape[1], normal.k
     ones = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape)

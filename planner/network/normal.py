@@ -1,17 +1,16 @@
-"""The normal equations N = A^T P A of a network adjustment: factored once, solved, and of Q = N^-1 the
-entries the results need (:mod:`planner.network.lsq_sparse`).
+"""The normal equations N = A^T P A of a network adjustment: factored once, solved, and of Q = N^-1 the entries the
+results need (:mod:`planner.network.lsq_sparse`).
 
-The orientation unknowns (one per station that takes directions) are eliminated first: each
-direction observation holds one of them, so their block of N is diagonal, and the reduced matrix
-of the points' coordinates is N* = N_pp - N_po N_oo^-1 N_op (the reduced normal equations of
-geodesy). N* is scaled to a unit diagonal (S N* S, S = diag(N*)^-1/2) and factored:
+The orientation unknowns (one per station that takes directions) are eliminated first: each direction observation holds
+one of them, so their block of N is diagonal, and the reduced matrix of the points' coordinates is N* = N_pp - N_po
+N_oo^-1 N_op (the reduced normal equations of geodesy). N* is scaled to a unit diagonal (S N* S, S = diag(N*)^-1/2) and
+factored:
 
-- by LAPACK's Cholesky on a dense N* where that is no larger than ``DENSE_MAX`` unknowns and not
-  sparse (most of it filled, or small): Q_pp = N*^-1 whole, and of the orientations' rows only
-  Q_op = -N_oo^-1 N_op Q_pp and the diagonal of Q_oo;
-- else by SuperLU (the diagonal as pivots: a Cholesky factorisation in LU form) on the sparse N*,
-  and Q_pp only on the pattern the results need, a block of columns at a time (memory
-  O(entries + unknowns x block)).
+- by LAPACK's Cholesky on a dense N* where that is no larger than ``DENSE_MAX`` unknowns and not sparse (most of it
+  filled, or small): Q_pp = N*^-1 whole, and of the orientations' rows only Q_op = -N_oo^-1 N_op Q_pp and the diagonal
+  of Q_oo;
+- else by SuperLU (the diagonal as pivots: a Cholesky factorisation in LU form) on the sparse N*, and Q_pp only on the
+  pattern the results need, a block of columns at a time (memory O(entries + unknowns x block)).
 
 Either way a pivot of S N* S below ``PIVOT_TOL`` is a datum defect.
 """
@@ -43,9 +42,8 @@ Lookup = Callable[[NDArray[np.int64], NDArray[np.int64]], NDArray[np.float64]]
 
 
 def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
-    """The datum-defect error, with how many unknowns are undetermined: the rank of N as the dense solver
-    counted it (small networks), else the small pivots (of a factorisation of N + 1e-13 I on the unit
-    diagonal where none came)."""
+    """The datum-defect error, with how many unknowns are undetermined: the rank of N as the dense solver counted it
+    (small networks), else the small pivots (of a factorisation of N + 1e-13 I on the unit diagonal where none came)."""
     u = n.shape[0]
     if u <= DENSE_RANK_MAX:
         count = int(u - np.linalg.matrix_rank(n.toarray()))
@@ -68,9 +66,9 @@ def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
 
 
 class Normal:
-    """N = A^T P A of a design matrix ``a`` (its last ``n_orient`` columns orientation unknowns, each
-    observation holding at most one) and weights ``w`` = 1 / sigma^2, reduced and factored (see the module
-    text). Raises InputError on a datum defect: some unknown not determined by the observations.
+    """N = A^T P A of a design matrix ``a`` (its last ``n_orient`` columns orientation unknowns, each observation
+    holding at most one) and weights ``w`` = 1 / sigma^2, reduced and factored (see the module text). Raises InputError
+    on a datum defect: some unknown not determined by the observations.
     """
 
     def __init__(self, a: sp.csr_matrix, w: NDArray[np.float64], n_orient: int = 0) -> None:
@@ -141,8 +139,8 @@ class Normal:
         return self.qpp
 
     def inverse(self, pattern: sp.csc_matrix) -> Lookup:
-        """Q = N^-1 at given (row, column) index pairs, all of them on ``pattern`` (CSC, sorted indices,
-        symmetric, holding every 2 x 2 block of a point's pair of columns and no two orientations)."""
+        """Q = N^-1 at given (row, column) index pairs, all of them on ``pattern`` (CSC, sorted indices, symmetric,
+        holding every 2 x 2 block of a point's pair of columns and no two orientations)."""
         k, u = self.k, pattern.shape[0]
         if self.chol is not None or not k:
             qpp = self._pp_inverse() if k else np.zeros((0, 0))

@@ -1,11 +1,9 @@
 """The accuracy check of every covered wall piece, from its stations' adjusted position errors.
 
-For every target the plan covers, e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 +
-sigma_meas(S, theta)^2) (2.13, with the site's incidence model, see
-:func:`planner.instrument.accuracy.view_error_m`) with sigma_0 the station's adjusted
-position error; in single precision the best station seeing it, in combined
-precision all of them (1/e^2 = sum 1/e_j^2), must stay within sigma_req (or the
-drawing scale's tolerance, table 1.1).
+For every target the plan covers, e = sqrt(sigma_0^2 + sigma_c^2 + sigma_g^2 + sigma_meas(S, theta)^2) (2.13, with the
+site's incidence model, see :func:`planner.instrument.accuracy.view_error_m`) with sigma_0 the station's adjusted
+position error; in single precision the best station seeing it, in combined precision all of them (1/e^2 = sum 1/e_j^2),
+must stay within sigma_req (or the drawing scale's tolerance, table 1.1).
 """
 
 from __future__ import annotations
@@ -31,8 +29,8 @@ def accuracy_check(
     scanner: Any,
     combined: bool = False,
 ) -> dict[str, Any]:
-    """Point error of every covered piece from its best station (or all its stations combined), against
-    sigma_req (see module docstring)."""
+    """Point error of every covered piece from its best station (or all its stations combined), against sigma_req (see
+    module docstring)."""
     p = site.parameters
     t = problem.targets
     e_best, who, theta = _best_errors(site, stations, problem, sigma, scanner, combined)
@@ -74,8 +72,8 @@ def accuracy_check(
 def _best_errors(
     site: Site, stations: Sequence[Candidate], problem: Any, sigma: dict[str, float], scanner: Any, combined: bool
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
-    """Per target: its point error e (m; inf where no station sees it), the station that sees it best (-1:
-    none) and that view's incidence angle (deg)."""
+    """Per target: its point error e (m; inf where no station sees it), the station that sees it best (-1: none) and
+    that view's incidence angle (deg)."""
     p = site.parameters
     b = p.budget
     bt = problem.slant_m.T.tocsr()

@@ -1,9 +1,8 @@
 """The proposed control traverse on a large site, fast: rooms of points, legs, needed ring points, spots.
 
-Each function gives what the pairwise loops of :mod:`planner.network.traverse` gave (the same legs,
-in the same order; the same ring points; the same spot), with the work done in arrays: the room
-of each point once, every pair's checks at once, the sight lines by
-:func:`planner.network.sight.sight_clear`, the shortest leg paths by scipy's Dijkstra.
+Each function gives what the pairwise loops of :mod:`planner.network.traverse` gave (the same legs, in the same order;
+the same ring points; the same spot), with the work done in arrays: the room of each point once, every pair's checks at
+once, the sight lines by :func:`planner.network.sight.sight_clear`, the shortest leg paths by scipy's Dijkstra.
 """
 
 from __future__ import annotations
@@ -25,8 +24,8 @@ from planner.site.model import ControlPoint, ScanSide, Site
 
 
 def spaces(site: Site, points: Sequence[ControlPoint]) -> list[str]:
-    """The room each point stands in (``in:<zone>``: the first zone of its frame scanned inside that
-    holds it), or the ground outside the rooms of its frame (``out:<frame>``)."""
+    """The room each point stands in (``in:<zone>``: the first zone of its frame scanned inside that holds it), or the
+    ground outside the rooms of its frame (``out:<frame>``)."""
     out: list[str | None] = [None] * len(points)
     if not points:
         return []
@@ -53,8 +52,8 @@ def _within(xy: NDArray[np.float64], i: int, j: NDArray[np.int64], limit: float)
 
 
 def legs(site: Site, nodes: Sequence[ControlPoint], ts_range_m: float) -> list[tuple[str, str]]:
-    """Every pair of ``nodes`` (in the order of ``itertools.combinations``) of one frame and one room
-    (a door's ``TP.`` point joins both), within ``ts_range_m`` and intervisible."""
+    """Every pair of ``nodes`` (in the order of ``itertools.combinations``) of one frame and one room (a door's ``TP.``
+    point joins both), within ``ts_range_m`` and intervisible."""
     n = len(nodes)
     xy = np.array([(c.x, c.y) for c in nodes], dtype=float).reshape(-1, 2)
     frame = np.array([c.frame for c in nodes], dtype=object)
@@ -80,9 +79,9 @@ def legs(site: Site, nodes: Sequence[ControlPoint], ts_range_m: float) -> list[t
 def needed(
     ring: Sequence[ControlPoint], nodes: Sequence[ControlPoint], leg_list: Sequence[tuple[str, str]]
 ) -> set[str]:
-    """The ring points on the shortest leg paths between the other points, as networkx's
-    ``single_source_dijkstra_path`` from each of them finds the paths (its choice among paths of equal
-    length: a node's predecessor is the one settled first that reaches it at its distance)."""
+    """The ring points on the shortest leg paths between the other points, as networkx's ``single_source_dijkstra_path``
+    from each of them finds the paths (its choice among paths of equal length: a node's predecessor is the one settled
+    first that reaches it at its distance)."""
     names = {r.name for r in ring}
     pos = {n.name: (n.x, n.y) for n in nodes}
     g = nx.Graph()
@@ -117,8 +116,8 @@ def needed(
 def _predecessors(
     d: NDArray[np.float64], eu: NDArray[np.int64], ev: NDArray[np.int64], ew: NDArray[np.float64], src: int
 ) -> NDArray[np.int64] | None:
-    """Each node's predecessor on the Dijkstra tree from ``src`` (-1: the source, or not reached); None
-    where two predecessors reach a node at equal distances (then the order they were settled in decides)."""
+    """Each node's predecessor on the Dijkstra tree from ``src`` (-1: the source, or not reached); None where two
+    predecessors reach a node at equal distances (then the order they were settled in decides)."""
     reach = np.isfinite(d[eu]) & (d[eu] + ew == d[ev]) & (ev != src)
     u, v = eu[reach], ev[reach]
     o = np.lexsort((d[u], v))
@@ -148,8 +147,8 @@ def _needed_networkx(
 
 
 def best_spot(site: Site, st: Candidate, points: Sequence[ControlPoint]) -> tuple[float, float] | None:
-    """A control spot 1.5-6 m from station ``st`` that it sees, seeing as many of ``points`` (control points,
-    doors) as it can (the first such, nearest radius first); None when no spot fits."""
+    """A control spot 1.5-6 m from station ``st`` that it sees, seeing as many of ``points`` (control points, doors) as
+    it can (the first such, nearest radius first); None when no spot fits."""
     spots = spots_around(site, [st])[0]
     if not spots:
         return None

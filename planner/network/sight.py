@@ -1,14 +1,13 @@
 """Many sight lines at once: for each pair p-q, the answer of :func:`planner.network.graph.intervisible`.
 
 1. a segment that crosses or touches an edge (GEOS, exact, against all edges at once, prepared) is blocked:
-   :func:`planner.coverage.visibility.segments_touch` says so too, its tolerance (``EPS_SIGHT_M``) only adding
-   touches;
-2. any other segment is tested with ``segments_touch`` itself, against only the edges that could touch it:
-   those within ``MARGIN`` of it, and those whose LINE passes within the tolerance of an end of the segment
-   (its side rule counts such an end as on the line).
+   :func:`planner.coverage.visibility.segments_touch` says so too, its tolerance (``EPS_SIGHT_M``) only adding touches;
+2. any other segment is tested with ``segments_touch`` itself, against only the edges that could touch it: those within
+   ``MARGIN_M`` of it, and those whose LINE passes within the tolerance of an end of the segment (its side rule counts
+   such an end as on the line).
 
-Any other edge gives no touch: the segment's ends lie strictly on one side of its line, or it crosses the
-segment (step 1) or comes within the tolerance of it.
+Any other edge gives no touch: the segment's ends lie strictly on one side of its line, or it crosses the segment (step
+1) or comes within the tolerance of it.
 """
 
 from __future__ import annotations
@@ -25,7 +24,7 @@ from planner.coverage.visibility import EPS_SIGHT_M, _side, _signed, segments_to
 from planner.site.model import Site
 
 #: an edge this close to a segment is tested (the test's tolerance, with room for rounding)
-MARGIN = 2 * EPS_SIGHT_M + 1e-6
+MARGIN_M = 2 * EPS_SIGHT_M + 1e-6
 #: entries of the (points x edges) table of distances to the edges' lines formed at a time
 CHUNK = 4_000_000
 #: pairs tested at a time
@@ -37,8 +36,8 @@ _TREES: dict[int, tuple[Any, shapely.STRtree, Any]] = {}
 
 
 def blockers(site: Site, frame: str) -> Any:
-    """The walls and obstacle edges of a frame (:func:`planner.coverage.matrix.blockers_for`), built once
-    per site and frame (a site is immutable)."""
+    """The walls and obstacle edges of a frame (:func:`planner.coverage.matrix.blockers_for`), built once per site and
+    frame (a site is immutable)."""
     hit = _BLOCKERS.get((id(site), frame))
     if hit is None or hit[0] is not site:
         if len(_BLOCKERS) > 32:
@@ -77,8 +76,8 @@ def _near_lines(pts: NDArray[np.float64], b: Any) -> sp.csr_matrix:
 
 
 def sight_clear(site: Site, frame: str, p: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """``intervisible(site, frame, p[k], q[k])`` for every row k of the segments' ends ``p``, ``q`` (m x 2): True
-    when no wall or obstacle edge of ``frame`` touches the segment."""
+    """``intervisible(site, frame, p[k], q[k])`` for every row k of the segments' ends ``p``, ``q`` (m x 2): True when
+    no wall or obstacle edge of ``frame`` touches the segment."""
     p = np.asarray(p, dtype=float).reshape(-1, 2)
     q = np.asarray(q, dtype=float).reshape(-1, 2)
     m = len(p)
@@ -94,8 +93,8 @@ def sight_clear(site: Site, frame: str, p: NDArray[np.float64], q: NDArray[np.fl
         crossed = shapely.intersects(every, lines)
         clear[k0:k1] = ~crossed
         rest = k0 + np.flatnonzero(~crossed)
-        close = rest[shapely.dwithin(every, lines[rest - k0], MARGIN)]
-        seg, edge = tree.query(lines[close - k0], predicate="dwithin", distance=MARGIN)
+        close = rest[shapely.dwithin(every, lines[rest - k0], MARGIN_M)]
+        seg, edge = tree.query(lines[close - k0], predicate="dwithin", distance=MARGIN_M)
         pts, inv = np.unique(np.vstack([p[rest], q[rest]]), axis=0, return_inverse=True)
         inv = inv.ravel()
         near = _near_lines(pts, b)

@@ -1,7 +1,7 @@
-"""The network check as text for the terminal (:meth:`planner.network.check.NetworkReport.summary`): the
-network's size and ties, the a priori station error, the notes (alike ones folded into one line with a count,
-:func:`planner.core.text.fold_alike`), Monte Carlo, the accuracy check per zone-side as an aligned table in the
-site's order, and the network as a scanner survey."""
+"""The network check as text for the terminal (:meth:`planner.network.check.NetworkReport.summary`): the network's size
+and ties, the a priori station error, the notes (alike ones folded into one line with a count,
+:func:`planner.core.text.fold_alike`), Monte Carlo, the accuracy check per zone-side as an aligned table in the site's
+order, and the network as a scanner survey."""
 
 from __future__ import annotations
 
@@ -17,8 +17,8 @@ if TYPE_CHECKING:
 
 
 def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
-    """``report`` in lines a person reads, one fact a line; ``accuracy``: include the accuracy check's verdict and
-    its table per zone-side (the report shows them as its own table, and leaves them out here)."""
+    """``report`` in lines a person reads, one fact a line; ``accuracy``: include the accuracy check's verdict and its
+    table per zone-side (the report shows them as its own table, and leaves them out here)."""
     worst = max(report.station_sigma.items(), key=lambda kv: kv[1], default=("-", float("nan")))
     c = report.check
     lines = [

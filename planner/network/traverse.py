@@ -1,15 +1,15 @@
 """The control traverse of a site, and the network of a plan as surveyed: links, ties, traverse legs.
 
-A surveyor ties every scan to one control network measured by traditional methods (seed 003), so the network
-of a plan holds three kinds of measurement (docs/network.md), total-station observations only on the
-traverse: ``registration`` (two related stations, a relative position), ``tie`` (a station within
-``TIE_RANGE_M`` of a control point it sees scans targets set there: a relative position of sigma m_t) and
-``traverse`` (a leg observed with the total station from both ends, direction and distance).
+A surveyor ties every scan to one control network measured by traditional methods (seed 003), so the network of a plan
+holds three kinds of measurement (docs/network.md), total-station observations only on the traverse: ``registration``
+(two related stations, a relative position), ``tie`` (a station within ``TIE_RANGE_M`` of a control point it sees scans
+targets set there: a relative position of sigma m_t) and ``traverse`` (a leg observed with the total station from both
+ends, direction and distance).
 
-The traverse is the user's (:func:`read_traverse`) or proposed (:func:`propose_traverse`): the control points,
-a point in every door or gate, points round the outline (``RP.``) where the shortest leg paths need them, and
-legs between points of one room (or of the ground outside) that see each other within range. A leg never
-passes through a wall: areas that no opening joins stay separate networks.
+The traverse is the user's (:func:`read_traverse`) or proposed (:func:`propose_traverse`): the control points, a point
+in every door or gate, points round the outline (``RP.``) where the shortest leg paths need them, and legs between
+points of one room (or of the ground outside) that see each other within range. A leg never passes through a wall: areas
+that no opening joins stay separate networks.
 """
 
 from __future__ import annotations
@@ -58,8 +58,8 @@ NO_TRAVERSE = ControlTraverse((), (), False, "none: no total-station observation
 
 
 def read_traverse(path: str | Path) -> ControlTraverse:
-    """A planned traverse: JSON ``{"points": [{name, x, y}], "legs": [[from, to], ...]}`` in the site frame;
-    legs name these points or control points."""
+    """A planned traverse: JSON ``{"points": [{name, x, y}], "legs": [[from, to], ...]}`` in the site frame; legs name
+    these points or control points."""
     if str(path) == "none":
         return NO_TRAVERSE
     data = read_json(path)
@@ -145,8 +145,8 @@ RING_OFFSET_M = 3.0
 
 
 def _ring_points(site: Site) -> list[ControlPoint]:
-    """Candidate traverse points outside each outline (a zone scanned outside), ``RING_OFFSET_M`` out from
-    every corner on its bisector, where no zone is: a traverse round the building joins the ground outside."""
+    """Candidate traverse points outside each outline (a zone scanned outside), ``RING_OFFSET_M`` out from every corner
+    on its bisector, where no zone is: a traverse round the building joins the ground outside."""
     out = []
     grown = [o.polygon.buffer(1.0) for o in site.zones]  # each zone and 1 m round it
     for z in site.zones:
@@ -172,10 +172,10 @@ def _ring_points(site: Site) -> list[ControlPoint]:
 def propose_area_control(
     site: Site, stations: Sequence[Candidate], links: Sequence[tuple[str, str]], notes: list[str]
 ) -> list[ControlPoint]:
-    """Control for a scanner survey: three points per registration part (one accessible area in ``site``
-    mode; :func:`planner.network.graph.propose_control`), then one more next to every station that sees
-    none of them within ``TIE_RANGE_M`` (seed 003: targets 10-20 m from the station), so every station is
-    tied. A part's points are named ``CP<part>.<n>``."""
+    """Control for a scanner survey: three points per registration part (one accessible area in ``site`` mode;
+    :func:`planner.network.graph.propose_control`), then one more next to every station that sees none of them within
+    ``TIE_RANGE_M`` (seed 003: targets 10-20 m from the station), so every station is tied. A part's points are named
+    ``CP<part>.<n>``."""
     reg = nx.Graph(list(links))
     reg.add_nodes_from(s.id for s in stations)
     ctrl = propose_control(site, stations, reg, notes)
@@ -207,8 +207,8 @@ def propose_area_control(
 
 
 def tie_sigma_to(distance_m: float) -> float:
-    """m_t of a station scanning ``DEFAULT_TARGETS`` targets set on a control point ``distance_m`` away
-    (the targets coordinated from that point; its own error is in the adjustment)."""
+    """m_t of a station scanning ``DEFAULT_TARGETS`` targets set on a control point ``distance_m`` away (the targets
+    coordinated from that point; its own error is in the adjustment)."""
     return _tie(0.0, [max(distance_m, 1.0)] * DEFAULT_TARGETS)
 
 
@@ -241,9 +241,9 @@ def survey_graph(
 
 
 def datum(g: nx.Graph, control: Sequence[ControlPoint]) -> tuple[list[str], list[str]]:
-    """Points held fixed, and notes. Given control keeps its sigmas (0: fixed). Proposed control: in each
-    network part, the first three proposed points of the registration part (accessible area) holding most
-    stations are fixed; every other point of the network part is found through the traverse, links and ties."""
+    """Points held fixed, and notes. Given control keeps its sigmas (0: fixed). Proposed control: in each network part,
+    the first three proposed points of the registration part (accessible area) holding most stations are fixed; every
+    other point of the network part is found through the traverse, links and ties."""
     given = [c.name for c in control if not c.proposed and c.sigma_x_m == 0 and c.sigma_y_m == 0]
     if any(not c.proposed for c in control):
         return given, []

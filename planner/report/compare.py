@@ -39,8 +39,8 @@ def method_row(plan: Plan) -> dict[str, Any]:
 
 
 def compare_methods(done: Plan | Problem) -> list[dict[str, Any]]:
-    """Closed form and greedy (cheap: one coverage build each) beside ``done``, the plan already made (or, given
-    a resolved problem alone, beside nothing), each on the same site, validation and limits."""
+    """Closed form and greedy (cheap: one coverage build each) beside ``done``, the plan already made (or, given a
+    resolved problem alone, beside nothing), each on the same site, validation and limits."""
     argument(done, (Plan, Problem), "done")
     problem = done.problem if isinstance(done, Plan) else done
     plain = StrategyOptions(single=True)  # the greedy and the closed form run as one model

@@ -1,11 +1,9 @@
-"""Hours on site in report.html (issue 47): the "Hours on site" section of a plan with scan settings: the
-objective and spacing, each station's setting, the set-up + scan time with its bound, the spacing check and,
-for a field-time plan, the trade-off table and figure. Empty for a plan without settings."""
+"""Hours on site in report.html: the "Hours on site" section of a plan with scan settings: the objective and spacing,
+each station's setting, the set-up + scan time with its bound, the spacing check and, for a field-time plan, the
+trade-off table and figure. Empty for a plan without settings."""
 
 from __future__ import annotations
 
-import base64
-import html
 from collections.abc import Mapping
 from typing import Any
 
@@ -13,10 +11,8 @@ from planner.figures.base import png_bytes
 from planner.figures.tradeoff_fig import tradeoff_figure
 from planner.plan.hours import no_gain_reason
 from planner.plan.outcome import Outcome
-
-
-def _e(v: Any) -> str:
-    return html.escape(str(v))
+from planner.report.markup import esc as _e
+from planner.report.markup import image
 
 
 def _h(seconds: Any) -> str:
@@ -86,9 +82,8 @@ def _tradeoff(t: Mapping[str, Any]) -> str:
         if isinstance(gain, (int, float))
         else f"<p>{_e(_no_gain(rows))}</p>"
     )
-    png = base64.b64encode(png_bytes(tradeoff_figure(rows, str(t.get("kept"))))).decode()
     cap = "hours on site per plan: set-up, scan, walking (the field sheet's route) and targets"
-    fig = f'<figure><img alt="{cap}" src="data:image/png;base64,{png}"><figcaption>{cap}</figcaption></figure>'
+    fig = image(png_bytes(tradeoff_figure(rows, str(t.get("kept")))), cap)
     return f"<h3>Trade-off: stations and hours</h3><table><tr>{th}</tr>{body}</table>{said}{fig}"
 
 

@@ -1,20 +1,17 @@
 """Render an :class:`~planner.plan.outcome.Outcome` as one HTML file: the interactive site map
-(:mod:`planner.report.site_map`), the 3-D view (:mod:`planner.report.view3d_section`), inputs and parameters,
-closure table, station table, comparison of methods, figures, network and accuracy check, verification, and
-floors and ceilings where the plan has them (:mod:`planner.report.surfaces_section`).
+(:mod:`planner.report.site_map`), the 3-D view (:mod:`planner.report.view3d_section`), inputs and parameters, closure
+table, station table, comparison of methods, figures, network and accuracy check, verification, and floors and ceilings
+where the plan has them (:mod:`planner.report.surfaces_section`).
 
-The file needs nothing else (no external CSS, fonts or images). A short script marks on
-``<body data-images-ok="k/n">`` how many embedded images decoded, which the render test reads
-back from headless Chromium.
+The file needs nothing else (no external CSS, fonts or images). A short script marks on ``<body data-images-ok="k/n">``
+how many embedded images decoded, which the render test reads back from headless Chromium.
 """
 
 from __future__ import annotations
 
-import base64
-import html
 import math
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +23,9 @@ from planner.network.summary import network_summary
 from planner.plan.outcome import Outcome
 from planner.plan.tripod import MIN_RADIUS_M
 from planner.report.hours_section import hours_section
+from planner.report.markup import esc as _e
+from planner.report.markup import image as _img
+from planner.report.markup import table
 from planner.report.site_map import read_field_sheet, site_map_html, site_plan_html, station_row_id
 from planner.report.surfaces_section import surfaces_section
 from planner.report.view3d_section import view3d_section
@@ -41,33 +41,10 @@ SCRIPT = (
 )
 
 
-def _e(v: Any) -> str:
-    return html.escape(str(v))
-
-
 def _f(v: Any, fmt: str = ".3f") -> str:
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "-"
     return format(v, fmt) if isinstance(v, (int, float)) and not isinstance(v, bool) else _e(v)
-
-
-def table(
-    header: Sequence[str], rows: Iterable[Sequence[Any]], left: int = 1, row_ids: Sequence[str] | None = None
-) -> str:
-    """An HTML table; the first ``left`` columns are left-aligned text; ``row_ids``: an HTML id per row (the site
-    map links to the station table's rows)."""
-    th = "".join(f'<th class="{"l" if k < left else ""}">{_e(h)}</th>' for k, h in enumerate(header))
-    body = "".join(
-        (f'<tr id="{_e(row_ids[n])}">' if row_ids else "<tr>")
-        + "".join(f'<td class="{"l" if k < left else ""}">{c}</td>' for k, c in enumerate(r))
-        + "</tr>"
-        for n, r in enumerate(rows)
-    )
-    return f"<table><tr>{th}</tr>{body}</table>"
-
-
-def _img(png: bytes, alt: str) -> str:
-    return f'<figure><img alt="{_e(alt)}" src="data:image/png;base64,{base64.b64encode(png).decode()}"><figcaption>{_e(alt)}</figcaption></figure>'
 
 
 def _parameters(o: Outcome) -> str:
@@ -249,8 +226,8 @@ def _network(o: Outcome) -> str:
 
 
 def _network_notes(o: Outcome) -> str:
-    """The rest of the network check (size, ties, a priori error, notes, the scanner survey) as a list that
-    wraps at the page's width; the accuracy check is the table above, not repeated."""
+    """The rest of the network check (size, ties, a priori error, notes, the scanner survey) as a list that wraps at the
+    page's width; the accuracy check is the table above, not repeated."""
     assert o.network is not None
     lines = [ln.strip() for ln in network_summary(o.network, accuracy=False).splitlines() if ln.strip()]
     return '<ul class="notes">' + "".join(f"<li>{_e(ln)}</li>" for ln in lines) + "</ul>"

@@ -1,13 +1,12 @@
-"""Floors and ceilings in report.html (issue 46): the "Floors and ceilings" section (:func:`surfaces_section`:
-the verification per zone and surface, the patches no candidate sees, the rules and what the bound holds over)
-and the floor and ceiling each station covers, for the site map's floors layer (:func:`station_areas`).
+"""Floors and ceilings in report.html: the "Floors and ceilings" section (:func:`surfaces_section`: the verification per
+zone and surface, the patches no candidate sees, the rules and what the bound holds over) and the floor and ceiling each
+station covers, for the site map's floors layer (:func:`station_areas`).
 
 Both show nothing for a walls-only plan: the section is empty, and the map has no floors layer.
 """
 
 from __future__ import annotations
 
-import html
 from collections.abc import Mapping
 from typing import Any
 
@@ -18,13 +17,11 @@ from planner.coverage.surfaces import KIND_NAME
 from planner.figures.webmap import MapArea
 from planner.plan.outcome import Outcome
 from planner.plan.surfaces import patch_matrix
+from planner.report.markup import esc as _e
+from planner.report.markup import table
 
 #: the merged shapes are drawn to this grid (m): the map writes centimetres
 GRID_M = 0.01
-
-
-def _e(v: Any) -> str:
-    return html.escape(str(v))
 
 
 def surface_meta(o: Outcome) -> Mapping[str, Any] | None:
@@ -33,16 +30,6 @@ def surface_meta(o: Outcome) -> Mapping[str, Any] | None:
     if not isinstance(s, Mapping) or not any(t != "walls" for t in s.get("types", ())):
         return None
     return s
-
-
-def _table(header: tuple[str, ...], rows: list[tuple[Any, ...]], left: int) -> str:
-    """An HTML table as report.html writes them (the first ``left`` columns left-aligned; cells are HTML)."""
-    th = "".join(f'<th class="{"l" if k < left else ""}">{_e(h)}</th>' for k, h in enumerate(header))
-    body = "".join(
-        "<tr>" + "".join(f'<td class="{"l" if k < left else ""}">{c}</td>' for k, c in enumerate(r)) + "</tr>"
-        for r in rows
-    )
-    return f"<table><tr>{th}</tr>{body}</table>"
 
 
 def _rules(o: Outcome, s: Mapping[str, Any]) -> str:
@@ -58,7 +45,7 @@ def _rules(o: Outcome, s: Mapping[str, Any]) -> str:
         ("blind cone half angle (nadir)", f"{nadir:g} deg ({_e(scanner.name)})" if nadir else "none"),
         ("blind cone half angle (zenith)", f"{zenith:g} deg" if zenith else "none"),
     ]
-    return _table(("rule", "value"), rows, left=2)
+    return table(("rule", "value"), rows, left=2)
 
 
 def surfaces_section(o: Outcome) -> str:
@@ -93,7 +80,7 @@ def surfaces_section(o: Outcome) -> str:
     return (
         "<h2>Floors and ceilings</h2>"
         + head
-        + _table(("zone", "surface", "points", "covered", "%"), rows, left=2)
+        + table(("zone", "surface", "points", "covered", "%"), rows, left=2)
         + unseen
         + (f'<ul class="notes">{notes}</ul>' if notes else "")
         + _rules(o, s)
@@ -113,8 +100,9 @@ def _rings(geom: shapely.Geometry) -> tuple[tuple[tuple[float, float], ...], ...
 
 
 def station_areas(o: Outcome) -> list[tuple[MapArea, ...]] | None:
-    """Per station, the floor and ceiling patches it sees (:func:`planner.plan.surfaces.patch_matrix`), merged
-    per zone and kind, drawn to the centimetre and without collinear vertices; None where the outcome holds no patches (walls only)."""
+    """Per station, the floor and ceiling patches it sees (:func:`planner.plan.surfaces.patch_matrix`), merged per zone
+    and kind, drawn to the centimetre and without collinear vertices; None where the outcome holds no patches (walls
+    only)."""
     setup = o.surfaces
     if setup is None or surface_meta(o) is None:
         return None

@@ -1,9 +1,9 @@
-"""The "3-D view" section of report.html (issue 46): the site's walls, floors and ceilings and the plan's
-stations in 3-D (:mod:`planner.figures.view3d`), each station's covered wall from the outcome's recomputed
-coverage, highlighted when it is selected.
+"""The "3-D view" section of report.html: the site's walls, floors and ceilings and the plan's stations in 3-D
+(:mod:`planner.figures.view3d`), each station's covered wall from the outcome's recomputed coverage, highlighted when it
+is selected.
 
-Every plan shows it (every site has walls); it matters most for a building read from IFC with several storeys.
-A site of more than :data:`MAX_WALL_PIECES` wall pieces gets a one-line note instead, to keep report.html small.
+Every plan shows it (every site has walls); it matters most for a building read from IFC with several storeys. A site of
+more than :data:`MAX_WALL_PIECES` wall pieces gets a one-line note instead, to keep report.html small.
 """
 
 from __future__ import annotations
@@ -19,8 +19,8 @@ MAX_WALL_PIECES = 20_000
 
 
 def instrument_height_m(o: Outcome) -> float:
-    """The height above its floor each station is drawn at: the plan's surfaces instrument height where the plan
-    has one (plan.json ``surfaces.instrument_height_m``), else the site's ``instrument_height_m``."""
+    """The height above its floor each station is drawn at: the plan's surfaces instrument height where the plan has one
+    (plan.json ``surfaces.instrument_height_m``), else the site's ``instrument_height_m``."""
     s = o.meta.get("surfaces")
     if isinstance(s, Mapping) and isinstance(s.get("instrument_height_m"), (int, float)):
         return float(s["instrument_height_m"])
@@ -28,8 +28,8 @@ def instrument_height_m(o: Outcome) -> float:
 
 
 def outcome_scene(o: Outcome) -> Scene3D:
-    """The 3-D scene of a plan's outcome: its site, its stations (numbered as the station table) and the wall
-    each covers."""
+    """The 3-D scene of a plan's outcome: its site, its stations (numbered as the station table) and the wall each
+    covers."""
     argument(o, Outcome, "outcome")
     return scene_3d(o.site, o.stations, o.coverage.problem, instrument_height_m(o))
 

@@ -1,12 +1,8 @@
-"""The 3-D view of report.html: the walls, floors, ceilings and stations of a site on a ``<canvas>``, drawn by a
-small inlined script (no library, no address), with each station's covered wall highlighted on selection.
+"""The 3-D view of report.html: the walls, floors, ceilings and stations of a site on a ``<canvas>``, drawn by a small
+inlined script (no library, no address), with each station's covered wall highlighted on selection.
 
-- :mod:`~planner.figures.view3d.model`: the plain data (:class:`Scene3D` and its parts);
-- :mod:`~planner.figures.view3d.build`: that data from a site, its stations and their coverage matrix
-  (:func:`scene_3d`);
-- :mod:`~planner.figures.view3d.render`: the fragment (:func:`render_view3d`), with ``view3d.js`` (package data)
-  inlined.
-
+:mod:`~planner.figures.view3d.model` holds the plain data (:class:`Scene3D`), :mod:`~planner.figures.view3d.build` fills
+it (:func:`scene_3d`), :mod:`~planner.figures.view3d.render` draws it (:func:`render_view3d`);
 :mod:`planner.report.view3d_section` fills it from an ``Outcome``.
 """
 

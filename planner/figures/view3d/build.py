@@ -2,8 +2,8 @@
 (:func:`scene_3d`).
 
 Coverage is kept as runs, not pieces: consecutive pieces a station covers on one wall face become one
-:class:`~planner.figures.view3d.model.Covered` (wall, offsets along it, piece count), which the renderer turns
-into a quad on that wall, so the page grows with stations x runs, not with pieces.
+:class:`~planner.figures.view3d.model.Covered` (wall, offsets along it, piece count), which the renderer turns into a
+quad on that wall, so the page grows with stations x runs, not with pieces.
 """
 
 from __future__ import annotations
@@ -34,8 +34,8 @@ def wall_quads(site: Site) -> tuple[WallQuad, ...]:
 
 
 def surfaces(site: Site) -> tuple[Surface, ...]:
-    """The floor of every zone scanned inside (its outline and holes at its floor level) and its ceiling where
-    it has one (at the floor level plus the ceiling height). A zone scanned from outside only has neither."""
+    """The floor of every zone scanned inside (its outline and holes at its floor level) and its ceiling where it has
+    one (at the floor level plus the ceiling height). A zone scanned from outside only has neither."""
     out = []
     for k, z in enumerate(site.zones):
         if z.scan_side is ScanSide.OUTSIDE:
@@ -50,8 +50,8 @@ def surfaces(site: Site) -> tuple[Surface, ...]:
 def covered_runs(
     targets: Targets, cols: NDArray[np.integer], wall_at: Mapping[tuple[int, int], int]
 ) -> tuple[Covered, ...]:
-    """The runs of the pieces ``cols`` (target indices, :func:`planner.figures.webmap.build.run_ends`);
-    ``wall_at``: (zone index, 1-based wall) to the scene's wall index."""
+    """The runs of the pieces ``cols`` (target indices, :func:`planner.figures.webmap.build.run_ends`); ``wall_at``:
+    (zone index, 1-based wall) to the scene's wall index."""
     t = targets
     firsts, lasts = run_ends(t, cols)
     return tuple(
@@ -63,10 +63,10 @@ def covered_runs(
 def views(site: Site, stations: Sequence[Candidate]) -> tuple[View, ...]:
     """The storey filter's choices.
 
-    One frame: everything, then each floor level where there are several. Several frames that are the storeys of
-    one building (each frame's zones on one floor level, a different level per frame: an IFC model read with
-    ``--storey all``): all storeys, then each frame from the lowest. Other frames (table zones, each in its own
-    local frame, which do not share coordinates): each frame on its own, the one with most stations first.
+    One frame: everything, then each floor level where there are several. Several frames that are the storeys of one
+    building (each frame's zones on one floor level, a different level per frame: an IFC model read with ``--storey
+    all``): all storeys, then each frame from the lowest. Other frames (table zones, each in its own local frame, which
+    do not share coordinates): each frame on its own, the one with most stations first.
     """
     zones = site.zones
     frames = list(dict.fromkeys(z.frame for z in zones))
@@ -96,9 +96,9 @@ def scene_3d(
 ) -> Scene3D:
     """The 3-D scene of a site and its stations.
 
-    ``problem``: the stations' coverage problem (its rows in the order of ``stations``: each station's covered
-    runs; None: no coverage shown); ``instrument_height_m``: the height above its floor each station is drawn at
-    (None: the site's ``instrument_height_m``). Stations are labelled with their 1-based place in ``stations``.
+    ``problem``: the stations' coverage problem (its rows in the order of ``stations``: each station's covered runs;
+    None: no coverage shown); ``instrument_height_m``: the height above its floor each station is drawn at (None: the
+    site's ``instrument_height_m``). Stations are labelled with their 1-based place in ``stations``.
     """
     ih = site.parameters.instrument_height_m if instrument_height_m is None else float(instrument_height_m)
     walls = wall_quads(site)

@@ -1,12 +1,11 @@
-"""A :class:`~planner.figures.view3d.model.Scene3D` as one self-contained HTML fragment (:func:`render_view3d`):
-a ``<canvas>``, its controls, the scene as JSON in a ``<script type="application/json">`` element and
-``view3d.js`` (package data) inlined; no library, no address.
+"""A :class:`~planner.figures.view3d.model.Scene3D` as one self-contained HTML fragment (:func:`render_view3d`): a
+``<canvas>``, its controls, the scene as JSON in a ``<script type="application/json">`` element and ``view3d.js``
+(package data) inlined; no library, no address.
 
-The JSON is compact (arrays, not objects; metres to the centimetre): ``zones`` [id, frame, side, floor],
-``walls`` [zone, wall, x0, y0, x1, y1, floor, top at start, top at end], ``surfaces`` [zone, "f"|"c", level,
-[flat x, y ring, ...]], ``stations`` [id, label, zone, x, y, floor, z, [[wall, s0, s1, pieces], ...]],
-``views`` [name, [zones]], ``covered`` [[wall, s0, s1, pieces], ...] (the union, shown while no station is
-selected).
+The JSON is compact (arrays, not objects; metres to the centimetre): ``zones`` [id, frame, side, floor], ``walls``
+[zone, wall, x0, y0, x1, y1, floor, top at start, top at end], ``surfaces`` [zone, "f"|"c", level, [flat x, y ring,
+...]], ``stations`` [id, label, zone, x, y, floor, z, [[wall, s0, s1, pieces], ...]], ``views`` [name, [zones]],
+``covered`` [[wall, s0, s1, pieces], ...] (the union, shown while no station is selected).
 """
 
 from __future__ import annotations
@@ -71,8 +70,8 @@ def scene_json(s: Scene3D) -> str:
 
 
 def render_view3d(s: Scene3D, dom_id: str = "view-3d") -> str:
-    """The 3-D view of ``s`` as an HTML fragment (a ``<div class="v3d">``: style, controls, canvas, a line that
-    says what is highlighted (its ``data-pieces``: the wall pieces shown green), the scene and the script).
+    """The 3-D view of ``s`` as an HTML fragment (a ``<div class="v3d">``: style, controls, canvas, a line that says
+    what is highlighted (its ``data-pieces``: the wall pieces shown green), the scene and the script).
 
     The fragment contains no URL. A page's script can select a station with
     ``document.getElementById(dom_id).v3dSelect(station_id)`` (an unknown id: all stations)."""

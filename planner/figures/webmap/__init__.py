@@ -1,15 +1,12 @@
-"""The interactive site map: one self-contained HTML fragment (inline SVG, style sheet and script; no library,
-no address) to pan, zoom, switch layers and frames, and tap a station for what it covers.
+"""The interactive site map: one self-contained HTML fragment (inline SVG, style sheet and script; no library, no
+address) to pan, zoom, switch layers and frames, and tap a station for what it covers.
 
-- :mod:`~planner.figures.webmap.model`: the plain data (:class:`SiteMap` and its parts);
-- :mod:`~planner.figures.webmap.build`: that data from a site, its stations, their coverage matrix and a
-  field sheet's ``field.json`` dictionary (:func:`site_map_data`);
-- :mod:`~planner.figures.webmap.render`: the fragment (:func:`render_site_map`), with ``site_map.js`` and
-  ``site_map.css`` (package data) inlined.
-
-It lives under :mod:`planner.figures` (below both :mod:`planner.report` and :mod:`planner.field`, which may not
-import each other) so that report.html (:mod:`planner.report.site_map` fills it from an ``Outcome``) and the
-field sheet (:mod:`planner.field.site_map` fills it from a ``FieldPlan``) both embed the same map. In short::
+:mod:`~planner.figures.webmap.model` holds the plain data (:class:`SiteMap`), :mod:`~planner.figures.webmap.build`
+fills it (:func:`site_map_data`), :mod:`~planner.figures.webmap.render` draws it (:func:`render_site_map`, with
+the package data ``site_map.js`` and ``site_map.css`` inlined). It lives below both :mod:`planner.report` and
+:mod:`planner.field`, which may not import each other, so that report.html and the field sheet embed the same
+map. The field sheet's, in short (its stations in visiting order, so that the map numbers them as its setup
+table)::
 
     from planner.field.record import to_dict
     from planner.figures.webmap import MapLink, coverage_runs, render_site_map, site_map_data
@@ -17,9 +14,6 @@ field sheet (:mod:`planner.field.site_map` fills it from a ``FieldPlan``) both e
     links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
     data = site_map_data(fp.site, fp.stations, runs=coverage_runs(fp.coverage), links=links, field_sheet=to_dict(fp))
     fragment = render_site_map(data, dom_id="field-map", table="setup table")
-
-(the field sheet passes its stations in visiting order, so that the map numbers them as its setup table, and
-``rows`` to link each to its row).
 """
 
 from planner.figures.webmap.build import coverage_runs, field_layers, site_map_data, wall_lines

@@ -1,13 +1,13 @@
-"""Fill a :class:`~planner.figures.webmap.model.SiteMap` from a site, its stations, their coverage and a field
-sheet: :func:`site_map_data`, with :func:`wall_lines`, :func:`coverage_runs` and :func:`field_layers`.
+"""Fill a :class:`~planner.figures.webmap.model.SiteMap` from a site, its stations, their coverage and a field sheet:
+:func:`site_map_data`, with :func:`wall_lines`, :func:`coverage_runs` and :func:`field_layers`.
 
-Coverage is drawn as runs, not pieces: consecutive pieces one station covers on one wall face (no opening
-between them) become one segment, so a 100-station plan over thousands of pieces draws a few runs per
-station and wall, never one element per piece per station.
+Coverage is drawn as runs, not pieces: consecutive pieces one station covers on one wall face (no opening between them)
+become one segment, so a 100-station plan over thousands of pieces draws a few runs per station and wall, never one
+element per piece per station.
 
-This module takes the site model and a coverage matrix (lower layers) and the field sheet as its
-``field.json`` dictionary (:func:`planner.field.sheet.to_dict`), so the report and the field sheet, which may
-not import each other, both build their map here.
+This module takes the site model and a coverage matrix (lower layers) and the field sheet as its ``field.json``
+dictionary (:func:`planner.field.sheet.to_dict`), so the report and the field sheet, which may not import each other,
+both build their map here.
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ def _pt(p: Any) -> Point:
 
 
 def wall_lines(site: Site) -> tuple[MapLine, ...]:
-    """Every zone ring (outline and holes) and opening in its zone's frame; obstacles, no-go areas and the
-    boundary in the site frame (where the figures draw them too)."""
+    """Every zone ring (outline and holes) and opening in its zone's frame; obstacles, no-go areas and the boundary in
+    the site frame (where the figures draw them too)."""
     out: list[MapLine] = []
     for z in site.zones:
         for k, ring in enumerate(z.rings):
@@ -102,15 +102,14 @@ def coverage_runs(problem: CoverageProblem) -> list[tuple[Run, ...]]:
 def field_layers(
     sheet: Mapping[str, Any], frame_of: Mapping[str, str]
 ) -> tuple[tuple[MapLine, ...], MapPoint | None, tuple[MapPoint, ...], dict[str, int]]:
-    """The walking route (one line per leg), its start, the registration targets and each station's place
-    in the visiting order, from a field sheet's ``field.json`` dictionary.
+    """The walking route (one line per leg), its start, the registration targets and each station's place in the
+    visiting order, from a field sheet's ``field.json`` dictionary.
 
-    A leg the sheet lists under ``legs_crossing_walls`` (a straight line through a wall where the model has no
-    opening, :mod:`planner.field.crossing`) is a line of kind ``through``, drawn in the route layer in its own
-    dash.
+    A leg the sheet lists under ``legs_crossing_walls`` (a straight line through a wall where the model has no opening,
+    :mod:`planner.field.crossing`) is a line of kind ``through``, drawn in the route layer in its own dash.
 
-    ``frame_of``: station id to frame; a leg is drawn in the frame of the station it walks to, a target in
-    that of the first station that sees it. Stations the sheet names but ``frame_of`` lacks are left out.
+    ``frame_of``: station id to frame; a leg is drawn in the frame of the station it walks to, a target in that of the
+    first station that sees it. Stations the sheet names but ``frame_of`` lacks are left out.
     """
     order = [str(s) for s in sheet.get("order", [])]
     legs = sheet.get("legs", [])
@@ -151,8 +150,8 @@ def _storey_legs(
     through: set[int],
     frame_of: Mapping[str, str],
 ) -> tuple[MapLine, ...]:
-    """A field sheet across storeys: one line per stretch of a leg walked in one frame (drawn in that frame),
-    a stair leg (its foot to its head) drawn in both frames it joins."""
+    """A field sheet across storeys: one line per stretch of a leg walked in one frame (drawn in that frame), a stair
+    leg (its foot to its head) drawn in both frames it joins."""
     out = []
     for k, (sid, leg, frs) in enumerate(zip(order, legs, leg_frames), 1):
         if sid not in frame_of or len(leg) < 2:
@@ -192,15 +191,14 @@ def site_map_data(
     rows: Mapping[str, str] | None = None,
     areas: Sequence[tuple[MapArea, ...]] | None = None,
 ) -> SiteMap:
-    """The map of a site and its stations, each labelled with its number in ``stations`` (1-based, as the
-    report's station table numbers them).
+    """The map of a site and its stations, each labelled with its number in ``stations`` (1-based, as the report's
+    station table numbers them).
 
-    ``runs`` and ``areas``: per station (same order), the wall (:func:`coverage_runs`) and the floor and ceiling
-    it covers (None: no such layer); ``links``: registration links between the stations (by id);
-    ``field_sheet``: a field sheet's ``field.json`` dictionary (route, start, targets, visiting order; None: no
-    field layers); ``control``, ``traverse``: the network check's control points and traverse legs; ``rows``:
-    station id to the HTML id of its row in the page's station table. The package text
-    (:mod:`planner.figures.webmap`) shows how the field sheet calls it.
+    ``runs`` and ``areas``: per station (same order), the wall (:func:`coverage_runs`) and the floor and ceiling it
+    covers (None: no such layer); ``links``: registration links between the stations (by id); ``field_sheet``: a field
+    sheet's ``field.json`` dictionary (route, start, targets, visiting order; None: no field layers); ``control``,
+    ``traverse``: the network check's control points and traverse legs; ``rows``: station id to the HTML id of its row
+    in the page's station table. The package text (:mod:`planner.figures.webmap`) shows how the field sheet calls it.
     """
     frame_of = {s.id: s.frame for s in stations}
     route: tuple[MapLine, ...] = ()

@@ -1,10 +1,10 @@
-"""The plain data an interactive site map draws (:class:`SiteMap`): polylines, stations with the runs of
-wall they cover, links, route legs and points, each tagged with the frame it is drawn in.
+"""The plain data an interactive site map draws (:class:`SiteMap`): polylines, stations with the runs of wall they
+cover, links, route legs and points, each tagged with the frame it is drawn in.
 
-Plain frozen dataclasses of numbers and text, so that any page (report.html, field.html) can fill them
-from what it has, and the renderer (:mod:`planner.figures.webmap.render`) depends on nothing of the
-planner's. Coordinates are in metres in the frame named by ``frame`` (the site's own frame, or a zone's
-local frame for table zones); the renderer rounds them to centimetres.
+Plain frozen dataclasses of numbers and text, so that any page (report.html, field.html) can fill them from what it has,
+and the renderer (:mod:`planner.figures.webmap.render`) depends on nothing of the planner's. Coordinates are in metres
+in the frame named by ``frame`` (the site's own frame, or a zone's local frame for table zones); the renderer rounds
+them to centimetres.
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ Point = tuple[float, float]
 class MapLine:
     """A polyline of the map: a wall ring, an obstacle, a no-go area, an opening, a route leg, a traverse leg.
 
-    ``kind`` picks the style and the layer (``wall``, ``opening``, ``obstacle``, ``nogo``, ``boundary``,
-    ``route``, ``through``: a route leg through a wall, ``traverse``); ``closed``: a ring (drawn as a polygon);
-    ``label``: a tooltip.
+    ``kind`` picks the style and the layer (``wall``, ``opening``, ``obstacle``, ``nogo``, ``boundary``, ``route``,
+    ``through``: a route leg through a wall, ``traverse``); ``closed``: a ring (drawn as a polygon); ``label``: a
+    tooltip.
     """
 
     id: str
@@ -35,8 +35,8 @@ class MapLine:
 class Run:
     """Consecutive wall pieces one station covers on one wall face: drawn as one segment from ``a`` to ``b``.
 
-    ``pieces``: how many pieces the run merges (what the highlight count adds up); ``length_m``: their
-    length; ``label``: zone/side/wall and the offsets along the wall.
+    ``pieces``: how many pieces the run merges (what the highlight count adds up); ``length_m``: their length;
+    ``label``: zone/side/wall and the offsets along the wall.
     """
 
     a: Point
@@ -50,8 +50,8 @@ class Run:
 class MapArea:
     """Floor or ceiling one station covers in one zone, merged into one shape: drawn filled (even-odd).
 
-    ``rings``: the exterior rings and holes of its polygons; ``kind``: ``floor`` or ``ceiling``; ``patches``:
-    how many surface patches it merges; ``area_m2``: their area; ``label``: zone and kind.
+    ``rings``: the exterior rings and holes of its polygons; ``kind``: ``floor`` or ``ceiling``; ``patches``: how many
+    surface patches it merges; ``area_m2``: their area; ``label``: zone and kind.
     """
 
     rings: tuple[tuple[Point, ...], ...]
@@ -62,19 +62,25 @@ class MapArea:
 
 
 @dataclass(frozen=True)
-class MapStation:
-    """A station as the map shows it: where it stands, what it covers, and where it is listed.
-
-    ``label``: the short text drawn beside it (its number in the plan); ``row``: the HTML id of its row in
-    the page's station table ("" where the page has none); ``visit``: its place in the field visiting
-    order (0: no order); ``runs``: the wall it covers (empty where the page has no coverage to show);
-    ``areas``: the floor and ceiling it covers (empty: walls only).
-    """
+class Located:
+    """Something drawn at a point: its id, the frame it is drawn in, and where."""
 
     id: str
     frame: str
     x: float
     y: float
+
+
+@dataclass(frozen=True)
+class MapStation(Located):
+    """A station as the map shows it: where it stands, what it covers, and where it is listed.
+
+    ``label``: the short text drawn beside it (its number in the plan); ``row``: the HTML id of its row in the page's
+    station table ("" where the page has none); ``visit``: its place in the field visiting order (0: no order);
+    ``runs``: the wall it covers (empty where the page has no coverage to show); ``areas``: the floor and ceiling it
+    covers (empty: walls only).
+    """
+
     label: str = ""
     zone: str = ""
     side: str = ""
@@ -107,9 +113,9 @@ class MapStation:
 
 @dataclass(frozen=True)
 class MapLink:
-    """A registration link between stations ``a`` and ``b`` (ids): ``shared_m`` of wall both see (0: a link
-    through an opening, as :func:`planner.coverage.overlap.overlap_graph` makes them; None: not known) and the
-    ``fraction`` of the smaller station's wall; ``weak``: a link the field sheet marks weak (drawn dashed)."""
+    """A registration link between stations ``a`` and ``b`` (ids): ``shared_m`` of wall both see (0: a link through an
+    opening, as :func:`planner.coverage.overlap.overlap_graph` makes them; None: not known) and the ``fraction`` of the
+    smaller station's wall; ``weak``: a link the field sheet marks weak (drawn dashed)."""
 
     a: str
     b: str
@@ -119,14 +125,10 @@ class MapLink:
 
 
 @dataclass(frozen=True)
-class MapPoint:
-    """A point drawn with a marker: a registration target (``kind`` checkerboard, sphere, control) or a
-    control point (``control``, ``proposed``: a control point the network check proposed)."""
+class MapPoint(Located):
+    """A point drawn with a marker: a registration target (``kind`` checkerboard, sphere, control) or a control point
+    (``control``, ``proposed``: a control point the network check proposed)."""
 
-    id: str
-    frame: str
-    x: float
-    y: float
     kind: str
     label: str = ""
 
@@ -135,10 +137,10 @@ class MapPoint:
 class SiteMap:
     """Everything one interactive map shows, by layer.
 
-    ``frames``: the frames in the order the selector lists them (the first with the most stations is shown
-    first); ``walls``: zones' walls and openings, obstacles, no-go areas and the boundary; ``route``: the
-    field walking route, one line per leg, with ``start`` where it begins; ``targets``: registration
-    targets; ``control``: control points, ``traverse``: the control traverse legs.
+    ``frames``: the frames in the order the selector lists them (the first with the most stations is shown first);
+    ``walls``: zones' walls and openings, obstacles, no-go areas and the boundary; ``route``: the field walking route,
+    one line per leg, with ``start`` where it begins; ``targets``: registration targets; ``control``: control points,
+    ``traverse``: the control traverse legs.
     """
 
     title: str

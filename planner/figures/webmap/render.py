@@ -1,15 +1,12 @@
 """A :class:`~planner.figures.webmap.model.SiteMap` as one self-contained HTML fragment (:func:`render_site_map`):
 inline SVG, a small inline style sheet and script, no external file, library or address.
 
-Frames: one ``<svg>`` holds one group per frame; a selector shows one frame at a time (the one with the
-most stations first), so a site in one frame is one map, and a site of table zones each in its own local
-frame (Baalbek's twelve) is one map per frame behind the selector rather than a long stack of maps.
-
-Layers are groups that checkboxes switch on and off (``display: none``). Coordinates are written in
-centimetres with y turned down (SVG's axis), so +y of the frame points up on the page. Markers (stations,
-targets, control points) are drawn in pixels: the script scales them with the zoom so they keep their size.
-Per station the fragment holds one group of covered runs (hidden until the station is selected), so its
-size grows with stations x runs, not with wall pieces.
+Frames: one ``<svg>`` holds one group per frame; a selector shows one frame at a time (the one with the most stations
+first), so a site of table zones, each in its own local frame, is one map per frame behind the selector rather than a
+long stack of maps. Layers are groups that checkboxes switch on and off. Coordinates are written in centimetres with y
+turned down (SVG's axis). Markers are drawn in pixels: the script scales them with the zoom. Per station the fragment
+holds one group of covered runs (hidden until the station is selected), so its size grows with stations x runs, not with
+wall pieces.
 """
 
 from __future__ import annotations
@@ -208,15 +205,15 @@ def _present(m: SiteMap) -> list[tuple[str, str, str]]:
 
 
 def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station table") -> str:
-    """The interactive map of ``m`` as an HTML fragment (a ``<div class="smap">`` holding its style sheet, the
-    controls, the SVG, the station panel and the script), for any page's ``<body>``.
+    """The interactive map of ``m`` as an HTML fragment (a ``<div class="smap">`` holding its style sheet, the controls,
+    the SVG, the station panel and the script), for any page's ``<body>``.
 
-    ``dom_id``: the fragment's HTML id (station elements are ``{dom_id}-st-{k}``, k the station's 1-based
-    place in ``m.stations``); give each map of a page its own. The fragment contains no URL: it works from a
-    file, offline, and in a mail attachment. A page's own script can select a station with
-    ``document.getElementById(dom_id).smapSelect(station_id)``; a station whose ``row`` names an element of
-    the page marks it (class ``sm-row``) when selected, and a click on that element selects the station;
-    ``table``: what the help line and the station panel call the page's table of those rows.
+    ``dom_id``: the fragment's HTML id (station elements are ``{dom_id}-st-{k}``, k the station's 1-based place in
+    ``m.stations``); give each map of a page its own. The fragment contains no URL: it works from a file, offline, and
+    in a mail attachment. A page's own script can select a station with
+    ``document.getElementById(dom_id).smapSelect(station_id)``; a station whose ``row`` names an element of the page
+    marks it (class ``sm-row``) when selected, and a click on that element selects the station; ``table``: what the help
+    line and the station panel call the page's table of those rows.
     """
     per_frame = Counter(s.frame for s in m.stations)
     first = max(m.frames, key=lambda f: per_frame.get(f, 0)) if m.frames else ""
