@@ -196,32 +196,30 @@ def to_float(
 ) -> float:
     """A finite float from a JSON number, or with ``text=True`` from a CSV cell (plain decimal text: no
     Python digit grouping such as ``6_0``); NaN, inf, booleans, and text in JSON are refused."""
+    where: dict[str, Any] = {"file": file, "zone": zone, "row": row, "field": field}
     if isinstance(raw, bool):
-        raise InputError("must be a number", file=file, zone=zone, row=row, field=field, value=raw)
+        raise InputError("must be a number", value=raw, **where)
     if isinstance(raw, str):
         if not text:  # JSON has numbers: "9" is a typo or a unit mix-up, not a number to guess at
-            raise InputError("must be a number, not text", file=file, zone=zone, row=row, field=field, value=raw)
+            raise InputError("must be a number, not text", value=raw, **where)
         cell = raw.strip()
         if not cell:
-            raise InputError("missing value", file=file, zone=zone, row=row, field=field)
+            raise InputError("missing value", **where)
         try:
             if "_" in cell:
                 raise ValueError(cell)
             value = float(cell)
         except ValueError:
-            raise InputError("not a number", file=file, zone=zone, row=row, field=field, value=raw) from None
+            raise InputError("not a number", value=raw, **where) from None
     elif isinstance(raw, (int, float)):
         try:
             value = float(raw)
         except OverflowError:  # an integer no float holds (from a caller; read_json refuses it in the file)
-            raise InputError(
-                "number out of range (beyond +-1.8e308)", file=file, zone=zone, row=row, field=field
-            ) from None
+            raise InputError("number out of range (beyond +-1.8e308)", **where) from None
     else:
-        shown = type(raw).__name__ if raw is not None else "null"
-        raise InputError("must be a number", file=file, zone=zone, row=row, field=field, value=shown)
+        raise InputError("must be a number", value=type(raw).__name__ if raw is not None else "null", **where)
     if not math.isfinite(value):
-        raise InputError("must be finite", file=file, zone=zone, row=row, field=field, value=raw)
+        raise InputError("must be finite", value=raw, **where)
     return value
 
 
