@@ -108,11 +108,7 @@ def crossings(
 
 def closed_parts(found: Sequence[Crossing]) -> tuple[str, ...]:
     """The walkable parts the legs through walls join, each once, in the order the route first meets them."""
-    seen: dict[str, None] = {}
-    for c in found:
-        for p in c.parts:
-            seen.setdefault(p, None)
-    return tuple(seen)
+    return tuple(dict.fromkeys(p for c in found for p in c.parts))
 
 
 def advice(found: Sequence[Crossing]) -> str:

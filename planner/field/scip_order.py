@@ -265,7 +265,7 @@ def _broken(xv: NDArray[np.float64], rule: tuple) -> NDArray[np.bool_] | None:
 def _add_rows(scip: Any, model: Any, x: dict[tuple[int, int], Any], rows: list, cut: bool) -> int:
     """Add the rows ``(source mask, target mask)``: as cuts to the LP (``cut``) or as constraints."""
     for src, dst in rows:
-        terms = [x[i, j] for i in np.flatnonzero(src) for j in np.flatnonzero(dst) if (i, j) in x]
+        terms = [x[i, j] for i in np.flatnonzero(src).tolist() for j in np.flatnonzero(dst).tolist() if (i, j) in x]
         if not cut:
             model.addCons(scip.quicksum(terms) >= 1, removable=False)
             continue
