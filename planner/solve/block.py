@@ -22,6 +22,7 @@ from planner.solve.connectivity import (
     connectivity_cuts,
     disconnected_groups,
     essential_targets,
+    group_members,
     neighbour_cuts,
     repair,
 )
@@ -203,9 +204,8 @@ class BlockSolver:
         return False
 
     def _layers(self) -> list[Row]:
-        members: dict = {}
-        for i, g in enumerate(self.groups or ()):
-            members.setdefault(g, []).append(i)
+        groups = self.groups or []
+        members = group_members(groups, range(len(groups)))
         return [
             cut
             for g, m in members.items()

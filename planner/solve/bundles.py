@@ -1,36 +1,28 @@
 """The connected greedy's core: registration bundles grown together by gain, bridged, pruned, re-grown.
 
 A *bundle* is the chosen stations of one registration group (a zone-side, or an accessible area); a plan is
-registrable when every bundle is connected under the overlap relation ``adj``. :func:`bundle_cover` builds such a plan
-in four phases, in the manner of Jia and Lichti's hierarchical greedy:
+registrable when every bundle is connected under the overlap relation ``adj``. :func:`bundle_cover` builds one in four
+phases, in the manner of Jia and Lichti's hierarchical greedy:
 
-1. **grow**: Chvatal's rule, most newly covered targets per unit cost, over the stations
-   that keep every bundle connected: those linked (overlap) to their group's bundle, and the first
-   station of a group not yet opened, which starts its bundle. All bundles grow in one loop, so a target
-   goes to whichever group sees it most cheaply;
-2. **bridge**: when no such station covers anything new, the cheapest overlap path (Dijkstra, each
-   step costing the station it enters) from a bundle to a station of its group's component that does,
-   ranked by what the whole path newly covers per station on it, path stations counted;
-3. **prune**: stations whose targets others also cover are dropped, latest first,
-   when their bundle stays connected without them;
-4. **re-grow**: each bundle of two or more stations is grown afresh, alone, for the
-   targets only it covers, from its group's ``starts`` best seeds; the cheapest is kept if cheaper.
+1. **grow**: Chvatal's rule (most newly covered targets per unit cost) over the stations linked to their group's
+   bundle and the first station of a group not yet opened; all bundles grow in one loop, so a target goes to
+   whichever group sees it most cheaply (grown one group at a time, groups that see each other's walls walk round
+   their neighbours: docs/benchmarks/connected_greedy.md);
+2. **bridge**: where no such station gains, the cheapest overlap path (Dijkstra, each step costing the station it
+   enters) from a bundle to a station of its group's component that gains, ranked by what the path covers per station;
+3. **prune**: stations whose targets others also cover are dropped, latest first, when their bundle stays connected;
+4. **re-grow**: each bundle of two or more stations is grown afresh, alone, for the targets only it covers, from its
+   group's ``starts`` best seeds; the cheapest is kept if cheaper.
 
 Invariants: after every step of 1-2 each group's chosen stations form one connected bundle inside one component of the
-group's overlap graph (so no joining pass is needed at the end); ``uncovered`` holds exactly the needed targets no
-chosen station sees; ``gain[c]`` is how many of them candidate c sees. Phases 3-4 keep coverage and connectivity. A
-group opened in one component cannot later use another: when that leaves a target unseen, the group is fixed to a
-component that sees it and the pass restarts (at most once per group); a target whose seers all lie in one component
-fixes that component up front.
+group's overlap graph; ``uncovered`` holds exactly the needed targets no chosen station sees; ``gain[c]`` is how many
+of them candidate c sees. Phases 3-4 keep coverage and connectivity. A group opened in one component cannot later use
+another: when that leaves a target unseen, the group is fixed to a component that sees it and the pass restarts (at
+most once per group); a target whose seers all lie in one component fixes that component up front.
 
-Complexity (C candidates, T targets, E overlap pairs, k stations taken): the gain is updated from the columns of the
-newly covered targets, O(nnz(A)) over a pass, and each step scans the C candidates, so a pass is O(k C + nnz(A)) plus
-O(E log C) per bridge; pruning is k connectivity checks of one group's chosen stations; re-growing a group of m
-candidates costs ``starts`` such passes on its m rows. Deterministic: ties go to the lowest index, no clock or random
-draws.
-
-Why all bundles at once: where groups see each other's walls, groups grown one at a time walk round their neighbours
-and take several times the plain greedy's stations (docs/benchmarks/connected_greedy.md).
+Complexity (C candidates, T targets, E overlap pairs, k stations taken): a pass is O(k C + nnz(A)) plus O(E log C) per
+bridge; pruning is k connectivity checks; re-growing a group of m candidates costs ``starts`` passes on its m rows.
+Deterministic: ties go to the lowest index, no clock or random draws.
 
 References: V. Chvatal, "A greedy heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235, 1979; F. Jia
 and D. D. Lichti, "An efficient, hierarchical viewpoint planning strategy for terrestrial laser scanner networks",

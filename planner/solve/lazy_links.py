@@ -5,11 +5,8 @@ The connected MILP needs the overlap relation among the candidates the presolve 
 piece i sees and is linked to every neighbour k of i but j itself. Formed whole, that relation costs the sum over the
 pieces of their seers squared, far too much on a fine grid. Two facts make the relation among the kept enough.
 
-*Only the neighbours not dropped before i count.* Take an optimal connected plan and replace its dropped candidates by
-their replacers in the presolve's order. When i's turn comes, the candidates dropped before it are already out of the
-plan (and replacers are never dropped), so i's neighbours in the plan lie in N(i) minus the dropped ones; j, linked to
-all of them, joins i's part of the plan as i did. Cover and cost do not get worse, so an optimal connected plan over
-the kept candidates remains.
+*Only the neighbours not dropped before i count* (the replacement argument of
+:func:`planner.solve.presolve.dominated`): an optimal connected plan over the kept candidates remains.
 
 *A shorter neighbour is j's neighbour anyway.* With C(j) >= C(i) the shared wall s(j, k) >= s(i, k) for every k and
 L_j >= L_i (L: covered length). If L_k <= L_i, k linked to i means s(i, k) >= rho min(L_i, L_k) = rho L_k = rho

@@ -9,22 +9,18 @@ with the moves of RWLS (Gao et al., "An efficient local search heuristic with ro
 covering problem", EJOR 246(3), 2015) and configuration checking (Wang et al., "A weighting-based local search
 heuristic algorithm for the set covering problem", CEC 2014):
 
-1. when S is a connected cover it is kept and the station of least removal cost is dropped (S one
-   smaller); otherwise
-2. remove the non-tabu station of least removal cost ``loss(s) + w_link * split(s)`` (``loss``: the
-   weight of the targets only s sees; ``split``: the parts its removal adds, from one articulation-point
-   pass over the chosen subgraph); then
-3. add, among the seers of one unseen target (drawn by a seeded generator), and, while S is in pieces,
-   the candidates linked to two of its parts, the one of best ``gain(c) - w_link * (1 - parts c
-   touches)``, allowed by configuration checking (a removed candidate comes back only after a
-   candidate sharing a target with it changed state);
+1. when S is a connected cover it is kept and the station of least removal cost is dropped (S one smaller); else
+2. remove the non-tabu station of least removal cost ``loss(s) + w_link * split(s)`` (``loss``: the weight of the
+   targets only s sees; ``split``: the parts its removal adds, one articulation-point pass); then
+3. add, among the seers of one unseen target (drawn by a seeded generator) and, while S is in pieces, the candidates
+   linked to two of its parts, the one of best ``gain(c) - w_link * (1 - parts c touches)`` allowed by configuration
+   checking (a removed candidate comes back only after a candidate sharing a target with it changed state);
 4. the weights of the unseen targets, and w_link while S is in pieces, grow by one.
 
-So a candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs O(targets and
-links of the few stations and candidates it touches) plus one connected-components and one articulation pass on the ~n
-chosen stations, never a dense candidate x target array. Ties go to the candidate unchanged longest, then to the
-lowest index, and draws to a generator of fixed seed: the result depends only on the input, ``moves`` and ``seed`` (no
-clock).
+A candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs O(targets and links
+of the few stations and candidates it touches) plus one components and one articulation pass on the chosen stations.
+Ties go to the candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the
+result depends only on the input, ``moves`` and ``seed`` (no clock).
 """
 
 from __future__ import annotations

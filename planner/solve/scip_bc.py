@@ -4,12 +4,10 @@ As a plain backend (``pyscipopt``) it holds the cover model and re-solves it aft
 others. With :meth:`PyScipBackend.connect` it also gets a constraint handler, so connectivity is enforced inside one
 search tree (no restarts, SCIP keeps its cut pool):
 
-* ``conscheck`` rejects a candidate solution whose chosen stations of some
-  zone-side fall apart under the overlap relation;
-* ``consenfolp`` / ``consenfops`` answer such an integral point with the
-  region cuts of :func:`planner.solve.connectivity.connectivity_cuts`;
-* ``conssepalp`` separates fractional LP points with minimum node-separator
-  inequalities (:mod:`planner.solve.separators`).
+* ``conscheck`` rejects a solution whose chosen stations of some zone-side fall apart under the overlap relation;
+* ``consenfolp`` / ``consenfops`` answer such an integral point with the region cuts of
+  :func:`planner.solve.connectivity.connectivity_cuts`;
+* ``conssepalp`` separates fractional LP points with minimum node-separator inequalities (:mod:`planner.solve.separators`).
 
 PySCIPOpt is imported lazily, inside the functions, so that importing the planner does not load SCIP. SCIP solves on
 one thread (deterministic); the seed goes to ``randomization/randomseedshift``.
@@ -26,7 +24,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
 from planner.solve.backends import CAPABILITIES, BackendResult, Hint, Outcome, Row, hint_values
-from planner.solve.connectivity import connectivity_cuts, disconnected_groups
+from planner.solve.connectivity import connectivity_cuts, disconnected_groups, group_members
 from planner.solve.separators import min_node_separator, split_graph
 
 #: fractional separation: sources tried per zone-side and round, least violation kept
@@ -149,10 +147,8 @@ def _handler(scip: Any) -> type:
             self.separate = separate
             self.n_int = self.n_frac = 0
             self.seers = a.T.tocsr()  # target -> candidates that see it
-            index: dict[Hashable, list[int]] = {}
-            for i, g in enumerate(self.groups):
-                index.setdefault(g, []).append(i)
-            self.members = {g: np.asarray(v) for g, v in index.items()}
+            by_group = group_members(self.groups, range(len(self.groups)))
+            self.members = {g: np.asarray(v) for g, v in by_group.items()}
 
         def _values(self, sol: Any) -> np.ndarray:
             return np.array([self.model.getSolVal(sol, v) for v in self.x])

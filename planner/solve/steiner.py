@@ -6,18 +6,15 @@ node-weighted Steiner problem over the overlap graph (terminals: the components;
 :func:`steiner_join` uses Mehlhorn's construction (K. Mehlhorn, "A faster approximation algorithm for the Steiner
 problem in graphs", Information Processing Letters 27, 1988), with node weights:
 
-1. one multi-source shortest-path pass from every chosen station (distance 0) over ``adj``, each step costing
-   the station it enters (0 for a chosen one): each candidate's distance to, and nearest, component (its
-   Voronoi region);
+1. one multi-source shortest-path pass from every chosen station (distance 0) over ``adj``, each step costing the
+   station it enters (0 for a chosen one): each candidate's distance to, and nearest, component (its Voronoi region);
 2. every overlap pair (u, v) whose nearest components differ offers a bridge of cost d(u) + d(v);
-3. a minimum spanning tree over the components with the cheapest bridge of each pair; its bridges' paths are
-   added, cheapest first, skipping one whose components an earlier bridge already joined.
+3. a minimum spanning tree over the components with the cheapest bridge of each pair; its bridges' paths are added,
+   cheapest first, skipping one whose components an earlier bridge already joined.
 
-So a bridge's stations are counted once even when several bridges share them only through the spanning tree; the
-result is at most twice the cost of the best tree joining the components through the Voronoi paths (Mehlhorn's bound
-for edge weights; with node weights it is a heuristic). Cost: one Dijkstra, O(E log C), and one pass over the E
-overlap pairs, per round; a round joins every component it can, and a second round runs only if a group was left in
-pieces (it never is when the group's overlap graph is connected).
+The result is at most twice the cost of the best tree through the Voronoi paths for edge weights (Mehlhorn's bound;
+with node weights a heuristic). Cost per round: one Dijkstra, O(E log C), and one pass over the E overlap pairs; a
+second round runs only if a group was left in pieces (never when its overlap graph is connected).
 """
 
 from __future__ import annotations

@@ -1,38 +1,29 @@
 """Fewer stations for a large connected plan: re-solve it exactly inside windows of the site (LNS).
 
-The local search (:mod:`planner.solve.local_search`) changes one or two stations a move; a large plan can
-still hold a group of stations that a different group, one smaller, would replace. A *window* is a
-disc of radius ``radius_m`` around one chosen station c. With S the plan, D the chosen stations inside
-the window and F = S \\ D the ones kept,
+The local search (:mod:`planner.solve.local_search`) changes one or two stations a move; a large plan can still hold a
+group of stations that a different group, one smaller, would replace. A *window* is a disc of radius ``radius_m``
+around one chosen station c. With S the plan, D the chosen stations inside the window and F = S \\ D the ones kept,
 
     minimise   |N|
     subject to N covers every target that D sees and F does not          (the window's rows)
                N together with F is connected in each registration group  (the overlap relation)
 
-over the candidates N that see one of those targets or stand inside the window. Each connected part of
-F (per group) enters the model as one forced node linked to every candidate linked to one of its
-stations, and the model is the planner's own connected MILP (:func:`planner.solve.milp.solve`, CP-SAT
-with one thread, stopped on deterministic work). D is itself a solution, so the MILP's answer is never
-larger; when it is smaller, F + N replaces S (re-checked: a cover, each group one part). This is the
-large-neighbourhood search of Shaw (1998), "Using constraint programming and local search methods to
-solve vehicle routing problems" (CP 1998), with an exact MILP as the repair step.
+over the candidates N that see one of those targets or stand inside the window. Each connected part of F (per group)
+enters the model as one forced node linked to every candidate linked to one of its stations; the model is the
+planner's own connected MILP (:func:`planner.solve.milp.solve`, CP-SAT on one thread, stopped on deterministic work).
+D is itself a solution, so the answer is never larger; when it is smaller, F + N replaces S (re-checked). This is
+Shaw's large-neighbourhood search ("Using constraint programming and local search methods to solve vehicle routing
+problems", CP 1998) with an exact MILP as the repair step.
 
-One pass visits every station of the plan as a centre, in an order drawn by a generator of fixed seed
-(stations already removed are skipped). Work limits, not clocks, stop each window, so the result depends
-only on the input and the options (a wall-clock cap, ``WALL_CAP`` times the work where one is set, is
-counted when reached).
+One pass visits every station of the plan as a centre, in an order drawn by a generator of fixed seed (stations
+already removed are skipped). Work limits, not clocks, stop each window, so the result depends only on the input and
+the options (a wall-clock cap, ``WALL_CAP`` times the work where one is set, is counted when reached).
 
-Windows may run ``batch`` at a time through ``run`` (tiled plans on Dask, with ``WindowOptions.batch`` > 1):
-``batch`` windows are kept in flight, each for the next centre still in the plan, all against the plan as it
-is, and their answers are taken in order as they come (a pipeline, not a barrier per batch: a slow window
-holds up the taking of later answers but not their solving). At the first answer that removes stations the
-plan changes, so the answers still in flight, made for the old plan, are dropped and their windows solved
-again. Each answer taken was therefore made for the plan the one-at-a-time search would have given it: the
-result, and the counts, do not depend on ``batch`` or on the number of workers (test
-``test_windows_in_flight_give_the_one_at_a_time_result``).
-
-Cost: a pass solves one window per station, each holding a few of the plan's stations; the windows are the
-serial part of a tiled run, and keeping several in flight per worker shortens the pass on many cores.
+With ``run`` (tiled plans on Dask), ``batch`` windows are kept in flight, each for the next centre still in the plan,
+and their answers taken in order as they come. At the first answer that removes stations the answers still in flight,
+made for the old plan, are dropped and their windows solved again: each answer taken was made for the plan the
+one-at-a-time search would have given it, so the result does not depend on ``batch`` or on the number of workers
+(``test_windows_in_flight_give_the_one_at_a_time_result``).
 """
 
 from __future__ import annotations
