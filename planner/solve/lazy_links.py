@@ -134,15 +134,7 @@ def _block_pairs(
     return shared.indptr, c, shared.data, keep(r, c, shared.data), sup
 
 
-def _replaceable(
-    sup: NDArray[np.int64],
-    nb_c: NDArray[np.int64],
-    nb_s: NDArray[np.float64],
-    covered: NDArray[np.float64],
-    i: int,
-    rho: float,
-    state: _Kept,
-) -> bool:
+def _replaceable(sup: Ints, nb_c: Ints, nb_s: Floats, covered: Floats, i: int, rho: float, state: _Kept) -> bool:
     """Whether some kept superset j of i (``sup``) is linked to every kept neighbour k of i longer than i (``nb_c``,
     sharing ``nb_s`` with i) but j itself; a k is looked up only where s(i, k) < rho min(L_j, L_k)."""
     longer = covered[nb_c] > covered[i]
