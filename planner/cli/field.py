@@ -110,7 +110,7 @@ def write_field(
     settings: Sequence[str] | None = None,
 ) -> FieldPlan:
     """Make the sheet, print its summary and write its files into ``folder``; ``settings``: each station's scan
-    setting where the plan chose them (issue 47)."""
+    setting where the plan chose them)."""
     from planner.field.run import field_plan
     from planner.field.sheet import write_sheet
 

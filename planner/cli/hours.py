@@ -1,4 +1,4 @@
-"""The command line's side of the hours on site (issue 47): the field session the trade-off counts in, and
+"""The command line's side of the hours on site: the field session the trade-off counts in, and
 ``planner verify --max-point-spacing``."""
 
 from __future__ import annotations

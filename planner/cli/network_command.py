@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from planner.network.check import NetworkReport
     from planner.plan.problem import Problem
 
-#: seed 003: a Monte Carlo design study repeats the adjustment at least 100 times
+#: a Monte Carlo design study repeats the adjustment at least 100 times
 MIN_MONTE_CARLO = 100
 
 
@@ -30,7 +30,7 @@ def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
     command = getattr(args, "command", None)  # on plan the network's knobs are tuning keys (--set KEY=VALUE)
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(
-            f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs (seed 003)",
+            f"Monte Carlo needs at least {MIN_MONTE_CARLO} runs",
             field=option_name(command, "monte-carlo"),
             value=args.monte_carlo,
         )

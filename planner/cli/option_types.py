@@ -7,8 +7,6 @@ import argparse
 import math
 from collections.abc import Callable
 
-from planner.core.checks import SAMPLING_M as SAMPLING_RANGE_M
-
 
 def number(
     kind: type = float, *, above: float | None = None, at_least: float | None = None, at_most: float | None = None
@@ -42,8 +40,6 @@ POSITIVE = number(float, above=0)
 NON_NEGATIVE = number(float, at_least=0)
 POSITIVE_INT = number(int, at_least=1)
 NON_NEGATIVE_INT = number(int, at_least=0)
-#: verification sampling (planner.core.checks.SAMPLING_M, as the library checks it)
-SAMPLING_M = number(float, at_least=SAMPLING_RANGE_M[0], at_most=SAMPLING_RANGE_M[1])
 
 
 class OncePerKey(argparse.Action):

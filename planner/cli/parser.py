@@ -14,7 +14,7 @@ from collections.abc import Callable, Mapping
 
 from planner import __version__
 from planner.cli.field import add_field_parser
-from planner.cli.option_types import NON_NEGATIVE, POSITIVE, SAMPLING_M
+from planner.cli.option_types import NON_NEGATIVE, POSITIVE
 from planner.cli.profile import add_profile_options
 from planner.cli.report import add_report_parser
 from planner.cli.tuning import TUNING, add_plan_settings, add_setting, add_settings
@@ -132,9 +132,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     )
     _add_plan(sub)
     ve = add_site(sub, "verify", "re-verify any plan's coverage on a fine sampling of every wall", plan_file=True)
-    ve.add_argument(
-        "--spacing", type=SAMPLING_M, default=0.1, metavar="M", help="sampling along the walls (default 0.1 m)"
-    )
+    add_setting(ve, "verify-spacing", name="spacing")
     add_settings(ve, "precision", "surfaces")
     add_setting(
         ve,

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from planner.core.errors import ExitCode, UsageError
-from planner.core.settings import EXPORTS
+from planner.core.settings import DEFAULTS, EXPORTS
 
 if TYPE_CHECKING:  # the rest loads when a command runs (a fast --help: docs/startup.md)
     from planner.plan.outcome import Outcome
@@ -65,7 +65,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 def _file_comparison(outcome: Outcome) -> list[dict[str, Any]]:
     """Closed form and greedy recomputed with the plan's settings, beside the plan's own figures."""
-    from planner.candidates.pool import PoolOptions
+    from planner.candidates.pool import GRID_SPACING_M, PoolOptions
     from planner.plan import PlanOptions, resolve
     from planner.report import compare_methods
     from planner.report.compare import meta_row
@@ -73,8 +73,8 @@ def _file_comparison(outcome: Outcome) -> list[dict[str, Any]]:
 
     m, p = outcome.meta, outcome.meta.get("parameters", {})
     options = PlanOptions(
-        target_spacing_m=float(p.get("target_spacing_m", 1.0)),
-        pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", 10.0)), seed=int(p.get("seed", 0))),
+        target_spacing_m=float(p.get("target_spacing_m", DEFAULTS["plan.target_spacing_m"])),
+        pool=PoolOptions(grid_spacing_m=float(p.get("grid_spacing_m", GRID_SPACING_M)), seed=int(p.get("seed", 0))),
         incidence_3d=p.get("incidence") == "3d",
         precision=bool(p.get("precision", True)),
         milp=MilpOptions(precision=p.get("precision_mode", "single")),

@@ -23,6 +23,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from planner.core.checks import SAMPLING_M
+
 #: the fixed choices (each equal to the library's own constant: tests/cli/test_cli_start.py)
 METHODS = ("closed-form", "greedy", "milp")
 OBJECTIVES = ("stations", "field-time")
@@ -325,6 +327,17 @@ SETTINGS: dict[str, Setting] = {
                 kind="switch",
                 help="do not require the predicted point error <= sigma_req",
                 to={"plan.precision": lambda v: not v},
+            ),
+            Setting(
+                key="verify-spacing",
+                plan=False,
+                kind="float",
+                at_least=SAMPLING_M[0],
+                at_most=SAMPLING_M[1],
+                default=0.1,
+                metavar="M",
+                help="sampling along the walls (default 0.1 m)",
+                to={"plan.verify_spacing_m": None},
             ),
             Setting(
                 key="theta-max-floor",

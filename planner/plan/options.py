@@ -37,7 +37,7 @@ class PlanOptions:
     incidence_3d: bool = DEFAULTS["plan.incidence_3d"]
     #: the precision check: a view covers a point only where its predicted error meets sigma_req
     precision: bool = DEFAULTS["plan.precision"]
-    verify_spacing_m: float = 0.1
+    verify_spacing_m: float = DEFAULTS["plan.verify_spacing_m"]
     milp: MilpOptions = field(default_factory=MilpOptions)
     #: tripod discs round the stations; None (default): for the MILP, which always places them, else not
     tripod: bool | None = None
