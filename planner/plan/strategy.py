@@ -191,8 +191,8 @@ TILE_M = 100.0
 #: station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
 TILE_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.15, 0.30
 #: window re-solves of the automatic strategy: none (on the 16-ha plant's site-connected plan of 99 stations one
-#: pass of 99 windows found nothing smaller in 373 s; the local search's moves do better there); ``--tiles M`` with
-#: ``--set tile-window-passes=1`` runs them
+#: pass of 99 windows found nothing smaller in 373 s; the local search's moves do better there); ``--tiles M`` runs
+#: one pass
 WINDOW_PASSES = 0
 #: stations per tile the window budget is spread over (the generated plants need about this many)
 STATIONS_PER_TILE = 6
