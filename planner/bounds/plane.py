@@ -52,7 +52,6 @@ class PricingReport:
     Farley's bound ``sum(y) / max(1, w*)``, where ``y`` are the last LP's duals and ``w*`` (``heaviest_weight``)
     bounds any position's dual weight from above (the regions grown by the tolerance,
     :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced out.
-    ``lp_holds_over_plane``: the pool's integer LP bound holds over the plane (Farley's bound rounds up to it).
     ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`). ``wall_cap_hit``: the user's
     wall-clock cap, not the round or work limit, stopped it (then the columns, and so the bound, may depend on the
     machine's load).
@@ -82,10 +81,6 @@ class PricingReport:
     def plane_bound(self) -> int:
         """ceil of the plane LP bound: no cover from any positions has fewer stations."""
         return math.ceil(self.plane_lp_bound - 1e-6)
-
-    @property
-    def lp_holds_over_plane(self) -> bool:
-        return self.plane_bound >= self.integer_bound
 
     def to_dict(self) -> dict[str, Any]:
         return {
