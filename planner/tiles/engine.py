@@ -16,17 +16,18 @@ from typing import Any
 
 from planner.core import progress
 from planner.core.errors import UnreachableError, UsageError
+from planner.core.settings import DEFAULTS
 
 #: seconds to wait for an existing scheduler to answer
 CONNECT_TIMEOUT_S = 10.0
 
 #: memory limit of each embedded worker
-MEMORY_PER_WORKER = "1.5GiB"
+MEMORY_PER_WORKER: int = DEFAULTS["strategy.worker_memory"]  # bytes
 
 
 @contextmanager
 def dask_client(
-    workers: int = 0, scheduler: str | None = None, memory_per_worker: str = MEMORY_PER_WORKER
+    workers: int = 0, scheduler: str | None = None, memory_per_worker: int | str = MEMORY_PER_WORKER
 ) -> Iterator[Any]:
     """A Dask client: connected to ``scheduler`` (``tcp://HOST:PORT``) when given, else to an embedded
     ``LocalCluster`` of ``workers`` processes (one thread each). Closed on exit."""
