@@ -213,10 +213,8 @@ def field_plan(
     settings: Sequence[str] | None = None,
 ) -> FieldPlan:
     """Order, route, bound, targets and field time of a plan's ``stations`` (see the module text). ``site``: the
-    plan's resolved problem (its sight and registration: the sheet relates the plan's own pairs), or a site or
-    sight alone, then registered at the site's own defaults. ``settings``: the scan setting of each station
-    (aligned with ``stations``) where the plan chose them, timed each at its own; None: every station at
-    ``options.setting``."""
+    plan's problem (its sight and registration: the sheet relates the plan's pairs), else a site or sight
+    registered at its defaults. ``settings``: each station's scan setting; None: all at ``options.setting``."""
     t0 = time.perf_counter()
     sight = site.sight if isinstance(site, Problem) else as_sight(site)
     registration = site.registration if isinstance(site, Problem) else Registration.of(sight)
@@ -227,58 +225,33 @@ def field_plan(
         label += f" ({walk.frame})"  # a point start stands on the storey of the plan's first station
     # nodes: the start first (a station or a point), then the other stations
     node_station = ([first] if first is not None else [-1]) + [k for k in range(len(st)) if k != first]
-    node_xy = [start_xy if k < 0 else st[k].xy for k in node_station]
-    g: WalkGraph | StoreyWalk
-    if walk.joined is None:
-        g = walk_graph(walk.space, node_xy)
-    else:
-        g = storey_walks(site, walk.spaces, node_xy, [walk.frame if k < 0 else st[k].frame for k in node_station])
+    g = walk.graph(site, [start_xy if k < 0 else st[k].xy for k in node_station], [s.frame for s in st], node_station)
     if options.strict_walls:
         check_reach(site, st, g, node_station, label, plan_file)
     problem = sight.of_stations(st)
     rel = registration.relation(st, problem)
-    nbrs = [set() if k < 0 else {node_station.index(u) for u in rel.neighbors(k)} for k in node_station]
-    comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
-    parts = [-1 if k < 0 else comp[k] for k in node_station]
-    d = bridge(g)  # a straight line through the walls where no walk joins two stations
     at_station = first is not None
-    result = solve_order(
-        d, options.mode, nbrs, parts, at_station, options.closed, options.solution_limit, options.time_cap_s
-    )
-    cert = certify(
-        d, result, options.mode, nbrs, parts, at_station, options.closed, options.node_limit, options.time_cap_s
-    )
-    result = cert.result
+    d = bridge(g)  # a straight line through the walls where no walk joins two stations
+    cert, ok = _order(d, rel, node_station, at_station, options)
+    result = cert.result  # the order the bound certifies
     order = tuple(node_station[n] for n in result.order if node_station[n] >= 0)
     path_nodes = list(result.order) + ([0] if options.closed else [])
     legs, leg_frames, stair_legs = _legs(g, path_nodes, st, first)
     numbers = {n: order.index(k) + 1 for n, k in enumerate(node_station) if k >= 0}
+    names = [label if k < 0 else st[k].id for k in node_station]
+    parts = part_names(site, g, node_station, st)
     through = crossings(
-        site,
-        g,
-        path_nodes,
-        [label if k < 0 else st[k].id for k in node_station],
-        [numbers.get(n) for n in range(len(node_station))],
-        part_names(site, g, node_station, st),
-        int(at_station),
+        site, g, path_nodes, names, [numbers.get(n) for n in range(len(node_station))], parts, int(at_station)
     )
     props = props or field_properties(site)
+    reg_order, spaces = order if options.mode == "registration" else None, None if walk.joined is None else walk.spaces
     links, targets = propose_targets(
-        site,
-        st,
-        walk.space,
-        props,
-        rel,
-        problem,
-        order if options.mode == "registration" else None,
-        options.strong_overlap,
-        None if walk.joined is None else walk.spaces,
+        site, st, walk.space, props, rel, problem, reg_order, options.strong_overlap, spaces
     )
     if walk.joined is None:
-        walked = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs[: len(order)]]
+        walked = [sum(math.dist(p, q) for p, q in itertools.pairwise(leg)) for leg in legs][: len(order)]
     else:  # a flight counts its run and its rise: the distances the order was made on
-        walked = ([0.0] if at_station else []) + [float(d[a, b]) for a, b in itertools.pairwise(path_nodes)]
-        walked = walked[: len(order)]
+        walked = ([0.0] * at_station + [float(d[a, b]) for a, b in itertools.pairwise(path_nodes)])[: len(order)]
     counts = [sum(1 for t in targets if st[k].id in t.seen_by) for k in order]
     per = None if settings is None else {s.id: v for s, v in zip(st, settings)}
     ft = field_time([st[k].id for k in order], walked, counts, props, options.setting, options.session_s, per)
@@ -300,7 +273,7 @@ def field_plan(
         space=walk.space,
         instrument_height_m=site.parameters.instrument_height_m,
         capped=result.capped,
-        registration_ok=not registration_violations(result.order, nbrs, parts, at_station),
+        registration_ok=ok,
         solve_s=time.perf_counter() - t0,
         certified=cert,
         crossings=through,
@@ -310,6 +283,20 @@ def field_plan(
         leg_frames=leg_frames,
         stair_legs=tuple(stair_legs),
     )
+
+
+def _order(
+    d: np.ndarray, rel: nx.Graph, node_station: list[int], at_station: bool, options: FieldOptions
+) -> tuple[Certified, bool]:
+    """The visiting order on the walking distances ``d`` (nodes: the start, then the other stations) with its
+    certified lower bound, and whether it honours the registration relation ``rel`` of the stations."""
+    nbrs = [set() if k < 0 else {node_station.index(u) for u in rel.neighbors(k)} for k in node_station]
+    comp = {u: c for c, part in enumerate(nx.connected_components(rel)) for u in part}
+    parts = [-1 if k < 0 else comp[k] for k in node_station]
+    mode, closed, cap = options.mode, options.closed, options.time_cap_s
+    result = solve_order(d, mode, nbrs, parts, at_station, closed, options.solution_limit, cap)
+    cert = certify(d, result, mode, nbrs, parts, at_station, closed, options.node_limit, cap)
+    return cert, not registration_violations(cert.result.order, nbrs, parts, at_station)
 
 
 @dataclass(frozen=True)
@@ -323,6 +310,15 @@ class _Walk:
     spaces: dict[str, WalkSpace]
     joined: object | None
     walks: Callable[[list[tuple[float, float]]], np.ndarray] | None
+
+    def graph(
+        self, site: Site, xy: list[tuple[float, float]], frames: list[str], node_station: list[int]
+    ) -> WalkGraph | StoreyWalk:
+        """The walks between the points ``xy`` of the nodes (``node_station``: each node's station, -1 for a
+        start point, which stands in the first station's frame; ``frames``: each station's)."""
+        if self.joined is None:
+            return walk_graph(self.space, xy)
+        return storey_walks(site, self.spaces, xy, [self.frame if k < 0 else frames[k] for k in node_station])
 
 
 def _walk(site: Site, st: tuple[Candidate, ...], plan_file: str | None) -> _Walk:

@@ -85,12 +85,6 @@ def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
     return tie_sigma_m(list(ranges), DEFAULT_RESOLUTION_DEG, float(np.sqrt(np.mean(np.square(centre)))))
 
 
-def registration_of(sight: Sight, registration: Registration | str | None) -> Registration:
-    """The plan's registration as given, else the registration of ``sight``'s site in ``registration`` mode
-    (None: the site's default) at its own overlap share."""
-    return registration if isinstance(registration, Registration) else Registration.of(sight, registration)
-
-
 def registration_links(
     site: Site | Sight,
     stations: Sequence[Candidate],
@@ -98,13 +92,15 @@ def registration_links(
     problem: CoverageProblem | None = None,
 ) -> list[tuple[str, str]]:
     """Pairs of the plan's stations that can be registered (see the module text): the relation of the plan's
-    ``registration`` (:meth:`planner.coverage.relation.Registration.relation`; a mode or None: the site's,
-    :func:`registration_of`); ``problem``: their coverage, when already built (rows in the order of
+    ``registration`` (:meth:`planner.coverage.relation.Registration.relation`; a mode, or None: the site's
+    default, at the site's overlap share); ``problem``: their coverage, when already built (rows in the order of
     ``stations``); ``site``: the plan's sight, or a site seen under its own parameters."""
     sight = as_sight(site)
     if problem is None:
         problem = sight.of_stations(stations)
-    g = registration_of(sight, registration).relation(stations, problem)
+    if not isinstance(registration, Registration):
+        registration = Registration.of(sight, registration)
+    g = registration.relation(stations, problem)
     return [(stations[u].id, stations[v].id) for u, v in g.edges()]
 
 

@@ -4,7 +4,7 @@ sight (limits), the one registration rule and scope, and the strategy. Every lat
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from functools import cached_property
 from typing import Any
 
@@ -95,13 +95,7 @@ class Problem:
             "max_slant_range_m": lim.max_slant_range_m,
             "theta_max_deg": lim.theta_max_deg,
             "incidence_3d": lim.incidence_3d,
-            "rule": None
-            if self.rule is None
-            else {
-                "overlap": self.rule.overlap,
-                "min_shared_m": self.rule.min_shared_m,
-                "max_link_m": self.rule.max_link_m,
-            },
+            "rule": None if self.rule is None else asdict(self.rule),
             "registration": self.registration.mode,
             "registration_reason": self.registration.reason,
             "strategy": self.strategy.to_dict(),

@@ -35,3 +35,13 @@ def test_registration_line_says_the_scope_and_why(name, scope, reason):
 def test_registration_asked_for_wins_over_the_default(name, asked):
     problem = resolve(load_site(INSTANCES / name), PlanOptions(registration=asked))
     assert problem.registration.mode == asked and problem.registration_reason == "asked for"
+
+
+def test_resolve_lists_what_it_adjusts():
+    site = load_site(INSTANCES / "polygon_b.json")
+    assert resolve(site).adjustments == ()
+    hours = resolve(site, PlanOptions(objective="field-time"))
+    assert {"pricing off: scan settings per station", "tripod off: scan settings per station"} <= set(hours.adjustments)
+    assert not hours.options.pricing and not hours.options.tripod
+    assert all(f"adjusted: {a}" in hours.summary() for a in hours.adjustments)
+    assert hours.to_dict()["adjustments"] == list(hours.adjustments)
