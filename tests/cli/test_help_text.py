@@ -18,8 +18,6 @@ FORBIDDEN = re.compile(
 )
 #: what makes a setting a stopping rule: a time, work, budget, move, iteration or node limit
 STOPPING = re.compile(r"time-limit|work-limit|-work\b|budget|moves|iters|node-limit")
-#: the options that are no settings: help, and how the tuning keys are set and listed
-NOT_SETTINGS = {"-h", "--help", "--help-all", "--set", "--config"}
 
 
 def _commands() -> list[str]:
@@ -39,12 +37,12 @@ def test_no_site_names_or_lab_notes_in_help(capsys, argv):
 
 
 def _plan_settings(capsys) -> tuple[list[str], list[str]]:
-    """The flags (and the positional site) and the tuning keys ``planner plan --help-all`` lists."""
+    """The options (every one listed, -h, --set, --config and --help-all too) and the tuning keys
+    ``planner plan --help-all`` lists."""
     text = _help(capsys, ["plan", "--help-all"])
     head, keys = text.split("\ntuning keys (")
-    flags = set(re.findall(r"^  (-[-\w]+)", head, flags=re.MULTILINE)) - NOT_SETTINGS
-    positional = re.findall(r"^  ([a-z]\w*) ", head.split("options:")[0], flags=re.MULTILINE)
-    return sorted(flags) + positional, re.findall(r"^  ([a-z][-a-z]*)[=\[]", keys, flags=re.MULTILINE)
+    flags = set(re.findall(r"^  (-[-\w]+)", head, flags=re.MULTILINE))
+    return sorted(flags), re.findall(r"^  ([a-z][-a-z]*)[=\[]", keys, flags=re.MULTILINE)
 
 
 def test_plan_help_all_lists_at_most_60_settings_and_4_stopping_rules(capsys):
