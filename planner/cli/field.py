@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from planner.cli.option_types import POSITIVE, POSITIVE_INT
+from planner.cli.option_types import POSITIVE
 from planner.cli.tuning import add_setting, option_name
 from planner.core.errors import ExitCode, UsageError
 
@@ -17,16 +17,6 @@ if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.m
     from planner.plan.problem import Problem
     from planner.site import Site
     from planner.site.candidate import Candidate
-
-
-def _fraction(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a fraction in [0, 1], got {text!r}") from None
-    if not 0.0 <= value <= 1.0:
-        raise argparse.ArgumentTypeError(f"expected a fraction in [0, 1], got {text!r}")
-    return value
 
 
 def add_field_options(p: argparse.ArgumentParser) -> None:
@@ -48,20 +38,8 @@ def add_field_parser(sub: Any) -> None:
     add_field_options(f)
     f.add_argument("--tour", action="store_true", help="return to the start (default: an open path)")
     f.add_argument("--setting", metavar="NAME", help="scan setting of the instrument model (default: its default)")
-    f.add_argument(
-        "--strong-overlap",
-        type=_fraction,
-        default=0.5,
-        metavar="F",
-        help="a registration link sharing less than F of the smaller scan's wall gets targets (default 0.5)",
-    )
-    f.add_argument(
-        "--solution-limit",
-        type=POSITIVE_INT,
-        default=1000,
-        metavar="N",
-        help="routing: guided local search stops after N solutions (deterministic; default 1000)",
-    )
+    add_setting(f, "strong-overlap")
+    add_setting(f, "solution-limit")
     f.add_argument(
         "--time-limit",
         type=POSITIVE,
@@ -89,8 +67,8 @@ def field_options(args: argparse.Namespace, prefix: str = "") -> FieldOptions:
             closed=getattr(args, "tour", False),
             session_s=parse_duration(session) if session else None,
             setting=getattr(args, "setting", None),
-            strong_overlap=getattr(args, "strong_overlap", 0.5),
-            solution_limit=getattr(args, "solution_limit", 1000),
+            strong_overlap=args.strong_overlap,
+            solution_limit=args.solution_limit,
             time_cap_s=getattr(args, "time_limit", None) if prefix == "" else None,
             strict_walls=bool(getattr(args, f"{key}strict_walls", False)),
         )

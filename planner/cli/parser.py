@@ -14,7 +14,6 @@ from collections.abc import Callable, Mapping
 
 from planner import __version__
 from planner.cli.field import add_field_parser
-from planner.cli.option_types import NON_NEGATIVE, POSITIVE
 from planner.cli.profile import add_profile_options
 from planner.cli.report import add_report_parser
 from planner.cli.tuning import TUNING, add_plan_settings, add_setting, add_settings
@@ -165,12 +164,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     add_setting(ch, "registration")
     a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
     a.add_argument("site", help="JSON instance (.json) or table CSV (.csv)")
-    a.add_argument(
-        "--tolerance", type=POSITIVE, default=0.005, metavar="M", help="equal side lengths within M m (default 0.005)"
-    )
-    a.add_argument(
-        "--wall-thickness", type=NON_NEGATIVE, default=0.0, metavar="M", help="offset between the two faces (default 0)"
-    )
+    add_settings(a, "tolerance", "wall-thickness")
     a.add_argument("--anchor", metavar="ZONE", help="zone whose frame becomes the site frame (default: the outline)")
     a.add_argument("--out", metavar="FILE", help="write the instance with its placements to FILE")
     sub.add_parser("instruments", help="list the instrument models in models/")

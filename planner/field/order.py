@@ -25,10 +25,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from planner.core.errors import InternalError, UsageError
+from planner.core.settings import DEFAULTS
 
 MODES = ("shortest", "registration")
 #: guided local search stops after this many solutions (a count: deterministic)
-SOLUTION_LIMIT = 1000
+SOLUTION_LIMIT: int = DEFAULTS["field.solution_limit"]
 #: no wall-clock cap unless the user sets one
 TIME_CAP_S: float | None = None
 #: walking distances go to the solver in millimetres

@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from planner.core.errors import InputError
+from planner.core.settings import DEFAULTS
 from planner.site.model import SITE_FRAME, ScanSide, Site, Wall, Zone
 from planner.site.placement import IDENTITY, Placement, interiors_clash, misfit, normal_sign, place_zone, placed_site  # noqa: F401 (Placement, place_zone, placed_site: re-exported)
 
@@ -154,8 +155,8 @@ def _relative(
 
 def assemble(
     site: Site,
-    tolerance_m: float = 0.005,
-    wall_thickness_m: float = 0.0,
+    tolerance_m: float = DEFAULTS["assemble.tolerance_m"],
+    wall_thickness_m: float = DEFAULTS["assemble.wall_thickness_m"],
     anchor: str | None = None,
     consistency_m: float = 0.10,
 ) -> AssemblyReport:
