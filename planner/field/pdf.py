@@ -49,6 +49,8 @@ TOP_LINES = 2
 FOOT_LINES = 6
 #: the PDF's column heads (shorter than field.html's; a note under the title says what they are)
 HEADS = ("no.", "station", "x m", "y m", "zone", "side", "height m", "setting", "walk m", "min", "targets seen", "ses.")
+#: what the short heads mean, in each page's title
+KEY = "(height: instrument height; min: minutes with the walk to the setup; ses.: session)"
 _LEFT = {1, 4, 5, 7, 10}  # text columns, left-aligned
 _CHAR = 0.64  # a character's width in font sizes (DejaVu Sans: digits 0.636, most letters under it)
 
@@ -117,14 +119,8 @@ def _table_pages(fp: FieldPlan) -> list[Figure]:
     for page in range(n_pages):
         fig = Figure(figsize=(pw, ph))
         y = 1.0 - MARGIN_IN / ph - line
-        fig.text(
-            MARGIN_IN / pw,
-            y,
-            f"Field sheet {fp.site.name}: setups, page {page + 2} of {n_pages + 1} "
-            f"(height: instrument height; min: minutes with the walk to the setup; ses.: session)",
-            fontsize=FONT_PT,
-            va="baseline",
-        )
+        title = f"Field sheet {fp.site.name}: setups, page {page + 2} of {n_pages + 1} " + KEY
+        fig.text(MARGIN_IN / pw, y, title, fontsize=FONT_PT, va="baseline")
         y -= TOP_LINES * line
         _row(fig, y, list(HEADS), widths, edges, bold=True)
         for r in cells[page * per : (page + 1) * per]:

@@ -80,7 +80,7 @@ class _Cuts:
     def __init__(
         self, n: int, nbrs: Sequence[set[int]], parts: Sequence[int], start_is_station: bool, registration: bool
     ) -> None:
-        self.n, self.registration = n, registration
+        self.registration = registration
         self.nbrs = np.zeros((n, n), dtype=bool)
         for j in range(n):
             self.nbrs[j, sorted(nbrs[j])] = True
@@ -101,14 +101,10 @@ class _Cuts:
         return out
 
     def violated(self, x: NDArray[np.float64], sets: list[NDArray[np.bool_]], tol: float) -> list:
-        found, seen = [], set()
-        for inside in sets:
-            if inside[0] or not inside.any() or inside.all():
-                continue
-            key = inside.tobytes()
-            if key in seen:
-                continue
-            seen.add(key)
+        """The rows of the proper ``sets`` without the start (each set once) that ``x`` violates by more than tol."""
+        found = []
+        proper = {inside.tobytes(): inside for inside in sets if inside.any() and not (inside[0] or inside.all())}
+        for inside in proper.values():
             for src, dst in self.rows(inside):
                 if float(x[np.ix_(src, dst)].sum()) < 1.0 - tol:
                     found.append((src, dst))
