@@ -1,4 +1,4 @@
-"""Point spacing: how far apart a scan's points fall on a wall piece, per view (issue 47).
+"""Point spacing: how far apart a scan's points fall on a wall piece, per view.
 
 A scanner turns by the same angular step ``delta`` (rad) horizontally and vertically; a setting "6.3 mm @ 10 m"
 has delta = 6.3 mm / 10 m. On a vertical wall at perpendicular distance ``d`` from the station, a point at

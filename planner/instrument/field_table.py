@@ -90,7 +90,7 @@ class FieldProperties:
 
     def step_rad(self, setting: str) -> float:
         """The angular step of ``setting`` (rad), read from its name, the point spacing at a range as the
-        datasheets print it: "6.3 mm @ 10 m" steps 6.3e-3 / 10 = 6.3e-4 rad (issue 47: point spacing)."""
+        datasheets print it: "6.3 mm @ 10 m" steps 6.3e-3 / 10 = 6.3e-4 rad."""
         if setting not in self.settings:
             raise InputError(
                 f"unknown scan setting (known: {', '.join(self.settings)})", field="setting", value=setting
@@ -110,7 +110,7 @@ class FieldProperties:
         return tuple(sorted(rows, key=lambda r: -r[1]))
 
     def only(self, setting: str) -> FieldProperties:
-        """These properties with ``setting`` as the only scan setting (a plan at one setting, issue 47)."""
+        """These properties with ``setting`` as the only scan setting (a plan at one setting)."""
         return replace(self, scan_times_s=((setting, self.scan_time_s(setting)),), default_setting=setting)
 
     def settings_by_step(self) -> tuple[str, ...]:

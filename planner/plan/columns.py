@@ -1,4 +1,4 @@
-"""The (station, setting) columns of a pool and the point spacing's coverage (issue 47): which views meet a
+"""The (station, setting) columns of a pool and the point spacing's coverage: which views meet a
 spacing at a setting (:func:`spacing_coverage`, :func:`spacing_refusal`), and every useful pair of a candidate
 and a setting with its cost (:func:`setting_columns`). Planning with them: :mod:`planner.plan.field_time`."""
 

@@ -1,4 +1,4 @@
-"""What a plan with scan settings says about the hours on site (issue 47): the objective, each station's
+"""What a plan with scan settings says about the hours on site: the objective, each station's
 setting, the set-up + scan time with the bound the MILP proves on it, and the spacing verification."""
 
 from __future__ import annotations

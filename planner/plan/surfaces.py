@@ -1,4 +1,4 @@
-"""Floors and ceilings as targets of a plan (issue 46): what :func:`planner.plan.problem.resolve` records when
+"""Floors and ceilings as targets of a plan: what :func:`planner.plan.problem.resolve` records when
 the surfaces go beyond walls, and the stations x patches columns the methods cover besides the wall pieces.
 
 The wall machinery stays as it is: the wall coverage (:class:`~planner.coverage.matrix.CoverageProblem`), the

@@ -1,4 +1,4 @@
-"""Independent check of the point spacing a plan gives every wall (issue 47).
+"""Independent check of the point spacing a plan gives every wall.
 
 Verification samples points every ``spacing_m`` along every wall face (as :mod:`planner.plan.verify` does) and,
 for each point, takes the finest spacing any station that sees it gives it at that station's setting, over the
