@@ -103,7 +103,7 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
             shown.add("ell")
     frame_axes(ax, PLAN_MARGIN)
     ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
-    worst = max((o.network.station_sigma.get(n, 0.0) for n in nodes), default=0.0)
+    worst = max((o.network.station_sigma_m.get(n, 0.0) for n in nodes), default=0.0)
     ax.set_title(
         f"{o.site.name}: station network, frame {frame} - ellipses exaggerated x {factor:g} "
         f"(worst station {worst * 1000:.2f} mm)",

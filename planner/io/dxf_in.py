@@ -180,15 +180,10 @@ def _open(path: Path) -> Any:
 
 
 def read_dxf_site(path: Path | str, options: DxfOptions | None = None, parameters: Parameters | None = None) -> Site:
-    """Read a site from a DXF drawing (see the module docstring for what is read and how).
-
-    Raises
-    ------
-    InputError
-        One line naming the file, the layer and entity handle: unreadable or malformed DXF, open
-        polylines, zero-area or self-intersecting ones, a missing height, an arc too large to
-        flatten, an entity of a kind not read on a zone layer, no closed polyline on a zone layer.
-    """
+    """Read a site from a DXF drawing (see the module docstring). InputError, one line naming the file, the layer
+    and entity handle: unreadable or malformed DXF, open polylines, zero-area or self-intersecting ones, a missing
+    height, an arc too large to flatten, an entity of a kind not read on a zone layer, no closed polyline on a zone
+    layer."""
     options = options or DxfOptions()
     path = Path(path)
     file = str(path)

@@ -26,18 +26,11 @@ ZONE_LAYERS: dict[str, ScanSide | None] = {
 class DxfOptions:
     """Which layers hold what (names compared case-insensitively) and the defaults.
 
-    Parameters
-    ----------
-    zone_layers
-        Zone layer names and the scan side each gives (None: from XDATA, else ``default_side``).
-    obstacle_layers, hole_layers, nogo_layers
-        Layer names of obstacles, free-standing blocks (holes) and no-go areas.
-    layer_heights_m
-        Wall height (m, finite, > 0) of polylines on a layer that carry none; one per layer.
-    default_side
-        Scan side of zones whose layer and XDATA do not say.
-    flatten_m
-        Largest deviation (m, finite, > 0) of the flattened arcs and circles from the true curve.
+    ``zone_layers``: zone layer names and the scan side each gives (None: from XDATA, else ``default_side``);
+    ``obstacle_layers``, ``hole_layers``, ``nogo_layers``: the layers of obstacles, free-standing blocks (holes) and
+    no-go areas; ``layer_heights_m``: the wall height (m, finite, > 0) of polylines on a layer that carry none;
+    ``default_side``: the scan side of zones whose layer and XDATA do not say; ``flatten_m``: the largest deviation
+    (m, finite, > 0) of the flattened arcs and circles from the true curve.
     """
 
     zone_layers: dict[str, ScanSide | None] = field(default_factory=lambda: dict(ZONE_LAYERS))

@@ -18,10 +18,10 @@ import ezdxf
 from ezdxf import units
 
 from planner.core.checks import argument
+from planner.io.dxf_entities import APPID
 from planner.io.params_io import dxf_properties, site_record
 from planner.plan.outcome import Outcome
 
-APPID = "TLS_PLANNER"
 LAYERS = {  # name: ACI colour
     "WALLS": 7,
     "HOLES": 7,

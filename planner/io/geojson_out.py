@@ -29,20 +29,19 @@ def _feature(geom: shapely.Geometry, props: dict[str, Any]) -> dict[str, Any]:
 
 
 def _site_features(o: Outcome) -> list[dict[str, Any]]:
-    out = []
-    for z in o.site.zones:
-        out.append(
-            _feature(
-                z.polygon,
-                {
-                    "role": "zone",
-                    "id": z.id,
-                    "scan_side": z.scan_side.value,
-                    "frame": z.frame,
-                    "vertex_heights_m": list(z.vertex_heights_m),
-                },
-            )
+    out = [
+        _feature(
+            z.polygon,
+            {
+                "role": "zone",
+                "id": z.id,
+                "scan_side": z.scan_side.value,
+                "frame": z.frame,
+                "vertex_heights_m": list(z.vertex_heights_m),
+            },
         )
+        for z in o.site.zones
+    ]
     out += [
         _feature(shapely.Polygon(ob.vertices), {"role": "obstacle", "name": ob.name, "height_m": ob.height_m})
         for ob in o.site.obstacles
@@ -53,25 +52,23 @@ def _site_features(o: Outcome) -> list[dict[str, Any]]:
 
 def _coverage_features(o: Outcome) -> list[dict[str, Any]]:
     t = o.coverage.targets
-    out = []
-    for k in range(len(t)):
-        out.append(
-            _feature(
-                shapely.LineString([t.a[k], t.b[k]]),
-                {
-                    "role": "coverage",
-                    "zone": t.zone_ids[t.zone[k]],
-                    "side": ("inside", "outside")[t.side[k]],
-                    "wall": int(t.wall[k]),
-                    "from_m": _num(t.s0_m[k]),
-                    "to_m": _num(t.s1_m[k]),
-                    "frame": t.frames[t.frame[k]],
-                    "stations": int(o.coverage.count[k]),
-                    "best_incidence_deg": _num(o.coverage.best_incidence_deg[k]),
-                },
-            )
+    return [
+        _feature(
+            shapely.LineString([t.a[k], t.b[k]]),
+            {
+                "role": "coverage",
+                "zone": t.zone_ids[t.zone[k]],
+                "side": ("inside", "outside")[t.side[k]],
+                "wall": int(t.wall[k]),
+                "from_m": _num(t.s0_m[k]),
+                "to_m": _num(t.s1_m[k]),
+                "frame": t.frames[t.frame[k]],
+                "stations": int(o.coverage.count[k]),
+                "best_incidence_deg": _num(o.coverage.best_incidence_deg[k]),
+            },
         )
-    return out
+        for k in range(len(t))
+    ]
 
 
 def _station_features(o: Outcome) -> list[dict[str, Any]]:
@@ -132,7 +129,7 @@ def _network_features(o: Outcome) -> list[dict[str, Any]]:
                 "name": c.name,
                 "proposed": c.proposed,
                 "frame": c.frame,
-                "sigma_m": _num(o.network.station_sigma.get(c.name, 0.0)),
+                "sigma_m": _num(o.network.station_sigma_m.get(c.name, 0.0)),
             },
         )
         for c in o.network.control

@@ -63,14 +63,9 @@ class _Storey:
 
 
 def read_ifc_site(path: Path | str, options: IfcOptions | None = None) -> Site:
-    """Read the selected storeys of an IFC file as a site (see the module docstring).
-
-    Raises
-    ------
-    InputError
-        One line naming the file (and the zone): not an IFC file, no IfcSpace, a space without
-        geometry, an unknown storey, a zone the site model refuses (e.g. coordinates beyond 1e8 m).
-    """
+    """Read the selected storeys of an IFC file as a site (see the module docstring). InputError, one line naming
+    the file (and the zone): not an IFC file, no IfcSpace, a space without geometry, an unknown storey, a zone the
+    site model refuses (e.g. coordinates beyond 1e8 m)."""
     options = options or IfcOptions()
     path = Path(path)
     model = _open(path)

@@ -189,11 +189,8 @@ def adjust(
     same answer. ``sigma0``: the a priori standard deviation of unit weight (the chi-square test, and the scale of a
     design).
 
-    Raises
-    ------
-    InputError
-        On an unknown kind, method or point, a sigma out of range, coincident points of a distance or
-        direction, or a datum defect.
+    InputError on an unknown kind, method or point, a sigma out of range, coincident points of a distance or
+    direction, or a datum defect.
     """
     if method not in METHODS:
         raise InputError(f"unknown adjustment method (known: {', '.join(METHODS)})", field="method", value=method)

@@ -52,16 +52,16 @@ class NetworkReport:
     diagnostics: Diagnostics
     adjustments: tuple[Adjustment, ...]
     failures: tuple[str, ...]  # parts that could not be adjusted, with the reason
-    station_sigma: dict[str, float]  # adjusted position error per station (m)
+    station_sigma_m: dict[str, float]  # adjusted position error per station (m)
     check: dict[str, Any]
     monte_carlo: tuple[MonteCarlo, ...] = field(default=())
     notes: tuple[str, ...] = ()
-    sigma_h: dict[str, float] = field(default_factory=dict)  # height error per station, where heights are given
+    sigma_h_m: dict[str, float] = field(default_factory=dict)  # height error per station, where heights are given
     survey: SurveyNetwork | None = None  # the network as a scanner survey: registration links, ties, chain accuracy
 
     @property
     def network_rms_m(self) -> float:
-        vals = list(self.station_sigma.values())
+        vals = list(self.station_sigma_m.values())
         return math.sqrt(float(np.mean(np.square(vals)))) if vals else float("nan")
 
     def to_dict(self) -> dict[str, Any]:
@@ -82,7 +82,7 @@ class NetworkReport:
             for adj in self.adjustments
             for p in adj.points
         }
-        for name, sh in self.sigma_h.items():
+        for name, sh in self.sigma_h_m.items():
             if name in ellipses:
                 e = ellipses[name]
                 e["sigma_h_m"] = sh
@@ -237,18 +237,18 @@ def run_network(
     )
     coords, fixed, obs = _design_observations(g, ts, ctrl, fixed_names)
     adjustments, failures, sigma, mcs = _adjust_parts(g, coords, fixed, obs, monte_carlo_runs, seed)
-    sigma_h = _heights(g, ts, ctrl, notes)
+    sigma_h_m = _heights(g, ts, ctrl, notes)
     return NetworkReport(
         graph=g,
         control=tuple(ctrl),
         diagnostics=diagnostics(g),
         adjustments=tuple(adjustments),
         failures=tuple(failures),
-        station_sigma=sigma,
+        station_sigma_m=sigma,
         check=accuracy_check(site, stations, problem, sigma, sight.scanner, sight.combined),
         monte_carlo=tuple(mcs),
         notes=tuple(notes),
-        sigma_h=sigma_h,
+        sigma_h_m=sigma_h_m,
         survey=survey_network(site, stations, registration, links),
     )
 

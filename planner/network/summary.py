@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
     """``report`` in lines a person reads, one fact a line; ``accuracy``: include the accuracy check's verdict and its
     table per zone-side (the report shows them as its own table, and leaves them out here)."""
-    worst = max(report.station_sigma.items(), key=lambda kv: kv[1], default=("-", float("nan")))
+    worst = max(report.station_sigma_m.items(), key=lambda kv: kv[1], default=("-", float("nan")))
     c = report.check
     lines = [
         f"network: {report.graph.number_of_nodes()} nodes, {report.graph.number_of_edges()} edges, "
@@ -29,7 +29,7 @@ def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
         f"articulation points: {len(report.diagnostics.articulation_points)}",
         f"a priori station error (least-squares adjustment of the design network): worst {worst[0]} "
         f"{worst[1] * 1000:.2f} mm, network RMS {report.network_rms_m * 1000:.2f} mm"
-        if report.station_sigma
+        if report.station_sigma_m
         else "a priori station error (least-squares adjustment of the design network): none, no part adjusted",
     ]
     names = [str(n) for n in report.graph.nodes] + [str(z["zone"]) for z in report.check.get("zones", [])]
@@ -37,7 +37,7 @@ def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
     lines += [f"  note: {n}" for n in fold_alike(report.notes, names)]
     for k, m in enumerate(report.monte_carlo, 1):
         # stations alone, to compare with the a priori network RMS above; all adjusted points beside it
-        st = [v for name, v in m.rms.items() if name in report.station_sigma]
+        st = [v for name, v in m.rms.items() if name in report.station_sigma_m]
         st_rms = math.sqrt(float(np.mean(np.square(st)))) if st else float("nan")
         part = f", network part {k} of {len(report.monte_carlo)}" if len(report.monte_carlo) > 1 else ""
         lines.append(

@@ -95,24 +95,23 @@ def _closure(o: Outcome) -> str:
 
 
 def _stations(o: Outcome) -> str:
-    rows = []
-    for k, (s, st) in enumerate(zip(o.stations, o.coverage.per_station), 1):
-        rows.append(
-            (
-                k,
-                _e(s.id),
-                _e(s.zone),
-                _e(s.side.value),
-                _e(s.kind.value),
-                _f(s.x),
-                _f(s.y),
-                _f(st.covered_m, ".1f"),
-                _f(st.worst_incidence_deg, ".1f"),
-                _f(st.longest_range_m, ".1f"),
-                _f(o.tripod_radius_m.get(s.id)),
-                _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f"),
-            )
+    rows = [
+        (
+            k,
+            _e(s.id),
+            _e(s.zone),
+            _e(s.side.value),
+            _e(s.kind.value),
+            _f(s.x),
+            _f(s.y),
+            _f(st.covered_m, ".1f"),
+            _f(st.worst_incidence_deg, ".1f"),
+            _f(st.longest_range_m, ".1f"),
+            _f(o.tripod_radius_m.get(s.id)),
+            _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f"),
         )
+        for k, (s, st) in enumerate(zip(o.stations, o.coverage.per_station), 1)
+    ]
     zero = sum(1 for s in o.stations if o.tripod_radius_m.get(s.id) == 0)
     note = (
         f"<p>Tripod radius 0 ({zero} station(s)): no disc of at least {MIN_RADIUS_M * 100:g} cm keeps everything the "

@@ -7,6 +7,7 @@ from matplotlib.collections import LineCollection
 from matplotlib.colors import to_rgba
 
 import planner
+from planner.coverage.relation import Registration
 from planner.coverage.visibility import sight_limits
 from planner.figures.base import nice_length
 from planner.figures.compare import comparison_figure
@@ -42,6 +43,7 @@ def square_outcome(stations: list[Candidate], side_m: float = 10.0) -> Outcome:
         verification=ver,
         tripod_radius_m={s.id: 0.5 for s in stations},
         meta={"method": "hand"},
+        registration=Registration.of(sight),
     )
 
 

@@ -123,7 +123,7 @@ def network_numbers(
         "chain": None
         if c is None
         else {"sigma_m": c.sigma_m, "best_tie": c.best_tie, "worst_after_tie_m": c.worst_after_tie_m},
-        "sigma_h": report.sigma_h,
+        "sigma_h": report.sigma_h_m,
         "observed": observed,
     }
 

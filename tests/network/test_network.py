@@ -53,9 +53,9 @@ def test_proposed_control_and_check_on_a_room():
     assert len(rep.control) == 3 and all(c.proposed for c in rep.control)
     xy = [(c.x, c.y) for c in rep.control]
     assert min(math.dist(p, q) for i, p in enumerate(xy) for q in xy[i + 1 :]) > 5.0
-    assert rep.diagnostics.untied_stations == [] and set(rep.station_sigma) == {"S1", "S2"}
+    assert rep.diagnostics.untied_stations == [] and set(rep.station_sigma_m) == {"S1", "S2"}
     # Topcon OS-105: 2 mm + 2 ppm to prisms, 5"; stations 6-25 m from fixed control: a few mm at most
-    assert 0 < max(rep.station_sigma.values()) < 0.005
+    assert 0 < max(rep.station_sigma_m.values()) < 0.005
     assert rep.check["pass"] and rep.check["targets"] > 0
 
 
@@ -180,7 +180,7 @@ def test_station_heights_from_a_control_height():
     ctrl = [ControlPoint("C1", 5, 5, z=100.0), ControlPoint("C2", 35, 5), ControlPoint("C3", 20, 18)]
     rep = run_network(site, [st("S1", 10, 10), st("S2", 30, 10)], control=ctrl)
     data = rep.to_dict()["stations"]
-    assert set(rep.sigma_h) == {"S1", "S2"} and all(0 < v < 0.005 for v in rep.sigma_h.values())
+    assert set(rep.sigma_h_m) == {"S1", "S2"} and all(0 < v < 0.005 for v in rep.sigma_h_m.values())
     assert data["S1"]["point_error_3d_m"] > data["S1"]["position_error_m"]
 
 

@@ -70,7 +70,7 @@ def test_one_traverse_leg_pair_through_the_door_makes_one_network():
     assert not g.has_edge("S1", "S2") and not _station_ts_edges(rep)
     # C2 from the fixed C1 through two 5 m legs (2 mm, 5"), oriented on C0: far better than its own 50 mm,
     # so S2 is held to a few mm, not to 50
-    assert rep.station_sigma["S2"] < 0.01
+    assert rep.station_sigma_m["S2"] < 0.01
 
 
 def test_a_traverse_without_a_starting_azimuth_leaves_the_far_room_loose():
@@ -79,7 +79,7 @@ def test_a_traverse_without_a_starting_azimuth_leaves_the_far_room_loose():
     legs = ControlTraverse(LEGS.points, LEGS.legs[1:], False, "test")
     rep = run_network(two_rooms(CONTROL), STATIONS, traverse=legs)
     assert len(rep.diagnostics.components) == 1
-    assert rep.station_sigma["S2"] > 0.04
+    assert rep.station_sigma_m["S2"] > 0.04
 
 
 def test_without_the_traverse_the_rooms_are_two_networks():
@@ -87,7 +87,7 @@ def test_without_the_traverse_the_rooms_are_two_networks():
     assert sorted(map(sorted, rep.diagnostics.components)) == [["C0", "C1", "S1"], ["C2", "S2"]]
     assert not any(d["kinds"] & TS_KINDS for _, _, d in rep.graph.edges(data=True))
     # S2 now rests on C2's 50 mm alone
-    assert rep.station_sigma["S2"] > 0.04
+    assert rep.station_sigma_m["S2"] > 0.04
 
 
 def test_proposed_traverse_runs_through_the_door():

@@ -65,10 +65,10 @@ def wall_lines(site: Site) -> tuple[MapLine, ...]:
 def run_ends(t: Targets, cols: NDArray[np.integer]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """The first and last piece of each run of the pieces ``cols`` (target indices): a maximal sequence of pieces
     consecutive in the targets' order on the same zone, side and wall, each starting where the one before ends."""
-    cols = np.sort(np.asarray(cols, dtype=np.int64))
-    if cols.size == 0:
-        return cols, cols
-    f, g = cols[:-1], cols[1:]
+    c = np.sort(np.asarray(cols, dtype=np.int64))
+    if c.size == 0:
+        return c, c
+    f, g = c[:-1], c[1:]
     joins = (
         (g - f == 1)
         & (t.zone[f] == t.zone[g])
@@ -77,7 +77,7 @@ def run_ends(t: Targets, cols: NDArray[np.integer]) -> tuple[NDArray[np.int64], 
         & (np.abs(t.s1_m[f] - t.s0_m[g]) <= JOIN_M)
     )
     cut = np.flatnonzero(~joins)
-    return cols[np.r_[0, cut + 1]], cols[np.r_[cut, cols.size - 1]]
+    return c[np.r_[0, cut + 1]], c[np.r_[cut, c.size - 1]]
 
 
 def coverage_runs(problem: CoverageProblem) -> list[tuple[Run, ...]]:
