@@ -49,12 +49,6 @@ _FIRST_STEPS = 50
 RING_WORK = 5e9
 
 
-def lengths(instance: CoverInstance) -> np.ndarray:
-    """Wall length of each target (1 each when the instance has none)."""
-    n_targ = instance.by_candidate.shape[1]
-    return instance.target_length_m if instance.target_length_m is not None else np.ones(n_targ)
-
-
 class BlockSolver:
     """One independent block: its backend model (with the cuts found so far) and its best connected plan."""
 
@@ -131,7 +125,7 @@ class BlockSolver:
         if o.layer_cuts:
             self.backend.add_rows(self._layers())
         if o.tree_bound and o.k == 1:
-            add_tree_bound(self.backend, a[cands].tocsr(), lengths(instance), self.adj, self.groups)
+            add_tree_bound(self.backend, a[cands].tocsr(), instance.lengths_m, self.adj, self.groups)
         if o.connectivity_method == "bc":
             self.backend.connect(self.adj, self.groups, self.sub, self.essential)
         elif o.connectivity_method == "flow":

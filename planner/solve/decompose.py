@@ -13,7 +13,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from planner.coverage.overlap import group_ids, overlap_adjacency
-from planner.solve.block import BlockSolver, lengths
+from planner.solve.block import BlockSolver
 from planner.solve.instance import CoverInstance
 from planner.solve.lazy_links import OverlapLinks, linked_dominated
 from planner.solve.presolve import PresolveReport, dominated, duplicate_targets, forced, implied_targets
@@ -52,11 +52,11 @@ def _adjacency(instance: CoverInstance, a: sp.csr_matrix, o: MilpOptions) -> sp.
         and o.precision == "single"
         and o.rule.max_link_m is None
         and (instance.links is None or instance.links.nnz == 0)
-        and bool(np.all(lengths(instance) > 0))
+        and bool(np.all(instance.lengths_m > 0))
     )
     if not plain:
-        return overlap_adjacency(a, lengths(instance), o.rule, instance.groups, instance.xy, instance.links)[0]
-    return OverlapLinks(lengths(instance), o.rule, group_ids(instance.groups))
+        return overlap_adjacency(a, instance.lengths_m, o.rule, instance.groups, instance.xy, instance.links)[0]
+    return OverlapLinks(instance.lengths_m, o.rule, group_ids(instance.groups))
 
 
 def _presolve(

@@ -100,8 +100,7 @@ def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: in
     a = instance.by_candidate.astype(bool).tocsr()
     if instance.groups is None:
         return greedy_cover(a, weights=instance.cost)
-    lengths = instance.target_length_m if instance.target_length_m is not None else np.ones(a.shape[1])
-    adj, _ = overlap_adjacency(a, lengths, rule, instance.groups, instance.xy, instance.links)
+    adj, _ = overlap_adjacency(a, instance.lengths_m, rule, instance.groups, instance.xy, instance.links)
     need = np.asarray(a.sum(axis=0)).ravel() > 0
     chosen = connected_greedy(a, adj, instance.groups, instance.cost, need, starts)
     info = {"connected": True, "starts": starts}

@@ -45,6 +45,11 @@ class CoverInstance:
     links: sp.csr_matrix | None = None
     relation: sp.csr_matrix | None = None
 
+    @property
+    def lengths_m(self) -> NDArray[np.float64]:
+        """Wall length of each target (1 each where the instance gives none)."""
+        return self.target_length_m if self.target_length_m is not None else np.ones(self.by_candidate.shape[1])
+
     def __post_init__(self) -> None:
         c, t = self.by_candidate.shape
         if len(self.cost) != c:
