@@ -31,7 +31,6 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from planner.core.settings import DEFAULTS
 from planner.coverage.matrix import CoverageProblem, blockers_for
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.coverage.stair_links import stair_edge
@@ -46,7 +45,7 @@ TARGETS_PER_LINK = 3
 SPHERE_GRID_M = 1.0
 MIN_TARGET_DISTANCE_M = 2.0
 #: a link sharing at least this fraction of the smaller scan's covered wall needs no targets
-STRONG_OVERLAP: float = DEFAULTS["field.strong_overlap"]
+STRONG_OVERLAP = 0.5
 _NO_WALL = -2
 
 

@@ -20,20 +20,10 @@ from planner.site.model import Site
 
 @dataclass(frozen=True, kw_only=True)
 class StoreyNetwork:
-    """One accessible area that stairs join across storeys.
-
-    Attributes
-    ----------
-    area
-        The area's number (:func:`planner.coverage.openings.accessible_areas`).
-    frames
-        The storeys (frames) it spans, in the site's order.
-    stairs
-        The names of the stairs that join them.
-    parts
-        Components of the plan's stations in it under the overlap relation (1: one connected network), or None
-        where the plan was not registered per accessible area (``zone`` scope) or has no station there.
-    """
+    """One accessible area (``area``, :func:`planner.coverage.openings.accessible_areas`) that the ``stairs``
+    join across storeys (``frames``, in the site's order); ``parts``: the components of the plan's stations in it
+    under the overlap relation (1: one network), None where the plan was registered per zone-side or has no
+    station there."""
 
     area: int
     frames: tuple[str, ...]
@@ -60,21 +50,9 @@ class StoreyNetwork:
 
 
 def storey_networks(site: Site, registration: dict[str, int]) -> tuple[StoreyNetwork, ...]:
-    """The areas the site's stairs join across frames, with the parts the plan's check found in each.
-
-    Parameters
-    ----------
-    site
-        The site (nothing comes back without stairs).
-    registration
-        The plan's registration components by group key (:func:`planner.plan.registration.registration_check`:
-        ``area K (...)`` in ``site`` scope).
-
-    Returns
-    -------
-    tuple of StoreyNetwork
-        One per area spanning more than one frame, by area number.
-    """
+    """One network per area the site's stairs join across frames, by area number (none without stairs), with
+    the parts the plan's check found in it (``registration``: its components by group key,
+    :meth:`planner.coverage.relation.Registration.check`: ``area K (...)`` in ``site`` scope)."""
     if not site.stairs:
         return ()
     areas = accessible_areas(site)
