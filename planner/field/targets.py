@@ -31,6 +31,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.core.settings import DEFAULTS
 from planner.coverage.matrix import CoverageProblem, blockers_for
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.coverage.stair_links import stair_edge
@@ -45,7 +46,7 @@ TARGETS_PER_LINK = 3
 SPHERE_GRID_M = 1.0
 MIN_TARGET_DISTANCE_M = 2.0
 #: a link sharing at least this fraction of the smaller scan's covered wall needs no targets
-STRONG_OVERLAP = 0.5
+STRONG_OVERLAP: float = DEFAULTS["field.strong_overlap"]
 _NO_WALL = -2
 
 

@@ -1,4 +1,4 @@
-"""Plans for the hours on site (issue 47): point spacing as a coverage condition and a scan setting per station.
+"""Plans for the hours on site: point spacing as a coverage condition and a scan setting per station.
 
 - **Point spacing** (``--max-point-spacing M``): a view covers a wall piece only where the spacing it gives
   the whole piece at the station's setting (:mod:`planner.coverage.spacing`) is at most M.
