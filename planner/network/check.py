@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import networkx as nx
@@ -94,12 +94,7 @@ class NetworkReport:
                 for u, v, d in g.edges(data=True)
             ],
             "control": [{"name": c.name, "x": c.x, "y": c.y, "proposed": c.proposed} for c in self.control],
-            "diagnostics": {
-                "components": self.diagnostics.components,
-                "untied_stations": self.diagnostics.untied_stations,
-                "articulation_points": self.diagnostics.articulation_points,
-                "paths_to_control": self.diagnostics.paths_to_control,
-            },
+            "diagnostics": asdict(self.diagnostics),
             "stations": ellipses,
             "network_rms_m": self.network_rms_m,
             "adjustments": [

@@ -48,8 +48,8 @@ def intervisible(site: Site, frame: str, p: tuple[float, float], q: tuple[float,
 class Diagnostics:
     components: list[list[str]]
     untied_stations: list[str]
-    paths_to_control: dict[str, list[str]]
     articulation_points: list[str]
+    paths_to_control: dict[str, list[str]]
 
 
 def spots_around(site: Site, stations: Sequence[Candidate]) -> list[list[tuple[float, float]]]:
@@ -224,5 +224,5 @@ def diagnostics(g: nx.Graph) -> Diagnostics:
     else:
         untied = list(stations)
     return Diagnostics(
-        [sorted(c) for c in nx.connected_components(g)], sorted(untied), paths, sorted(nx.articulation_points(g))
+        [sorted(c) for c in nx.connected_components(g)], sorted(untied), sorted(nx.articulation_points(g)), paths
     )

@@ -52,8 +52,9 @@ def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
             f" where tied to control; {c['untied_targets']} pieces seen by untied stations only (no finite error)"
         )
     unseen = f"; {c['unseen_targets']} pieces seen by no station" if c.get("unseen_targets") else ""
+    survey = report.survey.lines() if report.survey is not None else []
     if not accuracy:
-        return "\n".join(lines + (report.survey.lines() if report.survey is not None else []))
+        return "\n".join(lines + survey)
     lines.append(
         f"accuracy check at {c['sigma_req_m'] * 1000:g} mm ({c.get('precision', 'single')} precision): {'PASS' if c['pass'] else 'FAIL'} "
         f"({c['failing_targets']} of {c['targets']} seen pieces fail; {worst_e}{unseen})"
@@ -69,6 +70,4 @@ def network_summary(report: NetworkReport, accuracy: bool = True) -> str:
     ]
     lines += table(["zone", "side", "check", "worst e mm"], rows, right=[False, False, False, True])
     lines += [f"  fix: {s}" for s in c["suggestions"]]
-    if report.survey is not None:
-        lines += report.survey.lines()
-    return "\n".join(lines)
+    return "\n".join(lines + survey)

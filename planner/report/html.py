@@ -259,22 +259,15 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
         figs += _img(png_bytes(network_figure(o)), "registration links, sight lines, control points and error ellipses")
     m = o.meta
     title = f"Scanner stations for {o.site.name}"
+    what = "Field sheet (visiting order, walking route, field time, targets)"
+    sheet = f'<p>{what}: <a href="{_e(field)}">{_e(field)}</a>.</p>' if field else ""
     body = [
         f"<h1>{_e(title)}</h1>",
         f"<p>{len(o.stations)} stations by {_e(m.get('method'))} ({_e(m.get('status'))}"
         + (f", bound {_bound_cell(m)}" if isinstance(m.get("bound"), (int, float)) else "")
         + f"); {o.coverage.percent_length:.3f} % of wall length covered on "
         f"{_e(m.get('parameters', {}).get('target_spacing_m', 1.0))} m pieces. tls-planner {__version__}.</p>",
-        *(
-            [
-                (
-                    f'<p>Field sheet (visiting order, walking route, field time, targets): <a href="{_e(field)}">'
-                    f"{_e(field)}</a>.</p>"
-                )
-            ]
-            if field
-            else []
-        ),
+        sheet,
         "<h2>Site plan</h2>",
         site_plan_html(o, field_sheet),
         "<h2>Site map</h2>",

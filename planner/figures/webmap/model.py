@@ -100,16 +100,6 @@ class MapStation(Located):
         """Wall covered, in metres."""
         return sum(r.length_m for r in self.runs)
 
-    @property
-    def patches(self) -> int:
-        """Floor and ceiling patches covered, summed over the areas."""
-        return sum(a.patches for a in self.areas)
-
-    @property
-    def covered_m2(self) -> float:
-        """Floor and ceiling covered, in square metres."""
-        return sum(a.area_m2 for a in self.areas)
-
 
 @dataclass(frozen=True)
 class MapLink:

@@ -88,6 +88,7 @@ def _point(p: MapPoint, scale: float) -> str:
 
 
 def _station(s: MapStation, dom_id: str, k: int, scale: float) -> str:
+    floors = {"data-fn": sum(a.patches for a in s.areas), "data-fm2": f"{sum(a.area_m2 for a in s.areas):.1f}"}
     attrs = {
         "data-id": s.id,
         "data-frame": s.frame,
@@ -101,7 +102,7 @@ def _station(s: MapStation, dom_id: str, k: int, scale: float) -> str:
         "data-m": f"{s.covered_m:.1f}",
         "data-row": s.row,
         "data-visit": s.visit,
-        **({"data-fn": s.patches, "data-fm2": f"{s.covered_m2:.1f}"} if s.areas else {}),
+        **(floors if s.areas else {}),
     }
     a = " ".join(f'{name}="{_e(v)}"' for name, v in attrs.items() if v != "")
     return (
