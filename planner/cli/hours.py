@@ -27,8 +27,8 @@ def verify_spacing_of(args: argparse.Namespace, problem: Any, stations: Any) -> 
     """The spacing check of ``planner verify --max-point-spacing``: each station at the setting plan.json
     records for it, else at the instrument's default setting."""
     from planner.core.fileio import read_json
-    from planner.plan.field_time import field_properties
-    from planner.plan.verify_spacing import verify_spacing
+    from planner.plan.hours.field_time import field_properties
+    from planner.plan.hours.verify import verify_spacing
 
     props = field_properties(problem.site)
     rows = read_json(args.plan).get("stations", [])

@@ -52,7 +52,7 @@ from planner.field.walking import (
     walk_space,
 )
 from planner.instrument.field_table import FieldProperties
-from planner.plan.field_time import field_properties
+from planner.plan.hours.field_time import field_properties
 from planner.plan.problem import Problem
 from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site

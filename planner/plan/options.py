@@ -62,7 +62,7 @@ class PlanOptions:
     #: (:mod:`planner.coverage.spacing`; None: no spacing condition, the plan unchanged)
     max_point_spacing_m: float | None = DEFAULTS["plan.max_point_spacing_m"]
     #: what the plan minimises: ``stations`` (the default, unchanged) or ``field-time``, the set-up and scan
-    #: time with a scan setting chosen per station (:mod:`planner.plan.field_time`)
+    #: time with a scan setting chosen per station (:mod:`planner.plan.hours.field_time`)
     objective: str = DEFAULTS["plan.objective"]
     #: the length of a field session in seconds (the field sheet's ``--session``), in which the field-time
     #: trade-off counts each plan's sessions (None: not counted)

@@ -20,9 +20,10 @@ from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets
 from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
 from planner.plan.closed_form import closed_form_limits
-from planner.plan.columns import spacing_coverage, spacing_refusal
-from planner.plan.field_time import field_properties, hours_method
 from planner.plan.hours import Hours
+from planner.plan.hours.columns import spacing_coverage, spacing_refusal
+from planner.plan.hours.field_time import field_properties, hours_method
+from planner.plan.hours.verify import verify_spacing
 from planner.plan.methods import REGISTRY, MethodInput, MethodOutput
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
@@ -30,7 +31,6 @@ from planner.plan.registration import placed_stations
 from planner.plan.result import Plan
 from planner.plan.surfaces import SurfaceCover, floor_candidates, surface_cover, surface_discs
 from planner.plan.verify import verify_stations
-from planner.plan.verify_spacing import verify_spacing
 from planner.plan.verify_surfaces import verify_surfaces
 from planner.site.candidate import Candidate
 from planner.site.model import Site

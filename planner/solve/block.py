@@ -26,7 +26,7 @@ from planner.solve.connectivity import (
     neighbour_cuts,
     repair,
 )
-from planner.solve.flow import FlowModel, add_flow
+from planner.solve.flow import FlowModel
 from planner.solve.greedy import greedy_cover
 from planner.solve.instance import CoverInstance
 from planner.solve.local_search import shrink
@@ -129,7 +129,7 @@ class BlockSolver:
         if o.connectivity_method == "bc":
             self.backend.connect(self.adj, self.groups, self.sub, self.essential)
         elif o.connectivity_method == "flow":
-            self.flow = add_flow(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
+            self.flow = FlowModel(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
         if o.connectivity_method == "loop" and self.backend.capabilities.watch:
             self.backend.watch = self._watch
 

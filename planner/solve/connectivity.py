@@ -180,21 +180,6 @@ def repair(
     return sorted(chosen)
 
 
-def connected_greedy(
-    by_candidate: sp.csr_matrix,
-    adj: sp.csr_matrix,
-    groups: Sequence[Hashable],
-    cost: np.ndarray,
-    need: np.ndarray,
-    starts: int = 50,
-) -> list[int] | None:
-    """A cover of ``need`` whose every group's stations are connected under ``adj``, sorted; None when some needed
-    target is seen by no candidate or no connected choice was found.
-
-    The bundles of all groups grow together by Chvatal's rule over the stations linked to them, bridged by the
-    cheapest overlap paths where none gains, then pruned, and each bundle re-grown from ``starts`` seeds
-    (:func:`planner.solve.bundles.bundle_cover`: phases, invariants, complexity, references).
-    """
-    return bundle_cover(
-        by_candidate, adj, groups, np.asarray(cost, dtype=np.float64), np.asarray(need, dtype=bool), starts
-    )
+#: a cover of ``need`` whose every group's stations are connected under ``adj``, sorted, or None
+#: (:func:`planner.solve.bundles.bundle_cover`: phases, invariants, complexity, references)
+connected_greedy = bundle_cover

@@ -23,26 +23,16 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order
 
-
-def add_flow(
-    backend: Any,
-    adj: sp.csr_matrix,
-    groups: Sequence[Hashable],
-    essential: dict[Hashable, np.ndarray],
-    cost: np.ndarray,
-    incumbent: Sequence[int] | None = None,
-) -> FlowModel:
-    """Add the flow variables and rows of every group to ``backend`` (which must have ``add_vars``)."""
-    model = FlowModel(adj, groups, essential, cost, incumbent)
-    model.install(backend)
-    return model
+from planner.solve.connectivity import group_members
 
 
 class FlowModel:
-    """The flow variables' layout, so that a plan can be turned into a full hint."""
+    """The flow variables and rows of every group, added to ``backend`` (which must have ``add_vars``), and their
+    layout, so that a plan can be turned into a full hint."""
 
     def __init__(
         self,
+        backend: Any,
         adj: sp.csr_matrix,
         groups: Sequence[Hashable],
         essential: dict[Hashable, np.ndarray],
@@ -50,9 +40,7 @@ class FlowModel:
         incumbent: Sequence[int] | None,
     ) -> None:
         self.adj = adj.tocsr()
-        index: dict[Hashable, list[int]] = {}
-        for i, g in enumerate(groups):
-            index.setdefault(g, []).append(i)
+        index = group_members(groups, range(len(groups)))
         self.members = {g: np.asarray(v, dtype=np.int64) for g, v in index.items()}
         self.essential = essential
         cap = len(cost)
@@ -61,8 +49,9 @@ class FlowModel:
         self.upper = {g: max(1, min(len(m), cap)) for g, m in self.members.items()}
         self.root: dict[Hashable, int] = {}  # group -> index of its first root variable
         self.arcs: dict[Hashable, tuple[int, np.ndarray, np.ndarray]] = {}  # group -> (first arc var, tails, heads)
+        self._install(backend)
 
-    def install(self, backend: Any) -> None:
+    def _install(self, backend: Any) -> None:
         rows = []
         for g, m in self.members.items():
             u = self.upper[g]

@@ -82,20 +82,9 @@ def _feasible(chosen: list[int], cost: np.ndarray, start: float, info: dict | No
 
 def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: int = 50) -> SolveResult:
     """Greedy under the registration rule: a cover whose every registration group is one bundle connected under
-    ``rule`` (the baseline the MILP is compared against).
-
-    The bundles of all groups grow together by Chvatal's rule (newly covered targets per unit cost) over the stations
-    linked to them, or that start a group's bundle; where none gains, the cheapest overlap path to a station that does
-    is added, scored by what the whole path covers per station on it. Then redundant stations are pruned and each
-    bundle is re-grown alone from ``starts`` seeds, the cheapest kept (:func:`planner.solve.bundles.bundle_cover`,
-    after Chvatal 1979 and Jia & Lichti 2018/2019; phases, invariants and complexity there). Deterministic: ties go to
-    the lowest index.
-
-    Without ``groups`` in ``instance`` the plain greedy (:func:`greedy_cover`) is returned. ``rule`` relates two
-    stations of one group; ``starts``: seeds tried per group when re-growing its bundle (0: the first pass, pruned,
-    only). Returns ``feasible`` with a plan whose every group is connected under ``rule``, or ``infeasible`` when the
-    greedy finds no connected choice that covers every target.
-    """
+    ``rule`` (the baseline the MILP is compared against; :func:`planner.solve.bundles.bundle_cover`). Without groups in
+    ``instance``, the plain greedy. ``starts``: seeds tried per group when re-growing its bundle (0: the first pass,
+    pruned, only). ``infeasible`` when the greedy finds no connected choice that covers every target."""
     start = time.perf_counter()
     a = instance.by_candidate.astype(bool).tocsr()
     if instance.groups is None:

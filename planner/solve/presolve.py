@@ -104,21 +104,16 @@ def dominated(
     return removed
 
 
-def _segment_sums(values: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """The sums of consecutive runs of ``values`` of lengths ``sizes`` (0 for an empty run)."""
-    out = np.zeros(sizes.size, dtype=np.int64)
-    full = sizes > 0  # reduceat over the non-empty runs only (an empty one would take its next's first value)
-    if full.any():
-        out[full] = np.add.reduceat(values, (np.cumsum(sizes) - sizes)[full])
-    return out
-
-
 def _row_sums(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray, mark: np.ndarray) -> np.ndarray:
-    """sum(mark[indices of row r]) for each r of ``rows`` of a CSR pattern, gathered in one pass."""
+    """sum(mark[indices of row r]) for each r of ``rows`` of a CSR pattern, gathered in one pass (0 for an empty row)."""
     starts = indptr[rows]
     sizes = indptr[rows + 1] - starts
     pos = np.repeat(starts - (np.cumsum(sizes) - sizes), sizes) + np.arange(int(sizes.sum()))
-    return _segment_sums(mark[indices[pos]], sizes)
+    out = np.zeros(sizes.size, dtype=np.int64)
+    full = sizes > 0  # reduceat over the non-empty rows only (an empty one would take its next's first value)
+    if full.any():
+        out[full] = np.add.reduceat(mark[indices[pos]], (np.cumsum(sizes) - sizes)[full])
+    return out
 
 
 def _replaced(
@@ -246,6 +241,5 @@ def forced(by_target: sp.csr_matrix, k: int) -> np.ndarray:
     """Candidates that must be chosen: the only k that see some target."""
     counts = np.diff(by_target.indptr)
     must = np.zeros(by_target.shape[1], dtype=bool)
-    for t in np.flatnonzero(counts == k):
-        must[by_target.indices[by_target.indptr[t] : by_target.indptr[t + 1]]] = True
+    must[by_target.indices[np.repeat(counts == k, counts)]] = True
     return must

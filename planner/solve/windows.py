@@ -236,8 +236,9 @@ def connected_cover_within(
     CP-SAT deterministic work, stopped it."""
     parts = [(g, p) for g, members in group_members(groups, kept.tolist()).items() for p in components(adj, members)]
     inst = _model(a, adj, groups, free, rows, parts)
+    # the window's links are the site's, given explicitly: no overlap test on the window's partial rows
     milp = MilpOptions(
-        overlap=_LINKS_ONLY, threads=1, seed=seed, greedy_starts=_GREEDY_STARTS, local_search_moves=_SEARCH_MOVES
+        overlap=LINKS_ONLY, threads=1, seed=seed, greedy_starts=_GREEDY_STARTS, local_search_moves=_SEARCH_MOVES
     ).with_work_limit(work_s, WALL_CAP)
     r = solve(inst, milp)
     if not r.selected:
@@ -248,9 +249,6 @@ def connected_cover_within(
 #: a window's MILP: starts of its connected greedy and moves of its block local search (fewer than the
 #: single model's defaults: in a window they cost much of the pass and gave the same plan)
 _GREEDY_STARTS, _SEARCH_MOVES = 5, 100
-
-#: the window's links are the site's, given explicitly: no overlap test on the window's partial rows
-_LINKS_ONLY = LINKS_ONLY
 
 
 def _model(

@@ -20,8 +20,8 @@ from planner.cli import main
 from planner.core.errors import ExitCode, UsageError
 from planner.engine import plan_site
 from planner.plan import PlanOptions
-from planner.plan.columns import setting_columns, useful_settings
-from planner.plan.field_time import field_properties
+from planner.plan.hours.columns import setting_columns, useful_settings
+from planner.plan.hours.field_time import field_properties
 from planner.plan.problem import resolve
 from planner.plan.run import build_problem
 from planner.solve.milp import MilpOptions
@@ -336,7 +336,7 @@ def test_an_instrument_without_a_settings_table_is_refused_for_a_spacing(tmp_pat
 def test_a_field_time_milp_without_a_plan_leaves_a_row_saying_so(tmp_path, monkeypatch):
     """The field-time MILP stopped before any plan (as a wall-clock cap may stop it): no crash, the row says so,
     and the plan kept is the best one timed."""
-    import planner.plan.field_time as ft
+    import planner.plan.hours.field_time as ft
     from planner.solve.result import SolveResult, Status
 
     real = ft.solve
@@ -358,7 +358,7 @@ def test_a_field_time_milp_without_a_plan_leaves_a_row_saying_so(tmp_path, monke
 def test_settings_of_the_fewest_stations_fall_back_to_the_finest_when_their_milp_finds_none(tmp_path, monkeypatch):
     # the settings MILP (the second solve of a stations plan with a spacing) ends with no answer: every chosen
     # station keeps the finest setting it was chosen at, set-up + scan counted for that (no traceback)
-    import planner.plan.field_time as ft
+    import planner.plan.hours.field_time as ft
     from planner.solve.result import SolveResult, Status
 
     real = ft.solve

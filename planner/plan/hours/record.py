@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from planner.instrument.field_table import FieldProperties
-from planner.plan.verify_spacing import SpacingReport
+from planner.plan.hours.verify import SpacingReport
 
 
 def settings_line(settings: Sequence[str]) -> str:

@@ -2,7 +2,7 @@
 
 - **Point spacing** (``--max-point-spacing M``): a view covers a wall piece only where the spacing it gives
   the whole piece at the station's setting (:mod:`planner.coverage.spacing`) is at most M.
-- **Columns are (station, setting) pairs** (:func:`planner.plan.columns.setting_columns`): a candidate at each setting of the
+- **Columns are (station, setting) pairs** (:func:`planner.plan.hours.columns.setting_columns`): a candidate at each setting of the
   instrument's ``[field]`` table, costing set-up + scan time (s). A finer setting sees every piece a coarser
   one does, so a pair is kept only where it covers more than every coarser pair of its candidate.
 - **Objectives**: ``stations`` (the default) takes the fewest stations, each able to scan at the finest
@@ -24,7 +24,7 @@ from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import overlap_adjacency
 from planner.coverage.relation import Registration
 from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
-from planner.plan.columns import SettingColumns, setting_columns
+from planner.plan.hours.columns import SettingColumns, setting_columns
 from planner.plan.methods import MethodInput, MethodOutput
 from planner.site.model import Site
 from planner.solve.instance import CoverInstance

@@ -1,6 +1,6 @@
 """The (station, setting) columns of a pool and the point spacing's coverage: which views meet a
 spacing at a setting (:func:`spacing_coverage`, :func:`spacing_refusal`), and every useful pair of a candidate
-and a setting with its cost (:func:`setting_columns`). Planning with them: :mod:`planner.plan.field_time`."""
+and a setting with its cost (:func:`setting_columns`). Planning with them: :mod:`planner.plan.hours.field_time`."""
 
 from __future__ import annotations
 
