@@ -150,23 +150,10 @@ def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
 
 
 def figure(fp: FieldPlan, size: tuple[float, float] = SIZE) -> Figure:
-    """The plan of the field sheet (see the module text).
-
-    Parameters
-    ----------
-    fp
-        The field sheet.
-    size
-        The figure's size in inches: the labels are placed for it, so a caller that prints on other paper
-        passes the paper's size here rather than resizing the figure afterwards.
-
-    Returns
-    -------
-    Figure
-        One panel; labels with ``gid`` ``label:station:ID`` (text: the setup number), ``label:target:ID`` and
-        ``label:start`` (where the start is no station). Across storeys (``fp.spaces``): one panel per storey
-        (:func:`_storey_figure`).
-    """
+    """The plan of the field sheet (see the module text), drawn for ``size`` (inches): the labels are placed for
+    it, so a caller that prints on other paper passes the paper's size rather than resizing the figure. One panel;
+    labels with ``gid`` ``label:station:ID`` (text: the setup number), ``label:target:ID`` and ``label:start``
+    (where the start is no station). Across storeys (``fp.spaces``): one panel per storey."""
     if fp.spaces:
         return _storey_figure(fp, size)
     fig = Figure(figsize=size, layout="constrained")

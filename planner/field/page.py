@@ -47,17 +47,8 @@ def _table(heads: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
 
 
 def render_html(fp: FieldPlan, png: bytes | None = None, site_map: str | None = None) -> str:
-    """field.html as one string.
-
-    Parameters
-    ----------
-    fp
-        The field sheet.
-    png
-        The plan figure as PNG bytes; None: drawn here (:func:`planner.field.figure.figure`).
-    site_map
-        The site map fragment; None: made here (:func:`planner.field.site_map.field_map_html`).
-    """
+    """field.html as one string; ``png`` (the plan figure) and ``site_map`` (the map fragment) are made here
+    where None (:func:`planner.field.figure.figure`, :func:`planner.field.site_map.field_map_html`)."""
     png = png if png is not None else png_bytes(figure(fp))
     title = f"Field sheet: {fp.site.name}"
     targets = [(x.id, x.kind, f"{x.x:.2f}", f"{x.y:.2f}", x.where, " ".join(x.seen_by)) for x in fp.targets]

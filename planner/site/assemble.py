@@ -26,7 +26,7 @@ from scipy.optimize import least_squares
 from planner.core.errors import InputError
 from planner.core.settings import DEFAULTS
 from planner.site.model import SITE_FRAME, ScanSide, Site, Wall, Zone
-from planner.site.placement import IDENTITY, Placement, interiors_clash, misfit, normal_sign, place_zone, placed_site  # noqa: F401 (Placement, place_zone, placed_site: re-exported)
+from planner.site.placement import IDENTITY, Placement, interiors_clash, misfit, normal_sign, tangent_normal, wrap_deg
 
 
 @dataclass(frozen=True)
@@ -127,16 +127,10 @@ def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallM
     return sorted(out, key=lambda m: (abs(m.length_a_m - m.length_b_m) > tolerance_m, abs(m.length_a_m - m.length_b_m)))
 
 
-def _ends(w: Wall, p: Placement) -> NDArray[np.float64]:
-    return p.apply([w.start, w.end])
-
-
 def _face_ends(zone: Zone, w: Wall, p: Placement, thickness_m: float) -> NDArray[np.float64]:
     """Ends of the OTHER face of wall ``w`` (site frame): the scanned face moved back by the thickness."""
-    e = _ends(w, p)
-    t = (e[1] - e[0]) / np.hypot(*(e[1] - e[0]))
-    n = np.array([-t[1], t[0]]) * normal_sign(zone)
-    return e - thickness_m * n
+    e = p.ends(w)
+    return e - thickness_m * tangent_normal(e)[1] * normal_sign(zone)
 
 
 def _relative(
@@ -150,7 +144,7 @@ def _relative(
     ang = math.atan2(*(target[1] - target[0])[::-1]) - math.atan2(*(b[1] - b[0])[::-1])
     rot = Placement((0.0, 0.0), math.degrees(ang))
     origin = target.mean(axis=0) - rot.apply(b.mean(axis=0))[0]
-    return Placement((float(origin[0]), float(origin[1])), (math.degrees(ang) + 180.0) % 360.0 - 180.0)
+    return Placement((float(origin[0]), float(origin[1])), wrap_deg(math.degrees(ang)))
 
 
 def assemble(
@@ -312,16 +306,12 @@ def _one_partner(
     return keep, refused + [(m, "its wall face has two partners") for m in used if m not in keep]
 
 
-def _pairs(m: WallMatch, zones: dict[str, Zone]) -> tuple[Wall, Wall]:
-    return zones[m.zone_a].outer_walls[m.wall_a - 1], zones[m.zone_b].outer_walls[m.wall_b - 1]
-
-
 def _match_residuals(
     m: WallMatch, zones: dict[str, Zone], pl: dict[str, Placement], thickness_m: float
 ) -> NDArray[np.float64]:
-    wa, wb = _pairs(m, zones)
+    wa, wb = zones[m.zone_a].outer_walls[m.wall_a - 1], zones[m.zone_b].outer_walls[m.wall_b - 1]
     a = _face_ends(zones[m.zone_a], wa, pl[m.zone_a], thickness_m)
-    b = _ends(wb, pl[m.zone_b])
+    b = pl[m.zone_b].ends(wb)
     return (a - (b if m.same_direction else b[::-1])).ravel()
 
 
@@ -352,5 +342,4 @@ def _fit(
         xtol=1e-12,
         ftol=1e-12,
     )
-    pl = unpack(res.x)
-    return {z: replace(p, rotation_deg=(p.rotation_deg + 180.0) % 360.0 - 180.0) for z, p in pl.items()}
+    return {z: p.wrapped() for z, p in unpack(res.x).items()}

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from planner.site.model import Wall, Zone
-from planner.site.placement import Placement, interiors_clash, misfit, normal_sign
+from planner.site.placement import Placement, interiors_clash, misfit, normal_sign, tangent_normal
 
 #: contacts a placement needs (a corner alone, two contacts, fits any room)
 MIN_CONTACTS = 3
@@ -64,10 +64,7 @@ def _wrap(a: float) -> float:
 
 def _site_walls(zones: dict[str, Zone], placed: dict[str, Placement]) -> list[tuple[Zone, Wall, NDArray[np.float64]]]:
     return [
-        (zones[z], w, p.apply([w.start, w.end]))
-        for z, p in placed.items()
-        for w in zones[z].outer_walls
-        if normal_sign(zones[z]) != 0
+        (zones[z], w, p.ends(w)) for z, p in placed.items() for w in zones[z].outer_walls if normal_sign(zones[z]) != 0
     ]
 
 
@@ -87,11 +84,10 @@ def _contact(
     angle_deg: float,
     offset_m: float,
 ) -> Contact | None:
-    mine = p.apply([w.start, w.end])
+    mine = p.ends(w)
     if abs(_wrap(_dir(mine[0], mine[1]) - _target_angle(zone, other, ends))) > math.radians(angle_deg):
         return None
-    t = (ends[1] - ends[0]) / np.hypot(*(ends[1] - ends[0]))
-    n = np.array([-t[1], t[0]])
+    t, n = tangent_normal(ends)
     if np.max(np.abs((mine - ends[0]) @ n)) > offset_m:
         return None
     s = sorted((mine - ends[0]) @ t)
@@ -120,13 +116,10 @@ def _line_residuals(
     """Perpendicular distances of the shorter segment's ends from the longer one's line, per contact."""
     out = []
     for c in cs:
-        w = zone.outer_walls[c.wall - 1]
-        mine = p.apply([w.start, w.end])
-        ow = zones[c.other].outer_walls[c.other_wall - 1]
-        theirs = placed[c.other].apply([ow.start, ow.end])
+        mine = p.ends(zone.outer_walls[c.wall - 1])
+        theirs = placed[c.other].ends(zones[c.other].outer_walls[c.other_wall - 1])
         short, long_ = (mine, theirs) if c.length_m <= c.other_length_m else (theirs, mine)
-        t = (long_[1] - long_[0]) / np.hypot(*(long_[1] - long_[0]))
-        out += list((short - long_[0]) @ np.array([-t[1], t[0]]))
+        out += list((short - long_[0]) @ tangent_normal(long_)[1])
     return np.asarray(out, dtype=float)
 
 
@@ -138,8 +131,7 @@ def _refine(
 
     x0 = np.array([*p.origin, math.radians(p.rotation_deg)])
     res = least_squares(lambda v: _line_residuals(zone, unpack(v), cs, zones, placed), x0, xtol=1e-12, ftol=1e-12)
-    q = unpack(res.x)
-    return Placement(q.origin, (q.rotation_deg + 180.0) % 360.0 - 180.0)
+    return unpack(res.x).wrapped()
 
 
 def _seeds(zone: Zone, zones: dict[str, Zone], placed: dict[str, Placement], angle_deg: float) -> list[Placement]:
@@ -159,8 +151,7 @@ def _seeds(zone: Zone, zones: dict[str, Zone], placed: dict[str, Placement], ang
             r = Placement((0.0, 0.0), math.degrees(rot))
             rows, rhs = [], []
             for w, e in ((w1, e1), (w2, e2)):
-                t = (e[1] - e[0]) / np.hypot(*(e[1] - e[0]))
-                n = np.array([-t[1], t[0]])
+                n = tangent_normal(e)[1]
                 mid = r.apply([(np.array(w.start) + np.array(w.end)) / 2])[0]
                 rows.append(n)
                 rhs.append(float(n @ (e[0] - mid)))

@@ -10,7 +10,7 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.core.errors import InputError
-from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
+from planner.site.model import SITE_FRAME, ScanSide, Site, Wall, Zone
 
 
 @dataclass(frozen=True)
@@ -36,6 +36,24 @@ class Placement:
         return np.asarray(
             np.asarray(xy, dtype=float).reshape(-1, 2) @ self.matrix.T + np.asarray(self.origin), dtype=np.float64
         )
+
+    def ends(self, w: Wall) -> NDArray[np.float64]:
+        """The wall's two ends (2 x 2) in the site frame."""
+        return self.apply([w.start, w.end])
+
+    def wrapped(self) -> Placement:
+        """The same placement, its rotation in [-180, 180) degrees."""
+        return Placement(self.origin, wrap_deg(self.rotation_deg))
+
+
+def wrap_deg(a: float) -> float:
+    return (a + 180.0) % 360.0 - 180.0
+
+
+def tangent_normal(ends: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The unit direction of a segment (2 x 2 ends) and its left normal."""
+    t = (ends[1] - ends[0]) / np.hypot(*(ends[1] - ends[0]))
+    return t, np.array([-t[1], t[0]])
 
 
 IDENTITY = Placement((0.0, 0.0), 0.0)

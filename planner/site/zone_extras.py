@@ -7,9 +7,9 @@ from dataclasses import replace
 from typing import Any, Protocol
 
 from planner.core.errors import InputError
-from planner.site.assemble import Placement, place_zone
 from planner.site.features import OPENING_KINDS, SITE_FRAME, Opening
 from planner.site.model import Zone
+from planner.site.placement import Placement, place_zone
 from planner.site.snap import snap_zones
 
 

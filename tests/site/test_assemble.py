@@ -13,8 +13,9 @@ from planner.cli import main
 from planner.core.errors import InputError
 from planner.io.instance_json import load_instance_json
 from planner.io.load import load_site
-from planner.site.assemble import Placement, assemble, placed_site
+from planner.site.assemble import assemble
 from planner.site.model import SITE_FRAME, ScanSide, Site, Zone
+from planner.site.placement import Placement, placed_site
 from planner.site.snap import SNAP_M
 from tests.conftest import INSTANCES
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from planner.site.assemble import IDENTITY, Placement
 from planner.site.contacts import place_by_contacts
 from planner.site.model import ScanSide, Zone
+from planner.site.placement import IDENTITY, Placement
 
 # A strip 10 m wide (the outline, scanned outside; its east end slanted) holds room A (12 x 10 m) at its
 # west end; room C, a trapezoid (12,0) (27,0) (26,10) (12,10), fills part of the rest: its sides 1 and 3
