@@ -136,24 +136,20 @@ def _check_stands(
 ) -> None:
     zones = {z.id: z for z in site.zones}
     for k, s in enumerate(stations, 1):
-        where = {"file": plan_file, "row": f"stations[{k}]", "field": "station", "value": s.id}
-        zone = zones[s.zone]
-        inside = zone.polygon.buffer(1e-6).covers(shapely.Point(s.xy))
-        if s.side is ScanSide.INSIDE and not inside:
-            raise InputError(
-                f"stands outside zone {s.zone}, which it scans from inside: the plan does not match the site", **where
-            )  # type: ignore[arg-type]
-        if s.side is ScanSide.OUTSIDE and zone.polygon.buffer(-1e-6).contains(shapely.Point(s.xy)):
-            raise InputError(
-                f"stands inside zone {s.zone}, which it scans from outside: the plan does not match the site", **where
-            )  # type: ignore[arg-type]
-        off = snap_distance(spaces[s.frame], s.xy)
-        if off > SNAP_M:
-            raise InputError(
-                f"stands {off:.2f} m from any walkable place (in an obstacle, a no-go area, a wall or "
-                f"outside the site boundary): the plan does not match the site",
-                **where,
-            )  # type: ignore[arg-type]
+        polygon, off = zones[s.zone].polygon, snap_distance(spaces[s.frame], s.xy)
+        why = ""
+        if s.side is ScanSide.INSIDE and not polygon.buffer(1e-6).covers(shapely.Point(s.xy)):
+            why = f"stands outside zone {s.zone}, which it scans from inside"
+        elif s.side is ScanSide.OUTSIDE and polygon.buffer(-1e-6).contains(shapely.Point(s.xy)):
+            why = f"stands inside zone {s.zone}, which it scans from outside"
+        elif off > SNAP_M:
+            why = (
+                f"stands {off:.2f} m from any walkable place (in an obstacle, a no-go area, a wall or outside the site "
+                "boundary)"
+            )
+        if why:
+            where = {"file": plan_file, "row": f"stations[{k}]", "field": "station", "value": s.id}
+            raise InputError(f"{why}: the plan does not match the site", **where)  # type: ignore[arg-type]
 
 
 def _start(
@@ -185,17 +181,14 @@ def _start(
         return None, (x, y), f"point {x:g}, {y:g}"
     from planner.coverage.openings import PASSABLE, opening_segments
 
-    doors = [
-        (op, ends)
-        for op, ends in ((z, e) for _zi, z, kind, e in opening_segments(site, space.frame) if kind in PASSABLE)
-    ]
+    doors = [ends for _zi, _z, kind, ends in opening_segments(site, space.frame) if kind in PASSABLE]
+    controls = [c for c in site.control_points if c.frame == space.frame]
     anchor: tuple[tuple[float, float], str] | None = None
     if doors:
-        mid = doors[0][1].mean(axis=0)
+        mid = doors[0].mean(axis=0)
         anchor = ((float(mid[0]), float(mid[1])), "the first door")
-    elif any(c.frame == space.frame for c in site.control_points):
-        c = next(c for c in site.control_points if c.frame == space.frame)
-        anchor = ((c.x, c.y), f"control point {c.name}")
+    elif controls:
+        anchor = ((controls[0].x, controls[0].y), f"control point {controls[0].name}")
     if anchor is None:
         return 0, stations[0].xy, f"station {ids[0]} (the plan's first)"
     pts = [*(s.xy for s in stations), anchor[0]]
@@ -359,12 +352,11 @@ def _legs(
 ) -> tuple[tuple[tuple[tuple[float, float], ...], ...], tuple[tuple[str, ...], ...], list[tuple[int, Flight]]]:
     """The walk of each leg of the route (the first station's: no walk to it), across storeys also the frame
     of each point of each leg and the flights climbed or descended (leg index, flight)."""
-    legs = tuple(tuple(_leg(g, a, b)) for a, b in itertools.pairwise(path_nodes))
+    routes = [_route(g, a, b) for a, b in itertools.pairwise(path_nodes)]
+    legs = tuple(tuple(r[0]) for r in routes)
     leg_frames: tuple[tuple[str, ...], ...] = ()
     stair_legs: list[tuple[int, Flight]] = []
     if isinstance(g, StoreyWalk):
-        routes = [_storey_leg(g, a, b) for a, b in itertools.pairwise(path_nodes)]
-        legs = tuple(tuple(r[0]) for r in routes)
         leg_frames = tuple(tuple(r[1]) for r in routes)
         off = 0 if first is None else 1
         stair_legs = [(t + off, f) for t, r in enumerate(routes) for f in r[2]]
@@ -375,17 +367,11 @@ def _legs(
     return legs, leg_frames, stair_legs
 
 
-def _storey_leg(g: StoreyWalk, a: int, b: int) -> tuple[list[tuple[float, float]], list[str], list[Flight]]:
-    """The walk from point a to point b across storeys, the frame of each of its points and the flights it
-    takes; the straight line where no walk joins them."""
+def _route(g: WalkGraph | StoreyWalk, a: int, b: int) -> tuple[list[tuple[float, float]], list[str], list[Flight]]:
+    """The walk from point a to point b of ``g``, across storeys the frame of each of its points and the flights
+    it takes; the straight line where no walk joins them."""
+    storeys = isinstance(g, StoreyWalk)
     if math.isfinite(g.dist[a, b]):
-        return g.route(a, b)
-    pa, pb = (float(g.points[a][0]), float(g.points[a][1])), (float(g.points[b][0]), float(g.points[b][1]))
-    return [pa, pb], [g.frames[a], g.frames[b]], []
-
-
-def _leg(g: WalkGraph | StoreyWalk, a: int, b: int) -> list[tuple[float, float]]:
-    """The walk from point a to point b of ``g``, or the straight line where no walk joins them."""
-    if math.isfinite(g.dist[a, b]):
-        return g.path(a, b)
-    return [(float(g.points[a][0]), float(g.points[a][1])), (float(g.points[b][0]), float(g.points[b][1]))]
+        return g.route(a, b) if storeys else (g.path(a, b), [], [])
+    line = [(float(g.points[k][0]), float(g.points[k][1])) for k in (a, b)]
+    return line, [g.frames[a], g.frames[b]] if storeys else [], []

@@ -147,8 +147,6 @@ class IncidenceErrorTable:
     theta_deg: tuple[float, ...] = (0, 10, 20, 30, 40, 50, 60, 68)
     f_x_mm: tuple[float, ...] = (0.00, 1.23, 3.20, 4.43, 5.6, 6.52, 7.17, 7.60)
     f_y_mm: tuple[float, ...] = (8.22, 8.14, 7.55, 6.90, 6.33, 5.12, 3.95, 3.04)
-    e_x_mm: tuple[float, ...] = (0.7, 1.64, 2.53, 4.02, 6.00, 6.40, 6.80, 7.14)
-    e_y_mm: tuple[float, ...] = (8.02, 8.00, 7.80, 7.10, 6.40, 5.39, 4.15, 3.24)
     linear_until_deg: float = 79.0
 
     def measured_mm(self, theta_deg: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -204,14 +202,10 @@ def tolerance_for_scale_m(scale: str | int | float) -> float:
     """Largest allowed error for a drawing scale (table 1.1, the row's upper value); a scale between two rows
     takes the stricter row, scales smaller than the table's last are refused."""
     n = parse_scale(scale)
-    previous_max: float | None = None
-    for largest, _low, high in DRAWING_SCALE_TOLERANCES_MM:
-        if n == largest or (n < largest and previous_max is None):
-            return high / 1000.0
-        if n < largest and previous_max is not None:
-            return previous_max / 1000.0  # between rows: the stricter (finer) row
-        previous_max = high
-    raise InputError("scale outside table 1.1 (1:1 .. 1:500)", field="drawing_scale", value=f"1:{n}")
+    if n > DRAWING_SCALE_TOLERANCES_MM[-1][0]:
+        raise InputError("scale outside table 1.1 (1:1 .. 1:500)", field="drawing_scale", value=f"1:{n}")
+    coarser = [high for largest, _low, high in DRAWING_SCALE_TOLERANCES_MM if largest <= n]
+    return (coarser[-1] if coarser else DRAWING_SCALE_TOLERANCES_MM[0][2]) / 1000.0
 
 
 #: Incidence models of the view error: none (range only), the measured table 2.3, Soudarissanane et al. 2011.
@@ -296,11 +290,8 @@ def combined_error_m(errors_m: ArrayLike) -> float:
 def derive_theta_max_deg(
     slant_m: float, scanner: RangeAngleSigma, budget: ErrorBudget, sigma_req_m: float, model: str = "table"
 ) -> float:
-    """Largest incidence at which a view at slant range S still meets sigma_req (bisection on e(S, theta)).
-
-    Returns the model's limit when even that incidence meets the budget, and 0 when a
-    perpendicular view at S already fails (S beyond the precision range of (3.1)).
-    """
+    """Largest incidence at which a view at slant range S still meets sigma_req (bisection on e(S, theta)): the
+    model's limit when even that incidence meets it, 0 when a perpendicular view at S already fails."""
     hi = incidence_limit_deg(model)
     if model == "none":
         return hi if bool(precision_ok(slant_m, 0.0, scanner, budget, sigma_req_m, model)) else 0.0

@@ -7,11 +7,11 @@ each model file names the source of every default in a comment. A model without 
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from planner.core.checks import finite_number
 from planner.core.errors import InputError
 
 #: a setting's name as the datasheets print it: the point spacing at a range, "6.3 mm @ 10 m"
@@ -22,46 +22,22 @@ _NUMBERS = ("setup_time_s", "walking_speed_m_s", "target_scan_time_s", "target_r
 
 @dataclass(frozen=True)
 class FieldProperties:
-    """What a crew needs to time a plan with one instrument.
+    """What a crew needs to time a plan with one instrument."""
 
-    Parameters
-    ----------
-    setup_time_s
-        Setting up, levelling and taking down the scanner at one station (s).
-    walking_speed_m_s
-        Walking speed carrying the scanner on its tripod (m/s).
-    scan_times_s
-        ``(setting, seconds)`` pairs: the duration of one full scan at each quality/resolution setting.
-    default_setting
-        The setting used when none is asked for; one of ``scan_times_s``.
-    target_scan_time_s
-        Extra time per registration target a station scans (fine scan of the target, s).
-    target_range_m
-        Farthest a target (sphere or checkerboard) is measured reliably from (m).
-    target_incidence_deg
-        Largest incidence angle at which a flat (checkerboard) target is measured (deg).
-    """
-
-    setup_time_s: float = 180.0
-    walking_speed_m_s: float = 0.8
-    scan_times_s: tuple[tuple[str, float], ...] = (("default", 300.0),)
-    default_setting: str = "default"
-    target_scan_time_s: float = 30.0
-    target_range_m: float = 25.0
-    target_incidence_deg: float = 45.0
+    setup_time_s: float = 180.0  # setting up, levelling and taking down the scanner at one station
+    walking_speed_m_s: float = 0.8  # carrying the scanner on its tripod
+    scan_times_s: tuple[tuple[str, float], ...] = (("default", 300.0),)  # one full scan at each setting
+    default_setting: str = "default"  # used when none is asked for; one of ``scan_times_s``
+    target_scan_time_s: float = 30.0  # the fine scan of one registration target a station scans
+    target_range_m: float = 25.0  # farthest a target (sphere or checkerboard) is measured reliably from
+    target_incidence_deg: float = 45.0  # largest incidence at which a flat (checkerboard) target is measured
     source: str = field(default="planner assumptions (docs/field.md)", compare=False)
 
     def __post_init__(self) -> None:
         for name in _NUMBERS:
             value = getattr(self, name)
             zero_ok = name in ("setup_time_s", "target_scan_time_s")
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, (int, float))
-                or not math.isfinite(value)
-                or value < 0
-                or (value == 0 and not zero_ok)
-            ):
+            if not finite_number(value) or value < 0 or (value == 0 and not zero_ok):
                 raise InputError(
                     f"must be a finite number {'>= 0' if zero_ok else '> 0'}", field=f"field.{name}", value=value
                 )
@@ -72,7 +48,7 @@ class FieldProperties:
         if not self.scan_times_s:
             raise InputError("needs at least one setting", field="field.scan_time_s")
         for name, secs in self.scan_times_s:
-            if isinstance(secs, bool) or not isinstance(secs, (int, float)) or not math.isfinite(secs) or secs <= 0:
+            if not finite_number(secs) or secs <= 0:
                 raise InputError(
                     "must be a finite number of seconds > 0", field=f"field.scan_time_s.{name}", value=secs
                 )
