@@ -41,7 +41,7 @@ def test_the_command_without_flags_plans_with_the_library_defaults() -> None:
 
 
 def test_the_library_s_defaults_are_the_settings() -> None:
-    # one home: planner/core/settings.py (import-light, so that --help imports no solver)
+    # one home: planner/core/settings/table.py (import-light, so that --help imports no solver)
     from planner.core.settings import DEFAULTS
     from planner.plan import strategy
 

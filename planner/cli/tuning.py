@@ -27,12 +27,12 @@ _TRUE = ("true", "yes", "on", "1")
 _FALSE = ("false", "no", "off", "0")
 
 
-def parser_of(s: Setting) -> Callable[[str], Any] | None:
-    """The argparse ``type`` of a setting (None: the text itself)."""
+def parser_of(s: Setting) -> Callable[[str], Any]:
+    """The argparse ``type`` of a setting (``str``: the text itself)."""
     if s.kind in ("float", "int"):
         return number(float if s.kind == "float" else int, above=s.above, at_least=s.at_least, at_most=s.at_most)
     listed = name_list(s.choices or (), s.default or "", s.key.removesuffix("s")) if s.kind == "list" else None
-    return {"memory": memory_size, "tiles": tiles, "list": listed}.get(s.kind)
+    return {"memory": memory_size, "tiles": tiles, "list": listed}.get(s.kind) or str
 
 
 def usage(s: Setting) -> str:
@@ -58,7 +58,7 @@ def from_text(s: Setting, text: str | None, items: list[str] | None = None) -> A
         return once_per_key(list(items or []), text)
     parse = parser_of(s)
     try:
-        value = parse(text) if parse is not None else text
+        value = parse(text)
     except argparse.ArgumentTypeError as exc:
         raise ValueError(str(exc)) from None
     if s.choices is not None and s.kind != "list" and value not in s.choices:
@@ -161,7 +161,7 @@ def profile_text(command: str) -> str:
         f"# The tuning keys of `planner {command}` and their defaults (`planner {command} --help-all` lists them).",
         "# Copy the lines you change into a file of your own and give it with",
         f"# `planner {command} SITE --config FILE`, or set one key on the command line with `--set KEY=VALUE`",
-        "# (`--set` wins over the file). Written from the settings (planner/core/settings.py); a test checks",
+        "# (`--set` wins over the file). Written from the settings (planner/core/settings/); a test checks",
         "# it, so it is what the command does when nothing is said.",
         "",
         f"[{command}]",

@@ -58,8 +58,8 @@ def dask_client(
         yield client
 
 
-def _memory_bytes(size: str) -> int:
-    """``size`` (e.g. ``1.5GiB``) in bytes; a usage error naming it when Dask cannot read it or it is not > 0."""
+def _memory_bytes(size: int | str) -> int:
+    """``size`` (bytes, or a text such as ``1.5GiB``) in bytes; a usage error naming it when Dask cannot read it or it is not > 0."""
     from dask.utils import parse_bytes
 
     try:

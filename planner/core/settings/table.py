@@ -1,114 +1,28 @@
-"""Every setting of a planning run, defined once: its name, default, values, unit, help, whether a surveyor sets it
-(a flag of ``planner plan``) or a benchmark tunes it (a key of ``--set KEY=VALUE`` and ``--config FILE``), and
-the fields of the option dataclasses it sets.
-
-Import-light on purpose (the standard library only): the command line builds its flags, keys, ``--help-all`` and
-the shipped profile (``planner/cli/profiles/default.toml``) from :data:`SETTINGS` without loading a solver, and
-the option dataclasses (:class:`planner.plan.PlanOptions`, :class:`planner.solve.milp.MilpOptions`,
-:class:`planner.candidates.pool.PoolOptions`, the tile strategy's) take their defaults from :data:`DEFAULTS`,
-the fields :func:`field_values` gives when no setting is set. :func:`planner.plan.options.options_from_settings`
-builds the options from setting values by walking the same paths, so nothing is copied by hand.
-
-A field path is ``PART.FIELD`` with PART one of ``plan`` (:class:`PlanOptions`), ``pool``, ``milp``, ``rule``
-(the registration rule), ``strategy``, ``tiling`` (``--tiles M``) and ``windows`` (its window re-solves).
-
-The stopping rules are four settings (``stop=True``): the MILP's wall-clock cap ``time-limit`` and its work in
-deterministic seconds ``work-limit``, the tiles' budget ``tile-budget`` and the local search's
-``moves-per-piece``; the other limits derive from them (:data:`TILE_SPLIT`, :data:`SEARCH_MOVES_PER_PIECE`).
-"""
-
-from __future__ import annotations
-
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
-from typing import Any
+"""Every setting of a planning run, in the order ``--help-all`` and the shipped profile list them."""
 
 from planner.core.checks import SAMPLING_M
+from planner.core.settings.model import (
+    BACKENDS,
+    CHECKS,
+    INPUTS,
+    INT0,
+    METHODS,
+    OBJECTIVES,
+    PRECISION_MODES,
+    RULES,
+    SEARCH_MOVES_PER_PIECE,
+    SIDES,
+    SOLVER,
+    SURFACES,
+    TILE_SPLIT,
+    TILES,
+    VARIANTS,
+    Setting,
+    _s,
+    _share,
+    _variant,
+)
 
-#: the fixed choices (each equal to the library's own constant: tests/cli/test_cli_start.py)
-METHODS = ("closed-form", "greedy", "milp")
-OBJECTIVES = ("stations", "field-time")
-BACKENDS = ("cpsat", "scip", "highs", "cbc", "pulp-cbc", "pyscipopt")
-PRECISION_MODES = ("single", "combined")
-FORMATS = ("orlib", "mps", "json")
-EXPORTS = ("dxf", "geojson", "csv")
-SIDES = ("inside", "outside", "both")
-INCIDENCE_MODELS = ("none", "table", "soudarissanane")
-SURFACES = ("walls", "floors", "ceilings")
-#: the model variants of the ``variant`` key: each a switch of the MILP or the pool, by its field
-VARIANTS: dict[str, tuple[str, bool]] = {
-    "layer-cuts": ("milp.layer_cuts", True),
-    "tree-bound": ("milp.tree_bound", True),
-    "no-ring-bound": ("milp.ring_bound", False),
-    "no-regions": ("plan.regions", False),
-    "no-pricing": ("plan.pricing", False),
-}
-
-#: ``--tiles M``: each tile's MILP work, each Lagrangian part's work and each window's work as shares of the
-#: tile budget (420 s: 30, 10 and 3 deterministic seconds)
-TILE_SPLIT = {"tiling.tile_time_limit_s": 1 / 14, "tiling.lagrange_work_s": 1 / 42, "windows.work_s": 1 / 140}
-#: the single MILP's local search: swaps per incumbent size, per move per piece of the tiled search (10 -> 500)
-SEARCH_MOVES_PER_PIECE = 50
-
-SURVEY = "survey"  # a flag of planner plan; the other sections are tuning keys
-SOLVER = "the solver"
-RULES = "registration rule, accuracy model"
-CHECKS = "network check and field sheet"
-TILES = "tiles and Dask (--tiles, --workers, --scheduler)"
-INPUTS = "input formats (table CSV closure, DXF, IFC)"
-
-Convert = Callable[[Any], Any] | None
-
-
-@dataclass(frozen=True, kw_only=True)
-class Setting:
-    """One setting. ``kind``: ``float``, ``int``, ``text``, ``switch`` (true/false), ``items`` (repeatable
-    ``NAME=VALUE``), ``list`` (comma-separated ``choices``), ``memory`` (a size such as 1.5GiB, bytes inside),
-    ``tiles`` (a size in m, auto or off); a number is checked against ``above``, ``at_least``, ``at_most``.
-    ``to``: the option fields it sets, each with how its value becomes the field's (None: as it is)."""
-
-    key: str
-    help: str
-    default: Any = None
-    kind: str = "text"
-    choices: tuple[str, ...] | None = None
-    above: float | None = None
-    at_least: float | None = None
-    at_most: float | None = None
-    metavar: str | None = None
-    section: str = SURVEY
-    to: Mapping[str, Convert] = field(default_factory=dict)
-    stop: bool = False
-    plan: bool = True  # a setting of planner plan (else of the other subcommands only)
-
-    @property
-    def dest(self) -> str:
-        """The attribute of the parsed namespace that holds the value."""
-        return self.key.replace("-", "_")
-
-    @property
-    def initial(self) -> Any:
-        """The value when nothing sets it."""
-        return [] if self.kind == "items" else (False if self.kind == "switch" else self.default)
-
-
-def _s(section: str, *settings: Setting) -> tuple[Setting, ...]:
-    return tuple(Setting(**{**s.__dict__, "section": section}) for s in settings)
-
-
-def _variant(name: str, on: bool) -> Callable[[str], bool]:
-    """The field of the ``variant`` name: ``on`` where the list names it."""
-    return lambda text: (name in text.split(",")) == on
-
-
-def _share(fraction: float) -> Callable[[float], float]:
-    """A limit derived from the tile budget: ``fraction`` of it."""
-    return lambda budget: budget * fraction
-
-
-_INT0 = {"kind": "int", "at_least": 0, "metavar": "N"}
-
-#: every setting, in the order ``--help-all`` and the shipped profile list them
 SETTINGS: dict[str, Setting] = {
     s.key: s
     for s in (
@@ -207,8 +121,8 @@ SETTINGS: dict[str, Setting] = {
             kind="float",
             above=0,
             metavar="M",
-            help="candidate grid spacing (default 10 m; 4 m where the automatic strategy (--tiles auto) plans the "
-            "site by tiles and it has at most 10,000 wall pieces: docs/large-sites.md)",
+            help="candidate grid spacing (default 10 m; 4 m for a site of at most 10,000 wall pieces that --tiles "
+            "auto plans by tiles: docs/large-sites.md)",
             to={"pool.grid_spacing_m": None},
         ),
         Setting(
@@ -223,7 +137,7 @@ SETTINGS: dict[str, Setting] = {
         ),
         Setting(
             key="workers",
-            **_INT0,
+            **INT0,
             default=0,
             help="--tiles: run tiles on an embedded Dask LocalCluster of N processes (default 0: in this process)",
             to={"strategy.workers": None},
@@ -242,7 +156,7 @@ SETTINGS: dict[str, Setting] = {
                 default="cpsat",
                 help="MILP backend (default cpsat)",
                 to={"milp.backend": None},
-            ),  # fmt: skip
+            ),
             Setting(
                 key="work-limit",
                 kind="float",
@@ -281,16 +195,15 @@ SETTINGS: dict[str, Setting] = {
             ),
             Setting(
                 key="plane-refine-steps",
-                **_INT0,
+                **INT0,
                 default=0,
                 help="milp, zone registration: refine the connected plane bound up to N times where the ring walk "
-                "stays below the plan (each a connected MILP over patches of the plane, split where its optimum "
-                "sits); default 0, off",
+                "stays below the plan (default 0: off; docs/plane.md)",
                 to={"plan.plane_refine_steps": None},
             ),
             Setting(
                 key="seed",
-                **_INT0,
+                **INT0,
                 default=0,
                 help="random seed: the movement-field sampling, the local search, the Monte Carlo runs (default 0)",
                 to={"pool.seed": None, "milp.seed": None, "windows.seed": None},
@@ -354,7 +267,7 @@ SETTINGS: dict[str, Setting] = {
             Setting(
                 key="monte-carlo",
                 plan=False,
-                **_INT0,
+                **INT0,
                 default=0,
                 help="also simulate N adjustments (seeded; N >= 100)",
             ),
@@ -485,30 +398,3 @@ SETTINGS: dict[str, Setting] = {
         ),
     )
 }
-
-#: the settings ``planner plan`` takes as flags (what a surveyor sets) and as tuning keys, by key
-PLAN_FLAGS = tuple(k for k, s in SETTINGS.items() if s.section == SURVEY)
-#: the plan's tuning keys: the other subcommands take some of them as flags
-PLAN_KEYS = tuple(k for k, s in SETTINGS.items() if s.section != SURVEY and s.plan)
-
-
-def field_values(values: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """The option fields, by path, that the setting ``values`` (by key; a missing one: its default) give."""
-    out: dict[str, Any] = {}
-    for s in SETTINGS.values():
-        value = (values or {}).get(s.key, s.initial)
-        for path, convert in s.to.items():
-            out[path] = value if convert is None else convert(value)
-    return out
-
-
-#: the option fields when nothing is set: the defaults of the option dataclasses
-DEFAULTS: dict[str, Any] = field_values()
-
-
-def setting_of(path: str | None) -> Setting | None:
-    """The setting that gives the field ``path`` (``PART.FIELD`` or a bare field name), else None."""
-    for s in SETTINGS.values():
-        if any(p == path or p.endswith(f".{path}") for p in s.to):
-            return s
-    return None
