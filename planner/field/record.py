@@ -4,6 +4,7 @@ targets from (:func:`planner.figures.webmap.field_layers`)."""
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from typing import Any
 
 from planner import __version__
@@ -12,6 +13,20 @@ from planner.field.run import FieldPlan
 from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
 from planner.field.storeys import climbs
 from planner.field.tables import HEADER, rows
+
+#: field.json's names of the fields of a :class:`~planner.field.targets.Link`
+_LINK_KEYS = {
+    "places": "target_places",
+    "reason": "weak_reason",
+    "spread_m": "target_spread_m",
+    "min_angle_deg": "target_min_angle_deg",
+    "spread_note": "target_geometry_note",
+}
+
+
+def _record(obj: Any, **names: str) -> dict[str, Any]:
+    """A dataclass as a record of field.json: its fields in order (tuples as lists), ``names`` renaming some."""
+    return {names.get(k, k): list(v) if isinstance(v, tuple) else v for k, v in asdict(obj).items()}
 
 
 def to_dict(fp: FieldPlan) -> dict[str, Any]:
@@ -39,48 +54,10 @@ def to_dict(fp: FieldPlan) -> dict[str, Any]:
         "time": fp.time.to_dict(),
         "sessions": fp.time.to_dict()["sessions"],
         "setups": [dict(zip(HEADER, r)) for r in rows(fp)],
-        "targets": [
-            {
-                "id": t.id,
-                "kind": t.kind,
-                "x": t.x,
-                "y": t.y,
-                "where": t.where,
-                "seen_by": list(t.seen_by),
-                "links": [list(p) for p in t.links],
-            }
-            for t in fp.targets
-        ],
-        "links": [
-            {
-                "a": lk.a,
-                "b": lk.b,
-                "shared_m": lk.shared_m,
-                "fraction": lk.fraction,
-                "weak": lk.weak,
-                "targets": list(lk.targets),
-                "target_places": lk.places,
-                "apart_m": lk.apart_m,
-                "weak_reason": lk.reason,
-                "target_spread_m": lk.spread_m,
-                "target_min_angle_deg": lk.min_angle_deg,
-                "target_geometry_note": lk.spread_note,
-            }
-            for lk in fp.links
-        ],
+        "targets": [_record(t) for t in fp.targets],
+        "links": [_record(lk, **_LINK_KEYS) for lk in fp.links],
         "target_geometry": {"min_spread_m": MIN_SPREAD_M, "min_angle_deg": MIN_ANGLE_DEG},
-        "legs_crossing_walls": [
-            {
-                "leg": c.leg,
-                "setup": c.setup,
-                "from": c.start,
-                "to": c.end,
-                "length_m": c.length_m,
-                "zones": list(c.zones),
-                "parts": list(c.parts),
-            }
-            for c in fp.crossings
-        ],
+        "legs_crossing_walls": [_record(c, start="from", end="to") for c in fp.crossings],
         "wall_crossing": "straight line from setup to setup, through the walls it meets",
         "no_opening_between": list(closed_parts(fp.crossings)),
         "walls_advice": advice(fp.crossings),
@@ -99,18 +76,9 @@ def _storeys(fp: FieldPlan) -> dict[str, Any]:
         "station_frames": {s.id: s.frame for s in fp.stations},
         "leg_frames": [list(f) for f in fp.leg_frames],
         "stair_legs": [
-            {
-                "leg": k,
-                "stair": f.stair,
-                "way": climbs(f, fp.leg_frames[k]),
-                "lower_frame": f.lower,
-                "upper_frame": f.upper,
-                "foot": list(f.foot),
-                "head": list(f.head),
-                "run_m": f.run_m,
-                "rise_m": f.rise_m,
-                "length_m": f.length_m,
-            }
+            {"leg": k, "stair": f.stair, "way": climbs(f, fp.leg_frames[k])}
+            | _record(f, lower="lower_frame", upper="upper_frame")
+            | {"length_m": f.length_m}
             for k, f in fp.stair_legs
         ],
         "stair_leg_length": "run in plan (foot to head) plus rise (z_max - z_min), timed at the walking speed",
