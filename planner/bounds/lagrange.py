@@ -87,14 +87,9 @@ class LagrangeBound:
         return all(self.proven)
 
 
-#: how the parts of one step are solved: ``runner(solve_part, jobs, shared)`` -> their results in job order (the tiles
-#: pass their Dask task runner; by default one after the other in this process)
+#: how the parts of one step are solved: ``runner(solve_part, jobs, shared)`` -> ``solve_part(**shared, job=job)`` for
+#: each job, in job order (the tiles pass their Dask task runner; None: one after the other in this process)
 PartRunner = Callable[[Callable[..., PartResult], list[PartJob], dict[str, Any]], list[PartResult]]
-
-
-def serial_parts(fn: Callable[..., PartResult], jobs: list[PartJob], shared: dict[str, Any]) -> list[PartResult]:
-    """``fn(**shared, job=job)`` for each job in order, in this process."""
-    return [fn(**shared, job=job) for job in jobs]
 
 
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
@@ -197,16 +192,10 @@ def split_costs(
 ) -> tuple[list[NDArray[np.int64]], list[NDArray[np.float64]]]:
     """Per part, its candidates (those seeing one of its pieces) and their shares ``lam_i``: from the duals ``y`` plus
     an equal share of the reduced cost (module docstring); an equal split when ``y`` is None."""
-    part_of = _check_parts(a.shape[1], parts)
-    hits = sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape) @ sp.csr_matrix(
-        (np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts))
-    )
-    seen = (hits > 0).tocsc()
-    dual = (
-        a.astype(np.float64)
-        @ sp.diags(y if y is not None else np.zeros(a.shape[1]))
-        @ sp.csr_matrix((np.ones(a.shape[1]), (np.arange(a.shape[1]), part_of)), shape=(a.shape[1], len(parts)))
-    ).tocsc()
+    n = a.shape[1]
+    member = sp.csr_matrix((np.ones(n), (np.arange(n), _check_parts(n, parts))), shape=(n, len(parts)))
+    seen = (sp.csr_matrix((np.ones(a.nnz), a.indices, a.indptr), shape=a.shape) @ member > 0).tocsc()
+    dual = (a.astype(np.float64) @ sp.diags(y if y is not None else np.zeros(n)) @ member).tocsc()
     count = np.asarray(seen.sum(axis=1)).ravel()
     reduced = cost - np.asarray(dual.sum(axis=1)).ravel()
     share = np.divide(reduced, count, out=np.zeros_like(reduced), where=count > 0)
@@ -260,7 +249,8 @@ def lagrangian_bound(
     done = capped = 0
     for k in range(iterations + 1):
         jobs = [PartJob(s, np.floor(lam * scale).astype(np.int64), h) for s, lam, h in zip(subs, lams, hints)]
-        res: list[PartResult] = (runner or serial_parts)(solve_part, jobs, {"work_s": work_s, "seed": seed})
+        shared = {"work_s": work_s, "seed": seed}
+        res = runner(solve_part, jobs, shared) if runner else [solve_part(**shared, job=j) for j in jobs]
         done, capped = k, capped + sum(r.capped for r in res)
         value = sum(r.lower for r in res) / scale
         upper = min(upper, _union_cost(a, c, cands, res))

@@ -2,10 +2,12 @@
 plane (at the chosen wall discretisation), or say that it holds over the pool only.
 
 Each round solves the cover LP on the pool, takes the pieces with a positive dual, builds (once) their coverage
-regions and looks for the heaviest faces of their arrangement, frame by frame. A face heavier than the station cost
-(1) is a position that prices out: its point is tested with the coverage test itself and added as a candidate when its
-true covered pieces price out too. When no face is heavier than 1, the LP value is a lower bound over the plane: no
-position anywhere could lower it.
+regions and looks for the heaviest points of their closed arrangement, frame by frame. A point heavier than the
+station cost (1) prices out: it is tested with the coverage test itself and added as a candidate when its true covered
+pieces price out too. The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals ``y``,
+with ``w*`` the heaviest weight of any position over the regions *grown* by the tolerance
+(:func:`planner.coverage.arrangement.outer_max_weight`): ``y / max(1, w*)`` is dual feasible for every position, so
+the bound holds for every cover from any positions.
 """
 
 from __future__ import annotations
@@ -46,15 +48,10 @@ ASSUMES = (
 
 @dataclass(frozen=True)
 class PricingReport:
-    """What pricing established.
-
-    ``lp_bound`` is the cover LP over the final pool. ``plane_lp_bound`` holds over every position in the plane:
-    Farley's bound ``sum(y) / max(1, w*)``, where ``y`` are the last LP's duals and ``w*`` (``heaviest_weight``)
-    bounds any position's dual weight from above (the regions grown by the tolerance,
-    :func:`planner.coverage.arrangement.outer_max_weight`). ``converged``: no point of the arrangement priced out.
-    ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`). ``wall_cap_hit``: the user's
-    wall-clock cap, not the round or work limit, stopped it (then the columns, and so the bound, may depend on the
-    machine's load).
+    """What pricing established: ``lp_bound``, the cover LP over the final pool; ``plane_lp_bound``, Farley's bound
+    over the plane (module docstring) with ``w*`` in ``heaviest_weight``; ``converged``: no point of the arrangement
+    priced out; ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`); ``wall_cap_hit``: the
+    user's wall-clock cap, not the round or work limit, stopped it (then the bound may depend on the machine's load).
     """
 
     converged: bool
@@ -130,16 +127,14 @@ def _heaviest(
     per_round: int,
     threshold: float = 1.0 + PRICE_EPS,
     work: list[int] | None = None,
-) -> tuple[list[tuple[int, Any]], float]:
+) -> list[tuple[int, Any]]:
     """Points of the closed arrangements (one per frame) of the regions of the pieces ``pos`` weighing more than
     ``threshold`` (by default: those that price out); ``work`` gets the pairs weighed appended."""
-    found_all: list[tuple[int, Any]] = []
-    heaviest = 0.0
-    for fi, here in _frames(t, pos):
-        found, top = heaviest_points([cache[int(k)] for k in here], y[here], threshold, per_round, work)
-        found_all += [(fi, f) for f in found]
-        heaviest = max(heaviest, top)
-    return found_all, heaviest
+    return [
+        (fi, f)
+        for fi, here in _frames(t, pos)
+        for f in heaviest_points([cache[int(k)] for k in here], y[here], threshold, per_round, work)
+    ]
 
 
 def _frames(t: Any, pos: np.ndarray):
@@ -153,8 +148,7 @@ def _frames(t: Any, pos: np.ndarray):
 def _outer(
     site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarray, spaces: dict[str, FrameSpace]
 ) -> float:
-    """An upper bound on any position's dual weight: the arrangement of the outer regions O_t (range discs
-    circumscribed, stand-off buffers inscribed) grown by :func:`outer_tolerance_m`, per frame."""
+    """``w*``: the arrangement of the outer regions O_t grown by :func:`outer_tolerance_m`, per frame."""
     outer = coverage_regions(site, t, limits, [int(k) for k in pos], spaces, outer=True)
     grow = outer_tolerance_m(limits)
     return max([0.0, *(outer_max_weight([outer[int(k)] for k in here], y[here], grow) for _, here in _frames(t, pos))])
@@ -217,14 +211,9 @@ def price_plane(
     cache: dict[int, shapely.Geometry] | None = None,
     spaces: dict[str, FrameSpace] | None = None,
 ) -> tuple[CoverageProblem, PricingReport]:
-    """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane.
-
-    Columns come from the closed arrangement of the regions as drawn (:func:`_heaviest`), each checked with the
-    coverage test. The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals ``y``, with
-    ``w*`` from the regions *grown* by the tolerance (:func:`_outer`): it holds for every cover from any positions.
-    Limits: ``max_rounds`` rounds and ``max_work`` (point, region) pairs weighed, counts (the same columns under any
-    load), and only where the user sets one a wall-clock cap ``time_limit_s``.
-    """
+    """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane (module
+    docstring). Limits: ``max_rounds`` rounds and ``max_work`` (point, region) pairs weighed, counts (the same columns
+    under any load), and only where the user sets one a wall-clock cap ``time_limit_s``."""
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
     cache = {} if cache is None else cache
@@ -246,7 +235,7 @@ def price_plane(
             note = _stopped(rounds, start, time_limit_s if capped else None, max_work if spent else None, max_rounds)
             break
         rounds += 1
-        faces, _ = _heaviest(cache, t, pos, lp.y, per_round, work=work)
+        faces = _heaviest(cache, t, pos, lp.y, per_round, work=work)
         if not faces:
             converged = True
             break
@@ -259,10 +248,9 @@ def price_plane(
             break
         added += n
     if converged and ties:  # the optimal LP's alternatives: positions as good as its columns (reduced cost 0)
-        points, _ = _heaviest(cache, t, pos, lp.y, ties, 1.0 - TIE_EPS)
+        points = _heaviest(cache, t, pos, lp.y, ties, 1.0 - TIE_EPS)
         problem, n = _add_points(site, problem, model, points, lp.y, limits, "PT", 1.0 - TIE_EPS)
         added += n
-    # Farley's bound on the last duals: y / max(1, w*) is dual feasible for every position of the plane
     model.close()
     w_star = _outer(site, t, limits, pos, lp.y, {})
     farley = float(lp.y.sum()) / max(1.0, w_star)
@@ -286,8 +274,8 @@ def price_plane(
 
 
 def _stopped(rounds: int, start: float, cap_s: float | None, work: int | None, max_rounds: int) -> str:
-    """Why pricing stopped before it converged: the wall-clock cap ``cap_s``, the work limit ``work`` (the one
-    reached, or None), else its rounds."""
+    """Why pricing stopped before it converged: the cap ``cap_s`` or work limit ``work`` reached (or None), else its
+    rounds."""
     why = (
         f"the wall-clock cap of {cap_s:g} s; may depend on the load"
         if cap_s is not None
@@ -299,10 +287,8 @@ def _stopped(rounds: int, start: float, cap_s: float | None, work: int | None, m
 
 
 def with_plane_bound(result: SolveResult, pricing: PricingReport) -> SolveResult:
-    """The MILP result with what pricing adds: ``info['pool_bound']`` (the MILP's own bound, over the pool),
-    ``info['plane_bound']`` (ceil of Farley's bound: every cover from any positions has at least that many stations)
-    and ``info['bound_scope']``: ``plane`` when the plan meets the plane bound (optimal over every position; ``bound``
-    becomes the plane bound), else ``pool`` (``bound`` stays the MILP's, over the pool)."""
+    """The MILP result with ``info['pool_bound']`` (the MILP's own), ``info['plane_bound']`` (Farley's, rounded up) and
+    ``info['bound_scope']``: ``plane`` when the plan meets the plane bound (``bound`` becomes it), else ``pool``."""
     info = dict(result.info)
     info["pricing"] = pricing.to_dict()
     plane = pricing.plane_bound

@@ -60,22 +60,32 @@ def patch_shapes(
     return grown(outer, grow_m + half), list(shapely.buffer(np.asarray(inner, dtype=object), -d, quad_segs=_ERODE_SEGS))
 
 
+def live_box(geoms: list[Any]) -> NDArray[np.float64] | None:
+    """(xmin, ymin, xmax, ymax) over the non-empty ``geoms``; None when all are empty."""
+    b = np.array([shapely.bounds(g) for g in geoms if not g.is_empty])
+    return None if b.size == 0 else np.array([b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()])
+
+
+def grid_shape(box: NDArray[np.float64], h: float) -> tuple[int, int]:
+    """Columns and rows of the grid of side ``h`` from the box's lower-left corner that covers it."""
+    return math.ceil((box[2] - box[0]) / h) + 1, math.ceil((box[3] - box[1]) / h) + 1
+
+
 def patch_sets(
     grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float
 ) -> tuple[sp.csr_matrix, NDArray[np.float64]] | None:
     """U (patches x pieces) and l (per patch) on the grid of side ``h`` over the grown regions' bounds; None past
     ``MAX_PATCHES``. ``grow``/``shrink``: regions already grown / shrunk by the tolerance and half the diagonal."""
-    live = [k for k, g in enumerate(grow) if not g.is_empty]
-    if not live:
+    box = live_box(grow)
+    if box is None:
         return None
-    box = np.array([shapely.bounds(grow[k]) for k in live])
-    x0, y0 = box[:, 0].min(), box[:, 1].min()
-    nx_, ny_ = math.ceil((box[:, 2].max() - x0) / h) + 1, math.ceil((box[:, 3].max() - y0) / h) + 1
+    x0, y0 = box[:2]
+    nx_, ny_ = grid_shape(box, h)
     if nx_ * ny_ > MAX_PATCHES:
         return None
     rows, cols = [], []
     lsum = np.zeros(nx_ * ny_)
-    for k in live:
+    for k in (k for k, g in enumerate(grow) if not g.is_empty):
         bx0, by0, bx1, by1 = shapely.bounds(grow[k])
         i0, i1 = int((bx0 - x0) // h), math.ceil((bx1 - x0) / h)
         j0, j1 = int((by0 - y0) // h), math.ceil((by1 - y0) / h)
@@ -147,10 +157,9 @@ def arc_links(start: Ints, span: Ints, low: Floats, cum: Floats, n: int, share: 
 
 def patch_sides(outer: list[Any]) -> tuple[float, ...]:
     """The patch sides to try on a zone-side: about ``FIRST_PATCHES`` over its regions' box, then halved twice."""
-    live = [g for g in outer if not g.is_empty]
-    if not live:
+    b = live_box(outer)
+    if b is None:
         return ()
-    b = np.array([shapely.bounds(g) for g in live])
-    area = (b[:, 2].max() - b[:, 0].min()) * (b[:, 3].max() - b[:, 1].min())
+    area = (b[2] - b[0]) * (b[3] - b[1])
     h0 = max(math.sqrt(area / FIRST_PATCHES), MIN_PATCH_M)
     return (h0, h0 / 2, h0 / 4)

@@ -1,18 +1,11 @@
 """A connected plane bound by refinement: the connected cover over patches, split where its optimum sits.
 
-The ring walk (:mod:`planner.bounds.plane_ring`) replaces each patch by the smallest arc that holds what it may see;
-on a concave outline the arcs claim the hidden wall between the runs a station sees, and the walk can stay below the
-plan. Here the patches keep their sets.
-
-**Relaxation.** The family is a set of squares that together hold every position that sees a piece of the zone-side.
-For a patch P, U(P) is the pieces whose outer region O_t (grown by its tolerance and half P's diagonal) holds P's
-centre, and low(P) the wall length of the pieces whose region R_t (shrunk by its tolerance and half the diagonal)
-holds it: every position p in P covers C(p) within U(P) and at least low(P) of wall. Two registered stations p, q
-share at least f min(L(p), L(q)) > 0 of wall, so their patches satisfy the *relaxed link* |U(P) n U(Q)| > 0 and >= f
-min(low(P), low(Q)). A connected plan of k stations anywhere, each replaced by the patch that holds it, is therefore a
-connected cover of the zone-side's pieces by at most k patches under the relaxed links: the optimum of that connected
-cover over the family (the connected MILP, :func:`planner.solve.milp.solve`, given the relation) bounds every
-connected plan from below.
+**Relaxation.** The patches and their sets U(P), low(P) and relaxed links are the ring walk's
+(:mod:`planner.bounds.plane_ring`), but U(P) is kept as a set instead of the smallest arc that holds it (on a concave
+outline the arcs claim the hidden wall between the runs a station sees, and the walk can stay below the plan). A
+connected plan of k stations anywhere, each replaced by the patch that holds it, is a connected cover of the
+zone-side's pieces by at most k patches under the relaxed links: the optimum of that connected cover over the family
+(the connected MILP, :func:`planner.solve.milp.solve`, given the relation) bounds every connected plan from below.
 
 **Refinement.** Each patch of the optimum is split into its four quarters and the cover solved again. A quarter holds
 a subset of its parent's positions, so its U lies within the parent's and its low is at least the parent's: whatever
@@ -34,7 +27,7 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
-from planner.bounds.plane_patches import MIN_PATCH_M, SidePieces
+from planner.bounds.plane_patches import MIN_PATCH_M, SidePieces, grid_shape, live_box
 from planner.coverage.overlap import SITE_SHARE
 from planner.solve.instance import CoverInstance
 from planner.solve.milp import MilpOptions, solve
@@ -53,8 +46,7 @@ _SLACK_M = 1e-3
 
 @dataclass(frozen=True)
 class Refined:
-    """The refined bound of one zone-side: ``bound`` (a lower bound on every connected plan), the steps taken, the
-    family's size at the end, the smallest patch side, and whether the last cover was proven optimal."""
+    """The refined bound of one zone-side (a lower bound on every connected plan) and how it was reached."""
 
     bound: int
     steps: int
@@ -125,11 +117,10 @@ class _Family:
 def grid_family(lv: _Levels) -> _Family:
     """The level-0 patches: a grid of side h0 over the box of the grown regions (every position that may see a piece
     lies in it), those that may see nothing left out."""
-    shapes, _ = lv.pieces.shapes(lv.h0)
-    live = [g for g in shapes if not g.is_empty]
-    b = np.array([shapely.bounds(g) for g in live])
-    x0, y0 = b[:, 0].min(), b[:, 1].min()
-    nx_, ny_ = math.ceil((b[:, 2].max() - x0) / lv.h0) + 1, math.ceil((b[:, 3].max() - y0) / lv.h0) + 1
+    box = live_box(lv.pieces.shapes(lv.h0)[0])
+    assert box is not None
+    x0, y0 = box[:2]
+    nx_, ny_ = grid_shape(box, lv.h0)
     gx, gy = np.meshgrid(x0 + (np.arange(nx_) + 0.5) * lv.h0, y0 + (np.arange(ny_) + 0.5) * lv.h0, indexing="ij")
     cx, cy = gx.ravel(), gy.ravel()
     u, low = lv.sets(cx, cy, 0)

@@ -27,6 +27,7 @@ The bound tightens as h shrinks (U(P) and l(P) tend to the coverage of a point):
 
 from __future__ import annotations
 
+import itertools
 import time
 from dataclasses import replace
 from typing import Any
@@ -37,22 +38,11 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.bounds.connected_result import ConnectedPlaneBound, SideBound
-from planner.bounds.plane_patches import (
-    FIRST_PATCHES,
-    SidePieces,
-    arc_links,
-    patch_sets,
-    patch_sides,
-    undominated,
-)
+from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sets, patch_sides, undominated
 from planner.bounds.plane_refine import refined_bound
 from planner.coverage.arrangement import grown, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.regions import (
-    coverage_regions,
-    outer_tolerance_m,
-    region_tolerance_m,
-)
+from planner.coverage.regions import coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
 from planner.solve.ring import cyclic_arcs, ring_graph
@@ -183,16 +173,10 @@ def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, An
     unions: dict[int, list[tuple[str, Any]]] = {}
     for pieces in pieces_all:
         geoms = [g for g in grown([outer[int(p)] for p in pieces], grow_m) if not g.is_empty]
-        name = _name(t, pieces[0])
-        unions.setdefault(int(t.frame[pieces[0]]), []).append(
-            (name, shapely.union_all(np.asarray(geoms, dtype=object)))
-        )
+        union = shapely.union_all(np.asarray(geoms, dtype=object))
+        unions.setdefault(int(t.frame[pieces[0]]), []).append((_name(t, pieces[0]), union))
     for items in unions.values():
-        for i in range(len(items)):
-            for j in range(i + 1, len(items)):
-                if items[i][1].intersects(items[j][1]):
-                    return (
-                        f"not formed: {items[i][0]} and {items[j][0]} can be seen from one position "
-                        "(their outer coverage regions meet)"
-                    )
+        for (p, gp), (q, gq) in itertools.combinations(items, 2):
+            if gp.intersects(gq):
+                return f"not formed: {p} and {q} can be seen from one position (their outer coverage regions meet)"
     return ""

@@ -40,7 +40,8 @@ class ZoneSidePlan:
     circle_replaced_vertices: bool = False
 
 
-def _rotate(v: np.ndarray, deg: float) -> np.ndarray:
+def rotate(v: np.ndarray, deg: float) -> np.ndarray:
+    """``v`` (2-D) turned counter-clockwise by ``deg``."""
     a = math.radians(deg)
     return np.array([v[0] * math.cos(a) - v[1] * math.sin(a), v[0] * math.sin(a) + v[1] * math.cos(a)])
 
@@ -75,7 +76,7 @@ def side_candidate(
     return Candidate(f"{zone}-{SIDE_TAG[side]}-{name}", zone, side, frame, x, y, kind, **more)
 
 
-def _sign(side: ScanSide) -> float:
+def side_sign(side: ScanSide) -> float:
     """+1 inside (to the left of each CCW wall), -1 outside."""
     return 1.0 if side is ScanSide.INSIDE else -1.0
 
@@ -89,7 +90,7 @@ def _vertex_candidates(
         if g is None:
             continue
         out = xy[(i + 1) % len(xy)] - xy[i]
-        p = xy[i] + g.hd_m * _rotate(out / np.linalg.norm(out), _sign(side) * g.angle_deg / 2.0)
+        p = xy[i] + g.hd_m * rotate(out / np.linalg.norm(out), side_sign(side) * g.angle_deg / 2.0)
         geometry = dict(vertex=i + 1, alpha_deg=g.alpha_deg, hd_m=g.hd_m, gamma_deg=g.gamma_deg, covered_m=g.covered_m)
         x, y = float(p[0]), float(p[1])
         out_cands.append(side_candidate(zone.id, side, zone.frame, f"V{i + 1}", x, y, CandidateKind.VERTEX, **geometry))
@@ -109,7 +110,7 @@ def _wall_candidates(
         wplans.append(wp)
         start = xy[i]
         t = (xy[(i + 1) % n] - start) / wall.length_m
-        nrm = _sign(side) * np.array([-t[1], t[0]])
+        nrm = side_sign(side) * np.array([-t[1], t[0]])
 
         def at(x: float, y: float, start: np.ndarray = start, t: np.ndarray = t, nrm: np.ndarray = nrm):
             q = start + x * t + y * nrm
@@ -169,8 +170,7 @@ def circle_candidate(zone: Zone, vgeo: tuple[VertexGeometry | None, ...], reach:
     The station is put at the pole of inaccessibility of that region (the centre of its largest inscribed circle), the
     point with the most room to move.
     """
-    # in the zone's own coordinates (first vertex, first wall), so that the circles' polygons and the pole turn and
-    # move with the site
+    # in the zone's own coordinates (first vertex, first wall): the circles' polygons and the pole turn with the site
     origin, axis = np.asarray(zone.xy[0], dtype=float), np.subtract(zone.xy[1], zone.xy[0])
     region = to_frame(zone.polygon, origin, axis)
     centres = np.asarray(shapely.get_coordinates(to_frame(shapely.MultiPoint(zone.xy), origin, axis)))
@@ -184,14 +184,7 @@ def circle_candidate(zone: Zone, vgeo: tuple[VertexGeometry | None, ...], reach:
             return None
     pole = polylabel(region, tolerance=0.01)
     (x, y), *_ = from_frame(np.array([[pole.x, pole.y]]), origin, axis).tolist()
-    field = from_frame(np.asarray(region.exterior.coords[:-1]), origin, axis)
-    return Candidate(
-        id=f"{zone.id}-in-C",
-        zone=zone.id,
-        side=ScanSide.INSIDE,
-        frame=zone.frame,
-        x=float(x),
-        y=float(y),
-        kind=CandidateKind.CIRCLE,
-        field=tuple((float(a), float(b)) for a, b in field),
+    field = tuple((float(a), float(b)) for a, b in from_frame(np.asarray(region.exterior.coords[:-1]), origin, axis))
+    return side_candidate(
+        zone.id, ScanSide.INSIDE, zone.frame, "C", float(x), float(y), CandidateKind.CIRCLE, field=field
     )

@@ -37,11 +37,6 @@ MIN_AREA_M2 = 1e-12
 TOO_THIN = "its coverage region is thinner than the coverage test's tolerance"
 
 
-def _pole(region: shapely.Geometry) -> tuple[float, float]:
-    p = largest_part_pole(region, min_tolerance_m=1e-7)
-    return float(p.x), float(p.y)
-
-
 def _stretch_poles(
     problem: CoverageProblem, unseen: Sequence[int] | np.ndarray, regions: dict[int, shapely.Geometry], alone: bool
 ) -> list[tuple[int, tuple[float, float]]]:
@@ -66,7 +61,8 @@ def _stretch_poles(
                 if both.area > MIN_AREA_M2:
                     common = both
                     left.discard(u)
-        out.append((k, _pole(common)))
+        p = largest_part_pole(common, min_tolerance_m=1e-7)
+        out.append((k, (float(p.x), float(p.y))))
     return out
 
 

@@ -13,8 +13,10 @@ from planner.candidates.closed_form import (
     Limits,
     plan_zone_side,
     pole_in_frame,
+    rotate,
     scan_side_angles,
     side_candidate,
+    side_sign,
 )
 from planner.candidates.formulas import horizontal_reach_m
 from planner.core.checks import argument, count, real
@@ -121,7 +123,6 @@ def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[s
     n = len(xy)
     angles = scan_side_angles(zone, side)
     lo = 90.0 - limits.theta_max_deg
-    sign = 1.0 if side is ScanSide.INSIDE else -1.0
     for i in range(n):
         a = float(angles[i])
         if a <= lo or a >= 180.0 - NEARLY_STRAIGHT_DEG:
@@ -129,8 +130,7 @@ def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[s
         reach = horizontal_reach_m(limits.max_slant_range_m, zone.vertex_heights_m[i], limits.instrument_height_m)
         out = (xy[(i + 1) % n] - xy[i]) / np.hypot(*(xy[(i + 1) % n] - xy[i]))
         for tag, bearing in (("a", (lo + min(a, 90.0)) / 2.0), ("b", a - (lo + min(a, 90.0)) / 2.0)):
-            t = math.radians(sign * bearing)
-            d = np.array([out[0] * math.cos(t) - out[1] * math.sin(t), out[0] * math.sin(t) + out[1] * math.cos(t)])
+            d = rotate(out, side_sign(side) * bearing)
             for k, f in enumerate((0.2, 0.4, 0.6, 0.8), 1):
                 yield f"V{i + 1}{tag}{k}", xy[i] + f * reach * d
 
@@ -169,15 +169,8 @@ def _bisector_points(zone: Zone, region: shapely.Geometry, standoff_m: float) ->
 
 def _first_stretch(region: shapely.Geometry, p: np.ndarray, q: np.ndarray) -> float:
     """Length of the part of segment p-q inside ``region`` that starts at p."""
-    inter = shapely.intersection(region, shapely.LineString([p, q]))
-    parts = getattr(inter, "geoms", [inter])
-    best = 0.0
-    for g in parts:
-        if g.is_empty or g.length == 0:
-            continue
-        if shapely.distance(g, shapely.Point(p)) < 1e-6:
-            best = max(best, g.length)
-    return best
+    parts = shapely.get_parts(shapely.intersection(region, shapely.LineString([p, q])))
+    return max((g.length for g in parts if g.length > 0 and shapely.distance(g, shapely.Point(p)) < 1e-6), default=0.0)
 
 
 def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Candidate]:

@@ -58,10 +58,7 @@ def _weigh(
     given, gets the number of (point, region) pairs found appended."""
     if len(points) == 0:
         return np.zeros(0)
-    if predicate == "dwithin":
-        pi, ri = tree.query(points, predicate="dwithin", distance=TOUCH_M)
-    else:
-        pi, ri = tree.query(points, predicate=predicate)
+    pi, ri = tree.query(points, predicate=predicate, distance=TOUCH_M if predicate == "dwithin" else None)
     if work is not None:
         work.append(len(pi))
     return np.asarray(np.bincount(pi, weights=w[ri], minlength=len(points)), dtype=np.float64)
@@ -87,14 +84,13 @@ def heaviest_points(
     threshold: float,
     limit: int,
     work: list[int] | None = None,
-) -> tuple[list[Sample], float]:
-    """Points of the closed arrangement of ``regions`` weighing more than ``threshold`` (heaviest first,
-    at most ``limit``; faces before edges before vertices at equal weight), and the largest weight seen.
-    ``work``, where given, gets the (point, region) pairs found in weighing them appended: a count that follows
-    the cost of the call (weighing is its bulk), for a caller's work limit."""
+) -> list[Sample]:
+    """Points of the closed arrangement of ``regions`` weighing more than ``threshold`` (heaviest first, at most
+    ``limit``; faces before edges before vertices at equal weight). ``work``, where given, gets the (point, region)
+    pairs found in weighing them appended: a count that follows the cost of the call (weighing is its bulk)."""
     keep = [k for k, g in enumerate(regions) if not g.is_empty and g.area > 0]
     if not keep:
-        return [], 0.0
+        return []
     polys = [regions[k] for k in keep]
     w = np.asarray(weights, float)[keep]
     lines = _noded(polys)
@@ -111,21 +107,17 @@ def heaviest_points(
     wts = np.concatenate([g[2] for g in groups])
     kinds = np.concatenate([np.full(len(g[1]), k, dtype=object) for k, g in enumerate(groups)])
     if len(pts) == 0:
-        return [], 0.0
-    best = float(wts.max())
+        return []
     order = np.lexsort((kinds, -wts))
     order = order[wts[order] > threshold][:limit]
     xy = shapely.get_coordinates(pts[order]) if order.size else np.zeros((0, 2))
-    return [
-        Sample(float(px), float(py), float(wts[k]), groups[int(kinds[k])][0]) for (px, py), k in zip(xy, order)
-    ], best
+    return [Sample(float(px), float(py), float(wts[k]), groups[int(kinds[k])][0]) for (px, py), k in zip(xy, order)]
 
 
 def grown(regions: Sequence[shapely.Geometry], grow_m: float) -> list[shapely.Geometry]:
     """Each region grown by ``grow_m + MARGIN_M`` as a polygon circumscribing the round buffer."""
     d = (grow_m + MARGIN_M) / math.cos(math.pi / (4 * QUAD_SEGS))
-    geoms = np.asarray([g for g in regions], dtype=object)
-    return list(shapely.buffer(geoms, d, quad_segs=QUAD_SEGS))
+    return list(shapely.buffer(np.asarray(list(regions), dtype=object), d, quad_segs=QUAD_SEGS))
 
 
 def outer_max_weight(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], grow_m: float) -> float:

@@ -16,6 +16,12 @@ from numpy.typing import NDArray
 #: entries of one block's product (rows x candidates at worst) before filtering
 BLOCK_ENTRIES = 8_000_000
 
+
+def cat(xs: list[np.ndarray], dt: type) -> np.ndarray:
+    """The arrays ``xs`` end to end as ``dt`` (empty when there are none)."""
+    return np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
+
+
 Keep = Callable[[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], NDArray[np.bool_]]
 
 
@@ -34,10 +40,6 @@ def filtered_gram(a: sp.csr_matrix, weights: NDArray[np.float64] | None, keep: K
         rows.append(r[m])
         cols.append(c[m])
         vals.append(v[m])
-
-    def cat(xs: list[np.ndarray], dt: type) -> np.ndarray:
-        return np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
-
     out = sp.csr_matrix((cat(vals, np.float64), (cat(rows, np.int64), cat(cols, np.int64))), shape=(n, n))
     out.sort_indices()
     return out

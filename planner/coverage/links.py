@@ -23,13 +23,10 @@ from numpy.typing import NDArray
 from planner.core.errors import UsageError
 from planner.coverage.matrix import blockers_for
 from planner.coverage.openings import accessible_areas, opening_segments, space_of
-from planner.coverage.stair_links import stair_links
+from planner.coverage.stair_links import NO_WALL, link_matrix, stair_links
 from planner.coverage.visibility import segments_touch, sight_clear
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
-
-#: pair key of a station-to-station sight line (matches no wall key, and not the obstacles' -1)
-_NO_WALL = -2
 
 
 def opening_links(
@@ -37,7 +34,6 @@ def opening_links(
 ) -> sp.csr_matrix:
     """Symmetric C x C boolean matrix: stations of different spaces that see each other through an opening
     (both within ``reach_m`` of it and of each other)."""
-    n = len(xy)
     frames_arr = np.asarray(frames, dtype=object)
     space_id = {s: k for k, s in enumerate(dict.fromkeys(spaces))}
     sid = np.array([space_id[s] for s in spaces], dtype=np.int64)
@@ -55,7 +51,7 @@ def opening_links(
             if near.size < 2:
                 continue
             m = np.repeat(mid[None], len(near), axis=0)
-            near = near[sight_clear(xy[near], m, m, np.full(len(near), _NO_WALL), blockers)]
+            near = near[sight_clear(xy[near], m, m, np.full(len(near), NO_WALL), blockers)]
             d = ends[1] - ends[0]
             side = np.sign(d[0] * (xy[near, 1] - ends[0][1]) - d[1] * (xy[near, 0] - ends[0][0]))
             left, right = near[side > 0], near[side < 0]
@@ -67,14 +63,10 @@ def opening_links(
             e0, e1 = np.repeat(ends[:1], len(i), axis=0), np.repeat(ends[1:], len(i), axis=0)
             ok = segments_touch(xy[i], xy[j], e0, e1)
             i, j = i[ok], j[ok]
-            ok = sight_clear(xy[i], xy[j], xy[j], np.full(len(i), _NO_WALL), blockers)
-            rows += [i[ok], j[ok]]
-            cols += [j[ok], i[ok]]
-    r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
-    c = np.concatenate(cols) if cols else np.zeros(0, np.int64)
-    out = sp.csr_matrix((np.ones(len(r), dtype=bool), (r, c)), shape=(n, n))
-    out.sum_duplicates()
-    return out
+            ok = sight_clear(xy[i], xy[j], xy[j], np.full(len(i), NO_WALL), blockers)
+            rows.append(i[ok])
+            cols.append(j[ok])
+    return link_matrix(rows, cols, len(xy))
 
 
 REGISTRATION_MODES = ("zone", "site")
@@ -87,10 +79,6 @@ class RegistrationDefault:
 
     mode: str
     reason: str
-
-
-def _frame_words(frame: str) -> str:
-    return "site coordinates" if frame == SITE_FRAME else f"frame {frame!r}"
 
 
 def default_registration(site: Site) -> RegistrationDefault:
@@ -111,9 +99,8 @@ def default_registration(site: Site) -> RegistrationDefault:
         return RegistrationDefault("zone", "one zone")
     frames = list(dict.fromkeys(z.frame for z in zones))
     if len(frames) == 1:
-        return RegistrationDefault(
-            "site", f"the {n} zones share one frame ({_frame_words(frames[0])}): one bundle per accessible area"
-        )
+        where = "site coordinates" if frames[0] == SITE_FRAME else f"frame {frames[0]!r}"
+        return RegistrationDefault("site", f"the {n} zones share one frame ({where}): one bundle per accessible area")
     placed = sum(z.frame == SITE_FRAME and z.closure is not None for z in zones)
     if placed:
         return RegistrationDefault(

@@ -35,6 +35,13 @@ ON_WALL_M = 1e-6
 def blockers_for(site: Site, frame: str) -> Blockers:
     """Walls of every zone in ``frame`` and, in the site frame, the obstacle edges."""
     a, b, key, verts = [], [], [], []
+
+    def ring(xy: NDArray[np.float64], k: NDArray[np.int64]) -> None:
+        a.append(xy)
+        b.append(np.roll(xy, -1, axis=0))
+        key.append(k)
+        verts.append(xy)
+
     segments = opening_segments(site, frame)
     partners = partner_stretches(site, frame)
     for zi, zone in enumerate(site.zones):
@@ -53,18 +60,10 @@ def blockers_for(site: Site, frame: str) -> Blockers:
             continue
         first = 1
         for xy in zone.rings:
-            a.append(xy)
-            b.append(np.roll(xy, -1, axis=0))
-            key.append(wall_key(zi, np.arange(first, first + len(xy))))
-            verts.append(xy)
+            ring(xy, wall_key(zi, np.arange(first, first + len(xy))))
             first += len(xy)
-    if frame == SITE_FRAME:
-        for ob in site.obstacles:
-            xy = np.asarray(ob.vertices, dtype=float)
-            a.append(xy)
-            b.append(np.roll(xy, -1, axis=0))
-            key.append(np.full(len(xy), -1, dtype=np.int64))
-            verts.append(xy)
+    for ob in site.obstacles if frame == SITE_FRAME else ():
+        ring(np.asarray(ob.vertices, dtype=float), np.full(len(ob.vertices), -1, dtype=np.int64))
     if not a:
         z = np.zeros((0, 2))
         return Blockers(z, z, np.zeros(0, np.int64), z)

@@ -38,23 +38,22 @@ SURFACE_KEY_BASE = -(2**41)
 Floats = NDArray[np.float64]
 
 
+# the source keys of the module docstring
+
+
 def obstacle_key(k: int) -> int:
-    """Source key of obstacle ``k`` (its index in ``site.obstacles``)."""
     return -1 - k
 
 
 def slab_key(k: int) -> int:
-    """Source key of slab ``k`` (its index in the slabs given to :func:`site_mesh`)."""
     return SLAB_KEY_BASE - k
 
 
 def floor_key(zone_index: int) -> int:
-    """Source key of the floor of zone ``zone_index`` (its index in ``site.zones``)."""
     return SURFACE_KEY_BASE - 2 * zone_index
 
 
 def ceiling_key(zone_index: int) -> int:
-    """Source key of the ceiling of zone ``zone_index``."""
     return SURFACE_KEY_BASE - 2 * zone_index - 1
 
 
@@ -103,10 +102,8 @@ class SiteMesh:
 
 
 def quads(a: Floats, b: Floats, z0: Floats, za: Floats, zb: Floats) -> tuple[Floats, NDArray[np.int64]]:
-    """Vertical quads over the plan segments a-b (n x 2), from ``z0`` up to ``za`` at a and ``zb`` at b.
-
-    Returns 4n vertices and 2n triangles (quad k: triangles 2k and 2k + 1). O(n).
-    """
+    """Vertical quads over the plan segments a-b (n x 2), from ``z0`` up to ``za`` at a and ``zb`` at b: 4n vertices
+    and 2n triangles (quad k: triangles 2k and 2k + 1)."""
     n = len(a)
     v = np.empty((n, 4, 3))
     v[:, 0, :2], v[:, 1, :2], v[:, 2, :2], v[:, 3, :2] = a, b, b, a

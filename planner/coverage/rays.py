@@ -61,13 +61,10 @@ class RayIndex:
     def pairs(
         self, o: NDArray[np.float64], e: NDArray[np.float64], skip: NDArray[np.int64], eps_m: float
     ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-        """(segment, triangle) pairs, sorted, that may come within ``eps_m``: conservative filters, each with a margin
-        of ``MARGIN`` * eps_m, in order. O(Q log T + E) for Q pieces and E pairs whose boxes meet.
-
-        1. the box of a piece (at most ``PIECE_M`` long in plan) of the segment meets the triangle's plan box (the
-        tree); 2. the segment's plan line passes within reach of that box; 3. the triangle is not skipped and the
-        height ranges overlap; 4. the segment's ends are not both beyond the triangle's plane on one side.
-        """
+        """(segment, triangle) pairs, sorted, that may come within ``eps_m``, by conservative filters (each with a margin
+        of ``MARGIN`` * eps_m): 1. the plan box of a piece (at most ``PIECE_M``) of the segment meets the triangle's
+        (the tree); 2. the segment's plan line passes within reach of that box; 3. the triangle is not skipped and the
+        height ranges overlap; 4. the segment's ends are not both beyond the triangle's plane on one side."""
         m = MARGIN * eps_m
         lo, hi = np.minimum(o, e), np.maximum(o, e)
         d = e[:, :2] - o[:, :2]
@@ -99,7 +96,7 @@ _INDEX: weakref.WeakKeyDictionary[SiteMesh, RayIndex] = weakref.WeakKeyDictionar
 
 
 def ray_index(mesh: SiteMesh) -> RayIndex:
-    """The index of ``mesh`` for :func:`occluded`, built once per mesh (O(T log T)) and kept while it lives."""
+    """The index of ``mesh`` for :func:`occluded`, built once per mesh and kept while it lives."""
     idx = _INDEX.get(mesh)
     if idx is None:
         c = mesh.corners()
@@ -154,18 +151,12 @@ def segment_distance2(
 def segment_hits_triangles(
     o: NDArray[np.float64], e: NDArray[np.float64], tri: NDArray[np.float64], eps_m: float = EPS_TOUCH_M
 ) -> NDArray[np.bool_]:
-    """Row-wise: is the closed segment o-e within ``eps_m`` of the closed triangle ``tri`` (P x 3 x 3)?
-
-    The distance of a segment to a triangle is 0 where it crosses the triangle, else it is reached at an end of
-    the segment (over the triangle's face) or on an edge of the triangle; so the segment is blocked when
-
-    1. it crosses the triangle's plane at a point inside the triangle, or
-    2. an end lies within ``eps_m`` of the plane and projects inside the triangle, or
-    3. an edge of the triangle comes within ``eps_m`` of it (:func:`segment_distance2`).
-
-    Segments with both ends farther than ``eps_m`` on one side of the plane are out first. Everything is computed
-    relative to ``o`` (a translation of the scene changes only the last bits). O(P), no loop in Python.
-    """
+    """Row-wise: is the closed segment o-e within ``eps_m`` of the closed triangle ``tri`` (P x 3 x 3)? The distance
+    is 0 where the segment crosses the triangle, else reached at an end of the segment (over the face) or on an edge of
+    the triangle; so the segment is blocked when 1. it crosses the plane inside the triangle, 2. an end lies within
+    ``eps_m`` of the plane and projects inside the triangle, or 3. an edge comes within ``eps_m`` of it
+    (:func:`segment_distance2`). Segments with both ends beyond ``eps_m`` on one side of the plane are out first.
+    Everything is relative to ``o`` (a translation of the scene changes only the last bits)."""
     o, e, tri = np.asarray(o, float), np.asarray(e, float), np.asarray(tri, float)
     hit = np.zeros(len(o), dtype=bool)
     d = e - o
@@ -217,11 +208,9 @@ def occluded(
     shorten_m: float = EPS_SHORTEN_M,
     chunk: int = SEGMENT_CHUNK,
 ) -> NDArray[np.bool_]:
-    """N booleans: whether each segment ``origins[i]`` -> ``ends[i]`` (N x 3, m; shortened by ``shorten_m`` at its end)
-    comes within ``eps_m`` of the mesh (:func:`planner.coverage.mesh.site_mesh`). ``skip``: N source keys (or None)
-    whose triangles do not block segment i (the target's own wall); ``NO_SKIP`` skips nothing. Skip only a wall: an
-    obstacle skipped would no longer hide its far side. O(Q log T + E + P) for Q pieces of segments, E (piece, triangle)
-    pairs whose plan boxes meet and P pairs tested exactly; memory O(a chunk's E)."""
+    """Whether each segment ``origins[i]`` -> ``ends[i]`` (N x 3, m) is blocked (module docstring). ``skip``: N source
+    keys (or None) whose triangles do not block segment i (the target's own wall; ``NO_SKIP``: none). Skip only a wall:
+    an obstacle skipped would no longer hide its far side. Memory O(a chunk's pairs)."""
     o = np.asarray(origins, dtype=float).reshape(-1, 3)
     e = np.asarray(ends, dtype=float).reshape(-1, 3)
     if o.shape != e.shape:

@@ -145,21 +145,20 @@ def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
 def _incidence_region(
     end: NDArray, tangent: NDArray, normal: NDArray, theta_deg: float, dz: float, incidence_3d: bool, far: float
 ) -> shapely.Geometry:
-    # ``far``: how far the region must reach (the range disc's radius when the range is limited)
-    """Where the incidence at ``end`` is <= theta: a wedge (horizontal) or the region above a hyperbola (3-D)."""
+    """Where the incidence at ``end`` is <= theta: a wedge (horizontal) or the region above a hyperbola (3-D), reaching
+    ``far`` (the range disc's radius when the range is limited)."""
     cot = 1.0 / math.tan(math.radians(theta_deg))
     if not incidence_3d or dz <= 0:
         tan = math.tan(math.radians(theta_deg))  # the wedge, cut off by a line ``far`` in front of its apex
         return shapely.Polygon([end, end + far * (normal + tan * tangent), end + far * (normal - tan * tangent)])
-    u_max = far
     # u = dz sinh(s): a chord of parameter length h lies within about u h^2 / (8 sin theta) of the curve
-    h = math.sqrt(8.0 * HYPERBOLA_SAGITTA_M * math.sin(math.radians(theta_deg)) / u_max)
-    chords = min(4000, math.ceil(2.0 * math.asinh(u_max / dz) / h))
-    u = np.sinh(np.linspace(-np.arcsinh(u_max / dz), np.arcsinh(u_max / dz), chords + 1)) * dz
+    h = math.sqrt(8.0 * HYPERBOLA_SAGITTA_M * math.sin(math.radians(theta_deg)) / far)
+    chords = min(4000, math.ceil(2.0 * math.asinh(far / dz) / h))
+    u = np.sinh(np.linspace(-np.arcsinh(far / dz), np.arcsinh(far / dz), chords + 1)) * dz
     d = cot * np.sqrt(u**2 + dz**2)
     pts = end + np.outer(u, tangent) + np.outer(d, normal)
-    top = max(2.0 * far, cot * (u_max + dz) + far)
-    cap = end + np.outer([u_max, -u_max], tangent) + np.outer([top, top], normal)
+    top = max(2.0 * far, cot * (far + dz) + far)
+    cap = end + np.outer([far, -far], tangent) + np.outer([top, top], normal)
     return shapely.Polygon(np.vstack([pts, cap]))
 
 
@@ -188,16 +187,14 @@ def _grazing(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> li
     (a line through a corner within its tolerance), so R_t leaves them out too."""
     out = []
     half = math.radians(GRAZE_DEG)
+    c, s = math.cos(half), math.sin(half)
     for x in (a, b):
         touch = (np.hypot(*(q1 - x).T) < 1e-6) | (np.hypot(*(q2 - x).T) < 1e-6)
         for w in _unit(q2[touch] - q1[touch]):
-            for sgn in (1.0, -1.0):
-                d = sgn * w
-                rot = [
-                    np.array([d[0] * math.cos(e) - d[1] * math.sin(e), d[0] * math.sin(e) + d[1] * math.cos(e)])
-                    for e in (half, -half)
-                ]
-                out.append(shapely.Polygon([x, x + far * rot[0], x + far * rot[1]]))
+            for d in (w, -w):  # the two rays at +-half about d
+                left = np.array([d[0] * c - d[1] * s, d[0] * s + d[1] * c])
+                right = np.array([d[0] * c + d[1] * s, d[1] * c - d[0] * s])
+                out.append(shapely.Polygon([x, x + far * left, x + far * right]))
     return out
 
 

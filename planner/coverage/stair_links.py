@@ -41,7 +41,7 @@ EDGE_OFFSET_M = 0.1
 #: and this far apart along it (m)
 EDGE_STEP_M = 0.25
 #: pair key of a station-to-point sight line (matches no wall key, and not the obstacles' -1)
-_NO_WALL = -2
+NO_WALL = -2
 
 
 def stair_edge(stair: Stair) -> NDArray[np.float64]:
@@ -61,7 +61,7 @@ def edge_seen(
     near = np.hypot(*(xy[s] - edge[p]).T) <= reach_m
     s, p = s[near], p[near]
     if s.size:
-        ok = sight_clear(xy[s], edge[p], edge[p], np.full(len(s), _NO_WALL), blockers_for(site, frame))
+        ok = sight_clear(xy[s], edge[p], edge[p], np.full(len(s), NO_WALL), blockers_for(site, frame))
         s, p = s[ok], p[ok]
     return sp.csr_matrix((np.ones(len(s), dtype=bool), (s, p)), shape=(len(xy), len(edge)))
 
@@ -69,7 +69,6 @@ def edge_seen(
 def stair_links(site: Site, xy: NDArray[np.float64], spaces: Sequence[object], reach_m: float) -> sp.csr_matrix:
     """Symmetric C x C boolean matrix: stations of a stair's lower and upper zone that see a common point of
     its edge (see the module docstring). ``spaces``: each station's space (``("in", zone id)`` inside)."""
-    n = len(xy)
     rows: list[NDArray[np.int64]] = []
     cols: list[NDArray[np.int64]] = []
     for stair in site.stairs:
@@ -81,11 +80,15 @@ def stair_links(site: Site, xy: NDArray[np.float64], spaces: Sequence[object], r
         a = edge_seen(site, site.zone(stair.lower_zone).frame, xy[lo], edge, reach_m)
         b = edge_seen(site, site.zone(stair.upper_zone).frame, xy[up], edge, reach_m)
         both = (a.astype(np.int32) @ b.T.astype(np.int32)).tocoo()
-        i, j = lo[both.row], up[both.col]
-        rows += [i, j]
-        cols += [j, i]
-    r = np.concatenate(rows) if rows else np.zeros(0, np.int64)
-    c = np.concatenate(cols) if cols else np.zeros(0, np.int64)
+        rows.append(lo[both.row])
+        cols.append(up[both.col])
+    return link_matrix(rows, cols, len(xy))
+
+
+def link_matrix(i: list[NDArray[np.int64]], j: list[NDArray[np.int64]], n: int) -> sp.csr_matrix:
+    """Symmetric n x n boolean matrix of the pairs (i[k], j[k]) of every pair of arrays given."""
+    r = np.concatenate([*i, *j]) if i else np.zeros(0, np.int64)
+    c = np.concatenate([*j, *i]) if i else np.zeros(0, np.int64)
     out = sp.csr_matrix((np.ones(len(r), dtype=bool), (r, c)), shape=(n, n))
     out.sum_duplicates()
     return out

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import defaultdict
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -88,9 +89,7 @@ def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
     if not math.isfinite(spacing_m) or spacing_m <= 0:
         raise ValueError(f"target spacing must be > 0, got {spacing_m}")
     frames = tuple(dict.fromkeys(z.frame for z in site.zones))
-    cols: dict[str, list] = {
-        k: [] for k in ("zone", "side", "wall", "s0", "s1", "a", "b", "ha", "hb", "normal", "frame")
-    }
+    cols: defaultdict[str, list] = defaultdict(list)  # Targets' array fields
     openings = {f: opening_segments(site, f) for f in frames}
     for zi, zone in enumerate(site.zones):
         for wall in zone.walls:
@@ -101,30 +100,16 @@ def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
             left = np.array([-tangent[1], tangent[0]])
             for side in zone.scan_side.sides:
                 k = len(t0)
-                cols["zone"].append(np.full(k, zi))
-                cols["side"].append(np.full(k, SIDE_CODE[side]))
-                cols["wall"].append(np.full(k, wall.index))
-                cols["s0"].append(t0 * length)
-                cols["s1"].append(t1 * length)
+                cols["zone"].append(np.full(k, zi, np.int32))
+                cols["side"].append(np.full(k, SIDE_CODE[side], np.int8))
+                cols["wall"].append(np.full(k, wall.index, np.int32))
+                cols["s0_m"].append(t0 * length)
+                cols["s1_m"].append(t1 * length)
                 cols["a"].append(start + np.outer(t0, end - start))
                 cols["b"].append(start + np.outer(t1, end - start))
-                cols["ha"].append(wall.height_at(t0))
-                cols["hb"].append(wall.height_at(t1))
+                cols["ha_m"].append(wall.height_at(t0))
+                cols["hb_m"].append(wall.height_at(t1))
                 cols["normal"].append(np.tile(left if side is ScanSide.INSIDE else -left, (k, 1)))
-                cols["frame"].append(np.full(k, frames.index(zone.frame)))
+                cols["frame"].append(np.full(k, frames.index(zone.frame), np.int32))
     cat = {k: np.concatenate(v) for k, v in cols.items()}
-    return Targets(
-        zone=cat["zone"].astype(np.int32),
-        side=cat["side"].astype(np.int8),
-        wall=cat["wall"].astype(np.int32),
-        s0_m=cat["s0"],
-        s1_m=cat["s1"],
-        a=cat["a"],
-        b=cat["b"],
-        ha_m=cat["ha"],
-        hb_m=cat["hb"],
-        normal=cat["normal"],
-        frame=cat["frame"].astype(np.int32),
-        frames=frames,
-        zone_ids=tuple(z.id for z in site.zones),
-    )
+    return Targets(**cat, frames=frames, zone_ids=tuple(z.id for z in site.zones))

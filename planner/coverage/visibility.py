@@ -17,12 +17,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.coverage.gram import cat
 from planner.instrument.accuracy import ErrorBudget, RangeAngleSigma, max_slant_range_m, precision_ok
 
 if TYPE_CHECKING:
@@ -152,9 +153,7 @@ def geometric_pairs(
         ok = side_ok & (d > EPS_FRONT_M) & (slant <= longest) & (cos_i >= cos_max)
         k, t = np.nonzero(ok)
         inc = np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0)))
-        if (
-            limits.per_pair_precision and limits.precision is not None
-        ):  # e(S, theta) at each end: the piece's worst point is one of its ends
+        if limits.per_pair_precision and limits.precision is not None:  # e(S, theta) at each end, its worst points
             hd = (hd_a[k, t], hd_b[k, t]) if not limits.incidence_3d else (sa[k, t], sb[k, t])
             keep = _end_precision(sa[k, t], d[k, t] / np.maximum(hd[0], 1e-300), limits.precision)
             keep &= _end_precision(sb[k, t], d[k, t] / np.maximum(hd[1], 1e-300), limits.precision)
@@ -163,10 +162,6 @@ def geometric_pairs(
         out_t.append(near[t])
         out_s.append(slant[k, t])
         out_i.append(inc)
-
-    def cat(xs: list[Any], dt: type) -> Any:
-        return np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
-
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
 
 

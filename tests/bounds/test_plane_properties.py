@@ -118,7 +118,7 @@ def test_c_plane_bound_at_most_brute_force_optimum(site: Site) -> None:
     targets = make_targets(site, options.target_spacing_m)
     assert len(targets) == t
     regions = coverage_regions(site, targets, limits)
-    cells, _ = heaviest_points(list(regions.values()), np.ones(len(regions)), -1.0, 10**6)
+    cells = heaviest_points(list(regions.values()), np.ones(len(regions)), -1.0, 10**6)
     pts = np.array([(c.x, c.y) for c in cells]).reshape(-1, 2)
     grid = positions(zone, 0.1)
     brute = build_coverage(site, grid + as_candidates(zone, pts, "V"), targets, limits)
