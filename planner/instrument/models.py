@@ -70,17 +70,8 @@ class TotalStation:
     source: str = ""
 
     def __post_init__(self) -> None:
-        _check_positive(
-            self,
-            (
-                "angle_sigma_arcsec",
-                "prism_sigma_const_m",
-                "prism_sigma_ppm",
-                "reflectorless_sigma_const_m",
-                "reflectorless_sigma_ppm",
-            ),
-            True,
-        )
+        _check_positive(self, ("angle_sigma_arcsec", "prism_sigma_const_m", "prism_sigma_ppm"), True)
+        _check_positive(self, ("reflectorless_sigma_const_m", "reflectorless_sigma_ppm"), True)
         _check_positive(self, ("max_range_prism_m", "max_range_reflectorless_m"), False)
 
     def distance_model(self, reflectorless: bool = False) -> RangeAngleSigma:

@@ -172,20 +172,9 @@ class Zone:
     @cached_property
     def outer_walls(self) -> tuple[Wall, ...]:
         """The walls of the outline, wall i from vertex i (what the closed-form geometry plans)."""
-        n = len(self.vertices)
+        v, h, n = self.vertices, self.vertex_heights_m, len(self.vertices)
         printed = self.printed_wall_heights_m or (None,) * n
-        return tuple(
-            Wall(
-                self.id,
-                i + 1,
-                self.vertices[i],
-                self.vertices[(i + 1) % n],
-                self.vertex_heights_m[i],
-                self.vertex_heights_m[(i + 1) % n],
-                printed[i],
-            )
-            for i in range(n)
-        )
+        return tuple(Wall(self.id, i + 1, v[i], v[(i + 1) % n], h[i], h[(i + 1) % n], printed[i]) for i in range(n))
 
     @cached_property
     def walls(self) -> tuple[Wall, ...]:

@@ -113,9 +113,7 @@ def walk(lengths: NDArray[np.float64], angles_deg: NDArray[np.float64]) -> NDArr
 
 
 def reconstruct(
-    table: ZoneTable,
-    tolerance: ClosureTolerance,
-    accepted: AcceptedMisclosure | None = None,
+    table: ZoneTable, tolerance: ClosureTolerance, accepted: AcceptedMisclosure | None = None
 ) -> tuple[NDArray[np.float64], ClosureReport]:
     """Vertices (n, 2) of a table zone and its closure report. The angular misclosure is spread equally over the angles,
     the linear one by the compass rule (vertex k moves by -misclosure * (length walked to k) / perimeter). Beyond
@@ -128,32 +126,29 @@ def reconstruct(
     angles = np.array([r.interior_angle_deg for r in rows])
     angle_sum = float(angles.sum())
     ang_mis = angle_sum - (n - 2) * 180.0
-    if abs(ang_mis) > tolerance.angular_deg and accepted is None:
-        raise ClosureError(
-            f"angular misclosure {ang_mis:+.3f} deg (sum {angle_sum:.3f} vs {(n - 2) * 180:.0f} for {n} vertices), "
-            f"tolerance {tolerance.angular_deg:g} deg",
-            file=table.file,
-            zone=table.zone,
-        )
     points = walk(lengths, angles - ang_mis / n)
     dx, dy = points[-1] - points[0]
     perimeter = float(lengths.sum())
     lin = math.hypot(dx, dy)
     rel = math.inf if lin == 0 else perimeter / lin
-    if rel < tolerance.min_relative_precision and accepted is None:
-        raise ClosureError(
+    why = ""
+    if abs(ang_mis) > tolerance.angular_deg and accepted is None:
+        why = (
+            f"angular misclosure {ang_mis:+.3f} deg (sum {angle_sum:.3f} vs {(n - 2) * 180:.0f} for {n} vertices), "
+            f"tolerance {tolerance.angular_deg:g} deg"
+        )
+    elif rel < tolerance.min_relative_precision and accepted is None:
+        why = (
             f"linear misclosure {lin:.3f} m (dx {dx:+.3f}, dy {dy:+.3f}), relative 1:{rel:.0f}, "
-            f"required 1:{tolerance.min_relative_precision:.0f}",
-            file=table.file,
-            zone=table.zone,
+            f"required 1:{tolerance.min_relative_precision:.0f}"
         )
-    if accepted is not None and not accepted.matches(ang_mis, lin):
-        raise ClosureError(
+    elif accepted is not None and not accepted.matches(ang_mis, lin):
+        why = (
             f"accepted misclosure ({accepted.angular_misclosure_deg:+.3f} deg, {accepted.linear_misclosure_m:.3f} m) "
-            f"does not match the data ({ang_mis:+.3f} deg, {lin:.3f} m)",
-            file=table.file,
-            zone=table.zone,
+            f"does not match the data ({ang_mis:+.3f} deg, {lin:.3f} m)"
         )
+    if why:
+        raise ClosureError(why, file=table.file, zone=table.zone)
     walked = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
     shift = -np.outer(walked / perimeter, [dx, dy])
     vertices = points[:-1] + shift

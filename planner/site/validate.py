@@ -12,6 +12,9 @@ from planner.instrument.models import Scanner, load_instrument
 from planner.site.model import Site
 from planner.site.params import RangeLimit, ThetaLimit, resolve_range_limit, resolve_theta_limit
 
+#: the fields of a :class:`~planner.site.features.Correction` the report lists after its zone and target
+_CORRECTION_KEYS = ("field", "printed", "corrected", "reason")
+
 
 def site_scanner(site: Site) -> Scanner:
     """The site's instrument, which must be a scanner for planning."""
@@ -76,14 +79,7 @@ class ValidationReport:
                 for c in self.site.control_points
             ],
             "corrections": [
-                {
-                    "zone": c.zone,
-                    "target": c.target,
-                    "field": c.field,
-                    "printed": c.printed,
-                    "corrected": c.corrected,
-                    "reason": c.reason,
-                }
+                {"zone": c.zone, "target": c.target} | {k: getattr(c, k) for k in _CORRECTION_KEYS}
                 for c in self.site.corrections
             ],
             "accepted_misclosures": [asdict(a) for a in self.site.accepted_misclosures],
