@@ -96,8 +96,7 @@ class BackendResult:
 
 
 class Backend(Protocol):
-    """One 0-1 model on a solver (module docstring): rows and fixings added between solves, each solve with a
-    wall-clock cap (None: none), a thread count, a seed and a warm-start hint."""
+    """One 0-1 model on a solver (module docstring)."""
 
     name: str
     capabilities: Capabilities
@@ -106,7 +105,8 @@ class Backend(Protocol):
 
     def fix(self, idx: list[int]) -> None: ...
 
-    def add_vars(self, count: int, upper: float, binary: bool) -> None: ...
+    def add_vars(self, count: int, upper: float, binary: bool) -> None:
+        """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
 
     def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult: ...
 
@@ -137,7 +137,8 @@ def hint_values(hint: Hint, n: int) -> dict[int, float]:
     return values
 
 
-def _is_int(a: np.ndarray) -> bool:
+def is_integral(a: np.ndarray) -> bool:
+    """Every value within 1e-12 of an integer."""
     return bool(np.all(np.abs(a - np.round(a)) < 1e-12))
 
 
@@ -153,10 +154,10 @@ class CpSatBackend:
         self.x = [self.model.NewBoolVar(f"x{i}") for i in range(n)]
         self.n = n
         self.watch: Watch | None = None
-        #: CP-SAT deterministic time this model may still spend in all (None: wall clock only), and what it spent
+        #: CP-SAT deterministic time this model may spend in all (None: wall clock only), and what it spent
         self.work_limit: float | None = None
         self.work_used = 0.0
-        self.scale = 1 if _is_int(cost) else CP_SCALE
+        self.scale = 1 if is_integral(cost) else CP_SCALE
         c = np.round(cost * self.scale).astype(np.int64)
         self.model.Minimize(sum(int(ci) * self.x[i] for i, ci in enumerate(c) if ci))
 
@@ -171,7 +172,7 @@ class CpSatBackend:
                 shared.setdefault(tuple(sorted(int(v) for v in np.delete(idx, neg))), []).append(int(idx[neg[0]]))
             elif lb == 1.0 and np.all(coef == 1.0):
                 self.model.AddBoolOr([self.x[i] for i in idx])
-            elif _is_int(coef) and float(lb).is_integer():
+            elif is_integral(coef) and float(lb).is_integer():
                 self.model.Add(sum(int(a) * self.x[i] for i, a in zip(idx, coef)) >= int(lb))
             else:
                 a = np.floor(coef * CP_SCALE).astype(np.int64)
@@ -191,8 +192,7 @@ class CpSatBackend:
             self.model.Add(self.x[i] == 1)
 
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
-        """Append ``count`` variables in [0, upper] (integer here: CP-SAT has no continuous ones; the flow models that
-        use them have integral optima)."""
+        """Integer variables here: CP-SAT has no continuous ones; the flow models that use them have integral optima."""
         ub = int(math.floor(upper))
         self.x += [
             self.model.NewBoolVar(f"y{len(self.x) + k}")
@@ -281,7 +281,6 @@ class MipBackend:
             self.x[i].SetLb(1.0)
 
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
-        """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
         k0 = len(self.x)
         self.x += [
             self.solver.BoolVar(f"y{k0 + k}") if binary else self.solver.NumVar(0.0, float(upper), f"f{k0 + k}")
@@ -335,7 +334,6 @@ class PulpBackend:
         self.node_limit: int | None = None
 
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
-        """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
         self.extra += [(float(upper), binary)] * count
 
     def add_rows(self, rows: list[Row]) -> None:
@@ -345,8 +343,7 @@ class PulpBackend:
         self.fixed += idx
 
     def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
-        # PuLP 3.3 announces its 4.0 API (prob.add_variable, COIN_CMD) with a DeprecationWarning per variable; the
-        # project pins pulp < 4, where this API works, so the notices are silenced here
+        # PuLP 3 announces its 4.0 API with a DeprecationWarning per variable; the project pins pulp < 4
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
             return self._solve(time_limit_s, threads, seed, hint)

@@ -44,9 +44,16 @@ if TYPE_CHECKING:
 #: steps of the Lagrangian ascent before the local search is tried (the rest of the budget comes after it)
 _FIRST_STEPS = 50
 #: the ascent's work budget, in walk units (each step's multi-source walk costs the lifted graph's links times its
-#: sources): enough for the full ascent on the bundled instances' default grids, while a fine grid, whose walks grow
-#: with its links, stops on the budget instead of running for minutes (docs/benchmarks/memory.md)
+#: sources): a fine grid, whose walks grow with its links, stops on it instead of running for minutes
 RING_WORK = 5e9
+
+
+def _rows(m: sp.spmatrix, lb: float) -> list[Row]:
+    """One row ``sum_j m[t, j] x_j >= lb`` per row t of ``m``."""
+    m = m.astype(np.float64).tocsr()
+    return [
+        (m.indices[m.indptr[t] : m.indptr[t + 1]], m.data[m.indptr[t] : m.indptr[t + 1]], lb) for t in range(m.shape[0])
+    ]
 
 
 class BlockSolver:
@@ -68,7 +75,7 @@ class BlockSolver:
         self.cost = instance.cost[cands]
         self.adj = adj[cands][:, cands].tocsr() if adj is not None else None
         self.groups = [instance.groups[i] for i in cands] if (adj is not None and instance.groups is not None) else None
-        # a Backend; its capabilities say which optional members (watch, work_limit, cuts, connect) it has
+        # its capabilities say which optional members (watch, work_limit, cuts, connect) it has
         self.backend: Any = make_backend(o.backend, len(cands), self.cost, o.node_limit)
         self.essential: dict = {}  # set with the model: only the search uses it
         self.integral = bool(np.all(self.cost == np.round(self.cost)))
@@ -104,17 +111,9 @@ class BlockSolver:
         """The block's rows on its backend: cover (and precision) rows, forced candidates, and with registration
         groups the neighbour cuts and the rows of the connectivity method."""
         o, cands = self.o, self.cands
-        bt = self.sub.T.tocsr()
-        rows: list[Row] = [
-            (bt.indices[bt.indptr[t] : bt.indptr[t + 1]], np.ones(bt.indptr[t + 1] - bt.indptr[t]), float(o.k))
-            for t in range(bt.shape[0])
-        ]
+        rows = _rows(self.sub.T, float(o.k))
         if o.precision == "combined" and instance.info is not None:
-            info = instance.info[cands][:, targets].T.tocsr()
-            rows += [
-                (info.indices[info.indptr[t] : info.indptr[t + 1]], info.data[info.indptr[t] : info.indptr[t + 1]], 1.0)
-                for t in range(info.shape[0])
-            ]
+            rows += _rows(instance.info[cands][:, targets].T, 1.0)
         self.backend.add_rows(rows)
         pos = {int(c): k for k, c in enumerate(cands)}
         self.backend.fix([pos[c] for c in forced_all if c in pos])
@@ -135,12 +134,10 @@ class BlockSolver:
 
     def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> None:
         """Before any search, for a block of one registration group (k = 1, single precision): the ring bound over
-        every piece its candidates see, in the instance's order (its walk becomes the incumbent when it is a connected
-        cover), then the Lagrangian ascent from the cover LP's duals (:mod:`planner.solve.ring`) for at most
-        ``_FIRST_STEPS`` steps; if the block is still open, the local search from the incumbent and, unless the first
-        steps gave up (no step raised the bound, :func:`planner.solve.ring.lagrangian_bound`), the rest of the
-        ascent's steps toward the new incumbent. Closes the block when the incumbent meets the bound (the local search
-        comes second: one ascent step often closes what it would take long to find)."""
+        every piece its candidates see (its walk the incumbent when a connected cover), ``_FIRST_STEPS`` steps of the
+        Lagrangian ascent, then the local search and, unless the first steps gave up, the rest of the ascent. Closes
+        the block when the incumbent meets the bound (the local search comes second: one ascent step often closes what
+        it would take long to find)."""
         o = self.o
         if self.groups is None or self.adj is None or len(set(self.groups)) != 1 or o.k != 1 or o.precision != "single":
             return
@@ -166,7 +163,7 @@ class BlockSolver:
 
     def _ascend(self, graph: RingGraph, steps: int) -> None:
         """The Lagrangian ascent from the cover LP's duals toward the incumbent, ``steps`` steps at most and, over all
-        its calls, :data:`RING_WORK` walk units (a count, not a time: the bound does not depend on the load)."""
+        its calls, :data:`RING_WORK` walk units (a count: the bound does not depend on the load)."""
         per_step = max(1, graph.graph.nnz * len(graph.anchors))
         allowed = int(RING_WORK // per_step) - self.lagrange_steps
         self.ring_work_capped = self.ring_work_capped or allowed < steps

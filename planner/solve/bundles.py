@@ -6,8 +6,7 @@ phases, in the manner of Jia and Lichti's hierarchical greedy:
 
 1. **grow**: Chvatal's rule (most newly covered targets per unit cost) over the stations linked to their group's
    bundle and the first station of a group not yet opened; all bundles grow in one loop, so a target goes to
-   whichever group sees it most cheaply (grown one group at a time, groups that see each other's walls walk round
-   their neighbours: docs/benchmarks/connected_greedy.md);
+   whichever group sees it most cheaply;
 2. **bridge**: where no such station gains, the cheapest overlap path (Dijkstra, each step costing the station it
    enters) from a bundle to a station of its group's component that gains, ranked by what the path covers per station;
 3. **prune**: stations whose targets others also cover are dropped, latest first, when their bundle stays connected;
@@ -239,12 +238,9 @@ def bundle_cover(
     starts: int = 50,
 ) -> list[int] | None:
     """A cover of the targets ``need`` whose every group's stations are connected under ``adj`` (sorted), or None when
-    some needed target is seen by no candidate or no connected choice was found (module docstring).
-
-    ``by_candidate``: C x T coverage; ``adj``: C x C symmetric overlap relation (pairs across groups ignored);
-    ``groups``: each candidate's registration group; ``cost``: each candidate's cost (> 0); ``starts``: seeds tried
-    per group when re-growing its bundle (phase 4; 0: no re-growing).
-    """
+    some needed target is seen by no candidate or no connected choice was found (module docstring). ``adj``: C x C
+    symmetric overlap relation (pairs across groups ignored); ``cost`` > 0; ``starts``: seeds tried per group when
+    re-growing its bundle (phase 4; 0: no re-growing)."""
     gid = group_ids(groups)
     g = Graph.of(by_candidate, adj, gid, np.asarray(cost, dtype=np.float64))
     need = np.asarray(need, dtype=bool)

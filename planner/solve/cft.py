@@ -3,9 +3,8 @@
 CFT (A. Caprara, M. Fischetti, P. Toth, "A heuristic method for the set covering problem", Operations Research 47(5),
 1999; the C++ of Cavaliere and Accorsi, bound by Krupke as ``pycft``) works on a core of columns priced by Lagrangian
 multipliers: subgradient optimisation of the multipliers, a greedy guided by the reduced costs, column fixing, and
-refinement that unfixes and repeats. It is what the large-site path uses wherever it needs a plain cover (registration
-dropped): the ``--no-overlap`` plan, and the cover a connected plan is grown from (:mod:`planner.tiles.search`): on a
-large pool it finds smaller covers than the greedy and local search (docs/benchmarks/setcover.md).
+refinement that unfixes and repeats. The large-site path uses it wherever it needs a plain cover: the ``--no-overlap``
+plan, and the cover a connected plan is grown from (:mod:`planner.tiles.search`).
 
 Determinism: CFT is run with its seed and no time limit, so it stops on its own rules (a count of heuristic
 iterations, the refinement's cutoff): the same matrix and seed give the same cover under any load. ``time_cap_s`` is a

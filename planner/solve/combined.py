@@ -79,13 +79,5 @@ def combined_greedy(problem: CoverageProblem, rule: PrecisionRule) -> SolveResul
         lo, hi = info.indptr[j], info.indptr[j + 1]
         cols = info.indices[lo:hi]
         need[cols] = np.maximum(need[cols] - info.data[lo:hi], 0.0)
-    selected = tuple(chosen)
     status = Status.FEASIBLE if need.max(initial=0.0) <= INFO_TOL else Status.INCOMPLETE
-    return SolveResult(
-        method="greedy",
-        status=status,
-        selected=selected,
-        objective=float(len(selected)),
-        time_s=time.perf_counter() - start,
-        info={"precision": "combined"},
-    )
+    return SolveResult.timed("greedy", status, chosen, float(len(chosen)), start, info={"precision": "combined"})

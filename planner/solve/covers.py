@@ -40,14 +40,10 @@ def cft(instance: CoverInstance, rule: OverlapRule | None = None) -> SolveResult
     _plain(instance, rule, "cft")
     start = time.perf_counter()
     found = cft_cover(instance.by_candidate.astype(bool).tocsr(), np.asarray(instance.cost, dtype=float))
-    chosen = list(found.selected)
-    return SolveResult(
-        method="cft",
-        status=Status.FEASIBLE,
-        selected=found.selected,
-        objective=float(instance.cost[chosen].sum()),
-        bound=max(0.0, found.lower_bound),  # CFT reports -FLT_MAX where it proved nothing
-        time_s=time.perf_counter() - start,
+    objective = float(instance.cost[list(found.selected)].sum())
+    # CFT reports -FLT_MAX where it proved nothing
+    return SolveResult.timed(
+        "cft", Status.FEASIBLE, found.selected, objective, start, bound=max(0.0, found.lower_bound)
     )
 
 

@@ -109,11 +109,9 @@ def _reduce(
     a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | OverlapLinks | None, groups: Sequence[Hashable] | None
 ) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix | None]:
     """Dominated candidates and implied targets (k = 1, single precision), alternated until neither removes anything:
-    dropping candidates makes more targets implied (every *remaining* seer of t' sees t) and dropping targets makes
-    more candidates dominated. Each step keeps the connected optimum of the problem it is applied to (see
-    :func:`dominated` and :func:`implied_targets`), so the last one's equals the first's. Returns the masks of dropped
-    candidates and targets, and the relation (formed among the kept candidates after the first pass where it came
-    lazy)."""
+    dropping candidates makes more targets implied and dropping targets makes more candidates dominated. Each step
+    keeps the connected optimum of the problem it is applied to, so the last one's equals the first's. Returns the
+    masks of dropped candidates and targets, and the relation (formed among the kept where it came lazy)."""
     kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
     for _ in range(_REDUCE_PASSES):
         if isinstance(adj, OverlapLinks):  # the first pass, on every candidate: indices are the instance's
@@ -132,12 +130,10 @@ def _reduce(
 
 
 def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Independent parts: candidates linked through shared targets or a common group.
-
-    The components of one graph: candidates, then targets, then one node per group, a candidate joined to its targets
-    and to its group's node (linear in the pairs and candidates, not the candidates squared of a "same group"
-    product). The group nodes come last, so every component's lowest node, and with it the order of the labels, is
-    as before."""
+    """Independent parts: candidates linked through shared targets or a common group, the components of one graph
+    (candidates, then targets, then one node per group, a candidate joined to its targets and to its group's node:
+    linear in the pairs, not the candidates squared of a "same group" product; the group nodes last, so the labels
+    follow the candidates' order)."""
     sub = a[keep_c][:, keep_t].tocsr()
     nc, nt = sub.shape
     gid = group_ids([groups[i] for i in keep_c]) if groups is not None else np.zeros(0, dtype=np.int64)
@@ -153,6 +149,6 @@ def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) ->
         bc, bt = keep_c[members[members < nc]], keep_t[members[(members >= nc) & (members < nc + nt)] - nc]
         if bt.size:
             out.append((bc, bt))
-    # smallest first: a small block is usually proven inside its share and leaves the rest, in one piece, to the
-    # larger ones (no restart of a second pass); ties keep the component order
+    # smallest first: a small block is usually proven inside its share and leaves the rest to the larger ones; ties
+    # keep the component order
     return sorted(out, key=lambda b: b[0].size * b[1].size)

@@ -20,12 +20,9 @@ def greedy_cover(
     must_cover: np.ndarray | None = None,
     weights: Sequence[float] | np.ndarray | None = None,
 ) -> SolveResult:
-    """Greedy set cover (Chvatal 1979): repeatedly take the candidate with the lowest cost per newly covered target.
-
-    ``by_candidate``: C x T boolean CSR matrix, row c = the targets candidate c sees; ``must_cover``: mask of the
-    targets to cover (default: every target some candidate sees); ``weights``: cost per candidate (default 1: fewest
-    stations). Returns ``feasible`` with the chosen candidates in the order taken, or ``infeasible`` when a target in
-    ``must_cover`` is seen by no candidate.
+    """Greedy set cover: repeatedly take the candidate with the lowest cost per newly covered target; ``feasible`` with
+    the chosen candidates in the order taken, or ``infeasible`` when a target in ``must_cover`` (default: every target
+    some candidate sees) is seen by no candidate. ``weights``: cost per candidate (default 1: fewest stations).
 
     Ties go to the lowest candidate index, so the pool order (closed form first) decides them. Invariant: after each
     step ``uncovered`` holds exactly the targets no chosen candidate sees. Each step costs one sparse product, O(nnz);
@@ -65,19 +62,7 @@ def greedy_cover(
         chosen.append(best)
         taken[best] = True
         uncovered[a.indices[a.indptr[best] : a.indptr[best + 1]]] = False
-    return _feasible(chosen, w, start)
-
-
-def _feasible(chosen: list[int], cost: np.ndarray, start: float, info: dict | None = None) -> SolveResult:
-    """The greedy's cover ``chosen`` (in the order taken) at ``cost``, timed from ``start``."""
-    return SolveResult(
-        method="greedy",
-        status=Status.FEASIBLE,
-        selected=tuple(chosen),
-        objective=float(cost[chosen].sum()),
-        time_s=time.perf_counter() - start,
-        info=info or {},
-    )
+    return SolveResult.timed("greedy", Status.FEASIBLE, chosen, float(w[chosen].sum()), start)
 
 
 def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: int = 50) -> SolveResult:
@@ -95,4 +80,4 @@ def connected_greedy_plan(instance: CoverInstance, rule: OverlapRule, starts: in
     info = {"connected": True, "starts": starts}
     if chosen is None:
         return SolveResult.no_plan("greedy", Status.INFEASIBLE, start, info=info)
-    return _feasible(chosen, instance.cost, start, info)
+    return SolveResult.timed("greedy", Status.FEASIBLE, chosen, float(instance.cost[chosen].sum()), start, info=info)

@@ -57,7 +57,7 @@ class Shrunk:
 
 def _gather(m: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, without building a sparse
-    matrix (slices joined by one concatenate: faster for the many small gathers of a move)."""
+    matrix (faster for the many small gathers of a move)."""
     rows = np.asarray(rows, dtype=np.int64)
     if rows.size == 0:
         return np.zeros(0, dtype=np.int64), m.indices[:0]
@@ -199,10 +199,8 @@ def _split(sub: tuple[list[int], list[int]]) -> np.ndarray:
 
 
 def unlinked(n: int) -> tuple[sp.csr_matrix, tuple[str, ...]]:
-    """The links and groups that make :func:`shrink` a plain cover search (no registration rule): no links, each of
-    the ``n`` candidates its own group, so any cover is "connected". The plain start of the MILP
-    (:mod:`planner.solve.plain_start`) and the large-site plain plan (:func:`planner.tiles.search.plain_plan`) both
-    search this way."""
+    """The links and groups that make :func:`shrink` a plain cover search: no links, each of the ``n`` candidates its
+    own group, so any cover is "connected"."""
     return sp.csr_matrix((n, n), dtype=bool), tuple(str(i) for i in range(n))
 
 
@@ -217,15 +215,13 @@ def shrink(
     tabu: int = 2,
     deadline: float = math.inf,
 ) -> Shrunk:
-    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring): a connected cover
-    no larger than ``plan`` (``plan`` itself when none smaller is found), and the moves it took.
+    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring), ``plan`` itself
+    when none smaller is found.
 
     ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric overlap
-    adjacency, links within a group only; ``groups``: each candidate's registration group; ``plan``: a connected
-    cover; ``moves``: the move budget (0: ``plan`` as it is); ``floor``: stop at this many stations (a proven lower
-    bound); ``seed``: of the generator that draws the unseen target a move repairs; ``tabu``: moves a station added
-    may not be removed; ``deadline``: the user's wall-clock cap as a ``time.perf_counter()`` instant, looked at every
-    :data:`_CLOCK_EVERY` moves (``math.inf``: none, the moves alone stop it).
+    adjacency, links within a group only; ``moves``: the move budget (0: ``plan`` as it is); ``floor``: stop at this
+    many stations (a proven lower bound); ``tabu``: moves a station added may not be removed; ``deadline``: the user's
+    wall-clock cap as a ``time.perf_counter()`` instant, looked at every :data:`_CLOCK_EVERY` moves.
     """
     best = tuple(sorted(int(i) for i in plan))
     a = a.astype(np.float64).tocsr()

@@ -5,13 +5,13 @@
                sum_j (sigma_req / sigma_tj)^2 x_j >= 1          every t (precision "combined")
                chosen stations of each group connected          (overlap relation, lazy cuts)
 
-The problem is split into independent blocks (no shared target, no common group,
-:mod:`planner.solve.decompose`), each presolved and warm-started from a connected greedy plan
-(:mod:`planner.solve.block`), or, with no registration groups, from the better of the greedy cover and
-CFT's cover shrunk by the local search (:mod:`planner.solve.plain_start`). A block of one group first
-gets the ring bound (:mod:`planner.solve.ring`), which often closes it before any search; the others are
-solved, connectivity cuts added and the block re-solved until its choice is connected. Objectives and
-bounds of the blocks add up.
+The problem is split into independent blocks (no shared target, no common group, :mod:`planner.solve.decompose`),
+each presolved and warm-started from a connected greedy plan (:mod:`planner.solve.block`), or, with no registration
+groups, from the better of the greedy cover and CFT's cover shrunk by the local search
+(:mod:`planner.solve.plain_start`). A block of one group first gets the ring bound (:mod:`planner.solve.ring`), which
+often closes it before any search; the others are solved, connectivity cuts added and the block re-solved until its
+choice is connected. Objectives and bounds of the blocks add up. Every limit of the search is a count (CP-SAT work,
+nodes, rounds, moves, steps), so the plan is the same under any load, unless the user sets a wall-clock cap.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import numpy as np
 
 from planner.core.checks import argument, count, flag, real
 from planner.core.errors import UsageError
-from planner.core.settings import DEFAULTS
+from planner.core.settings import DEFAULTS, PRECISION_MODES
 from planner.coverage.overlap import DEFAULT_OVERLAP, SITE_SHARE, OverlapRule, SiteShare
 from planner.solve.backends import BACKENDS, CAPABILITIES, NODE_LIMITED
 from planner.solve.block import BlockSolver
@@ -36,37 +36,31 @@ from planner.solve.result import MilpStats, RingStats, SolveResult, Status, Work
 
 __all__ = ["MilpOptions", "block_solvers", "solve"]
 
-PRECISION_MODES = ("single", "combined")
-#: CP-SAT deterministic seconds a whole solve may spend (cpsat; about a minute of one core): a count of work, so
-#: the plan is the same under any load (docs/milp.md: the sites that end on it)
+#: CP-SAT deterministic seconds a whole solve may spend (cpsat)
 WORK_LIMIT: float = DEFAULTS["milp.work_limit"]
 #: branch-and-bound nodes per solve on the backends that take a node limit (:data:`NODE_LIMITED`)
 NODE_LIMIT = 10_000
 #: wall-clock cap of a work-limited MILP the tiles and windows run, as a multiple of its work limit
 #: (:meth:`MilpOptions.with_work_limit`); None: no cap (a wall-clock limit is only a cap the user sets)
 WALL_CAP: float | None = None
-#: how registration connectivity is enforced: branch-and-cut in one SCIP tree (PySCIPOpt),
-#: a single-commodity flow model, or the cut loop that re-solves after each round of cuts
+#: how registration connectivity is enforced: branch-and-cut in one SCIP tree (PySCIPOpt), a single-commodity flow
+#: model, or the cut loop that re-solves after each round of cuts
 CONNECTIVITY = ("auto", "bc", "flow", "loop")
 
 
 @dataclass(frozen=True, kw_only=True)
 class MilpOptions:
-    """The MILP's options, each checked when made (:class:`UsageError` on a bad value). Every limit of the search
-    is a count (CP-SAT work, nodes, rounds, moves, steps) unless the user sets ``time_limit_s``; a block with no
-    registration groups gets the plain start (``plain_start``, ``plain_start_moves``), a connected one the local
-    search of ``local_search_moves``."""
+    """The MILP's options, each checked when made (:class:`UsageError` on a bad value)."""
 
     backend: str = DEFAULTS["milp.backend"]
-    #: a wall-clock cap in seconds on the whole solve, only where the user sets one (None: none). A solve it
-    #: cuts may depend on the machine's load: ``info["work"]["wall_cap_hit"]`` says so
+    #: a wall-clock cap in seconds on the whole solve (None: none); a solve it cuts may depend on the machine's load
+    #: (``info["work"]["wall_cap_hit"]``)
     time_limit_s: float | None = DEFAULTS["milp.time_limit_s"]
     seed: int = DEFAULTS["milp.seed"]
     threads: int = 1
     k: int = DEFAULTS["milp.k"]
-    #: the registration rule: an :class:`OverlapRule`, ``None`` (none), or a :class:`SiteShare` (default): the
-    #: site's own overlap share, resolved once per run with the site (0 means none; a bare ``solve`` has no
-    #: site: :data:`DEFAULT_OVERLAP`)
+    #: the registration rule: an :class:`OverlapRule`, ``None`` (none), or a :class:`SiteShare` (default): the site's
+    #: own overlap share, resolved once per run with the site (0 means none; a bare ``solve``: :data:`DEFAULT_OVERLAP`)
     overlap: OverlapRule | SiteShare | None = SITE_SHARE
     #: ``single``: each view meets sigma_req alone; ``combined``: the views of a point add information
     precision: str = DEFAULTS["milp.precision"]
@@ -76,27 +70,23 @@ class MilpOptions:
     connectivity: str = "auto"
     layer_cuts: bool = DEFAULTS["milp.layer_cuts"]
     tree_bound: bool = DEFAULTS["milp.tree_bound"]
-    #: the ring bound (:mod:`planner.solve.ring`): a block of one registration group whose stations see runs
-    #: of its wall gets the cheapest walk over its arcs as a lower bound (exact where every run is whole)
+    #: the ring bound (:mod:`planner.solve.ring`): a block of one registration group whose stations see runs of its
+    #: wall gets the cheapest walk over its arcs as a lower bound (exact where every run is whole)
     ring_bound: bool = DEFAULTS["milp.ring_bound"]
-    #: steps of the Lagrangian ascent that adds the cover rows to the ring bound (a count: the same bound
-    #: under any load; 0: the ring bound alone)
+    #: steps of the Lagrangian ascent that adds the cover rows to the ring bound (0: the ring bound alone)
     ring_lagrange_steps: int = 500
     #: CP-SAT deterministic seconds for the whole solve (cpsat; None: none): with one thread the answer does not
-    #: depend on the machine's load. Other backends ignore it
+    #: depend on the machine's load
     work_limit: float | None = WORK_LIMIT
     #: branch-and-bound nodes per solve of the cut loop on scip, pulp-cbc and pyscipopt (None: none); highs and
     #: cbc take none, so there only the user's ``time_limit_s`` stops a solve short of its optimum
     node_limit: int | None = NODE_LIMIT
-    #: swaps of the local search (:mod:`planner.solve.local_search`) that tries, once per incumbent size, to
-    #: find a connected plan one station smaller, down to the block's bound (unit costs, k = 1; 0: off, the plain
-    #: start's search included)
+    #: moves of the local search (:mod:`planner.solve.local_search`) that tries, once per incumbent size, to find a
+    #: connected plan one station smaller, down to the block's bound (unit costs, k = 1; 0: off, the plain start's too)
     local_search_moves: int = DEFAULTS["milp.local_search_moves"]
-    #: the plain start (:mod:`planner.solve.plain_start`): a block with no registration groups (unit costs, k = 1,
-    #: single precision) starts from CFT's cover shrunk by the plain local search where that beats its greedy
+    #: the plain start of a block with no registration groups (:mod:`planner.solve.plain_start`)
     plain_start: bool = True
-    #: moves of the plain start's local search per target of its block, a count set by the block's size (as the
-    #: tiled plan's ``MOVES_PER_PIECE``; 0: CFT's cover unsearched)
+    #: moves of the plain start's local search per target of its block (0: CFT's cover unsearched)
     plain_start_moves: float = MOVES_PER_TARGET
 
     def __post_init__(self) -> None:
@@ -135,21 +125,20 @@ class MilpOptions:
 
     @property
     def rule(self) -> OverlapRule | None:
-        """The registration rule in force: a :class:`SiteShare` unresolved (no site at hand) is taken at the
-        default share."""
+        """The registration rule in force: a :class:`SiteShare` unresolved (no site at hand) at the default share."""
         return self.overlap.rule(DEFAULT_OVERLAP) if isinstance(self.overlap, SiteShare) else self.overlap
 
     def with_work_limit(self, work_s: float, wall_cap: float | None = WALL_CAP) -> MilpOptions:
-        """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap of
-        ``wall_cap`` times as long (None: the user's cap ``time_limit_s``, if any)."""
+        """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap of ``wall_cap``
+        times as long (None: the user's cap ``time_limit_s``, if any)."""
         return replace(
             self, time_limit_s=self.time_limit_s if wall_cap is None else wall_cap * work_s, work_limit=work_s
         )
 
     @property
     def limits(self) -> dict[str, Any]:
-        """The limits that stop this solve on its backend: its counted work (``work_limit`` CP-SAT deterministic
-        seconds on cpsat, ``node_limit`` nodes per solve where the backend takes one) and the wall-clock cap."""
+        """The limits that stop this solve on its backend: ``work_limit`` on cpsat, ``node_limit`` where the backend
+        takes one, and the wall-clock cap."""
         return {
             "work_limit": self.work_limit if self.backend == "cpsat" else None,
             "node_limit": self.node_limit if self.backend in NODE_LIMITED else None,
@@ -237,10 +226,9 @@ def _stats(solvers: list[BlockSolver], o: MilpOptions, connect: bool, capped: bo
 
 
 def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | None) -> None:
-    """Pass 1: each block an equal share of what is left (a block that finishes early leaves its rest);
-    pass 2: the blocks not yet proven share whatever is left. Shares are of CP-SAT work (deterministic
-    seconds: every share, and so the plan, is the same under any load), else of the user's wall-clock cap;
-    with neither, each block runs until it is proven or its node limit per solve ends its cut loop."""
+    """Pass 1: each block an equal share of what is left (a block that finishes early leaves its rest); pass 2: the
+    blocks not yet proven share whatever is left. Shares are of CP-SAT work, else of the user's wall-clock cap; with
+    neither, each block runs until it is proven or its node limit per solve ends its cut loop."""
     for first in (True, False):
         todo = solvers if first else [b for b in solvers if not b.done]
         for k, block in enumerate(todo):

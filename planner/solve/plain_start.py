@@ -1,16 +1,12 @@
 """The start of a plain block of the MILP: CFT's cover, shrunk by the plain local search, where it beats the greedy.
 
-A block with no registration groups (``--no-overlap``; unit costs, k = 1, single precision) is a plain set cover.
-:class:`planner.solve.block.BlockSolver` starts it from the greedy cover (Chvatal), from which CP-SAT's work limit may
-end far above the optimum on a large block. :func:`plain_start` gives the block the start the large-site path uses
-(:func:`planner.tiles.search.plain_plan`): CFT's cover (:func:`planner.solve.cft.cft_cover`) searched by
-:func:`planner.solve.local_search.shrink` with no links, each candidate its own group, taken when it is smaller than
-the greedy's.
-
-What it costs is spent only where it can pay: a block of fewer than :data:`MIN_TARGETS` targets, or whose greedy cover
-already meets the cover LP's bound (rounded up), keeps its greedy start. Every step stops on counts (CFT's own
-iteration rules, the search's moves: ``MilpOptions.plain_start_moves`` per target of the block, by default
-:data:`MOVES_PER_TARGET`, as the tiled plan's search) and the seed, never on the clock: the same block gives the same
+A block with no registration groups (``--no-overlap``; unit costs, k = 1, single precision) is a plain set cover,
+from whose greedy start CP-SAT's work limit may end far above the optimum on a large block. :func:`plain_start` gives
+it the start the large-site path uses (:func:`planner.tiles.search.plain_plan`): CFT's cover
+(:func:`planner.solve.cft.cft_cover`) searched by :func:`planner.solve.local_search.shrink` with no links, taken when
+it is smaller than the greedy's. A block of fewer than :data:`MIN_TARGETS` targets, or whose greedy cover already
+meets the cover LP's bound (rounded up), keeps its greedy start. Every step stops on counts (CFT's own iteration rules,
+``MilpOptions.plain_start_moves`` moves per target) and the seed, never on the clock: the same block gives the same
 start under any load.
 """
 
@@ -68,14 +64,10 @@ def plain_start(
     o: MilpOptions,
     deadline: float = math.inf,
 ) -> PlainStart | None:
-    """The start of a plain block (module docstring), or None where it does not apply: registration groups (a
-    connected block keeps its own start and search), the start off, k > 1, combined precision, costs not all equal, no
-    greedy cover, a block of fewer than :data:`MIN_TARGETS` targets, or a greedy cover of one station.
-
-    ``a``: the block's candidates x targets boolean coverage; ``cost``: per candidate; ``groups``: the block's
-    registration group of each candidate (None: a plain block); ``incumbent``: the block's greedy cover (rows of
-    ``a``); ``o``: the MILP's options (``plain_start``, ``plain_start_moves``, ``local_search_moves``, ``seed``);
-    ``deadline``: the user's wall-clock cap as a ``time.perf_counter()`` instant, where CFT and the search stop.
+    """The start of a plain block (module docstring), or None where it does not apply: registration groups, the start
+    off, k > 1, combined precision, costs not all equal, no greedy cover, a block of fewer than :data:`MIN_TARGETS`
+    targets, or a greedy cover of one station. ``incumbent``: the block's greedy cover (rows of ``a``); ``deadline``:
+    the user's wall-clock cap as a ``time.perf_counter()`` instant, where CFT and the search stop.
     """
     n_cand, n_targ = a.shape
     if (
@@ -118,9 +110,7 @@ def plain_start(
 
 
 def plain_record(starts: list[PlainStart]) -> dict[str, int]:
-    """What the plain starts of a solve did, for plan.json: the blocks that took it, those where CFT ran, the greedy
-    covers' stations, the starts' stations (the smaller of the greedy's and the searched cover) and the search's
-    moves, each summed over the blocks."""
+    """What the plain starts of a solve did, summed over the blocks, for plan.json."""
     return {
         "blocks": len(starts),
         "cft_blocks": sum(s.cft is not None for s in starts),

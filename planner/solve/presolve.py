@@ -61,21 +61,17 @@ def presolve_order(a: sp.csr_matrix, cost: np.ndarray) -> np.ndarray:
 def dominated(
     a: sp.csr_matrix, cost: np.ndarray, adj: sp.csr_matrix | None = None, groups: Sequence[Hashable] | None = None
 ) -> np.ndarray:
-    """Mask of candidates that another candidate can always replace (see the module docstring).
+    """Mask of candidates that another candidate can always replace (module docstring), considered from the largest
+    coverage down (among identical ones the lowest index stays).
 
-    Candidates are considered from the largest coverage down; among identical ones the lowest index stays. Under
-    ``adj``, i goes for a kept j (of its group, no dearer, seeing every piece i sees) linked to every neighbour of i
-    *not dropped before i*, j itself aside: replace the dropped candidates of an optimal connected plan by their
-    replacers in this order, and when i's turn comes the ones dropped before it are out of the plan already, so i's
+    Why only the neighbours not dropped before i count: replace the dropped candidates of an optimal connected plan by
+    their replacers in this order; when i's turn comes the ones dropped before it are out of the plan already, so i's
     neighbours in the plan are among those j is linked to (a replacer is kept, never dropped). A candidate covering
     nothing goes when no neighbour of it is left, or for such a j.
 
-    No candidate x candidate product is formed: candidate i can only be replaced by a *kept* candidate that sees every
-    piece of i, and such a candidate sees i's piece with the fewest kept candidates. So each piece keeps the list of
-    kept candidates that see it, and i is checked against the shortest of its pieces' lists only (a scratch mark of
-    i's pieces, then |C(j) & C(i)| = |C(i)| for each j of that list). Work is the sum of those checks, in proportion
-    to the pairs of the coverage matrix when few candidates stay. The overlap relation itself, formed among the kept
-    only, is :func:`planner.solve.lazy_links.linked_dominated`'s.
+    No candidate x candidate product is formed: a replacer of i sees i's piece with the fewest kept candidates, so
+    each piece keeps the list of kept candidates that see it and i is checked against the shortest of its pieces'
+    lists only. Work is in proportion to the pairs of the coverage matrix when few candidates stay.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()
@@ -127,8 +123,8 @@ def _replaced(
     removed: np.ndarray,
     gid: np.ndarray,
 ) -> bool:
-    """Whether a kept candidate, no dearer and of i's group (linked to all of i's links not dropped so far under
-    ``rel``), sees every piece i sees."""
+    """Whether a kept candidate of i's group, no dearer (under ``rel``, linked to all of i's links not dropped so
+    far), sees every piece i sees."""
     lists = [kept_by_piece[t] for t in cols.tolist()]
     shortest = np.asarray(min(lists, key=len), dtype=np.int64)
     if shortest.size == 0:

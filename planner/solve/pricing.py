@@ -45,8 +45,7 @@ def cover_lp(by_target: sp.csr_matrix, cost: NDArray[np.float64] | None = None) 
 
 class WarmCoverLp:
     """The cover LP kept in one HiGHS model (``highspy``, 1 thread): columns are appended between solves and each
-    re-solve starts from the last optimal basis (the new columns enter at 0, so the basis stays primal feasible),
-    instead of a solve from scratch per pricing round."""
+    re-solve starts from the last optimal basis (the new columns enter at 0, so the basis stays primal feasible)."""
 
     def __init__(self, by_target: sp.csr_matrix) -> None:
         import highspy
@@ -86,10 +85,8 @@ class WarmCoverLp:
         )
 
     def close(self) -> None:
-        """Free HiGHS's model and solver data now. The ``Highs`` object sits in a reference cycle with its callbacks,
-        so without this its memory (about 72 B per candidate-piece pair) stays allocated until a full garbage
-        collection, which a planning run may never reach: on fine grids it would be held from pricing to the end of
-        the run (docs/benchmarks/memory.md)."""
+        """Free HiGHS's model and solver data now: the ``Highs`` object sits in a reference cycle with its callbacks,
+        so its memory would stay allocated until a full garbage collection, which a planning run may never reach."""
         self._h.clear()
 
     def solve(self) -> CoverLp:

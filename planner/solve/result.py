@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from enum import Enum
 from typing import Any
@@ -83,20 +84,25 @@ class SolveResult:
     stats: MilpStats | None = field(default=None, repr=False, compare=False)
 
     @classmethod
-    def no_plan(
-        cls, method: str, status: Status, start: float, backend: str | None = None, info: dict[str, Any] | None = None
+    def timed(
+        cls, method: str, status: Status, selected: Sequence[int], objective: float | None, start: float, **more: Any
     ) -> SolveResult:
-        """A result without stations (``status`` infeasible or no solution), timed from ``start`` (a
-        ``time.perf_counter()`` instant)."""
+        """A result timed from ``start`` (a ``time.perf_counter()`` instant); ``more``: the other fields."""
         return cls(
             method=method,
             status=status,
-            selected=(),
-            objective=None,
+            selected=tuple(selected),
+            objective=objective,
             time_s=time.perf_counter() - start,
-            backend=backend,
-            info=info or {},
+            **more,
         )
+
+    @classmethod
+    def no_plan(
+        cls, method: str, status: Status, start: float, backend: str | None = None, info: dict[str, Any] | None = None
+    ) -> SolveResult:
+        """A result without stations (``status`` infeasible or no solution), timed from ``start``."""
+        return cls.timed(method, status, (), None, start, backend=backend, info=info or {})
 
     @property
     def gap(self) -> float | None:

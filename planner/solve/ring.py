@@ -27,7 +27,7 @@ links kept, every connected plan stays feasible, so the walk's cost is a lower b
 of its pieces, valid whenever every linked pair's arcs overlap or touch (checked; otherwise :func:`ring_graph` answers
 ``None``). Where every candidate's coverage *is* its arc, the walk is an optimal plan. Where arcs have holes (stations
 inside a concave outline see around a corner), :func:`lagrangian_bound` adds the cover rows back with multipliers.
-Bounds are over the candidate pool given (figures: docs/milp.md).
+Bounds are over the candidate pool given.
 """
 
 from __future__ import annotations
@@ -47,13 +47,10 @@ _EPS = 1e-9
 
 @dataclass(frozen=True)
 class RingBound:
-    """The cheapest walk over a block's arcs.
-
-    ``bound``: a lower bound on the block's connected optimum over its candidate pool (exact when ``exact_arcs``
-    equals the candidates that cover anything); ``walk``: the distinct candidates of the walk (block indices), a plan
-    of cost ``bound`` when every one of them covers its whole arc; ``exact_arcs``: candidates whose coverage is
-    exactly their arc.
-    """
+    """The cheapest walk over a block's arcs. ``bound``: a lower bound on the block's connected optimum over its
+    candidate pool (exact when ``exact_arcs`` equals the candidates that cover anything); ``walk``: the distinct
+    candidates of the walk (block indices), a plan of cost ``bound`` when every one of them covers its whole arc;
+    ``exact_arcs``: candidates whose coverage is exactly their arc."""
 
     bound: float
     walk: tuple[int, ...]
@@ -84,8 +81,7 @@ def cyclic_arcs(u: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64]]
 
 
 def arcs(cover: sp.csr_matrix) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]]:
-    """Each row's smallest cyclic arc [start, end] (end may pass n: it wraps) over the n columns, whether the row
-    covers all of it, and -1 for empty rows. The arc leaves out the row's widest gap (:func:`cyclic_arcs`)."""
+    """:func:`cyclic_arcs` of every row, -1 for empty rows, and whether the row covers all of its arc."""
     cover = cover.tocsr()
     size = cover.getnnz(axis=1)
     start = np.full(cover.shape[0], -1, dtype=np.int64)
@@ -182,7 +178,7 @@ def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
     if np.any(start[i] < 0) or np.any(start[j] < 0):
         return None
     # lifted links as 32-bit node numbers, one half (i's copy to j's) per lift pair, mirrored once at the end: int64
-    # lists and their copies take gigabytes on a fine grid; the graph is the same (test_ring_graph_is_the_pairwise_lift)
+    # lists and their copies take gigabytes on a fine grid
     idx = np.int32 if _LIFTS.size * m < np.iinfo(np.int32).max else np.int64
     i32, j32 = i.astype(idx), j.astype(idx)
     rows, cols, touch = [], [], np.zeros(i.size, dtype=bool)

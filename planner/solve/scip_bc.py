@@ -23,9 +23,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
-from planner.solve.backends import CAPABILITIES, BackendResult, Hint, Outcome, Row, hint_values
+from planner.solve.backends import CAPABILITIES, BackendResult, Hint, Outcome, Row, hint_values, is_integral
 from planner.solve.connectivity import connectivity_cuts, disconnected_groups, group_members
-from planner.solve.separators import min_node_separator, split_graph
+from planner.solve.separators import min_node_separator, nearest_seer, split_graph
 
 #: fractional separation: sources tried per zone-side and round, least violation kept
 MAX_SOURCES = 30
@@ -45,7 +45,7 @@ class PyScipBackend:
         self.x = [self.model.addVar(f"x{i}", vtype="B", obj=float(c)) for i, c in enumerate(cost)]
         self.n = n
         self.model.setMinimize()
-        if np.all(np.abs(cost - np.round(cost)) < 1e-12):
+        if is_integral(cost):
             self.model.setObjIntegral()
         self.handler: Any = None
         #: branch-and-bound nodes per solve (None: no limit)
@@ -63,7 +63,6 @@ class PyScipBackend:
             self.model.chgVarLb(self.x[i], 1.0)
 
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
-        """Append ``count`` variables in [0, upper], binary or continuous, at zero cost."""
         self.model.freeTransform()
         k0 = len(self.x)
         self.x += [
@@ -79,10 +78,9 @@ class PyScipBackend:
         groups: Sequence[Hashable],
         a: sp.csr_matrix,
         essential: dict[Hashable, np.ndarray],
-        separate: bool = True,
     ) -> None:
         """Enforce connectivity of each group's chosen stations inside the search (branch-and-cut)."""
-        self.handler = _handler(self._scip)(self.x[: self.n], adj, groups, a, essential, separate)
+        self.handler = _handler(self._scip)(self.x[: self.n], adj, groups, a, essential)
         self.model.includeConshdlr(
             self.handler,
             "registration",
@@ -141,10 +139,8 @@ def _handler(scip: Any) -> type:
             groups: Sequence[Hashable],
             a: sp.csr_matrix,
             essential: dict[Hashable, np.ndarray],
-            separate: bool,
         ) -> None:
             self.x, self.adj, self.groups, self.a, self.essential = x, adj.tocsr(), list(groups), a.tocsr(), essential
-            self.separate = separate
             self.n_int = self.n_frac = 0
             self.seers = a.T.tocsr()  # target -> candidates that see it
             by_group = group_members(self.groups, range(len(self.groups)))
@@ -182,8 +178,6 @@ def _handler(scip: Any) -> type:
             pass
 
         def conssepalp(self, constraints, nusefulconss):
-            if not self.separate:
-                return {"result": result.DIDNOTRUN}
             vals = self._values(None)
             found = 0
             base = split_graph(self.adj, vals)
@@ -230,8 +224,7 @@ def _separations(h: Any, ess: np.ndarray | None, members: np.ndarray, vals: np.n
         if need.size == 0:
             continue
         # the essential target whose nearest seer is farthest from i in overlap steps
-        far = [min((hops[k][seers.indices[seers.indptr[t] : seers.indptr[t + 1]]]), default=np.inf) for t in need]
-        t = int(need[int(np.argmax(far))])
+        t = int(need[int(np.argmax(nearest_seer(hops[k], seers, need)))])
         value, nodes = min_node_separator(base, i, seers.indices[seers.indptr[t] : seers.indptr[t + 1]])
         if vals[i] - value > MIN_VIOLATION:
             yield i, nodes

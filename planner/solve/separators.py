@@ -55,8 +55,7 @@ def min_node_separator(base: sp.csr_matrix, source: int, sinks: np.ndarray) -> t
     graph = (base + extra).tocsr()
     graph.sort_indices()
     res = maximum_flow(graph, n + source, sink)
-    flow = res.flow if hasattr(res, "flow") else res.residual
-    residual = (graph.astype(np.int64) - flow.astype(np.int64)).tocsr()
+    residual = (graph.astype(np.int64) - res.flow.astype(np.int64)).tocsr()
     residual.data[residual.data < 0] = 0
     residual.eliminate_zeros()
     reach = np.zeros(m, dtype=bool)
@@ -85,15 +84,17 @@ def anchor_targets(
             min_only=True,
         )
         out.append((t, dist))
-        to_t = np.array(
-            [dist[seers.indices[seers.indptr[u] : seers.indptr[u + 1]]].min(initial=np.inf) for u in targets]
-        )
-        nearest = np.minimum(nearest, to_t)
+        nearest = np.minimum(nearest, nearest_seer(dist, seers, targets))
         finite = np.where(np.isfinite(nearest), nearest, -1)
         if finite.max() <= 0:
             break
         pick = int(np.argmax(finite))
     return out
+
+
+def nearest_seer(dist: np.ndarray, seers: sp.csr_matrix, targets: np.ndarray) -> np.ndarray:
+    """For each target, the least ``dist`` of a candidate that sees it (inf: none)."""
+    return np.array([dist[seers.indices[seers.indptr[u] : seers.indptr[u + 1]]].min(initial=np.inf) for u in targets])
 
 
 def layer_cuts(
@@ -113,7 +114,7 @@ def layer_cuts(
     in_group[members] = True
     cuts = []
     for _t, dist in anchor_targets(adj, seers, ess, anchors):
-        far = np.array([dist[seers.indices[seers.indptr[u] : seers.indptr[u + 1]]].min(initial=np.inf) for u in ess])
+        far = nearest_seer(dist, seers, ess)
         far = far[np.isfinite(far)]
         depth = int(far.max(initial=0))
         for k in range(1, depth + 1):

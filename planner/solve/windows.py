@@ -20,10 +20,9 @@ already removed are skipped). Work limits, not clocks, stop each window, so the 
 the options (a wall-clock cap, ``WALL_CAP`` times the work where one is set, is counted when reached).
 
 With ``run`` (tiled plans on Dask), ``batch`` windows are kept in flight, each for the next centre still in the plan,
-and their answers taken in order as they come. At the first answer that removes stations the answers still in flight,
-made for the old plan, are dropped and their windows solved again: each answer taken was made for the plan the
-one-at-a-time search would have given it, so the result does not depend on ``batch`` or on the number of workers
-(``test_windows_in_flight_give_the_one_at_a_time_result``).
+and their answers taken in order. At the first answer that removes stations the answers still in flight, made for the
+old plan, are dropped and their windows solved again: each answer taken was made for the plan the one-at-a-time search
+would have given it, so the result does not depend on ``batch`` or on the number of workers.
 """
 
 from __future__ import annotations
@@ -48,10 +47,9 @@ from planner.solve.result import Status
 
 @dataclass(frozen=True, kw_only=True)
 class WindowOptions:
-    """``radius_m``: window radius around each centre station; ``work_s``: CP-SAT deterministic seconds per
-    window; ``passes``: visits of every station as a centre (0: off); ``seed``: order of the centres;
-    ``batch``: windows in flight at a time when a task runner is given (tiled plans on Dask; the result is
-    the same for every batch)."""
+    """``radius_m``: window radius around each centre station; ``work_s``: CP-SAT deterministic seconds per window;
+    ``passes``: visits of every station as a centre (0: off); ``seed``: order of the centres; ``batch``: windows in
+    flight at a time when a task runner is given."""
 
     radius_m: float = 60.0
     work_s: float = 3.0
@@ -72,10 +70,10 @@ class WindowOptions:
 
 @dataclass(frozen=True)
 class Windowed:
-    """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``windows``:
-    windows solved; ``proven``: windows whose MILP was proven optimal; ``wall_cap_hit``: windows stopped
-    by the wall-clock cap instead of their work (only those may depend on the load); ``history``:
-    (window, stations) after each window that removed stations."""
+    """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``windows``: windows
+    solved; ``proven``: windows whose MILP was proven optimal; ``wall_cap_hit``: windows stopped by the wall-clock cap
+    instead of their work (only those may depend on the load); ``history``: (window, stations) after each window that
+    removed stations."""
 
     selected: tuple[int, ...]
     start: int
@@ -120,13 +118,6 @@ class _Later:
         self._call = None
 
 
-class _Here:
-    """Windows solved in this process, one at a time, as their answers are taken."""
-
-    def submit(self, fn: Callable[..., Any], job: Any, shared: dict[str, Any]) -> Handle:
-        return _Later(fn, job, shared)
-
-
 def window_search(
     a: sp.csr_matrix,
     adj: sp.csr_matrix,
@@ -140,14 +131,14 @@ def window_search(
     """The smallest connected cover found by re-solving ``plan`` window by window (module docstring).
 
     ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric overlap
-    adjacency, links within a group only; ``groups``: each candidate's registration group; ``plan``: a connected
-    cover; ``xy``: C x 2 candidate positions (m); ``floor``: stop at this many stations (a proven lower bound);
-    ``run``: a :class:`Runner` (e.g. :class:`planner.tiles.engine.TaskRunner` on Dask) that keeps
-    ``options.batch`` windows in flight (default: here, one after the other; the result is the same).
+    adjacency, links within a group only; ``xy``: C x 2 candidate positions (m); ``floor``: stop at this many stations
+    (a proven lower bound); ``run``: a :class:`Runner` (e.g. :class:`planner.tiles.engine.TaskRunner` on Dask) that
+    keeps ``options.batch`` windows in flight (default: here, one after the other).
     """
     o = options or WindowOptions()
     in_flight = o.batch if run is not None else 1
-    runner: Runner = run if run is not None else _Here()
+    # without a runner: here, one window at a time, as the answers are taken
+    submit: Callable[..., Handle] = run.submit if run is not None else _Later
     start = time.perf_counter()
     a, adj = a.astype(bool).tocsr(), adj.astype(bool).tocsr()
     at = a.T.tocsr()
@@ -164,7 +155,7 @@ def window_search(
         while len(plan_s) > max(floor, 1):
             while k < len(order) and len(flight) < in_flight:  # the next centres still in the plan
                 if order[k] in plan_s:
-                    flight.append((k, runner.submit(_window_task, (plan_s, order[k]), shared)))
+                    flight.append((k, submit(_window_task, (plan_s, order[k]), shared)))
                 k += 1
             if not flight:
                 break
@@ -228,12 +219,10 @@ def connected_cover_within(
     work_s: float,
     seed: int = 0,
 ) -> tuple[np.ndarray | None, Status, bool]:
-    """The fewest candidates of ``free`` that see every target of ``rows`` and, with the stations ``kept``,
-    leave each registration group one connected part (the window's MILP; ``kept`` may be empty).
-
-    Returns the chosen candidates (site indices; None when the MILP found no answer), the MILP's status
-    (``OPTIMAL``: no smaller choice within ``free``) and whether its wall-clock cap, not its ``work_s`` of
-    CP-SAT deterministic work, stopped it."""
+    """The fewest candidates of ``free`` that see every target of ``rows`` and, with the stations ``kept``, leave each
+    registration group one connected part (the window's MILP; ``kept`` may be empty): the chosen candidates (site
+    indices; None when the MILP found no answer), the MILP's status (``OPTIMAL``: no smaller choice within ``free``)
+    and whether its wall-clock cap, not its ``work_s`` of CP-SAT deterministic work, stopped it."""
     parts = [(g, p) for g, members in group_members(groups, kept.tolist()).items() for p in components(adj, members)]
     inst = _model(a, adj, groups, free, rows, parts)
     # the window's links are the site's, given explicitly: no overlap test on the window's partial rows
@@ -246,8 +235,8 @@ def connected_cover_within(
     return np.array(sorted(int(free[i]) for i in r.selected if i < free.size), dtype=np.int64), r.status, r.wall_cap_hit
 
 
-#: a window's MILP: starts of its connected greedy and moves of its block local search (fewer than the
-#: single model's defaults: in a window they cost much of the pass and gave the same plan)
+#: a window's MILP: starts of its connected greedy and moves of its block local search (fewer than the single
+#: model's defaults: in a window they cost much of the pass and gave the same plan)
 _GREEDY_STARTS, _SEARCH_MOVES = 5, 100
 
 
@@ -259,8 +248,8 @@ def _model(
     rows: np.ndarray,
     parts: list[tuple[Hashable, list[int]]],
 ) -> CoverInstance:
-    """The window's cover instance: the free candidates on the window's rows, then one forced node per
-    kept part (a private row only it sees), linked to the free candidates linked to one of its stations."""
+    """The window's cover instance: the free candidates on the window's rows, then one forced node per kept part (a
+    private row only it sees), linked to the free candidates linked to one of its stations."""
     nf, nk, nt = free.size, len(parts), rows.size
     cover = sp.bmat(
         [
