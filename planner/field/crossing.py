@@ -77,12 +77,6 @@ def part_names(
     return [names[int(c)] for c in g.component]
 
 
-def zones_crossed(site: Site, frame: str, a: tuple[float, float], b: tuple[float, float]) -> tuple[str, ...]:
-    """The zones of ``frame`` whose outline (or a free-standing block's) the segment a-b crosses."""
-    line = shapely.LineString([a, b])
-    return tuple(z.id for z in site.zones if z.frame == frame and line.intersects(z.polygon.boundary))
-
-
 def crossings(
     site: Site,
     g: WalkGraph | StoreyWalk,
@@ -94,13 +88,14 @@ def crossings(
 ) -> tuple[Crossing, ...]:
     """The legs of the route ``path_nodes`` (nodes of ``g``) that no walk joins: node n is ``labels[n]``,
     setup ``numbers[n]``, in the part ``parts[n]``; the leg from ``path_nodes[t]`` is the sheet's leg
-    ``first_leg + t``."""
+    ``first_leg + t``, through the walls of the zones of its frame whose outline (or a block's) it crosses."""
     out = []
     for t, (a, b) in enumerate(itertools.pairwise(path_nodes)):
         if math.isfinite(g.dist[a, b]):
             continue
         pa, pb = (float(g.points[a][0]), float(g.points[a][1])), (float(g.points[b][0]), float(g.points[b][1]))
-        zones = zones_crossed(site, g.frames[a] if isinstance(g, StoreyWalk) else g.space.frame, pa, pb)
+        frame, line = g.frames[a] if isinstance(g, StoreyWalk) else g.space.frame, shapely.LineString([pa, pb])
+        zones = tuple(z.id for z in site.zones if z.frame == frame and line.intersects(z.polygon.boundary))
         leg = (first_leg + t, numbers[b], labels[a], labels[b], math.dist(pa, pb), zones, (parts[a], parts[b]))
         out.append(Crossing(*leg))
     return tuple(out)

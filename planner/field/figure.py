@@ -82,10 +82,10 @@ def _finish(fig: Figure, fp: FieldPlan, panels: list, through: bool, stairs: boo
         handles.append(Line2D([], [], color=_STAIR, lw=2.2, label=STAIR_LABEL))
     if through:
         handles.append(Line2D([], [], color="tab:orange", lw=1.4, ls="--", label=THROUGH_LABEL))
-    handles.append(Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"))
-    handles.append(
-        Line2D([], [], marker="o", mfc="white", mec="black", ls="none", label="station (number: visiting order)")
-    )
+    handles += [
+        Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"),
+        Line2D([], [], marker="o", mfc="white", mec="black", ls="none", label="station (number: visiting order)"),
+    ]
     if fp.targets:
         handles.append(Line2D([], [], marker="x", color=_TARGET, ls="none", label="target"))
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 3), fontsize=8, frameon=False)

@@ -104,10 +104,7 @@ def _setups_html(fp: FieldPlan) -> str:
         f"<tr><th class=l colspan=8>total: {len(fp.order)} setups</th><th>{fp.route_length_m:.1f}</th>"
         f"<th>{t.total_s / 60:.1f}</th><th class=l>{len(fp.targets)} targets</th><th>{len(t.sessions)}</th></tr>"
     )
-    sessions = "".join(
-        f"<li>session {s.number}: setups {s.setups[0]}-{s.setups[-1]}, {s.duration_s / 60:.0f} min</li>"
-        for s in t.sessions
-    )
+    sessions = "".join(f"<li>{s.label}</li>" for s in t.sessions)
     return f"<table><tr>{head}</tr>{body}{totals}</table><ul>{sessions}</ul>"
 
 

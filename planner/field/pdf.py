@@ -138,17 +138,15 @@ def _foot(
     """The totals row, the sessions and the advice on legs through walls, under the last row."""
     tot: list[Any] = totals(fp)
     _row(fig, y, ["", *[f"{v}" for v in tot[1:]]], widths, edges, bold=True)
-    fig.text(MARGIN_IN / fig.get_size_inches()[0], y, str(tot[0]), fontsize=FONT_PT, fontweight="bold", va="baseline")
-    sessions = "; ".join(
-        f"session {s.number}: setups {s.setups[0]}-{s.setups[-1]}, {s.duration_s / 60:.0f} min"
-        for s in fp.time.sessions
-    )
+    x0 = MARGIN_IN / fig.get_size_inches()[0]
+    fig.text(x0, y, str(tot[0]), fontsize=FONT_PT, fontweight="bold", va="baseline")
+    sessions = "; ".join(s.label for s in fp.time.sessions)
     extra = textwrap.wrap(advice(fp.crossings), width_chars)
     if fp.spaces:  # across storeys: the stair legs first
         extra = textwrap.wrap(stairs_line(fp), width_chars) + extra
     extra = extra[: FOOT_LINES - 3]
     for k, text in enumerate([_fit(sessions, width_chars), *extra], 1):
-        fig.text(MARGIN_IN / fig.get_size_inches()[0], y - k * line, text, fontsize=FONT_PT, va="baseline")
+        fig.text(x0, y - k * line, text, fontsize=FONT_PT, va="baseline")
 
 
 def write_pdf(fp: FieldPlan, path: Path | str) -> Path:

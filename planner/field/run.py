@@ -370,8 +370,7 @@ def _legs(
 def _route(g: WalkGraph | StoreyWalk, a: int, b: int) -> tuple[list[tuple[float, float]], list[str], list[Flight]]:
     """The walk from point a to point b of ``g``, across storeys the frame of each of its points and the flights
     it takes; the straight line where no walk joins them."""
-    storeys = isinstance(g, StoreyWalk)
     if math.isfinite(g.dist[a, b]):
-        return g.route(a, b) if storeys else (g.path(a, b), [], [])
+        return g.route(a, b) if isinstance(g, StoreyWalk) else (g.path(a, b), [], [])
     line = [(float(g.points[k][0]), float(g.points[k][1])) for k in (a, b)]
-    return line, [g.frames[a], g.frames[b]] if storeys else [], []
+    return line, [g.frames[a], g.frames[b]] if isinstance(g, StoreyWalk) else [], []

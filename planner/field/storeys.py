@@ -173,11 +173,6 @@ class StoreyWalk:
     predecessors: NDArray[np.int32]
     component: NDArray[np.int32]
 
-    @property
-    def space(self) -> WalkSpace:
-        """The first point's frame's walkable area."""
-        return self.spaces[self.frames[0]]
-
     def route(self, i: int, j: int) -> tuple[list[tuple[float, float]], list[str], list[Flight]]:
         """The walk from point i to point j: its polyline, the frame of each of its points, the flights climbed."""
         chain = walk_nodes(self.predecessors, i, j)
@@ -199,9 +194,6 @@ class StoreyWalk:
         if not pts:
             pts, frs = [tuple(map(float, self.points[i]))], [self.frames[i]]  # type: ignore[list-item]
         return pts, frs, used
-
-    def path(self, i: int, j: int) -> list[tuple[float, float]]:
-        return self.route(i, j)[0]
 
 
 def storey_spaces(site: Site, frames: Sequence[str], stations: Sequence[Candidate]) -> dict[str, WalkSpace]:
@@ -268,19 +260,14 @@ def climbs(flight: Flight, leg_frames: Sequence[str]) -> str:
     return "up" if leg_frames and leg_frames[0] == flight.lower else "down"
 
 
-def stair_text(leg: int, flight: Flight, leg_frames: Sequence[Sequence[str]], setups: int) -> str:
-    """One stair leg as text: the stair, which way, the setup it walks to (of ``setups``), its run and rise."""
-    way = climbs(flight, leg_frames[leg] if leg < len(leg_frames) else ())
-    to = f"setup {leg + 1}" if leg < setups else "the start"
-    return (
-        f"{flight.stair} {way} ({flight.lower if way == 'up' else flight.upper} to "
-        f"{flight.upper if way == 'up' else flight.lower}) on the walk to {to}: run {flight.run_m:.1f} m "
-        f"+ rise {flight.rise_m:.1f} m"
-    )
-
-
 def stairs_line(fp: FieldPlan) -> str:
-    """The summary's line for a sheet across storeys: the frames and every stair leg of the route."""
-    names = ", ".join(s.frame for s in fp.spaces)
-    said = "; ".join(stair_text(k, f, fp.leg_frames, len(fp.order)) for k, f in fp.stair_legs) or "none"
-    return f"across storeys: {len(fp.spaces)} frames ({names}); stair legs {len(fp.stair_legs)}: {said}"
+    """The summary's line for a sheet across storeys: the frames and every stair leg of the route (the stair, which
+    way, the setup it walks to, its run and rise)."""
+    said = []
+    for k, f in fp.stair_legs:
+        way = climbs(f, fp.leg_frames[k] if k < len(fp.leg_frames) else ())
+        ends = f"{f.lower} to {f.upper}" if way == "up" else f"{f.upper} to {f.lower}"
+        to = f"setup {k + 1}" if k < len(fp.order) else "the start"
+        said.append(f"{f.stair} {way} ({ends}) on the walk to {to}: run {f.run_m:.1f} m + rise {f.rise_m:.1f} m")
+    names, legs = ", ".join(s.frame for s in fp.spaces), "; ".join(said) or "none"
+    return f"across storeys: {len(fp.spaces)} frames ({names}); stair legs {len(fp.stair_legs)}: {legs}"

@@ -151,12 +151,12 @@ def _storey_places(
     stations, those of :func:`_sphere_places` for its pairs, seen from its own stations only (its own walls);
     for a pair of two frames (a link through a stair, :mod:`planner.coverage.stair_links`), the edge points
     of the stairs that join the two frames, each seen from the stations of both (each in its own frame)."""
-    frame = [s.frame for s in stations]
+    frame = np.array([s.frame for s in stations], dtype=str)
     blocks: list[NDArray[np.float64]] = []
     sights: list[NDArray[np.bool_]] = []
     where: list[str] = []
     for fr, sp in spaces.items():
-        here = np.array([f == fr for f in frame], dtype=bool)
+        here = frame == fr
         if not here.any():
             continue
         p = _sphere_places(sp, site, xy, [(i, j) for i, j in pairs if frame[i] == fr == frame[j]], reach)
@@ -173,7 +173,7 @@ def _storey_places(
         e = stair_edge(stair)
         seen = np.zeros((len(stations), len(e)), dtype=bool)
         for fr in ends:
-            here = np.array([f == fr for f in frame], dtype=bool)
+            here = frame == fr
             if here.any():
                 seen[here] = _sphere_sight(site, fr, xy[here], e, reach)
         blocks.append(e)
@@ -205,12 +205,10 @@ def propose_targets(
     strong_overlap: float = STRONG_OVERLAP,
     spaces: Mapping[str, WalkSpace] | None = None,
 ) -> tuple[list[Link], list[Target]]:
-    """The chain links (weak ones with their targets) and the targets (see the module text).
-
-    ``relation``: the plan's registration relation of ``stations``
-    (:meth:`planner.coverage.relation.Registration.relation`); ``problem``: their coverage, rows in their order.
-    ``order``: the visiting order as station indices (registration order); None: the spanning forest.
-    ``spaces``: across storeys, the walkable area of every frame (:func:`_storey_places`); None: ``space``.
+    """The chain links (weak ones with their targets) and the targets (see the module text). ``relation``: the
+    plan's registration relation of ``stations`` (:meth:`planner.coverage.relation.Registration.relation`);
+    ``problem``: their coverage, rows in their order; ``order``: the visiting order as station indices (registration
+    order; None: the spanning forest); ``spaces``: across storeys, the walkable area of every frame (None: ``space``).
     """
     g = relation
     chain = chain_links(g, order)
@@ -218,12 +216,7 @@ def propose_targets(
     xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
     reach = props.target_range_m
     wall = _wall_sight(problem, props)
-    where_of: list[str] = []
-    if spaces is None:
-        places = _sphere_places(space, site, xy, weak, reach)
-        sphere = _sphere_sight(site, space.frame, xy, places, reach)
-    else:
-        places, sphere, where_of = _storey_places(site, stations, spaces, xy, weak, reach)
+    places, sphere, where_of = _storey_places(site, stations, spaces or {space.frame: space}, xy, weak, reach)
     t = problem.targets
     cand_xy = np.vstack([(t.a + t.b) / 2.0, places]) if len(places) else (t.a + t.b) / 2.0
     seen = np.hstack([wall, sphere])  # S x (pieces + places)
@@ -237,7 +230,7 @@ def propose_targets(
         if c < len(t):
             kind, where = "checkerboard", f"wall {t.label(c).split(' ')[0]} at {(t.s0_m[c] + t.s1_m[c]) / 2:.1f} m"
         else:
-            kind, where = "sphere", where_of[c - len(t)] if where_of else "tripod"
+            kind, where = "sphere", where_of[c - len(t)]
         targets.append(
             Target(
                 tid[c],

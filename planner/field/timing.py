@@ -68,6 +68,10 @@ class Session:
     setups: tuple[int, ...]  # setup numbers
     duration_s: float
 
+    @property
+    def label(self) -> str:
+        return f"session {self.number}: setups {self.setups[0]}-{self.setups[-1]}, {self.duration_s / 60:.0f} min"
+
 
 @dataclass(frozen=True)
 class FieldTime:

@@ -84,34 +84,23 @@ MAX_COORDINATE_M = 1e8
 def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None = None) -> None:
     """Refuse fewer than 3 vertices, zero-length sides, zero area and self-intersection (found with an STRtree over the
     sides, not n^2 pair tests); the message names the two sides (1-based) and where they meet."""
-    n = len(xy)
+    n, where = len(xy), {"zone": zone, "field": what}
     if n < 3:
-        raise InputError("a polygon needs at least 3 vertices", zone=zone, field=what, value=n)
+        raise InputError("a polygon needs at least 3 vertices", value=n, **where)
     far = np.flatnonzero(~np.all(np.isfinite(xy) & (np.abs(xy) <= MAX_COORDINATE_M), axis=1))
     if far.size:
-        k = int(far[0])
-        raise InputError(
-            f"coordinates must be finite and within +-{MAX_COORDINATE_M:g} m",
-            zone=zone,
-            row=f"vertex {k + 1}",
-            field=what,
-            value=tuple(float(v) for v in xy[k]),
-        )
+        k, why = int(far[0]), f"coordinates must be finite and within +-{MAX_COORDINATE_M:g} m"
+        raise InputError(why, row=f"vertex {k + 1}", value=tuple(map(float, xy[k])), **where)
     lengths = side_lengths(xy)
     short = np.flatnonzero(lengths <= ZERO_LENGTH_M)
     if short.size:
-        k = int(short[0]) + 1
-        raise InputError(
-            "zero-length side (duplicate vertex)",
-            zone=zone,
-            row=f"side {k}",
-            field="side_length_m",
-            value=float(lengths[k - 1]),
-        )
+        k = int(short[0])
+        why = "zero-length side (duplicate vertex)"
+        raise InputError(why, zone=zone, row=f"side {k + 1}", field="side_length_m", value=float(lengths[k]))
     origin = xy[0]
     local = xy - origin
     if np.linalg.matrix_rank(local, tol=ZERO_LENGTH_M) < 2:
-        raise InputError("polygon has zero area (all vertices on one line)", zone=zone, field=what, value=0.0)
+        raise InputError("polygon has zero area (all vertices on one line)", value=0.0, **where)
     segs = shapely.linestrings(np.stack([local, np.roll(local, -1, axis=0)], axis=1))
     tree = shapely.STRtree(segs)
     i, j = tree.query(segs, predicate="intersects")
@@ -124,11 +113,8 @@ def check_simple_polygon(xy: NDArray[np.float64], *, what: str, zone: str | None
     if np.any(bad):
         k = int(np.flatnonzero(bad)[0])
         p = shapely.get_coordinates(inter[k])[0] + origin
-        raise InputError(
-            f"self-intersecting polygon: sides {i[k] + 1} and {j[k] + 1} meet at ({p[0]:.3f}, {p[1]:.3f})",
-            zone=zone,
-            field=what,
-        )
+        why = f"self-intersecting polygon: sides {i[k] + 1} and {j[k] + 1} meet at ({p[0]:.3f}, {p[1]:.3f})"
+        raise InputError(why, **where)
     area = signed_area(xy)
     if abs(area) <= ZERO_LENGTH_M:
-        raise InputError("polygon has zero area", zone=zone, field=what, value=area)
+        raise InputError("polygon has zero area", value=area, **where)

@@ -227,30 +227,22 @@ class Site:
     stairs: tuple[Stair, ...] = ()
 
     def __post_init__(self) -> None:
+        file = self.source or None
         if not self.zones:
-            raise InputError("a site needs at least one zone", file=self.source or None, field="zones", value=0)
+            raise InputError("a site needs at least one zone", file=file, field="zones", value=0)
         seen: set[str] = set()
         for z in self.zones:
             if z.id in seen:
-                raise InputError("duplicate zone id", file=self.source or None, zone=z.id, field="id", value=z.id)
+                raise InputError("duplicate zone id", file=file, zone=z.id, field="id", value=z.id)
             seen.add(z.id)
-        no_repeats(
-            (c.name for c in self.control_points),
-            what="control point name",
-            field="name",
-            row="control_points[{}]",
-            file=self.source or None,
-        )
+        names = (c.name for c in self.control_points)
+        no_repeats(names, what="control point name", field="name", row="control_points[{}]", file=file)
         self._check_drawn_twice()
         for stair in self.stairs:
-            for zid in stair.zones:
-                if zid not in seen:
-                    raise InputError(
-                        "a stair names a zone the site does not have",
-                        file=self.source or None,
-                        field=f"stair {stair.name}",
-                        value=zid,
-                    )
+            for zid in (z for z in stair.zones if z not in seen):
+                raise InputError(
+                    "a stair names a zone the site does not have", file=file, field=f"stair {stair.name}", value=zid
+                )
         if self.boundary is not None:
             check_simple_polygon(np.asarray(self.boundary, float), what="boundary")
 
