@@ -38,13 +38,10 @@ class FieldProperties:
             value = getattr(self, name)
             zero_ok = name in ("setup_time_s", "target_scan_time_s")
             if not finite_number(value) or value < 0 or (value == 0 and not zero_ok):
-                raise InputError(
-                    f"must be a finite number {'>= 0' if zero_ok else '> 0'}", field=f"field.{name}", value=value
-                )
-        if not self.target_incidence_deg < 90:
-            raise InputError(
-                "must be below 90 deg", field="field.target_incidence_deg", value=self.target_incidence_deg
-            )
+                need = ">= 0" if zero_ok else "> 0"
+                raise InputError(f"must be a finite number {need}", field=f"field.{name}", value=value)
+        if not (incidence := self.target_incidence_deg) < 90:
+            raise InputError("must be below 90 deg", field="field.target_incidence_deg", value=incidence)
         if not self.scan_times_s:
             raise InputError("needs at least one setting", field="field.scan_time_s")
         for name, secs in self.scan_times_s:
@@ -53,11 +50,7 @@ class FieldProperties:
                     "must be a finite number of seconds > 0", field=f"field.scan_time_s.{name}", value=secs
                 )
         if self.default_setting not in self.settings:
-            raise InputError(
-                f"is not a setting of scan_time_s (known: {', '.join(self.settings)})",
-                field="field.default_setting",
-                value=self.default_setting,
-            )
+            raise self._unknown(self.default_setting, "field.default_setting", "is not a setting of scan_time_s")
 
     @property
     def settings(self) -> tuple[str, ...]:
@@ -68,9 +61,7 @@ class FieldProperties:
         """The angular step of ``setting`` (rad), read from its name, the point spacing at a range as the
         datasheets print it: "6.3 mm @ 10 m" steps 6.3e-3 / 10 = 6.3e-4 rad."""
         if setting not in self.settings:
-            raise InputError(
-                f"unknown scan setting (known: {', '.join(self.settings)})", field="setting", value=setting
-            )
+            raise self._unknown(setting, "setting")
         found = _SETTING.match(setting)
         if found is None or float(found.group(2)) <= 0 or float(found.group(1)) <= 0:
             raise InputError(
@@ -99,7 +90,10 @@ class FieldProperties:
         for key, secs in self.scan_times_s:
             if key == name:
                 return float(secs)
-        raise InputError(f"unknown scan setting (known: {', '.join(self.settings)})", field="--setting", value=name)
+        raise self._unknown(name, "--setting")
+
+    def _unknown(self, setting: str, field: str, why: str = "unknown scan setting") -> InputError:
+        return InputError(f"{why} (known: {', '.join(self.settings)})", field=field, value=setting)
 
 
 DEFAULT_FIELD = FieldProperties()

@@ -33,17 +33,13 @@ class Opening:
     name: str = ""
 
     def __post_init__(self) -> None:
+        name = self.name or None
         if self.kind not in OPENING_KINDS:
             raise InputError(
-                f"must be one of {', '.join(OPENING_KINDS)}",
-                zone=self.name or None,
-                field="opening kind",
-                value=self.kind,
+                f"must be one of {', '.join(OPENING_KINDS)}", zone=name, field="opening kind", value=self.kind
             )
         if not (math.isfinite(self.s0_m) and math.isfinite(self.s1_m) and 0.0 <= self.s0_m < self.s1_m):
-            raise InputError(
-                "needs 0 <= s0_m < s1_m", zone=self.name or None, field="opening", value=f"{self.s0_m}..{self.s1_m}"
-            )
+            raise InputError("needs 0 <= s0_m < s1_m", zone=name, field="opening", value=f"{self.s0_m}..{self.s1_m}")
 
 
 @dataclass(frozen=True)
@@ -89,15 +85,10 @@ class ControlPoint:
             v = getattr(self, f)
             if v is None:
                 continue
-            sigma = f.startswith("sigma")  # coordinates within the zones' +-1e8 m (1e12 was accepted)
+            sigma = f.startswith("sigma")  # coordinates within the zones' +-1e8 m
             if not math.isfinite(v) or (sigma and v < 0) or (not sigma and abs(v) > MAX_COORDINATE_M):
-                raise InputError(
-                    "must be a finite number" + (" >= 0" if sigma else f" within +-{MAX_COORDINATE_M:g} m"),
-                    zone=None,
-                    row=f"control point {self.name}",
-                    field=f,
-                    value=v,
-                )
+                need = " >= 0" if sigma else f" within +-{MAX_COORDINATE_M:g} m"
+                raise InputError(f"must be a finite number{need}", row=f"control point {self.name}", field=f, value=v)
 
 
 @dataclass(frozen=True)
