@@ -1,10 +1,10 @@
 """The engine: :func:`plan_site`, what ``planner plan`` runs, for a site file, a site, or a resolved problem.
 
-reader (:func:`planner.site.load_site`) -> resolved problem (:func:`planner.plan.problem.resolve`) -> the
-strategy it names (one model, :func:`planner.plan.run.plan_single`; or tiles, on Dask where it says,
-:func:`planner.tiles.plan_by_tiles`) -> a verified :class:`~planner.plan.result.Plan`, with the strategy and the
-gap to the best plan known for the site in its log and its result's info. The command line parses, calls this
-and prints: the library and the command give the same plan.
+reader (:func:`planner.site.load_site`) -> resolved problem (:func:`planner.plan.problem.resolve`) -> the strategy
+it names (one model, :func:`planner.plan.run.plan_single`; or tiles, on Dask where it says,
+:func:`planner.tiles.plan_by_tiles`) -> a verified :class:`~planner.plan.result.Plan`, with the strategy and the gap
+to the best plan known for the site in its log and its result's info. The command line parses, calls this and
+prints: the library and the command give the same plan.
 """
 
 from __future__ import annotations
@@ -33,11 +33,8 @@ def problem_of(site: Site | str | os.PathLike[str] | Problem, options: PlanOptio
 
 def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOptions | None = None) -> Plan:
     """Plan a site as ``planner plan`` does: the problem resolved once (:func:`problem_of`), planned by the
-    strategy it names, verified, with the strategy and the best-known gap added.
-
-    The public form is ``plan_site(path or Site, options)``; a resolved :class:`Problem` is taken as it is (then
-    ``options`` must be None). The plan's problem holds the run's one registration
-    (:attr:`Problem.registration`), which its field sheet, network check and report map take.
+    strategy it names, verified, with the strategy and the best-known gap added. The plan's problem holds the
+    run's one registration (:attr:`Problem.registration`), which its field sheet, network check and report take.
 
     Examples
     --------
@@ -47,12 +44,8 @@ def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOption
     >>> problem.strategy.tiles                                          # doctest: +SKIP
     True
 
-    Raises
-    ------
-    InfeasibleError
-        When some wall piece is seen from no position.
-    UsageError
-        When the options contradict each other or the site (e.g. Dask workers for one model).
+    Raises InfeasibleError where some wall piece is seen from no position, UsageError where the options contradict
+    each other or the site (e.g. Dask workers for one model).
     """
     problem = problem_of(site, options)
     strategy = problem.strategy
@@ -76,9 +69,8 @@ def plan_site(site: Site | str | os.PathLike[str] | Problem, options: PlanOption
 
 def with_strategy(plan: Plan) -> Plan:
     """The plan with its problem's strategy in its log (summary) and in its result's info (plan.json), and the
-    best plan known for the site (:mod:`planner.plan.best_known`) where the file lists one for the same problem:
-    the gap to it when it was made on the plan's own pool (the same fingerprint), else a line saying the pools
-    differ. The problem is the plain cover when the run has no registration rule, else the connected plan."""
+    best plan known for the same problem (:mod:`planner.plan.best_known`: the gap on the same pool, else a line
+    saying the pools differ)."""
     problem = plan.problem
     info = {**plan.result.info, "strategy": problem.strategy.to_dict()}
     log = [*plan.log, problem.strategy.line()]

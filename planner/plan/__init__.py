@@ -1,5 +1,4 @@
-"""From a site to a verified plan (the pipeline's driver): options, the methods, the run, re-verification and
-outcomes.
+"""From a site to a verified plan (the pipeline's driver): options, the methods, the run, re-verification and outcomes.
 
 - :mod:`planner.plan.options`: :class:`PlanOptions` and the sight limits they give;
 - :mod:`planner.plan.methods`: the planning methods by name (closed form, greedy, MILP), one registry;
@@ -8,19 +7,18 @@ outcomes.
 - :mod:`planner.plan.run`: :func:`plan_single` (candidates -> coverage -> method -> registration check ->
   verification, as one model);
 - :mod:`planner.plan.result`: :class:`Plan`, a verified plan and its summary;
-- :mod:`planner.plan.registration`: the stations' tripod discs;
+- :mod:`planner.plan.tripod`: where the stations stand, their tripod discs;
 - :mod:`planner.plan.verify`: re-verification of any plan on a fine sampling of every wall;
 - :mod:`planner.plan.outcome`: a plan with its coverage, network check and figures' inputs, from a run or a file.
 """
 
-from planner.plan.closed_form import closed_form_limits
-from planner.plan.methods import METHODS
+from planner.plan.methods import METHODS, closed_form_limits
 from planner.plan.options import PlanOptions, plan_limits
 from planner.plan.problem import Problem, resolve
-from planner.plan.registration import placed_stations
 from planner.plan.result import Plan
 from planner.plan.run import build_problem, coverage_problem, plan_single, site_candidates, unseen_error
 from planner.plan.strategy import Strategy, StrategyOptions
+from planner.plan.tripod import placed_stations
 
 __all__ = [
     "METHODS",

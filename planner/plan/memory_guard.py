@@ -3,15 +3,15 @@
 The estimate counts, from the site's geometry alone (no candidate, target or pair is built):
 
 - wall pieces: ``ceil(wall length / target spacing)`` per wall and scan side;
-- candidates: the grid points of each zone-side region (the meshgrid the pool builds over the
-  region's envelope in the frame's axes, then the points inside the region), plus a fixed
-  allowance per wall for the closed-form, field, corner-ray and bisector candidates;
-- kept pairs: per zone-side, each piece is seen at most by the grid points of the half disc of
-  radius S_max (horizontal) in front of it, and never by more than the zone-side's candidates.
+- candidates: the grid points of each zone-side region (the meshgrid the pool builds over the region's envelope
+  in the frame's axes, then the points inside the region), plus a fixed allowance per wall for the closed-form,
+  field, corner-ray and bisector candidates;
+- kept pairs: per zone-side, each piece is seen at most by the grid points of the half disc of radius S_max
+  (horizontal) in front of it, and never by more than the zone-side's candidates.
 
-Each count is priced at a per-item cost measured on the bundled instances (docs/startup.md); the
-largest single array (the meshgrid) is priced too, since it alone can exceed the memory; and the process
-itself (``BASE_BYTES``). ``scripts/bench/bench_memory.py`` sets the estimate beside the measured peak.
+Each count is priced at a per-item cost measured on the bundled instances (docs/startup.md); the largest single
+array (the meshgrid) is priced too, since it alone can exceed the memory; and the process itself (``BASE_BYTES``).
+``scripts/bench/bench_memory.py`` sets the estimate beside the measured peak.
 """
 
 from __future__ import annotations
@@ -30,17 +30,15 @@ if TYPE_CHECKING:
 TARGET_BYTES = 1_000
 #: bytes per candidate (a Candidate object, its id string, its rows in the pool arrays)
 CANDIDATE_BYTES = 600
-#: bytes per kept candidate-piece pair: both sparse views, the block under test, presolve and pricing.
-#: Calibrated on a 3 km square room (docs/startup.md): 7.98e6 pairs kept (1.13e7 estimated), peak RSS
-#: 2.48 GB for the whole ``planner plan``; 200 B x 1.13e7 = 2.3 GB
+#: bytes per kept candidate-piece pair: both sparse views, the block under test, presolve and pricing (calibrated
+#: against the peak of a whole ``planner plan``, docs/startup.md)
 PAIR_BYTES = 200
 #: bytes per meshgrid point of the pool's grid (two float64 grids, the point array, the inside test)
 GRID_POINT_BYTES = 56
 #: closed-form, field-sample, corner-ray and bisector candidates allowed per wall
 CANDIDATES_PER_WALL = 40
 #: bytes of the process before any site is read: the interpreter with numpy, scipy, shapely, networkx and the
-#: solvers loaded (an 8 x 4 m room plans at 0.21 GiB peak, docs/benchmarks/certificates.md); without it the
-#: estimate of small runs was 3.6x under the peak (docs/benchmarks/memory.md)
+#: solvers loaded; without it the estimate of small runs falls far under the peak (docs/benchmarks/memory.md)
 BASE_BYTES = 200 * 2**20
 #: share of the available memory a run may use when no limit is given
 DEFAULT_SHARE = 0.5
@@ -87,11 +85,6 @@ def available_memory_bytes() -> int:
         return 4 * 2**30
 
 
-def default_limit_bytes() -> int:
-    """The limit when none is given: ``DEFAULT_SHARE`` of the available memory."""
-    return int(DEFAULT_SHARE * available_memory_bytes())
-
-
 def parse_memory(text: str) -> int:
     """``"2G"``, ``"512M"``, ``"800k"`` or a number of bytes -> bytes (binary multiples); UsageError (exit 2)
     for anything else."""
@@ -111,7 +104,7 @@ def parse_memory(text: str) -> int:
 
 
 def estimate_work(site: Site, target_spacing_m: float, grid_spacing_m: float, max_slant_range_m: float) -> WorkEstimate:
-    """Count what the coverage build would make (see the module docstring); ``max_slant_range_m``: S_max (its horizontal reach bounds the pairs)."""
+    """Count what the coverage build would make (module docstring); S_max's horizontal reach bounds the pairs."""
     targets = candidates = grid = pairs = 0
     for zone in site.zones:
         for side in zone.scan_side.sides:
@@ -125,8 +118,8 @@ def estimate_work(site: Site, target_spacing_m: float, grid_spacing_m: float, ma
 
 
 def _grid_count(zone: Zone, outside: bool, max_slant_range_m: float, spacing: float) -> tuple[int, int]:
-    """Grid points inside the zone-side region and points of the meshgrid over its envelope (frame axes
-    of the zone's first wall, as the pool builds it)."""
+    """Grid points inside the zone-side region and points of the meshgrid over its envelope (frame axes of the
+    zone's first wall, as the pool builds it)."""
     xy = zone.xy
     d = xy[1] - xy[0]
     ux = d / math.hypot(float(d[0]), float(d[1]))
@@ -142,9 +135,8 @@ def _grid_count(zone: Zone, outside: bool, max_slant_range_m: float, spacing: fl
 def check_memory(
     site: Site, target_spacing_m: float, grid_spacing_m: float, max_slant_range_m: float, limit_bytes: int | None = None
 ) -> WorkEstimate:
-    """Raise InputError (exit 3) when the estimate exceeds ``limit_bytes`` (default: a share of the
-    available memory); return the estimate otherwise."""
-    limit = default_limit_bytes() if limit_bytes is None else limit_bytes
+    """The estimate; InputError (exit 3) where it exceeds ``limit_bytes`` (default: a share of the memory free)."""
+    limit = int(DEFAULT_SHARE * available_memory_bytes()) if limit_bytes is None else limit_bytes
     est = estimate_work(site, target_spacing_m, grid_spacing_m, max_slant_range_m)
     if est.bytes > limit:
         raise InputError(

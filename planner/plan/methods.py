@@ -1,13 +1,15 @@
-"""The planning methods by name: :data:`REGISTRY` (what :func:`planner.plan.run.plan_site` looks up; its keys are
-:data:`METHODS`, the ``--method`` choices).
+"""The planning methods by name: :data:`REGISTRY` (what :func:`planner.plan.run.plan_single` looks up; its keys are
+:data:`METHODS`, the ``--method`` choices), among them the dissertation's own plan (closed-form candidates after the
+final step).
 
-Each method takes a :class:`MethodInput` (the site's coverage problem over its candidate pool, and what drew
-it) and returns a :class:`MethodOutput`: the solver's result, the problem the result's indices refer to, the
-pool the plan's size counts, and log lines. A new method is a function of that signature added here.
+Each method takes a :class:`MethodInput` (the site's coverage problem over its candidate pool, and what drew it) and
+returns a :class:`MethodOutput`: the solver's result, the problem the result's indices refer to, the pool the plan's
+size counts, and log lines. A new method is a function of that signature added here.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
@@ -18,20 +20,24 @@ import scipy.sparse as sp
 from planner.bounds.connected_result import plan_counts, with_connected_plane_bound
 from planner.bounds.plane import price_plane, with_plane_bound
 from planner.bounds.plane_ring import connected_plane_bound
+from planner.candidates.closed_form import Limits
+from planner.candidates.final_step import drop_redundant, relocate
+from planner.candidates.pool import closed_form_candidates
 from planner.core import progress
 from planner.coverage.links import zone_side_groups
-from planner.coverage.matrix import CoverageProblem
+from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.overlap import OverlapRule, piece_lengths
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.relation import Registration
+from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
-from planner.plan.closed_form import closed_form_limits, closed_form_plan
 from planner.plan.surfaces import PLANE_OFF
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
 from planner.solve.greedy import connected_greedy_plan, greedy_cover
 from planner.solve.instance import CoverInstance, cover_instance
 from planner.solve.milp import solve
-from planner.solve.result import SolveResult
+from planner.solve.result import SolveResult, Status
 
 if TYPE_CHECKING:
     from planner.plan.options import PlanOptions
@@ -39,11 +45,11 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class MethodInput:
-    """What a method plans from: the site, the run's options, the sight limits, the registration and the
-    coverage problem of the pool; ``spaces`` and ``region_cache`` hold the frame spaces and coverage regions
-    already drawn (pricing reuses them). ``surfaces``: candidates x floor and ceiling patches (bool CSR, the
-    patches some candidate sees), columns every method covers besides the wall pieces (None: walls only); the
-    registration links and the precision rule stay the walls' (a patch adds no shared wall)."""
+    """What a method plans from: the site, the run's options, the sight limits, the registration and the coverage
+    problem of the pool; ``spaces`` and ``region_cache`` hold the frame spaces and coverage regions already drawn
+    (pricing reuses them). ``surfaces``: candidates x floor and ceiling patches (bool CSR, the patches some
+    candidate sees), columns every method covers besides the wall pieces (None: walls only); the registration links
+    and the precision rule stay the walls' (a patch adds no shared wall)."""
 
     site: Site
     options: PlanOptions
@@ -82,6 +88,43 @@ class MethodOutput:
     log: tuple[str, ...] = ()
 
 
+def closed_form_limits(validation: ValidationReport) -> Limits:
+    """The closed form's limits (3.1): the slant range, theta_max, overlap and instrument height of the site."""
+    p = validation.site.parameters
+    return Limits(validation.range_limit.max_slant_range_m, p.theta_max_deg, p.overlap, p.instrument_height_m)
+
+
+def closed_form_plan(
+    site: Site, cf_limits: Limits, targets: Targets, limits: SightLimits, rule: OverlapRule
+) -> tuple[SolveResult, CoverageProblem, list[str]]:
+    """Closed-form candidates, moved where misplaced, redundant ones dropped (3.1.3) under the overlap ``rule``.
+
+    Returns the result (indices into the returned problem's candidates), that problem, and a log of the moves and
+    removals. The status is ``incomplete`` when the closed form leaves targets uncovered.
+    """
+    start = time.perf_counter()
+    cands, log = relocate(site, closed_form_candidates(site, cf_limits))
+    problem = build_coverage(site, cands, targets, limits)
+    keep = drop_redundant(
+        problem.by_candidate, [(c.zone, c.side) for c in cands], piece_lengths(targets.s0_m, targets.s1_m), rule
+    )
+    dropped = [cands[i].id for i in range(len(cands)) if i not in set(keep)]
+    if dropped:
+        log.append(f"redundant closed-form candidates removed: {', '.join(dropped)}")
+    covered = problem.covered_by(keep) > 0
+    status = Status.FEASIBLE if covered.all() else Status.INCOMPLETE
+    info = {"uncovered_targets": int((~covered).sum()), "generated": len(cands)}
+    result = SolveResult(
+        method="closed-form",
+        status=status,
+        selected=tuple(keep),
+        objective=float(len(keep)),
+        time_s=time.perf_counter() - start,
+        info=info,
+    )
+    return result, problem, log
+
+
 def closed_form_method(run: MethodInput) -> MethodOutput:
     """The dissertation's own plan: closed-form stations after the final step (3.1.3)."""
     cf_limits = closed_form_limits(run.validation)
@@ -103,15 +146,9 @@ def milp_method(run: MethodInput) -> MethodOutput:
         log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
     pricing = None
     if pricing_on:
-        with progress.ticking("pricing (coverage regions)", options.pricing_time_limit_s):
-            problem, pricing = price_plane(
-                site,
-                problem,
-                limits,
-                time_limit_s=options.pricing_time_limit_s,
-                cache=run.region_cache,
-                spaces=run.spaces,
-            )
+        limit_s, cache = options.pricing_time_limit_s, run.region_cache
+        with progress.ticking("pricing (coverage regions)", limit_s):
+            problem, pricing = price_plane(site, problem, limits, time_limit_s=limit_s, cache=cache, spaces=run.spaces)
         log.append(pricing.summary())
     p = site.parameters
     groups, links = run.registration.groups(problem.candidates)
@@ -135,18 +172,9 @@ def milp_method(run: MethodInput) -> MethodOutput:
         result = with_plane_bound(result, pricing)
         if result.scope != "plane" and zone_side_groups(problem.candidates, groups, links) and result.selected:
             share = run.registration.rule.overlap if run.registration.rule else 0.0
-            duals = np.asarray(pricing.duals)
-            counts = plan_counts(problem, result.selected)
-            cb = connected_plane_bound(
-                site,
-                problem,
-                limits,
-                share,
-                duals,
-                counts,
-                cache=run.region_cache,
-                refine_steps=options.plane_refine_steps,
-            )
+            duals, counts = np.asarray(pricing.duals), plan_counts(problem, result.selected)
+            refine, cache = options.plane_refine_steps, run.region_cache
+            cb = connected_plane_bound(site, problem, limits, share, duals, counts, cache=cache, refine_steps=refine)
             result = with_connected_plane_bound(result, cb)
             log.append(cb.summary())
     return MethodOutput(result, problem, problem, tuple(log))

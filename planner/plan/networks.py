@@ -1,6 +1,5 @@
-"""Registration networks across storeys: which accessible areas the site's stairs join over several storeys,
-and whether a plan's stations in each form one connected network (the summary's line, plan.json's
-``registration.networks``).
+"""Registration networks across storeys: which accessible areas the site's stairs join over several storeys, and whether
+a plan's stations in each form one connected network (the summary's line, plan.json's ``registration.networks``).
 
 A site read from a building model has one frame per storey; its stairs (:class:`planner.site.stairs.Stair`) join
 the storeys' accessible areas (:func:`planner.coverage.openings.accessible_areas`), and the stair links
@@ -20,10 +19,9 @@ from planner.site.model import Site
 
 @dataclass(frozen=True, kw_only=True)
 class StoreyNetwork:
-    """One accessible area (``area``, :func:`planner.coverage.openings.accessible_areas`) that the ``stairs``
-    join across storeys (``frames``, in the site's order); ``parts``: the components of the plan's stations in it
-    under the overlap relation (1: one network), None where the plan was registered per zone-side or has no
-    station there."""
+    """One accessible area (``area``, :func:`planner.coverage.openings.accessible_areas`) that the ``stairs`` join
+    across storeys (``frames``, in the site's order); ``parts``: the components of the plan's stations in it under the
+    overlap relation (1: one network), None where the plan was registered per zone-side or has no station there."""
 
     area: int
     frames: tuple[str, ...]

@@ -1,9 +1,9 @@
-"""A plan's outcome as figures, the report and the exports need it: the site, the stations, what they
-cover, their tripod discs and (optionally) the network check.
+"""A plan's outcome as figures, the report and the exports need it: the site, the stations, what they cover, their
+tripod discs and (optionally) the network check.
 
-Built either from a :class:`~planner.plan.Plan` just computed or from a ``plan.json`` written
-earlier (``planner report PLAN.json``); both recompute the coverage of the chosen stations, so
-what is drawn and exported is checked afresh, not copied from the solver.
+Built either from a :class:`~planner.plan.Plan` just computed or from a ``plan.json`` (``planner report
+PLAN.json``); both recompute the coverage of the chosen stations, so what is drawn and exported is checked afresh,
+not copied from the solver.
 """
 
 from __future__ import annotations

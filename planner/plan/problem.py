@@ -24,16 +24,12 @@ from planner.site.validate import ValidationReport
 
 @dataclass(frozen=True, kw_only=True)
 class Problem:
-    """What a run plans, resolved once.
-
-    ``options``: as given, with the registration rule and scope filled in (``options.milp.overlap`` is
-    ``rule``, ``options.registration`` is the scope) and the adjustments made. ``sight``: the site and its sight
-    limits, which build every coverage matrix of the run. ``registration``: the scope, the rule the plan must meet
-    and the rule it is checked on, and the link reach (:class:`~planner.coverage.relation.Registration`), which
-    every stage that groups, relates or checks stations takes. ``strategy``: one model or tiles, with the reason.
-    ``surfaces``: the floors and ceilings planned besides the walls, with their patches and sight limits (None:
-    walls only). ``adjustments``: a line for each option ``resolve`` changed (see there).
-    """
+    """What a run plans, resolved once. ``options``: as given, with the registration rule and scope filled in
+    (``options.milp.overlap`` is ``rule``, ``options.registration`` the scope) and the adjustments made. ``sight``: the
+    site and its sight limits, which build every coverage matrix of the run. ``registration``: the scope, the rule the
+    plan must meet and the rule it is checked on, and the link reach, which every stage that groups, relates or checks
+    stations takes. ``strategy``: one model or tiles, with the reason. ``surfaces``: the floors and ceilings planned
+    besides the walls (None: walls only). ``adjustments``: a line per option ``resolve`` changed."""
 
     site: Site
     validation: ValidationReport
@@ -82,8 +78,7 @@ class Problem:
         return self.registration.line()
 
     def summary(self) -> str:
-        """The resolved choices, a line each: what every number of the run was computed under, and the options
-        ``resolve`` adjusted."""
+        """The resolved choices, a line each: what every number of the run was computed under, and the adjustments."""
         site = f"site {self.site.name}: {len(self.site.zones)} zone(s), instrument {self.validation.scanner.name}"
         lines = [site, self.limits_line(), self.registration_line(), self.strategy.line()]
         lines += [self.surfaces.line()] if self.surfaces is not None else []
@@ -104,21 +99,14 @@ class Problem:
 
 
 def resolve(site: Site, options: PlanOptions | None = None, *, validation: ValidationReport | None = None) -> Problem:
-    """Resolve a run once: validate ``site`` (unless its report is given), take its sight limits, its
-    registration (:meth:`planner.coverage.relation.Registration.of`: the one place a run's scope and rules are
-    decided) and the strategy (:func:`planner.plan.strategy.resolve_strategy`).
-
-    Some options are adjusted, each listed in :attr:`Problem.adjustments` (printed by the summary, written to
-    plan.json's ``resolved.adjustments``): pricing off with floors and ceilings (the patches are priced over no
-    region) and with point spacing or the field-time objective (the regions know no spacing), tripod discs and
-    recentring off with the latter (a disc keeps no setting), and the grid spacing the strategy chose filled in.
-
-    Raises
-    ------
-    ClosureError, InputError
-        From the validation of the site.
-    UsageError
-        When ``validation`` is another site's report, or the options ask for what the site cannot give.
+    """Resolve a run once: validate ``site`` (unless its report is given), take its sight limits, its registration
+    (:meth:`planner.coverage.relation.Registration.of`: the one place a run's scope and rules are decided) and the
+    strategy (:func:`planner.plan.strategy.resolve_strategy`). Some options are adjusted, each listed in
+    :attr:`Problem.adjustments` (printed by the summary, written to plan.json's ``resolved.adjustments``): pricing off
+    with floors and ceilings (the patches are priced over no region) and with point spacing or the field-time objective
+    (the regions know no spacing), tripod discs and recentring off with the latter (a disc keeps no setting), and the
+    grid spacing the strategy chose filled in. Raises ClosureError or InputError from the validation of the site,
+    UsageError where ``validation`` is another site's report or the options ask for what the site cannot give.
     """
     argument(site, Site, "site")
     argument(options, (PlanOptions, type(None)), "options")
@@ -175,8 +163,7 @@ def _adjusted(options: PlanOptions, surfaces: bool) -> tuple[PlanOptions, list[s
 
 def recorded_problem(site: Site, meta: dict[str, Any]) -> Problem:
     """The problem a plan.json was made under, resolved again to check its stations: ``site`` (read with the
-    parameters the plan recorded) under the plan's sight modes and its registration
-    (:func:`with_recorded_registration`)."""
+    parameters the plan recorded) under the plan's sight modes and registration (:func:`with_recorded_registration`)."""
     p = meta.get("parameters") or {}
     combined = (p.get("milp") or {}).get("precision") == "combined" or p.get("precision_mode") == "combined"
     options = PlanOptions.checking(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -59,10 +60,7 @@ class Plan:
         return all(n <= 1 for n in self.registration.values())
 
     def count_by_side(self) -> dict[str, int]:
-        out: dict[str, int] = {}
-        for s in self.stations:
-            out[s.side.value] = out.get(s.side.value, 0) + 1
-        return out
+        return dict(Counter(s.side.value for s in self.stations))
 
     def _repr_html_(self) -> str:
         from planner.core.text import summary_html
@@ -113,9 +111,7 @@ class Plan:
 
     def _by_zone(self) -> list[tuple[str, str, int]]:
         """(zone, side, stations) per zone-side with stations, in the site's order."""
-        counts: dict[tuple[str, str], int] = {}
-        for s in self.stations:
-            counts[(s.zone, s.side.value)] = counts.get((s.zone, s.side.value), 0) + 1
+        counts = Counter((s.zone, s.side.value) for s in self.stations)
         return [(z, s, n) for (z, s), n in sorted(counts.items(), key=lambda kv: self._site_order(*kv[0]))]
 
     def _presolve_line(self) -> str:

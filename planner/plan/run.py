@@ -19,17 +19,16 @@ from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.targets import Targets
 from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
-from planner.plan.closed_form import closed_form_limits
 from planner.plan.hours import Hours
 from planner.plan.hours.columns import spacing_coverage, spacing_refusal
 from planner.plan.hours.field_time import field_properties, hours_method
 from planner.plan.hours.verify import verify_spacing
-from planner.plan.methods import REGISTRY, MethodInput, MethodOutput
+from planner.plan.methods import REGISTRY, MethodInput, MethodOutput, closed_form_limits
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
-from planner.plan.registration import placed_stations
 from planner.plan.result import Plan
 from planner.plan.surfaces import SurfaceCover, floor_candidates, surface_cover, surface_discs
+from planner.plan.tripod import placed_stations
 from planner.plan.verify import verify_stations
 from planner.plan.verify_surfaces import verify_surfaces
 from planner.site.candidate import Candidate
@@ -68,19 +67,12 @@ def build_problem(
     spaces: dict[str, FrameSpace] | None = None,
     region_cache: dict[int, Any] | None = None,
 ) -> CoverageProblem:
-    """Candidates, targets and coverage of a resolved problem (or of a site with ``options``, resolved here);
-    refuses a problem with a target no position sees.
+    """Candidates, targets and coverage of a resolved problem (or of a site with ``options``, resolved here).
 
-    ``spaces`` and ``region_cache``, when given, keep the frame spaces and coverage regions drawn for the
-    region candidates (keyed by piece index of the problem's targets), for pricing to reuse.
-
-    Raises
-    ------
-    InfeasibleError
-        Listing (up to five) targets by id and position, each with why no position sees it, before any
-        solver runs.
-    InputError
-        When the estimated memory of the work exceeds ``options.memory_limit_bytes`` (exit 3).
+    ``spaces`` and ``region_cache``, when given, keep the frame spaces and coverage regions drawn for the region
+    candidates (keyed by piece index of the problem's targets), for pricing to reuse. Raises InfeasibleError,
+    before any solver runs, where a target is seen from no position (:func:`unseen_error`), and InputError (exit
+    3) where the estimated memory of the work exceeds ``options.memory_limit_bytes``.
     """
     resolved = as_problem(site, options, validation)
     problem, unseen, reasons = coverage_problem(resolved, spaces=spaces, region_cache=region_cache)
@@ -109,8 +101,8 @@ def coverage_problem(
     spaces: dict[str, FrameSpace] | None = None,
     region_cache: dict[int, Any] | None = None,
 ) -> tuple[CoverageProblem, np.ndarray, dict[int, str]]:
-    """:func:`build_problem` without the refusal: the coverage problem, the pieces no candidate sees (after
-    every unseen piece got a candidate from its own region) and, per such piece, why its region is empty."""
+    """:func:`build_problem` without the refusal: the coverage problem, the pieces no candidate sees (after every
+    unseen piece got a candidate from its own region) and, per such piece, why its region is empty."""
     argument(problem, Problem, "problem")
     site, options, limits = problem.site, problem.options, problem.limits
     from planner.plan.memory_guard import check_memory  # refuse what will not fit, before building
@@ -140,10 +132,10 @@ def site_candidates(
     spaces: dict[str, FrameSpace] | None = None,
     region_cache: dict[int, Any] | None = None,
 ) -> list[Candidate]:
-    """The candidate pool of a site (the one home of it: the single model and the tiles both take it): the
-    closed form, field samples and grid of :func:`planner.candidates.pool.candidate_pool`; with regions, one
-    station per zone-side where one sees all of it; a candidate per maximal cell of the regions along every
-    room's medial axis and the rings round outside zones; duplicates removed."""
+    """The candidate pool of a site (the one home of it: the single model and the tiles both take it): the closed
+    form, field samples and grid of :func:`planner.candidates.pool.candidate_pool`; with regions, one station per
+    zone-side where one sees all of it; a candidate per maximal cell of the regions along every room's medial axis
+    and the rings round outside zones; duplicates removed."""
     site, options, limits = problem.site, problem.options, problem.limits
     pool = candidate_pool(site, closed_form_limits(problem.validation), options.pool)
     exact = options.regions and regions_apply(limits)
@@ -160,18 +152,12 @@ def site_candidates(
 def plan_single(
     problem: Problem, props: FieldProperties | None = None, coverage: CoverageProblem | None = None
 ) -> Plan:
-    """Plan the stations of a resolved problem as one model, with its method
-    (:data:`planner.plan.methods.REGISTRY`), check registration, and verify the plan. The public entry,
-    which also chooses tiles for a large site, is :func:`planner.engine.plan_site`. ``props``: the scan settings
-    a run with point spacing or the field-time objective chooses from (None: the instrument's table).
-    ``coverage``: the problem's coverage where the caller built it already (:func:`build_problem` of this
-    problem, or of one that differs in its objective only: the trade-off's plans share one); None: built here.
-
-    Raises
-    ------
-    InfeasibleError
-        When some wall piece is seen by no candidate of the pool (listed by id and position).
-    """
+    """Plan the stations of a resolved problem as one model, with its method (:data:`planner.plan.methods.REGISTRY`),
+    check registration, and verify the plan. The public entry, which also chooses tiles for a large site, is
+    :func:`planner.engine.plan_site`. ``props``: the scan settings a run with point spacing or the field-time objective
+    chooses from (None: the instrument's table). ``coverage``: the problem's coverage where the caller built it already
+    (:func:`build_problem` of this problem, or of one that differs in its objective only: the trade-off's plans share
+    one); None: built here (InfeasibleError where some wall piece is seen by no candidate)."""
     argument(problem, Problem, "problem")
     run, cover, log = _method_input(problem, coverage)
     props = _settings(problem, run.problem, props)
@@ -242,12 +228,12 @@ def _checked_plan(
     if problem.checked_rule.overlap == 0:
         registration, log = {}, [*log, "registration: not required (overlap 0)"]
     stations, tripods = placed_stations(site, coverage, result.selected, options, partners)
-    if cover is not None and problem.surfaces is not None and tripods:  # discs that keep the floors too
-        tripods, shrunk = surface_discs(site, problem.surfaces, cover, result.selected, stations, tripods)
-        log.append(f"tripod discs: {shrunk} of {len(tripods)} shrunk to keep their floor and ceiling patches")
     verification = verify_stations(problem.sight, stations, options.verify_spacing_m)
     surfaces = None
     if cover is not None and problem.surfaces is not None:
+        if tripods:  # discs that keep the floors too
+            tripods, shrunk = surface_discs(site, problem.surfaces, cover, result.selected, stations, tripods)
+            log.append(f"tripod discs: {shrunk} of {len(tripods)} shrunk to keep their floor and ceiling patches")
         t0 = time.perf_counter()
         surfaces = verify_surfaces(site, problem.surfaces, cover, stations, options.verify_spacing_m)
         log.append(f"surfaces verified in {time.perf_counter() - t0:.2f} s")

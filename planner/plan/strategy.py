@@ -5,32 +5,29 @@ A site is planned by tiles when it is too large for one model and spans several 
 - the MILP method (the greedy and the closed form have no tiles);
 - every zone in one frame (tiles are squares of one frame);
 - at least :data:`MIN_PIECES` wall pieces in the work estimate (:func:`planner.plan.memory_guard.estimate_work`,
-  from the geometry alone): the bundled buildings and monuments have at most 3,000 (polygons A and C), the
-  16-ha plant 7,688, where the single connected model ends its time far above its bound while the tiles
+  from the geometry alone): there the single connected model ends its time far above its bound while the tiles
   close most of that gap (docs/studies/plant.md);
 - at least :data:`MIN_TILES` tiles of side ``tile_m`` = max(:data:`TILE_M`, 1.5 S_max) over the zones' extent.
 
 The tiled plan keeps the registration mode the single model would use (``--registration``, else the site's
 default), so the choice changes how the plan is searched for, not what it must satisfy.
 
-The time ``budget_s`` (``planner plan --set tile-budget=S``, default 420 s) is split by the tile count: each tile's MILP gets ``TILE_SHARE`` of it, spread over the
-tiles that run side by side, and the Lagrangian bound ``LAGRANGE_SHARE``;
-the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per
-tile; off by default, :data:`WINDOW_PASSES`); the whole-site plain cover (CFT: its own iteration counts) and the local search (``MOVES_PER_PIECE`` moves
-per wall piece) take what is left; all of them count work, not seconds, so the plan is the same under any load.
-A plan with a registration rule (a connected one) runs no CFT cover: its joined cover never was the best start
-(16-ha plant: 129 stations against the connected greedy's 115; 64 ha: 457 against 427) and took 173 s of 489
-(16 ha); the local search gets that time instead, ``CONNECTED_MOVES_PER_PIECE`` moves per piece.
-Where no grid is given (``--grid-spacing``), a tiled site of at most :data:`FINE_GRID_PIECES` pieces gets a
-candidate grid of :data:`FINE_GRID_M` (``Strategy.grid_spacing_m``; :func:`planner.plan.problem.resolve` builds
-the pool with it): on the 16-ha plant the search from the connected greedy found 99 stations in 115,320 moves on
-the 10-m grid's pool (12,476 candidates, cover LP 67.45), 97 on a 5-m grid's (19,523, LP 65.60) and 96 on the
-4-m grid's (24,775; 97 at move 34,756, 96 at move 101,859) (docs/large-sites.md); a larger site keeps the 10-m
-grid (64 ha: 63,540 candidates and 4.1 GiB on it already). Workers: half the
-machine's cores, at most one per tile; none (in this process) on a machine of two cores or fewer, where a second
-process adds contention, not speed (docs/studies/workers.md). Half, not all: with a worker on every
-core the client, the scheduler and the workers compete for the same cores, and the tile phase gains little over
-half the cores while spending much more CPU (docs/studies/workers.md).
+The time ``budget_s`` (``planner plan --set tile-budget=S``) is split by the tile count: each tile's MILP gets
+``TILE_SHARE`` of it, spread over the tiles that run side by side, and the Lagrangian bound ``LAGRANGE_SHARE``;
+the window re-solves ``WINDOW_SHARE``, spread over the stations expected (about ``STATIONS_PER_TILE`` per tile;
+off by default, :data:`WINDOW_PASSES`); the whole-site plain cover (CFT: its own iteration counts) and the local
+search (``MOVES_PER_PIECE`` moves per wall piece) take what is left; all of them count work, not seconds, so the
+plan is the same under any load. A plan with a registration rule runs no CFT cover: its joined cover is not the
+best start and costs much of the time; the local search gets that time instead, ``CONNECTED_MOVES_PER_PIECE``
+moves per piece. Where no grid is given (``--grid-spacing``), a tiled site of at most :data:`FINE_GRID_PIECES`
+pieces gets a candidate grid of :data:`FINE_GRID_M` (``Strategy.grid_spacing_m``;
+:func:`planner.plan.problem.resolve` builds the pool with it), on which the search finds smaller plans
+(docs/large-sites.md); a larger site keeps the 10-m grid, whose pool is large already.
+
+Workers: half the machine's cores, at most one per tile; none (in this process) on a machine of two cores or
+fewer, where a second process adds contention, not speed. Half, not all: with a worker on every core the client,
+the scheduler and the workers compete for the same cores, and the tile phase gains little while spending much
+more CPU (docs/studies/workers.md).
 """
 
 from __future__ import annotations
@@ -58,16 +55,13 @@ if TYPE_CHECKING:
 BUDGET_S: float = DEFAULTS["strategy.budget_s"]
 #: the local search's moves per wall piece of the site, unless a count is given
 MOVES_PER_PIECE: float = DEFAULTS["tiling.moves_per_piece"]
-#: the same for a connected plan of the automatic strategy, which runs no CFT cover (module docstring): on the
-#: 16-ha plant 115,320 moves, where the search from the connected greedy's 115 stations finds 100 at move 69,745
-#: and 99 at move 79,877 (docs/large-sites.md)
+#: the same for a connected plan of the automatic strategy, which runs no CFT cover (module docstring)
 CONNECTED_MOVES_PER_PIECE = 15.0
 #: the candidate grid of a tiled site of at most FINE_GRID_PIECES wall pieces where none is given, m (module docstring)
 FINE_GRID_M = 4.0
-#: the most wall pieces (work estimate) a tiled site may have for the fine grid: the 600-s class of the 16-ha plant
+#: the most wall pieces (work estimate) a tiled site may have for the fine grid
 FINE_GRID_PIECES = 10_000
-#: the most memory the fine grid's coverage problem may need (the guard's estimate) where no limit is given: the
-#: 16-ha plant's is 0.87 GiB (measured peak 1.29 GiB)
+#: the most memory the fine grid's coverage problem may need (the guard's estimate) where no limit is given
 FINE_GRID_BYTES = 2 * 2**30
 #: the memory limit of each Dask worker unless set, bytes (1.5 GiB)
 WORKER_MEMORY: int = DEFAULTS["strategy.worker_memory"]
@@ -75,29 +69,24 @@ WORKER_MEMORY: int = DEFAULTS["strategy.worker_memory"]
 
 @dataclass(frozen=True, kw_only=True)
 class TileOptions:
-    """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin);
-    ``tile_time_limit_s``: MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover
-    MILP for the bound (0: none, the default: its bound was below the LP's on every plant, and CFT's cover, where
-    CFT runs, replaces its cover); ``cft``: the whole-site plain cover by CFT (:mod:`planner.solve.cft`, ``cft_iters``
-    heuristic iterations per round), the plan of a run with no registration rule and a start of the connected one
-    (the automatic strategy turns it off for a connected plan, module docstring);
-    ``tile_plans``: each tile's MILP, another start (off: the tiles give the coverage only, but for a plain cover
-    with no CFT cover, which starts from them; the automatic strategy turns them off: on the 16-ha plant's site-connected problem the stitched tile plans
-    gave 134 stations against the connected greedy's 115, and took 190 s of the tiles' 238);
-    ``local_search_moves``: move budget of the local search on the kept plan
-    (:func:`planner.solve.local_search.shrink`; 0: none; None, the default: ``moves_per_piece`` per wall piece,
-    so the budget follows the site's size; a count, not a time, so the plan does not depend on the load). ``deterministic`` (default; CP-SAT with one thread): both
-    limits are CP-SAT work in deterministic seconds, with no wall-clock cap but the user's ``--time-limit``
-    per tile, so the plan is the same under any load and on any number of Dask workers; otherwise they are
-    wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
+    """``tile_m``: core side; ``margin_m``: default the slant range S_max (the exact margin); ``tile_time_limit_s``:
+    MILP time per tile; ``bound_time_limit_s``: time of the whole-matrix cover MILP for the bound (0, the default: none;
+    its bound is below the LP's on the plants, and CFT's cover replaces its cover); ``cft``: the whole-site plain cover
+    by CFT (:mod:`planner.solve.cft`, ``cft_iters`` heuristic iterations per round), the plan of a run with no
+    registration rule and a start of the connected one; ``tile_plans``: each tile's MILP, another start (off: the tiles
+    give the coverage only, but for a plain cover with no CFT cover, which starts from them; the automatic strategy
+    turns both off for a connected plan, where they are not the best start); ``local_search_moves``: move budget of the
+    local search on the kept plan (:func:`planner.solve.local_search.shrink`; 0: none; None, the default:
+    ``moves_per_piece`` per wall piece, a count, not a time, so the plan does not depend on the load). ``deterministic``
+    (default; CP-SAT with one thread): both limits are CP-SAT work in deterministic seconds, with no wall-clock cap but
+    the user's ``--time-limit`` per tile, so the plan is the same under any load and on any number of Dask workers;
+    otherwise they are wall-clock seconds and a time-limited tile may stop at another incumbent under another load.
     ``lagrange``: also the Lagrangian bound over the tiles (:mod:`planner.bounds.lagrange`), its parts
-    ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and
-    ``lagrange_work_s`` CP-SAT deterministic seconds per part and step (default: on, single tiles, the
-    LP-dual split only, 10 s; its cost and gain on the plants: docs/studies/plant.md). ``windows``: the
-    window re-solves after the local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none).
-    ``search_seeds``: the local search runs once per seed ``0 .. search_seeds - 1`` from the same kept plan
-    (as Dask tasks when there is a client) and the smallest result is kept, the lowest seed on ties; the
-    same plan on any number of workers."""
+    ``lagrange_group`` x ``lagrange_group`` tiles, ``lagrange_iterations`` subgradient steps and ``lagrange_work_s``
+    CP-SAT deterministic seconds per part and step (docs/studies/plant.md). ``windows``: the window re-solves after the
+    local search (:class:`planner.solve.windows.WindowOptions`; ``passes=0``: none). ``search_seeds``: the local search
+    runs once per seed ``0 .. search_seeds - 1`` from the same kept plan (as Dask tasks when there is a client) and the
+    smallest result is kept, the lowest seed on ties."""
 
     tile_m: float = 100.0
     margin_m: float | None = None
@@ -190,9 +179,7 @@ TILE_M = 100.0
 #: shares of the budget: every tile's MILP together, the Lagrangian bound, the window re-solves (one window per
 #: station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
 TILE_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.15, 0.30
-#: window re-solves of the automatic strategy: none (on the 16-ha plant's site-connected plan of 99 stations one
-#: pass of 99 windows found nothing smaller in 373 s; the local search's moves do better there); ``--tiles M`` runs
-#: one pass
+#: window re-solves of the automatic strategy: none (the local search's moves do better); ``--tiles M`` runs one pass
 WINDOW_PASSES = 0
 #: stations per tile the window budget is spread over (the generated plants need about this many)
 STATIONS_PER_TILE = 6
@@ -255,13 +242,8 @@ def tile_count(site: Site, tile_m: float) -> int:
 
 def resolve_strategy(site: Site, options: PlanOptions, validation: ValidationReport) -> Strategy:
     """The strategy of a run: ``options.strategy`` as given (one model, or tiles of a given size), else the
-    automatic choice (:func:`strategy_for`).
-
-    Raises
-    ------
-    UsageError
-        When tiles are asked for with a method other than the MILP, or Dask workers for one model.
-    """
+    automatic choice (:func:`strategy_for`); UsageError for tiles with a method other than the MILP, or Dask
+    workers for one model."""
     o = options.strategy
     if o.tiling is not None:
         if options.method != "milp":
@@ -289,7 +271,7 @@ def strategy_for(
     pieces); ``workers``: the Dask workers asked for (``--workers``), else None for the machine's choice. The fine
     grid is kept only where its estimate fits the memory limit given (``--memory-limit``), else
     :data:`FINE_GRID_BYTES` (a constant, not the memory free now, so that the plan does not depend on the load):
-    otherwise the 10-m grid, which the guard then checks as before."""
+    otherwise the 10-m grid, which the guard then checks."""
     max_slant_range_m = validation.range_limit.max_slant_range_m
     pieces = estimate_work(site, options.target_spacing_m, options.pool.grid_m, max_slant_range_m).targets
     strategy = choose(site, options, max_slant_range_m, pieces, budget_s, workers=workers)

@@ -1,11 +1,10 @@
-"""Floors and ceilings as targets of a plan: what :func:`planner.plan.problem.resolve` records when
-the surfaces go beyond walls, and the stations x patches columns the methods cover besides the wall pieces.
+"""Floors and ceilings as targets of a plan: what :func:`planner.plan.problem.resolve` records when the surfaces go
+beyond walls, and the stations x patches columns the methods cover besides the wall pieces.
 
-The wall machinery stays as it is: the wall coverage (:class:`~planner.coverage.matrix.CoverageProblem`), the
-registration relation and the precision rule read walls only. The patches of
-:func:`planner.coverage.surfaces.make_surface_targets` (made once per run, at the target spacing) are seen by
-the rules of :mod:`planner.coverage.surface_sight`; a patch no candidate sees is reported and left out of the
-cover, as a wall piece the walls leave out is.
+The wall coverage (:class:`~planner.coverage.matrix.CoverageProblem`), the registration relation and the precision
+rule read walls only. The patches of :func:`planner.coverage.surfaces.make_surface_targets` (made once per run, at
+the target spacing) are seen by the rules of :mod:`planner.coverage.surface_sight`; a patch no candidate sees is
+reported and left out of the cover.
 """
 
 from __future__ import annotations
@@ -24,6 +23,7 @@ from planner.core.errors import UsageError
 from planner.coverage.plan_sight import EPS_PLAN_M
 from planner.coverage.surface_sight import SurfaceLimits, surface_limits, surface_sight
 from planner.coverage.surfaces import KIND_NAME, SurfaceTargets, make_surface_targets, open_area
+from planner.plan.tripod import MIN_RADIUS_M, RIM_POINTS
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
 
@@ -66,17 +66,10 @@ class SurfaceSetup:
 def surface_setup(
     site: Site, validation: ValidationReport, options: PlanOptions, limits: SightLimits
 ) -> SurfaceSetup | None:
-    """The surfaces of a run beyond walls (None: walls only).
-
-    The instrument height is the site's (``--instrument-height``, ``instrument_height_m``) where it is > 0,
-    else the scanner model's ``instrument_height_3d_m``.
-
-    Raises
-    ------
-    UsageError
-        No instrument height known (naming ``--instrument-height``), or the closed-form method, or combined
-        precision, which plan walls only.
-    """
+    """The surfaces of a run beyond walls (None: walls only). The instrument height is the site's
+    (``--instrument-height``, ``instrument_height_m``) where it is > 0, else the scanner model's
+    ``instrument_height_3d_m``; UsageError where none is known, and with the closed form, recentring or combined
+    precision, which plan walls only."""
     if not options.beyond_walls:
         return None
     if options.method == "closed-form":
@@ -111,11 +104,9 @@ def surface_setup(
 
 
 def standing_zones(site: Site, candidates: tuple[Candidate, ...] | list[Candidate]) -> NDArray[np.int64]:
-    """For each candidate, the index of the inside zone of its frame on whose floor it stands (-1: none).
-
-    A candidate planned for a zone's outside sees no floor (-1); one inside stands in the first zone of its
-    frame scanned from inside whose floor (outline less its blocks) holds it, edge included.
-    """
+    """For each candidate, the index of the inside zone of its frame on whose floor it stands (-1: none): the first
+    zone of its frame scanned from inside whose floor (outline less its blocks) holds it, edge included; a candidate
+    planned for a zone's outside sees no floor."""
     out = np.full(len(candidates), -1, dtype=np.int64)
     if not candidates:
         return out
@@ -136,7 +127,7 @@ def standing_zones(site: Site, candidates: tuple[Candidate, ...] | list[Candidat
 
 def floor_spacing(setup: SurfaceSetup) -> float:
     """The spacing of the floor candidates: half the width of the ring a station sees the floor in (from the blind
-    disc's radius to the incidence reach), at least 0.5 m; e.g. (3.71 - 1.05) / 2 = 1.33 m for the P30 at 1.5 m."""
+    disc's radius to the incidence reach), at least 0.5 m."""
     lim = setup.limits
     ih = lim.instrument_height_m
     reach = ih * math.tan(math.radians(min(lim.theta_for(0), 89.0)))
@@ -147,8 +138,8 @@ def floor_spacing(setup: SurfaceSetup) -> float:
 
 def floor_candidates(site: Site, setup: SurfaceSetup, standoff_m: float) -> list[Candidate]:
     """Candidates on a square grid over each inside zone's floor (:func:`floor_spacing`, axes from the zone's first
-    wall, so that moving the site moves the grid), at least ``standoff_m`` from its walls and blocks, so that
-    every patch has stations near enough to see it (the wall pool's grid is coarser than a floor's reach)."""
+    wall, so that moving the site moves the grid), at least ``standoff_m`` from its walls and blocks, so that every
+    patch has stations near enough to see it (the wall pool's grid is coarser than a floor's reach)."""
     spacing = floor_spacing(setup)
     out: list[Candidate] = []
     for zi, zone in enumerate(site.zones):
@@ -238,12 +229,6 @@ def surface_cover(
     return SurfaceCover(full[:, seen].tocsr(), seen.astype(np.int64), unseen.astype(np.int64))
 
 
-#: directions round a tripod disc's rim at which its surface patches are checked again
-RIM_POINTS = 16
-#: a tripod disc smaller than this is none (:data:`planner.plan.tripod.MIN_RADIUS_M`)
-MIN_DISC_M = 0.05
-
-
 def _margins(site: Site, setup: SurfaceSetup, xy: NDArray, zone: NDArray, pid: NDArray) -> NDArray[np.float64]:
     """How far each station (``xy``, standing in ``zone``) may move and still see all of patch ``pid``, by range,
     incidence and the blind cone: the reach less the farthest corner, and the nearest point less the blind radius."""
@@ -271,7 +256,8 @@ def surface_discs(
     seen patch answers to the chosen station that sees it with the largest margin), and how many were shrunk.
 
     The radius is the smallest margin (:func:`_margins`) of the station's patches, checked with the full sight
-    test at :data:`RIM_POINTS` points of the rim and halved (three times at most, then 0) until none is lost.
+    test at :data:`~planner.plan.tripod.RIM_POINTS` points of the rim and halved (three times at most, then 0)
+    until none is lost; below :data:`~planner.plan.tripod.MIN_RADIUS_M` it is 0.
     """
     if not discs or cover.matrix.shape[1] == 0:
         return discs, 0
@@ -290,14 +276,14 @@ def surface_discs(
         r = min(discs[k].radius_m, float(margin[mine].min()))
         need = pid[mine]
         for _ in range(4):
-            if r < MIN_DISC_M:
+            if r < MIN_RADIUS_M:
                 break
             rim = xy[k] + r * ring
             seen = surface_sight(site, setup.patches, rim, np.full(RIM_POINTS, zone[k]), setup.limits)
             if seen[:, need].toarray().all():
                 break
             r /= 2
-        r = r if r >= MIN_DISC_M else 0.0
+        r = r if r >= MIN_RADIUS_M else 0.0
         if r < discs[k].radius_m:
             out[k], shrunk = replace(discs[k], radius_m=r), shrunk + 1
     return tuple(out), shrunk

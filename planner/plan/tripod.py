@@ -1,28 +1,26 @@
-"""How far each chosen station may move: the largest tripod disc that keeps what the plan relies on it for.
+"""Where a plan's stations stand (:func:`placed_stations`) and how far each may move: the largest tripod disc that
+keeps what the plan relies on it for (their registration is checked by
+:meth:`planner.coverage.relation.Registration.check`).
 
-For station j the plan relies on j for the targets it answers for (each
-covered target answers to its nearest chosen station) and for the targets it
-shares with its registration partners (the overlap links), so that every
+For station j the plan relies on j for the targets it answers for (each covered target answers to its nearest
+chosen station) and for the targets it shares with its registration partners (the overlap links), so that every
 station may move within its disc at the same time. For every end point e of such a piece (top heights h_e) and
 every point q of the disc {p + u : |u| <= r}:
 
 - range:     |q - e| <= R_e = sqrt(S_max^2 - (h_e - IH)^2)          (and to the foot)
 - incidence: |q - e| cos(theta_max) <= (q - e) . n                  (horizontal incidence)
 
-Their worst cases over the disc, |p - e| + r <= R_e and
-(|p - e| + r) cos(theta_max) + r <= (p - e) . n. By default the disc is centred on
-the planned station p0, so every disc contains its station and r has a closed form:
-r = min_e min(R_e - |p0 - e|, ((p0 - e) . n - |p0 - e| cos theta_max) / (1 + cos theta_max)).
-With ``recentre`` the centre p is free (the station then moves to it): the constraints
-are second-order cone constraints in (p, r) and cvxpy (Clarabel) maximises r.
-Sight lines, the stand-off and the incidence-dependent view error are not in that
-model: the disc is then checked on its centre and 16 points of its rim with the full
-coverage test on the relied pieces only, and shrunk about the planned station (so it
-keeps containing it) until nothing is lost; below ``MIN_RADIUS_M`` the radius is 0.
+Their worst cases over the disc, |p - e| + r <= R_e and (|p - e| + r) cos(theta_max) + r <= (p - e) . n. By default
+the disc is centred on the planned station p0, so every disc contains its station and r has a closed form:
+r = min_e min(R_e - |p0 - e|, ((p0 - e) . n - |p0 - e| cos theta_max) / (1 + cos theta_max)). With ``recentre``
+the centre p is free (the station then moves to it): the constraints are second-order cone constraints in (p, r)
+and cvxpy (Clarabel) maximises r. Sight lines, the stand-off and the incidence-dependent view error are not in
+that model: the disc is then checked on its centre and ``RIM_POINTS`` points of its rim with the full coverage
+test on the relied pieces only, and shrunk about the planned station (so it keeps containing it) until nothing is
+lost; below ``MIN_RADIUS_M`` the radius is 0.
 
-Each disc also carries the station's instrument-height tolerance (3.32): the radius of
-the tolerance circle when the tripod stands between IH and IH + span, for the tallest
-relied wall top h at the slant range limit SD.
+Each disc also carries the station's instrument-height tolerance (3.32): the radius of the tolerance circle when
+the tripod stands between IH and IH + span, for the tallest relied wall top h at the slant range limit SD.
 """
 
 from __future__ import annotations
@@ -31,6 +29,7 @@ import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -39,6 +38,9 @@ from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.site.candidate import Candidate
 from planner.site.model import Site
+
+if TYPE_CHECKING:
+    from planner.plan.options import PlanOptions
 
 RIM_POINTS = 16
 MAX_RADIUS_M = 25.0
@@ -63,9 +65,8 @@ def relied_targets(
 ) -> dict[int, np.ndarray]:
     """Per chosen candidate: the targets it answers for, plus those it shares with its registration partners.
 
-    Every covered target answers to one chosen station, the nearest (smallest
-    slant range) of those that see it, so that all stations may move at once:
-    each keeps its own targets, and the shared ones keep the overlap links.
+    Every covered target answers to one chosen station, the nearest (smallest slant range) of those that see it,
+    so that all stations may move at once: each keeps its own targets, and the shared ones keep the overlap links.
     """
     sel = list(selected)
     slant = problem.slant_m[sel].tocsc()
@@ -103,8 +104,7 @@ def _centred_radius(
 def _socp_disc(
     p0: np.ndarray, ends: np.ndarray, normals: np.ndarray, reach: np.ndarray, theta_max_deg: float
 ) -> tuple[np.ndarray, float]:
-    # on import, cvxpy 1.8 logs that it does not know ortools 9.15 (for its GLOP/PDLP interfaces,
-    # unused here); its logger is quiet while it loads
+    # on import, cvxpy logs that it does not know the installed ortools (its GLOP/PDLP interfaces, unused here)
     logger = logging.getLogger("__cvxpy__")
     was = logger.disabled
     logger.disabled = True
@@ -118,8 +118,8 @@ def _socp_disc(
     p, r = cp.Variable(2), cp.Variable()
     c = math.cos(math.radians(theta_max_deg))
     dist = cp.norm(cp.reshape(p, (1, 2), order="C") - ends, axis=1)
-    # (p - e) . n per end, as an affine map of p; not cp.sum(..., axis=1), whose shape check sums an
-    # uninitialised np.empty array (numpy then warns, now and then, of an invalid value in reduce)
+    # (p - e) . n per end, as an affine map of p; not cp.sum(..., axis=1), whose shape check sums an uninitialised
+    # np.empty array (numpy then warns of an invalid value in reduce)
     along = normals @ p - np.einsum("ij,ij->i", ends, normals)
     cons = [r >= 0, r <= MAX_RADIUS_M, dist + r <= reach, c * (dist + r) + r <= along]
     prob = cp.Problem(cp.Maximize(r), cons)
@@ -140,9 +140,8 @@ def tripod_discs(
     partners: dict[int, list[int]] | None = None,
     recentre: bool = False,
 ) -> list[TripodDisc]:
-    """The largest safe disc of every chosen station (see the module docstring): centred on the station,
-    or, with ``recentre``, anywhere (the station then moves to its centre; the disc need not hold the
-    planned position)."""
+    """The largest safe disc of every chosen station (module docstring): centred on the station, or, with
+    ``recentre``, anywhere (the station then moves to its centre; the disc need not hold the planned position)."""
     from planner.instrument.accuracy import instrument_height_tolerance_m
 
     t: Targets = problem.targets
@@ -163,7 +162,7 @@ def tripod_discs(
             centre, radius = _socp_disc(p0, ends, normals, reach, limits.theta_max_deg)
         else:
             centre, radius = p0, _centred_radius(p0, ends, normals, reach, limits.theta_max_deg)
-        centre, radius = _shrink_until_safe(site, cand, p0, centre, radius, _subset(t, ts), limits)
+        centre, radius = _shrink_until_safe(site, cand, p0, centre, radius, take_targets(t, ts), limits)
         tol = float("nan")
         if heights.size and limits.effective_range_m > abs(float(heights.max()) - ih) + span:
             tol = abs(instrument_height_tolerance_m(float(heights.max()), limits.effective_range_m, ih, ih + span))
@@ -171,17 +170,18 @@ def tripod_discs(
     return out
 
 
-def _subset(t: Targets, ts: np.ndarray) -> Targets:
-    """The pieces ``ts`` of ``t`` as a Targets of their own (the rim test builds coverage on these only)."""
+def take_targets(t: Targets, idx: np.ndarray) -> Targets:
+    """The pieces ``idx`` of ``t``, in that order, as a Targets of their own (same frames and zone ids; the arrays
+    read-only, as every Targets'): the rim test and a tile's coverage are built on these only."""
     arrays = ("zone", "side", "wall", "s0_m", "s1_m", "a", "b", "ha_m", "hb_m", "normal", "frame")
-    return replace(t, **{name: getattr(t, name)[ts] for name in arrays})
+    return replace(t, **{name: getattr(t, name)[idx] for name in arrays})
 
 
 def _shrink_until_safe(
     site: Site, cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float, t: Targets, limits: SightLimits
 ) -> tuple[np.ndarray, float]:
-    """Check the disc on its centre and rim; halve it about the planned station p0 until it is safe.
-    Returns (centre, radius), (p0, 0) when no disc of at least ``MIN_RADIUS_M`` is."""
+    """(centre, radius) of the disc checked on its centre and rim, halved about the planned station p0 until it
+    is safe; (p0, 0) when no disc of at least ``MIN_RADIUS_M`` is."""
     from planner.candidates.final_step import misplacement
 
     angles = np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False)
@@ -197,3 +197,21 @@ def _shrink_until_safe(
             return centre, radius
         centre, radius = p0 + (centre - p0) / 2.0, radius / 2.0
     return p0, 0.0
+
+
+def placed_stations(
+    site: Site,
+    problem: CoverageProblem,
+    selected: tuple[int, ...],
+    options: PlanOptions,
+    partners: dict[int, list[int]],
+) -> tuple[list[Candidate], tuple[TripodDisc, ...]]:
+    """The chosen stations and, with ``options.tripod`` or ``options.recentre``, their tripod discs (relied
+    pieces only, checked on centre and rim); ``recentre`` moves each station to its disc's centre."""
+    stations = [problem.candidates[i] for i in selected]
+    if not (options.tripod or options.recentre):
+        return stations, ()
+    tripods = tuple(tripod_discs(site, problem, selected, problem.limits, partners, options.recentre))
+    if options.recentre:
+        stations = [replace(s, x=d.centre[0], y=d.centre[1]) for s, d in zip(stations, tripods)]
+    return stations, tripods

@@ -1,18 +1,16 @@
 """Independent re-verification of any plan on a fine sampling of every wall.
 
-The planner covers wall *pieces* (``target_spacing_m``); verification instead
-samples *points* every ``spacing_m`` (0.1 m by default) along every scanned
-wall face and asks, point by point, whether some station sees it within the
-limits. It shares only the low-level sight test with planning, so a plan made
-elsewhere (or the published one) is checked the same way. In combined precision
-(``limits.precision.combined``) a point counts as covered only when the views that see
-it add up to sigma_req (:mod:`planner.solve.combined`).
+The planner covers wall *pieces* (``target_spacing_m``); verification instead samples *points* every ``spacing_m``
+(0.1 m by default) along every scanned wall face and asks, point by point, whether some station sees it within the
+limits. It shares only the low-level sight test with planning, so a plan made elsewhere (or the published one) is
+checked the same way. In combined precision (``limits.precision.combined``) a point counts as covered only when
+the views that see it add up to sigma_req (:mod:`planner.solve.combined`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -71,13 +69,8 @@ class VerifyReport:
             "percent": self.percent,
             "complete": self.complete,
             "precision": self.precision,
-            "zones": [
-                {"zone": z.zone, "side": z.side, "points": z.points, "covered": z.covered, "percent": z.percent}
-                for z in self.zones
-            ],
-            "gaps": [
-                {"zone": g.zone, "side": g.side, "wall": g.wall, "from_m": g.from_m, "to_m": g.to_m} for g in self.gaps
-            ],
+            "zones": [{**asdict(z), "percent": z.percent} for z in self.zones],
+            "gaps": [asdict(g) for g in self.gaps],
             "misplaced": [{"station": s, "reason": r} for s, r in self.misplaced],
         }
 
@@ -143,15 +136,5 @@ def verify_stations(sight: Sight, stations: Sequence[Candidate], spacing_m: floa
 
 def _runs(zone: str, side: str, wall: int, s: np.ndarray, miss: np.ndarray) -> list[Gap]:
     """Merge consecutive uncovered sample points into stretches."""
-    out = []
-    k = 0
-    while k < len(s):
-        if miss[k]:
-            j = k
-            while j + 1 < len(s) and miss[j + 1]:
-                j += 1
-            out.append(Gap(zone, side, wall, float(s[k]), float(s[j])))
-            k = j + 1
-        else:
-            k += 1
-    return out
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], miss.astype(np.int8), [0]])))
+    return [Gap(zone, side, wall, float(s[a]), float(s[b - 1])) for a, b in zip(edges[::2], edges[1::2])]

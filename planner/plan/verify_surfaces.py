@@ -1,18 +1,18 @@
 """Verification of floors and ceilings, point by point, independent of :mod:`planner.coverage.surface_sight`.
 
-Each floor and ceiling of each zone is sampled on a grid (cell centres every ``spacing_m``, the verify
-spacing; coarsened where a surface would pass :data:`MAX_POINTS` points, and the report says so). A point
-counts as covered when some planned station sees it:
+Each floor and ceiling of each zone is sampled on a grid (cell centres every ``spacing_m``, the verify spacing;
+coarsened where a surface would pass :data:`MAX_POINTS` points, and the report says so). A point counts as covered
+when some planned station sees it:
 
 - the station stands on the same zone's floor (scanned from inside, outside every block);
 - the slant range from the instrument (the floor level plus the instrument height) to the point is <= S_max;
-- the incidence, the angle between the ray and the surface's normal, atan(d / |dz|) for horizontal distance
-  d and height difference dz, is <= the surface's limit (``theta_max_floor_deg``, else theta_max), with the
-  floor below the instrument and the ceiling above it;
-- the ray is outside the blind cone: its angle from the nadir (floors) or the zenith (ceilings) is >= the
-  model's half angle;
-- in plan, the segment from the station to the point keeps inside the zone's outline and out of its blocks
-  (every block for a floor, those above the instrument for a ceiling), shapely ``covered_by`` vectorised.
+- the incidence, the angle between the ray and the surface's normal, atan(d / |dz|) for horizontal distance d and
+  height difference dz, is <= the surface's limit (``theta_max_floor_deg``, else theta_max), with the floor below
+  the instrument and the ceiling above it;
+- the ray is outside the blind cone: its angle from the nadir (floors) or the zenith (ceilings) is >= the model's
+  half angle;
+- in plan, the segment from the station to the point keeps inside the zone's outline and out of its blocks (every
+  block for a floor, those above the instrument for a ceiling), shapely ``covered_by`` vectorised.
 
 It shares with planning only the surfaces' areas (what is a target) and the limits' values.
 """
@@ -57,8 +57,8 @@ class SurfaceCoverage:
 
 @dataclass(frozen=True, kw_only=True)
 class SurfaceReport:
-    """The floors and ceilings of a plan: the kinds planned, the patches and their area, the patches no
-    candidate saw (left out of the cover), and the point-wise verification per zone and kind."""
+    """The floors and ceilings of a plan: the kinds planned, the patches and their area, the patches no candidate
+    saw (left out of the cover), and the point-wise verification per zone and kind."""
 
     kinds: tuple[str, ...]
     patches: int

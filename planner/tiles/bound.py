@@ -1,13 +1,11 @@
-"""The lower bound of a tiled plan: several bounds of the plain cover over the pool, the largest kept, and
-which one decided.
-
-Every connected plan is a cover, so any lower bound of the plain set cover over the whole pool bounds the
+"""The lower bound of a tiled plan: several bounds of the plain cover over the pool, the largest kept, and which one
+decided. Every connected plan is a cover, so any lower bound of the plain set cover over the whole pool bounds the
 connected problem too (registration rule dropped). Computed on the whole matrix:
 
 - the LP relaxation (HiGHS interior point; rounded up, an integer count);
 - by disjoint sub-areas: where the pieces fall into groups no candidate sees two of (components of the
-  candidate-piece graph), the optima add up, and so do the rounded-up LPs of the groups, each at least its
-  share of the LP: a bound at least ceil(LP), larger where several groups round up;
+  candidate-piece graph), the optima add up, and so do the rounded-up LPs of the groups, each at least its share
+  of the LP: a bound at least ceil(LP), larger where several groups round up;
 - the Lagrangian decomposition over the tiles (:mod:`planner.bounds.lagrange`), optional;
 - CFT's Lagrangian bound (:mod:`planner.solve.cft`), where CFT made the whole-site cover;
 - the best bound of a time-limited cover MILP (CP-SAT), where one is asked for.
@@ -36,14 +34,12 @@ from planner.tiles.engine import run_tasks
 
 @dataclass(frozen=True, kw_only=True)
 class Bound:
-    """Lower bounds on the stations of any cover from the pool; ``value`` is the largest, rounded up.
-    ``lp``: the cover LP; ``areas``: the sum of the rounded-up LPs of the disjoint sub-areas and their count;
-    ``milp``: the cover MILP's bound (None: not run); ``cover``: the best cover the MILP found, a start for
-    stitching; ``lagrange``: the Lagrangian bound over the tiles; ``cft``: CFT's Lagrangian bound."""
+    """Lower bounds on the stations of any cover from the pool; ``value`` is the largest, rounded up. ``lp``: the
+    cover LP; ``areas``: the sum of the rounded-up LPs of the disjoint sub-areas and their count; ``milp``: the
+    cover MILP's bound (None: not run); ``cover``: the best cover the MILP found, a start for stitching."""
 
     lp: float
     milp: float | None
-    milp_status: Status | None
     areas: tuple[int, int] | None = None
     cover: tuple[int, ...] = ()
     wall_cap_hit: bool = False
@@ -85,9 +81,9 @@ def _up(x: float) -> int:
 
 
 def lp_bound(a: sp.csr_matrix) -> float:
-    """Optimum of min sum x, A^T x >= 1, 0 <= x <= 1 over the whole matrix (HiGHS interior point with
-    crossover). Rows implied by another row (a piece seen by every candidate that sees some other piece)
-    are dropped first: covering the other covers it, so the optimum is unchanged."""
+    """Optimum of min sum x, A^T x >= 1, 0 <= x <= 1 over the whole matrix (HiGHS interior point with crossover).
+    Rows implied by another row (a piece seen by every candidate that sees some other piece) are dropped first:
+    covering the other covers it, so the optimum is unchanged."""
     used = np.flatnonzero(np.diff(a.indptr) > 0)
     at = a[used].T.astype(np.float64).tocsr()
     at = at[~implied_targets(at.astype(bool).tocsr())]
@@ -98,8 +94,8 @@ def lp_bound(a: sp.csr_matrix) -> float:
 
 
 def sub_areas(a: sp.csr_matrix) -> list[np.ndarray]:
-    """The pieces in groups that no candidate sees two of (the components of the candidate-piece graph, over
-    the pieces some candidate sees), each group's piece indices sorted, groups in order of their first piece."""
+    """The pieces in groups that no candidate sees two of (the components of the candidate-piece graph, over the
+    pieces some candidate sees), each group's piece indices sorted, groups in order of their first piece."""
     a = sp.csr_matrix(a, dtype=bool)
     n_cand, n_targ = a.shape
     both = sp.bmat([[None, a], [a.T, None]]).tocsr()
@@ -128,13 +124,12 @@ def global_bound(
     cft: float | None = None,
 ) -> Bound:
     """The bounds of the module docstring over ``a``: the LP, the sub-areas, with ``time_limit_s`` > 0 the cover
-    MILP's bound, with ``parts`` (a partition of the pieces, e.g. the tiles' cores) the Lagrangian bound over
-    them (:func:`planner.bounds.lagrange.lagrangian_bound`, on CP-SAT work limits; on ``client`` if given), and
-    ``cft`` (CFT's bound, computed by the caller with its cover). ``work_limited``: the MILP's limit is CP-SAT
-    work (deterministic seconds) under a wall cap ``wall_cap`` times as long (None: none), so the bound and
-    the cover it returns do not depend on the load."""
+    MILP's bound, with ``parts`` (a partition of the pieces, e.g. the tiles' cores) the Lagrangian bound over them
+    (:func:`planner.bounds.lagrange.lagrangian_bound`, on CP-SAT work limits; on ``client`` if given), and ``cft``
+    (CFT's bound, computed by the caller with its cover). ``work_limited``: the MILP's limit is CP-SAT work
+    (deterministic seconds) under a wall cap ``wall_cap`` times as long (None: none), so the bound and the cover it
+    returns do not depend on the load."""
     milp: float | None = None
-    status: Status | None = None
     cover: tuple[int, ...] = ()
     capped = False
     if time_limit_s > 0:
@@ -143,7 +138,7 @@ def global_bound(
         wall = replace(opts, time_limit_s=time_limit_s, work_limit=None)  # the user chose wall-clock limits
         res = solve(inst, opts.with_work_limit(time_limit_s, wall_cap) if work_limited else wall)
         milp = res.objective if res.status is Status.OPTIMAL else res.bound
-        status, cover, capped = res.status, tuple(int(i) for i in res.selected), res.wall_cap_hit
+        cover, capped = tuple(int(i) for i in res.selected), res.wall_cap_hit
     lag = None
     if parts is not None:
         lag = lagrangian_bound(
@@ -162,7 +157,6 @@ def global_bound(
         lp=lp,
         areas=areas_bound(a, areas) if len(areas) > 1 else None,  # one area: the LP itself
         milp=milp,
-        milp_status=status,
         cover=cover,
         wall_cap_hit=capped,
         lagrange=lag,

@@ -1,18 +1,16 @@
 """Tiles of a large site: square cores that partition the targets, each with a margin of S_max.
 
-Every target (wall piece) belongs to the one tile whose core holds its zone's anchor (the centre of
-the zone's bounding box), so an object is never cut between tiles. A station that sees a piece
-stands within the horizontal reach of it, which is at most the slant range S_max, so the candidates
-within S_max of the bounding box of a tile's pieces (its margin) are all the candidates that can see
-any of them: the coverage columns of a tile, built from those candidates only, are exactly the site's
-columns of those pieces, and the tiles' columns together are the site's matrix.
+Every target (wall piece) belongs to the one tile whose core holds its zone's anchor (the centre of the zone's bounding
+box), so an object is never cut between tiles. A station that sees a piece stands within the horizontal reach of it,
+which is at most the slant range S_max, so the candidates within S_max of the bounding box of a tile's pieces (its
+margin) are all the candidates that can see any of them: the coverage columns of a tile, built from those candidates
+only, are exactly the site's columns of those pieces, and the tiles' columns together are the site's matrix.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -96,20 +94,3 @@ def tile_job(
     box = replace(tile, x0_m=float(x0), y0_m=float(y0), size_m=float(max(x1 - x0, y1 - y0, 1e-9)))
     # in_margin of a square: a box of unequal sides is widened to a square; still a superset (exact margin)
     return TileJob(tile, np.flatnonzero(box.in_margin(xy) & usable), ti)
-
-
-def midpoints(targets: Targets) -> NDArray[np.float64]:
-    return (np.asarray(targets.a) + np.asarray(targets.b)) / 2.0
-
-
-def take_targets(targets: Targets, idx: NDArray[np.int64]) -> Targets:
-    """The pieces ``idx`` of ``targets`` (same frames and zone ids), in that order."""
-
-    def ro(a: NDArray) -> NDArray:
-        out = np.ascontiguousarray(np.asarray(a)[idx])
-        out.flags.writeable = False
-        return out
-
-    names = ("zone", "side", "wall", "s0_m", "s1_m", "a", "b", "ha_m", "hb_m", "normal", "frame")
-    fields: dict[str, Any] = {n: ro(getattr(targets, n)) for n in names}
-    return replace(targets, **fields)

@@ -3,27 +3,20 @@
 
 What holds and why:
 
-- coverage: exact (see :mod:`planner.tiles.layout`): the tiles' columns are the site's matrix;
+- coverage: exact (:mod:`planner.tiles.layout`): the tiles' columns are the site's matrix;
 - each tile's plan is re-checked to cover its core pieces, so their union covers the site;
-- the whole-site plain cover: CFT (:mod:`planner.solve.cft`; ``TileOptions.cft``), its own iteration counts,
-  no clock;
-- registration: the stitched plan is checked on the site's overlap relation (shared wall over every
-  piece a station sees) in the groups of the problem's registration (one bundle per accessible area in ``site``
-  mode); with no registration rule (``--no-overlap``) the plan is the plain cover
-  and its local search (:func:`planner.tiles.search.plain_plan`), and registration is only reported;
-- bound: the largest of the bounds of :mod:`planner.tiles.bound` (the cover LP, the disjoint sub-areas, the
-  Lagrangian over the tiles, CFT's), over the pool, with the one that decides; the gap is
-  (stations - bound) / stations;
-- starts of a connected plan: the stitched tile plans (``TileOptions.tile_plans``), the CFT cover joined by the
-  fewest linking stations found (:func:`planner.tiles.search.joined_cover`; ``TileOptions.cft``: the automatic
-  strategy turns both off for a connected plan), the connected greedy; the best is kept (with none, Chvatal's
-  cover joined);
-- local search: the kept plan is shrunk by :func:`planner.solve.local_search.shrink` within
-  ``TileOptions.moves_for(pieces)`` moves (a count set by the site's size: the plan does not depend on the load);
-  each plan it returns is a connected cover, re-verified like any other, and ``info["local_search"]`` records it;
+- the whole-site plain cover: CFT (:mod:`planner.solve.cft`; ``TileOptions.cft``), its own iteration counts, no
+  clock;
+- registration: the stitched plan is checked on the site's overlap relation (shared wall over every piece a
+  station sees) in the groups of the problem's registration; with no registration rule (``--no-overlap``) the
+  plan is the plain cover and its local search (:func:`planner.tiles.search.plain_plan`), registration reported;
+- bound: the largest of the bounds of :mod:`planner.tiles.bound`, over the pool, with the one that decides; the
+  gap is (stations - bound) / stations;
+- starts of a connected plan and the local search after them: :func:`planner.tiles.search.best_plan` (its move
+  budget ``TileOptions.moves_for(pieces)``, a count set by the site's size, so the plan does not depend on the
+  load); each plan it returns is a connected cover, re-verified like any other (``info["local_search"]``);
 - windows: then the plan is re-solved exactly window by window (:mod:`planner.solve.windows`,
-  ``TileOptions.windows``; CP-SAT work per window, so again the same plan under any load), checked the
-  same way and recorded in ``info["windows"]``.
+  ``TileOptions.windows``; CP-SAT work per window), checked the same way and recorded in ``info["windows"]``.
 """
 
 from __future__ import annotations
@@ -58,26 +51,6 @@ from planner.tiles.stitch import Stitched, stitch
 from planner.tiles.tasks import TileResult, tile_task
 
 
-def _assemble(
-    n_cand: int, n_targ: int, results: list[TileResult]
-) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
-    """The site's matrices (by candidate; slant and incidence on the same pattern) from the tiles' pairs."""
-    rows = np.concatenate([r.rows for r in results])
-    cols = np.concatenate([r.cols for r in results])
-    shape = (n_cand, n_targ)
-
-    def mat(data: np.ndarray) -> sp.csr_matrix:
-        m = sp.csr_matrix((data, (rows, cols)), shape=shape)
-        m.sort_indices()
-        return m
-
-    return (
-        mat(np.ones(len(rows), dtype=bool)),
-        mat(np.concatenate([r.slant_m for r in results])),
-        mat(np.concatenate([r.incidence_deg for r in results])),
-    )
-
-
 def plan_by_tiles(
     site: Site | Problem,
     options: PlanOptions | None = None,
@@ -85,18 +58,13 @@ def plan_by_tiles(
     client: Any = None,
     extra: tuple[Candidate, ...] = (),
 ) -> Plan:
-    """Plan a resolved problem (or a site, :func:`planner.tiles.prepare.tiles_problem`) by tiles with the MILP
-    options of its options (module docstring); on ``client`` (a ``dask.distributed.Client``) when given, else
-    in this process. Same seed, same plan either way.
+    """Plan a resolved problem (or a site, :func:`planner.tiles.prepare.tiles_problem`) by tiles (module
+    docstring); on ``client`` (a ``dask.distributed.Client``) when given, else in this process, the same plan.
 
-    Raises
-    ------
-    UsageError
-        When the zones are not all in one frame (tiles are squares of one coordinate frame).
-    InfeasibleError
-        When some piece is seen from no position (its coverage region is empty). A piece that no candidate of
-        the pool sees gets one from its region (:func:`planner.candidates.complete.complete_candidates`), and
-        the tiles run once more with those candidates added (``extra``).
+    A piece that no candidate of the pool sees gets one from its region
+    (:func:`planner.candidates.complete.complete_candidates`), and the tiles run once more with those candidates
+    added (``extra``); InfeasibleError where its region is empty. UsageError where the zones are not all in one
+    frame (tiles are squares of one coordinate frame).
     """
     resolved = tiles_problem(site, options, tiling)
     site, options = resolved.site, resolved.options
@@ -143,15 +111,23 @@ class _Laps:
 
 
 def _site_coverage(prep: Prepared, results: list[TileResult]) -> CoverageProblem:
-    """The whole site's coverage problem assembled from the tiles' pairs."""
-    by_cand, slant, inc = _assemble(len(prep.pool), len(prep.targets), results)
+    """The whole site's coverage problem assembled from the tiles' pairs (slant and incidence on the same pattern)."""
+    rows = np.concatenate([r.rows for r in results])
+    cols = np.concatenate([r.cols for r in results])
+
+    def mat(data: np.ndarray) -> sp.csr_matrix:
+        m = sp.csr_matrix((data, (rows, cols)), shape=(len(prep.pool), len(prep.targets)))
+        m.sort_indices()
+        return m
+
+    by_cand = mat(np.ones(len(rows), dtype=bool))
     return CoverageProblem(
         candidates=prep.pool,
         targets=prep.targets,
         by_candidate=by_cand,
         by_target=by_cand.T.tocsr(),
-        slant_m=slant,
-        incidence_deg=inc,
+        slant_m=mat(np.concatenate([r.slant_m for r in results])),
+        incidence_deg=mat(np.concatenate([r.incidence_deg for r in results])),
         excluded={int(k): "stands nowhere" for k in np.flatnonzero(~prep.usable)},
         limits=prep.limits,
     )

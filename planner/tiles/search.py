@@ -11,13 +11,13 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from planner.solve.connectivity import components, connected_greedy, group_members
+from planner.solve.connectivity import connected_greedy
 from planner.solve.greedy import greedy_cover
 from planner.solve.local_search import Shrunk, unlinked
 from planner.solve.steiner import steiner_join
 from planner.solve.windows import WindowOptions, window_search
 from planner.tiles.engine import TaskRunner, run_tasks
-from planner.tiles.stitch import Stitched, prune, stitch
+from planner.tiles.stitch import Stitched, group_parts, prune, stitch
 from planner.tiles.tasks import shrink_task
 
 
@@ -35,19 +35,19 @@ def best_plan(
     """The best of the connected plans given or found (fewest registration parts, then fewest stations; ties keep
     the earlier): the stitched tile plans (where ``tiled``), the whole-site plain ``cover`` joined (where given:
     :func:`joined_cover`), and the connected greedy on the whole site
-    (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; where none of them is (no tile plans,
-    no cover, no connected choice), Chvatal's cover joined as far as the links go; ``tried`` records each. When the kept plan is one bundle per group and ``moves`` > 0, the local search
-    (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a proven bound; once per seed
-    ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on ties)
-    then looks for a smaller connected cover; the second value says what it did."""
+    (:func:`planner.solve.connectivity.connected_greedy`, 20 starts) pruned; where none of them is, Chvatal's
+    cover joined as far as the links go; ``tried`` records each. When the kept plan is one bundle per group and
+    ``moves`` > 0, the local search (:func:`planner.solve.local_search.shrink`, down to ``floor`` stations, a
+    proven bound; once per seed ``0 .. seeds - 1``, on ``client`` when given, the smallest kept, the lowest seed on
+    ties) then looks for a smaller connected cover; the second value says what it did."""
     plans = [tiled] if tiled is not None else []
     if cover:
         plans.append(joined_cover(a, adj, groups, cover))
     grown = connected_greedy(a, adj, groups, np.ones(a.shape[0]), np.ones(a.shape[1], dtype=bool), 20)
     if grown is not None:
         plans.append(replace(stitch(a, adj, groups, [grown]), source="connected greedy"))
-    if not plans:  # no connected choice and no other start (no CFT cover, no tile plans): Chvatal's cover, joined
-        plain = greedy_cover(a).selected  # (every piece some candidate sees), joined as far as the links go
+    if not plans:
+        plain = greedy_cover(a).selected
         plans.append(replace(joined_cover(a, adj, groups, tuple(plain)), source="greedy cover, joined"))
     best = min(plans, key=lambda p: (sum(p.parts.values()), len(p.selected)))
     best = replace(best, tried={p.source: len(p.selected) for p in plans})
@@ -60,13 +60,12 @@ def joined_cover(a: sp.csr_matrix, adj: sp.csr_matrix, groups: tuple[str, ...], 
     others see, dropped while their group stays connected)."""
     grown = steiner_join(adj, groups, cover) or list(cover)  # None: some group cannot be joined at all
     final = prune(a, adj, groups, grown)
-    parts = {g: len(components(adj, m)) for g, m in group_members(groups, final).items()}
     return Stitched(
         selected=tuple(final),
         union=len(cover),
         pruned=len(grown) - len(final),
         added=len(grown) - len(cover),
-        parts=parts,
+        parts=group_parts(adj, groups, final),
         source="whole-site cover, joined",
     )
 
@@ -118,9 +117,7 @@ def _search(
         seed=seed,
         per_seed=[len(r.selected) for r in runs],
     )
-    if not found.removed:
-        return kept, record
-    return _improved(kept, adj, groups, found.selected, "local search"), record
+    return (_improved(kept, adj, groups, found.selected, "local search") if found.removed else kept), record
 
 
 def window_resolves(
@@ -133,9 +130,9 @@ def window_resolves(
     floor: int,
     client: Any = None,
 ) -> tuple[Stitched, dict[str, Any]]:
-    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; with a
-    ``client`` and ``options.batch`` > 1 as Dask tasks, that many in flight (the same result as one at a
-    time; not faster on few cores, so not the default: docs/studies/plant.md)."""
+    """The window re-solves on ``kept`` (a connected plan only) and their record for plan.json; with a ``client``
+    and ``options.batch`` > 1 as Dask tasks, that many in flight (the same result as one at a time; not faster on
+    few cores, so not the default: docs/studies/plant.md)."""
     on_dask = client is not None and options.batch > 1
     batch = options.batch if on_dask else 1
     record: dict[str, Any] = {
@@ -159,21 +156,17 @@ def window_resolves(
         time_s=round(found.time_s, 3),
         history=[list(h) for h in found.history],
     )
-    if not found.removed:
-        return kept, record
-    return _improved(kept, adj, groups, found.selected, "windows"), record
+    return (_improved(kept, adj, groups, found.selected, "windows") if found.removed else kept), record
 
 
 def _improved(
     kept: Stitched, adj: sp.csr_matrix, groups: tuple[str, ...], selected: tuple[int, ...], step: str
 ) -> Stitched:
-    """``kept`` with the smaller plan ``selected`` that ``step`` found: its parts per group, its source and
-    ``tried`` entry."""
-    parts = {g: len(components(adj, m)) for g, m in group_members(groups, selected).items()}
+    """``kept`` with the smaller plan ``selected`` that ``step`` found, its parts, source and ``tried`` entry."""
     return replace(
         kept,
         selected=selected,
-        parts=parts,
+        parts=group_parts(adj, groups, selected),
         source=f"{kept.source} + {step}",
         tried={**(kept.tried or {}), step: len(selected)},
     )

@@ -1,18 +1,15 @@
-"""Stitching tile plans into one site plan, and the global lower bound.
+"""Stitching tile plans into one site plan.
 
-Stitching: the union of the tiles' plans covers every piece (each tile's plan covers its core).
-On the site's whole coverage matrix and overlap relation (shared wall over every piece a station
-sees, not only a tile's), stations are then
+The union of the tiles' plans covers every piece (each tile's plan covers its core). On the site's whole coverage
+matrix and overlap relation (shared wall over every piece a station sees, not only a tile's), stations are then
 
-1. pruned: in order of fewest pieces seen (ties by index), a station is dropped when every piece
-   stays covered and its registration group does not fall into more parts;
-2. joined: :func:`planner.solve.connectivity.repair` adds the cheapest chains of stations between
-   the parts of each group (shortest paths in the overlap graph);
+1. pruned: in order of fewest pieces seen (ties by index), a station is dropped when every piece stays covered
+   and its registration group does not fall into more parts;
+2. joined: :func:`planner.solve.connectivity.repair` adds the cheapest chains of stations between the parts of
+   each group (shortest paths in the overlap graph);
 3. pruned again.
 
-The whole site's plain cover (CFT, joined by :func:`planner.solve.steiner.steiner_join`) and the connected
-greedy on the whole site are other starts; the smallest connected plan is kept
-(:func:`planner.tiles.search.best_plan`). The lower bound: :mod:`planner.tiles.bound`.
+The other starts and the choice among them: :func:`planner.tiles.search.best_plan`.
 """
 
 from __future__ import annotations
@@ -28,6 +25,11 @@ from planner.solve.connectivity import components, group_members, repair
 
 def _group_parts(adj: sp.csr_matrix, groups: Sequence[str], chosen: Sequence[int], g: str) -> int:
     return len(components(adj, [i for i in chosen if groups[i] == g]))
+
+
+def group_parts(adj: sp.csr_matrix, groups: Sequence[str], chosen: Sequence[int]) -> dict[Hashable, int]:
+    """The registration parts of each group among the stations ``chosen`` (1: connected)."""
+    return {g: len(components(adj, m)) for g, m in group_members(groups, chosen).items()}
 
 
 def prune(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], chosen: Sequence[int]) -> list[int]:
@@ -49,8 +51,8 @@ def prune(a: sp.csr_matrix, adj: sp.csr_matrix, groups: Sequence[str], chosen: S
 
 @dataclass(frozen=True, kw_only=True)
 class Stitched:
-    """The site plan made from the tiles': ``selected`` (global indices), how many stations the
-    union, the pruning and the joining chains held, and the parts of each group at the end."""
+    """The site plan made from the tiles': ``selected`` (global indices), how many stations the union, the pruning
+    and the joining chains held, and the parts of each group at the end."""
 
     selected: tuple[int, ...]
     union: int
@@ -70,11 +72,10 @@ def stitch(
     joined = repair(adj, np.ones(a.shape[0]), groups, first)
     joined = first if joined is None else joined
     final = prune(a, adj, groups, joined)
-    parts = {g: len(components(adj, m)) for g, m in group_members(groups, final).items()}
     return Stitched(
         selected=tuple(final),
         union=len(union),
         pruned=len(union) - len(first),
         added=len(joined) - len(first),
-        parts=parts,
+        parts=group_parts(adj, groups, final),
     )

@@ -8,6 +8,7 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -15,12 +16,13 @@ from numpy.typing import NDArray
 
 from planner.coverage.sight import Sight
 from planner.coverage.targets import Targets
+from planner.plan.tripod import take_targets
 from planner.site.candidate import Candidate
 from planner.solve.instance import cover_instance
 from planner.solve.local_search import Shrunk, shrink
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import Status
-from planner.tiles.layout import Tile, TileJob, take_targets
+from planner.tiles.layout import Tile, TileJob
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -69,26 +71,21 @@ def tile_task(
     cands = [candidates[i] for i in job.candidates]
     problem = sight.coverage(cands, take_targets(targets, job.targets))
     coo = problem.by_candidate.tocoo()
-    rows, cols = job.candidates[coo.row], job.targets[coo.col]
-    slant = problem.slant_m.tocoo().data
-    inc = problem.incidence_deg.tocoo().data
     t1 = time.perf_counter()
     unseen = job.targets[problem.uncoverable()]
+    pairs: dict[str, Any] = {
+        "tile": job.tile,
+        "rows": job.candidates[coo.row],
+        "cols": job.targets[coo.col],
+        "slant_m": problem.slant_m.tocoo().data,
+        "incidence_deg": problem.incidence_deg.tocoo().data,
+        "unseen": unseen,
+        "coverage_s": t1 - t0,
+    }
     if unseen.size or milp is None:
+        status = Status.INFEASIBLE if unseen.size else Status.NO_SOLUTION
         return TileResult(
-            tile=job.tile,
-            rows=rows,
-            cols=cols,
-            slant_m=slant,
-            incidence_deg=inc,
-            status=Status.INFEASIBLE if unseen.size else Status.NO_SOLUTION,
-            selected=(),
-            objective=None,
-            bound=None,
-            unseen=unseen,
-            covers_core=False,
-            coverage_s=t1 - t0,
-            solve_s=0.0,
+            **pairs, status=status, selected=(), objective=None, bound=None, covers_core=False, solve_s=0.0
         )
     inst = cover_instance(problem, groups=[groups[i] for i in job.candidates], name=job.tile.name)
     res = solve(inst, milp)
@@ -96,18 +93,12 @@ def tile_task(
     covers = bool(picked) and bool(np.all(problem.covered_by(picked) >= 1))
     selected = tuple(sorted(int(job.candidates[i]) for i in picked))
     return TileResult(
-        tile=job.tile,
-        rows=rows,
-        cols=cols,
-        slant_m=slant,
-        incidence_deg=inc,
+        **pairs,
         status=res.status,
         selected=selected,
         objective=res.objective,
         bound=res.bound,
-        unseen=unseen,
         covers_core=covers,
-        coverage_s=t1 - t0,
         solve_s=time.perf_counter() - t1,
         wall_cap_hit=res.wall_cap_hit,
     )

@@ -16,7 +16,7 @@ from planner.coverage.spacing import spacing_factors
 from planner.instrument.field_table import FieldProperties
 
 #: a view meets the spacing within this relative tolerance (rounding of the settings' names, not a margin)
-_REL_TOL = 1e-9
+REL_TOL = 1e-9
 
 
 def masked(problem: CoverageProblem, keep: NDArray[np.bool_]) -> CoverageProblem:
@@ -51,7 +51,7 @@ def masked(problem: CoverageProblem, keep: NDArray[np.bool_]) -> CoverageProblem
 def spacing_coverage(problem: CoverageProblem, step_rad: float, max_spacing_m: float) -> CoverageProblem:
     """The views of ``problem`` whose point spacing at angular step ``step_rad`` is at most ``max_spacing_m``."""
     f = spacing_factors(problem)
-    return masked(problem, f.data * step_rad <= max_spacing_m * (1 + _REL_TOL))
+    return masked(problem, f.data * step_rad <= max_spacing_m * (1 + REL_TOL))
 
 
 def spacing_refusal(
@@ -98,16 +98,15 @@ def setting_columns(
     *,
     all_relays: bool = True,
 ) -> SettingColumns:
-    """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair
-    is kept where it covers a piece, and more pieces than every coarser pair of its candidate kept before it
-    (without a spacing every setting covers the same: the cheapest is kept). That drops only dominated pairs
-    because a setting is first dropped where another is no coarser and no dearer (:func:`useful_settings`):
-    of the settings left, a finer one always costs more. A candidate with no pair at the cheapest setting gets
-    one there covering nothing: it may still stand for registration, which is judged on what stations see, not
-    on the spacing (a relay between two stations), and it should not pay for a finer setting to do so. So the
-    pairs kept hold an optimum of every (station, setting) pair: a bound over them is a bound over all.
-    ``all_relays=False``: relays only for the candidates with no other pair (fewer columns, the same station
-    counts; a field-time optimum over them may cost more)."""
+    """Every useful (candidate, setting) pair of ``problem`` (the candidates ``rows`` only, where given): a pair is kept
+    where it covers a piece, and more pieces than every coarser pair of its candidate kept before it (without a spacing
+    every setting covers the same: the cheapest is kept). That drops only dominated pairs because a setting is first
+    dropped where another is no coarser and no dearer (:func:`useful_settings`): of the settings left, a finer one
+    always costs more. A candidate with no pair at the cheapest setting gets one there covering nothing: it may still
+    stand for registration, which is judged on what stations see, not on the spacing (a relay between two stations), and
+    it should not pay for a finer setting to do so. So the pairs kept hold an optimum of every (station, setting) pair:
+    a bound over them is a bound over all. ``all_relays=False``: relays only for the candidates with no other pair
+    (fewer columns, the same station counts; a field-time optimum over them may cost more)."""
     if max_spacing_m is not None:
         settings = useful_settings(props.by_step())
     else:  # cheapest first: the only pair kept per candidate
@@ -126,7 +125,7 @@ def setting_columns(
         ok = (
             np.ones(a.nnz, dtype=bool)
             if f is None or max_spacing_m is None
-            else f.data * step <= max_spacing_m * (1 + _REL_TOL)
+            else f.data * step <= max_spacing_m * (1 + REL_TOL)
         )
         m = sp.csr_matrix((ok, a.indices.copy(), a.indptr.copy()), shape=a.shape)  # eliminate_zeros works in place
         m.eliminate_zeros()

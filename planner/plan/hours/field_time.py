@@ -1,15 +1,15 @@
 """Plans for the hours on site: point spacing as a coverage condition and a scan setting per station.
 
-- **Point spacing** (``--max-point-spacing M``): a view covers a wall piece only where the spacing it gives
-  the whole piece at the station's setting (:mod:`planner.coverage.spacing`) is at most M.
-- **Columns are (station, setting) pairs** (:func:`planner.plan.hours.columns.setting_columns`): a candidate at each setting of the
-  instrument's ``[field]`` table, costing set-up + scan time (s). A finer setting sees every piece a coarser
-  one does, so a pair is kept only where it covers more than every coarser pair of its candidate.
-- **Objectives**: ``stations`` (the default) takes the fewest stations, each able to scan at the finest
-  setting, then the cheapest settings for them (:func:`assign_settings`, an exact cover of the chosen
-  stations' pairs by scan time); ``field-time`` minimises set-up + scan over every pair with the registration
-  and precision rules as for stations (:func:`field_time_method`). Registration is judged on what two stations
-  see (the sight coverage), not on the spacing: a coarse scan registers as well as a fine one.
+- **Point spacing** (``--max-point-spacing M``): a view covers a wall piece only where the spacing it gives the
+  whole piece at the station's setting (:mod:`planner.coverage.spacing`) is at most M.
+- **Columns are (station, setting) pairs** (:func:`planner.plan.hours.columns.setting_columns`): a candidate at
+  each setting of the instrument's ``[field]`` table, costing set-up + scan time (s).
+- **Objectives**: ``stations`` (the default) takes the fewest stations, each able to scan at the finest setting
+  (a finer setting sees every piece a coarser one does, so the coarser pairs add nothing to a count), then the
+  cheapest settings for them (:func:`assign_settings`, an exact cover of the chosen stations' pairs by scan time);
+  ``field-time`` minimises set-up + scan over every pair with the registration and precision rules as for
+  stations (:func:`field_time_method`). Registration is judged on what two stations see (the sight coverage), not
+  on the spacing: a coarse scan registers as well as a fine one.
 """
 
 from __future__ import annotations
@@ -41,10 +41,7 @@ def field_properties(site: Site) -> FieldProperties:
 
 
 def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
-    """The plan of a run with point spacing or the field-time objective: ``field-time`` minimises set-up + scan
-    over (station, setting) pairs; ``stations`` minimises the stations, each able to scan at the finest setting
-    (a finer setting sees every piece a coarser one does, so the coarser pairs add nothing to a count), then
-    gives each chosen station the cheapest setting that keeps the cover (:func:`assign_settings`)."""
+    """The plan of a run with point spacing or the field-time objective, by its objective (module docstring)."""
     if run.options.objective == "field-time":
         return field_time_method(run, props)
     name = _count_setting(props, run.options.max_point_spacing_m)
@@ -59,17 +56,17 @@ def hours_method(run: MethodInput, props: FieldProperties) -> MethodOutput:
 
 
 def _count_setting(props: FieldProperties, max_spacing_m: float | None) -> str:
-    """The setting a stations plan is counted at: with a spacing the finest, which sees all a coarser one sees;
-    without one the cheapest (every setting sees the same)."""
+    """The setting a stations plan is counted at: with a spacing the finest; without one the cheapest (every
+    setting sees the same)."""
     if max_spacing_m is not None:
         return props.by_step()[-1][0]
     return min(props.settings, key=props.scan_time_s)
 
 
 def field_time_method(run: MethodInput, props: FieldProperties, *, unit: bool = False) -> MethodOutput:
-    """The plan of least set-up + scan time over (station, setting) pairs (``unit``: of fewest pairs),
-    connected under the registration rule as the stations plan is; the result counts stations, its info holds
-    the time, its bound and the setting of each station."""
+    """The plan of least set-up + scan time over (station, setting) pairs (``unit``: of fewest pairs), connected
+    under the registration rule as the stations plan is; the result counts stations, its info holds the time, its
+    bound and the setting of each station."""
     options, problem = run.options, run.problem
     groups, base = candidate_relation(run.registration, problem)
     # a count: relays at a finer setting cost as much as at the cheapest, so the fewer columns give the same plans
@@ -150,8 +147,8 @@ def _bounded(r: SolveResult, bound: float | None) -> SolveResult:
 def candidate_relation(
     registration: Registration, problem: CoverageProblem
 ) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
-    """The registration group of each candidate and the overlap relation between candidates (None without a
-    rule): what both see, at any setting, under the run's rule, with the links through openings and stairs."""
+    """The registration group of each candidate and the overlap relation between candidates (None without a rule):
+    what both see, at any setting, under the run's rule, with the links through openings and stairs."""
     rule = registration.rule
     groups, links = registration.groups(problem.candidates)
     if rule is None:
@@ -169,9 +166,9 @@ def assign_settings(
     max_spacing_m: float | None,
     run: MethodInput,
 ) -> tuple[dict[int, str], dict[str, object]]:
-    """The cheapest setting of each chosen station (candidate index -> setting) that still covers every piece at
-    the spacing: an exact cover of the chosen stations' (station, setting) pairs by set-up + scan time, each
-    station at one setting at least (``selected`` sorted, as results hold them)."""
+    """The cheapest setting of each chosen station (candidate index -> setting) that still covers every piece at the
+    spacing: an exact cover of the chosen stations' (station, setting) pairs by set-up + scan time, each station at
+    one setting at least (``selected`` sorted, as results hold them)."""
     rows = np.asarray(selected, dtype=np.int64)
     cols = setting_columns(problem, props, max_spacing_m, rows)
     # every chosen station stands, so it scans at some setting: a column "station k" each of its pairs covers

@@ -9,7 +9,7 @@ not the planning pieces' bound). A point meets the spacing when that is at most 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -18,9 +18,8 @@ from planner.coverage.sight import Sight
 from planner.coverage.spacing import point_spacing_m
 from planner.coverage.targets import SIDE_NAME, make_targets
 from planner.instrument.field_table import FieldProperties
+from planner.plan.hours.columns import REL_TOL
 from planner.site.candidate import Candidate
-
-_REL_TOL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -66,17 +65,7 @@ class SpacingReport:
             "percent": self.percent,
             "complete": self.complete,
             "worst_m": _finite(self.worst_m),
-            "walls": [
-                {
-                    "zone": w.zone,
-                    "side": w.side,
-                    "wall": w.wall,
-                    "points": w.points,
-                    "meeting": w.meeting,
-                    "worst_m": _finite(w.worst_m),
-                }
-                for w in self.walls
-            ],
+            "walls": [{**asdict(w), "worst_m": _finite(w.worst_m)} for w in self.walls],
         }
 
     def lines(self) -> list[str]:
@@ -118,7 +107,7 @@ def verify_spacing(
         ih = sight.limits.instrument_height_m
         values = point_spacing_m(xy[rows], pts.a[cols], pts.normal[cols], top[cols], ih, steps[rows])
         np.minimum.at(best, cols, values)
-    meets = best <= max_spacing_m * (1 + _REL_TOL)
+    meets = best <= max_spacing_m * (1 + REL_TOL)
     walls = []
     key = np.stack([pts.zone, pts.side, pts.wall], axis=1)
     for z, s, w in np.unique(key, axis=0):
