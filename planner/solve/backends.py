@@ -2,8 +2,7 @@
 
 Each backend holds one model (binary x, minimise cost . x, rows ``sum coef * x >= lb``), accepts more rows between
 solves (the lazy connectivity cuts) and solves with a thread count, seed, warm-start hint and an optional wall-clock
-cap (``None``: none). Backends: OR-Tools CP-SAT; OR-Tools' linear solver with SCIP, HiGHS or CBC; PuLP with CBC; SCIP
-through PySCIPOpt (planner.solve.scip_bc).
+cap (``None``: none): OR-Tools CP-SAT; OR-Tools' linear solver with SCIP, HiGHS or CBC; PuLP with CBC; PySCIPOpt.
 
 Work limits, which make a solve's answer independent of the machine's load: CP-SAT stops on deterministic time
 (:attr:`CpSatBackend.work_limit`); SCIP (both ways) and PuLP's CBC on branch-and-bound nodes per solve
@@ -211,8 +210,7 @@ class CpSatBackend:
             solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
         if self.work_limit is not None:  # a work budget makes one worker's answer independent of the load
             solver.parameters.max_deterministic_time = max(self.work_limit - self.work_used, 1e-3)
-        # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly; workers =
-        # threads (more workers than cores only share the cores)
+        # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly
         solver.parameters.num_workers = threads
         if threads > 1:  # CP-SAT's own choice for 2 workers has no full-LP worker (and often no bound)
             solver.parameters.subsolvers.extend(CP_PORTFOLIO[:threads])
@@ -234,7 +232,6 @@ class CpSatBackend:
         return BackendResult(Outcome.UNKNOWN, (), None, solver.BestObjectiveBound() / self.scale)
 
     def _callback(self) -> Any:
-        """A solution callback that hands each improving solution to :attr:`watch`."""
         watch, n, scale, x = self.watch, self.n, self.scale, self.x
 
         class _Seen(self._cp.CpSolverSolutionCallback):  # type: ignore[name-defined,misc]
@@ -247,7 +244,7 @@ class CpSatBackend:
 
 
 class MipBackend:
-    """OR-Tools' linear solver wrapper (pywraplp) with SCIP, HiGHS or CBC."""
+    """OR-Tools' linear solver (pywraplp) with SCIP, HiGHS or CBC."""
 
     SOLVERS = {"scip": "SCIP", "highs": "HIGHS", "cbc": "CBC"}
 

@@ -1,4 +1,4 @@
-"""The plain cover of a large matrix by CFT: the heuristic of Caprara, Fischetti and Toth (1999), through ``pycft``.
+"""The plain cover of a large matrix by CFT, through ``pycft``.
 
 CFT (A. Caprara, M. Fischetti, P. Toth, "A heuristic method for the set covering problem", Operations Research 47(5),
 1999; the C++ of Cavaliere and Accorsi, bound by Krupke as ``pycft``) works on a core of columns priced by Lagrangian
@@ -46,11 +46,9 @@ def cft_cover(
     time_cap_s: float | None = None,
     start: tuple[int, ...] = (),
 ) -> CftCover:
-    """A cover of every column of ``a`` (candidates x targets, CSR) by rows of least total ``cost`` (default 1 each:
-    stations), found by CFT. ``start``: a cover to start from (its cost is the first upper bound). Raises
-    :class:`InfeasibleError` when some target is seen by no row (CFT itself would return a non-cover), ``ValueError``
-    when ``start`` is not a cover (its rows that see nothing are dropped, repeats ignored).
-    """
+    """A cover of every column of ``a`` by rows of least total ``cost`` (default 1 each: stations), found by CFT.
+    ``start``: a cover to start from (its cost is the first upper bound). Raises :class:`InfeasibleError` when some
+    target is seen by no row (CFT itself would return a non-cover), ``ValueError`` when ``start`` is not a cover."""
     a = sp.csr_matrix(a, dtype=bool)
     n_rows, n_cols = a.shape
     seen = np.bincount(a.indices, minlength=n_cols) > 0

@@ -1,5 +1,4 @@
-"""Connectivity of the chosen stations under the overlap relation: checks, cuts, repair, connected greedy (the greedy
-itself in :mod:`planner.solve.bundles`).
+"""Connectivity of the chosen stations under the overlap relation: checks, cuts, repair, connected greedy.
 
 The registration constraint says: within each group (zone, side) the chosen stations form a connected graph under the
 overlap relation. It is enforced lazily: solve without it, find the components of each group's choice, and for a
@@ -110,8 +109,7 @@ def neighbour_cuts(
     adj: sp.csr_matrix, a: sp.csr_matrix, groups: Sequence[Hashable], essential: dict[Hashable, np.ndarray]
 ) -> list[Cut]:
     """x_i <= sum of its overlap neighbours, for every candidate that alone misses an essential target of its group: a
-    station that cannot do the group's work alone needs a registration partner. Added before the first solve, these
-    rule out isolated stations from the start."""
+    station that cannot do the group's work alone needs a registration partner."""
     cuts: list[Cut] = []
     for i in range(a.shape[0]):
         ess = essential.get(groups[i])
@@ -161,10 +159,8 @@ def path_to_nearest(weights: sp.csr_matrix, sources: Sequence[int], wanted: np.n
 def repair(
     adj: sp.csr_matrix, cost: np.ndarray, groups: Sequence[Hashable], selected: Sequence[int]
 ) -> list[int] | None:
-    """Make each group's choice connected by adding the cheapest chains of stations between its components.
-
-    Returns None if some components cannot be joined at all.
-    """
+    """Each group's choice made connected by the cheapest chains of stations between its components (None if some
+    cannot be joined)."""
     chosen = {int(i) for i in selected}
     weights = _step_weights(adj, cost)
     for g, members in group_members(groups, sorted(chosen)).items():

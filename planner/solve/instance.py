@@ -1,8 +1,5 @@
-"""A set-cover instance as the solvers see it: a coverage matrix, costs, and the registration data.
-
-The same type carries a site's coverage problem (with groups, wall lengths and positions for the registration-overlap
-constraint, and information weights for the combined precision mode) and a plain OR-Library instance (costs only).
-"""
+"""A set-cover instance as the solvers see it: a site's coverage problem (with the registration data and the combined
+precision weights) or a plain OR-Library instance (costs only)."""
 
 from __future__ import annotations
 
@@ -17,8 +14,10 @@ from numpy.typing import NDArray
 from planner.core.checks import argument
 from planner.core.errors import InputError
 from planner.coverage.matrix import CoverageProblem
-from planner.instrument.accuracy import ErrorBudget, view_error_m
+from planner.coverage.visibility import PrecisionRule
+from planner.instrument.accuracy import ErrorBudget
 from planner.instrument.models import Scanner
+from planner.solve.combined import information
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,19 +96,13 @@ def cover_instance(
     links: sp.csr_matrix | None = None,
     incidence_model: str = "none",
 ) -> CoverInstance:
-    """The solver's view of a site's coverage problem.
-
-    With ``scanner``, ``budget`` and ``sigma_req_m`` the combined-precision weights are filled in: sigma_tj is the
-    point error e of (2.13) at the largest slant range and incidence over piece t from candidate j (e(S, theta) of
-    :func:`planner.instrument.accuracy.view_error_m` with ``incidence_model``). ``groups`` (default: zone and side of
-    each candidate) and ``links``: see :func:`planner.coverage.links.registration_groups`.
-    """
+    """The solver's view of a site's coverage problem; with ``scanner``, ``budget`` and ``sigma_req_m`` the combined
+    precision weights are filled in (:func:`planner.solve.combined.information`). ``groups`` (default: zone and side of
+    each candidate) and ``links``: see :func:`planner.coverage.links.registration_groups`."""
     argument(problem, CoverageProblem, "problem")
     info = None
     if scanner is not None and budget is not None and sigma_req_m is not None:
-        slant = problem.slant_m.tocsr()
-        e = view_error_m(slant.data, problem.incidence_deg.tocsr().data, scanner, budget, incidence_model)
-        info = sp.csr_matrix(((sigma_req_m / e) ** 2, slant.indices, slant.indptr), shape=slant.shape)
+        info = information(problem, PrecisionRule(scanner, budget, sigma_req_m, incidence_model))
     cands = problem.candidates
     t = problem.targets
     return CoverInstance(

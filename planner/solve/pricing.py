@@ -1,5 +1,4 @@
-"""The LP half of geometric pricing: the relaxation of the cover with its duals (the heaviest positions of an
-arrangement of coverage regions: :func:`planner.coverage.arrangement.heaviest_points`).
+"""The LP half of geometric pricing (the other: :func:`planner.coverage.arrangement.heaviest_points`).
 
 LP (over the current pool, x >= 0; the upper bound x <= 1 is redundant at the optimum)::
 

@@ -48,9 +48,7 @@ class RingStats:
 @dataclass(frozen=True, kw_only=True)
 class MilpStats:
     """A MILP's statistics, summed over its blocks (``SolveResult.info`` holds them as :meth:`to_dict`, after the
-    presolve's report): cut-loop ``rounds`` and ``cuts``, whether registration was ``connected`` and by which
-    ``connectivity`` method, the local search's moves, the ring bound, the plain start (None where no block took
-    it: :func:`planner.solve.plain_start.plain_record`) and the work."""
+    presolve's report); ``plain_start``: None where no block took it."""
 
     rounds: int
     cuts: int
@@ -63,7 +61,7 @@ class MilpStats:
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
-        if self.plain_start is None:  # only where a block took it: a connected run's record stays as it was
+        if self.plain_start is None:  # only where a block took it
             del d["plain_start"]
         return d
 
@@ -113,8 +111,7 @@ class SolveResult:
 
     @property
     def wall_cap_hit(self) -> bool:
-        """A MILP (``info["work"]``) that the user's wall-clock cap ended before its counted work: only then may its
-        answer depend on the machine's load."""
+        """A MILP that the user's wall-clock cap ended before its counted work (:class:`WorkStats`)."""
         return self.stats is not None and self.stats.work.wall_cap_hit
 
     def _repr_html_(self) -> str:

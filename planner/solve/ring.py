@@ -228,12 +228,11 @@ def lagrangian_bound(
     rc = c - sub lambda, every connected cover C (it contains a path P over the ring, by the theorem above)
     costs  c(C) = sum_C rc + sum_C sum_{t seen by j} lambda_t >= sum_C rc + sum_t lambda_t
                >= walk(max(rc, 0)) + sum_j min(rc_j, 0) + sum_t lambda_t  =: L(lambda),
-    so every L(lambda) is a lower bound; at the cover LP's duals it is at least the LP's value. Ascent from
-    ``lam``: Polyak steps toward ``target`` (the incumbent's cost), the step factor 2 halved after 20 steps
-    without a better L. Stops after ``iterations`` steps, once L > ``stop_above`` (with integral costs,
-    the incumbent's cost - 1: the incumbent is then proven), or after ``give_up`` steps none of which
-    raised L above its first value (the ring adds nothing near these multipliers, as on a block of many objects'
-    walls that is not one ring). Returns the best L and the steps taken."""
+    so every L(lambda) is a lower bound; at the cover LP's duals it is at least the LP's value. Ascent from ``lam``:
+    Polyak steps toward ``target`` (the incumbent's cost), the step factor 2 halved after 20 steps without a better L.
+    Stops after ``iterations`` steps, once L > ``stop_above`` (with integral costs, the incumbent's cost - 1: the
+    incumbent is then proven), or after ``give_up`` steps none of which raised L above its first value (the ring adds
+    nothing near these multipliers). Returns the best L and the steps taken."""
     best, factor, stall, first = -np.inf, 2.0, 0, np.inf
     for step in range(iterations):
         rc = cost - sub @ lam

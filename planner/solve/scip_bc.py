@@ -1,16 +1,15 @@
 """SCIP through PySCIPOpt: a backend of its own, and branch-and-cut for registration connectivity.
 
-As a plain backend (``pyscipopt``) it holds the cover model and re-solves it after each round of the cut loop like the
-others. With :meth:`PyScipBackend.connect` it also gets a constraint handler, so connectivity is enforced inside one
-search tree (no restarts, SCIP keeps its cut pool):
+With :meth:`PyScipBackend.connect` it gets a constraint handler, so connectivity is enforced inside one search tree
+(no restarts, SCIP keeps its cut pool):
 
 * ``conscheck`` rejects a solution whose chosen stations of some zone-side fall apart under the overlap relation;
 * ``consenfolp`` / ``consenfops`` answer such an integral point with the region cuts of
   :func:`planner.solve.connectivity.connectivity_cuts`;
 * ``conssepalp`` separates fractional LP points with minimum node-separator inequalities (:mod:`planner.solve.separators`).
 
-PySCIPOpt is imported lazily, inside the functions, so that importing the planner does not load SCIP. SCIP solves on
-one thread (deterministic); the seed goes to ``randomization/randomseedshift``.
+PySCIPOpt is imported lazily, so that importing the planner does not load SCIP. SCIP solves on one thread
+(deterministic).
 """
 
 from __future__ import annotations
@@ -128,7 +127,7 @@ class PyScipBackend:
 
 
 def _handler(scip: Any) -> type:
-    """The constraint handler class (built on first use: PySCIPOpt is imported lazily)."""
+    """The constraint handler class (built on first use)."""
     result = scip.SCIP_RESULT
 
     class Registration(scip.Conshdlr):  # type: ignore[misc, name-defined]
@@ -192,8 +191,7 @@ def _handler(scip: Any) -> type:
 
 
 def _add_separator_cut(model: Any, x: list, i: int, nodes: Sequence[int]) -> None:
-    """The cut ``sum(x[nodes]) >= x[i]`` (a node separator between station ``i`` and a target's seers), to the LP and
-    the cut pool."""
+    """The cut ``sum(x[nodes]) >= x[i]`` to the LP and the cut pool."""
     row = model.createEmptyRowUnspec(name="sep", lhs=0.0, rhs=None, local=False, removable=True)
     model.cacheRowExtensions(row)
     for v in nodes:
