@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import math
+from collections.abc import Callable
 
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
@@ -11,6 +12,18 @@ from matplotlib.figure import Figure
 #: room around the data of a plan panel (a share of its span, as ``Axes.margins``): the scale bar and the
 #: north arrow stand in it, clear of walls and stations
 PLAN_MARGIN = 0.12
+
+
+def legend_once() -> Callable[[object, str], str | None]:
+    """``once(key, text)``: ``text`` for the first artist of its kind, ``None`` (no legend entry) for the rest."""
+    shown: set[object] = set()
+
+    def once(key: object, text: str) -> str | None:
+        first = key not in shown
+        shown.add(key)
+        return text if first else None
+
+    return once
 
 
 def nice_length(span_m: float) -> float:

@@ -1,6 +1,6 @@
-"""Registration and network figure: overlap (registration) links, ties to control, control-traverse legs (or, in the
-earlier design, total-station sight lines and the Delaunay triangulation), control points and exaggerated error ellipses
-(scale stated)."""
+"""Registration and network figure: overlap (registration) links, ties to control, control-traverse legs (or, with a
+total station on every station, its sight lines and the Delaunay triangulation), control points and exaggerated error
+ellipses (scale stated)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Ellipse, Polygon
 
 from planner.core.checks import argument
-from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.base import PLAN_MARGIN, frame_axes, legend_once
 from planner.figures.labels import PointLabel, finish_plans
 from planner.network.adjustment import ELLIPSE_95
 from planner.plan.outcome import Outcome
@@ -49,19 +49,12 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
         if z.frame == frame:
             for ring in z.rings:
                 ax.add_patch(Polygon(ring, closed=True, fill=False, ec="0.2", lw=1.0))
-    shown = set()
+    once = legend_once()
     for u, v, d in g.subgraph(nodes).edges(data=True):
         kind = next(k for k in STYLES if k in d["kinds"])
         colour, ls, lw, label = STYLES[kind]
-        ax.plot(
-            [g.nodes[u]["x"], g.nodes[v]["x"]],
-            [g.nodes[u]["y"], g.nodes[v]["y"]],
-            color=colour,
-            ls=ls,
-            lw=lw,
-            label=None if kind in shown else label,
-        )
-        shown.add(kind)
+        xs, ys = [g.nodes[u]["x"], g.nodes[v]["x"]], [g.nodes[u]["y"], g.nodes[v]["y"]]
+        ax.plot(xs, ys, color=colour, ls=ls, lw=lw, label=once(kind, label))
     points = {p.name: p for a in o.network.adjustments for p in a.points if p.name in nodes}
     xy = np.array([(g.nodes[n]["x"], g.nodes[n]["y"]) for n in nodes])
     extent = float(np.ptp(xy, axis=0).max()) if len(xy) > 1 else 1.0
@@ -70,37 +63,20 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
     for n in nodes:
         d = g.nodes[n]
         if d["kind"] == "control":
-            ax.plot(
-                d["x"],
-                d["y"],
-                marker="^",
-                ms=9,
-                color="tab:red",
-                ls="none",
-                label=None if "control" in shown else "control point (proposed: open)",
-                mfc="white" if d.get("proposed") else "tab:red",
-            )
-            shown.add("control")
+            face = "white" if d.get("proposed") else "tab:red"
+            label = once("control", "control point (proposed: open)")
+            ax.plot(d["x"], d["y"], marker="^", ms=9, color="tab:red", ls="none", label=label, mfc=face)
             labels.append(PointLabel(d["x"], d["y"], n, f"control:{n}", 9.0))
         else:
-            ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=None if "st" in shown else "station")
-            shown.add("st")
+            ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=once("st", "station"))
             labels.append(PointLabel(d["x"], d["y"], n, f"station:{n}", 5.0))
         p = points.get(n)
         if p is not None and p.ellipse_a > 0:
+            a, b = 2 * ELLIPSE_95 * p.ellipse_a * factor, 2 * ELLIPSE_95 * p.ellipse_b * factor
+            label = once("ell", f"95 % error ellipse x {factor:g}")
             ax.add_patch(
-                Ellipse(
-                    (p.x, p.y),
-                    2 * ELLIPSE_95 * p.ellipse_a * factor,
-                    2 * ELLIPSE_95 * p.ellipse_b * factor,
-                    angle=p.ellipse_azimuth_deg,
-                    fill=False,
-                    ec="tab:orange",
-                    lw=1.2,
-                    label=None if "ell" in shown else f"95 % error ellipse x {factor:g}",
-                )
+                Ellipse((p.x, p.y), a, b, angle=p.ellipse_azimuth_deg, fill=False, ec="tab:orange", lw=1.2, label=label)
             )
-            shown.add("ell")
     frame_axes(ax, PLAN_MARGIN)
     ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
     worst = max((o.network.station_sigma_m.get(n, 0.0) for n in nodes), default=0.0)

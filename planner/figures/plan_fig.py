@@ -12,7 +12,7 @@ from matplotlib.patches import Circle, Polygon
 
 from planner.core.checks import argument
 from planner.coverage.targets import SIDE_CODE
-from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.base import PLAN_MARGIN, frame_axes, legend_once
 from planner.figures.labels import PointLabel, finish_plans
 from planner.figures.storey_fig import draw_obstacles
 from planner.plan.outcome import Outcome
@@ -30,6 +30,9 @@ MARKERS = {
     CandidateKind.PRICED: ("X", "priced (regions)"),
 }
 UNCOVERED = "red"
+FIELD_STYLE = dict(closed=True, fc="gold", ec="darkgoldenrod", alpha=0.25, lw=0.5)
+DISC_STYLE = dict(fill=False, ls="--", ec="tab:purple", lw=0.8)
+STATION_STYLE = dict(ms=7, mfc="white", mec="black", ls="none")
 
 
 def _background(ax, o: Outcome, frame: str, zone_id: str) -> None:
@@ -54,49 +57,17 @@ def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> list[PointLabel]:
     """Draw the zone-side's stations; their number labels, to be placed once the panel is complete."""
     labels: list[PointLabel] = []
     numbers = {s.id: k for k, s in enumerate(o.stations, 1)}
-    shown = set()
+    once = legend_once()
     for s in o.stations:
         if s.zone != zone_id or s.side is not side:
             continue
         if s.field:
-            ax.add_patch(
-                Polygon(
-                    s.field,
-                    closed=True,
-                    fc="gold",
-                    ec="darkgoldenrod",
-                    alpha=0.25,
-                    lw=0.5,
-                    label=None if "field" in shown else "movement field",
-                )
-            )
-            shown.add("field")
+            ax.add_patch(Polygon(s.field, **FIELD_STYLE, label=once("field", "movement field")))
         r = o.tripod_radius_m.get(s.id)
         if r:
-            ax.add_patch(
-                Circle(
-                    (s.x, s.y),
-                    r,
-                    fill=False,
-                    ls="--",
-                    ec="tab:purple",
-                    lw=0.8,
-                    label=None if "disc" in shown else "tripod disc",
-                )
-            )
-            shown.add("disc")
+            ax.add_patch(Circle((s.x, s.y), r, **DISC_STYLE, label=once("disc", "tripod disc")))
         marker, name = MARKERS[s.kind]
-        ax.plot(
-            s.x,
-            s.y,
-            marker=marker,
-            ms=7,
-            mfc="white",
-            mec="black",
-            ls="none",
-            label=None if s.kind in shown else f"station: {name}",
-        )
-        shown.add(s.kind)
+        ax.plot(s.x, s.y, marker=marker, **STATION_STYLE, label=once(s.kind, f"station: {name}"))
         labels.append(PointLabel(s.x, s.y, str(numbers[s.id]), f"station:{s.id}", 7.0))
     return labels
 
@@ -143,11 +114,7 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
         frame_axes(ax, PLAN_MARGIN)
         ax.legend(loc="upper left", fontsize=7, framealpha=0.8)
         panel_labels.append((ax, zone.frame, labels))
-    hmax = (
-        max(max(zone.vertex_heights_m), *(max(h) for h in zone.hole_heights_m))
-        if zone.hole_heights_m
-        else max(zone.vertex_heights_m)
-    )
+    hmax = max((*zone.vertex_heights_m, *(h for hs in zone.hole_heights_m for h in hs)))
     axes[0].set_title(f"coverage count (line width ~ wall height, max {hmax:g} m)")
     axes[1].set_title(f"best incidence (limit {theta:g} deg)")
     n = sum(1 for s in o.stations if s.zone == zone.id and s.side is side)

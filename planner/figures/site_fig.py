@@ -170,17 +170,12 @@ def site_figure(
     labels = [_panel(ax, o, frame, numbers, links, points) for ax, frame in zip(axes, frames)]
     for ax in axes[len(frames) :]:
         ax.set_visible(False)
+    link = "registration link"
+    if len(links) < len(every):
+        link = f"registration links: shortest spanning forest ({len(links)} of {len(every)})"
     handles = [
         Line2D([], [], color="black", lw=1.0, label="wall"),
-        Line2D(
-            [],
-            [],
-            color=_LINK,
-            lw=1.0,
-            label="registration link"
-            if len(links) == len(every)
-            else f"registration links: shortest spanning forest ({len(links)} of {len(every)})",
-        ),
+        Line2D([], [], color=_LINK, lw=1.0, label=link),
         Line2D([], [], marker="o", ls="none", mfc="white", mec="black", label="station (number: visiting order)"),
     ]
     if points:

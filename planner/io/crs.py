@@ -25,12 +25,11 @@ def _transformer(src: str, dst: str) -> Transform:
         from pyproj.exceptions import CRSError
     except ImportError:  # pragma: no cover - depends on the installation
         raise UsageError("a CRS needs pyproj (pip install pyproj)", field="crs", value=dst) from None
+    metric = dst if dst != WGS84 else src
     try:
-        target = CRS.from_user_input(dst if dst != WGS84 else src)
+        target = CRS.from_user_input(metric)
     except CRSError:
-        raise UsageError(
-            "unknown coordinate reference system", field="crs", value=dst if dst != WGS84 else src
-        ) from None
+        raise UsageError("unknown coordinate reference system", field="crs", value=metric) from None
     if not target.is_projected:
         raise UsageError("planning needs a projected (metric) CRS", field="crs", value=target.to_string())
     t = Transformer.from_crs(src, dst, always_xy=True)

@@ -121,13 +121,8 @@ def read_shapes(
             continue
         if kind in LABEL_KINDS:
             p = e.dxf.insert
-            texts.append(
-                (
-                    layer.upper(),
-                    e.plain_text().strip() if kind == "MTEXT" else e.dxf.text.strip(),
-                    (p.x * scale, p.y * scale),
-                )
-            )
+            text = e.plain_text() if kind == "MTEXT" else e.dxf.text
+            texts.append((layer.upper(), text.strip(), (p.x * scale, p.y * scale)))
         elif kind in OUTLINE_KINDS:
             xy = _points(e, handle, options, scale, file)
             # a mirrored block turns the extrusion over and with it the sign of the thickness

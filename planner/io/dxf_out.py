@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import threading
 from collections import OrderedDict
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -22,26 +22,15 @@ from planner.io.dxf_entities import APPID
 from planner.io.params_io import dxf_properties, site_record
 from planner.plan.outcome import Outcome
 
-LAYERS = {  # name: ACI colour
-    "WALLS": 7,
-    "HOLES": 7,
-    "OBSTACLES": 8,
-    "NOGO": 6,
-    "STATIONS": 5,
-    "FIELDS": 4,
-    "COVERAGE": 3,
-    "NETWORK": 2,
-    "CONTROL": 1,
-}
+#: the layers and their ACI colours
+LAYERS = dict(WALLS=7, HOLES=7, OBSTACLES=8, NOGO=6, STATIONS=5, FIELDS=4, COVERAGE=3, NETWORK=2, CONTROL=1)
 #: coverage colours (ACI): seen by no station, by one, by two or more
 COVERAGE_ACI = {0: 1, 1: 3, 2: 5}
 
 
-def zone_xdata(zone_id: str, side: str, frame: str, heights: tuple[float, ...]) -> list[tuple[int, object]]:
-    """XDATA tags of a zone polyline: 1000 strings key=value, then one 1040 real per vertex height."""
-    return [(1000, f"zone={zone_id}"), (1000, f"side={side}"), (1000, f"frame={frame}")] + [
-        (1040, float(h)) for h in heights
-    ]
+def _xdata(*tags: str, heights: Sequence[float] = ()) -> list[tuple[int, object]]:
+    """XDATA tags: 1000 strings key=value, then one 1040 real per vertex height."""
+    return [(1000, t) for t in tags] + [(1040, float(h)) for h in heights]
 
 
 #: ezdxf's metadata option is one flag for the whole process: one drawing at a time switches it
@@ -101,16 +90,18 @@ def _drawing(o: Outcome) -> ezdxf.document.Drawing:
         e = msp.add_lwpolyline(
             z.vertices, close=True, dxfattribs={"layer": "WALLS", "thickness": max(z.vertex_heights_m)}
         )
-        e.set_xdata(APPID, zone_xdata(z.id, z.scan_side.value, z.frame, z.vertex_heights_m))
+        e.set_xdata(
+            APPID, _xdata(f"zone={z.id}", f"side={z.scan_side.value}", f"frame={z.frame}", heights=z.vertex_heights_m)
+        )
         for ring, hs in zip(z.holes, z.hole_heights_m):
             e = msp.add_lwpolyline(ring, close=True, dxfattribs={"layer": "HOLES", "thickness": max(hs)})
-            e.set_xdata(APPID, [(1000, f"zone={z.id}")] + [(1040, float(h)) for h in hs])
+            e.set_xdata(APPID, _xdata(f"zone={z.id}", heights=hs))
     for ob in o.site.obstacles:
         e = msp.add_lwpolyline(ob.vertices, close=True, dxfattribs={"layer": "OBSTACLES", "thickness": ob.height_m})
-        e.set_xdata(APPID, [(1000, f"name={ob.name}")])
+        e.set_xdata(APPID, _xdata(f"name={ob.name}"))
     for a in o.site.no_go_areas:
         e = msp.add_lwpolyline(a.vertices, close=True, dxfattribs={"layer": "NOGO"})
-        e.set_xdata(APPID, [(1000, f"name={a.name}")])
+        e.set_xdata(APPID, _xdata(f"name={a.name}"))
     t = o.coverage.targets
     for k in range(len(t)):
         n = min(int(o.coverage.count[k]), 2)
@@ -125,9 +116,8 @@ def _drawing(o: Outcome) -> ezdxf.document.Drawing:
     if o.network is not None:
         g = o.network.graph
         for u, v in g.edges():
-            msp.add_line(
-                (g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]), dxfattribs={"layer": "NETWORK"}
-            )
+            ends = [(g.nodes[n]["x"], g.nodes[n]["y"]) for n in (u, v)]
+            msp.add_line(*ends, dxfattribs={"layer": "NETWORK"})
         for c in o.network.control:
             msp.add_point((c.x, c.y), dxfattribs={"layer": "CONTROL"})
             msp.add_text(c.name, height=th, dxfattribs={"layer": "CONTROL"}).set_placement((c.x + th, c.y - 2 * th))

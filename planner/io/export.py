@@ -1,6 +1,6 @@
 """Export a site's coverage problem for third-party solvers: OR-Library, MPS or JSON.
 
-OR-Library and MPS carry the plain cover (min cost, every target covered k times); the registration constraint is lazy
+OR-Library and MPS carry the plain cover (min cost, every target covered once); the registration constraint is lazy
 here and has no compact linear form, so the JSON export carries the overlap graph's edges for solvers that want to add
 it themselves.
 """
@@ -8,8 +8,6 @@ it themselves.
 from __future__ import annotations
 
 from typing import Any
-
-import numpy as np
 
 from planner.core.errors import UsageError
 from planner.core.text import dumps
@@ -19,22 +17,21 @@ from planner.coverage.overlap import OverlapRule, overlap_adjacency, piece_lengt
 FORMATS = ("orlib", "mps", "json")
 
 
-def to_orlib(problem: CoverageProblem, cost: np.ndarray | None = None) -> str:
-    """Beasley's format: 'm n', the n costs, then per row its count and 1-based columns (targets seen by no candidate
-    are left out)."""
+def to_orlib(problem: CoverageProblem) -> str:
+    """Beasley's format: 'm n', the n costs (all 1), then per row its count and 1-based columns (targets seen by no
+    candidate are left out)."""
     bt = problem.by_target
-    c = np.ones(problem.shape[0], dtype=int) if cost is None else np.asarray(cost)
     rows = [
         bt.indices[bt.indptr[t] : bt.indptr[t + 1]] + 1 for t in range(bt.shape[0]) if bt.indptr[t + 1] > bt.indptr[t]
     ]
-    out = [f"{len(rows)} {problem.shape[0]}", " ".join(str(int(v)) for v in c)]
+    out = [f"{len(rows)} {problem.shape[0]}", " ".join(["1"] * problem.shape[0])]
     for r in rows:
         out.append(f"{len(r)} " + " ".join(str(int(v)) for v in r))
     return "\n".join(out) + "\n"
 
 
-def to_mps(problem: CoverageProblem, k: int = 1) -> str:
-    """Free MPS of the plain cover, written by OR-Tools' model exporter."""
+def to_mps(problem: CoverageProblem) -> str:
+    """Free MPS of the plain cover (every target covered once), written by OR-Tools' model exporter."""
     from ortools.linear_solver import pywraplp
 
     s = pywraplp.Solver.CreateSolver("CBC")
@@ -43,7 +40,7 @@ def to_mps(problem: CoverageProblem, k: int = 1) -> str:
     for t in range(bt.shape[0]):
         idx = bt.indices[bt.indptr[t] : bt.indptr[t + 1]]
         if idx.size:
-            ct = s.RowConstraint(k, s.infinity(), f"t{t}")
+            ct = s.RowConstraint(1, s.infinity(), f"t{t}")
             for i in idx:
                 ct.SetCoefficient(x[i], 1.0)
     obj = s.Objective()

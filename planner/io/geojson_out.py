@@ -24,29 +24,28 @@ def _num(v: float) -> float | None:
     return None if v is None or not math.isfinite(v) else round(float(v), 6)
 
 
-def _feature(geom: shapely.Geometry, props: dict[str, Any]) -> dict[str, Any]:
-    return {"type": "Feature", "geometry": mapping(geom), "properties": props}
+def _feature(geom: shapely.Geometry, role: str, **props: Any) -> dict[str, Any]:
+    """A feature of ``role``; ``props`` follow the role in its properties."""
+    return {"type": "Feature", "geometry": mapping(geom), "properties": {"role": role, **props}}
 
 
 def _site_features(o: Outcome) -> list[dict[str, Any]]:
     out = [
         _feature(
             z.polygon,
-            {
-                "role": "zone",
-                "id": z.id,
-                "scan_side": z.scan_side.value,
-                "frame": z.frame,
-                "vertex_heights_m": list(z.vertex_heights_m),
-            },
+            "zone",
+            id=z.id,
+            scan_side=z.scan_side.value,
+            frame=z.frame,
+            vertex_heights_m=list(z.vertex_heights_m),
         )
         for z in o.site.zones
     ]
     out += [
-        _feature(shapely.Polygon(ob.vertices), {"role": "obstacle", "name": ob.name, "height_m": ob.height_m})
+        _feature(shapely.Polygon(ob.vertices), "obstacle", name=ob.name, height_m=ob.height_m)
         for ob in o.site.obstacles
     ]
-    out += [_feature(shapely.Polygon(a.vertices), {"role": "no_go", "name": a.name}) for a in o.site.no_go_areas]
+    out += [_feature(shapely.Polygon(a.vertices), "no_go", name=a.name) for a in o.site.no_go_areas]
     return out
 
 
@@ -55,17 +54,15 @@ def _coverage_features(o: Outcome) -> list[dict[str, Any]]:
     return [
         _feature(
             shapely.LineString([t.a[k], t.b[k]]),
-            {
-                "role": "coverage",
-                "zone": t.zone_ids[t.zone[k]],
-                "side": ("inside", "outside")[t.side[k]],
-                "wall": int(t.wall[k]),
-                "from_m": _num(t.s0_m[k]),
-                "to_m": _num(t.s1_m[k]),
-                "frame": t.frames[t.frame[k]],
-                "stations": int(o.coverage.count[k]),
-                "best_incidence_deg": _num(o.coverage.best_incidence_deg[k]),
-            },
+            "coverage",
+            zone=t.zone_ids[t.zone[k]],
+            side=("inside", "outside")[t.side[k]],
+            wall=int(t.wall[k]),
+            from_m=_num(t.s0_m[k]),
+            to_m=_num(t.s1_m[k]),
+            frame=t.frames[t.frame[k]],
+            stations=int(o.coverage.count[k]),
+            best_incidence_deg=_num(o.coverage.best_incidence_deg[k]),
         )
         for k in range(len(t))
     ]
@@ -78,28 +75,22 @@ def _station_features(o: Outcome) -> list[dict[str, Any]]:
         out.append(
             _feature(
                 shapely.Point(s.x, s.y),
-                {
-                    "role": "station",
-                    "id": s.id,
-                    "zone": s.zone,
-                    "side": s.side.value,
-                    "kind": s.kind.value,
-                    "frame": s.frame,
-                    "covered_m": _num(st.covered_m),
-                    "worst_incidence_deg": _num(st.worst_incidence_deg),
-                    "longest_range_m": _num(st.longest_range_m),
-                    "worst_point_error_m": _num(st.worst_point_error_m),
-                    "tripod_radius_m": _num(r) if r is not None else None,
-                },
+                "station",
+                id=s.id,
+                zone=s.zone,
+                side=s.side.value,
+                kind=s.kind.value,
+                frame=s.frame,
+                covered_m=_num(st.covered_m),
+                worst_incidence_deg=_num(st.worst_incidence_deg),
+                longest_range_m=_num(st.longest_range_m),
+                worst_point_error_m=_num(st.worst_point_error_m),
+                tripod_radius_m=_num(r) if r is not None else None,
             )
         )
         if r is not None and r > 0:
-            out.append(
-                _feature(
-                    shapely.Point(s.x, s.y).buffer(r, quad_segs=16),
-                    {"role": "tripod_disc", "station": s.id, "radius_m": _num(r), "frame": s.frame},
-                )
-            )
+            disc = shapely.Point(s.x, s.y).buffer(r, quad_segs=16)
+            out.append(_feature(disc, "tripod_disc", station=s.id, radius_m=_num(r), frame=s.frame))
     return out
 
 
@@ -110,27 +101,22 @@ def _network_features(o: Outcome) -> list[dict[str, Any]]:
     out = [
         _feature(
             shapely.LineString([(g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"])]),
-            {
-                "role": "network",
-                "from": u,
-                "to": v,
-                "kinds": sorted(d["kinds"]),
-                "length_m": _num(d["length_m"]),
-                "frame": g.nodes[u]["frame"],
-            },
+            "network",
+            **{"from": u, "to": v},
+            kinds=sorted(d["kinds"]),
+            length_m=_num(d["length_m"]),
+            frame=g.nodes[u]["frame"],
         )
         for u, v, d in g.edges(data=True)
     ]
     out += [
         _feature(
             shapely.Point(c.x, c.y),
-            {
-                "role": "control",
-                "name": c.name,
-                "proposed": c.proposed,
-                "frame": c.frame,
-                "sigma_m": _num(o.network.station_sigma_m.get(c.name, 0.0)),
-            },
+            "control",
+            name=c.name,
+            proposed=c.proposed,
+            frame=c.frame,
+            sigma_m=_num(o.network.station_sigma_m.get(c.name, 0.0)),
         )
         for c in o.network.control
     ]

@@ -135,8 +135,8 @@ def _storeys(model: Any, path: Path) -> list[_Storey]:
         out.append(_Storey(st.Name or f"storey {k + 1}", st, elev, height, spaces, elev if base is None else base))
     if not any(s.spaces for s in out):
         raise InputError(
-            "no IfcSpace in any storey: the planner scans rooms; define the rooms as spaces in the "
-            "authoring tool (e.g. Revit Rooms, ArchiCAD Zones) and export them to IFC",
+            "no IfcSpace in any storey: the planner scans rooms; define the rooms as spaces in the authoring tool (e.g. "
+            "Revit Rooms, ArchiCAD Zones) and export them to IFC",
             file=str(path),
             field="IfcSpace",
             value=0,
@@ -208,13 +208,8 @@ def _storey_zones(
         zid = _unique(prefix + str(name), used)
         solid = solid_of(space, settings)
         if solid is None:
-            raise InputError(
-                "the space has no body geometry (IfcOpenShell built no shape for it)",
-                file=file,
-                zone=zid,
-                field="Representation",
-                value=space.GlobalId,
-            )
+            where = dict(file=file, zone=zid, field="Representation", value=space.GlobalId)
+            raise InputError("the space has no body geometry (IfcOpenShell built no shape for it)", **where)
         height = solid.height_m if solid.height_m > 0 else st.height_m
         zone = replace(
             _space_zone(zid, solid, height, blockers, frame, file),

@@ -88,14 +88,8 @@ def read_stairs(storeys: Sequence[StoreyZones], settings: Any) -> tuple[Stair, .
             below, above = _best_zone(lower.zones, near), _best_zone(upper.zones, near)
             if below is None or above is None:
                 continue
-            out.append(
-                Stair(
-                    name=str(element.Name or element.GlobalId),
-                    lower_zone=below.id,
-                    upper_zone=above.id,
-                    footprint=tuple((round(float(x), 4), round(float(y), 4)) for x, y in foot.exterior.coords[:-1]),
-                    z_min_m=round(solid.z_min_m, 4),
-                    z_max_m=round(solid.z_max_m, 4),
-                )
-            )
+            ring = tuple((round(float(x), 4), round(float(y), 4)) for x, y in foot.exterior.coords[:-1])
+            name = str(element.Name or element.GlobalId)
+            z = dict(z_min_m=round(solid.z_min_m, 4), z_max_m=round(solid.z_max_m, 4))
+            out.append(Stair(name=name, lower_zone=below.id, upper_zone=above.id, footprint=ring, **z))
     return tuple(out)

@@ -22,25 +22,10 @@ from planner.site.params import DEFAULT_INSTRUMENT, MAX_HEIGHT_M, ClosureToleran
 from planner.site.traverse import AcceptedMisclosure, TableRow, ZoneTable
 from planner.site.zone_extras import place_and_open
 
-TOP_KEYS = {
-    "format",
-    "name",
-    "description",
-    "source",
-    "instrument",
-    "parameters",
-    "closure_tolerance",
-    "zones",
-    "obstacles",
-    "no_go",
-    "boundary",
-    "control_points",
-    "corrections",
-    "accepted_misclosures",
-    "placements",
-    "openings",
-    "assembly",
-}
+TOP_KEYS = set(
+    "format name description source instrument parameters closure_tolerance zones obstacles no_go boundary "
+    "control_points corrections accepted_misclosures placements openings assembly".split()
+)
 FORMAT = "tls-planner/1"
 
 
@@ -79,24 +64,10 @@ def load_instance_json(path: Path | str) -> Site:
         raise exc.located(r.file) from None
 
 
-PARAM_KEYS = {
-    "theta_max_deg",
-    "overlap",
-    "sigma_req_m",
-    "sigma_req_mm",
-    "drawing_scale",
-    "sigma_0_m",
-    "sigma_0_mm",
-    "centring_m",
-    "centring_mm",
-    "graphical_m",
-    "graphical_mm",
-    "instrument_height_m",
-    "max_slant_range_m",
-    "incidence_model",
-    "min_standoff_m",
-    "instrument_height_span_m",
-}
+PARAM_KEYS = set(
+    "theta_max_deg overlap sigma_req_m sigma_req_mm drawing_scale sigma_0_m sigma_0_mm centring_m centring_mm "
+    "graphical_m graphical_mm instrument_height_m max_slant_range_m incidence_model min_standoff_m instrument_height_span_m".split()
+)
 
 
 def _parameters(r: InstanceReader, raw: Any) -> Parameters:

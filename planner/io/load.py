@@ -31,11 +31,8 @@ def load_site(
     crs: str | None = None,
     ifc: Any = None,
 ) -> Site:
-    """Read a site from a JSON instance, a table CSV, a DXF drawing or GeoJSON (by the file's extension).
-
-    ``dxf`` (a :class:`~planner.io.dxf_in.DxfOptions`) says which DXF layers hold what; ``crs`` names the metric CRS a
-    lon/lat GeoJSON is projected to; ``ifc`` (a :class:`~planner.io.ifc_in.IfcOptions`) says which storeys of an IFC
-    model to read.
+    """Read a site in any of the :data:`READERS` formats, by the file's extension. ``dxf``: which DXF layers hold what;
+    ``crs``: the metric CRS a lon/lat GeoJSON is projected to; ``ifc``: which storeys of an IFC model to read.
 
     A table CSV carries no parameters: the dissertation's defaults apply (:class:`~planner.site.params.Parameters`),
     with S_max derived from the instrument. ``tolerance`` sets the closure tolerance of a CSV's zones (a JSON instance

@@ -59,15 +59,8 @@ def adjust_observations(report: NetworkReport, path: str) -> str:
             raise InputError(
                 "needs a kind and a known point 'at'", **where, value=o.get("kind") if isinstance(o, dict) else o
             )
-        obs.append(
-            Obs(
-                o["kind"],
-                o["at"],
-                o.get("to"),
-                to_float(o.get("value"), field="value", **where),
-                to_float(o.get("sigma"), field="sigma", **where),
-            )
-        )
+        value, sigma = (to_float(o.get(key), field=key, **where) for key in ("value", "sigma"))
+        obs.append(Obs(o["kind"], o["at"], o.get("to"), value, sigma))
     fixed = [c.name for c in report.control if c.sigma_x_m == 0 and c.sigma_y_m == 0]
     adj = adjust(coords, fixed, obs, observed=True, angle_unit=au, length_unit=lu)
     lines = [

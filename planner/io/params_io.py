@@ -21,8 +21,11 @@ from planner.site.params import Parameters
 
 #: the record's key in GeoJSON's ``planner`` member and the DXF header's custom property
 RECORD_KEY = "tls_planner_site"
-_TEXT = {"incidence_model"}
-_FLAGS = {"derive_theta_max"}
+#: parameters that are no number: their kind, and what the error says
+_KINDS: dict[str, tuple[type, str]] = {
+    "incidence_model": (str, "must be a text"),
+    "derive_theta_max": (bool, "must be true or false"),
+}
 _OPTIONAL = {"drawing_scale", "max_slant_range_m"}
 
 
@@ -103,13 +106,10 @@ def _parameters(raw: dict[str, Any], where: dict[str, Any]) -> Parameters:
                 raise InputError("must be an object", **where, field=at, value=type(value).__name__)
             known_keys(value, {f.name for f in fields(ErrorBudget)}, file=where["file"], row=f"{RECORD_KEY}.{at}")
             values[key] = ErrorBudget(**{k: to_float(v, field=f"{at}.{k}", **where) for k, v in value.items()})
-        elif key in _TEXT:
-            if not isinstance(value, str):
-                raise InputError("must be a text", **where, field=at, value=value)
-            values[key] = value
-        elif key in _FLAGS:
-            if not isinstance(value, bool):
-                raise InputError("must be true or false", **where, field=at, value=value)
+        elif key in _KINDS:
+            kind, message = _KINDS[key]
+            if not isinstance(value, kind):
+                raise InputError(message, **where, field=at, value=value)
             values[key] = value
         elif value is None and key in _OPTIONAL:
             values[key] = None

@@ -108,10 +108,10 @@ def _surfaces(meta: dict[str, Any], problem: Problem, spacing_m: float) -> Surfa
 def _fits_in_memory(site: Site, validation: ValidationReport, spacing_m: float, grid_m: float, name: str) -> None:
     """The memory guard of ``planner plan`` for the spacings a plan.json records (an edited file may ask
     for pieces of a micrometre): refused naming the plan file and the field, before any coverage is built."""
-    from planner.plan.memory_guard import default_limit_bytes, estimate_work
+    from planner.plan.memory_guard import DEFAULT_SHARE, available_memory_bytes, estimate_work
 
     est = estimate_work(site, spacing_m, grid_m, validation.range_limit.max_slant_range_m)
-    if est.bytes > default_limit_bytes():
+    if est.bytes > int(DEFAULT_SHARE * available_memory_bytes()):
         raise InputError(
             f"the report's coverage would not fit in memory (the coverage problem needs about {est.describe()})",
             file=name,

@@ -91,13 +91,8 @@ def read_pol(
         pos += 1
         holes = [ring(f"hole {k}") for k in range(1, h + 1)]
     if pos != len(toks):
-        raise InputError(
-            "unexpected tokens after the last ring",
-            file=file,
-            row=f"token {pos + 1}",
-            field="token",
-            value=_shown(toks[pos]),
-        )
+        where = dict(file=file, row=f"token {pos + 1}", field="token", value=_shown(toks[pos]))
+        raise InputError("unexpected tokens after the last ring", **where)
     lo = outer.min(axis=0)
     scale = extent_m / float(np.ptp(outer, axis=0).max() or 1.0)
     outer = (outer - lo) * scale

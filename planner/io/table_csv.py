@@ -61,11 +61,9 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
         nums = {c: to_float(rec[c], field=c, text=True, **where) for c in NUMBER_COLUMNS}
         row = TableRow(index=index, line=line_no, **nums)
         if zone in zones and zones[zone][0] != side:
+            first = zones[zone][0]
             raise InputError(
-                f"scan side differs from the zone's first row ({zones[zone][0]})",
-                **where,
-                field="scan_side",
-                value=side,
+                f"scan side differs from the zone's first row ({first})", **where, field="scan_side", value=side
             )
         zones.setdefault(zone, (side, []))[1].append(row)
     if not zones:
@@ -75,7 +73,7 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
 
 def _rows(reader: Any, file: str) -> Iterator[list[str]]:
     """The rows of a ``csv.reader`` (``Any``: its type is private to ``_csv``); a row it cannot read, e.g. a cell over
-    its 131072-character limit, is an InputError naming the line (it was an internal error)."""
+    its 131072-character limit, is an InputError naming the line."""
     while True:
         try:
             row = next(reader)
@@ -90,12 +88,6 @@ def _zone_table(zone: str, side: str, rows: list[TableRow], file: str) -> ZoneTa
     rows = sorted(rows, key=lambda r: r.index)
     for expected, r in enumerate(rows, start=1):
         if r.index != expected:
-            raise InputError(
-                f"indices must run 1..{len(rows)} without gaps or repeats",
-                file=file,
-                zone=zone,
-                row=f"line {r.line}",
-                field="index",
-                value=r.index,
-            )
+            where = dict(file=file, zone=zone, row=f"line {r.line}", field="index", value=r.index)
+            raise InputError(f"indices must run 1..{len(rows)} without gaps or repeats", **where)
     return ZoneTable(zone=zone, scan_side=side, rows=tuple(rows), file=file)

@@ -88,7 +88,7 @@ class NetworkReport:
                 e["sigma_h_m"] = sh
                 e["point_error_3d_m"] = math.sqrt(e["position_error_m"] ** 2 + sh**2)  # m_P of seed 003
         return {
-            "nodes": [{"id": n, **{k: v for k, v in d.items()}} for n, d in g.nodes(data=True)],
+            "nodes": [{"id": n, **d} for n, d in g.nodes(data=True)],
             "edges": [
                 {"from": u, "to": v, "kinds": sorted(d["kinds"]), "length_m": d["length_m"]}
                 for u, v, d in g.edges(data=True)
@@ -201,15 +201,14 @@ def run_network(
 ) -> NetworkReport:
     """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece.
 
-    ``registration``: the plan's (:attr:`planner.plan.problem.Problem.registration`), or a mode, ``zone`` or
-    ``site`` (None: the site's default), at the site's overlap share;
-    the report also holds the network as a scanner survey (:mod:`planner.network.survey`).
-    ``site``: the plan's sight (its resolved problem's), or a site, then seen under its own parameters with
-    ``precision``: ``single`` judges each piece by its best view, ``combined`` by all its views (a sight
-    carries its own precision mode).
-    ``traverse``: the planned control traverse (default: proposed, :mod:`planner.network.traverse`); the
-    total station observes its legs only, stations are held by registration links and ties.
-    ``ts_everywhere``: the earlier design instead, a total station on every station sight line.
+    ``registration``: the plan's (:attr:`planner.plan.problem.Problem.registration`), or a mode, ``zone`` or ``site``
+    (None: the site's default), at the site's overlap share; the report also holds the network as a scanner survey
+    (:mod:`planner.network.survey`). ``site``: the plan's sight (its resolved problem's), or a site, then seen under its
+    own parameters with ``precision``: ``single`` judges each piece by its best view, ``combined`` by all its views (a
+    sight carries its own precision mode). ``traverse``: the planned control traverse (default: proposed,
+    :mod:`planner.network.traverse`); the total station observes its legs only, stations are held by registration links
+    and ties.
+    ``ts_everywhere``: a total station on every station sight line instead (:mod:`planner.network.graph`).
     """
     argument(site, (Site, Sight), "site")
     stations_argument(stations)

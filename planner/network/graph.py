@@ -1,5 +1,5 @@
-"""The station network (networkx) of the earlier design, kept behind ``--ts-everywhere``: a total station on every
-scanner station. The default network (:mod:`planner.network.traverse`) observes with the total station only the legs of
+"""The station network (networkx) behind ``--ts-everywhere``: a total station on every scanner station. The default
+network (:mod:`planner.network.traverse`) observes with the total station only the legs of
 a control traverse; the control proposal and the sight test here serve both.
 
 One network per frame. Edges carry ``length_m`` and ``kinds``, a set of: ``sight`` (two nodes intervisible and within

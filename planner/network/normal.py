@@ -41,6 +41,14 @@ DENSE_RANK_MAX = 3000
 Lookup = Callable[[NDArray[np.int64], NDArray[np.int64]], NDArray[np.float64]]
 
 
+def _splu(m: sp.spmatrix) -> spla.SuperLU:
+    """SuperLU of a symmetric positive (semi)definite ``m`` with the diagonal as pivots: a Cholesky factorisation in LU
+    form."""
+    return spla.splu(
+        m.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True, "Equil": False}
+    )
+
+
 def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
     """The datum-defect error, with how many unknowns are undetermined: the rank of N as the dense solver counted it
     (small networks), else the small pivots (of a factorisation of N + 1e-13 I on the unit diagonal where none came)."""
@@ -51,13 +59,7 @@ def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
         if pivots is None:
             d = n.diagonal()
             s = sp.diags(1.0 / np.sqrt(np.where(d > 0, d, 1.0)))
-            lu = spla.splu(
-                (s @ n @ s + 1e-13 * sp.identity(u)).tocsc(),
-                permc_spec="MMD_AT_PLUS_A",
-                diag_pivot_thresh=0.0,
-                options={"SymmetricMode": True, "Equil": False},
-            )
-            pivots = lu.U.diagonal()
+            pivots = _splu(s @ n @ s + 1e-13 * sp.identity(u)).U.diagonal()
         count = int(np.sum(np.abs(pivots) < PIVOT_TOL))
     return InputError(
         f"datum defect: the network leaves {count} unknown(s) undetermined (fix control points or add observations)",
@@ -95,12 +97,7 @@ class Normal:
                 self.chol = np.asarray(sla.cholesky(m.toarray(), lower=True, check_finite=False))
                 pivots = np.diag(self.chol) ** 2
             else:
-                self.lu = spla.splu(
-                    m.tocsc(),
-                    permc_spec="MMD_AT_PLUS_A",
-                    diag_pivot_thresh=0.0,
-                    options={"SymmetricMode": True, "Equil": False},
-                )
+                self.lu = _splu(m)
                 pivots = self.lu.U.diagonal()
         except (np.linalg.LinAlgError, RuntimeError):  # not positive definite, or an exactly zero pivot
             raise _defect(n, None) from None

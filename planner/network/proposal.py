@@ -1,8 +1,6 @@
-"""The proposed control traverse on a large site, fast: rooms of points, legs, needed ring points, spots.
-
-Each function gives what the pairwise loops of :mod:`planner.network.traverse` gave (the same legs, in the same order;
-the same ring points; the same spot), with the work done in arrays: the room of each point once, every pair's checks at
-once, the sight lines by :func:`planner.network.sight.sight_clear`, the shortest leg paths by scipy's Dijkstra.
+"""The proposed control traverse on a large site, fast: rooms of points, legs, needed ring points, spots, with the
+work done in arrays (the same legs in the same order as pairwise loops): the room of each point once, every pair's
+checks at once, the sight lines by :func:`planner.network.sight.sight_clear`, the shortest leg paths by scipy's Dijkstra.
 """
 
 from __future__ import annotations
@@ -96,7 +94,7 @@ def needed(
     kept: set[str] = set()
     if not real or not len(ew):
         return kept
-    if not np.all(ew > 0):  # a leg of length 0 (coincident points): networkx, as before
+    if not np.all(ew > 0):  # a leg of length 0 (coincident points): networkx decides
         return _needed_networkx(g, real, names)
     dist = dijkstra(csr_matrix((ew, (eu, ev)), shape=(len(order), len(order))), indices=[index[r] for r in real])
     for row, src in zip(dist, real):

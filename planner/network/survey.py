@@ -1,13 +1,11 @@
 """The network of a plan as a scanner survey: registration links, ties to control, chain accuracy.
 
-Links: the overlap relation of the plan's stations, within each registration group (zone-side,
-or accessible area of the site with links through openings; see :mod:`planner.coverage.links`).
-Ties: a station within ``TIE_RANGE_M`` of control points it sees scans targets on them. Without
-control points in the instance, each registration part gets control by the field's rules:
-at least 3, one per ``CHAIN_PER_CONTROL_M`` of chain (the part's minimum spanning tree of links),
-placed one at a time where the chain's error is worst; the station nearest each spot scans
-``DEFAULT_TARGETS`` targets there. A proposed point's own error (``DEFAULT_CONTROL_SIGMA_M``) is part
-of every tie to it (formula 3).
+Links: the overlap relation of the plan's stations, within each registration group (zone-side, or accessible area of the
+site with links through openings; see :mod:`planner.coverage.links`). Ties: a station within ``TIE_RANGE_M`` of control
+points it sees scans targets on them. Without control points in the instance, each registration part gets control by the
+field's rules: at least 3, one per ``CHAIN_PER_CONTROL_M`` of chain (the part's minimum spanning tree of links), placed
+one at a time where the chain's error is worst; the station nearest each spot scans ``DEFAULT_TARGETS`` targets there. A
+proposed point's own error (``DEFAULT_CONTROL_SIGMA_M``) is part of every tie to it (formula 3).
 """
 
 from __future__ import annotations
@@ -34,7 +32,7 @@ from planner.network.chain import (
 )
 from planner.network.graph import intervisible
 from planner.site.candidate import Candidate
-from planner.site.model import Site
+from planner.site.model import ControlPoint, Site
 
 #: scan resolution 3 mm at 10 m (seed 003's example) as an angle in degrees
 DEFAULT_RESOLUTION_DEG = math.degrees(0.003 / 10.0)
@@ -80,6 +78,12 @@ class SurveyNetwork:
         ] + self.chain.lines()
 
 
+def can_tie(site: Site, frame: str, xy: tuple[float, float], c: ControlPoint) -> bool:
+    """A station at ``xy`` in ``frame`` scans targets on ``c``: same frame, within ``TIE_RANGE_M``, in sight."""
+    near = c.frame == frame and math.dist(xy, (c.x, c.y)) <= TIE_RANGE_M
+    return near and intervisible(site, c.frame, xy, (c.x, c.y))
+
+
 def _tie(control_sigma_m: float, ranges: Sequence[float]) -> float:
     centre = [target_centre_sigma_m(control_sigma_m, r, TS_DISTANCE_M, TS_ANGLE_ARCSEC) for r in ranges]
     return tie_sigma_m(list(ranges), DEFAULT_RESOLUTION_DEG, float(np.sqrt(np.mean(np.square(centre)))))
@@ -92,8 +96,8 @@ def registration_links(
     problem: CoverageProblem | None = None,
 ) -> list[tuple[str, str]]:
     """Pairs of the plan's stations that can be registered (see the module text): the relation of the plan's
-    ``registration`` (:meth:`planner.coverage.relation.Registration.relation`; a mode, or None: the site's
-    default, at the site's overlap share); ``problem``: their coverage, when already built (rows in the order of
+    ``registration`` (:meth:`planner.coverage.relation.Registration.relation`; a mode, or None: the site's default,
+    at the site's overlap share); ``problem``: their coverage, when already built (rows in the order of
     ``stations``); ``site``: the plan's sight, or a site seen under its own parameters."""
     sight = as_sight(site)
     if problem is None:
@@ -110,9 +114,9 @@ def survey_network(
     registration: Registration | str | None = None,
     links: Sequence[tuple[str, str]] | None = None,
 ) -> SurveyNetwork:
-    """Links (``links``: already found by :func:`registration_links`, else found there under
-    ``registration``), ties (given or proposed control) and the chain accuracy of a plan's stations; ``site``:
-    the plan's sight, or a site alone."""
+    """Links (``links``: already found by :func:`registration_links`, else found there under ``registration``), ties
+    (given or proposed control) and the chain accuracy of a plan's stations; ``site``: the plan's sight, or a site
+    alone."""
     if links is None:
         links = registration_links(site, stations, registration)
     site = site.site if isinstance(site, Sight) else site
@@ -136,13 +140,7 @@ def survey_network(
     else:
         by_id = {s.id: s for s in stations}
         for sid, p in xy.items():
-            seen = [
-                c
-                for c in site.control_points
-                if by_id[sid].frame == c.frame
-                and math.dist(p, (c.x, c.y)) <= TIE_RANGE_M
-                and intervisible(site, c.frame, p, (c.x, c.y))
-            ]
+            seen = [c for c in site.control_points if can_tie(site, by_id[sid].frame, p, c)]
             if seen:
                 ranges = [max(math.dist(p, (c.x, c.y)), 1.0) for c in seen]
                 ties[sid] = _tie(max(max(c.sigma_x_m, c.sigma_y_m) for c in seen), ranges)

@@ -14,7 +14,6 @@ that no opening joins stay separate networks.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,9 +28,8 @@ from planner.core.errors import InputError
 from planner.core.fileio import known_keys, read_json, to_float
 from planner.coverage.openings import PASSABLE, opening_segments
 from planner.network import proposal
-from planner.network.chain import TIE_RANGE_M
-from planner.network.graph import add_link, intervisible, point_graph, propose_control
-from planner.network.survey import DEFAULT_TARGETS, _tie
+from planner.network.graph import add_link, point_graph, propose_control
+from planner.network.survey import DEFAULT_TARGETS, _tie, can_tie
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, ControlPoint, ScanSide, Site
 
@@ -112,15 +110,9 @@ def propose_traverse(site: Site, control: Sequence[ControlPoint], ts_range_m: fl
     for frame in dict.fromkeys(z.frame for z in site.zones):
         for k, (zi, w, kind, ends) in enumerate(opening_segments(site, frame)):
             if kind in PASSABLE:
-                mid = ends.mean(axis=0)
+                x, y = map(float, ends.mean(axis=0))
                 points.append(
-                    ControlPoint(
-                        f"TP.{site.zones[zi].id}.{w.index}.{k + 1}",
-                        float(mid[0]),
-                        float(mid[1]),
-                        proposed=True,
-                        frame=frame,
-                    )
+                    ControlPoint(f"TP.{site.zones[zi].id}.{w.index}.{k + 1}", x, y, proposed=True, frame=frame)
                 )
     ring = _ring_points(site)
     nodes = list(control) + points + ring
@@ -190,12 +182,7 @@ def propose_area_control(
         n = sum(c.name.startswith(f"CP{k + 1}.") for c in ctrl)
         for sid in sorted(comp):
             st = by_id[sid]
-            if any(
-                c.frame == st.frame
-                and math.dist(st.xy, (c.x, c.y)) <= TIE_RANGE_M
-                and intervisible(site, c.frame, st.xy, (c.x, c.y))
-                for c in ctrl
-            ):
+            if any(can_tie(site, st.frame, st.xy, c) for c in ctrl):
                 continue
             spot = proposal.best_spot(site, st, ctrl + doors)
             if spot is None:
@@ -226,11 +213,7 @@ def survey_graph(
         add_link(g, u, v, "registration")
     for s in stations:
         for c in control:
-            if (
-                c.frame == s.frame
-                and math.dist(s.xy, (c.x, c.y)) <= TIE_RANGE_M
-                and intervisible(site, c.frame, s.xy, (c.x, c.y))
-            ):
+            if can_tie(site, s.frame, s.xy, c):
                 add_link(g, s.id, c.name, "tie")
     for u, v in traverse.legs:
         for n in (u, v):

@@ -1,20 +1,14 @@
-"""The interactive site map of report.html: :func:`outcome_site_map` fills a
-:class:`~planner.figures.webmap.SiteMap` from an :class:`~planner.plan.outcome.Outcome` (and the plan's
-field sheet, where one was written), :func:`site_map_html` renders it.
+"""The interactive site map of report.html: :func:`outcome_site_map` fills a :class:`~planner.figures.webmap.SiteMap`
+from an :class:`~planner.plan.outcome.Outcome` (and the plan's field sheet, where one was written), :func:`site_map_html`
+renders it.
 
-What it shows, by layer: the zones' walls and openings, obstacles, no-go areas and the boundary; per station
-the runs of wall it covers (from the outcome's recomputed coverage, hidden until the station is selected) and,
-where the plan has floors and ceilings, the patches of them it sees (merged per zone and kind, hidden alike);
-the registration links (the plan's overlap relation, :func:`planner.coverage.relation.station_relation`,
-under the registration scope the plan was made with, whether or not the network check ran); the walking
-route and targets of the field sheet; the control points and traverse legs of the network check. Frames,
-pan and zoom: :mod:`planner.figures.webmap.render` (one map, a selector for sites of several frames).
+Coverage is the outcome's recomputed coverage; the registration links are the plan's overlap relation
+(:func:`planner.coverage.relation.station_relation`) under the registration scope the plan was made with, whether or not
+the network check ran; the control points and traverse legs are the network check's.
 """
 
 from __future__ import annotations
 
-import base64
-import html
 import json
 from collections.abc import Mapping
 from pathlib import Path
@@ -25,6 +19,7 @@ from planner.figures.base import png_bytes
 from planner.figures.site_fig import site_figure
 from planner.figures.webmap import MapLine, MapLink, MapPoint, SiteMap, coverage_runs, render_site_map, site_map_data
 from planner.plan.outcome import Outcome
+from planner.report.markup import image
 from planner.report.surfaces_section import station_areas
 
 
@@ -113,8 +108,5 @@ def site_plan_html(o: Outcome, field_sheet: Mapping[str, Any] | None) -> str:
     ids = {s.id for s in o.stations}
     order = [str(s) for s in (field_sheet or {}).get("order", []) if str(s) in ids] or None
     how = "numbered in walking order (field sheet)" if order else "numbered in the plan's order"
-    fig = site_figure(o, order=order)
-    png = base64.b64encode(png_bytes(fig)).decode()
     alt = f"the whole site: stations {how}, registration links, control points, scale bar and north"
-    caption = html.escape(alt)
-    return f'<figure><img alt="{caption}" src="data:image/png;base64,{png}"><figcaption>{caption}</figcaption></figure>'
+    return image(png_bytes(site_figure(o, order=order)), alt)

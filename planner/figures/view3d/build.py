@@ -1,9 +1,6 @@
 """Fill a :class:`~planner.figures.view3d.model.Scene3D` from a site, its stations and their coverage matrix
-(:func:`scene_3d`).
-
-Coverage is kept as runs, not pieces: consecutive pieces a station covers on one wall face become one
-:class:`~planner.figures.view3d.model.Covered` (wall, offsets along it, piece count), which the renderer turns into a
-quad on that wall, so the page grows with stations x runs, not with pieces.
+(:func:`scene_3d`); coverage as runs (:func:`planner.figures.webmap.build.run_ends`), each a
+:class:`~planner.figures.view3d.model.Covered` the renderer draws as one quad on its wall.
 """
 
 from __future__ import annotations

@@ -41,20 +41,7 @@ def scene_json(s: Scene3D) -> str:
         "title": s.title,
         "ih": s.instrument_height_m,
         "zones": [[z.id, z.frame, z.side, _m(z.floor_m)] for z in s.zones],
-        "walls": [
-            [
-                w.zone,
-                w.wall,
-                _m(w.a[0]),
-                _m(w.a[1]),
-                _m(w.b[0]),
-                _m(w.b[1]),
-                _m(w.floor_m),
-                _m(w.top_a_m),
-                _m(w.top_b_m),
-            ]
-            for w in s.walls
-        ],
+        "walls": [[w.zone, w.wall, *map(_m, (*w.a, *w.b, w.floor_m, w.top_a_m, w.top_b_m))] for w in s.walls],
         "surfaces": [
             [f.zone, f.kind[0], _m(f.level_m), [[_m(v) for p in r for v in p] for r in f.rings]] for f in s.surfaces
         ],

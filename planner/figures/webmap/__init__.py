@@ -4,16 +4,8 @@ address) to pan, zoom, switch layers and frames, and tap a station for what it c
 :mod:`~planner.figures.webmap.model` holds the plain data (:class:`SiteMap`), :mod:`~planner.figures.webmap.build`
 fills it (:func:`site_map_data`), :mod:`~planner.figures.webmap.render` draws it (:func:`render_site_map`, with
 the package data ``site_map.js`` and ``site_map.css`` inlined). It lives below both :mod:`planner.report` and
-:mod:`planner.field`, which may not import each other, so that report.html and the field sheet embed the same
-map. The field sheet's, in short (its stations in visiting order, so that the map numbers them as its setup
-table)::
-
-    from planner.field.record import to_dict
-    from planner.figures.webmap import MapLink, coverage_runs, render_site_map, site_map_data
-
-    links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
-    data = site_map_data(fp.site, fp.stations, runs=coverage_runs(fp.coverage), links=links, field_sheet=to_dict(fp))
-    fragment = render_site_map(data, dom_id="field-map", table="setup table")
+:mod:`planner.field`, which may not import each other, so that report.html and the field sheet
+(:mod:`planner.field.site_map`) embed the same map.
 """
 
 from planner.figures.webmap.build import coverage_runs, field_layers, site_map_data, wall_lines

@@ -3,11 +3,8 @@
 
 Coverage is drawn as runs, not pieces: consecutive pieces one station covers on one wall face (no opening between them)
 become one segment, so a 100-station plan over thousands of pieces draws a few runs per station and wall, never one
-element per piece per station.
-
-This module takes the site model and a coverage matrix (lower layers) and the field sheet as its ``field.json``
-dictionary (:func:`planner.field.sheet.to_dict`), so the report and the field sheet, which may not import each other,
-both build their map here.
+element per piece per station. The field sheet comes as its ``field.json`` dictionary
+(:func:`planner.field.record.to_dict`).
 """
 
 from __future__ import annotations
@@ -42,9 +39,8 @@ def wall_lines(site: Site) -> tuple[MapLine, ...]:
     for z in site.zones:
         for k, ring in enumerate(z.rings):
             name = z.id if k == 0 else f"{z.id} hole {k}"
-            out.append(
-                MapLine(f"{z.id}#{k}", z.frame, "wall", tuple(map(_pt, ring)), True, f"{name} ({z.scan_side.value})")
-            )
+            label = f"{name} ({z.scan_side.value})"
+            out.append(MapLine(f"{z.id}#{k}", z.frame, "wall", tuple(map(_pt, ring)), True, label))
         walls = z.walls
         for op in z.openings:
             w = walls[op.wall - 1]
@@ -165,12 +161,10 @@ def _storey_legs(
                 if len(run) > 1:
                     out.append(MapLine(f"leg {k}.{part}", frs[t - 1], kind, tuple(map(_pt, run)), False, note))
                 part += 1
-                for fr in (frs[t - 1], f):
-                    out.append(
-                        MapLine(
-                            f"leg {k}.{part}.{fr}", fr, kind, tuple(map(_pt, [leg[t - 1], p])), False, note + ", stair"
-                        )
-                    )
+                stair = tuple(map(_pt, [leg[t - 1], p]))
+                out += [
+                    MapLine(f"leg {k}.{part}.{fr}", fr, kind, stair, False, note + ", stair") for fr in (frs[t - 1], f)
+                ]
                 part += 1
                 run = []
             run.append(p)
@@ -198,7 +192,7 @@ def site_map_data(
     covers (None: no such layer); ``links``: registration links between the stations (by id); ``field_sheet``: a field
     sheet's ``field.json`` dictionary (route, start, targets, visiting order; None: no field layers); ``control``,
     ``traverse``: the network check's control points and traverse legs; ``rows``: station id to the HTML id of its row
-    in the page's station table. The package text (:mod:`planner.figures.webmap`) shows how the field sheet calls it.
+    in the page's station table.
     """
     frame_of = {s.id: s.frame for s in stations}
     route: tuple[MapLine, ...] = ()
