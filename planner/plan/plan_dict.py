@@ -1,5 +1,5 @@
-"""A plan as the dictionary plan.json holds (:func:`plan_to_dict`): what the outcome, the report and the file
-writer (:mod:`planner.io.plan_json`) all take, so the file and the figures never disagree."""
+"""A plan as the dictionary plan.json holds (:func:`plan_to_dict`): what the outcome, the report and the file writer
+(:mod:`planner.io.plan_json`) all take, so the file and the figures never disagree."""
 
 from __future__ import annotations
 
@@ -36,8 +36,7 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "certificate": r.info.get("certificate"),
         "time_s": r.time_s,
         "time_covers": plan.time_label,
-        # the steps the user's wall-clock cap cut (empty: only counted work stopped the run: the same plan under
-        # any load)
+        # the steps the user's wall-clock cap cut (empty: only counted work stopped it, the same plan under any load)
         "wall_cap_hit": wall_cap_hit(r.info),
         "backend": r.backend,
         "counts": {"inside": sides.get("inside", 0), "outside": sides.get("outside", 0), "total": len(plan.stations)},
@@ -46,8 +45,8 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         "solver": {k: v for k, v in r.info.items() if k != "presolve"},
         "registration": _registration(plan),
         "problem": plan.problem_size,
-        # the pool the plan was chosen from and its fingerprint (planner.coverage.fingerprint): the best plans known
-        # are compared only on the same pool (None: the path that made the plan did not record it)
+        # the pool the plan was chosen from and its fingerprint: the best plans known are compared only on the same
+        # pool (None: not recorded)
         "pool": plan.pool.to_dict() if plan.pool is not None else None,
         # what every number above was computed under: the limits, the registration rule and scope, the strategy
         "resolved": plan.problem.to_dict(),
@@ -58,9 +57,9 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         ],
         "verification": plan.verification.to_dict(),
         "log": list(plan.log),
-        # floors and ceilings, only where the plan has them: a walls-only plan.json is unchanged
+        # floors and ceilings, only where the plan has them
         **({"surfaces": plan.surfaces.to_dict()} if plan.surfaces is not None else {}),
-        # scan settings, set-up + scan time, point spacing, only where asked: other plan.json unchanged
+        # scan settings, set-up + scan time, point spacing, only where asked
         **({"hours": plan.hours.to_dict()} if plan.hours is not None else {}),
     }
 
@@ -103,8 +102,8 @@ def _parameters(plan: Plan) -> dict[str, Any]:
 
 
 def _registration(plan: Plan) -> dict[str, Any]:
-    """The registration check: connected or not, the components of each group, the share it was checked at
-    (planned under, else the site's) and, only where the site has stairs, the storeys joined into one network."""
+    """The registration check: connected or not, the components of each group, the share it was checked at (planned
+    under, else the site's) and, only where the site has stairs, the storeys joined into one network."""
     out = {"connected": plan.connected, "components": plan.registration, "overlap": plan.problem.checked_rule.overlap}
     if plan.site.stairs:
         out["networks"] = [n.to_dict() for n in storey_networks(plan.site, plan.registration)]
@@ -122,8 +121,8 @@ def _zone(z: Zone) -> dict[str, Any]:
 
 
 def wall_cap_hit(info: dict[str, Any]) -> list[str]:
-    """The steps of a run that the user's wall-clock cap cut, from its result's ``info``: the MILP (``milp``),
-    pricing (``pricing``), or the tiles, bound and windows of a tiled run by name."""
+    """The steps of a run that the user's wall-clock cap cut, from its result's ``info``: the MILP (``milp``), pricing
+    (``pricing``), or the tiles, bound and windows of a tiled run by name."""
     tiled = info.get("wall_cap_hit")
     steps = [str(s) for s in tiled] if isinstance(tiled, list) else []
     steps += ["milp"] if (info.get("work") or {}).get("wall_cap_hit") else []

@@ -143,29 +143,15 @@ class Plan:
         )
 
     def _tripod_lines(self) -> list[str]:
-        """The tripod discs' radii, then each station's disc and instrument-height tolerance (3.32) as a table
-        in the site's order."""
+        """The tripod discs' radii, then each station's disc (``tripods[k]`` is ``stations[k]``'s) and
+        instrument-height tolerance (3.32) as a table in the site's order."""
         if not self.tripods:
             return []
         radii = [d.radius_m for d in self.tripods]
         p = self.site.parameters
         ih, span = p.instrument_height_m, p.instrument_height_span_m
-        placed = {s.id: s for s in self.stations}
-
-        def key(d: TripodDisc) -> tuple[int, int]:
-            s = placed.get(d.station)
-            return self._site_order(s.zone, s.side.value) if s is not None else (len(self.site.zones), 2)
-
-        rows = [
-            (
-                d.station,
-                placed[d.station].zone if d.station in placed else "",
-                placed[d.station].side.value if d.station in placed else "",
-                f"{d.radius_m:.3f}",
-                f"{d.height_tolerance_m:.3f}",
-            )
-            for d in sorted(self.tripods, key=key)
-        ]
+        pairs = sorted(zip(self.stations, self.tripods), key=lambda sd: self._site_order(sd[0].zone, sd[0].side.value))
+        rows = [(d.station, s.zone, s.side.value, f"{d.radius_m:.3f}", f"{d.height_tolerance_m:.3f}") for s, d in pairs]
         head = [
             f"tripod discs: radius min {min(radii):.3f} m, median {float(np.median(radii)):.3f} m, max {max(radii):.3f} m"
             + (" (stations recentred)" if self.options.recentre else " (centred on the planned stations)"),

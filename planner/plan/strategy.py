@@ -176,8 +176,7 @@ MIN_TILES = 4
 MIN_PIECES = 5_000
 #: the smallest core side of a tile, m (1.5 S_max when that is larger: a core is then wider than its margin)
 TILE_M = 100.0
-#: shares of the budget: every tile's MILP together, the Lagrangian bound, the window re-solves (one window per
-#: station of the kept plan, about :data:`STATIONS_PER_TILE` per tile)
+#: shares of the budget: every tile's MILP together, the Lagrangian bound, the window re-solves (module docstring)
 TILE_SHARE, LAGRANGE_SHARE, WINDOW_SHARE = 0.30, 0.15, 0.30
 #: window re-solves of the automatic strategy: none (the local search's moves do better); ``--tiles M`` runs one pass
 WINDOW_PASSES = 0

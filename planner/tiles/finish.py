@@ -9,7 +9,7 @@ import numpy as np
 
 from planner.coverage.fingerprint import pool_of
 from planner.coverage.matrix import CoverageProblem
-from planner.plan import Plan
+from planner.plan import Plan, placed_stations
 from planner.plan.problem import Problem
 from planner.plan.verify import verify_stations
 from planner.solve.cft import CftCover
@@ -33,8 +33,6 @@ def finish_plan(
     cover: CftCover | None = None,
 ) -> Plan:
     """The :class:`Plan`: status, bound, per-tile figures, registration check and 0.1 m verification."""
-    from planner.plan import placed_stations
-
     site, options = resolved.site, resolved.options
     n, value = len(joined.selected), bound.value
     status = Status.OPTIMAL if n == value and all(p <= 1 for p in joined.parts.values()) else Status.FEASIBLE

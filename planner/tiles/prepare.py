@@ -106,8 +106,7 @@ def tile_work(tiling: TileOptions, prep: Prepared) -> tuple[list[TileJob], dict[
         "candidates": prep.pool,
         "targets": prep.targets,
         "groups": prep.groups,
-        # a tile MILP where its plans are asked for, or where a plain cover has no CFT cover to start from (a
-        # connected plan without CFT starts from the connected greedy)
+        # a tile MILP where its plans are asked for, or where a plain cover has no CFT cover to start from
         "milp": tile_milp(options, tiling)
         if tiling.tile_plans or (not tiling.cft and prep.problem.rule is None)
         else None,

@@ -27,11 +27,7 @@ def masked(problem: CoverageProblem, keep: NDArray[np.bool_]) -> CoverageProblem
 
     def pick(values: sp.csr_matrix) -> NDArray[np.float64]:
         v = values.tocsr()
-        if (
-            v.indptr.shape == m.indptr.shape
-            and np.array_equal(v.indptr, m.indptr)
-            and np.array_equal(v.indices, m.indices)
-        ):
+        if np.array_equal(v.indptr, m.indptr) and np.array_equal(v.indices, m.indices):  # the same pattern
             return np.asarray(v.data[keep], dtype=float)
         return np.asarray(v[rows, cols], dtype=float).ravel()
 
