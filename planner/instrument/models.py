@@ -84,6 +84,7 @@ class TotalStation:
 
 
 Instrument = Scanner | TotalStation
+_KINDS: dict[str, type[Scanner] | type[TotalStation]] = {"scanner": Scanner, "total_station": TotalStation}
 
 
 #: no instrument constant is anywhere near this; a larger one is a typo that would overflow the accuracy model
@@ -152,12 +153,8 @@ def load_instrument(name_or_path: str, models_dir: Path | None = None) -> Instru
 def instrument_from_mapping(data: dict[str, Any], default_name: str = "") -> Instrument:
     """Build a Scanner or TotalStation from a mapping with unit-suffixed keys."""
     kind = data.get("kind")
-    cls: type[Scanner] | type[TotalStation]
-    if kind == "scanner":
-        cls = Scanner
-    elif kind == "total_station":
-        cls = TotalStation
-    else:
+    cls = _KINDS.get(kind) if isinstance(kind, str) else None
+    if cls is None:
         raise InputError("must be 'scanner' or 'total_station'", field="kind", value=kind)
     wanted = {f.name for f in fields(cls)}
     values: dict[str, Any] = {"name": data.get("name", default_name)}
@@ -167,7 +164,7 @@ def instrument_from_mapping(data: dict[str, Any], default_name: str = "") -> Ins
         if key == "field" and kind == "scanner":
             values["field_properties"] = field_from_mapping(raw)
             continue
-        target, scale = _unit_key(key)
+        target, scale = (key[:-3] + "_m", 1e-3) if key.endswith("_mm") else (key, 1.0)
         if target not in wanted or target == "field_properties":
             raise InputError(f"unknown key for a {kind}", field=key, value=raw)
         if target in values:
@@ -183,10 +180,3 @@ def instrument_from_mapping(data: dict[str, Any], default_name: str = "") -> Ins
         return cls(**values)
     except TypeError as exc:
         raise InputError(f"incomplete instrument model: {exc}", field="kind", value=kind) from None
-
-
-def _unit_key(key: str) -> tuple[str, float]:
-    """Map ``foo_mm`` to (``foo_m``, 0.001); other keys map to themselves."""
-    if key.endswith("_mm"):
-        return key[:-3] + "_m", 1e-3
-    return key, 1.0

@@ -86,24 +86,15 @@ class AssemblyReport:
         return out
 
 
-def adjustment_change_m(zone: Zone, wall: Wall) -> float:
-    """How much the closure adjustment may have changed a side's length: the compass rule moves the
-    side's far end by (its length / the perimeter) x the linear misclosure (0 for a zone that closes
-    exactly or was not given as a traverse)."""
-    c = zone.closure
-    if c is None or not c.perimeter_m > 0:
-        return 0.0
-    return wall.length_m / c.perimeter_m * c.linear_misclosure_m
-
-
 def side_tolerance_m(za: Zone, wa: Wall, zb: Zone, wb: Wall, tolerance_m: float) -> float:
-    """Two sides' lengths are known to within the base tolerance plus what each closure adjustment changed."""
-    return tolerance_m + adjustment_change_m(za, wa) + adjustment_change_m(zb, wb)
-
-
-def misclosed(zone: Zone) -> bool:
-    """True for a zone whose traverse does not close and was accepted as printed (its sides are uncertain)."""
-    return zone.closure is not None and zone.closure.accepted_reason is not None
+    """Two sides' lengths are known to within the base tolerance plus what each closure adjustment may have changed
+    them: the compass rule moves a side's far end by (its length / the perimeter) x the linear misclosure (nothing for
+    a zone that closes exactly or was not given as a traverse)."""
+    out = tolerance_m
+    for z, w in ((za, wa), (zb, wb)):
+        if z.closure is not None and z.closure.perimeter_m > 0:
+            out += w.length_m / z.closure.perimeter_m * z.closure.linear_misclosure_m
+    return out
 
 
 def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallMatch]:
@@ -247,7 +238,7 @@ def _fit_in_order(
 ) -> dict[str, Placement]:
     """The least-squares fit of the placements, ``held`` fixed; zones with an accepted misclosure are fitted
     after the others (those held then), which they must not pull."""
-    loose = {z for z in placed if misclosed(zones[z]) and z not in held}
+    loose = {z for z in placed if zones[z].misclosed and z not in held}
     first = [m for m in used if m.zone_a not in loose and m.zone_b not in loose]
     fitted = _fit(zones, {z: p for z, p in placed.items() if z not in loose}, held, first, thickness_m)
     rest = [m for m in used if m not in first]
@@ -257,7 +248,7 @@ def _fit_in_order(
 def _match_source(z: str, used: list[WallMatch], zones: dict[str, Zone]) -> str:
     mine = [m for m in used if z in (m.zone_a, m.zone_b)]
     text = f"matched walls: {', '.join(m.label for m in mine)}"
-    if misclosed(zones[z]):
+    if zones[z].misclosed:
         text += (
             f"; its table misses by {zones[z].closure.linear_misclosure_m:.2f} m (accepted), so its sides "  # type: ignore[union-attr]
             "match within their closure adjustment's change and it was fitted after the others (held fixed), so it pulls none of them"

@@ -101,13 +101,13 @@ def contacts_at(
     zone: Zone, p: Placement, zones: dict[str, Zone], placed: dict[str, Placement], angle_deg: float, offset_m: float
 ) -> list[Contact]:
     """Every contact of ``zone`` placed at ``p`` with the placed zones."""
-    out = []
-    for other, ow, ends in _site_walls(zones, placed):
-        for w in zone.outer_walls:
-            c = _contact(zone, w, p, other, ow, ends, angle_deg, offset_m)
-            if c is not None:
-                out.append(c)
-    return out
+    walls = _site_walls(zones, placed)
+    found = (
+        _contact(zone, w, p, other, ow, ends, angle_deg, offset_m)
+        for other, ow, ends in walls
+        for w in zone.outer_walls
+    )
+    return [c for c in found if c is not None]
 
 
 def _line_residuals(
@@ -230,9 +230,7 @@ def place_unmatched(
     done: dict[str, tuple[Placement, str]] = {}
     used: list[Contact] = []
     why_not: dict[str, str] = {}
-    progress = True
-    while progress:
-        progress = False
+    while True:
         now = {**placed, **{z: p for z, (p, _) in done.items()}}
         tries = {z: place_by_contacts(zones[z], zones, now) for z in todo if z not in done}
         why_not.update({z: t[2] for z, t in tries.items() if t[0] is None})
@@ -245,5 +243,4 @@ def place_unmatched(
         done[z] = (p, why + ": " + ", ".join(c.label for c in cs))
         used += cs
         why_not.pop(z, None)
-        progress = True
     return done, used, why_not

@@ -203,6 +203,11 @@ class Zone:
     def polygon(self) -> shapely.Polygon:
         return shapely.Polygon(self.xy, [np.asarray(r, float) for r in self.holes])
 
+    @property
+    def misclosed(self) -> bool:
+        """A traverse that does not close, accepted as printed (its sides and vertices are uncertain)."""
+        return self.closure is not None and self.closure.accepted_reason is not None
+
     def height_check_failures(self) -> tuple[Wall, ...]:
         """Walls whose printed height is not the max of their two vertex heights."""
         return tuple(w for w in self.walls if not w.height_check_ok)

@@ -29,15 +29,10 @@ def snap_zones(zones: tuple[Zone, ...], movable: set[str], snap_m: float = SNAP_
     out = {z.id: z for z in zones}
     for z in order:
         if z.id in movable and taken:
-            out[z.id] = _snap(z, taken, snap_m + _vertex_uncertainty_m(z))
+            shift = z.closure.max_vertex_shift_m if z.closure is not None and z.misclosed else 0.0
+            out[z.id] = _snap(z, taken, snap_m + shift)
         taken.append(out[z.id])
     return tuple(out[z.id] for z in zones)
-
-
-def _vertex_uncertainty_m(zone: Zone) -> float:
-    """How far the closure adjustment moved a vertex of a zone accepted with a misclosure (else 0)."""
-    c = zone.closure
-    return c.max_vertex_shift_m if c is not None and c.accepted_reason is not None else 0.0
 
 
 def _snap(zone: Zone, taken: list[Zone], snap_m: float) -> Zone:
