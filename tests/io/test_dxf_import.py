@@ -36,6 +36,12 @@ def save(doc, tmp_path, name="site.dxf"):
     return path
 
 
+def assert_refused(doc, tmp_path, capsys, *fragments: str) -> None:
+    """``planner validate`` of the drawing exits 3 with one line holding ``fragments``."""
+    assert main(["validate", str(save(doc, tmp_path))]) == 3
+    assert_one_line_error(capsys.readouterr().err, *fragments)
+
+
 def test_square_with_thickness_and_label(tmp_path):
     doc, msp = drawing()
     msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "ZONES", "thickness": 6.5})
@@ -126,20 +132,14 @@ def test_obstacles_and_no_go_layers(tmp_path):
 def test_bad_polylines_give_one_line_errors(tmp_path, capsys, points, fragment):
     doc, msp = drawing()
     msp.add_lwpolyline(points, close=fragment != "open polyline", dxfattribs={"layer": "ZONES", "thickness": 3})
-    path = save(doc, tmp_path)
-    code = main(["validate", str(path)])
-    _, err = capsys.readouterr()
-    assert code == 3
-    assert_one_line_error(err, "site.dxf", "layer ZONES handle", fragment.split(":")[0])
+    assert_refused(doc, tmp_path, capsys, "site.dxf", "layer ZONES handle", fragment.split(":")[0])
 
 
 def test_no_closed_polylines_and_malformed_dxf(tmp_path, capsys):
     doc, msp = drawing()
     msp.add_text("just a title", dxfattribs={"layer": "ZONES"})
     msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "FURNITURE", "thickness": 1})
-    code = main(["validate", str(save(doc, tmp_path))])
-    assert code == 3
-    assert_one_line_error(capsys.readouterr()[1], "no closed polyline on a zone layer")
+    assert_refused(doc, tmp_path, capsys, "no closed polyline on a zone layer")
     bad = tmp_path / "broken.dxf"
     bad.write_text("  0\nSECTION\n  2\nENTITIES\n  0\nLWPOLYLINE\n 10\nnot-a-number\n")
     assert main(["validate", str(bad)]) == 3
@@ -271,15 +271,8 @@ def test_a_two_vertex_closed_polyline_is_a_one_line_error(tmp_path, capsys, laye
     msp.add_lwpolyline([(2, 2), (4, 2)], close=True, dxfattribs={"layer": layer, "thickness": 3})
     if label:
         msp.add_text("Z1", dxfattribs={"layer": "WALLS"}).set_placement((3, 2))
-    code = main(["validate", str(save(doc, tmp_path))])
-    assert code == 3
-    assert_one_line_error(
-        capsys.readouterr().err,
-        "site.dxf",
-        f"layer {layer} handle",
-        "polygon = 2",
-        "a polygon needs at least 3 vertices",
-    )
+    fragments = ("site.dxf", f"layer {layer} handle", "polygon = 2", "a polygon needs at least 3 vertices")
+    assert_refused(doc, tmp_path, capsys, *fragments)
 
 
 @pytest.mark.parametrize("kind", ["SOLID", "HATCH", "POINT", "3DFACE"])
@@ -296,15 +289,13 @@ def test_filled_areas_and_points_on_a_zone_layer_are_refused(tmp_path, capsys, k
         msp.add_point((1, 1), dxfattribs=attribs)
     else:
         msp.add_3dface([(1, 1, 0), (2, 1, 0), (2, 2, 0)], dxfattribs=attribs)
-    code = main(["validate", str(save(doc, tmp_path))])
-    assert code == 3
-    assert_one_line_error(
-        capsys.readouterr().err,
+    fragments = (
         "site.dxf",
         "layer WALLS handle",
         f"{kind} ",
         "draw zones, obstacles and no-go areas as closed polylines",
     )
+    assert_refused(doc, tmp_path, capsys, *fragments)
 
 
 def test_an_unknown_xdata_scan_side_is_refused(tmp_path, capsys):
@@ -314,11 +305,7 @@ def test_an_unknown_xdata_scan_side_is_refused(tmp_path, capsys):
     msp.add_lwpolyline(SQUARE, close=True, dxfattribs={"layer": "ZONES", "thickness": 3}).set_xdata(
         APPID, [(1000, "side=outsde")]
     )
-    code = main(["validate", str(save(doc, tmp_path))])
-    assert code == 3
-    assert_one_line_error(
-        capsys.readouterr().err, "site.dxf", "layer ZONES handle", "side = 'outsde'", "unknown scan side"
-    )
+    assert_refused(doc, tmp_path, capsys, "site.dxf", "layer ZONES handle", "side = 'outsde'", "unknown scan side")
 
 
 def test_a_layer_height_given_twice_is_a_usage_error(tmp_path, capsys):

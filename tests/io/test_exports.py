@@ -238,34 +238,14 @@ def test_dxf_is_the_same_bytes_in_two_processes_with_different_hash_seeds(tmp_pa
     # section by set iteration (PYTHONHASHSEED): the same plan gave a different file each run. Now two
     # processes with hash seeds 0 and 1, a few seconds apart, write the same bytes, and the file still reads.
     import os
-    import subprocess
-    import sys
 
-    from tests.conftest import ROOT
+    from tests.io.cli import planner_cli
 
     files = []
     for seed in ("0", "1"):
         out = tmp_path / f"d{seed}"
-        run = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "planner",
-                "plan",
-                str(INSTANCES / "polygon_b.json"),
-                "--method",
-                "greedy",
-                "--out",
-                str(out),
-                "--export",
-                "dxf",
-                "--quiet",
-            ],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-            env={**os.environ, "PYTHONHASHSEED": seed},
-        )
+        args = ("plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out), "--export", "dxf")
+        run = planner_cli(*args, "--quiet", env={**os.environ, "PYTHONHASHSEED": seed})
         assert run.returncode == 0, run.stderr
         files.append((out / "plan.dxf").read_bytes())
     assert files[0] == files[1]

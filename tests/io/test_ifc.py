@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -20,6 +18,7 @@ from planner.core.errors import InputError
 from planner.io.ifc_in import IfcOptions, read_ifc_site
 from planner.site.model import SITE_FRAME, ScanSide
 from tests.conftest import INSTANCES, ROOT
+from tests.io.cli import planner_cli
 
 FZK = ROOT / "instances" / "external" / "AC20-FZK-Haus.ifc"
 
@@ -125,9 +124,7 @@ def test_failures_are_one_line_errors(tmp_path):
         read_ifc_site(build(tmp_path / "empty.ifc", spaces=False))
     with pytest.raises(InputError, match="zone Kitchen.*no body geometry"):
         read_ifc_site(build(tmp_path / "faceless.ifc", faceless_space="Kitchen"), IfcOptions(storey="1"))
-    run = subprocess.run(
-        [sys.executable, "-m", "planner", "validate", str(text)], capture_output=True, text=True, cwd=ROOT
-    )
+    run = planner_cli("validate", str(text))
     assert run.returncode == 3 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
 
 
@@ -136,40 +133,10 @@ def test_committed_house_plans_per_storey_and_verifies(tmp_path):
     """instances/house2.ifc (the script's output): each storey planned, verified 100 %."""
     for storey in ("1", "2"):
         out = tmp_path / storey
-        run = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "planner",
-                "plan",
-                str(INSTANCES / "house2.ifc"),
-                "--storey",
-                storey,
-                "--out",
-                str(out),
-                "--quiet",
-            ],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-        )
+        run = planner_cli("plan", str(INSTANCES / "house2.ifc"), "--storey", storey, "--out", str(out), "--quiet")
         assert run.returncode == 0, run.stderr
         assert "verification at 0.1 m: 100.000 % covered" in run.stdout
-        ver = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "planner",
-                "verify",
-                str(INSTANCES / "house2.ifc"),
-                "--storey",
-                storey,
-                str(out / "plan.json"),
-            ],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-        )
+        ver = planner_cli("verify", str(INSTANCES / "house2.ifc"), "--storey", storey, str(out / "plan.json"))
         assert ver.returncode == 0, ver.stderr
         stations = json.loads((out / "plan.json").read_text())["stations"]
         zones = {s["zone"] for s in stations}

@@ -84,26 +84,17 @@ def test_correction_must_match_the_printed_value(tmp_path):
         load_site(write(tmp_path, inst))
 
 
-def test_correction_field_must_suit_vertex_or_side(tmp_path):
-    inst = {
-        "zones": [square()],
-        "corrections": [
-            {"zone": "S", "vertex": 1, "field": "side_length_m", "printed": 1, "corrected": 2, "reason": "x"}
-        ],
-    }
-    with pytest.raises(InputError, match="a vertex correction changes one of interior_angle_deg, vertex_height_m"):
-        load_site(write(tmp_path, inst))
-
-
-def test_correction_of_unknown_zone(tmp_path):
-    inst = {
-        "zones": [square()],
-        "corrections": [
-            {"zone": "Q", "vertex": 1, "field": "vertex_height_m", "printed": 1, "corrected": 2, "reason": "x"}
-        ],
-    }
-    with pytest.raises(InputError, match="zone Q: corrections: correction names no table zone"):
-        load_site(write(tmp_path, inst))
+@pytest.mark.parametrize(
+    "zone, field, message",
+    [
+        ("S", "side_length_m", "a vertex correction changes one of interior_angle_deg, vertex_height_m"),
+        ("Q", "vertex_height_m", "zone Q: corrections: correction names no table zone"),
+    ],
+)
+def test_correction_of_a_wrong_field_or_an_unknown_zone_is_refused(tmp_path, zone, field, message):
+    fix = {"zone": zone, "vertex": 1, "field": field, "printed": 1, "corrected": 2, "reason": "x"}
+    with pytest.raises(InputError, match=message):
+        load_site(write(tmp_path, {"zones": [square()], "corrections": [fix]}))
 
 
 def test_stale_acceptance_is_refused(tmp_path):

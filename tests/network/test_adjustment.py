@@ -90,38 +90,17 @@ def test_normal_equations_and_qr_agree():
 def test_degrees_gons_metres_millimetres_agree():
     coords, obs = traverse()
     deg = adjust(coords, ["A", "B"], obs, angle_unit="deg")
-    gon = adjust(
-        coords,
-        ["A", "B"],
-        [
-            Obs(
-                o.kind,
-                o.at,
-                o.to,
-                o.value * 400 / 360 if o.kind == "direction" else o.value,
-                o.sigma * 400 / 360 if o.kind == "direction" else o.sigma,
-            )
-            for o in obs
-        ],
-        angle_unit="gon",
-    )
+
+    def scaled(angle: float, length: float) -> list[Obs]:
+        """The observations with directions times ``angle`` and lengths times ``length``."""
+        k = {True: angle, False: length}
+        return [
+            Obs(o.kind, o.at, o.to, o.value * k[o.kind == "direction"], o.sigma * k[o.kind == "direction"]) for o in obs
+        ]
+
+    gon = adjust(coords, ["A", "B"], scaled(400 / 360, 1.0), angle_unit="gon")
     mm_coords = {k: (x * 1000, y * 1000) for k, (x, y) in coords.items()}
-    mm = adjust(
-        mm_coords,
-        ["A", "B"],
-        [
-            Obs(
-                o.kind,
-                o.at,
-                o.to,
-                o.value if o.kind == "direction" else o.value * 1000,
-                o.sigma if o.kind == "direction" else o.sigma * 1000,
-            )
-            for o in obs
-        ],
-        angle_unit="deg",
-        length_unit="mm",
-    )
+    mm = adjust(mm_coords, ["A", "B"], scaled(1.0, 1000.0), angle_unit="deg", length_unit="mm")
     for n in ("C", "D"):
         assert gon.point(n).sigma_x == pytest.approx(deg.point(n).sigma_x, rel=1e-9)
         assert mm.point(n).sigma_y == pytest.approx(deg.point(n).sigma_y * 1000, rel=1e-9)

@@ -189,10 +189,9 @@ def test_network_numbers_do_not_depend_on_the_hash_seed(tmp_path):
     # the adjustment's unknowns were ordered by set iteration, so the last digits of the station errors (and
     # the network figure) changed with PYTHONHASHSEED; two processes with different seeds must agree exactly
     import os
-    import subprocess
-    import sys
 
-    from tests.conftest import INSTANCES, ROOT
+    from tests.conftest import INSTANCES
+    from tests.io.cli import planner_cli
 
     assert (
         main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(tmp_path), "--quiet"]) == 0
@@ -200,23 +199,8 @@ def test_network_numbers_do_not_depend_on_the_hash_seed(tmp_path):
     outs = []
     for seed in ("0", "1"):
         out = tmp_path / f"n{seed}"
-        run = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "planner",
-                "network",
-                str(INSTANCES / "polygon_b.json"),
-                str(tmp_path / "plan.json"),
-                "--out",
-                str(out),
-                "--quiet",
-            ],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-            env={**os.environ, "PYTHONHASHSEED": seed},
-        )
+        args = ("network", str(INSTANCES / "polygon_b.json"), str(tmp_path / "plan.json"), "--out", str(out), "--quiet")
+        run = planner_cli(*args, env={**os.environ, "PYTHONHASHSEED": seed})
         assert run.returncode == 0, run.stderr
         outs.append((out / "network.json").read_text())
     assert outs[0] == outs[1]
