@@ -279,11 +279,12 @@ def hours_of(problem: Problem, props: FieldProperties, result: SolveResult, stat
     spacing = None
     if o.max_point_spacing_m is not None and len(settings) == len(stations):
         spacing = verify_spacing(problem.sight, stations, settings, props, o.max_point_spacing_m, o.verify_spacing_m)
-    return Hours.of(
+    return Hours(
         objective=o.objective,
         max_spacing_m=o.max_point_spacing_m,
         settings=settings,
-        props=props,
+        setup_s=len(settings) * props.setup_time_s,
+        scan_s=sum(props.scan_time_s(s) for s in settings),
         timing=dict(result.info.get("field_time", {})),
         spacing=spacing,
     )

@@ -200,26 +200,23 @@ class Strategy:
 
     def to_dict(self) -> dict[str, object]:
         t = self.tiling
-        return {
+        out: dict[str, object] = {
             "kind": "tiles" if t else "single model",
             "reason": self.reason,
             "workers": self.workers,
-            **(
-                {
-                    "tile_m": t.tile_m,
-                    "tile_work_s": t.tile_time_limit_s,
-                    "bound_work_s": t.bound_time_limit_s,
-                    "lagrange_work_s": t.lagrange_work_s,
-                    "cover": f"CFT, {t.cft_iters} iterations" if t.cft else None,
-                    "grid_spacing_m": self.grid_spacing_m,
-                    "search_moves": t.local_search_moves
-                    if t.local_search_moves is not None
-                    else f"{t.moves_per_piece:g} per piece",
-                }
-                if t
-                else {}
-            ),
         }
+        if t:
+            moves = t.local_search_moves if t.local_search_moves is not None else f"{t.moves_per_piece:g} per piece"
+            out.update(
+                tile_m=t.tile_m,
+                tile_work_s=t.tile_time_limit_s,
+                bound_work_s=t.bound_time_limit_s,
+                lagrange_work_s=t.lagrange_work_s,
+                cover=f"CFT, {t.cft_iters} iterations" if t.cft else None,
+                grid_spacing_m=self.grid_spacing_m,
+                search_moves=moves,
+            )
+        return out
 
     def line(self) -> str:
         where = f"on {self.workers} worker(s)" if self.workers else "in this process (no Dask worker)"

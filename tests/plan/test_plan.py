@@ -242,9 +242,8 @@ def test_outside_walls_out_of_reach_exit_4_listing_them(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_the_library_plans_under_the_sites_overlap_like_the_command(tmp_path):
-    # The MILP options' default rule is "the site's": a site asking 80 % overlap gets a plan connected at
-    # 80 % (checked afresh on the chosen stations), not one planned and checked at 30 % (the old default)
-    # and then recorded under the site's 80 %. The command line, which passes the site's share, agrees.
+    # The MILP options' default rule is "the site's": a site asking 80 % overlap gets a plan connected at 80 %
+    # (checked afresh on the chosen stations). The command line, which passes the site's share, agrees.
     from planner.coverage.overlap import OverlapRule
 
     site = load_site(INSTANCES / "polygon_b.json").with_parameters(overlap=0.8)

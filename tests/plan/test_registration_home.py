@@ -62,7 +62,7 @@ def house_zone():
 
 
 def test_house_doors_zone_every_consumer_relates_the_plans_pairs(house_zone):
-    # the site's default is `site` (openings given): the field sheet used to relate 5 pairs across the doors
+    # the site's default is `site` (openings given); under `zone` every consumer relates the plan's own pairs
     got = _everywhere(house_zone)
     assert house_zone.problem.registration.mode == "zone"
     assert len(got["plan"]) == 2

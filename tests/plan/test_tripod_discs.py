@@ -63,11 +63,10 @@ def test_a_milp_with_no_plan_exits_4_with_the_reason(capsys):
 
 
 def test_recentring_disc_reads_no_uninitialised_memory(monkeypatch):
-    # cvxpy's cp.sum(..., axis=1) checks its shape by summing np.empty(shape), whose bytes are whatever
-    # memory held: now and then inf and -inf, and numpy warned "invalid value encountered in reduce" (seen
-    # in 2 of 5 CI runs). Make every np.empty hold inf and -inf: the SOCP disc must still build and solve
-    # without a warning. Square room 10 m, station at its centre (5, 5), walls' ends at distance 5..7.07 m:
-    # the disc is positive and its centre stays in the room.
+    # cvxpy's cp.sum(..., axis=1) checks its shape by summing np.empty(shape), whose bytes may be inf and -inf
+    # (numpy then warns "invalid value encountered in reduce"). With every np.empty holding inf and -inf the SOCP
+    # disc must still build and solve without a warning. Square room 10 m, station at its centre (5, 5), walls'
+    # ends at distance 5..7.07 m: the disc is positive and its centre stays in the room.
     import warnings
 
     import numpy as np

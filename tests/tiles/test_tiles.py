@@ -199,9 +199,8 @@ def _corridor():
 
 
 def test_tiles_plan_a_corridor_from_the_single_models_pool() -> None:
-    # issue 31: a 200 x 8 m corridor was refused ("seen by no candidate": the 10-m grid's rows miss it); the
-    # tiles take the single model's pool (its medial axis), so they plan it: 11 stations there, within the
-    # centre-line construction (h tan 68 = 7.4 m of wall either side, 200 / 14.85 -> 14)
+    # a 200 x 8 m corridor, which the 10-m grid's rows miss: the tiles take the single model's pool (its medial
+    # axis), so they plan it within the centre-line construction (h tan 68 = 7.4 m of wall either side, 200 / 14.85)
     plan = plan_by_tiles(_corridor(), OPTIONS, TILING)
     assert plan.verification.complete and len(plan.stations) <= 14
 

@@ -36,9 +36,8 @@ def _tiling(moves: int, passes: int = 0, batch: int = 1) -> TileOptions:
 
 @pytest.fixture(scope="module")
 def no_whole_site_greedy():
-    # the whole-site connected greedy (issue 34's bundles) now finds 9 on 1 ha, one above the bound, and the kept
-    # plan would leave the search and the windows nothing to do; withheld here, the kept plan is the stitched
-    # tile plan (11), which is what these tests exercise
+    # the whole-site connected greedy would leave the search and the windows nothing to do; withheld here, the
+    # kept plan is the stitched tile plan, which is what these tests exercise
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr("planner.tiles.search.connected_greedy", lambda *args, **kwargs: None)
         yield

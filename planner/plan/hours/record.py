@@ -8,7 +8,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from planner.instrument.field_table import FieldProperties
 from planner.plan.hours.verify import SpacingReport
 
 
@@ -39,27 +38,6 @@ class Hours:
     timing: dict[str, Any]
     spacing: SpacingReport | None = None
     tradeoff: Any = None  # planner.field.tradeoff.Tradeoff, attached by the engine
-
-    @classmethod
-    def of(
-        cls,
-        *,
-        objective: str,
-        max_spacing_m: float | None,
-        settings: tuple[str, ...],
-        props: FieldProperties,
-        timing: dict[str, Any],
-        spacing: SpacingReport | None,
-    ) -> Hours:
-        return cls(
-            objective=objective,
-            max_spacing_m=max_spacing_m,
-            settings=settings,
-            setup_s=len(settings) * props.setup_time_s,
-            scan_s=sum(props.scan_time_s(s) for s in settings),
-            timing=timing,
-            spacing=spacing,
-        )
 
     @property
     def setup_scan_s(self) -> float:
