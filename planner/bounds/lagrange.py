@@ -1,27 +1,25 @@
 """A lower bound on the plain cover by Lagrangian decomposition over tiles.
 
-The targets are partitioned into parts ``T_1 .. T_m`` (the tiles' cores, or groups of them). A candidate ``j`` that
-sees pieces of several parts ``I(j)`` has its cost split, ``c_j = sum_{i in I(j)} lam_ij``. Any cover ``x`` then costs
-``sum_i sum_j lam_ij x_j >= sum_i OPT_i(lam_i)``, where ``OPT_i`` is the cheapest cover of ``T_i`` alone with the
-costs ``lam_i``: each part's share of ``x`` covers that part. So ``L(lam) = sum_i OPT_i(lam_i)`` bounds every cover
-from below, for any split, and so every connected plan too; it stays valid with each ``OPT_i`` replaced by a proven
-lower bound of it.
+The targets are partitioned into parts ``T_1 .. T_m`` (the tiles' cores, or groups of them). A candidate ``j`` that sees
+pieces of several parts ``I(j)`` has its cost split, ``c_j = sum_{i in I(j)} lam_ij``. Any cover ``x`` then costs
+``sum_i sum_j lam_ij x_j >= sum_i OPT_i(lam_i)``, where ``OPT_i`` is the cheapest cover of ``T_i`` alone with the costs
+``lam_i``: each part's share of ``x`` covers that part. So ``L(lam) = sum_i OPT_i(lam_i)`` bounds every cover from
+below, for any split, and so every connected plan too; it stays valid with each ``OPT_i`` replaced by a proven lower
+bound of it.
 
 What is computed:
 
-- costs are scaled by ``scale`` and floored to integers ``w_ij <= scale * lam_ij`` for CP-SAT; then
-  ``sum_i w_ij <= scale * c_j``, so ``sum_i LB_i(w_i) / scale`` is still a bound (flooring never
-  overestimates);
-- the first split comes from the whole-cover LP's duals ``y``: ``lam_ij`` = the duals of ``T_i``'s pieces
-  that ``j`` sees, plus an equal share of ``j``'s reduced cost. ``y`` restricted to ``T_i`` is dual
-  feasible for part ``i``, so ``L`` of this split is at least the LP value (less the flooring);
-- then projected subgradient steps: ``g_ij = x_ij - mean_{i' in I(j)} x_i'j`` (``x_i`` the part's best
-  cover), which keeps ``sum_i lam_ij = c_j``; the step is Polyak's, towards the cheapest cover made so
-  far as the union of the parts' covers, halved whenever ``L`` does not improve. The best ``L`` is kept.
+- costs are scaled by ``scale`` and floored to integers ``w_ij <= scale * lam_ij`` for CP-SAT; then ``sum_i w_ij <=
+  scale * c_j``, so ``sum_i LB_i(w_i) / scale`` is still a bound (flooring never overestimates);
+- the first split comes from the whole-cover LP's duals ``y``: ``lam_ij`` = the duals of ``T_i``'s pieces that ``j``
+  sees, plus an equal share of ``j``'s reduced cost. ``y`` restricted to ``T_i`` is dual feasible for part ``i``, so
+  ``L`` of this split is at least the LP value (less the flooring);
+- then projected subgradient steps: ``g_ij = x_ij - mean_{i' in I(j)} x_i'j`` (``x_i`` the part's best cover), which
+  keeps ``sum_i lam_ij = c_j``; the step is Polyak's, towards the cheapest cover made so far as the union of the parts'
+  covers, halved whenever ``L`` does not improve. The best ``L`` is kept.
 
-Each part is one CP-SAT model (one worker) stopped on deterministic work, so the bound does not depend on the
-machine's load; the parts are independent and run as :func:`planner.tiles.engine.run_tasks` jobs (serially, or on a
-Dask client).
+Each part is one CP-SAT model (one worker) stopped on deterministic work, so the bound does not depend on the machine's
+load; the parts are independent and run as :func:`planner.tiles.engine.run_tasks` jobs (serially, or on a Dask client).
 """
 
 from __future__ import annotations
@@ -65,11 +63,10 @@ class PartResult:
 
 @dataclass(frozen=True, kw_only=True)
 class LagrangeBound:
-    """The best bound found: ``value`` (rounded up when the costs are integers), ``raw`` (not rounded), ``lp``
-    (whole-cover LP), ``iterations`` run, ``per_tile`` (each part's bound at the best split, original units),
-    ``proven`` (which parts were solved to optimality there), ``upper`` (cheapest union of the parts' covers, pruned:
-    a cover of the whole), ``time_s``, ``capped`` (part solves stopped by the wall-clock cap, not the work limit:
-    then, and only then, the bound may depend on the load)."""
+    """The best bound found: ``value`` (rounded up when the costs are integers), ``per_tile`` (each part's bound at the
+    best split, original units), ``proven`` (the parts solved to optimality there), ``upper`` (cheapest union of the
+    parts' covers, pruned: a cover of the whole), ``capped`` (part solves stopped by the wall-clock cap, not the work
+    limit: then, and only then, the bound may depend on the load)."""
 
     value: float
     raw: float
@@ -95,11 +92,9 @@ PartRunner = Callable[[Callable[..., PartResult], list[PartJob], dict[str, Any]]
 def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
     """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, and a wall cap
     ``WALL_CAP`` times as long where one is set); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
-    When CP-SAT finds no cover within its work (a large part on a small share of the budget), the part's cover is
-    Chvatal's greedy (:func:`_greedy_part`) and ``lower`` CP-SAT's bound, or 0 for the candidates of cost >= 0 where
-    that bound is not finite: both stay valid. :class:`InfeasibleError` when some piece of the part is seen by none of
-    its candidates, :class:`InternalError` when CP-SAT rejects the model.
-    """
+    When CP-SAT finds no cover within its work, the part's cover is Chvatal's greedy (:func:`_greedy_part`) and
+    ``lower`` CP-SAT's bound, or 0 for the candidates of cost >= 0 where that bound is not finite: both stay valid.
+    :class:`InfeasibleError` when a piece of the part is seen by none of its candidates."""
     from ortools.sat.python import cp_model
 
     free, keep, rows = _reduce(job.a, job.w)
@@ -140,8 +135,8 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
 
 
 def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64]]:
-    """Candidates of negative cost (in every optimal cover, so taken), the rest that no other of them can replace at
-    no more cost (:func:`planner.solve.presolve.dominated`, sound for costs >= 0), and the pieces the taken ones leave
+    """Candidates of negative cost (in every optimal cover, so taken), the rest that no other of them can replace at no
+    more cost (:func:`planner.solve.presolve.dominated`, sound for costs >= 0), and the pieces the taken ones leave
     uncovered. The part's optimum is unchanged."""
     free = w < 0
     rows = np.flatnonzero(np.asarray(a[free].sum(axis=0)).ravel() == 0)
@@ -166,8 +161,8 @@ def _greedy_part(a: sp.csr_matrix, w: NDArray[np.int64]) -> NDArray[np.bool_]:
 
 
 def lp_duals(a: sp.csr_matrix, cost: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
-    """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS interior point with crossover: far
-    faster than the dual simplex on a large site's whole cover, docs/benchmarks/setcover.md)."""
+    """Value and target duals ``y >= 0`` of min c x, A^T x >= 1, x >= 0 (HiGHS interior point with crossover: far faster
+    than the dual simplex on a large site's whole cover, docs/benchmarks/setcover.md)."""
     res = linprog(
         cost, A_ub=-a.T.astype(np.float64).tocsr(), b_ub=-np.ones(a.shape[1]), bounds=(0, None), method="highs-ipm"
     )
@@ -220,18 +215,12 @@ def lagrangian_bound(
     mu: float = 0.25,
     runner: PartRunner | None = None,
 ) -> LagrangeBound:
-    """The Lagrangian bound of the cover ``a`` (candidates x pieces, each piece seen by some candidate) over the
-    target partition ``parts`` (the piece indices of each part, each piece in exactly one); its ``value`` never
-    exceeds the cheapest cover of ``a``.
-
-    ``cost``: the candidates' costs, >= 0 (default 1 each). ``iterations``: subgradient steps after the first split
-    (0: the first split only). ``work_s``: CP-SAT deterministic seconds per part and step. ``scale``: costs are
-    floored to multiples of ``1 / scale`` (module docstring). ``start``: ``"lp"``, the LP-dual split, or ``"equal"``,
+    """The Lagrangian bound of the cover ``a`` (candidates x pieces, each piece seen by some candidate) over the target
+    partition ``parts`` (the piece indices of each part, each piece in exactly one); its ``value`` never exceeds the
+    cheapest cover of ``a``. ``cost``: >= 0 (default 1 each). ``iterations``: subgradient steps after the first split.
+    ``work_s``: CP-SAT deterministic seconds per part and step. ``start``: ``"lp"``, the LP-dual split, or ``"equal"``,
     ``c_j / |I(j)|``. ``upper``: the cost of a known cover, which the step aims at (default: the best union of the
-    parts' covers, pruned). ``mu``: the first step factor (Polyak's), halved when a step does not raise the bound.
-    ``runner``: how each step's parts are solved (:data:`PartRunner`: the tiles run them as Dask tasks; None: one
-    after the other in this process).
-    """
+    parts' covers). ``mu``: the first step factor, halved when a step does not raise the bound."""
     if start not in ("lp", "equal") or iterations < 0 or not work_s > 0 or scale < 1:
         raise UsageError(
             "start must be lp or equal, iterations >= 0, work_s > 0, scale >= 1", field="lagrange", value=start
@@ -249,7 +238,7 @@ def lagrangian_bound(
     done = capped = 0
     for k in range(iterations + 1):
         jobs = [PartJob(s, np.floor(lam * scale).astype(np.int64), h) for s, lam, h in zip(subs, lams, hints)]
-        shared = {"work_s": work_s, "seed": seed}
+        shared: dict[str, Any] = {"work_s": work_s, "seed": seed}
         res = runner(solve_part, jobs, shared) if runner else [solve_part(**shared, job=j) for j in jobs]
         done, capped = k, capped + sum(r.capped for r in res)
         value = sum(r.lower for r in res) / scale

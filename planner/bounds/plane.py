@@ -1,13 +1,13 @@
-"""Geometric column generation: grow the candidate pool until the cover LP's bound holds for every position in the
-plane (at the chosen wall discretisation), or say that it holds over the pool only.
+"""Geometric column generation: grow the candidate pool until the cover LP's bound holds for every position in the plane
+(at the chosen wall discretisation), or say that it holds over the pool only.
 
-Each round solves the cover LP on the pool, takes the pieces with a positive dual, builds (once) their coverage
-regions and looks for the heaviest points of their closed arrangement, frame by frame. A point heavier than the
-station cost (1) prices out: it is tested with the coverage test itself and added as a candidate when its true covered
-pieces price out too. The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals ``y``,
-with ``w*`` the heaviest weight of any position over the regions *grown* by the tolerance
-(:func:`planner.coverage.arrangement.outer_max_weight`): ``y / max(1, w*)`` is dual feasible for every position, so
-the bound holds for every cover from any positions.
+Each round solves the cover LP on the pool, takes the pieces with a positive dual, builds (once) their coverage regions
+and looks for the heaviest points of their closed arrangement, frame by frame. A point heavier than the station cost (1)
+prices out: it is tested with the coverage test itself and added as a candidate when its true covered pieces price out
+too. The bound over the plane is Farley's, ``sum(y) / max(1, w*)`` for the last LP's duals ``y``, with ``w*`` the
+heaviest weight of any position over the regions *grown* by the tolerance
+(:func:`planner.coverage.arrangement.outer_max_weight`): ``y / max(1, w*)`` is dual feasible for every position, so the
+bound holds for every cover from any positions.
 """
 
 from __future__ import annotations
@@ -48,11 +48,10 @@ ASSUMES = (
 
 @dataclass(frozen=True)
 class PricingReport:
-    """What pricing established: ``lp_bound``, the cover LP over the final pool; ``plane_lp_bound``, Farley's bound
-    over the plane (module docstring) with ``w*`` in ``heaviest_weight``; ``converged``: no point of the arrangement
-    priced out; ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`); ``wall_cap_hit``: the
-    user's wall-clock cap, not the round or work limit, stopped it (then the bound may depend on the machine's load).
-    """
+    """What pricing established: ``lp_bound``, the cover LP over the final pool; ``plane_lp_bound``, Farley's bound over
+    the plane (module docstring) with ``w*`` in ``heaviest_weight``; ``converged``: no point of the arrangement priced
+    out; ``work``: the (point, region) pairs its rounds weighed (:data:`PRICING_WORK`); ``wall_cap_hit``: the user's
+    wall-clock cap, not the round or work limit, stopped it (then the bound may depend on the machine's load)."""
 
     converged: bool
     lp_bound: float

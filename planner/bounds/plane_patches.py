@@ -1,8 +1,8 @@
 """Patches of the plane and arcs of a ring, for the connected plane bound (:mod:`planner.bounds.plane_ring`).
 
-A patch is a square of side h on a grid over a zone-side's grown regions. :func:`patch_sets` gives what each may see
-(U, the pieces whose grown outer region holds its centre) and what it surely sees (low, the wall length of the pieces
-whose shrunk region holds it); :func:`planner.solve.ring.cyclic_arcs` the smallest arc of the ring that holds each U;
+A patch is a square of side h on a grid over a zone-side's grown regions. :func:`patch_sets` gives what each may see (U,
+the pieces whose grown outer region holds its centre) and what it surely sees (low, the wall length of the pieces whose
+shrunk region holds it); :func:`planner.solve.ring.cyclic_arcs` the smallest arc of the ring that holds each U;
 :func:`undominated` keeps the patches no other holds; :func:`arc_links` joins the arcs the overlap rule may join.
 """
 
@@ -46,18 +46,12 @@ class SidePieces:
     shrink_m: float
 
     def shapes(self, h: float) -> tuple[list[Any], list[Any]]:
-        """The regions grown and shrunk for patches of side ``h`` (:func:`patch_shapes`)."""
-        return patch_shapes(self.outer, self.inner, h, self.grow_m, self.shrink_m)
-
-
-def patch_shapes(
-    outer: list[Any], inner: list[Any], h: float, grow_m: float, shrink_m: float
-) -> tuple[list[Any], list[Any]]:
-    """The outer regions grown (circumscribed) and the inner ones shrunk by their tolerance and half the diagonal of a
-    patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short)."""
-    half = h * math.sqrt(0.5)
-    d = (shrink_m + half) / math.cos(math.pi / (4 * _ERODE_SEGS))
-    return grown(outer, grow_m + half), list(shapely.buffer(np.asarray(inner, dtype=object), -d, quad_segs=_ERODE_SEGS))
+        """The outer regions grown (circumscribed) and the inner ones shrunk by their tolerance and half the diagonal of
+        a patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short)."""
+        half = h * math.sqrt(0.5)
+        d = (self.shrink_m + half) / math.cos(math.pi / (4 * _ERODE_SEGS))
+        shrunk = shapely.buffer(np.asarray(self.inner, dtype=object), -d, quad_segs=_ERODE_SEGS)
+        return grown(self.outer, self.grow_m + half), list(shrunk)
 
 
 def live_box(geoms: list[Any]) -> NDArray[np.float64] | None:
@@ -108,9 +102,9 @@ def patch_sets(
 def undominated(
     start: NDArray[np.int64], span: NDArray[np.int64], low: NDArray[np.float64], n: int
 ) -> NDArray[np.int64]:
-    """Indices of (start, span, low) triples no other holds: m holds p when m's arc holds p's on the ring and low[m]
-    <= low[p] (of equal triples the first is kept). O(n^2) over a table of the arcs of the ring: the least ``low`` of
-    every arc, with each arc also one turn back, minimised over starts <= s and ends >= e."""
+    """Indices of (start, span, low) triples no other holds: m holds p when m's arc holds p's on the ring and low[m] <=
+    low[p] (of equal triples the first is kept). O(n^2) over a table of the arcs of the ring: the least ``low`` of every
+    arc, with each arc also one turn back, minimised over starts <= s and ends >= e."""
     full = span >= n - 1
     start, span = np.where(full, 0, start), np.minimum(span, n - 1)  # one name for the whole ring
     table = np.full((2 * n + 1, 3 * n + 1), np.inf)  # [s + n, e + n]: arcs with start s in [-n, n), end e
@@ -132,8 +126,8 @@ def undominated(
 
 
 def arc_links(start: Ints, span: Ints, low: Floats, cum: Floats, n: int, share: float) -> sp.csr_matrix:
-    """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring). ``cum``:
-    prefix sums of the piece lengths over three turns (cum[0] = 0)."""
+    """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring). ``cum``: prefix
+    sums of the piece lengths over three turns (cum[0] = 0)."""
     end = start + span + 1  # exclusive
     rows, cols = [], []
     for lo in range(0, start.size, 512):

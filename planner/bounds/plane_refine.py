@@ -3,17 +3,17 @@
 **Relaxation.** The patches and their sets U(P), low(P) and relaxed links are the ring walk's
 (:mod:`planner.bounds.plane_ring`), but U(P) is kept as a set instead of the smallest arc that holds it (on a concave
 outline the arcs claim the hidden wall between the runs a station sees, and the walk can stay below the plan). A
-connected plan of k stations anywhere, each replaced by the patch that holds it, is a connected cover of the
-zone-side's pieces by at most k patches under the relaxed links: the optimum of that connected cover over the family
-(the connected MILP, :func:`planner.solve.milp.solve`, given the relation) bounds every connected plan from below.
+connected plan of k stations anywhere, each replaced by the patch that holds it, is a connected cover of the zone-side's
+pieces by at most k patches under the relaxed links: the optimum of that connected cover over the family (the connected
+MILP, :func:`planner.solve.milp.solve`, given the relation) bounds every connected plan from below.
 
-**Refinement.** Each patch of the optimum is split into its four quarters and the cover solved again. A quarter holds
-a subset of its parent's positions, so its U lies within the parent's and its low is at least the parent's: whatever
-the quarters do, the parent did, and the optimum never falls. It is repeated until the optimum reaches the plan's
-count (the plan is then optimal over the plane), the steps are spent, a solve is not proven within its work (its
-proven lower bound is kept), or the patches of the optimum cannot be split past :data:`MIN_PATCH_M`. This is the
-refinement of the exact art-gallery solvers (Tozoni, de Rezende and de Souza, ACM TOMS 2016: witnesses and guard
-candidates refined where the relaxation's optimum is not realised), here with the registration links.
+**Refinement.** Each patch of the optimum is split into its four quarters and the cover solved again. A quarter holds a
+subset of its parent's positions, so its U lies within the parent's and its low is at least the parent's: whatever the
+quarters do, the parent did, and the optimum never falls. It is repeated until the optimum reaches the plan's count (the
+plan is then optimal over the plane), the steps are spent, a solve is not proven within its work (its proven lower bound
+is kept), or the patches of the optimum cannot be split past :data:`MIN_PATCH_M`. This is the refinement of the exact
+art-gallery solvers (Tozoni, de Rezende and de Souza, ACM TOMS 2016: witnesses and guard candidates refined where the
+relaxation's optimum is not realised), here with the registration links.
 """
 
 from __future__ import annotations
@@ -39,8 +39,8 @@ from planner.solve.result import Status
 STEP_WORK_S = 60.0
 #: rows of the relaxed-link product formed at a time (a block of patches x all patches, float32)
 _BLOCK = 512
-#: the relaxed link is taken when the float32 shared length is within this of f min(low) (m): more links than the
-#: exact test, never fewer, so the bound stays sound
+#: the relaxed link is taken when the float32 shared length is within this of f min(low) (m): more links than the exact
+#: test, never fewer, so the bound stays sound
 _SLACK_M = 1e-3
 
 
@@ -196,12 +196,11 @@ def connected_cover(
     work_s: float,
 ) -> tuple[int, bool, list[int]]:
     """The connected cover of the ``required`` pieces over the patches under the relaxed links: (its optimum, or its
-    proven lower bound rounded up when not proven; proven; the rows chosen, with every row equal to one).
-
-    One row per distinct (U, low), then only the undominated: Q goes for a kept P with U(P) holding U(Q) and low(P) <=
-    low(Q) (:func:`planner.solve.presolve.dominated` with low as the cost). P then has every relaxed link Q has (more
-    shared wall, a smaller need), so P stands in for Q in any connected cover; the links are formed among the kept
-    rows only."""
+    proven lower bound rounded up when not proven; proven; the rows chosen, with every row equal to one). One row per
+    distinct (U, low), then only the undominated: Q goes for a kept P with U(P) holding U(Q) and low(P) <= low(Q)
+    (:func:`planner.solve.presolve.dominated` with low as the cost). P then has every relaxed link Q has (more shared
+    wall, a smaller need), so P stands in for Q in any connected cover; the links are formed among the kept rows
+    only."""
     first, inverse = distinct_rows(u, low)
     kept = ~dominated(u[first].tocsr(), low[first])
     first = first[kept]

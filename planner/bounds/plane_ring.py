@@ -1,28 +1,29 @@
 """A bound for connected plans over every position in the plane: the ring walk over patches.
 
 The ring bound (:mod:`planner.solve.ring`) replaces each candidate's coverage by the smallest cyclic arc that holds it
-and finds the cheapest walk of linked arcs round a zone-side: a lower bound over the candidate pool. Here the
-candidates are replaced by *patches*, squares of side h that tile the plane, so that the bound holds for stations
-anywhere.
+and finds the cheapest walk of linked arcs round a zone-side: a lower bound over the candidate pool. Here the candidates
+are replaced by *patches*, squares of side h that tile the plane, so that the bound holds for stations anywhere.
 
 **Relaxation.** For a patch P let U(P) be the pieces whose outer region O_t (grown by its tolerance) meets P, and l(P)
-the wall length of the pieces whose region R_t (shrunk by its tolerance) holds all of P. Every position p in P covers
-a set C(p) with C(p) within U(P), so within the smallest arc A(P) that holds U(P), and covers at least l(P) of wall.
-Two stations p, q may be registered when they share at least f min(L(p), L(q)) of wall, f the overlap share
+the wall length of the pieces whose region R_t (shrunk by its tolerance) holds all of P. Every position p in P covers a
+set C(p) with C(p) within U(P), so within the smallest arc A(P) that holds U(P), and covers at least l(P) of wall. Two
+stations p, q may be registered when they share at least f min(L(p), L(q)) of wall, f the overlap share
 (:class:`planner.coverage.overlap.OverlapRule`) and L their covered lengths; then |A(P) n A(Q)| >= |C(p) n C(q)| >= f
-min(l(P), l(Q)) and that shared length is > 0. So a relaxed link "arcs share more than 0 and at least f min(l(P),
-l(Q))" joins the patches of every registered pair, and a connected plan of k stations, each replaced by its patch, is
-a connected set of at most k patches whose arcs cover the zone-side. Its cheapest walk (the ring theorem) is therefore
-a lower bound on the number of stations of any connected plan, with stations anywhere. A patch m with A(m) holding
-A(p) and l(m) <= l(p) does everything p does (its links are a superset), so only such undominated patches are kept.
+min(l(P), l(Q)) and that shared length is > 0. So a relaxed link "arcs share more than 0 and at least f min(l(P), l(Q))"
+joins the patches of every registered pair, and a connected plan of k stations, each replaced by its patch, is a
+connected set of at most k patches whose arcs cover the zone-side. Its cheapest walk (the ring theorem) is therefore a
+lower bound on the number of stations of any connected plan, with stations anywhere. A patch m with A(m) holding A(p)
+and l(m) <= l(p) does everything p does (its links are a superset), so only such undominated patches are kept.
 
-**Sum over zone-sides.** In ``zone`` registration each zone-side is its own network. When no position can see pieces
-of two zone-sides (their grown outer regions do not meet, checked), the stations split by the zone-side they see, and
-the plan's count is at least the sum over zone-sides of the larger of the ring walk and the zone-side's share of
-Farley's bound (its duals over the heaviest weight of its own regions).
+**Sum over zone-sides.** In ``zone`` registration each zone-side is its own network. When no position can see pieces of
+two zone-sides (their grown outer regions do not meet, checked), the stations split by the zone-side they see, and the
+plan's count is at least the sum over zone-sides of the larger of the ring walk and the zone-side's share of Farley's
+bound (its duals over the heaviest weight of its own regions).
 
-The bound tightens as h shrinks (U(P) and l(P) tend to the coverage of a point): it is tried at three sides in turn
-(:func:`planner.bounds.plane_patches.patch_sides`) until it meets the plan or the time is up.
+The bound tightens as h shrinks (U(P) and l(P) tend to the coverage of a point): it is tried at the sides of
+:func:`planner.bounds.plane_patches.patch_sides` in turn, level by level across the zone-sides, a zone-side dropping out
+when it reaches the plan's count there or its walk cannot be formed, until the next level would pass the patch budget
+(:data:`CONNECTED_WORK_PATCHES`).
 """
 
 from __future__ import annotations
@@ -49,13 +50,11 @@ from planner.solve.ring import cyclic_arcs, ring_graph
 
 #: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
 MAX_FAMILY = 6_000
-#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies: past
-#: this, a large outline's graph runs to gigabytes)
+#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies: past this,
+#: a large outline's graph runs to gigabytes)
 MAX_LINKS = 3_000_000
-#: the work the default plan gives the connected plane bound, in patches: a patch side of a zone-side costs the
-#: patches it lays (about FIRST_PATCHES, then 4x at each halving); sides are taken level by level across the
-#: zone-sides, and a level that would pass this budget is not started. A count, not a time, so the bound is the same
-#: under any load
+#: the work the default plan gives the connected plane bound, in patches: a patch side of a zone-side costs the patches
+#: it lays (about FIRST_PATCHES, then 4x at each halving). A count, not a time: the same bound under any load
 CONNECTED_WORK_PATCHES = 200_000
 
 
@@ -103,12 +102,9 @@ def connected_plane_bound(
     cache: dict[int, Any] | None = None,
     refine_steps: int = 0,
 ) -> ConnectedPlaneBound:
-    """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's
-    stations per zone-side (key ``2 zone + side``); the ring walks are tried level by level (every zone-side's first
-    patch side, then the halvings), a zone-side dropping out when it reaches its count or its walk cannot be formed,
-    until the next level would pass ``work_patches`` patches (:data:`CONNECTED_WORK_PATCHES`). With ``refine_steps``,
-    a zone-side still below its count then gets the connected cover over patches refined up to that many times
-    (:func:`planner.bounds.plane_refine.refined_bound`)."""
+    """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's stations
+    per zone-side (key ``2 zone + side``). With ``refine_steps``, a zone-side still below its count then gets the
+    connected cover over patches refined up to that many times (:func:`planner.bounds.plane_refine.refined_bound`)."""
     t0 = time.perf_counter()
     t = problem.targets
     key = t.zone.astype(np.int64) * 2 + t.side
@@ -147,7 +143,7 @@ def connected_plane_bound(
                 continue
             cost = FIRST_PATCHES * 4**level
             if spent + cost > work_patches:
-                open_[i] = False  # the budget: this side keeps what it has (the same under any load)
+                open_[i] = False  # the budget: this side keeps what it has
                 continue
             spent += cost
             h = levels[i][level]

@@ -1,16 +1,16 @@
 """Candidates along each room's medial axis, one in every cell of the coverage arrangement on it.
 
-A grid anchored anywhere misses a room narrower than its step (a corridor 8 m wide between two rows of a 10-m grid
-gets no candidate at all). The medial axis of a room's stand area (the points with two or more nearest boundary
-points: a corridor's centre line, a room's skeleton) runs through every part of it, however narrow and however turned.
-It is approximated by the Voronoi edges of the boundary sampled finely (edges strictly inside the area).
+A grid anchored anywhere misses a room narrower than its step (a corridor 8 m wide between two rows of a 10-m grid gets
+no candidate at all). The medial axis of a room's stand area (the points with two or more nearest boundary points: a
+corridor's centre line, a room's skeleton) runs through every part of it, however narrow and however turned. It is
+approximated by the Voronoi edges of the boundary sampled finely (edges strictly inside the area).
 
-Along the axis the set of pieces a station covers changes only where the axis crosses the boundary of a coverage
-region R_t: each region holds closed stretches of the axis. A candidate is put in every maximal cell of those
-stretches (where a stretch ends right after the last one began: the classic maximal cliques of intervals), so the pool
-holds, for every position on the axis, a candidate that sees all it sees (up to the regions' tolerance). Any plan
-whose stations stand on the axis (a corridor's centre-line construction: stations ``w/2 tan(theta_max)`` either side
-of each other) is matched or beaten by the plain cover over the pool.
+Along the axis the set of pieces a station covers changes only where the axis crosses the boundary of a coverage region
+R_t: each region holds closed stretches of the axis. A candidate is put in every maximal cell of those stretches (where
+a stretch ends right after the last one began: the classic maximal cliques of intervals), so the pool holds, for every
+position on the axis, a candidate that sees all it sees (up to the regions' tolerance). Any plan whose stations stand on
+the axis (a corridor's centre-line construction: stations ``w/2 tan(theta_max)`` either side of each other) is matched
+or beaten by the plain cover over the pool.
 """
 
 from __future__ import annotations
@@ -44,8 +44,8 @@ MIN_AXIS_CANDIDATES = 100
 #: distances of the rings around an outside zone along which its candidates are put, as shares of the horizontal reach
 #: (stations for an outside face stand far off)
 OUTSIDE_RINGS = (0.3, 0.45)
-#: pieces x vertices of the stand area above which the lines are sampled every ``step_m`` instead of cut by the
-#: regions (a many-vertex apse passes it; an ordinary zone-side stays well under it)
+#: pieces x vertices of the stand area above which the lines are sampled every ``step_m`` instead of cut by the regions
+#: (a many-vertex apse passes it; an ordinary zone-side stays well under it)
 MAX_CELL_WORK = 4_000_000
 #: axis lines shorter than this get one candidate at their middle instead of their cells (m)
 MIN_CELL_LINE_M = 0.5
@@ -56,8 +56,8 @@ CUT_TOL_M = 1e-6
 
 
 def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
-    """The medial axis of ``area`` (a polygon or multipolygon) as merged lines, approximated by the Voronoi edges of
-    its boundary sampled at an eighth of its narrowest half-width (at most 0.5 m, at least 1 mm)."""
+    """The medial axis of ``area`` (a polygon or multipolygon) as merged lines, approximated by the Voronoi edges of its
+    boundary sampled at an eighth of its narrowest half-width (at most 0.5 m, at least 1 mm)."""
     out: list[shapely.LineString] = []
     for part in shapely.get_parts(area):
         if part.is_empty or part.area <= 0:
@@ -78,8 +78,8 @@ def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
 
 
 def intervals(line: shapely.LineString, regions: Sequence[shapely.Geometry]) -> tuple[NDArray, NDArray]:
-    """The stretches of ``line`` inside each of ``regions`` (closed sets), as distances along it: (lo, hi) per
-    stretch; a region that only touches the line gives a stretch of length 0."""
+    """The stretches of ``line`` inside each of ``regions`` (closed sets), as distances along it: (lo, hi) per stretch;
+    a region that only touches the line gives a stretch of length 0."""
     tree = shapely.STRtree(list(regions))
     hit = tree.query(line, predicate="intersects")
     if hit.size == 0:
@@ -96,8 +96,8 @@ def intervals(line: shapely.LineString, regions: Sequence[shapely.Geometry]) -> 
 
 def maximal_cells(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> NDArray[np.float64]:
     """A point of every maximal cell of closed intervals [lo, hi] on a line: where a stretch ends right after the last
-    one began, the middle of the two (the set of stretches holding it is then not contained in any other point's).
-    Every position on the line sees a subset of the pieces seen from one of these points."""
+    one began, the middle of the two (the set of stretches holding it is then not contained in any other point's). Every
+    position on the line sees a subset of the pieces seen from one of these points."""
     if lo.size == 0:
         return np.zeros(0)
     lo = np.round(lo / CUT_TOL_M) * CUT_TOL_M
@@ -112,8 +112,8 @@ def maximal_cells(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> NDArray[n
 
 
 def locate(line: shapely.LineString, xy: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Distance along ``line`` of each point of ``xy`` (points on or next to it): its nearest segment found with a
-    tree, then the projection onto it (``line_locate_point`` walks every vertex for every point)."""
+    """Distance along ``line`` of each point of ``xy`` (points on or next to it): its nearest segment found with a tree,
+    then the projection onto it (``line_locate_point`` walks every vertex for every point)."""
     v = shapely.get_coordinates(line)
     a, b = v[:-1], v[1:]
     seg = np.hypot(*(b - a).T)
@@ -147,10 +147,10 @@ def axis_candidates(
     cells: bool = True,
     step_m: float = 1.0,
 ) -> list[Candidate]:
-    """One candidate in every maximal cell of the coverage arrangement along the medial axis of each inside zone's
-    stand area, and along rings at :data:`OUTSIDE_RINGS` around each outside zone (the cells of the zone-side's own
-    pieces' regions); ``cache`` keeps the regions drawn. Without ``cells`` (where regions do not model the coverage
-    test), or past :data:`MAX_CELL_WORK`, points every ``step_m`` along the lines."""
+    """One candidate in every maximal cell of the coverage arrangement along the medial axis of each inside zone's stand
+    area, and along rings at :data:`OUTSIDE_RINGS` around each outside zone (the cells of the zone-side's own pieces'
+    regions); ``cache`` keeps the regions drawn. Without ``cells`` (where regions do not model the coverage test), or
+    past :data:`MAX_CELL_WORK`, points every ``step_m`` along the lines."""
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache
     out: list[Candidate] = []

@@ -156,20 +156,18 @@ def from_frame(xy: np.ndarray, origin: np.ndarray, axis: np.ndarray) -> np.ndarr
 
 
 def pole_in_frame(region: shapely.Polygon, origin: np.ndarray, axis: np.ndarray) -> shapely.Point:
-    """The pole of inaccessibility of ``region`` (shapely's ``polylabel``, 1 cm tolerance), searched in the
-    coordinates of a frame (``origin``, ``axis``: a zone's first vertex and wall). Where the pole is not unique (a
-    rectangle's centres form a segment) ``polylabel``'s axis-aligned cells and the last bits of the input decide; in
-    the frame's own (rounded) coordinates a turned or moved site gives the same point, moved."""
+    """The pole of inaccessibility of ``region`` (shapely's ``polylabel``, 1 cm tolerance), searched in the coordinates
+    of a frame (``origin``, ``axis``: a zone's first vertex and wall). Where the pole is not unique (a rectangle's
+    centres form a segment) ``polylabel``'s axis-aligned cells and the last bits of the input decide; in the frame's own
+    (rounded) coordinates a turned or moved site gives the same point, moved."""
     p = polylabel(to_frame(region, origin, axis), tolerance=0.01)
     return shapely.Point(from_frame(np.array([[p.x, p.y]]), origin, axis)[0])
 
 
 def circle_candidate(zone: Zone, vgeo: tuple[VertexGeometry | None, ...], reach: list[float]) -> Candidate | None:
-    """One station inside the zone and inside every vertex circle (fig. 3.13), or None if they do not meet.
-
-    The station is put at the pole of inaccessibility of that region (the centre of its largest inscribed circle), the
-    point with the most room to move.
-    """
+    """One station inside the zone and inside every vertex circle (fig. 3.13), or None if they do not meet. The station
+    is put at the pole of inaccessibility of that region (the centre of its largest inscribed circle), the point with
+    the most room to move."""
     # in the zone's own coordinates (first vertex, first wall): the circles' polygons and the pole turn with the site
     origin, axis = np.asarray(zone.xy[0], dtype=float), np.subtract(zone.xy[1], zone.xy[0])
     region = to_frame(zone.polygon, origin, axis)

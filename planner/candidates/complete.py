@@ -40,8 +40,8 @@ TOO_THIN = "its coverage region is thinner than the coverage test's tolerance"
 def _stretch_poles(
     problem: CoverageProblem, unseen: Sequence[int] | np.ndarray, regions: dict[int, shapely.Geometry], alone: bool
 ) -> list[tuple[int, tuple[float, float]]]:
-    """(owner piece, pole) for the unseen pieces with a region: each grouped with the nearest other unseen pieces of
-    its zone-side whose regions still meet (``alone``: one pole per piece)."""
+    """(owner piece, pole) for the unseen pieces with a region: each grouped with the nearest other unseen pieces of its
+    zone-side whose regions still meet (``alone``: one pole per piece)."""
     t = problem.targets
     todo = [int(k) for k in unseen if not regions[int(k)].is_empty and regions[int(k)].area > MIN_AREA_M2]
     left = set(todo)

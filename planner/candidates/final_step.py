@@ -82,13 +82,11 @@ def drop_redundant(
     lengths: np.ndarray,
     rule: OverlapRule,
 ) -> list[int]:
-    """Indices kept after removing candidates the plan does not need.
-
-    A candidate is redundant when every target it sees stays seen without it AND its group (zone-side) keeps as few
-    registration components as before (the closed form builds the required overlap into its spacing; dropping a
-    station that bridges two others would break it). Candidates are tried from the one seeing the fewest targets
-    (ties: the later one first), so the result is deterministic; the covered set never shrinks.
-    """
+    """Indices kept after removing candidates the plan does not need. A candidate is redundant when every target it sees
+    stays seen without it AND its group (zone-side) keeps as few registration components as before (the closed form
+    builds the required overlap into its spacing; dropping a station that bridges two others would break it). Candidates
+    are tried from the one seeing the fewest targets (ties: the later one first), so the result is deterministic; the
+    covered set never shrinks."""
     a = by_candidate.astype(np.int64).tocsr()
     count = np.asarray(a.sum(axis=0)).ravel()
     sizes = np.diff(a.indptr)

@@ -1,7 +1,7 @@
 """The closed-form station geometry of chapter 3 of seed 000 (docs/method.md section 2), as pure formulas.
 
-Angles in degrees, lengths in metres. Nothing here knows about coordinates: :mod:`planner.candidates.closed_form`
-places the results on a zone.
+Angles in degrees, lengths in metres. Nothing here knows about coordinates: :mod:`planner.candidates.closed_form` places
+the results on a zone.
 """
 
 from __future__ import annotations
@@ -21,10 +21,8 @@ def _tan(deg: float) -> float:
 
 
 def horizontal_reach_m(max_slant_range_m: float, height_m: float, instrument_height_m: float = 0.0) -> float:
-    """sqrt(S_max^2 - (h - IH)^2): the horizontal distance at which the top of a wall of height h is at S_max.
-
-    0 when the top is out of reach altogether.
-    """
+    """sqrt(S_max^2 - (h - IH)^2): the horizontal distance at which the top of a wall of height h is at S_max. 0 when
+    the top is out of reach altogether."""
     dz = height_m - instrument_height_m
     return math.sqrt(max_slant_range_m**2 - dz**2) if abs(dz) < max_slant_range_m else 0.0
 
@@ -46,12 +44,9 @@ class VertexGeometry:
 
 
 def vertex_geometry(angle_deg: float, reach_m: float, theta_max_deg: float) -> VertexGeometry | None:
-    """K^B for a vertex whose angle on the scanning side is ``angle_deg``; None when cancelled.
-
-    ``reach_m`` is sqrt(S_max^2 - h_V^2). Angle < 180 (3.3-3.5) exists only if alpha > 90 - theta_max; Angle >= 180
-    (3.6-3.10) only if alpha < 90 + theta_max. (A straight vertex, Angle = 180, takes the second case: a wall
-    station.)
-    """
+    """K^B for a vertex whose angle on the scanning side is ``angle_deg``; None when cancelled. ``reach_m`` is
+    sqrt(S_max^2 - h_V^2). Angle < 180 (3.3-3.5) exists only if alpha > 90 - theta_max; Angle >= 180 (3.6-3.10) only if
+    alpha < 90 + theta_max. (A straight vertex, Angle = 180, takes the second case: a wall station.)"""
     alpha = angle_deg / 2.0
     if reach_m <= 0.0:
         return None
@@ -101,11 +96,9 @@ MAX_WALL_STATIONS = 10_000
 def wall_plan(
     wall_length_m: float, reach_m: float, l1_m: float, l2_m: float, theta_max_deg: float, overlap: float
 ) -> WallPlan:
-    """Wall candidates for a wall of length L_W whose ends' K^B cover l1 and l2 (0 if cancelled).
-
-    ``reach_m`` is sqrt(S_max^2 - h_C^2). Cases (3.19-3.27): X <= 0 with the two K^B sharing at least O% of the
-    shorter of l1, l2: no candidate; X <= 0 without it, or X = 1: one candidate; X > 1: X candidates.
-    """
+    """Wall candidates for a wall of length L_W whose ends' K^B cover l1 and l2 (0 if cancelled). ``reach_m`` is
+    sqrt(S_max^2 - h_C^2). Cases (3.19-3.27): X <= 0 with the two K^B sharing at least O% of the shorter of l1, l2: no
+    candidate; X <= 0 without it, or X = 1: one candidate; X > 1: X candidates."""
     o = overlap
     hd0 = reach_m * _cos(theta_max_deg)
     l_c = 2.0 * hd0 * _tan(theta_max_deg)

@@ -1,9 +1,9 @@
 """Candidates from coverage regions: one station for a whole zone-side wherever one exists.
 
 For every zone-side, the intersection of the coverage regions of all its pieces is the set of positions from which one
-station covers the whole zone-side. It is computed exactly (up to the regions' inner approximation of range discs)
-and, when not empty, its pole of inaccessibility (the point farthest from its boundary, so that the coverage test is
-not decided by rounding) is a candidate. Found by geometry, never by sampling.
+station covers the whole zone-side. It is computed exactly (up to the regions' inner approximation of range discs) and,
+when not empty, its pole of inaccessibility (the point farthest from its boundary, so that the coverage test is not
+decided by rounding) is a candidate. Found by geometry, never by sampling.
 """
 
 from __future__ import annotations

@@ -32,13 +32,10 @@ GRID_SPACING_M = 10.0
 
 @dataclass(frozen=True, kw_only=True)
 class PoolOptions:
-    """How dense the pool is.
-
-    ``grid_spacing_m``: grid over the accessible area (a zone-side region too small for ``min_grid_points`` at that
-    spacing gets a finer grid); None: the run's strategy chooses it (:func:`planner.plan.problem.resolve`),
-    :data:`GRID_SPACING_M` where nothing chooses (``grid_m``); ``field_samples``: random points (seeded) per movement
-    field; ``min_standoff_m``: grid and field points closer to a wall are dropped.
-    """
+    """How dense the pool is. ``grid_spacing_m``: grid over the accessible area (a zone-side region too small for
+    ``min_grid_points`` at that spacing gets a finer grid); None: the run's strategy chooses it
+    (:func:`planner.plan.problem.resolve`), :data:`GRID_SPACING_M` where nothing chooses; ``field_samples``: random
+    points (seeded) per movement field; ``min_standoff_m``: grid and field points closer to a wall are dropped."""
 
     grid_spacing_m: float | None = DEFAULTS["pool.grid_spacing_m"]
     field_samples: int = 6
@@ -73,8 +70,8 @@ def _region(zone: Zone, side: ScanSide, reach_m: float) -> shapely.Geometry:
 
 
 def _frame_axes(site: Site, frame: str) -> tuple[np.ndarray, np.ndarray]:
-    """Origin and unit x-axis of the grid of a frame: first vertex and first wall of its first zone, so that rotating
-    or translating a site moves the grid with it."""
+    """Origin and unit x-axis of the grid of a frame: first vertex and first wall of its first zone, so that rotating or
+    translating a site moves the grid with it."""
     zone = next(z for z in site.zones if z.frame == frame)
     xy = np.asarray(zone.xy)
     d = xy[1] - xy[0]
@@ -95,8 +92,8 @@ def _grid_points(region: shapely.Geometry, origin: np.ndarray, ux: np.ndarray, s
 def _sample_polygon(
     poly: shapely.Geometry, k: int, rng: np.random.Generator, origin: np.ndarray, ux: np.ndarray
 ) -> np.ndarray:
-    """Up to ``k`` uniform points of ``poly``, drawn in the box of its coordinates along the frame's axes (origin,
-    ux): the same draws land on the same points of a rotated or translated site."""
+    """Up to ``k`` uniform points of ``poly``, drawn in the box of its coordinates along the frame's axes (origin, ux):
+    the same draws land on the same points of a rotated or translated site."""
     if k <= 0 or poly.is_empty or poly.area <= 0:
         return np.zeros((0, 2))
     uy = np.array([-ux[1], ux[0]])
@@ -113,12 +110,10 @@ def _sample_polygon(
 
 
 def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[str, np.ndarray]]:
-    """Points near each wall of a corner from which the corner point itself is seen within theta_max.
-
-    From a corner, the corner point is seen at incidence <= theta_max only from bearings >= 90 - theta_max off the
-    wall; in a sharp corner that is a thin sliver along the other wall, which no grid hits. Rays at the middle of each
-    sliver, at 1/5 .. 4/5 of the reach.
-    """
+    """Points near each wall of a corner from which the corner point itself is seen within theta_max. From a corner, the
+    corner point is seen at incidence <= theta_max only from bearings >= 90 - theta_max off the wall; in a sharp corner
+    that is a thin sliver along the other wall, which no grid hits. Rays at the middle of each sliver, at 1/5 .. 4/5 of
+    the reach."""
     xy = np.asarray(zone.xy)
     n = len(xy)
     angles = scan_side_angles(zone, side)
@@ -136,11 +131,11 @@ def _corner_rays(zone: Zone, side: ScanSide, limits: Limits) -> Iterable[tuple[s
 
 
 def _bisector_points(zone: Zone, region: shapely.Geometry, standoff_m: float) -> Iterable[tuple[str, np.ndarray]]:
-    """At every vertex of the outline and the holes, points on the bisector (scanning side): the one ``standoff_m``
-    off both walls and one three times as far, where the bisector stays in ``region`` that long; in a sliver narrower
-    than that, the middle of the bisector's first stretch in the region (closer to the walls than the stand-off: the
-    only place that sees the sliver's tip). These are the corner stations an art-gallery vertex guard would take,
-    moved off the walls."""
+    """At every vertex of the outline and the holes, points on the bisector (scanning side): the one ``standoff_m`` off
+    both walls and one three times as far, where the bisector stays in ``region`` that long; in a sliver narrower than
+    that, the middle of the bisector's first stretch in the region (closer to the walls than the stand-off: the only
+    place that sees the sliver's tip). These are the corner stations an art-gallery vertex guard would take, moved off
+    the walls."""
     lo, hi = np.asarray(region.bounds[:2]), np.asarray(region.bounds[2:])
     far = 2.0 * float(np.hypot(*(hi - lo))) + 1.0
     for r, ring in enumerate(zone.rings):
@@ -175,10 +170,8 @@ def _first_stretch(region: shapely.Geometry, p: np.ndarray, q: np.ndarray) -> fl
 
 def candidate_pool(site: Site, limits: Limits, options: PoolOptions) -> list[Candidate]:
     """Closed-form candidates, then field samples, and per zone-side the corner rays, the centre (inside), the
-    corner-bisector points and the grid; duplicates removed.
-
-    Order matters: it is the tie-breaking order of the greedy, closed form first.
-    """
+    corner-bisector points and the grid; duplicates removed. Order matters: it is the tie-breaking order of the greedy,
+    closed form first."""
     argument(site, Site, "site")
     rng = np.random.default_rng(options.seed)
     closed = closed_form_candidates(site, limits)

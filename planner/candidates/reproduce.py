@@ -1,8 +1,8 @@
 """Compare the closed form with the dissertation's printed candidate tables (3.2-3.4).
 
-Printed vertex labels do not follow one convention (docs/method.md section 2), so vertex rows are matched by angle:
-the computed vertex of the same side whose alpha is closest to the printed one (ties: the printed label, then the
-closest HD).
+Printed vertex labels do not follow one convention (docs/method.md section 2), so vertex rows are matched by angle: the
+computed vertex of the same side whose alpha is closest to the printed one (ties: the printed label, then the closest
+HD).
 """
 
 from __future__ import annotations

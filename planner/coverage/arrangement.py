@@ -2,17 +2,17 @@
 
 Geometric pricing asks two questions of the regions R_t (each with a dual weight y_t >= 0):
 
-1. **Where to put a new candidate** (:func:`heaviest_points`): points of the *closed* arrangement of the
-   regions as drawn (inner approximations), heaviest first. Where two regions only touch (along an edge or
-   at a point) the weight is larger than on any open face beside it, so the samples are a point inside every
-   face, the midpoint of every edge and every node, each weighed by the closed regions within ``TOUCH_M``.
+1. **Where to put a new candidate** (:func:`heaviest_points`): points of the *closed* arrangement of the regions as
+   drawn (inner approximations), heaviest first. Where two regions only touch (along an edge or at a point) the weight
+   is larger than on any open face beside it, so the samples are a point inside every face, the midpoint of every edge
+   and every node, each weighed by the closed regions within ``TOUCH_M``.
 
-2. **The heaviest weight anywhere in the plane** (:func:`outer_max_weight`), for a bound. The true coverage
-   set C_t lies within ``grow_m`` of R_t, so each region is grown by ``grow_m`` plus a margin (circumscribed).
-   Then the open disc of radius ``margin`` about any position p lies in every grown region of the t with p in
-   C_t, and meets an open face inside all of them: the heaviest face weighs at least p's weight. Faces are
-   weighed with closed containment, which can only add weight. If the faces found do not fill the union of the
-   grown regions (a face lost by the polygoniser), the answer is the sum of all weights, always a bound.
+2. **The heaviest weight anywhere in the plane** (:func:`outer_max_weight`), for a bound. The true coverage set C_t lies
+   within ``grow_m`` of R_t, so each region is grown by ``grow_m`` plus a margin (circumscribed). Then the open disc of
+   radius ``margin`` about any position p lies in every grown region of the t with p in C_t, and meets an open face
+   inside all of them: the heaviest face weighs at least p's weight. Faces are weighed with closed containment, which
+   can only add weight. If the faces found do not fill the union of the grown regions (a face lost by the polygoniser),
+   the answer is the sum of all weights, always a bound.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ AREA_CHECK = 1e-6
 
 @dataclass(frozen=True)
 class Sample:
-    """A point of the arrangement and the weight of the closed regions holding it; ``kind`` says where it
-    lies: ``face`` (inside a face), ``edge`` (on an edge between faces) or ``vertex``."""
+    """A point of the arrangement and the weight of the closed regions holding it; ``kind`` says where it lies: ``face``
+    (inside a face), ``edge`` (on an edge between faces) or ``vertex``."""
 
     x: float
     y: float
@@ -54,8 +54,8 @@ def _noded(polys: Sequence[shapely.Geometry]) -> shapely.Geometry:
 def _weigh(
     points: NDArray, tree: shapely.STRtree, w: NDArray[np.float64], predicate: str, work: list[int] | None = None
 ) -> NDArray[np.float64]:
-    """Sum of the weights of the regions (the tree's) holding each point, closed containment; ``work``, where
-    given, gets the number of (point, region) pairs found appended."""
+    """Sum of the weights of the regions (the tree's) holding each point, closed containment; ``work``, where given,
+    gets the number of (point, region) pairs found appended."""
     if len(points) == 0:
         return np.zeros(0)
     pi, ri = tree.query(points, predicate=predicate, distance=TOUCH_M if predicate == "dwithin" else None)
@@ -121,8 +121,8 @@ def grown(regions: Sequence[shapely.Geometry], grow_m: float) -> list[shapely.Ge
 
 
 def outer_max_weight(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], grow_m: float) -> float:
-    """An upper bound on the weight sum_{t: p in C_t} y_t at any position p, where every true coverage set
-    C_t lies within ``grow_m`` of ``regions[t]`` (see the module docstring for the proof)."""
+    """An upper bound on the weight sum_{t: p in C_t} y_t at any position p, where every true coverage set C_t lies
+    within ``grow_m`` of ``regions[t]`` (see the module docstring for the proof)."""
     w_all = np.asarray(weights, float)
     keep = [k for k, g in enumerate(regions) if not g.is_empty and w_all[k] > 0]
     if not keep:

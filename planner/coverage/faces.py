@@ -1,11 +1,11 @@
 """Two faces of one wall: sides of two zones placed together that lie on the same line.
 
-The two faces of a shared wall lie on one line only to within the placement residuals, so one may lie a
-hair IN FRONT of the other and, as a blocker, hide it from its own room. A face is never hidden by the other
-face of its own wall: each shared stretch blocks sight under the key of its partner face, which the sight
-test skips for the partner's pieces. Where a wall of B meets A's wall (a junction), B's wall end may poke a
-hair into A: such ends are cut back by ``JUNCTION_M`` and their vertices dropped (A's wall still blocks
-beyond), leaving a gap of at most 2 x ``JUNCTION_M`` that a sight line would have to pass twice.
+The two faces of a shared wall lie on one line only to within the placement residuals, so one may lie a hair IN FRONT of
+the other and, as a blocker, hide it from its own room. A face is never hidden by the other face of its own wall: each
+shared stretch blocks sight under the key of its partner face, which the sight test skips for the partner's pieces.
+Where a wall of B meets A's wall (a junction), B's wall end may poke a hair into A: such ends are cut back by
+``JUNCTION_M`` and their vertices dropped (A's wall still blocks beyond), leaving a gap of at most 2 x ``JUNCTION_M``
+that a sight line would have to pass twice.
 """
 
 from __future__ import annotations
@@ -20,8 +20,8 @@ from planner.coverage.visibility import wall_key
 from planner.site.geometry import cross_z
 from planner.site.model import Site
 
-#: faces of one wall lie within this distance of each other's line where they overlap (placement residuals
-#: and printed-data misfits)
+#: faces of one wall lie within this distance of each other's line where they overlap (placement residuals and
+#: printed-data misfits)
 COINCIDENT_M = 0.15
 #: wall ends within this distance of another zone's boundary are cut back by it (junctions)
 JUNCTION_M = 0.05
@@ -30,8 +30,8 @@ PARALLEL_DEG = 2.0
 
 
 def partner_stretches(site: Site, frame: str) -> dict[tuple[int, int], list[tuple[float, float, int]]]:
-    """For each wall (zone index, wall index) of ``frame`` that shares a stretch with a face of another
-    zone: the stretches (s0, s1) in metres along it and the partner's wall key."""
+    """For each wall (zone index, wall index) of ``frame`` that shares a stretch with a face of another zone: the
+    stretches (s0, s1) in metres along it and the partner's wall key."""
     walls = [(zi, w) for zi, z in enumerate(site.zones) if z.frame == frame for w in z.walls]
     if len({zi for zi, _ in walls}) < 2:
         return {}
@@ -84,10 +84,10 @@ def keyed_parts(
 def trim_at_junctions(
     site: Site, zi: int, a: NDArray[np.float64], b: NDArray[np.float64], key: NDArray[np.int64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
-    """Blocking parts of zone ``zi`` with their ends cut back by ``COINCIDENT_M`` where they meet another
-    zone's boundary (a wall of B that starts at A's wall may poke a hair into A), and the vertices of
-    the parts away from other zones' boundaries. A shared stretch (partner key) is cut back at both
-    ends too: its end may pass a hair beyond the partner's corner."""
+    """Blocking parts of zone ``zi`` with their ends cut back by ``COINCIDENT_M`` where they meet another zone's
+    boundary (a wall of B that starts at A's wall may poke a hair into A), and the vertices of the parts away from other
+    zones' boundaries. A shared stretch (partner key) is cut back at both ends too: its end may pass a hair beyond the
+    partner's corner."""
     zone = site.zones[zi]
     others = [z.polygon.boundary for j, z in enumerate(site.zones) if j != zi and z.frame == zone.frame]
     if not len(a) or not others:

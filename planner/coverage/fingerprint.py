@@ -1,12 +1,12 @@
 """The pool a plan was chosen from, named by a fingerprint (:func:`pool_of`): what the best plans known
 (``docs/benchmarks/best_known.json``) are compared on, so a gap is printed only between plans of one pool.
 
-The fingerprint is the first 12 hex digits of a SHA-256 over the counts of candidates and targets, the
-candidates in pool order (position rounded to 1 mm, zone, scan side, frame) and the targets in order (zone,
-scan side, the piece's ends rounded to 1 mm). Nothing else: not the machine, its load, the workers, the run
-time, nor the candidates' ids or kinds. Positions are in each zone's frame, so a site moved or drawn anew gets
-another fingerprint. Pairs are recorded beside it but not hashed: they follow from the pool and the sight
-limits, and a last-bit difference of a sight test on another machine should not make another pool.
+The fingerprint is the first 12 hex digits of a SHA-256 over the counts of candidates and targets, the candidates in
+pool order (position rounded to 1 mm, zone, scan side, frame) and the targets in order (zone, scan side, the piece's
+ends rounded to 1 mm). Nothing else: not the machine, its load, the workers, the run time, nor the candidates' ids or
+kinds. Positions are in each zone's frame, so a site moved or drawn anew gets another fingerprint. Pairs are recorded
+beside it but not hashed: they follow from the pool and the sight limits, and a last-bit difference of a sight test on
+another machine should not make another pool.
 """
 
 from __future__ import annotations

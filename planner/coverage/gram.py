@@ -1,8 +1,8 @@
 """Candidate x candidate products of the coverage matrix, in row blocks, keeping only the pairs asked for.
 
-The full product A W A^T (shared wall between every two candidates) of a dense pool has up to C^2 entries even when
-only a few pairs matter; computing it a block of rows at a time and filtering each block keeps memory proportional to
-the pairs kept plus one block.
+The full product A W A^T (shared wall between every two candidates) of a dense pool has up to C^2 entries even when only
+a few pairs matter; computing it a block of rows at a time and filtering each block keeps memory proportional to the
+pairs kept plus one block.
 """
 
 from __future__ import annotations

@@ -1,14 +1,13 @@
 """Registration links through openings: two stations that see each other through a door, gate or window.
 
-Across two zones (a room and the next room, a room and the ground outside) scans share almost no
-surface: each station's targets are the faces of its own zone, and only the reveal of the opening
-is common. Cloud-to-cloud registration (ICP) needs a common surface (seed 003: at least 30 % of the
-smaller scan), which such a pair does not have; target-based registration needs common targets
-(at least 3, not in a line, seen from both stations). Through an opening both conditions of the
-latter are met when the two stations see each other through it: targets set up in the opening
-and on either side of it (spheres on the floor, the jambs, a checkerboard on the lintel) lie in
-both fields of view. So a cross-zone link is measured as: the segment between the two stations
-crosses an opening, nothing else blocks it, and it is no longer than the link limit.
+Across two zones (a room and the next room, a room and the ground outside) scans share almost no surface: each station's
+targets are the faces of its own zone, and only the reveal of the opening is common. Cloud-to-cloud registration (ICP)
+needs a common surface (seed 003: at least 30 % of the smaller scan), which such a pair does not have; target-based
+registration needs common targets (at least 3, not in a line, seen from both stations). Through an opening both
+conditions of the latter are met when the two stations see each other through it: targets set up in the opening and on
+either side of it (spheres on the floor, the jambs, a checkerboard on the lintel) lie in both fields of view. So a
+cross-zone link is measured as: the segment between the two stations crosses an opening, nothing else blocks it, and it
+is no longer than the link limit.
 """
 
 from __future__ import annotations
@@ -32,8 +31,8 @@ from planner.site.model import SITE_FRAME, Site
 def opening_links(
     site: Site, xy: NDArray[np.float64], frames: Sequence[str], spaces: Sequence[object], reach_m: float
 ) -> sp.csr_matrix:
-    """Symmetric C x C boolean matrix: stations of different spaces that see each other through an opening
-    (both within ``reach_m`` of it and of each other)."""
+    """Symmetric C x C boolean matrix: stations of different spaces that see each other through an opening (both within
+    ``reach_m`` of it and of each other)."""
     frames_arr = np.asarray(frames, dtype=object)
     space_id = {s: k for k, s in enumerate(dict.fromkeys(spaces))}
     sid = np.array([space_id[s] for s in spaces], dtype=np.int64)
@@ -74,23 +73,18 @@ REGISTRATION_MODES = ("zone", "site")
 
 @dataclass(frozen=True)
 class RegistrationDefault:
-    """The registration scope a site gets when none is asked for: ``mode`` (``zone`` or ``site``) and
-    ``reason``, the words the summary's registration line prints."""
+    """The registration scope a site gets when none is asked for: ``mode`` (``zone`` or ``site``) and ``reason``, the
+    words the summary's registration line prints."""
 
     mode: str
     reason: str
 
 
 def default_registration(site: Site) -> RegistrationDefault:
-    """The scope of a site's registration when none is asked for, and why.
-
-    ``site`` (one bundle per accessible area, :func:`planner.coverage.openings.accessible_areas`) where
-    openings are given, or where the site has more than one zone and every zone stands in one frame (placed,
-    given in site coordinates, or read from one model), outdoors too: stations on the same ground link when
-    the overlap rule holds on what both see. ``zone`` (one bundle per zone-side, as the dissertation plans)
-    where the site has one zone, or each zone stands in its own frame (table zones). Mixed frames: ``site``
-    where table zones were placed in the site frame, else ``zone``.
-    """
+    """The scope of a site's registration when none is asked for, and why: ``site`` (one bundle per accessible area)
+    where openings are given or the zones share one frame (placed, given in site coordinates, or read from one model;
+    outdoors too), ``zone`` (one bundle per zone-side) for one zone or table zones each in its own frame; mixed frames:
+    ``site`` where table zones were placed in the site frame, else ``zone``."""
     zones = site.zones
     n = len(zones)
     if any(z.openings for z in zones):
@@ -114,9 +108,9 @@ def default_registration(site: Site) -> RegistrationDefault:
 
 
 def zone_side_groups(candidates: Sequence[Candidate], labels: Sequence[Hashable], links: sp.csr_matrix | None) -> bool:
-    """True when registration groups ``labels`` (with ``links``) are the zone-sides: no link through an
-    opening, and each group holds the candidates of exactly one zone-side (``site`` registration of rooms
-    without doors and a single outside zone, or ``zone`` registration)."""
+    """True when registration groups ``labels`` (with ``links``) are the zone-sides: no link through an opening, and
+    each group holds the candidates of exactly one zone-side (``site`` registration of rooms without doors and a single
+    outside zone, or ``zone`` registration)."""
     if links is not None and links.nnz:
         return False
     pairs = {(label, (c.zone, c.side)) for label, c in zip(labels, candidates, strict=True)}
@@ -126,13 +120,10 @@ def zone_side_groups(candidates: Sequence[Candidate], labels: Sequence[Hashable]
 def registration_groups(
     site: Site, candidates: Sequence[Candidate], mode: str, reach_m: float
 ) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
-    """Group label of each candidate and the links through openings (None in ``zone`` mode).
-
-    ``zone``: one bundle per zone-side, as the dissertation plans; ``site``: one bundle per
-    accessible area (:func:`planner.coverage.openings.accessible_areas`, storeys joined by the site's stairs),
-    linked through openings and, across storeys, through the stairs
-    (:func:`planner.coverage.stair_links.stair_links`).
-    """
+    """Group label of each candidate and the links through openings (None in ``zone`` mode). ``zone``: one bundle per
+    zone-side, as the dissertation plans; ``site``: one bundle per accessible area
+    (:func:`planner.coverage.openings.accessible_areas`, storeys joined by the site's stairs), linked through openings
+    and, across storeys, through the stairs (:func:`planner.coverage.stair_links.stair_links`)."""
     if mode not in REGISTRATION_MODES:
         raise UsageError(
             f"unknown registration mode (known: {', '.join(REGISTRATION_MODES)})", field="registration", value=mode

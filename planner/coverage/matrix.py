@@ -22,8 +22,8 @@ from planner.site.model import SITE_FRAME, Site
 
 #: Candidates per block of the coverage build (the unit of its progress reports)
 PROGRESS_BLOCK = 1024
-#: Memory a block of the coverage build may take for its pairs, and the worst case per pair (every
-#: candidate of the block paired with every piece of the frame: geometry, sight test, kept arrays).
+#: Memory a block of the coverage build may take for its pairs, and the worst case per pair (every candidate of the
+#: block paired with every piece of the frame: geometry, sight test, kept arrays).
 BLOCK_BUDGET_BYTES = 256 * 2**20
 PAIR_WORST_BYTES = 96
 #: Pairs per batch of the sight test: its hit arrays (pairs x blockers in their boxes) stay bounded.
@@ -71,8 +71,8 @@ def blockers_for(site: Site, frame: str) -> Blockers:
 
 
 def _solid_parts(site: Site, zi: int, segments: list, partners: dict) -> tuple[NDArray, NDArray, NDArray]:
-    """Start points, end points and wall keys of the solid parts of zone ``zi``'s walls (a stretch shared
-    with another zone's face blocks under that face's key)."""
+    """Start points, end points and wall keys of the solid parts of zone ``zi``'s walls (a stretch shared with another
+    zone's face blocks under that face's key)."""
     a, b, key = [], [], []
     for w in site.zones[zi].walls:
         start, end = np.asarray(w.start, float), np.asarray(w.end, float)
@@ -89,8 +89,8 @@ def _solid_parts(site: Site, zi: int, segments: list, partners: dict) -> tuple[N
 
 
 def convex_alone(site: Site, frame: str) -> bool:
-    """True when ``frame`` holds one convex zone without holes and (in the site frame) no obstacles: then
-    every front-facing pair is in clear view, and the sight test is spared (finely drawn round rooms)."""
+    """True when ``frame`` holds one convex zone without holes and (in the site frame) no obstacles: then every
+    front-facing pair is in clear view, and the sight test is spared (finely drawn round rooms)."""
     zones = [z for z in site.zones if z.frame == frame]
     if len(zones) != 1 or zones[0].holes or (frame == SITE_FRAME and site.obstacles):
         return False
@@ -105,16 +105,16 @@ def _ordered(parts: list, order: NDArray[np.int64] | None, dtype: type) -> NDArr
 
 
 def block_size(n_targets: int) -> int:
-    """Candidates per block: at most ``PROGRESS_BLOCK``, fewer when the frame has so many pieces that a
-    block's worst case (every pair kept) would pass ``BLOCK_BUDGET_BYTES``; at least 16."""
+    """Candidates per block: at most ``PROGRESS_BLOCK``, fewer when the frame has so many pieces that a block's worst
+    case (every pair kept) would pass ``BLOCK_BUDGET_BYTES``; at least 16."""
     return int(max(16, min(PROGRESS_BLOCK, BLOCK_BUDGET_BYTES // max(1, n_targets * PAIR_WORST_BYTES))))
 
 
 class ZoneSideBlockers:
-    """The blockers that can hide a piece of one zone-side from a station on that side, built once per
-    zone-side of a frame: from inside zone z only edges that meet z, from outside only edges not strictly
-    inside z; a zone with openings keeps every blocker of the frame. A building of many rooms then does not
-    test every room's walls against every view."""
+    """The blockers that can hide a piece of one zone-side from a station on that side, built once per zone-side of a
+    frame: from inside zone z only edges that meet z, from outside only edges not strictly inside z; a zone with
+    openings keeps every blocker of the frame. A building of many rooms then does not test every room's walls against
+    every view."""
 
     def __init__(self, site: Site, frame: str) -> None:
         self.site, self.all = site, blockers_for(site, frame)
@@ -165,8 +165,8 @@ class ZoneSideBlockers:
 
 
 def _kept_vertices(b: Blockers, keep: NDArray[np.bool_]) -> NDArray[np.float64]:
-    """The blocker vertices (only those ``blockers_for`` gave: it drops the vertices of wall ends cut back at
-    junctions, :func:`planner.coverage.faces.trim_at_junctions`) that are end points of the kept segments."""
+    """The blocker vertices (only those ``blockers_for`` gave: it drops the vertices of wall ends cut back at junctions,
+    :func:`planner.coverage.faces.trim_at_junctions`) that are end points of the kept segments."""
     if not keep.any() or len(b.vertices) == 0:
         return np.zeros((0, 2))
     ends = {tuple(p) for p in np.vstack([b.a[keep], b.b[keep]]).tolist()}
@@ -183,9 +183,9 @@ class Places:
 
 
 def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -> Places:
-    """Classify station positions: inside which zones, and forbidden ones with the reason: on a wall line or
-    closer to one than the stand-off (``min_standoff_m``), inside an obstacle or closer to its edge than the
-    stand-off, inside a no-go area, or outside the site boundary (these three in the site frame)."""
+    """Classify station positions: inside which zones, and forbidden ones with the reason: on a wall line or closer to
+    one than the stand-off (``min_standoff_m``), inside an obstacle or closer to its edge than the stand-off, inside a
+    no-go area, or outside the site boundary (these three in the site frame)."""
     n = len(xy)
     standoff = site.parameters.min_standoff_m
     frames_arr = np.asarray(frames, dtype=object)
@@ -223,10 +223,10 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
 
 
 def _on_own_side(site: Site, cands: Sequence[Candidate], places: Places) -> Places:
-    """Also forbid a candidate that does not stand on its own zone-side (as verification does): with zones
-    placed in one frame, a point made for one room (a corner ray, say) may lie in another room, and would
-    otherwise cover that room's walls under the wrong zone's name. A candidate of no zone (``zone ''``:
-    a position priced over the plane, whose owner its coverage decides) is left alone."""
+    """Also forbid a candidate that does not stand on its own zone-side (as verification does): with zones placed in one
+    frame, a point made for one room (a corner ray, say) may lie in another room, and would otherwise cover that room's
+    walls under the wrong zone's name. A candidate of no zone (``zone ''``: a position priced over the plane, whose
+    owner its coverage decides) is left alone."""
     index = {z.id: i for i, z in enumerate(site.zones)}
     reason = list(places.reason)
     for k, c in enumerate(cands):
@@ -238,9 +238,9 @@ def _on_own_side(site: Site, cands: Sequence[Candidate], places: Places) -> Plac
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class CoverageProblem:
-    """Candidates, targets and the boolean coverage matrix in both views: ``by_candidate`` C x T and
-    ``by_target`` T x C (CSR); ``slant_m`` and ``incidence_deg`` hold, on ``by_candidate``'s pattern, the worst
-    slant range and incidence over each piece."""
+    """Candidates, targets and the boolean coverage matrix in both views: ``by_candidate`` C x T and ``by_target`` T x C
+    (CSR); ``slant_m`` and ``incidence_deg`` hold, on ``by_candidate``'s pattern, the worst slant range and incidence
+    over each piece."""
 
     candidates: tuple[Candidate, ...]
     targets: Targets
@@ -269,8 +269,8 @@ class CoverageProblem:
 def build_coverage(
     site: Site, candidates: Sequence[Candidate], targets: Targets, limits: SightLimits, step: str = ""
 ) -> CoverageProblem:
-    """Compute which candidate sees which target (:mod:`planner.coverage.visibility`); with ``step`` set,
-    progress is reported every block of candidates under that name (:mod:`planner.core.progress`)."""
+    """Compute which candidate sees which target (:mod:`planner.coverage.visibility`); with ``step`` set, progress is
+    reported every block of candidates under that name (:mod:`planner.core.progress`)."""
     cands = tuple(candidates)
     xy = np.array([c.xy for c in cands], dtype=float).reshape(-1, 2)
     places = _on_own_side(site, cands, station_places(site, xy, [c.frame for c in cands]))

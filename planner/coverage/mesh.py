@@ -1,17 +1,17 @@
 """A site's blockers as triangles in 3-D: the scene the 3-D sight test (:mod:`planner.coverage.rays`) casts into.
 
-Walls stand from their zone's floor up to their linear top edge (:class:`planner.site.model.Wall`), cut at
-openings (full-height gaps); obstacles (site frame only) are capped prisms from 0 m to ``height_m``. A zone
-scanned from inside may add its floor and ceiling as horizontal plates; a :class:`Slab` is any other one.
-A wall quad with a linear top is planar: two triangles cover it exactly. Each triangle keeps its ``source``,
-so that a sight line can skip the surface its target lies on:
+Walls stand from their zone's floor up to their linear top edge (:class:`planner.site.model.Wall`), cut at openings
+(full-height gaps); obstacles (site frame only) are capped prisms from 0 m to ``height_m``. A zone scanned from inside
+may add its floor and ceiling as horizontal plates; a :class:`Slab` is any other one. A wall quad with a linear top is
+planar: two triangles cover it exactly. Each triangle keeps its ``source``, so that a sight line can skip the surface
+its target lies on:
 
-- a wall: :func:`planner.coverage.visibility.wall_key` of (zone index, 1-based wall index), >= 0, the key
-  the plan-view blockers use;
+- a wall: :func:`planner.coverage.visibility.wall_key` of (zone index, 1-based wall index), >= 0, the key the plan-view
+  blockers use;
 - obstacle k (index into ``site.obstacles``): :func:`obstacle_key` ``= -1 - k``;
 - slab k (index into the slabs given): :func:`slab_key` ``= SLAB_KEY_BASE - k``;
-- the floor and the ceiling of zone i: :func:`floor_key` and :func:`ceiling_key`, ``SURFACE_KEY_BASE - 2i`` and
-  ``- 2i - 1``.
+- the floor and the ceiling of zone i: :func:`floor_key` and :func:`ceiling_key`, ``SURFACE_KEY_BASE - 2i`` and ``- 2i -
+  1``.
 """
 
 from __future__ import annotations
@@ -102,8 +102,8 @@ class SiteMesh:
 
 
 def quads(a: Floats, b: Floats, z0: Floats, za: Floats, zb: Floats) -> tuple[Floats, NDArray[np.int64]]:
-    """Vertical quads over the plan segments a-b (n x 2), from ``z0`` up to ``za`` at a and ``zb`` at b: 4n vertices
-    and 2n triangles (quad k: triangles 2k and 2k + 1)."""
+    """Vertical quads over the plan segments a-b (n x 2), from ``z0`` up to ``za`` at a and ``zb`` at b: 4n vertices and
+    2n triangles (quad k: triangles 2k and 2k + 1)."""
     n = len(a)
     v = np.empty((n, 4, 3))
     v[:, 0, :2], v[:, 1, :2], v[:, 2, :2], v[:, 3, :2] = a, b, b, a
@@ -114,8 +114,8 @@ def quads(a: Floats, b: Floats, z0: Floats, za: Floats, zb: Floats) -> tuple[Flo
 
 
 def cap(polygon: shapely.Polygon, z_m: float) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """A horizontal polygon (holes allowed) at ``z_m`` as triangles: the constrained Delaunay triangulation
-    of GEOS, so a concave outline is covered exactly, nothing outside it. Returns 3m vertices, m triangles."""
+    """A horizontal polygon (holes allowed) at ``z_m`` as triangles: the constrained Delaunay triangulation of GEOS, so
+    a concave outline is covered exactly, nothing outside it. Returns 3m vertices, m triangles."""
     parts = shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))
     xy = shapely.get_coordinates(shapely.get_exterior_ring(parts)).reshape(len(parts), 4, 2)[:, :3]
     v = np.concatenate([xy.reshape(-1, 2), np.full((3 * len(parts), 1), float(z_m))], axis=1)
@@ -163,8 +163,8 @@ def site_mesh(
 def _wall_quads(
     site: Site, frame: str, levels: Mapping[str, float]
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]] | None:
-    """The solid parts of the walls of ``frame``'s zones as quads (vertices, triangles, source key per
-    triangle), cut at openings; None when there is none."""
+    """The solid parts of the walls of ``frame``'s zones as quads (vertices, triangles, source key per triangle), cut at
+    openings; None when there is none."""
     segments = opening_segments(site, frame)
     a, b, z0, za, zb, key = [], [], [], [], [], []
     for zi, zone in enumerate(site.zones):

@@ -1,13 +1,13 @@
 """Openings (doors, gates, windows, passages) as gaps in walls, and the accessible areas they join.
 
-An opening is declared on one wall of one zone, in metres along it. It is a gap in EVERY wall face of the
-frame that runs parallel to its wall (within ``PARALLEL_DEG``) at most ``OPENING_DEPTH_M`` in front of or
-behind it (a placed neighbour's face of the same wall): a door goes through the whole wall. Sight passes
-through a gap; a gap holds no targets.
+An opening is declared on one wall of one zone, in metres along it. It is a gap in EVERY wall face of the frame that
+runs parallel to its wall (within ``PARALLEL_DEG``) at most ``OPENING_DEPTH_M`` in front of or behind it (a placed
+neighbour's face of the same wall): a door goes through the whole wall. Sight passes through a gap; a gap holds no
+targets.
 
-Accessible areas: each inside zone is a space, and the outside of a frame's outside-scanned zones is one.
-A door, gate or passage joins its zone's space with the space just behind the wall (none found: the frame's
-outside); windows join nothing. A stair (``Site.stairs``) joins its lower zone's space with its upper one's.
+Accessible areas: each inside zone is a space, and the outside of a frame's outside-scanned zones is one. A door, gate
+or passage joins its zone's space with the space just behind the wall (none found: the frame's outside); windows join
+nothing. A stair (``Site.stairs``) joins its lower zone's space with its upper one's.
 """
 
 from __future__ import annotations
@@ -49,8 +49,8 @@ def opening_segments(site: Site, frame: str) -> list[tuple[int, Wall, str, NDArr
 def wall_gaps(
     site: Site, zone_index: int, wall: Wall, segments: list[tuple[int, Wall, str, NDArray[np.float64]]] | None = None
 ) -> list[tuple[float, float]]:
-    """Intervals (s0, s1) in metres along ``wall`` that are open: its own openings and those of any
-    wall face of the same frame parallel to it and within ``OPENING_DEPTH_M``; merged, sorted."""
+    """Intervals (s0, s1) in metres along ``wall`` that are open: its own openings and those of any wall face of the
+    same frame parallel to it and within ``OPENING_DEPTH_M``; merged, sorted."""
     zone = site.zones[zone_index]
     segs = opening_segments(site, zone.frame) if segments is None else segments
     a, b = np.asarray(wall.start, float), np.asarray(wall.end, float)

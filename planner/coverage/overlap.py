@@ -1,13 +1,11 @@
 """The registration-overlap relation between stations (docs/method.md section 5, seed 003).
 
-Two stations can be registered to each other when the wall length both of them
-cover is at least ``overlap`` of the smaller of their two covered lengths,
-optionally also at least ``min_shared_m`` metres and at most ``max_link_m``
-apart (cloud-to-cloud registration degrades beyond 30-70 m, seed 003).
-Stations are related only within one group: a zone-side (``--registration zone``) or an
-accessible area of the site (``--registration site``). Within a site's area, stations of different
-zones are also related by ``links``: they see each other through an opening (see
-:mod:`planner.coverage.links` for why that, and not shared wall, is the measure across zones).
+Two stations can be registered to each other when the wall length both of them cover is at least ``overlap`` of the
+smaller of their two covered lengths, optionally also at least ``min_shared_m`` metres and at most ``max_link_m`` apart
+(cloud-to-cloud registration degrades beyond 30-70 m, seed 003). Stations are related only within one group: a zone-side
+(``--registration zone``) or an accessible area of the site (``--registration site``). Within a site's area, stations of
+different zones are also related by ``links``: they see each other through an opening (see :mod:`planner.coverage.links`
+for why that, and not shared wall, is the measure across zones).
 """
 
 from __future__ import annotations
@@ -45,22 +43,22 @@ class OverlapRule:
 
 
 def rule_of(share: float, min_shared_m: float = 0.0, max_link_m: float | None = None) -> OverlapRule:
-    """The overlap rule of a share of wall (with the optional shared-length and distance limits): the one place
-    a rule is built from a share. Share 0 still links any two stations that share wall (checking, surveys)."""
+    """The overlap rule of a share of wall (with the optional shared-length and distance limits): the one place a rule
+    is built from a share. Share 0 still links any two stations that share wall (checking, surveys)."""
     return OverlapRule(share, min_shared_m, max_link_m)
 
 
 def planning_rule(share: float, min_shared_m: float = 0.0, max_link_m: float | None = None) -> OverlapRule | None:
-    """The rule a plan must satisfy for a share: ``None`` for share 0 (no registration required), the one place
-    that decides "overlap 0 means off"."""
+    """The rule a plan must satisfy for a share: ``None`` for share 0 (no registration required), the one place that
+    decides "overlap 0 means off"."""
     return None if share == 0 else rule_of(share, min_shared_m, max_link_m)
 
 
 @dataclass(frozen=True, kw_only=True)
 class SiteShare:
-    """The registration rule at the site's own overlap share, with these extra limits: what a plan's options
-    ask for until the run is resolved against its site (:func:`planner.plan.problem.resolve`), where
-    :meth:`rule` gives the rule in force (``None`` for share 0)."""
+    """The registration rule at the site's own overlap share, with these extra limits: what a plan's options ask for
+    until the run is resolved against its site (:func:`planner.plan.problem.resolve`), where :meth:`rule` gives the rule
+    in force (``None`` for share 0)."""
 
     min_shared_m: float = 0.0
     max_link_m: float | None = None
@@ -100,9 +98,9 @@ def link_filter(
     gid: NDArray[np.int64] | None = None,
     xy: NDArray[np.float64] | None = None,
 ) -> tuple[Pairs, Callable[[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], NDArray[np.bool_]]]:
-    """The rule as two tests on index pairs: ``allowed(r, c)`` (not the same, one group, within ``max_link_m``)
-    and ``keep(r, c, shared)`` (allowed, and sharing > 0, >= ``overlap`` of the smaller of the two ``covered``
-    lengths and >= ``min_shared_m``): the one home of "registered" for a coverage matrix."""
+    """The rule as two tests on index pairs: ``allowed(r, c)`` (not the same, one group, within ``max_link_m``) and
+    ``keep(r, c, shared)`` (allowed, and sharing > 0, >= ``overlap`` of the smaller of the two ``covered`` lengths and
+    >= ``min_shared_m``): the one home of "registered" for a coverage matrix."""
 
     def allowed(r: NDArray[np.int64], c: NDArray[np.int64]) -> NDArray[np.bool_]:
         ok = r != c
@@ -127,18 +125,15 @@ def overlap_adjacency(
     xy: NDArray[np.float64] | None = None,
     links: sp.spmatrix | None = None,
 ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """Symmetric C x C adjacency of the overlap relation, and the shared length (m) on the same pattern.
-
-    One sparse product (in row blocks, :func:`planner.coverage.gram.filtered_gram`) gives every
-    pair's shared wall length; the rule, groups and distance filter each block. ``links`` (C x C, symmetric): further related
-    pairs (seen through an opening), kept under the same group and distance rules.
-    """
+    """Symmetric C x C adjacency of the overlap relation, and the shared length (m) on the same pattern. One sparse
+    product (in row blocks, :func:`planner.coverage.gram.filtered_gram`) gives every pair's shared wall length; the
+    rule, groups and distance filter each block. ``links`` (C x C, symmetric): further related pairs (seen through an
+    opening), kept under the same group and distance rules."""
     a = by_candidate.astype(np.float64).tocsr()
     n = a.shape[0]
     gid = group_ids(groups) if groups is not None else None
     allowed, keep = link_filter(rule, np.asarray(a @ lengths).ravel(), gid, xy)
 
-    # the C x C product in row blocks, each filtered before the next: memory follows the pairs kept
     share = filtered_gram(a, lengths, keep)
     if links is not None and links.nnz:
         # pairs related through an opening join with shared length 0 (explicit entries)
@@ -159,11 +154,9 @@ def overlap_graph(
     xy: NDArray[np.float64] | None = None,
     links: sp.spmatrix | None = None,
 ) -> nx.Graph:
-    """Graph on ``nodes`` (candidate indices) with an edge wherever two can be registered.
-
-    Edge attributes: ``shared_m`` (common covered wall length; 0 for a link through an
-    opening, ``links`` being C x C over all candidates) and, with ``xy``, ``length_m``.
-    """
+    """Graph on ``nodes`` (candidate indices) with an edge wherever two can be registered. Edge attributes: ``shared_m``
+    (common covered wall length; 0 for a link through an opening, ``links`` being C x C over all candidates) and, with
+    ``xy``, ``length_m``."""
     nodes = list(nodes)
     g = nx.Graph()
     g.add_nodes_from(nodes)

@@ -1,12 +1,12 @@
-"""The plan-view part of the floor and ceiling sight test: do the segments from a station to every point of a
-patch keep clear of what can hide it?
+"""The plan-view part of the floor and ceiling sight test: do the segments from a station to every point of a patch keep
+clear of what can hide it?
 
-A patch of zone z is hidden by its *blockers*: the footprints of z's blocks (holes, obstacles) of at least a
-given height and the pockets between z's outline and its convex hull, each shrunk by ``EPS_PLAN_M`` so that
-only touching one stays clear. The segments from station s to a patch P sweep P's *fan*: for P convex and s
-outside its bounding box, P with the triangle (s, c-, c+) over the corners that bound P's angular extent;
-otherwise the union of the triangles (s, a, b) over P's edges. A pair is clear when no blocker meets the
-triangles; P itself is tested once (:func:`PlanBlockers.hits`).
+A patch of zone z is hidden by its *blockers*: the footprints of z's blocks (holes, obstacles) of at least a given
+height and the pockets between z's outline and its convex hull, each shrunk by ``EPS_PLAN_M`` so that only touching one
+stays clear. The segments from station s to a patch P sweep P's *fan*: for P convex and s outside its bounding box, P
+with the triangle (s, c-, c+) over the corners that bound P's angular extent; otherwise the union of the triangles (s,
+a, b) over P's edges. A pair is clear when no blocker meets the triangles; P itself is tested once
+(:func:`PlanBlockers.hits`).
 """
 
 from __future__ import annotations
@@ -72,8 +72,8 @@ def _edge_triangles(s: NDArray, corners: NDArray, n: NDArray) -> tuple[NDArray[n
 
 
 def _tangent_triangles(s: NDArray, corners: NDArray) -> NDArray[np.object_]:
-    """For stations outside their patch's bounding box: the triangle over the corners at the two ends of the
-    patch's angular extent (measured from the direction to the box's centre, so no angle wraps)."""
+    """For stations outside their patch's bounding box: the triangle over the corners at the two ends of the patch's
+    angular extent (measured from the direction to the box's centre, so no angle wraps)."""
     ref = (corners.min(axis=1) + corners.max(axis=1)) / 2.0 - s
     rel = corners - s[:, None, :]
     ang = np.arctan2(ref[:, None, 0] * rel[..., 1] - ref[:, None, 1] * rel[..., 0], np.einsum("pj,pkj->pk", ref, rel))
@@ -85,8 +85,8 @@ def _tangent_triangles(s: NDArray, corners: NDArray) -> NDArray[np.object_]:
 def fans_clear(
     blockers: PlanBlockers, s: NDArray[np.float64], corners: NDArray[np.float64], n: NDArray, is_convex: NDArray
 ) -> NDArray[np.bool_]:
-    """For each pair (row: station ``s``, patch ``corners`` with ``n`` own corners, ``is_convex``), True when its
-    fan meets no blocker (the patch itself is not tested here)."""
+    """For each pair (row: station ``s``, patch ``corners`` with ``n`` own corners, ``is_convex``), True when its fan
+    meets no blocker (the patch itself is not tested here)."""
     clear = np.ones(len(s), dtype=bool)
     if blockers.tree is None or len(s) == 0:
         return clear

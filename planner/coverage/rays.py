@@ -1,16 +1,16 @@
 """Sight in 3-D: does anything of the site's mesh stand between a station and a point?
 
-:func:`occluded` answers, for N segments origin -> end at once, whether each comes within ``EPS_TOUCH_M`` of a
-triangle of a :class:`planner.coverage.mesh.SiteMesh` (other than those of ``skip[i]``, the surface the end
-lies on). The conventions are those of the plan-view test (:mod:`planner.coverage.visibility`):
+:func:`occluded` answers, for N segments origin -> end at once, whether each comes within ``EPS_TOUCH_M`` of a triangle
+of a :class:`planner.coverage.mesh.SiteMesh` (other than those of ``skip[i]``, the surface the end lies on). The
+conventions are those of the plan-view test (:mod:`planner.coverage.visibility`):
 
 - touching counts as blocked (distance at most ``EPS_TOUCH_M``): a line grazing a wall's top edge is blocked;
-- each segment stops ``EPS_SHORTEN_M`` (at most half its length) before its end, so that a point on a wall is not
-  hidden by the walls that meet it there; the origin (a station, off every surface) is kept.
+- each segment stops ``EPS_SHORTEN_M`` (at most half its length) before its end, so that a point on a wall is not hidden
+  by the walls that meet it there; the origin (a station, off every surface) is kept.
 
-How: the pieces (at most ``PIECE_M`` in plan) of each chunk of segments query an STRtree of the triangles' plan
-boxes; conservative filters (:meth:`RayIndex.pairs`) thin the pairs, and :func:`segment_hits_triangles` tests
-the rest exactly, in batches. Work grows with the pairs whose plan boxes meet; no N x T array anywhere.
+How: the pieces (at most ``PIECE_M`` in plan) of each chunk of segments query an STRtree of the triangles' plan boxes;
+conservative filters (:meth:`RayIndex.pairs`) thin the pairs, and :func:`segment_hits_triangles` tests the rest exactly,
+in batches. Work grows with the pairs whose plan boxes meet; no N x T array anywhere.
 """
 
 from __future__ import annotations
@@ -33,8 +33,8 @@ SEGMENT_CHUNK = 4096
 PAIR_BATCH = 1 << 16
 #: the filters before the exact test keep pairs within MARGIN * eps_m (rounding of absolute coordinates is far less)
 MARGIN = 2.0
-#: segments are cut into pieces of at most this length (plan view) for the tree query, so a long diagonal
-#: segment meets the triangles near it, not all those in its bounding box
+#: segments are cut into pieces of at most this length (plan view) for the tree query, so a long diagonal segment meets
+#: the triangles near it, not all those in its bounding box
 PIECE_M = 6.0
 #: the ``skip`` of a segment that skips nothing (no source key has this value)
 NO_SKIP = int(np.iinfo(np.int64).min)
@@ -46,8 +46,8 @@ def _dot(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 @dataclass(frozen=True, eq=False)
 class RayIndex:
-    """What :func:`occluded` keeps of a mesh (T triangles): corners (T x 3 x 3); plan-view boxes (T x 4: centre
-    x, y, half size x, y) and in an STRtree; height ranges; unit normals (T x 3) and plane offsets; sources."""
+    """What :func:`occluded` keeps of a mesh (T triangles): corners (T x 3 x 3); plan-view boxes (T x 4: centre x, y,
+    half size x, y) and in an STRtree; height ranges; unit normals (T x 3) and plane offsets; sources."""
 
     corners: NDArray[np.float64]
     plan: NDArray[np.float64]
@@ -61,10 +61,11 @@ class RayIndex:
     def pairs(
         self, o: NDArray[np.float64], e: NDArray[np.float64], skip: NDArray[np.int64], eps_m: float
     ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-        """(segment, triangle) pairs, sorted, that may come within ``eps_m``, by conservative filters (each with a margin
-        of ``MARGIN`` * eps_m): 1. the plan box of a piece (at most ``PIECE_M``) of the segment meets the triangle's
-        (the tree); 2. the segment's plan line passes within reach of that box; 3. the triangle is not skipped and the
-        height ranges overlap; 4. the segment's ends are not both beyond the triangle's plane on one side."""
+        """(segment, triangle) pairs, sorted, that may come within ``eps_m``, by conservative filters (each with a
+        margin of ``MARGIN`` * eps_m): 1. the plan box of a piece (at most ``PIECE_M``) of the segment meets the
+        triangle's (the tree); 2. the segment's plan line passes within reach of that box; 3. the triangle is not
+        skipped and the height ranges overlap; 4. the segment's ends are not both beyond the triangle's plane on one
+        side."""
         m = MARGIN * eps_m
         lo, hi = np.minimum(o, e), np.maximum(o, e)
         d = e[:, :2] - o[:, :2]
@@ -151,9 +152,9 @@ def segment_distance2(
 def segment_hits_triangles(
     o: NDArray[np.float64], e: NDArray[np.float64], tri: NDArray[np.float64], eps_m: float = EPS_TOUCH_M
 ) -> NDArray[np.bool_]:
-    """Row-wise: is the closed segment o-e within ``eps_m`` of the closed triangle ``tri`` (P x 3 x 3)? The distance
-    is 0 where the segment crosses the triangle, else reached at an end of the segment (over the face) or on an edge of
-    the triangle; so the segment is blocked when 1. it crosses the plane inside the triangle, 2. an end lies within
+    """Row-wise: is the closed segment o-e within ``eps_m`` of the closed triangle ``tri`` (P x 3 x 3)? The distance is
+    0 where the segment crosses the triangle, else reached at an end of the segment (over the face) or on an edge of the
+    triangle; so the segment is blocked when 1. it crosses the plane inside the triangle, 2. an end lies within
     ``eps_m`` of the plane and projects inside the triangle, or 3. an edge comes within ``eps_m`` of it
     (:func:`segment_distance2`). Segments with both ends beyond ``eps_m`` on one side of the plane are out first.
     Everything is relative to ``o`` (a translation of the scene changes only the last bits)."""

@@ -1,6 +1,6 @@
-"""The precision part of a coverage region (:mod:`planner.coverage.regions`): the positions whose view of a
-piece's end has e(S, theta) <= sigma_req, star-shaped about the end and bounded by
-rho(theta) = sqrt(S_lim(theta)^2 - dz^2), drawn inside the true curve."""
+"""The precision part of a coverage region (:mod:`planner.coverage.regions`): the positions whose view of a piece's end
+has e(S, theta) <= sigma_req, star-shaped about the end and bounded by rho(theta) = sqrt(S_lim(theta)^2 - dz^2), drawn
+inside the true curve."""
 
 from __future__ import annotations
 

@@ -3,17 +3,17 @@
 R_t applies the rules of :mod:`planner.coverage.visibility` to a position instead of a candidate:
 
 - the scan side and where a station may stand at all (:func:`frame_space`);
-- the incidence limit at both ends: a wedge of half-angle theta_max about the face normal, or with 3-D
-  incidence the convex region d >= cot(theta_max) sqrt(u^2 + dz^2), bounded by chords;
+- the incidence limit at both ends: a wedge of half-angle theta_max about the face normal, or with 3-D incidence the
+  convex region d >= cot(theta_max) sqrt(u^2 + dz^2), bounded by chords;
 - the slant range to top and foot at both ends: inscribed discs of radius sqrt(S^2 - dz^2);
-- sight: minus the shadow of every wall and obstacle edge near the piece (positions p for which the edge
-  meets the triangle p-a-b);
+- sight: minus the shadow of every wall and obstacle edge near the piece (positions p for which the edge meets the
+  triangle p-a-b);
 - the stand-off: minus a circumscribed buffer around every wall and obstacle edge;
-- the view error (single precision with an incidence model, horizontal incidence only, see
-  :func:`regions_apply`): the region of :mod:`planner.coverage.region_precision` at each end.
+- the view error (single precision with an incidence model, horizontal incidence only, see :func:`regions_apply`): the
+  region of :mod:`planner.coverage.region_precision` at each end.
 
-Every approximation is from the inside, so a point in R_t passes the coverage test (up to its own sight
-tolerance); a position that passes it but lies outside R_t is within :func:`region_tolerance_m` of R_t.
+Every approximation is from the inside, so a point in R_t passes the coverage test (up to its own sight tolerance); a
+position that passes it but lies outside R_t is within :func:`region_tolerance_m` of R_t.
 """
 
 from __future__ import annotations
@@ -43,8 +43,8 @@ from planner.site.model import SITE_FRAME, Site
 DISC_SEGMENTS = 512
 #: largest distance of a 3-D incidence boundary from its chords (m)
 HYPERBOLA_SAGITTA_M = 1e-3
-#: the sight test blocks a line whose end, moved EPS_SHORTEN_M toward the station, lies within
-#: EPS_SIGHT_M of a wall line through the piece's end: a sliver of this half-angle
+#: the sight test blocks a line whose end, moved EPS_SHORTEN_M toward the station, lies within EPS_SIGHT_M of a wall
+#: line through the piece's end: a sliver of this half-angle
 GRAZE_DEG = math.degrees(math.asin(EPS_SIGHT_M / EPS_SHORTEN_M))
 #: grid of the snap-rounded overlay used when GEOS's floating overlay of the shadows fails (1 um)
 SNAP_GRID_M = 1e-6
@@ -89,20 +89,18 @@ class FrameSpace:
 
 def _frame_bounds(site: Site, frame: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Lower-left and upper-right corners of a frame's zones (and, in the site frame, obstacles)."""
-    zones = [z for z in site.zones if z.frame == frame]
-    geoms = [z.polygon for z in zones]
+    geoms = [z.polygon for z in site.zones if z.frame == frame]
     if frame == SITE_FRAME:
         geoms += [shapely.Polygon(ob.vertices) for ob in site.obstacles]
-    lo = np.min([g.bounds[:2] for g in geoms], axis=0)
-    hi = np.max([g.bounds[2:] for g in geoms], axis=0)
-    return lo, hi
+    box = shapely.total_bounds(geoms)
+    return box[:2], box[2:]
 
 
 def frame_space(site: Site, frame: str, limits: SightLimits, outer: bool = False) -> FrameSpace:
-    """The accessible area of each zone-side of ``frame``: inside (the zone) or outside (a box around the
-    frame's zones grown by the horizontal reach), minus obstacles, no-go areas, what lies outside the
-    site boundary (site frame) and a hair's breadth around every wall. ``outer``: the stand-off buffers
-    inscribed in the true ones (they take away less: an outer approximation of the area)."""
+    """The accessible area of each zone-side of ``frame``: inside (the zone) or outside (a box around the frame's zones
+    grown by the horizontal reach), minus obstacles, no-go areas, what lies outside the site boundary (site frame) and a
+    hair's breadth around every wall. ``outer``: the stand-off buffers inscribed in the true ones (they take away less:
+    an outer approximation of the area)."""
     lo, hi = _frame_bounds(site, frame)
     diag = float(np.hypot(*(hi - lo)))
     reach = limits.effective_range_m if math.isfinite(limits.effective_range_m) else 2.0 * diag
@@ -163,15 +161,15 @@ def _incidence_region(
 
 
 def _away(q: NDArray, x: NDArray) -> NDArray[np.float64]:
-    """Unit directions from x to q, zero where q is x up to rounding (an edge ending at a piece's end, whose
-    coordinates may differ in the last bit: the direction of a 1e-16 m vector is noise; _grazing covers it)."""
+    """Unit directions from x to q, zero where q is x up to rounding (an edge ending at a piece's end, whose coordinates
+    may differ in the last bit: the direction of a 1e-16 m vector is noise; _grazing covers it)."""
     v = q - x
     return np.where((np.hypot(v[..., 0], v[..., 1]) < 1e-6)[..., None], 0.0, _unit(v))
 
 
 def _shadows(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
-    """Positions p from which edge q1-q2 (row-wise) meets the triangle p-a-b: shadow from a, from b,
-    and the wedges of rays from the piece through each end of the edge."""
+    """Positions p from which edge q1-q2 (row-wise) meets the triangle p-a-b: shadow from a, from b, and the wedges of
+    rays from the piece through each end of the edge."""
     out = []
     for x in (a, b):
         d1, d2 = _away(q1, x), _away(q2, x)
@@ -183,8 +181,8 @@ def _shadows(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> li
 
 
 def _grazing(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
-    """Slivers along the lines of the edges that end at a piece's end: the sight test blocks those views
-    (a line through a corner within its tolerance), so R_t leaves them out too."""
+    """Slivers along the lines of the edges that end at a piece's end: the sight test blocks those views (a line through
+    a corner within its tolerance), so R_t leaves them out too."""
     out = []
     half = math.radians(GRAZE_DEG)
     c, s = math.cos(half), math.sin(half)
@@ -221,22 +219,19 @@ def coverage_regions(
 
 
 def outer_tolerance_m(limits: SightLimits) -> float:
-    """How far a covering position can lie outside the outer region O_t (:func:`piece_region` with ``outer``):
-    the approximations left there are the 3-D incidence chords, the precision boundary's chord error and the
-    sight test's tolerances (range discs are circumscribed, stand-off buffers inscribed, no grazing slivers)."""
-    return (
-        (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0)
-        + 1e-5
-        + (2.0 * PRECISION_CHORD_M if limits.per_pair_precision else 0.0)
-    )
+    """How far a covering position can lie outside the outer region O_t (:func:`piece_region` with ``outer``): the
+    approximations left there are the 3-D incidence chords, the precision boundary's chord error and the sight test's
+    tolerances (range discs are circumscribed, stand-off buffers inscribed, no grazing slivers)."""
+    precision = 2.0 * PRECISION_CHORD_M if limits.per_pair_precision else 0.0
+    return (HYPERBOLA_SAGITTA_M if limits.incidence_3d else 0.0) + 1e-5 + precision
 
 
 def piece_region(
     targets: Targets, t: int, limits: SightLimits, space: FrameSpace, outer: bool = False
 ) -> shapely.Geometry:
-    """R_t of one piece (see the module docstring). ``outer`` (with a ``space`` made with ``outer``): range
-    discs circumscribed instead of inscribed and no grazing slivers, so that every covering position lies in
-    the result or within :func:`outer_tolerance_m` of it (for bounds; ``R_t`` itself is for candidates)."""
+    """R_t of one piece (see the module docstring). ``outer`` (with a ``space`` made with ``outer``): range discs
+    circumscribed instead of inscribed and no grazing slivers, so that every covering position lies in the result or
+    within :func:`outer_tolerance_m` of it (for bounds; ``R_t`` itself is for candidates)."""
     region = shapely.Polygon()
     for _, region in region_stages(targets, t, limits, space, outer):
         if region.is_empty:
@@ -257,8 +252,8 @@ STAGE_REASON = {
 def region_stages(
     targets: Targets, t: int, limits: SightLimits, space: FrameSpace, outer: bool = False
 ) -> Iterator[tuple[str, shapely.Geometry]]:
-    """The region of piece ``t`` as it is built, one rule at a time: (stage, region so far) for the stages
-    of :data:`STAGE_REASON` in order; the last is R_t. The first empty one says why R_t is empty."""
+    """The region of piece ``t`` as it is built, one rule at a time: (stage, region so far) for the stages of
+    :data:`STAGE_REASON` in order; the last is R_t. The first empty one says why R_t is empty."""
     a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
     n = np.asarray(targets.normal[t], float)
     tangent = _unit(b - a)

@@ -1,7 +1,7 @@
 """The registration of a run (:class:`Registration`): its scope, its rules and its link reach, decided once
-(:meth:`Registration.of`, which :func:`planner.plan.problem.resolve` calls) and read by every stage that groups,
-relates or checks stations: the planning methods, the tiles, the registration check, the field sheet, the
-network check and the report's map, so that all of them find the same pairs."""
+(:meth:`Registration.of`, which :func:`planner.plan.problem.resolve` calls) and read by every stage that groups, relates
+or checks stations: the planning methods, the tiles, the registration check, the field sheet, the network check and the
+report's map, so that all of them find the same pairs."""
 
 from __future__ import annotations
 
@@ -24,11 +24,11 @@ from planner.site.model import Site
 
 @dataclass(frozen=True, kw_only=True)
 class Registration:
-    """How a run's stations register. ``mode``: ``zone`` (one bundle per zone-side) or ``site`` (one per
-    accessible area, linked through openings and stairs), ``reason`` why; ``rule``: the rule the plan must meet
-    (None: none asked for, or overlap share 0); ``checked_rule``: the rule its registration is checked and
-    reported on (the planning rule, else the site's share); ``reach_m``: how far a link through an opening or a
-    stair reaches (the checked rule's ``max_link_m``, else the sight's effective range)."""
+    """How a run's stations register. ``mode``: ``zone`` (one bundle per zone-side) or ``site`` (one per accessible
+    area, linked through openings and stairs), ``reason`` why; ``rule``: the rule the plan must meet (None: none asked
+    for, or overlap share 0); ``checked_rule``: the rule its registration is checked and reported on (the planning rule,
+    else the site's share); ``reach_m``: how far a link through an opening or a stair reaches (the checked rule's
+    ``max_link_m``, else the sight's effective range)."""
 
     site: Site
     mode: str
@@ -52,8 +52,8 @@ class Registration:
         reason: str | None = None,
     ) -> Registration:
         """The registration of ``sight``'s site: ``mode`` as asked (None: the site's default,
-        :func:`planner.coverage.links.default_registration`), the planning ``rule``, and the ``checked`` rule
-        (None: the planning rule, else the site's overlap share)."""
+        :func:`planner.coverage.links.default_registration`), the planning ``rule``, and the ``checked`` rule (None: the
+        planning rule, else the site's overlap share)."""
         site = sight.site
         if mode is None:
             default = default_registration(site)
@@ -63,15 +63,15 @@ class Registration:
         return cls(site=site, mode=mode, reason=reason or "asked for", rule=rule, checked_rule=checked, reach_m=reach)
 
     def groups(self, candidates: Sequence[Candidate]) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None]:
-        """The registration group of each candidate and the links through openings and stairs (None in ``zone``
-        mode): :func:`planner.coverage.links.registration_groups` at this scope and reach."""
+        """The registration group of each candidate and the links through openings and stairs (None in ``zone`` mode):
+        :func:`planner.coverage.links.registration_groups` at this scope and reach."""
         return registration_groups(self.site, candidates, self.mode, self.reach_m)
 
     def _graphs(
         self, stations: Sequence[Candidate], by_candidate: sp.csr_matrix, lengths: np.ndarray
     ) -> list[tuple[Hashable, list[int], nx.Graph]]:
-        """Each group's label, its stations (indices into ``stations``, the rows of ``by_candidate``) and their
-        overlap graph under the checked rule."""
+        """Each group's label, its stations (indices into ``stations``, the rows of ``by_candidate``) and their overlap
+        graph under the checked rule."""
         labels, links = self.groups(stations)
         xy = np.array([s.xy for s in stations], dtype=float).reshape(-1, 2)
         groups: dict[Hashable, list[int]] = {}
@@ -83,9 +83,9 @@ class Registration:
         ]
 
     def relation(self, stations: Sequence[Candidate], coverage: CoverageProblem) -> nx.Graph:
-        """The registration relation of ``stations`` (node = index into them; ``coverage``: theirs, rows in
-        their order): each edge has ``shared_m`` (wall both see) and ``fraction`` (of the smaller station's
-        covered wall). The field sheet, the network check and the report's map read the plan's pairs here."""
+        """The registration relation of ``stations`` (node = index into them; ``coverage``: theirs, rows in their
+        order): each edge has ``shared_m`` (wall both see) and ``fraction`` (of the smaller station's covered wall). The
+        field sheet, the network check and the report's map read the plan's pairs here."""
         lengths = piece_lengths(coverage.targets.s0_m, coverage.targets.s1_m)
         covered = np.asarray(coverage.by_candidate.astype(np.float64) @ lengths).ravel()
         g = nx.Graph()
@@ -97,9 +97,9 @@ class Registration:
         return g
 
     def check(self, coverage: CoverageProblem, selected: Sequence[int]) -> tuple[dict[str, int], dict[int, list[int]]]:
-        """The components of each registration group's chosen stations (``selected``: rows of ``coverage``)
-        under the checked rule, computed afresh with networkx (independent of any solver), and each station's
-        registration partners (candidate indices)."""
+        """The components of each registration group's chosen stations (``selected``: rows of ``coverage``) under the
+        checked rule, computed afresh with networkx (independent of any solver), and each station's registration
+        partners (candidate indices)."""
         selected = tuple(selected)
         chosen = [coverage.candidates[i] for i in selected]
         lengths = piece_lengths(coverage.targets.s0_m, coverage.targets.s1_m)

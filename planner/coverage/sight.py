@@ -1,5 +1,5 @@
-"""A site and the limits it is seen under (:class:`Sight`): every coverage matrix of a run is built from one,
-so one object says which limits a number was computed under."""
+"""A site and the limits it is seen under (:class:`Sight`): every coverage matrix of a run is built from one, so one
+object says which limits a number was computed under."""
 
 from __future__ import annotations
 
@@ -20,9 +20,9 @@ STATION_PIECE_M = 1.0
 
 @dataclass(frozen=True, kw_only=True)
 class Sight:
-    """``site`` seen under ``limits`` (range, incidence, precision) by ``scanner``: the coverage of any stations
-    of it. A run's sight is its resolved problem's (:func:`planner.plan.problem.resolve`); :meth:`of_site`
-    makes one for a site checked alone."""
+    """``site`` seen under ``limits`` (range, incidence, precision) by ``scanner``: the coverage of any stations of it.
+    A run's sight is its resolved problem's (:func:`planner.plan.problem.resolve`); :meth:`of_site` makes one for a site
+    checked alone."""
 
     site: Site
     limits: SightLimits
@@ -42,8 +42,8 @@ class Sight:
         return self.limits.precision is not None and self.limits.precision.combined
 
     def coverage(self, candidates: Sequence[Candidate], targets: Targets, *, step: str = "") -> CoverageProblem:
-        """Which of ``candidates`` sees which of ``targets`` (:func:`planner.coverage.matrix.build_coverage`);
-        ``step``: the name progress is reported under."""
+        """Which of ``candidates`` sees which of ``targets`` (:func:`planner.coverage.matrix.build_coverage`); ``step``:
+        the name progress is reported under."""
         return build_coverage(self.site, candidates, targets, self.limits, step)
 
     def of_stations(self, stations: Sequence[Candidate], spacing_m: float = STATION_PIECE_M) -> CoverageProblem:
@@ -59,8 +59,8 @@ def sight_of(
     combined: bool = False,
     validation: ValidationReport | None = None,
 ) -> tuple[ValidationReport, Sight]:
-    """The validation of ``site`` (``validation`` when given, else validated here: the one place a site is
-    validated for planning or checking) and its :class:`Sight` under the incidence and precision modes."""
+    """The validation of ``site`` (``validation`` when given, else validated here: the one place a site is validated for
+    planning or checking) and its :class:`Sight` under the incidence and precision modes."""
     if validation is None:
         validation = validate_site(site)
     limits = sight_limits(validation, incidence_3d, precision, combined)

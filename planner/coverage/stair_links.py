@@ -1,25 +1,22 @@
-"""Registration links through a stair: a station of the lower storey and one of the upper storey that both see
-the stair.
+"""Registration links through a stair: a station of the lower storey and one of the upper storey that both see the
+stair.
 
-The storeys of a building model stand in frames of their own (the rooms of one floor never hide those of
-another), so no wall is seen from both, and cloud-to-cloud registration (a common surface) has nothing to work
-on across them. A stair is what both storeys share: it stands in the room below, its top arrives in the room
-above, and the stairwell is open between them. Targets set up on the stair (spheres on the steps, a
-checkerboard on the stairwell wall) are seen from below, beside the flight, and from above, at the stairwell's
-edge; as for a door (:mod:`planner.coverage.links`), target-based registration then needs both stations to see
-the same targets. So a stair link is measured as:
+The storeys of a building model stand in frames of their own, so no wall is seen from both and cloud-to-cloud
+registration has nothing to work on across them. A stair is what both storeys share: targets set up on it are seen from
+below, beside the flight, and from above, at the stairwell's edge; as for a door (:mod:`planner.coverage.links`),
+target-based registration then needs both stations to see the same targets. So a stair link is measured as:
 
-- station a stands in the stair's lower zone, station b in its upper zone (``Stair.lower_zone``,
-  ``upper_zone``; each in its own frame);
-- the stair's edge is the outline of its footprint moved ``EDGE_OFFSET_M`` outwards (beside the stair, in the
-  room, not on the stair's own wall), with a point every ``EDGE_STEP_M`` along it;
-- a station sees an edge point when it is at most ``reach_m`` away and the plan-view sight line to it is clear
-  in the station's own frame (its walls, the stair's notch among them);
+- station a stands in the stair's lower zone, station b in its upper zone (``Stair.lower_zone``, ``upper_zone``; each in
+  its own frame);
+- the stair's edge is the outline of its footprint moved ``EDGE_OFFSET_M`` outwards (beside the stair, in the room, not
+  on the stair's own wall), with a point every ``EDGE_STEP_M`` along it;
+- a station sees an edge point when it is at most ``reach_m`` away and the plan-view sight line to it is clear in the
+  station's own frame (its walls, the stair's notch among them);
 - a and b are linked when some edge point is seen by both: a target set there is in both fields of view.
 
-The plan view does not check the height: the slab above the room below and the stair's own flight are not
-modelled (the stair is a block of the lower room, the stairwell a void beside the upper room), so the rule
-says where targets on the stair can be placed for both, not that a given step is seen from both.
+The plan view does not check the height: the slab above the room below and the stair's own flight are not modelled (the
+stair is a block of the lower room, the stairwell a void beside the upper room), so the rule says where targets on the
+stair can be placed for both, not that a given step is seen from both.
 """
 
 from __future__ import annotations
@@ -45,8 +42,8 @@ NO_WALL = -2
 
 
 def stair_edge(stair: Stair) -> NDArray[np.float64]:
-    """The stair's edge points (P x 2): its footprint's outline moved ``EDGE_OFFSET_M`` outwards, a point
-    every ``EDGE_STEP_M`` along it (at least 8)."""
+    """The stair's edge points (P x 2): its footprint's outline moved ``EDGE_OFFSET_M`` outwards, a point every
+    ``EDGE_STEP_M`` along it (at least 8)."""
     ring = shapely.Polygon(stair.footprint).buffer(EDGE_OFFSET_M, join_style="mitre").exterior
     n = max(8, int(np.ceil(ring.length / EDGE_STEP_M)))
     pts = shapely.line_interpolate_point(ring, np.linspace(0.0, ring.length, n, endpoint=False))
@@ -67,8 +64,8 @@ def edge_seen(
 
 
 def stair_links(site: Site, xy: NDArray[np.float64], spaces: Sequence[object], reach_m: float) -> sp.csr_matrix:
-    """Symmetric C x C boolean matrix: stations of a stair's lower and upper zone that see a common point of
-    its edge (see the module docstring). ``spaces``: each station's space (``("in", zone id)`` inside)."""
+    """Symmetric C x C boolean matrix: stations of a stair's lower and upper zone that see a common point of its edge
+    (see the module docstring). ``spaces``: each station's space (``("in", zone id)`` inside)."""
     rows: list[NDArray[np.int64]] = []
     cols: list[NDArray[np.int64]] = []
     for stair in site.stairs:

@@ -54,11 +54,6 @@ class SurfaceLimits:
     zenith_blind_half_angle_deg: float | None = None
 
     def __post_init__(self) -> None:
-        def bad(v: object, lo: float, hi: float, lo_open: bool, hi_open: bool) -> bool:
-            if not finite_number(v):
-                return True
-            return v < lo or (lo_open and v == lo) or v > hi or (hi_open and v == hi)
-
         checks = [
             ("max_slant_range_m", self.max_slant_range_m, 0.0, math.inf, True, True),
             ("theta_max_deg", self.theta_max_deg, 0.0, 90.0, True, False),
@@ -68,7 +63,8 @@ class SurfaceLimits:
             ("zenith_blind_half_angle_deg", self.zenith_blind_half_angle_deg, 0.0, 90.0, False, True),
         ]
         for name, v, lo, hi, lo_open, hi_open in checks:
-            if v is not None and bad(v, lo, hi, lo_open, hi_open):
+            inside = finite_number(v) and (lo < v if lo_open else lo <= v) and (v < hi if hi_open else v <= hi)
+            if v is not None and not inside:
                 raise ValueError(
                     f"{name} must be a finite number in {'(' if lo_open else '['}{lo:g}, {hi:g}"
                     f"{')' if hi_open else ']'}, got {v!r}"
@@ -88,8 +84,8 @@ def surface_limits(
     instrument_height_m: float | None = None,
     theta_max_floor_deg: float | None = None,
 ) -> SurfaceLimits:
-    """The limits for a scanner: its blind cones, and its ``instrument_height_3d_m`` unless a height is given
-    (a ValueError when neither is)."""
+    """The limits for a scanner: its blind cones, and its ``instrument_height_3d_m`` unless a height is given (a
+    ValueError when neither is)."""
     ih = instrument_height_m if instrument_height_m is not None else scanner.instrument_height_3d_m
     if ih is None:
         raise ValueError(f"no instrument height for 3-D work: give one, or instrument_height_3d_m in {scanner.name}")
@@ -183,8 +179,8 @@ def _layer(
     reach = math.sqrt(longest**2 - dz**2)
     if theta < 90.0:
         reach = min(reach, abs(dz) * math.tan(math.radians(theta + EPS_ANGLE_DEG)))
-    # a floor is hidden by every block, a ceiling by the blocks that stand above the instrument; a ceiling patch
-    # over such a block is hidden from every station
+    # a floor is hidden by every block, a ceiling by the blocks that stand above the instrument; a ceiling patch over
+    # such a block is hidden from every station
     blockers = plan_blockers(site, zi, 0.0 if kind == FLOOR else ih + REACH_TOL_M)
     ts = ts[~blockers.hits(patches.polygon[ts])]
     if ts.size == 0:

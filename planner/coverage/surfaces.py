@@ -1,16 +1,16 @@
 """Floor and ceiling targets: each zone's floor and ceiling cut into patches of at most ``spacing_m`` a side.
 
-A zone scanned from inside has a floor at ``floor_level_m`` and, where ``ceiling_height_m`` is given, a
-ceiling that much above it; an ``outside`` zone has neither.
+A zone scanned from inside has a floor at ``floor_level_m`` and, where ``ceiling_height_m`` is given, a ceiling that
+much above it; an ``outside`` zone has neither.
 
-- **Floor**: the outline less the footprints of the blocks standing in it (its holes and, in the site
-  frame, the obstacles that overlap it): no one scans the floor under a column. No-go areas stay floor.
+- **Floor**: the outline less the footprints of the blocks standing in it (its holes and, in the site frame, the
+  obstacles that overlap it): no one scans the floor under a column. No-go areas stay floor.
 - **Ceiling**: the outline less the footprints of the blocks that reach the ceiling.
 
-Each area is cut by a square grid anchored at the outline's bounding box (width and depth split into equal
-cells no wider than ``spacing_m``), the cells clipped to the area. A clipped cell in several parts gives one
-patch per part; a part holding a hole is cut through each hole's centroid; parts smaller than
-``SLIVER_SHARE`` of a full cell are slivers and dropped.
+Each area is cut by a square grid anchored at the outline's bounding box (width and depth split into equal cells no
+wider than ``spacing_m``), the cells clipped to the area. A clipped cell in several parts gives one patch per part; a
+part holding a hole is cut through each hole's centroid; parts smaller than ``SLIVER_SHARE`` of a full cell are slivers
+and dropped.
 """
 
 from __future__ import annotations
@@ -58,7 +58,8 @@ class SurfaceTargets(PieceArrays):
     spacing_m: float
 
     def label(self, t: int) -> str:
-        """A readable id: zone/kind, the grid cell and the patch's centroid, e.g. ``Z1/floor cell 3,4 at 3.50, 4.50 m``."""
+        """A readable id: zone/kind, the grid cell and the patch's centroid, e.g. ``Z1/floor cell 3,4 at 3.50, 4.50
+        m``."""
         return (
             f"{self.zone_ids[self.zone[t]]}/{KIND_NAME[int(self.kind[t])]} cell {self.cell[t, 0]},{self.cell[t, 1]}"
             f" at {self.centroid[t, 0]:.2f}, {self.centroid[t, 1]:.2f} m"
@@ -75,8 +76,8 @@ class SurfaceTargets(PieceArrays):
 
 
 def zone_blocks(site: Site, zi: int) -> list[tuple[shapely.Polygon, float]]:
-    """Footprints and heights (the top above the zone's floor) of the blocks standing in zone ``zi``: its
-    holes (at their highest vertex) and, in the site frame, the obstacles overlapping its outline by some area."""
+    """Footprints and heights (the top above the zone's floor) of the blocks standing in zone ``zi``: its holes (at
+    their highest vertex) and, in the site frame, the obstacles overlapping its outline by some area."""
     zone = site.zones[zi]
     out = [(shapely.Polygon(ring), float(max(hs))) for ring, hs in zip(zone.holes, zone.hole_heights_m)]
     if zone.frame == SITE_FRAME and site.obstacles:
@@ -89,8 +90,8 @@ def zone_blocks(site: Site, zi: int) -> list[tuple[shapely.Polygon, float]]:
 
 
 def open_area(site: Site, zi: int, reaching_m: float = 0.0) -> shapely.Polygon | shapely.MultiPolygon:
-    """Zone ``zi``'s outline less the footprints of its blocks whose top is at least ``reaching_m`` above the
-    floor: with 0 the floor, with the ceiling height (less ``REACH_TOL_M``) the ceiling."""
+    """Zone ``zi``'s outline less the footprints of its blocks whose top is at least ``reaching_m`` above the floor:
+    with 0 the floor, with the ceiling height (less ``REACH_TOL_M``) the ceiling."""
     outline = shapely.Polygon(site.zones[zi].xy)
     cut = [poly for poly, h in zone_blocks(site, zi) if h >= reaching_m]
     return outline.difference(shapely.union_all(cut)) if cut else outline
@@ -167,8 +168,8 @@ def _corners(polys: NDArray[np.object_]) -> tuple[NDArray[np.float64], NDArray[n
 
 
 def make_surface_targets(site: Site, spacing_m: float, kinds: Iterable[str] = ("floor", "ceiling")) -> SurfaceTargets:
-    """Cut the floor and ceiling (``kinds``) of every zone into patches no wider than ``spacing_m`` (a
-    ValueError for a spacing that is not a finite number > 0, or another kind)."""
+    """Cut the floor and ceiling (``kinds``) of every zone into patches no wider than ``spacing_m`` (a ValueError for a
+    spacing that is not a finite number > 0, or another kind)."""
     if not math.isfinite(spacing_m) or spacing_m <= 0:
         raise ValueError(f"surface target spacing must be > 0, got {spacing_m}")
     wanted = set(kinds)
@@ -187,11 +188,9 @@ def make_surface_targets(site: Site, spacing_m: float, kinds: Iterable[str] = ("
             above = zone.ceiling_height_m if kind == CEILING and zone.ceiling_height_m is not None else 0.0
             height = zone.floor_level_m + above
             polys += ps
-            cols["zone"] += [zi] * len(ps)
-            cols["kind"] += [kind] * len(ps)
-            cols["frame"] += [frames.index(zone.frame)] * len(ps)
             cols["cell"] += cells
-            cols["height"] += [height] * len(ps)
+            for name, value in (("zone", zi), ("kind", kind), ("frame", frames.index(zone.frame)), ("height", height)):
+                cols[name] += [value] * len(ps)
     poly_arr = np.empty(len(polys), dtype=object)
     poly_arr[:] = polys
     corners, counts = _corners(poly_arr)

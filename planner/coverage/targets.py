@@ -19,9 +19,9 @@ SIDE_NAME = {0: "inside", 1: "outside"}
 
 @dataclass(frozen=True, eq=False)
 class PieceArrays:
-    """Targets as parallel arrays, one entry per piece; ``zone`` indexes ``site.zones``, ``frame`` indexes
-    ``frames`` (the zones' frames in site order). Every array field is stored read-only (the target arrays are
-    shared, never changed)."""
+    """Targets as parallel arrays, one entry per piece; ``zone`` indexes ``site.zones``, ``frame`` indexes ``frames``
+    (the zones' frames in site order). Every array field is stored read-only (the target arrays are shared, never
+    changed)."""
 
     zone: NDArray[np.int32]
     frame: NDArray[np.int32]
@@ -83,9 +83,9 @@ def _cuts(
 
 
 def make_targets(site: Site, spacing_m: float, points: bool = False) -> Targets:
-    """Cut every scanned wall face into equal pieces no longer than ``spacing_m``; each solid part between
-    openings is cut on its own. With ``points=True``: the pieces' end points instead (zero-length pieces),
-    the fine sampling of verification."""
+    """Cut every scanned wall face into equal pieces no longer than ``spacing_m``; each solid part between openings is
+    cut on its own. With ``points=True``: the pieces' end points instead (zero-length pieces), the fine sampling of
+    verification."""
     if not math.isfinite(spacing_m) or spacing_m <= 0:
         raise ValueError(f"target spacing must be > 0, got {spacing_m}")
     frames = tuple(dict.fromkeys(z.frame for z in site.zones))

@@ -1,14 +1,12 @@
 """Which candidate sees which wall piece: range, incidence, precision and sight, vectorised.
 
-A piece a-b is seen from station c when, for the WHOLE piece:
-- c stands in front of the face (perpendicular distance > ``EPS_FRONT_M``);
-- the slant range from the instrument (height IH) to the top and the foot of the wall at both ends is
-  <= S_max (distance to a segment is convex, so the ends bound the piece);
-- the incidence (horizontal, or 3-D to the top) at both ends is <= theta_max (it grows with the
-  distance from the foot of the perpendicular, so again the ends bound it);
-- the sight lines c->a and c->b cross no wall or obstacle edge (touching within ``EPS_SIGHT_M`` counts;
-  the piece's own wall is skipped; each line stops ``EPS_SHORTEN_M`` before the wall), and no blocker
-  vertex lies strictly inside the triangle c-a-b (a thin column between the two lines).
+A piece a-b is seen from station c when, for the WHOLE piece: - c stands in front of the face (perpendicular distance >
+``EPS_FRONT_M``); - the slant range from the instrument (height IH) to the top and the foot of the wall at both ends is
+<= S_max (distance to a segment is convex, so the ends bound the piece); - the incidence (horizontal, or 3-D to the top)
+at both ends is <= theta_max (it grows with the distance from the foot of the perpendicular, so again the ends bound
+it); - the sight lines c->a and c->b cross no wall or obstacle edge (touching within ``EPS_SIGHT_M`` counts; the piece's
+own wall is skipped; each line stops ``EPS_SHORTEN_M`` before the wall), and no blocker vertex lies strictly inside the
+triangle c-a-b (a thin column between the two lines).
 
 Pairs come from STRtree queries, so the work grows with the pairs near a blocker, not pairs x blockers.
 """
@@ -55,10 +53,10 @@ class PrecisionRule:
 
 @dataclass(frozen=True)
 class SightLimits:
-    """The limits a pair must meet; ``precision_range_m`` is the range at which the predicted point error
-    reaches the required accuracy at normal incidence (None: no precision model). With ``per_pair_precision``
-    each pair is also refused when the view of either end of the piece (the worst point of a piece is one
-    of its ends) has e(S, theta) > sigma_req."""
+    """The limits a pair must meet; ``precision_range_m`` is the range at which the predicted point error reaches the
+    required accuracy at normal incidence (None: no precision model). With ``per_pair_precision`` each pair is also
+    refused when the view of either end of the piece (the worst point of a piece is one of its ends) has e(S, theta) >
+    sigma_req."""
 
     max_slant_range_m: float
     theta_max_deg: float

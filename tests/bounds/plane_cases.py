@@ -1,7 +1,7 @@
 """Random small sites for the plane property tests (hypothesis strategies) and the brute-force oracles.
 
-Shapes: rectangles of any aspect, L, T and U rooms, corridors, rooms with a free-standing block; each
-turned by a random angle and moved by a random offset (a count never depends on either).
+Shapes: rectangles of any aspect, L, T and U rooms, corridors, rooms with a free-standing block; each turned by a random
+angle and moved by a random offset (a count never depends on either).
 """
 
 from __future__ import annotations

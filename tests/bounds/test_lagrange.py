@@ -29,9 +29,9 @@ def brute_force(a: sp.csr_matrix, cost: np.ndarray) -> float:
 
 
 def test_triangle_and_a_lone_piece_in_two_tiles() -> None:
-    # tile 0: triangle t0 t1 t2 seen by A{t0,t1}, B{t1,t2}, C{t2,t0}; tile 1: t3 seen by D only.
-    # LP: A = B = C = 1/2 and D = 1, 2.5. The triangle alone needs two stations, so every cover costs 3,
-    # and the tile bound is OPT_0 + OPT_1 = 2 + 1 = 3 (no station is shared, so no split matters).
+    # tile 0: triangle t0 t1 t2 seen by A{t0,t1}, B{t1,t2}, C{t2,t0}; tile 1: t3 seen by D only. LP: A = B = C = 1/2 and
+    # D = 1, 2.5. The triangle alone needs two stations, so every cover costs 3, and the tile bound is OPT_0 + OPT_1 = 2
+    # + 1 = 3 (no station is shared, so no split matters).
     a = cover([[0, 1], [1, 2], [2, 0], [3]], 4)
     parts = [np.array([0, 1, 2]), np.array([3])]
     b = lagrangian_bound(a, parts, iterations=0, work_s=1.0)
@@ -43,13 +43,12 @@ def test_triangle_and_a_lone_piece_in_two_tiles() -> None:
 
 @pytest.mark.parametrize("start", ["lp", "equal"])
 def test_two_triangles_joined_by_a_dear_station(start: str) -> None:
-    # tile 0: triangle t0 t1 t2 (A, B, C as above, cost 1); tile 1: triangle t3 t4 t5 (D{t3,t4}, E{t4,t5},
-    # F{t5,t3}, cost 1); S{t0,t3} costs 2 and is shared. LP: y = 1/2 on every piece is dual feasible (each
-    # station's pieces sum to 1 <= its cost) and x = 1/2 on A..F is primal, so LP = 3. Every cover costs 4:
-    # two of a triangle's own stations each (2 + 2), or S + B + E (2 + 1 + 1).
-    # Split of S: the LP duals give 1/2 + 1/2, the reduced cost 2 - 1 = 1 is halved, so 1 per tile, as the
-    # equal split 2 / 2. Tile 0 then: two of A, B, C (2) or S + B (1 + 1) -> OPT_0 = 2; likewise OPT_1 = 2:
-    # bound 4 = the integer optimum, where the LP says 3.
+    # tile 0: triangle t0 t1 t2 (A, B, C as above, cost 1); tile 1: triangle t3 t4 t5 (D{t3,t4}, E{t4,t5}, F{t5,t3},
+    # cost 1); S{t0,t3} costs 2 and is shared. LP: y = 1/2 on every piece is dual feasible (each station's pieces sum to
+    # 1 <= its cost) and x = 1/2 on A..F is primal, so LP = 3. Every cover costs 4: two of a triangle's own stations
+    # each (2 + 2), or S + B + E (2 + 1 + 1). Split of S: the LP duals give 1/2 + 1/2, the reduced cost 2 - 1 = 1 is
+    # halved, so 1 per tile, as the equal split 2 / 2. Tile 0 then: two of A, B, C (2) or S + B (1 + 1) -> OPT_0 = 2;
+    # likewise OPT_1 = 2: bound 4 = the integer optimum, where the LP says 3.
     a = cover([[0, 1], [1, 2], [2, 0], [3, 4], [4, 5], [5, 3], [0, 3]], 6)
     cost = np.array([1, 1, 1, 1, 1, 1, 2], dtype=float)
     parts = [np.array([0, 1, 2]), np.array([3, 4, 5])]
@@ -77,8 +76,8 @@ def test_bound_is_valid_and_at_least_the_lp_on_random_covers(seed: int) -> None:
         b = lagrangian_bound(a, parts, cost=cost, iterations=iterations, work_s=1.0, scale=1000)
         assert b.value <= opt + 1e-9  # a lower bound on every cover
         assert b.upper >= opt - 1e-9  # the pruned union of the parts' covers is a cover
-        # the LP-dual split gives each part at least its pieces' duals; flooring the costs to 1/1000 loses at
-        # most 1/1000 per candidate of each part
+        # the LP-dual split gives each part at least its pieces' duals; flooring the costs to 1/1000 loses at most
+        # 1/1000 per candidate of each part
         assert b.raw >= b.lp - sum(len(p) for p in split_costs(a, parts, cost, None)[0]) / 1000 - 1e-9
 
 
@@ -136,11 +135,9 @@ def test_tile_options_reject_a_group_below_one() -> None:
 
 @pytest.mark.slow
 def test_a_part_with_no_cover_within_its_work_gets_the_greedy_and_a_valid_bound(monkeypatch):
-    # the 64-ha plant's Lagrangian parts got 1-10 s of CP-SAT work each; a large part found no cover in it
-    # (status UNKNOWN) and the run stopped with an internal error. Now the part's cover is the greedy's and its
-    # lower bound CP-SAT's (0 when none): 700 candidates (the identity keeps every piece coverable) x 300
-    # pieces, costs 1-4; with 1e-12 deterministic s the greedy runs, its cover covers every piece at the
-    # cost it reports, and its bound is below the part's optimum (CP-SAT with 20 s, proven)
+    # a part with no cover found within its work gets the greedy's cover and CP-SAT's lower bound (0 when none): 700
+    # candidates (the identity keeps every piece coverable) x 300 pieces, costs 1-4; with 1e-12 deterministic s the
+    # greedy runs, its cover covers every piece at the cost it reports, and its bound is below the part's optimum
     import importlib
 
     import scipy.sparse as sp

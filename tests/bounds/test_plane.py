@@ -1,9 +1,9 @@
-"""Optimal over every position in the plane (issue 12): whole-zone-side candidates and geometric pricing.
+"""Optimal over every position in the plane: whole-zone-side candidates and geometric pricing.
 
-A w x h rectangle (w >= h) is covered from its middle exactly when w / h <= tan(theta_max); with
-theta_max = 68 deg, tan = 2.475, so aspects 1, 2 and 2.4 need one station and 2.6 and 4 need two
-(for 2.6 no single position sees both short walls' far corners within 68 deg). A comb with k teeth
-(theta_max 89 deg, range unlimited) needs k: the far wall of each tooth is seen only from inside it.
+A w x h rectangle (w >= h) is covered from its middle exactly when w / h <= tan(theta_max); with theta_max = 68 deg, tan
+= 2.475, so aspects 1, 2 and 2.4 need one station and 2.6 and 4 need two (for 2.6 no single position sees both short
+walls' far corners within 68 deg). A comb with k teeth (theta_max 89 deg, range unlimited) needs k: the far wall of each
+tooth is seen only from inside it.
 """
 
 from __future__ import annotations
@@ -87,8 +87,8 @@ def test_lp_duals_are_feasible_and_tight() -> None:
 
 @pytest.mark.slow
 def test_building_gets_one_station_per_room_that_allows_it() -> None:
-    """building27: every room with aspect <= 2.4 (< tan 68 deg = 2.475, margin for the 1 m pieces) gets
-    exactly one station; rooms above 2.6 get two. Never more stations than the pool without regions."""
+    """building27: every room with aspect <= 2.4 (< tan 68 deg = 2.475, margin for the 1 m pieces) gets exactly one
+    station; rooms above 2.6 get two. Never more stations than the pool without regions."""
     site = load_site(INSTANCES / "building27.json")
     options = PlanOptions(method="milp", milp=MilpOptions(overlap=None))
     plan = plan_site(site, options)
@@ -108,8 +108,8 @@ def test_building_gets_one_station_per_room_that_allows_it() -> None:
         elif aspect >= 2.6:
             assert per_zone.get(zone.id) == 2, zone.id
             twos += 1
-    # building27's inside rooms (scripts/make/make_building.py): 22 of aspect <= 2.4, 2 of >= 2.6, and 3 between
-    # 2.4 and 2.6, where 1 m pieces may or may not let one station do (not checked)
+    # building27's inside rooms (scripts/make/make_building.py): 22 of aspect <= 2.4, 2 of >= 2.6, and 3 between 2.4 and
+    # 2.6, where 1 m pieces may or may not let one station do (not checked)
     assert (checked, twos) == (22, 2)
     assert len(plan.stations) <= len(old.stations)
     assert plan.result.info["bound_scope"] == "plane"

@@ -1,4 +1,4 @@
-"""Claims that hold for every input, checked against brute force on random small sites (issue 31).
+"""Claims that hold for every input, checked against brute force on random small sites.
 
 (a) "Unseeable" is never said of a piece that some position sees: when pieces are refused, a dense
     grid of positions (0.25 m) covers none of them.
@@ -94,13 +94,9 @@ def test_b_no_sampled_position_beats_the_plane_bound(site: Site, seed: int) -> N
     sample = build_coverage(site, as_candidates(zone, np.vstack(pts)), problem.targets, limits)
     weight = np.asarray(sample.by_candidate.astype(float) @ y).ravel()
     assert weight.max(initial=0.0) <= max(1.0, report.heaviest_weight) + 1e-7
-    both = sample.by_candidate.shape[0] and cover_lp(_stack(grown.by_candidate, sample.by_candidate).T.tocsr())
+    both = sample.by_candidate.shape[0] and cover_lp(sp.vstack([grown.by_candidate, sample.by_candidate]).T.tocsr())
     if both:
         assert both.value >= report.plane_lp_bound - 1e-6  # the plane bound holds for the pool + the samples
-
-
-def _stack(a: sp.csr_matrix, b: sp.csr_matrix) -> sp.csr_matrix:
-    return sp.vstack([a, b]).tocsr()
 
 
 @pytest.mark.slow

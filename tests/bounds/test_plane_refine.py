@@ -1,12 +1,12 @@
-"""The refined connected plane bound (planner.bounds.plane_refine): its parts against their definitions, and the
-bound against brute force.
+"""The refined connected plane bound (planner.bounds.plane_refine): its parts against their definitions, and the bound
+against brute force.
 
-- A quarter never does more than its parent: its U within the parent's, its low at least the parent's (the
-  refinement's monotonicity rests on it), on random blocks and patches.
-- ``relaxed_links`` (float32 blocks) is the pairwise definition: shared wall > 0 and >= f min(low), never fewer
-  links (a missed link would make the bound unsound).
-- The bound never passes the exact connected optimum over a 0.5-m grid of positions (the oracle of
-  ``test_plane_ring``), with the ring walk off so that the refined cover alone is tested.
+- A quarter never does more than its parent: its U within the parent's, its low at least the parent's (the refinement's
+  monotonicity rests on it), on random blocks and patches.
+- ``relaxed_links`` (float32 blocks) is the pairwise definition: shared wall > 0 and >= f min(low), never fewer links (a
+  missed link would make the bound unsound).
+- The bound never passes the exact connected optimum over a 0.5-m grid of positions (the oracle of ``test_plane_ring``),
+  with the ring walk off so that the refined cover alone is tested.
 """
 
 from __future__ import annotations
@@ -139,9 +139,9 @@ def test_refined_bound_at_most_the_connected_optimum_over_a_grid(kind, w, h, the
 
 
 def test_a_u_block_is_proven_by_the_cover_over_patches_where_the_ring_walk_is_not():
-    # a 5 x 5 m U block scanned from outside (theta_max 75 deg, 10 m reach, 25 % overlap): the ring walk's arcs
-    # claim the hidden walls of the U's slot and give 3; the connected cover over the first patches keeps what
-    # each patch may see and gives 4, which the plan meets: optimal over the plane
+    # a 5 x 5 m U block scanned from outside (theta_max 75 deg, 10 m reach, 25 % overlap): the ring walk's arcs claim
+    # the hidden walls of the U's slot and give 3; the connected cover over the first patches keeps what each patch may
+    # see and gives 4, which the plan meets: optimal over the plane
     site = block_site("U", 5.0, 5.0, 0.5, 0.5, 75.0, 10.0, 0.25, False, 0.0, (0.0, 0.0))
     rule = planner.OverlapRule(0.25)
     off = plan_site(site, PlanOptions(method="milp", precision=False, milp=MilpOptions(overlap=rule)))

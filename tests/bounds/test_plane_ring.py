@@ -2,9 +2,9 @@
 
 - ``ring.cyclic_arcs`` (vectorised) agrees with the widest-gap rule written as a loop, on random rows.
 - ``undominated`` (a table of the ring's arcs, O(n^2)) keeps exactly the triples no other holds (pairwise).
-- The bound never passes the connected optimum over a 0.5-m grid of positions (the brute-force oracle: the
-  exact connected MILP on that pool), on random blocks scanned from outside and rooms from inside, any overlap
-  share: the bound claims every connected plan, stations anywhere, so also those on the grid.
+- The bound never passes the connected optimum over a 0.5-m grid of positions (the brute-force oracle: the exact
+  connected MILP on that pool), on random blocks scanned from outside and rooms from inside, any overlap share: the
+  bound claims every connected plan, stations anywhere, so also those on the grid.
 - Polygon B: 6 stations, proven over the plane (the plain cover's plane bound is 5; the outside ring walk 5).
 """
 
@@ -176,9 +176,9 @@ def test_bound_at_most_the_connected_optimum_over_a_grid(kind, w, h, a, b, theta
 
 
 def bound_against_grid(site: Site, share: float, **kwargs: int) -> tuple[ConnectedPlaneBound, float] | None:
-    """The connected plane bound of ``site`` (``kwargs`` to :func:`connected_plane_bound`), asked for one more
-    station than the exact connected optimum over a 0.5-m grid (a sound bound never gets there), and that
-    optimum; None when some piece is seen from no grid position (nothing to compare)."""
+    """The connected plane bound of ``site`` (``kwargs`` to :func:`connected_plane_bound`), asked for one more station
+    than the exact connected optimum over a 0.5-m grid (a sound bound never gets there), and that optimum; None when
+    some piece is seen from no grid position (nothing to compare)."""
     options = PlanOptions(method="milp", precision=False, milp=MilpOptions(overlap=planner.OverlapRule(share)))
     optimum, _ = connected_optimum(site, options, share)
     if not math.isfinite(optimum):

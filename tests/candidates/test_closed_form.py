@@ -23,8 +23,8 @@ def test_printed_rows_reproduce_within_rounding(table):
     rows = compare_table(table, spec, zone, LIMITS)
     bad = [r for r in rows if not r.ok]
     if table == "table_3_2":
-        # the only misses: the exterior vertex HDs, which the print copied from the interior rows;
-        # the formula gives cos 68 * sqrt(S^2 - h^2) / cos 45, e.g. 50.413 for h = 12 m
+        # the only misses: the exterior vertex HDs, which the print copied from the interior rows; the formula gives cos
+        # 68 * sqrt(S^2 - h^2) / cos 45, e.g. 50.413 for h = 12 m
         assert [(r.candidate, r.quantity) for r in bad] == [(5, "hd_m"), (6, "hd_m"), (7, "hd_m"), (8, "hd_m")]
         assert bad[0].computed == pytest.approx(50.413, abs=1e-3)
     else:
@@ -75,8 +75,8 @@ def test_wall_candidates_stand_at_hd0_from_their_wall():
 
 @pytest.mark.slow
 def test_docs_reproduction_md_is_what_its_script_writes_now(tmp_path):
-    # docs/reproduction.md is generated (scripts/studies/reproduce_tables.py, ~5 s): a change that moves a count or
-    # a coverage figure (it once went 96.888 -> 96.866 % on Baalbek unnoticed) must come with the page
+    # docs/reproduction.md is generated (scripts/studies/reproduce_tables.py, ~5 s): a change that moves a count or a
+    # coverage figure (it once went 96.888 -> 96.866 % on Baalbek unnoticed) must come with the page
     import subprocess
     import sys
 

@@ -1,14 +1,13 @@
-"""Complete candidates (issue 31): no coverable piece refused, narrow rooms planned, refusals with reasons.
+"""Complete candidates: no coverable piece refused, narrow rooms planned, refusals with reasons.
 
-The corridor: 200 m x 8 m, walls 3 m, theta_max 68 deg. From its centre line (4 m off each wall) a
-station sees 4 tan 68 = 9.90 m either way along both walls, a window of 19.80 m holding 19 whole 1-m
-pieces; ceil(200 / 19) = 11 windows, so 11 stations on the centre line (at x = 9.5 + 19 k, k = 0..9, and
-one in [190.1, 198.4] for the last pieces and the end wall). The landed planner refused it (212 pieces
-"seen by no candidate": the 10-m grid's rows missed it).
+The corridor: 200 m x 8 m, walls 3 m, theta_max 68 deg. From its centre line (4 m off each wall) a station sees 4 tan 68
+= 9.90 m either way along both walls, a window of 19.80 m holding 19 whole 1-m pieces; ceil(200 / 19) = 11 windows, so
+11 stations on the centre line (at x = 9.5 + 19 k, k = 0..9, and one in [190.1, 198.4] for the last pieces and the end
+wall). The landed planner refused it (212 pieces "seen by no candidate": the 10-m grid's rows missed it).
 
-The 8 x 4 m room at theta_max 45 deg: a station at (2, 2) is 2 m from three walls and sees 2 tan 45 = 2 m
-either way, so it covers the left 4 x 4 square; (6, 2) the right one: 2 stations. The landed plane bound
-said 3 (the weight on the 45-deg diagonals, where regions only touch, was missed).
+The 8 x 4 m room at theta_max 45 deg: a station at (2, 2) is 2 m from three walls and sees 2 tan 45 = 2 m either way, so
+it covers the left 4 x 4 square; (6, 2) the right one: 2 stations. The landed plane bound said 3 (the weight on the
+45-deg diagonals, where regions only touch, was missed).
 """
 
 from __future__ import annotations
@@ -72,8 +71,8 @@ def test_medial_axis_of_a_rectangle_is_its_centre_line() -> None:
 
 
 def test_maximal_cells_of_intervals() -> None:
-    # [0, 2] and [1, 3] share [1, 2] (one maximal cell, middle 1.5); [5, 5] touches alone (cell at 5);
-    # [6, 8] holds [6.5, 7] (nested: the cell of both is [6.5, 7], middle 6.75)
+    # [0, 2] and [1, 3] share [1, 2] (one maximal cell, middle 1.5); [5, 5] touches alone (cell at 5); [6, 8] holds
+    # [6.5, 7] (nested: the cell of both is [6.5, 7], middle 6.75)
     lo = np.array([0.0, 1.0, 5.0, 6.0, 6.5])
     hi = np.array([2.0, 3.0, 5.0, 8.0, 7.0])
     assert maximal_cells(lo, hi).tolist() == pytest.approx([1.5, 5.0, 6.75])

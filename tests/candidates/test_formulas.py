@@ -38,8 +38,8 @@ def test_cancelled_vertices(angle, cancelled):
 
 
 def test_interior_wall_1_of_polygon_a():
-    # L_W = 500, h_C = 25: HD_0 = 34.687, L_C = 171.71, X = 3 at 167.811 / 251.268 / 334.726,
-    # b/2 = 12.246 / 24.492 / 12.246, h = 4.948 / 9.896 / 4.948 (table 3.2)
+    # L_W = 500, h_C = 25: HD_0 = 34.687, L_C = 171.71, X = 3 at 167.811 / 251.268 / 334.726, b/2 = 12.246 / 24.492 /
+    # 12.246, h = 4.948 / 9.896 / 4.948 (table 3.2)
     l1, l2 = 2 * reach(12) * math.cos(math.pi / 4), 2 * reach(25) * math.cos(math.pi / 4)
     p = wall_plan(500.0, reach(25.0), l1, l2, THETA, O)
     assert p.hd0_m == pytest.approx(34.687, abs=2e-3) and p.covered_m == pytest.approx(171.71, abs=0.01)
@@ -66,8 +66,8 @@ def test_overlap_rule_of_polygon_b_outside():
 
 
 def test_a_degenerate_theta_max_is_refused_not_planned_for_minutes():
-    # theta_max 1e-6 deg: a station covers L_C = 2 HD_0 tan(theta) = 2 x 96 m x 1.7e-8 = 3.3e-6 m of wall,
-    # so a 99 m wall would need some 3e7 stations; more than MAX_WALL_STATIONS is refused, naming theta_max
+    # theta_max 1e-6 deg: a station covers L_C = 2 HD_0 tan(theta) = 2 x 96 m x 1.7e-8 = 3.3e-6 m of wall, so a 99 m
+    # wall would need some 3e7 stations; more than MAX_WALL_STATIONS is refused, naming theta_max
     with pytest.raises(InputError, match=r"theta_max_deg = 1e-06: the closed form would put"):
         wall_plan(99.0, 96.0, 0.0, 0.0, 1e-6, 0.3)
     assert wall_plan(99.0, 96.0, 0.0, 0.0, 68.0, 0.3).count <= MAX_WALL_STATIONS

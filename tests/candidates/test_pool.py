@@ -1,5 +1,5 @@
-"""The candidate pool moves with the site: rotating and translating a site rotates and translates every
-candidate (grid, corner rays, bisectors, field samples), so no count can change (planner.candidates.pool)."""
+"""The candidate pool moves with the site: rotating and translating a site rotates and translates every candidate (grid,
+corner rays, bisectors, field samples), so no count can change (planner.candidates.pool)."""
 
 from __future__ import annotations
 
@@ -37,9 +37,9 @@ def _moved(site: Site) -> Site:
 
 @pytest.mark.parametrize("name", ["house_doors.json", "courtyard.json"])
 def test_a_moved_site_has_the_moved_pool(name):
-    # house_doors has closed-form candidates with fields, so random field samples are drawn: they are drawn
-    # along the frame's own axes, and the same seed puts them on the moved points (they were drawn in the
-    # axis-aligned box before, and a 37-deg turn changed 20 of 2,144 candidates and the MILP count 7 -> 6)
+    # house_doors has closed-form candidates with fields, so random field samples are drawn: they are drawn along the
+    # frame's own axes, and the same seed puts them on the moved points (they were drawn in the axis-aligned box before,
+    # and a 37-deg turn changed 20 of 2,144 candidates and the MILP count 7 -> 6)
     site = load_site(INSTANCES / name)
     moved = _moved(site)
     here = candidate_pool(site, closed_form_limits(validate_site(site)), PoolOptions(seed=3))

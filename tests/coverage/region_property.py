@@ -27,8 +27,8 @@ def probe_candidates(site: Site, pts: np.ndarray) -> list[Candidate]:
 def assert_regions_match(
     site: Site, targets: Targets, limits: SightLimits, regions: Sequence[shapely.Geometry], pts: np.ndarray, tol: float
 ) -> tuple[int, sp.csr_matrix]:
-    """Inside R_t => the coverage test accepts; accepted and farther than ``tol`` from R_t's boundary =>
-    inside R_t. Returns how many (position, piece) pairs fell inside some R_t and the coverage by piece."""
+    """Inside R_t => the coverage test accepts; accepted and farther than ``tol`` from R_t's boundary => inside R_t.
+    Returns how many (position, piece) pairs fell inside some R_t and the coverage by piece."""
     covered = build_coverage(site, probe_candidates(site, pts), targets, limits).by_target
     points = shapely.points(pts)
     seen_inside = 0

@@ -1,9 +1,9 @@
 """A brute-force oracle of the floor and ceiling sight rules (docs/surfaces.md), written apart from
 planner.coverage.surface_sight: plain Python over every station, patch and corner, no shapely, no numpy.
 
-It answers True (seen), False (not seen) or None (too close to a limit to call: within ``MARGIN_M`` or
-``MARGIN_DEG`` of it), so that a property test compares only the decided pairs. It knows one convex room
-(counter-clockwise) and at most one axis-aligned box obstacle.
+It answers True (seen), False (not seen) or None (too close to a limit to call: within ``MARGIN_M`` or ``MARGIN_DEG`` of
+it), so that a property test compares only the decided pairs. It knows one convex room (counter-clockwise) and at most
+one axis-aligned box obstacle.
 """
 
 from __future__ import annotations

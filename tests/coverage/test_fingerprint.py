@@ -1,5 +1,5 @@
-"""The pool's fingerprint (planner.coverage.fingerprint, issue 44): the same for two builds of one problem,
-another for another pool."""
+"""The pool's fingerprint (planner.coverage.fingerprint) the same for two builds of one problem, another for another
+pool."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""The default registration scope (issue 44): site-wide wherever the zones share one frame or openings are given,
-per zone-side for one zone or zones in their own frames, and the reason the summary prints."""
+"""The default registration scope: site-wide wherever the zones share one frame or openings are given, per zone-side for
+one zone or zones in their own frames, and the reason the summary prints."""
 
 from __future__ import annotations
 

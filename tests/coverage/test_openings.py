@@ -101,8 +101,8 @@ def test_house_plans_as_one_registration_network_through_its_doors():
     assert plan.verification.complete
     zone_plan = plan_site(site, replace(options, registration="zone"))
     assert len(zone_plan.registration) == 4 and set(zone_plan.registration.values()) == {1}
-    # neither registration mode bounds the other (site: one network through the doors; zone: each room
-    # connected on its own), but both plans are covers, so neither is below the plain cover's optimum
+    # neither registration mode bounds the other (site: one network through the doors; zone: each room connected on its
+    # own), but both plans are covers, so neither is below the plain cover's optimum
     plain = plan_site(site, replace(options, milp=MilpOptions(overlap=None)))
     assert plain.result.status.value == "optimal"
     assert min(len(plan.stations), len(zone_plan.stations)) >= plain.result.objective
@@ -111,8 +111,8 @@ def test_house_plans_as_one_registration_network_through_its_doors():
 
 @pytest.mark.slow
 def test_assembled_temple_one_bundle_per_accessible_area():
-    # Baalbek as assembled: 8 rooms and the outline in the site frame, Z1, Z5, Z6 in their own frames;
-    # table 4.3 gives no doors, so every room is an accessible area of its own and the ground outside one more
+    # Baalbek as assembled: 8 rooms and the outline in the site frame, Z1, Z5, Z6 in their own frames; table 4.3 gives
+    # no doors, so every room is an accessible area of its own and the ground outside one more
     site = load_site(INSTANCES / "baalbek_site.json")
     assert len(set(accessible_areas(site).values())) == 12
     plan = plan_site(site, PlanOptions(method="milp", registration="site"))
@@ -140,8 +140,8 @@ def test_json_window_does_not_join_but_lets_sight_through(tmp_path):
 
 @pytest.mark.parametrize("name", [pytest.param("baalbek_site.json", marks=pytest.mark.slow), "house_doors.json"])
 def test_zone_side_blockers_give_the_pairs_of_the_full_blocker_set(name, monkeypatch):
-    # the per-zone-side blocker subsets (issue 12) must keep the junction cuts of placed zones (no cut end
-    # comes back as a vertex) and every blocker for a zone with a gap, even one made by a neighbour's door
+    # the per-zone-side blocker subsets must keep the junction cuts of placed zones (no cut end comes back as a vertex)
+    # and every blocker for a zone with a gap, even one made by a neighbour's door
     import planner.coverage.matrix as matrix
     from planner.plan import build_problem
 

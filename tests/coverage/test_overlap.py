@@ -1,5 +1,5 @@
-"""The registration-overlap relation by hand: the share rule, the minimum shared length, the link
-distance, the groups and the links through openings (planner.coverage.overlap)."""
+"""The registration-overlap relation by hand: the share rule, the minimum shared length, the link distance, the groups
+and the links through openings (planner.coverage.overlap)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import scipy.sparse as sp
 
 from planner.coverage.overlap import OverlapRule, overlap_adjacency, overlap_graph
 
-# five 1-m pieces; c0 sees 0, 1, 2 (3 m), c1 sees 2, 3 (2 m), c2 sees 3, 4 (2 m). Shared: c0-c1 piece 2
-# (1 m), c1-c2 piece 3 (1 m), c0-c2 nothing. Rule 30 %: 1 m >= 0.3 x min(3, 2) = 0.6 m for both pairs
+# five 1-m pieces; c0 sees 0, 1, 2 (3 m), c1 sees 2, 3 (2 m), c2 sees 3, 4 (2 m). Shared: c0-c1 piece 2 (1 m), c1-c2
+# piece 3 (1 m), c0-c2 nothing. Rule 30 %: 1 m >= 0.3 x min(3, 2) = 0.6 m for both pairs
 A = sp.csr_matrix(np.array([[1, 1, 1, 0, 0], [0, 0, 1, 1, 0], [0, 0, 0, 1, 1]], dtype=bool))
 ONE_M = np.ones(5)
 
@@ -47,8 +47,8 @@ def test_only_stations_of_one_group_are_related():
 
 
 def test_piece_lengths_weigh_the_share():
-    # piece 2 only 0.5 m long: c0-c1 share 0.5 m against 0.3 x min(2.5, 1.5) = 0.45 m (linked); at 40 %,
-    # 0.5 < 0.6 (not linked) while c1-c2 still share 1 m >= 0.4 x 1.5 = 0.6 m
+    # piece 2 only 0.5 m long: c0-c1 share 0.5 m against 0.3 x min(2.5, 1.5) = 0.45 m (linked); at 40 %, 0.5 < 0.6 (not
+    # linked) while c1-c2 still share 1 m >= 0.4 x 1.5 = 0.6 m
     lengths = np.array([1.0, 1.0, 0.5, 1.0, 1.0])
     assert _pairs(overlap_adjacency(A, lengths, OverlapRule(0.3))[0]) == {(0, 1), (1, 2)}
     assert _pairs(overlap_adjacency(A, lengths, OverlapRule(0.4))[0]) == {(1, 2)}

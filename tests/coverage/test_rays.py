@@ -1,6 +1,6 @@
 """The 3-D sight test (planner.coverage.rays) on its site mesh (planner.coverage.mesh): hand-checked rooms, the
-accelerated search against brute force, and the issue-46 property: on walls-only rooms the 3-D verdict is the
-plan view's."""
+accelerated search against brute force, and the issue-46 property: on walls-only rooms the 3-D verdict is the plan
+view's."""
 
 from __future__ import annotations
 
@@ -48,8 +48,8 @@ def block(x0: float, y0: float, x1: float, y1: float, h: float) -> Obstacle:
 
 
 def test_mesh_of_a_room_with_a_door_a_block_and_a_slab():
-    # 4 walls, wall 1 cut by a door at 4..5 m into 2 parts: 5 quads = 10 triangles, keys 1..4 (zone 0);
-    # the block: 4 side quads (8) + its square top (2); the slab: a square (2); a floor level of 2 m lifts walls
+    # 4 walls, wall 1 cut by a door at 4..5 m into 2 parts: 5 quads = 10 triangles, keys 1..4 (zone 0); the block: 4
+    # side quads (8) + its square top (2); the slab: a square (2); a floor level of 2 m lifts walls
     site = room(block(4, 4, 5, 5, 2.0), openings=(Opening(1, 4.0, 5.0),))
     m = site_mesh(site, floors_m={"R": 2.0}, slabs=[Slab(((0, 0), (10, 0), (10, 10), (0, 10)), 3.0)])
     assert len(m) == 10 + 10 + 2
@@ -66,9 +66,9 @@ def test_mesh_of_a_room_with_a_door_a_block_and_a_slab():
 
 
 def test_floor_level_floor_and_ceiling_of_a_zone():
-    # a zone with its floor at 2 m and a 3 m ceiling: walls from 2 to 2 + 3 = 5 m, the floor at 2 m, the ceiling
-    # at 5 m, each square in two triangles; from (5, 5, 3.5) straight up to 5.5 m crosses the ceiling, down to
-    # 1.5 m the floor, to 4.9 m neither; a point of the floor at (5, 8, 2) is seen, its floor skipped
+    # a zone with its floor at 2 m and a 3 m ceiling: walls from 2 to 2 + 3 = 5 m, the floor at 2 m, the ceiling at 5 m,
+    # each square in two triangles; from (5, 5, 3.5) straight up to 5.5 m crosses the ceiling, down to 1.5 m the floor,
+    # to 4.9 m neither; a point of the floor at (5, 8, 2) is seen, its floor skipped
     z = Zone("R", ScanSide.INSIDE, ((0, 0), (10, 0), (10, 10), (0, 10)), (3.0,) * 4, floor_level_m=2.0)
     site = Site("room", (dataclasses.replace(z, ceiling_height_m=3.0),))
     m = site_mesh(site, floors=True, ceilings=True)
@@ -85,11 +85,11 @@ def test_floor_level_floor_and_ceiling_of_a_zone():
 
 
 def test_at_a_corner_the_plan_views_line_tolerance_blocks_more():
-    # a known difference, why the property below draws its wall points off the corners. The sight line from
-    # (0, 10) to the corner (0, 0) stops 1e-5 m short, at (0, 1e-5); the next wall runs from the corner away from
-    # the station, to (10 sin 0.3 deg, -10 cos 0.3 deg). The line's end is 1e-5 * sin 0.3 deg = 5.2e-8 m from that
-    # wall's LINE, within EPS_SIGHT_M = 1e-7, and the corner is on the sight line, so segments_touch (side-of-line
-    # tests within EPS) says touching; the Euclidean distance to the wall is 1e-5 m, so the 3-D test says clear
+    # a known difference, why the property below draws its wall points off the corners. The sight line from (0, 10) to
+    # the corner (0, 0) stops 1e-5 m short, at (0, 1e-5); the next wall runs from the corner away from the station, to
+    # (10 sin 0.3 deg, -10 cos 0.3 deg). The line's end is 1e-5 * sin 0.3 deg = 5.2e-8 m from that wall's LINE, within
+    # EPS_SIGHT_M = 1e-7, and the corner is on the sight line, so segments_touch (side-of-line tests within EPS) says
+    # touching; the Euclidean distance to the wall is 1e-5 m, so the 3-D test says clear
     a = math.radians(0.3)
     far = np.array([10 * math.sin(a), -10 * math.cos(a)])
     end = np.array([[0.0, 1e-5]])
@@ -100,8 +100,8 @@ def test_at_a_corner_the_plan_views_line_tolerance_blocks_more():
 
 
 def test_from_the_centre_of_a_room_every_wall_point_is_seen():
-    # the room is convex and empty: from (5, 5, 1.5) each segment to a point of a wall (corners, foot and top
-    # edge included) stays inside [0, 10]^2 x [0, 3] and stops 1e-5 m short of its own (skipped) wall
+    # the room is convex and empty: from (5, 5, 1.5) each segment to a point of a wall (corners, foot and top edge
+    # included) stays inside [0, 10]^2 x [0, 3] and stops 1e-5 m short of its own (skipped) wall
     m = site_mesh(room())
     s = np.arange(0.0, 10.01, 0.5)
     pts, keys = [], []
@@ -115,10 +115,10 @@ def test_from_the_centre_of_a_room_every_wall_point_is_seen():
 
 
 def test_a_two_metre_block_hides_the_wall_behind_it():
-    # block 4.5..5.5 x 4.5..5.5, 2 m high; station (2, 5, 1.5) towards wall 2 (x = 10) along y = 5: at the
-    # block's near face x = 4.5 the line to (10, 5, z) is at 1.5 + (z - 1.5) * 2.5 / 8 < 2 for every z <= 3
-    # (it would need z > 3.1), so the whole height of the wall behind is hidden; at y = 2 the block is not in the
-    # way (the line from (2, 5) to (10, 2) is at y = 4.06 < 4.5 by x = 4.5)
+    # block 4.5..5.5 x 4.5..5.5, 2 m high; station (2, 5, 1.5) towards wall 2 (x = 10) along y = 5: at the block's near
+    # face x = 4.5 the line to (10, 5, z) is at 1.5 + (z - 1.5) * 2.5 / 8 < 2 for every z <= 3 (it would need z > 3.1),
+    # so the whole height of the wall behind is hidden; at y = 2 the block is not in the way (the line from (2, 5) to
+    # (10, 2) is at y = 4.06 < 4.5 by x = 4.5)
     m = site_mesh(room(block(4.5, 4.5, 5.5, 5.5, 2.0)))
     ends = np.array([[10, 5, 0.0], [10, 5, 1.5], [10, 5, 3.0], [10, 2, 1.5]])
     got = occluded(m, np.tile([2.0, 5.0, 1.5], (4, 1)), ends, np.full(4, wall_key(0, 2)))
@@ -126,10 +126,10 @@ def test_a_two_metre_block_hides_the_wall_behind_it():
 
 
 def test_a_sight_line_passes_over_a_one_metre_block_and_touching_is_blocked():
-    # block 4..5 x 4.5..5.5, 1 m high; station (1, 5, 1.5) to (10, 5, z) on wall 2: at the block's far top edge
-    # x = 5 (4/9 of the way) the line is at 1.5 + (z - 1.5) * 4/9, = 1 for z = 0.375: it touches the edge there
-    # (blocked, the convention); z = 0.384 passes 4 mm above (1.004 at x = 5, 1.128 at x = 4): seen; z = 0.366 is
-    # at 0.996 at x = 5, so it enters the block's top near x = 4.97: blocked; z = 1.5 passes 0.5 m above: seen
+    # block 4..5 x 4.5..5.5, 1 m high; station (1, 5, 1.5) to (10, 5, z) on wall 2: at the block's far top edge x = 5
+    # (4/9 of the way) the line is at 1.5 + (z - 1.5) * 4/9, = 1 for z = 0.375: it touches the edge there (blocked, the
+    # convention); z = 0.384 passes 4 mm above (1.004 at x = 5, 1.128 at x = 4): seen; z = 0.366 is at 0.996 at x = 5,
+    # so it enters the block's top near x = 4.97: blocked; z = 1.5 passes 0.5 m above: seen
     m = site_mesh(room(block(4, 4.5, 5, 5.5, 1.0)))
     ends = np.array([[10, 5, 0.375], [10, 5, 0.384], [10, 5, 0.366], [10, 5, 1.5]])
     got = occluded(m, np.tile([1.0, 5.0, 1.5], (4, 1)), ends, np.full(4, wall_key(0, 2)))
@@ -137,9 +137,9 @@ def test_a_sight_line_passes_over_a_one_metre_block_and_touching_is_blocked():
 
 
 def test_touching_a_walls_top_edge_is_blocked():
-    # from (5, 5, 1.5) out over wall 2 (x = 10, top at 3 m): the line to (15, 5, z) is at 1.5 + (z - 1.5) / 2 at
-    # x = 10; z = 4.5 gives 3.0 exactly, the top edge: blocked (touching counts); z = 4.6 passes 5 cm above;
-    # z = 4.4 hits the wall 5 cm below its top
+    # from (5, 5, 1.5) out over wall 2 (x = 10, top at 3 m): the line to (15, 5, z) is at 1.5 + (z - 1.5) / 2 at x = 10;
+    # z = 4.5 gives 3.0 exactly, the top edge: blocked (touching counts); z = 4.6 passes 5 cm above; z = 4.4 hits the
+    # wall 5 cm below its top
     m = site_mesh(room())
     ends = np.array([[15, 5, 4.5], [15, 5, 4.6], [15, 5, 4.4]])
     assert occluded(m, np.tile([5.0, 5.0, 1.5], (3, 1)), ends).tolist() == [True, False, True]
@@ -167,8 +167,9 @@ half_grid = st.integers(0, 8).map(lambda k: k / 2.0)  # 0, 0.5, .. 4: touching a
     skips=st.lists(st.integers(0, 13), min_size=12, max_size=12),
 )
 def test_the_tree_search_finds_what_brute_force_finds(tri, seg, skips):
-    # the plan-view tree (whole segments, and pieces of 0.7 m), the filters, the chunks (3 segments each) and the
-    # early exit drop no pair the exact test would block; on a half-metre grid many segments touch edges, lie in planes or are vertical
+    # the plan-view tree (whole segments, and pieces of 0.7 m), the filters, the chunks (3 segments each) and the early
+    # exit drop no pair the exact test would block; on a half-metre grid many segments touch edges, lie in planes or are
+    # vertical
     t = len(tri)
     mesh = SiteMesh(
         np.array(tri, float).reshape(-1, 3), np.arange(3 * t).reshape(-1, 3), np.arange(t) % 4, np.zeros(t, np.int8)
@@ -199,8 +200,8 @@ def moller_trumbore(o, e, v0, v1, v2):
 @settings(QUICK, max_examples=50)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_the_pair_test_is_moller_trumbore_away_from_the_tolerance(seed):
-    # continuous random triangles and segments in a 10 m cube: a pair within 1e-7 m of touching has a chance of
-    # order 1e-7, so the tolerant test and the classic one agree on all 300 pairs
+    # continuous random triangles and segments in a 10 m cube: a pair within 1e-7 m of touching has a chance of order
+    # 1e-7, so the tolerant test and the classic one agree on all 300 pairs
     rng = np.random.default_rng(seed)
     tri, o, e = rng.uniform(0, 10, (300, 3, 3)), rng.uniform(0, 10, (300, 3)), rng.uniform(0, 10, (300, 3))
     got = segment_hits_triangles(o, e, tri)
@@ -214,10 +215,10 @@ def walls_only_rooms(draw):
     stations inside (not in the block), points on the walls off their corners (heights 0..H), an instrument height
     0.5H..H. Off the corners: see test_at_a_corner_the_plan_views_line_tolerance_blocks_more.
 
-    Vertex k is at angle 2 pi (k + j_k) / n, |j_k| <= 1/4, radius 3..10 m: the gaps are under 180 deg, so the
-    outline is simple and star-shaped about the centre, and a station at 0.1..0.97 of the way from the centre to a
-    point of a wall is inside (with reflex corners that hide walls). The block (radii 0.5..2.5 m, shrunk until it
-    stands 0.1 m inside the room) is a prism of height H; stations within 0.05 m of it are dropped."""
+    Vertex k is at angle 2 pi (k + j_k) / n, |j_k| <= 1/4, radius 3..10 m: the gaps are under 180 deg, so the outline is
+    simple and star-shaped about the centre, and a station at 0.1..0.97 of the way from the centre to a point of a wall
+    is inside (with reflex corners that hide walls). The block (radii 0.5..2.5 m, shrunk until it stands 0.1 m inside
+    the room) is a prism of height H; stations within 0.05 m of it are dropped."""
     n = draw(st.integers(4, 10))
     cx, cy = draw(st.floats(-100, 100)), draw(st.floats(-100, 100))
     h = draw(st.floats(2.0, 6.0))
@@ -252,12 +253,10 @@ def walls_only_rooms(draw):
 @settings(QUICK, max_examples=150)
 @given(case=walls_only_rooms())
 def test_3d_sight_equals_the_plan_view_on_walls_only_rooms(case):
-    # issue 46, "Sight in 3-D", done when: every (station, wall point) pair gets the same verdict from the 3-D test
-    # as from the plan view's own sight_clear on a point piece (a = b, as verification tests points), with the
-    # blockers of blockers_for and the piece's own wall skipped in both (wall_key / skip). Like with like: each
-    # line runs from the instrument (height ih <= H) to a point at 0..H, so where the plan view crosses a wall or
-    # the block's edge the 3-D line is at a height inside 0..H there: it meets the wall; where the plan view is
-    # clear the 3-D line passes beside every wall
+    # every (station, wall point) pair gets the same verdict from the 3-D test as from the plan view's sight_clear on a
+    # point piece (a = b), with the blockers of blockers_for and the piece's own wall skipped in both. Each line runs
+    # from the instrument (height ih <= H) to a point at 0..H, so where the plan view crosses a wall or the block's edge
+    # the 3-D line is at a height inside 0..H there: it meets the wall; where the plan view is clear it passes
     site, ih, stations, points = case
     c = np.repeat(stations, len(points), axis=0)
     p = np.tile(np.array([q for _, q, _ in points]), (len(stations), 1))
@@ -272,8 +271,8 @@ def test_3d_sight_equals_the_plan_view_on_walls_only_rooms(case):
 @settings(QUICK, max_examples=40)
 @given(case=walls_only_rooms(), shift=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4), st.floats(-50, 50)))
 def test_same_input_same_output_and_a_translated_scene_the_same_verdicts(case, shift):
-    # determinism: the same call twice, and a fresh mesh of the same site, give the same booleans; moving the mesh,
-    # the stations and the points by one vector changes no verdict (the pair test works relative to each origin)
+    # determinism: the same call twice, and a fresh mesh of the same site, give the same booleans; moving the mesh, the
+    # stations and the points by one vector changes no verdict (the pair test works relative to each origin)
     site, ih, stations, points = case
     c = np.repeat(stations, len(points), axis=0)
     o = np.column_stack([c, np.full(len(c), ih)])

@@ -1,9 +1,8 @@
-"""Coverage regions R_t against the coverage test itself (issue 12, part 1).
+"""Coverage regions R_t against the coverage test itself.
 
-Property: for thousands of random positions, inside R_t => the coverage test accepts the pair, and an
-accepted pair farther than ``region_tolerance_m`` from R_t's boundary => inside R_t. Sites: a convex
-room, an L (non-convex), a room with a free-standing block (a hole), and an outside zone with an
-obstacle; horizontal and 3-D incidence.
+Property: for thousands of random positions, inside R_t => the coverage test accepts the pair, and an accepted pair
+farther than ``region_tolerance_m`` from R_t's boundary => inside R_t. Sites: a convex room, an L (non-convex), a room
+with a free-standing block (a hole), and an outside zone with an obstacle; horizontal and 3-D incidence.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
-"""Coverage regions follow issue 16's rules: the stand-off from walls and obstacles and the incidence-dependent
-view error e(S, theta) (single precision, table 2.3 / Soudarissanane models) are in R_t as in the coverage test.
+"""Coverage regions follow the rules: the stand-off from walls and obstacles and the incidence-dependent view error e(S,
+theta) (single precision, table 2.3 / Soudarissanane models) are in R_t as in the coverage test.
 
-Property as in test_regions.py: inside R_t => the coverage test accepts the pair; an accepted pair farther
-than ``region_tolerance_m`` from R_t's boundary => inside R_t.
+Property as in test_regions.py: inside R_t => the coverage test accepts the pair; an accepted pair farther than
+``region_tolerance_m`` from R_t's boundary => inside R_t.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """A wall edge that ends at a piece's end, up to the last bit of a coordinate, shadows nothing of the room.
 
-building27, room R16 (5.55 x 2.87 m): the piece of wall 3 at 4.62-5.55 m ends at x = 0.29999999999999982,
-the next wall starts at x = 0.3; the 2e-16 m vector between them once gave a shadow over the whole room,
-so R_t was empty although the room's centre (3.075, 10.155) sees the piece (and the whole room:
-incidence at most atan(2.775 / 1.435) = 62.7 deg < 68 deg)."""
+building27, room R16 (5.55 x 2.87 m): the piece of wall 3 at 4.62-5.55 m ends at x = 0.29999999999999982, the next wall
+starts at x = 0.3; the 2e-16 m vector between them once gave a shadow over the whole room, so R_t was empty although the
+room's centre (3.075, 10.155) sees the piece (and the whole room: incidence at most atan(2.775 / 1.435) = 62.7 deg < 68
+deg)."""
 
 from __future__ import annotations
 

@@ -1,15 +1,14 @@
-"""Registration links through a stair (issue 46, "every storey in one model"): a station of the stair's lower
-zone and one of its upper zone that see a common point of the stair's edge, and the storeys joined into one
-accessible area.
+"""Registration links through a stair: a station of the stair's lower zone and one of its upper zone that see a common
+point of the stair's edge, and the storeys joined into one accessible area.
 
 The hand-checked site (two frames, plan coordinates shared):
 
-- frame ``F1``, zone ``Hall``: 0..6 x 0..4 less the stair's notch 1..5 x 3..4 (the stair against the north
-  wall, 4 m long, 1 m wide), so its outline is (0,0) (6,0) (6,4) (5,4) (5,3) (1,3) (1,4) (0,4);
-- frame ``F2``, zone ``Landing``: 0..6 x 0..3, south of the stairwell (which is the stair's footprint); zone
-  ``Study``: 7..10 x 0..3 in the same frame, no door between them;
-- the stair's edge: the footprint 1..5 x 3..4 moved 0.1 m out, the ring (0.9, 2.9)..(5.1, 4.1), 10.8 m round,
-  a point every 10.8 / 44 = 0.245 m (``EDGE_STEP_M`` 0.25).
+- frame ``F1``, zone ``Hall``: 0..6 x 0..4 less the stair's notch 1..5 x 3..4 (the stair against the north wall, 4 m
+  long, 1 m wide), so its outline is (0,0) (6,0) (6,4) (5,4) (5,3) (1,3) (1,4) (0,4);
+- frame ``F2``, zone ``Landing``: 0..6 x 0..3, south of the stairwell (which is the stair's footprint); zone ``Study``:
+  7..10 x 0..3 in the same frame, no door between them;
+- the stair's edge: the footprint 1..5 x 3..4 moved 0.1 m out, the ring (0.9, 2.9)..(5.1, 4.1), 10.8 m round, a point
+  every 10.8 / 44 = 0.245 m (``EDGE_STEP_M`` 0.25).
 """
 
 from __future__ import annotations
@@ -70,9 +69,9 @@ def test_stair_edge_is_the_footprint_moved_out() -> None:
 
 def test_hand_checked_links() -> None:
     """Reach 2 m. Station 0 (Hall, 3, 1) sees the edge y = 2.9 for |x - 3| <= sqrt(4 - 1.9^2) = 0.62, station 1
-    (Landing, 3, 1.5) for |x - 3| <= sqrt(4 - 1.4^2) = 1.43: the points are 0.245 m apart, so both see one of
-    them: linked. Station 2 (Hall, 3, 0.2) is 2.7 m from the nearest edge point: no link. Station 3 stands in
-    the Study, not the stair's upper zone: no link. The link is between storeys only (0-1, symmetric)."""
+    (Landing, 3, 1.5) for |x - 3| <= sqrt(4 - 1.4^2) = 1.43: the points are 0.245 m apart, so both see one of them:
+    linked. Station 2 (Hall, 3, 0.2) is 2.7 m from the nearest edge point: no link. Station 3 stands in the Study, not
+    the stair's upper zone: no link. The link is between storeys only (0-1, symmetric)."""
     got = _links(_site(), 2.0)
     want = np.zeros((4, 4), dtype=bool)
     want[0, 1] = want[1, 0] = True
@@ -83,10 +82,10 @@ def test_hand_checked_links() -> None:
 
 
 def test_sight_is_checked_in_each_frame() -> None:
-    """A Landing station at (3, 1.5) does not see the stair's north edge y = 4.1: the Landing's north wall y = 3
-    stands between (its own frame). A Hall station in the notch's east corner (5.5, 3.5) sees the east edge
-    x = 5.1 and the corner (5.1, 2.9), which the Landing station sees as well: linked (reach 2: 1.4^2 + 2.1^2 =
-    6.37 > 4, so through the corner (5.1, 2.9) only at reach 3: 2.1^2 + 1.4^2 = 6.37 <= 9)."""
+    """A Landing station at (3, 1.5) does not see the stair's north edge y = 4.1: the Landing's north wall y = 3 stands
+    between (its own frame). A Hall station in the notch's east corner (5.5, 3.5) sees the east edge x = 5.1 and the
+    corner (5.1, 2.9), which the Landing station sees as well: linked (reach 2: 1.4^2 + 2.1^2 = 6.37 > 4, so through the
+    corner (5.1, 2.9) only at reach 3: 2.1^2 + 1.4^2 = 6.37 <= 9)."""
     site = _site()
     xy = np.array([(5.5, 3.5), (3.0, 1.5)])
     spaces = [("in", "Hall"), ("in", "Landing")]

@@ -1,5 +1,5 @@
-"""Which stations see which floor and ceiling patches (planner.coverage.surface_sight, issue 46): hand checks of the
-blind cone, the incidence and range limits at their boundaries, own zone and plan-view sight."""
+"""Which stations see which floor and ceiling patches (planner.coverage.surface_sight) hand checks of the blind cone,
+the incidence and range limits at their boundaries, own zone and plan-view sight."""
 
 from __future__ import annotations
 
@@ -14,21 +14,13 @@ from hypothesis import strategies as st
 from planner.coverage.surface_sight import SurfaceLimits, surface_limits, surface_pairs, surface_sight
 from planner.coverage.surfaces import CEILING, FLOOR, SurfaceTargets, make_surface_targets
 from planner.instrument.models import Scanner, load_instrument
-from planner.site.model import Obstacle, Site, Zone
+from planner.site.model import Obstacle, Site
 from tests.coverage.surface_oracle import Scene, oracle_sees
+from tests.coverage.test_surfaces import box, room
 
-RECT = ((0.0, 0.0), (10.0, 0.0), (10.0, 6.0), (0.0, 6.0))
 STATION = np.array([[5.0, 3.0]])
 #: tiny square patches (1e-5 m a side) stand for points: their corners are within 7.1e-6 m of the point
 HALF = 5e-6
-
-
-def box(x0: float, y0: float, x1: float, y1: float) -> tuple[tuple[float, float], ...]:
-    return ((x0, y0), (x1, y0), (x1, y1), (x0, y1))
-
-
-def room(vertices=RECT, zone_id: str = "R", **kw) -> Zone:
-    return Zone(zone_id, "inside", vertices, (5.0,) * len(vertices), **kw)
 
 
 def points(site: Site, xy: list[tuple[float, float]], kind: int = FLOOR, zone: int = 0) -> SurfaceTargets:
@@ -113,8 +105,8 @@ def test_range_limit_is_the_slant_range():
 
 
 def test_ceiling_rules():
-    # ceiling 3 m above the floor, instrument 1.5 m: dz = +1.5 m, the same incidence reach 3.7126 m at 68 deg;
-    # the nadir cone never meets an upward ray, so the ceiling straight above the station is seen
+    # ceiling 3 m above the floor, instrument 1.5 m: dz = +1.5 m, the same incidence reach 3.7126 m at 68 deg; the nadir
+    # cone never meets an upward ray, so the ceiling straight above the station is seen
     site = Site("s", (room(box(-10, -10, 20, 20), ceiling_height_m=3.0),))
     limits = SurfaceLimits(100.0, 68.0, 1.5, nadir_blind_half_angle_deg=35.0)
     above = points(site, [(5.0, 3.0), *ring(3.7125)], kind=CEILING)
@@ -130,8 +122,8 @@ def test_ceiling_rules():
 
 
 def test_the_whole_patch_counts_not_only_its_corners():
-    # a 1 m patch centred on the station: its corners are 0.707 m away, beyond the 0.473 m blind disc, but the
-    # disc lies inside the patch, so the patch is not seen whole
+    # a 1 m patch centred on the station: its corners are 0.707 m away, beyond the 0.473 m blind disc, but the disc lies
+    # inside the patch, so the patch is not seen whole
     site = Site("s", (room(),))
     t = make_surface_targets(site, 1.0)
     centred = make_surface_targets(Site("s", (room(box(-0.5, -0.5, 10.5, 6.5)),)), 1.0)  # cells centred on integers

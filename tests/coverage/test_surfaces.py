@@ -1,4 +1,4 @@
-"""Floor and ceiling patches (planner.coverage.surfaces, issue 46): counts, areas, blocks cut out, heights, normals."""
+"""Floor and ceiling patches (planner.coverage.surfaces) counts, areas, blocks cut out, heights, normals."""
 
 from __future__ import annotations
 
@@ -16,8 +16,8 @@ RECT = ((0.0, 0.0), (10.0, 0.0), (10.0, 6.0), (0.0, 6.0))
 ELL = ((0.0, 0.0), (10.0, 0.0), (10.0, 4.0), (4.0, 4.0), (4.0, 10.0), (0.0, 10.0))
 
 
-def room(vertices=RECT, **kw) -> Zone:
-    return Zone("R", "inside", vertices, (5.0,) * len(vertices), **kw)
+def room(vertices=RECT, zone_id: str = "R", **kw) -> Zone:
+    return Zone(zone_id, "inside", vertices, (5.0,) * len(vertices), **kw)
 
 
 def box(x0: float, y0: float, x1: float, y1: float) -> tuple[tuple[float, float], ...]:
@@ -51,8 +51,8 @@ def test_a_ceiling_is_a_second_layer_at_floor_level_plus_its_height():
 @pytest.mark.parametrize("spacing", [1.0, 1.5, 0.7])
 def test_an_l_shaped_room_sums_to_its_area_in_patches_no_wider_than_the_spacing(spacing):
     t = make_surface_targets(Site("s", (room(ELL),)), spacing)
-    # 64 m2 whatever the grid (at 1 m: 64 whole cells; at 1.5 m the 10 x 10 box is cut into 7 x 7 cells of
-    # 1.4286 m, clipped at the inner corner (4, 4)); every patch's box no wider than the spacing
+    # 64 m2 whatever the grid (at 1 m: 64 whole cells; at 1.5 m the 10 x 10 box is cut into 7 x 7 cells of 1.4286 m,
+    # clipped at the inner corner (4, 4)); every patch's box no wider than the spacing
     assert t.total_area_m2() == pytest.approx(64.0, abs=1e-9)
     bounds = shapely.bounds(t.polygon)
     assert np.all(bounds[:, 2] - bounds[:, 0] <= spacing + 1e-12) and np.all(
@@ -120,8 +120,8 @@ def test_translation_moves_the_patches_and_nothing_else():
 
 
 def test_slivers_are_dropped_and_bad_arguments_refused():
-    # a 10 x 6 room whose upper half starts at x = 1.99999: the column 1..2 keeps a 0.00001 x 1 m strip in each of
-    # the 3 upper rows, 1e-5 m2 < SLIVER_SHARE x 1 m2, dropped: 30 + 3 x 8 = 54 whole cells, 54.00003 - 3e-5 m2
+    # a 10 x 6 room whose upper half starts at x = 1.99999: the column 1..2 keeps a 0.00001 x 1 m strip in each of the 3
+    # upper rows, 1e-5 m2 < SLIVER_SHARE x 1 m2, dropped: 30 + 3 x 8 = 54 whole cells, 54.00003 - 3e-5 m2
     notched = ((0.0, 0.0), (10.0, 0.0), (10.0, 6.0), (1.99999, 6.0), (1.99999, 3.0), (0.0, 3.0))
     t = make_surface_targets(Site("s", (room(notched),)), 1.0)
     assert shapely.Polygon(notched).area == pytest.approx(54.00003)

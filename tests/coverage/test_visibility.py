@@ -46,16 +46,16 @@ def test_centre_of_a_square_room_sees_every_wall():
 
 
 def test_incidence_limit_cuts_a_long_wall():
-    # 2 m from wall 1 (y = 0) at x = 10: seen while atan(|x - 10| / 2) <= 68 deg, i.e. |x - 10| <= 4.95 m;
-    # the whole 1 m pieces inside 5.05..14.95 are 6-7 .. 13-14: 8 pieces (5-6 and 14-15 are cut)
+    # 2 m from wall 1 (y = 0) at x = 10: seen while atan(|x - 10| / 2) <= 68 deg, i.e. |x - 10| <= 4.95 m; the whole 1 m
+    # pieces inside 5.05..14.95 are 6-7 .. 13-14: 8 pieces (5-6 and 14-15 are cut)
     t, cov = seen(room(), [station(10, 2)], SightLimits(95.913, 68.0))
     wall1 = [i for i in cov.by_candidate[0].indices if t.wall[i] == 1]
     assert [int(t.s0_m[i]) for i in sorted(wall1)] == [6, 7, 8, 9, 10, 11, 12, 13]
 
 
 def test_range_limit_uses_the_top_of_the_wall():
-    # a 20 m square room, 3 m walls, station in a corner region at (1, 1): the far corner (20, 20) is
-    # sqrt(19^2 + 19^2) = 26.87 m away horizontally, sqrt(26.87^2 + 3^2) = 27.04 m slant.
+    # a 20 m square room, 3 m walls, station in a corner region at (1, 1): the far corner (20, 20) is sqrt(19^2 + 19^2)
+    # = 26.87 m away horizontally, sqrt(26.87^2 + 3^2) = 27.04 m slant.
     t, full = seen(room(), [station(10, 10)], SightLimits(27.1, 89.0))
     _, cut = seen(room(), [station(1, 1)], SightLimits(27.0, 89.0))
     far = [i for i in range(len(t)) if t.wall[i] == 2 and t.s1_m[i] == 20.0]
@@ -69,15 +69,15 @@ def test_obstacle_hides_the_wall_behind_it():
     site = room(obstacles=[col])
     t, cov = seen(site, [station(10, 2)], SightLimits(95.913, 89.0))
     north = {int(t.s0_m[i]) for i in cov.by_candidate[0].indices if t.wall[i] == 3}
-    # wall 3 runs from (20, 20) to (0, 20): s = 20 - x. Rays from (10, 2) through the column's
-    # corners (9, 11) and (11, 11) reach y = 20 at x = 10 -/+ 1 * 18/9 = 8 .. 12, hidden
+    # wall 3 runs from (20, 20) to (0, 20): s = 20 - x. Rays from (10, 2) through the column's corners (9, 11) and (11,
+    # 11) reach y = 20 at x = 10 -/+ 1 * 18/9 = 8 .. 12, hidden
     assert not north & {8, 9, 10, 11}
     assert {0, 1, 2, 16, 17, 18, 19} <= north
 
 
 def test_thin_column_between_the_two_sight_lines_hides_the_piece():
-    # piece on wall 1 of a room from x = 9 to 11; the station at (10, 18); a 0.1 m column at (10, 9):
-    # both end rays pass it (at x = 10 -/+ 0.5), but it stands inside the triangle: not seen
+    # piece on wall 1 of a room from x = 9 to 11; the station at (10, 18); a 0.1 m column at (10, 9): both end rays pass
+    # it (at x = 10 -/+ 0.5), but it stands inside the triangle: not seen
     col = Obstacle("pin", ((9.95, 8.95), (10.05, 8.95), (10.05, 9.05), (9.95, 9.05)), 5.0)
     site = room(obstacles=[col])
     t = make_targets(site, 2.0)
@@ -105,9 +105,9 @@ def test_both_views_agree_and_excluded_stations_see_nothing():
     assert cov.excluded == {0: "inside obstacle column"}
     assert cov.by_candidate.getrow(0).nnz == 0
     assert (cov.by_target != cov.by_candidate.T.tocsr()).nnz == 0
-    # the slant ranges follow the pieces seen: from (5, 5) the column's corner (11, 9) shades the east wall
-    # x = 20 from y = 5 + 15 * 4 / 6 = 15 up (the piece 14..15 grazes that corner and counts as hidden), so the
-    # farthest point seen is the top of (20, 14), 3 m walls, instrument at 0 m: sqrt(15^2 + 9^2 + 3^2) = 17.748
+    # the slant ranges follow the pieces seen: from (5, 5) the column's corner (11, 9) shades the east wall x = 20 from
+    # y = 5 + 15 * 4 / 6 = 15 up (the piece 14..15 grazes that corner and counts as hidden), so the farthest point seen
+    # is the top of (20, 14), 3 m walls, instrument at 0 m: sqrt(15^2 + 9^2 + 3^2) = 17.748
     assert cov.slant_m.getrow(1).max() == pytest.approx(math.sqrt(315.0))
     assert cov.slant_m.getrow(0).nnz == 0
 
@@ -115,8 +115,8 @@ def test_both_views_agree_and_excluded_stations_see_nothing():
 @pytest.mark.parametrize(
     "height, incidence_3d, pieces",
     [
-        # a 20 x 20 room, station at (10, 2), 2 m from the south wall; theta_max 68 deg, cos 68 = 0.3746.
-        # horizontal incidence: cos = 2 / sqrt(u^2 + 4) >= 0.3746 for |u| <= 4.95 m, whole 1-m pieces 6..13
+        # a 20 x 20 room, station at (10, 2), 2 m from the south wall; theta_max 68 deg, cos 68 = 0.3746. horizontal
+        # incidence: cos = 2 / sqrt(u^2 + 4) >= 0.3746 for |u| <= 4.95 m, whole 1-m pieces 6..13
         (3.0, False, list(range(6, 14))),
         # 3-D incidence to the wall top (3 m, instrument at 0): cos = 2 / sqrt(u^2 + 4 + 9), |u| <= 3.94 m: pieces 7..12
         (3.0, True, list(range(7, 13))),
