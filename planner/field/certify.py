@@ -23,8 +23,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from planner.field.bound import EXACT_MAX_NODES, exact_order, held_karp_bound
-from planner.field.order import OrderResult
-from planner.field.scip_order import NODE_LIMIT, WALL_CAP_S, scip_order
+from planner.field.order import TIME_CAP_S, OrderResult
+from planner.field.scip_order import NODE_LIMIT, scip_order
 
 GAP_TOLERANCE = 1e-4
 HK_EXACT = "exact (Held-Karp dynamic programme)"
@@ -53,7 +53,7 @@ def certify(
     start_is_station: bool,
     closed: bool,
     node_limit: int = NODE_LIMIT,
-    wall_cap_s: float | None = WALL_CAP_S,
+    wall_cap_s: float | None = TIME_CAP_S,
 ) -> Certified:
     """Bound ``result`` (the routing answer) and improve it by branch-and-cut where it helps (see the module text)."""
     n = len(d)

@@ -32,7 +32,7 @@ MODES = ("shortest", "registration")
 SOLUTION_LIMIT: int = DEFAULTS["field.solution_limit"]
 #: no wall-clock cap unless the user sets one
 TIME_CAP_S: float | None = None
-#: walking distances go to the solver in millimetres
+#: walking distances go to the solvers in millimetres (rounded to the nearest here, down for SCIP's bound)
 SCALE = 1000.0
 
 
@@ -78,9 +78,7 @@ def nearest_neighbour(
     """Greedy order from node 0: the nearest node next (``neighbours`` given: the nearest that keeps the
     registration rule); ties to the lower index."""
     n = len(d)
-    order, seen, started = [0], {0}, set()
-    if start_is_station:
-        started.add(parts[0])
+    order, seen, started = [0], {0}, {parts[0]} if start_is_station else set()
     while len(order) < n:
         at = order[-1]
         ok = [
@@ -105,11 +103,9 @@ def solve_order(
     solution_limit: int = SOLUTION_LIMIT,
     time_cap_s: float | None = TIME_CAP_S,
 ) -> OrderResult:
-    """The visiting order of nodes 0..n-1 from node 0 on walking distances ``d`` (finite, m).
-
-    ``neighbours[j]``: the nodes related to j by the overlap rule; ``parts[j]``: its registration part
-    (node 0, when it is no station, in a part of its own). Both are needed in ``registration`` mode.
-    """
+    """The visiting order of nodes 0..n-1 from node 0 on walking distances ``d`` (finite, m). ``neighbours[j]``:
+    the nodes related to j by the overlap rule; ``parts[j]``: its registration part (node 0, when it is no station,
+    in a part of its own). Both are needed in ``registration`` mode."""
     if mode not in MODES:
         raise UsageError(f"unknown order mode (known: {', '.join(MODES)})", field="--mode", value=mode)
     n = len(d)

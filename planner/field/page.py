@@ -13,11 +13,11 @@ from typing import Any
 from planner import __version__
 from planner.field.crossing import advice
 from planner.field.figure import figure
+from planner.field.record import HEADER, rows
 from planner.field.run import FieldPlan
 from planner.field.site_map import field_map_html, setup_row_id
 from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
 from planner.field.storeys import climbs
-from planner.field.tables import HEADER, rows
 from planner.figures.base import png_bytes
 
 CSS = """body{font-family:system-ui,sans-serif;margin:1.5em;color:#111;max-width:1100px}

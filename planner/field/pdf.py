@@ -27,9 +27,9 @@ from matplotlib.figure import Figure
 from planner import __version__
 from planner.field.crossing import advice
 from planner.field.figure import figure
+from planner.field.record import rows, totals
 from planner.field.run import FieldPlan
 from planner.field.storeys import stairs_line
-from planner.field.tables import rows, totals
 
 #: paper sizes in inches, (width, height) landscape
 A4 = (11.69, 8.27)

@@ -1,6 +1,8 @@
 """``field.json``: the field sheet as one dictionary (:func:`to_dict`), which the sheet writes, the report reads
 back (:func:`planner.report.site_map.read_field_sheet`) and the site maps of both pages draw their route and
-targets from (:func:`planner.figures.webmap.field_layers`)."""
+targets from (:func:`planner.figures.webmap.field_layers`); and the setup table, shared by field.html, field.csv,
+field.json and field.pdf: one row per setup in visiting order (:data:`HEADER`, :func:`rows`) and the totals line
+(:func:`totals`)."""
 
 from __future__ import annotations
 
@@ -12,7 +14,40 @@ from planner.field.crossing import advice, closed_parts
 from planner.field.run import FieldPlan
 from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
 from planner.field.storeys import climbs
-from planner.field.tables import HEADER, rows
+
+HEADER = (
+    "no.",
+    "station",
+    "x m",
+    "y m",
+    "zone",
+    "side",
+    "instrument height m",
+    "scan setting",
+    "walk m",
+    "minutes",
+    "targets seen",
+    "session",
+)
+
+
+def rows(fp: FieldPlan) -> list[list[Any]]:
+    """One row per setup in visiting order (the columns of :data:`HEADER`)."""
+    out = []
+    for setup, k in zip(fp.time.setups, fp.order):
+        s = fp.stations[k]
+        where = [setup.number, s.id, round(s.x, 3), round(s.y, 3), s.zone, s.side.value, fp.instrument_height_m]
+        time = [setup.setting or fp.time.setting, round(setup.walk_m, 1), round(setup.total_s / 60.0, 1)]
+        out.append(where + time + [" ".join(fp.targets_of(s.id)), setup.session])
+    return out
+
+
+def totals(fp: FieldPlan) -> list[Any]:
+    """The totals under the table, in the columns of :data:`HEADER` (blank where nothing adds up)."""
+    t = fp.time
+    sums = [round(fp.route_length_m, 1), round(t.total_s / 60.0, 1), f"{len(fp.targets)} targets", len(t.sessions)]
+    return [f"total: {len(fp.order)} setups", *[""] * 7, *sums]
+
 
 #: field.json's names of the fields of a :class:`~planner.field.targets.Link`
 _LINK_KEYS = {

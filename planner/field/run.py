@@ -27,30 +27,12 @@ from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight, as_sight
 from planner.field.certify import Certified, certify
 from planner.field.crossing import Crossing, bridge, check_reach, crossings, part_names
-from planner.field.order import (
-    MODES,
-    SOLUTION_LIMIT,
-    TIME_CAP_S,
-    registration_violations,
-    solve_order,
-)
+from planner.field.order import MODES, SOLUTION_LIMIT, TIME_CAP_S, registration_violations, solve_order
 from planner.field.scip_order import NODE_LIMIT
 from planner.field.storeys import Flight, StoreyWalk, joined_frames, storey_spaces, storey_walks
-from planner.field.targets import (
-    STRONG_OVERLAP,
-    Link,
-    Target,
-    propose_targets,
-)
+from planner.field.targets import STRONG_OVERLAP, Link, Target, propose_targets
 from planner.field.timing import FieldTime, field_time
-from planner.field.walking import (
-    SNAP_M,
-    WalkGraph,
-    WalkSpace,
-    snap_distance,
-    walk_graph,
-    walk_space,
-)
+from planner.field.walking import SNAP_M, WalkGraph, WalkSpace, snap_distance, walk_graph, walk_space
 from planner.instrument.field_table import FieldProperties
 from planner.plan.hours.field_time import field_properties
 from planner.plan.problem import Problem

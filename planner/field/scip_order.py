@@ -32,14 +32,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from planner.field.order import order_length, registration_violations
+from planner.field.order import SCALE, TIME_CAP_S, order_length, registration_violations
 
-#: distances go to SCIP in millimetres, rounded down
-SCALE = 1000.0
 #: branch-and-bound nodes SCIP may open (deterministic work limit)
 NODE_LIMIT = 2000
-#: no wall-clock cap unless the user sets one
-WALL_CAP_S: float | None = None
 #: a fractional cut is added when violated by more than this
 MIN_VIOLATION = 1e-3
 #: the constraint handler's priorities: it separates every round, enforces and checks after SCIP's own
@@ -155,7 +151,7 @@ def scip_order(
     closed: bool = False,
     hint: Sequence[int] | None = None,
     node_limit: int = NODE_LIMIT,
-    wall_cap_s: float | None = WALL_CAP_S,
+    wall_cap_s: float | None = TIME_CAP_S,
 ) -> ExactResult:
     """Solve the model of the module text on walking distances ``d`` (finite, m); ``hint``: an order from node 0
     (honouring the rule in ``registration`` mode) given to SCIP as its first solution."""
@@ -171,10 +167,7 @@ def scip_order(
     cuts = _Cuts(n, neighbours, parts, start_is_station, registration)
     handler = _handler(pyscipopt)(x, cuts, n, (registration, neighbours, parts, start_is_station))
     m.includeConshdlr(handler, "route", "subtours and the registration rule", **HANDLER)
-    for name, value in {**SETTINGS, "limits/nodes": node_limit}.items():
-        m.setParam(name, value)
-    if wall_cap_s is not None:
-        m.setParam("limits/time", wall_cap_s)
+    m.setParams({**SETTINGS, "limits/nodes": node_limit} | ({} if wall_cap_s is None else {"limits/time": wall_cap_s}))
     if hint is not None:
         _start_from(m, x, ends, hint, closed)
     m.optimize()

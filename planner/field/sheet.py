@@ -16,10 +16,9 @@ from planner.core.text import dumps
 from planner.field.figure import figure
 from planner.field.page import render_html
 from planner.field.pdf import write_pdf
-from planner.field.record import to_dict
+from planner.field.record import HEADER, rows, to_dict
 from planner.field.run import FieldPlan
 from planner.field.storeys import climbs
-from planner.field.tables import HEADER, rows
 
 __all__ = ["HEADER", "figure", "geojson", "render_html", "rows", "to_dict", "write_sheet"]
 

@@ -26,11 +26,9 @@ def setup_row_id(n: int) -> str:
 
 
 def field_site_map(fp: FieldPlan) -> SiteMap:
-    """The map data of a field sheet: stations in visiting order (numbered 1..N as the setup table; any
-    station the order leaves out follows in plan order), their covered runs, the chain's links, the route
-    and targets of :func:`~planner.field.record.to_dict`, and each station's setup-table row.
-
-    Where ``fp`` carries no coverage (a plan built by hand without one), the map has no coverage layer."""
+    """The map data of a field sheet (see the module text; any station the order leaves out follows in plan order,
+    the route and targets are those of :func:`~planner.field.record.to_dict`); no coverage layer where ``fp``
+    carries no coverage (a plan built by hand without one)."""
     seen = set(fp.order)
     visiting = [*fp.order, *(k for k in range(len(fp.stations)) if k not in seen)]
     stations = [fp.stations[k] for k in visiting]

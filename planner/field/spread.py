@@ -2,9 +2,8 @@
 distance among those whose triangle has no angle below :data:`MIN_ANGLE_DEG` (exact, not a heuristic).
 
 Three targets nearly on one spot or on one line fix a registration badly (or not at all: collinear targets
-leave the rotation about their line free). The choice maximises the smallest of the three pairwise distances;
-among triangles, only those whose smallest angle is at least :data:`MIN_ANGLE_DEG` count, and where no triple of
-places makes such a triangle, the largest smallest distance over all triples is taken and the angle is said.
+leave the rotation about their line free). Where no triple of places makes a triangle with every angle at least
+:data:`MIN_ANGLE_DEG`, the largest smallest distance over all triples is taken and the angle is said.
 
 Exactness: every triangle has a shortest side (i, j), and the angle opposite it, at the third corner k, is its
 smallest angle. So a triple with smallest side d and smallest angle >= a exists iff some pair (i, j) at
@@ -115,9 +114,8 @@ def _first_pair(p: NDArray[np.float64], d: NDArray[np.float64], min_angle_deg: f
 
 
 def spread_triple(points: NDArray[np.float64], min_angle_deg: float = MIN_ANGLE_DEG) -> tuple[int, ...]:
-    """Indices of three ``points`` (N x 2) with the largest smallest pairwise distance among the triples whose
-    smallest angle is at least ``min_angle_deg``; where none is, the largest smallest distance over all triples.
-    Fewer than three points: all of them. Exact (see the module text); deterministic."""
+    """Indices of the spread triple of ``points`` (N x 2) for ``min_angle_deg`` (see the module text; exact,
+    deterministic); fewer than three points: all of them."""
     p = np.asarray(points, dtype=float).reshape(-1, 2)
     if len(p) < 3:
         return tuple(range(len(p)))

@@ -155,12 +155,9 @@ def joined_frames(site: Site, frames: Sequence[str]) -> list[str] | None:
 
 @dataclass(frozen=True, eq=False)
 class StoreyWalk:
-    """Shortest walks between the given points of several frames joined by stairs.
-
-    ``points[i]`` stands in frame ``frames[i]``; ``dist[i, j]``: the walking distance (m; inf: not reachable);
-    ``component[i]``: the walkable part point i stands in (parts joined by a stair are one);
-    :meth:`route` gives a walk as (x, y, frame) points and the flights it climbs.
-    """
+    """Shortest walks between ``points`` of several frames joined by stairs: ``points[i]`` stands in frame
+    ``frames[i]``; ``dist[i, j]`` in m (inf: not reachable); ``component[i]``: the walkable part point i stands in
+    (parts joined by a stair are one)."""
 
     points: NDArray[np.float64]
     frames: tuple[str, ...]

@@ -82,8 +82,7 @@ class Target:
 
 
 def chain_links(g: nx.Graph, order: Sequence[int] | None) -> list[tuple[int, int]]:
-    """The links the crew registers on: each station onto the earlier one it shares most with (``order``
-    given), else the maximum spanning forest by shared fraction."""
+    """The links the crew registers on (see the module text; ``order`` None: the spanning forest)."""
     if order is None:
         forest = nx.maximum_spanning_tree(g, weight="fraction", algorithm="kruskal")
         return sorted((min(u, v), max(u, v)) for u, v in forest.edges())
@@ -269,8 +268,8 @@ def propose_targets(
 
 
 def _spread(seen: NDArray[np.bool_], cand_xy: NDArray[np.float64], i: int, j: int) -> Spread:
-    """The places chosen for the weak link (i, j): the spread triple of the places both see
-    (:func:`~planner.field.spread.spread`), as indices of ``cand_xy``; fewer than three places: all of them."""
+    """The spread triple (:func:`~planner.field.spread.spread`) of the places both stations of the weak link (i, j)
+    see, as indices of ``cand_xy``."""
     cands = np.flatnonzero(seen[i] & seen[j])
     sp = spread(cand_xy[cands])
     return Spread(tuple(sorted(int(cands[k]) for k in sp.chosen)), sp.min_distance_m, sp.min_angle_deg, sp.note)

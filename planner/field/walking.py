@@ -25,6 +25,7 @@ from shapely.geometry.polygon import orient
 
 from planner.coverage.openings import OPENING_DEPTH_M, PASSABLE, opening_segments, solid_intervals, wall_gaps
 from planner.site.model import SITE_FRAME, ScanSide, Site
+from planner.site.placement import tangent_normal
 
 #: open ground around the zones of a frame without a site boundary (m)
 OPEN_MARGIN_M = 20.0
@@ -53,12 +54,8 @@ def _passages(site: Site, frame: str) -> tuple[list[shapely.Geometry], list]:
     segs = [s for s in opening_segments(site, frame) if s[2] in PASSABLE]
     rects = []
     for _zi, _w, _kind, ends in segs:
-        d = ends[1] - ends[0]
-        n = np.array([-d[1], d[0]]) / float(np.hypot(*d))
-        depth = OPENING_DEPTH_M + WALL_CLEARANCE_M
-        rects.append(
-            shapely.Polygon([ends[0] + depth * n, ends[1] + depth * n, ends[1] - depth * n, ends[0] - depth * n])
-        )
+        n = (OPENING_DEPTH_M + WALL_CLEARANCE_M) * tangent_normal(ends)[1]
+        rects.append(shapely.Polygon([ends[0] + n, ends[1] + n, ends[1] - n, ends[0] - n]))
     return rects, segs
 
 
@@ -121,12 +118,8 @@ def reflex_corners(area: shapely.Geometry) -> NDArray[np.float64]:
 
 @dataclass(frozen=True, eq=False)
 class WalkGraph:
-    """Shortest walks between the given points of one walkable area.
-
-    ``points``: the points asked for (stations, start), each snapped into the area (``snapped``);
-    ``dist[i, j]``: walking distance in m (inf: not reachable); ``component[i]``: the part of the area
-    point i stands in. :meth:`path` gives the polyline of a walk.
-    """
+    """Shortest walks between ``points`` (stations, start) of one walkable area, each snapped into it (``snapped``):
+    ``dist[i, j]`` in m (inf: not reachable), ``component[i]`` the part of the area point i stands in."""
 
     space: WalkSpace
     points: NDArray[np.float64]
@@ -162,12 +155,9 @@ def snap_distance(space: WalkSpace, xy: tuple[float, float]) -> float:
 
 
 def walk_graph(space: WalkSpace, points: Sequence[tuple[float, float]]) -> WalkGraph:
-    """The visibility graph of ``space`` with ``points`` added, and the shortest walks between the points.
-
-    A point farther than :data:`SNAP_M` from the area is left unjoined (unreachable); the caller
-    decides what that means. Cost: C corners and P points, (C + P)^2 / 2 segment tests in one vectorised
-    shapely call, then P Dijkstra runs.
-    """
+    """The visibility graph of ``space`` with ``points`` added, and the shortest walks between the points. A point
+    farther than :data:`SNAP_M` from the area is left unjoined (unreachable; the caller decides what that means).
+    Cost: C corners and P points, (C + P)^2 / 2 segment tests in one vectorised shapely call, then P Dijkstra runs."""
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     snapped = pts.copy()
     for k, p in enumerate(pts):
