@@ -213,12 +213,11 @@ def test_the_pair_test_is_moller_trumbore_away_from_the_tolerance(seed):
 def walls_only_rooms(draw):
     """A star-shaped room of 4-10 walls of one height H about (cx, cy), maybe a block of height H near its middle,
     stations inside (not in the block), points on the walls off their corners (heights 0..H), an instrument height
-    0.5H..H. Off the corners: see test_at_a_corner_the_plan_views_line_tolerance_blocks_more.
-
-    Vertex k is at angle 2 pi (k + j_k) / n, |j_k| <= 1/4, radius 3..10 m: the gaps are under 180 deg, so the outline is
-    simple and star-shaped about the centre, and a station at 0.1..0.97 of the way from the centre to a point of a wall
-    is inside (with reflex corners that hide walls). The block (radii 0.5..2.5 m, shrunk until it stands 0.1 m inside
-    the room) is a prism of height H; stations within 0.05 m of it are dropped."""
+    0.5H..H. Off the corners: see test_at_a_corner_the_plan_views_line_tolerance_blocks_more. Vertex k is at angle 2 pi
+    (k + j_k) / n, |j_k| <= 1/4, radius 3..10 m: the gaps are under 180 deg, so the outline is simple and star-shaped
+    about the centre, and a station at 0.1..0.97 of the way from the centre to a point of a wall is inside (with reflex
+    corners that hide walls). The block (radii 0.5..2.5 m, shrunk until it stands 0.1 m inside the room) is a prism of
+    height H; stations within 0.05 m of it are dropped."""
     n = draw(st.integers(4, 10))
     cx, cy = draw(st.floats(-100, 100)), draw(st.floats(-100, 100))
     h = draw(st.floats(2.0, 6.0))
