@@ -18,6 +18,7 @@ from planner.instrument.accuracy import (
     derive_theta_max_deg,
     incidence_limit_deg,
     max_slant_range_m,
+    parse_scale,
     sigma_instr_m,
     tolerance_for_scale_m,
 )
@@ -100,8 +101,6 @@ class Parameters:
 
     def with_scale(self, scale: str | int) -> Parameters:
         """The same parameters with sigma_req taken from drawing-scale table 1.1."""
-        from planner.instrument.accuracy import parse_scale
-
         return replace(self, sigma_req_m=tolerance_for_scale_m(scale), drawing_scale=parse_scale(scale))
 
 

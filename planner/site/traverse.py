@@ -95,12 +95,10 @@ class ClosureReport:
     def summary(self) -> str:
         n = self.relative_precision
         ratio = "exact" if math.isinf(n) or n > 1e9 else f"1:{n:,.0f}"
-        text = (
-            f"angles {self.angular_misclosure_deg:+.4f} deg, linear {self.linear_misclosure_m * 1000:.1f} mm ({ratio})"
+        linear = f"linear {self.linear_misclosure_m * 1000:.1f} mm ({ratio})"
+        return f"angles {self.angular_misclosure_deg:+.4f} deg, {linear}" + (
+            " [accepted]" if self.accepted_reason else ""
         )
-        if self.accepted_reason:
-            text += " [accepted]"
-        return text
 
 
 def walk(lengths: NDArray[np.float64], angles_deg: NDArray[np.float64]) -> NDArray[np.float64]:
