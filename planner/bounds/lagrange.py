@@ -277,11 +277,19 @@ def _part_matrix(a: sp.csr_matrix, js: NDArray[np.int64], part: NDArray[np.int64
 def _union_cost(
     a: sp.csr_matrix, c: NDArray[np.float64], cands: list[NDArray[np.int64]], res: list[PartResult]
 ) -> float:
-    """The cost of the union of the parts' covers, pruned (a cover of the whole)."""
+    """The cost of the union of the parts' covers (a cover of the whole) less the stations no piece needs, dropped in
+    order of fewest pieces seen."""
     x = np.zeros(a.shape[0], dtype=bool)
     for js, r in zip(cands, res):
         x[js[r.chosen]] = True
-    return float(c[_pruned(a, x)].sum())
+    count = np.asarray(a[x].astype(np.int64).sum(axis=0)).ravel()
+    sizes = np.diff(a.indptr)
+    for j in sorted(np.flatnonzero(x), key=lambda j: (sizes[j], j)):
+        seen = a.indices[a.indptr[j] : a.indptr[j + 1]]
+        if np.all(count[seen] >= 2):
+            x[j] = False
+            count[seen] -= 1
+    return float(c[x].sum())
 
 
 def group_parts(
@@ -305,16 +313,3 @@ def _subgradient(n: int, cands: list[NDArray[np.int64]], res: list[PartResult]) 
         count[js] += 1
     mean = np.divide(total, count, out=np.zeros(n), where=count > 0)
     return [r.chosen.astype(float) - mean[js] for js, r in zip(cands, res)]
-
-
-def _pruned(a: sp.csr_matrix, x: NDArray[np.bool_]) -> NDArray[np.bool_]:
-    """``x`` (a cover) less the stations no piece needs, dropped in order of fewest pieces seen."""
-    x = x.copy()
-    count = np.asarray(a[x].astype(np.int64).sum(axis=0)).ravel()
-    sizes = np.diff(a.indptr)
-    for j in sorted(np.flatnonzero(x), key=lambda j: (sizes[j], j)):
-        seen = a.indices[a.indptr[j] : a.indptr[j + 1]]
-        if np.all(count[seen] >= 2):
-            x[j] = False
-            count[seen] -= 1
-    return x
