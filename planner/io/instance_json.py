@@ -305,14 +305,10 @@ def _check_references(
     accepted: tuple[AcceptedMisclosure, ...],
 ) -> None:
     table_zones = {z.id for z in zones if z.closure is not None}
-    for c in corrections:
-        if c.zone not in table_zones:
-            raise r.fail("correction names no table zone of this instance", zone=c.zone, field="corrections")
-    for a in accepted:
-        if a.zone not in table_zones:
-            raise r.fail(
-                "accepted misclosure names no table zone of this instance", zone=a.zone, field="accepted_misclosures"
-            )
+    named = [(c.zone, "correction", "corrections") for c in corrections]
+    for zone, what, key in named + [(a.zone, "accepted misclosure", "accepted_misclosures") for a in accepted]:
+        if zone not in table_zones:
+            raise r.fail(f"{what} names no table zone of this instance", zone=zone, field=key)
 
 
 def _obstacle(r: InstanceReader, raw: Any, k: int) -> Obstacle:

@@ -41,30 +41,17 @@ def _control(o: Outcome) -> tuple[list[MapPoint], list[MapLine]]:
     if o.network is None:
         return [], []
     g = o.network.graph
-    points = [  # control points and the traverse's own points: the graph's control nodes
-        MapPoint(
-            str(n),
-            str(d["frame"]),
-            float(d["x"]),
-            float(d["y"]),
-            "proposed" if d.get("proposed") else "control",
-            f"control point {n}" + (" (proposed)" if d.get("proposed") else ""),
-        )
-        for n, d in g.nodes(data=True)
-        if d.get("kind") == "control"
-    ]
-    legs = [
-        MapLine(
-            f"{u}-{v}",
-            str(g.nodes[u]["frame"]),
-            "traverse",
-            ((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"])),
-            False,
-            f"traverse leg {u} - {v}, {d['length_m']:.1f} m",
-        )
-        for u, v, d in g.edges(data=True)
-        if "traverse" in d["kinds"]
-    ]
+    points, legs = [], []
+    for n, d in g.nodes(data=True):
+        if d.get("kind") == "control":  # control points and the traverse's own points
+            kind, note = ("proposed", " (proposed)") if d.get("proposed") else ("control", "")
+            at = str(n), str(d["frame"]), float(d["x"]), float(d["y"])
+            points.append(MapPoint(*at, kind, f"control point {n}{note}"))
+    for u, v, d in g.edges(data=True):
+        if "traverse" in d["kinds"]:
+            ends = ((g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"]))
+            label = f"traverse leg {u} - {v}, {d['length_m']:.1f} m"
+            legs.append(MapLine(f"{u}-{v}", str(g.nodes[u]["frame"]), "traverse", ends, False, label))
     return points, legs
 
 

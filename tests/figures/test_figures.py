@@ -72,34 +72,15 @@ def test_uncovered_pieces_are_drawn_red():
 
 
 def test_comparison_figure_from_benchmark_rows():
+    keys = ("instance", "method", "backend", "overlap", "stations", "time_s", "status")
     rows = [
-        {
-            "instance": "a",
-            "method": "closed-form",
-            "backend": "",
-            "stations": "28",
-            "time_s": "0.02",
-            "status": "feasible",
-        },
-        {"instance": "a", "method": "greedy", "backend": "", "stations": "26", "time_s": "0.01", "status": "feasible"},
-        {
-            "instance": "a",
-            "method": "milp",
-            "backend": "cpsat",
-            "overlap": "no",
-            "stations": "19",
-            "time_s": "0.5",
-            "status": "optimal",
-        },
-        {
-            "instance": "a",
-            "method": "milp",
-            "backend": "cbc",
-            "overlap": "no",
-            "stations": "19",
-            "time_s": "0.6",
-            "status": "optimal",
-        },
+        dict(zip(keys, row))
+        for row in [
+            ("a", "closed-form", "", "no", "28", "0.02", "feasible"),
+            ("a", "greedy", "", "no", "26", "0.01", "feasible"),
+            ("a", "milp", "cpsat", "no", "19", "0.5", "optimal"),
+            ("a", "milp", "cbc", "no", "19", "0.6", "optimal"),
+        ]
     ]
     fig = comparison_figure(rows)
     ax_counts, ax_times = fig.axes[:2]

@@ -127,27 +127,17 @@ def test_station_csv_lists_every_station_after_comment_lines(polygon_b, tmp_path
         assert float(r["Z"]) == site.parameters.instrument_height_m
 
 
+#: a 40 x 30 m court in UTM zone 37N (EPSG:32637): east 277,000 m, north 3,770,000 m
+COURT_UTM = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
+
+
 def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
-    pytest.importorskip("pyproj")
+    path = _lonlat_court(tmp_path)
     from planner.io.crs import to_lonlat, to_projected
 
-    # a 40 x 30 m court in UTM zone 37N (EPSG:32637): east 277,000 m, north 3,770,000 m
-    utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
+    utm = COURT_UTM
     lonlat = to_lonlat("EPSG:32637")(utm)
     assert 36.0 < lonlat[0, 0] < 37.0 and 34.0 < lonlat[0, 1] < 34.1  # x = longitude first (always_xy)
-    ring = [list(p) for p in lonlat] + [list(lonlat[0])]
-    fc = {
-        "type": "FeatureCollection",
-        "features": [
-            {
-                "type": "Feature",
-                "geometry": {"type": "Polygon", "coordinates": [ring]},
-                "properties": {"id": "court", "height_m": 8.0},
-            }
-        ],
-    }
-    path = tmp_path / "court.geojson"
-    path.write_text(json.dumps(fc))
     site = planner.read_geojson_site(path, crs="EPSG:32637")
     np.testing.assert_allclose(site.zones[0].xy, utm, atol=1e-6)
     np.testing.assert_allclose(to_projected("EPSG:32637")(lonlat), utm, atol=1e-6)
@@ -159,12 +149,11 @@ def test_crs_round_trip_lonlat_to_utm_and_back(tmp_path):
 
 
 def _lonlat_court(tmp_path):
-    """A 40 x 30 m court in UTM zone 37N written as a lon/lat GeoJSON (RFC 7946's coordinates)."""
+    """The court (:data:`COURT_UTM`) written as a lon/lat GeoJSON (RFC 7946's coordinates)."""
     pytest.importorskip("pyproj")
     from planner.io.crs import to_lonlat
 
-    utm = np.array([[277000.0, 3770000.0], [277040.0, 3770000.0], [277040.0, 3770030.0], [277000.0, 3770030.0]])
-    ring = [list(p) for p in to_lonlat("EPSG:32637")(utm)]
+    ring = [list(p) for p in to_lonlat("EPSG:32637")(COURT_UTM)]
     fc = {
         "type": "FeatureCollection",
         "features": [

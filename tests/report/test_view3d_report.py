@@ -9,7 +9,6 @@ from __future__ import annotations
 import json
 import re
 from dataclasses import replace
-from html.parser import HTMLParser
 
 import pytest
 
@@ -20,19 +19,9 @@ from planner.report.view3d_section import MAX_WALL_PIECES, outcome_scene, view3d
 from tests.browser import body_attributes, chromium, dump_dom, probe
 from tests.conftest import INSTANCES
 from tests.figures.test_view3d import room_rows
+from tests.report.test_site_map import parse
 
 URL = re.compile(r"https?://", re.IGNORECASE)
-
-
-class Addresses(HTMLParser):
-    """Every src and href of a page."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.found: list[str] = []
-
-    def handle_starttag(self, tag, attrs):
-        self.found += [v or "" for k, v in attrs if k in ("src", "href")]
 
 
 def scene_data(page: str) -> dict:
@@ -69,9 +58,7 @@ def test_house2_report_shows_both_storeys_and_every_stations_cover(house2):
     assert sum(c[3] for c in d["covered"]) == int((o.coverage.count > 0).sum())
     section_html = page.split("<h2>3-D view</h2>", 1)[1].split("<h2>", 1)[0]
     assert not URL.search(section_html)
-    p = Addresses()
-    p.feed(page)
-    assert not [a for a in p.found if URL.match(a)]  # the whole report fetches nothing
+    assert not [a for a in parse(page).addresses if URL.match(a)]  # the whole report fetches nothing
 
 
 def test_a_site_over_the_limit_gets_a_note(write_csv, monkeypatch):

@@ -19,22 +19,21 @@ from importlib.resources import files
 
 from planner.figures.webmap.model import MapArea, MapLine, MapPoint, MapStation, Point, SiteMap
 
-#: layers in drawing order (later on top) and their checkbox labels
+#: layers in drawing order (later on top), each named on its checkbox, and the checkbox's tooltip
 LAYERS = (
-    ("walls", "walls", "zones' walls, openings (orange), obstacles, no-go areas, boundary"),
-    ("floors", "floors", "the floor (blue) and ceiling (purple) the selected station covers"),
-    ("coverage", "coverage", "the wall the selected station covers (green)"),
-    ("links", "links", "registration links between stations (selected: red)"),
+    ("walls", "zones' walls, openings (orange), obstacles, no-go areas, boundary"),
+    ("floors", "the floor (blue) and ceiling (purple) the selected station covers"),
+    ("coverage", "the wall the selected station covers (green)"),
+    ("links", "registration links between stations (selected: red)"),
     (
-        "route",
         "route",
         "the field walking route (dashed) from its start (square); legs through a wall, where the model has no "
         "opening: orange, short dashes",
     ),
-    ("traverse", "traverse", "control traverse legs (total station)"),
-    ("control", "control", "control points (proposed: open triangles)"),
-    ("targets", "targets", "registration targets"),
-    ("stations", "stations", "stations, numbered as in the station table"),
+    ("traverse", "control traverse legs (total station)"),
+    ("control", "control points (proposed: open triangles)"),
+    ("targets", "registration targets"),
+    ("stations", "stations, numbered as in the station table"),
 )
 #: layers drawn but switched off at first (dense on large sites)
 FIRST_OFF = frozenset({"traverse"})
@@ -180,7 +179,7 @@ def _frame(m: SiteMap, frame: str, dom_id: str, shown: bool) -> tuple[str, tuple
     }
     groups = "".join(
         f'<g class="sm-L" data-layer="{name}"{OFF if name in FIRST_OFF else ""}>{body[name]}</g>'
-        for name, *_ in LAYERS
+        for name, _ in LAYERS
         if body[name]
     )
     hide = "" if shown else OFF
@@ -232,8 +231,8 @@ def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station 
         select = f'<label>frame <select class="sm-frame">{opts}</select></label>'
     boxes = "".join(
         f'<label title="{_e(tip)}"><input type="checkbox" data-layer="{name}"'
-        f"{'' if name in FIRST_OFF else ' checked'}> {_e(label)}</label>"
-        for name, label, tip in _present(m)
+        f"{'' if name in FIRST_OFF else ' checked'}> {_e(name)}</label>"
+        for name, tip in _present(m)
     )
     zoom = (
         '<span class="sm-zoom"><button type="button" data-zoom="in" title="zoom in">+</button>'
