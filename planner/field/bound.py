@@ -59,7 +59,6 @@ def one_tree(d: NDArray[np.float64], pi: NDArray[np.float64], closed: bool) -> t
         return cost + float(c[0, two].sum()) - 2.0 * float(pi.sum()), deg
     cost, deg = _prim(c)
     last = int(np.argmin(pi[1:])) + 1
-    deg = deg.copy()
     deg[0] += 1
     deg[last] += 1
     return cost + float(pi[0] + pi[last]) - 2.0 * float(pi.sum()), deg

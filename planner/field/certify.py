@@ -57,10 +57,10 @@ def certify(
 ) -> Certified:
     """Bound ``result`` (the routing answer) and improve it by branch-and-cut where it helps (see the module text)."""
     n = len(d)
-    if n <= EXACT_MAX_NODES:
-        bounds = [(HK_EXACT, exact_order(d, closed)[0])]
-    else:
-        bounds = [(HK_TREE, held_karp_bound(d, result.length_m, closed))]
+    exact = n <= EXACT_MAX_NODES
+    bounds = [
+        (HK_EXACT, exact_order(d, closed)[0]) if exact else (HK_TREE, held_karp_bound(d, result.length_m, closed))
+    ]
     registration = mode == "registration"
     if n > 2 and (registration or bounds[0][1] < (1.0 - GAP_TOLERANCE) * result.length_m):
         ex = scip_order(

@@ -64,9 +64,8 @@ def part_names(
     in it, in the site's order) and :data:`OPEN_GROUND` where an outside station stands in it, joined by "+";
     a part that holds only the start point is "the start"."""
     rank = {z.id: k for k, z in enumerate(site.zones)}
-    members: dict[int, list[Candidate]] = {}
+    members: dict[int, list[Candidate]] = {int(c): [] for c in g.component}
     for n, k in enumerate(node_station):
-        members.setdefault(int(g.component[n]), [])
         if k >= 0:
             members[int(g.component[n])].append(stations[k])
     names = {}

@@ -89,9 +89,7 @@ def write_sheet(fp: FieldPlan, folder: Path | str) -> list[Path]:
     paths = [out / f"field.{ext}" for ext in ("html", "csv", "geojson", "json", "pdf")]
     paths[0].write_text(render_html(fp))
     buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(HEADER)
-    w.writerows(rows(fp))
+    csv.writer(buf, lineterminator="\n").writerows([HEADER, *rows(fp)])
     paths[1].write_text(buf.getvalue())
     paths[2].write_text(dumps(geojson(fp)))
     paths[3].write_text(dumps(to_dict(fp)))

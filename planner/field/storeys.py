@@ -239,10 +239,9 @@ def storey_walks(
         u, v = extra[(f.lower, f.foot)], extra[(f.upper, f.head)]
         if (u, v) not in edges or f.length_m < edges[(u, v)].length_m:
             edges[(u, v)] = f
-    for (u, v), f in edges.items():
-        rows.append(u)
-        cols.append(v)
-        w.append(max(f.length_m, 1e-9))
+    rows += [u for u, _ in edges]
+    cols += [v for _, v in edges]
+    w += [max(f.length_m, 1e-9) for f in edges.values()]
     g = coo_matrix((w + w, (rows + cols, cols + rows)), shape=(n, n)).tocsr()
     d, pred = dijkstra(g, directed=False, indices=np.arange(len(pts)), return_predecessors=True)
     dist = d[:, : len(pts)]

@@ -278,10 +278,7 @@ class Site:
         return replace(self, parameters=replace(self.parameters, **changes))  # type: ignore[arg-type]
 
     def zone(self, zone_id: str) -> Zone:
-        for z in self.zones:
-            if z.id == zone_id:
-                return z
-        raise KeyError(zone_id)
+        return {z.id: z for z in self.zones}[zone_id]
 
     @property
     def walls(self) -> tuple[Wall, ...]:

@@ -124,17 +124,13 @@ class ValidationReport:
             ]
             out.append(f"  {z.id}: " + "; ".join(cells))
         bad = [(z.id, w) for z in s.zones for w in z.height_check_failures()]
-        out.append("")
-        if bad:
-            out.append("wall heights that are not the max of their vertex heights:")
-            out += [
-                f"  {zid} wall {w.index}: printed {w.printed_height_m:g}, vertices {w.h_start_m:g} / {w.h_end_m:g}"
-                for zid, w in bad
-            ]
-        else:
-            out.append("wall heights: every printed wall height is the max of its two vertex heights")
-        out.append("")
-        out.append(f"corrections applied: {len(s.corrections)}")
+        ok = "wall heights: every printed wall height is the max of its two vertex heights"
+        out += ["", "wall heights that are not the max of their vertex heights:" if bad else ok]
+        out += [
+            f"  {zid} wall {w.index}: printed {w.printed_height_m:g}, vertices {w.h_start_m:g} / {w.h_end_m:g}"
+            for zid, w in bad
+        ]
+        out += ["", f"corrections applied: {len(s.corrections)}"]
         out += [
             f"  {c.zone} {c.target} {c.field}: printed {c.printed:g} -> {c.corrected:g}. {c.reason}"
             for c in s.corrections
