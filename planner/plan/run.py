@@ -23,6 +23,7 @@ from planner.plan.hours import Hours
 from planner.plan.hours.columns import spacing_coverage, spacing_refusal
 from planner.plan.hours.field_time import field_properties, hours_method
 from planner.plan.hours.verify import verify_spacing
+from planner.plan.memory_guard import check_memory
 from planner.plan.methods import REGISTRY, MethodInput, MethodOutput, closed_form_limits
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
@@ -105,15 +106,8 @@ def coverage_problem(
     unseen piece got a candidate from its own region) and, per such piece, why its region is empty."""
     argument(problem, Problem, "problem")
     site, options, limits = problem.site, problem.options, problem.limits
-    from planner.plan.memory_guard import check_memory  # refuse what will not fit, before building
-
-    check_memory(
-        site,
-        options.target_spacing_m,
-        options.pool.grid_m,
-        closed_form_limits(problem.validation).max_slant_range_m,
-        options.memory_limit_bytes,
-    )
+    s_max = problem.validation.range_limit.max_slant_range_m  # refuse what will not fit, before building
+    check_memory(site, options.target_spacing_m, options.pool.grid_m, s_max, options.memory_limit_bytes)
     targets = problem.targets
     spaces = {} if spaces is None else spaces
     region_cache = {} if region_cache is None else region_cache
@@ -238,11 +232,8 @@ def _checked_plan(
         surfaces = verify_surfaces(site, problem.surfaces, cover, stations, options.verify_spacing_m)
         log.append(f"surfaces verified in {time.perf_counter() - t0:.2f} s")
     # the pool's size (after pricing for the MILP); the closed form solves over its own stations, not counted here
-    size = {
-        "candidates": len(out.pool.candidates),
-        "targets": len(coverage.targets),
-        "pairs": int(out.pool.by_candidate.nnz),
-    }
+    pool = out.pool
+    size = {"candidates": len(pool.candidates), "targets": len(coverage.targets), "pairs": int(pool.by_candidate.nnz)}
     return Plan(
         problem=problem,
         result=result,
@@ -253,7 +244,7 @@ def _checked_plan(
         registration=registration,
         tripods=tripods,
         # the pool the size counts: the best plans known (of walls) are matched on its fingerprint
-        pool=pool_of(out.pool) if surfaces is None else None,
+        pool=pool_of(pool) if surfaces is None else None,
         surfaces=surfaces,
         hours=None if props is None else hours_of(problem, props, result, stations),
     )

@@ -90,14 +90,8 @@ def _search(
     client: Any = None,
 ) -> tuple[Stitched, dict[str, Any]]:
     """The local search on ``kept`` (see :func:`best_plan`) and its record for plan.json."""
-    record: dict[str, Any] = {
-        "moves_budget": moves,
-        "moves": 0,
-        "before": len(kept.selected),
-        "after": len(kept.selected),
-        "removed": 0,
-        "time_s": 0.0,
-    }
+    n = len(kept.selected)
+    record: dict[str, Any] = {"moves_budget": moves, "moves": 0, "before": n, "after": n, "removed": 0, "time_s": 0.0}
     if moves <= 0 or any(p > 1 for p in kept.parts.values()):  # it starts from a connected cover only
         return kept, record
     t0 = time.perf_counter()
@@ -135,16 +129,9 @@ def window_resolves(
     few cores, so not the default: docs/studies/plant.md)."""
     on_dask = client is not None and options.batch > 1
     batch = options.batch if on_dask else 1
-    record: dict[str, Any] = {
-        "passes": options.passes,
-        "radius_m": options.radius_m,
-        "work_s": options.work_s,
-        "windows": 0,
-        "batch": batch,
-        "before": len(kept.selected),
-        "after": len(kept.selected),
-        "time_s": 0.0,
-    }
+    n = len(kept.selected)
+    record: dict[str, Any] = {"passes": options.passes, "radius_m": options.radius_m, "work_s": options.work_s}
+    record.update(windows=0, batch=batch, before=n, after=n, time_s=0.0)
     if options.passes <= 0 or any(p > 1 for p in kept.parts.values()):
         return kept, record
     found = window_search(a, adj, groups, kept.selected, xy, options, floor, TaskRunner(client) if on_dask else None)

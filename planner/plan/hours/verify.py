@@ -112,16 +112,8 @@ def verify_spacing(
     key = np.stack([pts.zone, pts.side, pts.wall], axis=1)
     for z, s, w in np.unique(key, axis=0):
         mask = (pts.zone == z) & (pts.side == s) & (pts.wall == w)
-        walls.append(
-            WallSpacing(
-                pts.zone_ids[int(z)],
-                SIDE_NAME[int(s)],
-                int(w),
-                int(mask.sum()),
-                int(meets[mask].sum()),
-                float(best[mask].max()),
-            )
-        )
+        n, meeting, worst = int(mask.sum()), int(meets[mask].sum()), float(best[mask].max())
+        walls.append(WallSpacing(pts.zone_ids[int(z)], SIDE_NAME[int(s)], int(w), n, meeting, worst))
     return SpacingReport(max_spacing_m=max_spacing_m, spacing_m=spacing_m, walls=tuple(walls))
 
 
