@@ -56,7 +56,7 @@ def adjust_heights(
     h0 = {**approx, **fixed}
     for i, o in enumerate(observations):
         for name, sign in ((o.at, -1.0), (o.to, 1.0)):
-            if name in col and not (sign < 0 and o.to == o.at):  # a point to itself: +1 (as the dense A had it)
+            if name in col and not (sign < 0 and o.to == o.at):  # a point to itself: +1 alone
                 rows.append(i)
                 cols.append(col[name])
                 vals.append(sign)

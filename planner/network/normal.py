@@ -35,7 +35,7 @@ PIVOT_TOL = 1e-10
 DENSE_MAX, DENSE_FILL, DENSE_SMALL = 6000, 0.02, 1500
 #: entries of the dense block of Q columns formed at a time (sparse factor)
 BLOCK_ENTRIES = 2_000_000
-#: below this many unknowns a defect is counted as the dense solver counted it, by the rank of N
+#: below this many unknowns a defect is counted as the dense solver counts it, by the rank of N
 DENSE_RANK_MAX = 3000
 
 Lookup = Callable[[NDArray[np.int64], NDArray[np.int64]], NDArray[np.float64]]
@@ -50,7 +50,7 @@ def _splu(m: sp.spmatrix) -> spla.SuperLU:
 
 
 def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
-    """The datum-defect error, with how many unknowns are undetermined: the rank of N as the dense solver counted it
+    """The datum-defect error, with how many unknowns are undetermined: the rank of N as the dense solver counts it
     (small networks), else the small pivots (of a factorisation of N + 1e-13 I on the unit diagonal where none came)."""
     u = n.shape[0]
     if u <= DENSE_RANK_MAX:
