@@ -65,17 +65,8 @@ NODE_LIMITED = tuple(name for name, c in CAPABILITIES.items() if c.node_limit)
 #: ceil(s*lb) implies the original, so solutions stay feasible).
 CP_SCALE = 10**6
 #: CP-SAT's workers, in order, for ``threads`` > 1: the full-LP worker first, then the core-based bound
-CP_PORTFOLIO = (
-    "max_lp",
-    "core",
-    "quick_restart",
-    "default_lp",
-    "reduced_costs",
-    "pseudo_costs",
-    "no_lp",
-    "lb_tree_search",
-    "probing",
-    "fixed",
+CP_PORTFOLIO = tuple(
+    "max_lp core quick_restart default_lp reduced_costs pseudo_costs no_lp lb_tree_search probing fixed".split()
 )
 
 
@@ -127,6 +118,11 @@ def _quiet_stdout_fd() -> Iterator[None]:
     finally:
         os.dup2(saved, 1)
         os.close(saved)
+
+
+def wall_cap(time_limit_s: float | None) -> float | None:
+    """The user's wall-clock cap, if any, in seconds (at least 0.01)."""
+    return max(time_limit_s, 0.01) if time_limit_s is not None and math.isfinite(time_limit_s) else None
 
 
 def hint_values(hint: Hint, n: int) -> dict[int, float]:
@@ -206,8 +202,8 @@ class CpSatBackend:
             for i, val in hint_values(hint, self.n).items():
                 self.model.AddHint(self.x[i], int(round(val)))
         solver = self._cp.CpSolver()
-        if time_limit_s is not None and math.isfinite(time_limit_s):  # the user's wall-clock cap, if any
-            solver.parameters.max_time_in_seconds = max(time_limit_s, 0.01)
+        if (cap := wall_cap(time_limit_s)) is not None:
+            solver.parameters.max_time_in_seconds = cap
         if self.work_limit is not None:  # a work budget makes one worker's answer independent of the load
             solver.parameters.max_deterministic_time = max(self.work_limit - self.work_used, 1e-3)
         # one worker with the full LP relaxation is deterministic and proves set-cover optima quickly
@@ -221,11 +217,9 @@ class CpSatBackend:
         cp = self._cp
         if status in (cp.OPTIMAL, cp.FEASIBLE):
             sel = tuple(i for i, v in enumerate(self.x[: self.n]) if solver.BooleanValue(v))
+            outcome = Outcome.OPTIMAL if status == cp.OPTIMAL else Outcome.FEASIBLE
             return BackendResult(
-                Outcome.OPTIMAL if status == cp.OPTIMAL else Outcome.FEASIBLE,
-                sel,
-                solver.ObjectiveValue() / self.scale,
-                solver.BestObjectiveBound() / self.scale,
+                outcome, sel, solver.ObjectiveValue() / self.scale, solver.BestObjectiveBound() / self.scale
             )
         if status == cp.INFEASIBLE:
             return BackendResult(Outcome.INFEASIBLE, (), None, None)
@@ -286,8 +280,8 @@ class MipBackend:
 
     def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         s = self.solver
-        if time_limit_s is not None and math.isfinite(time_limit_s):  # the user's wall-clock cap, if any
-            s.SetTimeLimit(int(max(time_limit_s, 0.01) * 1000))
+        if (cap := wall_cap(time_limit_s)) is not None:
+            s.SetTimeLimit(int(cap * 1000))
         s.SetNumThreads(threads)
         if self.capabilities.node_limit:  # SCIP: its seed and node limit as its own parameters
             nodes = f"limits/nodes = {self.node_limit}\n" if self.node_limit is not None else ""
@@ -301,12 +295,8 @@ class MipBackend:
         if status in (lp.Solver.OPTIMAL, lp.Solver.FEASIBLE):
             sel = tuple(i for i, v in enumerate(self.x[: self.n]) if v.solution_value() > 0.5)
             bound = s.Objective().BestBound()
-            return BackendResult(
-                Outcome.OPTIMAL if status == lp.Solver.OPTIMAL else Outcome.FEASIBLE,
-                sel,
-                s.Objective().Value(),
-                bound if math.isfinite(bound) else None,
-            )
+            outcome = Outcome.OPTIMAL if status == lp.Solver.OPTIMAL else Outcome.FEASIBLE
+            return BackendResult(outcome, sel, s.Objective().Value(), bound if math.isfinite(bound) else None)
         if status == lp.Solver.INFEASIBLE:
             return BackendResult(Outcome.INFEASIBLE, (), None, None)
         return BackendResult(Outcome.UNKNOWN, (), None, None)
@@ -362,14 +352,12 @@ class PulpBackend:
             for i, val in hint_values(hint, self.n).items():
                 x[i].setInitialValue(val)
         with tempfile.TemporaryDirectory() as tmp:
+            options = [f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"]
+            options += [f"maxNodes {self.node_limit}"] if self.node_limit is not None else []
+            cap = wall_cap(time_limit_s)
+            warm = hint is not None
             cmd = pulp.PULP_CBC_CMD(
-                msg=False,
-                timeLimit=max(time_limit_s, 0.01) if time_limit_s is not None and math.isfinite(time_limit_s) else None,
-                threads=threads,
-                warmStart=hint is not None,
-                options=[f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"]
-                + ([f"maxNodes {self.node_limit}"] if self.node_limit is not None else []),
-                keepFiles=False,
+                msg=False, timeLimit=cap, threads=threads, warmStart=warm, options=options, keepFiles=False
             )
             cmd.tmpDir = tmp
             prob.solve(cmd)

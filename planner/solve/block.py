@@ -214,20 +214,18 @@ class BlockSolver:
         return float(self.backend.work_used) if self.backend.capabilities.work_limit else 0.0
 
     def run(self, deadline: float, work_until: float | None = None) -> None:
-        """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline (``math.inf``:
-        none), (when given) until the block's CP-SAT work reaches ``work_until``, or until a solve stopped on its
-        limit finds nothing to cut (a re-solve of the same model would give the same answer)."""
+        """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline, the block's CP-SAT
+        work reaches ``work_until`` (when given), or a solve stopped on its limit finds nothing to cut (a re-solve of
+        the same model would give the same answer)."""
         if work_until is not None:
             self.backend.work_limit = work_until
         while not self.done and self.rounds < self.o.max_rounds:
             left = deadline - time.perf_counter()
             if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
                 return
-            hint = (
-                self.flow.hint(self.incumbent)
-                if self.flow is not None and self.incumbent is not None
-                else self.incumbent
-            )
+            hint = self.incumbent
+            if self.flow is not None and self.incumbent is not None:
+                hint = self.flow.hint(self.incumbent)
             res = self.backend.solve(left, self.o.threads, self.o.seed, hint)
             self.rounds += 1
             if self.backend.capabilities.branch_and_cut:  # the cuts its handler added inside the search

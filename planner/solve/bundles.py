@@ -19,9 +19,9 @@ of them candidate c sees. Phases 3-4 keep coverage and connectivity. A group ope
 another: when that leaves a target unseen, the group is fixed to a component that sees it and the pass restarts (at
 most once per group); a target whose seers all lie in one component fixes that component up front.
 
-Complexity (C candidates, T targets, E overlap pairs, k stations taken): a pass is O(k C + nnz(A)) plus O(E log C) per
-bridge; pruning is k connectivity checks; re-growing a group of m candidates costs ``starts`` passes on its m rows.
-Deterministic: ties go to the lowest index, no clock or random draws.
+Complexity (C candidates, E overlap pairs, k stations taken): a pass is O(k C + nnz(A)) plus O(E log C) per bridge;
+pruning is k connectivity checks; re-growing a group of m candidates costs ``starts`` passes on its m rows. Ties go to
+the lowest index (no clock or random draws).
 
 References: V. Chvatal, "A greedy heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235, 1979; F. Jia
 and D. D. Lichti, "An efficient, hierarchical viewpoint planning strategy for terrestrial laser scanner networks",
@@ -78,12 +78,8 @@ class Graph:
 
     def sub(self, members: Ints, cols: Ints) -> Graph:
         """The graph of ``members`` (one group) on the targets ``cols``."""
-        return Graph.of(
-            self.a[members][:, cols],
-            self.adj[members][:, members],
-            np.zeros(len(members), np.int64),
-            self.cost[members],
-        )
+        one = np.zeros(len(members), np.int64)
+        return Graph.of(self.a[members][:, cols], self.adj[members][:, members], one, self.cost[members])
 
 
 def _grow(g: Graph, need: Flags, fixed: Mapping[int, int], first: int | None = None) -> tuple[list[int], Flags]:

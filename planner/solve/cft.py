@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 import scipy.sparse as sp
@@ -53,11 +54,8 @@ def cft_cover(
     n_rows, n_cols = a.shape
     seen = np.bincount(a.indices, minlength=n_cols) > 0
     if not seen.all():
-        raise InfeasibleError(
-            f"{int((~seen).sum())} of {n_cols} targets are seen by no candidate",
-            field="cover",
-            value=int((~seen).sum()),
-        )
+        unseen = int((~seen).sum())
+        raise InfeasibleError(f"{unseen} of {n_cols} targets are seen by no candidate", field="cover", value=unseen)
     if n_cols == 0:  # nothing to cover: CFT is not called on an empty instance
         return CftCover(selected=(), lower_bound=0.0, time_s=0.0)
     cost = np.ones(n_rows) if cost is None else np.asarray(cost, dtype=float)
@@ -76,7 +74,7 @@ def cft_cover(
         init = Solution()
         init.idxs = np.searchsorted(rows, first).tolist()  # the binding's idxs is a copy: assigned, never appended to
         init.cost = float(cost[first].sum())
-        solver._result = _Started(init)
+        solver._result = SimpleNamespace(sol=init)  # what ``solve`` reads of a previous result: its solution
     t0 = time.perf_counter()
     solver.solve(
         seed=seed, time_limit=float("inf") if time_cap_s is None else time_cap_s, verbose=0, heur_iters=heur_iters
@@ -92,10 +90,3 @@ def cft_cover(
         time_s=elapsed,
         capped=time_cap_s is not None and elapsed >= time_cap_s,
     )
-
-
-class _Started:
-    """What ``SetCoverSolver.solve`` reads of a previous result: the solution to start from (``.sol``)."""
-
-    def __init__(self, sol: object) -> None:
-        self.sol = sol

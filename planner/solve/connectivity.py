@@ -57,15 +57,14 @@ def disconnected_groups(
 def connectivity_cuts(
     adj: sp.csr_matrix, comps: list[list[int]], a: sp.csr_matrix | None = None, essential: np.ndarray | None = None
 ) -> list[Cut]:
-    """Cuts that the current components violate (see the module docstring).
-
-    For each component S, its region R(S) holds the candidates strictly closer (in overlap steps) to S than to any
-    other component; R(S)'s boundary N(R) then holds no chosen station. When R(S) cannot cover every *essential*
-    target of the group (a target only that group's candidates see), a connected plan that uses any station i of R(S)
-    must leave R(S), so sum_{v in N(R)} x_v >= x_i for every i in R(S): one cut per candidate of the region, which
-    rules out every disconnected plan with a part inside it; and, S being inside R, sum_{v in N(S)} x_v >= sum_{s in
-    S} x_s - |S| + 1 (S whole needs a chosen neighbour), which also cuts S off wherever the other parts stand.
-    Otherwise the pairwise cut (with a station j of another component) is used.
+    """Cuts that the current components violate (module docstring). For each component S, its region R(S) holds the
+    candidates strictly closer (in overlap steps) to S than to any other component; R(S)'s boundary N(R) then holds no
+    chosen station. When R(S) cannot cover every *essential* target of the group (a target only that group's candidates
+    see), a connected plan that uses any station i of R(S) must leave R(S), so sum_{v in N(R)} x_v >= x_i for every i in
+    R(S): one cut per candidate of the region, which rules out every disconnected plan with a part inside it; and, S
+    being inside R, sum_{v in N(S)} x_v >= sum_{s in S} x_s - |S| + 1 (S whole needs a chosen neighbour), which also
+    cuts S off wherever the other parts stand. Otherwise the pairwise cut (with a station j of another component) is
+    used.
     """
     n = adj.shape[0]
     dist = np.vstack([dijkstra(adj, directed=False, indices=c, unweighted=True, min_only=True) for c in comps])
@@ -79,29 +78,21 @@ def connectivity_cuts(
         if a is not None and essential is not None:
             seen = np.asarray(a[np.flatnonzero(region)].sum(axis=0)).ravel() > 0
             strong = bool(np.any(essential & ~seen))
+        near = np.asarray(adj[comp].sum(axis=0)).ravel() > 0
+        near[comp] = False
+        ns = np.flatnonzero(near)  # N(S)
         if strong:
             ones = np.ones(len(nb))
             for i in np.flatnonzero(region):
                 cuts.append((np.append(nb, i).astype(np.int64), np.append(ones, -1.0), 0.0))
             if len(comp) > 1:  # S itself needs a chosen neighbour: sum_{N(S)} x >= sum_{s in S} x_s - |S| + 1
-                near = np.asarray(adj[comp].sum(axis=0)).ravel() > 0
-                near[comp] = False
-                ln = np.flatnonzero(near)
-                cuts.append(
-                    (
-                        np.concatenate([ln, comp]).astype(np.int64),
-                        np.concatenate([np.ones(len(ln)), -np.ones(len(comp))]),
-                        1.0 - len(comp),
-                    )
-                )
+                idx = np.concatenate([ns, comp]).astype(np.int64)
+                cuts.append((idx, np.concatenate([np.ones(len(ns)), -np.ones(len(comp))]), 1.0 - len(comp)))
             continue
-        near = np.asarray(adj[comp].sum(axis=0)).ravel() > 0
-        near[comp] = False
-        nb = np.flatnonzero(near)
         for j, other in enumerate(comps):
             if j != k:
-                idx = np.concatenate([nb, [comp[0], other[0]]]).astype(np.int64)
-                cuts.append((idx, np.concatenate([np.ones(len(nb)), [-1.0, -1.0]]), -1.0))
+                idx = np.concatenate([ns, [comp[0], other[0]]]).astype(np.int64)
+                cuts.append((idx, np.concatenate([np.ones(len(ns)), [-1.0, -1.0]]), -1.0))
     return cuts
 
 
@@ -136,11 +127,6 @@ def essential_targets(a: sp.csr_matrix, groups: Sequence[Hashable]) -> dict[Hash
     return out
 
 
-def _step_weights(adj: sp.csr_matrix, cost: np.ndarray) -> sp.csr_matrix:
-    """Edge u->v weighs cost[v]: a path's length is the cost of the stations it adds."""
-    return adj.astype(np.float64).multiply(np.asarray(cost, dtype=float)[None, :]).tocsr()
-
-
 def path_to_nearest(weights: sp.csr_matrix, sources: Sequence[int], wanted: np.ndarray) -> list[int] | None:
     """Nodes (excluding the sources) of the cheapest path from ``sources`` to any node where ``wanted``."""
     dist, pred, _ = dijkstra(weights, directed=True, indices=list(sources), min_only=True, return_predecessors=True)
@@ -162,7 +148,8 @@ def repair(
     """Each group's choice made connected by the cheapest chains of stations between its components (None if some
     cannot be joined)."""
     chosen = {int(i) for i in selected}
-    weights = _step_weights(adj, cost)
+    # edge u->v weighs cost[v]: a path's length is the cost of the stations it adds
+    weights = adj.astype(np.float64).multiply(np.asarray(cost, dtype=float)[None, :]).tocsr()
     for g, members in group_members(groups, sorted(chosen)).items():
         comps = components(adj, members)
         while len(comps) > 1:

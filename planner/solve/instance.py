@@ -22,15 +22,14 @@ from planner.solve.combined import information
 
 @dataclass(frozen=True, eq=False)
 class CoverInstance:
-    """Candidates (rows of ``by_candidate``) covering targets (columns).
-
-    ``groups[c]``: the registration group of candidate c (zone, side); the chosen candidates of one group must form a
-    connected overlap graph. ``target_length_m``: wall length of each target (overlap is measured in metres of wall).
-    ``xy``: candidate positions (for ``max_link_m``). ``info``: C x T weights (sigma_req / sigma_tj)^2 of the combined
-    precision mode. ``links``: C x C symmetric pairs related besides shared wall (seen through an opening); ``groups``
-    are then accessible areas of the site (``--registration site``). ``relation``: C x C symmetric, the registration
-    relation given whole, in place of the overlap rule's (:mod:`planner.bounds.plane_refine`: relaxed links between
-    patches of the plane); None: the rule's.
+    """Candidates (rows of ``by_candidate``) covering targets (columns). ``groups[c]``: the registration group of
+    candidate c (zone, side); the chosen candidates of one group must form a connected overlap graph.
+    ``target_length_m``: wall length of each target (overlap is measured in metres of wall). ``xy``: candidate positions
+    (for ``max_link_m``). ``info``: C x T weights (sigma_req / sigma_tj)^2 of the combined precision mode. ``links``: C
+    x C symmetric pairs related besides shared wall (seen through an opening); ``groups`` are then accessible areas of
+    the site (``--registration site``). ``relation``: C x C symmetric, the registration relation given whole, in place
+    of the overlap rule's (:mod:`planner.bounds.plane_refine`: relaxed links between patches of the plane); None: the
+    rule's.
     """
 
     by_candidate: sp.csr_matrix
@@ -64,11 +63,8 @@ class CoverInstance:
         if self.relation is not None and self.relation.shape != (c, c):
             raise InputError(f"a relation of shape {self.relation.shape} for {c} candidates", field="relation", value=c)
         if self.target_length_m is not None and len(self.target_length_m) != t:
-            raise InputError(
-                f"{len(self.target_length_m)} target lengths for {t} targets",
-                field="target_length_m",
-                value=len(self.target_length_m),
-            )
+            n = len(self.target_length_m)
+            raise InputError(f"{n} target lengths for {t} targets", field="target_length_m", value=n)
 
     @property
     def shape(self) -> tuple[int, int]:

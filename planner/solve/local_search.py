@@ -215,13 +215,12 @@ def shrink(
     tabu: int = 2,
     deadline: float = math.inf,
 ) -> Shrunk:
-    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring), ``plan`` itself
-    when none smaller is found.
-
-    ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric overlap
-    adjacency, links within a group only; ``moves``: the move budget (0: ``plan`` as it is); ``floor``: stop at this
-    many stations (a proven lower bound); ``tabu``: moves a station added may not be removed; ``deadline``: the user's
-    wall-clock cap as a ``time.perf_counter()`` instant, looked at every :data:`_CLOCK_EVERY` moves.
+    """The smallest connected cover found from ``plan`` within ``moves`` moves (module docstring), ``plan`` itself when
+    none smaller is found. ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x
+    C symmetric overlap adjacency, links within a group only; ``moves``: the move budget (0: ``plan`` as it is);
+    ``floor``: stop at this many stations (a proven lower bound); ``tabu``: moves a station added may not be removed;
+    ``deadline``: the user's wall-clock cap as a ``time.perf_counter()`` instant, looked at every :data:`_CLOCK_EVERY`
+    moves.
     """
     best = tuple(sorted(int(i) for i in plan))
     a = a.astype(np.float64).tocsr()

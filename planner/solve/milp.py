@@ -154,11 +154,8 @@ class MilpOptions:
 
 
 def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrides: Any) -> SolveResult:
-    """Solve the cover; the result's status is OPTIMAL only when every block was proven optimal and connected.
-
-    Options come as a :class:`MilpOptions` or as keywords of it, e.g.
-    ``solve(cover_instance(problem), backend="scip", time_limit_s=30, seed=1, threads=1)``.
-    """
+    """Solve the cover, with a :class:`MilpOptions` or keywords of it (``solve(instance, backend="scip", seed=1)``);
+    the result's status is OPTIMAL only when every block was proven optimal and connected."""
     argument(instance, CoverInstance, "instance")
     unknown = sorted(set(overrides) - set(MilpOptions.__dataclass_fields__))
     if unknown:
@@ -178,6 +175,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         return SolveResult.no_plan("milp", status, start, o.backend, {"presolve": report.to_dict()})
     selected: list[int] = [int(b.cands[i]) for b in solvers for i in (b.incumbent or ())]
     objective = float(sum(b.cost[b.incumbent].sum() for b in solvers))
+    # a proven block's bound is its incumbent's cost: with every block proven, the bound is the objective
     bound = float(
         sum(b.cost[b.incumbent].sum() if b.done else min(b.bound, b.cost[b.incumbent].sum()) for b in solvers)
     )
@@ -185,16 +183,10 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     # the user's wall-clock cap, not the counted work, ended the search: only then may the plan depend on the load
     capped = not all_optimal and time.perf_counter() >= deadline
     stats = _stats(solvers, o, o.rule is not None and instance.groups is not None, capped)
-    return SolveResult(
-        method="milp",
-        status=Status.OPTIMAL if all_optimal else Status.FEASIBLE,
-        selected=tuple(sorted(selected)),
-        objective=objective,
-        bound=objective if all_optimal else bound,
-        time_s=time.perf_counter() - start,
-        backend=o.backend,
-        info={"presolve": report.to_dict(), **stats.to_dict()},
-        stats=stats,
+    status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
+    info = {"presolve": report.to_dict(), **stats.to_dict()}
+    return SolveResult.timed(
+        "milp", status, sorted(selected), objective, start, bound=bound, backend=o.backend, info=info, stats=stats
     )
 
 

@@ -37,10 +37,9 @@ MIN_TARGETS = 20
 
 @dataclass(frozen=True, kw_only=True)
 class PlainStart:
-    """``selected``: the smallest cover met (the greedy's when nothing beat it); ``greedy``: the greedy cover's
-    stations; ``lp_bound``: the block's cover LP, in cost units; ``cft``: stations of CFT's cover (None: not run, the
-    greedy met the bound); ``cft_bound``: CFT's Lagrangian bound, in cost units; ``searched``: stations after the
-    local search from CFT's cover; ``moves``: moves the search made."""
+    """``selected``: the smallest cover met (the greedy's when nothing beat it); ``greedy``, ``cft``, ``searched``:
+    stations of the greedy cover, CFT's (None: not run, the greedy met the bound) and the searched one; the bounds in
+    cost units."""
 
     selected: tuple[int, ...]
     greedy: int

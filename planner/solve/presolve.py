@@ -179,10 +179,9 @@ class _Relation:
         return nb if removed is None else nb[~removed[nb]]
 
     def covers(self, js: np.ndarray, nb: np.ndarray) -> bool:
-        """Whether some j of ``js`` is linked to every candidate of ``nb`` but itself.
-
-        With bits, most j fail on a few of nb: all are tried on ``_PROBES`` of nb spread over it first, and only those
-        that pass on the rest. Else |N(j) & nb| = |nb| - [j in nb], summed over the rows of js."""
+        """Whether some j of ``js`` is linked to every candidate of ``nb`` but itself. With bits, most j fail on a few
+        of nb: all are tried on ``_PROBES`` of nb spread over it first, and only those that pass on the rest. Else |N(j)
+        & nb| = |nb| - [j in nb], summed over the rows of js."""
         ptr = self.adj.indptr
         js = js[ptr[js + 1] - ptr[js] >= nb.size - 1]
         if js.size == 0:

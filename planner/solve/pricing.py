@@ -55,15 +55,8 @@ class WarmCoverLp:
         h.setOptionValue("random_seed", 0)
         n_t, _ = by_target.shape
         self.n_t = n_t
-        h.addRows(
-            n_t,
-            np.ones(n_t),
-            np.full(n_t, highspy.kHighsInf),
-            0,
-            np.zeros(0, np.int32),
-            np.zeros(0, np.int32),
-            np.zeros(0),
-        )
+        no_entries = np.zeros(0, np.int32)
+        h.addRows(n_t, np.ones(n_t), np.full(n_t, highspy.kHighsInf), 0, no_entries, no_entries, np.zeros(0))
         self.add_columns(by_target.T.tocsr())
 
     def add_columns(self, by_candidate: sp.csr_matrix) -> None:
@@ -72,16 +65,8 @@ class WarmCoverLp:
         n = a.shape[0]
         if n == 0:
             return
-        self._h.addCols(
-            n,
-            np.ones(n),
-            np.zeros(n),
-            np.full(n, np.inf),
-            a.nnz,
-            a.indptr[:-1].astype(np.int32),
-            a.indices.astype(np.int32),
-            a.data,
-        )
+        starts, index = a.indptr[:-1].astype(np.int32), a.indices.astype(np.int32)
+        self._h.addCols(n, np.ones(n), np.zeros(n), np.full(n, np.inf), a.nnz, starts, index, a.data)
 
     def close(self) -> None:
         """Free HiGHS's model and solver data now: the ``Highs`` object sits in a reference cycle with its callbacks,

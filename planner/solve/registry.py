@@ -1,5 +1,4 @@
-"""The MILP backends by name: :func:`make_backend` (one home of the choice; SCIP through PySCIPOpt loads only when
-asked for)."""
+"""The MILP backends by name: :func:`make_backend`."""
 
 from __future__ import annotations
 

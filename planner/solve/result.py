@@ -22,10 +22,9 @@ class Status(str, Enum):
 
 @dataclass(frozen=True)
 class WorkStats:
-    """What stopped a MILP and what it spent: ``limit`` (CP-SAT deterministic seconds; None where the backend takes
-    none), ``used``, ``node_limit`` (per solve, where the backend takes one), ``wall_cap_s`` (the user's wall-clock
-    cap) and ``wall_cap_hit``: that cap, not the counted work, ended the search (only then may the plan depend on the
-    machine's load)."""
+    """What stopped a MILP (:attr:`planner.solve.milp.MilpOptions.limits`) and the CP-SAT work it ``used``;
+    ``wall_cap_hit``: the user's wall-clock cap, not the counted work, ended the search (only then may the plan depend
+    on the machine's load)."""
 
     limit: float | None
     used: float

@@ -14,7 +14,6 @@ PySCIPOpt is imported lazily, so that importing the planner does not load SCIP. 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Hashable, Sequence
 from typing import Any
 
@@ -22,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
-from planner.solve.backends import CAPABILITIES, BackendResult, Hint, Outcome, Row, hint_values, is_integral
+from planner.solve.backends import CAPABILITIES, BackendResult, Hint, Outcome, Row, hint_values, is_integral, wall_cap
 from planner.solve.connectivity import connectivity_cuts, disconnected_groups, group_members
 from planner.solve.separators import min_node_separator, nearest_seer, split_graph
 
@@ -101,8 +100,8 @@ class PyScipBackend:
     def solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
         m = self.model
         m.freeTransform()
-        if time_limit_s is not None and math.isfinite(time_limit_s):  # the user's wall-clock cap, if any
-            m.setParam("limits/time", max(time_limit_s, 0.01))
+        if (cap := wall_cap(time_limit_s)) is not None:
+            m.setParam("limits/time", cap)
         if self.node_limit is not None:
             m.setParam("limits/nodes", self.node_limit)
         m.setParam("randomization/randomseedshift", int(seed))

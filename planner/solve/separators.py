@@ -30,21 +30,14 @@ def split_graph(adj: sp.csr_matrix, capacity: np.ndarray) -> sp.csr_matrix:
     coo = sp.triu(adj, k=1).tocoo()
     rows = np.concatenate([np.arange(n), n + coo.row, n + coo.col])
     cols = np.concatenate([n + np.arange(n), coo.col, coo.row])
-    caps = np.concatenate(
-        [
-            np.round(np.clip(capacity, 0, None) * FLOW_SCALE).astype(np.int64),
-            np.full(2 * coo.row.size, _BIG, dtype=np.int64),
-        ]
-    )
+    node_caps = np.round(np.clip(capacity, 0, None) * FLOW_SCALE).astype(np.int64)
+    caps = np.concatenate([node_caps, np.full(2 * coo.row.size, _BIG, dtype=np.int64)])
     return sp.csr_matrix((caps.astype(np.int32), (rows, cols)), shape=(2 * n + 1, 2 * n + 1))
 
 
 def min_node_separator(base: sp.csr_matrix, source: int, sinks: np.ndarray) -> tuple[float, np.ndarray]:
-    """Smallest-capacity node set separating ``source`` from every node of ``sinks`` (sink nodes may be in it).
-
-    Returns the cut value (in the capacity's units) and the separator's nodes. The source's own capacity does not
-    count: the flow starts at its out-node.
-    """
+    """The value (in the capacity's units) and nodes of the smallest-capacity node set separating ``source`` from
+    every node of ``sinks`` (sink nodes may be in it; the source's own capacity does not count)."""
     m = base.shape[0]
     n = (m - 1) // 2
     sink = 2 * n
@@ -76,13 +69,8 @@ def anchor_targets(
     pick = 0
     for _ in range(min(count, targets.size)):
         t = int(targets[pick])
-        dist = dijkstra(
-            adj,
-            directed=False,
-            indices=seers.indices[seers.indptr[t] : seers.indptr[t + 1]],
-            unweighted=True,
-            min_only=True,
-        )
+        near = seers.indices[seers.indptr[t] : seers.indptr[t + 1]]
+        dist = dijkstra(adj, directed=False, indices=near, unweighted=True, min_only=True)
         out.append((t, dist))
         nearest = np.minimum(nearest, nearest_seer(dist, seers, targets))
         finite = np.where(np.isfinite(nearest), nearest, -1)
@@ -100,13 +88,11 @@ def nearest_seer(dist: np.ndarray, seers: sp.csr_matrix, targets: np.ndarray) ->
 def layer_cuts(
     adj: sp.csr_matrix, a: sp.csr_matrix, members: np.ndarray, essential: np.ndarray, anchors: int = 8
 ) -> list[tuple[np.ndarray, np.ndarray, float]]:
-    """Distance-layer cuts of one group: sum_{v in L_k} x_v >= 1.
-
-    For an essential target t, let d(v) be the overlap-step distance of candidate v from the candidates that see t,
-    and D the largest distance from them to the nearest seer of another essential target. Some chosen station sees t
-    and one sees that other target, joined by a chosen path along which d rises by at most one per step; so for k =
-    1..D the layer L_k = {v: d(v) = k} holds a chosen station. Layers of disjoint support add up: the LP pays at least
-    D + 1.
+    """Distance-layer cuts of one group: sum_{v in L_k} x_v >= 1. For an essential target t, let d(v) be the
+    overlap-step distance of candidate v from the candidates that see t, and D the largest distance from them to the
+    nearest seer of another essential target. Some chosen station sees t and one sees that other target, joined by a
+    chosen path along which d rises by at most one per step; so for k = 1..D the layer L_k = {v: d(v) = k} holds a
+    chosen station. Layers of disjoint support add up: the LP pays at least D + 1.
     """
     seers = a.T.tocsr()
     ess = np.flatnonzero(essential)

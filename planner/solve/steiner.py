@@ -1,8 +1,8 @@
 """Joining a cover's pieces into one registered network with few linking stations: a Steiner-tree view.
 
-A cover from a plain-cover engine (:mod:`planner.solve.cft`) usually falls apart under the overlap relation: its
-stations see disjoint walls. Each registration group's chosen stations form components; joining them is a
-node-weighted Steiner problem over the overlap graph (terminals: the components; cost: the stations added).
+A plain cover (:mod:`planner.solve.cft`) usually falls apart under the overlap relation. Joining each registration
+group's components is a node-weighted Steiner problem over the overlap graph (terminals: the components; cost: the
+stations added).
 :func:`steiner_join` uses Mehlhorn's construction (K. Mehlhorn, "A faster approximation algorithm for the Steiner
 problem in graphs", Information Processing Letters 27, 1988), with node weights:
 

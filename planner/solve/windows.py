@@ -128,13 +128,10 @@ def window_search(
     floor: int = 1,
     run: Runner | None = None,
 ) -> Windowed:
-    """The smallest connected cover found by re-solving ``plan`` window by window (module docstring).
-
-    ``a``: C x T boolean coverage (the targets to cover are those ``plan`` covers); ``adj``: C x C symmetric overlap
-    adjacency, links within a group only; ``xy``: C x 2 candidate positions (m); ``floor``: stop at this many stations
-    (a proven lower bound); ``run``: a :class:`Runner` (e.g. :class:`planner.tiles.engine.TaskRunner` on Dask) that
-    keeps ``options.batch`` windows in flight (default: here, one after the other).
-    """
+    """The smallest connected cover found by re-solving ``plan`` window by window (module docstring); ``a``, ``adj``
+    and ``floor`` as for :func:`planner.solve.local_search.shrink`. ``xy``: C x 2 candidate positions (m); ``run``: a
+    :class:`Runner` (e.g. :class:`planner.tiles.engine.TaskRunner` on Dask) that keeps ``options.batch`` windows in
+    flight (default: here, one after the other)."""
     o = options or WindowOptions()
     in_flight = o.batch if run is not None else 1
     # without a runner: here, one window at a time, as the answers are taken
@@ -172,15 +169,8 @@ def window_search(
                 k = place + 1
         for _, later in flight:  # the plan reached the floor
             later.cancel()
-    return Windowed(
-        tuple(int(i) for i in plan_s),
-        len(set(plan)),
-        windows,
-        proven,
-        capped,
-        tuple(history),
-        time.perf_counter() - start,
-    )
+    selected = tuple(int(i) for i in plan_s)
+    return Windowed(selected, len(set(plan)), windows, proven, capped, tuple(history), time.perf_counter() - start)
 
 
 def _window_task(
@@ -251,27 +241,12 @@ def _model(
     """The window's cover instance: the free candidates on the window's rows, then one forced node per kept part (a
     private row only it sees), linked to the free candidates linked to one of its stations."""
     nf, nk, nt = free.size, len(parts), rows.size
-    cover = sp.bmat(
-        [
-            [a[free][:, rows], sp.csr_matrix((nf, nk), dtype=bool)],
-            [sp.csr_matrix((nk, nt), dtype=bool), sp.identity(nk, dtype=bool, format="csr")],
-        ],
-        format="csr",
-    )
-    member = sp.csr_matrix(
-        (
-            np.ones(sum(len(p) for _, p in parts)),
-            (
-                np.concatenate([p for _, p in parts]).astype(np.int64) if parts else np.zeros(0, np.int64),
-                np.repeat(np.arange(nk), [len(p) for _, p in parts]),
-            ),
-        ),
-        shape=(a.shape[0], nk),
-    )
+    cover = sp.bmat([[a[free][:, rows], None], [None, sp.identity(nk, dtype=bool, format="csr")]], format="csr")
+    stations = np.concatenate([p for _, p in parts]).astype(np.int64) if parts else np.zeros(0, np.int64)
+    part_of = np.repeat(np.arange(nk), [len(p) for _, p in parts])
+    member = sp.csr_matrix((np.ones(stations.size), (stations, part_of)), shape=(a.shape[0], nk))
     to_parts = sp.csr_matrix((adj[free].astype(np.float64) @ member) > 0)
-    links = sp.bmat(
-        [[adj[free][:, free], to_parts], [to_parts.T, sp.csr_matrix((nk, nk), dtype=bool)]], format="csr"
-    ).astype(bool)
+    links = sp.bmat([[adj[free][:, free], to_parts], [to_parts.T, None]], format="csr").astype(bool)
     labels = tuple([groups[int(i)] for i in free] + [g for g, _ in parts])
     return CoverInstance(
         by_candidate=cover.astype(bool),
