@@ -1,12 +1,11 @@
 """Legs that cross a wall: where the site model has no opening between two parts of the walkable area.
 
-A site drawn without its doors (rooms entered in reality) splits the walkable area into parts no walk
-joins. The sheet is still made: a leg between two parts is the **straight line** from one setup to
-the other, through whatever walls it meets (:func:`bridge`: its length is the straight-line distance, so
-the order and the bound are those of walks where they exist and of straight lines where they do not). Each
-such leg is listed (:class:`Crossing`: the zones whose walls it crosses, the parts it joins), drawn dashed,
-and the summary says once which rooms have no opening in the model (:func:`advice`). ``--strict-walls``
-refuses such a plan instead (exit 4).
+A site drawn without its doors (rooms entered in reality) splits the walkable area into parts no walk joins. The sheet
+is still made: a leg between two parts is the **straight line** from one setup to the other, through whatever walls it
+meets (:func:`bridge`: its length is the straight-line distance, so the order and the bound are those of walks where
+they exist and of straight lines where they do not). Each such leg is listed (:class:`Crossing`: the zones whose walls
+it crosses, the parts it joins), drawn dashed, and the summary says once which rooms have no opening in the model
+(:func:`advice`). ``--strict-walls`` refuses such a plan instead (exit 4).
 """
 
 from __future__ import annotations

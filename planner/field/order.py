@@ -1,16 +1,15 @@
 """The visiting order of the stations: OR-Tools routing on the walking distances, in two modes.
 
-``shortest``: the shortest open path from the start through every station (or tour, ``closed``).
-``registration``: as short as possible such that every station after the first is related by the
-overlap rule to one scanned before it, so the crew registers on site as it goes. Where the plan's
-registration graph has several parts, the first station of each part is free (no earlier station can
-be related to it). The rule is a constraint of the routing model (a rank dimension and, per station,
-"some neighbour has a smaller rank, or none of its part has"), honoured by every solution.
+``shortest``: the shortest open path from the start through every station (or tour, ``closed``). ``registration``: as
+short as possible such that every station after the first is related by the overlap rule to one scanned before it, so
+the crew registers on site as it goes. Where the plan's registration graph has several parts, the first station of each
+part is free (no earlier station can be related to it). The rule is a constraint of the routing model (a rank dimension
+and, per station, "some neighbour has a smaller rank, or none of its part has"), honoured by every solution.
 
-Determinism: the search starts from the nearest-neighbour order (which honours the rule) and runs guided
-local search for ``solution_limit`` solutions, one thread, with no time limit, so the same input gives the same
-order on every machine and under any load; ``time_cap_s`` is a wall-clock cap only where the user sets one
-(when it is reached the order may depend on the machine's speed, and :attr:`OrderResult.capped` says so).
+Determinism: the search starts from the nearest-neighbour order (which honours the rule) and runs guided local search
+for ``solution_limit`` solutions, one thread, with no time limit, so the same input gives the same order on every
+machine and under any load; ``time_cap_s`` is a wall-clock cap only where the user sets one (when it is reached the
+order may depend on the machine's speed, and :attr:`OrderResult.capped` says so).
 """
 
 from __future__ import annotations

@@ -1,14 +1,13 @@
 """field.pdf: the field sheet to print (matplotlib's PDF backend).
 
-Page 1: the plan figure of field.html (:func:`planner.field.figure.figure`) on A4 landscape, or on A3
-landscape where it is large (:func:`map_paper`: the plan would print at a scale smaller than 1:500 on A4,
-or it has more than :data:`A3_SETUPS` setups). Then the setup table on A4 landscape pages, drawn as text rows
-(:func:`rows_per_page` rows a page, from the page height; the header repeated on each page; a row never split),
-and the totals under the last row. The space of the totals is kept free on every page, so the table takes
-exactly ceil(setups / rows_per_page) pages.
+Page 1: the plan figure of field.html (:func:`planner.field.figure.figure`) on A4 landscape, or on A3 landscape where it
+is large (:func:`map_paper`: the plan would print at a scale smaller than 1:500 on A4, or it has more than
+:data:`A3_SETUPS` setups). Then the setup table on A4 landscape pages, drawn as text rows (:func:`rows_per_page` rows a
+page, from the page height; the header repeated on each page; a row never split), and the totals under the last row. The
+space of the totals is kept free on every page, so the table takes exactly ceil(setups / rows_per_page) pages.
 
-The file is written uncompressed (``pdf.compression`` 0, so the page text can be read back by a test) and
-without a creation date, so the same sheet gives the same bytes.
+The file is written uncompressed (``pdf.compression`` 0, so the page text can be read back by a test) and without a
+creation date, so the same sheet gives the same bytes.
 """
 
 from __future__ import annotations

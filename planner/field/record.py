@@ -1,8 +1,7 @@
-"""``field.json``: the field sheet as one dictionary (:func:`to_dict`), which the sheet writes, the report reads
-back (:func:`planner.report.site_map.read_field_sheet`) and the site maps of both pages draw their route and
-targets from (:func:`planner.figures.webmap.field_layers`); and the setup table, shared by field.html, field.csv,
-field.json and field.pdf: one row per setup in visiting order (:data:`HEADER`, :func:`rows`) and the totals line
-(:func:`totals`)."""
+"""``field.json``: the field sheet as one dictionary (:func:`to_dict`), which the sheet writes, the report reads back
+(:func:`planner.report.site_map.read_field_sheet`) and the site maps of both pages draw their route and targets from
+(:func:`planner.figures.webmap.field_layers`); and the setup table, shared by field.html, field.csv, field.json and
+field.pdf: one row per setup in visiting order (:data:`HEADER`, :func:`rows`) and the totals line (:func:`totals`)."""
 
 from __future__ import annotations
 
@@ -103,8 +102,8 @@ def to_dict(fp: FieldPlan) -> dict[str, Any]:
 
 
 def _storeys(fp: FieldPlan) -> dict[str, Any]:
-    """Across storeys (:mod:`planner.field.storeys`): the frames walked through, the frame of every point of
-    every leg, and the stair legs (leg index, stair, way, foot, head, run, rise, length)."""
+    """Across storeys (:mod:`planner.field.storeys`): the frames walked through, each leg's points' frames, the
+    stair legs."""
     return {
         "frames": [sp.frame for sp in fp.spaces],
         "start_frame": fp.space.frame,

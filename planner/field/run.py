@@ -1,12 +1,11 @@
-"""The field sheet's content for a plan: the start, the walking distances, the order with its lower bound,
-the registration targets and the field time (:func:`field_plan`); :mod:`planner.field.sheet` writes it.
+"""The field sheet's content for a plan: the start, the walking distances, the order with its lower bound, the
+registration targets and the field time (:func:`field_plan`); :mod:`planner.field.sheet` writes it.
 
-Errors (one line each): a station that does not stand where its zone and side say, or stands in no
-walkable place, is a plan that does not match the site (:class:`~planner.core.errors.InputError`, exit 3); a
-``--start`` that names no station and no point of the walkable area is a usage error (exit 2); a station
-that no walk joins to the start is reached by a straight leg through the walls, listed on the sheet
-(:mod:`planner.field.crossing`), or, with ``strict_walls``, an infeasible route (exit 4), named with its
-zone and accessible area.
+Errors (one line each): a station that does not stand where its zone and side say, or stands in no walkable place, is a
+plan that does not match the site (:class:`~planner.core.errors.InputError`, exit 3); a ``--start`` that names no
+station and no point of the walkable area is a usage error (exit 2); a station that no walk joins to the start is
+reached by a straight leg through the walls, listed on the sheet (:mod:`planner.field.crossing`), or, with
+``strict_walls``, an infeasible route (exit 4), named with its zone and accessible area.
 """
 
 from __future__ import annotations

@@ -1,9 +1,8 @@
-"""The field sheet's files: ``field.html`` (print-ready: the interactive site map, the plan with numbered
-stations and the route, one row per setup, totals; :mod:`planner.field.page`), ``field.csv`` (the same rows),
-``field.geojson`` (stations in order, the route line, the targets; frame coordinates in metres), ``field.json``
-(order, route, bound, gap, mode, field time, sessions, targets, links, legs through walls;
-:mod:`planner.field.record`) and ``field.pdf`` (the plan, then the setup table on A4 pages;
-:mod:`planner.field.pdf`)."""
+"""The field sheet's files: ``field.html`` (print-ready: the interactive site map, the plan with numbered stations and
+the route, one row per setup, totals; :mod:`planner.field.page`), ``field.csv`` (the same rows), ``field.geojson``
+(stations in order, the route line, the targets; frame coordinates in metres), ``field.json`` (order, route, bound, gap,
+mode, field time, sessions, targets, links, legs through walls; :mod:`planner.field.record`) and ``field.pdf`` (the
+plan, then the setup table on A4 pages; :mod:`planner.field.pdf`)."""
 
 from __future__ import annotations
 
@@ -56,8 +55,7 @@ def geojson(fp: FieldPlan) -> dict[str, Any]:
 
 def _storey_route(fp: FieldPlan) -> list[dict[str, Any]]:
     """Across storeys: the route as one LineString per stretch walked in one frame (property ``frame``, in walking
-    order, ``part`` numbering them) and one per stair leg (role ``stair``, from the foot to the head's plan
-    point)."""
+    order, ``part`` numbering them) and one per stair leg (role ``stair``, from the foot to the head's plan point)."""
     runs: list[tuple[str, list[list[float]]]] = []
     stairs: list[dict[str, Any]] = []
     for k, (leg, frs) in enumerate(zip(fp.legs, fp.leg_frames)):
@@ -82,8 +80,7 @@ def _storey_route(fp: FieldPlan) -> list[dict[str, Any]]:
 
 
 def write_sheet(fp: FieldPlan, folder: Path | str) -> list[Path]:
-    """Write field.html, field.csv, field.geojson, field.json and field.pdf into ``folder``; return their
-    paths."""
+    """Write the sheet's five files (see the module text) into ``folder``; return their paths."""
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     paths = [out / f"field.{ext}" for ext in ("html", "csv", "geojson", "json", "pdf")]

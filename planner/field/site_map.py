@@ -1,13 +1,12 @@
 """The interactive site map of field.html (:func:`field_map_html`): the same map as report.html's
 (:mod:`planner.figures.webmap`), filled from a :class:`~planner.field.run.FieldPlan` (:func:`field_site_map`).
 
-What it shows, by layer: the zones' walls and openings, obstacles, no-go areas and the boundary; per station
-the runs of wall it covers (the coverage the sheet was made from, :attr:`FieldPlan.coverage
-<planner.field.run.FieldPlan.coverage>`, hidden until the station is selected); the registration links of the
-sheet's chain (weak ones dashed); the walking route from its start, the legs through a wall (where the model
-has no opening, :mod:`planner.field.crossing`) in their own dash; the registration targets. Stations are
-numbered in visiting order, as the setup table numbers them, and each links to its row of that table
-(:func:`setup_row_id`): a tap on a station marks its row, a click on a row shows its station.
+What it shows, by layer: the zones' walls and openings, obstacles, no-go areas and the boundary; per station the runs of
+wall it covers (the coverage the sheet was made from, :attr:`FieldPlan.coverage <planner.field.run.FieldPlan.coverage>`,
+hidden until the station is selected); the registration links of the sheet's chain (weak ones dashed); the walking route
+from its start, the legs through a wall (where the model has no opening, :mod:`planner.field.crossing`) in their own
+dash; the registration targets. Stations are numbered in visiting order, as the setup table numbers them, and each links
+to its row of that table (:func:`setup_row_id`): a tap on a station marks its row, a click on a row shows its station.
 """
 
 from __future__ import annotations

@@ -1,15 +1,14 @@
-"""Three registration targets spread apart: the triple of candidate places with the largest smallest pairwise
-distance among those whose triangle has no angle below :data:`MIN_ANGLE_DEG` (exact, not a heuristic).
+"""Three registration targets spread apart: the triple of candidate places with the largest smallest pairwise distance
+among those whose triangle has no angle below :data:`MIN_ANGLE_DEG` (exact, not a heuristic).
 
-Three targets nearly on one spot or on one line fix a registration badly (or not at all: collinear targets
-leave the rotation about their line free). Where no triple of places makes a triangle with every angle at least
+Three targets nearly on one spot or on one line fix a registration badly (or not at all: collinear targets leave the
+rotation about their line free). Where no triple of places makes a triangle with every angle at least
 :data:`MIN_ANGLE_DEG`, the largest smallest distance over all triples is taken and the angle is said.
 
-Exactness: every triangle has a shortest side (i, j), and the angle opposite it, at the third corner k, is its
-smallest angle. So a triple with smallest side d and smallest angle >= a exists iff some pair (i, j) at
-distance d has a k with |ik| >= d, |jk| >= d and the angle at k >= a. Scanning the pairs by decreasing
-distance, the first pair that has such a k gives the maximum (:func:`spread_triple`); the tests check it
-against brute force on random small sets.
+Exactness: every triangle has a shortest side (i, j), and the angle opposite it, at the third corner k, is its smallest
+angle. So a triple with smallest side d and smallest angle >= a exists iff some pair (i, j) at distance d has a k with
+|ik| >= d, |jk| >= d and the angle at k >= a. Scanning the pairs by decreasing distance, the first pair that has such a
+k gives the maximum (:func:`spread_triple`); the tests check it against brute force on random small sets.
 """
 
 from __future__ import annotations
@@ -31,9 +30,8 @@ _BLOCK = 256  # pairs tested per vectorised step
 
 @dataclass(frozen=True)
 class Spread:
-    """A link's target geometry: the places chosen (indices), the smallest pairwise distance (m), the smallest
-    angle of their triangle (deg; None for fewer than three places) and why it falls short ("" when it does
-    not)."""
+    """A link's target geometry: the places chosen (indices), the smallest pairwise distance (m), the smallest angle of
+    their triangle (deg; None for fewer than three places) and why it falls short ("" when it does not)."""
 
     chosen: tuple[int, ...]
     min_distance_m: float | None
@@ -157,11 +155,10 @@ def spread(points: NDArray[np.float64]) -> Spread:
     dmin = min_distance(p[list(chosen)])
     angle = float(triangle_angles(p[list(chosen)]).min()) if len(chosen) == 3 else None
     notes = []
-    if len(chosen) == 3:
-        if dmin < MIN_SPREAD_M:
-            notes.append(f"targets {dmin:.2f} m apart at most")
-        if angle is not None and angle < MIN_ANGLE_DEG:
-            notes.append(f"no triangle of places with every angle >= {MIN_ANGLE_DEG:g} deg (smallest {angle:.0f} deg)")
+    if angle is not None and dmin < MIN_SPREAD_M:
+        notes.append(f"targets {dmin:.2f} m apart at most")
+    if angle is not None and angle < MIN_ANGLE_DEG:
+        notes.append(f"no triangle of places with every angle >= {MIN_ANGLE_DEG:g} deg (smallest {angle:.0f} deg)")
     if notes:
         w, length = _extent(p)
         line = " (nearly on one line)" if w <= 0.1 * length else ""

@@ -194,8 +194,7 @@ class StoreyWalk:
 
 
 def storey_spaces(site: Site, frames: Sequence[str], stations: Sequence[Candidate]) -> dict[str, WalkSpace]:
-    """The walkable area of each of ``frames`` (:func:`~planner.field.walking.walk_space`, with the stations
-    standing in it)."""
+    """The walkable area of each of ``frames`` (:func:`~planner.field.walking.walk_space`, with its stations)."""
     return {fr: walk_space(site, fr, [s.xy for s in stations if s.frame == fr]) for fr in frames}
 
 

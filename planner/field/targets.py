@@ -1,23 +1,21 @@
 """Registration targets: where two linked stations share little wall, targets both of them see.
 
-Links: the overlap relation of the plan's stations (:func:`planner.coverage.overlap.overlap_graph`, in
-the site's registration groups, with the links through openings, which share no wall). The crew
-registers along a chain: in registration order each station on the earlier station it shares most
-with, otherwise the maximum spanning forest of the relation by shared fraction (``shared / smaller
-covered length``). A chain link is weak when that fraction is below ``strong_overlap``; a weak link is
-made strong by :data:`TARGETS_PER_LINK` targets seen by both stations (target-based registration needs
-three common targets, seed 003).
+Links: the overlap relation of the plan's stations (:func:`planner.coverage.overlap.overlap_graph`, in the site's
+registration groups, with the links through openings, which share no wall). The crew registers along a chain: in
+registration order each station on the earlier station it shares most with, otherwise the maximum spanning forest of the
+relation by shared fraction (``shared / smaller covered length``). A chain link is weak when that fraction is below
+``strong_overlap``; a weak link is made strong by :data:`TARGETS_PER_LINK` targets seen by both stations (target-based
+registration needs three common targets, seed 003).
 
-Target places: a checkerboard at the middle of a wall piece (1 m pieces) that both stations see within
-the instrument's target range and target incidence, or a sphere on a tripod in the walkable area (a
-grid of :data:`SPHERE_GRID_M` within target range of both, the pair's midpoint (else a point of the
-lens both reach, which a thin lens may hold without a grid point), and the middle of every door and gate),
-at least :data:`MIN_TARGET_DISTANCE_M` from each and in sight of both. Each weak link gets its own three
-places, spread apart: of the places both stations see, the triple with the largest smallest pairwise distance
-among the triangles with no angle below :data:`~planner.field.spread.MIN_ANGLE_DEG` (exact;
-:mod:`planner.field.spread`), with that distance, the triangle's smallest angle and, where the places allow no
-:data:`~planner.field.spread.MIN_SPREAD_M` or no such triangle, why. Control points of the instance are targets
-too (ties to control), listed with the stations that see them.
+Target places: a checkerboard at the middle of a wall piece (1 m pieces) that both stations see within the instrument's
+target range and target incidence, or a sphere on a tripod in the walkable area (a grid of :data:`SPHERE_GRID_M` within
+target range of both, the pair's midpoint (else a point of the lens both reach, which a thin lens may hold without a
+grid point), and the middle of every door and gate), at least :data:`MIN_TARGET_DISTANCE_M` from each and in sight of
+both. Each weak link gets its own three places, spread apart: of the places both stations see, the triple with the
+largest smallest pairwise distance among the triangles with no angle below :data:`~planner.field.spread.MIN_ANGLE_DEG`
+(exact; :mod:`planner.field.spread`), with that distance, the triangle's smallest angle and, where the places allow no
+:data:`~planner.field.spread.MIN_SPREAD_M` or no such triangle, why. Control points of the instance are targets too
+(ties to control), listed with the stations that see them.
 """
 
 from __future__ import annotations

@@ -60,9 +60,8 @@ def _passages(site: Site, frame: str) -> tuple[list[shapely.Geometry], list]:
 
 
 def walk_space(site: Site, frame: str, points: Sequence[tuple[float, float]] = ()) -> WalkSpace:
-    """The walkable area of ``frame`` (see the module text); without a site boundary the open ground is
-    the bounding box of the zones and of ``points`` (stations standing far out), grown by
-    :data:`OPEN_MARGIN_M`."""
+    """The walkable area of ``frame`` (see the module text); without a site boundary the open ground is the bounding box
+    of the zones and of ``points`` (stations standing far out), grown by :data:`OPEN_MARGIN_M`."""
     zones = [(zi, z) for zi, z in enumerate(site.zones) if z.frame == frame]
     outlines = shapely.union_all([shapely.Polygon(z.xy) for _, z in zones])
     if frame == SITE_FRAME and site.boundary is not None:
@@ -84,10 +83,8 @@ def walk_space(site: Site, frame: str, points: Sequence[tuple[float, float]] = (
             for lo_s, hi_s in solid_intervals(w.length_m, wall_gaps(site, zi, w, segs)):
                 p, q = a + lo_s * u, a + hi_s * u
                 walls.append(((float(p[0]), float(p[1])), (float(q[0]), float(q[1]))))
-    blocked_parts = []
-    if frame == SITE_FRAME:
-        blocked_parts += [shapely.Polygon(ob.vertices) for ob in site.obstacles]
-        blocked_parts += [shapely.Polygon(ng.vertices) for ng in site.no_go_areas]
+    outside = (*site.obstacles, *site.no_go_areas) if frame == SITE_FRAME else ()
+    blocked_parts = [shapely.Polygon(a.vertices) for a in outside]
     blocked = shapely.union_all(blocked_parts) if blocked_parts else shapely.Polygon()
     strip = (
         shapely.union_all(shapely.linestrings([list(w) for w in walls])).buffer(WALL_CLEARANCE_M, quad_segs=2)

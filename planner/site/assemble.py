@@ -98,8 +98,7 @@ def side_tolerance_m(za: Zone, wa: Wall, zb: Zone, wb: Wall, tolerance_m: float)
 
 
 def candidate_matches(zones: tuple[Zone, ...], tolerance_m: float) -> list[WallMatch]:
-    """Every pair of outline sides of two zones with lengths equal within their tolerance
-    (:func:`side_tolerance_m`), closest first."""
+    """Every pair of outline sides of two zones with lengths equal within :func:`side_tolerance_m`, closest first."""
     out = []
     for i, za in enumerate(zones):
         for zb in zones[i + 1 :]:
