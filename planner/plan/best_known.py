@@ -75,17 +75,8 @@ class Known:
 
     def to_dict(self, stations: int) -> dict[str, Any]:
         """What plan.json ``solver.best_known`` holds."""
-        return {
-            "stations": self.stations,
-            "problem": self.problem,
-            "registration": self.registration,
-            "overlap": self.overlap,
-            "command": self.command,
-            "measured": self.measured,
-            "pool": self.pool,
-            "same_pool": self.same_pool,
-            "gap": self.gap(stations),
-        }
+        kept = ("stations", "problem", "registration", "overlap", "command", "measured", "pool", "same_pool")
+        return {**{k: getattr(self, k) for k in kept}, "gap": self.gap(stations)}
 
 
 def best_known(

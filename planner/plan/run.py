@@ -170,18 +170,13 @@ def _method_input(
     start = time.perf_counter()
     spaces: dict[str, FrameSpace] = {}
     region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
-    built = coverage is None
+    how = "coverage given (built once for the run)"
     if coverage is None:
         coverage = build_problem(problem, spaces=spaces, region_cache=region_cache)
-    log = [
-        (
-            f"coverage built in {time.perf_counter() - start:.2f} s "
-            if built
-            else "coverage given (built once for the run) "
-        )
-        + f"({len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
-        f"{', before pricing' if options.method == 'milp' and options.pricing else ''})"
-    ]
+        how = f"coverage built in {time.perf_counter() - start:.2f} s"
+    pricing = ", before pricing" if options.method == "milp" and options.pricing else ""
+    pairs = f"{len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
+    log = [f"{how} ({pairs}{pricing})"]
     cover = None
     if problem.surfaces is not None:  # the floor and ceiling columns, for the same candidates
         t0 = time.perf_counter()

@@ -92,17 +92,7 @@ class SurfaceReport:
                 "spacing_m": self.spacing_m,
                 "percent": self.percent,
                 "complete": self.complete,
-                "zones": [
-                    {
-                        "zone": r.zone,
-                        "type": r.kind,
-                        "points": r.points,
-                        "covered": r.covered,
-                        "percent": r.percent,
-                        "spacing_m": r.spacing_m,
-                    }
-                    for r in self.rows
-                ],
+                "zones": [{"zone": r.zone, "type": r.kind, **_counts(r)} for r in self.rows],
                 "notes": list(self.notes),
             },
         }
@@ -122,6 +112,10 @@ class SurfaceReport:
                 f"in {', '.join(u['zones'])}"
             )
         return out + list(self.notes)
+
+
+def _counts(r: SurfaceCoverage) -> dict[str, Any]:
+    return {"points": r.points, "covered": r.covered, "percent": r.percent, "spacing_m": r.spacing_m}
 
 
 def _grid(area: shapely.Geometry, spacing_m: float) -> tuple[NDArray[np.float64], float]:

@@ -32,10 +32,6 @@ class Tile:
     size_m: float
     margin_m: float
 
-    def __post_init__(self) -> None:
-        if not (self.size_m > 0 and self.margin_m >= 0):
-            raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=self.size_m)
-
     @property
     def name(self) -> str:
         return f"tile r{self.row}c{self.col}"
@@ -61,10 +57,12 @@ class TileJob:
 
 
 def make_tiles(points: NDArray[np.float64], size_m: float, margin_m: float) -> list[Tile]:
-    """Square tiles of ``size_m`` over the bounding box of ``points`` (the target midpoints), row by row;
-    a tile holding no point is dropped."""
+    """Square tiles of ``size_m`` over the bounding box of ``points`` (the pieces' zone anchors), row by row; a tile
+    holding no point is dropped."""
     if not (math.isfinite(size_m) and size_m > 0):
         raise UsageError("must be > 0", field="tile_m", value=size_m)
+    if margin_m < 0:
+        raise UsageError("tile size must be > 0 and margin >= 0", field="tile_m", value=size_m)
     lo = points.min(axis=0)
     hi = points.max(axis=0)
     nx = max(1, math.floor((hi[0] - lo[0]) / size_m) + 1)

@@ -88,12 +88,8 @@ def plan_by_tiles(
         err = unseen_error(done, done.uncoverable(), reasons)
         raise err.located(site.source) if site.source else err
     kept, bound, search, windows, cover = _search(prep, problem.by_candidate, results, jobs, tiling, client, laps)
-    times = {
-        **laps.times,
-        "total_s": time.perf_counter() - laps.start,
-        "margin_m": tiling.margin_for(prep.limits.max_slant_range_m),
-        "tile_m": tiling.tile_m,
-    }
+    margin = tiling.margin_for(prep.limits.max_slant_range_m)
+    times = {**laps.times, "total_s": time.perf_counter() - laps.start, "margin_m": margin, "tile_m": tiling.tile_m}
     limited = deterministic_limits(options.milp, tiling)
     return finish_plan(resolved, problem, results, kept, bound, times, limited, search, windows, cover)
 
