@@ -22,12 +22,11 @@ def greedy_cover(
 ) -> SolveResult:
     """Greedy set cover: repeatedly take the candidate with the lowest cost per newly covered target; ``feasible`` with
     the chosen candidates in the order taken, or ``infeasible`` when a target in ``must_cover`` (default: every target
-    some candidate sees) is seen by no candidate. ``weights``: cost per candidate (default 1: fewest stations).
-
-    Ties go to the lowest candidate index, so the pool order (closed form first) decides them. Invariant: after each
-    step ``uncovered`` holds exactly the targets no chosen candidate sees. Each step costs one sparse product, O(nnz);
-    at most min(C, T) steps. The cover is within H(max set size) <= 1 + ln T of the optimum (Chvatal, "A greedy
-    heuristic for the set-covering problem", Math. Oper. Res. 4(3):233-235, 1979).
+    some candidate sees) is seen by no candidate. ``weights``: cost per candidate (default 1: fewest stations). Ties go
+    to the lowest candidate index, so the pool order (closed form first) decides them. Invariant: after each step
+    ``uncovered`` holds exactly the targets no chosen candidate sees. Each step costs one sparse product, O(nnz); at
+    most min(C, T) steps. The cover is within H(max set size) <= 1 + ln T of the optimum (Chvatal, "A greedy heuristic
+    for the set-covering problem", Math. Oper. Res. 4(3):233-235, 1979).
     """
     start = time.perf_counter()
     if not sp.issparse(by_candidate):

@@ -1,6 +1,5 @@
-"""Fewer stations for a connected plan: two-phase moves with row weighting.
+"""Fewer stations for a connected plan (a block's incumbent, a tiled plan): two-phase moves with row weighting.
 
-Used by the MILP (an incumbent one station smaller for a block, down to its bound) and by tiled plans (the kept plan).
 :func:`shrink` searches the objective
 
     f(S) = sum of the weights of the targets S leaves unseen + w_link * sum_g (parts of g in S - 1),
