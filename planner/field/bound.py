@@ -72,10 +72,7 @@ def held_karp_bound(d: NDArray[np.float64], upper: float, closed: bool = False, 
         return 0.0
     if n == 2:
         return float(d[0, 1]) * (2.0 if closed else 1.0)
-    pi = np.zeros(n)
-    best = -math.inf
-    lam = 2.0
-    since = 0
+    pi, best, lam, since = np.zeros(n), -math.inf, 2.0, 0
     for _ in range(steps):
         value, deg = one_tree(d, pi, closed)
         if value > best + 1e-9:

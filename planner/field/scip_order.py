@@ -98,13 +98,9 @@ class _Cuts:
 
     def violated(self, x: NDArray[np.float64], sets: list[NDArray[np.bool_]], tol: float) -> list:
         """The rows of the proper ``sets`` without the start (each set once) that ``x`` violates by more than tol."""
-        found = []
         proper = {inside.tobytes(): inside for inside in sets if inside.any() and not (inside[0] or inside.all())}
-        for inside in proper.values():
-            for src, dst in self.rows(inside):
-                if float(x[np.ix_(src, dst)].sum()) < 1.0 - tol:
-                    found.append((src, dst))
-        return found
+        rows = [row for inside in proper.values() for row in self.rows(inside)]
+        return [(src, dst) for src, dst in rows if float(x[np.ix_(src, dst)].sum()) < 1.0 - tol]
 
 
 def _suffixes(x: NDArray[np.float64]) -> list[NDArray[np.bool_]]:

@@ -144,10 +144,9 @@ def joined_frames(site: Site, frames: Sequence[str]) -> list[str] | None:
     if any(f not in comp for f in frames):
         return None
     sub = nx.Graph(g.subgraph(comp))
-    leaves = [f for f in sub if sub.degree(f) <= 1 and f not in frames]
-    while leaves:  # a storey beyond the last one with stations is never walked through
+    # a storey beyond the last one with stations is never walked through
+    while leaves := [f for f in sub if sub.degree(f) <= 1 and f not in frames]:
         sub.remove_nodes_from(leaves)
-        leaves = [f for f in sub if sub.degree(f) <= 1 and f not in frames]
     comp = set(sub)
     order = list(dict.fromkeys(z.frame for z in site.zones))
     return [f for f in order if f in comp] + sorted(f for f in comp if f not in order)
@@ -206,11 +205,8 @@ def storey_walks(
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     frames = list(spaces)
     fl = [f for s in site.stairs for f in flights(site, s, spaces)]
-    ends: dict[str, list[tuple[float, float]]] = {f: [] for f in frames}
-    for f in fl:
-        for fr, p in ((f.lower, f.foot), (f.upper, f.head)):
-            if p not in ends[fr]:
-                ends[fr].append(p)
+    at = [(fr, p) for f in fl for fr, p in ((f.lower, f.foot), (f.upper, f.head))]
+    ends = {fr: list(dict.fromkeys(p for g, p in at if g == fr)) for fr in frames}
     graphs: dict[str, WalkGraph] = {}
     local: dict[str, list[int]] = {}
     node_frame: list[str] = list(point_frames)

@@ -83,8 +83,8 @@ def walk_space(site: Site, frame: str, points: Sequence[tuple[float, float]] = (
             for lo_s, hi_s in solid_intervals(w.length_m, wall_gaps(site, zi, w, segs)):
                 p, q = a + lo_s * u, a + hi_s * u
                 walls.append(((float(p[0]), float(p[1])), (float(q[0]), float(q[1]))))
-    outside = (*site.obstacles, *site.no_go_areas) if frame == SITE_FRAME else ()
-    blocked_parts = [shapely.Polygon(a.vertices) for a in outside]
+    rings = [a.vertices for a in site.obstacles] + [a.vertices for a in site.no_go_areas] if frame == SITE_FRAME else []
+    blocked_parts = [shapely.Polygon(r) for r in rings]
     blocked = shapely.union_all(blocked_parts) if blocked_parts else shapely.Polygon()
     strip = (
         shapely.union_all(shapely.linestrings([list(w) for w in walls])).buffer(WALL_CLEARANCE_M, quad_segs=2)
@@ -174,8 +174,7 @@ def walk_graph(space: WalkSpace, points: Sequence[tuple[float, float]]) -> WalkG
     lines = shapely.linestrings(np.stack([nodes[i], nodes[j]], axis=1))
     ok = shapely.covers(fat, lines)
     far = np.array([space.area.distance(shapely.Point(p)) > SNAP_M for p in pts], dtype=bool)
-    bad = np.zeros(n, dtype=bool)
-    bad[m:] = far
+    bad = np.concatenate([np.zeros(m, dtype=bool), far])
     ok &= ~bad[i] & ~bad[j]
     w = np.hypot(*(nodes[i[ok]] - nodes[j[ok]]).T)
     w = np.maximum(w, 1e-9)  # csgraph drops explicit zeros

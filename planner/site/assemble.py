@@ -205,11 +205,8 @@ def _grow(
         for m in matches:
             if m in used or any(m is r for r, _ in refused) or (m.zone_a in placed) == (m.zone_b in placed):
                 continue
-            (pz, pw), (oz, ow) = (
-                ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b))
-                if m.zone_a in placed
-                else ((m.zone_b, m.wall_b), (m.zone_a, m.wall_a))
-            )
+            sides = ((m.zone_a, m.wall_a), (m.zone_b, m.wall_b))
+            (pz, pw), (oz, ow) = sides if m.zone_a in placed else sides[::-1]
             cand = _relative(m, zones[pz], placed[pz], zones[oz], ow, pw, thickness_m)
             clash = next((z for z, p in placed.items() if interiors_clash(zones[oz], cand, zones[z], p)), None)
             if clash is not None:
