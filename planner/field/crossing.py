@@ -48,12 +48,8 @@ class Crossing:
 
 def bridge(g: WalkGraph | StoreyWalk) -> NDArray[np.float64]:
     """The walking distances of ``g``, with the straight-line distance where no walk joins two points."""
-    d = g.dist.copy()
-    far = ~np.isfinite(d)
-    if far.any():
-        straight = np.hypot(*(g.points[:, None] - g.points[None]).transpose(2, 0, 1))
-        d[far] = straight[far]
-    return d
+    straight = np.hypot(*(g.points[:, None] - g.points[None]).transpose(2, 0, 1))
+    return np.where(np.isfinite(g.dist), g.dist, straight)
 
 
 def part_names(

@@ -176,11 +176,8 @@ def _model(scip: Any, cost: NDArray[np.float64], closed: bool) -> tuple[Any, dic
     n = len(cost)
     m = scip.Model("order")
     m.hideOutput()
-    x: dict[tuple[int, int], Any] = {}
-    for i in range(n):
-        for j in range(n):
-            if i != j and (j != 0 or closed):
-                x[i, j] = m.addVar(f"x{i}_{j}", vtype="B", obj=float(cost[i, j]))
+    arcs = [(i, j) for i in range(n) for j in range(n) if i != j and (j != 0 or closed)]
+    x = {(i, j): m.addVar(f"x{i}_{j}", vtype="B", obj=float(cost[i, j])) for i, j in arcs}
     ends = {i: m.addVar(f"e{i}", vtype="B", obj=0.0) for i in range(1, n)} if not closed else {}
     q = scip.quicksum
     for i in range(n):

@@ -280,10 +280,7 @@ def precision_ok(
 
 def combined_error_m(errors_m: ArrayLike) -> float:
     """Error of a point seen by several independent views: information adds, 1/e^2 = sum 1/e_j^2."""
-    e = np.asarray(errors_m, dtype=float)
-    if e.size == 0:
-        return math.inf
-    info = float(np.sum(1.0 / np.square(e)))
+    info = float(np.sum(1.0 / np.square(np.asarray(errors_m, dtype=float))))
     return math.inf if info == 0.0 else 1.0 / math.sqrt(info)
 
 
@@ -293,8 +290,6 @@ def derive_theta_max_deg(
     """Largest incidence at which a view at slant range S still meets sigma_req (bisection on e(S, theta)): the
     model's limit when even that incidence meets it, 0 when a perpendicular view at S already fails."""
     hi = incidence_limit_deg(model)
-    if model == "none":
-        return hi if bool(precision_ok(slant_m, 0.0, scanner, budget, sigma_req_m, model)) else 0.0
     ok = lambda th: bool(precision_ok(slant_m, th, scanner, budget, sigma_req_m, model))  # noqa: E731
     if ok(hi):
         return hi

@@ -53,10 +53,8 @@ class ClosureTolerance:
     def __post_init__(self) -> None:
         if not math.isfinite(self.angular_deg) or self.angular_deg < 0:
             raise InputError("must be a finite number >= 0", field="angular_tolerance_deg", value=self.angular_deg)
-        if not math.isfinite(self.min_relative_precision) or self.min_relative_precision <= 0:
-            raise InputError(
-                "must be a finite number > 0", field="min_relative_precision", value=self.min_relative_precision
-            )
+        if not math.isfinite(precision := self.min_relative_precision) or precision <= 0:
+            raise InputError("must be a finite number > 0", field="min_relative_precision", value=precision)
 
 
 @dataclass(frozen=True)
