@@ -188,11 +188,10 @@ class CpSatBackend:
 
     def add_vars(self, count: int, upper: float, binary: bool) -> None:
         """Integer variables here: CP-SAT has no continuous ones; the flow models that use them have integral optima."""
+        k0 = len(self.x)
         ub = int(math.floor(upper))
         self.x += [
-            self.model.NewBoolVar(f"y{len(self.x) + k}")
-            if binary
-            else self.model.NewIntVar(0, ub, f"f{len(self.x) + k}")
+            self.model.NewBoolVar(f"y{k0 + k}") if binary else self.model.NewIntVar(0, ub, f"f{k0 + k}")
             for k in range(count)
         ]
 
@@ -333,40 +332,38 @@ class PulpBackend:
         # PuLP 3 announces its 4.0 API with a DeprecationWarning per variable; the project pins pulp < 4
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
-            return self._solve(time_limit_s, threads, seed, hint)
-
-    def _solve(self, time_limit_s: float | None, threads: int, seed: int, hint: Hint | None) -> BackendResult:
-        pulp = self._pulp
-        prob = pulp.LpProblem("cover", pulp.LpMinimize)
-        x = [pulp.LpVariable(f"x{i}", cat="Binary") for i in range(len(self.cost))]
-        x += [
-            pulp.LpVariable(f"y{k}", cat="Binary") if b else pulp.LpVariable(f"f{k}", 0, ub)
-            for k, (ub, b) in enumerate(self.extra)
-        ]
-        prob += pulp.lpSum(float(c) * x[i] for i, c in enumerate(self.cost) if c)
-        for k, (idx, coef, lb) in enumerate(self.rows):
-            prob += pulp.lpSum(float(a) * x[int(i)] for i, a in zip(idx, coef)) >= float(lb), f"r{k}"
-        for i in self.fixed:
-            x[i].lowBound = 1
-        if hint is not None:
-            for i, val in hint_values(hint, self.n).items():
-                x[i].setInitialValue(val)
-        with tempfile.TemporaryDirectory() as tmp:
-            options = [f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"]
-            options += [f"maxNodes {self.node_limit}"] if self.node_limit is not None else []
-            cap = wall_cap(time_limit_s)
-            warm = hint is not None
-            cmd = pulp.PULP_CBC_CMD(
-                msg=False, timeLimit=cap, threads=threads, warmStart=warm, options=options, keepFiles=False
-            )
-            cmd.tmpDir = tmp
-            prob.solve(cmd)
-        sol = prob.sol_status
-        if sol in (pulp.LpSolutionOptimal, pulp.LpSolutionIntegerFeasible):
-            sel = tuple(i for i, v in enumerate(x[: self.n]) if (v.value() or 0) > 0.5)
-            obj = float(self.cost[list(sel)].sum())
-            optimal = sol == pulp.LpSolutionOptimal
-            return BackendResult(Outcome.OPTIMAL if optimal else Outcome.FEASIBLE, sel, obj, obj if optimal else None)
-        if sol == pulp.LpSolutionInfeasible or prob.status == pulp.LpStatusInfeasible:
-            return BackendResult(Outcome.INFEASIBLE, (), None, None)
-        return BackendResult(Outcome.UNKNOWN, (), None, None)
+            pulp = self._pulp
+            prob = pulp.LpProblem("cover", pulp.LpMinimize)
+            x = [pulp.LpVariable(f"x{i}", cat="Binary") for i in range(len(self.cost))]
+            x += [
+                pulp.LpVariable(f"y{k}", cat="Binary") if b else pulp.LpVariable(f"f{k}", 0, ub)
+                for k, (ub, b) in enumerate(self.extra)
+            ]
+            prob += pulp.lpSum(float(c) * x[i] for i, c in enumerate(self.cost) if c)
+            for k, (idx, coef, lb) in enumerate(self.rows):
+                prob += pulp.lpSum(float(a) * x[int(i)] for i, a in zip(idx, coef)) >= float(lb), f"r{k}"
+            for i in self.fixed:
+                x[i].lowBound = 1
+            if hint is not None:
+                for i, val in hint_values(hint, self.n).items():
+                    x[i].setInitialValue(val)
+            with tempfile.TemporaryDirectory() as tmp:
+                options = [f"randomSeed {seed + 1}", f"randomCbcSeed {seed + 1}"]
+                options += [f"maxNodes {self.node_limit}"] if self.node_limit is not None else []
+                cap = wall_cap(time_limit_s)
+                warm = hint is not None
+                cmd = pulp.PULP_CBC_CMD(
+                    msg=False, timeLimit=cap, threads=threads, warmStart=warm, options=options, keepFiles=False
+                )
+                cmd.tmpDir = tmp
+                prob.solve(cmd)
+            sol = prob.sol_status
+            if sol in (pulp.LpSolutionOptimal, pulp.LpSolutionIntegerFeasible):
+                sel = tuple(i for i, v in enumerate(x[: self.n]) if (v.value() or 0) > 0.5)
+                obj = float(self.cost[list(sel)].sum())
+                optimal = sol == pulp.LpSolutionOptimal
+                outcome = Outcome.OPTIMAL if optimal else Outcome.FEASIBLE
+                return BackendResult(outcome, sel, obj, obj if optimal else None)
+            if sol == pulp.LpSolutionInfeasible or prob.status == pulp.LpStatusInfeasible:
+                return BackendResult(Outcome.INFEASIBLE, (), None, None)
+            return BackendResult(Outcome.UNKNOWN, (), None, None)

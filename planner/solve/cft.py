@@ -76,9 +76,8 @@ def cft_cover(
         init.cost = float(cost[first].sum())
         solver._result = SimpleNamespace(sol=init)  # what ``solve`` reads of a previous result: its solution
     t0 = time.perf_counter()
-    solver.solve(
-        seed=seed, time_limit=float("inf") if time_cap_s is None else time_cap_s, verbose=0, heur_iters=heur_iters
-    )
+    limit = float("inf") if time_cap_s is None else time_cap_s
+    solver.solve(seed=seed, time_limit=limit, verbose=0, heur_iters=heur_iters)
     elapsed = time.perf_counter() - t0
     chosen = np.sort(rows[np.asarray(solver.get_solution() or [], dtype=np.int64)])
     covered = np.bincount(a[chosen].indices, minlength=n_cols) > 0

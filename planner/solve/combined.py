@@ -44,10 +44,8 @@ def information_met(info: sp.csr_matrix, selected: list[int] | tuple[int, ...]) 
 def combined_greedy(problem: CoverageProblem, rule: PrecisionRule) -> SolveResult:
     """Greedy for combined precision: repeatedly take the candidate adding the most capped information sum_t min(w_jt,
     need_t) until every piece's need (1 at the start) is met. Lazy evaluation: a candidate's gain only falls as needs
-    are met, so a stale heap entry is re-scored, never trusted. Ties go to the lower index (the pool's order), so the
-    result is deterministic. :class:`InfeasibleError` when even all candidates together give some piece less than the
-    needed information.
-    """
+    are met, so a stale heap entry is re-scored, never trusted. Ties go to the lower index (the pool's order).
+    :class:`InfeasibleError` when even all candidates together give some piece less than the needed information."""
     start = time.perf_counter()
     info = information(problem, rule)
     short = np.flatnonzero(np.asarray(info.sum(axis=0)).ravel() < 1.0 - INFO_TOL)

@@ -46,12 +46,8 @@ def disconnected_groups(
     adj: sp.csr_matrix, groups: Sequence[Hashable], selected: Sequence[int]
 ) -> dict[Hashable, list[list[int]]]:
     """Groups whose chosen stations fall apart, with their components."""
-    out = {}
-    for g, members in group_members(groups, selected).items():
-        comps = components(adj, members)
-        if len(comps) > 1:
-            out[g] = comps
-    return out
+    comps = {g: components(adj, members) for g, members in group_members(groups, selected).items()}
+    return {g: c for g, c in comps.items() if len(c) > 1}
 
 
 def connectivity_cuts(

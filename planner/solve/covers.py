@@ -50,9 +50,7 @@ def cft(instance: CoverInstance, rule: OverlapRule | None = None) -> SolveResult
 def connected_greedy(instance: CoverInstance, rule: OverlapRule | None = None) -> SolveResult:
     """The greedy under the registration rule (:func:`planner.solve.greedy.connected_greedy_plan`); with no rule or
     no groups, the plain greedy."""
-    if rule is None:
-        return greedy(instance)
-    return connected_greedy_plan(instance, rule)
+    return greedy(instance) if rule is None else connected_greedy_plan(instance, rule)
 
 
 def milp(instance: CoverInstance, rule: OverlapRule | None = None) -> SolveResult:

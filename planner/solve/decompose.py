@@ -130,10 +130,9 @@ def _reduce(
 
 
 def _blocks(a: sp.csr_matrix, keep_c: np.ndarray, keep_t: np.ndarray, groups) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Independent parts: candidates linked through shared targets or a common group, the components of one graph
-    (candidates, then targets, then one node per group, a candidate joined to its targets and to its group's node:
-    linear in the pairs, not the candidates squared of a "same group" product; the group nodes last, so the labels
-    follow the candidates' order)."""
+    """Independent parts: the components of one graph of candidates, targets and then groups, a candidate joined to
+    its targets and its group (linear in the pairs, not the candidates squared of a "same group" product; the group
+    nodes last, so the labels follow the candidates' order)."""
     sub = a[keep_c][:, keep_t].tocsr()
     nc, nt = sub.shape
     gid = group_ids([groups[i] for i in keep_c]) if groups is not None else np.zeros(0, dtype=np.int64)

@@ -49,9 +49,6 @@ class FlowModel:
         self.upper = {g: max(1, min(len(m), cap)) for g, m in self.members.items()}
         self.root: dict[Hashable, int] = {}  # group -> index of its first root variable
         self.arcs: dict[Hashable, tuple[int, np.ndarray, np.ndarray]] = {}  # group -> (first arc var, tails, heads)
-        self._install(backend)
-
-    def _install(self, backend: Any) -> None:
         rows = []
         for g, m in self.members.items():
             u = self.upper[g]

@@ -53,8 +53,8 @@ class CoverInstance:
         if len(self.cost) != c:
             raise InputError(f"{len(self.cost)} costs for {c} candidates", field="cost", value=len(self.cost))
         cost = np.asarray(self.cost, dtype=float)
-        if cost.size and not (np.all(np.isfinite(cost)) and np.all(cost > 0)):  # 0 or -1 made "0 stations" optimal
-            bad = int(np.flatnonzero(~(np.isfinite(cost) & (cost > 0)))[0])
+        if not (ok := np.isfinite(cost) & (cost > 0)).all():  # 0 or -1 would make "0 stations" optimal
+            bad = int(np.flatnonzero(~ok)[0])
             raise InputError(
                 "costs must be finite and > 0", row=f"candidate {bad}", field="cost", value=float(cost[bad])
             )

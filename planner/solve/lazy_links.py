@@ -120,8 +120,7 @@ def _block_pairs(
     a: sp.csr_matrix, lengths: Floats, block: Ints, cols: Ints, size: Ints, cost: Floats, gid: Ints, keep: Keep
 ) -> tuple[Ints, Ints, Floats, NDArray[np.bool_], NDArray[np.bool_]]:
     """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, the wall shared, whether
-    the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group). ``a``: the
-    coverage (boolean), ``lengths``: the pieces' lengths."""
+    the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group)."""
     right = (a[cols].astype(np.float64) @ sp.diags(lengths)).T.tocsr()
     left = a[block].astype(np.float64)
     shared = (left @ right).tocsr()

@@ -194,6 +194,7 @@ def _stats(solvers: list[BlockSolver], o: MilpOptions, connect: bool, capped: bo
     """What the blocks did, summed; ``capped``: the user's wall-clock cap ended the search."""
     plain = [b.plain for b in solvers if b.plain is not None]
     limits = o.limits
+    used = round(sum(b.work_used for b in solvers), 3)
     return MilpStats(
         rounds=sum(b.rounds for b in solvers),
         cuts=sum(b.cuts for b in solvers),
@@ -207,13 +208,7 @@ def _stats(solvers: list[BlockSolver], o: MilpOptions, connect: bool, capped: bo
         ),
         connectivity=o.connectivity_method if connect else "none",
         plain_start=plain_record(plain) if plain else None,
-        work=WorkStats(
-            limits["work_limit"],
-            round(sum(b.work_used for b in solvers), 3),
-            limits["node_limit"],
-            limits["wall_cap_s"],
-            capped,
-        ),
+        work=WorkStats(limits["work_limit"], used, limits["node_limit"], limits["wall_cap_s"], capped),
     )
 
 

@@ -208,8 +208,7 @@ def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:
     dup = np.zeros(by_target.shape[0], dtype=bool)
     for t in range(by_target.shape[0]):
         key = np.sort(by_target.indices[by_target.indptr[t] : by_target.indptr[t + 1]]).tobytes()
-        if key in seen:
-            dup[t] = True
+        dup[t] = key in seen
         seen.add(key)
     return dup
 

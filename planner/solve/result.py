@@ -135,9 +135,7 @@ class SolveResult:
     @property
     def scope(self) -> str | None:
         """Where the bound holds: ``plane`` (every position), ``pool`` (the candidate pool), None without one."""
-        if self.bound is None:
-            return None
-        return str(self.info.get("bound_scope", "pool"))
+        return None if self.bound is None else str(self.info.get("bound_scope", "pool"))
 
     @property
     def state(self) -> str:

@@ -41,10 +41,8 @@ def min_node_separator(base: sp.csr_matrix, source: int, sinks: np.ndarray) -> t
     m = base.shape[0]
     n = (m - 1) // 2
     sink = 2 * n
-    extra = sp.csr_matrix(
-        (np.full(len(sinks), _BIG, dtype=np.int32), (n + np.asarray(sinks), np.full(len(sinks), sink))),
-        shape=base.shape,
-    )
+    to_sink = (n + np.asarray(sinks), np.full(len(sinks), sink))  # every sink's out-node to the sink, unbounded
+    extra = sp.csr_matrix((np.full(len(sinks), _BIG, dtype=np.int32), to_sink), shape=base.shape)
     graph = (base + extra).tocsr()
     graph.sort_indices()
     res = maximum_flow(graph, n + source, sink)

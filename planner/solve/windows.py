@@ -70,10 +70,8 @@ class WindowOptions:
 
 @dataclass(frozen=True)
 class Windowed:
-    """``selected``: the smallest connected cover found (sorted); ``start``: stations given; ``windows``: windows
-    solved; ``proven``: windows whose MILP was proven optimal; ``wall_cap_hit``: windows stopped by the wall-clock cap
-    instead of their work (only those may depend on the load); ``history``: (window, stations) after each window that
-    removed stations."""
+    """As :class:`planner.solve.local_search.Shrunk`, by windows: ``windows`` solved, ``proven`` optimal, those whose
+    wall-clock cap stopped them instead of their work (``wall_cap_hit``: only those may depend on the load)."""
 
     selected: tuple[int, ...]
     start: int
