@@ -246,10 +246,10 @@ def _iterate(
     normal: Normal | None = None
     nu = len(unknown)
     for it in range(max(max_iter, 1)):
-        a_sparse, f = plan.jacobian(xy)
         if dense:
-            a_dense = a_sparse.toarray()
+            a_dense, f, _ = lsq_dense.design({n: (float(p[0]), float(p[1])) for n, p in zip(names, xy)}, unknown, obs)
         else:
+            a_sparse, f = plan.jacobian(xy)
             normal = Normal(a_sparse, w, len(plan.orient))
         if observed:
             if it == 0:

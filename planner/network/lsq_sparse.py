@@ -94,7 +94,7 @@ class Design:
         put(k == X, ca, 1.0)
         put(k == Y, np.where(ca >= 0, ca + 1, -1), 1.0)
         for comp, kk in ((0, DX), (1, DY)):
-            # a relative observation of a point to itself: the to point's +1 alone
+            # a relative observation of a point to itself: the to point's +1 (as the dense design wrote it last)
             put((k == kk) & (to_ != at), np.where(ca >= 0, ca + comp, -1), -1.0)
             put(k == kk, np.where(ct >= 0, ct + comp, -1), 1.0)
         for comp in (0, 1):
