@@ -72,17 +72,14 @@ def outcome_from_plan(
     argument(plan, Plan, "plan")
     argument(network, (NetworkReport, type(None)), "network")
     sight = plan.problem.sight
-    limits = sight.limits
-    cov = station_coverage(sight, plan.stations, plan.options.target_spacing_m)
-    radii = {s.id: d.radius_m for s, d in zip(plan.stations, plan.tripods)}
     return Outcome(
         site=plan.site,
         validation=plan.validation,
-        limits=limits,
+        limits=sight.limits,
         stations=plan.stations,
-        coverage=cov,
+        coverage=station_coverage(sight, plan.stations, plan.options.target_spacing_m),
         verification=plan.verification,
-        tripod_radius_m=radii,
+        tripod_radius_m={s.id: d.radius_m for s, d in zip(plan.stations, plan.tripods)},
         meta=plan_to_dict(plan),
         registration=plan.problem.registration,
         network=network,

@@ -15,6 +15,7 @@ import scipy.sparse as sp
 
 from planner.coverage.matrix import station_places
 from planner.coverage.overlap import overlap_adjacency, piece_lengths
+from planner.coverage.relation import Registration
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.plan import PlanOptions, site_candidates
@@ -45,10 +46,14 @@ class Prepared:
     def limits(self) -> SightLimits:
         return self.problem.limits
 
+    @property
+    def registration(self) -> Registration:
+        return self.problem.registration
+
     def overlap(self, by_candidate: sp.csr_matrix) -> sp.csr_matrix:
         """The overlap relation (candidate x candidate, symmetric) of a coverage matrix over this pool."""
         lengths = piece_lengths(self.targets.s0_m, self.targets.s1_m)
-        rule = self.problem.registration.checked_rule
+        rule = self.registration.checked_rule
         adj, _ = overlap_adjacency(by_candidate, lengths, rule, self.groups, self.xy, self.links)
         return cast(sp.csr_matrix, adj)
 
