@@ -87,11 +87,10 @@ def best_known(
     fingerprint: str | None,
     path: Path | None = None,
 ) -> Known | None:
-    """The entry for a plan of ``instance`` solving ``problem`` (:func:`problem_kind`) under ``registration``
-    and ``overlap`` (a plain cover: any registration, overlap 0) from the pool of ``fingerprint``; where the
-    file lists the problem only on other pools, the best of those with ``same_pool`` False; else None.
-
-    ``path``: the file (default :data:`BEST_KNOWN`, read when called)."""
+    """The entry for a plan of ``instance`` solving ``problem`` (:func:`problem_kind`) under ``registration`` and
+    ``overlap`` (a plain cover: any registration, overlap 0) from the pool of ``fingerprint``; where the file lists
+    the problem only on other pools, the best of those with ``same_pool`` False; else None. ``path``: the file
+    (default :data:`BEST_KNOWN`, read when called)."""
     try:
         rows = json.loads((path or BEST_KNOWN).read_text())["plans"]
     except (OSError, ValueError, KeyError, TypeError):

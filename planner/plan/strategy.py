@@ -136,13 +136,11 @@ class TileOptions:
 
 @dataclass(frozen=True, kw_only=True)
 class StrategyOptions:
-    """How a run searches for its plan: one model or tiles, and where the tiles run.
-
-    ``single``: always one model. ``tiling``: always tiles, with these options. Neither (the default): the
-    strategy :func:`choose` picks for the site, its tile budget ``budget_s`` split as the module says.
-    ``workers``: Dask worker processes for the tiles (0: the machine's choice when chosen automatically, else
-    in this process); ``scheduler``: an existing Dask cluster instead; ``worker_memory``: each worker's limit.
-    """
+    """How a run searches for its plan: one model or tiles, and where the tiles run. ``single``: always one model.
+    ``tiling``: always tiles, with these options. Neither (the default): the strategy :func:`choose` picks for the
+    site, its tile budget ``budget_s`` split as the module says. ``workers``: Dask worker processes for the tiles
+    (0: the machine's choice when chosen automatically, else in this process); ``scheduler``: an existing Dask
+    cluster instead; ``worker_memory``: each worker's limit."""
 
     single: bool = False
     tiling: TileOptions | None = None

@@ -253,12 +253,10 @@ def surface_discs(
     discs: tuple[TripodDisc, ...],
 ) -> tuple[tuple[TripodDisc, ...], int]:
     """The tripod discs shrunk so that each keeps the floor and ceiling patches its station answers for (each
-    seen patch answers to the chosen station that sees it with the largest margin), and how many were shrunk.
-
-    The radius is the smallest margin (:func:`_margins`) of the station's patches, checked with the full sight
-    test at :data:`~planner.plan.tripod.RIM_POINTS` points of the rim and halved (three times at most, then 0)
-    until none is lost; below :data:`~planner.plan.tripod.MIN_RADIUS_M` it is 0.
-    """
+    seen patch answers to the chosen station that sees it with the largest margin), and how many were shrunk. The
+    radius is the smallest margin (:func:`_margins`) of the station's patches, checked with the full sight test at
+    :data:`~planner.plan.tripod.RIM_POINTS` points of the rim and halved (three times at most, then 0) until none
+    is lost; below :data:`~planner.plan.tripod.MIN_RADIUS_M` it is 0."""
     if not discs or cover.matrix.shape[1] == 0:
         return discs, 0
     m = cover.matrix[list(selected)].tocoo()

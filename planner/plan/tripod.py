@@ -64,10 +64,8 @@ def relied_targets(
     problem: CoverageProblem, selected: Sequence[int], partners: dict[int, list[int]] | None = None
 ) -> dict[int, np.ndarray]:
     """Per chosen candidate: the targets it answers for, plus those it shares with its registration partners.
-
     Every covered target answers to one chosen station, the nearest (smallest slant range) of those that see it,
-    so that all stations may move at once: each keeps its own targets, and the shared ones keep the overlap links.
-    """
+    so that all stations may move at once: each keeps its own targets, and the shared ones keep the overlap links."""
     sel = list(selected)
     slant = problem.slant_m[sel].tocsc()
     owner: dict[int, np.ndarray] = {j: np.zeros(0, dtype=np.int64) for j in sel}

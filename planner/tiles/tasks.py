@@ -27,11 +27,9 @@ from planner.tiles.layout import Tile, TileJob
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class TileResult:
-    """A tile's coverage pairs (global indices, with worst slant range and incidence) and its plan.
-
-    ``selected``: global candidate indices of the tile's plan; ``covers_core``: that plan, re-checked
-    on the tile's coverage columns (not the solver's word), sees every core target.
-    """
+    """A tile's coverage pairs (global indices, with worst slant range and incidence) and its plan. ``selected``:
+    global candidate indices of the tile's plan; ``covers_core``: that plan, re-checked on the tile's coverage
+    columns (not the solver's word), sees every core target."""
 
     tile: Tile
     rows: NDArray[np.int64]
@@ -63,10 +61,8 @@ def tile_task(
 ) -> TileResult:
     """Coverage of the tile's core pieces by the candidates in its margin, then the tile's MILP (with the
     registration rule inside the tile: overlap measured on the tile's pieces); with ``milp`` None the coverage
-    only (status NO_SOLUTION, no plan: the whole site's plain cover is made once, :mod:`planner.tiles.run`).
-
-    Returns the result also when some core piece is seen by no candidate (``unseen``, status INFEASIBLE).
-    """
+    only (status NO_SOLUTION, no plan: the whole site's plain cover is made once, :mod:`planner.tiles.run`). The
+    result also where some core piece is seen by no candidate (``unseen``, status INFEASIBLE)."""
     t0 = time.perf_counter()
     cands = [candidates[i] for i in job.candidates]
     problem = sight.coverage(cands, take_targets(targets, job.targets))
