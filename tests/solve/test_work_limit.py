@@ -88,11 +88,13 @@ def test_a_wall_cap_that_cuts_the_solve_is_reported() -> None:
 
 
 def test_the_wall_cap_holds_for_the_plain_start_too() -> None:
-    # the plain start (CFT, then 10 moves per target = 25,000 moves of search) takes about 45 s on this block
-    # with no cap; a 3-s cap stops its search long before its moves are spent
-    r = solve(random_cover(3, n_cand=1500, n_targ=2500, density=0.004), overlap=None, time_limit_s=3.0)
-    assert r.wall_cap_hit and r.info["plain_start"]["cft_blocks"] == 1
-    assert r.info["plain_start"]["moves"] < 10 * 2500
+    # the plain start (the block's cover LP, CFT, then 10 moves per target = 25,000 moves of search) runs far past an
+    # 8-s cap on this block; the cap stops its search long before its moves are spent, or, on a machine so loaded that
+    # the LP alone takes the 8 s, stops the solve before the start begins: either way the cap holds
+    r = solve(random_cover(3, n_cand=1500, n_targ=2500, density=0.004), overlap=None, time_limit_s=8.0)
+    assert r.wall_cap_hit
+    start = r.info.get("plain_start")
+    assert start is None or (start["cft_blocks"] == 1 and start["moves"] < 10 * 2500)
 
 
 @pytest.mark.parametrize("backend", ["scip", "pulp-cbc", "pyscipopt"])
