@@ -29,9 +29,9 @@ from planner.field.run import FieldPlan
 from planner.instrument.field_table import FieldProperties
 from planner.plan.hours.columns import SettingColumns, setting_columns
 from planner.plan.hours.field_time import candidate_relation
+from planner.plan.hours.verify import verify_spacing
 from planner.plan.run import build_problem
 from planner.plan.verify import verify_stations
-from planner.plan.hours.verify import verify_spacing
 
 if TYPE_CHECKING:
     from planner.plan.result import Plan

@@ -19,8 +19,8 @@ from planner.core.text import table
 from planner.field.route_search import shorter_walks
 from planner.field.run import FieldOptions, FieldPlan, field_plan
 from planner.instrument.field_table import FieldProperties
-from planner.plan.hours.field_time import field_properties
 from planner.plan.hours import no_gain_reason, settings_line
+from planner.plan.hours.field_time import field_properties
 from planner.plan.run import build_problem, plan_single
 
 if TYPE_CHECKING:

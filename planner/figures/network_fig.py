@@ -64,8 +64,8 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
         d = g.nodes[n]
         if d["kind"] == "control":
             face = "white" if d.get("proposed") else "tab:red"
-            label = once("control", "control point (proposed: open)")
-            ax.plot(d["x"], d["y"], marker="^", ms=9, color="tab:red", ls="none", label=label, mfc=face)
+            shown = once("control", "control point (proposed: open)")
+            ax.plot(d["x"], d["y"], marker="^", ms=9, color="tab:red", ls="none", label=shown, mfc=face)
             labels.append(PointLabel(d["x"], d["y"], n, f"control:{n}", 9.0))
         else:
             ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=once("st", "station"))
@@ -73,9 +73,9 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
         p = points.get(n)
         if p is not None and p.ellipse_a > 0:
             a, b = 2 * ELLIPSE_95 * p.ellipse_a * factor, 2 * ELLIPSE_95 * p.ellipse_b * factor
-            label = once("ell", f"95 % error ellipse x {factor:g}")
+            shown = once("ell", f"95 % error ellipse x {factor:g}")
             ax.add_patch(
-                Ellipse((p.x, p.y), a, b, angle=p.ellipse_azimuth_deg, fill=False, ec="tab:orange", lw=1.2, label=label)
+                Ellipse((p.x, p.y), a, b, angle=p.ellipse_azimuth_deg, fill=False, ec="tab:orange", lw=1.2, label=shown)
             )
     frame_axes(ax, PLAN_MARGIN)
     ax.legend(loc="upper left", fontsize=7, framealpha=0.85)

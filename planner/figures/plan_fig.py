@@ -3,6 +3,8 @@ wall height, obstacles and no-go areas, numbered stations by kind, movement fiel
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
@@ -30,9 +32,9 @@ MARKERS = {
     CandidateKind.PRICED: ("X", "priced (regions)"),
 }
 UNCOVERED = "red"
-FIELD_STYLE = dict(closed=True, fc="gold", ec="darkgoldenrod", alpha=0.25, lw=0.5)
-DISC_STYLE = dict(fill=False, ls="--", ec="tab:purple", lw=0.8)
-STATION_STYLE = dict(ms=7, mfc="white", mec="black", ls="none")
+FIELD_STYLE: dict[str, Any] = dict(closed=True, fc="gold", ec="darkgoldenrod", alpha=0.25, lw=0.5)
+DISC_STYLE: dict[str, Any] = dict(fill=False, ls="--", ec="tab:purple", lw=0.8)
+STATION_STYLE: dict[str, Any] = dict(ms=7, mfc="white", mec="black", ls="none")
 
 
 def _background(ax, o: Outcome, frame: str, zone_id: str) -> None:

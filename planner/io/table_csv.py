@@ -88,6 +88,6 @@ def _zone_table(zone: str, side: str, rows: list[TableRow], file: str) -> ZoneTa
     rows = sorted(rows, key=lambda r: r.index)
     for expected, r in enumerate(rows, start=1):
         if r.index != expected:
-            where = dict(file=file, zone=zone, row=f"line {r.line}", field="index", value=r.index)
+            where: dict[str, Any] = dict(file=file, zone=zone, row=f"line {r.line}", field="index", value=r.index)
             raise InputError(f"indices must run 1..{len(rows)} without gaps or repeats", **where)
     return ZoneTable(zone=zone, scan_side=side, rows=tuple(rows), file=file)

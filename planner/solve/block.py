@@ -223,7 +223,7 @@ class BlockSolver:
             left = deadline - time.perf_counter()
             if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
                 return
-            hint = self.incumbent
+            hint: list[int] | dict[int, float] | None = self.incumbent
             if self.flow is not None and self.incumbent is not None:
                 hint = self.flow.hint(self.incumbent)
             res = self.backend.solve(left, self.o.threads, self.o.seed, hint)

@@ -43,10 +43,9 @@ def plant(area: float) -> Path:
 
 def dask_flags(site_path: Path, workers: int, memory: str) -> list[str]:
     """``--workers`` and the worker-memory key where the plain command's strategy for the site is tiles, else none."""
-    from planner.plan.strategy import BUDGET_S
     from planner.io.load import load_site
     from planner.plan import PlanOptions
-    from planner.plan.strategy import strategy_for
+    from planner.plan.strategy import BUDGET_S, strategy_for
     from planner.site.validate import validate_site
 
     site = load_site(site_path)

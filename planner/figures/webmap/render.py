@@ -189,7 +189,7 @@ def _frame(m: SiteMap, frame: str, dom_id: str, shown: bool) -> tuple[str, tuple
     )
 
 
-def _present(m: SiteMap) -> list[tuple[str, str, str]]:
+def _present(m: SiteMap) -> list[tuple[str, str]]:
     has = {
         "walls": bool(m.walls),
         "floors": any(s.areas for s in m.stations),
