@@ -37,6 +37,13 @@ class Parser(argparse.ArgumentParser):
         raise SystemExit(ExitCode.USAGE)
 
 
+#: the registration flag of the commands that read a plan: its default is the plan's own
+PLAN_REGISTRATION = (
+    "one registration bundle per zone-side, or per accessible area of the site (default: the plan's, as plan.json "
+    "records it)"
+)
+
+
 def theta(text: str) -> float | str:
     """--theta-max: degrees, or 'derive'."""
     if text.strip().lower() == "derive":
@@ -157,11 +164,11 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     nw.add_argument("--control", metavar="FILE", help="control points (JSON list: name, x, y, sigma_x_mm, sigma_y_mm)")
     add_settings(nw, "monte-carlo", "traverse", "ts-everywhere")
     nw.add_argument("--observations", metavar="FILE", help="adjust real observations (JSON) instead of only the design")
-    add_setting(nw, "registration")
+    add_setting(nw, "registration", help=PLAN_REGISTRATION)
     add_report_parser(sub)
     add_field_parser(sub)
     ch = add_site(sub, "chain", "registration-chain accuracy of a plan (links, ties to control)", plan_file=True)
-    add_setting(ch, "registration")
+    add_setting(ch, "registration", help=PLAN_REGISTRATION)
     a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
     a.add_argument("site", help="JSON instance (.json) or table CSV (.csv)")
     add_settings(a, "tolerance", "wall-thickness")
