@@ -21,6 +21,7 @@ from typing import Any
 import shapely
 
 from planner.core.errors import InputError, located_in
+from planner.io.ifc_check import check_model, spf_instances
 from planner.io.ifc_geom import Solid, geometry_settings, largest_polygon, opening_on_wall, solid_of
 from planner.io.ifc_passages import open_boundaries, unfilled_openings, wide_enough
 from planner.io.ifc_stairs import StoreyZones, read_stairs
@@ -99,19 +100,16 @@ def _unit_note(model: Any) -> str | None:
 def _open(path: Path) -> Any:
     import ifcopenshell
 
-    if not path.is_file():
-        raise InputError("no such file", file=str(path))
-    with path.open("rb") as fh:
-        head = fh.read(64)
-    if not head.lstrip().startswith(b"ISO-10303-21"):
-        raise InputError("not an IFC file (an IFC-SPF file starts with ISO-10303-21)", file=str(path))
+    instances = spf_instances(path)  # the file whole, before IfcOpenShell reads it (it reads a damaged one silently)
     try:
-        return ifcopenshell.open(str(path))
+        model = ifcopenshell.open(str(path))
     except Exception as exc:  # IfcOpenShell raises plain errors for unreadable files
         raise InputError(
             f"IfcOpenShell cannot read it: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
             file=str(path),
         ) from None
+    check_model(model, instances, str(path))
+    return model
 
 
 def _storeys(model: Any, path: Path) -> list[_Storey]:
