@@ -20,11 +20,32 @@ from planner.field.spread import MIN_ANGLE_DEG, MIN_SPREAD_M
 from planner.field.storeys import climbs
 from planner.figures.base import png_bytes
 
-CSS = """body{font-family:system-ui,sans-serif;margin:1.5em;color:#111;max-width:1100px}
+CSS = """html{-webkit-text-size-adjust:100%;text-size-adjust:100%}
+body{font-family:system-ui,sans-serif;margin:1.5em;color:#111;max-width:1100px}
 table{border-collapse:collapse;font-size:0.85em;margin:0.5em 0 1em}th,td{border:1px solid #999;padding:2px 6px;text-align:right}
 th{background:#eee}td.l,th.l{text-align:left}img{max-width:100%}h1{font-size:1.4em}h2{font-size:1.1em}
+.wide{max-width:100%;overflow-x:auto}p,li,figcaption{overflow-wrap:anywhere}
 @media print{body{margin:0;max-width:none}figure{page-break-after:always}tr{page-break-inside:avoid}a{color:#111}
-section.site-map{display:none}}"""
+section.site-map{display:none}.wide{overflow:visible}}"""
+# On a phone the setup table turns into one card per setup: each cell on its own, after its column's name (the
+# names come from the style sheet, so the table's markup stays the same for print, the PDF and the tests).
+CARDS = (
+    "@media screen and (max-width:640px){body{margin:0.75em}"
+    "table.setups,table.setups tbody{display:block;border:0;font-size:0.9em}table.setups tr:first-child{display:none}"
+    "table.setups tr{display:grid;grid-template-columns:1fr 1fr;gap:0 0.8em;border:1px solid #999;border-radius:6px;"
+    "margin:0 0 0.6em;padding:0.35em 0.55em}"
+    "table.setups td,table.setups th{display:block;border:0;padding:1px 0;text-align:left;background:none;"
+    "overflow-wrap:anywhere}"
+    "table.setups td::before,table.setups th::before{color:#555;font-size:0.85em;font-weight:normal;margin-right:0.4em}"
+    "table.setups td:nth-child(2){font-weight:600}table.setups td:nth-child(11),table.setups th:first-child"
+    "{grid-column:1/-1}table.setups tr.sm-row{background:#fff2a8}"
+    + "".join(f'table.setups td:nth-child({k})::before{{content:"{h}"}}' for k, h in enumerate(HEADER, 1))
+    + "".join(
+        f'table.setups th:nth-child({k})::before{{content:"{h}"}}'
+        for k, h in ((2, HEADER[8]), (3, HEADER[9]), (5, "sessions"))
+    )
+    + "}"
+)
 SCRIPT = (
     "window.addEventListener('load',function(){var im=document.images,ok=0;for(var i=0;i<im.length;i++)"
     "{if(im[i].complete&&im[i].naturalWidth>0)ok++;}document.body.setAttribute('data-images-ok',ok+'/'+im.length);});"
@@ -43,7 +64,7 @@ def _table(heads: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
         "<tr>" + "".join(f"<td class=l>{_e(v)}</td>" if lf else f"<td>{_e(v)}</td>" for v, lf in zip(r, left)) + "</tr>"
         for r in rows
     )
-    return f"<table><tr>{head}</tr>{body}</table>"
+    return f'<div class="wide"><table><tr>{head}</tr>{body}</table></div>'
 
 
 def render_html(fp: FieldPlan, png: bytes | None = None, site_map: str | None = None) -> str:
@@ -84,7 +105,7 @@ def render_html(fp: FieldPlan, png: bytes | None = None, site_map: str | None = 
     return (
         f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
         f'<meta name="viewport" content="width=device-width, initial-scale=1"><title>{_e(title)}</title>'
-        f"<style>{CSS}</style><script>{SCRIPT}</script></head><body>{''.join(parts)}</body></html>\n"
+        f"<style>{CSS}{CARDS}</style><script>{SCRIPT}</script></head><body>{''.join(parts)}</body></html>\n"
     )
 
 
@@ -106,7 +127,7 @@ def _setups_html(fp: FieldPlan) -> str:
         f"<th>{t.total_s / 60:.1f}</th><th class=l>{len(fp.targets)} targets</th><th>{len(t.sessions)}</th></tr>"
     )
     sessions = "".join(f"<li>{s.label}</li>" for s in t.sessions)
-    return f"<table><tr>{head}</tr>{body}{totals}</table><ul>{sessions}</ul>"
+    return f'<div class="wide"><table class="setups"><tr>{head}</tr>{body}{totals}</table></div><ul>{sessions}</ul>'
 
 
 def _weak_html(fp: FieldPlan) -> str:

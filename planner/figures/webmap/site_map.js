@@ -155,9 +155,10 @@
     root.smapSelect = select;
 
     /* pan (one pointer), pinch (two); a press that moved is no click */
-    var pts = {}, moved = false, downAt = null;
+    var pts = {}, moved = false, downAt = null, downType = 'mouse';
     svg.addEventListener('pointerdown', function (e) {
       pts[e.pointerId] = [e.clientX, e.clientY];
+      downType = e.pointerType || 'mouse';
       downAt = [e.clientX, e.clientY];
       moved = false;
     });
@@ -188,9 +189,27 @@
       var dy = e.deltaMode === 1 ? e.deltaY * 16 : e.deltaY;
       zoomAt(Math.pow(1.0015, Math.max(-300, Math.min(300, dy))), toUser(e.clientX, e.clientY));
     }, { passive: false });
+    /* the station whose marker centre is nearest the screen point (cx, cy), within `radius` CSS px; null: none.
+       Markers keep their screen size at every zoom, so at "fit" the hit areas of close stations overlap and the
+       topmost one under a finger is often a neighbour: the nearest centre is the station meant. */
+    function nearest(cx, cy, radius) {
+      var best = null, bd = radius;
+      each(frames[cur] ? frames[cur].querySelectorAll('.sm-st') : [], function (g) {
+        if (!g.getClientRects().length) return; /* its layer is hidden */
+        var m = g.getScreenCTM();
+        if (!m) return;
+        var d = Math.hypot(m.e - cx, m.f - cy);
+        if (d <= bd) { bd = d; best = g; }
+      });
+      return best;
+    }
     svg.addEventListener('click', function (e) {
       if (moved) { moved = false; return; }
-      var s = e.target.closest ? e.target.closest('.sm-st') : null;
+      /* a finger (or pen) gets a wider reach than a mouse; a click made by a script (no pointer: detail 0)
+         names its station by its target */
+      var reach = downType === 'mouse' ? 16 : 28;
+      var s = e.detail ? nearest(e.clientX, e.clientY, reach) : null;
+      if (!s) s = e.target.closest ? e.target.closest('.sm-st') : null;
       if (s) select(s.getAttribute('data-id'));
       else clear();
     });
