@@ -1,10 +1,10 @@
-"""field.html and report.html on a phone: Chromium driven over WebDriver (tests/browser.py: Phone) emulating a
-390 x 844 CSS px touch screen at 3 device px per CSS px. Each page lays out at the phone's width and at full scale
-(no 980 px desktop layout shrunk to fit), the page itself never scrolls sideways (wide tables scroll inside their
-own box or turn into cards), and at the site map's "fit" zoom a finger's tap on a station's marker selects that
-station, also where markers crowd: the three stations closest to another on screen, each tapped at its marker's
-centre and a few pixels off it towards its neighbour (where the topmost hit area used to win, the neighbour's).
-A screenshot of each page is kept in the test's folder."""
+"""field.html and report.html on a phone and a tablet: Chromium driven over WebDriver (tests/browser.py: Phone)
+emulating a 390 x 844 CSS px touch screen at 3 device px per CSS px, and a 768 x 1024 one at 2. Each page lays out
+at the screen's width and at full scale (no 980 px desktop layout shrunk to fit), the page itself never scrolls
+sideways (wide tables scroll inside their own box or turn into cards), and at the site map's "fit" zoom a finger's
+tap on a station's marker selects that station, also where markers crowd: the three stations closest to another on
+screen, each tapped at its marker's centre and a few pixels off it towards its neighbour (where the topmost hit area
+used to win, the neighbour's). A screenshot of each page is kept in the test's folder."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from tests.browser import Phone, chromedriver
 from tests.conftest import INSTANCES
 
 PNG = b"\x89PNG\r\n\x1a\n"
-WIDTH, HEIGHT = 390, 844
+PHONE, TABLET = (390, 844, 3.0), (768, 1024, 2.0)  # CSS px wide and high, device px per CSS px
 
 pytestmark = [
     pytest.mark.slow,
@@ -87,7 +87,7 @@ def crowded(centres: dict[str, list[float]], n: int = 3) -> list[tuple[str, floa
     return [(i, ux, uy) for _, i, ux, uy in sorted(out)[:n]]
 
 
-def taps(phone: Phone, centres: dict[str, list[float]]) -> dict[tuple[str, int], str | None]:
+def taps(phone: Phone, centres: dict[str, list[float]], size: tuple[int, int]) -> dict[tuple[str, int], str | None]:
     """Tap each crowded station at its marker's centre and 6 px off it towards its nearest neighbour (a finger
     is not exact; the neighbour is still further off): the station selected after each tap."""
     picked = {}
@@ -95,23 +95,25 @@ def taps(phone: Phone, centres: dict[str, list[float]]) -> dict[tuple[str, int],
         for off in (0, 6):
             x, y = phone.run(CENTRES, False)[sid]  # a selection may scroll the page: measure again
             x, y = x + off * ux, y + off * uy
-            assert 0 < x < WIDTH and 0 < y < HEIGHT, (sid, x, y)
+            assert 0 < x < size[0] and 0 < y < size[1], (sid, x, y)
             phone.tap(x, y)
             picked[sid, off] = phone.run(SELECTED)
     return picked
 
 
+@pytest.mark.parametrize("screen", [PHONE, TABLET], ids=["phone", "tablet"])
 @pytest.mark.parametrize("name", ["field.html", "report.html"])
-def test_page_fits_a_phone_and_a_tap_selects_the_station_tapped(pages, name, tmp_path):
-    with Phone(WIDTH, HEIGHT) as phone:
+def test_page_fits_the_screen_and_a_tap_selects_the_station_tapped(pages, name, screen, tmp_path):
+    width, height, ratio = screen
+    with Phone(width, height, ratio) as phone:
         phone.get(pages / name)
         lay = phone.run(LAYOUT)
-        assert lay["inner"] == WIDTH  # laid out at the phone's width, not a desktop width shrunk to fit
+        assert lay["inner"] == width  # laid out at the screen's width, not a desktop width shrunk to fit
         assert lay["scale"] == 1  # text at full scale
-        assert lay["scroll"] <= WIDTH, lay["wide"]  # the page never scrolls sideways
+        assert lay["scroll"] <= width, lay["wide"]  # the page never scrolls sideways
         centres = phone.run(CENTRES, True)  # at "fit"
         assert len(centres) >= 4
-        picked = taps(phone, centres)
+        picked = taps(phone, centres, (width, height))
         assert picked == {(sid, off): sid for sid, off in picked}
         png = phone.screenshot()
     shot = tmp_path / f"{name}.png"
