@@ -18,6 +18,7 @@ import shapely
 
 from planner.core.errors import InputError, PlannerError, located_in
 from planner.core.fileio import MAX_INPUT_BYTES
+from planner.io.dxf_check import check_dxf_pairs, read_dxf_bytes
 from planner.io.dxf_entities import APPID, Shape, read_shapes
 from planner.io.dxf_options import ZONE_LAYERS, DxfOptions
 from planner.io.params_io import record_from_dxf, with_record
@@ -172,10 +173,13 @@ def _open(path: Path) -> Any:
         raise InputError(f"cannot read file: {exc.strerror}", file=file) from None
     if size > MAX_INPUT_BYTES:
         raise InputError(f"file too large ({size:,} bytes; limit {MAX_INPUT_BYTES:,})", file=file, value=size)
+    if not path.is_file():
+        raise InputError("not a file", file=file)
+    check_dxf_pairs(read_dxf_bytes(path, file), file)  # whole, its pairs intact: ezdxf reads past some damage
     try:
         return ezdxf.readfile(path)
-    except (OSError, ezdxf.DXFError, ValueError, UnicodeDecodeError) as exc:
-        first = (str(exc).splitlines() or [type(exc).__name__])[0]
+    except Exception as exc:  # ezdxf's parser fails on damaged input in many ways (DXFError, ValueError, StopIteration)
+        first = (str(exc).splitlines() or [type(exc).__name__])[0] or type(exc).__name__
         raise InputError(f"not a readable DXF file ({first})", file=file) from None
 
 

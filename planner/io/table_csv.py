@@ -68,7 +68,22 @@ def read_table_csv(path: Path | str) -> list[ZoneTable]:
         zones.setdefault(zone, (side, []))[1].append(row)
     if not zones:
         raise InputError("no data rows", file=name)
+    _ends_with_line_end(text, name)
     return [_zone_table(z, side, rows, name) for z, (side, rows) in zones.items()]
+
+
+def _ends_with_line_end(text: str, file: str) -> None:
+    """Refuse a file whose last row has no line end: a row cut short reads as a row of shorter numbers (``3.05`` cut
+    to ``3.0``), so a table that does not end with a newline cannot be told from one cut mid-row."""
+    if not text.rstrip(" \t").endswith(("\n", "\r")):
+        last = text.rstrip().rsplit("\n", 1)[-1]
+        raise InputError(
+            "the last row has no line end: the file may be cut short mid-row; end the file with a newline",
+            file=file,
+            row=f"line {text.count(chr(10)) + 1}",
+            field="text",
+            value=last if len(last) <= 40 else last[:37] + "...",
+        )
 
 
 def _rows(reader: Any, file: str) -> Iterator[list[str]]:
