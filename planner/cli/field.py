@@ -165,8 +165,25 @@ def cmd_field(args: argparse.Namespace) -> int:
     stations = read_plan_stations(args.plan, site)
     settings = _plan_settings(raw, len(stations), args)
     problem = recorded_problem(site, meta)  # the plan's sight and registration: the sheet relates its own pairs
-    write_field(problem, stations, options, folder, plan_file=args.plan, settings=settings)
+    fp = write_field(problem, stations, options, folder, plan_file=args.plan, settings=settings)
+    note = numbering_note(meta, fp, args.plan, folder)
+    if note:
+        print(note)
     return ExitCode.OK
+
+
+def numbering_note(meta: dict[str, Any], fp: FieldPlan, plan_file: str, folder: str) -> str:
+    """A note where the sheet numbers the stations otherwise than ``plan_file`` records (a plan made without a
+    sheet, or a sheet made again with other options): the report of the plan follows the sheet it links."""
+    from planner.plan.plan_dict import StationNumbering
+
+    recorded = StationNumbering.recorded(meta, fp.stations)
+    if recorded == fp.numbering:
+        return ""
+    return (
+        f"note: this sheet numbers the stations in its walking order, {plan_file} in {recorded.basis}; "
+        f"`planner report {plan_file} --out {folder}` numbers them as this sheet does"
+    )
 
 
 def _plan_settings(raw: object, n: int, args: argparse.Namespace) -> list[str] | None:

@@ -40,6 +40,8 @@ def cmd_report(args: argparse.Namespace) -> int:
     from planner.io.plan_file import outcome_from_file
     from planner.network.check import run_network
     from planner.report import write_report
+    from planner.report.html import linked_field_sheet
+    from planner.report.site_map import numbered_outcome, report_numbering
 
     formats = parse_exports(args.export)
     ifc = None
@@ -57,6 +59,8 @@ def cmd_report(args: argparse.Namespace) -> int:
     )
     comparison = _file_comparison(outcome)
     outcome = replace(outcome, network=network, comparison=tuple(comparison))
+    # one numbering for the report and the exports: the linked field sheet's walking order, else the plan's own
+    outcome = numbered_outcome(outcome, report_numbering(outcome, linked_field_sheet(folder)[1]))
     write_exports(outcome, formats, folder, args.crs)
     print(outcome.summary())
     print(f"wrote {write_report(outcome, folder)}")

@@ -127,7 +127,7 @@ def _storey_figure(fp: FieldPlan, size: tuple[float, float]) -> Figure:
     for spare in grid[len(frames) :]:
         spare.set_visible(False)
     through = {c.leg for c in fp.crossings}
-    number = {k: n for n, k in enumerate(fp.order, 1)}
+    number = {k: fp.numbering.number(fp.stations[k].id) for k in fp.order}
     seers = {s.id: s.frame for s in fp.stations}
     panels = []
     for ax, sp in zip(grid, fp.spaces):
@@ -169,7 +169,9 @@ def figure(fp: FieldPlan, size: tuple[float, float] = SIZE) -> Figure:
     walks = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k not in through]
     walls = [leg for k, leg in enumerate(fp.legs) if len(leg) > 1 and k in through]
     _legs(ax, walks, walls)
-    labels = _points(ax, fp, [(n, fp.stations[k]) for n, k in enumerate(fp.order, 1)], list(fp.targets))
+    numbering = fp.numbering
+    numbered = [(numbering.number(fp.stations[k].id), fp.stations[k]) for k in fp.order]
+    labels = _points(ax, fp, numbered, list(fp.targets))
     frame_axes(ax, PLAN_MARGIN)
     ax.set_title(
         f"{site.name}: {len(fp.order)} setups, {fp.options.mode} order, route {fp.route_length_m:.0f} m "

@@ -31,11 +31,21 @@ HEADER = (
 
 
 def rows(fp: FieldPlan) -> list[list[Any]]:
-    """One row per setup in visiting order (the columns of :data:`HEADER`)."""
+    """One row per setup in visiting order (the columns of :data:`HEADER`): "no." is the station's number and
+    "station" its label (:attr:`FieldPlan.numbering <planner.field.run.FieldPlan.numbering>`)."""
     out = []
+    numbering = fp.numbering
     for setup, k in zip(fp.time.setups, fp.order):
         s = fp.stations[k]
-        where = [setup.number, s.id, round(s.x, 3), round(s.y, 3), s.zone, s.side.value, fp.instrument_height_m]
+        where = [
+            numbering.number(s.id),
+            numbering.label(s.id),
+            round(s.x, 3),
+            round(s.y, 3),
+            s.zone,
+            s.side.value,
+            fp.instrument_height_m,
+        ]
         time = [setup.setting or fp.time.setting, round(setup.walk_m, 1), round(setup.total_s / 60.0, 1)]
         out.append(where + time + [" ".join(fp.targets_of(s.id)), setup.session])
     return out
@@ -74,6 +84,7 @@ def to_dict(fp: FieldPlan) -> dict[str, Any]:
         "start": fp.start_label,
         "start_xy": list(fp.start_xy),
         "order": [fp.stations[k].id for k in fp.order],
+        "numbering": fp.numbering.to_dict(),
         "route_length_m": fp.route_length_m,
         "lower_bound_m": fp.lower_bound_m,
         "bound_method": fp.bound_method,

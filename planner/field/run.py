@@ -34,6 +34,7 @@ from planner.field.timing import FieldTime, field_time
 from planner.field.walking import SNAP_M, WalkGraph, WalkSpace, snap_distance, walk_graph, walk_space
 from planner.instrument.field_table import FieldProperties
 from planner.plan.hours.field_time import field_properties
+from planner.plan.plan_dict import StationNumbering
 from planner.plan.problem import Problem
 from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
@@ -107,6 +108,12 @@ class FieldPlan:
         """(route - bound) / route, 0 for an empty route."""
         r = self.route_length_m
         return max(0.0, (r - self.lower_bound_m) / r) if r > 0 else 0.0
+
+    @property
+    def numbering(self) -> StationNumbering:
+        """Each station's one number and label: walking order (this sheet's visiting order), which plan.json, the
+        report and the exports of the same plan record and show too."""
+        return StationNumbering.walking(self.stations, [self.stations[k].id for k in self.order])
 
     def targets_of(self, station_id: str) -> list[str]:
         return [t.id for t in self.targets if station_id in t.seen_by]

@@ -29,9 +29,11 @@ def _feature(geometry: str, coordinates: list, /, **properties: Any) -> dict[str
 def geojson(fp: FieldPlan) -> dict[str, Any]:
     """Stations in order (Points), the route (LineString) and targets, in the frame's metres."""
     feats: list[dict[str, Any]] = []
-    for n, k in enumerate(fp.order, 1):
+    numbering = fp.numbering
+    for k in fp.order:
         s = fp.stations[k]
-        props = {"role": "station", "number": n, "id": s.id, "zone": s.zone, "side": s.side.value}
+        props = {"role": "station", "number": numbering.number(s.id), "label": numbering.label(s.id), "id": s.id}
+        props |= {"zone": s.zone, "side": s.side.value}
         props |= {"targets": fp.targets_of(s.id)} | ({"frame": s.frame} if fp.spaces else {})
         feats.append(_feature("Point", [s.x, s.y], **props))
     if fp.spaces:

@@ -5,7 +5,8 @@ What it shows, by layer: the zones' walls and openings, obstacles, no-go areas a
 wall it covers (the coverage the sheet was made from, :attr:`FieldPlan.coverage <planner.field.run.FieldPlan.coverage>`,
 hidden until the station is selected); the registration links of the sheet's chain (weak ones dashed); the walking route
 from its start, the legs through a wall (where the model has no opening, :mod:`planner.field.crossing`) in their own
-dash; the registration targets. Stations are numbered in visiting order, as the setup table numbers them, and each links
+dash; the registration targets. Stations are numbered in visiting order (:attr:`FieldPlan.numbering
+<planner.field.run.FieldPlan.numbering>`, as the setup table, the report and the exports number them), and each links
 to its row of that table (:func:`setup_row_id`): a tap on a station marks its row, a click on a row shows its station.
 """
 
@@ -36,8 +37,11 @@ def field_site_map(fp: FieldPlan) -> SiteMap:
         every = coverage_runs(fp.coverage)
         runs = [every[k] for k in visiting]
     links = [MapLink(lk.a, lk.b, lk.shared_m, lk.fraction, lk.weak) for lk in fp.links]
-    rows = {s.id: setup_row_id(n) for n, s in enumerate(stations[: len(fp.order)], 1)}
-    return site_map_data(fp.site, stations, runs=runs, links=links, field_sheet=to_dict(fp), rows=rows)
+    numbering = fp.numbering
+    rows = {s.id: setup_row_id(numbering.number(s.id)) for s in stations[: len(fp.order)]}
+    return site_map_data(
+        fp.site, stations, runs=runs, links=links, field_sheet=to_dict(fp), rows=rows, numbering=numbering
+    )
 
 
 def field_map_html(fp: FieldPlan) -> str:

@@ -15,6 +15,7 @@ from planner.figures.base import PLAN_MARGIN, frame_axes, legend_once
 from planner.figures.labels import PointLabel, finish_plans
 from planner.network.adjustment import ELLIPSE_95
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 
 STYLES = {
     "registration": ("tab:blue", "-", 1.6, "registration (overlap) link"),
@@ -34,9 +35,11 @@ def _exaggeration(extent_m: float, largest_m: float) -> float:
     return float(max(m * 10**k for m in (1, 2, 5) if m * 10**k <= raw) if raw >= 1 else 1.0)
 
 
-def network_figure(o: Outcome, frame: str | None = None) -> Figure:
-    """The network of one frame (default: the frame with most stations)."""
+def network_figure(o: Outcome, frame: str | None = None, numbering: StationNumbering | None = None) -> Figure:
+    """The network of one frame (default: the frame with most stations); stations labelled with their numbers in
+    ``numbering`` (None: those the plan records), said in the legend, control points with their names."""
     argument(o, Outcome, "outcome")
+    numbering = numbering or StationNumbering.recorded(o.meta, o.stations)
     if o.network is None:
         raise ValueError("the outcome has no network report")
     g = o.network.graph
@@ -68,8 +71,8 @@ def network_figure(o: Outcome, frame: str | None = None) -> Figure:
             ax.plot(d["x"], d["y"], marker="^", ms=9, color="tab:red", ls="none", label=shown, mfc=face)
             labels.append(PointLabel(d["x"], d["y"], n, f"control:{n}", 9.0))
         else:
-            ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=once("st", "station"))
-            labels.append(PointLabel(d["x"], d["y"], n, f"station:{n}", 5.0))
+            ax.plot(d["x"], d["y"], "o", ms=5, color="black", label=once("st", f"station (number: {numbering.basis})"))
+            labels.append(PointLabel(d["x"], d["y"], str(numbering.number(n) or n), f"station:{n}", 5.0))
         p = points.get(n)
         if p is not None and p.ellipse_a > 0:
             a, b = 2 * ELLIPSE_95 * p.ellipse_a * factor, 2 * ELLIPSE_95 * p.ellipse_b * factor

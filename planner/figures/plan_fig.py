@@ -18,6 +18,7 @@ from planner.figures.base import PLAN_MARGIN, frame_axes, legend_once
 from planner.figures.labels import PointLabel, finish_plans
 from planner.figures.storey_fig import draw_obstacles
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 from planner.site.candidate import CandidateKind
 from planner.site.model import SITE_FRAME, ScanSide
 
@@ -55,10 +56,10 @@ def _pieces(o: Outcome, zi: int, side: ScanSide):
     return segs, o.coverage.count[m], o.coverage.best_incidence_deg[m], width
 
 
-def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> list[PointLabel]:
+def _stations(ax, o: Outcome, zone_id: str, side: ScanSide, numbering: StationNumbering) -> list[PointLabel]:
     """Draw the zone-side's stations; their number labels, to be placed once the panel is complete."""
     labels: list[PointLabel] = []
-    numbers = {s.id: k for k, s in enumerate(o.stations, 1)}
+    numbers = numbering.numbers
     once = legend_once()
     for s in o.stations:
         if s.zone != zone_id or s.side is not side:
@@ -74,9 +75,11 @@ def _stations(ax, o: Outcome, zone_id: str, side: ScanSide) -> list[PointLabel]:
     return labels
 
 
-def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
-    """Two panels of one zone-side: coverage count and best incidence angle of every wall piece."""
+def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str, numbering: StationNumbering | None = None) -> Figure:
+    """Two panels of one zone-side: coverage count and best incidence angle of every wall piece; stations labelled
+    with their numbers in ``numbering`` (None: those the plan records), said in the title."""
     argument(o, Outcome, "outcome")
+    numbering = numbering or StationNumbering.recorded(o.meta, o.stations)
     side = ScanSide(side)
     zi = next(i for i, z in enumerate(o.site.zones) if z.id == zone_id)
     zone = o.site.zones[zi]
@@ -112,7 +115,7 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
         if cmap is cmap_n:
             cb.set_ticks(range(1, min(top, 5) + 1))
         cb.set_label(label + (" (5 = 5 or more)" if cmap is cmap_n and top > 5 else ""))
-        labels = _stations(ax, o, zone.id, side)
+        labels = _stations(ax, o, zone.id, side, numbering)
         frame_axes(ax, PLAN_MARGIN)
         ax.legend(loc="upper left", fontsize=7, framealpha=0.8)
         panel_labels.append((ax, zone.frame, labels))
@@ -122,13 +125,17 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str) -> Figure:
     n = sum(1 for s in o.stations if s.zone == zone.id and s.side is side)
     fig.suptitle(
         f"{o.site.name}: zone {zone.id}, {side.value} - {n} stations, "
-        f"{100 * float((count > 0).mean()) if count.size else 100:.1f} % of pieces covered"
+        f"{100 * float((count > 0).mean()) if count.size else 100:.1f} % of pieces covered; {numbering.legend}"
     )
     finish_plans(fig, panel_labels, fontsize=7)  # last: scale bars and labels in the final, frozen layout
     return fig
 
 
-def plan_figures(o: Outcome) -> list[tuple[str, Figure]]:
-    """One plan figure per zone-side, titled ``zone/side``."""
+def plan_figures(o: Outcome, numbering: StationNumbering | None = None) -> list[tuple[str, Figure]]:
+    """One plan figure per zone-side, titled ``zone/side``, stations numbered by ``numbering`` (:func:`plan_figure`)."""
     argument(o, Outcome, "outcome")
-    return [(f"{z.id}/{side.value}", plan_figure(o, z.id, side)) for z in o.site.zones for side in z.scan_side.sides]
+    return [
+        (f"{z.id}/{side.value}", plan_figure(o, z.id, side, numbering))
+        for z in o.site.zones
+        for side in z.scan_side.sides
+    ]

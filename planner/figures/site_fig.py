@@ -27,6 +27,7 @@ from planner.figures.labels import PointLabel, finish_plans
 from planner.figures.storey_fig import OPENING_COLOUR, draw_gap, draw_obstacles
 from planner.network.survey import registration_links
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 from planner.site.model import SITE_FRAME, ControlPoint
 
 #: the farthest a number is put from its station (pixels beyond the marker), on a leader line
@@ -35,22 +36,6 @@ LEADER_MAX_PX = 60.0
 DENSE_LINKS = 3
 _LINK = "tab:blue"
 _CONTROL = "tab:red"
-
-
-def station_numbers(o: Outcome, order: Sequence[str] | None = None) -> dict[str, int]:
-    """Each station's number (1..N): in ``order`` (station ids in visiting order, as the field plan walks them), then
-    the stations ``order`` leaves out in plan order; without ``order``, plan order.
-
-    Raises ``ValueError`` for an id that is no station of the plan, or one given twice."""
-    ids = [s.id for s in o.stations]
-    given = list(order or ())
-    unknown = sorted(set(given) - set(ids))
-    if unknown:
-        raise ValueError(f"order names stations the plan does not have: {', '.join(unknown)}")
-    if len(set(given)) != len(given):
-        raise ValueError("order names a station more than once")
-    rest = [i for i in ids if i not in set(given)]
-    return {sid: k for k, sid in enumerate(given + rest, 1)}
 
 
 def _links(o: Outcome) -> list[tuple[str, str]]:
@@ -149,17 +134,20 @@ def _panel(
 
 
 def site_figure(
-    o: Outcome, order: Sequence[str] | None = None, control: Sequence[ControlPoint] | None = None
+    o: Outcome, numbering: StationNumbering | None = None, control: Sequence[ControlPoint] | None = None
 ) -> Figure:
     """Every zone of the site with the stations, their registration links and the control points: one panel per frame,
     each with a scale bar and a north arrow, every label placed without overlap.
 
     The network report of ``o``, where present, gives the registration links and the control points (proposed ones drawn
-    open), else the links are the plan's registration relation computed afresh. ``order``: station ids in visiting order
-    (:func:`station_numbers`); ``control``: control points to draw instead.
+    open), else the links are the plan's registration relation computed afresh. ``numbering``: the stations' numbers
+    (None: those the plan records, :meth:`StationNumbering.recorded
+    <planner.plan.plan_dict.StationNumbering.recorded>`), said in the title; ``control``: control points to draw
+    instead.
     """
     argument(o, Outcome, "outcome")
-    numbers = station_numbers(o, order)
+    numbering = numbering or StationNumbering.recorded(o.meta, o.stations)
+    numbers = {s.id: numbering.number(s.id) for s in o.stations}
     frames = list(dict.fromkeys(z.frame for z in o.site.zones))
     ncols = math.ceil(math.sqrt(len(frames)))
     nrows = math.ceil(len(frames) / ncols)
@@ -176,7 +164,7 @@ def site_figure(
     handles = [
         Line2D([], [], color="black", lw=1.0, label="wall"),
         Line2D([], [], color=_LINK, lw=1.0, label=link),
-        Line2D([], [], marker="o", ls="none", mfc="white", mec="black", label="station (number: visiting order)"),
+        Line2D([], [], marker="o", ls="none", mfc="white", mec="black", label=f"station (number: {numbering.basis})"),
     ]
     if points:
         handles.append(Line2D([], [], marker="^", ls="none", color=_CONTROL, label="control point (open: proposed)"))
@@ -185,8 +173,7 @@ def site_figure(
     if any(op.kind == "passage" for z in o.site.zones for op in z.openings):
         handles.append(Line2D([], [], color=OPENING_COLOUR["passage"], lw=4, label="passage (no door)"))
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8, frameon=False)
-    how = "walking order" if order else "plan order"
-    fig.suptitle(f"{o.site.name}: {_count(len(o.stations), 'station')}, numbered in {how}")
+    fig.suptitle(f"{o.site.name}: {_count(len(o.stations), 'station')}, numbered in {numbering.basis}")
     panels = [(ax, frame, mine) for ax, frame, mine in zip(axes, frames, labels)]
     finish_plans(fig, panels, fontsize=_scale(len(o.stations))[1], max_gap_px=LEADER_MAX_PX)
     return fig

@@ -21,9 +21,10 @@ from planner.core.checks import argument
 from planner.io.dxf_entities import APPID
 from planner.io.params_io import dxf_properties, site_record
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 
 #: the layers and their ACI colours
-LAYERS = dict(WALLS=7, HOLES=7, OBSTACLES=8, NOGO=6, STATIONS=5, FIELDS=4, COVERAGE=3, NETWORK=2, CONTROL=1)
+LAYERS = dict(WALLS=7, HOLES=7, OBSTACLES=8, NOGO=6, STATIONS=5, NUMBERS=5, FIELDS=4, COVERAGE=3, NETWORK=2, CONTROL=1)
 #: coverage colours (ACI): seen by no station, by one, by two or more
 COVERAGE_ACI = {0: 1, 1: 3, 2: 5}
 
@@ -106,10 +107,14 @@ def _drawing(o: Outcome) -> ezdxf.document.Drawing:
     for k in range(len(t)):
         n = min(int(o.coverage.count[k]), 2)
         msp.add_line(tuple(t.a[k]), tuple(t.b[k]), dxfattribs={"layer": "COVERAGE", "color": COVERAGE_ACI[n]})
-    for s in o.stations:
-        msp.add_point((s.x, s.y), dxfattribs={"layer": "STATIONS"})
+    numbering = StationNumbering.recorded(o.meta, o.stations)
+    for s in numbering.ordered(o.stations):  # by number; the label above right, the number below right
+        n, label = numbering.number(s.id), numbering.label(s.id)
+        tags = _xdata(f"number={n}", f"label={label}", f"numbering={numbering.basis}")
+        msp.add_point((s.x, s.y), dxfattribs={"layer": "STATIONS"}).set_xdata(APPID, tags)
         msp.add_circle((s.x, s.y), th / 2, dxfattribs={"layer": "STATIONS"})
-        msp.add_text(s.id, height=th, dxfattribs={"layer": "STATIONS"}).set_placement((s.x + th, s.y + th))
+        msp.add_text(label, height=th, dxfattribs={"layer": "STATIONS"}).set_placement((s.x + th, s.y + th))
+        msp.add_text(str(n), height=th, dxfattribs={"layer": "NUMBERS"}).set_placement((s.x + th, s.y - 2 * th))
         r = o.tripod_radius_m.get(s.id)
         if r is not None and math.isfinite(r) and r > 0:
             msp.add_circle((s.x, s.y), r, dxfattribs={"layer": "FIELDS"})

@@ -17,6 +17,7 @@ from planner.core.text import dumps
 from planner.io.crs import to_lonlat
 from planner.io.params_io import RECORD_KEY, site_record
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 from planner.site.model import SITE_FRAME
 
 
@@ -69,14 +70,20 @@ def _coverage_features(o: Outcome) -> list[dict[str, Any]]:
 
 
 def _station_features(o: Outcome) -> list[dict[str, Any]]:
+    """One point per station, by number (its ``number`` and ``label`` as every file and figure of the plan give
+    them), and its tripod disc."""
     out = []
-    for s, st in zip(o.stations, o.coverage.per_station):
-        r = o.tripod_radius_m.get(s.id)
+    numbering = StationNumbering.recorded(o.meta, o.stations)
+    per = dict(zip((s.id for s in o.stations), o.coverage.per_station))
+    for s in numbering.ordered(o.stations):
+        st, r = per[s.id], o.tripod_radius_m.get(s.id)
         out.append(
             _feature(
                 shapely.Point(s.x, s.y),
                 "station",
                 id=s.id,
+                number=numbering.number(s.id),
+                label=numbering.label(s.id),
                 zone=s.zone,
                 side=s.side.value,
                 kind=s.kind.value,
@@ -146,6 +153,7 @@ def outcome_geojson(o: Outcome, crs: str | None = None) -> dict[str, Any]:
             "crs": crs,
             "method": o.meta.get("method"),
             "stations": len(o.stations),
+            "numbering": StationNumbering.recorded(o.meta, o.stations).legend,
             # what the geometry does not say, so that the file read back as a site plans the same
             RECORD_KEY: site_record(o.site.name, o.site.instrument, o.site.parameters),
         },

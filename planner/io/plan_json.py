@@ -11,17 +11,18 @@ from planner.core.errors import InputError
 from planner.core.fileio import read_json, to_float
 from planner.core.text import dumps
 from planner.plan import Plan
-from planner.plan.plan_dict import plan_to_dict
+from planner.plan.plan_dict import PLAN_ORDER, WALKING_ORDER, StationNumbering, plan_to_dict
 from planner.site.candidate import Candidate, CandidateKind, check_unique_ids
 from planner.site.model import ScanSide, Site
 
 
-def write_plan(plan: Plan, out_dir: Path | str) -> Path:
-    """Write ``out_dir/plan.json`` (the folder is created) and return its path."""
+def write_plan(plan: Plan, out_dir: Path | str, numbering: StationNumbering | None = None) -> Path:
+    """Write ``out_dir/plan.json`` (the folder is created) and return its path; each station with its number and label
+    in ``numbering`` (None: plan order, no field sheet)."""
     folder = Path(out_dir)
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / "plan.json"
-    path.write_text(dumps(plan_to_dict(plan)))
+    path.write_text(dumps(plan_to_dict(plan, numbering)))
     return path
 
 
@@ -131,4 +132,29 @@ def check_plan_meta(meta: Any, name: str) -> dict[str, Any]:
         value = meta.get(key)
         if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))):
             raise InputError("must be a number or null", file=name, field=key, value=value)
+    _check_numbering(meta, name)
     return meta
+
+
+def _check_numbering(meta: dict[str, Any], name: str) -> None:
+    """The stations' recorded numbers (:class:`~planner.plan.plan_dict.StationNumbering`): where the plan records
+    them, each station has a number, together 1..N once each, and the basis is known; a plan without them is
+    numbered in plan order. A station's label is its id (the ``label`` written beside it is not read back)."""
+    rows = meta.get("stations")
+    numbering = meta.get("numbering")
+    if numbering is None or not isinstance(rows, list):
+        return
+    basis = numbering.get("basis") if isinstance(numbering, dict) else numbering
+    if basis not in (WALKING_ORDER, PLAN_ORDER):
+        raise InputError(
+            f"must be '{WALKING_ORDER}' or '{PLAN_ORDER}'", file=name, field="numbering.basis", value=basis
+        )
+    seen: set[int] = set()
+    for k, row in enumerate(rows, 1):
+        if not isinstance(row, dict):
+            continue
+        n = row.get("number")
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= len(rows) or n in seen:
+            what = f"an integer in 1..{len(rows)}, each number once (remove 'numbering' to number in plan order)"
+            raise InputError(f"must be {what}", file=name, row=f"stations[{k}]", field="number", value=n)
+        seen.add(n)

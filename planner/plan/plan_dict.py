@@ -1,10 +1,13 @@
 """A plan as the dictionary plan.json holds (:func:`plan_to_dict`): what the outcome, the report and the file writer
-(:mod:`planner.io.plan_json`) all take, so the file and the figures never disagree."""
+(:mod:`planner.io.plan_json`) all take, so the file and the figures never disagree; and each station's one number and
+label (:class:`StationNumbering`), which plan.json records and every figure, map, table and export shows."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from planner.plan.networks import storey_networks
 from planner.plan.result import Plan
@@ -12,9 +15,119 @@ from planner.plan.tripod import TripodDisc
 from planner.site.candidate import Candidate
 from planner.site.model import Zone
 
+#: the two ways stations are numbered: in the field sheet's walking order where one is made, else in the plan's order
+WALKING_ORDER = "walking order"
+PLAN_ORDER = "plan order"
+_LEGENDS = {
+    WALKING_ORDER: "stations numbered in walking order (the field sheet's visiting order)",
+    PLAN_ORDER: "stations numbered in plan order (no field sheet was made)",
+}
+_S = TypeVar("_S")
 
-def plan_to_dict(plan: Plan) -> dict[str, Any]:
-    """The plan as plain JSON-ready data (coordinates in each zone's frame)."""
+
+@dataclass(frozen=True, kw_only=True)
+class StationNumbering:
+    """Each station's one number (1..N) and one label (its id), decided once and shown alike by every figure, map,
+    table and export of a plan: ``ids`` are the station ids by number (``ids[0]`` is number 1); ``basis`` says how
+    they were numbered (:data:`WALKING_ORDER` where a field sheet was made, else :data:`PLAN_ORDER`), and
+    :attr:`legend` says it in words for each figure's or table's legend. plan.json records it (each station's
+    ``number`` and ``label``, and ``numbering``), so that a report or a sheet made from the file numbers alike."""
+
+    ids: tuple[str, ...]
+    basis: str = PLAN_ORDER
+
+    def __post_init__(self) -> None:
+        if self.basis not in _LEGENDS:
+            raise ValueError(f"unknown numbering basis {self.basis!r} (known: {', '.join(_LEGENDS)})")
+        if len(set(self.ids)) != len(self.ids):
+            raise ValueError("a station numbering names a station more than once")
+
+    @classmethod
+    def plan_order(cls, stations: Sequence[Any]) -> StationNumbering:
+        """Stations numbered in the plan's order (no field sheet)."""
+        return cls(ids=tuple(str(s.id) for s in stations), basis=PLAN_ORDER)
+
+    @classmethod
+    def walking(cls, stations: Sequence[Any], order: Sequence[str]) -> StationNumbering:
+        """Stations numbered in the walking ``order`` (station ids), any station it leaves out after them in plan
+        order; an id of ``order`` that is no station is an error."""
+        ids = [str(s.id) for s in stations]
+        unknown = sorted(set(order) - set(ids))
+        if unknown:
+            raise ValueError(f"the walking order names stations the plan does not have: {', '.join(unknown)}")
+        given = set(order)
+        return cls(ids=(*map(str, order), *(i for i in ids if i not in given)), basis=WALKING_ORDER)
+
+    @classmethod
+    def recorded(cls, data: Mapping[str, Any], stations: Sequence[Any]) -> StationNumbering:
+        """The numbering a plan.json dictionary records for ``stations`` (its rows, in order): each row's ``number``
+        and the ``numbering`` basis; plan order where the file records none (a plan written before numbers were
+        recorded, or made elsewhere). :func:`planner.io.plan_json.check_plan_meta` has checked the numbers."""
+        rows = data.get("stations")
+        basis = (data.get("numbering") or {}).get("basis") if isinstance(data.get("numbering"), dict) else None
+        if not isinstance(rows, list) or len(rows) != len(stations) or basis not in _LEGENDS:
+            return cls.plan_order(stations)
+        numbers = [row.get("number") if isinstance(row, dict) else None for row in rows]
+        if sorted(n for n in numbers if isinstance(n, int)) != list(range(1, len(stations) + 1)):
+            return cls.plan_order(stations)
+        by_number = sorted(zip(numbers, (str(s.id) for s in stations)))
+        return cls(ids=tuple(sid for _n, sid in by_number), basis=str(basis))
+
+    @classmethod
+    def decide(
+        cls, data: Mapping[str, Any], stations: Sequence[Any], field_order: Sequence[str] | None = None
+    ) -> StationNumbering:
+        """The one rule: walking order where a field sheet of these stations is made (``field_order``: its station
+        ids in visiting order), else the numbering the plan dictionary ``data`` records (plan order where none)."""
+        ids = {str(s.id) for s in stations}
+        if field_order and set(map(str, field_order)) <= ids:
+            return cls.walking(stations, [str(i) for i in field_order])
+        return cls.recorded(data, stations)
+
+    def record(self, data: Mapping[str, Any]) -> dict[str, Any]:
+        """A copy of the plan dictionary ``data`` with this numbering: its ``numbering`` and each station row's
+        ``number`` and ``label`` (what :func:`plan_to_dict` writes)."""
+        rows = [
+            {**row, "number": self.number(str(row.get("id"))), "label": self.label(str(row.get("id")))}
+            if isinstance(row, dict)
+            else row
+            for row in data.get("stations") or []
+        ]
+        return {**data, "numbering": self.to_dict(), "stations": rows}
+
+    @property
+    def numbers(self) -> dict[str, int]:
+        """Station id to its number."""
+        return {sid: k for k, sid in enumerate(self.ids, 1)}
+
+    def number(self, station_id: str) -> int:
+        """The number of a station (0 for an id the numbering does not hold)."""
+        return self.numbers.get(station_id, 0)
+
+    @staticmethod
+    def label(station_id: str) -> str:
+        """The label of a station: its id, the same text in every file and figure."""
+        return str(station_id)
+
+    @property
+    def legend(self) -> str:
+        """How the stations are numbered, in words (e.g. "stations numbered in walking order (...)")."""
+        return _LEGENDS[self.basis]
+
+    def ordered(self, stations: Sequence[_S]) -> list[_S]:
+        """``stations`` (anything with an ``id``) by number; those the numbering lacks last, as given."""
+        n = self.numbers
+        return sorted(stations, key=lambda s: n.get(str(s.id), len(n) + 1))  # type: ignore[attr-defined]
+
+    def to_dict(self) -> dict[str, Any]:
+        """plan.json's ``numbering``: the basis, its legend and the labels by number."""
+        return {"basis": self.basis, "legend": self.legend, "labels": list(self.ids)}
+
+
+def plan_to_dict(plan: Plan, numbering: StationNumbering | None = None) -> dict[str, Any]:
+    """The plan as plain JSON-ready data (coordinates in each zone's frame); each station with its number and label
+    in ``numbering`` (None: plan order, no field sheet)."""
+    numbering = numbering or StationNumbering.plan_order(plan.stations)
     site, r = plan.site, plan.result
     sides = plan.count_by_side()
     return {
@@ -51,8 +164,15 @@ def plan_to_dict(plan: Plan) -> dict[str, Any]:
         # what every number above was computed under: the limits, the registration rule and scope, the strategy
         "resolved": plan.problem.to_dict(),
         "zones": [_zone(z) for z in site.zones],
+        "numbering": numbering.to_dict(),
         "stations": [
-            _station(s, plan.tripods[k] if plan.tripods else None, plan.hours.settings[k] if plan.hours else None)
+            {
+                **_station(
+                    s, plan.tripods[k] if plan.tripods else None, plan.hours.settings[k] if plan.hours else None
+                ),
+                "number": numbering.number(s.id),
+                "label": numbering.label(s.id),
+            }
             for k, s in enumerate(plan.stations)
         ],
         "verification": plan.verification.to_dict(),

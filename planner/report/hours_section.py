@@ -12,7 +12,7 @@ from planner.figures.tradeoff_fig import tradeoff_figure
 from planner.plan.hours import no_gain_reason
 from planner.plan.outcome import Outcome
 from planner.report.markup import esc as _e
-from planner.report.markup import image
+from planner.report.markup import image, scroll
 
 
 def _h(seconds: Any) -> str:
@@ -54,7 +54,7 @@ def hours_section(o: Outcome) -> str:
             )
         )
     rows = "".join(f'<tr><td class="l">{_e(k)}</td><td class="l">{v}</td></tr>' for k, v in lines)
-    out = ["<h2>Hours on site</h2>", f"<table>{rows}</table>"]
+    out = ["<h2>Hours on site</h2>", scroll(f"<table>{rows}</table>")]
     trade = h.get("tradeoff")
     if isinstance(trade, Mapping):
         out.append(_tradeoff(trade))
@@ -84,7 +84,7 @@ def _tradeoff(t: Mapping[str, Any]) -> str:
     )
     cap = "hours on site per plan: set-up, scan, walking (the field sheet's route) and targets"
     fig = image(png_bytes(tradeoff_figure(rows, str(t.get("kept")))), cap)
-    return f"<h3>Trade-off: stations and hours</h3><table><tr>{th}</tr>{body}</table>{said}{fig}"
+    return f"<h3>Trade-off: stations and hours</h3>{scroll(f'<table><tr>{th}</tr>{body}</table>')}{said}{fig}"
 
 
 def _no_gain(rows: list[dict[str, Any]]) -> str:

@@ -21,20 +21,31 @@ from planner.figures import network_figure, plan_figures
 from planner.figures.base import png_bytes
 from planner.network.summary import network_summary
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 from planner.plan.tripod import MIN_RADIUS_M
 from planner.report.hours_section import hours_section
 from planner.report.markup import esc as _e
 from planner.report.markup import image as _img
 from planner.report.markup import table
-from planner.report.site_map import read_field_sheet, site_map_html, site_plan_html, station_row_id
+from planner.report.site_map import (
+    read_field_sheet,
+    report_numbering,
+    site_map_html,
+    site_plan_html,
+    station_row_id,
+)
 from planner.report.surfaces_section import surfaces_section
 from planner.report.view3d_section import view3d_section
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
-th{background:#eee}td.l,th.l{text-align:left}img{max-width:100%;border:1px solid #ddd;margin:0.5em 0}
-.pass{color:#176317;font-weight:bold}.fail{color:#b00;font-weight:bold}figure{margin:0 0 2em}
-table{display:block;overflow-x:auto;max-width:100%}ul.notes{font-size:0.9em}ul.notes li{overflow-wrap:anywhere;margin:0.15em 0}"""
+th{background:#eee}td.l,th.l{text-align:left}img{max-width:100%;height:auto;border:1px solid #ddd;margin:0.5em 0}
+.pass{color:#176317;font-weight:bold}.fail{color:#b00;font-weight:bold}figure{margin:0 0 2em;max-width:100%}
+.scroll{overflow-x:auto;max-width:100%;-webkit-overflow-scrolling:touch}.scroll>table{margin-bottom:0.5em}
+.scroll{margin-bottom:1em}h1,h2,h3,p,li,figcaption{overflow-wrap:anywhere}
+ul.notes{font-size:0.9em}ul.notes li{margin:0.15em 0}
+@media (max-width:600px){body{margin:0.6em}h1{font-size:1.35em}h2{font-size:1.15em}table{font-size:0.8em}
+th,td{padding:2px 4px}figure{margin:0 0 1.2em}ul{padding-left:1.2em}}"""
 SCRIPT = (
     "window.addEventListener('load',function(){var im=document.images,ok=0;for(var i=0;i<im.length;i++)"
     "{if(im[i].complete&&im[i].naturalWidth>0)ok++;}document.body.setAttribute('data-images-ok',ok+'/'+im.length);});"
@@ -94,11 +105,15 @@ def _closure(o: Outcome) -> str:
     return out
 
 
-def _stations(o: Outcome) -> str:
+def _stations(o: Outcome, numbering: StationNumbering) -> str:
+    """The station table, one row per station by number (its ``data-station-number`` and ``data-station-label``
+    on the row), the numbering said under it."""
+    per = dict(zip((s.id for s in o.stations), o.coverage.per_station))
+    ordered = numbering.ordered(o.stations)
     rows = [
         (
-            k,
-            _e(s.id),
+            numbering.number(s.id),
+            _e(numbering.label(s.id)),
             _e(s.zone),
             _e(s.side.value),
             _e(s.kind.value),
@@ -110,7 +125,7 @@ def _stations(o: Outcome) -> str:
             _f(o.tripod_radius_m.get(s.id)),
             _f(st.worst_point_error_m * 1000 if math.isfinite(st.worst_point_error_m) else None, ".2f"),
         )
-        for k, (s, st) in enumerate(zip(o.stations, o.coverage.per_station), 1)
+        for s, st in ((s, per[s.id]) for s in ordered)
     ]
     zero = sum(1 for s in o.stations if o.tripod_radius_m.get(s.id) == 0)
     note = (
@@ -138,8 +153,10 @@ def _stations(o: Outcome) -> str:
             ),
             rows,
             left=5,
-            row_ids=[station_row_id(k) for k in range(1, len(rows) + 1)],
+            row_ids=[station_row_id(numbering.number(s.id)) for s in ordered],
+            row_data=[{"station-number": numbering.number(s.id), "station-label": s.id} for s in ordered],
         )
+        + f'<p class="numbering">No.: {_e(numbering.legend)}; id: the station\'s label in every file.</p>'
         + note
     )
 
@@ -232,7 +249,7 @@ def _network_notes(o: Outcome) -> str:
     return '<ul class="notes">' + "".join(f"<li>{_e(ln)}</li>" for ln in lines) + "</ul>"
 
 
-def _verification(o: Outcome) -> str:
+def _verification(o: Outcome, numbering: StationNumbering) -> str:
     v = o.verification
     head = (
         f"<p>{'<span class=pass>complete</span>' if v.complete else '<span class=fail>incomplete</span>'}: "
@@ -242,7 +259,11 @@ def _verification(o: Outcome) -> str:
     gaps = "".join(
         f"<li>{_e(g.zone)} {_e(g.side)} wall {g.wall}: {g.from_m:.2f}-{g.to_m:.2f} m</li>" for g in v.gaps[:50]
     )
-    mis = "".join(f"<li>station {_e(s)}: {_e(r)}</li>" for s, r in v.misplaced)
+    mis = "".join(
+        f'<li data-station-number="{numbering.number(s)}" data-station-label="{_e(s)}">station no. '
+        f"{numbering.number(s)} {_e(s)}: {_e(r)}</li>"
+        for s, r in v.misplaced
+    )
     return (
         head
         + table(("zone", "side", "covered", "points", "%"), rows, left=2)
@@ -254,9 +275,15 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
     """The report as one HTML string; ``field``: the address of the plan's field sheet (field.html) to link;
     ``field_sheet``: that sheet as ``field.json`` holds it, whose route and targets the site map draws."""
     argument(o, Outcome, "outcome")
-    figs = "".join(_img(png_bytes(f), f"plan {name}: coverage count and best incidence") for name, f in plan_figures(o))
+    numbering = report_numbering(o, field_sheet)  # one number and label per station, in every section below
+    how = numbering.legend
+    figs = "".join(
+        _img(png_bytes(f), f"plan {name}: coverage count and best incidence; {how}")
+        for name, f in plan_figures(o, numbering)
+    )
     if o.network is not None:
-        figs += _img(png_bytes(network_figure(o)), "registration links, sight lines, control points and error ellipses")
+        what = "registration links, sight lines, control points and error ellipses"
+        figs += _img(png_bytes(network_figure(o, numbering=numbering)), f"{what}; {how}")
     m = o.meta
     title = f"Scanner stations for {o.site.name}"
     what = "Field sheet (visiting order, walking route, field time, targets)"
@@ -267,18 +294,20 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
         + (f", bound {_bound_cell(m)}" if isinstance(m.get("bound"), (int, float)) else "")
         + f"); {o.coverage.percent_length:.3f} % of wall length covered on "
         f"{_e(m.get('parameters', {}).get('target_spacing_m', 1.0))} m pieces. tls-planner {__version__}.</p>",
+        f'<p class="numbering">{_e(how[0].upper() + how[1:])}: each station has one number and one label (its id) '
+        "in every figure, map, table and file of this plan.</p>",
         sheet,
         "<h2>Site plan</h2>",
-        site_plan_html(o, field_sheet),
+        site_plan_html(o, field_sheet, numbering),
         "<h2>Site map</h2>",
-        site_map_html(o, field_sheet),
-        view3d_section(o),
+        site_map_html(o, field_sheet, numbering),
+        view3d_section(o, numbering),
         "<h2>Inputs and parameters</h2>",
         _parameters(o),
         "<h2>Zones and closure</h2>",
         _closure(o),
         "<h2>Stations</h2>",
-        _stations(o),
+        _stations(o, numbering),
         "<h2>Comparison of methods</h2>",
         _comparison(o),
         "<h2>Plans</h2>",
@@ -286,27 +315,38 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
         "<h2>Network and accuracy check</h2>",
         _network(o),
         "<h2>Verification</h2>",
-        _verification(o),
+        _verification(o, numbering),
         hours_section(o),
         surfaces_section(o),
     ]
     return (
         f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
         f'<meta name="viewport" content="width=device-width, initial-scale=1"><title>{_e(title)}</title>'
-        f"<style>{CSS}</style><script>{SCRIPT}</script></head><body>{''.join(body)}</body></html>\n"
+        f"<style>{CSS}</style><script>{SCRIPT}</script></head>"
+        f'<body data-station-numbering="{_e(numbering.basis)}">{"".join(body)}</body></html>\n'
     )
+
+
+def linked_field_sheet(folder: Path | str, field: Path | str | None = None) -> tuple[str | None, dict[str, Any] | None]:
+    """The field sheet a report in ``folder`` links: its address relative to ``folder`` and its ``field.json``
+    (None, None: none). ``field``: the folder holding field.html, else ``folder`` itself where one was written
+    before."""
+    out = Path(folder)
+    sheet = Path(field) / "field.html" if field else out / "field.html"
+    if not sheet.is_file():
+        return None, None
+    link = os.path.relpath(sheet.resolve(), out.resolve()).replace(os.sep, "/")
+    return link, read_field_sheet(sheet.parent)
 
 
 def write_report(o: Outcome, folder: Path | str, field: Path | str | None = None) -> Path:
     """Write ``folder/report.html`` and return its path. It links the field sheet ``field`` (a folder holding
-    field.html), or ``folder/field.html`` where one was written before."""
+    field.html), or ``folder/field.html`` where one was written before (:func:`linked_field_sheet`), and numbers
+    the stations in that sheet's walking order, else as the plan records."""
     argument(o, Outcome, "outcome")
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "report.html"
-    sheet = Path(field) / "field.html" if field else out / "field.html"
-    link = None
-    if sheet.is_file():
-        link = os.path.relpath(sheet.resolve(), out.resolve()).replace(os.sep, "/")
-    path.write_text(render_report(o, link, read_field_sheet(sheet.parent) if link else None))
+    link, sheet = linked_field_sheet(out, field)
+    path.write_text(render_report(o, link, sheet))
     return path

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -19,13 +20,27 @@ from planner.figures.base import png_bytes
 from planner.figures.site_fig import site_figure
 from planner.figures.webmap import MapLine, MapLink, MapPoint, SiteMap, coverage_runs, render_site_map, site_map_data
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 from planner.report.markup import image
 from planner.report.surfaces_section import station_areas
 
 
-def station_row_id(k: int) -> str:
-    """The HTML id of the k-th (1-based) row of report.html's station table, which the map links to."""
-    return f"station-{k}"
+def station_row_id(number: int) -> str:
+    """The HTML id of the row of station no. ``number`` in report.html's station table, which the map links to."""
+    return f"station-{number}"
+
+
+def field_order(field_sheet: Mapping[str, Any] | None) -> list[str] | None:
+    """The station ids of a field sheet (``field.json``) in visiting order; None without a sheet."""
+    order = [str(s) for s in (field_sheet or {}).get("order", [])]
+    return order or None
+
+
+def report_numbering(o: Outcome, field_sheet: Mapping[str, Any] | None = None) -> StationNumbering:
+    """The numbering of the report's stations (:meth:`StationNumbering.decide
+    <planner.plan.plan_dict.StationNumbering.decide>`): the linked field sheet's walking order, else the one the
+    plan records (plan order where it records none)."""
+    return StationNumbering.decide(o.meta, o.stations, field_order(field_sheet))
 
 
 def _links(o: Outcome) -> list[MapLink]:
@@ -55,10 +70,14 @@ def _control(o: Outcome) -> tuple[list[MapPoint], list[MapLine]]:
     return points, legs
 
 
-def outcome_site_map(o: Outcome, field_sheet: Mapping[str, Any] | None = None) -> SiteMap:
+def outcome_site_map(
+    o: Outcome, field_sheet: Mapping[str, Any] | None = None, numbering: StationNumbering | None = None
+) -> SiteMap:
     """The map data of a plan's outcome; ``field_sheet``: its field sheet as ``field.json`` holds it (None: no
-    route and targets). Stations link to the rows :func:`station_row_id` names."""
+    route and targets); ``numbering``: the stations' numbers (None: :func:`report_numbering`). Stations link to the
+    rows :func:`station_row_id` names."""
     argument(o, Outcome, "outcome")
+    numbering = numbering or report_numbering(o, field_sheet)
     control, traverse = _control(o)
     return site_map_data(
         o.site,
@@ -68,9 +87,16 @@ def outcome_site_map(o: Outcome, field_sheet: Mapping[str, Any] | None = None) -
         field_sheet=field_sheet,
         control=control,
         traverse=traverse,
-        rows={s.id: station_row_id(k) for k, s in enumerate(o.stations, 1)},
+        rows={s.id: station_row_id(numbering.number(s.id)) for s in o.stations},
         areas=station_areas(o),
+        numbering=numbering,
     )
+
+
+def numbered_outcome(o: Outcome, numbering: StationNumbering | None) -> Outcome:
+    """``o`` whose plan dictionary records ``numbering`` (each station's number and label), so that every writer of
+    it (report, exports) shows those numbers; ``o`` itself where ``numbering`` is None."""
+    return o if numbering is None else replace(o, meta=numbering.record(o.meta))
 
 
 def read_field_sheet(folder: Path | str) -> dict[str, Any] | None:
@@ -83,17 +109,17 @@ def read_field_sheet(folder: Path | str) -> dict[str, Any] | None:
     return data if isinstance(data, dict) and isinstance(data.get("order"), list) else None
 
 
-def site_map_html(o: Outcome, field_sheet: Mapping[str, Any] | None = None) -> str:
+def site_map_html(
+    o: Outcome, field_sheet: Mapping[str, Any] | None = None, numbering: StationNumbering | None = None
+) -> str:
     """The report's map fragment (see :func:`planner.figures.webmap.render_site_map`)."""
-    return render_site_map(outcome_site_map(o, field_sheet))
+    return render_site_map(outcome_site_map(o, field_sheet, numbering))
 
 
-def site_plan_html(o: Outcome, field_sheet: Mapping[str, Any] | None) -> str:
+def site_plan_html(o: Outcome, field_sheet: Mapping[str, Any] | None, numbering: StationNumbering | None = None) -> str:
     """The whole site on one figure (:func:`planner.figures.site_fig.site_figure`): every zone in its frame,
-    stations numbered in the field sheet's walking order where one was written (else the plan's order),
-    registration links, control points, scale bar and north. The per-zone plans follow under "Plans"."""
-    ids = {s.id for s in o.stations}
-    order = [str(s) for s in (field_sheet or {}).get("order", []) if str(s) in ids] or None
-    how = "numbered in walking order (field sheet)" if order else "numbered in the plan's order"
-    alt = f"the whole site: stations {how}, registration links, control points, scale bar and north"
-    return image(png_bytes(site_figure(o, order=order)), alt)
+    stations numbered as everywhere in the report (:func:`report_numbering`), registration links, control points,
+    scale bar and north. The per-zone plans follow under "Plans"."""
+    numbering = numbering or report_numbering(o, field_sheet)
+    alt = f"the whole site: {numbering.legend}, registration links, control points, scale bar and north"
+    return image(png_bytes(site_figure(o, numbering=numbering)), alt)

@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from planner.core.checks import argument
 from planner.figures.view3d import Scene3D, render_view3d, scene_3d
 from planner.plan.outcome import Outcome
+from planner.plan.plan_dict import StationNumbering
 
 #: above this many wall pieces (coverage targets) the report says so in one line instead of drawing the view
 MAX_WALL_PIECES = 20_000
@@ -27,14 +28,15 @@ def instrument_height_m(o: Outcome) -> float:
     return float(o.site.parameters.instrument_height_m)
 
 
-def outcome_scene(o: Outcome) -> Scene3D:
-    """The 3-D scene of a plan's outcome: its site, its stations (numbered as the station table) and the wall each
-    covers."""
+def outcome_scene(o: Outcome, numbering: StationNumbering | None = None) -> Scene3D:
+    """The 3-D scene of a plan's outcome: its site, its stations (numbered by ``numbering``, as every table and
+    figure of the report; None: as the plan records) and the wall each covers."""
     argument(o, Outcome, "outcome")
-    return scene_3d(o.site, o.stations, o.coverage.problem, instrument_height_m(o))
+    numbering = numbering or StationNumbering.recorded(o.meta, o.stations)
+    return scene_3d(o.site, o.stations, o.coverage.problem, instrument_height_m(o), numbering)
 
 
-def view3d_section(o: Outcome) -> str:
+def view3d_section(o: Outcome, numbering: StationNumbering | None = None) -> str:
     """The "3-D view" section (heading included), or its heading and a one-line note on a site too large."""
     argument(o, Outcome, "outcome")
     n = len(o.coverage.targets)
@@ -44,4 +46,4 @@ def view3d_section(o: Outcome) -> str:
             "in 3-D (to keep report.html small); the site map and plans above show the stations and their coverage."
             "</p>"
         )
-    return "<h2>3-D view</h2>" + render_view3d(outcome_scene(o))
+    return "<h2>3-D view</h2>" + render_view3d(outcome_scene(o, numbering))

@@ -10,7 +10,8 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 import planner
-from planner.figures.site_fig import site_figure, station_numbers
+from planner.figures.site_fig import site_figure
+from planner.plan.plan_dict import StationNumbering
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide
 from tests.conftest import square_rows
@@ -43,7 +44,7 @@ def check_site_figure(fig: Figure, order: list[str]) -> None:
 @pytest.mark.slow
 def test_house_with_network_in_walking_order(house_network):
     order = [s.id for s in house_network.stations][::-1]  # any walk: here the plan order reversed
-    fig = site_figure(house_network, order)
+    fig = site_figure(house_network, StationNumbering.walking(house_network.stations, order))
     check_site_figure(fig, order)
     assert "walking order" in fig.get_suptitle()
     g = house_network.network.graph
@@ -64,11 +65,11 @@ def test_house_without_network_links_from_the_plan(house_plain, house_network):
 def test_order_must_name_the_plans_stations(house_plain):
     ids = [s.id for s in house_plain.stations]
     with pytest.raises(ValueError, match="does not have: nowhere"):
-        site_figure(house_plain, ["nowhere"])
+        StationNumbering.walking(house_plain.stations, ["nowhere"])
     with pytest.raises(ValueError, match="more than once"):
-        station_numbers(house_plain, [ids[0], ids[0]])
+        StationNumbering.walking(house_plain.stations, [ids[0], ids[0]])
     # stations the order leaves out follow it in plan order
-    numbers = station_numbers(house_plain, [ids[2]])
+    numbers = StationNumbering.walking(house_plain.stations, [ids[2]]).numbers
     assert numbers[ids[2]] == 1 and [numbers[i] for i in ids if i != ids[2]] == list(range(2, len(ids) + 1))
 
 

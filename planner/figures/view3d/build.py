@@ -15,6 +15,7 @@ from planner.coverage.matrix import CoverageProblem
 from planner.coverage.targets import Targets
 from planner.figures.view3d.model import Covered, Scene3D, Station3D, Surface, View, WallQuad, Zone3D
 from planner.figures.webmap.build import run_ends
+from planner.plan.plan_dict import StationNumbering
 from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
 
@@ -90,14 +91,17 @@ def scene_3d(
     stations: Sequence[Candidate],
     problem: CoverageProblem | None = None,
     instrument_height_m: float | None = None,
+    numbering: StationNumbering | None = None,
 ) -> Scene3D:
     """The 3-D scene of a site and its stations.
 
     ``problem``: the stations' coverage problem (its rows in the order of ``stations``: each station's covered runs;
     None: no coverage shown); ``instrument_height_m``: the height above its floor each station is drawn at (None: the
-    site's ``instrument_height_m``). Stations are labelled with their 1-based place in ``stations``.
+    site's ``instrument_height_m``). Stations are labelled with their numbers in ``numbering`` (None: their 1-based
+    place in ``stations``, plan order).
     """
     ih = site.parameters.instrument_height_m if instrument_height_m is None else float(instrument_height_m)
+    numbering = numbering or StationNumbering.plan_order(stations)
     walls = wall_quads(site)
     wall_at = {(w.zone, w.wall): i for i, w in enumerate(walls)}
     zone_at = {z.id: k for k, z in enumerate(site.zones)}
@@ -112,7 +116,7 @@ def scene_3d(
     for k, s in enumerate(stations):
         zi = zone_at.get(s.zone, 0)
         floor = site.zones[zi].floor_level_m
-        st.append(Station3D(s.id, str(k + 1), zi, float(s.x), float(s.y), floor, floor + ih, per[k]))
+        st.append(Station3D(s.id, str(numbering.number(s.id)), zi, float(s.x), float(s.y), floor, floor + ih, per[k]))
     zones = tuple(Zone3D(z.id, z.frame, z.scan_side.value, z.floor_level_m) for z in site.zones)
     return Scene3D(
         title=site.name,

@@ -19,6 +19,7 @@ from planner.coverage.matrix import CoverageProblem
 from planner.coverage.overlap import piece_lengths
 from planner.coverage.targets import SIDE_NAME, Targets
 from planner.figures.webmap.model import MapArea, MapLine, MapLink, MapPoint, MapStation, Point, Run, SiteMap
+from planner.plan.plan_dict import StationNumbering
 from planner.site.candidate import Candidate
 from planner.site.model import SITE_FRAME, Site
 
@@ -184,9 +185,10 @@ def site_map_data(
     traverse: Sequence[MapLine] = (),
     rows: Mapping[str, str] | None = None,
     areas: Sequence[tuple[MapArea, ...]] | None = None,
+    numbering: StationNumbering | None = None,
 ) -> SiteMap:
-    """The map of a site and its stations, each labelled with its number in ``stations`` (1-based, as the report's
-    station table numbers them).
+    """The map of a site and its stations, each labelled with its number in ``numbering`` (None: its 1-based place
+    in ``stations``, plan order), as every table and figure of the plan numbers it.
 
     ``runs`` and ``areas``: per station (same order), the wall (:func:`coverage_runs`) and the floor and ceiling it
     covers (None: no such layer); ``links``: registration links between the stations (by id); ``field_sheet``: a field
@@ -201,6 +203,7 @@ def site_map_data(
     visits: dict[str, int] = {}
     if field_sheet is not None:
         route, start, targets, visits = field_layers(field_sheet, frame_of)
+    numbering = numbering or StationNumbering.plan_order(stations)
     walls = wall_lines(site)
     frames = dict.fromkeys([z.frame for z in site.zones] + [s.frame for s in stations])
     if any(w.frame == SITE_FRAME for w in walls):
@@ -209,13 +212,14 @@ def site_map_data(
         title=site.name,
         frames=tuple(frames),
         walls=walls,
-        stations=_stations(stations, runs, areas, rows or {}, visits),
+        stations=_stations(stations, runs, areas, rows or {}, visits, numbering),
         links=tuple(lk for lk in links if lk.a in frame_of and lk.b in frame_of),
         route=route,
         start=start,
         targets=targets,
         control=tuple(control),
         traverse=tuple(traverse),
+        numbering=numbering.legend,
     )
 
 
@@ -225,15 +229,16 @@ def _stations(
     areas: Sequence[tuple[MapArea, ...]] | None,
     rows: Mapping[str, str],
     visits: Mapping[str, int],
+    numbering: StationNumbering,
 ) -> tuple[MapStation, ...]:
-    """The stations as the map shows them, numbered 1.. in the order given."""
+    """The stations as the map shows them, each labelled with its number in ``numbering``."""
     return tuple(
         MapStation(
             s.id,
             s.frame,
             float(s.x),
             float(s.y),
-            str(k),
+            str(numbering.number(s.id)),
             s.zone,
             s.side.value,
             s.kind.value,
@@ -241,6 +246,8 @@ def _stations(
             visits.get(s.id, 0),
             tuple(runs[k - 1]) if runs is not None else (),
             tuple(areas[k - 1]) if areas is not None else (),
+            numbering.number(s.id),
+            numbering.label(s.id),
         )
         for k, s in enumerate(stations, 1)
     )

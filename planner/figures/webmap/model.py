@@ -75,8 +75,10 @@ class Located:
 class MapStation(Located):
     """A station as the map shows it: where it stands, what it covers, and where it is listed.
 
-    ``label``: the short text drawn beside it (its number in the plan); ``row``: the HTML id of its row in the page's
-    station table ("" where the page has none); ``visit``: its place in the field visiting order (0: no order);
+    ``label``: the short text drawn beside it (its number); ``number`` and ``name``: its one number and label
+    (:class:`~planner.plan.plan_dict.StationNumbering`), written on it as ``data-station-number`` and
+    ``data-station-label``; ``row``: the HTML id of its row in the page's station table ("" where the page has
+    none); ``visit``: its place in the field visiting order (0: no order);
     ``runs``: the wall it covers (empty where the page has no coverage to show); ``areas``: the floor and ceiling it
     covers (empty: walls only).
     """
@@ -89,6 +91,8 @@ class MapStation(Located):
     visit: int = 0
     runs: tuple[Run, ...] = ()
     areas: tuple[MapArea, ...] = ()
+    number: int = 0
+    name: str = ""
 
     @property
     def pieces(self) -> int:
@@ -130,7 +134,7 @@ class SiteMap:
     ``frames``: the frames in the order the selector lists them (the first with the most stations is shown first);
     ``walls``: zones' walls and openings, obstacles, no-go areas and the boundary; ``route``: the field walking route,
     one line per leg, with ``start`` where it begins; ``targets``: registration targets; ``control``: control points,
-    ``traverse``: the control traverse legs.
+    ``traverse``: the control traverse legs; ``numbering``: how the stations are numbered, in words (the legend).
     """
 
     title: str
@@ -143,3 +147,4 @@ class SiteMap:
     targets: tuple[MapPoint, ...] = ()
     control: tuple[MapPoint, ...] = ()
     traverse: tuple[MapLine, ...] = field(default=())
+    numbering: str = ""

@@ -33,7 +33,7 @@ LAYERS = (
     ("traverse", "control traverse legs (total station)"),
     ("control", "control points (proposed: open triangles)"),
     ("targets", "registration targets"),
-    ("stations", "stations, numbered as in the station table"),
+    ("stations", "stations, numbered as in every table and figure of the plan"),
 )
 #: layers drawn but switched off at first (dense on large sites)
 FIRST_OFF = frozenset({"traverse"})
@@ -101,6 +101,8 @@ def _station(s: MapStation, dom_id: str, k: int, scale: float) -> str:
         "data-m": f"{s.covered_m:.1f}",
         "data-row": s.row,
         "data-visit": s.visit,
+        "data-station-number": s.number or "",
+        "data-station-label": s.name,
         **(floors if s.areas else {}),
     }
     a = " ".join(f'{name}="{_e(v)}"' for name, v in attrs.items() if v != "")
@@ -246,12 +248,15 @@ def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station 
         else ""
     )
     label = _e(f"site map of {m.title}")
+    numbering = (
+        f'<span class="sm-numbering">{_e(m.numbering[0].upper() + m.numbering[1:])}. </span>' if m.numbering else ""
+    )
     return (
         f'<div class="smap" id="{_e(dom_id)}" data-first="{_e(first)}" data-table="{_e(table)}"><style>{asset("site_map.css")}</style>'
         f'<div class="sm-bar">{select}{boxes}{zoom}</div><div class="sm-wrap">'
         f'<svg class="sm-svg" style="aspect-ratio:{_c(box[2])}/{_c(box[3])}" aria-label="{label}" '
         f'viewBox="{view}" preserveAspectRatio="xMidYMid meet">{frames}</svg>'
         '<div class="sm-panel" hidden></div></div>'
-        f'<p class="sm-help">Drag to pan; wheel, pinch or +/&minus; to zoom. Tap a station: {shows}.</p>'
+        f'<p class="sm-help">{numbering}Drag to pan; wheel, pinch or +/&minus; to zoom. Tap a station: {shows}.</p>'
         f"<script>{asset('site_map.js')}</script></div>"
     )
