@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -19,7 +20,7 @@ from planner.plan.verify_surfaces import SurfaceReport
 from planner.site.candidate import Candidate
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
-from planner.solve.result import SolveResult
+from planner.solve.result import SolveResult, gap_words, state_words
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -54,6 +55,17 @@ class Plan:
     def validation(self) -> ValidationReport:
         return self.problem.validation
 
+    @cached_property
+    def links(self) -> tuple[tuple[str, str], ...]:
+        """The plan's registration pairs (station ids, each pair and the list sorted): its registration's relation
+        (:meth:`planner.coverage.relation.Registration.relation`) over its stations' coverage on the station pieces,
+        as the field sheet, the network check and the report's map relate them; computed once, on first use."""
+        st = self.stations
+        if not st:
+            return ()
+        g = self.problem.registration.relation(st, self.problem.sight.of_stations(st))
+        return tuple(sorted((min(st[u].id, st[v].id), max(st[u].id, st[v].id)) for u, v in g.edges()))
+
     @property
     def connected(self) -> bool:
         """Every zone-side's stations form one registration bundle."""
@@ -74,8 +86,11 @@ class Plan:
         sides = self.count_by_side()
         head = f"instance {self.site.name}: {self.result.summary(self.time_label)}"
         if self.hours is not None and self.hours.objective == "field-time":  # the count is not what was minimised
-            gap = self.hours.timing.get("gap")
-            to_bound = "" if gap is None else f", {gap:.2%} above its bound"
+            status, scope = self.result.status, self.hours.timing.get("scope", "pool")
+            words = gap_words(status, self.hours.timing.get("gap"), "gap to its bound")
+            state = f"{state_words(status, scope)} in set-up + scan time"
+            head = f"instance {self.site.name}: {self.result.summary(self.time_label, state)}"
+            to_bound = f", {words} over the {scope}" if words else ""
             head += f" (objective field-time: set-up + scan {self.hours.setup_scan_s / 3600:.2f} h{to_bound})"
         lines = [
             head,

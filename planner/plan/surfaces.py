@@ -22,7 +22,7 @@ from scipy import sparse
 from planner.core.errors import UsageError
 from planner.coverage.plan_sight import EPS_PLAN_M
 from planner.coverage.surface_sight import SurfaceLimits, surface_limits, surface_sight
-from planner.coverage.surfaces import KIND_NAME, SurfaceTargets, make_surface_targets, open_area
+from planner.coverage.surfaces import KIND_CODE, KIND_NAME, SurfaceTargets, make_surface_targets, open_area
 from planner.plan.tripod import MIN_RADIUS_M, RIM_POINTS
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
@@ -50,6 +50,11 @@ class SurfaceSetup:
     patches: SurfaceTargets
     limits: SurfaceLimits
     height_source: str
+
+    @property
+    def absent(self) -> tuple[str, ...]:
+        """The kinds asked for that the site has no patch of (no zone scanned from inside, or no ceiling height)."""
+        return tuple(k for k in self.kinds if not np.any(self.patches.kind == KIND_CODE[k]))
 
     def line(self) -> str:
         """The surfaces in one line: kinds, patches, area, instrument height and incidence limit."""
@@ -208,11 +213,13 @@ class SurfaceCover:
         """The patches covered, and those left out (no candidate sees them), in one line."""
         u = self.unseen_dict(setup)
         left = (
-            f"; {u['count']} patch(es) ({u['area_m2']:.2f} m2) seen by no candidate, left out: {', '.join(u['zones'])}"  # type: ignore[arg-type]
+            f"; {u['count']} patch(es) ({u['area_m2']:.2f} m2) seen by no candidate, left out (NOT covered): "
+            f"{', '.join(u['zones'])}"  # type: ignore[arg-type]
             if u["count"]
             else ""
         )
-        return f"surface cover: {len(self.seen):,} patches as {self.matrix.nnz:,} candidate-patch pairs{left}"
+        none = "".join(f"; the site has no {k}s: --surfaces {k}s plans nothing" for k in setup.absent)
+        return f"surface cover: {len(self.seen):,} patches as {self.matrix.nnz:,} candidate-patch pairs{left}{none}"
 
 
 def surface_cover(

@@ -14,7 +14,10 @@ when some planned station sees it:
 - in plan, the segment from the station to the point keeps inside the zone's outline and out of its blocks (every
   block for a floor, those above the instrument for a ceiling), shapely ``covered_by`` vectorised.
 
-It shares with planning only the surfaces' areas (what is a target) and the limits' values.
+It shares with planning only the surfaces' areas (what is a target) and the limits' values. What the plan left out is
+never counted as covered: a point inside a patch no candidate sees whole (left out of the cover) counts as uncovered
+even where the planned stations happen to see it, so the share and the "complete" claim hold only for what was planned;
+a surface type asked for that the site does not have is named, and claims nothing.
 """
 
 from __future__ import annotations
@@ -42,13 +45,15 @@ EPS_M = 1e-6
 
 @dataclass(frozen=True)
 class SurfaceCoverage:
-    """Sample points of one zone's floor or ceiling and how many some station sees (``spacing_m``: the grid's)."""
+    """Sample points of one zone's floor or ceiling and how many some station sees (``spacing_m``: the grid's);
+    ``left_out``: the points in patches no candidate sees, counted as not covered (``covered`` holds none of them)."""
 
     zone: str
     kind: str
     points: int
     covered: int
     spacing_m: float
+    left_out: int = 0
 
     @property
     def percent(self) -> float:
@@ -58,7 +63,8 @@ class SurfaceCoverage:
 @dataclass(frozen=True, kw_only=True)
 class SurfaceReport:
     """The floors and ceilings of a plan: the kinds planned, the patches and their area, the patches no candidate
-    saw (left out of the cover), and the point-wise verification per zone and kind."""
+    saw (left out of the cover, and not covered), the point-wise verification per zone and kind, and the kinds asked
+    for that the site has none of (``absent``: they plan and verify nothing)."""
 
     kinds: tuple[str, ...]
     patches: int
@@ -69,16 +75,31 @@ class SurfaceReport:
     spacing_m: float
     rows: tuple[SurfaceCoverage, ...]
     notes: tuple[str, ...] = field(default_factory=tuple)
+    absent: tuple[str, ...] = ()
 
     @property
     def percent(self) -> float:
         pts = sum(r.points for r in self.rows)
-        return 100.0 * sum(r.covered for r in self.rows) / pts if pts else 100.0
+        return 100.0 * sum(r.covered for r in self.rows) / pts if pts else 0.0
+
+    @property
+    def left_out(self) -> dict[str, Any]:
+        """The patches left out of the plan (no candidate sees them whole): count, area (m2) and zones."""
+        return dict(self.unseen or {"count": 0, "area_m2": 0.0, "zones": []})
 
     @property
     def complete(self) -> bool:
-        """Every sample point of every surface is covered."""
-        return all(r.covered == r.points for r in self.rows)
+        """Something was verified, every sample point of every surface is covered, and no patch was left out."""
+        return bool(self.rows) and all(r.covered == r.points for r in self.rows) and not self.left_out["count"]
+
+    @property
+    def state(self) -> str:
+        """The claim in one word: ``complete``, ``INCOMPLETE``, or ``nothing verified`` (no asked surface exists)."""
+        return "nothing verified" if not self.rows else "complete" if self.complete else "INCOMPLETE"
+
+    def warnings(self) -> list[str]:
+        """A line per surface type asked for that the site has none of."""
+        return [f"warning: the site has no {k}s: --surfaces {k}s plans nothing" for k in self.absent]
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -88,34 +109,46 @@ class SurfaceReport:
             "instrument_height_m": self.instrument_height_m,
             "theta_max_floor_deg": self.theta_max_floor_deg,
             "unseen_patches": self.unseen,
+            "absent_types": [k + "s" for k in self.absent],
             "verification": {
                 "spacing_m": self.spacing_m,
                 "percent": self.percent,
                 "complete": self.complete,
+                "state": self.state,
+                "left_out": self.left_out,
                 "zones": [{"zone": r.zone, "type": r.kind, **_counts(r)} for r in self.rows],
                 "notes": list(self.notes),
             },
         }
 
     def lines(self) -> list[str]:
-        """The surfaces' verification for the terminal: a line, a table per zone and kind, the notes."""
-        state = "complete" if self.complete else "INCOMPLETE"
+        """The surfaces' verification for the terminal: the warnings, a line, a table per zone and kind, the patches
+        left out, the notes."""
+        if not self.rows:
+            return [*self.warnings(), "surfaces verified: no floor or ceiling to verify (nothing verified)"]
         head = [
-            f"surfaces verified at {self.spacing_m:g} m: {self.percent:.3f} % of floor/ceiling points covered ({state})"
+            f"surfaces verified at {self.spacing_m:g} m: {self.percent:.3f} % of floor/ceiling points covered "
+            f"({self.state})"
         ]
-        rows = [(r.zone, r.kind, r.points, r.covered, f"{r.percent:.3f}") for r in self.rows]
-        out = head + table(["zone", "surface", "points", "covered", "covered %"], rows)
-        if self.unseen and self.unseen.get("count"):
-            u = self.unseen
+        rows = [(r.zone, r.kind, r.points, r.covered, r.left_out, f"{r.percent:.3f}") for r in self.rows]
+        out = self.warnings() + head + table(["zone", "surface", "points", "covered", "left out", "covered %"], rows)
+        u = self.left_out
+        if u["count"]:
             out.append(
-                f"surface patches seen by no candidate (left out of the cover): {u['count']}, {u['area_m2']:.2f} m2 "
-                f"in {', '.join(u['zones'])}"
+                f"surface patches seen by no candidate: {u['count']}, {u['area_m2']:.2f} m2 NOT covered (left out of "
+                f"the plan, their points counted uncovered) in {', '.join(u['zones'])}"
             )
         return out + list(self.notes)
 
 
 def _counts(r: SurfaceCoverage) -> dict[str, Any]:
-    return {"points": r.points, "covered": r.covered, "percent": r.percent, "spacing_m": r.spacing_m}
+    return {
+        "points": r.points,
+        "covered": r.covered,
+        "left_out": r.left_out,
+        "percent": r.percent,
+        "spacing_m": r.spacing_m,
+    }
 
 
 def _grid(area: shapely.Geometry, spacing_m: float) -> tuple[NDArray[np.float64], float]:
@@ -158,6 +191,7 @@ def verify_surfaces(
     lim = setup.limits
     rows: list[SurfaceCoverage] = []
     notes: list[str] = []
+    left = _left_out(setup, cover)
     for zi, zone in enumerate(site.zones):
         if ScanSide.INSIDE not in zone.scan_side.sides:
             continue
@@ -194,7 +228,14 @@ def verify_surfaces(
                     if todo.size == 0:
                         break
                     covered[todo] = _seen_by(np.asarray(s.xy, dtype=float), pts[todo], dz, setup, kind, clear)
-            rows.append(SurfaceCoverage(zone.id, name, len(pts), int(covered.sum()), h))
+            out = left.get((zi, kind))
+            gone = shapely.contains_xy(out, pts[:, 0], pts[:, 1]) if out is not None else np.zeros(len(pts), bool)
+            if np.any(covered & gone):
+                notes.append(
+                    f"{zone.id}/{name}: {int((covered & gone).sum()):,} point(s) of patches left out are seen by the "
+                    "stations but not counted (no candidate sees those patches whole)"
+                )
+            rows.append(SurfaceCoverage(zone.id, name, len(pts), int((covered & ~gone).sum()), h, int(gone.sum())))
     return SurfaceReport(
         kinds=setup.kinds,
         patches=len(setup.patches),
@@ -205,4 +246,16 @@ def verify_surfaces(
         spacing_m=spacing_m,
         rows=tuple(rows),
         notes=tuple(notes),
+        absent=setup.absent,
     )
+
+
+def _left_out(setup: SurfaceSetup, cover: SurfaceCover | None) -> dict[tuple[int, int], shapely.Geometry]:
+    """The patches no candidate sees (left out of the cover), merged per (zone index, kind code)."""
+    if cover is None or cover.unseen.size == 0:
+        return {}
+    p = setup.patches
+    groups: dict[tuple[int, int], list[int]] = {}
+    for t in cover.unseen:
+        groups.setdefault((int(p.zone[t]), int(p.kind[t])), []).append(int(t))
+    return {key: shapely.union_all(p.polygon[ts]) for key, ts in groups.items()}

@@ -54,21 +54,30 @@ def surfaces_section(o: Outcome) -> str:
     if s is None:
         return ""
     v = s.get("verification") or {}
-    ok = bool(v.get("complete"))
-    state = '<span class="pass">complete</span>' if ok else '<span class="fail">incomplete</span>'
-    head = (
+    zones = v.get("zones", [])
+    ok = bool(v.get("complete")) and bool(zones)
+    state = (
+        '<span class="pass">complete</span>'
+        if ok
+        else '<span class="fail">nothing verified</span>'
+        if not zones
+        else '<span class="fail">incomplete</span>'
+    )
+    absent = "".join(
+        f'<p class="fail">Warning: the site has no {_e(t)}: --surfaces {_e(t)} plans nothing.</p>'
+        for t in s.get("absent_types", ())
+    )
+    head = absent + (
         f"<p>{state}: {float(v.get('percent', 0.0)):.3f} % of floor and ceiling points every "
         f"{float(v.get('spacing_m', 0.0)):g} m covered (a point is covered when a station of its zone sees it within "
-        f"S_max and theta_max_floor, outside the blind cone, by a plan-view sight line inside the zone).</p>"
+        f"S_max and theta_max_floor, outside the blind cone, by a plan-view sight line inside the zone; a point of a "
+        f"patch left out of the plan is never counted covered).</p>"
     )
-    rows = [
-        (_e(z["zone"]), _e(z["type"]), z["points"], z["covered"], f"{float(z['percent']):.3f}")
-        for z in v.get("zones", [])
-    ]
+    rows = [(_e(z["zone"]), _e(z["type"]), z["points"], z["covered"], f"{float(z['percent']):.3f}") for z in zones]
     u = s.get("unseen_patches") or {}
     unseen = (
-        f"<p>Patches seen by no candidate (left out of the cover): {int(u['count'])}, {float(u['area_m2']):.2f} m2 in "
-        f"{_e(', '.join(u.get('zones', [])))}.</p>"
+        f"<p>Patches seen by no candidate, NOT covered (left out of the plan): {int(u['count'])}, "
+        f"{float(u['area_m2']):.2f} m2 in {_e(', '.join(u.get('zones', [])))}.</p>"
         if u.get("count")
         else "<p>Patches seen by no candidate: none.</p>"
     )

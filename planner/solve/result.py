@@ -9,6 +9,9 @@ from dataclasses import asdict, dataclass, field
 from enum import Enum
 from typing import Any
 
+#: a relative gap at most this is none: the objective meets its bound
+GAP_TOL = 1e-6
+
 
 class Status(str, Enum):
     """How a method ended (an outcome, never an exception)."""
@@ -80,6 +83,13 @@ class SolveResult:
     #: the MILP's statistics, typed (None for the other methods)
     stats: MilpStats | None = field(default=None, repr=False, compare=False)
 
+    def __post_init__(self) -> None:
+        """An optimal status with its objective above its bound is a contradiction (a ValueError): optimal means the
+        gap over the bound's scope is 0."""
+        gap = self.gap
+        if self.status is Status.OPTIMAL and gap is not None and gap > GAP_TOL:
+            raise ValueError(f"{self.method}: status optimal but {gap:.4%} above its bound {self.bound:g}")
+
     @classmethod
     def timed(
         cls, method: str, status: Status, selected: Sequence[int], objective: float | None, start: float, **more: Any
@@ -118,9 +128,10 @@ class SolveResult:
 
         return summary_html(self, f"{self.method} result")
 
-    def summary(self, time_label: str = "") -> str:
-        """One line: method, status, stations, bound, gap and time (``time_label`` says what the time covers)."""
-        gap = "" if self.gap is None else f", gap {self.gap:.1%}"
+    def summary(self, time_label: str = "", state: str | None = None) -> str:
+        """One line: method, status, stations, bound, gap and time (``time_label`` says what the time covers;
+        ``state``: the status in words where the count is not what was minimised, else :attr:`state`)."""
+        gap = "" if self.gap is None else f", {gap_words(self.status, self.gap)}"
         bound = "" if self.bound is None or math.isnan(self.bound) else f", bound {self.bound:g}"
         obj = "-" if self.objective is None else f"{self.objective:g}"
         label = f" ({time_label})" if time_label else ""
@@ -130,7 +141,7 @@ class SolveResult:
             if cap and self.wall_cap_hit
             else ""
         )
-        return f"{self.method}: {self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}{cut}"
+        return f"{self.method}: {state or self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}{cut}"
 
     @property
     def scope(self) -> str | None:
@@ -140,6 +151,23 @@ class SolveResult:
     @property
     def state(self) -> str:
         """The status in words, an optimum with its scope: "optimal over the plane" / "optimal over the pool"."""
-        if self.status is Status.OPTIMAL and self.scope is not None:
-            return f"optimal over the {self.scope}"
-        return self.status.value
+        return state_words(self.status, self.scope)
+
+
+def state_words(status: Status, scope: str | None) -> str:
+    """A result's status in words, the one place they are made (the headline, the gap line and the report take
+    them): an optimum with the scope its bound holds over ("optimal over the pool"), else the status itself."""
+    return f"optimal over the {scope}" if status is Status.OPTIMAL and scope is not None else status.value
+
+
+def gap_words(status: Status, gap: float | None, unit: str = "gap") -> str:
+    """The gap beside a status, never contradicting it: an optimal result's gap is 0 (its objective meets its bound,
+    :meth:`SolveResult.__post_init__`); a result not proven optimal never shows a gap rounded to 0: a gap below 0.1 %
+    reads "< 0.1 %", a bound met without the proof (the plan not proven to meet every rule) says so."""
+    if gap is None:
+        return ""
+    if status is Status.OPTIMAL:
+        return f"{unit} 0%"
+    if gap <= GAP_TOL:
+        return f"{unit} 0% but not proven optimal ({status.value})"
+    return f"{unit} {gap:.1%}" if gap >= 0.0005 else f"{unit} < 0.1%"

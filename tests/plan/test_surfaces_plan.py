@@ -87,14 +87,22 @@ def test_room_floor_planned_and_found_covered_by_an_independent_check(tmp_path, 
     # the package's own verification agrees, and the summary says what the bound holds over
     v = plan["surfaces"]["verification"]
     assert v["complete"] and v["zones"] == [
-        {"zone": "R", "type": "floor", "points": 6000, "covered": 6000, "percent": 100.0, "spacing_m": 0.1}
+        {
+            "zone": "R",
+            "type": "floor",
+            "points": 6000,
+            "covered": 6000,
+            "left_out": 0,
+            "percent": 100.0,
+            "spacing_m": 0.1,
+        }
     ]
     assert plan["surfaces"]["types"] == ["walls", "floors"] and plan["surfaces"]["patches"] == 60  # 10 x 6 at 1 m
     assert plan["surfaces"]["unseen_patches"]["count"] == 0
     assert plan["bound_scope"] == "pool" and plan["plane_bound"] is None
     out = capsys.readouterr().out
     assert "bound over the pool (surfaces beyond walls: the plane bound covers walls only)" in out
-    assert "R     floor     6,000    6,000    100.000" in out
+    assert "R     floor     6,000    6,000         0    100.000" in out
     # (b) at least as many stations as the walls-only plan (one station sees all four walls of the room)
     walls = _plan([str(room)], tmp_path / "w")
     assert len(plan["stations"]) >= len(walls["stations"]) >= 1
@@ -216,7 +224,7 @@ def test_verification_sees_no_floor_round_the_inner_corner(tmp_path):
     problem = resolve(site, PlanOptions(surfaces=("walls", "floors")))
     assert problem.surfaces is not None
     one = Candidate("c", "L", ScanSide.INSIDE, site.zones[0].frame, 6.0, 4.0, CandidateKind.GRID)
-    report = verify_surfaces(site, problem.surfaces, surface_cover(site, problem.surfaces, [one]), [one], 0.1)
+    report = verify_surfaces(site, problem.surfaces, None, [one], 0.1)  # the points alone (no pool's patches)
     g = np.arange(0.05, 12.0, 0.1)
     px, py = np.meshgrid(g, np.arange(0.05, 10.0, 0.1))
     x, y = px.ravel(), py.ravel()
@@ -265,4 +273,6 @@ def test_a_floor_no_station_can_see_is_reported_and_left_out(tmp_path, capsys):
     v = plan["surfaces"]["verification"]
     assert not v["complete"] and v["zones"][0]["covered"] == 0
     out = capsys.readouterr().out
-    assert "60 patch(es) (60.00 m2) seen by no candidate, left out: R/floor" in out and "(INCOMPLETE)" in out
+    assert (
+        "60 patch(es) (60.00 m2) seen by no candidate, left out (NOT covered): R/floor" in out and "(INCOMPLETE)" in out
+    )

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from planner.plan.hours.verify import SpacingReport
+from planner.solve.result import Status, gap_words
 
 
 def settings_line(settings: Sequence[str]) -> str:
@@ -52,7 +53,8 @@ class Hours:
         what = (
             "over every (station, setting) pair of the pool" if self.objective == "field-time" else "for these stations"
         )
-        proven = f"; bound {bound / 3600:.2f} h {what}, gap {gap:.2%}" if bound is not None and gap is not None else ""
+        words = gap_words(Status(t.get("status", "feasible")), gap)
+        proven = f"; bound {bound / 3600:.2f} h {what}, {words}" if bound is not None and words else ""
         spacing = "none" if self.max_spacing_m is None else f"at most {1e3 * self.max_spacing_m:g} mm"
         lines = [
             f"objective: {self.objective}; point spacing {spacing}; settings: {used}",
