@@ -10,8 +10,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from planner.cli.hours import session_of, verify_spacing_of
-from planner.cli.inputs import guard_memory, load_with_overrides, recorded_notes, usable_folder
-from planner.cli.network_command import checking_problem, network_check, network_inputs
+from planner.cli.inputs import guard_memory, load_with_overrides, recorded_notes
+from planner.cli.network_command import check_network_options, checking_problem, network_check, network_inputs
 from planner.cli.report import parse_exports, write_exports
 from planner.cli.tuning import field_flag, option_name
 from planner.core.errors import ExitCode, InfeasibleError, UsageError
@@ -37,9 +37,9 @@ def plan_options(args: argparse.Namespace) -> PlanOptions:
     """The options of ``planner plan`` (and of ``export``): every setting the command line gives, walked into the
     option fields its schema names (:func:`planner.plan.options.options_from_settings`); the registration rule
     stays the site's share until the run is resolved."""
+    _plan_rules(args)
     from planner.plan.options import options_from_settings
 
-    _plan_rules(args)
     values = {key: getattr(args, s.dest) for key, s in SETTINGS.items() if hasattr(args, s.dest)}
     try:
         return options_from_settings(values, session_s=session_of(args))
@@ -67,16 +67,19 @@ def cmd_plan(args: argparse.Namespace) -> int:
     formats = parse_exports(args.export)
     if formats and not args.out:
         raise UsageError("--export writes into the --out folder; give --out DIR", field="--export", value=args.export)
-    for flag, folder in (("--out", args.out), ("--report", args.report), ("--field", args.field)):
-        usable_folder(flag, folder)  # before the planning, not after it
-    # the network's option values and files, read before the planning (the report runs the network too)
-    inputs = network_inputs(args) if args.network or args.report else None
+    _plan_rules(args)
+    networked = args.network or args.report  # the report runs the network too
+    if networked:
+        check_network_options(args)
+    # the site first (a bad one is refused before the network and field stacks load), then the network's files
+    # and the sheet's option values, all before the planning; the outputs are staged (planner.cli.outputs)
+    site = load_with_overrides(args)
+    inputs = network_inputs(args) if networked else None
     field_options = None
-    if args.field:  # the sheet's option values, checked before the planning too
+    if args.field:
         from planner.cli.field import field_options as _field_options
 
         field_options = _field_options(args, "field-")
-    site = load_with_overrides(args)
     from planner.plan.problem import resolve
 
     try:

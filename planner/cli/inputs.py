@@ -1,5 +1,5 @@
-"""What the command line names, read and checked: the site with its parameter overrides, output folders,
-plan files and the memory limit (shared by the commands)."""
+"""What the command line names, read and checked: the site with its parameter overrides, plan files and the
+memory limit (shared by the commands; the output folders: :mod:`planner.cli.outputs`)."""
 
 from __future__ import annotations
 
@@ -145,20 +145,6 @@ def guard_memory(problem: Problem) -> None:
     o = problem.options
     max_slant_range_m = problem.validation.range_limit.max_slant_range_m
     check_memory(problem.site, o.target_spacing_m, o.pool.grid_m, max_slant_range_m, o.memory_limit_bytes)
-
-
-def usable_folder(flag: str, folder: str | None) -> None:
-    """An output folder given on the command line: it is (or can be made) a folder, else a usage error."""
-    if folder is None:
-        return
-    if not folder.strip():
-        raise UsageError("is empty: name a folder", field=flag, value=folder)
-    try:
-        Path(folder).mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UsageError(
-            f"cannot be used as an output folder ({exc.strerror or exc})", field=flag, value=folder
-        ) from None
 
 
 def recorded_notes(path: str, site: Any) -> None:

@@ -11,10 +11,12 @@ import argparse
 import os
 import sys
 import traceback
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from planner.cli.commands import cmd_assemble, cmd_export, cmd_instruments, cmd_plan, cmd_validate, cmd_verify
+from planner.cli.input_kinds import check_input_files
 from planner.cli.network_command import cmd_chain, cmd_network
+from planner.cli.outputs import staged_outputs
 from planner.cli.parser import build_parser as _build_parser
 from planner.cli.profile import apply_config
 from planner.core import progress
@@ -51,7 +53,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     show = not getattr(args, "quiet", True) and sys.stderr.isatty()
     previous = progress.set_sink(progress.Bar(sys.stderr) if show else None)
     try:
-        return int(args.func(args))
+        return _guarded(lambda: _run(args))
+    finally:
+        progress.set_sink(previous)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """The command of ``args``: its input files checked for their kind first, its outputs staged and moved into
+    place only when it succeeds (:mod:`planner.cli.outputs`); an error inside prints with the paths as given."""
+    check_input_files(args)
+    with staged_outputs(args) as stage:
+        return _guarded(lambda: stage.commit(int(args.func(args))))
+
+
+def _guarded(run: Callable[[], int]) -> int:
+    """``run()``'s exit code, or the one-line message and exit code of what it raised."""
+    try:
+        return run()
     except PlannerError as exc:  # a usage error says so, as argparse's own do
         kind = "usage error" if isinstance(exc, UsageError) else "error"
         print(f"planner: {kind}: {exc.one_line()}", file=sys.stderr)
@@ -78,5 +96,3 @@ def main(argv: Sequence[str] | None = None) -> int:
             file=sys.stderr,
         )
         return int(ExitCode.INTERNAL)
-    finally:
-        progress.set_sink(previous)

@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from planner.cli.inputs import load_with_overrides, recorded_notes, some_stations, usable_folder
+from planner.cli.inputs import load_with_overrides, recorded_notes, some_stations
 from planner.cli.tuning import option_name
 from planner.core.errors import ExitCode, InputError, UsageError, located_in
 from planner.core.text import dumps
@@ -17,16 +17,14 @@ from planner.core.text import dumps
 if TYPE_CHECKING:
     from planner.network.check import NetworkReport
     from planner.plan.problem import Problem
+    from planner.site import Site
 
 #: a Monte Carlo design study repeats the adjustment at least 100 times
 MIN_MONTE_CARLO = 100
 
 
-def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
-    """The network options' values and files (control points, traverse), checked and read."""
-    from planner.io.network_files import read_control
-    from planner.network.traverse import read_traverse
-
+def check_network_options(args: argparse.Namespace) -> None:
+    """The network options' values that need no file read: checked before the network stack loads."""
     command = getattr(args, "command", None)  # on plan the network's knobs are tuning keys (--set KEY=VALUE)
     if args.monte_carlo and args.monte_carlo < MIN_MONTE_CARLO:
         raise UsageError(
@@ -37,6 +35,15 @@ def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
     if getattr(args, "traverse", None) and args.ts_everywhere:
         names = option_name(command, "traverse"), option_name(command, "ts-everywhere")
         raise UsageError(f"{names[0]} and {names[1]} exclude each other", field=names[0], value=args.traverse)
+
+
+def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
+    """The network options' values (:func:`check_network_options`) and files (control points, traverse), checked
+    and read."""
+    check_network_options(args)
+    from planner.io.network_files import read_control
+    from planner.network.traverse import read_traverse
+
     with located_in(getattr(args, "control", None)):
         control = read_control(args.control) if getattr(args, "control", None) else None
     traverse = read_traverse(args.traverse) if getattr(args, "traverse", None) else None
@@ -71,7 +78,7 @@ def network_check(
     if getattr(args, "observations", None):
         with located_in(args.observations):
             print(adjust_observations(report, args.observations))
-    if args.out:
+    if args.out:  # a staging folder that planner.cli.outputs moves into place when the command succeeds
         Path(args.out).mkdir(parents=True, exist_ok=True)
         path = Path(args.out) / "network.json"
         path.write_text(dumps(report.to_dict()))
@@ -82,18 +89,22 @@ def network_check(
 def cmd_network(args: argparse.Namespace) -> int:
     from planner.io.plan_json import read_plan_stations
 
-    usable_folder("--out", args.out)
-    inputs = network_inputs(args)  # before any work
-    problem = plan_registration(checking_problem(args), args)
+    check_network_options(args)  # before any work
+    site = load_with_overrides(args)
+    inputs = network_inputs(args)
+    problem = plan_registration(checking_problem(args, site), args)
     stations = some_stations(args.plan, read_plan_stations(args.plan, problem.site))
     recorded_notes(args.plan, problem.site)
     network_check(problem, stations, args, inputs)
     return ExitCode.OK
 
 
-def checking_problem(args: argparse.Namespace) -> Problem:
+def checking_problem(args: argparse.Namespace, site: Site | None = None) -> Problem:
     """The site of a checking command (verify, network, chain) resolved once under the sight options it
-    has (incidence, precision) and its registration scope."""
+    has (incidence, precision) and its registration scope; the site is read first (``site``: read already), so
+    that a bad one is refused before the planning stack loads."""
+    if site is None:
+        site = load_with_overrides(args)
     from planner.plan import PlanOptions
     from planner.plan.problem import resolve
 
@@ -103,7 +114,7 @@ def checking_problem(args: argparse.Namespace) -> Problem:
         combined=getattr(args, "precision", "single") == "combined",
         registration=getattr(args, "registration", None),
     )
-    return resolve(load_with_overrides(args), options)
+    return resolve(site, options)
 
 
 def plan_registration(problem: Problem, args: argparse.Namespace) -> Problem:
