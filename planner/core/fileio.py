@@ -35,6 +35,8 @@ def read_text(path: Path) -> str:
         text = path.read_bytes().decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text (byte {exc.start})", file=name) from None
+    except OSError as exc:  # unreadable (permissions, a device that fails)
+        raise InputError(f"cannot read file: {exc.strerror or exc}", file=name) from None
     if not text.strip():
         raise InputError("empty file", file=name)
     return text

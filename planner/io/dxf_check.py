@@ -34,6 +34,10 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
     lines = data.decode("latin-1").splitlines()  # the structure is ASCII; names in any code page pass through
     while lines and not lines[-1].strip():
         lines.pop()
+    if not lines:
+        raise InputError("empty file", file=file)
+    if lines[0].strip() not in ("0", "999"):  # a DXF starts with a section (0 SECTION) or a comment (999)
+        raise InputError("not a DXF file (an ASCII DXF starts with the pair 0 SECTION)", file=file)
     if len(lines) < 2 or lines[-2].strip() != "0" or lines[-1].strip() != "EOF":
         raise InputError(
             "not a readable DXF file: it ends without its end marker (group 0 EOF): it is cut short", file=file

@@ -44,8 +44,13 @@ def spf_instances(path: Path) -> dict[int, str]:
     file = str(path)
     check_size(path)
     if not path.is_file():
-        raise InputError("no such file", file=file)
-    text = path.read_bytes().decode("latin-1")  # SPF is 8-bit text (non-ASCII is escaped); latin-1 reads any byte
+        raise InputError("not a file", file=file)
+    try:
+        text = path.read_bytes().decode("latin-1")  # SPF is 8-bit text (non-ASCII escaped); latin-1 reads any byte
+    except OSError as exc:
+        raise InputError(f"cannot read file: {exc.strerror}", file=file) from None
+    if not text.strip():
+        raise InputError("empty file", file=file)
     if not text.lstrip().startswith("ISO-10303-21;"):
         raise InputError("not an IFC file (an IFC-SPF file starts with ISO-10303-21;)", file=file)
     if not text.rstrip().endswith(END_MARKER):

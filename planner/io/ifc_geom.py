@@ -14,6 +14,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from planner.core.errors import InputError
 from planner.site.model import Opening, Wall
 
 #: triangles whose plan area is below this (m^2) are vertical faces, not part of the footprint
@@ -55,15 +56,23 @@ def geometry_settings() -> Any:
 
 
 def solid_of(element: Any, settings: Any) -> Solid | None:
-    """The footprint and height range of ``element``, or None when it has no body geometry."""
+    """The footprint and height range of ``element``, or None when it has no body geometry. A representation
+    IfcOpenShell cannot build a shape from (damaged geometry: a reference to an entity of the wrong kind) is an
+    InputError naming the element: dropping it would plan rooms without that wall, column or door."""
     import ifcopenshell.geom
 
     if getattr(element, "Representation", None) is None:
         return None
     try:
         shape = ifcopenshell.geom.create_shape(settings, element)
-    except RuntimeError:
-        return None
+    except RuntimeError as exc:
+        raise InputError(
+            "IfcOpenShell builds no shape from its representation (damaged geometry?): "
+            + (str(exc).splitlines() or [""])[0].split(". Product:")[0],
+            row=f"#{element.id()}",
+            field=element.is_a(),
+            value=getattr(element, "Name", None) or element.GlobalId,
+        ) from None
     verts = np.asarray(shape.geometry.verts, dtype=float).reshape(-1, 3)
     faces = np.asarray(shape.geometry.faces, dtype=np.int64).reshape(-1, 3)
     if len(faces) == 0:

@@ -206,19 +206,27 @@ class Mutation:
         return b"".join(lines[:start] + lines[start + self.count :])
 
 
-MUTATIONS = st.one_of(
-    st.builds(Mutation, st.just("cut"), st.integers(0, 1 << 30)),
-    st.builds(
-        Mutation,
-        st.just("bytes"),
-        changes=st.lists(
-            st.tuples(st.integers(0, 1 << 30), st.sampled_from(b"0123456789.-,;:()#'\"{}[] \nAZaz\xff\x00")),
-            min_size=1,
-            max_size=3,
-        ).map(tuple),
-    ),
-    st.builds(Mutation, st.just("drop"), st.integers(0, 1 << 30), st.integers(1, 3)),
-)
+_BYTES = b"0123456789.-,;:()#'\"{}[] \nAZaz\xff\x00"
+
+
+def mutations(data: bytes) -> st.SearchStrategy[Mutation]:
+    """Cuts (anywhere, and at line ends, where a format's units end), 1-3 bytes changed, 1-3 lines dropped."""
+    ends = [0]
+    for line in data.splitlines(keepends=True):
+        ends.append(ends[-1] + len(line))
+    lines = len(ends) - 1
+    return st.one_of(
+        st.builds(Mutation, st.just("cut"), st.integers(0, len(data) - 1)),
+        st.builds(Mutation, st.just("cut"), st.sampled_from(ends[1:-1] or [0])),
+        st.builds(
+            Mutation,
+            st.just("bytes"),
+            changes=st.lists(
+                st.tuples(st.integers(0, len(data) - 1), st.sampled_from(_BYTES)), min_size=1, max_size=3
+            ).map(tuple),
+        ),
+        st.builds(Mutation, st.just("drop"), st.integers(0, lines - 1), st.integers(1, 3)),
+    )
 
 
 # ---- the oracle ------------------------------------------------------------------------------------------------
@@ -315,9 +323,9 @@ def _fuzz(fmt: str, examples: int, work: Path, request: pytest.FixtureRequest) -
         database=None,
         suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
     )
-    @given(case=st.sampled_from(cases), mutation=MUTATIONS)
-    def run(case: Case, mutation: Mutation) -> None:
-        check_mutant(case, mutation, work)
+    @given(st.sampled_from(cases).flatmap(lambda c: st.tuples(st.just(c), mutations(c.data))))
+    def run(pair: tuple[Case, Mutation]) -> None:
+        check_mutant(*pair, work)
 
     run()
 
