@@ -31,8 +31,13 @@ HEAVY = (
 
 
 def _imported_by(code: str) -> set[str]:
-    run = subprocess.run([sys.executable, "-X", "importtime", "-c", code], capture_output=True, text=True, cwd=ROOT)
-    assert run.returncode == 0, run.stderr
+    return _imported_running(["-c", code])
+
+
+def _imported_running(argv: list[str], exit_code: int = 0) -> set[str]:
+    """The modules ``python -X importtime *argv`` imports; it must exit with ``exit_code``."""
+    run = subprocess.run([sys.executable, "-X", "importtime", *argv], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == exit_code, run.stderr[-2000:]
     # lines "import time: self | cumulative | <indent>module"
     return {
         line.rsplit("|", 1)[1].strip()
@@ -46,6 +51,21 @@ def test_import_planner_cli_loads_no_numerical_stack():
     top = {m.split(".")[0] for m in mods}
     assert "planner.cli" in mods
     assert not top & set(HEAVY), sorted(top & set(HEAVY))
+
+
+def test_a_bad_site_or_the_wrong_file_is_refused_before_the_numerical_stacks_load(tmp_path):
+    """An invalid JSON site, and a site given where a plan belongs, are refused before numpy, shapely or the
+    planning stack load: what the time of these one-line errors follows (docs/startup.md)."""
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"zones": [')
+    for argv, code in (
+        (["plan", str(bad), "--out", str(tmp_path / "o"), "--report", str(tmp_path / "r")], 3),
+        (["report", str(ROOT / "instances" / "polygon_b.json")], 2),
+        (["network", str(ROOT / "instances" / "polygon_b.json"), str(bad)], 3),
+    ):
+        top = {m.split(".")[0] for m in _imported_running(["-m", "planner", *argv], code)}
+        assert not top & set(HEAVY), (argv[0], sorted(top & set(HEAVY)))
+    assert not (tmp_path / "o").exists() and not (tmp_path / "r").exists()
 
 
 def test_version_and_help_exit_0():
