@@ -11,8 +11,10 @@ from planner.network.adjustment import ANGLE_UNITS, KINDS, LENGTH_UNITS, Obs, ad
 from planner.network.check import NetworkReport
 from planner.site.model import ControlPoint
 
-#: the keys of a control point entry
+#: the keys of a control point entry, of an observation file and of an observation
 CONTROL_KEYS = {"name", "x", "y", "z", "sigma_x_mm", "sigma_y_mm"}
+OBSERVATION_FILE_KEYS = {"angle_unit", "length_unit", "observations"}
+OBSERVATION_KEYS = {"kind", "at", "to", "value", "sigma"}
 
 
 def read_control(path: str) -> list[ControlPoint]:
@@ -26,6 +28,8 @@ def read_control(path: str) -> list[ControlPoint]:
         if not isinstance(d, dict) or "name" not in d:
             raise InputError("needs a name, x and y", **where)
         known_keys(d, CONTROL_KEYS, **where)
+        if isinstance(d["name"], bool) or not isinstance(d["name"], (str, int)) or not str(d["name"]).strip():
+            raise InputError("must be a text or a whole number", **where, field="name", value=_shown(d["name"]))
         with located_in(path):  # a point's own check (coordinates within +-1e8 m) names the file too
             out.append(
                 ControlPoint(
@@ -47,20 +51,15 @@ def adjust_observations(report: NetworkReport, path: str) -> str:
     data = read_json(path)
     if not isinstance(data, dict) or not isinstance(data.get("observations"), list):
         raise InputError("needs an object with a list 'observations'", file=path)
+    known_keys(data, OBSERVATION_FILE_KEYS, file=path)
     au, lu = data.get("angle_unit", "deg"), data.get("length_unit", "m")
-    if au not in ANGLE_UNITS or lu not in LENGTH_UNITS:
-        raise InputError("unknown unit", file=path, field="angle_unit/length_unit", value=f"{au}/{lu}")
+    for key, value, units in (("angle_unit", au, ANGLE_UNITS), ("length_unit", lu, LENGTH_UNITS)):
+        if not isinstance(value, str) or value not in units:
+            shown = value if isinstance(value, (str, int, float)) else type(value).__name__
+            raise InputError(f"unknown unit (known: {', '.join(units)})", file=path, field=key, value=shown)
     g = report.graph
     coords = {n: (d["x"], d["y"]) for n, d in g.nodes(data=True)}
-    obs = []
-    for k, o in enumerate(data["observations"], 1):
-        where: dict[str, Any] = dict(file=path, row=f"observations[{k}]")
-        if not isinstance(o, dict) or o.get("kind") not in KINDS or o.get("at") not in coords:
-            raise InputError(
-                "needs a kind and a known point 'at'", **where, value=o.get("kind") if isinstance(o, dict) else o
-            )
-        value, sigma = (to_float(o.get(key), field=key, **where) for key in ("value", "sigma"))
-        obs.append(Obs(o["kind"], o["at"], o.get("to"), value, sigma))
+    obs = [_observation(o, k, coords, path) for k, o in enumerate(data["observations"], 1)]
     fixed = [c.name for c in report.control if c.sigma_x_m == 0 and c.sigma_y_m == 0]
     adj = adjust(coords, fixed, obs, observed=True, angle_unit=au, length_unit=lu)
     lines = [
@@ -78,3 +77,29 @@ def adjust_observations(report: NetworkReport, path: str) -> str:
         )
     lines += [f"  {p.name}: x {p.x:.4f} y {p.y:.4f} sigma {p.position_error * 1000:.2f} mm" for p in adj.points]
     return "\n".join(lines)
+
+
+def _shown(value: Any) -> Any:
+    """A JSON value as a message shows it: text and numbers as found, a list or an object by its kind."""
+    return value if isinstance(value, (str, int, float)) or value is None else type(value).__name__
+
+
+def _observation(o: Any, k: int, coords: dict[Any, Any], path: str) -> Obs:
+    """One observation {kind, at, to (not for x and y), value, sigma}, its points named as text."""
+    where: dict[str, Any] = dict(file=path, row=f"observations[{k}]")
+    if not isinstance(o, dict):
+        raise InputError("must be an object {kind, at, to, value, sigma}", **where, value=_shown(o))
+    known_keys(o, OBSERVATION_KEYS, **where)
+    kind = o.get("kind")
+    if not isinstance(kind, str) or kind not in KINDS:
+        raise InputError(f"unknown kind (known: {', '.join(KINDS)})", **where, field="kind", value=_shown(kind))
+    for key in ("at", "to"):
+        point = o.get(key)
+        if point is not None and not isinstance(point, str):
+            raise InputError("must be a point name (text)", **where, field=key, value=_shown(point))
+    if o.get("at") not in coords:
+        raise InputError("names no point of the network", **where, field="at", value=_shown(o.get("at")))
+    if kind in ("x", "y") and o.get("to") is not None:
+        raise InputError(f"an {kind} observation is of one point: give no 'to'", **where, field="to", value=o["to"])
+    value, sigma = (to_float(o.get(key), field=key, **where) for key in ("value", "sigma"))
+    return Obs(kind, o["at"], o.get("to"), value, sigma)

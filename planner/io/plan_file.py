@@ -40,6 +40,12 @@ def site_for_plan(meta: dict[str, Any], site_path: str | Path | None, plan_path:
     p = meta.get("parameters") or {}
     changes = {k: p[k] for k in RECORDED_PARAMETERS if k in p}
     if "given" in str(p.get("max_slant_range_source", "")):
+        if "max_slant_range_m" not in p:
+            raise InputError(
+                "the plan says its slant range was given but records none",
+                file=plan_path,
+                field="parameters.max_slant_range_m",
+            )
         changes["max_slant_range_m"] = p["max_slant_range_m"]
     with located_in(plan_path):  # the values come from the plan, not from the site file
         params = replace(site.parameters, **changes)
