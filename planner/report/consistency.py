@@ -2,8 +2,9 @@
 ``field.json``, ``network.json``, ``report.html``; any of them may be missing) and lists where they disagree, so that
 a claim is printed only where a check stands behind it:
 
-- **registration pairs**: the field sheet's links, the network check's registration links and the report map's links
-  are the plan's pairs (plan.json's ``registration.links`` where it records them; else they agree among themselves);
+- **registration pairs**: the network check's registration links and the report map's links are the plan's pairs
+  (plan.json's ``registration.links`` where it records them; else they agree among themselves); the field sheet's
+  links (those the crew registers on, a spanning forest) are plan pairs joining the same parts;
 - **coverage**: the share plan.json claims is the share its own per-zone counts give, for the walls and for floors and
   ceilings; the report's verification says the same share and the same word;
 - **complete** only where nothing was left out (no uncovered stretch or misplaced station; no floor or ceiling patch
@@ -187,8 +188,10 @@ def _ends(x: Any) -> Pair:
 
 def _pairs(found: Mapping[str, list[Path]], data: Mapping[Path, Any], plan: Mapping[str, Any] | None) -> list[str]:
     """Every file's registration pairs against the plan's: plan.json's where it records them, else the pairs most of
-    the other files give (the first file's on a tie)."""
+    the network check and the report give (the first's on a tie). The field sheet records the links the crew
+    registers on, a spanning forest of the pairs: each of its links is a plan pair, and they join the same parts."""
     sets: list[tuple[str, set[Pair]]] = []
+    sheets: list[tuple[str, set[Pair], bool]] = []
     out: list[str] = []
     for name in FILES:
         for path in found[name]:
@@ -200,22 +203,59 @@ def _pairs(found: Mapping[str, list[Path]], data: Mapping[Path, Any], plan: Mapp
             except Exception as err:  # a link of an unexpected shape: named, never raised
                 out.append(f"{path}: unexpected registration links ({type(err).__name__}: {err})")
                 continue
-            if got is not None:
+            if got is None:
+                continue
+            if name != "field.json":
                 sets.append((str(path), got))
-    if len(sets) < 2:
+            else:  # an order that does not honour registration cuts the chain, and the sheet says so
+                sheets.append((str(path), got, content.get("registration_order_honoured") is not False))
+    if not sets:
         return out
     planned = plan is not None and _pairs_of("plan.json", plan) is not None
     votes = [frozenset(g) for _, g in sets]
-    ref: set[Pair] = set(votes[0]) if planned else set(Counter(votes).most_common(1)[0][0])
+    top = Counter(votes).most_common(2)
+    if not planned and len(top) == 2 and top[0][1] == top[1][1]:  # no plan record and no majority: name them all
+        (w0, g0), (w1, g1) = (
+            next((w, g) for w, g in sets if g == top[0][0]),
+            next((w, g) for w, g in sets if g == top[1][0]),
+        )
+        return [*out, f"{w0} and {w1} relate different registration pairs: {_diff(g0, g1)} (in {w1} against {w0})"]
+    ref: set[Pair] = set(votes[0]) if planned else set(top[0][0])
     whose = "the plan's" if planned else "the other files'"
     for where, got in sets:
         if got != ref:
-            missing = ", ".join(f"{a} & {b}" for a, b in sorted(ref - got)) or "none"
-            extra = ", ".join(f"{a} & {b}" for a, b in sorted(got - ref)) or "none"
-            out.append(
-                f"{where}: {len(got)} registration pair(s), {whose} {len(ref)}; missing {missing}; extra {extra}"
-            )
+            out.append(f"{where}: {len(got)} registration pair(s), {whose} {len(ref)}; {_diff(ref, got)}")
+    for where, got, whole in sheets:
+        if not got <= ref:
+            out.append(f"{where}: registration links that are no pair of {whose}: {_diff(ref, got, extra_only=True)}")
+        elif whole and _parts(got, ref) != _parts(ref, got):
+            out.append(f"{where}: its registration links join other parts than {whose} {len(ref)} pair(s)")
     return out
+
+
+def _diff(ref: set[Pair], got: set[Pair], extra_only: bool = False) -> str:
+    extra = ", ".join(f"{a} & {b}" for a, b in sorted(got - ref)) or "none"
+    if extra_only:
+        return extra
+    return f"missing {', '.join(f'{a} & {b}' for a, b in sorted(ref - got)) or 'none'}; extra {extra}"
+
+
+def _parts(pairs: set[Pair], other: set[Pair]) -> set[frozenset[str]]:
+    """The connected parts of ``pairs`` over the stations both pair sets name (union-find)."""
+    parent = {s: s for pair in pairs | other for s in pair}
+
+    def root(s: str) -> str:
+        while parent[s] != s:
+            parent[s] = parent[parent[s]]
+            s = parent[s]
+        return s
+
+    for a, b in pairs:
+        parent[root(a)] = root(b)
+    groups: dict[str, set[str]] = {}
+    for s in parent:
+        groups.setdefault(root(s), set()).add(s)
+    return {frozenset(g) for g in groups.values()}
 
 
 def _plan_stations(plan: Mapping[str, Any]) -> dict[str, str]:

@@ -85,15 +85,29 @@ def test_unreadable_or_odd_files_are_messages(tmp_path: Path) -> None:
 
 
 def test_a_link_missing_from_the_field_sheet_is_named(tmp_path: Path) -> None:
+    # the sheet's links are those the crew registers on (a spanning forest of the pairs): one left out cuts C off
     out = check_outputs(_files(tmp_path, field_links=PAIRS[:1]))
-    assert len(out) == 1 and "field.json" in out[0] and "missing B & C" in out[0]
+    assert len(out) == 1 and "field.json" in out[0] and "join other parts" in out[0]
+    out = check_outputs(_files(tmp_path, field_links=[*PAIRS, ["A", "C"]]))
+    assert len(out) == 1 and "field.json: registration links that are no pair of the other files': A & C" in out[0]
+
+
+def test_a_link_missing_from_the_network_or_report_is_named(tmp_path: Path) -> None:
+    # no pairs recorded in plan.json and no majority: both files named
+    out = check_outputs(_files(tmp_path, net_links=PAIRS[:1]))
+    assert len(out) == 1 and "network.json and " in out[0] and "report.html relate different" in out[0]
+    plan = _plan_json()
+    plan["registration"]["links"] = PAIRS
+    out = check_outputs(_files(tmp_path, plan, net_links=PAIRS[:1]))
+    assert len(out) == 1 and "network.json: 1 registration pair(s), the plan's 2; missing B & C" in out[0]
 
 
 def test_the_plan_s_recorded_pairs_are_the_reference(tmp_path: Path) -> None:
     plan = _plan_json()
     plan["registration"]["links"] = PAIRS[:1]
     out = check_outputs(_files(tmp_path, plan))
-    assert len(out) == 3 and all("extra B & C" in m and "the plan's 1" in m for m in out)
+    assert len(out) == 3 and all("B & C" in m and "the plan's" in m for m in out)
+    assert sum("extra B & C" in m for m in out) == 2 and "field.json: registration links that are no pair" in out[2]
 
 
 def test_a_coverage_figure_changed_is_named(tmp_path: Path) -> None:
@@ -186,11 +200,15 @@ def test_house_doors_corrupted_copies_are_named(house_doors: list[Path], tmp_pat
         copies.append(tmp_path / folder.name)
     field = copies[1] / "field.json"
     data = json.loads(field.read_text())
-    a, b = data["links"][0]["a"], data["links"][0]["b"]
     data["links"] = data["links"][1:]
     field.write_text(json.dumps(data))
     out = check_outputs(copies)
-    assert len(out) == 1 and "field.json" in out[0] and f"missing {min(a, b)} & {max(a, b)}" in out[0]
+    assert len(out) == 1 and "field.json" in out[0] and "join other parts" in out[0]
+    network = copies[0] / "network.json"
+    data = json.loads(network.read_text())
+    data["survey"]["links"] = data["survey"]["links"][1:]
+    network.write_text(json.dumps(data))
+    assert any("network.json and " in m and "relate different registration pairs" in m for m in check_outputs(copies))
     plan = copies[0] / "plan.json"
     data = json.loads(plan.read_text())
     data["verification"]["percent"] = 97.5
