@@ -283,13 +283,13 @@ def _against_plan(name: str, content: Any, plan: Mapping[str, Any]) -> list[str]
 
 
 def _report_stations(text: str) -> dict[str, str]:
-    """The report map's stations: id -> label (``data-label`` where given, else the id)."""
+    """The report map's stations: id -> label (``data-station-label`` or ``data-label`` where given, else the id)."""
     out: dict[str, str] = {}
     for tag in re.findall(r'<g class="sm-st[^"]*"[^>]*>', text):
         sid = re.search(r'data-id="([^"]*)"', tag)
         if sid is None:
             continue
-        label = re.search(r'data-label="([^"]*)"', tag)
+        label = re.search(r'data-(?:station-)?label="([^"]*)"', tag)
         out[html.unescape(sid[1])] = html.unescape(label[1] if label else sid[1])
     return out
 
