@@ -24,6 +24,8 @@ from planner.site.model import Site
 
 #: the polylabel tolerance, as a share of the common part's size
 POLE_TOLERANCE = 1e-3
+#: regions drawn ahead at the first piece not drawn yet (a side whose common part is empty shows it after a few)
+FIRST_BATCH = 8
 
 
 def spread_order(n: int) -> np.ndarray:
@@ -40,12 +42,18 @@ def common_region(
     spaces: dict[str, FrameSpace],
     cache: dict[int, shapely.Geometry],
 ) -> shapely.Geometry:
-    """Intersection of the coverage regions of ``pieces`` (stops as soon as it is empty)."""
+    """Intersection of the coverage regions of ``pieces`` (stops as soon as it is empty). Regions not in ``cache`` are
+    drawn ahead in batches (:data:`FIRST_BATCH` pieces, then twice as many each time), which :func:`coverage_regions`
+    draws together; the intersection still takes them one at a time in the spread order."""
     common: shapely.Geometry | None = None
-    for t in np.asarray(pieces)[spread_order(len(pieces))]:
-        t = int(t)
+    order = [int(t) for t in np.asarray(pieces)[spread_order(len(pieces))]]
+    batch = FIRST_BATCH
+    for i, t in enumerate(order):
         if t not in cache:
-            cache.update(coverage_regions(site, targets, limits, [t], spaces))
+            cache.update(
+                coverage_regions(site, targets, limits, [u for u in order[i : i + batch] if u not in cache], spaces)
+            )
+            batch *= 2
         common = cache[t] if common is None else common.intersection(cache[t])
         if common.is_empty:
             break

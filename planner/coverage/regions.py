@@ -28,28 +28,19 @@ from numpy.typing import NDArray
 
 from planner.coverage.matrix import ON_WALL_M, blockers_for, convex_alone
 from planner.coverage.region_precision import PRECISION_CHORD_M, precision_region
+from planner.coverage.shadows import sight_stage, unit
 from planner.coverage.targets import Targets
-from planner.coverage.visibility import (
-    EPS_FRONT_M,
-    EPS_SHORTEN_M,
-    EPS_SIGHT_M,
-    Blockers,
-    SightLimits,
-    wall_key,
-)
+from planner.coverage.visibility import EPS_FRONT_M, Blockers, SightLimits
 from planner.site.model import SITE_FRAME, Site
 
 #: vertices of the polygon inscribed in each range disc
 DISC_SEGMENTS = 512
 #: largest distance of a 3-D incidence boundary from its chords (m)
 HYPERBOLA_SAGITTA_M = 1e-3
-#: the sight test blocks a line whose end, moved EPS_SHORTEN_M toward the station, lies within EPS_SIGHT_M of a wall
-#: line through the piece's end: a sliver of this half-angle
-GRAZE_DEG = math.degrees(math.asin(EPS_SIGHT_M / EPS_SHORTEN_M))
-#: grid of the snap-rounded overlay used when GEOS's floating overlay of the shadows fails (1 um)
-SNAP_GRID_M = 1e-6
 #: segments per quarter circle of the stand-off buffers
 STANDOFF_QUAD_SEGS = 16
+#: pieces whose stages before sight are drawn together (vectorised; memory in proportion)
+CHUNK = 256
 
 
 def regions_apply(limits: SightLimits) -> bool:
@@ -135,11 +126,6 @@ def frame_space(site: Site, frame: str, limits: SightLimits, outer: bool = False
     )
 
 
-def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    n = np.hypot(v[..., 0], v[..., 1])
-    return v / np.where(n > 0, n, 1.0)[..., None]
-
-
 def _incidence_region(
     end: NDArray, tangent: NDArray, normal: NDArray, theta_deg: float, dz: float, incidence_3d: bool, far: float
 ) -> shapely.Geometry:
@@ -160,63 +146,41 @@ def _incidence_region(
     return shapely.Polygon(np.vstack([pts, cap]))
 
 
-def _away(q: NDArray, x: NDArray) -> NDArray[np.float64]:
-    """Unit directions from x to q, zero where q is x up to rounding (an edge ending at a piece's end, whose coordinates
-    may differ in the last bit: the direction of a 1e-16 m vector is noise; _grazing covers it)."""
-    v = q - x
-    return np.where((np.hypot(v[..., 0], v[..., 1]) < 1e-6)[..., None], 0.0, _unit(v))
-
-
-def _shadows(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
-    """Positions p from which edge q1-q2 (row-wise) meets the triangle p-a-b: shadow from a, from b, and the wedges of
-    rays from the piece through each end of the edge."""
-    out = []
-    for x in (a, b):
-        d1, d2 = _away(q1, x), _away(q2, x)
-        out.append(shapely.polygons(np.stack([q1, q2, q2 + far * d2, q1 + far * d1], axis=1)))
-    for q in (q1, q2):
-        da, db = _away(q, a), _away(q, b)
-        out.append(shapely.polygons(np.stack([q, q + far * da, q + far * db], axis=1)))
-    polys = np.concatenate(out)
-    return list(polys[shapely.is_valid(polys) & (shapely.area(polys) > 0)])
-
-
-def _grazing(a: NDArray, b: NDArray, q1: NDArray, q2: NDArray, far: float) -> list[shapely.Geometry]:
-    """Slivers along the lines of the edges that end at a piece's end: the sight test blocks those views (a line through
-    a corner within its tolerance), so R_t leaves them out too."""
-    out = []
-    half = math.radians(GRAZE_DEG)
-    c, s = math.cos(half), math.sin(half)
-    for x in (a, b):
-        touch = (np.hypot(*(q1 - x).T) < 1e-6) | (np.hypot(*(q2 - x).T) < 1e-6)
-        for w in _unit(q2[touch] - q1[touch]):
-            for d in (w, -w):  # the two rays at +-half about d
-                left = np.array([d[0] * c - d[1] * s, d[0] * s + d[1] * c])
-                right = np.array([d[0] * c + d[1] * s, d[1] * c - d[0] * s])
-                out.append(shapely.Polygon([x, x + far * left, x + far * right]))
-    return out
-
-
 def coverage_regions(
     site: Site,
     targets: Targets,
     limits: SightLimits,
-    which: Sequence[int] | None = None,
+    which: Sequence[int] | NDArray[np.integer] | None = None,
     spaces: dict[str, FrameSpace] | None = None,
     outer: bool = False,
 ) -> dict[int, shapely.Geometry]:
     """R_t for the pieces ``which`` (all by default), as shapely geometries (possibly empty). ``spaces`` caches
     :func:`frame_space` per frame between calls (one cache per ``outer``). ``outer``: the outer approximation O_t
-    instead (:func:`piece_region`)."""
+    instead (:func:`piece_region`). The stages before sight are drawn :data:`CHUNK` pieces of a frame at a time
+    (:func:`convex_stages`); each piece's region is the one :func:`piece_region` draws."""
     spaces = spaces if spaces is not None else {}
-    idx = range(len(targets)) if which is None else which
-    out: dict[int, shapely.Geometry] = {}
-    for t in idx:
-        frame = targets.frames[int(targets.frame[t])]
+    idx = np.arange(len(targets)) if which is None else np.asarray(which, dtype=np.int64).reshape(-1)
+    drawn: dict[int, shapely.Geometry] = {}
+    frame_of = np.asarray(targets.frame)[idx]
+    for f in dict.fromkeys(frame_of.tolist()):  # frames in order of first use
+        frame = targets.frames[int(f)]
         if frame not in spaces:
             spaces[frame] = frame_space(site, frame, limits, outer)
-        out[int(t)] = piece_region(targets, int(t), limits, spaces[frame], outer)
-    return out
+        mine = idx[frame_of == f]
+        for start in range(0, len(mine), CHUNK):
+            drawn.update(_sighted(targets, mine[start : start + CHUNK], limits, spaces[frame], outer))
+    return {int(t): drawn[int(t)] for t in idx}
+
+
+def _sighted(
+    targets: Targets, idx: NDArray[np.int64], limits: SightLimits, space: FrameSpace, outer: bool
+) -> dict[int, shapely.Geometry]:
+    """R_t of the pieces ``idx`` of one frame: :func:`convex_stages`, then the sight stage. A region empty at an earlier
+    stage is that stage's (each stage leaves an empty region as it is)."""
+    stages = convex_stages(targets, idx, limits, space, outer)
+    k = stages["precision" if "precision" in stages else "incidence"]
+    out = sight_stage(targets, idx, k, stages["stand"], space.blockers, space.far_m, outer)
+    return dict(zip(idx.tolist(), out))
 
 
 def outer_tolerance_m(limits: SightLimits) -> float:
@@ -254,87 +218,88 @@ def region_stages(
     targets: Targets, t: int, limits: SightLimits, space: FrameSpace, outer: bool = False
 ) -> Iterator[tuple[str, shapely.Geometry]]:
     """The region of piece ``t`` as it is built, one rule at a time: (stage, region so far) for the stages of
-    :data:`STAGE_REASON` in order; the last is R_t. The first empty one says why R_t is empty."""
-    a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
-    n = np.asarray(targets.normal[t], float)
-    tangent = _unit(b - a)
-    ih = limits.instrument_height_m
-    far = space.far_m
-    front = shapely.Polygon(
-        [
-            a + EPS_FRONT_M * n - far * tangent,
-            b + EPS_FRONT_M * n + far * tangent,
-            b + far * n + far * tangent,
-            a + far * n - far * tangent,
-        ]
+    :data:`STAGE_REASON` in order, up to the first empty one (which says why R_t is empty); the last is R_t."""
+    stages = convex_stages(targets, np.array([t], dtype=np.int64), limits, space, outer)
+    for stage, regions in stages.items():
+        yield stage, regions[0]
+        if regions[0].is_empty:
+            return
+    k = stages["precision" if "precision" in stages else "incidence"]
+    yield "sight", sight_stage(targets, np.array([t]), k, stages["stand"], space.blockers, space.far_m, outer)[0]
+
+
+def convex_stages(
+    targets: Targets, idx: NDArray[np.int64], limits: SightLimits, space: FrameSpace, outer: bool = False
+) -> dict[str, NDArray[np.object_]]:
+    """The regions of the pieces ``idx`` (one frame) after each stage before sight, drawn for all of them at once
+    (vectorised shapely calls; the disc about an end that two pieces share drawn once): stage -> object array, for
+    ``range``, ``incidence``, ``precision`` (with a per-view precision test) and ``stand``. A region empty after a stage
+    stays as it is. Each stage intersects in the order one piece at a time would, so each region is the same."""
+    m = len(idx)
+    a, b = np.asarray(targets.a[idx], float).reshape(m, 2), np.asarray(targets.b[idx], float).reshape(m, 2)
+    n = np.asarray(targets.normal[idx], float).reshape(m, 2)
+    tangent = unit(b - a)
+    ih, far, s = limits.instrument_height_m, space.far_m, limits.effective_range_m
+    corners = [a + EPS_FRONT_M * n - far * tangent, b + EPS_FRONT_M * n + far * tangent]
+    k = shapely.polygons(np.stack([*corners, b + far * n + far * tangent, a + far * n - far * tangent], axis=1))
+    limited = math.isfinite(s) and s < far
+    ends = [(a, np.asarray(targets.ha_m[idx], float)), (b, np.asarray(targets.hb_m[idx], float))]
+    dz = [np.maximum(np.abs(h - ih), ih) for _, h in ends]
+    gone = (s <= dz[0]) | (s <= dz[1]) if limited else np.zeros(m, bool)
+    reach = [np.sqrt(np.maximum(s * s - d * d, 0.0)) if limited else np.full(m, far) for d in dz]
+    live = ~gone
+    if limited:  # the range discs, inscribed (circumscribed with ``outer``)
+        cos = math.cos(math.pi / DISC_SEGMENTS)
+        for disc in _discs([e[live] for e, _ in ends], [r[live] / cos if outer else r[live] for r in reach]):
+            k[live] = shapely.intersection(k[live], disc)
+    k[gone] = shapely.Polygon()
+    out = {"range": k.copy()}
+    live = ~shapely.is_empty(k)
+    for (end, _), d, r in zip(ends, dz, reach):
+        k[live] = shapely.intersection(
+            k[live], _wedges(end[live], tangent[live], n[live], d[live], 1.01 * r[live], limits)
+        )
+    out["incidence"] = k.copy()
+    if limits.per_pair_precision:
+        live = ~shapely.is_empty(k)
+        for (end, _), d in zip(ends, dz):
+            rows = np.flatnonzero(live)
+            fans = [precision_region(end[i], tangent[i], n[i], float(d[i]), limits) for i in rows]
+            k[live] = shapely.intersection(k[live], np.asarray(fans + [None], dtype=object)[:-1])
+        out["precision"] = k.copy()
+    live = ~shapely.is_empty(k)
+    zone, side = np.asarray(targets.zone[idx]), np.asarray(targets.side[idx])
+    area = [(space.inside if int(sd) == 0 else space.outside)[int(zi)] for zi, sd in zip(zone[live], side[live])]
+    k[live] = shapely.intersection(k[live], np.asarray(area + [None], dtype=object)[:-1])
+    out["stand"] = k
+    return out
+
+
+def _discs(centres: list[NDArray[np.float64]], radii: list[NDArray[np.float64]]) -> list[NDArray[np.object_]]:
+    """The range discs about ``centres`` (one array per end), each distinct (centre, radius) drawn once."""
+    key = np.column_stack([np.concatenate(centres), np.concatenate(radii)])
+    if not len(key):
+        return [np.zeros(0, dtype=object) for _ in centres]
+    rows, inverse = np.unique(key, axis=0, return_inverse=True)
+    drawn = shapely.buffer(shapely.points(rows[:, :2]), rows[:, 2], quad_segs=DISC_SEGMENTS // 4)[inverse.reshape(-1)]
+    return list(np.split(drawn, np.cumsum([len(c) for c in centres])[:-1]))
+
+
+def _wedges(
+    end: NDArray, tangent: NDArray, normal: NDArray, dz: NDArray, far: NDArray, limits: SightLimits
+) -> NDArray[np.object_]:
+    """:func:`_incidence_region` of each row: the horizontal wedges drawn at once, the 3-D ones one by one."""
+    if not len(end):
+        return np.zeros(0, dtype=object)
+    theta = limits.theta_max_deg
+    tan = math.tan(math.radians(theta))
+    f = far[:, None]
+    out = shapely.polygons(
+        np.stack([end, end + f * (normal + tan * tangent), end + f * (normal - tan * tangent)], axis=1)
     )
-    discs, wedges, fans = [front], [], []
-    for end, h in ((a, float(targets.ha_m[t])), (b, float(targets.hb_m[t]))):
-        dz = max(abs(h - ih), ih)
-        s = limits.effective_range_m
-        reach = far
-        if math.isfinite(s) and s < far:
-            if s <= dz:
-                yield "range", shapely.Polygon()
-                return
-            reach = math.sqrt(s * s - dz * dz)
-            disc = reach / math.cos(math.pi / DISC_SEGMENTS) if outer else reach
-            discs.append(shapely.Point(end).buffer(disc, quad_segs=DISC_SEGMENTS // 4))
-        wedges.append(_incidence_region(end, tangent, n, limits.theta_max_deg, dz, limits.incidence_3d, 1.01 * reach))
-        if limits.per_pair_precision:
-            fans.append(precision_region(end, tangent, n, dz, limits))
-    k = shapely.intersection_all(discs)
-    yield "range", k
-    k = shapely.intersection_all([k, *wedges]) if not k.is_empty else k
-    yield "incidence", k
-    if fans and not k.is_empty:
-        k = shapely.intersection_all([k, *fans])
-        yield "precision", k
-    zi, inside = int(targets.zone[t]), int(targets.side[t]) == 0
-    region = k.intersection((space.inside if inside else space.outside)[zi]) if not k.is_empty else k
-    yield "stand", region
-    if not region.is_empty:
-        region = _unshadowed(region, _piece_shadows(targets, t, k, space, outer))
-    yield "sight", region
-
-
-def _unshadowed(region: shapely.Geometry, shadows: list[shapely.Geometry]) -> shapely.Geometry:
-    """``region`` minus the union of ``shadows``. Only the shadows that meet ``region`` are unioned: the same point set
-    (a shadow apart from the region takes nothing from it), at a fraction of the cost, as most shadows of the blockers
-    near a piece reach far past its region and the union of them all is what costs."""
-    if not shadows:
-        return region
-    polys = np.asarray(shadows, dtype=object)
-    shapely.prepare(region)
-    polys = polys[shapely.intersects(region, polys)]
-    if not polys.size:
-        return region
-    try:
-        return region.difference(shapely.union_all(polys))
-    except shapely.errors.GEOSException:  # near-coincident sliver edges (doors, junction cuts): snap-round
-        return shapely.difference(region, shapely.union_all(polys, grid_size=SNAP_GRID_M), grid_size=SNAP_GRID_M)
-
-
-def _piece_shadows(
-    targets: Targets, t: int, k: shapely.Geometry, space: FrameSpace, outer: bool
-) -> list[shapely.Geometry]:
-    """The shadows (and, unless ``outer``, the grazing slivers) of the blockers near piece ``t`` that meet ``k``."""
-    bl = space.blockers
-    tree = None if bl is None else bl._seg_tree  # type: ignore[attr-defined]
-    if tree is None or bl is None:
-        return []
-    a, b = np.asarray(targets.a[t], float), np.asarray(targets.b[t], float)
-    far = space.far_m
-    ends = shapely.box(*np.minimum(a, b) - 1e-6, *np.maximum(a, b) + 1e-6)
-    hit = np.union1d(tree.query(k, predicate="intersects"), tree.query(ends, predicate="intersects"))
-    hit = hit[bl.key[hit] != wall_key(int(targets.zone[t]), int(targets.wall[t]))]
-    if not hit.size:
-        return []
-    m = hit.size
-    shadows = _shadows(np.tile(a, (m, 1)), np.tile(b, (m, 1)), bl.a[hit], bl.b[hit], 2.0 * far)
-    if not outer:
-        shadows += _grazing(a, b, bl.a[hit], bl.b[hit], 2.0 * far)
-    return shadows
+    for i in np.flatnonzero(dz > 0) if limits.incidence_3d else ():
+        out[i] = _incidence_region(end[i], tangent[i], normal[i], theta, float(dz[i]), True, float(far[i]))
+    return out
 
 
 def why_empty(targets: Targets, t: int, limits: SightLimits, space: FrameSpace) -> str | None:

@@ -13,14 +13,8 @@ import shapely
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from planner.coverage.regions import (
-    SNAP_GRID_M,
-    _piece_shadows,
-    _unshadowed,
-    coverage_regions,
-    frame_space,
-    region_stages,
-)
+from planner.coverage.regions import coverage_regions, frame_space, region_stages
+from planner.coverage.shadows import SNAP_GRID_M, piece_shadows, unshadowed
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
@@ -68,7 +62,7 @@ def test_region_equals_the_region_minus_every_shadow(site: Site, incidence_3d: b
             assert regions[t].is_empty
             continue
         k = stages.get("precision", stages["incidence"])
-        before = all_shadows_away(stages["stand"], _piece_shadows(targets, t, k, space, False))
+        before = all_shadows_away(stages["stand"], piece_shadows(targets, t, k, space.blockers, space.far_m, False))
         assert_same_set(regions[t], before, targets.label(t))
 
 
@@ -86,4 +80,4 @@ def test_unshadowed_equals_the_difference_with_the_whole_union(seed: int, n: int
         shadows = [g for g in shapely.polygons(tri) if g.is_valid and g.area > 0]
     else:
         shadows = []
-    assert_same_set(_unshadowed(region, shadows), all_shadows_away(region, shadows), f"seed {seed}")
+    assert_same_set(unshadowed(region, shadows), all_shadows_away(region, shadows), f"seed {seed}")
