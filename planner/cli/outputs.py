@@ -23,9 +23,7 @@ import contextlib
 import importlib
 import io
 import os
-import shutil
 import sys
-import tempfile
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -217,6 +215,9 @@ def staged_outputs(args: argparse.Namespace) -> Iterator[Staging]:
     if not stage.targets:
         yield stage
         return
+    import shutil  # here, not at the top: a command that writes nothing starts without them
+    import tempfile
+
     saved = {t.dest: getattr(args, t.dest) for t in stage.targets}
     try:
         for base in sorted({t.base for t in stage.targets if not t.is_file}):
@@ -244,6 +245,8 @@ def staged_outputs(args: argparse.Namespace) -> Iterator[Staging]:
 
 def _free_name(path: Path) -> Path:
     """A hidden name beside ``path`` that no file has (the command creates the file)."""
+    import tempfile
+
     fd, name = tempfile.mkstemp(prefix=PREFIX, suffix=f"-{path.name}", dir=path.parent)
     os.close(fd)
     os.unlink(name)
@@ -252,6 +255,8 @@ def _free_name(path: Path) -> Path:
 
 def _prepare(stage: Staging, t: Target) -> None:
     """Make the staging folder of ``t``, with copies of the files read back from it."""
+    import shutil
+
     if t.is_file:
         return
     staged = stage.staged(t)
