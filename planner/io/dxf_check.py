@@ -21,6 +21,8 @@ INT_CODES = ((60, 99), (160, 179), (270, 289), (370, 389), (400, 409), (420, 429
 _INT = re.compile(r"[+-]?[0-9]+")
 _FLOAT = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 BINARY_SENTINEL = b"AutoCAD Binary DXF"
+#: the entities the reader reads whose points and vertex counts are checked
+POINT_KINDS = frozenset(("LWPOLYLINE", "POLYLINE", "VERTEX", "CIRCLE", "TEXT", "MTEXT", "INSERT"))
 
 
 def _in(code: int, ranges: tuple[tuple[int, int], ...]) -> bool:
@@ -47,6 +49,7 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
             "not a readable DXF file: an odd number of lines, group codes and values do not pair up (a line lost?)",
             file=file,
         )
+    record: list[tuple[int, str, int]] = []  # the pairs of the entity being read: (code, value, line)
     for k in range(0, len(lines), 2):
         raw, value = lines[k].strip(), lines[k + 1].strip()
         where = dict(file=file, row=f"line {k + 1}")
@@ -58,6 +61,10 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
                 value=_shown(raw),
             )
         code = int(raw)
+        if code == 0:
+            _check_record(record, file)
+            record = []
+        record.append((code, value, k + 1))
         kind = "real number" if _in(code, FLOAT_CODES) else "whole number" if _in(code, INT_CODES) else None
         pattern = _FLOAT if kind == "real number" else _INT
         if kind and not pattern.fullmatch(value):
@@ -68,6 +75,31 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
                 field="value",
                 value=_shown(value),
             )
+
+
+def _check_record(record: list[tuple[int, str, int]], file: str) -> None:
+    """An entity the reader reads has every point whole (an x group 1n with its y group 2n), and an LWPOLYLINE as many
+    vertices as its count (group 90) says: two lines lost together keep the pairs aligned, but not these counts."""
+    if not record or record[0][1] not in POINT_KINDS:
+        return
+    kind, line = record[0][1], record[0][2]
+    codes = [c for c, _, _ in record]
+    for x in (*range(10, 19), *range(1010, 1014)):
+        if codes.count(x) != codes.count(x + 10):
+            raise InputError(
+                f"not a readable DXF file: {kind} has {codes.count(x)} x values (group {x}) and {codes.count(x + 10)} "
+                f"y values (group {x + 10}): lines are missing",
+                file=file,
+                row=f"line {line}",
+            )
+    counts = [v for c, v, _ in record if c == 90]
+    if kind == "LWPOLYLINE" and counts and int(counts[0]) != codes.count(10):
+        raise InputError(
+            f"not a readable DXF file: LWPOLYLINE has {codes.count(10)} vertices, its count (group 90) says "
+            f"{int(counts[0])}: lines are missing",
+            file=file,
+            row=f"line {line}",
+        )
 
 
 def _shown(text: str) -> str:
