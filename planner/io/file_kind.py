@@ -18,7 +18,7 @@ import re
 from pathlib import Path
 
 from planner.core.errors import InputError
-from planner.core.fileio import MAX_INPUT_BYTES, read_json
+from planner.core.fileio import read_json
 
 __all__ = ["EXPECTED", "HEAD_BYTES", "KINDS", "SITE_SUFFIXES", "file_kind"]
 
@@ -59,8 +59,12 @@ EXPECTED = {
     "traverse": "a traverse (JSON {points: [{name, x, y}], legs: [[from, to], ...]})",
 }
 
-#: the bytes of a file read to judge it; a JSON file no longer than this is parsed whole
+#: the bytes of a JSON file scanned to judge it; one no longer than this is parsed whole
 HEAD_BYTES = 1 << 20
+#: the bytes of a CSV file read to judge it (its comment lines and header)
+CSV_HEAD_BYTES = 1 << 12
+
+_JSON = (".json", ".geojson")
 
 _BY_SUFFIX = {
     ".dxf": "site",
@@ -88,22 +92,22 @@ def file_kind(path: str | os.PathLike[str]) -> str:
         JSON (exit 3), each naming the file.
     """
     p = Path(path)
+    suffix = p.suffix.lower()
     try:
         if p.is_dir():
             return "folder"
-        size = p.stat().st_size
-        with p.open("rb") as f:
-            head = f.read(min(HEAD_BYTES, MAX_INPUT_BYTES))
+        whole = p.stat().st_size <= HEAD_BYTES
+        with p.open("rb") as f:  # opened in any case: a file that cannot be read is said here
+            head = f.read(CSV_HEAD_BYTES if suffix == ".csv" else HEAD_BYTES if suffix in _JSON and not whole else 0)
     except OSError as exc:
         raise InputError(f"cannot read file: {exc.strerror or exc}", file=str(path)) from None
-    suffix = p.suffix.lower()
     if suffix in _BY_SUFFIX:
         return _BY_SUFFIX[suffix]
     if suffix == ".csv":
         return _csv_kind(head.decode("utf-8-sig", errors="ignore"))
-    if suffix not in (".json", ".geojson"):
+    if suffix not in _JSON:
         return "unknown"
-    top, keys = _json_top(p, head, whole=size <= HEAD_BYTES)
+    top, keys = _json_top(p) if whole else _scan(head.decode("utf-8-sig", errors="ignore"))
     if suffix == ".geojson":  # a field sheet's GeoJSON names its frame; a plan's export reads back as its site
         return "field sheet" if "frame" in keys and "planner" not in keys else "site"
     return _json_kind(top, keys)
@@ -118,17 +122,15 @@ def _csv_kind(head: str) -> str:
     return "field sheet" if header.replace('"', "").startswith("no.,station") else "site"
 
 
-def _json_top(path: Path, head: bytes, *, whole: bool) -> tuple[str, frozenset[str]]:
+def _json_top(path: Path) -> tuple[str, frozenset[str]]:
     """The top-level value's type ("object", "array" or "other") and its keys (for an array, the keys of the
-    objects in it)."""
-    if whole:
-        data = read_json(path)
-        if isinstance(data, dict):
-            return "object", frozenset(data)
-        if isinstance(data, list):
-            return "array", frozenset(k for item in data[:100] if isinstance(item, dict) for k in item)
-        return "other", frozenset()
-    return _scan(head.decode("utf-8-sig", errors="ignore"))
+    objects in it), the file parsed whole."""
+    data = read_json(path)
+    if isinstance(data, dict):
+        return "object", frozenset(data)
+    if isinstance(data, list):
+        return "array", frozenset(k for item in data[:100] if isinstance(item, dict) for k in item)
+    return "other", frozenset()
 
 
 def _scan(text: str) -> tuple[str, frozenset[str]]:
