@@ -44,13 +44,8 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
         raise InputError(
             "not a readable DXF file: it ends without its end marker (group 0 EOF): it is cut short", file=file
         )
-    if len(lines) % 2:
-        raise InputError(
-            "not a readable DXF file: an odd number of lines, group codes and values do not pair up (a line lost?)",
-            file=file,
-        )
     record: list[tuple[int, str, int]] = []  # the pairs of the entity being read: (code, value, line)
-    for k in range(0, len(lines), 2):
+    for k in range(0, len(lines) - 1, 2):
         raw, value = lines[k].strip(), lines[k + 1].strip()
         where = dict(file=file, row=f"line {k + 1}")
         if not _INT.fullmatch(raw) or not -5 <= int(raw) <= 1071:
@@ -75,6 +70,11 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
                 field="value",
                 value=_shown(value),
             )
+    if len(lines) % 2:
+        raise InputError(
+            "not a readable DXF file: an odd number of lines, group codes and values do not pair up (a line lost?)",
+            file=file,
+        )
 
 
 def _check_record(record: list[tuple[int, str, int]], file: str) -> None:

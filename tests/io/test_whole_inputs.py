@@ -1,0 +1,124 @@
+"""Each reader reads a file whole or refuses it in one line naming the file: the damage the fuzz harness
+(tests/io/test_fuzz_inputs.py) draws at random, here one case each, as a surveyor meets it (a download cut short, a
+line lost in an edit)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from planner.cli.main import main
+from tests.conftest import HEADER, INSTANCES
+
+HOUSE = (INSTANCES / "house2.ifc").read_text()
+
+
+def _refused(*argv: str) -> str:
+    """The one line of a command refused with exit 3."""
+    err = io.StringIO()
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    lines = err.getvalue().strip().splitlines()
+    assert code == 3 and len(lines) == 1, err.getvalue()
+    return lines[0]
+
+
+def _without(text: str, entity: str) -> str:
+    """The IFC text without the instance line ``#N=...``."""
+    return "".join(line for line in text.splitlines(keepends=True) if not line.startswith(f"{entity}="))
+
+
+@pytest.mark.parametrize(
+    "name, text, words",
+    [
+        ("cut.ifc", HOUSE[:10000], "the file ends before its end marker END-ISO-10303-21;"),
+        ("noend.ifc", HOUSE.replace("END-ISO-10303-21;", ""), "END-ISO-10303-21;"),
+        ("ref.ifc", _without(HOUSE, "#241"), "#247: #241 is referenced but not defined"),
+        ("unknown.ifc", HOUSE.replace("=IFCEXTRUDEDAREASOLID(#241", "=IFCEXTRUDEDAREASOLXD(#241"), "could not read 1"),
+        ("paren.ifc", HOUSE.replace("(#241,#245,#246,2100.);", "(#241,#245,#246,2100.;"), "#247: text = "),
+        ("orphans.ifc", _without(HOUSE, "#289"), "IfcWall = 'W1': stands in no storey"),
+        ("shape.ifc", HOUSE.replace("(#71,#75,#76,2700.)", "(#72,#75,#76,2700.)"), "#68: IfcWall = 'W1': IfcOpenShell"),
+        ("nodata.ifc", HOUSE.replace("DATA;", "DATA_;", 1), "no HEADER; ... ENDSEC; DATA;"),
+        ("quote.ifc", HOUSE.replace("'W1'", "'W1", 1), "not closed"),
+    ],
+)
+def test_a_damaged_ifc_file_is_refused_before_ifcopenshell_reads_part_of_it(tmp_path, name, text, words):
+    """IfcOpenShell reads each of these without a word: the entities before the cut or the broken parenthesis, a
+    reference to a lost line as null, an unknown entity left out, walls in no storey left out of every room."""
+    path = tmp_path / name
+    path.write_text(text)
+    line = _refused("validate", str(path))
+    assert name in line and words in line, line
+
+
+def _dxf_lines(tmp_path: Path) -> list[str]:
+    import ezdxf
+
+    doc = ezdxf.new("R2000")
+    doc.header["$INSUNITS"] = 6
+    doc.modelspace().add_lwpolyline(
+        [(0, 0), (10, 0), (10, 6), (0, 6)], close=True, dxfattribs={"layer": "ZONES", "thickness": 3}
+    )
+    doc.saveas(tmp_path / "room.dxf")
+    return (tmp_path / "room.dxf").read_text().splitlines()
+
+
+def test_a_damaged_dxf_file_is_refused(tmp_path):
+    lines = _dxf_lines(tmp_path)
+    first_x = lines.index(" 10", lines.index("LWPOLYLINE"))
+    cases = {
+        "cut.dxf": (lines[: len(lines) // 2], "end marker (group 0 EOF)"),
+        "odd.dxf": (lines[:first_x] + lines[first_x + 1 :], "not a group code"),
+        "vertex.dxf": (lines[: first_x + 12] + lines[first_x + 16 :], "LWPOLYLINE has 3 vertices, its count"),
+        "x.dxf": (lines[: first_x + 4] + lines[first_x + 6 :], "3 x values (group 10) and 4 y values"),
+        "json.dxf": (['{"zones": []}'], "not a DXF file"),
+    }
+    for name, (text, words) in cases.items():
+        (tmp_path / name).write_text("\n".join(text) + "\n")
+        line = _refused("validate", str(tmp_path / name))
+        assert name in line and "DXF" in line and words in line, line
+
+
+def test_a_table_cut_mid_row_or_short_of_rows_is_refused(tmp_path):
+    rows = [f"A,inside,{i},{length},3,90,3.05" for i, length in enumerate((10, 6, 10, 6), 1)]
+    cut = tmp_path / "cut.csv"
+    cut.write_text(HEADER + "\n".join(rows)[:-1])  # 3.05 cut to 3.0: a number still, but no line end
+    line = _refused("validate", str(cut))
+    assert re.search(r"cut\.csv: line 5: text = 'A,inside,4,6,3,90,3\.0': the last row has no line end", line), line
+    short = tmp_path / "short.csv"
+    short.write_text(HEADER + "\n".join(rows[:3]) + "\n")
+    assert "misclosure" in _refused("validate", str(short))
+    gap = tmp_path / "gap.csv"
+    gap.write_text(HEADER + "\n".join(rows[:1] + rows[2:]) + "\n")
+    assert "indices must run 1..3" in _refused("validate", str(gap))
+
+
+def test_a_cut_json_is_one_line(tmp_path):
+    for name in ("polygon_a.json", "courtyard.json"):
+        path = tmp_path / name
+        path.write_bytes((INSTANCES / name).read_bytes()[:300])
+        line = _refused("validate", str(path))
+        assert line.startswith(f"planner: error: {path}: line ") and "invalid JSON" in line, line
+
+
+def test_observation_and_control_entries_of_the_wrong_kind_are_one_line(tmp_path):
+    from planner.io.network_files import _observation, read_control
+
+    coords = {"S1": (0.0, 0.0), "S2": (1.0, 0.0)}
+    for obs, words in (
+        ({"kind": "distance", "at": ["S1"], "to": "S2", "value": 1, "sigma": 0.01}, "at = 'list': must be a point"),
+        ({"kind": "x", "at": "S1", "to": "S2", "value": 1, "sigma": 0.01}, "give no 'to'"),
+        ({"kind": "x", "at": "S1", "value": 1, "sigma": 0.01, "sd": 1}, "sd = 1: unknown key"),
+        ({"kind": ["x"], "at": "S1", "value": 1, "sigma": 0.01}, "kind = 'list': unknown kind"),
+    ):
+        with pytest.raises(Exception, match=re.escape(words)):
+            _observation(obs, 1, coords, "obs.json")
+    path = tmp_path / "control.json"
+    path.write_text(json.dumps([{"name": {"id": 1}, "x": 1, "y": 2}]))
+    with pytest.raises(Exception, match="name = 'dict': must be a text or a whole number"):
+        read_control(str(path))
