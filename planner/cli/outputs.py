@@ -121,14 +121,14 @@ def _usable_file(flag: str, shown: str, path: Path) -> Path:
 
 @dataclass(kw_only=True)
 class Staging:
-    """The staging folders of one run (:func:`staged_outputs`): ``roots`` maps each base folder to its staging
-    folder; ``seeded`` the files copied in from the targets, by their (size, mtime) when copied."""
+    """The staging of one run (:func:`staged_outputs`; filled in as the staging is made, hence not frozen):
+    ``roots`` maps each base folder to its staging folder, ``files`` each output file to its hidden name beside it,
+    ``seeded`` the files copied in from the targets to their (size, mtime) when copied."""
 
     targets: list[Target]
     roots: dict[Path, Path] = field(default_factory=dict)
     files: dict[Path, Path] = field(default_factory=dict)
     seeded: dict[Path, tuple[int, int]] = field(default_factory=dict)
-    committed: bool = False
 
     def staged(self, t: Target) -> Path:
         """Where the command writes target ``t`` instead."""
@@ -145,7 +145,7 @@ class Staging:
         """Move the staged files into place when ``code`` is 0 and the outputs agree; return the exit code."""
         if code != ExitCode.OK:
             return code
-        messages = inconsistencies([self.staged(t) for t in self.targets if not t.is_file])
+        messages = inconsistencies(list(dict.fromkeys(self.staged(t) for t in self.targets if not t.is_file)))
         if messages:
             for m in messages:
                 print(f"planner: inconsistent outputs: {m}", file=sys.stderr)
@@ -163,7 +163,6 @@ class Staging:
         for final, staged in self.files.items():
             if staged.exists():
                 os.replace(staged, final)
-        self.committed = True
         return code
 
 
