@@ -3,7 +3,8 @@
 
 It plans the assembled Baalbek site (one frame, with doors) as one network, and its report opens with the
 whole site and carries the interactive map; neither the report nor the field sheet loads anything from the
-network; the printable field sheet is written beside them."""
+network; the printable field sheet is written beside them; every station has one number (its place in the walking
+order) and one label in every page and file of the run (tests/report/test_station_identity.py)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from planner.cli import main
+from tests.report.test_station_identity import check_station_identity
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -57,3 +59,6 @@ def test_the_main_job_runs_and_its_pages_open_with_the_whole_site(tmp_path: Path
     assert (out / "field.pdf").read_bytes().startswith(b"%PDF")
     order = json.loads((out / "field.json").read_text())["order"]
     assert sorted(order) == sorted(ids)  # the walking order visits every station once
+    # one number and one label per station everywhere: the site plan, the map, the tables, the sheet, the exports
+    assert check_station_identity(out) == "walking order"
+    assert [s["id"] for s in sorted(plan["stations"], key=lambda s: s["number"])] == order

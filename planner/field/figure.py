@@ -84,7 +84,9 @@ def _finish(fig: Figure, fp: FieldPlan, panels: list, through: bool, stairs: boo
         handles.append(Line2D([], [], color="tab:orange", lw=1.4, ls="--", label=THROUGH_LABEL))
     handles += [
         Line2D([], [], marker="*", ms=10, color="tab:green", ls="none", label=f"start: {fp.start_label}"),
-        Line2D([], [], marker="o", mfc="white", mec="black", ls="none", label="station (number: visiting order)"),
+        Line2D(
+            [], [], marker="o", mfc="white", mec="black", ls="none", label=f"station (number: {fp.numbering.basis})"
+        ),
     ]
     if fp.targets:
         handles.append(Line2D([], [], marker="x", color=_TARGET, ls="none", label="target"))

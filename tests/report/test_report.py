@@ -150,3 +150,13 @@ def test_the_accuracy_table_appears_once_and_no_text_block_runs_off_the_page(rep
     assert "<pre>" not in page and '<ul class="notes">' in page
     notes = page.split('<ul class="notes">', 1)[1].split("</ul>", 1)[0]
     assert "network:" in notes and "accuracy check at" not in notes
+
+
+def test_on_a_phone_wide_tables_scroll_in_their_own_box(report):
+    # a 390 px wide screen: every table sits in a box that scrolls sideways (the page itself never does), figures
+    # shrink to the screen, and a narrow-screen rule tightens the margins (tests/field/test_phone_pages.py measures
+    # it in Chromium)
+    page = report.read_text()
+    assert page.count("<table") == page.count('<div class="scroll"><table') > 0
+    css = page.split("<style>", 1)[1].split("</style>", 1)[0]
+    assert ".scroll{overflow-x:auto" in css and "img{max-width:100%" in css and "@media (max-width:600px)" in css
