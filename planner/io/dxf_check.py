@@ -20,6 +20,8 @@ FLOAT_CODES = ((10, 59), (110, 149), (210, 239), (460, 469), (1010, 1059))
 INT_CODES = ((60, 99), (160, 179), (270, 289), (370, 389), (400, 409), (420, 429), (440, 459), (1060, 1071))
 _INT = re.compile(r"[+-]?[0-9]+")
 _FLOAT = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
+#: the value of group code 0: a section or entity name (3DFACE, LWPOLYLINE, ACAD_PROXY_ENTITY)
+_NAME = re.compile(r"[A-Za-z0-9_]*[A-Za-z][A-Za-z0-9_]*")
 BINARY_SENTINEL = b"AutoCAD Binary DXF"
 #: the entities the reader reads whose points and vertex counts are checked
 POINT_KINDS = frozenset(("LWPOLYLINE", "POLYLINE", "VERTEX", "CIRCLE", "TEXT", "MTEXT", "INSERT"))
@@ -56,6 +58,14 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
                 value=_shown(raw),
             )
         code = int(raw)
+        if code == 0 and not _NAME.fullmatch(value):
+            raise InputError(
+                "not a readable DXF file: group code 0 needs a section or entity name (the pairs shifted?)",
+                file=file,
+                row=f"line {k + 2}",
+                field="value",
+                value=_shown(value),
+            )
         if code == 0:
             _check_record(record, file)
             record = []

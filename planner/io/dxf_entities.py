@@ -116,7 +116,17 @@ def read_shapes(
     """The outlines and the labels (layer in capitals, text, position in metres) on the layers read."""
     shapes, texts = [], []
     for e, handle in expand(msp):
-        kind, layer = e.dxftype(), e.dxf.get("layer", "0")
+        kind = e.dxftype()
+        if not e.dxf.is_supported("layer"):  # a kind ezdxf does not know (a custom object, or a value shifted there)
+            raise InputError(
+                "an entity of a kind not known to DXF readers (a custom object: explode it into polylines; or damaged "
+                "pairs): its layer cannot be read",
+                file=file,
+                row=f"handle {handle}",
+                field="entity",
+                value=kind,
+            )
+        layer = e.dxf.get("layer", "0")
         if options.role(layer) is None or kind in ANNOTATION_KINDS:
             continue
         if kind in LABEL_KINDS:

@@ -9,6 +9,7 @@ tags.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -27,6 +28,10 @@ from planner.site.model import SITE_FRAME, NoGoArea, Obstacle, ScanSide, Site, Z
 from planner.site.params import Parameters
 
 __all__ = ["APPID", "ZONE_LAYERS", "DxfOptions", "read_dxf_site"]
+
+#: ezdxf logs what it repairs while loading; unconfigured, Python prints that on stderr beside the planner's one line
+#: (a damaged file is refused by the checks instead, a sound one needs no note)
+logging.getLogger("ezdxf").addHandler(logging.NullHandler())
 
 
 def _scale(doc: Any, file: str) -> tuple[float, str | None]:
