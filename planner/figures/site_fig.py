@@ -134,7 +134,11 @@ def _panel(
 
 
 def site_figure(
-    o: Outcome, numbering: StationNumbering | None = None, control: Sequence[ControlPoint] | None = None
+    o: Outcome,
+    numbering: StationNumbering | None = None,
+    control: Sequence[ControlPoint] | None = None,
+    *,
+    order: Sequence[str] | None = None,
 ) -> Figure:
     """Every zone of the site with the stations, their registration links and the control points: one panel per frame,
     each with a scale bar and a north arrow, every label placed without overlap.
@@ -142,10 +146,13 @@ def site_figure(
     The network report of ``o``, where present, gives the registration links and the control points (proposed ones drawn
     open), else the links are the plan's registration relation computed afresh. ``numbering``: the stations' numbers
     (None: those the plan records, :meth:`StationNumbering.recorded
-    <planner.plan.plan_dict.StationNumbering.recorded>`), said in the title; ``control``: control points to draw
-    instead.
+    <planner.plan.plan_dict.StationNumbering.recorded>`), said in the title; ``order``: instead, station ids in
+    walking order (:meth:`StationNumbering.walking <planner.plan.plan_dict.StationNumbering.walking>`);
+    ``control``: control points to draw instead.
     """
     argument(o, Outcome, "outcome")
+    if order is not None:
+        numbering = StationNumbering.walking(o.stations, order)
     numbering = numbering or StationNumbering.recorded(o.meta, o.stations)
     numbers = {s.id: numbering.number(s.id) for s in o.stations}
     frames = list(dict.fromkeys(z.frame for z in o.site.zones))

@@ -108,3 +108,9 @@ def test_a_hundred_stations_stay_readable():
     # nearly every station registers to every other in one open room (4,948 of the 4,950 pairs): a spanning tree
     assert link_segments(fig) == 99
     assert "spanning forest (99 of 49" in " ".join(t.get_text() for t in fig.legends[0].get_texts())
+
+
+def test_a_walking_order_given_by_ids_numbers_as_its_numbering(house_plain):
+    # site_figure(outcome, order=ids), as docs/library.md writes it, is StationNumbering.walking(stations, ids)
+    order = [s.id for s in house_plain.stations][::-1]
+    check_site_figure(site_figure(house_plain, order=order), order)
