@@ -2,7 +2,7 @@
 lines dropped, is read whole or refused in one line.
 
 Files: the table CSVs and JSON instances of instances/ (the plant_16ha/64ha instances left out: their size only slows
-the run; baalbek.csv is read through baalbek.json, alone it is refused for the misclosures the instance corrects), house2.ifc, a DXF drawing written with ezdxf, the GeoJSON the planner's exporter writes for polygon_b's plan,
+the run; baalbek.csv is read through baalbek.json, alone it is refused for the misclosures the instance corrects), house2.ifc, a DXF drawing written with ezdxf, the DXF and GeoJSON the planner's exporters write for polygon_b's plan,
 the AGPLIB polygons of tests/data, the plan.json of ``planner plan instances/polygon_b.json --method closed-form``, and a
 control and an observation file for that plan. Each is read by the CLI in-process: ``planner validate FILE`` for sites,
 ``planner verify SITE PLAN`` for plan.json, ``planner network SITE PLAN --control FILE`` / ``--observations FILE``.
@@ -135,10 +135,13 @@ def plan_dir(work: Path) -> Path:
     out = work / "plan"
     code, _, err = _run(["plan", str(instance), "--method", "closed-form", "--out", str(out), "--quiet"])
     assert code == 0, err
+    from planner.io.dxf_out import write_dxf
     from planner.io.geojson_out import write_geojson
     from planner.io.plan_file import outcome_from_file
 
-    write_geojson(outcome_from_file(out / "plan.json"), out / "plan.geojson")
+    outcome = outcome_from_file(out / "plan.json")
+    write_geojson(outcome, out / "plan.geojson")
+    write_dxf(outcome, out / "plan.dxf")
     stations = json.loads((out / "plan.json").read_text())["stations"]
     control = [
         {"name": "CP1", "x": -30.0, "y": -40.0, "sigma_x_mm": 0, "sigma_y_mm": 0},
@@ -164,13 +167,13 @@ def _cases(fmt: str, work: Path, plan: Path | None) -> list[Case]:
         return [_site_case(n, fmt, work / n) for n in JSON_INSTANCES]
     if fmt == "ifc":
         return [_site_case("house2.ifc", fmt, INSTANCES / "house2.ifc")]
-    if fmt == "dxf":
-        return [_site_case("drawing.dxf", fmt, _dxf(work))]
     if fmt == "pol":
         return [_site_case(p.name, fmt, p) for p in POL_FILES]
     assert plan is not None
     if fmt == "geojson":
         return [_site_case("plan.geojson", fmt, plan / "plan.geojson")]
+    if fmt == "dxf":
+        return [_site_case("drawing.dxf", fmt, _dxf(work)), _site_case("plan.dxf", fmt, plan / "plan.dxf")]
     if fmt == "plan":
         argv = lambda p: ["verify", site, str(p), "--spacing", "1", "--quiet"]  # noqa: E731
         return [Case(name="plan.json", fmt=fmt, data=(plan / "plan.json").read_bytes(), argv=argv, original=None)]
@@ -313,7 +316,7 @@ FULL = {
 
 
 def _fuzz(fmt: str, examples: int, work: Path, request: pytest.FixtureRequest) -> None:
-    plan = request.getfixturevalue("plan_dir") if fmt in ("geojson", "plan", "control", "observations") else None
+    plan = request.getfixturevalue("plan_dir") if fmt in ("dxf", "geojson", "plan", "control", "observations") else None
     cases = _cases(fmt, work, plan)
 
     @settings(
