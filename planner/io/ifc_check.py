@@ -32,7 +32,8 @@ PLACED_TYPES = (
 )
 #: a quoted string (a quote inside is doubled) or a comment: blanked before the structure is read
 _STRING_OR_COMMENT = re.compile(r"'(?:[^']|'')*'|/\*.*?\*/", re.S)
-_INSTANCE = re.compile(r"\s*#(\d+)\s*=\s*([A-Za-z][A-Za-z0-9_]*)\s*\((.*)\)\s*", re.S)
+#: ``#N=NAME(...)``, or a complex instance ``#N=(NAME(...)NAME(...))`` (ISO 10303-21's external mapping)
+_INSTANCE = re.compile(r"\s*#(\d+)\s*=\s*(?:([A-Za-z][A-Za-z0-9_]*)\s*\((.*)\)|(\(.*\)))\s*", re.S)
 _REFERENCE = re.compile(r"#(\d+)")
 
 
@@ -81,15 +82,16 @@ def _data_instances(data: str, file: str) -> dict[int, str]:
         )
     for stmt in statements[:-1]:
         m = _INSTANCE.fullmatch(stmt)
-        if m is None or not _balanced(m.group(3)):
+        args = m.group(3) if m and m.group(2) else m.group(4) if m else ""
+        if m is None or not _balanced(args):
             raise InputError(
                 "not an entity instance #N=NAME(...);", file=file, row=_row(stmt), field="text", value=_cut(stmt)
             )
         n = int(m.group(1))
         if n in names:
             raise InputError("entity id given twice", file=file, row=f"#{n}", value=m.group(2))
-        names[n] = m.group(2).upper()
-        for r in _REFERENCE.findall(m.group(3)):
+        names[n] = m.group(2).upper() if m.group(2) else "complex instance"
+        for r in _REFERENCE.findall(args):
             refs.setdefault(int(r), n)
     missing = sorted(set(refs) - set(names))
     if missing:

@@ -122,3 +122,19 @@ def test_observation_and_control_entries_of_the_wrong_kind_are_one_line(tmp_path
     path.write_text(json.dumps([{"name": {"id": 1}, "x": 1, "y": 2}]))
     with pytest.raises(Exception, match="name = 'dict': must be a text or a whole number"):
         read_control(str(path))
+
+
+def test_the_ifc_text_check_reads_complex_instances_and_strings_with_semicolons(tmp_path):
+    """``#N=(A()B())`` is a whole instance (ISO 10303-21's external mapping); a ; or # inside a text or a comment is
+    no structure."""
+    from planner.io.ifc_check import spf_instances
+
+    head = "ISO-10303-21;\nHEADER;\nFILE_SCHEMA(('IFC4'));\nENDSEC;\nDATA;\n"
+    path = tmp_path / "f.ifc"
+    path.write_text(
+        head + "#1=IFCWALL('a;b #9 (''',#2);\n#2=(IFCA() IFCB(#1));\n/* #7 ; */\nENDSEC;\nEND-ISO-10303-21;\n"
+    )
+    assert spf_instances(path) == {1: "IFCWALL", 2: "complex instance"}
+    path.write_text(head + "#1=(IFCA() IFCB(#1);\nENDSEC;\nEND-ISO-10303-21;\n")
+    with pytest.raises(Exception, match=r"f\.ifc: #1: .*not an entity instance"):
+        spf_instances(path)
