@@ -5,7 +5,8 @@ Files: the table CSVs and JSON instances of instances/ (the plant_16ha/64ha inst
 the run; baalbek.csv is read through baalbek.json, alone it is refused for the misclosures the instance corrects), house2.ifc, a DXF drawing written with ezdxf, the DXF and GeoJSON the planner's exporters write for polygon_b's plan,
 the AGPLIB polygons of tests/data, the plan.json of ``planner plan instances/polygon_b.json --method closed-form``, and a
 control and an observation file for that plan. Each is read by the CLI in-process: ``planner validate FILE`` for sites,
-``planner verify SITE PLAN`` for plan.json, ``planner network SITE PLAN --control FILE`` / ``--observations FILE``.
+``planner verify SITE PLAN`` and ``planner field PLAN`` (the site the plan names, read by planner/io/plan_file.py) for
+plan.json, ``planner network SITE PLAN --control FILE`` / ``--observations FILE``.
 
 Oracle, for every mutant:
 
@@ -177,6 +178,9 @@ def _cases(fmt: str, work: Path, plan: Path | None) -> list[Case]:
     if fmt == "plan":
         argv = lambda p: ["verify", site, str(p), "--spacing", "1", "--quiet"]  # noqa: E731
         return [Case(name="plan.json", fmt=fmt, data=(plan / "plan.json").read_bytes(), argv=argv, original=None)]
+    if fmt == "plan_field":  # plan.json as planner/io/plan_file.py reads it: the site it names, its parameters
+        argv = lambda p: ["field", str(p), "--out", str(work / "field")]  # noqa: E731
+        return [Case(name="plan.json", fmt=fmt, data=(plan / "plan.json").read_bytes(), argv=argv, original=None)]
     plan_json = str(plan / "plan.json")
     option = "--control" if fmt == "control" else "--observations"
     name = f"{fmt}.json"
@@ -255,7 +259,7 @@ def _format_cannot_tell(case: Case, mutation: Mutation, mutant: bytes, path: Pat
         n = int(whole[0])
         prefix = tokens[:-1] == whole[: len(tokens) - 1] and whole[len(tokens) - 1].startswith(tokens[-1])
         return prefix and len(tokens) in (1 + 2 * n, len(whole))
-    if mutation.kind == "drop" and case.fmt in ("json", "geojson", "plan", "control", "observations"):
+    if mutation.kind == "drop" and case.fmt in ("json", "geojson", "plan", "plan_field", "control", "observations"):
         try:
             json.loads(mutant.decode("utf-8-sig"))
         except ValueError:
@@ -289,7 +293,7 @@ def check_mutant(case: Case, mutation: Mutation, folder: Path) -> None:
     assert same or _format_cannot_tell(case, mutation, mutant, path), f"{mutation}: exit 0 on a file that lost content"
 
 
-FORMATS = ("csv", "json", "ifc", "dxf", "geojson", "pol", "plan", "control", "observations")
+FORMATS = ("csv", "json", "ifc", "dxf", "geojson", "pol", "plan", "plan_field", "control", "observations")
 #: examples per reader: quick tier (about 110 in all), slow tier (over 500)
 QUICK = {
     "csv": 15,
@@ -298,7 +302,8 @@ QUICK = {
     "dxf": 15,
     "geojson": 10,
     "pol": 15,
-    "plan": 8,
+    "plan": 6,
+    "plan_field": 3,
     "control": 8,
     "observations": 8,
 }
@@ -310,13 +315,18 @@ FULL = {
     "geojson": 50,
     "pol": 70,
     "plan": 30,
+    "plan_field": 15,
     "control": 30,
     "observations": 30,
 }
 
 
 def _fuzz(fmt: str, examples: int, work: Path, request: pytest.FixtureRequest) -> None:
-    plan = request.getfixturevalue("plan_dir") if fmt in ("dxf", "geojson", "plan", "control", "observations") else None
+    plan = (
+        request.getfixturevalue("plan_dir")
+        if fmt in ("dxf", "geojson", "plan", "plan_field", "control", "observations")
+        else None
+    )
     cases = _cases(fmt, work, plan)
 
     @settings(
