@@ -103,13 +103,19 @@ def cmd_plan(args: argparse.Namespace) -> int:
     network = None
     if inputs is not None:
         network = network_check(problem, list(plan.stations), args, inputs, show=args.network)
+    numbering = None  # each station's one number and label: the sheet's walking order, else plan order
     if field_options is not None:
         from planner.cli.field import write_field
 
         settings = plan.hours.settings if plan.hours is not None and field_options.setting is None else None
-        write_field(problem, plan.stations, field_options, args.field, settings=settings)
+        numbering = write_field(problem, plan.stations, field_options, args.field, settings=settings).numbering
+        if args.out:  # plan.json records the sheet's numbering (written before it: a refused sheet keeps the plan)
+            write_plan(plan, args.out, numbering)
     if formats or args.report:
+        from planner.report.site_map import numbered_outcome
+
         outcome = outcome_from_plan(plan, network, compare_methods(plan) if args.report else ())
+        outcome = numbered_outcome(outcome, numbering)
         write_exports(outcome, formats, args.out, args.crs)
         if args.report:
             print(f"wrote {write_report(outcome, args.report, field=args.field)}")
