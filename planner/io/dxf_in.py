@@ -4,7 +4,7 @@ docs/exchange.md tables what is read: the entities (:mod:`planner.io.dxf_entitie
 :mod:`planner.io.dxf_arcs`), heights (XDATA of application ``TLS_PLANNER`` as :mod:`planner.io.dxf_out` writes it, else
 the thickness, else the layer default), holes, zone ids, scan sides and units. Vertex order is made counter-clockwise:
 DXF has no orientation convention (a mirrored block reverses it). Nothing in the file is executed; ezdxf only parses
-tags.
+tags, after the file is checked whole (:mod:`planner.io.dxf_check`: the end marker, the group-code/value pairs).
 """
 
 from __future__ import annotations

@@ -8,7 +8,9 @@ walls, columns, stairs and furniture standing in it are cut out (a notch or a ho
 read storeys join them (:mod:`planner.io.ifc_stairs`). Each space's floor level and ceiling serve the floor and ceiling
 targets (:func:`floor_level`).
 
-One storey reads into the site frame; several each into a frame named after the storey. Coordinates are metres from the
+The file is checked whole before IfcOpenShell reads it, and the model against the file after
+(:mod:`planner.io.ifc_check`): IfcOpenShell reads a file cut short, or one with lines lost, without a word. One storey
+reads into the site frame; several each into a frame named after the storey. Coordinates are metres from the
 file's units and placements; a model without a length unit is read as metres, noted on each zone.
 """
 
