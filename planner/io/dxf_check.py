@@ -35,7 +35,9 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
     """Refuse an ASCII DXF whose group-code/value pairs are broken or that does not end with ``0``/``EOF``."""
     if data.startswith(BINARY_SENTINEL):
         return
-    lines = data.decode("latin-1").splitlines()  # the structure is ASCII; names in any code page pass through
+    lines = (
+        data.removeprefix(b"\xef\xbb\xbf").decode("latin-1").splitlines()
+    )  # the structure is ASCII; names in any code page pass through
     while lines and not lines[-1].strip():
         lines.pop()
     if not lines:

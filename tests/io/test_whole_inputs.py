@@ -138,3 +138,22 @@ def test_the_ifc_text_check_reads_complex_instances_and_strings_with_semicolons(
     path.write_text(head + "#1=(IFCA() IFCB(#1);\nENDSEC;\nEND-ISO-10303-21;\n")
     with pytest.raises(Exception, match=r"f\.ifc: #1: .*not an entity instance"):
         spf_instances(path)
+
+
+SOURCES = {
+    "csv": INSTANCES / "polygon_b.csv",
+    "json": INSTANCES / "polygon_a.json",
+    "ifc": INSTANCES / "house2.ifc",
+    "pol": INSTANCES.parent / "tests" / "data" / "agplib" / "random-20-1.pol",
+}
+
+
+@pytest.mark.parametrize("given", sorted(SOURCES))
+@pytest.mark.parametrize("suffix", [".json", ".csv", ".dxf", ".geojson", ".pol", ".ifc"])
+def test_a_file_under_another_format_s_suffix_is_refused_in_one_line(tmp_path, given, suffix):
+    """A wrong suffix: the reader of the suffix refuses what it finds, naming the file (never exit 0, 1 or 2)."""
+    if "." + given == suffix:
+        pytest.skip("the file's own suffix")
+    path = tmp_path / f"site{suffix}"
+    path.write_bytes(SOURCES[given].read_bytes())
+    assert path.name in _refused("validate", str(path))
