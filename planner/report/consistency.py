@@ -2,9 +2,10 @@
 ``field.json``, ``network.json``, ``report.html``; any of them may be missing) and lists where they disagree, so that
 a claim is printed only where a check stands behind it:
 
-- **registration pairs**: the network check's registration links and the report map's links are the plan's pairs
-  (plan.json's ``registration.links`` where it records them; else they agree among themselves); the field sheet's
-  links (those the crew registers on, a spanning forest) are plan pairs joining the same parts;
+- **registration pairs**: the network check's registration links are the plan's pairs (plan.json's
+  ``registration.links`` where it records them, else the network check's are the reference), the report map's links
+  are those of them within one storey (the map draws a storey at a time); the field sheet's links (those the crew
+  registers on, a spanning forest) are plan pairs joining the same parts;
 - **coverage**: the share plan.json claims is the share its own per-zone counts give, for the walls and for floors and
   ceilings; the report's verification says the same share and the same word;
 - **complete** only where nothing was left out (no uncovered stretch or misplaced station; no floor or ceiling patch
@@ -23,7 +24,6 @@ import html
 import json
 import math
 import re
-from collections import Counter
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -170,11 +170,13 @@ def _pairs_of(name: str, content: Any) -> set[Pair] | None:
         if edges is None:
             return None
         return {_pair(e["from"], e["to"]) for e in edges if "registration" in (e.get("kinds") or ())}
-    layer = re.search(r'data-layer="links">(.*?)</g>', content, re.S)
-    if layer is None:
+    layers = re.findall(r'data-layer="links">(.*?)</g>', content, re.S)  # one per storey
+    if not layers:
         return None
     return {
-        _pair(html.unescape(a), html.unescape(b)) for a, b in re.findall(r'data-a="([^"]*)" data-b="([^"]*)"', layer[1])
+        _pair(html.unescape(a), html.unescape(b))
+        for layer in layers
+        for a, b in re.findall(r'data-a="([^"]*)" data-b="([^"]*)"', layer)
     }
 
 
@@ -187,13 +189,15 @@ def _ends(x: Any) -> Pair:
 
 
 def _pairs(found: Mapping[str, list[Path]], data: Mapping[Path, Any], plan: Mapping[str, Any] | None) -> list[str]:
-    """Every file's registration pairs against the plan's: plan.json's where it records them, else the pairs most of
-    the network check and the report give (the first's on a tie). The field sheet records the links the crew
-    registers on, a spanning forest of the pairs: each of its links is a plan pair, and they join the same parts."""
-    sets: list[tuple[str, set[Pair]]] = []
-    sheets: list[tuple[str, set[Pair], bool]] = []
+    """Every file's registration pairs against the plan's: plan.json's where it records them, else the network
+    check's, else the report's. The report's map draws the pairs within one frame (storey) only, so it is compared
+    with those; the field sheet records the links the crew registers on, a spanning forest of the pairs: each of its
+    links is a plan pair, and they join the same parts."""
+    read: dict[str, list[tuple[str, set[Pair], bool]]] = {name: [] for name in FILES}
     out: list[str] = []
-    for name in FILES:
+    if plan is not None and (own := _pairs_of("plan.json", plan)) is not None:
+        read["plan.json"].append(("plan.json", own, True))
+    for name in FILES[1:]:
         for path in found[name]:
             content = data.get(path)
             if content is None or (name != "report.html" and not isinstance(content, Mapping)):
@@ -203,34 +207,43 @@ def _pairs(found: Mapping[str, list[Path]], data: Mapping[Path, Any], plan: Mapp
             except Exception as err:  # a link of an unexpected shape: named, never raised
                 out.append(f"{path}: unexpected registration links ({type(err).__name__}: {err})")
                 continue
-            if got is None:
-                continue
-            if name != "field.json":
-                sets.append((str(path), got))
-            else:  # an order that does not honour registration cuts the chain, and the sheet says so
-                sheets.append((str(path), got, content.get("registration_order_honoured") is not False))
-    if not sets:
+            if got is not None:  # an order that does not honour registration cuts the sheet's chain, and it says so
+                whole = name != "field.json" or content.get("registration_order_honoured") is not False
+                read[name].append((str(path), got, whole))
+    source = next((name for name in ("plan.json", "network.json", "report.html") if read[name]), None)
+    if source is None:
         return out
-    planned = plan is not None and _pairs_of("plan.json", plan) is not None
-    votes = [frozenset(g) for _, g in sets]
-    top = Counter(votes).most_common(2)
-    if not planned and len(top) == 2 and top[0][1] == top[1][1]:  # no plan record and no majority: name them all
-        (w0, g0), (w1, g1) = (
-            next((w, g) for w, g in sets if g == top[0][0]),
-            next((w, g) for w, g in sets if g == top[1][0]),
-        )
-        return [*out, f"{w0} and {w1} relate different registration pairs: {_diff(g0, g1)} (in {w1} against {w0})"]
-    ref: set[Pair] = set(votes[0]) if planned else set(top[0][0])
-    whose = "the plan's" if planned else "the other files'"
-    for where, got in sets:
-        if got != ref:
-            out.append(f"{where}: {len(got)} registration pair(s), {whose} {len(ref)}; {_diff(ref, got)}")
-    for where, got, whole in sheets:
-        if not got <= ref:
-            out.append(f"{where}: registration links that are no pair of {whose}: {_diff(ref, got, extra_only=True)}")
-        elif whole and _parts(got, ref) != _parts(ref, got):
+    ref_name, ref, _ = read[source][0]
+    frame = _frames(plan)
+    if source == "report.html":  # a view of the pairs within a frame: the others are compared within frames too
+        whose = f"{ref_name}'s (pairs within a storey)"
+    else:
+        whose = "the plan's" if source == "plan.json" else f"{ref_name}'s"
+    for name in ("network.json", "report.html"):
+        for where, got, _ in read[name]:
+            want = _within(ref, frame) if name == "report.html" else ref
+            if (where, got) != (ref_name, ref) and got != want:
+                out.append(f"{where}: {len(got)} registration pair(s), {whose} {len(want)}; {_diff(want, got)}")
+    for where, got, whole in read["field.json"]:
+        seen = _within(got, frame) if source == "report.html" else got
+        if not seen <= ref:
+            out.append(f"{where}: registration links that are no pair of {whose}: {_diff(ref, seen, extra_only=True)}")
+        elif whole and source != "report.html" and _parts(got, ref) != _parts(ref, got):
             out.append(f"{where}: its registration links join other parts than {whose} {len(ref)} pair(s)")
     return out
+
+
+def _frames(plan: Mapping[str, Any] | None) -> dict[str, str]:
+    """Each station's frame (storey), from plan.json's stations and zones (empty without a plan)."""
+    if plan is None:
+        return {}
+    zone_frame = {str(z.get("id")): str(z.get("frame")) for z in plan.get("zones") or [] if isinstance(z, Mapping)}
+    return {str(s["id"]): zone_frame.get(str(s.get("zone")), "") for s in plan.get("stations") or []}
+
+
+def _within(pairs: set[Pair], frame: Mapping[str, str]) -> set[Pair]:
+    """The pairs whose two stations stand in one frame (all of them where the frames are not known)."""
+    return {(a, b) for a, b in pairs if frame.get(a) == frame.get(b)}
 
 
 def _diff(ref: set[Pair], got: set[Pair], extra_only: bool = False) -> str:

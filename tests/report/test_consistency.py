@@ -89,17 +89,34 @@ def test_a_link_missing_from_the_field_sheet_is_named(tmp_path: Path) -> None:
     out = check_outputs(_files(tmp_path, field_links=PAIRS[:1]))
     assert len(out) == 1 and "field.json" in out[0] and "join other parts" in out[0]
     out = check_outputs(_files(tmp_path, field_links=[*PAIRS, ["A", "C"]]))
-    assert len(out) == 1 and "field.json: registration links that are no pair of the other files': A & C" in out[0]
+    assert (
+        len(out) == 1 and "field.json: registration links that are no pair of " in out[0] and out[0].endswith("A & C")
+    )
 
 
 def test_a_link_missing_from_the_network_or_report_is_named(tmp_path: Path) -> None:
-    # no pairs recorded in plan.json and no majority: both files named
+    # no pairs recorded in plan.json: the network check's are the reference
     out = check_outputs(_files(tmp_path, net_links=PAIRS[:1]))
-    assert len(out) == 1 and "network.json and " in out[0] and "report.html relate different" in out[0]
+    assert len(out) == 2 and "report.html: 2 registration pair(s)" in out[0] and "network.json's 1" in out[0]
+    assert "field.json: registration links that are no pair of" in out[1] and out[1].endswith("B & C")
     plan = _plan_json()
     plan["registration"]["links"] = PAIRS
     out = check_outputs(_files(tmp_path, plan, net_links=PAIRS[:1]))
     assert len(out) == 1 and "network.json: 1 registration pair(s), the plan's 2; missing B & C" in out[0]
+
+
+def test_the_report_map_shows_the_pairs_within_a_storey(tmp_path: Path) -> None:
+    # C stands on another storey (frame): the map draws A & B only, the network and the sheet relate B & C too
+    plan = _plan_json()
+    plan["zones"] = [{"id": "R", "frame": "ground"}, {"id": "U", "frame": "upper"}]
+    plan["stations"][2]["zone"] = "U"
+    folders = _files(tmp_path, plan)
+    lines = '<line class="sm-lk" data-a="A" data-b="B"/>'
+    _write(folders[2], "report.html", f'<g class="sm-L" data-layer="links">{lines}</g>')
+    assert check_outputs(folders) == []
+    _write(folders[2], "report.html", '<g class="sm-L" data-layer="links"></g>')
+    out = check_outputs(folders)
+    assert len(out) == 1 and "report.html: 0 registration pair(s)" in out[0] and "missing A & B" in out[0]
 
 
 def test_the_plan_s_recorded_pairs_are_the_reference(tmp_path: Path) -> None:
@@ -208,7 +225,7 @@ def test_house_doors_corrupted_copies_are_named(house_doors: list[Path], tmp_pat
     data = json.loads(network.read_text())
     data["survey"]["links"] = data["survey"]["links"][1:]
     network.write_text(json.dumps(data))
-    assert any("network.json and " in m and "relate different registration pairs" in m for m in check_outputs(copies))
+    assert any("report.html: 2 registration pair(s)" in m for m in check_outputs(copies))
     plan = copies[0] / "plan.json"
     data = json.loads(plan.read_text())
     data["verification"]["percent"] = 97.5
@@ -226,5 +243,13 @@ BUNDLED = sorted(
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", BUNDLED)
-def test_every_bundled_instance_s_outputs_agree(name: str, tmp_path: Path) -> None:
-    assert check_outputs(_plan_files(tmp_path, INSTANCES / name)) == []
+def test_every_bundled_instance_s_outputs_agree(name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # the command itself checks its outputs (exit 1, "inconsistent outputs", where they disagree); a printed table the
+    # planner refuses as a site (baalbek.csv's misclosures) plans nothing to check
+    folders = [tmp_path / "O", tmp_path / "F", tmp_path / "R"]
+    args = ["plan", str(INSTANCES / name), "--quiet", "--out", str(folders[0]), "--field", str(folders[1])]
+    code = main([*args, "--report", str(folders[2])])
+    if code == ExitCode.INVALID_INPUT:
+        pytest.skip(f"{name} is refused as a site: {capsys.readouterr().err.strip()[:200]}")
+    assert code == ExitCode.OK, capsys.readouterr().err[-2000:]
+    assert check_outputs(folders) == []
