@@ -54,7 +54,8 @@ def check_dxf_pairs(data: bytes, file: str) -> None:
         where = dict(file=file, row=f"line {k + 1}")
         if not _INT.fullmatch(raw) or not -5 <= int(raw) <= 1071:
             raise InputError(
-                "not a readable DXF file: not a group code (a whole number from -5 to 1071), the pairs are shifted (a line lost?)",
+                "not a readable DXF file: not a group code (a whole number from -5 to 1071), the pairs are shifted "
+                "(a line lost?)",
                 **where,
                 field="group code",
                 value=_shown(raw),
