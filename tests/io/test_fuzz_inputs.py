@@ -5,9 +5,9 @@ Files: the table CSVs and JSON instances of instances/ (the plant_16ha/64ha inst
 the run; baalbek.csv is read through baalbek.json, alone it is refused for the misclosures the instance corrects),
 house2.ifc, a DXF drawing written with ezdxf, the DXF and GeoJSON the planner's exporters write for polygon_b's plan,
 the AGPLIB polygons of tests/data, the plan.json of ``planner plan instances/polygon_b.json --method closed-form``,
-and a control and an observation file for that plan. Each is read by the CLI in-process: ``planner validate FILE`` for sites,
-``planner verify SITE PLAN`` and ``planner field PLAN`` (the site the plan names, read by planner/io/plan_file.py) for
-plan.json, ``planner network SITE PLAN --control FILE`` / ``--observations FILE``.
+and a control and an observation file for that plan. Each is read by the CLI in-process: ``planner validate FILE``
+for sites, ``planner verify SITE PLAN`` and ``planner field PLAN`` (the site the plan names, read by
+planner/io/plan_file.py) for plan.json, ``planner network SITE PLAN --control FILE`` / ``--observations FILE``.
 
 Oracle, for every mutant:
 
