@@ -145,6 +145,17 @@ def check_model(model: Any, instances: dict[int, str], file: str) -> None:
         )
     import ifcopenshell.util.element as ue
 
+    for space in model.by_type("IfcSpace"):
+        parent = _storey_of(space)
+        if parent is not None and not parent.is_a("IfcBuildingStorey"):
+            raise InputError(
+                f"the space stands in {parent.is_a()} {parent.Name or parent.GlobalId!r}, in no storey: the planner "
+                "reads the spaces of storeys (aggregate it into an IfcBuildingStorey)",
+                file=file,
+                row=f"#{space.id()}",
+                field="IfcSpace",
+                value=space.LongName or space.Name or space.GlobalId,
+            )
     for kind in PLACED_TYPES:
         for e in model.by_type(kind):
             if ue.get_container(e) is None and ue.get_aggregate(e) is None:
@@ -155,3 +166,17 @@ def check_model(model: Any, instances: dict[int, str], file: str) -> None:
                     field=e.is_a(),
                     value=e.Name or e.GlobalId,
                 )
+
+
+def _storey_of(element: Any) -> Any:
+    """The storey an element stands in (through containment and aggregation), else the element it stands in (an
+    IfcBuilding, an IfcSite), else None."""
+    import ifcopenshell.util.element as ue
+
+    parent, above = element, None
+    for _ in range(64):  # a cycle in a damaged model ends here
+        parent = ue.get_container(parent) or ue.get_aggregate(parent)
+        if parent is None or parent.is_a("IfcBuildingStorey"):
+            return parent or above
+        above = above or parent
+    return above

@@ -157,3 +157,11 @@ def test_a_file_under_another_format_s_suffix_is_refused_in_one_line(tmp_path, g
     path = tmp_path / f"site{suffix}"
     path.write_bytes(SOURCES[given].read_bytes())
     assert path.name in _refused("validate", str(path))
+
+
+def test_a_space_in_the_building_but_in_no_storey_is_refused(tmp_path):
+    """The reader plans the spaces of storeys: a space aggregated elsewhere was left out of the site without a word."""
+    path = tmp_path / "building.ifc"
+    path.write_text(re.sub(r"(#17=IFCRELAGGREGATES\(.*?),#14,\(#16", r"\1,#11,(#16", HOUSE))
+    line = _refused("validate", str(path))
+    assert "building.ifc: #16: IfcSpace = 'Living': the space stands in IfcBuilding" in line, line
