@@ -237,7 +237,7 @@ def test_house_doors_corrupted_copies_are_named(house_doors: list[Path], tmp_pat
 BUNDLED = sorted(
     p.name
     for p in INSTANCES.iterdir()
-    if p.suffix in (".json", ".csv", ".ifc") and not p.name.startswith(("plant_4ha", "plant_16ha", "plant_64ha"))
+    if p.suffix in (".json", ".csv", ".ifc") and not p.name.startswith("plant_")  # plant_1ha: minutes on 2 cores
 )
 
 
@@ -245,12 +245,12 @@ BUNDLED = sorted(
 @pytest.mark.parametrize("name", BUNDLED)
 def test_every_bundled_instance_s_outputs_agree(name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     # the command itself checks its outputs (exit 1, "inconsistent outputs", where they disagree). A site whose zones
-    # stand in frames no walk joins has no field sheet (refused, exit 3): planned with the report alone; a printed
+    # stand in frames no walk joins has no field sheet (refused, exit 4): planned with the report alone; a printed
     # table the planner refuses as a site (baalbek.csv's misclosures) plans nothing to check
     folders = [tmp_path / "O", tmp_path / "F", tmp_path / "R"]
     args = ["plan", str(INSTANCES / name), "--quiet", "--out", str(folders[0]), "--report", str(folders[2])]
     code = main([*args, "--field", str(folders[1])])
-    if code == ExitCode.INVALID_INPUT:
+    if code in (ExitCode.INVALID_INPUT, ExitCode.INFEASIBLE):  # the site refused, or its field sheet
         code = main(args)
         if code == ExitCode.INVALID_INPUT:
             pytest.skip(f"{name} is refused as a site: {capsys.readouterr().err.strip()[:200]}")
