@@ -193,6 +193,14 @@ def _storey_zones(
         if any(e.is_a(t) for t in BLOCKER_TYPES)
         if (s := solid_of(e, settings)) is not None
     ]
+    if not any(e.is_a("IfcWall") for e, _ in blockers):
+        raise InputError(
+            f"{len(st.spaces)} IfcSpace and no IfcWall in the storey: its walls are missing from the model (the spaces"
+            " alone would read as one open plan); export the walls with the spaces, contained in their storey",
+            file=file,
+            field="storey",
+            value=st.name,
+        )
     kinds = {"IfcDoor": "door"} | ({"IfcWindow": "window"} if options.windows else {})
     openings = [
         (e.Name or e.GlobalId, kinds[k], s)

@@ -9,10 +9,12 @@ import io
 import json
 import re
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from planner.cli.main import main
+from planner.core.errors import ExitCode
 from tests.conftest import HEADER, INSTANCES
 
 HOUSE = (INSTANCES / "house2.ifc").read_text()
@@ -165,3 +167,20 @@ def test_a_space_in_the_building_but_in_no_storey_is_refused(tmp_path):
     path.write_text(re.sub(r"(#17=IFCRELAGGREGATES\(.*?),#14,\(#16", r"\1,#11,(#16", HOUSE))
     line = _refused("validate", str(path))
     assert "building.ifc: #16: IfcSpace = 'Living': the space stands in IfcBuilding" in line, line
+
+
+def test_a_storey_whose_walls_are_missing_is_refused(tmp_path: Path, capsys: Any) -> None:
+    """Spaces with no IfcWall in their storey (walls not exported, or contained in the building only) would read as
+    one open plan, every room open to the next: refused, naming the storey."""
+    import ifcopenshell
+    import ifcopenshell.api
+
+    model = ifcopenshell.open(str(INSTANCES / "house2.ifc"))
+    for wall in model.by_type("IfcWall"):
+        ifcopenshell.api.run("root.remove_product", model, product=wall)
+    path = tmp_path / "no_walls.ifc"
+    model.write(str(path))
+    assert main(["validate", str(path)]) == ExitCode.INVALID_INPUT
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no_walls.ifc" in err
+    assert "storey = 'Ground floor'" in err and "no IfcWall" in err
