@@ -225,6 +225,7 @@ def _registration(plan: Plan) -> dict[str, Any]:
     """The registration check: connected or not, the components of each group, the share it was checked at (planned
     under, else the site's) and, only where the site has stairs, the storeys joined into one network."""
     out = {"connected": plan.connected, "components": plan.registration, "overlap": plan.problem.checked_rule.overlap}
+    out["links"] = [list(p) for p in plan.links]  # the pairs the field sheet, network check and report relate
     if plan.site.stairs:
         out["networks"] = [n.to_dict() for n in storey_networks(plan.site, plan.registration)]
     return out

@@ -36,6 +36,7 @@ from planner.report.site_map import (
 )
 from planner.report.surfaces_section import surfaces_section
 from planner.report.view3d_section import view3d_section
+from planner.solve.result import Status, state_words
 
 CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 7px;text-align:right}
@@ -290,7 +291,7 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
     sheet = f'<p>{what}: <a href="{_e(field)}">{_e(field)}</a>.</p>' if field else ""
     body = [
         f"<h1>{_e(title)}</h1>",
-        f"<p>{len(o.stations)} stations by {_e(m.get('method'))} ({_e(m.get('status'))}"
+        f"<p>{len(o.stations)} stations by {_e(m.get('method'))} ({_e(_state(m))}"
         + (f", bound {_bound_cell(m)}" if isinstance(m.get("bound"), (int, float)) else "")
         + f"); {o.coverage.percent_length:.3f} % of wall length covered on "
         f"{_e(m.get('parameters', {}).get('target_spacing_m', 1.0))} m pieces. tls-planner {__version__}.</p>",
@@ -337,6 +338,14 @@ def linked_field_sheet(folder: Path | str, field: Path | str | None = None) -> t
         return None, None
     link = os.path.relpath(sheet.resolve(), out.resolve()).replace(os.sep, "/")
     return link, read_field_sheet(sheet.parent)
+
+
+def _state(meta: Mapping[str, Any]) -> str:
+    """The plan's status in the words of its summary headline (:func:`planner.solve.result.state_words`)."""
+    try:
+        return state_words(Status(meta.get("status")), meta.get("bound_scope"))
+    except ValueError:
+        return str(meta.get("status", ""))
 
 
 def write_report(o: Outcome, folder: Path | str, field: Path | str | None = None) -> Path:

@@ -44,7 +44,7 @@ def report_numbering(o: Outcome, field_sheet: Mapping[str, Any] | None = None) -
 
 
 def _links(o: Outcome) -> list[MapLink]:
-    g = o.registration.relation(o.stations, o.coverage.problem)
+    g = o.registration.relation(o.stations, o.sight.of_stations(o.stations))  # on the station pieces, as the plan's
     return [
         MapLink(o.stations[u].id, o.stations[v].id, float(d["shared_m"]), float(d["fraction"]))
         for u, v, d in sorted(g.edges(data=True), key=lambda e: (min(e[0], e[1]), max(e[0], e[1])))
