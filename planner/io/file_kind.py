@@ -22,7 +22,7 @@ from planner.core.fileio import read_json
 
 __all__ = ["EXPECTED", "HEAD_BYTES", "KINDS", "SITE_SUFFIXES", "file_kind"]
 
-#: the suffixes of site files and what they hold (those of :data:`planner.io.load.READERS`)
+#: the suffixes of site files and what they hold: the formats :func:`planner.io.load.load_site` reads
 SITE_SUFFIXES = {
     ".json": "JSON instance",
     ".csv": "table CSV",

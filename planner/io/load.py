@@ -7,20 +7,15 @@ from typing import Any
 
 from planner.core.checks import path_argument
 from planner.core.errors import InputError
+from planner.io.file_kind import SITE_SUFFIXES
 from planner.io.instance_json import load_instance_json
 from planner.io.table_csv import read_table_csv
 from planner.io.tables import zone_from_table
 from planner.site.model import Site
 from planner.site.params import ClosureTolerance, Parameters
 
-READERS = {
-    ".json": "JSON instance",
-    ".csv": "table CSV",
-    ".dxf": "DXF drawing",
-    ".geojson": "GeoJSON",
-    ".pol": "AGPLIB polygon",
-    ".ifc": "IFC building model",
-}
+#: the site formats read, by suffix (defined once, beside the check of a file's kind that needs them first)
+READERS = SITE_SUFFIXES
 
 
 def load_site(
