@@ -16,7 +16,6 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from planner.solve.areas import AreaRows, area_rows
 from planner.solve.backends import Outcome, Row
 from planner.solve.connectivity import (
     connected_greedy,
@@ -101,7 +100,6 @@ class BlockSolver:
         self.ring: RingBound | None = None
         self.lagrange_steps = 0
         self.ring_work_capped = False  # the ascent stopped at RING_WORK before its steps
-        self.areas: AreaRows | None = None
         if o.ring_bound:
             self._ring(a, targets)
         if not self.done:  # a block the ring bound closed needs no model
@@ -121,8 +119,6 @@ class BlockSolver:
         self.backend.fix([pos[c] for c in forced_all if c in pos])
         if self.groups is None:
             return
-        if o.area_rows:
-            self._areas()
         self.essential = essential_targets(self.sub, self.groups)
         self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
         if o.layer_cuts:
@@ -135,17 +131,6 @@ class BlockSolver:
             self.flow = FlowModel(self.backend, self.adj, self.groups, self.essential, self.cost, self.incumbent)
         if o.connectivity_method == "loop" and self.backend.capabilities.watch:
             self.backend.watch = self._watch
-
-    def _areas(self) -> None:
-        """The area rows (:mod:`planner.solve.areas`): each area's plain-cover minimum as a row, their sum as a bound;
-        their CP-SAT work counts against the block's."""
-        self.areas = area_rows(self.sub, self.cost, self.o.k)
-        if self.areas is None:
-            return
-        self.backend.add_rows(list(self.areas.rows))
-        self.bound = max(self.bound, self.areas.bound)
-        if self.backend.capabilities.work_limit:
-            self.backend.work_used += self.areas.work
 
     def _ring(self, a: sp.csr_matrix, targets: np.ndarray) -> None:
         """Before any search, for a block of one registration group (k = 1, single precision): the ring bound over

@@ -73,10 +73,6 @@ class MilpOptions:
     #: the ring bound (:mod:`planner.solve.ring`): a block of one registration group whose stations see runs of its
     #: wall gets the cheapest walk over its arcs as a lower bound (exact where every run is whole)
     ring_bound: bool = DEFAULTS["milp.ring_bound"]
-    #: the area rows (:mod:`planner.solve.areas`): in a connected block whose targets fall into areas no candidate
-    #: sees across, each area's plain-cover minimum as a row (off: on baalbek_site_doors they raise the bound no
-    #: higher and sooner, but lead the search to a worse plan within the work limit; for studies)
-    area_rows: bool = False
     #: steps of the Lagrangian ascent that adds the cover rows to the ring bound (0: the ring bound alone)
     ring_lagrange_steps: int = 500
     #: CP-SAT deterministic seconds for the whole solve (cpsat; None: none): with one thread the answer does not
@@ -120,7 +116,7 @@ class MilpOptions:
             real(self.time_limit_s, "time_limit_s", above=0)
         if self.node_limit is not None:
             count(self.node_limit, "node_limit", 1)
-        for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound", "plain_start", "area_rows"):
+        for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound", "plain_start"):
             flag(getattr(self, name), name)
         real(self.plain_start_moves, "plain_start_moves", at_least=0)
         argument(self.overlap, (OverlapRule, SiteShare, type(None)), "overlap")

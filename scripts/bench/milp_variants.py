@@ -1,7 +1,7 @@
 """The MILP alone on one site's cover instance, under solver variants: where its time goes and what each variant buys.
 
     python scripts/bench/milp_variants.py instances/baalbek_site_doors.json --save /tmp/doors.pkl
-    python scripts/bench/milp_variants.py /tmp/doors.pkl "" "area_rows=True" "work_limit=100"
+    python scripts/bench/milp_variants.py /tmp/doors.pkl "" "work_limit=50" "layer_cuts=False"
 
 The first form plans the site once (the default options) and pickles the cover instance and MILP options that the
 plan hands the solver; the second loads such a pickle and solves it once per variant (``MilpOptions`` keywords,
