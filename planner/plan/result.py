@@ -10,10 +10,12 @@ import numpy as np
 
 from planner.core.text import fold_alike, table
 from planner.coverage.fingerprint import Pool
+from planner.coverage.matrix import CoverageProblem
 from planner.plan.hours import Hours
 from planner.plan.networks import storey_networks
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem
+from planner.plan.surfaces import SurfaceCover
 from planner.plan.tripod import TripodDisc
 from planner.plan.verify import VerifyReport
 from planner.plan.verify_surfaces import SurfaceReport
@@ -28,7 +30,10 @@ class Plan:
     """A verified plan: the resolved problem it answers, the chosen stations, how they were found, and their
     verification. ``pool``: the size and fingerprint of the coverage problem it was chosen from
     (:func:`planner.coverage.fingerprint.pool_of`; None where the path that made it did not record it), which
-    the best plans known are matched on."""
+    the best plans known are matched on. ``coverage``: the candidate pool's coverage as the run built it
+    (:func:`planner.plan.run.build_problem`, before any pricing), and ``surface_cover`` the floor and ceiling
+    columns of the same candidates (None: walls only): what the report's method comparison plans on instead of
+    building the pool again (None where the path that made the plan did not keep it; neither is compared)."""
 
     problem: Problem
     result: SolveResult
@@ -42,6 +47,8 @@ class Plan:
     surfaces: SurfaceReport | None = None
     #: scan settings, set-up + scan time and point spacing (None: a plan of stations alone)
     hours: Hours | None = None
+    coverage: CoverageProblem | None = field(default=None, compare=False, repr=False)
+    surface_cover: SurfaceCover | None = field(default=None, compare=False, repr=False)
 
     @property
     def site(self) -> Site:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 from collections import Counter
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -144,41 +145,57 @@ def site_candidates(
 
 
 def plan_single(
-    problem: Problem, props: FieldProperties | None = None, coverage: CoverageProblem | None = None
+    problem: Problem,
+    props: FieldProperties | None = None,
+    coverage: CoverageProblem | None = None,
+    *,
+    surface_cover: SurfaceCover | None = None,
 ) -> Plan:
     """Plan the stations of a resolved problem as one model, with its method (:data:`planner.plan.methods.REGISTRY`),
     check registration, and verify the plan. The public entry, which also chooses tiles for a large site, is
     :func:`planner.engine.plan_site`. ``props``: the scan settings a run with point spacing or the field-time objective
     chooses from (None: the instrument's table). ``coverage``: the problem's coverage where the caller built it already
-    (:func:`build_problem` of this problem, or of one that differs in its objective only: the trade-off's plans share
-    one); None: built here (InfeasibleError where some wall piece is seen by no candidate)."""
+    (:func:`build_problem` of this problem, or of one that differs in its objective or method only: the trade-off's
+    plans and the report's method comparison share the plan's, :attr:`Plan.coverage`); None: built here
+    (InfeasibleError where some wall piece is seen by no candidate). ``surface_cover``: the floor and ceiling columns
+    of ``coverage``'s candidates where built already (:attr:`Plan.surface_cover`); None: built here where the run has
+    surfaces. The plan keeps both (:attr:`Plan.coverage`, :attr:`Plan.surface_cover`)."""
     argument(problem, Problem, "problem")
-    run, cover, log = _method_input(problem, coverage)
+    run, cover, log = _method_input(problem, coverage, surface_cover)
     props = _settings(problem, run.problem, props)
     out = hours_method(run, props) if props is not None else REGISTRY[problem.options.method](run)
     if cover is not None and out.problem.candidates != run.problem.candidates:  # pricing is off with surfaces
         raise RuntimeError("the method changed the candidate pool the surface columns were built for")
-    return _checked_plan(problem, out, cover, props, [*log, *out.log])
+    plan = _checked_plan(problem, out, cover, props, [*log, *out.log])
+    return replace(plan, coverage=run.problem, surface_cover=cover)
 
 
 def _method_input(
-    problem: Problem, coverage: CoverageProblem | None
+    problem: Problem, coverage: CoverageProblem | None, given_cover: SurfaceCover | None = None
 ) -> tuple[MethodInput, SurfaceCover | None, list[str]]:
     """What the method plans from (the pool's coverage, built here unless given, with the regions drawn for
-    pricing), the floor and ceiling columns of the same candidates where the run has surfaces, and the log."""
+    pricing), the floor and ceiling columns of the same candidates where the run has surfaces (``given_cover``
+    where given with ``coverage``), and the log."""
     site, options = problem.site, problem.options
     start = time.perf_counter()
     spaces: dict[str, FrameSpace] = {}
     region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
     how = "coverage given (built once for the run)"
     if coverage is None:
-        coverage = build_problem(problem, spaces=spaces, region_cache=region_cache)
+        coverage, given_cover = build_problem(problem, spaces=spaces, region_cache=region_cache), None
         how = f"coverage built in {time.perf_counter() - start:.2f} s"
     pricing = ", before pricing" if options.method == "milp" and options.pricing else ""
     pairs = f"{len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
     log = [f"{how} ({pairs}{pricing})"]
     cover = None
-    if problem.surfaces is not None:  # the floor and ceiling columns, for the same candidates
+    if problem.surfaces is not None and given_cover is not None:
+        if given_cover.matrix.shape[0] != len(coverage.candidates):
+            raise ValueError(
+                f"{given_cover.matrix.shape[0]} rows of surface columns for {len(coverage.candidates)} candidates"
+            )
+        cover = given_cover
+        log.append(f"{cover.line(problem.surfaces)} (given with the coverage)")
+    elif problem.surfaces is not None:  # the floor and ceiling columns, for the same candidates
         t0 = time.perf_counter()
         cover = surface_cover(site, problem.surfaces, coverage.candidates, coverage.excluded)
         log.append(f"{cover.line(problem.surfaces)} ({time.perf_counter() - t0:.2f} s)")

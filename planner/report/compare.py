@@ -1,4 +1,12 @@
-"""The comparison of methods shown in a report: the closed form, the greedy and the plan's own method."""
+"""The comparison of methods shown in a report: the closed form, the greedy and the plan's own method.
+
+Beside a plan made in this process, the greedy and the closed form plan on the candidate pool's coverage the plan
+was chosen from (:attr:`planner.plan.Plan.coverage`, with its floor and ceiling columns): the pool is not built
+again, and the greedy's count is over the very pool the plan's is (before pricing, which adds positions to the
+MILP's). The closed form needs no pool (its stations are the dissertation's construction per zone; only their own
+coverage is computed). Each row says in ``over`` what its count is over, and the greedy's whether it is the
+connected greedy or the plain one.
+"""
 
 from __future__ import annotations
 
@@ -12,6 +20,9 @@ from planner.plan import Plan, Problem, StrategyOptions, plan_single, resolve
 from planner.plan.plan_dict import plan_to_dict
 
 log = logging.getLogger(__name__)
+
+#: the greedy's log line where no connected cover was found (:func:`planner.plan.methods.greedy_method`)
+PLAIN_INSTEAD = "plain greedy plan instead"
 
 
 def meta_row(meta: dict[str, Any], verified_percent: float) -> dict[str, Any]:
@@ -35,14 +46,44 @@ def meta_row(meta: dict[str, Any], verified_percent: float) -> dict[str, Any]:
 
 
 def method_row(plan: Plan) -> dict[str, Any]:
-    return meta_row(plan_to_dict(plan), plan.verification.percent)
+    """The comparison row of ``plan``, with what its count is over (``over``)."""
+    return {**meta_row(plan_to_dict(plan), plan.verification.percent), "over": over_words(plan)}
+
+
+def over_words(plan: Plan) -> str:
+    """What ``plan``'s station count is over, in words: the closed form's own stations, the greedy (connected or
+    plain) over the pool, or the pool the plan's method chose from (its size)."""
+    size = plan.problem_size
+    pool = f"{size.get('candidates', 0):,} candidates"
+    method = plan.result.method
+    if method == "closed-form":
+        generated = plan.result.info.get("generated")
+        made = f"{generated} generated" if generated is not None else "its own"
+        return f"closed-form stations per zone ({made}, redundant ones dropped); no candidate pool"
+    if method == "greedy":
+        rule = plan.problem.rule
+        if rule is None or rule.overlap <= 0:
+            kind = "plain greedy (no overlap rule)"
+        elif any(PLAIN_INSTEAD in line for line in plan.log):
+            kind = "plain greedy (no cover connected under the overlap rule found)"
+        else:
+            kind = "connected greedy (under the overlap rule)"
+        return f"{kind} over the candidate pool ({pool})"
+    built = len(plan.coverage.candidates) if plan.coverage is not None else size.get("candidates", 0)
+    added = size.get("candidates", 0) - built
+    if added > 0:  # pricing adds positions of the plane to the pool the plan chose from
+        return f"{method} over the candidate pool ({built:,} candidates, {added:,} more added by pricing)"
+    return f"{method} over the candidate pool ({pool})"
 
 
 def compare_methods(done: Plan | Problem) -> list[dict[str, Any]]:
-    """Closed form and greedy (cheap: one coverage build each) beside ``done``, the plan already made (or, given a
-    resolved problem alone, beside nothing), each on the same site, validation and limits."""
+    """Closed form and greedy beside ``done``, the plan already made (or, given a resolved problem alone, beside
+    nothing), each on the same site, validation and limits. Beside a plan that keeps its pool's coverage
+    (:attr:`Plan.coverage`), both plan on it (module docstring); else, or given a problem, each builds the pool."""
     argument(done, (Plan, Problem), "done")
     problem = done.problem if isinstance(done, Plan) else done
+    coverage = done.coverage if isinstance(done, Plan) else None
+    columns = done.surface_cover if isinstance(done, Plan) else None
     plain = StrategyOptions(single=True)  # the greedy and the closed form run as one model
     rows = []
     for method in ("closed-form", "greedy"):
@@ -59,7 +100,8 @@ def compare_methods(done: Plan | Problem) -> list[dict[str, Any]]:
             objective="stations",
         )
         try:
-            rows.append(method_row(plan_single(resolve(problem.site, options, validation=problem.validation))))
+            resolved = resolve(problem.site, options, validation=problem.validation)
+            rows.append(method_row(plan_single(resolved, coverage=coverage, surface_cover=columns)))
         except PlannerError as exc:  # e.g. a piece the closed form cannot see: shown, not fatal
             log.info("method %s failed: %s", method, exc)
             rows.append({"method": method, "status": f"failed: {exc.one_line()}"})
