@@ -4,9 +4,13 @@ against an entry of the same problem and pool (issue 44)."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
+
+import pytest
 
 from planner.plan.best_known import BEST_KNOWN, CONNECTED, PLAIN, best_known, problem_kind
 
+ROOT = Path(BEST_KNOWN).resolve().parents[2]
 POOL = {"fingerprint": "abc123def456", "candidates": 12476, "targets": 7688, "pairs": 1277751}
 
 
@@ -93,26 +97,38 @@ def test_no_file_no_entry(tmp_path):
     assert best_known("plant_16ha", CONNECTED, "site", 0.3, None, tmp_path / "bad.json") is None
 
 
-def test_each_plan_file_of_the_best_known_holds_its_count_and_is_a_connected_cover():
-    # an entry naming its plan file (docs/benchmarks/plans/): the file has the entry's stations on the entry's pool,
-    # and re-checked here from the site alone: every wall point at 0.1 m seen, one registration part per group
-    from pathlib import Path
+def _named_entries() -> list[dict]:
+    """The entries naming their plan file (docs/benchmarks/plans/)."""
+    named = [e for e in json.loads(Path(BEST_KNOWN).read_text())["plans"] if e.get("plan")]
+    assert named, "the 16-ha connected entry names its plan file"
+    return named
 
+
+def test_each_plan_file_of_the_best_known_holds_its_count_on_its_pool():
+    # the file has the entry's stations on the entry's pool (the slow twin below re-checks the cover from the site)
+    for entry in _named_entries():
+        data = json.loads((ROOT / entry["plan"]).read_text())
+        assert len(data["stations"]) == entry["stations"]
+        assert data["pool"] == entry["pool"]
+        assert (ROOT / "instances" / f"{entry['instance']}.json").is_file()
+
+
+@pytest.mark.slow
+def test_each_plan_file_of_the_best_known_holds_its_count_and_is_a_connected_cover():
+    # an entry naming its plan file: the file has the entry's stations on the entry's pool, and re-checked here from
+    # the site alone: every wall point at 0.1 m seen, one registration part per group (the 16-ha site: 15 s)
     from planner import load_site
     from planner.io.plan_json import read_plan_stations
     from planner.plan import PlanOptions
     from planner.plan.problem import resolve
     from planner.plan.verify import verify_stations
 
-    root = Path(BEST_KNOWN).resolve().parents[2]
-    named = [e for e in json.loads(Path(BEST_KNOWN).read_text())["plans"] if e.get("plan")]
-    assert named, "the 16-ha connected entry names its plan file"
-    for entry in named:
-        data = json.loads((root / entry["plan"]).read_text())
+    for entry in _named_entries():
+        data = json.loads((ROOT / entry["plan"]).read_text())
         assert len(data["stations"]) == entry["stations"]
         assert data["pool"] == entry["pool"]
-        problem = resolve(load_site(str(root / "instances" / f"{entry['instance']}.json")), PlanOptions())
-        stations = read_plan_stations(root / entry["plan"], problem.site)
+        problem = resolve(load_site(str(ROOT / "instances" / f"{entry['instance']}.json")), PlanOptions())
+        stations = read_plan_stations(ROOT / entry["plan"], problem.site)
         assert verify_stations(problem.sight, stations, 0.1).complete
         cov = problem.sight.coverage(stations, problem.targets)
         parts, _ = problem.registration.check(cov, tuple(range(len(stations))))
