@@ -16,7 +16,7 @@ from typing import Any
 
 from planner.core.checks import argument
 from planner.core.errors import PlannerError
-from planner.plan import Plan, Problem, StrategyOptions, plan_single, resolve
+from planner.plan import Plan, Problem, StrategyOptions, build_problem, plan_single, resolve
 from planner.plan.plan_dict import plan_to_dict
 
 log = logging.getLogger(__name__)
@@ -79,7 +79,8 @@ def over_words(plan: Plan) -> str:
 def compare_methods(done: Plan | Problem) -> list[dict[str, Any]]:
     """Closed form and greedy beside ``done``, the plan already made (or, given a resolved problem alone, beside
     nothing), each on the same site, validation and limits. Beside a plan that keeps its pool's coverage
-    (:attr:`Plan.coverage`), both plan on it (module docstring); else, or given a problem, each builds the pool."""
+    (:attr:`Plan.coverage`), both plan on it (module docstring); else, or given a problem, the pool is built once
+    and both plan on it."""
     argument(done, (Plan, Problem), "done")
     problem = done.problem if isinstance(done, Plan) else done
     coverage = done.coverage if isinstance(done, Plan) else None
@@ -101,6 +102,10 @@ def compare_methods(done: Plan | Problem) -> list[dict[str, Any]]:
         )
         try:
             resolved = resolve(problem.site, options, validation=problem.validation)
+            if columns is not None and resolved.surfaces is not None:  # the patches the plan's columns are over
+                resolved = replace(resolved, surfaces=problem.surfaces)
+            if coverage is None:  # no plan's pool: built once, for both methods (the same options but the method)
+                coverage = build_problem(resolved)
             rows.append(method_row(plan_single(resolved, coverage=coverage, surface_cover=columns)))
         except PlannerError as exc:  # e.g. a piece the closed form cannot see: shown, not fatal
             log.info("method %s failed: %s", method, exc)

@@ -3,6 +3,7 @@ plan was chosen from (Plan.coverage), not the site again, and their rows are tho
 
 from __future__ import annotations
 
+import json
 from dataclasses import replace
 
 import pytest
@@ -62,3 +63,21 @@ def test_each_row_says_what_its_count_is_over(plan):
     assert f"over the candidate pool ({n:,} candidates" in rows["greedy"]["over"]
     assert "greedy" in rows["greedy"]["over"] and rows["greedy"]["connected"] is not None
     assert rows["milp"]["over"].startswith(f"milp over the candidate pool ({n:,} candidates")
+
+
+@pytest.mark.slow
+def test_with_floors_the_greedy_takes_the_plans_floor_columns(tmp_path, monkeypatch):
+    zone = {"id": "L", "scan_side": "inside", "coordinates": [[0, 0], [12, 0], [12, 5], [5, 5], [5, 10], [0, 10]]}
+    path = tmp_path / "l.json"
+    path.write_text(json.dumps({"name": "lroom", "instrument": "leica-p30", "zones": [{**zone, "height_m": 3.0}]}))
+    done = plan_site(str(path), PlanOptions(method="milp", surfaces=("walls", "floors")))
+    assert done.surface_cover is not None and done.surfaces is not None
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the comparison built the pool or its floor columns again")
+
+    monkeypatch.setattr(run, "build_problem", refuse)
+    monkeypatch.setattr(run, "surface_cover", refuse)
+    rows = {r["method"]: r for r in compare_methods(done)}
+    assert rows["closed-form"]["status"].startswith("failed: ")  # the closed form plans walls only
+    assert rows["greedy"]["stations"] and rows["greedy"]["verified_percent"] == 100.0
