@@ -3,7 +3,9 @@
 Library code only calls :func:`report` / :func:`ticking` (a step's share done, logged at DEBUG) and
 :func:`note` (one line when a tile or a phase ends, with the incumbent and the bound; logged at INFO), which
 pass them to a sink, None (nothing shown) unless a front end installs one. The command line installs a
-:class:`Bar` on standard error when it is a terminal and ``--quiet`` is not given.
+:class:`Bar` on standard error when it is a terminal and ``--quiet`` is not given; :class:`Lines` is the sink for a
+standard error that is not a terminal (a log file, a pipe): whole lines, at most one every few seconds, so that a long
+run never looks hung and the log stays short. :func:`sink_for` chooses between them.
 """
 
 from __future__ import annotations
@@ -93,3 +95,40 @@ class Bar:
         """A line of its own above the bar (the bar is redrawn by the next report)."""
         self.stream.write(f"\r{text:<{self.width + 36}}\n")
         self.stream.flush()
+
+
+class Lines:
+    """Progress as whole lines for a stream that is not a terminal, e.g. ``progress: coverage 58 % (41 s)``: a line
+    when at least ``every_s`` seconds have passed since the last one (the first report always), so that a long run
+    shows it is alive and a short one writes little; each note on its own line. ``clock``: the time source (tests
+    pass their own)."""
+
+    def __init__(self, stream: TextIO, every_s: float = 5.0, clock: Callable[[], float] = time.monotonic) -> None:
+        self.stream = stream
+        self.every_s = every_s
+        self.clock = clock
+        self.start = clock()
+        self._last = -float("inf")
+
+    def __call__(self, step: str, done: float, total: float) -> None:
+        now = self.clock()
+        if now - self._last < self.every_s:
+            return
+        frac = 0.0 if total <= 0 else max(0.0, min(1.0, done / total))
+        self._last = now
+        self.stream.write(f"progress: {step} {frac * 100:.0f} % ({now - self.start:.0f} s)\n")
+        self.stream.flush()
+
+    def note(self, text: str) -> None:
+        """A line of its own (a phase ended: always shown)."""
+        self.stream.write(f"progress: {text} ({self.clock() - self.start:.0f} s)\n")
+        self.stream.flush()
+
+
+def sink_for(stream: TextIO, quiet: bool = False) -> Sink | None:
+    """The progress sink for ``stream``: a :class:`Bar` on a terminal, :class:`Lines` elsewhere, None when
+    ``quiet``."""
+    if quiet:
+        return None
+    isatty = getattr(stream, "isatty", None)
+    return Bar(stream) if isatty is not None and isatty() else Lines(stream)

@@ -39,6 +39,10 @@ PLANE_OFF = "surfaces beyond walls: the plane bound covers walls only"
 HEIGHT_FLAG = "--instrument-height"
 #: the most floor candidates of one zone (a finer grid is coarsened to it)
 MAX_FLOOR_CANDIDATES = 5_000
+#: a zone's floor grid of more points than this is thinned (:func:`thinned`); a room's grid is kept whole
+THIN_ABOVE = 1_000
+#: how many of the grid points that see a patch whole the thinning keeps (all where fewer see it)
+THIN_SEERS = 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -144,7 +148,8 @@ def floor_spacing(setup: SurfaceSetup) -> float:
 def floor_candidates(site: Site, setup: SurfaceSetup, standoff_m: float) -> list[Candidate]:
     """Candidates on a square grid over each inside zone's floor (:func:`floor_spacing`, axes from the zone's first
     wall, so that moving the site moves the grid), at least ``standoff_m`` from its walls and blocks, so that every
-    patch has stations near enough to see it (the wall pool's grid is coarser than a floor's reach)."""
+    patch has stations near enough to see it (the wall pool's grid is coarser than a floor's reach); a large zone's
+    grid is thinned (:func:`thinned`)."""
     spacing = floor_spacing(setup)
     out: list[Candidate] = []
     for zi, zone in enumerate(site.zones):
@@ -165,6 +170,7 @@ def floor_candidates(site: Site, setup: SurfaceSetup, standoff_m: float) -> list
         gu, gv = np.meshgrid(iu + h / 2, iv + h / 2)
         pts = xy[0] + np.outer(gu.ravel(), ux) + np.outer(gv.ravel(), uy)
         pts = pts[shapely.contains_xy(inner, pts[:, 0], pts[:, 1])]
+        pts = thinned(site, setup, zi, pts)
         out += [
             Candidate(
                 f"{zone.id}-in-F{k}", zone.id, ScanSide.INSIDE, zone.frame, float(x), float(y), CandidateKind.GRID
@@ -172,6 +178,34 @@ def floor_candidates(site: Site, setup: SurfaceSetup, standoff_m: float) -> list
             for k, (x, y) in enumerate(pts, 1)
         ]
     return out
+
+
+def thinned(site: Site, setup: SurfaceSetup, zi: int, pts: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Zone ``zi``'s floor grid ``pts`` as it is up to :data:`THIN_ABOVE` points; beyond, the points a greedy
+    multi-cover keeps: each patch that some grid point sees whole keeps min(:data:`THIN_SEERS`, its seers) of them,
+    the point that serves most patches still short first (ties: grid order). The grid is denser than any plan needs
+    (a point per cell of the width of the ring a station sees), and every candidate of a dense pool is a row of the
+    plan's quadratic steps (the registration relation): a zone of 10,000 m2 keeps about 40 % of its grid, and loses
+    no patch any grid point sees."""
+    if len(pts) <= THIN_ABOVE:
+        return pts
+    seen = surface_sight(site, setup.patches, pts, np.full(len(pts), zi), setup.limits)
+    by_patch = seen.tocsc()
+    need = np.minimum(np.diff(by_patch.indptr), THIN_SEERS)
+    gain = np.asarray(seen.astype(np.int64) @ (need > 0).astype(np.int64)).ravel()
+    keep = np.zeros(len(pts), dtype=bool)
+    while True:
+        gain[keep] = -1
+        c = int(np.argmax(gain))
+        if gain[c] <= 0:
+            break
+        keep[c] = True
+        cols = seen.indices[seen.indptr[c] : seen.indptr[c + 1]]
+        cols = cols[need[cols] > 0]
+        need[cols] -= 1
+        for j in cols[need[cols] == 0]:  # a patch served: it counts no more for its other seers
+            gain[by_patch.indices[by_patch.indptr[j] : by_patch.indptr[j + 1]]] -= 1
+    return pts[keep]
 
 
 def patch_matrix(

@@ -23,6 +23,7 @@ a surface type asked for that the site does not have is named, and claims nothin
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -30,7 +31,9 @@ from typing import Any
 import numpy as np
 import shapely
 from numpy.typing import NDArray
+from scipy.spatial import cKDTree
 
+from planner.core import progress
 from planner.core.text import table
 from planner.coverage.surfaces import CEILING, FLOOR, KIND_CODE, surface_areas, zone_blocks
 from planner.plan.surfaces import SurfaceCover, SurfaceSetup
@@ -38,9 +41,11 @@ from planner.site.candidate import Candidate
 from planner.site.model import ScanSide, Site
 
 #: the most sample points of one zone's surface; a finer grid is coarsened to it
-MAX_POINTS = 200_000
+MAX_POINTS = 4_000_000
 #: slack of the plan-view test (a segment grazing a wall or block corner is clear)
 EPS_M = 1e-6
+#: seconds between two progress reports of the verification
+PROGRESS_S = 2.0
 
 
 @dataclass(frozen=True)
@@ -167,7 +172,8 @@ def _grid(area: shapely.Geometry, spacing_m: float) -> tuple[NDArray[np.float64]
 def _seen_by(
     station: NDArray[np.float64], pts: NDArray[np.float64], dz: float, setup: SurfaceSetup, kind: int, clear: Any
 ) -> NDArray[np.bool_]:
-    """Which points one station sees (dz: the surface's height less the instrument's)."""
+    """Which points one station sees (dz: the surface's height less the instrument's; ``clear`` None: no plan-view
+    test, the caller knows every segment is clear)."""
     lim = setup.limits
     d = np.hypot(pts[:, 0] - station[0], pts[:, 1] - station[1])
     slant = np.hypot(d, dz)
@@ -177,10 +183,42 @@ def _seen_by(
     if half:
         ok &= angle >= half - 1e-9
     idx = np.flatnonzero(ok)
-    if idx.size:
+    if idx.size and clear is not None:
         segs = shapely.linestrings(np.stack([np.broadcast_to(station, (idx.size, 2)), pts[idx]], axis=1))
         ok[idx] = shapely.covered_by(segs, clear)
     return np.asarray(ok, dtype=bool)
+
+
+def _covered(
+    pts: NDArray[np.float64], stations: list[NDArray[np.float64]], dz: float, setup: SurfaceSetup, kind: int, clear: Any
+) -> NDArray[np.bool_]:
+    """Which of ``pts`` some station sees (:func:`_seen_by`'s rules). Each station tests only the points a k-d tree
+    finds within its reach (range and incidence: no point farther is seen), and skips the plan-view test where its
+    whole reach disc lies in ``clear`` (every segment from the centre to a point of a disc stays in the disc): the
+    work grows with the points in reach, not with stations x points."""
+    covered = np.zeros(len(pts), dtype=bool)
+    if not stations or len(pts) == 0:
+        return covered
+    lim = setup.limits
+    reach = math.sqrt(max(lim.max_slant_range_m**2 - dz**2, 0.0))
+    theta = lim.theta_for(kind)
+    if theta < 90.0:
+        reach = min(reach, abs(dz) * math.tan(math.radians(theta)))
+    reach += 1e-6
+    tree = cKDTree(pts)
+    rim = shapely.boundary(clear)
+    shapely.prepare(clear)
+    last = time.monotonic()
+    for k, xy in enumerate(stations):
+        near = np.asarray(tree.query_ball_point(xy, reach), dtype=np.int64)
+        todo = near[~covered[near]]
+        if todo.size:
+            open_disc = bool(shapely.contains_xy(clear, *xy)) and shapely.distance(shapely.Point(xy), rim) > reach
+            covered[todo] = _seen_by(xy, pts[todo], dz, setup, kind, None if open_disc else clear)
+        if time.monotonic() - last >= PROGRESS_S:
+            progress.report("verifying floors and ceilings", k + 1, len(stations))
+            last = time.monotonic()
+    return covered
 
 
 def verify_surfaces(
@@ -218,16 +256,13 @@ def verify_surfaces(
             height = zone.floor_level_m + ((zone.ceiling_height_m or 0.0) if kind == CEILING else 0.0)
             dz = height - eye
             covered = np.zeros(len(pts), dtype=bool)
+            progress.note(f"verifying {zone.id}/{name}: {len(pts):,} points every {h:g} m, {len(here)} stations")
             hiding = [b for b, top in blocks if kind == FLOOR or top > lim.instrument_height_m]
             clear = (outline.difference(shapely.union_all(hiding)) if hiding else outline).buffer(
                 EPS_M, join_style="mitre"
             )
             if (dz < 0) if kind == FLOOR else (dz > 0):
-                for s in here:
-                    todo = np.flatnonzero(~covered)
-                    if todo.size == 0:
-                        break
-                    covered[todo] = _seen_by(np.asarray(s.xy, dtype=float), pts[todo], dz, setup, kind, clear)
+                covered = _covered(pts, [np.asarray(s.xy, dtype=float) for s in here], dz, setup, kind, clear)
             out = left.get((zi, kind))
             gone = shapely.contains_xy(out, pts[:, 0], pts[:, 1]) if out is not None else np.zeros(len(pts), bool)
             if np.any(covered & gone):
