@@ -13,6 +13,7 @@ import numpy as np
 
 from planner.core.checks import argument
 from planner.core.errors import InputError
+from planner.coverage.matrix import CoverageProblem
 from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight, as_sight
 from planner.instrument.models import TotalStation, load_instrument
@@ -198,6 +199,7 @@ def run_network(
     precision: str = "single",
     traverse: ControlTraverse | None = None,
     ts_everywhere: bool = False,
+    coverage: CoverageProblem | None = None,
 ) -> NetworkReport:
     """Build the network of a plan, adjust it a priori, and check the accuracy of every covered piece.
 
@@ -209,6 +211,8 @@ def run_network(
     :mod:`planner.network.traverse`); the total station observes its legs only, stations are held by registration links
     and ties.
     ``ts_everywhere``: a total station on every station sight line instead (:mod:`planner.network.graph`).
+    ``coverage``: the stations' coverage on pieces of ``target_spacing_m`` under ``site``'s sight, where built
+    already (:attr:`planner.plan.Plan.stations_cover`, rows in the order of ``stations``); None: built here.
     """
     argument(site, (Site, Sight), "site")
     stations_argument(stations)
@@ -222,7 +226,9 @@ def run_network(
         raise InputError("is not a total station", field="total_station", value=total_station)
     sight = as_sight(site, combined=precision == "combined")
     site = sight.site
-    problem = sight.of_stations(stations, target_spacing_m)
+    if coverage is not None and len(coverage.candidates) != len(stations):
+        raise ValueError(f"a coverage of {len(coverage.candidates)} rows for {len(stations)} stations")
+    problem = sight.of_stations(stations, target_spacing_m) if coverage is None else coverage
     # registration links within each zone-side, or across the site's accessible areas (through openings)
     links = registration_links(sight, stations, registration, problem)
     notes: list[str] = []

@@ -70,8 +70,15 @@ class Plan:
         st = self.stations
         if not st:
             return ()
-        g = self.problem.registration.relation(st, self.problem.sight.of_stations(st))
+        g = self.problem.registration.relation(st, self.stations_cover)
         return tuple(sorted((min(st[u].id, st[v].id), max(st[u].id, st[v].id)) for u, v in g.edges()))
+
+    @cached_property
+    def stations_cover(self) -> CoverageProblem:
+        """The coverage of the plan's stations alone on the station pieces
+        (:meth:`planner.coverage.sight.Sight.of_stations`, rows in the order of :attr:`stations`), under the plan's
+        sight: what its registration pairs are read from and the network check takes; built once, on first use."""
+        return self.problem.sight.of_stations(self.stations)
 
     @property
     def connected(self) -> bool:

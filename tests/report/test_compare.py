@@ -81,3 +81,15 @@ def test_with_floors_the_greedy_takes_the_plans_floor_columns(tmp_path, monkeypa
     rows = {r["method"]: r for r in compare_methods(done)}
     assert rows["closed-form"]["status"].startswith("failed: ")  # the closed form plans walls only
     assert rows["greedy"]["stations"] and rows["greedy"]["verified_percent"] == 100.0
+
+
+def test_the_network_check_takes_the_plans_station_coverage(plan):
+    # the stations' coverage the plan's pairs were read from: the same network as one built afresh
+    from planner.network.check import run_network
+
+    st, reg = list(plan.stations), plan.problem.registration
+    given = run_network(plan.problem.sight, st, registration=reg, coverage=plan.stations_cover)
+    built = run_network(plan.problem.sight, st, registration=reg)
+    assert given.to_dict() == built.to_dict()
+    with pytest.raises(ValueError, match="rows for"):
+        run_network(plan.problem.sight, st[:-1], registration=reg, coverage=plan.stations_cover)
