@@ -49,16 +49,19 @@ def note(text: str) -> None:
 @contextmanager
 def ticking(step: str, limit_s: float | None, every_s: float = 0.25) -> Iterator[None]:
     """Report elapsed time against ``limit_s`` from a background thread while the body runs
-    (a solver that gives no progress of its own); closes the step at the end."""
-    if _sink is None or not limit_s or limit_s <= 0:
+    (a solver that gives no progress of its own); closes the step at the end. Without a limit, the elapsed time
+    against a total of 0 (unknown): :class:`Lines` says the step is running, :class:`Bar` draws nothing."""
+    if _sink is None:
         yield
         return
     stop = threading.Event()
     start = time.monotonic()
+    cap = float(limit_s) if limit_s is not None and limit_s > 0 else 0.0
 
     def tick() -> None:
         while not stop.wait(every_s):
-            report(step, min(time.monotonic() - start, limit_s), limit_s)
+            elapsed = time.monotonic() - start
+            report(step, min(elapsed, cap), cap) if cap > 0 else report(step, elapsed, 0.0)
 
     thread = threading.Thread(target=tick, daemon=True)
     thread.start()
@@ -67,7 +70,8 @@ def ticking(step: str, limit_s: float | None, every_s: float = 0.25) -> Iterator
     finally:
         stop.set()
         thread.join()
-        report(step, limit_s, limit_s)
+        if cap > 0:
+            report(step, cap, cap)
 
 
 class Bar:
@@ -79,7 +83,9 @@ class Bar:
         self._closed = ""
 
     def __call__(self, step: str, done: float, total: float) -> None:
-        frac = 0.0 if total <= 0 else max(0.0, min(1.0, done / total))
+        if total <= 0:
+            return  # a step of unknown length (a solve without a time limit): no bar to draw
+        frac = max(0.0, min(1.0, done / total))
         if step == self._closed:
             if frac >= 1.0:
                 return  # already drawn complete
@@ -114,9 +120,9 @@ class Lines:
         now = self.clock()
         if now - self._last < self.every_s:
             return
-        frac = 0.0 if total <= 0 else max(0.0, min(1.0, done / total))
         self._last = now
-        self.stream.write(f"progress: {step} {frac * 100:.0f} % ({now - self.start:.0f} s)\n")
+        share = f"{max(0.0, min(1.0, done / total)) * 100:.0f} %" if total > 0 else "running"
+        self.stream.write(f"progress: {step} {share} ({now - self.start:.0f} s)\n")
         self.stream.flush()
 
     def note(self, text: str) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import json
+import time
 from pathlib import Path
 
 import numpy as np
@@ -111,3 +112,17 @@ def test_a_terminal_gets_the_bar_anything_else_lines_and_quiet_nothing():
     assert isinstance(progress.sink_for(Tty()), progress.Bar)
     assert isinstance(progress.sink_for(io.StringIO()), progress.Lines)
     assert progress.sink_for(io.StringIO(), quiet=True) is None
+
+
+def test_a_solve_without_a_time_limit_says_it_is_running_and_draws_no_bar():
+    out, tty = io.StringIO(), io.StringIO()
+    for sink in (progress.Lines(out, every_s=0.0), progress.Bar(tty)):
+        previous = progress.set_sink(sink)
+        try:
+            with progress.ticking("solving (cp-sat)", None, every_s=0.01):
+                deadline = time.monotonic() + 30
+                while "running" not in out.getvalue() and time.monotonic() < deadline:
+                    time.sleep(0.01)
+        finally:
+            progress.set_sink(previous)
+    assert out.getvalue().startswith("progress: solving (cp-sat) running (") and tty.getvalue() == ""
