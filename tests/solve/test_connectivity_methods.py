@@ -65,9 +65,9 @@ WINDOWS = [set(range(j, j + 4)) for j in range(9)]
 @pytest.mark.parametrize("backend,connectivity", METHODS)
 def test_windows_on_a_line_need_a_chain_of_five(backend, connectivity):
     inst = instance(WINDOWS, 12, ["g"] * 9)
-    plain = solve(inst, MilpOptions(backend=backend, overlap=None, time_limit_s=20))
+    plain = solve(inst, MilpOptions(backend=backend, overlap=None))
     # the ring bound (tests/solve/test_ring.py) would close this one-group block before the method runs
-    r = solve(inst, MilpOptions(backend=backend, connectivity=connectivity, time_limit_s=20, ring_bound=False))
+    r = solve(inst, MilpOptions(backend=backend, connectivity=connectivity, ring_bound=False))
     assert plain.objective == 3 and r.status.value == "optimal" and r.objective == 5 and r.bound == 5
     assert r.selected == (0, 2, 4, 6, 8) and r.info["connectivity"] == connectivity
 
@@ -122,7 +122,6 @@ def test_methods_agree_with_enumeration(seed):
                     connectivity=connectivity,
                     tree_bound=tree_bound,
                     layer_cuts=extras,
-                    time_limit_s=20,
                 ),
             )
             label = (backend, connectivity, tree_bound, extras)
@@ -174,7 +173,7 @@ def test_the_random_instances_are_not_trivial():
 def test_two_cpsat_workers_agree_with_enumeration(seed):
     """threads = 2 runs two CP-SAT workers (full LP first); the cut loop still proves the enumerated optimum."""
     inst = random_instance(seed)
-    r = solve(inst, MilpOptions(backend="cpsat", connectivity="loop", threads=2, time_limit_s=20))
+    r = solve(inst, MilpOptions(backend="cpsat", connectivity="loop", threads=2))
     if FOUND[seed] is None:
         assert r.status.value in ("infeasible", "no_solution")
     else:

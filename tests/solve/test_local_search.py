@@ -165,7 +165,7 @@ def test_milp_block_closes_on_the_searched_plan_and_counts_its_moves():
     # without the search and proven; the search's moves are reported (none when it is off)
     inst = instance(WINDOWS, 12, ["g"] * 9)
     # (the ring bound off: it would close this one-group block before the search runs)
-    r = solve(inst, MilpOptions(time_limit_s=20, ring_bound=False))
-    off = solve(inst, MilpOptions(time_limit_s=20, local_search_moves=0, ring_bound=False))
+    r = solve(inst, MilpOptions(ring_bound=False))
+    off = solve(inst, MilpOptions(local_search_moves=0, ring_bound=False))
     assert r.status.value == off.status.value == "optimal" and r.objective == off.objective == 5
     assert 0 < r.info["local_search_moves"] <= MilpOptions().local_search_moves and off.info["local_search_moves"] == 0

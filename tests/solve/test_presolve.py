@@ -145,8 +145,8 @@ def test_overlap_links_among_distinct_rows_keep_the_connected_optimum(seed: int,
     cover = [c for c in arcs for _ in range(int(rng.integers(1, copies + 1)))]
     inst = instance(cover, 10)
     rule = OverlapRule(0.3)
-    fast = solve(inst, MilpOptions(overlap=rule, time_limit_s=20))
-    full = solve(inst, MilpOptions(overlap=rule, time_limit_s=20, presolve=False))
+    fast = solve(inst, MilpOptions(overlap=rule))
+    full = solve(inst, MilpOptions(overlap=rule, presolve=False))
     assert fast.status.value == full.status.value == "optimal"
     assert fast.objective == full.objective
 

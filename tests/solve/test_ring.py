@@ -123,8 +123,8 @@ def test_solve_closes_a_ring_block_before_any_search():
     # the hand ring above as a site's block: the greedy or the walk gives 3, the walk bounds it by 3
     a = matrix([{(s + j) % 12 for j in range(6)} for s in (0, 3, 6, 9)], 12)
     inst = CoverInstance(a, np.ones(4), groups=("g",) * 4, target_length_m=np.ones(12))
-    r = solve(inst, MilpOptions(time_limit_s=20))
-    off = solve(inst, MilpOptions(time_limit_s=20, ring_bound=False))
+    r = solve(inst, MilpOptions())
+    off = solve(inst, MilpOptions(ring_bound=False))
     assert solve(inst, MilpOptions(overlap=None)).objective == 2
     assert r.status.value == "optimal" and r.objective == 3 and r.info["rounds"] == 0
     assert r.info["ring_bound"] == {
@@ -181,7 +181,7 @@ def test_solve_with_and_without_the_ring_bound_agree_with_enumeration(seed):
     best = enumerate_optimum(a, np.ones(10))
     inst = CoverInstance(a, np.ones(10), groups=("g",) * 10, target_length_m=np.ones(14))
     for ring in (True, False):
-        r = solve(inst, MilpOptions(time_limit_s=20, ring_bound=ring))
+        r = solve(inst, MilpOptions(ring_bound=ring))
         if np.isfinite(best):
             assert r.status.value == "optimal" and r.objective == best, ring
         else:
@@ -201,9 +201,9 @@ def test_a_work_budget_caps_the_ascent_and_the_answer_stays_right(seed, monkeypa
     a = matrix(ring_arcs(rng, 14, 10, holes=True), 14)
     best = enumerate_optimum(a, np.ones(10))
     inst = CoverInstance(a, np.ones(10), groups=("g",) * 10, target_length_m=np.ones(14))
-    free = solve(inst, MilpOptions(time_limit_s=20))
+    free = solve(inst, MilpOptions())
     monkeypatch.setattr(block, "RING_WORK", 0.0)
-    capped = solve(inst, MilpOptions(time_limit_s=20))
+    capped = solve(inst, MilpOptions())
     assert free.info["ring_bound"]["work_capped_blocks"] == 0
     assert capped.info["ring_bound"]["lagrange_steps"] == 0
     assert capped.info["ring_bound"]["work_capped_blocks"] == int(free.info["ring_bound"]["lagrange_steps"] > 0)
