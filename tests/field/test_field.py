@@ -197,7 +197,11 @@ def test_cli_exit_codes(tmp_path, capsys):
     assert err[-1].startswith("planner: error:") and "nowhere" in err[-1]
 
 
+@pytest.mark.slow
 def test_plan_with_field(tmp_path):
+    # the plan command's --field with the field keys set on the command line, end to end (a plan, its sheet and
+    # its PDF: 3-8 s on 2 cores); the quick tier has the same sheet by the API (registration order, sessions) and
+    # the field command's exit codes
     out = tmp_path / "p"
     code = main(
         [
