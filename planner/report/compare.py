@@ -62,7 +62,9 @@ def over_words(plan: Plan) -> str:
         return f"closed-form stations per zone ({made}, redundant ones dropped); no candidate pool"
     if method == "greedy":
         rule = plan.problem.rule
-        if rule is None or rule.overlap <= 0:
+        if plan.options.combined and plan.problem.limits.precision is not None:
+            kind = "greedy adding views' information (combined precision)"
+        elif rule is None or rule.overlap <= 0:
             kind = "plain greedy (no overlap rule)"
         elif any(PLAIN_INSTEAD in line for line in plan.log):
             kind = "plain greedy (no cover connected under the overlap rule found)"
