@@ -9,6 +9,7 @@ import math
 from unittest import mock
 
 import numpy as np
+import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -160,13 +161,14 @@ def brute_force(mesh, o, e, skip):
 half_grid = st.integers(0, 8).map(lambda k: k / 2.0)  # 0, 0.5, .. 4: touching and parallel cases are common
 
 
-@QUICK
-@given(
-    tri=st.lists(st.tuples(*[half_grid] * 9), min_size=1, max_size=12),
-    seg=st.lists(st.tuples(*[half_grid] * 6), min_size=1, max_size=12),
-    skips=st.lists(st.integers(0, 13), min_size=12, max_size=12),
-)
-def test_the_tree_search_finds_what_brute_force_finds(tri, seg, skips):
+TREE_CASES = {
+    "tri": st.lists(st.tuples(*[half_grid] * 9), min_size=1, max_size=12),
+    "seg": st.lists(st.tuples(*[half_grid] * 6), min_size=1, max_size=12),
+    "skips": st.lists(st.integers(0, 13), min_size=12, max_size=12),
+}
+
+
+def _tree_search_finds_what_brute_force_finds(tri, seg, skips):
     # the plan-view tree (whole segments, and pieces of 0.7 m), the filters, the chunks (3 segments each) and the early
     # exit drop no pair the exact test would block; on a half-metre grid many segments touch edges, lie in planes or are
     # vertical
@@ -180,6 +182,20 @@ def test_the_tree_search_finds_what_brute_force_finds(tri, seg, skips):
     for piece in (rays.PIECE_M, 0.7):  # the default, and pieces shorter than most segments here
         with mock.patch.object(rays, "PIECE_M", piece):
             assert occluded(mesh, s[:, :3], s[:, 3:], skip, chunk=3).tolist() == want
+
+
+@settings(QUICK, max_examples=25)
+@given(**TREE_CASES)
+def test_the_tree_search_finds_what_brute_force_finds_on_a_few_cases(tri, seg, skips):
+    _tree_search_finds_what_brute_force_finds(tri, seg, skips)
+
+
+@pytest.mark.slow
+@QUICK
+@given(**TREE_CASES)
+def test_the_tree_search_finds_what_brute_force_finds(tri, seg, skips):
+    # hypothesis's default 100 cases (the quick twin above runs 25)
+    _tree_search_finds_what_brute_force_finds(tri, seg, skips)
 
 
 def moller_trumbore(o, e, v0, v1, v2):
