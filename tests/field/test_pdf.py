@@ -107,13 +107,8 @@ def test_pdf_is_deterministic(few, tmp_path):
     assert b"CreationDate" not in a.read_bytes()
 
 
-def test_paper_of_the_plan(tmp_path):
-    house = load_site(INSTANCES / "house_doors.json")
-    few = [
-        Candidate(f"F{k}", "house", ScanSide.OUTSIDE, "site", x, y, CandidateKind.GRID)
-        for k, (x, y) in enumerate(GRID[:5])
-    ]
-    small = field_plan(house, few)
+def test_paper_of_the_plan(few, tmp_path):
+    small = few  # the module's five stations in front of the house
     # the house's walls (30 m x 8 m) and five stations: 50 m x 28 m, fits A4 at 1:500 (238 mm x 164 mm drawn)
     assert pdf.map_paper(small)[0] == "A4"
     pdf.write_pdf(small, tmp_path / "s.pdf")
