@@ -60,13 +60,13 @@ def registration_check(site, problem, selected):
 def polygon_b_connected(problems):
     """Polygon B's connected optimum by CP-SAT, the reference every backend must meet."""
     site, problem = problems["polygon_b"]
-    return solve(cover_instance(problem), MilpOptions(backend="cpsat", time_limit_s=60))
+    return solve(cover_instance(problem), MilpOptions(backend="cpsat"))
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_connected_plan_of_polygon_b_on_every_backend(problems, polygon_b_connected, backend):
     site, problem = problems["polygon_b"]
-    r = solve(cover_instance(problem), MilpOptions(backend=backend, time_limit_s=60))
+    r = solve(cover_instance(problem), MilpOptions(backend=backend))
     assert r.status.value == polygon_b_connected.status.value == "optimal"
     comps, _ = registration_check(site, problem, r.selected)
     assert set(comps.values()) == {1}  # each zone-side one registration bundle, checked with networkx
@@ -74,7 +74,7 @@ def test_connected_plan_of_polygon_b_on_every_backend(problems, polygon_b_connec
     assert verify_stations(Sight.of_site(site), stations).complete
     # every backend proves the same optimum, between the plain cover's optimum (a connected plan is a
     # cover) and the connected greedy (a connected plan; the MILP's warm start)
-    plain = solve(cover_instance(problem), MilpOptions(backend="cpsat", overlap=None, time_limit_s=60))
+    plain = solve(cover_instance(problem), MilpOptions(backend="cpsat", overlap=None))
     greedy = connected_greedy_plan(cover_instance(problem), OverlapRule(0.3))
     assert r.objective == polygon_b_connected.objective
     assert plain.objective <= r.objective <= greedy.objective
