@@ -225,7 +225,8 @@ def test_house_doors_corrupted_copies_are_named(house_doors: list[Path], tmp_pat
     data = json.loads(network.read_text())
     data["survey"]["links"] = data["survey"]["links"][1:]
     network.write_text(json.dumps(data))
-    assert any("report.html: 2 registration pair(s)" in m for m in check_outputs(copies))
+    # the plan records its pairs (registration.links): the network check is named against them
+    assert any("network.json: 1 registration pair(s), the plan's 2" in m for m in check_outputs(copies))
     plan = copies[0] / "plan.json"
     data = json.loads(plan.read_text())
     data["verification"]["percent"] = 97.5
