@@ -102,7 +102,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         print(f"wrote {write_plan(plan, args.out)}")
     network = None
     if inputs is not None:
-        network = network_check(problem, list(plan.stations), args, inputs, show=args.network)
+        network = network_check(problem, list(plan.stations), args, inputs, args.network, plan.stations_cover)
     numbering = None  # each station's one number and label: the sheet's walking order, else plan order
     if field_options is not None:
         from planner.cli.field import write_field

@@ -53,10 +53,16 @@ def network_inputs(args: argparse.Namespace) -> tuple[Any, Any]:
 
 
 def network_check(
-    problem: Problem, stations: list[Any], args: argparse.Namespace, inputs: tuple[Any, Any], show: bool = True
+    problem: Problem,
+    stations: list[Any],
+    args: argparse.Namespace,
+    inputs: tuple[Any, Any],
+    show: bool = True,
+    coverage: Any = None,
 ) -> NetworkReport:
     """Run the network check of ``problem``'s stations with ``inputs`` = :func:`network_inputs` (control points,
-    traverse), under the problem's sight and registration scope."""
+    traverse), under the problem's sight and registration scope; ``coverage``: the stations' coverage on the station
+    pieces where the plan built it already (:attr:`planner.plan.result.Plan.stations_cover`)."""
     from planner.io.network_files import adjust_observations
     from planner.network.check import run_network
 
@@ -71,6 +77,7 @@ def network_check(
             registration=problem.registration,
             traverse=traverse,
             ts_everywhere=getattr(args, "ts_everywhere", False),
+            coverage=coverage,
         )
     if not show:
         return report

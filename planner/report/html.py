@@ -178,6 +178,7 @@ def _comparison(o: Outcome) -> str:
             _f(r.get("time_s"), ".2f"),
             _f(r.get("verified_percent"), ".3f"),
             _e("" if "connected" not in r else ("yes" if r["connected"] else "no")),
+            _e(r.get("over", "")),
         )
         for r in o.comparison
     )
@@ -196,6 +197,7 @@ def _comparison(o: Outcome) -> str:
                 "solver s",
                 "verified %",
                 "registration connected",
+                "over",
             ),
             rows,
             left=2,
