@@ -11,14 +11,16 @@ the floor verification (its spacing, points and covered share). Sizes only: no a
 
 Measured on 2 shared cores (polygon B: 9,678 m2 of floor, 10,015 patches of 1 m; P30, floor seen from 1.05 to 3.71 m):
 
-==========================  =======  ========  ======  ========  ===========================================
-run                         wall     peak RSS  pool    stations  floor verification
-==========================  =======  ========  ======  ========  ===========================================
-before, milp                > 600 s  3.0 GiB   7,811   -         - (stopped in the MILP's set-up)
-after, milp                 > 600 s  0.86 GiB  4,892   -         - (stopped in the MILP's ring bound)
-after, greedy               116 s    0.85 GiB  4,892   890       100.000 % of 967,770 points at 0.1 m, 3.3 s
-10 x 8 m room, milp         9 s      0.21 GiB  100     8         100 % of 8,000 points at 0.1 m (unchanged)
-==========================  =======  ========  ======  ========  ===========================================
+================================  =======  ========  ======  ========  ============================================
+run                               wall     peak RSS  pool    stations  floor verification
+================================  =======  ========  ======  ========  ============================================
+before, milp                      > 600 s  3.0 GiB   7,811   -         - (stopped in the MILP's set-up)
+after, milp                       > 600 s  0.86 GiB  4,892   -         - (stopped in the MILP's ring bound)
+after, greedy                     116 s    0.85 GiB  4,892   890       100.000 % of 967,770 points at 0.1 m, 3.3 s
+10 x 8 m room, milp               9 s      0.21 GiB  100     8         100 % of 8,000 points at 0.1 m (unchanged)
+B.json (IH 1.5, no cone), milp    491 s    0.53 GiB  2,399   486       100.000 % of 967,770 points at 0.1 m, 1.5 s
+B.json (IH 1.5, no cone), greedy  68 s     0.45 GiB  2,399   565       100.000 % of 967,770 points at 0.1 m, 2.1 s
+================================  =======  ========  ======  ========  ============================================
 
 The floor grid of B went from 4,926 to 2,007 points (the thinning keeps 3 seers per patch: no patch lost), the
 surface columns from 107,497 to 46,609 pairs (1.95 s to 0.47 s). What is left is quadratic in stations and
