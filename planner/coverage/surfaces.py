@@ -108,6 +108,10 @@ def surface_areas(site: Site, zi: int) -> dict[int, shapely.Polygon | shapely.Mu
     return out
 
 
+#: the grid the floor and ceiling areas are snapped to before they are cut into patches (m)
+GRID_NM = 1e-9
+
+
 def _split_holes(poly: shapely.Polygon) -> list[shapely.Polygon]:
     """The polygon cut by vertical lines through each hole's centroid, so that no part holds a hole."""
     if not poly.interiors:
@@ -132,6 +136,9 @@ def _cells(area: shapely.Geometry, bounds: tuple[float, ...], spacing_m: float) 
     ys = y0 + (y1 - y0) * np.arange(ny + 1) / ny
     ii, jj = (g.ravel() for g in np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij"))
     full = (x1 - x0) / nx * (y1 - y0) / ny
+    # on a 1-nm grid: a block within float noise of a wall (2e-16 m off it) is a notch of the floor, not a hole
+    # beside a sliver, wherever the site stands (a hole would split its cell into two patches)
+    area = shapely.set_precision(area, GRID_NM)
     shapely.prepare(area)
     polys: list[shapely.Polygon] = []
     cells: list[tuple[int, int]] = []
