@@ -166,10 +166,16 @@ def overlap_graph(
     sub_links = None if links is None else sp.csr_matrix(links)[nodes][:, nodes]
     adj, share = overlap_adjacency(by_candidate[nodes], lengths, rule, xy=sub_xy, links=sub_links)
     coo = sp.triu(adj, k=1).tocoo()
-    share = share.tocsr()
-    for i, j in zip(coo.row, coo.col):
-        attrs = {"shared_m": float(share[i, j])}
-        if sub_xy is not None:
-            attrs["length_m"] = float(np.hypot(*(sub_xy[i] - sub_xy[j])))
-        g.add_edge(nodes[i], nodes[j], **attrs)
+    shared = np.asarray(share.tocsr()[coo.row, coo.col]).ravel()  # one look-up for every edge, not one per edge
+    ids = np.asarray(nodes)
+    if sub_xy is None:
+        g.add_edges_from(
+            (int(ids[i]), int(ids[j]), {"shared_m": float(m)}) for i, j, m in zip(coo.row, coo.col, shared)
+        )
+        return g
+    length = np.hypot(*(sub_xy[coo.row] - sub_xy[coo.col]).T)
+    g.add_edges_from(
+        (int(ids[i]), int(ids[j]), {"shared_m": float(m), "length_m": float(d)})
+        for i, j, m, d in zip(coo.row, coo.col, shared, length)
+    )
     return g
