@@ -14,6 +14,7 @@ from planner.figures.labels import PAD_PX, Placed, PointLabel, arrange_boxes, pl
 from planner.figures.network_fig import network_figure
 from planner.figures.plan_fig import plan_figure
 from planner.figures.storey_fig import storey_figure
+from planner.plan.plan_dict import StationNumbering
 from tests.figures.overlap import boxes, labels, overlapping
 
 
@@ -108,7 +109,11 @@ def test_network_figure_of_house_doors_labels_never_overlap(house_network):
     found = labels(fig)
     names = {n for n, d in house_network.network.graph.nodes(data=True)}
     assert {g.split(":", 2)[2] for g in found} == names  # every station and control point labelled
-    assert {t.get_text() for t in found.values()} == names
+    # stations by their one number (the plan's numbering, as every output), control points by name
+    numbering = StationNumbering.recorded(house_network.meta, house_network.stations)
+    kinds = dict(house_network.network.graph.nodes(data="kind"))
+    text = {n: str(numbering.number(n)) if kinds[n] == "station" else n for n in names}
+    assert {g.split(":", 2)[2]: t.get_text() for g, t in found.items()} == text
 
 
 @pytest.mark.slow
