@@ -50,8 +50,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(exc.exit_code)
     except SystemExit as done:  # --help, --version, or a usage error already printed in one line
         return int(done.code or 0) if not isinstance(done.code, str) else int(ExitCode.USAGE)
-    show = not getattr(args, "quiet", True) and sys.stderr.isatty()
-    previous = progress.set_sink(progress.Bar(sys.stderr) if show else None)
+    # a bar on a terminal, a line now and then in a log (a long run never looks hung), nothing with --quiet
+    previous = progress.set_sink(progress.sink_for(sys.stderr, quiet=getattr(args, "quiet", True)))
     try:
         return _guarded(lambda: _run(args))
     finally:

@@ -104,21 +104,30 @@ class Bar:
 
 
 class Lines:
-    """Progress as whole lines for a stream that is not a terminal, e.g. ``progress: coverage 58 % (41 s)``: a line
-    when at least ``every_s`` seconds have passed since the last one (the first report always), so that a long run
-    shows it is alive and a short one writes little; each note on its own line. ``clock``: the time source (tests
-    pass their own)."""
+    """Progress as whole lines for a stream that is not a terminal, e.g. ``progress: coverage 58 % (41 s)``: nothing
+    in the first ``after_s`` seconds of the run (a short run, or a one-line error, writes only what it writes without
+    a sink), then a line when at least ``every_s`` seconds have passed since the last one, so that a long run shows it
+    is alive and the log stays short; each note (after ``after_s``) on its own line. ``clock``: the time source
+    (tests pass their own)."""
 
-    def __init__(self, stream: TextIO, every_s: float = 5.0, clock: Callable[[], float] = time.monotonic) -> None:
+    def __init__(
+        self,
+        stream: TextIO,
+        every_s: float = 5.0,
+        clock: Callable[[], float] = time.monotonic,
+        *,
+        after_s: float = 0.0,
+    ) -> None:
         self.stream = stream
         self.every_s = every_s
+        self.after_s = after_s
         self.clock = clock
         self.start = clock()
         self._last = -float("inf")
 
     def __call__(self, step: str, done: float, total: float) -> None:
         now = self.clock()
-        if now - self._last < self.every_s:
+        if now - self.start < self.after_s or now - self._last < self.every_s:
             return
         self._last = now
         share = f"{max(0.0, min(1.0, done / total)) * 100:.0f} %" if total > 0 else "running"
@@ -126,15 +135,23 @@ class Lines:
         self.stream.flush()
 
     def note(self, text: str) -> None:
-        """A line of its own (a phase ended: always shown)."""
+        """A line of its own (a phase ended: shown once the run has lasted ``after_s``)."""
+        if self.clock() - self.start < self.after_s:
+            return
         self.stream.write(f"progress: {text} ({self.clock() - self.start:.0f} s)\n")
         self.stream.flush()
 
 
+#: a run's lines on a stream that is not a terminal: the first after this many seconds, then at most one as often
+LINES_AFTER_S = 30.0
+
+
 def sink_for(stream: TextIO, quiet: bool = False) -> Sink | None:
-    """The progress sink for ``stream``: a :class:`Bar` on a terminal, :class:`Lines` elsewhere, None when
-    ``quiet``."""
+    """The progress sink for ``stream``: a :class:`Bar` on a terminal, :class:`Lines` elsewhere (from
+    ``LINES_AFTER_S`` into the run, one at most every ``LINES_AFTER_S``), None when ``quiet``."""
     if quiet:
         return None
     isatty = getattr(stream, "isatty", None)
-    return Bar(stream) if isatty is not None and isatty() else Lines(stream)
+    if isatty is not None and isatty():
+        return Bar(stream)
+    return Lines(stream, every_s=LINES_AFTER_S, after_s=LINES_AFTER_S)

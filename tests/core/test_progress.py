@@ -1,5 +1,5 @@
-"""Progress bars: drawn on a terminal, off with --quiet and when standard error is not a terminal;
-the library itself never prints."""
+"""Progress: a bar on a terminal, whole lines now and then when standard error is not a terminal (from
+``LINES_AFTER_S`` into the run), nothing with --quiet; the library itself never prints."""
 
 from __future__ import annotations
 
@@ -57,10 +57,42 @@ def test_cli_shows_bars_only_on_a_terminal_without_quiet(monkeypatch, tmp_path):
         monkeypatch.setattr("sys.stderr", err)
         assert main(args + (["--quiet"] if quiet else [])) == 0
         assert ("coverage build" in err.getvalue()) is expect
-    err = io.StringIO()  # not a terminal
+    err = io.StringIO()  # not a terminal: a short run writes nothing ...
     monkeypatch.setattr("sys.stderr", err)
     assert main(args) == 0
     assert err.getvalue() == ""
+    monkeypatch.setattr(progress, "LINES_AFTER_S", 0.0)  # ... a long one (here: from the start) whole lines
+    err = io.StringIO()
+    monkeypatch.setattr("sys.stderr", err)
+    assert main(args) == 0
+    lines = err.getvalue().splitlines()
+    assert lines and all(line.startswith("progress: ") and "\r" not in line for line in lines)
+    assert any("coverage build" in line for line in lines)
+    err = io.StringIO()
+    monkeypatch.setattr("sys.stderr", err)
+    assert main(args + ["--quiet"]) == 0
+    assert err.getvalue() == ""
+
+
+def test_lines_stay_silent_for_the_first_seconds_then_write_one_now_and_then():
+    now = [0.0]
+    out = io.StringIO()
+    lines = progress.Lines(out, every_s=30.0, clock=lambda: now[0], after_s=30.0)
+    for k in range(120):  # 120 reports over 119 s: silent before 30 s, then a line at 30, 60 and 90 s
+        now[0] = float(k)
+        lines("solving (cp-sat)", k, 0.0)
+        if k == 10:
+            lines.note("an early phase ended")  # before after_s: not shown
+    lines.note("bound 21 over the pool")
+    text = out.getvalue().splitlines()
+    assert text == [
+        "progress: solving (cp-sat) running (30 s)",
+        "progress: solving (cp-sat) running (60 s)",
+        "progress: solving (cp-sat) running (90 s)",
+        "progress: bound 21 over the pool (119 s)",
+    ]
+    assert isinstance(progress.sink_for(io.StringIO()), progress.Lines)
+    assert progress.sink_for(io.StringIO()).after_s == progress.LINES_AFTER_S > 0  # type: ignore[union-attr]
 
 
 @pytest.mark.slow
