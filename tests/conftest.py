@@ -1,4 +1,10 @@
-"""Shared fixtures: paths to the bundled instances and a CSV writer for small test sites."""
+"""Shared fixtures: paths to the bundled instances and a CSV writer for small test sites; the test tiers.
+
+Three tiers: the quick tier (``-m "not slow"``, about two minutes serial on a quiet 2-core machine), the CI
+command (``-m "not heavy"``: the quick tier and the slow tests) and the heavy tests (``-m heavy``: large sites
+re-planned end to end, properties, fuzzing and browsers at full size). A heavy test is always slow too, so the quick
+tier never runs one even where its file marks it ``heavy`` alone.
+"""
 
 from __future__ import annotations
 
@@ -9,6 +15,14 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 INSTANCES = ROOT / "instances"
 HEADER = "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m\n"
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Mark every ``heavy`` test ``slow`` as well, before ``-m`` deselects: heavy is a part of the slow tier."""
+    for item in items:
+        if item.get_closest_marker("heavy") is not None and item.get_closest_marker("slow") is None:
+            item.add_marker(pytest.mark.slow)
 
 
 @pytest.fixture

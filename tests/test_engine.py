@@ -89,7 +89,7 @@ def test_workers_for_one_model_are_refused() -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["polygon_b", "building27", "baalbek_site"])
+@pytest.mark.parametrize("name", ["polygon_b", "building27", pytest.param("baalbek_site", marks=pytest.mark.heavy)])
 def test_library_and_command_give_the_same_plan(name: str, tmp_path: Path) -> None:
     path = INSTANCES / f"{name}.json"
     assert main(["plan", str(path), "--out", str(tmp_path), "--quiet"]) == 0

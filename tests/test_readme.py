@@ -40,6 +40,7 @@ def test_the_main_job_is_the_assembled_temple_with_its_report_and_field_sheet() 
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_the_main_job_runs_and_its_pages_open_with_the_whole_site(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(ROOT)  # the README's paths are relative to the checkout
     args = [str(tmp_path / a[4:]) if a.startswith("out/") else a for a in main_job_args()]

@@ -110,6 +110,7 @@ def test_house_plans_as_one_registration_network_through_its_doors():
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_assembled_temple_one_bundle_per_accessible_area():
     # Baalbek as assembled: 8 rooms and the outline in the site frame, Z1, Z5, Z6 in their own frames; table 4.3 gives
     # no doors, so every room is an accessible area of its own and the ground outside one more

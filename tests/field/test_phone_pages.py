@@ -23,6 +23,7 @@ PHONE, TABLET = (390, 844, 3.0), (768, 1024, 2.0)  # CSS px wide and high, devic
 
 pytestmark = [
     pytest.mark.slow,
+    pytest.mark.heavy,  # a headless browser at phone and tablet sizes: run with -m heavy
     pytest.mark.skipif(
         chromedriver() is None, reason="no Chromium or chromedriver here; the parse tests cover the pages"
     ),

@@ -350,6 +350,7 @@ def test_mutated_inputs_are_read_whole_or_refused_in_one_line(fmt, work, request
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_mutated_inputs_at_full_size(fmt, work, request):
     _fuzz(fmt, FULL[fmt], work, request)

@@ -36,7 +36,9 @@ def test_pol_with_a_hole_is_scaled_and_oriented(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("rel", ["randsimple-20-1.pol", "random-20-1.pol", "spike60n14.pol"])
+@pytest.mark.parametrize(
+    "rel", ["randsimple-20-1.pol", "random-20-1.pol", pytest.param("spike60n14.pol", marks=pytest.mark.heavy)]
+)
 def test_art_gallery_polygon_with_limits_off_plans_and_verifies(rel, capsys, tmp_path):
     code = main(["plan", str(AGP / rel), *LIMITS_OFF, "--out", str(tmp_path)])
     out, err = capsys.readouterr()

@@ -114,6 +114,7 @@ def test_cli_chain(tmp_path, capsys, argv):
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_assembled_temple_with_doors_is_one_network():
     # baalbek_site_doors.json: the assembled temple (all eleven rooms and the outline placed) with one ASSUMED
     # 3 m door in each matched wall and each collinear contact (scripts/make/make_baalbek_doors.py): one accessible

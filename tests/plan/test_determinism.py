@@ -18,6 +18,7 @@ _spec.loader.exec_module(check)  # type: ignore[union-attr]
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_polygon_a_plans_the_same_with_every_core_busy() -> None:
     site = INSTANCES / "polygon_a.json"
     first = plan_to_dict(planner.plan_site(site))
