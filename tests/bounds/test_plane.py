@@ -66,7 +66,7 @@ def test_rotation_and_translation_change_nothing() -> None:
     assert (len(a.stations), a.result.info["bound_scope"]) == (len(b.stations), b.result.info["bound_scope"])
 
 
-@pytest.mark.parametrize("k", [2, 3, 5])
+@pytest.mark.parametrize("k", [2, 3, pytest.param(5, marks=pytest.mark.slow)])
 def test_comb_needs_one_station_per_tooth(k: int) -> None:
     plan = plan_site(comb(k), PLAIN_MILP)
     assert len(plan.stations) == k

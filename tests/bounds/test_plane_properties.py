@@ -184,7 +184,14 @@ def plan_problem_targets(site: Site, options: PlanOptions) -> Targets:
     return make_targets(site, options.target_spacing_m)
 
 
-@pytest.mark.parametrize(("width", "length", "theta"), [(8.0, 200.0, 68.0), (1.5, 60.0, 50.0), (15.0, 60.0, 85.0)])
+@pytest.mark.parametrize(
+    ("width", "length", "theta"),
+    [
+        pytest.param(8.0, 200.0, 68.0, marks=pytest.mark.slow),
+        pytest.param(1.5, 60.0, 50.0, marks=pytest.mark.slow),
+        (15.0, 60.0, 85.0),
+    ],
+)
 def test_d_cases_that_mattered(width: float, length: float, theta: float) -> None:
     # the corridor (refused before), the narrowest and the widest at the extremes of theta
     check_corridor(width, length, theta, 17.0, (3.0, -5.0))

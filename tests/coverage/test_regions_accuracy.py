@@ -46,7 +46,7 @@ def _limits(model: str) -> SightLimits:
     )
 
 
-@pytest.mark.parametrize("model", ["table", "soudarissanane"])
+@pytest.mark.parametrize("model", [pytest.param("table", marks=pytest.mark.slow), "soudarissanane"])
 @pytest.mark.parametrize("name,standoff", [("convex", 0.4), pytest.param("L", 1.5, marks=pytest.mark.slow)])
 def test_region_with_view_error_and_standoff_agrees_with_the_coverage_test(
     name: str, standoff: float, model: str

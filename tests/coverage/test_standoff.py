@@ -53,7 +53,7 @@ def _clearance(site: Site, xy: tuple[float, float], frame: str) -> float:
     return min(shapely.distance(e, shapely.Point(xy)) for e in edges)
 
 
-@pytest.mark.parametrize("standoff", [0.4, 1.5])
+@pytest.mark.parametrize("standoff", [0.4, pytest.param(1.5, marks=pytest.mark.slow)])
 def test_no_station_or_proposed_control_point_within_the_standoff(standoff):
     site = load_site(INSTANCES / "courtyard.json")  # three zones and a column (obstacle)
     site = replace(site, control_points=(), parameters=replace(site.parameters, min_standoff_m=standoff))

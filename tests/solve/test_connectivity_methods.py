@@ -107,9 +107,7 @@ class _Enumerated(dict):
 FOUND = _Enumerated()
 
 
-@pytest.mark.parametrize(
-    "seed", [0, 1, 2, 3, pytest.param(4, marks=pytest.mark.slow), pytest.param(5, marks=pytest.mark.slow)]
-)
+@pytest.mark.parametrize("seed", [0, *(pytest.param(s, marks=pytest.mark.slow) for s in range(1, 6))])
 def test_methods_agree_with_enumeration(seed):
     inst = random_instance(seed)
     best = FOUND[seed]

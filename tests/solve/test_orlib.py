@@ -25,7 +25,7 @@ def _read(name: str):
     return read_orlib(ORLIB / f"{name}.txt")
 
 
-@pytest.mark.parametrize("name", ["scp41", "scp51", pytest.param("scpa1", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("name", ["scp41", *(pytest.param(n, marks=pytest.mark.slow) for n in ("scp51", "scpa1"))])
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_backends_prove_the_published_optimum(name, backend):
     inst = _read(name)

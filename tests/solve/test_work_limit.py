@@ -119,7 +119,9 @@ def test_the_wall_cap_holds_for_the_plain_start_too() -> None:
     assert start is None or (start["cft_blocks"] == 1 and start["moves"] < 10 * 2500)
 
 
-@pytest.mark.parametrize("backend", ["scip", "pulp-cbc", "pyscipopt"])
+@pytest.mark.parametrize(
+    "backend", ["scip", *(pytest.param(b, marks=pytest.mark.slow) for b in ("pulp-cbc", "pyscipopt"))]
+)
 def test_a_node_limit_stops_the_other_backends(backend: str) -> None:
     inst = random_cover(3, n_cand=100, n_targ=150, density=0.03)
     r = solve(inst, MilpOptions(backend=backend, overlap=None, presolve=False, node_limit=1))
