@@ -34,6 +34,7 @@ def sheet(tmp_path_factory) -> tuple[FieldPlan, Path]:
     return fp, out
 
 
+@pytest.mark.slow  # a headless browser; the parse tests of the sheet are quick
 @pytest.mark.skipif(chromium() is None, reason=NO_CHROMIUM)
 def test_field_sheet_renders_in_headless_chromium(sheet):
     fp, out = sheet
@@ -75,6 +76,7 @@ PROBE = probe(
 )
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(chromium() is None, reason=NO_CHROMIUM)
 def test_tap_on_a_station_highlights_its_wall_links_and_setup_row(sheet, tmp_path):
     fp, out = sheet

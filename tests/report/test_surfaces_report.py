@@ -114,6 +114,7 @@ def test_floor_cells_per_station_are_the_patches_it_sees(floors: tuple[Path, Pat
         assert st and int(st[1]) == cols.size
 
 
+@pytest.mark.slow  # a headless browser; test_floor_cells_per_station_are_the_patches_it_sees is its quick twin
 @pytest.mark.skipif(chromium() is None, reason="no Chromium here; the parse tests check the fragment")
 def test_click_marks_the_stations_floor_cells(floors: tuple[Path, Path, dict], tmp_path: Path) -> None:
     room, out, plan = floors
