@@ -173,7 +173,14 @@ def test_tuning_value_reaches_the_plan(tmp_path, capsys, given):
     assert '"seed": 7' in text and '"precision": false' in text, sorted(plan)
 
 
-@pytest.mark.parametrize("extra", [[], ["--tiles", "off"], ["--method", "greedy"]])
+@pytest.mark.parametrize(
+    "extra",
+    [
+        [],
+        pytest.param(["--tiles", "off"], marks=pytest.mark.slow),
+        pytest.param(["--method", "greedy"], marks=pytest.mark.slow),
+    ],
+)
 def test_plan_validates_the_site_once(monkeypatch, capsys, tmp_path, extra):
     # one validation per `planner plan` run, handed to the memory guard, the strategy and the plan
     # (validate_site is the one caller of site_scanner: counting it counts the validations)

@@ -43,7 +43,7 @@ def check_labels(fig: Figure, fp: FieldPlan) -> None:
     assert any(s.endswith(" m") for s in said) and any(s.startswith("N") for s in said)  # scale bar, north arrow
 
 
-@pytest.mark.parametrize("mode", ["shortest", "registration"])
+@pytest.mark.parametrize("mode", ["shortest", pytest.param("registration", marks=pytest.mark.slow)])
 def test_no_two_labels_of_the_field_figure_overlap(house_plan, mode):
     # registration: the order of field-mode=registration, with the targets each link gets
     fp = field_plan(house_plan.problem.sight, house_plan.stations, FieldOptions(mode=mode))

@@ -20,7 +20,16 @@ from tests.network.expected_results import EXPECTED, ROOT, network_numbers
 TOL = 1e-9
 FILES = sorted(EXPECTED.glob("*.json"))
 #: the recorded networks that take seconds to recompute: only in the full run (pytest -m slow)
-SLOW = {"plant_4ha", "baalbek_site_doors", "polygon_a", "polygon_c"}
+SLOW = {
+    "plant_4ha",
+    "plant_1ha",
+    "baalbek",
+    "baalbek_site",
+    "baalbek_site_doors",
+    "building27",
+    "polygon_a",
+    "polygon_c",
+}
 
 
 def differences(want: Any, got: Any, where: str = "", tol: float = TOL) -> list[tuple[str, float]]:
