@@ -31,6 +31,8 @@ MIN_PATCH_M = 0.02
 MAX_PATCHES = 250_000
 #: segments per quarter circle of the shrunk regions; the shrink is divided by cos(pi / (4 * this))
 _ERODE_SEGS = 16
+#: centres within this share of the coordinates' scale of a crossing are tested by GEOS (:func:`interior_cells`)
+_TIE = 1e-12
 
 
 @dataclass(frozen=True)
@@ -69,7 +71,9 @@ def patch_sets(
     grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float
 ) -> tuple[sp.csr_matrix, NDArray[np.float64]] | None:
     """U (patches x pieces) and l (per patch) on the grid of side ``h`` over the grown regions' bounds; None past
-    ``MAX_PATCHES``. ``grow``/``shrink``: regions already grown / shrunk by the tolerance and half the diagonal."""
+    ``MAX_PATCHES``. ``grow``/``shrink``: regions already grown / shrunk by the tolerance and half the diagonal. A
+    centre is in U's row of a piece when it lies in the interior of the piece's grown region, and adds the piece's
+    length to l when it lies in the interiors of both regions (:func:`interior_runs`: as ``shapely.contains_xy``)."""
     box = live_box(grow)
     if box is None:
         return None
@@ -77,26 +81,168 @@ def patch_sets(
     nx_, ny_ = grid_shape(box, h)
     if nx_ * ny_ > MAX_PATCHES:
         return None
-    rows, cols = [], []
-    lsum = np.zeros(nx_ * ny_)
-    for k in (k for k, g in enumerate(grow) if not g.is_empty):
-        bx0, by0, bx1, by1 = shapely.bounds(grow[k])
-        i0, i1 = int((bx0 - x0) // h), math.ceil((bx1 - x0) / h)
-        j0, j1 = int((by0 - y0) // h), math.ceil((by1 - y0) / h)
-        gi, gj = np.meshgrid(np.arange(i0, min(i1, nx_ - 1) + 1), np.arange(j0, min(j1, ny_ - 1) + 1), indexing="ij")
-        ii, jj = gi.ravel(), gj.ravel()
-        cx, cy = x0 + (ii + 0.5) * h, y0 + (jj + 0.5) * h
-        inside = shapely.contains_xy(grow[k], cx, cy)
-        cell = ii[inside] * ny_ + jj[inside]
-        rows.append(cell)
-        cols.append(np.full(cell.size, k, dtype=np.int64))
-        if not shrink[k].is_empty:
-            whole = shapely.contains_xy(shrink[k], cx[inside], cy[inside])
-            lsum[cell[whole]] += lengths[k]
-    r, c = np.concatenate(rows), np.concatenate(cols)
-    u = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(nx_ * ny_, len(grow)))
-    keep = np.flatnonzero(u.getnnz(axis=1))
-    return u[keep].tocsr(), lsum[keep]
+    grid = _Grid(float(x0), float(y0), h, nx_, ny_)
+    boxes = grid.boxes(grow)
+    g0, g1 = interior_runs(grow, boxes, grid)
+    s0, s1 = interior_runs(shrink, boxes, grid)
+    # the runs of both: each shrunk run against the grown runs it meets (both sorted and disjoint)
+    first, last = np.searchsorted(g1, s0, side="right"), np.searchsorted(g0, s1, side="left")
+    r, at = _expand(first, np.maximum(last - first, 0))
+    w0, w1 = np.maximum(s0[r], g0[at]), np.minimum(s1[r], g1[at])
+    k, cell = _cells(g0, g1, grid)
+    kw, cw = _cells(w0, w1, grid)
+    # summed in order of k (bincount adds in its input's order), as a loop over the pieces adds them
+    lsum = np.bincount(cw, weights=lengths[kw], minlength=grid.cells)
+    seen = np.bincount(cell, minlength=grid.cells) > 0
+    keep = np.flatnonzero(seen)  # the patches that may see a piece
+    row = np.cumsum(seen) - 1
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(k, minlength=len(grow)))])
+    u = sp.csc_matrix((np.ones(cell.size, dtype=bool), row[cell], indptr), shape=(keep.size, len(grow)))
+    return u.tocsr(), np.asarray(lsum[keep], dtype=np.float64)
+
+
+def _cells(a: Ints, b: Ints, grid: _Grid) -> tuple[Ints, Ints]:
+    """(k, cell) of every key in the runs [a, b) of keys k cells + cell, in order."""
+    count = b - a
+    k = np.repeat(a // grid.cells, count)
+    return k, np.repeat(a % grid.cells - (np.cumsum(count) - count), count) + np.arange(k.size)
+
+
+@dataclass(frozen=True)
+class _Grid:
+    """Patch centres x0 + (i + 1/2) h, y0 + (j + 1/2) h for i < nx, j < ny; cell i ny + j."""
+
+    x0: float
+    y0: float
+    h: float
+    nx: int
+    ny: int
+
+    @property
+    def cells(self) -> int:
+        return self.nx * self.ny
+
+    def boxes(self, geoms: list[Any]) -> Ints:
+        """Per geometry, the columns and rows (i0, i1, j0, j1, inclusive) whose centres may lie in it: its bounds on
+        the grid, cut to the grid (empty geometries: an empty box)."""
+        b = shapely.bounds(np.asarray(geoms, dtype=object))
+        b = np.where(np.isnan(b), np.array([self.x0 + self.h, self.y0 + self.h, self.x0, self.y0]), b)
+        i0, j0 = np.floor_divide(b[:, 0] - self.x0, self.h), np.floor_divide(b[:, 1] - self.y0, self.h)
+        i1 = np.minimum(np.ceil((b[:, 2] - self.x0) / self.h), self.nx - 1)
+        j1 = np.minimum(np.ceil((b[:, 3] - self.y0) / self.h), self.ny - 1)
+        return np.stack([i0, i1, j0, j1], axis=1).astype(np.int64)
+
+    def cx(self, i: Ints) -> Floats:
+        return np.asarray(self.x0 + (i + 0.5) * self.h, dtype=np.float64)
+
+    def cy(self, j: Ints) -> Floats:
+        return np.asarray(self.y0 + (j + 0.5) * self.h, dtype=np.float64)
+
+
+def interior_runs(geoms: list[Any], boxes: Ints, grid: _Grid) -> tuple[Ints, Ints]:
+    """The centres within ``boxes[k]`` in the interior of ``geoms[k]`` (exactly ``shapely.contains_xy`` of each, for
+    polygonal geometries whose parts do not overlap; others go to it whole), as sorted disjoint runs [a, b) of keys
+    k cells + cell.
+
+    A scan line along each column of centres: a polygon part's edges cross the column's line where one end lies at or
+    right of it and the other left (a half-open rule, exact on the float centres), and the centres between the 1st and
+    2nd, 3rd and 4th ... crossings (sorted) lie inside the part. That is the even-odd count of a ray, which decides
+    every centre off the boundary as GEOS does (its ray-crossing count, exact), provided each crossing's y is on the
+    right side of the centre: its rounding error is below 12 units in the last place of the coordinates' scale, so a
+    centre farther than ``_TIE`` times that scale from every crossing is, and one on a column through a vertex (a
+    vertical edge, a vertex touching the line) may be on the boundary. Those centres (none, mostly) are asked of GEOS."""
+    arr = np.asarray(geoms, dtype=object)
+    poly = np.flatnonzero(np.isin(shapely.get_type_id(arr), (3, 6)) & ~shapely.is_empty(arr))
+    other = np.setdiff1d(np.flatnonzero(~shapely.is_empty(arr)), poly)
+    parts, pk = shapely.get_parts(arr[poly], return_index=True)
+    rings, rp = shapely.get_rings(parts, return_index=True)
+    xy, rc = shapely.get_coordinates(rings, return_index=True)
+    owner = poly[pk[rp[rc]]]  # the geometry of each vertex
+    big = max(1.0, float(np.abs(xy).max(initial=0.0)), abs(grid.x0) + grid.nx * grid.h, abs(grid.y0) + grid.ny * grid.h)
+    a = np.flatnonzero(rc[1:] == rc[:-1])  # edges: vertex a to a + 1 of one ring
+    part, k = rp[rc[a]], owner[a]
+    x1, y1, x2, y2 = xy[a, 0], xy[a, 1], xy[a + 1, 0], xy[a + 1, 1]
+    xlo, xhi = np.minimum(x1, x2), np.maximum(x1, x2)
+    ia, ib = _span((xlo - grid.x0) / grid.h - 0.5, (xhi - grid.x0) / grid.h - 0.5)
+    ia, ib = np.maximum(ia, boxes[k, 0]), np.minimum(ib, boxes[k, 1])
+    e, i = _expand(ia, np.maximum(ib - ia + 1, 0))
+    xc = grid.cx(i)
+    ok = (xlo[e] <= xc) & (xc < xhi[e])  # the half-open rule, exact
+    e, i, xc = e[ok], i[ok], xc[ok]
+    yc = y1[e] + (xc - x1[e]) * (y2[e] - y1[e]) / (x2[e] - x1[e])
+    order = np.lexsort((yc, i, part[e]))
+    e, i, yc = e[order], i[order], yc[order]
+    if not (np.array_equal(part[e][0::2], part[e][1::2]) and np.array_equal(i[0::2], i[1::2])):
+        raise RuntimeError(
+            "plane_patches: a column of centres crosses a ring an odd number of times (a ring not closed)"
+        )
+    k = k[e]
+    first = np.ceil((yc - grid.y0) / grid.h - 0.5).astype(np.int64)  # the first centre above the crossing
+    lo, hi = np.maximum(first[0::2], boxes[k[0::2], 2]), np.minimum(first[1::2], boxes[k[0::2], 3] + 1)
+    base = (k[0::2] * grid.nx + i[0::2]) * grid.ny
+    run0, run1 = (base + lo)[hi > lo], (base + hi)[hi > lo]
+    # centres the rounding may put on the wrong side: near a crossing, or on a column through a vertex
+    near = np.rint((yc - grid.y0) / grid.h - 0.5).astype(np.int64)
+    tie = (np.abs(grid.cy(near) - yc) <= _TIE * big) & (near >= boxes[k, 2]) & (near <= boxes[k, 3])
+    vi = np.rint((xy[:, 0] - grid.x0) / grid.h - 0.5).astype(np.int64)
+    vcol = (np.abs(grid.cx(vi) - xy[:, 0]) <= _TIE * big) & (vi >= boxes[owner, 0]) & (vi <= boxes[owner, 1])
+    wide = np.maximum(boxes[other, 1] - boxes[other, 0] + 1, 0)  # geometries not polygonal: every column
+    cols_k = np.concatenate([owner[vcol], np.repeat(other, wide)])
+    cols_i = np.concatenate([vi[vcol], _expand(boxes[other, 0], wide)[1]])
+    ask = np.unique(
+        np.concatenate([(k[tie] * grid.nx + i[tie]) * grid.ny + near[tie], _column_keys(cols_k, cols_i, boxes, grid)])
+    )
+    if ask.size == 0:
+        return _merged(run0, run1)
+    return _asked(run0, run1, ask, geoms, grid)
+
+
+def _span(ua: Floats, ub: Floats) -> tuple[Ints, Ints]:
+    """The columns i with ua <= i < ub (``ua``, ``ub``: column coordinates as computed), one more each side where
+    an end is within rounding of a column (the caller decides those exactly)."""
+    ia = np.ceil(ua).astype(np.int64) - (np.abs(ua - np.rint(ua)) < 1e-6)
+    ib = np.ceil(ub).astype(np.int64) - 1 + (np.abs(ub - np.rint(ub)) < 1e-6)
+    return ia, ib
+
+
+def _merged(a: Ints, b: Ints) -> tuple[Ints, Ints]:
+    """Runs [a, b) sorted and joined where they meet or overlap (the parts of one geometry)."""
+    if a.size == 0 or (np.all(a[1:] >= b[:-1]) and np.all(a[1:] > a[:-1])):
+        return a, b
+    order = np.argsort(a, kind="stable")
+    a, b = a[order], b[order]
+    reach = np.maximum.accumulate(b)
+    new = np.concatenate([[True], a[1:] > reach[:-1]])
+    ends = np.concatenate([np.flatnonzero(new)[1:] - 1, [a.size - 1]])
+    return a[new], reach[ends]
+
+
+def _asked(run0: Ints, run1: Ints, ask: Ints, geoms: list[Any], grid: _Grid) -> tuple[Ints, Ints]:
+    """The runs with the centres ``ask`` (sorted keys) decided by ``shapely.contains_xy`` instead."""
+    k, cell = _cells(run0, run1, grid)
+    keys = np.sort(k * grid.cells + cell)
+    keys = keys[~np.isin(keys, ask)]
+    ak, ac = np.divmod(ask, grid.cells)
+    yes = np.zeros(ask.size, dtype=bool)
+    for kk in np.unique(ak).tolist():
+        run = slice(*np.searchsorted(ak, [kk, kk + 1]))
+        ii, jj = np.divmod(ac[run], grid.ny)
+        yes[run] = shapely.contains_xy(geoms[kk], grid.cx(ii), grid.cy(jj))
+    keys = np.sort(np.concatenate([keys, ask[yes]]))
+    return _merged(keys, keys + 1)
+
+
+def _expand(start: Ints, count: Ints) -> tuple[Ints, Ints]:
+    """For runs of ``count[r]`` consecutive integers from ``start[r]``: (r, the integer) of each."""
+    r = np.repeat(np.arange(start.size), count)
+    step = np.arange(r.size) - np.repeat(np.cumsum(count) - count, count)
+    return r, start[r] + step
+
+
+def _column_keys(k: Ints, i: Ints, boxes: Ints, grid: _Grid) -> Ints:
+    """The (k, cell) keys of every centre of column i within box k, for each pair."""
+    r, j = _expand(boxes[k, 2], np.maximum(boxes[k, 3] - boxes[k, 2] + 1, 0))
+    return (k[r] * grid.nx + i[r]) * grid.ny + j
 
 
 def undominated(
@@ -104,24 +250,33 @@ def undominated(
 ) -> NDArray[np.int64]:
     """Indices of (start, span, low) triples no other holds: m holds p when m's arc holds p's on the ring and low[m] <=
     low[p] (of equal triples the first is kept). O(n^2) over a table of the arcs of the ring: the least ``low`` of every
-    arc, with each arc also one turn back, minimised over starts <= s and ends >= e."""
+    arc, with each arc also one turn back, minimised over starts <= s and ends >= e. The table holds ranks of ``low``
+    (equal values, equal ranks: the comparisons are those of ``low``) in 16 bits where they fit."""
     full = span >= n - 1
     start, span = np.where(full, 0, start), np.minimum(span, n - 1)  # one name for the whole ring
-    table = np.full((2 * n + 1, 3 * n + 1), np.inf)  # [s + n, e + n]: arcs with start s in [-n, n), end e
+    order = np.argsort(low, kind="stable")
+    distinct = np.concatenate([[True], low[order][1:] != low[order][:-1]])
+    rank = np.empty(low.size, dtype=np.int64)
+    rank[order] = np.cumsum(distinct) - 1
+    top = int(rank.max(initial=0)) + 1  # above every rank: no arc
+    kind = np.int16 if top < np.iinfo(np.int16).max else np.int32
+    table = np.full((2 * n + 1, 3 * n + 1), top, dtype=kind)  # [s + n, e + n]: arcs with start s in [-n, n), end e
     end = start + span
-    np.minimum.at(table, (start + n, end + n), low)
-    np.minimum.at(table, (start, end), low)  # the copy one turn back
-    incl = np.minimum.accumulate(table[:, ::-1], axis=1)[:, ::-1]  # min over e' >= e
-    incl = np.minimum.accumulate(incl, axis=0)  # ... and s' <= s
     s, e = start + n, end + n
-    strict = np.minimum(incl[s - 1, e], incl[s, e + 1])  # another arc holding this one
+    np.minimum.at(table, (s, e), rank.astype(kind))
+    np.minimum.at(table, (start, end), rank.astype(kind))  # the copy one turn back
     best = table[s, e]  # the least low of the same arc
-    full_low = low[full].min() if full.any() else np.inf
+    incl = table[:, ::-1]
+    np.minimum.accumulate(incl, axis=1, out=incl)  # min over e' >= e
+    for row in range(1, table.shape[0]):  # ... and s' <= s, row by row (contiguous)
+        np.minimum(table[row - 1], table[row], out=table[row])
+    strict = np.minimum(table[s - 1, e], table[s, e + 1])  # another arc holding this one
+    full_low = rank[full].min() if full.any() else top
     order = np.lexsort((np.arange(start.size), low, span, start))
     first = np.ones(start.size, dtype=bool)  # the first of each (start, span) with that arc's least low
     ss, sp_ = start[order], span[order]
     first[order[1:]] = (ss[1:] != ss[:-1]) | (sp_[1:] != sp_[:-1])
-    keep = first & (low <= best) & (strict > low) & ((low < full_low) | full)
+    keep = first & (rank <= best) & (strict > rank) & ((rank < full_low) | full)
     return np.flatnonzero(keep)
 
 

@@ -165,14 +165,15 @@ def _name(t: Any, piece: int) -> str:
 
 def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, Any], grow_m: float) -> str:
     """Why the zone-sides cannot be summed ('' when they can): two of one frame whose grown outer regions meet (a
-    position there could serve both)."""
-    unions: dict[int, list[tuple[str, Any]]] = {}
+    position there could serve both). Their unions meet exactly when a region of one meets a region of the other:
+    asked of an STR-tree of each zone-side's regions (no union formed)."""
+    sides: dict[int, list[tuple[str, Any]]] = {}
     for pieces in pieces_all:
-        geoms = [g for g in grown([outer[int(p)] for p in pieces], grow_m) if not g.is_empty]
-        union = shapely.union_all(np.asarray(geoms, dtype=object))
-        unions.setdefault(int(t.frame[pieces[0]]), []).append((_name(t, pieces[0]), union))
-    for items in unions.values():
-        for (p, gp), (q, gq) in itertools.combinations(items, 2):
-            if gp.intersects(gq):
+        geoms = np.asarray([g for g in grown([outer[int(p)] for p in pieces], grow_m) if not g.is_empty], dtype=object)
+        sides.setdefault(int(t.frame[pieces[0]]), []).append((_name(t, pieces[0]), geoms))
+    for items in sides.values():
+        trees = {p: shapely.STRtree(g) for p, g in items}
+        for (p, _), (q, gq) in itertools.combinations(items, 2):
+            if trees[p].query(gq, predicate="intersects").size:
                 return f"not formed: {p} and {q} can be seen from one position (their outer coverage regions meet)"
     return ""

@@ -1,0 +1,128 @@
+"""The connected plane bound (the ring walk over patches) alone, timed on the bundled instances, before and after.
+
+``capture`` runs ``planner plan instances/NAME.json`` once per instance with
+:func:`planner.bounds.plane_ring.connected_plane_bound` wrapped, and pickles the call's arguments (site, coverage
+problem, limits, share, duals, the plan's counts and region cache) to ``out/ring_bound/NAME.pkl``: the MILP before it
+is then out of the timing and the counts fixed. ``time`` calls the bound on each captured call ``--repeat`` times and
+prints the best wall time, the bound and every zone-side's fields; with ``--rev REV`` it does the same in a child whose
+``planner`` package is that git revision's (``git archive``), so both rows come from one run on one load::
+
+    python scripts/bench/ring_bound.py capture [--instances polygon_a ...]
+    python scripts/bench/ring_bound.py time [--rev HEAD~3] [--repeat 2] [--instances ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import pickle
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from io import BytesIO
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[2]
+INSTANCES = ["polygon_a", "polygon_c", "baalbek", "baalbek_site", "building27"]
+STORE = ROOT / "out" / "ring_bound"
+
+
+def capture(names: list[str]) -> None:
+    """Pickle the arguments of each instance's connected-plane-bound call (none where the plan makes none)."""
+    import planner.plan.methods as methods
+    from planner.cli.main import main as cli
+
+    STORE.mkdir(parents=True, exist_ok=True)
+    inner = methods.connected_plane_bound
+    for name in names:
+        seen: list[Any] = []
+
+        def wrapped(*args: Any, _seen: list[Any] = seen, _path: Path = STORE / f"{name}.pkl", **kw: Any) -> Any:
+            _seen.append(True)
+            with _path.open("wb") as f:
+                pickle.dump((args, kw), f)
+            return inner(*args, **kw)
+
+        methods.connected_plane_bound = wrapped  # type: ignore[assignment]
+        with tempfile.TemporaryDirectory() as tmp:
+            cli(["plan", str(ROOT / f"instances/{name}.json"), "--quiet", "--out", tmp])
+        print(f"{name}: {'captured' if seen else 'no connected plane bound in this plan'}", flush=True)
+    methods.connected_plane_bound = inner  # type: ignore[assignment]
+
+
+def time_here(names: list[str], repeat: int) -> list[dict[str, Any]]:
+    """Best-of-``repeat`` wall time of the bound on each captured call, with its values, in this process."""
+    from planner.bounds.plane_ring import connected_plane_bound
+
+    rows = []
+    for name in names:
+        path = STORE / f"{name}.pkl"
+        if not path.exists():
+            continue
+        best, cb = float("inf"), None
+        for _ in range(repeat):
+            with path.open("rb") as f:
+                args, kw = pickle.load(f)  # a fresh region cache each time
+            t0 = time.perf_counter()
+            cb = connected_plane_bound(*args, **kw)
+            best = min(best, time.perf_counter() - t0)
+        assert cb is not None
+        sides = [[s.zone_side, round(s.farley, 9), s.ring, s.patch_m, s.family, str(s.refined)] for s in cb.sides]
+        rows.append({"instance": name, "time_s": best, "bound": cb.bound, "sides": sides, "note": cb.note})
+    return rows
+
+
+def time_at(rev: str, names: list[str], repeat: int) -> list[dict[str, Any]]:
+    """:func:`time_here` in a child whose ``planner`` package is git revision ``rev``'s."""
+    blob = subprocess.run(["git", "archive", rev, "planner"], cwd=ROOT, capture_output=True, check=True).stdout
+    with tempfile.TemporaryDirectory() as tmp:
+        with tarfile.open(fileobj=BytesIO(blob)) as tar:
+            tar.extractall(tmp, filter="data")
+        env = {**os.environ, "PYTHONPATH": tmp}
+        out = Path(tmp) / "rows.json"
+        cmd = [sys.executable, __file__, "time", "--repeat", str(repeat), "--json", str(out), "--instances", *names]
+        subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL)
+        return list(json.loads(out.read_text()))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    ap.add_argument("mode", choices=["capture", "time"])
+    ap.add_argument("--instances", nargs="+", default=INSTANCES)
+    ap.add_argument("--rev", help="also time this git revision's planner, in a child")
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--json", help="write the rows here (the child's answer)")
+    a = ap.parse_args()
+    if a.mode == "capture":
+        capture(a.instances)
+        return
+    old = time_at(a.rev, a.instances, a.repeat) if a.rev else []
+    new = time_here(a.instances, a.repeat)
+    if a.json:
+        Path(a.json).write_text(json.dumps(new))
+        return
+    by_old = {r["instance"]: r for r in old}
+    print("| instance | before s | after s | speed-up | bound before | bound after | sides equal |")
+    print("|---|---|---|---|---|---|---|")
+    for r in new:
+        o = by_old.get(r["instance"])
+        if o is None:
+            print(f"| {r['instance']} | - | {r['time_s']:.2f} | - | - | {r['bound']} | - |")
+            continue
+        same = o["sides"] == r["sides"] and o["note"] == r["note"]
+        print(
+            f"| {r['instance']} | {o['time_s']:.2f} | {r['time_s']:.2f} | {o['time_s'] / r['time_s']:.1f}x | "
+            f"{o['bound']} | {r['bound']} | {'yes' if same else 'NO'} |"
+        )
+    for r in new:
+        print(r["instance"], json.dumps(r["sides"]))
+        if (o := by_old.get(r["instance"])) is not None and o["sides"] != r["sides"]:
+            print("  before:", json.dumps(o["sides"]))
+
+
+if __name__ == "__main__":
+    main()
