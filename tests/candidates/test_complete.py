@@ -30,6 +30,7 @@ def box_zone(w: float, h: float, height: float = 3.0, side: ScanSide = ScanSide.
     return Zone("R", side, ((0.0, 0.0), (w, 0.0), (w, h), (0.0, h)), (height,) * 4)
 
 
+@pytest.mark.slow  # tests/bounds/test_plane.py's rectangles and combs are the quick proofs over the plane
 def test_corridor_plans_eleven_stations_proven_over_the_plane() -> None:
     site = Site("corridor", (box_zone(200.0, 8.0),), Parameters(theta_max_deg=68.0, overlap=0.0))
     plan = plan_site(site, PLAIN)

@@ -79,6 +79,7 @@ def test_a_site_file_is_not_a_plan(tmp_path, capsys):
     assert not (tmp_path / "f").exists()
 
 
+@pytest.mark.slow  # two planner runs; tests/field/test_field.py::test_bad_input refuses and lists the legs quickly
 def test_plan_field_strict_walls(tmp_path):
     # house_doors without its doors: three rooms no walk joins
     site = json.loads((INSTANCES / "house_doors.json").read_text())

@@ -37,12 +37,23 @@ def _square(path, side_m: float):
     return path
 
 
+@pytest.mark.slow  # a fresh interpreter; the in-process twin below is quick
 def test_ten_thousand_km_square_is_refused_in_one_line(tmp_path):
     path = _square(tmp_path / "huge.json", HUGE_M)
     run = subprocess.run([sys.executable, "-m", "planner", "plan", str(path)], capture_output=True, text=True, cwd=ROOT)
     assert run.returncode == 3
     assert run.stderr.count("\n") == 1 and "MemoryError" not in run.stderr
     assert "--memory-limit" in run.stderr and "4e+07 wall pieces" in run.stderr
+
+
+def test_ten_thousand_km_square_is_refused_in_one_line_by_the_command(tmp_path, capsys):
+    # the same refusal through the command's entry point in this process: exit 3, one line, no MemoryError
+    from planner.cli import main
+
+    assert main(["plan", str(_square(tmp_path / "huge.json", HUGE_M))]) == 3
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "MemoryError" not in err
+    assert "--memory-limit" in err and "4e+07 wall pieces" in err
 
 
 def test_estimate_counts_of_the_huge_square(tmp_path):
