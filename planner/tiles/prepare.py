@@ -90,7 +90,9 @@ def prepare(problem: Problem | Site, options: PlanOptions | None = None, extra: 
     problem = tiles_problem(problem, options)
     site = problem.site
     targets = problem.targets  # the pool as :func:`planner.plan.build_problem` makes it, before the completion
-    pool = site_candidates(problem, targets) + list(extra)
+    # the frame spaces and coverage regions drawn once, for the whole-side and the axis candidates both (each
+    # drew its own when given none)
+    pool = site_candidates(problem, targets, {}, {}) + list(extra)
     xy = np.array([c.xy for c in pool], dtype=float).reshape(-1, 2)
     usable = np.array([r == "" for r in station_places(site, xy, [c.frame for c in pool]).reason], dtype=bool)
     labels, links = problem.registration.groups(pool)
