@@ -41,7 +41,10 @@ BUNDLED = [
 ]
 
 
-@pytest.mark.parametrize(("name", "mode", "reason"), BUNDLED, ids=[b[0] for b in BUNDLED])
+@pytest.mark.parametrize(
+    ("name", "mode", "reason"),
+    [pytest.param(*b, id=b[0], marks=[pytest.mark.slow] if b[0] == "plant_64ha.json" else []) for b in BUNDLED],
+)
 def test_default_registration_of_every_bundled_instance(name, mode, reason):
     got = default_registration(load_site(INSTANCES / name))
     assert isinstance(got, RegistrationDefault)

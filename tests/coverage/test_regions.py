@@ -43,7 +43,7 @@ SITES = {
 }
 
 
-@pytest.mark.parametrize("incidence_3d", [False, True])
+@pytest.mark.parametrize("incidence_3d", [False, pytest.param(True, marks=pytest.mark.slow)])
 @pytest.mark.parametrize("name", list(SITES))
 def test_region_agrees_with_the_coverage_test(name: str, incidence_3d: bool) -> None:
     site = SITES[name]
