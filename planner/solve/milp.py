@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -30,14 +30,19 @@ from planner.coverage.overlap import DEFAULT_OVERLAP, SITE_SHARE, OverlapRule, S
 from planner.solve.backends import BACKENDS, CAPABILITIES, NODE_LIMITED
 from planner.solve.block import BlockSolver
 from planner.solve.decompose import block_solvers
+from planner.solve.floor import ProbeRecord, probe
 from planner.solve.instance import CoverInstance
 from planner.solve.plain_start import MOVES_PER_TARGET, plain_record
-from planner.solve.result import MilpStats, RingStats, SolveResult, Status, WorkStats
+from planner.solve.result import MilpStats, RingStats, SolveResult, Status, WorkStats, gap_reason
 
 __all__ = ["MilpOptions", "block_solvers", "solve"]
 
 #: CP-SAT deterministic seconds a whole solve may spend (cpsat)
 WORK_LIMIT: float = DEFAULTS["milp.work_limit"]
+#: the share of a block's first CP-SAT work share that its floor probes may take (:mod:`planner.solve.floor`)
+PROBE_SHARE = 0.25
+#: the share of a block's first CP-SAT work share that its floor probes may take (:mod:`planner.solve.floor`)
+PROBE_SHARE = 0.25
 #: branch-and-bound nodes per solve on the backends that take a node limit (:data:`NODE_LIMITED`)
 NODE_LIMIT = 10_000
 #: wall-clock cap of a work-limited MILP the tiles and windows run, as a multiple of its work limit
@@ -78,6 +83,12 @@ class MilpOptions:
     #: CP-SAT deterministic seconds for the whole solve (cpsat; None: none): with one thread the answer does not
     #: depend on the machine's load
     work_limit: float | None = WORK_LIMIT
+    #: CP-SAT deterministic seconds in a row without a better plan or bound after which a block stops (cpsat, with a
+    #: ``work_limit``; None: it runs to the work limit): the last work seldom pays where the bound is the only doubt
+    stall_work: float | None = DEFAULTS["milp.stall_work"]
+    #: the floor probe (:mod:`planner.solve.floor`): before a block's cut loop, look for a connected plan of the
+    #: bound's size among the candidates such a plan can use (cpsat, unit costs, k = 1, single precision)
+    floor_probe: bool = True
     #: branch-and-bound nodes per solve of the cut loop on scip, pulp-cbc and pyscipopt (None: none); highs and
     #: cbc take none, so there only the user's ``time_limit_s`` stops a solve short of its optimum
     node_limit: int | None = NODE_LIMIT
@@ -116,12 +127,13 @@ class MilpOptions:
             real(self.time_limit_s, "time_limit_s", above=0)
         if self.node_limit is not None:
             count(self.node_limit, "node_limit", 1)
-        for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound", "plain_start"):
+        for name in ("presolve", "layer_cuts", "tree_bound", "ring_bound", "plain_start", "floor_probe"):
             flag(getattr(self, name), name)
         real(self.plain_start_moves, "plain_start_moves", at_least=0)
         argument(self.overlap, (OverlapRule, SiteShare, type(None)), "overlap")
-        if self.work_limit is not None:
-            real(self.work_limit, "work_limit", above=0)
+        for name in ("work_limit", "stall_work"):
+            if getattr(self, name) is not None:
+                real(getattr(self, name), name, above=0)
 
     @property
     def rule(self) -> OverlapRule | None:
@@ -169,7 +181,7 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
         info = {"targets_seen_by_fewer_than_k": bad[:20].tolist(), "count": int(bad.size)}
         return SolveResult.no_plan("milp", Status.INFEASIBLE, start, o.backend, info)
     report, solvers = block_solvers(instance, o, deadline)
-    _share_out(solvers, deadline, o.work_limit if CAPABILITIES[o.backend].work_limit else None)
+    ran = _share_out(solvers, deadline, o)
     if any(b.infeasible for b in solvers) or any(b.incumbent is None for b in solvers):
         status = Status.INFEASIBLE if any(b.infeasible for b in solvers) else Status.NO_SOLUTION
         return SolveResult.no_plan("milp", status, start, o.backend, {"presolve": report.to_dict()})
@@ -182,19 +194,25 @@ def solve(instance: CoverInstance, options: MilpOptions | None = None, **overrid
     all_optimal = all(b.done for b in solvers)
     # the user's wall-clock cap, not the counted work, ended the search: only then may the plan depend on the load
     capped = not all_optimal and time.perf_counter() >= deadline
-    stats = _stats(solvers, o, o.rule is not None and instance.groups is not None, capped)
+    stats = _stats(solvers, o, o.rule is not None and instance.groups is not None, capped, ran)
     status = Status.OPTIMAL if all_optimal else Status.FEASIBLE
     info = {"presolve": report.to_dict(), **stats.to_dict()}
+    if not all_optimal and (reason := gap_reason(stats, objective, bound)) is not None:
+        info["gap_reason"] = reason
     return SolveResult.timed(
         "milp", status, sorted(selected), objective, start, bound=bound, backend=o.backend, info=info, stats=stats
     )
 
 
-def _stats(solvers: list[BlockSolver], o: MilpOptions, connect: bool, capped: bool) -> MilpStats:
-    """What the blocks did, summed; ``capped``: the user's wall-clock cap ended the search."""
+def _stats(solvers: list[BlockSolver], o: MilpOptions, connect: bool, capped: bool, ran: _Run) -> MilpStats:
+    """What the blocks (and their floor probes) did, summed; ``capped``: the user's wall-clock cap ended the search."""
     plain = [b.plain for b in solvers if b.plain is not None]
     limits = o.limits
-    used = round(sum(b.work_used for b in solvers), 3)
+    used = round(sum(b.work_used for b in solvers) + ran.probe_work, 3)
+    stall = o.stall_work if limits["work_limit"] is not None else None
+    stop = "proven" if all(b.done for b in solvers) else "wall_cap" if capped else "node_limit"
+    if stop == "node_limit" and limits["work_limit"] is not None:
+        stop = "work_limit" if used >= limits["work_limit"] - 1e-3 or not any(ran.stalled) else "stalled"
     return MilpStats(
         rounds=sum(b.rounds for b in solvers),
         cuts=sum(b.cuts for b in solvers),
@@ -208,22 +226,69 @@ def _stats(solvers: list[BlockSolver], o: MilpOptions, connect: bool, capped: bo
         ),
         connectivity=o.connectivity_method if connect else "none",
         plain_start=plain_record(plain) if plain else None,
-        work=WorkStats(limits["work_limit"], used, limits["node_limit"], limits["wall_cap_s"], capped),
+        work=WorkStats(
+            limits["work_limit"], used, limits["node_limit"], limits["wall_cap_s"], capped, stall, any(ran.stalled)
+        ),
+        floor=tuple(asdict(p) for block in ran.probes for p in block),
+        stop=stop,
     )
 
 
-def _share_out(solvers: list[BlockSolver], deadline: float, work_limit: float | None) -> None:
-    """Pass 1: each block an equal share of what is left (a block that finishes early leaves its rest); pass 2: the
-    blocks not yet proven share whatever is left. Shares are of CP-SAT work, else of the user's wall-clock cap; with
+def _share_out(solvers: list[BlockSolver], deadline: float, o: MilpOptions) -> _Run:
+    """Pass 1: each block an equal share of what is left (a block that finishes early leaves its rest), its floor
+    probes first (:mod:`planner.solve.floor`, at most :data:`PROBE_SHARE` of the share); pass 2: the blocks neither
+    proven nor stalled share whatever is left. Shares are of CP-SAT work, else of the user's wall-clock cap; with
     neither, each block runs until it is proven or its node limit per solve ends its cut loop."""
+    work_limit = o.work_limit if CAPABILITIES[o.backend].work_limit else None
+    ran = _Run(probes=[[] for _ in solvers], stalled=[False] * len(solvers))
     for first in (True, False):
-        todo = solvers if first else [b for b in solvers if not b.done]
-        for k, block in enumerate(todo):
+        todo = [k for k, b in enumerate(solvers) if first or not (b.done or ran.stalled[k])]
+        for n, k in enumerate(todo):
+            block = solvers[k]
             if work_limit is not None:
-                left = work_limit - sum(b.work_used for b in solvers)
+                left = work_limit - sum(b.work_used for b in solvers) - ran.probe_work
                 if left > 1e-6:
-                    block.run(deadline, block.work_used + left / (len(todo) - k))
+                    share = left / (len(todo) - n)
+                    if first:
+                        ran.probes[k] = probe(block, o, share * PROBE_SHARE)
+                        share -= sum(p.work for p in ran.probes[k])
+                    ran.stalled[k] = _run(block, deadline, block.work_used + share, o.stall_work)
                 continue
-            share = (deadline - time.perf_counter()) / (len(todo) - k)
+            share = (deadline - time.perf_counter()) / (len(todo) - n)
             if share > 0:
                 block.run(time.perf_counter() + share if math.isfinite(share) else math.inf)
+    return ran
+
+
+def _run(block: BlockSolver, deadline: float, until: float, stall: float | None) -> bool:
+    """Run ``block`` until its CP-SAT work reaches ``until``; with ``stall``, in slices of that much work, stopping
+    after a whole slice that brought neither a better plan nor a better bound. Whether it stopped so (stalled)."""
+    if block.done or stall is None:
+        block.run(deadline, until)
+        return False
+    while not block.done:
+        start, before = block.work_used, _state(block)
+        end = min(until, start + stall)
+        block.run(deadline, end)
+        if block.done or block.work_used < end - 1e-6 or end >= until - 1e-6:
+            return False  # proven, out of work, or the loop left early (pass 2 takes it up as before)
+        if _state(block) == before:
+            return True
+    return False
+
+
+def _state(block: BlockSolver) -> tuple[float, float]:
+    """A block's plan cost and bound: what a stall leaves unchanged."""
+    return (math.inf if block.incumbent is None else float(block.cost[block.incumbent].sum()), float(block.bound))
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Run:
+    """What :func:`_share_out` did besides the blocks' own loops: each block's floor probes and whether it stalled."""
+
+    probes: list[list[ProbeRecord]]
+    stalled: list[bool]
+
+    @property
+    def probe_work(self) -> float:
+        return sum(p.work for block in self.probes for p in block)

@@ -34,6 +34,9 @@ class WorkStats:
     node_limit: int | None
     wall_cap_s: float | None
     wall_cap_hit: bool = False
+    #: the stall rule's work (:attr:`planner.solve.milp.MilpOptions.stall_work`) and whether it stopped a block
+    stall_work: float | None = None
+    stalled: bool = False
 
 
 @dataclass(frozen=True)
@@ -60,6 +63,11 @@ class MilpStats:
     connectivity: str
     plain_start: dict[str, int] | None
     work: WorkStats
+    #: the floor probes (:class:`planner.solve.floor.ProbeRecord` as dicts), every block's in its order
+    floor: tuple[dict[str, Any], ...] = ()
+    #: why the search ended: ``proven``, ``stalled``, ``work_limit``, ``wall_cap`` or ``node_limit`` (a cut loop
+    #: whose solves, each stopped on its node limit, left nothing to cut)
+    stop: str = "proven"
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -141,7 +149,16 @@ class SolveResult:
             if cap and self.wall_cap_hit
             else ""
         )
-        return f"{self.method}: {state or self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}{cut}"
+        why = f"; {self.gap_reason}" if self.gap_reason else ""
+        return f"{self.method}: {state or self.state}, {obj} stations{bound}{gap}, {self.time_s:.2f} s{label}{cut}{why}"
+
+    @property
+    def gap_reason(self) -> str | None:
+        """Why the plan is above its bound, in words (a MILP's, from its statistics: :func:`gap_reason`); None where
+        there is no gap or nothing to say."""
+        if self.stats is None or self.objective is None or self.bound is None or self.status is Status.OPTIMAL:
+            return None
+        return gap_reason(self.stats, self.objective, self.bound)
 
     @property
     def scope(self) -> str | None:
@@ -171,3 +188,47 @@ def gap_words(status: Status, gap: float | None, unit: str = "gap") -> str:
     if gap <= GAP_TOL:
         return f"{unit} 0% but not proven optimal ({status.value})"
     return f"{unit} {gap:.1%}" if gap >= 0.0005 else f"{unit} < 0.1%"
+
+
+def _many(n: int, word: str) -> str:
+    return f"{n:,} {word}" + ("" if n == 1 else "s")
+
+
+def gap_reason(stats: MilpStats, objective: float, bound: float) -> str | None:
+    """Why a MILP's plan (``objective`` stations) is above its ``bound``, in a surveyor's words: what stopped the
+    solver, where the bound comes from and what looked for a smaller plan; None without a gap. A work-s is a
+    deterministic second of CP-SAT work (a count, the same on any machine and under any load)."""
+    floor = math.ceil(bound - GAP_TOL)
+    if objective - floor < 0.5:
+        return None
+    w = stats.work
+    stop = {
+        "stalled": f"the solver stopped after {w.used:.1f} work-s: no better plan or bound in its last "
+        f"{(w.stall_work or 0):g} work-s",
+        "work_limit": f"the solver stopped at its work limit of {(w.limit or 0):g} work-s",
+        "wall_cap": f"the solver stopped at the wall-clock cap of {(w.wall_cap_s or 0):g} s",
+        "node_limit": f"the solver stopped when its solves, each within {w.node_limit} nodes, left nothing to cut",
+    }.get(stats.stop, "the solver stopped")
+    refuted = [p for p in stats.floor if p["outcome"] == "refuted"]
+    if refuted:
+        last = refuted[-1]
+        source = (
+            f"bound {bound:g} from the floor probe: no registered plan of {_many(last['level'], 'station')} among "
+            f"the {last['candidates']:,} of {last['of']:,} candidates such a plan can use (those in a plain cover "
+            "of that size)"
+        )
+    elif stats.ring_bound.blocks:
+        source = f"bound {bound:g} from the ring bound and the cover LP (the fewest stations that see every piece)"
+    else:
+        source = (
+            f"bound {bound:g} from the cover LP (the fewest stations that see every piece) and the registration cuts"
+        )
+    rounds = stats.rounds + sum(int(p["rounds"]) for p in stats.floor)
+    cuts = stats.cuts + sum(int(p["cuts"]) for p in stats.floor)
+    sizes = f"{floor:g}" if objective - floor < 1.5 else f"{floor:g} to {objective - 1:g}"
+    found = (
+        f"no plan of {sizes} stations found by the connected greedy, {_many(rounds, 'round')} of the cut "
+        f"loop ({_many(cuts, 'registration cut')}), its repairs and the local search"
+    )
+    gap = objective - floor
+    return f"gap {gap:g} station{'' if gap == 1 else 's'}: {stop}; {source}; {found}"

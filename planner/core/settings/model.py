@@ -83,7 +83,7 @@ def _variant(name: str, on: bool) -> Callable[[str], bool]:
 
 
 def _share(fraction: float) -> Callable[[float], float]:
-    """A limit derived from the tile budget: ``fraction`` of it."""
+    """A limit derived from its setting (the tile budget, the MILP's work limit): ``fraction`` of it."""
     return lambda budget: budget * fraction
 
 
