@@ -6,8 +6,11 @@ import io
 import math
 from collections.abc import Callable
 
+import matplotlib as mpl
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.layout_engine import PlaceHolderLayoutEngine
 
 #: room around the data of a plan panel (a share of its span, as ``Axes.margins``): the scale bar and the
 #: north arrow stand in it, clear of walls and stations
@@ -78,7 +81,28 @@ def scale_and_north(ax: Axes, frame: str) -> None:
 
 
 def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
-    """The figure as PNG bytes."""
+    """The figure as PNG bytes, cut to what is drawn (``bbox_inches="tight"``).
+
+    A figure whose layout is frozen (:func:`planner.figures.labels.freeze_layout`) is measured at ``dpi`` and drawn
+    once: ``savefig`` with ``"tight"`` draws it twice, once to measure, once to render, and the plan figures spend
+    most of the report's time drawing. The box is the one ``"tight"`` measures, so the image is the same."""
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+    engine = fig.get_layout_engine()
+    if engine is not None and not isinstance(engine, PlaceHolderLayoutEngine):  # a live layout: it needs the draw
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+        return buf.getvalue()
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(fig)
+    saved_dpi = fig.dpi
+    fig.dpi = dpi
+    try:
+        box = fig.get_tightbbox(fig.canvas.get_renderer())  # type: ignore[attr-defined]
+    finally:
+        fig.dpi = saved_dpi
+    pad = float(mpl.rcParams["savefig.pad_inches"])
+    fig.set_layout_engine(None)  # nothing left to lay out: savefig then skips its measuring draw
+    try:
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches=box.padded(pad, pad))
+    finally:
+        fig.set_layout_engine(engine)
     return buf.getvalue()

@@ -67,20 +67,32 @@ class Placed:
 
 
 def freeze_layout(fig: Figure, axes: Sequence[Axes] = ()) -> RendererBase:
-    """Draw ``fig`` once without rendering (layout and aspect settle), switch its layout engine off and fix the limits
-    of ``axes``; returns the renderer that measures text at the figure's dpi."""
+    """Lay ``fig`` out once (its layout engine run, every axes' aspect applied, as a draw does before and after the
+    layout), switch its layout engine off and fix the limits of ``axes``; returns the renderer that measures text at
+    the figure's dpi. No draw: nothing drawn is measured here, and a plan figure's draw costs as much as its layout."""
     if not hasattr(fig.canvas, "get_renderer"):
         FigureCanvasAgg(fig)
-    fig.draw_without_rendering()
+    renderer: RendererBase = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+    _apply_aspects(fig, renderer)
+    engine = fig.get_layout_engine()
+    if fig.axes and engine is not None:
+        engine.execute(fig)
+        _apply_aspects(fig, renderer)
     for ax in axes:
         ax.set_xlim(ax.get_xlim())
         ax.set_ylim(ax.get_ylim())
         if ax.get_aspect() != "auto":
             ax.set_adjustable("box")  # the limits now fit the box: keep both, and no warning about fixed limits
-    if fig.get_layout_engine() is not None:
+    if engine is not None:
         fig.set_layout_engine("none")
-    renderer: RendererBase = fig.canvas.get_renderer()  # type: ignore[attr-defined]
     return renderer
+
+
+def _apply_aspects(fig: Figure, renderer: RendererBase) -> None:
+    """Each axes' aspect applied in its place, as :meth:`Figure.draw` does before it lays out and draws."""
+    for ax in fig.axes:
+        locator = ax.get_axes_locator()
+        ax.apply_aspect(None if locator is None else locator(ax, renderer))
 
 
 def _candidates(
