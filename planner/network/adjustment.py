@@ -22,7 +22,7 @@ from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
+from scipy import special  # the chi-square functions scipy.stats calls, without its 1 s import
 
 from planner.core.errors import InputError
 from planner.network import lsq_dense, lsq_sparse
@@ -37,7 +37,7 @@ METHODS = ("sparse", "normal", "dense", "qr")
 #: measurement (a typo, or a unit mix-up), and 1/sigma^2 of 1e-300 is no number
 MIN_SIGMA_M, MIN_SIGMA_RAD = 1e-6, 1e-8
 #: 95 % scale of a 2-D error ellipse: sqrt(chi2_2(0.95)) = 2.4477
-ELLIPSE_95 = math.sqrt(stats.chi2.ppf(0.95, 2))
+ELLIPSE_95 = math.sqrt(special.chdtri(2, 1.0 - 0.95))  # the quantile as stats.chi2.ppf computes it
 
 
 @dataclass(frozen=True)
@@ -303,7 +303,7 @@ def _results(
         with np.errstate(divide="ignore", invalid="ignore"):
             std = np.where(qvv > 1e-15, v / np.sqrt(np.maximum(qvv, 1e-300)), np.nan)
         chi2 = dof * (m0 / sigma0) ** 2 if m0 is not None else None
-        p = float(2 * min(stats.chi2.cdf(chi2, dof), stats.chi2.sf(chi2, dof))) if chi2 is not None else None
+        p = float(2 * min(special.chdtr(dof, chi2), special.chdtrc(dof, chi2))) if chi2 is not None else None
         passed = None if p is None else p >= 0.05
     else:
         v, m0, std, p, passed = np.zeros(n_obs), None, np.full(n_obs, np.nan), None, None
