@@ -282,18 +282,20 @@ def undominated(
 
 def arc_links(start: Ints, span: Ints, low: Floats, cum: Floats, n: int, share: float) -> sp.csr_matrix:
     """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring). ``cum``: prefix
-    sums of the piece lengths over three turns (cum[0] = 0)."""
+    sums of the piece lengths over three turns (cum[0] = 0), non-decreasing: the shared length of [a, b) and [c, d)
+    at a turn, cum[min(b, d)] - cum[max(a, c)] where they overlap, is min(cum[b], cum[d]) - max(cum[a], cum[c]), and
+    that is <= 0 where they do not; so it is taken as that difference and 0 if below, summed over the turns in order."""
     end = start + span + 1  # exclusive
+    top = 3 * n
+    turns = [(cum[np.clip(start + k, 0, top)], cum[np.clip(end + k, 0, top)]) for k in (-n, 0, n)]
     rows, cols = [], []
     for lo in range(0, start.size, 512):
-        s, e = start[lo : lo + 512, None], end[lo : lo + 512, None]
+        s, e = cum[start[lo : lo + 512, None]], cum[end[lo : lo + 512, None]]
         shared = np.zeros((s.shape[0], start.size))
-        for shift in (-n, 0, n):
-            a = np.maximum(s, start[None, :] + shift)
-            b = np.minimum(e, end[None, :] + shift)
-            ok = b > a
-            a, b = np.clip(a, 0, 3 * n), np.clip(b, 0, 3 * n)
-            shared += np.where(ok, cum[np.maximum(b, a)] - cum[a], 0.0)
+        for cs, ce in turns:
+            d = np.minimum(e, ce[None, :])
+            d -= np.maximum(s, cs[None, :])
+            shared += np.maximum(d, 0.0, out=d)
         need = share * np.minimum(low[lo : lo + 512, None], low[None, :])
         link = (shared > 1e-12) & (shared + 1e-9 >= need)
         link[np.arange(s.shape[0]), np.arange(lo, lo + s.shape[0])] = False

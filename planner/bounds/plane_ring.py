@@ -86,8 +86,8 @@ def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> 
     if graph is None:
         return None, int(fam.size)
     # a walk of fewer than target stations has both branches from its anchor at most target - 2 long
-    walk = graph.walk(np.ones(fam.size), limit=target - 1.5)
-    return (target if walk is None else min(target, round(walk.bound))), int(fam.size)
+    walk = graph.unit_walk(limit=target - 1.5)  # every patch costs one station
+    return (target if walk is None else min(target, walk)), int(fam.size)
 
 
 def connected_plane_bound(
