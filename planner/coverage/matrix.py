@@ -30,9 +30,37 @@ PAIR_WORST_BYTES = 96
 SIGHT_BATCH = 65_536
 #: A station closer than this to a wall line is "on the wall" and stands nowhere.
 ON_WALL_M = 1e-6
+#: the last sites' blockers and zone-side blockers, by site and frame (each entry keeps its site: ids are reused)
+_BUILT: dict[tuple[int, str, str], tuple[Site, Any]] = {}
+#: entries kept before the cache starts afresh
+_BUILT_MAX = 64
+
+
+def _once(kind: str, site: Site, frame: str, build: Any) -> Any:
+    """``build(site, frame)``, made once per site and frame (a site is immutable; a plan builds the coverage of its
+    pool, of the complete step, of the tripod discs and of the bounds, each over the same walls)."""
+    key = (id(site), frame, kind)
+    hit = _BUILT.get(key)
+    if hit is None or hit[0] is not site:
+        if len(_BUILT) >= _BUILT_MAX:
+            _BUILT.clear()
+        hit = _BUILT[key] = (site, build(site, frame))
+    return hit[1]
 
 
 def blockers_for(site: Site, frame: str) -> Blockers:
+    """Walls of every zone in ``frame`` and, in the site frame, the obstacle edges (made once per site and frame)."""
+    blockers: Blockers = _once("blockers", site, frame, _blockers_for)
+    return blockers
+
+
+def zone_side_blockers(site: Site, frame: str) -> ZoneSideBlockers:
+    """The :class:`ZoneSideBlockers` of ``frame``, made once per site and frame."""
+    views: ZoneSideBlockers = _once("zone-side", site, frame, ZoneSideBlockers)
+    return views
+
+
+def _blockers_for(site: Site, frame: str) -> Blockers:
     """Walls of every zone in ``frame`` and, in the site frame, the obstacle edges."""
     a, b, key, verts = [], [], [], []
 
@@ -284,7 +312,7 @@ def build_coverage(
         if ci.size == 0 or ti.size == 0:
             continue
         open_view = convex_alone(site, frame)  # nothing can block a front-facing piece of a lone convex zone
-        views = None if open_view else ZoneSideBlockers(site, frame)
+        views = None if open_view else zone_side_blockers(site, frame)
         for block in np.array_split(ci, math.ceil(len(ci) / block_size(len(ti)))):
             pairs = geometric_pairs(xy[block], places.inside[block], targets, ti, limits)
             pc, pt = block[pairs.cand], ti[pairs.target]
