@@ -67,3 +67,25 @@ def test_graph_on_some_stations_carries_shared_and_length():
     assert set(g.edges) == {(0, 1), (1, 2)}
     assert g.edges[0, 1]["shared_m"] == pytest.approx(1.0) and g.edges[0, 1]["length_m"] == pytest.approx(5.0)
     assert set(overlap_graph(A, ONE_M, [0, 2], OverlapRule(0.3)).edges) == set()  # c1, the bridge, left out
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_one_product_per_group_over_the_walls_equals_the_whole_product(seed):
+    # random coverage over wall pieces of random lengths and floor patches (length 0), three groups: the relation and
+    # the shared lengths, bit for bit, as one filtered product over every column with the group rule applied after
+    from planner.coverage.gram import filtered_gram
+    from planner.coverage.overlap import group_ids, link_filter
+
+    rng = np.random.default_rng(seed)
+    n, walls, floors = 60, 30, 40
+    a = sp.csr_matrix(rng.random((n, walls + floors)) < 0.2)
+    lengths = np.concatenate([rng.uniform(0.2, 1.5, walls), np.zeros(floors)])
+    groups = [("Z", int(g)) for g in rng.integers(0, 3, n)]
+    rule = OverlapRule(0.3)
+    adj, share = overlap_adjacency(a, lengths, rule, groups)
+    f = a.astype(np.float64)
+    _, keep = link_filter(rule, np.asarray(f @ lengths).ravel(), group_ids(groups))
+    whole = filtered_gram(f.tocsr(), lengths, keep)
+    assert (share != whole).nnz == 0 and np.array_equal(share.data, whole.data)
+    assert np.array_equal(share.indptr, whole.indptr) and np.array_equal(share.indices, whole.indices)
+    assert (adj != (whole != 0)).nnz == 0
