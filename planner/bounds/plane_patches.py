@@ -159,12 +159,16 @@ def interior_runs(geoms: list[Any], boxes: Ints, grid: _Grid) -> tuple[Ints, Int
     xy, rc = shapely.get_coordinates(rings, return_index=True)
     owner = poly[pk[rp[rc]]]  # the geometry of each vertex
     big = max(1.0, float(np.abs(xy).max(initial=0.0)), abs(grid.x0) + grid.nx * grid.h, abs(grid.y0) + grid.ny * grid.h)
-    a = np.flatnonzero(rc[1:] == rc[:-1])  # edges: vertex a to a + 1 of one ring
+    u = (xy[:, 0] - grid.x0) / grid.h - 0.5  # the column coordinate of each vertex (monotone in x)
+    doubt = np.abs(u - np.rint(u)) < max(1e-6, 4 * _TIE * big / grid.h)  # within rounding of a column
+    up = np.ceil(u).astype(np.int64)
+    ia_v, ib_v = up - doubt, up - 1 + doubt  # columns from / to, one more where in doubt (decided exactly below)
+    ia, ib = np.minimum(ia_v[:-1], ia_v[1:]), np.maximum(ib_v[:-1], ib_v[1:])
+    a = np.flatnonzero((rc[1:] == rc[:-1]) & (ia <= ib))  # edges (vertex a to a + 1 of one ring) over a column
     part, k = rp[rc[a]], owner[a]
     x1, y1, x2, y2 = xy[a, 0], xy[a, 1], xy[a + 1, 0], xy[a + 1, 1]
     xlo, xhi = np.minimum(x1, x2), np.maximum(x1, x2)
-    ia, ib = _span((xlo - grid.x0) / grid.h - 0.5, (xhi - grid.x0) / grid.h - 0.5)
-    ia, ib = np.maximum(ia, boxes[k, 0]), np.minimum(ib, boxes[k, 1])
+    ia, ib = np.maximum(ia[a], boxes[k, 0]), np.minimum(ib[a], boxes[k, 1])
     e, i = _expand(ia, np.maximum(ib - ia + 1, 0))
     xc = grid.cx(i)
     ok = (xlo[e] <= xc) & (xc < xhi[e])  # the half-open rule, exact
@@ -184,25 +188,19 @@ def interior_runs(geoms: list[Any], boxes: Ints, grid: _Grid) -> tuple[Ints, Int
     # centres the rounding may put on the wrong side: near a crossing, or on a column through a vertex
     near = np.rint((yc - grid.y0) / grid.h - 0.5).astype(np.int64)
     tie = (np.abs(grid.cy(near) - yc) <= _TIE * big) & (near >= boxes[k, 2]) & (near <= boxes[k, 3])
-    vi = np.rint((xy[:, 0] - grid.x0) / grid.h - 0.5).astype(np.int64)
-    vcol = (np.abs(grid.cx(vi) - xy[:, 0]) <= _TIE * big) & (vi >= boxes[owner, 0]) & (vi <= boxes[owner, 1])
+    dv = np.flatnonzero(doubt)
+    vi = np.rint(u[dv]).astype(np.int64)
+    vcol = (np.abs(grid.cx(vi) - xy[dv, 0]) <= _TIE * big) & (vi >= boxes[owner[dv], 0]) & (vi <= boxes[owner[dv], 1])
+    vi, vk = vi[vcol], owner[dv][vcol]
     wide = np.maximum(boxes[other, 1] - boxes[other, 0] + 1, 0)  # geometries not polygonal: every column
-    cols_k = np.concatenate([owner[vcol], np.repeat(other, wide)])
-    cols_i = np.concatenate([vi[vcol], _expand(boxes[other, 0], wide)[1]])
+    cols_k = np.concatenate([vk, np.repeat(other, wide)])
+    cols_i = np.concatenate([vi, _expand(boxes[other, 0], wide)[1]])
     ask = np.unique(
         np.concatenate([(k[tie] * grid.nx + i[tie]) * grid.ny + near[tie], _column_keys(cols_k, cols_i, boxes, grid)])
     )
     if ask.size == 0:
         return _merged(run0, run1)
     return _asked(run0, run1, ask, geoms, grid)
-
-
-def _span(ua: Floats, ub: Floats) -> tuple[Ints, Ints]:
-    """The columns i with ua <= i < ub (``ua``, ``ub``: column coordinates as computed), one more each side where
-    an end is within rounding of a column (the caller decides those exactly)."""
-    ia = np.ceil(ua).astype(np.int64) - (np.abs(ua - np.rint(ua)) < 1e-6)
-    ib = np.ceil(ub).astype(np.int64) - 1 + (np.abs(ub - np.rint(ub)) < 1e-6)
-    return ia, ib
 
 
 def _merged(a: Ints, b: Ints) -> tuple[Ints, Ints]:

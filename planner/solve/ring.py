@@ -237,6 +237,8 @@ def ring_graph(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_ma
     rows, cols, touch = [], [], np.zeros(i.size, dtype=bool)
     for li, ki in enumerate(_LIFTS):
         for lj, kj in enumerate(_LIFTS):
+            if abs(ki - kj) > 1:  # an arc is shorter than a turn: copies two turns apart never touch
+                continue
             ok = (start[j] + kj * n <= end[i] + ki * n + 1) & (start[i] + ki * n <= end[j] + kj * n + 1)
             touch |= ok
             rows.append(i32[ok] + idx(li * m))
