@@ -130,7 +130,9 @@ class Normal:
     def _pp_inverse(self) -> NDArray[np.float64]:
         if self.qpp is None:
             assert self.chol is not None
-            inv = sla.lapack.dpotri(self.chol, lower=1)[0]
+            # two triangular solves, not LAPACK's potri: OpenBLAS runs potri on its threads even for a 48 x 48
+            # factor, and on a busy machine waiting for them took 100 ms a call (0.05 ms on one thread)
+            inv = sla.cho_solve((self.chol, True), np.eye(len(self.chol)), check_finite=False)
             inv = np.tril(inv) + np.tril(inv, -1).T
             self.qpp = inv * self.s[:, None] * self.s[None, :]
         return self.qpp
