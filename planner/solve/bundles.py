@@ -76,9 +76,20 @@ class Graph:
     def rows(self, v: int) -> Ints:
         return self.a.indices[self.a.indptr[v] : self.a.indptr[v + 1]]
 
+    def seers(self, targets: Ints) -> Ints:
+        """The candidates seeing each of ``targets``, one entry per pair (rows of ``by_target`` read in place: a
+        sparse slice per station taken cost more than the greedy step itself)."""
+        ptr, ind = self.by_target.indptr, self.by_target.indices
+        if targets.size == 1:
+            return ind[ptr[targets[0]] : ptr[targets[0] + 1]]
+        return np.concatenate([ind[a:b] for a, b in zip(ptr[targets].tolist(), ptr[targets + 1].tolist(), strict=True)])
+
     def sub(self, members: Ints, cols: Ints) -> Graph:
-        """The graph of ``members`` (one group) on the targets ``cols``."""
+        """The graph of ``members`` (one group) on the targets ``cols``; this graph itself where those are all its
+        candidates and targets (one group over the whole site: not copied)."""
         one = np.zeros(len(members), np.int64)
+        if len(members) == self.a.shape[0] and len(cols) == self.a.shape[1] and not self.gid.any():
+            return self
         return Graph.of(self.a[members][:, cols], self.adj[members][:, members], one, self.cost[members])
 
 
@@ -109,8 +120,7 @@ def _grow(g: Graph, need: Flags, fixed: Mapping[int, int], first: int | None = N
             newly = rows[uncovered[rows]]
             if newly.size:
                 uncovered[newly] = False
-                seers = g.by_target[newly]
-                gain[:] -= np.bincount(seers.indices, minlength=n)
+                gain[:] -= np.bincount(g.seers(newly), minlength=n)
 
     if first is not None:
         take([first])
