@@ -102,20 +102,20 @@ def _candidates(
 
     ``reach_px``: the marker's half size plus the gap; ``limit_px``: the largest gap tried."""
     w, h = float(size[0]), float(size[1])
-    angles: list[float] = [a for _ in NEAR_GAPS_PX for a in COMPASS_DEG]
-    gaps: list[float] = [g for g in NEAR_GAPS_PX for _ in COMPASS_DEG]
+    angles: list[NDArray[np.floating]] = [np.array([a for _ in NEAR_GAPS_PX for a in COMPASS_DEG])]
+    gaps: list[NDArray[np.floating]] = [np.array([g for g in NEAR_GAPS_PX for _ in COMPASS_DEG])]
     gap = FAR_START_PX
     while gap <= limit_px:
         ring = reach_px + gap + (w + h) / 4.0  # about the radius of the boxes' centres
         n = max(8, math.ceil(2.0 * math.pi * ring / max((w + h) / 2.0, 1.0)))
-        step = 360.0 / n
-        turn = sorted((step * k for k in range(n)), key=lambda a: (min(a, 360.0 - a), a))  # nearest NE first
-        angles += [(45.0 + a) % 360.0 for a in turn]
-        gaps += [gap] * n
+        turn = (360.0 / n) * np.arange(n)
+        turn = turn[np.lexsort((turn, np.minimum(turn, 360.0 - turn)))]  # nearest NE first (then the smaller angle)
+        angles.append((45.0 + turn) % 360.0)
+        gaps.append(np.full(n, gap))
         gap += max(h, 0.25 * gap)
-    th = np.radians(np.asarray(angles))
+    th = np.radians(np.concatenate(angles))
     c, s = np.cos(th), np.sin(th)
-    g = np.asarray(gaps)
+    g = np.concatenate(gaps)
     # the box's side (or corner) that faces the point lies ``gap`` along the direction beyond the marker
     sx = np.where(np.abs(c) > 0.38, np.sign(c), 0.0)
     sy = np.where(np.abs(s) > 0.38, np.sign(s), 0.0)
