@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Ellipse, Polygon
 
@@ -53,11 +54,17 @@ def network_figure(o: Outcome, frame: str | None = None, numbering: StationNumbe
             for ring in z.rings:
                 ax.add_patch(Polygon(ring, closed=True, fill=False, ec="0.2", lw=1.0))
     once = legend_once()
+    # the links of each kind as one collection (a line each was hundreds of artists to draw and lay out), the kinds
+    # in the order they first come, at the lines' zorder
+    segments: dict[str, list[list[tuple[float, float]]]] = {}
     for u, v, d in g.subgraph(nodes).edges(data=True):
         kind = next(k for k in STYLES if k in d["kinds"])
+        segments.setdefault(kind, []).append([(g.nodes[u]["x"], g.nodes[u]["y"]), (g.nodes[v]["x"], g.nodes[v]["y"])])
+    for kind, segs in segments.items():
         colour, ls, lw, label = STYLES[kind]
-        xs, ys = [g.nodes[u]["x"], g.nodes[v]["x"]], [g.nodes[u]["y"], g.nodes[v]["y"]]
-        ax.plot(xs, ys, color=colour, ls=ls, lw=lw, label=once(kind, label))
+        ax.add_collection(
+            LineCollection(segs, colors=colour, linestyles=ls, linewidths=lw, zorder=2, label=once(kind, label))
+        )
     points = {p.name: p for a in o.network.adjustments for p in a.points if p.name in nodes}
     xy = np.array([(g.nodes[n]["x"], g.nodes[n]["y"]) for n in nodes])
     extent = float(np.ptp(xy, axis=0).max()) if len(xy) > 1 else 1.0
