@@ -18,6 +18,10 @@ heuristic algorithm for the set covering problem", CEC 2014):
 
 A candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs O(targets and links
 of the few stations and candidates it touches) plus one components and one articulation pass on the chosen stations.
+Where the stations are densely linked (a plan of hundreds of stations on a fine floor grid links nearly every pair),
+the components come from a scan-first forest that stops once every station is reached and the articulation pass walks
+a sparse certificate of two such forests (:func:`certificate`): O(stations x links of the few rows read), not
+O(stations x their links).
 Ties go to the candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the
 result depends only on the input, ``moves`` and ``seed`` (no clock).
 """
@@ -81,7 +85,9 @@ class _State:
         self.conf = np.ones(a.shape[0], dtype=bool)
         self.w_link = 1.0
         self.stamp = np.zeros(a.shape[0], dtype=np.int64)  # move of each candidate's last change
-        self._graph: tuple[np.ndarray, tuple[list[int], list[int]], np.ndarray, int, np.ndarray] | None = None
+        # how many stations of S each candidate is linked to, kept as S changes (a dense relation is not gathered)
+        self.near = np.bincount(_gather(adj, np.asarray(chosen, dtype=np.int64))[1], minlength=a.shape[0])
+        self._graph: tuple[np.ndarray, _Links, np.ndarray, int, np.ndarray] | None = None
 
     def _targets(self, c: int) -> np.ndarray:
         return self.a.indices[self.a.indptr[c] : self.a.indptr[c + 1]]
@@ -94,18 +100,23 @@ class _State:
         self.stamp[c] = step
         t = self._targets(c)
         self.cnt[t] += -1 if self.in_s[c] else 1
+        self.near[self.adj.indices[self.adj.indptr[c] : self.adj.indptr[c + 1]]] += -1 if self.in_s[c] else 1
         self.in_s[c] = not self.in_s[c]
         self.conf[_gather(self.at, t)[1]] = True
         self.conf[c] = bool(self.in_s[c])
         self._graph = None
 
-    def graph(self) -> tuple[np.ndarray, tuple[list[int], list[int]], np.ndarray, int, np.ndarray]:
-        """S (sorted), its overlap subgraph, each station's component label, the sum over groups of (components - 1),
-        and for every candidate the number of S's components it is linked to."""
+    def graph(self) -> tuple[np.ndarray, _Links, np.ndarray, int, np.ndarray]:
+        """S (sorted), its overlap subgraph (:class:`_Links`), each station's component label (in order of each
+        component's lowest station), the sum over groups of (components - 1), and for every candidate the number of
+        S's components it is linked to."""
         if self._graph is None:
             idx = np.flatnonzero(self.in_s)
             pos = np.full(self.a.shape[0], -1, dtype=np.int64)
             pos[idx] = np.arange(len(idx))
+            if np.diff(self.adj.indptr)[idx].sum() > _DENSE * max(len(idx), 1):
+                self._graph = self._dense(idx, pos)
+                return self._graph
             row, col = _gather(self.adj, idx)
             keep = pos[col] >= 0  # _gather lists the rows in order: the kept entries are already CSR
             indptr = np.concatenate([[0], np.cumsum(np.bincount(row[keep], minlength=len(idx)))])
@@ -116,18 +127,29 @@ class _State:
             if parts == 0:  # one component per group: linked or not
                 touched[col] = 1
             else:  # distinct (candidate, component) pairs: a bool table a row per component (faster than np.unique)
-                hit = np.zeros((n, self.a.shape[0]), dtype=bool)
-                hit[label[row], col] = True
-                touched = hit.sum(axis=0, dtype=np.int64)
-            self._graph = (idx, sub, label, parts, touched)
+                touched = _touched(n, label[row], col, self.a.shape[0])
+            self._graph = (idx, _Links(lists=sub), label, parts, touched)
         return self._graph
+
+    def _dense(self, idx: np.ndarray, pos: np.ndarray) -> tuple[np.ndarray, _Links, np.ndarray, int, np.ndarray]:
+        """:meth:`graph` where S's stations have many links each: the components from a scan-first forest that stops
+        once every station is reached (a few rows when nearly every pair is linked), the links to S from the counts
+        kept by :meth:`flip`; S's links are gathered only when S is in pieces."""
+        parent, label, n = scan_forest(self.adj, idx, pos)
+        parts = int(n - np.unique(self.gid[idx]).size)
+        if parts == 0:
+            touched = (self.near > 0).astype(np.int64)
+        else:
+            row, col = _gather(self.adj, idx)
+            touched = _touched(n, label[row], col, self.a.shape[0])
+        return idx, _Links(tree=parent, pos=pos), label, parts, touched
 
     def removal_cost(self) -> np.ndarray:
         """loss(s) + w_link * split(s) for each station of S (order of ``graph()[0]``)."""
-        idx, sub = self.graph()[:2]
+        idx, links = self.graph()[:2]
         row, col = _gather(self.a, idx)
         loss = np.bincount(row, weights=(self.weight * (self.cnt == 1))[col], minlength=len(idx))
-        split = _split(sub)
+        split = _split(links.lists if links.lists is not None else certificate(self.adj, idx, links))
         _, g, size = np.unique(self.gid[idx], return_inverse=True, return_counts=True)
         split[size[g] == 1] = 0  # the only station of its group: the group leaves S, its parts stay 0
         return loss + self.w_link * split
@@ -139,6 +161,80 @@ class _State:
         gain = np.bincount(row, weights=(self.weight * (self.cnt == 0))[col], minlength=len(cand))
         change = np.where(np.isin(self.gid[cand], self.gid[idx]), 1 - touched[cand], 0)
         return gain - self.w_link * change, change
+
+
+#: S's links are gathered whole while its stations have at most this many links each on average
+_DENSE = 64
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Links:
+    """S's overlap subgraph: as CSR lists (``lists``), or, where it is dense, as a scan-first spanning forest
+    (``tree``: each station's parent, -1 for a root, by position in S; ``pos``: each candidate's position, -1 off S)."""
+
+    lists: tuple[list[int], list[int]] | None = None
+    tree: np.ndarray | None = None
+    pos: np.ndarray | None = None
+
+
+def _touched(n: int, label: np.ndarray, col: np.ndarray, size: int) -> np.ndarray:
+    """For each of ``size`` candidates, how many of the ``n`` components hold a station linked to it (``label``: the
+    component of each link's station, ``col``: its candidate)."""
+    hit = np.zeros((n, size), dtype=bool)
+    hit[label, col] = True
+    return hit.sum(axis=0, dtype=np.int64)
+
+
+def scan_forest(
+    adj: sp.csr_matrix, idx: np.ndarray, pos: np.ndarray, avoid: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """A scan-first (breadth-first) spanning forest of the subgraph of ``adj`` on the nodes ``idx`` (``pos``: each
+    node's position in ``idx``, -1 elsewhere), less the links of the forest ``avoid`` (a parent per position) where
+    given: each position's parent (-1 for a root), its component, numbered in order of each component's lowest
+    position, and the number of components. Each tree grows from the lowest position not yet reached, and the search
+    stops once every position is reached: on a dense graph a few rows are read, not all of them."""
+    m = len(idx)
+    parent = np.full(m, -1, dtype=np.int64)
+    label = np.full(m, -1, dtype=np.int64)
+    ptr, ind = adj.indptr, adj.indices
+    left, k = m, 0
+    for root in range(m):
+        if label[root] >= 0:
+            continue
+        label[root] = k
+        left -= 1
+        queue, head = [root], 0
+        while head < len(queue) and left > 0:
+            u = queue[head]
+            head += 1
+            nb = pos[ind[ptr[idx[u]] : ptr[idx[u] + 1]]]
+            nb = nb[nb >= 0]
+            if avoid is not None:
+                nb = nb[(nb != avoid[u]) & (avoid[nb] != u)]
+            new = nb[label[nb] < 0]
+            label[new] = k
+            parent[new] = u
+            left -= new.size
+            queue += new.tolist()
+        k += 1
+    return parent, label, k
+
+
+def certificate(adj: sp.csr_matrix, idx: np.ndarray, links: _Links) -> tuple[list[int], list[int]]:
+    """A sparse subgraph of S's links (CSR lists, by position in S) with, for every station v, the components of S's
+    graph without v: the forest ``links.tree`` and a scan-first forest of S's links less the first's (Cheriyan, Kao
+    and Thurimella, "Scan-first search and sparse certificates: an improved parallel algorithm for k-vertex
+    connectivity", SIAM J. Comput. 22(1):157-174, 1993; k = 2). :func:`_split` then walks at most 2 (n - 1) links,
+    not the ones of a few hundred stations nearly all linked to each other (a plan on a fine floor grid)."""
+    assert links.tree is not None and links.pos is not None
+    first = links.tree
+    second = scan_forest(adj, idx, links.pos, avoid=first)[0]
+    child = [np.flatnonzero(f >= 0) for f in (first, second)]
+    r = np.concatenate([child[0], first[child[0]], child[1], second[child[1]]])
+    c = np.concatenate([first[child[0]], child[0], second[child[1]], child[1]])
+    order = np.lexsort((c, r))
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=len(idx)))])
+    return ptr.tolist(), c[order].tolist()
 
 
 def _components(n: int, ptr: list[int], ind: list[int]) -> tuple[int, np.ndarray]:

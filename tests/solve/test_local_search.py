@@ -9,9 +9,10 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from planner.coverage.overlap import overlap_adjacency
+from planner.solve import local_search
 from planner.solve.connectivity import disconnected_groups
 from planner.solve.greedy import connected_greedy_plan
-from planner.solve.local_search import _components, _pick_add, _split, _State, shrink
+from planner.solve.local_search import _Links, _pick_add, _split, _State, certificate, scan_forest, shrink
 from planner.solve.milp import MilpOptions, solve
 from tests.solve.test_connectivity_methods import FOUND, RULE, WINDOWS, instance, random_instance
 
@@ -53,10 +54,54 @@ def _graph(n: int, edges: list[tuple[int, int]]) -> sp.csr_matrix:
 def test_split_counts_the_parts_a_removal_adds(n, edges, split):
     g = _graph(n, edges)
     assert _split((g.indptr.tolist(), g.indices.tolist())).tolist() == split
-    # the components the search counts: as scipy's
-    k, label = _components(n, g.indptr.tolist(), g.indices.tolist())
-    ks, ls = connected_components(g, directed=False)
-    assert k == ks and (label == ls).all()
+    assert _split(_certificate(g)).tolist() == split
+
+
+def _certificate(g: sp.csr_matrix) -> tuple[list[int], list[int]]:
+    every = np.arange(g.shape[0])
+    return certificate(g, every, _Links(tree=scan_forest(g, every, every)[0], pos=every))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_certificate_keeps_every_removals_parts(seed):
+    # dense random graphs and disc graphs (the overlap graph of stations on a floor is one), some in pieces: the split
+    # of every node is the same on the two forests of the certificate as on the whole graph
+    rng = np.random.default_rng(seed)
+    for trial in range(40):
+        n = int(rng.integers(2, 60))
+        if trial % 2:
+            linked = np.triu(rng.random((n, n)) < rng.choice([0.05, 0.2, 0.6]), 1)
+        else:
+            xy = rng.random((n, 2))
+            linked = np.triu(np.hypot(*(xy[:, None] - xy[None]).transpose(2, 0, 1)) < rng.choice([0.1, 0.2, 0.4]), 1)
+        g = sp.csr_matrix(linked | linked.T)
+        ptr, ind = _certificate(g)
+        assert len(ind) <= 4 * (n - 1)
+        assert _split((ptr, ind)).tolist() == _split((g.indptr.tolist(), g.indices.tolist())).tolist()
+        # the forest's components: scipy's, numbered in order of each one's lowest node
+        parent, label, k = scan_forest(g, np.arange(n), np.arange(n))
+        ks, ls = connected_components(g, directed=False)
+        assert k == ks and (label == ls).all() and (parent < 0).sum() == k
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_dense_path_scores_as_the_gathered_one(seed, monkeypatch):
+    # a dense overlap relation (every station linked to most others): the same searched plan, move for move, whether
+    # S's links are gathered whole or read through the scan-first forests
+    rng = np.random.default_rng(seed)
+    n, t = 60, 80
+    a = sp.csr_matrix(rng.random((n, t)) < 0.08)
+    xy = rng.random((n, 2))
+    near = np.hypot(*(xy[:, None] - xy[None]).transpose(2, 0, 1)) < 0.5
+    np.fill_diagonal(near, False)
+    adj = sp.csr_matrix(near)
+    groups = ["g"] * n
+    plan = list(range(n))
+    runs = []
+    for dense in (10**9, 0):
+        monkeypatch.setattr(local_search, "_DENSE", dense)
+        runs.append(shrink(a, adj, groups, plan, moves=300, seed=seed))
+    assert runs[0] == runs[1]
 
 
 def test_windows_chain_of_seven_shrinks_to_the_chain_of_five():
@@ -143,8 +188,6 @@ def test_a_random_large_cover_shrinks_and_stays_connected(seed):
 
 
 def _connected(adj: sp.csr_matrix, chosen: list[int]) -> bool:
-    from scipy.sparse.csgraph import connected_components
-
     return connected_components(adj[chosen][:, chosen], directed=False)[0] == 1
 
 
