@@ -2,8 +2,10 @@
 
 A patch is a square of side h on a grid over a zone-side's grown regions. :func:`patch_sets` gives what each may see (U,
 the pieces whose grown outer region holds its centre) and what it surely sees (low, the wall length of the pieces whose
-shrunk region holds it); :func:`planner.solve.ring.cyclic_arcs` the smallest arc of the ring that holds each U;
-:func:`undominated` keeps the patches no other holds; :func:`arc_links` joins the arcs the overlap rule may join.
+shrunk region holds it), by a scan line down each column of centres (:func:`interior_runs`, the sets
+``shapely.contains_xy`` gives, in runs of centres); :func:`planner.solve.ring.cyclic_arcs` the smallest arc of the ring
+that holds each U; :func:`undominated` keeps the patches no other holds; :func:`arc_links` joins the arcs the overlap
+rule may join.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ MIN_PATCH_M = 0.02
 MAX_PATCHES = 250_000
 #: segments per quarter circle of the shrunk regions; the shrink is divided by cos(pi / (4 * this))
 _ERODE_SEGS = 16
-#: centres within this share of the coordinates' scale of a crossing are tested by GEOS (:func:`interior_cells`)
+#: centres within this share of the coordinates' scale of a crossing are tested by GEOS (:func:`interior_runs`)
 _TIE = 1e-12
 
 
@@ -278,28 +280,45 @@ def undominated(
     return np.flatnonzero(keep)
 
 
-def arc_links(start: Ints, span: Ints, low: Floats, cum: Floats, n: int, share: float) -> sp.csr_matrix:
+def arc_links(
+    start: Ints, span: Ints, low: Floats, cum: Floats, n: int, share: float, most: int | None = None
+) -> sp.csr_matrix | None:
     """Relaxed links: arcs sharing wall length > 0 and >= ``share`` min(low) (see the module docstring). ``cum``: prefix
     sums of the piece lengths over three turns (cum[0] = 0), non-decreasing: the shared length of [a, b) and [c, d)
     at a turn, cum[min(b, d)] - cum[max(a, c)] where they overlap, is min(cum[b], cum[d]) - max(cum[a], cum[c]), and
-    that is <= 0 where they do not; so it is taken as that difference and 0 if below, summed over the turns in order."""
+    that is <= 0 where they do not; so it is taken as that difference and 0 if below, summed over the turns in order.
+    None once more than ``most`` links are found (the caller gives up past that many)."""
     end = start + span + 1  # exclusive
     top = 3 * n
     turns = [(cum[np.clip(start + k, 0, top)], cum[np.clip(end + k, 0, top)]) for k in (-n, 0, n)]
-    rows, cols = [], []
+    order = np.argsort(start, kind="stable")  # blocks of near starts: a turn back or on meets few of them
+    rows, cols, found = [], [], 0
     for lo in range(0, start.size, 512):
-        s, e = cum[start[lo : lo + 512, None]], cum[end[lo : lo + 512, None]]
-        shared = np.zeros((s.shape[0], start.size))
-        for cs, ce in turns:
-            d = np.minimum(e, ce[None, :])
-            d -= np.maximum(s, cs[None, :])
-            shared += np.maximum(d, 0.0, out=d)
-        need = share * np.minimum(low[lo : lo + 512, None], low[None, :])
+        blk = order[lo : lo + 512]
+        s, e = cum[start[blk, None]], cum[end[blk, None]]
+        shared = np.zeros((blk.size, start.size))
+        # the arcs a turn back that may reach past the block's first start, and those a turn on that may begin
+        # before its last end: elsewhere those turns add 0 (no overlap)
+        back = np.flatnonzero(end - n > start[blk].min())
+        on = np.flatnonzero(start + n < end[blk].max())
+        for (cs, ce), at in zip(turns, (back, None, on)):
+            if at is None:
+                d = np.minimum(e, ce[None, :])
+                d -= np.maximum(s, cs[None, :])
+                shared += np.maximum(d, 0.0, out=d)
+            elif at.size:
+                d = np.minimum(e, ce[None, at])
+                d -= np.maximum(s, cs[None, at])
+                shared[:, at] += np.maximum(d, 0.0, out=d)
+        need = share * np.minimum(low[blk, None], low[None, :])
         link = (shared > 1e-12) & (shared + 1e-9 >= need)
-        link[np.arange(s.shape[0]), np.arange(lo, lo + s.shape[0])] = False
+        link[np.arange(blk.size), blk] = False
         r, c = np.nonzero(link)
-        rows.append(r + lo)
+        rows.append(blk[r])
         cols.append(c)
+        found += r.size
+        if most is not None and found > most:
+            return None
     r, c = np.concatenate(rows), np.concatenate(cols)
     return sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(start.size, start.size))
 

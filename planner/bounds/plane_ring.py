@@ -75,8 +75,10 @@ def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> 
         return None, int(fam.size)
     s, sp_, lw = start[fam], (end - start)[fam], low[fam]
     cum = np.concatenate([[0.0], np.cumsum(np.tile(lengths, 3))])
-    adj = arc_links(s, sp_, lw, cum, n, share)
-    adj = (adj + adj.T).astype(bool).tocsr()
+    one_way = arc_links(s, sp_, lw, cum, n, share, most=MAX_LINKS)  # None: past MAX_LINKS already
+    if one_way is None:
+        return None, int(fam.size)
+    adj = (one_way + one_way.T).astype(bool).tocsr()
     if adj.nnz > MAX_LINKS:
         return None, int(fam.size)
     r = np.repeat(np.arange(fam.size), sp_ + 1)
