@@ -116,7 +116,7 @@ class ProbeRecord:
 def probe(block: BlockSolver, o: MilpOptions, work: float) -> list[ProbeRecord]:
     """Probe ``block`` (a unit-cost block of one or more registration groups, k = 1, single precision, on a backend
     that stops on counted work) at its floor, then one station higher while the floor keeps few candidates, within
-    ``work`` CP-SAT seconds in all; raises the block's bound on each refuted level, takes a better plan found on the
+    ``work`` CP-SAT seconds in all; raises the block's bound on each refuted level (a row of its model too), takes a better plan found on the
     way, and closes the block when its plan meets its bound. Returns what each probe did."""
     done: list[ProbeRecord] = []
     if not _probes(block, o):
@@ -133,8 +133,10 @@ def probe(block: BlockSolver, o: MilpOptions, work: float) -> list[ProbeRecord]:
             break
         record = _probe_once(block, o, floor, work - sum(p.work for p in done))
         done.append(record)
-        if record.outcome == "refuted":
+        if record.outcome == "refuted":  # the block's own search then looks no lower (the objective floor)
             block.bound = max(block.bound, (floor.level + 1) * unit)
+            n = block.sub.shape[0]
+            block.backend.add_rows([(np.arange(n), np.ones(n), float(floor.level + 1))])
         if record.outcome != "refuted":
             break
     if block.incumbent is not None and len(block.incumbent) <= math.ceil(block.bound / unit - _TOL):

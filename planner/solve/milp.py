@@ -142,10 +142,10 @@ class MilpOptions:
 
     def with_work_limit(self, work_s: float, wall_cap: float | None = WALL_CAP) -> MilpOptions:
         """These options stopped on ``work_s`` deterministic seconds of CP-SAT work, under a wall-clock cap of ``wall_cap``
-        times as long (None: the user's cap ``time_limit_s``, if any)."""
-        return replace(
-            self, time_limit_s=self.time_limit_s if wall_cap is None else wall_cap * work_s, work_limit=work_s
-        )
+        times as long (None: the user's cap ``time_limit_s``, if any), without the stall rule (the tiles and windows
+        that take these split their work in small shares already)."""
+        cap = self.time_limit_s if wall_cap is None else wall_cap * work_s
+        return replace(self, time_limit_s=cap, work_limit=work_s, stall_work=None)
 
     @property
     def limits(self) -> dict[str, Any]:

@@ -6,7 +6,8 @@
 The first form plans the site once (the default options) and pickles the cover instance and MILP options that the
 plan hands the solver; the second loads such a pickle and solves it once per variant (``MilpOptions`` keywords,
 comma-separated; "" the plan's own options), printing per variant: status, stations, bound, CP-SAT work used, rounds,
-cuts, and the process CPU time of the solve (CPU, not wall: the machine may be shared). Each block's cut-loop rounds
+cuts, why it stopped, the floor probes (``floor_probe=False`` turns them off), the process CPU time of the solve (CPU, not
+wall: the machine may be shared) and the gap's reason in words. Each block's cut-loop rounds
 are printed as they run with ``--rounds``.
 """
 
@@ -80,12 +81,18 @@ def run(path: Path, variants: list[str], rounds: bool) -> None:
         r = solve(instance, o)
         cpu = time.process_time() - cpu
         w = r.info.get("work", {})
+        probes = "; ".join(
+            f"probe {p['level']}: {p['outcome']} on {p['candidates']} of {p['of']} candidates, {p['work']:g} work-s"
+            for p in r.info.get("floor", ())
+        )
         print(
             f"[{text or 'plan options'}] {r.status.value}, {r.objective:g} stations, bound {r.bound:g}, work "
-            f"{w.get('used')} of {w.get('limit')}, rounds {r.info.get('rounds')}, cuts {r.info.get('cuts')}, "
-            f"cpu {cpu:.1f} s",
+            f"{w.get('used')} of {w.get('limit')} (stop: {r.info.get('stop')}), rounds {r.info.get('rounds')}, cuts "
+            f"{r.info.get('cuts')}, cpu {cpu:.1f} s" + (f"; {probes}" if probes else ""),
             flush=True,
         )
+        if r.info.get("gap_reason"):
+            print(f"  {r.info['gap_reason']}", flush=True)
 
 
 def main() -> None:

@@ -14,7 +14,8 @@ A field path is ``PART.FIELD`` with PART one of ``plan`` (:class:`PlanOptions`),
 
 The stopping rules are four settings (``stop=True``): the MILP's wall-clock cap ``time-limit`` and its work in
 deterministic seconds ``work-limit``, the tiles' budget ``tile-budget`` and the local search's
-``moves-per-piece``; the other limits derive from them (:data:`TILE_SPLIT`, :data:`SEARCH_MOVES_PER_PIECE`).
+``moves-per-piece``; the other limits derive from them (:data:`TILE_SPLIT`, :data:`SEARCH_MOVES_PER_PIECE`, and the
+MILP's stall rule ``milp.stall_work``: 2/25 of its work limit, 2 of the 25 deterministic seconds).
 """
 
 from __future__ import annotations

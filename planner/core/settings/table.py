@@ -166,7 +166,7 @@ SETTINGS: dict[str, Setting] = {
                 stop=True,
                 help="milp, cpsat: stop on S deterministic seconds of CP-SAT work, a count (default 25; with one "
                 "thread the same plan under any load); geometric pricing stops on its own rounds",
-                to={"milp.work_limit": None, "milp.stall_work": _share(4 / 25)},
+                to={"milp.work_limit": None, "milp.stall_work": _share(2 / 25)},
             ),
             Setting(
                 key="moves-per-piece",
