@@ -43,6 +43,8 @@ from scipy.sparse.csgraph import dijkstra
 _LIFTS = np.array([-1, 0, 1, 2])
 #: added to every node cost so that zero costs stay edges for Dijkstra; taken off the bound again
 _EPS = 1e-9
+#: no hop count (not reached)
+_FAR = int(np.iinfo(np.int32).max)
 
 
 @dataclass(frozen=True)
@@ -176,7 +178,7 @@ class RingGraph:
         front = np.zeros((words, nodes), dtype=np.uint64)
         np.bitwise_or.at(front, (np.arange(s_count) // 64, src), bit)
         seen = front.copy()
-        hops = np.full((s_count, nodes), np.iinfo(np.int32).max, dtype=np.int64)
+        hops = np.full((s_count, nodes), _FAR, dtype=np.int32)  # as Dijkstra's distances: anchors x nodes
         hops[np.arange(s_count), src] = 0
         level, indptr, indices = 0, self.graph.indptr, self.graph.indices
         while (level + 1) * (1 + _EPS) <= limit:  # Dijkstra's reach: level (1 + eps) at most the limit
@@ -199,17 +201,17 @@ class RingGraph:
             hops[s, got[v]] = level
         return self._unit_best(hops)
 
-    def _unit_best(self, hops: NDArray[np.int64]) -> int | None:
+    def _unit_best(self, hops: NDArray[np.int32]) -> int | None:
         """The least h(left) + h(right) + 1 over the anchors (rows of ``hops``) whose right end reaches the piece the
         left end needs (:meth:`walk`'s pairing), None when no pair does."""
         size, base = _LIFTS.size * self.n + self.n, -self.n
-        s, v = np.nonzero(hops < np.iinfo(np.int32).max)
-        right = np.full((hops.shape[0], size + 1), np.iinfo(np.int32).max, dtype=np.int64)
+        s, v = np.nonzero(hops < _FAR)
+        right = np.full((hops.shape[0], size + 1), _FAR, dtype=np.int32)
         np.minimum.at(right, (s, np.clip(self.hi[v] - base, 0, size)), hops[s, v])
         right = np.minimum.accumulate(right[:, ::-1], axis=1)[:, ::-1]
-        total = hops[s, v] + right[s, np.clip(self.need[v] - base, 0, size)]
-        best = int(total.min(initial=np.iinfo(np.int32).max))
-        return None if best >= np.iinfo(np.int32).max else best + 1
+        total = hops[s, v].astype(np.int64) + right[s, np.clip(self.need[v] - base, 0, size)]
+        best = int(total.min(initial=_FAR))
+        return None if best >= _FAR else best + 1
 
     def _sources(self) -> NDArray[np.int64]:
         """The anchors' nodes: the copy at offset 0 where it holds q, else the one a turn back."""
