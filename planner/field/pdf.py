@@ -29,6 +29,7 @@ from planner.field.figure import figure
 from planner.field.record import rows, totals
 from planner.field.run import FieldPlan
 from planner.field.storeys import stairs_line
+from planner.figures.base import drop_frozen_layout
 
 #: paper sizes in inches, (width, height) landscape
 A4 = (11.69, 8.27)
@@ -153,6 +154,7 @@ def write_pdf(fp: FieldPlan, path: Path | str) -> Path:
     out = Path(path)
     _, size = map_paper(fp)
     plan = figure(fp, size)  # labels placed for the paper's size
+    drop_frozen_layout(plan)  # laid out and frozen: drawn once into the file
     meta = {"Title": f"Field sheet {fp.site.name}", "Creator": f"tls-planner {__version__}", "CreationDate": None}
     with matplotlib.rc_context({"pdf.compression": 0, "pdf.fonttype": 3}), PdfPages(out, metadata=meta) as pdf:
         pdf.savefig(plan)

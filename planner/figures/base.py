@@ -100,9 +100,17 @@ def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
     finally:
         fig.dpi = saved_dpi
     pad = float(mpl.rcParams["savefig.pad_inches"])
-    fig.set_layout_engine(None)  # nothing left to lay out: savefig then skips its measuring draw
+    drop_frozen_layout(fig)
     try:
         fig.savefig(buf, format="png", dpi=dpi, bbox_inches=box.padded(pad, pad))
     finally:
         fig.set_layout_engine(engine)
     return buf.getvalue()
+
+
+def drop_frozen_layout(fig: Figure) -> None:
+    """Take away the placeholder engine a frozen layout leaves (:func:`planner.figures.labels.freeze_layout`): with
+    any layout engine set, ``savefig`` draws the figure once more before it draws it into the file; nothing is left to
+    lay out. A live engine is kept."""
+    if isinstance(fig.get_layout_engine(), PlaceHolderLayoutEngine):
+        fig.set_layout_engine(None)
