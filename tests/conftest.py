@@ -17,10 +17,26 @@ INSTANCES = ROOT / "instances"
 HEADER = "zone,scan_side,index,side_length_m,wall_height_m,interior_angle_deg,vertex_height_m\n"
 
 
+#: heavy properties marked here, not by a decorator: hypothesis derandomises a property by its source, decorators
+#: included, so a marker line would change the examples it has always run (file -> test names)
+HEAVY_PROPERTIES = {
+    "tests/bounds/test_plane_properties.py": {
+        "test_a_no_piece_refused_that_a_position_sees",
+        "test_b_no_sampled_position_beats_the_plane_bound",
+        "test_c_plane_bound_at_most_brute_force_optimum",
+        "test_d_corridor_within_the_centre_line_construction",
+    },
+}
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Mark every ``heavy`` test ``slow`` as well, before ``-m`` deselects: heavy is a part of the slow tier."""
+    """Mark the heavy properties ``heavy`` and every ``heavy`` test ``slow`` as well, before ``-m`` deselects: heavy
+    is a part of the slow tier."""
     for item in items:
+        path, _, name = item.nodeid.partition("::")
+        if name.split("[")[0] in HEAVY_PROPERTIES.get(path, ()):
+            item.add_marker(pytest.mark.heavy)
         if item.get_closest_marker("heavy") is not None and item.get_closest_marker("slow") is None:
             item.add_marker(pytest.mark.slow)
 

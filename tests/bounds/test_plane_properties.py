@@ -57,7 +57,6 @@ CORRIDOR_M = float(os.environ.get("PLANNER_PROPERTY_CORRIDOR_M", "60"))
 
 
 @pytest.mark.slow
-@pytest.mark.heavy
 @settings(QUICK, max_examples=EXAMPLES["a"])
 @given(site=rooms(), precision=st.booleans())
 def test_a_no_piece_refused_that_a_position_sees(site: Site, precision: bool) -> None:
@@ -72,7 +71,6 @@ def test_a_no_piece_refused_that_a_position_sees(site: Site, precision: bool) ->
 
 
 @pytest.mark.slow
-@pytest.mark.heavy
 @settings(QUICK, max_examples=EXAMPLES["b"])
 @given(site=rooms(max_size_m=12.0), seed=st.integers(0, 2**31 - 1))
 def test_b_no_sampled_position_beats_the_plane_bound(site: Site, seed: int) -> None:
@@ -102,7 +100,6 @@ def test_b_no_sampled_position_beats_the_plane_bound(site: Site, seed: int) -> N
 
 
 @pytest.mark.slow
-@pytest.mark.heavy
 @settings(QUICK, max_examples=EXAMPLES["c"])
 @given(site=rooms(max_size_m=6.0, blocks=False))
 def test_c_plane_bound_at_most_brute_force_optimum(site: Site) -> None:
@@ -147,7 +144,6 @@ def centre_line_plan(width: float, length: float, theta: float) -> np.ndarray:
 
 
 @pytest.mark.slow
-@pytest.mark.heavy
 @settings(QUICK, max_examples=EXAMPLES["d"])
 @given(
     width=st.floats(1.5, 15.0),

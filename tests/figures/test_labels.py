@@ -84,7 +84,17 @@ def test_arrange_boxes_keeps_apart_stays_inside_and_leaves_out_what_cannot_fit()
     assert leader[0] and not (20 - PAD_PX < centres[0, 0] < 80 + PAD_PX and 20 - PAD_PX < centres[0, 1] < 80 + PAD_PX)
 
 
-@settings(max_examples=10, deadline=None, derandomize=True)
+def _random_points_never_overlap(points):
+    xy = np.array([(x, y) for x, y, _ in points], dtype=float)
+    texts = ["W" * n for *_, n in points]
+    fig, placed = labelled_points(xy, texts, layout=None)  # no layout engine: quicker draws
+    assert overlapping(fig) == []
+    assert covered_markers(fig, xy, 5.0) == []
+    assert len(placed.texts) + len(placed.omitted) == len(points)
+
+
+# 3 examples in the quick tier; the slow twin below runs 10
+@settings(max_examples=3, deadline=None, derandomize=True)
 @given(
     st.lists(
         st.tuples(st.floats(0.0, 10.0), st.floats(0.0, 10.0), st.integers(1, 12)),
@@ -93,12 +103,20 @@ def test_arrange_boxes_keeps_apart_stays_inside_and_leaves_out_what_cannot_fit()
     )
 )
 def test_random_points_never_overlap(points):
-    xy = np.array([(x, y) for x, y, _ in points], dtype=float)
-    texts = ["W" * n for *_, n in points]
-    fig, placed = labelled_points(xy, texts, layout=None)  # no layout engine: quicker draws
-    assert overlapping(fig) == []
-    assert covered_markers(fig, xy, 5.0) == []
-    assert len(placed.texts) + len(placed.omitted) == len(points)
+    _random_points_never_overlap(points)
+
+
+@pytest.mark.slow
+@settings(max_examples=10, deadline=None, derandomize=True)
+@given(
+    st.lists(
+        st.tuples(st.floats(0.0, 10.0), st.floats(0.0, 10.0), st.integers(1, 12)),
+        min_size=1,
+        max_size=12,
+    )
+)
+def test_random_points_never_overlap_at_full_strength(points):
+    _random_points_never_overlap(points)
 
 
 @pytest.mark.slow
