@@ -1,9 +1,9 @@
 """One independent block of the connected MILP: its backend model, the cuts found so far, its best plan.
 
 :func:`planner.solve.milp.solve` makes one :class:`BlockSolver` per block (no shared target, no common registration
-group). Before any search a block of one group gets the ring bound and its Lagrangian ascent
-(:mod:`planner.solve.ring`); then :meth:`BlockSolver.run` solves, cuts disconnected answers off and re-solves until
-its plan is connected and proven, or its work (or the user's wall-clock cap) is used up.
+group). Before any search a block of one group whose targets are all wall pieces gets the ring bound and its
+Lagrangian ascent (:mod:`planner.solve.ring`); then :meth:`BlockSolver.run` solves, cuts disconnected answers off and
+re-solves until its plan is connected and proven, or its work (or the user's wall-clock cap) is used up.
 """
 
 from __future__ import annotations
@@ -43,6 +43,13 @@ if TYPE_CHECKING:
 
 #: steps of the Lagrangian ascent before the local search is tried (the rest of the budget comes after it)
 _FIRST_STEPS = 50
+#: re-grow seeds of the connected greedy (:func:`planner.solve.bundles.bundle_cover`, phase 4) in a block with floor
+#: or ceiling patches: the MILP and the local search improve on its start
+SURFACE_STARTS = 1
+#: CP-SAT rounds of a block with floor or ceiling patches: on hundreds of stations a round costs several CPU seconds
+#: per deterministic second and lifts the cover LP's bound a few stations (polygon B with floors: 629 -> 633 in 8
+#: rounds, 70 CPU-s); its plans come from the greedy and the local search after each round
+SURFACE_ROUNDS = 2
 #: the ascent's work budget, in walk units (each step's multi-source walk costs the lifted graph's links times its
 #: sources): a fine grid, whose walks grow with its links, stops on it instead of running for minutes
 RING_WORK = 5e9
@@ -82,9 +89,13 @@ class BlockSolver:
         self._duals: np.ndarray | None = None  # the cover LP's duals, solved once for the ascent
         self.incumbent: list[int] | None = None
         self.flow: FlowModel | None = None
+        # floor and ceiling patches (targets of no wall length) make a block of hundreds of stations, where each of the
+        # connected greedy's re-grow seeds costs a whole greedy pass (stations x candidates): one seed there
+        self.surfaces = not bool(np.all(instance.lengths_m[targets] > 0))
         if self.groups is not None and o.k == 1 and o.precision == "single":
+            starts = min(o.greedy_starts, SURFACE_STARTS) if self.surfaces else o.greedy_starts
             self.incumbent = connected_greedy(
-                self.sub, self.adj, self.groups, self.cost, np.ones(self.sub.shape[1], dtype=bool), o.greedy_starts
+                self.sub, self.adj, self.groups, self.cost, np.ones(self.sub.shape[1], dtype=bool), starts
             )
         elif self.groups is None and o.k == 1 and o.precision == "single":
             g = greedy_cover(self.sub, weights=self.cost)
@@ -100,7 +111,10 @@ class BlockSolver:
         self.ring: RingBound | None = None
         self.lagrange_steps = 0
         self.ring_work_capped = False  # the ascent stopped at RING_WORK before its steps
-        if o.ring_bound:
+        # the ring bound orders a block's wall pieces round its outline: a floor or ceiling patch lies on no ring, and
+        # its columns, appended after the walls, would stretch every arc over them (a bound near nothing for an ascent
+        # whose walks grow with the square of the candidates)
+        if o.ring_bound and not self.surfaces:
             self._ring(a, targets)
         if not self.done:  # a block the ring bound closed needs no model
             self._model(instance, a, targets, forced_all)
@@ -120,7 +134,8 @@ class BlockSolver:
         if self.groups is None:
             return
         self.essential = essential_targets(self.sub, self.groups)
-        self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
+        if not self.surfaces:  # with floor patches nearly every pair is linked: a row as long as the block, no cut
+            self.backend.add_rows(neighbour_cuts(self.adj, self.sub, self.groups, self.essential))
         if o.layer_cuts:
             self.backend.add_rows(self._layers())
         if o.tree_bound and o.k == 1:
@@ -215,11 +230,13 @@ class BlockSolver:
 
     def run(self, deadline: float, work_until: float | None = None) -> None:
         """Solve, cut and re-solve until the choice is connected and proven optimal, the deadline, the block's CP-SAT
-        work reaches ``work_until`` (when given), or a solve stopped on its limit finds nothing to cut (a re-solve of
-        the same model would give the same answer)."""
+        work reaches ``work_until`` (when given), a solve stopped on its limit finds nothing to cut (a re-solve of
+        the same model would give the same answer), or, in a block with floor or ceiling patches, after
+        :data:`SURFACE_ROUNDS` rounds."""
         if work_until is not None:
             self.backend.work_limit = work_until
-        while not self.done and self.rounds < self.o.max_rounds:
+        rounds = min(self.o.max_rounds, SURFACE_ROUNDS) if self.surfaces else self.o.max_rounds
+        while not self.done and self.rounds < rounds:
             left = deadline - time.perf_counter()
             if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
                 return
