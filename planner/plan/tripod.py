@@ -146,21 +146,27 @@ def tripod_discs(
     relied = relied_targets(problem, selected, partners)
     ih = limits.instrument_height_m
     span = site.parameters.instrument_height_span_m
-    out = []
+    first: list[tuple[int, np.ndarray, np.ndarray, np.ndarray, float]] = []
     for j in selected:
         cand = problem.candidates[j]
         ts = relied[j]
         p0 = np.array(cand.xy, dtype=float)
         ends = np.vstack([t.a[ts], t.b[ts]]) if ts.size else np.zeros((0, 2))
-        heights = np.concatenate([t.ha_m[ts], t.hb_m[ts]]) if ts.size else np.zeros(0)
         normals = np.vstack([t.normal[ts], t.normal[ts]]) if ts.size else np.zeros((0, 2))
-        dz = np.maximum(np.abs(heights - ih), ih)
+        dz = np.maximum(np.abs(np.concatenate([t.ha_m[ts], t.hb_m[ts]]) - ih), ih) if ts.size else np.zeros(0)
         reach = np.sqrt(np.maximum(limits.effective_range_m**2 - dz**2, 0.0))
         if recentre:
             centre, radius = _socp_disc(p0, ends, normals, reach, limits.theta_max_deg)
         else:
             centre, radius = p0, _centred_radius(p0, ends, normals, reach, limits.theta_max_deg)
-        centre, radius = _shrink_until_safe(site, cand, p0, centre, radius, take_targets(t, ts), limits)
+        first.append((j, ts, p0, centre, radius))
+    safe = _safe_at_first(site, problem.candidates, t, first, limits)
+    out = []
+    for (j, ts, p0, centre, radius), ok in zip(first, safe):
+        cand = problem.candidates[j]
+        heights = np.concatenate([t.ha_m[ts], t.hb_m[ts]]) if ts.size else np.zeros(0)
+        if not ok:  # halved until safe (its first disc is tried again there, and fails again)
+            centre, radius = _shrink_until_safe(site, cand, p0, centre, radius, take_targets(t, ts), limits)
         tol = float("nan")
         if heights.size and limits.effective_range_m > abs(float(heights.max()) - ih) + span:
             tol = abs(instrument_height_tolerance_m(float(heights.max()), limits.effective_range_m, ih, ih + span))
@@ -175,6 +181,51 @@ def take_targets(t: Targets, idx: np.ndarray) -> Targets:
     return replace(t, **{name: getattr(t, name)[idx] for name in arrays})
 
 
+def _probes(cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float) -> list[Candidate]:
+    """The disc's centre, the planned station and ``RIM_POINTS`` points of the rim, as candidates to check."""
+    angles = np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False)
+    rim = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    pts = np.vstack([centre, p0, centre + radius * rim])
+    return [replace(cand, id=f"{cand.id}#{k}", x=float(x), y=float(y)) for k, (x, y) in enumerate(pts)]
+
+
+def _safe_at_first(
+    site: Site,
+    candidates: Sequence[Candidate],
+    t: Targets,
+    first: list[tuple[int, np.ndarray, np.ndarray, np.ndarray, float]],
+    limits: SightLimits,
+) -> list[bool]:
+    """Whether each station's first disc ``(j, relied pieces, p0, centre, radius)`` is safe, as
+    :func:`_shrink_until_safe` tests it, with one coverage build for the probes of every station over the pieces any
+    relies on (a pair's coverage does not depend on the other pairs built with it); a disc below ``MIN_RADIUS_M`` is
+    not safe here (it is left to :func:`_shrink_until_safe`)."""
+    from planner.candidates.final_step import misplacement
+
+    safe = [False] * len(first)
+    probes: list[Candidate] = []
+    rows: list[tuple[int, int, np.ndarray]] = []  # (position in first, first probe row, relied pieces)
+    for k, (j, ts, p0, centre, radius) in enumerate(first):
+        if radius < MIN_RADIUS_M:
+            continue
+        mine = _probes(candidates[j], p0, centre, radius)
+        if any(misplacement(site, p, p.x, p.y) for p in mine):
+            continue
+        if not ts.size:
+            safe[k] = True
+            continue
+        rows.append((k, len(probes), ts))
+        probes += mine
+    if rows:
+        pieces = np.unique(np.concatenate([ts for _, _, ts in rows]))
+        cover = build_coverage(site, probes, take_targets(t, pieces), limits).by_candidate.tocsr()
+        n = RIM_POINTS + 2
+        for k, r0, ts in rows:
+            sub = cover[r0 : r0 + n][:, np.searchsorted(pieces, ts)]
+            safe[k] = bool(np.all(np.diff(sub.tocsr().indptr) == len(ts)))
+    return safe
+
+
 def _shrink_until_safe(
     site: Site, cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float, t: Targets, limits: SightLimits
 ) -> tuple[np.ndarray, float]:
@@ -182,11 +233,8 @@ def _shrink_until_safe(
     is safe; (p0, 0) when no disc of at least ``MIN_RADIUS_M`` is."""
     from planner.candidates.final_step import misplacement
 
-    angles = np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False)
-    rim = np.stack([np.cos(angles), np.sin(angles)], axis=1)
     while radius >= MIN_RADIUS_M:
-        pts = np.vstack([centre, p0, centre + radius * rim])
-        probes = [replace(cand, id=f"{cand.id}#{k}", x=float(x), y=float(y)) for k, (x, y) in enumerate(pts)]
+        probes = _probes(cand, p0, centre, radius)
         ok = all(not misplacement(site, p, p.x, p.y) for p in probes)
         if ok and len(t):
             sub = build_coverage(site, probes, t, limits).by_candidate
