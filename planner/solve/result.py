@@ -202,10 +202,11 @@ def gap_reason(stats: MilpStats, objective: float, bound: float) -> str | None:
     if objective - floor < 0.5:
         return None
     w = stats.work
+    work_s = "work-s (seconds of counted solver work, the same on any machine)"
     stop = {
-        "stalled": f"the solver stopped after {w.used:.1f} work-s: no better plan or bound in its last "
+        "stalled": f"the solver stopped after {w.used:.1f} {work_s}: no better plan or bound in its last "
         f"{(w.stall_work or 0):g} work-s",
-        "work_limit": f"the solver stopped at its work limit of {(w.limit or 0):g} work-s",
+        "work_limit": f"the solver stopped at its work limit of {(w.limit or 0):g} {work_s}",
         "wall_cap": f"the solver stopped at the wall-clock cap of {(w.wall_cap_s or 0):g} s",
         "node_limit": f"the solver stopped when its solves, each within {w.node_limit} nodes, left nothing to cut",
     }.get(stats.stop, "the solver stopped")

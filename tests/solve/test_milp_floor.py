@@ -111,7 +111,8 @@ def test_the_gap_is_said_in_words():
     probe = {"level": 20, "candidates": 831, "of": 1869, "outcome": "refuted", "work": 2.3, "rounds": 4, "cuts": 1526}
     words = gap_reason(_stats("stalled", (probe,)), 22.0, 21.0)
     assert words is not None
-    assert words.startswith("gap 1 station: the solver stopped after 6.3 work-s: no better plan or bound in its last 4")
+    assert words.startswith("gap 1 station: the solver stopped after 6.3 work-s (seconds of counted solver work, the")
+    assert "the same on any machine): no better plan or bound in its last 4 work-s; bound 21" in words
     assert "bound 21 from the floor probe: no registered plan of 20 stations among the 831 of 1,869 candidates" in words
     assert "no plan of 21 stations found by the connected greedy, 7 rounds of the cut loop (3,026 registration" in words
     limit = gap_reason(_stats("work_limit"), 25.0, 22.5)
