@@ -56,6 +56,9 @@ MAX_LINKS = 3_000_000
 #: the work the default plan gives the connected plane bound, in patches: a patch side of a zone-side costs the patches
 #: it lays (about FIRST_PATCHES, then 4x at each halving). A count, not a time: the same bound under any load
 CONNECTED_WORK_PATCHES = 200_000
+#: two zone-sides' regions are tested pair by pair while the pairs whose boxes meet are at most this many per region;
+#: past it their unions are formed and tested once
+_PAIRS_PER = 20
 
 
 def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:
@@ -167,15 +170,24 @@ def _name(t: Any, piece: int) -> str:
 
 def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, Any], grow_m: float) -> str:
     """Why the zone-sides cannot be summed ('' when they can): two of one frame whose grown outer regions meet (a
-    position there could serve both). Their unions meet exactly when a region of one meets a region of the other:
-    asked of an STR-tree of each zone-side's regions (no union formed)."""
+    position there could serve both), i.e. a region of one meets a region of the other. Asked pair by pair of regions
+    whose boxes meet (an STR-tree), or of the two zone-sides' unions where such pairs are many (:data:`_PAIRS_PER`)."""
     sides: dict[int, list[tuple[str, Any]]] = {}
     for pieces in pieces_all:
         geoms = np.asarray([g for g in grown([outer[int(p)] for p in pieces], grow_m) if not g.is_empty], dtype=object)
         sides.setdefault(int(t.frame[pieces[0]]), []).append((_name(t, pieces[0]), geoms))
     for items in sides.values():
         trees = {p: shapely.STRtree(g) for p, g in items}
-        for (p, _), (q, gq) in itertools.combinations(items, 2):
-            if trees[p].query(gq, predicate="intersects").size:
+        unions: dict[str, Any] = {}
+        for (p, gp), (q, gq) in itertools.combinations(items, 2):
+            near = trees[p].query(gq)  # pairs whose boxes meet
+            if near.shape[1] <= _PAIRS_PER * (gp.size + gq.size):
+                meet = bool(shapely.intersects(gp[near[1]], gq[near[0]]).any())
+            else:
+                for name, g in ((p, gp), (q, gq)):
+                    if name not in unions:
+                        unions[name] = shapely.union_all(g)
+                meet = bool(unions[p].intersects(unions[q]))
+            if meet:
                 return f"not formed: {p} and {q} can be seen from one position (their outer coverage regions meet)"
     return ""
