@@ -1,6 +1,6 @@
 """Shared fixtures: paths to the bundled instances and a CSV writer for small test sites; the test tiers.
 
-Three tiers: the quick tier (``-m "not slow"``, about two minutes serial on a quiet 2-core machine), the CI
+Three tiers: the quick tier (``-m "not slow"``, under three minutes serial on a quiet 2-core machine), the CI
 command (``-m "not heavy"``: the quick tier and the slow tests) and the heavy tests (``-m heavy``: large sites
 re-planned end to end, properties, fuzzing and browsers at full size). A heavy test is always slow too, so the quick
 tier never runs one even where its file marks it ``heavy`` alone.
