@@ -10,7 +10,6 @@ import pytest
 import scipy.sparse as sp
 
 from planner.coverage.overlap import OverlapRule
-from planner.solve import floor
 from planner.solve.floor import floor_candidates
 from planner.solve.milp import MilpOptions, _run, solve
 from planner.solve.result import MilpStats, RingStats, WorkStats, gap_reason
@@ -48,11 +47,9 @@ def _rooms() -> object:
 
 
 @pytest.mark.parametrize("probe", [True, False])
-def test_a_refuted_floor_lifts_the_bound_to_the_connected_optimum(probe, monkeypatch):
-    # the plain cover {c0, c2} (2 stations, the cover LP) is not registered: the probe keeps c0 and c2 alone, finds
-    # them unlinked and proves 3; without it the cut loop proves the same (the probe runs here although it keeps
-    # 2 of the 3 candidates)
-    monkeypatch.setattr(floor, "KEEP_SHARE", 1.0)
+def test_a_refuted_floor_lifts_the_bound_to_the_connected_optimum(probe):
+    # the plain cover {c0, c2} (2 stations, the cover LP) is not registered: the probe keeps c0 and c2 alone (2 of
+    # the 3 candidates), finds them unlinked and proves 3; without it the cut loop proves the same
     opts = MilpOptions(overlap=OverlapRule(0.3), ring_bound=False, floor_probe=probe, time_limit_s=30)
     r = solve(_rooms(), opts)
     assert r.status.value == "optimal" and r.selected == (0, 1, 2) and r.bound == 3
@@ -119,3 +116,34 @@ def test_the_gap_is_said_in_words():
     assert limit is not None and limit.startswith("gap 2 stations: the solver stopped at its work limit of 25")
     assert "from the cover LP" in limit and "no plan of 23 to 24 stations" in limit
     assert gap_reason(_stats("stalled"), 21.0, 20.2) is None  # the bound's ceiling is the plan: no gap in stations
+
+
+def _corridor_of_rooms(n: int):
+    """``n`` rooms in a row, seen apart: room r's targets 4r..4r+3, one candidate sees it whole, two see its halves
+    (each linked to the whole by 2 m of shared wall); the doors link room r's right half to room r+1's left half."""
+    from dataclasses import replace
+
+    cover = [
+        s
+        for r in range(n)
+        for s in ({4 * r, 4 * r + 1, 4 * r + 2, 4 * r + 3}, {4 * r, 4 * r + 1}, {4 * r + 2, 4 * r + 3})
+    ]
+    doors = [(3 * r + 2, 3 * (r + 1) + 1) for r in range(n - 1)]
+    rows, cols = [i for i, j in doors] + [j for i, j in doors], [j for i, j in doors] + [i for i, j in doors]
+    links = sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(len(cover), len(cover)))
+    return replace(instance(cover, 4 * n), links=links)
+
+
+@pytest.mark.slow
+def test_the_probe_agrees_with_the_cut_loop_on_a_row_of_rooms():
+    # the plain optimum (every room's whole view, 5 stations) is not registered: the probe refutes 5 on the 5 whole
+    # views alone; the plan and its proof are those of the cut loop without the probe
+    site = _corridor_of_rooms(5)
+    opts = MilpOptions(overlap=OverlapRule(0.3), ring_bound=False, time_limit_s=60)
+    with_probe, without = solve(site, opts), solve(site, opts, floor_probe=False)
+    assert with_probe.status.value == without.status.value == "optimal"
+    assert with_probe.objective == without.objective and with_probe.bound == without.bound
+    first = with_probe.info["floor"][0]
+    assert (first["level"], first["candidates"], first["outcome"]) == (5, 5, "refuted")
+    chosen = site.by_candidate[list(with_probe.selected)]
+    assert np.all(chosen.sum(axis=0) >= 1)  # a cover
