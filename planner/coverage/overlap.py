@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from planner.core.checks import real
 from planner.core.errors import UsageError
-from planner.coverage.gram import Keep, cat, filtered_gram
+from planner.coverage.gram import filtered_gram
 
 #: the overlap share when none is given (the dissertation's O = 30 %)
 DEFAULT_OVERLAP = 0.30
@@ -134,7 +134,7 @@ def overlap_adjacency(
     gid = group_ids(groups) if groups is not None else None
     allowed, keep = link_filter(rule, np.asarray(a @ lengths).ravel(), gid, xy)
 
-    share = _shared(a, np.asarray(lengths, dtype=np.float64), keep, gid)
+    share = filtered_gram(a, lengths, keep)
     if links is not None and links.nnz:
         # pairs related through an opening join with shared length 0 (explicit entries)
         lk, sh = sp.coo_matrix(links), share.tocoo()
@@ -144,34 +144,6 @@ def overlap_adjacency(
     share.sum_duplicates()
     adj = sp.csr_matrix((np.ones(share.nnz, dtype=bool), share.indices.copy(), share.indptr.copy()), shape=(n, n))
     return adj, share
-
-
-def _shared(a: sp.csr_matrix, lengths: NDArray[np.float64], keep: Keep, gid: NDArray[np.int64] | None) -> sp.csr_matrix:
-    """The shared wall of the pairs ``keep`` passes (C x C): one filtered product per group, over the pieces of
-    length > 0 only. Pairs of two groups are never kept and a piece of no length adds nothing to any pair, so neither
-    is multiplied out (a floor patch is a column of length 0; two groups' products are a fraction of the whole one's).
-    Each pair's sum runs over the same pieces in the same order as the whole product's: the same values, bit for bit."""
-    walls = np.flatnonzero(lengths > 0)
-    if walls.size < lengths.size:
-        a, lengths = a[:, walls].tocsr(), lengths[walls]
-    n = a.shape[0]
-    if gid is None or n == 0 or int(gid.max()) == 0:
-        return filtered_gram(a, lengths, keep)
-    rows, cols, vals = [], [], []
-    for members in np.split(np.argsort(gid, kind="stable"), np.flatnonzero(np.diff(np.sort(gid))) + 1):
-
-        def within(
-            r: NDArray[np.int64], c: NDArray[np.int64], v: NDArray[np.float64], m: NDArray[np.int64] = members
-        ) -> NDArray[np.bool_]:
-            return keep(m[r], m[c], v)
-
-        part = filtered_gram(a[members], lengths, within).tocoo()
-        rows.append(members[part.row])
-        cols.append(members[part.col])
-        vals.append(part.data)
-    out = sp.csr_matrix((cat(vals, np.float64), (cat(rows, np.int64), cat(cols, np.int64))), shape=(n, n))
-    out.sort_indices()
-    return out
 
 
 def overlap_graph(
