@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 import shapely
 
+from planner.bounds.outer import OuterRegions
 from planner.candidates.closed_form import SIDE_TAG
 from planner.coverage.arrangement import heaviest_points, outer_max_weight
 from planner.coverage.matrix import CoverageProblem, build_coverage, merge_problems
@@ -144,11 +145,9 @@ def _frames(t: Any, pos: np.ndarray):
             yield fi, here
 
 
-def _outer(
-    site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarray, spaces: dict[str, FrameSpace]
-) -> float:
+def _outer(site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarray, regions: OuterRegions) -> float:
     """``w*``: the arrangement of the outer regions O_t grown by :func:`outer_tolerance_m`, per frame."""
-    outer = coverage_regions(site, t, limits, [int(k) for k in pos], spaces, outer=True)
+    outer = regions.of(site, t, limits, pos)
     grow = outer_tolerance_m(limits)
     return max([0.0, *(outer_max_weight([outer[int(k)] for k in here], y[here], grow) for _, here in _frames(t, pos))])
 
@@ -209,10 +208,12 @@ def price_plane(
     ties: int = 1000,
     cache: dict[int, shapely.Geometry] | None = None,
     spaces: dict[str, FrameSpace] | None = None,
+    outer: OuterRegions | None = None,
 ) -> tuple[CoverageProblem, PricingReport]:
     """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane (module
     docstring). Limits: ``max_rounds`` rounds and ``max_work`` (point, region) pairs weighed, counts (the same columns
-    under any load), and only where the user sets one a wall-clock cap ``time_limit_s``."""
+    under any load), and only where the user sets one a wall-clock cap ``time_limit_s``. ``cache``/``spaces`` and
+    ``outer``: the regions R_t and O_t already drawn in this run (filled in here for the next user)."""
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
     cache = {} if cache is None else cache
@@ -251,7 +252,7 @@ def price_plane(
         problem, n = _add_points(site, problem, model, points, lp.y, limits, "PT", 1.0 - TIE_EPS)
         added += n
     model.close()
-    w_star = _outer(site, t, limits, pos, lp.y, {})
+    w_star = _outer(site, t, limits, pos, lp.y, OuterRegions() if outer is None else outer)
     farley = float(lp.y.sum()) / max(1.0, w_star)
     report = PricingReport(
         converged,

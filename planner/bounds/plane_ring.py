@@ -39,11 +39,12 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.bounds.connected_result import ConnectedPlaneBound, SideBound
+from planner.bounds.outer import OuterRegions
 from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sets, patch_sides, undominated
 from planner.bounds.plane_refine import refined_bound
 from planner.coverage.arrangement import grown, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.regions import coverage_regions, outer_tolerance_m, region_tolerance_m
+from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
 from planner.solve.ring import cyclic_arcs, ring_graph
@@ -106,10 +107,13 @@ def connected_plane_bound(
     work_patches: int = CONNECTED_WORK_PATCHES,
     cache: dict[int, Any] | None = None,
     refine_steps: int = 0,
+    spaces: dict[str, FrameSpace] | None = None,
+    outer_regions: OuterRegions | None = None,
 ) -> ConnectedPlaneBound:
     """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's stations
     per zone-side (key ``2 zone + side``). With ``refine_steps``, a zone-side still below its count then gets the
-    connected cover over patches refined up to that many times (:func:`planner.bounds.plane_refine.refined_bound`)."""
+    connected cover over patches refined up to that many times (:func:`planner.bounds.plane_refine.refined_bound`).
+    ``cache``/``spaces`` and ``outer_regions``: the regions R_t and O_t this run has drawn already (pricing's)."""
     t0 = time.perf_counter()
     t = problem.targets
     key = t.zone.astype(np.int64) * 2 + t.side
@@ -118,8 +122,8 @@ def connected_plane_bound(
     keys = [int(k) for k in np.unique(key[seen])]
     pieces_all = [np.flatnonzero(key == k) for k in keys]
     every = [int(p) for ps in pieces_all for p in ps]
-    cache.update(coverage_regions(site, t, limits, [p for p in every if p not in cache], {}))
-    outer = coverage_regions(site, t, limits, every, {}, outer=True)
+    cache.update(coverage_regions(site, t, limits, [p for p in every if p not in cache], spaces))
+    outer = (OuterRegions() if outer_regions is None else outer_regions).of(site, t, limits, every)
     grow_m = outer_tolerance_m(limits)
     shrink_m = region_tolerance_m(limits, site.parameters.min_standoff_m)
     clash = _sides_meet(t, pieces_all, outer, grow_m)

@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from planner.bounds.connected_result import plan_counts, with_connected_plane_bound
+from planner.bounds.outer import OuterRegions
 from planner.bounds.plane import price_plane, with_plane_bound
 from planner.bounds.plane_ring import connected_plane_bound
 from planner.candidates.closed_form import Limits
@@ -60,6 +61,8 @@ class MethodInput:
     spaces: dict[str, FrameSpace]
     region_cache: dict[int, Any]
     surfaces: sp.csr_matrix | None = None
+    #: the outer regions O_t drawn in this run (pricing's check of the heaviest weight, then the connected bound)
+    outer: OuterRegions = field(default_factory=OuterRegions)
 
 
 def with_columns(inst: CoverInstance, extra: sp.csr_matrix | None) -> CoverInstance:
@@ -148,7 +151,9 @@ def milp_method(run: MethodInput) -> MethodOutput:
     if pricing_on:
         limit_s, cache = options.pricing_time_limit_s, run.region_cache
         with progress.ticking("pricing (coverage regions)", limit_s):
-            problem, pricing = price_plane(site, problem, limits, time_limit_s=limit_s, cache=cache, spaces=run.spaces)
+            problem, pricing = price_plane(
+                site, problem, limits, time_limit_s=limit_s, cache=cache, spaces=run.spaces, outer=run.outer
+            )
         log.append(pricing.summary())
     p = site.parameters
     groups, links = run.registration.groups(problem.candidates)
@@ -174,7 +179,18 @@ def milp_method(run: MethodInput) -> MethodOutput:
             share = run.registration.rule.overlap if run.registration.rule else 0.0
             duals, counts = np.asarray(pricing.duals), plan_counts(problem, result.selected)
             refine, cache = options.plane_refine_steps, run.region_cache
-            cb = connected_plane_bound(site, problem, limits, share, duals, counts, cache=cache, refine_steps=refine)
+            cb = connected_plane_bound(
+                site,
+                problem,
+                limits,
+                share,
+                duals,
+                counts,
+                cache=cache,
+                refine_steps=refine,
+                spaces=run.spaces,
+                outer_regions=run.outer,
+            )
             result = with_connected_plane_bound(result, cb)
             log.append(cb.summary())
     return MethodOutput(result, problem, problem, tuple(log))
