@@ -208,7 +208,9 @@ def gap_reason(stats: MilpStats, objective: float, bound: float) -> str | None:
         f"{(w.stall_work or 0):g} work-s",
         "work_limit": f"the solver stopped at its work limit of {(w.limit or 0):g} {work_s}",
         "wall_cap": f"the solver stopped at the wall-clock cap of {(w.wall_cap_s or 0):g} s",
-        "node_limit": f"the solver stopped when its solves, each within {w.node_limit} nodes, left nothing to cut",
+        "node_limit": "the solver stopped when a solve"
+        + (f" (within its {w.node_limit:,} nodes)" if w.node_limit is not None else "")
+        + " left nothing to cut",
     }.get(stats.stop, "the solver stopped")
     refuted = [p for p in stats.floor if p["outcome"] == "refuted"]
     if refuted:
@@ -221,15 +223,16 @@ def gap_reason(stats: MilpStats, objective: float, bound: float) -> str | None:
     elif stats.ring_bound.blocks:
         source = f"bound {bound:g} from the ring bound and the cover LP (the fewest stations that see every piece)"
     else:
-        source = (
-            f"bound {bound:g} from the cover LP (the fewest stations that see every piece) and the registration cuts"
-        )
+        cuts_too = " and the registration cuts" if stats.connected else ""
+        source = f"bound {bound:g} from the cover LP (the fewest stations that see every piece){cuts_too}"
     rounds = stats.rounds + sum(int(p["rounds"]) for p in stats.floor)
     cuts = stats.cuts + sum(int(p["cuts"]) for p in stats.floor)
     sizes = f"{floor:g}" if objective - floor < 1.5 else f"{floor:g} to {objective - 1:g}"
     found = (
         f"no plan of {sizes} stations found by the connected greedy, {_many(rounds, 'round')} of the cut "
         f"loop ({_many(cuts, 'registration cut')}), its repairs and the local search"
+        if stats.connected
+        else f"no plan of {sizes} stations found by the greedy start and {_many(rounds, 'solve')}"
     )
     gap = objective - floor
     return f"gap {gap:g} station{'' if gap == 1 else 's'}: {stop}; {source}; {found}"
