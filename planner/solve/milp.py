@@ -261,19 +261,26 @@ def _share_out(solvers: list[BlockSolver], deadline: float, o: MilpOptions) -> _
 
 
 def _run(block: BlockSolver, deadline: float, until: float, stall: float | None) -> bool:
-    """Run ``block`` until its CP-SAT work reaches ``until``; with ``stall``, in slices of that much work, stopping
-    after a whole slice that brought neither a better plan nor a better bound. Whether it stopped so (stalled)."""
+    """Run ``block`` until its CP-SAT work reaches ``until``; with ``stall``, one round of its cut loop at a time (a
+    round is never cut short), stopping at the end of a round once ``stall`` CP-SAT seconds have passed since the last
+    better plan or bound (or since the start). Whether it stopped so (stalled)."""
     if block.done or stall is None:
         block.run(deadline, until)
         return False
-    while not block.done:
-        start, before = block.work_used, _state(block)
-        end = min(until, start + stall)
-        block.run(deadline, end)
-        if block.done or block.work_used < end - 1e-6 or end >= until - 1e-6:
-            return False  # proven, out of work, or the loop left early (pass 2 takes it up as before)
-        if _state(block) == before:
-            return True
+    o, last, state = block.o, block.work_used, _state(block)
+    try:
+        while not block.done and block.rounds < o.max_rounds:
+            rounds, before = block.rounds, block.work_used
+            block.o = replace(o, max_rounds=rounds + 1)  # the block's loop runs one round
+            block.run(deadline, until)
+            if block.rounds == rounds or block.work_used >= until - 1e-6 or block.work_used <= before:
+                return False  # out of work, or the loop stopped on its own (pass 2 takes it up as before)
+            if _state(block) != state:
+                last, state = block.work_used, _state(block)
+            elif block.work_used - last >= stall - 1e-9:
+                return True
+    finally:
+        block.o = o
     return False
 
 

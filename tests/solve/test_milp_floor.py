@@ -59,30 +59,37 @@ def test_a_refuted_floor_lifts_the_bound_to_the_connected_optimum(probe):
 
 @dataclass
 class _Block:
-    """A stand-in for a block: each call of ``run`` spends work up to its limit in rounds of ``step``, and the plan
-    improves at the works in ``better``."""
+    """A stand-in for a block: each round of its loop spends ``step`` work (or what is left), up to ``o.max_rounds``
+    rounds a call, and the plan improves at the end of the rounds that pass the works in ``better``."""
 
     better: list[float]
     step: float = 1.0
     work_used: float = 0.0
+    rounds: int = 0
     done: bool = False
     bound: float = 5.0
+    o: MilpOptions = field(default_factory=MilpOptions)
     incumbent: list[int] = field(default_factory=lambda: list(range(9)))
     cost: np.ndarray = field(default_factory=lambda: np.ones(10))
 
     def run(self, deadline: float, work_until: float) -> None:
-        while self.work_used < work_until - 1e-9:
+        while self.work_used < work_until - 1e-9 and self.rounds < self.o.max_rounds:
             self.work_used = min(work_until, self.work_used + self.step)
+            self.rounds += 1
             if self.better and self.work_used >= self.better[0]:
                 self.better.pop(0)
                 self.incumbent = self.incumbent[:-1]
 
 
-def test_the_stall_rule_stops_after_a_whole_slice_without_progress():
-    # better plans at 1, 3 and 6 work-s; slices of 3: [0, 3] and [3, 6] improve, [6, 9] and... [9, 12] does not
+def test_the_stall_rule_stops_at_the_end_of_a_round_long_enough_after_the_last_progress():
+    # rounds of 1 work-s; better plans at 1, 3 and 6: with a stall of 3 the block stops after the round ending at 9
     block = _Block(better=[1.0, 3.0, 6.0])
     assert _run(block, np.inf, 25.0, 3.0) is True  # type: ignore[arg-type]
-    assert block.work_used == 9.0 and len(block.incumbent) == 6
+    assert (block.work_used, block.rounds, len(block.incumbent)) == (9.0, 9, 6)
+    assert block.o.max_rounds == MilpOptions().max_rounds  # its options as they were
+    # a round longer than the stall is never cut: rounds of 5 work-s, progress in the first, a stall of 2
+    long = _Block(better=[5.0], step=5.0)
+    assert _run(long, np.inf, 25.0, 2.0) is True and long.work_used == 10.0  # type: ignore[arg-type]
     # without the rule, or when the work limit comes first, it runs to the limit and does not say it stalled
     assert _run(_Block(better=[1.0]), np.inf, 25.0, None) is False  # type: ignore[arg-type]
     late = _Block(better=[1.0, 3.0, 6.0])
