@@ -8,7 +8,8 @@ rotation about their line free). Where no triple of places makes a triangle with
 Exactness: every triangle has a shortest side (i, j), and the angle opposite it, at the third corner k, is its smallest
 angle. So a triple with smallest side d and smallest angle >= a exists iff some pair (i, j) at distance d has a k with
 |ik| >= d, |jk| >= d and the angle at k >= a. Scanning the pairs by decreasing distance, the first pair that has such a
-k gives the maximum (:func:`spread_triple`); the tests check it against brute force on random small sets.
+k gives the maximum (:func:`spread_triple`); the tests check it against brute force on random small sets. An angle
+counts as >= a when it is >= a - :data:`ANGLE_TOL_DEG` (exactly a, computed by any formula, must count).
 """
 
 from __future__ import annotations
@@ -25,6 +26,9 @@ from numpy.typing import NDArray
 MIN_ANGLE_DEG = 30.0
 #: targets of one link at least this far apart wherever the places allow (m)
 MIN_SPREAD_M = 2.0
+#: an angle this close below the bound counts as meeting it (deg): a triangle whose smallest angle is exactly the
+#: bound (45 deg on a grid) comes out of floating point a few 1e-15 deg either side of it
+ANGLE_TOL_DEG = 1e-9
 _BLOCK = 256  # pairs tested per vectorised step
 
 
@@ -81,12 +85,12 @@ def _first_pair(p: NDArray[np.float64], d: NDArray[np.float64], min_angle_deg: f
     iu, ju = np.triu_indices(n, k=1)
     dist = d[iu, ju]
     order = np.lexsort((ju, iu, -dist))  # decreasing distance, ties by index: deterministic
-    cos_max = math.cos(math.radians(min_angle_deg))
+    cos_max = math.cos(math.radians(min_angle_deg - ANGLE_TOL_DEG))
     hull = _hull(p)
     for lo in range(0, len(order), _BLOCK):
         blk = order[lo : lo + _BLOCK]
         if min_angle_deg > 0:  # a pair no place stands far enough off can be no such triangle's shortest side
-            blk = blk[_tall_enough(p, hull, np.column_stack([iu[blk], ju[blk]]), min_angle_deg)]
+            blk = blk[_tall_enough(p, hull, np.column_stack([iu[blk], ju[blk]]), min_angle_deg - ANGLE_TOL_DEG)]
             if not blk.size:
                 continue
         i, j, dd = iu[blk], ju[blk], dist[blk]
@@ -101,7 +105,7 @@ def _first_pair(p: NDArray[np.float64], d: NDArray[np.float64], min_angle_deg: f
         den = d[i] * d[j]
         with np.errstate(invalid="ignore", divide="ignore"):
             cos = np.where(den > 0, np.einsum("bkx,bkx->bk", ui, uj) / np.where(den > 0, den, 1.0), 1.0)
-        ok &= cos <= cos_max + 1e-12
+        ok &= cos <= cos_max + 1e-12  # and rounding of the cosine itself (an angle of 0: cos 1 + 2e-16)
         rows = np.flatnonzero(ok.any(axis=1))
         if rows.size:
             r = int(rows[0])
@@ -157,7 +161,7 @@ def spread(points: NDArray[np.float64]) -> Spread:
     notes = []
     if angle is not None and dmin < MIN_SPREAD_M:
         notes.append(f"targets {dmin:.2f} m apart at most")
-    if angle is not None and angle < MIN_ANGLE_DEG:
+    if angle is not None and angle < MIN_ANGLE_DEG - ANGLE_TOL_DEG:
         notes.append(f"no triangle of places with every angle >= {MIN_ANGLE_DEG:g} deg (smallest {angle:.0f} deg)")
     if notes:
         w, length = _extent(p)
