@@ -15,6 +15,7 @@ import math
 from typing import Any
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 import shapely
 from hypothesis import given, settings
@@ -84,7 +85,7 @@ def ref_undominated(
     return np.flatnonzero(keep)
 
 
-def ref_arc_links(start, span, low, cum, n, share) -> sp.csr_matrix:  # type: ignore[no-untyped-def]
+def ref_arc_links(start, span, low, cum, n, share) -> sp.csr_matrix:
     end = start + span + 1
     rows, cols = [], []
     for lo in range(0, start.size, 512):
@@ -161,6 +162,18 @@ def test_patch_sets_equal_contains_xy(case: tuple[list[Any], list[Any], NDArray[
     assert np.array_equal(lw, lg)  # the same floats: summed in the same order
 
 
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_patch_sets_equal_contains_xy = pytest.mark.slow(test_patch_sets_equal_contains_xy)
+
+
+@settings(QUICK, max_examples=12)
+@given(case=regions(), h=st.sampled_from([H, 0.3, 0.7]))
+def test_patch_sets_equal_contains_xy_on_fewer_cases(case, h):
+    # the quick twin: the body of the test above on 12 cases (the test above runs 50, in the slow tier)
+    test_patch_sets_equal_contains_xy.hypothesis.inner_test(case=case, h=h)
+
+
 def test_patch_sets_on_centres_and_edges_of_the_grid() -> None:
     # centres at 0.5, 1.0, 1.5, 2.0 each way (the grid starts at the regions' corner, 0.25): the first square holds all
     # 16; the diamond's sides run through 8 centres (on its boundary: outside, as contains_xy) and it holds 4; the
@@ -188,6 +201,21 @@ def test_undominated_equals_the_float_table(n: int, items: list[tuple[int, int, 
     assert np.array_equal(undominated(start, span, low, n), ref_undominated(start, span, low, n))
 
 
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_undominated_equals_the_float_table = pytest.mark.slow(test_undominated_equals_the_float_table)
+
+
+@settings(QUICK, max_examples=40)
+@given(
+    n=st.integers(2, 20),
+    items=st.lists(st.tuples(st.integers(0, 19), st.integers(0, 19), st.integers(0, 5)), min_size=1, max_size=40),
+)
+def test_undominated_equals_the_float_table_on_fewer_cases(n, items):
+    # the quick twin: the body of the test above on 40 cases (the test above runs 150, in the slow tier)
+    test_undominated_equals_the_float_table.hypothesis.inner_test(n=n, items=items)
+
+
 @settings(QUICK, max_examples=120)
 @given(
     n=st.integers(2, 20),
@@ -206,6 +234,23 @@ def test_arc_links_equal_the_index_sums(
     assert (got != want).nnz == 0
 
 
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_arc_links_equal_the_index_sums = pytest.mark.slow(test_arc_links_equal_the_index_sums)
+
+
+@settings(QUICK, max_examples=30)
+@given(
+    n=st.integers(2, 20),
+    items=st.lists(st.tuples(st.integers(0, 19), st.integers(0, 19), st.integers(0, 5)), min_size=1, max_size=30),
+    lengths=st.lists(st.sampled_from([0.0, 0.1, 0.2, 0.3, 1.0 / 3.0, 1.5]), min_size=20, max_size=20),
+    share=st.sampled_from([0.0, 0.1, 0.3, 0.5]),
+)
+def test_arc_links_equal_the_index_sums_on_fewer_cases(n, items, lengths, share):
+    # the quick twin: the body of the test above on 30 cases (the test above runs 120, in the slow tier)
+    test_arc_links_equal_the_index_sums.hypothesis.inner_test(n=n, items=items, lengths=lengths, share=share)
+
+
 @settings(QUICK, max_examples=60)
 @given(seed=st.integers(0, 10_000), n=st.integers(6, 16), m=st.integers(3, 14), holes=st.booleans())
 def test_unit_walk_is_the_walk_at_unit_costs(seed: int, n: int, m: int, holes: bool) -> None:
@@ -219,3 +264,15 @@ def test_unit_walk_is_the_walk_at_unit_costs(seed: int, n: int, m: int, holes: b
     for limit in (np.inf, 4.5, 2.5, 1.5, 0.5):
         w = g.walk(np.ones(m), limit=limit)
         assert g.unit_walk(limit=limit) == (None if w is None else round(w.bound)), limit
+
+
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_unit_walk_is_the_walk_at_unit_costs = pytest.mark.slow(test_unit_walk_is_the_walk_at_unit_costs)
+
+
+@settings(QUICK, max_examples=15)
+@given(seed=st.integers(0, 10_000), n=st.integers(6, 16), m=st.integers(3, 14), holes=st.booleans())
+def test_unit_walk_is_the_walk_at_unit_costs_on_fewer_cases(seed, n, m, holes):
+    # the quick twin: the body of the test above on 15 cases (the test above runs 60, in the slow tier)
+    test_unit_walk_is_the_walk_at_unit_costs.hypothesis.inner_test(seed=seed, n=n, m=m, holes=holes)

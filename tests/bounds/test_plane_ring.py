@@ -67,6 +67,18 @@ def test_cyclic_arcs_agree_with_the_loop(n: int, rows: list[set[int]]) -> None:
     assert list(zip(start.tolist(), end.tolist())) == [_loop_arc(list(r), n) for r in rows]
 
 
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_cyclic_arcs_agree_with_the_loop = pytest.mark.slow(test_cyclic_arcs_agree_with_the_loop)
+
+
+@settings(QUICK, max_examples=50)
+@given(n=st.integers(1, 30), rows=st.lists(st.sets(st.integers(0, 29), min_size=1), min_size=1, max_size=20))
+def test_cyclic_arcs_agree_with_the_loop_on_fewer_cases(n, rows):
+    # the quick twin: the body of the test above on 50 cases (the test above runs 200, in the slow tier)
+    test_cyclic_arcs_agree_with_the_loop.hypothesis.inner_test(n=n, rows=rows)
+
+
 def _holds(s1: int, e1: int, s2: int, e2: int, n: int) -> bool:
     """Arc [s1, e1] holds arc [s2, e2] as sets of pieces of the ring of n (ends inclusive, e may pass n)."""
     a = {k % n for k in range(s1, e1 + 1)}
@@ -98,6 +110,21 @@ def test_undominated_is_the_pairwise_definition(n: int, items: list[tuple[int, i
         strict = [m for m in held if m not in same]
         expect = not strict and all(m > p for m in same)
         assert (p in kept) == expect, (p, held, kept)
+
+
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_undominated_is_the_pairwise_definition = pytest.mark.slow(test_undominated_is_the_pairwise_definition)
+
+
+@settings(QUICK, max_examples=75)
+@given(
+    n=st.integers(2, 12),
+    items=st.lists(st.tuples(st.integers(0, 11), st.integers(0, 11), st.integers(0, 4)), min_size=1, max_size=25),
+)
+def test_undominated_is_the_pairwise_definition_on_fewer_cases(n, items):
+    # the quick twin: the body of the test above on 75 cases (the test above runs 300, in the slow tier)
+    test_undominated_is_the_pairwise_definition.hypothesis.inner_test(n=n, items=items)
 
 
 def block_site(

@@ -225,6 +225,20 @@ def test_the_pair_test_is_moller_trumbore_away_from_the_tolerance(seed):
     assert got.tolist() == want
 
 
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_the_pair_test_is_moller_trumbore_away_from_the_tolerance = pytest.mark.slow(
+    test_the_pair_test_is_moller_trumbore_away_from_the_tolerance
+)
+
+
+@settings(QUICK, max_examples=10)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_the_pair_test_is_moller_trumbore_away_from_the_tolerance_on_fewer_cases(seed):
+    # the quick twin: the body of the test above on 10 cases (the test above runs 50, in the slow tier)
+    test_the_pair_test_is_moller_trumbore_away_from_the_tolerance.hypothesis.inner_test(seed=seed)
+
+
 @st.composite
 def walls_only_rooms(draw):
     """A star-shaped room of 4-10 walls of one height H about (cx, cy), maybe a block of height H near its middle,
@@ -283,6 +297,20 @@ def test_3d_sight_equals_the_plan_view_on_walls_only_rooms(case):
     assert blocked.tolist() == (~plan_clear).tolist()
 
 
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_3d_sight_equals_the_plan_view_on_walls_only_rooms = pytest.mark.slow(
+    test_3d_sight_equals_the_plan_view_on_walls_only_rooms
+)
+
+
+@settings(QUICK, max_examples=40)
+@given(case=walls_only_rooms())
+def test_3d_sight_equals_the_plan_view_on_walls_only_rooms_on_fewer_cases(case):
+    # the quick twin: the body of the test above on 40 cases (the test above runs 150, in the slow tier)
+    test_3d_sight_equals_the_plan_view_on_walls_only_rooms.hypothesis.inner_test(case=case)
+
+
 @settings(QUICK, max_examples=40)
 @given(case=walls_only_rooms(), shift=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4), st.floats(-50, 50)))
 def test_same_input_same_output_and_a_translated_scene_the_same_verdicts(case, shift):
@@ -298,3 +326,17 @@ def test_same_input_same_output_and_a_translated_scene_the_same_verdicts(case, s
     assert first.tolist() == occluded(mesh, o, e, key).tolist() == occluded(site_mesh(site), o, e, key).tolist()
     d = np.array(shift)
     assert occluded(mesh.translated(*shift), o + d, e + d, key).tolist() == first.tolist()
+
+
+# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
+# a property by its source, decorators included, so a marker line would change the cases it has always run
+test_same_input_same_output_and_a_translated_scene_the_same_verdicts = pytest.mark.slow(
+    test_same_input_same_output_and_a_translated_scene_the_same_verdicts
+)
+
+
+@settings(QUICK, max_examples=10)
+@given(case=walls_only_rooms(), shift=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4), st.floats(-50, 50)))
+def test_same_input_same_output_and_a_translated_scene_the_same_verdicts_on_fewer_cases(case, shift):
+    # the quick twin: the body of the test above on 10 cases (the test above runs 40, in the slow tier)
+    test_same_input_same_output_and_a_translated_scene_the_same_verdicts.hypothesis.inner_test(case=case, shift=shift)
