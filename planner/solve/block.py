@@ -50,6 +50,9 @@ SURFACE_STARTS = 1
 #: per deterministic second and lifts the cover LP's bound a few stations (polygon B with floors: 629 -> 633 in 8
 #: rounds, 70 CPU-s); its plans come from the greedy and the local search after each round
 SURFACE_ROUNDS = 2
+#: CP-SAT work (deterministic seconds) of one such round: 2 rounds of 2 lift polygon B's bound to 633 in ~17 CPU-s
+#: (a single round of 25 took 65 CPU-s for the same bound)
+SURFACE_ROUND_WORK = 2.0
 #: the ascent's work budget, in walk units (each step's multi-source walk costs the lifted graph's links times its
 #: sources): a fine grid, whose walks grow with its links, stops on it instead of running for minutes
 RING_WORK = 5e9
@@ -240,6 +243,8 @@ class BlockSolver:
             left = deadline - time.perf_counter()
             if left <= 0 or (work_until is not None and self.work_used >= work_until - 1e-6):
                 return
+            if self.surfaces and work_until is not None:  # a round's share, not the whole of what is left
+                self.backend.work_limit = min(work_until, self.work_used + SURFACE_ROUND_WORK)
             hint: list[int] | dict[int, float] | None = self.incumbent
             if self.flow is not None and self.incumbent is not None:
                 hint = self.flow.hint(self.incumbent)
