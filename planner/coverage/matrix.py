@@ -220,13 +220,18 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
     inside = np.zeros((n, len(site.zones)), dtype=bool)
     reason = [""] * n
     x, y = (xy[:, 0], xy[:, 1]) if n else (np.zeros(0), np.zeros(0))
+    pts = shapely.points(xy) if n else np.zeros(0, dtype=object)
+    # a point outside a zone's box grown by this is farther than both limits from its walls, and not inside it
+    reach = max(standoff, ON_WALL_M)
     for zi, zone in enumerate(site.zones):
-        same = frames_arr == zone.frame
-        if not np.any(same):
+        x0, y0, x1, y1 = zone.polygon.bounds
+        near = (frames_arr == zone.frame) & (x >= x0 - reach) & (x <= x1 + reach) & (y >= y0 - reach)
+        near = np.flatnonzero(near & (y <= y1 + reach))
+        if near.size == 0:
             continue
-        inside[:, zi] = same & shapely.contains_xy(zone.polygon, x, y)
-        dist = shapely.distance(zone.polygon.boundary, shapely.points(xy[same]))
-        for k, d in zip(np.flatnonzero(same), dist):
+        inside[near, zi] = shapely.contains_xy(zone.polygon, x[near], y[near])
+        dist = shapely.distance(zone.polygon.boundary, pts[near])
+        for k, d in zip(near, dist):
             if d <= ON_WALL_M:
                 reason[k] = reason[k] or f"on a wall of zone {zone.id}"
             elif d < standoff:
@@ -235,7 +240,7 @@ def station_places(site: Site, xy: NDArray[np.float64], frames: Sequence[str]) -
     if standoff > 0:
         for ob in site.obstacles:
             edge = shapely.Polygon(ob.vertices).boundary
-            dist = shapely.distance(edge, shapely.points(xy)) if n else np.zeros(0)
+            dist = shapely.distance(edge, pts) if n else np.zeros(0)
             for k in np.flatnonzero(in_site & (dist < standoff)):
                 reason[k] = reason[k] or f"{dist[k]:.3f} m from obstacle {ob.name} (stand-off {standoff:g} m)"
     checks = [(ob.name, "inside obstacle", shapely.Polygon(ob.vertices)) for ob in site.obstacles]
