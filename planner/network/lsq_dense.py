@@ -14,6 +14,7 @@ import scipy.linalg as sla
 from numpy.typing import NDArray
 
 from planner.core.errors import InputError
+from planner.network.normal import refuse_defect
 
 
 def design(
@@ -65,14 +66,9 @@ def design(
 
 def solve(a: NDArray[np.float64], w: NDArray[np.float64], l: NDArray[np.float64], method: str) -> NDArray[np.float64]:
     """The corrections X = N^-1 A^T P l (``method`` ``qr``: least squares on sqrt(P) A instead); InputError on a datum
-    defect (N of less than full rank)."""
+    defect (a pivot of N on the unit diagonal below :data:`planner.network.normal.PIVOT_TOL`)."""
     n = a.T @ (a * w[:, None])
-    if np.linalg.matrix_rank(n) < n.shape[0]:
-        raise InputError(
-            f"datum defect: the network leaves {n.shape[0] - np.linalg.matrix_rank(n)} "
-            "unknown(s) undetermined (fix control points or add observations)",
-            field="network",
-        )
+    refuse_defect(n)  # decided and counted as the sparse solver does
     if method == "qr":
         sw = np.sqrt(w)
         return np.asarray(sla.lstsq(a * sw[:, None], l * sw, lapack_driver="gelsy")[0])

@@ -122,7 +122,9 @@ def selected_inverse(normal: Normal, n_points: int) -> tuple[NDArray[np.float64]
     pattern = (ones.T @ ones + blocks + fill).tocsc()
     pattern.sort_indices()
     entry = normal.inverse(pattern)
-    lengths = np.diff(a.indptr)
+    ao = a[:, k:].tocsr()
+    oriented = np.diff(ao.indptr) > 0
+    lengths = np.where(oriented, 0, np.diff(a.indptr))
     most = int(lengths.max(initial=0))
     qa = np.zeros(a.shape[0])
     for p in range(most):
@@ -130,6 +132,21 @@ def selected_inverse(normal: Normal, n_points: int) -> tuple[NDArray[np.float64]
             rows = np.flatnonzero(lengths > max(p, r))
             ip, ir = a.indptr[rows] + p, a.indptr[rows] + r
             qa[rows] += a.data[ip] * a.data[ir] * entry(a.indices[ip], a.indices[ir])
+    # a direction: a Q a^T = a~ Q_pp a~^T + c^2 / N_oo with a~ its row less the station's mean (normal.Normal._reduced),
+    # c its orientation coefficient; the sum over a's own entries cancels to ~1e-9 where the redundancy is ~0
+    station = np.full(a.shape[0], -1, dtype=np.int64)
+    station[oriented] = ao.indices[ao.indptr[:-1][oriented]]
+    coef = np.zeros(a.shape[0])
+    coef[oriented] = ao.data[ao.indptr[:-1][oriented]]
+    by_station = np.argsort(station, kind="stable")
+    bounds = np.searchsorted(station[by_station], np.arange(u - k + 1))
+    for t in range(u - k):
+        rows = by_station[bounds[t] : bounds[t + 1]]
+        sub = normal.centred[rows]
+        cols = np.unique(sub.indices)
+        d = sub[:, cols].toarray()
+        q = entry(np.repeat(cols, len(cols)), np.tile(cols, len(cols))).reshape(len(cols), len(cols))
+        qa[rows] = np.einsum("ij,jk,ik->i", d, q, d) + coef[rows] ** 2 / normal.noo[t]
     x, y = 2 * np.arange(n_points), 2 * np.arange(n_points) + 1
     b = np.stack([entry(x, x), entry(y, x), entry(y, x), entry(y, y)], axis=1).reshape(n_points, 2, 2)
     return qa, b

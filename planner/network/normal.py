@@ -12,7 +12,11 @@ factored:
 - else by SuperLU (the diagonal as pivots: a Cholesky factorisation in LU form) on the sparse N*, and Q_pp only on the
   pattern the results need, a block of columns at a time (memory O(entries + unknowns x block)).
 
-Either way a pivot of S N* S below ``PIVOT_TOL`` is a datum defect.
+Either way the matrix is singular, a datum defect, where a diagonal entry of N* is below ``PIVOT_TOL`` times that of
+N_pp (a point whose only tie is a single direction from a station keeps, after the station's orientation is eliminated, a
+diagonal of rounding noise, which the unit scaling would make look sound), or a pivot or the smallest eigenvalue of
+S N* S is below ``PIVOT_TOL`` (:func:`_singular`). The dense solver (:mod:`planner.network.lsq_dense`) decides and
+counts a defect with the same rule (:func:`refuse_defect`).
 """
 
 from __future__ import annotations
@@ -49,22 +53,65 @@ def _splu(m: sp.spmatrix) -> spla.SuperLU:
     )
 
 
+def _unit(n: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``n`` scaled to a unit diagonal (a zero diagonal entry left 0): the rank and pivots of N do not depend on the
+    units of the observations' weights."""
+    d = np.diagonal(n)
+    s = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 0.0)
+    return np.asarray(n * s[:, None] * s[None, :])
+
+
 def _defect(n: sp.spmatrix, pivots: NDArray[np.float64] | None) -> InputError:
-    """The datum-defect error, with how many unknowns are undetermined: the rank of N as the dense solver counts it
-    (small networks), else the small pivots (of a factorisation of N + 1e-13 I on the unit diagonal where none came)."""
+    """The datum-defect error, with how many unknowns are undetermined (at least 1): the rank of N on the unit diagonal
+    (small networks; both solvers count it so), else the small pivots (of a factorisation of N + 1e-13 I on the unit
+    diagonal where none came)."""
     u = n.shape[0]
     if u <= DENSE_RANK_MAX:
-        count = int(u - np.linalg.matrix_rank(n.toarray()))
+        count = max(1, int(u - np.linalg.matrix_rank(_unit(n.toarray()))))
     else:
         if pivots is None:
             d = n.diagonal()
             s = sp.diags(1.0 / np.sqrt(np.where(d > 0, d, 1.0)))
             pivots = _splu(s @ n @ s + 1e-13 * sp.identity(u)).U.diagonal()
-        count = int(np.sum(np.abs(pivots) < PIVOT_TOL))
+        count = max(1, int(np.sum(np.abs(pivots) < PIVOT_TOL)))
     return InputError(
         f"datum defect: the network leaves {count} unknown(s) undetermined (fix control points or add observations)",
         field="network",
     )
+
+
+def _singular(pivots: NDArray[np.float64], solve: Callable[[NDArray[np.float64]], NDArray[np.float64]]) -> bool:
+    """Whether the factored unit-diagonal matrix (its ``pivots``, and ``solve`` with its factor) is singular: a pivot
+    below ``PIVOT_TOL``, or its smallest eigenvalue, by three steps of inverse iteration from a fixed start, below it.
+    The pivots alone miss a defect where the elimination order makes an earlier pivot small (1e-7, say, fixing a
+    rotation by one coordinate nearly along it): the last, exactly 0, then carries that pivot's amplified rounding error
+    (1e-9, say) above the bound, whatever the order; the eigenvalue does not depend on the order."""
+    if not len(pivots):
+        return False
+    if np.min(np.abs(pivots)) < PIVOT_TOL:
+        return True
+    x = np.random.default_rng(0).standard_normal(len(pivots))
+    for _ in range(3):
+        x = solve(x / np.linalg.norm(x))
+        size = float(np.linalg.norm(x))
+        if not np.isfinite(size) or size * PIVOT_TOL > 1.0:  # |m^-1 x| > 1 / PIVOT_TOL: an eigenvalue below it
+            return True
+    return False
+
+
+def refuse_defect(n: NDArray[np.float64]) -> None:
+    """InputError where the dense normal matrix ``n`` has a datum defect, by the rule of :class:`Normal`
+    (:func:`_singular` of ``n`` on the unit diagonal; none positive definite: a defect too)."""
+    m = _unit(n)
+    try:
+        chol = sla.cholesky(m, lower=True, check_finite=False)
+    except np.linalg.LinAlgError:
+        raise _defect(sp.csc_matrix(n), None) from None
+    pivots = np.diag(chol) ** 2
+    if np.min(np.diagonal(n), initial=1.0) <= 0 or _singular(
+        pivots, lambda b: np.asarray(sla.cho_solve((chol, True), b, check_finite=False))
+    ):
+        raise _defect(sp.csc_matrix(n), pivots)
 
 
 class Normal:
@@ -80,13 +127,13 @@ class Normal:
         n = (a.T @ sp.diags(w) @ a).tocsc()
         self.npo = n[:k, k:].tocsc()
         self.noo = n[k:, k:].diagonal()
-        reduced = (n[:k, :k] - self.npo @ sp.diags(1.0 / np.where(self.noo > 0, self.noo, 1.0)) @ self.npo.T).tocsc()
-        d = reduced.diagonal()
+        reduced = self._reduced(a, w, k)
+        d, d0 = reduced.diagonal(), n.diagonal()[:k]
         self.s = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
         self.lu: spla.SuperLU | None = None
         self.chol: NDArray[np.float64] | None = None
         self.qpp: NDArray[np.float64] | None = None
-        if np.any(self.noo <= 0) or np.any(d <= 0):
+        if np.any(self.noo <= 0) or np.any(d <= PIVOT_TOL * d0):
             raise _defect(n, None)
         if not k:
             return
@@ -101,8 +148,18 @@ class Normal:
                 pivots = self.lu.U.diagonal()
         except (np.linalg.LinAlgError, RuntimeError):  # not positive definite, or an exactly zero pivot
             raise _defect(n, None) from None
-        if np.min(np.abs(pivots)) < PIVOT_TOL:
+        if _singular(pivots, lambda b: self._solve_reduced(b / self.s) / self.s):  # (S N* S)^-1 b
             raise _defect(n, pivots)
+
+    def _reduced(self, a: sp.csr_matrix, w: NDArray[np.float64], k: int) -> sp.csc_matrix:
+        """N* = N_pp - N_po N_oo^-1 N_op, formed as A~^T P A~ with each direction's row of A_p less its station's
+        weighted mean row (times its orientation coefficient): the same matrix, but a sum of squares of small
+        differences, where the difference of the two large matrices kept only the digits their cancellation left
+        (1e-9 of the redundancy numbers on a network of 7 points and 43 directions, whose condition allows 1e-13)."""
+        ap, ao = a[:, :k].tocsr(), a[:, k:].tocsr()
+        mean = sp.diags(1.0 / np.where(self.noo > 0, self.noo, 1.0)) @ self.npo.T  # N_oo^-1 N_op: one row a station
+        self.centred = centred = (ap - ao @ mean).tocsr()
+        return (centred.T @ sp.diags(w) @ centred).tocsc()
 
     def _solve_reduced(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
         s = self.s if b.ndim == 1 else self.s[:, None]
@@ -171,7 +228,7 @@ class Normal:
             q_op = -dinv[o] * np.bincount(rep, vv * pp_entry(jj, p[rep]), minlength=len(o))
             qoo = dinv + dinv**2 * np.array(
                 [
-                    v @ pp_entry(np.repeat(j, len(j)), np.tile(j, len(j))).reshape(len(j), -1) @ v
+                    v @ pp_entry(np.repeat(j, len(j)), np.tile(j, len(j))).reshape(len(j), len(j)) @ v
                     for j, v in zip(j_of, v_of)
                 ]
             )

@@ -9,11 +9,11 @@ from unittest import mock
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from planner.core.errors import InputError
-from planner.network import normal
+from planner.network import lsq_dense, normal
 from planner.network.adjustment import Adjustment, Obs, adjust
 
 TOL = 1e-9
@@ -48,28 +48,39 @@ def random_network(
     return coords, names[:n_fixed], obs
 
 
-def assert_same(a: Adjustment, b: Adjustment) -> None:
-    """Points, redundancy numbers, residuals and the global test agree to TOL."""
+def condition(coords, fixed, obs) -> float:
+    """The condition number of N = A^T P A on the unit diagonal (``obs`` in degrees and metres)."""
+    rad = [Obs(o.kind, o.at, o.to, o.value, math.radians(o.sigma) if o.kind == "direction" else o.sigma) for o in obs]
+    a, _, _ = lsq_dense.design(coords, [n for n in coords if n not in fixed], rad)
+    n = a.T @ (a / np.array([o.sigma for o in rad])[:, None] ** 2)
+    s = 1.0 / np.sqrt(np.diag(n))
+    return float(np.linalg.cond(n * s[:, None] * s[None, :])) if len(n) else 1.0
+
+
+def assert_same(a: Adjustment, b: Adjustment, loose: float = 1.0) -> None:
+    """Points, redundancy numbers, residuals and the global test agree to TOL (times ``loose``: two solvers, each
+    backward stable, agree to about the condition of N times the rounding, 1e-9 only where that is 1e5 at most)."""
+    tol = TOL * loose
     assert [p.name for p in a.points] == [p.name for p in b.points]
     for p, q in zip(a.points, b.points):
-        assert abs(p.x - q.x) <= TOL and abs(p.y - q.y) <= TOL
-        assert (
-            max(
-                abs(u - v)
-                for u, v in zip(
-                    (p.sigma_x, p.sigma_y, p.ellipse_a, p.ellipse_b), (q.sigma_x, q.sigma_y, q.ellipse_a, q.ellipse_b)
-                )
+        assert abs(p.x - q.x) <= tol and abs(p.y - q.y) <= tol
+        assert max(
+            abs(u - v)
+            for u, v in zip(
+                (p.sigma_x, p.sigma_y, p.ellipse_a, p.ellipse_b), (q.sigma_x, q.sigma_y, q.ellipse_a, q.ellipse_b)
             )
-            <= TOL
-        )
+        ) <= tol * max(1.0, p.sigma_x, p.sigma_y, p.ellipse_a)
     assert a.dof == b.dof
-    np.testing.assert_allclose(a.redundancy, b.redundancy, rtol=0, atol=TOL)
-    np.testing.assert_allclose(a.residuals, b.residuals, rtol=0, atol=TOL)
-    np.testing.assert_allclose(a.standardized, b.standardized, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(a.redundancy, b.redundancy, rtol=0, atol=tol)
+    np.testing.assert_allclose(a.residuals, b.residuals, rtol=0, atol=tol)
+    np.testing.assert_allclose(a.standardized, b.standardized, rtol=0, atol=1e-6 * loose)
     assert (a.m0 is None) == (b.m0 is None)
     if a.m0 is not None and b.m0 is not None and a.chi2_p is not None and b.chi2_p is not None:
-        assert abs(a.m0 - b.m0) <= TOL and abs(a.chi2_p - b.chi2_p) <= TOL
-    np.testing.assert_allclose(a.qxx, b.qxx, rtol=1e-9, atol=1e-15)
+        assert abs(a.m0 - b.m0) <= tol and abs(a.chi2_p - b.chi2_p) <= tol
+    # entries near 0 (two points barely correlated) to the matrix's own scale, not to an absolute 1e-15
+    np.testing.assert_allclose(
+        a.qxx, b.qxx, rtol=1e-9 * loose, atol=1e-12 * loose * float(np.abs(b.qxx).max(initial=0))
+    )
 
 
 def factor(kind: str) -> contextlib.AbstractContextManager:
@@ -91,6 +102,9 @@ def both(coords, fixed, obs, kind: str = "sparse", **kw):
     return out
 
 
+ALL = ("direction", "distance", "dx", "dy", "x", "y")
+
+
 @settings(max_examples=60, deadline=None, derandomize=True)
 @given(
     seed=st.integers(0, 2**31),
@@ -109,6 +123,16 @@ def both(coords, fixed, obs, kind: str = "sparse", **kw):
     observed=st.booleans(),
     kind=st.sampled_from(["sparse", "dense"]),
 )
+# a station whose only directions go to fixed points: its orientation touches no point (Q_oo took a size-0 reshape)
+@example(seed=734324022, n_points=5, extra=5, n_fixed=3, kinds=ALL, observed=False, kind="sparse")
+# P3's x tied by one direction from P2 only: eliminating P2's orientation left its diagonal as rounding noise, scaled to 1
+@example(seed=1364122997, n_points=11, extra=30, n_fixed=3, kinds=ALL, observed=False, kind="dense")
+# distances about one fixed point (a free rotation): SuperLU's order made a pivot 2.6e-7, the last (0) came out 5.8e-9
+@example(seed=1241392596, n_points=11, extra=21, n_fixed=1, kinds=("distance",), observed=False, kind="sparse")
+# a station with one direction (redundancy 0): N* and a Q a^T as differences of large numbers were 4e-9 out
+@example(seed=748396460, n_points=10, extra=14, n_fixed=2, kinds=("direction",), observed=True, kind="sparse")
+# a weak network (sigmas of 2.7 m; N's condition 1.6e8): the two solvers agree to that condition, not to 1e-9
+@example(seed=1782785349, n_points=10, extra=5, n_fixed=1, kinds=ALL, observed=False, kind="sparse")
 def test_sparse_and_dense_agree_on_random_networks(seed, n_points, extra, n_fixed, kinds, observed, kind):
     coords, fixed, obs = random_network(seed, n_points, 2 * n_points + extra, n_fixed, kinds)
     if observed:
@@ -118,7 +142,7 @@ def test_sparse_and_dense_agree_on_random_networks(seed, n_points, extra, n_fixe
     if isinstance(dense, str) or isinstance(sparse, str):
         assert dense == sparse  # the same datum defect, counted the same
     else:
-        assert_same(dense, sparse)
+        assert_same(dense, sparse, max(1.0, condition(coords, fixed, obs) / 1e5))
 
 
 @pytest.mark.slow
