@@ -32,6 +32,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
+import scipy.sparse as sp
 
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.targets import Targets
@@ -67,22 +68,38 @@ def relied_targets(
     Every covered target answers to one chosen station, the nearest (smallest slant range) of those that see it,
     so that all stations may move at once: each keeps its own targets, and the shared ones keep the overlap links."""
     sel = list(selected)
-    slant = problem.slant_m[sel].tocsc()
-    owner: dict[int, np.ndarray] = {j: np.zeros(0, dtype=np.int64) for j in sel}
-    best_row = np.full(slant.shape[1], -1)
-    best_val = np.full(slant.shape[1], np.inf)
-    coo = slant.tocoo()
-    for r, t, v in sorted(zip(coo.row, coo.col, coo.data), key=lambda x: (x[1], x[2], x[0])):
-        if best_row[t] < 0:
-            best_row[t], best_val[t] = r, v
+    coo = problem.slant_m[sel].tocoo()
+    order = np.lexsort((coo.row, coo.data, coo.col))  # by target, then slant range, then station
+    col = coo.col[order]
+    first = order[np.r_[True, col[1:] != col[:-1]]] if col.size else order  # each target's nearest station
+    owned = np.argsort(coo.row[first], kind="stable")  # those targets grouped by station, in target order
+    ends = np.searchsorted(coo.row[first][owned], np.arange(len(sel) + 1))
+    targets = coo.col[first][owned].astype(np.int64)
+    shared = _shared_with_partners(problem, sel, partners or {})
+    owner: dict[int, np.ndarray] = {}
     for k, j in enumerate(sel):
-        own = np.flatnonzero(best_row == k)
-        keep = set(own.tolist())
-        mine = problem.by_candidate[j].indices
-        for p in (partners or {}).get(j, []):
-            keep |= set(np.intersect1d(mine, problem.by_candidate[p].indices).tolist())
-        owner[j] = np.array(sorted(keep), dtype=np.int64)
+        own = targets[ends[k] : ends[k + 1]]
+        if shared is not None:
+            own = np.union1d(own, shared.indices[shared.indptr[k] : shared.indptr[k + 1]]).astype(np.int64)
+        owner[j] = own
     return owner
+
+
+def _shared_with_partners(
+    problem: CoverageProblem, sel: list[int], partners: dict[int, list[int]]
+) -> sp.csr_matrix | None:
+    """Row k: the targets the k-th station of ``sel`` sees together with one of its registration partners at least
+    (one sparse product; None without partners)."""
+    pairs = [(k, p) for k, j in enumerate(sel) for p in partners.get(j, [])]
+    if not pairs:
+        return None
+    r, c = np.array(pairs, dtype=np.int64).T
+    by = problem.by_candidate.tocsr().astype(bool).astype(np.int32)
+    pick = sp.csr_matrix((np.ones(r.size, dtype=np.int32), (r, c)), shape=(len(sel), by.shape[0]))
+    shared = (pick @ by).multiply(by[sel]).tocsr()
+    shared.eliminate_zeros()
+    shared.sort_indices()
+    return shared
 
 
 def _centred_radius(
