@@ -18,11 +18,9 @@ heuristic algorithm for the set covering problem", CEC 2014):
 
 A candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs O(targets and links
 of the few stations and candidates it touches) plus one components and one articulation pass on the chosen stations.
-Where the stations are densely linked (a plan of hundreds of stations on a fine floor grid links nearly every pair),
-the components come from a scan-first forest that stops once every station is reached and the articulation pass walks
-a sparse certificate of two such forests (:func:`certificate`): O(stations x links of the few rows read), not
-O(stations x their links).
-Ties go to the candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the
+Where the stations are densely linked to each other (a floor grid's plan links nearly every pair), the components
+come from a scan-first forest that stops once every station is reached and the articulation pass walks a sparse
+certificate of two such forests (:func:`certificate`): O(stations x links of the few rows read). Ties go to the candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the
 result depends only on the input, ``moves`` and ``seed`` (no clock).
 """
 
@@ -114,7 +112,7 @@ class _State:
             idx = np.flatnonzero(self.in_s)
             pos = np.full(self.a.shape[0], -1, dtype=np.int64)
             pos[idx] = np.arange(len(idx))
-            if np.diff(self.adj.indptr)[idx].sum() > _DENSE * max(len(idx), 1):
+            if _dense_inside(self.adj, idx, pos):
                 self._graph = self._dense(idx, pos)
                 return self._graph
             row, col = _gather(self.adj, idx)
@@ -163,8 +161,17 @@ class _State:
         return gain - self.w_link * change, change
 
 
-#: S's links are gathered whole while its stations have at most this many links each on average
-_DENSE = 64
+#: S's links are gathered whole while its stations have at most this many links inside S each (:func:`_dense_inside`)
+_DENSE, _PROBE = 64, 8
+
+
+def _dense_inside(adj: sp.csr_matrix, idx: np.ndarray, pos: np.ndarray) -> bool:
+    """Whether S's stations have more than ``_DENSE`` links inside S each (estimated from its first ``_PROBE`` rows): a
+    plant's stations have hundreds of links to the pool, few to each other; a floor grid's link nearly all pairs."""
+    degree, col = float(np.diff(adj.indptr)[idx].sum()), _gather(adj, idx[:_PROBE])[1]
+    return bool(
+        degree > _DENSE * len(idx) and np.count_nonzero(pos[col] >= 0) / max(col.size, 1) * degree > _DENSE * len(idx)
+    )
 
 
 @dataclass(frozen=True, kw_only=True)

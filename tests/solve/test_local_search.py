@@ -212,3 +212,26 @@ def test_milp_block_closes_on_the_searched_plan_and_counts_its_moves():
     off = solve(inst, MilpOptions(local_search_moves=0, ring_bound=False))
     assert r.status.value == off.status.value == "optimal" and r.objective == off.objective == 5
     assert 0 < r.info["local_search_moves"] <= MilpOptions().local_search_moves and off.info["local_search_moves"] == 0
+
+
+def test_the_dense_path_is_taken_for_links_inside_the_plan_not_to_the_pool():
+    from planner.solve.local_search import _dense_inside
+
+    # a plant: 100 stations, each linked to 300 pool candidates and to 2 other stations
+    n_s, n_pool = 100, 30_000
+    rows, cols = [], []
+    for k in range(n_s):
+        others = [(k + 1) % n_s, (k - 1) % n_s]
+        pool = n_s + (np.arange(300) + 300 * k) % n_pool
+        rows += [k] * (2 + 300)
+        cols += others + pool.tolist()
+    plant = sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(n_s + n_pool, n_s + n_pool))
+    idx = np.arange(n_s)
+    pos = np.full(n_s + n_pool, -1)
+    pos[idx] = idx
+    assert not _dense_inside(plant, idx, pos)
+    # a floor grid's plan: 200 stations, every pair linked
+    full = sp.csr_matrix(np.ones((200, 200), dtype=bool) & ~np.eye(200, dtype=bool))
+    idx = np.arange(200)
+    assert _dense_inside(full, idx, idx.copy())
+    assert not _dense_inside(full, idx[:10], np.where(np.arange(200) < 10, np.arange(200), -1))  # 9 links each
