@@ -219,6 +219,10 @@ def adjust(
     return _results(unknown, xy[uidx], obs, w, qa, blocks, cov, v if observed else None, n_unk, kl, sigma0)
 
 
+#: a point that still moves more than this in the last iteration: the adjustment has not converged (refused)
+NOT_CONVERGED_M = 1e-6
+
+
 def _iterate(
     names: list[str],
     unknown: list[str],
@@ -267,6 +271,14 @@ def _iterate(
         orient_val = orient_val + dx[2 * nu :]
         if not observed or np.max(np.abs(dx[: 2 * nu]), initial=0.0) < 1e-12:
             break
+    moved = np.hypot(dx[0 : 2 * nu : 2], dx[1 : 2 * nu : 2]) if observed else np.zeros(0)
+    if moved.size and moved.max() > NOT_CONVERGED_M:
+        worst = int(np.argmax(moved))
+        raise InputError(
+            f"the adjustment did not converge in {max_iter} iterations: point {unknown[worst]} still moved "
+            f"{moved[worst]:.3g} m in the last (observations that contradict each other, or approximate coordinates "
+            "too far off)"
+        )
     return dx, l, a_dense, normal
 
 

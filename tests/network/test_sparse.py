@@ -228,3 +228,16 @@ def test_datum_defects_are_counted_by_the_pivots_where_the_rank_would_cost_too_m
             adjust(coords, [], obs)
         with pytest.raises(InputError, match="leaves 2 unknown"):
             adjust({**coords, "Q": (500.0, 500.0)}, ["P0", "P1"], obs)
+
+
+def test_an_adjustment_that_does_not_converge_is_refused_by_both_solvers():
+    # five points, all kinds of observation with noise: Gauss-Newton wanders (P4 moves 0.1-1 m an iteration whatever
+    # the number of iterations); the plain return of the last iterate would read as an adjusted network
+    coords, fixed, obs = random_network(1966957930, 5, 2 * 5 + 16, 3, ALL)
+    rng = np.random.default_rng(1966957930 + 1)
+    obs = [Obs(o.kind, o.at, o.to, o.value + o.sigma * float(rng.standard_normal()), o.sigma) for o in obs]
+    for kind in ("sparse", "dense"):
+        dense, sparse = both(coords, fixed, obs, kind, observed=True, angle_unit="deg")
+        for message in (dense, sparse):
+            assert isinstance(message, str) and message.startswith("the adjustment did not converge in 10 iterations")
+            assert "point P4 still moved" in message and "\n" not in message
