@@ -79,8 +79,11 @@ class Phone:
     """One Chromium session emulating a phone of ``width`` x ``height`` CSS px with touch, driven over W3C
     WebDriver; use as a context manager (the driver starts on enter and stops on exit, the session is deleted)."""
 
-    def __init__(self, width: int = 390, height: int = 844, pixel_ratio: float = 3.0) -> None:
+    def __init__(
+        self, width: int = 390, height: int = 844, pixel_ratio: float = 3.0, downloads: Path | None = None
+    ) -> None:
         self.metrics = {"width": width, "height": height, "pixelRatio": pixel_ratio, "touch": True}
+        self.downloads = downloads  # where the browser saves a download without asking (None: its default)
         self.proc: subprocess.Popen[bytes] | None = None
         self.base = ""
         self.sid = ""
@@ -113,6 +116,11 @@ class Phone:
                 "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"],
                 "mobileEmulation": {"deviceMetrics": self.metrics, "userAgent": PHONE_UA},
             }
+            if self.downloads is not None:
+                opts["prefs"] = {
+                    "download.default_directory": str(self.downloads),
+                    "download.prompt_for_download": False,
+                }
             caps = {"capabilities": {"alwaysMatch": {"browserName": "chrome", "goog:chromeOptions": opts}}}
             self.sid = self._call("POST", "/session", caps)["sessionId"]
         except BaseException:
@@ -165,3 +173,27 @@ class Phone:
     def screenshot(self) -> bytes:
         """The viewport as a PNG."""
         return base64.b64decode(self._call("GET", f"/session/{self.sid}/screenshot"))
+
+    def tap_element(self, selector: str) -> tuple[float, float]:
+        """Scroll the first element matching the CSS ``selector`` to the middle of the screen and tap its centre as a
+        finger would (:meth:`tap`); the point tapped. An element missing or not displayed raises."""
+        at = self.run(
+            "var e = document.querySelector(arguments[0]); if (!e) return null;"
+            "e.scrollIntoView({block: 'center'}); var r = e.getBoundingClientRect();"
+            "return r.width && r.height ? [r.left + r.width / 2, r.top + r.height / 2] : null;",
+            selector,
+        )
+        if at is None:
+            raise AssertionError(f"{selector}: no such element on screen")
+        self.tap(*at)
+        return at[0], at[1]
+
+    def wait_for(self, script: str, timeout_s: float = 10.0) -> Any:
+        """Run ``script`` (as :meth:`run`) until it returns something other than null; that value (None: it kept
+        returning null for ``timeout_s``)."""
+        end = time.monotonic() + timeout_s
+        while True:
+            value = self.run(script)
+            if value is not None or time.monotonic() > end:
+                return value
+            time.sleep(0.05)

@@ -45,5 +45,7 @@ def field_site_map(fp: FieldPlan) -> SiteMap:
 
 
 def field_map_html(fp: FieldPlan) -> str:
-    """The map of :func:`field_site_map` as a self-contained HTML fragment (id :data:`MAP_ID`; no address)."""
-    return render_site_map(field_site_map(fp), dom_id=MAP_ID, table="setup table")
+    """The map of :func:`field_site_map` as a self-contained HTML fragment (id :data:`MAP_ID`; no address), with the
+    edit mode (:mod:`planner.figures.webmap.edit`): the crew marks on it what changed on site and saves
+    ``edits.json``, stations by the numbers this sheet prints, for ``planner replan``."""
+    return render_site_map(field_site_map(fp), dom_id=MAP_ID, table="setup table", edit=True)

@@ -220,6 +220,8 @@ def site_map_data(
         control=tuple(control),
         traverse=tuple(traverse),
         numbering=numbering.legend,
+        zones=tuple(z.id for z in site.zones),
+        site_frame=next(iter(frames)) if len(frames) == 1 else SITE_FRAME,
     )
 
 

@@ -134,7 +134,10 @@ class SiteMap:
     ``frames``: the frames in the order the selector lists them (the first with the most stations is shown first);
     ``walls``: zones' walls and openings, obstacles, no-go areas and the boundary; ``route``: the field walking route,
     one line per leg, with ``start`` where it begins; ``targets``: registration targets; ``control``: control points,
-    ``traverse``: the control traverse legs; ``numbering``: how the stations are numbered, in words (the legend).
+    ``traverse``: the control traverse legs; ``numbering``: how the stations are numbered, in words (the legend);
+    ``zones``: the site's zone ids (what the field sheet's edit mode offers to close) and ``site_frame``: the frame
+    whose coordinates are the site's, the one frame that edit mode takes positions in (the site's own frame; the only
+    frame where there is one, as a site of one table zone has: its coordinates are those of plan.json).
     """
 
     title: str
@@ -148,3 +151,5 @@ class SiteMap:
     control: tuple[MapPoint, ...] = ()
     traverse: tuple[MapLine, ...] = field(default=())
     numbering: str = ""
+    zones: tuple[str, ...] = ()
+    site_frame: str = "site"

@@ -17,6 +17,7 @@ from collections.abc import Iterable
 from functools import cache
 from importlib.resources import files
 
+from planner.figures.webmap.edit import TOGGLE, edit_controls
 from planner.figures.webmap.model import MapArea, MapLine, MapPoint, MapStation, Point, SiteMap
 
 #: layers in drawing order (later on top), each named on its checkbox, and the checkbox's tooltip
@@ -206,7 +207,7 @@ def _present(m: SiteMap) -> list[tuple[str, str]]:
     return [layer for layer in LAYERS if has[layer[0]]]
 
 
-def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station table") -> str:
+def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station table", edit: bool = False) -> str:
     """The interactive map of ``m`` as an HTML fragment (a ``<div class="smap">`` holding its style sheet, the controls,
     the SVG, the station panel and the script), for any page's ``<body>``.
 
@@ -215,7 +216,8 @@ def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station 
     in a mail attachment. A page's own script can select a station with
     ``document.getElementById(dom_id).smapSelect(station_id)``; a station whose ``row`` names an element of the page
     marks it (class ``sm-row``) when selected, and a click on that element selects the station; ``table``: what the help
-    line and the station panel call the page's table of those rows.
+    line and the station panel call the page's table of those rows; ``edit``: add the field sheet's edit mode (an
+    "edit" toggle and its panel under the map, :mod:`~planner.figures.webmap.edit`), which saves ``edits.json``.
     """
     per_frame = Counter(s.frame for s in m.stations)
     first = max(m.frames, key=lambda f: per_frame.get(f, 0)) if m.frames else ""
@@ -248,15 +250,21 @@ def render_site_map(m: SiteMap, dom_id: str = "site-map", table: str = "station 
         else ""
     )
     label = _e(f"site map of {m.title}")
+    tool, panel, help_edit, style, script = "", "", "", "", ""
+    if edit:
+        tool, panel = TOGGLE, edit_controls(m)
+        help_edit = " Edit: mark what changed on site and save edits.json for planner replan."
+        style, script = asset("site_map_edit.css"), f"<script>{asset('site_map_edit.js')}</script>"
     numbering = (
         f'<span class="sm-numbering">{_e(m.numbering[0].upper() + m.numbering[1:])}. </span>' if m.numbering else ""
     )
     return (
-        f'<div class="smap" id="{_e(dom_id)}" data-first="{_e(first)}" data-table="{_e(table)}"><style>{asset("site_map.css")}</style>'
-        f'<div class="sm-bar">{select}{boxes}{zoom}</div><div class="sm-wrap">'
+        f'<div class="smap" id="{_e(dom_id)}" data-first="{_e(first)}" data-table="{_e(table)}">'
+        f"<style>{asset('site_map.css')}{style}</style>"
+        f'<div class="sm-bar">{select}{boxes}{zoom}{tool}</div><div class="sm-wrap">'
         f'<svg class="sm-svg" style="aspect-ratio:{_c(box[2])}/{_c(box[3])}" aria-label="{label}" '
         f'viewBox="{view}" preserveAspectRatio="xMidYMid meet">{frames}</svg>'
-        '<div class="sm-panel" hidden></div></div>'
-        f'<p class="sm-help">{numbering}Drag to pan; wheel, pinch or +/&minus; to zoom. Tap a station: {shows}.</p>'
-        f"<script>{asset('site_map.js')}</script></div>"
+        f'<div class="sm-panel" hidden></div></div>{panel}'
+        f'<p class="sm-help">{numbering}Drag to pan; wheel, pinch or +/&minus; to zoom. Tap a station: {shows}.'
+        f"{help_edit}</p><script>{asset('site_map.js')}</script>{script}</div>"
     )

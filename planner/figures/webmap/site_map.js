@@ -127,7 +127,8 @@
         panel.scrollIntoView({ block: 'nearest' });
       }
     }
-    function select(id) {
+    /* quiet: mark the station and what it covers without opening the panel (the edit mode's pick) */
+    function select(id, quiet) {
       var s = stations[id];
       if (!s) return;
       clear();
@@ -150,9 +151,25 @@
       });
       var row = s.getAttribute('data-row') && document.getElementById(s.getAttribute('data-row'));
       if (row) row.classList.add('sm-row');
-      fill(s);
+      if (!quiet) fill(s);
     }
-    root.smapSelect = select;
+    root.smapSelect = function (id) { select(id); };
+    /* for the edit mode (site_map_edit.js): the frame shown, its group, a quiet selection, the clearing, the station
+       nearest a screen point, and a screen point in the shown frame's metres (y up: the SVG's y is turned down) through
+       the inverse of the frame group's screen matrix, the same matrix the markers are drawn with */
+    root.smapFrame = function () { return cur; };
+    root.smapGroup = function () { return frames[cur]; };
+    root.smapMark = function (id) { select(id, true); };
+    root.smapClear = clear;
+    root.smapToFrame = function (cx, cy) {
+      var m = frames[cur] && frames[cur].getScreenCTM();
+      if (!m) return null;
+      var p = svg.createSVGPoint();
+      p.x = cx;
+      p.y = cy;
+      p = p.matrixTransform(m.inverse());
+      return [p.x, -p.y];
+    };
 
     /* pan (one pointer), pinch (two); a press that moved is no click */
     var pts = {}, moved = false, downAt = null, downType = 'mouse';
@@ -210,12 +227,16 @@
       var reach = downType === 'mouse' ? 16 : 28;
       var s = e.detail ? nearest(e.clientX, e.clientY, reach) : null;
       if (!s) s = e.target.closest ? e.target.closest('.sm-st') : null;
+      /* the edit mode, where on, takes the tap (a station or a point of the map) */
+      if (root.smapTap && root.smapTap(e.clientX, e.clientY, s ? s.getAttribute('data-id') : null)) return;
       if (s) select(s.getAttribute('data-id'));
       else clear();
     });
     svg.addEventListener('keydown', function (e) {
       var s = e.target.closest ? e.target.closest('.sm-st') : null;
-      if (s && (e.key === 'Enter' || e.key === ' ')) { e.preventDefault(); select(s.getAttribute('data-id')); }
+      if (!s || (e.key !== 'Enter' && e.key !== ' ')) return;
+      e.preventDefault();
+      if (!(root.smapTap && root.smapTap(null, null, s.getAttribute('data-id')))) select(s.getAttribute('data-id'));
     });
 
     root.addEventListener('click', function (e) {

@@ -1,0 +1,183 @@
+"""field.html's edit mode on a phone: Chromium over WebDriver (tests/browser.py: Phone, 390 x 844 CSS px, touch)
+opens the field sheet of polygon B (planned by greedy with ``planner plan --field``), a finger taps "edit", taps one
+station and marks it done, another and marks it blocked (radius blank: its tripod disc), a third and marks it moved
+(then taps the map 12 px east of its marker: done there), sets the crew at a fourth with the crew tool, types the
+hours left, and taps "Save edits.json". The file the browser downloads (the page's Blob through an ``a[download]``)
+parses, has the format ``planner-edits/1``, names the stations by the numbers plan.json and the sheet give them,
+and puts the moved station where the finger was, in the site frame, to the centimetre the map is written in (the
+inverse of the frame's screen matrix, checked against the station's own coordinates). A closed area drawn by three
+taps, then undone from the list, comes and goes in what the page would save. Where ``planner replan`` exists, it
+accepts the saved file (exit 0). report.html's map has no edit mode."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from planner.cli.main import main
+from tests.browser import Phone, chromedriver
+from tests.conftest import INSTANCES
+
+pytestmark = [
+    pytest.mark.slow,  # a plan, then a headless browser
+    pytest.mark.skipif(chromedriver() is None, reason="no Chromium or chromedriver here; edit mode needs a browser"),
+]
+
+MAP = "#field-map"
+
+# the screen centre of each station's marker (its group is drawn translated to the station), the map in the middle of
+# the screen, the shown frame's screen matrix (a, d: CSS px per metre, y turned down; e, f: where the origin is) and
+# the map's centre on screen
+CENTRES = """
+var root = document.querySelector('#field-map');
+root.querySelector('svg.sm-svg').scrollIntoView({block: 'center'});
+var out = {}, m = root.smapGroup().getScreenCTM();
+root.querySelectorAll('.sm-st').forEach(function (g) {
+  var fr = g.closest('.sm-fr');
+  if (fr && fr.style.display === 'none') return;
+  var c = g.getScreenCTM();
+  out[g.getAttribute('data-id')] = [c.e, c.f];
+});
+var r = root.querySelector('svg.sm-svg').getBoundingClientRect();
+return {at: out, m: [m.a, m.b, m.c, m.d, m.e, m.f], mid: [r.left + r.width / 2, r.top + r.height / 2]};
+"""
+
+
+@pytest.fixture(scope="module")
+def sheet(tmp_path_factory) -> Path:
+    """polygon B planned by greedy with its field sheet, plan.json beside field.html."""
+    out = tmp_path_factory.mktemp("edit")
+    assert (
+        main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out), "--field", str(out)])
+        == 0
+    )
+    return out
+
+
+def _tap_station(phone: Phone, sid: str) -> None:
+    """Tap station ``sid``'s marker (measured again: a tap may scroll the page)."""
+    phone.tap(*phone.run(CENTRES)["at"][sid])
+
+
+def _replan() -> bool:
+    """Whether ``planner replan`` is a command here (its help exits 0; an unknown command is a usage error)."""
+    try:
+        return main(["replan", "--help"]) == 0
+    except SystemExit as stop:
+        return stop.code == 0
+
+
+def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, capsys):
+    plan = json.loads((sheet / "plan.json").read_text())
+    number = {s["id"]: s["number"] for s in plan["stations"]}
+    xy = {s["id"]: (s["x"], s["y"]) for s in plan["stations"]}
+    downloads = tmp_path / "downloads"
+    downloads.mkdir()
+    with Phone(downloads=downloads) as phone:
+        phone.get(sheet / "field.html")
+        phone.run(
+            "window.__errors = []; window.addEventListener('error', function (e) { window.__errors.push(String(e.message)); });"
+        )
+        assert phone.run("return document.querySelector('#field-map .sm-ed').hidden") is True  # off at first
+        phone.tap_element(f"{MAP} [data-act=edit]")
+        assert phone.run("return document.querySelector('#field-map').classList.contains('sm-editing')")
+        view = phone.run(CENTRES)
+        # four stations, the farthest apart on screen first (an unambiguous tap each)
+        at = view["at"]
+        apart = sorted(at, key=lambda i: -min(math.dist(at[i], at[j]) for j in at if j != i))
+        done, blocked, moved, crew = apart[:4]
+
+        _tap_station(phone, done)
+        assert phone.run(f"return document.querySelector('{MAP} .sm-ed-name').textContent") == f"station {number[done]}"
+        phone.tap_element(f"{MAP} [data-act=done]")
+        _tap_station(phone, blocked)
+        phone.tap_element(f"{MAP} [data-act=blocked]")
+        _tap_station(phone, moved)
+        phone.tap_element(f"{MAP} [data-act=moved]")
+        view = phone.run(CENTRES)
+        x, y = view["at"][moved]
+        tapped = (round(x + 12), round(y))
+        phone.tap(*tapped)
+        phone.tap_element(f"{MAP} [data-tool=crew]")
+        _tap_station(phone, crew)
+        phone.run(
+            "var h = document.querySelector('#field-map .sm-ed-hours'); h.value = '3.5';"
+            "h.dispatchEvent(new Event('change', {bubbles: true}));"
+        )
+        items = phone.run(
+            f"return [].map.call(document.querySelectorAll('{MAP} .sm-ed-list li'), e => e.firstChild.textContent)"
+        )
+        assert len(items) == 4, items
+
+        # a closed area of three taps, in the list and in what would be saved, then undone from the list
+        phone.tap_element(f"{MAP} [data-tool=closed]")
+        view = phone.run(CENTRES)
+        cx, cy = view["mid"]
+        for dx, dy in ((-40, -40), (40, -40), (0, 30)):
+            phone.tap(cx + dx, cy + dy)
+        phone.tap_element(f"{MAP} [data-act=finish]")
+        drawn = phone.run(f"return document.querySelector('{MAP}').smapEdits()")
+        assert [a["kind"] for a in drawn["areas"]] == ["closed"] and len(drawn["areas"][0]["polygon"]) == 3
+        phone.tap_element(f"{MAP} .sm-ed-list li:last-child button[data-undo]")
+        assert "areas" not in phone.run(f"return document.querySelector('{MAP}').smapEdits()")
+
+        phone.run(
+            "window.__saved = null; var make = URL.createObjectURL;"
+            "URL.createObjectURL = function (b) { b.text().then(function (t) { window.__saved = t; }); return make.call(URL, b); };"
+        )
+        phone.tap_element(f"{MAP} [data-act=save]")
+        saved = phone.wait_for("return window.__saved")
+        errors = phone.run("return window.__errors || []")
+    assert saved is not None and errors == []
+    edits = json.loads(saved)
+    # the file the browser downloaded is the same text, where this Chromium saves downloads headless
+    files = list(downloads.glob("edits*.json"))
+    if files:
+        assert files[0].read_text() == saved
+
+    assert set(edits) == {"format", "stations", "crew", "time_left_h"}
+    assert edits["format"] == "planner-edits/1"
+    st = edits["stations"]
+    assert st[:2] == [{"station": number[done], "status": "done"}, {"station": number[blocked], "status": "blocked"}]
+    assert {k: v for k, v in st[2].items() if k not in ("x", "y")} == {"station": number[moved], "status": "done"}
+    assert edits["crew"] == {"station": number[crew]} and edits["time_left_h"] == 3.5
+    # the moved station: where the finger was, through the frame's screen matrix, to the centimetre
+    a, _, _, d, e, f = view["m"]
+    assert st[2]["x"] == pytest.approx((tapped[0] - e) / a, abs=0.0051)
+    assert st[2]["y"] == pytest.approx(-(tapped[1] - f) / d, abs=0.0051)
+    # and 12 px east of the station's own coordinates (within a pixel and the map's centimetres)
+    px = 1 / a  # metres per CSS px
+    assert abs(st[2]["x"] - (xy[moved][0] + 12 * px)) <= px + 0.01 and abs(st[2]["y"] - xy[moved][1]) <= px + 0.01
+
+    saved_file = tmp_path / "edits.json"
+    saved_file.write_text(saved)
+    try:
+        from planner.io.edits import read_edits
+    except ImportError:
+        read_edits = None
+    if read_edits is not None:  # the re-plan's own reader takes it, stations resolved by number
+        read = read_edits(saved_file, plan, ("B",))
+        got = {e.station.id: (e.status, e.moved) for e in read.stations}
+        assert got == {done: ("done", False), blocked: ("blocked", False), moved: ("done", True)}
+        assert read.crew_station is not None and read.crew_station.id == crew and read.time_left_h == 3.5
+        area_file = tmp_path / "area.json"
+        area_file.write_text(json.dumps(drawn))
+        assert [a.kind for a in read_edits(area_file, plan, ("B",)).areas] == ["closed"]
+    if not _replan():
+        pytest.skip("planner replan is not a command here yet: the saved file was checked against the format only")
+    capsys.readouterr()
+    assert main(["replan", str(sheet / "plan.json"), str(saved_file), "--out", str(tmp_path / "replan")]) == 0
+
+
+def test_report_map_has_no_edit_mode(sheet):
+    """report.html embeds the same map without the edit mode: no toggle, no panel, no edit script."""
+    from planner.figures.webmap import render_site_map
+    from planner.figures.webmap.model import SiteMap
+
+    html = render_site_map(SiteMap(title="t", frames=("site",), walls=(), stations=()))
+    assert "sm-ed" not in html and 'class="sm-edit"' not in html and "smapTap" in html
+    field = (sheet / "field.html").read_text()
+    assert field.count('class="sm-edit"') == 1 and 'class="sm-ed"' in field and "planner-edits/1" in field
