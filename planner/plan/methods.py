@@ -18,18 +18,22 @@ import numpy as np
 import scipy.sparse as sp
 
 from planner.bounds.connected_result import plan_counts, with_connected_plane_bound
+from planner.bounds.k_views import with_k_plane_bound
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane import price_plane, with_plane_bound
 from planner.bounds.plane_ring import connected_plane_bound
 from planner.candidates.closed_form import Limits
 from planner.candidates.final_step import drop_redundant, relocate
 from planner.candidates.pool import closed_form_candidates
+from planner.candidates.twins import twin_candidates
 from planner.core import progress
+from planner.core.errors import InfeasibleError, PlannerError
 from planner.coverage.links import zone_side_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.overlap import OverlapRule, piece_lengths
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.relation import Registration
+from planner.coverage.sight import Sight
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.plan.surfaces import PLANE_OFF
@@ -155,6 +159,12 @@ def milp_method(run: MethodInput) -> MethodOutput:
                 site, problem, limits, time_limit_s=limit_s, cache=cache, spaces=run.spaces, outer=run.outer
             )
         log.append(pricing.summary())
+    k = options.milp.k
+    if k > 1 and regions_apply(limits) and options.regions:  # k distinct positions wherever a plan may need them
+        problem, line = twin_candidates(
+            Sight(site=site, limits=limits, scanner=run.validation.scanner), problem, k, run.spaces, run.region_cache
+        )
+        log.append(line)
     p = site.parameters
     groups, links = run.registration.groups(problem.candidates)
     # the precision weights (a float per pair) only where the model reads them: combined precision
@@ -173,8 +183,10 @@ def milp_method(run: MethodInput) -> MethodOutput:
         result = solve(with_columns(inst, run.surfaces), options.milp)
     if run.surfaces is not None:
         result = replace(result, info={**result.info, "plane_off": PLANE_OFF})
+    if result.status is Status.INFEASIBLE and options.milp.rule is not None and "count" not in result.info:
+        raise no_pool_plan(site, options)
     if pricing is not None:
-        result = with_plane_bound(result, pricing)
+        result = with_plane_bound(result, pricing) if k == 1 else with_k_plane_bound(result, pricing, k)
         if result.scope != "plane" and zone_side_groups(problem.candidates, groups, links) and result.selected:
             share = run.registration.rule.overlap if run.registration.rule else 0.0
             duals, counts = np.asarray(pricing.duals), plan_counts(problem, result.selected)
@@ -194,6 +206,18 @@ def milp_method(run: MethodInput) -> MethodOutput:
             result = with_connected_plane_bound(result, cb)
             log.append(cb.summary())
     return MethodOutput(result, problem, problem, tuple(log))
+
+
+def no_pool_plan(site: Site, options: PlanOptions) -> PlannerError:
+    """The refusal of a connected plan the solver proved impossible over the candidate pool only (no proof over
+    the plane was found: :func:`planner.plan.run.unlinkable` found none), with what to try."""
+    rules = ["every piece covered"] + ([f"k = {options.milp.k}"] if options.milp.k > 1 else [])
+    err = InfeasibleError(
+        f"milp found no plan over the candidate pool (scope: pool; no proof over the plane): no set of candidates "
+        f"meets {', '.join(rules)}, registration overlap connected; try a finer pool (--grid-spacing 2), shorter "
+        "pieces (--target-spacing 0.5), a smaller --overlap, or --no-overlap"
+    )
+    return err.located(site.source) if site.source else err
 
 
 def greedy_method(run: MethodInput) -> MethodOutput:

@@ -200,8 +200,10 @@ class Plan:
         plane = info.get("plane_bound")
         rows = [(f"{pool:g}" if pool is not None else "none", "over the candidate pool (MILP)")]
         assumes = info.get("certificate", {}).get("assumes", "pieces of the target spacing")
+        plane_scope = str(info.get("plane_bound_scope", "plane"))  # "plane, k = K" for k views
+        where = "over every position in the plane" + plane_scope.removeprefix("plane")
         rows.append(
-            (f"{plane:g}", f"over every position in the plane (cover LP priced over the coverage regions; {assumes})")
+            (f"{plane:g}", f"{where} (cover LP priced over the coverage regions; {assumes})")
             if plane is not None
             else ("none", f"over the plane ({info.get('plane_off', 'pricing off')})")
         )
@@ -214,7 +216,7 @@ class Plan:
             )
             rows.append((f"{conn:g}", f"connected plans, over every position in the plane ({how})"))
         head = (
-            "bound scope: plane (no plan from any positions in the plane has fewer stations); bounds:"
+            f"bound scope: {plane_scope} (no plan from any positions in the plane has fewer stations); bounds:"
             if scope == "plane"
             else "bound scope: pool (the plan is proven only over the candidate pool); bounds:"
             if r.status.value == "optimal"

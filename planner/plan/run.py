@@ -9,8 +9,11 @@ from typing import Any
 
 import numpy as np
 
+from planner.bounds.corners import link_refusal
+from planner.bounds.outer import OuterRegions
 from planner.candidates.axis import axis_candidates
 from planner.candidates.complete import complete_candidates
+from planner.candidates.connect import connect_candidates, split_groups
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import candidate_pool, dedupe
 from planner.core.checks import argument
@@ -78,11 +81,27 @@ def build_problem(
     """
     resolved = as_problem(site, options, validation)
     problem, unseen, reasons = coverage_problem(resolved, spaces=spaces, region_cache=region_cache)
+    source = resolved.site.source
     if unseen.size:
         err = unseen_error(problem, unseen, reasons)
-        source = resolved.site.source
+        raise err.located(source) if source else err
+    refusal = unlinkable(resolved, problem)
+    if refusal:
+        err = InfeasibleError(refusal)
         raise err.located(source) if source else err
     return problem
+
+
+def unlinkable(problem: Problem, coverage: CoverageProblem) -> str | None:
+    """Why no connected plan exists over the plane (:func:`planner.bounds.corners.link_refusal`), asked only where
+    the run has an overlap rule and its pool, connectivity candidates included, still splits a registration group's
+    pieces (:func:`planner.candidates.connect.split_groups`); None otherwise."""
+    if problem.rule is None or not (problem.options.regions and regions_apply(problem.limits)):
+        return None
+    if not split_groups(coverage, problem.registration.groups):
+        return None
+    theta = problem.site.parameters.theta_max_deg
+    return link_refusal(problem.site, coverage, problem.limits, problem.registration.groups, OuterRegions(), theta)
 
 
 def as_problem(
@@ -118,6 +137,9 @@ def coverage_problem(
     if options.regions and regions_apply(limits):
         # a candidate from its own region for every piece still unseen; refused only when that is empty
         coverage, reasons = complete_candidates(problem.sight, coverage, spaces, region_cache)
+        if problem.rule is not None and not reasons:
+            # where the pool cannot link a registration group's pieces (an outside corner), positions that see both
+            coverage, _ = connect_candidates(problem.sight, coverage, problem.registration.groups, spaces, region_cache)
     return coverage, coverage.uncoverable(), reasons
 
 
