@@ -6,7 +6,8 @@ hours left, and taps "Save edits.json". The file the browser downloads (the page
 parses, has the format ``planner-edits/1``, names the stations by the numbers plan.json and the sheet give them,
 and puts the moved station where the finger was, in the site frame, to the centimetre the map is written in (the
 inverse of the frame's screen matrix, checked against the station's own coordinates). A closed area drawn by three
-taps, then undone from the list, comes and goes in what the page would save. Where ``planner replan`` exists, it
+taps, then undone from the list, comes and goes in what the page would save; the edits outlive a reload. The
+re-plan's reader (planner.io.edits, where it is there) takes the file; where ``planner replan`` exists, it
 accepts the saved file (exit 0). report.html's map has no edit mode."""
 
 from __future__ import annotations
@@ -84,6 +85,7 @@ def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, ca
         assert phone.run("return document.querySelector('#field-map .sm-ed').hidden") is True  # off at first
         phone.tap_element(f"{MAP} [data-act=edit]")
         assert phone.run("return document.querySelector('#field-map').classList.contains('sm-editing')")
+        assert phone.run("return document.documentElement.scrollWidth") <= 390  # the panel never widens the page
         view = phone.run(CENTRES)
         # four stations, the farthest apart on screen first (an unambiguous tap each)
         at = view["at"]
@@ -131,8 +133,12 @@ def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, ca
         phone.tap_element(f"{MAP} [data-act=save]")
         saved = phone.wait_for("return window.__saved")
         errors = phone.run("return window.__errors || []")
+        # the page keeps its edits through a reload (a phone's browser may drop a page in the background)
+        phone.get(sheet / "field.html")
+        kept = phone.run(f"return document.querySelector('{MAP}').smapEdits()")
     assert saved is not None and errors == []
     edits = json.loads(saved)
+    assert kept == edits
     # the file the browser downloaded is the same text, where this Chromium saves downloads headless
     files = list(downloads.glob("edits*.json"))
     if files:
