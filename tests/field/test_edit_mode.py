@@ -144,8 +144,8 @@ def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, ca
     if files:
         assert files[0].read_text() == saved
 
-    assert set(edits) == {"format", "stations", "crew", "time_left_h"}
-    assert edits["format"] == "planner-edits/1"
+    assert set(edits) == {"format", "plan", "stations", "crew", "time_left_h"}
+    assert edits["format"] == "planner-edits/1" and edits["plan"] == {"instance": plan["instance"]}
     st = edits["stations"]
     assert st[:2] == [{"station": number[done], "status": "done"}, {"station": number[blocked], "status": "blocked"}]
     assert {k: v for k, v in st[2].items() if k not in ("x", "y")} == {"station": number[moved], "status": "done"}

@@ -50,7 +50,8 @@ def page_key(m: SiteMap) -> str:
 def edit_controls(m: SiteMap) -> str:
     """The edit panel of the map ``m`` (hidden until the toggle :data:`TOGGLE` opens it): the tools, the picked
     station's actions, the drawing's, the zones to close, the hours left, the list of edits with undo, and the save
-    button."""
+    button. The saved file names its plan by ``m.title`` (the site's name, which plan.json records as its
+    ``instance``), so that the re-plan refuses edits made on another site's sheet."""
     tools = "".join(
         _b(t, text, tip, "data-tool")
         for t, text, tip in (
@@ -84,6 +85,7 @@ def edit_controls(m: SiteMap) -> str:
         zones = f'<p><label>zone <select class="sm-ed-zone">{opts}</select></label>{_b("zone", "close zone")}</p>'
     return (
         f'<div class="sm-ed" hidden data-site-frame="{_e(m.site_frame)}" data-format="{EDITS_FORMAT}" '
+        f'data-instance="{_e(m.title)}" '
         f'data-key="{page_key(m)}"><p class="sm-ed-tools" role="group" aria-label="edit tool">{tools}</p>'
         '<p class="sm-ed-hint" role="status"></p>'
         f"{station}{draw}{zones}"

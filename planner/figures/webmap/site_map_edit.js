@@ -76,6 +76,7 @@
     /* the edits file: stations by the number the sheet prints (its label where it prints none) */
     function data() {
       var out = { format: ed.getAttribute('data-format') }, st = [], areas = [], zones = [], crew = null;
+      if (ed.getAttribute('data-instance')) out.plan = { instance: ed.getAttribute('data-instance') };
       edits.forEach(function (x) {
         var s = x.st && info[x.st];
         if (x.t === 'done') st.push(x.at ? { station: s.ref, status: 'done', x: x.at[0], y: x.at[1] } : { station: s.ref, status: 'done' });
