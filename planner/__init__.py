@@ -10,7 +10,9 @@ The pipeline, and the public API for each step:
 3. coverage: :func:`build_problem` (candidates x wall pieces, both sparse views);
 4. solving: :func:`greedy_cover`, :func:`solve` (MILP on CP-SAT, SCIP, HiGHS, CBC, PuLP) or all of it
    at once with :func:`plan_site` -> :class:`Plan` (verified);
-5. checking: :func:`verify_stations`, :func:`run_network` (least-squares accuracy);
+5. checking: :func:`verify_stations`, :func:`run_network` (least-squares accuracy); on site,
+   :func:`replan` -> :class:`Replan` (a plan repaired after its edits: stations done, blocked or moved, obstacles,
+   closed areas and zones);
 6. showing: :func:`outcome_from_plan` -> :class:`Outcome`, :func:`plan_figures`, :func:`network_figure`,
    :func:`comparison_figure`, :func:`write_report`, :func:`write_dxf`, :func:`write_geojson`,
    :func:`write_stations_csv`.
@@ -90,6 +92,7 @@ _LAZY = {
     **dict.fromkeys(("outcome_from_file",), "planner.io.plan_file"),
     **dict.fromkeys(("Plan", "PlanOptions", "Problem", "StrategyOptions", "build_problem", "resolve"), "planner.plan"),
     **dict.fromkeys(("plan_site",), "planner.engine"),
+    **dict.fromkeys(("Replan", "replan"), "planner.replan"),
     **dict.fromkeys(("Sight",), "planner.coverage.sight"),
     **dict.fromkeys(("read_plan_stations", "write_plan"), "planner.io.plan_json"),
     **dict.fromkeys(("compare_methods", "render_report", "write_report"), "planner.report"),
@@ -154,6 +157,7 @@ if TYPE_CHECKING:  # the static view of the same names, for type checkers and ID
     from planner.plan import Plan, PlanOptions, Problem, StrategyOptions, build_problem, resolve
     from planner.plan.outcome import Outcome, outcome_from_plan
     from planner.plan.verify import VerifyReport, verify_stations
+    from planner.replan import Replan, replan
     from planner.report import compare_methods, render_report, write_report
     from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone
     from planner.site.candidate import Candidate, CandidateKind
@@ -191,6 +195,7 @@ __all__ = [
     "PoolOptions",
     "Problem",
     "RangeLimit",
+    "Replan",
     "ScanSide",
     "Sight",
     "Scanner",
@@ -229,6 +234,7 @@ __all__ = [
     "read_geojson_site",
     "read_plan_stations",
     "render_report",
+    "replan",
     "resolve",
     "resolve_range_limit",
     "run_network",

@@ -21,7 +21,7 @@ from planner.core.text import dumps
 # Everything else loads inside the command that needs it, so that --help, --version and validate
 # start without the solver, network, figure and report stacks (docs/startup.md).
 if TYPE_CHECKING:
-    from planner.plan import PlanOptions
+    from planner.plan import Plan, PlanOptions
     from planner.solve.result import SolveResult
 
 
@@ -100,6 +100,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     print(plan.summary())
     if args.out:
         print(f"wrote {write_plan(plan, args.out)}")
+        _write_replan_data(plan, args.out)
     network = None
     if inputs is not None:
         network = network_check(problem, list(plan.stations), args, inputs, args.network, plan.stations_cover)
@@ -120,6 +121,18 @@ def cmd_plan(args: argparse.Namespace) -> int:
         if args.report:
             print(f"wrote {write_report(outcome, args.report, field=args.field)}")
     return ExitCode.OK
+
+
+def _write_replan_data(plan: Plan, folder: str) -> None:
+    """DIR/replan.npz beside plan.json: what ``planner replan`` re-plans from without building the pool again
+    (:mod:`planner.io.replan_data`); a plan that kept no pool (tiles) gets none, and says so."""
+    from planner.io.replan_data import FILE_NAME, make_replan_data, write_replan_data
+
+    if plan.coverage is None:
+        print(f"note: no {FILE_NAME} (this plan kept no single pool); planner replan will build the pool again")
+        return
+    data = make_replan_data(plan.problem, plan.coverage, plan.stations)
+    print(f"wrote {write_replan_data(data, [z.id for z in plan.site.zones], folder)}")
 
 
 def _no_plan_reason(result: SolveResult, options: PlanOptions) -> str:

@@ -18,7 +18,7 @@ from planner.core.errors import UsageError
 FILE_OPTIONS = (("site", "site"), ("plan", "plan"), ("control", "control"), ("observations", "observations"))
 
 #: the commands whose ``site`` is the ``--site`` option (their positional is the plan)
-_SITE_OPTION = ("report", "field")
+_SITE_OPTION = ("report", "field", "replan")
 
 #: the commands that take SITE PLAN, in this order
 _SITE_THEN_PLAN = ("verify", "network", "chain")

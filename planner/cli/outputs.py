@@ -40,6 +40,7 @@ OUTPUTS: dict[str, tuple[tuple[str, str, bool], ...]] = {
     "network": (("out", "--out", False),),
     "report": (("out", "--out", False),),
     "field": (("out", "--out", False),),
+    "replan": (("out", "--out", False),),
     "export": (("out", "--out", True),),
     "assemble": (("out", "--out", True),),
 }
@@ -88,8 +89,13 @@ def targets_of(args: argparse.Namespace) -> list[Target]:
 
 
 def command_default(args: argparse.Namespace, dest: str) -> str | None:
-    """Where ``planner report`` and ``planner field`` write without ``--out``: the plan's folder."""
-    if dest == "out" and getattr(args, "command", None) in ("report", "field") and getattr(args, "out", None) is None:
+    """Where ``planner report``, ``planner field`` and ``planner replan`` write without ``--out``: the plan's
+    folder."""
+    if (
+        dest == "out"
+        and getattr(args, "command", None) in ("report", "field", "replan")
+        and getattr(args, "out", None) is None
+    ):
         return str(Path(args.plan).parent)
     return None
 

@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping
 from planner import __version__
 from planner.cli.field import add_field_parser
 from planner.cli.profile import add_profile_options
+from planner.cli.replan_command import add_replan_parser
 from planner.cli.report import add_report_parser
 from planner.cli.tuning import TUNING, add_plan_settings, add_setting, add_settings
 from planner.core.errors import ExitCode
@@ -167,6 +168,7 @@ def build_parser(handlers: Handlers) -> argparse.ArgumentParser:
     add_setting(nw, "registration", help=PLAN_REGISTRATION)
     add_report_parser(sub)
     add_field_parser(sub)
+    add_replan_parser(sub)
     ch = add_site(sub, "chain", "registration-chain accuracy of a plan (links, ties to control)", plan_file=True)
     add_setting(ch, "registration", help=PLAN_REGISTRATION)
     a = sub.add_parser("assemble", help="place table zones in one site frame from their shared walls")
