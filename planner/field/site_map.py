@@ -8,6 +8,10 @@ from its start, the legs through a wall (where the model has no opening, :mod:`p
 dash; the registration targets. Stations are numbered in visiting order (:attr:`FieldPlan.numbering
 <planner.field.run.FieldPlan.numbering>`, as the setup table, the report and the exports number them), and each links
 to its row of that table (:func:`setup_row_id`): a tap on a station marks its row, a click on a row shows its station.
+
+The map has an edit mode (:mod:`planner.figures.webmap.edit`; report.html's map has none): the crew marks stations
+done, blocked or moved, draws closed areas and obstacles, closes zones, sets where it stands and the hours left, and
+the page saves ``edits.json`` (stations by the numbers this sheet prints) for ``planner replan``.
 """
 
 from __future__ import annotations

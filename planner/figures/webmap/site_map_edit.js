@@ -210,7 +210,7 @@
       else if (a === 'done' && s) { put({ t: 'done', st: picked }); say(text(edits[edits.length - 1]) + '. Tap a station.'); }
       else if (a === 'blocked' && s) {
         var r = radius.value.trim();
-        if (r !== '' && !(+r >= 0)) { say('The radius must be a number of metres, 0 or more (blank: the tripod disc).'); return; }
+        if ((radius.validity && radius.validity.badInput) || (r !== '' && !(+r >= 0))) { say('The radius must be a number of metres, 0 or more (blank: the tripod disc).'); return; }
         put({ t: 'blocked', st: picked, r: r === '' ? null : +r });
         say(text(edits[edits.length - 1]) + '. Tap a station.');
       } else if (a === 'moved' && s) {
@@ -232,7 +232,7 @@
     }
     function save() {
       var h = hours.value.trim();
-      if (h !== '' && !(+h >= 0)) { say('Hours left must be a number, 0 or more (blank: no limit).'); return; }
+      if ((hours.validity && hours.validity.badInput) || (h !== '' && !(+h >= 0))) { say('Hours left must be a number, 0 or more (blank: no limit).'); return; }
       var blob = new Blob([JSON.stringify(data(), null, 2) + '\n'], { type: 'application/json' });
       var url = URL.createObjectURL(blob), a = document.createElement('a');
       a.href = url;
