@@ -65,10 +65,10 @@ def piece_groups(candidates: Sequence[Candidate], labels: Sequence[Hashable], pr
     """The registration group of each piece (an index into the distinct ``labels``; -1: no candidate of its zone-side),
     from the group of the candidates proposed for its zone-side."""
     t = problem.targets
-    distinct = list(dict.fromkeys(labels))
+    index: dict[Hashable, int] = {}
     by_side: dict[tuple[str, str], int] = {}
     for c, label in zip(candidates, labels, strict=True):
-        by_side.setdefault((c.zone, c.side.value), distinct.index(label))
+        by_side.setdefault((c.zone, c.side.value), index.setdefault(label, len(index)))
     out = np.full(len(t), -1, dtype=np.int64)
     for k in range(len(t)):
         out[k] = by_side.get((t.zone_ids[int(t.zone[k])], SIDE_NAME[int(t.side[k])]), -1)
@@ -78,11 +78,21 @@ def piece_groups(candidates: Sequence[Candidate], labels: Sequence[Hashable], pr
 def split_groups(problem: CoverageProblem, groups: Groups) -> list[Split]:
     """The registration groups whose pieces (those a candidate of the group sees) lie in more than one component of
     the graph of the group's candidates, the pieces they see and their links: groups with no connected plan over the
-    pool."""
+    pool. Asked first per zone-side, without links (no group is formed: the links through openings cost seconds on a
+    site with doors); only where a zone-side's own candidates split its pieces are the groups formed and asked."""
     cands = problem.candidates
+    if not splits_of(problem, tuple((c.zone, c.side.value) for c in cands), None):
+        return []
     labels, links = groups(cands)
+    return splits_of(problem, labels, links)
+
+
+def splits_of(problem: CoverageProblem, labels: Sequence[Hashable], links: sp.csr_matrix | None) -> list[Split]:
+    """:func:`split_groups` for the groups ``labels`` (one per candidate) and their ``links``."""
+    cands = problem.candidates
     distinct = list(dict.fromkeys(labels))
-    gid = np.array([distinct.index(label) for label in labels], dtype=np.int64)
+    index = {label: k for k, label in enumerate(distinct)}
+    gid = np.array([index[label] for label in labels], dtype=np.int64)
     pg = piece_groups(cands, labels, problem)
     a = problem.by_candidate.tocoo()
     keep = gid[a.row] == pg[a.col]  # a candidate links only the pieces of its own group
