@@ -53,6 +53,36 @@ def write_csv(tmp_path: Path):
     return _write
 
 
+@pytest.fixture(scope="session")
+def polygon_b_greedy():
+    """``(site, plan)``: bundled polygon B planned by the greedy, made once per session and shared by the tests that
+    only read it (a Plan is frozen; they must not change its arrays)."""
+    import planner
+
+    site = planner.load_site(INSTANCES / "polygon_b.json")
+    return site, planner.plan_site(site, planner.PlanOptions(method="greedy"))
+
+
+@pytest.fixture(scope="session")
+def polygon_b_default():
+    """``(site, plan)``: bundled polygon B planned with the library's defaults (the MILP, tripod discs), made once per
+    session for the tests that only read it."""
+    import planner
+
+    site = planner.load_site(INSTANCES / "polygon_b.json")
+    return site, planner.plan_site(site, planner.PlanOptions())
+
+
+@pytest.fixture(scope="session")
+def house_doors_greedy():
+    """``(site, plan)``: bundled house_doors (4 rooms, 4 openings) planned by the greedy, made once per session for
+    the tests that only read it."""
+    import planner
+
+    site = planner.load_site(INSTANCES / "house_doors.json")
+    return site, planner.plan_site(site, planner.PlanOptions(method="greedy"))
+
+
 def square_rows(zone: str = "S", side: str = "inside", length: float = 10.0, height: float = 5.0) -> list[tuple]:
     """A length x length square zone, every angle 90 deg."""
     return [(zone, side, i, length, height, 90, height) for i in range(1, 5)]

@@ -137,9 +137,8 @@ def test_library_misuse_is_refused_not_answered():
 
 
 @pytest.fixture(scope="module")
-def greedy_b():
-    site = planner.load_site(INSTANCES / "polygon_b.json")
-    return site, planner.plan_site(site, planner.PlanOptions(method="greedy"))
+def greedy_b(polygon_b_greedy):
+    return polygon_b_greedy
 
 
 @pytest.mark.parametrize(

@@ -21,8 +21,8 @@ from tests.figures.overlap import boxes, drawn_texts, labels, overlapping
 
 
 @pytest.fixture(scope="module")
-def house_plan() -> planner.Plan:
-    return planner.plan_site(planner.load_site(INSTANCES / "house_doors.json"), planner.PlanOptions(method="greedy"))
+def house_plan(house_doors_greedy) -> planner.Plan:
+    return house_doors_greedy[1]
 
 
 def check_labels(fig: Figure, fp: FieldPlan) -> None:

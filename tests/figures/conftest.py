@@ -1,4 +1,5 @@
-"""Outcomes the figure tests draw: bundled sites planned by the greedy method (the quickest), made once."""
+"""Outcomes the figure tests draw: bundled sites planned by the greedy method (the quickest), made once per session
+(tests/conftest.py)."""
 
 from __future__ import annotations
 
@@ -6,30 +7,27 @@ import pytest
 
 import planner
 from planner.plan.outcome import Outcome
-from tests.conftest import INSTANCES
 
 
-def greedy_outcome(name: str, network: bool) -> Outcome:
-    """``instances/NAME.json`` planned greedily, with its network checked when ``network``."""
-    site = planner.load_site(INSTANCES / f"{name}.json")
-    plan = planner.plan_site(site, planner.PlanOptions(method="greedy"))
+def greedy_outcome(site: planner.Site, plan: planner.Plan, network: bool) -> Outcome:
+    """The outcome of a greedy ``plan`` of ``site``, with its network checked when ``network``."""
     report = planner.run_network(site, list(plan.stations)) if network else None
     return planner.outcome_from_plan(plan, report)
 
 
 @pytest.fixture(scope="session")
-def house_network() -> Outcome:
+def house_network(house_doors_greedy) -> Outcome:
     """house_doors (4 rooms, 4 openings, 7 stations) with its network: proposed control points and ties."""
-    return greedy_outcome("house_doors", network=True)
+    return greedy_outcome(*house_doors_greedy, network=True)
 
 
 @pytest.fixture(scope="session")
-def house_plain() -> Outcome:
+def house_plain(house_doors_greedy) -> Outcome:
     """house_doors without a network: the site figure computes the registration links itself."""
-    return greedy_outcome("house_doors", network=False)
+    return greedy_outcome(*house_doors_greedy, network=False)
 
 
 @pytest.fixture(scope="session")
-def polygon_b() -> Outcome:
+def polygon_b(polygon_b_greedy) -> Outcome:
     """Polygon B (one zone, both sides, its own frame) without a network."""
-    return greedy_outcome("polygon_b", network=False)
+    return greedy_outcome(*polygon_b_greedy, network=False)

@@ -18,9 +18,8 @@ from tests.conftest import INSTANCES
 
 
 @pytest.fixture(scope="module")
-def polygon_b():
-    site = planner.load_site(INSTANCES / "polygon_b.json")
-    plan = planner.plan_site(site, planner.PlanOptions(method="milp", tripod=True))
+def polygon_b(polygon_b_default):
+    site, plan = polygon_b_default  # the library's defaults: the MILP with tripod discs
     network = planner.run_network(site, list(plan.stations))
     return site, plan, planner.outcome_from_plan(plan, network)
 

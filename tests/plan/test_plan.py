@@ -23,17 +23,25 @@ from tests.conftest import INSTANCES
 
 
 class _Plans(dict):
-    """A polygon's closed-form and greedy plans, made when a test first reads them (the quick tier reads B only)."""
+    """A polygon's closed-form and greedy plans, made when a test first reads them (the quick tier reads B only);
+    ``greedy``: greedy plans made before (the session's), by polygon."""
+
+    def __init__(self, greedy: dict) -> None:
+        super().__init__()
+        self.greedy = greedy
 
     def __missing__(self, name: str) -> dict:
         site = load_site(INSTANCES / f"{name}.json")
-        self[name] = {m: plan_site(site, PlanOptions(method=m)) for m in ("closed-form", "greedy")}
+        self[name] = {
+            m: self.greedy[name] if m == "greedy" and name in self.greedy else plan_site(site, PlanOptions(method=m))
+            for m in ("closed-form", "greedy")
+        }
         return self[name]
 
 
 @pytest.fixture(scope="module")
-def plans():
-    return _Plans()
+def plans(polygon_b_greedy):
+    return _Plans({"polygon_b": polygon_b_greedy[1]})
 
 
 @pytest.mark.slow

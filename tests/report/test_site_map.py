@@ -19,7 +19,7 @@ from planner.figures.webmap import MapLine, MapLink, MapPoint, MapStation, Run, 
 from planner.figures.webmap.build import field_layers
 from planner.report.site_map import outcome_site_map, site_map_html
 from tests.browser import body_attributes, chromium, dump_dom, probe
-from tests.conftest import INSTANCES, square_rows
+from tests.conftest import square_rows
 
 URL = re.compile(r"https?://", re.IGNORECASE)
 
@@ -68,10 +68,10 @@ def parse(fragment: str) -> Fragment:
 
 
 @pytest.fixture(scope="module")
-def polygon_b(tmp_path_factory):
-    """Polygon B planned by greedy, its plan.json and its map fragment."""
+def polygon_b(tmp_path_factory, polygon_b_greedy):
+    """Polygon B planned by greedy (the session's plan), its plan.json and its map fragment."""
     out = tmp_path_factory.mktemp("pb")
-    plan = planner.plan_site(planner.load_site(INSTANCES / "polygon_b.json"), planner.PlanOptions(method="greedy"))
+    plan = polygon_b_greedy[1]
     planner.write_plan(plan, out)
     o = planner.outcome_from_plan(plan)
     return json.loads((out / "plan.json").read_text()), o, site_map_html(o)
@@ -202,13 +202,14 @@ PROBE = probe(
 
 
 @pytest.fixture(scope="module")
-def house(tmp_path_factory):
-    """report.html of house_doors (greedy) with its field sheet: walls, coverage, links, route, targets."""
+def house(tmp_path_factory, house_doors_greedy):
+    """report.html of house_doors (greedy, the session's plan) with its field sheet: walls, coverage, links, route,
+    targets."""
     from planner.field.run import field_plan
     from planner.field.sheet import write_sheet
 
     out = tmp_path_factory.mktemp("house")
-    plan = planner.plan_site(planner.load_site(INSTANCES / "house_doors.json"), planner.PlanOptions(method="greedy"))
+    plan = house_doors_greedy[1]
     write_sheet(field_plan(plan.problem.sight, plan.stations), out)
     o = planner.outcome_from_plan(plan)
     return o, planner.write_report(o, out, field=out)
