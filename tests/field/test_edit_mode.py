@@ -175,7 +175,9 @@ def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, ca
     if not _replan():
         pytest.skip("planner replan is not a command here yet: the saved file was checked against the format only")
     capsys.readouterr()
-    assert main(["replan", str(sheet / "plan.json"), str(saved_file), "--out", str(tmp_path / "replan")]) == 0
+    code = main(["replan", str(sheet / "plan.json"), str(saved_file), "--out", str(tmp_path / "replan")])
+    said = capsys.readouterr()
+    assert code == 0, f"planner replan exit {code} on the saved edits {edits}: {said.err.strip()[-500:]}"
 
 
 def test_report_map_has_no_edit_mode(sheet):
