@@ -83,6 +83,19 @@ def house_doors_greedy():
     return site, planner.plan_site(site, planner.PlanOptions(method="greedy"))
 
 
+@pytest.fixture(scope="session")
+def polygon_b_report(tmp_path_factory) -> Path:
+    """The folder where ``planner plan instances/polygon_b.json --target-spacing 2 --out D --report D`` wrote its
+    plan.json and report.html (a walls-only plan without settings: every section and figure of the report at half the
+    1-m coverage's cost), made once per session for the tests that only read them."""
+    from planner.cli import main
+
+    out = tmp_path_factory.mktemp("polygon_b_report")
+    site = str(INSTANCES / "polygon_b.json")
+    assert main(["plan", site, "--target-spacing", "2", "--out", str(out), "--report", str(out), "--quiet"]) == 0
+    return out
+
+
 def square_rows(zone: str = "S", side: str = "inside", length: float = 10.0, height: float = 5.0) -> list[tuple]:
     """A length x length square zone, every angle 90 deg."""
     return [(zone, side, i, length, height, 90, height) for i in range(1, 5)]

@@ -228,10 +228,10 @@ def test_the_report_shows_the_hours_and_the_trade_off(tmp_path):
     assert section.count("<tr>") >= 6 and 'src="data:image/png;base64,' in section  # the table and the figure
 
 
-def test_a_plan_without_settings_has_no_hours_section(tmp_path):
-    room = _room(tmp_path)
-    assert main(["plan", str(room), "--quiet", "--out", str(tmp_path), "--report", str(tmp_path)]) == ExitCode.OK
-    assert "Hours on site" not in (tmp_path / "report.html").read_text()
+def test_a_plan_without_settings_has_no_hours_section(polygon_b_report):
+    # polygon B planned without a spacing or an objective, with its report (the session's, tests/conftest.py)
+    assert "hours" not in json.loads((polygon_b_report / "plan.json").read_text())
+    assert "Hours on site" not in (polygon_b_report / "report.html").read_text()
 
 
 def test_planner_verify_checks_the_spacing_at_each_station_s_setting(plans, tmp_path, capsys):

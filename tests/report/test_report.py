@@ -14,7 +14,6 @@ import pytest
 
 from planner.cli import main
 from tests.browser import chromium
-from tests.conftest import INSTANCES
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -38,13 +37,9 @@ class Images(HTMLParser):
 
 
 @pytest.fixture(scope="module")
-def report(tmp_path_factory):
+def report(polygon_b_report):
     # polygon B on 2-m wall pieces: every section and figure of the report at half the 1-m coverage's cost
-    out = tmp_path_factory.mktemp("out")
-    site = str(INSTANCES / "polygon_b.json")
-    code = main(["plan", site, "--target-spacing", "2", "--out", str(out), "--report", str(out), "--quiet"])
-    assert code == 0
-    return out / "report.html"
+    return polygon_b_report / "report.html"
 
 
 def test_report_is_self_contained_and_every_image_decodes(report):

@@ -70,8 +70,10 @@ def _shape(d: str) -> shapely.Geometry:
     return out
 
 
-def test_walls_only_report_has_no_floors(tmp_path: Path) -> None:
-    _, out, plan = _plan(tmp_path, "w")
+def test_walls_only_report_has_no_floors(polygon_b_report: Path) -> None:
+    # polygon B planned walls-only with its report (the session's, tests/conftest.py)
+    out = polygon_b_report
+    plan = json.loads((out / "plan.json").read_text())
     html = (out / "report.html").read_text()
     assert "surfaces" not in plan
     assert "Floors and ceilings" not in html and 'data-layer="floors"' not in html and 'class="sm-fl"' not in html
