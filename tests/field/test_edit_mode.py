@@ -8,12 +8,14 @@ and puts the moved station where the finger was, in the site frame, to the centi
 inverse of the frame's screen matrix, checked against the station's own coordinates). A closed area drawn by three
 taps, then undone from the list, comes and goes in what the page would save; the edits outlive a reload. The
 re-plan's reader (planner.io.edits, where it is there) takes the file; where ``planner replan`` exists, it
-accepts the saved file (exit 0). report.html's map has no edit mode."""
+accepts the saved file (exit 0). Without a browser: the edit mode is in the map only where asked (field.html's),
+never in report.html's, and the page stays free of any address."""
 
 from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -22,10 +24,7 @@ from planner.cli.main import main
 from tests.browser import Phone, chromedriver
 from tests.conftest import INSTANCES
 
-pytestmark = [
-    pytest.mark.slow,  # a plan, then a headless browser
-    pytest.mark.skipif(chromedriver() is None, reason="no Chromium or chromedriver here; edit mode needs a browser"),
-]
+URL = re.compile(r"https?://", re.IGNORECASE)
 
 MAP = "#field-map"
 
@@ -71,6 +70,8 @@ def _replan() -> bool:
         return stop.code == 0
 
 
+@pytest.mark.slow
+@pytest.mark.skipif(chromedriver() is None, reason="no Chromium or chromedriver here; edit mode needs a browser")
 def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, capsys):
     plan = json.loads((sheet / "plan.json").read_text())
     number = {s["id"]: s["number"] for s in plan["stations"]}
@@ -180,12 +181,29 @@ def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, ca
     assert code == 0, f"planner replan exit {code} on the saved edits {edits}: {said.err.strip()[-500:]}"
 
 
-def test_report_map_has_no_edit_mode(sheet):
-    """report.html embeds the same map without the edit mode: no toggle, no panel, no edit script."""
-    from planner.figures.webmap import render_site_map
-    from planner.figures.webmap.model import SiteMap
+def test_edit_mode_only_where_asked_and_self_contained():
+    """The edit mode is in the map only with ``edit`` (the field sheet's): the toggle, the hidden panel with the format,
+    the site frame, the plan's name and a zone to close, and its script; no address either way. report.html's map
+    (``edit`` off) has none of it."""
+    from planner.figures.webmap import MapStation, SiteMap, render_site_map
 
-    html = render_site_map(SiteMap(title="t", frames=("site",), walls=(), stations=()))
-    assert "sm-ed" not in html and 'class="sm-edit"' not in html and "smapTap" in html
+    m = SiteMap(
+        title="yard <1>",
+        frames=("site",),
+        walls=(),
+        stations=(MapStation("S1", "site", 1.0, 2.0, label="1", number=1, name="S1"),),
+        zones=("Z1", "Z2"),
+    )
+    on, off = render_site_map(m, edit=True), render_site_map(m)
+    assert on.count('class="sm-edit"') == 1 and '<div class="sm-ed" hidden' in on
+    assert 'data-format="planner-edits/1"' in on and 'data-site-frame="site"' in on
+    assert 'data-instance="yard &lt;1&gt;"' in on and '<option value="Z2">' in on and "smapEdits" in on
+    assert "sm-ed" not in off and 'class="sm-edit"' not in off and "smapEdits" not in off and "smapTap" in off
+    assert not URL.search(on) and not URL.search(off)
+
+
+@pytest.mark.slow  # a plan
+def test_field_sheet_has_the_edit_mode(sheet):
+    """field.html (planner plan --field) carries the edit mode once, and still fetches nothing."""
     field = (sheet / "field.html").read_text()
-    assert field.count('class="sm-edit"') == 1 and 'class="sm-ed"' in field and "planner-edits/1" in field
+    assert field.count('class="sm-edit"') == 1 and 'class="sm-ed"' in field and not URL.search(field)
