@@ -63,8 +63,22 @@ def polygon_b_connected(problems):
     return solve(cover_instance(problem), MilpOptions(backend="cpsat"))
 
 
+@pytest.fixture(scope="module")
+def polygon_b_plain(problems):
+    """Polygon B's plain cover optimum by CP-SAT (no overlap rule), solved once for the module."""
+    return solve(cover_instance(problems["polygon_b"][1]), MilpOptions(backend="cpsat", overlap=None))
+
+
+@pytest.fixture(scope="module")
+def polygon_b_greedy_connected(problems):
+    """Polygon B's connected greedy plan under a 30 % rule (the MILP's warm start), made once for the module."""
+    return connected_greedy_plan(cover_instance(problems["polygon_b"][1]), OverlapRule(0.3))
+
+
 @pytest.mark.parametrize("backend", BACKENDS)
-def test_connected_plan_of_polygon_b_on_every_backend(problems, polygon_b_connected, backend):
+def test_connected_plan_of_polygon_b_on_every_backend(
+    problems, polygon_b_connected, polygon_b_plain, polygon_b_greedy_connected, backend
+):
     site, problem = problems["polygon_b"]
     r = solve(cover_instance(problem), MilpOptions(backend=backend))
     assert r.status.value == polygon_b_connected.status.value == "optimal"
@@ -74,10 +88,8 @@ def test_connected_plan_of_polygon_b_on_every_backend(problems, polygon_b_connec
     assert verify_stations(Sight.of_site(site), stations).complete
     # every backend proves the same optimum, between the plain cover's optimum (a connected plan is a
     # cover) and the connected greedy (a connected plan; the MILP's warm start)
-    plain = solve(cover_instance(problem), MilpOptions(backend="cpsat", overlap=None))
-    greedy = connected_greedy_plan(cover_instance(problem), OverlapRule(0.3))
     assert r.objective == polygon_b_connected.objective
-    assert plain.objective <= r.objective <= greedy.objective
+    assert polygon_b_plain.objective <= r.objective <= polygon_b_greedy_connected.objective
 
 
 @pytest.fixture(scope="module")
@@ -143,12 +155,12 @@ def test_cli_milp_plan_json(tmp_path, capsys):
     assert data["verification"]["complete"]
 
 
-def test_export_orlib_roundtrip(problems, tmp_path, capsys):
+def test_export_orlib_roundtrip(polygon_b_plain, tmp_path, capsys):
     from planner.solve.orlib import read_orlib
 
     assert (
         main(["export", str(INSTANCES / "polygon_b.json"), "--format", "orlib", "--out", str(tmp_path / "b.txt")]) == 0
     )
     inst = read_orlib(tmp_path / "b.txt")
-    direct = solve(cover_instance(problems["polygon_b"][1]), MilpOptions(overlap=None))  # the same build, made once
-    assert solve(inst, MilpOptions(overlap=None)).objective == direct.objective
+    # the plain optimum of the same build (made once for the module), by the same solver
+    assert solve(inst, MilpOptions(overlap=None)).objective == polygon_b_plain.objective
