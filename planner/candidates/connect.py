@@ -192,7 +192,7 @@ def connect_candidates(
         if missing:
             cache.update(coverage_regions(sight.site, t, sight.limits, missing, spaces))
 
-    added = 0
+    added, tried = 0, set[tuple[str, str, float, float]]()  # positions tried in any round (else retried)
     for n in range(ROUNDS):
         splits = split_groups(problem, groups)
         if not splits:
@@ -208,7 +208,8 @@ def connect_candidates(
                         zone, side = t.zone_ids[int(t.zone[k])], ScanSide(SIDE_NAME[int(t.side[k])])
                         name = f"L{n + 1}.{len(new) + 1}"
                         new.append(side_candidate(zone, side, t.frames[int(t.frame[k])], name, pole.x, pole.y, KIND))
-        new = _distinct(new)
+        new = [c for c in _distinct(new) if _key(c) not in tried]
+        tried.update(_key(c) for c in new)
         if not new:
             break
         problem = merge_problems(problem, sight.coverage(new, t))
@@ -232,12 +233,21 @@ def connect_candidates(
 KIND = CandidateKind.REGION
 
 
+def is_link(c: Candidate) -> bool:
+    """A connectivity candidate (its name ``L<round>.<n>``)."""
+    return c.kind is KIND and c.id.rsplit("-", 1)[-1].startswith("L")
+
+
+def _key(c: Candidate) -> tuple[str, str, float, float]:
+    return (c.zone, c.side.value, round(c.x, 7), round(c.y, 7))
+
+
 def _distinct(cands: list[Candidate]) -> list[Candidate]:
     """One candidate per (zone, side, position)."""
     seen: set[tuple[str, str, float, float]] = set()
     out = []
     for c in cands:
-        key = (c.zone, c.side.value, round(c.x, 7), round(c.y, 7))
+        key = _key(c)
         if key not in seen:
             seen.add(key)
             out.append(c)

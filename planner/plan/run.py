@@ -13,7 +13,7 @@ from planner.bounds.corners import link_refusal
 from planner.bounds.outer import OuterRegions
 from planner.candidates.axis import axis_candidates
 from planner.candidates.complete import complete_candidates
-from planner.candidates.connect import connect_candidates, split_groups
+from planner.candidates.connect import connect_candidates, is_link, split_groups
 from planner.candidates.from_regions import whole_side_candidates
 from planner.candidates.pool import candidate_pool, dedupe
 from planner.core.checks import argument
@@ -209,6 +209,11 @@ def _method_input(
     pricing = ", before pricing" if options.method == "milp" and options.pricing else ""
     pairs = f"{len(coverage.candidates):,} candidates of the pool, {coverage.by_candidate.nnz:,} candidate-target pairs"
     log = [f"{how} ({pairs}{pricing})"]
+    links = sum(1 for c in coverage.candidates if is_link(c))
+    if links:
+        log.append(
+            f"connectivity candidates: {links} where the pool split a registration group's pieces (outside corners)"
+        )
     cover = None
     if problem.surfaces is not None and given_cover is not None:
         if given_cover.matrix.shape[0] != len(coverage.candidates):
