@@ -20,9 +20,8 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.coverage.matrix import CoverageProblem, build_coverage
-from planner.coverage.overlap import overlap_adjacency
 from planner.io.edits import Edits
-from planner.io.replan_data import ReplanData
+from planner.io.replan_data import ReplanData, relation_of
 from planner.plan.problem import Problem
 from planner.site.candidate import Candidate
 from planner.site.features import SITE_FRAME, Obstacle
@@ -232,41 +231,15 @@ def _relation(
     moved: Sequence[Candidate],
     changed: NDArray[np.int64],
 ) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None, sp.csr_matrix | None]:
-    """Registration groups, links and the overlap relation of ``cov``'s rows: the pool's as stored, except the rows
-    whose pairs an obstacle hid and the moved done stations, made again among them and every row they share a
-    piece or a link with."""
-    n, n_pool = len(cov.candidates), len(rows)
-    groups = [data.groups[int(r)] for r in rows]
-    links = None if data.links is None else data.links[rows][:, rows]
-    if moved:
-        more, _ = problem.registration.groups(list(moved))
-        groups += list(more)
-    if links is not None:
-        links = sp.block_diag([links, sp.csr_matrix((len(moved), len(moved)), dtype=bool)], format="csr")
-    if problem.rule is None:
-        return tuple(groups), links, None
-    rel = data.relation[rows][:, rows] if data.relation is not None else sp.csr_matrix((n_pool, n_pool), dtype=bool)
-    rel = sp.block_diag([rel, sp.csr_matrix((len(moved), len(moved)), dtype=bool)], format="csr")
-    redo = np.union1d(changed, np.arange(n_pool, n)).astype(np.int64)
-    if redo.size == 0:
-        return tuple(groups), links, rel.astype(bool).tocsr()
-    by = cov.by_candidate
-    near = np.unique(np.concatenate([redo, (by[redo] @ by.T).tocsr().indices]))
-    sub = [cov.candidates[k] for k in near]
-    sub_groups, sub_links = problem.registration.groups(sub)  # links through openings among them, made again
-    t = cov.targets
-    xy = np.array([c.xy for c in sub], dtype=float).reshape(-1, 2)
-    adj, _ = overlap_adjacency(by[near], t.s1_m - t.s0_m, problem.rule, sub_groups, xy, sub_links)
-    coo = adj.tocoo()
-    mask = np.isin(near[coo.row], redo) | np.isin(near[coo.col], redo)
-    fresh = sp.csr_matrix(
-        (np.ones(int(mask.sum()), dtype=bool), (near[coo.row[mask]], near[coo.col[mask]])), shape=(n, n)
-    )
-    stale = np.zeros(n, dtype=bool)
-    stale[redo] = True
-    keep = sp.diags((~stale).astype(float))
-    old = (keep @ rel.astype(float) @ keep).astype(bool)
-    if links is not None and sub_links is not None:
-        lk = sp.coo_matrix(sub_links)
-        links = (links + sp.csr_matrix((lk.data.astype(bool), (near[lk.row], near[lk.col])), shape=(n, n))).tocsr()
-    return tuple(groups), links, (old + fresh).astype(bool).tocsr()
+    """Registration groups, links and the overlap relation of ``cov``'s rows: the pool's as stored where no row
+    changed; made again for all of them where an obstacle hid pairs or a done station moved (a link through an
+    opening may join a changed row to any other)."""
+    if moved or changed.size:
+        groups, links = problem.registration.groups(cov.candidates)
+        return tuple(groups), links, relation_of(problem, cov, groups, links)
+    groups = tuple(data.groups[int(r)] for r in rows)
+    links = None if data.links is None else data.links[rows][:, rows].tocsr()
+    relation = None if data.relation is None else data.relation[rows][:, rows].tocsr()
+    if problem.rule is not None and relation is None:
+        relation = sp.csr_matrix((len(rows), len(rows)), dtype=bool)
+    return groups, links, None if problem.rule is None else relation

@@ -46,10 +46,13 @@ class RestSolution:
     warm: str
 
 
-def rest_instance(rest: RestProblem, problem: Problem) -> tuple[CoverInstance, np.ndarray, np.ndarray]:
+def rest_instance(
+    rest: RestProblem, problem: Problem, every_row: bool = False
+) -> tuple[CoverInstance, np.ndarray, np.ndarray]:
     """The MILP's instance of the rest and what its rows and columns are (indices into the rest's rows and the
     targets): the pieces left to cover (neither lost nor seen by a done station), the candidates that see one of
-    them and the done stations, each of these forced by a column of its own."""
+    them and the done stations, each of these forced by a column of its own (``every_row``: every candidate left,
+    those that may only join others in one network too)."""
     cov = rest.coverage
     combined = problem.options.milp.precision == "combined"
     k = problem.options.milp.k
@@ -61,6 +64,7 @@ def rest_instance(rest: RestProblem, problem: Problem) -> tuple[CoverInstance, n
     cols = np.flatnonzero(need)
     useful = np.diff(cov.by_candidate[:, cols].tocsr().indptr) > 0
     useful[done] = True
+    useful |= every_row
     rows = np.flatnonzero(useful)
     p = problem.site.parameters
     sub = _rows_of(cov, rows)
@@ -105,7 +109,17 @@ def solve_rest(
 ) -> RestSolution:
     """Solve the rest under the plan's MILP settings (``milp``: plan.json's ``parameters.milp``) within
     ``work_limit_s`` of CP-SAT work, and take the previous plan's survivors where they are as good."""
-    inst, rows, cols = rest_instance(rest, problem)
+    solution = _solve(rest, problem, milp, work_limit_s, False)
+    if not solution.selected:  # a network may need candidates that cover nothing left: all of them, then
+        solution = _solve(rest, problem, milp, work_limit_s, True)
+    return solution
+
+
+def _solve(
+    rest: RestProblem, problem: Problem, milp: dict[str, Any], work_limit_s: float, every_row: bool
+) -> RestSolution:
+    """:func:`solve_rest` over the candidates that cover something left (``every_row``: over all of them)."""
+    inst, rows, cols = rest_instance(rest, problem, every_row)
     options = MilpOptions(
         backend=str(milp.get("backend", "cpsat")),
         seed=int(milp.get("seed", 0)),
