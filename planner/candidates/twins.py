@@ -26,6 +26,9 @@ from planner.site.candidate import CandidateKind
 TWIN_SEPARATION_M = 0.1
 #: candidates twinned at most (the undominated ones seeing the most pieces first)
 MAX_TWINNED = 400
+#: the largest k twinned: k - 1 twins per candidate beyond it would cost more than any plan needs (a k of hundreds is a
+#: refusal to count, not a plan to draw)
+MAX_K = 4
 #: a region smaller than this (m^2) holds no twin
 MIN_AREA_M2 = 1e-10
 
@@ -57,9 +60,11 @@ def twin_candidates(
     cache: dict[int, shapely.Geometry] | None = None,
 ) -> tuple[CoverageProblem, str]:
     """``problem`` with up to k - 1 twins of each undominated candidate (module docstring) and a log line (empty for
-    k = 1, where nothing is added)."""
+    k = 1, where nothing is added; for k above :data:`MAX_K`, the pool as it is, said in the line)."""
     if k < 2:
         return problem, ""
+    if k > MAX_K:
+        return problem, f"k = {k} views: no twin positions added (twins are made for k up to {MAX_K})"
     spaces = {} if spaces is None else spaces
     cache = {} if cache is None else cache
     t = problem.targets
