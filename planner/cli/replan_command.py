@@ -17,7 +17,7 @@ from planner.core.text import dumps
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)
     from planner.field.run import FieldPlan
-    from planner.replan import Replan
+    from planner.replan.run import Replan
 
 #: the subfolder of --out the sheet of the stations left goes into (its field.json lists those only, plan.json every
 #: station: the outputs' consistency check compares a folder's field.json with its plan.json)
@@ -87,7 +87,7 @@ def cmd_replan(args: argparse.Namespace) -> int:
         raise UsageError("must be a whole number >= 1", field="--solution-limit", value=args.solution_limit)
     from planner.field.run import FieldOptions
     from planner.io.replan_data import FILE_NAME
-    from planner.replan import replan
+    from planner.replan.run import replan
     from planner.replan.solve_rest import REPLAN_WORK_S
 
     folder = Path(args.out or Path(args.plan).parent)
