@@ -11,6 +11,8 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine
+from matplotlib.text import Text
+from matplotlib.transforms import Bbox
 
 #: room around the data of a plan panel (a share of its span, as ``Axes.margins``): the scale bar and the
 #: north arrow stand in it, clear of walls and stations
@@ -81,11 +83,14 @@ def scale_and_north(ax: Axes, frame: str) -> None:
 
 
 def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
-    """The figure as PNG bytes, cut to what is drawn (``bbox_inches="tight"``).
+    """The figure as PNG bytes, drawn once where its layout is known.
 
-    A figure whose layout is frozen (:func:`planner.figures.labels.freeze_layout`) is measured at ``dpi`` and drawn
-    once: ``savefig`` with ``"tight"`` draws it twice, once to measure, once to render, and the plan figures spend
-    most of the report's time drawing. The box is the one ``"tight"`` measures, so the image is the same."""
+    A figure laid out by its engine and frozen (:func:`planner.figures.labels.freeze_layout`) is saved whole: the
+    constrained layout has put every axes, tick label, colour bar and legend inside the figure, 3 points from its edge,
+    so the box ``bbox_inches="tight"`` would measure is the figure less that padding; measuring it walks every axes'
+    ticks and texts once more, about a fifth of a plan figure's time. Only a title or figure text can pass the edge
+    (the layout makes room for a title's height, not its width): the image is then widened to hold it. A figure with no
+    layout engine is cut to what is drawn, measured without a draw; a live layout is saved with ``"tight"``."""
     buf = io.BytesIO()
     engine = fig.get_layout_engine()
     if engine is not None and not isinstance(engine, PlaceHolderLayoutEngine):  # a live layout: it needs the draw
@@ -93,19 +98,37 @@ def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
         return buf.getvalue()
     if not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
-    saved_dpi = fig.dpi
-    fig.dpi = dpi
-    try:
-        box = fig.get_tightbbox(fig.canvas.get_renderer())  # type: ignore[attr-defined]
-    finally:
-        fig.dpi = saved_dpi
     pad = float(mpl.rcParams["savefig.pad_inches"])
+    if engine is None:  # nothing laid out: cut to the tight box, measured at ``dpi``
+        saved_dpi = fig.dpi
+        fig.dpi = dpi
+        try:
+            box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(pad, pad)  # type: ignore[attr-defined]
+        finally:
+            fig.dpi = saved_dpi
+    else:
+        box = _past_the_edge(fig, pad)
     drop_frozen_layout(fig)
     try:
-        fig.savefig(buf, format="png", dpi=dpi, bbox_inches=box.padded(pad, pad))
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches=box)
     finally:
         fig.set_layout_engine(engine)
     return buf.getvalue()
+
+
+def _past_the_edge(fig: Figure, pad: float) -> Bbox:
+    """The figure's box in inches, widened (and padded by ``pad``) to hold any figure text or axes title that runs past
+    its edge."""
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+    # the figure's texts and each axes' plain Text children: its titles and texts (its placed labels are annotations,
+    # inside the axes by construction)
+    texts = [*fig.texts, *(t for ax in fig.axes for t in ax.get_children() if type(t) is Text)]
+    boxes = [t.get_window_extent(renderer) for t in texts if t.get_visible() and t.get_text()]
+    whole = fig.bbox
+    out = [b for b in boxes if b.x0 < whole.x0 or b.y0 < whole.y0 or b.x1 > whole.x1 or b.y1 > whole.y1]
+    if not out:
+        return fig.bbox_inches
+    return Bbox.union([whole, *out]).transformed(fig.dpi_scale_trans.inverted()).padded(pad, pad)
 
 
 def drop_frozen_layout(fig: Figure) -> None:

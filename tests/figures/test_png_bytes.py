@@ -1,5 +1,6 @@
-"""A frozen figure saved in one draw (:func:`planner.figures.base.png_bytes`) gives the bytes ``savefig`` with
-``bbox_inches="tight"`` gives (two draws), and the layout frozen without a draw places labels where a draw would."""
+"""A frozen figure is saved whole in one draw (:func:`planner.figures.base.png_bytes`): the bytes ``savefig`` of the
+whole figure gives, nothing drawn past its edge (what ``bbox_inches="tight"`` would cut to lies inside it), widened
+where a title runs past the edge; a live layout is laid out and kept."""
 
 from __future__ import annotations
 
@@ -31,10 +32,38 @@ def _panels(seed: int = 3) -> Figure:
 
 
 @pytest.mark.slow  # two figures drawn: seconds on a busy machine
-def test_one_draw_gives_the_bytes_of_savefig_tight():
+def test_a_frozen_figure_gives_the_bytes_of_savefig_of_the_whole_figure():
     buf = io.BytesIO()
-    _panels().savefig(buf, format="png", dpi=110, bbox_inches="tight")
+    fig = _panels()
+    drop_frozen_layout(fig)
+    fig.savefig(buf, format="png", dpi=110)
     assert png_bytes(_panels()) == buf.getvalue()
+
+
+def _size(png: bytes) -> tuple[int, int]:
+    """(width, height) in pixels of a PNG."""
+    return int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
+
+
+def test_a_frozen_figure_is_drawn_once_whole_and_nothing_drawn_lies_past_its_edge(monkeypatch):
+    fig = _panels()
+    draws = []
+    real = Figure.draw
+    monkeypatch.setattr(Figure, "draw", lambda self, renderer: draws.append(1) or real(self, renderer))
+    png = png_bytes(fig)
+    assert len(draws) == 1 and _size(png) == (6 * 110, 3 * 110)  # one draw, the whole figure
+    monkeypatch.undo()
+    # what "tight" would cut to lies inside the figure: the whole figure loses nothing
+    tight = fig.get_tightbbox(fig.canvas.get_renderer())
+    assert 0 <= tight.x0 and 0 <= tight.y0 and tight.x1 <= 6 and tight.y1 <= 3
+
+
+def test_a_title_wider_than_the_figure_widens_the_image():
+    fig = _panels()
+    fig.suptitle("a site name long enough to run past both edges of a six-inch figure " * 2)
+    width, height = _size(png_bytes(fig))
+    title = fig.texts[-1].get_window_extent(fig.canvas.get_renderer())
+    assert width >= title.width * 110 / fig.dpi and width > 6 * 110 and height >= 3 * 110
 
 
 def test_a_live_layout_is_still_laid_out_and_kept():
