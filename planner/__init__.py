@@ -92,7 +92,7 @@ _LAZY = {
     **dict.fromkeys(("outcome_from_file",), "planner.io.plan_file"),
     **dict.fromkeys(("Plan", "PlanOptions", "Problem", "StrategyOptions", "build_problem", "resolve"), "planner.plan"),
     **dict.fromkeys(("plan_site",), "planner.engine"),
-    **dict.fromkeys(("Replan",), "planner.replan.run"),
+    **dict.fromkeys(("Replan", "replan"), "planner.replan.run"),  # replan: bound below, as solve is
     **dict.fromkeys(("Sight",), "planner.coverage.sight"),
     **dict.fromkeys(("read_plan_stations", "write_plan"), "planner.io.plan_json"),
     **dict.fromkeys(("compare_methods", "render_report", "write_report"), "planner.report"),
