@@ -16,7 +16,7 @@ from planner.plan import PlanOptions
 from planner.plan.tripod import MIN_RADIUS_M
 from planner.site import ScanSide
 from planner.site.model import Site, Zone
-from tests.conftest import INSTANCES
+from tests.conftest import INSTANCES, square_rows
 
 
 @pytest.mark.slow
@@ -50,16 +50,16 @@ def test_height_tolerance_is_the_dissertation_check_value():
     assert "instrument-height tolerance (3.32, IH 0..0.4 m)" in plan.summary()
 
 
-def test_a_milp_with_no_plan_exits_4_with_the_reason(capsys):
-    # no piece of polygon B is seen by 400 candidates: the MILP stops before solving and counts them all.
-    # B's closed walls are 98.99992, 60.00002, 72.00007, 101.73703 and 49.99996 m: equal pieces of at most
-    # 1 m, ceil(L / 1 m) per wall, are 99 + 61 + 73 + 102 + 50 = 385 per side, 770 on both sides
-    site = load_site(INSTANCES / "polygon_b.json")
-    assert len(make_targets(site, 1.0)) == 770
-    code = main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "milp", "--k", "400", "--quiet"])
+def test_a_milp_with_no_plan_exits_4_with_the_reason(write_csv, capsys):
+    # no piece of a 10 x 10 m room is seen by 400 candidates: the MILP stops before solving and counts them all.
+    # Its four 10-m walls in equal pieces of at most 1 m are 4 x 10 = 40 pieces (polygon B's 770 told the same at
+    # ten times the cost)
+    path = write_csv(square_rows())
+    assert len(make_targets(load_site(path), 1.0)) == 40
+    code = main(["plan", str(path), "--method", "milp", "--k", "400", "--quiet"])
     err = capsys.readouterr().err
     assert code == 4
-    assert "milp found no plan: 770 target(s) seen by fewer than k = 400 candidates" in err
+    assert "milp found no plan: 40 target(s) seen by fewer than k = 400 candidates" in err
 
 
 def test_recentring_disc_reads_no_uninitialised_memory(monkeypatch):
