@@ -70,9 +70,12 @@ def test_estimate_counts_of_the_huge_square(tmp_path):
 @pytest.mark.parametrize(
     "name", ["polygon_b.json", "courtyard.json", pytest.param("baalbek.json", marks=pytest.mark.slow)]
 )
-def test_estimate_bounds_what_the_build_makes(name):
+def test_estimate_bounds_what_the_build_makes(name, request):
     site = planner.load_site(INSTANCES / name)
-    problem = build_problem(site, PlanOptions())
+    if name == "polygon_b.json":  # the pool of the session's default plan of B: this very build, made once
+        problem = request.getfixturevalue("polygon_b_default")[1].coverage
+    else:
+        problem = build_problem(site, PlanOptions())
     est = estimate_work(site, 1.0, 10.0, closed_form_limits(planner.validate_site(site)).max_slant_range_m)
     assert est.targets == len(problem.targets)  # ceil(length / spacing) per wall, as make_targets cuts
     assert est.pairs >= problem.by_candidate.nnz  # an upper estimate of the kept pairs
