@@ -8,6 +8,8 @@ tier never runs one even where its file marks it ``heavy`` alone.
 
 from __future__ import annotations
 
+import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -27,6 +29,25 @@ HEAVY_PROPERTIES = {
         "test_d_corridor_within_the_centre_line_construction",
     },
 }
+
+
+@functools.cache
+def package_trees() -> tuple[tuple[Path, ast.Module], ...]:
+    """Every module of the planner package, parsed once per session: ``(path, tree)`` sorted by path. The source checks
+    (tests/test_codebase.py, tests/test_api.py, tests/plan/test_registration_home.py) read them and change none."""
+    return tuple((p, ast.parse(p.read_text())) for p in sorted((ROOT / "planner").rglob("*.py")))
+
+
+@functools.cache
+def package_calls() -> tuple[tuple[str, int, str | None], ...]:
+    """Every call in the planner package, once per session: ``(module path from the root, line, name called)``, the
+    name being the function's (``f(...)``) or the attribute's (``x.f(...)``), None for other callees."""
+    return tuple(
+        (str(p.relative_to(ROOT)), node.lineno, getattr(node.func, "id", getattr(node.func, "attr", None)))
+        for p, tree in package_trees()
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Call)
+    )
 
 
 @pytest.hookimpl(tryfirst=True)

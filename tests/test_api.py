@@ -11,7 +11,7 @@ import pytest
 
 import planner
 from planner.core.errors import InputError, UsageError
-from tests.conftest import INSTANCES, ROOT
+from tests.conftest import INSTANCES, ROOT, package_calls
 
 
 def test_every_public_name_resolves_and_has_a_docstring():
@@ -204,16 +204,9 @@ def test_scripts_import_only_public_names():
 def test_one_home_for_the_overlap_rule_and_the_site_validation():
     # issue 33: an OverlapRule is built in one place (planner.coverage.overlap.rule_of; planning_rule decides
     # "overlap 0 means off"), and the command line validates a site once per run (tests/cli/test_cli_profile.py)
-    import ast
 
-    builders = []
-    for path in sorted((ROOT / "planner").rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text())):
-            if (
-                isinstance(node, ast.Call)
-                and getattr(node.func, "id", getattr(node.func, "attr", None)) == "OverlapRule"
-            ):
-                builders.append(str(path.relative_to(ROOT)))
+    # every call of the package (parsed once per session: tests/conftest.py)
+    builders = [rel for rel, _, name in package_calls() if name == "OverlapRule"]
     assert builders == ["planner/coverage/overlap.py"]
     from planner.coverage.overlap import planning_rule, rule_of
 

@@ -4,7 +4,6 @@ report's map all relate the same pairs of stations."""
 
 from __future__ import annotations
 
-import ast
 from pathlib import Path
 
 import pytest
@@ -22,7 +21,7 @@ from planner.plan.problem import recorded_problem
 from planner.report.site_map import outcome_site_map
 from planner.site import ScanSide, Site, Zone
 from planner.site.model import Opening
-from tests.conftest import INSTANCES
+from tests.conftest import INSTANCES, package_calls
 
 ROOT = Path(__file__).resolve().parents[2]
 #: the calls that decide a registration, and the modules allowed to make them: the definitions and the home
@@ -102,12 +101,6 @@ def test_every_consumer_relates_the_plans_pairs_on_small_sites(widths, doors, mo
 
 
 def test_registration_is_decided_only_where_the_problem_is_resolved():
-    calls = []
-    for path in sorted((ROOT / "planner").rglob("*.py")):
-        rel = str(path.relative_to(ROOT))
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.Call):
-                name = getattr(node.func, "id", getattr(node.func, "attr", None))
-                if name in DECIDERS and rel not in HOMES:
-                    calls.append(f"{rel}:{node.lineno} {name}")
+    # every call of the package (parsed once per session: tests/conftest.py)
+    calls = [f"{rel}:{line} {name}" for rel, line, name in package_calls() if name in DECIDERS and rel not in HOMES]
     assert calls == []
