@@ -295,17 +295,18 @@ def test_a_hand_edited_plan_json_is_refused_in_one_line(capsys, tmp_path, write_
         assert code == 3 and err.count("\n") == 1 and "the plan has no stations" in err
 
 
-def test_verify_says_when_the_plan_was_made_under_other_limits(tmp_path, capsys):
+def test_verify_says_when_the_plan_was_made_under_other_limits(tmp_path, capsys, write_csv):
     # A plan made at theta_max 78 deg is checked against the site's 68 deg (the check is of the site as
-    # given, so it may fail), but the command says so and how to check it under its own limits.
+    # given, so it may fail), but the command says so and how to check it under its own limits. The site: a
+    # 10 x 10 m room (its table's theta_max 68 deg, as polygon B's); any cover will do
     out = tmp_path / "p"
-    site = str(INSTANCES / "polygon_b.json")
-    assert main(["plan", site, "--theta-max", "78", "--method", "greedy", "--out", str(out)]) == 0  # any cover will do
+    site = str(write_csv(square_rows()))
+    assert main(["plan", site, "--theta-max", "78", "--method", "greedy", "--out", str(out)]) == 0
     capsys.readouterr()
-    main(["verify", str(INSTANCES / "polygon_b.json"), str(out / "plan.json")])
+    main(["verify", site, str(out / "plan.json")])
     text = capsys.readouterr().out
     assert "made with theta_max_deg = 78.0 (checked here: 68.0); give --theta-max 78.0" in text
-    assert main(["verify", str(INSTANCES / "polygon_b.json"), str(out / "plan.json"), "--theta-max", "78"]) == 0
+    assert main(["verify", site, str(out / "plan.json"), "--theta-max", "78"]) == 0
     assert "made with" not in capsys.readouterr().out
 
 
