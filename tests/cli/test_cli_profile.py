@@ -13,7 +13,7 @@ from planner.cli import build_parser, main
 from planner.cli.profile import DEFAULT_PROFILE, TUNING, apply_config
 from planner.cli.tuning import profile_text
 from planner.core.settings import SETTINGS
-from tests.conftest import INSTANCES
+from tests.conftest import INSTANCES, square_rows
 
 
 def _subparsers(parser: argparse.ArgumentParser | None = None) -> dict[str, argparse.ArgumentParser]:
@@ -181,15 +181,15 @@ def test_tuning_value_reaches_the_plan(tmp_path, capsys, given):
         pytest.param(["--method", "greedy"], marks=pytest.mark.slow),
     ],
 )
-def test_plan_validates_the_site_once(monkeypatch, capsys, tmp_path, extra):
+def test_plan_validates_the_site_once(monkeypatch, capsys, tmp_path, extra, write_csv):
     # one validation per `planner plan` run, handed to the memory guard, the strategy and the plan
-    # (validate_site is the one caller of site_scanner: counting it counts the validations)
+    # (validate_site is the one caller of site_scanner: counting it counts the validations); the site: a 10 x 10 m
+    # room (a table, named "site"), every stage of polygon B's run at a tenth of its cost
     import planner.site.validate as validate
 
     calls = []
     real = validate.site_scanner
     monkeypatch.setattr(validate, "site_scanner", lambda site: calls.append(site.name) or real(site))
-    assert main(["plan", str(INSTANCES / "polygon_b.json"), "--quiet", "--set", "variant=no-pricing", *extra]) == 0, (
-        capsys.readouterr().err
-    )
-    assert calls == ["polygon_b"]
+    room = str(write_csv(square_rows()))
+    assert main(["plan", room, "--quiet", "--set", "variant=no-pricing", *extra]) == 0, capsys.readouterr().err
+    assert calls == ["site"]
