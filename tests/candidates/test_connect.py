@@ -114,6 +114,9 @@ def test_outside_block_at_55_deg_plans_connected_with_at_most_8_stations(tmp_pat
     assert len(plan["stations"]) <= 8
     assert plan["verification"]["complete"] and plan["verification"]["percent"] == pytest.approx(100.0)
     assert plan["registration"]["connected"] and all(n == 1 for n in plan["registration"]["components"].values())
+    # and `planner verify` accepts it (every point of every wall at 0.1 m)
+    assert main(["verify", str(DATA / "outside_rect_55.json"), str(path), "--no-precision"]) == 0
+    assert "100.000 % covered" in capsys.readouterr().out
     # the plan meets the connected bound over the plane
     assert plan["connected_plane_bound"] is not None and plan["connected_plane_bound"] <= len(plan["stations"])
 
