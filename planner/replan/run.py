@@ -11,8 +11,6 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from planner.field.run import FieldOptions, FieldPlan, field_plan
 from planner.io.edits import Edits
 from planner.io.replan_data import FILE_NAME, ReplanData, make_replan_data, read_replan_data
@@ -54,7 +52,9 @@ class Replan:
 
     @property
     def connected(self) -> bool:
-        return len(self.registration) <= 1 and all(n <= 1 for n in self.registration.values())
+        """Every registration group (accessible area, or zone-side) of the stations, done ones included, is one
+        network."""
+        return all(n <= 1 for n in self.registration.values())
 
     @property
     def unexpected_gaps_m(self) -> float:
@@ -229,13 +229,3 @@ def _sheet(problem: Problem, new: tuple[Candidate, ...], edits: Edits, options: 
         start = f"{edits.crew_xy[0]!r},{edits.crew_xy[1]!r}"
     session = options.session_s if edits.time_left_h is None else edits.time_left_h * 3600.0
     return field_plan(problem, list(new), replace(options, start=start, session_s=session))
-
-
-def lost_lengths(replanned: Replan) -> dict[str, float]:
-    """The lost wall length by zone/side (for tests and the bench)."""
-    return dict(replanned.rest.lost.by_zone)
-
-
-def covered_share(replanned: Replan) -> float:
-    """The share of the verification's points covered (0..1)."""
-    return float(np.clip(replanned.verification.percent / 100.0, 0.0, 1.0))

@@ -8,7 +8,6 @@ cover every piece and register as one network (their redundant stations dropped)
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
@@ -259,9 +258,3 @@ def connected_groups(relation: sp.csr_matrix, groups: Sequence[Hashable], sel: S
         if len(rows) > 1 and connected_components(relation[rows][:, rows], directed=False)[0] > 1:
             return False
     return True
-
-
-def timed(f: Any, *args: Any) -> tuple[Any, float]:
-    """``f(*args)`` and its wall-clock seconds."""
-    t0 = time.perf_counter()
-    return f(*args), time.perf_counter() - t0
