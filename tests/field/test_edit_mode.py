@@ -1,5 +1,5 @@
 """field.html's edit mode on a phone: Chromium over WebDriver (tests/browser.py: Phone, 390 x 844 CSS px, touch)
-opens the field sheet of polygon B (planned by greedy with ``planner plan --field``), a finger taps "edit", taps one
+opens the field sheet of house_doors (planned by greedy with ``planner plan --field``), a finger taps "edit", taps one
 station and marks it done, another and marks it blocked (radius blank: its tripod disc), a third and marks it moved
 (then taps the map 12 px east of its marker: done there), sets the crew at a fourth with the crew tool, types the
 hours left, and taps "Save edits.json". The file the browser downloads (the page's Blob through an ``a[download]``)
@@ -48,10 +48,13 @@ return {at: out, m: [m.a, m.b, m.c, m.d, m.e, m.f], mid: [r.left + r.width / 2, 
 
 @pytest.fixture(scope="module")
 def sheet(tmp_path_factory) -> Path:
-    """polygon B planned by greedy with its field sheet, plan.json beside field.html."""
+    """house_doors planned by greedy with its field sheet, plan.json beside field.html (the cheapest bundled site
+    whose plan the re-plan takes)."""
     out = tmp_path_factory.mktemp("edit")
     assert (
-        main(["plan", str(INSTANCES / "polygon_b.json"), "--method", "greedy", "--out", str(out), "--field", str(out)])
+        main(
+            ["plan", str(INSTANCES / "house_doors.json"), "--method", "greedy", "--out", str(out), "--field", str(out)]
+        )
         == 0
     )
     return out
@@ -166,13 +169,14 @@ def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, ca
     except ImportError:
         read_edits = None
     if read_edits is not None:  # the re-plan's own reader takes it, stations resolved by number
-        read = read_edits(saved_file, plan, ("B",))
+        zones = tuple(z["id"] for z in plan["zones"])
+        read = read_edits(saved_file, plan, zones)
         got = {e.station.id: (e.status, e.moved) for e in read.stations}
         assert got == {done: ("done", False), blocked: ("blocked", False), moved: ("done", True)}
         assert read.crew_station is not None and read.crew_station.id == crew and read.time_left_h == 3.5
         area_file = tmp_path / "area.json"
         area_file.write_text(json.dumps(drawn))
-        assert [a.kind for a in read_edits(area_file, plan, ("B",)).areas] == ["closed"]
+        assert [a.kind for a in read_edits(area_file, plan, zones).areas] == ["closed"]
     if not _replan():
         pytest.skip("planner replan is not a command here yet: the saved file was checked against the format only")
     capsys.readouterr()
