@@ -6,7 +6,7 @@ hours left, and taps "Save edits.json". The file the browser downloads (the page
 parses, has the format ``planner-edits/1``, names the stations by the numbers plan.json and the sheet give them,
 and puts the moved station where the finger was, in the site frame, to the centimetre the map is written in (the
 inverse of the frame's screen matrix, checked against the station's own coordinates). A closed area drawn by three
-taps, then undone from the list, comes and goes in what the page would save; the edits outlive a reload. The
+taps (after a self-crossing outline refused), then undone from the list, comes and goes in what the page would save; the edits outlive a reload. The
 re-plan's reader (planner.io.edits, where it is there) takes the file; where ``planner replan`` exists, it
 accepts the saved file (exit 0). Without a browser: the edit mode is in the map only where asked (field.html's),
 never in report.html's, and the page stays free of any address."""
@@ -118,10 +118,17 @@ def test_edit_mode_saves_edits_that_name_the_stations_tapped(sheet, tmp_path, ca
         )
         assert len(items) == 4, items
 
-        # a closed area of three taps, in the list and in what would be saved, then undone from the list
+        # an outline that crosses itself (a bow tie) is refused at "finish", as the re-plan would refuse it
         phone.tap_element(f"{MAP} [data-tool=closed]")
-        view = phone.run(CENTRES)
-        cx, cy = view["mid"]
+        cx, cy = phone.run(CENTRES)["mid"]
+        for dx, dy in ((-40, -40), (40, 40), (40, -40), (-40, 40)):
+            phone.tap(cx + dx, cy + dy)
+        phone.tap_element(f"{MAP} [data-act=finish]")
+        assert "crosses" in phone.run(f"return document.querySelector('{MAP} .sm-ed-hint').textContent")
+        assert "areas" not in phone.run(f"return document.querySelector('{MAP}').smapEdits()")
+        phone.tap_element(f"{MAP} [data-act=cancel]")
+        # a closed area of three taps, in the list and in what would be saved, then undone from the list
+        cx, cy = phone.run(CENTRES)["mid"]
         for dx, dy in ((-40, -40), (40, -40), (0, 30)):
             phone.tap(cx + dx, cy + dy)
         phone.tap_element(f"{MAP} [data-act=finish]")

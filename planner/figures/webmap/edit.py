@@ -66,7 +66,8 @@ def edit_controls(m: SiteMap) -> str:
         + _b("done", "done", "scanned where planned")
         + _b("blocked", "blocked", "cannot stand there today")
         + '<label>radius m <input type="number" class="sm-ed-r" min="0" step="0.1" inputmode="decimal" '
-        'placeholder="tripod disc" title="blank: the station\'s tripod disc"></label>'
+        'placeholder="tripod disc" title="blank: the station\'s tripod disc (at least 0.5 m); 0: the point only">'
+        "</label>"
         + _b("moved", "moved", "scanned elsewhere: then tap where it stood")
         + _b("crew-here", "crew here", "the crew stands at this station")
         + "</p>"

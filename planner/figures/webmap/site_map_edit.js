@@ -8,6 +8,27 @@
   function each(list, f) { Array.prototype.forEach.call(list, f); }
   function round(v) { return Math.round(v * 100) / 100; }
   function fmt(p) { return '(' + p[0].toFixed(2) + ', ' + p[1].toFixed(2) + ')'; }
+  function cross(o, a, b) { return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]); }
+  /* segments ab and cd meet (touching counts) */
+  function meet(a, b, c, d) {
+    var d1 = cross(c, d, a), d2 = cross(c, d, b), d3 = cross(a, b, c), d4 = cross(a, b, d);
+    function on(p, q, r) { return Math.min(p[0], q[0]) <= r[0] && r[0] <= Math.max(p[0], q[0]) && Math.min(p[1], q[1]) <= r[1] && r[1] <= Math.max(p[1], q[1]); }
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
+    return (d1 === 0 && on(c, d, a)) || (d2 === 0 && on(c, d, b)) || (d3 === 0 && on(a, b, c)) || (d4 === 0 && on(a, b, d));
+  }
+  /* a ring the re-plan takes: some area, and no edge meeting another but its neighbours */
+  function simple(poly) {
+    var n = poly.length, area = 0, i, j;
+    for (i = 0; i < n; i++) area += cross([0, 0], poly[i], poly[(i + 1) % n]);
+    if (Math.abs(area) < 1e-9) return false;
+    for (i = 0; i < n; i++) {
+      for (j = i + 2; j < n; j++) {
+        if (i === 0 && j === n - 1) continue;
+        if (meet(poly[i], poly[(i + 1) % n], poly[j], poly[(j + 1) % n])) return false;
+      }
+    }
+    return true;
+  }
 
   function setup(root) {
     var ed = root.querySelector('.sm-ed');
@@ -197,7 +218,8 @@
         p = id ? null : toSite(cx, cy);
         if (id || p) { put(id ? { t: 'crew', st: id } : { t: 'crew', at: p }); say(text(edits[edits.length - 1]) + '.'); }
       } else if ((p = toSite(cx, cy))) {
-        verts.push(p);
+        var last = verts[verts.length - 1];
+        if (!last || last[0] !== p[0] || last[1] !== p[1]) verts.push(p); /* a double tap is one corner */
         draw();
       }
       return true;
@@ -218,7 +240,9 @@
         moving = true;
         say('Tap the map where ' + s.name + ' really stood.');
       } else if (a === 'crew-here' && s) { put({ t: 'crew', st: picked }); say(text(edits[edits.length - 1]) + '.'); }
-      else if (a === 'finish' && verts.length >= 3) {
+      else if (a === 'finish' && verts.length >= 3 && !simple(verts)) {
+        say('The outline crosses or touches itself: undo a corner, or tap the corners in order round the area.');
+      } else if (a === 'finish' && verts.length >= 3) {
         put({ t: 'area', kind: tool, poly: verts, note: note.value.trim() });
         verts = [];
         note.value = '';
@@ -232,7 +256,7 @@
     }
     function save() {
       var h = hours.value.trim();
-      if ((hours.validity && hours.validity.badInput) || (h !== '' && !(+h >= 0))) { say('Hours left must be a number, 0 or more (blank: no limit).'); return; }
+      if ((hours.validity && hours.validity.badInput) || (h !== '' && !(+h > 0))) { say('Hours left must be a number over 0 (blank: no limit today).'); return; }
       var blob = new Blob([JSON.stringify(data(), null, 2) + '\n'], { type: 'application/json' });
       var url = URL.createObjectURL(blob), a = document.createElement('a');
       a.href = url;
