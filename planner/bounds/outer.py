@@ -9,7 +9,7 @@ from typing import Any
 
 import shapely
 
-from planner.coverage.regions import FrameSpace, coverage_regions
+from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
 
@@ -29,3 +29,10 @@ class OuterRegions:
         if missing:
             self.drawn.update(coverage_regions(site, targets, limits, missing, self.spaces, outer=True))
         return {p: self.drawn[p] for p in want}
+
+    def space(self, site: Site, frame: str, limits: SightLimits) -> FrameSpace:
+        """The outer frame space of ``frame`` the regions are drawn in (made now where no region of it is drawn yet):
+        every O_t of a zone-side lies in that side's stand area there."""
+        if frame not in self.spaces:
+            self.spaces[frame] = frame_space(site, frame, limits, outer=True)
+        return self.spaces[frame]

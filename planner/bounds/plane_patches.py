@@ -20,6 +20,7 @@ import shapely
 from numpy.typing import NDArray
 
 from planner.coverage.arrangement import grown
+from planner.coverage.threads import Background
 
 Ints = NDArray[np.int64]
 Floats = NDArray[np.float64]
@@ -54,8 +55,10 @@ class SidePieces:
         a patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short)."""
         half = h * math.sqrt(0.5)
         d = (self.shrink_m + half) / math.cos(math.pi / (4 * _ERODE_SEGS))
-        shrunk = shapely.buffer(np.asarray(self.inner, dtype=object), -d, quad_segs=_ERODE_SEGS)
-        return grown(self.outer, self.grow_m + half), list(shrunk)
+        inner = np.asarray(self.inner, dtype=object)
+        with Background() as later:  # the two buffers side by side
+            shrunk = later.start(shapely.buffer, inner, -d, quad_segs=_ERODE_SEGS)
+            return grown(self.outer, self.grow_m + half), list(shrunk.result())
 
 
 def live_box(geoms: list[Any]) -> NDArray[np.float64] | None:

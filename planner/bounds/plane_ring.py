@@ -42,7 +42,7 @@ from planner.bounds.connected_result import ConnectedPlaneBound, SideBound
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sets, patch_sides, undominated
 from planner.bounds.plane_refine import refined_bound
-from planner.coverage.arrangement import grown, outer_max_weight
+from planner.coverage.arrangement import grown, grown_reach, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.visibility import SightLimits
@@ -60,6 +60,8 @@ CONNECTED_WORK_PATCHES = 200_000
 #: two zone-sides' regions are tested pair by pair while the pairs whose boxes meet are at most this many per region;
 #: past it their unions are formed and tested once
 _PAIRS_PER = 20
+#: two zone-sides count as apart (:func:`_apart`) only when their stand areas keep this much more than the growth (m)
+_APART_M = 1e-6
 
 
 def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:
@@ -119,31 +121,40 @@ def connected_plane_bound(
     key = t.zone.astype(np.int64) * 2 + t.side
     seen = problem.by_target.getnnz(axis=1) > 0
     cache = {} if cache is None else cache
+    outer_regions = OuterRegions() if outer_regions is None else outer_regions
     keys = [int(k) for k in np.unique(key[seen])]
     pieces_all = [np.flatnonzero(key == k) for k in keys]
-    every = [int(p) for ps in pieces_all for p in ps]
-    cache.update(coverage_regions(site, t, limits, [p for p in every if p not in cache], spaces))
-    outer = (OuterRegions() if outer_regions is None else outer_regions).of(site, t, limits, every)
     grow_m = outer_tolerance_m(limits)
     shrink_m = region_tolerance_m(limits, site.parameters.min_standoff_m)
-    clash = _sides_meet(t, pieces_all, outer, grow_m)
+    # Farley's share of each zone-side weighs the outer regions of its pieces of positive dual only
+    pos_all = [np.flatnonzero(duals[ps] > 1e-9) for ps in pieces_all]
+    weighed = [int(p) for ps, pos in zip(pieces_all, pos_all) for p in ps[pos]]
+    outer = outer_regions.of(site, t, limits, weighed)
+    grown_of = dict(zip(weighed, grown([outer[p] for p in weighed], grow_m)))  # once: Farley's and the sides' test
+    sides = []
+    for pieces, pos in zip(pieces_all, pos_all):
+        y = duals[pieces]
+        regs = [outer[int(p)] for p in pieces[pos]]
+        w = outer_max_weight(regs, y[pos], grow_m, [grown_of[int(p)] for p in pieces[pos]]) if pos.size else 0.0
+        sides.append(SideBound(_name(t, pieces[0]), float(y.sum()) / max(1.0, w), None, None, 0))
+    clash = _sides_meet(site, t, limits, pieces_all, outer_regions, grow_m=grow_m, grown_of=grown_of)
     if clash:
         return ConnectedPlaneBound(None, (), time.perf_counter() - t0, clash)
+    # only a zone-side below its count walks rings (or is refined): its pieces' regions, inner and outer, drawn now
+    walk = [share > 0 and sides[i].value < counts.get(k, 0) for i, k in enumerate(keys)]
+    drawn = [int(p) for ps, w_ in zip(pieces_all, walk) if w_ for p in ps]
+    cache.update(coverage_regions(site, t, limits, [p for p in drawn if p not in cache], spaces))
+    outer = outer_regions.of(site, t, limits, drawn)
     lengths_all = t.s1_m - t.s0_m
-    regions = [
+    regions: list[SidePieces | None] = [
         SidePieces(
             [outer[int(p)] for p in ps], [cache[int(p)] for p in ps], lengths_all[ps], seen[ps], grow_m, shrink_m
         )
-        for ps in pieces_all
+        if w_
+        else None
+        for ps, w_ in zip(pieces_all, walk)
     ]
-    sides, levels = [], []
-    for pieces, side_pieces in zip(pieces_all, regions):
-        o = side_pieces.outer
-        y = duals[pieces]
-        pos = np.flatnonzero(y > 1e-9)
-        w = outer_max_weight([o[j] for j in pos], y[pos], grow_m) if pos.size else 0.0
-        sides.append(SideBound(_name(t, pieces[0]), float(y.sum()) / max(1.0, w), None, None, 0))
-        levels.append(list(patch_sides(o)) if share > 0 else [])
+    levels = [list(patch_sides(r.outer)) if r is not None else [] for r in regions]
     spent, open_ = 0, [True] * len(keys)
     for level in range(max((len(x) for x in levels), default=0)):
         for i, k in enumerate(keys):
@@ -156,34 +167,70 @@ def connected_plane_bound(
                 continue
             spent += cost
             h = levels[i][level]
-            ring, fam = side_ring_bound(regions[i], share, h, counts.get(k, 0))
+            ring, fam = side_ring_bound(_walked(regions[i]), share, h, counts.get(k, 0))
             if ring is None:
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
                 sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
     for i, k in enumerate(keys):
         if refine_steps > 0 and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
-            refined = refined_bound(regions[i], share, levels[i][0], counts[k], refine_steps)
+            refined = refined_bound(_walked(regions[i]), share, levels[i][0], counts[k], refine_steps)
             sides[i] = replace(sides[i], refined=refined)
     return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)
+
+
+def _walked(pieces: SidePieces | None) -> SidePieces:
+    """The regions of a zone-side that walks rings (drawn for every such side)."""
+    if pieces is None:
+        raise RuntimeError("plane_ring: a zone-side at its count walks no ring")
+    return pieces
 
 
 def _name(t: Any, piece: int) -> str:
     return f"{t.zone_ids[int(t.zone[piece])]}/{'inside' if t.side[piece] == 0 else 'outside'}"
 
 
-def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, Any], grow_m: float) -> str:
-    """Why the zone-sides cannot be summed ('' when they can): two of one frame whose grown outer regions meet (a
-    position there could serve both), i.e. a region of one meets a region of the other. Asked pair by pair of regions
-    whose boxes meet (an STR-tree), or of the two zone-sides' unions where such pairs are many (:data:`_PAIRS_PER`)."""
-    sides: dict[int, list[tuple[str, Any]]] = {}
+def _sides_meet(
+    site: Site,
+    t: Any,
+    limits: SightLimits,
+    pieces_all: list[NDArray[np.int64]],
+    outer_regions: OuterRegions,
+    *,
+    grow_m: float,
+    grown_of: dict[int, Any],
+) -> str:
+    """Why the zone-sides cannot be summed ('' when they can): two of one frame whose outer regions grown by ``grow_m``
+    meet (a position there could serve both), i.e. a region of one meets a region of the other. Two zone-sides are apart
+    outright where the stand area of an inside one (which holds its regions) keeps more than the growth inside its zone's
+    polygon and the other's stand area more than that outside it (:func:`_apart`); the others are asked pair by pair of
+    grown regions whose boxes meet (an STR-tree), or of the two zone-sides' unions where such pairs are many
+    (:data:`_PAIRS_PER`). ``grown_of``: the grown regions drawn already, per piece (those drawn here are added)."""
+    by_frame: dict[int, list[tuple[str, NDArray[np.int64], int]]] = {}
     for pieces in pieces_all:
-        geoms = np.asarray([g for g in grown([outer[int(p)] for p in pieces], grow_m) if not g.is_empty], dtype=object)
-        sides.setdefault(int(t.frame[pieces[0]]), []).append((_name(t, pieces[0]), geoms))
-    for items in sides.values():
-        trees = {p: shapely.STRtree(g) for p, g in items}
+        code = int(t.zone[pieces[0]]) * 2 + int(t.side[pieces[0]])
+        by_frame.setdefault(int(t.frame[pieces[0]]), []).append((_name(t, pieces[0]), pieces, code))
+    reach = grown_reach(grow_m) + _APART_M
+    for fi, items in by_frame.items():
+        space = outer_regions.space(site, t.frames[fi], limits)
+        stand = {code: (space.inside if code % 2 == 0 else space.outside)[code // 2] for _, _, code in items}
+        pending = [
+            (p, q)
+            for p, q in itertools.combinations(items, 2)
+            if not (_apart(site, stand, p[2], q[2], reach) or _apart(site, stand, q[2], p[2], reach))
+        ]
+        need = list(dict.fromkeys(int(x) for p, q in pending for x in (*p[1], *q[1]) if int(x) not in grown_of))
+        outer = outer_regions.of(site, t, limits, need)
+        grown_of.update(zip(need, grown([outer[x] for x in need], grow_m)))
+        geoms = {
+            name: np.asarray([g for g in (grown_of[int(x)] for x in pieces) if not g.is_empty], dtype=object)
+            for name, pieces, _ in (item for pair in pending for item in pair)
+        }
+        trees: dict[str, Any] = {}
         unions: dict[str, Any] = {}
-        for (p, gp), (q, gq) in itertools.combinations(items, 2):
+        for (p, _, _), (q, _, _) in pending:
+            gp, gq = geoms[p], geoms[q]
+            trees[p] = trees[p] if p in trees else shapely.STRtree(gp)
             near = trees[p].query(gq)  # pairs whose boxes meet
             if near.shape[1] <= _PAIRS_PER * (gp.size + gq.size):
                 meet = bool(shapely.intersects(gp[near[1]], gq[near[0]]).any())
@@ -195,3 +242,17 @@ def _sides_meet(t: Any, pieces_all: list[NDArray[np.int64]], outer: dict[int, An
             if meet:
                 return f"not formed: {p} and {q} can be seen from one position (their outer coverage regions meet)"
     return ""
+
+
+def _apart(site: Site, stand: dict[int, Any], mine: int, other: int, reach: float) -> bool:
+    """Whether no grown region of zone-side ``mine`` (an inside one, ``2 zone + 0``) can meet one of ``other``: the
+    stand area of ``mine`` lies in its zone's polygon farther than ``reach`` from its outline, and that of ``other``
+    farther than ``reach`` from the polygon (a region grown by less than ``reach`` stays on its own side)."""
+    if mine % 2 != 0:
+        return False
+    a, b = stand[mine], stand[other]
+    if a.is_empty or b.is_empty:
+        return True
+    zone = site.zones[mine // 2].polygon
+    inside = bool(shapely.covered_by(a, zone)) and float(shapely.distance(a, zone.boundary)) > reach
+    return inside and float(shapely.distance(b, zone)) > reach

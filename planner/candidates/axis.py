@@ -26,6 +26,7 @@ from planner.candidates.closed_form import side_candidate
 from planner.candidates.from_regions import largest_part_pole
 from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.targets import SIDE_CODE, Targets
+from planner.coverage.threads import Background
 from planner.coverage.visibility import SightLimits
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
@@ -155,6 +156,7 @@ def axis_candidates(
     cache = {} if cache is None else cache
     out: list[Candidate] = []
     reach = limits.effective_range_m if math.isfinite(limits.effective_range_m) else 100.0
+    sides = []  # (zone index, side, stand area, pieces) of each zone-side with pieces and room to stand
     for zi, zone in enumerate(site.zones):
         if zone.frame not in spaces:
             spaces[zone.frame] = frame_space(site, zone.frame, limits)
@@ -162,18 +164,24 @@ def axis_candidates(
             inside = side is ScanSide.INSIDE
             area = (spaces[zone.frame].inside if inside else spaces[zone.frame].outside)[zi]
             pieces = np.flatnonzero((targets.zone == zi) & (targets.side == SIDE_CODE[side]))
-            if area.is_empty or pieces.size == 0:
-                continue
-            lines = (
-                medial_axis(area) if inside else offset_rings(zone.polygon, area, [f * reach for f in OUTSIDE_RINGS])
-            )
+            if not (area.is_empty or pieces.size == 0):
+                sides.append((zi, side, area, pieces))
+    with Background() as later:  # each zone-side's lines drawn beside the regions (they need none of them)
+        lines_of = [
+            later.start(medial_axis, area)
+            if side is ScanSide.INSIDE
+            else later.start(offset_rings, site.zones[zi].polygon, area, [f * reach for f in OUTSIDE_RINGS])
+            for zi, side, area, _ in sides
+        ]
+        for (zi, side, area, pieces), lines_later in zip(sides, lines_of):
+            zone = site.zones[zi]
             if cells and pieces.size * shapely.get_num_coordinates(area) <= MAX_CELL_WORK:
                 missing = [int(t) for t in pieces if int(t) not in cache]
                 cache.update(coverage_regions(site, targets, limits, missing, spaces))
                 regions = [cache[int(t)] for t in pieces if not cache[int(t)].is_empty]
-                pts = _zone_points(lines, regions)
+                pts = _zone_points(lines_later.result(), regions)
             else:
-                pts = _zone_points(lines, [], step_m)
+                pts = _zone_points(lines_later.result(), [], step_m)
             cap = max(MIN_AXIS_CANDIDATES, MAX_AXIS_PAIRS // max(int(pieces.size), 1))
             if len(pts) > cap:  # evenly thinned: a huge or round room keeps a sample of its axis cells
                 pts = pts[np.linspace(0, len(pts) - 1, cap).round().astype(int)]

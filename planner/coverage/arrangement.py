@@ -114,20 +114,34 @@ def heaviest_points(
     return [Sample(float(px), float(py), float(wts[k]), groups[int(kinds[k])][0]) for (px, py), k in zip(xy, order)]
 
 
+def grown_reach(grow_m: float) -> float:
+    """How far :func:`grown` moves a region's boundary at most: its buffer distance (the circumscribing polygon's
+    vertices lie on that circle, its edges inside it)."""
+    return (grow_m + MARGIN_M) / math.cos(math.pi / (4 * QUAD_SEGS))
+
+
 def grown(regions: Sequence[shapely.Geometry], grow_m: float) -> list[shapely.Geometry]:
     """Each region grown by ``grow_m + MARGIN_M`` as a polygon circumscribing the round buffer."""
-    d = (grow_m + MARGIN_M) / math.cos(math.pi / (4 * QUAD_SEGS))
-    return list(shapely.buffer(np.asarray(list(regions), dtype=object), d, quad_segs=QUAD_SEGS))
+    return list(shapely.buffer(np.asarray(list(regions), dtype=object), grown_reach(grow_m), quad_segs=QUAD_SEGS))
 
 
-def outer_max_weight(regions: Sequence[shapely.Geometry], weights: NDArray[np.float64], grow_m: float) -> float:
+def outer_max_weight(
+    regions: Sequence[shapely.Geometry],
+    weights: NDArray[np.float64],
+    grow_m: float,
+    grown_regions: Sequence[shapely.Geometry] | None = None,
+) -> float:
     """An upper bound on the weight sum_{t: p in C_t} y_t at any position p, where every true coverage set C_t lies
-    within ``grow_m`` of ``regions[t]`` (see the module docstring for the proof)."""
+    within ``grow_m`` of ``regions[t]`` (see the module docstring for the proof). ``grown_regions``: the regions
+    already grown by :func:`grown` with ``grow_m`` (one per region), where the caller has them."""
     w_all = np.asarray(weights, float)
     keep = [k for k, g in enumerate(regions) if not g.is_empty and w_all[k] > 0]
     if not keep:
         return 0.0
-    polys = grown([regions[k] for k in keep], grow_m)
+    if grown_regions is None:
+        polys = grown([regions[k] for k in keep], grow_m)
+    else:
+        polys = [grown_regions[k] for k in keep]
     w = w_all[keep]
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(_noded(polys))))
     if len(faces) == 0:

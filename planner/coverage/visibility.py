@@ -33,6 +33,10 @@ EPS_RANGE_M = 1e-6
 EPS_ANGLE_DEG = 1e-7
 EPS_SIGHT_M = 1e-7
 EPS_SHORTEN_M = 1e-5
+#: blockers (segments, or vertices) at most for which :func:`sight_clear` tests each pair's box against every blocker's
+#: box directly (a few array comparisons) instead of drawing the pairs' boxes and asking the blockers' STR-tree: the
+#: same pairs (closed boxes that meet, as the tree's query of envelopes), without a polygon per pair
+DENSE_BLOCKERS = 64
 
 F64 = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -136,29 +140,33 @@ def geometric_pairs(
         near = np.flatnonzero(np.all((mid + half[:, None] >= lo) & (mid - half[:, None] <= hi), axis=1))
         if near.size == 0:
             continue
-        c = cx[:, None, :]
-        va, vb = a[near][None] - c, b[near][None] - c
+        va = a[near][None] - cx[:, None, :]
         d = -np.einsum("ktj,tj->kt", va, normal[near])
-        hd_a, hd_b = np.hypot(va[..., 0], va[..., 1]), np.hypot(vb[..., 0], vb[..., 1])
-        sa, sb = np.hypot(hd_a, dz_a[near]), np.hypot(hd_b, dz_b[near])
+        side_ok = cand_inside[c0 : c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
+        # the pairs on the piece's side and in front of it (in order), then the range and incidence of those only:
+        # each figure is the same elementwise formula as over the whole block
+        k, t = np.nonzero(side_ok & (d > EPS_FRONT_M))
+        dk, nt = d[k, t], near[t]
+        pa, pb = va[k, t], b[nt] - cx[k]
+        hd_a, hd_b = np.hypot(pa[:, 0], pa[:, 1]), np.hypot(pb[:, 0], pb[:, 1])
+        sa, sb = np.hypot(hd_a, dz_a[nt]), np.hypot(hd_b, dz_b[nt])
         slant = np.maximum(sa, sb)
         with np.errstate(divide="ignore", invalid="ignore"):
             if limits.incidence_3d:
-                cos_i = np.minimum(d / sa, d / sb)
+                cos_i = np.minimum(dk / sa, dk / sb)
             else:
-                cos_i = np.minimum(d / np.maximum(hd_a, 1e-300), d / np.maximum(hd_b, 1e-300))
-        side_ok = cand_inside[c0 : c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
-        ok = side_ok & (d > EPS_FRONT_M) & (slant <= longest) & (cos_i >= cos_max)
-        k, t = np.nonzero(ok)
-        inc = np.degrees(np.arccos(np.clip(cos_i[k, t], -1.0, 1.0)))
+                cos_i = np.minimum(dk / np.maximum(hd_a, 1e-300), dk / np.maximum(hd_b, 1e-300))
+        ok = np.flatnonzero((slant <= longest) & (cos_i >= cos_max))
+        k, t = k[ok], t[ok]
+        inc = np.degrees(np.arccos(np.clip(cos_i[ok], -1.0, 1.0)))
         if limits.per_pair_precision and limits.precision is not None:  # e(S, theta) at each end, its worst points
-            hd = (hd_a[k, t], hd_b[k, t]) if not limits.incidence_3d else (sa[k, t], sb[k, t])
-            keep = _end_precision(sa[k, t], d[k, t] / np.maximum(hd[0], 1e-300), limits.precision)
-            keep &= _end_precision(sb[k, t], d[k, t] / np.maximum(hd[1], 1e-300), limits.precision)
-            k, t, inc = k[keep], t[keep], inc[keep]
+            hd = (hd_a[ok], hd_b[ok]) if not limits.incidence_3d else (sa[ok], sb[ok])
+            keep = _end_precision(sa[ok], dk[ok] / np.maximum(hd[0], 1e-300), limits.precision)
+            keep &= _end_precision(sb[ok], dk[ok] / np.maximum(hd[1], 1e-300), limits.precision)
+            k, t, inc, ok = k[keep], t[keep], inc[keep], ok[keep]
         out_c.append(k + c0)
         out_t.append(near[t])
-        out_s.append(slant[k, t])
+        out_s.append(slant[ok])
         out_i.append(inc)
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
 
@@ -200,6 +208,15 @@ def segments_touch(p: NDArray, q: NDArray, r: NDArray, s: NDArray, eps_m: float 
     return cross
 
 
+def boxes_meeting(lo: F64, hi: F64, blo: F64, bhi: F64) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """(row, blocker) of every row's closed box [lo, hi] that meets a blocker's closed box [blo, bhi], rows in order
+    (what an STR-tree of the blockers' boxes answers for the rows' boxes, with predicate None)."""
+    meet = (lo[:, None, 0] <= bhi[None, :, 0]) & (hi[:, None, 0] >= blo[None, :, 0])
+    meet &= (lo[:, None, 1] <= bhi[None, :, 1]) & (hi[:, None, 1] >= blo[None, :, 1])
+    rows, cols = np.nonzero(meet)
+    return rows, cols
+
+
 def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blockers) -> Mask:
     """For each pair (row), True when nothing blocks the view from c to the whole piece a-b."""
     n = len(c)
@@ -215,10 +232,15 @@ def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blocke
     a2, b2 = shorten(a), shorten(b)
     lo = np.minimum(np.minimum(c, a), b) - EPS_SIGHT_M
     hi = np.maximum(np.maximum(c, a), b) + EPS_SIGHT_M
-    boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+    boxes: NDArray[np.object_] | None = None
+    if len(blockers.a) > DENSE_BLOCKERS or len(blockers.vertices) > DENSE_BLOCKERS:
+        boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
     tree = blockers._seg_tree  # type: ignore[attr-defined]
     if tree is not None:
-        pi, bi = tree.query(boxes)
+        if boxes is None:
+            pi, bi = boxes_meeting(lo, hi, np.minimum(blockers.a, blockers.b), np.maximum(blockers.a, blockers.b))
+        else:
+            pi, bi = tree.query(boxes)
         keep = key[pi] != blockers.key[bi]
         pi, bi = pi[keep], bi[keep]
         ra, rb = blockers.a[bi], blockers.b[bi]
@@ -228,7 +250,10 @@ def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blocke
     wide = np.hypot(*(b - a).T) > EPS_SIGHT_M
     if vtree is not None and np.any(wide & clear):
         idx = np.flatnonzero(wide & clear)
-        pi, vi = vtree.query(boxes[idx])
+        if boxes is None:
+            pi, vi = boxes_meeting(lo[idx], hi[idx], blockers.vertices, blockers.vertices)
+        else:
+            pi, vi = vtree.query(boxes[idx])
         pi = idx[pi]
         v = blockers.vertices[vi]
         ca, ab, bc = _signed(c[pi], a[pi], v), _signed(a[pi], b[pi], v), _signed(b[pi], c[pi], v)
