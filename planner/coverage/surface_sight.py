@@ -32,7 +32,7 @@ from planner.core.checks import finite_number
 from planner.coverage.plan_sight import EPS_PLAN_M, PlanBlockers, convex, fans_clear, plan_blockers
 from planner.coverage.surfaces import CEILING, FLOOR, REACH_TOL_M, SurfaceTargets, open_area
 from planner.instrument.models import Scanner
-from planner.site.model import Site
+from planner.site.model import ScanSide, Site
 
 EPS_RANGE_M = 1e-6
 EPS_ANGLE_DEG = 1e-7
@@ -114,6 +114,21 @@ class SurfacePairs:
         return sparse.csr_matrix((data, (self.station, self.patch)), shape=(n_stations, n_patches), dtype=bool)
 
 
+def standing_zone(site: Site, xy: NDArray[np.float64], frames: NDArray[np.object_]) -> NDArray[np.int64]:
+    """For each position (``xy`` in the zone frame ``frames``), the index of the first zone of its frame scanned from
+    inside whose floor (outline less its blocks, the edge included) holds it; -1: none."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    frames = np.asarray(frames, dtype=object).reshape(-1)
+    out = np.full(len(xy), -1, dtype=np.int64)
+    for zi, zone in enumerate(site.zones):
+        if ScanSide.INSIDE not in zone.scan_side.sides:
+            continue
+        todo = np.flatnonzero((out < 0) & (frames == zone.frame))
+        if todo.size:
+            out[todo[_standing(site, zi, xy[todo])]] = zi
+    return out
+
+
 def _standing(site: Site, zi: int, xy: NDArray) -> NDArray[np.bool_]:
     """For each point, True when it lies on zone ``zi``'s floor (its outline less every block; the edge counts)."""
     area = open_area(site, zi).buffer(EPS_PLAN_M, join_style="mitre")
@@ -121,8 +136,9 @@ def _standing(site: Site, zi: int, xy: NDArray) -> NDArray[np.bool_]:
 
 
 @dataclass(frozen=True, eq=False)
-class _Layer:
-    """One zone's patches of one kind, at one height offset ``dz`` from the instrument, and what can hide them."""
+class SurfaceLayer:
+    """One zone's patches of one kind (``ts``: those no blocker meets), at one height offset ``dz`` from the
+    instrument, the horizontal reach that range and incidence allow, and what can hide them."""
 
     patches: SurfaceTargets
     ts: NDArray[np.int64]
@@ -132,6 +148,7 @@ class _Layer:
     theta_deg: float
     blockers: PlanBlockers
     is_convex: NDArray[np.bool_]  # over all the patches
+    blind_m: float  # the blind cone's radius in plan at the patches' height (0: no cone)
 
 
 def surface_pairs(
@@ -149,7 +166,7 @@ def surface_pairs(
         here = np.flatnonzero(zone == zi)
         here = here[_standing(site, int(zi), xy[here])]
         for kind in (FLOOR, CEILING):
-            layer = _layer(site, int(zi), kind, patches, limits, is_convex)
+            layer = surface_layer(site, int(zi), kind, patches, limits, is_convex)
             if here.size == 0 or layer is None:
                 continue
             step = max(1, PAIR_BATCH // len(layer.ts))  # stations per query: at most PAIR_BATCH pairs at once
@@ -162,9 +179,9 @@ def surface_pairs(
     return SurfacePairs(st[order], pt[order], sl[order], inc[order])
 
 
-def _layer(
+def surface_layer(
     site: Site, zi: int, kind: int, patches: SurfaceTargets, limits: SurfaceLimits, is_convex: NDArray[np.bool_]
-) -> _Layer | None:
+) -> SurfaceLayer | None:
     """Zone ``zi``'s patches of ``kind`` that a station can see at all, with the horizontal reach that range and
     incidence allow; None when there are none (no such patches, a ceiling at or below the instrument, out of range)."""
     ts = np.flatnonzero((patches.zone == zi) & (patches.kind == kind))
@@ -185,10 +202,13 @@ def _layer(
     ts = ts[~blockers.hits(patches.polygon[ts])]
     if ts.size == 0:
         return None
-    return _Layer(patches, ts, shapely.STRtree(patches.polygon[ts]), dz, reach, theta, blockers, is_convex)
+    half = limits.nadir_blind_half_angle_deg if dz < 0 else limits.zenith_blind_half_angle_deg
+    blind = abs(dz) * math.tan(math.radians(max(half - EPS_ANGLE_DEG, 0.0))) if half is not None and half > 0 else 0.0
+    tree = shapely.STRtree(patches.polygon[ts])
+    return SurfaceLayer(patches, ts, tree, dz, reach, theta, blockers, is_convex, blind)
 
 
-def _test_pairs(xy: NDArray, here: NDArray, layer: _Layer, limits: SurfaceLimits) -> tuple[NDArray, ...]:
+def _test_pairs(xy: NDArray, here: NDArray, layer: SurfaceLayer, limits: SurfaceLimits) -> tuple[NDArray, ...]:
     """The pairs of stations ``here`` and the layer's patches within its reach that meet every rule."""
     p, dz = layer.patches, layer.dz
     longest = limits.max_slant_range_m + EPS_RANGE_M
@@ -198,9 +218,8 @@ def _test_pairs(xy: NDArray, here: NDArray, layer: _Layer, limits: SurfaceLimits
     d = np.hypot(*(p.corners[t] - xy[s][:, None, :]).transpose(2, 0, 1))  # (pairs, K) horizontal distances
     slant = np.hypot(d, dz).max(axis=1)
     ok = (slant <= longest) & (abs(dz) / slant >= cos_max)  # the farthest corner has the largest incidence
-    half = limits.nadir_blind_half_angle_deg if dz < 0 else limits.zenith_blind_half_angle_deg
-    if half is not None and half > 0:
-        blind_r = abs(dz) * math.tan(math.radians(max(half - EPS_ANGLE_DEG, 0.0)))
+    if layer.blind_m > 0:
+        blind_r = layer.blind_m
         box = shapely.bounds(p.polygon[t[ok]])
         gap = np.maximum(np.maximum(box[:, :2] - xy[s[ok]], xy[s[ok]] - box[:, 2:]), 0.0)
         near = np.flatnonzero(ok)[np.hypot(gap[:, 0], gap[:, 1]) < blind_r]  # the box is never farther than the patch

@@ -20,8 +20,7 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from planner.core.errors import UsageError
-from planner.coverage.plan_sight import EPS_PLAN_M
-from planner.coverage.surface_sight import SurfaceLimits, surface_limits, surface_sight
+from planner.coverage.surface_sight import SurfaceLimits, standing_zone, surface_limits, surface_sight
 from planner.coverage.surfaces import KIND_CODE, KIND_NAME, SurfaceTargets, make_surface_targets, open_area
 from planner.plan.tripod import MIN_RADIUS_M, RIM_POINTS
 from planner.site.candidate import Candidate, CandidateKind
@@ -117,20 +116,12 @@ def standing_zones(site: Site, candidates: tuple[Candidate, ...] | list[Candidat
     zone of its frame scanned from inside whose floor (outline less its blocks) holds it, edge included; a candidate
     planned for a zone's outside sees no floor."""
     out = np.full(len(candidates), -1, dtype=np.int64)
-    if not candidates:
+    inside = np.flatnonzero([c.side is ScanSide.INSIDE for c in candidates])
+    if inside.size == 0:
         return out
-    xy = np.array([c.xy for c in candidates], dtype=float).reshape(-1, 2)
-    inside = np.array([c.side is ScanSide.INSIDE for c in candidates], dtype=bool)
-    frame = np.array([c.frame for c in candidates], dtype=object)
-    for zi, zone in enumerate(site.zones):
-        if ScanSide.INSIDE not in zone.scan_side.sides:
-            continue
-        todo = np.flatnonzero((out < 0) & inside & (frame == zone.frame))
-        if todo.size == 0:
-            continue
-        area = open_area(site, zi).buffer(EPS_PLAN_M, join_style="mitre")
-        on = np.asarray(shapely.covers(area, shapely.points(xy[todo])))
-        out[todo[on]] = zi
+    xy = np.array([candidates[int(i)].xy for i in inside], dtype=float).reshape(-1, 2)
+    frames = np.array([candidates[int(i)].frame for i in inside], dtype=object)
+    out[inside] = standing_zone(site, xy, frames)
     return out
 
 
