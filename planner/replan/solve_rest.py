@@ -158,7 +158,9 @@ def _solve(
     count = len(chosen) - d
     bounds = [b for b in (lp, mip) if b is not None]
     bound = min(count, max(bounds)) if bounds else None
-    status = Status.OPTIMAL if bound == count else result.status
+    # optimal only where the bound over the whole pool left meets the count (the solver's own proof may be of the
+    # shortlist only)
+    status = Status.OPTIMAL if bound == count else Status.FEASIBLE
     picked = tuple(sorted(int(rows[i]) for i in chosen))
     result = replace(
         result,
