@@ -31,7 +31,7 @@ import shapely
 
 from planner.bounds.outer import OuterRegions
 from planner.candidates.surface_regions import patch_regions
-from planner.coverage.arrangement import heaviest_points, outer_max_weight
+from planner.coverage.arrangement import grown, heaviest_points, outer_max_weight
 from planner.coverage.matrix import CoverageProblem, build_coverage
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m
 from planner.coverage.surface_sight import SurfaceLimits, standing_zone, surface_sight
@@ -49,6 +49,8 @@ MAX_ROWS = 3_000
 MAX_ROUNDS = 40
 PER_ROUND = 60
 MAX_WORK = 4_000_000
+#: the grid the grown outer regions are put on before their arrangement is formed (m)
+SNAP_M = 1e-9
 #: the rounding slack of the bound (as for walls)
 ROUND_TOL = 1e-6
 
@@ -73,6 +75,7 @@ class SurfacePlaneBound:
     note: str = ""
     work: int = 0
     history: tuple[float, ...] = field(default_factory=tuple)
+    duals: tuple[float, ...] = field(default_factory=tuple, repr=False)  # the last LP's y: wall pieces, then patches
 
     def bound(self, k: int = 1) -> int | None:
         """ceil(k L - tolerance): no plan covering every piece and patch ``k`` times from any positions has fewer."""
@@ -165,12 +168,29 @@ class _Rows:
         return sp.hstack([walls.by_candidate, pats], format="csr").astype(bool)
 
 
+def _heaviest(regions: list[shapely.Geometry], y: np.ndarray, tol: float) -> float:
+    """w* of one frame: :func:`planner.coverage.arrangement.outer_max_weight` over the regions grown by ``tol`` and
+    put on a grid of :data:`SNAP_M` (the round ends of many discs about shared corners otherwise lose faces to the
+    polygoniser, and it falls back to the sum of the weights); where that still falls back, a grid 10 times coarser.
+    Snapping moves a vertex by less than the grown regions' margin (1 um), so each result is an upper bound on every
+    position's weight, and so is the smaller of the two."""
+    grown_regions = grown(regions, tol)
+    best = float(np.sum(y))
+    for snap in (SNAP_M, 10 * SNAP_M):
+        snapped = list(shapely.set_precision(np.asarray(grown_regions, dtype=object), snap))
+        best = min(best, outer_max_weight(regions, y, tol, grown_regions=snapped))
+        if best < float(np.sum(y)) - 1e-12:
+            break
+    return best
+
+
 def _price(rows: _Rows, model: WarmCoverLp, y: np.ndarray, pos: np.ndarray, work: list[int]) -> tuple[int, int]:
     """One round: the heaviest points of each frame's inner arrangement, tested; the columns that price out added to
     ``model``. Returns how many points priced out by their regions, and how many by the sight tests (added)."""
     found = added = 0
     for frame, here in rows.frame_rows(pos).items():
-        points = heaviest_points(rows.regions(here), y[here], 1.0 + PRICE_EPS, PER_ROUND, work)
+        snapped = list(shapely.set_precision(np.asarray(rows.regions(here), dtype=object), SNAP_M))
+        points = heaviest_points(snapped, y[here], 1.0 + PRICE_EPS, PER_ROUND, work)
         if not points:
             continue
         found += len(points)
@@ -241,7 +261,7 @@ def surfaces_plane_bound(
     finally:
         model.close()
     w_star = max(
-        [0.0, *(outer_max_weight(rows.regions(here, outer), lp.y[here], tol) for here in rows.frame_rows(pos).values())]
+        [0.0, *(_heaviest(rows.regions(here, outer), lp.y[here], tol) for here in rows.frame_rows(pos).values())]
     )
     note = (
         ""
@@ -264,4 +284,5 @@ def surfaces_plane_bound(
         note=note,
         work=sum(work),
         history=tuple(history),
+        duals=tuple(map(float, lp.y)),
     )

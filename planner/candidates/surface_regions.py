@@ -212,12 +212,14 @@ def patch_regions(
 def _faces(regions: list[shapely.Geometry]) -> tuple[NDArray[np.object_], NDArray[np.bool_]] | None:
     """The faces of the arrangement of ``regions`` and, per face and region, whether the face lies in it (None: more
     than :data:`MAX_FACES` faces)."""
-    lines = shapely.union_all(shapely.boundary(np.asarray(regions, dtype=object)))
+    # on a 1-nm grid: the round ends of many discs about shared corners otherwise lose faces to the polygoniser
+    snapped = shapely.set_precision(np.asarray(regions, dtype=object), 1e-9)
+    lines = shapely.union_all(shapely.boundary(snapped))
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(lines)))
     if len(faces) > MAX_FACES:
         return None
     reps = shapely.point_on_surface(faces)
-    tree = shapely.STRtree(regions)
+    tree = shapely.STRtree(snapped)
     fi, ri = tree.query(reps, predicate="within")
     member = np.zeros((len(faces), len(regions)), dtype=bool)
     member[fi, ri] = True

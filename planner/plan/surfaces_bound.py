@@ -31,9 +31,9 @@ ASSUMES = (
 
 
 def scope_of(setup: SurfaceSetup, k: int = 1) -> str:
-    """The bound's scope as printed: ``plane, walls and floors``, ``plane, walls, floors and ceilings``, with ``, k =
-    K`` for k views."""
-    names = ["walls", *(kind + "s" for kind in setup.kinds)]
+    """The bound's scope as printed: ``plane, walls and floors``, ``plane, walls, floors and ceilings`` (the kinds
+    asked that the site has), with ``, k = K`` for k views."""
+    names = ["walls", *(kind + "s" for kind in setup.kinds if kind not in setup.absent)]
     words = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
     return f"plane, {words}" + (f", k = {k}" if k > 1 else "")
 
@@ -74,8 +74,13 @@ def with_surfaces_plane(
     """The MILP's output with the plane bound over walls and surfaces (:func:`with_surfaces_bound`) and its log line;
     ``out`` as it is for walls alone or another method."""
     setup = problem.surfaces
-    if cover is None or setup is None or out.result.method != "milp":
-        return out
+    if (
+        cover is None
+        or setup is None
+        or out.result.method != "milp"
+        or out.problem.candidates != run.problem.candidates
+    ):
+        return out  # (a method that changed the pool is refused by the run itself)
     k = problem.options.milp.k
     scope = scope_of(setup, k)
     why = _why_not(problem, out)
