@@ -69,10 +69,10 @@ def piece_groups(candidates: Sequence[Candidate], labels: Sequence[Hashable], pr
     by_side: dict[tuple[str, str], int] = {}
     for c, label in zip(candidates, labels, strict=True):
         by_side.setdefault((c.zone, c.side.value), index.setdefault(label, len(index)))
-    out = np.full(len(t), -1, dtype=np.int64)
-    for k in range(len(t)):
-        out[k] = by_side.get((t.zone_ids[int(t.zone[k])], SIDE_NAME[int(t.side[k])]), -1)
-    return out
+    table = np.array(
+        [[by_side.get((z, SIDE_NAME[s]), -1) for s in (0, 1)] for z in t.zone_ids], dtype=np.int64
+    ).reshape(-1, 2)
+    return table[np.asarray(t.zone, dtype=np.int64), np.asarray(t.side, dtype=np.int64)]
 
 
 def split_groups(problem: CoverageProblem, groups: Groups) -> list[Split]:
