@@ -173,3 +173,15 @@ def test_an_obstacle_hides_and_the_plan_still_verifies(planned):
 
 def test_path_of_plan_json_recorded(replanned):
     assert Path(replanned.source.path).name == "plan.json"
+
+
+def test_bad_edits_exit_3_in_one_line_and_write_nothing(planned, tmp_path, capsys):
+    d, site, _, _ = planned
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"format": "planner-edits/1", "stations": [{"station": 9, "status": "done"}]}))
+    out = tmp_path / "out"
+    assert main(["replan", str(d / "plan" / "plan.json"), str(bad), "--out", str(out)]) == 3
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "stations[1]: station = 9: not a station of the plan" in err
+    assert not out.exists()
+    assert main(["replan", str(site), str(bad)]) == 2  # a site where the plan belongs
