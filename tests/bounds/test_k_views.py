@@ -72,6 +72,27 @@ def test_the_k_bound_marks_the_result(objective, scope, status):
     assert out.info["certificate"]["scope"] == "plane, k = 2" and out.info["plane_bound_scope"] == "plane, k = 2"
 
 
+def test_undominated_keeps_the_candidates_no_other_holds():
+    import scipy.sparse as sp
+
+    from planner.candidates.twins import undominated
+
+    rows = [{0, 1}, {0, 1, 2}, {3}, {2, 3}, {0, 1, 2}, set()]
+    m = sp.csr_matrix(
+        (
+            np.ones(sum(map(len, rows)), dtype=bool),
+            (np.repeat(np.arange(len(rows)), [len(r) for r in rows]), [c for r in rows for c in sorted(r)]),
+        ),
+        shape=(len(rows), 4),
+    )
+
+    class P:  # the one field undominated reads
+        by_candidate = m
+
+    assert sorted(undominated(P())) == [1, 3]  # {0,1,2} (the first of two equal) and {2,3}
+    assert undominated(P(), limit=1) == [1]
+
+
 @pytest.mark.slow
 def test_k2_on_the_10_2_x_5_6_room_plans_2_stations_with_the_plane_bound_for_k_2(tmp_path, capsys):
     out = tmp_path / "o"
