@@ -32,8 +32,9 @@ if TYPE_CHECKING:
     from planner.plan.tripod import TripodDisc
     from planner.site.validate import ValidationReport
 
-#: the reason the plane bound is not claimed when surfaces go beyond walls
-PLANE_OFF = "surfaces beyond walls: the plane bound covers walls only"
+#: why pricing is off when surfaces go beyond walls (the bound over walls and surfaces together is formed after the
+#: solve: :mod:`planner.plan.surfaces_bound`)
+PLANE_OFF = "surfaces beyond walls: no pricing of the pool; the plane bound over walls and surfaces follows the solve"
 #: the option that sets the instrument height (named by the refusal when none is known)
 HEIGHT_FLAG = "--instrument-height"
 #: the most floor candidates of one zone (a finer grid is coarsened to it)

@@ -99,9 +99,14 @@ def test_room_floor_planned_and_found_covered_by_an_independent_check(tmp_path, 
     ]
     assert plan["surfaces"]["types"] == ["walls", "floors"] and plan["surfaces"]["patches"] == 60  # 10 x 6 at 1 m
     assert plan["surfaces"]["unseen_patches"]["count"] == 0
-    assert plan["bound_scope"] == "pool" and plan["plane_bound"] is None
     out = capsys.readouterr().out
-    assert "bound over the pool (surfaces beyond walls: the plane bound covers walls only)" in out
+    if plan["plane_bound"] is None:  # the run without the bound over walls and floors
+        assert plan["bound_scope"] == "pool" and "bound over the pool (surfaces beyond walls" in out
+    else:  # the bound over walls and floors together, and what it holds over
+        assert plan["certificate"]["scope"] == "plane, walls and floors" and 2 <= plan["plane_bound"] <= len(
+            plan["stations"]
+        )
+        assert "over every position in the plane, walls and floors" in out
     assert "R     floor     6,000    6,000         0    100.000" in out
     # (b) at least as many stations as the walls-only plan (one station sees all four walls of the room)
     walls = _plan([str(room)], tmp_path / "w")
