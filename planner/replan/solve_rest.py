@@ -30,6 +30,8 @@ REPLAN_WORK_S = 0.5
 #: the re-plan's connected greedy seeds and rounds of the cut loop: a start and a few rounds, not the plan's search
 GREEDY_STARTS = 5
 MAX_ROUNDS = 20
+#: moves of the solver's local search in a re-plan (the plan's: 500): on the shortlist the repaired plan is its start
+LOCAL_SEARCH_MOVES = 100
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -130,6 +132,7 @@ def _solve(
         greedy_starts=GREEDY_STARTS,
         floor_probe=False,
         max_rounds=MAX_ROUNDS,
+        local_search_moves=LOCAL_SEARCH_MOVES,
     )
     d = len(rest.done_rows)
     pos = {int(r): i for i, r in enumerate(rows)}

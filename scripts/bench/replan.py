@@ -91,7 +91,7 @@ def row(site: str, what: str, run: dict[str, object]) -> str:
     out = str(run["out"])
     m = re.search(r"re-plan: (\d+) done \+ (\d+) to go = (\d+) stations; rest bound (\w+)", out)
     lost = re.search(r"walls lost \(nothing can see them any more\): ([\d.]+) m", out)
-    times = re.search(r"times \(s\): (.+)", out)
+    times = re.search(r"(?:CPU )?times \(s\): (.+)", out)
     done, rest, total, bound = m.groups() if m else ("-",) * 4
     return (
         f"| {site} | {what} | {done} | {rest} | {bound} | {lost.group(1) if lost else '0'} | {run['wall_s']:.2f} | "
@@ -146,7 +146,7 @@ def main() -> None:
         "under `/usr/bin/time -v`, load = the 1-min load average when it started). Docs: docs/field.md,",
         '"Re-planning on site".',
         "",
-        "| site | edits | done | to go | bound | lost m | wall s | CPU s | RSS MB | load | steps (s) |",
+        "| site | edits | done | to go | bound | lost m | wall s | CPU s | RSS MB | load | steps (CPU s) |",
         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     Path(args.out).write_text("\n".join(head + rows) + "\n")
