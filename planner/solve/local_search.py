@@ -16,16 +16,21 @@ heuristic algorithm for the set covering problem", CEC 2014):
    checking (a removed candidate comes back only after a candidate sharing a target with it changed state);
 4. the weights of the unseen targets, and w_link while S is in pieces, grow by one.
 
-A candidate is scored only when it sees a target S leaves unseen or bridges two parts: a move costs O(targets and links
-of the few stations and candidates it touches) plus one components and one articulation pass on the chosen stations.
-Where the stations are densely linked to each other (a floor grid's plan links nearly every pair), the components
-come from a scan-first forest that stops once every station is reached and the articulation pass walks a sparse
-certificate of two such forests (:func:`certificate`): O(stations x links of the few rows read). Ties go to the candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the
-result depends only on the input, ``moves`` and ``seed`` (no clock).
+A move costs O(targets and links of the two stations it flips, and the seers of the targets they leave or see) plus one
+articulation pass on S's links: :meth:`_State.flip` keeps each target's count and the sum of its seers in S (so the
+only seer of a target is known), each station's loss, each candidate's gain as a sum of offsets of its unseen targets
+and their count (a weight rise is one tick added to every unseen target), the links inside S, how many of S's stations each
+candidate is linked to, and the few candidates configuration checking bars. The graph steps are in
+:mod:`planner.solve.local_moves`; where S's stations are densely linked to each other (a floor grid's plan links nearly
+every pair), the components come from a scan-first forest and the articulation pass walks a sparse certificate of two
+such forests. Every count is a whole number, so the scores are the ones recomputed from scratch, move for move. Ties
+go to the candidate unchanged longest, then to the lowest index, and draws to a generator of fixed seed: the result
+depends only on the input, ``moves`` and ``seed`` (no clock).
 """
 
 from __future__ import annotations
 
+import bisect
 import math
 import time
 from collections.abc import Hashable, Sequence
@@ -36,6 +41,7 @@ import scipy.sparse as sp
 
 from planner.coverage.overlap import group_ids
 from planner.solve.connectivity import path_to_nearest
+from planner.solve.local_moves import Links, certificate, distinct, gather, gather_cols, scan_forest, walk
 
 #: moves between two looks at the clock where the user set a wall-clock cap
 _CLOCK_EVERY = 64
@@ -56,248 +62,236 @@ class Shrunk:
         return self.start - len(self.selected)
 
 
-def _gather(m: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, without building a sparse
-    matrix (faster for the many small gathers of a move)."""
-    rows = np.asarray(rows, dtype=np.int64)
-    if rows.size == 0:
-        return np.zeros(0, dtype=np.int64), m.indices[:0]
-    start, stop = m.indptr[rows], m.indptr[rows + 1]
-    ind = m.indices
-    cols = np.concatenate([ind[a:b] for a, b in zip(start.tolist(), stop.tolist(), strict=True)])
-    return np.repeat(np.arange(len(rows)), stop - start), cols
-
-
 class _State:
-    """The chosen set S with its target counts, weights, components and configuration flags."""
+    """The chosen set S with its target counts, weights, scores, links, components and configuration flags, each kept
+    up to date by :meth:`flip` (a move reads and writes the rows of the few stations it touches, not all of S's)."""
 
     def __init__(
         self, a: sp.csr_matrix, adj: sp.csr_matrix, gid: np.ndarray, need: np.ndarray, chosen: Sequence[int]
     ) -> None:
+        if not a.has_canonical_format:  # a target listed twice in a row counts once
+            a = a.copy()
+            a.sum_duplicates()
         self.a, self.at, self.adj, self.gid = a, a.T.tocsr(), adj, gid
+        self.a_len, self.at_len = np.diff(a.indptr), np.diff(self.at.indptr)  # targets per candidate, seers per target
+        n = a.shape[0]
         self.weight = need.astype(np.float64)
         self.need = need
-        self.in_s = np.zeros(a.shape[0], dtype=bool)
-        self.in_s[list(chosen)] = True
-        self.cnt = np.bincount(_gather(a, np.asarray(chosen, dtype=np.int64))[1], minlength=a.shape[1])
-        self.conf = np.ones(a.shape[0], dtype=bool)
+        self.in_s = np.zeros(n, dtype=bool)
+        self.members: list[int] = []  # S, ascending
+        self.conf = np.ones(n, dtype=bool)
+        self.barred: set[int] = set()  # the candidates whose flag is off
+        self.mark = np.zeros(a.shape[1], dtype=bool)  # scratch: the targets of a flipped station
         self.w_link = 1.0
-        self.stamp = np.zeros(a.shape[0], dtype=np.int64)  # move of each candidate's last change
-        # how many stations of S each candidate is linked to, kept as S changes (a dense relation is not gathered)
-        self.near = np.bincount(_gather(adj, np.asarray(chosen, dtype=np.int64))[1], minlength=a.shape[0])
-        self._graph: tuple[np.ndarray, _Links, np.ndarray, int, np.ndarray] | None = None
+        self.stamp = np.zeros(n, dtype=np.int64)  # move of each candidate's last change
+        self.cnt = np.zeros(a.shape[1], dtype=np.int64)  # stations of S seeing each target
+        self.own = np.zeros(a.shape[1], dtype=np.int64)  # the sum of their indices: the one seer where cnt is 1
+        self.loss = np.zeros(n, dtype=np.float64)  # the weight of the targets only this station of S sees
+        self.near = np.zeros(n, dtype=np.int64)  # how many stations of S each candidate is linked to
+        self.groups = np.zeros(int(gid.max(initial=-1)) + 1, dtype=np.int64)  # stations of S in each group
+        self.nbr: dict[int, set[int]] = {}  # each station's linked stations in S
+        self._graph: _Graph | None = None
+        self._unseen: np.ndarray | None = None
+        self.tick = 0  # weight rises so far: an unseen target's weight is its offset plus this
+        self.offset = np.zeros(a.shape[1], dtype=np.int64)
+        self.unseen_sum = np.zeros(n, dtype=np.int64)  # per candidate: the sum of its unseen targets' offsets
+        self.unseen_count = np.zeros(n, dtype=np.int64)  # and their count
+        self._tracked = False
+        for c in dict.fromkeys(int(c) for c in chosen):
+            self.flip(c, 0)
+        self.conf[:] = True
+        self.barred.clear()
+        self._tracked = True
+        self._unseen_by(self.unseen(), 1)
 
     def _targets(self, c: int) -> np.ndarray:
         return self.a.indices[self.a.indptr[c] : self.a.indptr[c + 1]]
 
     def unseen(self) -> np.ndarray:
-        return np.flatnonzero(self.need & (self.cnt == 0))
+        """The targets to cover that S leaves unseen, ascending."""
+        if self._unseen is None:
+            self._unseen = np.flatnonzero(self.need & (self.cnt == 0))
+        return self._unseen
 
     def flip(self, c: int, step: int) -> None:
         """Add c to S or remove it at move ``step``; the candidates sharing a target with c may come back."""
         self.stamp[c] = step
         t = self._targets(c)
-        self.cnt[t] += -1 if self.in_s[c] else 1
-        self.near[self.adj.indices[self.adj.indptr[c] : self.adj.indptr[c + 1]]] += -1 if self.in_s[c] else 1
+        row = self.adj.indices[self.adj.indptr[c] : self.adj.indptr[c + 1]]
+        cnt = self.cnt[t]
+        before = self._graph
+        if self.in_s[c]:
+            two = t[cnt == 2]  # the other seer becomes the only one
+            np.add.at(self.loss, self.own[two] - c, self.weight[two])
+            self.cnt[t] = cnt - 1
+            self.own[t] -= c
+            self._unseen_by(t[(cnt == 1) & self.need[t]], 1)
+            self.loss[c] = 0.0
+            self.near[row] -= 1
+            self.groups[self.gid[c]] -= 1
+            for w in self.nbr.pop(c):
+                self.nbr[w].discard(c)
+        else:
+            one = t[cnt == 1]  # its only seer shares it now
+            np.subtract.at(self.loss, self.own[one], self.weight[one])
+            self.loss[c] = self.weight[t[cnt == 0]].sum()
+            self.cnt[t] = cnt + 1
+            self.own[t] += c
+            self._unseen_by(t[(cnt == 0) & self.need[t]], -1)
+            self.near[row] += 1
+            self.groups[self.gid[c]] += 1
+            linked = set(row[self.in_s[row]].tolist())
+            self.nbr[c] = linked
+            for w in linked:
+                self.nbr[w].add(c)
         self.in_s[c] = not self.in_s[c]
-        self.conf[_gather(self.at, t)[1]] = True
-        self.conf[c] = bool(self.in_s[c])
-        self._graph = None
+        if self.in_s[c]:
+            bisect.insort(self.members, c)
+        else:
+            self.members.remove(c)
+        self._refresh(c, t)
+        self._unseen = None
+        self._graph = None if self.in_s[c] or before is None else before.without(c, self.groups)
 
-    def graph(self) -> tuple[np.ndarray, _Links, np.ndarray, int, np.ndarray]:
-        """S (sorted), its overlap subgraph (:class:`_Links`), each station's component label (in order of each
-        component's lowest station), the sum over groups of (components - 1), and for every candidate the number of
-        S's components it is linked to."""
+    def _unseen_by(self, t: np.ndarray, sign: int) -> None:
+        """Targets ``t`` that S leaves unseen from now (``sign`` 1) or sees from now (-1): each seer's sum of their
+        offsets and count updated, from which :meth:`add_score` reads any candidate's gain."""
+        if not self._tracked or t.size == 0:
+            return
+        if sign > 0:
+            self.offset[t] = self.weight[t].astype(np.int64) - self.tick
+        row, col = gather(self.at, t)
+        np.add.at(self.unseen_sum, col, sign * self.offset[t][row])
+        np.add.at(self.unseen_count, col, sign)
+
+    def bump(self) -> None:
+        """The weights of the unseen targets grow by one."""
+        self.weight[self.unseen()] += 1.0
+        self.tick += 1
+
+    def _refresh(self, c: int, t: np.ndarray) -> None:
+        """Configuration checking after c's flip: every candidate sharing a target with c may come back, and c may not
+        once removed. Only the few candidates barred (``barred``) are looked at, not all the seers of c's targets."""
+        if self.barred:
+            barred = np.fromiter(self.barred, dtype=np.int64, count=len(self.barred))
+            if self.a_len[barred].sum() <= self.at_len[t].sum():
+                self.mark[t] = True
+                where, col = gather(self.a, barred)
+                free = barred[np.bincount(where[self.mark[col]], minlength=len(barred)) > 0]
+                self.mark[t] = False
+            else:  # many barred: the seers of c's targets
+                self.conf[gather_cols(self.at, t)] = True
+                free = barred[self.conf[barred]]
+            self.conf[free] = True
+            self.barred.difference_update(free.tolist())
+        self.conf[c] = bool(self.in_s[c])
+        if self.conf[c]:
+            self.barred.discard(c)
+        else:
+            self.barred.add(c)
+
+    def graph(self) -> _Graph:
+        """S's components (:class:`_Graph`), from its links kept by :meth:`flip`; where S's stations have more than
+        ``_DENSE`` links inside S each, from a scan-first forest that stops once every station is reached."""
         if self._graph is None:
-            idx = np.flatnonzero(self.in_s)
-            pos = np.full(self.a.shape[0], -1, dtype=np.int64)
-            pos[idx] = np.arange(len(idx))
-            if _dense_inside(self.adj, idx, pos):
-                self._graph = self._dense(idx, pos)
-                return self._graph
-            row, col = _gather(self.adj, idx)
-            keep = pos[col] >= 0  # _gather lists the rows in order: the kept entries are already CSR
-            indptr = np.concatenate([[0], np.cumsum(np.bincount(row[keep], minlength=len(idx)))])
-            sub = (indptr.tolist(), pos[col[keep]].tolist())  # S's overlap subgraph as CSR lists (a few hundred links)
-            n, label = _components(len(idx), *sub)
-            parts = int(n - np.unique(self.gid[idx]).size)
-            touched = np.zeros(self.a.shape[0], dtype=np.int64)
-            if parts == 0:  # one component per group: linked or not
-                touched[col] = 1
-            else:  # distinct (candidate, component) pairs: a bool table a row per component (faster than np.unique)
-                touched = _touched(n, label[row], col, self.a.shape[0])
-            self._graph = (idx, _Links(lists=sub), label, parts, touched)
+            idx = np.array(self.members, dtype=np.int64)
+            links = int(self.near[idx].sum())
+            if links > _DENSE * len(idx):
+                pos = np.full(self.a.shape[0], -1, dtype=np.int64)
+                pos[idx] = np.arange(len(idx))
+                parent, label, n = scan_forest(self.adj, idx, pos)
+                self._graph = _Graph(idx=idx, links=Links(tree=parent, pos=pos), label=label, n=n, groups=self.groups)
+            else:
+                where = {c: i for i, c in enumerate(idx.tolist())}
+                ptr, ind = [0], []
+                for c in where:
+                    ind += [where[w] for w in self.nbr[c]]
+                    ptr.append(len(ind))
+                n, walked, out = walk((ptr, ind))
+                self._graph = _Graph(
+                    idx=idx, links=Links(lists=(ptr, ind)), label=np.array(walked), n=n, groups=self.groups
+                )
+                self._graph.split = np.array(out, dtype=np.int64)
         return self._graph
 
-    def _dense(self, idx: np.ndarray, pos: np.ndarray) -> tuple[np.ndarray, _Links, np.ndarray, int, np.ndarray]:
-        """:meth:`graph` where S's stations have many links each: the components from a scan-first forest that stops
-        once every station is reached (a few rows when nearly every pair is linked), the links to S from the counts
-        kept by :meth:`flip`; S's links are gathered only when S is in pieces."""
-        parent, label, n = scan_forest(self.adj, idx, pos)
-        parts = int(n - np.unique(self.gid[idx]).size)
-        if parts == 0:
-            touched = (self.near > 0).astype(np.int64)
-        else:
-            row, col = _gather(self.adj, idx)
-            touched = _touched(n, label[row], col, self.a.shape[0])
-        return idx, _Links(tree=parent, pos=pos), label, parts, touched
+    def touched(self, cand: np.ndarray | None = None) -> np.ndarray:
+        """How many of S's components each candidate (of ``cand``; all where None) is linked to."""
+        g = self.graph()
+        if g.parts == 0:  # one component per group: linked or not
+            near = self.near if cand is None else self.near[cand]
+            return (near > 0).astype(np.int64)
+        if g.touched is None:  # the links of all components but the largest gathered; the largest's are the rest
+            n = self.a.shape[0]
+            big = g.label != int(np.argmax(np.bincount(g.label)))
+            row, col = gather(self.adj, g.idx[big])
+            pairs = distinct(g.label[big][row] * n + col)  # distinct (component, candidate)
+            g.touched = (self.near > np.bincount(col, minlength=n)) + np.bincount(pairs % n, minlength=n)
+            linked = distinct(col)  # linked to two components: to one not the largest
+            g.bridging = linked[g.touched[linked] >= 2]
+        return g.touched if cand is None else g.touched[cand]
+
+    def bridging(self) -> np.ndarray:
+        """The candidates linked to two or more of S's components, ascending (S in pieces)."""
+        self.touched()
+        bridging = self.graph().bridging
+        assert bridging is not None
+        return bridging
 
     def removal_cost(self) -> np.ndarray:
-        """loss(s) + w_link * split(s) for each station of S (order of ``graph()[0]``)."""
-        idx, links = self.graph()[:2]
-        row, col = _gather(self.a, idx)
-        loss = np.bincount(row, weights=(self.weight * (self.cnt == 1))[col], minlength=len(idx))
-        split = _split(links.lists if links.lists is not None else certificate(self.adj, idx, links))
-        _, g, size = np.unique(self.gid[idx], return_inverse=True, return_counts=True)
-        split[size[g] == 1] = 0  # the only station of its group: the group leaves S, its parts stay 0
-        return loss + self.w_link * split
+        """loss(s) + w_link * split(s) for each station of S (order of ``graph().idx``)."""
+        g = self.graph()
+        if g.links is None:  # a graph kept from before a removal: built again, with its links
+            self._graph = None
+            g = self.graph()
+        if g.split is None:
+            assert g.links is not None and g.links.tree is not None
+            g.split = np.array(walk(certificate(self.adj, g.idx, g.links))[2], dtype=np.int64)
+        split = np.where(self.groups[self.gid[g.idx]] == 1, 0, g.split)  # the group leaves S, its parts stay 0
+        return self.loss[g.idx] + self.w_link * split
 
     def add_score(self, cand: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """gain(c) - w_link * (parts change), and the parts change, of candidates ``cand`` joining S."""
-        idx, touched = self.graph()[0], self.graph()[4]
-        row, col = _gather(self.a, cand)
-        gain = np.bincount(row, weights=(self.weight * (self.cnt == 0))[col], minlength=len(cand))
-        change = np.where(np.isin(self.gid[cand], self.gid[idx]), 1 - touched[cand], 0)
+        """gain(c) - w_link * (parts change), and the parts change, of candidates ``cand`` joining S. gain(c): the weight
+        of the unseen targets c sees, from its sum of their offsets and their count kept by :meth:`flip` (whole
+        numbers: the same value as summing the weights)."""
+        gain = (self.unseen_sum[cand] + self.tick * self.unseen_count[cand]).astype(np.float64)
+        change = np.where(self.groups[self.gid[cand]] > 0, 1 - self.touched(cand), 0)
         return gain - self.w_link * change, change
 
 
-#: S's links are gathered whole while its stations have at most this many links inside S each (:func:`_dense_inside`)
-_DENSE, _PROBE = 64, 8
+class _Graph:
+    """S (``idx``, sorted), its links (:class:`planner.solve.local_moves.Links`), each station's component (``label``,
+    in order of each component's lowest station) out of ``n``, ``parts`` (sum over groups of components - 1), and, once
+    computed, each station's split and each candidate's count of linked components."""
+
+    def __init__(self, *, idx: np.ndarray, links: Links | None, label: np.ndarray, n: int, groups: np.ndarray) -> None:
+        self.idx, self.links, self.label, self.n = idx, links, label, n
+        self.parts = int(n - np.count_nonzero(groups))
+        self.split: np.ndarray | None = None
+        self.touched: np.ndarray | None = None
+        self.bridging: np.ndarray | None = None
+
+    def without(self, c: int, groups: np.ndarray) -> _Graph | None:
+        """This graph less its station c, where c's removal adds no component (its split, computed, is 0: the others
+        keep their stations; -1: c's own component goes), the components numbered again by their lowest stations; None
+        otherwise (S's graph is then built again). Its links are not kept: :meth:`_State.removal_cost` builds them when
+        asked."""
+        if self.split is None:
+            return None
+        k = int(np.searchsorted(self.idx, c))
+        if self.split[k] > 0:
+            return None
+        label = np.delete(self.label, k)
+        first = np.full(self.n, len(label))  # each component's lowest station now (c's may be a later one)
+        np.minimum.at(first, label, np.arange(len(label)))
+        rank = np.empty(self.n, dtype=np.int64)
+        rank[np.argsort(first, kind="stable")] = np.arange(self.n)  # c's own component, gone, last
+        return _Graph(
+            idx=np.delete(self.idx, k), links=None, label=rank[label], n=self.n - int(self.split[k] < 0), groups=groups
+        )
 
 
-def _dense_inside(adj: sp.csr_matrix, idx: np.ndarray, pos: np.ndarray) -> bool:
-    """Whether S's stations have more than ``_DENSE`` links inside S each (estimated from its first ``_PROBE`` rows): a
-    plant's stations have hundreds of links to the pool, few to each other; a floor grid's link nearly all pairs."""
-    degree, col = float(np.diff(adj.indptr)[idx].sum()), _gather(adj, idx[:_PROBE])[1]
-    return bool(
-        degree > _DENSE * len(idx) and np.count_nonzero(pos[col] >= 0) / max(col.size, 1) * degree > _DENSE * len(idx)
-    )
-
-
-@dataclass(frozen=True, kw_only=True)
-class _Links:
-    """S's overlap subgraph: as CSR lists (``lists``), or, where it is dense, as a scan-first spanning forest
-    (``tree``: each station's parent, -1 for a root, by position in S; ``pos``: each candidate's position, -1 off S)."""
-
-    lists: tuple[list[int], list[int]] | None = None
-    tree: np.ndarray | None = None
-    pos: np.ndarray | None = None
-
-
-def _touched(n: int, label: np.ndarray, col: np.ndarray, size: int) -> np.ndarray:
-    """For each of ``size`` candidates, how many of the ``n`` components hold a station linked to it (``label``: the
-    component of each link's station, ``col``: its candidate)."""
-    hit = np.zeros((n, size), dtype=bool)
-    hit[label, col] = True
-    return hit.sum(axis=0, dtype=np.int64)
-
-
-def scan_forest(
-    adj: sp.csr_matrix, idx: np.ndarray, pos: np.ndarray, avoid: np.ndarray | None = None
-) -> tuple[np.ndarray, np.ndarray, int]:
-    """A scan-first (breadth-first) spanning forest of the subgraph of ``adj`` on the nodes ``idx`` (``pos``: each
-    node's position in ``idx``, -1 elsewhere), less the links of the forest ``avoid`` (a parent per position) where
-    given: each position's parent (-1 for a root), its component, numbered in order of each component's lowest
-    position, and the number of components. Each tree grows from the lowest position not yet reached, and the search
-    stops once every position is reached: on a dense graph a few rows are read, not all of them."""
-    m = len(idx)
-    parent = np.full(m, -1, dtype=np.int64)
-    label = np.full(m, -1, dtype=np.int64)
-    ptr, ind = adj.indptr, adj.indices
-    left, k = m, 0
-    for root in range(m):
-        if label[root] >= 0:
-            continue
-        label[root] = k
-        left -= 1
-        queue, head = [root], 0
-        while head < len(queue) and left > 0:
-            u = queue[head]
-            head += 1
-            nb = pos[ind[ptr[idx[u]] : ptr[idx[u] + 1]]]
-            nb = nb[nb >= 0]
-            if avoid is not None:
-                nb = nb[(nb != avoid[u]) & (avoid[nb] != u)]
-            new = nb[label[nb] < 0]
-            label[new] = k
-            parent[new] = u
-            left -= new.size
-            queue += new.tolist()
-        k += 1
-    return parent, label, k
-
-
-def certificate(adj: sp.csr_matrix, idx: np.ndarray, links: _Links) -> tuple[list[int], list[int]]:
-    """A sparse subgraph of S's links (CSR lists, by position in S) with, for every station v, the components of S's
-    graph without v: the forest ``links.tree`` and a scan-first forest of S's links less the first's (Cheriyan, Kao
-    and Thurimella, "Scan-first search and sparse certificates: an improved parallel algorithm for k-vertex
-    connectivity", SIAM J. Comput. 22(1):157-174, 1993; k = 2). :func:`_split` then walks at most 2 (n - 1) links,
-    not the ones of a few hundred stations nearly all linked to each other (a plan on a fine floor grid)."""
-    assert links.tree is not None and links.pos is not None
-    first = links.tree
-    second = scan_forest(adj, idx, links.pos, avoid=first)[0]
-    child = [np.flatnonzero(f >= 0) for f in (first, second)]
-    r = np.concatenate([child[0], first[child[0]], child[1], second[child[1]]])
-    c = np.concatenate([first[child[0]], child[0], second[child[1]], child[1]])
-    order = np.lexsort((c, r))
-    ptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=len(idx)))])
-    return ptr.tolist(), c[order].tolist()
-
-
-def _components(n: int, ptr: list[int], ind: list[int]) -> tuple[int, np.ndarray]:
-    """The number of components of the graph of ``n`` nodes given as CSR lists, and each node's label (in order of
-    each component's lowest node): a depth-first pass on Python lists, faster than scipy for a plan's few."""
-    label = [-1] * n
-    k = 0
-    for root in range(n):
-        if label[root] >= 0:
-            continue
-        label[root] = k
-        stack = [root]
-        while stack:
-            v = stack.pop()
-            for w in ind[ptr[v] : ptr[v + 1]]:
-                if label[w] < 0:
-                    label[w] = k
-                    stack.append(w)
-        k += 1
-    return k, np.array(label, dtype=np.int64)
-
-
-def _split(sub: tuple[list[int], list[int]]) -> np.ndarray:
-    """Components added to its own component by removing each node (-1 for an isolated node): one iterative
-    articulation-point pass (Hopcroft-Tarjan), O(nodes + links). ``sub``: the graph as CSR lists (indptr, indices)."""
-    ptr, ind = sub
-    n = len(ptr) - 1
-    disc, low, out = [-1] * n, [0] * n, [0] * n
-    clock = 0
-    for root in range(n):
-        if disc[root] >= 0:
-            continue
-        disc[root] = low[root] = clock
-        clock += 1
-        children = 0
-        stack = [(root, -1, ptr[root])]
-        while stack:
-            v, parent, i = stack[-1]
-            if i < ptr[v + 1]:
-                stack[-1] = (v, parent, i + 1)
-                w = ind[i]
-                if disc[w] < 0:
-                    disc[w] = low[w] = clock
-                    clock += 1
-                    stack.append((w, v, ptr[w]))
-                    children += v == root
-                elif w != parent and disc[w] < low[v]:
-                    low[v] = disc[w]
-                continue
-            stack.pop()
-            if parent >= 0:
-                low[parent] = min(low[parent], low[v])
-                if parent != root and low[v] >= disc[parent]:
-                    out[parent] += 1
-        out[root] = children - 1
-    return np.array(out, dtype=np.int64)
+#: S's links are walked whole while its stations have at most this many links inside S each
+_DENSE = 64
 
 
 def unlinked(n: int) -> tuple[sp.csr_matrix, tuple[str, ...]]:
@@ -340,7 +334,7 @@ def shrink(
     for step in range(1, moves + 1):
         if capped and step % _CLOCK_EVERY == 0 and time.perf_counter() >= deadline:
             break
-        idx, parts = st.graph()[0], st.graph()[3]
+        idx, parts = st.graph().idx, st.graph().parts
         if parts == 0 and st.unseen().size == 0:
             best = tuple(int(i) for i in idx)
             history.append((step, len(best)))
@@ -352,9 +346,10 @@ def shrink(
         free = np.where(until[idx] > step, np.inf, cost)
         st.flip(int(idx[_first(free if np.isfinite(free).any() else cost, st.stamp[idx])]), step)
         c, parts = _pick_add(st, rng)
-        st.flip(c, step)
-        until[c] = step + tabu + 1
-        st.weight[st.unseen()] += 1.0
+        if c >= 0:
+            st.flip(c, step)
+            until[c] = step + tabu + 1
+        st.bump()
         if parts > 0:
             st.w_link += 1.0
     return Shrunk(best, len(plan), step, tuple(history))
@@ -367,25 +362,29 @@ def _first(key: np.ndarray, stamp: np.ndarray) -> int:
 
 def _drop(st: _State, step: int) -> None:
     """Drop the station of least removal cost (ties: longest unchanged, then lowest index): S one smaller."""
-    idx = st.graph()[0]
+    idx = st.graph().idx
     st.flip(int(idx[_first(st.removal_cost(), st.stamp[idx])]), step)
 
 
 def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
     """The candidate to add, and the parts S will be in: best score among the seers of one drawn unseen target and the
-    candidates linked to two parts of S, allowed by configuration checking (all of them when none is)."""
-    idx, _, label, parts, touched = st.graph()
+    candidates linked to two parts of S, allowed by configuration checking (all of them when none is); -1 where the
+    removal left a connected cover (a start in pieces can have a station no part needs)."""
+    g = st.graph()
+    idx, label, parts = g.idx, g.label, g.parts
     unseen = st.unseen()
     pool: list[np.ndarray] = []
     if unseen.size:
         t = int(unseen[rng.integers(unseen.size)])
         pool.append(st.at.indices[st.at.indptr[t] : st.at.indptr[t + 1]])
     if parts > 0:
-        pool.append(np.flatnonzero(touched >= 2))
-    cand = np.unique(np.concatenate(pool)) if pool else np.zeros(0, dtype=np.int64)
+        pool.append(st.bridging())
+    cand = distinct(np.concatenate(pool)) if pool else np.zeros(0, dtype=np.int64)
     cand = cand[~st.in_s[cand]]
     allowed = cand[st.conf[cand]]
     cand = allowed if allowed.size else cand
+    if cand.size == 0 and parts == 0:  # the removal left a connected cover: nothing to add (-1)
+        return -1, 0
     if cand.size == 0:  # a cover in parts no one candidate links: a step of the shortest chain between parts
         gid = st.gid[idx]
         pairs = np.unique(np.stack([gid, label]), axis=1)  # (group, component), sorted by group

@@ -12,7 +12,8 @@ from planner.coverage.overlap import overlap_adjacency
 from planner.solve import local_search
 from planner.solve.connectivity import disconnected_groups
 from planner.solve.greedy import connected_greedy_plan
-from planner.solve.local_search import _Links, _pick_add, _split, _State, certificate, scan_forest, shrink
+from planner.solve.local_moves import Links, certificate, gather, scan_forest, split, walk
+from planner.solve.local_search import _pick_add, _State, shrink
 from planner.solve.milp import MilpOptions, solve
 from tests.solve.test_connectivity_methods import FOUND, RULE, WINDOWS, instance, random_instance
 
@@ -39,7 +40,7 @@ def _graph(n: int, edges: list[tuple[int, int]]) -> sp.csr_matrix:
 
 
 @pytest.mark.parametrize(
-    "n,edges,split",
+    "n,edges,parts",
     [
         # path 0-1-2-3: the ends leave one piece (0 added), 1 and 2 cut it in two (1 added)
         (4, [(0, 1), (1, 2), (2, 3)], [0, 1, 1, 0]),
@@ -51,15 +52,15 @@ def _graph(n: int, edges: list[tuple[int, int]]) -> sp.csr_matrix:
         (4, [(0, 1), (2, 3)], [0, 0, 0, 0]),
     ],
 )
-def test_split_counts_the_parts_a_removal_adds(n, edges, split):
+def test_split_counts_the_parts_a_removal_adds(n, edges, parts):
     g = _graph(n, edges)
-    assert _split((g.indptr.tolist(), g.indices.tolist())).tolist() == split
-    assert _split(_certificate(g)).tolist() == split
+    assert split((g.indptr.tolist(), g.indices.tolist())).tolist() == parts
+    assert split(_certificate(g)).tolist() == parts
 
 
 def _certificate(g: sp.csr_matrix) -> tuple[list[int], list[int]]:
     every = np.arange(g.shape[0])
-    return certificate(g, every, _Links(tree=scan_forest(g, every, every)[0], pos=every))
+    return certificate(g, every, Links(tree=scan_forest(g, every, every)[0], pos=every))
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -77,7 +78,7 @@ def test_the_certificate_keeps_every_removals_parts(seed):
         g = sp.csr_matrix(linked | linked.T)
         ptr, ind = _certificate(g)
         assert len(ind) <= 4 * (n - 1)
-        assert _split((ptr, ind)).tolist() == _split((g.indptr.tolist(), g.indices.tolist())).tolist()
+        assert split((ptr, ind)).tolist() == split((g.indptr.tolist(), g.indices.tolist())).tolist()
         # the forest's components: scipy's, numbered in order of each one's lowest node
         parent, label, k = scan_forest(g, np.arange(n), np.arange(n))
         ks, ls = connected_components(g, directed=False)
@@ -199,7 +200,7 @@ def test_parts_no_single_candidate_links_get_the_first_step_of_the_shortest_chai
     a = sp.csr_matrix((np.ones(2), ([0, 3], [0, 1])), shape=(4, 2))
     adj = _graph(4, [(0, 1), (1, 2), (2, 3)])
     st = _State(a, adj, np.zeros(4, dtype=np.int64), np.ones(2, dtype=bool), [0, 3])
-    assert st.graph()[3] == 1 and st.unseen().size == 0
+    assert st.graph().parts == 1 and st.unseen().size == 0
     assert _pick_add(st, np.random.default_rng(0)) == (1, 1)
 
 
@@ -214,24 +215,130 @@ def test_milp_block_closes_on_the_searched_plan_and_counts_its_moves():
     assert 0 < r.info["local_search_moves"] <= MilpOptions().local_search_moves and off.info["local_search_moves"] == 0
 
 
-def test_the_dense_path_is_taken_for_links_inside_the_plan_not_to_the_pool():
-    from planner.solve.local_search import _dense_inside
+def _disc_case(seed: int, reach: float, n: int = 80, t: int = 200):
+    """Stations and targets drawn in the unit square: a station sees the targets within 0.18, is linked to the
+    stations within ``reach`` on its own half (two groups, so S is often in pieces)."""
+    rng = np.random.default_rng(seed)
+    xy, txy = rng.random((n, 2)), rng.random((t, 2))
+    a = sp.csr_matrix(np.hypot(*(xy[:, None] - txy[None]).transpose(2, 0, 1)) < 0.18)
+    near = np.hypot(*(xy[:, None] - xy[None]).transpose(2, 0, 1)) < reach
+    np.fill_diagonal(near, False)
+    groups = ["g" if x < 0.5 else "h" for x in xy[:, 0]]
+    same = np.array(groups)[:, None] == np.array(groups)[None]
+    return a, sp.csr_matrix(near & same), groups
 
-    # a plant: 100 stations, each linked to 300 pool candidates and to 2 other stations
-    n_s, n_pool = 100, 30_000
-    rows, cols = [], []
-    for k in range(n_s):
-        others = [(k + 1) % n_s, (k - 1) % n_s]
-        pool = n_s + (np.arange(300) + 300 * k) % n_pool
-        rows += [k] * (2 + 300)
-        cols += others + pool.tolist()
-    plant = sp.csr_matrix((np.ones(len(rows), dtype=bool), (rows, cols)), shape=(n_s + n_pool, n_s + n_pool))
-    idx = np.arange(n_s)
-    pos = np.full(n_s + n_pool, -1)
-    pos[idx] = idx
-    assert not _dense_inside(plant, idx, pos)
-    # a floor grid's plan: 200 stations, every pair linked
-    full = sp.csr_matrix(np.ones((200, 200), dtype=bool) & ~np.eye(200, dtype=bool))
-    idx = np.arange(200)
-    assert _dense_inside(full, idx, idx.copy())
-    assert not _dense_inside(full, idx[:10], np.where(np.arange(200) < 10, np.arange(200), -1))  # 9 links each
+
+def _flips(monkeypatch, a, adj, groups, seed: int) -> tuple[str, int]:
+    """sha1 (16 hex digits) of the search's flips after its start, (candidate, move) each, and the stations found."""
+    import hashlib
+
+    log: list[tuple[int, int]] = []
+    flip, init = _State.flip, _State.__init__
+
+    def logged(self, c, step):
+        if getattr(self, "_pinned", False):
+            log.append((int(c), int(step)))
+        return flip(self, c, step)
+
+    def started(self, *args, **kw):
+        init(self, *args, **kw)
+        self._pinned = True
+
+    monkeypatch.setattr(_State, "flip", logged)
+    monkeypatch.setattr(_State, "__init__", started)
+    found = shrink(a, adj, groups, list(range(a.shape[0])), moves=300, seed=seed)
+    return hashlib.sha1(repr(log).encode()).hexdigest()[:16], len(found.selected)
+
+
+#: (seed, link reach or None for no links, sha1 of the flips, stations found), recorded with the search before its
+#: counts were kept incrementally (each move recomputed S's counts, scores and graph from scratch): the same moves
+PINNED = [
+    (0, 0.16, "919145a3777c6647", 80),
+    (2, 0.16, "3ab7fc6de3294d9a", 80),
+    (0, 0.2, "c60e2aafe798ed1c", 22),
+    (1, 0.2, "9fb0ad9426b5e904", 21),
+    (2, 0.2, "6452cded3140a7c1", 24),
+    (0, 0.26, "e506d0903738fff1", 16),
+    (1, 0.26, "a34e2143135f8edc", 16),
+    (2, 0.26, "1b4f518e57681b7b", 18),
+    (0, None, "2731347a41b706d8", 14),
+    (1, None, "2a6c41e09db80d48", 16),
+]
+
+
+def test_a_start_in_pieces_with_a_station_no_part_needs():
+    # all 80 stations, in pieces: a removal can leave a connected cover with nothing to add (the search once failed
+    # there looking for a group in two parts); it goes on from that cover
+    a, adj, groups = _disc_case(1, 0.16)
+    found = shrink(a, adj, groups, list(range(80)), moves=300, seed=1)
+    assert len(found.selected) < 80 and not disconnected_groups(adj, groups, list(found.selected))
+    assert (np.asarray(a[list(found.selected)].sum(axis=0)).ravel() > 0).sum() == (a.getnnz(axis=0) > 0).sum()
+
+
+@pytest.mark.parametrize("seed,reach,sha,stations", PINNED)
+def test_the_moves_are_those_of_the_search_that_recomputed_every_move(monkeypatch, seed, reach, sha, stations):
+    a, adj, groups = _disc_case(seed, reach or 0.2)
+    if reach is None:
+        adj, groups = local_search.unlinked(a.shape[0])
+    assert _flips(monkeypatch, a, adj, groups, seed) == (sha, stations)
+
+
+def _scratch(st: _State) -> dict[str, np.ndarray]:
+    """What :class:`_State` keeps, recomputed from S alone: target counts, each station's loss, each candidate's gain,
+    S's components and splits, each candidate's linked components."""
+    idx = np.flatnonzero(st.in_s)
+    a = st.a.toarray().astype(bool)
+    cnt = a[idx].sum(axis=0)
+    loss = (a[idx] & (cnt == 1)) @ st.weight
+    gain = a @ (st.weight * (cnt == 0))
+    sub = st.adj[idx][:, idx]
+    n, label = connected_components(sub, directed=False)
+    split = []
+    for k in range(len(idx)):
+        rest = np.delete(np.arange(len(idx)), k)
+        split.append(connected_components(sub[rest][:, rest], directed=False)[0] - n if len(rest) else -1)
+    hit = np.zeros((n, a.shape[0]), dtype=bool)
+    rows, cols = st.adj[idx].nonzero()
+    hit[label[rows], cols] = True
+    return {"cnt": cnt, "loss": loss, "gain": gain, "label": label, "split": np.array(split), "touched": hit.sum(0)}
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_kept_counts_equal_the_ones_recomputed_after_any_flips(seed):
+    # random flips and weight rises on a two-group instance: after each, the counts, losses, gains, components,
+    # splits and linked components that flip keeps equal the ones computed from S alone
+    a, adj, groups = _disc_case(seed, 0.2, n=40, t=100)
+    rng = np.random.default_rng(seed)
+    gid = np.array([0 if g == "g" else 1 for g in groups])
+    st = _State(a.astype(np.float64).tocsr(), adj, gid, np.ones(a.shape[1], dtype=bool), list(range(0, 40, 2)))
+    for step in range(1, 80):
+        st.flip(int(rng.integers(40)), step)
+        if rng.random() < 0.5:
+            st.bump()
+        if not st.in_s.any():
+            continue
+        want, g = _scratch(st), st.graph()
+        idx = g.idx
+        assert (st.cnt == want["cnt"]).all() and (st.loss[idx] == want["loss"]).all()
+        assert (st.unseen_sum + st.tick * st.unseen_count == want["gain"]).all()
+        assert (g.label == want["label"]).all() and g.n == want["label"].max() + 1
+        st.removal_cost()
+        assert (st.graph().split == want["split"]).all()
+        assert (st.touched() == want["touched"]).all() or g.parts == 0
+        if g.parts:
+            assert (st.bridging() == np.flatnonzero(want["touched"] >= 2)).all()
+
+
+@pytest.mark.parametrize("rows", [[], [3], [0, 5, 5, 9], list(range(40)), list(range(39, -1, -2))])
+def test_gather_lists_the_rows_entries_in_row_order(rows):
+    m = sp.random(40, 30, density=0.2, format="csr", random_state=1)
+    where, cols = gather(m, np.array(rows, dtype=np.int64))
+    want = [(k, c) for k, r in enumerate(rows) for c in m.indices[m.indptr[r] : m.indptr[r + 1]]]
+    assert list(zip(where.tolist(), cols.tolist())) == want
+
+
+def test_walk_numbers_components_by_their_lowest_node():
+    # 0-3, 1-2, 4 alone: components {0, 3}, {1, 2}, {4} are 0, 1, 2
+    g = _graph(5, [(0, 3), (1, 2)])
+    n, label, out = walk((g.indptr.tolist(), g.indices.tolist()))
+    assert n == 3 and label == [0, 1, 1, 0, 2] and out == [0, 0, 0, 0, -1]

@@ -1,0 +1,166 @@
+"""The graph and gather steps of a local-search move (:mod:`planner.solve.local_search`): rows of a sparse matrix gathered
+in one vectorised pass, the components and articulation counts of the chosen stations' overlap subgraph, and, where
+that subgraph is dense, a scan-first forest and a sparse certificate of it.
+
+Every value here is a property of the graph (a component's stations, the parts a removal adds), not of the order the
+links are walked in, so the search's moves do not depend on how the subgraph is stored.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+#: rows gathered by slices below this many (a Python loop of slices is faster for a few rows than the index arrays)
+_FEW = 24
+
+
+def gather(m: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(position in ``rows``, column) of every stored entry of the rows ``rows`` of ``m``, in row order, without
+    building a sparse matrix: one index array from the rows' starts and lengths (no Python loop over the rows)."""
+    rows = np.asarray(rows, dtype=np.int64)
+    start = m.indptr[rows].astype(np.int64)
+    size = m.indptr[rows + 1] - start
+    where = np.repeat(np.arange(len(rows)), size)
+    return where, gather_cols(m, rows, start, size)
+
+
+def gather_cols(
+    m: sp.csr_matrix, rows: np.ndarray, start: np.ndarray | None = None, size: np.ndarray | None = None
+) -> np.ndarray:
+    """The columns of :func:`gather` alone (``start``, ``size``: the rows' starts and lengths, where known)."""
+    if len(rows) < _FEW:
+        ptr, ind = m.indptr, m.indices
+        parts = [ind[ptr[r] : ptr[r + 1]] for r in np.asarray(rows).tolist()]
+        return np.concatenate(parts) if parts else ind[:0]
+    if start is None or size is None:
+        rows = np.asarray(rows, dtype=np.int64)
+        start = m.indptr[rows].astype(np.int64)
+        size = m.indptr[rows + 1] - start
+    total = int(size.sum())
+    return m.indices[np.arange(total) + np.repeat(start - (np.cumsum(size) - size), size)]
+
+
+def distinct(x: np.ndarray) -> np.ndarray:
+    """The distinct values of ``x``, ascending: ``np.unique`` by a sort (several times faster on a move's few thousand
+    integers than numpy's hashed unique)."""
+    x = np.sort(x)
+    return x[np.concatenate(([True], x[1:] != x[:-1]))] if x.size else x
+
+
+@dataclass(frozen=True, kw_only=True)
+class Links:
+    """S's overlap subgraph: as CSR lists (``lists``), or, where it is dense, as a scan-first spanning forest
+    (``tree``: each station's parent, -1 for a root, by position in S; ``pos``: each candidate's position, -1 off S)."""
+
+    lists: tuple[list[int], list[int]] | None = None
+    tree: np.ndarray | None = None
+    pos: np.ndarray | None = None
+
+
+def touched(n: int, label: np.ndarray, col: np.ndarray, size: int) -> np.ndarray:
+    """For each of ``size`` candidates, how many of the ``n`` components hold a station linked to it (``label``: the
+    component of each link's station, ``col``: its candidate)."""
+    hit = np.zeros((n, size), dtype=bool)
+    hit[label, col] = True
+    return hit.sum(axis=0, dtype=np.int64)
+
+
+def scan_forest(
+    adj: sp.csr_matrix, idx: np.ndarray, pos: np.ndarray, avoid: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """A scan-first (breadth-first) spanning forest of the subgraph of ``adj`` on the nodes ``idx`` (``pos``: each
+    node's position in ``idx``, -1 elsewhere), less the links of the forest ``avoid`` (a parent per position) where
+    given: each position's parent (-1 for a root), its component, numbered in order of each component's lowest
+    position, and the number of components. Each tree grows from the lowest position not yet reached, and the search
+    stops once every position is reached: on a dense graph a few rows are read, not all of them."""
+    m = len(idx)
+    parent = np.full(m, -1, dtype=np.int64)
+    label = np.full(m, -1, dtype=np.int64)
+    ptr, ind = adj.indptr, adj.indices
+    left, k = m, 0
+    for root in range(m):
+        if label[root] >= 0:
+            continue
+        label[root] = k
+        left -= 1
+        queue, head = [root], 0
+        while head < len(queue) and left > 0:
+            u = queue[head]
+            head += 1
+            nb = pos[ind[ptr[idx[u]] : ptr[idx[u] + 1]]]
+            nb = nb[nb >= 0]
+            if avoid is not None:
+                nb = nb[(nb != avoid[u]) & (avoid[nb] != u)]
+            new = nb[label[nb] < 0]
+            label[new] = k
+            parent[new] = u
+            left -= new.size
+            queue += new.tolist()
+        k += 1
+    return parent, label, k
+
+
+def certificate(adj: sp.csr_matrix, idx: np.ndarray, links: Links) -> tuple[list[int], list[int]]:
+    """A sparse subgraph of S's links (CSR lists, by position in S) with, for every station v, the components of S's
+    graph without v: the forest ``links.tree`` and a scan-first forest of S's links less the first's (Cheriyan, Kao
+    and Thurimella, "Scan-first search and sparse certificates: an improved parallel algorithm for k-vertex
+    connectivity", SIAM J. Comput. 22(1):157-174, 1993; k = 2). :func:`walk` then follows at most 2 (n - 1) links,
+    not the ones of a few hundred stations nearly all linked to each other (a plan on a fine floor grid)."""
+    assert links.tree is not None and links.pos is not None
+    first = links.tree
+    second = scan_forest(adj, idx, links.pos, avoid=first)[0]
+    child = [np.flatnonzero(f >= 0) for f in (first, second)]
+    r = np.concatenate([child[0], first[child[0]], child[1], second[child[1]]])
+    c = np.concatenate([first[child[0]], child[0], second[child[1]], child[1]])
+    order = np.lexsort((c, r))
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=len(idx)))])
+    return ptr.tolist(), c[order].tolist()
+
+
+def walk(sub: tuple[list[int], list[int]]) -> tuple[int, list[int], list[int]]:
+    """The number of components of the graph given as CSR lists ``sub`` (indptr, indices), each node's component (in
+    order of each component's lowest node), and the components its removal adds to its own (-1 for an isolated node):
+    one iterative articulation-point pass (Hopcroft-Tarjan), O(nodes + links)."""
+    ptr, ind = sub
+    n = len(ptr) - 1
+    disc, low, out, label = [-1] * n, [0] * n, [0] * n, [-1] * n
+    clock = k = 0
+    for root in range(n):
+        if disc[root] >= 0:
+            continue
+        disc[root] = low[root] = clock
+        label[root] = k
+        clock += 1
+        children = 0
+        stack = [(root, -1, ptr[root])]
+        while stack:
+            v, parent, i = stack[-1]
+            if i < ptr[v + 1]:
+                stack[-1] = (v, parent, i + 1)
+                w = ind[i]
+                if disc[w] < 0:
+                    disc[w] = low[w] = clock
+                    label[w] = k
+                    clock += 1
+                    stack.append((w, v, ptr[w]))
+                    children += v == root
+                elif w != parent and disc[w] < low[v]:
+                    low[v] = disc[w]
+                continue
+            stack.pop()
+            if parent >= 0:
+                low[parent] = min(low[parent], low[v])
+                if parent != root and low[v] >= disc[parent]:
+                    out[parent] += 1
+        out[root] = children - 1
+        k += 1
+    return k, label, out
+
+
+def split(sub: tuple[list[int], list[int]]) -> np.ndarray:
+    """Components added to its own component by removing each node (-1 for an isolated node): :func:`walk`'s third
+    value as an array."""
+    return np.array(walk(sub)[2], dtype=np.int64)
