@@ -31,6 +31,7 @@ from __future__ import annotations
 import itertools
 import time
 from dataclasses import replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -45,6 +46,7 @@ from planner.bounds.plane_refine import refined_bound
 from planner.coverage.arrangement import grown, grown_reach, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
+from planner.coverage.threads import ordered_map
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
 from planner.solve.ring import cyclic_arcs, ring_graph
@@ -157,6 +159,7 @@ def connected_plane_bound(
     levels = [list(patch_sides(r.outer)) if r is not None else [] for r in regions]
     spent, open_ = 0, [True] * len(keys)
     for level in range(max((len(x) for x in levels), default=0)):
+        run = []  # the zone-sides that walk at this level: decided before any walks (a walk changes only its side)
         for i, k in enumerate(keys):
             if not open_[i] or level >= len(levels[i]) or sides[i].value >= counts.get(k, 0):
                 open_[i] = False
@@ -166,8 +169,10 @@ def connected_plane_bound(
                 open_[i] = False  # the budget: this side keeps what it has
                 continue
             spent += cost
+            run.append(i)
+        walks = ordered_map(partial(_walk_level, regions, levels, level, share, keys, counts), run)  # side by side
+        for i, (ring, fam) in zip(run, walks):
             h = levels[i][level]
-            ring, fam = side_ring_bound(_walked(regions[i]), share, h, counts.get(k, 0))
             if ring is None:
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
@@ -177,6 +182,19 @@ def connected_plane_bound(
             refined = refined_bound(_walked(regions[i]), share, levels[i][0], counts[k], refine_steps)
             sides[i] = replace(sides[i], refined=refined)
     return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)
+
+
+def _walk_level(
+    regions: list[SidePieces | None],
+    levels: list[list[float]],
+    level: int,
+    share: float,
+    keys: list[int],
+    counts: dict[int, int],
+    i: int,
+) -> tuple[int | None, int]:
+    """:func:`side_ring_bound` of zone-side ``i`` at ``level``."""
+    return side_ring_bound(_walked(regions[i]), share, levels[i][level], counts.get(keys[i], 0))
 
 
 def _walked(pieces: SidePieces | None) -> SidePieces:
