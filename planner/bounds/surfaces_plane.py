@@ -46,9 +46,9 @@ PRICE_EPS = 1e-7
 #: the bound is formed only where the LP has at most this many rows (wall pieces and seen patches)
 MAX_ROWS = 3_000
 #: column generation: rounds, points tested per round, and (point, region) pairs weighed in all
-MAX_ROUNDS = 40
+MAX_ROUNDS = 15
 PER_ROUND = 60
-MAX_WORK = 4_000_000
+MAX_WORK = 1_500_000
 #: the grid the grown outer regions are put on before their arrangement is formed (m)
 SNAP_M = 1e-9
 #: the rounding slack of the bound (as for walls)

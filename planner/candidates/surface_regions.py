@@ -48,11 +48,11 @@ from planner.site.model import ScanSide, Site
 #: segments per quarter circle of the range discs and the blind disc (a 64-gon: 4.5 mm of sagitta at 3.7 m)
 QUAD_SEGS = 16
 #: a zone whose patch and wall regions number more than this gets no arrangement candidates (the floor grid stays)
-MAX_REGIONS = 240
+MAX_REGIONS = 90
 #: and one whose arrangement has more faces than this
 MAX_FACES = 60_000
 #: the regions of all zones together: zones past it (in site order) keep the floor grid alone
-MAX_SITE_REGIONS = 600
+MAX_SITE_REGIONS = 400
 #: the longest arc step of the shadow cones' far ends (rad)
 ARC_STEP = math.pi / 12
 #: a cone whose apex angle has a sine below this is a ray: no area
