@@ -97,12 +97,14 @@ class _State:
         self.unseen_sum = np.zeros(n, dtype=np.int64)  # per candidate: the sum of its unseen targets' offsets
         self.unseen_count = np.zeros(n, dtype=np.int64)  # and their count
         self._tracked = False
+        self.open = np.zeros(a.shape[1], dtype=bool)  # the targets to cover that S leaves unseen (once tracked)
         for c in dict.fromkeys(int(c) for c in chosen):
             self.flip(c, 0)
         self.conf[:] = True
         self.barred.clear()
+        unseen = self.unseen()
         self._tracked = True
-        self._unseen_by(self.unseen(), 1)
+        self._unseen_by(unseen, 1)
 
     def _targets(self, c: int) -> np.ndarray:
         return self.a.indices[self.a.indptr[c] : self.a.indptr[c + 1]]
@@ -110,7 +112,7 @@ class _State:
     def unseen(self) -> np.ndarray:
         """The targets to cover that S leaves unseen, ascending."""
         if self._unseen is None:
-            self._unseen = np.flatnonzero(self.need & (self.cnt == 0))
+            self._unseen = np.flatnonzero(self.open) if self._tracked else np.flatnonzero(self.need & (self.cnt == 0))
         return self._unseen
 
     def flip(self, c: int, step: int) -> None:
@@ -158,6 +160,7 @@ class _State:
         offsets and count updated, from which :meth:`add_score` reads any candidate's gain."""
         if not self._tracked or t.size == 0:
             return
+        self.open[t] = sign > 0
         if sign > 0:
             self.offset[t] = self.weight[t].astype(np.int64) - self.tick
         row, col = gather(self.at, t)
@@ -217,25 +220,35 @@ class _State:
     def touched(self, cand: np.ndarray | None = None) -> np.ndarray:
         """How many of S's components each candidate (of ``cand``; all where None) is linked to."""
         g = self.graph()
-        if g.parts == 0:  # one component per group: linked or not
-            near = self.near if cand is None else self.near[cand]
-            return (near > 0).astype(np.int64)
-        if g.touched is None:  # the links of all components but the largest gathered; the largest's are the rest
-            n = self.a.shape[0]
-            big = g.label != int(np.argmax(np.bincount(g.label)))
-            row, col = gather(self.adj, g.idx[big])
-            pairs = distinct(g.label[big][row] * n + col)  # distinct (component, candidate)
-            g.touched = (self.near > np.bincount(col, minlength=n)) + np.bincount(pairs % n, minlength=n)
-            linked = distinct(col)  # linked to two components: to one not the largest
-            g.bridging = linked[g.touched[linked] >= 2]
-        return g.touched if cand is None else g.touched[cand]
+        near = self.near if cand is None else self.near[cand]
+        out = (near > 0).astype(np.int64)  # S in one component per group: linked or not
+        if g.parts > 0:  # else the count from the links of the components but the largest (:meth:`bridging`)
+            self.bridging()
+            assert g.linked is not None and g.touched is not None
+            if cand is None:
+                out[g.linked] = g.touched
+            else:
+                k = np.minimum(np.searchsorted(g.linked, cand), max(len(g.linked) - 1, 0))
+                hit = g.linked[k] == cand if len(g.linked) else np.zeros(len(cand), dtype=bool)
+                out[hit] = g.touched[k[hit]]
+        return out
 
     def bridging(self) -> np.ndarray:
-        """The candidates linked to two or more of S's components, ascending (S in pieces)."""
-        self.touched()
-        bridging = self.graph().bridging
-        assert bridging is not None
-        return bridging
+        """The candidates linked to two or more of S's components, ascending (S in pieces). Only the links of the
+        components but the largest are gathered: such a candidate is linked to one of them, and it is linked to the
+        largest where it has more links to S than to them."""
+        g = self.graph()
+        if g.bridging is None:
+            big = g.label != int(np.argmax(np.bincount(g.label)))
+            row, col = gather(self.adj, g.idx[big])
+            g.linked = distinct(col)
+            at = np.searchsorted(g.linked, col)
+            n = len(g.linked)
+            pairs = distinct(g.label[big][row] * n + at)  # distinct (component, candidate)
+            links = np.bincount(at, minlength=n)
+            g.touched = (self.near[g.linked] > links) + np.bincount(pairs % n, minlength=n)
+            g.bridging = g.linked[g.touched >= 2]
+        return g.bridging
 
     def removal_cost(self) -> np.ndarray:
         """loss(s) + w_link * split(s) for each station of S (order of ``graph().idx``)."""
@@ -267,7 +280,8 @@ class _Graph:
         self.idx, self.links, self.label, self.n = idx, links, label, n
         self.parts = int(n - np.count_nonzero(groups))
         self.split: np.ndarray | None = None
-        self.touched: np.ndarray | None = None
+        self.linked: np.ndarray | None = None  # S in pieces: the candidates linked to its smaller components
+        self.touched: np.ndarray | None = None  # and how many components each is linked to
         self.bridging: np.ndarray | None = None
 
     def without(self, c: int, groups: np.ndarray) -> _Graph | None:
@@ -357,7 +371,8 @@ def shrink(
 
 def _first(key: np.ndarray, stamp: np.ndarray) -> int:
     """Position of the least ``key``; ties to the least ``stamp`` (longest unchanged), then the lowest index."""
-    return int(np.lexsort((stamp, key))[0])
+    tied = np.flatnonzero(key == key.min())
+    return int(tied[0]) if tied.size == 1 else int(tied[np.argmin(stamp[tied])])
 
 
 def _drop(st: _State, step: int) -> None:
