@@ -45,19 +45,6 @@ def _size(png: bytes) -> tuple[int, int]:
     return int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
 
 
-def test_a_frozen_figure_is_drawn_once_whole_and_nothing_drawn_lies_past_its_edge(monkeypatch):
-    fig = _panels()
-    draws = []
-    real = Figure.draw
-    monkeypatch.setattr(Figure, "draw", lambda self, renderer: draws.append(1) or real(self, renderer))
-    png = png_bytes(fig)
-    assert len(draws) == 1 and _size(png) == (6 * 110, 3 * 110)  # one draw, the whole figure
-    monkeypatch.undo()
-    # what "tight" would cut to lies inside the figure: the whole figure loses nothing
-    tight = fig.get_tightbbox(fig.canvas.get_renderer())
-    assert 0 <= tight.x0 and 0 <= tight.y0 and tight.x1 <= 6 and tight.y1 <= 3
-
-
 def test_a_title_wider_than_the_figure_widens_the_image():
     fig = _panels()
     fig.suptitle("a site name long enough to run past both edges of a six-inch figure " * 2)
@@ -78,8 +65,16 @@ def test_a_live_layout_is_still_laid_out_and_kept():
     assert again.get_layout_engine() is not None
 
 
-def test_the_frozen_layout_keeps_its_placeholder_after_saving():
+def test_a_frozen_figure_is_drawn_once_whole_nothing_past_its_edge_and_keeps_its_placeholder(monkeypatch):
     fig = _panels()
     engine = fig.get_layout_engine()
-    png_bytes(fig)
+    draws = []
+    real = Figure.draw
+    monkeypatch.setattr(Figure, "draw", lambda self, renderer: draws.append(1) or real(self, renderer))
+    png = png_bytes(fig)
+    assert len(draws) == 1 and _size(png) == (6 * 110, 3 * 110)  # one draw, the whole figure
+    monkeypatch.undo()
     assert fig.get_layout_engine() is engine
+    # what "tight" would cut to lies inside the figure: the whole figure loses nothing
+    tight = fig.get_tightbbox(fig.canvas.get_renderer())
+    assert 0 <= tight.x0 and 0 <= tight.y0 and tight.x1 <= 6 and tight.y1 <= 3
