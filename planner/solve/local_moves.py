@@ -60,12 +60,37 @@ class Links:
     pos: np.ndarray | None = None
 
 
-def touched(n: int, label: np.ndarray, col: np.ndarray, size: int) -> np.ndarray:
-    """For each of ``size`` candidates, how many of the ``n`` components hold a station linked to it (``label``: the
-    component of each link's station, ``col``: its candidate)."""
-    hit = np.zeros((n, size), dtype=bool)
-    hit[label, col] = True
-    return hit.sum(axis=0, dtype=np.int64)
+class Graph:
+    """S (``idx``, sorted), its links (:class:`Links`), each station's component (``label``,
+    in order of each component's lowest station) out of ``n``, ``parts`` (sum over groups of components - 1), and, once
+    computed, each station's split and each candidate's count of linked components."""
+
+    def __init__(self, *, idx: np.ndarray, links: Links | None, label: np.ndarray, n: int, groups: np.ndarray) -> None:
+        self.idx, self.links, self.label, self.n = idx, links, label, n
+        self.parts = int(n - np.count_nonzero(groups))
+        self.split: np.ndarray | None = None
+        self.linked: np.ndarray | None = None  # S in pieces: the candidates linked to its smaller components
+        self.touched: np.ndarray | None = None  # and how many components each is linked to
+        self.bridging: np.ndarray | None = None
+
+    def without(self, c: int, groups: np.ndarray) -> Graph | None:
+        """This graph less its station c, where c's removal adds no component (its split, computed, is 0: the others
+        keep their stations; -1: c's own component goes), the components numbered again by their lowest stations; None
+        otherwise (S's graph is then built again). Its links are not kept: :meth:`planner.solve.local_search._State.removal_cost` builds them when
+        asked."""
+        if self.split is None:
+            return None
+        k = int(np.searchsorted(self.idx, c))
+        if self.split[k] > 0:
+            return None
+        label = np.delete(self.label, k)
+        first = np.full(self.n, len(label))  # each component's lowest station now (c's may be a later one)
+        np.minimum.at(first, label, np.arange(len(label)))
+        rank = np.empty(self.n, dtype=np.int64)
+        rank[np.argsort(first, kind="stable")] = np.arange(self.n)  # c's own component, gone, last
+        return Graph(
+            idx=np.delete(self.idx, k), links=None, label=rank[label], n=self.n - int(self.split[k] < 0), groups=groups
+        )
 
 
 def scan_forest(

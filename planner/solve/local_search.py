@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from planner.coverage.overlap import group_ids
 from planner.solve.connectivity import path_to_nearest
-from planner.solve.local_moves import Links, certificate, distinct, gather, gather_cols, scan_forest, walk
+from planner.solve.local_moves import Graph, Links, certificate, distinct, gather, gather_cols, scan_forest, walk
 
 #: moves between two looks at the clock where the user set a wall-clock cap
 _CLOCK_EVERY = 64
@@ -90,7 +90,7 @@ class _State:
         self.near = np.zeros(n, dtype=np.int64)  # how many stations of S each candidate is linked to
         self.groups = np.zeros(int(gid.max(initial=-1)) + 1, dtype=np.int64)  # stations of S in each group
         self.nbr: dict[int, set[int]] = {}  # each station's linked stations in S
-        self._graph: _Graph | None = None
+        self._graph: Graph | None = None
         self._unseen: np.ndarray | None = None
         self.tick = 0  # weight rises so far: an unseen target's weight is its offset plus this
         self.offset = np.zeros(a.shape[1], dtype=np.int64)
@@ -193,8 +193,8 @@ class _State:
         else:
             self.barred.add(c)
 
-    def graph(self) -> _Graph:
-        """S's components (:class:`_Graph`), from its links kept by :meth:`flip`; where S's stations have more than
+    def graph(self) -> Graph:
+        """S's components (:class:`Graph`), from its links kept by :meth:`flip`; where S's stations have more than
         ``_DENSE`` links inside S each, from a scan-first forest that stops once every station is reached."""
         if self._graph is None:
             idx = np.array(self.members, dtype=np.int64)
@@ -203,7 +203,7 @@ class _State:
                 pos = np.full(self.a.shape[0], -1, dtype=np.int64)
                 pos[idx] = np.arange(len(idx))
                 parent, label, n = scan_forest(self.adj, idx, pos)
-                self._graph = _Graph(idx=idx, links=Links(tree=parent, pos=pos), label=label, n=n, groups=self.groups)
+                self._graph = Graph(idx=idx, links=Links(tree=parent, pos=pos), label=label, n=n, groups=self.groups)
             else:
                 where = {c: i for i, c in enumerate(idx.tolist())}
                 ptr, ind = [0], []
@@ -211,7 +211,7 @@ class _State:
                     ind += [where[w] for w in self.nbr[c]]
                     ptr.append(len(ind))
                 n, walked, out = walk((ptr, ind))
-                self._graph = _Graph(
+                self._graph = Graph(
                     idx=idx, links=Links(lists=(ptr, ind)), label=np.array(walked), n=n, groups=self.groups
                 )
                 self._graph.split = np.array(out, dtype=np.int64)
@@ -269,39 +269,6 @@ class _State:
         gain = (self.unseen_sum[cand] + self.tick * self.unseen_count[cand]).astype(np.float64)
         change = np.where(self.groups[self.gid[cand]] > 0, 1 - self.touched(cand), 0)
         return gain - self.w_link * change, change
-
-
-class _Graph:
-    """S (``idx``, sorted), its links (:class:`planner.solve.local_moves.Links`), each station's component (``label``,
-    in order of each component's lowest station) out of ``n``, ``parts`` (sum over groups of components - 1), and, once
-    computed, each station's split and each candidate's count of linked components."""
-
-    def __init__(self, *, idx: np.ndarray, links: Links | None, label: np.ndarray, n: int, groups: np.ndarray) -> None:
-        self.idx, self.links, self.label, self.n = idx, links, label, n
-        self.parts = int(n - np.count_nonzero(groups))
-        self.split: np.ndarray | None = None
-        self.linked: np.ndarray | None = None  # S in pieces: the candidates linked to its smaller components
-        self.touched: np.ndarray | None = None  # and how many components each is linked to
-        self.bridging: np.ndarray | None = None
-
-    def without(self, c: int, groups: np.ndarray) -> _Graph | None:
-        """This graph less its station c, where c's removal adds no component (its split, computed, is 0: the others
-        keep their stations; -1: c's own component goes), the components numbered again by their lowest stations; None
-        otherwise (S's graph is then built again). Its links are not kept: :meth:`_State.removal_cost` builds them when
-        asked."""
-        if self.split is None:
-            return None
-        k = int(np.searchsorted(self.idx, c))
-        if self.split[k] > 0:
-            return None
-        label = np.delete(self.label, k)
-        first = np.full(self.n, len(label))  # each component's lowest station now (c's may be a later one)
-        np.minimum.at(first, label, np.arange(len(label)))
-        rank = np.empty(self.n, dtype=np.int64)
-        rank[np.argsort(first, kind="stable")] = np.arange(self.n)  # c's own component, gone, last
-        return _Graph(
-            idx=np.delete(self.idx, k), links=None, label=rank[label], n=self.n - int(self.split[k] < 0), groups=groups
-        )
 
 
 #: S's links are walked whole while its stations have at most this many links inside S each
