@@ -63,7 +63,8 @@ class SidePieces:
 
 def live_box(geoms: list[Any]) -> NDArray[np.float64] | None:
     """(xmin, ymin, xmax, ymax) over the non-empty ``geoms``; None when all are empty."""
-    b = np.array([shapely.bounds(g) for g in geoms if not g.is_empty])
+    b = shapely.bounds(np.asarray(geoms, dtype=object)).reshape(-1, 4)
+    b = b[~shapely.is_empty(np.asarray(geoms, dtype=object)).reshape(-1)]
     return None if b.size == 0 else np.array([b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()])
 
 
