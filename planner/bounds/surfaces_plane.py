@@ -45,10 +45,12 @@ from planner.solve.pricing import WarmCoverLp
 PRICE_EPS = 1e-7
 #: the bound is formed only where the LP has at most this many rows (wall pieces and seen patches)
 MAX_ROWS = 3_000
-#: column generation: rounds, points tested per round, and (point, region) pairs weighed in all
-MAX_ROUNDS = 15
+#: column generation: rounds, points tested per round, and (point, region) pairs weighed in all; only where the LP has
+#: at most MAX_PRICED_ROWS rows (a small room's walls and floor; beyond, Farley's bound on the pool's own duals)
+MAX_ROUNDS = 10
 PER_ROUND = 60
-MAX_WORK = 1_500_000
+MAX_WORK = 600_000
+MAX_PRICED_ROWS = 400
 #: the grid the grown outer regions are put on before their arrangement is formed (m)
 SNAP_M = 1e-9
 #: the rounding slack of the bound (as for walls)
@@ -243,6 +245,8 @@ def surfaces_plane_bound(
     work: list[int] = []
     history: list[float] = []
     rounds = priced = 0
+    if n_rows > MAX_PRICED_ROWS:
+        max_rounds = 0
     converged = False
     thin = 0
     try:
@@ -266,6 +270,8 @@ def surfaces_plane_bound(
     note = (
         ""
         if converged
+        else f"not priced ({n_rows:,} wall pieces and patches, more than {MAX_PRICED_ROWS}): the pool's duals"
+        if n_rows > MAX_PRICED_ROWS
         else f"{thin} arrangement points price out by their regions but none by the sight tests"
         if thin
         else f"stopped after {rounds} rounds ({sum(work):,} weighed pairs) before it converged"
