@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from planner.coverage.overlap import group_ids
 from planner.solve.connectivity import path_to_nearest
-from planner.solve.local_moves import Graph, Links, certificate, distinct, gather, gather_cols, scan_forest, walk
+from planner.solve.local_moves import Graph, Links, certificate, distinct, gather, scan_forest, walk
 
 #: moves between two looks at the clock where the user set a wall-clock cap
 _CLOCK_EVERY = 64
@@ -79,9 +79,9 @@ class _State:
         self.need = need
         self.in_s = np.zeros(n, dtype=bool)
         self.members: list[int] = []  # S, ascending
-        self.conf = np.ones(n, dtype=bool)
-        self.barred: set[int] = set()  # the candidates whose flag is off
-        self.mark = np.zeros(a.shape[1], dtype=bool)  # scratch: the targets of a flipped station
+        self.barred: dict[int, int] = {}  # the candidates configuration checking bars, and the flip that barred each
+        self.flips = 0
+        self.last = np.zeros(a.shape[1], dtype=np.int64)  # each target's last flip of a seer
         self.w_link = 1.0
         self.stamp = np.zeros(n, dtype=np.int64)  # move of each candidate's last change
         self.cnt = np.zeros(a.shape[1], dtype=np.int64)  # stations of S seeing each target
@@ -96,11 +96,11 @@ class _State:
         self.offset = np.zeros(a.shape[1], dtype=np.int64)
         self.unseen_sum = np.zeros(n, dtype=np.int64)  # per candidate: the sum of its unseen targets' offsets
         self.unseen_count = np.zeros(n, dtype=np.int64)  # and their count
+        self._pending: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # targets, offsets and signs to apply
         self._tracked = False
         self.open = np.zeros(a.shape[1], dtype=bool)  # the targets to cover that S leaves unseen (once tracked)
         for c in dict.fromkeys(int(c) for c in chosen):
             self.flip(c, 0)
-        self.conf[:] = True
         self.barred.clear()
         unseen = self.unseen()
         self._tracked = True
@@ -151,47 +151,64 @@ class _State:
             bisect.insort(self.members, c)
         else:
             self.members.remove(c)
-        self._refresh(c, t)
+        self.flips += 1
+        self.last[t] = self.flips
+        if self.in_s[c]:
+            self.barred.pop(c, None)
+        else:
+            self.barred[c] = self.flips
         self._unseen = None
         self._graph = None if self.in_s[c] or before is None else before.without(c, self.groups)
 
     def _unseen_by(self, t: np.ndarray, sign: int) -> None:
-        """Targets ``t`` that S leaves unseen from now (``sign`` 1) or sees from now (-1): each seer's sum of their
-        offsets and count updated, from which :meth:`add_score` reads any candidate's gain."""
+        """Targets ``t`` that S leaves unseen from now (``sign`` 1) or sees from now (-1): their seers' sums of offsets
+        and counts, from which :meth:`gains` reads any candidate's gain, are updated when next read (one gather for
+        the few targets of a move's two flips)."""
         if not self._tracked or t.size == 0:
             return
         self.open[t] = sign > 0
         if sign > 0:
             self.offset[t] = self.weight[t].astype(np.int64) - self.tick
-        row, col = gather(self.at, t)
-        np.add.at(self.unseen_sum, col, sign * self.offset[t][row])
-        np.add.at(self.unseen_count, col, sign)
+        self._pending.append((t, sign * self.offset[t], np.full(t.size, sign, dtype=np.int64)))
+
+    def gains(self, cand: np.ndarray | None = None) -> np.ndarray:
+        """The weight of the unseen targets each candidate (of ``cand``; all where None) sees: the sum of their offsets
+        plus the weight rises since, times their count (whole numbers: the sum of their weights, exactly)."""
+        if self._pending:
+            t, value, sign = (np.concatenate(x) for x in zip(*self._pending))
+            self._pending.clear()
+            row, col = gather(self.at, t)
+            np.add.at(self.unseen_sum, col, value[row])
+            np.add.at(self.unseen_count, col, sign[row])
+        if cand is None:
+            return (self.unseen_sum + self.tick * self.unseen_count).astype(np.float64)
+        return (self.unseen_sum[cand] + self.tick * self.unseen_count[cand]).astype(np.float64)
 
     def bump(self) -> None:
         """The weights of the unseen targets grow by one."""
         self.weight[self.unseen()] += 1.0
         self.tick += 1
 
-    def _refresh(self, c: int, t: np.ndarray) -> None:
-        """Configuration checking after c's flip: every candidate sharing a target with c may come back, and c may not
-        once removed. Only the few candidates barred (``barred``) are looked at, not all the seers of c's targets."""
-        if self.barred:
-            barred = np.fromiter(self.barred, dtype=np.int64, count=len(self.barred))
-            if self.a_len[barred].sum() <= self.at_len[t].sum():
-                self.mark[t] = True
-                where, col = gather(self.a, barred)
-                free = barred[np.bincount(where[self.mark[col]], minlength=len(barred)) > 0]
-                self.mark[t] = False
-            else:  # many barred: the seers of c's targets
-                self.conf[gather_cols(self.at, t)] = True
-                free = barred[self.conf[barred]]
-            self.conf[free] = True
-            self.barred.difference_update(free.tolist())
-        self.conf[c] = bool(self.in_s[c])
-        if self.conf[c]:
-            self.barred.discard(c)
-        else:
-            self.barred.add(c)
+    def allowed(self, cand: np.ndarray) -> np.ndarray:
+        """Configuration checking for ``cand`` (ascending): False for a candidate removed and not changed since, none
+        sharing a target with it flipped after (each target's last flip is kept, so only the few barred candidates
+        are looked at, when asked)."""
+        ok = np.ones(len(cand), dtype=bool)
+        if not self.barred:
+            return ok
+        who = np.fromiter(self.barred, dtype=np.int64, count=len(self.barred))
+        when = np.fromiter(self.barred.values(), dtype=np.int64, count=len(who))
+        where, col = gather(self.a, who)
+        last = np.zeros(len(who), dtype=np.int64)
+        np.maximum.at(last, where, self.last[col])
+        for c in who[last > when].tolist():  # a candidate sharing a target flipped since: free for good
+            del self.barred[c]
+        still = who[last <= when]
+        k = np.searchsorted(cand, still)
+        inside = k < len(cand)
+        k = k[inside]
+        ok[k[cand[k] == still[inside]]] = False
+        return ok
 
     def graph(self) -> Graph:
         """S's components (:class:`Graph`), from its links kept by :meth:`flip`; where S's stations have more than
@@ -266,7 +283,7 @@ class _State:
         """gain(c) - w_link * (parts change), and the parts change, of candidates ``cand`` joining S. gain(c): the weight
         of the unseen targets c sees, from its sum of their offsets and their count kept by :meth:`flip` (whole
         numbers: the same value as summing the weights)."""
-        gain = (self.unseen_sum[cand] + self.tick * self.unseen_count[cand]).astype(np.float64)
+        gain = self.gains(cand)
         change = np.where(self.groups[self.gid[cand]] > 0, 1 - self.touched(cand), 0)
         return gain - self.w_link * change, change
 
@@ -363,7 +380,7 @@ def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
         pool.append(st.bridging())
     cand = distinct(np.concatenate(pool)) if pool else np.zeros(0, dtype=np.int64)
     cand = cand[~st.in_s[cand]]
-    allowed = cand[st.conf[cand]]
+    allowed = cand[st.allowed(cand)]
     cand = allowed if allowed.size else cand
     if cand.size == 0 and parts == 0:  # the removal left a connected cover: nothing to add (-1)
         return -1, 0
