@@ -157,7 +157,12 @@ def edits_from_dict(data: Any, file: str, meta: dict[str, Any], zone_ids: tuple[
     zones = []
     for k, z in enumerate(r.items(top, "closed_zones"), 1):
         if not isinstance(z, str) or z not in zone_ids:
-            raise r.fail(f"not a zone of the site (zones: {', '.join(zone_ids)})", row=f"closed_zones[{k}]", field="zone", value=z)
+            raise r.fail(
+                f"not a zone of the site (zones: {', '.join(zone_ids)})",
+                row=f"closed_zones[{k}]",
+                field="zone",
+                value=z,
+            )
         if z in zones:
             raise r.fail("zone closed twice", row=f"closed_zones[{k}]", field="zone", value=z)
         zones.append(z)
