@@ -92,7 +92,7 @@ _LAZY = {
     **dict.fromkeys(("outcome_from_file",), "planner.io.plan_file"),
     **dict.fromkeys(("Plan", "PlanOptions", "Problem", "StrategyOptions", "build_problem", "resolve"), "planner.plan"),
     **dict.fromkeys(("plan_site",), "planner.engine"),
-    **dict.fromkeys(("Replan", "replan"), "planner.replan.run"),  # replan: bound below, as solve is
+    **dict.fromkeys(("Replan", "replan"), "planner.replanning.run"),
     **dict.fromkeys(("Sight",), "planner.coverage.sight"),
     **dict.fromkeys(("read_plan_stations", "write_plan"), "planner.io.plan_json"),
     **dict.fromkeys(("compare_methods", "render_report", "write_report"), "planner.report"),
@@ -114,19 +114,11 @@ def __dir__() -> list[str]:
     return sorted(set(__all__) | {"__version__"})
 
 
-# ``planner.solve`` is both a subpackage and the MILP function, and ``planner.replan`` both a subpackage and the
-# re-plan. The packages are bound first, cheaply (neither ``__init__`` loads anything), so that loading their
-# modules later never rebinds the names; then the functions.
-import planner.replan  # noqa: E402
+# ``planner.solve`` is both a subpackage and the MILP function. The (namespace) package is bound
+# first, cheaply, so that loading its modules later never rebinds the name; then the function.
 import planner.solve  # noqa: E402, F401
 
 if not TYPE_CHECKING:
-
-    def replan(*args: Any, **kwargs: Any) -> "Replan":
-        """Repair a plan on site after its edits: :func:`planner.replan.run.replan` (same arguments)."""
-        from planner.replan.run import replan as _replan
-
-        return _replan(*args, **kwargs)
 
     def solve(*args: Any, **kwargs: Any) -> "SolveResult":
         """Solve a coverage problem as a set-cover MILP: :func:`planner.solve.milp.solve` (same arguments)."""
@@ -165,7 +157,7 @@ if TYPE_CHECKING:  # the static view of the same names, for type checkers and ID
     from planner.plan import Plan, PlanOptions, Problem, StrategyOptions, build_problem, resolve
     from planner.plan.outcome import Outcome, outcome_from_plan
     from planner.plan.verify import VerifyReport, verify_stations
-    from planner.replan.run import Replan, replan
+    from planner.replanning.run import Replan, replan
     from planner.report import compare_methods, render_report, write_report
     from planner.site import ControlPoint, NoGoArea, Obstacle, ScanSide, Site, Wall, Zone
     from planner.site.candidate import Candidate, CandidateKind

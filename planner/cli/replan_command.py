@@ -1,4 +1,4 @@
-"""``planner replan PLAN.json EDITS.json --out DIR``: a plan repaired on site (:func:`planner.replan.replan`), written
+"""``planner replan PLAN.json EDITS.json --out DIR``: a plan repaired on site (:func:`planner.replanning.run.replan`), written
 with its history: DIR/plan.json (the new plan, with ``replan``: what changed), DIR/plan.N.json and edits.N.json (N
 the next free index; plan.0.json the plan first repaired), the field sheet of the stations left (field.html, .csv,
 .geojson, .json; field.pdf with --pdf) in DIR/sheet, and the plan's replan.npz, so that the next re-plan starts from it too."""
@@ -17,7 +17,7 @@ from planner.core.text import dumps
 
 if TYPE_CHECKING:  # loaded when the command runs (a fast --help: docs/startup.md)
     from planner.field.run import FieldPlan
-    from planner.replan.run import Replan
+    from planner.replanning.run import Replan
 
 #: the subfolder of --out the sheet of the stations left goes into (its field.json lists those only, plan.json every
 #: station: the outputs' consistency check compares a folder's field.json with its plan.json)
@@ -87,8 +87,8 @@ def cmd_replan(args: argparse.Namespace) -> int:
         raise UsageError("must be a whole number >= 1", field="--solution-limit", value=args.solution_limit)
     from planner.field.run import FieldOptions
     from planner.io.replan_data import FILE_NAME
-    from planner.replan.run import replan
-    from planner.replan.solve_rest import REPLAN_WORK_S
+    from planner.replanning.run import replan
+    from planner.replanning.solve_rest import REPLAN_WORK_S
 
     folder = Path(args.out or Path(args.plan).parent)
     history = Path(args.history or Path(args.plan).parent)

@@ -17,8 +17,8 @@ from planner.plan.verify import Gap, VerifyReport
 from planner.site.candidate import Candidate
 
 if TYPE_CHECKING:
-    from planner.replan.rest import RestProblem
-    from planner.replan.source import PlanSource
+    from planner.replanning.rest import RestProblem
+    from planner.replanning.source import PlanSource
 
 #: how far (m) a gap of the verification may reach past a lost piece and still be that piece's (the verification
 #: samples points, the plan covers pieces: a gap ends at the last point sampled)

@@ -1,6 +1,6 @@
 """A plan repaired on site (:func:`replan`): its edits read, the problem of the rest made from the plan's stored
 pool (:mod:`planner.io.replan_data`; the pool is built again where the plan has none, and the result says so),
-solved warm (:mod:`planner.replan.solve_rest`), checked as one registration network with the done stations,
+solved warm (:mod:`planner.replanning.solve_rest`), checked as one registration network with the done stations,
 verified at the plan's verification spacing on the edited site, and walked from where the crew stands within the
 time left today (:mod:`planner.field`)."""
 
@@ -18,10 +18,10 @@ from planner.plan.problem import Problem
 from planner.plan.result import Plan
 from planner.plan.run import build_problem
 from planner.plan.verify import VerifyReport, verify_stations
-from planner.replan.changes import Changes, changes_of, reachable_gaps
-from planner.replan.rest import RestProblem, edited_site, rest_problem
-from planner.replan.solve_rest import REPLAN_WORK_S, RestSolution, solve_rest
-from planner.replan.source import PlanSource, edits_of, plan_source
+from planner.replanning.changes import Changes, changes_of, reachable_gaps
+from planner.replanning.rest import RestProblem, edited_site, rest_problem
+from planner.replanning.solve_rest import REPLAN_WORK_S, RestSolution, solve_rest
+from planner.replanning.source import PlanSource, edits_of, plan_source
 from planner.site.candidate import Candidate
 
 

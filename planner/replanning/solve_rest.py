@@ -19,8 +19,8 @@ from scipy.sparse.csgraph import connected_components, dijkstra
 from planner.coverage.matrix import CoverageProblem
 from planner.plan.methods import with_columns
 from planner.plan.problem import Problem
-from planner.replan.narrow import lp_bound, restricted, shortlist
-from planner.replan.rest import RestProblem
+from planner.replanning.narrow import lp_bound, restricted, shortlist
+from planner.replanning.rest import RestProblem
 from planner.solve.instance import CoverInstance, cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import SolveResult, Status
