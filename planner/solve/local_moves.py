@@ -69,8 +69,8 @@ class Graph:
         self.idx, self.links, self.label, self.n = idx, links, label, n
         self.parts = int(n - np.count_nonzero(groups))
         self.split: np.ndarray | None = None
-        self.linked: np.ndarray | None = None  # S in pieces: the candidates linked to its smaller components
-        self.touched: np.ndarray | None = None  # and how many components each is linked to
+        # S in pieces: the links of its components but the largest (station's position, candidate, component)
+        self.linked: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.bridging: np.ndarray | None = None
 
     def without(self, c: int, groups: np.ndarray) -> Graph | None:

@@ -82,6 +82,8 @@ class _State:
         self.barred: dict[int, int] = {}  # the candidates configuration checking bars, and the flip that barred each
         self.flips = 0
         self.last = np.zeros(a.shape[1], dtype=np.int64)  # each target's last flip of a seer
+        self.mark = np.zeros(n, dtype=bool)  # scratch, all False between uses
+        self.label_of, self.links_to = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)  # scratch
         self.w_link = 1.0
         self.stamp = np.zeros(n, dtype=np.int64)  # move of each candidate's last change
         self.cnt = np.zeros(a.shape[1], dtype=np.int64)  # stations of S seeing each target
@@ -235,19 +237,21 @@ class _State:
         return self._graph
 
     def touched(self, cand: np.ndarray | None = None) -> np.ndarray:
-        """How many of S's components each candidate (of ``cand``; all where None) is linked to."""
+        """How many of S's components each candidate (of ``cand``, ascending; all where None) is linked to."""
         g = self.graph()
-        near = self.near if cand is None else self.near[cand]
-        out = (near > 0).astype(np.int64)  # S in one component per group: linked or not
-        if g.parts > 0:  # else the count from the links of the components but the largest (:meth:`bridging`)
+        cand = np.arange(self.a.shape[0]) if cand is None else cand
+        out = (self.near[cand] > 0).astype(np.int64)  # S in one component per group: linked or not
+        if g.parts > 0:  # else linked to the largest component where it has more links to S than to the others
             self.bridging()
-            assert g.linked is not None and g.touched is not None
-            if cand is None:
-                out[g.linked] = g.touched
-            else:
-                k = np.minimum(np.searchsorted(g.linked, cand), max(len(g.linked) - 1, 0))
-                hit = g.linked[k] == cand if len(g.linked) else np.zeros(len(cand), dtype=bool)
-                out[hit] = g.touched[k[hit]]
+            assert g.linked is not None
+            row, col, lab = g.linked
+            self.mark[cand] = True
+            keep = self.mark[col]
+            self.mark[cand] = False
+            at = np.searchsorted(cand, col[keep])
+            pairs = distinct(lab[keep] * len(cand) + at)  # distinct (component, candidate)
+            links = np.bincount(at, minlength=len(cand))
+            out = (self.near[cand] > links) + np.bincount(pairs % len(cand), minlength=len(cand))
         return out
 
     def bridging(self) -> np.ndarray:
@@ -258,13 +262,14 @@ class _State:
         if g.bridging is None:
             big = g.label != int(np.argmax(np.bincount(g.label)))
             row, col = gather(self.adj, g.idx[big])
-            g.linked = distinct(col)
-            at = np.searchsorted(g.linked, col)
-            n = len(g.linked)
-            pairs = distinct(g.label[big][row] * n + at)  # distinct (component, candidate)
-            links = np.bincount(at, minlength=n)
-            g.touched = (self.near[g.linked] > links) + np.bincount(pairs % n, minlength=n)
-            g.bridging = g.linked[g.touched >= 2]
+            lab = g.label[big][row]
+            self.label_of[col] = lab  # one of each candidate's components: a link to another is a second
+            two = col[lab != self.label_of[col]]
+            np.add.at(self.links_to, col, 1)
+            also = col[self.near[col] > self.links_to[col]]  # and linked to the largest
+            self.links_to[col] = 0
+            g.linked = (row, col, lab)
+            g.bridging = distinct(np.concatenate([two, also]))
         return g.bridging
 
     def removal_cost(self) -> np.ndarray:
