@@ -200,11 +200,14 @@ def test_failed_plans_create_no_folder_and_keep_old_ones(tmp_path, capsys, site,
 
 def test_a_successful_plan_writes_the_same_files(tmp_path, capsys, site, old):
     assert _plan(tmp_path, site, "--out", str(tmp_path / "a" / "o"), "--export", "csv") == 0
-    assert set(_tree(tmp_path / "a" / "o")) == {"plan.json", "stations.csv"}
+    assert set(_tree(tmp_path / "a" / "o")) == {"plan.json", "stations.csv", "replan.npz"}
     out = capsys.readouterr().out
     assert f"wrote {tmp_path / 'a' / 'o' / 'plan.json'}\n" in out and PREFIX not in out
     assert _plan(tmp_path, site, "--out", str(old)) == 0
-    assert set(_tree(old)) == {"plan.json", "notes.txt"} and json.loads((old / "plan.json").read_text())["stations"]
+    assert (
+        set(_tree(old)) == {"plan.json", "notes.txt", "replan.npz"}
+        and json.loads((old / "plan.json").read_text())["stations"]
+    )
     _no_staging_left(tmp_path)
 
 
@@ -223,7 +226,7 @@ def test_export_writes_its_file_only_on_success(tmp_path, capsys, site):
 def test_plan_with_report_and_field_writes_every_file(tmp_path, capsys, site):
     out, report, field = tmp_path / "o", tmp_path / "r", tmp_path / "f"
     assert _plan(tmp_path, site, "--out", str(out), "--report", str(report), "--field", str(field)) == 0
-    assert set(_tree(out)) == {"plan.json"} and set(_tree(report)) == {"report.html"}
+    assert set(_tree(out)) == {"plan.json", "replan.npz"} and set(_tree(report)) == {"report.html"}
     assert set(_tree(field)) == {f"field.{ext}" for ext in ("html", "csv", "geojson", "json", "pdf")}
     assert 'href="../f/field.html"' in (report / "report.html").read_text()
     _no_staging_left(tmp_path)

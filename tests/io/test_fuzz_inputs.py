@@ -58,7 +58,11 @@ from planner.core.errors import PlannerError
 from tests.conftest import INSTANCES, ROOT
 
 #: the JSON instances fuzzed (the 16 ha and 64 ha plants only take longer)
-JSON_INSTANCES = sorted(p.name for p in INSTANCES.glob("*.json") if p.stem not in ("plant_16ha", "plant_64ha"))
+JSON_INSTANCES = sorted(
+    p.name
+    for p in INSTANCES.glob("*.json")
+    if p.stem not in ("plant_16ha", "plant_64ha") and not p.name.endswith(".edits.json")
+)
 CSV_INSTANCES = sorted(p.name for p in INSTANCES.glob("*.csv"))
 POL_FILES = sorted((ROOT / "tests" / "data" / "agplib").glob("*.pol"))
 
