@@ -43,6 +43,12 @@ def gather_cols(
     return m.indices[np.arange(total) + np.repeat(start - (np.cumsum(size) - size), size)]
 
 
+def first_of(key: np.ndarray, stamp: np.ndarray) -> int:
+    """Position of the least ``key``; ties to the least ``stamp`` (longest unchanged), then the lowest index."""
+    tied = np.flatnonzero(key == key.min())
+    return int(tied[0]) if tied.size == 1 else int(tied[np.argmin(stamp[tied])])
+
+
 def distinct(x: np.ndarray) -> np.ndarray:
     """The distinct values of ``x``, ascending: ``np.unique`` by a sort (several times faster on a move's few thousand
     integers than numpy's hashed unique)."""

@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from planner.coverage.overlap import group_ids
 from planner.solve.connectivity import path_to_nearest
-from planner.solve.local_moves import Graph, Links, certificate, distinct, gather, scan_forest, walk
+from planner.solve.local_moves import Graph, Links, certificate, distinct, first_of, gather, scan_forest, walk
 
 #: moves between two looks at the clock where the user set a wall-clock cap
 _CLOCK_EVERY = 64
@@ -347,7 +347,7 @@ def shrink(
             continue
         cost = st.removal_cost()
         free = np.where(until[idx] > step, np.inf, cost)
-        st.flip(int(idx[_first(free if np.isfinite(free).any() else cost, st.stamp[idx])]), step)
+        st.flip(int(idx[first_of(free if np.isfinite(free).any() else cost, st.stamp[idx])]), step)
         c, parts = _pick_add(st, rng)
         if c >= 0:
             st.flip(c, step)
@@ -358,16 +358,10 @@ def shrink(
     return Shrunk(best, len(plan), step, tuple(history))
 
 
-def _first(key: np.ndarray, stamp: np.ndarray) -> int:
-    """Position of the least ``key``; ties to the least ``stamp`` (longest unchanged), then the lowest index."""
-    tied = np.flatnonzero(key == key.min())
-    return int(tied[0]) if tied.size == 1 else int(tied[np.argmin(stamp[tied])])
-
-
 def _drop(st: _State, step: int) -> None:
     """Drop the station of least removal cost (ties: longest unchanged, then lowest index): S one smaller."""
     idx = st.graph().idx
-    st.flip(int(idx[_first(st.removal_cost(), st.stamp[idx])]), step)
+    st.flip(int(idx[first_of(st.removal_cost(), st.stamp[idx])]), step)
 
 
 def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
@@ -399,5 +393,5 @@ def _pick_add(st: _State, rng: np.random.Generator) -> tuple[int, int]:
         path = path_to_nearest(st.adj.astype(np.float64), idx[label == first], wanted)
         return (int(path[-1]) if path else int(np.flatnonzero(~st.in_s)[0])), parts
     score, change = st.add_score(cand)
-    k = _first(-score, st.stamp[cand])
+    k = first_of(-score, st.stamp[cand])
     return int(cand[k]), parts + int(change[k])
