@@ -213,8 +213,7 @@ def price_plane(
     """Add priced columns to ``problem`` until none prices out or a limit stops it; then bound the plane (module
     docstring). Limits: ``max_rounds`` rounds and ``max_work`` (point, region) pairs weighed, counts (the same columns
     under any load), and only where the user sets one a wall-clock cap ``time_limit_s``. ``cache``/``spaces`` and
-    ``outer``: the regions R_t and O_t already drawn in this run (filled in here for the next user; given ``outer``,
-    every piece's O_t is drawn ahead on another thread while the LPs solve, :meth:`OuterRegions.draw_ahead`)."""
+    ``outer``: the regions R_t and O_t already drawn in this run (filled in here for the next user)."""
     start = time.perf_counter()
     tol = region_tolerance_m(limits, site.parameters.min_standoff_m)
     cache = {} if cache is None else cache
@@ -223,8 +222,6 @@ def price_plane(
     added, history, note = 0, [], ""
     rounds, converged, capped = 0, False, False
     work: list[int] = []  # (point, region) pairs weighed, per weighing
-    if outer is not None:  # the run's: the connected plane bound may weigh every piece's, drawn meanwhile elsewhere
-        outer.draw_ahead(site, t, limits, range(len(t)))
     outer = OuterRegions() if outer is None else outer
     model = WarmCoverLp(problem.by_target)
     while True:

@@ -1,7 +1,7 @@
 """A few threads for geometry: GEOS calls release Python's lock, so independent shapely work (the chunks of a batch of
 coverage regions, a medial axis beside them, two buffers of one zone-side) runs side by side on the cores this process
-may use. Each task computes exactly what it computes alone and the results are taken in their order, so a run gives
-the same plan with any number of threads; only its wall time changes.
+may use and are free (:func:`thread_count`). Each task computes exactly what it computes alone and the results are taken
+in their order, so a run gives the same plan with any number of threads; only its wall time changes.
 
 Nothing here prepares or changes a geometry that another task reads: tasks only read shared geometries and make their
 own.
@@ -9,6 +9,7 @@ own.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Callable, Iterable
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -22,12 +23,19 @@ MAX_THREADS = 4
 
 
 def thread_count() -> int:
-    """The threads to use: the cores this process may run on, at most :data:`MAX_THREADS`."""
+    """The threads to use: the cores this process may run on that are free (less the load average of the last
+    minute, this process's own thread counted free), at most :data:`MAX_THREADS`, at least 1. On a busy machine the
+    work stays on one thread: threads that cannot run side by side only pass Python's lock to and fro."""
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         cores = os.cpu_count() or 1
-    return max(1, min(MAX_THREADS, cores))
+    try:
+        busy = os.getloadavg()[0]
+    except (AttributeError, OSError):  # no load average here: take the cores as free
+        busy = 0.0
+    free = math.floor(cores - busy + 1.0)
+    return max(1, min(MAX_THREADS, cores, free))
 
 
 def ordered_map(fn: Callable[[T], R], items: Iterable[T]) -> list[R]:
