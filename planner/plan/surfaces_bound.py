@@ -25,7 +25,7 @@ if TYPE_CHECKING:
 
 #: what the bound over walls and surfaces assumes (plan.json ``certificate.assumes``, the summary)
 ASSUMES = (
-    "walls cut into pieces and floors and ceilings into patches of the target spacing, each covered only when one "
+    "walls cut into pieces and floors (ceilings) into patches of the target spacing, each covered only when one "
     "station sees all of it; coverage regions exact to within the tolerance"
 )
 
