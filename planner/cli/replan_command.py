@@ -114,13 +114,19 @@ def cmd_replan(args: argparse.Namespace) -> int:
 
 def plan_dict(r: Replan) -> dict[str, Any]:
     """The new plan.json: the plan's fields (:func:`planner.plan.plan_dict.plan_to_dict`), its stations numbered
-    as the new sheet walks them (the done ones after), and ``replan``: what was repaired and what changed."""
+    as the new sheet walks them (the done ones after, each with ``"status": "done"``, at the position where it stood),
+    and ``replan``: what was repaired and what changed."""
     from planner.plan.plan_dict import StationNumbering, plan_to_dict
 
     plan = r.plan()
     order = [] if r.sheet is None else [r.sheet.stations[k].id for k in r.sheet.order]
     numbering = StationNumbering.walking(plan.stations, order)
-    return {**plan_to_dict(plan, numbering), "replan": r.to_dict()}
+    out = plan_to_dict(plan, numbering)
+    done = {s.id for s in r.done}
+    for row in out["stations"]:  # where they stood: the next re-plan keeps them done (planner.io.edits.with_plan_done)
+        if row["id"] in done:
+            row["status"] = "done"
+    return {**out, "replan": r.to_dict()}
 
 
 def _history(r: Replan, folder: Path, history: Path, n: int) -> list[Path]:

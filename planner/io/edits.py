@@ -8,7 +8,7 @@ label (``label``, else ``id``). Every refusal is one line naming the file, the e
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +29,8 @@ AREA_KINDS = ("obstacle", "closed")
 #: the least radius a blocked station keeps clear where neither the entry nor the plan gives a larger one (a
 #: tripod's own footprint: a plan's disc of 0 m means the position is exact, not that a van leaves room beside it)
 MIN_BLOCKED_RADIUS_M = 0.5
+#: where a station done in an earlier re-plan comes from (plan.json's station entry, ``"status": "done"``)
+CARRIED_ROW = "plan.json stations"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -91,7 +93,9 @@ class Edits:
     def lines(self) -> list[str]:
         """The edits in words, a line each kind."""
         moved = sum(e.moved for e in self.done)
-        out = [f"edits {self.file}: {len(self.done)} done ({moved} moved), {len(self.blocked)} blocked"]
+        carried = sum(e.entry.startswith(CARRIED_ROW) for e in self.done)
+        before = f", {carried} of them done before (plan.json)" if carried else ""
+        out = [f"edits {self.file}: {len(self.done)} done ({moved} moved{before}), {len(self.blocked)} blocked"]
         if self.areas:
             kinds = [sum(a.kind == k for a in self.areas) for k in AREA_KINDS]
             out.append(f"areas: {kinds[0]} obstacle(s), {kinds[1]} closed")
@@ -182,6 +186,45 @@ def edits_from_dict(data: Any, file: str, meta: dict[str, Any], zone_ids: tuple[
         time_left_h=hours,
         raw=top,
     )
+
+
+def with_plan_done(edits: Edits, meta: dict[str, Any], plan_file: str) -> Edits:
+    """``edits`` with the stations the plan records as done (``"status": "done"`` in plan.json: done in an earlier
+    re-plan, at the position written there) added as done, so that a re-plan of a re-plan keeps them without being
+    told again. An edits entry marking one done again is kept (its position wins); one blocking it is refused
+    (InputError: the scan exists), as is a station status in plan.json other than done."""
+    marked = {e.station.id: e for e in edits.stations}
+    by_id = {s.id: s for s in planned_stations(meta)}
+    carried = []
+    for k, row in enumerate(meta.get("stations") or [], 1):
+        if not isinstance(row, dict) or "status" not in row:
+            continue
+        if row["status"] != "done":
+            raise InputError(
+                "must be 'done' (a station done in an earlier re-plan)",
+                file=plan_file,
+                row=f"stations[{k}]",
+                field="status",
+                value=row["status"],
+            )
+        s = by_id[str(row.get("id"))]
+        again = marked.get(s.id)
+        if again is not None and again.status != "done":
+            raise InputError(
+                f"station {s.number} ({s.label}) was done in an earlier re-plan ({plan_file}); it cannot be "
+                f"{again.status}",
+                file=edits.file,
+                row=again.entry,
+                field="status",
+                value=again.status,
+            )
+        if again is None:
+            carried.append(
+                StationEdit(station=s, status="done", xy=s.xy, moved=False, radius_m=0.0, entry=f"{CARRIED_ROW}[{k}]")
+            )
+    if not carried:
+        return edits
+    return replace(edits, stations=(*carried, *edits.stations))
 
 
 class _Reader:

@@ -10,7 +10,7 @@ from typing import Any
 
 from planner.core.errors import UsageError
 from planner.core.fileio import read_json
-from planner.io.edits import Edits, edits_from_dict, read_edits
+from planner.io.edits import Edits, edits_from_dict, read_edits, with_plan_done
 from planner.io.plan_file import site_for_plan
 from planner.io.plan_json import check_plan_meta, read_plan_stations
 from planner.plan.options import PlanOptions
@@ -78,10 +78,13 @@ def plan_source(plan: str | Path, site_path: str | Path | None = None) -> PlanSo
 
 
 def edits_of(source: PlanSource, edits: str | Path | dict[str, Any] | Edits) -> Edits:
-    """The edits (a file, its parsed data or :class:`Edits` already read) checked against the plan."""
+    """The edits (a file, its parsed data or :class:`Edits` already read) checked against the plan, with the
+    stations the plan records as done in an earlier re-plan done too (:func:`planner.io.edits.with_plan_done`)."""
     zone_ids = tuple(z.id for z in source.site.zones)
     if isinstance(edits, Edits):
-        return edits
-    if isinstance(edits, dict):
-        return edits_from_dict(edits, "edits", source.meta, zone_ids)
-    return read_edits(edits, source.meta, zone_ids)
+        checked = edits
+    elif isinstance(edits, dict):
+        checked = edits_from_dict(edits, "edits", source.meta, zone_ids)
+    else:
+        checked = read_edits(edits, source.meta, zone_ids)
+    return with_plan_done(checked, source.meta, source.path)
