@@ -160,7 +160,9 @@ def milp_method(run: MethodInput) -> MethodOutput:
             )
         log.append(pricing.summary())
     k = options.milp.k
-    if k > 1 and regions_apply(limits) and options.regions:  # k distinct positions wherever a plan may need them
+    if (
+        k > 1 and regions_apply(limits) and options.regions and run.surfaces is None
+    ):  # k distinct positions wherever a plan may need them
         problem, line = twin_candidates(
             Sight(site=site, limits=limits, scanner=run.validation.scanner), problem, k, run.spaces, run.region_cache
         )

@@ -153,7 +153,12 @@ def _adjusted(options: PlanOptions, surfaces: bool) -> tuple[PlanOptions, list[s
     """The options with what the run cannot honour turned off, and a line for each change."""
     lines = []
     if surfaces and options.pricing:  # the patches are priced over no region: the bound holds over the pool
-        options, lines = replace(options, pricing=False), ["pricing off: floors and ceilings are priced over no region"]
+        options, lines = (
+            replace(options, pricing=False),
+            [
+                "pricing off: the pool is not priced with floors and ceilings; the bound over walls and surfaces follows the solve"
+            ],
+        )
     if options.hours:  # pricing's regions know no spacing, tripod discs keep no setting
         off = [k for k in ("pricing", "tripod", "recentre") if getattr(options, k)]
         options = replace(options, pricing=False, tripod=False, recentre=False)

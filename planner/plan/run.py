@@ -33,6 +33,7 @@ from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
 from planner.plan.result import Plan
 from planner.plan.surfaces import SurfaceCover, floor_candidates, surface_cover, surface_discs
+from planner.plan.surfaces_bound import surface_region_candidates, with_surfaces_plane
 from planner.plan.tripod import placed_stations
 from planner.plan.verify import verify_stations
 from planner.plan.verify_surfaces import verify_surfaces
@@ -160,6 +161,7 @@ def site_candidates(
         pool = pool + whole_side_candidates(site, targets, limits, spaces, region_cache)
     if problem.surfaces is not None:  # a grid over the floors, finer than the walls'
         pool = pool + floor_candidates(site, problem.surfaces, options.pool.min_standoff_m)
+        pool = pool + surface_region_candidates(problem, targets, spaces, region_cache)
     return dedupe(
         pool
         + axis_candidates(site, targets, limits, spaces, region_cache, cells=exact, step_m=options.target_spacing_m)
@@ -186,6 +188,7 @@ def plan_single(
     run, cover, log = _method_input(problem, coverage, surface_cover)
     props = _settings(problem, run.problem, props)
     out = hours_method(run, props) if props is not None else REGISTRY[problem.options.method](run)
+    out = with_surfaces_plane(problem, run, out, cover)
     if cover is not None and out.problem.candidates != run.problem.candidates:  # pricing is off with surfaces
         raise RuntimeError("the method changed the candidate pool the surface columns were built for")
     plan = _checked_plan(problem, out, cover, props, [*log, *out.log])

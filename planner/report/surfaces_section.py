@@ -82,9 +82,14 @@ def surfaces_section(o: Outcome) -> str:
         else "<p>Patches seen by no candidate: none.</p>"
     )
     notes = "".join(f"<li>{_e(n)}</li>" for n in v.get("notes", []))
+    plane, cert = o.meta.get("plane_bound"), o.meta.get("certificate") or {}
+    scope = str(cert.get("scope", "plane")).removeprefix("plane, ")
+    off = str((o.meta.get("solver") or {}).get("plane_off", "no plane bound formed"))
     bound = (
-        "<p>Bound: with surfaces beyond walls it holds over the candidate pool only (scope pool): the plane bound "
-        "covers walls only, so no plan with fewer stations is ruled out over all positions.</p>"
+        f"<p>Bound: {plane:g} stations over every position in the plane for {_e(scope)} together "
+        f"(scope {_e(str(o.meta.get('bound_scope')))}).</p>"
+        if isinstance(plane, (int, float))
+        else f"<p>Bound: over the candidate pool only (scope pool): {_e(off)}.</p>"
     )
     return (
         "<h2>Floors and ceilings</h2>"

@@ -24,7 +24,6 @@ import scipy.sparse as sp
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-import planner.plan.run as run_module
 from planner.bounds.surfaces_plane import SurfacePlaneBound, surfaces_plane_bound
 from planner.cli.main import main
 from planner.coverage.matrix import CoverageProblem, build_coverage
@@ -33,7 +32,7 @@ from planner.plan.methods import with_columns
 from planner.plan.problem import Problem, resolve
 from planner.plan.run import site_candidates
 from planner.plan.surfaces import SurfaceCover, surface_cover
-from planner.plan.surfaces_bound import scope_of, surface_region_candidates, with_surfaces_bound
+from planner.plan.surfaces_bound import scope_of, with_surfaces_bound
 from planner.plan.verify import verify_stations
 from planner.plan.verify_surfaces import verify_surfaces
 from planner.site.candidate import Candidate, CandidateKind
@@ -43,9 +42,6 @@ from planner.solve.instance import cover_instance
 from planner.solve.milp import MilpOptions, solve
 from planner.solve.result import SolveResult, Status
 from tests.bounds.plane_cases import _place, outline, positions
-
-#: the run's hook (planner.plan.run) forms the region candidates and the bound
-HOOKED = hasattr(run_module, "with_surfaces_plane")
 
 FEW = settings(
     deadline=None,
@@ -109,9 +105,7 @@ def _pool(problem: Problem) -> tuple[CoverageProblem, SurfaceCover]:
     assert setup is not None
     spaces: dict = {}
     cache: dict = {}
-    cands = site_candidates(problem, problem.targets, spaces, cache)
-    if not HOOKED:
-        cands = cands + surface_region_candidates(problem, problem.targets, spaces, cache)
+    cands = site_candidates(problem, problem.targets, spaces, cache)  # the region candidates among them
     walls = build_coverage(site, cands, problem.targets, problem.limits)
     return walls, surface_cover(site, setup, list(walls.candidates), walls.excluded)
 
@@ -155,7 +149,6 @@ def test_the_4_3_x_3_3_room_is_bounded_by_2_and_no_position_weighs_more_than_w_s
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(not HOOKED, reason="the run's hook (planner.plan.run: with_surfaces_plane) is not applied yet")
 def test_the_issue_case_plans_2_stations_with_a_bound_over_walls_and_floors(tmp_path, capsys):
     zone = {"id": "R", "scan_side": "inside", "coordinates": [[0, 0], [4.3, 0], [4.3, 3.3], [0, 3.3]], "height_m": 3.0}
     site = tmp_path / "room.json"

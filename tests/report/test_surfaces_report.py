@@ -91,8 +91,16 @@ def test_section_rows_are_plan_json_verification(floors: tuple[Path, Path, dict]
     assert cells == want and [c[2][2] for c in cells] == ["100.000"] and ver["complete"]
     assert "complete</span>: 100.000 %" in section
     assert "Patches seen by no candidate: none" in section
-    for rule in ("1.5 m", "68 deg", "35 deg (leica-p30)", "candidate pool only"):
+    for rule in ("1.5 m", "68 deg", "35 deg (leica-p30)"):
         assert rule in section, rule
+    # the bound the report states is plan.json's: over the plane for walls and floors, or over the pool with its reason
+    if isinstance(plan.get("plane_bound"), (int, float)):
+        assert (
+            f"Bound: {plan['plane_bound']:g} stations over every position in the plane for walls and floors" in section
+        )
+        assert plan["certificate"]["scope"] == "plane, walls and floors"
+    else:
+        assert "candidate pool only" in section
 
 
 def test_floor_cells_per_station_are_the_patches_it_sees(floors: tuple[Path, Path, dict]) -> None:
