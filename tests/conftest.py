@@ -30,6 +30,37 @@ HEAVY_PROPERTIES = {
     },
 }
 
+#: quick-tier tests over ~1 s on a quiet machine (the slowest of `pytest -m "not slow" --durations=100`, 2026-11-28,
+#: each 2.5-8.5 s under a load of 6): the slow tier runs them (CI runs both tiers), so that the quick tier answers in
+#: under two minutes; by node id, a parametrised case by its id
+SLOW_BY_TIME = frozenset(
+    {
+        "tests/solve/test_presolve.py::test_linked_dominance_drops_what_the_whole_relation_drops",
+        "tests/solve/test_presolve.py::test_dominated_matches_its_definition",
+        "tests/solve/test_presolve.py::test_an_optimal_connected_plan_survives_the_passes",
+        "tests/solve/test_windows.py::test_same_input_same_plan_and_a_moved_site_changes_nothing",
+        "tests/solve/test_windows.py::test_one_window_over_the_whole_line_finds_the_chain_of_19",
+        "tests/solve/test_windows.py::test_small_windows_rejoin_the_line_they_cut",
+        "tests/solve/test_windows.py::test_a_window_over_everything_meets_enumeration[5]",
+        "tests/plan/test_plan_milp.py::test_export_orlib_roundtrip",
+        "tests/solve/test_covers.py::test_every_method_covers_the_plain_instance_and_the_milp_is_smallest",
+        "tests/test_engine.py::test_resolve_names_tiles_for_the_16_ha_plant_and_one_model_for_a_building",
+        "tests/io/test_fuzz_inputs.py::test_mutated_inputs_are_read_whole_or_refused_in_one_line[dxf]",
+        "tests/tiles/test_tiles.py::test_tiles_complete_a_pool_that_misses_pieces",
+        "tests/tiles/test_tiles.py::test_tiles_plan_a_corridor_from_the_single_models_pool",
+        "tests/tiles/test_auto.py::test_a_tiled_site_of_few_pieces_gets_the_fine_grid_where_none_is_given",
+        "tests/tiles/test_auto.py::test_16ha_plant_goes_to_tiles_split_by_the_budget",
+        "tests/tiles/test_cli_tiles.py::test_a_scheduler_address_that_is_malformed_or_silent_is_named",
+        "tests/solve/test_cft.py::test_matches_brute_force",
+        "tests/plan/test_tripod_discs.py::test_recentring_disc_reads_no_uninitialised_memory",
+        "tests/plan/test_relied_targets.py::test_relied_targets_equal_the_plain_loop",
+        "tests/bounds/test_plane_refine.py::test_a_u_block_is_proven_by_the_cover_over_patches_where_the_ring_walk_is_not",
+        "tests/solve/test_ring.py::test_lagrangian_bound_stays_below_the_optimum_and_can_pass_the_ring",
+        "tests/field/test_spread.py::test_spread_triple_is_the_brute_force_optimum",
+        "tests/solve/test_work_limit.py::test_a_node_limit_stops_the_other_backends[scip]",
+    }
+)
+
 
 @functools.cache
 def package_trees() -> tuple[tuple[Path, ast.Module], ...]:
@@ -52,12 +83,14 @@ def package_calls() -> tuple[tuple[str, int, str | None], ...]:
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Mark the heavy properties ``heavy`` and every ``heavy`` test ``slow`` as well, before ``-m`` deselects: heavy
-    is a part of the slow tier."""
+    """Mark the heavy properties ``heavy``, the quick tests too slow for the quick tier (:data:`SLOW_BY_TIME`) ``slow``,
+    and every ``heavy`` test ``slow`` as well, before ``-m`` deselects: heavy is a part of the slow tier."""
     for item in items:
         path, _, name = item.nodeid.partition("::")
         if name.split("[")[0] in HEAVY_PROPERTIES.get(path, ()):
             item.add_marker(pytest.mark.heavy)
+        if item.nodeid in SLOW_BY_TIME:
+            item.add_marker(pytest.mark.slow)
         if item.get_closest_marker("heavy") is not None and item.get_closest_marker("slow") is None:
             item.add_marker(pytest.mark.slow)
 
