@@ -58,10 +58,10 @@ def distinct(x: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True, kw_only=True)
 class Links:
-    """S's overlap subgraph: as CSR lists (``lists``), or, where it is dense, as a scan-first spanning forest
+    """S's overlap subgraph: as each station's neighbours (``lists``, by position in S), or, where it is dense, as a scan-first spanning forest
     (``tree``: each station's parent, -1 for a root, by position in S; ``pos``: each candidate's position, -1 off S)."""
 
-    lists: tuple[list[int], list[int]] | None = None
+    lists: list[list[int]] | None = None
     tree: np.ndarray | None = None
     pos: np.ndarray | None = None
 
@@ -151,13 +151,15 @@ def certificate(adj: sp.csr_matrix, idx: np.ndarray, links: Links) -> tuple[list
     return ptr.tolist(), c[order].tolist()
 
 
-def walk(sub: tuple[list[int], list[int]]) -> tuple[int, list[int], list[int]]:
-    """The number of components of the graph given as CSR lists ``sub`` (indptr, indices), each node's component (in
-    order of each component's lowest node), and the components its removal adds to its own (-1 for an isolated node):
-    one iterative articulation-point pass (Hopcroft-Tarjan), O(nodes + links)."""
-    ptr, ind = sub
-    n = len(ptr) - 1
-    disc, low, out, label = [-1] * n, [0] * n, [0] * n, [-1] * n
+def walk(sub: tuple[list[int], list[int]] | list[list[int]]) -> tuple[int, list[int], list[int]]:
+    """The number of components of the graph ``sub`` (each node's neighbours, or CSR lists: indptr, indices), each
+    node's component (in order of each component's lowest node), and the components its removal adds to its own (-1
+    for an isolated node): one iterative articulation-point pass (Hopcroft-Tarjan), O(nodes + links)."""
+    if isinstance(sub, tuple):
+        ptr, ind = sub
+        sub = [ind[ptr[v] : ptr[v + 1]] for v in range(len(ptr) - 1)]
+    n = len(sub)
+    disc, low, out, label, up = [-1] * n, [0] * n, [0] * n, [-1] * n, [-1] * n
     clock = k = 0
     for root in range(n):
         if disc[root] >= 0:
@@ -166,32 +168,34 @@ def walk(sub: tuple[list[int], list[int]]) -> tuple[int, list[int], list[int]]:
         label[root] = k
         clock += 1
         children = 0
-        stack = [(root, -1, ptr[root])]
+        stack = [(root, iter(sub[root]))]
         while stack:
-            v, parent, i = stack[-1]
-            if i < ptr[v + 1]:
-                stack[-1] = (v, parent, i + 1)
-                w = ind[i]
+            v, rest = stack[-1]
+            for w in rest:  # the next neighbour not walked yet: deeper, or a link back
                 if disc[w] < 0:
                     disc[w] = low[w] = clock
                     label[w] = k
+                    up[w] = v
                     clock += 1
-                    stack.append((w, v, ptr[w]))
                     children += v == root
-                elif w != parent and disc[w] < low[v]:
+                    stack.append((w, iter(sub[w])))
+                    break
+                if w != up[v] and disc[w] < low[v]:
                     low[v] = disc[w]
-                continue
-            stack.pop()
-            if parent >= 0:
-                low[parent] = min(low[parent], low[v])
-                if parent != root and low[v] >= disc[parent]:
-                    out[parent] += 1
+            else:  # v done
+                stack.pop()
+                p = up[v]
+                if p >= 0:
+                    if low[v] < low[p]:
+                        low[p] = low[v]
+                    if p != root and low[v] >= disc[p]:
+                        out[p] += 1
         out[root] = children - 1
         k += 1
     return k, label, out
 
 
-def split(sub: tuple[list[int], list[int]]) -> np.ndarray:
+def split(sub: tuple[list[int], list[int]] | list[list[int]]) -> np.ndarray:
     """Components added to its own component by removing each node (-1 for an isolated node): :func:`walk`'s third
     value as an array."""
     return np.array(walk(sub)[2], dtype=np.int64)

@@ -224,15 +224,10 @@ class _State:
                 parent, label, n = scan_forest(self.adj, idx, pos)
                 self._graph = Graph(idx=idx, links=Links(tree=parent, pos=pos), label=label, n=n, groups=self.groups)
             else:
-                where = {c: i for i, c in enumerate(idx.tolist())}
-                ptr, ind = [0], []
-                for c in where:
-                    ind += [where[w] for w in self.nbr[c]]
-                    ptr.append(len(ind))
-                n, walked, out = walk((ptr, ind))
-                self._graph = Graph(
-                    idx=idx, links=Links(lists=(ptr, ind)), label=np.array(walked), n=n, groups=self.groups
-                )
+                where = {c: i for i, c in enumerate(self.members)}
+                sub = [[where[w] for w in self.nbr[c]] for c in self.members]
+                n, walked, out = walk(sub)
+                self._graph = Graph(idx=idx, links=Links(lists=sub), label=np.array(walked), n=n, groups=self.groups)
                 self._graph.split = np.array(out, dtype=np.int64)
         return self._graph
 
