@@ -14,7 +14,6 @@ from typing import Any
 from planner.core.text import dumps
 from planner.field.figure import figure
 from planner.field.page import render_html
-from planner.field.pdf import write_pdf
 from planner.field.record import HEADER, rows, to_dict
 from planner.field.run import FieldPlan
 from planner.field.storeys import climbs
@@ -92,5 +91,7 @@ def write_sheet(fp: FieldPlan, folder: Path | str) -> list[Path]:
     paths[1].write_text(buf.getvalue())
     paths[2].write_text(dumps(geojson(fp)))
     paths[3].write_text(dumps(to_dict(fp)))
+    from planner.field.pdf import write_pdf  # here: its PDF backend and font subsetter cost a re-plan 0.2 s to import
+
     write_pdf(fp, paths[4])
     return paths
