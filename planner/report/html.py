@@ -27,6 +27,7 @@ from planner.report.hours_section import hours_section
 from planner.report.markup import esc as _e
 from planner.report.markup import image as _img
 from planner.report.markup import table
+from planner.report.replan_section import replan_section
 from planner.report.site_map import (
     read_field_sheet,
     report_numbering,
@@ -321,6 +322,7 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
         _verification(o, numbering),
         hours_section(o),
         surfaces_section(o),
+        replan_section(o.meta, numbering.number),
     ]
     return (
         f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
