@@ -78,10 +78,13 @@ def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
     return out
 
 
-def intervals(line: shapely.LineString, regions: Sequence[shapely.Geometry]) -> tuple[NDArray, NDArray]:
+def intervals(
+    line: shapely.LineString, regions: Sequence[shapely.Geometry], tree: shapely.STRtree | None = None
+) -> tuple[NDArray, NDArray]:
     """The stretches of ``line`` inside each of ``regions`` (closed sets), as distances along it: (lo, hi) per stretch;
-    a region that only touches the line gives a stretch of length 0."""
-    tree = shapely.STRtree(list(regions))
+    a region that only touches the line gives a stretch of length 0. ``tree``: an STR-tree of ``regions`` (built here
+    when not given; one tree serves every line cut by the same regions)."""
+    tree = shapely.STRtree(list(regions)) if tree is None else tree
     hit = tree.query(line, predicate="intersects")
     if hit.size == 0:
         return np.zeros(0), np.zeros(0)
@@ -89,9 +92,10 @@ def intervals(line: shapely.LineString, regions: Sequence[shapely.Geometry]) -> 
     kind = shapely.get_type_id(parts)
     dots = shapely.get_coordinates(parts[kind == 0])
     runs = parts[kind == 1]
-    first = locate(line, shapely.get_coordinates(shapely.get_point(runs, 0))) if len(runs) else np.zeros(0)
-    last = locate(line, shapely.get_coordinates(shapely.get_point(runs, -1))) if len(runs) else np.zeros(0)
-    at = locate(line, dots) if len(dots) else np.zeros(0)
+    ends = [shapely.get_coordinates(shapely.get_point(runs, i)) for i in (0, -1)] if len(runs) else []
+    xy = np.vstack([*ends, dots]) if len(runs) or len(dots) else np.zeros((0, 2))
+    along = locate(line, xy) if len(xy) else np.zeros(0)  # the first and last point of each run, then the dots
+    first, last, at = np.split(along, [len(runs), 2 * len(runs)])
     return np.concatenate([np.minimum(first, last), at]), np.concatenate([np.maximum(first, last), at])
 
 
@@ -203,9 +207,11 @@ def _zone_points(
     lines = sorted(lines, key=lambda g: -g.length)
     cut = [g for g in lines if g.length >= MIN_CELL_LINE_M][:MAX_CELL_LINES] if regions else list(lines)
 
+    tree = shapely.STRtree(list(regions)) if regions else None
+
     def along(line: shapely.LineString) -> NDArray[np.float64]:
         if regions:
-            return maximal_cells(*intervals(line, regions))
+            return maximal_cells(*intervals(line, regions, tree))
         return np.linspace(0.0, line.length, max(1, math.ceil(line.length / step_m)) + 1)
 
     parts = [shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in cut]

@@ -37,6 +37,10 @@ EPS_SHORTEN_M = 1e-5
 #: box directly (a few array comparisons) instead of drawing the pairs' boxes and asking the blockers' STR-tree: the
 #: same pairs (closed boxes that meet, as the tree's query of envelopes), without a polygon per pair
 DENSE_BLOCKERS = 64
+#: candidate-piece pairs near each other at most in one batch of :func:`geometric_pairs` (memory in proportion)
+PAIR_BATCH = 2_000_000
+#: slack of the near-pairs filter beyond the longest slant range (m): far above the rounding of the figures
+NEAR_MARGIN_M = 1e-3
 
 F64 = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -117,39 +121,48 @@ class PairGeometry:
 
 
 def geometric_pairs(
-    cand_xy: F64, cand_inside: Mask, targets: Targets, ti: NDArray[np.int64], limits: SightLimits, chunk: int = 64
+    cand_xy: F64,
+    cand_inside: Mask,
+    targets: Targets,
+    ti: NDArray[np.int64],
+    limits: SightLimits,
+    chunk: int | None = None,
 ) -> PairGeometry:
     """All (candidate, piece) pairs of the pieces ``targets[ti]`` meeting the range and incidence limits (``target`` of
-    the result indexes ``ti``). A candidate sees a piece only from the piece's side of its zone: ``cand_inside[c, z]``
-    (candidate c inside zone z) must match the piece's side for its zone. Each chunk of candidates is matched only with
-    the pieces within reach of its bounding box, so the work grows with the pairs in range, not with C x T."""
+    the result indexes ``ti``), ordered by candidate, then piece. A candidate sees a piece only from the piece's side of
+    its zone: ``cand_inside[c, z]`` (candidate c inside zone z) must match the piece's side for its zone. Each candidate
+    is matched only with the pieces whose middle lies within reach of it along both axes (:func:`near_pairs`: a pair in
+    range has both ends, hence the middle, within reach), so the work grows with the pairs in range, not with C x T;
+    each figure is the same elementwise formula over the pairs kept. ``chunk``: candidates per batch (None: as many as
+    keep a batch's near pairs under :data:`PAIR_BATCH`)."""
     t_zone, t_inside, normal = targets.zone[ti], targets.side[ti] == 0, targets.normal[ti]
     a, b, ha, hb = targets.a[ti], targets.b[ti], targets.ha_m[ti], targets.hb_m[ti]
     ih = limits.instrument_height_m
-    reach = limits.effective_range_m
     mid = (a + b) / 2.0
-    half = np.hypot(*(b - a).T) / 2.0
     cos_max = math.cos(math.radians(limits.theta_max_deg + EPS_ANGLE_DEG))
     longest = limits.effective_range_m + EPS_RANGE_M
     dz_a = np.maximum(np.abs(ha - ih), ih)  # the farther of top and foot, vertically
     dz_b = np.maximum(np.abs(hb - ih), ih)
+    sides = _zone_sides(t_zone, t_inside)
+    groups = [np.flatnonzero((t_zone == z) & (t_inside == inside)) for z, inside in sides]
+    orders = [g[np.argsort(mid[g, 0], kind="stable")] for g in groups]  # each zone-side's pieces in x order
+    step = chunk if chunk is not None else max(1, PAIR_BATCH // max(len(ti), 1))
+    bound = longest + NEAR_MARGIN_M
     out_c, out_t, out_s, out_i = [], [], [], []
-    for c0 in range(0, len(cand_xy), chunk):
-        cx = cand_xy[c0 : c0 + chunk]
-        lo, hi = cx.min(axis=0) - reach, cx.max(axis=0) + reach
-        near = np.flatnonzero(np.all((mid + half[:, None] >= lo) & (mid - half[:, None] <= hi), axis=1))
-        if near.size == 0:
-            continue
-        va = a[near][None] - cx[:, None, :]
-        d = -np.einsum("ktj,tj->kt", va, normal[near])
-        side_ok = cand_inside[c0 : c0 + chunk][:, t_zone[near]] == t_inside[near][None, :]
-        # the pairs on the piece's side and in front of it (in order), then the range and incidence of those only:
-        # each figure is the same elementwise formula as over the whole block
-        k, t = np.nonzero(side_ok & (d > EPS_FRONT_M))
-        dk, nt = d[k, t], near[t]
-        pa, pb = va[k, t], b[nt] - cx[k]
+    for c0 in range(0, len(cand_xy), step):
+        cx = cand_xy[c0 : c0 + step]
+        near = [  # the pairs on the piece's side, near each other: a zone-side's pieces with the candidates on it
+            _near_on_side(cx, cand_inside[c0 : c0 + step, z] == inside, mid, by_x, bound)
+            for (z, inside), by_x in zip(sides, orders)
+        ]
+        k, t = cat([p[0] for p in near], np.int64), cat([p[1] for p in near], np.int64)
+        va = a[t] - cx[k]
+        d = -np.einsum("ij,ij->i", va, normal[t])
+        front = d > EPS_FRONT_M  # in front of it; then the range and incidence of those only
+        k, t, dk, pa = k[front], t[front], d[front], va[front]
+        pb = b[t] - cx[k]
         hd_a, hd_b = np.hypot(pa[:, 0], pa[:, 1]), np.hypot(pb[:, 0], pb[:, 1])
-        sa, sb = np.hypot(hd_a, dz_a[nt]), np.hypot(hd_b, dz_b[nt])
+        sa, sb = np.hypot(hd_a, dz_a[t]), np.hypot(hd_b, dz_b[t])
         slant = np.maximum(sa, sb)
         with np.errstate(divide="ignore", invalid="ignore"):
             if limits.incidence_3d:
@@ -164,11 +177,49 @@ def geometric_pairs(
             keep = _end_precision(sa[ok], dk[ok] / np.maximum(hd[0], 1e-300), limits.precision)
             keep &= _end_precision(sb[ok], dk[ok] / np.maximum(hd[1], 1e-300), limits.precision)
             k, t, inc, ok = k[keep], t[keep], inc[keep], ok[keep]
-        out_c.append(k + c0)
-        out_t.append(near[t])
-        out_s.append(slant[ok])
-        out_i.append(inc)
+        order = np.lexsort((t, k))  # by candidate, then piece
+        out_c.append(k[order] + c0)
+        out_t.append(t[order])
+        out_s.append(slant[ok][order])
+        out_i.append(inc[order])
     return PairGeometry(cat(out_c, np.int64), cat(out_t, np.int64), cat(out_s, np.float64), cat(out_i, np.float64))
+
+
+def _zone_sides(t_zone: NDArray, t_inside: NDArray[np.bool_]) -> list[tuple[int, bool]]:
+    """The (zone, inside) of the pieces' zone-sides, in order."""
+    code = np.unique(np.asarray(t_zone, dtype=np.int64) * 2 + ~t_inside)
+    return [(int(c) // 2, int(c) % 2 == 0) for c in code]
+
+
+def _near_on_side(
+    cx: F64, on_side: NDArray[np.bool_], mid: F64, by_x: NDArray[np.intp], bound: float
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """:func:`near_pairs` of the candidates ``on_side`` (rows of ``cx``) and the pieces ``by_x`` (one zone-side's,
+    in x order): (row of ``cx``, piece)."""
+    rows = np.flatnonzero(on_side)
+    if rows.size == 0 or by_x.size == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    k, j = near_pairs(cx[rows], mid[by_x], np.arange(by_x.size), bound)
+    return rows[k].astype(np.int64), by_x[j].astype(np.int64)
+
+
+def near_pairs(xy: F64, mid: F64, by_x: NDArray[np.intp], bound: float) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """(row of ``xy``, row of ``mid``) of every point and middle at most ``bound`` apart along both axes (all pairs
+    where ``bound`` is not finite): the middles in x order (``by_x``) within the point's x band, then those within its
+    y band."""
+    n, m = len(xy), len(mid)
+    if not math.isfinite(bound):
+        return np.repeat(np.arange(n, dtype=np.int64), m), np.tile(np.arange(m, dtype=np.int64), n)
+    mx = mid[by_x, 0]
+    lo = np.searchsorted(mx, xy[:, 0] - bound, side="left")
+    hi = np.searchsorted(mx, xy[:, 0] + bound, side="right")
+    count = np.maximum(hi - lo, 0)
+    k = np.repeat(np.arange(n, dtype=np.int64), count)
+    first = np.cumsum(count) - count  # where each point's run starts
+    pos = np.arange(len(k), dtype=np.int64) - np.repeat(first - lo, count)
+    t = by_x[pos].astype(np.int64)
+    keep = np.abs(mid[t, 1] - xy[k, 1]) <= bound
+    return k[keep], t[keep]
 
 
 def _end_precision(slant: NDArray, cos_i: NDArray, rule: PrecisionRule) -> NDArray[np.bool_]:
@@ -190,21 +241,33 @@ def _side(x: NDArray, eps_m: float) -> NDArray:
     return np.where(np.abs(x) <= eps_m, 0.0, np.sign(x))
 
 
+def _sides(p: NDArray, q: NDArray, points: tuple[NDArray, ...], eps_m: float) -> list[NDArray]:
+    """:func:`_side` of each of ``points`` from the line p->q (row-wise): the elementwise figures of :func:`_signed`,
+    the line's direction and length taken once for all."""
+    d = q - p
+    n = np.hypot(d[:, 0], d[:, 1])
+    n = np.where(n > 0, n, 1.0)
+    return [_side((d[:, 0] * (r[:, 1] - p[:, 1]) - d[:, 1] * (r[:, 0] - p[:, 0])) / n, eps_m) for r in points]
+
+
 def segments_touch(p: NDArray, q: NDArray, r: NDArray, s: NDArray, eps_m: float = EPS_SIGHT_M) -> NDArray[np.bool_]:
-    """Closed segments p-q and r-s (row-wise) meet, counting touching and collinear overlap within eps_m."""
-    o1, o2 = _side(_signed(r, s, p), eps_m), _side(_signed(r, s, q), eps_m)
-    o3, o4 = _side(_signed(p, q, r), eps_m), _side(_signed(p, q, s), eps_m)
-    cross = (o1 * o2 <= 0) & (o3 * o4 <= 0)
-    collinear = (o1 == 0) & (o2 == 0)
-    if np.any(collinear):
-        d = s - r
+    """Closed segments p-q and r-s (row-wise) meet, counting touching and collinear overlap within eps_m. The ends of
+    r-s are placed on p-q only for the rows where p and q do not lie strictly on one side of r-s (the others cannot
+    meet), and the collinear overlap is figured only for rows that meet otherwise: each row's figures are the same."""
+    o1, o2 = _sides(r, s, (p, q), eps_m)
+    cross = o1 * o2 <= 0
+    rows = np.flatnonzero(cross)
+    o3, o4 = _sides(p[rows], q[rows], (r[rows], s[rows]), eps_m)
+    cross[rows] = o3 * o4 <= 0
+    rows = rows[cross[rows] & (o1[rows] == 0) & (o2[rows] == 0)]  # collinear: they meet where they overlap
+    if rows.size:
+        pr, qr, rr, d = p[rows], q[rows], r[rows], s[rows] - r[rows]
         n2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
-        tp = np.einsum("ij,ij->i", p - r, d) / n2
-        tq = np.einsum("ij,ij->i", q - r, d) / n2
+        tp = np.einsum("ij,ij->i", pr - rr, d) / n2
+        tq = np.einsum("ij,ij->i", qr - rr, d) / n2
         lo, hi = np.minimum(tp, tq), np.maximum(tp, tq)
         tol = eps_m / np.sqrt(n2)
-        overlap = (lo <= 1 + tol) & (hi >= -tol)
-        cross &= ~collinear | overlap
+        cross[rows] = (lo <= 1 + tol) & (hi >= -tol)
     return cross
 
 
@@ -244,7 +307,9 @@ def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blocke
         keep = key[pi] != blockers.key[bi]
         pi, bi = pi[keep], bi[keep]
         ra, rb = blockers.a[bi], blockers.b[bi]
-        hit = segments_touch(c[pi], a2[pi], ra, rb) | segments_touch(c[pi], b2[pi], ra, rb)
+        hit = segments_touch(c[pi], a2[pi], ra, rb)
+        rest = np.flatnonzero(~hit)  # the line to b only where the line to a is clear
+        hit[rest] = segments_touch(c[pi[rest]], b2[pi[rest]], ra[rest], rb[rest])
         clear[pi[hit]] = False
     vtree = blockers._vtx_tree  # type: ignore[attr-defined]
     wide = np.hypot(*(b - a).T) > EPS_SIGHT_M
