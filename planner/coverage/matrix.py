@@ -177,9 +177,11 @@ class ZoneSideBlockers:
         """Sight test of the pairs (pc[k], pt[k]), zone-side by zone-side, in batches of SIGHT_BATCH pairs."""
         out = np.ones(len(pc), dtype=bool)
         group = targets.zone[pt].astype(np.int64) * 2 + targets.side[pt]
-        for g in np.unique(group):
-            idx = np.flatnonzero(group == g)
-            blockers = self.of(int(g) // 2, int(g) % 2 == 0)
+        by_group = np.argsort(group, kind="stable")  # each zone-side's pairs in their order
+        cuts = np.flatnonzero(np.diff(group[by_group])) + 1
+        for idx in np.split(by_group, cuts) if len(pc) else []:
+            g = int(group[idx[0]])
+            blockers = self.of(g // 2, g % 2 == 0)
             for lo in range(0, idx.size, SIGHT_BATCH):
                 k = idx[lo : lo + SIGHT_BATCH]
                 out[k] = sight_clear(

@@ -37,6 +37,8 @@ EPS_SHORTEN_M = 1e-5
 #: box directly (a few array comparisons) instead of drawing the pairs' boxes and asking the blockers' STR-tree: the
 #: same pairs (closed boxes that meet, as the tree's query of envelopes), without a polygon per pair
 DENSE_BLOCKERS = 64
+#: rows whose boxes go to the blockers' STR-tree as one box in :func:`runs_meeting`
+BOX_RUN = 8
 #: candidate-piece pairs near each other at most in one batch of :func:`geometric_pairs` (memory in proportion)
 PAIR_BATCH = 2_000_000
 #: slack of the near-pairs filter beyond the longest slant range (m): far above the rounding of the figures
@@ -280,6 +282,26 @@ def boxes_meeting(lo: F64, hi: F64, blo: F64, bhi: F64) -> tuple[NDArray[np.intp
     return rows, cols
 
 
+def runs_meeting(
+    lo: F64, hi: F64, tree: shapely.STRtree, blo: F64, bhi: F64
+) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """:func:`boxes_meeting` with an STR-tree of the blockers (their boxes [blo, bhi]): the tree asked once for each run
+    of :data:`BOX_RUN` rows (the box round the run's boxes: a pair's neighbours in a batch share its station and wall),
+    each blocker it gives then tested row by row. The same pairs (by run, then as the tree lists the blockers), without
+    a polygon per row."""
+    n = len(lo)
+    start = np.arange(0, n, BOX_RUN)
+    glo, ghi = np.minimum.reduceat(lo, start, axis=0), np.maximum.reduceat(hi, start, axis=0)
+    gi, bi = tree.query(shapely.box(glo[:, 0], glo[:, 1], ghi[:, 0], ghi[:, 1]))
+    size = np.minimum(start[gi] + BOX_RUN, n) - start[gi]
+    first = np.cumsum(size) - size
+    rows = np.repeat(start[gi] - first, size) + np.arange(int(size.sum()))
+    cols = np.repeat(bi, size)
+    meet = (lo[rows, 0] <= bhi[cols, 0]) & (hi[rows, 0] >= blo[cols, 0])
+    meet &= (lo[rows, 1] <= bhi[cols, 1]) & (hi[rows, 1] >= blo[cols, 1])
+    return rows[meet], cols[meet]
+
+
 def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blockers) -> Mask:
     """For each pair (row), True when nothing blocks the view from c to the whole piece a-b."""
     n = len(c)
@@ -295,15 +317,11 @@ def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blocke
     a2, b2 = shorten(a), shorten(b)
     lo = np.minimum(np.minimum(c, a), b) - EPS_SIGHT_M
     hi = np.maximum(np.maximum(c, a), b) + EPS_SIGHT_M
-    boxes: NDArray[np.object_] | None = None
-    if len(blockers.a) > DENSE_BLOCKERS or len(blockers.vertices) > DENSE_BLOCKERS:
-        boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+    dense = len(blockers.a) <= DENSE_BLOCKERS and len(blockers.vertices) <= DENSE_BLOCKERS
     tree = blockers._seg_tree  # type: ignore[attr-defined]
     if tree is not None:
-        if boxes is None:
-            pi, bi = boxes_meeting(lo, hi, np.minimum(blockers.a, blockers.b), np.maximum(blockers.a, blockers.b))
-        else:
-            pi, bi = tree.query(boxes)
+        blo, bhi = np.minimum(blockers.a, blockers.b), np.maximum(blockers.a, blockers.b)
+        pi, bi = boxes_meeting(lo, hi, blo, bhi) if dense else runs_meeting(lo, hi, tree, blo, bhi)
         keep = key[pi] != blockers.key[bi]
         pi, bi = pi[keep], bi[keep]
         ra, rb = blockers.a[bi], blockers.b[bi]
@@ -315,10 +333,8 @@ def sight_clear(c: F64, a: F64, b: F64, key: NDArray[np.int64], blockers: Blocke
     wide = np.hypot(*(b - a).T) > EPS_SIGHT_M
     if vtree is not None and np.any(wide & clear):
         idx = np.flatnonzero(wide & clear)
-        if boxes is None:
-            pi, vi = boxes_meeting(lo[idx], hi[idx], blockers.vertices, blockers.vertices)
-        else:
-            pi, vi = vtree.query(boxes[idx])
+        vx = blockers.vertices
+        pi, vi = boxes_meeting(lo[idx], hi[idx], vx, vx) if dense else runs_meeting(lo[idx], hi[idx], vtree, vx, vx)
         pi = idx[pi]
         v = blockers.vertices[vi]
         ca, ab, bc = _signed(c[pi], a[pi], v), _signed(a[pi], b[pi], v), _signed(b[pi], c[pi], v)

@@ -2,7 +2,9 @@
 
 :func:`planner.coverage.visibility.geometric_pairs` figures only the pairs on the piece's side whose middle lies within
 reach (:func:`~planner.coverage.visibility.near_pairs`); :func:`~planner.coverage.visibility.segments_touch` places
-r-s on p-q only where p-q may meet it. Both are compared with the plain all-pairs formulas written out here."""
+r-s on p-q only where p-q may meet it. Both are compared with the plain all-pairs formulas written out here.
+:func:`~planner.coverage.visibility.runs_meeting` asks the blockers' tree once per run of rows: the pairs of
+:func:`~planner.coverage.visibility.boxes_meeting`."""
 
 from __future__ import annotations
 
@@ -18,8 +20,10 @@ from planner.coverage.visibility import (
     EPS_FRONT_M,
     EPS_RANGE_M,
     SightLimits,
+    boxes_meeting,
     geometric_pairs,
     near_pairs,
+    runs_meeting,
     segments_touch,
 )
 from planner.site import ScanSide, Site, Zone
@@ -108,3 +112,16 @@ def test_near_pairs_keeps_every_pair_within_the_bound() -> None:
     k, t = near_pairs(xy, mid, np.argsort(mid[:, 0], kind="stable"), 12.5)
     near = np.all(np.abs(xy[:, None, :] - mid[None, :, :]) <= 12.5, axis=2)
     assert sorted(zip(k.tolist(), t.tolist())) == sorted(zip(*map(np.ndarray.tolist, np.nonzero(near))))
+
+
+def test_runs_meeting_gives_the_pairs_of_boxes_meeting() -> None:
+    # boxes on a coarse grid (edges and corners touch often), some long (a far station), rows in runs and a short tail
+    rng = np.random.default_rng(11)
+    lo = rng.integers(0, 40, (1003, 2)) * 0.5
+    hi = lo + rng.integers(0, 12, (1003, 2)) * 0.5 * rng.integers(1, 4, (1003, 1))
+    a, b = rng.integers(0, 50, (90, 2)) * 0.5, rng.integers(0, 50, (90, 2)) * 0.5
+    blo, bhi = np.minimum(a, b), np.maximum(a, b)
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    got = set(zip(*(x.tolist() for x in runs_meeting(lo, hi, tree, blo, bhi))))
+    want = set(zip(*(x.tolist() for x in boxes_meeting(lo, hi, blo, bhi))))
+    assert got == want and len(want) > 100
