@@ -26,7 +26,7 @@ from planner.candidates.closed_form import side_candidate
 from planner.candidates.from_regions import largest_part_pole
 from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.targets import SIDE_CODE, Targets
-from planner.coverage.threads import Background
+from planner.coverage.threads import Background, ordered_map
 from planner.coverage.visibility import SightLimits
 from planner.site.candidate import Candidate, CandidateKind
 from planner.site.model import ScanSide, Site
@@ -214,7 +214,10 @@ def _zone_points(
             return maximal_cells(*intervals(line, regions, tree))
         return np.linspace(0.0, line.length, max(1, math.ceil(line.length / step_m)) + 1)
 
-    parts = [shapely.get_coordinates(shapely.line_interpolate_point(line, along(line))) for line in cut]
+    def cells(line: shapely.LineString) -> NDArray[np.float64]:
+        return shapely.get_coordinates(shapely.line_interpolate_point(line, along(line)))
+
+    parts = ordered_map(cells, cut)  # each line cut alone (GEOS works without Python's lock): on a few threads
     parts += [
         shapely.get_coordinates(shapely.line_interpolate_point(line, 0.5, normalized=True))
         for line in lines[len(cut) :]
