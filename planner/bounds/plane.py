@@ -154,28 +154,28 @@ def _outer(site: Site, t: Any, limits: SightLimits, pos: np.ndarray, y: np.ndarr
 
 def _add_points(
     site: Site,
-    problem: CoverageProblem,
+    t: Any,
     model: WarmCoverLp,
     points: list[tuple[int, Any]],
     y: np.ndarray,
     limits: SightLimits,
     tag: str,
     threshold: float,
-) -> tuple[CoverageProblem, int]:
-    """``problem`` with those ``points`` (frame index, sample) whose coverage by the coverage test weighs more than
-    ``threshold``, as priced candidates owned by the zone-side they see most of; also added to ``model``."""
-    t = problem.targets
+) -> tuple[CoverageProblem | None, int]:
+    """Those ``points`` (frame index, sample) whose coverage of the targets ``t`` by the coverage test weighs more than
+    ``threshold``, as priced candidates owned by the zone-side they see most of (None where none does); also added to
+    ``model``. The pool takes them at the end (:func:`_merged`)."""
     new = [
         Candidate(f"{tag}.{k}", "", ScanSide.INSIDE, t.frames[fi], f.x, f.y, CandidateKind.PRICED)
         for k, (fi, f) in enumerate(points, 1)
     ]
     if not new:
-        return problem, 0
+        return None, 0
     sub = build_coverage(site, new, t, limits)
     gain = np.asarray(sub.by_candidate.astype(np.float64) @ y).ravel()
     good = np.flatnonzero(gain > threshold)
     if good.size == 0:
-        return problem, 0
+        return None, 0
     keep = sub.by_candidate[good]
     owners = [_owner(sub, int(g)) for g in good]
     cands = tuple(
@@ -193,7 +193,18 @@ def _add_points(
         limits=sub.limits,
     )
     model.add_columns(keep)
-    return merge_problems(problem, piece), len(cands)
+    return piece, len(cands)
+
+
+def _merged(problem: CoverageProblem, pieces: list[CoverageProblem]) -> CoverageProblem:
+    """``problem`` with the priced ``pieces`` appended in their order: the pieces merged among themselves first and the
+    pool once (the same problem as merging each round, without copying the whole pool every round)."""
+    if not pieces:
+        return problem
+    new = pieces[0]
+    for piece in pieces[1:]:
+        new = merge_problems(new, piece)
+    return merge_problems(problem, new)
 
 
 def price_plane(
@@ -220,6 +231,7 @@ def price_plane(
     spaces = {} if spaces is None else spaces
     t = problem.targets
     added, history, note = 0, [], ""
+    pieces: list[CoverageProblem] = []  # the priced candidates of each round, appended to the pool at the end
     rounds, converged, capped = 0, False, False
     work: list[int] = []  # (point, region) pairs weighed, per weighing
     outer = OuterRegions() if outer is None else outer
@@ -240,18 +252,21 @@ def price_plane(
         if not faces:
             converged = True
             break
-        problem, n = _add_points(site, problem, model, faces, lp.y, limits, f"PR{rounds}", 1.0 + PRICE_EPS)
-        if n == 0:
+        piece, n = _add_points(site, t, model, faces, lp.y, limits, f"PR{rounds}", 1.0 + PRICE_EPS)
+        if piece is None:
             note = (
                 f"{len(faces)} arrangement points price out by their regions but none by the coverage test "
                 f"(within the {tol:.4f} m tolerance)"
             )
             break
         added += n
+        pieces.append(piece)
     if converged and ties:  # the optimal LP's alternatives: positions as good as its columns (reduced cost 0)
         points = _heaviest(cache, t, pos, lp.y, ties, 1.0 - TIE_EPS)
-        problem, n = _add_points(site, problem, model, points, lp.y, limits, "PT", 1.0 - TIE_EPS)
+        piece, n = _add_points(site, t, model, points, lp.y, limits, "PT", 1.0 - TIE_EPS)
         added += n
+        pieces += [] if piece is None else [piece]
+    problem = _merged(problem, pieces)
     model.close()
     w_star = _outer(site, t, limits, pos, lp.y, outer)
     farley = float(lp.y.sum()) / max(1.0, w_star)

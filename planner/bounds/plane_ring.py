@@ -30,32 +30,24 @@ from __future__ import annotations
 
 import itertools
 import time
-from dataclasses import replace
-from functools import partial
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
 from planner.bounds.connected_result import ConnectedPlaneBound, SideBound
 from planner.bounds.outer import OuterRegions
-from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sets, patch_sides, undominated
-from planner.bounds.plane_refine import refined_bound
+from planner.bounds.ring_walks import FarleyShares, RingWalks, walked_sides
 from planner.coverage.arrangement import grown, grown_reach, outer_max_weight
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
-from planner.coverage.threads import ordered_map
+from planner.coverage.regions import FrameSpace, outer_tolerance_m
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
-from planner.solve.ring import cyclic_arcs, ring_graph
 
-#: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
-MAX_FAMILY = 6_000
-#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies: past this,
-#: a large outline's graph runs to gigabytes)
-MAX_LINKS = 3_000_000
+if TYPE_CHECKING:
+    from planner.bounds.ring_ahead import WalksAhead
+
 #: the work the default plan gives the connected plane bound, in patches: a patch side of a zone-side costs the patches
 #: it lays (about FIRST_PATCHES, then 4x at each halving). A count, not a time: the same bound under any load
 CONNECTED_WORK_PATCHES = 200_000
@@ -66,38 +58,34 @@ _PAIRS_PER = 20
 _APART_M = 1e-6
 
 
-def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:
-    """The ring walk over the undominated patches of side ``h`` of one zone-side, searched only as far as it can stay
-    under ``target``: (the walk's cost, or ``target`` when no walk is cheaper; None when not formed; the family size).
-    The patches grow the outer regions and shrink the inner ones by half their diagonal too."""
-    lengths = pieces.lengths
-    grow, shrink = pieces.shapes(h)
-    sets = patch_sets(grow, shrink, lengths, h)
-    if sets is None:
-        return None, 0
-    u, low = sets
-    n = u.shape[1]
-    start, end = cyclic_arcs(u)
-    fam = undominated(start, end - start, low, n)
-    if fam.size > MAX_FAMILY:
-        return None, int(fam.size)
-    s, sp_, lw = start[fam], (end - start)[fam], low[fam]
-    cum = np.concatenate([[0.0], np.cumsum(np.tile(lengths, 3))])
-    one_way = arc_links(s, sp_, lw, cum, n, share, most=MAX_LINKS)  # None: past MAX_LINKS already
-    if one_way is None:
-        return None, int(fam.size)
-    adj = (one_way + one_way.T).astype(bool).tocsr()
-    if adj.nnz > MAX_LINKS:
-        return None, int(fam.size)
-    r = np.repeat(np.arange(fam.size), sp_ + 1)
-    c = (np.concatenate([np.arange(a, a + k + 1) for a, k in zip(s, sp_)]) % n) if fam.size else np.zeros(0, int)
-    cover = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(fam.size, n))
-    graph = ring_graph(cover, pieces.required, adj)
-    if graph is None:
-        return None, int(fam.size)
-    # a walk of fewer than target stations has both branches from its anchor at most target - 2 long
-    walk = graph.unit_walk(limit=target - 1.5)  # every patch costs one station
-    return (target if walk is None else min(target, walk)), int(fam.size)
+def farley_shares(
+    site: Site,
+    problem: CoverageProblem,
+    limits: SightLimits,
+    duals: NDArray[np.float64],
+    outer_regions: OuterRegions,
+) -> FarleyShares:
+    """Each zone-side's share of Farley's bound (its duals over the heaviest weight of the outer regions of its pieces
+    of positive dual) and the test that no position sees two zone-sides (:func:`_sides_meet`)."""
+    t = problem.targets
+    key = t.zone.astype(np.int64) * 2 + t.side
+    seen = problem.by_target.getnnz(axis=1) > 0
+    keys = [int(k) for k in np.unique(key[seen])]
+    pieces_all = [np.flatnonzero(key == k) for k in keys]
+    grow_m = outer_tolerance_m(limits)
+    # Farley's share of each zone-side weighs the outer regions of its pieces of positive dual only
+    pos_all = [np.flatnonzero(duals[ps] > 1e-9) for ps in pieces_all]
+    weighed = [int(p) for ps, pos in zip(pieces_all, pos_all) for p in ps[pos]]
+    outer = outer_regions.of(site, t, limits, weighed)
+    grown_of = dict(zip(weighed, grown([outer[p] for p in weighed], grow_m)))  # once: Farley's and the sides' test
+    sides = []
+    for pieces, pos in zip(pieces_all, pos_all):
+        y = duals[pieces]
+        regs = [outer[int(p)] for p in pieces[pos]]
+        w = outer_max_weight(regs, y[pos], grow_m, [grown_of[int(p)] for p in pieces[pos]]) if pos.size else 0.0
+        sides.append(SideBound(_name(t, pieces[0]), float(y.sum()) / max(1.0, w), None, None, 0))
+    clash = _sides_meet(site, t, limits, pieces_all, outer_regions, grow_m=grow_m, grown_of=grown_of)
+    return FarleyShares(tuple(keys), tuple(sides), clash)
 
 
 def connected_plane_bound(
@@ -113,95 +101,29 @@ def connected_plane_bound(
     refine_steps: int = 0,
     spaces: dict[str, FrameSpace] | None = None,
     outer_regions: OuterRegions | None = None,
+    ahead: WalksAhead | None = None,
 ) -> ConnectedPlaneBound:
     """The connected bound over the plane for ``zone`` registration (module docstring). ``counts``: the plan's stations
     per zone-side (key ``2 zone + side``). With ``refine_steps``, a zone-side still below its count then gets the
     connected cover over patches refined up to that many times (:func:`planner.bounds.plane_refine.refined_bound`).
-    ``cache``/``spaces`` and ``outer_regions``: the regions R_t and O_t this run has drawn already (pricing's)."""
+    ``cache``/``spaces`` and ``outer_regions``: the regions R_t and O_t this run has drawn already (pricing's).
+    ``ahead``: the walks started on a second core before the plan was known
+    (:class:`planner.bounds.ring_ahead.WalksAhead`); it gives the same bound, and where it fails the walks are done
+    here."""
     t0 = time.perf_counter()
-    t = problem.targets
-    key = t.zone.astype(np.int64) * 2 + t.side
-    seen = problem.by_target.getnnz(axis=1) > 0
-    cache = {} if cache is None else cache
     outer_regions = OuterRegions() if outer_regions is None else outer_regions
-    keys = [int(k) for k in np.unique(key[seen])]
-    pieces_all = [np.flatnonzero(key == k) for k in keys]
-    grow_m = outer_tolerance_m(limits)
-    shrink_m = region_tolerance_m(limits, site.parameters.min_standoff_m)
-    # Farley's share of each zone-side weighs the outer regions of its pieces of positive dual only
-    pos_all = [np.flatnonzero(duals[ps] > 1e-9) for ps in pieces_all]
-    weighed = [int(p) for ps, pos in zip(pieces_all, pos_all) for p in ps[pos]]
-    outer = outer_regions.of(site, t, limits, weighed)
-    grown_of = dict(zip(weighed, grown([outer[p] for p in weighed], grow_m)))  # once: Farley's and the sides' test
-    sides = []
-    for pieces, pos in zip(pieces_all, pos_all):
-        y = duals[pieces]
-        regs = [outer[int(p)] for p in pieces[pos]]
-        w = outer_max_weight(regs, y[pos], grow_m, [grown_of[int(p)] for p in pieces[pos]]) if pos.size else 0.0
-        sides.append(SideBound(_name(t, pieces[0]), float(y.sum()) / max(1.0, w), None, None, 0))
-    clash = _sides_meet(site, t, limits, pieces_all, outer_regions, grow_m=grow_m, grown_of=grown_of)
-    if clash:
-        return ConnectedPlaneBound(None, (), time.perf_counter() - t0, clash)
-    # only a zone-side below its count walks rings (or is refined): its pieces' regions, inner and outer, drawn now
-    walk = [share > 0 and sides[i].value < counts.get(k, 0) for i, k in enumerate(keys)]
-    drawn = [int(p) for ps, w_ in zip(pieces_all, walk) if w_ for p in ps]
-    cache.update(coverage_regions(site, t, limits, [p for p in drawn if p not in cache], spaces))
-    outer = outer_regions.of(site, t, limits, drawn)
-    lengths_all = t.s1_m - t.s0_m
-    regions: list[SidePieces | None] = [
-        SidePieces(
-            [outer[int(p)] for p in ps], [cache[int(p)] for p in ps], lengths_all[ps], seen[ps], grow_m, shrink_m
+    head = farley_shares(site, problem, limits, duals, outer_regions)
+    if head.clash:
+        return ConnectedPlaneBound(None, (), time.perf_counter() - t0, head.clash)
+    required = problem.by_target.getnnz(axis=1) > 0
+    sides = None if ahead is None else ahead.walked(head, counts, required, work_patches, refine_steps)
+    if sides is None:
+        cache, spaces = ({} if cache is None else cache), ({} if spaces is None else spaces)
+        walks = RingWalks(
+            site, problem.targets, limits, share, required, cache=cache, spaces=spaces, outer_regions=outer_regions
         )
-        if w_
-        else None
-        for ps, w_ in zip(pieces_all, walk)
-    ]
-    levels = [list(patch_sides(r.outer)) if r is not None else [] for r in regions]
-    spent, open_ = 0, [True] * len(keys)
-    for level in range(max((len(x) for x in levels), default=0)):
-        run = []  # the zone-sides that walk at this level: decided before any walks (a walk changes only its side)
-        for i, k in enumerate(keys):
-            if not open_[i] or level >= len(levels[i]) or sides[i].value >= counts.get(k, 0):
-                open_[i] = False
-                continue
-            cost = FIRST_PATCHES * 4**level
-            if spent + cost > work_patches:
-                open_[i] = False  # the budget: this side keeps what it has
-                continue
-            spent += cost
-            run.append(i)
-        walks = ordered_map(partial(_walk_level, regions, levels, level, share, keys, counts), run)  # side by side
-        for i, (ring, fam) in zip(run, walks):
-            h = levels[i][level]
-            if ring is None:
-                open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
-            elif ring > (sides[i].ring or 0):
-                sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
-    for i, k in enumerate(keys):
-        if refine_steps > 0 and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
-            refined = refined_bound(_walked(regions[i]), share, levels[i][0], counts[k], refine_steps)
-            sides[i] = replace(sides[i], refined=refined)
-    return ConnectedPlaneBound(sum(s.value for s in sides), tuple(sides), time.perf_counter() - t0)
-
-
-def _walk_level(
-    regions: list[SidePieces | None],
-    levels: list[list[float]],
-    level: int,
-    share: float,
-    keys: list[int],
-    counts: dict[int, int],
-    i: int,
-) -> tuple[int | None, int]:
-    """:func:`side_ring_bound` of zone-side ``i`` at ``level``."""
-    return side_ring_bound(_walked(regions[i]), share, levels[i][level], counts.get(keys[i], 0))
-
-
-def _walked(pieces: SidePieces | None) -> SidePieces:
-    """The regions of a zone-side that walks rings (drawn for every such side)."""
-    if pieces is None:
-        raise RuntimeError("plane_ring: a zone-side at its count walks no ring")
-    return pieces
+        sides = walked_sides(head, walks, counts, work_patches, refine_steps)
+    return ConnectedPlaneBound(sum(s.value for s in sides), sides, time.perf_counter() - t0)
 
 
 def _name(t: Any, piece: int) -> str:

@@ -21,7 +21,9 @@ from planner.bounds.connected_result import plan_counts, with_connected_plane_bo
 from planner.bounds.k_views import with_k_plane_bound
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane import price_plane, with_plane_bound
-from planner.bounds.plane_ring import connected_plane_bound
+from planner.bounds.plane_ring import CONNECTED_WORK_PATCHES, connected_plane_bound
+from planner.bounds.ring_ahead import WalksAhead
+from planner.bounds.ring_walks import RingWalks
 from planner.candidates.closed_form import Limits
 from planner.candidates.final_step import drop_redundant, relocate
 from planner.candidates.pool import closed_form_candidates
@@ -67,6 +69,8 @@ class MethodInput:
     surfaces: sp.csr_matrix | None = None
     #: the outer regions O_t drawn in this run (pricing's check of the heaviest weight, then the connected bound)
     outer: OuterRegions = field(default_factory=OuterRegions)
+    #: the connected bound's ring walks started ahead by the caller (:func:`early_walks`), which also ends them
+    walks_ahead: WalksAhead | None = None
 
 
 def with_columns(inst: CoverInstance, extra: sp.csr_matrix | None) -> CoverInstance:
@@ -144,13 +148,71 @@ def closed_form_method(run: MethodInput) -> MethodOutput:
 def milp_method(run: MethodInput) -> MethodOutput:
     """The set-cover MILP (connected under the overlap rule), after pricing over the plane where the coverage
     regions apply; the plane bound and, for zone registration, the connected plane bound beside it."""
-    site, options, limits, problem = run.site, run.options, run.limits, run.problem
+    options, limits = run.options, run.limits
     log: list[str] = []
     pricing_on = options.pricing and regions_apply(limits)
     if run.surfaces is not None:
         log.append(f"bound over the pool ({PLANE_OFF})")
     elif options.pricing and not pricing_on:
         log.append("pricing off: coverage regions do not model the incidence-dependent view error with 3-D incidence")
+    if run.walks_ahead is not None:
+        return _milp(run, run.walks_ahead, log, pricing_on)
+    ahead = _walks_ahead(run) if pricing_on and run.surfaces is None else None
+    try:
+        return _milp(run, ahead, log, pricing_on)
+    finally:
+        if ahead is not None:
+            ahead.close()
+
+
+def early_walks(
+    site: Site, options: PlanOptions, registration: Registration, limits: SightLimits, targets: Targets
+) -> WalksAhead | None:
+    """The connected plane bound's ring walks started on a second core before the pool's coverage is built, where a
+    plain MILP run of walls with ``zone`` registration will form that bound: they need only the targets (every piece
+    counted as seen, as the coverage build refuses a piece nothing sees; the bound checks it). None: not started."""
+    rule = registration.rule
+    plain = options.method == "milp" and not options.hours and options.pricing and regions_apply(limits)
+    if not plain or rule is None or rule.overlap <= 0 or registration.mode != "zone":
+        return None
+    walks = RingWalks(
+        site,
+        targets,
+        limits,
+        rule.overlap,
+        np.ones(len(targets), dtype=bool),
+        cache={},
+        spaces={},
+        outer_regions=OuterRegions(),
+    )
+    return WalksAhead.start(walks, CONNECTED_WORK_PATCHES)
+
+
+def _walks_ahead(run: MethodInput) -> WalksAhead | None:
+    """The connected plane bound's ring walks started on a second core (:mod:`planner.bounds.ring_ahead`) where the run
+    will likely form that bound: an overlap rule and registration groups that are the zone-sides."""
+    rule = run.registration.rule
+    share = rule.overlap if rule else 0.0
+    groups, links = run.registration.groups(run.problem.candidates)
+    if share <= 0 or not zone_side_groups(run.problem.candidates, groups, links):
+        return None
+    problem = run.problem
+    walks = RingWalks(
+        run.site,
+        problem.targets,
+        run.limits,
+        share,
+        problem.by_target.getnnz(axis=1) > 0,
+        cache=run.region_cache,
+        spaces=run.spaces,
+        outer_regions=run.outer,
+    )
+    return WalksAhead.start(walks, CONNECTED_WORK_PATCHES)
+
+
+def _milp(run: MethodInput, ahead: WalksAhead | None, log: list[str], pricing_on: bool) -> MethodOutput:
+    """:func:`milp_method` after its checks, with the walks started ahead (or None)."""
+    site, options, limits, problem = run.site, run.options, run.limits, run.problem
     pricing = None
     if pricing_on:
         limit_s, cache = options.pricing_time_limit_s, run.region_cache
@@ -204,6 +266,7 @@ def milp_method(run: MethodInput) -> MethodOutput:
                 refine_steps=refine,
                 spaces=run.spaces,
                 outer_regions=run.outer,
+                ahead=ahead,
             )
             result = with_connected_plane_bound(result, cb)
             log.append(cb.summary())

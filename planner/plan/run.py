@@ -11,6 +11,7 @@ import numpy as np
 
 from planner.bounds.corners import link_refusal
 from planner.bounds.outer import OuterRegions
+from planner.bounds.ring_ahead import WalksAhead
 from planner.candidates.axis import axis_candidates
 from planner.candidates.complete import complete_candidates
 from planner.candidates.connect import connect_candidates, is_link, split_groups
@@ -28,7 +29,7 @@ from planner.plan.hours.columns import spacing_coverage, spacing_refusal
 from planner.plan.hours.field_time import field_properties, hours_method
 from planner.plan.hours.verify import verify_spacing
 from planner.plan.memory_guard import check_memory
-from planner.plan.methods import REGISTRY, MethodInput, MethodOutput, closed_form_limits
+from planner.plan.methods import REGISTRY, MethodInput, MethodOutput, closed_form_limits, early_walks
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
 from planner.plan.result import Plan
@@ -185,9 +186,20 @@ def plan_single(
     of ``coverage``'s candidates where built already (:attr:`Plan.surface_cover`); None: built here where the run has
     surfaces. The plan keeps both (:attr:`Plan.coverage`, :attr:`Plan.surface_cover`)."""
     argument(problem, Problem, "problem")
-    run, cover, log = _method_input(problem, coverage, surface_cover)
-    props = _settings(problem, run.problem, props)
-    out = hours_method(run, props) if props is not None else REGISTRY[problem.options.method](run)
+    # the connected bound's walks need only the targets: started on a free core before the coverage is built
+    walls = props is None and problem.surfaces is None
+    ahead = (
+        early_walks(problem.site, problem.options, problem.registration, problem.limits, problem.targets)
+        if walls
+        else None
+    )
+    try:
+        run, cover, log = _method_input(problem, coverage, surface_cover, ahead)
+        props = _settings(problem, run.problem, props)
+        out = hours_method(run, props) if props is not None else REGISTRY[problem.options.method](run)
+    finally:
+        if ahead is not None:
+            ahead.close()
     out = with_surfaces_plane(problem, run, out, cover)
     if cover is not None and out.problem.candidates != run.problem.candidates:  # pricing is off with surfaces
         raise RuntimeError("the method changed the candidate pool the surface columns were built for")
@@ -196,7 +208,10 @@ def plan_single(
 
 
 def _method_input(
-    problem: Problem, coverage: CoverageProblem | None, given_cover: SurfaceCover | None = None
+    problem: Problem,
+    coverage: CoverageProblem | None,
+    given_cover: SurfaceCover | None = None,
+    ahead: WalksAhead | None = None,
 ) -> tuple[MethodInput, SurfaceCover | None, list[str]]:
     """What the method plans from (the pool's coverage, built here unless given, with the regions drawn for
     pricing), the floor and ceiling columns of the same candidates where the run has surfaces (``given_cover``
@@ -231,7 +246,16 @@ def _method_input(
         log.append(f"{cover.line(problem.surfaces)} ({time.perf_counter() - t0:.2f} s)")
     extra = None if cover is None else cover.matrix
     run = MethodInput(
-        site, options, problem.validation, problem.limits, problem.registration, coverage, spaces, region_cache, extra
+        site,
+        options,
+        problem.validation,
+        problem.limits,
+        problem.registration,
+        coverage,
+        spaces,
+        region_cache,
+        extra,
+        walks_ahead=ahead,
     )
     return run, cover, log
 

@@ -1,0 +1,163 @@
+"""The connected plane bound's ring walks started ahead, on a second core, while the plan is still being made.
+
+The walks (:mod:`planner.bounds.ring_walks`) need no duals and no plan: a zone-side walked at a patch side all the way
+serves any counts later (:func:`planner.bounds.ring_walks.ring_of`). Only *which* walks the bound takes depends on the
+plan's counts per zone-side. So a forked process draws the zone-sides' regions, forms their ring graphs and walks them,
+the largest zone-side first and each level in turn, while this process prices and solves. When the plan is known,
+:meth:`WalksAhead.walked` sends it the shares of Farley's bound and the counts; it finishes the bound exactly as
+:func:`planner.bounds.ring_walks.walked_sides` does alone (the walks it has not done yet it does then) and sends back
+the zone-sides' parts. The bound is the same, with or without it.
+
+A process, not a thread: the walks are numpy and shapely work in many short calls, and a thread beside the solver's
+Python work would pass the interpreter's lock to and fro. It is forked only where this process may use a second core
+that is free (:func:`planner.coverage.threads.thread_count`), from the main thread, on a platform that forks; where
+it fails in any way, the walks are done in this process.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import sys
+import threading
+from multiprocessing.connection import Connection
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from planner.bounds.connected_result import SideBound
+from planner.bounds.plane_patches import FIRST_PATCHES
+from planner.bounds.ring_walks import FarleyShares, RingWalks, walked_sides
+from planner.core import progress
+from planner.coverage.threads import thread_count
+
+#: seconds between checks that the process walking ahead is still alive, while its answer is awaited
+_POLL_S = 0.05
+
+
+class WalksAhead:
+    """A forked process walking the zone-sides of ``walks`` ahead (module docstring); :meth:`walked` takes its result,
+    :meth:`close` ends it."""
+
+    def __init__(self, process: Any, conn: Connection) -> None:
+        self._process, self._conn = process, conn
+
+    @classmethod
+    def start(cls, walks: RingWalks, work_patches: int) -> WalksAhead | None:
+        """Fork the process walking ``walks`` ahead; None (nothing started) where no free second core, not the main
+        thread, or no fork."""
+        if thread_count() < 2 or threading.current_thread() is not threading.main_thread():
+            return None
+        if "fork" not in multiprocessing.get_all_start_methods():
+            return None
+        ctx = multiprocessing.get_context("fork")
+        here, there = ctx.Pipe()
+        for stream in (sys.stdout, sys.stderr):  # nothing buffered is written twice
+            stream.flush()
+        process = ctx.Process(target=_walk_ahead, args=(there, walks, work_patches), daemon=True)
+        try:
+            process.start()
+        except OSError:
+            return None
+        finally:
+            there.close()
+        return cls(process, here)
+
+    def walked(
+        self,
+        head: FarleyShares,
+        counts: dict[int, int],
+        required: NDArray[np.bool_],
+        work_patches: int,
+        refine_steps: int,
+    ) -> tuple[SideBound, ...] | None:
+        """The zone-sides' parts (:func:`planner.bounds.ring_walks.walked_sides` of ``head`` under ``counts``), from
+        the process; None where it failed (then the caller walks them itself)."""
+        try:
+            self._conn.send((head, counts, np.asarray(required, dtype=bool), work_patches, refine_steps))
+            while not self._conn.poll(_POLL_S):
+                if not self._process.is_alive() and not self._conn.poll():
+                    return None
+            kind, got = self._conn.recv()
+        except (OSError, EOFError):
+            return None
+        finally:
+            self.close()
+        return got if kind == "sides" else None
+
+    def close(self) -> None:
+        """End the process (it walks nothing more) and free its pipe."""
+        if self._process.is_alive():
+            self._process.terminate()
+        self._process.join(timeout=5)
+        self._conn.close()
+
+
+def ahead_order(walks: RingWalks, keys: list[int], work_patches: int) -> list[tuple[int, int]]:
+    """The walks to do ahead, in turn: the zone-sides with the most pieces first, each at its patch sides while their
+    cost alone stays within ``work_patches`` (no schedule under any counts walks one beyond)."""
+    sizes = {k: int(np.count_nonzero(walks.key == k)) for k in keys}
+    order = []
+    for k in sorted(keys, key=lambda k: (-sizes[k], k)):
+        spent = 0
+        for level in range(32):
+            spent += FIRST_PATCHES * 4**level
+            if spent > work_patches:
+                break
+            order.append((k, level))
+    return order
+
+
+def _second_core() -> None:
+    """Keep the walks ahead to one core and behind the parent's own work: the parent may draw regions on threads of
+    its own meanwhile (:func:`planner.coverage.threads.thread_count`), and its work is the run's."""
+    try:
+        os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})
+        os.nice(5)
+    except (AttributeError, OSError):  # not on Linux, or not allowed: the walks run as they are
+        pass
+
+
+def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
+    """The forked process: ring graphs and walks ahead until asked (each graph first, then their walks searched all
+    the way), then the bound's parts under the counts sent."""
+    progress.set_sink(None)  # the run's progress is this process's parent's to show
+    _second_core()
+    keys = [int(k) for k in np.unique(walks.key[walks.required])] if walks.share > 0 else []
+    order = ahead_order(walks, keys, work_patches)
+    formed: list[tuple[int, int]] = []
+    closed: set[int] = set()
+    try:
+        for k, level in order:  # first the graphs, the bulk of the work ...
+            if conn.poll():
+                break
+            if k in closed or level >= len(walks.levels(k)):
+                continue
+            if walks.prepare(k, level):
+                formed.append((k, level))
+            else:
+                closed.add(k)  # not formed: no walk at a finer side is taken either
+        for k, level in formed:  # ... then their walks all the way, while the parent has not asked
+            if conn.poll():
+                break
+            walks.ahead(k, level)
+        asked = conn.recv()
+    except (EOFError, OSError):
+        return
+    head, counts, required, spent, refine_steps = asked
+    try:
+        if not np.array_equal(required, walks.required):  # other pieces to cover: walks done ahead do not serve
+            walks = RingWalks(
+                walks.site,
+                walks.targets,
+                walks.limits,
+                walks.share,
+                required,
+                cache=walks.cache,
+                spaces=walks.spaces,
+                outer_regions=walks.outer_regions,
+            )
+        conn.send(("sides", walked_sides(head, walks, counts, spent, refine_steps)))
+    except Exception as err:  # the parent walks them itself (and meets the error there)
+        conn.send(("error", f"{type(err).__name__}: {err}"))

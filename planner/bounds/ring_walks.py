@@ -1,0 +1,227 @@
+"""The ring walks of the connected plane bound (:mod:`planner.bounds.plane_ring`, whose docstring gives the
+relaxation): per zone-side and patch side, the ring graph over the undominated patches and its cheapest unit-cost walk
+(:func:`side_ring_bound`), kept per run by :class:`RingWalks`, and the schedule that walks the zone-sides below their
+counts level by level within the work budget (:func:`walked_sides`).
+
+A walk searched farther than a target needs gives that target's part all the same (:func:`ring_of`), so walks done
+ahead of the plan (:mod:`planner.bounds.ring_ahead`) serve the bound under any counts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from functools import partial
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from planner.bounds.connected_result import SideBound
+from planner.bounds.outer import OuterRegions
+from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sets, patch_sides, undominated
+from planner.bounds.plane_refine import refined_bound
+from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
+from planner.coverage.threads import ordered_map
+from planner.coverage.visibility import SightLimits
+from planner.site.model import Site
+from planner.solve.ring import RingGraph, cyclic_arcs, ring_graph
+
+#: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
+MAX_FAMILY = 6_000
+#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies: past this,
+#: a large outline's graph runs to gigabytes)
+MAX_LINKS = 3_000_000
+
+
+def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:
+    """The ring walk over the undominated patches of side ``h`` of one zone-side, searched only as far as it can stay
+    under ``target``: (the walk's cost, or ``target`` when no walk is cheaper; None when not formed; the family size).
+    The patches grow the outer regions and shrink the inner ones by half their diagonal too."""
+    graph, fam = side_graph(pieces, share, h)
+    if graph is None:
+        return None, fam
+    # a walk of fewer than target stations has both branches from its anchor at most target - 2 long
+    return ring_of(True, graph.unit_walk(limit=target - 1.5), target), fam  # every patch costs one station
+
+
+def ring_of(formed: bool, walk: int | None, target: int) -> int | None:
+    """The ring walk's part (:func:`side_ring_bound`) from a walk searched at least as far as ``target - 1.5`` (any
+    farther search gives the same: every walk under ``target`` lies within that reach): None when not formed, else the
+    walk's cost, ``target`` at most."""
+    if not formed:
+        return None
+    return target if walk is None else min(target, walk)
+
+
+def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[RingGraph | None, int]:
+    """The ring graph over the undominated patches of side ``h`` of one zone-side, and the family size; None where
+    not formed (too many undominated patches or links, or arcs that do not chain). Its :meth:`RingGraph.unit_walk`
+    is the ring walk (every patch costs one station)."""
+    lengths = pieces.lengths
+    grow, shrink = pieces.shapes(h)
+    sets = patch_sets(grow, shrink, lengths, h)
+    if sets is None:
+        return None, 0
+    u, low = sets
+    n = u.shape[1]
+    start, end = cyclic_arcs(u)
+    fam = undominated(start, end - start, low, n)
+    if fam.size > MAX_FAMILY:
+        return None, int(fam.size)
+    s, sp_, lw = start[fam], (end - start)[fam], low[fam]
+    cum = np.concatenate([[0.0], np.cumsum(np.tile(lengths, 3))])
+    one_way = arc_links(s, sp_, lw, cum, n, share, most=MAX_LINKS)  # None: past MAX_LINKS already
+    if one_way is None:
+        return None, int(fam.size)
+    adj = (one_way + one_way.T).astype(bool).tocsr()
+    if adj.nnz > MAX_LINKS:
+        return None, int(fam.size)
+    r = np.repeat(np.arange(fam.size), sp_ + 1)
+    c = (np.concatenate([np.arange(a, a + k + 1) for a, k in zip(s, sp_)]) % n) if fam.size else np.zeros(0, int)
+    cover = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(fam.size, n))
+    return ring_graph(cover, pieces.required, adj), int(fam.size)
+
+
+@dataclass(frozen=True)
+class FarleyShares:
+    """The connected bound's first part, which the plan's counts do not enter: the zone-sides (keys ``2 zone + side``)
+    with their shares of Farley's bound, and why the zone-sides cannot be summed ('' when they can)."""
+
+    keys: tuple[int, ...]
+    sides: tuple[SideBound, ...]
+    clash: str
+
+
+class RingWalks:
+    """The ring walks of one run's zone-sides: each zone-side's regions drawn once (when it first walks) and each walk
+    at a patch side kept once done, so that walks done ahead (:meth:`ahead`, searched all the way) serve a later
+    :func:`walked_sides` under any counts (:func:`ring_of`)."""
+
+    def __init__(
+        self,
+        site: Site,
+        targets: Any,
+        limits: SightLimits,
+        share: float,
+        required: NDArray[np.bool_],
+        *,
+        cache: dict[int, Any],
+        spaces: dict[str, FrameSpace],
+        outer_regions: OuterRegions,
+    ) -> None:
+        self.site, self.targets, self.limits, self.share = site, targets, limits, share
+        self.required = np.asarray(required, dtype=bool)
+        self.cache, self.spaces, self.outer_regions = cache, spaces, outer_regions
+        self.key = targets.zone.astype(np.int64) * 2 + targets.side
+        self._sides: dict[int, SidePieces] = {}
+        self._levels: dict[int, list[float]] = {}
+        self._graphs: dict[tuple[int, int], tuple[RingGraph | None, int]] = {}  # formed ahead, not walked yet
+        self._done: dict[tuple[int, int], tuple[bool, int | None, int]] = {}  # walked all the way
+
+    def draw(self, keys: list[int]) -> None:
+        """The regions, inner and outer, of the zone-sides ``keys`` not drawn yet (one call for all their pieces)."""
+        todo = [k for k in keys if k not in self._sides]
+        pieces_of = {k: np.flatnonzero(self.key == k) for k in todo}
+        drawn = [int(p) for k in todo for p in pieces_of[k]]
+        if not drawn:
+            return
+        t, limits = self.targets, self.limits
+        self.cache.update(
+            coverage_regions(self.site, t, limits, [p for p in drawn if p not in self.cache], self.spaces)
+        )
+        outer = self.outer_regions.of(self.site, t, limits, drawn)
+        grow_m = outer_tolerance_m(limits)
+        shrink_m = region_tolerance_m(limits, self.site.parameters.min_standoff_m)
+        lengths = t.s1_m - t.s0_m
+        for k, ps in pieces_of.items():
+            regs = [outer[int(p)] for p in ps], [self.cache[int(p)] for p in ps]
+            self._sides[k] = SidePieces(*regs, lengths[ps], self.required[ps], grow_m, shrink_m)
+            self._levels[k] = list(patch_sides(self._sides[k].outer))
+
+    def side(self, key: int) -> SidePieces:
+        """The regions of zone-side ``key`` (drawn now where they are not yet)."""
+        self.draw([key])
+        return self._sides[key]
+
+    def levels(self, key: int) -> list[float]:
+        """The patch sides zone-side ``key`` is walked at, in turn (:func:`patch_sides`)."""
+        self.draw([key])
+        return self._levels[key]
+
+    def prepare(self, key: int, level: int) -> bool:
+        """Form the ring graph of zone-side ``key`` at its ``level``-th patch side, kept for its walk; whether it
+        formed."""
+        done = self._done.get((key, level))
+        if done is not None:
+            return done[0]
+        if (key, level) not in self._graphs:
+            self._graphs[key, level] = side_graph(self.side(key), self.share, self.levels(key)[level])
+        return self._graphs[key, level][0] is not None
+
+    def ahead(self, key: int, level: int) -> None:
+        """Walk zone-side ``key`` at its ``level``-th patch side all the way (for any counts later), on the graph
+        :meth:`prepare` formed (formed now where it did not); the graph is then let go."""
+        if (key, level) in self._done:
+            return
+        self.prepare(key, level)
+        graph, fam = self._graphs.pop((key, level))
+        self._done[key, level] = (graph is not None, None if graph is None else graph.unit_walk(limit=np.inf), fam)
+
+    def walk(self, key: int, level: int, target: int) -> tuple[int | None, int]:
+        """:func:`side_ring_bound` of zone-side ``key`` at its ``level``-th patch side: from the walk done ahead where
+        there is one, else from the graph formed ahead, else formed now; the walk searched only as far as ``target``
+        needs where not done ahead."""
+        done = self._done.get((key, level))
+        if done is not None:
+            return ring_of(done[0], done[1], target), done[2]
+        if (key, level) in self._graphs:
+            graph, fam = self._graphs.pop((key, level))
+            if graph is None:
+                return None, fam
+            return ring_of(True, graph.unit_walk(limit=target - 1.5), target), fam
+        return side_ring_bound(self.side(key), self.share, self.levels(key)[level], target)
+
+
+def walked_sides(
+    head: FarleyShares, walks: RingWalks, counts: dict[int, int], work_patches: int, refine_steps: int
+) -> tuple[SideBound, ...]:
+    """The zone-sides' parts: Farley's shares of ``head`` raised by the ring walks (level by level across the
+    zone-sides below their counts, within ``work_patches``) and, with ``refine_steps``, the refined cover."""
+    keys, sides = list(head.keys), list(head.sides)
+    # only a zone-side below its count walks rings (or is refined): its pieces' regions, inner and outer, drawn now
+    walk = [walks.share > 0 and sides[i].value < counts.get(k, 0) for i, k in enumerate(keys)]
+    walks.draw([k for k, w_ in zip(keys, walk) if w_])
+    levels = [walks.levels(k) if w_ else [] for k, w_ in zip(keys, walk)]
+    spent, open_ = 0, [True] * len(keys)
+    for level in range(max((len(x) for x in levels), default=0)):
+        run = []  # the zone-sides that walk at this level: decided before any walks (a walk changes only its side)
+        for i, k in enumerate(keys):
+            if not open_[i] or level >= len(levels[i]) or sides[i].value >= counts.get(k, 0):
+                open_[i] = False
+                continue
+            cost = FIRST_PATCHES * 4**level
+            if spent + cost > work_patches:
+                open_[i] = False  # the budget: this side keeps what it has
+                continue
+            spent += cost
+            run.append(i)
+        walked = ordered_map(partial(_walk_level, walks, keys, counts, level), run)  # side by side
+        for i, (ring, fam) in zip(run, walked):
+            h = levels[i][level]
+            if ring is None:
+                open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
+            elif ring > (sides[i].ring or 0):
+                sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
+    for i, k in enumerate(keys):
+        if refine_steps > 0 and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
+            refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps)
+            sides[i] = replace(sides[i], refined=refined)
+    return tuple(sides)
+
+
+def _walk_level(
+    walks: RingWalks, keys: list[int], counts: dict[int, int], level: int, i: int
+) -> tuple[int | None, int]:
+    """:meth:`RingWalks.walk` of zone-side ``i`` at ``level``."""
+    return walks.walk(keys[i], level, counts.get(keys[i], 0))

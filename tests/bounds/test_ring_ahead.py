@@ -1,0 +1,133 @@
+"""The connected plane bound's walks done ahead (:mod:`planner.bounds.ring_ahead`): a walk searched all the way gives
+every target's ring part (:func:`planner.bounds.plane_ring.ring_of`), and the bound with walks done ahead in a forked
+process equals the bound done alone, under counts the walks ahead were not told, when the process fails, and where
+no second core is free (then nothing is forked)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import planner
+import planner.bounds.ring_ahead as ahead_mod
+from planner.bounds.outer import OuterRegions
+from planner.bounds.plane_ring import connected_plane_bound, farley_shares
+from planner.bounds.ring_ahead import WalksAhead, ahead_order
+from planner.bounds.ring_walks import RingWalks, ring_of, side_graph, side_ring_bound
+from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
+from planner.site.model import ScanSide, Site, Zone
+from planner.site.params import Parameters
+from planner.site.validate import validate_site
+from planner.solve.milp import MilpOptions
+
+SHARE = 0.3
+WORK = 130_000  # level 0 of both zone-sides and level 1 of one (20,000 patches, then 80,000)
+
+
+def _box(x0: float, y0: float, x1: float, y1: float) -> tuple[tuple[float, float], ...]:
+    return ((x0, y0), (x1, y0), (x1, y1), (x0, y1))
+
+
+@pytest.fixture(scope="module")
+def room() -> tuple[Site, object, object]:
+    """An L-shaped room and its outside: two zone-sides that both walk rings."""
+    inside = ((0, 0), (9, 0), (9, 4), (4, 4), (4, 8), (0, 8))
+    zones = (
+        Zone("A", ScanSide.INSIDE, inside, (3.0,) * 6),
+        Zone("O", ScanSide.OUTSIDE, _box(-3, -3, 14, 12), (3.0,) * 4),
+    )
+    site = Site("ahead", zones, parameters=Parameters(theta_max_deg=70.0, max_slant_range_m=20.0, overlap=SHARE))
+    options = PlanOptions(method="milp", precision=False, milp=MilpOptions(overlap=planner.OverlapRule(SHARE)))
+    problem, _unseen, _ = coverage_problem(resolve(site, options))
+    return site, problem, plan_limits(validate_site(site), options)
+
+
+def _walks(site: Site, problem, limits) -> RingWalks:  # type: ignore[no-untyped-def]
+    seen = problem.by_target.getnnz(axis=1) > 0
+    return RingWalks(site, problem.targets, limits, SHARE, seen, cache={}, spaces={}, outer_regions=OuterRegions())
+
+
+def _bound(site: Site, problem, limits, counts: dict[int, int], ahead: WalksAhead | None = None):  # type: ignore[no-untyped-def]
+    duals = np.zeros(len(problem.targets))
+    return connected_plane_bound(
+        site, problem, limits, SHARE, duals, counts, work_patches=WORK, outer_regions=OuterRegions(), ahead=ahead
+    )
+
+
+def _keys(problem) -> list[int]:  # type: ignore[no-untyped-def]
+    t = problem.targets
+    return [int(k) for k in np.unique(t.zone.astype(np.int64) * 2 + t.side)]
+
+
+def test_ring_of_caps_the_walk_at_the_target() -> None:
+    assert [ring_of(True, 5, t) for t in (3, 5, 6, 9)] == [3, 5, 5, 5]
+    assert ring_of(True, None, 4) == 4 and ring_of(False, None, 4) is None and ring_of(False, 3, 4) is None
+
+
+@pytest.mark.slow
+def test_a_walk_searched_all_the_way_gives_every_targets_ring(room) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+    walks = _walks(site, problem, limits)
+    for key in _keys(problem):
+        pieces, h = walks.side(key), walks.levels(key)[0]
+        graph, fam = side_graph(pieces, SHARE, h)
+        assert graph is not None
+        walk = graph.unit_walk()  # all the way
+        assert walk is not None
+        for target in (1, walk - 1, walk, walk + 1, walk + 5):
+            assert graph.unit_walk(limit=target - 1.5) in (None, walk) or target <= walk  # the reach of a target
+            assert side_ring_bound(pieces, SHARE, h, target) == (ring_of(True, walk, target), fam)
+
+
+def test_the_order_ahead_starts_with_the_largest_zone_side_and_keeps_to_the_work(room) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+    walks = _walks(site, problem, limits)
+    keys = _keys(problem)
+    order = ahead_order(walks, keys, WORK)
+    sizes = {k: int(np.count_nonzero(walks.key == k)) for k in keys}
+    assert order[0][0] == max(keys, key=lambda k: (sizes[k], -k))
+    assert [level for _, level in order] == [0, 1] * len(keys)  # 20,000 + 80,000 patches, then 320,000 more
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("counts", [(9, 9), (1, 9), (9, 1), (30, 30)])
+def test_the_bound_with_walks_ahead_is_the_bound_alone(room, counts, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+    want = dict(zip(_keys(problem), counts))
+    alone = _bound(site, problem, limits, want)
+    monkeypatch.setattr(ahead_mod, "thread_count", lambda: 2)
+    started = WalksAhead.start(_walks(site, problem, limits), WORK)
+    assert started is not None
+    from_process = started.walked(*_asked(site, problem, limits, want))
+    assert from_process is not None and from_process == alone.sides  # the process answered, the same parts
+    started = WalksAhead.start(_walks(site, problem, limits), WORK)
+    with_ahead = _bound(site, problem, limits, want, started)
+    assert with_ahead.sides == alone.sides and with_ahead.bound == alone.bound
+    assert any(s.ring is not None for s in alone.sides) or max(counts) == 1
+
+
+@pytest.mark.slow
+def test_a_failed_process_leaves_the_walks_to_this_one(room, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+    want = dict.fromkeys(_keys(problem), 9)
+    alone = _bound(site, problem, limits, want)
+    monkeypatch.setattr(ahead_mod, "thread_count", lambda: 2)
+    started = WalksAhead.start(_walks(site, problem, limits), WORK)
+    assert started is not None
+    started._process.kill()
+    started._process.join()
+    assert started.walked(*_asked(site, problem, limits, want)) is None
+    started = WalksAhead.start(_walks(site, problem, limits), WORK)
+    started._process.kill()
+    assert _bound(site, problem, limits, want, started).sides == alone.sides
+
+
+def _asked(site: Site, problem, limits, counts):  # type: ignore[no-untyped-def]
+    head = farley_shares(site, problem, limits, np.zeros(len(problem.targets)), OuterRegions())
+    return head, counts, problem.by_target.getnnz(axis=1) > 0, WORK, 0
+
+
+def test_nothing_is_forked_without_a_free_core(room, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+    monkeypatch.setattr(ahead_mod, "thread_count", lambda: 1)
+    assert WalksAhead.start(_walks(site, problem, limits), WORK) is None
