@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -42,6 +42,8 @@ HYPERBOLA_SAGITTA_M = 1e-3
 STANDOFF_QUAD_SEGS = 16
 #: pieces whose stages before sight are drawn together (vectorised; memory in proportion)
 CHUNK = 256
+#: range discs kept per frame for later chunks and calls (about 8 kB each)
+DISC_CACHE = 4096
 
 
 def regions_apply(limits: SightLimits) -> bool:
@@ -77,6 +79,9 @@ class FrameSpace:
     box: shapely.Geometry
     blockers: Blockers | None  # None: a lone convex zone, where nothing blocks a front-facing piece
     far_m: float
+    #: range discs drawn in this frame, by (x, y, radius): a piece's end is shared with its neighbour, which another
+    #: chunk or call may draw (the inside and outside pieces of a wall, the batches of a common region)
+    discs: dict[tuple[float, float, float], shapely.Geometry] = field(default_factory=dict, repr=False)
 
 
 def _frame_bounds(site: Site, frame: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -255,7 +260,8 @@ def convex_stages(
     live = ~gone
     if limited:  # the range discs, inscribed (circumscribed with ``outer``)
         cos = math.cos(math.pi / DISC_SEGMENTS)
-        for disc in _discs([e[live] for e, _ in ends], [r[live] / cos if outer else r[live] for r in reach]):
+        radii = [r[live] / cos if outer else r[live] for r in reach]
+        for disc in _discs([e[live] for e, _ in ends], radii, space.discs):
             k[live] = shapely.intersection(k[live], disc)
     k[gone] = shapely.Polygon()
     out = {"range": k.copy()}
@@ -280,13 +286,26 @@ def convex_stages(
     return out
 
 
-def _discs(centres: list[NDArray[np.float64]], radii: list[NDArray[np.float64]]) -> list[NDArray[np.object_]]:
-    """The range discs about ``centres`` (one array per end), each distinct (centre, radius) drawn once."""
+def _discs(
+    centres: list[NDArray[np.float64]],
+    radii: list[NDArray[np.float64]],
+    cache: dict[tuple[float, float, float], shapely.Geometry],
+) -> list[NDArray[np.object_]]:
+    """The range discs about ``centres`` (one array per end), each distinct (centre, radius) drawn once: taken from
+    ``cache`` where drawn before (the same disc: one buffer of one point), else drawn here and kept there (up to
+    :data:`DISC_CACHE` discs)."""
     key = np.column_stack([np.concatenate(centres), np.concatenate(radii)])
     if not len(key):
         return [np.zeros(0, dtype=object) for _ in centres]
     rows, inverse = np.unique(key, axis=0, return_inverse=True)
-    drawn = shapely.buffer(shapely.points(rows[:, :2]), rows[:, 2], quad_segs=DISC_SEGMENTS // 4)[inverse.reshape(-1)]
+    keys = [(x, y, r) for x, y, r in rows.tolist()]
+    drawn = np.array([cache.get(k) for k in keys] + [None], dtype=object)[:-1]
+    new = np.flatnonzero(drawn == None)  # noqa: E711 (elementwise: the discs not drawn yet)
+    if new.size:
+        drawn[new] = shapely.buffer(shapely.points(rows[new, :2]), rows[new, 2], quad_segs=DISC_SEGMENTS // 4)
+        room = max(0, DISC_CACHE - len(cache))
+        cache.update((keys[i], drawn[i]) for i in new[:room].tolist())
+    drawn = drawn[inverse.reshape(-1)]
     return list(np.split(drawn, np.cumsum([len(c) for c in centres])[:-1]))
 
 
