@@ -16,8 +16,10 @@ it fails in any way, the walks are done in this process.
 
 from __future__ import annotations
 
+import logging
 import multiprocessing
 import os
+import signal
 import sys
 import threading
 from multiprocessing.connection import Connection
@@ -80,7 +82,7 @@ class WalksAhead:
                 if not self._process.is_alive() and not self._conn.poll():
                     return None
             kind, got = self._conn.recv()
-        except (OSError, EOFError):
+        except Exception:  # the pipe broken or the answer unreadable: the caller walks them itself
             return None
         finally:
             self.close()
@@ -120,33 +122,15 @@ def _second_core() -> None:
 
 
 def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
-    """The forked process: ring graphs and walks ahead until asked (each graph first, then their walks searched all
-    the way), then the bound's parts under the counts sent."""
+    """The forked process: ring graphs and walks ahead until asked (:func:`_until_asked`), then the bound's parts under
+    the counts sent. It writes nothing: any failure ends it quietly, and the parent then walks them itself."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # an interrupt is the parent's to handle (it ends this process)
+    logging.disable(logging.CRITICAL)
     progress.set_sink(None)  # the run's progress is this process's parent's to show
     _second_core()
-    keys = [int(k) for k in np.unique(walks.key[walks.required])] if walks.share > 0 else []
-    order = ahead_order(walks, keys, work_patches)
-    formed: list[tuple[int, int]] = []
-    closed: set[int] = set()
     try:
-        for k, level in order:  # first the graphs, the bulk of the work ...
-            if conn.poll():
-                break
-            if k in closed or level >= len(walks.levels(k)):
-                continue
-            if walks.prepare(k, level):
-                formed.append((k, level))
-            else:
-                closed.add(k)  # not formed: no walk at a finer side is taken either
-        for k, level in formed:  # ... then their walks all the way, while the parent has not asked
-            if conn.poll():
-                break
-            walks.ahead(k, level)
-        asked = conn.recv()
-    except (EOFError, OSError):
-        return
-    head, counts, required, spent, refine_steps = asked
-    try:
+        _until_asked(conn, walks, work_patches)
+        head, counts, required, spent, refine_steps = conn.recv()
         if not np.array_equal(required, walks.required):  # other pieces to cover: walks done ahead do not serve
             walks = RingWalks(
                 walks.site,
@@ -159,5 +143,26 @@ def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
                 outer_regions=walks.outer_regions,
             )
         conn.send(("sides", walked_sides(head, walks, counts, spent, refine_steps)))
-    except Exception as err:  # the parent walks them itself (and meets the error there)
-        conn.send(("error", f"{type(err).__name__}: {err}"))
+    except BaseException:  # the parent gone, or a failure here: the parent walks them itself
+        return
+
+
+def _until_asked(conn: Connection, walks: RingWalks, work_patches: int) -> None:
+    """The walks of :func:`ahead_order` until the parent asks: each ring graph first (the bulk of the work), then
+    their walks searched all the way."""
+    keys = [int(k) for k in np.unique(walks.key[walks.required])] if walks.share > 0 else []
+    formed: list[tuple[int, int]] = []
+    closed: set[int] = set()
+    for k, level in ahead_order(walks, keys, work_patches):
+        if conn.poll():
+            return
+        if k in closed or level >= len(walks.levels(k)):
+            continue
+        if walks.prepare(k, level):
+            formed.append((k, level))
+        else:
+            closed.add(k)  # not formed: no walk at a finer side is taken either
+    for k, level in formed:
+        if conn.poll():
+            return
+        walks.ahead(k, level)

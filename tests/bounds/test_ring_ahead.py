@@ -131,3 +131,17 @@ def test_nothing_is_forked_without_a_free_core(room, monkeypatch) -> None:  # ty
     site, problem, limits = room
     monkeypatch.setattr(ahead_mod, "thread_count", lambda: 1)
     assert WalksAhead.start(_walks(site, problem, limits), WORK) is None
+
+
+def test_a_failure_in_the_process_is_quiet_and_leaves_the_walks_here(room, monkeypatch, capfd) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+
+    def broken(self, key: int, level: int) -> bool:  # type: ignore[no-untyped-def]
+        raise RuntimeError("broken walk")
+
+    monkeypatch.setattr(ahead_mod, "thread_count", lambda: 2)
+    monkeypatch.setattr(RingWalks, "prepare", broken)  # in the forked copy too
+    started = WalksAhead.start(_walks(site, problem, limits), WORK)
+    assert started is not None
+    assert started.walked(*_asked(site, problem, limits, dict.fromkeys(_keys(problem), 9))) is None
+    assert capfd.readouterr().err == ""  # no traceback from the process
