@@ -163,8 +163,10 @@ class CpSatBackend:
         shared: dict[tuple[int, ...], list[int]] = {}
         for idx, coef, lb in rows:
             neg = np.flatnonzero(coef < 0)
-            if lb == 0.0 and neg.size == 1 and coef[neg[0]] == -1.0 and np.sum(coef == 1.0) == coef.size - 1:
-                shared.setdefault(tuple(sorted(int(v) for v in np.delete(idx, neg))), []).append(int(idx[neg[0]]))
+            if lb == 0.0 and neg.size == 1 and coef[neg[0]] == -1.0 and np.count_nonzero(coef == 1.0) == coef.size - 1:
+                # the key sorted in numpy (a region cut lists hundreds of neighbours): the same tuple of ints
+                key = np.sort(np.delete(idx, neg).astype(np.int64)).tolist()
+                shared.setdefault(tuple(key), []).append(int(idx[neg[0]]))
             elif lb == 1.0 and np.all(coef == 1.0):
                 self.model.AddBoolOr([self.x[i] for i in idx])
             elif is_integral(coef) and float(lb).is_integer():

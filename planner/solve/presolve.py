@@ -69,22 +69,90 @@ def dominated(
     neighbours in the plan are among those j is linked to (a replacer is kept, never dropped). A candidate covering
     nothing goes when no neighbour of it is left, or for such a j.
 
-    No candidate x candidate product is formed: a replacer of i sees i's piece with the fewest kept candidates, so
-    each piece keeps the list of kept candidates that see it and i is checked against the shortest of its pieces'
-    lists only. Work is in proportion to the pairs of the coverage matrix when few candidates stay.
+    The replacers of i are the kept candidates, considered before it, of its group, no dearer, that see every piece i
+    sees. Where the candidate x candidate product is cheap (:data:`PRODUCT_WORK`) those supersets are found for every
+    i at once, a block of rows at a time (:func:`_supersets`), and the walk in order only asks which of them are kept;
+    else each piece keeps the list of kept candidates that see it and i is checked against the shortest of its pieces'
+    lists only (work in proportion to the pairs of the coverage matrix when few candidates stay). Both give the same
+    mask.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()
-    n, n_t = a.shape
+    n = a.shape[0]
     size = np.diff(a.indptr)
     cost = np.asarray(cost, float)
     order = presolve_order(a, cost)
     gid = np.zeros(n, dtype=np.int64) if groups is None else group_ids(groups)
+    rel = None if adj is None else _Relation(adj)
+    sup = _supersets(a, size, cost, gid, order)
+    if sup is None:
+        return _dominated_by_pieces(a, size, cost, order, gid, rel)
+    ptr, js = sup
+    removed = np.zeros(n, dtype=bool)
+    kept = np.zeros(n, dtype=bool)
+    for i in order.tolist():
+        if size[i] == 0:
+            if rel is None or _no_bridge(rel, i, removed, kept, cost, gid):
+                removed[i] = True  # covers nothing: dropped unless it may be the only link between others
+                continue
+        elif ptr[i + 1] > ptr[i]:
+            inside = js[ptr[i] : ptr[i + 1]]
+            inside = inside[kept[inside]]
+            if inside.size and (rel is None or rel.covers(inside, rel.row(i, removed))):
+                removed[i] = True
+                continue
+        kept[i] = True
+    return removed
+
+
+#: the most multiply-adds (sum over pieces of their seers squared) for which :func:`dominated` forms the candidate x
+#: candidate product (in blocks); beyond it, the walk over the pieces' lists of kept seers
+PRODUCT_WORK = 300_000_000
+#: multiply-adds per block of rows of that product (bounds its memory too)
+_BLOCK_WORK = 8_000_000
+
+
+def _supersets(
+    a: sp.csr_matrix, size: np.ndarray, cost: np.ndarray, gid: np.ndarray, order: np.ndarray
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """For every candidate i (CSR: ``js[ptr[i]:ptr[i + 1]]``, ascending) the candidates j that could replace it in
+    :func:`dominated`: j sees every piece i sees, comes before i in ``order``, is no dearer and of i's group. None where
+    the product would cost more than :data:`PRODUCT_WORK`."""
+    n, n_t = a.shape
+    deg = np.bincount(a.indices, minlength=n_t).astype(np.int64)
+    if int((deg * deg).sum()) > PRODUCT_WORK:
+        return None
+    rank = np.empty(n, dtype=np.int64)
+    rank[order] = np.arange(n)
+    f = a.astype(np.int32)
+    ft = f.T.tocsr()
+    per_row = np.bincount(np.repeat(np.arange(n), size), weights=deg[a.indices], minlength=n)
+    block = (np.cumsum(per_row) - per_row) // _BLOCK_WORK  # rows in blocks of about _BLOCK_WORK multiply-adds
+    bounds = np.concatenate([[0], np.flatnonzero(np.diff(block)) + 1, [n]])
+    rows, cols = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
+    for lo, hi in zip(bounds[:-1].tolist(), bounds[1:].tolist()):
+        p = (f[lo:hi] @ ft).tocsr()
+        r = np.repeat(np.arange(lo, hi), np.diff(p.indptr))
+        c = p.indices.astype(np.int64)
+        ok = (p.data == size[r]) & (rank[c] < rank[r]) & (cost[c] <= cost[r]) & (gid[c] == gid[r])
+        rows.append(r[ok])
+        cols.append(c[ok])
+    r, c = np.concatenate(rows), np.concatenate(cols)
+    by = np.lexsort((c, r))
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(r, minlength=n), out=ptr[1:])
+    return ptr, c[by]
+
+
+def _dominated_by_pieces(
+    a: sp.csr_matrix, size: np.ndarray, cost: np.ndarray, order: np.ndarray, gid: np.ndarray, rel: _Relation | None
+) -> np.ndarray:
+    """:func:`dominated` by the pieces' lists of kept seers (no candidate x candidate product)."""
+    n, n_t = a.shape
     removed = np.zeros(n, dtype=bool)
     kept = np.zeros(n, dtype=bool)
     kept_by_piece: list[list[int]] = [[] for _ in range(n_t)]
     mark = np.zeros(n_t, dtype=np.int32)  # scratch: the pieces of the candidate under test
-    rel = None if adj is None else _Relation(adj)
     for i in order.tolist():
         cols = a.indices[a.indptr[i] : a.indptr[i + 1]]
         if size[i] == 0:
@@ -215,19 +283,18 @@ def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:
 
 def implied_targets(by_target: sp.csr_matrix) -> np.ndarray:
     """Mask of targets whose cover follows from another's: if every candidate that sees t' also sees t, covering t'
-    covers t (valid for k = 1 in the single-precision mode). Duplicates keep the lowest index."""
+    covers t (valid for k = 1 in the single-precision mode). Duplicates keep the lowest index.
+
+    t goes when some t' with a candidate set strictly inside t's exists, or an earlier t' with the same set: the
+    earliest of equal sets is never implied by an equal one, so it stands for every later one (the same mask as
+    taking the targets one at a time and counting only the equal ones not yet implied)."""
     b = by_target.astype(np.int64).tocsr()
     size = np.diff(b.indptr)
-    inter = (b @ b.T).tocsr()
+    inter = (b @ b.T).tocoo()
+    t, r, vals = inter.row, inter.col, inter.data
+    sub = (vals == size[r]) & (r != t) & (size[r] > 0) & ((size[r] < size[t]) | (r < t))
     out = np.zeros(b.shape[0], dtype=bool)
-    for t in range(b.shape[0]):
-        row = inter.indices[inter.indptr[t] : inter.indptr[t + 1]]
-        vals = inter.data[inter.indptr[t] : inter.indptr[t + 1]]
-        sub = (vals == size[row]) & (row != t) & ((size[row] < size[t]) | (row < t))
-        # a smaller-or-equal candidate set inside t's; equal sets: only the earlier one implies
-        sub &= ~out[row] | (size[row] < size[t])
-        if np.any(sub & (size[row] > 0)):
-            out[t] = True
+    out[t[sub]] = True
     return out
 
 

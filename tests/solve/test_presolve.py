@@ -245,3 +245,54 @@ def test_an_optimal_connected_plan_survives_the_passes(n: int, m: int, seed: int
     assert connected_optimum(a, cost, whole, groups, kept) == connected_optimum(
         a, cost, whole, groups, np.arange(a.shape[0])
     )
+
+
+@settings(max_examples=150, deadline=None, derandomize=True, database=None)
+@given(
+    n=st.integers(1, 24),
+    m=st.integers(1, 8),
+    seed=st.integers(0, 2**31 - 1),
+    density=st.one_of(st.none(), st.floats(0.1, 0.95)),
+    grouped=st.booleans(),
+)
+def test_the_product_and_the_pieces_drop_the_same(
+    n: int, m: int, seed: int, density: float | None, grouped: bool
+) -> None:
+    # the supersets from the candidate x candidate product (in blocks of a few rows, and in one), and the walk over
+    # the pieces' lists of kept seers (the product refused), against the definition
+    rng = np.random.default_rng(seed)
+    a = sp.csr_matrix(rng.random((n, m)) < 0.35)
+    cost = rng.integers(1, 3, n).astype(float)
+    adj = None
+    if density is not None:
+        upper = np.triu(rng.random((n, n)) < density, 1)
+        adj = sp.csr_matrix(upper | upper.T)
+    groups = rng.integers(0, 2, n).tolist() if grouped else None
+    want = oracle(a, cost, adj, groups).tolist()
+    for work, block in ((0, 8_000_000), (presolve.PRODUCT_WORK, 8_000_000), (presolve.PRODUCT_WORK, 3)):
+        with patch.object(presolve, "PRODUCT_WORK", work), patch.object(presolve, "_BLOCK_WORK", block):
+            assert dominated(a, cost, adj, groups).tolist() == want
+
+
+def implied_one_by_one(by_target: sp.csr_matrix) -> list[bool]:
+    """Implied targets taken one at a time: t goes for a t' whose candidate set lies inside t's, smaller, or equal and
+    earlier and not gone itself."""
+    sets = [
+        set(by_target.indices[by_target.indptr[t] : by_target.indptr[t + 1]].tolist())
+        for t in range(by_target.shape[0])
+    ]
+    out = [False] * len(sets)
+    for t, s in enumerate(sets):
+        out[t] = any(
+            r != t and q and q <= s and (len(q) < len(s) or (r < t and not out[r])) for r, q in enumerate(sets)
+        )
+    return out
+
+
+@settings(max_examples=150, deadline=None, derandomize=True, database=None)
+@given(n=st.integers(1, 8), m=st.integers(1, 20), seed=st.integers(0, 2**31 - 1), share=st.floats(0.05, 0.9))
+def test_implied_targets_as_taken_one_at_a_time(n: int, m: int, seed: int, share: float) -> None:
+    # equal candidate sets (the first stays), sets inside others, and targets no candidate sees
+    rng = np.random.default_rng(seed)
+    by_target = sp.csr_matrix(rng.random((m, n)) < share)
+    assert presolve.implied_targets(by_target).tolist() == implied_one_by_one(by_target)
