@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 from shapely.geometry.polygon import orient
 from shapely.ops import polylabel
 
-from planner.coverage.plan_sight import EPS_PLAN_M, convex
+from planner.coverage.plan_sight import EPS_PLAN_M
 from planner.coverage.regions import FrameSpace, coverage_regions, frame_space
 from planner.coverage.surface_sight import SurfaceLayer, SurfaceLimits, surface_layer
 from planner.coverage.surfaces import CEILING, FLOOR, SurfaceTargets, open_area
@@ -189,7 +189,7 @@ def patch_regions(
     ``spaces``: the walls' frame spaces (inner, or outer with ``outer``), made here where missing."""
     which = np.asarray(which, dtype=np.int64).reshape(-1)
     out: dict[int, shapely.Geometry] = {int(t): shapely.Polygon() for t in which}
-    is_convex = convex(patches.polygon) if len(patches) else np.zeros(0, dtype=bool)
+    is_convex = patches.is_convex
     for zi in np.unique(patches.zone[which]) if which.size else []:
         frame = site.zones[int(zi)].frame
         if frame not in spaces:

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from planner.core.checks import finite_number
-from planner.coverage.plan_sight import EPS_PLAN_M, PlanBlockers, convex, fans_clear, plan_blockers
+from planner.coverage.plan_sight import EPS_PLAN_M, PlanBlockers, fans_clear, plan_blockers
 from planner.coverage.surfaces import CEILING, FLOOR, REACH_TOL_M, SurfaceTargets, open_area
 from planner.instrument.models import Scanner
 from planner.site.model import ScanSide, Site
@@ -160,7 +160,7 @@ def surface_pairs(
     zone = np.asarray(zone, dtype=np.int64).reshape(-1)
     if len(zone) != len(xy):
         raise ValueError(f"{len(xy)} stations but {len(zone)} zone indices")
-    is_convex = convex(patches.polygon)
+    is_convex = patches.is_convex
     out: list[tuple[NDArray, ...]] = []
     for zi in np.unique(zone):
         here = np.flatnonzero(zone == zi)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -73,6 +74,14 @@ class SurfaceTargets(PieceArrays):
         if kind is not None:
             keep &= self.kind == kind
         return float(self.area_m2[keep].sum())
+
+    @cached_property
+    def is_convex(self) -> NDArray[np.bool_]:
+        """For each patch, whether it equals its convex hull (:func:`planner.coverage.plan_sight.convex`): worked out
+        once per set of patches, for every sight test that asks (a plan's tripod discs test hundreds of rims)."""
+        from planner.coverage.plan_sight import convex
+
+        return np.asarray(convex(self.polygon), dtype=bool) if len(self) else np.zeros(0, dtype=bool)
 
 
 def zone_blocks(site: Site, zi: int) -> list[tuple[shapely.Polygon, float]]:

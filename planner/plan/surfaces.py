@@ -289,7 +289,8 @@ def surface_discs(
     seen patch answers to the chosen station that sees it with the largest margin), and how many were shrunk. The
     radius is the smallest margin (:func:`_margins`) of the station's patches, checked with the full sight test at
     :data:`~planner.plan.tripod.RIM_POINTS` points of the rim and halved (three times at most, then 0) until none
-    is lost; below :data:`~planner.plan.tripod.MIN_RADIUS_M` it is 0."""
+    is lost; below :data:`~planner.plan.tripod.MIN_RADIUS_M` it is 0. Each halving step tests the rims of every
+    station still unsettled in one sight test (a pair's answer does not depend on the pairs tested with it)."""
     if not discs or cover.matrix.shape[1] == 0:
         return discs, 0
     m = cover.matrix[list(selected)].tocoo()
@@ -299,22 +300,52 @@ def surface_discs(
     margin = _margins(site, setup, xy[rows], zone[rows], pid)
     order = np.lexsort((-margin, pid))
     first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]  # the best station of each patch
+    first = first[np.argsort(rows[first], kind="stable")]  # grouped by station
+    owner, need = rows[first], pid[first]
+    ks, starts = np.unique(owner, return_index=True)
+    ends = np.r_[starts[1:], owner.size]
+    radius = np.array([discs[int(k)].radius_m for k in ks], dtype=float)
+    radius = np.minimum(radius, np.minimum.reduceat(margin[first], starts))
+    todo = np.flatnonzero(radius >= MIN_RADIUS_M)
+    for step in range(4):
+        if todo.size == 0:
+            break
+        kept = _rims_keep(site, setup, xy[ks[todo]], zone[ks[todo]], radius[todo], need, starts[todo], ends[todo])
+        radius[todo[~kept]] /= 2
+        if step == 3:  # the fourth test failed too: 0
+            radius[todo[~kept]] = 0.0
+        todo = todo[~kept & (radius[todo] >= MIN_RADIUS_M)]
+    radius[radius < MIN_RADIUS_M] = 0.0
     out, shrunk = list(discs), 0
+    for i, k in enumerate(ks.tolist()):
+        if radius[i] < discs[k].radius_m:
+            out[k], shrunk = replace(discs[k], radius_m=float(radius[i])), shrunk + 1
+    return tuple(out), shrunk
+
+
+def _rims_keep(
+    site: Site,
+    setup: SurfaceSetup,
+    xy: NDArray[np.float64],
+    zone: NDArray[np.int64],
+    radius: NDArray[np.float64],
+    need: NDArray[np.int64],
+    starts: NDArray[np.int64],
+    ends: NDArray[np.int64],
+) -> NDArray[np.bool_]:
+    """For each disc (centre ``xy`` standing in ``zone``, ``radius``), whether every one of the
+    :data:`~planner.plan.tripod.RIM_POINTS` points of its rim sees all of its patches ``need[starts:ends]``: one
+    sight test for all the rims."""
     angles = np.linspace(0.0, 2 * math.pi, RIM_POINTS, endpoint=False)
     ring = np.column_stack([np.cos(angles), np.sin(angles)])
-    for k in np.unique(rows[first]):
-        mine = first[rows[first] == k]
-        r = min(discs[k].radius_m, float(margin[mine].min()))
-        need = pid[mine]
-        for _ in range(4):
-            if r < MIN_RADIUS_M:
-                break
-            rim = xy[k] + r * ring
-            seen = surface_sight(site, setup.patches, rim, np.full(RIM_POINTS, zone[k]), setup.limits)
-            if seen[:, need].toarray().all():
-                break
-            r /= 2
-        r = r if r >= MIN_RADIUS_M else 0.0
-        if r < discs[k].radius_m:
-            out[k], shrunk = replace(discs[k], radius_m=r), shrunk + 1
-    return tuple(out), shrunk
+    rim = (xy[:, None, :] + radius[:, None, None] * ring[None, :, :]).reshape(-1, 2)
+    seen = surface_sight(site, setup.patches, rim, np.repeat(zone, RIM_POINTS), setup.limits).tocsr()
+    counts = ends - starts
+    disc = np.repeat(np.arange(len(xy)), counts)  # each (disc, patch) needed
+    patch = need[np.concatenate([np.arange(a, b) for a, b in zip(starts, ends)])] if len(xy) else need[:0]
+    point = np.repeat(disc * RIM_POINTS, RIM_POINTS) + np.tile(np.arange(RIM_POINTS), disc.size)
+    asked = sparse.csr_matrix(
+        (np.ones(point.size, dtype=bool), (point, np.repeat(patch, RIM_POINTS))), shape=seen.shape, dtype=bool
+    )
+    got = np.asarray(asked.multiply(seen).sum(axis=1)).ravel().reshape(-1, RIM_POINTS).sum(axis=1)
+    return np.asarray(got == counts * RIM_POINTS, dtype=bool)

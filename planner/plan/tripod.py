@@ -34,11 +34,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
-from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.matrix import CoverageProblem, build_coverage, station_places
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
 from planner.site.candidate import Candidate
-from planner.site.model import Site
+from planner.site.model import ScanSide, Site
 
 if TYPE_CHECKING:
     from planner.plan.options import PlanOptions
@@ -198,12 +198,32 @@ def take_targets(t: Targets, idx: np.ndarray) -> Targets:
     return replace(t, **{name: getattr(t, name)[idx] for name in arrays})
 
 
-def _probes(cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float) -> list[Candidate]:
-    """The disc's centre, the planned station and ``RIM_POINTS`` points of the rim, as candidates to check."""
+def _probe_xy(p0: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
+    """The disc's centre, the planned station and ``RIM_POINTS`` points of the rim: (RIM_POINTS + 2, 2)."""
     angles = np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False)
     rim = np.stack([np.cos(angles), np.sin(angles)], axis=1)
-    pts = np.vstack([centre, p0, centre + radius * rim])
+    return np.vstack([centre, p0, centre + radius * rim])
+
+
+def _probes(cand: Candidate, p0: np.ndarray, centre: np.ndarray, radius: float) -> list[Candidate]:
+    """The points of :func:`_probe_xy` as candidates to check."""
+    pts = _probe_xy(p0, centre, radius)
     return [replace(cand, id=f"{cand.id}#{k}", x=float(x), y=float(y)) for k, (x, y) in enumerate(pts)]
+
+
+def _misplaced(site: Site, cands: Sequence[Candidate], xy: np.ndarray) -> np.ndarray:
+    """For each point ``xy[i]`` (of candidate ``cands[i]``'s zone-side), True where a station of that zone-side
+    cannot stand there (:func:`planner.candidates.final_step.misplacement`'s rule, for all the points in one
+    classification)."""
+    places = station_places(site, xy, [c.frame for c in cands])
+    zone_of: dict[str, int] = {}
+    for i, z in enumerate(site.zones):
+        zone_of.setdefault(z.id, i)  # the first zone of an id, as misplacement takes it
+    zi = np.array([zone_of[c.zone] for c in cands], dtype=np.int64).reshape(-1)
+    inside = places.inside[np.arange(len(cands)), zi] if len(cands) else np.zeros(0, dtype=bool)
+    wants = np.array([c.side is ScanSide.INSIDE for c in cands], dtype=bool).reshape(-1)
+    bad: np.ndarray = np.array([bool(r) for r in places.reason], dtype=bool).reshape(-1) | (inside != wants)
+    return bad
 
 
 def _safe_at_first(
@@ -214,32 +234,42 @@ def _safe_at_first(
     limits: SightLimits,
 ) -> list[bool]:
     """Whether each station's first disc ``(j, relied pieces, p0, centre, radius)`` is safe, as
-    :func:`_shrink_until_safe` tests it, with one coverage build for the probes of every station over the pieces any
-    relies on (a pair's coverage does not depend on the other pairs built with it); a disc below ``MIN_RADIUS_M`` is
-    not safe here (it is left to :func:`_shrink_until_safe`)."""
-    from planner.candidates.final_step import misplacement
-
+    :func:`_shrink_until_safe` tests it, with one classification of the probe points and one coverage build for the
+    probes of every station over the pieces any relies on (a pair's coverage does not depend on the other pairs
+    built with it); a disc below ``MIN_RADIUS_M`` is not safe here (it is left to :func:`_shrink_until_safe`)."""
     safe = [False] * len(first)
+    n = RIM_POINTS + 2
+    tried = [k for k, (_, _, _, _, radius) in enumerate(first) if radius >= MIN_RADIUS_M]
+    if not tried:
+        return safe
+    xy = np.vstack([_probe_xy(first[k][2], first[k][3], first[k][4]) for k in tried])
+    owners = [candidates[first[k][0]] for k in tried for _ in range(n)]
+    bad = np.asarray(_misplaced(site, owners, xy).reshape(len(tried), n).any(axis=1), dtype=bool).tolist()
     probes: list[Candidate] = []
     rows: list[tuple[int, int, np.ndarray]] = []  # (position in first, first probe row, relied pieces)
-    for k, (j, ts, p0, centre, radius) in enumerate(first):
-        if radius < MIN_RADIUS_M:
-            continue
-        mine = _probes(candidates[j], p0, centre, radius)
-        if any(misplacement(site, p, p.x, p.y) for p in mine):
+    for k, misplaced in zip(tried, bad):
+        j, ts, p0, centre, radius = first[k]
+        if misplaced:
             continue
         if not ts.size:
             safe[k] = True
             continue
         rows.append((k, len(probes), ts))
-        probes += mine
+        probes += _probes(candidates[j], p0, centre, radius)
     if rows:
         pieces = np.unique(np.concatenate([ts for _, _, ts in rows]))
-        cover = build_coverage(site, probes, take_targets(t, pieces), limits).by_candidate.tocsr()
-        n = RIM_POINTS + 2
-        for k, r0, ts in rows:
-            sub = cover[r0 : r0 + n][:, np.searchsorted(pieces, ts)]
-            safe[k] = bool(np.all(np.diff(sub.tocsr().indptr) == len(ts)))
+        cover = build_coverage(site, probes, take_targets(t, pieces), limits).by_candidate.tocsr().astype(bool)
+        # every probe of a station must see each of its relied pieces: (probe, piece) pairs asked, then counted
+        counts = np.array([ts.size for _, _, ts in rows], dtype=np.int64)
+        probe = (np.array([r0 for _, r0, _ in rows], dtype=np.int64)[:, None] + np.arange(n)).ravel()
+        piece = np.searchsorted(pieces, np.concatenate([ts for _, _, ts in rows]))
+        first_piece = np.r_[0, np.cumsum(counts)[:-1]]
+        ask_row = np.repeat(probe, np.repeat(counts, n))
+        ask_col = np.concatenate([piece[a : a + c] for a, c in zip(first_piece, counts) for _ in range(n)])
+        asked = sp.csr_matrix((np.ones(ask_row.size, dtype=bool), (ask_row, ask_col)), shape=cover.shape, dtype=bool)
+        got = np.asarray(asked.multiply(cover).sum(axis=1)).ravel()[probe].reshape(len(rows), n)
+        for (k, _, _), ok in zip(rows, np.all(got == counts[:, None], axis=1).tolist()):
+            safe[k] = ok
     return safe
 
 
