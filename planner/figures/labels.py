@@ -31,6 +31,7 @@ from matplotlib.text import Annotation
 from numpy.typing import NDArray
 
 from planner.figures.base import scale_and_north
+from planner.figures.layout import Layouts, remember, reuse
 
 #: pixels kept free between any two boxes (labels, markers, obstacles)
 PAD_PX = 2.0
@@ -66,18 +67,24 @@ class Placed:
     omitted: tuple[str, ...]
 
 
-def freeze_layout(fig: Figure, axes: Sequence[Axes] = ()) -> RendererBase:
+def freeze_layout(fig: Figure, axes: Sequence[Axes] = (), layouts: Layouts | None = None) -> RendererBase:
     """Lay ``fig`` out once (its layout engine run, every axes' aspect applied, as a draw does before and after the
     layout), switch its layout engine off and fix the limits of ``axes``; returns the renderer that measures text at
-    the figure's dpi. No draw: nothing drawn is measured here, and a plan figure's draw costs as much as its layout."""
+    the figure's dpi. No draw: nothing drawn is measured here, and a plan figure's draw costs as much as its layout.
+
+    ``layouts``: the layouts of figures drawn before with it; a figure of the same make-up takes its layout where that
+    fits, instead of the engine's (:mod:`planner.figures.layout`), and the first of a make-up leaves its own there."""
     if not hasattr(fig.canvas, "get_renderer"):
         FigureCanvasAgg(fig)
     renderer: RendererBase = fig.canvas.get_renderer()  # type: ignore[attr-defined]
     _apply_aspects(fig, renderer)
     engine = fig.get_layout_engine()
     if fig.axes and engine is not None:
-        engine.execute(fig)
-        _apply_aspects(fig, renderer)
+        if layouts is None or not reuse(fig, layouts, renderer, lambda: _apply_aspects(fig, renderer)):
+            engine.execute(fig)
+            _apply_aspects(fig, renderer)
+            if layouts is not None:
+                remember(fig, layouts)
     for ax in axes:
         ax.set_xlim(ax.get_xlim())
         ax.set_ylim(ax.get_ylim())
@@ -287,13 +294,15 @@ def finish_plans(
     panels: Sequence[tuple[Axes, str, Sequence[PointLabel]]],
     fontsize: float = 7.0,
     max_gap_px: float | None = None,
+    layouts: Layouts | None = None,
 ) -> list[Placed]:
     """The last step of a plan figure whose panels were set up by :func:`planner.figures.base.frame_axes`: freeze the
-    layout once, then in each panel ``(axes, frame, labels)`` draw the scale bar and north arrow in the final limits and
-    place the labels (:func:`place_labels`), noting any left out (:func:`note_omitted`).
+    layout once (``layouts``: as :func:`freeze_layout`), then in each panel ``(axes, frame, labels)`` draw the scale
+    bar and north arrow in the final limits and place the labels (:func:`place_labels`), noting any left out
+    (:func:`note_omitted`).
 
     Returns what :func:`place_labels` returned for each panel."""
-    renderer = freeze_layout(fig, [ax for ax, _, _ in panels])
+    renderer = freeze_layout(fig, [ax for ax, _, _ in panels], layouts)
     out = []
     for ax, frame, labels in panels:
         scale_and_north(ax, frame)

@@ -16,6 +16,7 @@ from planner.core.checks import argument
 from planner.coverage.targets import SIDE_CODE
 from planner.figures.base import PLAN_MARGIN, frame_axes, legend_once
 from planner.figures.labels import PointLabel, finish_plans
+from planner.figures.layout import Layouts
 from planner.figures.storey_fig import draw_obstacles
 from planner.plan.outcome import Outcome
 from planner.plan.plan_dict import StationNumbering
@@ -75,9 +76,16 @@ def _stations(ax, o: Outcome, zone_id: str, side: ScanSide, numbering: StationNu
     return labels
 
 
-def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str, numbering: StationNumbering | None = None) -> Figure:
+def plan_figure(
+    o: Outcome,
+    zone_id: str,
+    side: ScanSide | str,
+    numbering: StationNumbering | None = None,
+    layouts: Layouts | None = None,
+) -> Figure:
     """Two panels of one zone-side: coverage count and best incidence angle of every wall piece; stations labelled
-    with their numbers in ``numbering`` (None: those the plan records), said in the title."""
+    with their numbers in ``numbering`` (None: those the plan records), said in the title. ``layouts``: the layouts
+    of the plan figures drawn before, whose layout this one takes where it fits (:mod:`planner.figures.layout`)."""
     argument(o, Outcome, "outcome")
     numbering = numbering or StationNumbering.recorded(o.meta, o.stations)
     side = ScanSide(side)
@@ -127,15 +135,19 @@ def plan_figure(o: Outcome, zone_id: str, side: ScanSide | str, numbering: Stati
         f"{o.site.name}: zone {zone.id}, {side.value} - {n} stations, "
         f"{100 * float((count > 0).mean()) if count.size else 100:.1f} % of pieces covered; {numbering.legend}"
     )
-    finish_plans(fig, panel_labels, fontsize=7)  # last: scale bars and labels in the final, frozen layout
+    finish_plans(
+        fig, panel_labels, fontsize=7, layouts=layouts
+    )  # last: scale bars and labels in the final, frozen layout
     return fig
 
 
 def plan_figures(o: Outcome, numbering: StationNumbering | None = None) -> list[tuple[str, Figure]]:
-    """One plan figure per zone-side, titled ``zone/side``, stations numbered by ``numbering`` (:func:`plan_figure`)."""
+    """One plan figure per zone-side, titled ``zone/side``, stations numbered by ``numbering`` (:func:`plan_figure`);
+    the first lays out the figures after it (:mod:`planner.figures.layout`)."""
     argument(o, Outcome, "outcome")
+    layouts = Layouts()
     return [
-        (f"{z.id}/{side.value}", plan_figure(o, z.id, side, numbering))
+        (f"{z.id}/{side.value}", plan_figure(o, z.id, side, numbering, layouts))
         for z in o.site.zones
         for side in z.scan_side.sides
     ]
