@@ -30,7 +30,7 @@ from planner.coverage.matrix import ON_WALL_M, blockers_for, convex_alone
 from planner.coverage.region_precision import PRECISION_CHORD_M, precision_region
 from planner.coverage.shadows import sight_stage, unit
 from planner.coverage.targets import Targets
-from planner.coverage.threads import ordered_map
+from planner.coverage.threads import ordered_map, thread_count
 from planner.coverage.visibility import EPS_FRONT_M, Blockers, SightLimits
 from planner.site.model import SITE_FRAME, Site
 
@@ -42,6 +42,8 @@ HYPERBOLA_SAGITTA_M = 1e-3
 STANDOFF_QUAD_SEGS = 16
 #: pieces whose stages before sight are drawn together (vectorised; memory in proportion)
 CHUNK = 256
+#: ... but a batch of pieces is split into as many chunks as there are threads, down to this many pieces a chunk
+MIN_CHUNK = 16
 #: range discs kept per frame for later chunks and calls (about 8 kB each)
 DISC_CACHE = 4096
 
@@ -163,19 +165,22 @@ def coverage_regions(
     """R_t for the pieces ``which`` (all by default), as shapely geometries (possibly empty). ``spaces`` caches
     :func:`frame_space` per frame between calls (one cache per ``outer``). ``outer``: the outer approximation O_t
     instead (:func:`piece_region`). The stages before sight are drawn :data:`CHUNK` pieces of a frame at a time
-    (:func:`convex_stages`), the chunks on a few threads (:func:`planner.coverage.threads.ordered_map`); each piece's
-    region is the one :func:`piece_region` draws."""
+    (:func:`convex_stages`; fewer, down to :data:`MIN_CHUNK`, so that a small batch gives every thread a chunk), the
+    chunks on a few threads (:func:`planner.coverage.threads.ordered_map`); each piece's region is the one
+    :func:`piece_region` draws."""
     spaces = spaces if spaces is not None else {}
     idx = np.arange(len(targets)) if which is None else np.asarray(which, dtype=np.int64).reshape(-1)
     drawn: dict[int, shapely.Geometry] = {}
     frame_of = np.asarray(targets.frame)[idx]
     chunks: list[tuple[NDArray[np.int64], FrameSpace]] = []
+    workers = thread_count()
     for f in dict.fromkeys(frame_of.tolist()):  # frames in order of first use
         frame = targets.frames[int(f)]
         if frame not in spaces:
             spaces[frame] = frame_space(site, frame, limits, outer)
         mine = idx[frame_of == f]
-        chunks += [(mine[start : start + CHUNK], spaces[frame]) for start in range(0, len(mine), CHUNK)]
+        size = min(CHUNK, max(MIN_CHUNK, -(-len(mine) // workers)))  # a small batch still keeps the threads busy
+        chunks += [(mine[start : start + size], spaces[frame]) for start in range(0, len(mine), size)]
     # the chunks side by side (each region is drawn from its own piece alone, so the same in any chunk)
     for part in ordered_map(lambda c: _sighted(targets, c[0], limits, c[1], outer), chunks):
         drawn.update(part)
