@@ -108,15 +108,16 @@ def connected_plane_bound(
     connected cover over patches refined up to that many times (:func:`planner.bounds.plane_refine.refined_bound`).
     ``cache``/``spaces`` and ``outer_regions``: the regions R_t and O_t this run has drawn already (pricing's).
     ``ahead``: the walks started on a second core before the plan was known
-    (:class:`planner.bounds.ring_ahead.WalksAhead`); it gives the same bound, and where it fails the walks are done
-    here."""
+    (:class:`planner.bounds.ring_ahead.WalksAhead`); it gives the same bound, and where it fails (or with
+    ``refine_steps``) the walks are done here."""
     t0 = time.perf_counter()
     outer_regions = OuterRegions() if outer_regions is None else outer_regions
     head = farley_shares(site, problem, limits, duals, outer_regions)
     if head.clash:
         return ConnectedPlaneBound(None, (), time.perf_counter() - t0, head.clash)
     required = problem.by_target.getnnz(axis=1) > 0
-    sides = None if ahead is None else ahead.walked(head, counts, required, work_patches, refine_steps)
+    # the refined cover (CP-SAT) is not run in the forked process: with refine steps, the walks are done here
+    sides = None if ahead is None or refine_steps else ahead.walked(head, counts, required, work_patches, 0)
     if sides is None:
         cache, spaces = ({} if cache is None else cache), ({} if spaces is None else spaces)
         walks = RingWalks(
