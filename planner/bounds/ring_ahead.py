@@ -53,10 +53,13 @@ class WalksAhead:
             return None
         if "fork" not in multiprocessing.get_all_start_methods():
             return None
+        try:
+            for stream in (sys.stdout, sys.stderr):  # nothing buffered is written twice
+                stream.flush()
+        except (OSError, ValueError, AttributeError):  # a closed or missing stream: no fork, the walks are done here
+            return None
         ctx = multiprocessing.get_context("fork")
         here, there = ctx.Pipe()
-        for stream in (sys.stdout, sys.stderr):  # nothing buffered is written twice
-            stream.flush()
         process = ctx.Process(target=_walk_ahead, args=(there, walks, work_patches), daemon=True)
         try:
             process.start()
