@@ -11,7 +11,7 @@ rule may join.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -49,10 +49,32 @@ class SidePieces:
     required: NDArray[np.bool_]
     grow_m: float
     shrink_m: float
+    #: what :meth:`shapes` and :meth:`grid` drew, by patch side (the ring walk and the cover over patches may share them)
+    _memo: dict[tuple[str, float], Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def shapes(self, h: float) -> tuple[list[Any], list[Any]]:
         """The outer regions grown (circumscribed) and the inner ones shrunk by their tolerance and half the diagonal of
-        a patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short)."""
+        a patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short);
+        drawn once per side."""
+        if ("shapes", h) not in self._memo:
+            self._memo["shapes", h] = self._shapes(h)
+        got: tuple[list[Any], list[Any]] = self._memo["shapes", h]
+        return got
+
+    def grid(self, h: float) -> tuple[sp.csr_matrix, NDArray[np.float64], Floats, Floats] | None:
+        """:func:`patch_grid` of the patches of side ``h`` over :meth:`shapes`. Only the first side asked is kept (the
+        first, coarsest side the ring walk and the cover over patches both take; a finer side's sets run to tens of
+        megabytes)."""
+        got: tuple[sp.csr_matrix, NDArray[np.float64], Floats, Floats] | None
+        if ("grid", h) in self._memo:
+            got = self._memo["grid", h]
+            return got
+        got = patch_grid(*self.shapes(h), self.lengths, h)
+        if not any(k[0] == "grid" for k in self._memo):
+            self._memo["grid", h] = got
+        return got
+
+    def _shapes(self, h: float) -> tuple[list[Any], list[Any]]:
         half = h * math.sqrt(0.5)
         d = (self.shrink_m + half) / math.cos(math.pi / (4 * _ERODE_SEGS))
         inner = np.asarray(self.inner, dtype=object)
@@ -80,6 +102,14 @@ def patch_sets(
     ``MAX_PATCHES``. ``grow``/``shrink``: regions already grown / shrunk by the tolerance and half the diagonal. A
     centre is in U's row of a piece when it lies in the interior of the piece's grown region, and adds the piece's
     length to l when it lies in the interiors of both regions (:func:`interior_runs`: as ``shapely.contains_xy``)."""
+    got = patch_grid(grow, shrink, lengths, h)
+    return None if got is None else got[:2]
+
+
+def patch_grid(
+    grow: list[Any], shrink: list[Any], lengths: NDArray[np.float64], h: float
+) -> tuple[sp.csr_matrix, NDArray[np.float64], Floats, Floats] | None:
+    """:func:`patch_sets` and the centres (x, y) of its patches, in its rows' order."""
     box = live_box(grow)
     if box is None:
         return None
@@ -104,7 +134,8 @@ def patch_sets(
     row = np.cumsum(seen) - 1
     indptr = np.concatenate([[0], np.cumsum(np.bincount(k, minlength=len(grow)))])
     u = sp.csc_matrix((np.ones(cell.size, dtype=bool), row[cell], indptr), shape=(keep.size, len(grow)))
-    return u.tocsr(), np.asarray(lsum[keep], dtype=np.float64)
+    ci, cj = np.divmod(keep, grid.ny)
+    return u.tocsr(), np.asarray(lsum[keep], dtype=np.float64), grid.cx(ci), grid.cy(cj)
 
 
 def _cells(a: Ints, b: Ints, grid: _Grid) -> tuple[Ints, Ints]:

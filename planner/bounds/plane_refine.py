@@ -27,6 +27,7 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
+from planner.bounds.patch_cover import reduced, ring_lagrange_bound
 from planner.bounds.plane_patches import MIN_PATCH_M, SidePieces, grid_shape, live_box
 from planner.coverage.overlap import SITE_SHARE
 from planner.solve.instance import CoverInstance
@@ -37,6 +38,17 @@ from planner.solve.result import Status
 #: CP-SAT work (deterministic seconds, 1 thread) for each step's connected cover, with no wall-clock cap: a count, so
 #: the bound is the same under any load
 STEP_WORK_S = 60.0
+#: the quick bound's patches over the box of a zone-side's regions (a count: the same bound under any load)
+QUICK_PATCHES = 20_000
+#: distinct patches (U, low) that no near patch dominates (:func:`near_dominated`) the quick bound takes on; past it,
+#: a coarser side, as their count asks (it goes with the side's square)
+QUICK_NEAR = 7_000
+#: the quick bound's undominated patches at most (the links among them are formed pairwise); past it, coarser patches
+QUICK_FAMILY = 5_000
+#: the second side is this much coarser than that count asks
+_QUICK_MARGIN = 1.1
+#: grid cells either way within which :func:`near_dominated` looks for a dominating patch
+_NEAR = 4
 #: rows of the relaxed-link product formed at a time (a block of patches x all patches, float32)
 _BLOCK = 512
 #: the relaxed link is taken when the float32 shared length is within this of f min(low) (m): more links than the exact
@@ -116,15 +128,19 @@ class _Family:
 
 def grid_family(lv: _Levels) -> _Family:
     """The level-0 patches: a grid of side h0 over the box of the grown regions (every position that may see a piece
-    lies in it), those that may see nothing left out."""
-    box = live_box(lv.pieces.shapes(lv.h0)[0])
-    assert box is not None
-    x0, y0 = box[:2]
-    nx_, ny_ = grid_shape(box, lv.h0)
-    gx, gy = np.meshgrid(x0 + (np.arange(nx_) + 0.5) * lv.h0, y0 + (np.arange(ny_) + 0.5) * lv.h0, indexing="ij")
-    cx, cy = gx.ravel(), gy.ravel()
-    u, low = lv.sets(cx, cy, 0)
-    return _Family(cx, cy, np.zeros(cx.size, dtype=np.int64), u, low).keep(u.getnnz(axis=1) > 0)
+    lies in it), those that may see nothing left out (:meth:`planner.bounds.plane_patches.SidePieces.grid`: the sets
+    :meth:`_Levels.sets` gives, by a scan line)."""
+    got = lv.pieces.grid(lv.h0)
+    if got is None:  # past the scan's grid cap: every centre asked of the trees
+        box = live_box(lv.pieces.shapes(lv.h0)[0])
+        assert box is not None
+        nx_, ny_ = grid_shape(box, lv.h0)
+        gx, gy = np.meshgrid(*(box[k] + (np.arange(m) + 0.5) * lv.h0 for k, m in ((0, nx_), (1, ny_))), indexing="ij")
+        cx, cy = gx.ravel(), gy.ravel()
+        u, low = lv.sets(cx, cy, 0)
+        return _Family(cx, cy, np.zeros(cx.size, dtype=np.int64), u, low).keep(u.getnnz(axis=1) > 0)
+    u, low, cx, cy = got
+    return _Family(cx, cy, np.zeros(cx.size, dtype=np.int64), u, low)
 
 
 def split(fam: _Family, rows: NDArray[np.int64], lv: _Levels) -> _Family:
@@ -150,22 +166,20 @@ def relaxed_links(
     u: sp.csr_matrix, low: NDArray[np.float64], lengths: NDArray[np.float64], share: float
 ) -> sp.csr_matrix:
     """The relaxed links (module docstring) among the rows of ``u``, symmetric, no diagonal: formed a block of rows
-    against a block of columns at a time (float32, with :data:`_SLACK_M` toward linking)."""
+    against the rows from it on at a time (float32, with :data:`_SLACK_M` toward linking)."""
     n = u.shape[0]
-    w = u.astype(np.float32).multiply(lengths.astype(np.float32)[None, :]).tocsr()
-    ub = u.astype(np.float32).tocsr()
+    ub = u.astype(np.float32).toarray()
+    w = ub * lengths.astype(np.float32)[None, :]
+    need = (share * low).astype(np.float32)
     rows, cols = [], []
     for i in range(0, n, _BLOCK):
-        wi = w[i : i + _BLOCK].toarray()
-        for j in range(i, n, _BLOCK):
-            shared = wi @ ub[j : j + _BLOCK].toarray().T
-            need = share * np.minimum(low[i : i + _BLOCK, None], low[None, j : j + _BLOCK])
-            ok = (shared > 0) & (shared + _SLACK_M >= need)
-            if i == j:
-                ok = np.triu(ok, 1)
-            r, c = np.nonzero(ok)
-            rows.append(r + i)
-            cols.append(c + j)
+        shared = w[i : i + _BLOCK] @ ub[i:].T
+        ok = shared > 0
+        ok &= shared + np.float32(_SLACK_M) >= np.minimum(need[i : i + _BLOCK, None], need[None, i:])
+        ok[:, : min(_BLOCK, n - i)] &= np.triu(np.ones((min(_BLOCK, n - i),) * 2, dtype=bool), 1)
+        r, c = np.nonzero(ok)
+        rows.append(r + i)
+        cols.append(c + i)
     r, c = np.concatenate(rows), np.concatenate(cols)
     upper = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(n, n))
     return (upper + upper.T).tocsr()
@@ -187,6 +201,84 @@ def distinct_rows(u: sp.csr_matrix, low: NDArray[np.float64]) -> tuple[NDArray[n
     return np.asarray(first, dtype=np.int64), inverse
 
 
+def undominated_rows(
+    u: sp.csr_matrix,
+    low: NDArray[np.float64],
+    centres: tuple[NDArray[np.float64], NDArray[np.float64], float] | None = None,
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """One row per distinct (U, low), then only the undominated (:func:`connected_cover`): the rows kept and, for every
+    row, the index of its kept one among them (-1 where dominated). With ``centres`` (x, y and the side of a grid of
+    patches) those a near patch dominates go first (:func:`near_dominated`), at no cost to the result."""
+    first, inverse = distinct_rows(u, low)
+    kept = np.ones(first.size, dtype=bool)
+    if centres is not None:
+        kept = ~near_dominated(u[first].tocsr(), low[first], centres[0][first], centres[1][first], centres[2])
+    at = np.flatnonzero(kept)
+    kept[at[dominated(u[first[at]].tocsr(), low[first[at]])]] = False
+    return first[kept], np.where(kept[inverse], np.cumsum(kept)[inverse] - 1, -1)
+
+
+def near_dominated(
+    u: sp.csr_matrix, low: NDArray[np.float64], cx: NDArray[np.float64], cy: NDArray[np.float64], h: float
+) -> NDArray[np.bool_]:
+    """Mask of the patches of a grid (side ``h``) that a patch within :data:`_NEAR` cells dominates: P before Q in a
+    strict order (larger U first, then smaller low, then index) with U(P) holding U(Q) and low(P) <= low(Q). All go at
+    once: each Q's chain of dominators ends at a kept patch that dominates it (the relation is transitive), so
+    :func:`planner.solve.presolve.dominated` on the rest keeps what it keeps on all."""
+    n = u.shape[0]
+    size = u.getnnz(axis=1)
+    pos = np.empty(n, dtype=np.int64)
+    pos[np.lexsort((np.arange(n), low, -size))] = np.arange(n)
+    ix, iy = np.rint((cx - cx.min()) / h).astype(np.int64), np.rint((cy - cy.min()) / h).astype(np.int64)
+    span = int(iy.max(initial=0)) + 2 * _NEAR + 1
+    code = (ix + _NEAR) * span + iy + _NEAR
+    at = np.full(int(code.max(initial=0)) + _NEAR * span + _NEAR + 1, -1, dtype=np.int64)
+    at[code] = np.arange(n)
+    out = np.zeros(n, dtype=bool)
+    for dx in range(-_NEAR, _NEAR + 1):
+        for dy in range(-_NEAR, _NEAR + 1):
+            p = at[code + dx * span + dy]
+            q = np.flatnonzero(p >= 0)
+            p = p[q]
+            ok = (pos[p] < pos[q]) & (low[p] <= low[q]) & (size[p] >= size[q])
+            q, p = q[ok], p[ok]
+            shared = np.asarray(u[q].multiply(u[p]).sum(axis=1)).ravel()
+            out[q[shared == size[q]]] = True
+    return out
+
+
+def quick_bound(pieces: SidePieces, share: float, target: int, box_patches: int = QUICK_PATCHES) -> Refined:
+    """The connected cover over one grid of patches bounded without a search (:mod:`planner.bounds.patch_cover`):
+    about ``box_patches`` patches over the box of the zone-side's regions (the ring walk's first side, whose grid it
+    shares: :meth:`planner.bounds.plane_patches.SidePieces.grid`). Where it holds more than :data:`QUICK_NEAR`
+    distinct patches that no near one dominates, the side grows as their count asks, once; where more than :data:`QUICK_FAMILY` undominated ones
+    stay, no bound (0). Its ``steps`` is 0; ``proven`` says whether it reached ``target``: the plan then gives a cover
+    over these patches of that size, so that is the cover's optimum."""
+    box = live_box(pieces.outer)
+    if box is None or not pieces.required.any():
+        return Refined(0, 0, 0, 0.0, False)
+    h = max(math.sqrt((box[2] - box[0]) * (box[3] - box[1]) / box_patches), MIN_PATCH_M)
+    for last in (False, True):
+        got = pieces.grid(h)
+        if got is None:
+            break
+        first = distinct_rows(got[0], got[1])[0]
+        first = first[~near_dominated(got[0][first].tocsr(), got[1][first], got[2][first], got[3][first], h)]
+        if first.size > QUICK_NEAR and not last:
+            h *= math.sqrt(first.size / QUICK_NEAR) * _QUICK_MARGIN
+            continue
+        first = first[~dominated(got[0][first].tocsr(), got[1][first])]
+        if first.size > QUICK_FAMILY:
+            break
+        u, low = got[0][first].tocsr(), got[1][first]
+        links = relaxed_links(u, low, pieces.lengths, share)
+        a = u[:, np.flatnonzero(pieces.required)].tocsr()
+        kc, kt = reduced(a, links, np.rint(np.stack([got[2][first], got[3][first]], axis=1) / h).astype(np.int64))
+        bound = ring_lagrange_bound(a[kc], kt, links[kc][:, kc], target)
+        return Refined(bound, 0, int(kc.size), h, bound >= target)
+    return Refined(0, 0, 0, h, False)
+
+
 def connected_cover(
     u: sp.csr_matrix,
     low: NDArray[np.float64],
@@ -201,10 +293,7 @@ def connected_cover(
     (:func:`planner.solve.presolve.dominated` with low as the cost). P then has every relaxed link Q has (more shared
     wall, a smaller need), so P stands in for Q in any connected cover; the links are formed among the kept rows
     only."""
-    first, inverse = distinct_rows(u, low)
-    kept = ~dominated(u[first].tocsr(), low[first])
-    first = first[kept]
-    inverse = np.where(kept[inverse], np.cumsum(kept)[inverse] - 1, -1)
+    first, inverse = undominated_rows(u, low)
     ur, lr = u[first].tocsr(), low[first]
     n = first.size
     inst = CoverInstance(
@@ -226,9 +315,12 @@ def refined_bound(
 ) -> Refined:
     """The refined bound of one zone-side (module docstring), from patches of side ``h0``, at most ``steps``
     refinements, stopping once it reaches ``target`` (the plan's count there)."""
+    quick = quick_bound(pieces, share, target)
+    if steps == 0 or quick.bound >= target:
+        return quick
     lv = _Levels(pieces, h0)
     fam = grid_family(lv)
-    best, taken, proven = 0, 0, False
+    best, taken, proven = quick.bound, 0, False
     while True:
         value, proven, chosen = connected_cover(fam.u, fam.low, pieces.lengths, pieces.required, share, work_s)
         best = max(best, value)

@@ -1,0 +1,161 @@
+"""A lower bound on the connected cover over patches without a search: the family reduced, then the ring walk with the
+cover rows added back by multipliers (:func:`planner.solve.ring.lagrangian_bound`).
+
+**Reduction** (:func:`reduced`). Two steps that keep the connected optimum, alternated until neither removes anything:
+a target whose cover follows from another's goes (:func:`planner.solve.presolve.implied_targets`: every patch that
+sees t' sees t; patches only go afterwards, so it stays implied), and so does a patch Q for which a patch P kept before
+it in a strict order covers every target Q covers and is linked to every neighbour of Q not gone before it
+(:func:`linked_dominated`, the rule of :func:`planner.solve.presolve.dominated` with the product and the links as
+bits). Replace the patches gone from an optimal connected cover by their P in the same order: at Q's turn those gone
+before it are out of the cover already, so Q's neighbours in it are P's, and P is never replaced: a connected cover,
+no larger.
+
+**Bound** (:func:`ring_lagrange_bound`). Every connected cover of the reduced family covers its targets, so (implied
+targets) every required piece, so the pieces its patches see: the ring walk over their arcs is a lower bound
+(:mod:`planner.solve.ring`), and so is its Lagrangian L(lambda) for every lambda >= 0 on the targets; the ascent starts
+from the cover LP's duals and takes at most :data:`ASCENT_STEPS` steps and :data:`WALK_WORK` walk units (counts: the
+same bound under any load). Costs are one per patch, so the bound is the ceiling of the best value.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.optimize import linprog
+
+from planner.solve.presolve import implied_targets
+from planner.solve.ring import lagrangian_bound, ring_graph
+
+#: steps of the Lagrangian ascent at most
+ASCENT_STEPS = 50
+#: walk units (links of the lifted graph x anchors, per step) the ascent may spend
+WALK_WORK = 3e8
+#: dominators tried per patch in one pass, earliest first (fewer only removes less: still sound)
+_PROBE = 64
+#: patches per block of the cover-containment product
+_BLOCK = 1024
+#: grid cells either way within which :func:`near_linked_dominated` looks for a patch to take another's place
+_NEAR = 2
+
+
+def linked_dominated(a: sp.csr_matrix, adj: sp.csr_matrix) -> NDArray[np.bool_]:
+    """Mask of the patches (rows of ``a``, patches x targets) that go (module docstring), taken in a strict order
+    (larger cover first, then index): Q goes when a patch P kept before it covers every target Q covers and is linked
+    to every neighbour of Q (``adj``: symmetric, no diagonal) not gone before Q, P itself aside. The cover test is a
+    float32 product per block of Q (counts below 2**24 are exact), the links are tested as packed bits."""
+    n = a.shape[0]
+    size = a.getnnz(axis=1)
+    order = np.lexsort((np.arange(n), -size))
+    dense = a.astype(np.float32).toarray()
+    bits = np.packbits(adj.astype(bool).toarray(), axis=1, bitorder="little")
+    gone = np.zeros(n, dtype=bool)
+    kept = np.zeros(n, dtype=bool)
+    live = np.full((n + 7) // 8, 255, dtype=np.uint8)  # bits of the patches not gone
+    dense = dense[order]  # rows in the order: Q's dominators lie before it
+    for q0 in range(0, n, _BLOCK):
+        qs = order[q0 : q0 + _BLOCK]
+        holds = dense[: q0 + qs.size] @ dense[q0 : q0 + qs.size].T == size[qs][None, :]
+        for k, q in enumerate(qs.tolist()):
+            ps = order[np.flatnonzero(holds[: q0 + k, k] & kept[order[: q0 + k]])[:_PROBE]]
+            if ps.size:
+                miss = bits[q][None, :] & live[None, :] & ~bits[ps]
+                miss[np.arange(ps.size), ps >> 3] &= ~np.left_shift(np.uint8(1), (ps & 7).astype(np.uint8))
+                if not miss.any(axis=1).all():
+                    gone[q] = True
+                    live[q >> 3] &= ~np.left_shift(np.uint8(1), np.uint8(q & 7))
+                    continue
+            kept[q] = True
+    return gone
+
+
+def near_linked_dominated(a: sp.csr_matrix, adj: sp.csr_matrix, cells: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """Mask of the patches that a patch within :data:`_NEAR` grid cells replaces, all at once: Q goes when some P
+    before it in the strict order of :func:`linked_dominated` covers every target Q covers and is linked to every
+    neighbour of Q, P itself aside. ``cells``: each row's (column, row) on the grid of patches.
+
+    Why all at once: each Q names one such P; the chain Q -> P -> ... ends at a kept patch rep(Q) (the order is strict),
+    which covers all Q covers. If Q and R are linked, each step of Q's chain keeps a link to R unless the chain meets R
+    (then rep(Q) = rep(R)); then each step of R's chain keeps a link to rep(Q) unless it meets it. So rep(Q) and rep(R)
+    are linked or equal, and a connected cover mapped through rep stays a connected cover, no larger."""
+    n = a.shape[0]
+    size = a.getnnz(axis=1)
+    pos = np.empty(n, dtype=np.int64)
+    pos[np.lexsort((np.arange(n), -size))] = np.arange(n)
+    ix, iy = cells[:, 0] - cells[:, 0].min(initial=0), cells[:, 1] - cells[:, 1].min(initial=0)
+    span = int(iy.max(initial=0)) + 2 * _NEAR + 1
+    code = (ix + _NEAR) * span + iy + _NEAR
+    at = np.full(int(code.max(initial=0)) + _NEAR * span + _NEAR + 1, -1, dtype=np.int64)
+    at[code] = np.arange(n)
+    bits = np.packbits(adj.astype(bool).toarray(), axis=1, bitorder="little")
+    out = np.zeros(n, dtype=bool)
+    for dx in range(-_NEAR, _NEAR + 1):
+        for dy in range(-_NEAR, _NEAR + 1):
+            p = at[code + dx * span + dy]
+            q = np.flatnonzero((p >= 0) & ~out)
+            p = p[q]
+            q, p = q[pos[p] < pos[q]], p[pos[p] < pos[q]]
+            held = np.asarray(a[q].multiply(a[p]).sum(axis=1)).ravel() == size[q]
+            q, p = q[held], p[held]
+            for lo in range(0, q.size, _BLOCK):
+                qq, pp = q[lo : lo + _BLOCK], p[lo : lo + _BLOCK]
+                miss = bits[qq] & ~bits[pp]
+                miss[np.arange(qq.size), pp >> 3] &= ~np.left_shift(np.uint8(1), (pp & 7).astype(np.uint8))
+                out[qq[~miss.any(axis=1)]] = True
+    return out
+
+
+def reduced(
+    a: sp.csr_matrix, adj: sp.csr_matrix, cells: NDArray[np.int64] | None = None
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The patches and targets kept by the reduction (module docstring): row and column indices of ``a``. With
+    ``cells`` (each row's place on a grid of patches) a first pass replaces patches by near ones
+    (:func:`near_linked_dominated`), which costs little and leaves the products of the others small."""
+    kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
+    adj = adj.tocsr()
+    while True:
+        imp = implied_targets(a[kc][:, kt].T.tocsr())
+        kt = kt[~imp]
+        if cells is not None:
+            kc = kc[~near_linked_dominated(a[kc][:, kt].tocsr(), adj[kc][:, kc].tocsr(), cells[kc])]
+            cells = None
+        gone = linked_dominated(a[kc][:, kt].tocsr(), adj[kc][:, kc].tocsr())
+        kc = kc[~gone]
+        if not (gone.any() or imp.any()):
+            return kc, kt
+
+
+def ring_lagrange_bound(
+    a: sp.csr_matrix,
+    targets: NDArray[np.int64],
+    adj: sp.csr_matrix,
+    target: int,
+    steps: int = ASCENT_STEPS,
+    work: float = WALK_WORK,
+) -> int:
+    """A lower bound on the connected cover of the columns ``targets`` of ``a`` (patches x pieces in cyclic order;
+    covering them covers every column) under the links ``adj``, each patch costing one: the ring walk over the arcs of
+    the pieces the patches see, then its Lagrangian ascent over the target rows toward ``target`` (stopping once the
+    bound reaches it); 0 where the walk is not formed."""
+    a = a.tocsr()
+    seen = np.flatnonzero(a.getnnz(axis=0))
+    if seen.size == 0 or a.shape[0] == 0:
+        return 0
+    graph = ring_graph(a[:, seen].tocsr(), np.ones(seen.size, dtype=bool), adj.tocsr())
+    cost = np.ones(a.shape[0])
+    walk = graph.walk(cost) if graph is not None else None
+    if graph is None or walk is None:
+        return 0
+    best = int(round(walk.bound))
+    per_step = max(1, graph.graph.nnz * len(graph.anchors))
+    steps = min(steps, int(work // per_step))
+    if best >= target or steps <= 0:
+        return best
+    sub = a[:, targets].astype(np.float64).tocsr()
+    lp = linprog(cost, A_ub=-sub.T, b_ub=-np.ones(sub.shape[1]), bounds=(0, None), method="highs")
+    if lp.status != 0:
+        return best
+    value, _ = lagrangian_bound(graph, sub, cost, -lp.ineqlin.marginals, float(target), target - 1 + 1e-6, steps)
+    return max(best, math.ceil(value - 1e-6)) if math.isfinite(value) else best
