@@ -13,7 +13,7 @@ import planner.bounds.ring_ahead as ahead_mod
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane_ring import connected_plane_bound, farley_shares
 from planner.bounds.ring_ahead import WalksAhead, ahead_order
-from planner.bounds.ring_walks import RingWalks, ring_of, side_graph, side_ring_bound
+from planner.bounds.ring_walks import RingWalks, ring_of, side_graph, side_ring_bound, walked_sides
 from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
 from planner.site.model import ScanSide, Site, Zone
 from planner.site.params import Parameters
@@ -136,12 +136,34 @@ def test_nothing_is_forked_without_a_free_core(room, monkeypatch) -> None:  # ty
 def test_a_failure_in_the_process_is_quiet_and_leaves_the_walks_here(room, monkeypatch, capfd) -> None:  # type: ignore[no-untyped-def]
     site, problem, limits = room
 
-    def broken(self, key: int, level: int) -> bool:  # type: ignore[no-untyped-def]
+    def broken(self, *args: int) -> bool:  # type: ignore[no-untyped-def]
         raise RuntimeError("broken walk")
 
     monkeypatch.setattr(ahead_mod, "thread_count", lambda: 2)
-    monkeypatch.setattr(RingWalks, "prepare", broken)  # in the forked copy too
+    for name in ("prepare", "walk"):  # ahead and when asked, in the forked copy too
+        monkeypatch.setattr(RingWalks, name, broken)
     started = WalksAhead.start(_walks(site, problem, limits), WORK)
     assert started is not None
     assert started.walked(*_asked(site, problem, limits, dict.fromkeys(_keys(problem), 9))) is None
     assert capfd.readouterr().err == ""  # no traceback from the process
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("how", ["walked ahead", "graphs ahead"])
+def test_walks_kept_ahead_give_the_parts_of_walks_done_now(room, how) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+    keys = _keys(problem)
+    kept = _walks(site, problem, limits)
+    for k, level in ahead_order(kept, keys, WORK):  # what the forked process does, here
+        if level < len(kept.levels(k)):
+            kept.ahead(k, level) if how == "walked ahead" else kept.prepare(k, level)
+    for counts in [(9, 9), (1, 9), (9, 1), (30, 30)]:
+        want = dict(zip(keys, counts))
+        head = _asked(site, problem, limits, want)[0]
+        now = walked_sides(head, _walks(site, problem, limits), want, WORK, 0)
+        assert walked_sides(head, kept, want, WORK, 0) == now
+        if how == "graphs ahead":  # each graph walked once: the next counts form them again
+            kept = _walks(site, problem, limits)
+            for k, level in ahead_order(kept, keys, WORK):
+                if level < len(kept.levels(k)):
+                    kept.prepare(k, level)
