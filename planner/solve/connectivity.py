@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, dijkstra
 
 from planner.coverage.overlap import group_ids
-from planner.solve.bundles import bundle_cover
+from planner.solve.bundles import bundle_cover, induced
 
 Cut = tuple[np.ndarray, np.ndarray, float]  # (indices, coefficients, lower bound)
 
@@ -36,7 +36,7 @@ def components(adj: sp.csr_matrix, nodes: Sequence[int]) -> list[list[int]]:
     nodes = sorted(nodes)
     if len(nodes) <= 1:
         return [nodes] if nodes else []
-    sub = adj[nodes][:, nodes]
+    sub = induced(adj, nodes)
     n, label = connected_components(sub, directed=False)
     comps = [[nodes[k] for k in np.flatnonzero(label == c)] for c in range(n)]
     return sorted(comps, key=lambda c: (-len(c), c[0]))

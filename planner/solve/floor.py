@@ -33,7 +33,7 @@ from planner.solve.instance import CoverInstance
 if TYPE_CHECKING:
     from planner.solve.milp import MilpOptions
 
-__all__ = ["Floor", "ProbeRecord", "floor_candidates", "probe"]
+__all__ = ["CoverLP", "Floor", "ProbeRecord", "cover_lp", "floor_candidates", "probe"]
 
 #: LP values and reduced costs within this of an integer are that integer
 _TOL = 1e-6
@@ -49,9 +49,24 @@ class Floor:
     lower: int
 
 
-def floor_candidates(sub: sp.csr_matrix, bound: float) -> Floor | None:
-    """The candidates of a unit-cost block (``sub``: candidates x targets) that a plan of ``L`` stations can use, L the
-    larger of ``ceil(bound)`` and the components' LP ceilings; None where the cover LP does not solve."""
+@dataclass(frozen=True, kw_only=True)
+class CoverLP:
+    """What :func:`floor_candidates` reads of a unit-cost block whatever the level: the coverage as 0/1 floats, the
+    cover LP's reduced costs, the components of targets and candidates (targets linked by a common seer), each
+    component's LP value and ceiling, and the sum of the ceilings (``lower``)."""
+
+    a: sp.csr_matrix
+    reduced: np.ndarray
+    target_comp: np.ndarray
+    cand_comp: np.ndarray
+    lp_value: dict[int, float]
+    need: dict[int, int]
+    lower: int
+
+
+def cover_lp(sub: sp.csr_matrix) -> CoverLP | None:
+    """The cover LP of a unit-cost block (``sub``: candidates x targets) and its components; None where it has no
+    target or the LP does not solve."""
     a = sub.astype(bool).astype(np.float64).tocsr()
     n, m = a.shape
     if m == 0:
@@ -60,25 +75,42 @@ def floor_candidates(sub: sp.csr_matrix, bound: float) -> Floor | None:
     if lp.status != 0:
         return None
     duals = np.maximum(-np.asarray(lp.ineqlin.marginals), 0.0)
-    reduced = 1.0 - a @ duals
     both = sp.bmat([[None, a], [a.T, None]]).tocsr()
     _, label = connected_components(both, directed=False)
-    target_comp, cand_comp = label[n:], label[:n]
-    comps = np.unique(target_comp)
-    lp_value = {int(c): float(duals[target_comp == c].sum()) for c in comps}
+    target_comp = label[n:]
+    lp_value = {int(c): float(duals[target_comp == c].sum()) for c in np.unique(target_comp)}
     need = {c: math.ceil(v - _TOL) for c, v in lp_value.items()}
-    lower = sum(need.values())
+    return CoverLP(
+        a=a,
+        reduced=1.0 - a @ duals,
+        target_comp=target_comp,
+        cand_comp=label[:n],
+        lp_value=lp_value,
+        need=need,
+        lower=sum(need.values()),
+    )
+
+
+def floor_candidates(sub: sp.csr_matrix, bound: float, lp: CoverLP | None = None) -> Floor | None:
+    """The candidates of a unit-cost block (``sub``: candidates x targets) that a plan of ``L`` stations can use, L the
+    larger of ``ceil(bound)`` and the components' LP ceilings; None where the cover LP does not solve. ``lp``: the
+    block's :func:`cover_lp`, when already solved (it does not depend on the bound)."""
+    lp = lp if lp is not None else cover_lp(sub)
+    if lp is None:
+        return None
+    a, lower = lp.a, lp.lower
+    n = a.shape[0]
     level = max(math.ceil(bound - _TOL), lower)
+    sees = a.getnnz(axis=1) > 0
     keep = np.zeros(n, dtype=bool)
-    keep[np.flatnonzero(a.getnnz(axis=1) == 0)] = level - lower >= 1  # a bridge: one station to spare
-    for c in comps:
-        c = int(c)
-        members = np.flatnonzero((cand_comp == c) & (a.getnnz(axis=1) > 0))
-        budget = level - (lower - need[c])
-        fits = lp_value[c] + reduced[members] <= budget + _TOL
+    keep[~sees] = level - lower >= 1  # a bridge: one station to spare
+    for c, value in lp.lp_value.items():
+        members = np.flatnonzero((lp.cand_comp == c) & sees)
+        budget = level - (lower - lp.need[c])
+        fits = value + lp.reduced[members] <= budget + _TOL
         left = budget - 1  # stations after j itself
         if left <= 1:
-            fits &= _exact(a[members][:, target_comp == c].toarray() > 0, left)
+            fits &= _exact(a[members][:, lp.target_comp == c].toarray() > 0, left)
         keep[members] = fits
     return Floor(level=level, keep=np.flatnonzero(keep), lower=lower)
 
@@ -123,8 +155,9 @@ def probe(block: BlockSolver, o: MilpOptions, work: float) -> list[ProbeRecord]:
     if not _probes(block, o):
         return done
     unit = float(block.cost[0])
+    lp = cover_lp(block.sub)  # the same LP at every level: solved once
     while not block.done and block.incumbent is not None and work - sum(p.work for p in done) > 1e-3:
-        floor = floor_candidates(block.sub, block.bound / unit)
+        floor = floor_candidates(block.sub, block.bound / unit, lp)
         if floor is None:
             break
         block.bound = max(block.bound, floor.lower * unit)

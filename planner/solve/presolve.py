@@ -9,6 +9,7 @@ station i is linked to that was not dropped before i (then j can take i's place 
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, field
 
@@ -256,7 +257,7 @@ class _Relation:
             return False
         if self.bits is not None:
             for probe in [p for p in _PROBES if p < nb.size] + [nb.size]:  # a few of nb, more of them, then all
-                ks = nb[np.linspace(0, nb.size - 1, probe).astype(np.int64)] if probe < nb.size else nb
+                ks = nb[_spread(nb.size, probe)] if probe < nb.size else nb
                 got = (self.bits[js[:, None], (ks >> 3)[None, :]] >> (ks & 7)[None, :].astype(np.uint8)) & 1
                 js = js[np.all((got == 1) | (js[:, None] == ks[None, :]), axis=1)]
                 if js.size == 0:
@@ -268,6 +269,12 @@ class _Relation:
             return bool(np.any(_row_sums(ptr, self.adj.indices, js, near) == nb.size - near[js]))
         finally:
             near[nb] = 0
+
+
+@functools.lru_cache(maxsize=4096)
+def _spread(size: int, probe: int) -> np.ndarray:
+    """``probe`` positions spread evenly over ``range(size)``, first and last included (asked again and again)."""
+    return np.linspace(0, size - 1, probe).astype(np.int64)
 
 
 def duplicate_targets(by_target: sp.csr_matrix) -> np.ndarray:
