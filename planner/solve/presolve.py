@@ -20,6 +20,8 @@ from planner.coverage.overlap import group_ids
 
 #: how many neighbours of the candidate under test the replacers are tried on before all (:meth:`_Relation.covers`)
 _PROBES = (16, 256)
+#: replacers x neighbours up to which :meth:`_Relation.covers` tries all neighbours at once (no probes first)
+_ONE_SHOT = 8_192
 #: a relation among at most this many candidates is also held as bits
 _BITS_MAX = 16_384
 
@@ -256,7 +258,8 @@ class _Relation:
         if js.size == 0:
             return False
         if self.bits is not None:
-            for probe in [p for p in _PROBES if p < nb.size] + [nb.size]:  # a few of nb, more of them, then all
+            probes = [p for p in _PROBES if p < nb.size] if js.size * nb.size > _ONE_SHOT else []
+            for probe in probes + [nb.size]:  # a few of nb, more of them, then all (few pairs: all at once)
                 ks = nb[_spread(nb.size, probe)] if probe < nb.size else nb
                 got = (self.bits[js[:, None], (ks >> 3)[None, :]] >> (ks & 7)[None, :].astype(np.uint8)) & 1
                 js = js[np.all((got == 1) | (js[:, None] == ks[None, :]), axis=1)]

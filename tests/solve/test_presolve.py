@@ -97,9 +97,11 @@ def test_dominated_matches_its_definition(
         upper = np.triu(rng.random((n, n)) < density, 1)
         adj = sp.csr_matrix(upper | upper.T)
     groups = rng.integers(0, 2, n).tolist() if grouped else None
+    want = oracle(a, cost, adj, groups).tolist()
     with patch.object(presolve, "_BITS_MAX", 16_384 if bits else 0), patch.object(presolve, "_PROBES", (2, 5)):
-        got = dominated(a, cost, adj, groups)
-    assert got.tolist() == oracle(a, cost, adj, groups).tolist()
+        for one_shot in (0, presolve._ONE_SHOT):  # the probes first, then all neighbours at once
+            with patch.object(presolve, "_ONE_SHOT", one_shot):
+                assert dominated(a, cost, adj, groups).tolist() == want
 
 
 @pytest.mark.parametrize("flip", [0.0, 0.01])
