@@ -74,10 +74,10 @@ def dominated(
 
     The replacers of i are the kept candidates, considered before it, of its group, no dearer, that see every piece i
     sees. Where the candidate x candidate product is cheap (:data:`PRODUCT_WORK`) those supersets are found for every
-    i at once, a block of rows at a time (:func:`_supersets`), and the walk in order only asks which of them are kept;
-    else each piece keeps the list of kept candidates that see it and i is checked against the shortest of its pieces'
-    lists only (work in proportion to the pairs of the coverage matrix when few candidates stay). Both give the same
-    mask.
+    i at once under the overlap rule, a block of rows at a time (:func:`_supersets`), and the walk in order only asks
+    which of them are kept; else each piece keeps the list of kept candidates that see it and i is checked against
+    the shortest of its pieces' lists only (work in proportion to the pairs of the coverage matrix when few candidates
+    stay). Both give the same mask.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()
@@ -87,7 +87,8 @@ def dominated(
     order = presolve_order(a, cost)
     gid = np.zeros(n, dtype=np.int64) if groups is None else group_ids(groups)
     rel = None if adj is None else _Relation(adj)
-    sup = _supersets(a, size, cost, gid, order)
+    # without the relation the walk over the pieces is as quick as the product (its test is the subset alone)
+    sup = None if rel is None else _supersets(a, size, cost, gid, order)
     if sup is None:
         return _dominated_by_pieces(a, size, cost, order, gid, rel)
     ptr, js = sup
@@ -112,7 +113,7 @@ def dominated(
 #: candidate product (in blocks); beyond it, the walk over the pieces' lists of kept seers
 PRODUCT_WORK = 300_000_000
 #: multiply-adds per block of rows of that product (bounds its memory too)
-_BLOCK_WORK = 8_000_000
+_BLOCK_WORK = 2_000_000
 
 
 def _supersets(
