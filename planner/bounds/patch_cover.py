@@ -32,7 +32,7 @@ from planner.solve.ring import lagrangian_bound, ring_graph
 #: steps of the Lagrangian ascent at most
 ASCENT_STEPS = 50
 #: walk units (links of the lifted graph x anchors, per step) the ascent may spend
-WALK_WORK = 3e8
+WALK_WORK = 1e8
 #: dominators tried per patch in one pass, earliest first (fewer only removes less: still sound)
 _PROBE = 64
 #: patches per block of the cover-containment product

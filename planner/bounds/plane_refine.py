@@ -14,6 +14,11 @@ plan is then optimal over the plane), the steps are spent, a solve is not proven
 is kept), or the patches of the optimum cannot be split past :data:`MIN_PATCH_M`. This is the refinement of the exact
 art-gallery solvers (Tozoni, de Rezende and de Souza, ACM TOMS 2016: witnesses and guard candidates refined where the
 relaxation's optimum is not realised), here with the registration links.
+
+**Quick bound** (:func:`quick_bound`; :func:`refined_bound` with no steps). The cover over one grid of patches, bounded
+without a search: the family reduced (:mod:`planner.bounds.patch_cover`: replacements by near patches, dominance under
+the links, implied targets) and the ring walk over it raised by its Lagrangian ascent. Any lower bound on the cover over
+patches bounds every connected plan, so no optimum is needed; every limit is a count.
 """
 
 from __future__ import annotations
@@ -314,7 +319,8 @@ def refined_bound(
     pieces: SidePieces, share: float, h0: float, target: int, steps: int, work_s: float = STEP_WORK_S
 ) -> Refined:
     """The refined bound of one zone-side (module docstring), from patches of side ``h0``, at most ``steps``
-    refinements, stopping once it reaches ``target`` (the plan's count there)."""
+    refinements, stopping once it reaches ``target`` (the plan's count there). The quick bound comes first; with no
+    steps it is all there is."""
     quick = quick_bound(pieces, share, target)
     if steps == 0 or quick.bound >= target:
         return quick
