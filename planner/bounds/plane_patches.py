@@ -49,17 +49,21 @@ class SidePieces:
     required: NDArray[np.bool_]
     grow_m: float
     shrink_m: float
-    #: what :meth:`shapes` and :meth:`grid` drew, by patch side (the ring walk and the cover over patches may share them)
+    #: what :meth:`shapes` and :meth:`grid` drew for the first patch side asked (the ring walk's first side, which the
+    #: cover over patches takes too)
     _memo: dict[tuple[str, float], Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def shapes(self, h: float) -> tuple[list[Any], list[Any]]:
         """The outer regions grown (circumscribed) and the inner ones shrunk by their tolerance and half the diagonal of
         a patch of side ``h`` (the shrink divided by the cosine of its chord half-angle, so that it is never short);
-        drawn once per side."""
-        if ("shapes", h) not in self._memo:
-            self._memo["shapes", h] = self._shapes(h)
-        got: tuple[list[Any], list[Any]] = self._memo["shapes", h]
-        return got
+        those of the first side asked are kept."""
+        if ("shapes", h) in self._memo:
+            got: tuple[list[Any], list[Any]] = self._memo["shapes", h]
+            return got
+        drawn = self._shapes(h)
+        if not any(k[0] == "shapes" for k in self._memo):  # the first side only, as :meth:`grid`
+            self._memo["shapes", h] = drawn
+        return drawn
 
     def grid(self, h: float) -> tuple[sp.csr_matrix, NDArray[np.float64], Floats, Floats] | None:
         """:func:`patch_grid` of the patches of side ``h`` over :meth:`shapes`. Only the first side asked is kept (the
