@@ -149,11 +149,12 @@ def _foot(
         fig.text(x0, y - k * line, text, fontsize=FONT_PT, va="baseline")
 
 
-def write_pdf(fp: FieldPlan, path: Path | str) -> Path:
-    """Write field.pdf (see the module text) and return its path."""
+def write_pdf(fp: FieldPlan, path: Path | str, plan: Figure | None = None) -> Path:
+    """Write field.pdf (see the module text) and return its path; ``plan``: the plan figure drawn for the paper of
+    :func:`map_paper` where the caller has it already (None: drawn here)."""
     out = Path(path)
-    _, size = map_paper(fp)
-    plan = figure(fp, size)  # labels placed for the paper's size
+    if plan is None:
+        plan = figure(fp, map_paper(fp)[1])  # labels placed for the paper's size
     drop_frozen_layout(plan)  # laid out and frozen: drawn once into the file
     meta = {"Title": f"Field sheet {fp.site.name}", "Creator": f"tls-planner {__version__}", "CreationDate": None}
     with matplotlib.rc_context({"pdf.compression": 0, "pdf.fonttype": 3}), PdfPages(out, metadata=meta) as pdf:

@@ -17,6 +17,7 @@ from planner.field.page import render_html
 from planner.field.record import HEADER, rows, to_dict
 from planner.field.run import FieldPlan
 from planner.field.storeys import climbs
+from planner.figures.base import png_bytes
 
 __all__ = ["HEADER", "figure", "geojson", "render_html", "rows", "to_dict", "write_sheet"]
 
@@ -82,16 +83,20 @@ def _storey_route(fp: FieldPlan) -> list[dict[str, Any]]:
 
 def write_sheet(fp: FieldPlan, folder: Path | str) -> list[Path]:
     """Write the sheet's five files (see the module text) into ``folder``; return their paths."""
+    from planner.field.pdf import map_paper, write_pdf  # here: its PDF backend and font subsetter cost 0.2 s to import
+
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     paths = [out / f"field.{ext}" for ext in ("html", "csv", "geojson", "json", "pdf")]
-    paths[0].write_text(render_html(fp))
+    # one plan figure for field.pdf's first page and, on A4 (near the screen figure's size), for field.html's image;
+    # a plan on A3 is large: field.html draws its own at the screen's size
+    paper, size = map_paper(fp)
+    plan = figure(fp, size)
+    paths[0].write_text(render_html(fp, png_bytes(plan) if paper == "A4" else None))
     buf = io.StringIO()
     csv.writer(buf, lineterminator="\n").writerows([HEADER, *rows(fp)])
     paths[1].write_text(buf.getvalue())
     paths[2].write_text(dumps(geojson(fp)))
     paths[3].write_text(dumps(to_dict(fp)))
-    from planner.field.pdf import write_pdf  # here: its PDF backend and font subsetter cost a re-plan 0.2 s to import
-
-    write_pdf(fp, paths[4])
+    write_pdf(fp, paths[4], plan)
     return paths

@@ -12,6 +12,7 @@ the stations (an edge where the straight segment stays inside the area) gives ex
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -151,10 +152,30 @@ def snap_distance(space: WalkSpace, xy: tuple[float, float]) -> float:
     return float(space.area.distance(shapely.Point(xy)))
 
 
+_CORNER_SIGHT: weakref.WeakKeyDictionary[WalkSpace, tuple[NDArray[np.float64], shapely.Geometry, NDArray[np.bool_]]]
+_CORNER_SIGHT = weakref.WeakKeyDictionary()
+
+
+def _corner_sight(space: WalkSpace) -> tuple[NDArray[np.float64], shapely.Geometry, NDArray[np.bool_]]:
+    """The reflex corners of ``space``, its area grown by 1e-6 m (prepared) and which pairs of corners see each other
+    (in ``np.triu_indices`` order): most of a visibility graph's segment tests, made once per walkable area however
+    many point sets are walked in it (the sheet walks the stations twice: to find the start, then in order)."""
+    known = _CORNER_SIGHT.get(space)
+    if known is None:
+        corners = reflex_corners(space.area)
+        fat = space.area.buffer(1e-6, quad_segs=1)
+        shapely.prepare(fat)
+        i, j = np.triu_indices(len(corners), k=1)
+        seen = shapely.covers(fat, shapely.linestrings(np.stack([corners[i], corners[j]], axis=1)))
+        known = _CORNER_SIGHT[space] = (corners, fat, np.asarray(seen, dtype=bool))
+    return known
+
+
 def walk_graph(space: WalkSpace, points: Sequence[tuple[float, float]]) -> WalkGraph:
     """The visibility graph of ``space`` with ``points`` added, and the shortest walks between the points. A point
     farther than :data:`SNAP_M` from the area is left unjoined (unreachable; the caller decides what that means).
-    Cost: C corners and P points, (C + P)^2 / 2 segment tests in one vectorised shapely call, then P Dijkstra runs."""
+    Cost: C corners and P points, (C + P)^2 / 2 segment tests in vectorised shapely calls (the C^2 / 2 among the
+    corners once per walkable area, :func:`_corner_sight`), then P Dijkstra runs."""
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     snapped = pts.copy()
     for k, p in enumerate(pts):
@@ -164,15 +185,16 @@ def walk_graph(space: WalkSpace, points: Sequence[tuple[float, float]]) -> WalkG
             # a hair inside, so that segments from it test as inside
             v = np.array([q.x, q.y]) - p
             snapped[k] = np.array([q.x, q.y]) + 1e-6 * v / max(float(np.hypot(*v)), 1e-12)
-    corners = reflex_corners(space.area)
+    corners, fat, seen = _corner_sight(space)
     nodes = np.vstack([corners, snapped])
     n = len(nodes)
     i, j = np.triu_indices(n, k=1)
     m = len(corners)
-    fat = space.area.buffer(1e-6, quad_segs=1)
-    shapely.prepare(fat)
-    lines = shapely.linestrings(np.stack([nodes[i], nodes[j]], axis=1))
-    ok = shapely.covers(fat, lines)
+    ok = np.empty(len(i), dtype=bool)
+    among = j < m  # the corner pairs, in the order of their own triangle
+    ok[among] = seen
+    lines = shapely.linestrings(np.stack([nodes[i[~among]], nodes[j[~among]]], axis=1))
+    ok[~among] = shapely.covers(fat, lines)
     far = np.array([space.area.distance(shapely.Point(p)) > SNAP_M for p in pts], dtype=bool)
     bad = np.concatenate([np.zeros(m, dtype=bool), far])
     ok &= ~bad[i] & ~bad[j]
