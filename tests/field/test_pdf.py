@@ -122,3 +122,18 @@ def test_paper_of_the_plan(few, tmp_path):
     fp = field_plan(site, stations)
     # the temple and the stations span about 350 m x 210 m: on A4 (238 mm x 164 mm drawn) smaller than 1:500, so A3
     assert pdf.map_paper(fp)[0] == "A3"
+
+
+def test_a_sheet_on_a4_draws_its_plan_once_for_the_page_and_the_pdf(few, tmp_path, monkeypatch):
+    import planner.field.sheet as sheet_module
+
+    assert pdf.map_paper(few)[0] == "A4"
+    sizes: list[tuple[float, float]] = []
+    real = sheet_module.figure
+    monkeypatch.setattr(sheet_module, "figure", lambda fp, size: sizes.append(size) or real(fp, size))
+    write_sheet(few, tmp_path / "a")
+    assert sizes == [pdf.A4]  # one figure, for the paper; field.html's image is that figure's
+    monkeypatch.undo()
+    pdf.write_pdf(few, tmp_path / "b.pdf")  # drawn alone: the same file
+    assert (tmp_path / "a" / "field.pdf").read_bytes() == (tmp_path / "b.pdf").read_bytes()
+    assert "data:image/png;base64," in (tmp_path / "a" / "field.html").read_text()
