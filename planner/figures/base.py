@@ -14,6 +14,10 @@ from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
+#: the resolution of the report's images (:func:`png_bytes`); a figure made at it is laid out, labelled and drawn with
+#: one renderer, which measures each text once
+PNG_DPI = 110
+
 #: room around the data of a plan panel (a share of its span, as ``Axes.margins``): the scale bar and the
 #: north arrow stand in it, clear of walls and stations
 PLAN_MARGIN = 0.12
@@ -82,7 +86,7 @@ def scale_and_north(ax: Axes, frame: str) -> None:
     )
 
 
-def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
+def png_bytes(fig: Figure, dpi: int = PNG_DPI) -> bytes:
     """The figure as PNG bytes, drawn once where its layout is known.
 
     A figure laid out by its engine and frozen (:func:`planner.figures.labels.freeze_layout`) is saved whole: the

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Ellipse, Polygon
 
 from planner.core.checks import argument
-from planner.figures.base import PLAN_MARGIN, frame_axes, legend_once
+from planner.figures.base import PLAN_MARGIN, PNG_DPI, frame_axes, legend_once
 from planner.figures.labels import PointLabel, finish_plans
 from planner.network.adjustment import ELLIPSE_95
 from planner.plan.outcome import Outcome
@@ -47,7 +47,7 @@ def network_figure(o: Outcome, frame: str | None = None, numbering: StationNumbe
     frames = [d["frame"] for _, d in g.nodes(data=True) if d["kind"] == "station"]
     frame = frame or max(sorted(set(frames)), key=frames.count)
     nodes = [n for n, d in g.nodes(data=True) if d["frame"] == frame]
-    fig = Figure(figsize=(9, 8), layout="constrained")
+    fig = Figure(figsize=(9, 8), layout="constrained", dpi=PNG_DPI)
     ax = fig.subplots()
     for z in o.site.zones:
         if z.frame == frame:

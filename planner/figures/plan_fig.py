@@ -14,7 +14,7 @@ from matplotlib.patches import Circle, Polygon
 
 from planner.core.checks import argument
 from planner.coverage.targets import SIDE_CODE
-from planner.figures.base import PLAN_MARGIN, frame_axes, legend_once
+from planner.figures.base import PLAN_MARGIN, PNG_DPI, frame_axes, legend_once
 from planner.figures.labels import PointLabel, finish_plans
 from planner.figures.layout import Layouts
 from planner.figures.storey_fig import draw_obstacles
@@ -93,7 +93,7 @@ def plan_figure(
     zone = o.site.zones[zi]
     segs, count, inc, width = _pieces(o, zi, side)
     theta = o.site.parameters.theta_max_deg
-    fig = Figure(figsize=(13, 6.2), layout="constrained")
+    fig = Figure(figsize=(13, 6.2), layout="constrained", dpi=PNG_DPI)
     axes = fig.subplots(1, 2)
     top = max(int(count.max()) if count.size else 1, 1)
     cmap_n = ListedColormap(["#74c476", "#31a354", "#238b45", "#006d2c", "#00441b"][: max(1, min(top, 5))])

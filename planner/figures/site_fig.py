@@ -22,7 +22,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 
 from planner.core.checks import argument
-from planner.figures.base import PLAN_MARGIN, frame_axes
+from planner.figures.base import PLAN_MARGIN, PNG_DPI, frame_axes
 from planner.figures.labels import PointLabel, finish_plans
 from planner.figures.storey_fig import OPENING_COLOUR, draw_gap, draw_obstacles
 from planner.network.survey import registration_links
@@ -158,7 +158,7 @@ def site_figure(
     frames = list(dict.fromkeys(z.frame for z in o.site.zones))
     ncols = math.ceil(math.sqrt(len(frames)))
     nrows = math.ceil(len(frames) / ncols)
-    fig = Figure(figsize=_size(o, frames, ncols, nrows), layout="constrained")
+    fig = Figure(figsize=_size(o, frames, ncols, nrows), layout="constrained", dpi=PNG_DPI)
     axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
     every, points = _links(o), _control(o, control)
     links = shown_links(o, every)
