@@ -171,12 +171,15 @@ def induced(adj: sp.csr_matrix, nodes: Sequence[int]) -> sp.csr_matrix:
         return adj[idx][:, idx]
     pos = np.full(adj.shape[0], -1, dtype=np.int64)
     pos[idx] = np.arange(k)
-    starts, ends = adj.indptr[idx], adj.indptr[idx + 1]
-    take = np.concatenate([np.arange(a, b) for a, b in zip(starts.tolist(), ends.tolist(), strict=True)])
-    rows = np.repeat(np.arange(k), ends - starts)
+    starts = adj.indptr[idx].astype(np.int64)
+    lens = adj.indptr[idx + 1] - starts
+    first = np.cumsum(lens) - lens  # where each row's entries begin among those taken
+    take = np.repeat(starts - first, lens) + np.arange(int(lens.sum()))
     cols = pos[adj.indices[take]]
     inside = cols >= 0
-    return sp.csr_matrix((adj.data[take][inside], (rows[inside], cols[inside])), shape=(k, k))
+    indptr = np.zeros(k + 1, dtype=np.int64)
+    np.cumsum(np.bincount(np.repeat(np.arange(k), lens)[inside], minlength=k), out=indptr[1:])
+    return sp.csr_matrix((adj.data[take][inside], cols[inside], indptr), shape=(k, k))
 
 
 def _connected(adj: sp.csr_matrix, nodes: Sequence[int]) -> bool:
