@@ -40,6 +40,8 @@ class SideBound:
         share."""
         r = self.refined
         if r is not None and r.bound > max(self.farley_count, self.ring or 0):
+            if r.steps == 0:
+                return f" (connected cover over {r.smallest_m:.2f}-m patches, no search)"
             return f" (connected cover over refined patches, {r.steps} steps, down to {r.smallest_m:.2f} m)"
         if self.ring is not None and self.ring >= self.farley_count:
             return f" (ring walk, {self.patch_m:.2f}-m patches)"

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from planner.bounds.connected_result import SideBound
 from planner.bounds.outer import OuterRegions
-from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sets, patch_sides, undominated
+from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sides, undominated
 from planner.bounds.plane_refine import refined_bound
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.threads import ordered_map
@@ -32,6 +32,10 @@ MAX_FAMILY = 6_000
 #: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies: past this,
 #: a large outline's graph runs to gigabytes)
 MAX_LINKS = 3_000_000
+#: the quick cover over patches (:func:`planner.bounds.plane_refine.refined_bound` with no splits) runs by default only
+#: where the plan is at most this many stations above the walks' bound: where one station more of bound brings the plan
+#: within one of it (a few CPU-s a zone-side; on polygon A and C it raises each by one, far from their plans)
+QUICK_GAP = 2
 
 
 def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:
@@ -59,8 +63,8 @@ def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[RingGraph | 
     not formed (too many undominated patches or links, or arcs that do not chain). Its :meth:`RingGraph.unit_walk`
     is the ring walk (every patch costs one station)."""
     lengths = pieces.lengths
-    grow, shrink = pieces.shapes(h)
-    sets = patch_sets(grow, shrink, lengths, h)
+    got = pieces.grid(h)  # the first side's grid, shared with the quick cover over patches
+    sets = None if got is None else got[:2]
     if sets is None:
         return None, 0
     u, low = sets
@@ -213,8 +217,11 @@ def walked_sides(
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
                 sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
+    # the quick cover over patches (no search) where one station more of bound would bring the plan within one
+    gap = sum(counts.get(k, 0) for k in keys) - sum(s.value for s in sides)
+    cover = refine_steps > 0 or gap <= QUICK_GAP
     for i, k in enumerate(keys):
-        if refine_steps > 0 and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
+        if cover and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
             refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps)
             sides[i] = replace(sides[i], refined=refined)
     return tuple(sides)

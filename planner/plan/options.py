@@ -48,7 +48,7 @@ class PlanOptions:
     #: a wall-clock cap on pricing, only where the user sets one (None: none; its rounds and work, counts, stop it)
     pricing_time_limit_s: float | None = None
     #: refinements of the connected cover over patches for a zone-side the ring walk leaves below the plan
-    #: (:mod:`planner.bounds.plane_refine`; 0: off). Each is one connected MILP
+    #: (:mod:`planner.bounds.plane_refine`; 0: the quick cover only). Each is one connected MILP
     plane_refine_steps: int = DEFAULTS["plan.plane_refine_steps"]
     #: None: a share of the available memory (planner.plan.memory_guard)
     memory_limit_bytes: int | None = DEFAULTS["plan.memory_limit_bytes"]

@@ -209,11 +209,11 @@ class Plan:
         )
         conn = info.get("connected_plane_bound")
         if conn is not None:
-            how = (
-                "ring walk over patches, connected cover over refined patches"
-                if any(s.get("refined") for s in info.get("connected_plane", {}).get("zone_sides", []))
-                else "ring walk over patches"
-            )
+            refined = [s["refined"] for s in info.get("connected_plane", {}).get("zone_sides", []) if s.get("refined")]
+            how = "ring walk over patches"
+            if refined:
+                steps = max(int(r.get("steps", 0)) for r in refined)
+                how += ", connected cover over refined patches" if steps else ", connected cover over patches"
             rows.append((f"{conn:g}", f"connected plans, over every position in the plane ({how})"))
         head = (
             f"bound scope: {plane_scope} (no plan from any positions in the plane has fewer stations); bounds:"

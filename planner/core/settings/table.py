@@ -198,7 +198,7 @@ SETTINGS: dict[str, Setting] = {
                 **INT0,
                 default=0,
                 help="milp, zone registration: refine the connected plane bound up to N times where the ring walk "
-                "stays below the plan (default 0: off; docs/plane.md)",
+                "stays below the plan (default 0: the quick cover over one grid of patches, no splits; docs/plane.md)",
                 to={"plan.plane_refine_steps": None},
             ),
             Setting(
