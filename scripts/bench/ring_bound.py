@@ -44,8 +44,8 @@ def capture(names: list[str]) -> None:
 
         def wrapped(*args: Any, _seen: list[Any] = seen, _path: Path = STORE / f"{name}.pkl", **kw: Any) -> Any:
             _seen.append(True)
-            with _path.open("wb") as f:
-                pickle.dump((args, kw), f)
+            with _path.open("wb") as f:  # not the walks done ahead: a process and its pipe
+                pickle.dump((args, {k: v for k, v in kw.items() if k != "ahead"}), f)
             return inner(*args, **kw)
 
         methods.connected_plane_bound = wrapped  # type: ignore[assignment]
@@ -57,7 +57,7 @@ def capture(names: list[str]) -> None:
 
 def time_here(names: list[str], repeat: int) -> list[dict[str, Any]]:
     """Best-of-``repeat`` wall time of the bound on each captured call, with its values, in this process."""
-    import planner.bounds.plane_ring as ring_module
+    import planner.bounds.ring_walks as ring_module
     from planner.bounds.plane_ring import connected_plane_bound
 
     regions = ring_module.coverage_regions
