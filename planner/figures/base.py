@@ -7,6 +7,7 @@ import math
 from collections.abc import Callable
 
 import matplotlib as mpl
+import PIL.Image
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -17,6 +18,8 @@ from matplotlib.transforms import Bbox
 #: the resolution of the report's images (:func:`png_bytes`); a figure made at it is laid out, labelled and drawn with
 #: one renderer, which measures each text once
 PNG_DPI = 110
+#: zlib level of those images: on plan figures 3 encodes a quarter faster than the default 6, a few per cent larger
+PNG_LEVEL = 3
 
 #: room around the data of a plan panel (a share of its span, as ``Axes.margins``): the scale bar and the
 #: north arrow stand in it, clear of walls and stations
@@ -95,11 +98,9 @@ def png_bytes(fig: Figure, dpi: int = PNG_DPI) -> bytes:
     ticks and texts once more, about a fifth of a plan figure's time. Only a title or figure text can pass the edge
     (the layout makes room for a title's height, not its width): the image is then widened to hold it. A figure with no
     layout engine is cut to what is drawn, measured without a draw; a live layout is saved with ``"tight"``."""
-    buf = io.BytesIO()
     engine = fig.get_layout_engine()
     if engine is not None and not isinstance(engine, PlaceHolderLayoutEngine):  # a live layout: it needs the draw
-        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
-        return buf.getvalue()
+        return _encoded(fig, dpi, "tight")
     if not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
     pad = float(mpl.rcParams["savefig.pad_inches"])
@@ -114,10 +115,27 @@ def png_bytes(fig: Figure, dpi: int = PNG_DPI) -> bytes:
         box = _past_the_edge(fig, pad)
     drop_frozen_layout(fig)
     try:
-        fig.savefig(buf, format="png", dpi=dpi, bbox_inches=box)
+        return _encoded(fig, dpi, box)
     finally:
         fig.set_layout_engine(engine)
-    return buf.getvalue()
+
+
+def _encoded(fig: Figure, dpi: int, box: Bbox | str) -> bytes:
+    """``fig`` drawn at ``dpi`` into ``box`` (inches, or ``"tight"``) as PNG: RGB where every pixel is opaque (a
+    plan's image a tenth smaller than RGBA), at zlib level :data:`PNG_LEVEL`."""
+    if not isinstance(fig.canvas, FigureCanvasAgg):  # its own canvas (not a passing one): its renderer stays
+        FigureCanvasAgg(fig)
+    raw = io.BytesIO()
+    fig.savefig(raw, format="rgba", dpi=dpi, bbox_inches=box)
+    drawn = fig.canvas.renderer  # type: ignore[attr-defined]  # the one the image was drawn with: its size
+    size = (int(drawn.width), int(drawn.height))
+    image = PIL.Image.frombuffer("RGBA", size, raw.getvalue(), "raw", "RGBA", 0, 1)
+    alpha = image.getchannel("A").getextrema()
+    if alpha == (255, 255):
+        image = image.convert("RGB")
+    out = io.BytesIO()
+    image.save(out, format="png", compress_level=PNG_LEVEL, dpi=(dpi, dpi))
+    return out.getvalue()
 
 
 def _past_the_edge(fig: Figure, pad: float) -> Bbox:

@@ -1,5 +1,5 @@
 """A frozen figure is saved whole in one draw (:func:`planner.figures.base.png_bytes`): the bytes ``savefig`` of the
-whole figure gives, nothing drawn past its edge (what ``bbox_inches="tight"`` would cut to lies inside it), widened
+whole figure gives (its pixels; opaque, in RGB), nothing drawn past its edge (what ``bbox_inches="tight"`` would cut to lies inside it), widened
 where a title runs past the edge; a live layout is laid out and kept."""
 
 from __future__ import annotations
@@ -7,10 +7,11 @@ from __future__ import annotations
 import io
 
 import numpy as np
+import PIL.Image
 import pytest
 from matplotlib.figure import Figure
 
-from planner.figures.base import PLAN_MARGIN, drop_frozen_layout, frame_axes, png_bytes
+from planner.figures.base import PLAN_MARGIN, PNG_DPI, drop_frozen_layout, frame_axes, png_bytes
 from planner.figures.labels import PointLabel, finish_plans
 
 
@@ -31,13 +32,28 @@ def _panels(seed: int = 3) -> Figure:
     return fig
 
 
+def _pixels(png: bytes) -> np.ndarray:
+    """The RGB pixels of a PNG."""
+    return np.asarray(PIL.Image.open(io.BytesIO(png)).convert("RGB"))
+
+
 @pytest.mark.slow  # two figures drawn: seconds on a busy machine
-def test_a_frozen_figure_gives_the_bytes_of_savefig_of_the_whole_figure():
+def test_a_frozen_figure_gives_the_pixels_of_savefig_of_the_whole_figure():
     buf = io.BytesIO()
     fig = _panels()
     drop_frozen_layout(fig)
     fig.savefig(buf, format="png", dpi=110)
-    assert png_bytes(_panels()) == buf.getvalue()
+    assert np.array_equal(_pixels(png_bytes(_panels())), _pixels(buf.getvalue()))
+
+
+def test_an_opaque_figure_is_saved_as_rgb_at_the_set_level():
+    png = png_bytes(_panels())
+    image = PIL.Image.open(io.BytesIO(png))
+    assert image.mode == "RGB" and image.info.get("dpi") == pytest.approx((PNG_DPI, PNG_DPI), abs=0.01)
+    transparent = Figure(figsize=(2, 1))
+    transparent.patch.set_alpha(0.0)
+    transparent.subplots().patch.set_alpha(0.0)
+    assert PIL.Image.open(io.BytesIO(png_bytes(transparent))).mode == "RGBA"  # transparency kept
 
 
 def _size(png: bytes) -> tuple[int, int]:
@@ -60,7 +76,7 @@ def test_a_live_layout_is_still_laid_out_and_kept():
     fig.savefig(buf, format="png", dpi=110, bbox_inches="tight")
     again = Figure(figsize=(4, 3), layout="constrained")
     again.subplots().plot([0, 1], [0, 1])
-    assert png_bytes(again) == buf.getvalue()
+    assert np.array_equal(_pixels(png_bytes(again)), _pixels(buf.getvalue()))
     drop_frozen_layout(again)  # a live engine is no placeholder: it stays
     assert again.get_layout_engine() is not None
 
