@@ -89,24 +89,80 @@ class LagrangeBound:
 PartRunner = Callable[[Callable[..., PartResult], list[PartJob], dict[str, Any]], list[PartResult]]
 
 
-def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
-    """The cheapest cover of one part with CP-SAT (one worker, ``work_s`` deterministic seconds, and a wall cap
-    ``WALL_CAP`` times as long where one is set); ``lower`` is CP-SAT's best bound, the objective when proven optimal.
-    When CP-SAT finds no cover within its work, the part's cover is Chvatal's greedy (:func:`_greedy_part`) and
-    ``lower`` CP-SAT's bound, or 0 for the candidates of cost >= 0 where that bound is not finite: both stay valid.
-    :class:`InfeasibleError` when a piece of the part is seen by none of its candidates."""
-    from ortools.sat.python import cp_model
+#: share of a part's work spent before deciding whether the rest of it can close the part
+FIRST_SHARE = 0.25
+#: a part gets the rest of its work only where its best cover after the first share is within this fraction of its
+#: proven lower bound (on the plants CP-SAT's bound of a part that it does not close stays at the part's LP: its work
+#: there buys nothing the LP floor does not give)
+CLOSE_GAP = 0.10
 
+
+def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
+    """The cheapest cover of one part: its LP floor (:func:`_lp_floor`), then CP-SAT (one worker) for
+    ``FIRST_SHARE * work_s`` deterministic seconds, and, where that leaves the best cover within ``CLOSE_GAP`` of the
+    proven bound, once more for ``work_s`` from the same start (the run CP-SAT alone would make: started from the
+    first run's cover its search differs, and on the 16-ha plant it then lost a proof it makes from the same start);
+    a wall cap ``WALL_CAP`` times each limit where one is set.
+    ``lower`` is the larger of the LP floor and CP-SAT's best bound, the objective when proven optimal. When CP-SAT finds
+    no cover, the part's cover is Chvatal's greedy (:func:`_greedy_part`). Every piece of work is a count, not a time,
+    so the answer does not depend on the load. :class:`InfeasibleError` when a piece of the part is seen by none of its
+    candidates."""
     free, keep, rows = _reduce(job.a, job.w)
     cols = np.flatnonzero(keep)
-    model = cp_model.CpModel()
-    x = [model.NewBoolVar(f"x{j}") for j in cols]
     at = job.a[cols][:, rows].T.tocsr()
+    if np.any(np.diff(at.indptr) == 0):
+        raise InfeasibleError("a piece of this part is seen by none of its candidates", field="lagrange part")
+    w, paid = job.w[cols], int(job.w[free].sum())
+    floor = paid + _lp_floor(at, w)
+    hint = None if job.hint is None else job.hint[cols]
+    first = _cp_sat(at, w, hint, FIRST_SHARE * work_s, seed, cols)
+    runs = [first]
+    if first.chosen is not None and not first.optimal:
+        cost, lower = paid + int(w[first.chosen].sum()), max(floor, paid + first.lower)
+        if cost - lower <= CLOSE_GAP * cost:  # near: the rest of the work may prove it
+            runs.append(_cp_sat(at, w, hint, work_s, seed, cols))  # from the same start: see solve_part
+    lower = max([floor] + [paid + r.lower for r in runs])
+    covers = [r.chosen for r in runs if r.chosen is not None]
+    chosen = free.copy()
+    # no cover within the work: Chvatal's greedy
+    chosen[cols] = min(covers, key=lambda c: int(w[c].sum())) if covers else _greedy_part(at.T.tocsr(), w)
+    objective = int(job.w[chosen].sum())
+    optimal = any(r.optimal for r in runs) or lower >= objective
+    capped = any(r.capped for r in runs) and not optimal
+    return PartResult(lower=min(lower, objective), objective=objective, chosen=chosen, optimal=optimal, capped=capped)
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Run:
+    """One CP-SAT run on a part: its best cover (None: none found), proven bound, whether optimal, whether the wall
+    cap stopped it."""
+
+    chosen: NDArray[np.bool_] | None
+    lower: int
+    optimal: bool
+    capped: bool
+
+
+def _cp_sat(
+    at: sp.csr_matrix,
+    w: NDArray[np.int64],
+    hint: NDArray[np.bool_] | None,
+    work_s: float,
+    seed: int,
+    names: NDArray[np.int64],
+) -> _Run:
+    """CP-SAT on the cover of the rows of ``at`` (pieces x candidates) at costs ``w`` >= 0, one worker, ``work_s``
+    deterministic seconds; its proven bound is 0 where none is finite (the costs are >= 0). ``names``: the candidates'
+    numbers in the part, the variables' names."""
+    from ortools.sat.python import cp_model
+
+    model = cp_model.CpModel()
+    x = [model.NewBoolVar(f"x{j}") for j in names]
     for t in range(at.shape[0]):
         model.AddBoolOr([x[j] for j in at.indices[at.indptr[t] : at.indptr[t + 1]]])
-    model.Minimize(sum(int(w) * v for w, v in zip(job.w[cols], x)))
-    if job.hint is not None:
-        for v, h in zip(x, job.hint[cols]):
+    model.Minimize(sum(int(c) * v for c, v in zip(w, x)))
+    if hint is not None:
+        for v, h in zip(x, hint):
             model.AddHint(v, bool(h))
     solver = cp_model.CpSolver()
     solver.parameters.num_workers = 1
@@ -120,18 +176,40 @@ def solve_part(job: PartJob, work_s: float, seed: int = 0) -> PartResult:
         raise InfeasibleError("a piece of this part is seen by none of its candidates", field="lagrange part")
     if status == cp_model.MODEL_INVALID:
         raise InternalError(f"CP-SAT rejected a part: {solver.StatusName(status)}", field="lagrange part")
-    chosen = free.copy()
+    chosen = None
     if status in (cp_model.OPTIMAL, cp_model.FEASIBLE):
-        chosen[cols] = [bool(solver.Value(v)) for v in x]
-    else:  # UNKNOWN: no cover within the work
-        chosen[cols] = _greedy_part(at.T.tocsr(), job.w[cols])
-    objective = int(job.w[chosen].sum())
+        chosen = np.array([bool(solver.Value(v)) for v in x], dtype=bool)
     optimal = status == cp_model.OPTIMAL
     bound = solver.BestObjectiveBound()
-    rest = max(0, math.ceil(bound - 1e-9)) if math.isfinite(bound) else 0  # the kept costs are >= 0
-    lower = objective if optimal else int(job.w[free].sum()) + rest
+    lower = int(w[chosen].sum()) if optimal and chosen is not None else _up_int(bound)
     capped = WALL_CAP is not None and not optimal and solver.wall_time >= 0.99 * WALL_CAP * work_s
-    return PartResult(lower=lower, objective=objective, chosen=chosen, optimal=optimal, capped=capped)
+    return _Run(chosen=chosen, lower=lower, optimal=optimal, capped=capped)
+
+
+def _up_int(bound: float) -> int:
+    """A finite bound rounded up (the costs are integers), 0 where it is not finite (the costs are >= 0)."""
+    return max(0, math.ceil(bound - 1e-9)) if math.isfinite(bound) else 0
+
+
+def _lp_floor(at: sp.csr_matrix, w: NDArray[np.int64]) -> int:
+    """A proven lower bound on the cheapest cover of the rows of ``at`` (pieces x candidates) at integer costs ``w`` >=
+    0, from its LP's duals ``y >= 0`` (HiGHS): every 0/1 cover costs at least ``sum(y) - sum_j max(0, (A y)_j - w_j)``
+    (weak duality with ``x <= 1``, so it holds for any ``y >= 0``, whatever the LP solver's tolerances), rounded up as
+    the costs are integers. 0 where the LP fails (still a bound)."""
+    if at.shape[0] == 0:
+        return 0
+    res = linprog(
+        w.astype(np.float64),
+        A_ub=-at.astype(np.float64),
+        b_ub=-np.ones(at.shape[0]),
+        bounds=(0, None),
+        method="highs",
+    )
+    if res.status != 0:
+        return 0
+    y = np.maximum(-np.asarray(res.ineqlin.marginals, dtype=np.float64), 0.0)
+    excess = np.maximum(at.T.astype(np.float64) @ y - w, 0.0)
+    return max(0, math.ceil(float(y.sum()) - float(excess.sum()) - 1e-3))
 
 
 def _reduce(a: sp.csr_matrix, w: NDArray[np.int64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64]]:
