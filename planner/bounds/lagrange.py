@@ -18,8 +18,11 @@ What is computed:
   keeps ``sum_i lam_ij = c_j``; the step is Polyak's, towards the cheapest cover made so far as the union of the parts'
   covers, halved whenever ``L`` does not improve. The best ``L`` is kept.
 
-Each part is one CP-SAT model (one worker) stopped on deterministic work, so the bound does not depend on the machine's
-load; the parts are independent and run as :func:`planner.tiles.engine.run_tasks` jobs (serially, or on a Dask client).
+Each part's bound is the larger of its LP floor (the part's LP by HiGHS, made a proven bound by weak duality) and
+CP-SAT's (one worker, stopped on deterministic work, so the bound does not depend on the machine's load). CP-SAT gets a
+quarter of the part's work first and the whole of it only where that leaves its best cover near the bound: on the 16-ha
+plant the parts it does not close end at their LP exactly, so their work buys nothing the floor does not give. The parts
+are independent and run as :func:`planner.tiles.engine.run_tasks` jobs (serially, or on a Dask client).
 """
 
 from __future__ import annotations
