@@ -4,6 +4,7 @@ does not (:mod:`planner.figures.layout`)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from matplotlib.figure import Figure
 from matplotlib.layout_engine import ConstrainedLayoutEngine
 
@@ -54,6 +55,7 @@ def test_a_figure_of_the_same_make_up_takes_the_first_ones_layout_without_the_en
     assert len(layouts.by_make_up) == 1 and make_up(first) == make_up(second)
 
 
+@pytest.mark.slow  # three figures laid out and labelled: seconds on a busy machine
 def test_a_figure_the_layout_does_not_fit_is_laid_out_afresh_as_without_one(monkeypatch):
     layouts = Layouts()
     _panels(span=40.0, layouts=layouts)
