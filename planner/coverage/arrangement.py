@@ -33,6 +33,8 @@ MARGIN_M = 1e-6
 QUAD_SEGS = 4
 #: the faces must fill the union of the grown regions to this relative area
 AREA_CHECK = 1e-6
+#: a face is weighed at a point this far inside it (far above rounding, far below ``MARGIN_M``)
+INSET_M = 1e-8
 
 
 @dataclass(frozen=True)
@@ -147,9 +149,26 @@ def outer_max_weight(
     if len(faces) == 0:
         return float(w.sum())
     tree = shapely.STRtree(polys)
-    reps = shapely.point_on_surface(faces)
-    held = _weigh(reps, tree, np.ones(len(polys)), "intersects") > 0  # faces inside some region (not holes)
+    reps, inside = interior_points(faces)
+    ones = np.ones(len(polys))
+    held = _weigh(reps, tree, ones, "intersects") > 0  # faces inside some region (not holes)
+    held[~inside] = _weigh(reps[~inside], tree, ones, "dwithin") > 0
     union = shapely.union_all(np.asarray(polys, dtype=object))
     if abs(float(shapely.area(faces[held]).sum()) - union.area) > AREA_CHECK * max(union.area, 1.0):
         return float(w.sum())  # a face lost by the polygoniser: the trivial bound
-    return float(_weigh(reps, tree, w, "intersects").max())
+    weight = _weigh(reps, tree, w, "intersects")
+    weight[~inside] = _weigh(reps[~inside], tree, w, "dwithin")  # on a sliver's edge: the regions near it, closed
+    return float(weight.max())
+
+
+def interior_points(faces: NDArray) -> tuple[NDArray, NDArray[np.bool_]]:
+    """A point of each face at least ``INSET_M`` inside it, and where that was found. ``point_on_surface`` may return a
+    point on the face's edge, which rounding then puts outside a region that holds the whole face (seen 1e-14 m off at
+    coordinates near 1,000 m): such a face would weigh too little, or count as a hole. Inset first; a face too thin to
+    inset keeps ``point_on_surface`` (the caller weighs those within ``TOUCH_M``, closed: never too little)."""
+    reps = shapely.point_on_surface(faces)
+    inner = shapely.buffer(faces, -INSET_M, quad_segs=1, join_style="mitre")
+    inside = ~shapely.is_empty(inner)
+    if inside.any():
+        reps[inside] = shapely.point_on_surface(inner[inside])
+    return reps, inside

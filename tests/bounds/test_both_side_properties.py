@@ -15,9 +15,11 @@ by the planner's verify. Then, where the grid has a plan:
 
 and where the planner refuses, the grid has no plan either.
 
-No example breaks these. One it ran shows a weak certificate (sound, but "pool" where the plan is optimal over the plane),
-shrunk to a 3 x 3.5 m rectangle whose plane bound is 4 where it lies at the origin and 1 moved 924 m west: kept as an
-xfail (strict) below, with the mechanism in its reason.
+No example breaks these. One it ran showed a weak certificate (sound, but "pool" where the plan is optimal over the plane),
+shrunk to a 3 x 3.5 m rectangle whose plane bound was 4 where it lies at the origin and 1 moved 924 m west: two faces of
+the outer regions weighed at a point shapely put on their edge, 1e-14 m outside the region holding them, so the heaviest
+weight fell back to the duals' sum. Faces are weighed at a point inset into them now
+(:func:`planner.coverage.arrangement.interior_points`); the case is the test below, at both places.
 """
 
 from __future__ import annotations
@@ -156,18 +158,10 @@ def test_both_side_zones_against_the_grid_optimum(kind, w, h, margin, theta, rea
     check_against_the_grid(site, PlanOptions(precision=False), connected, True)
 
 
-MOVED_REASON = (
-    "pricing's w* falls back to the trivial bound (the duals' sum, 3.67): in coverage.arrangement.outer_max_weight two "
-    "thin faces of the outer regions along the boundary (0.90 and 0.77 m^2) count as held by no region, as "
-    "shapely.point_on_surface returns a point of their boundary 1e-14 m outside the region that holds each; the area "
-    "check then fails, and the plane bound is 1 (sound, not 4): the scope says pool where it is plane"
-)
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize(
     "shift",
-    [(0.0, 0.0), pytest.param((-924.0, 0.0), marks=pytest.mark.xfail(strict=True, reason=MOVED_REASON))],
+    [(0.0, 0.0), (-924.0, 0.0)],
 )
 def test_a_moved_both_side_rectangle_keeps_its_plane_certificate(shift):
     # shrunk from the property above: 3 x 3.5 m, boundary 4 m around, theta_max 68 deg, reach 6.5 m, turned 1.5 deg;
