@@ -278,11 +278,9 @@ def _shrink_until_safe(
 ) -> tuple[np.ndarray, float]:
     """(centre, radius) of the disc checked on its centre and rim, halved about the planned station p0 until it
     is safe; (p0, 0) when no disc of at least ``MIN_RADIUS_M`` is."""
-    from planner.candidates.final_step import misplacement
-
     while radius >= MIN_RADIUS_M:
         probes = _probes(cand, p0, centre, radius)
-        ok = all(not misplacement(site, p, p.x, p.y) for p in probes)
+        ok = not _misplaced(site, probes, np.array([(p.x, p.y) for p in probes])).any()  # one classification
         if ok and len(t):
             sub = build_coverage(site, probes, t, limits).by_candidate
             ok = bool(np.all(np.diff(sub.tocsr().indptr) == len(t)))
