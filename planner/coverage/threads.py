@@ -24,7 +24,8 @@ MAX_THREADS = 4
 
 def thread_count() -> int:
     """The threads to use: the cores this process may run on that are free (less the load average of the last
-    minute, this process's own thread counted free), at most :data:`MAX_THREADS`, at least 1. On a busy machine the
+    minute or the threads running now, whichever is less, this process's own thread counted free), at most
+    :data:`MAX_THREADS`, at least 1. On a busy machine the
     work stays on one thread: threads that cannot run side by side only pass Python's lock to and fro."""
     try:
         cores = len(os.sched_getaffinity(0))
@@ -34,8 +35,20 @@ def thread_count() -> int:
         busy = os.getloadavg()[0]
     except (AttributeError, OSError):  # no load average here: take the cores as free
         busy = 0.0
+    busy = min(busy, _running_now())
     free = math.floor(cores - busy + 1.0)
     return max(1, min(MAX_THREADS, cores, free))
+
+
+def _running_now() -> float:
+    """The threads running or ready to run on the machine now, this one among them (``/proc/loadavg``'s fourth field):
+    the last minute's load average lags by a minute, so that a plan started right after another found the cores busy
+    that the other had just left. Infinity where not known (the load average decides alone)."""
+    try:
+        with open("/proc/loadavg", encoding="ascii") as f:
+            return float(f.read().split()[3].split("/")[0])
+    except (OSError, IndexError, ValueError):
+        return math.inf
 
 
 def ordered_map(fn: Callable[[T], R], items: Iterable[T]) -> list[R]:
