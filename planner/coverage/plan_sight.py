@@ -53,12 +53,6 @@ def plan_blockers(site: Site, zi: int, reaching_m: float) -> PlanBlockers:
     return PlanBlockers(shapely.STRtree(shrunk) if len(shrunk) else None)
 
 
-def convex(polys: NDArray[np.object_]) -> NDArray[np.bool_]:
-    """For each polygon, True when it equals its convex hull (to a relative 1e-9 of its area)."""
-    area = shapely.area(polys)
-    return np.asarray(shapely.area(shapely.convex_hull(polys)) - area <= 1e-9 * area)
-
-
 def _edge_triangles(s: NDArray, corners: NDArray, n: NDArray) -> tuple[NDArray[np.int64], NDArray[np.object_]]:
     """The triangles station-edge over every edge of each patch (degenerate ones left out), with their rows."""
     m = np.arange(corners.shape[1])

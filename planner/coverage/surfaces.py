@@ -77,11 +77,15 @@ class SurfaceTargets(PieceArrays):
 
     @cached_property
     def is_convex(self) -> NDArray[np.bool_]:
-        """For each patch, whether it equals its convex hull (:func:`planner.coverage.plan_sight.convex`): worked out
-        once per set of patches, for every sight test that asks (a plan's tripod discs test hundreds of rims)."""
-        from planner.coverage.plan_sight import convex
-
+        """For each patch, whether it equals its convex hull (:func:`convex`): worked out once per set of patches, for
+        every sight test that asks (a plan's tripod discs test hundreds of rims)."""
         return np.asarray(convex(self.polygon), dtype=bool) if len(self) else np.zeros(0, dtype=bool)
+
+
+def convex(polys: NDArray[np.object_]) -> NDArray[np.bool_]:
+    """For each polygon, True when it equals its convex hull (to a relative 1e-9 of its area)."""
+    area = shapely.area(polys)
+    return np.asarray(shapely.area(shapely.convex_hull(polys)) - area <= 1e-9 * area)
 
 
 def zone_blocks(site: Site, zi: int) -> list[tuple[shapely.Polygon, float]]:
