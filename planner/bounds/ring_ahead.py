@@ -151,21 +151,18 @@ def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
 
 
 def _until_asked(conn: Connection, walks: RingWalks, work_patches: int) -> None:
-    """The walks of :func:`ahead_order` until the parent asks: each ring graph first (the bulk of the work), then
-    their walks searched all the way."""
+    """The walks of :func:`ahead_order` until the parent asks: each ring graph formed, then walked all the way and let
+    go before the next is formed (one graph held at a time: a zone-side's finer graph runs to hundreds of megabytes)."""
     keys = [int(k) for k in np.unique(walks.key[walks.required])] if walks.share > 0 else []
-    formed: list[tuple[int, int]] = []
     closed: set[int] = set()
     for k, level in ahead_order(walks, keys, work_patches):
         if conn.poll():
             return
         if k in closed or level >= len(walks.levels(k)):
             continue
-        if walks.prepare(k, level):
-            formed.append((k, level))
-        else:
+        if not walks.prepare(k, level):
             closed.add(k)  # not formed: no walk at a finer side is taken either
-    for k, level in formed:
+            continue
         if conn.poll():
             return
         walks.ahead(k, level)

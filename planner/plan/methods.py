@@ -32,6 +32,7 @@ from planner.core import progress
 from planner.core.errors import InfeasibleError, PlannerError
 from planner.coverage.links import zone_side_groups
 from planner.coverage.matrix import CoverageProblem, build_coverage
+from planner.coverage.openings import accessible_areas
 from planner.coverage.overlap import OverlapRule, piece_lengths
 from planner.coverage.regions import FrameSpace, regions_apply
 from planner.coverage.relation import Registration
@@ -173,7 +174,9 @@ def early_walks(
     counted as seen, as the coverage build refuses a piece nothing sees; the bound checks it). None: not started."""
     rule = registration.rule
     plain = options.method == "milp" and not options.hours and options.pricing and regions_apply(limits)
-    if not plain or rule is None or rule.overlap <= 0 or registration.mode != "zone":
+    if not plain or rule is None or rule.overlap <= 0:
+        return None
+    if registration.mode != "zone" and not (registration.mode == "site" and areas_are_zone_sides(site)):
         return None
     walks = RingWalks(
         site,
@@ -186,6 +189,18 @@ def early_walks(
         outer_regions=OuterRegions(),
     )
     return WalksAhead.start(walks, CONNECTED_WORK_PATCHES)
+
+
+def areas_are_zone_sides(site: Site) -> bool:
+    """True where ``site`` registration will likely bundle the stations by zone-side (each accessible area one
+    zone-side's space: rooms without doors, one outside zone a frame, no stairs), so that the connected plane bound is
+    formed: a guess made before the pool exists, to start its walks early; :func:`zone_side_groups` decides on the pool
+    (where it says no, the walks started are ended unused)."""
+    if getattr(site, "stairs", ()):
+        return False
+    sides = [(z.id, s) for z in site.zones for s in z.scan_side.sides]
+    areas = accessible_areas(site)
+    return len(sides) == len(areas) == len(set(areas.values()))
 
 
 def _walks_ahead(run: MethodInput) -> WalksAhead | None:
