@@ -37,3 +37,18 @@ def test_polygon_b_plans_the_same_with_walks_ahead(monkeypatch: pytest.MonkeyPat
     assert len(answers) == 1 and answers[0] is not None  # the bound took the forked walks' answer
     assert alone["connected_plane_bound"] == 6
     assert check.plan_differences(alone, ahead) == []
+
+
+@pytest.mark.parametrize(
+    ("name", "zone_sides"),
+    [("baalbek_site", True), ("building27", True), ("baalbek_site_doors", False), ("house_doors", False)],
+)
+def test_site_areas_guessed_as_zone_sides_before_the_pool(name: str, zone_sides: bool) -> None:
+    # site registration: rooms without doors and one outside zone bundle by zone-side (the walks start early); doors
+    # join rooms to the outside (not)
+    from planner.engine import problem_of
+    from planner.plan.methods import areas_are_zone_sides
+
+    problem = problem_of(INSTANCES / f"{name}.json")
+    assert problem.registration.mode == "site"
+    assert areas_are_zone_sides(problem.site) is zone_sides
