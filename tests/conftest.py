@@ -73,6 +73,12 @@ SLOW_BY_TIME = frozenset(
         "tests/coverage/test_surface_sight.py::test_the_matrix_equals_a_brute_force_oracle_and_does_not_move_with_the_site",
         "tests/field/test_field.py::test_cli_exit_codes",
         "tests/field/test_certify.py::test_bound_below_brute_force_optimum_below_route",
+        "tests/plan/test_memory_guard.py::test_estimate_bounds_what_the_build_makes[polygon_b.json]",
+        "tests/plan/test_field_time.py::test_a_plan_without_settings_has_no_hours_section",
+        "tests/plan/test_registration_home.py::test_registration_is_decided_only_where_the_problem_is_resolved",
+        "tests/report/test_surfaces_report.py::test_section_rows_are_plan_json_verification",
+        "tests/plan/test_surfaces_plan.py::test_room_floor_planned_and_found_covered_by_an_independent_check",
+        "tests/plan/test_surfaces_discs.py::test_batched_rims_give_the_discs_of_the_station_by_station_test",
     }
 )
 
