@@ -26,12 +26,14 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from planner.bounds.connected_result import SideBound
 from planner.bounds.plane_patches import FIRST_PATCHES
 from planner.bounds.ring_walks import FarleyShares, RingWalks, walked_sides
 from planner.core import progress
+from planner.coverage.matrix import CoverageProblem
 from planner.coverage.threads import thread_count
 
 #: seconds between checks that the process walking ahead is still alive, while its answer is awaited
@@ -68,6 +70,15 @@ class WalksAhead:
         finally:
             there.close()
         return cls(process, here)
+
+    def skip(self, keys: list[int]) -> None:
+        """Tell the process that the zone-sides ``keys`` need no walk ahead (:func:`one_station_sides`); it walks them
+        later only if the plan's counts ask for them. Nothing is awaited; a broken pipe is left to :meth:`walked`."""
+        if keys:
+            try:
+                self._conn.send(("skip", [int(k) for k in keys]))
+            except Exception:  # the process gone: walked() finds it so and the caller walks them itself
+                pass
 
     def walked(
         self,
@@ -132,8 +143,7 @@ def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
     progress.set_sink(None)  # the run's progress is this process's parent's to show
     _second_core()
     try:
-        _until_asked(conn, walks, work_patches)
-        head, counts, required, spent, refine_steps = conn.recv()
+        head, counts, required, spent, refine_steps = _until_asked(conn, walks, work_patches)
         if not np.array_equal(required, walks.required):  # other pieces to cover: walks done ahead do not serve
             walks = RingWalks(
                 walks.site,
@@ -150,19 +160,54 @@ def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
         return
 
 
-def _until_asked(conn: Connection, walks: RingWalks, work_patches: int) -> None:
-    """The walks of :func:`ahead_order` until the parent asks: each ring graph formed, then walked all the way and let
-    go before the next is formed (one graph held at a time: a zone-side's finer graph runs to hundreds of megabytes)."""
+def _until_asked(conn: Connection, walks: RingWalks, work_patches: int) -> Any:
+    """The walks of :func:`ahead_order` until the parent asks, then its request: each ring graph formed, then walked
+    all the way and let go before the next is formed (one graph held at a time: a zone-side's finer graph runs to
+    hundreds of megabytes). Zone-sides the parent says need none (:meth:`WalksAhead.skip`) are passed over."""
     keys = [int(k) for k in np.unique(walks.key[walks.required])] if walks.share > 0 else []
     closed: set[int] = set()
+
+    def asked() -> Any:
+        while conn.poll():
+            message = conn.recv()
+            if message[0] != "skip":
+                return message
+            closed.update(message[1])
+        return None
+
     for k, level in ahead_order(walks, keys, work_patches):
-        if conn.poll():
-            return
-        if k in closed or level >= len(walks.levels(k)):
+        if (got := asked()) is not None:
+            return got
+        if k in closed:
+            continue
+        sides = len(walks.levels(k))  # the zone-side's pieces drawn first: a skip may come meanwhile
+        if (got := asked()) is not None:
+            return got
+        if k in closed or level >= sides:
             continue
         if not walks.prepare(k, level):
             closed.add(k)  # not formed: no walk at a finer side is taken either
             continue
-        if conn.poll():
-            return
-        walks.ahead(k, level)
+        if (got := asked()) is not None:
+            return got
+        if k not in closed:
+            walks.ahead(k, level)
+    while (got := asked()) is None:
+        conn.poll(None)
+    return got
+
+
+def one_station_sides(problem: CoverageProblem) -> list[int]:
+    """The zone-sides (keys ``2 zone + side``) whose every seen piece one candidate of the pool covers: no plan needs
+    more than one station there, so no walk of theirs can raise the bound above one (the ring walk is at most the
+    pool's optimum), and walking them ahead is wasted."""
+    t, by = problem.targets, problem.by_candidate
+    seen = problem.by_target.getnnz(axis=1) > 0
+    key = t.zone.astype(np.int64) * 2 + t.side
+    keys, col = np.unique(key[seen], return_inverse=True)
+    if keys.size == 0:
+        return []
+    onehot = sp.csr_matrix((np.ones(col.size), (np.flatnonzero(seen), col)), shape=(len(t), keys.size))
+    per = (by.astype(np.float64) @ onehot).toarray()  # candidates x zone-sides: pieces seen there
+    need = np.bincount(col, minlength=keys.size)
+    return [int(k) for k in keys[(per >= need[None, :]).any(axis=0)]]

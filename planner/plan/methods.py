@@ -9,15 +9,17 @@ size counts, and log lines. A new method is a function of that signature added h
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import Future
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
 
-from planner.bounds.connected_result import plan_counts, with_connected_plane_bound
+from planner.bounds.connected_result import ConnectedPlaneBound, plan_counts, with_connected_plane_bound
 from planner.bounds.k_views import with_k_plane_bound
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane import price_plane, with_plane_bound
@@ -98,6 +100,10 @@ class MethodOutput:
     problem: CoverageProblem
     pool: CoverageProblem
     log: tuple[str, ...] = ()
+    #: the connected plane bound still being finished by the walks ahead (:func:`finish_bound` adds it to the result);
+    #: only where the caller started them (:attr:`MethodInput.walks_ahead`), so that it waits for them after its own
+    #: checks of the plan rather than before
+    pending: Future[ConnectedPlaneBound] | None = None
 
 
 def closed_form_limits(validation: ValidationReport) -> Limits:
@@ -270,22 +276,53 @@ def _milp(run: MethodInput, ahead: WalksAhead | None, log: list[str], pricing_on
             share = run.registration.rule.overlap if run.registration.rule else 0.0
             duals, counts = np.asarray(pricing.duals), plan_counts(problem, result.selected)
             refine, cache = options.plane_refine_steps, run.region_cache
-            cb = connected_plane_bound(
-                site,
-                problem,
-                limits,
-                share,
-                duals,
-                counts,
-                cache=cache,
-                refine_steps=refine,
-                spaces=run.spaces,
-                outer_regions=run.outer,
-                ahead=ahead,
-            )
+
+            def bound() -> ConnectedPlaneBound:
+                return connected_plane_bound(
+                    site,
+                    problem,
+                    limits,
+                    share,
+                    duals,
+                    counts,
+                    cache=cache,
+                    refine_steps=refine,
+                    spaces=run.spaces,
+                    outer_regions=run.outer,
+                    ahead=ahead,
+                )
+
+            if ahead is not None and ahead is run.walks_ahead and not refine:
+                return MethodOutput(result, problem, problem, tuple(log), pending=_in_thread(bound))
+            cb = bound()
             result = with_connected_plane_bound(result, cb)
             log.append(cb.summary())
     return MethodOutput(result, problem, problem, tuple(log))
+
+
+def _in_thread(work: Callable[[], ConnectedPlaneBound]) -> Future[ConnectedPlaneBound]:
+    """``work`` run on a daemon thread of its own: the walks ahead answer on their own core while the caller checks the
+    plan (the thread mostly waits on their pipe, so it takes little of the interpreter from the caller); a run that
+    fails meanwhile does not wait for it to exit."""
+    done: Future[ConnectedPlaneBound] = Future()
+
+    def target() -> None:
+        if not done.set_running_or_notify_cancel():
+            return
+        try:
+            done.set_result(work())
+        except BaseException as exc:  # handed to the caller, raised where it takes the result
+            done.set_exception(exc)
+
+    threading.Thread(target=target, name="connected-bound", daemon=True).start()
+    return done
+
+
+def finish_bound(result: SolveResult, pending: Future[ConnectedPlaneBound]) -> tuple[SolveResult, str]:
+    """``result`` with the connected plane bound that ``pending`` finishes (:attr:`MethodOutput.pending`), and the
+    bound's log line."""
+    cb = pending.result()
+    return with_connected_plane_bound(result, cb), cb.summary()
 
 
 def no_pool_plan(site: Site, options: PlanOptions) -> PlannerError:

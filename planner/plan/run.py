@@ -11,7 +11,7 @@ import numpy as np
 
 from planner.bounds.corners import link_refusal
 from planner.bounds.outer import OuterRegions
-from planner.bounds.ring_ahead import WalksAhead
+from planner.bounds.ring_ahead import WalksAhead, one_station_sides
 from planner.candidates.axis import axis_candidates
 from planner.candidates.complete import complete_candidates
 from planner.candidates.connect import connect_candidates, is_link, split_groups
@@ -29,7 +29,14 @@ from planner.plan.hours.columns import spacing_coverage, spacing_refusal
 from planner.plan.hours.field_time import field_properties, hours_method
 from planner.plan.hours.verify import verify_spacing
 from planner.plan.memory_guard import check_memory
-from planner.plan.methods import REGISTRY, MethodInput, MethodOutput, closed_form_limits, early_walks
+from planner.plan.methods import (
+    REGISTRY,
+    MethodInput,
+    MethodOutput,
+    closed_form_limits,
+    early_walks,
+    finish_bound,
+)
 from planner.plan.options import PlanOptions
 from planner.plan.problem import Problem, resolve
 from planner.plan.result import Plan
@@ -195,15 +202,21 @@ def plan_single(
     )
     try:
         run, cover, log = _method_input(problem, coverage, surface_cover, ahead)
+        if ahead is not None:
+            ahead.skip(one_station_sides(run.problem))
         props = _settings(problem, run.problem, props)
         out = hours_method(run, props) if props is not None else REGISTRY[problem.options.method](run)
+        out = with_surfaces_plane(problem, run, out, cover)
+        if cover is not None and out.problem.candidates != run.problem.candidates:  # pricing is off with surfaces
+            raise RuntimeError("the method changed the candidate pool the surface columns were built for")
+        log = [*log, *out.log]
+        plan = _checked_plan(problem, out, cover, props, log)
+        if out.pending is not None:  # the connected bound, finished by the walks ahead while the plan was checked
+            result, line = finish_bound(plan.result, out.pending)
+            plan = replace(plan, result=result, log=(*plan.log[: len(log)], line, *plan.log[len(log) :]))
     finally:
         if ahead is not None:
             ahead.close()
-    out = with_surfaces_plane(problem, run, out, cover)
-    if cover is not None and out.problem.candidates != run.problem.candidates:  # pricing is off with surfaces
-        raise RuntimeError("the method changed the candidate pool the surface columns were built for")
-    plan = _checked_plan(problem, out, cover, props, [*log, *out.log])
     return replace(plan, coverage=run.problem, surface_cover=cover)
 
 

@@ -12,7 +12,7 @@ import planner
 import planner.bounds.ring_ahead as ahead_mod
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane_ring import connected_plane_bound, farley_shares
-from planner.bounds.ring_ahead import WalksAhead, ahead_order
+from planner.bounds.ring_ahead import WalksAhead, ahead_order, one_station_sides
 from planner.bounds.ring_walks import RingWalks, ring_of, side_graph, side_ring_bound, walked_sides
 from planner.plan import PlanOptions, coverage_problem, plan_limits, resolve
 from planner.site.model import ScanSide, Site, Zone
@@ -167,3 +167,36 @@ def test_walks_kept_ahead_give_the_parts_of_walks_done_now(room, how) -> None:  
             for k, level in ahead_order(kept, keys, WORK):
                 if level < len(kept.levels(k)):
                     kept.prepare(k, level)
+
+
+def test_zone_sides_told_to_be_skipped_are_still_walked_when_the_counts_ask(room, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    site, problem, limits = room
+    want = dict.fromkeys(_keys(problem), 9)
+    alone = _bound(site, problem, limits, want)
+    monkeypatch.setattr(ahead_mod, "thread_count", lambda: 2)
+    started = WalksAhead.start(_walks(site, problem, limits), WORK)
+    assert started is not None
+    started.skip(_keys(problem))  # none walked ahead: every walk is done when asked
+    assert started.walked(*_asked(site, problem, limits, want)) == alone.sides
+
+
+def test_one_station_sides_are_the_zone_sides_one_candidate_covers() -> None:
+    """A 4 x 4 m room seen whole from its centre (the corners 45 deg off the normal, theta_max 70) needs one station;
+    the outside of a box needs two at least (a point outside sees at most two of its sides): only the room's inside."""
+    zones = (
+        Zone("R", ScanSide.INSIDE, _box(0, 0, 4, 4), (3.0,) * 4),
+        Zone("O", ScanSide.OUTSIDE, _box(20, 0, 24, 4), (3.0,) * 4),
+    )
+    site = Site("one", zones, parameters=Parameters(theta_max_deg=70.0, max_slant_range_m=20.0, overlap=SHARE))
+    options = PlanOptions(method="milp", precision=False, milp=MilpOptions(overlap=planner.OverlapRule(SHARE)))
+    problem, _unseen, _ = coverage_problem(resolve(site, options))
+    t = problem.targets
+    key = t.zone.astype(np.int64) * 2 + t.side
+    seen = problem.by_target.getnnz(axis=1) > 0
+    brute = []  # every candidate's row against each zone-side's seen pieces, as sets
+    rows = [set(problem.by_candidate[i].indices.tolist()) for i in range(problem.shape[0])]
+    for k in sorted({int(x) for x in key[seen]}):
+        need = set(np.flatnonzero(seen & (key == k)).tolist())
+        if any(need <= r for r in rows):
+            brute.append(k)
+    assert one_station_sides(problem) == brute == [2 * t.zone_ids.index("R")]
