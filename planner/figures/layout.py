@@ -44,6 +44,9 @@ class Layouts:
     make-up sets it. Filled as figures are laid out (the mapping, not the object, changes)."""
 
     by_make_up: dict[Key, Layout] = field(default_factory=dict)
+    #: take no new make-up: a figure of another make-up is laid out by its engine each time, so that each figure's
+    #: layout depends on the first figures' alone, not on which others were drawn before it (figures drawn apart)
+    closed: bool = False
 
 
 def make_up(fig: Figure) -> Key:
@@ -145,5 +148,7 @@ def reuse(fig: Figure, layouts: Layouts, renderer: RendererBase, aspects: Callab
 
 
 def remember(fig: Figure, layouts: Layouts) -> None:
-    """Keep the layout the engine just gave ``fig`` for the next figures of its make-up (the first one stays)."""
-    layouts.by_make_up.setdefault(make_up(fig), capture(fig))
+    """Keep the layout the engine just gave ``fig`` for the next figures of its make-up (the first one stays; none
+    where ``layouts`` is closed)."""
+    if not layouts.closed:
+        layouts.by_make_up.setdefault(make_up(fig), capture(fig))

@@ -3,6 +3,7 @@ wall height, obstacles and no-go areas, numbered stations by kind, movement fiel
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -14,7 +15,8 @@ from matplotlib.patches import Circle, Polygon
 
 from planner.core.checks import argument
 from planner.coverage.targets import SIDE_CODE
-from planner.figures.base import PLAN_MARGIN, PNG_DPI, frame_axes, legend_once
+from planner.figures.base import PLAN_MARGIN, PNG_DPI, frame_axes, legend_once, png_bytes
+from planner.figures.forked import drawn
 from planner.figures.labels import PointLabel, finish_plans
 from planner.figures.layout import Layouts
 from planner.figures.storey_fig import draw_obstacles
@@ -151,3 +153,18 @@ def plan_figures(o: Outcome, numbering: StationNumbering | None = None) -> list[
         for z in o.site.zones
         for side in z.scan_side.sides
     ]
+
+
+def plan_pngs(o: Outcome, numbering: StationNumbering | None = None) -> list[tuple[str, bytes]]:
+    """:func:`plan_figures` as PNG bytes (:func:`planner.figures.base.png_bytes`), drawn on two cores where one is free
+    (:func:`planner.figures.forked.drawn`): the first figure sets the layout, the others take it where they share its
+    make-up and are laid out afresh where not, so each image is the same however they are shared out."""
+    argument(o, Outcome, "outcome")
+    sides = [(z.id, side) for z in o.site.zones for side in z.scan_side.sides]
+    if not sides:
+        return []
+    layouts = Layouts()
+    first = png_bytes(plan_figure(o, sides[0][0], sides[0][1], numbering, layouts))
+    closed = replace(layouts, closed=True)
+    rest = drawn(lambda zs: png_bytes(plan_figure(o, zs[0], zs[1], numbering, closed)), sides[1:])
+    return [(f"{z}/{side.value}", png) for (z, side), png in zip(sides, [first, *rest])]

@@ -17,8 +17,9 @@ from typing import Any
 
 from planner import __version__
 from planner.core.checks import argument
-from planner.figures import network_figure, plan_figures
+from planner.figures import network_figure
 from planner.figures.base import png_bytes
+from planner.figures.plan_fig import plan_pngs
 from planner.network.summary import network_summary
 from planner.plan.outcome import Outcome
 from planner.plan.plan_dict import StationNumbering
@@ -282,8 +283,7 @@ def render_report(o: Outcome, field: str | None = None, field_sheet: Mapping[str
     numbering = report_numbering(o, field_sheet)  # one number and label per station, in every section below
     how = numbering.legend
     figs = "".join(
-        _img(png_bytes(f), f"plan {name}: coverage count and best incidence; {how}")
-        for name, f in plan_figures(o, numbering)
+        _img(png, f"plan {name}: coverage count and best incidence; {how}") for name, png in plan_pngs(o, numbering)
     )
     if o.network is not None:
         what = "registration links, sight lines, control points and error ellipses"
