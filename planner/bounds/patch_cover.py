@@ -12,8 +12,10 @@ no larger.
 
 **Bound** (:func:`ring_lagrange_bound`). Every connected cover of the reduced family covers its targets, so (implied
 targets) every required piece, so the pieces its patches see: the ring walk over their arcs is a lower bound
-(:mod:`planner.solve.ring`), and so is its Lagrangian L(lambda) for every lambda >= 0 on the targets; the ascent starts
-from the cover LP's duals and takes at most :data:`ASCENT_STEPS` steps and :data:`WALK_WORK` walk units (counts: the
+(:mod:`planner.solve.ring`), and so is its Lagrangian L(lambda) for every lambda >= 0 on the targets; the multipliers
+are found by column generation over walks (:mod:`planner.bounds.walk_dual`, which reaches the Lagrangian dual where a
+subgradient ascent oscillated: polygon A's inside 8 -> 9, C's 10 -> 11 and 12), pricing at most :data:`ASCENT_STEPS`
+walks and :data:`WALK_WORK` walk units (counts: the
 same bound under any load). Costs are one per patch, so the bound is the ceiling of the best value.
 """
 
@@ -24,15 +26,16 @@ import math
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import linprog
 
+from planner.bounds.walk_dual import walk_dual_bound
 from planner.solve.presolve import implied_targets
-from planner.solve.ring import lagrangian_bound, ring_graph
+from planner.solve.ring import ring_graph
 
-#: steps of the Lagrangian ascent at most
+#: walks the column generation prices at most
 ASCENT_STEPS = 50
-#: walk units (links of the lifted graph x anchors, per step) the ascent may spend
-WALK_WORK = 1e8
+#: walk units (links of the lifted graph x anchors, per walk) it may spend (polygon A's and C's insides: 9-21 walks of
+#: 2-4e7 units)
+WALK_WORK = 1e9
 #: dominators tried per patch in one pass, earliest first (fewer only removes less: still sound)
 _PROBE = 64
 #: patches per block of the cover-containment product
@@ -137,8 +140,8 @@ def ring_lagrange_bound(
 ) -> int:
     """A lower bound on the connected cover of the columns ``targets`` of ``a`` (patches x pieces in cyclic order;
     covering them covers every column) under the links ``adj``, each patch costing one: the ring walk over the arcs of
-    the pieces the patches see, then its Lagrangian ascent over the target rows toward ``target`` (stopping once the
-    bound reaches it); 0 where the walk is not formed."""
+    the pieces the patches see, then its Lagrangian dual over the target rows (:mod:`planner.bounds.walk_dual`),
+    stopping once the bound reaches ``target``; 0 where the walk is not formed."""
     a = a.tocsr()
     seen = np.flatnonzero(a.getnnz(axis=0))
     if seen.size == 0 or a.shape[0] == 0:
@@ -154,8 +157,5 @@ def ring_lagrange_bound(
     if best >= target or steps <= 0:
         return best
     sub = a[:, targets].astype(np.float64).tocsr()
-    lp = linprog(cost, A_ub=-sub.T, b_ub=-np.ones(sub.shape[1]), bounds=(0, None), method="highs")
-    if lp.status != 0:
-        return best
-    value, _ = lagrangian_bound(graph, sub, cost, -lp.ineqlin.marginals, float(target), target - 1 + 1e-6, steps)
+    value, _ = walk_dual_bound(graph, sub, cost, target, steps)
     return max(best, math.ceil(value - 1e-6)) if math.isfinite(value) else best

@@ -17,7 +17,7 @@ relaxation's optimum is not realised), here with the registration links.
 
 **Quick bound** (:func:`quick_bound`; :func:`refined_bound` with no steps). The cover over one grid of patches, bounded
 without a search: the family reduced (:mod:`planner.bounds.patch_cover`: replacements by near patches, dominance under
-the links, implied targets) and the ring walk over it raised by its Lagrangian ascent. Any lower bound on the cover over
+the links, implied targets) and the ring walk over it raised by its Lagrangian dual (:mod:`planner.bounds.walk_dual`). Any lower bound on the cover over
 patches bounds every connected plan, so no optimum is needed; every limit is a count.
 """
 
@@ -45,13 +45,15 @@ from planner.solve.result import Status
 STEP_WORK_S = 60.0
 #: the quick bound's patches over the box of a zone-side's regions (a count: the same bound under any load)
 QUICK_PATCHES = 20_000
-#: distinct patches (U, low) that no near patch dominates (:func:`near_dominated`) the quick bound takes on; past it,
-#: a coarser side, as their count asks (it goes with the side's square)
-QUICK_NEAR = 7_000
-#: the quick bound's undominated patches at most (the links among them are formed pairwise); past it, coarser patches
-QUICK_FAMILY = 5_000
-#: the second side is this much coarser than that count asks
-_QUICK_MARGIN = 1.1
+#: distinct patches (U, low) that no near patch dominates (:func:`near_dominated`) the quick bound takes on at the ring
+#: walk's first side, whose grid it shares; past it, a coarser side (polygon C's inside: 7,040 at 3.26 m, taken)
+QUICK_NEAR = 7_500
+#: such patches aimed at on the coarser side: a side of its own costs its grown and shrunk regions and its grid again,
+#: so it is kept small (polygon A's inside: 15,831 at 2.49 m -> 5.0-m patches, bound 9 as at 4.1 m, in half the time)
+QUICK_COARSE = 4_000
+#: the quick bound's undominated patches at most (the links among them are formed pairwise); past it, the coarser side
+#: as above (polygon C's inside: 5,208 at 3.26 m -> 4.32-m patches, bound 11; at 3.26 m it is 12, in 3 CPU-s more)
+QUICK_FAMILY = 6_000
 #: grid cells either way within which :func:`near_dominated` looks for a dominating patch
 _NEAR = 4
 #: rows of the relaxed-link product formed at a time (a block of patches x all patches, float32)
@@ -256,8 +258,8 @@ def quick_bound(pieces: SidePieces, share: float, target: int, box_patches: int 
     """The connected cover over one grid of patches bounded without a search (:mod:`planner.bounds.patch_cover`):
     about ``box_patches`` patches over the box of the zone-side's regions (the ring walk's first side, whose grid it
     shares: :meth:`planner.bounds.plane_patches.SidePieces.grid`). Where it holds more than :data:`QUICK_NEAR`
-    distinct patches that no near one dominates, the side grows as their count asks, once; where more than :data:`QUICK_FAMILY` undominated ones
-    stay, no bound (0). Its ``steps`` is 0; ``proven`` says whether it reached ``target``: the plan then gives a cover
+    distinct patches that no near one dominates, or more than :data:`QUICK_FAMILY` undominated ones, the side grows once,
+    to about :data:`QUICK_COARSE` of the former; where the coarser side still holds too many, no bound (0). Its ``steps`` is 0; ``proven`` says whether it reached ``target``: the plan then gives a cover
     over these patches of that size, so that is the cover's optimum."""
     box = live_box(pieces.outer)
     if box is None or not pieces.required.any():
@@ -269,12 +271,16 @@ def quick_bound(pieces: SidePieces, share: float, target: int, box_patches: int 
             break
         first = distinct_rows(got[0], got[1])[0]
         first = first[~near_dominated(got[0][first].tocsr(), got[1][first], got[2][first], got[3][first], h)]
-        if first.size > QUICK_NEAR and not last:
-            h *= math.sqrt(first.size / QUICK_NEAR) * _QUICK_MARGIN
+        near = first.size
+        if near > QUICK_NEAR and not last:
+            h *= math.sqrt(near / QUICK_COARSE)
             continue
         first = first[~dominated(got[0][first].tocsr(), got[1][first])]
         if first.size > QUICK_FAMILY:
-            break
+            if last:
+                break
+            h *= math.sqrt(near / QUICK_COARSE)
+            continue
         u, low = got[0][first].tocsr(), got[1][first]
         links = relaxed_links(u, low, pieces.lengths, share)
         a = u[:, np.flatnonzero(pieces.required)].tocsr()

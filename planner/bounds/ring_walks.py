@@ -25,7 +25,7 @@ from planner.coverage.regions import FrameSpace, coverage_regions, outer_toleran
 from planner.coverage.threads import ordered_map
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
-from planner.solve.ring import RingGraph, cyclic_arcs, ring_graph
+from planner.solve.ring import RingGraph, arcs, cyclic_arcs, ring_graph
 
 #: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
 MAX_FAMILY = 6_000
@@ -35,7 +35,11 @@ MAX_LINKS = 3_000_000
 #: the quick cover over patches (:func:`planner.bounds.plane_refine.refined_bound` with no splits) runs by default only
 #: where the plan is at most this many stations above the walks' bound: where one station more of bound brings the plan
 #: within one of it (a few CPU-s a zone-side; on polygon A and C it raises each by one, far from their plans)
-QUICK_GAP = 2
+QUICK_GAP = 5
+#: a zone-side whose undominated family at one patch side is past MAX_FAMILY / this is not formed at the next (half as
+#: large) side: halving the side has multiplied the family by 3.4-3.7 on the bundled zone-sides, so that graph would
+#: pass the cap after its grid and dominance were paid for (about a CPU-second on polygon A's and C's sides)
+FAMILY_GROWTH = 2
 
 
 def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:
@@ -122,6 +126,7 @@ class RingWalks:
         self._levels: dict[int, list[float]] = {}
         self._graphs: dict[tuple[int, int], tuple[RingGraph | None, int]] = {}  # formed ahead, not walked yet
         self._done: dict[tuple[int, int], tuple[bool, int | None, int]] = {}  # walked all the way
+        self._family: dict[tuple[int, int], int] = {}  # the undominated family of each side formed
 
     def draw(self, keys: list[int]) -> None:
         """The regions, inner and outer, of the zone-sides ``keys`` not drawn yet (one call for all their pieces)."""
@@ -160,8 +165,17 @@ class RingWalks:
         if done is not None:
             return done[0]
         if (key, level) not in self._graphs:
-            self._graphs[key, level] = side_graph(self.side(key), self.share, self.levels(key)[level])
+            self._graphs[key, level] = self._formed(key, level)
         return self._graphs[key, level][0] is not None
+
+    def _formed(self, key: int, level: int) -> tuple[RingGraph | None, int]:
+        """:func:`side_graph` of zone-side ``key`` at its ``level``-th patch side, not formed (None, 0) where the
+        family one level coarser was past ``MAX_FAMILY / FAMILY_GROWTH`` (:data:`FAMILY_GROWTH`)."""
+        if self._family.get((key, level - 1), 0) * FAMILY_GROWTH > MAX_FAMILY:
+            return None, 0
+        graph, fam = side_graph(self.side(key), self.share, self.levels(key)[level])
+        self._family[key, level] = fam
+        return graph, fam
 
     def ahead(self, key: int, level: int) -> None:
         """Walk zone-side ``key`` at its ``level``-th patch side all the way (for any counts later), on the graph
@@ -184,7 +198,11 @@ class RingWalks:
             if graph is None:
                 return None, fam
             return ring_of(True, graph.unit_walk(limit=target - 1.5), target), fam
-        return side_ring_bound(self.side(key), self.share, self.levels(key)[level], target)
+        graph, fam = self._formed(key, level)
+        if graph is None:
+            return None, fam
+        # a walk of fewer than target stations has both branches from its anchor at most target - 2 long
+        return ring_of(True, graph.unit_walk(limit=target - 1.5), target), fam
 
 
 def walked_sides(
@@ -217,14 +235,31 @@ def walked_sides(
                 open_[i] = False  # too many patches or undominated ones, or arcs that do not chain
             elif ring > (sides[i].ring or 0):
                 sides[i] = SideBound(sides[i].zone_side, sides[i].farley, ring, h, fam)
-    # the quick cover over patches (no search) where one station more of bound would bring the plan within one
+    # the quick cover over patches (no search) where the plan is within QUICK_GAP of the walks' bound
     gap = sum(counts.get(k, 0) for k in keys) - sum(s.value for s in sides)
     cover = refine_steps > 0 or gap <= QUICK_GAP
     for i, k in enumerate(keys):
-        if cover and levels[i] and sides[i].value < counts.get(k, 0):  # levels: none for share 0
-            refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps)
-            sides[i] = replace(sides[i], refined=refined)
+        if not (cover and levels[i] and sides[i].value < counts.get(k, 0)):  # levels: none for share 0
+            continue
+        if not refine_steps and sides[i].ring is not None and arcs_only(walks.side(k), levels[i][0]):
+            continue
+        refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps)
+        sides[i] = replace(sides[i], refined=refined)
     return tuple(sides)
+
+
+def arcs_only(pieces: SidePieces, h: float) -> bool:
+    """Whether every patch of side ``h`` (the ring walk's first, whose grid is kept) may see only a run of consecutive
+    pieces: then the connected cover over those patches *is* the ring walk over them (the ring theorem,
+    :mod:`planner.solve.ring`; the cover's links only add the float slack of
+    :func:`planner.bounds.plane_refine.relaxed_links`). Where that walk was formed the quick cover is not run: at that side
+    it cannot pass the walk, and at the coarser side it takes when the patches are many it seldom does (polygon A's
+    outside: 3.89-m patches, walk 13; the cover over 4.34-m patches 12)."""
+    got = pieces.grid(h)
+    if got is None:
+        return False
+    start, _, exact = arcs(got[0])
+    return bool(exact[start >= 0].all())
 
 
 def _walk_level(
