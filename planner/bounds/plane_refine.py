@@ -173,21 +173,33 @@ def relaxed_links(
     u: sp.csr_matrix, low: NDArray[np.float64], lengths: NDArray[np.float64], share: float
 ) -> sp.csr_matrix:
     """The relaxed links (module docstring) among the rows of ``u``, symmetric, no diagonal: formed a block of rows
-    against the rows from it on at a time (float32, with :data:`_SLACK_M` toward linking)."""
+    against the rows from it on at a time (float32, with :data:`_SLACK_M` toward linking). The rows are taken in the
+    order of their first piece, and each block's product keeps to the pieces its rows see and the later rows that see
+    one of them (no other pair shares wall): a patch sees a run of the zone-side's ring, so a block sees a stretch of it
+    (polygon C's inside: 5,208 patches, about a third of the work)."""
     n = u.shape[0]
-    ub = u.astype(np.float32).toarray()
+    u = u.tocsr()
+    u.sort_indices()
+    has = np.diff(u.indptr) > 0
+    first = np.full(n, -1, dtype=np.int64)
+    first[has] = u.indices[u.indptr[:-1][has]]
+    perm = np.argsort(first, kind="stable")
+    ub = u[perm].astype(np.float32).toarray()
     w = ub * lengths.astype(np.float32)[None, :]
-    need = (share * low).astype(np.float32)
+    need = (share * low[perm]).astype(np.float32)
     rows, cols = [], []
     for i in range(0, n, _BLOCK):
-        shared = w[i : i + _BLOCK] @ ub[i:].T
+        block = min(_BLOCK, n - i)
+        seen = np.flatnonzero(ub[i : i + block].any(axis=0))
+        later = i + np.flatnonzero(ub[i:, seen].any(axis=1))
+        shared = w[i : i + block, seen] @ ub[np.ix_(later, seen)].T
         ok = shared > 0
-        ok &= shared + np.float32(_SLACK_M) >= np.minimum(need[i : i + _BLOCK, None], need[None, i:])
-        ok[:, : min(_BLOCK, n - i)] &= np.triu(np.ones((min(_BLOCK, n - i),) * 2, dtype=bool), 1)
+        ok &= shared + np.float32(_SLACK_M) >= np.minimum(need[i : i + block, None], need[None, later])
+        ok &= later[None, :] > (i + np.arange(block))[:, None]
         r, c = np.nonzero(ok)
-        rows.append(r + i)
-        cols.append(c + i)
-    r, c = np.concatenate(rows), np.concatenate(cols)
+        rows.append(perm[r + i])
+        cols.append(perm[later[c]])
+    r, c = (np.concatenate(rows), np.concatenate(cols)) if rows else (np.zeros(0, int), np.zeros(0, int))
     upper = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(n, n))
     return (upper + upper.T).tocsr()
 

@@ -39,7 +39,7 @@ QUICK_GAP = 5
 #: a zone-side whose undominated family at one patch side is past MAX_FAMILY / this is not formed at the next (half as
 #: large) side: halving the side has multiplied the family by 3.4-3.7 on the bundled zone-sides, so that graph would
 #: pass the cap after its grid and dominance were paid for (about a CPU-second on polygon A's and C's sides)
-FAMILY_GROWTH = 2
+FAMILY_GROWTH = 3
 
 
 def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> tuple[int | None, int]:

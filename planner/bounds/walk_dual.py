@@ -29,13 +29,16 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import linprog
+from scipy.sparse.csgraph import dijkstra
 
-from planner.solve.ring import RingGraph
+from planner.solve.ring import _EPS, _LIFTS, RingGraph, _path
 
 #: the weight of the best multipliers yet in the multipliers that price the next walk (Wentges smoothing)
 SMOOTHING = 0.5
 #: below this a value is taken as its integer (rounding of the LP and of the walk's sums)
 _TOL = 1e-6
+#: walks added to the master per pricing at most: the cheapest walk from each anchor, the cheapest first
+COLUMNS = 64
 
 
 def walk_dual_bound(
@@ -67,17 +70,55 @@ def walk_dual_bound(
         price = np.maximum(rc, 0.0)
         # the cheapest walk costs at most the cheapest of the walks found so far: each branch searched no farther
         known = min(float(price[list(c)].sum()) for c in found)
-        w = ring.walk(price, limit=known + _TOL)
-        w = ring.walk(price) if w is None else w
-        if w is None:
+        got_walks = anchor_walks(ring, price, known + _TOL) or anchor_walks(ring, price, np.inf)
+        if not got_walks:
             return best, k + 1
-        got = float(lam.sum() + w.bound + np.minimum(rc, 0.0).sum())
+        low = got_walks[0][0]
+        got = float(lam.sum() + low + np.minimum(rc, 0.0).sum())
         if got > best:
             best, centre = got, lam
-        found.append(w.walk)
-        cols.append(_column(sub, w.walk))
-        prices.append(float(cost[list(w.walk)].sum()))
+        for _, walk in got_walks[:COLUMNS]:
+            found.append(walk)
+            cols.append(_column(sub, walk))
+            prices.append(float(cost[list(walk)].sum()))
     return best, walks
+
+
+def anchor_walks(ring: RingGraph, price: NDArray[np.float64], limit: float) -> list[tuple[float, tuple[int, ...]]]:
+    """The cheapest walk from each anchor of ``ring`` under node costs ``price`` (>= 0), distinct, the cheapest first,
+    each as (a lower bound on the cheapest walk's cost, the walk's candidates): :meth:`RingGraph.walk`'s search, every
+    anchor's best kept instead of the best one. The first value is the least Dijkstra total less ``_EPS`` per lifted
+    node (the totals carry at most that much of it), so at most the cheapest walk's cost. Each branch is searched no
+    farther than ``limit``: empty where no walk keeps within it."""
+    graph = ring.graph
+    graph.data = price[graph.indices % ring.m] + _EPS
+    src = ring._sources()
+    dist, pred = dijkstra(graph, indices=src, return_predecessors=True, limit=limit)
+    size, base = _LIFTS.size * ring.n + ring.n, -ring.n
+    out: dict[tuple[int, ...], float] = {}
+    for row, s in enumerate(src.tolist()):
+        d = dist[row]
+        reach = np.flatnonzero(np.isfinite(d))
+        if reach.size == 0:
+            continue
+        right = np.full(size + 1, np.inf)  # right[e]: the cheapest right end at lifted end >= e
+        np.minimum.at(right, np.clip(ring.hi[reach] - base, 0, size), d[reach])
+        right = np.minimum.accumulate(right[::-1])[::-1]
+        need = np.clip(ring.need[reach] - base, 0, size)
+        total = d[reach] + right[need]
+        k = int(np.argmin(total))
+        if not np.isfinite(total[k]):
+            continue
+        left = int(reach[k])
+        ends = reach[ring.hi[reach] - base >= need[k]]
+        r = int(ends[np.argmin(d[ends])])
+        walk = tuple(sorted({v % ring.m for v in _path(pred[row], s, left) + _path(pred[row], s, r)}))
+        value = float(total[k] + price[s % ring.m] + _EPS)
+        out[walk] = min(out.get(walk, np.inf), value)
+    ranked = sorted((v, w) for w, v in out.items())
+    if ranked:
+        ranked[0] = (ranked[0][0] - _EPS * graph.shape[0], ranked[0][1])
+    return ranked
 
 
 def _column(sub: sp.csr_matrix, walk: tuple[int, ...]) -> NDArray[np.float64]:
