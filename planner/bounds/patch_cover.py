@@ -157,5 +157,5 @@ def ring_lagrange_bound(
     if best >= target or steps <= 0:
         return best
     sub = a[:, targets].astype(np.float64).tocsr()
-    value, _ = walk_dual_bound(graph, sub, cost, target, steps)
+    value, _ = walk_dual_bound(graph, sub, cost, target, steps, walk)
     return max(best, math.ceil(value - 1e-6)) if math.isfinite(value) else best

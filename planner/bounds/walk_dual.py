@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from scipy.optimize import linprog
 from scipy.sparse.csgraph import dijkstra
 
-from planner.solve.ring import _EPS, _LIFTS, RingGraph, _path
+from planner.solve.ring import _EPS, _LIFTS, RingBound, RingGraph, _path
 
 #: the weight of the best multipliers yet in the multipliers that price the next walk (Wentges smoothing)
 SMOOTHING = 0.5
@@ -42,12 +42,18 @@ COLUMNS = 64
 
 
 def walk_dual_bound(
-    ring: RingGraph, sub: sp.csr_matrix, cost: NDArray[np.float64], goal: int, walks: int
+    ring: RingGraph,
+    sub: sp.csr_matrix,
+    cost: NDArray[np.float64],
+    goal: int,
+    walks: int,
+    first: RingBound | None = None,
 ) -> tuple[float, int]:
     """The best L(lambda) found (module docstring), and the walks priced after the first. ``sub``: candidates x the
     targets whose cover is added back; ``cost``: per candidate (> 0); ``goal``: stop once the rounded bound reaches it;
-    ``walks``: at most this many walks priced after the first. -inf where the ring has no walk at all."""
-    first = ring.walk(cost)
+    ``walks``: at most this many walks priced after the first; ``first``: the cheapest walk under ``cost`` where known.
+    -inf where the ring has no walk at all."""
+    first = ring.walk(cost) if first is None else first
     if first is None:
         return -math.inf, 0
     best = first.bound
@@ -135,7 +141,16 @@ def _master(
     a_ub = sp.hstack([rows, sp.csc_matrix(-np.stack(cols, axis=1))], format="csc")
     c = np.concatenate([cost, prices])
     a_eq = sp.csr_matrix(np.concatenate([np.zeros(m), np.ones(k)])[None, :])
-    lp = linprog(c, A_ub=a_ub, b_ub=-np.ones(rows.shape[0]), A_eq=a_eq, b_eq=[1.0], bounds=(0, None), method="highs")
+    lp = linprog(
+        c,
+        A_ub=a_ub,
+        b_ub=-np.ones(rows.shape[0]),
+        A_eq=a_eq,
+        b_eq=[1.0],
+        bounds=(0, None),
+        method="highs",
+        options={"presolve": False},  # a third of the time on these masters (polygon C's inside), the same value
+    )
     if lp.status != 0:
         return None
     return float(lp.fun), np.maximum(-np.asarray(lp.ineqlin.marginals, dtype=np.float64), 0.0)
