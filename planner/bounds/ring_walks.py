@@ -33,8 +33,9 @@ MAX_FAMILY = 6_000
 #: a large outline's graph runs to gigabytes)
 MAX_LINKS = 3_000_000
 #: the quick cover over patches (:func:`planner.bounds.plane_refine.refined_bound` with no splits) runs by default only
-#: where the plan is at most this many stations above the walks' bound: where one station more of bound brings the plan
-#: within one of it (a few CPU-s a zone-side; on polygon A and C it raises each by one, far from their plans)
+#: where the plan is at most this many stations above the walks' bound: the cover with its walks' dual has raised such a
+#: plan's bound by 1-3 (Baalbek 20 -> 21, polygon A 20 -> 22, C 24 -> 27: 2-5 CPU-s on those) and a plan farther
+#: above is not brought within two by it
 QUICK_GAP = 5
 #: a zone-side whose undominated family at one patch side is past MAX_FAMILY / this is not formed at the next (half as
 #: large) side: halving the side has multiplied the family by 3.4-3.7 on the bundled zone-sides, so that graph would
