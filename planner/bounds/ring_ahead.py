@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 
 from planner.bounds.connected_result import SideBound
 from planner.bounds.plane_patches import FIRST_PATCHES
-from planner.bounds.ring_walks import FarleyShares, RingWalks, arcs_only, walked_sides
+from planner.bounds.ring_walks import FarleyShares, RingWalks, walked_sides
 from planner.core import progress
 from planner.coverage.matrix import CoverageProblem
 from planner.coverage.threads import thread_count
@@ -192,13 +192,6 @@ def _until_asked(conn: Connection, walks: RingWalks, work_patches: int) -> Any:
             return got
         if k not in closed:
             walks.ahead(k, level)
-    # then the quick covers (under no count yet) where the walks cannot stand for them: one side at a time
-    for k in sorted(set(keys) - closed, key=lambda k: -int(np.count_nonzero(walks.key == k))):
-        if (got := asked()) is not None:
-            return got
-        if k in closed or not walks.levels(k) or (walks.prepare(k, 0) and arcs_only(walks.side(k), walks.levels(k)[0])):
-            continue
-        walks.quick_ahead(k)
     while (got := asked()) is None:
         conn.poll(None)
     return got

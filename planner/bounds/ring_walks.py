@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from planner.bounds.connected_result import SideBound
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sides, undominated
-from planner.bounds.plane_refine import Refined, quick_bound, refined_bound
+from planner.bounds.plane_refine import refined_bound
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.threads import ordered_map
 from planner.coverage.visibility import SightLimits
@@ -33,10 +33,10 @@ MAX_FAMILY = 6_000
 #: a large outline's graph runs to gigabytes)
 MAX_LINKS = 3_000_000
 #: the quick cover over patches (:func:`planner.bounds.plane_refine.refined_bound` with no splits) runs by default only
-#: where the plan is at most this many stations above the walks' bound: the cover with its walks' dual has raised such a
-#: plan's bound by 1-3 (Baalbek 20 -> 21, polygon A 20 -> 22, C 24 -> 27: 2-5 CPU-s on those) and a plan farther
-#: above is not brought within two by it
-QUICK_GAP = 5
+#: where the plan is at most this many stations above the walks' bound, so that one station more of bound brings it
+#: within one (Baalbek 20 -> 21 for about 2 CPU-s). Farther above it may still gain (at 5: polygon A 20 -> 22, C 24 -> 27
+#: with its walks' dual), but at 4-5 CPU-s a zone-side, which would take those plans past 10 s
+QUICK_GAP = 2
 #: a zone-side whose undominated family at one patch side is past MAX_FAMILY / this is not formed at the next (half as
 #: large) side: halving the side has multiplied the family by 3.4-3.7 on the bundled zone-sides, so that graph would
 #: pass the cap after its grid and dominance were paid for (about a CPU-second on polygon A's and C's sides)
@@ -102,10 +102,6 @@ class FarleyShares:
     clash: str
 
 
-#: the count a quick cover done ahead runs under: none (:meth:`RingWalks.quick` caps it at the plan's later)
-_NO_COUNT = 1 << 30
-
-
 class RingWalks:
     """The ring walks of one run's zone-sides: each zone-side's regions drawn once (when it first walks) and each walk
     at a patch side kept once done, so that walks done ahead (:meth:`ahead`, searched all the way) serve a later
@@ -132,7 +128,6 @@ class RingWalks:
         self._graphs: dict[tuple[int, int], tuple[RingGraph | None, int]] = {}  # formed ahead, not walked yet
         self._done: dict[tuple[int, int], tuple[bool, int | None, int]] = {}  # walked all the way
         self._family: dict[tuple[int, int], int] = {}  # the undominated family of each side formed
-        self._quick: dict[int, Refined] = {}  # the quick cover of a zone-side under no count (:meth:`quick_ahead`)
 
     def draw(self, keys: list[int]) -> None:
         """The regions, inner and outer, of the zone-sides ``keys`` not drawn yet (one call for all their pieces)."""
@@ -192,23 +187,6 @@ class RingWalks:
         graph, fam = self._graphs.pop((key, level))
         self._done[key, level] = (graph is not None, None if graph is None else graph.unit_walk(limit=np.inf), fam)
 
-    def quick_ahead(self, key: int) -> None:
-        """The quick cover of zone-side ``key`` (:func:`planner.bounds.plane_refine.quick_bound`) under no count, kept
-        for :meth:`quick`: done before the plan's counts are known (by the walks ahead)."""
-        if key not in self._quick:
-            self._quick[key] = quick_bound(self.side(key), self.share, _NO_COUNT)
-
-    def quick(self, key: int, target: int) -> Refined:
-        """``quick_bound`` of zone-side ``key`` under the plan's count ``target`` there: from the one done ahead where
-        there is one, capped at ``target``. The same value: the count only stops the multipliers' search once the
-        bound reaches it, and no lower bound passes the count of a plan there (the search under no count goes on only
-        where it could not reach it)."""
-        got = self._quick.get(key)
-        if got is None:
-            return quick_bound(self.side(key), self.share, target)
-        bound = min(got.bound, target)
-        return replace(got, bound=bound, proven=bound >= target)
-
     def walk(self, key: int, level: int, target: int) -> tuple[int | None, int]:
         """:func:`side_ring_bound` of zone-side ``key`` at its ``level``-th patch side: from the walk done ahead where
         there is one, else from the graph formed ahead, else formed now; the walk searched only as far as ``target``
@@ -266,10 +244,7 @@ def walked_sides(
             continue
         if not refine_steps and sides[i].ring is not None and arcs_only(walks.side(k), levels[i][0]):
             continue
-        if refine_steps:
-            refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps)
-        else:  # with no steps the refined bound is the quick one (perhaps done ahead)
-            refined = walks.quick(k, counts[k])
+        refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps)
         sides[i] = replace(sides[i], refined=refined)
     return tuple(sides)
 

@@ -11,7 +11,6 @@ import pytest
 import planner
 import planner.bounds.ring_ahead as ahead_mod
 from planner.bounds.outer import OuterRegions
-from planner.bounds.plane_refine import quick_bound
 from planner.bounds.plane_ring import connected_plane_bound, farley_shares
 from planner.bounds.ring_ahead import WalksAhead, ahead_order, one_station_sides
 from planner.bounds.ring_walks import RingWalks, ring_of, side_graph, side_ring_bound, walked_sides
@@ -201,15 +200,3 @@ def test_one_station_sides_are_the_zone_sides_one_candidate_covers() -> None:
         if any(need <= r for r in rows):
             brute.append(k)
     assert one_station_sides(problem) == brute == [2 * t.zone_ids.index("R")]
-
-
-@pytest.mark.slow  # the quick cover of two zone-sides, ahead and under two counts
-def test_a_quick_cover_done_ahead_is_the_one_done_under_the_count(room) -> None:  # type: ignore[no-untyped-def]
-    site, problem, limits = room
-    kept = _walks(site, problem, limits)
-    for k in _keys(problem):
-        kept.quick_ahead(k)
-        for count in (9, 30):  # counts of plans there (the L room and its outside need fewer)
-            now = quick_bound(kept.side(k), SHARE, count)
-            assert kept.quick(k, count) == now
-            assert now.bound <= count
