@@ -20,7 +20,7 @@ What it measured (issue 57, the default overlap rule; one run each on 2 cores sh
 |---|---|---|---|---|
 | polygon_a inside | 10 | 10 | 10, optimal over the grid (work 60) | 10, bound 9 (work 200; 93,000 distinct rows, 370 s) |
 | polygon_a outside | 15 | 15 | 15, optimal (work 100) | - |
-| polygon_c inside | 13 | - | 13, bound 12 (work 300, 427 CPU-s) | - |
+| polygon_c inside | 13 | - | 13, bound 12 (work 300, 427 CPU-s; seed 1, work 700, 939 CPU-s: the same) | - |
 | polygon_c outside | 16 | - | 16, optimal (work 100) | - |
 
 No plan of 24 for polygon_a or 28 for polygon_c was found on grids 5 to 25 times denser (per area) than the default's.
