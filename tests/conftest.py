@@ -35,6 +35,13 @@ HEAVY_PROPERTIES = {
 #: tiers), so that the quick tier answers in about two minutes; by node id, a parametrised case by its id
 SLOW_BY_TIME = frozenset(
     {
+        "tests/test_api.py::test_one_home_for_the_overlap_rule_and_the_site_validation",
+        "tests/plan/test_plan.py::test_greedy_verifies_at_100_percent[polygon_b]",
+        "tests/coverage/test_openings.py::test_overlap_zero_turns_registration_off",
+        "tests/plan/test_plan_milp.py::test_plain_cover_backends_agree_and_beat_greedy[polygon_b]",
+        "tests/coverage/test_sight_boxes.py::test_boxes_meeting_is_the_trees_query",
+        "tests/io/test_fuzz_inputs.py::test_mutated_inputs_are_read_whole_or_refused_in_one_line[plan]",
+        "tests/field/test_walls.py::test_rooms_without_openings_get_legs_through_walls",
         "tests/solve/test_presolve.py::test_linked_dominance_drops_what_the_whole_relation_drops",
         "tests/solve/test_presolve.py::test_dominated_matches_its_definition",
         "tests/solve/test_presolve.py::test_an_optimal_connected_plan_survives_the_passes",
