@@ -231,15 +231,13 @@ def _relation(
     moved: Sequence[Candidate],
     changed: NDArray[np.int64],
 ) -> tuple[tuple[Hashable, ...], sp.csr_matrix | None, sp.csr_matrix | None]:
-    """Registration groups, links and the overlap relation of ``cov``'s rows: the pool's as stored where no row
-    changed; made again for all of them where an obstacle hid pairs or a done station moved (a link through an
-    opening may join a changed row to any other)."""
+    """Registration groups, links and the overlap relation of ``cov``'s rows: the groups and links of the pool as
+    stored where no row changed, made again for all of them where an obstacle hid pairs or a done station moved (a
+    link through an opening may join a changed row to any other); the relation made over the rows
+    (:func:`planner.io.replan_data.relation_of`: pairwise, so the same as the whole pool's restricted to them)."""
     if moved or changed.size:
         groups, links = problem.registration.groups(cov.candidates)
         return tuple(groups), links, relation_of(problem, cov, groups, links)
     groups = tuple(data.groups[int(r)] for r in rows)
     links = None if data.links is None else data.links[rows][:, rows].tocsr()
-    relation = None if data.relation is None else data.relation[rows][:, rows].tocsr()
-    if problem.rule is not None and relation is None:
-        relation = sp.csr_matrix((len(rows), len(rows)), dtype=bool)
-    return groups, links, None if problem.rule is None else relation
+    return groups, links, relation_of(problem, cov, groups, links)

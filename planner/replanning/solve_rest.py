@@ -1,7 +1,7 @@
 """The rest solved (:func:`solve_rest`) with the planner's own MILP (:func:`planner.solve.milp.solve`): the done
 stations are forced into the plan by a column of no wall length that only each of them covers (the presolve fixes
 them), at the cost of one station each, which the count and the bound of the rest then leave out; the overlap
-relation is the pool's as stored (:mod:`planner.io.replan_data`), so that no relation is formed again. Warm from the
+relation is the rest's (:class:`planner.replanning.rest.RestProblem`), formed once over its rows. Warm from the
 previous plan: its stations that survive the edits, with the done ones, are a plan of the rest wherever they still
 cover every piece and register as one network (their redundant stations dropped); the re-plan is never larger."""
 

@@ -11,11 +11,17 @@ to the one-line error). The phases are read from the plan's own log in ``plan.js
 coverage build, pricing over the plane, connected plane bound, the solver alone); ``rest`` is the wall time less
 those (start-up, reading, candidates, presolve, verification, the outputs). Times are for one thread unless a row
 says otherwise. Writes ``bundled.csv`` and ``bundled.md`` to the output folder.
+
+The package's bytecode is compiled first (``compileall``), as ``pip install`` leaves it and as any run leaves it
+in ``__pycache__`` unless ``PYTHONDONTWRITEBYTECODE`` is set: with that variable set (this sandbox sets it) and no
+bytecode, every run compiles the whole package again, 2-3 s of a plan. One row, polygon C ``no bytecode``, measures
+that case (``PYTHONPYCACHEPREFIX`` at an empty folder, nothing written).
 """
 
 from __future__ import annotations
 
 import argparse
+import compileall
 import json
 import os
 import re
@@ -57,9 +63,13 @@ PHASES = [
 ]
 
 
-def run(case: str, args: list[str], timeout_s: float) -> dict[str, Any]:
-    """One ``planner`` command under ``/usr/bin/time -v`` with ``--out`` to a scratch folder: its row."""
+def run(case: str, args: list[str], timeout_s: float, bytecode: bool = True) -> dict[str, Any]:
+    """One ``planner`` command under ``/usr/bin/time -v`` with ``--out`` to a scratch folder: its row. Without
+    ``bytecode``, Python finds no compiled module and writes none (the package compiled again on the run)."""
     with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ)
+        if not bytecode:
+            env.update(PYTHONPYCACHEPREFIX=str(Path(tmp) / "pycache"), PYTHONDONTWRITEBYTECODE="1")
         out = Path(tmp) / "out"
         cmd = [*args]
         if "--out" not in cmd and cmd[0] == "plan" and not case.startswith("malformed"):
@@ -68,7 +78,7 @@ def run(case: str, args: list[str], timeout_s: float) -> dict[str, Any]:
         timed = ["/usr/bin/time", "-v", sys.executable, "-m", "planner", *cmd]
         t0 = time.perf_counter()
         try:
-            proc = subprocess.run(timed, capture_output=True, text=True, cwd=ROOT, timeout=timeout_s)
+            proc = subprocess.run(timed, capture_output=True, text=True, cwd=ROOT, timeout=timeout_s, env=env)
             code, err = proc.returncode, proc.stderr
         except subprocess.TimeoutExpired:
             code, err = "timeout", ""
@@ -112,20 +122,21 @@ def _whole(x: Any) -> Any:
     return int(x) if isinstance(x, float) and x.is_integer() else x
 
 
-def cases(only: list[str] | None, surfaces: bool) -> list[tuple[str, list[str], float]]:
-    """(case, planner arguments, timeout in s) in the order they run."""
-    out: list[tuple[str, list[str], float] | None] = []
+def cases(only: list[str] | None, surfaces: bool) -> list[tuple[str, list[str], float, bool]]:
+    """(case, planner arguments, timeout in s, bytecode) in the order they run."""
+    out: list[tuple[str, list[str], float, bool] | None] = []
     for name in only or INSTANCES:
         site = f"instances/{name}.json"
-        out.append((f"{name} default", ["plan", site], 600))
-        out.append((f"{name} greedy", ["plan", site, "--method", "greedy"], 600))
+        out.append((f"{name} default", ["plan", site], 600, True))
+        out.append((f"{name} greedy", ["plan", site, "--method", "greedy"], 600, True))
+    if not only:
+        out.append(("polygon_c no bytecode", ["plan", "instances/polygon_c.json"], 600, False))
     main_job = ["plan", "instances/baalbek_site_doors.json", "--network", "--out", "{OUT}"]
     main_job += ["--export", "dxf,geojson,csv", "--report", "{OUT}", "--field", "{OUT}"]
-    out.append(("README main job", main_job, 600) if not only else None)
+    out.append(("README main job", main_job, 600, True) if not only else None)
     if surfaces:
-        out.append(
-            ("polygon_b.csv walls,floors", ["plan", "instances/polygon_b.csv", "--surfaces", "walls,floors"], 600)
-        )
+        surf = ["plan", "instances/polygon_b.csv", "--surfaces", "walls,floors"]
+        out.append(("polygon_b.csv walls,floors", surf, 600, True))
     return [c for c in out if c is not None]
 
 
@@ -148,7 +159,8 @@ def write_md(path: Path, rows: list[dict[str, Any]]) -> None:
         f"`python scripts/bench/bundled.py`, one run, {time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, load "
         f"average at the start {os.getloadavg()[0]:.2f}; each row one command as a child under `/usr/bin/time -v`. "
         "Phases from the plan's log (the solver alone on 1 thread); `rest` = wall less the phases; `vs_greedy` = "
-        "this row's wall time over the greedy's of the same site in the same run.",
+        "this row's wall time over the greedy's of the same site in the same run. The package's bytecode compiled "
+        "first, as an install leaves it, except in the `no bytecode` row.",
         "",
         "| " + " | ".join(cols) + " |",
         "|" + "---|" * len(cols),
@@ -163,9 +175,10 @@ def main() -> None:
     ap.add_argument("--skip-surfaces", action="store_true", help="leave out polygon_b.csv --surfaces walls,floors")
     ap.add_argument("--out-dir", default=str(ROOT / "docs" / "benchmarks"))
     a = ap.parse_args()
+    compileall.compile_dir(str(ROOT / "planner"), quiet=1)  # as an install leaves it (module docstring)
     rows = [malformed_row()]
-    for case, args, timeout_s in cases(a.only, not a.skip_surfaces):
-        rows.append(run(case, args, timeout_s))
+    for case, args, timeout_s, bytecode in cases(a.only, not a.skip_surfaces):
+        rows.append(run(case, args, timeout_s, bytecode))
         print(" ".join(f"{k}={v}" for k, v in rows[-1].items() if k != "command"), flush=True)
     greedy = {r["case"].split()[0]: r["wall_s"] for r in rows if r["case"].endswith(" greedy")}
     for r in rows:
