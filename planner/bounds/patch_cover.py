@@ -28,7 +28,6 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from planner.bounds.walk_dual import walk_dual_bound
-from planner.solve.presolve import implied_targets
 from planner.solve.ring import ring_graph
 
 #: walks the column generation prices at most
@@ -38,8 +37,10 @@ ASCENT_STEPS = 50
 WALK_WORK = 1e9
 #: dominators tried per patch in one pass, earliest first (fewer only removes less: still sound)
 _PROBE = 64
-#: patches per block of the cover-containment product
+#: patches per block of the link test in :func:`near_linked_dominated`
 _BLOCK = 1024
+#: target pairs tested at a time in :func:`implied`
+_PAIRS = 65_536
 #: grid cells either way within which :func:`near_linked_dominated` looks for a patch to take another's place
 _NEAR = 2
 #: passes of the reduction at most: each keeps the optimum, and past the third they remove a few patches in a pass
@@ -50,31 +51,98 @@ REDUCE_PASSES = 3
 def linked_dominated(a: sp.csr_matrix, adj: sp.csr_matrix) -> NDArray[np.bool_]:
     """Mask of the patches (rows of ``a``, patches x targets) that go (module docstring), taken in a strict order
     (larger cover first, then index): Q goes when a patch P kept before it covers every target Q covers and is linked
-    to every neighbour of Q (``adj``: symmetric, no diagonal) not gone before Q, P itself aside. The cover test is a
-    float32 product per block of Q (counts below 2**24 are exact), the links are tested as packed bits."""
+    to every neighbour of Q (``adj``: symmetric, no diagonal) not gone before Q, P itself aside; of the P that cover
+    Q, the first :data:`_PROBE` in the order are tried. A P that covers Q sees Q's rarest target, so only the kept
+    patches that see it are tested (the covers and the links as packed bits)."""
     n = a.shape[0]
+    a = a.tocsr()
     size = a.getnnz(axis=1)
     order = np.lexsort((np.arange(n), -size))
-    dense = a.astype(np.float32).toarray()
+    pos = np.empty(n, dtype=np.int64)
+    pos[order] = np.arange(n)
+    cover = _bits(a)
     bits = np.packbits(adj.astype(bool).toarray(), axis=1, bitorder="little")
+    seers = _by_target(a, pos)  # each target's patches in the order
+    rare = _rarest(a, seers)
     gone = np.zeros(n, dtype=bool)
     kept = np.zeros(n, dtype=bool)
     live = np.full((n + 7) // 8, 255, dtype=np.uint8)  # bits of the patches not gone
-    dense = dense[order]  # rows in the order: Q's dominators lie before it
-    for q0 in range(0, n, _BLOCK):
-        qs = order[q0 : q0 + _BLOCK]
-        holds = dense[: q0 + qs.size] @ dense[q0 : q0 + qs.size].T == size[qs][None, :]
-        for k, q in enumerate(qs.tolist()):
-            ps = order[np.flatnonzero(holds[: q0 + k, k] & kept[order[: q0 + k]])[:_PROBE]]
-            if ps.size:
-                miss = bits[q][None, :] & live[None, :] & ~bits[ps]
-                miss[np.arange(ps.size), ps >> 3] &= ~np.left_shift(np.uint8(1), (ps & 7).astype(np.uint8))
-                if not miss.any(axis=1).all():
-                    gone[q] = True
-                    live[q >> 3] &= ~np.left_shift(np.uint8(1), np.uint8(q & 7))
-                    continue
-            kept[q] = True
+    kept_order = np.zeros(n, dtype=np.int64)  # the kept patches in the order, the first n_kept of them
+    n_kept = 0
+    for q in order.tolist():
+        if size[q]:
+            ps = seers.indices[seers.indptr[rare[q]] : seers.indptr[rare[q] + 1]]
+            ps = ps[kept[ps] & (pos[ps] < pos[q])]
+            ps = ps[~(cover[q][None, :] & ~cover[ps]).any(axis=1)][:_PROBE]
+        else:
+            ps = kept_order[: min(n_kept, _PROBE)]
+        if ps.size:
+            miss = bits[q][None, :] & live[None, :] & ~bits[ps]
+            miss[np.arange(ps.size), ps >> 3] &= ~np.left_shift(np.uint8(1), (ps & 7).astype(np.uint8))
+            if not miss.any(axis=1).all():
+                gone[q] = True
+                live[q >> 3] &= ~np.left_shift(np.uint8(1), np.uint8(q & 7))
+                continue
+        kept[q] = True
+        kept_order[n_kept] = q
+        n_kept += 1
     return gone
+
+
+def _bits(a: sp.csr_matrix) -> NDArray[np.uint64]:
+    """The rows of ``a`` as bits, packed into 64-bit words."""
+    packed = np.packbits(a.astype(bool).toarray(), axis=1, bitorder="little")
+    pad = (-packed.shape[1]) % 8
+    return np.ascontiguousarray(np.pad(packed, ((0, 0), (0, pad)))).view(np.uint64)
+
+
+def _by_target(a: sp.csr_matrix, pos: NDArray[np.int64]) -> sp.csr_matrix:
+    """``a`` transposed (targets x patches), each target's patches in increasing ``pos``."""
+    t = a.T.tocsr()
+    key = np.repeat(np.arange(t.shape[0]), np.diff(t.indptr)) * (pos.size + 1) + pos[t.indices]
+    t.indices = t.indices[np.argsort(key, kind="stable")]
+    return t
+
+
+def _rarest(a: sp.csr_matrix, seers: sp.csr_matrix) -> NDArray[np.int64]:
+    """For every row of ``a``, the target it covers that the fewest rows cover (0 for an empty row)."""
+    count = np.diff(seers.indptr)
+    out = np.zeros(a.shape[0], dtype=np.int64)
+    full = np.flatnonzero(np.diff(a.indptr) > 0)
+    if full.size:
+        key = count[a.indices].astype(np.int64) * (a.shape[1] + 1) + a.indices
+        best = np.minimum.reduceat(key, a.indptr[full])
+        out[full] = best % (a.shape[1] + 1)
+    return out
+
+
+def implied(a: sp.csr_matrix) -> NDArray[np.bool_]:
+    """:func:`planner.solve.presolve.implied_targets` of ``a`` (patches x targets) without the target x target
+    product: t goes when some t' whose patch set S(t') is inside S(t) is strictly smaller, or equal and earlier. Such a
+    t is seen by the patch of S(t') that sees the fewest targets, so only those pairs are tested (S as packed bits)."""
+    a = a.tocsr()
+    n, n_t = a.shape
+    seers = a.T.tocsr()
+    count = np.diff(seers.indptr)
+    rows = _bits(seers)
+    live = np.flatnonzero(count)
+    if live.size == 0:
+        return np.zeros(n_t, dtype=bool)
+    # the patch of each S(t') that sees the fewest targets
+    seen = np.diff(a.indptr)
+    key = seen[seers.indices].astype(np.int64) * (n + 1) + seers.indices
+    narrow = np.minimum.reduceat(key, seers.indptr[live]) % (n + 1)
+    deg = seen[narrow]
+    tp = np.repeat(live, deg)  # t'
+    at = np.repeat(a.indptr[narrow] - np.cumsum(deg) + deg, deg) + np.arange(int(deg.sum()))
+    t = a.indices[at]  # t, a target the narrow patch sees
+    ok = (t != tp) & ((count[tp] < count[t]) | ((count[tp] == count[t]) & (tp < t)))
+    tp, t = tp[ok], t[ok]
+    out = np.zeros(n_t, dtype=bool)
+    for lo in range(0, t.size, _PAIRS):
+        x, y = tp[lo : lo + _PAIRS], t[lo : lo + _PAIRS]
+        out[y[~(rows[x] & ~rows[y]).any(axis=1)]] = True
+    return out
 
 
 def near_linked_dominated(a: sp.csr_matrix, adj: sp.csr_matrix, cells: NDArray[np.int64]) -> NDArray[np.bool_]:
@@ -123,7 +191,7 @@ def reduced(
     kc, kt = np.arange(a.shape[0]), np.arange(a.shape[1])
     a, adj = a.tocsr(), adj.tocsr()  # the rows and columns kept so far: each pass cuts what the last one left
     for _ in range(REDUCE_PASSES):
-        imp = implied_targets(a.T.tocsr())
+        imp = implied(a)
         kt = kt[~imp]
         a = a[:, np.flatnonzero(~imp)].tocsr()
         if cells is not None:

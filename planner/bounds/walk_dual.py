@@ -28,7 +28,6 @@ import math
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import linprog
 from scipy.sparse.csgraph import dijkstra
 
 from planner.solve.ring import _EPS, _LIFTS, RingBound, RingGraph, _path
@@ -57,36 +56,36 @@ def walk_dual_bound(
     if first is None:
         return -math.inf, 0
     best = first.bound
-    m, n_t = sub.shape
     sub = sub.tocsr()
     found = [first.walk]
-    cols = [_column(sub, first.walk)]
-    prices = [float(cost[list(first.walk)].sum())]
-    centre = np.zeros(n_t)
-    rows = sp.csc_matrix(-sub.T)
-    for k in range(walks):
-        master = _master(rows, cost, cols, prices)
-        if master is None:
-            return best, k
-        value, lam_m = master
-        if math.ceil(best - _TOL) >= min(goal, math.ceil(value - _TOL)):
-            return best, k
-        lam = lam_m if k == 0 else SMOOTHING * centre + (1.0 - SMOOTHING) * lam_m
-        rc = cost - sub @ lam
-        price = np.maximum(rc, 0.0)
-        # the cheapest walk costs at most the cheapest of the walks found so far: each branch searched no farther
-        known = min(float(price[list(c)].sum()) for c in found)
-        got_walks = anchor_walks(ring, price, known + _TOL) or anchor_walks(ring, price, np.inf)
-        if not got_walks:
-            return best, k + 1
-        low = got_walks[0][0]
-        got = float(lam.sum() + low + np.minimum(rc, 0.0).sum())
-        if got > best:
-            best, centre = got, lam
-        for _, walk in got_walks[:COLUMNS]:
-            found.append(walk)
-            cols.append(_column(sub, walk))
-            prices.append(float(cost[list(walk)].sum()))
+    master = _Master(sub, cost)
+    try:
+        master.add([first.walk])
+        centre = np.zeros(sub.shape[1])
+        for k in range(walks):
+            got_master = master.solve()
+            if got_master is None:
+                return best, k
+            value, lam_m = got_master
+            if math.ceil(best - _TOL) >= min(goal, math.ceil(value - _TOL)):
+                return best, k
+            lam = lam_m if k == 0 else SMOOTHING * centre + (1.0 - SMOOTHING) * lam_m
+            rc = cost - sub @ lam
+            price = np.maximum(rc, 0.0)
+            # the cheapest walk costs at most the cheapest of the walks found so far: each branch searched no farther
+            known = min(float(price[list(c)].sum()) for c in found)
+            got_walks = anchor_walks(ring, price, known + _TOL) or anchor_walks(ring, price, np.inf)
+            if not got_walks:
+                return best, k + 1
+            low = got_walks[0][0]
+            got = float(lam.sum() + low + np.minimum(rc, 0.0).sum())
+            if got > best:
+                best, centre = got, lam
+            new = [walk for _, walk in got_walks[:COLUMNS]]
+            found.extend(new)
+            master.add(new)
+    finally:
+        master.close()
     return best, walks
 
 
@@ -127,30 +126,60 @@ def anchor_walks(ring: RingGraph, price: NDArray[np.float64], limit: float) -> l
     return ranked
 
 
-def _column(sub: sp.csr_matrix, walk: tuple[int, ...]) -> NDArray[np.float64]:
-    """A walk's column in the master: how many of its candidates cover each target."""
-    return np.asarray(sub[list(walk)].sum(axis=0), dtype=np.float64).ravel()
+class _Master:
+    """The master LP (module docstring) kept in one HiGHS model (``highspy``, 1 thread, simplex): the single candidates
+    first, then the walks as they come (cover rows >= 1, one convexity row = 1). Each solve starts from the last
+    optimal basis: the new walks enter at 0, so it stays primal feasible, and a round costs a few pivots instead of a
+    solve from scratch."""
 
+    def __init__(self, sub: sp.csr_matrix, cost: NDArray[np.float64]) -> None:
+        import highspy
 
-def _master(
-    rows: sp.csc_matrix, cost: NDArray[np.float64], cols: list[NDArray[np.float64]], prices: list[float]
-) -> tuple[float, NDArray[np.float64]] | None:
-    """The master LP over the single candidates (``rows``: -sub transposed) and the walks so far (their columns and
-    costs): its value and its duals on the cover rows (>= 0); None where HiGHS does not solve it."""
-    m, k = rows.shape[1], len(cols)
-    a_ub = sp.hstack([rows, sp.csc_matrix(-np.stack(cols, axis=1))], format="csc")
-    c = np.concatenate([cost, prices])
-    a_eq = sp.csr_matrix(np.concatenate([np.zeros(m), np.ones(k)])[None, :])
-    lp = linprog(
-        c,
-        A_ub=a_ub,
-        b_ub=-np.ones(rows.shape[0]),
-        A_eq=a_eq,
-        b_eq=[1.0],
-        bounds=(0, None),
-        method="highs",
-        options={"presolve": False},  # a third of the time on these masters (polygon C's inside), the same value
-    )
-    if lp.status != 0:
-        return None
-    return float(lp.fun), np.maximum(-np.asarray(lp.ineqlin.marginals, dtype=np.float64), 0.0)
+        self._inf = highspy.kHighsInf
+        self._h = h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+        h.setOptionValue("threads", 1)
+        h.setOptionValue("random_seed", 0)
+        h.setOptionValue("presolve", "off")
+        self.sub = sub.astype(np.float64).tocsr()
+        n_t = self.sub.shape[1]
+        none = np.zeros(0, np.int32)
+        h.addRows(n_t, np.ones(n_t), np.full(n_t, self._inf), 0, none, none, np.zeros(0))
+        h.addRows(1, np.ones(1), np.ones(1), 0, none, none, np.zeros(0))  # the walks' weights sum to one
+        self.cost = np.asarray(cost, dtype=np.float64)
+        self._cols(self.sub, self.cost)
+
+    def _cols(self, a: sp.csr_matrix, cost: NDArray[np.float64]) -> None:
+        """Columns: the rows of ``a`` (their entries on the cover rows and the convexity row) at ``cost``."""
+        a = a.tocsr()
+        a.sort_indices()
+        n = a.shape[0]
+        self._h.addCols(
+            n, cost, np.zeros(n), np.full(n, self._inf), a.nnz, a.indptr[:-1].astype(np.int32),
+            a.indices.astype(np.int32), a.data.astype(np.float64),
+        )  # fmt: skip
+
+    def add(self, walks: list[tuple[int, ...]]) -> None:
+        """The walks' columns: how many of each walk's candidates cover each target, and 1 on the convexity row; each
+        costs its candidates' costs."""
+        if not walks:
+            return
+        r = np.repeat(np.arange(len(walks)), [len(w) for w in walks])
+        c = np.concatenate([np.asarray(w, dtype=np.int64) for w in walks])
+        pick = sp.csr_matrix((np.ones(r.size), (r, c)), shape=(len(walks), self.sub.shape[0]))
+        cols = (pick @ self.sub).tocsr()
+        cols = sp.hstack([cols, sp.csr_matrix(np.ones((len(walks), 1)))], format="csr")  # the convexity row
+        self._cols(cols, np.asarray(pick @ self.cost, dtype=np.float64))
+
+    def solve(self) -> tuple[float, NDArray[np.float64]] | None:
+        """The master's value and its duals on the cover rows (>= 0); None where HiGHS does not solve it."""
+        h = self._h
+        h.run()
+        if h.modelStatusToString(h.getModelStatus()) != "Optimal":
+            return None
+        dual = np.asarray(h.getSolution().row_dual, dtype=np.float64)[: self.sub.shape[1]]
+        return float(h.getInfo().objective_function_value), np.maximum(dual, 0.0)
+
+    def close(self) -> None:
+        """Free HiGHS's model now (see :class:`planner.solve.pricing.WarmCoverLp`)."""
+        self._h.clear()
