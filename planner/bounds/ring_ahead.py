@@ -48,9 +48,10 @@ class WalksAhead:
         self._process, self._conn = process, conn
 
     @classmethod
-    def start(cls, walks: RingWalks, work_patches: int) -> WalksAhead | None:
+    def start(cls, walks: RingWalks, work_patches: int, regions_later: bool = False) -> WalksAhead | None:
         """Fork the process walking ``walks`` ahead; None (nothing started) where no free second core, not the main
-        thread, or no fork."""
+        thread, or no fork. ``regions_later``: the caller draws the inner regions of every piece now and sends them
+        (:meth:`share`); the process draws the outer ones meanwhile, then takes them (each region drawn once)."""
         if thread_count() < 2 or threading.current_thread() is not threading.main_thread():
             return None
         if "fork" not in multiprocessing.get_all_start_methods():
@@ -62,7 +63,7 @@ class WalksAhead:
             return None
         ctx = multiprocessing.get_context("fork")
         here, there = ctx.Pipe()
-        process = ctx.Process(target=_walk_ahead, args=(there, walks, work_patches), daemon=True)
+        process = ctx.Process(target=_walk_ahead, args=(there, walks, work_patches, regions_later), daemon=True)
         try:
             process.start()
         except OSError:
@@ -70,6 +71,14 @@ class WalksAhead:
         finally:
             there.close()
         return cls(process, here)
+
+    def share(self, regions: dict[int, Any]) -> None:
+        """Send the inner regions drawn here (piece -> geometry) to a process started with ``regions_later``. Nothing
+        is awaited; a broken pipe is left to :meth:`walked`."""
+        try:
+            self._conn.send(("regions", regions))
+        except Exception:  # the process gone: walked() finds it so and the caller walks them itself
+            pass
 
     def skip(self, keys: list[int]) -> None:
         """Tell the process that the zone-sides ``keys`` need no walk ahead (:func:`one_station_sides`); it walks them
@@ -135,7 +144,7 @@ def _second_core() -> None:
         pass
 
 
-def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
+def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int, regions_later: bool = False) -> None:
     """The forked process: ring graphs and walks ahead until asked (:func:`_until_asked`), then the bound's parts under
     the counts sent. It writes nothing: any failure ends it quietly, and the parent then walks them itself."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # an interrupt is the parent's to handle (it ends this process)
@@ -143,7 +152,7 @@ def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
     progress.set_sink(None)  # the run's progress is this process's parent's to show
     _second_core()
     try:
-        head, counts, required, spent, refine_steps = _until_asked(conn, walks, work_patches)
+        head, counts, required, spent, refine_steps = _until_asked(conn, walks, work_patches, regions_later)
         if not np.array_equal(required, walks.required):  # other pieces to cover: walks done ahead do not serve
             walks = RingWalks(
                 walks.site,
@@ -160,20 +169,31 @@ def _walk_ahead(conn: Connection, walks: RingWalks, work_patches: int) -> None:
         return
 
 
-def _until_asked(conn: Connection, walks: RingWalks, work_patches: int) -> Any:
+def _until_asked(conn: Connection, walks: RingWalks, work_patches: int, regions_later: bool = False) -> Any:
     """The walks of :func:`ahead_order` until the parent asks, then its request: each ring graph formed, then walked
     all the way and let go before the next is formed (one graph held at a time: a zone-side's finer graph runs to
-    hundreds of megabytes). Zone-sides the parent says need none (:meth:`WalksAhead.skip`) are passed over."""
+    hundreds of megabytes). Zone-sides the parent says need none (:meth:`WalksAhead.skip`) are passed over. With
+    ``regions_later``, the outer regions of every zone-side to walk are drawn first and the inner ones then taken
+    from the parent (:meth:`WalksAhead.share`)."""
     keys = [int(k) for k in np.unique(walks.key[walks.required])] if walks.share > 0 else []
     closed: set[int] = set()
 
-    def asked() -> Any:
-        while conn.poll():
+    def asked(wait: bool = False) -> Any:
+        while wait or conn.poll():
             message = conn.recv()
+            if message[0] == "regions":
+                walks.cache.update(message[1])
+                return None
             if message[0] != "skip":
                 return message
             closed.update(message[1])
         return None
+
+    if regions_later:
+        pieces = np.flatnonzero(np.isin(walks.key, keys))
+        walks.outer_regions.of(walks.site, walks.targets, walks.limits, pieces)
+        if (got := asked(wait=True)) is not None:
+            return got
 
     for k, level in ahead_order(walks, keys, work_patches):
         if (got := asked()) is not None:

@@ -177,7 +177,9 @@ def early_walks(
 ) -> WalksAhead | None:
     """The connected plane bound's ring walks started on a second core before the pool's coverage is built, where a
     plain MILP run of walls with ``zone`` registration will form that bound: they need only the targets (every piece
-    counted as seen, as the coverage build refuses a piece nothing sees; the bound checks it). None: not started."""
+    counted as seen, as the coverage build refuses a piece nothing sees; the bound checks it) and their regions, the
+    inner ones from the caller (:meth:`WalksAhead.share`, see :func:`planner.plan.run.plan_single`). None: not
+    started."""
     rule = registration.rule
     plain = options.method == "milp" and not options.hours and options.pricing and regions_apply(limits)
     if not plain or rule is None or rule.overlap <= 0:
@@ -194,7 +196,7 @@ def early_walks(
         spaces={},
         outer_regions=OuterRegions(),
     )
-    return WalksAhead.start(walks, CONNECTED_WORK_PATCHES)
+    return WalksAhead.start(walks, CONNECTED_WORK_PATCHES, regions_later=True)
 
 
 def areas_are_zone_sides(site: Site) -> bool:

@@ -21,7 +21,7 @@ from planner.core.checks import argument
 from planner.core.errors import InfeasibleError, InputError, UsageError
 from planner.coverage.fingerprint import pool_of
 from planner.coverage.matrix import CoverageProblem
-from planner.coverage.regions import FrameSpace, regions_apply
+from planner.coverage.regions import FrameSpace, coverage_regions, regions_apply
 from planner.coverage.targets import Targets
 from planner.instrument.field_table import DEFAULT_FIELD, FieldProperties
 from planner.plan.hours import Hours
@@ -232,7 +232,10 @@ def _method_input(
     site, options = problem.site, problem.options
     start = time.perf_counter()
     spaces: dict[str, FrameSpace] = {}
-    region_cache: dict[int, Any] = {}  # regions drawn once: for the whole-side candidates, then pricing
+    region_cache: dict[int, Any] = {}  # regions drawn once: for the candidates, pricing and the walks ahead
+    if ahead is not None:  # every piece's region drawn here while the walks draw the outer ones, then sent to them
+        region_cache.update(coverage_regions(site, problem.targets, problem.limits, None, spaces))
+        ahead.share(region_cache)
     how = "coverage given (built once for the run)"
     if coverage is None:
         coverage, given_cover = build_problem(problem, spaces=spaces, region_cache=region_cache), None

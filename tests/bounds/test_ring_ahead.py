@@ -180,6 +180,26 @@ def test_zone_sides_told_to_be_skipped_are_still_walked_when_the_counts_ask(room
     assert started.walked(*_asked(site, problem, limits, want)) == alone.sides
 
 
+def test_regions_sent_by_the_parent_give_the_parts_of_regions_drawn_there(room, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """A process started with ``regions_later`` draws the outer regions, takes the inner ones the parent sends (a
+    skip sent before them is kept) and answers as the walks done alone; sent none, it draws them itself."""
+    from planner.coverage.regions import coverage_regions
+
+    site, problem, limits = room
+    want = dict.fromkeys(_keys(problem), 9)
+    alone = _bound(site, problem, limits, want)
+    monkeypatch.setattr(ahead_mod, "thread_count", lambda: 2)
+    started = WalksAhead.start(_walks(site, problem, limits), WORK, regions_later=True)
+    assert started is not None
+    started.skip(_keys(problem)[:1])
+    started.share(coverage_regions(site, problem.targets, limits, None, {}))
+    assert started.walked(*_asked(site, problem, limits, want)) == alone.sides
+    started = WalksAhead.start(_walks(site, problem, limits), WORK, regions_later=True)
+    assert started is not None
+    started.share({})  # no region sent: the process draws them itself
+    assert started.walked(*_asked(site, problem, limits, want)) == alone.sides
+
+
 def test_one_station_sides_are_the_zone_sides_one_candidate_covers() -> None:
     """A 4 x 4 m room seen whole from its centre (the corners 45 deg off the normal, theta_max 70) needs one station;
     the outside of a box needs two at least (a point outside sees at most two of its sides): only the room's inside."""
