@@ -40,6 +40,8 @@ Floats = NDArray[np.float64]
 
 #: candidates tested per block (one product each for the block's coverage rows against the kept ones)
 BLOCK_ROWS = 512
+#: (replacer, hard link) pairs looked up at once in the relation among the kept (:meth:`_Kept.replaces`)
+_PAIRS = 4096
 #: the slack of the rule's share test (:func:`planner.coverage.overlap.link_filter`)
 _SLACK = 1e-9
 
@@ -100,56 +102,58 @@ def linked_dominated(
         block = order[lo : lo + max(1, min(BLOCK_ROWS, BLOCK_ENTRIES // max(len(state.kept), 1)))]
         lo += block.size
         cols = np.concatenate([np.asarray(state.kept, dtype=np.int64), block])
-        ptr, col, shared, link, sup = _block_pairs(a, lengths, block, cols, size, cost, links.gid, keep)
+        ptr, col, theta, link, sup, hard = _block_pairs(
+            a, lengths, block, cols, size, cost, links.gid, keep, covered, rho
+        )
         for r, i in enumerate(block.tolist()):
             if size[i] == 0:
                 continue  # covers nothing, so no links: no bridge either
             span = slice(ptr[r], ptr[r + 1])
             c = col[span]
             alive = state.is_kept[c]  # kept before the block, or in it before i
-            nb = alive & link[span]
             js = c[alive & sup[span]]
-            if js.size and _replaceable(js, c[nb], shared[span][nb], covered, i, rho, state):
-                continue
+            if js.size:
+                need = alive & hard[span]
+                if not need.any() or state.replaces(js, c[need], theta[span][need], rho * covered[js]):
+                    continue
             removed[i] = False
-            state.add(i, c[nb])
+            state.add(i, c[alive & link[span]])
     return removed, state.relation()
 
 
 def _block_pairs(
-    a: sp.csr_matrix, lengths: Floats, block: Ints, cols: Ints, size: Ints, cost: Floats, gid: Ints, keep: Keep
-) -> tuple[Ints, Ints, Floats, NDArray[np.bool_], NDArray[np.bool_]]:
-    """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, the wall shared, whether
-    the rule links them, and whether c could replace i (sees all of i's pieces, no dearer, i's group)."""
-    right = (a[cols].astype(np.float64) @ sp.diags(lengths)).T.tocsr()
-    left = a[block].astype(np.float64)
-    shared = (left @ right).tocsr()
-    count = (left @ sp.csr_matrix((np.ones(right.nnz), right.indices, right.indptr), shape=right.shape)).tocsr()
-    shared.sort_indices()
-    count.sort_indices()  # the same pattern as shared's: every piece has a length > 0
-    r = np.repeat(block, np.diff(shared.indptr))
-    c = cols[shared.indices]
-    sup = (count.data == size[r]) & (cost[c] <= cost[r]) & (gid[c] == gid[r]) & (c != r)
-    return shared.indptr, c, shared.data, keep(r, c, shared.data), sup
+    a: sp.csr_matrix,
+    lengths: Floats,
+    block: Ints,
+    cols: Ints,
+    size: Ints,
+    cost: Floats,
+    gid: Ints,
+    keep: Keep,
+    covered: Floats,
+    rho: float,
+) -> tuple[Ints, Ints, Floats, NDArray[np.bool_], NDArray[np.bool_], NDArray[np.bool_]]:
+    """Every pair (i of ``block``, c of ``cols``) sharing a piece, row by row (``ptr``): c, theta = the wall shared
+    plus the rule's slack, whether the rule links them, whether c could replace i (sees all of i's pieces, no dearer,
+    i's group) and whether c is a *hard* link of i: linked, longer than i, and not linked to every longer j by the
+    shared wall alone (rho L_c > theta; only those are looked up in the relation, see :meth:`_Kept.replaces`).
 
-
-def _replaceable(sup: Ints, nb_c: Ints, nb_s: Floats, covered: Floats, i: int, rho: float, state: _Kept) -> bool:
-    """Whether some kept superset j of i (``sup``) is linked to every kept neighbour k of i longer than i (``nb_c``,
-    sharing ``nb_s`` with i) but j itself; a k is looked up only where s(i, k) < rho min(L_j, L_k)."""
-    longer = covered[nb_c] > covered[i]
-    hard_c, theta = nb_c[longer], nb_s[longer] + _SLACK
-    live = rho * covered[hard_c] > theta  # s(i, k) passes against every j when rho L_k <= s(i, k)
-    hard_c, theta = hard_c[live], theta[live]
-    by = np.argsort(theta, kind="stable")
-    hard_c, theta = hard_c[by], theta[by]
-    sup = sup[np.argsort(covered[sup], kind="stable")]  # shortest first: fewest links to look up
-    reach = np.searchsorted(theta, rho * covered[sup], side="left")  # hard for j: theta_k < rho L_j
-    for j, m in zip(sup.tolist(), reach.tolist()):
-        need = hard_c[:m]
-        need = need[need != j]
-        if need.size == 0 or state.linked_to_all(j, need):
-            return True
-    return False
+    One complex product gives both the wall shared (real part: the same sums, in the same order, as the product of
+    the real matrices, since (1 + 0i)(l + 1i) = l + 1i exactly) and the count of pieces shared (imaginary part: sums
+    of ones), for the price of about one real product."""
+    right = a[cols].T.tocsr()  # pieces x cols, each entry the piece's length + 1i
+    right = sp.csr_matrix(
+        (np.repeat(lengths, np.diff(right.indptr)) + 1j, right.indices, right.indptr), shape=right.shape
+    )
+    both = (a[block].astype(np.complex128) @ right).tocsr()  # a row's pairs in any order: none depends on it
+    shared, count = both.data.real.copy(), both.data.imag
+    r = np.repeat(block, np.diff(both.indptr))
+    c = cols[both.indices]
+    sup = (count == size[r]) & (cost[c] <= cost[r]) & (gid[c] == gid[r]) & (c != r)
+    link = keep(r, c, shared)
+    theta = shared + _SLACK
+    hard = link & (covered[c] > covered[r]) & (rho * covered[c] > theta)
+    return both.indptr, c, theta, link, sup, hard
 
 
 class _Kept:
@@ -178,11 +182,23 @@ class _Kept:
         self._bits[p] = np.packbits(row, bitorder="little")
         self._bits[q, p >> 3] |= np.uint8(1 << (p & 7))
 
-    def linked_to_all(self, j: int, ks: NDArray[np.int64]) -> bool:
-        """Whether kept j is linked to every kept k of ``ks``."""
+    def replaces(self, js: Ints, ks: Ints, theta: Floats, reach: Floats) -> bool:
+        """Whether some kept j of ``js`` is linked to every kept k of ``ks`` with ``theta`` of k < ``reach`` of j, but
+        j itself (the hard links of the candidate under test: those the shared wall does not link to j already). All
+        pairs at once where they are few, else the j shortest first (``reach`` ascending: fewest links to look up), a
+        few rows of the table at a time."""
         q = self._pos[ks]
-        row = self._bits[self._pos[j]]
-        return bool(np.all((row[q >> 3] >> (q & 7)) & 1))
+        byte, bit = q >> 3, (q & 7).astype(np.uint8)
+        step = max(1, _PAIRS // ks.size)
+        if js.size > step:
+            by = np.argsort(reach, kind="stable")
+            js, reach = js[by], reach[by]
+        for lo in range(0, js.size, step):
+            j, lim = js[lo : lo + step, None], reach[lo : lo + step, None]
+            linked = (self._bits[self._pos[j], byte] >> bit) & 1
+            if ((linked == 1) | (theta >= lim) | (ks == j)).all(axis=1).any():
+                return True
+        return False
 
     def relation(self) -> sp.csr_matrix:
         """The relation among the kept (n x n), unpacked a block of rows at a time."""

@@ -77,7 +77,7 @@ def dominated(
     i at once under the overlap rule, a block of rows at a time (:func:`_supersets`), and the walk in order only asks
     which of them are kept; else each piece keeps the list of kept candidates that see it and i is checked against
     the shortest of its pieces' lists only (work in proportion to the pairs of the coverage matrix when few candidates
-    stay). Both give the same mask.
+    stay). Without the relation no walk is needed (:func:`_dominated_plain`). All give the same mask.
     """
     a = a.astype(bool).tocsr()
     a.sort_indices()
@@ -86,9 +86,13 @@ def dominated(
     cost = np.asarray(cost, float)
     order = presolve_order(a, cost)
     gid = np.zeros(n, dtype=np.int64) if groups is None else group_ids(groups)
-    rel = None if adj is None else _Relation(adj)
-    # without the relation the walk over the pieces is as quick as the product (its test is the subset alone)
-    sup = None if rel is None else _supersets(a, size, cost, gid, order)
+    if adj is None:
+        plain = _dominated_plain(a, size, cost, order, gid)
+        if plain is not None:
+            return plain
+        return _dominated_by_pieces(a, size, cost, order, gid, None)
+    rel = _Relation(adj)
+    sup = _supersets(a, size, cost, gid, order)
     if sup is None:
         return _dominated_by_pieces(a, size, cost, order, gid, rel)
     ptr, js = sup
@@ -146,6 +150,66 @@ def _supersets(
     ptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(r, minlength=n), out=ptr[1:])
     return ptr, c[by]
+
+
+#: the most bits (candidates x pieces) of the coverage matrix :func:`_dominated_plain` holds packed (32 MiB)
+PLAIN_BITS = 2**28
+#: (candidate, possible replacer) pairs :func:`_dominated_plain` tests at once (a few rows at a time; bounds memory)
+_PLAIN_PAIRS = 1_000_000
+
+
+def _dominated_plain(
+    a: sp.csr_matrix, size: np.ndarray, cost: np.ndarray, order: np.ndarray, gid: np.ndarray
+) -> np.ndarray | None:
+    """:func:`dominated` without the relation, all candidates at once: i goes when it covers nothing or when *any*
+    j before it in ``order``, no dearer, of its group, sees every piece it sees. Kept or not does not matter here: a
+    dropped such j was dropped for a kept k before it, no dearer, of the group, seeing all j sees, and k replaces i
+    (so the mask is the walk's). i is paired with the no dearer seers of its rarest piece (each piece's seers held by
+    cost, so those are a prefix), and the pairs are thinned one piece of i at a time, rarest first, in the coverage
+    matrix held as bits. None where those bits would pass :data:`PLAIN_BITS`."""
+    n, n_t = a.shape
+    if n * n_t > PLAIN_BITS:
+        return None
+    rank = np.empty(n, dtype=np.int64)
+    rank[order] = np.arange(n)
+    by_cost = np.argsort(cost, kind="stable")
+    seers = a[by_cost].T.tocsr()  # each piece's seers, by their place in by_cost
+    seers.sort_indices()
+    deg = np.diff(seers.indptr)
+    key = np.repeat(np.arange(n_t, dtype=np.int64), deg) * n + seers.indices  # ascending
+    row = np.repeat(np.arange(n), size)
+    piece = a.indices[np.lexsort((a.indices, deg[a.indices], row))]  # each row's pieces, rarest first
+    pattern = sp.csr_matrix((np.ones(a.nnz, dtype=bool), a.indices, a.indptr), shape=a.shape)  # stored entries
+    bits = np.zeros((n, (n_t + 7) // 8), dtype=np.uint8)
+    step = max(1, 2**22 // max(n_t, 1))
+    for lo in range(0, n, step):  # packed a block of rows at a time
+        bits[lo : lo + step] = np.packbits(pattern[lo : lo + step].toarray(), axis=1, bitorder="little")
+    removed = size == 0
+    todo = np.flatnonzero(~removed)
+    first = piece[a.indptr[todo]]
+    reach = np.searchsorted(cost[by_cost], cost[todo], side="right")  # places of the no dearer: below reach
+    count = np.searchsorted(key, first * n + reach, side="left") - seers.indptr[first]
+    many = np.cumsum(count) // _PLAIN_PAIRS  # rows in chunks of about _PLAIN_PAIRS pairs
+    for chunk in np.split(np.arange(todo.size), np.flatnonzero(np.diff(many)) + 1):
+        i = np.repeat(todo[chunk], count[chunk])
+        j = by_cost[seers.indices[_ranges(seers.indptr[first[chunk]], count[chunk])]]
+        ok = (rank[j] < rank[i]) & (gid[j] == gid[i])
+        i, j = i[ok], j[ok]
+        k = 1  # j sees i's piece 0
+        while i.size:
+            removed[i[size[i] <= k]] = True  # j sees every piece of i
+            left = (size[i] > k) & ~removed[i]
+            i, j = i[left], j[left]
+            t = piece[a.indptr[i] + k]
+            sees = (bits[j, t >> 3] >> (t & 7).astype(np.uint8)) & 1 == 1
+            i, j = i[sees], j[sees]
+            k += 1
+    return removed
+
+
+def _ranges(starts: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """The positions starts[0] .. starts[0] + sizes[0] - 1, then those of the next range, and so on."""
+    return np.repeat(starts - (np.cumsum(sizes) - sizes), sizes) + np.arange(int(sizes.sum()))
 
 
 def _dominated_by_pieces(
