@@ -141,10 +141,9 @@ def _block_pairs(
     One complex product gives both the wall shared (real part: the same sums, in the same order, as the product of
     the real matrices, since (1 + 0i)(l + 1i) = l + 1i exactly) and the count of pieces shared (imaginary part: sums
     of ones), for the price of about one real product."""
-    right = a[cols].T.tocsr()  # pieces x cols, each entry the piece's length + 1i
-    right = sp.csr_matrix(
-        (np.repeat(lengths, np.diff(right.indptr)) + 1j, right.indices, right.indptr), shape=right.shape
-    )
+    right = a[cols].T.tocsr()  # pieces x cols, each entry the piece's length + 1i (0 where stored False)
+    weight = np.where(right.data, np.repeat(lengths, np.diff(right.indptr)) + 1j, 0)
+    right = sp.csr_matrix((weight, right.indices, right.indptr), shape=right.shape)
     both = (a[block].astype(np.complex128) @ right).tocsr()  # a row's pairs in any order: none depends on it
     shared, count = both.data.real.copy(), both.data.imag
     r = np.repeat(block, np.diff(both.indptr))
