@@ -300,6 +300,7 @@ class _Relation:
     def __init__(self, adj: sp.csr_matrix) -> None:
         self.adj = adj.astype(np.int32).tocsr()
         n = self.adj.shape[0]
+        self._deg = np.diff(self.adj.indptr)
         self._near = np.zeros(n, dtype=np.int32)  # scratch: the neighbours of the candidate under test
         self.bits: np.ndarray | None = None
         if n <= _BITS_MAX:
@@ -319,12 +320,14 @@ class _Relation:
         of nb: all are tried on ``_PROBES`` of nb spread over it first, and only those that pass on the rest. Else |N(j)
         & nb| = |nb| - [j in nb], summed over the rows of js."""
         ptr = self.adj.indptr
-        js = js[ptr[js + 1] - ptr[js] >= nb.size - 1]
+        js = js[self._deg[js] >= nb.size - 1]
         if js.size == 0:
             return False
         if self.bits is not None:
-            probes = [p for p in _PROBES if p < nb.size] if js.size * nb.size > _ONE_SHOT else []
-            for probe in probes + [nb.size]:  # a few of nb, more of them, then all (few pairs: all at once)
+            if js.size * nb.size <= _ONE_SHOT:  # few pairs: all at once
+                got = (self.bits[js[:, None], nb >> 3] >> (nb & 7).astype(np.uint8)) & 1
+                return bool(((got == 1) | (js[:, None] == nb)).all(axis=1).any())
+            for probe in [p for p in _PROBES if p < nb.size] + [nb.size]:  # a few of nb, more of them, then all
                 ks = nb[_spread(nb.size, probe)] if probe < nb.size else nb
                 got = (self.bits[js[:, None], (ks >> 3)[None, :]] >> (ks & 7)[None, :].astype(np.uint8)) & 1
                 js = js[np.all((got == 1) | (js[:, None] == ks[None, :]), axis=1)]
