@@ -34,8 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from planner.bounds import patch_family as pf
-from planner.bounds.patch_family import PAIRS, expand, link_matrix, rarest, undominated
+from planner.bounds.patch_family import PAIRS, bits, earlier_pairs, expand, link_matrix, rarest, undominated
 from planner.bounds.walk_dual import walk_dual_bound
 from planner.solve.ring import ring_graph
 
@@ -75,10 +74,9 @@ def linked_dominated(a: sp.csr_matrix, adj: Links) -> NDArray[np.bool_]:
     order = np.lexsort((np.arange(n), -size))
     pos = np.empty(n, dtype=np.int64)
     pos[order] = np.arange(n)
-    cover = pf.bits(a)
-    bits = np.packbits(dense(adj), axis=1, bitorder="little")
-    seers = _by_target(a, pos)  # each target's patches in the order
-    rare = rarest(a, np.diff(seers.indptr))
+    linked = np.packbits(dense(adj), axis=1, bitorder="little")
+    q_of, p_of = earlier_pairs(a, pos)  # the P before Q that cover all Q covers, in the order
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(q_of, minlength=n))])
     gone = np.zeros(n, dtype=bool)
     kept = np.zeros(n, dtype=bool)
     live = np.full((n + 7) // 8, 255, dtype=np.uint8)  # bits of the patches not gone
@@ -86,13 +84,12 @@ def linked_dominated(a: sp.csr_matrix, adj: Links) -> NDArray[np.bool_]:
     n_kept = 0
     for q in order.tolist():
         if size[q]:
-            ps = seers.indices[seers.indptr[rare[q]] : seers.indptr[rare[q] + 1]]
-            ps = ps[kept[ps] & (pos[ps] < pos[q])]
-            ps = ps[~(cover[q][None, :] & ~cover[ps]).any(axis=1)][:_PROBE]
+            ps = p_of[ptr[q] : ptr[q + 1]]
+            ps = ps[kept[ps]][:_PROBE]
         else:
             ps = kept_order[: min(n_kept, _PROBE)]
         if ps.size:
-            miss = bits[q][None, :] & live[None, :] & ~bits[ps]
+            miss = linked[q][None, :] & live[None, :] & ~linked[ps]
             miss[np.arange(ps.size), ps >> 3] &= ~np.left_shift(np.uint8(1), (ps & 7).astype(np.uint8))
             if not miss.any(axis=1).all():
                 gone[q] = True
@@ -104,14 +101,6 @@ def linked_dominated(a: sp.csr_matrix, adj: Links) -> NDArray[np.bool_]:
     return gone
 
 
-def _by_target(a: sp.csr_matrix, pos: NDArray[np.int64]) -> sp.csr_matrix:
-    """``a`` transposed (targets x patches), each target's patches in increasing ``pos``."""
-    t = a.T.tocsr()
-    key = np.repeat(np.arange(t.shape[0]), np.diff(t.indptr)) * (pos.size + 1) + pos[t.indices]
-    t.indices = t.indices[np.argsort(key, kind="stable")]
-    return t
-
-
 def implied(a: sp.csr_matrix) -> NDArray[np.bool_]:
     """:func:`planner.solve.presolve.implied_targets` of ``a`` (patches x targets) without the target x target
     product: t goes when some t' whose patch set S(t') is inside S(t) is strictly smaller, or equal and earlier. Such a
@@ -120,7 +109,7 @@ def implied(a: sp.csr_matrix) -> NDArray[np.bool_]:
     n, n_t = a.shape
     seers = a.T.tocsr()
     count = np.diff(seers.indptr)
-    rows = pf.bits(seers)
+    rows = bits(seers)
     live = np.flatnonzero(count)
     if live.size == 0:
         return np.zeros(n_t, dtype=bool)
@@ -155,7 +144,7 @@ def near_linked_dominated(a: sp.csr_matrix, adj: Links, cells: NDArray[np.int64]
     code = (ix + _NEAR) * span + iy + _NEAR
     at = np.full(int(code.max(initial=0)) + _NEAR * span + _NEAR + 1, -1, dtype=np.int64)
     at[code] = np.arange(n)
-    bits = np.packbits(dense(adj), axis=1, bitorder="little")
+    linked = np.packbits(dense(adj), axis=1, bitorder="little")
     out = np.zeros(n, dtype=bool)
     for dx in range(-_NEAR, _NEAR + 1):
         for dy in range(-_NEAR, _NEAR + 1):
@@ -167,7 +156,7 @@ def near_linked_dominated(a: sp.csr_matrix, adj: Links, cells: NDArray[np.int64]
             q, p = q[held], p[held]
             for lo in range(0, q.size, _BLOCK):
                 qq, pp = q[lo : lo + _BLOCK], p[lo : lo + _BLOCK]
-                miss = bits[qq] & ~bits[pp]
+                miss = linked[qq] & ~linked[pp]
                 miss[np.arange(qq.size), pp >> 3] &= ~np.left_shift(np.uint8(1), (pp & 7).astype(np.uint8))
                 out[qq[~miss.any(axis=1)]] = True
     return out

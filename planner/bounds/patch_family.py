@@ -53,35 +53,51 @@ def expand(indptr: NDArray[np.int64], rows: NDArray[np.int64]) -> tuple[NDArray[
     return which, np.repeat(indptr[rows] - np.cumsum(deg) + deg, deg) + np.arange(int(deg.sum()))
 
 
+def earlier_pairs(a: sp.csr_matrix, pos: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Every (Q, P) of rows of ``a`` with P before Q in the order ``pos`` (a permutation) and P holding all Q holds, Q
+    ascending and each Q's P in the order. A P that holds Q's columns holds each of them, so P is among the rows before
+    Q that hold Q's column with the fewest such rows: only those are tested (as packed bits)."""
+    a = a.astype(bool).tocsr()
+    n = a.shape[0]
+    seers = a.T.tocsr()  # each column's rows in the order
+    col = np.repeat(np.arange(seers.shape[0]), np.diff(seers.indptr))
+    seers.indices = seers.indices[np.lexsort((pos[seers.indices], col))]
+    rank = np.arange(seers.indices.size) - seers.indptr[col]  # rows before this one in its column's list
+    best = np.full(n, np.iinfo(np.int64).max, dtype=np.int64)
+    np.minimum.at(best, seers.indices, rank * (seers.shape[0] + 1) + col)
+    q = np.flatnonzero(np.diff(a.indptr))
+    c, before = best[q] % (seers.shape[0] + 1), best[q] // (seers.shape[0] + 1)
+    which = np.repeat(np.arange(q.size), before)
+    at = np.repeat(seers.indptr[c] - np.cumsum(before) + before, before) + np.arange(int(before.sum()))
+    q, p = q[which], seers.indices[at].astype(np.int64)
+    rows = bits(a)
+    holds = np.zeros(q.size, dtype=bool)
+    for lo in range(0, q.size, PAIRS):
+        x, y = q[lo : lo + PAIRS], p[lo : lo + PAIRS]
+        holds[lo : lo + PAIRS] = ~(rows[x] & ~rows[y]).any(axis=1)
+    return q[holds], p[holds]
+
+
 def undominated(u: sp.csr_matrix, low: NDArray[np.float64]) -> NDArray[np.int64]:
     """The rows of ``u`` (patches x pieces) that :func:`planner.solve.presolve.dominated` keeps with ``low`` as the
     cost (module docstring), ascending."""
     u = u.astype(bool).tocsr()
-    u.sort_indices()
     n = u.shape[0]
     size = np.diff(u.indptr)
     pos = np.empty(n, dtype=np.int64)
     pos[np.lexsort((np.arange(n), low, -size))] = np.arange(n)
-    seers = u.T.tocsr()
-    rows = bits(u)
-    q = np.flatnonzero(size)
-    which, at = expand(seers.indptr, rarest(u, np.diff(seers.indptr))[q])
-    q, p = q[which], seers.indices[at].astype(np.int64)
-    ok = (pos[p] < pos[q]) & (low[p] <= low[q]) & (size[p] >= size[q])
-    q, p = q[ok], p[ok]
+    q, p = earlier_pairs(u, pos)
     gone = size == 0
-    for lo in range(0, q.size, PAIRS):
-        x, y = q[lo : lo + PAIRS], p[lo : lo + PAIRS]
-        gone[x[~(rows[x] & ~rows[y]).any(axis=1)]] = True
+    gone[q[low[p] <= low[q]]] = True
     return np.flatnonzero(~gone)
 
 
 def link_matrix(
     u: sp.csr_matrix, low: NDArray[np.float64], lengths: NDArray[np.float64], share: float
 ) -> NDArray[np.bool_]:
-    """The relaxed links among the rows of ``u`` (module docstring): symmetric, no diagonal. The rows are taken in the
-    order of their first piece, so that a block of them sees a stretch of the ring; each block is multiplied with the
-    later rows that see one of its pieces (found as packed bits), over those pieces only."""
+    """The relaxed links among the rows of ``u`` (module docstring): symmetric, no diagonal. The rows are taken in
+    blocks in the order of their first piece, so that a block sees a stretch of the ring; each block is multiplied with
+    the rows after it in that order that see one of its pieces (found as packed bits), over those pieces only."""
     n = u.shape[0]
     u = u.astype(bool).tocsr()
     u.sort_indices()
@@ -89,28 +105,25 @@ def link_matrix(
     first = np.full(n, -1, dtype=np.int64)
     first[has] = u.indices[u.indptr[:-1][has]]
     perm = np.argsort(first, kind="stable")
-    up = u[perm].tocsr()
-    ub = up.astype(np.float32).toarray()
-    packed = bits(up)
+    pos = np.empty(n, dtype=np.int64)
+    pos[perm] = np.arange(n)
+    ub = u.astype(np.float32).toarray()
+    packed = bits(u)
     w = ub * lengths.astype(np.float32)[None, :]
-    need = (share * low[perm]).astype(np.float32)
-    out = np.zeros((n, n), dtype=bool)  # in the order perm, the upper triangle first
+    need = (share * low).astype(np.float32)
+    out = np.zeros((n, n), dtype=bool)  # each pair once (the later row in the order as the column), then mirrored
     for i in range(0, n, _BLOCK):
-        block = min(_BLOCK, n - i)
-        mask = np.bitwise_or.reduce(packed[i : i + block], axis=0)
-        later = i + np.flatnonzero((packed[i:] & mask[None, :]).any(axis=1))
-        seen = np.flatnonzero(ub[i : i + block].any(axis=0))
-        shared = w[i : i + block, seen] @ ub[later][:, seen].T
+        rows = perm[i : i + _BLOCK]
+        mask = np.bitwise_or.reduce(packed[rows], axis=0)
+        later = np.flatnonzero((pos >= i) & (packed & mask[None, :]).any(axis=1))
+        seen = np.flatnonzero(ub[rows].any(axis=0))
+        shared = w[rows][:, seen] @ ub[later][:, seen].T
         ok = shared > 0
-        ok &= shared + np.float32(_SLACK_M) >= np.minimum(need[i : i + block, None], need[None, later])
-        ok &= later[None, :] > (i + np.arange(block))[:, None]
-        out[i : i + block, later] = ok
+        ok &= shared + np.float32(_SLACK_M) >= np.minimum(need[rows, None], need[None, later])
+        ok &= pos[later][None, :] > pos[rows][:, None]
+        out[np.ix_(rows, later)] = ok
     out |= _transposed(out)
-    inv = np.empty(n, dtype=np.int64)
-    inv[perm] = np.arange(n)
-    # rows and columns back in u's order: out[inv][:, inv] is out[inv] transposed (out is symmetric) with its rows
-    # taken in inv, and rows are gathered far faster than columns
-    return _transposed(out[inv])[inv]
+    return out
 
 
 def _transposed(x: NDArray[np.bool_]) -> NDArray[np.bool_]:
