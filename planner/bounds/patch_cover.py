@@ -76,21 +76,26 @@ def linked_dominated(a: sp.csr_matrix, adj: Links) -> NDArray[np.bool_]:
     pos[order] = np.arange(n)
     linked = np.packbits(dense(adj), axis=1, bitorder="little")
     q_of, p_of = earlier_pairs(a, pos)  # the P before Q that cover all Q covers, in the order
-    ptr = np.concatenate([[0], np.cumsum(np.bincount(q_of, minlength=n))])
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(q_of, minlength=n))]).tolist()
+    own = np.left_shift(np.uint8(1), (p_of & 7).astype(np.uint8))  # each P's own bit, left out of its test
     gone = np.zeros(n, dtype=bool)
     kept = np.zeros(n, dtype=bool)
     live = np.full((n + 7) // 8, 255, dtype=np.uint8)  # bits of the patches not gone
     kept_order = np.zeros(n, dtype=np.int64)  # the kept patches in the order, the first n_kept of them
     n_kept = 0
     for q in order.tolist():
-        if size[q]:
-            ps = p_of[ptr[q] : ptr[q + 1]]
-            ps = ps[kept[ps]][:_PROBE]
+        lo, hi = ptr[q], ptr[q + 1]
+        if size[q] and lo < hi:
+            at = lo + np.flatnonzero(kept[p_of[lo:hi]])[:_PROBE]
+            ps, bit = p_of[at], own[at]
+        elif size[q]:
+            at = ps = bit = np.zeros(0, dtype=np.int64)
         else:
             ps = kept_order[: min(n_kept, _PROBE)]
+            bit = np.left_shift(np.uint8(1), (ps & 7).astype(np.uint8))
         if ps.size:
-            miss = linked[q][None, :] & live[None, :] & ~linked[ps]
-            miss[np.arange(ps.size), ps >> 3] &= ~np.left_shift(np.uint8(1), (ps & 7).astype(np.uint8))
+            miss = (linked[q] & live)[None, :] & ~linked[ps]
+            miss[np.arange(ps.size), ps >> 3] &= ~bit
             if not miss.any(axis=1).all():
                 gone[q] = True
                 live[q >> 3] &= ~np.left_shift(np.uint8(1), np.uint8(q & 7))

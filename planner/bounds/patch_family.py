@@ -53,10 +53,13 @@ def expand(indptr: NDArray[np.int64], rows: NDArray[np.int64]) -> tuple[NDArray[
     return which, np.repeat(indptr[rows] - np.cumsum(deg) + deg, deg) + np.arange(int(deg.sum()))
 
 
-def earlier_pairs(a: sp.csr_matrix, pos: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Every (Q, P) of rows of ``a`` with P before Q in the order ``pos`` (a permutation) and P holding all Q holds, Q
-    ascending and each Q's P in the order. A P that holds Q's columns holds each of them, so P is among the rows before
-    Q that hold Q's column with the fewest such rows: only those are tested (as packed bits)."""
+def earlier_pairs(
+    a: sp.csr_matrix, pos: NDArray[np.int64], low: NDArray[np.float64] | None = None
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Every (Q, P) of rows of ``a`` with P before Q in the order ``pos`` (a permutation) and P holding all Q holds
+    (and, with ``low``, low[P] <= low[Q]), Q ascending and each Q's P in the order. A P that holds Q's columns holds
+    each of them, so P is among the rows before Q that hold Q's column with the fewest such rows: only those are
+    tested (as packed bits)."""
     a = a.astype(bool).tocsr()
     n = a.shape[0]
     seers = a.T.tocsr()  # each column's rows in the order
@@ -70,6 +73,11 @@ def earlier_pairs(a: sp.csr_matrix, pos: NDArray[np.int64]) -> tuple[NDArray[np.
     which = np.repeat(np.arange(q.size), before)
     at = np.repeat(seers.indptr[c] - np.cumsum(before) + before, before) + np.arange(int(before.sum()))
     q, p = q[which], seers.indices[at].astype(np.int64)
+    size = np.diff(a.indptr)
+    ok = size[p] >= size[q]
+    if low is not None:
+        ok &= low[p] <= low[q]
+    q, p = q[ok], p[ok]
     rows = bits(a)
     holds = np.zeros(q.size, dtype=bool)
     for lo in range(0, q.size, PAIRS):
@@ -86,9 +94,9 @@ def undominated(u: sp.csr_matrix, low: NDArray[np.float64]) -> NDArray[np.int64]
     size = np.diff(u.indptr)
     pos = np.empty(n, dtype=np.int64)
     pos[np.lexsort((np.arange(n), low, -size))] = np.arange(n)
-    q, p = earlier_pairs(u, pos)
+    q, _ = earlier_pairs(u, pos, low)
     gone = size == 0
-    gone[q[low[p] <= low[q]]] = True
+    gone[q] = True
     return np.flatnonzero(~gone)
 
 
