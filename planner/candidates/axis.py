@@ -69,13 +69,28 @@ def medial_axis(area: shapely.Geometry) -> list[shapely.LineString]:
         pts = shapely.get_coordinates(shapely.segmentize(part.boundary, seg))
         if len(pts) < 3:
             continue
-        edges = shapely.get_parts(shapely.voronoi_polygons(shapely.multipoints(pts), only_edges=True))
+        edges = voronoi_edges(pts)
         edges = edges[shapely.contains_properly(part, edges)]
         if len(edges) == 0:
             continue
         merged = shapely.get_parts(shapely.line_merge(shapely.union_all(edges)))
         out += [g for g in shapely.simplify(merged, 1e-9) if g.length > 0]  # collinear vertices dropped
     return out
+
+
+def voronoi_edges(points: NDArray[np.float64]) -> NDArray[np.object_]:
+    """The edges of the Voronoi diagram of ``points`` as two-point lines, each once (in a canonical order), from the
+    rings of its cells: the same segments, coordinate for coordinate, as GEOS's ``only_edges`` output inside the
+    diagram's envelope (plus the envelope's own, which no caller keeps), without the clipping of each edge to the
+    envelope one by one that makes that output cost 0.8 s for 3,000 points against 0.06 s for the cells."""
+    cells = shapely.get_parts(shapely.voronoi_polygons(shapely.multipoints(points)))
+    xy, ring = shapely.get_coordinates(shapely.get_exterior_ring(cells), return_index=True)
+    same = ring[:-1] == ring[1:]
+    a, b = xy[:-1][same], xy[1:][same]
+    first = ((a[:, 0] < b[:, 0]) | ((a[:, 0] == b[:, 0]) & (a[:, 1] <= b[:, 1])))[:, None]
+    seg = np.unique(np.hstack([np.where(first, a, b), np.where(first, b, a)]), axis=0)  # each shared edge once
+    seg = seg[(seg[:, 0] != seg[:, 2]) | (seg[:, 1] != seg[:, 3])]
+    return shapely.linestrings(seg.reshape(-1, 2, 2))
 
 
 def intervals(
