@@ -32,7 +32,7 @@ import scipy.sparse as sp
 import shapely
 from numpy.typing import NDArray
 
-from planner.bounds.patch_cover import reduced, ring_lagrange_bound
+from planner.bounds.patch_cover import family_bound
 from planner.bounds.plane_patches import MIN_PATCH_M, SidePieces, grid_shape, live_box
 from planner.coverage.overlap import SITE_SHARE
 from planner.solve.instance import CoverInstance
@@ -287,18 +287,15 @@ def quick_bound(pieces: SidePieces, share: float, target: int, box_patches: int 
         if near > QUICK_NEAR and not last:
             h *= math.sqrt(near / QUICK_COARSE)
             continue
-        first = first[~dominated(got[0][first].tocsr(), got[1][first])]
-        if first.size > QUICK_FAMILY:
+        cells = np.rint(np.stack([got[2][first], got[3][first]], axis=1) / h).astype(np.int64)
+        u, low = got[0][first].tocsr(), got[1][first]
+        found = family_bound(u, low, cells, pieces.lengths, pieces.required, share, target, QUICK_FAMILY)
+        if found is None:  # more than QUICK_FAMILY undominated patches
             if last:
                 break
             h *= math.sqrt(near / QUICK_COARSE)
             continue
-        u, low = got[0][first].tocsr(), got[1][first]
-        links = relaxed_links(u, low, pieces.lengths, share)
-        a = u[:, np.flatnonzero(pieces.required)].tocsr()
-        kc, kt = reduced(a, links, np.rint(np.stack([got[2][first], got[3][first]], axis=1) / h).astype(np.int64))
-        bound = ring_lagrange_bound(a[kc], kt, links[kc][:, kc], target)
-        return Refined(bound, 0, int(kc.size), h, bound >= target)
+        return Refined(found[0], 0, found[1], h, found[0] >= target)
     return Refined(0, 0, 0, h, False)
 
 
