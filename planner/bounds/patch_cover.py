@@ -29,7 +29,7 @@ links): 3.2-3.6 CPU-s -> 1.4-1.6 on a loaded machine, the same bound (12) over t
 from __future__ import annotations
 
 import math
-from typing import TypeAlias
+from typing import SupportsInt, TypeAlias
 
 import numpy as np
 import scipy.sparse as sp
@@ -196,7 +196,7 @@ def ring_lagrange_bound(
     a: sp.csr_matrix,
     targets: NDArray[np.int64],
     adj: Links,
-    target: int,
+    target: SupportsInt,
     steps: int = ASCENT_STEPS,
     work: float = WALK_WORK,
 ) -> int:
@@ -225,7 +225,7 @@ def family_bound(
     lengths: NDArray[np.float64],
     required: NDArray[np.bool_],
     share: float,
-    target: int,
+    target: SupportsInt,
     most: int,
 ) -> tuple[int, int] | None:
     """The quick cover's bound over the patches ``u`` (patches x pieces, with ``low`` and their grid ``cells``): the

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, SupportsInt
 
 import numpy as np
 import scipy.sparse as sp
@@ -266,7 +266,7 @@ def near_dominated(
     return out
 
 
-def quick_bound(pieces: SidePieces, share: float, target: int, box_patches: int = QUICK_PATCHES) -> Refined:
+def quick_bound(pieces: SidePieces, share: float, target: SupportsInt, box_patches: int = QUICK_PATCHES) -> Refined:
     """The connected cover over one grid of patches bounded without a search (:mod:`planner.bounds.patch_cover`):
     about ``box_patches`` patches over the box of the zone-side's regions (the ring walk's first side, whose grid it
     shares: :meth:`planner.bounds.plane_patches.SidePieces.grid`). Where it holds more than :data:`QUICK_NEAR`
@@ -295,7 +295,7 @@ def quick_bound(pieces: SidePieces, share: float, target: int, box_patches: int 
                 break
             h *= math.sqrt(near / QUICK_COARSE)
             continue
-        return Refined(found[0], 0, found[1], h, found[0] >= target)
+        return Refined(found[0], 0, found[1], h, found[0] >= int(target))
     return Refined(0, 0, 0, h, False)
 
 
@@ -331,12 +331,18 @@ def connected_cover(
 
 
 def refined_bound(
-    pieces: SidePieces, share: float, h0: float, target: int, steps: int, work_s: float = STEP_WORK_S
+    pieces: SidePieces,
+    share: float,
+    h0: float,
+    target: int,
+    steps: int,
+    work_s: float = STEP_WORK_S,
+    quick: Refined | None = None,
 ) -> Refined:
     """The refined bound of one zone-side (module docstring), from patches of side ``h0``, at most ``steps``
-    refinements, stopping once it reaches ``target`` (the plan's count there). The quick bound comes first; with no
-    steps it is all there is."""
-    quick = quick_bound(pieces, share, target)
+    refinements, stopping once it reaches ``target`` (the plan's count there). The quick bound comes first (``quick``
+    where it was found already for this target); with no steps it is all there is."""
+    quick = quick_bound(pieces, share, target) if quick is None else quick
     if steps == 0 or quick.bound >= target:
         return quick
     lv = _Levels(pieces, h0)

@@ -177,6 +177,7 @@ def _until_asked(conn: Connection, walks: RingWalks, work_patches: int, regions_
     from the parent (:meth:`WalksAhead.share`)."""
     keys = [int(k) for k in np.unique(walks.key[walks.required])] if walks.share > 0 else []
     closed: set[int] = set()
+    skipped: set[int] = set()  # the zone-sides the parent said need no walk (closed too)
 
     def asked(wait: bool = False) -> Any:
         while wait or conn.poll():
@@ -187,6 +188,7 @@ def _until_asked(conn: Connection, walks: RingWalks, work_patches: int, regions_
             if message[0] != "skip":
                 return message
             closed.update(message[1])
+            skipped.update(message[1])
         return None
 
     if regions_later:
@@ -212,6 +214,10 @@ def _until_asked(conn: Connection, walks: RingWalks, work_patches: int, regions_
             return got
         if k not in closed:
             walks.ahead(k, level)
+    # the walks done: the two largest zone-sides' quick covers begun while the plan is still made (where the counts ask
+    # for it, they wait on it); the smaller ones cost little when asked, and begun here they would take the core the
+    # plan's own threads may be using
+    walks.cover_ahead([k for k, level in ahead_order(walks, keys, work_patches) if level == 0 and k not in skipped][:2])
     while (got := asked()) is None:
         conn.poll(None)
     return got

@@ -9,6 +9,7 @@ ahead of the plan (:mod:`planner.bounds.ring_ahead`) serve the bound under any c
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any
@@ -20,7 +21,8 @@ from numpy.typing import NDArray
 from planner.bounds.connected_result import SideBound
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sides, undominated
-from planner.bounds.plane_refine import refined_bound
+from planner.bounds.plane_refine import Refined, quick_bound, refined_bound
+from planner.bounds.walk_dual import Goal
 from planner.coverage.regions import FrameSpace, coverage_regions, outer_tolerance_m, region_tolerance_m
 from planner.coverage.threads import ordered_map
 from planner.coverage.visibility import SightLimits
@@ -33,10 +35,10 @@ MAX_FAMILY = 6_000
 #: a large outline's graph runs to gigabytes)
 MAX_LINKS = 3_000_000
 #: the quick cover over patches (:func:`planner.bounds.plane_refine.refined_bound` with no splits) runs by default only
-#: where the plan is at most this many stations above the walks' bound, so that one station more of bound brings it
-#: within one (Baalbek 20 -> 21 for about 2 CPU-s). Farther above it may still gain (at 5: polygon A 20 -> 22, C 24 -> 27
-#: with its walks' dual), but at 4-5 CPU-s a zone-side, which would take those plans past 10 s
-QUICK_GAP = 2
+#: where the plan is at most this many stations above the walks' bound (Baalbek 20 -> 21, polygon A 20 -> 22, C 24 -> 27
+#: with its walks' dual); a process walking ahead begins the two largest zone-sides' covers before the counts are
+#: known (:meth:`RingWalks.cover_ahead`), so that most of their 1-2 CPU-s is spent while the plan is still being made
+QUICK_GAP = 5
 #: a zone-side whose undominated family at one patch side is past MAX_FAMILY / this is not formed at the next (half as
 #: large) side: halving the side has multiplied the family by 3.4-3.7 on the bundled zone-sides, so that graph would
 #: pass the cap after its grid and dominance were paid for (about a CPU-second on polygon A's and C's sides)
@@ -92,6 +94,17 @@ def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[RingGraph | 
     return ring_graph(cover, pieces.required, adj), int(fam.size)
 
 
+class _Ahead:
+    """One zone-side's quick cover begun ahead: its live goal, its result (None until done, or where not run), the
+    event set when it ends, and whether it was ended early (its result unused)."""
+
+    def __init__(self) -> None:
+        self.goal = Goal()
+        self.result: Refined | None = None
+        self.done = threading.Event()
+        self.cancelled = False
+
+
 @dataclass(frozen=True)
 class FarleyShares:
     """The connected bound's first part, which the plan's counts do not enter: the zone-sides (keys ``2 zone + side``)
@@ -128,6 +141,9 @@ class RingWalks:
         self._graphs: dict[tuple[int, int], tuple[RingGraph | None, int]] = {}  # formed ahead, not walked yet
         self._done: dict[tuple[int, int], tuple[bool, int | None, int]] = {}  # walked all the way
         self._family: dict[tuple[int, int], int] = {}  # the undominated family of each side formed
+        self._quick: dict[int, _Ahead | None] = {}  # quick covers begun ahead (None: taken by the caller, not ahead)
+        self._lock = threading.Lock()
+        self._ended = False  # no quick cover is begun ahead any more
 
     def draw(self, keys: list[int]) -> None:
         """The regions, inner and outer, of the zone-sides ``keys`` not drawn yet (one call for all their pieces)."""
@@ -148,6 +164,55 @@ class RingWalks:
             regs = [outer[int(p)] for p in ps], [self.cache[int(p)] for p in ps]
             self._sides[k] = SidePieces(*regs, lengths[ps], self.required[ps], grow_m, shrink_m)
             self._levels[k] = list(patch_sides(self._sides[k].outer))
+
+    def cover_ahead(self, keys: list[int]) -> threading.Thread:
+        """Begin the quick covers over patches of the drawn zone-sides ``keys`` on a thread, in turn, before the plan's
+        counts are known (:class:`planner.bounds.walk_dual.Goal`): a process walking ahead runs them once its walks
+        are done, so that the covers the counts then ask for are ready or under way. Zone-sides whose walk formed and
+        whose patches all see one unbroken run are left out (there the cover is not run: :func:`arcs_only`)."""
+
+        def run() -> None:
+            for k in keys:
+                with self._lock:
+                    if self._ended or k in self._quick or k not in self._sides or not self._levels[k]:
+                        continue
+                    slot = self._quick[k] = _Ahead()
+                try:  # where the walk formed and every patch sees one run, the cover is not asked for
+                    formed = self._done.get((k, 0), (False, None, 0))[0]
+                    if not (formed and arcs_only(self._sides[k], self._levels[k][0])):
+                        slot.result = quick_bound(self._sides[k], self.share, slot.goal)
+                finally:
+                    slot.done.set()
+
+        thread = threading.Thread(target=run, name="quick covers ahead", daemon=True)
+        thread.start()
+        return thread
+
+    def quick(self, key: int, target: int) -> Refined | None:
+        """The quick cover of zone-side ``key`` begun ahead (:meth:`cover_ahead`), told its ``target`` and awaited:
+        the same as :func:`planner.bounds.plane_refine.quick_bound` for that target wherever the target is a plan's
+        count there (at least every valid bound: a run past the point where the target stops it is capped at it).
+        None where none was begun (the caller makes it; none is begun after this)."""
+        with self._lock:
+            slot = self._quick.setdefault(key, None)
+        if slot is None:
+            return None
+        slot.goal.value = int(target)
+        slot.done.wait()
+        got = slot.result
+        if got is None or slot.cancelled:
+            return None
+        return replace(got, bound=min(got.bound, int(target)), proven=got.bound >= int(target))
+
+    def end_covers_ahead(self, needed: list[int]) -> None:
+        """Begin no more quick covers ahead, and end those under way that the zone-sides ``needed`` do not include at
+        their next round (goal 0; their results are then not used)."""
+        with self._lock:
+            self._ended = True
+            for k, slot in self._quick.items():
+                if slot is not None and k not in needed:
+                    slot.cancelled = True
+                    slot.goal.value = 0
 
     def side(self, key: int) -> SidePieces:
         """The regions of zone-side ``key`` (drawn now where they are not yet)."""
@@ -239,12 +304,15 @@ def walked_sides(
     # the quick cover over patches (no search) where the plan is within QUICK_GAP of the walks' bound
     gap = sum(counts.get(k, 0) for k in keys) - sum(s.value for s in sides)
     cover = refine_steps > 0 or gap <= QUICK_GAP
+    needed = [k for i, k in enumerate(keys) if cover and levels[i] and sides[i].value < counts.get(k, 0)]
+    walks.end_covers_ahead(needed)  # covers begun ahead that no zone-side takes stop at their next round
     for i, k in enumerate(keys):
         if not (cover and levels[i] and sides[i].value < counts.get(k, 0)):  # levels: none for share 0
             continue
         if not refine_steps and sides[i].ring is not None and arcs_only(walks.side(k), levels[i][0]):
             continue
-        refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps)
+        quick = walks.quick(k, counts[k])
+        refined = refined_bound(walks.side(k), walks.share, levels[i][0], counts[k], refine_steps, quick=quick)
         sides[i] = replace(sides[i], refined=refined)
     return tuple(sides)
 

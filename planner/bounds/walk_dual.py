@@ -26,6 +26,7 @@ Every limit is a count (walks, walk work): the same bound under any load.
 from __future__ import annotations
 
 import math
+from typing import SupportsInt
 
 import numpy as np
 import scipy.sparse as sp
@@ -42,16 +43,29 @@ _TOL = 1e-6
 COLUMNS = 64
 
 
+class Goal:
+    """A goal that is set while the bound runs: a cover started before the plan's count is known runs with no goal
+    (a huge one) until it is told the count. Each round reads it, so the rounds are those of a run given the count from
+    the start, the same up to that run's last one; a bound that kept going past it is higher, and capped at the count
+    (which every valid bound of the zone-side stays under) it is the same."""
+
+    def __init__(self, value: int = 1 << 40) -> None:
+        self.value = value
+
+    def __int__(self) -> int:
+        return self.value
+
+
 def walk_dual_bound(
     ring: RingGraph,
     sub: sp.csr_matrix,
     cost: NDArray[np.float64],
-    goal: int,
+    goal: SupportsInt,
     walks: int,
     first: RingBound | None = None,
 ) -> tuple[float, int]:
     """The best L(lambda) found (module docstring), and the walks priced after the first. ``sub``: candidates x the
-    targets whose cover is added back; ``cost``: per candidate (> 0); ``goal``: stop once the rounded bound reaches it;
+    targets whose cover is added back; ``cost``: per candidate (> 0); ``goal``: stop once the rounded bound reaches it (read each round: a run started ahead learns it later, :class:`Goal`);
     ``walks``: at most this many walks priced after the first; ``first``: the cheapest walk under ``cost`` where known,
     else the cheapest walk from every anchor is found (one search, as the cheapest walk's) and they all start the
     master. -inf where the ring has no walk at all."""
@@ -72,7 +86,7 @@ def walk_dual_bound(
             if got_master is None:
                 return best, k
             value, lam_m = got_master
-            if math.ceil(best - _TOL) >= min(goal, math.ceil(value - _TOL)):
+            if math.ceil(best - _TOL) >= min(int(goal), math.ceil(value - _TOL)):
                 return best, k
             lam = lam_m if k == 0 else SMOOTHING * centre + (1.0 - SMOOTHING) * lam_m
             rc = cost - sub @ lam

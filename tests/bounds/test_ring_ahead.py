@@ -200,6 +200,41 @@ def test_regions_sent_by_the_parent_give_the_parts_of_regions_drawn_there(room, 
     assert started.walked(*_asked(site, problem, limits, want)) == alone.sides
 
 
+@pytest.mark.parametrize("above", [0, 1, 3, 30])
+def test_quick_covers_begun_ahead_are_the_covers_made_for_the_count(room, above) -> None:  # type: ignore[no-untyped-def]
+    """A quick cover begun with no goal and told the count while (or after) it runs gives what the cover made for that
+    count gives (:func:`planner.bounds.plane_refine.quick_bound`), on both zone-sides, for every count a plan can
+    have (at least the bound itself: ``above`` it; at the bound, the cover for the count stops early); a cover ended
+    early is not used, and one taken by the caller first is not begun."""
+    from planner.bounds.plane_refine import quick_bound
+
+    site, problem, limits = room
+    keys = _keys(problem)
+    walks = _walks(site, problem, limits)
+    for k in keys:
+        walks.levels(k)
+    target = {k: quick_bound(walks.side(k), SHARE, 1 << 40).bound + above for k in keys}
+    want = {k: quick_bound(walks.side(k), SHARE, target[k]) for k in keys}
+    ahead = _walks(site, problem, limits)
+    for k in keys:
+        ahead.levels(k)
+    ahead.cover_ahead(keys)
+    got = {k: ahead.quick(k, target[k]) for k in keys}
+    assert any(g is not None for g in got.values())
+    assert all(g is None or g == want[k] for k, g in got.items())  # None: every patch sees one run (not begun)
+    ended = _walks(site, problem, limits)
+    for k in keys:
+        ended.levels(k)
+    ended.cover_ahead(keys).join()
+    ended.end_covers_ahead([])
+    assert all(ended.quick(k, target[k]) is None for k in keys)  # ended early: the caller makes its own
+    taken = _walks(site, problem, limits)
+    taken.levels(keys[0])
+    assert taken.quick(keys[0], target[keys[0]]) is None
+    taken.cover_ahead(keys).join()
+    assert taken.quick(keys[0], target[keys[0]]) is None  # taken by the caller first: never begun ahead
+
+
 def test_one_station_sides_are_the_zone_sides_one_candidate_covers() -> None:
     """A 4 x 4 m room seen whole from its centre (the corners 45 deg off the normal, theta_max 70) needs one station;
     the outside of a box needs two at least (a point outside sees at most two of its sides): only the room's inside."""
