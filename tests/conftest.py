@@ -35,6 +35,12 @@ HEAVY_PROPERTIES = {
 #: tiers), so that the quick tier answers in about two minutes; by node id, a parametrised case by its id
 SLOW_BY_TIME = frozenset(
     {
+        "tests/bounds/test_ring_ahead.py::test_quick_covers_begun_ahead_are_the_covers_made_for_the_count[1]",
+        "tests/bounds/test_ring_ahead.py::test_quick_covers_begun_ahead_are_the_covers_made_for_the_count[3]",
+        "tests/bounds/test_ring_ahead.py::test_quick_covers_begun_ahead_are_the_covers_made_for_the_count[30]",
+        "tests/bounds/test_ring_ahead.py::test_regions_sent_by_the_parent_give_the_parts_of_regions_drawn_there",
+        "tests/bounds/test_patch_cover.py::test_the_narrow_tests_give_the_answers_of_the_full_ones",
+        "tests/solve/test_lazy_links.py::test_plain_dominance_as_the_walk",
         "tests/test_api.py::test_one_home_for_the_overlap_rule_and_the_site_validation",
         "tests/plan/test_plan.py::test_greedy_verifies_at_100_percent[polygon_b]",
         "tests/coverage/test_openings.py::test_overlap_zero_turns_registration_off",
