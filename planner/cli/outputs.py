@@ -14,6 +14,11 @@ system; inside the target where that exists already), so that relative links bet
 to the field sheet) are the same as between the targets. The files a command reads back from its own output
 folder (:data:`READ_BACK`) are copied into the staging folder first, and moved back only if the command rewrote
 them. Then :func:`planner.report.consistency.check_outputs`, where installed, compares the staged folders.
+
+A command that writes a new plan.json into a folder (:data:`NEW_PLAN`) supersedes the plan there: the earlier plan's
+outputs (:data:`PLAN_FILES`) that the run does not rewrite would disagree with the new plan.json, so they are not read
+back, and the commit moves them, with the earlier plan.json, into ``DIR/superseded.N`` (N the next free number) and
+says so. The folder then holds only the new plan's outputs, and nothing is deleted.
 """
 
 from __future__ import annotations
@@ -48,6 +53,22 @@ OUTPUTS: dict[str, tuple[tuple[str, str, bool], ...]] = {
 #: the files a command may read back from its own output folder (the report links the field sheet found there)
 READ_BACK = ("field.html", "field.json")
 
+#: the targets a command writes a new plan.json into: (command, option dest)
+NEW_PLAN = frozenset({("plan", "out"), ("replan", "out")})
+#: the earlier plan's outputs (relative to its folder) that a new plan supersedes there; not replan.npz (the plan
+#: rewrites it, and a re-plan into the plan's folder starts from it again) nor a re-plan's history (plan.N.json)
+PLAN_FILES = (
+    "plan.json",
+    "network.json",
+    "report.html",
+    "plan.dxf",
+    "plan.geojson",
+    "stations.csv",
+    *(f"{sub}field.{ext}" for sub in ("", "sheet/") for ext in ("html", "csv", "geojson", "json", "pdf")),
+)
+#: the folders the superseded outputs go into: ``DIR/superseded.N``
+SUPERSEDED = "superseded"
+
 #: the staging folders' name prefix (hidden; removed when the command ends)
 PREFIX = ".planner-staging-"
 
@@ -63,6 +84,8 @@ class Target:
     path: Path
     is_file: bool
     base: Path
+    #: the command writes a new plan.json here (:data:`NEW_PLAN`): the earlier plan's outputs are superseded
+    supersedes: bool = False
 
 
 def targets_of(args: argparse.Namespace) -> list[Target]:
@@ -84,7 +107,10 @@ def targets_of(args: argparse.Namespace) -> list[Target]:
             raise UsageError(f"is empty: name a {'file' if is_file else 'folder'}", field=flag, value=shown)
         path = Path(os.path.abspath(shown))
         base = _usable_file(flag, shown, path) if is_file else _usable_folder(flag, shown, path)
-        out.append(Target(dest=dest, flag=flag, shown=str(Path(shown)), path=path, is_file=is_file, base=base))
+        new = (str(getattr(args, "command", "")), dest) in NEW_PLAN
+        out.append(
+            Target(dest=dest, flag=flag, shown=str(Path(shown)), path=path, is_file=is_file, base=base, supersedes=new)
+        )
     return out
 
 
@@ -159,6 +185,8 @@ class Staging:
         for t in self.targets:
             if not t.is_file:
                 t.path.mkdir(parents=True, exist_ok=True)
+            if t.supersedes:
+                self._supersede(t)
         for base, root in self.roots.items():
             for src in sorted(p for p in root.rglob("*") if p.is_file() or p.is_symlink()):
                 if self.seeded.get(src) == _stamp(src):
@@ -170,6 +198,27 @@ class Staging:
             if staged.exists():
                 os.replace(staged, final)
         return code
+
+    def _supersede(self, t: Target) -> None:
+        """Move the earlier plan's outputs in target folder ``t`` that this run does not rewrite, with the earlier
+        plan.json, into ``t/superseded.N`` (nothing moves where no such output is left); say where."""
+        staged = self.staged(t)
+        stale = [n for n in PLAN_FILES[1:] if (t.path / n).is_file() and not (staged / n).exists()]
+        if not stale:
+            return
+        taken = [
+            int(p.name.split(".", 1)[1]) for p in t.path.glob(f"{SUPERSEDED}.*") if p.name.split(".", 1)[1].isdigit()
+        ]
+        into = t.path / f"{SUPERSEDED}.{max(taken, default=0) + 1}"
+        moved = (["plan.json"] if (t.path / "plan.json").is_file() else []) + stale
+        for name in moved:
+            (into / name).parent.mkdir(parents=True, exist_ok=True)
+            os.replace(t.path / name, into / name)
+        shown = Path(t.shown) / into.name
+        print(
+            f"planner: note: the earlier plan's {', '.join(moved)} moved to {shown} (superseded by this plan)",
+            file=sys.stderr,
+        )
 
 
 def _stamp(path: Path) -> tuple[int, int]:
@@ -266,8 +315,8 @@ def _prepare(stage: Staging, t: Target) -> None:
         return
     staged = stage.staged(t)
     staged.mkdir(parents=True, exist_ok=True)
-    if not t.path.is_dir():
-        return
+    if not t.path.is_dir() or any(o.supersedes and o.path == t.path for o in stage.targets):
+        return  # a new plan's folder: the sheet there is the earlier plan's
     for name in READ_BACK:
         if (t.path / name).is_file() and not (staged / name).exists():
             shutil.copy2(t.path / name, staged / name)

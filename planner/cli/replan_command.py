@@ -1,7 +1,9 @@
 """``planner replan PLAN.json EDITS.json --out DIR``: a plan repaired on site (:func:`planner.replanning.run.replan`), written
 with its history: DIR/plan.json (the new plan, with ``replan``: what changed), DIR/plan.N.json and edits.N.json (N
 the next free index; plan.0.json the plan first repaired), the field sheet of the stations left (field.html, .csv,
-.geojson, .json; field.pdf with --pdf) in DIR/sheet, and the plan's replan.npz, so that the next re-plan starts from it too."""
+.geojson, .json; field.pdf with --pdf) in DIR/sheet, and the plan's replan.npz, so that the next re-plan starts from it too.
+The earlier plan's outputs in DIR that this run does not rewrite (its field sheet, report, network, exports) move to
+DIR/superseded.N (:mod:`planner.cli.outputs`): DIR holds one plan's outputs."""
 
 from __future__ import annotations
 
@@ -100,7 +102,11 @@ def cmd_replan(args: argparse.Namespace) -> int:
     print("\n".join(r.lines()))
     folder.mkdir(parents=True, exist_ok=True)
     n = next_index(history)
-    written = _history(r, folder, history, n)
+    # re-planned in the plan's own folder: the plan read is kept as plan.(N-1).json there (plan.0.json the first time),
+    # and plan.json becomes the new plan, so the new plan names the history file as the one it came from
+    in_place = Path(args.plan).resolve() == (history / "plan.json").resolve()
+    source = str(Path(args.plan).parent / f"plan.{n - 1}.json") if in_place else None
+    written = _history(r, folder, history, n, source)
     if r.sheet is not None:
         written += _sheet(r.sheet, folder / SHEET_FOLDER, args.pdf)
     source_npz = Path(args.plan).parent / FILE_NAME
@@ -112,10 +118,11 @@ def cmd_replan(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
-def plan_dict(r: Replan) -> dict[str, Any]:
+def plan_dict(r: Replan, source: str | None = None) -> dict[str, Any]:
     """The new plan.json: the plan's fields (:func:`planner.plan.plan_dict.plan_to_dict`), its stations numbered
     as the new sheet walks them (the done ones after, each with ``"status": "done"``, at the position where it stood),
-    and ``replan``: what was repaired and what changed."""
+    and ``replan``: what was repaired and what changed (``from_plan``: ``source`` where given, the history file the
+    plan read is kept as)."""
     from planner.plan.plan_dict import StationNumbering, plan_to_dict
 
     plan = r.plan()
@@ -126,13 +133,14 @@ def plan_dict(r: Replan) -> dict[str, Any]:
     for row in out["stations"]:  # where they stood: the next re-plan keeps them done (planner.io.edits.with_plan_done)
         if row["id"] in done:
             row["status"] = "done"
-    return {**out, "replan": r.to_dict()}
+    what = r.to_dict()
+    return {**out, "replan": what if source is None else {**what, "from_plan": source}}
 
 
-def _history(r: Replan, folder: Path, history: Path, n: int) -> list[Path]:
+def _history(r: Replan, folder: Path, history: Path, n: int, source: str | None) -> list[Path]:
     """plan.json, plan.N.json and edits.N.json (and plan.0.json, the plan first repaired, where the history has
-    none) written into ``folder``."""
-    text = dumps(plan_dict(r))
+    none) written into ``folder``; ``source``: :func:`plan_dict`'s."""
+    text = dumps(plan_dict(r, source))
     out = []
     if not (history / "plan.0.json").exists():
         (folder / "plan.0.json").write_text(Path(r.source.path).read_text())

@@ -139,8 +139,47 @@ def test_the_files_read_back_are_seen_and_kept(tmp_path, capsys, old, agreeing):
         (Path(args.out) / "report.html").write_text("report")
         return 0
 
-    assert _staged(_args_with(command, out=old)) == 0
+    args = _args_with(command, out=old)
+    args.command = "report"  # a report of the plan there: the plan's sheet is its own
+    assert _staged(args) == 0
     assert (old / "field.html").stat().st_mtime_ns == stamp and (old / "report.html").read_text() == "report"
+
+
+def test_a_new_plan_moves_the_earlier_plans_outputs_aside(tmp_path, capsys, old, agreeing):
+    """A plan written into a folder that holds an earlier plan's sheet, report and exports: those it does not rewrite
+    would disagree with the new plan.json, so they are not read back and move, with the earlier plan.json, into
+    superseded.N; the folder's other files (the pool, a re-plan's history, the user's own) stay. A failed plan moves
+    nothing."""
+    earlier = {"field.json": "sheet", "field.html": "page", "report.html": "report", "sheet/field.pdf": "pdf"}
+    for name, text in {**earlier, "replan.npz": "pool", "plan.1.json": "history"}.items():
+        (old / name).parent.mkdir(parents=True, exist_ok=True)
+        (old / name).write_text(text)
+    before = _tree(old)
+
+    def command(args: argparse.Namespace) -> int:
+        assert not (Path(args.out) / "field.html").exists()  # the earlier plan's sheet is not this plan's
+        (Path(args.out) / "plan.json").write_text("new")
+        (Path(args.out) / "report.html").write_text("new report")
+        return 0
+
+    assert _staged(_args_with(_fake({"out": "plan.json"}, code=4), out=old)) == 4
+    assert _tree(old) == before
+    assert _staged(_args_with(command, out=old)) == 0
+    moved = sorted(["plan.json", *earlier.keys() - {"report.html"}])
+    assert sorted(_tree(old / "superseded.1")) == moved
+    assert (old / "superseded.1" / "plan.json").read_text() == '{"stations": []}'
+    assert (old / "superseded.1" / "field.json").read_text() == "sheet"
+    left = {"plan.json": "new", "report.html": "new report", "replan.npz": "pool", "plan.1.json": "history"}
+    assert {k: v for k, v in _tree(old).items() if not k.startswith("superseded")} == {
+        **{k: v.encode() for k, v in left.items()},
+        "notes.txt": b"kept",
+    }
+    note = capsys.readouterr().err
+    assert f"moved to {old / 'superseded.1'}" in note and "field.json" in note and "report.html" not in note
+    (old / "field.csv").write_text("again")  # the next plan's earlier outputs go to the next number
+    assert _staged(_args_with(command, out=old)) == 0
+    assert sorted(_tree(old / "superseded.2")) == ["field.csv", "plan.json"]
+    _no_staging_left(tmp_path)
 
 
 def test_outputs_that_disagree_are_not_moved(tmp_path, capsys, monkeypatch):

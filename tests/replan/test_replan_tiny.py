@@ -161,6 +161,30 @@ def test_command_writes_the_history_and_a_fallback_says_so(planned, tmp_path, ca
     assert again["replan"]["rest"]["stations"] == new["replan"]["rest"]["stations"]
 
 
+def test_a_replan_in_the_plans_own_folder_moves_its_sheet_aside(planned, tmp_path, capsys):
+    """The field workflow writes the sheet into the plan's folder, and ``planner replan`` writes there by default:
+    the earlier plan's sheet moves to superseded.1 with the plan it lists, the new plan names the history file it
+    came from, and the next re-plan there (nothing left to move) names the one after."""
+    d, _, _, _ = planned
+    here = tmp_path / "plan"
+    shutil.copytree(d / "plan", here)
+    earlier = json.loads((here / "plan.json").read_text())
+    assert main(["replan", str(here / "plan.json"), str(d / "edits.json"), "--quiet"]) == 0
+    assert "superseded.1" in capsys.readouterr().err
+    sheet = json.loads((here / "superseded.1" / "field.json").read_text())
+    assert json.loads((here / "superseded.1" / "plan.json").read_text()) == earlier
+    assert {s["station"] for s in sheet["setups"]} == {s["label"] for s in earlier["stations"]}
+    assert not (here / "field.json").exists() and (here / "sheet" / "field.json").is_file()
+    new = json.loads((here / "plan.json").read_text())
+    assert new["replan"]["from_plan"] == str(here / "plan.0.json")
+    assert json.loads((here / "plan.0.json").read_text()) == earlier
+    second = {"format": "planner-edits/1", "stations": [{"station": 1, "status": "done"}], "crew": {"station": 1}}
+    (tmp_path / "second.json").write_text(json.dumps(second))
+    assert main(["replan", str(here / "plan.json"), str(tmp_path / "second.json"), "--quiet"]) == 0
+    assert json.loads((here / "plan.json").read_text())["replan"]["from_plan"] == str(here / "plan.1.json")
+    assert not (here / "superseded.2").exists()  # the sheet in sheet/ is rewritten, nothing else was left
+
+
 def test_an_obstacle_hides_and_the_plan_still_verifies(planned):
     d, _, edits, _ = planned
     wall = {"kind": "obstacle", "polygon": [[13.5, 1.0], [14.0, 1.0], [14.0, 4.0], [13.5, 4.0]], "note": "scaffold"}
