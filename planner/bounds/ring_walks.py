@@ -27,12 +27,13 @@ from planner.coverage.regions import FrameSpace, coverage_regions, outer_toleran
 from planner.coverage.threads import ordered_map
 from planner.coverage.visibility import SightLimits
 from planner.site.model import Site
-from planner.solve.ring import RingGraph, arcs, cyclic_arcs, ring_graph
+from planner.solve.ring import arcs, cyclic_arcs
+from planner.solve.ring_unit import UnitRing, unit_ring
 
 #: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
 MAX_FAMILY = 6_000
-#: relaxed links at most (the ring graph holds each up to 16 times, once per pair of the ring's four copies: past this,
-#: a large outline's graph runs to gigabytes)
+#: relaxed links at most (formed pairwise in dense blocks, and walked once per station of the walk: past this, a large
+#: outline's links take many seconds and gigabytes)
 MAX_LINKS = 3_000_000
 #: the quick cover over patches (:func:`planner.bounds.plane_refine.refined_bound` with no splits) runs by default only
 #: where the plan is at most this many stations above the walks' bound (Baalbek 20 -> 21, polygon A 20 -> 22, C 24 -> 27
@@ -65,9 +66,9 @@ def ring_of(formed: bool, walk: int | None, target: int) -> int | None:
     return target if walk is None else min(target, walk)
 
 
-def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[RingGraph | None, int]:
+def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[UnitRing | None, int]:
     """The ring graph over the undominated patches of side ``h`` of one zone-side, and the family size; None where
-    not formed (too many undominated patches or links, or arcs that do not chain). Its :meth:`RingGraph.unit_walk`
+    not formed (too many undominated patches or links, or arcs that do not chain). Its :meth:`UnitRing.unit_walk`
     is the ring walk (every patch costs one station)."""
     lengths = pieces.lengths
     got = pieces.grid(h)  # the first side's grid, shared with the quick cover over patches
@@ -91,7 +92,7 @@ def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[RingGraph | 
     r = np.repeat(np.arange(fam.size), sp_ + 1)
     c = (np.concatenate([np.arange(a, a + k + 1) for a, k in zip(s, sp_)]) % n) if fam.size else np.zeros(0, int)
     cover = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(fam.size, n))
-    return ring_graph(cover, pieces.required, adj), int(fam.size)
+    return unit_ring(cover, pieces.required, adj), int(fam.size)
 
 
 class _Ahead:
@@ -138,7 +139,7 @@ class RingWalks:
         self.key = targets.zone.astype(np.int64) * 2 + targets.side
         self._sides: dict[int, SidePieces] = {}
         self._levels: dict[int, list[float]] = {}
-        self._graphs: dict[tuple[int, int], tuple[RingGraph | None, int]] = {}  # formed ahead, not walked yet
+        self._graphs: dict[tuple[int, int], tuple[UnitRing | None, int]] = {}  # formed ahead, not walked yet
         self._done: dict[tuple[int, int], tuple[bool, int | None, int]] = {}  # walked all the way
         self._family: dict[tuple[int, int], int] = {}  # the undominated family of each side formed
         self._quick: dict[int, _Ahead | None] = {}  # quick covers begun ahead (None: taken by the caller, not ahead)
@@ -234,7 +235,7 @@ class RingWalks:
             self._graphs[key, level] = self._formed(key, level)
         return self._graphs[key, level][0] is not None
 
-    def _formed(self, key: int, level: int) -> tuple[RingGraph | None, int]:
+    def _formed(self, key: int, level: int) -> tuple[UnitRing | None, int]:
         """:func:`side_graph` of zone-side ``key`` at its ``level``-th patch side, not formed (None, 0) where the
         family one level coarser was past ``MAX_FAMILY / FAMILY_GROWTH`` (:data:`FAMILY_GROWTH`)."""
         if self._family.get((key, level - 1), 0) * FAMILY_GROWTH > MAX_FAMILY:
