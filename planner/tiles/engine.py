@@ -73,7 +73,7 @@ def _memory_bytes(size: int | str) -> int:
 
 def _connect(scheduler: str) -> Any:
     """``Client(scheduler)``; a malformed address is a usage error, one where no scheduler answers within
-    ``CONNECT_TIMEOUT_S`` an :class:`UnreachableError`, each naming the address."""
+    ``CONNECT_TIMEOUT_S`` (or another server answers) an :class:`UnreachableError`, each naming the address."""
     from dask.distributed import Client
 
     try:
@@ -85,6 +85,13 @@ def _connect(scheduler: str) -> Any:
     except (OSError, TimeoutError) as exc:
         raise UnreachableError(
             f"no Dask scheduler answers there within {CONNECT_TIMEOUT_S:g} s ({exc})",
+            field="scheduler",
+            value=scheduler,
+        ) from None
+    except (AssertionError, MemoryError, KeyError, TypeError) as exc:
+        # another server took the handshake: Dask reads its bytes as a frame length (MemoryError) or a reply
+        raise UnreachableError(
+            f"something answers there, but not as a Dask scheduler ({type(exc).__name__}: {exc})",
             field="scheduler",
             value=scheduler,
         ) from None

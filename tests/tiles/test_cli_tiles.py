@@ -87,13 +87,39 @@ def test_a_scheduler_address_that_is_malformed_or_silent_is_named(capsys, monkey
     assert main(["plan", PLANT, "--tiles", "50", "--scheduler", "nonsense"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "'nonsense'" in err and "tcp://HOST:PORT" in err
-    with socket.socket() as s:  # a port that was free a moment ago: no scheduler listens there
+    monkeypatch.setattr(engine, "CONNECT_TIMEOUT_S", 1.0)
+    with socket.socket() as s:  # bound, not listening, and held: no scheduler (nor another test's server) is there
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    monkeypatch.setattr(engine, "CONNECT_TIMEOUT_S", 1.0)
-    assert main(["plan", PLANT, "--tiles", "50", "--scheduler", f"tcp://127.0.0.1:{port}"]) == 5
+        assert main(["plan", PLANT, "--tiles", "50", "--scheduler", f"tcp://127.0.0.1:{port}"]) == 5
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and f"'tcp://127.0.0.1:{port}'" in err and "within 1 s" in err
+
+
+def test_a_server_that_is_no_dask_scheduler_is_named(capsys, monkeypatch) -> None:
+    """Another server on the scheduler's address (the port taken by something else): exit 5, one line, not an
+    internal error (Dask reads the server's bytes as a frame length, or asserts on its reply)."""
+    import socket
+    import threading
+
+    from planner.tiles import engine
+
+    monkeypatch.setattr(engine, "CONNECT_TIMEOUT_S", 1.0)
+    with socket.socket() as srv:
+        srv.bind(("127.0.0.1", 0))
+        srv.listen(1)
+        port = srv.getsockname()[1]
+
+        def answer() -> None:
+            conn, _ = srv.accept()
+            with conn:
+                conn.sendall(b"HTTP/1.1 400 Bad Request\r\n\r\n" * 10)
+                conn.recv(1)
+
+        threading.Thread(target=answer, daemon=True).start()
+        assert main(["plan", PLANT, "--tiles", "50", "--scheduler", f"tcp://127.0.0.1:{port}"]) == 5
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"'tcp://127.0.0.1:{port}'" in err and "not as a Dask scheduler" in err
 
 
 def test_a_bad_worker_memory_is_a_usage_error(capsys) -> None:
