@@ -43,8 +43,6 @@ from scipy.sparse.csgraph import dijkstra
 _LIFTS = np.array([-1, 0, 1, 2])
 #: added to every node cost so that zero costs stay edges for Dijkstra; taken off the bound again
 _EPS = 1e-9
-#: no hop count (not reached)
-_FAR = int(np.iinfo(np.int32).max)
 
 
 @dataclass(frozen=True)
@@ -165,53 +163,6 @@ class RingGraph:
         )
         exact = bool(np.all(cost == np.round(cost)))
         return RingBound(true if exact else true - _EPS * self.graph.shape[0], walk, self.exact_arcs)
-
-    def unit_walk(self, limit: float = np.inf) -> int | None:
-        """``walk(np.ones(m), limit).bound`` (as an integer; None where that is None), found breadth first: with every
-        node costing one, a walk's cost is its two branches' hop counts plus one (the anchor), and Dijkstra's
-        distances are hop counts. All anchors are searched at once, each node keeping the anchors that reached it as
-        bits: a level costs the links of the nodes some anchor reached at the level before, not one search each."""
-        src = self._sources()
-        nodes, s_count = self.graph.shape[0], src.size
-        words = (s_count + 63) // 64
-        bit = np.left_shift(np.uint64(1), (np.arange(s_count) % 64).astype(np.uint64))
-        front = np.zeros((words, nodes), dtype=np.uint64)
-        np.bitwise_or.at(front, (np.arange(s_count) // 64, src), bit)
-        seen = front.copy()
-        hops = np.full((s_count, nodes), _FAR, dtype=np.int32)  # as Dijkstra's distances: anchors x nodes
-        hops[np.arange(s_count), src] = 0
-        level, indptr, indices = 0, self.graph.indptr, self.graph.indices
-        while (level + 1) * (1 + _EPS) <= limit:  # Dijkstra's reach: level (1 + eps) at most the limit
-            tail = np.flatnonzero(front.any(axis=0))
-            if tail.size == 0:
-                break
-            level += 1
-            deg = indptr[tail + 1] - indptr[tail]
-            at = np.repeat(indptr[tail] - np.cumsum(deg) + deg, deg) + np.arange(int(deg.sum()))
-            head, tails = indices[at], np.repeat(tail, deg)
-            new = np.zeros_like(front)
-            for w in range(words):
-                np.bitwise_or.at(new[w], head, front[w, tails])
-            new &= ~seen
-            seen |= new
-            front = new
-            got = np.flatnonzero(new.any(axis=0))
-            flags = np.unpackbits(np.ascontiguousarray(new[:, got].T).view(np.uint8), axis=1, bitorder="little")
-            v, s = np.nonzero(flags[:, :s_count])
-            hops[s, got[v]] = level
-        return self._unit_best(hops)
-
-    def _unit_best(self, hops: NDArray[np.int32]) -> int | None:
-        """The least h(left) + h(right) + 1 over the anchors (rows of ``hops``) whose right end reaches the piece the
-        left end needs (:meth:`walk`'s pairing), None when no pair does."""
-        size, base = _LIFTS.size * self.n + self.n, -self.n
-        s, v = np.nonzero(hops < _FAR)
-        right = np.full((hops.shape[0], size + 1), _FAR, dtype=np.int32)
-        np.minimum.at(right, (s, np.clip(self.hi[v] - base, 0, size)), hops[s, v])
-        right = np.minimum.accumulate(right[:, ::-1], axis=1)[:, ::-1]
-        total = hops[s, v].astype(np.int64) + right[s, np.clip(self.need[v] - base, 0, size)]
-        best = int(total.min(initial=_FAR))
-        return None if best >= _FAR else best + 1
 
     def _sources(self) -> NDArray[np.int64]:
         """The anchors' nodes: the copy at offset 0 where it holds q, else the one a turn back."""

@@ -6,7 +6,8 @@ inputs: the bound's values must not move when they are sped up.
   and regions whose vertices sit on patch centres (the boundary cases the scan line hands to GEOS).
 - ``undominated`` (a table of 16-bit ranks) keeps the same triples as the float table it replaced.
 - ``arc_links`` (shared lengths from the order of ``cum``) gives the same links as the clipped index sums.
-- ``RingGraph.unit_walk`` (breadth first from all anchors at once) gives ``walk(np.ones(m), limit)``'s bound.
+
+(The unit-cost walk by reach against ``RingGraph.walk`` at unit costs: ``tests/solve/test_ring_unit.py``.)
 """
 
 from __future__ import annotations
@@ -23,9 +24,7 @@ from hypothesis import strategies as st
 from numpy.typing import NDArray
 
 from planner.bounds.plane_patches import MAX_PATCHES, arc_links, grid_shape, live_box, patch_sets, undominated
-from planner.solve.ring import ring_graph
 from tests.bounds.test_plane_ring import QUICK
-from tests.solve.test_ring import adjacency, matrix, ring_arcs
 
 # ---- references: the implementations the fast ones replaced, verbatim but for names ----
 
@@ -249,30 +248,3 @@ test_arc_links_equal_the_index_sums = pytest.mark.slow(test_arc_links_equal_the_
 def test_arc_links_equal_the_index_sums_on_fewer_cases(n, items, lengths, share):
     # the quick twin: the body of the test above on 30 cases (the test above runs 120, in the slow tier)
     test_arc_links_equal_the_index_sums.hypothesis.inner_test(n=n, items=items, lengths=lengths, share=share)
-
-
-@settings(QUICK, max_examples=60)
-@given(seed=st.integers(0, 10_000), n=st.integers(6, 16), m=st.integers(3, 14), holes=st.booleans())
-def test_unit_walk_is_the_walk_at_unit_costs(seed: int, n: int, m: int, holes: bool) -> None:
-    rng = np.random.default_rng(seed)
-    a = matrix(ring_arcs(rng, n, m, holes), n)
-    required = rng.random(n) < 0.8
-    required[int(rng.integers(n))] = True
-    g = ring_graph(a, required, adjacency(a))
-    if g is None:
-        return
-    for limit in (np.inf, 4.5, 2.5, 1.5, 0.5):
-        w = g.walk(np.ones(m), limit=limit)
-        assert g.unit_walk(limit=limit) == (None if w is None else round(w.bound)), limit
-
-
-# the full-strength run is in the slow tier, marked here rather than by a decorator: hypothesis derandomises
-# a property by its source, decorators included, so a marker line would change the cases it has always run
-test_unit_walk_is_the_walk_at_unit_costs = pytest.mark.slow(test_unit_walk_is_the_walk_at_unit_costs)
-
-
-@settings(QUICK, max_examples=15)
-@given(seed=st.integers(0, 10_000), n=st.integers(6, 16), m=st.integers(3, 14), holes=st.booleans())
-def test_unit_walk_is_the_walk_at_unit_costs_on_fewer_cases(seed, n, m, holes):
-    # the quick twin: the body of the test above on 15 cases (the test above runs 60, in the slow tier)
-    test_unit_walk_is_the_walk_at_unit_costs.hypothesis.inner_test(seed=seed, n=n, m=m, holes=holes)

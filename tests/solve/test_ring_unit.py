@@ -1,6 +1,7 @@
-"""The unit-cost ring walk by reach (:mod:`planner.solve.ring_unit`) equals the unrolled graph's breadth-first walk
-(:meth:`planner.solve.ring.RingGraph.unit_walk`) on random rings of arcs, with holes, pieces not required and limits:
-the same cost wherever it is at most the limit + 1, and None where the unrolled graph is None."""
+"""The unit-cost ring walk by reach (:mod:`planner.solve.ring_unit`) equals the unrolled graph's cheapest walk at unit
+costs (:meth:`planner.solve.ring.RingGraph.walk`, Dijkstra from every anchor) on random rings of arcs, with holes,
+pieces not required and limits: the same cost wherever it is at most the limit + 1, and None where the unrolled graph
+is None."""
 
 from __future__ import annotations
 
@@ -25,12 +26,15 @@ def _same(a: sp.csr_matrix, required: np.ndarray, adj: sp.csr_matrix) -> None:
     assert (old is None) == (new is None)
     if old is None or new is None:
         return
-    walk = old.unit_walk()
+    ones = np.ones(a.shape[0])
+    full = old.walk(ones)
+    walk = None if full is None else round(full.bound)
     assert new.unit_walk() == walk
     for limit in LIMITS:
         got = new.unit_walk(limit=limit)
         if walk is not None and (limit == np.inf or walk <= math.floor(limit) + 1):
-            assert got == walk == old.unit_walk(limit=limit), limit
+            within = old.walk(ones, limit=limit)  # both branches from the anchor within the limit
+            assert within is not None and got == walk == round(within.bound), limit
         else:
             assert got is None, limit
 
