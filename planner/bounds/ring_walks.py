@@ -18,6 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from planner.bounds.arc_reach import short_arc_ring
 from planner.bounds.connected_result import SideBound
 from planner.bounds.outer import OuterRegions
 from planner.bounds.plane_patches import FIRST_PATCHES, SidePieces, arc_links, patch_sides, undominated
@@ -30,8 +31,11 @@ from planner.site.model import Site
 from planner.solve.ring import arcs, cyclic_arcs
 from planner.solve.ring_unit import UnitRing, unit_ring
 
-#: the undominated patches kept per zone-side at most (the links among them are formed pairwise)
+#: the undominated patches kept per zone-side at most where the links among them are formed (pairwise)
 MAX_FAMILY = 6_000
+#: ... and where every patch sees a short arc, so that no links are formed (:func:`short_arc_ring`: about 2 CPU-s and
+#: 100 MB per 40,000)
+MAX_ARC_FAMILY = 60_000
 #: relaxed links at most (formed pairwise in dense blocks, and walked once per station of the walk: past this, a large
 #: outline's links take many seconds and gigabytes)
 MAX_LINKS = 3_000_000
@@ -40,7 +44,7 @@ MAX_LINKS = 3_000_000
 #: with its walks' dual); a process walking ahead begins the two largest zone-sides' covers before the counts are
 #: known (:meth:`RingWalks.cover_ahead`), so that most of their 1-2 CPU-s is spent while the plan is still being made
 QUICK_GAP = 5
-#: a zone-side whose undominated family at one patch side is past MAX_FAMILY / this is not formed at the next (half as
+#: a zone-side whose undominated family at one patch side is past its cap (MAX_FAMILY or MAX_ARC_FAMILY) / this is not formed at the next (half as
 #: large) side: halving the side has multiplied the family by 3.4-3.7 on the bundled zone-sides, so that graph would
 #: pass the cap after its grid and dominance were paid for (about a CPU-second on polygon A's and C's sides)
 FAMILY_GROWTH = 3
@@ -50,7 +54,7 @@ def side_ring_bound(pieces: SidePieces, share: float, h: float, target: int) -> 
     """The ring walk over the undominated patches of side ``h`` of one zone-side, searched only as far as it can stay
     under ``target``: (the walk's cost, or ``target`` when no walk is cheaper; None when not formed; the family size).
     The patches grow the outer regions and shrink the inner ones by half their diagonal too."""
-    graph, fam = side_graph(pieces, share, h)
+    graph, fam, _cap = side_graph(pieces, share, h)
     if graph is None:
         return None, fam
     # a walk of fewer than target stations has both branches from its anchor at most target - 2 long
@@ -66,33 +70,38 @@ def ring_of(formed: bool, walk: int | None, target: int) -> int | None:
     return target if walk is None else min(target, walk)
 
 
-def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[UnitRing | None, int]:
-    """The ring graph over the undominated patches of side ``h`` of one zone-side, and the family size; None where
-    not formed (too many undominated patches or links, or arcs that do not chain). Its :meth:`UnitRing.unit_walk`
-    is the ring walk (every patch costs one station)."""
+def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[UnitRing | None, int, int]:
+    """The ring graph over the undominated patches of side ``h`` of one zone-side, the family size and its cap; None
+    where not formed (too many undominated patches or links, or arcs that do not chain). Its :meth:`UnitRing.unit_walk`
+    is the ring walk (every patch costs one station). Where every patch's arc is short the links are not formed
+    (:func:`short_arc_ring`) and the cap is ``MAX_ARC_FAMILY``, else ``MAX_FAMILY``."""
     lengths = pieces.lengths
     got = pieces.grid(h)  # the first side's grid, shared with the quick cover over patches
     sets = None if got is None else got[:2]
     if sets is None:
-        return None, 0
+        return None, 0, MAX_FAMILY
     u, low = sets
     n = u.shape[1]
     start, end = cyclic_arcs(u)
     fam = undominated(start, end - start, low, n)
-    if fam.size > MAX_FAMILY:
-        return None, int(fam.size)
     s, sp_, lw = start[fam], (end - start)[fam], low[fam]
+    if fam.size and 2 * int(sp_.max()) + 2 < n:  # short arcs: no links formed
+        if fam.size > MAX_ARC_FAMILY:
+            return None, int(fam.size), MAX_ARC_FAMILY
+        return short_arc_ring(s, sp_, lw, lengths, pieces.required, share), int(fam.size), MAX_ARC_FAMILY
+    if fam.size > MAX_FAMILY:
+        return None, int(fam.size), MAX_FAMILY
     cum = np.concatenate([[0.0], np.cumsum(np.tile(lengths, 3))])
     one_way = arc_links(s, sp_, lw, cum, n, share, most=MAX_LINKS)  # None: past MAX_LINKS already
     if one_way is None:
-        return None, int(fam.size)
+        return None, int(fam.size), MAX_FAMILY
     adj = (one_way + one_way.T).astype(bool).tocsr()
     if adj.nnz > MAX_LINKS:
-        return None, int(fam.size)
+        return None, int(fam.size), MAX_FAMILY
     r = np.repeat(np.arange(fam.size), sp_ + 1)
     c = (np.concatenate([np.arange(a, a + k + 1) for a, k in zip(s, sp_)]) % n) if fam.size else np.zeros(0, int)
     cover = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(fam.size, n))
-    return unit_ring(cover, pieces.required, adj), int(fam.size)
+    return unit_ring(cover, pieces.required, adj), int(fam.size), MAX_FAMILY
 
 
 class _Ahead:
@@ -141,7 +150,7 @@ class RingWalks:
         self._levels: dict[int, list[float]] = {}
         self._graphs: dict[tuple[int, int], tuple[UnitRing | None, int]] = {}  # formed ahead, not walked yet
         self._done: dict[tuple[int, int], tuple[bool, int | None, int]] = {}  # walked all the way
-        self._family: dict[tuple[int, int], int] = {}  # the undominated family of each side formed
+        self._family: dict[tuple[int, int], tuple[int, int]] = {}  # each side formed: its family and that one's cap
         self._quick: dict[int, _Ahead | None] = {}  # quick covers begun ahead (None: taken by the caller, not ahead)
         self._lock = threading.Lock()
         self._ended = False  # no quick cover is begun ahead any more
@@ -237,11 +246,12 @@ class RingWalks:
 
     def _formed(self, key: int, level: int) -> tuple[UnitRing | None, int]:
         """:func:`side_graph` of zone-side ``key`` at its ``level``-th patch side, not formed (None, 0) where the
-        family one level coarser was past ``MAX_FAMILY / FAMILY_GROWTH`` (:data:`FAMILY_GROWTH`)."""
-        if self._family.get((key, level - 1), 0) * FAMILY_GROWTH > MAX_FAMILY:
+        family one level coarser was past its cap / ``FAMILY_GROWTH`` (:data:`FAMILY_GROWTH`)."""
+        fam, cap = self._family.get((key, level - 1), (0, MAX_FAMILY))
+        if fam * FAMILY_GROWTH > cap:
             return None, 0
-        graph, fam = side_graph(self.side(key), self.share, self.levels(key)[level])
-        self._family[key, level] = fam
+        graph, fam, cap = side_graph(self.side(key), self.share, self.levels(key)[level])
+        self._family[key, level] = fam, cap
         return graph, fam
 
     def ahead(self, key: int, level: int) -> None:

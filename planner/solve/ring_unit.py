@@ -1,4 +1,4 @@
-"""The cheapest unit-cost walk of a ring's arcs (:meth:`planner.solve.ring.RingGraph.unit_walk`'s value) without the
+"""The cheapest unit-cost walk of a ring's arcs (:meth:`planner.solve.ring.RingGraph.walk` at unit costs) without the
 unrolled graph and without anchors: the ring walks of the connected plane bound price every patch at one station.
 
 **Reach.** Lay the arcs on the line (the ring unrolled). For a node v and k >= 1 let D_k(v) be the farthest lifted end
@@ -16,10 +16,14 @@ k with D_k(L) >= need(L) for some L. Copies only shift D and need by whole turns
 
 **Cost.** One gather and one row maximum over the links per k, up to the walk's cost: O(k E) for E links, where
 the unrolled graph holds each link up to 16 times and its breadth-first search runs from every anchor. Property test:
-``tests/solve/test_ring_unit.py`` (equal to :meth:`RingGraph.unit_walk` on random rings, with holes and limits).
+``tests/solve/test_ring_unit.py`` (equal to :meth:`RingGraph.walk` at unit costs on random rings, with holes and
+limits). Short arcs need not form their links at all: :mod:`planner.bounds.arc_reach` takes each step's maxima as
+dominance queries.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -29,15 +33,15 @@ from planner.solve.ring import arcs
 
 
 class UnitRing:
-    """The links of a block's arcs, each with the highest turn at which they meet, ready for :meth:`unit_walk`."""
+    """A block's arcs, what each must reach and a step over their links (formed, or found as maxima at each step),
+    ready for :meth:`unit_walk`."""
 
     def __init__(
         self,
         start: NDArray[np.int64],
         end: NDArray[np.int64],
         required: NDArray[np.bool_],
-        adj: sp.csr_matrix,
-        turn: NDArray[np.int64],
+        linked: Callable[[NDArray[np.int64]], NDArray[np.int64]],
     ) -> None:
         self.n = required.size
         self.hi = end.astype(np.int64)
@@ -47,13 +51,13 @@ class UnitRing:
         prev = np.where(prev >= 0, prev, np.flatnonzero(required)[-1] - self.n)
         lo = start.astype(np.int64)
         self.need = lo - np.mod(lo, self.n) + prev[np.mod(lo, self.n)] + self.n
-        self.adj = adj  # rows: each node's links, in order; turn: the highest turn of each link, times n
-        self.shift = turn * self.n
-        self.rows = np.flatnonzero(np.diff(adj.indptr))
+        # the largest D(u) + d(v, u) n over each node v's links (the int64 minimum where none): from the links
+        # formed (:class:`Links`) or without them (:func:`planner.bounds.arc_reach.short_arc_ring`)
+        self.linked = linked
 
     def unit_walk(self, limit: float = np.inf) -> int | None:
         """The cheapest walk's cost where it is at most ``limit + 1`` (then both its branches from an anchor are
-        within ``limit``, so it is :meth:`planner.solve.ring.RingGraph.unit_walk`'s value), else None (also where no
+        within ``limit``, so it is :meth:`planner.solve.ring.RingGraph.walk`'s value at unit costs), else None (also where no
         walk covers the ring)."""
         reach, k = self.hi.copy(), 1
         while True:
@@ -61,11 +65,7 @@ class UnitRing:
                 return k
             if k > limit:
                 return None
-            indptr, indices = self.adj.indptr, self.adj.indices
-            step = reach[indices] + self.shift
-            best = np.maximum.reduceat(step, indptr[self.rows]) if self.rows.size else step[:0]
-            grown = reach.copy()
-            grown[self.rows] = np.maximum(reach[self.rows], best)
+            grown = np.maximum(reach, self.linked(reach))
             if np.array_equal(grown, reach):
                 return None  # no path reaches farther: no walk covers the ring
             reach, k = grown, k + 1
@@ -91,4 +91,20 @@ def unit_ring(cover: sp.csr_matrix, required: NDArray[np.bool_], adj: sp.csr_mat
         turn = np.where(meet, d, turn)
     if np.any(turn < -1):
         return None
-    return UnitRing(start, end, required, adj, turn)
+    return UnitRing(start, end, required, Links(adj, turn * n))
+
+
+class Links:
+    """A ring's links formed, each with its highest turn times n (``shift``): called with the reach D, the largest
+    D(u) + shift over each node's links, the int64 minimum where it has none."""
+
+    def __init__(self, adj: sp.csr_matrix, shift: NDArray[np.int64]) -> None:
+        self.adj, self.shift = adj, shift
+        self.rows = np.flatnonzero(np.diff(adj.indptr))
+
+    def __call__(self, reach: NDArray[np.int64]) -> NDArray[np.int64]:
+        best = np.full(reach.size, np.iinfo(np.int64).min, dtype=np.int64)
+        if self.rows.size:
+            step = reach[self.adj.indices] + self.shift
+            best[self.rows] = np.maximum.reduceat(step, self.adj.indptr[self.rows])
+        return best

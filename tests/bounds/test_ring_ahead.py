@@ -70,7 +70,7 @@ def test_a_walk_searched_all_the_way_gives_every_targets_ring(room) -> None:  # 
     walks = _walks(site, problem, limits)
     for key in _keys(problem):
         pieces, h = walks.side(key), walks.levels(key)[0]
-        graph, fam = side_graph(pieces, SHARE, h)
+        graph, fam, _cap = side_graph(pieces, SHARE, h)
         assert graph is not None
         walk = graph.unit_walk()  # all the way
         assert walk is not None
