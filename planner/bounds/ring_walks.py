@@ -33,8 +33,10 @@ from planner.solve.ring_unit import UnitRing, unit_ring
 
 #: the undominated patches kept per zone-side at most where the links among them are formed (pairwise)
 MAX_FAMILY = 6_000
-#: ... and where every patch sees a short arc, so that no links are formed (:func:`short_arc_ring`: about 2 CPU-s and
-#: 100 MB per 40,000)
+#: ... and where every patch sees one unbroken run of wall, so short that no links are formed (:func:`short_arc_ring`).
+#: Only there does a finer side tighten the bound that no quick cover then raises (:func:`arcs_only`: polygon A's
+#: outside, 13 stations over 3.89-m patches, 14 over 1.94-m ones, with 14,386 undominated); elsewhere the quick cover
+#: over the first side is run and is the stronger (A's inside 9 against walks of 8 and 9, C's 12 against 9)
 MAX_ARC_FAMILY = 60_000
 #: relaxed links at most (formed pairwise in dense blocks, and walked once per station of the walk: past this, a large
 #: outline's links take many seconds and gigabytes)
@@ -74,7 +76,8 @@ def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[UnitRing | N
     """The ring graph over the undominated patches of side ``h`` of one zone-side, the family size and its cap; None
     where not formed (too many undominated patches or links, or arcs that do not chain). Its :meth:`UnitRing.unit_walk`
     is the ring walk (every patch costs one station). Where every patch's arc is short the links are not formed
-    (:func:`short_arc_ring`) and the cap is ``MAX_ARC_FAMILY``, else ``MAX_FAMILY``."""
+    (:func:`short_arc_ring`, the same walk); the cap is ``MAX_ARC_FAMILY`` where every patch sees one unbroken run,
+    else ``MAX_FAMILY``."""
     lengths = pieces.lengths
     got = pieces.grid(h)  # the first side's grid, shared with the quick cover over patches
     sets = None if got is None else got[:2]
@@ -85,12 +88,12 @@ def side_graph(pieces: SidePieces, share: float, h: float) -> tuple[UnitRing | N
     start, end = cyclic_arcs(u)
     fam = undominated(start, end - start, low, n)
     s, sp_, lw = start[fam], (end - start)[fam], low[fam]
+    runs = bool(np.all(sp_ + 1 == np.diff(u.indptr)[fam]))  # every patch sees one unbroken run
+    cap = MAX_ARC_FAMILY if runs else MAX_FAMILY
+    if fam.size > cap:
+        return None, int(fam.size), cap
     if fam.size and 2 * int(sp_.max()) + 2 < n:  # short arcs: no links formed
-        if fam.size > MAX_ARC_FAMILY:
-            return None, int(fam.size), MAX_ARC_FAMILY
-        return short_arc_ring(s, sp_, lw, lengths, pieces.required, share), int(fam.size), MAX_ARC_FAMILY
-    if fam.size > MAX_FAMILY:
-        return None, int(fam.size), MAX_FAMILY
+        return short_arc_ring(s, sp_, lw, lengths, pieces.required, share), int(fam.size), cap
     cum = np.concatenate([[0.0], np.cumsum(np.tile(lengths, 3))])
     one_way = arc_links(s, sp_, lw, cum, n, share, most=MAX_LINKS)  # None: past MAX_LINKS already
     if one_way is None:
