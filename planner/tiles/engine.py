@@ -20,6 +20,8 @@ from planner.core.settings import DEFAULTS
 
 #: seconds to wait for an existing scheduler to answer
 CONNECT_TIMEOUT_S = 10.0
+#: a server that accepts the connection gets this many times CONNECT_TIMEOUT_S to complete Dask's handshake
+HANDSHAKE_WAITS = 3
 
 #: memory limit of each embedded worker
 MEMORY_PER_WORKER: int = DEFAULTS["strategy.worker_memory"]  # bytes
@@ -76,8 +78,9 @@ def _connect(scheduler: str) -> Any:
     ``CONNECT_TIMEOUT_S`` (or another server answers) an :class:`UnreachableError`, each naming the address."""
     from dask.distributed import Client
 
+    _listens(scheduler)
     try:
-        return Client(scheduler, timeout=CONNECT_TIMEOUT_S)
+        return _within(lambda: Client(scheduler, timeout=CONNECT_TIMEOUT_S), HANDSHAKE_WAITS * CONNECT_TIMEOUT_S)
     except ValueError as exc:  # e.g. "missing port number in address 'host'"
         raise UsageError(
             f"not a scheduler address of the form tcp://HOST:PORT ({exc})", field="scheduler", value=scheduler
@@ -88,10 +91,73 @@ def _connect(scheduler: str) -> Any:
             field="scheduler",
             value=scheduler,
         ) from None
+    except _Silent:
+        raise UnreachableError(
+            f"something accepts the connection there, but no Dask scheduler replies within "
+            f"{HANDSHAKE_WAITS * CONNECT_TIMEOUT_S:g} s",
+            field="scheduler",
+            value=scheduler,
+        ) from None
     except (AssertionError, MemoryError, KeyError, TypeError) as exc:
         # another server took the handshake: Dask reads its bytes as a frame length (MemoryError) or a reply
         raise UnreachableError(
             f"something answers there, but not as a Dask scheduler ({type(exc).__name__}: {exc})",
+            field="scheduler",
+            value=scheduler,
+        ) from None
+
+
+class _Silent(Exception):
+    """:func:`_within`'s call did not return in time."""
+
+
+def _within(make: Callable[[], Any], seconds: float) -> Any:
+    """``make()`` on a daemon thread, its result or its exception; :class:`_Silent` where it has not returned within
+    ``seconds``. Dask's client waits without end for the handshake of a server that accepts and never replies (its
+    own timeout covers the connection, not that), and a plan must not hang on a wrong address; the thread left
+    waiting is a daemon, so the process still ends."""
+    import threading
+
+    box: dict[str, Any] = {}
+
+    def run() -> None:
+        try:
+            box["got"] = make()
+        except BaseException as exc:  # re-raised in the caller's thread
+            box["error"] = exc
+
+    thread = threading.Thread(target=run, name="dask client", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    if thread.is_alive():
+        raise _Silent
+    if "error" in box:
+        raise box["error"]
+    return box["got"]
+
+
+def _listens(scheduler: str) -> None:
+    """Whether anything accepts a TCP connection at a ``tcp://HOST:PORT`` address within ``CONNECT_TIMEOUT_S``, asked
+    before Dask is: where nothing does, :class:`UnreachableError` says so. Dask's own client, meeting a refused or
+    silent address under load, can end in its own assertions instead of a timeout (a CI run did), which would then
+    read as a server that answers wrongly. Other addresses (no ``tcp://``, no port) are left to Dask."""
+    import socket
+    from urllib.parse import urlsplit
+
+    if not scheduler.startswith("tcp://"):
+        return
+    try:
+        parts = urlsplit(scheduler)
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        return  # Dask names what is wrong with it
+    if not host or port is None:
+        return
+    try:
+        socket.create_connection((host, port), timeout=CONNECT_TIMEOUT_S).close()
+    except OSError as exc:  # refused, unreachable, timed out (socket.timeout is an OSError)
+        raise UnreachableError(
+            f"no Dask scheduler answers there within {CONNECT_TIMEOUT_S:g} s ({exc})",
             field="scheduler",
             value=scheduler,
         ) from None

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import pytest
 
@@ -99,27 +101,59 @@ def test_a_scheduler_address_that_is_malformed_or_silent_is_named(capsys, monkey
 def test_a_server_that_is_no_dask_scheduler_is_named(capsys, monkeypatch) -> None:
     """Another server on the scheduler's address (the port taken by something else): exit 5, one line, not an
     internal error (Dask reads the server's bytes as a frame length, or asserts on its reply)."""
-    import socket
-    import threading
-
     from planner.tiles import engine
 
     monkeypatch.setattr(engine, "CONNECT_TIMEOUT_S", 1.0)
-    with socket.socket() as srv:
-        srv.bind(("127.0.0.1", 0))
-        srv.listen(1)
-        port = srv.getsockname()[1]
-
-        def answer() -> None:
-            conn, _ = srv.accept()
-            with conn:
-                conn.sendall(b"HTTP/1.1 400 Bad Request\r\n\r\n" * 10)
-                conn.recv(1)
-
-        threading.Thread(target=answer, daemon=True).start()
+    with _server(b"HTTP/1.1 400 Bad Request\r\n\r\n" * 10) as port:
         assert main(["plan", PLANT, "--tiles", "50", "--scheduler", f"tcp://127.0.0.1:{port}"]) == 5
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and f"'tcp://127.0.0.1:{port}'" in err and "not as a Dask scheduler" in err
+
+
+@pytest.mark.slow  # 3 s: the wait it tests
+def test_a_server_that_accepts_and_never_replies_is_named_and_does_not_hang(capsys, monkeypatch) -> None:
+    """Dask's client waits without end for the handshake of a server that accepts and stays silent: the plan gives
+    up after HANDSHAKE_WAITS x CONNECT_TIMEOUT_S (3 s here) with exit 5, one line."""
+    from planner.tiles import engine
+
+    monkeypatch.setattr(engine, "CONNECT_TIMEOUT_S", 1.0)
+    with _server(b"") as port:
+        assert main(["plan", PLANT, "--tiles", "50", "--scheduler", f"tcp://127.0.0.1:{port}"]) == 5
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"'tcp://127.0.0.1:{port}'" in err and "no Dask scheduler replies" in err
+
+
+@contextmanager
+def _server(reply: bytes) -> Iterator[int]:
+    """A local server that answers every connection with ``reply`` (nothing: silent) and holds it open; its port."""
+    import socket
+    import threading
+
+    with socket.socket() as srv:
+        srv.bind(("127.0.0.1", 0))
+        srv.listen(8)
+        port = srv.getsockname()[1]
+
+        def hold(conn: socket.socket) -> None:
+            with conn:
+                if reply:
+                    conn.sendall(reply)
+                try:
+                    while conn.recv(1 << 16):  # read and never reply, until the client closes
+                        pass
+                except OSError:
+                    pass
+
+        def answer() -> None:
+            while True:
+                try:
+                    conn, _ = srv.accept()
+                except OSError:  # closed: the test is over
+                    return
+                threading.Thread(target=hold, args=(conn,), daemon=True).start()
+
+        threading.Thread(target=answer, daemon=True).start()
+        yield port
 
 
 def test_a_bad_worker_memory_is_a_usage_error(capsys) -> None:
