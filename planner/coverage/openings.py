@@ -95,15 +95,16 @@ def space_of(zone: Zone, side: ScanSide) -> tuple[str, str]:
     return ("in", zone.id) if side is ScanSide.INSIDE else ("out", zone.frame)
 
 
-def accessible_areas(site: Site) -> dict[tuple[str, str], int]:
-    """Each space (see :func:`space_of`) mapped to the number of its accessible area."""
-    g = nx.Graph()
-    for z in site.zones:
-        g.add_nodes_from(space_of(z, s) for s in z.scan_side.sides)
+def opening_spaces(
+    site: Site, passable_only: bool = True
+) -> list[tuple[NDArray[np.float64], tuple[str, str], tuple[str, str]]]:
+    """Each opening (of a kind in ``PASSABLE``, or any kind) as (2x2 end points, the space on one side, the space on
+    the other), for every side its zone is scanned from; both spaces are the same where nothing lies behind it."""
+    out = []
     for frame in dict.fromkeys(z.frame for z in site.zones):
         inside = [(z, z.polygon) for z in site.zones if z.frame == frame and ScanSide.INSIDE in z.scan_side.sides]
         for zi, _w, kind, ends in opening_segments(site, frame):
-            if kind not in PASSABLE:
+            if passable_only and kind not in PASSABLE:
                 continue
             zone = site.zones[zi]
             t = (ends[1] - ends[0]) / np.hypot(*(ends[1] - ends[0]))
@@ -111,12 +112,60 @@ def accessible_areas(site: Site) -> dict[tuple[str, str], int]:
             mid = ends.mean(axis=0)
             for side in zone.scan_side.sides:
                 behind = -left if side is ScanSide.INSIDE else left
-                g.add_edge(space_of(zone, side), _space_behind(zone, side, mid, behind, inside))
+                out.append((ends, space_of(zone, side), _space_behind(zone, side, mid, behind, inside)))
+    return out
+
+
+def accessible_areas(site: Site) -> dict[tuple[str, str], int]:
+    """Each space (see :func:`space_of`) mapped to the number of its accessible area."""
+    g = nx.Graph()
+    for z in site.zones:
+        g.add_nodes_from(space_of(z, s) for s in z.scan_side.sides)
+    g.add_edges_from((a, b) for _ends, a, b in opening_spaces(site))
     for stair in site.stairs:
         g.add_edge(("in", stair.lower_zone), ("in", stair.upper_zone))
     return {
         space: k for k, comp in enumerate(sorted(nx.connected_components(g), key=lambda c: sorted(c))) for space in comp
     }
+
+
+def seen_through(region: shapely.Geometry, ends: NDArray[np.float64], reach_m: float) -> shapely.Geometry:
+    """The positions within ``reach_m`` of the middle of the opening ``ends`` whose segment to some point of
+    ``region`` crosses the opening: where a station may stand to see a station of ``region`` through it (a link's first
+    condition, :func:`planner.coverage.links.opening_links`; sight is not tested). Such a segment joins the two sides of
+    the opening's line, so each side's part of ``region`` is taken in turn (its hull: a superset where it is not
+    convex). For a convex part on one side the crossing point moves monotonically as the far end moves along a line, so
+    its extremes over the part are at vertices, and a position qualifies when some vertex's segment crosses at or before
+    one end and some vertex's at or after the other: the union of the half-planes bounded by the lines through a vertex
+    and an end, intersected."""
+    a, b = np.asarray(ends[0], float), np.asarray(ends[1], float)
+    mid, big = (a + b) / 2, 4 * reach_m + float(np.hypot(*(b - a)))
+    disc = shapely.Point(*mid).buffer(reach_m)
+    out = []
+    for side in (1.0, -1.0):
+        part = shapely.intersection(region, _half(a, b, mid + side * _normal(a, b), big))
+        verts = np.asarray(shapely.get_coordinates(shapely.convex_hull(part)))
+        if part.is_empty or not len(verts):
+            continue
+        beyond = _half(a, b, mid - side * _normal(a, b), big)
+        near_b = shapely.union_all([_half(v, b, a, big) for v in verts if np.hypot(*(v - b)) > 1e-9])
+        near_a = shapely.union_all([_half(v, a, b, big) for v in verts if np.hypot(*(v - a)) > 1e-9])
+        out.append(shapely.intersection_all([beyond, near_b, near_a, disc]))
+    return shapely.union_all(out) if out else shapely.Polygon()
+
+
+def _normal(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The unit normal to the left of a -> b."""
+    d = (b - a) / max(float(np.hypot(*(b - a))), 1e-12)
+    return np.array([-d[1], d[0]])
+
+
+def _half(p: NDArray[np.float64], q: NDArray[np.float64], keep: NDArray[np.float64], big: float) -> shapely.Polygon:
+    """The half-plane bounded by the line p-q on the side of ``keep``, as a square of side ``big`` (clipped later)."""
+    d = (q - p) / max(float(np.hypot(*(q - p))), 1e-12)
+    n = np.array([-d[1], d[0]])
+    n = n if float(np.dot(keep - p, n)) >= 0 else -n
+    return shapely.Polygon([p - big * d, p + big * d, p + big * d + big * n, p - big * d + big * n])
 
 
 def _space_behind(

@@ -41,6 +41,7 @@ from planner.coverage.relation import Registration
 from planner.coverage.sight import Sight
 from planner.coverage.targets import Targets
 from planner.coverage.visibility import SightLimits
+from planner.plan.aligned import aligned_first
 from planner.plan.surfaces import PLANE_OFF
 from planner.site.model import Site
 from planner.site.validate import ValidationReport
@@ -252,6 +253,10 @@ def _milp(run: MethodInput, ahead: WalksAhead | None, log: list[str], pricing_on
             Sight(site=site, limits=limits, scanner=run.validation.scanner), problem, k, run.spaces, run.region_cache
         )
         log.append(line)
+    aligned, line = aligned_first(run, problem, pricing.plane_bound) if pricing is not None else (None, None)
+    log += [line] if line else []
+    if aligned is not None:
+        problem = aligned.problem
     p = site.parameters
     groups, links = run.registration.groups(problem.candidates)
     # the precision weights (a float per pair) only where the model reads them: combined precision
@@ -266,8 +271,11 @@ def _milp(run: MethodInput, ahead: WalksAhead | None, log: list[str], pricing_on
         links=links,
         incidence_model=p.incidence_model,
     )
-    with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
-        result = solve(with_columns(inst, run.surfaces), options.milp)
+    if aligned is not None:
+        result = aligned.result
+    else:
+        with progress.ticking(f"solving ({options.milp.backend})", options.milp.time_limit_s):
+            result = solve(with_columns(inst, run.surfaces), options.milp)
     if run.surfaces is not None:
         result = replace(result, info={**result.info, "plane_off": PLANE_OFF})
     if result.status is Status.INFEASIBLE and options.milp.rule is not None and "count" not in result.info:
