@@ -104,8 +104,8 @@ def _samples(region: shapely.Geometry, spacing_m: float) -> NDArray[np.float64]:
         return np.zeros((0, 2))
     h = max(spacing_m, math.sqrt(region.area / PER_REGION))
     x0, y0, x1, y1 = region.bounds
-    xs, ys = np.meshgrid(np.arange(x0 + h / 2, x1, h), np.arange(y0 + h / 2, y1, h))
-    xs, ys = xs.ravel(), ys.ravel()
+    gx, gy = np.meshgrid(np.arange(x0 + h / 2, x1, h), np.arange(y0 + h / 2, y1, h))
+    xs, ys = gx.ravel(), gy.ravel()
     inside = shapely.contains_xy(region, xs, ys)
     if inside.any():
         return np.c_[xs[inside], ys[inside]]

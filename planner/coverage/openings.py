@@ -137,10 +137,10 @@ def seen_through(region: shapely.Geometry, ends: NDArray[np.float64], reach_m: f
     convex). For a convex part on one side the crossing point moves monotonically as the far end moves along a line, so
     its extremes over the part are at vertices, and a position qualifies when some vertex's segment crosses at or before
     one end and some vertex's at or after the other: the union of the half-planes bounded by the lines through a vertex
-    and an end, intersected."""
+    and an end, intersected; the reach's disc is a circumscribed polygon (at most 0.13 % past it)."""
     a, b = np.asarray(ends[0], float), np.asarray(ends[1], float)
     mid, big = (a + b) / 2, 4 * reach_m + float(np.hypot(*(b - a)))
-    disc = shapely.Point(*mid).buffer(reach_m)
+    disc = shapely.Point(*mid).buffer(reach_m / math.cos(math.pi / 64), quad_segs=16)  # circumscribed
     out = []
     for side in (1.0, -1.0):
         part = shapely.intersection(region, _half(a, b, mid + side * _normal(a, b), big))
@@ -148,10 +148,20 @@ def seen_through(region: shapely.Geometry, ends: NDArray[np.float64], reach_m: f
         if part.is_empty or not len(verts):
             continue
         beyond = _half(a, b, mid - side * _normal(a, b), big)
-        near_b = shapely.union_all([_half(v, b, a, big) for v in verts if np.hypot(*(v - b)) > 1e-9])
-        near_a = shapely.union_all([_half(v, a, b, big) for v in verts if np.hypot(*(v - a)) > 1e-9])
+        # a vertex on the line crosses it where it stands: before b (after a) for every position, or for none
+        along = (verts - a) @ (b - a) / float(np.dot(b - a, b - a))
+        on = np.abs((verts - a) @ _normal(a, b)) <= 1e-9 * big
+        near_b = _either(beyond, [_half(v, b, a, big) for v in verts[~on]], bool(np.any(along[on] <= 1.0)))
+        near_a = _either(beyond, [_half(v, a, b, big) for v in verts[~on]], bool(np.any(along[on] >= 0.0)))
         out.append(shapely.intersection_all([beyond, near_b, near_a, disc]))
     return shapely.union_all(out) if out else shapely.Polygon()
+
+
+def _either(whole: shapely.Geometry, halves: list[shapely.Geometry], always: bool) -> shapely.Geometry:
+    """``whole`` where ``always``, else the union of ``halves`` (empty where there are none)."""
+    if always:
+        return whole
+    return shapely.union_all(halves) if halves else shapely.Polygon()
 
 
 def _normal(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -96,7 +96,10 @@ def aligned_plan(
 
     new = aligned_candidates(sight.site, problem, plain.selected, regions, registration.reach_m)
     if not new:
-        return None, "aligned through openings: no opening between the plain cover's spaces"
+        return None, (
+            f"aligned through openings: the plain cover of {plane_bound} (the plane bound): no station's region sees "
+            "another's through an opening, so the whole pool is solved"
+        )
     merged = merge_problems(problem, sight.coverage(new, t))
     rows = [*plain.selected, *range(len(problem.candidates), len(merged.candidates))]
     sub = _rows(merged, rows)

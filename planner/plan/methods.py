@@ -253,8 +253,8 @@ def _milp(run: MethodInput, ahead: WalksAhead | None, log: list[str], pricing_on
             Sight(site=site, limits=limits, scanner=run.validation.scanner), problem, k, run.spaces, run.region_cache
         )
         log.append(line)
-    aligned, line = aligned_first(run, problem, pricing.plane_bound) if pricing is not None else (None, None)
-    log += [line] if line else []
+    aligned, said = aligned_first(run, problem, pricing.plane_bound) if pricing is not None else (None, None)
+    log += [said] if said else []
     if aligned is not None:
         problem = aligned.problem
     p = site.parameters

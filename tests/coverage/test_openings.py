@@ -7,12 +7,15 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from planner.candidates.pool import PoolOptions
 from planner.cli import main
 from planner.coverage.links import opening_links
 from planner.coverage.matrix import blockers_for
-from planner.coverage.openings import accessible_areas, space_of, wall_gaps
+from planner.coverage.openings import accessible_areas, seen_through, space_of, wall_gaps
 from planner.coverage.targets import make_targets
 from planner.coverage.visibility import sight_clear
 from planner.engine import plan_site
@@ -152,3 +155,45 @@ def test_zone_side_blockers_give_the_pairs_of_the_full_blocker_set(name, monkeyp
     monkeypatch.setattr(matrix.ZoneSideBlockers, "of", lambda self, zi, inside: self.all)
     full = build_problem(site, options).by_candidate
     assert fast.nnz == full.nnz and (fast != full).nnz == 0
+
+
+def _crossing_oracle(region, a: float, b: float, q: np.ndarray, reach_m: float) -> bool:
+    """Whether some point of the convex ``region`` sees ``q`` through the opening [a, b] of the x-axis, found apart
+    from :func:`seen_through`: the part of the region across the axis from q, the points where its vertices' segments
+    to q cross the axis (their extremes bound the crossings of the whole part, which is convex), overlapping [a, b]."""
+    if abs(q[1]) < 1e-9 or np.hypot(q[0] - (a + b) / 2, q[1]) > reach_m:
+        return False
+    box = shapely.box(-1e3, -1e3 if q[1] > 0 else 0.0, 1e3, 0.0 if q[1] > 0 else 1e3)
+    part = shapely.intersection(region, box)
+    if part.is_empty:
+        return False
+    v = shapely.get_coordinates(part)
+    x = v[:, 0] + (q[0] - v[:, 0]) * (0.0 - v[:, 1]) / (q[1] - v[:, 1])
+    return bool(x.min() <= b and x.max() >= a)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    pts=st.lists(st.tuples(st.floats(-15, 15), st.floats(-20, 6)), min_size=3, max_size=7, unique=True),
+    a=st.floats(-3, 0),
+    width=st.floats(0.5, 4),
+    reach=st.floats(10, 60),
+    seed=st.integers(0, 2**16),
+)
+def test_seen_through_is_every_position_a_point_of_the_region_sees_through_the_opening(pts, a, width, reach, seed):
+    # a convex region (it may straddle the opening's line) and a door [a, a + width] on the x-axis; random positions
+    # away from the boundary of the answer are in it exactly when the crossing oracle says some point sees them
+    region = shapely.convex_hull(shapely.MultiPoint([(round(x, 3), round(y, 3)) for x, y in pts]))  # mm, no denormals
+    if region.area < 1e-3:
+        return
+    b = a + width
+    got = seen_through(region, np.array([[a, 0.0], [b, 0.0]]), reach)
+    rng = np.random.default_rng(seed)
+    q = rng.uniform([-70, -70], [70, 70], size=(300, 2))
+    edge = got.boundary if not got.is_empty else None
+    for p in q:
+        if edge is not None and shapely.distance(edge, shapely.Point(*p)) < 1e-6:
+            continue
+        if abs(np.hypot(p[0] - (a + b) / 2, p[1]) - reach) < 2e-3 * reach:  # the disc: a circumscribed polygon
+            continue
+        assert bool(shapely.contains_xy(got, *p)) == _crossing_oracle(region, a, b, p, reach), p
